@@ -1,0 +1,435 @@
+"""Serial chains of revolute joints described by DH or modified DH rows.
+
+A :class:`SerialChain` holds one row per joint and the joint-to-DH map
+``theta_i = offset_i + sign_i * q_i`` (thesis 001 Table 2.1 writes its theta
+column as ``-pi/2 + theta_1``, ``-pi/2 - theta_3``, ...).  Two conventions:
+
+* ``"dh"`` (standard, Denavit-Hartenberg):
+  ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``, joint ``i`` turns about
+  the z axis of frame ``i-1`` (paper 000 Table 1, paper 003 Table 1).
+* ``"mdh"`` (modified, Craig): ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i)
+  Tz(d_i)``, joint ``i`` turns about the z axis of frame ``i`` (thesis 001
+  eq. 2.1).  Row ``i`` stores ``alpha_{i-1}`` and ``a_{i-1}``.
+
+The end pose is ``base @ A_1 ... A_n @ tool``.  Every kinematic function is
+batched over leading axes: ``q`` has shape ``(..., n)``.
+
+Forward kinematics propagates the three axis columns and the origin of the
+running frame as arrays of shape ``(3, N)`` and applies each elementary
+motion in closed form, instead of multiplying stacks of 4x4 matrices.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Literal, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.validation import as_float_array, check_finite, check_pose, check_vectors
+
+Convention = Literal["dh", "mdh"]
+TWO_PI = 2.0 * np.pi
+
+
+def _frozen(values: ArrayLike, n: int, name: str, default: float | None = None) -> np.ndarray:
+    if values is None:
+        values = np.full(n, default)
+    array = as_float_array(values, name).reshape(-1)
+    if array.shape != (n,):
+        raise ValueError(f"{name} must have {n} entries (one per joint), got {array.size}")
+    array = array.copy()
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class SerialChain:
+    """A serial chain of revolute joints.
+
+    Parameters
+    ----------
+    a, alpha, d : array_like, shape (n,)
+        Link length, link twist (radians) and link offset of each row.
+        In the ``"mdh"`` convention row ``i`` holds ``a_{i-1}`` and ``alpha_{i-1}``.
+    convention : {"dh", "mdh"}
+        Standard or modified (Craig) Denavit-Hartenberg.
+    offset, sign : array_like, shape (n,), optional
+        ``theta_i = offset_i + sign_i * q_i``; defaults 0 and +1.  A sign must be +1 or -1.
+    lower, upper : array_like, shape (n,), optional
+        Joint limits on ``q`` in radians; default ``-inf`` and ``+inf``.
+        A range of width ``>= 2 pi`` means the joint is not limited.
+    base, tool : array_like, shape (4, 4), optional
+        Fixed transforms before the first and after the last row.
+    name : str
+        Display name.
+    source : str
+        Where the numbers come from.
+    """
+
+    a: np.ndarray
+    alpha: np.ndarray
+    d: np.ndarray
+    convention: Convention = "dh"
+    offset: np.ndarray | None = None
+    sign: np.ndarray | None = None
+    lower: np.ndarray | None = None
+    upper: np.ndarray | None = None
+    base: np.ndarray | None = None
+    tool: np.ndarray | None = None
+    name: str = "chain"
+    source: str = ""
+    _joints_first: bool = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.convention not in ("dh", "mdh"):
+            raise ValueError(f"convention must be 'dh' or 'mdh', got {self.convention!r}")
+        a = as_float_array(self.a, "a").reshape(-1)
+        n = a.size
+        if n == 0:
+            raise ValueError("a chain needs at least one joint, got 0 rows")
+        values = {
+            "a": _frozen(a, n, "a"),
+            "alpha": _frozen(self.alpha, n, "alpha"),
+            "d": _frozen(self.d, n, "d"),
+            "offset": _frozen(self.offset, n, "offset", 0.0),
+            "sign": _frozen(self.sign, n, "sign", 1.0),
+            "lower": _frozen(self.lower, n, "lower", -np.inf),
+            "upper": _frozen(self.upper, n, "upper", np.inf),
+        }
+        for key in ("a", "alpha", "d", "offset", "sign"):
+            check_finite(values[key], key)
+        if not np.all(np.isin(values["sign"], (-1.0, 1.0))):
+            raise ValueError(f"sign entries must be +1 or -1, got {values['sign'].tolist()}")
+        if np.any(np.isnan(values["lower"])) or np.any(np.isnan(values["upper"])):
+            raise ValueError("joint limits must not be NaN")
+        bad = np.flatnonzero(values["lower"] > values["upper"])
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(
+                f"joint {i + 1}: lower limit {values['lower'][i]:g} exceeds upper limit {values['upper'][i]:g}"
+            )
+        for key in ("base", "tool"):
+            matrix = np.eye(4) if getattr(self, key) is None else check_pose(getattr(self, key), key)
+            if matrix.shape != (4, 4):
+                raise ValueError(f"{key} must have shape (4, 4), got {matrix.shape}")
+            matrix = matrix.copy()
+            matrix.setflags(write=False)
+            values[key] = matrix
+        for key, value in values.items():
+            object.__setattr__(self, key, value)
+        object.__setattr__(self, "_joints_first", self.convention == "dh")
+
+    # ------------------------------------------------------------------ basics
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return int(self.a.size)
+
+    @property
+    def limits(self) -> np.ndarray:
+        """Joint limits as an array of shape ``(n, 2)`` (lower, upper)."""
+        return np.stack([self.lower, self.upper], axis=-1)
+
+    @property
+    def limited(self) -> np.ndarray:
+        """Boolean mask of joints whose range is narrower than ``2 pi``."""
+        return (self.upper - self.lower) < TWO_PI
+
+    def with_limits(self, lower: ArrayLike, upper: ArrayLike) -> "SerialChain":
+        """A copy of this chain with other joint limits."""
+        return replace(self, lower=lower, upper=upper)
+
+    def with_tool(self, tool: ArrayLike) -> "SerialChain":
+        """A copy of this chain with another tool transform."""
+        return replace(self, tool=tool)
+
+    def with_base(self, base: ArrayLike) -> "SerialChain":
+        """A copy of this chain with another base transform."""
+        return replace(self, base=base)
+
+    def check_q(self, q: ArrayLike, name: str = "q") -> np.ndarray:
+        """Validate joint vectors: finite, shape ``(..., n)``; return them as floats."""
+        return check_vectors(q, self.n, name)
+
+    def dh_angles(self, q: np.ndarray) -> np.ndarray:
+        """The DH angles ``theta = offset + sign * q``."""
+        return self.offset + self.sign * q
+
+    # ------------------------------------------------------- propagation core
+    def _propagate(self, q: np.ndarray, keep: bool):
+        """Run the chain for flat joints ``q`` of shape ``(N, n)``.
+
+        Returns the final ``(x, y, z, p)`` columns (each ``(3, N)``) and, if
+        ``keep``, the list of frames ``0..n`` and of joint axes and origins.
+        """
+        theta = self.dh_angles(q).T  # (n, N)
+        cos, sin = np.cos(theta), np.sin(theta)
+        count = q.shape[0]
+        base = self.base
+        x, y, z, p = (np.repeat(base[:3, k : k + 1], count, axis=1) for k in range(4))
+        frames = [(x, y, z, p)] if keep else None
+        axes: list[tuple[np.ndarray, np.ndarray]] = []
+        for i in range(self.n):
+            if self._joints_first:  # standard DH: joint about z of frame i-1
+                if keep:
+                    axes.append((z, p))
+                x, y = x * cos[i] + y * sin[i], y * cos[i] - x * sin[i]
+                p = p + self.d[i] * z + self.a[i] * x
+                y, z = _rotate_about_x(y, z, self.alpha[i])
+            else:  # modified DH: fixed twist first, then joint about new z
+                y, z = _rotate_about_x(y, z, self.alpha[i])
+                p = p + self.a[i] * x
+                x, y = x * cos[i] + y * sin[i], y * cos[i] - x * sin[i]
+                p = p + self.d[i] * z
+                if keep:
+                    axes.append((z, p))
+            if keep:
+                frames.append((x, y, z, p))
+        return (x, y, z, p), frames, axes
+
+    # ------------------------------------------------------------- public API
+    def fk(self, q: ArrayLike) -> np.ndarray:
+        """End pose ``base @ A_1(q_1) ... A_n(q_n) @ tool``.
+
+        Parameters
+        ----------
+        q : array_like, shape (..., n)
+            Joint angles in radians.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 4, 4)
+        """
+        q = self.check_q(q)
+        lead = q.shape[:-1]
+        (x, y, z, p), _, _ = self._propagate(q.reshape(-1, self.n), keep=False)
+        pose = _assemble(x, y, z, p) @ self.tool
+        return pose.reshape(lead + (4, 4))
+
+    def frames(self, q: ArrayLike) -> np.ndarray:
+        """Poses of frames ``0..n`` and the tool frame.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n + 2, 4, 4)
+            Index 0 is the base frame, index ``k`` the frame after joint ``k``
+            (``1 <= k <= n``), index ``n + 1`` the tool frame (the end pose).
+        """
+        q = self.check_q(q)
+        lead = q.shape[:-1]
+        _, frames, _ = self._propagate(q.reshape(-1, self.n), keep=True)
+        stacked = np.stack([_assemble(*f) for f in frames], axis=1)
+        tool = stacked[:, -1] @ self.tool
+        out = np.concatenate([stacked, tool[:, None]], axis=1)
+        return out.reshape(lead + (self.n + 2, 4, 4))
+
+    def joint_axes(self, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """World directions and points of the joint axes.
+
+        Returns
+        -------
+        directions, points : numpy.ndarray, shape (..., n, 3)
+            Unit axis direction of each joint (for ``sign = -1`` the joint turns
+            about the negative direction) and a point on the axis.
+        """
+        q = self.check_q(q)
+        lead = q.shape[:-1]
+        _, _, axes = self._propagate(q.reshape(-1, self.n), keep=True)
+        directions = np.stack([a[0].T for a in axes], axis=1).reshape(lead + (self.n, 3))
+        points = np.stack([a[1].T for a in axes], axis=1).reshape(lead + (self.n, 3))
+        return directions, points
+
+    def jacobian(
+        self,
+        q: ArrayLike,
+        frame: int | None = None,
+        offset: ArrayLike | None = None,
+    ) -> np.ndarray:
+        """Geometric Jacobian in the base (world) frame, linear rows first.
+
+        Parameters
+        ----------
+        q : array_like, shape (..., n)
+            Joint angles in radians.
+        frame : int, optional
+            ``None`` (default) for the tool frame, or ``k`` in ``0..n`` for the
+            frame after joint ``k``; joints after ``k`` give zero columns.
+        offset : array_like, shape (3,) or (..., 3), optional
+            A point fixed in that frame, in that frame's coordinates; the
+            linear rows are then the velocity of that point.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 6, n)
+            ``[v; omega] = J q_dot``.
+        """
+        q = self.check_q(q)
+        if frame is not None and (int(frame) != frame or not 0 <= frame <= self.n):
+            raise ValueError(f"frame must be None or an integer in 0..{self.n}, got {frame!r}")
+        lead = q.shape[:-1]
+        flat = q.reshape(-1, self.n)
+        _, frames, axes = self._propagate(flat, keep=True)
+        if frame is None:
+            target = _assemble(*frames[-1]) @ self.tool
+            active = self.n
+        else:
+            target = _assemble(*frames[frame])
+            active = int(frame)
+        point = target[:, :3, 3]
+        if offset is not None:
+            local = check_vectors(offset, 3, "offset")
+            local = np.broadcast_to(local, lead + (3,)).reshape(-1, 3)
+            point = point + np.einsum("nij,nj->ni", target[:, :3, :3], local)
+        directions = np.stack([a[0].T for a in axes], axis=2)  # (N, 3, n)
+        origins = np.stack([a[1].T for a in axes], axis=2)
+        directions = directions * self.sign
+        linear = np.cross(directions, point[:, :, None] - origins, axis=1)
+        jac = np.concatenate([linear, directions], axis=1)
+        jac[:, :, active:] = 0.0
+        return jac.reshape(lead + (6, self.n))
+
+    def manipulability(
+        self,
+        q: ArrayLike,
+        rows: Sequence[int] | slice | None = None,
+        columns: Sequence[int] | slice | None = None,
+        frame: int | None = None,
+        offset: ArrayLike | None = None,
+    ) -> np.ndarray:
+        """Yoshikawa manipulability ``sqrt(det(J J^T))`` of a sub-Jacobian.
+
+        Parameters
+        ----------
+        q : array_like, shape (..., n)
+        rows : sequence of int or slice, optional
+            Rows of the 6 x n geometric Jacobian to keep (0-2 linear, 3-5
+            angular); default all six.  Thesis 001 eq. 5.3 uses ``rows=[0, 1, 2]``.
+        columns : sequence of int or slice, optional
+            Joint columns (0-based) to keep; default all.  Thesis 001 uses joints
+            1-5, i.e. ``columns=range(5)``.
+        frame, offset :
+            As in :meth:`jacobian`.
+
+        Returns
+        -------
+        numpy.ndarray, shape (...)
+            Zero when the kept Jacobian has more rows than columns.
+        """
+        jac = self.jacobian(q, frame=frame, offset=offset)
+        jac = jac[..., _index(rows, 6, "rows"), :][..., _index(columns, self.n, "columns")]
+        return yoshikawa(jac)
+
+    def within_limits(self, q: ArrayLike, tolerance: float = 0.0, wrap: bool = False) -> np.ndarray:
+        """Whether each joint vector respects the limits.
+
+        Parameters
+        ----------
+        q : array_like, shape (..., n)
+        tolerance : float
+            Slack in radians allowed beyond each limit.
+        wrap : bool
+            If true, ``q_i`` counts as within limits when any ``q_i + 2 pi k`` is
+            (for angles reported modulo ``2 pi``, e.g. by closed-form IK).
+
+        Returns
+        -------
+        numpy.ndarray of bool, shape (...)
+        """
+        return np.all(self.joints_within_limits(q, tolerance, wrap), axis=-1)
+
+    def joints_within_limits(self, q: ArrayLike, tolerance: float = 0.0, wrap: bool = False) -> np.ndarray:
+        """Per-joint version of :meth:`within_limits`, shape ``(..., n)``."""
+        q = self.check_q(q)
+        free = ~self.limited
+        if wrap:
+            width = np.where(free, 0.0, self.upper - self.lower)
+            shifted = np.mod(q - np.where(free, 0.0, self.lower) + tolerance, TWO_PI)
+            ok = shifted <= width + 2.0 * tolerance
+        else:
+            ok = (q >= self.lower - tolerance) & (q <= self.upper + tolerance)
+        return ok | free
+
+    def mirrored(self, normal: ArrayLike = (1.0, 0.0, 0.0), flip_joints: Sequence[int] = ()) -> "SerialChain":
+        """The mirror image of this chain in the plane through the base origin with ``normal``.
+
+        The mirrored chain at joints ``q`` reaches ``M fk(q) M'`` where ``M`` is
+        the reflection of world coordinates and ``M'`` the reflection of the
+        tool's local coordinates that keeps the result a proper rotation, so
+        the same ``q`` gives the mirror posture.  Every joint then turns in the
+        mirrored sense; ``flip_joints`` (0-based) negates the sign of joints
+        that should keep their world sense (e.g. a torso joint shared with the
+        unmirrored arm).
+        """
+        m = check_vectors(normal, 3, "normal").reshape(3)
+        m = m / np.linalg.norm(m)
+        world = np.eye(4)
+        world[:3, :3] -= 2.0 * np.outer(m, m)
+        local = np.diag([1.0, 1.0, -1.0, 1.0])  # conjugating DH factors by z -> -z
+        sign = self.sign.copy()
+        offset = self.offset.copy()
+        for j in flip_joints:
+            if not 0 <= int(j) < self.n:
+                raise ValueError(f"flip_joints entries must be in 0..{self.n - 1}, got {j}")
+            sign[int(j)] = -sign[int(j)]
+        return replace(
+            self,
+            alpha=-self.alpha,
+            d=-self.d,
+            sign=sign,
+            offset=offset,
+            lower=np.where(np.isin(np.arange(self.n), list(flip_joints)), -self.upper, self.lower),
+            upper=np.where(np.isin(np.arange(self.n), list(flip_joints)), -self.lower, self.upper),
+            base=world @ self.base @ local,
+            tool=local @ self.tool @ world,
+            name=f"{self.name} (mirrored)",
+        )
+
+
+def yoshikawa(jacobian: ArrayLike) -> np.ndarray:
+    """Yoshikawa manipulability ``sqrt(det(J J^T))`` of Jacobians ``(..., m, k)``.
+
+    Computed as the product of singular values, which is exact where
+    ``det(J J^T)`` would lose digits; zero when ``m > k``.
+    """
+    jac = as_float_array(jacobian, "jacobian")
+    if jac.ndim < 2:
+        raise ValueError(f"jacobian must have shape (..., m, k), got {jac.shape}")
+    m, k = jac.shape[-2:]
+    if m > k:
+        return np.zeros(jac.shape[:-2])
+    return np.prod(np.linalg.svd(jac, compute_uv=False), axis=-1)
+
+
+def _rotate_about_x(y: np.ndarray, z: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    """Right-multiply the running frame by ``Rx(alpha)``: new y and z columns."""
+    c, s = np.cos(alpha), np.sin(alpha)
+    # Exact for the common quarter turns, so 0 stays 0 and no work is wasted.
+    if abs(s) < 1e-15:
+        return (y, z) if c > 0 else (-y, -z)
+    if abs(c) < 1e-15:
+        return (z, -y) if s > 0 else (-z, y)
+    return y * c + z * s, z * c - y * s
+
+
+def _assemble(x: np.ndarray, y: np.ndarray, z: np.ndarray, p: np.ndarray) -> np.ndarray:
+    count = x.shape[1]
+    out = np.zeros((count, 4, 4))
+    out[:, :3, 0] = x.T
+    out[:, :3, 1] = y.T
+    out[:, :3, 2] = z.T
+    out[:, :3, 3] = p.T
+    out[:, 3, 3] = 1.0
+    return out
+
+
+def _index(selection: Sequence[int] | slice | None, size: int, name: str):
+    if selection is None:
+        return slice(None)
+    if isinstance(selection, slice):
+        return selection
+    idx = np.asarray(list(selection), dtype=int)
+    if idx.size == 0 or np.any(idx < 0) or np.any(idx >= size):
+        raise ValueError(f"{name} must be indices in 0..{size - 1}, got {list(selection)}")
+    return idx

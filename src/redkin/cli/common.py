@@ -1,0 +1,90 @@
+"""Helpers shared by the command modules: parser, robot and angle arguments, output."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import Any, NoReturn, Sequence
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.models import get_robot
+
+
+class UsageError(ValueError):
+    """A user mistake on the command line: printed as one line, exit code 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr and exit code 2."""
+
+    def error(self, message: str) -> NoReturn:
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def add_robot_argument(parser: argparse.ArgumentParser) -> None:
+    """``ROBOT``: a model name (``redkin robots``) or a robot file path."""
+    parser.add_argument("robot", metavar="ROBOT", help="model name (see `redkin robots`) or a .toml/.json robot file")
+
+
+def add_output_flags(parser: argparse.ArgumentParser, degrees: bool = True) -> None:
+    """``--json`` and (optionally) ``--deg``."""
+    parser.add_argument("--json", action="store_true", help="print machine-readable JSON")
+    if degrees:
+        parser.add_argument("--deg", action="store_true", help="read and print angles in degrees")
+
+
+def load_robot(name: str) -> SerialChain:
+    """The chain for a ROBOT argument (ValueError for an unknown name or bad file)."""
+    return get_robot(name)
+
+
+def angles_in(values: Sequence[float], degrees: bool) -> np.ndarray:
+    """Angles from the command line in radians."""
+    array = np.asarray(values, dtype=float)
+    return np.radians(array) if degrees else array
+
+
+def angles_out(values: Any, degrees: bool) -> Any:
+    """Angles in radians converted for output (``None`` stays ``None``)."""
+    if values is None:
+        return None
+    array = np.asarray(values, dtype=float)
+    return np.degrees(array) if degrees else array
+
+
+def joint_vector(chain: SerialChain, values: Sequence[float], degrees: bool, name: str = "joint values") -> np.ndarray:
+    """Joint values for ``chain`` from the command line, checked for count and finiteness."""
+    if len(values) != chain.n:
+        raise UsageError(f"{chain.name} has {chain.n} joints, got {len(values)} {name}")
+    q = angles_in(values, degrees)
+    if not np.all(np.isfinite(q)):
+        raise UsageError(f"{name} must be finite numbers")
+    return q
+
+
+def to_jsonable(value: Any) -> Any:
+    """Numpy arrays and scalars to plain JSON values (rounded-trip exact floats)."""
+    if isinstance(value, dict):
+        return {str(k): to_jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return to_jsonable(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def print_json(value: Any) -> None:
+    """Print ``value`` as JSON on stdout."""
+    print(json.dumps(to_jsonable(value), indent=2, allow_nan=False))
+
+
+def format_matrix(matrix: np.ndarray, digits: int = 6) -> str:
+    """A matrix as aligned text rows."""
+    rows = np.atleast_2d(matrix)
+    return "\n".join("  ".join(f"{v: .{digits}f}" for v in row) for row in rows)

@@ -1,0 +1,46 @@
+"""Entry point of the ``redkin`` command: wires the command modules and maps user mistakes to exit code 2."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from typing import Sequence
+
+from redkin import __version__
+from redkin.cli.common import Parser
+
+#: Modules with a ``register(subparsers)`` function, in help order.
+COMMAND_MODULES = [
+    "redkin.cli.basic",
+    "redkin.cli.reproduce",
+]
+
+
+def build_parser() -> Parser:
+    parser = Parser(
+        prog="redkin",
+        description="Kinematics of redundant robot manipulators. Angles are radians unless --deg is given.",
+    )
+    parser.add_argument("--version", action="version", version=f"redkin {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMAND_MODULES:
+        importlib.import_module(name).register(subparsers)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "handler", None) is None:
+        parser.print_help()
+        return 2
+    try:
+        return int(args.handler(args) or 0)
+    except ValueError as exc:  # user mistakes: one line, exit code 2
+        message = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
+        print(f"redkin: error: {message}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

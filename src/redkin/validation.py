@@ -1,0 +1,97 @@
+"""Input checks used at the public edge of redkin.
+
+Every public function validates what it receives with one of these helpers
+and raises :class:`ValueError` with a message that names the argument, what
+was expected and what was received.  Inside the library the data is trusted.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+#: Tolerance on ``R R^T = I`` (max abs entry) and ``det R = 1`` for rotations.
+ROTATION_TOLERANCE = 1e-6
+
+
+def as_float_array(value: ArrayLike, name: str) -> np.ndarray:
+    """Convert ``value`` to a float array, raising ``ValueError`` if it is not numeric."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be numeric, got {value!r}") from exc
+    return array
+
+
+def check_finite(array: np.ndarray, name: str) -> None:
+    """Raise ``ValueError`` if ``array`` holds NaN or infinity."""
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} must be finite, got NaN or infinity")
+
+
+def check_vectors(value: ArrayLike, length: int, name: str) -> np.ndarray:
+    """Return ``value`` as a finite float array of shape ``(..., length)``."""
+    array = as_float_array(value, name)
+    if array.ndim == 0 or array.shape[-1] != length:
+        raise ValueError(
+            f"{name} must have shape (..., {length}), got shape {array.shape}"
+        )
+    check_finite(array, name)
+    return array
+
+
+def check_matrices(value: ArrayLike, rows: int, cols: int, name: str) -> np.ndarray:
+    """Return ``value`` as a finite float array of shape ``(..., rows, cols)``."""
+    array = as_float_array(value, name)
+    if array.ndim < 2 or array.shape[-2:] != (rows, cols):
+        raise ValueError(
+            f"{name} must have shape (..., {rows}, {cols}), got shape {array.shape}"
+        )
+    check_finite(array, name)
+    return array
+
+
+def check_rotation(
+    value: ArrayLike, name: str = "rotation", tolerance: float = ROTATION_TOLERANCE
+) -> np.ndarray:
+    """Return ``value`` as rotation matrices of shape ``(..., 3, 3)``.
+
+    Raises ``ValueError`` unless every matrix is finite, orthonormal
+    (``max |R R^T - I| <= tolerance``) and proper (``|det R - 1| <= tolerance``).
+    """
+    rotation = check_matrices(value, 3, 3, name)
+    error = np.abs(rotation @ np.swapaxes(rotation, -1, -2) - np.eye(3))
+    worst = float(error.max()) if error.size else 0.0
+    if worst > tolerance:
+        raise ValueError(
+            f"{name} must be orthonormal (R R^T = I within {tolerance:g}), "
+            f"largest deviation is {worst:.3g}"
+        )
+    det = np.linalg.det(rotation)
+    if np.any(np.abs(det - 1.0) > tolerance):
+        raise ValueError(
+            f"{name} must be a proper rotation (det = +1), got det = "
+            f"{float(np.ravel(det)[np.argmax(np.abs(np.ravel(det) - 1))]):.6g}"
+        )
+    return rotation
+
+
+def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION_TOLERANCE) -> np.ndarray:
+    """Return ``value`` as homogeneous transforms of shape ``(..., 4, 4)``.
+
+    The rotation block must pass :func:`check_rotation` and the last row must
+    be ``[0, 0, 0, 1]``.
+    """
+    pose = check_matrices(value, 4, 4, name)
+    if not np.allclose(pose[..., 3, :], [0.0, 0.0, 0.0, 1.0], atol=tolerance, rtol=0.0):
+        raise ValueError(f"{name} must have last row [0, 0, 0, 1]")
+    check_rotation(pose[..., :3, :3], f"{name} rotation block", tolerance)
+    return pose
+
+
+def check_positive(value: float, name: str) -> float:
+    """Return ``value`` as a float, raising ``ValueError`` unless it is finite and > 0."""
+    number = float(value)
+    if not np.isfinite(number) or number <= 0.0:
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return number
