@@ -78,8 +78,8 @@ def axis_angle_to_matrix(axis: ArrayLike, angle: ArrayLike) -> np.ndarray:
     norm = np.linalg.norm(u, axis=-1, keepdims=True)
     if np.any(norm < 1e-12):
         raise ValueError("axis must be a non-zero vector")
-    rotvec = np.broadcast_to(u / norm * theta[..., None], np.broadcast_shapes(u.shape, theta.shape + (3,)))
-    flat = Rotation.from_rotvec(rotvec.reshape(-1, 3)).as_matrix()
+    rotvec = u / norm * theta[..., None]
+    flat = Rotation.from_rotvec(np.array(rotvec.reshape(-1, 3))).as_matrix()
     return flat.reshape(rotvec.shape[:-1] + (3, 3))
 
 

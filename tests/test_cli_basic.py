@@ -1,0 +1,85 @@
+"""The foundation commands: robots, fk, jacobian; user mistakes exit with code 2 and one line."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from redkin.cli.main import main
+from redkin.models import barrett_wam, pa10_7c
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def test_fk_json_prints_the_pose(capsys):
+    code, out, _ = run(capsys, "fk", "pa10-7c", *["0"] * 7, "--json")
+    assert code == 0
+    data = json.loads(out)
+    np.testing.assert_allclose(data["pose"], pa10_7c().fk(np.zeros(7)))
+    np.testing.assert_allclose(data["position"], [0, 0, 1.317])
+    assert data["within_limits"] is True
+
+
+def test_fk_degrees(capsys):
+    code, out, _ = run(capsys, "fk", "barrett-wam", "30", "20", "50", "70", "40", "100", "0", "--deg", "--json")
+    assert code == 0
+    expected = barrett_wam().fk(np.radians([30, 20, 50, 70, 40, 100, 0]))
+    np.testing.assert_allclose(json.loads(out)["pose"], expected, atol=1e-12)
+    np.testing.assert_allclose(json.loads(out)["q"], [30, 20, 50, 70, 40, 100, 0])
+
+
+def test_jacobian_and_manipulability(capsys):
+    q = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7])
+    code, out, _ = run(capsys, "jacobian", "pa10-7c", *map(str, q), "--manipulability", "--json")
+    data = json.loads(out)
+    np.testing.assert_allclose(data["jacobian"], pa10_7c().jacobian(q), atol=1e-12)
+    np.testing.assert_allclose(data["manipulability"], pa10_7c().manipulability(q))
+
+
+def test_robots_lists_models(capsys):
+    code, out, _ = run(capsys, "robots", "--json")
+    names = [r["name"] for r in json.loads(out)["robots"]]
+    assert code == 0 and "pa10-7c" in names and "humanoid-left" in names
+
+
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["fk", "pa10-7c", "0", "0"], "7 joints, got 2"),
+        (["fk", "no-such-robot", "0"], "unknown robot"),
+        (["fk", "pa10-7c", *["nan"] * 7], "finite"),
+        (["fk", "pa10-7c", "a", "b"], "invalid float"),
+        (["fk", "missing.toml", "0"], "does not exist"),
+        (["jacobian"], "required"),
+        (["no-such-command"], "invalid choice"),
+    ],
+)
+def test_user_mistakes_exit_2_with_one_line(capsys, argv, fragment):
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse errors
+        code = exc.code
+    captured = capsys.readouterr()
+    assert code == 2
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1, captured.err
+    assert fragment in lines[0]
+    assert "Traceback" not in captured.err
+
+
+def test_malformed_robot_file_from_cli(tmp_path, capsys):
+    path = tmp_path / "arm.toml"
+    path.write_text('[[joint]]\na = 0\nalpha = "x"\nd = 0\n')
+    code, _, err = run(capsys, "fk", str(path), "0")
+    assert code == 2 and "alpha must be a number" in err
+
+
+def test_console_script_runs():
+    result = subprocess.run([sys.executable, "-m", "redkin.cli.main", "fk", "pa10-7c", "0"], capture_output=True, text=True)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
