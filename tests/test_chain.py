@@ -244,3 +244,18 @@ def test_bad_jacobian_frame():
         pa10_7c().jacobian(np.zeros(7), frame=9)
     with pytest.raises(ValueError, match="rows"):
         pa10_7c().manipulability(np.zeros(7), rows=[7])
+
+
+@pytest.mark.parametrize("name", MODEL_NAMES)
+def test_large_batches_equal_single_calls(name):
+    """Large batches take the column-propagation path, single calls the 4x4 path: they must agree."""
+    chain = MODELS[name]().with_tool(np.array([[0, -1, 0, 0.01], [1, 0, 0, 0.02], [0, 0, 1, 0.03], [0, 0, 0, 1.0]]))
+    q = random_q(chain, np.random.default_rng(8), (40,))
+    fk, frames, jac = chain.fk(q), chain.frames(q), chain.jacobian(q)
+    directions, points = chain.joint_axes(q)
+    for k in (0, 17, 39):
+        np.testing.assert_allclose(fk[k], chain.fk(q[k]), atol=1e-14)
+        np.testing.assert_allclose(frames[k], chain.frames(q[k]), atol=1e-14)
+        np.testing.assert_allclose(jac[k], chain.jacobian(q[k]), atol=1e-14)
+        np.testing.assert_allclose(directions[k], chain.joint_axes(q[k])[0], atol=1e-14)
+        np.testing.assert_allclose(points[k], chain.joint_axes(q[k])[1], atol=1e-14)

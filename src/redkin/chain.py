@@ -31,6 +31,10 @@ from redkin.validation import as_float_array, check_finite, check_pose, check_ve
 
 Convention = Literal["dh", "mdh"]
 TWO_PI = 2.0 * np.pi
+#: Configurations propagated together in :meth:`SerialChain.fk` (fits the columns in cache).
+CHUNK = 8192
+#: Batches up to this size multiply 4x4 matrices instead of propagating columns.
+SMALL_BATCH = 16
 
 
 def _frozen(values: ArrayLike, n: int, name: str, default: float | None = None) -> np.ndarray:
@@ -159,10 +163,10 @@ class SerialChain:
 
     # ------------------------------------------------------- propagation core
     def _propagate(self, q: np.ndarray, keep: bool):
-        """Run the chain for flat joints ``q`` of shape ``(N, n)``.
+        """Run the chain for flat joints ``q`` of shape ``(N, n)`` on axis columns.
 
         Returns the final ``(x, y, z, p)`` columns (each ``(3, N)``) and, if
-        ``keep``, the list of frames ``0..n`` and of joint axes and origins.
+        ``keep``, the list of the columns of frames ``0..n``.
         """
         theta = self.dh_angles(q).T  # (n, N)
         cos, sin = np.cos(theta), np.sin(theta)
@@ -170,24 +174,61 @@ class SerialChain:
         base = self.base
         x, y, z, p = (np.repeat(base[:3, k : k + 1], count, axis=1) for k in range(4))
         frames = [(x, y, z, p)] if keep else None
-        axes: list[tuple[np.ndarray, np.ndarray]] = []
         for i in range(self.n):
-            if self._joints_first:  # standard DH: joint about z of frame i-1
-                if keep:
-                    axes.append((z, p))
+            if self._joints_first:  # standard DH: Rz(theta) Tz(d) Tx(a) Rx(alpha)
                 x, y = x * cos[i] + y * sin[i], y * cos[i] - x * sin[i]
-                p = p + self.d[i] * z + self.a[i] * x
+                p = _translate(_translate(p, self.d[i], z), self.a[i], x)
                 y, z = _rotate_about_x(y, z, self.alpha[i])
-            else:  # modified DH: fixed twist first, then joint about new z
+            else:  # modified DH: Rx(alpha) Tx(a) Rz(theta) Tz(d)
                 y, z = _rotate_about_x(y, z, self.alpha[i])
-                p = p + self.a[i] * x
+                p = _translate(p, self.a[i], x)
                 x, y = x * cos[i] + y * sin[i], y * cos[i] - x * sin[i]
-                p = p + self.d[i] * z
-                if keep:
-                    axes.append((z, p))
+                p = _translate(p, self.d[i], z)
             if keep:
                 frames.append((x, y, z, p))
-        return (x, y, z, p), frames, axes
+        return (x, y, z, p), frames
+
+    def _frame_stack(self, flat: np.ndarray) -> np.ndarray:
+        """Frames ``0..n`` for flat joints ``(N, n)``: shape ``(N, n + 1, 4, 4)``.
+
+        Small batches multiply 4x4 matrices (less call overhead); large ones
+        propagate axis columns.
+        """
+        if flat.shape[0] > SMALL_BATCH:
+            _, frames = self._propagate(flat, keep=True)
+            return np.stack([_assemble(*f) for f in frames], axis=1)
+        theta = self.dh_angles(flat)
+        turn = np.zeros(theta.shape + (4, 4))
+        turn[..., 0, 0] = turn[..., 1, 1] = np.cos(theta)
+        turn[..., 1, 0] = np.sin(theta)
+        turn[..., 0, 1] = -turn[..., 1, 0]
+        turn[..., 2, 2] = turn[..., 3, 3] = 1.0
+        fixed = self._fixed_factors
+        # standard: A = Rz(theta) [Tz(d) Tx(a) Rx(alpha)]; modified: A = [Rx(alpha) Tx(a) Tz(d)] Rz(theta)
+        links = turn @ fixed if self._joints_first else fixed @ turn
+        out = np.empty((flat.shape[0], self.n + 1, 4, 4))
+        out[:, 0] = self.base
+        for i in range(self.n):
+            out[:, i + 1] = out[:, i] @ links[:, i]
+        return out
+
+    @property
+    def _fixed_factors(self) -> np.ndarray:
+        """The joint-independent factor of each row, shape ``(n, 4, 4)``."""
+        ca, sa = np.cos(self.alpha), np.sin(self.alpha)
+        out = np.zeros((self.n, 4, 4))
+        out[:, 0, 0] = out[:, 3, 3] = 1.0
+        out[:, 1, 1], out[:, 1, 2], out[:, 2, 1], out[:, 2, 2] = ca, -sa, sa, ca
+        if self._joints_first:  # Tz(d) Tx(a) Rx(alpha)
+            out[:, 0, 3], out[:, 2, 3] = self.a, self.d
+        else:  # Rx(alpha) Tx(a) Tz(d)
+            out[:, 0, 3] = self.a
+            out[:, 1, 3], out[:, 2, 3] = -sa * self.d, ca * self.d
+        return out
+
+    def _axis_frames(self, stack: np.ndarray) -> np.ndarray:
+        """The frames whose z axis is each joint's axis: ``(N, n, 4, 4)``."""
+        return stack[:, :-1] if self._joints_first else stack[:, 1:]
 
     # ------------------------------------------------------------- public API
     def fk(self, q: ArrayLike) -> np.ndarray:
@@ -204,8 +245,16 @@ class SerialChain:
         """
         q = self.check_q(q)
         lead = q.shape[:-1]
-        (x, y, z, p), _, _ = self._propagate(q.reshape(-1, self.n), keep=False)
-        pose = _assemble(x, y, z, p) @ self.tool
+        flat = q.reshape(-1, self.n)
+        if flat.shape[0] <= SMALL_BATCH:
+            return (self._frame_stack(flat)[:, -1] @ self.tool).reshape(lead + (4, 4))
+        pose = np.empty((flat.shape[0], 4, 4))
+        tool = None if np.array_equal(self.tool, np.eye(4)) else self.tool
+        # Chunks keep the working columns in cache: about twice as fast on large batches.
+        for start in range(0, flat.shape[0], CHUNK):
+            columns, _ = self._propagate(flat[start : start + CHUNK], keep=False)
+            block = _assemble(*columns)
+            pose[start : start + CHUNK] = block if tool is None else block @ tool
         return pose.reshape(lead + (4, 4))
 
     def frames(self, q: ArrayLike) -> np.ndarray:
@@ -219,10 +268,8 @@ class SerialChain:
         """
         q = self.check_q(q)
         lead = q.shape[:-1]
-        _, frames, _ = self._propagate(q.reshape(-1, self.n), keep=True)
-        stacked = np.stack([_assemble(*f) for f in frames], axis=1)
-        tool = stacked[:, -1] @ self.tool
-        out = np.concatenate([stacked, tool[:, None]], axis=1)
+        stack = self._frame_stack(q.reshape(-1, self.n))
+        out = np.concatenate([stack, (stack[:, -1] @ self.tool)[:, None]], axis=1)
         return out.reshape(lead + (self.n + 2, 4, 4))
 
     def joint_axes(self, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -236,10 +283,8 @@ class SerialChain:
         """
         q = self.check_q(q)
         lead = q.shape[:-1]
-        _, _, axes = self._propagate(q.reshape(-1, self.n), keep=True)
-        directions = np.stack([a[0].T for a in axes], axis=1).reshape(lead + (self.n, 3))
-        points = np.stack([a[1].T for a in axes], axis=1).reshape(lead + (self.n, 3))
-        return directions, points
+        axis_frames = self._axis_frames(self._frame_stack(q.reshape(-1, self.n)))
+        return axis_frames[..., :3, 2].reshape(lead + (self.n, 3)), axis_frames[..., :3, 3].reshape(lead + (self.n, 3))
 
     def jacobian(
         self,
@@ -269,24 +314,20 @@ class SerialChain:
         if frame is not None and (int(frame) != frame or not 0 <= frame <= self.n):
             raise ValueError(f"frame must be None or an integer in 0..{self.n}, got {frame!r}")
         lead = q.shape[:-1]
-        flat = q.reshape(-1, self.n)
-        _, frames, axes = self._propagate(flat, keep=True)
+        stack = self._frame_stack(q.reshape(-1, self.n))
         if frame is None:
-            target = _assemble(*frames[-1]) @ self.tool
-            active = self.n
+            target, active = stack[:, -1] @ self.tool, self.n
         else:
-            target = _assemble(*frames[frame])
-            active = int(frame)
+            target, active = stack[:, int(frame)], int(frame)
         point = target[:, :3, 3]
         if offset is not None:
             local = check_vectors(offset, 3, "offset")
             local = np.broadcast_to(local, lead + (3,)).reshape(-1, 3)
             point = point + np.einsum("nij,nj->ni", target[:, :3, :3], local)
-        directions = np.stack([a[0].T for a in axes], axis=2)  # (N, 3, n)
-        origins = np.stack([a[1].T for a in axes], axis=2)
-        directions = directions * self.sign
-        linear = np.cross(directions, point[:, :, None] - origins, axis=1)
-        jac = np.concatenate([linear, directions], axis=1)
+        axis_frames = self._axis_frames(stack)
+        directions = axis_frames[:, :, :3, 2] * self.sign[:, None]  # (N, n, 3)
+        linear = np.cross(directions, point[:, None, :] - axis_frames[:, :, :3, 3])
+        jac = np.concatenate([linear, directions], axis=2).transpose(0, 2, 1)
         jac[:, :, active:] = 0.0
         return jac.reshape(lead + (6, self.n))
 
@@ -411,6 +452,11 @@ def _rotate_about_x(y: np.ndarray, z: np.ndarray, alpha: float) -> tuple[np.ndar
     if abs(c) < 1e-15:
         return (z, -y) if s > 0 else (-z, y)
     return y * c + z * s, z * c - y * s
+
+
+def _translate(p: np.ndarray, length: float, direction: np.ndarray) -> np.ndarray:
+    """``p + length * direction``, skipping the work for a zero length."""
+    return p if length == 0.0 else p + length * direction
 
 
 def _assemble(x: np.ndarray, y: np.ndarray, z: np.ndarray, p: np.ndarray) -> np.ndarray:
