@@ -85,6 +85,7 @@ class SerialChain:
     name: str = "chain"
     source: str = ""
     _joints_first: bool = field(init=False, repr=False)
+    _fixed: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         if self.convention not in ("dh", "mdh"):
@@ -124,6 +125,7 @@ class SerialChain:
         for key, value in values.items():
             object.__setattr__(self, key, value)
         object.__setattr__(self, "_joints_first", self.convention == "dh")
+        object.__setattr__(self, "_fixed", self._fixed_factors())
 
     # ------------------------------------------------------------------ basics
     @property
@@ -203,7 +205,7 @@ class SerialChain:
         turn[..., 1, 0] = np.sin(theta)
         turn[..., 0, 1] = -turn[..., 1, 0]
         turn[..., 2, 2] = turn[..., 3, 3] = 1.0
-        fixed = self._fixed_factors
+        fixed = self._fixed
         # standard: A = Rz(theta) [Tz(d) Tx(a) Rx(alpha)]; modified: A = [Rx(alpha) Tx(a) Tz(d)] Rz(theta)
         links = turn @ fixed if self._joints_first else fixed @ turn
         out = np.empty((flat.shape[0], self.n + 1, 4, 4))
@@ -212,7 +214,6 @@ class SerialChain:
             out[:, i + 1] = out[:, i] @ links[:, i]
         return out
 
-    @property
     def _fixed_factors(self) -> np.ndarray:
         """The joint-independent factor of each row, shape ``(n, 4, 4)``."""
         ca, sa = np.cos(self.alpha), np.sin(self.alpha)
@@ -326,8 +327,11 @@ class SerialChain:
             point = point + np.einsum("nij,nj->ni", target[:, :3, :3], local)
         axis_frames = self._axis_frames(stack)
         directions = axis_frames[:, :, :3, 2] * self.sign[:, None]  # (N, n, 3)
-        linear = np.cross(directions, point[:, None, :] - axis_frames[:, :, :3, 3])
-        jac = np.concatenate([linear, directions], axis=2).transpose(0, 2, 1)
+        lever = point[:, None, :] - axis_frames[:, :, :3, 3]
+        jac = np.empty((stack.shape[0], 6, self.n))
+        for row, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):  # directions x lever
+            jac[:, row] = directions[..., i] * lever[..., j] - directions[..., j] * lever[..., i]
+        jac[:, 3:] = directions.transpose(0, 2, 1)
         jac[:, :, active:] = 0.0
         return jac.reshape(lead + (6, self.n))
 
