@@ -1,0 +1,220 @@
+"""Sets of closed arcs on the circle of angles ``[-pi, pi)``.
+
+An :class:`ArcSet` is a finite union of closed arcs.  To the user an arc is a
+pair ``(lo, hi)`` of angles in ``[-pi, pi]`` read counter-clockwise from
+``lo`` to ``hi``; an arc through ``+-pi`` is ONE arc and is printed with
+``lo > hi`` (e.g. ``(3.0, -3.0)``).  The full circle and the empty set are
+ordinary values (:meth:`ArcSet.full`, :meth:`ArcSet.empty`).
+
+Internally the set is kept as sorted, disjoint closed intervals of the line
+segment ``[-pi, pi]`` (an arc through ``+-pi`` is cut in two there); the
+public :attr:`ArcSet.arcs` joins the two pieces again.
+"""
+
+from __future__ import annotations
+
+from typing import Iterable, Sequence
+
+import numpy as np
+
+PI = float(np.pi)
+TWO_PI = 2.0 * PI
+#: Gaps narrower than this (radians) are closed when arcs are merged: they are
+#: rounding left by wrapping at the +-pi seam, far below any physical angle.
+SEAM_TOLERANCE = 1e-12
+
+
+def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
+    """Angles mapped to ``[-pi, pi)``."""
+    return np.mod(np.asarray(angle, dtype=float) + PI, TWO_PI) - PI
+
+
+def _merge(intervals: Iterable[tuple[float, float]]) -> tuple[tuple[float, float], ...]:
+    """Sorted union of closed line intervals (touching ones, within :data:`SEAM_TOLERANCE`, are merged)."""
+    ordered = sorted((float(lo), float(hi)) for lo, hi in intervals)
+    merged: list[list[float]] = []
+    for lo, hi in ordered:
+        if merged and lo <= merged[-1][1] + SEAM_TOLERANCE:
+            merged[-1][1] = max(merged[-1][1], hi)
+        else:
+            merged.append([lo, hi])
+    return tuple((lo, hi) for lo, hi in merged)
+
+
+class ArcSet:
+    """A finite union of closed arcs of the circle.
+
+    Parameters
+    ----------
+    arcs : sequence of (lo, hi)
+        Arcs read counter-clockwise from ``lo`` to ``hi`` (radians, any real
+        values; they are wrapped).  ``lo > hi`` after wrapping means the arc
+        passes through ``+-pi``.  An arc with ``hi - lo >= 2 pi`` before
+        wrapping is the full circle.
+    """
+
+    __slots__ = ("_intervals",)
+
+    def __init__(self, arcs: Sequence[Sequence[float]] = ()) -> None:
+        pieces: list[tuple[float, float]] = []
+        for arc in arcs:
+            if len(arc) != 2:
+                raise ValueError(f"an arc must be a pair (lo, hi), got {arc!r}")
+            lo, hi = float(arc[0]), float(arc[1])
+            if not (np.isfinite(lo) and np.isfinite(hi)):
+                raise ValueError(f"arc ends must be finite, got ({lo}, {hi})")
+            if hi - lo >= TWO_PI:
+                pieces.append((-PI, PI))
+                continue
+            start = float(wrap_angle(lo))
+            length = float(np.mod(hi - lo, TWO_PI)) if hi != lo else 0.0
+            end = start + length
+            if end <= PI:
+                pieces.append((start, end))
+            else:
+                pieces.append((start, PI))
+                pieces.append((-PI, end - TWO_PI))
+        self._intervals = _merge(pieces)
+
+    # ----------------------------------------------------------- constructors
+    @classmethod
+    def full(cls) -> "ArcSet":
+        """The whole circle."""
+        return cls._from_intervals(((-PI, PI),))
+
+    @classmethod
+    def empty(cls) -> "ArcSet":
+        """The empty set."""
+        return cls._from_intervals(())
+
+    @classmethod
+    def _from_intervals(cls, intervals: Iterable[tuple[float, float]]) -> "ArcSet":
+        result = cls.__new__(cls)
+        result._intervals = _merge(intervals)
+        return result
+
+    # ------------------------------------------------------------- properties
+    @property
+    def intervals(self) -> tuple[tuple[float, float], ...]:
+        """Sorted disjoint closed intervals of ``[-pi, pi]`` (arcs through ``+-pi`` cut in two)."""
+        return self._intervals
+
+    @property
+    def is_empty(self) -> bool:
+        """True for the empty set."""
+        return not self._intervals
+
+    @property
+    def is_full(self) -> bool:
+        """True for the whole circle."""
+        return (
+            len(self._intervals) == 1
+            and self._intervals[0][0] <= -PI + SEAM_TOLERANCE
+            and self._intervals[0][1] >= PI - SEAM_TOLERANCE
+        )
+
+    @property
+    def arcs(self) -> list[tuple[float, float]]:
+        """The arcs as ``(lo, hi)``; an arc through ``+-pi`` is one pair with ``lo > hi``.
+
+        The full circle is ``[(-pi, pi)]``.
+        """
+        pieces = list(self._intervals)
+        if self.is_full or len(pieces) < 2:
+            return pieces
+        if pieces[0][0] <= -PI + SEAM_TOLERANCE and pieces[-1][1] >= PI - SEAM_TOLERANCE:
+            joined = (pieces[-1][0], pieces[0][1])
+            return pieces[1:-1] + [joined]
+        return pieces
+
+    @property
+    def length(self) -> float:
+        """Total length of the arcs in radians."""
+        return float(sum(hi - lo for lo, hi in self._intervals))
+
+    # ------------------------------------------------------------- operations
+    def union(self, other: "ArcSet") -> "ArcSet":
+        """Points in either set."""
+        return ArcSet._from_intervals(self._intervals + other._intervals)
+
+    def intersection(self, other: "ArcSet") -> "ArcSet":
+        """Points in both sets."""
+        result: list[tuple[float, float]] = []
+        i = j = 0
+        a, b = self._intervals, other._intervals
+        while i < len(a) and j < len(b):
+            lo = max(a[i][0], b[j][0])
+            hi = min(a[i][1], b[j][1])
+            if lo <= hi:
+                result.append((lo, hi))
+            if a[i][1] < b[j][1]:
+                i += 1
+            else:
+                j += 1
+        return ArcSet._from_intervals(result)
+
+    def complement(self) -> "ArcSet":
+        """The closure of the points not in this set (closed arcs share their ends with this set)."""
+        result: list[tuple[float, float]] = []
+        start = -PI
+        for lo, hi in self._intervals:
+            if lo > start:
+                result.append((start, lo))
+            start = hi
+        if start < PI:
+            result.append((start, PI))
+        return ArcSet._from_intervals(result)
+
+    def contains(self, angle: np.ndarray | float, tolerance: float = 0.0) -> np.ndarray | bool:
+        """Whether each angle (any real value, wrapped) lies in the set, within ``tolerance``."""
+        values = wrap_angle(angle)
+        inside = np.zeros(np.shape(values), dtype=bool)
+        for lo, hi in self._intervals:
+            inside |= (values >= lo - tolerance) & (values <= hi + tolerance)
+            # an angle just below +pi wraps to -pi: check both images near the seam
+            inside |= (values + TWO_PI >= lo - tolerance) & (values + TWO_PI <= hi + tolerance)
+            inside |= (values - TWO_PI >= lo - tolerance) & (values - TWO_PI <= hi + tolerance)
+        return bool(inside) if np.ndim(inside) == 0 else inside
+
+    def nearest(self, angle: float) -> float | None:
+        """The point of the set nearest to ``angle`` on the circle (``None`` if the set is empty).
+
+        An angle inside the set is returned wrapped to ``[-pi, pi)``.
+        """
+        if self.is_empty:
+            return None
+        value = float(wrap_angle(angle))
+        if self.contains(value):
+            return value
+        ends = np.array([end for interval in self._intervals for end in interval])
+        distance = np.abs(wrap_angle(ends - value))
+        return float(wrap_angle(ends[int(np.argmin(distance))]))
+
+    # ------------------------------------------------------------- dunder
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, ArcSet) and self._intervals == other._intervals
+
+    def __hash__(self) -> int:
+        return hash(self._intervals)
+
+    def __repr__(self) -> str:
+        if self.is_empty:
+            return "ArcSet.empty()"
+        if self.is_full:
+            return "ArcSet.full()"
+        return "ArcSet([" + ", ".join(f"({lo:.6g}, {hi:.6g})" for lo, hi in self.arcs) + "])"
+
+    def isclose(self, other: "ArcSet", tolerance: float = 1e-9) -> bool:
+        """Same arcs with ends equal within ``tolerance``."""
+        a, b = self._intervals, other._intervals
+        return len(a) == len(b) and all(
+            abs(x[0] - y[0]) <= tolerance and abs(x[1] - y[1]) <= tolerance for x, y in zip(a, b)
+        )
+
+
+def intersect_all(sets: Iterable[ArcSet]) -> ArcSet:
+    """Intersection of several arc sets (the full circle for none)."""
+    result = ArcSet.full()
+    for arc_set in sets:
+        result = result.intersection(arc_set)
+    return result

@@ -1,0 +1,60 @@
+"""The eight IK branches of an S-R-S arm: the signs of theta_2, theta_4 and theta_6.
+
+A branch is written as three characters, e.g. ``"+-+"`` for theta_2 >= 0,
+theta_4 < 0, theta_6 >= 0 (paper 000 section 3.3: eight solutions per pose
+and arm angle).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Branch(NamedTuple):
+    """Signs (+1 or -1) of theta_2 (shoulder), theta_4 (elbow) and theta_6 (wrist)."""
+
+    shoulder: int
+    elbow: int
+    wrist: int
+
+    def __str__(self) -> str:
+        return "".join("+" if s > 0 else "-" for s in self)
+
+
+#: All eight branches, ``+++`` first.
+BRANCHES: tuple[Branch, ...] = tuple(
+    Branch(s2, s4, s6) for s2 in (1, -1) for s4 in (1, -1) for s6 in (1, -1)
+)
+
+
+def parse_branch(value: "str | Branch | tuple[int, int, int]") -> Branch:
+    """A :class:`Branch` from ``"+-+"`` or a triple of signs.
+
+    Raises
+    ------
+    ValueError
+        Unless ``value`` is three of ``+``/``-`` or three signs +-1.
+    """
+    if isinstance(value, Branch):
+        return value
+    if isinstance(value, str):
+        if len(value) != 3 or any(ch not in "+-" for ch in value):
+            raise ValueError(
+                f"branch must be three signs of theta2, theta4, theta6 such as '+++' or '+-+', got {value!r}"
+            )
+        return Branch(*(1 if ch == "+" else -1 for ch in value))
+    try:
+        signs = [int(v) for v in value]
+    except (TypeError, ValueError):
+        raise ValueError(f"branch must be a string like '+-+' or three signs, got {value!r}") from None
+    if len(signs) != 3 or any(s not in (1, -1) for s in signs):
+        raise ValueError(f"branch must be three signs (+1 or -1), got {value!r}")
+    return Branch(*signs)
+
+
+def branch_of_theta(theta: np.ndarray) -> np.ndarray:
+    """Branch signs ``(..., 3)`` of DH angles ``(..., 7)``; a zero angle counts as ``+``."""
+    picked = theta[..., [1, 3, 5]]
+    return np.where(picked < 0.0, -1, 1)

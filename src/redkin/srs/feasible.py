@@ -1,0 +1,251 @@
+"""Feasible arm angles under box joint limits: paper 000 section 4, eqs. 20-30.
+
+For each joint ``i`` the set ``Psi_i`` of arm angles at which
+``theta_i(psi)`` lies within its limits (eq. 29) is a union of closed arcs,
+and the feasible set is ``Psi = intersection of the Psi_i`` (eq. 30).
+
+Closed form, never missing a narrow arc: every arm angle where
+``theta_i(psi)`` equals a limit solves a linear equation in
+``(sin psi, cos psi)`` (:func:`redkin.srs.joints.limit_equation`, derived
+from eqs. 21 and 22), which has at most two roots in closed form
+(:func:`redkin.srs.joints.sinusoid_roots`).  Between consecutive roots
+``theta_i`` stays on one side of each limit (it is continuous there: its
+only discontinuities, where the tangent-type numerator and denominator both
+vanish, are roots of every limit equation), so one evaluation at the middle
+of each piece classifies it.  This covers the five cases of section 4.3
+(none, around psi_max, around psi_min, the complement of both, all) and
+limits that cross ``+-pi`` alike, because membership is tested modulo
+``2 pi``.  Isolated touching points (a limit reached at a single arm angle
+from outside) and pieces shorter than :data:`PIECE_TOLERANCE` are not
+reported.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.chain import SerialChain
+from redkin.circle import ArcSet
+from redkin.srs.branches import Branch, parse_branch
+from redkin.srs.coefficients import ArmAngleCoefficients
+from redkin.srs.geometry import SRSGeometry
+from redkin.srs.ik import as_geometry, coefficients_for
+from redkin.srs.joints import PSI_JOINTS, entry_values, limit_equation, psi_joint_angles, sinusoid_roots
+
+TWO_PI = 2.0 * np.pi
+#: Slack (radians) when a joint value is compared with its limits at the middle of a piece.
+MEMBERSHIP_TOLERANCE = 1e-12
+#: Pieces shorter than this (radians) are dropped: they are repeated roots split by
+#: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
+PIECE_TOLERANCE = 1e-12
+
+
+@dataclass(frozen=True)
+class FeasibleArmAngles:
+    """Feasible arm angles of one pose and branch.
+
+    Attributes
+    ----------
+    branch : Branch
+    theta4 : float
+        The elbow DH angle (independent of psi, eq. 11).
+    per_joint : dict of int to ArcSet
+        ``Psi_i`` for joints 1..7 (eq. 29); joint 4 is the full circle or empty.
+    feasible : ArcSet
+        ``Psi``, the intersection (eq. 30); empty means the pose is unreachable
+        within the limits on this branch.
+    """
+
+    branch: Branch
+    theta4: float
+    per_joint: dict[int, ArcSet]
+    feasible: ArcSet
+
+    @property
+    def is_empty(self) -> bool:
+        """True when no arm angle satisfies every limit."""
+        return self.feasible.is_empty
+
+
+@dataclass(frozen=True)
+class FeasiblePieces:
+    """Batched feasible sets as pieces between sorted cut points.
+
+    Piece ``j`` of a pose runs from ``start[..., j]`` to ``end[..., j]``
+    (``end`` may exceed ``pi``: the piece then wraps); ``feasible[..., j]``
+    says whether it satisfies the limits.  Unused slots have ``feasible``
+    false and NaN ends.
+    """
+
+    start: np.ndarray
+    end: np.ndarray
+    feasible: np.ndarray
+
+    def arc_set(self, index: tuple[int, ...] = ()) -> ArcSet:
+        """The :class:`ArcSet` of one pose (``index`` into the batch shape)."""
+        keep = self.feasible[index]
+        starts, ends = self.start[index][keep], self.end[index][keep]
+        return ArcSet([(a, b) for a, b in zip(starts.tolist(), ends.tolist()) if b - a > PIECE_TOLERANCE])
+
+    @property
+    def nonempty(self) -> np.ndarray:
+        """Whether each pose has a feasible arm angle (a feasible piece longer than :data:`PIECE_TOLERANCE`)."""
+        return np.any(self.feasible & (self.end - self.start > PIECE_TOLERANCE), axis=-1)
+
+
+def psi_joint_limits(geometry: SRSGeometry) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Lower and upper DH-angle limits of joints 1, 2, 3, 5, 6, 7 and which of them are limited."""
+    columns = [j - 1 for j in PSI_JOINTS]
+    return (
+        geometry.theta_lower[columns],
+        geometry.theta_upper[columns],
+        geometry.theta_limited[columns],
+    )
+
+
+def within(theta: np.ndarray, lower: np.ndarray, upper: np.ndarray, limited: np.ndarray) -> np.ndarray:
+    """``lower <= theta <= upper`` modulo 2 pi (limits crossing +-pi work); unlimited joints pass."""
+    width = np.where(limited, upper - lower, 0.0)
+    base = np.where(limited, lower, 0.0)
+    shifted = np.mod(theta - base + MEMBERSHIP_TOLERANCE, TWO_PI)
+    return (shifted <= width + 2.0 * MEMBERSHIP_TOLERANCE) | ~limited
+
+
+def cut_points(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
+    """Every arm angle where a joint reaches a limit, shape ``(..., 6, 4)`` (NaN: none).
+
+    Column ``k`` holds the roots for joint ``PSI_JOINTS[k]``: two for its lower
+    and two for its upper limit (eqs. 21, 22 set equal to the limit).
+    """
+    lower, upper, limited = psi_joint_limits(geometry)
+    entries = coefficients.entries
+    roots = []
+    for column in range(len(PSI_JOINTS)):
+        if not limited[column]:
+            roots.append(np.full(entries.shape[:-2] + (4,), np.nan))
+            continue
+        limits = np.array([lower[column], upper[column]])
+        equation = limit_equation(entries[..., None, :, :], column, limits)  # (..., 2, 3)
+        roots.append(sinusoid_roots(equation).reshape(entries.shape[:-2] + (4,)))
+    return np.stack(roots, axis=-2)
+
+
+def _pieces(cuts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted cuts ``(..., M)`` (NaN last) -> piece starts and ends; a pose without cuts gets one whole-circle piece."""
+    cuts = np.sort(cuts, axis=-1)
+    valid = ~np.isnan(cuts)
+    count = valid.sum(axis=-1, keepdims=True)
+    first = np.where(count > 0, cuts[..., :1], -np.pi)
+    following = np.concatenate([cuts[..., 1:], np.full(cuts.shape[:-1] + (1,), np.nan)], axis=-1)
+    index = np.arange(cuts.shape[-1])
+    is_last = index == count - 1
+    end = np.where(is_last, first + TWO_PI, following)
+    start = np.where(valid, cuts, np.nan)
+    no_cut = (count == 0) & (index == 0)
+    start = np.where(no_cut, -np.pi, start)
+    end = np.where(no_cut, np.pi, end)
+    return start, end
+
+
+def _classify(
+    coefficients: ArmAngleCoefficients, branch: Branch, start: np.ndarray, end: np.ndarray, geometry: SRSGeometry
+) -> np.ndarray:
+    """Joint values at each piece's middle ``(..., M, 6)`` and whether each joint is within its limits."""
+    lower, upper, limited = psi_joint_limits(geometry)
+    middle = np.where(np.isnan(start), 0.0, 0.5 * (start + end))
+    values = entry_values(coefficients.entries[..., None, :, :], middle)
+    theta = psi_joint_angles(values, branch.shoulder, branch.wrist)
+    return within(theta, lower, upper, limited)
+
+
+def elbow_within(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
+    """Whether theta_4 (independent of psi) is within its limits, batched."""
+    return within(coefficients.theta4, geometry.theta_lower[3], geometry.theta_upper[3], geometry.theta_limited[3])
+
+
+def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
+    """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once."""
+    cuts = cut_points(coefficients, geometry)
+    start, end = _pieces(cuts.reshape(cuts.shape[:-2] + (-1,)))
+    ok = np.all(_classify(coefficients, branch, start, end, geometry), axis=-1)
+    ok &= ~np.isnan(start) & elbow_within(coefficients, geometry)[..., None]
+    return FeasiblePieces(start, end, ok)
+
+
+def per_joint_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
+    """Eq. 29 for a batch: pieces of each joint's own cut points; batch shape gains an axis of 6 joints."""
+    cuts = cut_points(coefficients, geometry)  # (..., 6, 4)
+    start, end = _pieces(cuts)
+    expanded = ArmAngleCoefficients(
+        theta4=coefficients.theta4[..., None],
+        shoulder=coefficients.shoulder[..., None, :, :, :],
+        wrist=coefficients.wrist[..., None, :, :, :],
+        entries=coefficients.entries[..., None, :, :],
+        u_sw=coefficients.u_sw[..., None, :],
+        reference=coefficients.reference[..., None, :, :],
+    )
+    ok = _classify(expanded, branch, start, end, geometry)  # (..., 6, M, 6)
+    own = np.diagonal(ok, axis1=-3, axis2=-1)  # (..., M, 6)
+    own = np.moveaxis(own, -1, -2) & ~np.isnan(start)
+    return FeasiblePieces(start, end, own)
+
+
+def feasible_pieces(
+    arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
+) -> FeasiblePieces:
+    """Batched feasible sets (eq. 30) as arrays, for speed; see :func:`feasible_arm_angles`."""
+    geometry = as_geometry(arm)
+    chosen = parse_branch(branch)
+    return overall_pieces(coefficients_for(geometry, pose, chosen.elbow), chosen, geometry)
+
+
+def feasible_from_coefficients(
+    coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry
+) -> "FeasibleArmAngles | np.ndarray":
+    """:class:`FeasibleArmAngles` from precomputed coefficients (object array for a batch)."""
+    overall = overall_pieces(coefficients, branch, geometry)
+    joints = per_joint_pieces(coefficients, branch, geometry)
+    elbow_ok = elbow_within(coefficients, geometry)
+    shape = coefficients.theta4.shape
+    results = np.empty(shape, dtype=object)
+    for index in np.ndindex(*shape):
+        per_joint = {j: joints.arc_set(index + (k,)) for k, j in enumerate(PSI_JOINTS)}
+        per_joint[4] = ArcSet.full() if elbow_ok[index] else ArcSet.empty()
+        results[index] = FeasibleArmAngles(
+            branch=branch,
+            theta4=float(coefficients.theta4[index]),
+            per_joint=dict(sorted(per_joint.items())),
+            feasible=overall.arc_set(index),
+        )
+    return results[()] if shape == () else results
+
+
+def feasible_arm_angles(
+    arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
+) -> "FeasibleArmAngles | np.ndarray":
+    """Per-joint and overall feasible arm angles (paper 000 eqs. 29, 30).
+
+    Parameters
+    ----------
+    arm : SerialChain or SRSGeometry
+        S-R-S arm with its joint limits (ranges of width >= 2 pi are unlimited).
+    pose : array_like, shape (4, 4) or (..., 4, 4)
+    branch : str or Branch
+        Signs of theta_2, theta_4, theta_6.
+
+    Returns
+    -------
+    FeasibleArmAngles, or an object array of them with the batch shape.
+
+    Raises
+    ------
+    ValueError
+        For a malformed or unreachable pose or a malformed branch.
+    """
+    geometry = as_geometry(arm)
+    chosen = parse_branch(branch)
+    coefficients = coefficients_for(geometry, pose, chosen.elbow)
+    return feasible_from_coefficients(coefficients, chosen, geometry)

@@ -1,0 +1,174 @@
+"""The S-R-S geometry of a chain in the form of paper 000 Table 1.
+
+:func:`srs_geometry` checks that a :class:`~redkin.chain.SerialChain` is a
+7-DOF S-R-S arm in the Table 1 form (standard DH, ``a = 0``,
+``alpha = (-pi/2, pi/2, -pi/2, pi/2, -pi/2, pi/2, 0)``, ``d = (d_bs, 0, d_se,
+0, d_ew, 0, d_wt)`` with ``d_se, d_ew > 0``) and extracts the link lengths.
+The chain's ``base``, ``tool``, joint ``offset`` and ``sign`` are supported:
+the solver works on the DH angles ``theta = offset + sign * q`` and on the
+pose of frame 7 in frame 0, and converts at the edge.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.validation import check_pose, check_rotation, check_vectors
+
+HALF_PI = np.pi / 2.0
+TWO_PI = 2.0 * np.pi
+#: The link twists of paper 000 Table 1.
+TABLE1_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
+#: Tolerance on the DH parameters when recognising the Table 1 form.
+GEOMETRY_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class SRSGeometry:
+    """A 7-DOF S-R-S arm reduced to what the arm-angle solver needs.
+
+    Attributes
+    ----------
+    chain : SerialChain
+        The chain it was built from (joint values ``q`` refer to it).
+    d_bs, d_se, d_ew, d_wt : float
+        Base-shoulder, shoulder-elbow, elbow-wrist, wrist-tool lengths (Table 1).
+    theta_lower, theta_upper : numpy.ndarray, shape (7,)
+        Joint limits on the DH angles ``theta``; unlimited joints (range
+        ``>= 2 pi``) get ``(-inf, inf)``.
+    """
+
+    chain: SerialChain
+    d_bs: float
+    d_se: float
+    d_ew: float
+    d_wt: float
+    theta_lower: np.ndarray
+    theta_upper: np.ndarray
+
+    @property
+    def theta_limited(self) -> np.ndarray:
+        """Which joints have a range narrower than ``2 pi``."""
+        return self.theta_upper - self.theta_lower < TWO_PI
+
+    def theta_of_q(self, q: np.ndarray) -> np.ndarray:
+        """DH angles ``theta = offset + sign * q``."""
+        return self.chain.offset + self.chain.sign * q
+
+    def q_of_theta(self, theta: np.ndarray) -> np.ndarray:
+        """Joint values ``q = sign * (theta - offset)`` (``sign`` is +-1)."""
+        return self.chain.sign * (theta - self.chain.offset)
+
+    def to_table1_pose(self, pose: np.ndarray) -> np.ndarray:
+        """The pose of frame 7 in frame 0: ``base^-1 @ pose @ tool^-1`` (batched)."""
+        base_inv = np.linalg.inv(self.chain.base)
+        tool_inv = np.linalg.inv(self.chain.tool)
+        return base_inv @ pose @ tool_inv
+
+    def to_chain_q(self, theta: np.ndarray, wrap_into_limits: bool = True) -> np.ndarray:
+        """Joint values of the chain for DH angles ``theta``.
+
+        With ``wrap_into_limits`` each value is shifted by a multiple of
+        ``2 pi`` into its limit range when one such shift lands there (limits
+        that cross ``+-pi``, e.g. ``[100, 260]`` deg); otherwise it is wrapped
+        to ``[-pi, pi)``.
+        """
+        q = self.q_of_theta(theta)
+        if not wrap_into_limits:
+            return q
+        lower = np.where(np.isfinite(self.chain.lower), self.chain.lower, -np.pi)
+        shifted = lower + np.mod(q - lower, TWO_PI)
+        inside = shifted <= self.chain.upper
+        wrapped = np.mod(q + np.pi, TWO_PI) - np.pi
+        return np.where(inside & self.chain.limited, shifted, wrapped)
+
+
+def srs_geometry(chain: SerialChain) -> SRSGeometry:
+    """Check that ``chain`` is an S-R-S arm in paper 000 Table 1 form and extract its lengths.
+
+    Raises
+    ------
+    ValueError
+        Naming the first violated S-R-S condition.
+    """
+    if not isinstance(chain, SerialChain):
+        raise ValueError(f"chain must be a SerialChain, got {type(chain).__name__}")
+    if chain.n != 7:
+        raise ValueError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}")
+    if chain.convention != "dh":
+        raise ValueError(
+            f"an S-R-S arm in paper 000 Table 1 form uses standard DH, {chain.name!r} uses {chain.convention!r}"
+        )
+    tol = GEOMETRY_TOLERANCE
+    if np.any(np.abs(chain.a) > tol):
+        i = int(np.argmax(np.abs(chain.a) > tol))
+        raise ValueError(
+            f"S-R-S condition violated: all a_i must be 0 (intersecting axes), {chain.name!r} has a_{i + 1} = {chain.a[i]:g}"
+        )
+    bad = np.flatnonzero(np.abs(np.mod(chain.alpha - TABLE1_ALPHA + np.pi, TWO_PI) - np.pi) > tol)
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            "S-R-S condition violated: link twists must be (-90, 90, -90, 90, -90, 90, 0) deg "
+            f"(paper 000 Table 1), {chain.name!r} has alpha_{i + 1} = {np.degrees(chain.alpha[i]):g} deg"
+        )
+    for i in (1, 3, 5):
+        if abs(chain.d[i]) > tol:
+            where = "shoulder" if i == 1 else ("elbow" if i == 3 else "wrist")
+            raise ValueError(
+                f"S-R-S condition violated: d_{i + 1} must be 0 (the {where} axes meet in one point), "
+                f"{chain.name!r} has d_{i + 1} = {chain.d[i]:g}"
+            )
+    for i, label in ((2, "d_se (d_3)"), (4, "d_ew (d_5)")):
+        if chain.d[i] <= tol:
+            raise ValueError(f"S-R-S condition violated: {label} must be positive, {chain.name!r} has {chain.d[i]:g}")
+    sign, offset = chain.sign, chain.offset
+    lo = np.where(sign > 0, offset + chain.lower, offset - chain.upper)
+    hi = np.where(sign > 0, offset + chain.upper, offset - chain.lower)
+    free = ~chain.limited
+    theta_lower = np.where(free, -np.inf, lo)
+    theta_upper = np.where(free, np.inf, hi)
+    for array in (theta_lower, theta_upper):
+        array.setflags(write=False)
+    return SRSGeometry(
+        chain=chain,
+        d_bs=float(chain.d[0]),
+        d_se=float(chain.d[2]),
+        d_ew=float(chain.d[4]),
+        d_wt=float(chain.d[6]),
+        theta_lower=theta_lower,
+        theta_upper=theta_upper,
+    )
+
+
+def check_target(position: np.ndarray, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Validate a batch of target positions ``(..., 3)`` and rotations ``(..., 3, 3)``."""
+    position = check_vectors(position, 3, "position")
+    rotation = check_rotation(rotation, "rotation")
+    if position.shape[:-1] != rotation.shape[:-2]:
+        try:
+            shape = np.broadcast_shapes(position.shape[:-1], rotation.shape[:-2])
+        except ValueError:
+            raise ValueError(
+                f"position batch shape {position.shape[:-1]} does not match rotation batch shape {rotation.shape[:-2]}"
+            ) from None
+        position = np.broadcast_to(position, shape + (3,))
+        rotation = np.broadcast_to(rotation, shape + (3, 3))
+    return position, rotation
+
+
+def pose_from(position: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """Homogeneous transforms from positions and rotations (batched)."""
+    pose = np.zeros(position.shape[:-1] + (4, 4))
+    pose[..., :3, :3] = rotation
+    pose[..., :3, 3] = position
+    pose[..., 3, 3] = 1.0
+    return pose
+
+
+def as_pose(pose: np.ndarray) -> np.ndarray:
+    """Validate homogeneous target poses ``(..., 4, 4)``."""
+    return check_pose(pose, "pose")

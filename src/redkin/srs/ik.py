@@ -1,0 +1,113 @@
+"""Arm-angle inverse kinematics of S-R-S arms (paper 000 section 3.3, eqs. 11-19).
+
+Given a pose and an arm angle ``psi``, each of the eight branches (signs of
+theta_2, theta_4, theta_6) has exactly one joint vector.  Everything is
+batched over leading axes of the pose.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.chain import SerialChain
+from redkin.srs.branches import BRANCHES, Branch, parse_branch
+from redkin.srs.coefficients import ArmAngleCoefficients, arm_angle_coefficients
+from redkin.srs.geometry import SRSGeometry, as_pose, srs_geometry
+from redkin.srs.joints import assemble_theta, entry_values, psi_joint_angles
+from redkin.validation import as_float_array, check_finite
+
+
+def as_geometry(arm: "SerialChain | SRSGeometry") -> SRSGeometry:
+    """An :class:`SRSGeometry` from a chain (checked) or a geometry (as is)."""
+    return arm if isinstance(arm, SRSGeometry) else srs_geometry(arm)
+
+
+def prepare_targets(geometry: SRSGeometry, pose: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Validate target poses and return frame-7 positions and rotations in frame 0 (Table 1 form)."""
+    local = geometry.to_table1_pose(as_pose(pose))
+    return local[..., :3, 3], local[..., :3, :3]
+
+
+def check_psi(psi: ArrayLike) -> np.ndarray:
+    """Arm angles as a finite float array."""
+    array = as_float_array(psi, "psi")
+    check_finite(array, "psi")
+    return array
+
+
+def coefficients_for(
+    arm: "SerialChain | SRSGeometry", pose: ArrayLike, elbow_sign: "int | np.ndarray"
+) -> ArmAngleCoefficients:
+    """Eq. 12 and eq. 16 coefficients of validated poses ``(..., 4, 4)`` for an elbow sign."""
+    geometry = as_geometry(arm)
+    position, rotation = prepare_targets(geometry, pose)
+    return arm_angle_coefficients(geometry, position, rotation, elbow_sign)
+
+
+def theta_at(coefficients: ArmAngleCoefficients, psi: np.ndarray, branch: Branch) -> np.ndarray:
+    """The 7 DH angles at arm angles ``psi`` for one branch (eqs. 11, 13-15, 17-19)."""
+    values = entry_values(coefficients.entries, psi)
+    psi_joints = psi_joint_angles(values, branch.shoulder, branch.wrist)
+    return assemble_theta(coefficients.theta4, psi_joints)
+
+
+def ik(
+    arm: "SerialChain | SRSGeometry",
+    pose: ArrayLike,
+    psi: ArrayLike,
+    branch: "str | Branch" = "+++",
+) -> np.ndarray:
+    """Joint values reaching ``pose`` with arm angle ``psi`` on one branch.
+
+    Parameters
+    ----------
+    arm : SerialChain or SRSGeometry
+        An S-R-S arm in paper 000 Table 1 form (base, tool, offsets and signs allowed).
+    pose : array_like, shape (..., 4, 4)
+        Target poses of the tool in the base frame.
+    psi : array_like, broadcastable to the batch shape
+        Arm angles in radians (right-handed about shoulder -> wrist, eq. 6).
+    branch : str or Branch
+        Signs of theta_2, theta_4, theta_6, e.g. ``"+-+"``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 7)
+        Joint values ``q`` of the chain (each wrapped into its limit range
+        when a multiple of 2 pi gets it there, else into ``[-pi, pi)``).
+        They may violate the limits: see :func:`redkin.srs.feasible_arm_angles`.
+
+    Raises
+    ------
+    ValueError
+        For a malformed pose or psi, or a wrist position out of reach.
+    """
+    geometry = as_geometry(arm)
+    chosen = parse_branch(branch)
+    psi = check_psi(psi)
+    coefficients = coefficients_for(geometry, pose, chosen.elbow)
+    return geometry.to_chain_q(theta_at(coefficients, psi, chosen))
+
+
+def ik_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike, psi: ArrayLike) -> np.ndarray:
+    """Joint values of all eight branches, shape ``(..., 8, 7)`` in the order of :data:`BRANCHES`.
+
+    ``psi`` broadcasts against the batch shape of ``pose``.  See :func:`ik`.
+    """
+    geometry = as_geometry(arm)
+    psi = check_psi(psi)
+    pose = as_pose(pose)
+    elbow = np.array([1, -1])
+    coefficients = coefficients_for(geometry, pose[..., None, :, :], elbow)  # (..., 2)
+    values = entry_values(coefficients.entries, np.asarray(psi)[..., None])  # (..., 2, 10)
+    signs = np.array(BRANCHES)
+    # BRANCHES order is (s2, s4, s6) with s2 slowest: index = 4*i2 + 2*i4 + i6
+    shoulder = signs[:, 0].reshape(2, 2, 2)  # indexed (i2, i4, i6)
+    wrist = signs[:, 2].reshape(2, 2, 2)
+    values = values[..., None, :, None, :]  # (..., 1, 2, 1, 10)
+    psi_joints = psi_joint_angles(values, shoulder, wrist)  # (..., 2, 2, 2, 6)
+    theta4 = coefficients.theta4[..., None, :, None]
+    theta = assemble_theta(theta4, psi_joints)
+    theta = theta.reshape(theta.shape[:-4] + (8, 7))
+    return geometry.to_chain_q(theta)
