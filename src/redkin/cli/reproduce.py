@@ -20,6 +20,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _progress(key: str, fraction: float, message: str) -> None:
+    if not sys.stderr.isatty():  # logs get one line at the start and end of a section
+        if message in ("start", "done"):  # the two calls made by reproduce.run
+            sys.stderr.write(f"[{key}] {message}\n")
+        return
     width = 30
     filled = int(round(width * max(0.0, min(1.0, fraction))))
     end = "\n" if fraction >= 1.0 else ""

@@ -51,6 +51,8 @@ def build(writer: SectionWriter) -> None:
             draw_arm_3d(ax, chain, q_sample, color="C1", label="sample q")
             points = np.concatenate([chain.frames(np.zeros(chain.n))[:, :3, 3], chain.frames(q_sample)[:, :3, 3]])
             set_equal_3d(ax, points)
+            if name.startswith("humanoid"):
+                ax.view_init(elev=15, azim=30, vertical_axis="y")  # the torso axis is +y
         ax.legend(loc="upper left", fontsize=8)
         ax.set_title(name)
         writer.figure(fig, name, f"{name} at q = 0 and at q = {np.round(np.degrees(q_sample), 1).tolist()} deg")
