@@ -1,0 +1,174 @@
+"""The shoulder angle psi: the redundancy of the torso joint (section 3.2, thesis 001).
+
+Section 3.2 defines psi in words: the plane through the neck ``B`` (base
+origin), the shoulder ``S`` and the wrist ``W`` turns about the neck->wrist
+axis, and psi = 0 in the posture with ``theta_1 = 0``.  The default here is
+exactly that rotation, signed (right-handed about ``n = W / |W|``):
+
+    psi(theta_1) = atan2(n . (s0 x s), s0 . s),
+
+with ``s0``, ``s`` the components of ``S(0)`` and ``S(theta_1)`` orthogonal
+to ``n``.  The shoulder circle ``S(theta_1)`` (radius ``L0`` about the torso
+axis ``y``) projects onto the plane orthogonal to ``n`` as an ellipse
+centred on the axis, so psi is strictly monotone in theta_1 (increasing when
+``W_y > 0``, decreasing when ``W_y < 0``) and one turn of theta_1 is one turn
+of psi.  The inverse is closed form (:func:`theta1_from_shoulder_angle`).
+It is undefined when ``W_y = 0`` (the ellipse degenerates to a segment).
+
+Eq. 3.1 instead takes the unsigned angle ``S h' S'`` at the midpoint
+``h' = W / 2``; it is not monotone in theta_1 and several theta_1 share one
+psi.  It is offered literally, with every root, by
+:func:`shoulder_angle_eq31` / :func:`theta1_from_shoulder_angle_eq31`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.validation import as_float_array, check_finite, check_vectors
+
+#: Below this ``|W_y| / |W|`` the signed shoulder angle is undefined.
+SHOULDER_TOLERANCE = 1e-9
+
+
+def _reference_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(e1, e2, ok)``: ``e1`` = unit component of ``+x`` orthogonal to ``n``, ``e2 = n x e1``."""
+    x = np.zeros_like(n)
+    x[..., 0] = 1.0
+    s0 = x - n[..., :1] * n
+    norm = np.linalg.norm(s0, axis=-1, keepdims=True)
+    ok = (norm[..., 0] > SHOULDER_TOLERANCE) & (np.abs(n[..., 1]) > SHOULDER_TOLERANCE)
+    e1 = s0 / np.where(norm > 0, norm, 1.0)
+    return e1, np.cross(n, e1), ok
+
+
+def _unit(wrist: np.ndarray) -> np.ndarray:
+    norm = np.linalg.norm(wrist, axis=-1, keepdims=True)
+    return wrist / np.where(norm > 0, norm, 1.0)
+
+
+def shoulder_angle_defined(wrist: ArrayLike) -> np.ndarray:
+    """Whether the signed shoulder angle is defined for right-arm wrist positions ``(..., 3)``."""
+    w = check_vectors(wrist, 3, "wrist")
+    return _reference_basis(_unit(w))[2]
+
+
+def shoulder_angle(theta1: ArrayLike, wrist: ArrayLike, L0: float = 1.0) -> np.ndarray:
+    """Signed shoulder angle psi of the right arm (section 3.2, rotation about the neck->wrist axis).
+
+    Parameters
+    ----------
+    theta1 : array_like, shape (...)
+        Torso angle in radians.
+    wrist : array_like, shape (..., 3)
+        Wrist position ``W`` in the base frame (metres).
+    L0 : float
+        Neck-to-shoulder length; psi does not depend on it.
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        psi in ``(-pi, pi]``; NaN where it is undefined (``W_y = 0``, see
+        :func:`shoulder_angle_defined`).
+    """
+    t = as_float_array(theta1, "theta1")
+    check_finite(t, "theta1")
+    n = _unit(check_vectors(wrist, 3, "wrist"))
+    e1, e2, ok = _reference_basis(n)
+    s = np.stack([np.cos(t), np.zeros_like(t), -np.sin(t)], axis=-1) * L0
+    psi = np.arctan2(np.sum(s * e2, axis=-1), np.sum(s * e1, axis=-1))
+    return np.where(ok, psi, np.nan)
+
+
+def theta1_from_shoulder_angle(psi: ArrayLike, wrist: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Closed-form inverse of :func:`shoulder_angle`.
+
+    The shoulder ``S(theta_1)`` must lie in the half-plane spanned by ``n``
+    and ``u(psi) = cos(psi) e1 + sin(psi) e2``: ``S . (n x u) = 0`` gives
+    ``tan(theta_1) = v_x / v_z`` with ``v = n x u``, and ``S . u > 0``
+    picks the root ``theta_1 = atan2(-sgn(n_y) v_x, -sgn(n_y) v_z)``
+    (``S . u`` is proportional to ``-(u x v)_y = -n_y`` on that root's opposite).
+
+    Returns
+    -------
+    theta1 : numpy.ndarray, shape (...)
+        In ``(-pi, pi]``; NaN where not ``defined``.
+    defined : numpy.ndarray of bool, shape (...)
+    """
+    p = as_float_array(psi, "psi")
+    check_finite(p, "psi")
+    n = _unit(check_vectors(wrist, 3, "wrist"))
+    e1, e2, ok = _reference_basis(n)
+    u = np.cos(p)[..., None] * e1 + np.sin(p)[..., None] * e2
+    v = np.cross(n, u)
+    sign = np.where(n[..., 1] >= 0, -1.0, 1.0)
+    theta1 = np.arctan2(sign * v[..., 0], sign * v[..., 2])
+    return np.where(ok, theta1, np.nan), ok
+
+
+# ----------------------------------------------------------- eq. 3.1, literal
+def shoulder_angle_eq31(theta1: ArrayLike, wrist: ArrayLike, L0: float) -> np.ndarray:
+    """Eq. 3.1 literally: the unsigned angle ``S h' S'`` in ``[0, pi]`` at ``h' = W / 2``.
+
+    ``S = (L0, 0, 0)`` is the shoulder at theta_1 = 0 and ``S' = S(theta_1)``.
+    The law of cosines of eq. 3.1 is evaluated as the angle between
+    ``S - h'`` and ``S' - h'`` (the same number, without cancellation).
+    """
+    t = as_float_array(theta1, "theta1")
+    check_finite(t, "theta1")
+    w = check_vectors(wrist, 3, "wrist")
+    half = w / 2.0
+    s0 = np.array([L0, 0.0, 0.0]) - half
+    s1 = np.stack([L0 * np.cos(t), np.zeros_like(t), -L0 * np.sin(t)], axis=-1) - half
+    cross = np.linalg.norm(np.cross(s0, s1), axis=-1)
+    return np.arctan2(cross, np.sum(s0 * s1, axis=-1))
+
+
+def theta1_from_shoulder_angle_eq31(psi: float, wrist: ArrayLike, L0: float) -> np.ndarray:
+    """Every theta_1 in ``(-pi, pi]`` with :func:`shoulder_angle_eq31` equal to ``psi`` (one wrist).
+
+    With ``a = S - h'`` and ``b = S' - h'``, eq. 3.1 is ``a . b = cos(psi) |a| |b|``.
+    Squared, it is a trigonometric polynomial of degree 2 in theta_1,
+    solved exactly as a quartic in ``z = exp(i theta_1)``; the roots on the
+    unit circle are polished and those satisfying the unsquared equation are kept.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,)
+        Sorted roots, ``0 <= k <= 4`` (empty when no theta_1 gives ``psi``).
+    """
+    psi = float(psi)
+    if not np.isfinite(psi) or not 0.0 <= psi <= np.pi:
+        raise ValueError(f"psi of eq. 3.1 must be an angle in [0, pi], got {psi!r}")
+    w = check_vectors(wrist, 3, "wrist").reshape(-1)
+    if w.shape != (3,):
+        raise ValueError(f"wrist must be one position of shape (3,), got {np.shape(wrist)}")
+    h = w / 2.0
+    a = np.array([L0, 0.0, 0.0]) - h
+    P, Q, R0 = L0 * a[0], -L0 * a[2], -float(a @ h)  # a . b = P c + Q s + R0
+    U, V, C = -2 * L0 * h[0], 2 * L0 * h[2], L0**2 + float(h @ h)  # |b|^2 = U c + V s + C
+    K = np.cos(psi) ** 2 * float(a @ a)
+    a0 = (P * P + Q * Q) / 2 + R0 * R0 - K * C
+    a1, b1 = 2 * P * R0 - K * U, 2 * Q * R0 - K * V
+    a2, b2 = (P * P - Q * Q) / 2, P * Q
+    coefficients = [(a2 - 1j * b2) / 2, (a1 - 1j * b1) / 2, a0, (a1 + 1j * b1) / 2, (a2 + 1j * b2) / 2]
+    if np.allclose(np.abs(coefficients), 0.0):  # eq. 3.1 holds for every theta_1 (degenerate wrist)
+        return np.array([])
+    roots = np.roots(coefficients)
+    candidates = np.angle(roots[np.abs(np.abs(roots) - 1.0) < 1e-3])
+    found: list[float] = []
+    for theta in candidates:
+        for _ in range(30):  # Newton on f(theta) = psi_eq31(theta) - psi (unsquared)
+            value = shoulder_angle_eq31(theta, w, L0) - psi
+            step = 1e-7
+            slope = (shoulder_angle_eq31(theta + step, w, L0) - shoulder_angle_eq31(theta - step, w, L0)) / (2 * step)
+            if abs(slope) < 1e-12:
+                break
+            theta = theta - value / slope
+        theta = float(np.angle(np.exp(1j * theta)))
+        if abs(shoulder_angle_eq31(theta, w, L0) - psi) < 1e-9 and all(
+            abs(np.angle(np.exp(1j * (theta - f)))) > 1e-7 for f in found
+        ):
+            found.append(theta)
+    return np.sort(np.array(found))
