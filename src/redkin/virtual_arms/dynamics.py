@@ -1,0 +1,166 @@
+"""The trajectory-generation dynamics of paper 004 (section 3.2, eqs. 9-14).
+
+All subsystems integrate the same equations from the same initial values and
+exchange the same signals, so their copies ``u^i``, ``theta^i`` and
+``lambda^i`` stay equal (the paper uses this in deriving eq. 16); we
+integrate one copy.  With ``delta = sum_k delta^k`` and
+``g = lambda delta + (theta(0) - theta)``:
+
+* eq. 9:  ``du/ds = eta A G' g``
+* eq. 10: ``A = (1/2 |lambda delta|^2 + c_A |delta| |theta(0) - theta|) / |G' g|^2``
+* eq. 11: ``dlambda/ds = eta c_lambda |delta| |theta(0) - theta| / sum_k E^k``
+* eq. 13: ``theta = G(u)``
+* eq. 14: ``V = lambda sum_k E^k + 1/2 |theta(0) - theta|^2``
+
+Checked problems of the printed equations (our derivation; tests confirm):
+
+1. The paper prints ``c_A = 1/2`` in eq. 10 and ``c_lambda = 1`` in eq. 11.
+   Then ``dV/ds = -eta/2 lambda^2 |delta|^2 + eta (c_lambda - c_A) |delta|
+   |theta(0) - theta|``: eq. 16 (``dV/ds = -eta/2 lambda^2 |delta|^2``) holds
+   only when ``c_A = c_lambda``.
+2. As ``lambda`` grows, ``theta`` approaches the point where ``g = 0`` (the
+   minimiser of ``V`` at fixed ``lambda``), where the numerator of eq. 10 stays
+   positive while its denominator vanishes: ``A`` diverges, ``|du/ds|`` grows
+   like ``1 / |G' g|`` and the state chatters across ``g = 0``; every
+   integrator's step size collapses there.
+
+The laws below: ``"literal"`` (eqs. 10-11 as printed, unbounded; kept to
+show the stall), ``"consistent"`` (``c_A = c_lambda = 1/2``, unbounded: eq. 16
+holds exactly, but it still stalls), and ``"bounded"`` (the default:
+consistent constants and the smooth bound ``A = N / (|G' g|^2 + N / A_max)``,
+equal to eq. 10 away from ``g = 0`` and at most ``A_max`` near it).  With the
+bound, ``theta`` follows the minimiser of ``V`` as ``lambda`` grows
+exponentially (the penalty-method path), which converges to the joint vector
+closest to ``theta(0)`` among those minimising ``sum_k E^k``.
+
+Joints clamped by eq. 27 (``du_j/ds = 0``) are not integrated at all, so they
+stay exactly fixed; ``delta`` and ``G' g`` above are taken over the free
+joints only, which keeps the eq. 16 identity for the joints that move.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from redkin.virtual_arms.output_function import OutputFunction
+
+
+@dataclass(frozen=True)
+class GainLaw:
+    """Constants of eqs. 10 and 11 and the optional bound on ``A``.
+
+    Attributes
+    ----------
+    name : str
+    gain_constant : float
+        ``c_A`` in the numerator of eq. 10.
+    lambda_constant : float
+        ``c_lambda`` in eq. 11.
+    a_max : float or None
+        Bound on ``A`` (``None``: unbounded, as printed).
+    """
+
+    name: str
+    gain_constant: float
+    lambda_constant: float
+    a_max: float | None
+
+
+GAIN_LAWS = {
+    "bounded": GainLaw("bounded", 0.5, 0.5, 1.0e3),
+    "consistent": GainLaw("consistent", 0.5, 0.5, None),
+    "literal": GainLaw("literal", 0.5, 1.0, None),
+}
+
+
+@dataclass(frozen=True)
+class State:
+    """Everything the dynamics computes at states ``y`` of shape ``(..., free + 1)``."""
+
+    u: np.ndarray  # (..., m)
+    theta: np.ndarray  # (..., m)
+    lam: np.ndarray  # (...)
+    delta: np.ndarray  # per subsystem, (..., p, m)
+    error: np.ndarray  # per subsystem, (..., p)
+    positions: np.ndarray  # (..., p, l)
+    gain: np.ndarray  # A, (...)
+    du: np.ndarray  # du/ds on the free joints, (..., free)
+    dlam: np.ndarray  # dlambda/ds, (...)
+    energy: np.ndarray  # V, eq. 14, (...)
+    free_gradient: np.ndarray  # |G' delta| over the free joints (stopping measure), (...)
+
+
+class Dynamics:
+    """Right-hand side of eqs. 9-13 for the free input states and ``log lambda``.
+
+    The integrated vector is ``y = [u_free, log lambda]``: ``lambda`` grows
+    exponentially along the run, and its logarithm keeps the integrator's
+    error control well scaled (``d log lambda / ds = (dlambda/ds) / lambda``;
+    the path is the same).  Everything is batched over leading axes of ``y``,
+    so the integrator's finite-difference Jacobian costs one model call.
+    """
+
+    def __init__(self, evaluator, goals: np.ndarray, weights: np.ndarray, active: np.ndarray,
+                 theta0: np.ndarray, output: OutputFunction, free: np.ndarray, eta: float, law: GainLaw):
+        self.evaluator = evaluator
+        self.goals = goals
+        self.weights = weights
+        self.active = active
+        self.theta0 = theta0
+        self.output = output
+        self.free = free
+        self.eta = eta
+        self.law = law
+        self.u0 = output.state(theta0)
+
+    def initial(self, lambda0: float) -> np.ndarray:
+        """``y(0) = [G^{-1}(theta(0)) on the free joints, log lambda(0)]``."""
+        return np.append(self.u0[self.free], np.log(lambda0))
+
+    def full_u(self, y: np.ndarray) -> np.ndarray:
+        u = np.broadcast_to(self.u0, y.shape[:-1] + self.u0.shape).copy()
+        u[..., self.free] = y[..., :-1]
+        return u
+
+    def state(self, y: np.ndarray) -> State:
+        """Evaluate the subsystems and eqs. 9-14 at ``y`` (shape ``(..., free + 1)``)."""
+        u = self.full_u(y)
+        lam = np.exp(y[..., -1])
+        theta = self.output.theta(u)
+        signals = self.evaluator(theta, self.goals, self.weights, self.active)
+        delta = signals.delta.sum(axis=-2)[..., self.free]
+        total_error = signals.error.sum(axis=-1)
+        displacement = (self.theta0 - theta)[..., self.free]
+        slope = self.output.slope(u)[..., self.free]
+        g = lam[..., None] * delta + displacement
+        slope_g = slope * g
+        delta_norm = np.linalg.norm(delta, axis=-1)
+        moved = np.linalg.norm(displacement, axis=-1)
+        numerator = 0.5 * lam**2 * delta_norm**2 + self.law.gain_constant * delta_norm * moved  # eq. 10
+        denominator = np.sum(slope_g**2, axis=-1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if self.law.a_max is None:
+                gain = numerator / denominator  # diverges where G' g -> 0
+            else:
+                gain = numerator / (denominator + numerator / self.law.a_max)
+            gain = np.where(numerator == 0.0, 0.0, gain)
+            dlam = np.where(total_error > 0.0,
+                            self.eta * self.law.lambda_constant * delta_norm * moved / total_error, 0.0)  # eq. 11
+        du = self.eta * gain[..., None] * slope_g  # eq. 9
+        energy = lam * total_error + 0.5 * moved**2  # eq. 14 with equal copies
+        return State(u, theta, lam, signals.delta, signals.error, signals.positions, gain, du, dlam, energy,
+                     np.linalg.norm(slope * delta, axis=-1))
+
+    def rates(self, s: float, y: np.ndarray) -> np.ndarray:
+        """``dy/ds`` for the integrator; ``y`` of shape ``(free + 1,)`` or ``(free + 1, k)`` (vectorized)."""
+        st = self.state(y.T)
+        return np.concatenate([st.du, (st.dlam / st.lam)[..., None]], axis=-1).T
+
+    def energy_rate(self, y: np.ndarray) -> float:
+        """``dV/ds`` by the chain rule (eq. 15): ``-g . G' du/ds + (sum_k E^k) dlambda/ds``."""
+        st = self.state(y)
+        g = st.lam * st.delta.sum(axis=0)[self.free] + (self.theta0 - st.theta)[self.free]
+        slope = self.output.slope(st.u)[self.free]
+        return float(-(g * slope) @ st.du + st.error.sum() * st.dlam)

@@ -1,0 +1,247 @@
+"""Running the trajectory-generation mode (paper 004 section 3.2) with a stiff scipy integrator."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.integrate import BDF, LSODA, Radau
+
+from redkin.validation import check_positive, check_vectors
+from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics, State
+from redkin.virtual_arms.output_function import OutputFunction
+from redkin.virtual_arms.subsystems import ForwardModel, OneByOne, Together
+
+_SOLVERS = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}
+
+
+@dataclass
+class TrajectoryResult:
+    """A run of the trajectory-generation dynamics, recorded at every accepted integrator step.
+
+    Attributes
+    ----------
+    s, theta, lam, energy, error : numpy.ndarray
+        Time, joint vectors ``(K, m)``, Lagrange multiplier, ``V`` of eq. 14 and
+        ``sum_k E^k`` along the run.
+    positions : numpy.ndarray, shape (K, p, l)
+        Virtual end points as the subsystems' own models see them (NaN for a dropped subsystem).
+    status : {"converged", "stalled", "max_steps", "max_time"}
+        ``"stalled"``: the integrator could not go on (step size collapsed or it
+        failed); the run stops where it stalled and says so.
+    message : str
+    steps, evaluations : int
+        Accepted integrator steps and right-hand-side evaluations.
+    seconds : float
+        Wall-clock time of the run.
+    gain : str
+        Gain law (``"bounded"``, ``"consistent"`` or ``"literal"``).
+    goals, weights : numpy.ndarray, shape (p, l)
+    active : numpy.ndarray of bool, shape (p,)
+        Subsystems still working at the end.
+    fixed : numpy.ndarray of bool, shape (m,)
+    """
+
+    s: np.ndarray
+    theta: np.ndarray
+    lam: np.ndarray
+    energy: np.ndarray
+    error: np.ndarray
+    positions: np.ndarray
+    status: str
+    message: str
+    steps: int
+    evaluations: int
+    seconds: float
+    gain: str
+    goals: np.ndarray
+    weights: np.ndarray
+    active: np.ndarray
+    fixed: np.ndarray
+    labels: list[str] = field(default_factory=list)
+
+    @property
+    def converged(self) -> bool:
+        return self.status == "converged"
+
+    @property
+    def stalled(self) -> bool:
+        return self.status == "stalled"
+
+    @property
+    def final_theta(self) -> np.ndarray:
+        return self.theta[-1]
+
+    @property
+    def final_errors(self) -> np.ndarray:
+        """Distance of every virtual end point to its goal at the end, in the models' view (NaN if dropped)."""
+        return np.linalg.norm(self.positions[-1] - self.goals, axis=-1)
+
+
+def _weights(weights: ArrayLike | None, count: int, dims: int) -> np.ndarray:
+    if weights is None:
+        return np.ones((count, dims))
+    w = np.asarray(weights, dtype=float)
+    if w.shape == (count,):
+        w = np.repeat(w[:, None], dims, axis=1)
+    if w.shape != (count, dims):
+        raise ValueError(f"weights must have shape ({count},) or ({count}, {dims}), got {w.shape}")
+    if not np.all(np.isfinite(w)) or np.any(w < 0):
+        raise ValueError("weights must be finite and non-negative (W^i = diag(w) with w >= 0)")
+    return w
+
+
+def generate_trajectory(
+    model: ForwardModel,
+    theta0: ArrayLike,
+    goals: ArrayLike,
+    weights: ArrayLike | None = None,
+    *,
+    output: OutputFunction | None = None,
+    fixed: Sequence[int] = (),
+    gain: str = "bounded",
+    evaluation: str = "together",
+    drop: Mapping[int, float] | None = None,
+    eta: float = 1.0,
+    lambda0: float = 1.0,
+    gradient_tol: float = 1e-6,
+    s_max: float = 1.0e9,
+    max_steps: int = 5000,
+    min_step: float = 1e-9,
+    rtol: float = 1e-6,
+    atol: float = 1e-9,
+    method: str = "Radau",
+) -> TrajectoryResult:
+    """Integrate the trajectory-generation dynamics (eqs. 9-13) from ``theta0`` until equilibrium.
+
+    Parameters
+    ----------
+    model : ForwardModel
+        Joint model of the ``p`` virtual end points (analytic or learned);
+        with ``evaluation="one_by_one"`` each subsystem uses its own single-point
+        model from ``model.split()``.
+    theta0 : array_like, shape (m,)
+        Initial joint vector ``theta(0)``.
+    goals : array_like, shape (p, l)
+        Goals ``X^k*`` of the virtual end points.
+    weights : array_like, shape (p,) or (p, l), optional
+        Diagonals of ``W^k`` (default all ones).
+    output : OutputFunction, optional
+        Output function ``G`` (eq. 13); default identity (no limits); use
+        :meth:`OutputFunction.sine` for joint limits (eq. 25).
+    fixed : sequence of int
+        Clamped joints, 0-based (eq. 27): their ``u`` is not integrated.
+    gain : {"bounded", "consistent", "literal"}
+        Law of eqs. 10-11 (see :mod:`redkin.virtual_arms.dynamics`).
+    evaluation : {"together", "one_by_one"}
+    drop : mapping of int to float, optional
+        Subsystem index -> time ``s`` at which it stops working.
+    eta, lambda0 : float
+        Time constant of eqs. 9 and 11, and ``lambda(0) > 0``.
+    gradient_tol : float
+        Converged when ``|G' delta|`` over the free joints is at most this.
+    s_max, max_steps : float, int
+        Give up (status ``"max_time"``/``"max_steps"``) after this time or these steps.
+    min_step : float
+        A step size below ``min_step * max(1, s)`` counts as a stalled integrator.
+    rtol, atol : float
+        Integrator tolerances.
+    method : {"Radau", "BDF", "LSODA"}
+        Stiff scipy integrator.
+
+    Returns
+    -------
+    TrajectoryResult
+    """
+    if gain not in GAIN_LAWS:
+        raise ValueError(f"gain must be one of {sorted(GAIN_LAWS)}, got {gain!r}")
+    if evaluation not in ("together", "one_by_one"):
+        raise ValueError(f"evaluation must be 'together' or 'one_by_one', got {evaluation!r}")
+    if method not in _SOLVERS:
+        raise ValueError(f"method must be one of {sorted(_SOLVERS)}, got {method!r}")
+    m, p, dims = model.joints, model.count, model.dims
+    theta0 = check_vectors(theta0, m, "theta0").reshape(m)
+    goals = check_vectors(goals, dims, "goals")
+    if goals.shape != (p, dims):
+        raise ValueError(f"goals must have shape ({p}, {dims}) (one goal per virtual end point), got {goals.shape}")
+    weight = _weights(weights, p, dims)
+    for name, value in (("eta", eta), ("lambda0", lambda0), ("gradient_tol", gradient_tol), ("s_max", s_max)):
+        check_positive(value, name)
+    output = OutputFunction.identity(m) if output is None else output
+    free = np.ones(m, dtype=bool)
+    for j in fixed:
+        if int(j) != j or not 0 <= j < m:
+            raise ValueError(f"fixed joints must be 0-based indices in 0..{m - 1}, got {j!r}")
+        free[int(j)] = False
+    drop = dict(drop or {})
+    for k, when in drop.items():
+        if not 0 <= int(k) < p or not np.isfinite(when) or when < 0:
+            raise ValueError(f"drop must map subsystem indices 0..{p - 1} to times s >= 0, got {k!r}: {when!r}")
+    evaluator = Together(model) if evaluation == "together" else OneByOne(model.split())
+    active = np.ones(p, dtype=bool)
+    dynamics = Dynamics(evaluator, goals, weight, active, theta0, output, free, float(eta), GAIN_LAWS[gain])
+
+    started = time.perf_counter()
+    y = dynamics.initial(float(lambda0))
+    record: list[tuple[float, State]] = [(0.0, dynamics.state(y))]
+    steps = evaluations = 0
+    status, message = "max_time", f"reached s_max = {s_max:g} before equilibrium"
+    events = sorted({float(t) for t in drop.values() if t < s_max} | {float(s_max)})
+    s = 0.0
+    if float(record[0][1].free_gradient) <= gradient_tol or not free.any():
+        status, message = "converged", "already at equilibrium at s = 0"
+        events = []
+    for boundary in events:
+        for k, when in drop.items():  # subsystems that fail before this segment stop sending
+            if when <= s:
+                active[int(k)] = False
+        options = {} if method == "LSODA" else {"vectorized": True}
+        solver = _SOLVERS[method](dynamics.rates, s, y, boundary, rtol=rtol, atol=atol, **options)
+        done = False
+        while solver.status == "running":
+            with np.errstate(all="ignore"):
+                problem = solver.step()
+            evaluations = solver.nfev
+            if solver.status == "failed" or not np.all(np.isfinite(solver.y)):
+                status, message, done = "stalled", f"integrator failed at s = {solver.t:.6g}: {problem}", True
+                break
+            steps += 1
+            s, y = solver.t, solver.y.copy()
+            current = dynamics.state(y)
+            record.append((s, current))
+            if current.free_gradient <= gradient_tol:
+                status, message, done = "converged", f"|G' delta| = {current.free_gradient:.3g} at s = {s:.6g}", True
+                break
+            if solver.step_size is not None and solver.step_size < min_step * max(1.0, s):
+                status, done = "stalled", True
+                message = f"step size collapsed to {solver.step_size:.3g} at s = {s:.6g} (gain A = {current.gain:.3g})"
+                break
+            if steps >= max_steps:
+                status, message, done = "max_steps", f"{max_steps} steps without equilibrium (s = {s:.6g})", True
+                break
+        if done:
+            break
+    seconds = time.perf_counter() - started
+    states = [st for _, st in record]
+    return TrajectoryResult(
+        s=np.array([t for t, _ in record]),
+        theta=np.array([st.theta for st in states]),
+        lam=np.array([float(st.lam) for st in states]),
+        energy=np.array([float(st.energy) for st in states]),
+        error=np.array([st.error.sum() for st in states]),
+        positions=np.array([st.positions for st in states]),
+        status=status,
+        message=message,
+        steps=steps,
+        evaluations=evaluations,
+        seconds=seconds,
+        gain=gain,
+        goals=goals,
+        weights=weight,
+        active=active.copy(),
+        fixed=~free,
+        labels=[getattr(pt, "label", str(i)) for i, pt in enumerate(getattr(model, "points", range(p)))],
+    )
