@@ -1,0 +1,32 @@
+"""Adjugate (pseudoinverse-based) singularity-consistent direction (paper 003 section 2.2, eqs. 12-14).
+
+``n_pi = J^T adj(J J^T) t`` (eq. 12) is the minimum-norm end-point vector:
+``J n_pi = det(J J^T) t`` (eq. 13), so it has no algorithmic singularity --
+``det(J J^T) = 0`` only at true singularities.  But there
+``J^T adj(J J^T) = 0`` (eq. 14): the joint velocity vanishes and the arm
+cannot leave the singularity.  By Cauchy-Binet it equals the weighted sum of
+eq. 15 with ``b_i = det J_i`` (eq. 17).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.velocity._inputs import jacobian_and_twist
+from redkin.velocity.cofactors import adjugate
+
+
+def adjugate_direction(jacobian: ArrayLike, twist: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """``n_pi = J^T adj(J J^T) t`` and the twist size ``det(J J^T)`` (paper 003 eqs. 12-13).
+
+    Returns
+    -------
+    direction : numpy.ndarray, shape (..., n)
+    size : numpy.ndarray, shape (...)
+        ``J n_pi = size * t``.
+    """
+    jac, vel = jacobian_and_twist(jacobian, twist)
+    gram = jac @ np.swapaxes(jac, -1, -2)
+    direction = np.einsum("...ji,...jk,...k->...i", jac, adjugate(gram), vel)
+    return direction, np.linalg.det(gram)

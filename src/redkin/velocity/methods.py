@@ -1,0 +1,134 @@
+"""One interface for every velocity-IK method, as used by the tracking simulation and the CLI.
+
+A method is *bound* to a chain and an initial configuration (the SC method
+reads the side of the singularity it starts on) and then maps
+``(q, J, twist)`` to a :class:`~redkin.velocity.solution.VelocitySolution`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.validation import check_positive
+from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
+from redkin.velocity.factorisation import Factorisation, WamFactorisation
+from redkin.velocity.proposed import singularity_consistent
+from redkin.velocity.solution import VelocitySolution
+
+Step = Callable[[np.ndarray, np.ndarray, np.ndarray], VelocitySolution]
+
+
+class Method(Protocol):
+    """A velocity-IK method: ``bind(chain, q0)`` returns ``step(q, J, twist)``."""
+
+    label: str
+
+    def bind(self, chain: SerialChain, q0: np.ndarray) -> Step: ...
+
+
+@dataclass(frozen=True)
+class Pseudoinverse:
+    """``q_dot = J^+ v``; promises the commanded twist (unbounded near singularities)."""
+
+    label: str = "pinv"
+
+    def bind(self, chain: SerialChain, q0: np.ndarray) -> Step:
+        return lambda q, jac, twist: VelocitySolution(pseudoinverse(jac, twist), twist)
+
+
+@dataclass(frozen=True)
+class DampedLeastSquares:
+    """Constant damping ``lambda``; promises the commanded twist, realises it only approximately."""
+
+    damping: float = 0.05
+    label: str = "dls"
+
+    def __post_init__(self) -> None:
+        check_positive(self.damping, "damping")
+
+    def bind(self, chain: SerialChain, q0: np.ndarray) -> Step:
+        return lambda q, jac, twist: VelocitySolution(damped_least_squares(jac, twist, self.damping), twist)
+
+
+@dataclass(frozen=True)
+class AdaptiveDampedLeastSquares:
+    """Damping growing to ``max_damping`` as the smallest singular value (or manipulability) falls below ``threshold``."""
+
+    threshold: float = 0.05
+    max_damping: float = 0.05
+    measure: str = "sigma"
+    label: str = "dls-adaptive"
+
+    def __post_init__(self) -> None:
+        check_positive(self.threshold, "threshold")
+        check_positive(self.max_damping, "max_damping")
+        if self.measure not in ("sigma", "manipulability"):
+            raise ValueError(f"measure must be 'sigma' or 'manipulability', got {self.measure!r}")
+
+    def bind(self, chain: SerialChain, q0: np.ndarray) -> Step:
+        return lambda q, jac, twist: VelocitySolution(
+            adaptive_damped_least_squares(jac, twist, self.threshold, self.max_damping, self.measure), twist
+        )
+
+
+@dataclass(frozen=True)
+class SingularityConsistent:
+    """The proposed method (paper 003 section 3) with singular-region threshold ``eps`` on ``|D_e|``.
+
+    ``factorisation`` defaults to the closed form of a WAM-shaped chain;
+    ``direction`` (``b_ep`` of eq. 22) defaults to the sign of ``D_e(q0)``,
+    so the command is realised as given at the start.
+    """
+
+    eps: float
+    factorisation: Factorisation | None = None
+    direction: float | None = None
+    self_motion: float = 0.0
+    modify_rotation: bool = True
+    label: str = "sc"
+
+    def __post_init__(self) -> None:
+        check_positive(self.eps, "eps")
+
+    def resolve(self, chain: SerialChain) -> Factorisation:
+        """The factorisation in use for ``chain``."""
+        return self.factorisation if self.factorisation is not None else WamFactorisation.from_chain(chain)
+
+    def bind(self, chain: SerialChain, q0: np.ndarray) -> Step:
+        factorisation = self.resolve(chain)
+        direction = self.direction
+        if direction is None:
+            start = float(factorisation.index(q0))
+            direction = -1.0 if start < 0.0 else 1.0
+
+        def step(q: np.ndarray, jac: np.ndarray, twist: np.ndarray) -> VelocitySolution:
+            return singularity_consistent(
+                jac, twist, factorisation.index(q), factorisation.factors(q, jac), self.eps,
+                direction=direction, self_motion=self.self_motion, modify_rotation=self.modify_rotation,
+            )
+
+        return step
+
+
+METHOD_NAMES = ("sc", "pinv", "dls", "dls-adaptive")
+
+
+def make_method(name: str, eps: float = 0.1, damping: float = 0.05) -> Method:
+    """A method by CLI name: ``sc`` (threshold ``eps``), ``pinv``, ``dls`` / ``dls-adaptive`` (damping ``damping``).
+
+    ``dls-adaptive`` uses the least singular value with threshold ``eps`` and
+    maximum damping ``damping``.
+    """
+    if name == "sc":
+        return SingularityConsistent(eps=eps)
+    if name == "pinv":
+        return Pseudoinverse()
+    if name == "dls":
+        return DampedLeastSquares(damping=damping)
+    if name == "dls-adaptive":
+        return AdaptiveDampedLeastSquares(threshold=eps, max_damping=damping)
+    raise ValueError(f"method must be one of {', '.join(METHOD_NAMES)}, got {name!r}")
