@@ -1,7 +1,7 @@
 """The arm-angle parametrisation of paper 000 section 3: eqs. 4-19.
 
 For a target pose (frame 7 in frame 0, Table 1 form) and the sign of the
-elbow angle, :func:`arm_angle_coefficients` returns the constant matrices of
+elbow angle, :func:`arm_angle_coefficients` returns the constant coefficients of
 
 * eq. 12: ``0R3(psi) = A_s sin psi + B_s cos psi + C_s``
 * eq. 16: ``4R7(psi) = A_w sin psi + B_w cos psi + C_w``
@@ -12,6 +12,15 @@ with ``A_s = [u x] R3o``, ``B_s = -[u x]^2 R3o`` and ``C_s = u u^T R3o``
 shoulder-to-wrist vector and ``R3o = 0R3`` on the reference plane
 ``theta_3 = 0``.  ``psi`` is a right-handed rotation of the arm plane about
 ``u`` (eq. 6).
+
+Only the entries that the joint angles are read from are needed, and each
+is a bilinear form ``x^T R_psi y`` with Rodrigues' ``R_psi`` (eq. 6), so
+(:func:`rodrigues_coefficients`)
+``x^T R_psi y = sin psi x.(u x y) + cos psi (x.y - (x.u)(u.y)) + (x.u)(u.y)``:
+an entry ``(i, j)`` of ``0R3`` has ``x = e_i`` and ``y = R3o e_j``; an entry
+``(i, j)`` of ``4R7 = 3R4^T 0R3^T 0R7`` has ``x = 0R7 e_j`` and
+``y = R3o 3R4 e_i``.  This is eqs. 12 and 16 evaluated entry by entry,
+without forming the 3x3x3 stacks.
 
 Reference plane (eq. 7 with ``theta_3 = 0``): at ``theta_3 = 0``,
 ``0R3 = Rz(theta_1) Rx(-pi/2) Rz(theta_2)`` and
@@ -47,31 +56,56 @@ class ArmAngleCoefficients:
     ----------
     theta4 : numpy.ndarray, shape (...)
         Elbow angle (eq. 11), independent of psi.
-    shoulder : numpy.ndarray, shape (..., 3, 3, 3)
-        ``[A_s, B_s, C_s]`` stacked on axis -3 (eq. 12).
-    wrist : numpy.ndarray, shape (..., 3, 3, 3)
-        ``[A_w, B_w, C_w]`` stacked on axis -3 (eq. 16).
     entries : numpy.ndarray, shape (..., 10, 3)
-        The ``(a, b, c)`` of the ten matrix entries the joint angles are read
-        from: 0R3 at :data:`SHOULDER_ENTRIES`, then 4R7 at :data:`WRIST_ENTRIES`.
+        ``(a, b, c)`` with ``entry = a sin psi + b cos psi + c`` of the ten
+        matrix entries the joint angles are read from: 0R3 at
+        :data:`SHOULDER_ENTRIES` (``a_s32`` is ``entries[..., 2, 0]``), then
+        4R7 at :data:`WRIST_ENTRIES` (``a_w33`` is ``entries[..., 7, 0]``).
     u_sw : numpy.ndarray, shape (..., 3)
         Unit shoulder-to-wrist vector.
     reference : numpy.ndarray, shape (..., 3, 3)
         ``0R3`` on the reference plane (``psi = 0``).
+    elbow : numpy.ndarray, shape (..., 3, 3)
+        ``3R4`` (depends on theta_4 only).
+    rotation : numpy.ndarray, shape (..., 3, 3)
+        Target ``0R7``.
     """
 
     theta4: np.ndarray
-    shoulder: np.ndarray
-    wrist: np.ndarray
     entries: np.ndarray
     u_sw: np.ndarray
     reference: np.ndarray
+    elbow: np.ndarray
+    rotation: np.ndarray
+
+    def expand(self) -> "ArmAngleCoefficients":
+        """The same coefficients with a new batch axis of length 1 at the end."""
+        return ArmAngleCoefficients(
+            theta4=self.theta4[..., None],
+            entries=self.entries[..., None, :, :],
+            u_sw=self.u_sw[..., None, :],
+            reference=self.reference[..., None, :, :],
+            elbow=self.elbow[..., None, :, :],
+            rotation=self.rotation[..., None, :, :],
+        )
+
+
+def rodrigues_coefficients(x: np.ndarray, y: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """``(a, b, c)`` with ``x^T R_psi y = a sin psi + b cos psi + c`` (eq. 6), shape ``(..., 3)``.
+
+    ``x``, ``y`` and ``u`` (unit axis) have shape ``(..., 3)`` and broadcast.
+    """
+    xu = np.einsum("...i,...i->...", x, u)
+    uy = np.einsum("...i,...i->...", u, y)
+    a = np.einsum("...i,...i->...", x, np.cross(u, y))
+    c = xu * uy
+    b = np.einsum("...i,...i->...", x, y) - c
+    return np.stack([a, b, c], axis=-1)
 
 
 def shoulder_to_wrist(geometry, position: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     """``x_sw = x_7 - l_bs - R_7 l_wt`` (eq. 4), batched."""
     x_sw = position - rotation[..., :, 2] * geometry.d_wt
-    x_sw = x_sw.copy()
     x_sw[..., 2] -= geometry.d_bs
     return x_sw
 
@@ -89,7 +123,7 @@ def unreachable_message(geometry, x_sw: np.ndarray, cos4: np.ndarray) -> str | N
         return None
     index = np.unravel_index(int(np.argmax(bad)), bad.shape)
     distance = float(np.linalg.norm(x_sw[index]))
-    where = f" (pose {tuple(int(i) for i in index)} of {int(bad.sum())} unreachable)" if bad.ndim else ""
+    where = f" (pose {tuple(int(i) for i in index)}; {int(bad.sum())} unreachable)" if bad.ndim else ""
     return (
         f"unreachable position: shoulder-wrist distance {distance:.6g} m must lie in "
         f"[{abs(geometry.d_se - geometry.d_ew):.6g}, {geometry.d_se + geometry.d_ew:.6g}] m{where}"
@@ -133,6 +167,12 @@ def elbow_rotation(theta4: np.ndarray) -> np.ndarray:
     return rot
 
 
+_S_ROWS = np.array([i for i, _ in SHOULDER_ENTRIES])
+_S_COLS = np.array([j for _, j in SHOULDER_ENTRIES])
+_W_ROWS = np.array([i for i, _ in WRIST_ENTRIES])
+_W_COLS = np.array([j for _, j in WRIST_ENTRIES])
+
+
 def arm_angle_coefficients(
     geometry, position: np.ndarray, rotation: np.ndarray, elbow_sign: np.ndarray | int
 ) -> ArmAngleCoefficients:
@@ -156,37 +196,19 @@ def arm_angle_coefficients(
     message = unreachable_message(geometry, x_sw, cos4)
     if message:
         raise ValueError(message)
-    shape = np.broadcast_shapes(cos4.shape, np.shape(elbow_sign))
-    cos4 = np.broadcast_to(cos4, shape)
+    theta4 = np.asarray(elbow_sign) * np.arccos(np.clip(cos4, -1.0, 1.0))  # eq. 11
+    shape = theta4.shape
     x_sw = np.broadcast_to(x_sw, shape + (3,))
     rotation = np.broadcast_to(rotation, shape + (3, 3))
-    theta4 = np.asarray(elbow_sign) * np.arccos(np.clip(cos4, -1.0, 1.0))  # eq. 11
-    norm = np.linalg.norm(x_sw, axis=-1, keepdims=True)
-    u = x_sw / norm
+    u = x_sw / np.sqrt(np.einsum("...i,...i->...", x_sw, x_sw))[..., None]
     reference = reference_rotation(geometry, x_sw, theta4)
-    skew = np.zeros(shape + (3, 3))
-    skew[..., 0, 1], skew[..., 0, 2] = -u[..., 2], u[..., 1]
-    skew[..., 1, 0], skew[..., 1, 2] = u[..., 2], -u[..., 0]
-    skew[..., 2, 0], skew[..., 2, 1] = -u[..., 1], u[..., 0]
-    a_s = skew @ reference
-    outer = u[..., :, None] * u[..., None, :]
-    c_s = outer @ reference
-    b_s = reference - c_s  # -[u x]^2 R3o = (I - u u^T) R3o
-    shoulder = np.stack([a_s, b_s, c_s], axis=-3)
-    r34_t = np.swapaxes(elbow_rotation(theta4), -1, -2)[..., None, :, :]
-    wrist = r34_t @ np.swapaxes(shoulder, -1, -2) @ rotation[..., None, :, :]  # eq. 16
-    rows_s = [i for i, _ in SHOULDER_ENTRIES]
-    cols_s = [j for _, j in SHOULDER_ENTRIES]
-    rows_w = [i for i, _ in WRIST_ENTRIES]
-    cols_w = [j for _, j in WRIST_ENTRIES]
-    entries = np.concatenate(
-        [shoulder[..., rows_s, cols_s], wrist[..., rows_w, cols_w]], axis=-1
-    )  # (..., 3, 10)
+    elbow = elbow_rotation(theta4)
+    basis = np.eye(3)
+    # eq. 12 entry (i, j): e_i^T R_psi (R3o e_j); eq. 16 entry (i, j): (0R7 e_j)^T R_psi (R3o 3R4 e_i)
+    x = np.concatenate([np.broadcast_to(basis[_S_ROWS], shape + (5, 3)), np.swapaxes(rotation, -1, -2)[..., _W_COLS, :]], axis=-2)
+    wrist_y = np.swapaxes(reference @ elbow, -1, -2)[..., _W_ROWS, :]
+    y = np.concatenate([np.swapaxes(reference, -1, -2)[..., _S_COLS, :], wrist_y], axis=-2)
+    entries = rodrigues_coefficients(x, y, u[..., None, :])
     return ArmAngleCoefficients(
-        theta4=theta4,
-        shoulder=shoulder,
-        wrist=wrist,
-        entries=np.swapaxes(entries, -1, -2),
-        u_sw=u,
-        reference=reference,
+        theta4=theta4, entries=entries, u_sw=u, reference=reference, elbow=elbow, rotation=rotation
     )

@@ -33,7 +33,7 @@ from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
-from redkin.srs.joints import PSI_JOINTS, entry_values, limit_equation, psi_joint_angles, sinusoid_roots
+from redkin.srs.joints import PSI_JOINTS, entry_values, limit_equations, psi_joint_angles, sinusoid_roots
 
 TWO_PI = 2.0 * np.pi
 #: Slack (radians) when a joint value is compared with its limits at the middle of a piece.
@@ -117,20 +117,16 @@ def within(theta: np.ndarray, lower: np.ndarray, upper: np.ndarray, limited: np.
 def cut_points(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
     """Every arm angle where a joint reaches a limit, shape ``(..., 6, 4)`` (NaN: none).
 
-    Column ``k`` holds the roots for joint ``PSI_JOINTS[k]``: two for its lower
+    Row ``k`` holds the roots for joint ``PSI_JOINTS[k]``: two for its lower
     and two for its upper limit (eqs. 21, 22 set equal to the limit).
+    Unlimited joints have none.
     """
     lower, upper, limited = psi_joint_limits(geometry)
-    entries = coefficients.entries
-    roots = []
-    for column in range(len(PSI_JOINTS)):
-        if not limited[column]:
-            roots.append(np.full(entries.shape[:-2] + (4,), np.nan))
-            continue
-        limits = np.array([lower[column], upper[column]])
-        equation = limit_equation(entries[..., None, :, :], column, limits)  # (..., 2, 3)
-        roots.append(sinusoid_roots(equation).reshape(entries.shape[:-2] + (4,)))
-    return np.stack(roots, axis=-2)
+    finite_lower = np.where(limited, lower, 0.0)
+    finite_upper = np.where(limited, upper, 0.0)
+    roots = sinusoid_roots(limit_equations(coefficients.entries, finite_lower, finite_upper))  # (..., 6, 2, 2)
+    roots = roots.reshape(roots.shape[:-2] + (4,))
+    return np.where(limited[:, None], roots, np.nan)
 
 
 def _pieces(cuts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -179,15 +175,7 @@ def per_joint_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometr
     """Eq. 29 for a batch: pieces of each joint's own cut points; batch shape gains an axis of 6 joints."""
     cuts = cut_points(coefficients, geometry)  # (..., 6, 4)
     start, end = _pieces(cuts)
-    expanded = ArmAngleCoefficients(
-        theta4=coefficients.theta4[..., None],
-        shoulder=coefficients.shoulder[..., None, :, :, :],
-        wrist=coefficients.wrist[..., None, :, :, :],
-        entries=coefficients.entries[..., None, :, :],
-        u_sw=coefficients.u_sw[..., None, :],
-        reference=coefficients.reference[..., None, :, :],
-    )
-    ok = _classify(expanded, branch, start, end, geometry)  # (..., 6, M, 6)
+    ok = _classify(coefficients.expand(), branch, start, end, geometry)  # (..., 6, M, 6)
     own = np.diagonal(ok, axis1=-3, axis2=-1)  # (..., M, 6)
     own = np.moveaxis(own, -1, -2) & ~np.isnan(start)
     return FeasiblePieces(start, end, own)

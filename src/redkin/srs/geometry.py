@@ -48,6 +48,9 @@ class SRSGeometry:
     d_wt: float
     theta_lower: np.ndarray
     theta_upper: np.ndarray
+    plain_frames: bool = False
+    plain_joints: bool = False
+    wrap_columns: tuple[int, ...] = ()
 
     @property
     def theta_limited(self) -> np.ndarray:
@@ -56,14 +59,16 @@ class SRSGeometry:
 
     def theta_of_q(self, q: np.ndarray) -> np.ndarray:
         """DH angles ``theta = offset + sign * q``."""
-        return self.chain.offset + self.chain.sign * q
+        return q if self.plain_joints else self.chain.offset + self.chain.sign * q
 
     def q_of_theta(self, theta: np.ndarray) -> np.ndarray:
         """Joint values ``q = sign * (theta - offset)`` (``sign`` is +-1)."""
-        return self.chain.sign * (theta - self.chain.offset)
+        return theta if self.plain_joints else self.chain.sign * (theta - self.chain.offset)
 
     def to_table1_pose(self, pose: np.ndarray) -> np.ndarray:
         """The pose of frame 7 in frame 0: ``base^-1 @ pose @ tool^-1`` (batched)."""
+        if self.plain_frames:
+            return pose
         base_inv = np.linalg.inv(self.chain.base)
         tool_inv = np.linalg.inv(self.chain.tool)
         return base_inv @ pose @ tool_inv
@@ -77,13 +82,17 @@ class SRSGeometry:
         to ``[-pi, pi)``.
         """
         q = self.q_of_theta(theta)
-        if not wrap_into_limits:
-            return q
-        lower = np.where(np.isfinite(self.chain.lower), self.chain.lower, -np.pi)
-        shifted = lower + np.mod(q - lower, TWO_PI)
-        inside = shifted <= self.chain.upper
-        wrapped = np.mod(q + np.pi, TWO_PI) - np.pi
-        return np.where(inside & self.chain.limited, shifted, wrapped)
+        if not wrap_into_limits or not self.wrap_columns:
+            return q  # DH angles from atan2 already lie in [-pi, pi] and so do the limits
+        q = q.copy()
+        for k in self.wrap_columns:
+            lower, upper = self.chain.lower[k], self.chain.upper[k]
+            value = q[..., k]
+            start = lower if np.isfinite(lower) else -np.pi
+            shifted = start + np.mod(value - start, TWO_PI)
+            inside = (shifted <= upper) & bool(self.chain.limited[k])
+            q[..., k] = np.where(inside, shifted, np.mod(value + np.pi, TWO_PI) - np.pi)
+        return q
 
 
 def srs_geometry(chain: SerialChain) -> SRSGeometry:
@@ -133,6 +142,9 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
     theta_upper = np.where(free, np.inf, hi)
     for array in (theta_lower, theta_upper):
         array.setflags(write=False)
+    plain_joints = bool(np.all(offset == 0.0) and np.all(sign == 1.0))
+    outside = (chain.lower < -np.pi) | (chain.upper > np.pi)
+    wrap = [k for k in range(7) if not plain_joints or (outside[k] and chain.limited[k])]
     return SRSGeometry(
         chain=chain,
         d_bs=float(chain.d[0]),
@@ -141,6 +153,9 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
         d_wt=float(chain.d[6]),
         theta_lower=theta_lower,
         theta_upper=theta_upper,
+        plain_frames=bool(np.array_equal(chain.base, np.eye(4)) and np.array_equal(chain.tool, np.eye(4))),
+        plain_joints=plain_joints,
+        wrap_columns=tuple(wrap),
     )
 
 

@@ -14,7 +14,7 @@ from redkin.chain import SerialChain
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients, arm_angle_coefficients
 from redkin.srs.geometry import SRSGeometry, as_pose, srs_geometry
-from redkin.srs.joints import assemble_theta, entry_values, psi_joint_angles
+from redkin.srs.joints import apply_branch_signs, assemble_theta, entry_values, positive_branch_angles, psi_joint_angles
 from redkin.validation import as_float_array, check_finite
 
 
@@ -101,12 +101,12 @@ def ik_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike, psi: Arra
     elbow = np.array([1, -1])
     coefficients = coefficients_for(geometry, pose[..., None, :, :], elbow)  # (..., 2)
     values = entry_values(coefficients.entries, np.asarray(psi)[..., None])  # (..., 2, 10)
+    positive = positive_branch_angles(values)[..., None, :, None, :]  # (..., 1, 2, 1, 6)
     signs = np.array(BRANCHES)
     # BRANCHES order is (s2, s4, s6) with s2 slowest: index = 4*i2 + 2*i4 + i6
     shoulder = signs[:, 0].reshape(2, 2, 2)  # indexed (i2, i4, i6)
     wrist = signs[:, 2].reshape(2, 2, 2)
-    values = values[..., None, :, None, :]  # (..., 1, 2, 1, 10)
-    psi_joints = psi_joint_angles(values, shoulder, wrist)  # (..., 2, 2, 2, 6)
+    psi_joints = apply_branch_signs(positive, shoulder, wrist)  # (..., 2, 2, 2, 6)
     theta4 = coefficients.theta4[..., None, :, None]
     theta = assemble_theta(theta4, psi_joints)
     theta = theta.reshape(theta.shape[:-4] + (8, 7))

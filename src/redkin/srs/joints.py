@@ -8,13 +8,20 @@ Every joint but the elbow is of one of two types (eqs. 21 and 22):
   ``theta = sigma acos(...)``;
 
 where ``sigma`` is the branch sign of theta_2 (shoulder joints) or theta_6
-(wrist joints).  For accuracy near ``theta_2 = 0`` the cosine-type joints
-are evaluated as ``atan2(sigma hypot(N_1, D_1), cos theta)`` with the
-numerator and denominator of the neighbouring tangent-type joint (their
-squares sum to ``sin^2 theta``), which is the same function as
-``sigma acos`` without its loss of digits near 0 and pi.
+(wrist joints).  ``sigma = -1`` turns a tangent-type angle by ``pi`` and
+negates a cosine-type one, so the angles are computed once for
+``sigma = +1`` (:func:`positive_branch_angles`) and then signed
+(:func:`apply_branch_signs`).  For accuracy near ``theta_2 = 0`` the
+cosine-type joints are evaluated as ``atan2(hypot(N_1, D_1), cos theta)``
+with the numerator and denominator of the neighbouring tangent-type joint
+(their squares sum to ``sin^2 theta``): the same function as ``acos``
+without its loss of digits near 0 and pi.
 
-Entry indices refer to :attr:`ArmAngleCoefficients.entries`.
+Entry indices refer to :attr:`ArmAngleCoefficients.entries`:
+0 = 0R3[0,1] = -c1 s2, 1 = 0R3[1,1] = -s1 s2, 2 = 0R3[2,1] = -c2,
+3 = 0R3[2,0] = -s2 c3, 4 = 0R3[2,2] = s2 s3, 5 = 4R7[0,2] = c5 s6,
+6 = 4R7[1,2] = s5 s6, 7 = 4R7[2,2] = c6, 8 = 4R7[2,0] = -s6 c7,
+9 = 4R7[2,1] = s6 s7.
 """
 
 from __future__ import annotations
@@ -23,44 +30,53 @@ import numpy as np
 
 #: Joint numbers (1-based) whose angle depends on psi, in column order of the arrays below.
 PSI_JOINTS = (1, 2, 3, 5, 6, 7)
-# For each column of PSI_JOINTS: (numerator entry, factor, denominator entry, factor).
-# Cosine-type columns store the cos entry as "denominator" and the
-# neighbouring tangent joint's entries, squared and summed, give sin.
+# Per column of PSI_JOINTS: numerator entry/factor and denominator entry/factor
+# (eqs. 13, 15, 17, 19).  Cosine-type columns (eqs. 14, 18) keep cos theta as
+# the "denominator"; their numerator (|sin theta|) is the hypot of two entries.
 _NUM = np.array([1, 1, 4, 6, 6, 9])
 _NUM_F = np.array([-1.0, -1.0, 1.0, 1.0, 1.0, 1.0])
 _DEN = np.array([0, 2, 3, 5, 7, 8])
 _DEN_F = np.array([-1.0, -1.0, -1.0, 1.0, 1.0, -1.0])
-_IS_COS = np.array([False, True, False, False, True, False])
+IS_COSINE = np.array([False, True, False, False, True, False])
+_TANGENT_COLUMNS = np.flatnonzero(~IS_COSINE)
 
 
 def entry_values(entries: np.ndarray, psi: np.ndarray) -> np.ndarray:
     """The ten matrix entries at arm angles ``psi``: ``a sin psi + b cos psi + c``.
 
-    ``entries`` has shape ``(..., 10, 3)``; ``psi`` broadcasts against ``(...)``
-    (a trailing axis on ``psi`` evaluates several arm angles: pass
-    ``entries[..., None, :, :]``).
+    ``entries`` has shape ``(..., 10, 3)``; ``psi`` broadcasts against ``(...)``.
     """
-    s, c = np.sin(psi), np.cos(psi)
-    return entries[..., 0] * s[..., None] + entries[..., 1] * c[..., None] + entries[..., 2]
+    psi = np.asarray(psi, dtype=float)[..., None]
+    return entries[..., 0] * np.sin(psi) + entries[..., 1] * np.cos(psi) + entries[..., 2]
 
 
-def psi_joint_angles(values: np.ndarray, shoulder_sign: np.ndarray, wrist_sign: np.ndarray) -> np.ndarray:
-    """Joints 1, 2, 3, 5, 6, 7 from the entry values ``(..., 10)`` and branch signs (eqs. 13-19).
+def positive_branch_angles(values: np.ndarray) -> np.ndarray:
+    """Joints 1, 2, 3, 5, 6, 7 for ``sigma_2 = sigma_6 = +1`` from the entry values ``(..., 10)``."""
+    num = values[..., _NUM] * _NUM_F
+    num[..., IS_COSINE] = np.hypot(values[..., [0, 5]], values[..., [1, 6]])  # |sin theta_2|, |sin theta_6|
+    return np.arctan2(num, values[..., _DEN] * _DEN_F)
 
-    Returns shape ``(..., 6)`` in the order of :data:`PSI_JOINTS`.
+
+def apply_branch_signs(angles: np.ndarray, shoulder_sign, wrist_sign) -> np.ndarray:
+    """Angles of the branch ``(sigma_2, sigma_6)`` from those of ``(+1, +1)`` (eqs. 13-19).
+
+    A tangent-type angle with ``sigma = -1`` is ``atan2(-N, -D)``, i.e. turned
+    by ``pi``; a cosine-type one is negated.  Signs broadcast against ``(...)``.
     """
     sigma2 = np.asarray(shoulder_sign, dtype=float)
     sigma6 = np.asarray(wrist_sign, dtype=float)
-    shape = np.broadcast_shapes(values.shape[:-1], sigma2.shape, sigma6.shape)
-    values = np.broadcast_to(values, shape + values.shape[-1:])
-    sigma = np.empty(shape + (6,))
-    sigma[..., :3] = sigma2[..., None]
-    sigma[..., 3:] = sigma6[..., None]
-    num = values[..., _NUM] * _NUM_F
-    den = values[..., _DEN] * _DEN_F
-    num[..., _IS_COS] = np.hypot(values[..., [0, 5]], values[..., [1, 6]])  # |sin theta_2|, |sin theta_6|
-    den[..., ~_IS_COS] *= sigma[..., ~_IS_COS]
-    return np.arctan2(sigma * num, den)
+    shape = np.broadcast_shapes(angles.shape[:-1], sigma2.shape, sigma6.shape)
+    negative = np.empty(shape + (6,), dtype=bool)
+    negative[..., :3] = (sigma2 < 0)[..., None]
+    negative[..., 3:] = (sigma6 < 0)[..., None]
+    turned = np.where(angles > 0.0, angles - np.pi, angles + np.pi)
+    flipped = np.where(IS_COSINE, -angles, turned)
+    return np.where(negative, flipped, angles)
+
+
+def psi_joint_angles(values: np.ndarray, shoulder_sign, wrist_sign) -> np.ndarray:
+    """Joints 1, 2, 3, 5, 6, 7, shape ``(..., 6)``, from entry values and branch signs (eqs. 13-19)."""
+    return apply_branch_signs(positive_branch_angles(values), shoulder_sign, wrist_sign)
 
 
 def assemble_theta(theta4: np.ndarray, psi_joints: np.ndarray) -> np.ndarray:
@@ -69,25 +85,25 @@ def assemble_theta(theta4: np.ndarray, psi_joints: np.ndarray) -> np.ndarray:
     return np.concatenate([psi_joints[..., :3], theta4[..., None], psi_joints[..., 3:]], axis=-1)
 
 
-def limit_equation(entries: np.ndarray, column: int, limit: np.ndarray) -> np.ndarray:
-    """Coefficients ``(p, q, r)`` of ``p sin psi + q cos psi + r = 0``, solved by theta(psi) = limit.
+def limit_equations(entries: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Coefficients ``(p, q, r)`` of ``p sin psi + q cos psi + r = 0`` solved where theta(psi) is a limit.
 
-    Tangent type (eq. 21): ``N cos L - D sin L = 0`` (both ``theta = L`` and
-    ``theta = L + pi``; the second kind of root only adds a harmless cut).
-    Cosine type (eq. 22): ``a s + b c + c - cos L = 0`` (also catches
+    Tangent type (eq. 21 with ``theta = L``): ``N cos L - D sin L = 0`` (also
+    true where ``theta = L + pi``, which only adds a harmless cut).  Cosine
+    type (eq. 22): ``a s + b c + c - cos L = 0`` (also true where
     ``theta = -L``, likewise harmless).
 
-    ``entries`` ``(..., 10, 3)``, ``limit`` broadcastable to ``(...)``; returns ``(..., 3)``.
+    ``entries`` ``(..., 10, 3)``; ``lower``/``upper`` ``(6,)`` DH limits of the
+    columns of :data:`PSI_JOINTS`.  Returns ``(..., 6, 2, 3)`` (lower, upper).
     """
-    limit = np.asarray(limit, dtype=float)[..., None]
-    if _IS_COS[column]:
-        coefficient = entries[..., _DEN[column], :] * _DEN_F[column]
-        offset = np.zeros(3)
-        offset[2] = 1.0
-        return coefficient - np.cos(limit) * offset
-    numerator = entries[..., _NUM[column], :] * _NUM_F[column]
-    denominator = entries[..., _DEN[column], :] * _DEN_F[column]
-    return numerator * np.cos(limit) - denominator * np.sin(limit)
+    limits = np.stack([lower, upper], axis=-1)  # (6, 2)
+    cos_l, sin_l = np.cos(limits)[..., None], np.sin(limits)[..., None]
+    num = (entries[..., _NUM, :] * _NUM_F[:, None])[..., None, :]  # (..., 6, 1, 3)
+    den = (entries[..., _DEN, :] * _DEN_F[:, None])[..., None, :]
+    tangent = num * cos_l - den * sin_l
+    e3 = np.array([0.0, 0.0, 1.0])
+    cosine = den - cos_l * e3
+    return np.where(IS_COSINE[:, None, None], cosine, tangent)
 
 
 def sinusoid_roots(coefficients: np.ndarray, tolerance: float = 1e-12) -> np.ndarray:
@@ -99,11 +115,10 @@ def sinusoid_roots(coefficients: np.ndarray, tolerance: float = 1e-12) -> np.nda
     """
     p, q, r = coefficients[..., 0], coefficients[..., 1], coefficients[..., 2]
     rho = np.hypot(p, q)
-    scale = np.maximum(rho, np.abs(r))
-    has = (rho > tolerance * np.maximum(scale, 1.0)) & (np.abs(r) <= rho * (1.0 + tolerance))
+    has = (rho > tolerance * np.maximum(np.abs(r), 1.0)) & (np.abs(r) <= rho * (1.0 + tolerance))
     with np.errstate(invalid="ignore", divide="ignore"):
         half = np.arccos(np.clip(-r / rho, -1.0, 1.0))
-    phi = np.arctan2(p, q)
-    roots = np.stack([phi - half, phi + half], axis=-1)
+    phi = np.arctan2(p, q)[..., None]
+    roots = phi + np.stack([-half, half], axis=-1)
     roots = np.mod(roots + np.pi, 2.0 * np.pi) - np.pi
     return np.where(has[..., None], roots, np.nan)

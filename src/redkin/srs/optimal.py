@@ -1,0 +1,154 @@
+"""Optimal arm angle for joint-limit avoidance: paper 000 section 5.2, eqs. 35-40.
+
+The shoulder objective ``f_s(psi) = trace(0R3(psi) 0R3d^T) = a_s sin psi +
+b_s cos psi + c_s = 1 + 2 cos phi_s`` (eq. 36) measures how close the
+shoulder rotation is to the one at the target joint values ``theta^d``; the
+wrist objective ``f_w`` (eq. 38) likewise with ``4R7``.  The MAXIMISER of
+``a sin psi + b cos psi`` is ``psi = atan2(a, b)`` -- the root of eq. 37 /
+39 / 40 (``tan psi = a / b``) with ``(sin psi, cos psi)`` along ``(a, b)``.
+Because ``f`` decreases monotonically with the circular distance from its
+maximiser, the best feasible arm angle is the feasible point nearest to it
+(section 5.2.2, Fig. 5).
+
+The traces are again bilinear forms (see :mod:`redkin.srs.coefficients`):
+``trace(0R3 0R3d^T) = sum_j (0R3d e_j)^T R_psi (R3o e_j)`` and
+``trace(4R7 4R7d^T) = sum_i (0R7 4R7d^T e_i)^T R_psi (R3o 3R4 e_i)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.chain import SerialChain
+from redkin.circle import ArcSet
+from redkin.srs.branches import Branch, parse_branch
+from redkin.srs.coefficients import ArmAngleCoefficients, rodrigues_coefficients
+from redkin.srs.feasible import feasible_from_coefficients
+from redkin.srs.geometry import SRSGeometry
+from redkin.srs.ik import as_geometry, coefficients_for
+from redkin.srs.rotations import shoulder_rotation, wrist_rotation
+from redkin.validation import check_vectors
+
+
+@dataclass(frozen=True)
+class OptimalAngle:
+    """An optimal arm angle before and after clamping to the feasible set.
+
+    ``feasible`` is ``None`` when the feasible set is empty.
+    """
+
+    unclamped: float
+    feasible: float | None
+
+
+@dataclass(frozen=True)
+class OptimalArmAngles:
+    """Shoulder-only (eq. 37), wrist-only (eq. 39) and weighted (eq. 40) optimal arm angles.
+
+    Attributes
+    ----------
+    shoulder, wrist, overall : OptimalAngle
+    shoulder_coefficients, wrist_coefficients : tuple of float
+        ``(a_s, b_s, c_s)`` of eq. 36 and ``(a_w, b_w, c_w)`` of eq. 38.
+    weights : tuple of float
+        ``(r_s, r_w)``.
+    """
+
+    shoulder: OptimalAngle
+    wrist: OptimalAngle
+    overall: OptimalAngle
+    shoulder_coefficients: tuple[float, float, float]
+    wrist_coefficients: tuple[float, float, float]
+    weights: tuple[float, float]
+
+
+def default_target(geometry: SRSGeometry) -> np.ndarray:
+    """Limit midpoints of the chain's joints (0 for an unlimited joint), in ``q``."""
+    chain = geometry.chain
+    return np.where(chain.limited, 0.5 * (chain.lower + chain.upper), 0.0)
+
+
+def objective_coefficients(coefficients: ArmAngleCoefficients, theta_target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(a_s, b_s, c_s)`` (eq. 36) and ``(a_w, b_w, c_w)`` (eq. 38), each of shape ``(..., 3)``."""
+    shoulder_target = shoulder_rotation(theta_target)
+    wrist_target = wrist_rotation(theta_target)
+    u = coefficients.u_sw[..., None, :]
+    x_s = np.swapaxes(np.broadcast_to(shoulder_target, coefficients.reference.shape), -1, -2)
+    y_s = np.swapaxes(coefficients.reference, -1, -2)
+    shoulder = rodrigues_coefficients(x_s, y_s, u).sum(axis=-2)
+    x_w = np.swapaxes(coefficients.rotation @ np.swapaxes(wrist_target, -1, -2), -1, -2)
+    y_w = np.swapaxes(coefficients.reference @ coefficients.elbow, -1, -2)
+    wrist = rodrigues_coefficients(x_w, y_w, u).sum(axis=-2)
+    return shoulder, wrist
+
+
+def maximiser(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The arm angle maximising ``a sin psi + b cos psi`` (eqs. 37, 39, 40); 0 where the objective is flat."""
+    return np.arctan2(a, b)
+
+
+def _clamped(psi: float, feasible: ArcSet) -> OptimalAngle:
+    return OptimalAngle(unclamped=float(psi), feasible=feasible.nearest(psi))
+
+
+def check_weights(weights: ArrayLike) -> tuple[float, float]:
+    """``(r_s, r_w)``: two finite numbers >= 0, not both zero."""
+    values = check_vectors(weights, 2, "weights").reshape(2)
+    if np.any(values < 0) or not np.any(values > 0):
+        raise ValueError(f"weights (r_s, r_w) must be >= 0 and not both 0, got {values.tolist()}")
+    return float(values[0]), float(values[1])
+
+
+def optimal_arm_angles(
+    arm: "SerialChain | SRSGeometry",
+    pose: ArrayLike,
+    branch: "str | Branch" = "+++",
+    target: ArrayLike | None = None,
+    weights: ArrayLike = (0.5, 0.5),
+    feasible: ArcSet | None = None,
+) -> OptimalArmAngles:
+    """Optimal arm angles of one pose for joint-limit avoidance (paper 000 eqs. 36-40).
+
+    Parameters
+    ----------
+    arm : SerialChain or SRSGeometry
+    pose : array_like, shape (4, 4)
+    branch : str or Branch
+    target : array_like, shape (7,), optional
+        Target joint values ``theta^d`` in ``q`` (joint 4 is not used);
+        default: the limit midpoints.
+    weights : (r_s, r_w)
+        Weights of eq. 40.
+    feasible : ArcSet, optional
+        The feasible set to clamp to; computed when not given.
+
+    Returns
+    -------
+    OptimalArmAngles
+        Each optimum unclamped and clamped to the nearest feasible arm angle.
+    """
+    geometry = as_geometry(arm)
+    chosen = parse_branch(branch)
+    pose = np.asarray(pose, dtype=float)
+    if pose.shape != (4, 4):
+        raise ValueError(f"pose must have shape (4, 4), got {pose.shape}")
+    q_target = default_target(geometry) if target is None else check_vectors(target, 7, "target")
+    if q_target.shape != (7,):
+        raise ValueError(f"target must have shape (7,), got {q_target.shape}")
+    r_s, r_w = check_weights(weights)
+    coefficients = coefficients_for(geometry, pose, chosen.elbow)
+    if feasible is None:
+        feasible = feasible_from_coefficients(coefficients, chosen, geometry).feasible
+    shoulder, wrist = objective_coefficients(coefficients, geometry.theta_of_q(q_target))
+    combined = r_s * shoulder + r_w * wrist  # eq. 40 (the 1/(r_s + r_w) factor does not move the maximiser)
+    return OptimalArmAngles(
+        shoulder=_clamped(maximiser(shoulder[0], shoulder[1]), feasible),  # eq. 37
+        wrist=_clamped(maximiser(wrist[0], wrist[1]), feasible),  # eq. 39
+        overall=_clamped(maximiser(combined[0], combined[1]), feasible),  # eq. 40
+        shoulder_coefficients=tuple(float(v) for v in shoulder),
+        wrist_coefficients=tuple(float(v) for v in wrist),
+        weights=(r_s, r_w),
+    )
