@@ -1,0 +1,104 @@
+"""The section 4 scenario of paper 003 on the Barrett WAM: SC crosses the boundary, baselines do not."""
+
+import numpy as np
+import pytest
+
+from redkin.models import barrett_wam
+from redkin.velocity import (
+    AdaptiveDampedLeastSquares,
+    DampedLeastSquares,
+    Pseudoinverse,
+    SingularityConsistent,
+    WamFactorisation,
+    simulate,
+)
+
+# Paper 003 section 4.
+Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
+TWIST = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
+EPS = 0.1
+WAM = barrett_wam()
+FACTOR = WamFactorisation.from_chain(WAM)
+DURATION, DT = 4.0, 5e-3
+
+
+@pytest.fixture(scope="module")
+def runs():
+    methods = {
+        "sc": SingularityConsistent(eps=EPS),
+        "pinv": Pseudoinverse(),
+        "dls": DampedLeastSquares(damping=0.05),
+        "dls-adaptive": AdaptiveDampedLeastSquares(threshold=0.05, max_damping=0.05),
+    }
+    return {name: simulate(WAM, Q0, TWIST, DURATION, m, dt=DT, index=FACTOR.index) for name, m in methods.items()}
+
+
+def test_velocity_sc_crosses_once_and_realises_command_outside_region(runs):
+    run = runs["sc"]
+    d_e = run.index
+    assert d_e[0] < -EPS  # the paper's threshold leaves the start outside the region (|D_e| = 0.19)
+    assert np.count_nonzero(np.diff(np.sign(d_e)) != 0) == 1
+    assert d_e[-1] > EPS  # through and out on the other side
+    crossed = np.cumsum(np.r_[0, np.diff(np.sign(d_e)) != 0]) > 0
+    intended = np.where(crossed[:, None], TWIST * [-1, -1, -1, 1, 1, 1], TWIST)  # translation reversed after
+    outside = np.abs(d_e) > EPS
+    assert outside.sum() > 100 and (~outside).sum() > 20
+    assert np.abs(run.realised[outside] - intended[outside]).max() < 1e-9
+    assert np.abs(run.realised - run.target).max() < 1e-9
+    assert run.realised[:, 4].min() >= -1e-12  # rotation about +y never reverses
+    # Inside the region the translation stays along x (direction exact).
+    assert np.abs(run.realised[:, 1:3]).max() < 1e-9 and np.abs(run.realised[:, [3, 5]]).max() < 1e-9
+    speed = np.linalg.norm(run.joint_velocity, axis=1)
+    assert speed.max() < 5.0 and speed[np.argmin(np.abs(d_e))] > 0.1
+
+
+def test_velocity_sc_path_reverses_along_x(runs):
+    run = runs["sc"]
+    x = run.position[:, 0]
+    turn = np.argmax(x)
+    assert 0 < turn < len(x) - 1 and x[-1] < x[turn] - 0.1
+    assert np.ptp(run.position[:, 1]) < 1e-6 and np.ptp(run.position[:, 2]) < 1e-6  # a straight line
+
+
+def test_velocity_pinv_is_exact_until_it_explodes(runs):
+    run, sc = runs["pinv"], runs["sc"]
+    sigma = np.linalg.svd(WAM.jacobian(run.q), compute_uv=False)[:, -1]
+    regular = sigma > 0.05
+    assert np.abs(run.realised[regular] - TWIST).max() < 1e-9
+    speed = np.linalg.norm(run.joint_velocity, axis=1)
+    assert speed.max() > 10 * np.linalg.norm(sc.joint_velocity, axis=1).max()
+
+
+def test_velocity_dls_bounded_but_stalls(runs):
+    for name, bound in (("dls", np.linalg.norm(TWIST) / (2 * 0.05)), ("dls-adaptive", np.linalg.norm(TWIST) / (2 * 0.05))):
+        run = runs[name]
+        speed = np.linalg.norm(run.joint_velocity, axis=1)
+        jac = WAM.jacobian(run.q)
+        sigma = np.linalg.svd(jac, compute_uv=False)[:, -1]
+        assert np.all(speed <= np.maximum(bound, np.linalg.norm(TWIST) / sigma) * (1 + 1e-9))
+        assert np.all(run.index < 0)  # never crosses the boundary
+        error = np.linalg.norm(run.realised - TWIST, axis=1) / np.linalg.norm(TWIST)
+        assert error[-1] > 0.5  # stalled at the boundary: most of the command is lost
+    assert np.all(np.linalg.norm(runs["dls"].joint_velocity, axis=1) <= np.linalg.norm(TWIST) / 0.1 * (1 + 1e-9))
+
+
+def test_velocity_rk4_converges_and_closed_loop_removes_drift():
+    method = SingularityConsistent(eps=EPS)
+    coarse = simulate(WAM, Q0, TWIST, 0.5, method, dt=0.05)
+    fine = simulate(WAM, Q0, TWIST, 0.5, method, dt=0.025)
+    exact_x = WAM.fk(Q0)[0, 3] + 0.15 * 0.5
+    err_c, err_f = abs(coarse.position[-1, 0] - exact_x), abs(fine.position[-1, 0] - exact_x)
+    assert err_f < err_c / 8 or err_f < 1e-12  # fourth order
+    dls_open = simulate(WAM, Q0, TWIST, 0.5, DampedLeastSquares(0.05), dt=0.01)
+    dls_closed = simulate(WAM, Q0, TWIST, 0.5, DampedLeastSquares(0.05), dt=0.01, gain=20.0)
+    target = WAM.fk(Q0)[:3, 3] + 0.5 * TWIST[:3]
+    assert np.linalg.norm(dls_closed.position[-1] - target) < 0.2 * np.linalg.norm(dls_open.position[-1] - target)
+
+
+def test_velocity_simulate_bad_input():
+    with pytest.raises(ValueError, match="q0"):
+        simulate(WAM, np.zeros(6), TWIST, 1.0, Pseudoinverse())
+    with pytest.raises(ValueError, match="duration"):
+        simulate(WAM, Q0, TWIST, 0.0, Pseudoinverse())
+    with pytest.raises(ValueError, match="twist"):
+        simulate(WAM, Q0, TWIST[:5], 1.0, Pseudoinverse())
