@@ -1,0 +1,159 @@
+"""Report section for paper 003: singularity-consistent velocity IK on the Barrett WAM (section 4, Fig. 1)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from redkin.models import barrett_wam
+from redkin.plot.velocity import comparison_figure, tracking_figure
+from redkin.reproduce import Section
+from redkin.reproduce.report import Comparison, SectionWriter
+from redkin.velocity import (
+    AdaptiveDampedLeastSquares,
+    DampedLeastSquares,
+    Pseudoinverse,
+    SingularityConsistent,
+    TrackingResult,
+    WamFactorisation,
+    check_single_parameter,
+    simulate,
+)
+
+# Paper 003 section 4 scenario (paper values: used here and in the tests only).
+PAPER_Q0_DEG = [30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0]
+PAPER_TWIST = [0.15, 0.0, 0.0, 0.0, 0.1, 0.0]
+PAPER_EPS = 0.1
+DURATION = 4.0
+DT = 1e-3
+DAMPING = 0.05
+
+
+def intended_twist(run: TrackingResult, twist: np.ndarray) -> np.ndarray:
+    """The scenario's intended twist: the command, with translation reversed once ``D_e`` has changed sign."""
+    flips = np.cumsum(np.r_[0, np.diff(np.sign(run.index)) != 0])
+    reverse = (flips % 2 == 1)[:, None]
+    return np.where(reverse, twist * np.array([-1, -1, -1, 1, 1, 1]), twist)
+
+
+def run_summary(run: TrackingResult, twist: np.ndarray, eps: float, reverses: bool) -> list:
+    """Crossings of ``D_e = 0``, max ``||q_dot||``, path drift off the x line, time with twist error > 10 %, outside-region error."""
+    crossings = int(np.count_nonzero(np.diff(np.sign(run.index)) != 0))
+    speed = float(np.linalg.norm(run.joint_velocity, axis=1).max())
+    drift = float(np.linalg.norm(run.position[:, 1:] - run.position[0, 1:], axis=1).max())
+    intended = intended_twist(run, twist) if reverses else run.commanded
+    error = np.linalg.norm(run.realised - intended, axis=1) / np.linalg.norm(twist)
+    dt = run.time[1] - run.time[0]
+    outside = np.abs(run.index) > eps
+    worst_outside = float(error[outside].max()) if outside.any() else float("nan")
+    return [crossings, speed, drift, float(np.count_nonzero(error > 0.1) * dt), worst_outside, float(run.position[:, 0].max())]
+
+
+def workspace_boundaries(chain, factorisation: WamFactorisation, run: TrackingResult) -> list[tuple[str, np.ndarray]]:
+    """x-y circles of the workspace boundary at the path height: for any orientation, and for the orientation at the turn."""
+    q_stretch = np.zeros(7)
+    q_stretch[3] = np.arctan2(factorisation.a * (factorisation.d3 + factorisation.d5),
+                              factorisation.d3 * factorisation.d5 - factorisation.a**2)
+    reach = float(np.linalg.norm(chain.frames(q_stretch)[5, :3, 3]))  # shoulder (origin) to wrist centre, stretched
+    tool = float(chain.d[6])
+    height = float(run.position[0, 2])
+    angle = np.linspace(0.0, 2 * np.pi, 361)
+    circle = np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    turn = int(np.argmin(np.abs(run.index)))
+    approach = run.rotation[turn][:, 2] * tool  # wrist centre = end point - d7 z_tool
+    radius = np.sqrt(max(reach**2 - (height - approach[2]) ** 2, 0.0))
+    return [
+        ("wrist boundary, orientation at the turn", approach[:2] + radius * circle),
+        ("end-point boundary, any orientation", np.sqrt(max((reach + tool) ** 2 - height**2, 0.0)) * circle),
+    ]
+
+
+def build(writer: SectionWriter) -> None:
+    chain = barrett_wam()
+    factor = WamFactorisation.from_chain(chain)
+    q0 = np.radians(PAPER_Q0_DEG)
+    twist = np.array(PAPER_TWIST)
+    d_e0 = float(factor.index(q0))
+    peak = float(np.hypot(factor.a * (factor.d3 + factor.d5), factor.a**2 - factor.d3 * factor.d5))
+    width = np.degrees(np.arcsin(min(PAPER_EPS / peak, 1.0)))
+    writer.text(
+        "Scenario of paper 003 section 4 on the Barrett WAM (Table 1, d3 = 0.55, d5 = 0.4, d7 = 0.06, a = 0.045 m): "
+        f"q0 = {PAPER_Q0_DEG} deg, commanded twist 0.15 m/s along x and 0.1 rad/s about y, D_eps = {PAPER_EPS}, "
+        f"b_sm = 0, open loop, RK4 with dt = {DT} s for {DURATION} s. The paper prints no duration or step. "
+        f"Scale check of the threshold: |D_e| = |a(d3+d5) C4 + (a^2 - d3 d5) S4| is at most {peak:.4f} "
+        f"(a(d3+d5) = {factor.a * (factor.d3 + factor.d5):.4f}), and D_e(q0) = {d_e0:.4f}, so D_eps = 0.1 as printed "
+        f"does not make the whole run singular: the region |D_e| <= 0.1 is q4 within +-{width:.1f} deg of the "
+        f"stretched elbow ({np.degrees(np.arctan2(factor.a * (factor.d3 + factor.d5), factor.d3 * factor.d5 - factor.a**2)):.2f} deg). "
+        "It is wide (45 % of the largest |D_e|), so the arm slows well before the boundary; we keep the paper's value."
+    )
+    check = check_single_parameter(chain, factor.index, samples=16)
+    writer.text(
+        f"Factorisation check: D_e factors every column minor det J_i of the WAM: {check.factors} "
+        f"(largest minor on D_e = 0, relative: {check.worst_minor_on_set:.1e}; largest jump of det J_i / D_e "
+        f"across the set, relative: {check.worst_ratio_jump:.1e}). The closed-form D_i agree with det J_i / D_e in the tests."
+    )
+    methods = {
+        "sc": SingularityConsistent(eps=PAPER_EPS),
+        "pinv": Pseudoinverse(),
+        "dls": DampedLeastSquares(damping=DAMPING),
+        "dls-adaptive": AdaptiveDampedLeastSquares(threshold=DAMPING, max_damping=DAMPING),
+    }
+    runs = {}
+    for k, (name, method) in enumerate(methods.items()):
+        runs[name] = simulate(chain, q0, twist, DURATION, method, dt=DT, index=factor.index)
+        writer.progress((k + 1) / (len(methods) + 1), name)
+    sc = runs["sc"]
+    fig = tracking_figure(sc, PAPER_EPS, workspace_boundaries(chain, factor, sc),
+                          title="Proposed SC method, Barrett WAM, paper 003 section 4 scenario")
+    writer.figure(fig, "fig1_sc", "Fig. 1 recomputed: (a) joint velocities, (b) end-point velocity, (c) angular velocity, "
+                  "(d) D_e, (e) end-point position, (f) x-y path with the workspace boundary at the path height "
+                  "(green: wrist-centre boundary for the orientation at the turn; dashed: any orientation). "
+                  "Grey: singular region |D_e| <= D_eps.")
+    writer.figure(comparison_figure(runs, PAPER_EPS), "methods", "The same scenario with the proposed SC method, the "
+                  f"pseudoinverse, DLS (lambda = {DAMPING}) and adaptive DLS (least singular value below {DAMPING}, "
+                  f"lambda up to {DAMPING}). Grey: |D_e| <= D_eps.")
+    rows = [[name] + run_summary(run, twist, PAPER_EPS, reverses=name == "sc") for name, run in runs.items()]
+    writer.table(
+        "methods", ["method", "crossings of D_e = 0", "max ||q_dot|| [rad/s]", "path drift off the x line [m]",
+                    "time with twist error > 10 % [s]", "max twist error outside |D_e| <= D_eps (relative)", "max x [m]"],
+        rows,
+        caption="Twist error is relative to the intended twist: for SC the command with translation reversed after "
+        "the crossing (its design), for the baselines the constant command (they have no reversal). The SC method's error inside the singular region is by design (eq. 22 slows it to zero at D_e = 0).",
+    )
+    summary = dict(zip(methods, rows))
+    sc_row = summary["sc"]
+    inside = np.abs(sc.index) > PAPER_EPS
+    writer.comparison(
+        "claims",
+        [
+            Comparison("SC passes the singularity (D_e changes sign)", "yes", "yes" if sc_row[1] >= 1 else "no",
+                       note="D_e changes sign exactly once in our run"),
+            Comparison("end-point speed along x outside the singular region [m/s]", 0.15,
+                       float(np.abs(sc.realised[inside, 0]).min()), 1e-9, "equal to the command on both sides; the sign reverses after the crossing"),
+            Comparison("angular speed about y outside the singular region [rad/s]", 0.1,
+                       float(sc.realised[inside, 4].min()), 1e-9, ""),
+            Comparison("rotation about +y keeps its sign through the singularity", "yes",
+                       "yes" if sc.realised[:, 4].min() >= 0 else "no",
+                       f"smallest omega_y {sc.realised[:, 4].min():.2e} rad/s at D_e = 0 (rotation pauses there, eq. 22)"),
+            Comparison("translation inside the singular region only along x", "yes",
+                       "yes" if np.abs(sc.realised[:, 1:3]).max() < 1e-9 else "no",
+                       f"largest |v_y|, |v_z| {np.abs(sc.realised[:, 1:3]).max():.1e} m/s"),
+        ],
+        caption="Claims of paper 003 section 4 (read from its text; the transcription has no numbers from Fig. 1).",
+    )
+    writer.text(
+        "Reading the table: the pseudoinverse realises the command exactly until the smallest singular value "
+        "collapses, then its joint velocity explodes and the discrete integration jumps back and forth across "
+        "D_e = 0 (it has no notion of the boundary: each crossing is a numerical accident, not a controlled "
+        "passage). Both DLS variants stay bounded by ||v|| / (2 lambda) but stall at the boundary: D_e never "
+        "changes sign, and the twist error grows towards 100 %. Only the SC method crosses once, reverses the "
+        "translation, and realises the command exactly outside the singular region."
+    )
+
+
+SECTION = Section(
+    key="003",
+    title="Paper 003: singularity-consistent velocity IK through singularities",
+    reference="S. Miyata, D. Sato, Y. Kanemiya, inverse kinematics of redundant manipulators using the properties "
+    "of the pseudoinverse in the singularity-consistent method (Barrett WAM simulation, section 4).",
+    build=build,
+)
