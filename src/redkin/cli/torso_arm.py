@@ -1,0 +1,158 @@
+"""``redkin torso-arm ik`` and ``redkin torso-arm map`` (thesis 001 humanoid arm)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+
+from redkin.cli.common import UsageError, add_output_flags, angles_in, angles_out, print_json
+from redkin.torso_arm import BRANCHES, humanoid_arm, ik, position_ik
+from redkin.torso_arm.branches import STATUS_NAMES
+from redkin.torso_arm.maps import best_dual_arm_map, best_manipulability_map, dual_arm_map, manipulability_map, plane_grid, region_above
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    top = subparsers.add_parser("torso-arm", help="8-DOF humanoid arm of thesis 001: IK and manipulability maps")
+    sub = top.add_subparsers(dest="torso_command", metavar="ACTION")
+
+    solve = sub.add_parser("ik", help="every joint solution for a wrist/hand pose at shoulder angle psi, elbow angle phi")
+    solve.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="metres")
+    orient = solve.add_mutually_exclusive_group()
+    orient.add_argument("--angles", nargs=3, type=float, metavar=("A", "B", "G"), help="X-Y-Z fixed angles (eq. 4.4)")
+    orient.add_argument("--rotation", nargs=9, type=float, metavar="R", help="rotation matrix, row by row")
+    solve.add_argument("--shoulder", type=float, required=True, metavar="PSI", help="shoulder angle psi")
+    solve.add_argument("--elbow", type=float, required=True, metavar="PHI", help="elbow angle phi")
+    solve.add_argument("--reference", default="theta4", help="phi = 0: 'theta4' (thesis), 'vector' (+y) or 'X,Y,Z'")
+    solve.add_argument("--arm", choices=("right", "left"), default="right")
+    solve.add_argument("--tool", type=float, default=0.0, metavar="L4", help="tool length L4 in metres")
+    add_output_flags(solve)
+    solve.set_defaults(handler=run_ik)
+
+    chart = sub.add_parser("map", help="manipulability map of the wrist position over a plane")
+    chart.add_argument("--plane", required=True, help="e.g. z=0.3 (metres)")
+    chart.add_argument("--extent", nargs=4, type=float, required=True, metavar=("U0", "U1", "V0", "V1"),
+                       help="range of the two in-plane axes (x-y-z order), metres")
+    chart.add_argument("--resolution", type=int, default=100, metavar="N")
+    chart.add_argument("--arm", choices=("right", "left", "both"), default="right")
+    chart.add_argument("--shoulder", type=float, metavar="PSI", help="fixed psi (omit with --elbow for the best map)")
+    chart.add_argument("--elbow", type=float, metavar="PHI", help="fixed phi")
+    chart.add_argument("--reference", default="vector", help="phi reference for a fixed-(psi, phi) map")
+    chart.add_argument("--samples", type=int, nargs=2, default=(24, 24), metavar=("N1", "NPHI"),
+                       help="theta_1 x phi samples of the best map")
+    chart.add_argument("--threshold", type=float, help="report the region where w >= threshold (SI units)")
+    chart.add_argument("--out", help="write the heat map to this PNG file")
+    add_output_flags(chart)
+    chart.set_defaults(handler=run_map)
+    top.set_defaults(handler=lambda args: _missing(top))
+
+
+def _missing(parser: argparse.ArgumentParser) -> int:
+    parser.print_help(sys.stderr)
+    return 2
+
+
+def _reference(text: str):
+    if text in ("theta4", "vector"):
+        return text
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError as exc:
+        raise UsageError(f"--reference must be 'theta4', 'vector' or 'X,Y,Z', got {text!r}") from exc
+    if len(values) != 3:
+        raise UsageError(f"--reference vector needs 3 numbers, got {text!r}")
+    return values
+
+
+def run_ik(args: argparse.Namespace) -> int:
+    arm = humanoid_arm(args.arm, args.tool)
+    psi, phi = angles_in([args.shoulder, args.elbow], args.deg)
+    reference = _reference(args.reference)
+    if args.angles is None and args.rotation is None:
+        sol = position_ik(arm, args.position, psi, phi, reference)
+        q, limits, branches, singular = sol.q, sol.within_limits, [b[:2] for b in BRANCHES[::2]], [False] * 4
+    else:
+        kwargs = {"angles": angles_in(args.angles, args.deg)} if args.angles else {"rotation": np.reshape(args.rotation, (3, 3))}
+        sol = ik(arm, args.position, psi, phi, reference=reference, **kwargs)
+        q, limits, branches, singular = sol.q, sol.within_limits, list(BRANCHES), sol.wrist_singular.tolist()
+    status = STATUS_NAMES[int(sol.status)]
+    rows = [
+        {"branch": list(b), "q": angles_out(q[i], args.deg), "within_limits": bool(limits[i]), "wrist_singular": bool(singular[i])}
+        for i, b in enumerate(branches)
+    ] if status == "ok" else []
+    if args.json:
+        print_json({"arm": args.arm, "status": status, "solutions": rows, "degrees": bool(args.deg)})
+    else:
+        print(f"status: {status}")
+        unit = "deg" if args.deg else "rad"
+        for row in rows:
+            flags = "within limits" if row["within_limits"] else "outside limits"
+            if row["wrist_singular"]:
+                flags += ", wrist singular"
+            print(f"branch {row['branch']}: " + " ".join(f"{v: .6f}" for v in row["q"]) + f"  [{unit}] {flags}")
+    return 0
+
+
+def run_map(args: argparse.Namespace) -> int:
+    grid = plane_grid(args.plane, args.extent, args.resolution)
+    fixed = args.shoulder is not None or args.elbow is not None
+    if fixed and (args.shoulder is None or args.elbow is None):
+        raise UsageError("give both --shoulder and --elbow for a fixed-(psi, phi) map, or neither for the best map")
+    progress = _progress_bar if args.resolution * args.resolution * args.samples[0] * args.samples[1] > 2e6 else None
+    if fixed:
+        psi, phi = angles_in([args.shoulder, args.elbow], args.deg)
+        reference = _reference(args.reference)
+        if args.arm == "both":
+            result = dual_arm_map(grid, psi, phi, reference)
+        else:
+            result = manipulability_map(humanoid_arm(args.arm), grid, psi, phi, reference)
+    elif args.arm == "both":
+        result = best_dual_arm_map(grid, tuple(args.samples), progress=progress)
+    else:
+        result = best_manipulability_map(humanoid_arm(args.arm), grid, tuple(args.samples), progress=progress)
+    if progress is not None:
+        print(file=sys.stderr)
+    unit = "m^6" if args.arm == "both" else "m^3"
+    summary = {
+        "plane": grid.label, "description": result.description, "unit": unit,
+        "valid_fraction": float(result.valid.mean()),
+        "max": float(np.nanmax(result.values)) if result.valid.any() else None,
+    }
+    if args.threshold is not None:
+        region = region_above(result, args.threshold)
+        summary["threshold"] = {"value": region.threshold, "area_m2": region.area, "fraction_of_valid": float(region.fraction)}
+    if args.out:
+        _save(result, args.out, unit, args.arm)
+        summary["out"] = args.out
+    if args.json:
+        print_json({**summary, "u": grid.u, "v": grid.v, "values": [[None if not np.isfinite(x) else x for x in row] for row in result.values]})
+    else:
+        for key, value in summary.items():
+            print(f"{key}: {value}")
+    return 0
+
+
+def _save(result, path: str, unit: str, arm: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from redkin.plot.torso_arm import draw_manipulability_map
+
+    right = humanoid_arm("right")
+    landmarks = {"neck": [0.0, 0.0, 0.0], "R shoulder": right.shoulder(0.0), "L shoulder": -right.shoulder(0.0)}
+    fig, ax = plt.subplots(figsize=(6, 5))
+    draw_manipulability_map(ax, result, landmarks, unit=unit)
+    try:
+        fig.savefig(path, dpi=120)
+    except OSError as exc:
+        raise UsageError(f"cannot write --out {path!r}: {exc}") from exc
+    finally:
+        plt.close(fig)
+
+
+def _progress_bar(fraction: float) -> None:
+    filled = int(30 * fraction)
+    print(f"\r[{'#' * filled}{'.' * (30 - filled)}] {100 * fraction:5.1f}%", end="", file=sys.stderr, flush=True)

@@ -1,0 +1,58 @@
+"""Heat maps of the thesis 001 manipulability maps, with the robot's base drawn in."""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.torso_arm.maps import ManipulabilityMap
+
+_AXES = "xyz"
+
+
+def draw_manipulability_map(
+    ax,
+    result: ManipulabilityMap,
+    landmarks: Mapping[str, ArrayLike] | None = None,
+    unit: str = "m^3",
+    scale: float = 1.0,
+    threshold: float | None = None,
+    cmap: str = "viridis",
+):
+    """Draw ``result.values * scale`` as a heat map on its plane, with a colour bar.
+
+    Parameters
+    ----------
+    landmarks : mapping of name -> point (3,), optional
+        Base points to mark (e.g. neck and shoulders), projected onto the plane.
+    unit : str
+        Unit of the (scaled) values, shown on the colour bar.
+    threshold : float, optional
+        Draw the contour ``w = threshold`` (in scaled units).
+
+    Returns
+    -------
+    The image artist.
+    """
+    grid = result.grid
+    values = np.ma.masked_invalid(result.values * scale)
+    extent = (grid.u[0], grid.u[-1], grid.v[0], grid.v[-1])
+    image = ax.imshow(values, origin="lower", extent=extent, cmap=cmap, aspect="equal", interpolation="nearest")
+    cbar = ax.figure.colorbar(image, ax=ax, shrink=0.85)
+    cbar.set_label(f"w [{unit}]")
+    if threshold is not None and np.isfinite(values.filled(np.nan)).any():
+        ax.contour(grid.u, grid.v, values.filled(0.0), levels=[threshold], colors="w", linewidths=1.0)
+    iu, iv = (_AXES.index(a) for a in grid.axis_names)
+    for index, (name, point) in enumerate((landmarks or {}).items()):
+        p = np.asarray(point, dtype=float)
+        ax.plot(p[iu], p[iv], marker="s" if index == 0 else "o", color="red", markersize=6, linestyle="none")
+        ax.annotate(name, (p[iu], p[iv]), textcoords="offset points", xytext=(4, 4), color="red", fontsize=8)
+    if len(landmarks or {}) > 1:
+        pts = np.array([np.asarray(p, float) for p in landmarks.values()])
+        ax.plot(pts[:, iu], pts[:, iv], "-", color="red", linewidth=2)
+    ax.set_xlabel(f"{grid.axis_names[0]} [m]")
+    ax.set_ylabel(f"{grid.axis_names[1]} [m]")
+    ax.set_title(f"{grid.label}\n{result.description}", fontsize=8)
+    return image
