@@ -55,6 +55,6 @@ def parse_branch(value: "str | Branch | tuple[int, int, int]") -> Branch:
 
 
 def branch_of_theta(theta: np.ndarray) -> np.ndarray:
-    """Branch signs ``(..., 3)`` of DH angles ``(..., 7)``; a zero angle counts as ``+``."""
-    picked = theta[..., [1, 3, 5]]
+    """Branch signs ``(..., 3)`` of DH angles ``(..., 7)`` taken modulo 2 pi into ``[-pi, pi)``; zero counts as ``+``."""
+    picked = np.mod(theta[..., [1, 3, 5]] + np.pi, 2.0 * np.pi) - np.pi
     return np.where(picked < 0.0, -1, 1)

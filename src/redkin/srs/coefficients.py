@@ -44,8 +44,12 @@ REACH_TOLERANCE = 1e-9
 # rows of 0R3 / 4R7 whose entries give the joint angles (eqs. 13-15, 17-19):
 # 0R3[0,1] = -c1 s2, 0R3[1,1] = -s1 s2, 0R3[2,1] = -c2, 0R3[2,0] = -s2 c3, 0R3[2,2] = s2 s3
 # 4R7[0,2] = c5 s6, 4R7[1,2] = s5 s6, 4R7[2,2] = c6, 4R7[2,0] = -s6 c7, 4R7[2,1] = s6 s7
+# plus 0R3[0,0], 0R3[1,0] and 4R7[0,0], 4R7[1,0], which complete the first
+# columns used to read theta_3 and theta_7 robustly (see redkin.srs.joints)
 SHOULDER_ENTRIES = ((0, 1), (1, 1), (2, 1), (2, 0), (2, 2))
 WRIST_ENTRIES = ((0, 2), (1, 2), (2, 2), (2, 0), (2, 1))
+SHOULDER_EXTRA = ((0, 0), (1, 0))
+WRIST_EXTRA = ((0, 0), (1, 0))
 
 
 @dataclass(frozen=True)
@@ -56,11 +60,12 @@ class ArmAngleCoefficients:
     ----------
     theta4 : numpy.ndarray, shape (...)
         Elbow angle (eq. 11), independent of psi.
-    entries : numpy.ndarray, shape (..., 10, 3)
-        ``(a, b, c)`` with ``entry = a sin psi + b cos psi + c`` of the ten
+    entries : numpy.ndarray, shape (..., 14, 3)
+        ``(a, b, c)`` with ``entry = a sin psi + b cos psi + c`` of the
         matrix entries the joint angles are read from: 0R3 at
-        :data:`SHOULDER_ENTRIES` (``a_s32`` is ``entries[..., 2, 0]``), then
-        4R7 at :data:`WRIST_ENTRIES` (``a_w33`` is ``entries[..., 7, 0]``).
+        :data:`SHOULDER_ENTRIES` (``a_s32`` is ``entries[..., 2, 0]``), 4R7 at
+        :data:`WRIST_ENTRIES` (``a_w33`` is ``entries[..., 7, 0]``), then 0R3
+        at :data:`SHOULDER_EXTRA` and 4R7 at :data:`WRIST_EXTRA`.
     u_sw : numpy.ndarray, shape (..., 3)
         Unit shoulder-to-wrist vector.
     reference : numpy.ndarray, shape (..., 3, 3)
@@ -167,10 +172,12 @@ def elbow_rotation(theta4: np.ndarray) -> np.ndarray:
     return rot
 
 
-_S_ROWS = np.array([i for i, _ in SHOULDER_ENTRIES])
-_S_COLS = np.array([j for _, j in SHOULDER_ENTRIES])
-_W_ROWS = np.array([i for i, _ in WRIST_ENTRIES])
-_W_COLS = np.array([j for _, j in WRIST_ENTRIES])
+_S_ROWS = np.array([i for i, _ in SHOULDER_ENTRIES + SHOULDER_EXTRA])
+_S_COLS = np.array([j for _, j in SHOULDER_ENTRIES + SHOULDER_EXTRA])
+_W_ROWS = np.array([i for i, _ in WRIST_ENTRIES + WRIST_EXTRA])
+_W_COLS = np.array([j for _, j in WRIST_ENTRIES + WRIST_EXTRA])
+# order of the entries array: 5 shoulder, 5 wrist, 2 shoulder extra, 2 wrist extra
+_ORDER = np.r_[0:5, 7:12, 5:7, 12:14]
 
 
 def arm_angle_coefficients(
@@ -205,10 +212,12 @@ def arm_angle_coefficients(
     elbow = elbow_rotation(theta4)
     basis = np.eye(3)
     # eq. 12 entry (i, j): e_i^T R_psi (R3o e_j); eq. 16 entry (i, j): (0R7 e_j)^T R_psi (R3o 3R4 e_i)
-    x = np.concatenate([np.broadcast_to(basis[_S_ROWS], shape + (5, 3)), np.swapaxes(rotation, -1, -2)[..., _W_COLS, :]], axis=-2)
+    x = np.concatenate(
+        [np.broadcast_to(basis[_S_ROWS], shape + (7, 3)), np.swapaxes(rotation, -1, -2)[..., _W_COLS, :]], axis=-2
+    )
     wrist_y = np.swapaxes(reference @ elbow, -1, -2)[..., _W_ROWS, :]
     y = np.concatenate([np.swapaxes(reference, -1, -2)[..., _S_COLS, :], wrist_y], axis=-2)
-    entries = rodrigues_coefficients(x, y, u[..., None, :])
+    entries = rodrigues_coefficients(x[..., _ORDER, :], y[..., _ORDER, :], u[..., None, :])
     return ArmAngleCoefficients(
         theta4=theta4, entries=entries, u_sw=u, reference=reference, elbow=elbow, rotation=rotation
     )

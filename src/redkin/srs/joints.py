@@ -15,13 +15,20 @@ negates a cosine-type one, so the angles are computed once for
 cosine-type joints are evaluated as ``atan2(hypot(N_1, D_1), cos theta)``
 with the numerator and denominator of the neighbouring tangent-type joint
 (their squares sum to ``sin^2 theta``): the same function as ``acos``
-without its loss of digits near 0 and pi.
+without its loss of digits near 0 and pi.  Likewise theta_3 (theta_7) is
+read from the rotation left after joints 1-2 (5-6): ``0R3 = Rz(theta_1)
+Ry(theta_2) Rz(theta_3) Rx(-pi/2)``, so ``theta_3 = atan2(p_2 . r_1, p_1 .
+r_1)`` with ``p_k`` the columns of ``Rz(theta_1) Ry(theta_2)`` and ``r_1``
+the first column of 0R3.  This equals eq. 15 wherever eq. 15 is defined and
+stays exact at the singular arm angle (theta_2 = 0), where eq. 15 is 0/0
+and only theta_1 + theta_3 is determined.
 
 Entry indices refer to :attr:`ArmAngleCoefficients.entries`:
 0 = 0R3[0,1] = -c1 s2, 1 = 0R3[1,1] = -s1 s2, 2 = 0R3[2,1] = -c2,
 3 = 0R3[2,0] = -s2 c3, 4 = 0R3[2,2] = s2 s3, 5 = 4R7[0,2] = c5 s6,
 6 = 4R7[1,2] = s5 s6, 7 = 4R7[2,2] = c6, 8 = 4R7[2,0] = -s6 c7,
-9 = 4R7[2,1] = s6 s7.
+9 = 4R7[2,1] = s6 s7, 10 = 0R3[0,0], 11 = 0R3[1,0], 12 = 4R7[0,0],
+13 = 4R7[1,0].
 """
 
 from __future__ import annotations
@@ -42,19 +49,31 @@ _TANGENT_COLUMNS = np.flatnonzero(~IS_COSINE)
 
 
 def entry_values(entries: np.ndarray, psi: np.ndarray) -> np.ndarray:
-    """The ten matrix entries at arm angles ``psi``: ``a sin psi + b cos psi + c``.
+    """The matrix entries at arm angles ``psi``: ``a sin psi + b cos psi + c``.
 
-    ``entries`` has shape ``(..., 10, 3)``; ``psi`` broadcasts against ``(...)``.
+    ``entries`` has shape ``(..., 14, 3)``; ``psi`` broadcasts against ``(...)``.
     """
     psi = np.asarray(psi, dtype=float)[..., None]
     return entries[..., 0] * np.sin(psi) + entries[..., 1] * np.cos(psi) + entries[..., 2]
 
 
+def _third_angle(first: np.ndarray, second: np.ndarray, column: np.ndarray) -> np.ndarray:
+    """theta_3 (or theta_7) from theta_1, theta_2 (theta_5, theta_6) and the first column of 0R3 (4R7)."""
+    c1, s1, c2, s2 = np.cos(first), np.sin(first), np.cos(second), np.sin(second)
+    along_p1 = c1 * c2 * column[0] + s1 * c2 * column[1] - s2 * column[2]
+    along_p2 = -s1 * column[0] + c1 * column[1]
+    return np.arctan2(along_p2, along_p1)
+
+
 def positive_branch_angles(values: np.ndarray) -> np.ndarray:
-    """Joints 1, 2, 3, 5, 6, 7 for ``sigma_2 = sigma_6 = +1`` from the entry values ``(..., 10)``."""
-    num = values[..., _NUM] * _NUM_F
-    num[..., IS_COSINE] = np.hypot(values[..., [0, 5]], values[..., [1, 6]])  # |sin theta_2|, |sin theta_6|
-    return np.arctan2(num, values[..., _DEN] * _DEN_F)
+    """Joints 1, 2, 3, 5, 6, 7 for ``sigma_2 = sigma_6 = +1`` from the entry values ``(..., 14)``."""
+    theta1 = np.arctan2(-values[..., 1], -values[..., 0])  # eq. 13
+    theta2 = np.arctan2(np.hypot(values[..., 0], values[..., 1]), -values[..., 2])  # eq. 14
+    theta3 = _third_angle(theta1, theta2, (values[..., 10], values[..., 11], values[..., 3]))  # eq. 15
+    theta5 = np.arctan2(values[..., 6], values[..., 5])  # eq. 17
+    theta6 = np.arctan2(np.hypot(values[..., 5], values[..., 6]), values[..., 7])  # eq. 18
+    theta7 = _third_angle(theta5, theta6, (values[..., 12], values[..., 13], values[..., 8]))  # eq. 19
+    return np.stack([theta1, theta2, theta3, theta5, theta6, theta7], axis=-1)
 
 
 def apply_branch_signs(angles: np.ndarray, shoulder_sign, wrist_sign) -> np.ndarray:
@@ -93,7 +112,7 @@ def limit_equations(entries: np.ndarray, lower: np.ndarray, upper: np.ndarray) -
     type (eq. 22): ``a s + b c + c - cos L = 0`` (also true where
     ``theta = -L``, likewise harmless).
 
-    ``entries`` ``(..., 10, 3)``; ``lower``/``upper`` ``(6,)`` DH limits of the
+    ``entries`` ``(..., 14, 3)``; ``lower``/``upper`` ``(6,)`` DH limits of the
     columns of :data:`PSI_JOINTS`.  Returns ``(..., 6, 2, 3)`` (lower, upper).
     """
     limits = np.stack([lower, upper], axis=-1)  # (6, 2)

@@ -1,0 +1,139 @@
+"""Feasible arm angles (paper 000 eqs. 21-30) equal dense sampling with an FK check, and never miss a narrow arc."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from redkin.circle import ArcSet, intersect_all, wrap_angle
+from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
+from redkin.srs import BRANCHES, feasible_arm_angles, feasible_pieces, ik, pose_from
+
+GRID = np.linspace(-np.pi, np.pi, 6001, endpoint=False)
+
+
+def sampled_feasibility(chain, pose, branch, psi):
+    """Joint-limit check of IK at each psi, with the FK round trip checked too."""
+    poses = np.broadcast_to(pose, psi.shape + (4, 4))
+    q = ik(chain, poses, psi, branch)
+    assert np.abs(chain.fk(q) - poses).max() < 1e-9
+    return chain.joints_within_limits(q, wrap=True)
+
+
+def assert_set_matches_sampling(chain, pose, branch, result, margin=1e-7):
+    per_joint = sampled_feasibility(chain, pose, branch, GRID)
+    ends = np.array([e for s in [result.feasible, *result.per_joint.values()] for iv in s.intervals for e in iv])
+    near = np.zeros(GRID.shape, bool)
+    if ends.size:
+        near = np.min(np.abs(wrap_angle(GRID[:, None] - ends[None, :])), axis=1) < margin
+    for j in range(1, 8):
+        inside = result.per_joint[j].contains(GRID)
+        assert np.array_equal(inside[~near], per_joint[~near, j - 1]), f"joint {j}"
+    overall = result.feasible.contains(GRID)
+    assert np.array_equal(overall[~near], np.all(per_joint, axis=1)[~near])
+    # every arc, however narrow, is feasible inside; every gap infeasible inside
+    for lo, hi in result.feasible.intervals:
+        inner = np.linspace(lo, hi, 7)[1:-1] if hi - lo > 2 * margin else np.array([(lo + hi) / 2])
+        assert np.all(sampled_feasibility(chain, pose, branch, inner)), (lo, hi)
+    for lo, hi in result.feasible.complement().intervals:
+        if hi - lo > 4 * margin:
+            inner = np.linspace(lo + margin, hi - margin, 9)
+            assert not np.any(np.all(sampled_feasibility(chain, pose, branch, inner), axis=1)), (lo, hi)
+    # eq. 30: the overall set is the intersection of the per-joint sets
+    assert result.feasible.isclose(intersect_all(result.per_joint.values()), 1e-9)
+
+
+def random_limits(rng, q, crossing):
+    """Limits around q (so sets tend to be non-empty) with random widths; optionally across +-pi."""
+    width = rng.uniform(0.2, 4.0, 7)
+    centre = q + rng.uniform(-0.5, 0.5, 7) * width
+    if crossing:
+        centre = np.where(rng.random(7) < 0.5, np.pi + rng.uniform(-0.3, 0.3, 7), centre)
+    return centre - width / 2, centre + width / 2
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**31), st.sampled_from([str(b) for b in BRANCHES]), st.booleans(), st.sampled_from(["pa10", "iiwa", "random"]))
+def test_feasible_sets_equal_dense_sampling(seed, branch, crossing, model):
+    rng = np.random.default_rng(seed)
+    chain = {"pa10": pa10_7c, "iiwa": kuka_iiwa14}.get(model, lambda: srs_chain(*rng.uniform(0.1, 0.8, 4)))()
+    q = rng.uniform(-np.pi, np.pi, 7)
+    lower, upper = random_limits(rng, q, crossing)
+    chain = chain.with_limits(lower, upper)
+    pose = chain.fk(q)
+    result = feasible_arm_angles(chain, pose, branch)
+    assert_set_matches_sampling(chain, pose, branch, result)
+
+
+@pytest.mark.parametrize("branch", [str(b) for b in BRANCHES])
+def test_narrow_limits_around_a_known_solution_are_found(branch):
+    rng = np.random.default_rng(7)
+    base = pa10_7c()
+    for _ in range(10):
+        pose = base.fk(rng.uniform(-np.pi, np.pi, 7))
+        psi_star = rng.uniform(-np.pi, np.pi)
+        q_star = ik(base, pose, psi_star, branch)
+        chain = base.with_limits(q_star - 0.001, q_star + 0.001)
+        result = feasible_arm_angles(chain, pose, branch)
+        assert not result.is_empty
+        assert result.feasible.contains(psi_star, tolerance=1e-12)
+        assert result.feasible.length < 0.05
+        assert_set_matches_sampling(chain, pose, branch, result, margin=1e-9)
+
+
+def test_limits_crossing_pi_and_unlimited_joints():
+    base = kuka_iiwa14()
+    rng = np.random.default_rng(8)
+    pose = base.fk(rng.uniform(-np.pi, np.pi, 7))
+    q = ik(base, pose, 2.0, "+-+")
+    # every limit straddles +-pi in the chain's own q convention
+    lower = np.full(7, np.pi - 1.5)
+    upper = np.full(7, np.pi + 1.5)
+    chain = base.with_limits(lower, upper)
+    result = feasible_arm_angles(chain, pose, "+-+")
+    assert_set_matches_sampling(chain, pose, "+-+", result)
+    unlimited = base.with_limits(np.full(7, -4.0), np.full(7, 4.0))
+    free = feasible_arm_angles(unlimited, pose, "+-+")
+    assert free.feasible.is_full and all(s.is_full for s in free.per_joint.values())
+    del q
+
+
+def test_elbow_outside_limits_empties_every_branch_of_that_sign():
+    chain = pa10_7c()  # theta_4 in [0, 135] deg: the elbow-negative branches are never feasible
+    pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
+    for branch in BRANCHES:
+        result = feasible_arm_angles(chain, pose, branch)
+        if branch.elbow < 0:
+            assert result.is_empty and result.per_joint[4].is_empty
+
+
+def test_batched_pieces_equal_single_pose_sets():
+    chain = pa10_7c()
+    rng = np.random.default_rng(9)
+    q = rng.uniform(-1.0, 1.0, (30, 7)) * [1.5, 0.7, 2.0, 1.0, 1.5, 1.5, 2.0] + [0, 0, 0, 1.2, 0, 0, 0]
+    poses = chain.fk(q)
+    pieces = feasible_pieces(chain, poses, "+++")
+    batch = feasible_arm_angles(chain, poses, "+++")
+    assert batch.shape == (30,)
+    for i in range(30):
+        single = feasible_arm_angles(chain, poses[i], "+++")
+        assert single.feasible.isclose(batch[i].feasible, 1e-12)
+        assert single.feasible.isclose(pieces.arc_set((i,)), 1e-12)
+        assert bool(pieces.nonempty[i]) == (not single.is_empty)
+
+
+def test_paper_section_6_1_feasible_sets():
+    """Paper 000 section 6.1, branch +++: Psi_i and Psi to the printed 3 decimals (degrees)."""
+    chain = pa10_7c()
+    pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
+    result = feasible_arm_angles(chain, pose, "+++")
+    printed = {1: None, 2: 45.991, 3: 111.734, 5: 108.926, 6: 62.154, 7: None}
+    for joint, bound in printed.items():
+        arcs = np.degrees(result.per_joint[joint].arcs)
+        if bound is None:
+            assert result.per_joint[joint].is_full
+        else:
+            assert np.allclose(arcs, [[-bound, bound]], atol=5e-4)
+    assert np.allclose(np.degrees(result.feasible.arcs), [[-45.991, 45.991]], atol=5e-4)
+    # the bounds are where theta_2 reaches its 45 deg limit (paper Fig. 6)
+    for psi in result.feasible.arcs[0]:
+        assert np.degrees(ik(chain, pose, psi, "+++"))[1] == pytest.approx(45.0, abs=1e-9)

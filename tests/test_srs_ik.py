@@ -1,0 +1,181 @@
+"""Arm-angle IK (paper 000 eqs. 11-19): FK(IK(x)) = x on every branch, batched equals looped, inverse arm angle."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from redkin.chain import SerialChain
+from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c, planar_arm, srs_chain
+from redkin.so3 import rot_x, rot_z
+from redkin.srs import BRANCHES, arm_angle_of, ik, ik_all_branches, pose_from, srs_geometry
+
+ROUND_TRIP = 1e-9
+
+
+def random_poses(chain, count, rng):
+    return chain.fk(rng.uniform(-np.pi, np.pi, (count, chain.n)))
+
+
+def pose_error(a, b):
+    return np.abs(a - b).max()
+
+
+@pytest.mark.parametrize("factory", [pa10_7c, kuka_iiwa14])
+def test_round_trip_10000_poses_all_branches(factory):
+    chain = factory()
+    rng = np.random.default_rng(1)
+    poses = random_poses(chain, 10_000, rng)
+    psi = rng.uniform(-np.pi, np.pi, 10_000)
+    q = ik_all_branches(chain, poses, psi)
+    assert q.shape == (10_000, 8, 7)
+    assert pose_error(chain.fk(q), poses[:, None]) < ROUND_TRIP
+    # the eight branches are distinct solutions with the branch signs they claim
+    theta = q
+    signs = np.array(BRANCHES)
+    assert np.all((np.sign(theta[..., [1, 3, 5]]) == signs) | (np.abs(theta[..., [1, 3, 5]]) < 1e-9))
+
+
+def test_round_trip_random_geometries_10000_poses():
+    rng = np.random.default_rng(2)
+    worst = 0.0
+    for _ in range(20):
+        d_bs, d_se, d_ew, d_wt = rng.uniform(0.05, 1.0, 4) * np.array([1, 1, 1, rng.choice([-1, 0, 1])])
+        chain = srs_chain(d_bs, d_se, d_ew, d_wt)
+        poses = random_poses(chain, 500, rng)
+        q = ik_all_branches(chain, poses, rng.uniform(-np.pi, np.pi, 500))
+        worst = max(worst, pose_error(chain.fk(q), poses[:, None]))
+    assert worst < ROUND_TRIP
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.tuples(*[st.floats(0.05, 1.0)] * 4),
+    st.lists(st.sampled_from([1.0, -1.0]), min_size=7, max_size=7),
+    st.lists(st.floats(-3.0, 3.0), min_size=7, max_size=7),
+    st.floats(-np.pi, np.pi),
+    st.integers(0, 2**31),
+)
+def test_round_trip_with_base_tool_offsets_and_signs(lengths, sign, offset, psi, seed):
+    base = np.eye(4)
+    base[:3, :3] = rot_z(0.3) @ rot_x(-0.7)
+    base[:3, 3] = [0.1, -0.2, 0.3]
+    tool = np.eye(4)
+    tool[:3, :3] = rot_x(0.4)
+    tool[:3, 3] = [0.0, 0.05, 0.1]
+    plain = srs_chain(*lengths)
+    chain = SerialChain(a=plain.a, alpha=plain.alpha, d=plain.d, offset=offset, sign=sign, base=base, tool=tool)
+    poses = random_poses(chain, 20, np.random.default_rng(seed))
+    q = ik_all_branches(chain, poses, psi)
+    assert pose_error(chain.fk(q), poses[:, None]) < ROUND_TRIP
+    state = arm_angle_of(chain, q[:, 0])
+    assert np.allclose(np.cos(state.psi - psi), 1.0, atol=1e-9)
+
+
+def test_batched_equals_looped_and_single_branch_equals_all_branches():
+    chain = pa10_7c()
+    rng = np.random.default_rng(3)
+    poses = random_poses(chain, 50, rng).reshape(5, 10, 4, 4)
+    psi = rng.uniform(-np.pi, np.pi, (5, 10))
+    every = ik_all_branches(chain, poses, psi)
+    for k, branch in enumerate(BRANCHES):
+        one = ik(chain, poses, psi, str(branch))
+        assert one.shape == (5, 10, 7)
+        assert np.allclose(np.cos(one - every[..., k, :]), 1.0, atol=1e-12)
+        looped = np.array([[ik(chain, poses[i, j], psi[i, j], branch) for j in range(10)] for i in range(5)])
+        assert np.allclose(np.cos(looped - one), 1.0, atol=1e-12)
+
+
+def test_arm_angle_of_inverts_ik_on_every_branch():
+    chain = kuka_iiwa14()
+    rng = np.random.default_rng(4)
+    poses = random_poses(chain, 200, rng)
+    psi = rng.uniform(-np.pi, np.pi, 200)
+    q = ik_all_branches(chain, poses, psi)
+    state = arm_angle_of(chain, q)
+    assert np.allclose(np.cos(state.psi - psi[:, None]), 1.0, atol=1e-9)
+    assert np.array_equal(state.branch, np.broadcast_to(np.array(BRANCHES), (200, 8, 3)))
+    assert state.branch_strings()[0, 5] == str(BRANCHES[5])
+
+
+def test_paper_section_6_1_joint_vectors():
+    """Paper 000 section 6.1: theta at psi = 0 for x = (0.65, 0, 0.5), R = diag(-1, 1, -1), branch +++."""
+    chain = pa10_7c()
+    pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
+    theta = np.degrees(ik(chain, pose, 0.0, "+++"))
+    assert np.allclose(theta, [0, 25.666, 0, 82.872, 0, 71.463, 0], atol=5e-4)
+
+
+def test_reference_plane_is_theta3_zero_and_psi_is_right_handed():
+    chain = pa10_7c()
+    rng = np.random.default_rng(5)
+    poses = random_poses(chain, 100, rng)
+    q0 = ik_all_branches(chain, poses, 0.0)
+    assert np.allclose(np.sin(q0[..., 2]), 0.0, atol=1e-9)  # theta_3 = 0 (or pi on the sigma_2 = - branches)
+    # a small positive psi turns the elbow right-handedly about shoulder -> wrist
+    q1 = ik(chain, poses, 1e-4, "+++")
+    frames0, frames1 = chain.frames(q0[:, 0]), chain.frames(q1)
+    shoulder, wrist = frames0[:, 2, :3, 3], frames0[:, 5, :3, 3]
+    axis = (wrist - shoulder) / np.linalg.norm(wrist - shoulder, axis=-1, keepdims=True)
+    elbow0, elbow1 = frames0[:, 3, :3, 3] - shoulder, frames1[:, 3, :3, 3] - shoulder
+    assert np.all(np.einsum("ij,ij->i", np.cross(elbow0, elbow1), axis) > 0)
+
+
+def test_wrist_on_joint1_axis_uses_theta1_zero_reference():
+    chain = pa10_7c()
+    geometry = srs_geometry(chain)
+    q = np.array([0.0, 0.0, 0.0, 0.8, 0.3, 0.2, 0.1])
+    vx, vy = geometry.d_ew * np.sin(q[3]), -(geometry.d_se + geometry.d_ew * np.cos(q[3]))
+    q[1] = np.arctan2(vx, vy)  # with theta_1 = theta_3 = 0 this puts the wrist on the z axis
+    pose = chain.fk(q)
+    x_sw = pose[:3, 3] - pose[:3, 2] * geometry.d_wt - [0, 0, geometry.d_bs]
+    assert np.hypot(x_sw[0], x_sw[1]) < 1e-12
+    reference = ik_all_branches(chain, pose, 0.0)
+    assert np.allclose(np.sin(reference[:, [0, 2]]), 0.0, atol=1e-12)  # theta_1o = 0 (or pi), theta_3 = 0 (or pi)
+    for psi in np.linspace(-np.pi, np.pi, 9):
+        solutions = ik_all_branches(chain, pose, psi)
+        assert pose_error(chain.fk(solutions), pose) < ROUND_TRIP
+        # on the joint-1 axis the arm angle turns joint 1 itself (right-handed about shoulder -> wrist)
+        assert np.allclose(np.sin(solutions[:, 0] - np.sign(x_sw[2]) * psi), 0.0, atol=1e-9)
+
+
+def test_elbow_stretched_and_degenerate_configurations():
+    chain = pa10_7c()
+    for q in ([0.3, 0.0, 0.5, 0.9, 0.2, 0.4, 0.1], [0.3, 0.7, 0.5, 0.9, 0.2, 0.0, 0.1], [0.3, 0.7, 0.5, 0.0, 0.2, 0.4, 0.1]):
+        pose = chain.fk(np.array(q))
+        for psi in np.linspace(-np.pi, np.pi, 13):
+            assert pose_error(chain.fk(ik_all_branches(chain, pose, psi)), pose) < ROUND_TRIP
+
+
+def test_not_srs_chains_name_the_violated_condition():
+    with pytest.raises(ValueError, match="7 joints"):
+        srs_geometry(planar_arm())
+    with pytest.raises(ValueError, match="a_3"):
+        srs_geometry(barrett_wam())
+    plain = srs_chain(0.3, 0.4, 0.4, 0.1)
+    twisted = SerialChain(a=plain.a, alpha=np.r_[plain.alpha[:6], 0.3], d=plain.d)
+    with pytest.raises(ValueError, match="alpha_7"):
+        srs_geometry(twisted)
+    offset_wrist = SerialChain(a=plain.a, alpha=plain.alpha, d=[0.3, 0, 0.4, 0.0, 0.4, 0.05, 0.1])
+    with pytest.raises(ValueError, match="d_6 must be 0"):
+        srs_geometry(offset_wrist)
+    with pytest.raises(ValueError, match="d_se"):
+        srs_geometry(SerialChain(a=plain.a, alpha=plain.alpha, d=[0.3, 0, 0.0, 0, 0.4, 0, 0.1]))
+    with pytest.raises(ValueError, match="standard DH"):
+        srs_geometry(SerialChain(a=plain.a, alpha=plain.alpha, d=plain.d, convention="mdh"))
+
+
+def test_bad_inputs_raise_clear_errors():
+    chain = pa10_7c()
+    pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
+    with pytest.raises(ValueError, match="unreachable position"):
+        ik(chain, pose_from(np.array([3.0, 0.0, 0.5]), np.eye(3)), 0.0)
+    with pytest.raises(ValueError, match="orthonormal"):
+        ik(chain, pose_from(np.array([0.65, 0.0, 0.5]), 2 * np.eye(3)), 0.0)
+    with pytest.raises(ValueError, match="pose"):
+        ik(chain, np.eye(3), 0.0)
+    with pytest.raises(ValueError, match="psi"):
+        ik(chain, pose, np.nan)
+    with pytest.raises(ValueError, match="branch"):
+        ik(chain, pose, 0.0, "++")
+    with pytest.raises(ValueError, match="branch"):
+        ik(chain, pose, 0.0, (1, 0, 1))

@@ -1,0 +1,158 @@
+"""Singular arm angles (eqs. 31-34), optimal arm angles (eqs. 36-40), path control (section 6.2.2) and paper section 6.2."""
+
+import numpy as np
+import pytest
+
+from redkin.circle import ArcSet
+from redkin.models import pa10_7c
+from redkin.srs import (
+    arm_angle_of,
+    arm_angle_path,
+    feasible_arm_angles,
+    ik,
+    optimal_arm_angles,
+    pose_from,
+    singular_arm_angles,
+)
+from redkin.srs.rotations import shoulder_rotation, wrist_rotation
+
+GRID = np.linspace(-np.pi, np.pi, 20001, endpoint=False)
+
+
+def branch_string(state):
+    return str(state.branch_strings())
+
+
+@pytest.mark.parametrize(
+    "q, joint",
+    [
+        ([0.3, 0.0, 0.5, 0.9, 0.2, 0.4, 0.1], 2),  # shoulder singular
+        ([0.3, 0.7, 0.5, 0.9, 0.2, 0.0, 0.1], 6),  # wrist singular
+        ([0.0, 0.0, 0.0, -1.0, 0.2, 0.4, 0.1], 2),  # shoulder singular at psi = +-pi (reference flips)
+        ([0.0, -0.6, 0.0, -1.0, 0.2, 0.0, 0.1], 6),  # wrist singular at psi = +-pi
+    ],
+)
+def test_singular_arm_angle_is_found_where_the_configuration_is(q, joint):
+    chain = pa10_7c().with_limits(np.full(7, -4.0), np.full(7, 4.0))
+    q = np.array(q)
+    state = arm_angle_of(chain, q)
+    result = singular_arm_angles(chain, chain.fk(q), branch_string(state))
+    angles = result.shoulder if joint == 2 else result.wrist
+    assert len(angles) == 1 and np.cos(angles[0] - state.psi) == pytest.approx(1.0, abs=1e-12)
+    theta = ik(chain, chain.fk(q), angles[0], branch_string(state))
+    assert abs(np.sin(theta[joint - 1])) < 1e-7
+    if q[0] == 0.0 and q[2] == 0.0:
+        assert abs(abs(angles[0]) - np.pi) < 1e-9
+
+
+def test_no_singularity_for_generic_pose_and_degenerate_everywhere_case():
+    chain = pa10_7c()
+    q = np.array([0.3, 0.7, 0.5, 0.9, 0.2, 0.4, 0.1])
+    result = singular_arm_angles(chain, chain.fk(q), "+++")
+    assert result.shoulder == () and result.wrist == () and result.shoulder_residual < 0
+    # sampled check: theta_2 and theta_6 stay away from 0 on the whole circle
+    theta = ik(chain, np.broadcast_to(chain.fk(q), GRID.shape + (4, 4)), GRID, "+++")
+    assert np.min(np.abs(theta[:, 1])) > 1e-3 and np.min(np.abs(theta[:, 5])) > 1e-3
+    # arm stretched along the joint-1 axis: every arm angle is shoulder singular
+    stretched = chain.fk(np.array([0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 0.0]))
+    everywhere = singular_arm_angles(chain, stretched, "+++")
+    assert everywhere.shoulder_everywhere
+    with pytest.raises(ValueError, match="tolerance"):
+        singular_arm_angles(chain, stretched, "+++", tolerance=-1.0)
+
+
+def test_paper_section_6_2_1_singularity_coefficients_and_branch():
+    chain = pa10_7c()
+    pose = pose_from(np.array([0.55, 0.0, 0.767]), np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))
+    result = singular_arm_angles(chain, pose, "+++")
+    assert np.allclose(result.shoulder_coefficients, [0.0, -0.532, -0.468], atol=5e-4)
+    assert np.allclose(result.wrist_coefficients, [0.0, 0.468, 0.532], atol=5e-4)
+    assert np.allclose(result.shoulder, [0.0]) and np.allclose(result.wrist, [0.0])
+    # the printed feasible set [-63.277, 63.277] belongs to branch ++- (theta_6 < 0); +++ is empty
+    assert feasible_arm_angles(chain, pose, "+++").is_empty
+    other = feasible_arm_angles(chain, pose, "++-").feasible
+    assert np.allclose(np.degrees(other.arcs), [[-63.277, 63.277]], atol=5e-4)
+
+
+def objective(chain, pose, branch, target, psi, part):
+    theta = ik(chain, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch)
+    if part == "shoulder":
+        return np.einsum("...ij,ij->...", shoulder_rotation(theta), shoulder_rotation(target))
+    return np.einsum("...ij,ij->...", wrist_rotation(theta), wrist_rotation(target))
+
+
+def test_optimal_angles_are_the_sampled_maximisers_and_clamp_to_nearest_feasible():
+    chain = pa10_7c()
+    rng = np.random.default_rng(11)
+    for _ in range(5):
+        q = rng.uniform(-0.8, 0.8, 7) + [0, 0, 0, 1.2, 0, 0, 0]
+        pose = chain.fk(q)
+        target = rng.uniform(-1, 1, 7)
+        result = optimal_arm_angles(chain, pose, "+++", target=target, weights=(0.3, 0.7))
+        for part in ("shoulder", "wrist"):
+            f = objective(chain, pose, "+++", target, GRID, part)
+            best = GRID[np.argmax(f)]
+            assert abs(np.sin((getattr(result, part).unclamped - best) / 2)) < 1e-3
+        f = 0.3 * objective(chain, pose, "+++", target, GRID, "shoulder") + 0.7 * objective(chain, pose, "+++", target, GRID, "wrist")
+        assert abs(np.sin((result.overall.unclamped - GRID[np.argmax(f)]) / 2)) < 1e-3
+        feasible = feasible_arm_angles(chain, pose, "+++").feasible
+        if feasible.is_empty:
+            assert result.overall.feasible is None
+        else:
+            assert feasible.contains(result.overall.feasible, tolerance=1e-12)
+            inside = feasible.contains(GRID)
+            at = np.array([result.overall.feasible])
+            f_at = 0.3 * objective(chain, pose, "+++", target, at, "shoulder") + 0.7 * objective(chain, pose, "+++", target, at, "wrist")
+            assert np.max(f[inside]) <= f_at[0] + 1e-9
+
+
+def test_paper_section_6_2_2_optimal_angles_and_joint_vector():
+    chain = pa10_7c()
+    pose = pose_from(np.array([0.65, 0.0, 0.5]), np.array([[0, -1, 0], [-1, 0, 0], [0, 0, -1.0]]))
+    target = np.radians([0, 90, 0, 0, 0, 90, 0])
+    result = optimal_arm_angles(chain, pose, "+++", target=target, weights=(0.5, 0.5))
+    assert np.degrees(result.shoulder.unclamped) == pytest.approx(0.0, abs=5e-4)
+    assert np.degrees(result.wrist.unclamped) == pytest.approx(54.479, abs=5e-4)
+    assert np.degrees(result.overall.unclamped) == pytest.approx(25.017, abs=5e-4)
+    theta = np.degrees(ik(chain, pose, result.overall.feasible, "+++"))
+    assert np.allclose(theta, [-32.325, 32.687, 46.864, 82.872, -24.101, 74.814, -73.709], atol=5e-4)
+    assert np.allclose(np.degrees(ik(chain, pose, 0.0, "+++")), [0, 25.666, 0, 82.872, 0, 71.463, -90], atol=5e-4)
+    # our feasible set is [-45.991, 45.991] (the paper prints [-43.246, 43.246]); psi_w clamps to its end
+    feasible = feasible_arm_angles(chain, pose, "+++").feasible
+    assert np.allclose(np.degrees(feasible.arcs), [[-45.991, 45.991]], atol=5e-4)
+    assert np.degrees(result.wrist.feasible) == pytest.approx(45.991, abs=5e-4)
+    # the default targets (limit midpoints) give other optima
+    default = optimal_arm_angles(chain, pose, "+++")
+    assert abs(np.degrees(default.overall.unclamped) - 25.017) > 1.0
+
+
+def gamma_pose(gamma):
+    rotation = np.array([[-np.cos(gamma), -np.sin(gamma), 0], [-np.sin(gamma), np.cos(gamma), 0], [0, 0, -1.0]])
+    return pose_from(np.array([0.65, 0.0, 0.5]), rotation)
+
+
+def test_path_control_reaches_further_than_fixed_psi():
+    chain = pa10_7c()
+    gammas = np.radians(np.arange(0.0, 180.0, 1.0))
+    poses = np.array([gamma_pose(g) for g in gammas])
+    target = np.radians([0, 90, 0, 0, 0, 90, 0])
+    fixed = arm_angle_path(chain, poses, "+++", fixed_psi=0.0)
+    controlled = arm_angle_path(chain, poses, "+++", target=target)
+    assert np.degrees(gammas[fixed.first_unreachable]) == pytest.approx(121.0)  # Gamma_0 = [-120, 120]
+    assert np.degrees(gammas[controlled.first_unreachable]) == pytest.approx(148.0)  # Gamma = [-147.693, 147.693]
+    ok = controlled.reachable
+    assert np.all(chain.within_limits(controlled.q[ok], tolerance=1e-9, wrap=True))
+    assert np.abs(chain.fk(controlled.q) - poses).max() < 1e-9
+    assert fixed.q.shape == (180, 7) and np.all(fixed.psi == 0.0)
+
+
+def test_optimal_bad_inputs():
+    chain = pa10_7c()
+    pose = gamma_pose(0.0)
+    with pytest.raises(ValueError, match="weights"):
+        optimal_arm_angles(chain, pose, weights=(0.0, 0.0))
+    with pytest.raises(ValueError, match="target"):
+        optimal_arm_angles(chain, pose, target=[0.0] * 6)
+    with pytest.raises(ValueError, match="pose"):
+        optimal_arm_angles(chain, np.stack([pose, pose]))
+    assert optimal_arm_angles(chain, pose, feasible=ArcSet.empty()).overall.feasible is None
