@@ -1,0 +1,48 @@
+"""``redkin torso-arm``: exit codes and output."""
+
+import json
+
+import numpy as np
+
+from redkin.cli.main import main
+from redkin.torso_arm import humanoid_arm
+
+
+def test_torso_arm_cli_ik_json_round_trips(capsys):
+    arm = humanoid_arm("right", 0.0)
+    q = np.radians([10, 40, 30, 50, 20, 30, 40, 50])
+    pose = arm.chain.fk(q)
+    from redkin.torso_arm import redundancy_parameters
+
+    psi, phi, _ = redundancy_parameters(arm, q, "vector")
+    code = main(["torso-arm", "ik", "--position", *map(str, pose[:3, 3]), "--rotation", *map(str, pose[:3, :3].ravel()),
+                 "--shoulder", str(psi), "--elbow", str(phi), "--reference", "vector", "--json"])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] == "ok" and len(out["solutions"]) == 8
+    solutions = np.array([s["q"] for s in out["solutions"]])
+    np.testing.assert_allclose(arm.chain.fk(solutions), np.broadcast_to(pose, (8, 4, 4)), atol=1e-10)
+
+
+def test_torso_arm_cli_ik_degrees_and_status(capsys):
+    assert main(["torso-arm", "ik", "--position", "3", "2", "1", "--shoulder", "0", "--elbow", "0", "--deg"]) == 0
+    assert "unreachable" in capsys.readouterr().out
+
+
+def test_torso_arm_cli_map_writes_png_and_json(tmp_path, capsys):
+    out = tmp_path / "map.png"
+    code = main(["torso-arm", "map", "--plane", "z=0.3", "--extent", "0", "1", "-0.4", "0.8", "--resolution", "12",
+                 "--shoulder", "0.2", "--elbow", "0", "--out", str(out), "--threshold", "0.05", "--json"])
+    assert code == 0 and out.exists()
+    data = json.loads(capsys.readouterr().out)
+    assert len(data["values"]) == 12 and data["threshold"]["area_m2"] >= 0
+    assert main(["torso-arm", "map", "--plane", "y=0.3", "--extent", "0", "1", "-0.4", "0.8", "--resolution", "6",
+                 "--arm", "both", "--samples", "4", "4"]) == 0
+
+
+def test_torso_arm_cli_bad_input_exit_2(capsys):
+    assert main(["torso-arm", "map", "--plane", "q=1", "--extent", "0", "1", "0", "1"]) == 2
+    assert main(["torso-arm", "map", "--plane", "z=0", "--extent", "0", "1", "0", "1", "--shoulder", "1"]) == 2
+    assert main(["torso-arm", "ik", "--position", "1", "2", "3", "--rotation", *["1"] * 9, "--shoulder", "0", "--elbow", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "plane" in err and "orthonormal" in err
