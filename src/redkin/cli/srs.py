@@ -1,0 +1,137 @@
+"""``redkin ik`` and ``redkin arm-angles``: arm-angle IK of S-R-S arms (paper 000)."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from redkin.cli.common import (
+    UsageError,
+    add_output_flags,
+    add_robot_argument,
+    angles_in,
+    angles_out,
+    joint_vector,
+    load_robot,
+    print_json,
+)
+from redkin.srs import BRANCHES, feasible_arm_angles, ik, optimal_arm_angles, parse_branch, pose_from, singular_arm_angles
+from redkin.srs.geometry import srs_geometry
+from redkin.validation import check_rotation
+
+
+def _add_target(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="tool position [m]")
+    parser.add_argument(
+        "--rotation", nargs=9, type=float, required=True, metavar="R", help="tool rotation R11 R12 R13 R21 ... R33 (row by row)"
+    )
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    solve = subparsers.add_parser("ik", help="joint values of an S-R-S arm for a pose and an arm angle (paper 000)")
+    add_robot_argument(solve)
+    _add_target(solve)
+    solve.add_argument("--psi", type=float, required=True, help="arm angle (radians, or degrees with --deg)")
+    group = solve.add_mutually_exclusive_group()
+    group.add_argument("--branch", default="+++", help="signs of theta2, theta4, theta6 (default +++)")
+    group.add_argument("--all", action="store_true", help="all eight branches")
+    add_output_flags(solve)
+    solve.set_defaults(handler=run_ik)
+
+    angles = subparsers.add_parser(
+        "arm-angles", help="feasible, singular and optimal arm angles of an S-R-S arm for a pose (paper 000)"
+    )
+    add_robot_argument(angles)
+    _add_target(angles)
+    angles.add_argument("--branch", default="+++", help="signs of theta2, theta4, theta6 (default +++)")
+    angles.add_argument("--target", nargs=7, type=float, metavar="Q", help="target joint values (default: limit midpoints)")
+    angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5), help="eq. 40 weights")
+    add_output_flags(angles)
+    angles.set_defaults(handler=run_arm_angles)
+
+
+def _pose(args: argparse.Namespace) -> np.ndarray:
+    rotation = check_rotation(np.array(args.rotation, dtype=float).reshape(3, 3), "--rotation")
+    position = np.array(args.position, dtype=float)
+    if not np.all(np.isfinite(position)):
+        raise UsageError("--position must be finite numbers")
+    return pose_from(position, rotation)
+
+
+def _arcs(arc_set, degrees: bool) -> list:
+    return [[float(v) for v in angles_out(arc, degrees)] for arc in arc_set.arcs]
+
+
+def run_ik(args: argparse.Namespace) -> int:
+    chain = load_robot(args.robot)
+    geometry = srs_geometry(chain)
+    pose = _pose(args)
+    psi = float(angles_in(args.psi, args.deg))
+    branches = list(BRANCHES) if args.all else [parse_branch(args.branch)]
+    solutions = []
+    for branch in branches:
+        q = ik(geometry, pose, psi, branch)
+        solutions.append({
+            "branch": str(branch),
+            "q": angles_out(q, args.deg),
+            "within_limits": bool(chain.within_limits(q, tolerance=1e-9, wrap=True)),
+        })
+    if args.json:
+        print_json({"robot": chain.name, "psi": angles_out(psi, args.deg), "solutions": solutions})
+    else:
+        unit = "deg" if args.deg else "rad"
+        for s in solutions:
+            values = "  ".join(f"{v: .6f}" for v in s["q"])
+            note = "" if s["within_limits"] else "  (outside limits)"
+            print(f"{s['branch']}  {values}  [{unit}]{note}")
+    return 0
+
+
+def run_arm_angles(args: argparse.Namespace) -> int:
+    chain = load_robot(args.robot)
+    geometry = srs_geometry(chain)
+    pose = _pose(args)
+    branch = parse_branch(args.branch)
+    target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
+    feasible = feasible_arm_angles(geometry, pose, branch)
+    singular = singular_arm_angles(geometry, pose, branch)
+    optimal = optimal_arm_angles(geometry, pose, branch, target=target, weights=args.weights, feasible=feasible.feasible)
+    deg = args.deg
+
+    def pair(angle):
+        return {"unclamped": angles_out(angle.unclamped, deg), "feasible": angles_out(angle.feasible, deg)}
+
+    result = {
+        "robot": chain.name,
+        "branch": str(branch),
+        "elbow": angles_out(geometry.q_of_theta(np.r_[np.zeros(3), feasible.theta4, np.zeros(3)])[3], deg),
+        "per_joint": {str(j): _arcs(s, deg) for j, s in feasible.per_joint.items()},
+        "feasible": _arcs(feasible.feasible, deg),
+        "singular": {
+            "shoulder": [float(angles_out(a, deg)) for a in singular.shoulder],
+            "wrist": [float(angles_out(a, deg)) for a in singular.wrist],
+            "shoulder_everywhere": singular.shoulder_everywhere,
+            "wrist_everywhere": singular.wrist_everywhere,
+        },
+        "optimal": {"shoulder": pair(optimal.shoulder), "wrist": pair(optimal.wrist), "overall": pair(optimal.overall)},
+    }
+    if args.json:
+        print_json(result)
+        return 0
+    unit = "deg" if deg else "rad"
+    print(f"{chain.name}, branch {branch}; angles in {unit}")
+    print(f"elbow (joint 4): {result['elbow']:.6f}")
+    for joint, arcs in result["per_joint"].items():
+        print(f"Psi_{joint}: {_format_arcs(arcs)}")
+    print(f"Psi (feasible): {_format_arcs(result['feasible'])}")
+    print(f"singular shoulder: {result['singular']['shoulder']}  wrist: {result['singular']['wrist']}")
+    for name in ("shoulder", "wrist", "overall"):
+        entry = result["optimal"][name]
+        clamped = "none (empty feasible set)" if entry["feasible"] is None else f"{entry['feasible']:.6f}"
+        print(f"optimal {name}: {entry['unclamped']:.6f} -> feasible {clamped}")
+    return 0
+
+
+def _format_arcs(arcs: list) -> str:
+    return "empty" if not arcs else " U ".join(f"[{lo:.6f}, {hi:.6f}]" for lo, hi in arcs)

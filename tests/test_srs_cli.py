@@ -1,0 +1,71 @@
+"""``redkin ik`` and ``redkin arm-angles``: JSON shape, paper numbers, one-line errors with exit code 2."""
+
+import json
+
+import numpy as np
+import pytest
+
+from redkin.cli.main import main
+from redkin.models import pa10_7c
+
+POSE = ["--position", "0.65", "0", "0.5", "--rotation", "-1", "0", "0", "0", "1", "0", "0", "0", "-1"]
+
+
+def run_json(capsys, argv):
+    assert main(argv + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_ik_all_branches_json_round_trips(capsys):
+    data = run_json(capsys, ["ik", "pa10-7c", *POSE, "--psi", "0.3", "--all"])
+    assert [s["branch"] for s in data["solutions"]] == ["+++", "++-", "+-+", "+--", "-++", "-+-", "--+", "---"]
+    chain = pa10_7c()
+    for s in data["solutions"]:
+        pose = chain.fk(np.array(s["q"]))
+        assert np.allclose(pose[:3, 3], [0.65, 0, 0.5], atol=1e-9)
+
+
+def test_ik_degrees_single_branch(capsys):
+    data = run_json(capsys, ["ik", "pa10-7c", *POSE, "--psi", "0", "--deg", "--branch", "+++"])
+    assert np.allclose(data["solutions"][0]["q"], [0, 25.666, 0, 82.872, 0, 71.463, 0], atol=5e-4)
+
+
+def test_arm_angles_json_keys_and_paper_numbers(capsys):
+    data = run_json(capsys, ["arm-angles", "pa10-7c", *POSE, "--deg"])
+    assert set(data) >= {"elbow", "per_joint", "feasible", "singular", "optimal"}
+    assert data["elbow"] == pytest.approx(82.872, abs=5e-4)
+    assert np.allclose(data["feasible"], [[-45.991, 45.991]], atol=5e-4)
+    assert np.allclose(data["per_joint"]["6"], [[-62.154, 62.154]], atol=5e-4)
+    assert set(data["singular"]) >= {"shoulder", "wrist"}
+    assert set(data["optimal"]["overall"]) == {"unclamped", "feasible"}
+
+
+def test_arm_angles_empty_set_gives_null_feasible_optimum(capsys):
+    data = run_json(capsys, ["arm-angles", "pa10-7c", *POSE, "--branch", "+-+"])
+    assert data["feasible"] == [] and data["optimal"]["overall"]["feasible"] is None
+
+
+def test_arm_angles_text_output(capsys):
+    assert main(["arm-angles", "pa10-7c", *POSE, "--target", "0", "90", "0", "0", "0", "90", "0", "--deg", "--weights", "1", "1"]) == 0
+    assert "Psi (feasible)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["ik", "pa10-7c", "--position", "3", "0", "0.5", *POSE[4:], "--psi", "0"], "unreachable"),
+        (["ik", "pa10-7c", *POSE[:4], "--rotation", *["1"] * 9, "--psi", "0"], "orthonormal"),
+        (["ik", "pa10-7c", *POSE, "--psi", "0", "--branch", "+x+"], "branch"),
+        (["ik", "planar-5", *POSE, "--psi", "0"], "7 joints"),
+        (["arm-angles", "pa10-7c", *POSE, "--target", "0", "0", "0", "0", "0", "0", "0", "--weights", "0", "0"], "weights"),
+        (["ik", "pa10-7c", *POSE[:3], "--psi", "0"], "position"),
+    ],
+)
+def test_user_mistakes_exit_2_with_one_line(capsys, argv, message):
+    try:
+        code = main(argv)
+    except SystemExit as exit_:  # argparse errors
+        code = exit_.code
+    assert code == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "\n" not in err
