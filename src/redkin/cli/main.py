@@ -13,6 +13,7 @@ from redkin.cli.common import Parser
 COMMAND_MODULES = [
     "redkin.cli.basic",
     "redkin.cli.reproduce",
+    "redkin.cli.srs",
     "redkin.cli.torso_arm",
     "redkin.cli.velocity",
 ]
