@@ -129,6 +129,7 @@ class Dynamics:
         u = self.full_u(y)
         lam = np.exp(y[..., -1])
         theta = self.output.theta(u)
+        theta[..., ~self.free] = self.theta0[~self.free]  # clamped joints exactly (no round trip through G)
         signals = self.evaluator(theta, self.goals, self.weights, self.active)
         delta = signals.delta.sum(axis=-2)[..., self.free]
         total_error = signals.error.sum(axis=-1)

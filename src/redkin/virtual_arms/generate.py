@@ -146,7 +146,7 @@ def generate_trajectory(
     s_max, max_steps : float, int
         Give up (status ``"max_time"``/``"max_steps"``) after this time or these steps.
     min_step : float
-        A step size below ``min_step * max(1, s)`` counts as a stalled integrator.
+        Ten consecutive step sizes below ``min_step * max(1, s)`` count as a stalled integrator.
     rtol, atol : float
         Integrator tolerances.
     method : {"Radau", "BDF", "LSODA"}
@@ -187,7 +187,7 @@ def generate_trajectory(
     started = time.perf_counter()
     y = dynamics.initial(float(lambda0))
     record: list[tuple[float, State]] = [(0.0, dynamics.state(y))]
-    steps = evaluations = 0
+    steps = evaluations = tiny_steps = 0
     status, message = "max_time", f"reached s_max = {s_max:g} before equilibrium"
     events = sorted({float(t) for t in drop.values() if t < s_max} | {float(s_max)})
     s = 0.0
@@ -215,7 +215,9 @@ def generate_trajectory(
             if current.free_gradient <= gradient_tol:
                 status, message, done = "converged", f"|G' delta| = {current.free_gradient:.3g} at s = {s:.6g}", True
                 break
-            if solver.step_size is not None and solver.step_size < min_step * max(1.0, s):
+            tiny = solver.step_size is not None and solver.step_size < min_step * max(1.0, s)
+            tiny_steps = tiny_steps + 1 if tiny else 0
+            if tiny_steps >= 10:  # one tiny step can be a recovered Newton failure; ten in a row is a stall
                 status, done = "stalled", True
                 message = f"step size collapsed to {solver.step_size:.3g} at s = {s:.6g} (gain A = {current.gain:.3g})"
                 break

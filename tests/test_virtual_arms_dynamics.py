@@ -1,0 +1,164 @@
+"""Laws of the virtual-arm trajectory generation (paper 004): goals, minimum-norm and least-squares limits,
+limits, clamps, one-by-one evaluation, the literal eq. 10 stall and the eq. 16 identity."""
+
+import numpy as np
+import pytest
+from scipy.optimize import least_squares, minimize
+
+from redkin.models import pa10_7c, planar_arm
+from redkin.virtual_arms import AnalyticModel, OutputFunction, VirtualPoint, generate_trajectory, joints_and_midpoints
+from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics
+from redkin.virtual_arms.subsystems import Together
+
+ARM = planar_arm()
+Q0 = np.radians([30.0, 30.0, 30.0, 30.0, 30.0])
+GOAL = np.array([0.6, 1.2])
+FULL_RANGE = OutputFunction.sine(np.full(5, -np.pi), np.full(5, np.pi))  # |theta_j| <= 180 deg (section 4)
+
+
+def min_norm_posture(model, theta0, goals):
+    """argmin |theta - theta0| subject to f(theta) = goals: the limit of the penalty path of eq. 14."""
+    constraint = {"type": "eq", "fun": lambda q: (model.evaluate(q)[0] - goals).ravel()}
+    result = minimize(lambda q: 0.5 * np.sum((q - theta0) ** 2), theta0, jac=lambda q: q - theta0,
+                      constraints=[constraint], method="SLSQP", options={"ftol": 1e-14, "maxiter": 500})
+    assert result.success
+    return result.x
+
+
+@pytest.mark.parametrize("output", [None, FULL_RANGE], ids=["identity", "sine"])
+def test_virtual_arms_redundant_end_point_reaches_goal_at_min_norm_posture(output):
+    model = AnalyticModel(ARM, [VirtualPoint.end()])
+    run = generate_trajectory(model, Q0, [GOAL], output=output)
+    assert run.converged, run.message
+    assert np.linalg.norm(model.evaluate(run.final_theta)[0][0] - GOAL) < 1e-4
+    expected = min_norm_posture(model, Q0, GOAL[None])
+    assert np.max(np.abs(np.degrees(run.final_theta - expected))) < 0.05
+
+
+def test_virtual_arms_joint3_and_end_coincide_at_goal():  # Fig. 6 (b)
+    model = AnalyticModel(ARM, [VirtualPoint.end(), VirtualPoint.joint(3)])
+    goal = np.array([0.5, 0.6])
+    run = generate_trajectory(model, Q0, [goal, goal], output=FULL_RANGE)
+    assert run.converged, run.message
+    positions = model.evaluate(run.final_theta)[0]
+    assert np.all(np.linalg.norm(positions - goal, axis=-1) < 1e-4)
+    expected = min_norm_posture(model, Q0, np.array([goal, goal]))
+    assert np.max(np.abs(np.degrees(run.final_theta - expected))) < 0.05
+
+
+@pytest.mark.parametrize("end_weight", [1.0, 30.0])
+def test_virtual_arms_over_constrained_matches_weighted_least_squares(end_weight):  # Fig. 6 (c)
+    points = [VirtualPoint.end()] + joints_and_midpoints(ARM)
+    model = AnalyticModel(ARM, points)
+    goals = model.evaluate(Q0)[0].copy()
+    goals[0] = [0.25, 1.3]
+    weights = np.ones(len(points))
+    weights[0] = end_weight
+    # lambda grows only like sqrt(s) when the errors cannot vanish (eq. 11): a looser stop
+    run = generate_trajectory(model, Q0, goals, weights, gradient_tol=1e-5)
+    assert run.converged, run.message
+    root_w = np.sqrt(weights)[:, None]
+    direct = least_squares(lambda q: (root_w * (model.evaluate(q)[0] - goals)).ravel(), Q0,
+                           xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+    assert np.max(np.abs(np.degrees(run.final_theta - direct))) < 0.05
+    # weights trade the goals: a heavier end point lands closer to its goal
+    assert run.final_errors[0] > 1e-3
+
+
+def test_virtual_arms_heavier_end_weight_brings_end_closer():
+    points = [VirtualPoint.end()] + joints_and_midpoints(ARM)
+    model = AnalyticModel(ARM, points)
+    goals = model.evaluate(Q0)[0].copy()
+    goals[0] = [0.25, 1.3]
+    errors = []
+    for w in (1.0, 100.0):
+        weights = np.ones(len(points))
+        weights[0] = w
+        errors.append(generate_trajectory(model, Q0, goals, weights, gradient_tol=1e-5).final_errors[0])
+    assert errors[0] > 10 * errors[1]
+
+
+def test_virtual_arms_limits_hold_along_whole_path():  # Fig. 7
+    lower = np.radians([-180, -180, -180, -30, -20])
+    model = AnalyticModel(ARM, [VirtualPoint.end()])
+    run = generate_trajectory(model, Q0 * np.array([1, 1, 1, 0.5, 0.5]), [GOAL],
+                              output=OutputFunction.sine(lower, -lower))
+    assert run.converged, run.message
+    assert np.all(run.theta >= lower) and np.all(run.theta <= -lower)
+    assert np.linalg.norm(model.evaluate(run.final_theta)[0][0] - GOAL) < 1e-4
+
+
+def test_virtual_arms_clamped_joints_do_not_move():  # eq. 27
+    model = AnalyticModel(ARM, [VirtualPoint.end()])
+    run = generate_trajectory(model, Q0, [GOAL], output=FULL_RANGE, fixed=[0, 1])
+    assert run.converged, run.message
+    assert np.all(run.theta[:, :2] == Q0[:2])
+    assert np.linalg.norm(model.evaluate(run.final_theta)[0][0] - GOAL) < 1e-4
+
+
+def test_virtual_arms_one_by_one_equals_together_and_survives_a_dropped_subsystem():
+    model = AnalyticModel(ARM, [VirtualPoint.end(), VirtualPoint.joint(3), VirtualPoint.on_link(4, 0.5)])
+    goals = np.array([GOAL, [0.2, 0.7], [0.5, 1.0]])
+    together = generate_trajectory(model, Q0, goals, drop={2: 0.3})
+    one_by_one = generate_trajectory(model, Q0, goals, drop={2: 0.3}, evaluation="one_by_one")
+    assert together.converged and one_by_one.converged
+    assert together.steps == one_by_one.steps
+    assert np.allclose(together.theta, one_by_one.theta, atol=1e-9)
+    assert not together.active[2]
+    assert np.all(together.final_errors[:2] < 1e-4)
+
+
+def test_virtual_arms_literal_eq10_is_reported_stalled_far_from_goal():
+    model = AnalyticModel(ARM, [VirtualPoint.end()])
+    run = generate_trajectory(model, Q0, [GOAL], gain="literal")
+    assert run.status == "stalled" and "step size" in run.message or "failed" in run.message
+    assert run.final_errors[0] > 1e-2
+    assert generate_trajectory(model, Q0, [GOAL], gain="bounded").converged
+
+
+@pytest.mark.parametrize("law", ["consistent", "literal"])
+def test_virtual_arms_energy_rate_eq16_holds_only_with_consistent_constants(law):
+    model = AnalyticModel(ARM, [VirtualPoint.end(), VirtualPoint.joint(3)])
+    goals = np.array([GOAL, [0.1, 0.6]])
+    rng = np.random.default_rng(3)
+    dyn = Dynamics(Together(model), goals, np.ones((2, 2)), np.ones(2, bool), Q0, FULL_RANGE, np.ones(5, bool), 1.0,
+                   GAIN_LAWS[law])
+    for _ in range(5):
+        y = np.append(dyn.u0 + rng.normal(0, 0.2, 5), rng.normal(0, 1))
+        st = dyn.state(y)
+        delta = st.delta.sum(axis=0)
+        moved = np.linalg.norm(Q0 - st.theta)
+        eq16 = -0.5 * st.lam**2 * delta @ delta
+        extra = (GAIN_LAWS[law].lambda_constant - GAIN_LAWS[law].gain_constant) * np.linalg.norm(delta) * moved
+        assert dyn.energy_rate(y) == pytest.approx(eq16 + extra, rel=1e-9, abs=1e-12)
+        h = 1e-6  # V along the flow, by central differences
+        rate = dyn.rates(0.0, y)
+        numeric = (dyn.state(y + h * rate).energy - dyn.state(y - h * rate).energy) / (2 * h)
+        assert numeric == pytest.approx(dyn.energy_rate(y), rel=1e-4, abs=1e-8)
+        if law == "literal":
+            assert extra > 0
+
+
+def test_virtual_arms_spatial_pa10_elbow_and_hand():
+    arm = pa10_7c()
+    q0 = np.radians([0, 30, 0, 60, 0, 30, 0])
+    model = AnalyticModel(arm, [VirtualPoint.end(), VirtualPoint.joint(4)])
+    goals = model.evaluate(q0 + np.radians([10, -5, 10, 10, 5, -10, 0]))[0]  # reachable within the limits
+    run = generate_trajectory(model, q0, goals, output=OutputFunction.sine(arm.lower, arm.upper))
+    assert run.converged, run.message
+    assert np.all(run.final_errors < 1e-4)
+    assert np.all(arm.within_limits(run.theta))
+
+
+def test_virtual_arms_bad_input():
+    model = AnalyticModel(ARM, [VirtualPoint.end()])
+    with pytest.raises(ValueError, match="goals"):
+        generate_trajectory(model, Q0, [[1.0, 2.0, 3.0]])
+    with pytest.raises(ValueError, match="theta0"):
+        generate_trajectory(model, [np.nan] * 5, [GOAL])
+    with pytest.raises(ValueError, match="gain"):
+        generate_trajectory(model, Q0, [GOAL], gain="huge")
+    with pytest.raises(ValueError, match="fixed"):
+        generate_trajectory(model, Q0, [GOAL], fixed=[7])
+    with pytest.raises(ValueError, match="outside its range"):
+        generate_trajectory(model, Q0, [GOAL], output=OutputFunction.sine(np.zeros(5), np.full(5, 0.1)))
