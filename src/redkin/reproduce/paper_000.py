@@ -1,0 +1,191 @@
+"""Report section for paper 000 (Shimizu et al.): section 6 recomputed on the PA10-7C."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from redkin.circle import ArcSet
+from redkin.models import pa10_7c
+from redkin.plot.arm import draw_arm_3d, set_equal_3d
+from redkin.plot.srs import plot_joint_curves, plot_reachable_rotations
+from redkin.reproduce import Section
+from redkin.reproduce.report import Comparison, SectionWriter
+from redkin.srs import arm_angle_path, feasible_arm_angles, ik, optimal_arm_angles, pose_from, singular_arm_angles
+from redkin.srs.geometry import srs_geometry
+
+TOL = 5e-4  # half of the last printed digit (3 decimals, degrees)
+PSI = np.linspace(-np.pi, np.pi, 1441)
+
+
+def _deg(value):
+    return None if value is None else float(np.degrees(value))
+
+
+def _gamma_pose(gamma: float) -> np.ndarray:
+    rotation = np.array([[-np.cos(gamma), -np.sin(gamma), 0.0], [-np.sin(gamma), np.cos(gamma), 0.0], [0.0, 0.0, -1.0]])
+    return pose_from(np.array([0.65, 0.0, 0.5]), rotation)
+
+
+def _boundary(predicate, low: float, high: float, steps: int = 60) -> float:
+    """Largest gamma in [low, high] with predicate true, by bisection (predicate true at low, false at high)."""
+    for _ in range(steps):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if predicate(middle) else (low, middle)
+    return low
+
+
+def _arc_text(arc_set: ArcSet) -> str:
+    if arc_set.is_empty:
+        return "empty"
+    return " U ".join(f"[{np.degrees(lo):.3f}, {np.degrees(hi):.3f}]" for lo, hi in arc_set.arcs)
+
+
+def section_6_1(writer: SectionWriter, chain) -> None:
+    pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
+    result = feasible_arm_angles(chain, pose, "+++")
+    rows = []
+    printed = {1: (-180, 180), 2: (-45.991, 45.991), 3: (-111.734, 111.734), 5: (-108.926, 108.926), 6: (-62.154, 62.154), 7: (-180, 180)}
+    for joint, (lo, hi) in printed.items():
+        ours = result.per_joint[joint]
+        arcs = [(-np.pi, np.pi)] if ours.is_full else ours.arcs
+        rows.append(Comparison(f"Psi_{joint} lower [deg]", lo, _deg(arcs[0][0]) if arcs else None, TOL, "" if len(arcs) == 1 else f"ours: {_arc_text(ours)}"))
+        rows.append(Comparison(f"Psi_{joint} upper [deg]", hi, _deg(arcs[0][1]) if arcs else None, TOL))
+    lo, hi = result.feasible.arcs[0]
+    rows += [Comparison("Psi lower [deg]", -45.991, _deg(lo), TOL), Comparison("Psi upper [deg]", 45.991, _deg(hi), TOL)]
+    paper_theta = {
+        "psi = 0": (0.0, [0, 25.666, 0, 82.872, 0, 71.463, 0]),
+        "psi_min": (lo, [43.992, 45, -71.419, 82.872, 42.572, 82.193, -27.693]),
+        "psi_max": (hi, [-43.992, 45, 71.419, 82.872, -42.572, 82.193, 27.693]),
+    }
+    postures = {}
+    for name, (psi, values) in paper_theta.items():
+        q = ik(chain, pose, psi, "+++")
+        postures[name] = q
+        for i, value in enumerate(values):
+            rows.append(Comparison(f"theta_{i + 1} at {name} [deg]", value, float(np.degrees(q[i])), TOL))
+    writer.comparison(
+        "s6_1", rows,
+        "Section 6.1: x = (0.65, 0, 0.5) m, R = diag(-1, 1, -1), branch +++ (theta2, theta4, theta6 > 0). "
+        "psi is right-handed about shoulder -> wrist and the reference is theta3 = 0 with theta1o = atan2(y_sw, x_sw).",
+    )
+    theta = ik(chain, np.broadcast_to(pose, PSI.shape + (4, 4)), PSI, "+++")
+    geometry = srs_geometry(chain)
+    fig, axes = plt.subplots(6, 1, figsize=(7, 11), sharex=True)
+    plot_joint_curves(axes, PSI, theta, geometry.theta_lower, geometry.theta_upper, result.per_joint, result.feasible)
+    writer.figure(fig, "theta_of_psi_6_1", "theta_i(psi) for the pose of eq. 41 (Figs. 3, 4 style): limits dashed, "
+                  "Psi_i shaded green, the overall feasible set Psi shaded blue.")
+    fig = plt.figure(figsize=(6, 5))
+    ax = fig.add_subplot(111, projection="3d")
+    for (name, q), color in zip(postures.items(), ("C0", "C1", "C2")):
+        draw_arm_3d(ax, chain, q, color=color, label=name)
+    set_equal_3d(ax, np.concatenate([chain.frames(q)[:, :3, 3] for q in postures.values()]))
+    ax.legend(fontsize=8)
+    writer.figure(fig, "postures_6_1", "Postures at psi = 0, psi_min and psi_max for the pose of eq. 41 (paper Fig. 6).")
+
+
+def section_6_2_1(writer: SectionWriter, chain) -> None:
+    pose = pose_from(np.array([0.55, 0.0, 0.767]), np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))
+    singular = singular_arm_angles(chain, pose, "+++")
+    a, b, c = singular.shoulder_coefficients
+    aw, bw, cw = singular.wrist_coefficients
+    plus = feasible_arm_angles(chain, pose, "+++").feasible
+    other = feasible_arm_angles(chain, pose, "++-").feasible
+    rows = [
+        Comparison("a_s32", 0.0, a, TOL), Comparison("b_s32", -0.532, b, TOL), Comparison("c_s32", -0.468, c, TOL),
+        Comparison("a_w33", 0.0, aw, TOL), Comparison("b_w33", 0.468, bw, TOL), Comparison("c_w33", 0.532, cw, TOL),
+        Comparison("eq. 31 residual", 0.0, singular.shoulder_residual, 1e-12, "shoulder singularity exists"),
+        Comparison("eq. 33 residual", 0.0, singular.wrist_residual, 1e-12, "wrist singularity exists"),
+        Comparison("shoulder singular psi [deg]", 0.0, _deg(singular.shoulder[0]), TOL),
+        Comparison("wrist singular psi [deg]", 0.0, _deg(singular.wrist[0]), TOL),
+        Comparison("Psi, branch +++", "[-63.277, 63.277]", _arc_text(plus),
+                   note="the +++ branch is empty here (theta5 exceeds its limit for every psi); "
+                   "the printed set belongs to branch ++- (theta6 < 0), see next row"),
+        Comparison("Psi, branch ++- (theta6 < 0) lower [deg]", -63.277, _deg(other.arcs[0][0]) if not other.is_empty else None, TOL),
+        Comparison("Psi, branch ++- (theta6 < 0) upper [deg]", 63.277, _deg(other.arcs[0][1]) if not other.is_empty else None, TOL),
+    ]
+    writer.comparison("s6_2_1", rows, "Section 6.2.1: x = (0.55, 0, 0.767) m, R = [[0,0,1],[0,1,0],[-1,0,0]].")
+
+
+def section_6_2_2(writer: SectionWriter, chain) -> None:
+    pose = _gamma_pose(np.pi / 2)
+    target = np.radians([0, 90, 0, 0, 0, 90, 0])
+    feasible = feasible_arm_angles(chain, pose, "+++").feasible
+    optimal = optimal_arm_angles(chain, pose, "+++", target=target, weights=(0.5, 0.5), feasible=feasible)
+    default = optimal_arm_angles(chain, pose, "+++", weights=(0.5, 0.5), feasible=feasible)
+    theta0 = ik(chain, pose, 0.0, "+++")
+    theta_opt = ik(chain, pose, optimal.overall.feasible, "+++")
+    lo, hi = feasible.arcs[0]
+    misprint = ("the printed [-43.246, 43.246] is a misprint: turning the tool about z leaves x_sw as in 6.1, so "
+                "theta2 reaches its 45 deg limit at psi = +-45.991 exactly as there, and the paper's own "
+                "Gamma = 147.693 = 120 + 27.693 needs psi = 45.991 (where theta7 = 27.693 in 6.1) to be feasible")
+    rows = [
+        Comparison("Psi lower [deg]", -43.246, _deg(lo), TOL, misprint),
+        Comparison("Psi upper [deg]", 43.246, _deg(hi), TOL, misprint),
+        Comparison("psi_s^opt [deg] (eq. 37)", 0.0, _deg(optimal.shoulder.unclamped), TOL,
+                   "targets theta^d = (0, 90, 0, -, 0, 90, 0) deg; the paper does not state them"),
+        Comparison("psi_w^opt [deg] (eq. 39)", 54.479, _deg(optimal.wrist.unclamped), TOL),
+        Comparison("psi^opt [deg] (eq. 40, r_s = r_w = 0.5)", 25.017, _deg(optimal.overall.unclamped), TOL),
+        Comparison("psi_w^opt clamped to Psi [deg]", 43.246, _deg(optimal.wrist.feasible), TOL,
+                   "clamped to the end of OUR feasible set (45.991); the paper's value is its misprinted bound"),
+        Comparison("psi^opt with default targets (limit midpoints) [deg]", None, _deg(default.overall.unclamped),
+                   note="for comparison: with limit-midpoint targets the optimum moves"),
+    ]
+    for i, value in enumerate([0, 25.666, 0, 82.872, 0, 71.463, -90]):
+        rows.append(Comparison(f"theta_{i + 1} at psi = 0 [deg]", value, float(np.degrees(theta0[i])), TOL))
+    for i, value in enumerate([-32.325, 32.687, 46.864, 82.872, -24.101, 74.814, -73.709]):
+        rows.append(Comparison(f"theta_{i + 1} at psi^opt [deg]", value, float(np.degrees(theta_opt[i])), TOL))
+    rows.append(Comparison("max |theta| at psi = 0 [deg]", 90.0, float(np.degrees(np.abs(theta0).max())), TOL))
+    rows.append(Comparison("max |theta| at psi^opt [deg]", 74.814, float(np.degrees(np.abs(np.delete(theta_opt, 3)).max())), TOL,
+                           "elbow theta4 = 82.872 is excluded, as in the paper's statement"))
+    # reachable tool rotations: psi fixed at 0 (Gamma_0) versus controlled by eq. 40 and clamped (Gamma)
+    def fixed_ok(g: float) -> bool:
+        return bool(feasible_arm_angles(chain, _gamma_pose(g), "+++").feasible.contains(0.0))
+
+    def controlled_ok(g: float) -> bool:
+        return not feasible_arm_angles(chain, _gamma_pose(g), "+++").is_empty
+
+    gamma0 = _boundary(fixed_ok, 0.0, np.pi)
+    gamma = _boundary(controlled_ok, 0.0, np.pi)
+    gamma0_neg = -_boundary(lambda g: fixed_ok(-g), 0.0, np.pi)
+    gamma_neg = -_boundary(lambda g: controlled_ok(-g), 0.0, np.pi)
+    rows += [
+        Comparison("Gamma_0 lower [deg] (psi = 0)", -120.0, _deg(gamma0_neg), TOL),
+        Comparison("Gamma_0 upper [deg] (psi = 0)", 120.0, _deg(gamma0), TOL),
+        Comparison("Gamma lower [deg] (psi controlled)", -147.693, _deg(gamma_neg), TOL,
+                   "boundary where the feasible set becomes empty, found by bisection on our exact sets"),
+        Comparison("Gamma upper [deg] (psi controlled)", 147.693, _deg(gamma), TOL),
+    ]
+    writer.comparison("s6_2_2", rows, "Section 6.2.2: x = (0.65, 0, 0.5) m, R as eq. 41 turned by gamma = 90 deg about z, branch +++.")
+    gammas = np.radians(np.arange(-179.0, 180.0, 1.0))
+    poses = np.array([_gamma_pose(g) for g in gammas])
+    controlled = arm_angle_path(chain, poses, "+++", target=target)
+    fixed = arm_angle_path(chain, poses, "+++", fixed_psi=0.0)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    plot_reachable_rotations(ax, gammas, [f.feasible for f in controlled.feasible], controlled.psi,
+                             controlled.reachable, 0.0, fixed.reachable)
+    writer.figure(fig, "reachable_gamma", "Feasible arm angles (green) over the tool rotation gamma; red: psi fixed at 0 "
+                  "(Gamma_0), blue: psi from eq. 40 clamped to the feasible set (Gamma).")
+
+
+def build(writer: SectionWriter) -> None:
+    writer.text(
+        "Closed-form arm-angle inverse kinematics of the 7-DOF S-R-S PA10-7C with the Table 2 joint limits. "
+        "Every number of section 6 beside ours (degrees). Our feasible sets are exact unions of arcs computed "
+        "from the roots of theta_i(psi) = limit (eqs. 21, 22), tested against dense sampling with an FK check."
+    )
+    chain = pa10_7c()
+    section_6_1(writer, chain)
+    writer.progress(0.4, "6.1")
+    section_6_2_1(writer, chain)
+    writer.progress(0.5, "6.2.1")
+    section_6_2_2(writer, chain)
+
+
+SECTION = Section(
+    key="000",
+    title="Paper 000: analytical IK of 7-DOF manipulators with joint limits",
+    reference="M. Shimizu, H. Kakuya, W.-K. Yoon, K. Kitagaki, K. Kosuge: Analytical Inverse Kinematics for 7 DOF "
+    "Redundant Manipulators with Joint Limits, J. Robotics Society of Japan (2007).",
+    build=build,
+)
