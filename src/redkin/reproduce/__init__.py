@@ -17,6 +17,7 @@ from redkin.reproduce.report import SectionWriter, write_report
 #: Modules defining ``SECTION``, in the order of the report.
 SECTION_MODULES = [
     "redkin.reproduce.models_section",
+    "redkin.reproduce.paper_000",
     "redkin.reproduce.paper_001",
     "redkin.reproduce.paper_003",
 ]
