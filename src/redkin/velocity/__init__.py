@@ -31,6 +31,7 @@ from redkin.velocity.factorisation import (
     wam_cofactors,
     wam_singularity_index,
 )
+from redkin.velocity.lean_step import SingleJacobian, lean_singularity_consistent
 from redkin.velocity.methods import (
     METHOD_NAMES,
     AdaptiveDampedLeastSquares,
@@ -50,10 +51,10 @@ from redkin.velocity.tracking import TrackingResult, simulate
 
 __all__ = [
     "AdaptiveDampedLeastSquares", "DampedLeastSquares", "FactorCheck", "METHOD_NAMES", "NumericalFactorisation",
-    "Pseudoinverse", "SingularityConsistent", "TrackingResult", "VelocitySolution", "WamFactorisation",
+    "Pseudoinverse", "SingleJacobian", "SingularityConsistent", "TrackingResult", "VelocitySolution", "WamFactorisation",
     "adaptive_damped_least_squares", "adaptive_damping", "adjugate", "adjugate_direction", "algorithmic_singularity",
     "blend_weight", "check_single_parameter", "column_minors", "damped_least_squares", "fixed_joint_sc",
-    "fixed_joint_vectors", "make_method", "minimum_norm_weights", "pseudoinverse", "pseudoinverse_weights",
+    "fixed_joint_vectors", "lean_singularity_consistent", "make_method", "minimum_norm_weights", "pseudoinverse", "pseudoinverse_weights",
     "rotation_factor", "self_motion_vector", "simulate", "singularity_consistent", "twist_scale",
     "wam_cofactors", "wam_singularity_index", "weighted_sum", "weighted_sum_direction",
 ]

@@ -16,6 +16,7 @@ from redkin.chain import SerialChain
 from redkin.validation import check_positive
 from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
 from redkin.velocity.factorisation import Factorisation, WamFactorisation
+from redkin.velocity.lean_step import lean_singularity_consistent
 from redkin.velocity.proposed import singularity_consistent
 from redkin.velocity.solution import VelocitySolution
 
@@ -81,7 +82,9 @@ class SingularityConsistent:
 
     ``factorisation`` defaults to the closed form of a WAM-shaped chain;
     ``direction`` (``b_ep`` of eq. 22) defaults to the sign of ``D_e(q0)``,
-    so the command is realised as given at the start.
+    so the command is realised as given at the start.  ``lean`` (default)
+    solves with one SVD (:mod:`redkin.velocity.lean_step`, same result) and
+    uses the exact cofactor path only where ``|D_e| < eps / 100``.
     """
 
     eps: float
@@ -89,6 +92,7 @@ class SingularityConsistent:
     direction: float | None = None
     self_motion: float = 0.0
     modify_rotation: bool = True
+    lean: bool = True
     label: str = "sc"
 
     def __post_init__(self) -> None:
@@ -106,6 +110,11 @@ class SingularityConsistent:
             direction = -1.0 if start < 0.0 else 1.0
 
         def step(q: np.ndarray, jac: np.ndarray, twist: np.ndarray) -> VelocitySolution:
+            if self.lean:
+                return lean_singularity_consistent(
+                    jac, twist, factorisation.index(q), lambda: factorisation.factors(q, jac), self.eps,
+                    direction=direction, self_motion=self.self_motion, modify_rotation=self.modify_rotation,
+                )
             return singularity_consistent(
                 jac, twist, factorisation.index(q), factorisation.factors(q, jac), self.eps,
                 direction=direction, self_motion=self.self_motion, modify_rotation=self.modify_rotation,

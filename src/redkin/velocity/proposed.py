@@ -48,6 +48,14 @@ def weighted_sum_direction(jacobian: ArrayLike, twist: ArrayLike, weights: Array
     return weighted_sum(b, vectors), np.sum(b * minors, axis=-1)
 
 
+def modified_twist(twist: np.ndarray, index: ArrayLike, eps: float, direction: float) -> np.ndarray:
+    """``t'``: the rotational command pre-multiplied by ``b_ep clip(D_e / eps, -1, 1)`` (paper 003 eq. 22 text)."""
+    if twist.shape[-1] != 6:
+        raise ValueError(f"modify_rotation needs a 6-row (linear, angular) jacobian, got {twist.shape[-1]} rows")
+    scale = direction * rotation_factor(index, eps)[..., None]
+    return np.concatenate([twist[..., :3], scale * twist[..., 3:]], axis=-1)
+
+
 def singularity_consistent(
     jacobian: ArrayLike,
     twist: ArrayLike,
@@ -103,10 +111,7 @@ def singularity_consistent(
     if np.any(d_s <= 0.0):
         raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
     if modify_rotation:
-        if jac.shape[-2] != 6:
-            raise ValueError(f"modify_rotation needs a 6-row (linear, angular) jacobian, got {jac.shape[-2]} rows")
-        scale = direction * rotation_factor(d_e, eps)[..., None]
-        vel = np.concatenate([vel[..., :3], scale * vel[..., 3:]], axis=-1)
+        vel = modified_twist(vel, d_e, eps, direction)
     vectors, _ = fixed_joint_vectors(jac, vel)
     weights = (direction * blend_weight(d_e, eps) / d_s)[..., None] * d_i  # eq. 21 (derived form)
     qdot = weighted_sum(weights, vectors)  # eq. 15

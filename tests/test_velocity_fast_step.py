@@ -1,0 +1,130 @@
+"""The lean SC step (one SVD) equals the exact cofactor path (paper 003 eqs. 17-22)."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from redkin.models import barrett_wam
+from redkin.velocity import (
+    SingleJacobian,
+    SingularityConsistent,
+    WamFactorisation,
+    lean_singularity_consistent,
+    singularity_consistent,
+)
+
+WAM = barrett_wam()
+FACTOR = WamFactorisation.from_chain(WAM)
+EPS = 0.1
+# q4 where D_e = a (d3 + d5) cos q4 + (a^2 - d3 d5) sin q4 vanishes
+Q4_ZERO = float(np.arctan2(-FACTOR.a * (FACTOR.d3 + FACTOR.d5), FACTOR.a**2 - FACTOR.d3 * FACTOR.d5))
+
+angles = st.floats(-np.pi, np.pi)
+configurations = st.lists(angles, min_size=7, max_size=7).map(np.array)
+twists = st.lists(st.floats(-1.0, 1.0), min_size=6, max_size=6).map(np.array)
+
+
+def both(q, twist, direction=1.0, self_motion=0.0, modify_rotation=True):
+    jac = WAM.jacobian(q)
+    index = FACTOR.index(q)
+    exact = singularity_consistent(jac, twist, index, FACTOR.factors(q), EPS, direction, self_motion, modify_rotation)
+    lean = lean_singularity_consistent(
+        jac, twist, index, lambda: FACTOR.factors(q), EPS, direction, self_motion, modify_rotation
+    )
+    return exact, lean
+
+
+def assert_same(exact, lean):
+    scale = max(1.0, float(np.max(np.abs(exact.joint_velocity))))
+    np.testing.assert_allclose(lean.joint_velocity, exact.joint_velocity, rtol=0, atol=1e-10 * scale)
+    np.testing.assert_allclose(lean.target_twist, exact.target_twist, rtol=0, atol=1e-12)
+
+
+def well_conditioned(q):
+    """Away from the shoulder/wrist singularities (D_s small), where both paths lose digits alike."""
+    return abs(np.sin(q[1])) > 0.05 and abs(np.sin(q[5])) > 0.05
+
+
+@settings(deadline=None, max_examples=60)
+@given(configurations, twists, st.sampled_from([1.0, -1.0]), st.booleans())
+def test_lean_equals_exact_on_random_configurations(q, twist, direction, modify_rotation):
+    if not well_conditioned(q):
+        return
+    exact, lean = both(q, twist, direction, modify_rotation=modify_rotation)
+    assert_same(exact, lean)
+
+
+@settings(deadline=None, max_examples=60)
+@given(configurations, twists, st.floats(-3.0, 0.0), st.sampled_from([1.0, -1.0]))
+def test_lean_equals_exact_near_the_boundary(q, twist, log_distance, sign):
+    """|D_e| from ~1e-4 (inside the singular region and the fallback band) to ~1 (outside the region)."""
+    if not well_conditioned(q):
+        return
+    q[3] = Q4_ZERO + sign * 10.0**log_distance
+    exact, lean = both(q, twist)
+    assert_same(exact, lean)
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e-12, -1e-9, 1e-6, 5e-3, -5e-3, 0.05])
+def test_lean_equals_exact_at_and_around_de_zero(offset):
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        q = rng.uniform(0.3, 1.2, 7)
+        q[3] = Q4_ZERO + offset
+        exact, lean = both(q, rng.normal(size=6), direction=-1.0)
+        assert_same(exact, lean)
+        assert np.linalg.norm(lean.joint_velocity) > 0.0  # keeps moving through D_e = 0
+
+
+def test_inside_and_outside_the_singular_region_both_paths_are_used_consistently():
+    rng = np.random.default_rng(4)
+    q = rng.uniform(0.3, 1.2, (40, 7))
+    q[:, 3] = Q4_ZERO + np.linspace(-0.8, 0.8, 40)
+    q[5, 3] = Q4_ZERO  # exactly on D_e = 0 inside a batch: mixed lean/exact
+    twist = rng.normal(size=6)
+    exact, lean = both(q, twist)
+    assert np.any(np.abs(FACTOR.index(q)) > EPS) and np.any(np.abs(FACTOR.index(q)) < EPS)
+    assert_same(exact, lean)
+
+
+def test_self_motion_term_is_added_the_same_way():
+    q = np.array([0.3, 0.8, 0.2, 1.0, 0.4, 0.9, 0.1])
+    exact, lean = both(q, np.array([0.1, 0.0, 0.05, 0.0, 0.2, 0.0]), self_motion=0.7)
+    assert_same(exact, lean)
+
+
+def test_method_lean_flag_gives_the_same_step():
+    q = np.array([0.3, 0.8, 0.2, 1.0, 0.4, 0.9, 0.1])
+    twist = np.array([0.1, -0.2, 0.05, 0.3, 0.0, -0.1])
+    fast = SingularityConsistent(eps=EPS).bind(WAM, q)
+    slow = SingularityConsistent(eps=EPS, lean=False).bind(WAM, q)
+    jac = WAM.jacobian(q)
+    assert_same(slow(q, jac, twist), fast(q, jac, twist))
+
+
+@settings(deadline=None, max_examples=40)
+@given(configurations)
+def test_single_jacobian_equals_chain_jacobian(q):
+    chain = WAM.with_base(np.array([[0, -1, 0, 0.1], [1, 0, 0, 0.2], [0, 0, 1, 0.3], [0, 0, 0, 1.0]]))
+    chain = chain.with_tool(np.array([[1, 0, 0, 0.01], [0, 1, 0, 0.02], [0, 0, 1, 0.03], [0, 0, 0, 1.0]]))
+    np.testing.assert_allclose(SingleJacobian(chain)(q), chain.jacobian(q), atol=1e-13)
+
+
+def test_bad_inputs_are_value_errors():
+    q = np.zeros(7)
+    jac = WAM.jacobian(q)
+    with pytest.raises(ValueError, match="q must be"):
+        SingleJacobian(WAM)(np.zeros(6))
+    with pytest.raises(ValueError, match="q must be"):
+        SingleJacobian(WAM)(np.full(7, np.nan))
+    with pytest.raises(ValueError, match="index"):
+        lean_singularity_consistent(jac, np.zeros(6), np.nan, lambda: FACTOR.factors(q), EPS)
+    with pytest.raises(ValueError, match="near_zero"):
+        lean_singularity_consistent(jac, np.zeros(6), 0.5, lambda: FACTOR.factors(q), EPS, near_zero=-1.0)
+    with pytest.raises(ValueError, match="twist"):
+        lean_singularity_consistent(jac, np.zeros(5), 0.5, lambda: FACTOR.factors(q), EPS)
+    with pytest.raises(ValueError, match="convention"):
+        SingleJacobian(replace(WAM, convention="mdh"))
