@@ -20,6 +20,7 @@ SECTION_MODULES = [
     "redkin.reproduce.paper_000",
     "redkin.reproduce.paper_001",
     "redkin.reproduce.paper_003",
+    "redkin.reproduce.paper_004",
 ]
 
 REPORT_TITLE = "redkin: reproduction of the papers"

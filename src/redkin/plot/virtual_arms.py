@@ -1,0 +1,70 @@
+"""Stroboscopic drawings of virtual-arm runs (paper 004 Figs. 6 and 7): the arm at several instants along a run."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from redkin.chain import SerialChain
+
+
+def strobe_indices(count: int, frames: int) -> np.ndarray:
+    """Indices of ``frames`` records spread evenly over a run of ``count`` records (first and last included)."""
+    return np.unique(np.linspace(0, count - 1, max(2, int(frames))).round().astype(int))
+
+
+def draw_strobe(ax, chain: SerialChain, theta: np.ndarray, goals: np.ndarray, virtual: np.ndarray | None = None,
+                frames: int = 12, title: str | None = None, reach: float | None = None) -> None:
+    """Draw a planar arm at ``frames`` instants of a run, its goals and its final virtual end points.
+
+    Parameters
+    ----------
+    ax : matplotlib axes
+    chain : SerialChain
+        Planar chain (x-y plane); positions come from ``chain.frames``.
+    theta : numpy.ndarray, shape (K, m)
+        Joint vectors along the run.
+    goals : numpy.ndarray, shape (p, 2)
+        Goals of the virtual end points (the first is the real end point's).
+    virtual : numpy.ndarray, shape (p, 2), optional
+        Final virtual end points, drawn as hollow circles.
+    frames : int
+        Number of instants drawn; earlier instants are lighter.
+    """
+    picks = strobe_indices(len(theta), frames)
+    points = chain.frames(theta[picks])[..., :2, 3]  # (frames, n + 2, 2)
+    shades = np.linspace(0.25, 1.0, len(picks))
+    for shade, polyline in zip(shades, points):
+        ax.plot(polyline[:, 0], polyline[:, 1], "-", color=(0.1, 0.2, 0.6), alpha=float(shade), linewidth=1.0)
+    final = points[-1]
+    ax.plot(final[:, 0], final[:, 1], "-o", color="C0", markersize=3, linewidth=2.0, label="final posture")
+    path = chain.frames(theta)[:, -1, :2, 3]
+    ax.plot(path[:, 0], path[:, 1], ":", color="C3", linewidth=1.0, label="end-point path")
+    ax.plot(goals[:1, 0], goals[:1, 1], "*", color="C3", markersize=12, label="end goal")
+    if len(goals) > 1:
+        ax.plot(goals[1:, 0], goals[1:, 1], "x", color="C2", markersize=6, label="virtual goals")
+    if virtual is not None and len(virtual) > 1:
+        ax.plot(virtual[1:, 0], virtual[1:, 1], "o", mfc="none", color="C2", markersize=6, label="virtual end points")
+    ax.plot([0.0], [0.0], "ks", markersize=6)
+    if reach is not None:
+        ax.set_xlim(-reach, reach)
+        ax.set_ylim(-reach, reach)
+    ax.set_aspect("equal")
+    ax.grid(True, linewidth=0.3)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    if title:
+        ax.set_title(title, fontsize=9)
+
+
+def draw_joint_history(ax, s: np.ndarray, theta: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+    """Joint angles (degrees) against the time ``s`` of the dynamics, with finite limits drawn dashed."""
+    for j in range(theta.shape[1]):
+        ax.plot(s, np.degrees(theta[:, j]), color=f"C{j}", label=f"theta{j + 1}")
+        for bound in (lower[j], upper[j]):
+            if np.isfinite(bound) and abs(bound) < np.pi:
+                ax.axhline(np.degrees(bound), color=f"C{j}", linestyle="--", linewidth=0.8)
+    ax.set_xscale("symlog", linthresh=1e-2)
+    ax.set_xlabel("s")
+    ax.set_ylabel("joint angle [deg]")
+    ax.legend(fontsize=7)
+    ax.grid(True, linewidth=0.3)
