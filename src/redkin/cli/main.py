@@ -16,6 +16,7 @@ COMMAND_MODULES = [
     "redkin.cli.srs",
     "redkin.cli.torso_arm",
     "redkin.cli.velocity",
+    "redkin.cli.virtual_arms",
 ]
 
 

@@ -1,0 +1,144 @@
+"""``redkin virtual-arms``: distributed trajectory generation with virtual arms (paper 004)."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, angles_out, joint_vector, load_robot, print_json
+from redkin.virtual_arms import (
+    AnalyticModel,
+    OutputFunction,
+    VirtualPoint,
+    generate_trajectory,
+    learn_forward_model,
+    parse_point,
+)
+
+DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "virtual-arms", help="move the end point (and chosen virtual end points) to goals with the virtual-arm dynamics"
+    )
+    add_robot_argument(parser)
+    parser.add_argument("--goal", nargs="+", type=float, required=True, metavar="X",
+                        help="end-point goal: X Y for a planar arm, X Y Z otherwise (metres)")
+    parser.add_argument("--point", action="append", default=[], metavar="POINT=X,Y[,Z]",
+                        help="a virtual end point and its goal, e.g. joint:3=0.5,0.6 or link:2@0.5=0.1,0.3 (repeatable)")
+    parser.add_argument("--weight", action="append", type=float, default=None, metavar="W",
+                        help="weights, one per point: the end point first, then each --point in order (repeatable)")
+    parser.add_argument("--fix", default="", metavar="J,J", help="clamped joints, 1-based, comma separated (eq. 27)")
+    parser.add_argument("--limits", action="store_true", help="keep the joints in the robot's ranges (eq. 25)")
+    parser.add_argument("--model", choices=("analytic", "learned"), default="analytic",
+                        help="forward models of the subsystems (learned: one trained network per point)")
+    parser.add_argument("--q0", nargs="+", type=float, metavar="Q",
+                        help=f"initial joint values (default {DEFAULT_Q0} rad at every joint)")
+    parser.add_argument("--max-steps", type=int, default=5000, help="integrator step budget (default 5000)")
+    parser.add_argument("--obstacle", nargs="*", metavar="V", help="not implemented yet (exits with code 2)")
+    parser.add_argument("--out", metavar="PNG", help="save a stroboscopic drawing of the run (planar arms)")
+    add_output_flags(parser)
+    parser.set_defaults(handler=run_virtual_arms)
+
+
+def _coordinates(values, dims: int, name: str) -> np.ndarray:
+    array = np.asarray(values, dtype=float)
+    if array.shape != (dims,) or not np.all(np.isfinite(array)):
+        raise UsageError(f"{name} needs {dims} finite coordinates for this robot, got {list(values)}")
+    return array
+
+
+def _point_goal(text: str, dims: int) -> tuple[VirtualPoint, np.ndarray]:
+    label, sep, coords = text.partition("=")
+    if not sep:
+        raise UsageError(f"--point must look like joint:3=X,Y, got {text!r}")
+    try:
+        values = [float(v) for v in coords.split(",")]
+    except ValueError:
+        raise UsageError(f"--point {text!r}: goal must be comma-separated numbers") from None
+    return parse_point(label), _coordinates(values, dims, f"--point {label}")
+
+
+def _fixed(text: str, joints: int) -> list[int]:
+    if not text.strip():
+        return []
+    try:
+        numbers = [int(v) for v in text.split(",")]
+    except ValueError:
+        raise UsageError(f"--fix must be 1-based joint numbers separated by commas, got {text!r}") from None
+    bad = [j for j in numbers if not 1 <= j <= joints]
+    if bad:
+        raise UsageError(f"--fix joint numbers must be in 1..{joints}, got {bad[0]}")
+    return [j - 1 for j in numbers]
+
+
+def run_virtual_arms(args: argparse.Namespace) -> int:
+    if args.obstacle is not None:
+        raise UsageError("obstacles are not implemented yet")
+    chain = load_robot(args.robot)
+    probe = AnalyticModel(chain, [VirtualPoint.end()])
+    dims = probe.dims
+    points = [VirtualPoint.end()]
+    goals = [_coordinates(args.goal, dims, "--goal")]
+    for text in args.point:
+        point, goal = _point_goal(text, dims)
+        point.check(chain)
+        points.append(point)
+        goals.append(goal)
+    weights = None
+    if args.weight is not None:
+        if len(args.weight) != len(points):
+            raise UsageError(f"--weight: give one per point ({len(points)}: end first), got {len(args.weight)}")
+        weights = np.asarray(args.weight, dtype=float)
+    if args.q0 is None:
+        q0 = np.full(chain.n, DEFAULT_Q0)  # radians whatever --deg says
+    else:
+        q0 = joint_vector(chain, args.q0, args.deg, name="--q0 values")
+    output = OutputFunction.sine(chain.lower, chain.upper) if args.limits else None
+    if args.max_steps < 1:
+        raise UsageError(f"--max-steps must be positive, got {args.max_steps}")
+    if args.model == "learned":
+        model, _ = learn_forward_model(chain, points, axes=probe.axes, seed=0)
+    else:
+        model = AnalyticModel(chain, points, probe.axes)
+    run = generate_trajectory(model, q0, np.array(goals), weights, output=output, fixed=_fixed(args.fix, chain.n),
+                              max_steps=args.max_steps)
+    # errors measured on the real chain (for a learned model the networks' view may differ)
+    truth = AnalyticModel(chain, points, probe.axes).evaluate(run.final_theta)[0]
+    errors = np.linalg.norm(truth - np.array(goals), axis=-1)
+    if args.out:
+        _save_plot(args.out, chain, run, truth)
+    q_final = angles_out(run.final_theta, args.deg)
+    if args.json:
+        print_json({
+            "robot": chain.name, "status": run.status, "message": run.message, "model": args.model,
+            "q": q_final, "angles": "deg" if args.deg else "rad",
+            "points": [{"point": p.label, "goal": g, "error": e} for p, g, e in zip(points, goals, errors)],
+            "steps": run.steps, "seconds": run.seconds,
+        })
+        return 0
+    unit = "deg" if args.deg else "rad"
+    print(f"{chain.name}: {run.status} ({run.message}), {run.steps} steps, {run.seconds:.3f} s")
+    print(f"q [{unit}]: " + " ".join(f"{v:.6f}" for v in q_final))
+    for point, error in zip(points, errors):
+        print(f"  {point.label:>12}: error {error:.3e} m")
+    return 0
+
+
+def _save_plot(path: str, chain, run, truth: np.ndarray) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from redkin.plot.virtual_arms import draw_strobe
+
+    if run.goals.shape[1] != 2:
+        raise UsageError("--out draws planar arms only; this robot's task space is 3-D")
+    fig, ax = plt.subplots(figsize=(6, 6))
+    draw_strobe(ax, chain, run.theta, run.goals, truth, title=f"{chain.name}: {run.status}")
+    ax.legend(fontsize=7)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)

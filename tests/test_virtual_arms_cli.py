@@ -1,0 +1,56 @@
+"""``redkin virtual-arms``: a quick run, JSON content checked against the chain, and bad input exiting with code 2."""
+
+import json
+
+import numpy as np
+import pytest
+
+from redkin.cli.main import main
+from redkin.models import planar_arm
+
+
+def test_virtual_arms_cli_json_run_reaches_goals(capsys, tmp_path):
+    out = tmp_path / "run.png"
+    code = main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--point", "joint:3=0.3,0.4",
+                 "--json", "--out", str(out)])
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["status"] == "converged"
+    assert data["steps"] > 0
+    q = np.array(data["q"])
+    frames = planar_arm().frames(q)
+    assert np.linalg.norm(frames[-1, :2, 3] - [0.5, 0.6]) < 1e-4  # end point checked on the chain itself
+    assert np.linalg.norm(frames[2, :2, 3] - [0.3, 0.4]) < 1e-4  # joint 3 origin
+    assert [p["point"] for p in data["points"]] == ["end", "joint:3"]
+    assert all(p["error"] < 1e-4 for p in data["points"])
+    assert out.stat().st_size > 0
+
+
+def test_virtual_arms_cli_clamped_joints_keep_their_start(capsys):
+    code = main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--fix", "1,2", "--limits", "--json", "--deg"])
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["status"] == "converged"
+    q = np.radians(data["q"])
+    assert np.allclose(q[:2], 0.5, atol=1e-12)  # clamped joints 1, 2 stay at the default start (eq. 27)
+    assert np.linalg.norm(planar_arm().frames(q)[-1, :2, 3] - [0.5, 0.6]) < 1e-4
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--goal", "0.5"], "--goal needs 2"),
+    (["--goal", "0.5", "0.6", "--point", "joint:9=1,2"], "joint number"),
+    (["--goal", "0.5", "0.6", "--point", "joint:3"], "--point must look like"),
+    (["--goal", "0.5", "0.6", "--weight", "1", "--weight", "2"], "one per point"),
+    (["--goal", "0.5", "0.6", "--fix", "0"], "--fix"),
+    (["--goal", "0.5", "nan"], "finite"),
+    (["--goal", "0.5", "0.6", "--obstacle", "0.2", "0.3", "0.1"], "obstacles are not implemented yet"),
+])
+def test_virtual_arms_cli_bad_input_exits_2_with_one_line(capsys, argv, words):
+    assert main(["virtual-arms", "planar-5"] + argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1
+
+
+def test_virtual_arms_cli_unknown_robot_exits_2(capsys):
+    assert main(["virtual-arms", "no-such-robot", "--goal", "1", "2", "3"]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
