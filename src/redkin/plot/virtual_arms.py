@@ -64,6 +64,7 @@ def draw_joint_history(ax, s: np.ndarray, theta: np.ndarray, lower: np.ndarray, 
             if np.isfinite(bound) and abs(bound) < np.pi:
                 ax.axhline(np.degrees(bound), color=f"C{j}", linestyle="--", linewidth=0.8)
     ax.set_xscale("symlog", linthresh=1e-2)
+    ax.set_xlim(left=0.0)
     ax.set_xlabel("s")
     ax.set_ylabel("joint angle [deg]")
     ax.legend(fontsize=7)
