@@ -181,17 +181,7 @@ def position_ik(
         undefined shoulder angles are reported in ``status``.  For the left
         arm, psi, phi and the reference are those of the mirror image.
     """
-    w = check_vectors(wrist, 3, "wrist")
-    psi = as_float_array(shoulder_angle, "shoulder_angle")
-    check_finite(psi, "shoulder_angle")
-    phi = as_float_array(elbow_angle, "elbow_angle")
-    check_finite(phi, "elbow_angle")
-    ref = as_reference(reference)
-    shape = np.broadcast_shapes(w.shape[:-1], psi.shape, phi.shape)
-    w = np.broadcast_to(arm.to_right(w), shape + (3,))
-    psi, phi = np.broadcast_to(psi, shape), np.broadcast_to(phi, shape)
-    if arm.side == "left":
-        ref = ref.mirrored()
+    w, psi, phi, ref = _prepare(arm, wrist, shoulder_angle, "shoulder_angle", elbow_angle, reference)
     theta1, defined = theta1_from_shoulder_angle(psi, w)
     return _finish(arm, w, theta1, defined, phi, ref)
 
@@ -204,18 +194,25 @@ def position_ik_from_theta1(
     reference: "ElbowReference | str | ArrayLike | None" = None,
 ) -> PositionSolution:
     """As :func:`position_ik` but with the torso angle theta_1 given instead of psi."""
+    w, t1, phi, ref = _prepare(arm, wrist, theta1, "theta1", elbow_angle, reference)
+    if arm.side == "left":
+        t1 = -t1
+    return _finish(arm, w, t1, np.ones(t1.shape, bool), phi, ref)
+
+
+def _prepare(arm: TorsoArm, wrist, first, first_name: str, elbow_angle, reference):
+    """Validate and broadcast the wrist, the first redundancy parameter and phi; mirror for the left arm."""
     w = check_vectors(wrist, 3, "wrist")
-    t1 = as_float_array(theta1, "theta1")
-    check_finite(t1, "theta1")
+    first = as_float_array(first, first_name)
+    check_finite(first, first_name)
     phi = as_float_array(elbow_angle, "elbow_angle")
     check_finite(phi, "elbow_angle")
     ref = as_reference(reference)
-    shape = np.broadcast_shapes(w.shape[:-1], t1.shape, phi.shape)
+    shape = np.broadcast_shapes(w.shape[:-1], first.shape, phi.shape)
     w = np.broadcast_to(arm.to_right(w), shape + (3,))
-    t1, phi = np.broadcast_to(t1, shape), np.broadcast_to(phi, shape)
     if arm.side == "left":
-        ref, t1 = ref.mirrored(), -t1
-    return _finish(arm, w, t1, np.ones(shape, bool), phi, ref)
+        ref = ref.mirrored()
+    return w, np.broadcast_to(first, shape), np.broadcast_to(phi, shape), ref
 
 
 def _finish(arm: TorsoArm, w: np.ndarray, theta1: np.ndarray, defined: np.ndarray, phi: np.ndarray,
