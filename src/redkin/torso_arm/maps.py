@@ -232,24 +232,30 @@ def best_manipulability_map(
     progress: Progress | None = None,
 ) -> ManipulabilityMap:
     """Best ``w`` over the redundancy: max over theta_1 (across its limits) x phi (full circle) samples."""
-    theta1_samples, phi_samples = _sweeps(arm, samples)
+    def evaluate(points, theta1, ones, phi):
+        state = _arm_state(arm, points, theta1, ones, phi, None)
+        ok = state.status == OK
+        return gram_manipulability(state.jacobian), (state.feasible if within_limits else ok), ok
+
+    return _best_over_sweeps(grid, *_sweeps(arm, samples), evaluate, progress,
+                             f"{arm.side} arm, best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
+                             + (" within limits" if within_limits else ""))
+
+
+def _best_over_sweeps(grid, theta1_samples, phi_samples, evaluate, progress, description) -> ManipulabilityMap:
+    """Max over theta_1 x phi samples of ``evaluate(points, theta1, ones, phi) -> (w, usable, solved)``."""
     points = grid.points[..., None, :]
     best = np.full(grid.points.shape[:-1], -np.inf)
     reached = np.zeros(grid.points.shape[:-1], bool)
     for index, theta1 in enumerate(theta1_samples):
         ones = np.ones(points.shape[:-2] + (phi_samples.size,), bool)
-        state = _arm_state(arm, points, np.full(ones.shape, theta1), ones, phi_samples, None)
-        w = gram_manipulability(state.jacobian)
-        usable = state.feasible if within_limits else state.status == OK
+        w, usable, solved = evaluate(points, np.full(ones.shape, theta1), ones, phi_samples)
         best = np.maximum(best, np.max(np.where(usable, w, -np.inf), axis=-1))
-        reached |= np.any(state.status == OK, axis=-1)
+        reached |= np.any(solved, axis=-1)
         if progress is not None:
             progress((index + 1) / theta1_samples.size)
-    status = np.where(reached, OK, 1)
     found = np.isfinite(best)
-    return ManipulabilityMap(grid, np.where(found, best, np.nan), found, status,
-                             f"{arm.side} arm, best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
-                             + (" within limits" if within_limits else ""))
+    return ManipulabilityMap(grid, np.where(found, best, np.nan), found, np.where(reached, OK, 1), description)
 
 
 def torso_mirror(theta1: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -309,21 +315,13 @@ def best_dual_arm_map(
 ) -> ManipulabilityMap:
     """Best dual-arm ``measure`` (symmetric posture, see :func:`dual_arm_map`) over theta_1 x phi samples."""
     right = right or humanoid_arm("right")
-    theta1_samples, phi_samples = _sweeps(right, samples)
-    points = grid.points[..., None, :]
-    best = np.full(grid.points.shape[:-1], -np.inf)
-    reached = np.zeros(grid.points.shape[:-1], bool)
-    for index, theta1 in enumerate(theta1_samples):
-        ones = np.ones(points.shape[:-2] + (phi_samples.size,), bool)
-        a, b = _dual_states(right, points, np.full(ones.shape, theta1), ones, phi_samples, None)
-        w = measure(a.jacobian, b.jacobian)
-        usable = (a.feasible & b.feasible) if within_limits else (a.status == OK) & (b.status == OK)
-        best = np.maximum(best, np.max(np.where(usable, w, -np.inf), axis=-1))
-        reached |= np.any((a.status == OK) & (b.status == OK), axis=-1)
-        if progress is not None:
-            progress((index + 1) / theta1_samples.size)
-    found = np.isfinite(best)
-    return ManipulabilityMap(grid, np.where(found, best, np.nan), found, np.where(reached, OK, 1),
+
+    def evaluate(points, theta1, ones, phi):
+        a, b = _dual_states(right, points, theta1, ones, phi, None)
+        ok = (a.status == OK) & (b.status == OK)
+        return measure(a.jacobian, b.jacobian), ((a.feasible & b.feasible) if within_limits else ok), ok
+
+    return _best_over_sweeps(grid, *_sweeps(right, samples), evaluate, progress,
                              f"both arms (symmetric posture), best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
                              + (" within limits" if within_limits else ""))
 
