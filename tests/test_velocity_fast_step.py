@@ -106,10 +106,13 @@ def test_method_lean_flag_gives_the_same_step():
 
 
 @settings(deadline=None, max_examples=40)
-@given(configurations)
-def test_single_jacobian_equals_chain_jacobian(q):
-    chain = WAM.with_base(np.array([[0, -1, 0, 0.1], [1, 0, 0, 0.2], [0, 0, 1, 0.3], [0, 0, 0, 1.0]]))
-    chain = chain.with_tool(np.array([[1, 0, 0, 0.01], [0, 1, 0, 0.02], [0, 0, 1, 0.03], [0, 0, 0, 1.0]]))
+@given(configurations, st.sampled_from(["dh", "mdh"]))
+def test_single_jacobian_equals_chain_jacobian(q, convention):
+    """Both DH conventions, a rotated base, an offset tool, signs and offsets on the joints."""
+    chain = replace(WAM, convention=convention, offset=np.linspace(-0.3, 0.3, 7), sign=[1, -1, 1, 1, -1, 1, -1],
+                    alpha=WAM.alpha + np.array([0, 0.2, 0, 0, -0.1, 0, 0.3]))
+    chain = chain.with_base(np.array([[0, -1, 0, 0.1], [1, 0, 0, 0.2], [0, 0, 1, 0.3], [0, 0, 0, 1.0]]))
+    chain = chain.with_tool(np.array([[1, 0, 0, 0.01], [0, 0, -1, 0.02], [0, 1, 0, 0.03], [0, 0, 0, 1.0]]))
     np.testing.assert_allclose(SingleJacobian(chain)(q), chain.jacobian(q), atol=1e-13)
 
 
@@ -126,5 +129,3 @@ def test_bad_inputs_are_value_errors():
         lean_singularity_consistent(jac, np.zeros(6), 0.5, lambda: FACTOR.factors(q), EPS, near_zero=-1.0)
     with pytest.raises(ValueError, match="twist"):
         lean_singularity_consistent(jac, np.zeros(5), 0.5, lambda: FACTOR.factors(q), EPS)
-    with pytest.raises(ValueError, match="convention"):
-        SingleJacobian(replace(WAM, convention="mdh"))

@@ -31,7 +31,8 @@ from redkin.velocity.factorisation import (
     wam_cofactors,
     wam_singularity_index,
 )
-from redkin.velocity.lean_step import SingleJacobian, lean_singularity_consistent
+from redkin.velocity.controller import PseudoinverseController, SingularityConsistentController
+from redkin.velocity.lean_step import lean_singularity_consistent
 from redkin.velocity.methods import (
     METHOD_NAMES,
     AdaptiveDampedLeastSquares,
@@ -46,12 +47,14 @@ from redkin.velocity.proposed import (
     singularity_consistent,
     weighted_sum_direction,
 )
+from redkin.velocity.single_jacobian import SingleJacobian
 from redkin.velocity.solution import VelocitySolution
 from redkin.velocity.tracking import TrackingResult, simulate
 
 __all__ = [
     "AdaptiveDampedLeastSquares", "DampedLeastSquares", "FactorCheck", "METHOD_NAMES", "NumericalFactorisation",
-    "Pseudoinverse", "SingleJacobian", "SingularityConsistent", "TrackingResult", "VelocitySolution", "WamFactorisation",
+    "Pseudoinverse", "PseudoinverseController", "SingleJacobian", "SingularityConsistent",
+    "SingularityConsistentController", "TrackingResult", "VelocitySolution", "WamFactorisation",
     "adaptive_damped_least_squares", "adaptive_damping", "adjugate", "adjugate_direction", "algorithmic_singularity",
     "blend_weight", "check_single_parameter", "column_minors", "damped_least_squares", "fixed_joint_sc",
     "fixed_joint_vectors", "lean_singularity_consistent", "make_method", "minimum_norm_weights", "pseudoinverse", "pseudoinverse_weights",

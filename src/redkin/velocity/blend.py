@@ -28,18 +28,29 @@ of 2 that makes the motion chatter at the region edge and never cross.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.validation import check_positive
 
 
+def _cubic_scale(x, e):
+    """``x (3 - x^2 / e^2) / (2 e)``: ``g`` inside the region (derived eq. 21); floats or arrays."""
+    return x * (3.0 - (x / e) ** 2) / (2.0 * e)
+
+
 def twist_scale(index: ArrayLike, eps: float) -> np.ndarray:
     """``g(x)``: realised twist = ``g(x)`` times the (modified) commanded twist (derived eq. 21/22)."""
     e = check_positive(eps, "eps")
     x = np.asarray(index, dtype=float)
-    inside = x * (3.0 - (x / e) ** 2) / (2.0 * e)
-    return np.where(np.abs(x) <= e, inside, np.sign(x))
+    return np.where(np.abs(x) <= e, _cubic_scale(x, e), np.sign(x))
+
+
+def scalar_twist_scale(x: float, eps: float) -> float:
+    """:func:`twist_scale` of one float with a trusted ``eps > 0`` (the control-loop path, no numpy calls)."""
+    return _cubic_scale(x, eps) if abs(x) <= eps else math.copysign(1.0, x)
 
 
 def blend_weight(index: ArrayLike, eps: float) -> np.ndarray:
@@ -63,3 +74,8 @@ def rotation_factor(index: ArrayLike, eps: float) -> np.ndarray:
     """
     e = check_positive(eps, "eps")
     return np.clip(np.asarray(index, dtype=float) / e, -1.0, 1.0)
+
+
+def scalar_rotation_factor(x: float, eps: float) -> float:
+    """:func:`rotation_factor` of one float with a trusted ``eps > 0`` (the control-loop path)."""
+    return min(1.0, max(-1.0, x / eps))

@@ -16,8 +16,9 @@ column minor ``det J_i`` of the 6 x 7 Jacobian, and the remaining factors
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -35,7 +36,12 @@ def wam_singularity_index(q: ArrayLike, a: float, d3: float, d5: float) -> np.nd
     Zero exactly at the elbow-stretch singularity (the workspace boundary).
     """
     q4 = np.asarray(q, dtype=float)[..., 3]
-    return a * (d3 + d5) * np.cos(q4) + (a * a - d3 * d5) * np.sin(q4)
+    return _wam_index(np.cos(q4), np.sin(q4), a, d3, d5)
+
+
+def _wam_index(c4, s4, a: float, d3: float, d5: float):
+    """``a (d3 + d5) C4 + (a^2 - d3 d5) S4`` from ``cos q4, sin q4`` (floats or arrays)."""
+    return a * (d3 + d5) * c4 + (a * a - d3 * d5) * s4
 
 
 def wam_cofactors(q: ArrayLike, a: float, d3: float, d5: float) -> np.ndarray:
@@ -67,6 +73,10 @@ class Factorisation:
 
     def index(self, q: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
         raise NotImplementedError
+
+    def scalar_index(self, q: Sequence[float]) -> float:
+        """``D_e`` of one configuration given as floats (the control-loop path)."""
+        return float(self.index(np.array(q)))
 
     def factors(self, q: np.ndarray, jacobian: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
         raise NotImplementedError
@@ -104,6 +114,9 @@ class WamFactorisation(Factorisation):
 
     def index(self, q: np.ndarray) -> np.ndarray:
         return wam_singularity_index(q, self.a, self.d3, self.d5)
+
+    def scalar_index(self, q: Sequence[float]) -> float:
+        return _wam_index(math.cos(q[3]), math.sin(q[3]), self.a, self.d3, self.d5)
 
     def factors(self, q: np.ndarray, jacobian: np.ndarray | None = None) -> np.ndarray:
         return wam_cofactors(q, self.a, self.d3, self.d5)

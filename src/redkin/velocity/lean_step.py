@@ -24,13 +24,11 @@ exact on ``D_e = 0``.
 
 from __future__ import annotations
 
-import math
 from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.chain import SerialChain
 from redkin.validation import check_positive
 from redkin.velocity._inputs import jacobian_and_twist, nonnegative
 from redkin.velocity.blend import twist_scale
@@ -79,9 +77,39 @@ def lean_singularity_consistent(
     d_e = np.asarray(index, dtype=float)
     if not np.all(np.isfinite(d_e)):
         raise ValueError("index must be finite, got NaN or infinity")
+    try:
+        d_e = np.broadcast_to(d_e, jac.shape[:-2])
+    except ValueError:
+        raise ValueError(f"index must have shape {jac.shape[:-2]} (one D_e per jacobian), got shape {d_e.shape}") from None
     exact = np.abs(d_e) < limit
-    if np.all(exact):
+    if not exact.any():
+        return _scaled_pseudoinverse(jac, vel, d_e, eps, direction, self_motion, modify_rotation)
+    if exact.all():
         return singularity_consistent(jac, vel, d_e, factors(), eps, direction, self_motion, modify_rotation)
+    # Mixed batch: each configuration takes its own path (the exact one only where it is needed).
+    d_i = np.broadcast_to(np.asarray(factors(), dtype=float), jac.shape[:-2] + (jac.shape[-1],))
+    qdot = np.empty(jac.shape[:-2] + (jac.shape[-1],))
+    target = np.empty(vel.shape)
+    lean = ~exact
+    qdot[lean], target[lean] = _scaled_pseudoinverse(
+        jac[lean], vel[lean], d_e[lean], eps, direction, self_motion, modify_rotation
+    )
+    qdot[exact], target[exact] = singularity_consistent(
+        jac[exact], vel[exact], d_e[exact], d_i[exact], eps, direction, self_motion, modify_rotation
+    )
+    return VelocitySolution(qdot, target)
+
+
+def _scaled_pseudoinverse(
+    jac: np.ndarray,
+    vel: np.ndarray,
+    d_e: np.ndarray,
+    eps: float,
+    direction: float,
+    self_motion: float,
+    modify_rotation: bool,
+) -> VelocitySolution:
+    """``b_ep g(D_e) J^+ t'`` for ``D_e != 0`` (eqs. 18, 21, 22), one SVD per configuration."""
     target = modified_twist(vel, d_e, eps, direction) if modify_rotation else vel
     target = (direction * twist_scale(d_e, eps))[..., None] * target  # eq. 22
     u, s, vt = np.linalg.svd(jac, full_matrices=False)
@@ -89,51 +117,4 @@ def lean_singularity_consistent(
     qdot = np.einsum("...ij,...i->...j", vt, coefficients)  # J^+ (b_ep g t'), eqs. 18, 21
     if self_motion:
         qdot = qdot + self_motion * self_motion_vector(jac)
-    if np.any(exact):
-        slow = singularity_consistent(jac, vel, d_e, factors(), eps, direction, self_motion, modify_rotation)
-        qdot = np.where(exact[..., None], slow.joint_velocity, qdot)
-        target = np.where(exact[..., None], slow.target_twist, target)
     return VelocitySolution(qdot, target)
-
-
-class SingleJacobian:
-    """Geometric Jacobian of one configuration of a standard-DH chain in scalar arithmetic (the control-loop case).
-
-    Same result as ``chain.jacobian(q)`` for a single ``q`` of shape ``(7,)``,
-    without the batching overhead: the frames are propagated on plain floats
-    (``Rz(theta) Tz(d) Tx(a) Rx(alpha)`` per row).  The chain is bound once.
-    """
-
-    def __init__(self, chain: SerialChain) -> None:
-        if chain.convention != "dh":
-            raise ValueError(f"SingleJacobian needs a standard-DH chain, got convention {chain.convention!r}")
-        self.n = chain.n
-        self._rows = [
-            (float(off), float(sg), float(a), float(d), math.cos(al), math.sin(al))
-            for off, sg, a, d, al in zip(chain.offset, chain.sign, chain.a, chain.d, chain.alpha)
-        ]
-        self._base = [[float(v) for v in chain.base[:3, k]] for k in range(4)]
-        self._tool = [float(v) for v in chain.tool[:3, 3]]
-
-    def __call__(self, q: ArrayLike) -> np.ndarray:
-        values = np.asarray(q, dtype=float)
-        if values.shape != (self.n,) or not np.all(np.isfinite(values)):
-            raise ValueError(f"q must be a finite vector of shape ({self.n},), got shape {values.shape}")
-        x, y, z, p = self._base
-        axes, points = [], []
-        for angle, (off, sg, a, d, ca, sa) in zip(values.tolist(), self._rows):
-            axes.append(z)
-            points.append(p)
-            theta = off + sg * angle
-            c, s = math.cos(theta), math.sin(theta)
-            x, y = [c * xi + s * yi for xi, yi in zip(x, y)], [c * yi - s * xi for xi, yi in zip(x, y)]
-            p = [pi + d * zi + a * xi for pi, zi, xi in zip(p, z, x)]
-            y, z = [ca * yi + sa * zi for yi, zi in zip(y, z)], [ca * zi - sa * yi for yi, zi in zip(y, z)]
-        tx, ty, tz = self._tool
-        end = [pi + tx * xi + ty * yi + tz * zi for pi, xi, yi, zi in zip(p, x, y, z)]
-        columns = []
-        for (ux, uy, uz), (px, py, pz), sg in zip(axes, points, (row[1] for row in self._rows)):
-            lx, ly, lz = end[0] - px, end[1] - py, end[2] - pz
-            columns.append([sg * (uy * lz - uz * ly), sg * (uz * lx - ux * lz), sg * (ux * ly - uy * lx),
-                            sg * ux, sg * uy, sg * uz])
-        return np.array(columns).T
