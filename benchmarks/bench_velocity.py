@@ -1,15 +1,23 @@
 """Time per control step of each velocity-IK method on the Barrett WAM (paper 003).
 
-One step = one 6 x 7 Jacobian (``SerialChain.jacobian``) + the method's solve,
-for a single configuration (the control-loop case), plus the solve alone and
-a batched solve (per configuration).  ``sc`` is the lean SC step (one SVD,
-:mod:`redkin.velocity.lean_step`), ``sc-exact`` the 49-determinant cofactor
-path; the last column uses the scalar single-q Jacobian ``SingleJacobian``.  Target from issue 5: an SC step under
-50 us.  Run: ``python benchmarks/bench_velocity.py``.
+Table 1, the array API: one step = one 6 x 7 Jacobian (``SerialChain.jacobian``)
++ the method's solve for a single configuration, plus the solve alone and a
+batched solve (per configuration, 1000 random configurations).  ``sc`` is the
+lean SC step (one SVD, :mod:`redkin.velocity.lean_step`), ``sc-exact`` the
+49-determinant cofactor path.
+
+Table 2, the control-loop entry points (:mod:`redkin.velocity.controller`):
+``step(q, twist)`` with the robot bound once -- input check, scalar Jacobian,
+``D_e``, blend and one LAPACK ``dgelss`` solve -- at three places: outside the
+singular region (the paper's ``q0``), inside it, and inside the exact-fallback
+band ``|D_e| < eps / 100`` (the worst case).  Target from issue 5: an SC step
+under 50 us, reported beside the pseudoinverse step.
+Run: ``python benchmarks/bench_velocity.py``.
 """
 
 from __future__ import annotations
 
+import os
 import timeit
 
 import numpy as np
@@ -19,8 +27,10 @@ from redkin.velocity import (
     AdaptiveDampedLeastSquares,
     DampedLeastSquares,
     Pseudoinverse,
+    PseudoinverseController,
     SingleJacobian,
     SingularityConsistent,
+    SingularityConsistentController,
     WamFactorisation,
 )
 
@@ -30,6 +40,7 @@ def per_call(func, number: int) -> float:
 
 
 def main() -> None:
+    print(f"load average (1, 5, 15 min): {' '.join(f'{v:.2f}' for v in os.getloadavg())}, {os.cpu_count()} cores")
     chain = barrett_wam()
     factor = WamFactorisation.from_chain(chain)
     q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
@@ -41,20 +52,38 @@ def main() -> None:
                SingularityConsistent(eps=0.1, factorisation=factor),
                SingularityConsistent(eps=0.1, factorisation=factor, lean=False, label="sc-exact")]
     single = SingleJacobian(chain)
-    jac_us = per_call(lambda: chain.jacobian(q), 2000)
-    single_us = per_call(lambda: single(q), 2000)
-    print(f"Jacobian alone (SerialChain.jacobian, one q): {jac_us:8.1f} us")
-    print(f"Jacobian alone (SingleJacobian, one q):       {single_us:8.1f} us")
-    print(f"{'method':<14}{'solve [us]':>12}{'step [us]':>12}{'step, SingleJacobian [us]':>27}"
-          f"{'batched solve [us/q]':>22}")
+    print(f"Jacobian alone, one q: SerialChain.jacobian {per_call(lambda: chain.jacobian(q), 2000):6.1f} us, "
+          f"SingleJacobian {per_call(lambda: single(q), 2000):6.1f} us")
+    print("\nTable 1: array API (method.bind(chain, q0) -> step(q, J, twist))")
+    print(f"{'method':<14}{'solve [us]':>12}{'step [us]':>12}{'batched solve [us/q]':>22}")
     for method in methods:
         step = method.bind(chain, q)
         solve_us = per_call(lambda: step(q, jac, twist), 500)
         step_us = per_call(lambda: step(q, chain.jacobian(q), twist), 500)
-        lean_us = per_call(lambda: step(q, single(q), twist), 500)
         batch_us = per_call(lambda: step(batch_q, batch_j, twist), 3) / len(batch_q)
-        print(f"{method.label:<14}{solve_us:12.1f}{step_us:12.1f}{lean_us:27.1f}{batch_us:22.2f}")
+        print(f"{method.label:<14}{solve_us:12.1f}{step_us:12.1f}{batch_us:22.2f}")
+
+    print("\nTable 2: control-loop entry points (robot bound once -> step(q, twist)), Jacobian included")
+    sc = SingularityConsistentController(chain, q, eps=0.1)
+    pinv = PseudoinverseController(chain)
+    places = {"outside region (q0)": q}
+    for label, index in (("inside region, D_e = 0.05", 0.05), ("fallback band, D_e = 1e-4", 1e-4)):
+        places[label] = on_index(factor, q, index)
+    print(f"{'configuration':<28}{'D_e':>9}{'sc step [us]':>15}{'pinv step [us]':>16}")
+    for label, where in places.items():
+        sc_us = per_call(lambda: sc(where, twist), 2000)
+        pinv_us = per_call(lambda: pinv(where, twist), 2000)
+        print(f"{label:<28}{float(factor.index(where)):9.4f}{sc_us:15.1f}{pinv_us:16.1f}")
     print("target: SC step < 50 us (1 kHz loop x 20)")
+
+
+def on_index(factor: WamFactorisation, q: np.ndarray, index: float) -> np.ndarray:
+    """``q`` with ``q4`` moved so that ``D_e = index`` (the branch nearest the elbow-stretch zero)."""
+    amplitude = np.hypot(factor.a * (factor.d3 + factor.d5), factor.a**2 - factor.d3 * factor.d5)
+    phase = np.arctan2(factor.a * (factor.d3 + factor.d5), factor.a**2 - factor.d3 * factor.d5)
+    moved = q.copy()
+    moved[3] = np.arcsin(index / amplitude) - phase  # D_e = amplitude sin(q4 + phase)
+    return moved
 
 
 if __name__ == "__main__":

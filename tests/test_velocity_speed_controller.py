@@ -1,0 +1,206 @@
+"""The control-loop controllers equal the array API (paper 003 eqs. 17-22): fast path == general path."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from redkin.models import barrett_wam, kuka_iiwa14, planar_arm
+from redkin.velocity import (
+    NumericalFactorisation,
+    PseudoinverseController,
+    SingularityConsistent,
+    SingularityConsistentController,
+    WamFactorisation,
+    lean_singularity_consistent,
+    pseudoinverse,
+    rotation_factor,
+    singularity_consistent,
+    twist_scale,
+)
+from redkin.velocity.blend import scalar_rotation_factor, scalar_twist_scale
+
+WAM = barrett_wam()
+FACTOR = WamFactorisation.from_chain(WAM)
+EPS = 0.1
+Q4_ZERO = float(np.arctan2(-FACTOR.a * (FACTOR.d3 + FACTOR.d5), FACTOR.a**2 - FACTOR.d3 * FACTOR.d5))
+Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
+
+angles = st.floats(-np.pi, np.pi)
+configurations = st.lists(angles, min_size=7, max_size=7).map(np.array)
+twists = st.lists(st.floats(-1.0, 1.0), min_size=6, max_size=6).map(np.array)
+
+
+def exact_step(q, twist, direction, self_motion=0.0, modify_rotation=True):
+    return singularity_consistent(
+        WAM.jacobian(q), twist, FACTOR.index(q), FACTOR.factors(q), EPS, direction, self_motion, modify_rotation
+    )
+
+
+def assert_same(reference, fast):
+    scale = max(1.0, float(np.max(np.abs(reference.joint_velocity))))
+    np.testing.assert_allclose(fast.joint_velocity, reference.joint_velocity, rtol=0, atol=1e-10 * scale)
+    np.testing.assert_allclose(fast.target_twist, reference.target_twist, rtol=0, atol=1e-12)
+
+
+def well_conditioned(q):
+    """Away from the shoulder/wrist singularities (D_s small), where every path loses digits alike."""
+    return abs(np.sin(q[1])) > 0.05 and abs(np.sin(q[5])) > 0.05
+
+
+@settings(deadline=None, max_examples=60)
+@given(configurations, twists, st.sampled_from([1.0, -1.0]), st.booleans())
+def test_sc_controller_equals_exact_path_on_random_configurations(q, twist, direction, modify_rotation):
+    if not well_conditioned(q):
+        return
+    controller = SingularityConsistentController(WAM, Q0, EPS, direction=direction, modify_rotation=modify_rotation)
+    assert_same(exact_step(q, twist, direction, modify_rotation=modify_rotation), controller(q, twist))
+
+
+@settings(deadline=None, max_examples=60)
+@given(configurations, twists, st.floats(-14.0, 0.0), st.sampled_from([1.0, -1.0]))
+def test_sc_controller_equals_exact_path_near_de_zero(q, twist, log_distance, sign):
+    """|D_e| from ~1e-15 (exact fallback) through the singular region to outside it."""
+    if not well_conditioned(q):
+        return
+    q[3] = Q4_ZERO + sign * 10.0**log_distance
+    controller = SingularityConsistentController(WAM, Q0, EPS)
+    assert_same(exact_step(q, twist, -1.0), controller(q, twist))
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e-3 / 0.47, -2e-3, 0.05, -0.3])
+def test_sc_controller_at_and_around_de_zero_keeps_moving(offset):
+    rng = np.random.default_rng(5)
+    controller = SingularityConsistentController(WAM, Q0, EPS)
+    for _ in range(10):
+        q = rng.uniform(0.3, 1.2, 7)
+        q[3] = Q4_ZERO + offset
+        twist = rng.normal(size=6)
+        fast = controller(q, twist)
+        assert_same(exact_step(q, twist, -1.0), fast)
+        assert np.linalg.norm(fast.joint_velocity) > 0.0
+        np.testing.assert_allclose(WAM.jacobian(q) @ fast.joint_velocity, fast.target_twist, atol=1e-10)
+
+
+def test_sc_controller_self_motion_and_default_direction():
+    q = np.array([0.3, 0.8, 0.2, 1.0, 0.4, 0.9, 0.1])
+    twist = np.array([0.1, 0.0, 0.05, 0.0, 0.2, 0.0])
+    assert SingularityConsistentController(WAM, Q0).direction == -1.0  # D_e(q0) < 0
+    q_positive = Q0.copy()
+    q_positive[3] = Q4_ZERO + 0.5
+    assert SingularityConsistentController(WAM, q_positive).direction == 1.0
+    controller = SingularityConsistentController(WAM, Q0, EPS, self_motion=0.7)
+    assert_same(exact_step(q, twist, -1.0, self_motion=0.7), controller(q, twist))
+
+
+def test_sc_controller_equals_bound_method_as_used_by_tracking():
+    rng = np.random.default_rng(6)
+    method = SingularityConsistent(eps=EPS).bind(WAM, Q0)
+    controller = SingularityConsistentController(WAM, Q0, EPS)
+    for _ in range(20):
+        q, twist = rng.uniform(-2, 2, 7), rng.normal(size=6)
+        assert_same(method(q, WAM.jacobian(q), twist), controller(q, twist))
+
+
+def test_sc_controller_with_a_numerical_factorisation_on_an_srs_arm():
+    """The iiwa's singularity factors through sin q4; the controller equals the bound method."""
+    iiwa = kuka_iiwa14()
+    numeric = NumericalFactorisation(iiwa, lambda q: np.sin(np.asarray(q)[..., 3]))
+    q0 = np.array([0.2, 0.5, -0.3, 0.8, 0.1, 0.6, 0.0])
+    method = SingularityConsistent(eps=EPS, factorisation=numeric).bind(iiwa, q0)
+    controller = SingularityConsistentController(iiwa, q0, EPS, factorisation=numeric)
+    rng = np.random.default_rng(7)
+    for q4 in (0.0, 1e-4, -0.05, 0.4, -1.5):
+        q, twist = rng.uniform(-1.5, 1.5, 7), rng.normal(size=6)
+        q[3] = q4
+        assert_same(method(q, iiwa.jacobian(q), twist), controller(q, twist))
+
+
+@settings(deadline=None, max_examples=60)
+@given(configurations, twists)
+def test_pinv_controller_equals_pseudoinverse(q, twist):
+    fast = PseudoinverseController(WAM)(q, twist)
+    reference = pseudoinverse(WAM.jacobian(q), twist)
+    scale = max(1.0, float(np.max(np.abs(reference))))
+    cond = np.linalg.cond(WAM.jacobian(q))
+    np.testing.assert_allclose(fast.joint_velocity, reference, rtol=0, atol=1e-13 * cond * scale)
+    np.testing.assert_array_equal(fast.target_twist, twist)
+
+
+def test_pinv_controller_on_an_exact_singularity_drops_the_singular_direction():
+    q = np.zeros(7)  # arm straight up: shoulder, elbow and wrist singular together
+    twist = np.array([0.1, -0.2, 0.3, 0.0, 0.5, 0.1])
+    fast = PseudoinverseController(WAM)(q, twist).joint_velocity
+    np.testing.assert_allclose(fast, pseudoinverse(WAM.jacobian(q), twist), atol=1e-12)
+    assert np.all(np.isfinite(fast))
+
+
+@settings(deadline=None, max_examples=200)
+@given(st.one_of(st.floats(-1.0, 1.0), st.sampled_from([0.0, -0.0, EPS, -EPS, 2 * EPS, -2 * EPS])),
+       st.sampled_from([EPS, 0.02, 1.0]))
+def test_scalar_blend_equals_array_blend(x, eps):
+    assert scalar_twist_scale(x, eps) == float(twist_scale(x, eps))
+    assert scalar_rotation_factor(x, eps) == float(rotation_factor(x, eps))
+
+
+@settings(deadline=None, max_examples=60)
+@given(configurations)
+def test_scalar_index_equals_array_index(q):
+    assert FACTOR.scalar_index(q.tolist()) == float(FACTOR.index(q))
+    numeric = NumericalFactorisation(WAM, FACTOR.index)
+    assert numeric.scalar_index(q.tolist()) == float(FACTOR.index(q))
+
+
+def test_batched_lean_equals_looped_controller_on_a_mixed_batch():
+    rng = np.random.default_rng(8)
+    q = rng.uniform(0.3, 1.2, (30, 7))
+    q[:, 3] = Q4_ZERO + np.concatenate([np.linspace(-0.6, 0.6, 27), [0.0, 1e-9, -1e-4]])
+    twist = rng.normal(size=(30, 6))
+    batched = lean_singularity_consistent(WAM.jacobian(q), twist, FACTOR.index(q), lambda: FACTOR.factors(q), EPS, -1.0)
+    controller = SingularityConsistentController(WAM, Q0, EPS)
+    for k in range(len(q)):
+        assert_same(controller(q[k], twist[k]), type(batched)(batched.joint_velocity[k], batched.target_twist[k]))
+
+
+def test_batched_lean_rejects_an_index_of_the_wrong_shape():
+    q = np.full((4, 7), 0.5)
+    with pytest.raises(ValueError, match="index must have shape"):
+        lean_singularity_consistent(WAM.jacobian(q), np.zeros(6), np.zeros(3), lambda: FACTOR.factors(q), EPS)
+
+
+@pytest.mark.parametrize(
+    ("q", "twist", "message"),
+    [
+        (np.zeros(6), np.zeros(6), r"q must have shape \(7,\), got shape \(6,\)"),
+        (np.zeros((2, 7)), np.zeros(6), r"q must have shape \(7,\)"),
+        (np.full(7, np.nan), np.zeros(6), "q must be finite"),
+        (["a"] * 7, np.zeros(6), "q must be numeric"),
+        (np.zeros(7), np.zeros(5), r"twist must have shape \(6,\)"),
+        (np.zeros(7), [0, 0, np.inf, 0, 0, 0], "twist must be finite"),
+    ],
+)
+def test_bad_step_inputs_are_value_errors(q, twist, message):
+    for controller in (SingularityConsistentController(WAM, Q0), PseudoinverseController(WAM)):
+        with pytest.raises(ValueError, match=message):
+            controller(q, twist)
+
+
+def test_bad_construction_is_a_value_error():
+    with pytest.raises(ValueError, match="7 joints"):
+        PseudoinverseController(planar_arm())
+    with pytest.raises(ValueError, match="SerialChain"):
+        PseudoinverseController("barrett-wam")
+    with pytest.raises(ValueError, match="Barrett WAM DH pattern"):
+        SingularityConsistentController(kuka_iiwa14(), Q0)
+    with pytest.raises(ValueError, match="eps"):
+        SingularityConsistentController(WAM, Q0, eps=0.0)
+    with pytest.raises(ValueError, match="direction"):
+        SingularityConsistentController(WAM, Q0, direction=0.0)
+    with pytest.raises(ValueError, match="near_zero"):
+        SingularityConsistentController(WAM, Q0, near_zero=-1.0)
+    with pytest.raises(ValueError, match="q0"):
+        SingularityConsistentController(WAM, np.zeros(3))
+    with pytest.raises(ValueError, match="factorisation"):
+        SingularityConsistentController(WAM, Q0, factorisation=lambda q: q[..., 3])
+    with pytest.raises(ValueError, match="self_motion"):
+        SingularityConsistentController(WAM, Q0, self_motion=np.nan)
