@@ -5,6 +5,7 @@ import json
 import numpy as np
 
 from redkin.cli.main import main
+from redkin.models import get_robot
 
 SCENARIO = ["track", "barrett-wam", "--q0", "30", "20", "50", "70", "40", "100", "0", "--deg",
             "--twist", "0.15", "0", "0", "0", "5.729577951", "0", "--duration", "4", "--dt", "0.01"]
@@ -28,9 +29,37 @@ def test_velocity_cli_track_dls_text(capsys):
 def test_velocity_cli_bad_input(capsys):
     assert main(["track", "barrett-wam", "--q0", "0", "0", "--twist", "0", "0", "0", "0", "0", "0", "--duration", "1"]) == 2
     assert "7 joints" in capsys.readouterr().err
-    assert main(["track", "pa10-7c", "--q0", *["0.3"] * 7, "--twist", "0.1", "0", "0", "0", "0", "0",
-                 "--duration", "0.1", "--method", "sc"]) == 2
-    assert "singularity index" in capsys.readouterr().err
     assert main(SCENARIO + ["--method", "dls", "--damping", "-1"]) == 2
     assert main(SCENARIO[:-4] + ["--duration", "-1"]) == 2
     assert main(SCENARIO + ["--eps", "0"]) == 2
+
+
+def test_velocity_cli_track_sc_on_srs_arms_crosses_the_stretched_elbow(capsys):
+    """PA10 and iiwa: D_e = sin q4 (found automatically); stretching the arm passes q4 = 0 once, translation reverses."""
+    for robot in ("pa10-7c", "kuka-iiwa14"):
+        chain = get_robot(robot)
+        q0 = np.radians([0.0, 30.0, 0.0, 30.0, 0.0, 30.0, 0.0])
+        reach = chain.fk(q0)[:3, 3] - chain.frames(q0)[2, :3, 3]  # shoulder centre -> tool: stretch the arm
+        velocity = 0.15 * reach / np.linalg.norm(reach)
+        args = ["track", robot, "--q0", *map(str, q0), "--twist", *map(str, velocity), "0", "0", "0",
+                "--duration", "4", "--dt", "0.01", "--method", "sc", "--json"]
+        assert main(args) == 0
+        out = json.loads(capsys.readouterr().out)
+        index = np.array(out["index"])
+        assert out["crossings"] == 1 and index[0] > 0.1 and index[-1] < -0.1
+        assert np.allclose(np.array(out["realised_twist"])[0], [*velocity, 0, 0, 0], atol=1e-9)
+        assert np.allclose(np.array(out["realised_twist"])[-1], [*-velocity, 0, 0, 0], atol=1e-9)
+
+
+def test_velocity_cli_track_sc_refuses_an_arm_that_does_not_factor(capsys, tmp_path):
+    """A WAM with an offset wrist (a5 != 0): neither the WAM closed form nor sin q4 factors its minors."""
+    rows = [(0, -90, 0), (0, 90, 0), (0.045, -90, 0.55), (-0.045, 90, 0), (0.03, -90, 0.3), (0, 90, 0), (0, 0, 0.06)]
+    robot = {"name": "offset-wrist", "convention": "dh", "angle_unit": "deg",
+             "joint": [{"a": a, "alpha": alpha, "d": d} for a, alpha, d in rows]}
+    path = tmp_path / "offset_wrist.json"
+    path.write_text(json.dumps(robot))
+    base = ["track", str(path), "--q0", *["0.3"] * 7, "--twist", "0.1", "0", "0", "0", "0", "0", "--duration", "0.1"]
+    assert main(base + ["--method", "sc"]) == 2
+    err = capsys.readouterr().err
+    assert "do not factor through one parameter" in err and len(err.strip().splitlines()) == 1
+    assert main(base + ["--method", "pinv"]) == 0  # the baselines need no index

@@ -1,5 +1,7 @@
 """The control-loop controllers equal the array API (paper 003 eqs. 17-22): fast path == general path."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -7,6 +9,7 @@ from hypothesis import strategies as st
 
 from redkin.models import barrett_wam, kuka_iiwa14, planar_arm
 from redkin.velocity import (
+    ElbowSine,
     NumericalFactorisation,
     PseudoinverseController,
     SingularityConsistent,
@@ -16,6 +19,7 @@ from redkin.velocity import (
     pseudoinverse,
     rotation_factor,
     singularity_consistent,
+    singularity_factorisation,
     twist_scale,
 )
 from redkin.velocity.blend import scalar_rotation_factor, scalar_twist_scale
@@ -103,12 +107,13 @@ def test_sc_controller_equals_bound_method_as_used_by_tracking():
 
 
 def test_sc_controller_with_a_numerical_factorisation_on_an_srs_arm():
-    """The iiwa's singularity factors through sin q4; the controller equals the bound method."""
+    """The iiwa's singularity factors through sin q4 (found automatically); the controller equals the bound method."""
     iiwa = kuka_iiwa14()
-    numeric = NumericalFactorisation(iiwa, lambda q: np.sin(np.asarray(q)[..., 3]))
+    numeric = singularity_factorisation(iiwa)
+    assert isinstance(numeric, NumericalFactorisation) and numeric.index_function == ElbowSine(0.0, 1.0)
     q0 = np.array([0.2, 0.5, -0.3, 0.8, 0.1, 0.6, 0.0])
-    method = SingularityConsistent(eps=EPS, factorisation=numeric).bind(iiwa, q0)
-    controller = SingularityConsistentController(iiwa, q0, EPS, factorisation=numeric)
+    method = SingularityConsistent(eps=EPS).bind(iiwa, q0)
+    controller = SingularityConsistentController(iiwa, q0, EPS)
     rng = np.random.default_rng(7)
     for q4 in (0.0, 1e-4, -0.05, 0.4, -1.5):
         q, twist = rng.uniform(-1.5, 1.5, 7), rng.normal(size=6)
@@ -122,7 +127,7 @@ def test_pinv_controller_equals_pseudoinverse(q, twist):
     fast = PseudoinverseController(WAM)(q, twist)
     reference = pseudoinverse(WAM.jacobian(q), twist)
     scale = max(1.0, float(np.max(np.abs(reference))))
-    cond = np.linalg.cond(WAM.jacobian(q))
+    cond = min(np.linalg.cond(WAM.jacobian(q)), 1e12)  # inf on an exact singularity, where both drop sigma_min
     np.testing.assert_allclose(fast.joint_velocity, reference, rtol=0, atol=1e-13 * cond * scale)
     np.testing.assert_array_equal(fast.target_twist, twist)
 
@@ -190,8 +195,9 @@ def test_bad_construction_is_a_value_error():
         PseudoinverseController(planar_arm())
     with pytest.raises(ValueError, match="SerialChain"):
         PseudoinverseController("barrett-wam")
-    with pytest.raises(ValueError, match="Barrett WAM DH pattern"):
-        SingularityConsistentController(kuka_iiwa14(), Q0)
+    offset_wrist = replace(WAM, a=[0.0, 0.0, 0.045, -0.045, 0.03, 0.0, 0.0])
+    with pytest.raises(ValueError, match="do not factor through one parameter"):
+        SingularityConsistentController(offset_wrist, Q0)
     with pytest.raises(ValueError, match="eps"):
         SingularityConsistentController(WAM, Q0, eps=0.0)
     with pytest.raises(ValueError, match="direction"):
@@ -204,3 +210,14 @@ def test_bad_construction_is_a_value_error():
         SingularityConsistentController(WAM, Q0, factorisation=lambda q: q[..., 3])
     with pytest.raises(ValueError, match="self_motion"):
         SingularityConsistentController(WAM, Q0, self_motion=np.nan)
+
+
+def test_singularity_factorisation_picks_the_closed_form_or_the_elbow_sine():
+    assert isinstance(singularity_factorisation(WAM), WamFactorisation)
+    flipped = replace(kuka_iiwa14(), offset=[0, 0, 0, 0.4, 0, 0, 0], sign=[1, 1, 1, -1, 1, 1, 1])
+    found = singularity_factorisation(flipped)
+    assert found.index_function == ElbowSine(0.4, -1.0)
+    q = np.random.default_rng(9).uniform(-2, 2, (5, 7))
+    np.testing.assert_allclose(found.index(q), np.sin(0.4 - q[:, 3]))
+    with pytest.raises(ValueError, match="7 joints"):
+        singularity_factorisation(planar_arm())

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 
 import numpy as np
 
 from redkin.cli.common import add_output_flags, add_robot_argument, angles_out, joint_vector, load_robot, print_json
-from redkin.velocity import METHOD_NAMES, SingularityConsistent, WamFactorisation, make_method, simulate
+from redkin.velocity import METHOD_NAMES, SingularityConsistent, make_method, simulate, singularity_factorisation
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -42,12 +43,13 @@ def run_track(args: argparse.Namespace) -> int:
         raise ValueError(f"--duration / --dt gives {steps:.0f} steps; at most 2000000 allowed")
     method = make_method(args.method, eps=args.eps, damping=args.damping)
     try:
-        factorisation = WamFactorisation.from_chain(chain)
-    except ValueError:
+        factorisation = singularity_factorisation(chain)
+    except ValueError as exc:
         if isinstance(method, SingularityConsistent):
-            raise ValueError(f"--method sc needs a singularity index; {chain.name} is not Barrett-WAM shaped "
-                             "(use the Python API with NumericalFactorisation)") from None
+            raise ValueError(f"--method sc needs a singularity index D_e: {exc}") from None
         factorisation = None
+    if isinstance(method, SingularityConsistent):
+        method = replace(method, factorisation=factorisation)
     run = simulate(chain, q0, twist, args.duration, method, dt=args.dt,
                    index=None if factorisation is None else factorisation.index)
     speed = np.linalg.norm(run.joint_velocity, axis=1)

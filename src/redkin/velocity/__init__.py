@@ -24,10 +24,12 @@ from redkin.velocity.cofactors import (
 )
 from redkin.velocity.column_augmented import algorithmic_singularity, fixed_joint_sc
 from redkin.velocity.factorisation import (
+    ElbowSine,
     FactorCheck,
     NumericalFactorisation,
     WamFactorisation,
     check_single_parameter,
+    singularity_factorisation,
     wam_cofactors,
     wam_singularity_index,
 )
@@ -52,12 +54,12 @@ from redkin.velocity.solution import VelocitySolution
 from redkin.velocity.tracking import TrackingResult, simulate
 
 __all__ = [
-    "AdaptiveDampedLeastSquares", "DampedLeastSquares", "FactorCheck", "METHOD_NAMES", "NumericalFactorisation",
+    "AdaptiveDampedLeastSquares", "DampedLeastSquares", "ElbowSine", "FactorCheck", "METHOD_NAMES", "NumericalFactorisation",
     "Pseudoinverse", "PseudoinverseController", "SingleJacobian", "SingularityConsistent",
     "SingularityConsistentController", "TrackingResult", "VelocitySolution", "WamFactorisation",
     "adaptive_damped_least_squares", "adaptive_damping", "adjugate", "adjugate_direction", "algorithmic_singularity",
     "blend_weight", "check_single_parameter", "column_minors", "damped_least_squares", "fixed_joint_sc",
     "fixed_joint_vectors", "lean_singularity_consistent", "make_method", "minimum_norm_weights", "pseudoinverse", "pseudoinverse_weights",
-    "rotation_factor", "self_motion_vector", "simulate", "singularity_consistent", "twist_scale",
+    "rotation_factor", "self_motion_vector", "simulate", "singularity_consistent", "singularity_factorisation", "twist_scale",
     "wam_cofactors", "wam_singularity_index", "weighted_sum", "weighted_sum_direction",
 ]

@@ -33,7 +33,7 @@ from redkin.velocity._inputs import nonnegative
 from redkin.velocity.baselines import PINV_RCOND
 from redkin.velocity.blend import scalar_rotation_factor, scalar_twist_scale
 from redkin.velocity.cofactors import self_motion_vector
-from redkin.velocity.factorisation import Factorisation, WamFactorisation
+from redkin.velocity.factorisation import Factorisation, singularity_factorisation
 from redkin.velocity.lean_step import NEAR_ZERO_FRACTION
 from redkin.velocity.proposed import singularity_consistent
 from redkin.velocity.single_jacobian import SingleJacobian
@@ -116,9 +116,10 @@ class SingularityConsistentController:
     eps : float
         Singular-region threshold ``D_eps`` on ``|D_e|`` (> 0).
     factorisation : Factorisation, optional
-        ``D_e`` and ``D_i``; default the closed form of a WAM-shaped chain
-        (``ValueError`` for other chains: pass a
-        :class:`~redkin.velocity.factorisation.NumericalFactorisation`).
+        ``D_e`` and ``D_i``; default
+        :func:`~redkin.velocity.factorisation.singularity_factorisation` (WAM
+        closed form, or ``sin(theta_4)`` for S-R-S arms; ``ValueError`` for
+        arms whose singularities do not factor through one parameter).
     direction : {+1, -1}, optional
         ``b_ep`` of eq. 22; overrides the sign of ``D_e(q0)``.
     self_motion : float
@@ -150,7 +151,7 @@ class SingularityConsistentController:
         near_zero: float | None = None,
     ) -> None:
         self._jacobian = _one_redundant_arm(chain)
-        self.factorisation = WamFactorisation.from_chain(chain) if factorisation is None else factorisation
+        self.factorisation = singularity_factorisation(chain) if factorisation is None else factorisation
         if not isinstance(self.factorisation, Factorisation):
             raise ValueError(f"factorisation must be a Factorisation, got {type(self.factorisation).__name__}")
         start = read_vector(q0, 7, "q0")

@@ -159,6 +159,52 @@ class NumericalFactorisation(Factorisation):
         return ratio
 
 
+@dataclass(frozen=True)
+class ElbowSine:
+    """``D_e = sin(theta_4)``, the elbow index of an S-R-S arm (``theta_4 = offset + sign * q_4``; paper 003 section 3.3).
+
+    Zero where the elbow is stretched or folded: there the shoulder and wrist
+    centres and the elbow axis are coplanar and every column minor vanishes.
+    """
+
+    offset: float
+    sign: float
+
+    def __call__(self, q: np.ndarray) -> np.ndarray:
+        return np.sin(self.offset + self.sign * np.asarray(q, dtype=float)[..., 3])
+
+
+def singularity_factorisation(chain: SerialChain, seed: int | np.random.Generator = 0) -> Factorisation:
+    """The factorisation ``det J_i = D_e D_i`` of a 7-joint chain, found automatically (paper 003 section 3.3).
+
+    A chain with the Barrett WAM's DH pattern gets the closed form
+    (:class:`WamFactorisation`); otherwise the S-R-S index ``sin(theta_4)``
+    is tried with :func:`check_single_parameter` and, if it factors every
+    minor, used through :class:`NumericalFactorisation`.
+
+    Raises
+    ------
+    ValueError
+        If the chain does not have 7 joints, or if neither index factors its
+        minors (its singularities do not go through one parameter, e.g. an
+        offset elbow or wrist, as on the European Robotic Arm).
+    """
+    if chain.n != 7:
+        raise ValueError(f"chain must have 7 joints (a 6 x 7 Jacobian), got {chain.n} ({chain.name!r})")
+    try:
+        return WamFactorisation.from_chain(chain)
+    except ValueError:
+        pass
+    elbow = ElbowSine(float(chain.offset[3]), float(chain.sign[3]))
+    if check_single_parameter(chain, elbow, seed=seed).factors:
+        return NumericalFactorisation(chain, elbow)
+    raise ValueError(
+        f"chain {chain.name!r}: its singularities do not factor through one parameter "
+        "(neither the Barrett WAM closed form nor sin(theta_4) divides every column minor det J_i), "
+        "so the singularity-consistent method has no index D_e for it"
+    )
+
+
 def index_gradient(index_function: Callable[[np.ndarray], np.ndarray], q: np.ndarray, step: float = 1e-6) -> np.ndarray:
     """Central-difference gradient of an index function, shape ``(..., n)``."""
     q = np.asarray(q, dtype=float)

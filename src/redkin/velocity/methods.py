@@ -15,7 +15,7 @@ import numpy as np
 from redkin.chain import SerialChain
 from redkin.validation import check_positive
 from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
-from redkin.velocity.factorisation import Factorisation, WamFactorisation
+from redkin.velocity.factorisation import Factorisation, singularity_factorisation
 from redkin.velocity.lean_step import lean_singularity_consistent
 from redkin.velocity.proposed import singularity_consistent
 from redkin.velocity.solution import VelocitySolution
@@ -80,7 +80,8 @@ class AdaptiveDampedLeastSquares:
 class SingularityConsistent:
     """The proposed method (paper 003 section 3) with singular-region threshold ``eps`` on ``|D_e|``.
 
-    ``factorisation`` defaults to the closed form of a WAM-shaped chain;
+    ``factorisation`` defaults to :func:`~redkin.velocity.factorisation.singularity_factorisation`
+    (the closed form of a WAM-shaped chain, ``sin(theta_4)`` for an S-R-S arm);
     ``direction`` (``b_ep`` of eq. 22) defaults to the sign of ``D_e(q0)``,
     so the command is realised as given at the start.  ``lean`` (default)
     solves with one SVD (:mod:`redkin.velocity.lean_step`, same result) and
@@ -100,7 +101,7 @@ class SingularityConsistent:
 
     def resolve(self, chain: SerialChain) -> Factorisation:
         """The factorisation in use for ``chain``."""
-        return self.factorisation if self.factorisation is not None else WamFactorisation.from_chain(chain)
+        return self.factorisation if self.factorisation is not None else singularity_factorisation(chain)
 
     def bind(self, chain: SerialChain, q0: np.ndarray) -> Step:
         factorisation = self.resolve(chain)
