@@ -23,6 +23,7 @@ from redkin.velocity import (
     twist_scale,
 )
 from redkin.velocity.blend import scalar_rotation_factor, scalar_twist_scale
+from redkin.velocity.proposed import adjugate_factor_sum, cramer_factor_sum
 
 WAM = barrett_wam()
 FACTOR = WamFactorisation.from_chain(WAM)
@@ -221,3 +222,26 @@ def test_singularity_factorisation_picks_the_closed_form_or_the_elbow_sine():
     np.testing.assert_allclose(found.index(q), np.sin(0.4 - q[:, 3]))
     with pytest.raises(ValueError, match="7 joints"):
         singularity_factorisation(planar_arm())
+
+
+@settings(deadline=None, max_examples=40)
+@given(configurations, twists, st.sampled_from([0.0, 1e-12, -1e-6, 1e-3, 0.3, None]))
+def test_adjugate_factor_sum_equals_cramer_factor_sum(q, twist, distance):
+    """sum_i D_i n_i from one 7 x 7 adjugate == from the fixed-joint vectors (eqs. 6-8, 15), also on D_e = 0."""
+    if distance is not None:
+        q[3] = Q4_ZERO + distance
+    jac, factors = WAM.jacobian(q), FACTOR.factors(q)
+    reference = cramer_factor_sum(jac, twist, factors)
+    scale = max(1e-3, float(np.max(np.abs(reference))))
+    np.testing.assert_allclose(adjugate_factor_sum(jac, twist, factors), reference, rtol=0, atol=1e-12 * scale)
+
+
+def test_adjugate_factor_sum_batched_equals_looped():
+    rng = np.random.default_rng(10)
+    q = rng.uniform(-2, 2, (6, 7))
+    q[0, 3] = Q4_ZERO
+    twist = rng.normal(size=(6, 6))
+    jac, factors = WAM.jacobian(q), FACTOR.factors(q)
+    batched = adjugate_factor_sum(jac, twist, factors)
+    for k in range(len(q)):
+        np.testing.assert_allclose(batched[k], adjugate_factor_sum(jac[k], twist[k], factors[k]), atol=1e-14)

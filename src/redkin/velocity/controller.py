@@ -14,9 +14,12 @@ parameter are checked once in the constructor, and each step
    ``dgelss`` call (SVD-based, so as accurate as the SVD path).
 
 The SC step is the lean step of :mod:`redkin.velocity.lean_step`,
-``q_dot = b_ep g(D_e) J^+ t'`` (eqs. 17-22 combined), and falls back to the
-exact cofactor path :func:`~redkin.velocity.proposed.singularity_consistent`
-where ``|D_e| < near_zero``, exactly as the array API does.
+``q_dot = b_ep g(D_e) J^+ t'`` (eqs. 17-22 combined).  Where ``|D_e| <
+near_zero`` it takes the exact route of
+:func:`~redkin.velocity.proposed.singularity_consistent` (eqs. 15, 21, 22),
+with ``sum_i D_i n_i`` from one 7 x 7 adjugate
+(:func:`~redkin.velocity.proposed.adjugate_factor_sum`) instead of the 49
+determinants of the Cramer construction.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from redkin.velocity.blend import scalar_rotation_factor, scalar_twist_scale
 from redkin.velocity.cofactors import self_motion_vector
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
 from redkin.velocity.lean_step import NEAR_ZERO_FRACTION
-from redkin.velocity.proposed import singularity_consistent
+from redkin.velocity.proposed import adjugate_factor_sum, blended_step
 from redkin.velocity.single_jacobian import SingleJacobian
 from redkin.velocity.solution import VelocitySolution
 
@@ -173,12 +176,12 @@ class SingularityConsistentController:
         command = read_vector(twist, 6, "twist")
         jac = self._jacobian.unchecked(values)
         d_e = self.factorisation.scalar_index(values)
-        if abs(d_e) < self.near_zero:
-            q_array = np.array(values)
-            return singularity_consistent(
-                jac, np.array(command), d_e, self.factorisation.factors(q_array, jac), self.eps,
-                self.direction, self.self_motion, self.modify_rotation,
-            )
+        if abs(d_e) < self.near_zero:  # eqs. 15, 21 with sum_i D_i n_i from one adjugate: exact on D_e = 0
+            factors = np.asarray(self.factorisation.factors(np.array(values), jac), dtype=float)
+            if not np.all(np.isfinite(factors)):
+                raise ValueError("factors D_i must be finite, got NaN or infinity")
+            return blended_step(jac, np.array(command), np.float64(d_e), factors, self.eps, self.direction,
+                                self.self_motion, self.modify_rotation, adjugate_factor_sum)
         linear = self.direction * scalar_twist_scale(d_e, self.eps)  # b_ep g(D_e), eq. 22
         angular = linear * self.direction * scalar_rotation_factor(d_e, self.eps) if self.modify_rotation else linear
         vx, vy, vz, wx, wy, wz = command
