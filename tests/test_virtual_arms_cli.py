@@ -36,6 +36,27 @@ def test_virtual_arms_cli_clamped_joints_keep_their_start(capsys):
     assert np.linalg.norm(planar_arm().frames(q)[-1, :2, 3] - [0.5, 0.6]) < 1e-4
 
 
+def test_virtual_arms_cli_obstacle_run_reports_clearance_and_status(capsys, tmp_path):
+    out = tmp_path / "obstacle.png"
+    code = main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--obstacle", "0.75,0.9,0.1", "--json",
+                 "--out", str(out)])
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["status"] == "reached"
+    q = np.array(data["q"])
+    frames = planar_arm().frames(q)
+    assert np.linalg.norm(frames[-1, :2, 3] - [0.5, 0.6]) == pytest.approx(data["end_error"], abs=1e-12)
+    assert data["end_error"] < 1e-3
+    assert data["min_clearance"] > 0.0
+    # the final posture itself, checked on the chain: every link stays outside the circle
+    t = np.linspace(0.0, 1.0, 101)[:, None, None]
+    links = frames[:-1, :2, 3] + t * (frames[1:, :2, 3] - frames[:-1, :2, 3])
+    assert np.min(np.linalg.norm(links - [0.75, 0.9], axis=-1)) - 0.1 >= data["min_clearance"] - 1e-3
+    assert data["obstacles"] == [{"centre": [0.75, 0.9], "radius": 0.1}]
+    assert data["periods"] >= 1 and data["steps"] > 0 and data["seconds"] > 0
+    assert out.stat().st_size > 0
+
+
 @pytest.mark.parametrize("argv, words", [
     (["--goal", "0.5"], "--goal needs 2"),
     (["--goal", "0.5", "0.6", "--point", "joint:9=1,2"], "joint number"),
@@ -43,7 +64,14 @@ def test_virtual_arms_cli_clamped_joints_keep_their_start(capsys):
     (["--goal", "0.5", "0.6", "--weight", "1", "--weight", "2"], "one per point"),
     (["--goal", "0.5", "0.6", "--fix", "0"], "--fix"),
     (["--goal", "0.5", "nan"], "finite"),
-    (["--goal", "0.5", "0.6", "--obstacle", "0.2", "0.3", "0.1"], "obstacles are not implemented yet"),
+    (["--goal", "0.5", "0.6", "--obstacle", "0.2"], "--obstacle must be X,Y,R"),
+    (["--goal", "0.5", "0.6", "--obstacle", "0.2,0.3,0.1,0.1"], "--obstacle must be X,Y,R"),
+    (["--goal", "0.5", "0.6", "--obstacle", "a,b,c"], "--obstacle must be X,Y,R"),
+    (["--goal", "0.5", "0.6", "--obstacle", "0.7,0.9,inf"], "finite"),
+    (["--goal", "0.5", "0.6", "--obstacle", "0.7,0.9,-0.1"], "radius must be positive"),
+    (["--goal", "0.5", "0.6", "--obstacle", "0.5,0.6,0.1"], "goal [0.5, 0.6] is inside obstacle 0"),
+    (["--goal", "0.5", "0.6", "--obstacle", "0.7,0.9,0.1", "--point", "joint:3=0.3,0.4"], "drop --point"),
+    (["--goal", "0.5", "0.6", "--obstacle", "0.7,0.9,0.1", "--model", "learned"], "analytic forward models only"),
 ])
 def test_virtual_arms_cli_bad_input_exits_2_with_one_line(capsys, argv, words):
     assert main(["virtual-arms", "planar-5"] + argv) == 2

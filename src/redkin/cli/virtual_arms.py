@@ -9,8 +9,10 @@ import numpy as np
 from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, angles_out, joint_vector, load_robot, print_json
 from redkin.virtual_arms import (
     AnalyticModel,
+    Obstacle,
     OutputFunction,
     VirtualPoint,
+    avoid_obstacles,
     generate_trajectory,
     learn_forward_model,
     parse_point,
@@ -37,7 +39,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--q0", nargs="+", type=float, metavar="Q",
                         help=f"initial joint values (default {DEFAULT_Q0} rad at every joint)")
     parser.add_argument("--max-steps", type=int, default=5000, help="integrator step budget (default 5000)")
-    parser.add_argument("--obstacle", nargs="*", metavar="V", help="not implemented yet (exits with code 2)")
+    parser.add_argument("--obstacle", action="append", default=[], metavar="X,Y,R",
+                        help="a circular obstacle X,Y,R (planar arms) or a sphere X,Y,Z,R, metres (repeatable); "
+                             "the planner of Fig. 8 then keeps the whole arm clear of it")
     parser.add_argument("--out", metavar="PNG", help="save a stroboscopic drawing of the run (planar arms)")
     add_output_flags(parser)
     parser.set_defaults(handler=run_virtual_arms)
@@ -74,9 +78,20 @@ def _fixed(text: str, joints: int) -> list[int]:
     return [j - 1 for j in numbers]
 
 
+def _obstacle(text: str, dims: int) -> Obstacle:
+    shape = "X,Y,R" if dims == 2 else "X,Y,Z,R"
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise UsageError(f"--obstacle must be {shape} (numbers, metres), got {text!r}") from None
+    if len(values) != dims + 1 or not np.all(np.isfinite(values)):
+        raise UsageError(f"--obstacle must be {shape} (finite numbers, metres) for this robot, got {text!r}")
+    if values[-1] <= 0.0:
+        raise UsageError(f"--obstacle radius must be positive, got {values[-1]:g} in {text!r}")
+    return Obstacle(np.array(values[:-1]), values[-1])
+
+
 def run_virtual_arms(args: argparse.Namespace) -> int:
-    if args.obstacle is not None:
-        raise UsageError("obstacles are not implemented yet")
     chain = load_robot(args.robot)
     probe = AnalyticModel(chain, [VirtualPoint.end()])
     dims = probe.dims
@@ -99,6 +114,13 @@ def run_virtual_arms(args: argparse.Namespace) -> int:
     output = OutputFunction.sine(chain.lower, chain.upper) if args.limits else None
     if args.max_steps < 1:
         raise UsageError(f"--max-steps must be positive, got {args.max_steps}")
+    obstacles = [_obstacle(text, dims) for text in args.obstacle]
+    if obstacles:
+        if len(points) > 1 or weights is not None:
+            raise UsageError("--obstacle plans every virtual point's goal itself: drop --point and --weight")
+        if args.model == "learned":
+            raise UsageError("--obstacle uses analytic forward models only (the planner watches many points)")
+        return _run_with_obstacles(args, chain, q0, goals[0], obstacles, output)
     if args.model == "learned":
         model, _ = learn_forward_model(chain, points, axes=probe.axes, seed=0)
     else:
@@ -127,7 +149,31 @@ def run_virtual_arms(args: argparse.Namespace) -> int:
     return 0
 
 
-def _save_plot(path: str, chain, run, truth: np.ndarray) -> None:
+def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: np.ndarray, obstacles: list,
+                        output) -> int:
+    run = avoid_obstacles(chain, q0, goal, obstacles, output=output, fixed=_fixed(args.fix, chain.n),
+                          period_steps=min(args.max_steps, 20))
+    if args.out:
+        _save_plot(args.out, chain, run, None, obstacles)
+    q_final = angles_out(run.final_theta, args.deg)
+    if args.json:
+        print_json({
+            "robot": chain.name, "status": run.status, "message": run.message, "model": "analytic",
+            "q": q_final, "angles": "deg" if args.deg else "rad", "goal": goal, "end_error": run.end_error,
+            "min_clearance": run.min_clearance,
+            "obstacles": [{"centre": ob.centre, "radius": ob.radius} for ob in obstacles],
+            "periods": run.periods, "steps": run.steps, "seconds": run.seconds,
+        })
+        return 0
+    unit = "deg" if args.deg else "rad"
+    print(f"{chain.name}: {run.status} ({run.message}), {run.periods} periods, {run.steps} steps, "
+          f"{run.seconds:.3f} s")
+    print(f"q [{unit}]: " + " ".join(f"{v:.6f}" for v in q_final))
+    print(f"  end error {run.end_error:.3e} m, minimum clearance {run.min_clearance:.4f} m")
+    return 0
+
+
+def _save_plot(path: str, chain, run, truth: np.ndarray | None, obstacles: list = ()) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -135,10 +181,11 @@ def _save_plot(path: str, chain, run, truth: np.ndarray) -> None:
 
     from redkin.plot.virtual_arms import draw_strobe
 
-    if run.goals.shape[1] != 2:
+    goals = run.goals if truth is not None else run.goal[None]
+    if goals.shape[1] != 2:
         raise UsageError("--out draws planar arms only; this robot's task space is 3-D")
     fig, ax = plt.subplots(figsize=(6, 6))
-    draw_strobe(ax, chain, run.theta, run.goals, truth, title=f"{chain.name}: {run.status}")
+    draw_strobe(ax, chain, run.theta, goals, truth, title=f"{chain.name}: {run.status}", obstacles=obstacles)
     ax.legend(fontsize=7)
     fig.savefig(path, dpi=100)
     plt.close(fig)

@@ -1,8 +1,11 @@
-"""Stroboscopic drawings of virtual-arm runs (paper 004 Figs. 6 and 7): the arm at several instants along a run."""
+"""Stroboscopic drawings of virtual-arm runs (paper 004 Figs. 6-8): the arm at several instants along a run."""
 
 from __future__ import annotations
 
+from typing import Sequence
+
 import numpy as np
+from matplotlib.patches import Circle
 
 from redkin.chain import SerialChain
 
@@ -13,7 +16,8 @@ def strobe_indices(count: int, frames: int) -> np.ndarray:
 
 
 def draw_strobe(ax, chain: SerialChain, theta: np.ndarray, goals: np.ndarray, virtual: np.ndarray | None = None,
-                frames: int = 12, title: str | None = None, reach: float | None = None) -> None:
+                frames: int = 12, title: str | None = None, reach: float | None = None,
+                obstacles: Sequence = ()) -> None:
     """Draw a planar arm at ``frames`` instants of a run, its goals and its final virtual end points.
 
     Parameters
@@ -29,7 +33,10 @@ def draw_strobe(ax, chain: SerialChain, theta: np.ndarray, goals: np.ndarray, vi
         Final virtual end points, drawn as hollow circles.
     frames : int
         Number of instants drawn; earlier instants are lighter.
+    obstacles : sequence of Obstacle
+        Circles drawn filled grey (Fig. 8).
     """
+    draw_obstacles(ax, obstacles)
     picks = strobe_indices(len(theta), frames)
     points = chain.frames(theta[picks])[..., :2, 3]  # (frames, n + 2, 2)
     shades = np.linspace(0.25, 1.0, len(picks))
@@ -54,6 +61,13 @@ def draw_strobe(ax, chain: SerialChain, theta: np.ndarray, goals: np.ndarray, vi
     ax.set_ylabel("y [m]")
     if title:
         ax.set_title(title, fontsize=9)
+
+
+def draw_obstacles(ax, obstacles: Sequence) -> None:
+    """Circular obstacles (objects with ``centre`` and ``radius``) as grey discs on a planar plot."""
+    for k, obstacle in enumerate(obstacles):
+        ax.add_patch(Circle(tuple(obstacle.centre[:2]), obstacle.radius, facecolor="0.6", edgecolor="0.3",
+                            alpha=0.8, label="obstacle" if k == 0 else None))
 
 
 def draw_joint_history(ax, s: np.ndarray, theta: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
