@@ -11,7 +11,7 @@ from redkin.chain import SerialChain
 from redkin.srs.branches import branch_of_theta
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry
-from redkin.srs.coefficients import arm_angle_coefficients
+from redkin.srs.coefficients import arm_angle_frame
 from redkin.srs.rotations import shoulder_rotation
 
 
@@ -48,9 +48,9 @@ def arm_angle_of(arm: "SerialChain | SRSGeometry", q: ArrayLike) -> ArmAngleStat
     theta = geometry.theta_of_q(q)
     pose = geometry.to_table1_pose(geometry.chain.fk(q))
     branch = branch_of_theta(theta)
-    coefficients = arm_angle_coefficients(geometry, pose[..., :3, 3], pose[..., :3, :3], branch[..., 1])
-    rotation = shoulder_rotation(theta) @ np.swapaxes(coefficients.reference, -1, -2)
-    u = coefficients.u_sw
+    frame = arm_angle_frame(geometry, pose[..., :3, 3], pose[..., :3, :3], branch[..., 1])
+    rotation = shoulder_rotation(theta) @ np.swapaxes(frame.reference, -1, -2)
+    u = frame.u_sw
     vee = np.stack(
         [rotation[..., 2, 1] - rotation[..., 1, 2], rotation[..., 0, 2] - rotation[..., 2, 0],
          rotation[..., 1, 0] - rotation[..., 0, 1]],

@@ -1,26 +1,25 @@
 """The arm-angle parametrisation of paper 000 section 3: eqs. 4-19.
 
 For a target pose (frame 7 in frame 0, Table 1 form) and the sign of the
-elbow angle, :func:`arm_angle_coefficients` returns the constant coefficients of
+elbow angle, :func:`arm_angle_coefficients` returns the constant coefficient
+matrices of
 
 * eq. 12: ``0R3(psi) = A_s sin psi + B_s cos psi + C_s``
 * eq. 16: ``4R7(psi) = A_w sin psi + B_w cos psi + C_w``
 
 with ``A_s = [u x] R3o``, ``B_s = -[u x]^2 R3o`` and ``C_s = u u^T R3o``
 (the transcription prints ``C_s`` garbled; ``I + [u x]^2 = u u^T`` for a unit
-``u``), ``A_w = 3R4^T A_s^T 0R7`` etc., where ``u`` is the unit
-shoulder-to-wrist vector and ``R3o = 0R3`` on the reference plane
-``theta_3 = 0``.  ``psi`` is a right-handed rotation of the arm plane about
-``u`` (eq. 6).
+``u``, so ``B_s = (I - u u^T) R3o``), and ``A_w = 3R4^T A_s^T 0R7`` etc.
+(``4R7 = 3R4^T 0R3^T 0R7``), where ``u`` is the unit shoulder-to-wrist vector
+and ``R3o = 0R3`` on the reference plane ``theta_3 = 0``.  ``psi`` is a
+right-handed rotation of the arm plane about ``u`` (Rodrigues, eq. 6:
+``R_psi = sin psi [u x] + cos psi (I - u u^T) + u u^T``).
 
-Only the entries that the joint angles are read from are needed, and each
-is a bilinear form ``x^T R_psi y`` with Rodrigues' ``R_psi`` (eq. 6), so
-(:func:`rodrigues_coefficients`)
-``x^T R_psi y = sin psi x.(u x y) + cos psi (x.y - (x.u)(u.y)) + (x.u)(u.y)``:
-an entry ``(i, j)`` of ``0R3`` has ``x = e_i`` and ``y = R3o e_j``; an entry
-``(i, j)`` of ``4R7 = 3R4^T 0R3^T 0R7`` has ``x = 0R7 e_j`` and
-``y = R3o 3R4 e_i``.  This is eqs. 12 and 16 evaluated entry by entry,
-without forming the 3x3x3 stacks.
+Eqs. 12 and 16 are linear in the three Rodrigues terms ``[u x]``,
+``I - u u^T`` and ``u u^T``, so :func:`rotation_terms` computes them for
+any weights of these terms: the identity gives the coefficient matrices,
+``(sin psi, cos psi, 1)`` gives ``0R3`` and ``4R7`` at ``psi`` -- one
+implementation for both.
 
 Reference plane (eq. 7 with ``theta_3 = 0``): at ``theta_3 = 0``,
 ``0R3 = Rz(theta_1) Rx(-pi/2) Rz(theta_2)`` and
@@ -28,6 +27,9 @@ Reference plane (eq. 7 with ``theta_3 = 0``): at ``theta_3 = 0``,
 ``theta_2``, ``v = (d_ew s4, -(d_se + d_ew c4))``.  We take
 ``theta_1o = atan2(y_sw, x_sw)`` (so ``w >= 0``) and, when the wrist lies
 on the joint-1 axis, ``theta_1o = 0`` (end of section 3.3).
+
+The joint angles are read from 14 entries of ``0R3`` and ``4R7``
+(:data:`ENTRY_LAYOUT`, in the order used by :mod:`redkin.srs.joints`).
 """
 
 from __future__ import annotations
@@ -41,71 +43,98 @@ AXIS_TOLERANCE = 1e-12
 #: Slack on ``|cos theta_4| <= 1`` (eq. 11) absorbed as rounding before a pose counts as unreachable.
 REACH_TOLERANCE = 1e-9
 
-# rows of 0R3 / 4R7 whose entries give the joint angles (eqs. 13-15, 17-19):
-# 0R3[0,1] = -c1 s2, 0R3[1,1] = -s1 s2, 0R3[2,1] = -c2, 0R3[2,0] = -s2 c3, 0R3[2,2] = s2 s3
-# 4R7[0,2] = c5 s6, 4R7[1,2] = s5 s6, 4R7[2,2] = c6, 4R7[2,0] = -s6 c7, 4R7[2,1] = s6 s7
-# plus 0R3[0,0], 0R3[1,0] and 4R7[0,0], 4R7[1,0], which complete the first
-# columns used to read theta_3 and theta_7 robustly (see redkin.srs.joints)
-SHOULDER_ENTRIES = ((0, 1), (1, 1), (2, 1), (2, 0), (2, 2))
-WRIST_ENTRIES = ((0, 2), (1, 2), (2, 2), (2, 0), (2, 1))
-SHOULDER_EXTRA = ((0, 0), (1, 0))
-WRIST_EXTRA = ((0, 0), (1, 0))
+#: The entries the joint angles are read from, per group (0R3 for the shoulder,
+#: 4R7 for the wrist): ``(matrix, row, column, factor)`` for the slots
+#: ``x, y, z, r0, r1, r2, t`` of :mod:`redkin.srs.joints`.  Shoulder:
+#: ``x = -0R3[0,1] = c1 s2``, ``y = -0R3[1,1] = s1 s2``, ``z = -0R3[2,1] = c2``,
+#: ``r = 0R3[:,0]`` (``r2 = -s2 c3``), ``t = 0R3[2,2] = s2 s3`` (section 3.3);
+#: wrist: ``x = 4R7[0,2] = c5 s6``, ``y = 4R7[1,2] = s5 s6``, ``z = 4R7[2,2] = c6``,
+#: ``r = 4R7[:,0]`` (``r2 = -s6 c7``), ``t = 4R7[2,1] = s6 s7``.
+ENTRY_LAYOUT = (
+    ("0R3", 0, 1, -1.0), ("0R3", 1, 1, -1.0), ("0R3", 2, 1, -1.0),
+    ("0R3", 0, 0, 1.0), ("0R3", 1, 0, 1.0), ("0R3", 2, 0, 1.0), ("0R3", 2, 2, 1.0),
+    ("4R7", 0, 2, 1.0), ("4R7", 1, 2, 1.0), ("4R7", 2, 2, 1.0),
+    ("4R7", 0, 0, 1.0), ("4R7", 1, 0, 1.0), ("4R7", 2, 0, 1.0), ("4R7", 2, 1, 1.0),
+)
+
+
+def _selection_matrix() -> np.ndarray:
+    """``(18, 14)``: flattened ``[0R3, 4R7]`` times it gives the signed entries of :data:`ENTRY_LAYOUT`."""
+    selection = np.zeros((18, len(ENTRY_LAYOUT)))
+    for column, (matrix, row, col, factor) in enumerate(ENTRY_LAYOUT):
+        selection[(0 if matrix == "0R3" else 9) + 3 * row + col, column] = factor
+    return selection
+
+
+_SELECT = _selection_matrix()
+# [u x] flattened is u @ _SKEW (a constant (3, 9) tensor)
+_SKEW = np.zeros((3, 9))
+_SKEW[2, 1], _SKEW[1, 2], _SKEW[2, 3], _SKEW[0, 5], _SKEW[1, 6], _SKEW[0, 7] = -1, 1, 1, -1, -1, 1
+_EYE = np.eye(3)
+# Rz(angle) flattened is cos(angle) _RZ_COS + sin(angle) _RZ_SIN + _RZ_ONE
+_RZ_COS = np.array([1.0, 0, 0, 0, 1, 0, 0, 0, 0])
+_RZ_SIN = np.array([0.0, -1, 0, 1, 0, 0, 0, 0, 0])
+_RZ_ONE = np.array([0.0, 0, 0, 0, 0, 0, 0, 0, 1])
+_RX_MINUS = np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]])  # Rx(-pi/2)
+_RX_PLUS = np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]])  # Rx(pi/2)
 
 
 @dataclass(frozen=True)
-class ArmAngleCoefficients:
-    """Eq. 12 and eq. 16 coefficients for a batch of poses and elbow signs.
+class ArmAngleFrame:
+    """The psi-independent quantities of a batch of poses and elbow signs (eqs. 4-11).
 
     Attributes
     ----------
     theta4 : numpy.ndarray, shape (...)
         Elbow angle (eq. 11), independent of psi.
-    entries : numpy.ndarray, shape (..., 14, 3)
-        ``(a, b, c)`` with ``entry = a sin psi + b cos psi + c`` of the
-        matrix entries the joint angles are read from: 0R3 at
-        :data:`SHOULDER_ENTRIES` (``a_s32`` is ``entries[..., 2, 0]``), 4R7 at
-        :data:`WRIST_ENTRIES` (``a_w33`` is ``entries[..., 7, 0]``), then 0R3
-        at :data:`SHOULDER_EXTRA` and 4R7 at :data:`WRIST_EXTRA`.
     u_sw : numpy.ndarray, shape (..., 3)
-        Unit shoulder-to-wrist vector.
+        Unit shoulder-to-wrist vector (batch axes broadcastable to those of ``theta4``).
     reference : numpy.ndarray, shape (..., 3, 3)
         ``0R3`` on the reference plane (``psi = 0``).
     elbow : numpy.ndarray, shape (..., 3, 3)
         ``3R4`` (depends on theta_4 only).
     rotation : numpy.ndarray, shape (..., 3, 3)
-        Target ``0R7``.
+        Target ``0R7`` (batch axes broadcastable).
     """
 
     theta4: np.ndarray
-    entries: np.ndarray
     u_sw: np.ndarray
     reference: np.ndarray
     elbow: np.ndarray
     rotation: np.ndarray
 
+
+@dataclass(frozen=True)
+class ArmAngleCoefficients(ArmAngleFrame):
+    """Eq. 12 and eq. 16 coefficients for a batch of poses and elbow signs.
+
+    Attributes (besides those of :class:`ArmAngleFrame`)
+    ----------------------------------------------------
+    shoulder : numpy.ndarray, shape (..., 3, 3, 3)
+        ``(A_s, B_s, C_s)`` of eq. 12.
+    wrist : numpy.ndarray, shape (..., 3, 3, 3)
+        ``(A_w, B_w, C_w)`` of eq. 16.
+    entries : numpy.ndarray, shape (..., 3, 14)
+        The rows ``(a, b, c)`` of the entries of :data:`ENTRY_LAYOUT`:
+        ``entry(psi) = a sin psi + b cos psi + c``.
+    """
+
+    shoulder: np.ndarray
+    wrist: np.ndarray
+    entries: np.ndarray
+
     def expand(self) -> "ArmAngleCoefficients":
         """The same coefficients with a new batch axis of length 1 at the end."""
         return ArmAngleCoefficients(
             theta4=self.theta4[..., None],
-            entries=self.entries[..., None, :, :],
             u_sw=self.u_sw[..., None, :],
             reference=self.reference[..., None, :, :],
             elbow=self.elbow[..., None, :, :],
             rotation=self.rotation[..., None, :, :],
+            shoulder=self.shoulder[..., None, :, :, :],
+            wrist=self.wrist[..., None, :, :, :],
+            entries=self.entries[..., None, :, :],
         )
-
-
-def rodrigues_coefficients(x: np.ndarray, y: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """``(a, b, c)`` with ``x^T R_psi y = a sin psi + b cos psi + c`` (eq. 6), shape ``(..., 3)``.
-
-    ``x``, ``y`` and ``u`` (unit axis) have shape ``(..., 3)`` and broadcast.
-    """
-    xu = np.einsum("...i,...i->...", x, u)
-    uy = np.einsum("...i,...i->...", u, y)
-    a = np.einsum("...i,...i->...", x, np.cross(u, y))
-    c = xu * uy
-    b = np.einsum("...i,...i->...", x, y) - c
-    return np.stack([a, b, c], axis=-1)
 
 
 def shoulder_to_wrist(geometry, position: np.ndarray, rotation: np.ndarray) -> np.ndarray:
@@ -115,16 +144,15 @@ def shoulder_to_wrist(geometry, position: np.ndarray, rotation: np.ndarray) -> n
     return x_sw
 
 
-def elbow_cosine(geometry, x_sw: np.ndarray) -> np.ndarray:
-    """``cos theta_4`` of eq. 11 (not clipped)."""
-    squared = np.einsum("...i,...i->...", x_sw, x_sw)
-    return (squared - geometry.d_se**2 - geometry.d_ew**2) / (2.0 * geometry.d_se * geometry.d_ew)
+def unreachable(cos4: np.ndarray) -> np.ndarray:
+    """Which wrists are out of reach: ``|cos theta_4| > 1`` beyond :data:`REACH_TOLERANCE` (eq. 11)."""
+    return np.abs(cos4) > 1.0 + REACH_TOLERANCE
 
 
 def unreachable_message(geometry, x_sw: np.ndarray, cos4: np.ndarray) -> str | None:
     """A one-line message for the first pose whose wrist is out of reach, or ``None``."""
-    bad = np.abs(cos4) > 1.0 + REACH_TOLERANCE
-    if not np.any(bad):
+    bad = unreachable(cos4)
+    if not bad.any():
         return None
     index = np.unravel_index(int(np.argmax(bad)), bad.shape)
     distance = float(np.linalg.norm(x_sw[index]))
@@ -135,55 +163,16 @@ def unreachable_message(geometry, x_sw: np.ndarray, cos4: np.ndarray) -> str | N
     )
 
 
-def reference_rotation(geometry, x_sw: np.ndarray, theta4: np.ndarray) -> np.ndarray:
-    """``0R3`` on the reference plane ``theta_3 = 0`` (eq. 7, section 3.3), batched."""
-    s4, c4 = np.sin(theta4), np.cos(theta4)
-    vx = geometry.d_ew * s4
-    vy = -(geometry.d_se + geometry.d_ew * c4)
-    w = np.hypot(x_sw[..., 0], x_sw[..., 1])
-    on_axis = w <= AXIS_TOLERANCE * (geometry.d_se + geometry.d_ew)
-    theta1 = np.where(on_axis, 0.0, np.arctan2(x_sw[..., 1], x_sw[..., 0]))
-    w = np.where(on_axis, 0.0, w)
-    theta2 = np.arctan2(-x_sw[..., 2], w) - np.arctan2(vy, vx)
-    c1, s1, c2, s2 = np.cos(theta1), np.sin(theta1), np.cos(theta2), np.sin(theta2)
-    # Rz(theta1) Rx(-pi/2) Rz(theta2)
-    rot = np.empty(theta4.shape + (3, 3))
-    rot[..., 0, 0] = c1 * c2
-    rot[..., 0, 1] = -c1 * s2
-    rot[..., 0, 2] = -s1
-    rot[..., 1, 0] = s1 * c2
-    rot[..., 1, 1] = -s1 * s2
-    rot[..., 1, 2] = c1
-    rot[..., 2, 0] = -s2
-    rot[..., 2, 1] = -c2
-    rot[..., 2, 2] = 0.0
-    return rot
-
-
-def elbow_rotation(theta4: np.ndarray) -> np.ndarray:
-    """``3R4 = Rz(theta4) Rx(pi/2)`` (eq. 3 with Table 1), batched."""
-    c4, s4 = np.cos(theta4), np.sin(theta4)
-    rot = np.zeros(theta4.shape + (3, 3))
-    rot[..., 0, 0] = c4
-    rot[..., 0, 2] = s4
-    rot[..., 1, 0] = s4
-    rot[..., 1, 2] = -c4
-    rot[..., 2, 1] = 1.0
-    return rot
-
-
-_S_ROWS = np.array([i for i, _ in SHOULDER_ENTRIES + SHOULDER_EXTRA])
-_S_COLS = np.array([j for _, j in SHOULDER_ENTRIES + SHOULDER_EXTRA])
-_W_ROWS = np.array([i for i, _ in WRIST_ENTRIES + WRIST_EXTRA])
-_W_COLS = np.array([j for _, j in WRIST_ENTRIES + WRIST_EXTRA])
-# order of the entries array: 5 shoulder, 5 wrist, 2 shoulder extra, 2 wrist extra
-_ORDER = np.r_[0:5, 7:12, 5:7, 12:14]
-
-
-def arm_angle_coefficients(
+def arm_angle_frame(
     geometry, position: np.ndarray, rotation: np.ndarray, elbow_sign: np.ndarray | int
-) -> ArmAngleCoefficients:
-    """Coefficients of eqs. 12 and 16 for validated targets of frame 7 in frame 0.
+) -> ArmAngleFrame:
+    """The psi-independent part of eqs. 4-11 for validated targets of frame 7 in frame 0.
+
+    ``theta_4`` from eq. 11; the reference plane ``theta_3 = 0`` (eq. 7,
+    section 3.3): ``0R3o = Rz(theta_1o) Rx(-pi/2) Rz(theta_2o)`` with
+    ``theta_1o = atan2(y_sw, x_sw)`` (0 on the joint-1 axis) and
+    ``theta_2o = atan2(-z_sw, w) - atan2(v_y, v_x)``; ``3R4 = Rz(theta_4)
+    Rx(pi/2)`` (eq. 3 with Table 1).  The three ``Rz`` are built in one pass.
 
     Parameters
     ----------
@@ -198,26 +187,97 @@ def arm_angle_coefficients(
     ValueError
         If a wrist position is out of reach (eq. 11 has no solution).
     """
+    d_se, d_ew = geometry.d_se, geometry.d_ew
     x_sw = shoulder_to_wrist(geometry, position, rotation)
-    cos4 = elbow_cosine(geometry, x_sw)
+    squared = np.einsum("...i,...i->...", x_sw, x_sw)
+    cos4 = (squared - (d_se * d_se + d_ew * d_ew)) / (2.0 * d_se * d_ew)  # eq. 11
     message = unreachable_message(geometry, x_sw, cos4)
     if message:
         raise ValueError(message)
-    theta4 = np.asarray(elbow_sign) * np.arccos(np.clip(cos4, -1.0, 1.0))  # eq. 11
-    shape = theta4.shape
-    x_sw = np.broadcast_to(x_sw, shape + (3,))
-    rotation = np.broadcast_to(rotation, shape + (3, 3))
-    u = x_sw / np.sqrt(np.einsum("...i,...i->...", x_sw, x_sw))[..., None]
-    reference = reference_rotation(geometry, x_sw, theta4)
-    elbow = elbow_rotation(theta4)
-    basis = np.eye(3)
-    # eq. 12 entry (i, j): e_i^T R_psi (R3o e_j); eq. 16 entry (i, j): (0R7 e_j)^T R_psi (R3o 3R4 e_i)
-    x = np.concatenate(
-        [np.broadcast_to(basis[_S_ROWS], shape + (7, 3)), np.swapaxes(rotation, -1, -2)[..., _W_COLS, :]], axis=-2
+    cos4 = np.minimum(np.maximum(cos4, -1.0), 1.0)
+    theta4 = np.arccos(cos4) * elbow_sign  # eq. 11
+    angles = np.empty(theta4.shape + (3,))  # theta_1o, theta_2o, theta_4
+    angles[..., 2] = theta4
+    w = np.hypot(x_sw[..., 0], x_sw[..., 1])
+    off_axis = w > AXIS_TOLERANCE * (d_se + d_ew)
+    angles[..., 0] = np.arctan2(x_sw[..., 1], x_sw[..., 0]) * off_axis
+    # (v_x, v_y) = (d_ew s4, -(d_se + d_ew c4)): the wrist in the frame of joint 2 at theta_2 = 0
+    angles[..., 1] = np.arctan2(-x_sw[..., 2], w * off_axis) - np.arctan2(-(d_se + d_ew * cos4), d_ew * np.sin(theta4))
+    rz = np.cos(angles)[..., None] * _RZ_COS + np.sin(angles)[..., None] * _RZ_SIN + _RZ_ONE
+    rz = rz.reshape(theta4.shape + (3, 3, 3))
+    return ArmAngleFrame(
+        theta4=theta4,
+        u_sw=x_sw / np.sqrt(squared)[..., None],
+        reference=rz[..., 0, :, :] @ _RX_MINUS @ rz[..., 1, :, :],
+        elbow=rz[..., 2, :, :] @ _RX_PLUS,
+        rotation=rotation,
     )
-    wrist_y = np.swapaxes(reference @ elbow, -1, -2)[..., _W_ROWS, :]
-    y = np.concatenate([np.swapaxes(reference, -1, -2)[..., _S_COLS, :], wrist_y], axis=-2)
-    entries = rodrigues_coefficients(x[..., _ORDER, :], y[..., _ORDER, :], u[..., None, :])
+
+
+def rodrigues_terms(u: np.ndarray) -> np.ndarray:
+    """``([u x], I - u u^T, u u^T)`` of eq. 6, shape ``(..., 3, 3, 3)``."""
+    terms = np.empty(u.shape[:-1] + (3, 3, 3))
+    terms[..., 0, :, :] = (u @ _SKEW).reshape(u.shape[:-1] + (3, 3))
+    np.multiply(u[..., :, None], u[..., None, :], out=terms[..., 2, :, :])
+    np.subtract(_EYE, terms[..., 2, :, :], out=terms[..., 1, :, :])
+    return terms
+
+
+def rotation_terms(frame: ArmAngleFrame, weights: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """``0R3`` (eq. 12) and ``4R7`` (eq. 16) for weights of the three Rodrigues terms.
+
+    Parameters
+    ----------
+    frame : ArmAngleFrame
+    weights : numpy.ndarray, shape (..., K, 3), optional
+        Rows ``(w_sin, w_cos, w_1)`` giving ``R = w_sin [u x] + w_cos (I - u u^T)
+        + w_1 u u^T``; ``(sin psi, cos psi, 1)`` is ``R_psi`` of eq. 6.  Default:
+        the identity, i.e. the coefficient matrices ``(A, B, C)``.
+
+    Returns
+    -------
+    shoulder, wrist : numpy.ndarray, shape (..., K, 3, 3)
+        ``R R3o`` and ``3R4^T (R R3o)^T 0R7``.
+    """
+    terms = rodrigues_terms(frame.u_sw)
+    if weights is not None:
+        flat = weights @ terms.reshape(terms.shape[:-3] + (3, 9))
+        terms = flat.reshape(flat.shape[:-1] + (3, 3))
+    shoulder = terms @ frame.reference[..., None, :, :]  # eq. 12
+    wrist = np.swapaxes(frame.elbow, -1, -2)[..., None, :, :] @ np.swapaxes(shoulder, -1, -2)
+    wrist = wrist @ frame.rotation[..., None, :, :]  # eq. 16
+    return shoulder, wrist
+
+
+def entries_of(shoulder: np.ndarray, wrist: np.ndarray) -> np.ndarray:
+    """The signed entries of :data:`ENTRY_LAYOUT` from ``0R3`` and ``4R7`` stacks ``(..., 3, 3)`` -> ``(..., 14)``."""
+    flat_shoulder = shoulder.reshape(shoulder.shape[:-2] + (9,))
+    flat_wrist = wrist.reshape(wrist.shape[:-2] + (9,))
+    return flat_shoulder @ _SELECT[:9] + flat_wrist @ _SELECT[9:]
+
+
+def entries_at(frame: ArmAngleFrame, psi: np.ndarray) -> np.ndarray:
+    """The entries of :data:`ENTRY_LAYOUT` at arm angles ``psi`` (broadcast against the batch), ``(..., 14)``."""
+    psi = np.asarray(psi, dtype=float)
+    weights = np.stack([np.sin(psi), np.cos(psi), np.ones_like(psi)], axis=-1)[..., None, :]
+    shoulder, wrist = rotation_terms(frame, weights)
+    return entries_of(shoulder, wrist)[..., 0, :]
+
+
+def arm_angle_coefficients(
+    geometry, position: np.ndarray, rotation: np.ndarray, elbow_sign: np.ndarray | int
+) -> ArmAngleCoefficients:
+    """Coefficients of eqs. 12 and 16 for validated targets of frame 7 in frame 0.
+
+    See :func:`arm_angle_frame` for the parameters.
+
+    Raises
+    ------
+    ValueError
+        If a wrist position is out of reach (eq. 11 has no solution).
+    """
+    frame = arm_angle_frame(geometry, position, rotation, elbow_sign)
+    shoulder, wrist = rotation_terms(frame)
     return ArmAngleCoefficients(
-        theta4=theta4, entries=entries, u_sw=u, reference=reference, elbow=elbow, rotation=rotation
+        **vars(frame), shoulder=shoulder, wrist=wrist, entries=entries_of(shoulder, wrist)
     )

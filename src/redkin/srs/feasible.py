@@ -6,7 +6,7 @@ and the feasible set is ``Psi = intersection of the Psi_i`` (eq. 30).
 
 Closed form, never missing a narrow arc: every arm angle where
 ``theta_i(psi)`` equals a limit solves a linear equation in
-``(sin psi, cos psi)`` (:func:`redkin.srs.joints.limit_equation`, derived
+``(sin psi, cos psi)`` (:func:`redkin.srs.joints.limit_equation_table`, derived
 from eqs. 21 and 22), which has at most two roots in closed form
 (:func:`redkin.srs.joints.sinusoid_roots`).  Between consecutive roots
 ``theta_i`` stays on one side of each limit (it is continuous there: its
@@ -33,7 +33,7 @@ from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
-from redkin.srs.joints import PSI_JOINTS, entry_values, limit_equations, psi_joint_angles, sinusoid_roots
+from redkin.srs.joints import PSI_JOINTS, entry_values, psi_joint_angles, sinusoid_roots
 
 TWO_PI = 2.0 * np.pi
 #: Slack (radians) when a joint value is compared with its limits at the middle of a piece.
@@ -77,7 +77,7 @@ class FeasiblePieces:
     Piece ``j`` of a pose runs from ``start[..., j]`` to ``end[..., j]``
     (``end`` may exceed ``pi``: the piece then wraps); ``feasible[..., j]``
     says whether it satisfies the limits.  Unused slots have ``feasible``
-    false and NaN ends.
+    false and a NaN start.
     """
 
     start: np.ndarray
@@ -96,21 +96,9 @@ class FeasiblePieces:
         return np.any(self.feasible & (self.end - self.start > PIECE_TOLERANCE), axis=-1)
 
 
-def psi_joint_limits(geometry: SRSGeometry) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Lower and upper DH-angle limits of joints 1, 2, 3, 5, 6, 7 and which of them are limited."""
-    columns = [j - 1 for j in PSI_JOINTS]
-    return (
-        geometry.theta_lower[columns],
-        geometry.theta_upper[columns],
-        geometry.theta_limited[columns],
-    )
-
-
-def within(theta: np.ndarray, lower: np.ndarray, upper: np.ndarray, limited: np.ndarray) -> np.ndarray:
-    """``lower <= theta <= upper`` modulo 2 pi (limits crossing +-pi work); unlimited joints pass."""
-    width = np.where(limited, upper - lower, 0.0)
-    base = np.where(limited, lower, 0.0)
-    shifted = np.mod(theta - base + MEMBERSHIP_TOLERANCE, TWO_PI)
+def within(theta: np.ndarray, lower, width, limited) -> np.ndarray:
+    """``lower <= theta <= lower + width`` modulo 2 pi (limits crossing +-pi work); unlimited joints pass."""
+    shifted = np.mod(theta - lower + MEMBERSHIP_TOLERANCE, TWO_PI)
     return (shifted <= width + 2.0 * MEMBERSHIP_TOLERANCE) | ~limited
 
 
@@ -118,55 +106,51 @@ def cut_points(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.
     """Every arm angle where a joint reaches a limit, shape ``(..., 6, 4)`` (NaN: none).
 
     Row ``k`` holds the roots for joint ``PSI_JOINTS[k]``: two for its lower
-    and two for its upper limit (eqs. 21, 22 set equal to the limit).
-    Unlimited joints have none.
+    and two for its upper limit (eqs. 21, 22 set equal to the limit; all
+    twelve equations in one matrix product).  Unlimited joints have none.
     """
-    lower, upper, limited = psi_joint_limits(geometry)
-    finite_lower = np.where(limited, lower, 0.0)
-    finite_upper = np.where(limited, upper, 0.0)
-    roots = sinusoid_roots(limit_equations(coefficients.entries, finite_lower, finite_upper))  # (..., 6, 2, 2)
-    roots = roots.reshape(roots.shape[:-2] + (4,))
-    return np.where(limited[:, None], roots, np.nan)
+    limits = geometry.psi_joint_limits
+    equations = coefficients.entries @ limits.weights + limits.offset  # (..., 3, 12): rows p, q, r
+    roots = sinusoid_roots(equations[..., 0, :], equations[..., 1, :], equations[..., 2, :])  # (..., 12, 2)
+    return roots.reshape(roots.shape[:-2] + (6, 4))
 
 
 def _pieces(cuts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Sorted cuts ``(..., M)`` (NaN last) -> piece starts and ends; a pose without cuts gets one whole-circle piece."""
-    cuts = np.sort(cuts, axis=-1)
-    valid = ~np.isnan(cuts)
-    count = valid.sum(axis=-1, keepdims=True)
-    first = np.where(count > 0, cuts[..., :1], -np.pi)
-    following = np.concatenate([cuts[..., 1:], np.full(cuts.shape[:-1] + (1,), np.nan)], axis=-1)
-    index = np.arange(cuts.shape[-1])
-    is_last = index == count - 1
-    end = np.where(is_last, first + TWO_PI, following)
-    start = np.where(valid, cuts, np.nan)
-    no_cut = (count == 0) & (index == 0)
-    start = np.where(no_cut, -np.pi, start)
-    end = np.where(no_cut, np.pi, end)
-    return start, end
+    """Cuts ``(..., M)`` (NaN: none) -> starts and ends of the pieces between consecutive cuts.
+
+    The last piece of a pose wraps to its first cut plus ``2 pi``; a pose
+    without cuts gets one whole-circle piece ``[-pi, pi]``.  Unused slots
+    have a NaN start.
+    """
+    cuts = np.sort(cuts, axis=-1)  # NaN last
+    cuts[..., 0] = np.where(np.isnan(cuts[..., 0]), -np.pi, cuts[..., 0])
+    wrap = cuts[..., :1] + TWO_PI
+    # the next cut, or the wrapped first one after the last (fmin skips the NaN of unused slots)
+    end = np.fmin(np.concatenate([cuts[..., 1:], wrap], axis=-1), wrap)
+    return cuts, end
 
 
 def _classify(
     coefficients: ArmAngleCoefficients, branch: Branch, start: np.ndarray, end: np.ndarray, geometry: SRSGeometry
 ) -> np.ndarray:
-    """Joint values at each piece's middle ``(..., M, 6)`` and whether each joint is within its limits."""
-    lower, upper, limited = psi_joint_limits(geometry)
-    middle = np.where(np.isnan(start), 0.0, 0.5 * (start + end))
-    values = entry_values(coefficients.entries[..., None, :, :], middle)
-    theta = psi_joint_angles(values, branch.shoulder, branch.wrist)
-    return within(theta, lower, upper, limited)
+    """Whether each joint is within its limits at each piece's middle, ``(..., M, 6)``."""
+    limits = geometry.psi_joint_limits
+    values = entry_values(coefficients.entries[..., None, :, :], 0.5 * (start + end))
+    theta = psi_joint_angles(values, (branch.shoulder, branch.wrist))
+    return within(theta, limits.lower, limits.width, limits.limited)
 
 
 def elbow_within(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
     """Whether theta_4 (independent of psi) is within its limits, batched."""
-    return within(coefficients.theta4, geometry.theta_lower[3], geometry.theta_upper[3], geometry.theta_limited[3])
+    limits = geometry.psi_joint_limits
+    return within(coefficients.theta4, limits.elbow_lower, limits.elbow_width, limits.elbow_limited)
 
 
 def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
     """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once."""
     cuts = cut_points(coefficients, geometry)
-    start, end = _pieces(cuts.reshape(cuts.shape[:-2] + (-1,)))
-    ok = np.all(_classify(coefficients, branch, start, end, geometry), axis=-1)
+    start, end = _pieces(cuts.reshape(cuts.shape[:-2] + (24,)))
+    ok = _classify(coefficients, branch, start, end, geometry).all(axis=-1)
     ok &= ~np.isnan(start) & elbow_within(coefficients, geometry)[..., None]
     return FeasiblePieces(start, end, ok)
 

@@ -12,10 +12,13 @@ pose of frame 7 in frame 0, and converts at the edge.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.srs.joints import PSI_JOINTS, limit_equation_table
 from redkin.validation import check_pose, check_rotation, check_vectors
 
 HALF_PI = np.pi / 2.0
@@ -24,6 +27,31 @@ TWO_PI = 2.0 * np.pi
 TABLE1_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
 #: Tolerance on the DH parameters when recognising the Table 1 form.
 GEOMETRY_TOLERANCE = 1e-9
+
+
+class PsiJointLimits(NamedTuple):
+    """Limits of the psi-dependent joints 1, 2, 3, 5, 6, 7, prepared once per arm.
+
+    Attributes
+    ----------
+    lower, width : numpy.ndarray, shape (6,)
+        Lower DH limit and range width (0 for an unlimited joint).
+    limited : numpy.ndarray of bool, shape (6,)
+    weights, offset : numpy.ndarray
+        The limit equations (see :func:`redkin.srs.joints.limit_equation_table`).
+    elbow_lower, elbow_width : float
+        Lower DH limit and range width of joint 4 (0 when unlimited).
+    elbow_limited : numpy.bool_
+    """
+
+    lower: np.ndarray
+    width: np.ndarray
+    limited: np.ndarray
+    weights: np.ndarray
+    offset: np.ndarray
+    elbow_lower: float
+    elbow_width: float
+    elbow_limited: np.bool_
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,6 +84,23 @@ class SRSGeometry:
     def theta_limited(self) -> np.ndarray:
         """Which joints have a range narrower than ``2 pi``."""
         return self.theta_upper - self.theta_lower < TWO_PI
+
+    @cached_property
+    def psi_joint_limits(self) -> PsiJointLimits:
+        """The limits of joints 1, 2, 3, 5, 6, 7 with their limit equations (computed once)."""
+        columns = [j - 1 for j in PSI_JOINTS]
+        limited = self.theta_limited[columns]
+        lower = np.where(limited, self.theta_lower[columns], 0.0)
+        upper = np.where(limited, self.theta_upper[columns], 0.0)
+        weights, offset = limit_equation_table(lower, upper, limited)
+        for array in (lower, limited):
+            array.setflags(write=False)
+        width = upper - lower
+        width.setflags(write=False)
+        elbow_limited = np.bool_(self.theta_limited[3])
+        elbow_lower = float(self.theta_lower[3]) if elbow_limited else 0.0
+        elbow_width = float(self.theta_upper[3]) - elbow_lower if elbow_limited else 0.0
+        return PsiJointLimits(lower, width, limited, weights, offset, elbow_lower, elbow_width, elbow_limited)
 
     def theta_of_q(self, q: np.ndarray) -> np.ndarray:
         """DH angles ``theta = offset + sign * q``."""

@@ -12,9 +12,13 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
-from redkin.srs.coefficients import ArmAngleCoefficients, arm_angle_coefficients
+from redkin.srs.coefficients import ArmAngleCoefficients, arm_angle_coefficients, arm_angle_frame, entries_at
 from redkin.srs.geometry import SRSGeometry, as_pose, srs_geometry
 from redkin.srs.joints import apply_branch_signs, assemble_theta, entry_values, positive_branch_angles, psi_joint_angles
+
+# (sigma_2, sigma_6) of the branches indexed (i2, i4, i6) as in BRANCHES (s2 slowest), elbow axis left free
+_SHOULDER_WRIST_SIGNS = np.array([[b.shoulder, b.wrist] for b in BRANCHES]).reshape(2, 2, 2, 2)[:, :1]
+_ELBOW_SIGNS = np.array([1, -1])
 from redkin.validation import as_float_array, check_finite
 
 
@@ -48,7 +52,7 @@ def coefficients_for(
 def theta_at(coefficients: ArmAngleCoefficients, psi: np.ndarray, branch: Branch) -> np.ndarray:
     """The 7 DH angles at arm angles ``psi`` for one branch (eqs. 11, 13-15, 17-19)."""
     values = entry_values(coefficients.entries, psi)
-    psi_joints = psi_joint_angles(values, branch.shoulder, branch.wrist)
+    psi_joints = psi_joint_angles(values, (branch.shoulder, branch.wrist))
     return assemble_theta(coefficients.theta4, psi_joints)
 
 
@@ -86,28 +90,25 @@ def ik(
     geometry = as_geometry(arm)
     chosen = parse_branch(branch)
     psi = check_psi(psi)
-    coefficients = coefficients_for(geometry, pose, chosen.elbow)
-    return geometry.to_chain_q(theta_at(coefficients, psi, chosen))
+    position, rotation = prepare_targets(geometry, pose)
+    frame = arm_angle_frame(geometry, position, rotation, chosen.elbow)
+    psi_joints = psi_joint_angles(entries_at(frame, psi), (chosen.shoulder, chosen.wrist))
+    return geometry.to_chain_q(assemble_theta(frame.theta4, psi_joints))
 
 
 def ik_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike, psi: ArrayLike) -> np.ndarray:
     """Joint values of all eight branches, shape ``(..., 8, 7)`` in the order of :data:`BRANCHES`.
 
     ``psi`` broadcasts against the batch shape of ``pose``.  See :func:`ik`.
+    Both elbow signs share the shoulder-wrist geometry; each gives the
+    ``sigma_2 = sigma_6 = +1`` angles once, and the other three branches of
+    that elbow sign follow by :func:`redkin.srs.joints.apply_branch_signs`.
     """
     geometry = as_geometry(arm)
     psi = check_psi(psi)
-    pose = as_pose(pose)
-    elbow = np.array([1, -1])
-    coefficients = coefficients_for(geometry, pose[..., None, :, :], elbow)  # (..., 2)
-    values = entry_values(coefficients.entries, np.asarray(psi)[..., None])  # (..., 2, 10)
-    positive = positive_branch_angles(values)[..., None, :, None, :]  # (..., 1, 2, 1, 6)
-    signs = np.array(BRANCHES)
-    # BRANCHES order is (s2, s4, s6) with s2 slowest: index = 4*i2 + 2*i4 + i6
-    shoulder = signs[:, 0].reshape(2, 2, 2)  # indexed (i2, i4, i6)
-    wrist = signs[:, 2].reshape(2, 2, 2)
-    psi_joints = apply_branch_signs(positive, shoulder, wrist)  # (..., 2, 2, 2, 6)
-    theta4 = coefficients.theta4[..., None, :, None]
-    theta = assemble_theta(theta4, psi_joints)
-    theta = theta.reshape(theta.shape[:-4] + (8, 7))
-    return geometry.to_chain_q(theta)
+    position, rotation = prepare_targets(geometry, pose)
+    frame = arm_angle_frame(geometry, position[..., None, :], rotation[..., None, :, :], _ELBOW_SIGNS)  # (..., 2)
+    positive = positive_branch_angles(entries_at(frame, psi[..., None]))  # (..., 2, 6) over the elbow sign
+    psi_joints = apply_branch_signs(positive[..., None, :, None, :], _SHOULDER_WRIST_SIGNS)  # (..., 2, 2, 2, 6)
+    theta = assemble_theta(frame.theta4[..., None, :, None], psi_joints)
+    return geometry.to_chain_q(theta.reshape(theta.shape[:-4] + (8, 7)))

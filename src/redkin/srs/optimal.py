@@ -10,9 +10,8 @@ Because ``f`` decreases monotonically with the circular distance from its
 maximiser, the best feasible arm angle is the feasible point nearest to it
 (section 5.2.2, Fig. 5).
 
-The traces are again bilinear forms (see :mod:`redkin.srs.coefficients`):
-``trace(0R3 0R3d^T) = sum_j (0R3d e_j)^T R_psi (R3o e_j)`` and
-``trace(4R7 4R7d^T) = sum_i (0R7 4R7d^T e_i)^T R_psi (R3o 3R4 e_i)``.
+The traces are linear in the coefficient matrices of eqs. 12 and 16 (see
+:mod:`redkin.srs.coefficients`): ``a_s = sum_ij A_s[i, j] 0R3d[i, j]`` etc.
 """
 
 from __future__ import annotations
@@ -25,7 +24,7 @@ from numpy.typing import ArrayLike
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
 from redkin.srs.branches import Branch, parse_branch
-from redkin.srs.coefficients import ArmAngleCoefficients, rodrigues_coefficients
+from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.feasible import feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
@@ -73,15 +72,8 @@ def default_target(geometry: SRSGeometry) -> np.ndarray:
 
 def objective_coefficients(coefficients: ArmAngleCoefficients, theta_target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(a_s, b_s, c_s)`` (eq. 36) and ``(a_w, b_w, c_w)`` (eq. 38), each of shape ``(..., 3)``."""
-    shoulder_target = shoulder_rotation(theta_target)
-    wrist_target = wrist_rotation(theta_target)
-    u = coefficients.u_sw[..., None, :]
-    x_s = np.swapaxes(np.broadcast_to(shoulder_target, coefficients.reference.shape), -1, -2)
-    y_s = np.swapaxes(coefficients.reference, -1, -2)
-    shoulder = rodrigues_coefficients(x_s, y_s, u).sum(axis=-2)
-    x_w = np.swapaxes(coefficients.rotation @ np.swapaxes(wrist_target, -1, -2), -1, -2)
-    y_w = np.swapaxes(coefficients.reference @ coefficients.elbow, -1, -2)
-    wrist = rodrigues_coefficients(x_w, y_w, u).sum(axis=-2)
+    shoulder = np.einsum("...kij,...ij->...k", coefficients.shoulder, shoulder_rotation(theta_target))  # eq. 36
+    wrist = np.einsum("...kij,...ij->...k", coefficients.wrist, wrist_rotation(theta_target))  # eq. 38
     return shoulder, wrist
 
 

@@ -69,8 +69,8 @@ def _singular_angle(a: float, b: float, constant: float, tolerance: float) -> tu
 
 def singular_from_coefficients(coefficients: ArmAngleCoefficients, tolerance: float = SINGULAR_TOLERANCE) -> SingularArmAngles:
     """Eqs. 31-34 from precomputed coefficients of one pose."""
-    shoulder = tuple(float(v) for v in coefficients.entries[2])  # 0R3[2,1] = -cos theta_2
-    wrist = tuple(float(v) for v in coefficients.entries[7])  # 4R7[2,2] = cos theta_6
+    shoulder = tuple(float(v) for v in coefficients.shoulder[:, 2, 1])  # 0R3[2,1] = -cos theta_2
+    wrist = tuple(float(v) for v in coefficients.wrist[:, 2, 2])  # 4R7[2,2] = cos theta_6
     s_angles, s_all, s_res = _singular_angle(shoulder[0], shoulder[1], shoulder[2] + 1.0, tolerance)  # eqs. 31, 32
     w_angles, w_all, w_res = _singular_angle(wrist[0], wrist[1], wrist[2] - 1.0, tolerance)  # eqs. 33, 34
     return SingularArmAngles(
