@@ -8,6 +8,7 @@ import numpy as np
 from matplotlib.patches import Circle
 
 from redkin.chain import SerialChain
+from redkin.plot.arm import draw_arm_3d, set_equal_3d
 
 
 def strobe_indices(count: int, frames: int) -> np.ndarray:
@@ -83,3 +84,41 @@ def draw_joint_history(ax, s: np.ndarray, theta: np.ndarray, lower: np.ndarray, 
     ax.set_ylabel("joint angle [deg]")
     ax.legend(fontsize=7)
     ax.grid(True, linewidth=0.3)
+
+
+def draw_strobe_3d(ax, chain: SerialChain, theta: np.ndarray, goal: np.ndarray, obstacles: Sequence = (),
+                   watched: np.ndarray | None = None, frames: int = 8, title: str | None = None) -> None:
+    """Draw a spatial arm at ``frames`` instants of a run, its end goal, spheres and a watched point's path.
+
+    Parameters
+    ----------
+    ax : matplotlib 3-D axes
+    chain : SerialChain
+    theta : numpy.ndarray, shape (K, m)
+    goal : numpy.ndarray, shape (3,)
+    obstacles : sequence of Obstacle
+        Spheres drawn as wireframes.
+    watched : numpy.ndarray, shape (K, 3), optional
+        Path of a virtual end point (e.g. the elbow), drawn dashed.
+    """
+    picks = strobe_indices(len(theta), frames)
+    shades = np.linspace(0.25, 1.0, len(picks))
+    for shade, q in zip(shades, theta[picks]):
+        draw_arm_3d(ax, chain, q, color="C0", alpha=float(shade))
+    path = chain.frames(theta)[:, -1, :3, 3]
+    ax.plot(path[:, 0], path[:, 1], path[:, 2], ":", color="C3", label="end-point path")
+    if watched is not None:
+        ax.plot(watched[:, 0], watched[:, 1], watched[:, 2], "--", color="C2", label="elbow path")
+    ax.scatter(*goal, marker="*", s=120, color="C3", label="end goal")
+    u, v = np.meshgrid(np.linspace(0.0, 2.0 * np.pi, 24), np.linspace(0.0, np.pi, 12))
+    sphere = np.stack([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)], axis=-1)
+    for obstacle in obstacles:
+        surface = obstacle.centre + obstacle.radius * sphere
+        ax.plot_wireframe(surface[..., 0], surface[..., 1], surface[..., 2], color="0.4", linewidth=0.4)
+    set_equal_3d(ax, np.vstack([chain.frames(theta[picks])[..., :3, 3].reshape(-1, 3), goal[None]]))
+    ax.set_box_aspect((1.0, 1.0, 1.0))
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    if title:
+        ax.set_title(title, fontsize=9)
