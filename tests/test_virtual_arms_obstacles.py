@@ -152,12 +152,9 @@ coordinate = st.floats(-1.0, 1.0, allow_nan=False)
 
 
 @settings(deadline=None, max_examples=60)
-@given(st.lists(coordinate, min_size=6, max_size=6), st.floats(0.01, 0.5), st.sampled_from([2, 3]))
+@given(st.lists(coordinate, min_size=9, max_size=9), st.floats(0.01, 0.5), st.sampled_from([2, 3]))
 def test_virtual_arms_segment_clearance_equals_dense_sampling(values, radius, dims):
-    values = np.array(values)
-    start, end, centre = values[:dims], values[dims: 2 * dims] if dims == 2 else values[3:6], values[:dims] * 0.5
-    if dims == 3:
-        centre = np.array([values[1], values[5], values[0]])
+    start, end, centre = (np.array(values[3 * k: 3 * k + dims]) for k in range(3))
     obstacle = Obstacle(centre, radius)
     t = np.linspace(0.0, 1.0, 20001)[:, None]
     sampled = obstacle.clearance(start + t * (end - start)).min()
