@@ -227,10 +227,6 @@ class SerialChain:
             out[:, 1, 3], out[:, 2, 3] = -sa * self.d, ca * self.d
         return out
 
-    def _axis_frames(self, stack: np.ndarray) -> np.ndarray:
-        """The frames whose z axis is each joint's axis: ``(N, n, 4, 4)``."""
-        return stack[:, :-1] if self._joints_first else stack[:, 1:]
-
     # ------------------------------------------------------------- public API
     def fk(self, q: ArrayLike) -> np.ndarray:
         """End pose ``base @ A_1(q_1) ... A_n(q_n) @ tool``.
@@ -282,10 +278,22 @@ class SerialChain:
             Unit axis direction of each joint (for ``sign = -1`` the joint turns
             about the negative direction) and a point on the axis.
         """
-        q = self.check_q(q)
-        lead = q.shape[:-1]
-        axis_frames = self._axis_frames(self._frame_stack(q.reshape(-1, self.n)))
-        return axis_frames[..., :3, 2].reshape(lead + (self.n, 3)), axis_frames[..., :3, 3].reshape(lead + (self.n, 3))
+        return self.joint_axes_in(self.frames(q))
+
+    def joint_axes_in(self, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The joint axes (as :meth:`joint_axes`) read from frames already computed by :meth:`frames`.
+
+        Parameters
+        ----------
+        frames : numpy.ndarray, shape (..., n + 2, 4, 4)
+            (or ``(..., n + 1, 4, 4)`` without the tool frame).
+
+        Returns
+        -------
+        directions, points : numpy.ndarray, shape (..., n, 3)
+        """
+        axis_frames = frames[..., : self.n, :, :] if self._joints_first else frames[..., 1 : self.n + 1, :, :]
+        return axis_frames[..., :3, 2], axis_frames[..., :3, 3]
 
     def jacobian(
         self,
@@ -325,9 +333,9 @@ class SerialChain:
             local = check_vectors(offset, 3, "offset")
             local = np.broadcast_to(local, lead + (3,)).reshape(-1, 3)
             point = point + np.einsum("nij,nj->ni", target[:, :3, :3], local)
-        axis_frames = self._axis_frames(stack)
-        directions = axis_frames[:, :, :3, 2] * self.sign[:, None]  # (N, n, 3)
-        lever = point[:, None, :] - axis_frames[:, :, :3, 3]
+        directions, origins = self.joint_axes_in(stack)
+        directions = directions * self.sign[:, None]  # (N, n, 3)
+        lever = point[:, None, :] - origins
         jac = np.empty((stack.shape[0], 6, self.n))
         for row, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):  # directions x lever
             jac[:, row] = directions[..., i] * lever[..., j] - directions[..., j] * lever[..., i]

@@ -82,17 +82,17 @@ class AnalyticModel:
         positions : numpy.ndarray, shape (..., p, l)
         jacobians : numpy.ndarray, shape (..., p, l, m)
         """
-        theta = self.chain.check_q(theta, "theta")
-        frames = self.chain.frames(theta)  # (..., n + 2, 4, 4)
+        frames = self.chain.frames(theta)  # (..., n + 2, 4, 4); validates theta
         chosen = frames[..., self._frames, :, :]
-        world = chosen[..., :3, 3] + np.einsum("...pij,pj->...pi", chosen[..., :3, :3], self._local)
-        directions, origins = self.chain.joint_axes(theta)  # (..., m, 3)
+        world = chosen[..., :3, 3] + (chosen[..., :3, :3] @ self._local[..., None])[..., 0]
+        directions, origins = self.chain.joint_axes_in(frames)  # (..., m, 3)
         directions = directions * self.chain.sign[:, None]
         lever = world[..., :, None, :] - origins[..., None, :, :]  # (..., p, m, 3)
-        linear = np.cross(np.broadcast_to(directions[..., None, :, :], lever.shape), lever)
-        linear = linear * self._moved_by[..., None]
-        axes = list(self.axes)
-        return world[..., axes], np.swapaxes(linear, -1, -2)[..., axes, :]
+        turning = directions[..., None, :, :]
+        # rows of the task space only: (directions x lever)[c] for c in self.axes
+        linear = np.stack([turning[..., (c + 1) % 3] * lever[..., (c + 2) % 3]
+                           - turning[..., (c + 2) % 3] * lever[..., (c + 1) % 3] for c in self.axes], axis=-2)
+        return world[..., list(self.axes)], linear * self._moved_by[:, None, :]
 
     def split(self) -> list["AnalyticModel"]:
         """One single-point model per virtual end point (the subsystems' own models)."""

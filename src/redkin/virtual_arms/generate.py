@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from bisect import bisect_right
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
@@ -94,6 +95,27 @@ def _weights(weights: ArrayLike | None, count: int, dims: int) -> np.ndarray:
     return w
 
 
+def settled(record: Sequence[tuple[float, State]], posture_tol: float) -> float | None:
+    """Joint motion over the last doubling of ``lambda`` if it is at most ``posture_tol``, else ``None``.
+
+    Late in a run ``theta`` follows the minimiser ``theta_lambda`` of ``V`` at
+    fixed ``lambda`` (eq. 14), and ``theta_lambda = theta* + c / lambda +
+    O(1 / lambda^2)`` (a penalty path).  Over a doubling of ``lambda`` the
+    joints therefore move by about ``|theta_lambda - theta*|``: when that
+    motion is below ``posture_tol`` the remaining motion to the equilibrium
+    is too.  ``record`` holds ``(s, state)`` pairs in the order of the run;
+    ``lambda`` never decreases along it (eq. 11), so the search bisects.
+    """
+    if posture_tol <= 0.0 or len(record) < 2:
+        return None
+    latest = record[-1][1]
+    half = bisect_right(record, 0.5 * float(latest.lam), key=lambda item: float(item[1].lam))
+    if half == 0:
+        return None
+    motion = float(np.linalg.norm(latest.theta - record[half - 1][1].theta))
+    return motion if motion <= posture_tol else None
+
+
 def generate_trajectory(
     model: ForwardModel,
     theta0: ArrayLike,
@@ -108,11 +130,12 @@ def generate_trajectory(
     eta: float = 1.0,
     lambda0: float = 1.0,
     gradient_tol: float = 1e-6,
-    s_max: float = 1.0e9,
+    posture_tol: float = 1e-6,
+    s_max: float = 1.0e15,
     max_steps: int = 5000,
     min_step: float = 1e-9,
-    rtol: float = 1e-6,
-    atol: float = 1e-9,
+    rtol: float = 1e-5,
+    atol: float = 1e-8,
     method: str = "Radau",
 ) -> TrajectoryResult:
     """Integrate the trajectory-generation dynamics (eqs. 9-13) from ``theta0`` until equilibrium.
@@ -142,7 +165,13 @@ def generate_trajectory(
     eta, lambda0 : float
         Time constant of eqs. 9 and 11, and ``lambda(0) > 0``.
     gradient_tol : float
-        Converged when ``|G' delta|`` over the free joints is at most this.
+        Converged when ``|G' delta|`` over the free joints is at most this
+        (the goals are met, or the errors are stationary to that accuracy).
+    posture_tol : float
+        Also converged when the joint vector moved at most this (radians, 2-norm)
+        while ``lambda`` doubled: see :func:`settled`.  This ends over-constrained
+        runs, whose errors cannot vanish and whose ``lambda`` grows only like
+        ``sqrt(s)``; ``0`` turns it off.
     s_max, max_steps : float, int
         Give up (status ``"max_time"``/``"max_steps"``) after this time or these steps.
     min_step : float
@@ -170,6 +199,8 @@ def generate_trajectory(
     weight = _weights(weights, p, dims)
     for name, value in (("eta", eta), ("lambda0", lambda0), ("gradient_tol", gradient_tol), ("s_max", s_max)):
         check_positive(value, name)
+    if not np.isfinite(posture_tol) or posture_tol < 0:
+        raise ValueError(f"posture_tol must be finite and >= 0, got {posture_tol!r}")
     output = OutputFunction.identity(m) if output is None else output
     free = np.ones(m, dtype=bool)
     for j in fixed:
@@ -214,6 +245,11 @@ def generate_trajectory(
             record.append((s, current))
             if current.free_gradient <= gradient_tol:
                 status, message, done = "converged", f"|G' delta| = {current.free_gradient:.3g} at s = {s:.6g}", True
+                break
+            motion = settled(record, posture_tol)
+            if motion is not None:
+                status, done = "converged", True
+                message = f"settled: joints moved {motion:.3g} rad while lambda doubled (s = {s:.6g})"
                 break
             tiny = solver.step_size is not None and solver.step_size < min_step * max(1.0, s)
             tiny_steps = tiny_steps + 1 if tiny else 0
