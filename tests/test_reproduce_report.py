@@ -15,6 +15,10 @@ def test_comparison_verdicts():
     assert differs.agrees is False and "DIFFERS" in differs.verdict() and "misprint" in differs.verdict()
     assert Comparison("x", None, 2.0).agrees is None
     assert "no value" in Comparison("x", None, 2.0).verdict()
+    assert Comparison("x", "yes", "yes").agrees and Comparison("x", "yes", "yes").verdict() == "agrees"
+    words = Comparison("x", "yes", "no, 3 mm short", note="weights")
+    assert words.agrees is False and words.verdict() == "DIFFERS; weights"
+    assert Comparison("x", "yes", 2.0).agrees is None
 
 
 def test_models_section_writes_page_and_summary(tmp_path):

@@ -47,7 +47,9 @@ class Comparison:
 
     @property
     def agrees(self) -> bool | None:
-        """True/False for two numbers, None when either side is not a number."""
+        """True/False for two numbers or two words (equal words agree), None otherwise."""
+        if isinstance(self.paper, str) and isinstance(self.ours, str):
+            return self.paper == self.ours
         if not (_is_number(self.paper) and _is_number(self.ours)):
             return None
         return abs(float(self.paper) - float(self.ours)) <= self.tolerance + 1e-12
@@ -59,6 +61,8 @@ class Comparison:
             base = "not comparable as numbers" if self.paper is not None else "paper prints no value"
         elif agrees:
             base = "agrees" if self.tolerance == 0 else f"agrees (within {self.tolerance:g})"
+        elif isinstance(self.ours, str):
+            base = "DIFFERS"
         else:
             base = f"DIFFERS by {float(self.ours) - float(self.paper):+.6g}"
         return f"{base}; {self.note}" if self.note else base
