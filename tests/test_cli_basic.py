@@ -83,3 +83,19 @@ def test_malformed_robot_file_from_cli(tmp_path, capsys):
 def test_console_script_runs():
     result = subprocess.run([sys.executable, "-m", "redkin.cli.main", "fk", "pa10-7c", "0"], capture_output=True, text=True)
     assert result.returncode == 2 and "Traceback" not in result.stderr
+
+
+def test_cli_closed_pipe_ends_quietly():
+    # `redkin track ... --json | head`: the reader closes the pipe long before the output ends
+    import subprocess
+    import sys
+
+    command = [sys.executable, "-m", "redkin.cli.main", "track", "barrett-wam", "--q0", "30", "20", "50", "70", "40",
+               "100", "0", "--deg", "--twist", "0.15", "0", "0", "0", "0", "0", "--duration", "2", "--method", "pinv",
+               "--json"]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert process.stdout.read(10)
+    process.stdout.close()
+    error = process.stderr.read().decode()
+    assert process.wait(timeout=120) == 1
+    assert "Traceback" not in error and error == ""
