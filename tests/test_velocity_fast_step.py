@@ -7,24 +7,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.models import barrett_wam
 from redkin.velocity import (
     SingleJacobian,
     SingularityConsistent,
-    WamFactorisation,
     lean_singularity_consistent,
     singularity_consistent,
 )
-
-WAM = barrett_wam()
-FACTOR = WamFactorisation.from_chain(WAM)
-EPS = 0.1
-# q4 where D_e = a (d3 + d5) cos q4 + (a^2 - d3 d5) sin q4 vanishes
-Q4_ZERO = float(np.arctan2(-FACTOR.a * (FACTOR.d3 + FACTOR.d5), FACTOR.a**2 - FACTOR.d3 * FACTOR.d5))
-
-angles = st.floats(-np.pi, np.pi)
-configurations = st.lists(angles, min_size=7, max_size=7).map(np.array)
-twists = st.lists(st.floats(-1.0, 1.0), min_size=6, max_size=6).map(np.array)
+from velocity_wam_checks import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
 
 
 def both(q, twist, direction=1.0, self_motion=0.0, modify_rotation=True):
@@ -35,17 +24,6 @@ def both(q, twist, direction=1.0, self_motion=0.0, modify_rotation=True):
         jac, twist, index, lambda: FACTOR.factors(q), EPS, direction, self_motion, modify_rotation
     )
     return exact, lean
-
-
-def assert_same(exact, lean):
-    scale = max(1.0, float(np.max(np.abs(exact.joint_velocity))))
-    np.testing.assert_allclose(lean.joint_velocity, exact.joint_velocity, rtol=0, atol=1e-10 * scale)
-    np.testing.assert_allclose(lean.target_twist, exact.target_twist, rtol=0, atol=1e-12)
-
-
-def well_conditioned(q):
-    """Away from the shoulder/wrist singularities (D_s small), where both paths lose digits alike."""
-    return abs(np.sin(q[1])) > 0.05 and abs(np.sin(q[5])) > 0.05
 
 
 @settings(deadline=None, max_examples=60)

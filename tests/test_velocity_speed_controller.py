@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.models import barrett_wam, kuka_iiwa14, planar_arm
+from redkin.models import kuka_iiwa14, planar_arm
 from redkin.velocity import (
     ElbowSine,
     NumericalFactorisation,
@@ -24,33 +24,15 @@ from redkin.velocity import (
 )
 from redkin.velocity.blend import scalar_rotation_factor, scalar_twist_scale
 from redkin.velocity.proposed import adjugate_factor_sum, cramer_factor_sum
+from velocity_wam_checks import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
 
-WAM = barrett_wam()
-FACTOR = WamFactorisation.from_chain(WAM)
-EPS = 0.1
-Q4_ZERO = float(np.arctan2(-FACTOR.a * (FACTOR.d3 + FACTOR.d5), FACTOR.a**2 - FACTOR.d3 * FACTOR.d5))
 Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
-
-angles = st.floats(-np.pi, np.pi)
-configurations = st.lists(angles, min_size=7, max_size=7).map(np.array)
-twists = st.lists(st.floats(-1.0, 1.0), min_size=6, max_size=6).map(np.array)
 
 
 def exact_step(q, twist, direction, self_motion=0.0, modify_rotation=True):
     return singularity_consistent(
         WAM.jacobian(q), twist, FACTOR.index(q), FACTOR.factors(q), EPS, direction, self_motion, modify_rotation
     )
-
-
-def assert_same(reference, fast):
-    scale = max(1.0, float(np.max(np.abs(reference.joint_velocity))))
-    np.testing.assert_allclose(fast.joint_velocity, reference.joint_velocity, rtol=0, atol=1e-10 * scale)
-    np.testing.assert_allclose(fast.target_twist, reference.target_twist, rtol=0, atol=1e-12)
-
-
-def well_conditioned(q):
-    """Away from the shoulder/wrist singularities (D_s small), where every path loses digits alike."""
-    return abs(np.sin(q[1])) > 0.05 and abs(np.sin(q[5])) > 0.05
 
 
 @settings(deadline=None, max_examples=60)
