@@ -28,6 +28,8 @@ BRANCHES: tuple[Branch, ...] = tuple(
     Branch(s2, s4, s6) for s2 in (1, -1) for s4 in (1, -1) for s6 in (1, -1)
 )
 
+_BY_TEXT = {str(branch): branch for branch in BRANCHES}
+
 
 def parse_branch(value: "str | Branch | tuple[int, int, int]") -> Branch:
     """A :class:`Branch` from ``"+-+"`` or a triple of signs.
@@ -40,6 +42,8 @@ def parse_branch(value: "str | Branch | tuple[int, int, int]") -> Branch:
     if isinstance(value, Branch):
         return value
     if isinstance(value, str):
+        if value in _BY_TEXT:
+            return _BY_TEXT[value]
         if len(value) != 3 or any(ch not in "+-" for ch in value):
             raise ValueError(
                 f"branch must be three signs of theta2, theta4, theta6 such as '+++' or '+-+', got {value!r}"

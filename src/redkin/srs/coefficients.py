@@ -189,7 +189,7 @@ def arm_angle_frame(
     """
     d_se, d_ew = geometry.d_se, geometry.d_ew
     x_sw = shoulder_to_wrist(geometry, position, rotation)
-    squared = np.einsum("...i,...i->...", x_sw, x_sw)
+    squared = (x_sw[..., None, :] @ x_sw[..., :, None])[..., 0, 0]
     cos4 = (squared - (d_se * d_se + d_ew * d_ew)) / (2.0 * d_se * d_ew)  # eq. 11
     message = unreachable_message(geometry, x_sw, cos4)
     if message:
@@ -244,7 +244,7 @@ def rotation_terms(frame: ArmAngleFrame, weights: np.ndarray | None = None) -> t
         flat = weights @ terms.reshape(terms.shape[:-3] + (3, 9))
         terms = flat.reshape(flat.shape[:-1] + (3, 3))
     shoulder = terms @ frame.reference[..., None, :, :]  # eq. 12
-    wrist = np.swapaxes(frame.elbow, -1, -2)[..., None, :, :] @ np.swapaxes(shoulder, -1, -2)
+    wrist = frame.elbow.swapaxes(-1, -2)[..., None, :, :] @ shoulder.swapaxes(-1, -2)
     wrist = wrist @ frame.rotation[..., None, :, :]  # eq. 16
     return shoulder, wrist
 

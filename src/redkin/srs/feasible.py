@@ -31,13 +31,11 @@ from redkin.chain import SerialChain
 from redkin.circle import ArcSet
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
-from redkin.srs.geometry import SRSGeometry
+from redkin.srs.geometry import MEMBERSHIP_TOLERANCE, SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
-from redkin.srs.joints import PSI_JOINTS, entry_values, psi_joint_angles, sinusoid_roots
+from redkin.srs.joints import PSI_JOINTS, branch_signs, entry_values, psi_joint_angles, sinusoid_roots
 
 TWO_PI = 2.0 * np.pi
-#: Slack (radians) when a joint value is compared with its limits at the middle of a piece.
-MEMBERSHIP_TOLERANCE = 1e-12
 #: Pieces shorter than this (radians) are dropped: they are repeated roots split by
 #: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
 PIECE_TOLERANCE = 1e-12
@@ -96,10 +94,13 @@ class FeasiblePieces:
         return np.any(self.feasible & (self.end - self.start > PIECE_TOLERANCE), axis=-1)
 
 
-def within(theta: np.ndarray, lower, width, limited) -> np.ndarray:
-    """``lower <= theta <= lower + width`` modulo 2 pi (limits crossing +-pi work); unlimited joints pass."""
-    shifted = np.mod(theta - lower + MEMBERSHIP_TOLERANCE, TWO_PI)
-    return (shifted <= width + 2.0 * MEMBERSHIP_TOLERANCE) | ~limited
+def within(theta: np.ndarray, start, span, free) -> np.ndarray:
+    """``start <= theta <= start + span`` modulo 2 pi (limits crossing +-pi work); free (unlimited) joints pass.
+
+    ``start`` and ``span`` are the limits widened by :data:`MEMBERSHIP_TOLERANCE`
+    on both sides (:attr:`redkin.srs.geometry.SRSGeometry.psi_joint_limits`).
+    """
+    return (np.mod(theta - start, TWO_PI) <= span) | free
 
 
 def cut_points(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
@@ -123,7 +124,7 @@ def _pieces(cuts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     have a NaN start.
     """
     cuts = np.sort(cuts, axis=-1)  # NaN last
-    cuts[..., 0] = np.where(np.isnan(cuts[..., 0]), -np.pi, cuts[..., 0])
+    np.fmax(cuts[..., 0], -np.pi, out=cuts[..., 0])  # no cut at all (NaN): start the whole circle at -pi
     wrap = cuts[..., :1] + TWO_PI
     # the next cut, or the wrapped first one after the last (fmin skips the NaN of unused slots)
     end = np.fmin(np.concatenate([cuts[..., 1:], wrap], axis=-1), wrap)
@@ -136,22 +137,22 @@ def _classify(
     """Whether each joint is within its limits at each piece's middle, ``(..., M, 6)``."""
     limits = geometry.psi_joint_limits
     values = entry_values(coefficients.entries[..., None, :, :], 0.5 * (start + end))
-    theta = psi_joint_angles(values, (branch.shoulder, branch.wrist))
-    return within(theta, limits.lower, limits.width, limits.limited)
+    theta = psi_joint_angles(values, branch_signs(branch.shoulder, branch.wrist))
+    return within(theta, limits.start, limits.span, limits.free)
 
 
 def elbow_within(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
     """Whether theta_4 (independent of psi) is within its limits, batched."""
     limits = geometry.psi_joint_limits
-    return within(coefficients.theta4, limits.elbow_lower, limits.elbow_width, limits.elbow_limited)
+    return within(coefficients.theta4, limits.elbow_start, limits.elbow_span, limits.elbow_free)
 
 
 def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
     """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once."""
     cuts = cut_points(coefficients, geometry)
     start, end = _pieces(cuts.reshape(cuts.shape[:-2] + (24,)))
-    ok = _classify(coefficients, branch, start, end, geometry).all(axis=-1)
-    ok &= ~np.isnan(start) & elbow_within(coefficients, geometry)[..., None]
+    used = (start == start) & elbow_within(coefficients, geometry)[..., None]  # start is NaN in unused slots
+    ok = _classify(coefficients, branch, start, end, geometry).all(axis=-1) & used
     return FeasiblePieces(start, end, ok)
 
 

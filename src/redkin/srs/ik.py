@@ -14,10 +14,18 @@ from redkin.chain import SerialChain
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients, arm_angle_coefficients, arm_angle_frame, entries_at
 from redkin.srs.geometry import SRSGeometry, as_pose, srs_geometry
-from redkin.srs.joints import apply_branch_signs, assemble_theta, entry_values, positive_branch_angles, psi_joint_angles
+from redkin.srs.joints import (
+    apply_branch_signs,
+    assemble_theta,
+    branch_sign_arrays,
+    branch_signs,
+    entry_values,
+    positive_branch_angles,
+    psi_joint_angles,
+)
 
 # (sigma_2, sigma_6) of the branches indexed (i2, i4, i6) as in BRANCHES (s2 slowest), elbow axis left free
-_SHOULDER_WRIST_SIGNS = np.array([[b.shoulder, b.wrist] for b in BRANCHES]).reshape(2, 2, 2, 2)[:, :1]
+_ALL_BRANCH_SIGNS = branch_sign_arrays(np.array([[b.shoulder, b.wrist] for b in BRANCHES]).reshape(2, 2, 2, 2)[:, :1])
 _ELBOW_SIGNS = np.array([1, -1])
 from redkin.validation import as_float_array, check_finite
 
@@ -52,7 +60,7 @@ def coefficients_for(
 def theta_at(coefficients: ArmAngleCoefficients, psi: np.ndarray, branch: Branch) -> np.ndarray:
     """The 7 DH angles at arm angles ``psi`` for one branch (eqs. 11, 13-15, 17-19)."""
     values = entry_values(coefficients.entries, psi)
-    psi_joints = psi_joint_angles(values, (branch.shoulder, branch.wrist))
+    psi_joints = psi_joint_angles(values, branch_signs(branch.shoulder, branch.wrist))
     return assemble_theta(coefficients.theta4, psi_joints)
 
 
@@ -92,7 +100,7 @@ def ik(
     psi = check_psi(psi)
     position, rotation = prepare_targets(geometry, pose)
     frame = arm_angle_frame(geometry, position, rotation, chosen.elbow)
-    psi_joints = psi_joint_angles(entries_at(frame, psi), (chosen.shoulder, chosen.wrist))
+    psi_joints = psi_joint_angles(entries_at(frame, psi), branch_signs(chosen.shoulder, chosen.wrist))
     return geometry.to_chain_q(assemble_theta(frame.theta4, psi_joints))
 
 
@@ -109,6 +117,6 @@ def ik_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike, psi: Arra
     position, rotation = prepare_targets(geometry, pose)
     frame = arm_angle_frame(geometry, position[..., None, :], rotation[..., None, :, :], _ELBOW_SIGNS)  # (..., 2)
     positive = positive_branch_angles(entries_at(frame, psi[..., None]))  # (..., 2, 6) over the elbow sign
-    psi_joints = apply_branch_signs(positive[..., None, :, None, :], _SHOULDER_WRIST_SIGNS)  # (..., 2, 2, 2, 6)
+    psi_joints = apply_branch_signs(positive[..., None, :, None, :], _ALL_BRANCH_SIGNS)  # (..., 2, 2, 2, 6)
     theta = assemble_theta(frame.theta4[..., None, :, None], psi_joints)
     return geometry.to_chain_q(theta.reshape(theta.shape[:-4] + (8, 7)))

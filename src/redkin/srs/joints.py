@@ -36,6 +36,8 @@ seven signed entries ``x, y, z, r0, r1, r2, t`` of
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 #: Joint numbers (1-based) whose angle depends on psi, in column order of the arrays below.
@@ -54,42 +56,69 @@ def entry_values(entries: np.ndarray, psi: np.ndarray) -> np.ndarray:
     ``entries`` has shape ``(..., 3, 14)`` (rows ``a, b, c``); ``psi``
     broadcasts against ``(...)``.  Returns ``(..., 14)``.
     """
-    psi = np.asarray(psi, dtype=float)[..., None]
-    return np.sin(psi) * entries[..., 0, :] + np.cos(psi) * entries[..., 1, :] + entries[..., 2, :]
+    psi = np.asarray(psi, dtype=float)
+    trig = np.empty(psi.shape + (1, 3))
+    np.sin(psi, out=trig[..., 0, 0])
+    np.cos(psi, out=trig[..., 0, 1])
+    trig[..., 0, 2] = 1.0
+    return (trig @ entries)[..., 0, :]
 
 
 def positive_branch_angles(values: np.ndarray) -> np.ndarray:
-    """Joints 1, 2, 3, 5, 6, 7 for ``sigma_2 = sigma_6 = +1`` from the entry values ``(..., 14)``."""
-    grouped = values.reshape(values.shape[:-1] + (2, _GROUP))
-    x, y, z = grouped[..., _X], grouped[..., _Y], grouped[..., _Z]
-    r0, r1, r2 = grouped[..., _R0], grouped[..., _R1], grouped[..., _R2]
-    angles = np.empty(grouped.shape[:-1] + (3,))
-    np.arctan2(y, x, out=angles[..., 0])  # eqs. 13, 17
-    np.arctan2(np.hypot(x, y), z, out=angles[..., 1])  # eqs. 14, 18
-    cosines, sines = np.cos(angles[..., :2]), np.sin(angles[..., :2])
-    c1, c2, s1, s2 = cosines[..., 0], cosines[..., 1], sines[..., 0], sines[..., 1]
+    """Joints 1, 2, 3, 5, 6, 7 for ``sigma_2 = sigma_6 = +1`` from the entry values ``(..., 14)``.
+
+    The work runs on a slot-major copy ``(7, 2, batch)`` so that every
+    operation sees contiguous arrays (strided views cost twice the time).
+    """
+    batch = values.shape[:-1]
+    slots = values.reshape(-1, 2, _GROUP).transpose(2, 1, 0).copy()  # (7, 2, B)
+    x, y, z = slots[_X], slots[_Y], slots[_Z]
+    r0, r1, r2 = slots[_R0], slots[_R1], slots[_R2]
+    angles = np.empty((3,) + x.shape)
+    np.arctan2(y, x, out=angles[0])  # eqs. 13, 17
+    np.arctan2(np.hypot(x, y), z, out=angles[1])  # eqs. 14, 18
+    cosines, sines = np.cos(angles[:2]), np.sin(angles[:2])
+    c1, c2, s1, s2 = cosines[0], cosines[1], sines[0], sines[1]
     along_p1 = c2 * (c1 * r0 + s1 * r1) - s2 * r2
     along_p2 = c1 * r1 - s1 * r0
-    np.arctan2(along_p2, along_p1, out=angles[..., 2])  # eqs. 15, 19
-    return angles.reshape(values.shape[:-1] + (6,))
+    np.arctan2(along_p2, along_p1, out=angles[2])  # eqs. 15, 19
+    return angles.transpose(2, 1, 0).reshape(batch + (6,))
 
 
-def apply_branch_signs(angles: np.ndarray, signs: np.ndarray) -> np.ndarray:
+@lru_cache(maxsize=None)
+def branch_signs(shoulder: int, wrist: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`branch_sign_arrays` of one branch ``(sigma_2, sigma_6)``, cached."""
+    return branch_sign_arrays(np.array([shoulder, wrist]))
+
+
+def branch_sign_arrays(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(factor, turn)``, each ``(..., 2, 3)``, for branch signs ``(..., 2)`` = ``(sigma_2, sigma_6)``.
+
+    ``factor`` is -1 for the cosine-type joint of a group with ``sigma = -1``;
+    ``turn`` marks its tangent-type joints (turned by pi).
+    """
+    negative = (np.asarray(signs) < 0)[..., None]
+    factor = np.where(negative & IS_COSINE[:3], -1.0, 1.0)
+    turn = (negative & ~IS_COSINE[:3]).astype(float)
+    return factor, turn
+
+
+def apply_branch_signs(angles: np.ndarray, signs: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     """Angles of the branch ``(sigma_2, sigma_6)`` from those of ``(+1, +1)`` (eqs. 13-19).
 
     A tangent-type angle with ``sigma = -1`` is ``atan2(-N, -D)``, i.e. turned
-    by ``pi``; a cosine-type one is negated.  ``signs`` ``(..., 2)`` holds
-    ``(sigma_2, sigma_6)`` and broadcasts against the batch axes of ``angles`` ``(..., 6)``.
+    by ``pi``; a cosine-type one is negated.  ``signs`` is the ``(factor,
+    turn)`` pair of :func:`branch_sign_arrays` or :func:`branch_signs`; it
+    broadcasts against the batch axes of ``angles`` ``(..., 6)``.
     """
+    factor, turn = signs
     grouped = angles.reshape(angles.shape[:-1] + (2, 3))
-    turned = np.where(grouped > 0.0, grouped - np.pi, grouped + np.pi)
-    flipped = np.where(IS_COSINE[:3], -grouped, turned)
-    signed = np.where((np.asarray(signs) < 0)[..., None], flipped, grouped)
+    signed = grouped * factor + turn * np.where(grouped > 0.0, -np.pi, np.pi)
     return signed.reshape(signed.shape[:-2] + (6,))
 
 
-def psi_joint_angles(values: np.ndarray, signs: np.ndarray) -> np.ndarray:
-    """Joints 1, 2, 3, 5, 6, 7, shape ``(..., 6)``, from entry values and branch signs ``(sigma_2, sigma_6)``."""
+def psi_joint_angles(values: np.ndarray, signs: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """Joints 1, 2, 3, 5, 6, 7, shape ``(..., 6)``, from entry values and branch signs (:func:`branch_signs`)."""
     return apply_branch_signs(positive_branch_angles(values), signs)
 
 
@@ -156,7 +185,7 @@ def sinusoid_roots(p: np.ndarray, q: np.ndarray, r: np.ndarray, tolerance: float
     rho = np.hypot(p, q)
     size = np.abs(r)
     has = (rho > tolerance * np.maximum(size, 1.0)) & (size <= rho * (1.0 + tolerance))
-    ratio = np.divide(-r, rho, out=np.full(rho.shape, np.nan), where=has)  # NaN where no root
+    ratio = np.negative(r) / np.where(has, rho, np.nan)  # NaN where no root
     half = np.arccos(np.minimum(np.maximum(ratio, -1.0), 1.0))
     roots = (np.arctan2(p, q) + np.pi)[..., None] + half[..., None] * _MINUS_PLUS
     return np.mod(roots, 2.0 * np.pi) - np.pi
