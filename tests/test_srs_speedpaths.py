@@ -1,0 +1,189 @@
+"""Laws behind the fast S-R-S paths (paper 000): one formula evaluated two ways agrees, batched equals looped.
+
+The speed work evaluates eqs. 12 and 16 either as coefficient matrices
+(weights = identity) or directly at an arm angle (weights = (sin psi, cos psi, 1));
+all eight branches come from one positive-branch evaluation per elbow sign; the
+limit equations of all joints come from one cached matrix.  These tests check
+that each shortcut equals its definition.
+"""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
+from redkin.so3 import rot_x
+from redkin.srs import BRANCHES, arm_angle_of, feasible_arm_angles, feasible_pieces, ik, ik_all_branches, pose_from, srs_geometry
+from redkin.srs.coefficients import arm_angle_coefficients, entries_at, rotation_terms
+from redkin.srs.feasible import cut_points
+from redkin.srs.joints import IS_COSINE, PSI_JOINTS, entry_values
+from redkin.srs.rotations import shoulder_rotation, wrist_rotation
+from redkin.validation import check_pose
+
+
+def random_chain(rng, model, crossing=False):
+    """A model or random S-R-S arm with random limits (optionally crossing +-pi), and a joint vector."""
+    chain = {"pa10": pa10_7c, "iiwa": kuka_iiwa14}.get(model, lambda: srs_chain(*rng.uniform(0.1, 0.8, 4)))()
+    q = rng.uniform(-np.pi, np.pi, 7)
+    width = rng.uniform(0.2, 4.0, 7)
+    centre = q + rng.uniform(-0.5, 0.5, 7) * width
+    if crossing:
+        centre = np.where(rng.random(7) < 0.5, np.pi + rng.uniform(-0.3, 0.3, 7), centre)
+    return chain.with_limits(centre - width / 2, centre + width / 2), q
+
+
+def degenerate_q(kind):
+    """Joint vectors with theta_2 = 0, theta_6 = 0, theta_4 = 0 or the wrist on the joint-1 axis."""
+    return {
+        "shoulder": [0.3, 0.0, 0.5, 0.9, 0.2, 0.4, 0.1],
+        "wrist": [0.3, 0.7, 0.5, 0.9, 0.2, 0.0, 0.1],
+        "elbow": [0.3, 0.7, 0.5, 0.0, 0.2, 0.4, 0.1],
+        "axis": [0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 0.2],
+        "folded_axis": [0.4, 0.0, -0.4, 0.0, 0.0, 0.0, 0.0],
+    }[kind]
+
+
+MODELS = st.sampled_from(["pa10", "iiwa", "random"])
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**31), MODELS, st.sampled_from([1, -1]))
+def test_values_at_psi_equal_coefficients_and_fk_rotations(seed, model, elbow):
+    """rotation_terms at (sin, cos, 1) == coefficients evaluated at psi == 0R3, 4R7 of the IK joint values."""
+    rng = np.random.default_rng(seed)
+    chain, q = random_chain(rng, model)
+    geometry = srs_geometry(chain)
+    poses = geometry.to_table1_pose(chain.fk(rng.uniform(-np.pi, np.pi, (5, 7))))
+    psi = rng.uniform(-np.pi, np.pi, 5)
+    coefficients = arm_angle_coefficients(geometry, poses[:, :3, 3], poses[:, :3, :3], elbow)
+    direct = entries_at(coefficients, psi)
+    np.testing.assert_allclose(direct, entry_values(coefficients.entries, psi), atol=1e-13)
+    weights = np.stack([np.sin(psi), np.cos(psi), np.ones(5)], axis=-1)[:, None, :]
+    shoulder, wrist = rotation_terms(coefficients, weights)
+    branch = f"+{'+' if elbow > 0 else '-'}+"
+    theta = ik(geometry, geometry.chain.base @ poses @ geometry.chain.tool, psi, branch)
+    theta = geometry.theta_of_q(theta)
+    np.testing.assert_allclose(shoulder[:, 0], shoulder_rotation(theta), atol=1e-10)
+    np.testing.assert_allclose(wrist[:, 0], wrist_rotation(theta), atol=1e-10)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**31), MODELS)
+def test_all_branches_equal_each_branch_alone(seed, model):
+    """ik_all_branches (one evaluation per elbow sign, signs applied after) == ik branch by branch."""
+    rng = np.random.default_rng(seed)
+    chain, _ = random_chain(rng, model)
+    poses = chain.fk(rng.uniform(-np.pi, np.pi, (6, 7)))
+    psi = rng.uniform(-np.pi, np.pi, 6)
+    together = ik_all_branches(chain, poses, psi)
+    for k, branch in enumerate(BRANCHES):
+        np.testing.assert_array_equal(together[:, k], ik(chain, poses, psi, branch))
+        assert np.abs(chain.fk(together[:, k]) - poses).max() < 1e-9
+
+
+@pytest.mark.parametrize("kind", ["shoulder", "wrist", "elbow", "axis", "folded_axis"])
+def test_all_branches_equal_each_branch_alone_on_degenerate_poses(kind):
+    chain = pa10_7c().with_limits(np.full(7, -4.0), np.full(7, 4.0))
+    pose = chain.fk(np.array(degenerate_q(kind)))
+    psi = np.array([0.0, 0.7, -np.pi, np.pi / 2])
+    together = ik_all_branches(chain, np.broadcast_to(pose, (4, 4, 4)), psi)
+    for k, branch in enumerate(BRANCHES):
+        np.testing.assert_array_equal(together[:, k], ik(chain, pose, psi, branch))
+        assert np.abs(chain.fk(together[:, k]) - pose).max() < 1e-9
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**31), MODELS, st.sampled_from([str(b) for b in BRANCHES]), st.booleans())
+def test_batched_feasible_sets_equal_looped(seed, model, branch, crossing):
+    """feasible_pieces / feasible_arm_angles on a batch == one pose at a time (random limits, crossing +-pi)."""
+    rng = np.random.default_rng(seed)
+    chain, q = random_chain(rng, model, crossing)
+    poses = chain.fk(q + rng.normal(0.0, 0.3, (5, 7)))
+    pieces = feasible_pieces(chain, poses, branch)
+    batch = feasible_arm_angles(chain, poses, branch)
+    for i in range(5):
+        alone = feasible_pieces(chain, poses[i], branch)
+        np.testing.assert_array_equal(alone.feasible, pieces.feasible[i])
+        np.testing.assert_array_equal(alone.start, pieces.start[i])
+        single = feasible_arm_angles(chain, poses[i], branch)
+        assert single.feasible == batch[i].feasible == pieces.arc_set((i,))
+        assert all(single.per_joint[j] == batch[i].per_joint[j] for j in range(1, 8))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**31), MODELS, st.sampled_from([str(b) for b in BRANCHES]), st.booleans())
+def test_cut_points_are_where_a_joint_meets_a_limit(seed, model, branch, crossing):
+    """Every root of the cached limit-equation matrix puts its joint on the limit (eqs. 21, 22)."""
+    rng = np.random.default_rng(seed)
+    chain, q = random_chain(rng, model, crossing)
+    geometry = srs_geometry(chain)
+    pose = chain.fk(q)
+    local = geometry.to_table1_pose(pose)
+    coefficients = arm_angle_coefficients(geometry, local[:3, 3], local[:3, :3], 1 if branch[1] == "+" else -1)
+    cuts = cut_points(coefficients, geometry)  # (6, 4)
+    for k, joint in enumerate(PSI_JOINTS):
+        limits = np.repeat([geometry.theta_lower[joint - 1], geometry.theta_upper[joint - 1]], 2)
+        found = ~np.isnan(cuts[k])
+        if not geometry.theta_limited[joint - 1]:
+            assert not found.any()
+            continue
+        if not found.any():
+            continue
+        theta = geometry.theta_of_q(ik(geometry, pose, cuts[k][found], branch))[:, joint - 1]
+        if IS_COSINE[k]:  # theta = +-L
+            residual = np.cos(theta) - np.cos(limits[found])
+        else:  # theta = L or L + pi, or the joint is singular there
+            residual = np.sin(theta - limits[found])
+        assert np.abs(residual).max() < 1e-7
+
+
+def test_feasible_set_finds_a_tight_arc_around_a_known_solution():
+    """+-0.001 rad limits around a known solution: the one-pose fast path still finds its arc."""
+    chain = pa10_7c()
+    q = np.array([0.4, 0.8, -0.3, 1.1, 0.6, -0.7, 0.2])
+    tight = chain.with_limits(q - 1e-3, q + 1e-3)
+    state = arm_angle_of(tight, q)
+    result = feasible_arm_angles(tight, chain.fk(q), str(state.branch_strings()))
+    assert not result.is_empty and result.feasible.contains(float(state.psi), tolerance=1e-12)
+    pieces = feasible_pieces(tight, chain.fk(q), str(state.branch_strings()))
+    assert pieces.arc_set() == result.feasible
+
+
+def test_limit_tables_are_built_once_per_geometry():
+    geometry = srs_geometry(pa10_7c())
+    assert geometry.psi_joint_limits is geometry.psi_joint_limits
+    assert not geometry.psi_joint_limits.weights.flags.writeable
+
+
+@pytest.mark.parametrize(
+    "mutate",
+    [
+        lambda p: p[:3],  # wrong shape
+        lambda p: np.where(np.arange(16).reshape(4, 4) == 5, np.nan, p),  # NaN
+        lambda p: p + np.diag([0, 0, 0, 0.1]),  # last row
+        lambda p: p @ np.diag([1.0, 1.0, 1.1, 1.0]),  # not orthonormal
+        lambda p: p @ np.diag([1.0, 1.0, -1.0, 1.0]),  # reflection (det -1)
+    ],
+)
+def test_pose_errors_match_the_shared_validator(mutate):
+    """The lean pose check of the srs entry points raises what redkin.validation.check_pose raises."""
+    chain = pa10_7c()
+    bad = mutate(chain.fk(np.full(7, 0.3)))
+    with pytest.raises(ValueError) as expected:
+        check_pose(bad, "pose")
+    for call in (lambda: feasible_pieces(chain, bad), lambda: ik(chain, bad, 0.0), lambda: ik_all_branches(chain, bad, 0.0)):
+        with pytest.raises(ValueError) as raised:
+            call()
+        assert str(raised.value) == str(expected.value)
+
+
+def test_base_tool_offsets_and_signs_take_the_same_fast_path():
+    """A chain with base, tool, joint offsets and flipped signs: all-branch IK equals per-branch IK and FK closes."""
+    base = pose_from(np.array([0.1, -0.2, 0.3]), rot_x(0.4))
+    chain = pa10_7c().with_base(base).with_tool(pose_from(np.array([0.0, 0.0, 0.12]), np.eye(3)))
+    rng = np.random.default_rng(3)
+    poses = chain.fk(rng.uniform(-2, 2, (20, 7)))
+    together = ik_all_branches(chain, poses, 0.25)
+    for k, branch in enumerate(BRANCHES):
+        np.testing.assert_array_equal(together[:, k], ik(chain, poses, 0.25, branch))
+    assert np.abs(chain.fk(together) - poses[:, None]).max() < 1e-9
