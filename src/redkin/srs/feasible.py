@@ -31,7 +31,7 @@ from redkin.chain import SerialChain
 from redkin.circle import ArcSet
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
-from redkin.srs.geometry import MEMBERSHIP_TOLERANCE, SRSGeometry
+from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
 from redkin.srs.joints import PSI_JOINTS, branch_signs, entry_values, psi_joint_angles, sinusoid_roots
 
@@ -97,7 +97,7 @@ class FeasiblePieces:
 def within(theta: np.ndarray, start, span, free) -> np.ndarray:
     """``start <= theta <= start + span`` modulo 2 pi (limits crossing +-pi work); free (unlimited) joints pass.
 
-    ``start`` and ``span`` are the limits widened by :data:`MEMBERSHIP_TOLERANCE`
+    ``start`` and ``span`` are the limits widened by :data:`redkin.srs.geometry.MEMBERSHIP_TOLERANCE`
     on both sides (:attr:`redkin.srs.geometry.SRSGeometry.psi_joint_limits`).
     """
     return (np.mod(theta - start, TWO_PI) <= span) | free
