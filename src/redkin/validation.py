@@ -12,6 +12,8 @@ from numpy.typing import ArrayLike
 
 #: Tolerance on ``R R^T = I`` (max abs entry) and ``det R = 1`` for rotations.
 ROTATION_TOLERANCE = 1e-6
+_EYE3 = np.eye(3)
+_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
 
 
 def as_float_array(value: ArrayLike, name: str) -> np.ndarray:
@@ -25,7 +27,7 @@ def as_float_array(value: ArrayLike, name: str) -> np.ndarray:
 
 def check_finite(array: np.ndarray, name: str) -> None:
     """Raise ``ValueError`` if ``array`` holds NaN or infinity."""
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         raise ValueError(f"{name} must be finite, got NaN or infinity")
 
 
@@ -60,20 +62,29 @@ def check_rotation(
     (``max |R R^T - I| <= tolerance``) and proper (``|det R - 1| <= tolerance``).
     """
     rotation = check_matrices(value, 3, 3, name)
-    error = np.abs(rotation @ np.swapaxes(rotation, -1, -2) - np.eye(3))
-    worst = float(error.max()) if error.size else 0.0
+    _check_proper_orthonormal(rotation, name, tolerance)
+    return rotation
+
+
+def _check_proper_orthonormal(rotation: np.ndarray, name: str, tolerance: float) -> None:
+    """The orthonormality and determinant tests of :func:`check_rotation` on a checked ``(..., 3, 3)`` array."""
+    if rotation.size == 0:
+        return
+    deviation = rotation @ np.swapaxes(rotation, -1, -2)
+    deviation -= _EYE3
+    worst = float(np.abs(deviation).max())
     if worst > tolerance:
         raise ValueError(
             f"{name} must be orthonormal (R R^T = I within {tolerance:g}), "
             f"largest deviation is {worst:.3g}"
         )
     det = np.linalg.det(rotation)
-    if np.any(np.abs(det - 1.0) > tolerance):
+    farthest = float(np.abs(det - 1.0).max())
+    if farthest > tolerance:
         raise ValueError(
             f"{name} must be a proper rotation (det = +1), got det = "
             f"{float(np.ravel(det)[np.argmax(np.abs(np.ravel(det) - 1))]):.6g}"
         )
-    return rotation
 
 
 def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION_TOLERANCE) -> np.ndarray:
@@ -83,9 +94,9 @@ def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION
     be ``[0, 0, 0, 1]``.
     """
     pose = check_matrices(value, 4, 4, name)
-    if not np.allclose(pose[..., 3, :], [0.0, 0.0, 0.0, 1.0], atol=tolerance, rtol=0.0):
+    if pose.size and float(np.abs(pose[..., 3, :] - _LAST_ROW).max()) > tolerance:
         raise ValueError(f"{name} must have last row [0, 0, 0, 1]")
-    check_rotation(pose[..., :3, :3], f"{name} rotation block", tolerance)
+    _check_proper_orthonormal(pose[..., :3, :3], f"{name} rotation block", tolerance)
     return pose
 
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table
-from redkin.validation import ROTATION_TOLERANCE, check_matrices, check_rotation, check_vectors
+from redkin.validation import check_rotation, check_vectors
 
 HALF_PI = np.pi / 2.0
 TWO_PI = 2.0 * np.pi
@@ -27,7 +27,6 @@ TWO_PI = 2.0 * np.pi
 TABLE1_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
 #: Tolerance on the DH parameters when recognising the Table 1 form.
 GEOMETRY_TOLERANCE = 1e-9
-_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
 #: Slack (radians) when a joint value is compared with its limits (see :func:`redkin.srs.feasible.within`).
 MEMBERSHIP_TOLERANCE = 1e-12
 
@@ -234,18 +233,3 @@ def pose_from(position: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     pose[..., :3, 3] = position
     pose[..., 3, 3] = 1.0
     return pose
-
-
-def as_pose(pose: np.ndarray) -> np.ndarray:
-    """Validate homogeneous target poses ``(..., 4, 4)``.
-
-    The checks and messages of :func:`redkin.validation.check_pose` (shape,
-    finite, last row ``[0, 0, 0, 1]``, proper orthonormal rotation block),
-    with the last-row test as one comparison instead of ``np.allclose``
-    (a fifth of the time of a one-pose feasible set).
-    """
-    array = check_matrices(pose, 4, 4, "pose")
-    if np.any(np.abs(array[..., 3, :] - _LAST_ROW) > ROTATION_TOLERANCE):
-        raise ValueError("pose must have last row [0, 0, 0, 1]")
-    check_rotation(array[..., :3, :3], "pose rotation block", ROTATION_TOLERANCE)
-    return array

@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike
 from redkin.chain import SerialChain
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients, arm_angle_coefficients, arm_angle_frame, entries_at
-from redkin.srs.geometry import SRSGeometry, as_pose, srs_geometry
+from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.srs.joints import (
     apply_branch_signs,
     assemble_theta,
@@ -27,7 +27,7 @@ from redkin.srs.joints import (
 # (sigma_2, sigma_6) of the branches indexed (i2, i4, i6) as in BRANCHES (s2 slowest), elbow axis left free
 _ALL_BRANCH_SIGNS = branch_sign_arrays(np.array([[b.shoulder, b.wrist] for b in BRANCHES]).reshape(2, 2, 2, 2)[:, :1])
 _ELBOW_SIGNS = np.array([1, -1])
-from redkin.validation import as_float_array, check_finite
+from redkin.validation import as_float_array, check_finite, check_pose
 
 
 def as_geometry(arm: "SerialChain | SRSGeometry") -> SRSGeometry:
@@ -37,7 +37,7 @@ def as_geometry(arm: "SerialChain | SRSGeometry") -> SRSGeometry:
 
 def prepare_targets(geometry: SRSGeometry, pose: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Validate target poses and return frame-7 positions and rotations in frame 0 (Table 1 form)."""
-    local = geometry.to_table1_pose(as_pose(pose))
+    local = geometry.to_table1_pose(check_pose(pose))
     return local[..., :3, 3], local[..., :3, :3]
 
 

@@ -16,10 +16,10 @@ from numpy.typing import ArrayLike
 from redkin.chain import SerialChain
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.feasible import FeasibleArmAngles, feasible_from_coefficients
-from redkin.srs.geometry import SRSGeometry, as_pose
+from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for, theta_at
 from redkin.srs.optimal import check_weights, default_target, maximiser, objective_coefficients
-from redkin.validation import check_vectors
+from redkin.validation import check_pose, check_vectors
 
 
 @dataclass(frozen=True)
@@ -72,7 +72,7 @@ def arm_angle_path(
     """
     geometry = as_geometry(arm)
     chosen = parse_branch(branch)
-    poses = as_pose(poses)
+    poses = check_pose(poses)
     if poses.ndim != 3:
         raise ValueError(f"poses must have shape (N, 4, 4), got {poses.shape}")
     coefficients = coefficients_for(geometry, poses, chosen.elbow)
