@@ -7,7 +7,7 @@ from hypothesis import given, settings, strategies as st
 from redkin.chain import SerialChain
 from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c, planar_arm, srs_chain
 from redkin.so3 import rot_x, rot_z
-from redkin.srs import BRANCHES, arm_angle_of, ik, ik_all_branches, pose_from, srs_geometry
+from redkin.srs import BRANCHES, arm_angle_of, ik, ik_all_branches, pose_from, reachable, srs_geometry
 
 ROUND_TRIP = 1e-9
 
@@ -179,3 +179,36 @@ def test_bad_inputs_raise_clear_errors():
         ik(chain, pose, 0.0, "++")
     with pytest.raises(ValueError, match="branch"):
         ik(chain, pose, 0.0, (1, 0, 1))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_srs_reachable_mask_filters_a_mixed_batch(seed):
+    # a batch with wrists in and out of reach: the mask says which, and IK of the kept rows succeeds
+    chain = pa10_7c()
+    rng = np.random.default_rng(seed)
+    poses = chain.fk(rng.uniform(chain.lower, chain.upper, (12, 7)))
+    far = rng.random(12) < 0.5
+    directions = rng.normal(size=(12, 3))
+    poses[far, :3, 3] = 3.0 * (directions / np.linalg.norm(directions, axis=1, keepdims=True))[far]  # > 1.3 m reach
+    mask = reachable(chain, poses)
+    assert mask.shape == (12,) and mask.dtype == bool
+    assert np.array_equal(mask, ~far)
+    for pose, ok in zip(poses, mask):  # the mask is what IK itself decides, pose by pose
+        try:
+            ik(chain, pose, 0.3)
+            raised = False
+        except ValueError as error:
+            raised = "unreachable" in str(error)
+        assert raised == (not ok)
+    if mask.any():
+        q = ik(chain, poses[mask], 0.3)
+        assert np.allclose(chain.fk(q), poses[mask], atol=1e-9)
+
+
+def test_srs_reachable_rejects_bad_poses_and_keeps_batch_shape():
+    chain = pa10_7c()
+    with pytest.raises(ValueError, match="pose"):
+        reachable(chain, np.full((4, 4), np.nan))
+    poses = chain.fk(np.zeros((2, 3, 7)))
+    assert reachable(chain, poses).shape == (2, 3)

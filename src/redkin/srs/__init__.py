@@ -2,6 +2,7 @@
 
 * :func:`ik`, :func:`ik_all_branches` -- joint values for a pose and an arm angle (eqs. 11-19)
 * :func:`arm_angle_of` -- arm angle and branch of joint values
+* :func:`reachable` -- which poses of a batch the wrist can reach (filter before the others)
 * :func:`feasible_arm_angles` -- per-joint and overall feasible arm angles, closed form (eqs. 21-30)
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles (eqs. 31-34)
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles (eqs. 36-40)
@@ -12,7 +13,7 @@ from redkin.srs.arm_angle import ArmAngleState, arm_angle_of
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.feasible import FeasibleArmAngles, FeasiblePieces, feasible_arm_angles, feasible_pieces
 from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
-from redkin.srs.ik import ik, ik_all_branches
+from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
 from redkin.srs.path import ArmAnglePath, arm_angle_path
 from redkin.srs.singular import SINGULAR_TOLERANCE, SingularArmAngles, singular_arm_angles
@@ -38,5 +39,6 @@ __all__ = [
     "optimal_arm_angles",
     "parse_branch",
     "pose_from",
+    "reachable",
     "singular_arm_angles",
 ]

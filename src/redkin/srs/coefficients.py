@@ -144,6 +144,13 @@ def shoulder_to_wrist(geometry, position: np.ndarray, rotation: np.ndarray) -> n
     return x_sw
 
 
+def elbow_cosine(geometry, x_sw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``|x_sw|^2`` and ``cos theta_4 = (|x_sw|^2 - d_se^2 - d_ew^2) / (2 d_se d_ew)`` (eq. 11), batched."""
+    d_se, d_ew = geometry.d_se, geometry.d_ew
+    squared = (x_sw[..., None, :] @ x_sw[..., :, None])[..., 0, 0]
+    return squared, (squared - (d_se * d_se + d_ew * d_ew)) / (2.0 * d_se * d_ew)
+
+
 def unreachable(cos4: np.ndarray) -> np.ndarray:
     """Which wrists are out of reach: ``|cos theta_4| > 1`` beyond :data:`REACH_TOLERANCE` (eq. 11)."""
     return np.abs(cos4) > 1.0 + REACH_TOLERANCE
@@ -189,8 +196,7 @@ def arm_angle_frame(
     """
     d_se, d_ew = geometry.d_se, geometry.d_ew
     x_sw = shoulder_to_wrist(geometry, position, rotation)
-    squared = (x_sw[..., None, :] @ x_sw[..., :, None])[..., 0, 0]
-    cos4 = (squared - (d_se * d_se + d_ew * d_ew)) / (2.0 * d_se * d_ew)  # eq. 11
+    squared, cos4 = elbow_cosine(geometry, x_sw)  # eq. 11
     message = unreachable_message(geometry, x_sw, cos4)
     if message:
         raise ValueError(message)

@@ -12,7 +12,15 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
-from redkin.srs.coefficients import ArmAngleCoefficients, arm_angle_coefficients, arm_angle_frame, entries_at
+from redkin.srs.coefficients import (
+    ArmAngleCoefficients,
+    arm_angle_coefficients,
+    arm_angle_frame,
+    elbow_cosine,
+    entries_at,
+    shoulder_to_wrist,
+    unreachable,
+)
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.srs.joints import (
     apply_branch_signs,
@@ -39,6 +47,30 @@ def prepare_targets(geometry: SRSGeometry, pose: ArrayLike) -> tuple[np.ndarray,
     """Validate target poses and return frame-7 positions and rotations in frame 0 (Table 1 form)."""
     local = geometry.to_table1_pose(check_pose(pose))
     return local[..., :3, 3], local[..., :3, :3]
+
+
+def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
+    """Which target poses put the wrist within reach of the elbow (eq. 11 has a solution).
+
+    The arm-angle functions raise ``ValueError`` for a batch holding an
+    unreachable pose; filter the batch with this mask first, e.g.
+    ``ok = reachable(arm, poses); q = ik(arm, poses[ok], psi)``.
+
+    Parameters
+    ----------
+    arm : SerialChain or SRSGeometry
+    pose : array_like, shape (..., 4, 4)
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (...)
+        True where ``|x_sw|`` lies in ``[|d_se - d_ew|, d_se + d_ew]`` (with the
+        rounding slack :data:`redkin.srs.coefficients.REACH_TOLERANCE` on ``cos theta_4``).
+    """
+    geometry = as_geometry(arm)
+    position, rotation = prepare_targets(geometry, pose)
+    _, cos4 = elbow_cosine(geometry, shoulder_to_wrist(geometry, position, rotation))
+    return ~unreachable(cos4)
 
 
 def check_psi(psi: ArrayLike) -> np.ndarray:
