@@ -4,6 +4,7 @@
 * :func:`arm_angle_of` -- arm angle and branch of joint values
 * :func:`reachable` -- which poses of a batch the wrist can reach (filter before the others)
 * :func:`feasible_arm_angles` -- per-joint and overall feasible arm angles, closed form (eqs. 21-30)
+* :func:`joint_extrema` -- type, case, extrema and monotonicity of each joint over psi (eqs. 21-28)
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles (eqs. 31-34)
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles (eqs. 36-40)
 * :func:`arm_angle_path` -- arm-angle control along a path (section 6.2.2)
@@ -11,6 +12,7 @@
 
 from redkin.srs.arm_angle import ArmAngleState, arm_angle_of
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
+from redkin.srs.extrema import JointExtrema, Stationary, joint_extrema
 from redkin.srs.feasible import FeasibleArmAngles, FeasiblePieces, feasible_arm_angles, feasible_pieces
 from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
@@ -25,17 +27,20 @@ __all__ = [
     "Branch",
     "FeasibleArmAngles",
     "FeasiblePieces",
+    "JointExtrema",
     "OptimalAngle",
     "OptimalArmAngles",
     "SINGULAR_TOLERANCE",
     "SRSGeometry",
     "SingularArmAngles",
+    "Stationary",
     "arm_angle_of",
     "arm_angle_path",
     "feasible_arm_angles",
     "feasible_pieces",
     "ik",
     "ik_all_branches",
+    "joint_extrema",
     "optimal_arm_angles",
     "parse_branch",
     "pose_from",
