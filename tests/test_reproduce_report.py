@@ -19,6 +19,8 @@ def test_comparison_verdicts():
     words = Comparison("x", "yes", "no, 3 mm short", note="weights")
     assert words.agrees is False and words.verdict() == "DIFFERS; weights"
     assert Comparison("x", "yes", 2.0).agrees is None
+    with pytest.raises(ValueError, match="tolerance"):  # a note passed in the tolerance's place
+        Comparison("x", "yes", "yes", "a note")
 
 
 def test_models_section_writes_page_and_summary(tmp_path):

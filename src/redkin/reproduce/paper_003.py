@@ -133,10 +133,10 @@ def build(writer: SectionWriter) -> None:
                        float(sc.realised[inside, 4].min()), 1e-9, ""),
             Comparison("rotation about +y keeps its sign through the singularity", "yes",
                        "yes" if sc.realised[:, 4].min() >= 0 else "no",
-                       f"smallest omega_y {sc.realised[:, 4].min():.2e} rad/s at D_e = 0 (rotation pauses there, eq. 22)"),
+                       note=f"smallest omega_y {sc.realised[:, 4].min():.2e} rad/s at D_e = 0 (rotation pauses there, eq. 22)"),
             Comparison("translation inside the singular region only along x", "yes",
                        "yes" if np.abs(sc.realised[:, 1:3]).max() < 1e-9 else "no",
-                       f"largest |v_y|, |v_z| {np.abs(sc.realised[:, 1:3]).max():.1e} m/s"),
+                       note=f"largest |v_y|, |v_z| {np.abs(sc.realised[:, 1:3]).max():.1e} m/s"),
         ],
         caption="Claims of paper 003 section 4 (read from its text; the transcription has no numbers from Fig. 1).",
     )

@@ -45,6 +45,10 @@ class Comparison:
     tolerance: float = 0.0
     note: str = ""
 
+    def __post_init__(self) -> None:
+        if isinstance(self.tolerance, bool) or not isinstance(self.tolerance, (int, float)) or self.tolerance < 0:
+            raise ValueError(f"tolerance of {self.quantity!r} must be a number >= 0, got {self.tolerance!r}")
+
     @property
     def agrees(self) -> bool | None:
         """True/False for two numbers or two words (equal words agree), None otherwise."""
