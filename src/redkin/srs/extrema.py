@@ -74,8 +74,8 @@ from redkin.validation import check_pose
 TWO_PI = 2.0 * np.pi
 #: Relative tolerance of the singular case: ``|a_t^2 + b_t^2 - c_t^2| <= tolerance (a_t^2 + b_t^2 + c_t^2)``.
 EXTREMA_TOLERANCE = 1e-9
-#: A joint counts as constant when it swings by less than this (radians): a cosine-type joint by its
-#: range ``acos(c - rho) - acos(c + rho)``, ``rho = hypot(a, b)``; a tangent-type joint when
+#: A joint counts as constant when it swings by less than this (radians) between its extrema
+#: (cosine type: ``acos(c - rho) - acos(c + rho)``, ``rho = hypot(a, b)``), or, tangent type, when
 #: ``|(a_t, b_t, c_t)| = |n x d| <= CONSTANT_TOLERANCE |n| |d|`` (coefficient vectors of N and D parallel).
 CONSTANT_TOLERANCE = 1e-7
 # |n x d| below this is rounding of products of O(1) entries whatever |n| |d| is (e.g. N ~ 1e-33 noise)
@@ -287,8 +287,9 @@ def joint_extrema(
     >>> from redkin.srs import joint_extrema, pose_from
     >>> pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
     >>> extrema = joint_extrema(pa10_7c(), pose, "+++")
-    >>> extrema[2].kind, extrema[2].case, round(np.degrees(extrema[2].maximum.value), 3)
-    ('cosine', 'periodic', 47.145)
+    >>> e = extrema[2]
+    >>> e.kind, e.case, e.limit_case, round(float(np.degrees(e.minimum.value)), 3)
+    ('cosine', 'periodic', 3, 25.666)
     """
     geometry = as_geometry(arm)
     chosen = parse_branch(branch)
@@ -346,10 +347,12 @@ def joint_extrema(
             swing = np.arccos(max(c - rho, -1.0)) - np.arccos(min(c + rho, 1.0))
             case = "constant" if swing <= CONSTANT_TOLERANCE else "periodic"
             direction, jump = 0, None
+        (psi_max, psi_min), (q_max, q_min) = stationary[k], q[k, :, column]
+        if case == "periodic" and abs(np.mod(q_max - q_min + np.pi, TWO_PI) - np.pi) <= CONSTANT_TOLERANCE:
+            case = "constant"  # a swing below the tolerance (e.g. theta_4 = 0 up to rounding)
         maximum = minimum = None
         cut = None
         if case == "periodic":
-            (psi_max, psi_min), (q_max, q_min) = stationary[k], q[k, :, column]
             if flip:
                 psi_max, psi_min, q_max, q_min = psi_min, psi_max, q_min, q_max
             maximum = Stationary(float(psi_max), float(q_max))
