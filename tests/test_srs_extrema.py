@@ -7,10 +7,18 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from redkin.models import pa10_7c, planar_arm, srs_chain
-from redkin.srs import BRANCHES, feasible_arm_angles, ik, joint_extrema, pose_from, singular_arm_angles
+from redkin.srs import (
+    BRANCHES,
+    feasible_arm_angles,
+    ik,
+    joint_extrema,
+    pose_from,
+    singular_arm_angles,
+)
 from redkin.srs.extrema import LIMIT_CASES, limit_case, tangent_case
 
 SAMPLES = 200_000

@@ -252,9 +252,9 @@ def limit_case(maximum: float, minimum: float, lower: float, upper: float, limit
 
 
 def joint_extrema(
-    arm: "SerialChain | SRSGeometry",
+    arm: SerialChain | SRSGeometry,
     pose: ArrayLike,
-    branch: "str | Branch" = "+++",
+    branch: str | Branch = "+++",
     tolerance: float = EXTREMA_TOLERANCE,
 ) -> dict[int, JointExtrema]:
     """Type, case, extrema and monotonicity of each psi-dependent joint for one pose (paper 000 eqs. 21-28).
