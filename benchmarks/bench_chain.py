@@ -15,17 +15,7 @@ import time
 import numpy as np
 
 from redkin.models import pa10_7c
-
-
-def best_time(function, repeat: int = 7, number: int = 1) -> float:
-    """Best wall time of ``number`` calls, over ``repeat`` trials, per call (seconds)."""
-    best = np.inf
-    for _ in range(repeat):
-        start = time.perf_counter()
-        for _ in range(number):
-            function()
-        best = min(best, (time.perf_counter() - start) / number)
-    return best
+from timing import best_time  # benchmarks/timing.py (the script's folder is on sys.path)
 
 
 def loop_over_joints_fk(chain, q: np.ndarray) -> np.ndarray:

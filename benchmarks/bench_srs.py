@@ -12,28 +12,7 @@ import numpy as np
 
 from redkin.models import pa10_7c
 from redkin.srs import feasible_arm_angles, feasible_pieces, ik_all_branches, srs_geometry
-
-
-def per_call(function, repeat: int, rounds: int = 5) -> float:
-    """Best of ``rounds`` mean times over ``repeat`` calls (the best round is the least disturbed by other load)."""
-    function()
-    best = float("inf")
-    for _ in range(rounds):
-        start = time.perf_counter()
-        for _ in range(repeat):
-            function()
-        best = min(best, (time.perf_counter() - start) / repeat)
-    return best
-
-
-def once(function, rounds: int = 3) -> float:
-    """Best of ``rounds`` single runs."""
-    best = float("inf")
-    for _ in range(rounds):
-        start = time.perf_counter()
-        function()
-        best = min(best, time.perf_counter() - start)
-    return best
+from timing import best_time  # benchmarks/timing.py (the script's folder is on sys.path)
 
 
 def main() -> None:
@@ -44,15 +23,15 @@ def main() -> None:
     poses = chain.fk(q_in)
     pose = poses[0]
     rows = []
-    t = per_call(lambda: ik_all_branches(geometry, pose, 0.3), 2000)
+    t = best_time(lambda: ik_all_branches(geometry, pose, 0.3), repeat=5, number=2000)
     rows.append(("one pose, all 8 branches at psi", f"{t * 1e6:9.1f} us"))
-    t = per_call(lambda: feasible_pieces(geometry, pose, "+++"), 2000)
+    t = best_time(lambda: feasible_pieces(geometry, pose, "+++"), repeat=5, number=2000)
     rows.append(("one pose, feasible set (arrays)", f"{t * 1e6:9.1f} us"))
-    t = per_call(lambda: feasible_arm_angles(geometry, pose, "+++"), 500)
+    t = best_time(lambda: feasible_arm_angles(geometry, pose, "+++"), repeat=5, number=500)
     rows.append(("one pose, feasible + per-joint ArcSets", f"{t * 1e6:9.1f} us"))
-    t = once(lambda: ik_all_branches(geometry, poses, 0.3))
+    t = best_time(lambda: ik_all_branches(geometry, poses, 0.3), repeat=3)
     rows.append(("batch 100 000 poses x 8 branches", f"{8 * len(poses) / t:9.3g} solutions/s"))
-    t = once(lambda: feasible_pieces(geometry, poses, "+++"), 2)
+    t = best_time(lambda: feasible_pieces(geometry, poses, "+++"), repeat=2)
     rows.append(("batch 100 000 feasible sets (arrays)", f"{t / len(poses) * 1e6:9.2f} us/pose"))
     try:
         import roboticstoolbox as rtb  # noqa: F401
