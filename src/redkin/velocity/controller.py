@@ -173,8 +173,13 @@ class SingularityConsistentController:
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity and realised twist for joint angles ``q`` ``(7,)`` and commanded twist ``(6,)``."""
         values = read_vector(q, 7, "q")
-        command = read_vector(twist, 6, "twist")
-        jac = self._jacobian.unchecked(values)
+        return self.solve(values, self._jacobian.unchecked(values), read_vector(twist, 6, "twist"))
+
+    def solve(self, values: list[float], jac: np.ndarray, command: list[float]) -> VelocitySolution:
+        """The step for trusted inputs: 7 finite joint values, their ``6 x 7`` Jacobian, 6 finite twist values.
+
+        For callers that already hold the Jacobian (e.g. the tracking simulation); no input checks.
+        """
         d_e = self.factorisation.scalar_index(values)
         if abs(d_e) < self.near_zero:  # eqs. 15, 21 with sum_i D_i n_i from one adjugate: exact on D_e = 0
             factors = np.asarray(self.factorisation.factors(np.array(values), jac), dtype=float)
