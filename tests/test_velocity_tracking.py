@@ -52,6 +52,13 @@ def test_velocity_sc_crosses_once_and_realises_command_outside_region(runs):
     assert speed.max() < 5.0 and speed[np.argmin(np.abs(d_e))] > 0.1
 
 
+def test_velocity_sc_controller_run_equals_the_exact_cofactor_run(runs):
+    # the default (lean) method steps through the controller; lean=False takes eqs. 15-22 literally
+    exact = simulate(WAM, Q0, TWIST, DURATION, SingularityConsistent(eps=EPS, lean=False), dt=DT)
+    np.testing.assert_allclose(runs["sc"].q, exact.q, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(runs["sc"].joint_velocity, exact.joint_velocity, rtol=0, atol=1e-8)
+
+
 def test_velocity_sc_path_reverses_along_x(runs):
     run = runs["sc"]
     x = run.position[:, 0]
