@@ -82,3 +82,16 @@ def test_virtual_arms_cli_bad_input_exits_2_with_one_line(capsys, argv, words):
 def test_virtual_arms_cli_unknown_robot_exits_2(capsys):
     assert main(["virtual-arms", "no-such-robot", "--goal", "1", "2", "3"]) == 2
     assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_virtual_arms_cli_gif_out_animates_the_run(capsys, tmp_path):
+    from PIL import Image  # matplotlib's own dependency
+
+    out = tmp_path / "run.gif"
+    assert main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--out", str(out)]) == 0
+    with Image.open(out) as animation:
+        assert animation.n_frames > 10
+        first = np.asarray(animation.convert("RGB"), dtype=float)
+        animation.seek(animation.n_frames - 1)
+        last = np.asarray(animation.convert("RGB"), dtype=float)
+    assert np.abs(first - last).mean() > 0.1  # the arm moves between the first and the last frame

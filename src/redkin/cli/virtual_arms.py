@@ -42,7 +42,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--obstacle", action="append", default=[], metavar="X,Y,R",
                         help="a circular obstacle X,Y,R (planar arms) or a sphere X,Y,Z,R, metres (repeatable); "
                              "the planner of Fig. 8 then keeps the whole arm clear of it")
-    parser.add_argument("--out", metavar="PNG", help="save a stroboscopic drawing of the run (planar arms)")
+    parser.add_argument("--out", metavar="FILE",
+                        help="save a stroboscopic drawing of the run (PNG, PDF, SVG), or an animation if FILE ends in .gif "
+                             "(planar arms)")
     add_output_flags(parser)
     parser.set_defaults(handler=run_virtual_arms)
 
@@ -185,7 +187,17 @@ def _save_plot(path: str, chain, run, truth: np.ndarray | None, obstacles: list 
     if goals.shape[1] != 2:
         raise UsageError("--out draws planar arms only; this robot's task space is 3-D")
     fig, ax = plt.subplots(figsize=(6, 6))
-    draw_strobe(ax, chain, run.theta, goals, truth, title=f"{chain.name}: {run.status}", obstacles=obstacles)
-    ax.legend(fontsize=7)
-    fig.savefig(path, dpi=100)
+    title = f"{chain.name}: {run.status}"
+    if path.lower().endswith(".gif"):  # an animation of the run instead of the stroboscopic drawing
+        from matplotlib.animation import PillowWriter
+
+        from redkin.plot.virtual_arms import animate_planar
+
+        animate_planar(fig, ax, chain, run.theta, goals, title=title, obstacles=obstacles).save(
+            path, writer=PillowWriter(fps=20), dpi=80
+        )
+    else:
+        draw_strobe(ax, chain, run.theta, goals, truth, title=title, obstacles=obstacles)
+        ax.legend(fontsize=7)
+        fig.savefig(path, dpi=100)
     plt.close(fig)

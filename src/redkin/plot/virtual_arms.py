@@ -122,3 +122,60 @@ def draw_strobe_3d(ax, chain: SerialChain, theta: np.ndarray, goal: np.ndarray, 
     ax.set_zlabel("z [m]")
     if title:
         ax.set_title(title, fontsize=9)
+
+
+def animate_planar(fig, ax, chain: SerialChain, theta: np.ndarray, goals: np.ndarray, frames: int = 40,
+                   title: str | None = None, obstacles: Sequence = ()):
+    """An animation of a planar run: the arm at ``frames`` instants, the end-point path drawn as it grows.
+
+    Save it with ``animation.save("run.gif", writer=matplotlib.animation.PillowWriter(fps=20))``.
+
+    Parameters
+    ----------
+    fig, ax : matplotlib figure and axes
+    chain : SerialChain
+        Planar chain (x-y plane).
+    theta : numpy.ndarray, shape (K, m)
+        Joint vectors along the run.
+    goals : numpy.ndarray, shape (p, 2)
+        Goals (the first is the real end point's).
+    frames : int
+        Number of instants shown (spread evenly over the run, first and last included).
+    obstacles : sequence of Obstacle
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+    """
+    from matplotlib.animation import FuncAnimation
+
+    draw_obstacles(ax, obstacles)
+    picks = strobe_indices(len(theta), frames)
+    skeleton = chain.frames(theta)[..., :2, 3]  # (K, n + 2, 2)
+    ends = skeleton[:, -1]
+    everything = np.concatenate([skeleton.reshape(-1, 2), goals[:, :2]])
+    low, high = everything.min(axis=0), everything.max(axis=0)
+    margin = 0.1 * float(np.max(high - low)) + 0.05
+    ax.set_xlim(low[0] - margin, high[0] + margin)
+    ax.set_ylim(low[1] - margin, high[1] + margin)
+    ax.set_aspect("equal")
+    ax.grid(True, linewidth=0.3)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.plot(goals[:1, 0], goals[:1, 1], "*", color="C3", markersize=12, label="end goal")
+    if len(goals) > 1:
+        ax.plot(goals[1:, 0], goals[1:, 1], "x", color="C2", markersize=6, label="virtual goals")
+    ax.plot([0.0], [0.0], "ks", markersize=6)
+    (arm,) = ax.plot([], [], "-o", color="C0", markersize=3, linewidth=2.0, label="arm")
+    (trace,) = ax.plot([], [], ":", color="C3", linewidth=1.0, label="end-point path")
+    if title:
+        ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7, loc="lower left")
+
+    def show(k: int):
+        record = picks[k]
+        arm.set_data(skeleton[record, :, 0], skeleton[record, :, 1])
+        trace.set_data(ends[: record + 1, 0], ends[: record + 1, 1])
+        return arm, trace
+
+    return FuncAnimation(fig, show, frames=len(picks), interval=50, blit=True)
