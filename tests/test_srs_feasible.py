@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from redkin.circle import ArcSet, intersect_all, wrap_angle
+from redkin.circle import intersect_all, wrap_angle
 from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_pieces, ik, pose_from
 

@@ -46,4 +46,5 @@ __all__ = [
     "pose_from",
     "reachable",
     "singular_arm_angles",
+    "srs_geometry",
 ]

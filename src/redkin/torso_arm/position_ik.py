@@ -26,7 +26,6 @@ Every input is batched over leading axes (broadcast together).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
