@@ -5,6 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from redkin.models import humanoid_right_arm
 from redkin.so3 import matrix_to_xyz_fixed
 from redkin.torso_arm import (
     BRANCHES,
@@ -203,3 +204,36 @@ def test_torso_arm_unreachable_is_a_status_not_an_error():
     sol = position_ik(humanoid_arm(), [3.0, 2.0, 1.0], 0.0, 0.0)
     assert sol.status == UNREACHABLE and not sol.within_limits.any()
     assert OK != UNREACHABLE
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_torso_arm_wrap_to_limits_shifts_only_into_limits(seed):
+    from redkin.torso_arm.branches import wrap_to_limits
+
+    chain = humanoid_right_arm()
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(-10.0, 10.0, (50, chain.n))
+    wrapped = wrap_to_limits(chain, q)
+    # the same angle, in (-pi, pi] or shifted by 2 pi from there only when that lands inside the joint's limits
+    assert np.allclose(np.cos(wrapped), np.cos(q)) and np.allclose(np.sin(wrapped), np.sin(q))
+    principal = np.pi - np.mod(np.pi - q, 2.0 * np.pi)
+    inside = (wrapped >= chain.lower) & (wrapped <= chain.upper)
+    shifted = ~np.isclose(wrapped, principal)
+    assert np.all(inside[shifted])
+    for shift in (2.0 * np.pi, -2.0 * np.pi):  # nothing left outside that a shift would bring inside
+        moved = principal + shift
+        could = (moved >= chain.lower) & (moved <= chain.upper)
+        assert not np.any(could & ~inside & ~((principal >= chain.lower) & (principal <= chain.upper)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-50.0, 50.0), min_size=1, max_size=20))
+def test_torso_arm_wrap_angle_is_the_same_angle_in_half_open_range(values):
+    angles = np.array(values)
+    wrapped = wrap_angle(angles)
+    assert np.all((wrapped > -np.pi) & (wrapped <= np.pi))
+    assert np.allclose(np.cos(wrapped), np.cos(angles)) and np.allclose(np.sin(wrapped), np.sin(angles))
+    inside = (angles > -np.pi) & (angles <= np.pi)
+    assert np.array_equal(wrapped[inside], angles[inside])  # already wrapped: unchanged, bit for bit
+    assert wrap_angle(np.array([-np.pi]))[0] == np.pi
