@@ -14,8 +14,8 @@ from hypothesis import given, settings, strategies as st
 from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
 from redkin.so3 import rot_x
 from redkin.srs import BRANCHES, arm_angle_of, feasible_arm_angles, feasible_pieces, ik, ik_all_branches, pose_from, srs_geometry
-from redkin.srs.coefficients import arm_angle_coefficients, entries_at, rotation_terms
-from redkin.srs.feasible import cut_points
+from redkin.srs.coefficients import arm_angle_coefficients, entries_at, entries_of, rotation_terms
+from redkin.srs.feasible import cut_points, limit_equations
 from redkin.srs.joints import IS_COSINE, PSI_JOINTS, entry_values
 from redkin.srs.rotations import shoulder_rotation, wrist_rotation
 from redkin.validation import check_pose
@@ -120,7 +120,7 @@ def test_cut_points_are_where_a_joint_meets_a_limit(seed, model, branch, crossin
     pose = chain.fk(q)
     local = geometry.to_table1_pose(pose)
     coefficients = arm_angle_coefficients(geometry, local[:3, 3], local[:3, :3], 1 if branch[1] == "+" else -1)
-    cuts = cut_points(coefficients, geometry)  # (6, 4)
+    cuts = cut_points(limit_equations(coefficients, geometry))  # (6, 4)
     for k, joint in enumerate(PSI_JOINTS):
         limits = np.repeat([geometry.theta_lower[joint - 1], geometry.theta_upper[joint - 1]], 2)
         found = ~np.isnan(cuts[k])
@@ -153,6 +153,37 @@ def test_limit_tables_are_built_once_per_geometry():
     geometry = srs_geometry(pa10_7c())
     assert geometry.psi_joint_limits is geometry.psi_joint_limits
     assert not geometry.psi_joint_limits.weights.flags.writeable
+
+
+WIDTHS = st.one_of(st.floats(1e-3, 7.0), st.sampled_from([np.pi, np.pi / 2, 2 * np.pi - 1e-6, 2 * np.pi]))
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.integers(0, 2**31), st.lists(st.floats(-2 * np.pi, 2 * np.pi), min_size=7, max_size=7), st.lists(WIDTHS, min_size=7, max_size=7))
+def test_limit_equation_signs_decide_joint_membership(seed, lower, width):
+    """Off its cut points a joint's limit membership is read from the signs of its two limit equations.
+
+    Law: for DH angles theta on any branch and any box limits (narrow, wider
+    than pi, exactly pi, crossing +-pi, unlimited), the membership table
+    looked up with the signs of the limit equations evaluated at the entries
+    of ``0R3(theta)`` and ``4R7(theta)`` equals the chain's own limit check.
+    """
+    lower = np.array(lower)
+    chain = pa10_7c().with_limits(lower, lower + np.array(width))
+    geometry = srs_geometry(chain)
+    limits = geometry.psi_joint_limits
+    theta = np.random.default_rng(seed).uniform(-np.pi, np.pi, (400, 7))
+    entries = entries_of(shoulder_rotation(theta), wrist_rotation(theta))
+    values = (entries @ limits.weights + limits.offset[2]).reshape(-1, 6, 2)
+    expected = chain.joints_within_limits(theta, wrap=True)[:, [j - 1 for j in PSI_JOINTS]]
+    away = np.all(np.abs(values) > 1e-9, axis=(1, 2))  # not on a cut point
+    positive = values > 0
+    for sigma_2 in (1, -1):
+        for sigma_6 in (1, -1):
+            rows = away & (np.sign(theta[:, 1]) == sigma_2) & (np.sign(theta[:, 5]) == sigma_6)
+            table = limits.membership[int(sigma_2 < 0), int(sigma_6 < 0)].reshape(6, 4)
+            looked_up = table[np.arange(6), 2 * positive[rows, :, 0] + positive[rows, :, 1]]
+            np.testing.assert_array_equal(looked_up, expected[rows])
 
 
 @pytest.mark.parametrize(

@@ -12,10 +12,13 @@ from eqs. 21 and 22), which has at most two roots in closed form
 ``theta_i`` stays on one side of each limit (it is continuous there: its
 only discontinuities, where the tangent-type numerator and denominator both
 vanish, are roots of every limit equation), so one evaluation at the middle
-of each piece classifies it.  This covers the five cases of section 4.3
-(none, around psi_max, around psi_min, the complement of both, all) and
-limits that cross ``+-pi`` alike, because membership is tested modulo
-``2 pi``.  Isolated touching points (a limit reached at a single arm angle
+of each piece classifies it.  The evaluation needs no joint angle: the
+signs of the joint's two limit equations there decide, through a table
+built once per arm and branch sign
+(:func:`redkin.srs.joints.limit_sign_membership`).  This covers the five
+cases of section 4.3 (none, around psi_max, around psi_min, the complement
+of both, all) and limits that cross ``+-pi`` alike, because the table is
+filled by testing membership modulo ``2 pi``.  Isolated touching points (a limit reached at a single arm angle
 from outside) and pieces shorter than :data:`PIECE_TOLERANCE` are not
 reported.
 """
@@ -33,12 +36,13 @@ from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
-from redkin.srs.joints import PSI_JOINTS, branch_signs, entry_values, psi_joint_angles, sinusoid_roots
+from redkin.srs.joints import PSI_JOINTS, sinusoid_roots, within
 
 TWO_PI = 2.0 * np.pi
 #: Pieces shorter than this (radians) are dropped: they are repeated roots split by
 #: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
 PIECE_TOLERANCE = 1e-12
+_TABLE_ROWS = 4 * np.arange(6)  # row offsets of the six joints in a flattened membership table
 
 
 @dataclass(frozen=True)
@@ -94,24 +98,24 @@ class FeasiblePieces:
         return np.any(self.feasible & (self.end - self.start > PIECE_TOLERANCE), axis=-1)
 
 
-def within(theta: np.ndarray, start, span, free) -> np.ndarray:
-    """``start <= theta <= start + span`` modulo 2 pi (limits crossing +-pi work); free (unlimited) joints pass.
+def limit_equations(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
+    """Rows ``(p, q, r)`` of the twelve limit equations ``p sin psi + q cos psi + r = 0``, shape ``(..., 3, 12)``.
 
-    ``start`` and ``span`` are the limits widened by :data:`redkin.srs.geometry.MEMBERSHIP_TOLERANCE`
-    on both sides (:attr:`redkin.srs.geometry.SRSGeometry.psi_joint_limits`).
-    """
-    return (np.mod(theta - start, TWO_PI) <= span) | free
-
-
-def cut_points(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
-    """Every arm angle where a joint reaches a limit, shape ``(..., 6, 4)`` (NaN: none).
-
-    Row ``k`` holds the roots for joint ``PSI_JOINTS[k]``: two for its lower
-    and two for its upper limit (eqs. 21, 22 set equal to the limit; all
-    twelve equations in one matrix product).  Unlimited joints have none.
+    Column ``2 k + j`` is joint ``PSI_JOINTS[k]`` at its lower (``j = 0``) or
+    upper limit (eqs. 21, 22 set equal to the limit; all twelve in one
+    matrix product, :func:`redkin.srs.joints.limit_equation_table`).
     """
     limits = geometry.psi_joint_limits
-    equations = coefficients.entries @ limits.weights + limits.offset  # (..., 3, 12): rows p, q, r
+    return coefficients.entries @ limits.weights + limits.offset
+
+
+def cut_points(equations: np.ndarray) -> np.ndarray:
+    """Every arm angle where a joint reaches a limit, shape ``(..., 6, 4)`` (NaN: none).
+
+    Row ``k`` holds the roots of the :func:`limit_equations` of joint
+    ``PSI_JOINTS[k]``: two for its lower and two for its upper limit.
+    Unlimited joints have none.
+    """
     roots = sinusoid_roots(equations[..., 0, :], equations[..., 1, :], equations[..., 2, :])  # (..., 12, 2)
     return roots.reshape(roots.shape[:-2] + (6, 4))
 
@@ -131,14 +135,25 @@ def _pieces(cuts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return cuts, end
 
 
-def _classify(
-    coefficients: ArmAngleCoefficients, branch: Branch, start: np.ndarray, end: np.ndarray, geometry: SRSGeometry
-) -> np.ndarray:
-    """Whether each joint is within its limits at each piece's middle, ``(..., M, 6)``."""
-    limits = geometry.psi_joint_limits
-    values = entry_values(coefficients.entries[..., None, :, :], 0.5 * (start + end))
-    theta = psi_joint_angles(values, branch_signs(branch.shoulder, branch.wrist))
-    return within(theta, limits.start, limits.span, limits.free)
+def _middle_trig(start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """``(sin psi, cos psi, 1)`` at the middle of each piece, shape ``(..., 3)``."""
+    middle = 0.5 * (start + end)
+    trig = np.empty(middle.shape + (3,))
+    np.sin(middle, out=trig[..., 0])
+    np.cos(middle, out=trig[..., 1])
+    trig[..., 2] = 1.0
+    return trig
+
+
+def _inside(values: np.ndarray, branch: Branch, geometry: SRSGeometry) -> np.ndarray:
+    """Whether each joint is within its limits, from its limit-equation values ``(..., 6, 2)`` -> ``(..., 6)``.
+
+    Off the cut points the signs of a joint's two limit equations decide
+    (:func:`redkin.srs.joints.limit_sign_membership`).
+    """
+    positive = values > 0.0
+    pattern = 2 * positive[..., 0] + positive[..., 1] + _TABLE_ROWS
+    return geometry.psi_joint_limits.membership[int(branch.shoulder < 0), int(branch.wrist < 0)][pattern]
 
 
 def elbow_within(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
@@ -149,21 +164,23 @@ def elbow_within(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> n
 
 def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
     """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once."""
-    cuts = cut_points(coefficients, geometry)
+    equations = limit_equations(coefficients, geometry)
+    cuts = cut_points(equations)
     start, end = _pieces(cuts.reshape(cuts.shape[:-2] + (24,)))
     used = (start == start) & elbow_within(coefficients, geometry)[..., None]  # start is NaN in unused slots
-    ok = _classify(coefficients, branch, start, end, geometry).all(axis=-1) & used
+    values = _middle_trig(start, end) @ equations  # (..., M, 12)
+    ok = _inside(values.reshape(values.shape[:-1] + (6, 2)), branch, geometry).all(axis=-1) & used
     return FeasiblePieces(start, end, ok)
 
 
 def per_joint_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
     """Eq. 29 for a batch: pieces of each joint's own cut points; batch shape gains an axis of 6 joints."""
-    cuts = cut_points(coefficients, geometry)  # (..., 6, 4)
-    start, end = _pieces(cuts)
-    ok = _classify(coefficients.expand(), branch, start, end, geometry)  # (..., 6, M, 6)
-    own = np.diagonal(ok, axis1=-3, axis2=-1)  # (..., M, 6)
-    own = np.moveaxis(own, -1, -2) & ~np.isnan(start)
-    return FeasiblePieces(start, end, own)
+    equations = limit_equations(coefficients, geometry)
+    start, end = _pieces(cut_points(equations))  # (..., 6, 4)
+    own = np.moveaxis(equations.reshape(equations.shape[:-1] + (6, 2)), -3, -2)  # (..., 6, 3, 2)
+    values = np.moveaxis(_middle_trig(start, end) @ own, -3, -2)  # (..., 4, 6, 2): piece, joint, limit
+    ok = np.moveaxis(_inside(values, branch, geometry), -1, -2) & ~np.isnan(start)
+    return FeasiblePieces(start, end, ok)
 
 
 def feasible_pieces(

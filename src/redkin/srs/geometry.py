@@ -18,7 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from redkin.chain import SerialChain
-from redkin.srs.joints import PSI_JOINTS, limit_equation_table
+from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
 from redkin.validation import check_rotation, check_vectors
 
 HALF_PI = np.pi / 2.0
@@ -46,6 +46,10 @@ class PsiJointLimits(NamedTuple):
         Unlimited joints (range ``>= 2 pi``).
     weights, offset : numpy.ndarray
         The limit equations (see :func:`redkin.srs.joints.limit_equation_table`).
+    membership : numpy.ndarray of bool, shape (2, 2, 24)
+        ``[n2, n6]``: for branches with ``sigma_2 < 0`` (``n2 = 1``) or not and
+        likewise ``sigma_6``, the flattened ``(6, 4)`` table of
+        :func:`redkin.srs.joints.limit_sign_membership`.
     elbow_start, elbow_span : float
     elbow_free : numpy.bool_
         The same for joint 4.
@@ -56,6 +60,7 @@ class PsiJointLimits(NamedTuple):
     free: np.ndarray
     weights: np.ndarray
     offset: np.ndarray
+    membership: np.ndarray
     elbow_start: float
     elbow_span: float
     elbow_free: np.bool_
@@ -104,9 +109,14 @@ class SRSGeometry:
         columns = [j - 1 for j in PSI_JOINTS]
         weights, offset = limit_equation_table(lower[columns], upper[columns], limited[columns])
         arrays = (start[columns], span[columns], free[columns])
-        for array in arrays:
+        by_sign = limit_sign_membership(lower[columns], upper[columns], *arrays)  # (2, 6, 4)
+        membership = np.empty((2, 2, 6, 4), dtype=bool)
+        membership[:, :, :3] = by_sign[:, None, :3]  # shoulder joints follow sigma_2
+        membership[:, :, 3:] = by_sign[None, :, 3:]  # wrist joints follow sigma_6
+        membership = membership.reshape(2, 2, 24)
+        for array in arrays + (membership,):
             array.setflags(write=False)
-        return PsiJointLimits(*arrays, weights, offset, float(start[3]), float(span[3]), free[3])
+        return PsiJointLimits(*arrays, weights, offset, membership, float(start[3]), float(span[3]), free[3])
 
     def theta_of_q(self, q: np.ndarray) -> np.ndarray:
         """DH angles ``theta = offset + sign * q``."""

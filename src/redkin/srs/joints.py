@@ -175,6 +175,69 @@ def limit_equation_table(lower: np.ndarray, upper: np.ndarray, limited: np.ndarr
     return weights, offset
 
 
+def within(theta: np.ndarray, start, span, free) -> np.ndarray:
+    """``start <= theta <= start + span`` modulo 2 pi (limits crossing +-pi work); free (unlimited) joints pass.
+
+    ``start`` and ``span`` are the limits widened by :data:`redkin.srs.geometry.MEMBERSHIP_TOLERANCE`
+    on both sides (:attr:`redkin.srs.geometry.SRSGeometry.psi_joint_limits`).
+    """
+    return (np.mod(theta - start, 2.0 * np.pi) <= span) | free
+
+
+def limit_sign_membership(lower: np.ndarray, upper: np.ndarray, start, span, free) -> np.ndarray:
+    """Joint-limit membership as a function of the signs of the two limit equations of each joint.
+
+    Between consecutive zeros of its two limit equations (:func:`limit_equation_table`)
+    a joint stays on one side of each limit, so whether it is within its
+    limits depends only on which of the two equations are positive: for
+    the tangent type ``N cos L - D sin L = rho sin(theta_+ - L)`` with
+    ``theta_+ = atan2(N, D)`` the angle of the ``sigma = +1`` branch, for the
+    cosine type ``z - cos L = cos theta_+ - cos L`` with ``theta_+ = acos z``.
+    The table is filled from one ``theta_+`` inside each region between the
+    zeros (``L``, ``U``, ``L + pi``, ``U + pi`` on the circle, or ``|L|``,
+    ``|U|`` on ``[0, pi]``), whose branch angle (``theta_+`` turned by ``pi``
+    or negated for ``sigma = -1``) is tested with :func:`within`.
+
+    Parameters
+    ----------
+    lower, upper : numpy.ndarray, shape (6,)
+        DH limits of the columns of :data:`PSI_JOINTS` (as given to :func:`limit_equation_table`).
+    start, span, free : numpy.ndarray, shape (6,)
+        The membership test of :func:`within` (limits with slack; unlimited joints).
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (2, 6, 4)
+        ``[n, k, 2 a + b]``: column ``k`` on a branch with ``sigma < 0`` (``n = 1``)
+        or ``sigma > 0`` (``n = 0``) is within its limits where its lower-limit
+        equation is positive (``a = 1``) or not (``a = 0``) and its upper-limit
+        equation likewise (``b``).  Patterns that never occur are False.
+    """
+    table = np.zeros((2, 6, 4), dtype=bool)
+    table[:, free, :] = True  # an unlimited joint's equations read 0 = 1
+    for k in np.flatnonzero(~free):
+        limits = np.array([lower[k], upper[k]])
+        if IS_COSINE[k]:
+            folded = np.abs(np.mod(limits + np.pi, 2.0 * np.pi) - np.pi)
+            zeros = np.sort(np.concatenate([[0.0, np.pi], folded]))
+            starts, ends = zeros[:-1], zeros[1:]
+        else:
+            zeros = np.sort(np.mod(np.concatenate([limits, limits + np.pi]), 2.0 * np.pi))
+            starts, ends = zeros, np.append(zeros[1:], zeros[0] + 2.0 * np.pi)
+        samples = 0.5 * (starts + ends)[ends > starts]  # one inside each region of positive width
+        if IS_COSINE[k]:
+            signs = np.cos(samples)[:, None] - np.cos(limits) > 0.0
+            branch_angles = (samples, -samples)
+        else:
+            signs = np.sin(samples[:, None] - limits) > 0.0
+            branch_angles = (samples, samples + np.pi)
+        patterns = 2 * signs[:, 0] + signs[:, 1]
+        for n, theta in enumerate(branch_angles):
+            table[n, k, patterns] = within(theta, start[k], span[k], free[k])
+    table.setflags(write=False)
+    return table
+
+
 def sinusoid_roots(p: np.ndarray, q: np.ndarray, r: np.ndarray, tolerance: float = 1e-12) -> np.ndarray:
     """Roots in ``[-pi, pi)`` of ``p sin psi + q cos psi + r = 0``; shape ``(..., 2)``, NaN where none.
 
