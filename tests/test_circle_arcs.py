@@ -76,3 +76,13 @@ def test_bad_arcs_raise():
         ArcSet([(1.0, 2.0, 3.0)])
     with pytest.raises(ValueError, match="finite"):
         ArcSet([(np.nan, 1.0)])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-1e6, 1e6) | st.sampled_from([np.pi, -np.pi, 3 * np.pi, -3 * np.pi, 0.0, -0.0, 1e-300]))
+def test_wrap_angle_of_a_float_equals_the_array_path_bit_for_bit(angle):
+    """The scalar fast path (Python %) and the array path (np.mod) give the same float in [-pi, pi)."""
+    scalar = wrap_angle(float(angle))
+    assert type(scalar) is float
+    assert scalar == float(wrap_angle(np.array([angle]))[0])
+    assert -np.pi <= scalar < np.pi

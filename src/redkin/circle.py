@@ -13,6 +13,7 @@ public :attr:`ArcSet.arcs` joins the two pieces again.
 
 from __future__ import annotations
 
+import math
 from typing import Iterable, Sequence
 
 import numpy as np
@@ -25,7 +26,13 @@ SEAM_TOLERANCE = 1e-12
 
 
 def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
-    """Angles mapped to ``[-pi, pi)``."""
+    """Angles mapped to ``[-pi, pi)``.
+
+    A Python float comes back as a float, computed with Python's ``%``
+    (the same floor modulo as ``np.mod``, without numpy's per-call cost).
+    """
+    if type(angle) is float:
+        return (angle + PI) % TWO_PI - PI
     return np.mod(np.asarray(angle, dtype=float) + PI, TWO_PI) - PI
 
 
@@ -61,13 +68,13 @@ class ArcSet:
             if len(arc) != 2:
                 raise ValueError(f"an arc must be a pair (lo, hi), got {arc!r}")
             lo, hi = float(arc[0]), float(arc[1])
-            if not (np.isfinite(lo) and np.isfinite(hi)):
+            if not (math.isfinite(lo) and math.isfinite(hi)):
                 raise ValueError(f"arc ends must be finite, got ({lo}, {hi})")
             if hi - lo >= TWO_PI:
                 pieces.append((-PI, PI))
                 continue
-            start = float(wrap_angle(lo))
-            length = float(np.mod(hi - lo, TWO_PI)) if hi != lo else 0.0
+            start = wrap_angle(lo)
+            length = (hi - lo) % TWO_PI if hi != lo else 0.0
             end = start + length
             if end <= PI:
                 pieces.append((start, end))

@@ -26,6 +26,7 @@ reported.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import compress
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -88,14 +89,29 @@ class FeasiblePieces:
 
     def arc_set(self, index: tuple[int, ...] = ()) -> ArcSet:
         """The :class:`ArcSet` of one pose (``index`` into the batch shape)."""
-        keep = self.feasible[index]
-        starts, ends = self.start[index][keep], self.end[index][keep]
-        return ArcSet([(a, b) for a, b in zip(starts.tolist(), ends.tolist()) if b - a > PIECE_TOLERANCE])
+        first, last = _run_ends(self.feasible[index])
+        return _arc_set(self.start[index].tolist(), self.end[index].tolist(), first.tolist(), last.tolist())
 
     @property
     def nonempty(self) -> np.ndarray:
         """Whether each pose has a feasible arm angle (a feasible piece longer than :data:`PIECE_TOLERANCE`)."""
         return np.any(self.feasible & (self.end - self.start > PIECE_TOLERANCE), axis=-1)
+
+
+def _run_ends(keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Masks of the first and of the last piece of each run of consecutive kept pieces (last axis)."""
+    first = keep.copy()
+    first[..., 1:] &= ~keep[..., :-1]
+    last = keep.copy()
+    last[..., :-1] &= ~keep[..., 1:]
+    return first, last
+
+
+def _arc_set(starts: list[float], ends: list[float], first: list[bool], last: list[bool]) -> ArcSet:
+    """The arcs of the runs of kept pieces (each piece ends where the next starts), dropping runs
+    shorter than :data:`PIECE_TOLERANCE`."""
+    runs = zip(compress(starts, first), compress(ends, last))
+    return ArcSet([(a, b) for a, b in runs if b - a > PIECE_TOLERANCE])
 
 
 def limit_equations(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
@@ -162,25 +178,27 @@ def elbow_within(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> n
     return within(coefficients.theta4, limits.elbow_start, limits.elbow_span, limits.elbow_free)
 
 
-def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
-    """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once."""
+def _piece_membership(
+    coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pieces between all joints' cut points and, per piece, which joints are within their limits.
+
+    Returns ``start, end`` ``(..., 24)`` (see :func:`_pieces`) and ``inside``
+    ``(..., 24, 6)`` for the columns of :data:`PSI_JOINTS`.  The pieces refine
+    every joint's own pieces, so they serve eq. 29 and eq. 30 alike.
+    """
     equations = limit_equations(coefficients, geometry)
     cuts = cut_points(equations)
     start, end = _pieces(cuts.reshape(cuts.shape[:-2] + (24,)))
+    values = _middle_trig(start, end) @ equations  # (..., 24, 12)
+    return start, end, _inside(values.reshape(values.shape[:-1] + (6, 2)), branch, geometry)
+
+
+def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
+    """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once."""
+    start, end, inside = _piece_membership(coefficients, branch, geometry)
     used = (start == start) & elbow_within(coefficients, geometry)[..., None]  # start is NaN in unused slots
-    values = _middle_trig(start, end) @ equations  # (..., M, 12)
-    ok = _inside(values.reshape(values.shape[:-1] + (6, 2)), branch, geometry).all(axis=-1) & used
-    return FeasiblePieces(start, end, ok)
-
-
-def per_joint_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
-    """Eq. 29 for a batch: pieces of each joint's own cut points; batch shape gains an axis of 6 joints."""
-    equations = limit_equations(coefficients, geometry)
-    start, end = _pieces(cut_points(equations))  # (..., 6, 4)
-    own = np.moveaxis(equations.reshape(equations.shape[:-1] + (6, 2)), -3, -2)  # (..., 6, 3, 2)
-    values = np.moveaxis(_middle_trig(start, end) @ own, -3, -2)  # (..., 4, 6, 2): piece, joint, limit
-    ok = np.moveaxis(_inside(values, branch, geometry), -1, -2) & ~np.isnan(start)
-    return FeasiblePieces(start, end, ok)
+    return FeasiblePieces(start, end, inside.all(axis=-1) & used)
 
 
 def feasible_pieces(
@@ -196,19 +214,24 @@ def feasible_from_coefficients(
     coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry
 ) -> "FeasibleArmAngles | np.ndarray":
     """:class:`FeasibleArmAngles` from precomputed coefficients (object array for a batch)."""
-    overall = overall_pieces(coefficients, branch, geometry)
-    joints = per_joint_pieces(coefficients, branch, geometry)
+    start, end, inside = _piece_membership(coefficients, branch, geometry)
+    used = start == start  # start is NaN in unused slots
     elbow_ok = elbow_within(coefficients, geometry)
+    overall = inside.all(axis=-1) & used & elbow_ok[..., None]
+    by_joint = inside.swapaxes(-1, -2) & used[..., None, :]  # (..., 6, 24): eq. 29 on the shared pieces
+    first, last = _run_ends(np.concatenate([overall[..., None, :], by_joint], axis=-2))  # (..., 7, 24)
     shape = coefficients.theta4.shape
     results = np.empty(shape, dtype=object)
     for index in np.ndindex(*shape):
-        per_joint = {j: joints.arc_set(index + (k,)) for k, j in enumerate(PSI_JOINTS)}
+        starts, ends = start[index].tolist(), end[index].tolist()
+        sets = [_arc_set(starts, ends, f, l) for f, l in zip(first[index].tolist(), last[index].tolist())]
+        per_joint = dict(zip(PSI_JOINTS, sets[1:]))
         per_joint[4] = ArcSet.full() if elbow_ok[index] else ArcSet.empty()
         results[index] = FeasibleArmAngles(
             branch=branch,
             theta4=float(coefficients.theta4[index]),
             per_joint=dict(sorted(per_joint.items())),
-            feasible=overall.arc_set(index),
+            feasible=sets[0],
         )
     return results[()] if shape == () else results
 
