@@ -71,12 +71,19 @@ _SELECT = _selection_matrix()
 _SKEW = np.zeros((3, 9))
 _SKEW[2, 1], _SKEW[1, 2], _SKEW[2, 3], _SKEW[0, 5], _SKEW[1, 6], _SKEW[0, 7] = -1, 1, 1, -1, -1, 1
 _EYE = np.eye(3)
-# Rz(angle) flattened is cos(angle) _RZ_COS + sin(angle) _RZ_SIN + _RZ_ONE
-_RZ_COS = np.array([1.0, 0, 0, 0, 1, 0, 0, 0, 0])
-_RZ_SIN = np.array([0.0, -1, 0, 1, 0, 0, 0, 0, 0])
-_RZ_ONE = np.array([0.0, 0, 0, 0, 0, 0, 0, 0, 1])
-_RX_MINUS = np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]])  # Rx(-pi/2)
-_RX_PLUS = np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]])  # Rx(pi/2)
+
+
+def _frame_factors() -> np.ndarray:
+    """``(3, 3, 9)``: ``(cos a, sin a, 1) @ F[k]`` is, flattened, ``Rz(a)`` (k = 0),
+    ``Rx(-pi/2) Rz(a)`` (k = 1) and ``Rz(a) Rx(pi/2)`` (k = 2)."""
+    rz = np.array([[[1.0, 0, 0], [0, 1, 0], [0, 0, 0]], [[0.0, -1, 0], [1, 0, 0], [0, 0, 0]], [[0.0, 0, 0], [0, 0, 0], [0, 0, 1]]])
+    rx_minus = np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]])  # Rx(-pi/2)
+    rx_plus = np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]])  # Rx(pi/2)
+    return np.stack([rz, rx_minus @ rz, rz @ rx_plus]).reshape(3, 3, 9)
+
+
+# 0R3o = Rz(theta_1o) [Rx(-pi/2) Rz(theta_2o)] and 3R4 = Rz(theta_4) Rx(pi/2), each linear in (cos, sin, 1)
+_FRAME_FACTORS = _frame_factors()
 
 
 @dataclass(frozen=True)
@@ -179,7 +186,8 @@ def arm_angle_frame(
     section 3.3): ``0R3o = Rz(theta_1o) Rx(-pi/2) Rz(theta_2o)`` with
     ``theta_1o = atan2(y_sw, x_sw)`` (0 on the joint-1 axis) and
     ``theta_2o = atan2(-z_sw, w) - atan2(v_y, v_x)``; ``3R4 = Rz(theta_4)
-    Rx(pi/2)`` (eq. 3 with Table 1).  The three ``Rz`` are built in one pass.
+    Rx(pi/2)`` (eq. 3 with Table 1).  The three factors are built in one pass
+    (:data:`_FRAME_FACTORS`).
 
     Parameters
     ----------
@@ -209,13 +217,16 @@ def arm_angle_frame(
     angles[..., 0] = np.arctan2(x_sw[..., 1], x_sw[..., 0]) * off_axis
     # (v_x, v_y) = (d_ew s4, -(d_se + d_ew c4)): the wrist in the frame of joint 2 at theta_2 = 0
     angles[..., 1] = np.arctan2(-x_sw[..., 2], w * off_axis) - np.arctan2(-(d_se + d_ew * cos4), d_ew * np.sin(theta4))
-    rz = np.cos(angles)[..., None] * _RZ_COS + np.sin(angles)[..., None] * _RZ_SIN + _RZ_ONE
-    rz = rz.reshape(theta4.shape + (3, 3, 3))
+    trig = np.empty(angles.shape + (1, 3))
+    np.cos(angles, out=trig[..., 0, 0])
+    np.sin(angles, out=trig[..., 0, 1])
+    trig[..., 0, 2] = 1.0
+    factors = (trig @ _FRAME_FACTORS).reshape(theta4.shape + (3, 3, 3))
     return ArmAngleFrame(
         theta4=theta4,
         u_sw=x_sw / np.sqrt(squared)[..., None],
-        reference=rz[..., 0, :, :] @ _RX_MINUS @ rz[..., 1, :, :],
-        elbow=rz[..., 2, :, :] @ _RX_PLUS,
+        reference=factors[..., 0, :, :] @ factors[..., 1, :, :],
+        elbow=factors[..., 2, :, :],
         rotation=rotation,
     )
 

@@ -248,7 +248,10 @@ def sinusoid_roots(p: np.ndarray, q: np.ndarray, r: np.ndarray, tolerance: float
     rho = np.hypot(p, q)
     size = np.abs(r)
     has = (rho > tolerance * np.maximum(size, 1.0)) & (size <= rho * (1.0 + tolerance))
-    ratio = np.negative(r) / np.where(has, rho, np.nan)  # NaN where no root
-    half = np.arccos(np.minimum(np.maximum(ratio, -1.0), 1.0))
-    roots = (np.arctan2(p, q) + np.pi)[..., None] + half[..., None] * _MINUS_PLUS
-    return np.mod(roots, 2.0 * np.pi) - np.pi
+    ratio = np.divide(r, rho, out=np.full(r.shape, np.nan), where=has)  # NaN where no root
+    half = np.arccos(np.minimum(np.maximum(ratio, -1.0), 1.0))  # acos(r / rho) = pi - acos(-r / rho)
+    roots = np.empty(r.shape + (2,))
+    phi = np.arctan2(p, q)
+    np.add(phi, half, out=roots[..., 0])  # phi - acos(-r / rho) + pi
+    np.subtract(phi, half, out=roots[..., 1])  # phi + acos(-r / rho) - pi
+    return np.mod(roots, 2.0 * np.pi) - np.pi  # the shift by pi taken back, into [-pi, pi)
