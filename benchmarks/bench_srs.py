@@ -27,6 +27,8 @@ def main() -> None:
     rows.append(("one pose, all 8 branches at psi", f"{t * 1e6:9.1f} us"))
     t = best_time(lambda: feasible_pieces(geometry, pose, "+++"), repeat=5, number=2000)
     rows.append(("one pose, feasible set (arrays)", f"{t * 1e6:9.1f} us"))
+    t = best_time(lambda: feasible_pieces(geometry, pose, "+++").arc_set(), repeat=5, number=2000)
+    rows.append(("one pose, feasible set (ArcSet)", f"{t * 1e6:9.1f} us"))
     t = best_time(lambda: feasible_arm_angles(geometry, pose, "+++"), repeat=5, number=500)
     rows.append(("one pose, feasible + per-joint ArcSets", f"{t * 1e6:9.1f} us"))
     t = best_time(lambda: ik_all_branches(geometry, poses, 0.3), repeat=3)

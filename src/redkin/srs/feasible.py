@@ -26,7 +26,6 @@ reported.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import compress
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -89,8 +88,7 @@ class FeasiblePieces:
 
     def arc_set(self, index: tuple[int, ...] = ()) -> ArcSet:
         """The :class:`ArcSet` of one pose (``index`` into the batch shape)."""
-        first, last = _run_ends(self.feasible[index])
-        return _arc_set(self.start[index].tolist(), self.end[index].tolist(), first.tolist(), last.tolist())
+        return _arc_set(self.start[index].tolist(), self.end[index].tolist(), self.feasible[index].tolist())
 
     @property
     def nonempty(self) -> np.ndarray:
@@ -98,19 +96,17 @@ class FeasiblePieces:
         return np.any(self.feasible & (self.end - self.start > PIECE_TOLERANCE), axis=-1)
 
 
-def _run_ends(keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Masks of the first and of the last piece of each run of consecutive kept pieces (last axis)."""
-    first = keep.copy()
-    first[..., 1:] &= ~keep[..., :-1]
-    last = keep.copy()
-    last[..., :-1] &= ~keep[..., 1:]
-    return first, last
-
-
-def _arc_set(starts: list[float], ends: list[float], first: list[bool], last: list[bool]) -> ArcSet:
+def _arc_set(starts: list[float], ends: list[float], keep: list[bool]) -> ArcSet:
     """The arcs of the runs of kept pieces (each piece ends where the next starts), dropping runs
     shorter than :data:`PIECE_TOLERANCE`."""
-    runs = zip(compress(starts, first), compress(ends, last))
+    runs: list[list[float]] = []
+    previous = False
+    for start, end, kept in zip(starts, ends, keep):
+        if kept and previous:
+            runs[-1][1] = end
+        elif kept:
+            runs.append([start, end])
+        previous = kept
     return ArcSet([(a, b) for a, b in runs if b - a > PIECE_TOLERANCE])
 
 
@@ -219,12 +215,12 @@ def feasible_from_coefficients(
     elbow_ok = elbow_within(coefficients, geometry)
     overall = inside.all(axis=-1) & used & elbow_ok[..., None]
     by_joint = inside.swapaxes(-1, -2) & used[..., None, :]  # (..., 6, 24): eq. 29 on the shared pieces
-    first, last = _run_ends(np.concatenate([overall[..., None, :], by_joint], axis=-2))  # (..., 7, 24)
+    keep = np.concatenate([overall[..., None, :], by_joint], axis=-2)  # (..., 7, 24)
     shape = coefficients.theta4.shape
     results = np.empty(shape, dtype=object)
     for index in np.ndindex(*shape):
         starts, ends = start[index].tolist(), end[index].tolist()
-        sets = [_arc_set(starts, ends, f, l) for f, l in zip(first[index].tolist(), last[index].tolist())]
+        sets = [_arc_set(starts, ends, kept) for kept in keep[index].tolist()]
         per_joint = dict(zip(PSI_JOINTS, sets[1:]))
         per_joint[4] = ArcSet.full() if elbow_ok[index] else ArcSet.empty()
         results[index] = FeasibleArmAngles(

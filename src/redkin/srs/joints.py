@@ -246,8 +246,9 @@ def sinusoid_roots(p: np.ndarray, q: np.ndarray, r: np.ndarray, tolerance: float
     (``|r| <= rho (1 + tolerance)``) the double root is returned.
     """
     rho = np.hypot(p, q)
-    size = np.abs(r)
-    has = (rho > tolerance * np.maximum(size, 1.0)) & (size <= rho * (1.0 + tolerance))
+    # a root needs |r| <= rho (with the tolerance) and rho not negligible: rho > tolerance
+    # suffices, because |r| <= rho (1 + tolerance) already bounds r by rho
+    has = (np.abs(r) <= rho * (1.0 + tolerance)) & (rho > tolerance)
     ratio = np.divide(r, rho, out=np.full(r.shape, np.nan), where=has)  # NaN where no root
     half = np.arccos(np.minimum(np.maximum(ratio, -1.0), 1.0))  # acos(r / rho) = pi - acos(-r / rho)
     roots = np.empty(r.shape + (2,))
