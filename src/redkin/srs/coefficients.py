@@ -130,19 +130,6 @@ class ArmAngleCoefficients(ArmAngleFrame):
     wrist: np.ndarray
     entries: np.ndarray
 
-    def expand(self) -> "ArmAngleCoefficients":
-        """The same coefficients with a new batch axis of length 1 at the end."""
-        return ArmAngleCoefficients(
-            theta4=self.theta4[..., None],
-            u_sw=self.u_sw[..., None, :],
-            reference=self.reference[..., None, :, :],
-            elbow=self.elbow[..., None, :, :],
-            rotation=self.rotation[..., None, :, :],
-            shoulder=self.shoulder[..., None, :, :, :],
-            wrist=self.wrist[..., None, :, :, :],
-            entries=self.entries[..., None, :, :],
-        )
-
 
 def shoulder_to_wrist(geometry, position: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     """``x_sw = x_7 - l_bs - R_7 l_wt`` (eq. 4), batched."""

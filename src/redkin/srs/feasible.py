@@ -18,9 +18,11 @@ built once per arm and branch sign
 (:func:`redkin.srs.joints.limit_sign_membership`).  This covers the five
 cases of section 4.3 (none, around psi_max, around psi_min, the complement
 of both, all) and limits that cross ``+-pi`` alike, because the table is
-filled by testing membership modulo ``2 pi``.  Isolated touching points (a limit reached at a single arm angle
-from outside) and pieces shorter than :data:`PIECE_TOLERANCE` are not
-reported.
+filled by testing membership modulo ``2 pi``.  The pieces between all
+joints' cut points refine every joint's own pieces, so one classification
+gives the per-joint sets (eq. 29) and their intersection (eq. 30).
+Isolated touching points (a limit reached at a single arm angle from
+outside) and pieces shorter than :data:`PIECE_TOLERANCE` are not reported.
 """
 
 from __future__ import annotations
