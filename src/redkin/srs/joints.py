@@ -185,7 +185,7 @@ def within(theta: np.ndarray, start, span, free) -> np.ndarray:
 
 
 def limit_sign_membership(lower: np.ndarray, upper: np.ndarray, start, span, free) -> np.ndarray:
-    """Joint-limit membership as a function of the signs of the two limit equations of each joint.
+    """Joint-limit membership as a function of the signs of the two limit equations of each joint (eqs. 21, 22, 29).
 
     Between consecutive zeros of its two limit equations (:func:`limit_equation_table`)
     a joint stays on one side of each limit, so whether it is within its
