@@ -97,6 +97,27 @@ def test_limits_crossing_pi_and_unlimited_joints():
     del q
 
 
+STRETCHED = {  # singular at every arm angle: eq. 15 (19) is 0/0 for every psi, the third joint still turns
+    "shoulder (home pose)": [0.0] * 7,
+    "shoulder, rounding in x_sw": [0.3, 0.0, 0.2, 0.0, 0.1, 0.4, 0.2],
+    "wrist": [0.3, 0.5, 0.2, 0.0, 0.1, 0.0, 0.2],
+    "both": [0.3, 0.0, 0.2, 0.0, 0.1, 0.0, 0.2],
+}
+
+
+@pytest.mark.parametrize("q", STRETCHED.values(), ids=STRETCHED.keys())
+@pytest.mark.parametrize("model", ["pa10", "iiwa"])
+def test_stretched_arm_feasible_sets_equal_dense_sampling(model, q):
+    """The home pose and its kin: the third joint's limits still cut the arm-angle circle (all branches, own and random limits)."""
+    base = {"pa10": pa10_7c, "iiwa": kuka_iiwa14}[model]()
+    rng = np.random.default_rng(11)
+    pose = base.fk(np.array(q))
+    for chain in (base, base.with_limits(*random_limits(rng, np.array(q), False))):
+        for branch in BRANCHES:
+            result = feasible_arm_angles(chain, pose, branch)
+            assert_set_matches_sampling(chain, pose, branch, result)
+
+
 def test_elbow_outside_limits_empties_every_branch_of_that_sign():
     chain = pa10_7c()  # theta_4 in [0, 135] deg: the elbow-negative branches are never feasible
     pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))

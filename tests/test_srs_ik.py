@@ -8,6 +8,8 @@ from redkin.chain import SerialChain
 from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c, planar_arm, srs_chain
 from redkin.so3 import rot_x, rot_z
 from redkin.srs import BRANCHES, arm_angle_of, ik, ik_all_branches, pose_from, reachable, srs_geometry
+from redkin.srs.ik import coefficients_for
+from redkin.srs.joints import STRETCHED_TOLERANCE, first_joint_coefficients
 
 ROUND_TRIP = 1e-9
 
@@ -144,6 +146,48 @@ def test_elbow_stretched_and_degenerate_configurations():
         pose = chain.fk(np.array(q))
         for psi in np.linspace(-np.pi, np.pi, 13):
             assert pose_error(chain.fk(ik_all_branches(chain, pose, psi)), pose) < ROUND_TRIP
+
+
+STRETCHED = {  # singular at every arm angle: q_2 = q_4 = 0 (shoulder), or q_4 = q_6 = 0 (wrist)
+    "shoulder (home pose)": [0.0] * 7,
+    "shoulder, rounding in x_sw": [0.3, 0.0, 0.2, 0.0, 0.1, 0.4, 0.2],
+    "wrist": [0.3, 0.5, 0.2, 0.0, 0.1, 0.0, 0.2],
+    "both": [0.3, 0.0, 0.2, 0.0, 0.1, 0.0, 0.2],
+}
+
+
+@pytest.mark.parametrize("q", STRETCHED.values(), ids=STRETCHED.keys())
+@pytest.mark.parametrize("factory", [pa10_7c, kuka_iiwa14])
+def test_stretched_group_sets_its_first_joint_to_zero_at_every_psi(factory, q):
+    """Where only theta_1 + theta_3 (theta_5 + theta_7) is defined, theta_1 (theta_5) is 0, or pi on sigma = -1.
+
+    A group counts as stretched when its x, y coefficients vanish to rounding.  Eq. 11 fixes
+    theta_4 only to about sqrt(eps) near 0 (acos), so some stretched poses come out bent by
+    ~2e-8 rad; their first joint is then defined and the regular formulas hold (FK still exact).
+    """
+    chain = factory()
+    pose = chain.fk(np.array(q))
+    psi = np.linspace(-np.pi, np.pi, 37)
+    solutions = ik_all_branches(chain, np.broadcast_to(pose, psi.shape + (4, 4)), psi)  # (37, 8, 7)
+    assert pose_error(chain.fk(solutions), pose) < ROUND_TRIP
+    for elbow in (1, -1):
+        entries = coefficients_for(chain, pose, elbow).entries
+        stretched = first_joint_coefficients(entries).max(axis=(-3, -1)) <= STRETCHED_TOLERANCE
+        for group, column in ((0, 0), (1, 4)):
+            if not stretched[group]:
+                continue
+            of_elbow = np.array([b.elbow == elbow for b in BRANCHES])
+            first = solutions[:, of_elbow, column]
+            flipped = np.array([(b.shoulder if group == 0 else b.wrist) < 0 for b in BRANCHES])[of_elbow]
+            assert np.allclose(np.sin(first), 0.0, atol=1e-12)  # no angle left to rounding
+            assert np.allclose(np.cos(first), np.where(flipped, -1.0, 1.0), atol=1e-12)
+
+
+def test_exact_home_pose_of_the_iiwa_is_stretched_at_the_shoulder():
+    """Guards the test above against being vacuous: the iiwa's home pose has x = y = 0 exactly."""
+    chain = kuka_iiwa14()
+    entries = coefficients_for(chain, chain.fk(np.zeros(7)), 1).entries
+    assert np.all(first_joint_coefficients(entries).max(axis=(-3, -1)) <= STRETCHED_TOLERANCE)
 
 
 def test_not_srs_chains_name_the_violated_condition():

@@ -38,13 +38,14 @@ from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
-from redkin.srs.joints import PSI_JOINTS, sinusoid_roots, within
+from redkin.srs.joints import STRETCHED_TOLERANCE, PSI_JOINTS, first_joint_coefficients, sinusoid_roots, within
 
 TWO_PI = 2.0 * np.pi
 #: Pieces shorter than this (radians) are dropped: they are repeated roots split by
 #: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
 PIECE_TOLERANCE = 1e-12
 _TABLE_ROWS = 4 * np.arange(6)  # row offsets of the six joints in a flattened membership table
+_EQUATION_GROUP = np.repeat([0, 1], 6)  # limit-equation columns of the shoulder (0) and the wrist (1)
 
 
 @dataclass(frozen=True)
@@ -117,10 +118,22 @@ def limit_equations(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -
 
     Column ``2 k + j`` is joint ``PSI_JOINTS[k]`` at its lower (``j = 0``) or
     upper limit (eqs. 21, 22 set equal to the limit; all twelve in one
-    matrix product, :func:`redkin.srs.joints.limit_equation_table`).
+    matrix product, :func:`redkin.srs.joints.limit_equation_table`).  A
+    group singular at every arm angle (:func:`redkin.srs.joints.first_joint_coefficients`,
+    e.g. the home pose of an arm stretched along the joint-1 axis) gets the
+    stretched table: eq. 15 (19) is 0/0 there for every psi, while the
+    third joint the IK returns still turns with psi.
     """
     limits = geometry.psi_joint_limits
-    return coefficients.entries @ limits.weights + limits.offset
+    equations = coefficients.entries @ limits.weights + limits.offset
+    size = first_joint_coefficients(coefficients.entries)
+    # cheap test first: a stretched group has all six at zero; the sin and cos rows alone, because
+    # c of the wrist's y is zero on every pose (the elbow axis is normal to u_sw)
+    if size[..., :2, :, :].min() <= STRETCHED_TOLERANCE:
+        stretched = size.max(axis=(-3, -1)) <= STRETCHED_TOLERANCE  # (..., 2): shoulder, wrist
+        alternative = coefficients.entries @ limits.stretched_weights + limits.stretched_offset
+        equations = np.where(stretched[..., None, _EQUATION_GROUP], alternative, equations)
+    return equations
 
 
 def cut_points(equations: np.ndarray) -> np.ndarray:

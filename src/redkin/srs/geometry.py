@@ -46,6 +46,8 @@ class PsiJointLimits(NamedTuple):
         Unlimited joints (range ``>= 2 pi``).
     weights, offset : numpy.ndarray
         The limit equations (see :func:`redkin.srs.joints.limit_equation_table`).
+    stretched_weights, stretched_offset : numpy.ndarray
+        The same for a group singular at every arm angle (``stretched=True``).
     membership : numpy.ndarray of bool, shape (2, 2, 24)
         ``[n2, n6]``: for branches with ``sigma_2 < 0`` (``n2 = 1``) or not and
         likewise ``sigma_6``, the flattened ``(6, 4)`` table of
@@ -60,6 +62,8 @@ class PsiJointLimits(NamedTuple):
     free: np.ndarray
     weights: np.ndarray
     offset: np.ndarray
+    stretched_weights: np.ndarray
+    stretched_offset: np.ndarray
     membership: np.ndarray
     elbow_start: float
     elbow_span: float
@@ -108,6 +112,7 @@ class SRSGeometry:
         free = ~limited
         columns = [j - 1 for j in PSI_JOINTS]
         weights, offset = limit_equation_table(lower[columns], upper[columns], limited[columns])
+        stretched = limit_equation_table(lower[columns], upper[columns], limited[columns], stretched=True)
         arrays = (start[columns], span[columns], free[columns])
         by_sign = limit_sign_membership(lower[columns], upper[columns], *arrays)  # (2, 6, 4)
         membership = np.empty((2, 2, 6, 4), dtype=bool)
@@ -116,7 +121,7 @@ class SRSGeometry:
         membership = membership.reshape(2, 2, 24)
         for array in arrays + (membership,):
             array.setflags(write=False)
-        return PsiJointLimits(*arrays, weights, offset, membership, float(start[3]), float(span[3]), free[3])
+        return PsiJointLimits(*arrays, weights, offset, *stretched, membership, float(start[3]), float(span[3]), free[3])
 
     def theta_of_q(self, q: np.ndarray) -> np.ndarray:
         """DH angles ``theta = offset + sign * q``."""

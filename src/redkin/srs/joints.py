@@ -21,7 +21,11 @@ seven signed entries ``x, y, z, r0, r1, r2, t`` of
 ``y = s1 s2``, ``z = c2``, ``r`` the first column of ``0R3`` with ``r2 =
 -s2 c3``, ``t = s2 s3``; wrist likewise with joints 5-7):
 
-* first joint (eqs. 13, 17): ``atan2(y, x)``;
+* first joint (eqs. 13, 17): ``atan2(y, x)``; where ``hypot(x, y) = |sin
+  theta_2|`` is below :data:`UNDEFINED_TOLERANCE` only ``theta_1 + theta_3``
+  is defined, and ``theta_1 = 0`` (turned by pi for ``sigma = -1``), the
+  convention of the end of section 3.3, so that the third joint takes the
+  whole rotation;
 * second joint (eqs. 14, 18): ``acos z`` evaluated as
   ``atan2(hypot(x, y), z)``, the same function without the loss of digits
   of ``acos`` near 0 and pi;
@@ -46,8 +50,15 @@ PSI_JOINTS = (1, 2, 3, 5, 6, 7)
 IS_COSINE = np.array([False, True, False, False, True, False])
 # slots of the seven entries of a group (see the module docstring)
 _X, _Y, _Z, _R0, _R1, _R2, _T = range(7)
+#: ``hypot(x, y)`` (``|sin theta_2|`` or ``|sin theta_6|``) at or below which the first joint of a
+#: group is undefined and set to 0.  Rounding leaves ``x, y`` of about 1e-17 on an exactly singular
+#: pose, where ``atan2`` alone would return an arbitrary angle.
+UNDEFINED_TOLERANCE = 1e-12
+#: A group whose ``x, y`` coefficients (eqs. 12, 16) are all at or below this is singular at every
+#: arm angle (the arm stretched along the joint-1 axis, or the mirror case at the wrist); below
+#: :data:`UNDEFINED_TOLERANCE` / 3, so that the IK then sets its first joint to 0 at every psi.
+STRETCHED_TOLERANCE = 1e-13
 _GROUP = 7
-_MINUS_PLUS = np.array([-1.0, 1.0])
 
 
 def entry_values(entries: np.ndarray, psi: np.ndarray) -> np.ndarray:
@@ -75,8 +86,10 @@ def positive_branch_angles(values: np.ndarray) -> np.ndarray:
     x, y, z = slots[_X], slots[_Y], slots[_Z]
     r0, r1, r2 = slots[_R0], slots[_R1], slots[_R2]
     angles = np.empty((3,) + x.shape)
+    sine = np.hypot(x, y)
     np.arctan2(y, x, out=angles[0])  # eqs. 13, 17
-    np.arctan2(np.hypot(x, y), z, out=angles[1])  # eqs. 14, 18
+    np.copyto(angles[0], 0.0, where=sine <= UNDEFINED_TOLERANCE)  # only theta_1 + theta_3 defined
+    np.arctan2(sine, z, out=angles[1])  # eqs. 14, 18
     cosines, sines = np.cos(angles[:2]), np.sin(angles[:2])
     c1, c2, s1, s2 = cosines[0], cosines[1], sines[0], sines[1]
     along_p1 = c2 * (c1 * r0 + s1 * r1) - s2 * r2
@@ -128,7 +141,9 @@ def assemble_theta(theta4: np.ndarray, psi_joints: np.ndarray) -> np.ndarray:
     return np.concatenate([psi_joints[..., :3], theta4[..., None], psi_joints[..., 3:]], axis=-1)
 
 
-def limit_equation_table(lower: np.ndarray, upper: np.ndarray, limited: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def limit_equation_table(
+    lower: np.ndarray, upper: np.ndarray, limited: np.ndarray, stretched: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """The linear map from entry coefficients to the limit equations of the six psi-dependent joints.
 
     The arm angles where ``theta(psi)`` equals a limit ``L`` solve ``p sin psi
@@ -144,11 +159,19 @@ def limit_equation_table(lower: np.ndarray, upper: np.ndarray, limited: np.ndarr
     entry coefficients ``(..., 3, 14)``.  An unlimited joint gets ``0 = 1``
     (no root).
 
+    With ``stretched`` the table is that of a group singular at every arm
+    angle (``x = y = 0``, :data:`STRETCHED_TOLERANCE`): there the IK sets the
+    first joint to 0 (``N = 0, D = 1``: the constant ``-sin L = 0``) and
+    reads the third from the rest of the rotation, ``theta_3 = atan2(r1,
+    r0)`` (``N = r1, D = r0``); the second joint is unchanged.
+
     Parameters
     ----------
     lower, upper : numpy.ndarray, shape (6,)
         DH limits of the columns of :data:`PSI_JOINTS`.
     limited : numpy.ndarray of bool, shape (6,)
+    stretched : bool
+        The table of a group singular at every arm angle.
 
     Returns
     -------
@@ -164,15 +187,29 @@ def limit_equation_table(lower: np.ndarray, upper: np.ndarray, limited: np.ndarr
             e = 2 * k + j
             if not limited[k]:
                 offset[2, e] = 1.0
+            elif k % 3 == 0 and stretched:  # first joint set to 0: N = 0, D = 1
+                offset[2, e] = -np.sin(limit)
             elif k % 3 == 0:  # first joint: N = y, D = x
                 weights[base + _Y, e], weights[base + _X, e] = np.cos(limit), -np.sin(limit)
             elif k % 3 == 1:  # second joint: cos theta = z
                 weights[base + _Z, e], offset[2, e] = 1.0, -np.cos(limit)
+            elif stretched:  # third joint after a first joint of 0: N = r1, D = r0
+                weights[base + _R1, e], weights[base + _R0, e] = np.cos(limit), -np.sin(limit)
             else:  # third joint (eq. 15 / 19): N = t, D = -r2
                 weights[base + _T, e], weights[base + _R2, e] = np.cos(limit), np.sin(limit)
     for array in (weights, offset):
         array.setflags(write=False)
     return weights, offset
+
+
+def first_joint_coefficients(entries: np.ndarray) -> np.ndarray:
+    """``|a|, |b|, |c|`` of ``x`` and ``y`` of both groups, shape ``(..., 3, 2, 2)`` (rows, group, entry).
+
+    ``x = c1 s2`` and ``y = s1 s2`` (or ``c5 s6``, ``s5 s6``) vanish for
+    every psi exactly when all their coefficients do: the group is then
+    singular at every arm angle (:data:`STRETCHED_TOLERANCE`).
+    """
+    return np.abs(entries.reshape(entries.shape[:-1] + (2, _GROUP))[..., :2])
 
 
 def within(theta: np.ndarray, start, span, free) -> np.ndarray:
