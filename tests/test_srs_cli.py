@@ -69,3 +69,22 @@ def test_user_mistakes_exit_2_with_one_line(capsys, argv, message):
     assert code == 2
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err
+
+
+
+@pytest.mark.parametrize("written", ["separate", "equals"])
+@pytest.mark.parametrize("command", ["ik", "arm-angles"])
+def test_every_branch_string_is_read_as_a_branch(capsys, command, written):
+    """``-++``, ``--+`` and ``---`` start with a dash, as options do: each of the eight is still a branch."""
+    from redkin.srs import BRANCHES, ik, pose_from
+
+    chain = pa10_7c()
+    pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
+    for branch in BRANCHES:
+        option = [f"--branch={branch}"] if written == "equals" else ["--branch", str(branch)]
+        if command == "ik":
+            data = run_json(capsys, ["ik", "pa10-7c", *POSE, "--psi", "0.2", *option])
+            assert data["solutions"][0]["branch"] == str(branch)
+            assert np.allclose(data["solutions"][0]["q"], ik(chain, pose, 0.2, branch), atol=1e-12)
+        else:
+            assert run_json(capsys, ["arm-angles", "pa10-7c", *POSE, *option])["branch"] == str(branch)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from typing import Any, NoReturn, Sequence
 
@@ -13,12 +14,29 @@ from redkin.chain import SerialChain
 from redkin.models import get_robot
 
 
+#: File types of the figures the commands write (matplotlib's writers without extra packages).
+IMAGE_SUFFIXES = frozenset({".png", ".pdf", ".svg"})
+
+
 class UsageError(ValueError):
     """A user mistake on the command line: printed as one line, exit code 2."""
 
 
+#: Arguments that start with ``-`` but are values, not options: numbers in any float form (``-1e-3``,
+#: ``-inf``: argparse alone knows only ``-1`` and ``-.5``) and branches (``-++``, ``--+``, ``---``).
+VALUE_LIKE = re.compile(r"^-(\d|\.\d|inf$|infinity$|nan$)|^[+-]{3}$", re.IGNORECASE)
+
+
 class Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line on stderr and exit code 2."""
+    """An argument parser whose errors are one line on stderr and exit code 2.
+
+    Values that begin with ``-`` (:data:`VALUE_LIKE`) are read as values,
+    with or without ``=``: ``--branch -++`` and ``--position -1e-3 0 0``.
+    """
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = VALUE_LIKE  # argparse's own hook for "looks like a value"
 
     def error(self, message: str) -> NoReturn:
         print(f"{self.prog}: error: {message}", file=sys.stderr)
@@ -64,6 +82,11 @@ def joint_vector(chain: SerialChain, values: Sequence[float], degrees: bool, nam
     if not np.all(np.isfinite(q)):
         raise UsageError(f"{name} must be finite numbers")
     return q
+
+
+def angle_unit(degrees: bool) -> str:
+    """The unit of every angle a command prints: ``"deg"`` with ``--deg``, else ``"rad"``."""
+    return "deg" if degrees else "rad"
 
 
 def to_jsonable(value: Any) -> Any:

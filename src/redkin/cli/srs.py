@@ -10,6 +10,7 @@ from redkin.cli.common import (
     UsageError,
     add_output_flags,
     add_robot_argument,
+    angle_unit,
     angles_in,
     angles_out,
     joint_vector,
@@ -78,7 +79,8 @@ def run_ik(args: argparse.Namespace) -> int:
             "within_limits": bool(chain.within_limits(q, tolerance=1e-9, wrap=True)),
         })
     if args.json:
-        print_json({"robot": chain.name, "psi": angles_out(psi, args.deg), "solutions": solutions})
+        print_json({"robot": chain.name, "units": {"psi": angle_unit(args.deg), "q": angle_unit(args.deg)},
+                    "psi": angles_out(psi, args.deg), "solutions": solutions})
     else:
         unit = "deg" if args.deg else "rad"
         for s in solutions:
@@ -104,6 +106,7 @@ def run_arm_angles(args: argparse.Namespace) -> int:
 
     result = {
         "robot": chain.name,
+        "units": {"angles": f"{angle_unit(deg)} (every arm angle and joint value below)"},
         "branch": str(branch),
         "elbow": angles_out(geometry.q_of_theta(np.r_[np.zeros(3), feasible.theta4, np.zeros(3)])[3], deg),
         "per_joint": {str(j): _arcs(s, deg) for j, s in feasible.per_joint.items()},
