@@ -42,3 +42,15 @@ def test_unknown_section_and_bad_out(tmp_path, capsys):
     target.write_text("x")
     assert main(["reproduce", "models", "--out", str(target)]) == 2
     assert "not a directory" in capsys.readouterr().err
+
+
+def test_unwritable_out_fails_before_any_section_runs(capsys, tmp_path):
+    from redkin.cli.main import main
+
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    for target in ("/proc/forbidden", str(blocker), str(blocker / "report")):
+        assert main(["reproduce", "000", "--quiet", "--out", target]) == 2
+        captured = capsys.readouterr()
+        assert len(captured.err.strip().splitlines()) == 1 and "--out" in captured.err, captured.err
+        assert "[000]" not in captured.err  # refused up front, not after the section ran

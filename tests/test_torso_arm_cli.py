@@ -46,3 +46,29 @@ def test_torso_arm_cli_bad_input_exit_2(capsys):
     assert main(["torso-arm", "ik", "--position", "1", "2", "3", "--rotation", *["1"] * 9, "--shoulder", "0", "--elbow", "0"]) == 2
     err = capsys.readouterr().err
     assert "plane" in err and "orthonormal" in err
+
+
+def test_map_without_extent_covers_the_reach_in_that_plane(capsys):
+    """The default extent is the box of the arm's reach there: every valid point lies inside, none on its edge."""
+    code = main(["torso-arm", "map", "--plane", "z=0.3", "--resolution", "40", "--shoulder", "0.2", "--elbow", "0.3",
+                 "--json"])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    values = np.array([[np.nan if v is None else v for v in row] for row in out["values"]])
+    valid = np.isfinite(values)
+    assert valid.any() and not (valid[0].any() or valid[-1].any() or valid[:, 0].any() or valid[:, -1].any())
+    assert out["units"]["u"] == "m" and out["units"]["values"] == out["unit"]
+
+
+def test_map_sizes_beyond_their_limits_exit_2_naming_the_limit(capsys):
+    for argv, limit in ((["--resolution", "100000"], "2..1000"), (["--samples", "1", "5000"], "1..3600"),
+                        (["--resolution", "300", "--samples", "100", "100"], "at most 4000000"),
+                        (["--resolution", "200", "--samples", "1000", "90"], "at most 100000000")):
+        assert main(["torso-arm", "map", "--plane", "z=0.3", *argv]) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and limit in err, err
+
+
+def test_plane_outside_the_reach_needs_an_extent(capsys):
+    assert main(["torso-arm", "map", "--plane", "y=0.9", "--resolution", "10"]) == 2
+    assert "outside the arm's reach" in capsys.readouterr().err

@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from redkin.torso_arm import humanoid_arm, position_ik
 from redkin.torso_arm.manipulability import (
@@ -114,3 +116,19 @@ def test_torso_arm_plane_grid_validates():
         plane_grid("z=0", (1, 0, 0, 1), 5)
     with pytest.raises(ValueError, match="resolution"):
         plane_grid("z=0", (0, 1, 0, 1), 1)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-np.pi, np.pi), min_size=8, max_size=8), st.sampled_from(["x", "y", "z"]),
+       st.sampled_from(["right", "left"]))
+def test_reach_extent_holds_every_wrist_the_arm_can_reach(q, axis, side):
+    """Any joint values, limits or not: the wrist lies in the default extent of the plane through it."""
+    from redkin.torso_arm.geometry import WRIST_FRAME
+    from redkin.torso_arm.maps import reach_extent
+
+    arm = humanoid_arm(side)
+    wrist = arm.chain.frames(np.array(q))[WRIST_FRAME, :3, 3]
+    fixed = "xyz".index(axis)
+    u, v = np.delete(wrist, fixed)
+    u0, u1, v0, v1 = reach_extent(arm, f"{axis}={float(wrist[fixed])!r}")
+    assert u0 < u < u1 and v0 < v < v1

@@ -17,8 +17,9 @@ def test_velocity_cli_track_json_crosses_once(capsys, tmp_path):
     out = json.loads(capsys.readouterr().out)
     assert out["crossings"] == 1 and png.stat().st_size > 1000
     realised = np.array(out["realised_twist"])
-    assert np.allclose(realised[0], [0.15, 0, 0, 0, 0.1, 0], atol=1e-9)
-    assert np.allclose(realised[-1], [-0.15, 0, 0, 0, 0.1, 0], atol=1e-9)
+    assert out["units"]["realised_twist"] == "m/s (linear), deg/s (angular)"  # the scenario reads --deg
+    assert np.allclose(realised[0], [0.15, 0, 0, 0, 5.729577951, 0], atol=1e-8)
+    assert np.allclose(realised[-1], [-0.15, 0, 0, 0, 5.729577951, 0], atol=1e-8)
 
 
 def test_velocity_cli_track_dls_text(capsys):
@@ -63,3 +64,26 @@ def test_velocity_cli_track_sc_refuses_an_arm_that_does_not_factor(capsys, tmp_p
     err = capsys.readouterr().err
     assert "do not factor through one parameter" in err and len(err.strip().splitlines()) == 1
     assert main(base + ["--method", "pinv"]) == 0  # the baselines need no index
+
+
+def test_track_json_says_its_units_and_keeps_them(capsys):
+    """With --deg every angle and angular rate is in degrees, and the JSON says so."""
+    short = ["--duration", "0.2", "--dt", "0.01", "--method", "sc", "--json"]
+    assert main(SCENARIO[:-4] + short) == 0
+    deg = json.loads(capsys.readouterr().out)
+    q0 = [str(v) for v in np.radians([30, 20, 50, 70, 40, 100, 0])]
+    assert main(["track", "barrett-wam", "--q0", *q0, "--twist", "0.15", "0", "0", "0", "0.1", "0", *short]) == 0
+    rad = json.loads(capsys.readouterr().out)
+    assert deg["units"]["max_joint_speed"] == "deg/s" and rad["units"]["max_joint_speed"] == "rad/s"
+    assert deg["units"]["joint_velocity"] == "deg/s" and "deg/s (angular)" in deg["units"]["target_twist"]
+    np.testing.assert_allclose(deg["max_joint_speed"], np.max(np.linalg.norm(deg["joint_velocity"], axis=1)))
+    np.testing.assert_allclose(deg["max_joint_speed"], np.degrees(rad["max_joint_speed"]), rtol=1e-9)
+    np.testing.assert_allclose(np.array(deg["target_twist"])[:, 4], 5.729577951, rtol=1e-9)
+    np.testing.assert_allclose(np.radians(deg["q"]), rad["q"], atol=1e-12)
+
+
+def test_plot_that_cannot_be_written_fails_before_the_run(capsys, tmp_path):
+    for target in ("/proc/forbidden/run.png", str(tmp_path / "run.txt"), str(tmp_path)):
+        assert main(SCENARIO + ["--plot", target]) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and "--plot" in err, err

@@ -95,3 +95,18 @@ def test_virtual_arms_cli_gif_out_animates_the_run(capsys, tmp_path):
         animation.seek(animation.n_frames - 1)
         last = np.asarray(animation.convert("RGB"), dtype=float)
     assert np.abs(first - last).mean() > 0.1  # the arm moves between the first and the last frame
+
+
+def test_out_that_cannot_be_written_fails_before_the_run(capsys, tmp_path):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    for target in ("/proc/forbidden/run.png", str(blocker / "run.png"), str(tmp_path / "run.txt")):
+        assert main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--out", target]) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and "--out" in err, err
+
+
+def test_out_creates_missing_folders(capsys, tmp_path):
+    target = tmp_path / "new" / "folder" / "run.png"
+    assert main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--out", str(target)]) == 0
+    assert target.stat().st_size > 1000

@@ -7,6 +7,11 @@ was expected and what was received.  Inside the library the data is trusted.
 
 from __future__ import annotations
 
+import os
+import tempfile
+from pathlib import Path
+from typing import Collection
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -106,3 +111,53 @@ def check_positive(value: float, name: str) -> float:
     if not np.isfinite(number) or number <= 0.0:
         raise ValueError(f"{name} must be a positive finite number, got {value!r}")
     return number
+
+
+def check_count(value: float, name: str, minimum: int, maximum: int) -> int:
+    """Return ``value`` as an int, raising ``ValueError`` unless it is an integer in ``minimum..maximum``.
+
+    Every size a user can choose (grid resolutions, sample counts, step
+    budgets) has a stated ``maximum``, so that no call runs out of memory or
+    time without saying so first; the message names the limit.
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an integer in {minimum}..{maximum}, got {value!r}") from None
+    if not np.isfinite(number) or number != int(number) or not minimum <= number <= maximum:
+        raise ValueError(f"{name} must be an integer in {minimum}..{maximum}, got {value!r}")
+    return int(number)
+
+
+def check_output_directory(path: str | os.PathLike, name: str) -> Path:
+    """Create the directory ``path`` (with its parents) if needed and make sure a file can be written in it.
+
+    Called before any work is done, so that an unwritable output fails at
+    once with one line instead of after the computation.
+    """
+    directory = Path(path)
+    if directory.exists() and not directory.is_dir():
+        raise ValueError(f"{name} {str(directory)!r} exists and is not a directory")
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=directory):
+            pass
+    except OSError as exc:
+        raise ValueError(f"cannot write to {name} {str(directory)!r}: {exc.strerror or exc}") from None
+    return directory
+
+
+def check_output_file(path: str | os.PathLike, name: str, suffixes: Collection[str] | None = None) -> Path:
+    """Check that the file ``path`` can be written (its folder is created if needed), before any work is done.
+
+    ``suffixes`` (lower case, with the dot) restricts the file types.
+    """
+    file = Path(path)
+    if suffixes is not None and file.suffix.lower() not in suffixes:
+        raise ValueError(f"{name} must end in one of {', '.join(sorted(suffixes))}, got {str(file)!r}")
+    if file.is_dir():
+        raise ValueError(f"{name} {str(file)!r} is a directory, expected a file name")
+    check_output_directory(file.parent, name)
+    if file.exists() and not os.access(file, os.W_OK):
+        raise ValueError(f"cannot write to {name} {str(file)!r}: permission denied")
+    return file

@@ -9,6 +9,7 @@ import numpy as np
 from redkin.cli.common import (
     add_output_flags,
     add_robot_argument,
+    angle_unit,
     angles_out,
     format_matrix,
     joint_vector,
@@ -50,7 +51,8 @@ def run_robots(args: argparse.Namespace) -> int:
             "upper": angles_out(chain.upper, args.deg),
         })
     if args.json:
-        print_json({"robots": [{**e, "lower": _finite(e["lower"]), "upper": _finite(e["upper"])} for e in entries]})
+        print_json({"units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg)},
+                    "robots": [{**e, "lower": _finite(e["lower"]), "upper": _finite(e["upper"])} for e in entries]})
     else:
         for e in entries:
             print(f"{e['name']:<16} {e['joints']} joints  {e['convention']:<4} {e['source']}")
@@ -64,6 +66,7 @@ def run_fk(args: argparse.Namespace) -> int:
     if args.json:
         print_json({
             "robot": chain.name,
+            "units": {"q": angle_unit(args.deg), "position": "m", "pose": "m (translation column)"},
             "q": angles_out(q, args.deg),
             "position": pose[:3, 3],
             "rotation": pose[:3, :3],
@@ -83,7 +86,9 @@ def run_jacobian(args: argparse.Namespace) -> int:
     jac = chain.jacobian(q)
     manip = float(chain.manipulability(q)) if args.manipulability else None
     if args.json:
-        out = {"robot": chain.name, "q": angles_out(q, args.deg), "jacobian": jac}
+        units = {"q": angle_unit(args.deg), "jacobian": "per rad of joint motion: m/rad (linear rows), rad/rad (angular rows)",
+                 "manipulability": "of J as printed"}
+        out = {"robot": chain.name, "units": units, "q": angles_out(q, args.deg), "jacobian": jac}
         if manip is not None:
             out["manipulability"] = manip
         print_json(out)

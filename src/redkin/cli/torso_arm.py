@@ -7,10 +7,20 @@ import sys
 
 import numpy as np
 
-from redkin.cli.common import UsageError, add_output_flags, angles_in, angles_out, print_json
+from redkin.cli.common import IMAGE_SUFFIXES, UsageError, add_output_flags, angle_unit, angles_in, angles_out, print_json
 from redkin.torso_arm import BRANCHES, humanoid_arm, ik, position_ik
 from redkin.torso_arm.branches import STATUS_NAMES
-from redkin.torso_arm.maps import best_dual_arm_map, best_manipulability_map, dual_arm_map, manipulability_map, plane_grid, region_above
+from redkin.torso_arm.maps import (
+    MAX_RESOLUTION,
+    best_dual_arm_map,
+    best_manipulability_map,
+    dual_arm_map,
+    manipulability_map,
+    plane_grid,
+    reach_extent,
+    region_above,
+)
+from redkin.validation import check_output_file
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -32,9 +42,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     chart = sub.add_parser("map", help="manipulability map of the wrist position over a plane")
     chart.add_argument("--plane", required=True, help="e.g. z=0.3 (metres)")
-    chart.add_argument("--extent", nargs=4, type=float, required=True, metavar=("U0", "U1", "V0", "V1"),
-                       help="range of the two in-plane axes (x-y-z order), metres")
-    chart.add_argument("--resolution", type=int, default=100, metavar="N")
+    chart.add_argument("--extent", nargs=4, type=float, metavar=("U0", "U1", "V0", "V1"),
+                       help="range of the two in-plane axes (x-y-z order), metres (default: the arm's reach there)")
+    chart.add_argument("--resolution", type=int, default=100, metavar="N",
+                       help=f"grid points along each axis (default 100, at most {MAX_RESOLUTION})")
     chart.add_argument("--arm", choices=("right", "left", "both"), default="right")
     chart.add_argument("--shoulder", type=float, metavar="PSI", help="fixed psi (omit with --elbow for the best map)")
     chart.add_argument("--elbow", type=float, metavar="PHI", help="fixed phi")
@@ -82,7 +93,8 @@ def run_ik(args: argparse.Namespace) -> int:
         for i, b in enumerate(branches)
     ] if status == "ok" else []
     if args.json:
-        print_json({"arm": args.arm, "status": status, "solutions": rows, "degrees": bool(args.deg)})
+        print_json({"arm": args.arm, "units": {"q": angle_unit(args.deg)}, "status": status, "solutions": rows,
+                    "degrees": bool(args.deg)})
     else:
         print(f"status: {status}")
         unit = "deg" if args.deg else "rad"
@@ -95,7 +107,10 @@ def run_ik(args: argparse.Namespace) -> int:
 
 
 def run_map(args: argparse.Namespace) -> int:
-    grid = plane_grid(args.plane, args.extent, args.resolution)
+    if args.out:
+        check_output_file(args.out, "--out", IMAGE_SUFFIXES)
+    extent = reach_extent(humanoid_arm("right"), args.plane) if args.extent is None else args.extent
+    grid = plane_grid(args.plane, extent, args.resolution)
     fixed = args.shoulder is not None or args.elbow is not None
     if fixed and (args.shoulder is None or args.elbow is None):
         raise UsageError("give both --shoulder and --elbow for a fixed-(psi, phi) map, or neither for the best map")
@@ -116,6 +131,7 @@ def run_map(args: argparse.Namespace) -> int:
     unit = "m^6" if args.arm == "both" else "m^3"
     summary = {
         "plane": grid.label, "description": result.description, "unit": unit,
+        "units": {"u": "m", "v": "m", "values": unit, "max": unit, "threshold": f"{unit} (value), m^2 (area_m2)"},
         "valid_fraction": float(result.valid.mean()),
         "max": float(np.nanmax(result.values)) if result.valid.any() else None,
     }
@@ -147,8 +163,6 @@ def _save(result, path: str, unit: str, arm: str) -> None:
     draw_manipulability_map(ax, result, landmarks, unit=unit)
     try:
         fig.savefig(path, dpi=120)
-    except OSError as exc:
-        raise UsageError(f"cannot write --out {path!r}: {exc}") from exc
     finally:
         plt.close(fig)
 

@@ -7,7 +7,16 @@ from dataclasses import replace
 
 import numpy as np
 
-from redkin.cli.common import add_output_flags, add_robot_argument, angles_out, joint_vector, load_robot, print_json
+from redkin.cli.common import (
+    IMAGE_SUFFIXES,
+    add_output_flags,
+    add_robot_argument,
+    angles_out,
+    joint_vector,
+    load_robot,
+    print_json,
+)
+from redkin.validation import check_output_file
 from redkin.velocity import METHOD_NAMES, SingularityConsistent, make_method, simulate, singularity_factorisation
 
 
@@ -31,6 +40,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_track(args: argparse.Namespace) -> int:
+    if args.plot:
+        check_output_file(args.plot, "--plot", IMAGE_SUFFIXES)
     chain = load_robot(args.robot)
     q0 = joint_vector(chain, args.q0, args.deg, name="--q0 values")
     twist = np.asarray(args.twist, dtype=float)
@@ -38,9 +49,6 @@ def run_track(args: argparse.Namespace) -> int:
         twist[3:] = np.radians(twist[3:])
     if not np.all(np.isfinite(twist)):
         raise ValueError("--twist must be finite numbers")
-    steps = args.duration / args.dt if args.dt > 0 else 0
-    if steps > 2e6:
-        raise ValueError(f"--duration / --dt gives {steps:.0f} steps; at most 2000000 allowed")
     method = make_method(args.method, eps=args.eps, damping=args.damping)
     try:
         factorisation = singularity_factorisation(chain)
@@ -62,11 +70,17 @@ def run_track(args: argparse.Namespace) -> int:
         fig.savefig(args.plot, dpi=100)
         plt.close(fig)
     if args.json:
+        angle = "deg" if args.deg else "rad"
         print_json({
-            "robot": chain.name, "method": args.method, "time": run.time, "q": angles_out(run.q, args.deg),
-            "joint_velocity": angles_out(run.joint_velocity, args.deg), "realised_twist": run.realised,
-            "target_twist": run.target, "index": run.index, "position": run.position,
-            "max_joint_speed": float(speed.max()), "crossings": crossings,
+            "robot": chain.name, "method": args.method,
+            "units": {"time": "s", "q": angle, "joint_velocity": f"{angle}/s", "max_joint_speed": f"{angle}/s",
+                      "realised_twist": f"m/s (linear), {angle}/s (angular)", "target_twist": f"m/s (linear), {angle}/s (angular)",
+                      "position": "m", "index": "D_e, as the singularity factorisation defines it"},
+            "time": run.time, "q": angles_out(run.q, args.deg),
+            "joint_velocity": angles_out(run.joint_velocity, args.deg),
+            "realised_twist": _twist_out(run.realised, args.deg), "target_twist": _twist_out(run.target, args.deg),
+            "index": run.index, "position": run.position,
+            "max_joint_speed": float(angles_out(speed.max(), args.deg)), "crossings": crossings,
         })
     else:
         print(f"{chain.name}, method {args.method}: {len(run.time) - 1} RK4 steps of {args.dt:g} s")
@@ -78,3 +92,10 @@ def run_track(args: argparse.Namespace) -> int:
         if crossings is not None:
             print(f"D_e from {run.index[0]:.4g} to {run.index[-1]:.4g}, sign changes: {crossings}")
     return 0
+
+
+def _twist_out(twists: np.ndarray, degrees: bool) -> np.ndarray:
+    """Twists ``(..., 6)`` for output: the angular part in deg/s with ``--deg``."""
+    out = np.array(twists, dtype=float)
+    out[..., 3:] = angles_out(out[..., 3:], degrees)
+    return out

@@ -6,7 +6,17 @@ import argparse
 
 import numpy as np
 
-from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, angles_out, joint_vector, load_robot, print_json
+from redkin.cli.common import (
+    IMAGE_SUFFIXES,
+    UsageError,
+    add_output_flags,
+    add_robot_argument,
+    angle_unit,
+    angles_out,
+    joint_vector,
+    load_robot,
+    print_json,
+)
 from redkin.virtual_arms import (
     AnalyticModel,
     Obstacle,
@@ -17,6 +27,8 @@ from redkin.virtual_arms import (
     learn_forward_model,
     parse_point,
 )
+from redkin.validation import check_count, check_output_file
+from redkin.virtual_arms.generate import MAX_STEPS
 
 DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models
 
@@ -38,7 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="forward models of the subsystems (learned: one trained network per point)")
     parser.add_argument("--q0", nargs="+", type=float, metavar="Q",
                         help=f"initial joint values (default {DEFAULT_Q0} rad at every joint)")
-    parser.add_argument("--max-steps", type=int, default=5000, help="integrator step budget (default 5000)")
+    parser.add_argument("--max-steps", type=int, default=5000, help=f"integrator step budget (default 5000, at most {MAX_STEPS})")
     parser.add_argument("--obstacle", action="append", default=[], metavar="X,Y,R",
                         help="a circular obstacle X,Y,R (planar arms) or a sphere X,Y,Z,R, metres (repeatable); "
                              "the planner of Fig. 8 then keeps the whole arm clear of it")
@@ -93,10 +105,19 @@ def _obstacle(text: str, dims: int) -> Obstacle:
     return Obstacle(np.array(values[:-1]), values[-1])
 
 
+def _units(degrees: bool) -> dict:
+    return {"q": angle_unit(degrees), "goal": "m", "error": "m", "end_error": "m", "min_clearance": "m",
+            "centre": "m", "radius": "m", "seconds": "s (wall clock)"}
+
+
 def run_virtual_arms(args: argparse.Namespace) -> int:
     chain = load_robot(args.robot)
     probe = AnalyticModel(chain, [VirtualPoint.end()])
     dims = probe.dims
+    if args.out:
+        check_output_file(args.out, "--out", IMAGE_SUFFIXES | {".gif"})
+        if dims != 2:
+            raise UsageError("--out draws planar arms only; this robot's task space is 3-D")
     points = [VirtualPoint.end()]
     goals = [_coordinates(args.goal, dims, "--goal")]
     for text in args.point:
@@ -114,8 +135,7 @@ def run_virtual_arms(args: argparse.Namespace) -> int:
     else:
         q0 = joint_vector(chain, args.q0, args.deg, name="--q0 values")
     output = OutputFunction.sine(chain.lower, chain.upper) if args.limits else None
-    if args.max_steps < 1:
-        raise UsageError(f"--max-steps must be positive, got {args.max_steps}")
+    check_count(args.max_steps, "--max-steps", 1, MAX_STEPS)
     obstacles = [_obstacle(text, dims) for text in args.obstacle]
     if obstacles:
         if len(points) > 1 or weights is not None:
@@ -138,7 +158,7 @@ def run_virtual_arms(args: argparse.Namespace) -> int:
     if args.json:
         print_json({
             "robot": chain.name, "status": run.status, "message": run.message, "model": args.model,
-            "q": q_final, "angles": "deg" if args.deg else "rad",
+            "q": q_final, "angles": angle_unit(args.deg), "units": _units(args.deg),
             "points": [{"point": p.label, "goal": g, "error": e} for p, g, e in zip(points, goals, errors)],
             "steps": run.steps, "seconds": run.seconds,
         })
@@ -161,7 +181,7 @@ def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: n
     if args.json:
         print_json({
             "robot": chain.name, "status": run.status, "message": run.message, "model": "analytic",
-            "q": q_final, "angles": "deg" if args.deg else "rad", "goal": goal, "end_error": run.end_error,
+            "q": q_final, "angles": angle_unit(args.deg), "units": _units(args.deg), "goal": goal, "end_error": run.end_error,
             "min_clearance": run.min_clearance,
             "obstacles": [{"centre": ob.centre, "radius": ob.radius} for ob in obstacles],
             "periods": run.periods, "steps": run.steps, "seconds": run.seconds,
@@ -184,8 +204,6 @@ def _save_plot(path: str, chain, run, truth: np.ndarray | None, obstacles: list 
     from redkin.plot.virtual_arms import draw_strobe
 
     goals = run.goals if truth is not None else run.goal[None]
-    if goals.shape[1] != 2:
-        raise UsageError("--out draws planar arms only; this robot's task space is 3-D")
     fig, ax = plt.subplots(figsize=(6, 6))
     title = f"{chain.name}: {run.status}"
     if path.lower().endswith(".gif"):  # an animation of the run instead of the stroboscopic drawing

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 from redkin.reproduce.report import SectionWriter, write_report
+from redkin.validation import check_output_directory
 
 #: Modules defining ``SECTION``, in the order of the report.
 SECTION_MODULES = [
@@ -68,17 +69,15 @@ def run(
     Raises
     ------
     ValueError
-        For an unknown section key or an output path that is a file.
+        For an unknown section key or an output directory that cannot be
+        written (checked before any section runs).
     """
     available = {s.key: s for s in sections()}
     chosen = list(available) if not keys else list(keys)
     unknown = [k for k in chosen if k not in available]
     if unknown:
         raise ValueError(f"unknown section {unknown[0]!r}: expected one of {', '.join(available)}")
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"--out {str(out)!r} exists and is not a directory")
-    out.mkdir(parents=True, exist_ok=True)
+    out = check_output_directory(out_dir, "--out")
     writers: dict[str, SectionWriter] = {}
     for key in chosen:
         section = available[key]

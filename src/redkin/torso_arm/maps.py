@@ -44,9 +44,17 @@ from redkin.torso_arm.manipulability import (
 )
 from redkin.torso_arm.position_ik import joints_from_points
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
-from redkin.validation import as_float_array, check_finite
+from redkin.validation import as_float_array, check_count, check_finite
 
 Progress = Callable[[float], None]
+#: Largest number of grid points along one axis of a map (10^6 points in all: about 1 GB, a few seconds).
+MAX_RESOLUTION = 1000
+#: Largest number of theta_1 or phi samples of a best-over-the-redundancy map.
+MAX_SWEEP_SAMPLES = 3600
+#: Postures a best map evaluates at once (grid points x phi samples; about 1 KB each).
+MAX_BATCH_POSTURES = 4_000_000
+#: Postures a best map evaluates in all (grid points x theta_1 x phi samples).
+MAX_MAP_POSTURES = 100_000_000
 DualMeasure = Callable[[np.ndarray, np.ndarray], np.ndarray]
 _AXES = "xyz"
 
@@ -109,7 +117,7 @@ def plane_grid(plane: str, extent: ArrayLike, resolution: int | tuple[int, int])
     extent : array_like, shape (4,)
         ``(u_min, u_max, v_min, v_max)`` in metres along the two other axes, in x-y-z order.
     resolution : int or (int, int)
-        Points along u and v (>= 2 each).
+        Points along u and v (2 to :data:`MAX_RESOLUTION` each).
     """
     axis, value = parse_plane(plane)
     box = as_float_array(extent, "extent").reshape(-1)
@@ -118,16 +126,49 @@ def plane_grid(plane: str, extent: ArrayLike, resolution: int | tuple[int, int])
     check_finite(box, "extent")
     if box[0] >= box[1] or box[2] >= box[3]:
         raise ValueError(f"extent must have u_min < u_max and v_min < v_max, got {box.tolist()}")
-    nu, nv = (resolution, resolution) if np.isscalar(resolution) else tuple(resolution)
-    if int(nu) != nu or int(nv) != nv or nu < 2 or nv < 2:
-        raise ValueError(f"resolution must be integers >= 2, got {resolution!r}")
-    u, v = np.linspace(box[0], box[1], int(nu)), np.linspace(box[2], box[3], int(nv))
+    counts = (resolution, resolution) if np.isscalar(resolution) else tuple(resolution)
+    if len(counts) != 2:
+        raise ValueError(f"resolution must be one integer or two, got {resolution!r}")
+    nu, nv = (check_count(n, "resolution", 2, MAX_RESOLUTION) for n in counts)
+    u, v = np.linspace(box[0], box[1], nu), np.linspace(box[2], box[3], nv)
     others = [a for a in _AXES if a != axis]
-    points = np.zeros((int(nv), int(nu), 3))
+    points = np.zeros((nv, nu, 3))
     points[..., _AXES.index(axis)] = value
     points[..., _AXES.index(others[0])] = u[None, :]
     points[..., _AXES.index(others[1])] = v[:, None]
     return PlaneGrid(points, axis, value, (others[0], others[1]), u, v)
+
+
+def reach_extent(arm: TorsoArm, plane: str, margin: float = 0.05) -> tuple[float, float, float, float]:
+    """The default ``extent`` of a map on ``plane``: the box around every wrist position the arm can reach there.
+
+    The shoulder ``S(theta_1)`` runs on a circle of radius ``L0`` about the
+    torso axis ``y`` (:meth:`TorsoArm.shoulder`), and the wrist lies within
+    ``R = L1 + l_ew`` of it, so every reachable wrist is in the torus
+    ``(rho - L0)^2 + y^2 <= R^2`` with ``rho = sqrt(x^2 + z^2)`` (the left arm's
+    torus is the same).  The box bounds the torus's section by the plane,
+    widened by ``margin`` times ``R`` on every side so that the edge of the
+    reach shows.
+
+    Raises
+    ------
+    ValueError
+        If the plane misses the reach altogether.
+    """
+    axis, value = parse_plane(plane)
+    reach = arm.L1 + arm.forearm
+    outer = arm.L0 + reach
+    pad = margin * reach
+    if axis == "y":
+        if abs(value) >= reach:
+            raise ValueError(f"plane {plane!r} lies outside the arm's reach (|y| < {reach:.4g} m)")
+        radius = arm.L0 + np.sqrt(reach**2 - value**2) + pad
+        return (-radius, radius, -radius, radius)
+    if abs(value) >= outer:
+        raise ValueError(f"plane {plane!r} lies outside the arm's reach (|{axis}| < {outer:.4g} m)")
+    across = np.sqrt(outer**2 - value**2) + pad  # the other of x and z
+    height = reach + pad  # y
+    return (-across, across, -height, height) if axis == "z" else (-height, height, -across, across)
 
 
 @dataclass(frozen=True)
@@ -213,10 +254,17 @@ def manipulability_map(
                    f"{arm.side} arm, psi = {np.degrees(psi):g} deg, phi = {np.degrees(phi):g} deg ({ref.kind} reference)")
 
 
-def _sweeps(arm: TorsoArm, samples: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-    n1, n2 = samples
-    if int(n1) != n1 or int(n2) != n2 or n1 < 1 or n2 < 1:
-        raise ValueError(f"samples must be two positive integers, got {samples!r}")
+def _sweeps(arm: TorsoArm, grid: PlaneGrid, samples: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    if np.ndim(samples) != 1 or len(samples) != 2:
+        raise ValueError(f"samples must be two positive integers (theta_1, phi), got {samples!r}")
+    n1, n2 = (check_count(n, "samples", 1, MAX_SWEEP_SAMPLES) for n in samples)
+    points = grid.points[..., 0].size
+    if points * n2 > MAX_BATCH_POSTURES:
+        raise ValueError(f"{points} grid points x {n2} phi samples = {points * n2} postures at once; at most "
+                         f"{MAX_BATCH_POSTURES} fit in memory (lower the resolution or the phi samples)")
+    if points * n1 * n2 > MAX_MAP_POSTURES:
+        raise ValueError(f"{points} grid points x {n1} x {n2} samples = {points * n1 * n2} postures; at most "
+                         f"{MAX_MAP_POSTURES} are allowed (about 5 minutes)")
     lower, upper = arm.chain.lower[0], arm.chain.upper[0]
     lower, upper = (max(lower, -np.pi), min(upper, np.pi))
     theta1 = np.linspace(lower, upper, int(n1)) if n1 > 1 else np.array([(lower + upper) / 2])
@@ -237,7 +285,7 @@ def best_manipulability_map(
         ok = state.status == OK
         return gram_manipulability(state.jacobian), (state.feasible if within_limits else ok), ok
 
-    return _best_over_sweeps(grid, *_sweeps(arm, samples), evaluate, progress,
+    return _best_over_sweeps(grid, *_sweeps(arm, grid, samples), evaluate, progress,
                              f"{arm.side} arm, best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
                              + (" within limits" if within_limits else ""))
 
@@ -321,7 +369,7 @@ def best_dual_arm_map(
         ok = (a.status == OK) & (b.status == OK)
         return measure(a.jacobian, b.jacobian), ((a.feasible & b.feasible) if within_limits else ok), ok
 
-    return _best_over_sweeps(grid, *_sweeps(right, samples), evaluate, progress,
+    return _best_over_sweeps(grid, *_sweeps(right, grid, samples), evaluate, progress,
                              f"both arms (symmetric posture), best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
                              + (" within limits" if within_limits else ""))
 

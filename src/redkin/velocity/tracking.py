@@ -58,6 +58,10 @@ class TrackingResult:
     rotation: np.ndarray
 
 
+#: Largest number of RK4 steps of one run (every step is recorded: about 1 KB each for a 7-joint arm).
+MAX_STEPS = 2_000_000
+
+
 def simulate(
     chain: SerialChain,
     q0: ArrayLike,
@@ -77,11 +81,12 @@ def simulate(
     twist : array_like, shape (6,), or callable ``twist(t, q) -> (6,)``
         Commanded end-point twist (linear m/s, angular rad/s, world frame).
     duration : float
-        Simulated time in seconds (> 0); the step count is ``round(duration / dt)``.
+        Simulated time in seconds (> 0); the step count is ``round(duration / dt)``,
+        at most :data:`MAX_STEPS`.
     method : Method
         E.g. :class:`~redkin.velocity.methods.SingularityConsistent`.
     dt : float
-        RK4 step (> 0).
+        RK4 step (> 0, at most ``duration``).
     gain : float
         Closed-loop correction gain in 1/s (>= 0).
     index : callable, optional
@@ -90,8 +95,12 @@ def simulate(
     q_start = check_vectors(q0, chain.n, "q0").reshape(chain.n)
     total = check_positive(duration, "duration")
     step_size = check_positive(dt, "dt")
+    if step_size > total:
+        raise ValueError(f"dt must be at most duration ({total:g} s), got {step_size:g}")
     k_gain = nonnegative(gain, "gain")
     steps = max(1, int(round(total / step_size)))
+    if steps > MAX_STEPS:
+        raise ValueError(f"duration / dt gives {steps} RK4 steps; at most {MAX_STEPS} are allowed (the run is kept in memory)")
     if callable(twist):
         command = twist
     else:

@@ -11,12 +11,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import BDF, LSODA, Radau
 
-from redkin.validation import check_positive, check_vectors
+from redkin.validation import check_count, check_positive, check_vectors
 from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics, State
 from redkin.virtual_arms.output_function import OutputFunction
 from redkin.virtual_arms.subsystems import ForwardModel, OneByOne, Together
 
 _SOLVERS = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}
+#: Largest step budget of one run (every accepted step is recorded with the subsystems' signals).
+MAX_STEPS = 1_000_000
 
 
 @dataclass
@@ -173,7 +175,8 @@ def generate_trajectory(
         runs, whose errors cannot vanish and whose ``lambda`` grows only like
         ``sqrt(s)``; ``0`` turns it off.
     s_max, max_steps : float, int
-        Give up (status ``"max_time"``/``"max_steps"``) after this time or these steps.
+        Give up (status ``"max_time"``/``"max_steps"``) after this time or these
+        steps (at most :data:`MAX_STEPS`: every step is recorded).
     min_step : float
         Ten consecutive step sizes below ``min_step * max(1, s)`` count as a stalled integrator.
     rtol, atol : float
@@ -199,6 +202,7 @@ def generate_trajectory(
     weight = _weights(weights, p, dims)
     for name, value in (("eta", eta), ("lambda0", lambda0), ("gradient_tol", gradient_tol), ("s_max", s_max)):
         check_positive(value, name)
+    max_steps = check_count(max_steps, "max_steps", 1, MAX_STEPS)
     if not np.isfinite(posture_tol) or posture_tol < 0:
         raise ValueError(f"posture_tol must be finite and >= 0, got {posture_tol!r}")
     output = OutputFunction.identity(m) if output is None else output
