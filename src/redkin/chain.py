@@ -70,6 +70,8 @@ class SerialChain:
         Display name.
     source : str
         Where the numbers come from.
+    joint_names : sequence of str, optional
+        One name per joint (a URDF's joint names); default ``joint 1`` .. ``joint n``.
     """
 
     a: np.ndarray
@@ -84,6 +86,7 @@ class SerialChain:
     tool: np.ndarray | None = None
     name: str = "chain"
     source: str = ""
+    joint_names: tuple[str, ...] = ()
     _joints_first: bool = field(init=False, repr=False)
     _fixed: np.ndarray = field(init=False, repr=False)
 
@@ -122,6 +125,10 @@ class SerialChain:
             matrix = matrix.copy()
             matrix.setflags(write=False)
             values[key] = matrix
+        names = tuple(str(v) for v in self.joint_names) or tuple(f"joint {i + 1}" for i in range(n))
+        if len(names) != n:
+            raise ValueError(f"joint_names must have {n} entries (one per joint), got {len(names)}")
+        values["joint_names"] = names
         for key, value in values.items():
             object.__setattr__(self, key, value)
         object.__setattr__(self, "_joints_first", self.convention == "dh")

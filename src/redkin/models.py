@@ -204,22 +204,35 @@ def robot_names() -> list[str]:
     return list(MODELS)
 
 
-def get_robot(name_or_path: str | Path) -> SerialChain:
-    """A model by name (see :func:`robot_names`) or a chain read from a robot file.
+def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None = None) -> SerialChain:
+    """A model by name (see :func:`robot_names`), a chain read from a robot file, or one read from a URDF.
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+        A model name, a ``.toml``/``.json`` robot file or a ``.urdf`` file.
+    base, tip : str, optional
+        For a URDF, the links the chain runs between (see :func:`redkin.urdf.load_urdf`).
 
     Raises
     ------
     ValueError
-        For an unknown name, a missing file or a malformed file.
+        For an unknown name, a missing file or a malformed file, or ``base``/``tip`` given for anything but a URDF.
     """
     key = str(name_or_path)
+    path = Path(key)
+    if path.suffix.lower() == ".urdf":
+        from redkin.urdf import load_urdf
+
+        return load_urdf(path, base, tip)
+    if base is not None or tip is not None:
+        raise ValueError(f"base and tip links apply to URDF files only, not to {key!r}")
     if key.lower() in MODELS:
         return MODELS[key.lower()]()
-    path = Path(key)
     if path.suffix.lower() in (".toml", ".json"):
         from redkin.robot_file import load_robot
 
         return load_robot(path)
     raise ValueError(
-        f"unknown robot {key!r}: expected one of {', '.join(MODELS)} or a .toml/.json robot file"
+        f"unknown robot {key!r}: expected one of {', '.join(MODELS)}, a .toml/.json robot file or a .urdf file"
     )

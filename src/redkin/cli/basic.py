@@ -60,7 +60,7 @@ def run_robots(args: argparse.Namespace) -> int:
 
 
 def run_fk(args: argparse.Namespace) -> int:
-    chain = load_robot(args.robot)
+    chain = load_robot(args)
     q = joint_vector(chain, args.q, args.deg)
     pose = chain.fk(q)
     if args.json:
@@ -81,7 +81,7 @@ def run_fk(args: argparse.Namespace) -> int:
 
 
 def run_jacobian(args: argparse.Namespace) -> int:
-    chain = load_robot(args.robot)
+    chain = load_robot(args)
     q = joint_vector(chain, args.q, args.deg)
     jac = chain.jacobian(q)
     manip = float(chain.manipulability(q)) if args.manipulability else None

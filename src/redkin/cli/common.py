@@ -44,8 +44,11 @@ class Parser(argparse.ArgumentParser):
 
 
 def add_robot_argument(parser: argparse.ArgumentParser) -> None:
-    """``ROBOT``: a model name (``redkin robots``) or a robot file path."""
-    parser.add_argument("robot", metavar="ROBOT", help="model name (see `redkin robots`) or a .toml/.json robot file")
+    """``ROBOT``: a model name (``redkin robots``), a robot file or a URDF, with ``--base``/``--tip`` links for a URDF."""
+    parser.add_argument("robot", metavar="ROBOT",
+                        help="model name (see `redkin robots`), a .toml/.json robot file or a .urdf file")
+    parser.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link)")
+    parser.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (default: the only leaf)")
 
 
 def add_output_flags(parser: argparse.ArgumentParser, degrees: bool = True) -> None:
@@ -55,9 +58,9 @@ def add_output_flags(parser: argparse.ArgumentParser, degrees: bool = True) -> N
         parser.add_argument("--deg", action="store_true", help="read and print angles in degrees")
 
 
-def load_robot(name: str) -> SerialChain:
-    """The chain for a ROBOT argument (ValueError for an unknown name or bad file)."""
-    return get_robot(name)
+def load_robot(args: argparse.Namespace) -> SerialChain:
+    """The chain for the ROBOT, ``--base`` and ``--tip`` arguments (ValueError for an unknown name or a bad file)."""
+    return get_robot(args.robot, args.base, args.tip)
 
 
 def angles_in(values: Sequence[float], degrees: bool) -> np.ndarray:

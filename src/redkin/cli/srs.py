@@ -65,7 +65,7 @@ def _arcs(arc_set, degrees: bool) -> list:
 
 
 def run_ik(args: argparse.Namespace) -> int:
-    chain = load_robot(args.robot)
+    chain = load_robot(args)
     geometry = srs_geometry(chain)
     pose = _pose(args)
     psi = float(angles_in(args.psi, args.deg))
@@ -91,7 +91,7 @@ def run_ik(args: argparse.Namespace) -> int:
 
 
 def run_arm_angles(args: argparse.Namespace) -> int:
-    chain = load_robot(args.robot)
+    chain = load_robot(args)
     geometry = srs_geometry(chain)
     pose = _pose(args)
     branch = parse_branch(args.branch)

@@ -42,7 +42,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run_track(args: argparse.Namespace) -> int:
     if args.plot:
         check_output_file(args.plot, "--plot", IMAGE_SUFFIXES)
-    chain = load_robot(args.robot)
+    chain = load_robot(args)
     q0 = joint_vector(chain, args.q0, args.deg, name="--q0 values")
     twist = np.asarray(args.twist, dtype=float)
     if args.deg:

@@ -111,7 +111,7 @@ def _units(degrees: bool) -> dict:
 
 
 def run_virtual_arms(args: argparse.Namespace) -> int:
-    chain = load_robot(args.robot)
+    chain = load_robot(args)
     probe = AnalyticModel(chain, [VirtualPoint.end()])
     dims = probe.dims
     if args.out:

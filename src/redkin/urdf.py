@@ -1,0 +1,242 @@
+"""URDF import: the serial chain between two links of a URDF, as exact DH rows.
+
+The file is read with ROS's own pure-Python parser, ``urdfdom-py``
+(``urdf_parser_py``; the optional extra ``redkin[urdf]``).  It needs only
+lxml and PyYAML, where ``yourdfpy`` also pulls trimesh and its mesh stack,
+none of which a kinematic chain uses.
+
+Conversion.  Joint ``k`` of the chain turns the rest of the chain about a
+line: at ``q = 0`` that line passes through the origin of the joint's frame
+with the direction of its ``<axis>``, both mapped to the base link by the
+product of the ``<origin>`` transforms before it (fixed joints fold into
+that product).  Standard DH rows reproduce any chain of such lines exactly:
+frame ``k - 1`` has its z axis on line ``k`` and its x axis on the common
+normal of lines ``k - 1`` and ``k``; with ``theta_k = offset_k + q_k`` turning
+about the same line by the same angle as the URDF joint, every downstream
+body moves the same way, so ``base @ A_1 ... A_n @ tool`` equals the URDF's
+tip pose for every ``q``.  Parallel axes take the common normal through the
+previous frame's origin (``d = 0``), intersecting axes their intersection
+(``a = 0``), and collinear axes repeat the previous frame.  The last row is a
+pure turn (``a = d = alpha = 0``), the tool maps it to the tip link, and the
+base maps the base link to frame 0.  Axes are taken as written (``0 0 -1``
+or oblique), so every sign is +1 and the joint values are the URDF's own.
+
+Joint frames of the chain (:meth:`SerialChain.frames`) are the DH frames, not
+the URDF's link frames; the end pose is the tip link's.  Exactness has one
+numerical limit, that of DH rows themselves: axes a tiny tilt ``t`` off
+parallel (``rpy="1.5708 0 0"`` for pi/2 gives ``t ~ 4e-6``) have a common
+normal ``offset / t`` away, and rounding then costs ``eps * offset / t``
+(1e-11 m there; at most about 1e-8 m, near ``t ~ 1e-8``, see
+:data:`PARALLEL_TOLERANCE`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+from pathlib import Path
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.so3 import xyz_fixed_to_matrix
+
+#: ``|sin|`` of the angle between two joint axes below which they count as parallel (about sqrt(eps)), and
+#: the distance (metres) below which two parallel axes count as the same line.  Axes tilted by ``t`` off
+#: parallel have their common normal ``offset / t`` away, and the DH rows lose ``eps * offset / t`` to
+#: rounding; counted as parallel they lose ``t * length``.  The two meet here, at about 1e-8 m.
+PARALLEL_TOLERANCE = 1e-8
+DISTANCE_TOLERANCE = 1e-12
+_UNSUPPORTED = {"prismatic", "floating", "planar"}
+
+
+def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None) -> SerialChain:
+    """The chain from link ``base`` to link ``tip`` of the URDF at ``path``.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``.urdf`` file.
+    base, tip : str, optional
+        Link names.  ``base`` defaults to the root link; ``tip`` to the one
+        leaf below ``base`` (a tree with several leaves must name it).
+
+    Returns
+    -------
+    SerialChain
+        Standard DH rows (see the module docstring), named after the robot,
+        with the URDF's limits (continuous joints unlimited).
+
+    Raises
+    ------
+    ValueError
+        For a missing or malformed file, an unknown link, a tree without a
+        single tip, links not on one path, and prismatic, floating, planar or
+        mimic joints (named).
+    """
+    robot = _parse(Path(path))
+    links = {link.name for link in robot.links}
+    if not links:
+        raise ValueError(f"{path}: the URDF has no links")
+    parent_of = {joint.child: joint for joint in robot.joints}
+    roots = sorted(links - set(parent_of))
+    base = base if base is not None else (roots[0] if len(roots) == 1 else None)
+    if base is None:
+        raise ValueError(f"{path}: the URDF has {len(roots)} root links ({', '.join(roots)}); name one with --base")
+    for name, role in ((base, "base"), (tip, "tip")):
+        if name is not None and name not in links:
+            raise ValueError(f"{path}: no link named {name!r} for the {role} (links: {', '.join(sorted(links))})")
+    if tip is None:
+        tip = _only_leaf(robot, base, path)
+    joints = []
+    link = tip
+    while link != base:
+        if link not in parent_of:
+            raise ValueError(f"{path}: link {tip!r} is not below link {base!r}")
+        joint = parent_of[link]
+        joints.append(joint)
+        link = joint.parent
+    joints.reverse()
+    return _chain(robot.name or Path(path).stem, joints, str(path), base, tip)
+
+
+def _parse(path: Path):
+    try:
+        from urdf_parser_py.urdf import URDF
+    except ImportError:
+        raise ValueError("reading a URDF needs the urdf extra: pip install 'redkin[urdf]'") from None
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ValueError(f"cannot read robot file {str(path)!r}: {exc.strerror or exc}") from None
+    noise = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(noise):  # the parser prints warnings of its own
+            return URDF.from_xml_string(text)
+    except Exception as exc:  # lxml and the parser raise many kinds; all mean a malformed file
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise ValueError(f"{path}: malformed URDF: {reason}") from None
+
+
+def _only_leaf(robot, base: str, path) -> str:
+    children: dict[str, list[str]] = {}
+    for joint in robot.joints:
+        children.setdefault(joint.parent, []).append(joint.child)
+    leaves, stack = [], [base]
+    while stack:
+        link = stack.pop()
+        below = children.get(link, [])
+        if not below:
+            leaves.append(link)
+        stack.extend(below)
+    if len(leaves) != 1:
+        raise ValueError(f"{path}: the tree below {base!r} has {len(leaves)} tips ({', '.join(sorted(leaves))}); "
+                         f"name one with --tip")
+    return leaves[0]
+
+
+def _origin(joint) -> np.ndarray:
+    """The joint's ``<origin>`` as a 4x4 transform (roll-pitch-yaw about fixed x, y, z)."""
+    pose = np.eye(4)
+    if joint.origin is not None:
+        xyz = np.zeros(3) if joint.origin.xyz is None else np.asarray(joint.origin.xyz, dtype=float)
+        rpy = np.zeros(3) if joint.origin.rpy is None else np.asarray(joint.origin.rpy, dtype=float)
+        pose[:3, :3] = xyz_fixed_to_matrix(rpy[::-1])  # URDF rpy: Rz(yaw) Ry(pitch) Rx(roll)
+        pose[:3, 3] = xyz
+    return pose
+
+
+def _chain(name: str, joints: list, source: str, base_link: str, tip_link: str) -> SerialChain:
+    """Exact DH rows for the joints from the base link to the tip link (see the module docstring)."""
+    pose = np.eye(4)  # base link -> current frame at q = 0
+    points, directions, lower, upper, names = [], [], [], [], []
+    for joint in joints:
+        if joint.type in _UNSUPPORTED:
+            raise ValueError(f"joint {joint.name!r} is {joint.type}: redkin chains have revolute joints only")
+        if joint.mimic is not None:
+            raise ValueError(f"joint {joint.name!r} mimics {joint.mimic.joint!r}: mimic joints are not supported")
+        pose = pose @ _origin(joint)
+        if joint.type == "fixed":
+            continue
+        if joint.type not in ("revolute", "continuous"):
+            raise ValueError(f"joint {joint.name!r} has unknown type {joint.type!r}")
+        axis = np.array([1.0, 0.0, 0.0] if joint.axis is None else joint.axis, dtype=float)
+        if not np.all(np.isfinite(axis)) or np.linalg.norm(axis) < 1e-12:
+            raise ValueError(f"joint {joint.name!r}: axis must be a non-zero finite vector, got {axis.tolist()}")
+        names.append(joint.name)
+        points.append(pose[:3, 3].copy())
+        directions.append(pose[:3, :3] @ (axis / np.linalg.norm(axis)))
+        limit = joint.limit if joint.type == "revolute" else None
+        if joint.type == "revolute" and (limit is None or limit.lower is None or limit.upper is None):
+            raise ValueError(f"revolute joint {joint.name!r} needs <limit lower=... upper=...>")
+        lower.append(-np.inf if limit is None else float(limit.lower))
+        upper.append(np.inf if limit is None else float(limit.upper))
+    if not points:
+        raise ValueError(f"no revolute joint between links {base_link!r} and {tip_link!r}")
+    rows, base, last = _dh_rows(np.array(points), np.array(directions))
+    return SerialChain(
+        a=rows[:, 0], alpha=rows[:, 1], d=rows[:, 2], offset=rows[:, 3], convention="dh",
+        lower=lower, upper=upper, base=base, tool=np.linalg.inv(last) @ pose,
+        name=name, source=f"URDF {source}, links {base_link} -> {tip_link}", joint_names=names,
+    )
+
+
+def _dh_rows(points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows ``(a, alpha, d, offset)`` for the joint lines, the base pose of frame 0 and the pose of frame n at q = 0."""
+    n = len(points)
+    z = directions[0]
+    x = _perpendicular(z)
+    frames = [_frame(x, z, points[0])]
+    rows = np.zeros((n, 4))
+    for k in range(n):
+        previous = frames[-1]
+        o, x0, z0 = previous[:3, 3], previous[:3, 0], previous[:3, 2]
+        if k + 1 < n:
+            origin, x1, z1 = _next_frame(o, x0, z0, points[k + 1], directions[k + 1])
+        else:  # the last row: a pure turn about line n
+            origin, x1, z1 = o, x0, z0
+        d = float((origin - o) @ z0 - ((origin - o) @ x1) * (x1 @ z0))  # along z0 to the foot of the normal
+        foot = o + d * z0
+        a = float((origin - foot) @ x1)
+        offset = float(np.arctan2(np.cross(x0, x1) @ z0, x0 @ x1))
+        alpha = float(np.arctan2(np.cross(z0, z1) @ x1, z0 @ z1))
+        rows[k] = a, alpha, d, offset
+        frames.append(_frame(x1, z1, origin))
+    return rows, frames[0], frames[-1]
+
+
+def _next_frame(o, x0, z0, point, direction):
+    """Origin, x and z of the frame whose z lies on the next joint line (standard DH)."""
+    z1 = direction
+    normal = np.cross(z0, z1)
+    if np.linalg.norm(normal) > PARALLEL_TOLERANCE:  # skew or intersecting lines: the common normal
+        x1 = normal / np.linalg.norm(normal)
+        # feet of the common normal: o + s z0 and point + t z1 with (o + s z0) - (point + t z1) parallel to x1
+        matrix = np.column_stack([z0, -z1, -x1])
+        s, t, _ = np.linalg.solve(matrix, point - o)
+        return point + t * z1, x1, z1
+    # parallel lines: the common normal through o (d = 0)
+    offset = point - o
+    across = offset - (offset @ z0) * z0
+    distance = np.linalg.norm(across)
+    foot = point - (offset @ z1) * z1  # the point of the next line closest to o
+    if distance <= DISTANCE_TOLERANCE:  # the same line: repeat the frame, a = 0
+        return o, x0, z1
+    return foot, across / distance, z1
+
+
+def _perpendicular(z: np.ndarray) -> np.ndarray:
+    """A unit vector normal to ``z``: the base link's x axis projected, else its y axis."""
+    for guess in (np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])):
+        x = guess - (guess @ z) * z
+        if np.linalg.norm(x) > 0.1:
+            return x / np.linalg.norm(x)
+    raise AssertionError("unreachable: x or y is far from any unit z")
+
+
+def _frame(x: np.ndarray, z: np.ndarray, origin: np.ndarray) -> np.ndarray:
+    frame = np.eye(4)
+    frame[:3, 0], frame[:3, 2] = x, z
+    frame[:3, 1] = np.cross(z, x)
+    frame[:3, 3] = origin
+    return frame
