@@ -88,3 +88,29 @@ def test_every_branch_string_is_read_as_a_branch(capsys, command, written):
             assert np.allclose(data["solutions"][0]["q"], ik(chain, pose, 0.2, branch), atol=1e-12)
         else:
             assert run_json(capsys, ["arm-angles", "pa10-7c", *POSE, *option])["branch"] == str(branch)
+
+
+def test_ik_and_arm_angles_on_a_urdf_in_the_makers_joint_values(capsys):
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from pathlib import Path
+
+    from redkin.models import get_robot
+
+    path = str(Path(__file__).resolve().parents[1] / "examples" / "iiwa14.urdf")
+    arm = get_robot(path)
+    pose = arm.fk(np.array([0.3, 0.5, -0.2, -1.1, 0.4, 0.9, 0.1]))
+    argv = ["--position", *map(str, pose[:3, 3]), "--rotation", *map(str, pose[:3, :3].ravel())]
+    data = run_json(capsys, ["ik", path, *argv, "--psi", "0.3", "--all"])
+    q = np.array([s["q"] for s in data["solutions"]])
+    assert np.abs(arm.fk(q) - pose).max() < 1e-9
+    assert run_json(capsys, ["arm-angles", path, *argv, "--branch", "+-+"])["feasible"]
+
+
+def test_ik_refuses_an_arm_that_is_not_srs_in_one_line(capsys):
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from pathlib import Path
+
+    path = str(Path(__file__).resolve().parents[1] / "examples" / "panda.urdf")
+    assert main(["ik", path, *POSE, "--psi", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "joints 5-7 do not meet in one point: closest distance" in err[0]

@@ -158,3 +158,31 @@ def test_paper_section_6_1_feasible_sets():
     # the bounds are where theta_2 reaches its 45 deg limit (paper Fig. 6)
     for psi in result.feasible.arcs[0]:
         assert np.degrees(ik(chain, pose, psi, "+++"))[1] == pytest.approx(45.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("limits", ["maker's", "random", "narrow"])
+def test_urdf_arm_feasible_sets_equal_dense_sampling_in_its_own_joint_values(limits):
+    """KUKA's URDF (joint 4 the other way from Table 1, other zero frames): sets in KUKA's q and limits."""
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from pathlib import Path
+
+    from redkin.models import get_robot
+
+    arm = get_robot(Path(__file__).resolve().parents[1] / "examples" / "iiwa14.urdf")
+    rng = np.random.default_rng(21)
+    for _ in range(3):
+        q = rng.uniform(arm.lower, arm.upper) * 0.8
+        chain = arm
+        if limits == "random":
+            chain = arm.with_limits(*random_limits(rng, q, crossing=False))
+        elif limits == "narrow":  # +-0.001 rad around a solution: the arc is tiny and must still be found
+            chain = arm.with_limits(q - 1e-3, q + 1e-3)
+        pose = chain.fk(q)
+        for branch in BRANCHES:
+            assert_set_matches_sampling(chain, pose, branch, feasible_arm_angles(chain, pose, branch))
+        if limits == "narrow":
+            from redkin.srs import arm_angle_of
+
+            state = arm_angle_of(chain, q)
+            found = feasible_arm_angles(chain, pose, str(state.branch_strings()))
+            assert found.feasible.contains(np.array([float(state.psi)]))[0]

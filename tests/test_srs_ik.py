@@ -193,19 +193,40 @@ def test_exact_home_pose_of_the_iiwa_is_stretched_at_the_shoulder():
 def test_not_srs_chains_name_the_violated_condition():
     with pytest.raises(ValueError, match="7 joints"):
         srs_geometry(planar_arm())
-    with pytest.raises(ValueError, match="a_3"):
+    with pytest.raises(ValueError, match="joints 3-5 do not meet in one point \\(an offset elbow"):
         srs_geometry(barrett_wam())
     plain = srs_chain(0.3, 0.4, 0.4, 0.1)
-    twisted = SerialChain(a=plain.a, alpha=np.r_[plain.alpha[:6], 0.3], d=plain.d)
-    with pytest.raises(ValueError, match="alpha_7"):
-        srs_geometry(twisted)
     offset_wrist = SerialChain(a=plain.a, alpha=plain.alpha, d=[0.3, 0, 0.4, 0.0, 0.4, 0.05, 0.1])
-    with pytest.raises(ValueError, match="d_6 must be 0"):
+    with pytest.raises(ValueError, match="joints 5-7 do not meet in one point: closest distance"):
         srs_geometry(offset_wrist)
-    with pytest.raises(ValueError, match="d_se"):
+    with pytest.raises(ValueError, match="shoulder and elbow coincide"):
         srs_geometry(SerialChain(a=plain.a, alpha=plain.alpha, d=[0.3, 0, 0.0, 0, 0.4, 0, 0.1]))
-    with pytest.raises(ValueError, match="standard DH"):
-        srs_geometry(SerialChain(a=plain.a, alpha=plain.alpha, d=plain.d, convention="mdh"))
+    skewed = SerialChain(a=plain.a, alpha=np.r_[plain.alpha[0], np.radians(80.0), plain.alpha[2:]], d=plain.d)
+    with pytest.raises(ValueError, match="axes 2 and 3 are not perpendicular"):
+        srs_geometry(skewed)
+
+
+def test_srs_arms_in_other_descriptions_are_solved_in_their_own_joint_values():
+    """A last twist, modified DH rows, reversed joints: the same S-R-S geometry, solved in the chain's own q."""
+    plain = srs_chain(0.3, 0.4, 0.4, 0.1)
+    twisted = SerialChain(a=plain.a, alpha=np.r_[plain.alpha[:6], 0.3], d=plain.d)  # alpha_7 only turns the tool
+    reversed_joints = SerialChain(a=plain.a, alpha=plain.alpha, d=plain.d, sign=[1, -1, -1, 1, -1, 1, -1],
+                                  offset=[0.2, 0, 3.0, -0.5, 0, 1.0, 0])
+    modified = SerialChain(a=[0.0] * 7, alpha=np.r_[0.0, plain.alpha[:6]], d=[0.3, 0, 0.4, 0, 0.4, 0, 0.1],
+                           convention="mdh")
+    rng = np.random.default_rng(5)
+    for chain in (twisted, reversed_joints, modified):
+        q = rng.uniform(-1.5, 1.5, (20, 7))
+        poses = chain.fk(q)
+        for psi in (-2.0, 0.4):
+            solutions = ik_all_branches(chain, poses, psi)  # (20, 8, 7), in the chain's own joint values
+            assert pose_error(chain.fk(solutions), poses[:, None]) < ROUND_TRIP
+        # the arm angle of a configuration, fed back, returns that configuration on its branch
+        geometry = srs_geometry(chain)
+        for row in q[:5]:
+            state = arm_angle_of(geometry, row)
+            again = ik(geometry, chain.fk(row), float(state.psi), str(state.branch_strings()))
+            assert np.allclose(np.mod(again - row + np.pi, 2 * np.pi) - np.pi, 0, atol=1e-9)
 
 
 def test_bad_inputs_raise_clear_errors():

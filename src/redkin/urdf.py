@@ -27,7 +27,7 @@ numerical limit, that of DH rows themselves: axes a tiny tilt ``t`` off
 parallel (``rpy="1.5708 0 0"`` for pi/2 gives ``t ~ 4e-6``) have a common
 normal ``offset / t`` away, and rounding then costs ``eps * offset / t``
 (1e-11 m there; at most about 1e-8 m, near ``t ~ 1e-8``, see
-:data:`PARALLEL_TOLERANCE`).
+:data:`redkin.joint_lines.PARALLEL_TOLERANCE`).
 """
 
 from __future__ import annotations
@@ -39,14 +39,10 @@ from pathlib import Path
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.joint_lines import PARALLEL_TOLERANCE, dh_rows_from_lines
 from redkin.so3 import xyz_fixed_to_matrix
 
-#: ``|sin|`` of the angle between two joint axes below which they count as parallel (about sqrt(eps)), and
-#: the distance (metres) below which two parallel axes count as the same line.  Axes tilted by ``t`` off
-#: parallel have their common normal ``offset / t`` away, and the DH rows lose ``eps * offset / t`` to
-#: rounding; counted as parallel they lose ``t * length``.  The two meet here, at about 1e-8 m.
-PARALLEL_TOLERANCE = 1e-8
-DISTANCE_TOLERANCE = 1e-12
+__all__ = ["PARALLEL_TOLERANCE", "load_urdf"]
 _UNSUPPORTED = {"prismatic", "floating", "planar"}
 
 
@@ -173,70 +169,9 @@ def _chain(name: str, joints: list, source: str, base_link: str, tip_link: str) 
         upper.append(np.inf if limit is None else float(limit.upper))
     if not points:
         raise ValueError(f"no revolute joint between links {base_link!r} and {tip_link!r}")
-    rows, base, last = _dh_rows(np.array(points), np.array(directions))
+    rows, base, last = dh_rows_from_lines(np.array(points), np.array(directions))
     return SerialChain(
         a=rows[:, 0], alpha=rows[:, 1], d=rows[:, 2], offset=rows[:, 3], convention="dh",
         lower=lower, upper=upper, base=base, tool=np.linalg.inv(last) @ pose,
         name=name, source=f"URDF {source}, links {base_link} -> {tip_link}", joint_names=names,
     )
-
-
-def _dh_rows(points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Rows ``(a, alpha, d, offset)`` for the joint lines, the base pose of frame 0 and the pose of frame n at q = 0."""
-    n = len(points)
-    z = directions[0]
-    x = _perpendicular(z)
-    frames = [_frame(x, z, points[0])]
-    rows = np.zeros((n, 4))
-    for k in range(n):
-        previous = frames[-1]
-        o, x0, z0 = previous[:3, 3], previous[:3, 0], previous[:3, 2]
-        if k + 1 < n:
-            origin, x1, z1 = _next_frame(o, x0, z0, points[k + 1], directions[k + 1])
-        else:  # the last row: a pure turn about line n
-            origin, x1, z1 = o, x0, z0
-        d = float((origin - o) @ z0 - ((origin - o) @ x1) * (x1 @ z0))  # along z0 to the foot of the normal
-        foot = o + d * z0
-        a = float((origin - foot) @ x1)
-        offset = float(np.arctan2(np.cross(x0, x1) @ z0, x0 @ x1))
-        alpha = float(np.arctan2(np.cross(z0, z1) @ x1, z0 @ z1))
-        rows[k] = a, alpha, d, offset
-        frames.append(_frame(x1, z1, origin))
-    return rows, frames[0], frames[-1]
-
-
-def _next_frame(o, x0, z0, point, direction):
-    """Origin, x and z of the frame whose z lies on the next joint line (standard DH)."""
-    z1 = direction
-    normal = np.cross(z0, z1)
-    if np.linalg.norm(normal) > PARALLEL_TOLERANCE:  # skew or intersecting lines: the common normal
-        x1 = normal / np.linalg.norm(normal)
-        # feet of the common normal: o + s z0 and point + t z1 with (o + s z0) - (point + t z1) parallel to x1
-        matrix = np.column_stack([z0, -z1, -x1])
-        s, t, _ = np.linalg.solve(matrix, point - o)
-        return point + t * z1, x1, z1
-    # parallel lines: the common normal through o (d = 0)
-    offset = point - o
-    across = offset - (offset @ z0) * z0
-    distance = np.linalg.norm(across)
-    foot = point - (offset @ z1) * z1  # the point of the next line closest to o
-    if distance <= DISTANCE_TOLERANCE:  # the same line: repeat the frame, a = 0
-        return o, x0, z1
-    return foot, across / distance, z1
-
-
-def _perpendicular(z: np.ndarray) -> np.ndarray:
-    """A unit vector normal to ``z``: the base link's x axis projected, else its y axis."""
-    for guess in (np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])):
-        x = guess - (guess @ z) * z
-        if np.linalg.norm(x) > 0.1:
-            return x / np.linalg.norm(x)
-    raise AssertionError("unreachable: x or y is far from any unit z")
-
-
-def _frame(x: np.ndarray, z: np.ndarray, origin: np.ndarray) -> np.ndarray:
-    frame = np.eye(4)
-    frame[:3, 0], frame[:3, 2] = x, z
-    frame[:3, 1] = np.cross(z, x)
-    frame[:3, 3] = origin
-    return frame

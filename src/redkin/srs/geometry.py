@@ -161,45 +161,53 @@ class SRSGeometry:
         return q
 
 
+def table1_violation(chain: SerialChain) -> str | None:
+    """The first way a 7-joint chain departs from paper 000 Table 1 form, or ``None`` if it is in that form."""
+    if chain.convention != "dh":
+        return f"an S-R-S arm in paper 000 Table 1 form uses standard DH, {chain.name!r} uses {chain.convention!r}"
+    tol = GEOMETRY_TOLERANCE
+    if np.any(np.abs(chain.a) > tol):
+        i = int(np.argmax(np.abs(chain.a) > tol))
+        return f"Table 1 form has all a_i = 0, {chain.name!r} has a_{i + 1} = {chain.a[i]:g}"
+    bad = np.flatnonzero(np.abs(np.mod(chain.alpha - TABLE1_ALPHA + np.pi, TWO_PI) - np.pi) > tol)
+    if bad.size:
+        i = int(bad[0])
+        return (f"Table 1 form has twists (-90, 90, -90, 90, -90, 90, 0) deg, {chain.name!r} has "
+                f"alpha_{i + 1} = {np.degrees(chain.alpha[i]):g} deg")
+    for i in (1, 3, 5):
+        if abs(chain.d[i]) > tol:
+            return f"Table 1 form has d_{i + 1} = 0, {chain.name!r} has d_{i + 1} = {chain.d[i]:g}"
+    for i, label in ((2, "d_se (d_3)"), (4, "d_ew (d_5)")):
+        if chain.d[i] <= tol:
+            return f"Table 1 form has {label} > 0, {chain.name!r} has {chain.d[i]:g}"
+    return None
+
+
 def srs_geometry(chain: SerialChain) -> SRSGeometry:
-    """Check that ``chain`` is an S-R-S arm in paper 000 Table 1 form and extract its lengths.
+    """The arm-angle solver's view of an S-R-S arm, in any description.
+
+    An arm already in paper 000 Table 1 form is used as it is; any other 7R
+    chain whose shoulder, elbow and wrist axes meet (a URDF, another DH
+    table, modified DH, other zero pose or joint senses) is brought to that
+    form with the same joint values and limits
+    (:func:`redkin.srs.conventions.table1_form`).
 
     Raises
     ------
     ValueError
-        Naming the first violated S-R-S condition.
+        Naming the first violated S-R-S condition, with its distance or angle.
     """
     if not isinstance(chain, SerialChain):
         raise ValueError(f"chain must be a SerialChain, got {type(chain).__name__}")
     if chain.n != 7:
         raise ValueError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}")
-    if chain.convention != "dh":
-        raise ValueError(
-            f"an S-R-S arm in paper 000 Table 1 form uses standard DH, {chain.name!r} uses {chain.convention!r}"
-        )
-    tol = GEOMETRY_TOLERANCE
-    if np.any(np.abs(chain.a) > tol):
-        i = int(np.argmax(np.abs(chain.a) > tol))
-        raise ValueError(
-            f"S-R-S condition violated: all a_i must be 0 (intersecting axes), {chain.name!r} has a_{i + 1} = {chain.a[i]:g}"
-        )
-    bad = np.flatnonzero(np.abs(np.mod(chain.alpha - TABLE1_ALPHA + np.pi, TWO_PI) - np.pi) > tol)
-    if bad.size:
-        i = int(bad[0])
-        raise ValueError(
-            "S-R-S condition violated: link twists must be (-90, 90, -90, 90, -90, 90, 0) deg "
-            f"(paper 000 Table 1), {chain.name!r} has alpha_{i + 1} = {np.degrees(chain.alpha[i]):g} deg"
-        )
-    for i in (1, 3, 5):
-        if abs(chain.d[i]) > tol:
-            where = "shoulder" if i == 1 else ("elbow" if i == 3 else "wrist")
-            raise ValueError(
-                f"S-R-S condition violated: d_{i + 1} must be 0 (the {where} axes meet in one point), "
-                f"{chain.name!r} has d_{i + 1} = {chain.d[i]:g}"
-            )
-    for i, label in ((2, "d_se (d_3)"), (4, "d_ew (d_5)")):
-        if chain.d[i] <= tol:
-            raise ValueError(f"S-R-S condition violated: {label} must be positive, {chain.name!r} has {chain.d[i]:g}")
+    if table1_violation(chain) is not None:
+        from redkin.srs.conventions import table1_form
+
+        chain = table1_form(chain)
+        problem = table1_violation(chain)
+        if problem is not None:  # pragma: no cover - table1_form writes Table 1 rows
+            raise ValueError(problem)
     sign, offset = chain.sign, chain.offset
     lo = np.where(sign > 0, offset + chain.lower, offset - chain.upper)
     hi = np.where(sign > 0, offset + chain.upper, offset - chain.lower)

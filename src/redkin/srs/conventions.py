@@ -1,0 +1,119 @@
+"""S-R-S arms in their makers' conventions: detection, and the same arm in paper 000's Table 1 form.
+
+Paper 000 solves an arm written as Table 1: standard DH with every ``a_i =
+0``, twists ``(-90, 90, -90, 90, -90, 90, 0)`` deg and ``d_2 = d_4 = d_6 = 0``.
+A maker's description (a URDF, a DH table with other twists, modified DH,
+joints turning the other way, another zero pose) describes the same
+geometry differently.  What makes an arm S-R-S does not depend on the
+description: at any configuration
+
+* joints 1-3 meet in one point, the shoulder S;
+* joints 5-7 meet in one point, the wrist W;
+* joints 3-5 meet in one point, the elbow E (no elbow offset);
+* consecutive axes are perpendicular;
+* S, E and W are distinct.
+
+:func:`table1_form` checks these on the joint lines at ``q = 0`` (reporting
+the distances when they fail) and writes the Table 1 chain whose joints turn
+about the same lines: frame 0 on joint 1's line where the base's origin
+projects onto it, common normals turned so that the twists take Table 1's
+signs (:func:`redkin.joint_lines.dh_rows_from_lines`), joints 3 and 5 turned
+over where needed so that ``d_se`` and ``d_ew`` are positive (``sign = -1``),
+the DH angles at ``q = 0`` as offsets, the rest in ``base`` and ``tool``.  Its
+``q`` and limits are the original chain's, and so is its pose for every
+``q``: the arm-angle functions take and return the user's own joint values.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.joint_lines import dh_rows_from_lines
+
+#: Largest distance (metres) of a joint axis from the point where its group meets, and largest
+#: ``|cos|`` between consecutive axes, for an S-R-S arm.  Tight on purpose: a chain accepted here is
+#: solved in closed form as if it were exactly S-R-S, so a looser test would return wrong answers.
+SRS_TOLERANCE = 1e-9
+_TABLE1_TWIST_SIGNS = np.array([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0, 0.0])
+_GROUPS = (("shoulder", (0, 1, 2)), ("wrist", (4, 5, 6)), ("elbow", (2, 3, 4)))
+
+
+def joint_lines(chain: SerialChain) -> tuple[np.ndarray, np.ndarray]:
+    """Points and unit directions of the joint lines at ``q = 0``, directions turning with positive ``q``."""
+    directions, points = chain.joint_axes(np.zeros(chain.n))
+    return points, directions * chain.sign[:, None]
+
+
+def meeting_point(points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, float]:
+    """The point closest to the lines (least squares) and the largest distance of a line from it."""
+    projectors = np.eye(3) - directions[:, :, None] * directions[:, None, :]
+    point = np.linalg.lstsq(projectors.sum(axis=0), np.einsum("kij,kj->i", projectors, points), rcond=None)[0]
+    distances = np.linalg.norm(np.einsum("kij,kj->ki", projectors, point - points), axis=-1)
+    return point, float(distances.max())
+
+
+def table1_form(chain: SerialChain) -> SerialChain:
+    """The same arm as a paper 000 Table 1 chain, with the same joint values, limits and poses.
+
+    Raises
+    ------
+    ValueError
+        Naming the first S-R-S condition the arm violates, with the distance
+        or angle that violates it (see the module docstring).
+    """
+    if chain.n != 7:
+        raise ValueError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}")
+    points, directions = joint_lines(chain)
+    centres = {}
+    for name, group in _GROUPS:
+        centre, distance = meeting_point(points[list(group)], directions[list(group)])
+        if distance > SRS_TOLERANCE:
+            numbers = "-".join(str(k + 1) for k in group[::2])
+            extra = " (an offset elbow, as on the WAM: not solved yet)" if name == "elbow" else ""
+            raise ValueError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point{extra}: "
+                             f"closest distance {distance:.3g} m")
+        centres[name] = centre
+    cosines = np.abs(np.sum(directions[:-1] * directions[1:], axis=-1))
+    if cosines.max() > SRS_TOLERANCE:
+        k = int(np.argmax(cosines))
+        angle = np.degrees(np.arccos(np.clip(cosines[k], 0.0, 1.0)))
+        raise ValueError(f"{chain.name!r} is not S-R-S: axes {k + 1} and {k + 2} are not perpendicular "
+                         f"({angle:.6g} deg apart)")
+    shoulder, elbow, wrist = centres["shoulder"], centres["elbow"], centres["wrist"]
+    for name, length in (("shoulder and elbow", np.linalg.norm(elbow - shoulder)),
+                         ("elbow and wrist", np.linalg.norm(wrist - elbow))):
+        if length <= SRS_TOLERANCE:
+            raise ValueError(f"{chain.name!r} is not S-R-S: its {name} coincide")
+    sign = np.ones(7)
+    sign[2] = np.sign((elbow - shoulder) @ directions[2])  # d_se > 0: joint 3 points from S to E
+    sign[4] = np.sign((wrist - elbow) @ directions[4])  # d_ew > 0: joint 5 points from E to W
+    lines = directions * sign[:, None]
+    through = np.array([shoulder, shoulder, shoulder, elbow, wrist, wrist, wrist])
+    base_origin = chain.base[:3, 3]
+    origin = shoulder + ((base_origin - shoulder) @ lines[0]) * lines[0]
+    rows, frame0, frame7 = dh_rows_from_lines(through, lines, _TABLE1_TWIST_SIGNS, origin)
+    converted = SerialChain(
+        a=np.zeros(7), alpha=np.sign(rows[:, 1]) * np.pi / 2 * np.abs(_TABLE1_TWIST_SIGNS), d=_exact_zeros(rows[:, 2]),
+        offset=rows[:, 3], sign=sign, lower=chain.lower, upper=chain.upper, base=frame0,
+        tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
+        source=f"{chain.source} (as paper 000 Table 1)", joint_names=chain.joint_names,
+    )
+    _certify(chain, converted)
+    return converted
+
+
+def _exact_zeros(d: np.ndarray) -> np.ndarray:
+    """``d_2 = d_4 = d_6 = 0`` where the groups meet: their computed values are rounding."""
+    out = d.copy()
+    out[[1, 3, 5]] = 0.0
+    return out
+
+
+def _certify(chain: SerialChain, converted: SerialChain) -> None:
+    """The converted chain must give the original's poses (checked on fixed sample configurations)."""
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (16, 7))
+    error = float(np.max(np.abs(converted.fk(q) - chain.fk(q))))
+    scale = max(1.0, float(np.max(np.abs(chain.fk(q)[..., :3, 3]))))
+    if error > 1e-9 * scale:  # pragma: no cover - a failure here is a bug in the conversion
+        raise ValueError(f"{chain.name!r}: its Table 1 form differs from it by {error:.3g} m; please report this")
