@@ -3,8 +3,11 @@
 Table 1, the array API: one step = one 6 x 7 Jacobian (``SerialChain.jacobian``)
 + the method's solve for a single configuration, plus the solve alone and a
 batched solve (per configuration, 1000 random configurations).  ``sc`` is the
-lean SC step (one SVD, :mod:`redkin.velocity.lean_step`), ``sc-exact`` the
-49-determinant cofactor path.
+lean SC step, ``sc-exact`` the 49-determinant cofactor path.  The lean SC
+method's bound step is the one-configuration controller, so its batched solve
+is the batched form of the same formula,
+:func:`~redkin.velocity.lean_step.lean_singularity_consistent` (one SVD per
+configuration).
 
 Table 2, the control-loop entry points (:mod:`redkin.velocity.controller`):
 ``step(q, twist)`` with the robot bound once -- input check, scalar Jacobian,
@@ -18,10 +21,10 @@ Run: ``python benchmarks/bench_velocity.py``.
 from __future__ import annotations
 
 import os
-import timeit
 
 import numpy as np
 
+from redkin.chain import SerialChain
 from redkin.models import barrett_wam
 from redkin.velocity import (
     AdaptiveDampedLeastSquares,
@@ -32,11 +35,15 @@ from redkin.velocity import (
     SingularityConsistent,
     SingularityConsistentController,
     WamFactorisation,
+    lean_singularity_consistent,
 )
+from redkin.velocity.methods import Method, Step
+from timing import best_time  # benchmarks/timing.py (the script's folder is on sys.path)
 
 
 def per_call(func, number: int) -> float:
-    return min(timeit.repeat(func, number=number, repeat=5)) / number * 1e6
+    """Microseconds per call of ``func``: the best of five rounds of ``number`` calls."""
+    return best_time(func, repeat=5, number=number) * 1e6
 
 
 def main() -> None:
@@ -45,23 +52,14 @@ def main() -> None:
     factor = WamFactorisation.from_chain(chain)
     q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
     twist = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
-    jac = chain.jacobian(q)
     batch_q = np.random.default_rng(0).uniform(-np.pi, np.pi, (1000, 7))
-    batch_j = chain.jacobian(batch_q)
-    methods = [Pseudoinverse(), DampedLeastSquares(0.05), AdaptiveDampedLeastSquares(0.05, 0.05),
-               SingularityConsistent(eps=0.1, factorisation=factor),
-               SingularityConsistent(eps=0.1, factorisation=factor, lean=False, label="sc-exact")]
     single = SingleJacobian(chain)
     print(f"Jacobian alone, one q: SerialChain.jacobian {per_call(lambda: chain.jacobian(q), 2000):6.1f} us, "
           f"SingleJacobian {per_call(lambda: single(q), 2000):6.1f} us")
     print("\nTable 1: array API (method.bind(chain, q0) -> step(q, J, twist))")
     print(f"{'method':<14}{'solve [us]':>12}{'step [us]':>12}{'batched solve [us/q]':>22}")
-    for method in methods:
-        step = method.bind(chain, q)
-        solve_us = per_call(lambda: step(q, jac, twist), 500)
-        step_us = per_call(lambda: step(q, chain.jacobian(q), twist), 500)
-        batch_us = per_call(lambda: step(batch_q, batch_j, twist), 3) / len(batch_q)
-        print(f"{method.label:<14}{solve_us:12.1f}{step_us:12.1f}{batch_us:22.2f}")
+    for label, solve_us, step_us, batch_us in array_api_rows(chain, factor, q, twist, batch_q):
+        print(f"{label:<14}{solve_us:12.1f}{step_us:12.1f}{batch_us:22.2f}")
 
     print("\nTable 2: control-loop entry points (robot bound once -> step(q, twist)), Jacobian included")
     sc = SingularityConsistentController(chain, q, eps=0.1)
@@ -75,6 +73,47 @@ def main() -> None:
         pinv_us = per_call(lambda: pinv(where, twist), 2000)
         print(f"{label:<28}{float(factor.index(where)):9.4f}{sc_us:15.1f}{pinv_us:16.1f}")
     print("target: SC step < 50 us (1 kHz loop x 20)")
+
+
+def array_api_rows(
+    chain: SerialChain, factor: WamFactorisation, q: np.ndarray, twist: np.ndarray, batch_q: np.ndarray,
+    calls: int = 500,
+) -> list[tuple[str, float, float, float]]:
+    """Table 1 rows: per method, us of the solve and of Jacobian + solve for one ``q``, and us per ``q`` of a batch."""
+    jac = chain.jacobian(q)
+    batch_j = chain.jacobian(batch_q)
+    methods = [Pseudoinverse(), DampedLeastSquares(0.05), AdaptiveDampedLeastSquares(0.05, 0.05),
+               SingularityConsistent(eps=0.1, factorisation=factor),
+               SingularityConsistent(eps=0.1, factorisation=factor, lean=False, label="sc-exact")]
+    rows = []
+    for method in methods:
+        step = method.bind(chain, q)
+        batched = batched_step(method, chain, q)
+        rows.append((
+            method.label,
+            per_call(lambda: step(q, jac, twist), calls),
+            per_call(lambda: step(q, chain.jacobian(q), twist), calls),
+            per_call(lambda: batched(batch_q, batch_j, twist), 3) / len(batch_q),
+        ))
+    return rows
+
+
+def batched_step(method: Method, chain: SerialChain, q0: np.ndarray) -> Step:
+    """``method``'s ``step(q, J, twist)`` for a batch of configurations.
+
+    The lean SC method steps through the one-configuration controller
+    (``SingularityConsistentController``); its batched form is
+    ``lean_singularity_consistent``, with the same ``b_ep``.  Every other
+    method's bound step takes batches as it is.
+    """
+    if not (isinstance(method, SingularityConsistent) and method.lean):
+        return method.bind(chain, q0)
+    factor = method.resolve(chain)
+    controller = SingularityConsistentController(chain, q0, method.eps, factor, method.direction)
+    return lambda q, jac, twist: lean_singularity_consistent(
+        jac, twist, factor.index(q), lambda: factor.factors(q, jac), method.eps, controller.direction,
+        method.self_motion, method.modify_rotation,
+    )
 
 
 def on_index(factor: WamFactorisation, q: np.ndarray, index: float) -> np.ndarray:

@@ -1,0 +1,53 @@
+"""Functions of the benchmark scripts on tiny inputs (the times they return are not checked against targets)."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import bench_srs  # noqa: E402 - benchmarks/ is not a package
+import bench_velocity  # noqa: E402
+
+from redkin.models import barrett_wam, pa10_7c  # noqa: E402
+from redkin.velocity import SingularityConsistent, WamFactorisation  # noqa: E402
+
+WAM = barrett_wam()
+FACTOR = WamFactorisation.from_chain(WAM)
+Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
+TWIST = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
+
+
+def test_velocity_array_api_table_runs_on_a_batch():
+    """Table 1 of bench_velocity.py: its batched column once stopped the script (LAPACK dgelss on a batch)."""
+    batch = np.random.default_rng(0).uniform(-np.pi, np.pi, (3, 7))
+    rows = bench_velocity.array_api_rows(WAM, FACTOR, Q0, TWIST, batch, calls=1)
+    assert [row[0] for row in rows] == ["pinv", "dls", "dls-adaptive", "sc", "sc-exact"]
+    assert all(np.isfinite(row[1:]).all() and min(row[1:]) > 0.0 for row in rows)
+
+
+@pytest.mark.parametrize("lean", [True, False])
+def test_velocity_batched_step_equals_the_bound_step_per_configuration(lean):
+    """Random configurations, one inside the singular region and one in the exact fallback band."""
+    batch = np.random.default_rng(1).uniform(-np.pi, np.pi, (5, 7))
+    batch[0] = bench_velocity.on_index(FACTOR, Q0, 0.05)
+    batch[1] = bench_velocity.on_index(FACTOR, Q0, 1e-4)
+    method = SingularityConsistent(eps=0.1, factorisation=FACTOR, lean=lean)
+    batched = bench_velocity.batched_step(method, WAM, Q0)(batch, WAM.jacobian(batch), TWIST)
+    step = method.bind(WAM, Q0)
+    for k, q in enumerate(batch):
+        one = step(q, WAM.jacobian(q), TWIST)
+        np.testing.assert_allclose(batched.joint_velocity[k], one.joint_velocity, rtol=1e-9, atol=1e-10)
+        np.testing.assert_allclose(batched.target_twist[k], one.target_twist, rtol=1e-12, atol=1e-14)
+
+
+def test_srs_peer_check_counts_solutions_within_1e9_by_our_fk():
+    """bench_srs.py judges every solver with chain.fk: 1e-10 rad off the last joint passes, 1e-8 rad fails."""
+    chain = pa10_7c()
+    q = np.random.default_rng(2).uniform(chain.lower, chain.upper, (4, 7))
+    poses = chain.fk(q)
+    assert bench_srs.pose_errors(chain, q, poses).max() < 1e-14
+    moved = q + np.array([[0.0], [1e-10], [1e-8], [1e-6]]) * np.eye(7)[6]
+    assert bench_srs.passes(chain, moved, poses) == 2
