@@ -213,9 +213,7 @@ def test_base_and_tip_pick_a_sub_chain(tmp_path):
     text = FILES["panda (examples)"]
     chain = _load(tmp_path, text, base="panda_link2", tip="panda_link6")
     assert chain.n == 4
-    full = _load(tmp_path, text)
-    q = np.array([0.1, 0.2, 0.3, -1.0, 0.4, 1.2, 0.5])
-    links = full.fk  # noqa: F841 - the sub-chain is the relative pose of link 6 to link 2
+    q = np.array([0.1, 0.2, 0.3, -1.0, 0.4, 1.2, 0.5])  # the sub-chain is link 6's pose relative to link 2
     to_link2 = reference_fk(text, q, "panda_link2")
     to_link6 = reference_fk(text, q, "panda_link6")
     np.testing.assert_allclose(chain.fk(q[2:6]), np.linalg.inv(to_link2) @ to_link6, atol=1e-12)

@@ -39,10 +39,8 @@ from pathlib import Path
 import numpy as np
 
 from redkin.chain import SerialChain
-from redkin.joint_lines import PARALLEL_TOLERANCE, dh_rows_from_lines
+from redkin.joint_lines import dh_rows_from_lines
 from redkin.so3 import xyz_fixed_to_matrix
-
-__all__ = ["PARALLEL_TOLERANCE", "load_urdf"]
 _UNSUPPORTED = {"prismatic", "floating", "planar"}
 
 
