@@ -55,8 +55,8 @@ TEMPLATES = {
     "reproduce": [(None, "word", ["reproduce"]), (None, "paper", ["000"]), ("--out", "directory", ["report"]),
                   ("--quiet", "flag", [])],
 }
-# The parts of a template that a mutation may leave valid are made invalid elsewhere: every rendered
-# command gets exactly one broken slot, and the rest would run (cheaply) on their own.
+# Every rendered command has exactly one broken slot; the rest of its template runs, cheaply, on its own
+# (test_templates_are_valid_so_the_law_above_is_not_vacuous), so the refusal comes from that slot.
 
 NUMBER_BAD = ["nan", "NaN", "inf", "-inf", "1e999", "-1e999", "abc", "", "0x", "1,5"]
 BAD_VALUES = {

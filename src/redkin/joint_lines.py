@@ -79,7 +79,7 @@ def _next_frame(o, x0, z0, point, direction):
         x1 = normal / np.linalg.norm(normal)
         # feet of the common normal: o + s z0 and point + t z1 with (o + s z0) - (point + t z1) parallel to x1
         matrix = np.column_stack([z0, -z1, -x1])
-        s, t, _ = np.linalg.solve(matrix, point - o)
+        _, t, _ = np.linalg.solve(matrix, point - o)
         return point + t * z1, x1, z1
     # parallel lines: the common normal through o (d = 0)
     offset = point - o

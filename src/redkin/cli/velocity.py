@@ -11,6 +11,7 @@ from redkin.cli.common import (
     IMAGE_SUFFIXES,
     add_output_flags,
     add_robot_argument,
+    angle_unit,
     angles_out,
     joint_vector,
     load_robot,
@@ -70,7 +71,7 @@ def run_track(args: argparse.Namespace) -> int:
         fig.savefig(args.plot, dpi=100)
         plt.close(fig)
     if args.json:
-        angle = "deg" if args.deg else "rad"
+        angle = angle_unit(args.deg)
         print_json({
             "robot": chain.name, "method": args.method,
             "units": {"time": "s", "q": angle, "joint_velocity": f"{angle}/s", "max_joint_speed": f"{angle}/s",

@@ -26,17 +26,22 @@ the DH angles at ``q = 0`` as offsets, the rest in ``base`` and ``tool``.  Its
 
 from __future__ import annotations
 
+from weakref import WeakKeyDictionary
+
 import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.joint_lines import dh_rows_from_lines
+from redkin.srs.geometry import TABLE1_ALPHA
 
 #: Largest distance (metres) of a joint axis from the point where its group meets, and largest
 #: ``|cos|`` between consecutive axes, for an S-R-S arm.  Tight on purpose: a chain accepted here is
 #: solved in closed form as if it were exactly S-R-S, so a looser test would return wrong answers.
 SRS_TOLERANCE = 1e-9
-_TABLE1_TWIST_SIGNS = np.array([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0, 0.0])
 _GROUPS = (("shoulder", (0, 1, 2)), ("wrist", (4, 5, 6)), ("elbow", (2, 3, 4)))
+#: Chains already converted (chains are immutable): a conversion with its FK check costs about 2 ms,
+#: and every arm-angle call on a chain asks for it.
+_CONVERTED: WeakKeyDictionary[SerialChain, SerialChain] = WeakKeyDictionary()
 
 
 def joint_lines(chain: SerialChain) -> tuple[np.ndarray, np.ndarray]:
@@ -62,6 +67,13 @@ def table1_form(chain: SerialChain) -> SerialChain:
         Naming the first S-R-S condition the arm violates, with the distance
         or angle that violates it (see the module docstring).
     """
+    if chain not in _CONVERTED:
+        _CONVERTED[chain] = _convert(chain)
+    return _CONVERTED[chain]
+
+
+def _convert(chain: SerialChain) -> SerialChain:
+    """:func:`table1_form` without the cache."""
     if chain.n != 7:
         raise ValueError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}")
     points, directions = joint_lines(chain)
@@ -92,9 +104,9 @@ def table1_form(chain: SerialChain) -> SerialChain:
     through = np.array([shoulder, shoulder, shoulder, elbow, wrist, wrist, wrist])
     base_origin = chain.base[:3, 3]
     origin = shoulder + ((base_origin - shoulder) @ lines[0]) * lines[0]
-    rows, frame0, frame7 = dh_rows_from_lines(through, lines, _TABLE1_TWIST_SIGNS, origin)
-    converted = SerialChain(
-        a=np.zeros(7), alpha=np.sign(rows[:, 1]) * np.pi / 2 * np.abs(_TABLE1_TWIST_SIGNS), d=_exact_zeros(rows[:, 2]),
+    rows, frame0, frame7 = dh_rows_from_lines(through, lines, np.sign(TABLE1_ALPHA), origin)
+    converted = SerialChain(  # the twists are Table 1's by construction: rows[:, 1] only rounds them
+        a=np.zeros(7), alpha=TABLE1_ALPHA, d=_exact_zeros(rows[:, 2]),
         offset=rows[:, 3], sign=sign, lower=chain.lower, upper=chain.upper, base=frame0,
         tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
         source=f"{chain.source} (as paper 000 Table 1)", joint_names=chain.joint_names,
