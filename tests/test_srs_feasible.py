@@ -6,6 +6,7 @@ from hypothesis import given, settings, strategies as st
 
 from redkin.circle import intersect_all, wrap_angle
 from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
+from srs_arms import ARM_KINDS, arm
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_pieces, ik, pose_from
 
 GRID = np.linspace(-np.pi, np.pi, 6001, endpoint=False)
@@ -52,10 +53,10 @@ def random_limits(rng, q, crossing):
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.integers(0, 2**31), st.sampled_from([str(b) for b in BRANCHES]), st.booleans(), st.sampled_from(["pa10", "iiwa", "random"]))
+@given(st.integers(0, 2**31), st.sampled_from([str(b) for b in BRANCHES]), st.booleans(), st.sampled_from(ARM_KINDS))
 def test_feasible_sets_equal_dense_sampling(seed, branch, crossing, model):
     rng = np.random.default_rng(seed)
-    chain = {"pa10": pa10_7c, "iiwa": kuka_iiwa14}.get(model, lambda: srs_chain(*rng.uniform(0.1, 0.8, 4)))()
+    chain = arm(model, rng)
     q = rng.uniform(-np.pi, np.pi, 7)
     lower, upper = random_limits(rng, q, crossing)
     chain = chain.with_limits(lower, upper)
@@ -65,9 +66,10 @@ def test_feasible_sets_equal_dense_sampling(seed, branch, crossing, model):
 
 
 @pytest.mark.parametrize("branch", [str(b) for b in BRANCHES])
-def test_narrow_limits_around_a_known_solution_are_found(branch):
+@pytest.mark.parametrize("model", ["pa10", "wam"])
+def test_narrow_limits_around_a_known_solution_are_found(branch, model):
     rng = np.random.default_rng(7)
-    base = pa10_7c()
+    base = arm(model, rng)
     for _ in range(10):
         pose = base.fk(rng.uniform(-np.pi, np.pi, 7))
         psi_star = rng.uniform(-np.pi, np.pi)
@@ -106,10 +108,13 @@ STRETCHED = {  # singular at every arm angle: eq. 15 (19) is 0/0 for every psi, 
 
 
 @pytest.mark.parametrize("q", STRETCHED.values(), ids=STRETCHED.keys())
-@pytest.mark.parametrize("model", ["pa10", "iiwa"])
+@pytest.mark.parametrize("model", ["pa10", "iiwa", "wam"])
 def test_stretched_arm_feasible_sets_equal_dense_sampling(model, q):
-    """The home pose and its kin: the third joint's limits still cut the arm-angle circle (all branches, own and random limits)."""
-    base = {"pa10": pa10_7c, "iiwa": kuka_iiwa14}[model]()
+    """The home pose and its kin: the third joint's limits still cut the arm-angle circle (all branches, own and random limits).
+
+    On the WAM too: at theta_4 = 0 its offsets cancel and the upper arm, forearm and shoulder-wrist line are parallel.
+    """
+    base = arm(model, np.random.default_rng(0))
     rng = np.random.default_rng(11)
     pose = base.fk(np.array(q))
     for chain in (base, base.with_limits(*random_limits(rng, np.array(q), False))):

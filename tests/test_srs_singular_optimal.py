@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from redkin.circle import ArcSet
-from redkin.models import pa10_7c
+from redkin.models import barrett_wam, pa10_7c
 from redkin.srs import (
     arm_angle_of,
     arm_angle_path,
@@ -81,8 +81,12 @@ def objective(chain, pose, branch, target, psi, part):
     return np.einsum("...ij,ij->...", wrist_rotation(theta), wrist_rotation(target))
 
 
-def test_optimal_angles_are_the_sampled_maximisers_and_clamp_to_nearest_feasible():
-    chain = pa10_7c()
+WAM_LIMITED = barrett_wam().with_limits(np.radians([-150, -113, -157, -50, -270, -90, -172]),
+                                        np.radians([150, 113, 157, 180, 70, 90, 172]))
+
+
+@pytest.mark.parametrize("chain", [pa10_7c(), WAM_LIMITED], ids=["pa10", "wam"])
+def test_optimal_angles_are_the_sampled_maximisers_and_clamp_to_nearest_feasible(chain):
     rng = np.random.default_rng(11)
     for _ in range(5):
         q = rng.uniform(-0.8, 0.8, 7) + [0, 0, 0, 1.2, 0, 0, 0]

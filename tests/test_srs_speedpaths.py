@@ -12,6 +12,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
+from srs_arms import ARM_KINDS, arm
 from redkin.so3 import rot_x
 from redkin.srs import BRANCHES, arm_angle_of, feasible_arm_angles, feasible_pieces, ik, ik_all_branches, pose_from, srs_geometry
 from redkin.srs.coefficients import arm_angle_coefficients, entries_at, entries_of, rotation_terms
@@ -23,7 +24,7 @@ from redkin.validation import check_pose
 
 def random_chain(rng, model, crossing=False):
     """A model or random S-R-S arm with random limits (optionally crossing +-pi), and a joint vector."""
-    chain = {"pa10": pa10_7c, "iiwa": kuka_iiwa14}.get(model, lambda: srs_chain(*rng.uniform(0.1, 0.8, 4)))()
+    chain = arm(model, rng)
     q = rng.uniform(-np.pi, np.pi, 7)
     width = rng.uniform(0.2, 4.0, 7)
     centre = q + rng.uniform(-0.5, 0.5, 7) * width
@@ -43,7 +44,7 @@ def degenerate_q(kind):
     }[kind]
 
 
-MODELS = st.sampled_from(["pa10", "iiwa", "random"])
+MODELS = st.sampled_from(ARM_KINDS)
 
 
 @settings(max_examples=40, deadline=None)

@@ -24,7 +24,7 @@ class ArmAngleState:
     psi : numpy.ndarray, shape (...)
         Arm angle in ``[-pi, pi]``.
     branch : numpy.ndarray of int, shape (..., 3)
-        Signs of theta_2, theta_4, theta_6 (zero counts as +).
+        Signs of theta_2, theta_4 (of ``theta_4 - phi`` on an offset elbow), theta_6 (zero counts as +).
     """
 
     psi: np.ndarray
@@ -47,7 +47,7 @@ def arm_angle_of(arm: "SerialChain | SRSGeometry", q: ArrayLike) -> ArmAngleStat
     q = geometry.chain.check_q(q)
     theta = geometry.theta_of_q(q)
     pose = geometry.to_table1_pose(geometry.chain.fk(q))
-    branch = branch_of_theta(theta)
+    branch = branch_of_theta(theta, geometry.elbow_equation.phase)
     frame = arm_angle_frame(geometry, pose[..., :3, 3], pose[..., :3, :3], branch[..., 1])
     rotation = shoulder_rotation(theta) @ np.swapaxes(frame.reference, -1, -2)
     u = frame.u_sw

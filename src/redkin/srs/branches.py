@@ -2,7 +2,9 @@
 
 A branch is written as three characters, e.g. ``"+-+"`` for theta_2 >= 0,
 theta_4 < 0, theta_6 >= 0 (paper 000 section 3.3: eight solutions per pose
-and arm angle).
+and arm angle).  On an offset elbow the middle sign is that of ``theta_4 -
+phi``, ``phi`` the elbow angle of the longest reach
+(:class:`redkin.srs.geometry.ElbowEquation`).
 """
 
 from __future__ import annotations
@@ -58,7 +60,12 @@ def parse_branch(value: "str | Branch | tuple[int, int, int]") -> Branch:
     return Branch(*signs)
 
 
-def branch_of_theta(theta: np.ndarray) -> np.ndarray:
-    """Branch signs ``(..., 3)`` of DH angles ``(..., 7)`` taken modulo 2 pi into ``[-pi, pi)``; zero counts as ``+``."""
-    picked = np.mod(theta[..., [1, 3, 5]] + np.pi, 2.0 * np.pi) - np.pi
+def branch_of_theta(theta: np.ndarray, elbow_phase: float = 0.0) -> np.ndarray:
+    """Branch signs ``(..., 3)`` of DH angles ``(..., 7)``: of theta_2, ``theta_4 - elbow_phase`` and theta_6.
+
+    Each angle is taken modulo 2 pi into ``[-pi, pi)``; zero counts as ``+``.
+    ``elbow_phase`` is ``phi`` of an offset elbow
+    (:class:`redkin.srs.geometry.ElbowEquation`), 0 on an S-R-S arm.
+    """
+    picked = np.mod(theta[..., [1, 3, 5]] - np.array([0.0, elbow_phase, 0.0]) + np.pi, 2.0 * np.pi) - np.pi
     return np.where(picked < 0.0, -1, 1)

@@ -24,7 +24,8 @@ implementation for both.
 Reference plane (eq. 7 with ``theta_3 = 0``): at ``theta_3 = 0``,
 ``0R3 = Rz(theta_1) Rx(-pi/2) Rz(theta_2)`` and
 ``x_sw = [c1 w, s1 w, z]`` with ``(w, -z)`` = ``(v_x, v_y)`` turned by
-``theta_2``, ``v = (d_ew s4, -(d_se + d_ew c4))``.  We take
+``theta_2``, ``v = (d_ew s4, -(d_se + d_ew c4))`` (with an offset elbow
+``v = (a_3 + a_4 c4 + d_ew s4, -d_se + a_4 s4 - d_ew c4)``).  We take
 ``theta_1o = atan2(y_sw, x_sw)`` (so ``w >= 0``) and, when the wrist lies
 on the joint-1 axis, ``theta_1o = 0`` (end of section 3.3).
 
@@ -139,28 +140,33 @@ def shoulder_to_wrist(geometry, position: np.ndarray, rotation: np.ndarray) -> n
 
 
 def elbow_cosine(geometry, x_sw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``|x_sw|^2`` and ``cos theta_4 = (|x_sw|^2 - d_se^2 - d_ew^2) / (2 d_se d_ew)`` (eq. 11), batched."""
-    d_se, d_ew = geometry.d_se, geometry.d_ew
+    """``|x_sw|^2`` and ``cos(theta_4 - phi) = (|x_sw|^2 - C) / R`` (eq. 11; with an offset elbow,
+    :class:`redkin.srs.geometry.ElbowEquation`), batched.
+
+    Without offsets ``C = d_se^2 + d_ew^2``, ``R = 2 d_se d_ew`` and ``phi = 0``: paper 000's eq. 11.
+    """
+    equation = geometry.elbow_equation
     squared = (x_sw[..., None, :] @ x_sw[..., :, None])[..., 0, 0]
-    return squared, (squared - (d_se * d_se + d_ew * d_ew)) / (2.0 * d_se * d_ew)
+    return squared, (squared - equation.mean) / equation.amplitude
 
 
-def unreachable(cos4: np.ndarray) -> np.ndarray:
-    """Which wrists are out of reach: ``|cos theta_4| > 1`` beyond :data:`REACH_TOLERANCE` (eq. 11)."""
-    return np.abs(cos4) > 1.0 + REACH_TOLERANCE
+def unreachable(cosine: np.ndarray) -> np.ndarray:
+    """Which wrists are out of reach: ``|cos(theta_4 - phi)| > 1`` beyond :data:`REACH_TOLERANCE` (eq. 11)."""
+    return np.abs(cosine) > 1.0 + REACH_TOLERANCE
 
 
-def unreachable_message(geometry, x_sw: np.ndarray, cos4: np.ndarray) -> str | None:
+def unreachable_message(geometry, x_sw: np.ndarray, cosine: np.ndarray) -> str | None:
     """A one-line message for the first pose whose wrist is out of reach, or ``None``."""
-    bad = unreachable(cos4)
+    bad = unreachable(cosine)
     if not bad.any():
         return None
     index = np.unravel_index(int(np.argmax(bad)), bad.shape)
     distance = float(np.linalg.norm(x_sw[index]))
     where = f" (pose {tuple(int(i) for i in index)}; {int(bad.sum())} unreachable)" if bad.ndim else ""
+    mean, amplitude, _ = geometry.elbow_equation
     return (
         f"unreachable position: shoulder-wrist distance {distance:.6g} m must lie in "
-        f"[{abs(geometry.d_se - geometry.d_ew):.6g}, {geometry.d_se + geometry.d_ew:.6g}] m{where}"
+        f"[{np.sqrt(max(mean - amplitude, 0.0)):.6g}, {np.sqrt(mean + amplitude):.6g}] m{where}"
     )
 
 
@@ -169,11 +175,14 @@ def arm_angle_frame(
 ) -> ArmAngleFrame:
     """The psi-independent part of eqs. 4-11 for validated targets of frame 7 in frame 0.
 
-    ``theta_4`` from eq. 11; the reference plane ``theta_3 = 0`` (eq. 7,
+    ``theta_4 = phi + sigma acos((|x_sw|^2 - C) / R)`` from eq. 11 (``phi =
+    0`` without elbow offsets, :class:`redkin.srs.geometry.ElbowEquation`),
+    wrapped to ``[-pi, pi]``; the reference plane ``theta_3 = 0`` (eq. 7,
     section 3.3): ``0R3o = Rz(theta_1o) Rx(-pi/2) Rz(theta_2o)`` with
     ``theta_1o = atan2(y_sw, x_sw)`` (0 on the joint-1 axis) and
-    ``theta_2o = atan2(-z_sw, w) - atan2(v_y, v_x)``; ``3R4 = Rz(theta_4)
-    Rx(pi/2)`` (eq. 3 with Table 1).  The three factors are built in one pass
+    ``theta_2o = atan2(-z_sw, w) - atan2(v_y, v_x)``, ``(v_x, v_y, 0)`` the
+    shoulder-to-wrist vector in frame 3; ``3R4 = Rz(theta_4) Rx(pi/2)`` (eq. 3
+    with Table 1).  The three factors are built in one pass
     (:data:`_FRAME_FACTORS`).
 
     Parameters
@@ -182,28 +191,33 @@ def arm_angle_frame(
     position : numpy.ndarray, shape (..., 3)
     rotation : numpy.ndarray, shape (..., 3, 3)
     elbow_sign : int or numpy.ndarray broadcastable to the batch shape
-        Sign of theta_4 (+1 or -1).
+        Sign ``sigma`` of ``theta_4 - phi`` (+1 or -1).
 
     Raises
     ------
     ValueError
         If a wrist position is out of reach (eq. 11 has no solution).
     """
-    d_se, d_ew = geometry.d_se, geometry.d_ew
     x_sw = shoulder_to_wrist(geometry, position, rotation)
-    squared, cos4 = elbow_cosine(geometry, x_sw)  # eq. 11
-    message = unreachable_message(geometry, x_sw, cos4)
+    squared, cosine = elbow_cosine(geometry, x_sw)  # eq. 11
+    message = unreachable_message(geometry, x_sw, cosine)
     if message:
         raise ValueError(message)
-    cos4 = np.minimum(np.maximum(cos4, -1.0), 1.0)
-    theta4 = np.arccos(cos4) * elbow_sign  # eq. 11
+    cosine = np.minimum(np.maximum(cosine, -1.0), 1.0)
+    theta4 = np.arccos(cosine) * elbow_sign  # eq. 11, theta_4 - phi
+    phase = geometry.elbow_equation.phase
+    if phase:
+        theta4 = np.mod(theta4 + (phase + np.pi), 2.0 * np.pi) - np.pi
     angles = np.empty(theta4.shape + (3,))  # theta_1o, theta_2o, theta_4
     angles[..., 2] = theta4
+    cos4, sin4 = np.cos(theta4), np.sin(theta4)
     w = np.hypot(x_sw[..., 0], x_sw[..., 1])
-    off_axis = w > AXIS_TOLERANCE * (d_se + d_ew)
+    off_axis = w > AXIS_TOLERANCE * np.sqrt(geometry.elbow_equation.mean)
     angles[..., 0] = np.arctan2(x_sw[..., 1], x_sw[..., 0]) * off_axis
-    # (v_x, v_y) = (d_ew s4, -(d_se + d_ew c4)): the wrist in the frame of joint 2 at theta_2 = 0
-    angles[..., 1] = np.arctan2(-x_sw[..., 2], w * off_axis) - np.arctan2(-(d_se + d_ew * cos4), d_ew * np.sin(theta4))
+    # (v_x, v_y) = (a_3 + a_4 c4 + d_ew s4, -d_se + a_4 s4 - d_ew c4): the wrist in frame 3 (frame 2 at theta_2 = 0)
+    d_se, d_ew, a3, a4 = geometry.d_se, geometry.d_ew, geometry.a3, geometry.a4
+    angles[..., 1] = np.arctan2(-x_sw[..., 2], w * off_axis) - np.arctan2(
+        a4 * sin4 - (d_se + d_ew * cos4), a3 + a4 * cos4 + d_ew * sin4)
     trig = np.empty(angles.shape + (1, 3))
     np.cos(angles, out=trig[..., 0, 0])
     np.sin(angles, out=trig[..., 0, 1])

@@ -13,15 +13,22 @@ description: at any configuration
 * consecutive axes are perpendicular;
 * S, E and W are distinct.
 
+An offset elbow (the Barrett WAM) keeps all but the third: joints 3-5 need
+not meet, provided the common normals of joints 3-4 and of joints 4-5 meet
+joint 4's axis at one point (``d_4 = 0``) and that axis passes through
+neither S nor W.  Its Table 1 form has ``a_3``, ``a_4`` as the elbow offsets
+(docs/srs.md, "Offset elbows").
+
 :func:`table1_form` checks these on the joint lines at ``q = 0`` (reporting
 the distances when they fail) and writes the Table 1 chain whose joints turn
 about the same lines: frame 0 on joint 1's line where the base's origin
 projects onto it, common normals turned so that the twists take Table 1's
 signs (:func:`redkin.joint_lines.dh_rows_from_lines`), joints 3 and 5 turned
-over where needed so that ``d_se`` and ``d_ew`` are positive (``sign = -1``),
-the DH angles at ``q = 0`` as offsets, the rest in ``base`` and ``tool``.  Its
-``q`` and limits are the original chain's, and so is its pose for every
-``q``: the arm-angle functions take and return the user's own joint values.
+over where needed so that ``d_se`` and ``d_ew`` are not negative (``sign =
+-1``), the DH angles at ``q = 0`` as offsets, the rest in ``base`` and
+``tool``.  Its ``q`` and limits are the original chain's, and so is its
+pose for every ``q``: the arm-angle functions take and return the user's
+own joint values.
 """
 
 from __future__ import annotations
@@ -38,7 +45,7 @@ from redkin.srs.geometry import TABLE1_ALPHA
 #: ``|cos|`` between consecutive axes, for an S-R-S arm.  Tight on purpose: a chain accepted here is
 #: solved in closed form as if it were exactly S-R-S, so a looser test would return wrong answers.
 SRS_TOLERANCE = 1e-9
-_GROUPS = (("shoulder", (0, 1, 2)), ("wrist", (4, 5, 6)), ("elbow", (2, 3, 4)))
+_GROUPS = (("shoulder", (0, 1, 2)), ("wrist", (4, 5, 6)))
 #: Chains already converted (chains are immutable): a conversion with its FK check costs about 2 ms,
 #: and every arm-angle call on a chain asks for it.
 _CONVERTED: WeakKeyDictionary[SerialChain, SerialChain] = WeakKeyDictionary()
@@ -79,34 +86,44 @@ def _convert(chain: SerialChain) -> SerialChain:
     points, directions = joint_lines(chain)
     centres = {}
     for name, group in _GROUPS:
-        centre, distance = meeting_point(points[list(group)], directions[list(group)])
+        centres[name], distance = meeting_point(points[list(group)], directions[list(group)])
         if distance > SRS_TOLERANCE:
             numbers = "-".join(str(k + 1) for k in group[::2])
-            extra = " (an offset elbow, as on the WAM: not solved yet)" if name == "elbow" else ""
-            raise ValueError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point{extra}: "
+            raise ValueError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point: "
                              f"closest distance {distance:.3g} m")
-        centres[name] = centre
+    offset_elbow = meeting_point(points[2:5], directions[2:5])[1] > SRS_TOLERANCE
     cosines = np.abs(np.sum(directions[:-1] * directions[1:], axis=-1))
     if cosines.max() > SRS_TOLERANCE:
         k = int(np.argmax(cosines))
         angle = np.degrees(np.arccos(np.clip(cosines[k], 0.0, 1.0)))
         raise ValueError(f"{chain.name!r} is not S-R-S: axes {k + 1} and {k + 2} are not perpendicular "
                          f"({angle:.6g} deg apart)")
-    shoulder, elbow, wrist = centres["shoulder"], centres["elbow"], centres["wrist"]
-    for name, length in (("shoulder and elbow", np.linalg.norm(elbow - shoulder)),
-                         ("elbow and wrist", np.linalg.norm(wrist - elbow))):
-        if length <= SRS_TOLERANCE:
-            raise ValueError(f"{chain.name!r} is not S-R-S: its {name} coincide")
+    shoulder, wrist = centres["shoulder"], centres["wrist"]
+    for name, centre in (("shoulder", shoulder), ("wrist", wrist)):
+        if _distance_to_line(centre, points[3], directions[3]) <= SRS_TOLERANCE:
+            raise ValueError(f"{chain.name!r} is not S-R-S: its {name} and elbow coincide "
+                             f"(joint 4's axis passes through the {name})")
+    # the elbow ends of the upper arm and the forearm: where the common normals meet joints 3 and 5
+    upper_end = _foot(points[2], directions[2], points[3])
+    lower_end = _foot(points[4], directions[4], points[3])
     sign = np.ones(7)
-    sign[2] = np.sign((elbow - shoulder) @ directions[2])  # d_se > 0: joint 3 points from S to E
-    sign[4] = np.sign((wrist - elbow) @ directions[4])  # d_ew > 0: joint 5 points from E to W
+    sign[2] = -1.0 if (upper_end - shoulder) @ directions[2] < 0.0 else 1.0  # d_se >= 0: joint 3 points S -> E
+    sign[4] = -1.0 if (wrist - lower_end) @ directions[4] < 0.0 else 1.0  # d_ew >= 0: joint 5 points E -> W
     lines = directions * sign[:, None]
-    through = np.array([shoulder, shoulder, shoulder, elbow, wrist, wrist, wrist])
+    through = np.array([shoulder, shoulder, shoulder, points[3], wrist, wrist, wrist])
     base_origin = chain.base[:3, 3]
     origin = shoulder + ((base_origin - shoulder) @ lines[0]) * lines[0]
     rows, frame0, frame7 = dh_rows_from_lines(through, lines, np.sign(TABLE1_ALPHA), origin)
+    if abs(rows[3, 2]) > SRS_TOLERANCE:
+        raise ValueError(f"{chain.name!r} is not S-R-S: joints 3-5 do not meet, and its elbow is offset "
+                         f"{abs(rows[3, 2]):.3g} m along joint 4 (only offsets across joint 4, as on the WAM, are solved)")
+    a = np.zeros(7)  # rounding only, except an offset elbow's a_3 and a_4
+    if offset_elbow:
+        a[2:4] = rows[2:4, 0]
+    d = rows[:, 2].copy()
+    d[[1, 3, 5]] = 0.0  # the groups meet (d_4: checked above); their computed values are rounding
     converted = SerialChain(  # the twists are Table 1's by construction: rows[:, 1] only rounds them
-        a=np.zeros(7), alpha=TABLE1_ALPHA, d=_exact_zeros(rows[:, 2]),
+        a=a, alpha=TABLE1_ALPHA, d=d,
         offset=rows[:, 3], sign=sign, lower=chain.lower, upper=chain.upper, base=frame0,
         tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
         source=f"{chain.source} (as paper 000 Table 1)", joint_names=chain.joint_names,
@@ -115,11 +132,15 @@ def _convert(chain: SerialChain) -> SerialChain:
     return converted
 
 
-def _exact_zeros(d: np.ndarray) -> np.ndarray:
-    """``d_2 = d_4 = d_6 = 0`` where the groups meet: their computed values are rounding."""
-    out = d.copy()
-    out[[1, 3, 5]] = 0.0
-    return out
+def _foot(point: np.ndarray, direction: np.ndarray, other_point: np.ndarray) -> np.ndarray:
+    """The point of a line closest to a line perpendicular to it through ``other_point`` (their common normal's foot)."""
+    return point + ((other_point - point) @ direction) * direction
+
+
+def _distance_to_line(point: np.ndarray, line_point: np.ndarray, direction: np.ndarray) -> float:
+    """Distance of a point from a line with unit direction."""
+    across = point - line_point
+    return float(np.linalg.norm(across - (across @ direction) * direction))
 
 
 def _certify(chain: SerialChain, converted: SerialChain) -> None:

@@ -3,10 +3,13 @@
 :func:`srs_geometry` checks that a :class:`~redkin.chain.SerialChain` is a
 7-DOF S-R-S arm in the Table 1 form (standard DH, ``a = 0``,
 ``alpha = (-pi/2, pi/2, -pi/2, pi/2, -pi/2, pi/2, 0)``, ``d = (d_bs, 0, d_se,
-0, d_ew, 0, d_wt)`` with ``d_se, d_ew > 0``) and extracts the link lengths.
-The chain's ``base``, ``tool``, joint ``offset`` and ``sign`` are supported:
-the solver works on the DH angles ``theta = offset + sign * q`` and on the
-pose of frame 7 in frame 0, and converts at the edge.
+0, d_ew, 0, d_wt)``) and extracts the link lengths.  The form extends to an
+offset elbow (the Barrett WAM): ``a_3`` and ``a_4`` may be non-zero, the
+shoulder (joints 1-3) and the wrist (joints 5-7) still meet in points
+(docs/srs.md, "Offset elbows").  The chain's ``base``, ``tool``, joint
+``offset`` and ``sign`` are supported: the solver works on the DH angles
+``theta = offset + sign * q`` and on the pose of frame 7 in frame 0, and
+converts at the edge.
 """
 
 from __future__ import annotations
@@ -29,6 +32,27 @@ TABLE1_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI
 GEOMETRY_TOLERANCE = 1e-9
 #: Slack (radians) when a joint value is compared with its limits (see :func:`redkin.srs.feasible.within`).
 MEMBERSHIP_TOLERANCE = 1e-12
+
+
+class ElbowEquation(NamedTuple):
+    """``|x_sw|^2 = A cos theta_4 + B sin theta_4 + C = C + R cos(theta_4 - phi)`` (eq. 11 with an offset elbow).
+
+    In frame 3 the shoulder-to-wrist vector is ``v(theta_4) = (a_3 + a_4 c4 +
+    d_ew s4, -d_se + a_4 s4 - d_ew c4, 0)``, so ``A = 2 (a_3 a_4 + d_se d_ew)``,
+    ``B = 2 (a_3 d_ew - d_se a_4)``, ``C = a_3^2 + a_4^2 + d_se^2 + d_ew^2``;
+    ``R = sqrt(A^2 + B^2)`` and ``phi = atan2(B, A)``.  Without offsets
+    ``phi = 0`` and eq. 11 is paper 000's.
+
+    Attributes
+    ----------
+    mean, amplitude, phase : float
+        ``C``, ``R`` and ``phi``: ``|x_sw|`` ranges over ``[sqrt(C - R), sqrt(C + R)]``,
+        the two elbow solutions are ``theta_4 = phi +- acos((|x_sw|^2 - C) / R)``.
+    """
+
+    mean: float
+    amplitude: float
+    phase: float
 
 
 class PsiJointLimits(NamedTuple):
@@ -80,6 +104,9 @@ class SRSGeometry:
         The chain it was built from (joint values ``q`` refer to it).
     d_bs, d_se, d_ew, d_wt : float
         Base-shoulder, shoulder-elbow, elbow-wrist, wrist-tool lengths (Table 1).
+    a3, a4 : float
+        Offsets of an offset elbow (DH ``a_3``, ``a_4``; 0 on an S-R-S arm,
+        0.045 and -0.045 m on the Barrett WAM).
     theta_lower, theta_upper : numpy.ndarray, shape (7,)
         Joint limits on the DH angles ``theta``; unlimited joints (range
         ``>= 2 pi``) get ``(-inf, inf)``.
@@ -92,6 +119,8 @@ class SRSGeometry:
     d_wt: float
     theta_lower: np.ndarray
     theta_upper: np.ndarray
+    a3: float = 0.0
+    a4: float = 0.0
     plain_frames: bool = False
     plain_joints: bool = False
     wrap_columns: tuple[int, ...] = ()
@@ -100,6 +129,16 @@ class SRSGeometry:
     def theta_limited(self) -> np.ndarray:
         """Which joints have a range narrower than ``2 pi``."""
         return self.theta_upper - self.theta_lower < TWO_PI
+
+    @cached_property
+    def elbow_equation(self) -> ElbowEquation:
+        """The shoulder-wrist distance as a function of theta_4 (see :class:`ElbowEquation`)."""
+        return elbow_equation(self.a3, self.a4, self.d_se, self.d_ew)
+
+    @property
+    def offset_elbow(self) -> bool:
+        """Whether the elbow has offsets (``a_3`` or ``a_4`` non-zero)."""
+        return self.a3 != 0.0 or self.a4 != 0.0
 
     @cached_property
     def psi_joint_limits(self) -> PsiJointLimits:
@@ -161,14 +200,28 @@ class SRSGeometry:
         return q
 
 
+def elbow_equation(a3: float, a4: float, d_se: float, d_ew: float) -> ElbowEquation:
+    """``C``, ``R`` and ``phi`` of ``|x_sw|^2 = C + R cos(theta_4 - phi)`` (see :class:`ElbowEquation`)."""
+    a_coefficient = 2.0 * (a3 * a4 + d_se * d_ew)
+    b_coefficient = 2.0 * (a3 * d_ew - d_se * a4)
+    mean = a3 * a3 + a4 * a4 + d_se * d_se + d_ew * d_ew
+    return ElbowEquation(mean, float(np.hypot(a_coefficient, b_coefficient)),
+                         float(np.arctan2(b_coefficient, a_coefficient)))
+
+
 def table1_violation(chain: SerialChain) -> str | None:
-    """The first way a 7-joint chain departs from paper 000 Table 1 form, or ``None`` if it is in that form."""
+    """The first way a 7-joint chain departs from paper 000 Table 1 form, or ``None`` if it is in that form.
+
+    The form admits an offset elbow (``a_3``, ``a_4``) as long as ``theta_4``
+    changes the shoulder-wrist distance (``R > 0`` in :class:`ElbowEquation`).
+    """
     if chain.convention != "dh":
         return f"an S-R-S arm in paper 000 Table 1 form uses standard DH, {chain.name!r} uses {chain.convention!r}"
     tol = GEOMETRY_TOLERANCE
-    if np.any(np.abs(chain.a) > tol):
-        i = int(np.argmax(np.abs(chain.a) > tol))
-        return f"Table 1 form has all a_i = 0, {chain.name!r} has a_{i + 1} = {chain.a[i]:g}"
+    bad = np.flatnonzero(np.abs(chain.a[[0, 1, 4, 5, 6]]) > tol)
+    if bad.size:
+        i = int([0, 1, 4, 5, 6][bad[0]])
+        return f"Table 1 form has a_{i + 1} = 0 (only a_3 and a_4 may be elbow offsets), {chain.name!r} has {chain.a[i]:g}"
     bad = np.flatnonzero(np.abs(np.mod(chain.alpha - TABLE1_ALPHA + np.pi, TWO_PI) - np.pi) > tol)
     if bad.size:
         i = int(bad[0])
@@ -178,8 +231,11 @@ def table1_violation(chain: SerialChain) -> str | None:
         if abs(chain.d[i]) > tol:
             return f"Table 1 form has d_{i + 1} = 0, {chain.name!r} has d_{i + 1} = {chain.d[i]:g}"
     for i, label in ((2, "d_se (d_3)"), (4, "d_ew (d_5)")):
-        if chain.d[i] <= tol:
-            return f"Table 1 form has {label} > 0, {chain.name!r} has {chain.d[i]:g}"
+        if chain.d[i] < 0.0:
+            return f"Table 1 form has {label} >= 0, {chain.name!r} has {chain.d[i]:g}"
+    if elbow_equation(chain.a[2], chain.a[3], chain.d[2], chain.d[4]).amplitude <= tol:
+        return (f"{chain.name!r}: the elbow axis passes through the shoulder or the wrist, "
+                "so the shoulder-wrist distance does not fix theta_4")
     return None
 
 
@@ -227,6 +283,8 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
         d_wt=float(chain.d[6]),
         theta_lower=theta_lower,
         theta_upper=theta_upper,
+        a3=float(chain.a[2]),
+        a4=float(chain.a[3]),
         plain_frames=bool(np.array_equal(chain.base, np.eye(4)) and np.array_equal(chain.tool, np.eye(4))),
         plain_joints=plain_joints,
         wrap_columns=tuple(wrap),

@@ -64,13 +64,14 @@ def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
     Returns
     -------
     numpy.ndarray of bool, shape (...)
-        True where ``|x_sw|`` lies in ``[|d_se - d_ew|, d_se + d_ew]`` (with the
-        rounding slack :data:`redkin.srs.coefficients.REACH_TOLERANCE` on ``cos theta_4``).
+        True where ``|x_sw|`` lies in ``[|d_se - d_ew|, d_se + d_ew]``, or for an
+        offset elbow in ``[sqrt(C - R), sqrt(C + R)]`` (with the rounding slack
+        :data:`redkin.srs.coefficients.REACH_TOLERANCE` on ``cos(theta_4 - phi)``).
     """
     geometry = as_geometry(arm)
     position, rotation = prepare_targets(geometry, pose)
-    _, cos4 = elbow_cosine(geometry, shoulder_to_wrist(geometry, position, rotation))
-    return ~unreachable(cos4)
+    _, cosine = elbow_cosine(geometry, shoulder_to_wrist(geometry, position, rotation))
+    return ~unreachable(cosine)
 
 
 def check_psi(psi: ArrayLike) -> np.ndarray:

@@ -67,7 +67,7 @@ class OptimalArmAngles:
 def default_target(geometry: SRSGeometry) -> np.ndarray:
     """Limit midpoints of the chain's joints (0 for an unlimited joint), in ``q``."""
     chain = geometry.chain
-    return np.where(chain.limited, 0.5 * (chain.lower + chain.upper), 0.0)
+    return 0.5 * (np.where(chain.limited, chain.lower, 0.0) + np.where(chain.limited, chain.upper, 0.0))
 
 
 def objective_coefficients(coefficients: ArmAngleCoefficients, theta_target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
