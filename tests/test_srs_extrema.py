@@ -10,7 +10,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from redkin.models import pa10_7c, planar_arm, srs_chain
+from redkin.models import barrett_wam, pa10_7c, planar_arm, srs_chain
+from srs_arms import offset_elbow_chain
 from redkin.srs import (
     BRANCHES,
     feasible_arm_angles,
@@ -299,9 +300,9 @@ lengths = st.floats(0.05, 1.0)
 
 
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(q=joint_vectors, branch=st.sampled_from([str(b) for b in BRANCHES]))
-def test_random_poses_pa10(q, branch):
-    arm = pa10_7c()
+@given(q=joint_vectors, branch=st.sampled_from([str(b) for b in BRANCHES]), model=st.sampled_from(["pa10", "wam"]))
+def test_random_poses_pa10_and_wam(q, branch, model):
+    arm = pa10_7c() if model == "pa10" else barrett_wam()
     pose = arm.fk(np.array(q))
     check_all(arm, pose, branch)
 
@@ -309,14 +310,15 @@ def test_random_poses_pa10(q, branch):
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     d=st.tuples(lengths, lengths, lengths, lengths),
+    elbow_offsets=st.one_of(st.just((0.0, 0.0)), st.tuples(st.floats(-0.2, 0.2), st.floats(-0.2, 0.2))),
     q=joint_vectors,
     limits=st.lists(st.tuples(angles, st.floats(0.05, 2 * np.pi - 0.05)), min_size=7, max_size=7),
     branch=st.sampled_from([str(b) for b in BRANCHES]),
 )
-def test_random_srs_geometries_and_limits(d, q, limits, branch):
+def test_random_srs_and_offset_elbow_geometries_and_limits(d, elbow_offsets, q, limits, branch):
     lower = np.array([lo for lo, _ in limits])
     upper = lower + np.array([width for _, width in limits])
-    arm = srs_chain(*d).with_limits(lower, upper)
+    arm = offset_elbow_chain(*d, *elbow_offsets).with_limits(lower, upper)
     pose = arm.fk(np.array(q))
     check_all(arm, pose, branch)
 
