@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from redkin.cli.main import main
-from redkin.models import barrett_wam, pa10_7c
+from redkin.models import MODELS, barrett_wam, pa10_7c
+from redkin.srs import srs_geometry
 
 
 def run(capsys, *argv):
@@ -42,10 +43,47 @@ def test_jacobian_and_manipulability(capsys):
     np.testing.assert_allclose(data["manipulability"], pa10_7c().manipulability(q))
 
 
-def test_robots_lists_models(capsys):
+def test_robots_lists_models_with_their_arm_angle_class(capsys):
     code, out, _ = run(capsys, "robots", "--json")
-    names = [r["name"] for r in json.loads(out)["robots"]]
-    assert code == 0 and "pa10-7c" in names and "humanoid-left" in names
+    robots = {r["name"]: r for r in json.loads(out)["robots"]}
+    assert code == 0 and set(robots) == set(MODELS)
+    assert robots["pa10-7c"]["class"] == "S-R-S" and robots["barrett-wam"]["class"] == "S-R-S, offset elbow"
+    assert robots["planar-5"]["class"] == "general chain" and "7 joints" in robots["planar-5"]["class_reason"]
+    for name, entry in robots.items():  # each class is the one the arm-angle solver acts on
+        chain = MODELS[name]()
+        try:
+            srs_geometry(chain)
+        except ValueError as exc:
+            assert entry["class"] == "general chain" and entry["class_reason"] == str(exc)
+        else:
+            assert entry["class"] != "general chain"
+    code, out, _ = run(capsys, "robots")
+    assert code == 0 and len(out.splitlines()) == len(MODELS)
+
+
+def test_robots_show_prints_the_chain_and_why_it_is_of_its_class(capsys):
+    code, out, _ = run(capsys, "robots", "--show", "barrett-wam", "--json", "--deg")
+    data = json.loads(out)
+    wam = barrett_wam()
+    directions, points = wam.joint_axes(np.zeros(7))
+    assert code == 0 and data["class"] == "S-R-S, offset elbow" and "a_3 0.045 m" in data["class_reason"]
+    np.testing.assert_allclose([j["axis"] for j in data["joints"]], directions * wam.sign[:, None], atol=1e-15)
+    np.testing.assert_allclose([j["point"] for j in data["joints"]], points, atol=1e-15)
+    np.testing.assert_allclose(data["tool"], wam.tool)
+    code, out, _ = run(capsys, "robots", "--show", "pa10-7c", "--deg")
+    assert code == 0 and "class: S-R-S" in out and "[-90, 90]" in out and "joint 7" in out
+
+
+def test_robots_show_names_why_a_urdf_arm_has_no_arm_angle(capsys):
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "panda.urdf"
+    code, out, _ = run(capsys, "robots", "--show", str(path), "--json")
+    data = json.loads(out)
+    assert code == 0 and data["class"] == "general chain"
+    assert "joints 5-7 do not meet in one point: closest distance 0.0587 m" in data["class_reason"]
+    assert [j["name"] for j in data["joints"]] == [f"panda_joint{k}" for k in range(1, 8)]
 
 
 @pytest.mark.parametrize(
@@ -57,6 +95,8 @@ def test_robots_lists_models(capsys):
         (["fk", "pa10-7c", "a", "b"], "invalid float"),
         (["fk", "missing.toml", "0"], "does not exist"),
         (["jacobian"], "required"),
+        (["robots", "--show", "no-such-robot"], "unknown robot"),
+        (["robots", "--tip", "link7"], "--base and --tip go with --show"),
         (["no-such-command"], "invalid choice"),
     ],
 )

@@ -1,4 +1,4 @@
-"""``redkin robots``, ``redkin fk`` and ``redkin jacobian``."""
+"""``redkin robots`` (the models, or one chain with ``--show``), ``redkin fk`` and ``redkin jacobian``."""
 
 from __future__ import annotations
 
@@ -16,11 +16,17 @@ from redkin.cli.common import (
     load_robot,
     print_json,
 )
-from redkin.models import MODELS
+from redkin.chain import SerialChain
+from redkin.models import MODELS, get_robot
+from redkin.srs import arm_angle_class
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    robots = subparsers.add_parser("robots", help="list the named robot models")
+    robots = subparsers.add_parser("robots", help="list the named robot models and their arm-angle class, or --show one")
+    robots.add_argument("--show", metavar="ROBOT",
+                        help="print one chain (a model, robot file or URDF): joints, limits, frames, arm-angle class")
+    robots.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (with --show)")
+    robots.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (with --show)")
     add_output_flags(robots, degrees=True)
     robots.set_defaults(handler=run_robots)
 
@@ -39,23 +45,64 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run_robots(args: argparse.Namespace) -> int:
+    if args.show is not None:
+        return _show_robot(get_robot(args.show, args.base, args.tip), args)
+    if args.base is not None or args.tip is not None:
+        raise ValueError("--base and --tip go with --show ROBOT")
     entries = []
     for name, factory in MODELS.items():
         chain = factory()
+        kind, reason = arm_angle_class(chain)
         entries.append({
             "name": name,
             "joints": chain.n,
             "convention": chain.convention,
+            "class": kind,
+            "class_reason": reason,
             "source": chain.source,
-            "lower": angles_out(chain.lower, args.deg),
-            "upper": angles_out(chain.upper, args.deg),
+            "lower": _finite(angles_out(chain.lower, args.deg)),
+            "upper": _finite(angles_out(chain.upper, args.deg)),
         })
     if args.json:
-        print_json({"units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg)},
-                    "robots": [{**e, "lower": _finite(e["lower"]), "upper": _finite(e["upper"])} for e in entries]})
+        print_json({"units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg)}, "robots": entries})
     else:
+        width = max(len(e["name"]) for e in entries)
         for e in entries:
-            print(f"{e['name']:<16} {e['joints']} joints  {e['convention']:<4} {e['source']}")
+            print(f"{e['name']:<{width}}  {e['joints']} joints  {e['class']:<19}  {e['source']}")
+    return 0
+
+
+def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
+    """``redkin robots --show ROBOT``: joint names, limits, joint frames at q = 0, base, tool and class."""
+    kind, reason = arm_angle_class(chain)
+    directions, points = chain.joint_axes(np.zeros(chain.n))
+    directions = directions * chain.sign[:, None]  # the sense in which q turns
+    lower, upper = angles_out(chain.lower, args.deg), angles_out(chain.upper, args.deg)
+    if args.json:
+        print_json({
+            "name": chain.name, "source": chain.source, "convention": chain.convention, "class": kind,
+            "class_reason": reason,
+            "units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg), "point": "m", "base": "m", "tool": "m"},
+            "joints": [{"name": name, "lower": low, "upper": high, "point": point, "axis": axis}
+                       for name, low, high, point, axis in zip(chain.joint_names, _finite(lower), _finite(upper),
+                                                                points, directions)],
+            "base": chain.base, "tool": chain.tool,
+        })
+        return 0
+    unit = angle_unit(args.deg)
+    print(f"{chain.name}: {chain.n} joints ({chain.convention}), {chain.source}")
+    print(f"class: {kind} ({reason})")
+    print(f"joints at q = 0 (point on the axis in m, axis turning with +q, limits in {unit}):")
+    width = max(len(name) for name in chain.joint_names)
+    for k, name in enumerate(chain.joint_names):
+        limits = f"[{lower[k]:.6g}, {upper[k]:.6g}]" if chain.limited[k] else "unlimited"
+        point = " ".join(f"{v: .4f}" for v in points[k])
+        axis = " ".join(f"{v: .4f}" for v in directions[k])
+        print(f"  {k + 1}  {name:<{width}}  point {point}  axis {axis}  {limits}")
+    print("base:")
+    print(format_matrix(chain.base))
+    print("tool:")
+    print(format_matrix(chain.tool))
     return 0
 
 

@@ -8,9 +8,13 @@
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles (eqs. 31-34)
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles (eqs. 36-40)
 * :func:`arm_angle_path` -- arm-angle control along a path (section 6.2.2)
+* :func:`arm_angle_class` -- whether a chain is S-R-S, S-R-S with an offset elbow (the WAM), or neither
+
+Offset elbows (docs/srs.md) are served by every function above.
 """
 
 from redkin.srs.arm_angle import ArmAngleState, arm_angle_of
+from redkin.srs.arm_class import ArmClass, arm_angle_class
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.extrema import JointExtrema, Stationary, joint_extrema
 from redkin.srs.feasible import FeasibleArmAngles, FeasiblePieces, feasible_arm_angles, feasible_pieces
@@ -22,6 +26,7 @@ from redkin.srs.singular import SINGULAR_TOLERANCE, SingularArmAngles, singular_
 
 __all__ = [
     "ArmAnglePath",
+    "ArmClass",
     "ArmAngleState",
     "BRANCHES",
     "Branch",
@@ -34,6 +39,7 @@ __all__ = [
     "SRSGeometry",
     "SingularArmAngles",
     "Stationary",
+    "arm_angle_class",
     "arm_angle_of",
     "arm_angle_path",
     "feasible_arm_angles",
