@@ -202,11 +202,12 @@ def test_limits_and_joint_counts_come_from_the_urdf(tmp_path):
     np.testing.assert_allclose(np.degrees(iiwa.upper), [170, 120, 170, 120, 170, 120, 175], atol=1e-3)
 
 
-def test_kuka_urdf_is_our_table_1_model_with_joint_4_reversed():
-    """Guards the example against a typing slip: KUKA's joint senses differ from paper 000's Table 1 form at joint 4."""
-    urdf_chain, table = get_robot(EXAMPLES / "iiwa14.urdf"), kuka_iiwa14()
+def test_kuka_urdf_is_our_kuka_iiwa14_model():
+    """Guards the example against a typing slip: the URDF and the named model are both in KUKA's joint senses."""
+    urdf_chain, model = get_robot(EXAMPLES / "iiwa14.urdf"), kuka_iiwa14()
     q = np.random.default_rng(3).uniform(-2, 2, (20, 7))
-    np.testing.assert_allclose(urdf_chain.fk(q), table.fk(q * [1, 1, 1, -1, 1, 1, 1]), atol=1e-12)
+    np.testing.assert_allclose(urdf_chain.fk(q), model.fk(q), atol=1e-12)
+    np.testing.assert_allclose(urdf_chain.limits, model.limits, rtol=0, atol=1e-15)  # the file prints 17 digits
 
 
 def test_base_and_tip_pick_a_sub_chain(tmp_path):

@@ -90,10 +90,13 @@ def test_sc_controller_equals_bound_method_as_used_by_tracking():
 
 
 def test_sc_controller_with_a_numerical_factorisation_on_an_srs_arm():
-    """The iiwa's singularity factors through sin q4 (found automatically); the controller equals the bound method."""
+    """The iiwa's singularity factors through sin q4 (found automatically); the controller equals the bound method.
+
+    In KUKA's conventions A4 turns the other way from Table 1's joint 4: D_e = sin(theta_4) = sin(-q4).
+    """
     iiwa = kuka_iiwa14()
     numeric = singularity_factorisation(iiwa)
-    assert isinstance(numeric, NumericalFactorisation) and numeric.index_function == ElbowSine(0.0, 1.0)
+    assert isinstance(numeric, NumericalFactorisation) and numeric.index_function == ElbowSine(0.0, -1.0)
     q0 = np.array([0.2, 0.5, -0.3, 0.8, 0.1, 0.6, 0.0])
     method = SingularityConsistent(eps=EPS).bind(iiwa, q0)
     controller = SingularityConsistentController(iiwa, q0, EPS)

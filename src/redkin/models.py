@@ -65,21 +65,71 @@ def pa10_7c() -> SerialChain:
     )
 
 
+#: Joint ranges of the KUKA LBR iiwa 7 R800 and 14 R820 (degrees, symmetric): KUKA's data sheet and URDFs.
+IIWA_RANGE_DEG = [170, 120, 170, 120, 170, 120, 175]
+#: KUKA's joint senses on paper 000's Table 1 rows: at the zero pose KUKA's A4 turns about -y of the base,
+#: Table 1's joint 4 about +y; every other joint turns the same way.
+KUKA_IIWA_SIGNS = [1, 1, 1, -1, 1, 1, 1]
+
+
 def kuka_iiwa14() -> SerialChain:
+    """KUKA LBR iiwa 14 R820 in KUKA's joint conventions.
+
+    Source: KUKA's URDF of the arm (kroshu/kuka_robot_descriptions,
+    ``kuka_lbr_iiwa_support/urdf/lbr_iiwa14_r820_macro.xacro``; the same frames
+    as ``examples/iiwa14.urdf``) and the data sheet "LBR iiwa 7 R800, LBR iiwa
+    14 R820" (KUKA Roboter): shoulder 0.36 m above the base (0.1575 +
+    0.2025), upper arm 0.42 m (0.2045 + 0.2155), forearm 0.40 m (0.1845 +
+    0.2155), flange 0.126 m beyond the wrist (0.081 to link 7, 0.045 to the
+    flange: the data sheet's flange height of 1306 mm at the zero pose; the
+    URDF puts its ``flange`` link 0.071 beyond link 7 instead), joint ranges
+    +-170, +-120, +-170, +-120, +-170, +-120, +-175 deg.
+
+    At ``q = 0`` the arm stands straight up and the flange frame is the base
+    frame lifted by 1.306 m; the axes are z, y, z, -y, z, y, z of the base
+    (A4 turns about -y).  Written as paper 000's Table 1 rows with joint 4
+    reversed (``sign = -1``); :func:`kuka_iiwa14_table1` is the Table 1 form
+    itself.
+    """
+    return _kuka_lbr_iiwa(0.36, 0.42, "kuka-iiwa14", "KUKA LBR iiwa 14 R820: KUKA's URDF joint frames, data-sheet "
+                          "lengths and ranges")
+
+
+def kuka_iiwa7() -> SerialChain:
+    """KUKA LBR iiwa 7 R800 in KUKA's joint conventions.
+
+    Source: the data sheet "LBR iiwa 7 R800, LBR iiwa 14 R820" (KUKA
+    Roboter): shoulder 0.34 m above the base, upper arm and forearm 0.40 m,
+    flange 0.126 m beyond the wrist (flange height 1266 mm at the zero pose),
+    joint ranges +-170, +-120, +-170, +-120, +-170, +-120, +-175 deg; joint
+    frames and senses of KUKA's iiwa URDFs (kroshu/kuka_robot_descriptions,
+    ``kuka_lbr_iiwa_support/urdf/lbriiwa7_macro.xacro``: origins 0.1375 +
+    0.2025, 0.1845 + 0.2155, 0.1845 + 0.2155, 0.081; that file narrows the
+    ranges to 90 % of the data sheet's, which is not used here).  Axes and
+    zero pose as :func:`kuka_iiwa14`.
+    """
+    return _kuka_lbr_iiwa(0.34, 0.40, "kuka-iiwa7", "KUKA LBR iiwa 7 R800: KUKA's URDF joint frames, data-sheet "
+                          "lengths and ranges")
+
+
+def kuka_iiwa14_table1() -> SerialChain:
     """KUKA LBR iiwa 14 R820 in the S-R-S form of paper 000 Table 1.
 
-    Source: manufacturer's data sheet lengths d_bs = 0.36, d_se = 0.42,
-    d_ew = 0.40, d_wt = 0.126 m and limits +-170, +-120, +-170, +-120, +-170,
-    +-120, +-175 deg.  Joint senses follow Table 1, which may differ from the
-    controller's own sign convention on some joints.
+    Source: as :func:`kuka_iiwa14` (d_bs = 0.36, d_se = 0.42, d_ew = 0.40,
+    d_wt = 0.126 m, ranges +-170, +-120, +-170, +-120, +-170, +-120, +-175
+    deg).  The same arm with joint 4 turning the other way from KUKA's:
+    ``q_table1 = q_kuka * (1, 1, 1, -1, 1, 1, 1)``.  Kept so that results
+    computed in this form keep their numbers; send :func:`kuka_iiwa14`'s joint
+    values to a robot.
     """
-    return srs_chain(
-        0.36, 0.42, 0.40, 0.126,
-        lower_deg=[-170, -120, -170, -120, -170, -120, -175],
-        upper_deg=[170, 120, 170, 120, 170, 120, 175],
-        name="kuka-iiwa14",
-        source="KUKA LBR iiwa 14 R820 data sheet, in paper 000 Table 1 form",
-    )
+    return replace(kuka_iiwa14(), sign=np.ones(7), name="kuka-iiwa14-table1",
+                   source="KUKA LBR iiwa 14 R820 data sheet, in paper 000 Table 1 form (joint 4 reversed from KUKA's)")
+
+
+def _kuka_lbr_iiwa(d_bs: float, d_se: float, name: str, source: str) -> SerialChain:
+    """An LBR iiwa (forearm 0.40 m, flange 0.126 m) in KUKA's conventions: Table 1 rows, joint 4 reversed."""
+    table1 = srs_chain(d_bs, d_se, 0.40, 0.126, lower_deg=[-v for v in IIWA_RANGE_DEG], upper_deg=IIWA_RANGE_DEG)
+    return replace(table1, sign=KUKA_IIWA_SIGNS, name=name, source=source)
 
 
 def barrett_wam(d3: float = 0.55, d5: float = 0.4, d7: float = 0.06, a: float = 0.045) -> SerialChain:
@@ -98,6 +148,173 @@ def barrett_wam(d3: float = 0.55, d5: float = 0.4, d7: float = 0.06, a: float = 
         name="barrett-wam",
         source="paper 003 Table 1 and section 4 lengths",
     )
+
+
+def barrett_wam7() -> SerialChain:
+    """Barrett WAM (7-DOF) in Barrett's own DH frames, lengths and joint ranges.
+
+    Source: Barrett Technology, "WAM Arm User's Manual" (document D1001,
+    version AH.00, 2008), Table 5 "7-DOF WAM frame parameters" (standard DH,
+    Spong's variant) and Table 6 "Joint Limits":
+
+    ====  =====  =======  ======  ==============================
+    i     alpha  a        d       range (rad)
+    ====  =====  =======  ======  ==============================
+    1     -pi/2  0        0       [-2.6, 2.6]
+    2     +pi/2  0        0       [-2.0, 2.0]
+    3     -pi/2  0.045    0.55    [-2.8, 2.8]
+    4     +pi/2  -0.045   0       [-0.9, 3.1]
+    5     -pi/2  0        0.3     [-4.76, 1.24]
+    6     +pi/2  0        0       [-1.6, 1.6]
+    7     0      0        0.06    [-3.0, 3.0]
+    ====  =====  =======  ======  ==============================
+
+    Frame 0 is at the shoulder, where joints 1-3 meet (0.346 m above the
+    mounting face); the tool frame is the tool plate.  libbarrett
+    (``config/wam7w.conf``) uses the same rows with d7 = 0.0609 m to its tool
+    plate.  Paper 003's WAM (:func:`barrett_wam`) has a 0.4 m forearm where
+    Barrett's is 0.3 m, so the two are separate models.
+    """
+    return SerialChain(
+        a=[0.0, 0.0, 0.045, -0.045, 0.0, 0.0, 0.0],
+        alpha=[-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0],
+        d=[0.0, 0.0, 0.55, 0.0, 0.3, 0.0, 0.06],
+        convention="dh",
+        lower=[-2.6, -2.0, -2.8, -0.9, -4.76, -1.6, -3.0],
+        upper=[2.6, 2.0, 2.8, 3.1, 1.24, 1.6, 3.0],
+        name="barrett-wam7",
+        source="Barrett WAM Arm User's Manual D1001 AH.00, Table 5 (DH) and Table 6 (joint limits)",
+    )
+
+
+def franka_panda() -> SerialChain:
+    """Franka Emika Panda, in Franka's modified DH frames and joint limits.
+
+    Source: Franka Control Interface documentation, "Robot and interface
+    specifications" (https://frankaemika.github.io/docs/control_parameters.html):
+    modified DH (Craig) and the joint limits q_min, q_max; the same frames as
+    Franka's URDF (frankaemika/franka_ros, ``franka_description/robots/panda_arm.xacro``,
+    and ``examples/panda.urdf``):
+
+    ======  ==========  =======  =====  ===================
+    i       alpha_i-1   a_i-1    d_i    range (rad)
+    ======  ==========  =======  =====  ===================
+    1       0           0        0.333  [-2.8973, 2.8973]
+    2       -pi/2       0        0      [-1.7628, 1.7628]
+    3       +pi/2       0        0.316  [-2.8973, 2.8973]
+    4       +pi/2       0.0825   0      [-3.0718, -0.0698]
+    5       -pi/2       -0.0825  0.384  [-2.8973, 2.8973]
+    6       +pi/2       0        0      [-0.0175, 3.7525]
+    7       +pi/2       0.088    0      [-2.8973, 2.8973]
+    flange  0           0        0.107
+    ======  ==========  =======  =====  ===================
+
+    The tool frame is the flange (``panda_link8``), without the hand.  Joints
+    5-7 do not meet (the 0.088 m offset), so this is a general chain: FK,
+    Jacobian, velocity IK and virtual arms, no arm-angle IK.
+    """
+    return SerialChain(
+        a=[0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088],
+        alpha=[0.0, -HALF_PI, HALF_PI, HALF_PI, -HALF_PI, HALF_PI, HALF_PI],
+        d=[0.333, 0.0, 0.316, 0.0, 0.384, 0.0, 0.0],
+        convention="mdh",
+        lower=[-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973],
+        upper=[2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973],
+        tool=_translation_z(0.107),
+        name="franka-panda",
+        source="Franka Control Interface docs: modified DH table and joint limits (as franka_description)",
+    )
+
+
+def kinova_gen3() -> SerialChain:
+    """Kinova Gen3 (7-DOF), in Kinova's DH frames with the lengths of Kinova's URDF.
+
+    Source: Kinova's URDF (Kinovarobotics/ros2_kortex,
+    ``kortex_description/arms/gen3/7dof/urdf/gen3_macro.xacro``: joint origins,
+    axes and limits) written in the classic DH form of the "KINOVA Gen3 Ultra
+    lightweight robot User Guide" (base frame turned by pi about x, every twist
+    pi/2 but the last, pi; joints 2-7 offset by pi):
+
+    ====  =====  ==============================  ===========  ============
+    i     alpha  d                               theta        range (rad)
+    ====  =====  ==============================  ===========  ============
+    1     pi/2   -(0.15643 + 0.12838)            q1           continuous
+    2     pi/2   -(0.005375 + 0.006375)          q2 + pi      [-2.24, 2.24]
+    3     pi/2   -(0.21038 + 0.21038)            q3 + pi      continuous
+    4     pi/2   -(0.006375 + 0.006375)          q4 + pi      [-2.57, 2.57]
+    5     pi/2   -(0.20843 + 0.10593)            q5 + pi      continuous
+    6     pi/2   -(0.00017505 + 0.00017505)      q6 + pi      [-2.09, 2.09]
+    7     pi     -(0.10593 + 0.061525)           q7 + pi      continuous
+    ====  =====  ==============================  ===========  ============
+
+    All ``a = 0``.  The User Guide rounds these lengths to 0.1 mm and puts
+    d6 = 0; the URDF's wrist offset of 2 x 0.17505 mm is kept here.  The URDF
+    prints pi/2 as 1.5708 and pi as 3.1416 (and CAD residues below 1e-14);
+    the right angles are taken exact: the file's literal numbers put the end
+    pose up to 1e-5 m and 2.5e-5 rad away (sampled).  The ranges are those the URDF took
+    from the User Guide in 2024.  The tool frame is ``end_effector_link``.  At
+    ``q = 0`` the arm stands straight up.  A general chain (joints 1-3 do not
+    meet).
+    """
+    return SerialChain(
+        a=np.zeros(7),
+        alpha=[HALF_PI] * 6 + [np.pi],
+        d=[-(0.15643 + 0.12838), -(0.005375 + 0.006375), -(0.21038 + 0.21038), -(0.006375 + 0.006375),
+           -(0.20843 + 0.10593), -(0.00017505 + 0.00017505), -(0.10593 + 0.061525)],
+        convention="dh",
+        offset=[0.0] + [np.pi] * 6,
+        lower=[-np.inf, -2.24, -np.inf, -2.57, -np.inf, -2.09, -np.inf],
+        upper=[np.inf, 2.24, np.inf, 2.57, np.inf, 2.09, np.inf],
+        base=np.diag([1.0, -1.0, -1.0, 1.0]),  # Rx(pi)
+        name="kinova-gen3",
+        source="Kinova Gen3 7-DOF: kortex_description URDF lengths and limits in the User Guide's DH form",
+    )
+
+
+def ufactory_xarm7() -> SerialChain:
+    """UFactory xArm7, in UFactory's modified DH frames and joint limits.
+
+    Source: UFactory, "Kinematic and Dynamic Parameters of UFACTORY xArm
+    Series" (xArm7 modified D-H parameters), and UFactory's URDF
+    (xArm-Developer/xarm_ros2, ``xarm_description/urdf/xarm7/xarm7.urdf.xacro``:
+    the same frames, and its default joint limits):
+
+    ====  ==========  ======  ======  =====================
+    i     alpha_i-1   a_i-1   d_i     range (rad)
+    ====  ==========  ======  ======  =====================
+    1     0           0       0.267   [-2 pi, 2 pi]
+    2     -pi/2       0       0       [-2.059, 2.0944]
+    3     +pi/2       0       0.293   [-2 pi, 2 pi]
+    4     +pi/2       0.0525  0       [-0.19198, 3.927]
+    5     +pi/2       0.0775  0.3425  [-2 pi, 2 pi]
+    6     +pi/2       0       0       [-1.69297, pi]
+    7     -pi/2       0.076   0.097   [-2 pi, 2 pi]
+    ====  ==========  ======  ======  =====================
+
+    The +-2 pi joints (+-360 deg on the data sheet) are not limited in effect.
+    The URDF prints pi/2 as 1.5708; the right angles are taken exact (the
+    literal numbers put the flange up to 6e-6 m and 2e-5 rad away, sampled).  The
+    tool frame is the flange (``link_eef``).  A general chain (the elbow
+    and the wrist are offset).
+    """
+    two_pi = 2.0 * np.pi
+    return SerialChain(
+        a=[0.0, 0.0, 0.0, 0.0525, 0.0775, 0.0, 0.076],
+        alpha=[0.0, -HALF_PI, HALF_PI, HALF_PI, HALF_PI, HALF_PI, -HALF_PI],
+        d=[0.267, 0.0, 0.293, 0.0, 0.3425, 0.0, 0.097],
+        convention="mdh",
+        lower=[-two_pi, -2.059, -two_pi, -0.19198, -two_pi, -1.69297, -two_pi],
+        upper=[two_pi, 2.0944, two_pi, 3.927, two_pi, np.pi, two_pi],
+        name="ufactory-xarm7",
+        source="UFactory xArm7 modified DH parameters and xarm_description URDF limits",
+    )
+
+
+def _translation_z(length: float) -> np.ndarray:
+    """The transform ``Tz(length)``."""
+    pose = np.eye(4)
+    pose[2, 3] = length
+    return pose
 
 
 #: Thesis 001 section 5.1 link lengths in metres.
@@ -131,8 +348,6 @@ def humanoid_right_arm(tool_length: float = 0.0) -> SerialChain:
     ``(L0, 0, 0)`` when theta_1 = 0.
     """
     lengths = HUMANOID_LENGTHS
-    tool = np.eye(4)
-    tool[2, 3] = float(tool_length)
     inf = np.inf
     return SerialChain(
         a=[0.0, 0.0, 0.0, 0.0, 0.0, lengths["L2"], 0.0, 0.0],
@@ -143,7 +358,7 @@ def humanoid_right_arm(tool_length: float = 0.0) -> SerialChain:
         sign=[1, 1, -1, 1, 1, -1, 1, -1],
         lower=np.radians([-90, -85, -5, -150, -80, -inf, -inf, -inf]),
         upper=np.radians([90, 175, 185, 150, 80, inf, inf, inf]),
-        tool=tool,
+        tool=_translation_z(float(tool_length)),
         name="humanoid-right",
         source="thesis 001 Table 2.1 (modified DH), section 5.1 lengths and limits",
     )
@@ -196,6 +411,12 @@ MODELS: dict[str, Callable[[], SerialChain]] = {
     "humanoid-right": humanoid_right_arm,
     "humanoid-left": humanoid_left_arm,
     "planar-5": planar_arm,
+    "kuka-iiwa14-table1": kuka_iiwa14_table1,
+    "kuka-iiwa7": kuka_iiwa7,
+    "barrett-wam7": barrett_wam7,
+    "franka-panda": franka_panda,
+    "kinova-gen3": kinova_gen3,
+    "ufactory-xarm7": ufactory_xarm7,
 }
 
 
