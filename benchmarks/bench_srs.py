@@ -10,9 +10,10 @@ Each peer runs in its best documented configuration, named in its row, and every
 judged by our own forward kinematics (``chain.fk``): a solution passes when the norm of (position error in m,
 rotation error in rad) is at most 1e-9.
 
-ssik's iiwa14 is our ``kuka_iiwa14`` with joint 4 turned the other way (same base, tool and symmetric limits), so
-both libraries get the same poses.  The arm angles of the two differ by a reference per branch, so the sets are
-compared by the lengths of the eight branches' feasible sets (sorted), which do not depend on the reference.
+ssik's iiwa14 is our ``kuka_iiwa14`` (KUKA's joint conventions: same joint values, base, tool and limits), so
+both libraries get the same poses and joint values.  The arm angles of the two differ by a reference per branch,
+so the sets are compared by the lengths of the eight branches' feasible sets (sorted), which do not depend on the
+reference.
 """
 
 from __future__ import annotations
@@ -121,10 +122,6 @@ def rtb_rows(chain: SerialChain, poses: np.ndarray, t_branches: float) -> list[t
     ]
 
 
-#: ssik's iiwa14 joint values are ours with joint 4 negated.
-IIWA_SSIK_SIGNS = np.array([1.0, 1.0, 1.0, -1.0, 1.0, 1.0, 1.0])
-
-
 def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
     """ssik's IK and feasible-swivel arcs of all eight branches beside ours on the same iiwa14 poses."""
     try:
@@ -140,7 +137,7 @@ def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
     rng = np.random.default_rng(1)
     q_ssik = rng.uniform(-2.0, 2.0, (poses, 7))
     targets = [iiwa14_ik.fk(q) for q in q_ssik]
-    assert np.allclose(chain.fk(q_ssik * IIWA_SSIK_SIGNS), np.array(targets), atol=1e-9), "iiwa14 models differ"
+    assert np.allclose(chain.fk(q_ssik), np.array(targets), atol=1e-9), "iiwa14 models differ"
 
     def ssik_sets(target, limits):
         return [_branch_arcs(branch, limits) for branch in _enumerate_branches(body, srs_class, target)]
@@ -166,11 +163,10 @@ def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
     for half_width in (1e-2, 1e-3, 1e-4):  # limits tight around a known solution: its arc must be found
         found_ssik = found_ours = 0
         for q in q_ssik:
-            q_ours = q * IIWA_SSIK_SIGNS
-            tight = chain.with_limits(q_ours - half_width, q_ours + half_width)
+            tight = chain.with_limits(q - half_width, q + half_width)
             found_ssik += any(ssik_sets(iiwa14_ik.fk(q), [(v - half_width, v + half_width) for v in q]))
-            state = arm_angle_of(tight, q_ours)
-            result = feasible_arm_angles(tight, chain.fk(q_ours), str(state.branch_strings()))
+            state = arm_angle_of(tight, q)
+            result = feasible_arm_angles(tight, chain.fk(q), str(state.branch_strings()))
             found_ours += result.feasible.contains(float(state.psi), tolerance=1e-12)
         rows.append((f"  limits +-{half_width:g} rad around a solution", f"arc found: ssik {found_ssik}/{poses}, redkin {found_ours}/{poses}"))
     return rows
@@ -191,7 +187,7 @@ def ssik_ik_rows(chain: SerialChain, geometry: SRSGeometry, targets: np.ndarray)
     solver = _native._solver(_native._load_ext(), iiwa14_ik._KB, iiwa14_ik.SOLVER_NAME)  # what solve(T) calls
 
     def solve(target):
-        return solver.solve(target, 0)[0] * IIWA_SSIK_SIGNS  # respect_limits=0: no joint-limit filter (as ours)
+        return solver.solve(target, 0)[0]  # respect_limits=0: no joint-limit filter (as ours)
 
     t_ssik, per_pose, passed = timed_solutions(chain, solve, targets)
     rows = [
