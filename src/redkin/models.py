@@ -431,7 +431,7 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
     Parameters
     ----------
     name_or_path : str or Path
-        A model name, a ``.toml``/``.json`` robot file or a ``.urdf`` file.
+        A model name, a ``.toml``/``.json`` robot file, or a ``.urdf`` or ``.xacro`` file.
     base, tip : str, optional
         For a URDF, the links the chain runs between (see :func:`redkin.urdf.load_urdf`).
 
@@ -442,7 +442,7 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
     """
     key = str(name_or_path)
     path = Path(key)
-    if path.suffix.lower() == ".urdf":
+    if path.suffix.lower() in (".urdf", ".xacro"):
         from redkin.urdf import load_urdf
 
         return load_urdf(path, base, tip)
@@ -455,5 +455,5 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
 
         return load_robot(path)
     raise ValueError(
-        f"unknown robot {key!r}: expected one of {', '.join(MODELS)}, a .toml/.json robot file or a .urdf file"
+        f"unknown robot {key!r}: expected one of {', '.join(MODELS)}, a .toml/.json robot file or a .urdf/.xacro file"
     )

@@ -3,7 +3,9 @@
 The file is read with ROS's own pure-Python parser, ``urdfdom-py``
 (``urdf_parser_py``; the optional extra ``redkin[urdf]``).  It needs only
 lxml and PyYAML, where ``yourdfpy`` also pulls trimesh and its mesh stack,
-none of which a kinematic chain uses.
+none of which a kinematic chain uses.  A ``.xacro`` file is expanded first
+with ``xacrodoc`` (ROS's xacro without a ROS install; the extra
+``redkin[xacro]``).
 
 Conversion.  Joint ``k`` of the chain turns the rest of the chain about a
 line: at ``q = 0`` that line passes through the origin of the joint's frame
@@ -50,7 +52,7 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None)
     Parameters
     ----------
     path : str or Path
-        A ``.urdf`` file.
+        A ``.urdf`` file, or a ``.xacro`` file that expands to one.
     base, tip : str, optional
         Link names.  ``base`` defaults to the root link; ``tip`` to the one
         leaf below ``base`` (a tree with several leaves must name it).
@@ -103,6 +105,8 @@ def _parse(path: Path):
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise ValueError(f"cannot read robot file {str(path)!r}: {exc.strerror or exc}") from None
+    if path.suffix.lower() == ".xacro":
+        text = _expand_xacro(path)
     noise = io.StringIO()
     try:
         with contextlib.redirect_stderr(noise):  # the parser prints warnings of its own
@@ -110,6 +114,21 @@ def _parse(path: Path):
     except Exception as exc:  # lxml and the parser raise many kinds; all mean a malformed file
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise ValueError(f"{path}: malformed URDF: {reason}") from None
+
+
+def _expand_xacro(path: Path) -> str:
+    """The URDF text a ``.xacro`` file expands to (macros, properties, includes relative to the file)."""
+    try:
+        from xacrodoc import XacroDoc
+    except ImportError:
+        raise ValueError("reading a .xacro file needs the xacro extra: pip install 'redkin[xacro]'") from None
+    noise = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(noise), contextlib.redirect_stdout(noise):  # xacro prints warnings
+            return XacroDoc.from_file(str(path)).to_urdf_string()
+    except Exception as exc:  # xacro raises its own exceptions and lxml's; all mean a malformed file
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise ValueError(f"{path}: malformed xacro: {reason}") from None
 
 
 def _only_leaf(robot, base: str, path) -> str:

@@ -46,7 +46,7 @@ class Parser(argparse.ArgumentParser):
 def add_robot_argument(parser: argparse.ArgumentParser) -> None:
     """``ROBOT``: a model name (``redkin robots``), a robot file or a URDF, with ``--base``/``--tip`` links for a URDF."""
     parser.add_argument("robot", metavar="ROBOT",
-                        help="model name (see `redkin robots`), a .toml/.json robot file or a .urdf file")
+                        help="model name (see `redkin robots`), a .toml/.json robot file, or a .urdf or .xacro file")
     parser.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link)")
     parser.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (default: the only leaf)")
 
