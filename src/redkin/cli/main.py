@@ -15,6 +15,7 @@ COMMAND_MODULES = [
     "redkin.cli.basic",
     "redkin.cli.reproduce",
     "redkin.cli.srs",
+    "redkin.cli.explore",
     "redkin.cli.torso_arm",
     "redkin.cli.velocity",
     "redkin.cli.virtual_arms",

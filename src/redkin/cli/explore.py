@@ -1,0 +1,37 @@
+"""``redkin explore``: the interactive arm-angle explorer of an arm at a pose, as one offline HTML page."""
+
+from __future__ import annotations
+
+import argparse
+
+from redkin.cli.common import add_output_flags, add_robot_argument, angle_unit, angles_out, load_robot, print_json
+from redkin.cli.srs import _add_target, _pose
+from redkin.explore import explorer_data, explorer_html
+from redkin.validation import check_output_file
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "explore", help="an interactive arm-angle explorer of an S-R-S arm at a pose: one self-contained HTML page"
+    )
+    add_robot_argument(parser)
+    _add_target(parser)
+    parser.add_argument("--branch", default="+++", help="branch shown first: signs of theta2, theta4, theta6 (default +++)")
+    parser.add_argument("--out", required=True, metavar="FILE.html", help="the page to write")
+    add_output_flags(parser)
+    parser.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    out = check_output_file(args.out, "--out", {".html", ".htm"})
+    chain = load_robot(args)
+    data = explorer_data(chain, _pose(args), args.branch)
+    out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
+    feasible = {b.branch: [angles_out(arc, args.deg).tolist() for arc in b.feasible.arcs] for b in data.branches}
+    if args.json:
+        print_json({"robot": chain.name, "out": str(out), "units": {"feasible": angle_unit(args.deg)},
+                    "grid_points": {b.branch: len(b.psi) for b in data.branches}, "feasible": feasible})
+    else:
+        reachable = sum(bool(arcs) for arcs in feasible.values())
+        print(f"wrote {out}: {chain.name}, feasible arm angles on {reachable} of 8 branches; open it in a browser")
+    return 0
