@@ -26,9 +26,12 @@ def draw_manipulability_map(
     Parameters
     ----------
     landmarks : mapping of name -> point (3,), optional
-        Base points to mark (e.g. neck and shoulders), projected onto the plane.
+        Base points to mark (e.g. neck and shoulders), projected onto the plane;
+        points that land on one spot share one label.
     unit : str
-        Unit of the (scaled) values, shown on the colour bar.
+        Unit of the (scaled) values.  When they are below 1e-2 or reach 1e3, the
+        colour bar shows them in a power of ten of it (``w [1e-2 m^6]``),
+        never as an offset on top of the bar.
     threshold : float, optional
         Draw the contour ``w = threshold`` (in scaled units).
 
@@ -38,17 +41,25 @@ def draw_manipulability_map(
     """
     grid = result.grid
     values = np.ma.masked_invalid(result.values * scale)
+    top = float(np.abs(values).max()) if values.count() else 0.0
+    power = int(np.floor(np.log10(top))) if top > 0.0 and not 1e-2 <= top < 1e3 else 0
+    values = values / 10.0**power
     extent = (grid.u[0], grid.u[-1], grid.v[0], grid.v[-1])
     image = ax.imshow(values, origin="lower", extent=extent, cmap=cmap, aspect="equal", interpolation="nearest")
     cbar = ax.figure.colorbar(image, ax=ax, shrink=0.85)
-    cbar.set_label(f"w [{unit}]")
+    cbar.formatter.set_useOffset(False)
+    cbar.set_label(f"w [{unit}]" if power == 0 else f"w [1e{power} {unit}]")
     if threshold is not None and np.isfinite(values.filled(np.nan)).any():
-        ax.contour(grid.u, grid.v, values.filled(0.0), levels=[threshold], colors="w", linewidths=1.0)
+        ax.contour(grid.u, grid.v, values.filled(0.0), levels=[threshold / 10.0**power], colors="w", linewidths=1.0)
     iu, iv = (_AXES.index(a) for a in grid.axis_names)
-    for index, (name, point) in enumerate((landmarks or {}).items()):
+    spots: dict[tuple[float, float], list[str]] = {}
+    for name, point in (landmarks or {}).items():
         p = np.asarray(point, dtype=float)
-        ax.plot(p[iu], p[iv], marker="s" if index == 0 else "o", color="red", markersize=6, linestyle="none")
-        ax.annotate(name, (p[iu], p[iv]), textcoords="offset points", xytext=(4, 4), color="red", fontsize=8)
+        spots.setdefault((round(float(p[iu]), 6), round(float(p[iv]), 6)), []).append(name)
+    for index, ((u, v), names) in enumerate(spots.items()):
+        ax.plot(u, v, marker="s" if index == 0 else "o", color="red", markersize=6, linestyle="none")
+        ax.annotate(", ".join(names), (u, v), textcoords="offset points", xytext=(5, 5), color="red", fontsize=8,
+                    bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "alpha": 0.75, "linewidth": 0})
     if len(landmarks or {}) > 1:
         pts = np.array([np.asarray(p, float) for p in landmarks.values()])
         ax.plot(pts[:, iu], pts[:, iv], "-", color="red", linewidth=2)

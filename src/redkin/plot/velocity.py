@@ -31,7 +31,7 @@ def tracking_figure(
 ) -> plt.Figure:
     """Six panels of paper 003 Fig. 1: (a) joint velocities, (b) end-point velocity, (c) angular velocity,
     (d) ``D_e``, (e) end-point position, (f) x-y path with workspace boundaries ``(label, (k, 2) points)``."""
-    fig, axes = plt.subplots(3, 2, figsize=(11, 10))
+    fig, axes = plt.subplots(3, 2, figsize=(10, 9.5))
     t = run.time
     panels = [
         (axes[0, 0], run.joint_velocity, [f"q{i + 1}" for i in range(run.q.shape[1])], "(a) joint velocity [rad/s]"),
@@ -74,27 +74,40 @@ def tracking_figure(
 
 
 def comparison_figure(runs: Mapping[str, TrackingResult], eps: float) -> plt.Figure:
-    """Methods side by side on one scenario: ``||q_dot||``, ``v_x``, ``omega_y``, ``D_e`` and ``x`` over time."""
-    fig, axes = plt.subplots(len(runs), 5, figsize=(16, 2.6 * len(runs)), squeeze=False, sharex=True)
-    for row, (name, run) in zip(axes, runs.items()):
-        series = [
-            (np.linalg.norm(run.joint_velocity, axis=1), "||q_dot|| [rad/s]", True),
-            (run.realised[:, 0], "v_x [m/s]", False),
-            (run.realised[:, 4], "omega_y [rad/s]", False),
-            (run.index, "D_e", False),
-            (run.position[:, 0], "x [m]", False),
-        ]
-        for ax, (data, label, log) in zip(row, series):
-            if data is None:
-                continue
-            ax.plot(run.time, data, color="C0")
-            if log:
-                ax.set_yscale("log")
-            if run.index is not None:
-                shade_singular(ax, run.time, run.index, eps, label=None)
-            ax.set_title(f"{name}: {label}", fontsize=9)
-        row[3].axhline(0.0, color="0.5", linewidth=0.8)
-    for ax in axes[-1]:
+    """Methods overlaid on one scenario: ``||q_dot||``, ``v_x``, ``omega_y``, ``D_e`` and ``x`` over time.
+
+    One panel per quantity with a line per run; grey marks where the first
+    run is inside its singular region ``|D_e| <= eps``.
+    """
+    fig, axes = plt.subplots(3, 2, figsize=(10, 9), sharex=True)
+    panels = [
+        (lambda run: np.linalg.norm(run.joint_velocity, axis=1), "||q_dot|| [rad/s] (log scale)", True),
+        (lambda run: run.realised[:, 0], "end-point velocity v_x [m/s]", False),
+        (lambda run: run.realised[:, 4], "angular velocity omega_y [rad/s]", False),
+        (lambda run: run.index, "singularity index D_e", False),
+        (lambda run: run.position[:, 0], "end-point position x [m]", False),
+    ]
+    first = next(iter(runs.values()))
+    for ax, (series, title, log) in zip(axes.ravel(), panels):
+        for k, (name, run) in enumerate(runs.items()):
+            data = series(run)
+            if data is not None:
+                ax.plot(run.time, data, color=f"C{k}", linewidth=1.1, label=name)
+        if first.index is not None:
+            shade_singular(ax, first.time, first.index, eps, label=None)
+        if log:
+            ax.set_yscale("log")
+        else:
+            ax.ticklabel_format(axis="y", useOffset=False, style="plain")
+        ax.set_title(title, fontsize=10)
+        ax.grid(True, linewidth=0.3)
+    axes[1, 1].axhline(0.0, color="0.5", linewidth=0.8)
+    legend_axes = axes[2, 1]
+    legend_axes.axis("off")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    legend_axes.legend(handles, labels, loc="center", fontsize=10, title="method")
+    for ax in (axes[2, 0], axes[1, 1]):
         ax.set_xlabel("t [s]")
+        ax.xaxis.set_tick_params(labelbottom=True)
     fig.tight_layout()
     return fig

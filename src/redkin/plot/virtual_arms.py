@@ -6,6 +6,7 @@ from typing import Sequence
 
 import numpy as np
 from matplotlib.patches import Circle
+from matplotlib.ticker import MaxNLocator
 
 from redkin.chain import SerialChain
 from redkin.plot.arm import draw_arm_3d, set_equal_3d
@@ -62,6 +63,45 @@ def draw_strobe(ax, chain: SerialChain, theta: np.ndarray, goals: np.ndarray, vi
     ax.set_ylabel("y [m]")
     if title:
         ax.set_title(title, fontsize=9)
+
+
+def fit_planar_view(axes: Sequence, chain: SerialChain, runs: Sequence[np.ndarray], goals: Sequence[np.ndarray],
+                    obstacles: Sequence = (), margin: float = 0.08) -> None:
+    """Give planar axes one view around what they show: every posture of ``runs``, the goals and the obstacles.
+
+    Parameters
+    ----------
+    axes : sequence of matplotlib axes
+        They all get the same limits (square, so equal aspect fills them).
+    runs : sequence of numpy.ndarray, shape (K, m)
+        Joint vectors of each run drawn.
+    goals : sequence of numpy.ndarray, shape (p, 2)
+    obstacles : sequence of Obstacle
+    margin : float
+        Space around it all, as a fraction of the larger side.
+    """
+    points = [chain.frames(theta)[..., :2, 3].reshape(-1, 2) for theta in runs]
+    points += [np.asarray(g, dtype=float)[:, :2] for g in goals]
+    points += [np.array([o.centre[:2] - o.radius, o.centre[:2] + o.radius]) for o in obstacles]
+    everything = np.concatenate(points)
+    low, high = everything.min(axis=0), everything.max(axis=0)
+    half = 0.5 * float(np.max(high - low)) * (1.0 + 2.0 * margin)
+    centre = 0.5 * (low + high)
+    for ax in axes:
+        ax.set_xlim(centre[0] - half, centre[0] + half)
+        ax.set_ylim(centre[1] - half, centre[1] + half)
+        ax.xaxis.set_major_locator(MaxNLocator(5))
+        ax.yaxis.set_major_locator(MaxNLocator(5))
+
+
+def legend_below(fig, ax, space: float = 0.07) -> None:
+    """One legend for the whole figure, in a row under its panels (where it covers no arm), with the entries of ``ax``.
+
+    ``space`` is the fraction of the figure's height kept for it.
+    """
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, space, 1, 1))
 
 
 def draw_obstacles(ax, obstacles: Sequence) -> None:

@@ -12,16 +12,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Sequence
 
+from redkin.reproduce.provenance import build_info
 from redkin.reproduce.report import SectionWriter, write_report
 from redkin.validation import check_output_directory
 
 #: Modules defining ``SECTION``, in the order of the report.
 SECTION_MODULES = [
-    "redkin.reproduce.models_section",
     "redkin.reproduce.paper_000",
     "redkin.reproduce.paper_001",
     "redkin.reproduce.paper_003",
     "redkin.reproduce.paper_004",
+    "redkin.reproduce.models_section",
 ]
 
 REPORT_TITLE = "redkin: reproduction of the papers"
@@ -64,7 +65,7 @@ def run(
     keys: Sequence[str] | None = None,
     progress: Callable[[str, float, str], None] | None = None,
 ) -> dict[str, SectionWriter]:
-    """Build the chosen sections (default all) and write ``index.html`` and ``summary.json``.
+    """Build the chosen sections (default all, in report order) and write ``index.html`` and ``summary.json``.
 
     Raises
     ------
@@ -86,5 +87,5 @@ def run(
         section.build(writer)
         writer.progress(1.0, "done")
         writers[key] = writer
-    write_report(out, list(writers.values()), REPORT_TITLE)
+    write_report(out, list(writers.values()), REPORT_TITLE, build_info())
     return writers

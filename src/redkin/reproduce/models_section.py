@@ -14,7 +14,7 @@ from redkin.reproduce.report import SectionWriter
 def build(writer: SectionWriter) -> None:
     writer.text(
         "Every named model of redkin with the source of its numbers, drawn at q = 0 and at a "
-        "second configuration inside its limits. Angles in degrees, lengths in metres."
+        "second configuration inside its limits. Angles in degrees, lengths in metres; a dash marks no limit."
     )
     rng = np.random.default_rng(0)
     for index, (name, factory) in enumerate(MODELS.items()):
@@ -24,15 +24,18 @@ def build(writer: SectionWriter) -> None:
             rows.append([
                 i + 1, chain.a[i], np.degrees(chain.alpha[i]), chain.d[i],
                 np.degrees(chain.offset[i]), int(chain.sign[i]),
-                float(np.degrees(chain.lower[i])), float(np.degrees(chain.upper[i])),
+                _limit(chain.lower[i]), _limit(chain.upper[i]),
             ])
         alpha_name = "alpha_i-1" if chain.convention == "mdh" else "alpha_i"
         a_name = "a_i-1" if chain.convention == "mdh" else "a_i"
+        writer.heading(name)
         writer.table(
             f"{name}_parameters",
-            ["joint", a_name, alpha_name, "d_i", "theta offset", "sign", "lower", "upper"],
+            ["joint", f"{a_name} [m]", f"{alpha_name} [deg]", "d_i [m]", "theta offset [deg]", "sign",
+             "lower [deg]", "upper [deg]"],
             rows,
-            caption=f"{name} ({'modified' if chain.convention == 'mdh' else 'standard'} DH): {chain.source}",
+            caption=f"{name}: {'modified' if chain.convention == 'mdh' else 'standard'} DH parameters",
+            detail=f"Source: {chain.source}",
         )
         lower = np.where(np.isfinite(chain.lower), chain.lower, -np.pi)
         upper = np.where(np.isfinite(chain.upper), chain.upper, np.pi)
@@ -55,8 +58,14 @@ def build(writer: SectionWriter) -> None:
                 ax.view_init(elev=15, azim=30, vertical_axis="y")  # the torso axis is +y
         ax.legend(loc="upper left", fontsize=8)
         ax.set_title(name)
-        writer.figure(fig, name, f"{name} at q = 0 and at q = {np.round(np.degrees(q_sample), 1).tolist()} deg")
+        writer.figure(fig, name, f"{name} at q = 0 and at a sample q",
+                      f"Sample q = {np.round(np.degrees(q_sample), 1).tolist()} deg.")
         writer.progress((index + 1) / len(MODELS), name)
+
+
+def _limit(value: float) -> float | None:
+    """A joint limit in degrees, ``None`` for no limit."""
+    return float(np.degrees(value)) if np.isfinite(value) else None
 
 
 SECTION = Section(

@@ -6,11 +6,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from redkin.circle import ArcSet
+from redkin.explore import explorer_data, explorer_html
 from redkin.models import pa10_7c
 from redkin.plot.arm import draw_arm_3d, set_equal_3d
 from redkin.plot.srs import plot_joint_curves, plot_reachable_rotations
 from redkin.reproduce import Section
-from redkin.reproduce.report import Comparison, SectionWriter
+from redkin.reproduce.comparison import Comparison, Note
+from redkin.reproduce.report import SectionWriter
 from redkin.srs import arm_angle_path, feasible_arm_angles, ik, optimal_arm_angles, pose_from, singular_arm_angles
 from redkin.srs.geometry import srs_geometry
 
@@ -41,7 +43,13 @@ def _arc_text(arc_set: ArcSet) -> str:
     return " U ".join(f"[{np.degrees(lo):.3f}, {np.degrees(hi):.3f}]" for lo, hi in arc_set.arcs)
 
 
+def explorer_link(writer: SectionWriter, chain, pose: np.ndarray, name: str, label: str, **options) -> None:
+    """Write the arm-angle explorer of ``pose`` beside the report (angles in degrees) and link it."""
+    writer.page(name, explorer_html(explorer_data(chain, pose, **options), degrees=True), label)
+
+
 def section_6_1(writer: SectionWriter, chain) -> None:
+    writer.heading("§6.1: feasible arm angles and postures (eq. 41)")
     pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
     result = feasible_arm_angles(chain, pose, "+++")
     rows = []
@@ -65,26 +73,29 @@ def section_6_1(writer: SectionWriter, chain) -> None:
         for i, value in enumerate(values):
             rows.append(Comparison(f"theta_{i + 1} at {name} [deg]", value, float(np.degrees(q[i])), TOL))
     writer.comparison(
-        "s6_1", rows,
-        "Section 6.1: x = (0.65, 0, 0.5) m, R = diag(-1, 1, -1), branch +++ (theta2, theta4, theta6 > 0). "
-        "psi is right-handed about shoulder -> wrist and the reference is theta3 = 0 with theta1o = atan2(y_sw, x_sw).",
+        "s6_1", rows, "Section 6.1: feasible sets and joint values",
+        "x = (0.65, 0, 0.5) m, R = diag(-1, 1, -1), branch +++ (theta2, theta4, theta6 > 0). psi is right-handed "
+        "about shoulder -> wrist and the reference is theta3 = 0 with theta1o = atan2(y_sw, x_sw).",
     )
     theta = ik(chain, np.broadcast_to(pose, PSI.shape + (4, 4)), PSI, "+++")
     geometry = srs_geometry(chain)
     fig, axes = plt.subplots(6, 1, figsize=(7, 11), sharex=True)
     plot_joint_curves(axes, PSI, theta, geometry.theta_lower, geometry.theta_upper, result.per_joint, result.feasible)
-    writer.figure(fig, "theta_of_psi_6_1", "theta_i(psi) for the pose of eq. 41 (Figs. 3, 4 style): limits dashed, "
-                  "Psi_i shaded green, the overall feasible set Psi shaded blue.")
+    writer.figure(fig, "theta_of_psi_6_1", "theta_i(psi) for the pose of eq. 41 (Figs. 3, 4 style)",
+                  "Limits dashed, Psi_i shaded green, the overall feasible set Psi shaded blue.")
     fig = plt.figure(figsize=(6, 5))
     ax = fig.add_subplot(111, projection="3d")
     for (name, q), color in zip(postures.items(), ("C0", "C1", "C2")):
         draw_arm_3d(ax, chain, q, color=color, label=name)
     set_equal_3d(ax, np.concatenate([chain.frames(q)[:, :3, 3] for q in postures.values()]))
-    ax.legend(fontsize=8)
-    writer.figure(fig, "postures_6_1", "Postures at psi = 0, psi_min and psi_max for the pose of eq. 41 (paper Fig. 6).")
+    ax.legend(fontsize=8, loc="upper left")
+    writer.figure(fig, "postures_6_1", "Postures at psi = 0, psi_min and psi_max (paper Fig. 6)",
+                  "The pose of eq. 41; each posture drawn through its frame origins, with the tool frame.")
+    explorer_link(writer, chain, pose, "explore_6_1", "Explore §6.1 live: the arm angle on a slider, all eight branches")
 
 
 def section_6_2_1(writer: SectionWriter, chain) -> None:
+    writer.heading("§6.2.1: singular arm angles")
     pose = pose_from(np.array([0.55, 0.0, 0.767]), np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))
     singular = singular_arm_angles(chain, pose, "+++")
     a, b, c = singular.shoulder_coefficients
@@ -99,15 +110,20 @@ def section_6_2_1(writer: SectionWriter, chain) -> None:
         Comparison("shoulder singular psi [deg]", 0.0, _deg(singular.shoulder[0]), TOL),
         Comparison("wrist singular psi [deg]", 0.0, _deg(singular.wrist[0]), TOL),
         Comparison("Psi, branch +++", "[-63.277, 63.277]", _arc_text(plus),
-                   note="the +++ branch is empty here (theta5 exceeds its limit for every psi); "
-                   "the printed set belongs to branch ++- (theta6 < 0), see next row"),
+                   note=Note("the printed set belongs to branch ++- (theta6 < 0)",
+                             "the +++ branch is empty here (theta5 exceeds its limit for every psi); the next two "
+                             "rows compare the printed set with branch ++-")),
         Comparison("Psi, branch ++- (theta6 < 0) lower [deg]", -63.277, _deg(other.arcs[0][0]) if not other.is_empty else None, TOL),
         Comparison("Psi, branch ++- (theta6 < 0) upper [deg]", 63.277, _deg(other.arcs[0][1]) if not other.is_empty else None, TOL),
     ]
-    writer.comparison("s6_2_1", rows, "Section 6.2.1: x = (0.55, 0, 0.767) m, R = [[0,0,1],[0,1,0],[-1,0,0]].")
+    writer.comparison("s6_2_1", rows, "Section 6.2.1: singularity coefficients and the feasible set",
+                      "x = (0.55, 0, 0.767) m, R = [[0,0,1],[0,1,0],[-1,0,0]].")
+    explorer_link(writer, chain, pose, "explore_6_2_1", "Explore §6.2.1 live (branch +++ is empty; choose ++- "
+                  "for the printed set)")
 
 
 def section_6_2_2(writer: SectionWriter, chain) -> None:
+    writer.heading("§6.2.2: optimal arm angles and reachable tool rotations")
     pose = _gamma_pose(np.pi / 2)
     target = np.radians([0, 90, 0, 0, 0, 90, 0])
     feasible = feasible_arm_angles(chain, pose, "+++").feasible
@@ -116,18 +132,20 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
     theta0 = ik(chain, pose, 0.0, "+++")
     theta_opt = ik(chain, pose, optimal.overall.feasible, "+++")
     lo, hi = feasible.arcs[0]
-    misprint = ("the printed [-43.246, 43.246] is a misprint: turning the tool about z leaves x_sw as in 6.1, so "
-                "theta2 reaches its 45 deg limit at psi = +-45.991 exactly as there, and the paper's own "
-                "Gamma = 147.693 = 120 + 27.693 needs psi = 45.991 (where theta7 = 27.693 in 6.1) to be feasible")
+    misprint = Note("misprint in the paper: its own Gamma = 147.693 needs psi = 45.991 to be feasible",
+                    "the printed [-43.246, 43.246] is a misprint: turning the tool about z leaves x_sw as in 6.1, so "
+                    "theta2 reaches its 45 deg limit at psi = +-45.991 exactly as there, and the paper's own "
+                    "Gamma = 147.693 = 120 + 27.693 needs psi = 45.991 (where theta7 = 27.693 in 6.1) to be feasible")
     rows = [
         Comparison("Psi lower [deg]", -43.246, _deg(lo), TOL, misprint),
         Comparison("Psi upper [deg]", 43.246, _deg(hi), TOL, misprint),
         Comparison("psi_s^opt [deg] (eq. 37)", 0.0, _deg(optimal.shoulder.unclamped), TOL,
-                   "targets theta^d = (0, 90, 0, -, 0, 90, 0) deg; the paper does not state them"),
+                   Note("targets theta^d = (0, 90, 0, -, 0, 90, 0) deg", "the paper does not state them")),
         Comparison("psi_w^opt [deg] (eq. 39)", 54.479, _deg(optimal.wrist.unclamped), TOL),
         Comparison("psi^opt [deg] (eq. 40, r_s = r_w = 0.5)", 25.017, _deg(optimal.overall.unclamped), TOL),
         Comparison("psi_w^opt clamped to Psi [deg]", 43.246, _deg(optimal.wrist.feasible), TOL,
-                   "clamped to the end of OUR feasible set (45.991); the paper's value is its misprinted bound"),
+                   Note("the paper clamps to its misprinted bound",
+                        "ours is clamped to the end of our feasible set (45.991), see the misprint note")),
         Comparison("psi^opt with default targets (limit midpoints) [deg]", None, _deg(default.overall.unclamped),
                    note="for comparison: with limit-midpoint targets the optimum moves"),
     ]
@@ -156,7 +174,8 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
                    "boundary where the feasible set becomes empty, found by bisection on our exact sets"),
         Comparison("Gamma upper [deg] (psi controlled)", 147.693, _deg(gamma), TOL),
     ]
-    writer.comparison("s6_2_2", rows, "Section 6.2.2: x = (0.65, 0, 0.5) m, R as eq. 41 turned by gamma = 90 deg about z, branch +++.")
+    writer.comparison("s6_2_2", rows, "Section 6.2.2: feasible set, optimal arm angles, reachable rotations",
+                      "x = (0.65, 0, 0.5) m, R as eq. 41 turned by gamma = 90 deg about z, branch +++.")
     gammas = np.radians(np.arange(-179.0, 180.0, 1.0))
     poses = np.array([_gamma_pose(g) for g in gammas])
     controlled = arm_angle_path(chain, poses, "+++", target=target)
@@ -164,8 +183,11 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
     fig, ax = plt.subplots(figsize=(7, 4))
     plot_reachable_rotations(ax, gammas, [f.feasible for f in controlled.feasible], controlled.psi,
                              controlled.reachable, 0.0, fixed.reachable)
-    writer.figure(fig, "reachable_gamma", "Feasible arm angles (green) over the tool rotation gamma; red: psi fixed at 0 "
-                  "(Gamma_0), blue: psi from eq. 40 clamped to the feasible set (Gamma).")
+    writer.figure(fig, "reachable_gamma", "Feasible arm angles over the tool rotation gamma (section 6.2.2)",
+                  "Green: the feasible arm angles; red: psi fixed at 0 (Gamma_0); blue: psi from eq. 40 clamped to the "
+                  "feasible set (Gamma).")
+    explorer_link(writer, chain, pose, "explore_6_2_2", "Explore §6.2.2 live (optimal arm angle for the targets above)",
+                  target=target)
 
 
 def build(writer: SectionWriter) -> None:

@@ -7,7 +7,8 @@ import numpy as np
 
 from redkin.plot.torso_arm import draw_manipulability_map
 from redkin.reproduce import Section
-from redkin.reproduce.report import Comparison, SectionWriter
+from redkin.reproduce.comparison import Comparison, Note
+from redkin.reproduce.report import SectionWriter
 from redkin.torso_arm import BRANCHES, humanoid_arm, ik, redundancy_parameters
 from redkin.torso_arm.branches import wrap_angle
 from redkin.torso_arm.geometry import WRIST_FRAME
@@ -78,12 +79,16 @@ def build(writer: SectionWriter) -> None:
         "L2 = 150, L3 = 315 mm; a tool L4 = 0.1 m is added here). The library's forward kinematics is the "
         "DH chain; eq. 2.3 and the section 5.1 wrist formula are evaluated here only as independent checks."
     )
+    writer.heading("Forward kinematics against the thesis's closed forms")
     writer.comparison("fk_agreement", [
         Comparison("max |FK - eq. 2.3| / sum of lengths, 2000 random q", 0.0, float(fk_error), 1e-9,
-                   "eq. 2.3 position with the parentheses of P_x, P_z repaired (see the corrections table); as transcribed it does not parse"),
+                   Note("eq. 2.3 with the parentheses of P_x, P_z repaired",
+                        "as transcribed it does not parse; see the corrections table")),
         Comparison("max |wrist - section 5.1 X,Y,Z| / sum of lengths", 0.0, float(w_error), 1e-9,
                    "the section 5.1 closed form agrees with the chain as transcribed"),
-    ], caption="Forward kinematics: the DH product of Table 2.1 against the thesis's closed forms.")
+    ], caption="Forward kinematics: the DH product of Table 2.1 against eq. 2.3 and section 5.1",
+        detail="The thesis states that its closed forms are the chain's kinematics; the printed value 0 is that "
+               "claim, compared relative to the sum of the link lengths.")
     writer.progress(0.1, "fk")
 
     rows = []
@@ -100,15 +105,17 @@ def build(writer: SectionWriter) -> None:
             owner = np.argmin(joint_err, axis=-1)
             for b, flags in enumerate(BRANCHES):
                 mine = owner == b
-                rows.append([side, reference, str(flags), int(defined.sum()), int(mine.sum()),
-                             f"{joint_err[mine, b].max() if mine.any() else 0.0:.2e}", f"{fk_err[:, b].max():.2e}",
-                             f"{sol.within_limits[:, b].mean():.3f}"])
-    writer.table("ik_round_trip", ["arm", "phi reference", "branch (th3, th5, th7 flags)", "postures with a reference",
-                                   "postures recovered by this branch", "max joint error [rad]", "max FK error of branch",
-                                   "fraction within limits"], rows,
-                 caption="IK(FK(q)) for 2000 random postures inside the limits per arm: (psi, phi) measured from q, every "
-                         "branch's FK equals the pose, and the original joints are recovered by exactly the branch "
-                         "whose flags they carry. Postures without a theta_4 = 0 reference are excluded from that row (reported as 'no reference').")
+                rows.append([side, reference, " ".join("+" if f > 0 else "-" for f in flags), int(defined.sum()),
+                             int(mine.sum()), float(joint_err[mine, b].max()) if mine.any() else 0.0,
+                             float(fk_err[:, b].max()), float(sol.within_limits[:, b].mean())])
+    writer.heading("IK round trips")
+    writer.table("ik_round_trip", ["arm", "phi reference", "branch (th3, th5, th7)", "postures with a reference",
+                                   "recovered by this branch", "max joint error [rad]",
+                                   "max FK error (pose matrix entries)", "fraction within limits"], rows,
+                 caption="IK(FK(q)) for 2000 random postures inside the limits, per arm",
+                 detail="(psi, phi) measured from q; every branch's FK equals the pose, and the original joints are "
+                        "recovered by exactly the branch whose flags they carry. Postures without a theta_4 = 0 "
+                        "reference are excluded from that row (reported as 'no reference').")
     writer.progress(0.3, "ik")
 
     right = humanoid_arm("right")
@@ -117,13 +124,15 @@ def build(writer: SectionWriter) -> None:
         ("5.2", "Right-Arm Manipulability (Y >= 0)", "y=0.3", (-0.3, 1.1, -0.9, 0.9)),
         ("5.3", "Right-Arm Manipulability (Z <= 0)", "z=-0.3", (-0.3, 1.1, -0.6, 1.1)),
     ]
+    writer.heading("Manipulability maps (Figs. 5.1-5.6)")
     writer.text(
         "Figs. 5.1-5.6 are not in the transcription (only their captions, which name half-spaces X <= 0, Y >= 0, "
         "Z <= 0). We recompute maps on the planes x = -0.2 m, y = 0.3 m and z = -0.3 m, inside those half-spaces, "
         "and, because w depends on the redundancy which the thesis does not state, plot the best w over the "
         "redundancy within the joint limits of joints 1-5 (theta_1 swept over its limits x phi over the full circle, "
         "24 x 24 samples). Units: the thesis divides w by 1e7 with lengths in mm, so its plotted value is "
-        "w_mm / 1e7 = 100 w_SI for one arm (w in m^3) and 1e11 w_SI for our dual-arm measure (m^6). Dual arm: the "
+        "w_mm / 1e7 = 100 w_SI for one arm (w in m^3; our Figs. 5.1-5.3 are in these units, 1e-2 m^3) and 1e11 w_SI "
+        "for our dual-arm measure (m^6; Figs. 5.4-5.6 and the table give it in SI). Dual arm: the "
         "thesis gives no definition; ours is sqrt(det(J J^T)) of the stacked 6 x 9 Jacobian of both wrists w.r.t. "
         "the shared theta_1 and both arms' joints 2-5, in the symmetric posture (left arm = mirror image of the right "
         "in the torso mid-plane), indexed by the right wrist. Both wrists at one point is impossible within the limits "
@@ -136,7 +145,7 @@ def build(writer: SectionWriter) -> None:
             grid = plane_grid(plane, extent, 60)
             if dual:
                 result = best_dual_arm_map(grid, (20, 20))
-                name, unit, factor = f"fig_5_{k + 4}", "1e-11 m^6 (thesis units)", 1e11
+                name, unit, factor = f"fig_5_{k + 4}", "m^6", 1.0
                 title = title.replace("Right-Arm", "Dual-Arm")
                 fig_no = f"5.{k + 4}"
             else:
@@ -145,19 +154,24 @@ def build(writer: SectionWriter) -> None:
             fig, ax = plt.subplots(figsize=(6, 5))
             top = float(np.nanmax(result.values)) if result.valid.any() else 0.0
             draw_manipulability_map(ax, result, landmarks, unit=unit, scale=factor, threshold=0.5 * top * factor)
-            writer.figure(fig, name, f"Fig. {fig_no} recomputed: {title}, plane {plane}; white contour: w = half the maximum.")
+            writer.figure(fig, name, f"Fig. {fig_no} recomputed: {title}, plane {plane}",
+                          "White contour: w = half the maximum; red: the neck and shoulders projected onto the plane.")
             region = region_above(result, 0.5 * top)
-            summary.append([fig_no, plane, f"{result.valid.mean():.3f}", f"{top * factor:.4g}", f"{region.area:.3f}"])
+            summary.append([fig_no, plane, float(result.valid.mean()), top, float(region.area)])
             writer.progress(0.3 + 0.11 * (3 * index + k + 1), name)
-    writer.table("maps", ["figure", "plane", "fraction of grid reachable within limits", "max w (thesis units)",
-                          "area with w >= max/2 [m^2]"], summary,
-                 caption="Our recomputed maps (best over the redundancy within limits). The thesis prints no values to compare.")
+    writer.table("maps", ["figure", "plane", "fraction of grid reachable within limits",
+                          "max w [m^3 one arm, m^6 both]", "area with w >= max/2 [m^2]"], summary,
+                 caption="Our recomputed maps, best over the redundancy within limits",
+                 detail="The thesis prints no values to compare. w in SI: m^3 for one arm (Figs. 5.1-5.3: 100 times "
+                        "these in thesis units), m^6 for both arms (5.4-5.6: 1e11 times).")
     writer.comparison("map_values", [
         Comparison("Figs. 5.1-5.6 values", None, "see table 'maps'", 0.0,
                    "the figures are missing from the transcription; no number can be compared"),
-    ])
+    ], caption="Figs. 5.1-5.6: what can be compared")
+    writer.heading("Equations we corrected")
     writer.table("corrections", ["equation", "problem", "corrected form used"], [list(c) for c in CORRECTIONS],
-                 caption="Every equation of thesis 001 we had to correct, and the form implemented (tested in tests/test_torso_arm_*.py).")
+                 caption="Every equation of thesis 001 we had to correct, and the form implemented",
+                 detail="Each corrected form is tested in tests/test_torso_arm_*.py.")
 
 
 SECTION = Section(

@@ -7,7 +7,8 @@ import numpy as np
 from redkin.models import barrett_wam
 from redkin.plot.velocity import comparison_figure, tracking_figure
 from redkin.reproduce import Section
-from redkin.reproduce.report import Comparison, SectionWriter
+from redkin.reproduce.comparison import Comparison
+from redkin.reproduce.report import SectionWriter
 from redkin.velocity import (
     AdaptiveDampedLeastSquares,
     DampedLeastSquares,
@@ -75,6 +76,7 @@ def build(writer: SectionWriter) -> None:
     d_e0 = float(factor.index(q0))
     peak = float(np.hypot(factor.a * (factor.d3 + factor.d5), factor.a**2 - factor.d3 * factor.d5))
     width = np.degrees(np.arcsin(min(PAPER_EPS / peak, 1.0)))
+    writer.heading("The scenario of section 4")
     writer.text(
         "Scenario of paper 003 section 4 on the Barrett WAM (Table 1, d3 = 0.55, d5 = 0.4, d7 = 0.06, a = 0.045 m): "
         f"q0 = {PAPER_Q0_DEG} deg, commanded twist 0.15 m/s along x and 0.1 rad/s about y, D_eps = {PAPER_EPS}, "
@@ -87,8 +89,8 @@ def build(writer: SectionWriter) -> None:
     )
     check = check_single_parameter(chain, factor.index, samples=16)
     writer.text(
-        f"Factorisation check: D_e factors every column minor det J_i of the WAM: {check.factors} "
-        f"(largest minor on D_e = 0, relative: {check.worst_minor_on_set:.1e}; largest jump of det J_i / D_e "
+        f"Factorisation check: D_e {'factors' if check.factors else 'does NOT factor'} every column minor det J_i "
+        f"of the WAM (largest minor on D_e = 0, relative: {check.worst_minor_on_set:.1e}; largest jump of det J_i / D_e "
         f"across the set, relative: {check.worst_ratio_jump:.1e}). The closed-form D_i agree with det J_i / D_e in the tests."
     )
     methods = {
@@ -102,26 +104,32 @@ def build(writer: SectionWriter) -> None:
         runs[name] = simulate(chain, q0, twist, DURATION, method, dt=DT, index=factor.index)
         writer.progress((k + 1) / (len(methods) + 1), name)
     sc = runs["sc"]
+    writer.heading("Fig. 1: the proposed SC method")
     fig = tracking_figure(sc, PAPER_EPS, workspace_boundaries(chain, factor, sc),
                           title="Proposed SC method, Barrett WAM, paper 003 section 4 scenario")
-    writer.figure(fig, "fig1_sc", "Fig. 1 recomputed: (a) joint velocities, (b) end-point velocity, (c) angular velocity, "
-                  "(d) D_e, (e) end-point position, (f) x-y path with the workspace boundary at the path height "
-                  "(green: wrist-centre boundary for the orientation at the turn; dashed: any orientation). "
-                  "Grey: singular region |D_e| <= D_eps.")
-    writer.figure(comparison_figure(runs, PAPER_EPS), "methods", "The same scenario with the proposed SC method, the "
-                  f"pseudoinverse, DLS (lambda = {DAMPING}) and adaptive DLS (least singular value below {DAMPING}, "
-                  f"lambda up to {DAMPING}). Grey: |D_e| <= D_eps.")
+    writer.figure(fig, "fig1_sc", "Fig. 1 recomputed: the SC method through the elbow singularity",
+                  "(a) joint velocities, (b) end-point velocity, (c) angular velocity, (d) D_e, (e) end-point "
+                  "position, (f) x-y path with the workspace boundary at the path height (green: wrist-centre "
+                  "boundary for the orientation at the turn; dashed: any orientation). Grey: singular region "
+                  "|D_e| <= D_eps.")
+    writer.heading("The SC method beside the pseudoinverse and DLS")
+    writer.figure(comparison_figure(runs, PAPER_EPS), "methods", "The same scenario with four methods",
+                  f"The proposed SC method, the pseudoinverse, DLS (lambda = {DAMPING}) and adaptive DLS (least "
+                  f"singular value below {DAMPING}, lambda up to {DAMPING}). Grey: |D_e| <= D_eps of the SC run.")
     rows = [[name] + run_summary(run, twist, PAPER_EPS, reverses=name == "sc") for name, run in runs.items()]
     writer.table(
         "methods", ["method", "crossings of D_e = 0", "max ||q_dot|| [rad/s]", "path drift off the x line [m]",
                     "time with twist error > 10 % [s]", "max twist error outside |D_e| <= D_eps (relative)", "max x [m]"],
         rows,
-        caption="Twist error is relative to the intended twist: for SC the command with translation reversed after "
-        "the crossing (its design), for the baselines the constant command (they have no reversal). The SC method's error inside the singular region is by design (eq. 22 slows it to zero at D_e = 0).",
+        caption="The four methods on the section 4 scenario",
+        detail="Twist error is relative to the intended twist: for SC the command with translation reversed after "
+        "the crossing (its design), for the baselines the constant command (they have no reversal). The SC "
+        "method's error inside the singular region is by design (eq. 22 slows it to zero at D_e = 0).",
     )
     summary = dict(zip(methods, rows))
     sc_row = summary["sc"]
     inside = np.abs(sc.index) > PAPER_EPS
+    writer.heading("The claims of section 4")
     writer.comparison(
         "claims",
         [
@@ -138,7 +146,8 @@ def build(writer: SectionWriter) -> None:
                        "yes" if np.abs(sc.realised[:, 1:3]).max() < 1e-9 else "no",
                        note=f"largest |v_y|, |v_z| {np.abs(sc.realised[:, 1:3]).max():.1e} m/s"),
         ],
-        caption="Claims of paper 003 section 4 (read from its text; the transcription has no numbers from Fig. 1).",
+        caption="Claims of paper 003 section 4, read from its text",
+        detail="The transcription has no numbers from Fig. 1; the two speeds are the commanded twist.",
     )
     writer.text(
         "Reading the table: the pseudoinverse realises the command exactly until the smallest singular value "

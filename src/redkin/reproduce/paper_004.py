@@ -11,9 +11,16 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from redkin.models import pa10_7c, planar_arm  # noqa: E402
-from redkin.plot.virtual_arms import draw_joint_history, draw_strobe, draw_strobe_3d  # noqa: E402
+from redkin.plot.virtual_arms import (  # noqa: E402
+    draw_joint_history,
+    draw_strobe,
+    draw_strobe_3d,
+    fit_planar_view,
+    legend_below,
+)
 from redkin.reproduce import Section  # noqa: E402
-from redkin.reproduce.report import Comparison, SectionWriter  # noqa: E402
+from redkin.reproduce.comparison import Comparison, Note  # noqa: E402
+from redkin.reproduce.report import SectionWriter  # noqa: E402
 from redkin.virtual_arms import (  # noqa: E402
     AnalyticModel,
     Obstacle,
@@ -111,7 +118,7 @@ def clamped_motion(case: Case) -> float:
 def table_row(case: Case) -> list:
     run = case.run
     errors = run.final_errors
-    virtual = float(np.max(errors[1:])) if len(errors) > 1 else "n/a (no virtual point)"
+    virtual = float(np.max(errors[1:])) if len(errors) > 1 else None
     return [case.name, float(errors[0]), virtual, limit_violations(case), clamped_motion(case), run.steps,
             round(run.seconds, 3), run.status]
 
@@ -166,6 +173,7 @@ def obstacle_row(case: ObstacleCase) -> list:
 def build_obstacles(writer: SectionWriter) -> None:
     """Fig. 8 (a)-(c) and the spatial PA10 case."""
     arm = planar_arm()
+    writer.heading("Fig. 8: obstacles, with joints failing")
     writer.text(
         "Fig. 8: obstacles, with joints failing. The paper plans each virtual end point's goal from local "
         "information (the real end point: towards the goal plus repulsion from nearby obstacles; the others: "
@@ -180,46 +188,48 @@ def build_obstacles(writer: SectionWriter) -> None:
         "column: the unobstructed run's minimum clearance, negative = it cuts through the obstacle)."
     )
     cases = run_obstacle_cases(writer.progress)
-    reach = 0.4 * arm.n * 1.05
-    fig, axes = plt.subplots(1, 3, figsize=(15, 5))
+    fig, axes = plt.subplots(1, 3, figsize=(10, 4.4))
     for ax, case in zip(axes, cases[:3]):
-        draw_strobe(ax, arm, case.run.theta, case.run.goal[None], frames=14, reach=reach,
-                    obstacles=case.run.obstacles,
-                    title=f"{case.name}: {case.run.status}, min clearance {case.run.min_clearance * 1000:.0f} mm")
-        ax.set_xlim(-0.6, 1.4)  # zoom on the obstacles
-        ax.set_ylim(-0.3, 1.7)
-    axes[0].legend(fontsize=7, loc="lower left")
-    writer.figure(fig, "fig8", "Fig. 8 recomputed: the arm at 14 instants of the obstacle-avoiding run (darker = "
-                  "later), the end-point path (dotted), the goal (star) and the obstacles (grey); (b) joint 1 and (c) "
-                  "joints 1 and 2 clamped by eq. 27.")
+        draw_strobe(ax, arm, case.run.theta, case.run.goal[None], frames=14, obstacles=case.run.obstacles,
+                    title=f"{case.name.removeprefix('Fig. 8 ')}\n{case.run.status}, min clearance "
+                          f"{case.run.min_clearance * 1000:.0f} mm")
+    fit_planar_view(axes, arm, [c.run.theta for c in cases[:3]], [c.run.goal[None] for c in cases[:3]],
+                    obstacles=cases[0].run.obstacles)
+    legend_below(fig, axes[0], 0.07)
+    writer.figure(fig, "fig8", "Fig. 8 recomputed: around two obstacles with 0, 1 and 2 joints failed",
+                  "The arm at 14 instants of the obstacle-avoiding run (darker = later), the end-point path (dotted), "
+                  "the goal (star) and the obstacles (grey); (b) joint 1 and (c) joints 1 and 2 clamped by eq. 27.")
     case = cases[3]
     fig = plt.figure(figsize=(7, 6))
     ax = fig.add_subplot(projection="3d")
     elbow = case.chain.frames(case.run.theta)[:, 3, :3, 3]
     draw_strobe_3d(ax, case.chain, case.run.theta, case.run.goal, case.run.obstacles, watched=elbow,
                    title=f"{case.name}: {case.run.status}, min clearance {case.run.min_clearance * 1000:.0f} mm")
-    ax.legend(fontsize=7)
-    writer.figure(fig, "pa10_elbow", "The spatial case: PA10-7C from theta(0) = "
-                  f"{PA10_THETA0_DEG} deg, hand goal {tuple(PA10_GOAL)} m, a sphere (x, y, z, r) = {PA10_SPHERE} m "
-                  "where the elbow goes in the unobstructed run; the elbow (joint 4) is the only virtual end point "
-                  "with repulsion goals, the guard checks the whole skeleton; joint limits through eq. 25.")
+    ax.legend(fontsize=7, loc="upper left")
+    writer.figure(fig, "pa10_elbow", "The spatial case: the PA10-7C's elbow kept clear of a sphere",
+                  f"From theta(0) = {PA10_THETA0_DEG} deg, hand goal {tuple(PA10_GOAL)} m, a sphere (x, y, z, r) = "
+                  f"{PA10_SPHERE} m where the elbow goes in the unobstructed run; the elbow (joint 4) is the only "
+                  "virtual end point with repulsion goals, the guard checks the whole skeleton; joint limits through "
+                  "eq. 25.")
     writer.table(
         "obstacle_runs",
         ["case", "unobstructed min clearance [m]", "end error [m]", "min clearance [m]", "clamped motion [rad]",
          "limit violations", "periods", "steps", "wall time [s]", "status"],
         [obstacle_row(c) for c in cases],
-        "Obstacle runs: the unobstructed run's minimum clearance (negative: it would collide), final end error on the "
-        "chain, minimum clearance of the whole arm along the kept path (densified), largest motion of a clamped "
-        "joint, recorded postures outside the joint ranges, planning periods, integrator steps (Radau, including "
-        "the parts of periods the guard cut), wall time and status.",
+        "Obstacle runs",
+        "The unobstructed run's minimum clearance (negative: it would collide), final end error on the chain, "
+        "minimum clearance of the whole arm along the kept path (densified), largest motion of a clamped joint, "
+        "recorded postures outside the joint ranges, planning periods, integrator steps (Radau, including the parts "
+        "of periods the guard cut), wall time and status.",
     )
+    words = Note("stated in words; only the qualitative outcome is comparable",
+                 "the paper states this for Fig. 8 (a)-(c) and prints no numbers; our obstacles, start and goal are "
+                 "our own choices")
     writer.comparison("fig8", [
         Comparison(f"{c.name}: reaches the goal without touching the obstacle", "yes",
-                   "yes" if c.run.reached and c.run.min_clearance > 0.0 else "no", 0.0,
-                   "The paper states this in words for Fig. 8 (a)-(c); it prints no numbers. Our obstacle, start and "
-                   "goal are our own choices, so only the qualitative outcome is comparable.")
+                   "yes" if c.run.reached and c.run.min_clearance > 0.0 else "no", 0.0, words)
         for c in cases[:3]
-    ], "Fig. 8: what the paper states, beside our runs.")
+    ], "Fig. 8: what the paper states, beside our runs")
 
 
 FIG6_CASES = ["Fig. 6 (a) end point only", "Fig. 6 (b) joint 3 + end, same goal", "Fig. 6 (c) 9 points held, w_end = 1",
@@ -231,18 +241,22 @@ def fig6_comparison(case: Case) -> Comparison:
     """Paper: the end point reaches the goal; ours: whether it did, with the distance left."""
     error = float(case.run.final_errors[0])
     ours = "yes" if error <= REACHED else f"no, {error * 1000:.1f} mm short"
-    if error <= REACHED:
-        note = "Redundant case: the goals can all be met, and the network meets them."
-    else:
-        note = ("Over-constrained: the ten goals cannot all be met, and with constant weights the equilibrium of "
-                "eqs. 9-14 is the weighted least-squares posture, a compromise in which the end point stops short. "
-                "The paper weights the points by their distance to the goal (its ref. 11, not given), which lets "
-                "the end point arrive; the heavier end weight shows the trend (w_end = 100 ends much closer than 1).")
-    return Comparison(f"{case.name}: end point reaches its goal", "yes", ours, 0.0, note)
+    return Comparison(f"{case.name}: end point reaches its goal", "yes", ours, 0.0,
+                      REDUNDANT if error <= REACHED else OVER_CONSTRAINED)
+
+
+REDUNDANT = Note("redundant case: the goals can all be met, and the network meets them")
+OVER_CONSTRAINED = Note(
+    "over-constrained goals with constant weights: the end point stops short",
+    "the ten goals cannot all be met, and with constant weights the equilibrium of eqs. 9-14 is the weighted "
+    "least-squares posture, a compromise in which the end point stops short. The paper weights the points by their "
+    "distance to the goal (its ref. 11, not given), which lets the end point arrive; the heavier end weight shows the "
+    "trend (w_end = 100 ends much closer than 1).")
 
 
 def build(writer: SectionWriter) -> None:
     arm = planar_arm()
+    writer.heading("Figs. 6, 7: goals, weights and joint limits")
     writer.text(
         "Setting (paper 004 section 4): the 5-link planar arm with 40 cm links, every joint range |theta_j| <= 180 deg "
         "applied through the sine output function (eq. 25), analytic forward models in every subsystem. The paper "
@@ -257,43 +271,53 @@ def build(writer: SectionWriter) -> None:
     )
     cases = run_cases(writer.progress)
     by_name = {c.name: c for c in cases}
-    reach = 0.4 * arm.n * 1.05
 
     fig, axes = plt.subplots(2, 2, figsize=(10, 10))
     shown = [cases[0].name, cases[1].name, cases[3].name, cases[4].name]
     for ax, name, label in zip(axes.ravel(), shown, "abcd"):
         case = by_name[name]
-        draw_strobe(ax, arm, case.run.theta, case.run.goals, case.run.positions[-1], title=f"({label}) {name}",
-                    reach=reach)
-    axes[0, 0].legend(fontsize=7, loc="lower left")
-    writer.figure(fig, "fig6", "Fig. 6 recomputed: the arm drawn at 12 instants of the run (darker = later), the "
-                  "end-point path (dotted), the end goal (star), virtual goals (x) and final virtual end points (o). "
-                  "(c) and (d) use w_end = 100.")
+        draw_strobe(ax, arm, case.run.theta, case.run.goals, case.run.positions[-1],
+                    title=f"({label}) {name.removeprefix(f'Fig. 6 ({label}) ')}")
+    fit_planar_view(axes.ravel(), arm, [by_name[name].run.theta for name in shown],
+                    [by_name[name].run.goals for name in shown])
+    legend_below(fig, axes[1, 0], 0.04)
+    writer.figure(fig, "fig6", "Fig. 6 recomputed: (a) end point only, (b) joint 3 too, (c) nine points held, (d) "
+                  "pulled to the base", "The arm drawn at 12 instants of the run (darker = later), the end-point path "
+                  "(dotted), the end goal (star), virtual goals (x) and final virtual end points (o). (c) and (d) use "
+                  "w_end = 100.")
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 5))
     for ax, name in zip(axes, ["Fig. 6 (c) 9 points held, w_end = 1", "Fig. 6 (c) 9 points held, w_end = 100"]):
         case = by_name[name]
         draw_strobe(ax, arm, case.run.theta, case.run.goals, case.run.positions[-1],
-                    title=f"{name}: end error {case.run.final_errors[0] * 1000:.1f} mm", reach=reach)
-    axes[0].legend(fontsize=7, loc="lower left")
-    writer.figure(fig, "weights", "Effect of the weights in the over-constrained case (c): the same ten goals with "
-                  "the end point's weight 1 (left) and 100 (right); every virtual point keeps weight 1.")
+                    title=f"{name.removeprefix('Fig. 6 (c) ')}: end error {case.run.final_errors[0] * 1000:.1f} mm")
+    pair = [by_name[name] for name in ("Fig. 6 (c) 9 points held, w_end = 1", "Fig. 6 (c) 9 points held, w_end = 100")]
+    fit_planar_view(axes, arm, [c.run.theta for c in pair], [c.run.goals for c in pair])
+    legend_below(fig, axes[0], 0.07)
+    writer.figure(fig, "weights", "The weights in the over-constrained case (c): end weight 1 and 100",
+                  "The same ten goals with the end point's weight 1 (left) and 100 (right); every virtual point keeps "
+                  "weight 1.")
 
     case = by_name["Fig. 7 |theta4| <= 30, |theta5| <= 20 deg"]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 5))
-    draw_strobe(axes[0], arm, case.run.theta, case.run.goals, title=case.name, reach=reach)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
+    draw_strobe(axes[0], arm, case.run.theta, case.run.goals, title=case.name)
+    fit_planar_view(axes[:1], arm, [case.run.theta], [case.run.goals])
+    axes[0].legend(fontsize=7, loc="best")
     draw_joint_history(axes[1], case.run.s, case.run.theta, case.lower, case.upper)
-    writer.figure(fig, "fig7", "Fig. 7 recomputed: the run of Fig. 6 (a) with |theta4| <= 30 deg and |theta5| <= 20 deg "
-                  "(eq. 25); right, the joint angles against the dynamics' time s with the limits dashed.")
+    fig.tight_layout()
+    writer.figure(fig, "fig7", "Fig. 7 recomputed: Fig. 6 (a) with |theta4| <= 30 deg and |theta5| <= 20 deg",
+                  "Left, the run (eq. 25 keeps the joints in range); right, the joint angles against the dynamics' "
+                  "time s with the limits dashed.")
 
     writer.table(
         "runs",
         ["case", "end error [m]", "max virtual error [m]", "limit violations", "clamped motion [rad]", "steps",
          "wall time [s]", "status"],
         [table_row(c) for c in cases],
+        "Every run of Figs. 6 and 7",
         "Per run: final end-point error, the largest final error of the other virtual end points, recorded postures "
         "outside the joint ranges, largest motion of a clamped joint, accepted integrator steps (Radau), wall time, "
-        "status. In the over-constrained cases (c), (d) the errors cannot all vanish: the equilibrium is the weighted "
+        "status; '–': the run has no other virtual end point. In the over-constrained cases (c), (d) the errors cannot all vanish: the equilibrium is the weighted "
         "least-squares posture and lambda grows only like sqrt(s) (eq. 11), so these runs end when the joints move "
         "less than 1e-6 rad while lambda doubles (the remaining motion is then below that too) or when |G' delta| "
         "falls below 1e-6, whichever comes first. The literal "
@@ -301,8 +325,8 @@ def build(writer: SectionWriter) -> None:
         "bounded gain law of redkin.virtual_arms.dynamics.",
     )
     writer.comparison("fig6", [fig6_comparison(by_name[name]) for name in FIG6_CASES],
-                      "Fig. 6: the paper states that the real end point reaches its goal in every case; our final "
-                      "end-point error beside it (reached = within 1e-4 m).")
+                      "Fig. 6: the end point reaches its goal in every case, says the paper",
+                      "Our final end-point error beside it (reached = within 1e-4 m).")
     build_obstacles(writer)
 
 
