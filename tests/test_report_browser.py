@@ -1,0 +1,129 @@
+"""The report and the explorer as a person sees them: headless Chromium, driven by Playwright.
+
+Playwright is launched on Debian's ``/usr/bin/chromium`` (``.ci/run`` installs
+it); it never downloads a browser of its own.  Without either, the tests skip
+and say why.  The report is the session's full report (tests/report_builds.py).
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from report_builds import full_report
+
+CHROMIUM = Path("/usr/bin/chromium")
+WIDTHS = (1400, 420)  # a desktop and a phone
+
+sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed (pip install -e '.[test]')")
+if not CHROMIUM.exists():
+    pytest.skip(f"no Chromium at {CHROMIUM} (apt-get install chromium)", allow_module_level=True)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with sync_api.sync_playwright() as playwright:
+        chromium = playwright.chromium.launch(executable_path=str(CHROMIUM))
+        yield chromium
+        chromium.close()
+
+
+class Page:
+    """A page at one width, with the console errors and uncaught exceptions it produced."""
+
+    def __init__(self, browser, url: str, width: int) -> None:
+        self.errors: list[str] = []
+        self.page = browser.new_page(viewport={"width": width, "height": 900})
+        self.page.on("console", lambda message: self.errors.append(message.text) if message.type == "error" else None)
+        self.page.on("pageerror", lambda error: self.errors.append(str(error)))
+        self.page.goto(url, wait_until="load")
+
+    def sideways(self) -> int:
+        """How far the page body scrolls sideways (0 when it fits the window)."""
+        return self.page.evaluate("document.documentElement.scrollWidth - window.innerWidth")
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_report_reads_at_desktop_and_phone_width(browser, width):
+    report = full_report()
+    view = Page(browser, (report / "index.html").as_uri(), width)
+    page = view.page
+    images = page.evaluate("""async () => {
+        const results = [];
+        for (const img of document.images) {
+            try { await img.decode(); results.push([img.getAttribute('src'), img.naturalWidth]); }
+            catch (e) { results.push([img.getAttribute('src'), 0]); }
+        }
+        return results;
+    }""")
+    assert len(images) >= 15 and all(natural > 0 for _, natural in images), images
+    assert view.sideways() <= 0
+    assert not view.errors
+    summary = json.loads((report / "summary.json").read_text())
+    shown = page.evaluate("""() => Array.from(document.querySelectorAll('#counts tbody tr')).map(row => [
+        row.dataset.section,
+        Object.fromEntries(Array.from(row.querySelectorAll('[data-count]')).map(c => [c.dataset.count, +c.textContent]))
+    ])""")
+    compared = {key: s["counts"] for key, s in summary["sections"].items() if any(s["counts"].values())}
+    assert dict(shown) == compared and len(compared) == 4
+    differing = sum(ok is False for s in summary["sections"].values() for t in s["tables"].values()
+                    for ok in t.get("agreement", []))
+    links = page.evaluate("() => Array.from(document.querySelectorAll('#differs a')).map(a => a.getAttribute('href'))")
+    assert len(links) == differing > 0
+    targets = page.evaluate("""() => Array.from(document.querySelectorAll('#differs a, nav a'))
+        .map(a => a.getAttribute('href')).filter(h => !document.getElementById(h.slice(1)))""")
+    assert not targets  # every link of the summary and the contents has its target
+    first = page.evaluate("() => document.querySelector('h2').textContent")
+    assert first.startswith("Summary")
+
+
+def _explorer_state(page) -> tuple[str, list[str]]:
+    return (page.get_attribute("#arm", "points"),
+            page.evaluate("() => Array.from(document.querySelectorAll('#joints td.value')).map(c => c.textContent)"))
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_report_explorer_slider_moves_the_arm(browser, width):
+    view = Page(browser, (full_report() / "000_explore_6_1.html").as_uri(), width)
+    page = view.page
+    before = _explorer_state(page)
+    assert len(before[1]) == 7 and page.locator(".curves svg").count() == 7
+    page.focus("#psi")
+    for _ in range(40):
+        page.keyboard.press("ArrowRight")
+    after = _explorer_state(page)
+    assert after[0] != before[0] and after[1] != before[1]
+    data = json.loads(page.text_content("#explorer-data"))
+    branch = data["branches"][data["initial"]]
+    index = int(page.input_value("#psi"))
+    assert index == branch["start"] + 40
+    assert after[1] == [f"{branch['q'][j][index]:.3f}" for j in range(7)]  # the page prints redkin's numbers
+    box = page.locator("#arm-view").bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.mouse.down()
+    page.mouse.move(box["x"] + box["width"] / 2 + 60, box["y"] + box["height"] / 2 + 20, steps=4)
+    page.mouse.up()
+    turned = _explorer_state(page)
+    assert turned[0] != after[0] and turned[1] == after[1]  # the view turns, the posture stays
+    assert view.sideways() <= 0 and not view.errors
+
+
+def test_cli_explorer_of_the_iiwa_switches_branches(browser, tmp_path):
+    out = tmp_path / "iiwa.html"
+    subprocess.run([sys.executable, "-m", "redkin.cli.main", "explore", "kuka-iiwa14", "--position", "0.45", "-0.2",
+                    "0.55", "--rotation", "0", "0", "1", "0", "1", "0", "-1", "0", "0", "--out", str(out)],
+                   check=True, capture_output=True)
+    view = Page(browser, out.as_uri(), 420)
+    page = view.page
+    before = _explorer_state(page)
+    page.select_option("#branch", "3")
+    after = _explorer_state(page)
+    assert after != before and page.input_value("#branch") == "3"
+    assert page.text_content("#psi-value").endswith(" rad")
+    page.locator("#marks button").first.click()
+    assert view.sideways() <= 0 and not view.errors
+
