@@ -19,6 +19,7 @@ from redkin.srs import (
     joint_extrema,
     pose_from,
     singular_arm_angles,
+    srs_geometry,
 )
 from redkin.srs.extrema import LIMIT_CASES, limit_case, tangent_case
 
@@ -234,7 +235,10 @@ def test_sign_and_offset_of_the_chain_swap_maximum_and_minimum():
     arm = replace(base, sign=sign, offset=offset)
     pose = arm.fk(np.array([0.4, 0.8, -0.6, 1.1, 0.7, -0.9, 0.3]))
     extrema = check_all(arm, pose, "+++")
-    plain = joint_extrema(base, pose, "+++")
+    # the arm's "+++" names the signs of its own q_2, q_4, q_6: the Table 1 branch "-+-" of the plain chain
+    same_branch = str(srs_geometry(arm).table1_branch("+++"))
+    assert same_branch == "-+-"
+    plain = joint_extrema(base, pose, same_branch)
     for joint in PSI_JOINTS:
         if extrema[joint].case == "periodic" and sign[joint - 1] < 0:
             assert extrema[joint].maximum.psi == pytest.approx(plain[joint].minimum.psi, abs=1e-12)

@@ -31,8 +31,9 @@ def test_round_trip_10000_poses_all_branches(factory):
     q = ik_all_branches(chain, poses, psi)
     assert q.shape == (10_000, 8, 7)
     assert pose_error(chain.fk(q), poses[:, None]) < ROUND_TRIP
-    # the eight branches are distinct solutions with the branch signs they claim (of the Table 1 angles)
-    theta = srs_geometry(chain).theta_of_q(q)
+    # the eight branches are distinct solutions with the signs they claim, of the chain's own q (joint 4 of
+    # KUKA's iiwa turns the other way from Table 1)
+    theta = q
     signs = np.array(BRANCHES)
     assert np.all((np.sign(theta[..., [1, 3, 5]]) == signs) | (np.abs(theta[..., [1, 3, 5]]) < 1e-9))
 
@@ -275,3 +276,33 @@ def test_srs_reachable_rejects_bad_poses_and_keeps_batch_shape():
         reachable(chain, np.full((4, 4), np.nan))
     poses = chain.fk(np.zeros((2, 3, 7)))
     assert reachable(chain, poses).shape == (2, 3)
+
+
+def test_arm_angle_and_branch_do_not_depend_on_the_description():
+    """KUKA's iiwa as Table 1 rows with joint 4 reversed, as KUKA's URDF, and with joints 3-5 written the other
+    way round (Table 1's own symmetry): the same q has the same psi, and branches name the signs of the chain's
+    own q_2, q_4, q_6."""
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from pathlib import Path
+
+    from redkin.models import get_robot
+
+    kuka = kuka_iiwa14()
+    turned = SerialChain(a=kuka.a, alpha=kuka.alpha, d=kuka.d, offset=[0, 0, np.pi, 0, np.pi, 0, 0],
+                         sign=[1, 1, 1, 1, 1, 1, 1], lower=kuka.lower, upper=kuka.upper)  # theta_4 = +q_4
+    descriptions = [kuka, get_robot(Path(__file__).resolve().parents[1] / "examples" / "iiwa14.urdf"), turned]
+    q = np.random.default_rng(9).uniform(-2.0, 2.0, (200, 7))
+    for chain in descriptions:
+        assert np.abs(chain.fk(q) - kuka.fk(q)).max() < 1e-12
+    states = [arm_angle_of(chain, q) for chain in descriptions]
+    for state in states:
+        assert np.allclose(np.cos(state.psi - states[0].psi), 1.0, atol=1e-9)
+        assert np.array_equal(state.branch, np.where(q[:, [1, 3, 5]] < 0, -1, 1))
+    poses = kuka.fk(q)
+    for chain in descriptions:
+        solutions = ik_all_branches(chain, poses, 0.7)
+        assert pose_error(chain.fk(solutions), poses[:, None]) < ROUND_TRIP
+        signs = np.where(solutions[..., [1, 3, 5]] < 0, -1, 1)
+        assert np.all((signs == np.array(BRANCHES)) | (np.abs(solutions[..., [1, 3, 5]]) < 1e-9))
+        for k in (0, 5):
+            np.testing.assert_allclose(solutions[:, k], ik(chain, poses, 0.7, BRANCHES[k]), atol=1e-12)

@@ -61,7 +61,7 @@ def test_values_at_psi_equal_coefficients_and_fk_rotations(seed, model, elbow):
     np.testing.assert_allclose(direct, entry_values(coefficients.entries, psi), atol=1e-13)
     weights = np.stack([np.sin(psi), np.cos(psi), np.ones(5)], axis=-1)[:, None, :]
     shoulder, wrist = rotation_terms(coefficients, weights)
-    branch = f"+{'+' if elbow > 0 else '-'}+"
+    branch = geometry.table1_branch(f"+{'+' if elbow > 0 else '-'}+")  # named in the chain's joint senses
     theta = ik(geometry, geometry.chain.base @ poses @ geometry.chain.tool, psi, branch)
     theta = geometry.theta_of_q(theta)
     np.testing.assert_allclose(shoulder[:, 0], shoulder_rotation(theta), atol=1e-10)
@@ -120,7 +120,7 @@ def test_cut_points_are_where_a_joint_meets_a_limit(seed, model, branch, crossin
     geometry = srs_geometry(chain)
     pose = chain.fk(q)
     local = geometry.to_table1_pose(pose)
-    coefficients = arm_angle_coefficients(geometry, local[:3, 3], local[:3, :3], 1 if branch[1] == "+" else -1)
+    coefficients = arm_angle_coefficients(geometry, local[:3, 3], local[:3, :3], geometry.table1_branch(branch).elbow)
     cuts = cut_points(limit_equations(coefficients, geometry))  # (6, 4)
     for k, joint in enumerate(PSI_JOINTS):
         limits = np.repeat([geometry.theta_lower[joint - 1], geometry.theta_upper[joint - 1]], 2)

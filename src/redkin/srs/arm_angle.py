@@ -47,7 +47,7 @@ def arm_angle_of(arm: "SerialChain | SRSGeometry", q: ArrayLike) -> ArmAngleStat
     q = geometry.chain.check_q(q)
     theta = geometry.theta_of_q(q)
     pose = geometry.to_table1_pose(geometry.chain.fk(q))
-    branch = branch_of_theta(theta, geometry.elbow_equation.phase)
+    branch = branch_of_theta(theta, geometry.elbow_equation.phase)  # Table 1 signs
     frame = arm_angle_frame(geometry, pose[..., :3, 3], pose[..., :3, :3], branch[..., 1])
     rotation = shoulder_rotation(theta) @ np.swapaxes(frame.reference, -1, -2)
     u = frame.u_sw
@@ -58,4 +58,4 @@ def arm_angle_of(arm: "SerialChain | SRSGeometry", q: ArrayLike) -> ArmAngleStat
     )
     sin_psi = 0.5 * np.einsum("...i,...i->...", u, vee)
     cos_psi = 0.5 * (np.trace(rotation, axis1=-2, axis2=-1) - 1.0)
-    return ArmAngleState(psi=np.arctan2(sin_psi, cos_psi), branch=branch)
+    return ArmAngleState(psi=np.arctan2(sin_psi, cos_psi), branch=branch * np.array(geometry.branch_senses))

@@ -33,6 +33,7 @@ own joint values.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from weakref import WeakKeyDictionary
 
 import numpy as np
@@ -128,8 +129,26 @@ def _convert(chain: SerialChain) -> SerialChain:
         tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
         source=f"{chain.source} (as paper 000 Table 1)", joint_names=chain.joint_names,
     )
+    if np.cos(converted.offset[2]) < 0.0:  # the reference plane theta_3 = 0 where the chain's own q_3 = 0
+        converted = _elbow_pair_turned(converted)
     _certify(chain, converted)
     return converted
+
+
+def _elbow_pair_turned(chain: SerialChain) -> SerialChain:
+    """The same arm with theta_3 and theta_5 turned by pi, theta_4 negated and a_3, a_4 negated.
+
+    Table 1 form has this symmetry: ``Rz(pi)`` commutes with ``Tz`` and turns
+    ``Rx(alpha)``, ``Tx(a)`` into ``Rx(-alpha)``, ``Tx(-a)``, so both
+    descriptions give the same pose for every ``q``.  Of the two, the one
+    with ``|offset_3| <= pi/2`` is kept, so that the arm angle does not
+    depend on which one a description happens to give.
+    """
+    offset, sign, a = chain.offset.copy(), chain.sign.copy(), chain.a.copy()
+    offset[[2, 4]] = np.mod(offset[[2, 4]], 2.0 * np.pi) - np.pi  # turned by pi, in [-pi, pi)
+    offset[3], sign[3] = -offset[3], -sign[3]
+    a[2:4] = -a[2:4]
+    return replace(chain, a=a, offset=offset, sign=sign)
 
 
 def _foot(point: np.ndarray, direction: np.ndarray, other_point: np.ndarray) -> np.ndarray:

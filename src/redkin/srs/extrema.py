@@ -65,7 +65,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
-from redkin.srs.branches import Branch, parse_branch
+from redkin.srs.branches import Branch
 from redkin.srs.geometry import MEMBERSHIP_TOLERANCE, SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for, theta_at
 from redkin.srs.joints import PSI_JOINTS, sinusoid_roots
@@ -292,7 +292,7 @@ def joint_extrema(
     ('cosine', 'periodic', 3, 25.666)
     """
     geometry = as_geometry(arm)
-    chosen = parse_branch(branch)
+    chosen = geometry.table1_branch(branch)
     if not (np.isfinite(tolerance) and 0.0 <= tolerance < 1.0):
         raise ValueError(f"tolerance must be a finite number in [0, 1), got {tolerance!r}")
     pose = check_pose(pose)

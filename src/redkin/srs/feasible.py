@@ -34,7 +34,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
-from redkin.srs.branches import Branch, parse_branch
+from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
@@ -217,7 +217,7 @@ def feasible_pieces(
 ) -> FeasiblePieces:
     """Batched feasible sets (eq. 30) as arrays, for speed; see :func:`feasible_arm_angles`."""
     geometry = as_geometry(arm)
-    chosen = parse_branch(branch)
+    chosen = geometry.table1_branch(branch)
     return overall_pieces(coefficients_for(geometry, pose, chosen.elbow), chosen, geometry)
 
 
@@ -239,7 +239,7 @@ def feasible_from_coefficients(
         per_joint = dict(zip(PSI_JOINTS, sets[1:]))
         per_joint[4] = ArcSet.full() if elbow_ok[index] else ArcSet.empty()
         results[index] = FeasibleArmAngles(
-            branch=branch,
+            branch=geometry.table1_branch(branch),  # as the caller named it
             theta4=float(coefficients.theta4[index]),
             per_joint=dict(sorted(per_joint.items())),
             feasible=sets[0],
@@ -270,6 +270,6 @@ def feasible_arm_angles(
         For a malformed or unreachable pose or a malformed branch.
     """
     geometry = as_geometry(arm)
-    chosen = parse_branch(branch)
+    chosen = geometry.table1_branch(branch)
     coefficients = coefficients_for(geometry, pose, chosen.elbow)
     return feasible_from_coefficients(coefficients, chosen, geometry)

@@ -21,6 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
 from redkin.validation import check_rotation, check_vectors
 
@@ -107,6 +108,11 @@ class SRSGeometry:
     a3, a4 : float
         Offsets of an offset elbow (DH ``a_3``, ``a_4``; 0 on an S-R-S arm,
         0.045 and -0.045 m on the Barrett WAM).
+    branch_senses : tuple of int
+        Per branch sign (theta_2, theta_4, theta_6), +1 or -1: how the
+        chain's own joint sense relates to the Table 1 angle, so that a
+        branch names the signs of the chain's own joint values where its
+        zero pose allows (see :meth:`table1_branch`).
     theta_lower, theta_upper : numpy.ndarray, shape (7,)
         Joint limits on the DH angles ``theta``; unlimited joints (range
         ``>= 2 pi``) get ``(-inf, inf)``.
@@ -121,6 +127,7 @@ class SRSGeometry:
     theta_upper: np.ndarray
     a3: float = 0.0
     a4: float = 0.0
+    branch_senses: tuple[int, int, int] = (1, 1, 1)
     plain_frames: bool = False
     plain_joints: bool = False
     wrap_columns: tuple[int, ...] = ()
@@ -129,6 +136,31 @@ class SRSGeometry:
     def theta_limited(self) -> np.ndarray:
         """Which joints have a range narrower than ``2 pi``."""
         return self.theta_upper - self.theta_lower < TWO_PI
+
+    def table1_branch(self, branch: "str | Branch | tuple[int, int, int]") -> Branch:
+        """The Table 1 branch of a branch named in the chain's joint senses (and back: the map is its own inverse).
+
+        A branch names the signs of theta_2, ``theta_4 - phi`` and theta_6
+        (paper 000 section 3.3; ``phi`` of an offset elbow).  On a chain
+        whose joint ``k`` turns the other way (``sign = -1``, as joint 4 of
+        KUKA's iiwa) or whose zero pose is nearer ``theta = pi``, that sign
+        is flipped, so that ``"+++"`` on an iiwa in KUKA's conventions has
+        ``q_2, q_4, q_6 >= 0``.
+
+        Raises
+        ------
+        ValueError
+            For a malformed branch (:func:`redkin.srs.branches.parse_branch`).
+        """
+        chosen = parse_branch(branch)
+        if self.branch_senses == (1, 1, 1):
+            return chosen
+        return Branch(*(int(s) * e for s, e in zip(chosen, self.branch_senses)))
+
+    @cached_property
+    def branch_order(self) -> np.ndarray:
+        """Index into :data:`BRANCHES` of the Table 1 branch of each branch in :data:`BRANCHES`."""
+        return np.array([BRANCHES.index(self.table1_branch(branch)) for branch in BRANCHES])
 
     @cached_property
     def elbow_equation(self) -> ElbowEquation:
@@ -243,10 +275,13 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
     """The arm-angle solver's view of an S-R-S arm, in any description.
 
     An arm already in paper 000 Table 1 form is used as it is; any other 7R
-    chain whose shoulder, elbow and wrist axes meet (a URDF, another DH
-    table, modified DH, other zero pose or joint senses) is brought to that
-    form with the same joint values and limits
-    (:func:`redkin.srs.conventions.table1_form`).
+    chain whose shoulder and wrist axes meet (a URDF, another DH table,
+    modified DH, other zero pose or joint senses, an offset elbow) is brought
+    to that form with the same joint values and limits
+    (:func:`redkin.srs.conventions.table1_form`), as is a Table 1 chain
+    whose joint-3 zero is nearer ``theta_3 = pi`` than 0: the arm angle's
+    reference plane (``theta_3 = 0``) is then where the chain's own
+    ``q_3 = 0``, whatever the description.
 
     Raises
     ------
@@ -257,7 +292,7 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
         raise ValueError(f"chain must be a SerialChain, got {type(chain).__name__}")
     if chain.n != 7:
         raise ValueError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}")
-    if table1_violation(chain) is not None:
+    if table1_violation(chain) is not None or np.cos(chain.offset[2]) < 0.0:
         from redkin.srs.conventions import table1_form
 
         chain = table1_form(chain)
@@ -285,6 +320,7 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
         theta_upper=theta_upper,
         a3=float(chain.a[2]),
         a4=float(chain.a[3]),
+        branch_senses=tuple(int(sign[k] * (1 if np.cos(offset[k]) >= 0.0 else -1)) for k in (1, 3, 5)),
         plain_frames=bool(np.array_equal(chain.base, np.eye(4)) and np.array_equal(chain.tool, np.eye(4))),
         plain_joints=plain_joints,
         wrap_columns=tuple(wrap),

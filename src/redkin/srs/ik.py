@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
-from redkin.srs.branches import BRANCHES, Branch, parse_branch
+from redkin.srs.branches import BRANCHES, Branch
 from redkin.srs.coefficients import (
     ArmAngleCoefficients,
     arm_angle_coefficients,
@@ -129,7 +129,7 @@ def ik(
         For a malformed pose or psi, or a wrist position out of reach.
     """
     geometry = as_geometry(arm)
-    chosen = parse_branch(branch)
+    chosen = geometry.table1_branch(branch)
     psi = check_psi(psi)
     position, rotation = prepare_targets(geometry, pose)
     frame = arm_angle_frame(geometry, position, rotation, chosen.elbow)
@@ -151,5 +151,7 @@ def ik_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike, psi: Arra
     frame = arm_angle_frame(geometry, position[..., None, :], rotation[..., None, :, :], _ELBOW_SIGNS)  # (..., 2)
     positive = positive_branch_angles(entries_at(frame, psi[..., None]))  # (..., 2, 6) over the elbow sign
     psi_joints = apply_branch_signs(positive[..., None, :, None, :], _ALL_BRANCH_SIGNS)  # (..., 2, 2, 2, 6)
-    theta = assemble_theta(frame.theta4[..., None, :, None], psi_joints)
-    return geometry.to_chain_q(theta.reshape(theta.shape[:-4] + (8, 7)))
+    theta = assemble_theta(frame.theta4[..., None, :, None], psi_joints).reshape(psi_joints.shape[:-4] + (8, 7))
+    if geometry.branch_senses != (1, 1, 1):  # Table 1 order -> the order of the branches in the chain's senses
+        theta = theta[..., geometry.branch_order, :]
+    return geometry.to_chain_q(theta)

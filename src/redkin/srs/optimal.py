@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
-from redkin.srs.branches import Branch, parse_branch
+from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.feasible import feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
@@ -123,7 +123,7 @@ def optimal_arm_angles(
         Each optimum unclamped and clamped to the nearest feasible arm angle.
     """
     geometry = as_geometry(arm)
-    chosen = parse_branch(branch)
+    chosen = geometry.table1_branch(branch)
     pose = np.asarray(pose, dtype=float)
     if pose.shape != (4, 4):
         raise ValueError(f"pose must have shape (4, 4), got {pose.shape}")

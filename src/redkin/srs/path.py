@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
-from redkin.srs.branches import Branch, parse_branch
+from redkin.srs.branches import Branch
 from redkin.srs.feasible import FeasibleArmAngles, feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for, theta_at
@@ -71,7 +71,7 @@ def arm_angle_path(
         Hold the arm angle at this value instead of optimising it.
     """
     geometry = as_geometry(arm)
-    chosen = parse_branch(branch)
+    chosen = geometry.table1_branch(branch)
     poses = check_pose(poses)
     if poses.ndim != 3:
         raise ValueError(f"poses must have shape (N, 4, 4), got {poses.shape}")

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
-from redkin.srs.branches import Branch, parse_branch
+from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
@@ -108,5 +108,5 @@ def singular_arm_angles(
     pose = np.asarray(pose, dtype=float)
     if pose.shape != (4, 4):
         raise ValueError(f"pose must have shape (4, 4), got {pose.shape}")
-    coefficients = coefficients_for(geometry, pose, parse_branch(branch).elbow)
+    coefficients = coefficients_for(geometry, pose, geometry.table1_branch(branch).elbow)
     return singular_from_coefficients(coefficients, tolerance)
