@@ -221,15 +221,20 @@ class SRSGeometry:
         q = self.q_of_theta(theta)
         if not wrap_into_limits or not self.wrap_columns:
             return q  # DH angles from atan2 already lie in [-pi, pi] and so do the limits
+        columns, start, upper, limited = self._wrap_table
         q = q.copy()
-        for k in self.wrap_columns:
-            lower, upper = self.chain.lower[k], self.chain.upper[k]
-            value = q[..., k]
-            start = lower if np.isfinite(lower) else -np.pi
-            shifted = start + np.mod(value - start, TWO_PI)
-            inside = (shifted <= upper) & bool(self.chain.limited[k])
-            q[..., k] = np.where(inside, shifted, np.mod(value + np.pi, TWO_PI) - np.pi)
+        value = q[..., columns]
+        shifted = start + np.mod(value - start, TWO_PI)
+        q[..., columns] = np.where((shifted <= upper) & limited, shifted, np.mod(value + np.pi, TWO_PI) - np.pi)
         return q
+
+    @cached_property
+    def _wrap_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """For :meth:`to_chain_q`: the wrapped columns, where their ranges start (-pi if unlimited), their upper
+        limits and which are limited."""
+        columns = np.array(self.wrap_columns)
+        lower = self.chain.lower[columns]
+        return columns, np.where(np.isfinite(lower), lower, -np.pi), self.chain.upper[columns], self.chain.limited[columns]
 
 
 def elbow_equation(a3: float, a4: float, d_se: float, d_ew: float) -> ElbowEquation:
