@@ -54,16 +54,32 @@ def test_postures_reach_the_pose_and_are_the_chains_frames(case):
         assert np.array_equal(curves.origins, frames[..., :3, 3])
 
 
-def test_limit_flags_equal_the_joint_values_away_from_the_limits(case):
-    """Membership of the exact sets Psi_i agrees with the sampled joint values against the limits."""
+def test_limit_flags_are_the_joint_values_and_agree_with_the_exact_sets(case):
+    """The flags say whether the shown joint values are within the limits; away from the limits and the singular
+    arm angles (where the IK picks one split of two joints) that is membership of the exact sets Psi_i."""
     chain, _, data = case
     for curves in data.branches:
         q = curves.q
-        margin = np.minimum(np.abs(q - chain.lower), np.abs(q - chain.upper))
-        clear = margin > 1e-7
-        inside = (q >= chain.lower) & (q <= chain.upper)
-        assert np.array_equal(curves.within[clear], inside[clear])
-        assert np.array_equal(curves.feasible_at, curves.within.all(axis=1))
+        assert np.array_equal(curves.within, (q >= chain.lower - 1e-9) & (q <= chain.upper + 1e-9))
+        singular = np.zeros(len(curves.psi), dtype=bool)
+        singular[[m.index for m in curves.marks if m.kind == "singular"]] = True
+        clear = (np.minimum(np.abs(q - chain.lower), np.abs(q - chain.upper)) > 1e-7) & ~singular[:, None]
+        exact = np.stack([curves.per_joint[j + 1].contains(curves.psi) for j in range(7)], axis=1)
+        assert np.array_equal(exact[clear], curves.within[clear])
+        assert np.array_equal(curves.feasible_at, curves.feasible.contains(curves.psi, 1e-12))
+        rows = ~singular & np.all(clear, axis=1)
+        assert np.array_equal(curves.feasible_at[rows], curves.within[rows].all(axis=1))
+
+
+def test_a_singular_arm_angle_is_marked_and_explained():
+    chain = get_robot("pa10-7c")
+    pose = pose_from(np.array([0.55, 0.0, 0.767]), np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))
+    curves = explorer_data(chain, pose, samples=64).branches[1]  # ++-: the paper's 6.2.1 set, singular at psi = 0
+    marks = {m.label: m for m in curves.marks if m.kind == "singular"}
+    assert set(marks) == {"shoulder singular ψ (θ2 = 0)", "wrist singular ψ (θ6 = 0)"}
+    for mark in marks.values():
+        assert abs(curves.psi[mark.index]) < 1e-9 and "one split" in mark.note
+        assert curves.feasible_at[mark.index]  # psi = 0 lies in the closed set Psi
 
 
 def test_the_page_is_self_contained_and_holds_the_numbers(case):

@@ -3,9 +3,11 @@
 For each of the eight branches: a dense grid of arm angles with every
 special arm angle merged in exactly (the ends of each per-joint set Psi_i and
 of the feasible set Psi, the singular and the optimal arm angles), the joint
-values on it, the frame origins of the posture at each grid point, and which
-joints are within their limits there (membership of the exact sets, so the
-grid agrees with the shading at the arc ends).
+values on it, the frame origins of the posture at each grid point, which
+joint values are within their limits, and which grid points lie in Psi.
+At a singular arm angle the two joints about the common axis are fixed only
+in their combination: the joint values there are the split :func:`ik`
+chooses, and may be outside the limits although psi lies in the closed set Psi.
 """
 
 from __future__ import annotations
@@ -30,20 +32,28 @@ from redkin.srs import (
 
 #: Arm angles of the dense grid over [-pi, pi] (0.5 deg apart), before the special ones are merged in.
 GRID_SAMPLES = 721
-#: Arm angles closer than this [rad] are one: an optimum that needed no clamping is one mark, and a set holds the
+#: Arm angles closer than this [rad] are one: an optimum that needed no clamping is one mark, and Psi holds the
 #: arm angles this close to its ends (its ends and the per-joint ends it came from differ by roundings).
 SAME_ANGLE = 1e-12
+#: A joint value this far [rad] beyond a limit counts as within it (the value at a set's end, rounded).
+LIMIT_TOLERANCE = 1e-9
+#: What a singular arm angle means for the joint values shown there.
+SINGULAR_NOTE = {
+    "shoulder": "joints 1 and 3 turn about one axis here: only their combination is fixed, the values shown are one split",
+    "wrist": "joints 5 and 7 turn about one axis here: only their combination is fixed, the values shown are one split",
+}
 #: Stated limits of ``samples``.
 MIN_SAMPLES, MAX_SAMPLES = 16, 20_000
 
 
 @dataclass(frozen=True)
 class Mark:
-    """A special arm angle on a branch's grid: its kind (``feasible``, ``optimal``, ``singular``), label and index."""
+    """A special arm angle on a branch's grid: its kind (``feasible``, ``optimal``, ``singular``), label, index and note."""
 
     kind: str
     label: str
     index: int
+    note: str = ""
 
 
 @dataclass(frozen=True)
@@ -61,7 +71,7 @@ class BranchCurves:
     origins : numpy.ndarray, shape (G, n + 2, 3)
         Base, joint-frame and tool origins of the posture [m] (``SerialChain.frames``).
     within : numpy.ndarray of bool, shape (G, n)
-        Whether each arm angle lies in ``Psi_i``, joint by joint (within :data:`SAME_ANGLE` of it).
+        Whether each joint value is within its limits (to :data:`LIMIT_TOLERANCE`).
     feasible_at : numpy.ndarray of bool, shape (G,)
         Whether each arm angle lies in ``Psi`` (within :data:`SAME_ANGLE` of it).
     per_joint : dict of int to ArcSet
@@ -161,29 +171,30 @@ def _branch_curves(chain: SerialChain, pose: np.ndarray, branch, grid: np.ndarra
     special = _special_angles(result.feasible, singular, optimal)
     sets = list(result.per_joint.values()) + [result.feasible]
     arc_ends = [end for arcs in sets for interval in arcs.intervals for end in interval]
-    psi = np.unique(np.concatenate([grid, arc_ends, [value for _, _, value in special]]))
+    psi = np.unique(np.concatenate([grid, arc_ends, [value for _, _, value, _ in special]]))
     q = ik(chain, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch)
     origins = chain.frames(q)[..., :3, 3]
-    within = np.stack([result.per_joint[j + 1].contains(psi, SAME_ANGLE) for j in range(chain.n)], axis=1)
-    marks = tuple(Mark(kind, label, int(np.searchsorted(psi, value))) for kind, label, value in special)
+    within = (q >= chain.lower - LIMIT_TOLERANCE) & (q <= chain.upper + LIMIT_TOLERANCE)
+    marks = tuple(Mark(kind, label, int(np.searchsorted(psi, value)), note) for kind, label, value, note in special)
     clamped = optimal.overall.feasible
     start = int(np.argmin(np.abs(psi))) if clamped is None else int(np.searchsorted(psi, _on_circle(float(clamped))))
     return BranchCurves(str(branch), psi, q, origins, within, result.feasible.contains(psi, SAME_ANGLE), dict(result.per_joint),
                         result.feasible, singular, optimal, marks, start)
 
 
-def _special_angles(feasible: ArcSet, singular: SingularArmAngles, optimal: OptimalArmAngles) -> list[tuple[str, str, float]]:
-    """``(kind, label, psi)`` of the marked arm angles, psi in ``[-pi, pi]``."""
+def _special_angles(feasible: ArcSet, singular: SingularArmAngles,
+                    optimal: OptimalArmAngles) -> list[tuple[str, str, float, str]]:
+    """``(kind, label, psi, note)`` of the marked arm angles, psi in ``[-pi, pi]``."""
     special = []
     for k, (lo, hi) in enumerate(feasible.arcs):
-        special += [("feasible", f"Ψ arc {k + 1} starts", lo), ("feasible", f"Ψ arc {k + 1} ends", hi)]
-    special += [("singular", "shoulder singular ψ (θ2 = 0)", a) for a in singular.shoulder]
-    special += [("singular", "wrist singular ψ (θ6 = 0)", a) for a in singular.wrist]
-    special.append(("optimal", "optimal ψ (eq. 40)", optimal.overall.unclamped))
+        special += [("feasible", f"Ψ arc {k + 1} starts", lo, ""), ("feasible", f"Ψ arc {k + 1} ends", hi, "")]
+    special += [("singular", "shoulder singular ψ (θ2 = 0)", a, SINGULAR_NOTE["shoulder"]) for a in singular.shoulder]
+    special += [("singular", "wrist singular ψ (θ6 = 0)", a, SINGULAR_NOTE["wrist"]) for a in singular.wrist]
+    special.append(("optimal", "optimal ψ (eq. 40)", optimal.overall.unclamped, ""))
     clamped = optimal.overall.feasible
     if clamped is not None and abs(wrap_angle(float(clamped) - float(optimal.overall.unclamped))) > SAME_ANGLE:
-        special.append(("optimal", "optimal ψ clamped to Ψ", optimal.overall.feasible))
-    return [(kind, label, _on_circle(float(value))) for kind, label, value in special]
+        special.append(("optimal", "optimal ψ clamped to Ψ", clamped, ""))
+    return [(kind, label, _on_circle(float(value)), note) for kind, label, value, note in special]
 
 
 def _on_circle(angle: float) -> float:

@@ -121,7 +121,7 @@ def _branch(curves: BranchCurves, angle, decimals: int) -> dict[str, Any]:
         "feasible": angle(curves.feasible.intervals),
         "singular_everywhere": [name for name, every in (("shoulder", curves.singular.shoulder_everywhere),
                                                         ("wrist", curves.singular.wrist_everywhere)) if every],
-        "marks": [{"kind": m.kind, "label": m.label, "index": m.index} for m in curves.marks],
+        "marks": [{"kind": m.kind, "label": m.label, "index": m.index, "note": m.note} for m in curves.marks],
         "start": curves.start,
         "origins": [_origin(curves.origins[:, k]) for k in range(curves.origins.shape[1])],
     }

@@ -36,6 +36,7 @@ table { border-collapse: collapse; font-size: 0.9em; }
 th, td { border: 1px solid #bbb; padding: 0.2em 0.5em; text-align: left; }
 thead th { background: #eee; }
 .num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+td:first-child { white-space: nowrap; }
 td.out { color: #8a0000; font-weight: 600; }
 .curves svg { width: 100%; height: auto; display: block; margin: 0.15em 0; }
 .k { display: inline-block; width: 1.4em; height: 0.7em; margin: 0 0.2em 0 0.6em; vertical-align: middle; }
@@ -248,17 +249,17 @@ SCRIPT = r"""
     const status = document.getElementById("status");
     const outside = D.joints.filter((_, j) => branch.within[j][index] !== "1");
     status.textContent = "";
-    const main = document.createElement("span");
-    if (branch.feasible_at[index] === "1") {
-      main.textContent = "In Ψ: every joint within its limits.";
-    } else {
-      main.className = "bad";
-      main.textContent = "Outside Ψ: " + (outside.length ? outside.join(", ") + " beyond the limits." : "no joint values.");
-    }
-    status.appendChild(main);
-    for (const part of branch.singular_everywhere) {
-      status.appendChild(document.createTextNode(" The " + part + " is singular at every ψ for this pose."));
-    }
+    const inPsi = document.createElement("span");
+    inPsi.textContent = branch.feasible_at[index] === "1" ? "ψ ∈ Ψ. " : "ψ ∉ Ψ. ";
+    if (branch.feasible_at[index] !== "1") inPsi.className = "bad";
+    status.appendChild(inPsi);
+    const joints = document.createElement("span");
+    joints.textContent = outside.length ? outside.join(", ") + " beyond the limits." : "Every joint within its limits.";
+    if (outside.length) joints.className = "bad";
+    status.appendChild(joints);
+    const notes = branch.marks.filter(m => m.index === index && m.note).map(m => " " + m.label + ": " + m.note + ".");
+    for (const part of branch.singular_everywhere) notes.push(" The " + part + " is singular at every ψ for this pose.");
+    for (const note of notes) status.appendChild(document.createTextNode(note));
   }
   function setIndex(i) {
     index = Math.max(0, Math.min(branch.psi.length - 1, i));
