@@ -43,7 +43,17 @@ def test_every_branch_holds_the_exact_set_ends_and_marks(case):
         if curves.feasible.is_empty:
             assert not curves.feasible_at.any()
         else:
-            assert curves.feasible_at[curves.start]
+            clamped = wrap_angle(float(curves.optimal.overall.feasible))
+            assert curves.feasible_at[curves.start] and abs(psi[curves.start] - clamped) < 1e-12
+
+
+def test_the_offset_elbow_wam_without_limits_has_a_full_set_and_no_arc_ends():
+    chain = get_robot("barrett-wam")  # paper 003's WAM: an offset elbow, no joint limits
+    pose = pose_from(np.array([0.5, 0.2, 0.4]), DOWN)
+    curves = explorer_data(chain, pose, samples=64).branches[0]
+    assert np.abs(chain.frames(curves.q)[:, -1] - pose).max() < 1e-9
+    assert curves.feasible.is_full and curves.feasible_at.all() and curves.within.all()
+    assert not [m for m in curves.marks if m.kind == "feasible"]
 
 
 def test_postures_reach_the_pose_and_are_the_chains_frames(case):

@@ -177,7 +177,7 @@ def _branch_curves(chain: SerialChain, pose: np.ndarray, branch, grid: np.ndarra
     within = (q >= chain.lower - LIMIT_TOLERANCE) & (q <= chain.upper + LIMIT_TOLERANCE)
     marks = tuple(Mark(kind, label, int(np.searchsorted(psi, value)), note) for kind, label, value, note in special)
     clamped = optimal.overall.feasible
-    start = int(np.argmin(np.abs(psi))) if clamped is None else int(np.searchsorted(psi, _on_circle(float(clamped))))
+    start = int(np.argmin(np.abs(psi - (0.0 if clamped is None else _on_circle(float(clamped))))))
     return BranchCurves(str(branch), psi, q, origins, within, result.feasible.contains(psi, SAME_ANGLE), dict(result.per_joint),
                         result.feasible, singular, optimal, marks, start)
 
@@ -186,7 +186,7 @@ def _special_angles(feasible: ArcSet, singular: SingularArmAngles,
                     optimal: OptimalArmAngles) -> list[tuple[str, str, float, str]]:
     """``(kind, label, psi, note)`` of the marked arm angles, psi in ``[-pi, pi]``."""
     special = []
-    for k, (lo, hi) in enumerate(feasible.arcs):
+    for k, (lo, hi) in enumerate([] if feasible.is_full else feasible.arcs):
         special += [("feasible", f"Ψ arc {k + 1} starts", lo, ""), ("feasible", f"Ψ arc {k + 1} ends", hi, "")]
     special += [("singular", "shoulder singular ψ (θ2 = 0)", a, SINGULAR_NOTE["shoulder"]) for a in singular.shoulder]
     special += [("singular", "wrist singular ψ (θ6 = 0)", a, SINGULAR_NOTE["wrist"]) for a in singular.wrist]
