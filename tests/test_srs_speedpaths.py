@@ -9,7 +9,7 @@ that each shortcut equals its definition.
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
 from srs_arms import ARM_KINDS, arm
@@ -161,6 +161,7 @@ WIDTHS = st.one_of(st.floats(1e-3, 7.0), st.sampled_from([np.pi, np.pi / 2, 2 * 
 
 @settings(max_examples=150, deadline=None)
 @given(st.integers(0, 2**31), st.lists(st.floats(-2 * np.pi, 2 * np.pi), min_size=7, max_size=7), st.lists(WIDTHS, min_size=7, max_size=7))
+@example(0, [2 * np.pi - 1e-15] + [0.0] * 6, [np.pi] + [1.0] * 6)  # limits pi apart: their zeros differ by rounding
 def test_limit_equation_signs_decide_joint_membership(seed, lower, width):
     """Off its cut points a joint's limit membership is read from the signs of its two limit equations.
 

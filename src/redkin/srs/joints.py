@@ -221,6 +221,10 @@ def within(theta: np.ndarray, start, span, free) -> np.ndarray:
     return (np.mod(theta - start, 2.0 * np.pi) <= span) | free
 
 
+#: Width (radians) below which a region between the zeros of a joint's limit equations is rounding.
+REGION_TOLERANCE = 1e-12
+
+
 def limit_sign_membership(lower: np.ndarray, upper: np.ndarray, start, span, free) -> np.ndarray:
     """Joint-limit membership as a function of the signs of the two limit equations of each joint (eqs. 21, 22, 29).
 
@@ -261,7 +265,9 @@ def limit_sign_membership(lower: np.ndarray, upper: np.ndarray, start, span, fre
         else:
             zeros = np.sort(np.mod(np.concatenate([limits, limits + np.pi]), 2.0 * np.pi))
             starts, ends = zeros, np.append(zeros[1:], zeros[0] + 2.0 * np.pi)
-        samples = 0.5 * (starts + ends)[ends > starts]  # one inside each region of positive width
+        # one inside each region; regions narrower than REGION_TOLERANCE are rounding (two limits pi apart give
+        # zeros that differ in the last bit), and their signs would read 0 and overwrite a real region's entry
+        samples = 0.5 * (starts + ends)[ends - starts > REGION_TOLERANCE]
         if IS_COSINE[k]:
             signs = np.cos(samples)[:, None] - np.cos(limits) > 0.0
             branch_angles = (samples, -samples)
