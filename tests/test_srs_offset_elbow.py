@@ -258,3 +258,38 @@ def test_cli_ik_and_arm_angles_on_the_wam(capsys):
     model = get_robot("barrett-wam")
     expected = feasible_arm_angles(model, pose, str(state.branch_strings())).feasible.intervals
     assert np.allclose(np.array(data["feasible"]).reshape(-1, 2), np.array(expected).reshape(-1, 2), atol=1e-12)
+
+
+def test_paper_003_elbow_singularity_is_where_the_two_elbow_branches_meet():
+    """D_e of paper 003 (the WAM's elbow singularity index) is -K sin(theta_4 - phi): it vanishes exactly where
+    |SW| is longest or shortest, and its sign is minus the elbow branch sign of the arm-angle IK."""
+    from redkin.velocity import WamFactorisation
+
+    wam = barrett_wam()
+    index = WamFactorisation.from_chain(wam).index
+    q = np.random.default_rng(8).uniform(-np.pi, np.pi, (2000, 7))
+    elbow = arm_angle_of(wam, q).branch[:, 1]
+    d_e = index(q)
+    away = np.abs(d_e) > 1e-9
+    assert np.all(np.sign(d_e[away]) == -elbow[away])
+    phase = srs_geometry(wam).elbow_equation.phase
+    assert abs(index(np.r_[0, 0, 0, phase, 0, 0, 0])) < 1e-15
+
+
+def test_feasible_arm_angles_along_a_velocity_ik_run_contain_its_arm_angle_exactly_when_in_range():
+    """The report's WAM subsection: along an SC run, psi(t) is in the feasible set iff q(t) is within the limits."""
+    from redkin.models import barrett_wam7
+    from redkin.reproduce.paper_003 import feasible_along_path
+    from redkin.velocity import SingularityConsistent, WamFactorisation, simulate
+
+    wam = barrett_wam()
+    ranges = barrett_wam7()
+    chain = wam.with_limits(ranges.lower, ranges.upper)
+    q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 80.0, 0.0])  # q6 inside Barrett's +-91.7 deg
+    run = simulate(wam, q0, np.array([0.15, 0, 0, 0, 0.1, 0]), 1.0, SingularityConsistent(eps=0.1), dt=5e-3,
+                   index=WamFactorisation.from_chain(wam).index)
+    psi, branches, sets = feasible_along_path(chain, run.q[::10])
+    within = chain.joints_within_limits(run.q[::10], wrap=True).all(axis=-1)
+    assert within.any()
+    assert [s.contains(p, tolerance=1e-9) for s, p in zip(sets, psi)] == within.tolist()
+    assert set(branches.tolist()) <= {str(b) for b in BRANCHES}

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 from redkin.circle import ArcSet
@@ -67,3 +68,27 @@ def plot_reachable_rotations(
     ax.set_ylabel("arm angle psi [deg]")
     ax.set_ylim(-180, 180)
     ax.legend(loc="lower left", fontsize=8)
+
+
+def plot_arm_angles_along_path(ax, time: np.ndarray, psi: np.ndarray, feasible: Sequence[ArcSet],
+                               within: np.ndarray) -> None:
+    """The feasible arm angles at each sample of a path (bars) and the path's own arm angle (dots), in degrees.
+
+    ``within`` marks the samples whose joint values are within the limits (drawn filled, the others hollow).
+    """
+    step = float(np.median(np.diff(time))) if len(time) > 1 else 1.0
+    for t, arcs in zip(time, feasible):
+        for lo, hi in arcs.intervals:
+            ax.add_patch(plt.Rectangle((t - step / 2, np.degrees(lo)), step, np.degrees(hi - lo),
+                                       color="C2", alpha=0.35, linewidth=0))
+    degrees = np.degrees(psi)
+    if within.any():
+        ax.plot(time[within], degrees[within], "o", color="C0", markersize=2.5, label="run's psi, joints within limits")
+    if not within.all():
+        ax.plot(time[~within], degrees[~within], "o", markerfacecolor="none", color="C3", markersize=3,
+                label="run's psi, a joint outside its range")
+    ax.plot([], [], "s", color="C2", alpha=0.35, label="feasible arm angles (exact)")
+    ax.set_xlim(time[0] - step, time[-1] + step)
+    ax.set_ylim(-180, 180)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("arm angle psi [deg]")

@@ -4,8 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from redkin.models import barrett_wam
+import matplotlib.pyplot as plt
+
+from redkin.circle import ArcSet
+from redkin.models import barrett_wam, barrett_wam7
+from redkin.plot.srs import plot_arm_angles_along_path
 from redkin.plot.velocity import comparison_figure, tracking_figure
+from redkin.srs import arm_angle_of, feasible_arm_angles, srs_geometry
 from redkin.reproduce import Section
 from redkin.reproduce.comparison import Comparison
 from redkin.reproduce.report import SectionWriter
@@ -66,6 +71,66 @@ def workspace_boundaries(chain, factorisation: WamFactorisation, run: TrackingRe
         ("wrist boundary, orientation at the turn", approach[:2] + radius * circle),
         ("end-point boundary, any orientation", np.sqrt(max((reach + tool) ** 2 - height**2, 0.0)) * circle),
     ]
+
+
+def feasible_along_path(chain, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[ArcSet]]:
+    """Arm angle, branch and exact feasible arm angles (paper 000, offset elbow) at each joint vector of a path.
+
+    Returns ``psi (N,)``, branch strings ``(N,)`` and, per sample, the feasible set of the branch the arm is on.
+    """
+    state = arm_angle_of(chain, q)
+    branches = state.branch_strings()
+    poses = chain.fk(q)
+    sets = [feasible_arm_angles(chain, pose, str(branch)).feasible for pose, branch in zip(poses, branches)]
+    return state.psi, branches, sets
+
+
+def arm_angle_subsection(writer: SectionWriter, run: TrackingResult, samples: int = 161) -> None:
+    """The WAM's feasible arm angles along the SC run, under Barrett's joint ranges."""
+    ranges = barrett_wam7()
+    chain = barrett_wam().with_limits(ranges.lower, ranges.upper)
+    picked = np.linspace(0, len(run.time) - 1, samples).round().astype(int)
+    psi, branches, sets = feasible_along_path(chain, run.q[picked])
+    within_joints = chain.joints_within_limits(run.q[picked], wrap=True)
+    within = within_joints.all(axis=-1)
+    time = run.time[picked]
+    phase = np.degrees(srs_geometry(chain).elbow_equation.phase)
+    switch = np.flatnonzero(branches[1:] != branches[:-1])
+    fig, ax = plt.subplots(figsize=(9, 4), constrained_layout=True)
+    plot_arm_angles_along_path(ax, time, psi, sets, within)
+    for k in switch:
+        ax.axvline(0.5 * (time[k] + time[k + 1]), color="0.4", linestyle=":", linewidth=1)
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title("WAM, SC run of Fig. 1: exact feasible arm angles under Barrett's joint ranges")
+    writer.heading("The WAM's feasible arm angles along the Fig. 1 path")
+    writer.text(
+        "The WAM has a spherical shoulder and wrist and an offset elbow, so paper 000's arm-angle theory holds for it "
+        f"exactly (docs/srs.md, offset elbows): |SW|^2 = C + R cos(theta_4 - phi) with phi = {phase:.2f} deg. "
+        "That phi is where D_e = 0: paper 003's elbow singularity is the pose where the two elbow branches of the "
+        f"arm-angle IK meet, and the SC run changes elbow branch there ({len(switch)} branch change(s) among "
+        f"{samples} samples). With Barrett's joint ranges (WAM Arm User's Manual, Table 6; paper 003 gives none) on "
+        "paper 003's lengths, each bar is the exact set of arm angles at which the same end pose keeps every joint "
+        "in range, and each dot the run's own arm angle. "
+        + _range_summary(ranges, within_joints, sets, samples)
+    )
+    writer.figure(fig, "wam_arm_angles", "The WAM's exact feasible arm angles along the SC run",
+                  "Green: the feasible arm angles of the branch the arm is on (paper 000 eqs. 21-30 with the offset "
+                  "elbow); dots: the run's arm angle (filled within Barrett's ranges, hollow outside); dotted: a "
+                  "change of elbow branch (D_e = 0).")
+
+
+def _range_summary(ranges, within_joints: np.ndarray, sets: list[ArcSet], samples: int) -> str:
+    """One or two sentences on where the run leaves Barrett's ranges and what the feasible sets say."""
+    within = within_joints.all(axis=-1)
+    if within.all():
+        return "The run stays within the ranges throughout."
+    outside = np.flatnonzero(~within_joints.all(axis=0))
+    empty = sum(arcs.is_empty for arcs in sets)
+    return (f"The run leaves the ranges at {int((~within).sum())} of {samples} samples (joint(s) "
+            f"{', '.join(str(k + 1) for k in outside)}; q0 itself has q6 = {PAPER_Q0_DEG[5]:g} deg, beyond "
+            f"Barrett's +-{np.degrees(ranges.upper[5]):.1f} deg). At {empty} samples no arm angle keeps every joint in "
+            "range (no bar; among them those where the elbow, which the arm angle does not move, is outside "
+            "its range); where a bar exists the same end motion was possible in range at another arm angle.")
 
 
 def build(writer: SectionWriter) -> None:
@@ -149,6 +214,7 @@ def build(writer: SectionWriter) -> None:
         caption="Claims of paper 003 section 4, read from its text",
         detail="The transcription has no numbers from Fig. 1; the two speeds are the commanded twist.",
     )
+    arm_angle_subsection(writer, sc)
     writer.text(
         "Reading the table: the pseudoinverse realises the command exactly until the smallest singular value "
         "collapses, then its joint velocity explodes and the discrete integration jumps back and forth across "
