@@ -103,6 +103,8 @@ def test_ik_and_arm_angles_on_a_urdf_in_the_makers_joint_values(capsys):
     data = run_json(capsys, ["ik", path, *argv, "--psi", "0.3", "--all"])
     q = np.array([s["q"] for s in data["solutions"]])
     assert np.abs(arm.fk(q) - pose).max() < 1e-9
+    for solution in data["solutions"]:  # each branch names the signs of KUKA's own q2, q4, q6
+        assert "".join("+" if v >= 0 else "-" for v in np.array(solution["q"])[[1, 3, 5]]) == solution["branch"]
     assert run_json(capsys, ["arm-angles", path, *argv, "--branch", "+-+"])["feasible"]
 
 

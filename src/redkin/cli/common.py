@@ -12,6 +12,8 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.models import get_robot
+from redkin.srs.geometry import pose_from
+from redkin.validation import check_rotation
 
 
 #: File types of the figures the commands write (matplotlib's writers without extra packages).
@@ -49,6 +51,27 @@ def add_robot_argument(parser: argparse.ArgumentParser) -> None:
                         help="model name (see `redkin robots`), a .toml/.json robot file, or a .urdf or .xacro file")
     parser.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link)")
     parser.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (default: the only leaf)")
+
+
+#: How every command that takes ``--branch`` describes it.
+BRANCH_HELP = "signs of q2, q4, q6 in the robot's own joint senses, e.g. +-+ (default +++)"
+
+
+def add_target_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--position X Y Z --rotation R11 ... R33``: a target pose of the tool."""
+    parser.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="tool position [m]")
+    parser.add_argument(
+        "--rotation", nargs=9, type=float, required=True, metavar="R", help="tool rotation R11 R12 R13 R21 ... R33 (row by row)"
+    )
+
+
+def target_pose(args: argparse.Namespace) -> np.ndarray:
+    """The pose of ``--position`` and ``--rotation`` (ValueError for a non-finite position or a non-rotation)."""
+    rotation = check_rotation(np.array(args.rotation, dtype=float).reshape(3, 3), "--rotation")
+    position = np.array(args.position, dtype=float)
+    if not np.all(np.isfinite(position)):
+        raise UsageError("--position must be finite numbers")
+    return pose_from(position, rotation)
 
 
 def add_output_flags(parser: argparse.ArgumentParser, degrees: bool = True) -> None:

@@ -4,8 +4,17 @@ from __future__ import annotations
 
 import argparse
 
-from redkin.cli.common import add_output_flags, add_robot_argument, angle_unit, angles_out, load_robot, print_json
-from redkin.cli.srs import _add_target, _pose
+from redkin.cli.common import (
+    BRANCH_HELP,
+    add_output_flags,
+    add_robot_argument,
+    add_target_arguments,
+    angle_unit,
+    angles_out,
+    load_robot,
+    print_json,
+    target_pose,
+)
 from redkin.explore import explorer_data, explorer_html
 from redkin.validation import check_output_file
 
@@ -15,8 +24,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "explore", help="an interactive arm-angle explorer of an S-R-S arm at a pose: one self-contained HTML page"
     )
     add_robot_argument(parser)
-    _add_target(parser)
-    parser.add_argument("--branch", default="+++", help="branch shown first: signs of theta2, theta4, theta6 (default +++)")
+    add_target_arguments(parser)
+    parser.add_argument("--branch", default="+++", help=f"branch shown first: {BRANCH_HELP}")
     parser.add_argument("--out", required=True, metavar="FILE.html", help="the page to write")
     add_output_flags(parser)
     parser.set_defaults(handler=run)
@@ -25,7 +34,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     out = check_output_file(args.out, "--out", {".html", ".htm"})
     chain = load_robot(args)
-    data = explorer_data(chain, _pose(args), args.branch)
+    data = explorer_data(chain, target_pose(args), args.branch)
     out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
     feasible = {b.branch: [angles_out(arc, args.deg).tolist() for arc in b.feasible.arcs] for b in data.branches}
     if args.json:

@@ -7,35 +7,29 @@ import argparse
 import numpy as np
 
 from redkin.cli.common import (
-    UsageError,
+    BRANCH_HELP,
     add_output_flags,
     add_robot_argument,
+    add_target_arguments,
     angle_unit,
     angles_in,
     angles_out,
     joint_vector,
     load_robot,
     print_json,
+    target_pose,
 )
-from redkin.srs import BRANCHES, feasible_arm_angles, ik, optimal_arm_angles, parse_branch, pose_from, singular_arm_angles
+from redkin.srs import BRANCHES, feasible_arm_angles, ik, optimal_arm_angles, parse_branch, singular_arm_angles
 from redkin.srs.geometry import srs_geometry
-from redkin.validation import check_rotation
-
-
-def _add_target(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="tool position [m]")
-    parser.add_argument(
-        "--rotation", nargs=9, type=float, required=True, metavar="R", help="tool rotation R11 R12 R13 R21 ... R33 (row by row)"
-    )
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     solve = subparsers.add_parser("ik", help="joint values of an S-R-S arm for a pose and an arm angle (paper 000)")
     add_robot_argument(solve)
-    _add_target(solve)
+    add_target_arguments(solve)
     solve.add_argument("--psi", type=float, required=True, help="arm angle (radians, or degrees with --deg)")
     group = solve.add_mutually_exclusive_group()
-    group.add_argument("--branch", default="+++", help="signs of theta2, theta4, theta6 (default +++)")
+    group.add_argument("--branch", default="+++", help=BRANCH_HELP)
     group.add_argument("--all", action="store_true", help="all eight branches")
     add_output_flags(solve)
     solve.set_defaults(handler=run_ik)
@@ -44,20 +38,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "arm-angles", help="feasible, singular and optimal arm angles of an S-R-S arm for a pose (paper 000)"
     )
     add_robot_argument(angles)
-    _add_target(angles)
-    angles.add_argument("--branch", default="+++", help="signs of theta2, theta4, theta6 (default +++)")
+    add_target_arguments(angles)
+    angles.add_argument("--branch", default="+++", help=BRANCH_HELP)
     angles.add_argument("--target", nargs=7, type=float, metavar="Q", help="target joint values (default: limit midpoints)")
     angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5), help="eq. 40 weights")
     add_output_flags(angles)
     angles.set_defaults(handler=run_arm_angles)
-
-
-def _pose(args: argparse.Namespace) -> np.ndarray:
-    rotation = check_rotation(np.array(args.rotation, dtype=float).reshape(3, 3), "--rotation")
-    position = np.array(args.position, dtype=float)
-    if not np.all(np.isfinite(position)):
-        raise UsageError("--position must be finite numbers")
-    return pose_from(position, rotation)
 
 
 def _arcs(arc_set, degrees: bool) -> list:
@@ -67,7 +53,7 @@ def _arcs(arc_set, degrees: bool) -> list:
 def run_ik(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     geometry = srs_geometry(chain)
-    pose = _pose(args)
+    pose = target_pose(args)
     psi = float(angles_in(args.psi, args.deg))
     branches = list(BRANCHES) if args.all else [parse_branch(args.branch)]
     solutions = []
@@ -93,7 +79,7 @@ def run_ik(args: argparse.Namespace) -> int:
 def run_arm_angles(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     geometry = srs_geometry(chain)
-    pose = _pose(args)
+    pose = target_pose(args)
     branch = parse_branch(args.branch)
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
     feasible = feasible_arm_angles(geometry, pose, branch)
