@@ -10,7 +10,7 @@ is the batched form of the same formula,
 configuration).
 
 Table 2, the control-loop entry points (:mod:`redkin.velocity.controller`):
-``step(q, twist)`` with the robot bound once -- input check, scalar Jacobian,
+``step(q, twist)`` with the robot bound once -- input check, compiled Jacobian,
 ``D_e``, blend and one LAPACK ``dgelss`` solve -- at three places: outside the
 singular region (the paper's ``q0``), inside it, and inside the exact-fallback
 band ``|D_e| < eps / 100`` (the worst case).  Target from issue 5: an SC step
@@ -31,7 +31,6 @@ from redkin.velocity import (
     DampedLeastSquares,
     Pseudoinverse,
     PseudoinverseController,
-    SingleJacobian,
     SingularityConsistent,
     SingularityConsistentController,
     WamFactorisation,
@@ -53,9 +52,7 @@ def main() -> None:
     q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
     twist = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
     batch_q = np.random.default_rng(0).uniform(-np.pi, np.pi, (1000, 7))
-    single = SingleJacobian(chain)
-    print(f"Jacobian alone, one q: SerialChain.jacobian {per_call(lambda: chain.jacobian(q), 2000):6.1f} us, "
-          f"SingleJacobian {per_call(lambda: single(q), 2000):6.1f} us")
+    print(f"Jacobian alone, one q: SerialChain.jacobian {per_call(lambda: chain.jacobian(q), 2000):6.1f} us")
     print("\nTable 1: array API (method.bind(chain, q0) -> step(q, J, twist))")
     print(f"{'method':<14}{'solve [us]':>12}{'step [us]':>12}{'batched solve [us/q]':>22}")
     for label, solve_us, step_us, batch_us in array_api_rows(chain, factor, q, twist, batch_q):

@@ -14,9 +14,9 @@ column as ``-pi/2 + theta_1``, ``-pi/2 - theta_3``, ...).  Two conventions:
 The end pose is ``base @ A_1 ... A_n @ tool``.  Every kinematic function is
 batched over leading axes: ``q`` has shape ``(..., n)``.
 
-Forward kinematics propagates the three axis columns and the origin of the
-running frame as arrays of shape ``(3, N)`` and applies each elementary
-motion in closed form, instead of multiplying stacks of 4x4 matrices.
+The kinematics are computed by the compiled kernels of
+:mod:`redkin.chain_kernels` (numba), one configuration and batches alike;
+the methods here validate their inputs and call them.
 """
 
 from __future__ import annotations
@@ -27,14 +27,13 @@ from typing import Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin import chain_kernels as kernels
+from redkin.compiled import run_batch
 from redkin.validation import as_float_array, check_finite, check_pose, check_vectors
 
 Convention = Literal["dh", "mdh"]
 TWO_PI = 2.0 * np.pi
-#: Configurations propagated together in :meth:`SerialChain.fk` (fits the columns in cache).
-CHUNK = 8192
-#: Batches up to this size multiply 4x4 matrices instead of propagating columns.
-SMALL_BATCH = 16
+_NO_OFFSET = np.zeros((1, 3))
 
 
 def _frozen(values: ArrayLike, n: int, name: str, default: float | None = None) -> np.ndarray:
@@ -87,8 +86,9 @@ class SerialChain:
     name: str = "chain"
     source: str = ""
     joint_names: tuple[str, ...] = ()
-    _joints_first: bool = field(init=False, repr=False)
-    _fixed: np.ndarray = field(init=False, repr=False)
+    _standard: bool = field(init=False, repr=False)
+    _links: np.ndarray = field(init=False, repr=False)
+    _ends: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         if self.convention not in ("dh", "mdh"):
@@ -131,8 +131,11 @@ class SerialChain:
         values["joint_names"] = names
         for key, value in values.items():
             object.__setattr__(self, key, value)
-        object.__setattr__(self, "_joints_first", self.convention == "dh")
-        object.__setattr__(self, "_fixed", self._fixed_factors())
+        # what the kernels read (redkin.chain_kernels): one row per joint, and base and tool
+        links = np.stack([self.offset, self.sign, self.a, self.d, *_cos_sin(self.alpha)], axis=-1)
+        object.__setattr__(self, "_standard", self.convention == "dh")
+        object.__setattr__(self, "_links", np.ascontiguousarray(links))
+        object.__setattr__(self, "_ends", np.ascontiguousarray(np.stack([self.base, self.tool])))
 
     # ------------------------------------------------------------------ basics
     @property
@@ -166,73 +169,14 @@ class SerialChain:
         """Validate joint vectors: finite, shape ``(..., n)``; return them as floats."""
         return check_vectors(q, self.n, name)
 
+    def _flat(self, q: ArrayLike) -> tuple[np.ndarray, tuple[int, ...]]:
+        """Validated joint vectors as the kernels take them (C-contiguous float64, ``(N, n)``) and their leading shape."""
+        q = self.check_q(q)
+        return np.ascontiguousarray(q.reshape(-1, self.n)), q.shape[:-1]
+
     def dh_angles(self, q: np.ndarray) -> np.ndarray:
         """The DH angles ``theta = offset + sign * q``."""
         return self.offset + self.sign * q
-
-    # ------------------------------------------------------- propagation core
-    def _propagate(self, q: np.ndarray, keep: bool):
-        """Run the chain for flat joints ``q`` of shape ``(N, n)`` on axis columns.
-
-        Returns the final ``(x, y, z, p)`` columns (each ``(3, N)``) and, if
-        ``keep``, the list of the columns of frames ``0..n``.
-        """
-        theta = self.dh_angles(q).T  # (n, N)
-        cos, sin = np.cos(theta), np.sin(theta)
-        count = q.shape[0]
-        base = self.base
-        x, y, z, p = (np.repeat(base[:3, k : k + 1], count, axis=1) for k in range(4))
-        frames = [(x, y, z, p)] if keep else None
-        for i in range(self.n):
-            if self._joints_first:  # standard DH: Rz(theta) Tz(d) Tx(a) Rx(alpha)
-                x, y = x * cos[i] + y * sin[i], y * cos[i] - x * sin[i]
-                p = _translate(_translate(p, self.d[i], z), self.a[i], x)
-                y, z = _rotate_about_x(y, z, self.alpha[i])
-            else:  # modified DH: Rx(alpha) Tx(a) Rz(theta) Tz(d)
-                y, z = _rotate_about_x(y, z, self.alpha[i])
-                p = _translate(p, self.a[i], x)
-                x, y = x * cos[i] + y * sin[i], y * cos[i] - x * sin[i]
-                p = _translate(p, self.d[i], z)
-            if keep:
-                frames.append((x, y, z, p))
-        return (x, y, z, p), frames
-
-    def _frame_stack(self, flat: np.ndarray) -> np.ndarray:
-        """Frames ``0..n`` for flat joints ``(N, n)``: shape ``(N, n + 1, 4, 4)``.
-
-        Small batches multiply 4x4 matrices (less call overhead); large ones
-        propagate axis columns.
-        """
-        if flat.shape[0] > SMALL_BATCH:
-            _, frames = self._propagate(flat, keep=True)
-            return np.stack([_assemble(*f) for f in frames], axis=1)
-        theta = self.dh_angles(flat)
-        turn = np.zeros(theta.shape + (4, 4))
-        turn[..., 0, 0] = turn[..., 1, 1] = np.cos(theta)
-        turn[..., 1, 0] = np.sin(theta)
-        turn[..., 0, 1] = -turn[..., 1, 0]
-        turn[..., 2, 2] = turn[..., 3, 3] = 1.0
-        fixed = self._fixed
-        # standard: A = Rz(theta) [Tz(d) Tx(a) Rx(alpha)]; modified: A = [Rx(alpha) Tx(a) Tz(d)] Rz(theta)
-        links = turn @ fixed if self._joints_first else fixed @ turn
-        out = np.empty((flat.shape[0], self.n + 1, 4, 4))
-        out[:, 0] = self.base
-        for i in range(self.n):
-            out[:, i + 1] = out[:, i] @ links[:, i]
-        return out
-
-    def _fixed_factors(self) -> np.ndarray:
-        """The joint-independent factor of each row, shape ``(n, 4, 4)``."""
-        ca, sa = np.cos(self.alpha), np.sin(self.alpha)
-        out = np.zeros((self.n, 4, 4))
-        out[:, 0, 0] = out[:, 3, 3] = 1.0
-        out[:, 1, 1], out[:, 1, 2], out[:, 2, 1], out[:, 2, 2] = ca, -sa, sa, ca
-        if self._joints_first:  # Tz(d) Tx(a) Rx(alpha)
-            out[:, 0, 3], out[:, 2, 3] = self.a, self.d
-        else:  # Rx(alpha) Tx(a) Tz(d)
-            out[:, 0, 3] = self.a
-            out[:, 1, 3], out[:, 2, 3] = -sa * self.d, ca * self.d
-        return out
 
     # ------------------------------------------------------------- public API
     def fk(self, q: ArrayLike) -> np.ndarray:
@@ -247,19 +191,10 @@ class SerialChain:
         -------
         numpy.ndarray, shape (..., 4, 4)
         """
-        q = self.check_q(q)
-        lead = q.shape[:-1]
-        flat = q.reshape(-1, self.n)
-        if flat.shape[0] <= SMALL_BATCH:
-            return (self._frame_stack(flat)[:, -1] @ self.tool).reshape(lead + (4, 4))
-        pose = np.empty((flat.shape[0], 4, 4))
-        tool = None if np.array_equal(self.tool, np.eye(4)) else self.tool
-        # Chunks keep the working columns in cache: about twice as fast on large batches.
-        for start in range(0, flat.shape[0], CHUNK):
-            columns, _ = self._propagate(flat[start : start + CHUNK], keep=False)
-            block = _assemble(*columns)
-            pose[start : start + CHUNK] = block if tool is None else block @ tool
-        return pose.reshape(lead + (4, 4))
+        flat, lead = self._flat(q)
+        out = np.empty((flat.shape[0], 4, 4))
+        run_batch(kernels.fk, kernels.fk_parallel, flat.shape[0], flat, self._links, self._ends, self._standard, out)
+        return out.reshape(lead + (4, 4))
 
     def frames(self, q: ArrayLike) -> np.ndarray:
         """Poses of frames ``0..n`` and the tool frame.
@@ -270,10 +205,10 @@ class SerialChain:
             Index 0 is the base frame, index ``k`` the frame after joint ``k``
             (``1 <= k <= n``), index ``n + 1`` the tool frame (the end pose).
         """
-        q = self.check_q(q)
-        lead = q.shape[:-1]
-        stack = self._frame_stack(q.reshape(-1, self.n))
-        out = np.concatenate([stack, (stack[:, -1] @ self.tool)[:, None]], axis=1)
+        flat, lead = self._flat(q)
+        out = np.empty((flat.shape[0], self.n + 2, 4, 4))
+        run_batch(kernels.frames, kernels.frames_parallel, flat.shape[0],
+                  flat, self._links, self._ends, self._standard, out)
         return out.reshape(lead + (self.n + 2, 4, 4))
 
     def joint_axes(self, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -299,7 +234,7 @@ class SerialChain:
         -------
         directions, points : numpy.ndarray, shape (..., n, 3)
         """
-        axis_frames = frames[..., : self.n, :, :] if self._joints_first else frames[..., 1 : self.n + 1, :, :]
+        axis_frames = frames[..., : self.n, :, :] if self._standard else frames[..., 1 : self.n + 1, :, :]
         return axis_frames[..., :3, 2], axis_frames[..., :3, 3]
 
     def jacobian(
@@ -326,29 +261,19 @@ class SerialChain:
         numpy.ndarray, shape (..., 6, n)
             ``[v; omega] = J q_dot``.
         """
-        q = self.check_q(q)
+        flat, lead = self._flat(q)
         if frame is not None and (int(frame) != frame or not 0 <= frame <= self.n):
             raise ValueError(f"frame must be None or an integer in 0..{self.n}, got {frame!r}")
-        lead = q.shape[:-1]
-        stack = self._frame_stack(q.reshape(-1, self.n))
-        if frame is None:
-            target, active = stack[:, -1] @ self.tool, self.n
-        else:
-            target, active = stack[:, int(frame)], int(frame)
-        point = target[:, :3, 3]
+        offsets = _NO_OFFSET
         if offset is not None:
             local = check_vectors(offset, 3, "offset")
-            local = np.broadcast_to(local, lead + (3,)).reshape(-1, 3)
-            point = point + np.einsum("nij,nj->ni", target[:, :3, :3], local)
-        directions, origins = self.joint_axes_in(stack)
-        directions = directions * self.sign[:, None]  # (N, n, 3)
-        lever = point[:, None, :] - origins
-        jac = np.empty((stack.shape[0], 6, self.n))
-        for row, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):  # directions x lever
-            jac[:, row] = directions[..., i] * lever[..., j] - directions[..., j] * lever[..., i]
-        jac[:, 3:] = directions.transpose(0, 2, 1)
-        jac[:, :, active:] = 0.0
-        return jac.reshape(lead + (6, self.n))
+            offsets = local.reshape(1, 3) if local.ndim == 1 else np.broadcast_to(local, lead + (3,)).reshape(-1, 3)
+            offsets = np.ascontiguousarray(offsets)
+        active = self.n if frame is None else int(frame)
+        out = np.empty((flat.shape[0], 6, self.n))
+        run_batch(kernels.jacobian, kernels.jacobian_parallel, flat.shape[0],
+                  flat, self._links, self._ends, self._standard, active, frame is None, offsets, out)
+        return out.reshape(lead + (6, self.n))
 
     def manipulability(
         self,
@@ -462,31 +387,11 @@ def yoshikawa(jacobian: ArrayLike) -> np.ndarray:
     return np.prod(np.linalg.svd(jac, compute_uv=False), axis=-1)
 
 
-def _rotate_about_x(y: np.ndarray, z: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray]:
-    """Right-multiply the running frame by ``Rx(alpha)``: new y and z columns."""
+def _cos_sin(alpha: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``cos, sin`` of the DH twists, quarter turns exact (so that 0 stays 0 in every frame)."""
     c, s = np.cos(alpha), np.sin(alpha)
-    # Exact for the common quarter turns, so 0 stays 0 and no work is wasted.
-    if abs(s) < 1e-15:
-        return (y, z) if c > 0 else (-y, -z)
-    if abs(c) < 1e-15:
-        return (z, -y) if s > 0 else (-z, y)
-    return y * c + z * s, z * c - y * s
-
-
-def _translate(p: np.ndarray, length: float, direction: np.ndarray) -> np.ndarray:
-    """``p + length * direction``, skipping the work for a zero length."""
-    return p if length == 0.0 else p + length * direction
-
-
-def _assemble(x: np.ndarray, y: np.ndarray, z: np.ndarray, p: np.ndarray) -> np.ndarray:
-    count = x.shape[1]
-    out = np.zeros((count, 4, 4))
-    out[:, :3, 0] = x.T
-    out[:, :3, 1] = y.T
-    out[:, :3, 2] = z.T
-    out[:, :3, 3] = p.T
-    out[:, 3, 3] = 1.0
-    return out
+    c, s = np.where(np.abs(s) < 1e-15, np.sign(c), c), np.where(np.abs(s) < 1e-15, 0.0, s)
+    return np.where(np.abs(c) < 1e-15, 0.0, c), np.where(np.abs(c) < 1e-15, np.sign(s), s)
 
 
 def _index(selection: Sequence[int] | slice | None, size: int, name: str):

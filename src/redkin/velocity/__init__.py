@@ -49,13 +49,12 @@ from redkin.velocity.proposed import (
     singularity_consistent,
     weighted_sum_direction,
 )
-from redkin.velocity.single_jacobian import SingleJacobian
 from redkin.velocity.solution import VelocitySolution
 from redkin.velocity.tracking import TrackingResult, simulate
 
 __all__ = [
     "AdaptiveDampedLeastSquares", "DampedLeastSquares", "ElbowSine", "FactorCheck", "METHOD_NAMES", "NumericalFactorisation",
-    "Pseudoinverse", "PseudoinverseController", "SingleJacobian", "SingularityConsistent",
+    "Pseudoinverse", "PseudoinverseController", "SingularityConsistent",
     "SingularityConsistentController", "TrackingResult", "VelocitySolution", "WamFactorisation",
     "adaptive_damped_least_squares", "adaptive_damping", "adjugate", "adjugate_direction", "algorithmic_singularity",
     "blend_weight", "check_single_parameter", "column_minors", "damped_least_squares", "fixed_joint_sc",

@@ -1,13 +1,13 @@
 """Control-loop entry points: bind the robot once, then one cheap call per step (paper 003, 1 kHz use).
 
 A user's servo loop calls ``step(q, twist)`` a thousand times a second with
-the same robot.  The array API (:func:`~redkin.velocity.lean_step.lean_singularity_consistent`,
-``chain.jacobian``) validates and broadcasts on every call and pays numpy's
-per-call overhead on tiny arrays; here the chain, the factorisation and every
-parameter are checked once in the constructor, and each step
+the same robot.  The array API (:func:`~redkin.velocity.lean_step.lean_singularity_consistent`)
+validates and broadcasts on every call and pays numpy's per-call overhead on
+tiny arrays; here the chain, the factorisation and every parameter are
+checked once in the constructor, and each step
 
 1. checks ``q`` and ``twist`` (shape and finite: still a ``ValueError`` on bad input),
-2. builds the Jacobian with :class:`~redkin.velocity.single_jacobian.SingleJacobian`,
+2. builds the Jacobian with ``chain.jacobian`` (the compiled kernel of :mod:`redkin.chain_kernels`),
 3. evaluates ``D_e`` in scalar arithmetic (``Factorisation.scalar_index``),
 4. scales the twist with the scalar forms of the blend (:mod:`redkin.velocity.blend`), and
 5. solves the minimum-norm problem ``J q_dot = target`` with one LAPACK
@@ -39,7 +39,6 @@ from redkin.velocity.cofactors import self_motion_vector
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
 from redkin.velocity.lean_step import NEAR_ZERO_FRACTION
 from redkin.velocity.proposed import adjugate_factor_sum, blended_step
-from redkin.velocity.single_jacobian import SingleJacobian
 from redkin.velocity.solution import VelocitySolution
 
 _WORKSPACE = int(lapack.dgelss_lwork(6, 7, 1)[0])
@@ -71,12 +70,12 @@ def read_vector(value: ArrayLike, length: int, name: str) -> list[float]:
     return values
 
 
-def _one_redundant_arm(chain: SerialChain) -> SingleJacobian:
+def _one_redundant_arm(chain: SerialChain) -> SerialChain:
     if not isinstance(chain, SerialChain):
         raise ValueError(f"chain must be a SerialChain, got {type(chain).__name__}")
     if chain.n != 7:
         raise ValueError(f"chain must have 7 joints (a 6 x 7 Jacobian), got {chain.n} ({chain.name!r})")
-    return SingleJacobian(chain)
+    return chain
 
 
 class PseudoinverseController:
@@ -94,13 +93,13 @@ class PseudoinverseController:
     """
 
     def __init__(self, chain: SerialChain) -> None:
-        self._jacobian = _one_redundant_arm(chain)
+        self._chain = _one_redundant_arm(chain)
 
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity for joint angles ``q`` ``(7,)`` and twist ``(6,)`` (linear, angular)."""
         values = read_vector(q, 7, "q")
         command = read_vector(twist, 6, "twist")
-        qdot = minimum_norm_solution(self._jacobian.unchecked(values), command, PINV_RCOND)
+        qdot = minimum_norm_solution(self._chain.jacobian(values), command, PINV_RCOND)
         return VelocitySolution(qdot, np.array(command))
 
 
@@ -153,7 +152,7 @@ class SingularityConsistentController:
         modify_rotation: bool = True,
         near_zero: float | None = None,
     ) -> None:
-        self._jacobian = _one_redundant_arm(chain)
+        self._chain = _one_redundant_arm(chain)
         self.factorisation = singularity_factorisation(chain) if factorisation is None else factorisation
         if not isinstance(self.factorisation, Factorisation):
             raise ValueError(f"factorisation must be a Factorisation, got {type(self.factorisation).__name__}")
@@ -173,7 +172,7 @@ class SingularityConsistentController:
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity and realised twist for joint angles ``q`` ``(7,)`` and commanded twist ``(6,)``."""
         values = read_vector(q, 7, "q")
-        return self.solve(values, self._jacobian.unchecked(values), read_vector(twist, 6, "twist"))
+        return self.solve(values, self._chain.jacobian(values), read_vector(twist, 6, "twist"))
 
     def solve(self, values: list[float], jac: np.ndarray, command: list[float]) -> VelocitySolution:
         """The step for trusted inputs: 7 finite joint values, their ``6 x 7`` Jacobian, 6 finite twist values.

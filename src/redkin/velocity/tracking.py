@@ -23,7 +23,6 @@ from redkin.so3 import skew
 from redkin.validation import check_positive, check_vectors
 from redkin.velocity._inputs import nonnegative
 from redkin.velocity.methods import Method
-from redkin.velocity.single_jacobian import SingleJacobian
 
 TwistCommand = Callable[[float, np.ndarray], np.ndarray]
 
@@ -107,7 +106,6 @@ def simulate(
         fixed = check_vectors(twist, 6, "twist").reshape(6)
         command = lambda t, q: fixed  # noqa: E731
     solve = method.bind(chain, q_start)
-    jacobian = SingleJacobian(chain).unchecked  # chain.jacobian's result for one q, a fifth of the time
     pose0 = chain.fk(q_start)
     # State: q, then (closed loop only) reference position and rotation.
     y = np.concatenate([q_start, pose0[:3, 3], pose0[:3, :3].ravel()]) if k_gain else q_start.copy()
@@ -115,7 +113,7 @@ def simulate(
 
     def evaluate(t: float, state: np.ndarray):
         q = state[:n]
-        jac = jacobian(q.tolist())
+        jac = chain.jacobian(q)
         v = np.asarray(command(t, q), dtype=float)
         fed = v
         if k_gain:
