@@ -1,0 +1,95 @@
+"""The box of positions of a workspace map and its division into chunks."""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.validation import as_float_array, check_count, check_finite
+
+#: Most grid points per axis (``redkin workspace --resolution``).
+MAX_RESOLUTION = 1000
+#: Poses one chunk aims at (positions x orientations): a few megabytes of results per chunk,
+#: a second or so of one core, and few enough chunks for the scheduler at a 1 cm grid.
+CHUNK_POSES = 32_768
+
+
+@dataclass(frozen=True)
+class WorkspaceGrid:
+    """Grid points ``x, y, z`` (metres) of an axis-aligned box, cut into cubes of ``chunk`` points per axis.
+
+    Attributes
+    ----------
+    extent : tuple of float
+        ``(xmin, xmax, ymin, ymax, zmin, zmax)``, metres.
+    resolution : int
+        Points per axis, ends included.
+    chunk : int
+        Points per axis of a chunk (the last chunk of an axis may be shorter).
+    """
+
+    extent: tuple[float, ...]
+    resolution: int
+    chunk: int
+
+    @property
+    def axes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The coordinates ``x, y, z`` of the grid, each of length ``resolution``."""
+        lo, hi = self.extent[0::2], self.extent[1::2]
+        return tuple(np.linspace(a, b, self.resolution) for a, b in zip(lo, hi))  # type: ignore[return-value]
+
+    @property
+    def chunk_counts(self) -> tuple[int, int, int]:
+        """Chunks along x, y and z."""
+        count = -(-self.resolution // self.chunk)
+        return (count, count, count)
+
+    def chunk_indices(self) -> list[tuple[int, int, int]]:
+        """Every chunk's index ``(i, j, k)``, in C order."""
+        return list(itertools.product(*(range(c) for c in self.chunk_counts)))
+
+    def chunk_slices(self, index: tuple[int, int, int]) -> tuple[slice, slice, slice]:
+        """The grid slices of chunk ``index`` along x, y, z."""
+        return tuple(slice(i * self.chunk, min((i + 1) * self.chunk, self.resolution)) for i in index)  # type: ignore[return-value]
+
+    def chunk_positions(self, index: tuple[int, int, int]) -> np.ndarray:
+        """Positions of chunk ``index``, shape ``(nx, ny, nz, 3)``, metres."""
+        coordinates = [axis[s] for axis, s in zip(self.axes, self.chunk_slices(index))]
+        return np.stack(np.meshgrid(*coordinates, indexing="ij"), axis=-1)
+
+
+def workspace_grid(extent: ArrayLike, resolution: int, orientations: int, chunk: int | None = None) -> WorkspaceGrid:
+    """A checked :class:`WorkspaceGrid`.
+
+    Parameters
+    ----------
+    extent : array_like, shape (6,)
+        ``xmin, xmax, ymin, ymax, zmin, zmax`` in metres, each minimum below its maximum.
+    resolution : int
+        Points per axis, ``2..MAX_RESOLUTION``.
+    orientations : int
+        Orientations per position (sizes the default chunk).
+    chunk : int, optional
+        Points per axis of a chunk, ``1..resolution``; default: the largest cube of at most
+        :data:`CHUNK_POSES` poses.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is malformed or out of range.
+    """
+    box = as_float_array(extent, "extent").reshape(-1)
+    if box.shape != (6,):
+        raise ValueError(f"extent must have 6 numbers (xmin xmax ymin ymax zmin zmax), got {box.size}")
+    check_finite(box, "extent")
+    for axis, (lo, hi) in zip("xyz", box.reshape(3, 2)):
+        if not lo < hi:
+            raise ValueError(f"extent: {axis}min must be below {axis}max, got {lo:g} and {hi:g}")
+    m = check_count(resolution, "resolution", 2, MAX_RESOLUTION)
+    if chunk is None:
+        edge = int(np.floor((CHUNK_POSES / max(int(orientations), 1)) ** (1.0 / 3.0) + 1e-9))
+        chunk = min(max(edge, 1), m)
+    return WorkspaceGrid(tuple(float(v) for v in box), m, check_count(chunk, "chunk", 1, m))

@@ -1,0 +1,212 @@
+"""Computing a workspace map chunk by chunk on Dask, into its Zarr store, resuming where a run stopped.
+
+Each chunk (a cube of grid positions with every orientation and branch) is
+one task of a Dask graph: it computes its measures
+(:func:`redkin.workspace.measure.feasible_measures`) and indices, writes them
+into the store and then marks the chunk complete.  The same graph runs on
+Dask's local scheduler (the default: threads of this process, nothing to
+start) or, given a ``distributed.Client``, on a cluster whose workers can
+write the store's path (the same machine or a shared file system).  A run
+on a store that already holds the same map computes only the chunks not
+marked complete; a task lost with a dying worker is rescheduled by Dask,
+and writing a chunk twice writes the same values.
+"""
+
+from __future__ import annotations
+
+import shutil
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.chain import SerialChain
+from redkin.srs import BRANCHES, srs_geometry
+from redkin.srs.geometry import SRSGeometry
+from redkin.validation import check_count
+from redkin.workspace.grid import WorkspaceGrid, workspace_grid
+from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index
+from redkin.workspace.optional import require
+from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
+from redkin.workspace.store import completed_chunks, create_store, map_parameters, stored_parameters, write_chunk
+
+#: ``progress(done, total)`` after each chunk of a run (``total`` counts the chunks this run computes).
+Progress = Callable[[int, int], None]
+
+
+@dataclass(frozen=True)
+class WorkspaceRun:
+    """What a run of :func:`workspace_map` did and what the map holds.
+
+    Attributes
+    ----------
+    path : Path
+        The Zarr store.
+    positions, orientations, chunks : int
+        Grid positions (``resolution ** 3``), orientations per position, chunks of the map.
+    computed : int
+        Chunks computed by this run (the others were complete already).
+    reachable_positions : float
+        Fraction of positions with a feasible arm angle at some orientation and branch.
+    reachable_poses : float
+        Fraction of position-orientation pairs with one (the mean reachability index).
+    mean_redundancy : float
+        Mean redundancy index over the reachable positions (0 if there are none).
+    seconds : float
+        Wall time of the run.
+    """
+
+    path: Path
+    positions: int
+    orientations: int
+    chunks: int
+    computed: int
+    reachable_positions: float
+    reachable_poses: float
+    mean_redundancy: float
+    seconds: float
+
+    @property
+    def pose_branch_evaluations(self) -> int:
+        """Exact feasible sets in the map: positions x orientations x 8 branches."""
+        return self.positions * self.orientations * len(BRANCHES)
+
+
+def compute_chunk(geometry: SRSGeometry, grid: WorkspaceGrid, rotations: np.ndarray, path: Path,
+                  index: tuple[int, int, int]) -> tuple[int, int, int]:
+    """Compute chunk ``index`` of the map and write it into the store at ``path`` (one Dask task)."""
+    positions = grid.chunk_positions(index)
+    shape = positions.shape[:3] + (len(rotations), len(BRANCHES))
+    measure = feasible_measures(geometry, positions.reshape(-1, 3), rotations).reshape(shape)
+    write_chunk(path, grid, index, measure, reachability_index(measure), redundancy_index(measure))
+    return index
+
+
+def _prepare_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray) -> None:
+    """Create the store, or check that the one at ``path`` holds this map (to resume it)."""
+    parameters = stored_parameters(path)
+    if parameters is None and path.exists():
+        raise ValueError(f"{str(path)!r} exists and is not a workspace map; choose another path")
+    if parameters is None:
+        creating = path.with_name(path.name + ".creating")  # a store appears whole or not at all
+        shutil.rmtree(creating, ignore_errors=True)
+        create_store(creating, chain, grid, rotations)
+        creating.rename(path)
+    elif parameters != map_parameters(chain, grid, len(rotations)):
+        raise ValueError(f"{str(path)!r} holds a map with other parameters (arm, extent, resolution, "
+                         "orientations or chunk); choose another path or remove it")
+
+
+def _run_local(tasks: list, progress: Progress | None) -> None:
+    """Compute ``tasks`` on Dask's local threaded scheduler, reporting each finished chunk."""
+    dask = require("dask")
+    from dask.callbacks import Callback
+
+    keys = {task.key for task in tasks}
+    done = [0]
+
+    class ChunkProgress(Callback):
+        def _posttask(self, key: Any, result: Any, dsk: Any, state: Any, worker_id: Any) -> None:
+            if key in keys and progress is not None:
+                done[0] += 1
+                progress(done[0], len(keys))
+
+    with ChunkProgress():
+        dask.compute(*tasks, scheduler="threads")
+
+
+def _run_distributed(tasks: list, client: Any, progress: Progress | None) -> None:
+    """Compute ``tasks`` on a dask.distributed cluster, reporting each finished chunk."""
+    distributed = require("distributed")
+    futures = client.compute(tasks)
+    try:
+        for done, future in enumerate(distributed.as_completed(futures), start=1):
+            future.result()  # raises the task's error here
+            if progress is not None:
+                progress(done, len(futures))
+    finally:
+        client.cancel([f for f in futures if not f.done()])
+
+
+def workspace_map(
+    arm: SerialChain,
+    path: "str | Path",
+    extent: ArrayLike,
+    resolution: int,
+    orientations: int,
+    *,
+    chunk: int | None = None,
+    client: Any = None,
+    progress: Progress | None = None,
+) -> WorkspaceRun:
+    """Exact reachability and redundancy map of an arm with arm-angle IK over a box, into a Zarr store.
+
+    Parameters
+    ----------
+    arm : SerialChain
+        An arm with arm-angle IK (S-R-S or offset elbow; :func:`redkin.srs.srs_geometry`).
+    path : str or Path
+        The Zarr store; resumed if it holds the same map, created if absent.
+    extent : array_like, shape (6,)
+        ``xmin, xmax, ymin, ymax, zmin, zmax`` of the box of tool positions, metres.
+    resolution : int
+        Grid points per axis (``2..1000``), ends included.
+    orientations : int
+        Tool orientations per position (``1..20000``): :func:`super_fibonacci_rotations`.
+    chunk : int, optional
+        Grid points per axis of a chunk (default: about 32768 poses per chunk).
+    client : distributed.Client, optional
+        Run on this cluster instead of Dask's local threaded scheduler.
+    progress : callable, optional
+        ``progress(done, total)`` after each chunk computed.
+
+    Returns
+    -------
+    WorkspaceRun
+
+    Raises
+    ------
+    ValueError
+        For an arm without arm-angle IK, a malformed size or extent, or a path that holds something else.
+    ImportError
+        Without the ``workspace`` extra, in one line saying how to install it.
+    """
+    started = time.perf_counter()
+    dask = require("dask")
+    require("zarr")
+    geometry = srs_geometry(arm)
+    count = check_count(orientations, "orientations", 1, MAX_ORIENTATIONS)
+    grid = workspace_grid(extent, resolution, count, chunk)
+    rotations = super_fibonacci_rotations(count)
+    store = Path(path)
+    _prepare_store(store, arm, grid, rotations)
+    complete = completed_chunks(store)
+    missing = [index for index in grid.chunk_indices() if not complete[index]]
+    token = dask.base.tokenize(str(store.resolve()), map_parameters(arm, grid, count))
+    shared = [dask.delayed(value, pure=True) for value in (geometry, grid, rotations, store)]
+    tasks = [dask.delayed(compute_chunk, pure=True)(*shared, index, dask_key_name=f"workspace-chunk-{token}-{index}")
+             for index in missing]
+    if client is None:
+        _run_local(tasks, progress)
+    else:
+        _run_distributed(tasks, client, progress)
+    return _summary(store, grid, count, len(missing), time.perf_counter() - started)
+
+
+def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int, seconds: float) -> WorkspaceRun:
+    """Read the map's indices back (chunked) into a :class:`WorkspaceRun`."""
+    xr = require("xarray")
+    with xr.open_zarr(store) as dataset:
+        reach = dataset["reachability"]
+        reached = reach > 0.0
+        fractions = [float(value) for value in
+                     require("dask").compute(reached.mean().data, reach.mean().data, reached.sum().data,
+                                             dataset["redundancy"].where(reached, 0.0).sum().data, scheduler="threads")]
+    return WorkspaceRun(
+        path=store, positions=grid.resolution ** 3, orientations=orientations, chunks=len(grid.chunk_indices()),
+        computed=computed, reachable_positions=fractions[0], reachable_poses=fractions[1],
+        mean_redundancy=fractions[3] / fractions[2] if fractions[2] else 0.0, seconds=seconds,
+    )

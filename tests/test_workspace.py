@@ -1,0 +1,118 @@
+"""redkin.workspace: the orientation set, the grid, and map entries against direct feasible-set calls."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("dask")
+pytest.importorskip("zarr")
+xr = pytest.importorskip("xarray")
+
+from redkin.models import get_robot  # noqa: E402
+from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable  # noqa: E402
+from redkin.workspace import (  # noqa: E402
+    reachability_index,
+    redundancy_index,
+    super_fibonacci_rotations,
+    workspace_grid,
+    workspace_map,
+)
+
+EXTENTS = {"pa10-7c": [-0.9, 0.9, -0.9, 0.9, -0.5, 1.3], "barrett-wam": [-0.8, 0.8, -0.8, 0.8, -0.6, 1.0]}
+
+
+def test_super_fibonacci_rotations_are_deterministic_proper_and_spread():
+    rotations = super_fibonacci_rotations(400)
+    assert np.array_equal(rotations, super_fibonacci_rotations(400))
+    np.testing.assert_allclose(rotations @ rotations.swapaxes(-1, -2), np.broadcast_to(np.eye(3), (400, 3, 3)), atol=1e-12)
+    np.testing.assert_allclose(np.linalg.det(rotations), 1.0, atol=1e-12)
+    # the Haar mean of R is 0; every random rotation is near one of the set (covering radius)
+    assert np.abs(rotations.mean(axis=0)).max() < 0.01
+    samples = super_fibonacci_rotations(1)[0] @ _random_rotations(np.random.default_rng(3), 300)
+    cosine = (np.einsum("sij,nij->sn", samples, rotations) - 1.0) / 2.0
+    assert np.degrees(np.arccos(np.clip(cosine.max(axis=1), -1, 1))).max() < 35.0
+
+
+def _random_rotations(rng: np.random.Generator, count: int) -> np.ndarray:
+    q, r = np.linalg.qr(rng.normal(size=(count, 3, 3)))
+    q = q * np.sign(np.diagonal(r, axis1=-2, axis2=-1))[..., None, :]
+    return q * np.linalg.det(q)[:, None, None]
+
+
+def test_grid_chunks_cover_every_point_once():
+    grid = workspace_grid([-1, 1, -2, 2, 0, 1], 7, 10, chunk=3)
+    assert grid.chunk_counts == (3, 3, 3)
+    seen = np.zeros((7, 7, 7), dtype=int)
+    for index in grid.chunk_indices():
+        seen[grid.chunk_slices(index)] += 1
+        positions = grid.chunk_positions(index)
+        assert positions.shape[:3] == seen[grid.chunk_slices(index)].shape
+    assert np.all(seen == 1)
+    x, y, z = grid.axes
+    assert x[0] == -1 and x[-1] == 1 and y[-1] == 2 and z[0] == 0
+    assert workspace_grid([-1, 1, -1, 1, -1, 1], 50, 500).chunk == 4  # 4^3 x 500 <= 32768 < 5^3 x 500
+
+
+@pytest.mark.parametrize("extent, message", [
+    ([0, 1, 0, 1, 0], "6 numbers"),
+    ([1, 0, 0, 1, 0, 1], "xmin must be below xmax"),
+    ([0, 1, 0, np.nan, 0, 1], "finite"),
+])
+def test_grid_rejects_bad_extents(extent, message):
+    with pytest.raises(ValueError, match=message):
+        workspace_grid(extent, 4, 10)
+
+
+def test_grid_rejects_bad_sizes():
+    with pytest.raises(ValueError, match="resolution must be an integer in 2..1000"):
+        workspace_grid([0, 1, 0, 1, 0, 1], 1, 10)
+    with pytest.raises(ValueError, match="chunk must be an integer in 1..4"):
+        workspace_grid([0, 1, 0, 1, 0, 1], 4, 10, chunk=5)
+
+
+def test_map_refuses_an_arm_without_arm_angle_ik(tmp_path):
+    with pytest.raises(ValueError, match="not S-R-S"):
+        workspace_map(get_robot("franka-panda"), tmp_path / "map.zarr", EXTENTS["pa10-7c"], 3, 2)
+    assert not (tmp_path / "map.zarr").exists()
+
+
+@pytest.mark.parametrize("robot", sorted(EXTENTS))
+def test_map_entries_equal_direct_feasible_arm_angles(robot, tmp_path):
+    arm = get_robot(robot)
+    run = workspace_map(arm, tmp_path / "map.zarr", EXTENTS[robot], 5, 12, chunk=3)
+    assert (run.chunks, run.computed, run.positions) == (8, 8, 125)
+    with xr.open_zarr(run.path) as dataset:
+        measure = dataset["measure"].values
+        x, y, z = (dataset[axis].values for axis in "xyz")
+        rotations = dataset["rotation"].values
+        np.testing.assert_array_equal(rotations, super_fibonacci_rotations(12))
+        assert dataset["measure"].dims == ("x", "y", "z", "orientation", "branch")
+        assert dataset.attrs["branches"] == [str(b) for b in BRANCHES] and dataset["x"].attrs["units"] == "m"
+        assert dataset.attrs["arm"]["name"] == arm.name and bool(dataset["chunk_complete"].values.all())
+        np.testing.assert_array_equal(dataset["reachability"].values, reachability_index(measure))
+        np.testing.assert_array_equal(dataset["redundancy"].values, redundancy_index(measure))
+    assert 0.0 < run.reachable_poses < run.reachable_positions < 1.0
+    rng = np.random.default_rng(14)
+    reached = np.argwhere(measure.max(axis=-1) > 0)
+    samples = np.concatenate([reached[rng.choice(len(reached), 12, replace=False)],
+                              np.argwhere(measure.max(axis=-1) == 0)[:4]])
+    for i, j, k, o in samples:
+        pose = pose_from(np.array([x[i], y[j], z[k]]), rotations[o])
+        for column, branch in enumerate(BRANCHES):
+            expected = 0.0
+            if reachable(arm, pose):
+                arcs = feasible_arm_angles(arm, pose, branch).feasible.arcs
+                expected = sum(b - a for a, b in arcs)
+            assert measure[i, j, k, o, column] == pytest.approx(expected, abs=1e-9)
+    # one position's indices from their definitions, over all orientations
+    i, j, k = reached[0][:3]
+    best = measure[i, j, k].max(axis=-1)
+    assert reachability_index(measure)[i, j, k] == np.mean(best > 0)
+    assert redundancy_index(measure)[i, j, k] == pytest.approx(best[best > 0].mean() / (2 * np.pi))
+
+
+def test_indices_of_unreachable_and_free_positions():
+    measure = np.zeros((2, 3, 8))
+    measure[1, 0, 2] = 2 * np.pi
+    measure[1, 1, 5] = np.pi
+    np.testing.assert_allclose(reachability_index(measure), [0.0, 2 / 3])
+    np.testing.assert_allclose(redundancy_index(measure), [0.0, 0.75])
