@@ -38,169 +38,205 @@ OFFSET, SIGN, A, D, COS_ALPHA, SIN_ALPHA = range(6)
 
 # ------------------------------------------------------------- one DH row
 @kernel
-def turn_z(m, c, s):
-    """``m <- m Rz(theta)`` with ``c, s = cos, sin theta``: ``x, y <- c x + s y, c y - s x``."""
+def angles(q, links, trig):
+    """``cos theta_i, sin theta_i`` of ``theta_i = offset_i + sign_i q_i`` into ``trig`` (n, 2).
+
+    Taken ahead of the frame products, which then make no calls (a call to
+    ``cos`` or ``sin`` would spill the running frame from the registers).
+    """
+    for i in range(links.shape[0]):
+        theta = links[i, OFFSET] + links[i, SIGN] * q[i]
+        trig[i, 0], trig[i, 1] = cos(theta), sin(theta)
+
+
+@kernel
+def turn(u, v, c, s):
+    """Turn the frame's axes ``u, v`` (3-tuples) by the angle with ``c, s = cos, sin``: ``c u + s v, c v - s u``.
+
+    ``m Rz(theta)`` turns ``x, y``; ``m Rx(alpha)`` turns ``y, z``.
+    """
+    return ((c * u[0] + s * v[0], c * u[1] + s * v[1], c * u[2] + s * v[2]),
+            (c * v[0] - s * u[0], c * v[1] - s * u[1], c * v[2] - s * u[2]))
+
+
+@kernel
+def move(p, length, u):
+    """``p + length * u``: the origin moved along the frame's axis ``u`` (``m Tx(a)``, ``m Tz(d)``)."""
+    return (p[0] + length * u[0], p[1] + length * u[1], p[2] + length * u[2])
+
+
+@kernel
+def standard_link(x, y, z, p, links, trig, i):
+    """The frame ``(x, y, z, p)`` (axes and origin, 3-tuples in world coordinates) times
+    ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``."""
+    x, y = turn(x, y, trig[i, 0], trig[i, 1])
+    p = move(move(p, links[i, D], z), links[i, A], x)
+    y, z = turn(y, z, links[i, COS_ALPHA], links[i, SIN_ALPHA])
+    return x, y, z, p
+
+
+@kernel
+def modified_link(x, y, z, p, links, trig, i):
+    """The frame ``(x, y, z, p)`` times ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``."""
+    y, z = turn(y, z, links[i, COS_ALPHA], links[i, SIN_ALPHA])
+    p = move(p, links[i, A], x)
+    x, y = turn(x, y, trig[i, 0], trig[i, 1])
+    p = move(p, links[i, D], z)
+    return x, y, z, p
+
+
+@kernel
+def columns(t):
+    """The axes and the origin ``x, y, z, p`` (3-tuples) of a pose ``t`` (4, 4)."""
+    return ((t[0, 0], t[1, 0], t[2, 0]), (t[0, 1], t[1, 1], t[2, 1]),
+            (t[0, 2], t[1, 2], t[2, 2]), (t[0, 3], t[1, 3], t[2, 3]))
+
+
+@kernel
+def combine(x, y, z, a, b, c):
+    """``a x + b y + c z`` for 3-tuples ``x, y, z``."""
+    return (a * x[0] + b * y[0] + c * z[0], a * x[1] + b * y[1] + c * z[1], a * x[2] + b * y[2] + c * z[2])
+
+
+@kernel
+def times(x, y, z, p, t):
+    """The frame ``(x, y, z, p)`` times a fixed transform ``t`` (4, 4) whose last row is ``0 0 0 1``."""
+    return (combine(x, y, z, t[0, 0], t[1, 0], t[2, 0]), combine(x, y, z, t[0, 1], t[1, 1], t[2, 1]),
+            combine(x, y, z, t[0, 2], t[1, 2], t[2, 2]), move(combine(x, y, z, t[0, 3], t[1, 3], t[2, 3]), 1.0, p))
+
+
+@kernel
+def store(x, y, z, p, out):
+    """Write the frame ``(x, y, z, p)`` into the pose ``out`` (4, 4)."""
     for r in range(3):
-        x, y = m[r, 0], m[r, 1]
-        m[r, 0] = c * x + s * y
-        m[r, 1] = c * y - s * x
-
-
-@kernel
-def turn_x(m, c, s):
-    """``m <- m Rx(alpha)`` with ``c, s = cos, sin alpha``: ``y, z <- c y + s z, c z - s y``."""
-    for r in range(3):
-        y, z = m[r, 1], m[r, 2]
-        m[r, 1] = c * y + s * z
-        m[r, 2] = c * z - s * y
-
-
-@kernel
-def shift(m, column, length):
-    """``m <- m T``, ``T`` a translation by ``length`` along the frame's own axis ``column`` (0 = x, 2 = z)."""
-    for r in range(3):
-        m[r, 3] += length * m[r, column]
-
-
-@kernel
-def link(m, links, i, q, standard):
-    """``m <- m A_i(q)``: the DH transform of row ``i`` at joint value ``q``."""
-    theta = links[i, OFFSET] + links[i, SIGN] * q
-    c, s = cos(theta), sin(theta)
-    if standard:  # Rz(theta) Tz(d) Tx(a) Rx(alpha)
-        turn_z(m, c, s)
-        shift(m, 2, links[i, D])
-        shift(m, 0, links[i, A])
-        turn_x(m, links[i, COS_ALPHA], links[i, SIN_ALPHA])
-    else:  # Rx(alpha) Tx(a) Rz(theta) Tz(d)
-        turn_x(m, links[i, COS_ALPHA], links[i, SIN_ALPHA])
-        shift(m, 0, links[i, A])
-        turn_z(m, c, s)
-        shift(m, 2, links[i, D])
-
-
-@kernel
-def times(m, t):
-    """``m <- m t`` for a fixed transform ``t`` (4, 4) whose last row is ``0 0 0 1``."""
-    for r in range(3):
-        x, y, z, p = m[r, 0], m[r, 1], m[r, 2], m[r, 3]
-        for k in range(4):
-            m[r, k] = x * t[0, k] + y * t[1, k] + z * t[2, k]
-        m[r, 3] += p
-
-
-@kernel
-def copy_pose(m, pose):
-    """``m <- pose`` (all four rows)."""
-    for r in range(4):
-        for k in range(4):
-            m[r, k] = pose[r, k]
+        out[r, 0], out[r, 1], out[r, 2], out[r, 3] = x[r], y[r], z[r], p[r]
+    out[3, 0], out[3, 1], out[3, 2], out[3, 3] = 0.0, 0.0, 0.0, 1.0
 
 
 # ---------------------------------------------------------- one configuration
+# ``trig`` is an (n, 2) scratch array for :func:`angles`.
 @kernel
-def fk_one(q, links, ends, standard, out):
-    """``out <- base A_1 ... A_n tool`` for one joint vector ``q`` (n,); ``out`` (4, 4)."""
-    copy_pose(out, ends[0])
+def fk_one(q, links, ends, standard, trig, out):
+    """``out <- base A_1 ... A_n tool`` (4, 4) for one joint vector ``q`` (n,)."""
+    angles(q, links, trig)
+    x, y, z, p = columns(ends[0])
     for i in range(links.shape[0]):
-        link(out, links, i, q[i], standard)
-    times(out, ends[1])
+        if standard:
+            x, y, z, p = standard_link(x, y, z, p, links, trig, i)
+        else:
+            x, y, z, p = modified_link(x, y, z, p, links, trig, i)
+    store(*times(x, y, z, p, ends[1]), out)
 
 
 @kernel
-def frames_one(q, links, ends, standard, out):
+def frames_one(q, links, ends, standard, trig, out):
     """``out[0]`` base, ``out[k]`` frame ``k`` after joint ``k``, ``out[n + 1]`` tool frame; ``out`` (n + 2, 4, 4)."""
     n = links.shape[0]
-    copy_pose(out[0], ends[0])
+    angles(q, links, trig)
+    x, y, z, p = columns(ends[0])
+    store(x, y, z, p, out[0])
     for i in range(n):
-        copy_pose(out[i + 1], out[i])
-        link(out[i + 1], links, i, q[i], standard)
-    copy_pose(out[n + 1], out[n])
-    times(out[n + 1], ends[1])
+        if standard:
+            x, y, z, p = standard_link(x, y, z, p, links, trig, i)
+        else:
+            x, y, z, p = modified_link(x, y, z, p, links, trig, i)
+        store(x, y, z, p, out[i + 1])
+    store(*times(x, y, z, p, ends[1]), out[n + 1])
 
 
 @kernel
-def jacobian_one(q, links, ends, standard, active, tool, offset, frame, out):
+def jacobian_one(q, links, ends, standard, active, tool, offset, trig, out):
     """Geometric Jacobian ``[v; omega] = J q_dot`` (6, n) of a point fixed in one frame, world coordinates.
 
     Joint ``i`` (of the first ``active``) turns with ``sign_i`` about the
     z axis of frame ``i - 1`` (standard DH) or ``i`` (modified DH), through
     that frame's origin ``o_i``: column ``i`` is ``sign_i [z_i x (point - o_i);
-    z_i]``; columns from ``active`` on are zero.  The frame is frame
+    z_i]``; columns from ``active`` on are zero.  The point's frame is frame
     ``active``, followed by the tool transform if ``tool``; the point is
-    ``offset`` (3,) in that frame's coordinates.  ``frame`` is a (4, 4)
-    scratch array for the running frame.
+    ``offset`` (3,) in that frame's coordinates.
     """
     n = links.shape[0]
-    copy_pose(frame, ends[0])
+    angles(q, links, trig)
+    x, y, z, p = columns(ends[0])
     for i in range(active):
-        if not standard:
-            link(frame, links, i, q[i], standard)
-        for r in range(3):  # the axis z_i (angular rows) and, until the point is known, o_i (linear rows)
-            out[3 + r, i] = links[i, SIGN] * frame[r, 2]
-            out[r, i] = frame[r, 3]
-        if standard:
-            link(frame, links, i, q[i], standard)
+        if standard:  # the axis before the link
+            axis, origin = z, p
+            x, y, z, p = standard_link(x, y, z, p, links, trig, i)
+        else:  # the axis after it
+            x, y, z, p = modified_link(x, y, z, p, links, trig, i)
+            axis, origin = z, p
+        for r in range(3):  # z_i (angular rows) and, until the point is known, o_i (linear rows)
+            out[3 + r, i] = links[i, SIGN] * axis[r]
+            out[r, i] = origin[r]
     if tool:
-        times(frame, ends[1])
-    px = frame[0, 3] + frame[0, 0] * offset[0] + frame[0, 1] * offset[1] + frame[0, 2] * offset[2]
-    py = frame[1, 3] + frame[1, 0] * offset[0] + frame[1, 1] * offset[1] + frame[1, 2] * offset[2]
-    pz = frame[2, 3] + frame[2, 0] * offset[0] + frame[2, 1] * offset[1] + frame[2, 2] * offset[2]
+        x, y, z, p = times(x, y, z, p, ends[1])
+    point = move(combine(x, y, z, offset[0], offset[1], offset[2]), 1.0, p)
     for i in range(active):
-        lx, ly, lz = px - out[0, i], py - out[1, i], pz - out[2, i]
-        zx, zy, zz = out[3, i], out[4, i], out[5, i]
-        out[0, i] = zy * lz - zz * ly
-        out[1, i] = zz * lx - zx * lz
-        out[2, i] = zx * ly - zy * lx
+        lx, ly, lz = point[0] - out[0, i], point[1] - out[1, i], point[2] - out[2, i]
+        ux, uy, uz = out[3, i], out[4, i], out[5, i]
+        out[0, i] = uy * lz - uz * ly
+        out[1, i] = uz * lx - ux * lz
+        out[2, i] = ux * ly - uy * lx
     for i in range(active, n):
         for r in range(6):
             out[r, i] = 0.0
 
 
 # ------------------------------------------------------------------- batches
-# Each kernel comes as a serial loop and a parallel one (numba caches one
-# dispatcher per Python function, so the two loops are two functions).
+# Each kernel comes as a serial loop and a parallel one over blocks of
+# CHUNK items, one scratch array per block (numba caches one dispatcher per
+# Python function, so the two loops are two functions).
+CHUNK = 512
+
+
 @kernel
 def fk(q, links, ends, standard, out):
     """:func:`fk_one` for each row of ``q`` (N, n); ``out`` (N, 4, 4)."""
+    trig = np.empty((q.shape[1], 2))
     for b in range(q.shape[0]):
-        fk_one(q[b], links, ends, standard, out[b])
+        fk_one(q[b], links, ends, standard, trig, out[b])
 
 
 @kernel(parallel=True)
 def fk_parallel(q, links, ends, standard, out):
     """:func:`fk` on all cores."""
-    for b in prange(q.shape[0]):
-        fk_one(q[b], links, ends, standard, out[b])
+    for block in prange((q.shape[0] + CHUNK - 1) // CHUNK):
+        trig = np.empty((q.shape[1], 2))
+        for b in range(block * CHUNK, min(q.shape[0], (block + 1) * CHUNK)):
+            fk_one(q[b], links, ends, standard, trig, out[b])
 
 
 @kernel
 def frames(q, links, ends, standard, out):
     """:func:`frames_one` for each row of ``q`` (N, n); ``out`` (N, n + 2, 4, 4)."""
+    trig = np.empty((q.shape[1], 2))
     for b in range(q.shape[0]):
-        frames_one(q[b], links, ends, standard, out[b])
+        frames_one(q[b], links, ends, standard, trig, out[b])
 
 
 @kernel(parallel=True)
 def frames_parallel(q, links, ends, standard, out):
     """:func:`frames` on all cores."""
-    for b in prange(q.shape[0]):
-        frames_one(q[b], links, ends, standard, out[b])
+    for block in prange((q.shape[0] + CHUNK - 1) // CHUNK):
+        trig = np.empty((q.shape[1], 2))
+        for b in range(block * CHUNK, min(q.shape[0], (block + 1) * CHUNK)):
+            frames_one(q[b], links, ends, standard, trig, out[b])
 
 
 @kernel
 def jacobian(q, links, ends, standard, active, tool, offsets, out):
     """:func:`jacobian_one` for each row of ``q`` (N, n); ``offsets`` (N, 3) or (1, 3) for all; ``out`` (N, 6, n)."""
-    frame = np.empty((4, 4))
+    trig = np.empty((q.shape[1], 2))
     step = 1 if offsets.shape[0] > 1 else 0
     for b in range(q.shape[0]):
-        jacobian_one(q[b], links, ends, standard, active, tool, offsets[b * step], frame, out[b])
+        jacobian_one(q[b], links, ends, standard, active, tool, offsets[b * step], trig, out[b])
 
 
 @kernel(parallel=True)
 def jacobian_parallel(q, links, ends, standard, active, tool, offsets, out):
     """:func:`jacobian` on all cores."""
     step = 1 if offsets.shape[0] > 1 else 0
-    for b in prange(q.shape[0]):
-        frame = np.empty((4, 4))
-        jacobian_one(q[b], links, ends, standard, active, tool, offsets[b * step], frame, out[b])
+    for block in prange((q.shape[0] + CHUNK - 1) // CHUNK):
+        trig = np.empty((q.shape[1], 2))
+        for b in range(block * CHUNK, min(q.shape[0], (block + 1) * CHUNK)):
+            jacobian_one(q[b], links, ends, standard, active, tool, offsets[b * step], trig, out[b])
