@@ -50,6 +50,8 @@ def feasible_measures(geometry: SRSGeometry, positions: np.ndarray, rotations: n
     for start in range(0, len(poses), BATCH_POSES):
         batch = poses[start:start + BATCH_POSES]
         inside = np.flatnonzero(reachable(geometry, batch))
+        if inside.size == 0:  # feasible_pieces needs at least one pose
+            continue
         for column, branch in enumerate(BRANCHES):
             pieces = feasible_pieces(geometry, batch[inside], branch)
             lengths = np.where(pieces.feasible, pieces.end - pieces.start, 0.0).sum(axis=-1)

@@ -1,0 +1,101 @@
+"""redkin.workspace on Dask: local scheduler and a 2-process LocalCluster agree, runs resume, a killed worker costs nothing."""
+
+import os
+import signal
+
+import numpy as np
+import pytest
+
+pytest.importorskip("zarr")
+xr = pytest.importorskip("xarray")
+distributed = pytest.importorskip("distributed")
+
+from redkin.models import get_robot  # noqa: E402
+from redkin.workspace import workspace_map  # noqa: E402
+from redkin.workspace.store import completed_chunks  # noqa: E402
+
+EXTENT = [-0.9, 0.9, -0.9, 0.9, -0.5, 1.3]
+SIZES = {"resolution": 6, "orientations": 16, "chunk": 2}  # 27 chunks
+VARIABLES = ("measure", "reachability", "redundancy", "rotation", "x", "y", "z", "chunk_complete")
+
+
+@pytest.fixture(scope="module")
+def arm():
+    return get_robot("pa10-7c")
+
+
+@pytest.fixture(scope="module")
+def reference(arm, tmp_path_factory):
+    """The map on the local scheduler, in one uninterrupted run."""
+    run = workspace_map(arm, tmp_path_factory.mktemp("reference") / "map.zarr", EXTENT, **SIZES)
+    assert run.computed == run.chunks == 27
+    return _arrays(run.path)
+
+
+@pytest.fixture(scope="module")
+def client():
+    """A LocalCluster of 2 worker processes on loopback, closed after the module."""
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        yield client
+
+
+def _arrays(path) -> dict:
+    with xr.open_zarr(path) as dataset:
+        return {name: dataset[name].values for name in VARIABLES}
+
+
+def _assert_same_map(path, reference):
+    arrays = _arrays(path)
+    for name in VARIABLES:
+        np.testing.assert_array_equal(arrays[name], reference[name], err_msg=name)
+
+
+def test_local_cluster_gives_identical_arrays(arm, reference, client, tmp_path):
+    run = workspace_map(arm, tmp_path / "map.zarr", EXTENT, client=client, **SIZES)
+    assert run.computed == 27
+    _assert_same_map(run.path, reference)
+
+
+def test_interrupted_run_resumes_to_the_same_map(arm, reference, tmp_path):
+    def interrupt(done, total):
+        if done == 3:
+            raise KeyboardInterrupt
+
+    path = tmp_path / "map.zarr"
+    with pytest.raises(KeyboardInterrupt):
+        workspace_map(arm, path, EXTENT, progress=interrupt, **SIZES)
+    assert 3 <= completed_chunks(path).sum() < 27
+    with xr.open_zarr(path) as dataset:  # chunks not computed read NaN
+        assert np.isnan(dataset["reachability"].values).any()
+    run = workspace_map(arm, path, EXTENT, **SIZES)
+    assert 0 < run.computed <= 24
+    _assert_same_map(path, reference)
+    assert workspace_map(arm, path, EXTENT, **SIZES).computed == 0
+
+
+def test_resume_refuses_a_store_of_another_map(arm, tmp_path):
+    path = tmp_path / "map.zarr"
+    workspace_map(arm, path, EXTENT, 2, 1)
+    with pytest.raises(ValueError, match="holds a map with other parameters"):
+        workspace_map(arm, path, EXTENT, 3, 1)
+    (tmp_path / "other").mkdir()
+    with pytest.raises(ValueError, match="is not a workspace map"):
+        workspace_map(arm, tmp_path / "other", EXTENT, 2, 1)
+
+
+def test_map_completes_when_a_worker_is_killed(arm, reference, client, tmp_path):
+    pids = client.run(os.getpid)
+    killed = []
+
+    def kill_one(done, total):
+        if not killed:
+            victim = sorted(pids.values())[0]
+            os.kill(victim, signal.SIGKILL)
+            killed.append(victim)
+
+    run = workspace_map(arm, tmp_path / "map.zarr", EXTENT, client=client, progress=kill_one, **SIZES)
+    assert killed and run.computed == 27
+    _assert_same_map(run.path, reference)
+    client.wait_for_workers(2, timeout=60)  # the nanny restarts it
+    assert killed[0] not in client.run(os.getpid).values()
