@@ -52,6 +52,9 @@ TEMPLATES = {
     "virtual-arms obstacle": [(None, "word", ["virtual-arms"]), (None, "robot", ["planar-5"]),
                               ("--goal", "numbers", ["0.5", "0.6"]), ("--obstacle", "obstacle", ["1.2,-0.9,0.1"]),
                               ("--max-steps", "count", ["2"])],
+    "workspace": [(None, "word", ["workspace"]), (None, "robot", ["pa10-7c"]), ("--out", "directory", ["map"]),
+                  ("--extent", "numbers", ["-0.9", "0.9", "-0.9", "0.9", "-0.5", "1.3"]), ("--resolution", "count", ["2"]),
+                  ("--orientations", "count", ["2"]), ("--chunk", "count", ["1"])],
     "reproduce": [(None, "word", ["reproduce"]), (None, "paper", ["000"]), ("--out", "directory", ["report"]),
                   ("--quiet", "flag", [])],
 }

@@ -137,3 +137,9 @@ def format_matrix(matrix: np.ndarray, digits: int = 6) -> str:
     """A matrix as aligned text rows."""
     rows = np.atleast_2d(matrix)
     return "\n".join("  ".join(f"{v: .{digits}f}" for v in row) for row in rows)
+
+
+def progress_bar(fraction: float) -> None:
+    """Draw a progress bar at ``fraction`` (0..1) over itself on stderr (end it with a newline there)."""
+    filled = int(30 * fraction)
+    print(f"\r[{'#' * filled}{'.' * (30 - filled)}] {100 * fraction:5.1f}%", end="", file=sys.stderr, flush=True)

@@ -19,6 +19,7 @@ COMMAND_MODULES = [
     "redkin.cli.torso_arm",
     "redkin.cli.velocity",
     "redkin.cli.virtual_arms",
+    "redkin.cli.workspace",
 ]
 
 

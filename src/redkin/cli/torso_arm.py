@@ -7,7 +7,16 @@ import sys
 
 import numpy as np
 
-from redkin.cli.common import IMAGE_SUFFIXES, UsageError, add_output_flags, angle_unit, angles_in, angles_out, print_json
+from redkin.cli.common import (
+    IMAGE_SUFFIXES,
+    UsageError,
+    add_output_flags,
+    angle_unit,
+    angles_in,
+    angles_out,
+    print_json,
+    progress_bar,
+)
 from redkin.torso_arm import BRANCHES, humanoid_arm, ik, position_ik
 from redkin.torso_arm.branches import STATUS_NAMES
 from redkin.torso_arm.maps import (
@@ -114,7 +123,7 @@ def run_map(args: argparse.Namespace) -> int:
     fixed = args.shoulder is not None or args.elbow is not None
     if fixed and (args.shoulder is None or args.elbow is None):
         raise UsageError("give both --shoulder and --elbow for a fixed-(psi, phi) map, or neither for the best map")
-    progress = _progress_bar if args.resolution * args.resolution * args.samples[0] * args.samples[1] > 2e6 else None
+    progress = progress_bar if args.resolution * args.resolution * args.samples[0] * args.samples[1] > 2e6 else None
     if fixed:
         psi, phi = angles_in([args.shoulder, args.elbow], args.deg)
         reference = _reference(args.reference)
@@ -166,7 +175,3 @@ def _save(result, path: str, unit: str, arm: str) -> None:
     finally:
         plt.close(fig)
 
-
-def _progress_bar(fraction: float) -> None:
-    filled = int(30 * fraction)
-    print(f"\r[{'#' * filled}{'.' * (30 - filled)}] {100 * fraction:5.1f}%", end="", file=sys.stderr, flush=True)

@@ -1,0 +1,108 @@
+"""``redkin workspace``: exact reachability and redundancy map of an arm over a box, on Dask, into Zarr."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json, progress_bar
+from redkin.srs import srs_geometry
+from redkin.validation import check_count, check_output_directory
+from redkin.workspace.grid import MAX_RESOLUTION, workspace_grid
+from redkin.workspace.orientations import MAX_ORIENTATIONS
+from redkin.workspace.store import MAP_NAME
+
+#: The images written beside the map: one per index, its three mid-planes side by side.
+SLICE_NAMES = ("reachability", "redundancy")
+#: How long ``--scheduler`` waits for the scheduler to answer.
+CONNECT_TIMEOUT = "10s"
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    command = subparsers.add_parser(
+        "workspace",
+        help="exact reachability and redundancy map of an arm with arm-angle IK over a box (paper 000, on Dask)",
+    )
+    add_robot_argument(command)
+    command.add_argument("--out", required=True, metavar="DIR",
+                         help=f"output directory: DIR/{MAP_NAME} (resumed if it holds the same map) and PNG slices")
+    command.add_argument("--extent", nargs=6, type=float, required=True,
+                         metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"), help="box of tool positions [m]")
+    command.add_argument("--resolution", type=int, required=True, metavar="M",
+                         help=f"grid points per axis, ends included (2..{MAX_RESOLUTION})")
+    command.add_argument("--orientations", type=int, required=True, metavar="N",
+                         help=f"tool orientations per position, a super-Fibonacci set on SO(3) (1..{MAX_ORIENTATIONS})")
+    command.add_argument("--chunk", type=int, metavar="C",
+                         help="grid points per axis of a chunk (default: about 32768 poses per chunk)")
+    command.add_argument("--scheduler", metavar="ADDRESS",
+                         help="a dask.distributed scheduler (tcp://host:port) whose workers can write DIR "
+                              "(default: Dask's local scheduler, nothing to start)")
+    add_output_flags(command, degrees=False)
+    command.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    resolution = check_count(args.resolution, "--resolution", 2, MAX_RESOLUTION)
+    orientations = check_count(args.orientations, "--orientations", 1, MAX_ORIENTATIONS)
+    chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
+    grid = workspace_grid(args.extent, resolution, orientations, chunk)
+    chain = load_robot(args)
+    srs_geometry(chain)  # the arm-angle refusal, before anything is written
+    try:
+        from redkin.workspace.optional import require
+        from redkin.workspace.run import workspace_map
+
+        xr = require("xarray")
+        client = None if args.scheduler is None else _connect(args.scheduler)
+    except ImportError as exc:
+        raise UsageError(str(exc)) from None
+    out = check_output_directory(args.out, "--out")
+    chunks = len(grid.chunk_indices())
+    progress = (lambda done, total: progress_bar(done / total)) if chunks > 1 else None
+    try:
+        result = workspace_map(chain, out / MAP_NAME, args.extent, resolution, orientations,
+                               chunk=grid.chunk, client=client, progress=progress)
+    finally:
+        if progress is not None:
+            print(file=sys.stderr)
+        if client is not None:
+            client.close()
+    from redkin.plot.workspace import save_mid_plane_slices
+
+    images = [out / f"{name}.png" for name in SLICE_NAMES]
+    with xr.open_zarr(result.path) as dataset:
+        for name, image in zip(SLICE_NAMES, images):
+            save_mid_plane_slices(dataset, name, image)
+    summary = {
+        "robot": chain.name, "map": str(result.path), "images": [str(image) for image in images],
+        "scheduler": args.scheduler or "local",
+        "units": {"seconds": "s", "fractions": "1", "mean_redundancy": "1 (feasible arm-angle measure / 2 pi)"},
+        "positions": result.positions, "orientations": result.orientations,
+        "pose_branch_evaluations": result.pose_branch_evaluations,
+        "chunks": result.chunks, "chunks_computed": result.computed, "chunks_resumed": result.chunks - result.computed,
+        "reachable_positions": result.reachable_positions, "reachable_poses": result.reachable_poses,
+        "mean_redundancy": result.mean_redundancy, "seconds": result.seconds,
+    }
+    if args.json:
+        print_json(summary)
+    else:
+        print(f"{chain.name}: {result.positions} positions x {result.orientations} orientations x 8 branches "
+              f"= {result.pose_branch_evaluations} exact feasible sets")
+        print(f"reachable: {100 * result.reachable_positions:.1f}% of positions, "
+              f"{100 * result.reachable_poses:.1f}% of poses; mean redundancy there {result.mean_redundancy:.3f}")
+        print(f"chunks: {result.chunks} ({result.computed} computed, {result.chunks - result.computed} resumed) "
+              f"on {summary['scheduler']} in {result.seconds:.1f} s")
+        print(f"map: {result.path}  (xarray.open_zarr)")
+        print("slices: " + ", ".join(str(image) for image in images))
+    return 0
+
+
+def _connect(address: str):
+    """A ``distributed.Client`` of the scheduler at ``address`` (UsageError if none answers)."""
+    from redkin.workspace.optional import require
+
+    distributed = require("distributed")
+    try:
+        return distributed.Client(address, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise UsageError(f"cannot connect to --scheduler {address!r}: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None

@@ -1,0 +1,93 @@
+"""``redkin workspace``: the map, its slices and its summary; one-line errors with exit code 2."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+pytest.importorskip("dask")
+pytest.importorskip("zarr")
+xr = pytest.importorskip("xarray")
+
+from redkin.cli import workspace as workspace_cli  # noqa: E402
+from redkin.cli.main import main  # noqa: E402
+
+EXTENT = ["-0.9", "0.9", "-0.9", "0.9", "-0.5", "1.3"]
+
+
+def _command(out, *extra):
+    return ["workspace", "pa10-7c", "--out", str(out), "--extent", *EXTENT, "--resolution", "5", "--orientations", "6",
+            *extra]
+
+
+def test_workspace_writes_map_slices_and_json_summary(tmp_path, capsys):
+    out = tmp_path / "pa10"
+    assert main(_command(out, "--chunk", "3", "--json")) == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    assert summary["positions"] == 125 and summary["orientations"] == 6 and summary["pose_branch_evaluations"] == 6000
+    assert (summary["chunks"], summary["chunks_computed"], summary["chunks_resumed"]) == (8, 8, 0)
+    assert summary["units"]["seconds"] == "s" and summary["scheduler"] == "local"
+    assert "100.0%" in captured.err  # the progress bar
+    with xr.open_zarr(out / "map.zarr") as dataset:
+        reach = dataset["reachability"].values
+        assert summary["reachable_positions"] == pytest.approx((reach > 0).mean())
+        assert summary["reachable_poses"] == pytest.approx(reach.mean())
+    for name in ("reachability", "redundancy"):
+        assert (out / f"{name}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert main(_command(out, "--chunk", "3")) == 0  # the same map again: resumed, nothing computed
+    text = capsys.readouterr().out
+    assert "(0 computed, 8 resumed)" in text and "reachable:" in text
+
+
+@pytest.mark.parametrize("change, message", [
+    (["--resolution", "1"], "--resolution must be an integer in 2..1000"),
+    (["--orientations", "0"], "--orientations must be an integer in 1..20000"),
+    (["--orientations", "50000"], "--orientations must be an integer in 1..20000"),
+    (["--chunk", "9"], "--chunk must be an integer in 1..5"),
+    (["--extent", "1", "0", "0", "1", "0", "1"], "xmin must be below xmax"),
+    (["--extent", "0", "1", "0", "nan", "0", "1"], "extent must be finite"),
+])
+def test_workspace_bad_sizes_exit_2_with_one_line(tmp_path, capsys, change, message):
+    command = _command(tmp_path / "out", *change)
+    assert main(command) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+
+
+def test_workspace_refuses_arm_without_arm_angle_ik_and_unwritable_out(tmp_path, capsys):
+    command = _command(tmp_path / "out")
+    command[1] = "franka-panda"
+    assert main(command) == 2
+    err = capsys.readouterr().err
+    assert "not S-R-S" in err and err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    assert main(_command(blocker)) == 2
+    err = capsys.readouterr().err
+    assert "--out" in err and "not a directory" in err and err.count("\n") == 1
+
+
+def test_workspace_unreachable_scheduler_exits_2(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(workspace_cli, "CONNECT_TIMEOUT", "0.5s")
+    assert main(_command(tmp_path / "out", "--scheduler", "tcp://127.0.0.1:9")) == 2
+    err = capsys.readouterr().err
+    assert "cannot connect to --scheduler 'tcp://127.0.0.1:9'" in err and err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+
+
+def test_workspace_without_the_extra_says_how_to_install(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "xarray", None)  # import xarray now raises ImportError
+    assert main(_command(tmp_path / "out")) == 2
+    err = capsys.readouterr().err
+    assert "pip install 'redkin[workspace]'" in err and err.count("\n") == 1
+
+
+def test_plain_commands_do_not_import_dask():
+    code = ("import sys; from redkin.cli.main import build_parser; import redkin.workspace; build_parser(); "
+            "print(sorted(m for m in ('dask', 'distributed', 'zarr', 'xarray') if m in sys.modules))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "[]"
