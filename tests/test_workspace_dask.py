@@ -1,5 +1,6 @@
 """redkin.workspace on Dask: local scheduler and a 2-process LocalCluster agree, runs resume, a killed worker costs nothing."""
 
+import json
 import os
 import signal
 
@@ -10,6 +11,7 @@ pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 distributed = pytest.importorskip("distributed")
 
+from redkin.cli.main import main  # noqa: E402
 from redkin.models import get_robot  # noqa: E402
 from redkin.workspace import workspace_map  # noqa: E402
 from redkin.workspace.store import completed_chunks  # noqa: E402
@@ -55,6 +57,15 @@ def test_local_cluster_gives_identical_arrays(arm, reference, client, tmp_path):
     run = workspace_map(arm, tmp_path / "map.zarr", EXTENT, client=client, **SIZES)
     assert run.computed == 27
     _assert_same_map(run.path, reference)
+
+
+def test_cli_scheduler_option_gives_the_same_map(reference, client, tmp_path, capsys):
+    sizes = [f"--{name}={value}" for name, value in SIZES.items()]
+    address = client.scheduler.address
+    assert main(["workspace", "pa10-7c", "--out", str(tmp_path), "--extent", *map(str, EXTENT), *sizes,
+                 "--scheduler", address, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["scheduler"] == address
+    _assert_same_map(tmp_path / "map.zarr", reference)
 
 
 def test_interrupted_run_resumes_to_the_same_map(arm, reference, tmp_path):
