@@ -186,7 +186,7 @@ def jacobian_one(q, links, ends, standard, active, tool, offset, trig, out):
 # Each kernel comes as a serial loop and a parallel one over blocks of
 # CHUNK items, one scratch array per block (numba caches one dispatcher per
 # Python function, so the two loops are two functions).
-CHUNK = 512
+CHUNK = 128
 
 
 @kernel
