@@ -120,6 +120,27 @@ def test_malformed_robot_file_from_cli(tmp_path, capsys):
     assert code == 2 and "alpha must be a number" in err
 
 
+def _commands(parser):
+    return sorted(next(a for a in parser._actions if a.dest == "command").choices)
+
+
+def test_each_command_is_parsed_by_its_own_module_alone():
+    """main builds only the module of the command it runs (``redkin fk`` imports no matplotlib): the table is complete."""
+    from redkin.cli.main import COMMANDS, build_parser
+
+    assert _commands(build_parser()) == sorted(COMMANDS)
+    for command in COMMANDS:
+        assert command in _commands(build_parser(command))
+    assert _commands(build_parser("no-such-command")) == sorted(COMMANDS)  # an unknown command lists them all
+
+
+def test_fk_imports_neither_matplotlib_nor_the_other_commands():
+    code = ("import sys; from redkin.cli.main import main; main(['fk', 'pa10-7c'] + ['0'] * 7); "
+            "print(sorted(m for m in ('matplotlib', 'redkin.reproduce', 'redkin.velocity') if m in sys.modules))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip().splitlines()[-1] == "[]"
+
+
 def test_console_script_runs():
     result = subprocess.run([sys.executable, "-m", "redkin.cli.main", "fk", "pa10-7c", "0"], capture_output=True, text=True)
     assert result.returncode == 2 and "Traceback" not in result.stderr

@@ -23,20 +23,32 @@ COMMAND_MODULES = [
 ]
 
 
-def build_parser() -> Parser:
+#: The module of each command, so that a command imports only its own module (``redkin fk`` needs
+#: neither matplotlib nor dask); ``tests/test_cli_basic.py`` checks it against the modules' parsers.
+COMMANDS = {
+    "robots": "redkin.cli.basic", "fk": "redkin.cli.basic", "jacobian": "redkin.cli.basic",
+    "reproduce": "redkin.cli.reproduce", "ik": "redkin.cli.srs", "arm-angles": "redkin.cli.srs",
+    "explore": "redkin.cli.explore", "torso-arm": "redkin.cli.torso_arm", "track": "redkin.cli.velocity",
+    "virtual-arms": "redkin.cli.virtual_arms", "workspace": "redkin.cli.workspace",
+}
+
+
+def build_parser(command: str | None = None) -> Parser:
+    """The ``redkin`` parser: every command, or only the commands of ``command``'s module if it is one of :data:`COMMANDS`."""
     parser = Parser(
         prog="redkin",
         description="Kinematics of redundant robot manipulators. Angles are radians unless --deg is given.",
     )
     parser.add_argument("--version", action="version", version=f"redkin {__version__}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in COMMAND_MODULES:
+    for name in [COMMANDS[command]] if command in COMMANDS else COMMAND_MODULES:
         importlib.import_module(name).register(subparsers)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(argv[0] if argv else None)
     args = parser.parse_args(argv)
     if getattr(args, "handler", None) is None:
         parser.print_help()
