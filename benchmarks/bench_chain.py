@@ -170,8 +170,8 @@ def arm_rows(chain: SerialChain, rng: np.random.Generator) -> list[tuple[str, st
         (f"{chain.name} ({chain.convention})", "", ""),
         ("  redkin fk, one configuration", f"{fk1 * 1e6:8.2f} us", ""),
         ("  redkin jacobian, one configuration", f"{jac1 * 1e6:8.2f} us", ""),
-        (f"  redkin fk, batch of {BATCH:.0e}", f"{ours_batch * 1e3:8.1f} ms", f"{BATCH / ours_batch / 1e6:.2f} M configs/s"),
-        (f"  redkin jacobian, batch of {BATCH:.0e}", f"{jac_batch * 1e3:8.1f} ms", f"{BATCH / jac_batch / 1e6:.2f} M configs/s"),
+        (f"  redkin fk, batch of 10^{round(np.log10(BATCH))}", f"{ours_batch * 1e3:8.1f} ms", f"{BATCH / ours_batch / 1e6:.2f} M configs/s"),
+        (f"  redkin jacobian, batch of 10^{round(np.log10(BATCH))}", f"{jac_batch * 1e3:8.1f} ms", f"{BATCH / jac_batch / 1e6:.2f} M configs/s"),
     ]
     if chain.convention == "dh":
         few = batch[:100_000]
