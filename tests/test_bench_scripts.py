@@ -51,3 +51,11 @@ def test_srs_peer_check_counts_solutions_within_1e9_by_our_fk():
     assert bench_srs.pose_errors(chain, q, poses).max() < 1e-14
     moved = q + np.array([[0.0], [1e-10], [1e-8], [1e-6]]) * np.eye(7)[6]
     assert bench_srs.passes(chain, moved, poses) == 2
+
+
+def test_bench_workspace_times_a_whole_map(tmp_path):
+    """bench_workspace.py times complete maps (a map it times must have computed every chunk)."""
+    pytest.importorskip("zarr")
+    import bench_workspace
+
+    assert bench_workspace.timed_map(tmp_path, "tiny", 2, 2) > 0.0
