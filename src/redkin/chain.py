@@ -192,8 +192,9 @@ class SerialChain:
         numpy.ndarray, shape (..., 4, 4)
         """
         flat, lead = self._flat(q)
-        out = np.empty((flat.shape[0], 4, 4))
-        run_batch(kernels.fk, kernels.fk_parallel, flat.shape[0], flat, self._links, self._ends, self._standard, out)
+        out = np.empty((flat.shape[0], 1, 4, 4))  # the tool frame alone
+        run_batch(kernels.frames, kernels.frames_parallel, flat.shape[0],
+                  flat, self._links, self._ends, self._standard, out)
         return out.reshape(lead + (4, 4))
 
     def frames(self, q: ArrayLike) -> np.ndarray:

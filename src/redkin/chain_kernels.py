@@ -1,6 +1,7 @@
 """The compiled core of :class:`~redkin.chain.SerialChain`: DH link transforms, frames, FK and Jacobian.
 
-The one implementation of a chain's kinematics in redkin.  Each kernel takes
+The one implementation of a chain's kinematics in redkin: :func:`frames`
+(all frames, or the end pose alone) and :func:`jacobian`.  Each kernel takes
 a batch of joint vectors ``q`` of shape ``(N, n)`` and writes into an output
 array; :class:`~redkin.chain.SerialChain` validates at its public edge and
 calls them (:func:`~redkin.compiled.run_batch` picks the serial or the
@@ -116,32 +117,27 @@ def store(x, y, z, p, out):
 # ---------------------------------------------------------- one configuration
 # ``trig`` is an (n, 2) scratch array for :func:`angles`.
 @kernel
-def fk_one(q, links, ends, standard, trig, out):
-    """``out <- base A_1 ... A_n tool`` (4, 4) for one joint vector ``q`` (n,)."""
-    angles(q, links, trig)
-    x, y, z, p = columns(ends[0])
-    for i in range(links.shape[0]):
-        if standard:
-            x, y, z, p = standard_link(x, y, z, p, links, trig, i)
-        else:
-            x, y, z, p = modified_link(x, y, z, p, links, trig, i)
-    store(*times(x, y, z, p, ends[1]), out)
-
-
-@kernel
 def frames_one(q, links, ends, standard, trig, out):
-    """``out[0]`` base, ``out[k]`` frame ``k`` after joint ``k``, ``out[n + 1]`` tool frame; ``out`` (n + 2, 4, 4)."""
+    """The frames of one joint vector ``q`` (n,): all, or the end pose alone (forward kinematics).
+
+    ``out`` (n + 2, 4, 4) receives the base, frame ``k`` after joint ``k``
+    (``base A_1 ... A_k``) and the tool frame ``base A_1 ... A_n tool``;
+    ``out`` (1, 4, 4) receives the tool frame only.
+    """
     n = links.shape[0]
+    every = out.shape[0] > 1
     angles(q, links, trig)
     x, y, z, p = columns(ends[0])
-    store(x, y, z, p, out[0])
+    if every:
+        store(x, y, z, p, out[0])
     for i in range(n):
         if standard:
             x, y, z, p = standard_link(x, y, z, p, links, trig, i)
         else:
             x, y, z, p = modified_link(x, y, z, p, links, trig, i)
-        store(x, y, z, p, out[i + 1])
-    store(*times(x, y, z, p, ends[1]), out[n + 1])
+        if every:
+            store(x, y, z, p, out[i + 1])
+    store(*times(x, y, z, p, ends[1]), out[out.shape[0] - 1])
 
 
 @kernel
@@ -190,25 +186,8 @@ CHUNK = 128
 
 
 @kernel
-def fk(q, links, ends, standard, out):
-    """:func:`fk_one` for each row of ``q`` (N, n); ``out`` (N, 4, 4)."""
-    trig = np.empty((q.shape[1], 2))
-    for b in range(q.shape[0]):
-        fk_one(q[b], links, ends, standard, trig, out[b])
-
-
-@kernel(parallel=True)
-def fk_parallel(q, links, ends, standard, out):
-    """:func:`fk` on all cores."""
-    for block in prange((q.shape[0] + CHUNK - 1) // CHUNK):
-        trig = np.empty((q.shape[1], 2))
-        for b in range(block * CHUNK, min(q.shape[0], (block + 1) * CHUNK)):
-            fk_one(q[b], links, ends, standard, trig, out[b])
-
-
-@kernel
 def frames(q, links, ends, standard, out):
-    """:func:`frames_one` for each row of ``q`` (N, n); ``out`` (N, n + 2, 4, 4)."""
+    """:func:`frames_one` for each row of ``q`` (N, n); ``out`` (N, n + 2, 4, 4), or (N, 1, 4, 4) for the end poses."""
     trig = np.empty((q.shape[1], 2))
     for b in range(q.shape[0]):
         frames_one(q[b], links, ends, standard, trig, out[b])
