@@ -68,6 +68,18 @@ def test_cli_scheduler_option_gives_the_same_map(reference, client, tmp_path, ca
     _assert_same_map(tmp_path / "map.zarr", reference)
 
 
+def test_relative_store_path_is_written_where_the_caller_means(arm, client, tmp_path, monkeypatch):
+    before = client.run(os.getcwd)
+    client.run(os.chdir, "/")  # the workers elsewhere than this process
+    try:
+        monkeypatch.chdir(tmp_path)
+        run = workspace_map(arm, "relative.zarr", EXTENT, 2, 1, chunk=1, client=client)
+    finally:
+        for address, folder in before.items():
+            client.run(os.chdir, folder, workers=[address])
+    assert run.computed == 8 and completed_chunks(tmp_path / "relative.zarr").all()
+
+
 def test_interrupted_run_resumes_to_the_same_map(arm, reference, tmp_path):
     def interrupt(done, total):
         if done == 3:

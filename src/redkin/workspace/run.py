@@ -186,7 +186,8 @@ def workspace_map(
     complete = completed_chunks(store)
     missing = [index for index in grid.chunk_indices() if not complete[index]]
     token = dask.base.tokenize(str(store.resolve()), map_parameters(arm, grid, count))
-    shared = [dask.delayed(value, pure=True) for value in (geometry, grid, rotations, store)]
+    # workers write the absolute path: a cluster's workers need not share this process's working directory
+    shared = [dask.delayed(value, pure=True) for value in (geometry, grid, rotations, store.absolute())]
     tasks = [dask.delayed(compute_chunk, pure=True)(*shared, index, dask_key_name=f"workspace-chunk-{token}-{index}")
              for index in missing]
     if client is None:
