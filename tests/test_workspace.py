@@ -8,8 +8,9 @@ pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
 from redkin.models import get_robot  # noqa: E402
-from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable  # noqa: E402
+from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable, srs_geometry  # noqa: E402
 from redkin.workspace import (  # noqa: E402
+    feasible_measures,
     reachability_index,
     redundancy_index,
     super_fibonacci_rotations,
@@ -116,3 +117,14 @@ def test_indices_of_unreachable_and_free_positions():
     measure[1, 1, 5] = np.pi
     np.testing.assert_allclose(reachability_index(measure), [0.0, 2 / 3])
     np.testing.assert_allclose(redundancy_index(measure), [0.0, 0.75])
+
+
+def test_gamma_experiment_of_paper_000_is_one_line_of_the_map():
+    """Paper 000 section 6.2.2: with psi controlled, the tool at x = (0.65, 0, 0.5) m turns by |gamma| < 147.693 deg."""
+    gamma = np.radians(np.concatenate([np.arange(-180.0, 180.0, 2.0), [-147.8, -147.6, 147.6, 147.8]]))
+    c, s = np.cos(gamma), np.sin(gamma)
+    rotations = np.zeros((len(gamma), 3, 3))
+    rotations[:, 0, 0], rotations[:, 0, 1], rotations[:, 1, 0], rotations[:, 1, 1] = -c, -s, -s, c  # eq. 41 turned about z
+    rotations[:, 2, 2] = -1.0
+    line = feasible_measures(srs_geometry(get_robot("pa10-7c")), np.array([[0.65, 0.0, 0.5]]), rotations)[0, :, 0]
+    np.testing.assert_array_equal(line > 0.0, np.abs(np.degrees(gamma)) < 147.693)
