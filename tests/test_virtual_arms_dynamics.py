@@ -100,7 +100,10 @@ def test_over_constrained_run_settles_whatever_the_last_bits(fig6c_heavy_end, se
     """
     run = _fig6c_heavy_end(Q0 + np.random.default_rng(seed).normal(size=5) * 1e-12)
     assert run.converged and fig6c_heavy_end.converged, (run.message, fig6c_heavy_end.message)
-    assert run.final_errors[0] == pytest.approx(fig6c_heavy_end.final_errors[0], rel=1e-5)
+    # The run stops where the error *sum* changes by at most error_rtol = 1e-6 over a doubling of lambda, so the end
+    # point's own error is known to about 1e-5: over 12 such perturbations it lay -5.2e-6..+5.5e-6 (relative) from
+    # the unperturbed run's with the numpy chain, and -1.2e-5..-0.8e-6 with the compiled chain (issue 13).
+    assert run.final_errors[0] == pytest.approx(fig6c_heavy_end.final_errors[0], rel=3e-5)
 
 
 def test_virtual_arms_heavier_end_weight_brings_end_closer():
