@@ -79,11 +79,13 @@ def test_workspace_unreachable_scheduler_exits_2(tmp_path, capsys, monkeypatch):
     assert not (tmp_path / "out").exists()
 
 
-def test_workspace_without_the_extra_says_how_to_install(tmp_path, capsys, monkeypatch):
-    monkeypatch.setitem(sys.modules, "xarray", None)  # import xarray now raises ImportError
+@pytest.mark.parametrize("missing", ["xarray", "dask", "zarr"])
+def test_workspace_without_the_extra_says_how_to_install(tmp_path, capsys, monkeypatch, missing):
+    monkeypatch.setitem(sys.modules, missing, None)  # importing it now raises ImportError
     assert main(_command(tmp_path / "out")) == 2
     err = capsys.readouterr().err
     assert "pip install 'redkin[workspace]'" in err and err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
 
 
 def test_plain_commands_do_not_import_dask():

@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json, progress_bar
 from redkin.srs import srs_geometry
 from redkin.validation import check_count, check_output_directory
 from redkin.workspace.grid import MAX_RESOLUTION, workspace_grid
+from redkin.workspace.optional import require
 from redkin.workspace.orientations import MAX_ORIENTATIONS
+from redkin.workspace.run import workspace_map
 from redkin.workspace.store import MAP_NAME
 
 #: The images written beside the map: one per index, its three mid-planes side by side.
@@ -49,10 +52,7 @@ def run(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     srs_geometry(chain)  # the arm-angle refusal, before anything is written
     try:
-        from redkin.workspace.optional import require
-        from redkin.workspace.run import workspace_map
-
-        xr = require("xarray")
+        xr, _, _ = (require(name) for name in ("xarray", "dask", "zarr"))
         client = None if args.scheduler is None else _connect(args.scheduler)
     except ImportError as exc:
         raise UsageError(str(exc)) from None
@@ -97,10 +97,8 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _connect(address: str):
+def _connect(address: str) -> Any:
     """A ``distributed.Client`` of the scheduler at ``address`` (UsageError if none answers)."""
-    from redkin.workspace.optional import require
-
     distributed = require("distributed")
     try:
         return distributed.Client(address, timeout=CONNECT_TIMEOUT)
