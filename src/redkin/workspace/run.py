@@ -33,6 +33,8 @@ from redkin.workspace.optional import require
 from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
 from redkin.workspace.store import completed_chunks, create_store, map_parameters, stored_parameters, write_chunk
 
+#: Grid points per axis of one Dask task of the summary (a map of 1000^3 positions reads in 512 of them).
+SUMMARY_SPAN = 128
 #: ``progress(done, total)`` after each chunk of a run (``total`` counts the chunks this run computes).
 Progress = Callable[[int, int], None]
 
@@ -200,7 +202,8 @@ def workspace_map(
 def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int, seconds: float) -> WorkspaceRun:
     """Read the map's indices back (chunked) into a :class:`WorkspaceRun`."""
     xr = require("xarray")
-    with xr.open_zarr(store) as dataset:
+    span = grid.chunk * max(1, SUMMARY_SPAN // grid.chunk)  # whole store chunks, few Dask tasks
+    with xr.open_zarr(store, chunks={axis: span for axis in "xyz"}) as dataset:
         reach = dataset["reachability"]
         reached = reach > 0.0
         fractions = [float(value) for value in
