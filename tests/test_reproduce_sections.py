@@ -74,7 +74,7 @@ def test_paper_003_section_meets_every_claim():
     assert sc["crossings of D_e = 0"] == 1
     page = (full_report() / "index.html").read_text()
     assert "True" not in page and "False" not in page  # Python's booleans never reach a sentence
-    assert "The WAM's feasible arm angles along the Fig. 1 path" in page  # the offset-elbow arm-angle subsection
+    assert "feasible arm angles along the Fig. 1 path" in page  # the offset-elbow arm-angle subsection
     assert (full_report() / "003_wam_arm_angles.png").exists()
 
 

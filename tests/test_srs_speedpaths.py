@@ -220,3 +220,12 @@ def test_base_tool_offsets_and_signs_take_the_same_fast_path():
     for k, branch in enumerate(BRANCHES):
         np.testing.assert_array_equal(together[:, k], ik(chain, poses, 0.25, branch))
     assert np.abs(chain.fk(together) - poses[:, None]).max() < 1e-9
+
+
+def test_empty_batches_give_empty_results():
+    chain = pa10_7c()
+    none = np.zeros((0, 4, 4))
+    pieces = feasible_pieces(chain, none, "+-+")
+    assert pieces.start.shape[0] == 0 and pieces.feasible.shape[0] == 0
+    assert ik_all_branches(chain, none, 0.3).shape == (0, 8, 7)
+    assert ik(chain, none, 0.3, "+++").shape == (0, 7)

@@ -129,7 +129,7 @@ def limit_equations(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -
     size = first_joint_coefficients(coefficients.entries)
     # cheap test first: a stretched group has all six at zero; the sin and cos rows alone, because
     # c of the wrist's y is zero on every pose (the elbow axis is normal to u_sw)
-    if size[..., :2, :, :].min() <= STRETCHED_TOLERANCE:
+    if size.size and size[..., :2, :, :].min() <= STRETCHED_TOLERANCE:
         stretched = size.max(axis=(-3, -1)) <= STRETCHED_TOLERANCE  # (..., 2): shoulder, wrist
         alternative = coefficients.entries @ limits.stretched_weights + limits.stretched_offset
         equations = np.where(stretched[..., None, _EQUATION_GROUP], alternative, equations)

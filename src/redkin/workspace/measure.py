@@ -50,7 +50,7 @@ def feasible_measures(geometry: SRSGeometry, positions: np.ndarray, rotations: n
     for start in range(0, len(poses), BATCH_POSES):
         batch = poses[start:start + BATCH_POSES]
         inside = np.flatnonzero(reachable(geometry, batch))
-        if inside.size == 0:  # feasible_pieces needs at least one pose
+        if inside.size == 0:  # nothing in reach: the measures stay 0
             continue
         for column, branch in enumerate(BRANCHES):
             pieces = feasible_pieces(geometry, batch[inside], branch)
