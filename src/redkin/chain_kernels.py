@@ -19,8 +19,10 @@ A chain is passed as
     ``True`` for standard DH, ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``;
     ``False`` for modified DH (Craig), ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``.
 
-A running frame is the top three rows of a pose, columns ``x, y, z, p``; each
-elementary motion of a DH row right-multiplies it in closed form.
+A running frame is its three axes and its origin ``x, y, z, p`` (3-tuples of
+world coordinates, kept in registers); each elementary motion of a DH row
+right-multiplies it in closed form: ``Rz`` and ``Rx`` turn two axes
+(:func:`turn`), ``Tz`` and ``Tx`` move the origin along one (:func:`move`).
 """
 
 from __future__ import annotations
