@@ -108,11 +108,6 @@ class SRSGeometry:
     a3, a4 : float
         Offsets of an offset elbow (DH ``a_3``, ``a_4``; 0 on an S-R-S arm,
         0.045 and -0.045 m on the Barrett WAM).
-    branch_senses : tuple of int
-        Per branch sign (theta_2, theta_4, theta_6), +1 or -1: how the
-        chain's own joint sense relates to the Table 1 angle, so that a
-        branch names the signs of the chain's own joint values where its
-        zero pose allows (see :meth:`table1_branch`).
     theta_lower, theta_upper : numpy.ndarray, shape (7,)
         Joint limits on the DH angles ``theta``; unlimited joints (range
         ``>= 2 pi``) get ``(-inf, inf)``.
@@ -127,7 +122,6 @@ class SRSGeometry:
     theta_upper: np.ndarray
     a3: float = 0.0
     a4: float = 0.0
-    branch_senses: tuple[int, int, int] = (1, 1, 1)
     plain_frames: bool = False
     plain_joints: bool = False
     wrap_columns: tuple[int, ...] = ()
@@ -136,6 +130,13 @@ class SRSGeometry:
     def theta_limited(self) -> np.ndarray:
         """Which joints have a range narrower than ``2 pi``."""
         return self.theta_upper - self.theta_lower < TWO_PI
+
+    @cached_property
+    def branch_senses(self) -> tuple[int, int, int]:
+        """Per branch sign (theta_2, theta_4, theta_6), +1 or -1: the chain's own sense of that joint, turned over
+        where its zero is nearer ``theta = pi`` (see :meth:`table1_branch`)."""
+        sign, offset = self.chain.sign, self.chain.offset
+        return tuple(int(sign[k]) * (1 if np.cos(offset[k]) >= 0.0 else -1) for k in (1, 3, 5))
 
     def table1_branch(self, branch: "str | Branch | tuple[int, int, int]") -> Branch:
         """The Table 1 branch of a branch named in the chain's joint senses (and back: the map is its own inverse).
@@ -325,7 +326,6 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
         theta_upper=theta_upper,
         a3=float(chain.a[2]),
         a4=float(chain.a[3]),
-        branch_senses=tuple(int(sign[k] * (1 if np.cos(offset[k]) >= 0.0 else -1)) for k in (1, 3, 5)),
         plain_frames=bool(np.array_equal(chain.base, np.eye(4)) and np.array_equal(chain.tool, np.eye(4))),
         plain_joints=plain_joints,
         wrap_columns=tuple(wrap),
