@@ -21,7 +21,7 @@ from redkin.validation import check_output_file
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
-        "explore", help="an interactive arm-angle explorer of an S-R-S arm at a pose: one self-contained HTML page"
+        "explore", help="an interactive arm-angle explorer of an S-R-S or offset-elbow arm at a pose: one HTML page"
     )
     add_robot_argument(parser)
     add_target_arguments(parser)

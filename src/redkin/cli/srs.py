@@ -24,7 +24,7 @@ from redkin.srs.geometry import srs_geometry
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    solve = subparsers.add_parser("ik", help="joint values of an S-R-S arm for a pose and an arm angle (paper 000)")
+    solve = subparsers.add_parser("ik", help="joint values of an S-R-S or offset-elbow arm for a pose and an arm angle (paper 000)")
     add_robot_argument(solve)
     add_target_arguments(solve)
     solve.add_argument("--psi", type=float, required=True, help="arm angle (radians, or degrees with --deg)")
@@ -35,7 +35,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     solve.set_defaults(handler=run_ik)
 
     angles = subparsers.add_parser(
-        "arm-angles", help="feasible, singular and optimal arm angles of an S-R-S arm for a pose (paper 000)"
+        "arm-angles", help="feasible, singular and optimal arm angles of an S-R-S or offset-elbow arm for a pose (paper 000)"
     )
     add_robot_argument(angles)
     add_target_arguments(angles)
