@@ -1,0 +1,297 @@
+"""The compiled core of the feasible arm angles: paper 000 section 4, eqs. 20-30.
+
+The one implementation of the feasible sets in redkin.  For one pose and
+one elbow sign (the entry coefficients ``(3, 14)`` of eqs. 12 and 16 and
+theta_4 of eq. 11) :func:`pose_pieces` cuts the circle of arm angles where
+any joint reaches a limit and reads, in the middle of each piece, the signs
+of the joints' limit equations; :func:`classify` turns those signs into the
+per-joint sets (eq. 29) and their intersection (eq. 30) on one branch.
+:func:`pose_branch` does both for one pose-branch; :func:`branches` and
+:func:`all_branches` (the eight branches of each pose, the cuts made once
+per elbow sign) loop over a batch.  :mod:`redkin.srs.feasible` validates at
+its public edge and calls them; the kernels trust their inputs: C-contiguous
+arrays of the documented shapes and types.
+
+The per-arm tables (:func:`redkin.srs.feasible.limit_tables`, cached on the
+geometry as :attr:`~redkin.srs.geometry.SRSGeometry.feasible_tables`) are
+
+``equations`` : (2, 17, 12) float64
+    ``[0]`` the usual, ``[1]`` the stretched limit-equation table of
+    :func:`redkin.srs.joints.limit_equation_table`: rows 0-13 the weights,
+    rows 14-16 the offset, so that ``(p, q, r)`` of equation ``e`` is
+    ``entries @ table[:14, e] + table[14:, e]``.
+``membership`` : (2, 2, 6, 4) bool
+    ``[n2, n6, k, 2 a + b]``: whether column ``k`` of
+    :data:`redkin.srs.joints.PSI_JOINTS` is within its limits on a branch with
+    ``sigma_2 < 0`` (``n2 = 1``) or not and likewise ``sigma_6``, where its
+    lower-limit equation is positive (``a = 1``) or not and its upper-limit
+    one likewise (``b``) (:func:`redkin.srs.joints.limit_sign_membership`).
+``elbow`` : (3,) float64
+    ``start, span, free`` of joint 4 for :func:`within`.
+
+A pose's pieces are ``PIECES`` slots: piece ``j`` runs from ``start[j]`` to
+``end[j]`` (``end`` may exceed ``pi``: the last piece wraps to the first
+cut plus ``2 pi``); unused slots have a NaN start.  ``keep`` ``(R, 24)``
+receives, per piece, row 0: feasible (eq. 30), and, when ``R = 7``, rows
+``1 + k``: column ``k`` of ``PSI_JOINTS`` within its limits (eq. 29).
+"""
+
+from __future__ import annotations
+
+from math import acos, atan2, cos, hypot, nan, pi, sin
+
+import numpy as np
+from numba import prange
+
+from redkin.compiled import kernel
+from redkin.srs import joints
+from redkin.srs.joints import STRETCHED_TOLERANCE
+
+#: Limit equations per pose: lower and upper limit of the six psi-dependent joints.
+EQUATIONS = 12
+#: Piece slots per pose: at most two roots per limit equation.
+PIECES = 2 * EQUATIONS
+#: Rows of a limit-equation table: 14 entry weights and the offsets of ``p, q, r``.
+TABLE_ROWS = 17
+_GROUP = 7  # entries per group (shoulder, wrist); x and y are the first two
+TWO_PI = 2.0 * pi
+
+
+# ---------------------------------------------------------------- scalars
+@kernel
+def sinusoid_roots(p, q, r, tolerance=1e-12):
+    """Roots in ``[-pi, pi)`` of ``p sin psi + q cos psi + r = 0``, a pair, ``(nan, nan)`` where none.
+
+    With ``rho = hypot(p, q)`` and ``phi = atan2(p, q)``, ``p s + q c = rho
+    cos(psi - phi)``, so ``psi = phi +- acos(-r / rho)``.  Near tangency
+    (``|r| <= rho (1 + tolerance)``) the double root is returned.
+    """
+    rho = hypot(p, q)
+    # a root needs |r| <= rho (with the tolerance) and rho not negligible: rho > tolerance
+    # suffices, because |r| <= rho (1 + tolerance) already bounds r by rho
+    if not (abs(r) <= rho * (1.0 + tolerance) and rho > tolerance):
+        return nan, nan
+    half = acos(min(max(r / rho, -1.0), 1.0))  # acos(r / rho) = pi - acos(-r / rho)
+    phi = atan2(p, q)
+    # phi -+ acos(-r / rho) shifted by pi, taken back into [-pi, pi)
+    return (phi + half) % TWO_PI - pi, (phi - half) % TWO_PI - pi
+
+
+#: :func:`redkin.srs.joints.within` compiled (the same source): is a joint value within its limits.
+within = kernel(joints.within)
+
+
+# -------------------------------------------------------- one pose, eqs. 20-28
+@kernel
+def limit_equations(entries, table, out):
+    """Rows ``(p, q, r)`` of the twelve limit equations ``p sin psi + q cos psi + r = 0`` into ``out`` (3, 12).
+
+    Column ``2 k + j`` is column ``k`` of ``PSI_JOINTS`` at its lower
+    (``j = 0``) or upper limit (``j = 1``): eqs. 21 and 22 set equal to the
+    limit, through the table of the module docstring.  A group (shoulder,
+    wrist) whose ``x, y`` coefficients all vanish (:data:`~redkin.srs.joints.STRETCHED_TOLERANCE`) is
+    singular at every arm angle -- e.g. the home pose of an arm stretched
+    along the joint-1 axis -- and takes the stretched table: eq. 15 (19) is
+    0/0 there for every psi, while the third joint the IK returns still
+    turns with psi.  Each equation weighs the seven entries of its own group.
+    """
+    for group in range(2):
+        largest = 0.0
+        for row in range(3):
+            for slot in range(2):
+                largest = max(largest, abs(entries[row, _GROUP * group + slot]))
+        which = 1 if largest <= STRETCHED_TOLERANCE else 0
+        for e in range(6 * group, 6 * group + 6):
+            for row in range(3):
+                value = 0.0
+                for slot in range(_GROUP * group, _GROUP * group + _GROUP):
+                    value += entries[row, slot] * table[which, slot, e]
+                out[row, e] = value + table[which, 14 + row, e]
+
+
+@kernel
+def cut_points(equations, cuts):
+    """Every arm angle where a joint reaches a limit into ``cuts`` (24,) (NaN: none).
+
+    Slots ``4 k .. 4 k + 3`` hold the roots of the two :func:`limit_equations`
+    of column ``k`` of ``PSI_JOINTS`` (eqs. 21, 22 at its lower and upper
+    limit); an unlimited joint's equations read ``0 = 1`` and have none.
+    """
+    for e in range(EQUATIONS):
+        cuts[2 * e], cuts[2 * e + 1] = sinusoid_roots(equations[0, e], equations[1, e], equations[2, e])
+
+
+@kernel
+def pieces(start, end):
+    """Cuts in ``start`` (24,) (NaN: none) -> the pieces between consecutive cuts, sorted, in ``start`` and ``end``.
+
+    The last piece wraps to the first cut plus ``2 pi``; without cuts one
+    piece covers the circle, ``[-pi, pi]``.  Unused slots get a NaN start
+    and the wrapped end.
+    """
+    count = 0
+    for j in range(PIECES):  # the cuts first, in order (insertion sort: at most 24)
+        value = start[j]
+        if value != value:
+            continue
+        i = count
+        while i > 0 and start[i - 1] > value:
+            start[i] = start[i - 1]
+            i -= 1
+        start[i] = value
+        count += 1
+    if count == 0:
+        start[0] = -pi
+        count = 1
+    wrap = start[0] + TWO_PI
+    for j in range(count, PIECES):
+        start[j] = nan
+    for j in range(PIECES):
+        end[j] = start[j + 1] if j + 1 < count else wrap
+
+
+@kernel
+def sign_patterns(equations, start, end, patterns):
+    """The signs of each joint's limit equations in the middle of each used piece into ``patterns`` (24, 6).
+
+    ``patterns[j, k] = 2 a + b``, ``a`` (``b``) whether the lower (upper)
+    limit equation of column ``k`` of ``PSI_JOINTS`` is positive in the
+    middle of piece ``j``.  Between consecutive cuts a joint stays on one side
+    of each limit, so these signs decide its membership there (:func:`classify`).
+    """
+    for j in range(PIECES):
+        if start[j] != start[j]:
+            break
+        middle = 0.5 * (start[j] + end[j])
+        s, c = sin(middle), cos(middle)
+        for k in range(6):
+            lower = equations[0, 2 * k] * s + equations[1, 2 * k] * c + equations[2, 2 * k]
+            upper = equations[0, 2 * k + 1] * s + equations[1, 2 * k + 1] * c + equations[2, 2 * k + 1]
+            patterns[j, k] = 2 * (lower > 0.0) + (upper > 0.0)
+
+
+@kernel
+def pose_pieces(entries, equations_table, equations, start, end, patterns):
+    """Pieces of one pose and elbow sign and their sign patterns (eqs. 20-28): :func:`limit_equations`
+    (into the scratch ``equations`` (3, 12)), :func:`cut_points`, :func:`pieces`, :func:`sign_patterns`.
+
+    The cuts and the patterns do not depend on ``sigma_2, sigma_6``: they serve
+    the four branches of the elbow sign.
+    """
+    limit_equations(entries, equations_table, equations)
+    cut_points(equations, start)
+    pieces(start, end)
+    sign_patterns(equations, start, end, patterns)
+
+
+# ------------------------------------------------ one pose-branch, eqs. 29-30
+@kernel
+def classify(patterns, start, membership, elbow_inside, keep):
+    """Eq. 29 per joint and eq. 30 per piece from the sign patterns, for one branch.
+
+    ``membership`` (6, 4) is the branch's table (``membership[n2, n6]`` of the
+    module docstring); ``elbow_inside`` whether theta_4 (independent of psi,
+    eq. 11) is within its limits.  Row 0 of ``keep`` (R, 24): the piece
+    satisfies every limit (eq. 30); rows ``1 + k`` (when ``R = 7``): column
+    ``k`` of ``PSI_JOINTS`` is within its limits there (eq. 29).  Unused
+    slots keep nothing.
+    """
+    every = keep.shape[0] > 1
+    for j in range(PIECES):
+        used = start[j] == start[j]
+        feasible = used and elbow_inside
+        for k in range(6):
+            inside = used and membership[k, patterns[j, k]]
+            feasible = feasible and inside
+            if every:
+                keep[1 + k, j] = inside
+        keep[0, j] = feasible
+
+
+@kernel
+def pose_branch(entries, theta4, n2, n6, equations_table, membership, elbow, equations, patterns, start, end, keep):
+    """The feasible set of one pose-branch (eqs. 20-30) as pieces: ``start``, ``end`` (24,) and ``keep`` (R, 24).
+
+    ``entries`` (3, 14) and ``theta4`` are the pose's coefficients for the
+    branch's elbow sign; ``n2``, ``n6`` are 1 where ``sigma_2``, ``sigma_6``
+    are negative, else 0; ``equations`` (3, 12) and ``patterns`` (24, 6,
+    int64) are scratch.  Returns whether theta_4 is within its limits.
+    """
+    pose_pieces(entries, equations_table, equations, start, end, patterns)
+    elbow_inside = within(theta4, elbow[0], elbow[1], elbow[2] != 0.0)
+    classify(patterns, start, membership[n2, n6], elbow_inside, keep)
+    return elbow_inside
+
+
+@kernel
+def pose_all_branches(entries, theta4, equations_table, membership, elbow, order, equations, patterns, start, end, keep):
+    """The feasible sets of the eight branches of one pose: the pieces once per elbow sign, classified four ways.
+
+    ``entries`` (2, 3, 14) and ``theta4`` (2,) for the elbow signs ``+1, -1``
+    of paper 000 Table 1; the Table 1 branch with index ``i`` in
+    :data:`redkin.srs.branches.BRANCHES` (``4 n2 + 2 n4 + n6``) goes to slot
+    ``order[i]`` of ``start``, ``end`` (8, 24) and ``keep`` (8, R, 24).
+    """
+    for n4 in range(2):
+        first = order[2 * n4]
+        pose_pieces(entries[n4], equations_table, equations, start[first], end[first], patterns)
+        elbow_inside = within(theta4[n4], elbow[0], elbow[1], elbow[2] != 0.0)
+        for n2 in range(2):
+            for n6 in range(2):
+                slot = order[4 * n2 + 2 * n4 + n6]
+                if slot != first:
+                    start[slot, :] = start[first]
+                    end[slot, :] = end[first]
+                classify(patterns, start[slot], membership[n2, n6], elbow_inside, keep[slot])
+
+
+# ------------------------------------------------------------------- batches
+# Serial and parallel loops over a batch, over blocks of CHUNK items with one
+# set of scratch arrays per block (numba caches one dispatcher per Python
+# function, so the two loops are two functions); launched through
+# redkin.compiled.run_batch.
+CHUNK = 128
+
+
+@kernel
+def branches(entries, theta4, n2, n6, equations_table, membership, elbow, start, end, keep, elbow_inside):
+    """:func:`pose_branch` for each pose of ``entries`` (N, 3, 14), ``theta4`` (N,), one branch.
+
+    Writes ``start``, ``end`` (N, 24), ``keep`` (N, R, 24) and ``elbow_inside`` (N,).
+    """
+    equations, patterns = np.empty((3, EQUATIONS)), np.empty((PIECES, 6), np.int64)
+    for b in range(entries.shape[0]):
+        elbow_inside[b] = pose_branch(entries[b], theta4[b], n2, n6, equations_table, membership, elbow,
+                                      equations, patterns, start[b], end[b], keep[b])
+
+
+@kernel(parallel=True)
+def branches_parallel(entries, theta4, n2, n6, equations_table, membership, elbow, start, end, keep, elbow_inside):
+    """:func:`branches` on all cores."""
+    for block in prange((entries.shape[0] + CHUNK - 1) // CHUNK):
+        equations, patterns = np.empty((3, EQUATIONS)), np.empty((PIECES, 6), np.int64)
+        for b in range(block * CHUNK, min(entries.shape[0], (block + 1) * CHUNK)):
+            elbow_inside[b] = pose_branch(entries[b], theta4[b], n2, n6, equations_table, membership, elbow,
+                                          equations, patterns, start[b], end[b], keep[b])
+
+
+@kernel
+def all_branches(entries, theta4, equations_table, membership, elbow, order, start, end, keep):
+    """:func:`pose_all_branches` for each pose of ``entries`` (N, 2, 3, 14), ``theta4`` (N, 2).
+
+    Writes ``start``, ``end`` (N, 8, 24) and ``keep`` (N, 8, R, 24).
+    """
+    equations, patterns = np.empty((3, EQUATIONS)), np.empty((PIECES, 6), np.int64)
+    for b in range(entries.shape[0]):
+        pose_all_branches(entries[b], theta4[b], equations_table, membership, elbow, order,
+                          equations, patterns, start[b], end[b], keep[b])
+
+
+@kernel(parallel=True)
+def all_branches_parallel(entries, theta4, equations_table, membership, elbow, order, start, end, keep):
+    """:func:`all_branches` on all cores."""
+    for block in prange((entries.shape[0] + CHUNK - 1) // CHUNK):
+        equations, patterns = np.empty((3, EQUATIONS)), np.empty((PIECES, 6), np.int64)
+        for b in range(block * CHUNK, min(entries.shape[0], (block + 1) * CHUNK)):
+            pose_all_branches(entries[b], theta4[b], equations_table, membership, elbow, order,
+                              equations, patterns, start[b], end[b], keep[b])
