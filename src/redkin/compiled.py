@@ -52,16 +52,16 @@ def kernel(function: Callable | None = None, *, parallel: bool = False):
         return numba.njit(cache=False, parallel=parallel)(function)
 
 
-def run_batch(serial: Callable, parallel: Callable, count: int, *args) -> None:
-    """Call ``parallel(*args)`` for a batch of ``count`` items where it pays and is safe, else ``serial(*args)``.
+def run_batch(serial: Callable, parallel: Callable, count: int, *args):
+    """Call ``parallel(*args)`` for a batch of ``count`` items where it pays and is safe, else ``serial(*args)``;
+    return what it returns.
 
     ``serial`` and ``parallel`` are the same loop over the batch, with
     ``range`` and with ``prange``.
     """
     global _launched_in
     if count < PARALLEL_BATCH or _launched_in not in (None, os.getpid()):
-        serial(*args)
-        return
+        return serial(*args)
     _launched_in = os.getpid()  # before the lock: a child forked from here on runs serially, never waits on it
     with _LAUNCH:
-        parallel(*args)
+        return parallel(*args)

@@ -10,8 +10,8 @@ from numpy.typing import ArrayLike
 from redkin.chain import SerialChain
 from redkin.srs.branches import branch_of_theta
 from redkin.srs.geometry import SRSGeometry
+from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.ik import as_geometry
-from redkin.srs.coefficients import arm_angle_frame
 from redkin.srs.rotations import shoulder_rotation
 
 
@@ -46,9 +46,8 @@ def arm_angle_of(arm: "SerialChain | SRSGeometry", q: ArrayLike) -> ArmAngleStat
     geometry = as_geometry(arm)
     q = geometry.chain.check_q(q)
     theta = geometry.theta_of_q(q)
-    pose = geometry.to_table1_pose(geometry.chain.fk(q))
     branch = branch_of_theta(theta, geometry.elbow_equation.phase)  # Table 1 signs
-    frame = arm_angle_frame(geometry, pose[..., :3, 3], pose[..., :3, :3], branch[..., 1])
+    frame = arm_angle_coefficients(geometry, geometry.chain.fk(q), branch[..., 1])
     rotation = shoulder_rotation(theta) @ np.swapaxes(frame.reference, -1, -2)
     u = frame.u_sw
     vee = np.stack(

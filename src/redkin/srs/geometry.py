@@ -21,6 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.srs import ik_kernels
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
 from redkin.validation import check_rotation, check_vectors
@@ -203,39 +204,70 @@ class SRSGeometry:
         """Joint values ``q = sign * (theta - offset)`` (``sign`` is +-1)."""
         return theta if self.plain_joints else self.chain.sign * (theta - self.chain.offset)
 
-    def to_table1_pose(self, pose: np.ndarray) -> np.ndarray:
-        """The pose of frame 7 in frame 0: ``base^-1 @ pose @ tool^-1`` (batched)."""
-        if self.plain_frames:
-            return pose
-        base_inv = np.linalg.inv(self.chain.base)
-        tool_inv = np.linalg.inv(self.chain.tool)
-        return base_inv @ pose @ tool_inv
+    def to_chain_q(self, theta: np.ndarray) -> np.ndarray:
+        """Joint values of the chain for DH angles ``theta`` ``(..., 7)``.
 
-    def to_chain_q(self, theta: np.ndarray, wrap_into_limits: bool = True) -> np.ndarray:
-        """Joint values of the chain for DH angles ``theta``.
-
-        With ``wrap_into_limits`` each value is shifted by a multiple of
-        ``2 pi`` into its limit range when one such shift lands there (limits
-        that cross ``+-pi``, e.g. ``[100, 260]`` deg); otherwise it is wrapped
-        to ``[-pi, pi)``.
+        Each value is shifted by a multiple of ``2 pi`` into its limit range
+        when one such shift lands there (limits that cross ``+-pi``, e.g.
+        ``[100, 260]`` deg); otherwise it is wrapped to ``[-pi, pi)``
+        (:func:`redkin.srs.ik_kernels.chain_values`).
         """
-        q = self.q_of_theta(theta)
-        if not wrap_into_limits or not self.wrap_columns:
-            return q  # DH angles from atan2 already lie in [-pi, pi] and so do the limits
-        columns, start, upper, limited = self._wrap_table
-        q = q.copy()
-        value = q[..., columns]
-        shifted = start + np.mod(value - start, TWO_PI)
-        q[..., columns] = np.where((shifted <= upper) & limited, shifted, np.mod(value + np.pi, TWO_PI) - np.pi)
-        return q
+        if self.plain_joints and not self.wrap_columns:
+            return theta  # DH angles from atan2 already lie in [-pi, pi] and so do the limits
+        flat = np.ascontiguousarray(theta, dtype=float).reshape(-1, 7)
+        q = np.empty_like(flat)
+        ik_kernels.joint_values(flat, self.kernel_joints, q)
+        return q.reshape(np.shape(theta))
 
     @cached_property
-    def _wrap_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """For :meth:`to_chain_q`: the wrapped columns, where their ranges start (-pi if unlimited), their upper
-        limits and which are limited."""
-        columns = np.array(self.wrap_columns)
-        lower = self.chain.lower[columns]
-        return columns, np.where(np.isfinite(lower), lower, -np.pi), self.chain.upper[columns], self.chain.limited[columns]
+    def kernel_arm(self) -> np.ndarray:
+        """The arm as :mod:`redkin.srs.ik_kernels` reads it: ``d_bs, d_se, d_ew, d_wt, a_3, a_4, C, R, phi``."""
+        return _read_only(np.array([self.d_bs, self.d_se, self.d_ew, self.d_wt, self.a3, self.a4, *self.elbow_equation]))
+
+    @cached_property
+    def kernel_ends(self) -> np.ndarray:
+        """``base^-1`` and ``tool^-1`` of the chain, (2, 4, 4): frame 7 in frame 0 is ``base^-1 pose tool^-1``."""
+        return _read_only(np.linalg.inv(np.stack([self.chain.base, self.chain.tool])))
+
+    @cached_property
+    def kernel_joints(self) -> np.ndarray:
+        """The joint-value map of :meth:`to_chain_q` as :mod:`redkin.srs.ik_kernels` reads it, (6, 7)."""
+        chain = self.chain
+        wrap = np.isin(np.arange(7), self.wrap_columns)
+        start = np.where(np.isfinite(chain.lower), chain.lower, -np.pi)
+        table = np.stack([chain.offset, chain.sign, wrap, start, chain.upper, chain.limited]).astype(float)
+        return _read_only(table)
+
+    def kernel_branch(self, branch: "str | Branch | tuple[int, int, int]") -> np.ndarray:
+        """The Table 1 signs of one branch named in the chain's joint senses, (1, 3) float, parsed once per name.
+
+        Raises
+        ------
+        ValueError
+            For a malformed branch (:func:`redkin.srs.branches.parse_branch`).
+        """
+        try:
+            return self._kernel_branch_cache[branch]
+        except (KeyError, TypeError):  # a new name, or an unhashable one (a list of signs)
+            table = _read_only(np.array([self.table1_branch(branch)], dtype=float))
+            if isinstance(branch, (str, tuple)):
+                self._kernel_branch_cache[branch] = table
+            return table
+
+    @cached_property
+    def _kernel_branch_cache(self) -> dict:
+        return {}
+
+    @cached_property
+    def kernel_branches(self) -> np.ndarray:
+        """The Table 1 signs ``(sigma_2, sigma_4, sigma_6)`` of each branch of :data:`BRANCHES`, (8, 3) float."""
+        return _read_only(np.array([self.table1_branch(branch) for branch in BRANCHES], dtype=float))
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array = np.ascontiguousarray(array, dtype=float)
+    array.setflags(write=False)
+    return array
 
 
 def elbow_equation(a3: float, a4: float, d_se: float, d_ew: float) -> ElbowEquation:
@@ -296,6 +328,18 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
     """
     if not isinstance(chain, SerialChain):
         raise ValueError(f"chain must be a SerialChain, got {type(chain).__name__}")
+    cached = chain.__dict__.get(_CACHE_KEY)
+    if cached is None:  # derived once per chain: its arrays are read-only, so it never goes stale
+        cached = _derive_geometry(chain)
+        object.__setattr__(chain, _CACHE_KEY, cached)
+    return cached
+
+
+_CACHE_KEY = "_srs_geometry"
+
+
+def _derive_geometry(chain: SerialChain) -> SRSGeometry:
+    """:func:`srs_geometry` without the cache."""
     if chain.n != 7:
         raise ValueError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}")
     if table1_violation(chain) is not None or np.cos(chain.offset[2]) < 0.0:

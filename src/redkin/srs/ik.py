@@ -2,7 +2,8 @@
 
 Given a pose and an arm angle ``psi``, each of the eight branches (signs of
 theta_2, theta_4, theta_6) has exactly one joint vector.  Everything is
-batched over leading axes of the pose.
+batched over leading axes of the pose and computed by the compiled kernels
+of :mod:`redkin.srs.ik_kernels`.
 """
 
 from __future__ import annotations
@@ -11,42 +12,24 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
-from redkin.srs.branches import BRANCHES, Branch
+from redkin.compiled import run_batch
+from redkin.srs import ik_kernels
+from redkin.srs.branches import Branch
 from redkin.srs.coefficients import (
     ArmAngleCoefficients,
     arm_angle_coefficients,
-    arm_angle_frame,
-    elbow_cosine,
-    entries_at,
-    shoulder_to_wrist,
-    unreachable,
+    as_poses,
+    coefficient_arrays,
+    raise_for_bad_pose,
+    raise_for_status,
 )
 from redkin.srs.geometry import SRSGeometry, srs_geometry
-from redkin.srs.joints import (
-    apply_branch_signs,
-    assemble_theta,
-    branch_sign_arrays,
-    branch_signs,
-    entry_values,
-    positive_branch_angles,
-    psi_joint_angles,
-)
-
-# (sigma_2, sigma_6) of the branches indexed (i2, i4, i6) as in BRANCHES (s2 slowest), elbow axis left free
-_ALL_BRANCH_SIGNS = branch_sign_arrays(np.array([[b.shoulder, b.wrist] for b in BRANCHES]).reshape(2, 2, 2, 2)[:, :1])
-_ELBOW_SIGNS = np.array([1, -1])
-from redkin.validation import as_float_array, check_finite, check_pose
+from redkin.validation import as_float_array, check_finite
 
 
 def as_geometry(arm: "SerialChain | SRSGeometry") -> SRSGeometry:
-    """An :class:`SRSGeometry` from a chain (checked) or a geometry (as is)."""
+    """An :class:`SRSGeometry` from a chain (checked, derived once per chain) or a geometry (as is)."""
     return arm if isinstance(arm, SRSGeometry) else srs_geometry(arm)
-
-
-def prepare_targets(geometry: SRSGeometry, pose: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Validate target poses and return frame-7 positions and rotations in frame 0 (Table 1 form)."""
-    local = geometry.to_table1_pose(check_pose(pose))
-    return local[..., :3, 3], local[..., :3, :3]
 
 
 def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
@@ -66,12 +49,18 @@ def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
     numpy.ndarray of bool, shape (...)
         True where ``|x_sw|`` lies in ``[|d_se - d_ew|, d_se + d_ew]``, or for an
         offset elbow in ``[sqrt(C - R), sqrt(C + R)]`` (with the rounding slack
-        :data:`redkin.srs.coefficients.REACH_TOLERANCE` on ``cos(theta_4 - phi)``).
+        :data:`redkin.srs.ik_kernels.REACH_TOLERANCE` on ``cos(theta_4 - phi)``).
+
+    Raises
+    ------
+    ValueError
+        For a malformed pose.
     """
     geometry = as_geometry(arm)
-    position, rotation = prepare_targets(geometry, pose)
-    _, cosine = elbow_cosine(geometry, shoulder_to_wrist(geometry, position, rotation))
-    return ~unreachable(cosine)
+    pose = as_poses(pose)
+    _, status, _ = coefficient_arrays(geometry, pose, 1)
+    raise_for_bad_pose(pose, status)
+    return status == ik_kernels.OK
 
 
 def check_psi(psi: ArrayLike) -> np.ndarray:
@@ -84,17 +73,60 @@ def check_psi(psi: ArrayLike) -> np.ndarray:
 def coefficients_for(
     arm: "SerialChain | SRSGeometry", pose: ArrayLike, elbow_sign: "int | np.ndarray"
 ) -> ArmAngleCoefficients:
-    """Eq. 12 and eq. 16 coefficients of validated poses ``(..., 4, 4)`` for an elbow sign."""
-    geometry = as_geometry(arm)
-    position, rotation = prepare_targets(geometry, pose)
-    return arm_angle_coefficients(geometry, position, rotation, elbow_sign)
+    """Eq. 12 and eq. 16 coefficients of poses ``(..., 4, 4)`` of the chain's tool for an elbow sign (validated)."""
+    return arm_angle_coefficients(as_geometry(arm), pose, elbow_sign)
 
 
-def theta_at(coefficients: ArmAngleCoefficients, psi: np.ndarray, branch: Branch) -> np.ndarray:
-    """The 7 DH angles at arm angles ``psi`` for one branch (eqs. 11, 13-15, 17-19)."""
-    values = entry_values(coefficients.entries, psi)
-    psi_joints = psi_joint_angles(values, branch_signs(branch.shoulder, branch.wrist))
-    return assemble_theta(coefficients.theta4, psi_joints)
+def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch) -> np.ndarray:
+    """The 7 DH angles ``(..., 7)`` at arm angles ``psi`` for one branch (eqs. 11, 13-15, 17-19).
+
+    ``psi`` broadcasts against the batch shape of ``coefficients``
+    (:func:`redkin.srs.ik_kernels.branch_angles`).
+    """
+    psi = np.asarray(psi, dtype=float)
+    shape = np.broadcast_shapes(coefficients.theta4.shape, psi.shape)
+    entries = np.ascontiguousarray(np.broadcast_to(coefficients.entries, shape + coefficients.entries.shape[-2:]))
+    entries = entries.reshape((-1,) + entries.shape[-2:])
+    count = entries.shape[0]
+    theta4 = np.ascontiguousarray(np.broadcast_to(coefficients.theta4, shape)).reshape(count)
+    psi = np.ascontiguousarray(np.broadcast_to(psi, shape)).reshape(count)
+    signs = np.broadcast_to(np.array([[branch.shoulder, branch.wrist]], dtype=float), (count, 2))
+    theta = np.empty((count, 7))
+    run_batch(ik_kernels.angles_at, ik_kernels.angles_at_parallel, count, entries, theta4, psi,
+              np.ascontiguousarray(signs), theta)
+    return theta.reshape(shape + (7,))
+
+
+def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.ndarray) -> np.ndarray:
+    """Joint values ``(..., B, 7)`` of the chain for Table 1 branch signs ``branches`` (B, 3), validated.
+
+    One compiled call per batch (:func:`redkin.srs.ik_kernels.solve_poses`):
+    the pose and psi checks, eqs. 4-19 and the chain's joint values.  Only a
+    batch the kernel flags goes through the slower checks that word the error.
+    """
+    pose = as_poses(pose)
+    psi_array = as_float_array(psi, "psi")
+    shape = pose.shape[:-2]
+    if psi_array.shape != shape:
+        try:
+            shape = np.broadcast_shapes(shape, psi_array.shape)
+        except ValueError:
+            raise ValueError(f"psi of shape {psi_array.shape} does not broadcast against the pose batch "
+                             f"{pose.shape[:-2]}") from None
+        pose = np.broadcast_to(pose, shape + (4, 4))
+        psi_array = np.broadcast_to(psi_array, shape)
+    poses = np.ascontiguousarray(pose).reshape(-1, 4, 4)
+    angles = np.ascontiguousarray(psi_array).reshape(-1)
+    count = poses.shape[0]
+    out = np.empty((count, branches.shape[0], 7))
+    status = np.empty(count, dtype=np.int64)
+    failed = run_batch(ik_kernels.solve_poses, ik_kernels.solve_poses_parallel, count, poses, angles, branches,
+                       geometry.kernel_arm, geometry.kernel_ends, geometry.kernel_joints, out, status)
+    if failed:
+        check_psi(psi_array)
+        _, flags, distance = coefficient_arrays(geometry, poses, 1)
+        raise_for_status(geometry, pose, flags.reshape(shape), distance.reshape(shape))
+    return out.reshape(shape + branches.shape[:1] + (7,))
 
 
 def ik(
@@ -108,7 +140,8 @@ def ik(
     Parameters
     ----------
     arm : SerialChain or SRSGeometry
-        An S-R-S arm in paper 000 Table 1 form (base, tool, offsets and signs allowed).
+        A 7R arm whose shoulder and wrist axes meet in points (S-R-S, or an
+        offset elbow): any description, converted once to paper 000's Table 1 form.
     pose : array_like, shape (..., 4, 4)
         Target poses of the tool in the base frame.
     psi : array_like, broadcastable to the batch shape
@@ -129,29 +162,15 @@ def ik(
         For a malformed pose or psi, or a wrist position out of reach.
     """
     geometry = as_geometry(arm)
-    chosen = geometry.table1_branch(branch)
-    psi = check_psi(psi)
-    position, rotation = prepare_targets(geometry, pose)
-    frame = arm_angle_frame(geometry, position, rotation, chosen.elbow)
-    psi_joints = psi_joint_angles(entries_at(frame, psi), branch_signs(chosen.shoulder, chosen.wrist))
-    return geometry.to_chain_q(assemble_theta(frame.theta4, psi_joints))
+    return solve(geometry, pose, psi, geometry.kernel_branch(branch))[..., 0, :]
 
 
 def ik_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike, psi: ArrayLike) -> np.ndarray:
     """Joint values of all eight branches, shape ``(..., 8, 7)`` in the order of :data:`BRANCHES`.
 
     ``psi`` broadcasts against the batch shape of ``pose``.  See :func:`ik`.
-    Both elbow signs share the shoulder-wrist geometry; each gives the
-    ``sigma_2 = sigma_6 = +1`` angles once, and the other three branches of
-    that elbow sign follow by :func:`redkin.srs.joints.apply_branch_signs`.
+    Both elbow signs' frames (eqs. 4-12, 16) are computed once per pose and
+    shared by their four branches.
     """
     geometry = as_geometry(arm)
-    psi = check_psi(psi)
-    position, rotation = prepare_targets(geometry, pose)
-    frame = arm_angle_frame(geometry, position[..., None, :], rotation[..., None, :, :], _ELBOW_SIGNS)  # (..., 2)
-    positive = positive_branch_angles(entries_at(frame, psi[..., None]))  # (..., 2, 6) over the elbow sign
-    psi_joints = apply_branch_signs(positive[..., None, :, None, :], _ALL_BRANCH_SIGNS)  # (..., 2, 2, 2, 6)
-    theta = assemble_theta(frame.theta4[..., None, :, None], psi_joints).reshape(psi_joints.shape[:-4] + (8, 7))
-    if geometry.branch_senses != (1, 1, 1):  # Table 1 order -> the order of the branches in the chain's senses
-        theta = theta[..., geometry.branch_order, :]
-    return geometry.to_chain_q(theta)
+    return solve(geometry, pose, psi, geometry.kernel_branches)
