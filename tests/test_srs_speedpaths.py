@@ -16,7 +16,8 @@ from srs_arms import ARM_KINDS, arm
 from redkin.so3 import rot_x
 from redkin.srs import BRANCHES, arm_angle_of, feasible_arm_angles, feasible_pieces, ik, ik_all_branches, pose_from, srs_geometry
 from redkin.srs.coefficients import arm_angle_coefficients, entries_at, entries_of, rotation_terms
-from redkin.srs.feasible import cut_points, limit_equations
+from redkin.srs import feasible_kernels
+from redkin.srs.feasible import limit_tables
 from redkin.srs.joints import IS_COSINE, PSI_JOINTS, entry_values
 from redkin.srs.rotations import shoulder_rotation, wrist_rotation
 from redkin.validation import check_pose
@@ -121,7 +122,10 @@ def test_cut_points_are_where_a_joint_meets_a_limit(seed, model, branch, crossin
     pose = chain.fk(q)
     local = geometry.to_table1_pose(pose)
     coefficients = arm_angle_coefficients(geometry, local[:3, 3], local[:3, :3], geometry.table1_branch(branch).elbow)
-    cuts = cut_points(limit_equations(coefficients, geometry))  # (6, 4)
+    equations, cuts = np.empty((3, 12)), np.empty(24)
+    feasible_kernels.limit_equations(coefficients.entries, limit_tables(geometry).equations, equations)
+    feasible_kernels.cut_points(equations, cuts)
+    cuts = cuts.reshape(6, 4)
     for k, joint in enumerate(PSI_JOINTS):
         limits = np.repeat([geometry.theta_lower[joint - 1], geometry.theta_upper[joint - 1]], 2)
         found = ~np.isnan(cuts[k])

@@ -17,7 +17,7 @@ one of the two types of section 4.2, read from the entry coefficients of
 
   - ``> 0``: *periodic* (section 4.2.1 case (1), Fig. 3a): the two roots
     ``psi_0`` of the numerator (eq. 25, computed as ``phi +- acos(-c_t /
-    rho)`` by :func:`redkin.srs.joints.sinusoid_roots`, the same roots
+    rho)`` by :func:`redkin.srs.feasible_kernels.sinusoid_roots`, the same roots
     without the division by ``b_t - c_t`` of eq. 25, which fails at
     ``psi_0 = +-pi``) are the global maximum and minimum, told apart by the
     sign of eq. 26, ``(a_t cos psi_0 - b_t sin psi_0) / (N^2 + D^2)``;
@@ -66,9 +66,10 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.srs.branches import Branch
+from redkin.srs.feasible_kernels import sinusoid_roots
 from redkin.srs.geometry import MEMBERSHIP_TOLERANCE, SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for, theta_at
-from redkin.srs.joints import PSI_JOINTS, sinusoid_roots
+from redkin.srs.joints import PSI_JOINTS
 from redkin.validation import check_pose
 
 TWO_PI = 2.0 * np.pi
@@ -311,7 +312,7 @@ def joint_extrema(
         a_t, b_t, c_t = derivative[k]
         if cases[k] != "periodic":
             continue
-        roots = sinusoid_roots(*(derivative[k] / np.linalg.norm(derivative[k])))  # eq. 25 (scale-free)
+        roots = np.array(sinusoid_roots(*(derivative[k] / np.linalg.norm(derivative[k]))))  # eq. 25 (scale-free)
         curvature = a_t * np.cos(roots) - b_t * np.sin(roots)  # numerator of eq. 26
         stationary[PSI_JOINTS.index(joint)] = roots[np.argsort(curvature)]  # negative first: maximum
     for joint, column in _COSINE.items():

@@ -8,7 +8,7 @@ Closed form, never missing a narrow arc: every arm angle where
 ``theta_i(psi)`` equals a limit solves a linear equation in
 ``(sin psi, cos psi)`` (:func:`redkin.srs.joints.limit_equation_table`, derived
 from eqs. 21 and 22), which has at most two roots in closed form
-(:func:`redkin.srs.joints.sinusoid_roots`).  Between consecutive roots
+(:func:`redkin.srs.feasible_kernels.sinusoid_roots`).  Between consecutive roots
 ``theta_i`` stays on one side of each limit (it is continuous there: its
 only discontinuities, where the tangent-type numerator and denominator both
 vanish, are roots of every limit equation), so one evaluation at the middle
@@ -23,29 +23,34 @@ joints' cut points refine every joint's own pieces, so one classification
 gives the per-joint sets (eq. 29) and their intersection (eq. 30).
 Isolated touching points (a limit reached at a single arm angle from
 outside) and pieces shorter than :data:`PIECE_TOLERANCE` are not reported.
+
+The work is done by the compiled kernels of :mod:`redkin.srs.feasible_kernels`
+(one pose-branch per inner call, batches on all cores); the functions here
+validate and call them.  The cuts and signs of one elbow sign serve its
+four branches, so :func:`feasible_pieces_all_branches` costs little more
+than two single branches.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
+from redkin.compiled import run_batch
+from redkin.srs import feasible_kernels as kernels
 from redkin.srs.branches import Branch
-from redkin.srs.coefficients import ArmAngleCoefficients
+from redkin.srs.coefficients import ArmAngleCoefficients, as_poses
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
-from redkin.srs.joints import STRETCHED_TOLERANCE, PSI_JOINTS, first_joint_coefficients, sinusoid_roots, within
 
-TWO_PI = 2.0 * np.pi
-#: Pieces shorter than this (radians) are dropped: they are repeated roots split by
-#: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
-PIECE_TOLERANCE = 1e-12
-_TABLE_ROWS = 4 * np.arange(6)  # row offsets of the six joints in a flattened membership table
-_EQUATION_GROUP = np.repeat([0, 1], 6)  # limit-equation columns of the shoulder (0) and the wrist (1)
+PIECE_TOLERANCE = kernels.PIECE_TOLERANCE
+_ELBOW_SIGNS = np.array([1, -1])  # Table 1 elbow signs of the two halves of BRANCHES (sigma_4 = +1 first)
+_CACHE_KEY = "_feasible_limit_tables"
 
 
 @dataclass(frozen=True)
@@ -91,7 +96,10 @@ class FeasiblePieces:
 
     def arc_set(self, index: tuple[int, ...] = ()) -> ArcSet:
         """The :class:`ArcSet` of one pose (``index`` into the batch shape)."""
-        return _arc_set(self.start[index].tolist(), self.end[index].tolist(), self.feasible[index].tolist())
+        start = np.ascontiguousarray(self.start[index], dtype=float).reshape(1, kernels.PIECES)
+        end = np.ascontiguousarray(self.end[index], dtype=float).reshape(1, kernels.PIECES)
+        keep = np.ascontiguousarray(self.feasible[index], dtype=bool).reshape(1, 1, kernels.PIECES)
+        return _arc_sets(start, end, keep)[0][0]
 
     @property
     def nonempty(self) -> np.ndarray:
@@ -99,117 +107,87 @@ class FeasiblePieces:
         return np.any(self.feasible & (self.end - self.start > PIECE_TOLERANCE), axis=-1)
 
 
-def _arc_set(starts: list[float], ends: list[float], keep: list[bool]) -> ArcSet:
-    """The arcs of the runs of kept pieces (each piece ends where the next starts), dropping runs
-    shorter than :data:`PIECE_TOLERANCE`."""
-    runs: list[list[float]] = []
-    previous = False
-    for start, end, kept in zip(starts, ends, keep):
-        if kept and previous:
-            runs[-1][1] = end
-        elif kept:
-            runs.append([start, end])
-        previous = kept
-    return ArcSet([(a, b) for a, b in runs if b - a > PIECE_TOLERANCE])
+def _arc_sets(start: np.ndarray, end: np.ndarray, keep: np.ndarray) -> list[list[ArcSet]]:
+    """The :class:`ArcSet` of each row of ``keep`` (N, R, 24) on the pieces ``start``, ``end`` (N, 24)
+    (:func:`redkin.srs.feasible_kernels.arc_runs`)."""
+    count = keep.shape[0]
+    arcs = np.empty(keep.shape[:2] + (kernels.PIECES // 2, 2))
+    counts = np.empty(keep.shape[:2], dtype=np.int64)
+    kernels.batch_arc_runs(start, end, keep, arcs, counts)
+    return [[ArcSet(arcs[b, row, :n].tolist()) for row, n in enumerate(counts[b].tolist())] for b in range(count)]
 
 
-def limit_equations(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
-    """Rows ``(p, q, r)`` of the twelve limit equations ``p sin psi + q cos psi + r = 0``, shape ``(..., 3, 12)``.
+class LimitTables(NamedTuple):
+    """An arm's joint limits as :mod:`redkin.srs.feasible_kernels` reads them (see its module docstring).
 
-    Column ``2 k + j`` is joint ``PSI_JOINTS[k]`` at its lower (``j = 0``) or
-    upper limit (eqs. 21, 22 set equal to the limit; all twelve in one
-    matrix product, :func:`redkin.srs.joints.limit_equation_table`).  A
-    group singular at every arm angle (:func:`redkin.srs.joints.first_joint_coefficients`,
-    e.g. the home pose of an arm stretched along the joint-1 axis) gets the
-    stretched table: eq. 15 (19) is 0/0 there for every psi, while the
-    third joint the IK returns still turns with psi.
+    Attributes
+    ----------
+    equations : numpy.ndarray, shape (2, 17, 12)
+        The usual and the stretched limit-equation table, weights over offsets.
+    membership : numpy.ndarray of bool, shape (2, 2, 6, 4)
+        Limit membership by branch signs and limit-equation signs.
+    elbow : numpy.ndarray, shape (3,)
+        ``start, span, free`` of joint 4.
     """
-    limits = geometry.psi_joint_limits
-    equations = coefficients.entries @ limits.weights + limits.offset
-    size = first_joint_coefficients(coefficients.entries)
-    # cheap test first: a stretched group has all six at zero; the sin and cos rows alone, because
-    # c of the wrist's y is zero on every pose (the elbow axis is normal to u_sw)
-    if size.size and size[..., :2, :, :].min() <= STRETCHED_TOLERANCE:
-        stretched = size.max(axis=(-3, -1)) <= STRETCHED_TOLERANCE  # (..., 2): shoulder, wrist
-        alternative = coefficients.entries @ limits.stretched_weights + limits.stretched_offset
-        equations = np.where(stretched[..., None, _EQUATION_GROUP], alternative, equations)
-    return equations
+
+    equations: np.ndarray
+    membership: np.ndarray
+    elbow: np.ndarray
 
 
-def cut_points(equations: np.ndarray) -> np.ndarray:
-    """Every arm angle where a joint reaches a limit, shape ``(..., 6, 4)`` (NaN: none).
+def limit_tables(geometry: SRSGeometry) -> LimitTables:
+    """The :class:`LimitTables` of an arm, built from :attr:`SRSGeometry.psi_joint_limits` once per geometry."""
+    cached = geometry.__dict__.get(_CACHE_KEY)
+    if cached is None:
+        limits = geometry.psi_joint_limits
+        equations = np.stack([np.concatenate([limits.weights, limits.offset]),
+                              np.concatenate([limits.stretched_weights, limits.stretched_offset])])
+        cached = LimitTables(equations, np.ascontiguousarray(limits.membership.reshape(2, 2, 6, 4)),
+                             np.array([limits.elbow_start, limits.elbow_span, float(limits.elbow_free)]))
+        for array in cached:
+            array.setflags(write=False)
+        object.__setattr__(geometry, _CACHE_KEY, cached)
+    return cached
 
-    Row ``k`` holds the roots of the :func:`limit_equations` of joint
-    ``PSI_JOINTS[k]``: two for its lower and two for its upper limit.
-    Unlimited joints have none.
+
+def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometry: SRSGeometry, per_joint: bool):
+    """Run :func:`redkin.srs.feasible_kernels.branches` on coefficients of batch shape ``theta4.shape``.
+
+    Returns ``start, end`` (..., 24), ``keep`` (..., R, 24) (``R = 7`` with
+    ``per_joint``, else 1) and whether theta_4 is within its limits (...).
     """
-    roots = sinusoid_roots(equations[..., 0, :], equations[..., 1, :], equations[..., 2, :])  # (..., 12, 2)
-    return roots.reshape(roots.shape[:-2] + (6, 4))
-
-
-def _pieces(cuts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Cuts ``(..., M)`` (NaN: none) -> starts and ends of the pieces between consecutive cuts.
-
-    The last piece of a pose wraps to its first cut plus ``2 pi``; a pose
-    without cuts gets one whole-circle piece ``[-pi, pi]``.  Unused slots
-    have a NaN start.
-    """
-    cuts = np.sort(cuts, axis=-1)  # NaN last
-    np.fmax(cuts[..., 0], -np.pi, out=cuts[..., 0])  # no cut at all (NaN): start the whole circle at -pi
-    wrap = cuts[..., :1] + TWO_PI
-    # the next cut, or the wrapped first one after the last (fmin skips the NaN of unused slots)
-    end = np.fmin(np.concatenate([cuts[..., 1:], wrap], axis=-1), wrap)
-    return cuts, end
-
-
-def _middle_trig(start: np.ndarray, end: np.ndarray) -> np.ndarray:
-    """``(sin psi, cos psi, 1)`` at the middle of each piece, shape ``(..., 3)``."""
-    middle = 0.5 * (start + end)
-    trig = np.empty(middle.shape + (3,))
-    np.sin(middle, out=trig[..., 0])
-    np.cos(middle, out=trig[..., 1])
-    trig[..., 2] = 1.0
-    return trig
-
-
-def _inside(values: np.ndarray, branch: Branch, geometry: SRSGeometry) -> np.ndarray:
-    """Whether each joint is within its limits, from its limit-equation values ``(..., 6, 2)`` -> ``(..., 6)``.
-
-    Off the cut points the signs of a joint's two limit equations decide
-    (:func:`redkin.srs.joints.limit_sign_membership`).
-    """
-    positive = values > 0.0
-    pattern = 2 * positive[..., 0] + positive[..., 1] + _TABLE_ROWS
-    return geometry.psi_joint_limits.membership[int(branch.shoulder < 0), int(branch.wrist < 0)][pattern]
-
-
-def elbow_within(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> np.ndarray:
-    """Whether theta_4 (independent of psi) is within its limits, batched."""
-    limits = geometry.psi_joint_limits
-    return within(coefficients.theta4, limits.elbow_start, limits.elbow_span, limits.elbow_free)
-
-
-def _piece_membership(
-    coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Pieces between all joints' cut points and, per piece, which joints are within their limits.
-
-    Returns ``start, end`` ``(..., 24)`` (see :func:`_pieces`) and ``inside``
-    ``(..., 24, 6)`` for the columns of :data:`PSI_JOINTS`.  The pieces refine
-    every joint's own pieces, so they serve eq. 29 and eq. 30 alike.
-    """
-    equations = limit_equations(coefficients, geometry)
-    cuts = cut_points(equations)
-    start, end = _pieces(cuts.reshape(cuts.shape[:-2] + (24,)))
-    values = _middle_trig(start, end) @ equations  # (..., 24, 12)
-    return start, end, _inside(values.reshape(values.shape[:-1] + (6, 2)), branch, geometry)
+    shape = theta4.shape
+    flat = np.ascontiguousarray(entries, dtype=float).reshape(-1, 3, entries.shape[-1])
+    count = flat.shape[0]
+    start, end = np.empty((count, kernels.PIECES)), np.empty((count, kernels.PIECES))
+    keep = np.empty((count, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
+    elbow_inside = np.empty(count, dtype=bool)
+    tables = limit_tables(geometry)
+    run_batch(kernels.branches, kernels.branches_parallel, count, flat,
+              np.ascontiguousarray(theta4, dtype=float).reshape(count), int(branch.shoulder < 0),
+              int(branch.wrist < 0), tables.equations, tables.membership, tables.elbow, start, end, keep, elbow_inside)
+    return (start.reshape(shape + (kernels.PIECES,)), end.reshape(shape + (kernels.PIECES,)), keep.reshape(shape + keep.shape[1:]),
+            elbow_inside.reshape(shape))
 
 
 def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
-    """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once."""
-    start, end, inside = _piece_membership(coefficients, branch, geometry)
-    used = (start == start) & elbow_within(coefficients, geometry)[..., None]  # start is NaN in unused slots
-    return FeasiblePieces(start, end, inside.all(axis=-1) & used)
+    """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once.
+
+    Parameters
+    ----------
+    coefficients : ArmAngleCoefficients
+        Of the poses, for the branch's elbow sign (batch shape ``(...)``).
+    branch : Branch
+        In paper 000 Table 1 signs (:meth:`SRSGeometry.table1_branch`).
+    geometry : SRSGeometry
+
+    Returns
+    -------
+    FeasiblePieces
+        Arrays of shape ``(..., 24)``.
+    """
+    start, end, keep, _ = _classified(coefficients.entries, coefficients.theta4, branch, geometry, False)
+    return FeasiblePieces(start, end, keep[..., 0, :])
 
 
 def feasible_pieces(
@@ -221,29 +199,74 @@ def feasible_pieces(
     return overall_pieces(coefficients_for(geometry, pose, chosen.elbow), chosen, geometry)
 
 
+def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> FeasiblePieces:
+    """The feasible sets (eq. 30) of all eight branches as arrays ``(..., 8, 24)``, in the order of :data:`BRANCHES`.
+
+    The branches are named in the chain's joint senses, as in
+    :func:`redkin.srs.ik_all_branches`.  The cut points and limit-equation
+    signs of each elbow sign are computed once and classified for its four
+    branches (:func:`redkin.srs.feasible_kernels.pose_all_branches`).
+
+    Parameters
+    ----------
+    arm : SerialChain or SRSGeometry
+    pose : array_like, shape (4, 4) or (..., 4, 4)
+
+    Returns
+    -------
+    FeasiblePieces
+        ``arc_set((..., k))`` is the feasible set of branch ``BRANCHES[k]``.
+
+    Raises
+    ------
+    ValueError
+        For a malformed or unreachable pose.
+    """
+    geometry = as_geometry(arm)
+    coefficients = coefficients_for(geometry, as_poses(pose)[..., None, :, :], _ELBOW_SIGNS)
+    shape = coefficients.theta4.shape[:-1]
+    entries = np.ascontiguousarray(coefficients.entries).reshape(-1, 2, 3, coefficients.entries.shape[-1])
+    count = entries.shape[0]
+    start, end = np.empty((count, 8, kernels.PIECES)), np.empty((count, 8, kernels.PIECES))
+    keep = np.empty((count, 8, 1, kernels.PIECES), dtype=bool)
+    tables = limit_tables(geometry)
+    run_batch(kernels.all_branches, kernels.all_branches_parallel, count, entries,
+              np.ascontiguousarray(coefficients.theta4).reshape(count, 2), tables.equations, tables.membership,
+              tables.elbow, geometry.branch_order, start, end, keep)
+    pieces = shape + (8, kernels.PIECES)
+    return FeasiblePieces(start.reshape(pieces), end.reshape(pieces), keep.reshape(pieces))
+
+
 def feasible_from_coefficients(
     coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry
 ) -> "FeasibleArmAngles | np.ndarray":
-    """:class:`FeasibleArmAngles` from precomputed coefficients (object array for a batch)."""
-    start, end, inside = _piece_membership(coefficients, branch, geometry)
-    used = start == start  # start is NaN in unused slots
-    elbow_ok = elbow_within(coefficients, geometry)
-    overall = inside.all(axis=-1) & used & elbow_ok[..., None]
-    by_joint = inside.swapaxes(-1, -2) & used[..., None, :]  # (..., 6, 24): eq. 29 on the shared pieces
-    keep = np.concatenate([overall[..., None, :], by_joint], axis=-2)  # (..., 7, 24)
+    """:class:`FeasibleArmAngles` from precomputed coefficients (object array for a batch).
+
+    Parameters
+    ----------
+    coefficients : ArmAngleCoefficients
+        Of the poses, for the branch's elbow sign (batch shape ``(...)``).
+    branch : Branch
+        In paper 000 Table 1 signs (:meth:`SRSGeometry.table1_branch`).
+    geometry : SRSGeometry
+    """
+    start, end, keep, elbow_inside = _classified(coefficients.entries, coefficients.theta4, branch, geometry, True)
     shape = coefficients.theta4.shape
-    results = np.empty(shape, dtype=object)
-    for index in np.ndindex(*shape):
-        starts, ends = start[index].tolist(), end[index].tolist()
-        sets = [_arc_set(starts, ends, kept) for kept in keep[index].tolist()]
-        per_joint = dict(zip(PSI_JOINTS, sets[1:]))
-        per_joint[4] = ArcSet.full() if elbow_ok[index] else ArcSet.empty()
-        results[index] = FeasibleArmAngles(
-            branch=geometry.table1_branch(branch),  # as the caller named it
-            theta4=float(coefficients.theta4[index]),
-            per_joint=dict(sorted(per_joint.items())),
-            feasible=sets[0],
+    count = int(np.prod(shape))
+    sets = _arc_sets(start.reshape(count, -1), end.reshape(count, -1), keep.reshape(count, 7, -1))
+    named = geometry.table1_branch(branch)  # as the caller named it
+    theta4 = coefficients.theta4.reshape(count).tolist()
+    elbow = elbow_inside.reshape(count).tolist()
+    results = np.empty(count, dtype=object)
+    for b in range(count):
+        overall, first, second, third, fifth, sixth, seventh = sets[b]  # rows: eq. 30, then PSI_JOINTS (eq. 29)
+        results[b] = FeasibleArmAngles(
+            branch=named, theta4=theta4[b],
+            per_joint={1: first, 2: second, 3: third, 4: ArcSet.full() if elbow[b] else ArcSet.empty(),
+                       5: fifth, 6: sixth, 7: seventh},
+            feasible=overall,
         )
+    results = results.reshape(shape)
     return results[()] if shape == () else results
 
 

@@ -53,6 +53,9 @@ EQUATIONS = 12
 PIECES = 2 * EQUATIONS
 #: Rows of a limit-equation table: 14 entry weights and the offsets of ``p, q, r``.
 TABLE_ROWS = 17
+#: Pieces shorter than this (radians) are dropped: they are repeated roots split by
+#: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
+PIECE_TOLERANCE = 1e-12
 _GROUP = 7  # entries per group (shoulder, wrist); x and y are the first two
 TWO_PI = 2.0 * pi
 
@@ -245,6 +248,29 @@ def pose_all_branches(entries, theta4, equations_table, membership, elbow, order
                 classify(patterns, start[slot], membership[n2, n6], elbow_inside, keep[slot])
 
 
+@kernel
+def arc_runs(start, end, keep, out):
+    """The arcs of the runs of consecutive kept pieces (each piece ends where the next starts) into ``out`` (12, 2).
+
+    ``keep`` (24,) is one row of :func:`classify`.  Runs not longer than
+    :data:`PIECE_TOLERANCE` are dropped; returns how many arcs were written.
+    """
+    count = 0
+    previous = False
+    for j in range(PIECES):
+        if keep[j] and previous:
+            out[count - 1, 1] = end[j]
+        elif keep[j]:
+            out[count, 0], out[count, 1] = start[j], end[j]
+            count += 1
+        elif previous and out[count - 1, 1] - out[count - 1, 0] <= PIECE_TOLERANCE:
+            count -= 1
+        previous = keep[j]
+    if previous and out[count - 1, 1] - out[count - 1, 0] <= PIECE_TOLERANCE:
+        count -= 1
+    return count
+
+
 # ------------------------------------------------------------------- batches
 # Serial and parallel loops over a batch, over blocks of CHUNK items with one
 # set of scratch arrays per block (numba caches one dispatcher per Python
@@ -273,6 +299,17 @@ def branches_parallel(entries, theta4, n2, n6, equations_table, membership, elbo
         for b in range(block * CHUNK, min(entries.shape[0], (block + 1) * CHUNK)):
             elbow_inside[b] = pose_branch(entries[b], theta4[b], n2, n6, equations_table, membership, elbow,
                                           equations, patterns, start[b], end[b], keep[b])
+
+
+@kernel
+def batch_arc_runs(start, end, keep, out, counts):
+    """:func:`arc_runs` of every row of ``keep`` (N, R, 24) into ``out`` (N, R, 12, 2) and ``counts`` (N, R).
+
+    Serial only: it feeds a Python loop that builds one :class:`~redkin.circle.ArcSet` per row.
+    """
+    for b in range(keep.shape[0]):
+        for row in range(keep.shape[1]):
+            counts[b, row] = arc_runs(start[b], end[b], keep[b, row], out[b, row])
 
 
 @kernel

@@ -280,22 +280,3 @@ def limit_sign_membership(lower: np.ndarray, upper: np.ndarray, start, span, fre
     table.setflags(write=False)
     return table
 
-
-def sinusoid_roots(p: np.ndarray, q: np.ndarray, r: np.ndarray, tolerance: float = 1e-12) -> np.ndarray:
-    """Roots in ``[-pi, pi)`` of ``p sin psi + q cos psi + r = 0``; shape ``(..., 2)``, NaN where none.
-
-    With ``rho = hypot(p, q)`` and ``phi = atan2(p, q)``, ``p s + q c = rho
-    cos(psi - phi)``, so ``psi = phi +- acos(-r / rho)``.  Near tangency
-    (``|r| <= rho (1 + tolerance)``) the double root is returned.
-    """
-    rho = np.hypot(p, q)
-    # a root needs |r| <= rho (with the tolerance) and rho not negligible: rho > tolerance
-    # suffices, because |r| <= rho (1 + tolerance) already bounds r by rho
-    has = (np.abs(r) <= rho * (1.0 + tolerance)) & (rho > tolerance)
-    ratio = np.divide(r, rho, out=np.full(r.shape, np.nan), where=has)  # NaN where no root
-    half = np.arccos(np.minimum(np.maximum(ratio, -1.0), 1.0))  # acos(r / rho) = pi - acos(-r / rho)
-    roots = np.empty(r.shape + (2,))
-    phi = np.arctan2(p, q)
-    np.add(phi, half, out=roots[..., 0])  # phi - acos(-r / rho) + pi
-    np.subtract(phi, half, out=roots[..., 1])  # phi + acos(-r / rho) - pi
-    return np.mod(roots, 2.0 * np.pi) - np.pi  # the shift by pi taken back, into [-pi, pi)
