@@ -12,7 +12,7 @@ from redkin.srs.branches import branch_of_theta
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.ik import as_geometry
-from redkin.srs.rotations import shoulder_rotation
+from redkin.srs.rotations import group_rotations
 
 
 @dataclass(frozen=True)
@@ -48,7 +48,7 @@ def arm_angle_of(arm: "SerialChain | SRSGeometry", q: ArrayLike) -> ArmAngleStat
     theta = geometry.theta_of_q(q)
     branch = branch_of_theta(theta, geometry.elbow_equation.phase)  # Table 1 signs
     frame = arm_angle_coefficients(geometry, geometry.chain.fk(q), branch[..., 1])
-    rotation = shoulder_rotation(theta) @ np.swapaxes(frame.reference, -1, -2)
+    rotation = group_rotations(geometry, q)[0] @ np.swapaxes(frame.reference, -1, -2)
     u = frame.u_sw
     vee = np.stack(
         [rotation[..., 2, 1] - rotation[..., 1, 2], rotation[..., 0, 2] - rotation[..., 2, 0],

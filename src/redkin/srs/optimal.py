@@ -28,7 +28,7 @@ from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.feasible import feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
-from redkin.srs.rotations import shoulder_rotation, wrist_rotation
+from redkin.srs.rotations import group_rotations
 from redkin.validation import check_vectors
 
 
@@ -70,10 +70,14 @@ def default_target(geometry: SRSGeometry) -> np.ndarray:
     return 0.5 * (np.where(chain.limited, chain.lower, 0.0) + np.where(chain.limited, chain.upper, 0.0))
 
 
-def objective_coefficients(coefficients: ArmAngleCoefficients, theta_target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(a_s, b_s, c_s)`` (eq. 36) and ``(a_w, b_w, c_w)`` (eq. 38), each of shape ``(..., 3)``."""
-    shoulder = np.einsum("...kij,...ij->...k", coefficients.shoulder, shoulder_rotation(theta_target))  # eq. 36
-    wrist = np.einsum("...kij,...ij->...k", coefficients.wrist, wrist_rotation(theta_target))  # eq. 38
+def objective_coefficients(
+    coefficients: ArmAngleCoefficients, geometry: SRSGeometry, q_target: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(a_s, b_s, c_s)`` (eq. 36) and ``(a_w, b_w, c_w)`` (eq. 38), each of shape ``(..., 3)``, for target
+    joint values ``q_target`` ``(7,)`` of the chain."""
+    shoulder_target, wrist_target = group_rotations(geometry, q_target)
+    shoulder = np.einsum("...kij,...ij->...k", coefficients.shoulder, shoulder_target)  # eq. 36
+    wrist = np.einsum("...kij,...ij->...k", coefficients.wrist, wrist_target)  # eq. 38
     return shoulder, wrist
 
 
@@ -134,7 +138,7 @@ def optimal_arm_angles(
     coefficients = coefficients_for(geometry, pose, chosen.elbow)
     if feasible is None:
         feasible = feasible_from_coefficients(coefficients, chosen, geometry).feasible
-    shoulder, wrist = objective_coefficients(coefficients, geometry.theta_of_q(q_target))
+    shoulder, wrist = objective_coefficients(coefficients, geometry, q_target)
     combined = r_s * shoulder + r_w * wrist  # eq. 40 (the 1/(r_s + r_w) factor does not move the maximiser)
     return OptimalArmAngles(
         shoulder=_clamped(maximiser(shoulder[0], shoulder[1]), feasible),  # eq. 37

@@ -83,7 +83,7 @@ def arm_angle_path(
     else:
         q_target = default_target(geometry) if target is None else check_vectors(target, 7, "target").reshape(7)
         r_s, r_w = check_weights(weights)
-        shoulder, wrist = objective_coefficients(coefficients, geometry.theta_of_q(q_target))
+        shoulder, wrist = objective_coefficients(coefficients, geometry, q_target)
         combined = r_s * shoulder + r_w * wrist
         best = maximiser(combined[..., 0], combined[..., 1])  # eq. 40
         clamped = [f.feasible.nearest(p) for f, p in zip(feasible, best.tolist())]
