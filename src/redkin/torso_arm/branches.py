@@ -1,10 +1,16 @@
-"""Branch flags, status codes and angle wrapping shared by the torso-arm solvers."""
+"""Branch flags, status codes and angle wrapping (compiled) shared by the torso-arm solvers."""
 
 from __future__ import annotations
 
+from math import floor, pi
+
 import numpy as np
+from numba import prange
+from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.compiled import kernel, run_batch
+from redkin.torso_arm.kernel_tools import flat
 
 #: Position branches, in the order of the solution axis: (theta_3 flag, theta_5 flag).
 #: theta_3 flag +1: cos(theta_3) >= 0 (``asin``), -1: cos(theta_3) <= 0 (``pi - asin``);
@@ -27,35 +33,74 @@ STATUS_NAMES = {
 }
 
 
-def wrap_angle(angle: np.ndarray) -> np.ndarray:
-    """Angles mapped into ``(-pi, pi]``: ``angle + 2 pi floor((pi - angle) / 2 pi)``.
+TWO_PI = 2.0 * pi
 
-    Angles already in that range come back unchanged, bit for bit; the floor
-    form is also an order of magnitude faster than ``np.mod`` on large maps.
+
+@kernel
+def wrap_one(angle):
+    """``angle + 2 pi floor((pi - angle) / 2 pi)``: the same angle in ``(-pi, pi]``, unchanged if already there."""
+    return floor((pi - angle) / TWO_PI) * TWO_PI + angle
+
+
+@kernel
+def into_limits(angle, lower, upper):
+    """:func:`wrap_one`, then shifted by ``+-2 pi`` where that brings it into ``[lower, upper]``.
+
+    Only a joint whose range leaves ``(-pi, pi]`` can gain from a shift
+    (theta_3 of thesis 001 ranges over -5..185 deg, beyond pi).
     """
-    turns = np.subtract(np.pi, angle)
-    turns /= 2.0 * np.pi
-    np.floor(turns, out=turns)
-    turns *= 2.0 * np.pi
-    turns += angle
-    return turns
+    q = wrap_one(angle)
+    if lower < -pi or upper > pi:
+        for shift in (TWO_PI, -TWO_PI):
+            moved = q + shift
+            if not (lower <= q <= upper) and lower <= moved <= upper:
+                q = moved
+    return q
+
+
+@kernel
+def wraps(angle, out):
+    """:func:`wrap_one` for each of ``angle`` (N,) -> ``out`` (N,)."""
+    for i in range(angle.shape[0]):
+        out[i] = wrap_one(angle[i])
+
+
+@kernel(parallel=True)
+def wraps_parallel(angle, out):
+    """:func:`wraps` on all cores."""
+    for i in prange(angle.shape[0]):
+        out[i] = wrap_one(angle[i])
+
+
+@kernel
+def limit_wraps(q, lower, upper, out):
+    """:func:`into_limits` for each row of ``q`` (N, k), joint ranges ``lower``, ``upper`` (k,) -> ``out`` (N, k)."""
+    for i in range(q.shape[0]):
+        for j in range(q.shape[1]):
+            out[i, j] = into_limits(q[i, j], lower[j], upper[j])
+
+
+@kernel(parallel=True)
+def limit_wraps_parallel(q, lower, upper, out):
+    """:func:`limit_wraps` on all cores."""
+    for i in prange(q.shape[0]):
+        for j in range(q.shape[1]):
+            out[i, j] = into_limits(q[i, j], lower[j], upper[j])
+
+
+def wrap_angle(angle: ArrayLike) -> np.ndarray:
+    """Angles mapped into ``(-pi, pi]`` (:func:`wrap_one`); angles already there come back bit for bit."""
+    shape, (a,) = flat((angle, 0))
+    out = np.empty(a.shape[0])
+    run_batch(wraps, wraps_parallel, a.shape[0], a, out)
+    return out.reshape(shape)
 
 
 def wrap_to_limits(chain: SerialChain, q: np.ndarray, joints: slice = slice(None)) -> np.ndarray:
-    """Angles in ``(-pi, pi]``, shifted by ``+-2 pi`` where that brings a joint inside its limits.
-
-    (theta_3 of thesis 001 ranges over -5..185 deg, beyond pi.)
-    """
-    q = wrap_angle(q)
-    lower, upper = chain.lower[joints], chain.upper[joints]
-    # only a joint whose range leaves (-pi, pi] can gain from a shift: work on those columns alone
-    columns = np.flatnonzero((lower < -np.pi) | (upper > np.pi))
-    if columns.size == 0:
-        return q
-    part, lower, upper = q[..., columns], lower[columns], upper[columns]
-    for shift in (2.0 * np.pi, -2.0 * np.pi):
-        inside = (part >= lower) & (part <= upper)
-        moved = part + shift
-        part = np.where(~inside & (moved >= lower) & (moved <= upper), moved, part)
-    q[..., columns] = part
-    return q
+    """Angles ``q`` (..., k) of the chain's ``joints`` in ``(-pi, pi]``, shifted by ``+-2 pi`` where that
+    brings a joint inside its limits (:func:`into_limits`)."""
+    lower, upper = np.ascontiguousarray(chain.lower[joints]), np.ascontiguousarray(chain.upper[joints])
+    shape, (flat_q,) = flat((q, 1))
+    out = np.empty(flat_q.shape)
+    run_batch(limit_wraps, limit_wraps_parallel, flat_q.shape[0], flat_q, lower, upper, out)
+    return out.reshape(shape + flat_q.shape[1:])

@@ -31,12 +31,16 @@ reference ``e1`` (phi = 0).  Two explicit references are offered
 from __future__ import annotations
 
 from dataclasses import dataclass
+from math import acos, atan2, cos, inf, sin, sqrt
 from typing import Literal
 
 import numpy as np
+from numba import prange
 from numpy.typing import ArrayLike
 
+from redkin.compiled import kernel, run_batch
 from redkin.torso_arm.geometry import TorsoArm
+from redkin.torso_arm.kernel_tools import add, cross, dot, flat, norm, put, row, scale, sub
 from redkin.validation import check_vectors
 
 #: Elbow circles with a smaller radius (metres) count as a single elbow point.
@@ -95,33 +99,160 @@ class ElbowCircle:
     reachable: np.ndarray
 
 
-def elbow_circle(arm: TorsoArm, shoulder: np.ndarray, wrist: np.ndarray) -> ElbowCircle:
-    """The elbow circle (sections 3.3.1-3.3.2) for right-arm shoulders and wrists."""
-    shoulder, wrist = np.broadcast_arrays(shoulder, wrist)
-    sw = wrist - shoulder
-    l = np.linalg.norm(sw, axis=-1)
-    L1, lew = arm.L1, arm.forearm
+#: Codes of the phi = 0 reference in the kernels: a fixed world vector, the thesis's theta_4 = 0 rule,
+#: or any basis (the +y projection, +z where the axis is along y) for work that sweeps the whole circle.
+VECTOR, THETA4, ANY_BASIS = 0, 1, 2
+
+
+# ------------------------------------------------------------------ kernels
+@kernel
+def circle_one(shoulder, wrist, L1, lew):
+    """The elbow circle (sections 3.3.1-3.3.2) of a shoulder and a wrist (3-tuples).
+
+    Returns ``(n, centre, radius, length, reachable)``: the axis ``n = (W - S) / l``,
+    the centre ``h = S + n L1 cos(ESW)`` (law of cosines in the triangle SEW),
+    the radius ``r = L1 sin(ESW)`` (``= 2 Area / l``, eqs. 3.2-3.3), ``l = |W - S|``
+    and whether ``l`` lies in ``[|L1 - l_ew|, L1 + l_ew]`` (to ``1e-12 (L1 + l_ew)``).
+    """
+    sw = sub(wrist, shoulder)
+    length = norm(sw)
     tol = 1e-12 * (L1 + lew)
-    reachable = (l >= abs(L1 - lew) - tol) & (l <= L1 + lew + tol) & (l > 0)
-    safe_l = np.where(l > 0, l, 1.0)
-    n = sw / safe_l[..., None]
-    cos_s = np.clip((L1**2 + safe_l**2 - lew**2) / (2 * L1 * safe_l), -1.0, 1.0)  # law of cosines in SEW
-    centre = shoulder + n * (L1 * cos_s)[..., None]
-    radius = L1 * np.sqrt(1.0 - cos_s**2)
-    return ElbowCircle(shoulder, wrist, n, centre, radius, l, reachable)
+    reachable = length >= abs(L1 - lew) - tol and length <= L1 + lew + tol and length > 0.0
+    safe = length if length > 0.0 else 1.0
+    n = scale(sw, 1.0 / safe)
+    cos_s = min(max((L1 * L1 + safe * safe - lew * lew) / (2.0 * L1 * safe), -1.0), 1.0)
+    return n, add(shoulder, scale(n, L1 * cos_s)), L1 * sqrt(1.0 - cos_s * cos_s), length, reachable
 
 
-def _perpendicular_unit(vector: np.ndarray, n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    v = vector - np.sum(vector * n, axis=-1, keepdims=True) * n
-    norm = np.linalg.norm(v, axis=-1, keepdims=True)
-    return v / np.where(norm > 0, norm, 1.0), norm[..., 0] > REFERENCE_TOLERANCE
+@kernel
+def perpendicular_unit(vector, n):
+    """``(e, ok)``: the unit component of ``vector`` orthogonal to the unit ``n``; ``ok`` if it is not ~0."""
+    v = sub(vector, scale(n, dot(vector, n)))
+    size = norm(v)
+    return (scale(v, 1.0 / size) if size > 0.0 else v), size > REFERENCE_TOLERANCE
 
 
-def _fallback_basis(n: np.ndarray) -> np.ndarray:
+@kernel
+def any_basis(n):
     """A unit vector orthogonal to ``n``: the +y projection, or +z where ``n`` is along y."""
-    e1, ok = _perpendicular_unit(np.broadcast_to([0.0, 1.0, 0.0], n.shape), n)
-    e1z, _ = _perpendicular_unit(np.broadcast_to([0.0, 0.0, 1.0], n.shape), n)
-    return np.where(ok[..., None], e1, e1z)
+    e1, ok = perpendicular_unit((0.0, 1.0, 0.0), n)
+    return e1 if ok else perpendicular_unit((0.0, 0.0, 1.0), n)[0]
+
+
+@kernel
+def reference_one(kind, vector, shoulder, wrist, n, centre, radius, L0, L1):
+    """``(e1, exists)``: where phi = 0 on one elbow circle, for the reference ``kind`` (:data:`VECTOR` ...).
+
+    ``THETA4`` solves ``alpha1 cos(phi) + alpha2 sin(phi) = rho`` on the circle
+    (module docstring) and keeps the root with ``f . (z2 x u) > 0`` nearest
+    the +y projection; a circle of radius ~0 takes any basis.
+    """
+    if kind == VECTOR:
+        return perpendicular_unit(vector, n)
+    b1 = any_basis(n)
+    if kind == ANY_BASIS:
+        return b1, True
+    if radius <= RADIUS_TOLERANCE:  # a single elbow: any reference will do
+        return b1, True
+    b2 = cross(n, b1)
+    a = scale(shoulder, 1.0 / L0)  # joint-2 axis z2
+    to_wrist, from_shoulder = sub(wrist, centre), sub(centre, shoulder)
+    kappa = (dot(to_wrist, from_shoulder) - radius * radius) / L1  # f . u, constant on the circle
+    alpha1, alpha2 = dot(b1, a), dot(b2, a)
+    amplitude = sqrt(alpha1 * alpha1 + alpha2 * alpha2)
+    size = radius * (1.0 + kappa / L1)
+    rhs = dot(to_wrist, a) - kappa * dot(a, from_shoulder) / L1
+    if not (amplitude > REFERENCE_TOLERANCE and abs(size) > RADIUS_TOLERANCE):
+        return b1, False
+    ratio = rhs / (size * amplitude)
+    if abs(ratio) > 1.0:
+        return b1, False
+    middle, spread = atan2(alpha2, alpha1), acos(ratio)
+    best, best_cos = b1, -inf
+    for root in (middle + spread, middle - spread):
+        c, s = cos(root), sin(root)
+        rho = (c * b1[0] + s * b2[0], c * b1[1] + s * b2[1], c * b1[2] + s * b2[2])
+        elbow = add(centre, scale(rho, radius))
+        u = scale(sub(elbow, shoulder), 1.0 / L1)
+        # theta_4 = 0, not pi, in the principal branch; the root nearer the +y projection wins
+        if dot(sub(wrist, elbow), cross(a, u)) > 0.0 and c > best_cos:
+            best, best_cos = rho, c
+    return best, best_cos > -inf
+
+
+@kernel
+def elbow_one(centre, radius, n, e1, phi):
+    """``E(phi) = h + r (cos(phi) e1 + sin(phi) n x e1)`` (eqs. 3.8-3.14, sense fixed right-handed)."""
+    e2 = cross(n, e1)
+    c, s = cos(phi), sin(phi)
+    return add(centre, scale((c * e1[0] + s * e2[0], c * e1[1] + s * e2[1], c * e1[2] + s * e2[2]), radius))
+
+
+@kernel
+def circles(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable):
+    """:func:`circle_one` for each item: ``shoulder``, ``wrist`` (N, 3) -> the fields of :class:`ElbowCircle`."""
+    for i in range(shoulder.shape[0]):
+        _circle_item(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable, i)
+
+
+@kernel(parallel=True)
+def circles_parallel(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable):
+    """:func:`circles` on all cores."""
+    for i in prange(shoulder.shape[0]):
+        _circle_item(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable, i)
+
+
+@kernel
+def _circle_item(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable, i):
+    n, h, radius[i], length[i], reachable[i] = circle_one(row(shoulder, i), row(wrist, i), L1, lew)
+    put(axis, i, n)
+    put(centre, i, h)
+
+
+@kernel
+def references(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists):
+    """:func:`reference_one` for each item (arrays as in :func:`circles`) -> ``e1`` (N, 3), ``exists`` (N,)."""
+    for i in range(shoulder.shape[0]):
+        _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists, i)
+
+
+@kernel(parallel=True)
+def references_parallel(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists):
+    """:func:`references` on all cores."""
+    for i in prange(shoulder.shape[0]):
+        _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists, i)
+
+
+@kernel
+def _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists, i):
+    e, exists[i] = reference_one(kind, vector, row(shoulder, i), row(wrist, i), row(axis, i), row(centre, i),
+                                 radius[i], L0, L1)
+    put(e1, i, e)
+
+
+@kernel
+def elbows(centre, radius, axis, e1, phi, out):
+    """:func:`elbow_one` for each item: ``centre``, ``axis``, ``e1`` (N, 3), ``radius``, ``phi`` (N,) -> ``out`` (N, 3)."""
+    for i in range(centre.shape[0]):
+        put(out, i, elbow_one(row(centre, i), radius[i], row(axis, i), row(e1, i), phi[i]))
+
+
+@kernel(parallel=True)
+def elbows_parallel(centre, radius, axis, e1, phi, out):
+    """:func:`elbows` on all cores."""
+    for i in prange(centre.shape[0]):
+        put(out, i, elbow_one(row(centre, i), radius[i], row(axis, i), row(e1, i), phi[i]))
+
+
+# -------------------------------------------------------------- public API
+def elbow_circle(arm: TorsoArm, shoulder: np.ndarray, wrist: np.ndarray) -> ElbowCircle:
+    """The elbow circle (sections 3.3.1-3.3.2) for right-arm shoulders and wrists ``(..., 3)`` (trusted)."""
+    shape, (S, W) = flat((shoulder, 1), (wrist, 1))
+    count = S.shape[0]
+    axis, centre = np.empty((count, 3)), np.empty((count, 3))
+    radius, length, reachable = np.empty(count), np.empty(count), np.empty(count, dtype=bool)
+    run_batch(circles, circles_parallel, count, S, W, arm.L1, arm.forearm, axis, centre, radius, length, reachable)
+    return ElbowCircle(*(a.reshape(shape + a.shape[1:]) for a in (S, W, axis, centre, radius, length, reachable)))
 
 
 def reference_direction(arm: TorsoArm, circle: ElbowCircle, reference: ElbowReference) -> tuple[np.ndarray, np.ndarray]:
@@ -133,48 +264,23 @@ def reference_direction(arm: TorsoArm, circle: ElbowCircle, reference: ElbowRefe
     exists : numpy.ndarray of bool, shape (...)
         False means "no reference": no elbow angle can be measured there.
     """
-    n = circle.axis
-    if reference.kind == "vector":
-        e1, exists = _perpendicular_unit(np.broadcast_to(reference.vector, n.shape), n)
-        return e1, exists
-    b1 = _fallback_basis(n)
-    b2 = np.cross(n, b1)
-    S, W, h, r = circle.shoulder, circle.wrist, circle.centre, circle.radius
-    L1 = arm.L1
-    a = S / arm.L0  # joint-2 axis z2
-    kappa = (np.sum((W - h) * (h - S), axis=-1) - r**2) / L1  # f . u, constant on the circle
-    alpha1, alpha2 = np.sum(b1 * a, axis=-1), np.sum(b2 * a, axis=-1)
-    amplitude = np.hypot(alpha1, alpha2)
-    scale = r * (1.0 + kappa / L1)
-    rhs = np.sum((W - h) * a, axis=-1) - kappa * np.sum(a * (h - S), axis=-1) / L1
-    safe = (amplitude > REFERENCE_TOLERANCE) & (np.abs(scale) > RADIUS_TOLERANCE)
-    ratio = np.where(safe, rhs / np.where(safe, scale * amplitude, 1.0), 2.0)
-    real = safe & (np.abs(ratio) <= 1.0)
-    centre_angle = np.arctan2(alpha2, alpha1)
-    spread = np.arccos(np.clip(ratio, -1.0, 1.0))
-    best_e1 = np.zeros(n.shape)
-    best_cos = np.full(n.shape[:-1], -np.inf)
-    for root in (centre_angle + spread, centre_angle - spread):
-        rho = np.cos(root)[..., None] * b1 + np.sin(root)[..., None] * b2
-        elbow = h + r[..., None] * rho
-        u = (elbow - S) / L1
-        f = W - elbow
-        theta4_zero = np.sum(f * np.cross(a, u), axis=-1) > 0.0  # theta_4 = 0, not pi, in the principal branch
-        better = real & theta4_zero & (np.cos(root) > best_cos)
-        best_e1 = np.where(better[..., None], rho, best_e1)
-        best_cos = np.where(better, np.cos(root), best_cos)
-    exists = np.isfinite(best_cos)
-    point = circle.radius <= RADIUS_TOLERANCE  # a single elbow: any reference will do
-    e1 = np.where(point[..., None], b1, best_e1)
-    return e1, exists | point
+    shape, arrays = flat(*((getattr(circle, name), 1) for name in ("shoulder", "wrist", "axis", "centre")),
+                         (circle.radius, 0))
+    count = arrays[0].shape[0]
+    e1, exists = np.empty((count, 3)), np.empty(count, dtype=bool)
+    kind = VECTOR if reference.kind == "vector" else THETA4
+    run_batch(references, references_parallel, count, kind, np.array(reference.vector), *arrays,
+              arm.L0, arm.L1, e1, exists)
+    return e1.reshape(shape + (3,)), exists.reshape(shape)
 
 
 def elbow_position(circle: ElbowCircle, e1: np.ndarray, phi: ArrayLike) -> np.ndarray:
-    """``E(phi) = h + r (cos(phi) e1 + sin(phi) n x e1)`` (eqs. 3.8-3.14, sense fixed right-handed)."""
-    phi = np.asarray(phi, dtype=float)
-    e2 = np.cross(circle.axis, e1)
-    rho = np.cos(phi)[..., None] * e1 + np.sin(phi)[..., None] * e2
-    return circle.centre + circle.radius[..., None] * rho
+    """``E(phi) = h + r (cos(phi) e1 + sin(phi) n x e1)`` (eqs. 3.8-3.14, sense fixed right-handed), ``(..., 3)``."""
+    shape, (centre, radius, axis, basis, angle) = flat((circle.centre, 1), (circle.radius, 0), (circle.axis, 1),
+                                                      (e1, 1), (phi, 0))
+    out = np.empty((centre.shape[0], 3))
+    run_batch(elbows, elbows_parallel, centre.shape[0], centre, radius, axis, basis, angle, out)
+    return out.reshape(shape + (3,))
 
 
 def elbow_angle(arm: TorsoArm, shoulder: ArrayLike, elbow: ArrayLike, wrist: ArrayLike,

@@ -13,16 +13,22 @@ does not depend on the signs of the columns, so all four position branches
 Dual-arm manipulability is not defined in the thesis.  Our definition
 (:func:`stacked_dual_manipulability`): both wrists' positions stacked, w.r.t.
 the shared theta_1 and both arms' joints 2-5, a 6 x 9 Jacobian, and
-``w = sqrt(det(J J^T))``.  Any function of the two 3 x 5 Jacobians can be
-passed instead.
+``w = sqrt(det(J J^T))``, in closed form from the two arms' 3 x 3 Gram
+matrices (:func:`dual_one`).  Any function of the two 3 x 5 Jacobians can be
+passed to the maps instead.
 """
 
 from __future__ import annotations
 
+from math import cos, sin, sqrt
+
 import numpy as np
+from numba import prange
 from numpy.typing import ArrayLike
 
+from redkin.compiled import kernel, run_batch
 from redkin.torso_arm.geometry import WRIST_FRAME, TorsoArm
+from redkin.torso_arm.kernel_tools import add, cross, flat, scale, sub, turn_y
 
 
 def wrist_manipulability(arm: TorsoArm, q: ArrayLike) -> np.ndarray:
@@ -30,13 +36,129 @@ def wrist_manipulability(arm: TorsoArm, q: ArrayLike) -> np.ndarray:
     return arm.chain.manipulability(q, rows=[0, 1, 2], columns=range(5), frame=WRIST_FRAME)
 
 
-def _rotate_y(theta1: np.ndarray, v: np.ndarray) -> np.ndarray:
-    c, s = np.cos(theta1), np.sin(theta1)
-    return np.stack([c * v[..., 0] + s * v[..., 2], v[..., 1], -s * v[..., 0] + c * v[..., 2]], axis=-1)
+@kernel
+def wrist_jacobian_one(q5, L0, L1, lew, delta, out):
+    """Closed-form 3 x 5 wrist-position Jacobian (eq. 5.2) of the right arm at joints 1-5 ``q5`` into ``out``.
+
+    Columns ``z_i x (W - p_i)`` (see :func:`wrist_jacobian_from_joints`).
+    """
+    t1, t2, t3, t4, t5 = q5[0], q5[1], q5[2], q5[3], q5[4]
+    c2, s2, c3, s3, c4, s4 = cos(t2), sin(t2), cos(t3), sin(t3), cos(t4), sin(t4)
+    x3 = turn_y(t1, (c3, -s3 * c2, -s2 * s3))
+    u = turn_y(t1, (s3, c2 * c3, s2 * c3))  # upper arm, joint-4 axis
+    z3 = turn_y(t1, (0.0, -s2, c2))  # joint-3 axis
+    shoulder = (L0 * cos(t1), 0.0, -L0 * sin(t1))  # joint-2 axis z2 = S / L0
+    elbow = add(shoulder, scale(u, L1))
+    x4 = add(scale(x3, s4), scale(z3, c4))
+    y4 = sub(scale(x3, c4), scale(z3, s4))  # joint-5 axis
+    theta5 = t5 + delta
+    wrist = add(elbow, scale(add(scale(x4, cos(theta5)), scale(u, sin(theta5))), lew))
+    columns = (cross((0.0, 1.0, 0.0), wrist), cross(scale(shoulder, 1.0 / L0), wrist),
+               cross(z3, sub(wrist, shoulder)), cross(u, sub(wrist, shoulder)), cross(y4, sub(wrist, elbow)))
+    for j in range(5):
+        out[0, j], out[1, j], out[2, j] = columns[j][0], columns[j][1], columns[j][2]
+
+
+@kernel
+def gram3(jacobian, first):
+    """Entries ``g00, g01, g02, g11, g12, g22`` of ``J J^T`` over the columns ``first..k-1`` of ``J`` (3, k)."""
+    g00 = g01 = g02 = g11 = g12 = g22 = 0.0
+    for j in range(first, jacobian.shape[1]):
+        x, y, z = jacobian[0, j], jacobian[1, j], jacobian[2, j]
+        g00 += x * x
+        g01 += x * y
+        g02 += x * z
+        g11 += y * y
+        g12 += y * z
+        g22 += z * z
+    return g00, g01, g02, g11, g12, g22
+
+
+@kernel
+def det3(g):
+    """Determinant of the symmetric 3 x 3 matrix with entries ``g00, g01, g02, g11, g12, g22``."""
+    g00, g01, g02, g11, g12, g22 = g
+    return g00 * (g11 * g22 - g12 * g12) - g01 * (g01 * g22 - g12 * g02) + g02 * (g01 * g12 - g11 * g02)
+
+
+@kernel
+def gram_one(jacobian):
+    """``sqrt(max(det(J J^T), 0))`` of one Jacobian ``(3, k)`` (eq. 5.3), by the explicit 3 x 3 determinant."""
+    return sqrt(max(det3(gram3(jacobian, 0)), 0.0))
+
+
+@kernel
+def adjugate_form(g, a):
+    """``a^T adj(G) a`` for the symmetric 3 x 3 ``G`` (entries as :func:`gram3`) and a 3-vector ``a``."""
+    g00, g01, g02, g11, g12, g22 = g
+    a00, a11, a22 = g11 * g22 - g12 * g12, g00 * g22 - g02 * g02, g00 * g11 - g01 * g01
+    a01, a02, a12 = g02 * g12 - g01 * g22, g01 * g12 - g02 * g11, g01 * g02 - g00 * g12
+    x, y, z = a
+    return a00 * x * x + a11 * y * y + a22 * z * z + 2.0 * (a01 * x * y + a02 * x * z + a12 * y * z)
+
+
+@kernel
+def dual_one(right, left):
+    """The stacked dual-arm manipulability of two ``(3, 5)`` Jacobians w.r.t. (theta_1, q2..q5).
+
+    ``J J^T = a a^T + diag(D_R, D_L)`` with ``a`` the stacked theta_1
+    columns and ``D = B B^T`` of each arm's joint 2-5 columns, so by the
+    matrix determinant lemma (adjugate form, exact for singular ``D``)
+    ``det(J J^T) = d_R d_L + d_L a_R^T adj(D_R) a_R + d_R a_L^T adj(D_L) a_L``,
+    ``d = det(D)``; returns its square root (0 where rounding makes it negative).
+    """
+    g_right, g_left = gram3(right, 1), gram3(left, 1)
+    d_right, d_left = det3(g_right), det3(g_left)
+    a_right = (right[0, 0], right[1, 0], right[2, 0])
+    a_left = (left[0, 0], left[1, 0], left[2, 0])
+    det = d_right * d_left + d_left * adjugate_form(g_right, a_right) + d_right * adjugate_form(g_left, a_left)
+    return sqrt(max(det, 0.0))
+
+
+@kernel
+def wrist_jacobians(q5, L0, L1, lew, delta, out):
+    """:func:`wrist_jacobian_one` for each row of ``q5`` (N, 5) -> ``out`` (N, 3, 5)."""
+    for i in range(q5.shape[0]):
+        wrist_jacobian_one(q5[i], L0, L1, lew, delta, out[i])
+
+
+@kernel(parallel=True)
+def wrist_jacobians_parallel(q5, L0, L1, lew, delta, out):
+    """:func:`wrist_jacobians` on all cores."""
+    for i in prange(q5.shape[0]):
+        wrist_jacobian_one(q5[i], L0, L1, lew, delta, out[i])
+
+
+@kernel
+def grams(jacobian, out):
+    """:func:`gram_one` for each of ``jacobian`` (N, 3, k) -> ``out`` (N,)."""
+    for i in range(jacobian.shape[0]):
+        out[i] = gram_one(jacobian[i])
+
+
+@kernel(parallel=True)
+def grams_parallel(jacobian, out):
+    """:func:`grams` on all cores."""
+    for i in prange(jacobian.shape[0]):
+        out[i] = gram_one(jacobian[i])
+
+
+@kernel
+def duals(right, left, out):
+    """:func:`dual_one` for each pair of ``right``, ``left`` (N, 3, 5) -> ``out`` (N,)."""
+    for i in range(right.shape[0]):
+        out[i] = dual_one(right[i], left[i])
+
+
+@kernel(parallel=True)
+def duals_parallel(right, left, out):
+    """:func:`duals` on all cores."""
+    for i in prange(right.shape[0]):
+        out[i] = dual_one(right[i], left[i])
 
 
 def wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
-    """Closed-form 3 x 5 wrist-position Jacobian of the right arm (columns up to sign).
+    """Closed-form 3 x 5 wrist-position Jacobian of the right arm (eq. 5.2; columns up to sign).
 
     Columns ``z_i x (W - p_i)``: torso axis ``y`` and joint-2 axis
     ``z2 = S / L0`` through the origin, joint-3 axis ``Ry(theta_1) (0, -s2, c2)``
@@ -53,39 +175,18 @@ def wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
     -------
     numpy.ndarray, shape (..., 3, 5)
     """
-    t1, t2, t3, t4, t5 = np.moveaxis(q5, -1, 0)
-    c2, s2, c3, s3, c4, s4 = np.cos(t2), np.sin(t2), np.cos(t3), np.sin(t3), np.cos(t4), np.sin(t4)
-    zero = np.zeros_like(t2)
-    x3 = _rotate_y(t1, np.stack([c3, -s3 * c2, -s2 * s3], axis=-1))
-    u = _rotate_y(t1, np.stack([s3, c2 * c3, s2 * c3], axis=-1))
-    z3 = _rotate_y(t1, np.stack([zero, -s2, c2], axis=-1))
-    shoulder = arm.shoulder(t1)
-    elbow = shoulder + arm.L1 * u
-    x4 = s4[..., None] * x3 + c4[..., None] * z3
-    y4 = c4[..., None] * x3 - s4[..., None] * z3
-    theta5 = t5 + arm.delta
-    wrist = elbow + arm.forearm * (np.cos(theta5)[..., None] * x4 + np.sin(theta5)[..., None] * u)
-    y = np.zeros_like(wrist)
-    y[..., 1] = 1.0
-    columns = [
-        np.cross(y, wrist),
-        np.cross(shoulder / arm.L0, wrist),
-        np.cross(z3, wrist - shoulder),
-        np.cross(u, wrist - shoulder),
-        np.cross(y4, wrist - elbow),
-    ]
-    return np.stack(columns, axis=-1)
+    shape, (q,) = flat((q5, 1))
+    out = np.empty((q.shape[0], 3, 5))
+    run_batch(wrist_jacobians, wrist_jacobians_parallel, q.shape[0], q, arm.L0, arm.L1, arm.forearm, arm.delta, out)
+    return out.reshape(shape + (3, 5))
 
 
 def gram_manipulability(jacobian: np.ndarray) -> np.ndarray:
-    """``sqrt(max(det(J J^T), 0))`` of Jacobians ``(..., 3, k)`` by the explicit 3 x 3 determinant."""
-    g = jacobian @ np.swapaxes(jacobian, -1, -2)
-    det = (
-        g[..., 0, 0] * (g[..., 1, 1] * g[..., 2, 2] - g[..., 1, 2] * g[..., 2, 1])
-        - g[..., 0, 1] * (g[..., 1, 0] * g[..., 2, 2] - g[..., 1, 2] * g[..., 2, 0])
-        + g[..., 0, 2] * (g[..., 1, 0] * g[..., 2, 1] - g[..., 1, 1] * g[..., 2, 0])
-    )
-    return np.sqrt(np.maximum(det, 0.0))
+    """``sqrt(max(det(J J^T), 0))`` (eq. 5.3) of Jacobians ``(..., 3, k)`` by the explicit 3 x 3 determinant."""
+    shape, (j,) = flat((jacobian, 2))
+    out = np.empty(j.shape[0])
+    run_batch(grams, grams_parallel, j.shape[0], j, out)
+    return out.reshape(shape)
 
 
 def stacked_dual_manipulability(jacobian_right: np.ndarray, jacobian_left: np.ndarray) -> np.ndarray:
@@ -93,18 +194,17 @@ def stacked_dual_manipulability(jacobian_right: np.ndarray, jacobian_left: np.nd
 
     ``J = [[a_R, B_R, 0], [a_L, 0, B_L]]`` (6 x 9) where ``a`` is the theta_1
     column (same world sense for both arms) and ``B`` the joint 2-5 columns;
-    returns ``sqrt(det(J J^T))``.
+    returns ``sqrt(det(J J^T))``, evaluated in closed form (:func:`dual_one`).
 
     Parameters
     ----------
     jacobian_right, jacobian_left : numpy.ndarray, shape (..., 3, 5)
         World wrist-position Jacobians w.r.t. (theta_1, q2..q5) of each arm.
     """
-    shape = np.broadcast_shapes(jacobian_right.shape[:-2], jacobian_left.shape[:-2])
-    stacked = np.zeros(shape + (6, 9))
-    stacked[..., :3, 0] = jacobian_right[..., 0]
-    stacked[..., 3:, 0] = jacobian_left[..., 0]
-    stacked[..., :3, 1:5] = jacobian_right[..., 1:]
-    stacked[..., 3:, 5:9] = jacobian_left[..., 1:]
-    g = stacked @ np.swapaxes(stacked, -1, -2)
-    return np.sqrt(np.maximum(np.linalg.det(g), 0.0))
+    shape, (right, left) = flat((jacobian_right, 2), (jacobian_left, 2))
+    if right.shape[1:] != (3, 5) or left.shape[1:] != (3, 5):
+        raise ValueError(f"jacobians must have shape (..., 3, 5), got {np.shape(jacobian_right)} and "
+                         f"{np.shape(jacobian_left)}")
+    out = np.empty(right.shape[0])
+    run_batch(duals, duals_parallel, right.shape[0], right, left, out)
+    return out.reshape(shape)

@@ -22,39 +22,47 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from math import cos, inf, sin
 from typing import Callable
 
 import numpy as np
+from numba import prange
 from numpy.typing import ArrayLike
 
-from redkin.torso_arm.branches import OK, wrap_to_limits
+from redkin.compiled import PARALLEL_BATCH, kernel, run_batch
+from redkin.torso_arm.branches import NO_REFERENCE, OK, SHOULDER_UNDEFINED, UNREACHABLE, into_limits
 from redkin.torso_arm.elbow_angle import (
+    ANY_BASIS,
+    THETA4,
+    VECTOR,
     ElbowReference,
-    _fallback_basis,
     as_reference,
-    elbow_circle,
-    elbow_position,
-    reference_direction,
+    circle_one,
+    elbow_one,
+    reference_one,
 )
 from redkin.torso_arm.geometry import MIRROR, TorsoArm, humanoid_arm
+from redkin.torso_arm.kernel_tools import flat, put, row
 from redkin.torso_arm.manipulability import (
+    dual_one,
     gram_manipulability,
+    gram_one,
     stacked_dual_manipulability,
-    wrist_jacobian_from_joints,
+    wrist_jacobian_one,
 )
-from redkin.torso_arm.position_ik import joints_from_points
+from redkin.torso_arm.position_ik import joints_one
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
-from redkin.validation import as_float_array, check_count, check_finite
+from redkin.validation import as_float_array, check_count, check_finite, check_vectors
 
 Progress = Callable[[float], None]
-#: Largest number of grid points along one axis of a map (10^6 points in all: about 1 GB, a few seconds).
+#: Largest number of grid points along one axis of a map (10^6 points in all).
 MAX_RESOLUTION = 1000
 #: Largest number of theta_1 or phi samples of a best-over-the-redundancy map.
 MAX_SWEEP_SAMPLES = 3600
-#: Postures a best map evaluates at once (grid points x phi samples; about 1 KB each).
-MAX_BATCH_POSTURES = 4_000_000
 #: Postures a best map evaluates in all (grid points x theta_1 x phi samples).
 MAX_MAP_POSTURES = 100_000_000
+#: Progress reports of a best map (it runs in this many parts when a progress callback is given).
+PROGRESS_STEPS = 50
 DualMeasure = Callable[[np.ndarray, np.ndarray], np.ndarray]
 _AXES = "xyz"
 
@@ -195,6 +203,157 @@ class ManipulabilityMap:
     description: str
 
 
+# ------------------------------------------------------------------ kernels
+# An arm is passed as ``lengths`` (4,) = (L0, L1, l_ew, delta) of the right arm, and per arm ``sign``
+# (+1 right, -1 left: the side's theta_1 is sign times the right-problem theta_1) and ``limits`` (2, 5),
+# the lower and upper limits of the side's joints 1-5.  Points and theta_1 are the right problem's.
+@kernel
+def posture_one(lengths, sign, limits, kind, vector, theta1, wrist, phi, q):
+    """One posture of the right problem at ``theta1``, ``wrist`` (3-tuple) and ``phi``: ``(status, feasible)``.
+
+    Chapter 3: the shoulder, the elbow circle, the elbow at phi from the
+    reference ``kind``, and joints 1-5 of the four branches into ``q`` (4, 5).
+    ``status`` is OK, UNREACHABLE or NO_REFERENCE; ``feasible`` says that
+    the posture exists and some branch, wrapped into the side's limits,
+    respects them.
+    """
+    L0, L1, lew, delta = lengths[0], lengths[1], lengths[2], lengths[3]
+    shoulder = (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
+    n, centre, radius, _, reachable = circle_one(shoulder, wrist, L1, lew)
+    e1, exists = reference_one(kind, vector, shoulder, wrist, n, centre, radius, L0, L1)
+    joints_one(theta1, elbow_one(centre, radius, n, e1, phi), wrist, L0, L1, delta, q)
+    status = OK if reachable and exists else (NO_REFERENCE if reachable else UNREACHABLE)
+    if status != OK:
+        return status, False
+    for b in range(4):
+        inside = True
+        for j in range(5):
+            value = into_limits(sign * q[b, j] if j == 0 else q[b, j], limits[0, j], limits[1, j])
+            inside = inside and limits[0, j] <= value <= limits[1, j]
+        if inside:
+            return status, True
+    return status, False
+
+
+@kernel
+def jacobian_of(lengths, q, jacobian):
+    """The wrist Jacobian (eq. 5.2) of the first branch of ``q`` (4, 5) into ``jacobian`` (3, 5)."""
+    wrist_jacobian_one(q[0], lengths[0], lengths[1], lengths[2], lengths[3], jacobian)
+
+
+@kernel
+def mirror_one(theta1, point):
+    """``Ry(theta_1) M Ry(-theta_1) p``: ``p`` mirrored in the torso's mid-plane at theta_1."""
+    c, s = cos(2.0 * theta1), sin(2.0 * theta1)
+    return (-c * point[0] + s * point[2], point[1], s * point[0] + c * point[2])
+
+
+@kernel
+def best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jacobians):
+    """``(best, reached)``: best ``w`` at a right-problem ``wrist`` over ``thetas`` x ``phis`` (theta_1, phi).
+
+    ``best`` is the largest ``w`` (eq. 5.3; the stacked dual measure if
+    ``dual``) of the postures that exist and, if ``within``, respect the
+    limits (-inf if none); ``reached`` says some posture exists.  With
+    ``dual`` the second arm is the left arm in the symmetric posture: at
+    theta_1 ``t`` its right problem has theta_1 ``-t`` and the wrist
+    ``M mirror(t, W)`` (``M``: x -> -x); ``signs``, ``limits`` (2, 2, 5) and
+    the scratch arrays ``q`` (2, 4, 5) and ``jacobians`` (2, 3, 5) hold both arms.
+    """
+    best, reached = -inf, False
+    for t in thetas:
+        left = mirror_one(t, wrist)
+        left = (-left[0], left[1], left[2])
+        for phi in phis:
+            status, feasible = posture_one(lengths, signs[0], limits[0], ANY_BASIS, (0.0, 1.0, 0.0), t, wrist, phi,
+                                           q[0])
+            ok = status == OK
+            if dual and ok:  # (a right arm that does not exist fails the pair)
+                status, other = posture_one(lengths, signs[1], limits[1], ANY_BASIS, (0.0, 1.0, 0.0), -t, left, phi,
+                                            q[1])
+                ok, feasible = status == OK, feasible and other
+            reached = reached or ok
+            if feasible if within else ok:
+                jacobian_of(lengths, q[0], jacobians[0])
+                if dual:
+                    jacobian_of(lengths, q[1], jacobians[1])
+                    best = max(best, dual_one(jacobians[0], jacobians[1]))
+                else:
+                    best = max(best, gram_one(jacobians[0]))
+    return best, reached
+
+
+@kernel
+def best_points(points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
+    """:func:`best_one` for each of ``points`` (N, 3) -> ``best`` (N,), ``reached`` (N,) bool."""
+    q, jacobians = np.empty((2, 4, 5)), np.empty((2, 3, 5))
+    for i in range(points.shape[0]):
+        best[i], reached[i] = best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q, jacobians)
+
+
+@kernel(parallel=True)
+def best_points_parallel(points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
+    """:func:`best_points` on all cores."""
+    for i in prange(points.shape[0]):
+        q, jacobians = np.empty((2, 4, 5)), np.empty((2, 3, 5))
+        best[i], reached[i] = best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q, jacobians)
+
+
+@kernel
+def states(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible):
+    """:func:`posture_one` for each item: ``points`` (N, 3), ``theta1``, ``phi`` (N,), ``defined`` (N,) bool
+    -> ``jacobian`` (N, 3, 5), ``status`` (N,) (SHOULDER_UNDEFINED where not ``defined``), ``feasible`` (N,)."""
+    q = np.empty((4, 5))
+    for i in range(points.shape[0]):
+        _state_item(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible, q, i)
+
+
+@kernel(parallel=True)
+def states_parallel(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible):
+    """:func:`states` on all cores."""
+    for i in prange(points.shape[0]):
+        q = np.empty((4, 5))
+        _state_item(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible, q, i)
+
+
+@kernel
+def _state_item(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible, q, i):
+    t = theta1[i] if defined[i] else 0.0
+    code, feasible[i] = posture_one(lengths, sign, limits, kind, (vector[0], vector[1], vector[2]), t,
+                                    row(points, i), phi[i], q)
+    jacobian_of(lengths, q, jacobian[i])
+    status[i] = code if defined[i] else SHOULDER_UNDEFINED
+
+
+@kernel
+def mirrors(theta1, points, out):
+    """:func:`mirror_one` for each item: ``theta1`` (N,), ``points`` (N, 3) -> ``out`` (N, 3)."""
+    for i in range(points.shape[0]):
+        put(out, i, mirror_one(theta1[i], row(points, i)))
+
+
+@kernel(parallel=True)
+def mirrors_parallel(theta1, points, out):
+    """:func:`mirrors` on all cores."""
+    for i in prange(points.shape[0]):
+        put(out, i, mirror_one(theta1[i], row(points, i)))
+
+
+# ----------------------------------------------------------------- wrappers
+def _lengths(arm: TorsoArm) -> np.ndarray:
+    return np.array([arm.L0, arm.L1, arm.forearm, arm.delta])
+
+
+def _limits(arm: TorsoArm) -> np.ndarray:
+    """The side's limits of joints 1-5, (2, 5)."""
+    chain = arm.chain
+    return np.ascontiguousarray(np.stack([chain.lower[:5], chain.upper[:5]]))
+
+
+def _sign(arm: TorsoArm) -> float:
+    return 1.0 if arm.side == "right" else -1.0
+
+
 @dataclass(frozen=True)
 class _ArmState:
     jacobian: np.ndarray  # world, (..., 3, 5)
@@ -202,34 +361,36 @@ class _ArmState:
     feasible: np.ndarray  # some branch within limits
 
 
-def _arm_state(arm: TorsoArm, points: np.ndarray, theta1_side: np.ndarray, defined: np.ndarray,
+def _arm_state(arm: TorsoArm, right_points: np.ndarray, theta1: np.ndarray, defined: np.ndarray,
                phi: np.ndarray, reference: ElbowReference | None) -> _ArmState:
-    """Wrist Jacobian, IK status and limit feasibility of ``arm`` at side-world points (reference None: any basis)."""
-    right_points = arm.to_right(points)
-    theta1 = np.where(defined, theta1_side if arm.side == "right" else -theta1_side, 0.0)
-    shoulder = arm.shoulder(theta1)
-    circle = elbow_circle(arm, shoulder, right_points)
+    """Wrist Jacobian (in the side's world), IK status and limit feasibility of ``arm`` at right-problem points
+    and theta_1 (where ``defined``), for ``reference`` given in the side's world (None: any basis)."""
+    shape, (points, t1, ok, angle) = flat((right_points, 1), (theta1, 0), (defined, 0), (phi, 0))
+    count = points.shape[0]
     if reference is None:
-        e1, exists = _fallback_basis(circle.axis), np.ones(circle.length.shape, bool)
+        kind, vector = ANY_BASIS, np.zeros(3)
     else:
-        e1, exists = reference_direction(arm, circle, reference.mirrored() if arm.side == "left" else reference)
-    elbow = elbow_position(circle, e1, phi)
-    status = np.where(defined, np.where(circle.reachable, np.where(exists, OK, 2), 1), 3)
-    q5 = joints_from_points(arm, theta1, elbow, right_points)
-    jac = wrist_jacobian_from_joints(arm, q5[..., 0, :])
-    if arm.side == "left":
-        q5 = q5 * np.array([-1.0, 1.0, 1.0, 1.0, 1.0])
-        jac = MIRROR @ jac * np.array([-1.0, 1.0, 1.0, 1.0, 1.0])
-    chain = arm.chain
-    q5 = wrap_to_limits(chain, q5, slice(0, 5))
-    inside = np.all((q5 >= chain.lower[:5]) & (q5 <= chain.upper[:5]), axis=-1)
-    return _ArmState(jac, status, np.any(inside, axis=-1) & (status == OK))
+        reference = reference.mirrored() if arm.side == "left" else reference
+        kind, vector = (VECTOR if reference.kind == "vector" else THETA4), np.array(reference.vector)
+    jacobian, status, feasible = np.empty((count, 3, 5)), np.empty(count, dtype=np.int64), np.empty(count, dtype=bool)
+    run_batch(states, states_parallel, count, points, t1, ok.astype(bool), angle, _lengths(arm), _sign(arm),
+              _limits(arm), kind, vector, jacobian, status, feasible)
+    if arm.side == "left":  # the mirror image's Jacobian: rows x -> -x, theta_1 column in the left's sense
+        jacobian = MIRROR @ jacobian * np.array([-1.0, 1.0, 1.0, 1.0, 1.0])
+    return _ArmState(jacobian.reshape(shape + (3, 5)), status.reshape(shape), feasible.reshape(shape))
 
 
 def _finish(grid: PlaneGrid, values: np.ndarray, status: np.ndarray, feasible: np.ndarray,
             within_limits: bool, description: str) -> ManipulabilityMap:
     valid = (status == OK) & (feasible if within_limits else True)
     return ManipulabilityMap(grid, np.where(valid, values, np.nan), valid, status, description)
+
+
+def _fixed_angles(shoulder_angle: float, elbow_angle: float) -> tuple[float, float]:
+    psi, phi = float(shoulder_angle), float(elbow_angle)
+    if not (np.isfinite(psi) and np.isfinite(phi)):
+        raise ValueError(f"shoulder and elbow angles must be finite, got {psi!r}, {phi!r}")
+    return psi, phi
 
 
 def manipulability_map(
@@ -240,36 +401,93 @@ def manipulability_map(
     reference: "ElbowReference | str | ArrayLike | None" = None,
     within_limits: bool = True,
 ) -> ManipulabilityMap:
-    """``w`` (eq. 5.3) of one arm over ``grid`` at fixed ``(psi, phi)``; vectorised over the grid."""
-    psi, phi = float(shoulder_angle), float(elbow_angle)
-    if not (np.isfinite(psi) and np.isfinite(phi)):
-        raise ValueError(f"shoulder and elbow angles must be finite, got {psi!r}, {phi!r}")
+    """``w`` (eq. 5.3) of one arm over ``grid`` at fixed ``(psi, phi)`` (sections 3.2-3.3), one posture per point."""
+    psi, phi = _fixed_angles(shoulder_angle, elbow_angle)
     ref = as_reference(reference)
     right_points = arm.to_right(grid.points)
     theta1, defined = theta1_from_shoulder_angle(np.full(grid.points.shape[:-1], psi), right_points)
-    theta1 = theta1 if arm.side == "right" else -theta1
-    state = _arm_state(arm, grid.points, theta1, defined, np.asarray(phi), ref)
-    values = gram_manipulability(state.jacobian)
-    return _finish(grid, values, state.status, state.feasible, within_limits,
+    state = _arm_state(arm, right_points, theta1, defined, np.asarray(phi), ref)
+    return _finish(grid, gram_manipulability(state.jacobian), state.status, state.feasible, within_limits,
                    f"{arm.side} arm, psi = {np.degrees(psi):g} deg, phi = {np.degrees(phi):g} deg ({ref.kind} reference)")
 
 
-def _sweeps(arm: TorsoArm, grid: PlaneGrid, samples: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+def _samples(arm: TorsoArm, samples: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """theta_1 of the side across its limits (within one turn) and phi around the circle, ``samples`` = (n1, n2)."""
     if np.ndim(samples) != 1 or len(samples) != 2:
         raise ValueError(f"samples must be two positive integers (theta_1, phi), got {samples!r}")
     n1, n2 = (check_count(n, "samples", 1, MAX_SWEEP_SAMPLES) for n in samples)
-    points = grid.points[..., 0].size
-    if points * n2 > MAX_BATCH_POSTURES:
-        raise ValueError(f"{points} grid points x {n2} phi samples = {points * n2} postures at once; at most "
-                         f"{MAX_BATCH_POSTURES} fit in memory (lower the resolution or the phi samples)")
-    if points * n1 * n2 > MAX_MAP_POSTURES:
-        raise ValueError(f"{points} grid points x {n1} x {n2} samples = {points * n1 * n2} postures; at most "
-                         f"{MAX_MAP_POSTURES} are allowed (about 5 minutes)")
     lower, upper = arm.chain.lower[0], arm.chain.upper[0]
     lower, upper = (max(lower, -np.pi), min(upper, np.pi))
-    theta1 = np.linspace(lower, upper, int(n1)) if n1 > 1 else np.array([(lower + upper) / 2])
-    phi = np.linspace(-np.pi, np.pi, int(n2), endpoint=False)
-    return theta1, phi
+    theta1 = np.linspace(lower, upper, n1) if n1 > 1 else np.array([(lower + upper) / 2])
+    return theta1, np.linspace(-np.pi, np.pi, n2, endpoint=False)
+
+
+def _check_total(points: int, samples: tuple[int, int]) -> None:
+    total = points * samples[0] * samples[1]
+    if total > MAX_MAP_POSTURES:
+        raise ValueError(f"{points} grid points x {samples[0]} x {samples[1]} samples = {total} postures; at most "
+                         f"{MAX_MAP_POSTURES} are allowed (about a minute on two cores)")
+
+
+def best_over_redundancy(
+    arm: TorsoArm,
+    points: ArrayLike,
+    samples: tuple[int, int] = (24, 24),
+    within_limits: bool = True,
+    dual: bool = False,
+    progress: Progress | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Best ``w`` over the redundancy at wrist positions: max over theta_1 x phi samples (chapter 5).
+
+    theta_1 is swept across its limits (within one turn; equivalent to a
+    sweep of psi, a monotone function of theta_1, section 3.2) and phi
+    around the whole elbow circle (section 3.3), so the elbow reference
+    does not matter.
+
+    Parameters
+    ----------
+    arm : TorsoArm
+        The arm; with ``dual``, the right arm of the symmetric two-arm posture (``arm.side`` must be "right").
+    points : array_like, shape (..., 3)
+        Wrist positions in the arm's world, metres (the right wrist's with ``dual``).
+    samples : (int, int)
+        theta_1 and phi samples, 1 to :data:`MAX_SWEEP_SAMPLES` each.
+    within_limits : bool
+        Count only postures where some branch respects the limits of joints 1-5.
+    dual : bool
+        The stacked dual-arm measure (:func:`~redkin.torso_arm.manipulability.stacked_dual_manipulability`)
+        of the symmetric posture instead of one arm's ``w`` (eq. 5.3).
+    progress : callable, optional
+        ``progress(fraction)`` as the points are done.
+
+    Returns
+    -------
+    best : numpy.ndarray, shape (...)
+        m^3 for one arm, m^6 for both; NaN where no sampled posture counts.
+    reached : numpy.ndarray of bool, shape (...)
+        Some sampled posture exists (limits aside).
+    """
+    wrists = check_vectors(points, 3, "points")
+    if dual and arm.side != "right":
+        raise ValueError(f"the dual-arm measure is indexed by the right wrist: arm must be the right arm, "
+                         f"got {arm.side!r}")
+    thetas, phis = _samples(arm, samples)
+    shape, (flat_points,) = flat((arm.to_right(wrists), 1))
+    count = flat_points.shape[0]
+    left = TorsoArm(arm.right_chain, "left")
+    signs = np.array([_sign(arm), -1.0])
+    limits = np.ascontiguousarray(np.stack([_limits(arm), _limits(left)]))
+    thetas = np.ascontiguousarray(thetas * _sign(arm))  # the right problem's theta_1
+    best, reached = np.empty(count), np.empty(count, dtype=bool)
+    step = count if progress is None else max(PARALLEL_BATCH, -(-count // PROGRESS_STEPS))
+    for start in range(0, count, step):
+        part = slice(start, min(count, start + step))
+        run_batch(best_points, best_points_parallel, part.stop - start, flat_points[part], thetas, phis,
+                  _lengths(arm), signs, limits, bool(within_limits), bool(dual), best[part], reached[part])
+        if progress is not None:
+            progress(part.stop / count)
+    best[~np.isfinite(best)] = np.nan
+    return best.reshape(shape), reached.reshape(shape)
 
 
 def best_manipulability_map(
@@ -279,46 +497,34 @@ def best_manipulability_map(
     within_limits: bool = True,
     progress: Progress | None = None,
 ) -> ManipulabilityMap:
-    """Best ``w`` over the redundancy: max over theta_1 (across its limits) x phi (full circle) samples."""
-    def evaluate(points, theta1, ones, phi):
-        state = _arm_state(arm, points, theta1, ones, phi, None)
-        ok = state.status == OK
-        return gram_manipulability(state.jacobian), (state.feasible if within_limits else ok), ok
-
-    return _best_over_sweeps(grid, *_sweeps(arm, grid, samples), evaluate, progress,
-                             f"{arm.side} arm, best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
-                             + (" within limits" if within_limits else ""))
+    """Best ``w`` over the redundancy (:func:`best_over_redundancy`) on ``grid``."""
+    thetas, phis = _samples(arm, samples)
+    _check_total(grid.points[..., 0].size, (thetas.size, phis.size))
+    best, reached = best_over_redundancy(arm, grid.points, samples, within_limits, progress=progress)
+    return _best_map(grid, best, reached, f"{arm.side} arm, best over theta_1 x phi = {samples[0]} x {samples[1]} "
+                     "samples" + (" within limits" if within_limits else ""))
 
 
-def _best_over_sweeps(grid, theta1_samples, phi_samples, evaluate, progress, description) -> ManipulabilityMap:
-    """Max over theta_1 x phi samples of ``evaluate(points, theta1, ones, phi) -> (w, usable, solved)``."""
-    points = grid.points[..., None, :]
-    best = np.full(grid.points.shape[:-1], -np.inf)
-    reached = np.zeros(grid.points.shape[:-1], bool)
-    for index, theta1 in enumerate(theta1_samples):
-        ones = np.ones(points.shape[:-2] + (phi_samples.size,), bool)
-        w, usable, solved = evaluate(points, np.full(ones.shape, theta1), ones, phi_samples)
-        best = np.maximum(best, np.max(np.where(usable, w, -np.inf), axis=-1))
-        reached |= np.any(solved, axis=-1)
-        if progress is not None:
-            progress((index + 1) / theta1_samples.size)
+def _best_map(grid: PlaneGrid, best: np.ndarray, reached: np.ndarray, description: str) -> ManipulabilityMap:
     found = np.isfinite(best)
-    return ManipulabilityMap(grid, np.where(found, best, np.nan), found, np.where(reached, OK, 1), description)
+    return ManipulabilityMap(grid, best, found, np.where(reached, OK, UNREACHABLE), description)
 
 
-def torso_mirror(theta1: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Mirror ``points`` in the torso's mid-plane ``Ry(theta_1) {x = 0}``: ``Ry(theta_1) M Ry(-theta_1) p``."""
-    c, s = np.cos(2.0 * theta1), np.sin(2.0 * theta1)
-    x, y, z = points[..., 0], points[..., 1], points[..., 2]
-    c, s, x, y, z = np.broadcast_arrays(c, s, x, y, z)
-    return np.stack([-c * x + s * z, y, s * x + c * z], axis=-1)
+def torso_mirror(theta1: ArrayLike, points: ArrayLike) -> np.ndarray:
+    """Mirror ``points`` (..., 3) in the torso's mid-plane ``Ry(theta_1) {x = 0}``: ``Ry(theta_1) M Ry(-theta_1) p``."""
+    shape, (t1, p) = flat((theta1, 0), (points, 1))
+    out = np.empty((p.shape[0], 3))
+    run_batch(mirrors, mirrors_parallel, p.shape[0], t1, p, out)
+    return out.reshape(shape + (3,))
 
 
 def _dual_states(right: TorsoArm, points: np.ndarray, theta1: np.ndarray, defined: np.ndarray,
                  phi: np.ndarray, reference: ElbowReference | None) -> tuple[_ArmState, _ArmState]:
+    """Both arms of the symmetric posture at right wrists ``points`` and the right arm's theta_1."""
     left = TorsoArm(right.right_chain, "left")
+    theta1 = np.where(defined, theta1, 0.0)
     a = _arm_state(right, points, theta1, defined, phi, reference)
-    b = _arm_state(left, torso_mirror(np.where(defined, theta1, 0.0), points), theta1, defined, phi, reference)
+    b = _arm_state(left, left.to_right(torso_mirror(theta1, points)), -theta1, defined, phi, reference)
     return a, b
 
 
@@ -341,9 +547,7 @@ def dual_arm_map(
     mid-plane.)  ``measure(J_right, J_left)`` receives the two world
     ``(..., 3, 5)`` Jacobians w.r.t. (theta_1, q2..q5).
     """
-    psi, phi = float(shoulder_angle), float(elbow_angle)
-    if not (np.isfinite(psi) and np.isfinite(phi)):
-        raise ValueError(f"shoulder and elbow angles must be finite, got {psi!r}, {phi!r}")
+    psi, phi = _fixed_angles(shoulder_angle, elbow_angle)
     right = right or humanoid_arm("right")
     ref = as_reference(reference)
     theta1, defined = theta1_from_shoulder_angle(np.full(grid.points.shape[:-1], psi), grid.points)
@@ -361,17 +565,33 @@ def best_dual_arm_map(
     right: TorsoArm | None = None,
     progress: Progress | None = None,
 ) -> ManipulabilityMap:
-    """Best dual-arm ``measure`` (symmetric posture, see :func:`dual_arm_map`) over theta_1 x phi samples."""
+    """Best dual-arm ``measure`` (symmetric posture, see :func:`dual_arm_map`) over theta_1 x phi samples.
+
+    The stacked measure runs compiled (:func:`best_over_redundancy` with
+    ``dual``); another ``measure`` is evaluated on the two arms' Jacobians,
+    one theta_1 sample at a time.
+    """
     right = right or humanoid_arm("right")
-
-    def evaluate(points, theta1, ones, phi):
-        a, b = _dual_states(right, points, theta1, ones, phi, None)
+    thetas, phis = _samples(right, samples)
+    _check_total(grid.points[..., 0].size, (thetas.size, phis.size))
+    description = (f"both arms (symmetric posture), best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
+                   + (" within limits" if within_limits else ""))
+    if measure is stacked_dual_manipulability:
+        best, reached = best_over_redundancy(right, grid.points, samples, within_limits, dual=True, progress=progress)
+        return _best_map(grid, best, reached, description)
+    points = np.broadcast_to(grid.points[..., None, :], grid.points.shape[:-1] + (phis.size, 3))
+    best = np.full(grid.points.shape[:-1], -np.inf)
+    reached = np.zeros(grid.points.shape[:-1], bool)
+    for index, theta1 in enumerate(thetas):
+        a, b = _dual_states(right, points, np.full(points.shape[:-1], theta1), np.ones(points.shape[:-1], bool),
+                            phis, None)
         ok = (a.status == OK) & (b.status == OK)
-        return measure(a.jacobian, b.jacobian), ((a.feasible & b.feasible) if within_limits else ok), ok
-
-    return _best_over_sweeps(grid, *_sweeps(right, grid, samples), evaluate, progress,
-                             f"both arms (symmetric posture), best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
-                             + (" within limits" if within_limits else ""))
+        usable = (a.feasible & b.feasible) if within_limits else ok
+        best = np.maximum(best, np.max(np.where(usable, measure(a.jacobian, b.jacobian), -np.inf), axis=-1))
+        reached |= np.any(ok, axis=-1)
+        if progress is not None:
+            progress((index + 1) / thetas.size)
+    return _best_map(grid, np.where(np.isfinite(best), best, np.nan), reached, description)
 
 
 @dataclass(frozen=True)

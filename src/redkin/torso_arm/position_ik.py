@@ -26,9 +26,13 @@ Every input is batched over leading axes (broadcast together).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from math import atan2, cos, hypot, pi, sin
 
 import numpy as np
+from numba import prange
 from numpy.typing import ArrayLike
+
+from redkin.compiled import kernel, run_batch
 
 from redkin.torso_arm.branches import (
     NO_REFERENCE,
@@ -48,15 +52,51 @@ from redkin.torso_arm.elbow_angle import (
     reference_direction,
 )
 from redkin.torso_arm.geometry import TorsoArm
+from redkin.torso_arm.kernel_tools import cross, dot, flat, norm, row, scale, sub, turn_y
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
 from redkin.validation import as_float_array, check_finite, check_vectors
 
 
-def _to_torso(theta1: np.ndarray, vector: np.ndarray) -> np.ndarray:
-    """``Ry(-theta_1) v``: a world vector in the frame turned with the torso."""
-    c, s = np.cos(theta1), np.sin(theta1)
-    x, y, z = vector[..., 0], vector[..., 1], vector[..., 2]
-    return np.stack([c * x - s * z, y, s * x + c * z], axis=-1)
+@kernel
+def joints_one(theta1, elbow, wrist, L0, L1, delta, out):
+    """Joints 1-5 of every position branch for right-arm points (repaired sections 3.4.2-3.4.5).
+
+    ``elbow``, ``wrist`` (3-tuples) lie on a valid posture; ``out`` (4, 5)
+    receives one row per branch of :data:`POSITION_BRANCHES`, angles in ``(-pi, pi]``.
+    """
+    shoulder = (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
+    upper = turn_y(-theta1, scale(sub(elbow, shoulder), 1.0 / L1))  # u' = Ry(-theta_1) (E - S) / L1
+    forearm = turn_y(-theta1, sub(wrist, elbow))
+    # eq. 3.18/3.19 as atan2: sin(theta_5 + delta) = (f . u) / l_ew, |cos(theta_5 + delta)| = |f x u| / l_ew
+    asin_k = atan2(dot(forearm, upper), norm(cross(forearm, upper)))
+    asin_3 = atan2(upper[0], hypot(upper[1], upper[2]))  # eq. 3.22 as atan2
+    for k3 in range(2):  # the order of POSITION_BRANCHES: theta_3 flag outer, theta_5 flag inner
+        flag3 = 1.0 - 2.0 * k3
+        theta3 = asin_3 if flag3 > 0 else pi - asin_3  # eq. 3.22 + second branch
+        theta2 = atan2(flag3 * upper[2], flag3 * upper[1])  # eq. 3.24, repaired
+        c2, s2, c3, s3 = cos(theta2), sin(theta2), cos(theta3), sin(theta3)
+        f3x = c3 * forearm[0] - s3 * c2 * forearm[1] - s2 * s3 * forearm[2]
+        f3z = -s2 * forearm[1] + c2 * forearm[2]
+        for k5 in range(2):
+            flag5 = 1.0 - 2.0 * k5
+            b = 2 * k3 + k5
+            out[b, 0], out[b, 1], out[b, 2] = theta1, theta2, theta3
+            out[b, 3] = atan2(flag5 * f3x, flag5 * f3z)  # replaces eqs. 3.25-3.26; sgn(m) = flag5
+            out[b, 4] = asin_k - delta if flag5 > 0 else pi - asin_k - delta  # eq. 3.19 + second branch
+
+
+@kernel
+def joint_batch(theta1, elbow, wrist, L0, L1, delta, out):
+    """:func:`joints_one` for each item: ``theta1`` (N,), ``elbow``, ``wrist`` (N, 3) -> ``out`` (N, 4, 5)."""
+    for i in range(theta1.shape[0]):
+        joints_one(theta1[i], row(elbow, i), row(wrist, i), L0, L1, delta, out[i])
+
+
+@kernel(parallel=True)
+def joint_batch_parallel(theta1, elbow, wrist, L0, L1, delta, out):
+    """:func:`joint_batch` on all cores."""
+    for i in prange(theta1.shape[0]):
+        joints_one(theta1[i], row(elbow, i), row(wrist, i), L0, L1, delta, out[i])
 
 
 def joints_from_points(arm: TorsoArm, theta1: np.ndarray, elbow: np.ndarray, wrist: np.ndarray) -> np.ndarray:
@@ -66,33 +106,17 @@ def joints_from_points(arm: TorsoArm, theta1: np.ndarray, elbow: np.ndarray, wri
     ----------
     theta1 : numpy.ndarray, shape (...)
     elbow, wrist : numpy.ndarray, shape (..., 3)
-        Points on a valid posture (``|E - S| = L1``, ``|W - E| = l_ew``).
+        Points on a valid posture (``|E - S| = L1``, ``|W - E| = l_ew``); trusted.
 
     Returns
     -------
     numpy.ndarray, shape (..., 4, 5)
         Branches in the order of :data:`POSITION_BRANCHES`, angles in ``(-pi, pi]``.
     """
-    L1, delta = arm.L1, arm.delta
-    shoulder = arm.shoulder(theta1)
-    upper = _to_torso(theta1, (elbow - shoulder) / L1)
-    forearm = _to_torso(theta1, wrist - elbow)
-    # eq. 3.18/3.19 as atan2: sin(theta_5 + delta) = (f . u) / l_ew, |cos(theta_5 + delta)| = |f x u| / l_ew
-    along = np.sum(forearm * upper, axis=-1)
-    across = np.linalg.norm(np.cross(forearm, upper), axis=-1)
-    asin_k = np.arctan2(along, across)
-    asin_3 = np.arctan2(upper[..., 0], np.hypot(upper[..., 1], upper[..., 2]))  # eq. 3.22 as atan2
-    out = []
-    for flag3, flag5 in POSITION_BRANCHES:
-        theta3 = asin_3 if flag3 > 0 else np.pi - asin_3  # eq. 3.22 + second branch
-        theta2 = np.arctan2(flag3 * upper[..., 2], flag3 * upper[..., 1])  # eq. 3.24, repaired
-        theta5 = asin_k - delta if flag5 > 0 else np.pi - asin_k - delta  # eq. 3.19 + second branch
-        c2, s2, c3, s3 = np.cos(theta2), np.sin(theta2), np.cos(theta3), np.sin(theta3)
-        f3x = c3 * forearm[..., 0] - s3 * c2 * forearm[..., 1] - s2 * s3 * forearm[..., 2]
-        f3z = -s2 * forearm[..., 1] + c2 * forearm[..., 2]
-        theta4 = np.arctan2(flag5 * f3x, flag5 * f3z)  # replaces eqs. 3.25-3.26; sgn(m) = flag5
-        out.append(np.stack([np.broadcast_to(theta1, theta2.shape), theta2, theta3, theta4, theta5], axis=-1))
-    return np.stack(out, axis=-2)
+    shape, (t1, E, W) = flat((theta1, 0), (elbow, 1), (wrist, 1))
+    out = np.empty((t1.shape[0], len(POSITION_BRANCHES), 5))
+    run_batch(joint_batch, joint_batch_parallel, t1.shape[0], t1, E, W, arm.L0, arm.L1, arm.delta, out)
+    return out.reshape(shape + out.shape[1:])
 
 
 @dataclass(frozen=True)

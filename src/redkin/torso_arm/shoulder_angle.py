@@ -23,35 +23,94 @@ psi.  It is offered literally, with every root, by
 
 from __future__ import annotations
 
+from math import atan2, cos, nan, sin
+
 import numpy as np
+from numba import prange
 from numpy.typing import ArrayLike
 
+from redkin.compiled import kernel, run_batch
+from redkin.torso_arm.kernel_tools import cross, dot, flat, norm, row, scale
 from redkin.validation import as_float_array, check_finite, check_vectors
 
 #: Below this ``|W_y| / |W|`` the signed shoulder angle is undefined.
 SHOULDER_TOLERANCE = 1e-9
 
 
-def _reference_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(e1, e2, ok)``: ``e1`` = unit component of ``+x`` orthogonal to ``n``, ``e2 = n x e1``."""
-    x = np.zeros_like(n)
-    x[..., 0] = 1.0
-    s0 = x - n[..., :1] * n
-    norm = np.linalg.norm(s0, axis=-1, keepdims=True)
-    ok = (norm[..., 0] > SHOULDER_TOLERANCE) & (np.abs(n[..., 1]) > SHOULDER_TOLERANCE)
-    e1 = s0 / np.where(norm > 0, norm, 1.0)
-    return e1, np.cross(n, e1), ok
+# ------------------------------------------------------------------ kernels
+@kernel
+def reference_basis(wrist):
+    """``(n, e1, e2, ok)`` of a right-arm wrist ``W`` (3-tuple): the neck->wrist axis and psi's basis.
+
+    ``n = W / |W|``; ``e1`` is the unit component of ``+x`` orthogonal to
+    ``n`` (the shoulder's direction at theta_1 = 0, where psi = 0, section
+    3.2) and ``e2 = n x e1``; ``ok`` is false where psi is undefined.
+    """
+    length = norm(wrist)
+    n = scale(wrist, 1.0 / length) if length > 0.0 else wrist
+    s0 = (1.0 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2])
+    size = norm(s0)
+    ok = size > SHOULDER_TOLERANCE and abs(n[1]) > SHOULDER_TOLERANCE
+    e1 = scale(s0, 1.0 / size) if size > 0.0 else s0
+    return n, e1, cross(n, e1), ok
 
 
-def _unit(wrist: np.ndarray) -> np.ndarray:
-    norm = np.linalg.norm(wrist, axis=-1, keepdims=True)
-    return wrist / np.where(norm > 0, norm, 1.0)
+@kernel
+def psi_one(theta1, wrist, L0):
+    """psi = ``atan2(S . e2, S . e1)`` of the shoulder ``S(theta_1)`` (section 3.2, signed); NaN where undefined."""
+    n, e1, e2, ok = reference_basis(wrist)
+    if not ok:
+        return nan
+    s = (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
+    return atan2(dot(s, e2), dot(s, e1))
 
 
+@kernel
+def theta1_one(psi, wrist):
+    """``(theta_1, defined)`` with ``psi_one(theta_1, wrist) = psi``: ``atan2(-sgn(n_y) v_x, -sgn(n_y) v_z)``,
+    ``v = n x (cos(psi) e1 + sin(psi) e2)``; theta_1 NaN where undefined."""
+    n, e1, e2, ok = reference_basis(wrist)
+    if not ok:
+        return nan, False
+    c, s = cos(psi), sin(psi)
+    v = cross(n, (c * e1[0] + s * e2[0], c * e1[1] + s * e2[1], c * e1[2] + s * e2[2]))
+    sign = -1.0 if n[1] >= 0.0 else 1.0
+    return atan2(sign * v[0], sign * v[2]), True
+
+
+@kernel
+def shoulder_angles(theta1, wrist, L0, out):
+    """:func:`psi_one` for each item: ``theta1`` (N,), ``wrist`` (N, 3) -> ``out`` (N,)."""
+    for i in range(theta1.shape[0]):
+        out[i] = psi_one(theta1[i], row(wrist, i), L0)
+
+
+@kernel(parallel=True)
+def shoulder_angles_parallel(theta1, wrist, L0, out):
+    """:func:`shoulder_angles` on all cores."""
+    for i in prange(theta1.shape[0]):
+        out[i] = psi_one(theta1[i], row(wrist, i), L0)
+
+
+@kernel
+def torso_angles(psi, wrist, out, defined):
+    """:func:`theta1_one` for each item: ``psi`` (N,), ``wrist`` (N, 3) -> ``out`` (N,), ``defined`` (N,) bool."""
+    for i in range(psi.shape[0]):
+        out[i], defined[i] = theta1_one(psi[i], row(wrist, i))
+
+
+@kernel(parallel=True)
+def torso_angles_parallel(psi, wrist, out, defined):
+    """:func:`torso_angles` on all cores."""
+    for i in prange(psi.shape[0]):
+        out[i], defined[i] = theta1_one(psi[i], row(wrist, i))
+
+
+# -------------------------------------------------------------- public API
 def shoulder_angle_defined(wrist: ArrayLike) -> np.ndarray:
     """Whether the signed shoulder angle is defined for right-arm wrist positions ``(..., 3)``."""
     w = check_vectors(wrist, 3, "wrist")
-    return _reference_basis(_unit(w))[2]
+    return theta1_from_shoulder_angle(np.zeros(w.shape[:-1]), w)[1]
 
 
 def shoulder_angle(theta1: ArrayLike, wrist: ArrayLike, L0: float = 1.0) -> np.ndarray:
@@ -74,11 +133,10 @@ def shoulder_angle(theta1: ArrayLike, wrist: ArrayLike, L0: float = 1.0) -> np.n
     """
     t = as_float_array(theta1, "theta1")
     check_finite(t, "theta1")
-    n = _unit(check_vectors(wrist, 3, "wrist"))
-    e1, e2, ok = _reference_basis(n)
-    s = np.stack([np.cos(t), np.zeros_like(t), -np.sin(t)], axis=-1) * L0
-    psi = np.arctan2(np.sum(s * e2, axis=-1), np.sum(s * e1, axis=-1))
-    return np.where(ok, psi, np.nan)
+    shape, (t, w) = flat((t, 0), (check_vectors(wrist, 3, "wrist"), 1))
+    out = np.empty(t.shape[0])
+    run_batch(shoulder_angles, shoulder_angles_parallel, t.shape[0], t, w, float(L0), out)
+    return out.reshape(shape)
 
 
 def theta1_from_shoulder_angle(psi: ArrayLike, wrist: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -98,13 +156,10 @@ def theta1_from_shoulder_angle(psi: ArrayLike, wrist: ArrayLike) -> tuple[np.nda
     """
     p = as_float_array(psi, "psi")
     check_finite(p, "psi")
-    n = _unit(check_vectors(wrist, 3, "wrist"))
-    e1, e2, ok = _reference_basis(n)
-    u = np.cos(p)[..., None] * e1 + np.sin(p)[..., None] * e2
-    v = np.cross(n, u)
-    sign = np.where(n[..., 1] >= 0, -1.0, 1.0)
-    theta1 = np.arctan2(sign * v[..., 0], sign * v[..., 2])
-    return np.where(ok, theta1, np.nan), ok
+    shape, (p, w) = flat((p, 0), (check_vectors(wrist, 3, "wrist"), 1))
+    out, defined = np.empty(p.shape[0]), np.empty(p.shape[0], dtype=bool)
+    run_batch(torso_angles, torso_angles_parallel, p.shape[0], p, w, out, defined)
+    return out.reshape(shape), defined.reshape(shape)
 
 
 # ----------------------------------------------------------- eq. 3.1, literal
