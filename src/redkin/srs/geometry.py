@@ -220,6 +220,12 @@ class SRSGeometry:
         return q.reshape(np.shape(theta))
 
     @cached_property
+    def kernel_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(kernel_arm, kernel_ends, kernel_joints)``: the arm as every kernel of :mod:`redkin.srs.ik_kernels`
+        takes it."""
+        return self.kernel_arm, self.kernel_ends, self.kernel_joints
+
+    @cached_property
     def kernel_arm(self) -> np.ndarray:
         """The arm as :mod:`redkin.srs.ik_kernels` reads it: ``d_bs, d_se, d_ew, d_wt, a_3, a_4, C, R, phi``."""
         return _read_only(np.array([self.d_bs, self.d_se, self.d_ew, self.d_wt, self.a3, self.a4, *self.elbow_equation]))

@@ -115,14 +115,14 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
                              f"{pose.shape[:-2]}") from None
         pose = np.broadcast_to(pose, shape + (4, 4))
         psi_array = np.broadcast_to(psi_array, shape)
-    poses = np.ascontiguousarray(pose).reshape(-1, 4, 4)
-    angles = np.ascontiguousarray(psi_array).reshape(-1)
+    poses = pose.reshape((-1, 4, 4))
+    angles = psi_array.reshape(-1)
+    if not (poses.flags.c_contiguous and angles.flags.c_contiguous):
+        poses, angles = np.ascontiguousarray(poses), np.ascontiguousarray(angles)
     count = poses.shape[0]
     out = np.empty((count, branches.shape[0], 7))
-    status = np.empty(count, dtype=np.int64)
-    failed = run_batch(ik_kernels.solve_poses, ik_kernels.solve_poses_parallel, count, poses, angles, branches,
-                       geometry.kernel_arm, geometry.kernel_ends, geometry.kernel_joints, out, status)
-    if failed:
+    if run_batch(ik_kernels.solve_poses, ik_kernels.solve_poses_parallel, count, poses, angles, branches,
+                 *geometry.kernel_tables, out):
         check_psi(psi_array)
         _, flags, distance = coefficient_arrays(geometry, poses, 1)
         raise_for_status(geometry, pose, flags.reshape(shape), distance.reshape(shape))

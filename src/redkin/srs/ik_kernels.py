@@ -326,33 +326,36 @@ def solve_pose(pose, psi, branches, arm, ends, joints, out, scratch):
 
 @kernel
 def _scratch():
-    """The per-thread work arrays of :func:`solve_pose`."""
-    return (np.empty((3, 4)), np.empty(3), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3, 3)),
-            np.empty((3, 3, 3)), np.empty((3, 2 * GROUP)), np.empty((2, 7)), np.empty(7))
+    """The work arrays of :func:`solve_pose`, views into one allocation (one per thread)."""
+    work = np.empty(160)
+    return (work[0:12].reshape((3, 4)), work[12:15], work[15:24].reshape((3, 3)), work[24:33].reshape((3, 3)),
+            work[33:60].reshape((3, 3, 3)), work[60:87].reshape((3, 3, 3)), work[87:129].reshape((3, 2 * GROUP)),
+            work[129:143].reshape((2, 7)), work[143:150])
 
 
 @kernel
-def solve_poses(poses, psi, branches, arm, ends, joints, out, status):
-    """:func:`solve_pose` for each pose (N, 4, 4) and arm angle (N,); ``out`` (N, B, 7), ``status`` (N,).
-    Returns the number of poses whose status is not :data:`OK`."""
+def solve_poses(poses, psi, branches, arm, ends, joints, out):
+    """:func:`solve_pose` for each pose (N, 4, 4) and arm angle (N,) into ``out`` (N, B, 7).
+
+    Returns the number of poses whose status is not :data:`OK` (their rows of
+    ``out`` are meaningless; the caller words the error).
+    """
     scratch = _scratch()
     failed = 0
     for n in range(poses.shape[0]):
-        status[n] = solve_pose(poses[n], psi[n], branches, arm, ends, joints, out[n], scratch)
-        if status[n] != OK:
+        if solve_pose(poses[n], psi[n], branches, arm, ends, joints, out[n], scratch) != OK:
             failed += 1
     return failed
 
 
 @kernel(parallel=True)
-def solve_poses_parallel(poses, psi, branches, arm, ends, joints, out, status):
+def solve_poses_parallel(poses, psi, branches, arm, ends, joints, out):
     """:func:`solve_poses` on all cores."""
     failed = 0
     for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
         scratch = _scratch()
         for n in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
-            status[n] = solve_pose(poses[n], psi[n], branches, arm, ends, joints, out[n], scratch)
-            if status[n] != OK:
+            if solve_pose(poses[n], psi[n], branches, arm, ends, joints, out[n], scratch) != OK:
                 failed += 1
     return failed
 
