@@ -1,29 +1,37 @@
-"""Time per control step of each velocity-IK method on the Barrett WAM (paper 003).
+"""Time per control step of each velocity-IK method on the Barrett WAM (paper 003), beside roboticstoolbox.
 
-Table 1, the array API: one step = one 6 x 7 Jacobian (``SerialChain.jacobian``)
-+ the method's solve for a single configuration, plus the solve alone and a
-batched solve (per configuration, 1000 random configurations).  ``sc`` is the
-lean SC step, ``sc-exact`` the 49-determinant cofactor path.  The lean SC
-method's bound step is the one-configuration controller, so its batched solve
-is the batched form of the same formula,
-:func:`~redkin.velocity.lean_step.lean_singularity_consistent` (one SVD per
-configuration).
-
-Table 2, the control-loop entry points (:mod:`redkin.velocity.controller`):
-``step(q, twist)`` with the robot bound once -- input check, compiled Jacobian,
-``D_e``, blend and one LAPACK ``dgelss`` solve -- at three places: outside the
-singular region (the paper's ``q0``), inside it, and inside the exact-fallback
-band ``|D_e| < eps / 100`` (the worst case).  Target from issue 5: an SC step
-under 50 us, reported beside the pseudoinverse step.
 Run: ``python benchmarks/bench_velocity.py``.
+
+Peer: roboticstoolbox-python's C++ Jacobian, ``ets.jacob0(q)`` of a
+``DHRobot`` built from the WAM's DH rows (``bench_chain.rtb_ets``; checked
+equal to ``SerialChain.jacobian`` to 1e-12).  rtb has no singularity-
+consistent step; issue 13's target is a whole SC step, Jacobian and input
+checks included, within 2 x rtb's Jacobian alone.  The one-call rows are
+timed in rounds of about 10 ms (``timing.best_time_short_rounds``), the
+same for both libraries, in one run.
+
+Table 1, the control-loop entry points (:mod:`redkin.velocity.controller`):
+``step(q, twist)`` with the robot bound once -- input checks, compiled
+Jacobian, ``D_e`` and the compiled step -- at three places: outside the
+singular region (the paper's ``q0``), inside it, and inside the exact band
+``|D_e| < eps / 100`` (the adjugate path, the worst case); each as a ratio
+to rtb's ``jacob0``.
+
+Table 2, the array API: one step = one 6 x 7 Jacobian (``SerialChain.jacobian``)
++ the method's bound step for a single configuration, the bound step alone,
+and the bound step on a batch of 10 000 random configurations (per
+configuration; the compiled steps run in parallel over the batch).  ``sc``
+is the lean SC step, ``sc-exact`` the adjugate path everywhere.
 """
 
 from __future__ import annotations
 
 import os
+import platform
 
 import numpy as np
 
+from bench_chain import rtb_ets, versions  # benchmarks/ is on sys.path when a script of it runs
 from redkin.chain import SerialChain
 from redkin.models import barrett_wam
 from redkin.velocity import (
@@ -34,10 +42,10 @@ from redkin.velocity import (
     SingularityConsistent,
     SingularityConsistentController,
     WamFactorisation,
-    lean_singularity_consistent,
 )
-from redkin.velocity.methods import Method, Step
-from timing import best_time  # benchmarks/timing.py (the script's folder is on sys.path)
+from timing import best_time, best_time_short_rounds
+
+BATCH = 10_000
 
 
 def per_call(func, number: int) -> float:
@@ -45,38 +53,63 @@ def per_call(func, number: int) -> float:
     return best_time(func, repeat=5, number=number) * 1e6
 
 
+def short_rounds(func) -> float:
+    """Microseconds per call in rounds of about 10 ms (as the peer is timed)."""
+    return best_time_short_rounds(func) * 1e6
+
+
 def main() -> None:
-    print(f"load average (1, 5, 15 min): {' '.join(f'{v:.2f}' for v in os.getloadavg())}, {os.cpu_count()} cores")
+    import numba
+
+    print(f"# velocity benchmark -- {platform.machine()}, {os.cpu_count()} cores ({numba.get_num_threads()} numba "
+          f"threads), python {platform.python_version()}, numpy {np.__version__}, {versions()}, "
+          f"load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     chain = barrett_wam()
     factor = WamFactorisation.from_chain(chain)
     q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
     twist = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
-    batch_q = np.random.default_rng(0).uniform(-np.pi, np.pi, (1000, 7))
-    print(f"Jacobian alone, one q: SerialChain.jacobian {per_call(lambda: chain.jacobian(q), 2000):6.1f} us")
-    print("\nTable 1: array API (method.bind(chain, q0) -> step(q, J, twist))")
-    print(f"{'method':<14}{'solve [us]':>12}{'step [us]':>12}{'batched solve [us/q]':>22}")
-    for label, solve_us, step_us, batch_us in array_api_rows(chain, factor, q, twist, batch_q):
-        print(f"{label:<14}{solve_us:12.1f}{step_us:12.1f}{batch_us:22.2f}")
+    ours = short_rounds(lambda: chain.jacobian(q))
+    ets = rtb_ets(chain)
+    if ets is None:
+        print("roboticstoolbox-python not installed: ratios skipped (pip install -e '.[bench]')")
+        peer = float("nan")
+    else:
+        assert np.allclose(ets.jacob0(q), chain.jacobian(q), rtol=0, atol=1e-12)
+        peer = short_rounds(lambda: ets.jacob0(q))
+    print(f"Jacobian alone, one q: redkin SerialChain.jacobian {ours:6.2f} us, rtb ets.jacob0 (C++) {peer:6.2f} us, "
+          f"ratio {ours / peer:.2f}")
 
-    print("\nTable 2: control-loop entry points (robot bound once -> step(q, twist)), Jacobian included")
+    print("\nTable 1: control-loop entry points (robot bound once -> step(q, twist)), Jacobian included; "
+          "ratio = step / rtb jacob0 (target: SC <= 2)")
+    print(f"{'configuration':<28}{'D_e':>9}{'sc [us]':>10}{'ratio':>7}{'pinv [us]':>11}{'ratio':>7}")
     sc = SingularityConsistentController(chain, q, eps=0.1)
     pinv = PseudoinverseController(chain)
-    places = {"outside region (q0)": q}
-    for label, index in (("inside region, D_e = 0.05", 0.05), ("fallback band, D_e = 1e-4", 1e-4)):
-        places[label] = on_index(factor, q, index)
-    print(f"{'configuration':<28}{'D_e':>9}{'sc step [us]':>15}{'pinv step [us]':>16}")
-    for label, where in places.items():
-        sc_us = per_call(lambda: sc(where, twist), 2000)
-        pinv_us = per_call(lambda: pinv(where, twist), 2000)
-        print(f"{label:<28}{float(factor.index(where)):9.4f}{sc_us:15.1f}{pinv_us:16.1f}")
-    print("target: SC step < 50 us (1 kHz loop x 20)")
+    for label, where in places(factor, q).items():
+        sc_us = short_rounds(lambda: sc(where, twist))
+        pinv_us = short_rounds(lambda: pinv(where, twist))
+        print(f"{label:<28}{float(factor.index(where)):9.4f}{sc_us:10.2f}{sc_us / peer:7.2f}"
+              f"{pinv_us:11.2f}{pinv_us / peer:7.2f}")
+
+    batch_q = np.random.default_rng(0).uniform(-np.pi, np.pi, (BATCH, 7))
+    print("\nTable 2: array API (method.bind(chain, q0) -> step(q, J, twist))")
+    print(f"{'method':<14}{'step alone [us]':>17}{'with J [us]':>13}{f'batch of {BATCH} [us/q]':>24}")
+    for label, solve_us, step_us, batch_us in array_api_rows(chain, factor, q, twist, batch_q):
+        print(f"{label:<14}{solve_us:17.2f}{step_us:13.2f}{batch_us:24.3f}")
+
+
+def places(factor: WamFactorisation, q: np.ndarray) -> dict[str, np.ndarray]:
+    """The paper's ``q0`` (outside the singular region), one ``q`` inside it and one in the exact band."""
+    found = {"outside region (q0)": q}
+    for label, index in (("inside region, D_e = 0.05", 0.05), ("exact band, D_e = 1e-4", 1e-4)):
+        found[label] = on_index(factor, q, index)
+    return found
 
 
 def array_api_rows(
     chain: SerialChain, factor: WamFactorisation, q: np.ndarray, twist: np.ndarray, batch_q: np.ndarray,
     calls: int = 500,
 ) -> list[tuple[str, float, float, float]]:
-    """Table 1 rows: per method, us of the solve and of Jacobian + solve for one ``q``, and us per ``q`` of a batch."""
+    """Rows of Table 2: per method, us of the bound step and of Jacobian + step for one ``q``, and us per ``q`` of a batch."""
     jac = chain.jacobian(q)
     batch_j = chain.jacobian(batch_q)
     methods = [Pseudoinverse(), DampedLeastSquares(0.05), AdaptiveDampedLeastSquares(0.05, 0.05),
@@ -85,32 +118,13 @@ def array_api_rows(
     rows = []
     for method in methods:
         step = method.bind(chain, q)
-        batched = batched_step(method, chain, q)
         rows.append((
             method.label,
             per_call(lambda: step(q, jac, twist), calls),
             per_call(lambda: step(q, chain.jacobian(q), twist), calls),
-            per_call(lambda: batched(batch_q, batch_j, twist), 3) / len(batch_q),
+            per_call(lambda: step(batch_q, batch_j, twist), 3) / len(batch_q),
         ))
     return rows
-
-
-def batched_step(method: Method, chain: SerialChain, q0: np.ndarray) -> Step:
-    """``method``'s ``step(q, J, twist)`` for a batch of configurations.
-
-    The lean SC method steps through the one-configuration controller
-    (``SingularityConsistentController``); its batched form is
-    ``lean_singularity_consistent``, with the same ``b_ep``.  Every other
-    method's bound step takes batches as it is.
-    """
-    if not (isinstance(method, SingularityConsistent) and method.lean):
-        return method.bind(chain, q0)
-    factor = method.resolve(chain)
-    controller = SingularityConsistentController(chain, q0, method.eps, factor, method.direction)
-    return lambda q, jac, twist: lean_singularity_consistent(
-        jac, twist, factor.index(q), lambda: factor.factors(q, jac), method.eps, controller.direction,
-        method.self_motion, method.modify_rotation,
-    )
 
 
 def on_index(factor: WamFactorisation, q: np.ndarray, index: float) -> np.ndarray:

@@ -17,13 +17,9 @@ from redkin.velocity import (
     WamFactorisation,
     lean_singularity_consistent,
     pseudoinverse,
-    rotation_factor,
     singularity_consistent,
     singularity_factorisation,
-    twist_scale,
 )
-from redkin.velocity.blend import scalar_rotation_factor, scalar_twist_scale
-from redkin.velocity.proposed import adjugate_factor_sum, cramer_factor_sum
 from velocity_wam_checks import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
 
 Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
@@ -126,22 +122,6 @@ def test_pinv_controller_on_an_exact_singularity_drops_the_singular_direction():
     assert np.all(np.isfinite(fast))
 
 
-@settings(deadline=None, max_examples=200)
-@given(st.one_of(st.floats(-1.0, 1.0), st.sampled_from([0.0, -0.0, EPS, -EPS, 2 * EPS, -2 * EPS])),
-       st.sampled_from([EPS, 0.02, 1.0]))
-def test_scalar_blend_equals_array_blend(x, eps):
-    assert scalar_twist_scale(x, eps) == float(twist_scale(x, eps))
-    assert scalar_rotation_factor(x, eps) == float(rotation_factor(x, eps))
-
-
-@settings(deadline=None, max_examples=60)
-@given(configurations)
-def test_scalar_index_equals_array_index(q):
-    assert FACTOR.scalar_index(q.tolist()) == float(FACTOR.index(q))
-    numeric = NumericalFactorisation(WAM, FACTOR.index)
-    assert numeric.scalar_index(q.tolist()) == float(FACTOR.index(q))
-
-
 def test_batched_lean_equals_looped_controller_on_a_mixed_batch():
     rng = np.random.default_rng(8)
     q = rng.uniform(0.3, 1.2, (30, 7))
@@ -207,26 +187,3 @@ def test_singularity_factorisation_picks_the_closed_form_or_the_elbow_sine():
     np.testing.assert_allclose(found.index(q), np.sin(0.4 - q[:, 3]))
     with pytest.raises(ValueError, match="7 joints"):
         singularity_factorisation(planar_arm())
-
-
-@settings(deadline=None, max_examples=40)
-@given(configurations, twists, st.sampled_from([0.0, 1e-12, -1e-6, 1e-3, 0.3, None]))
-def test_adjugate_factor_sum_equals_cramer_factor_sum(q, twist, distance):
-    """sum_i D_i n_i from one 7 x 7 adjugate == from the fixed-joint vectors (eqs. 6-8, 15), also on D_e = 0."""
-    if distance is not None:
-        q[3] = Q4_ZERO + distance
-    jac, factors = WAM.jacobian(q), FACTOR.factors(q)
-    reference = cramer_factor_sum(jac, twist, factors)
-    scale = max(1e-3, float(np.max(np.abs(reference))))
-    np.testing.assert_allclose(adjugate_factor_sum(jac, twist, factors), reference, rtol=0, atol=1e-12 * scale)
-
-
-def test_adjugate_factor_sum_batched_equals_looped():
-    rng = np.random.default_rng(10)
-    q = rng.uniform(-2, 2, (6, 7))
-    q[0, 3] = Q4_ZERO
-    twist = rng.normal(size=(6, 6))
-    jac, factors = WAM.jacobian(q), FACTOR.factors(q)
-    batched = adjugate_factor_sum(jac, twist, factors)
-    for k in range(len(q)):
-        np.testing.assert_allclose(batched[k], adjugate_factor_sum(jac[k], twist[k], factors[k]), atol=1e-14)

@@ -5,6 +5,9 @@ damping), the cofactor building blocks of the column-augmented Jacobian, the
 adjugate direction, the proposed singularity-consistent method with its
 singular-region blend, singularity factorisations (closed form for the
 Barrett WAM, numerical for others), and a fixed-step RK4 tracking simulation.
+The steps themselves (pseudoinverse, damped least squares, the SC step) are
+compiled once, in :mod:`redkin.velocity.step_kernels`, and serve single
+configurations, batches and the control-loop controllers alike.
 """
 
 from redkin.velocity.adjugate_method import adjugate_direction
@@ -34,7 +37,6 @@ from redkin.velocity.factorisation import (
     wam_singularity_index,
 )
 from redkin.velocity.controller import PseudoinverseController, SingularityConsistentController
-from redkin.velocity.lean_step import lean_singularity_consistent
 from redkin.velocity.methods import (
     METHOD_NAMES,
     AdaptiveDampedLeastSquares,
@@ -44,6 +46,7 @@ from redkin.velocity.methods import (
     make_method,
 )
 from redkin.velocity.proposed import (
+    lean_singularity_consistent,
     minimum_norm_weights,
     pseudoinverse_weights,
     singularity_consistent,

@@ -13,11 +13,14 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.validation import check_positive
+from redkin.compiled import run_batch
+from redkin.validation import as_float_array, check_finite, check_positive
+from redkin.velocity import step_kernels
 from redkin.velocity._inputs import jacobian_and_twist, nonnegative
 
 #: Relative cut-off below which a singular value counts as zero in :func:`pseudoinverse`.
 PINV_RCOND = 1e-12
+_MEASURES = {"sigma": step_kernels.SIGMA, "manipulability": step_kernels.MANIPULABILITY}
 
 
 def pseudoinverse(jacobian: ArrayLike, twist: ArrayLike) -> np.ndarray:
@@ -29,8 +32,7 @@ def pseudoinverse(jacobian: ArrayLike, twist: ArrayLike) -> np.ndarray:
     dropped), so an exactly singular ``J`` gives a finite answer.
     """
     jac, vel = jacobian_and_twist(jacobian, twist)
-    u, s, vt = np.linalg.svd(jac, full_matrices=False)
-    return _filtered(u, vt, vel, np.where(s > PINV_RCOND * s[..., :1], 1.0 / np.where(s > 0, s, 1.0), 0.0))
+    return least_squares(jac, vel, 0.0, 1.0, step_kernels.CONSTANT)[0]
 
 
 def damped_least_squares(jacobian: ArrayLike, twist: ArrayLike, damping: float) -> np.ndarray:
@@ -43,8 +45,7 @@ def damped_least_squares(jacobian: ArrayLike, twist: ArrayLike, damping: float) 
     """
     lam = check_positive(damping, "damping")
     jac, vel = jacobian_and_twist(jacobian, twist)
-    u, s, vt = np.linalg.svd(jac, full_matrices=False)
-    return _filtered(u, vt, vel, s / (s * s + lam * lam))
+    return least_squares(jac, vel, lam, 1.0, step_kernels.CONSTANT)[0]
 
 
 def adaptive_damping(
@@ -64,15 +65,12 @@ def adaptive_damping(
     -------
     numpy.ndarray, shape (...)
     """
-    eps = check_positive(threshold, "threshold")
-    lam_max = nonnegative(max_damping, "max_damping")
-    if measure not in ("sigma", "manipulability"):
-        raise ValueError(f"measure must be 'sigma' or 'manipulability', got {measure!r}")
-    jac = np.asarray(jacobian, dtype=float)
-    s = np.linalg.svd(jac, compute_uv=False)
-    value = s[..., -1] if measure == "sigma" else np.prod(s, axis=-1)
-    ratio = np.minimum(value / eps, 1.0)
-    return lam_max * np.sqrt(1.0 - ratio * ratio)
+    eps, lam_max, code = _adaptive(threshold, max_damping, measure)
+    jac = as_float_array(jacobian, "jacobian")
+    if jac.ndim < 2:
+        raise ValueError(f"jacobian must have shape (..., m, n), got shape {jac.shape}")
+    check_finite(jac, "jacobian")
+    return least_squares(jac, np.zeros(jac.shape[:-1]), lam_max, eps, code)[1]
 
 
 def adaptive_damped_least_squares(
@@ -89,15 +87,28 @@ def adaptive_damped_least_squares(
     step; at an exact singularity (``lambda = max_damping``) this is
     ``||v|| / (2 max_damping)``.
     """
+    eps, lam_max, code = _adaptive(threshold, max_damping, measure)
     jac, vel = jacobian_and_twist(jacobian, twist)
-    lam = adaptive_damping(jac, threshold, max_damping, measure)
-    u, s, vt = np.linalg.svd(jac, full_matrices=False)
-    lam2 = (lam * lam)[..., None]
-    gain = np.where(lam2 > 0, s / (s * s + lam2), np.where(s > PINV_RCOND * s[..., :1], 1.0 / np.where(s > 0, s, 1.0), 0.0))
-    return _filtered(u, vt, vel, gain)
+    return least_squares(jac, vel, lam_max, eps, code)[0]
 
 
-def _filtered(u: np.ndarray, vt: np.ndarray, vel: np.ndarray, gain: np.ndarray) -> np.ndarray:
-    """``V diag(gain) U^T v`` for a batch of SVDs."""
-    coeff = gain * np.einsum("...ji,...j->...i", u, vel)
-    return np.einsum("...ij,...i->...j", vt, coeff)
+def _adaptive(threshold: float, max_damping: float, measure: str) -> tuple[float, float, int]:
+    eps = check_positive(threshold, "threshold")
+    lam_max = nonnegative(max_damping, "max_damping")
+    if measure not in _MEASURES:
+        raise ValueError(f"measure must be 'sigma' or 'manipulability', got {measure!r}")
+    return eps, lam_max, _MEASURES[measure]
+
+
+def least_squares(jac: np.ndarray, vel: np.ndarray, damping: float, threshold: float,
+                  measure: int) -> tuple[np.ndarray, np.ndarray]:
+    """Joint velocities ``(..., n)`` and dampings ``(...)`` of :func:`~redkin.velocity.step_kernels.least_squares_one`
+    for trusted Jacobians ``(..., m, n)`` and twists ``(..., m)`` with the same leading axes."""
+    lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
+    flat_j = np.ascontiguousarray(jac.reshape(-1, m, n))
+    flat_v = np.ascontiguousarray(vel.reshape(-1, m))
+    out = np.empty((flat_j.shape[0], n))
+    lam = np.empty(flat_j.shape[0])
+    run_batch(step_kernels.least_squares, step_kernels.least_squares_parallel, flat_j.shape[0],
+              flat_j, flat_v, damping, threshold, measure, PINV_RCOND, out, lam)
+    return out.reshape(lead + (n,)), lam.reshape(lead)

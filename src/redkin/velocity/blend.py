@@ -24,41 +24,39 @@ Eq. 21 is garbled in the transcription (it prints ``3 - D_e^2 / (2 D_e^2)``,
 With ``1 / D_e`` outside instead of ``1 / |D_e|`` the scale would be ``+1``
 on both sides outside but ``-1`` at the inside edge ``D_e = -eps``: a jump
 of 2 that makes the motion chatter at the region edge and never cross.
+
+The three formulas are compiled once, as scalar kernels of
+:mod:`redkin.velocity.step_kernels` that the steps call; the functions here
+apply them to arrays.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.validation import check_positive
+from redkin.velocity import step_kernels
 
 
-def _cubic_scale(x, e):
-    """``x (3 - x^2 / e^2) / (2 e)``: ``g`` inside the region (derived eq. 21); floats or arrays."""
-    return x * (3.0 - (x / e) ** 2) / (2.0 * e)
+def _blend(index: ArrayLike, eps: float) -> tuple[np.ndarray, ...]:
+    """``g``, ``w`` and the rotation factor of every entry of ``index`` (kernel :func:`~redkin.velocity.step_kernels.blend`)."""
+    e = check_positive(eps, "eps")
+    x = np.asarray(index, dtype=float)
+    flat = np.ascontiguousarray(x.reshape(-1))
+    outputs = tuple(np.empty(flat.shape) for _ in range(3))
+    step_kernels.blend(flat, e, *outputs)
+    return tuple(out.reshape(x.shape) if x.ndim else out[0] for out in outputs)
 
 
 def twist_scale(index: ArrayLike, eps: float) -> np.ndarray:
     """``g(x)``: realised twist = ``g(x)`` times the (modified) commanded twist (derived eq. 21/22)."""
-    e = check_positive(eps, "eps")
-    x = np.asarray(index, dtype=float)
-    return np.where(np.abs(x) <= e, _cubic_scale(x, e), np.sign(x))
-
-
-def scalar_twist_scale(x: float, eps: float) -> float:
-    """:func:`twist_scale` of one float with a trusted ``eps > 0`` (the control-loop path, no numpy calls)."""
-    return _cubic_scale(x, eps) if abs(x) <= eps else math.copysign(1.0, x)
+    return _blend(index, eps)[0]
 
 
 def blend_weight(index: ArrayLike, eps: float) -> np.ndarray:
     """``w(x) = g(x) / x``: the weight ``b_ep`` of eq. 11 per unit twist, finite at ``x = 0`` (paper 003 eq. 11)."""
-    e = check_positive(eps, "eps")
-    x = np.asarray(index, dtype=float)
-    inside = (3.0 - (x / e) ** 2) / (2.0 * e)
-    return np.where(np.abs(x) <= e, inside, 1.0 / np.where(x == 0.0, 1.0, np.abs(x)))
+    return _blend(index, eps)[1]
 
 
 def rotation_factor(index: ArrayLike, eps: float) -> np.ndarray:
@@ -72,10 +70,4 @@ def rotation_factor(index: ArrayLike, eps: float) -> np.ndarray:
     continuous at its edge: realised rotation factor
     ``g(x) clip(x/eps, -1, 1) >= 0``.
     """
-    e = check_positive(eps, "eps")
-    return np.clip(np.asarray(index, dtype=float) / e, -1.0, 1.0)
-
-
-def scalar_rotation_factor(x: float, eps: float) -> float:
-    """:func:`rotation_factor` of one float with a trusted ``eps > 0`` (the control-loop path)."""
-    return min(1.0, max(-1.0, x / eps))
+    return _blend(index, eps)[2]

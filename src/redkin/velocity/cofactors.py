@@ -13,8 +13,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.velocity._inputs import jacobian_and_twist
+from redkin.compiled import run_batch
 from redkin.validation import as_float_array, check_finite
+from redkin.velocity import step_kernels
+from redkin.velocity._inputs import jacobian_and_twist
 
 
 def _without_each_column(matrix: np.ndarray) -> np.ndarray:
@@ -27,10 +29,16 @@ def _without_each_column(matrix: np.ndarray) -> np.ndarray:
 def column_minors(jacobian: ArrayLike) -> np.ndarray:
     """``det J_i`` for every removed column ``i``, shape ``(..., m + 1)`` (paper 003 eq. 5).
 
-    By Cauchy-Binet, ``det(J J^T) = sum_i det(J_i)^2``.
+    By Cauchy-Binet, ``det(J J^T) = sum_i det(J_i)^2``.  The kernel
+    :func:`~redkin.velocity.step_kernels.column_minors_one` (Gaussian
+    elimination with partial pivoting), which the SC step's self-motion term uses too.
     """
     jac = _redundant_one(jacobian)
-    return np.linalg.det(_without_each_column(jac))
+    lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
+    flat = np.ascontiguousarray(jac.reshape(-1, m, n))
+    out = np.empty((flat.shape[0], n))
+    run_batch(step_kernels.column_minors, step_kernels.column_minors_parallel, flat.shape[0], flat, out)
+    return out.reshape(lead + (n,))
 
 
 def self_motion_vector(jacobian: ArrayLike) -> np.ndarray:

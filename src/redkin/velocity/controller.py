@@ -1,73 +1,48 @@
 """Control-loop entry points: bind the robot once, then one cheap call per step (paper 003, 1 kHz use).
 
 A user's servo loop calls ``step(q, twist)`` a thousand times a second with
-the same robot.  The array API (:func:`~redkin.velocity.lean_step.lean_singularity_consistent`)
-validates and broadcasts on every call and pays numpy's per-call overhead on
-tiny arrays; here the chain, the factorisation and every parameter are
-checked once in the constructor, and each step
+the same robot.  The array API
+(:func:`~redkin.velocity.proposed.lean_singularity_consistent`) validates
+and broadcasts batches on every call; here the chain, the factorisation and
+every parameter are checked once in the constructor, and each step
 
 1. checks ``q`` and ``twist`` (shape and finite: still a ``ValueError`` on bad input),
 2. builds the Jacobian with ``chain.jacobian`` (the compiled kernel of :mod:`redkin.chain_kernels`),
-3. evaluates ``D_e`` in scalar arithmetic (``Factorisation.scalar_index``),
-4. scales the twist with the scalar forms of the blend (:mod:`redkin.velocity.blend`), and
-5. solves the minimum-norm problem ``J q_dot = target`` with one LAPACK
-   ``dgelss`` call (SVD-based, so as accurate as the SVD path).
-
-The SC step is the lean step of :mod:`redkin.velocity.lean_step`,
-``q_dot = b_ep g(D_e) J^+ t'`` (eqs. 17-22 combined).  Where ``|D_e| <
-near_zero`` it takes the exact route of
-:func:`~redkin.velocity.proposed.singularity_consistent` (eqs. 15, 21, 22),
-with ``sum_i D_i n_i`` from one 7 x 7 adjugate
-(:func:`~redkin.velocity.proposed.adjugate_factor_sum`) instead of the 49
-determinants of the Cramer construction.
+3. evaluates ``D_e`` (and ``D_i`` only where ``|D_e| < near_zero``), and
+4. calls the compiled step of one configuration,
+   :func:`~redkin.velocity.step_kernels.sc_one` or
+   :func:`~redkin.velocity.step_kernels.least_squares_one` -- the same
+   kernels the array API runs over batches, so both give the same numbers.
 """
 
 from __future__ import annotations
 
-from math import isfinite
-
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.linalg import lapack
 
 from redkin.chain import SerialChain
 from redkin.validation import check_positive
+from redkin.velocity import step_kernels
 from redkin.velocity._inputs import nonnegative
 from redkin.velocity.baselines import PINV_RCOND
-from redkin.velocity.blend import scalar_rotation_factor, scalar_twist_scale
-from redkin.velocity.cofactors import self_motion_vector
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
-from redkin.velocity.lean_step import NEAR_ZERO_FRACTION
-from redkin.velocity.proposed import adjugate_factor_sum, blended_step
+from redkin.velocity.proposed import NEAR_ZERO_FRACTION
 from redkin.velocity.solution import VelocitySolution
 
-_WORKSPACE = int(lapack.dgelss_lwork(6, 7, 1)[0])
+_NO_FACTORS = np.zeros(7)  # D_i, not read by the step where |D_e| >= near_zero
 
 
-def minimum_norm_solution(jacobian: np.ndarray, target: list[float], rcond: float) -> np.ndarray:
-    """``J^+ target`` for one trusted ``6 x 7`` Jacobian: LAPACK ``dgelss`` (SVD, minimum norm).
-
-    Singular values ``<= rcond * sigma_max`` count as zero (``rcond < 0``:
-    machine precision), as in :func:`~redkin.velocity.baselines.pseudoinverse`.
-    """
-    _, solution, _, _, _, info = lapack.dgelss(jacobian, np.array(target + [0.0]), cond=rcond, lwork=_WORKSPACE)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"SVD did not converge (LAPACK dgelss info = {info})")
-    return solution
-
-
-def read_vector(value: ArrayLike, length: int, name: str) -> list[float]:
-    """``value`` as ``length`` finite floats; ``ValueError`` naming ``name`` otherwise (one cheap check per step)."""
+def read_vector(value: ArrayLike, length: int, name: str) -> np.ndarray:
+    """``value`` as a new array of ``length`` finite floats; ``ValueError`` naming ``name`` otherwise (one cheap check per step)."""
     try:
-        array = np.asarray(value, dtype=float)
+        array = np.array(value, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be numeric, got {value!r}") from None
     if array.shape != (length,):
         raise ValueError(f"{name} must have shape ({length},), got shape {array.shape}")
-    values = array.tolist()
-    if not all(map(isfinite, values)):
-        raise ValueError(f"{name} must be finite, got {values}")
-    return values
+    if not np.isfinite(array).all():
+        raise ValueError(f"{name} must be finite, got {array.tolist()}")
+    return array
 
 
 def _one_redundant_arm(chain: SerialChain) -> SerialChain:
@@ -99,15 +74,17 @@ class PseudoinverseController:
         """Joint velocity for joint angles ``q`` ``(7,)`` and twist ``(6,)`` (linear, angular)."""
         values = read_vector(q, 7, "q")
         command = read_vector(twist, 6, "twist")
-        qdot = minimum_norm_solution(self._chain.jacobian(values), command, PINV_RCOND)
-        return VelocitySolution(qdot, np.array(command))
+        qdot = np.empty(7)
+        step_kernels.least_squares_one(self._chain.jacobian(values), command, 0.0, 1.0, step_kernels.CONSTANT,
+                                       PINV_RCOND, qdot)
+        return VelocitySolution(qdot, command)
 
 
 class SingularityConsistentController:
     """The singularity-consistent step (paper 003 eqs. 17-22) for one configuration per call.
 
     Same result as :class:`~redkin.velocity.methods.SingularityConsistent`
-    bound to ``chain`` at ``q0`` (to ~1e-12), in about a fifth of the time.
+    bound to ``chain`` at ``q0`` (the same kernel), without the batch handling.
 
     Parameters
     ----------
@@ -159,12 +136,12 @@ class SingularityConsistentController:
         start = read_vector(q0, 7, "q0")
         self.eps = check_positive(eps, "eps")
         if direction is None:
-            direction = -1.0 if self.factorisation.scalar_index(start) < 0.0 else 1.0
+            direction = -1.0 if float(self.factorisation.index(start)) < 0.0 else 1.0
         if direction not in (1, -1):
             raise ValueError(f"direction must be +1 or -1, got {direction!r}")
         self.direction = float(direction)
         self.self_motion = float(self_motion)
-        if not isfinite(self.self_motion):
+        if not np.isfinite(self.self_motion):
             raise ValueError(f"self_motion must be finite, got {self_motion!r}")
         self.modify_rotation = bool(modify_rotation)
         self.near_zero = NEAR_ZERO_FRACTION * self.eps if near_zero is None else nonnegative(near_zero, "near_zero")
@@ -174,23 +151,19 @@ class SingularityConsistentController:
         values = read_vector(q, 7, "q")
         return self.solve(values, self._chain.jacobian(values), read_vector(twist, 6, "twist"))
 
-    def solve(self, values: list[float], jac: np.ndarray, command: list[float]) -> VelocitySolution:
+    def solve(self, values: np.ndarray, jac: np.ndarray, command: np.ndarray) -> VelocitySolution:
         """The step for trusted inputs: 7 finite joint values, their ``6 x 7`` Jacobian, 6 finite twist values.
 
-        For callers that already hold the Jacobian (e.g. the tracking simulation); no input checks.
+        For callers that already hold the Jacobian; no input checks (C-contiguous float64 arrays).
         """
-        d_e = self.factorisation.scalar_index(values)
-        if abs(d_e) < self.near_zero:  # eqs. 15, 21 with sum_i D_i n_i from one adjugate: exact on D_e = 0
-            factors = np.asarray(self.factorisation.factors(np.array(values), jac), dtype=float)
-            if not np.all(np.isfinite(factors)):
+        d_e = float(self.factorisation.index(values))
+        factors = _NO_FACTORS
+        if abs(d_e) < self.near_zero:  # the exact path (eqs. 15, 21) needs D_i
+            factors = np.ascontiguousarray(self.factorisation.factors(values, jac), dtype=float)
+            if not np.isfinite(factors).all():
                 raise ValueError("factors D_i must be finite, got NaN or infinity")
-            return blended_step(jac, np.array(command), np.float64(d_e), factors, self.eps, self.direction,
-                                self.self_motion, self.modify_rotation, adjugate_factor_sum)
-        linear = self.direction * scalar_twist_scale(d_e, self.eps)  # b_ep g(D_e), eq. 22
-        angular = linear * self.direction * scalar_rotation_factor(d_e, self.eps) if self.modify_rotation else linear
-        vx, vy, vz, wx, wy, wz = command
-        target = [linear * vx, linear * vy, linear * vz, angular * wx, angular * wy, angular * wz]
-        qdot = minimum_norm_solution(jac, target, -1.0)  # J^+ (b_ep g t'), eqs. 18, 21
-        if self.self_motion:
-            qdot = qdot + self.self_motion * self_motion_vector(jac)
-        return VelocitySolution(qdot, np.array(target))
+        qdot, target = np.empty(7), np.empty(6)
+        if not step_kernels.sc_one(jac, command, d_e, factors, self.eps, self.direction, self.self_motion,
+                                   self.modify_rotation, self.near_zero, qdot, target):
+            raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
+        return VelocitySolution(qdot, target)

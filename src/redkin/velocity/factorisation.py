@@ -16,14 +16,15 @@ column minor ``det J_i`` of the 6 x 7 Jacobian, and the remaining factors
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-from typing import Callable, Sequence
+from math import cos, sin
+from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.compiled import kernel
 from redkin.velocity.cofactors import column_minors
 
 HALF_PI = 0.5 * np.pi
@@ -35,13 +36,7 @@ def wam_singularity_index(q: ArrayLike, a: float, d3: float, d5: float) -> np.nd
 
     Zero exactly at the elbow-stretch singularity (the workspace boundary).
     """
-    q4 = np.asarray(q, dtype=float)[..., 3]
-    return _wam_index(np.cos(q4), np.sin(q4), a, d3, d5)
-
-
-def _wam_index(c4, s4, a: float, d3: float, d5: float):
-    """``a (d3 + d5) C4 + (a^2 - d3 d5) S4`` from ``cos q4, sin q4`` (floats or arrays)."""
-    return a * (d3 + d5) * c4 + (a * a - d3 * d5) * s4
+    return _wam(q, a, d3, d5)[0]
 
 
 def wam_cofactors(q: ArrayLike, a: float, d3: float, d5: float) -> np.ndarray:
@@ -53,19 +48,34 @@ def wam_cofactors(q: ArrayLike, a: float, d3: float, d5: float) -> np.ndarray:
     ``q1`` or ``q7``.  ``D_4 = 0``: with the elbow joint fixed the remaining
     six joints are always singular (shoulder and wrist both spherical).
     """
-    q = np.asarray(q, dtype=float)
-    s2, s3, s4, s5, s6 = (np.sin(q[..., k]) for k in (1, 2, 3, 4, 5))
-    c2, c3, c4, c5, c6 = (np.cos(q[..., k]) for k in (1, 2, 3, 4, 5))
-    shoulder = a * (c4 - 1.0) - d5 * s4
-    wrist = a * (c4 - 1.0) - d3 * s4
-    d1 = shoulder * s6 * c3
-    d2 = shoulder * s2 * s3 * s6
-    d3_ = (a * s2 * s4 - a * c2 * c3 * c4 + a * c2 * c3 + d3 * s2 + d5 * s2 * c4 + d5 * s4 * c2 * c3) * s6
-    d4 = np.zeros_like(s2)
-    d5_ = (-a * s4 * s6 + a * c4 * c5 * c6 - a * c5 * c6 - d3 * s4 * c5 * c6 - d3 * s6 * c4 - d5 * s6) * s2
-    d6 = -wrist * s2 * s5 * s6
-    d7 = -wrist * s2 * c5
-    return np.stack([d1, d2, d3_, d4, d5_, d6, d7], axis=-1)
+    return _wam(q, a, d3, d5)[1]
+
+
+def _wam(q: ArrayLike, a: float, d3: float, d5: float) -> tuple[np.ndarray, np.ndarray]:
+    """``D_e`` (...) and ``D_i`` (..., 7) from the kernel :func:`wam_index_and_factors`."""
+    values = np.asarray(q, dtype=float)
+    flat = np.ascontiguousarray(values.reshape(-1, values.shape[-1]))
+    index, factors = np.empty(flat.shape[0]), np.empty((flat.shape[0], 7))
+    wam_index_and_factors(flat, float(a), float(d3), float(d5), index, factors)
+    return index.reshape(values.shape[:-1]), factors.reshape(values.shape[:-1] + (7,))
+
+
+@kernel
+def wam_index_and_factors(q, a, d3, d5, index, factors):
+    """``D_e`` into ``index`` (N,) and ``D_i`` into ``factors`` (N, 7) for each row of ``q`` (N, 7) (section 3.3, eq. 19)."""
+    for b in range(q.shape[0]):
+        s2, s3, s4, s5, s6 = sin(q[b, 1]), sin(q[b, 2]), sin(q[b, 3]), sin(q[b, 4]), sin(q[b, 5])
+        c2, c3, c4, c5, c6 = cos(q[b, 1]), cos(q[b, 2]), cos(q[b, 3]), cos(q[b, 4]), cos(q[b, 5])
+        index[b] = a * (d3 + d5) * c4 + (a * a - d3 * d5) * s4
+        shoulder = a * (c4 - 1.0) - d5 * s4
+        wrist = a * (c4 - 1.0) - d3 * s4
+        factors[b, 0] = shoulder * s6 * c3
+        factors[b, 1] = shoulder * s2 * s3 * s6
+        factors[b, 2] = (a * s2 * s4 - a * c2 * c3 * c4 + a * c2 * c3 + d3 * s2 + d5 * s2 * c4 + d5 * s4 * c2 * c3) * s6
+        factors[b, 3] = 0.0
+        factors[b, 4] = (-a * s4 * s6 + a * c4 * c5 * c6 - a * c5 * c6 - d3 * s4 * c5 * c6 - d3 * s6 * c4 - d5 * s6) * s2
+        factors[b, 5] = -wrist * s2 * s5 * s6
+        factors[b, 6] = -wrist * s2 * c5
 
 
 class Factorisation:
@@ -73,10 +83,6 @@ class Factorisation:
 
     def index(self, q: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
         raise NotImplementedError
-
-    def scalar_index(self, q: Sequence[float]) -> float:
-        """``D_e`` of one configuration given as floats (the control-loop path)."""
-        return float(self.index(np.array(q)))
 
     def factors(self, q: np.ndarray, jacobian: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
         raise NotImplementedError
@@ -114,9 +120,6 @@ class WamFactorisation(Factorisation):
 
     def index(self, q: np.ndarray) -> np.ndarray:
         return wam_singularity_index(q, self.a, self.d3, self.d5)
-
-    def scalar_index(self, q: Sequence[float]) -> float:
-        return _wam_index(math.cos(q[3]), math.sin(q[3]), self.a, self.d3, self.d5)
 
     def factors(self, q: np.ndarray, jacobian: np.ndarray | None = None) -> np.ndarray:
         return wam_cofactors(q, self.a, self.d3, self.d5)

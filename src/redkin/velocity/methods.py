@@ -16,8 +16,7 @@ from redkin.chain import SerialChain
 from redkin.validation import check_positive
 from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
-from redkin.velocity.controller import SingularityConsistentController
-from redkin.velocity.proposed import singularity_consistent
+from redkin.velocity.proposed import lean_singularity_consistent, singularity_consistent
 from redkin.velocity.solution import VelocitySolution
 
 Step = Callable[[np.ndarray, np.ndarray, np.ndarray], VelocitySolution]
@@ -84,9 +83,11 @@ class SingularityConsistent:
     (the closed form of a WAM-shaped chain, ``sin(theta_4)`` for an S-R-S arm);
     ``direction`` (``b_ep`` of eq. 22) defaults to the sign of ``D_e(q0)``,
     so the command is realised as given at the start.  ``lean`` (default)
-    steps with :class:`~redkin.velocity.controller.SingularityConsistentController`
-    (one least-squares solve, same result to ~1e-12), which takes the exact
-    cofactor path only where ``|D_e| < eps / 100``.
+    steps with :func:`~redkin.velocity.proposed.lean_singularity_consistent`
+    (one pseudoinverse, same result to ~1e-12), which takes the exact
+    adjugate path only where ``|D_e| < eps / 100``; otherwise with
+    :func:`~redkin.velocity.proposed.singularity_consistent`.  The bound step
+    takes one configuration or a batch (``q`` (..., 7), ``jac`` (..., 6, 7)).
     """
 
     eps: float
@@ -110,11 +111,11 @@ class SingularityConsistent:
         if direction is None:
             start = float(factorisation.index(q0))
             direction = -1.0 if start < 0.0 else 1.0
-        if self.lean:  # the control-loop step: same result, a fifth of the time
-            controller = SingularityConsistentController(
-                chain, q0, self.eps, factorisation, direction, self.self_motion, self.modify_rotation
+        if self.lean:
+            return lambda q, jac, twist: lean_singularity_consistent(
+                jac, twist, factorisation.index(q), lambda: factorisation.factors(q, jac), self.eps,
+                direction, self.self_motion, self.modify_rotation,
             )
-            return lambda q, jac, twist: controller.solve(np.ravel(q).tolist(), jac, np.ravel(twist).tolist())
 
         def step(q: np.ndarray, jac: np.ndarray, twist: np.ndarray) -> VelocitySolution:
             return singularity_consistent(

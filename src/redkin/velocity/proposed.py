@@ -14,6 +14,31 @@ Where the singularity factors through one index, ``det J_i = D_e D_i``
 non-zero at ``D_e = 0``, so the joints keep moving through the singularity,
 and gives the realised twist ``b_ep g(D_e) t'`` (eq. 22) where ``t'`` is the
 command with its rotational part pre-multiplied by ``b_ep clip(D_e/eps)``.
+
+Both steps here are the kernel :func:`~redkin.velocity.step_kernels.sc_one`.
+It sums the fixed-joint vectors in closed form: ``sum_i D_i n_i`` is
+``adj(M) [t'; 0]`` with ``M = [J; c^T]``, ``c_i = (-1)^i D_i``.  Both sides
+are polynomials in ``J``, ``t'`` and ``D``; for ``D_e != 0``, expanding
+``det M`` along its last row gives ``sum_i D_i det J_i = D_e D_s`` (eqs.
+19-20), and both solve ``M x = D_e D_s [t'; 0]`` (``J n_i = det(J_i) t'``,
+and ``c`` is parallel to the self-motion vector of eqs. 4-5, to which the
+minimum-norm ``sum_i D_i n_i`` is orthogonal); ``M`` is regular there, so
+they are equal, and by continuity also on ``D_e = 0``.  Away from ``D_e =
+0`` the sum collapses further.  With ``det J_i = D_e D_i`` (eq. 19),
+``sum_i det J_i n_i = J^T adj(J J^T) t'`` (eq. 17) and, by Cauchy-Binet,
+``det(J J^T) = D_e^2 D_s`` (eqs. 18, 20):
+
+    sum_i D_i n_i = D_e D_s J^+ t',    so    q_dot = b_ep g(D_e) J^+ t'   (D_e != 0)
+
+-- one pseudoinverse, and ``D_i`` is not needed at all.  At ``D_e = 0`` both
+``g`` and ``1 / sigma_min`` are singular and the product is 0/0, its
+rounding error growing like ``sigma_max / sigma_min``; so
+:func:`lean_singularity_consistent` takes the pseudoinverse only where
+``|D_e| >= near_zero`` and the adjugate below, while
+:func:`singularity_consistent` always takes the adjugate.  The definitional
+form, the weighted sum of eq. 15 over the Cramer vectors of
+:func:`~redkin.velocity.cofactors.fixed_joint_vectors`, is the tests'
+reference for both.
 """
 
 from __future__ import annotations
@@ -23,11 +48,15 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin.compiled import run_batch
 from redkin.validation import check_positive
-from redkin.velocity._inputs import jacobian_and_twist
-from redkin.velocity.blend import blend_weight, rotation_factor, twist_scale
-from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, self_motion_vector, weighted_sum
+from redkin.velocity import step_kernels
+from redkin.velocity._inputs import jacobian_and_twist, nonnegative
+from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, weighted_sum
 from redkin.velocity.solution import VelocitySolution
+
+NEAR_ZERO_FRACTION = 1e-2
+"""Default fallback threshold ``near_zero = NEAR_ZERO_FRACTION * eps`` on ``|D_e|`` of the lean step."""
 
 
 def minimum_norm_weights(jacobian: ArrayLike) -> np.ndarray:
@@ -48,14 +77,6 @@ def weighted_sum_direction(jacobian: ArrayLike, twist: ArrayLike, weights: Array
     if b.shape[-1:] != minors.shape[-1:]:
         raise ValueError(f"weights must have shape (..., {minors.shape[-1]}), got shape {b.shape}")
     return weighted_sum(b, vectors), np.sum(b * minors, axis=-1)
-
-
-def modified_twist(twist: np.ndarray, index: ArrayLike, eps: float, direction: float) -> np.ndarray:
-    """``t'``: the rotational command pre-multiplied by ``b_ep clip(D_e / eps, -1, 1)`` (paper 003 eq. 22 text)."""
-    if twist.shape[-1] != 6:
-        raise ValueError(f"modify_rotation needs a 6-row (linear, angular) jacobian, got {twist.shape[-1]} rows")
-    scale = direction * rotation_factor(index, eps)[..., None]
-    return np.concatenate([twist[..., :3], scale * twist[..., 3:]], axis=-1)
 
 
 def singularity_consistent(
@@ -99,72 +120,101 @@ def singularity_consistent(
         ``target_twist = b_ep g(D_e) t'``: the command outside the region
         ``|D_e| <= eps`` (translation reversed on the far side), eq. 22 inside.
     """
+    jac, vel, e = _checked(jacobian, twist, eps, direction, self_motion, modify_rotation)
+    d_e = _index(index, jac)
+    d_i = _factors(factors, jac)
+    return sc_steps(jac, vel, d_e, d_i, e, direction, self_motion, modify_rotation, np.inf)
+
+
+def lean_singularity_consistent(
+    jacobian: ArrayLike,
+    twist: ArrayLike,
+    index: ArrayLike,
+    factors: Callable[[], ArrayLike],
+    eps: float,
+    direction: float = 1.0,
+    self_motion: float = 0.0,
+    modify_rotation: bool = True,
+    near_zero: float | None = None,
+) -> VelocitySolution:
+    """The SC joint velocity ``b_ep g(D_e) J^+ t'`` (paper 003 eqs. 17-22 combined), equal to the exact path.
+
+    Parameters
+    ----------
+    jacobian, twist, index, eps, direction, self_motion, modify_rotation
+        As in :func:`singularity_consistent`.
+    factors : callable
+        ``factors()`` returns ``D_i`` ``(..., 7)``; called only where the exact
+        path is needed (``|D_e| < near_zero``).
+    near_zero : float, optional
+        Fallback threshold on ``|D_e|``; default ``NEAR_ZERO_FRACTION * eps``.
+
+    Returns
+    -------
+    VelocitySolution
+        The same joint velocity and target twist as the exact path (to
+        rounding, ~1e-12 relative for ``|D_e| >= near_zero`` on the WAM).
+    """
+    jac, vel, e = _checked(jacobian, twist, eps, direction, self_motion, modify_rotation)
+    limit = NEAR_ZERO_FRACTION * e if near_zero is None else nonnegative(near_zero, "near_zero")
+    d_e = _index(index, jac)
+    exact = np.abs(d_e) < limit
+    d_i = _factors(factors(), jac) if exact.any() else np.zeros(jac.shape[:-2] + jac.shape[-1:])
+    return sc_steps(jac, vel, d_e, d_i, e, direction, self_motion, modify_rotation, limit)
+
+
+def _checked(jacobian: ArrayLike, twist: ArrayLike, eps: float, direction: float, self_motion: float,
+             modify_rotation: bool) -> tuple[np.ndarray, np.ndarray, float]:
+    """The checks both SC functions share: Jacobians ``(..., m, m + 1)``, twists, ``eps``, ``b_ep``, ``b_sm``."""
     jac, vel = jacobian_and_twist(jacobian, twist, one_redundant=True)
-    check_positive(eps, "eps")
+    e = check_positive(eps, "eps")
     if direction not in (1, -1):
         raise ValueError(f"direction must be +1 or -1, got {direction!r}")
+    if not np.isfinite(self_motion):
+        raise ValueError(f"self_motion must be finite, got {self_motion!r}")
+    if modify_rotation and vel.shape[-1] != 6:
+        raise ValueError(f"modify_rotation needs a 6-row (linear, angular) jacobian, got {vel.shape[-1]} rows")
+    return jac, vel, e
+
+
+def _index(index: ArrayLike, jac: np.ndarray) -> np.ndarray:
     d_e = np.asarray(index, dtype=float)
+    if not np.all(np.isfinite(d_e)):
+        raise ValueError("index must be finite, got NaN or infinity")
+    try:
+        return np.broadcast_to(d_e, jac.shape[:-2])
+    except ValueError:
+        raise ValueError(f"index must have shape {jac.shape[:-2]} (one D_e per jacobian), got shape {d_e.shape}") from None
+
+
+def _factors(factors: ArrayLike, jac: np.ndarray) -> np.ndarray:
     d_i = np.asarray(factors, dtype=float)
     if d_i.shape[-1:] != (jac.shape[-1],):
         raise ValueError(f"factors must have shape (..., {jac.shape[-1]}), got shape {d_i.shape}")
-    if not (np.all(np.isfinite(d_e)) and np.all(np.isfinite(d_i))):
-        raise ValueError("index and factors must be finite, got NaN or infinity")
-    return blended_step(jac, vel, d_e, d_i, eps, direction, self_motion, modify_rotation, cramer_factor_sum)
+    if not np.all(np.isfinite(d_i)):
+        raise ValueError("factors D_i must be finite, got NaN or infinity")
+    try:
+        return np.broadcast_to(d_i, jac.shape[:-2] + d_i.shape[-1:])
+    except ValueError:
+        raise ValueError(f"factors must have shape {jac.shape[:-2] + d_i.shape[-1:]}, got shape {d_i.shape}") from None
 
 
-def cramer_factor_sum(jacobian: np.ndarray, twist: np.ndarray, factors: np.ndarray) -> np.ndarray:
-    """``sum_i D_i n_i`` (eq. 15 with ``b_i = D_i``) from the fixed-joint vectors of eqs. 6-8 (Cramer's rule)."""
-    vectors, _ = fixed_joint_vectors(jacobian, twist)
-    return weighted_sum(factors, vectors)
+def sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray, eps: float, direction: float,
+             self_motion: float, modify_rotation: bool, near_zero: float) -> VelocitySolution:
+    """:func:`~redkin.velocity.step_kernels.sc_one` over trusted arrays with common leading axes.
 
-
-def adjugate_factor_sum(jacobian: np.ndarray, twist: np.ndarray, factors: np.ndarray) -> np.ndarray:
-    """``sum_i D_i n_i`` as ``adj(M) [t; 0]`` with ``M = [J; c^T]``, ``c_i = (-1)^i D_i``: one SVD of ``M``.
-
-    Both sides are polynomials in ``J``, ``t`` and ``D``.  For ``D_e != 0``:
-    expanding ``det M`` along its last row gives ``sum_i D_i det J_i =
-    D_e D_s`` (eqs. 19-20), and both ``x = adj(M) [t; 0]`` and ``sum_i D_i n_i``
-    solve ``M x = D_e D_s [t; 0]`` (``J n_i = det(J_i) t``, and ``c`` is
-    parallel to the self-motion vector of eqs. 4-5, to which the
-    minimum-norm ``sum_i D_i n_i = D_e D_s J^+ t`` is orthogonal); ``M`` is
-    regular there, so they are equal, and by continuity also on ``D_e = 0``.
-    The adjugate comes from the SVD ``M = U S V^T`` as
-    ``det(U) det(V) V diag(prod_{j != i} s_j) U^T``, which stays accurate for
-    a singular ``M`` (no division by a singular value).  Batched over leading
-    axes; about a quarter of the cost of :func:`cramer_factor_sum`.
+    Raises
+    ------
+    ValueError
+        Where the exact path meets ``D_s = sum_i D_i^2 = 0`` (the method is undefined there).
     """
-    k = factors.shape[-1]
-    signs = (-1.0) ** np.arange(k)
-    square = np.concatenate([jacobian, (signs * factors)[..., None, :]], axis=-2)
-    u, s, vt = np.linalg.svd(square)
-    ones = np.ones(s.shape[:-1] + (1,))
-    before = np.cumprod(np.concatenate([ones, s[..., :-1]], axis=-1), axis=-1)
-    after = np.cumprod(np.concatenate([ones, s[..., :0:-1]], axis=-1), axis=-1)[..., ::-1]
-    orientation = np.linalg.det(u) * np.linalg.det(vt)
-    rhs = np.concatenate([twist, np.zeros(twist.shape[:-1] + (1,))], axis=-1)
-    coefficients = before * after * np.einsum("...ji,...j->...i", u, rhs)  # diag(prod_{j != i} s_j) U^T [t; 0]
-    return orientation[..., None] * np.einsum("...ij,...i->...j", vt, coefficients)
-
-
-def blended_step(
-    jac: np.ndarray,
-    vel: np.ndarray,
-    d_e: np.ndarray,
-    d_i: np.ndarray,
-    eps: float,
-    direction: float,
-    self_motion: float,
-    modify_rotation: bool,
-    factor_sum: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray],
-) -> VelocitySolution:
-    """Eqs. 9, 15, 20-22 on trusted arrays, with ``sum_i D_i n_i`` from ``factor_sum`` (Cramer or adjugate)."""
-    d_s = np.sum(d_i * d_i, axis=-1)  # eq. 20
-    if np.any(d_s <= 0.0):
+    lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
+    count = int(np.prod(lead))
+    qdot, target, ok = np.empty((count, n)), np.empty((count, m)), np.empty(count, dtype=np.bool_)
+    run_batch(step_kernels.sc, step_kernels.sc_parallel, count,
+              np.ascontiguousarray(jac.reshape(count, m, n)), np.ascontiguousarray(vel.reshape(count, m)),
+              np.ascontiguousarray(d_e.reshape(count)), np.ascontiguousarray(d_i.reshape(count, n)),
+              eps, float(direction), float(self_motion), bool(modify_rotation), float(near_zero), qdot, target, ok)
+    if not ok.all():
         raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
-    if modify_rotation:
-        vel = modified_twist(vel, d_e, eps, direction)
-    # eq. 21 (derived form): b_i = b_ep w(D_e) D_i / D_s, so sum_i b_i n_i = (b_ep w / D_s) sum_i D_i n_i (eq. 15)
-    qdot = (direction * blend_weight(d_e, eps) / d_s)[..., None] * factor_sum(jac, vel, d_i)
-    if self_motion:
-        qdot = qdot + self_motion * self_motion_vector(jac)
-    return VelocitySolution(qdot, (direction * twist_scale(d_e, eps))[..., None] * vel)  # eq. 22
+    return VelocitySolution(qdot.reshape(lead + (n,)), target.reshape(lead + (m,)))
