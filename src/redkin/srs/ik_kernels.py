@@ -138,7 +138,7 @@ def arm_frame(target, arm, elbow_sign, u, reference, elbow):
     reach = abs(cosine) <= 1.0 + REACH_TOLERANCE
     theta4 = acos(min(max(cosine, -1.0), 1.0)) * elbow_sign
     if arm[PHASE] != 0.0:
-        theta4 = (theta4 + arm[PHASE] + pi) % TWO_PI - pi
+        theta4 = turns_removed(theta4 + arm[PHASE] + pi) - pi
     c4, s4 = cos(theta4), sin(theta4)
     w = sqrt(x * x + y * y)
     c1, s1 = 1.0, 0.0
@@ -264,6 +264,12 @@ def branch_angles(entries, theta4, psi, sigma2, sigma6, theta):
 
 
 @kernel
+def turns_removed(angle):
+    """``angle mod 2 pi`` in ``[0, 2 pi)`` (the floor form, without the branches of Python's float ``%``)."""
+    return angle - TWO_PI * np.floor(angle / TWO_PI)
+
+
+@kernel
 def chain_values(theta, joints, q):
     """The chain's joint values ``q = sign (theta - offset)`` of DH angles ``theta`` (7,), into ``q`` (7,).
 
@@ -275,11 +281,11 @@ def chain_values(theta, joints, q):
         value = joints[SIGN, k] * (theta[k] - joints[OFFSET, k])
         if joints[WRAP, k] != 0.0:
             start = joints[WRAP_START, k]
-            shifted = start + (value - start) % TWO_PI
+            shifted = start + turns_removed(value - start)
             if shifted <= joints[UPPER, k] and joints[LIMITED, k] != 0.0:
                 value = shifted
             else:
-                value = (value + pi) % TWO_PI - pi
+                value = turns_removed(value + pi) - pi
         q[k] = value
 
 
