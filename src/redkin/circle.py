@@ -86,13 +86,13 @@ class ArcSet:
     # ----------------------------------------------------------- constructors
     @classmethod
     def full(cls) -> "ArcSet":
-        """The whole circle."""
-        return cls._from_intervals(((-PI, PI),))
+        """The whole circle (one shared instance: an ArcSet never changes)."""
+        return _FULL
 
     @classmethod
     def empty(cls) -> "ArcSet":
-        """The empty set."""
-        return cls._from_intervals(())
+        """The empty set (one shared instance)."""
+        return _EMPTY
 
     @classmethod
     def _from_intervals(cls, intervals: Iterable[tuple[float, float]]) -> "ArcSet":
@@ -217,6 +217,10 @@ class ArcSet:
         return len(a) == len(b) and all(
             abs(x[0] - y[0]) <= tolerance and abs(x[1] - y[1]) <= tolerance for x, y in zip(a, b)
         )
+
+
+_FULL = ArcSet._from_intervals(((-PI, PI),))
+_EMPTY = ArcSet._from_intervals(())
 
 
 def intersect_all(sets: Iterable[ArcSet]) -> ArcSet:

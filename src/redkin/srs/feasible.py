@@ -51,6 +51,7 @@ from redkin.srs.ik import as_geometry, coefficients_for
 PIECE_TOLERANCE = kernels.PIECE_TOLERANCE
 _ELBOW_SIGNS = np.array([1, -1])  # Table 1 elbow signs of the two halves of BRANCHES (sigma_4 = +1 first)
 _CACHE_KEY = "_feasible_limit_tables"
+_GROUP = 7  # entries per group (shoulder, wrist) in ArmAngleCoefficients.entries
 
 
 @dataclass(frozen=True)
@@ -110,11 +111,12 @@ class FeasiblePieces:
 def _arc_sets(start: np.ndarray, end: np.ndarray, keep: np.ndarray) -> list[list[ArcSet]]:
     """The :class:`ArcSet` of each row of ``keep`` (N, R, 24) on the pieces ``start``, ``end`` (N, 24)
     (:func:`redkin.srs.feasible_kernels.arc_runs`)."""
-    count = keep.shape[0]
     arcs = np.empty(keep.shape[:2] + (kernels.PIECES // 2, 2))
     counts = np.empty(keep.shape[:2], dtype=np.int64)
     kernels.batch_arc_runs(start, end, keep, arcs, counts)
-    return [[ArcSet(arcs[b, row, :n].tolist()) for row, n in enumerate(counts[b].tolist())] for b in range(count)]
+    numbers = counts.tolist()
+    return [[ArcSet(runs[:n]) if n else ArcSet.empty() for runs, n in zip(arcs[b].tolist(), numbers[b])]
+            for b in range(len(numbers))]
 
 
 class LimitTables(NamedTuple):
@@ -157,7 +159,7 @@ def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometr
     ``per_joint``, else 1) and whether theta_4 is within its limits (...).
     """
     shape = theta4.shape
-    flat = np.ascontiguousarray(entries, dtype=float).reshape(-1, 3, entries.shape[-1])
+    flat = np.ascontiguousarray(entries, dtype=float).reshape(-1, 3, 2 * _GROUP)
     count = flat.shape[0]
     start, end = np.empty((count, kernels.PIECES)), np.empty((count, kernels.PIECES))
     keep = np.empty((count, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
@@ -166,8 +168,10 @@ def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometr
     run_batch(kernels.branches, kernels.branches_parallel, count, flat,
               np.ascontiguousarray(theta4, dtype=float).reshape(count), int(branch.shoulder < 0),
               int(branch.wrist < 0), tables.equations, tables.membership, tables.elbow, start, end, keep, elbow_inside)
-    return (start.reshape(shape + (kernels.PIECES,)), end.reshape(shape + (kernels.PIECES,)), keep.reshape(shape + keep.shape[1:]),
-            elbow_inside.reshape(shape))
+    if shape == (count,):
+        return start, end, keep, elbow_inside
+    pieces = shape + (kernels.PIECES,)
+    return start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]), elbow_inside.reshape(shape)
 
 
 def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
@@ -203,9 +207,7 @@ def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLi
     """The feasible sets (eq. 30) of all eight branches as arrays ``(..., 8, 24)``, in the order of :data:`BRANCHES`.
 
     The branches are named in the chain's joint senses, as in
-    :func:`redkin.srs.ik_all_branches`.  The cut points and limit-equation
-    signs of each elbow sign are computed once and classified for its four
-    branches (:func:`redkin.srs.feasible_kernels.pose_all_branches`).
+    :func:`redkin.srs.ik_all_branches`; see :func:`all_branch_pieces`.
 
     Parameters
     ----------
@@ -223,16 +225,37 @@ def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLi
         For a malformed or unreachable pose.
     """
     geometry = as_geometry(arm)
-    coefficients = coefficients_for(geometry, as_poses(pose)[..., None, :, :], _ELBOW_SIGNS)
+    return all_branch_pieces(coefficients_for(geometry, as_poses(pose)[..., None, :, :], _ELBOW_SIGNS), geometry)
+
+
+def all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> FeasiblePieces:
+    """Eq. 30 for the eight branches of a batch of poses, from their coefficients for both elbow signs.
+
+    The cut points and limit-equation signs of each elbow sign are computed
+    once and classified for its four branches
+    (:func:`redkin.srs.feasible_kernels.pose_all_branches`).
+
+    Parameters
+    ----------
+    coefficients : ArmAngleCoefficients
+        Batch shape ``(..., 2)``: the Table 1 elbow signs ``+1, -1`` last.
+    geometry : SRSGeometry
+
+    Returns
+    -------
+    FeasiblePieces
+        Arrays of shape ``(..., 8, 24)``, the branches in the order of
+        :data:`BRANCHES` named in the chain's joint senses.
+    """
     shape = coefficients.theta4.shape[:-1]
-    entries = np.ascontiguousarray(coefficients.entries).reshape(-1, 2, 3, coefficients.entries.shape[-1])
+    entries = np.ascontiguousarray(coefficients.entries, dtype=float).reshape(-1, 2, 3, 2 * _GROUP)
     count = entries.shape[0]
     start, end = np.empty((count, 8, kernels.PIECES)), np.empty((count, 8, kernels.PIECES))
     keep = np.empty((count, 8, 1, kernels.PIECES), dtype=bool)
     tables = limit_tables(geometry)
     run_batch(kernels.all_branches, kernels.all_branches_parallel, count, entries,
-              np.ascontiguousarray(coefficients.theta4).reshape(count, 2), tables.equations, tables.membership,
-              tables.elbow, geometry.branch_order, start, end, keep)
+              np.ascontiguousarray(coefficients.theta4, dtype=float).reshape(count, 2), tables.equations,
+              tables.membership, tables.elbow, geometry.branch_order, start, end, keep)
     pieces = shape + (8, kernels.PIECES)
     return FeasiblePieces(start.reshape(pieces), end.reshape(pieces), keep.reshape(pieces))
 

@@ -77,7 +77,21 @@ def sinusoid_roots(p, q, r, tolerance=1e-12):
     half = acos(min(max(r / rho, -1.0), 1.0))  # acos(r / rho) = pi - acos(-r / rho)
     phi = atan2(p, q)
     # phi -+ acos(-r / rho) shifted by pi, taken back into [-pi, pi)
-    return (phi + half) % TWO_PI - pi, (phi - half) % TWO_PI - pi
+    return turn_once(phi + half) - pi, turn_once(phi - half) - pi
+
+
+@kernel
+def turn_once(angle):
+    """``angle mod 2 pi`` for ``angle`` in ``[-2 pi, 4 pi)``, with one addition or subtraction of ``2 pi``.
+
+    Equal to the floored modulo there: ``fmod`` would subtract ``2 pi``
+    exactly, and so does the subtraction (Sterbenz: ``2 pi <= angle < 4 pi``).
+    """
+    if angle < 0.0:
+        return angle + TWO_PI
+    if angle >= TWO_PI:
+        return angle - TWO_PI
+    return angle
 
 
 #: :func:`redkin.srs.joints.within` compiled (the same source): is a joint value within its limits.
