@@ -7,9 +7,11 @@ import sys
 from typing import Any
 
 from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json, progress_bar
+from redkin.cli.workspace_humanoid import run_humanoid
 from redkin.srs import srs_geometry
 from redkin.validation import check_count, check_output_directory
 from redkin.workspace.grid import MAX_RESOLUTION, workspace_grid
+from redkin.workspace.humanoid import humanoid_of
 from redkin.workspace.optional import require
 from redkin.workspace.orientations import MAX_ORIENTATIONS
 from redkin.workspace.run import workspace_map
@@ -33,8 +35,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                          metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"), help="box of tool positions [m]")
     command.add_argument("--resolution", type=int, required=True, metavar="M",
                          help=f"grid points per axis, ends included (2..{MAX_RESOLUTION})")
-    command.add_argument("--orientations", type=int, required=True, metavar="N",
-                         help=f"tool orientations per position, a super-Fibonacci set on SO(3) (1..{MAX_ORIENTATIONS})")
+    command.add_argument("--orientations", type=int, metavar="N",
+                         help=f"tool orientations per position, a super-Fibonacci set on SO(3) (1..{MAX_ORIENTATIONS}); "
+                              "required for an arm with arm-angle IK")
+    command.add_argument("--samples", type=int, nargs=2, metavar=("N1", "NPHI"),
+                         help="the thesis 001 humanoid (humanoid-right, humanoid-left) instead: its best manipulability "
+                              "over N1 x NPHI samples of theta_1 and phi (default 24 24)")
     command.add_argument("--chunk", type=int, metavar="C",
                          help="grid points per axis of a chunk (default: about 32768 poses per chunk)")
     command.add_argument("--scheduler", metavar="ADDRESS",
@@ -45,11 +51,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    chain = load_robot(args)
+    if humanoid_of(chain) is not None:
+        return run_humanoid(args, chain, _connect)
+    if args.samples is not None:
+        raise UsageError("--samples is for the thesis 001 humanoid; an arm with arm-angle IK takes --orientations N")
     resolution = check_count(args.resolution, "--resolution", 2, MAX_RESOLUTION)
     orientations = check_count(args.orientations, "--orientations", 1, MAX_ORIENTATIONS)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     grid = workspace_grid(args.extent, resolution, orientations, chunk)
-    chain = load_robot(args)
     srs_geometry(chain)  # the arm-angle refusal, before anything is written
     try:
         xr, _, _ = (require(name) for name in ("xarray", "dask", "zarr"))

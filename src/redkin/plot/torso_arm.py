@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Mapping
+from pathlib import Path
+from typing import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -67,3 +68,29 @@ def draw_manipulability_map(
     ax.set_ylabel(f"{grid.axis_names[1]} [m]")
     ax.set_title(f"{grid.label}\n{result.description}", fontsize=8)
     return image
+
+
+def save_mid_plane_maps(maps: Sequence[ManipulabilityMap], path: "str | Path", unit: str, title: str) -> None:
+    """Save 2-D maps (a 3-D map's mid-planes, :func:`redkin.workspace.humanoid.mid_plane_maps`) side by side.
+
+    Parameters
+    ----------
+    maps : sequence of ManipulabilityMap
+        One heat map per panel, drawn by :func:`draw_manipulability_map`.
+    path : str or Path
+        The image file.
+    unit : str
+        Unit of the values (``"m^3"``, ``"m^6"``).
+    title : str
+        The figure's title.
+    """
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(maps), figsize=(5.2 * len(maps), 4.6), constrained_layout=True, squeeze=False)
+    try:
+        for ax, result in zip(axes[0], maps):
+            draw_manipulability_map(ax, result, unit=unit)
+        fig.suptitle(title, fontsize=10)
+        fig.savefig(path, dpi=110)
+    finally:
+        plt.close(fig)

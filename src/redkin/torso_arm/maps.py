@@ -411,8 +411,16 @@ def manipulability_map(
                    f"{arm.side} arm, psi = {np.degrees(psi):g} deg, phi = {np.degrees(phi):g} deg ({ref.kind} reference)")
 
 
-def _samples(arm: TorsoArm, samples: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-    """theta_1 of the side across its limits (within one turn) and phi around the circle, ``samples`` = (n1, n2)."""
+def sweep_samples(arm: TorsoArm, samples: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """The redundancy samples of a best map: ``samples = (n1, n2)``, each ``1..MAX_SWEEP_SAMPLES``.
+
+    Returns
+    -------
+    theta1 : numpy.ndarray, shape (n1,)
+        The arm's joint 1 evenly across its limits (clipped to one turn), ends included (the middle if n1 = 1).
+    phi : numpy.ndarray, shape (n2,)
+        The elbow angle evenly around the circle from -pi.
+    """
     if np.ndim(samples) != 1 or len(samples) != 2:
         raise ValueError(f"samples must be two positive integers (theta_1, phi), got {samples!r}")
     n1, n2 = (check_count(n, "samples", 1, MAX_SWEEP_SAMPLES) for n in samples)
@@ -471,7 +479,7 @@ def best_over_redundancy(
     if dual and arm.side != "right":
         raise ValueError(f"the dual-arm measure is indexed by the right wrist: arm must be the right arm, "
                          f"got {arm.side!r}")
-    thetas, phis = _samples(arm, samples)
+    thetas, phis = sweep_samples(arm, samples)
     shape, (flat_points,) = flat((arm.to_right(wrists), 1))
     count = flat_points.shape[0]
     left = TorsoArm(arm.right_chain, "left")
@@ -498,7 +506,7 @@ def best_manipulability_map(
     progress: Progress | None = None,
 ) -> ManipulabilityMap:
     """Best ``w`` over the redundancy (:func:`best_over_redundancy`) on ``grid``."""
-    thetas, phis = _samples(arm, samples)
+    thetas, phis = sweep_samples(arm, samples)
     _check_total(grid.points[..., 0].size, (thetas.size, phis.size))
     best, reached = best_over_redundancy(arm, grid.points, samples, within_limits, progress=progress)
     return _best_map(grid, best, reached, f"{arm.side} arm, best over theta_1 x phi = {samples[0]} x {samples[1]} "
@@ -572,7 +580,7 @@ def best_dual_arm_map(
     one theta_1 sample at a time.
     """
     right = right or humanoid_arm("right")
-    thetas, phis = _samples(right, samples)
+    thetas, phis = sweep_samples(right, samples)
     _check_total(grid.points[..., 0].size, (thetas.size, phis.size))
     description = (f"both arms (symmetric posture), best over theta_1 x phi = {samples[0]} x {samples[1]} samples"
                    + (" within limits" if within_limits else ""))

@@ -1,0 +1,83 @@
+"""``redkin workspace`` for the thesis 001 humanoid: its 3-D map of the best manipulability over the redundancy.
+
+Called by :mod:`redkin.cli.workspace` when ROBOT is the humanoid's arm
+(``humanoid-right``, ``humanoid-left`` or a chain of the same Table 2.1 form).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from redkin.cli.common import UsageError, print_json, progress_bar
+from redkin.chain import SerialChain
+from redkin.torso_arm.maps import MAX_SWEEP_SAMPLES
+from redkin.validation import check_count, check_output_directory
+from redkin.workspace.grid import MAX_RESOLUTION
+from redkin.workspace.humanoid import DEFAULT_SAMPLES, VARIABLES, humanoid_grid, humanoid_map, mid_plane_maps
+from redkin.workspace.optional import require
+from redkin.workspace.store import MAP_NAME
+
+#: The images written beside the map: one per measure, its three mid-planes side by side.
+SLICE_NAMES = ("best_manipulability", "best_dual_manipulability")
+
+
+def run_humanoid(args: argparse.Namespace, chain: SerialChain, connect) -> int:
+    """The humanoid's map for the parsed ``redkin workspace`` arguments; ``connect(address)`` gives a client."""
+    if args.orientations is not None:
+        raise UsageError("--orientations is for arms with arm-angle IK; the humanoid's map takes --samples N1 NPHI "
+                         "(theta_1 x phi samples of the redundancy)")
+    resolution = check_count(args.resolution, "--resolution", 2, MAX_RESOLUTION)
+    samples = DEFAULT_SAMPLES if args.samples is None else tuple(
+        check_count(n, "--samples", 1, MAX_SWEEP_SAMPLES) for n in args.samples)
+    chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
+    grid = humanoid_grid(args.extent, resolution, samples, chunk)  # the extent refused before anything is written
+    try:
+        xr, _, _ = (require(name) for name in ("xarray", "dask", "zarr"))
+        client = None if args.scheduler is None else connect(args.scheduler)
+    except ImportError as exc:
+        raise UsageError(str(exc)) from None
+    out = check_output_directory(args.out, "--out")
+    progress = (lambda done, total: progress_bar(done / total)) if len(grid.chunk_indices()) > 1 else None
+    try:
+        result = humanoid_map(chain, out / MAP_NAME, args.extent, grid.resolution, samples, chunk=grid.chunk,
+                              client=client, progress=progress)
+    finally:
+        if progress is not None:
+            print(file=sys.stderr)
+        if client is not None:
+            client.close()
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only: no display needed
+    from redkin.plot.torso_arm import save_mid_plane_maps
+
+    images = [out / f"{name}.png" for name in SLICE_NAMES]
+    with xr.open_zarr(result.path) as dataset:
+        for name, image in zip(SLICE_NAMES, images):
+            save_mid_plane_maps(mid_plane_maps(dataset, name), image, VARIABLES[name][0],
+                                f"{chain.name}: {name} over theta_1 x phi = {samples[0]} x {samples[1]} samples")
+    summary = {
+        "robot": chain.name, "map": str(result.path), "images": [str(image) for image in images],
+        "scheduler": args.scheduler or "local",
+        "units": {"seconds": "s", "fractions": "1", "manipulability": "m^3", "dual_manipulability": "m^6"},
+        "positions": result.positions, "samples": list(result.samples),
+        "postures": result.positions * result.samples[0] * result.samples[1],
+        "chunks": result.chunks, "chunks_computed": result.computed, "chunks_resumed": result.chunks - result.computed,
+        "reachable_positions": result.reachable_positions, "feasible_positions": result.feasible_positions,
+        "max_manipulability": result.max_manipulability, "mean_manipulability": result.mean_manipulability,
+        "max_dual_manipulability": result.max_dual_manipulability, "seconds": result.seconds,
+    }
+    if args.json:
+        print_json(summary)
+    else:
+        print(f"{chain.name}: {result.positions} wrist positions x {samples[0]} x {samples[1]} samples of "
+              "(theta_1, phi), best manipulability within the limits of joints 1-5 (thesis 001)")
+        print(f"reachable: {100 * result.reachable_positions:.1f}% of positions, within limits "
+              f"{100 * result.feasible_positions:.1f}%; best w there: max {result.max_manipulability:.4g} m^3, "
+              f"mean {result.mean_manipulability:.4g} m^3; dual arm max {result.max_dual_manipulability:.4g} m^6")
+        print(f"chunks: {result.chunks} ({result.computed} computed, {result.chunks - result.computed} resumed) "
+              f"on {summary['scheduler']} in {result.seconds:.1f} s")
+        print(f"map: {result.path}  (xarray.open_zarr)")
+        print("slices: " + ", ".join(str(image) for image in images))
+    return 0
