@@ -1,0 +1,179 @@
+"""Issue 13's targets for the compiled core, measured in one run beside the peers, as ratios.
+
+Run:  python benchmarks/bench_core.py [--skip-cold]
+
+One row per target of issue 13: redkin's public API (input checks
+included) against the peer named in the row, both timed in the same process
+in rounds of about 10 ms (``timing.best_time_short_rounds``), so both are
+equally exposed to other load; batches are the best of three calls.  Peers,
+each in its best documented configuration (``pip install -e ".[bench]"``;
+a missing peer is reported and its ratios skipped):
+
+* ssik 8.2, KUKA iiwa14 (the arm it ships prebuilt, which is redkin's
+  ``kuka_iiwa14``): the prepared native C++ ``Solver`` of
+  ``ssik.prebuilt.kuka.iiwa14_ik``, ``solve(T, respect_limits=0)``, which
+  returns 16 swivel angles x 8 branches; "ssik's time for 8 solutions" is
+  its time per pose / 16.
+* roboticstoolbox-python 1.5: ``ets.eval(q)`` and ``ets.jacob0(q)`` (C++) of
+  a ``DHRobot`` of the same DH rows converted once with ``.ets()``
+  (``bench_chain.rtb_ets``).
+
+The cold-start row runs a new process with an empty numba cache
+(``NUMBA_CACHE_DIR``) that imports redkin and makes the first call of every
+compiled path (FK, Jacobian and frames; S-R-S IK and feasible sets; the SC
+and pinv control steps; the torso-arm map and the virtual-arms rate), one
+item and a batch each, then the same again with that cache filled.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from bench_chain import rtb_ets, versions  # benchmarks/ is on sys.path when a script of it runs
+from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c
+from redkin.srs import BRANCHES, feasible_arm_angles, feasible_pieces, ik_all_branches
+from redkin.velocity import SingularityConsistentController
+from timing import best_time, best_time_short_rounds
+
+FIRST_CALLS = """
+import time
+start = time.perf_counter()
+import numpy as np
+from redkin.models import barrett_wam, pa10_7c, franka_panda
+from redkin.srs import feasible_arm_angles, feasible_pieces, ik, ik_all_branches
+from redkin.velocity import PseudoinverseController, SingularityConsistentController
+rng = np.random.default_rng(0)
+for arm in (pa10_7c(), franka_panda()):
+    one, many = np.zeros(7), rng.uniform(-1, 1, (1000, 7))
+    for method in (arm.fk, arm.jacobian, arm.frames):
+        method(one), method(many)
+arm = pa10_7c().with_limits(np.full(7, -2.5), np.full(7, 2.5))
+poses = arm.fk(rng.uniform(-1, 1, (1000, 7)))
+for target in (poses[0], poses):
+    ik_all_branches(arm, target, 0.1), ik(arm, target, 0.1), feasible_pieces(arm, target, "+-+")
+feasible_arm_angles(arm, poses[0])
+wam = barrett_wam()
+q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
+SingularityConsistentController(wam, q, eps=0.1)(q, np.ones(6) * 0.1)
+PseudoinverseController(wam)(q, np.ones(6) * 0.1)
+print(time.perf_counter() - start)
+"""
+
+
+def microseconds(function) -> float:
+    return best_time_short_rounds(function) * 1e6
+
+
+def ssik_solver():
+    """ssik's prepared native solver of the iiwa14, or None."""
+    try:
+        from ssik import _native
+        from ssik.prebuilt.kuka import iiwa14_ik
+    except ImportError:
+        return None
+    if not _native.native_available():
+        return None
+    return _native._solver(_native._load_ext(), iiwa14_ik._KB, iiwa14_ik.SOLVER_NAME)
+
+
+def main() -> None:
+    import numba
+
+    print(f"# issue 13 targets -- {platform.machine()}, {os.cpu_count()} cores ({numba.get_num_threads()} numba "
+          f"threads), python {platform.python_version()}, numpy {np.__version__}, "
+          f"{versions()}, load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    rows: list[tuple[str, str, str, str]] = []
+    rng = np.random.default_rng(0)
+
+    # --- S-R-S IK and feasible sets beside ssik (iiwa14, same poses)
+    iiwa = kuka_iiwa14()
+    targets = iiwa.fk(rng.uniform(-2.0, 2.0, (10, 7)))
+    solver = ssik_solver()
+    ssik8 = float("nan")
+    if solver is None:
+        rows.append(("ssik", "not installed or no native extension", "", "skipped"))
+    else:
+        ssik8 = np.mean([microseconds(lambda: solver.solve(t, 0)) for t in targets]) / 16.0
+        rows.append(("ssik 8.2 native C++ IK, 8 solutions (1/16 of one call)", f"{ssik8:.2f} us", "", ""))
+    ours = np.mean([microseconds(lambda: ik_all_branches(iiwa, t, 0.3)) for t in targets])
+    rows.append(("one pose, 8 branches: ik_all_branches(chain, pose, psi)", f"{ours:.2f} us",
+                 f"{ours / ssik8:.2f} x ssik 8 solutions", "<= 0.25"))
+    one = np.mean([microseconds(lambda: feasible_pieces(iiwa, t, "+-+")) for t in targets])
+    rows.append(("one pose, feasible set of one branch: feasible_pieces", f"{one:.2f} us",
+                 f"{one / ssik8:.2f} x ssik 8 solutions", "<= 1"))
+    arcs = np.mean([microseconds(lambda: feasible_arm_angles(iiwa, t, "+-+")) for t in targets])
+    rows.append(("  the same as ArcSets: feasible_arm_angles", f"{arcs:.2f} us", f"{arcs / ssik8:.2f} x", ""))
+    every = np.mean([microseconds(lambda: [feasible_pieces(iiwa, t, b) for b in BRANCHES]) for t in targets])
+    rows.append(("one pose, all 8 branches' feasible sets (8 calls)", f"{every:.2f} us",
+                 f"{every / ssik8:.2f} x ssik 8 solutions", "<= 4"))
+
+    # --- batches (PA10, both cores)
+    pa10 = pa10_7c().with_limits(np.full(7, -2.5), np.full(7, 2.5))
+    q_batch = rng.uniform(-np.pi, np.pi, (1_000_000, 7))
+    poses = pa10.fk(q_batch)
+    seconds = best_time(lambda: ik_all_branches(pa10, poses, 0.3), repeat=3)
+    rows.append(("batch of 10^6 poses x 8 branches", f"{8 / seconds:.1f} M solutions/s", "", ">= 20 M/s"))
+    few = poses[:200_000]
+    seconds = best_time(lambda: feasible_pieces(pa10, few, "+-+"), repeat=3)
+    rows.append(("batch feasible sets (2x10^5 poses, one branch)", f"{len(few) / seconds / 1e6:.2f} M pose-branches/s",
+                 "", ">= 1 M/s"))
+
+    # --- FK, Jacobian, SC step beside roboticstoolbox
+    plain = pa10_7c()
+    q = rng.uniform(-1, 1, 7)
+    fk, jac = microseconds(lambda: plain.fk(q)), microseconds(lambda: plain.jacobian(q))
+    ets = rtb_ets(plain)
+    rtb_fk = rtb_jac = float("nan")
+    if ets is None:
+        rows.append(("roboticstoolbox-python", "not installed", "", "skipped"))
+    else:
+        rtb_fk, rtb_jac = microseconds(lambda: ets.eval(q)), microseconds(lambda: ets.jacob0(q))
+    rows.append(("FK, one configuration (PA10)", f"{fk:.2f} us", f"{fk / rtb_fk:.2f} x rtb ETS eval", "<= 1"))
+    rows.append(("Jacobian, one configuration (PA10)", f"{jac:.2f} us", f"{jac / rtb_jac:.2f} x rtb ETS jacob0", "<= 1"))
+    seconds = best_time(lambda: plain.fk(q_batch), repeat=3)
+    rows.append(("batch FK, 10^6 configurations", f"{1.0 / seconds:.1f} M/s", "", ">= 10 M/s"))
+    wam = barrett_wam()
+    q_wam = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
+    twist = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
+    controller = SingularityConsistentController(wam, q_wam, eps=0.1)
+    step = microseconds(lambda: controller(q_wam, twist))
+    wam_ets = rtb_ets(wam)
+    wam_jac = float("nan") if wam_ets is None else microseconds(lambda: wam_ets.jacob0(q_wam))
+    rows.append(("SC control step, Jacobian included (WAM)", f"{step:.2f} us", f"{step / wam_jac:.2f} x rtb jacob0",
+                 "<= 2"))
+
+    if "--skip-cold" not in sys.argv:
+        with tempfile.TemporaryDirectory() as cache:
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+            cold = float(subprocess.run([sys.executable, "-c", FIRST_CALLS], env=env, capture_output=True,
+                                        text=True, check=True).stdout)
+            warm = float(subprocess.run([sys.executable, "-c", FIRST_CALLS], env=env, capture_output=True,
+                                        text=True, check=True).stdout)
+        rows.append(("cold start: import + first call of every compiled path, fresh cache", f"{cold:.1f} s", "",
+                     "<= 10 s"))
+        rows.append(("  the same in a new process, cache filled", f"{warm:.2f} s", "", ""))
+        command = ["redkin", "fk", "pa10-7c", *["0.1"] * 7]
+        subprocess.run(command, check=True, capture_output=True)
+        times = []
+        for _ in range(5):
+            start = time.perf_counter()
+            subprocess.run(command, check=True, capture_output=True)
+            times.append(time.perf_counter() - start)
+        rows.append(("redkin fk pa10-7c (a process, warm cache), best of 5", f"{min(times):.2f} s", "",
+                     "no slower than before (1.34-1.45 s)"))
+
+    width = max(len(r[0]) for r in rows)
+    print(f"\n{'measurement':<{width}}  {'redkin':>26}  {'ratio':>28}  target")
+    for label, value, ratio, target in rows:
+        print(f"{label:<{width}}  {value:>26}  {ratio:>28}  {target}")
+
+
+if __name__ == "__main__":
+    main()
