@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.errors import RobotDescriptionError
 from redkin.so3 import xyz_fixed_to_matrix
 
 try:  # Python >= 3.11
@@ -52,13 +53,13 @@ def load_robot(path: str | Path) -> SerialChain:
 
     Raises
     ------
-    ValueError
+    RobotDescriptionError
         If the file is missing, cannot be parsed, or does not follow the format;
-        the message names the file and the offending key.
+        the message names the file and the offending key (also its ``path`` and ``key``).
     """
     path = Path(path)
     if not path.is_file():
-        raise ValueError(f"robot file {str(path)!r} does not exist")
+        raise RobotDescriptionError(f"robot file {str(path)!r} does not exist", path=str(path))
     text = path.read_text(encoding="utf-8")
     try:
         if path.suffix.lower() == ".json":
@@ -66,34 +67,35 @@ def load_robot(path: str | Path) -> SerialChain:
         else:
             data = tomllib.loads(text)
     except (json.JSONDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise ValueError(f"robot file {str(path)!r} cannot be parsed: {exc}") from exc
+        raise RobotDescriptionError(f"robot file {str(path)!r} cannot be parsed: {exc}", path=str(path)) from exc
     try:
         return robot_from_dict(data, default_name=path.stem)
     except ValueError as exc:
-        raise ValueError(f"robot file {str(path)!r}: {exc}") from exc
+        raise RobotDescriptionError(f"robot file {str(path)!r}: {exc}", path=str(path),
+                                    key=getattr(exc, "key", "")) from exc
 
 
 def robot_from_dict(data: Any, default_name: str = "robot") -> SerialChain:
     """Build a chain from the parsed content of a robot file (see module docstring)."""
     if not isinstance(data, dict):
-        raise ValueError("the top level must be a table of keys")
+        raise RobotDescriptionError("the top level must be a table of keys")
     _no_unknown(data, TOP_KEYS, "top level")
     convention = data.get("convention", "dh")
     if convention not in ("dh", "mdh"):
-        raise ValueError(f"convention must be 'dh' or 'mdh', got {convention!r}")
+        raise RobotDescriptionError(f"convention must be 'dh' or 'mdh', got {convention!r}", key="convention")
     angle = _unit(data, "angle_unit", ANGLE_SCALE, "rad")
     length = _unit(data, "length_unit", LENGTH_SCALE, "m")
     joints = data.get("joint")
     if not isinstance(joints, list) or not joints:
-        raise ValueError("needs at least one [[joint]] table")
+        raise RobotDescriptionError("needs at least one [[joint]] table", key="joint")
     rows = {key: [] for key in JOINT_KEYS}
     for i, joint in enumerate(joints, start=1):
         if not isinstance(joint, dict):
-            raise ValueError(f"joint {i} must be a table")
+            raise RobotDescriptionError(f"joint {i} must be a table", key=f"joint {i}")
         _no_unknown(joint, JOINT_KEYS, f"joint {i}")
         for key in ("a", "alpha", "d"):
             if key not in joint:
-                raise ValueError(f"joint {i} is missing {key!r}")
+                raise RobotDescriptionError(f"joint {i} is missing {key!r}", key=f"joint {i} {key}")
         defaults = {"offset": 0.0, "sign": 1.0, "lower": -np.inf, "upper": np.inf}
         for key in JOINT_KEYS:
             rows[key].append(_number(joint.get(key, defaults.get(key)), f"joint {i} {key}"))
@@ -101,7 +103,7 @@ def robot_from_dict(data: Any, default_name: str = "robot") -> SerialChain:
     arrays = {key: np.asarray(values) * scale[key] for key, values in rows.items()}
     name = data.get("name", default_name)
     if not isinstance(name, str):
-        raise ValueError(f"name must be a string, got {name!r}")
+        raise RobotDescriptionError(f"name must be a string, got {name!r}", key="name")
     return SerialChain(
         convention=convention,
         base=_transform(data.get("base"), "base", angle, length),
@@ -115,19 +117,20 @@ def robot_from_dict(data: Any, default_name: str = "robot") -> SerialChain:
 def _no_unknown(table: dict, allowed: set[str], where: str) -> None:
     unknown = sorted(set(table) - allowed)
     if unknown:
-        raise ValueError(f"unknown key {unknown[0]!r} in {where} (allowed: {', '.join(sorted(allowed))})")
+        raise RobotDescriptionError(f"unknown key {unknown[0]!r} in {where} (allowed: {', '.join(sorted(allowed))})",
+                                    key=unknown[0])
 
 
 def _unit(data: dict, key: str, scales: dict[str, float], default: str) -> float:
     unit = data.get(key, default)
     if unit not in scales:
-        raise ValueError(f"{key} must be one of {', '.join(scales)}, got {unit!r}")
+        raise RobotDescriptionError(f"{key} must be one of {', '.join(scales)}, got {unit!r}", key=key)
     return scales[unit]
 
 
 def _number(value: Any, what: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(f"{what} must be a number, got {value!r}")
+        raise RobotDescriptionError(f"{what} must be a number, got {value!r}", key=what)
     return float(value)
 
 
@@ -135,7 +138,7 @@ def _transform(table: Any, what: str, angle: float, length: float) -> np.ndarray
     if table is None:
         return None
     if not isinstance(table, dict):
-        raise ValueError(f"[{what}] must be a table")
+        raise RobotDescriptionError(f"[{what}] must be a table", key=what)
     _no_unknown(table, TRANSFORM_KEYS, f"[{what}]")
     out = np.eye(4)
     for key, scale, target in (("translation", length, "p"), ("xyz_fixed_angles", angle, "R")):
@@ -143,7 +146,7 @@ def _transform(table: Any, what: str, angle: float, length: float) -> np.ndarray
             continue
         vector = table[key]
         if not isinstance(vector, list) or len(vector) != 3:
-            raise ValueError(f"[{what}] {key} must be a list of 3 numbers, got {vector!r}")
+            raise RobotDescriptionError(f"[{what}] {key} must be a list of 3 numbers, got {vector!r}", key=f"{what} {key}")
         values = np.array([_number(v, f"[{what}] {key}") for v in vector]) * scale
         if target == "p":
             out[:3, 3] = values

@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError, RobotDescriptionError
 from redkin.joint_lines import dh_rows_from_lines
 from redkin.so3 import xyz_fixed_to_matrix
 _UNSUPPORTED = {"prismatic", "floating", "planar"}
@@ -65,30 +66,34 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None)
 
     Raises
     ------
-    ValueError
+    RobotDescriptionError
         For a missing or malformed file, an unknown link, a tree without a
         single tip, links not on one path, and prismatic, floating, planar or
-        mimic joints (named).
+        mimic joints (named); its ``path`` and ``key`` (the joint or link) say where.
+    RedkinError
+        When the ``urdf`` (or, for ``.xacro``, the ``xacro``) extra is not installed.
     """
     robot = _parse(Path(path))
     links = {link.name for link in robot.links}
     if not links:
-        raise ValueError(f"{path}: the URDF has no links")
+        raise RobotDescriptionError(f"{path}: the URDF has no links", path=str(path))
     parent_of = {joint.child: joint for joint in robot.joints}
     roots = sorted(links - set(parent_of))
     base = base if base is not None else (roots[0] if len(roots) == 1 else None)
     if base is None:
-        raise ValueError(f"{path}: the URDF has {len(roots)} root links ({', '.join(roots)}); name one with --base")
+        raise RobotDescriptionError(f"{path}: the URDF has {len(roots)} root links ({', '.join(roots)}); name one with --base",
+                                    path=str(path))
     for name, role in ((base, "base"), (tip, "tip")):
         if name is not None and name not in links:
-            raise ValueError(f"{path}: no link named {name!r} for the {role} (links: {', '.join(sorted(links))})")
+            raise RobotDescriptionError(f"{path}: no link named {name!r} for the {role} (links: {', '.join(sorted(links))})",
+                                        path=str(path), key=str(name))
     if tip is None:
         tip = _only_leaf(robot, base, path)
     joints = []
     link = tip
     while link != base:
         if link not in parent_of:
-            raise ValueError(f"{path}: link {tip!r} is not below link {base!r}")
+            raise RobotDescriptionError(f"{path}: link {tip!r} is not below link {base!r}", path=str(path), key=str(tip))
         joint = parent_of[link]
         joints.append(joint)
         link = joint.parent
@@ -100,11 +105,11 @@ def _parse(path: Path):
     try:
         from urdf_parser_py.urdf import URDF
     except ImportError:
-        raise ValueError("reading a URDF needs the urdf extra: pip install 'redkin[urdf]'") from None
+        raise RedkinError("reading a URDF needs the urdf extra: pip install 'redkin[urdf]'") from None
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise ValueError(f"cannot read robot file {str(path)!r}: {exc.strerror or exc}") from None
+        raise RobotDescriptionError(f"cannot read robot file {str(path)!r}: {exc.strerror or exc}", path=str(path)) from None
     if path.suffix.lower() == ".xacro":
         text = _expand_xacro(path)
     noise = io.StringIO()
@@ -113,7 +118,7 @@ def _parse(path: Path):
             return URDF.from_xml_string(text)
     except Exception as exc:  # lxml and the parser raise many kinds; all mean a malformed file
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise ValueError(f"{path}: malformed URDF: {reason}") from None
+        raise RobotDescriptionError(f"{path}: malformed URDF: {reason}", path=str(path)) from None
 
 
 def _expand_xacro(path: Path) -> str:
@@ -121,14 +126,14 @@ def _expand_xacro(path: Path) -> str:
     try:
         from xacrodoc import XacroDoc
     except ImportError:
-        raise ValueError("reading a .xacro file needs the xacro extra: pip install 'redkin[xacro]'") from None
+        raise RedkinError("reading a .xacro file needs the xacro extra: pip install 'redkin[xacro]'") from None
     noise = io.StringIO()
     try:
         with contextlib.redirect_stderr(noise), contextlib.redirect_stdout(noise):  # xacro prints warnings
             return XacroDoc.from_file(str(path)).to_urdf_string()
     except Exception as exc:  # xacro raises its own exceptions and lxml's; all mean a malformed file
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise ValueError(f"{path}: malformed xacro: {reason}") from None
+        raise RobotDescriptionError(f"{path}: malformed xacro: {reason}", path=str(path)) from None
 
 
 def _only_leaf(robot, base: str, path) -> str:
@@ -143,8 +148,8 @@ def _only_leaf(robot, base: str, path) -> str:
             leaves.append(link)
         stack.extend(below)
     if len(leaves) != 1:
-        raise ValueError(f"{path}: the tree below {base!r} has {len(leaves)} tips ({', '.join(sorted(leaves))}); "
-                         f"name one with --tip")
+        raise RobotDescriptionError(f"{path}: the tree below {base!r} has {len(leaves)} tips "
+                                    f"({', '.join(sorted(leaves))}); name one with --tip", path=str(path), key=base)
     return leaves[0]
 
 
@@ -159,36 +164,41 @@ def _origin(joint) -> np.ndarray:
     return pose
 
 
-def _chain(name: str, joints: list, source: str, base_link: str, tip_link: str) -> SerialChain:
+def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str) -> SerialChain:
     """Exact DH rows for the joints from the base link to the tip link (see the module docstring)."""
     pose = np.eye(4)  # base link -> current frame at q = 0
     points, directions, lower, upper, names = [], [], [], [], []
     for joint in joints:
         if joint.type in _UNSUPPORTED:
-            raise ValueError(f"joint {joint.name!r} is {joint.type}: redkin chains have revolute joints only")
+            raise RobotDescriptionError(f"joint {joint.name!r} is {joint.type}: redkin chains have revolute joints only",
+                                        path=path, key=joint.name)
         if joint.mimic is not None:
-            raise ValueError(f"joint {joint.name!r} mimics {joint.mimic.joint!r}: mimic joints are not supported")
+            raise RobotDescriptionError(f"joint {joint.name!r} mimics {joint.mimic.joint!r}: mimic joints are not supported",
+                                        path=path, key=joint.name)
         pose = pose @ _origin(joint)
         if joint.type == "fixed":
             continue
         if joint.type not in ("revolute", "continuous"):
-            raise ValueError(f"joint {joint.name!r} has unknown type {joint.type!r}")
+            raise RobotDescriptionError(f"joint {joint.name!r} has unknown type {joint.type!r}",
+                                        path=path, key=joint.name)
         axis = np.array([1.0, 0.0, 0.0] if joint.axis is None else joint.axis, dtype=float)
         if not np.all(np.isfinite(axis)) or np.linalg.norm(axis) < 1e-12:
-            raise ValueError(f"joint {joint.name!r}: axis must be a non-zero finite vector, got {axis.tolist()}")
+            raise RobotDescriptionError(f"joint {joint.name!r}: axis must be a non-zero finite vector, got {axis.tolist()}",
+                                        path=path, key=joint.name)
         names.append(joint.name)
         points.append(pose[:3, 3].copy())
         directions.append(pose[:3, :3] @ (axis / np.linalg.norm(axis)))
         limit = joint.limit if joint.type == "revolute" else None
         if joint.type == "revolute" and (limit is None or limit.lower is None or limit.upper is None):
-            raise ValueError(f"revolute joint {joint.name!r} needs <limit lower=... upper=...>")
+            raise RobotDescriptionError(f"revolute joint {joint.name!r} needs <limit lower=... upper=...>",
+                                        path=path, key=joint.name)
         lower.append(-np.inf if limit is None else float(limit.lower))
         upper.append(np.inf if limit is None else float(limit.upper))
     if not points:
-        raise ValueError(f"no revolute joint between links {base_link!r} and {tip_link!r}")
+        raise RobotDescriptionError(f"no revolute joint between links {base_link!r} and {tip_link!r}", path=path)
     rows, base, last = dh_rows_from_lines(np.array(points), np.array(directions))
     return SerialChain(
         a=rows[:, 0], alpha=rows[:, 1], d=rows[:, 2], offset=rows[:, 3], convention="dh",
         lower=lower, upper=upper, base=base, tool=np.linalg.inv(last) @ pose,
-        name=name, source=f"URDF {source}, links {base_link} -> {tip_link}", joint_names=names,
+        name=name, source=f"URDF {path}, links {base_link} -> {tip_link}", joint_names=names,
     )

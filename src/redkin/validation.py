@@ -1,8 +1,10 @@
 """Input checks used at the public edge of redkin.
 
 Every public function validates what it receives with one of these helpers
-and raises :class:`ValueError` with a message that names the argument, what
-was expected and what was received.  Inside the library the data is trusted.
+and raises :class:`redkin.errors.RedkinError` (a ``ValueError``) with a
+message that names the argument, what was expected and what was received;
+a size beyond its stated maximum raises :class:`redkin.errors.SizeLimitError`.
+Inside the library the data is trusted.
 """
 
 from __future__ import annotations
@@ -16,6 +18,8 @@ from typing import Collection
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin.errors import RedkinError, SizeLimitError
+
 #: Tolerance on ``R R^T = I`` (max abs entry) and ``det R = 1`` for rotations.
 ROTATION_TOLERANCE = 1e-6
 _EYE3 = np.eye(3)
@@ -28,7 +32,7 @@ def as_float_array(value: ArrayLike, name: str) -> np.ndarray:
     try:
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be numeric, got {value!r}") from exc
+        raise RedkinError(f"{name} must be numeric, got {value!r}") from exc
     return array
 
 
@@ -37,14 +41,14 @@ def check_finite(array: np.ndarray, name: str) -> None:
     # A joint vector or a pose is checked in plain Python: a third of numpy's per-call overhead.
     small = array.size <= _SMALL_ARRAY
     if not (all(map(math.isfinite, array.ravel().tolist())) if small else np.isfinite(array).all()):
-        raise ValueError(f"{name} must be finite, got NaN or infinity")
+        raise RedkinError(f"{name} must be finite, got NaN or infinity")
 
 
 def check_vectors(value: ArrayLike, length: int, name: str) -> np.ndarray:
     """Return ``value`` as a finite float array of shape ``(..., length)``."""
     array = as_float_array(value, name)
     if array.ndim == 0 or array.shape[-1] != length:
-        raise ValueError(
+        raise RedkinError(
             f"{name} must have shape (..., {length}), got shape {array.shape}"
         )
     check_finite(array, name)
@@ -55,7 +59,7 @@ def check_matrices(value: ArrayLike, rows: int, cols: int, name: str) -> np.ndar
     """Return ``value`` as a finite float array of shape ``(..., rows, cols)``."""
     array = as_float_array(value, name)
     if array.ndim < 2 or array.shape[-2:] != (rows, cols):
-        raise ValueError(
+        raise RedkinError(
             f"{name} must have shape (..., {rows}, {cols}), got shape {array.shape}"
         )
     check_finite(array, name)
@@ -83,14 +87,14 @@ def _check_proper_orthonormal(rotation: np.ndarray, name: str, tolerance: float)
     deviation -= _EYE3
     worst = float(np.abs(deviation).max())
     if worst > tolerance:
-        raise ValueError(
+        raise RedkinError(
             f"{name} must be orthonormal (R R^T = I within {tolerance:g}), "
             f"largest deviation is {worst:.3g}"
         )
     det = np.linalg.det(rotation)
     farthest = float(np.abs(det - 1.0).max())
     if farthest > tolerance:
-        raise ValueError(
+        raise RedkinError(
             f"{name} must be a proper rotation (det = +1), got det = "
             f"{float(np.ravel(det)[np.argmax(np.abs(np.ravel(det) - 1))]):.6g}"
         )
@@ -104,7 +108,7 @@ def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION
     """
     pose = check_matrices(value, 4, 4, name)
     if pose.size and float(np.abs(pose[..., 3, :] - _LAST_ROW).max()) > tolerance:
-        raise ValueError(f"{name} must have last row [0, 0, 0, 1]")
+        raise RedkinError(f"{name} must have last row [0, 0, 0, 1]")
     _check_proper_orthonormal(pose[..., :3, :3], f"{name} rotation block", tolerance)
     return pose
 
@@ -113,12 +117,13 @@ def check_positive(value: float, name: str) -> float:
     """Return ``value`` as a float, raising ``ValueError`` unless it is finite and > 0."""
     number = float(value)
     if not np.isfinite(number) or number <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+        raise RedkinError(f"{name} must be a positive finite number, got {value!r}")
     return number
 
 
 def check_count(value: float, name: str, minimum: int, maximum: int) -> int:
-    """Return ``value`` as an int, raising ``ValueError`` unless it is an integer in ``minimum..maximum``.
+    """Return ``value`` as an int, raising ``RedkinError`` unless it is an integer in ``minimum..maximum``
+    (:class:`~redkin.errors.SizeLimitError` above ``maximum``).
 
     Every size a user can choose (grid resolutions, sample counts, step
     budgets) has a stated ``maximum``, so that no call runs out of memory or
@@ -127,9 +132,12 @@ def check_count(value: float, name: str, minimum: int, maximum: int) -> int:
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an integer in {minimum}..{maximum}, got {value!r}") from None
-    if not np.isfinite(number) or number != int(number) or not minimum <= number <= maximum:
-        raise ValueError(f"{name} must be an integer in {minimum}..{maximum}, got {value!r}")
+        raise RedkinError(f"{name} must be an integer in {minimum}..{maximum}, got {value!r}") from None
+    message = f"{name} must be an integer in {minimum}..{maximum}, got {value!r}"
+    if np.isfinite(number) and number > maximum:
+        raise SizeLimitError(message, name=name, value=number, maximum=maximum)
+    if not np.isfinite(number) or number != int(number) or number < minimum:
+        raise RedkinError(message)
     return int(number)
 
 
@@ -141,13 +149,13 @@ def check_output_directory(path: str | os.PathLike, name: str) -> Path:
     """
     directory = Path(path)
     if directory.exists() and not directory.is_dir():
-        raise ValueError(f"{name} {str(directory)!r} exists and is not a directory")
+        raise RedkinError(f"{name} {str(directory)!r} exists and is not a directory")
     try:
         directory.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryFile(dir=directory):
             pass
     except OSError as exc:
-        raise ValueError(f"cannot write to {name} {str(directory)!r}: {exc.strerror or exc}") from None
+        raise RedkinError(f"cannot write to {name} {str(directory)!r}: {exc.strerror or exc}") from None
     return directory
 
 
@@ -158,10 +166,10 @@ def check_output_file(path: str | os.PathLike, name: str, suffixes: Collection[s
     """
     file = Path(path)
     if suffixes is not None and file.suffix.lower() not in suffixes:
-        raise ValueError(f"{name} must end in one of {', '.join(sorted(suffixes))}, got {str(file)!r}")
+        raise RedkinError(f"{name} must end in one of {', '.join(sorted(suffixes))}, got {str(file)!r}")
     if file.is_dir():
-        raise ValueError(f"{name} {str(file)!r} is a directory, expected a file name")
+        raise RedkinError(f"{name} {str(file)!r} is a directory, expected a file name")
     check_output_directory(file.parent, name)
     if file.exists() and not os.access(file, os.W_OK):
-        raise ValueError(f"cannot write to {name} {str(file)!r}: permission denied")
+        raise RedkinError(f"cannot write to {name} {str(file)!r}: permission denied")
     return file

@@ -45,6 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.compiled import run_batch
+from redkin.errors import RedkinError, UnreachablePoseError
 from redkin.srs import ik_kernels
 from redkin.validation import as_float_array, check_pose
 
@@ -81,20 +82,22 @@ class ArmAngleCoefficients:
     entries: np.ndarray
 
 
-def unreachable_message(geometry, distance: np.ndarray, reach: np.ndarray) -> str | None:
-    """A one-line message for the first pose whose wrist is out of reach, or ``None``.
+def unreachable_error(geometry, distance: np.ndarray, reach: np.ndarray) -> UnreachablePoseError | None:
+    """The error naming the first pose whose wrist is out of reach, or ``None``.
 
     ``distance`` is ``|x_sw|`` and ``reach`` whether eq. 11 has a solution, batched.
     """
     bad = ~reach
     if not bad.any():
         return None
-    index = np.unravel_index(int(np.argmax(bad)), bad.shape)
-    where = f" (pose {tuple(int(i) for i in index)}; {int(bad.sum())} unreachable)" if bad.ndim else ""
+    index = tuple(int(i) for i in np.unravel_index(int(np.argmax(bad)), bad.shape))
+    count = int(bad.sum())
+    where = f" (pose {index}; {count} unreachable)" if bad.ndim else ""
     mean, amplitude, _ = geometry.elbow_equation
-    return (
+    return UnreachablePoseError(
         f"unreachable position: shoulder-wrist distance {float(distance[index]):.6g} m must lie in "
-        f"[{np.sqrt(max(mean - amplitude, 0.0)):.6g}, {np.sqrt(mean + amplitude):.6g}] m{where}"
+        f"[{np.sqrt(max(mean - amplitude, 0.0)):.6g}, {np.sqrt(mean + amplitude):.6g}] m{where}",
+        index=index, count=count,
     )
 
 
@@ -102,7 +105,7 @@ def as_poses(pose: ArrayLike) -> np.ndarray:
     """``pose`` as a float array of shape ``(..., 4, 4)`` (its values are checked by the kernels)."""
     array = as_float_array(pose, "pose")
     if array.ndim < 2 or array.shape[-2:] != (4, 4):
-        raise ValueError(f"pose must have shape (..., 4, 4), got shape {array.shape}")
+        raise RedkinError(f"pose must have shape (..., 4, 4), got shape {array.shape}")
     return array
 
 
@@ -111,16 +114,16 @@ def raise_for_bad_pose(pose: np.ndarray, status: np.ndarray) -> None:
     (:data:`redkin.srs.ik_kernels.BAD_POSE`)."""
     if (status == ik_kernels.BAD_POSE).any():
         check_pose(pose)
-        raise ValueError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
+        raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
 
 
 def raise_for_status(geometry, pose: np.ndarray, status: np.ndarray, distance: np.ndarray) -> None:
     """Raise the ``ValueError`` of the first failing check of a batch the kernels flagged:
-    :func:`raise_for_bad_pose`, then :func:`unreachable_message`."""
+    :func:`raise_for_bad_pose`, then :func:`unreachable_error`."""
     raise_for_bad_pose(pose, status)
-    message = unreachable_message(geometry, distance, status != ik_kernels.UNREACHABLE)
-    if message:
-        raise ValueError(message)
+    error = unreachable_error(geometry, distance, status != ik_kernels.UNREACHABLE)
+    if error is not None:
+        raise error
 
 
 def coefficient_arrays(
@@ -160,8 +163,10 @@ def arm_angle_coefficients(geometry, pose: ArrayLike, elbow_sign: np.ndarray | i
 
     Raises
     ------
-    ValueError
-        For a malformed pose, or a wrist position out of reach (eq. 11 has no solution).
+    RedkinError
+        For a malformed pose.
+    UnreachablePoseError
+        For a wrist position out of reach (eq. 11 has no solution).
     """
     pose = as_poses(pose)
     result, status, distance = coefficient_arrays(geometry, pose, elbow_sign)

@@ -39,6 +39,7 @@ from weakref import WeakKeyDictionary
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.errors import NotArmAngleClassError
 from redkin.joint_lines import dh_rows_from_lines
 from redkin.srs.geometry import TABLE1_ALPHA
 
@@ -83,27 +84,27 @@ def table1_form(chain: SerialChain) -> SerialChain:
 def _convert(chain: SerialChain) -> SerialChain:
     """:func:`table1_form` without the cache."""
     if chain.n != 7:
-        raise ValueError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}")
+        raise NotArmAngleClassError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}", chain.name)
     points, directions = joint_lines(chain)
     centres = {}
     for name, group in _GROUPS:
         centres[name], distance = meeting_point(points[list(group)], directions[list(group)])
         if distance > SRS_TOLERANCE:
             numbers = "-".join(str(k + 1) for k in group[::2])
-            raise ValueError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point: "
-                             f"closest distance {distance:.3g} m")
+            raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point: "
+                                        f"closest distance {distance:.3g} m", chain.name, float(distance))
     offset_elbow = meeting_point(points[2:5], directions[2:5])[1] > SRS_TOLERANCE
     cosines = np.abs(np.sum(directions[:-1] * directions[1:], axis=-1))
     if cosines.max() > SRS_TOLERANCE:
         k = int(np.argmax(cosines))
         angle = np.degrees(np.arccos(np.clip(cosines[k], 0.0, 1.0)))
-        raise ValueError(f"{chain.name!r} is not S-R-S: axes {k + 1} and {k + 2} are not perpendicular "
-                         f"({angle:.6g} deg apart)")
+        raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: axes {k + 1} and {k + 2} are not perpendicular "
+                                    f"({angle:.6g} deg apart)", chain.name, float(np.radians(angle)))
     shoulder, wrist = centres["shoulder"], centres["wrist"]
     for name, centre in (("shoulder", shoulder), ("wrist", wrist)):
         if _distance_to_line(centre, points[3], directions[3]) <= SRS_TOLERANCE:
-            raise ValueError(f"{chain.name!r} is not S-R-S: its {name} and elbow coincide "
-                             f"(joint 4's axis passes through the {name})")
+            raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: its {name} and elbow coincide "
+                                        f"(joint 4's axis passes through the {name})", chain.name, 0.0)
     # the elbow ends of the upper arm and the forearm: where the common normals meet joints 3 and 5
     upper_end = _foot(points[2], directions[2], points[3])
     lower_end = _foot(points[4], directions[4], points[3])
@@ -116,8 +117,9 @@ def _convert(chain: SerialChain) -> SerialChain:
     origin = shoulder + ((base_origin - shoulder) @ lines[0]) * lines[0]
     rows, frame0, frame7 = dh_rows_from_lines(through, lines, np.sign(TABLE1_ALPHA), origin)
     if abs(rows[3, 2]) > SRS_TOLERANCE:
-        raise ValueError(f"{chain.name!r} is not S-R-S: joints 3-5 do not meet, and its elbow is offset "
-                         f"{abs(rows[3, 2]):.3g} m along joint 4 (only offsets across joint 4, as on the WAM, are solved)")
+        raise NotArmAngleClassError(
+            f"{chain.name!r} is not S-R-S: joints 3-5 do not meet, and its elbow is offset {abs(rows[3, 2]):.3g} m "
+            "along joint 4 (only offsets across joint 4, as on the WAM, are solved)", chain.name, float(abs(rows[3, 2])))
     a = np.zeros(7)  # rounding only, except an offset elbow's a_3 and a_4
     if offset_elbow:
         a[2:4] = rows[2:4, 0]

@@ -21,6 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.srs import ik_kernels
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
@@ -329,11 +330,14 @@ def srs_geometry(chain: SerialChain) -> SRSGeometry:
 
     Raises
     ------
-    ValueError
-        Naming the first violated S-R-S condition, with its distance or angle.
+    NotArmAngleClassError
+        Naming the first violated S-R-S condition, with its distance or angle
+        (a ``ValueError``; its ``distance`` attribute holds the measure where one applies).
+    RedkinError
+        If ``chain`` is not a :class:`~redkin.chain.SerialChain`.
     """
     if not isinstance(chain, SerialChain):
-        raise ValueError(f"chain must be a SerialChain, got {type(chain).__name__}")
+        raise RedkinError(f"chain must be a SerialChain, got {type(chain).__name__}")
     cached = chain.__dict__.get(_CACHE_KEY)
     if cached is None:  # derived once per chain: its arrays are read-only, so it never goes stale
         cached = _derive_geometry(chain)
@@ -347,14 +351,14 @@ _CACHE_KEY = "_srs_geometry"
 def _derive_geometry(chain: SerialChain) -> SRSGeometry:
     """:func:`srs_geometry` without the cache."""
     if chain.n != 7:
-        raise ValueError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}")
+        raise NotArmAngleClassError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}", chain.name)
     if table1_violation(chain) is not None or np.cos(chain.offset[2]) < 0.0:
         from redkin.srs.conventions import table1_form
 
         chain = table1_form(chain)
         problem = table1_violation(chain)
         if problem is not None:  # pragma: no cover - table1_form writes Table 1 rows
-            raise ValueError(problem)
+            raise NotArmAngleClassError(problem, chain.name)
     sign, offset = chain.sign, chain.offset
     lo = np.where(sign > 0, offset + chain.lower, offset - chain.upper)
     hi = np.where(sign > 0, offset + chain.upper, offset - chain.lower)

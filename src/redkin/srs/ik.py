@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.compiled import run_batch
+from redkin.errors import RedkinError
 from redkin.srs import ik_kernels
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import (
@@ -35,8 +36,8 @@ def as_geometry(arm: "SerialChain | SRSGeometry") -> SRSGeometry:
 def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
     """Which target poses put the wrist within reach of the elbow (eq. 11 has a solution).
 
-    The arm-angle functions raise ``ValueError`` for a batch holding an
-    unreachable pose; filter the batch with this mask first, e.g.
+    The arm-angle functions raise :class:`redkin.errors.UnreachablePoseError`
+    (a ``ValueError``) for a batch holding an unreachable pose; filter the batch with this mask first, e.g.
     ``ok = reachable(arm, poses); q = ik(arm, poses[ok], psi)``.
 
     Parameters
@@ -111,7 +112,7 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
         try:
             shape = np.broadcast_shapes(shape, psi_array.shape)
         except ValueError:
-            raise ValueError(f"psi of shape {psi_array.shape} does not broadcast against the pose batch "
+            raise RedkinError(f"psi of shape {psi_array.shape} does not broadcast against the pose batch "
                              f"{pose.shape[:-2]}") from None
         pose = np.broadcast_to(pose, shape + (4, 4))
         psi_array = np.broadcast_to(psi_array, shape)
@@ -158,8 +159,10 @@ def ik(
 
     Raises
     ------
-    ValueError
-        For a malformed pose or psi, or a wrist position out of reach.
+    RedkinError
+        For a malformed pose or psi (a ``ValueError``).
+    UnreachablePoseError
+        For a wrist position out of reach; its ``index`` names the first such pose of a batch.
     """
     geometry = as_geometry(arm)
     return solve(geometry, pose, psi, geometry.kernel_branch(branch))[..., 0, :]
