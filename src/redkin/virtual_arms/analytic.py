@@ -3,7 +3,9 @@
 Paper 004 section 4 builds the nonlinear functions ``f^i`` of eq. 1 directly
 into each subsystem instead of learning them; this is that model.  One call
 evaluates every virtual end point and its Jacobian from a single pass of the
-chain, batched over leading axes of ``theta``.
+chain, batched over leading axes of ``theta``: the compiled kernel
+:func:`~redkin.virtual_arms.kernels.virtual_points` over the chain kernels
+(its tables, the chain's own, are read from the chain).
 """
 
 from __future__ import annotations
@@ -14,6 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.compiled import run_batch
+from redkin.virtual_arms import kernels
 from redkin.virtual_arms.points import VirtualPoint
 
 
@@ -50,10 +54,9 @@ class AnalyticModel:
         self.points = list(points)
         self.axes = task_axes(chain) if axes is None else tuple(axes)
         anchors = [p.anchor(chain) for p in self.points]
-        self._frames = np.array([a[0] for a in anchors])
-        self._local = np.array([a[1] for a in anchors])
-        # joints that move each point: those before its frame (the tool frame moves with all n)
-        self._moved_by = np.arange(chain.n)[None, :] < np.minimum(self._frames, chain.n)[:, None]
+        self._frames = np.array([a[0] for a in anchors], dtype=np.int64)
+        self._local = np.ascontiguousarray([a[1] for a in anchors], dtype=float)
+        self._axes = np.array(self.axes, dtype=np.int64)
 
     @property
     def dims(self) -> int:
@@ -71,7 +74,11 @@ class AnalyticModel:
         return self.chain.n
 
     def evaluate(self, theta: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        """Positions ``X^i = f^i(theta)`` (eq. 1) and Jacobians ``d f^i / d theta``.
+        """Positions ``X^k = f^k(theta)`` (eq. 1) and Jacobians ``d f^k / d theta``.
+
+        The kernel :func:`~redkin.virtual_arms.kernels.virtual_points`: the
+        chain's frames and, per end point, the Jacobian of that point
+        (:func:`~redkin.chain_kernels.jacobian_one`), task-space rows only.
 
         Parameters
         ----------
@@ -82,17 +89,13 @@ class AnalyticModel:
         positions : numpy.ndarray, shape (..., p, l)
         jacobians : numpy.ndarray, shape (..., p, l, m)
         """
-        frames = self.chain.frames(theta)  # (..., n + 2, 4, 4); validates theta
-        chosen = frames[..., self._frames, :, :]
-        world = chosen[..., :3, 3] + (chosen[..., :3, :3] @ self._local[..., None])[..., 0]
-        directions, origins = self.chain.joint_axes_in(frames)  # (..., m, 3)
-        directions = directions * self.chain.sign[:, None]
-        lever = world[..., :, None, :] - origins[..., None, :, :]  # (..., p, m, 3)
-        turning = directions[..., None, :, :]
-        # rows of the task space only: (directions x lever)[c] for c in self.axes
-        linear = np.stack([turning[..., (c + 1) % 3] * lever[..., (c + 2) % 3]
-                           - turning[..., (c + 2) % 3] * lever[..., (c + 1) % 3] for c in self.axes], axis=-2)
-        return world[..., list(self.axes)], linear * self._moved_by[:, None, :]
+        q = self.chain.check_q(theta, "theta")
+        lead, n, p, dims = q.shape[:-1], self.chain.n, self.count, self.dims
+        flat = np.ascontiguousarray(q.reshape(-1, n))
+        positions, jacobians = np.empty((flat.shape[0], p, dims)), np.empty((flat.shape[0], p, dims, n))
+        run_batch(kernels.virtual_points, kernels.virtual_points_parallel, flat.shape[0], flat, self.chain._links,
+                  self.chain._ends, self.chain._standard, self._frames, self._local, self._axes, positions, jacobians)
+        return positions.reshape(lead + (p, dims)), jacobians.reshape(lead + (p, dims, n))
 
     def split(self) -> list["AnalyticModel"]:
         """One single-point model per virtual end point (the subsystems' own models)."""

@@ -48,6 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from redkin.virtual_arms import kernels
 from redkin.virtual_arms.output_function import OutputFunction
 
 
@@ -104,59 +105,52 @@ class Dynamics:
     error control well scaled (``d log lambda / ds = (dlambda/ds) / lambda``;
     the path is the same).  Everything is batched over leading axes of ``y``,
     so the integrator's finite-difference Jacobian costs one model call.
+    The equations are the compiled kernels :func:`~redkin.virtual_arms.kernels.inputs`
+    and :func:`~redkin.virtual_arms.kernels.rates`, around one call of the
+    evaluator's forward model.
     """
 
     def __init__(self, evaluator, goals: np.ndarray, weights: np.ndarray, active: np.ndarray,
                  theta0: np.ndarray, output: OutputFunction, free: np.ndarray, eta: float, law: GainLaw):
         self.evaluator = evaluator
-        self.goals = goals
-        self.weights = weights
+        self.goals = np.ascontiguousarray(goals, dtype=float)
+        self.weights = np.ascontiguousarray(weights, dtype=float)
         self.active = active
-        self.theta0 = theta0
+        self.theta0 = np.ascontiguousarray(theta0, dtype=float)
         self.output = output
-        self.free = free
+        self.free = np.ascontiguousarray(free, dtype=bool)
         self.eta = eta
         self.law = law
         self.u0 = output.state(theta0)
+        limited = np.asarray(output.limited, dtype=bool)
+        self._limits = (np.where(limited, (output.upper - output.lower) / 2.0, 1.0),
+                        np.where(limited, output.lower, 0.0), np.ascontiguousarray(limited))
 
     def initial(self, lambda0: float) -> np.ndarray:
         """``y(0) = [G^{-1}(theta(0)) on the free joints, log lambda(0)]``."""
         return np.append(self.u0[self.free], np.log(lambda0))
 
-    def full_u(self, y: np.ndarray) -> np.ndarray:
-        u = np.broadcast_to(self.u0, y.shape[:-1] + self.u0.shape).copy()
-        u[..., self.free] = y[..., :-1]
-        return u
-
     def state(self, y: np.ndarray) -> State:
         """Evaluate the subsystems and eqs. 9-14 at ``y`` (shape ``(..., free + 1)``)."""
-        u = self.full_u(y)
-        lam = np.exp(y[..., -1])
-        theta = self.output.theta(u)
-        theta[..., ~self.free] = self.theta0[~self.free]  # clamped joints exactly (no round trip through G)
-        signals = self.evaluator(theta, self.goals, self.weights, self.active)
-        delta = signals.delta.sum(axis=-2)[..., self.free]
-        total_error = signals.error.sum(axis=-1)
-        displacement = (self.theta0 - theta)[..., self.free]
-        slope = self.output.slope(u)[..., self.free]
-        g = lam[..., None] * delta + displacement
-        slope_g = slope * g
-        delta_norm = np.linalg.norm(delta, axis=-1)
-        moved = np.linalg.norm(displacement, axis=-1)
-        numerator = 0.5 * lam**2 * delta_norm**2 + self.law.gain_constant * delta_norm * moved  # eq. 10
-        denominator = np.sum(slope_g**2, axis=-1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            if self.law.a_max is None:
-                gain = numerator / denominator  # diverges where G' g -> 0
-            else:
-                gain = numerator / (denominator + numerator / self.law.a_max)
-            gain = np.where(numerator == 0.0, 0.0, gain)
-            dlam = np.where(total_error > 0.0,
-                            self.eta * self.law.lambda_constant * delta_norm * moved / total_error, 0.0)  # eq. 11
-        du = self.eta * gain[..., None] * slope_g  # eq. 9
-        energy = lam * total_error + 0.5 * moved**2  # eq. 14 with equal copies
-        return State(u, theta, lam, signals.delta, signals.error, signals.positions, gain, du, dlam, energy,
-                     np.linalg.norm(slope * delta, axis=-1))
+        lead = y.shape[:-1]
+        flat = np.ascontiguousarray(y, dtype=float).reshape(-1, y.shape[-1])
+        count, m, (p, dims) = flat.shape[0], self.theta0.shape[0], self.goals.shape
+        u, theta, slope = np.empty((count, m)), np.empty((count, m)), np.empty((count, m))
+        kernels.inputs(flat, self.u0, self.free, *self._limits, self.theta0, u, theta, slope)
+        positions, jacobians = self.evaluator(theta, self.active)
+        positions = np.ascontiguousarray(np.reshape(positions, (count, p, dims)), dtype=float)
+        delta, error = np.empty((count, p, m)), np.empty((count, p))
+        du, scalars = np.empty((count, int(self.free.sum()))), np.empty((count, 5))
+        a_max = np.inf if self.law.a_max is None else float(self.law.a_max)
+        kernels.rates(flat, theta, slope, positions,
+                      np.ascontiguousarray(np.reshape(jacobians, (count, p, dims, m)), dtype=float),
+                      self.goals, self.weights, np.ascontiguousarray(self.active, dtype=bool), self.theta0, self.free,
+                      float(self.eta), float(self.law.gain_constant), float(self.law.lambda_constant), a_max,
+                      delta, error, du, scalars)
+        lam, dlam, gain, energy, gradient = (scalars[:, c].reshape(lead) for c in range(5))
+        return State(u.reshape(lead + (m,)), theta.reshape(lead + (m,)), lam, delta.reshape(lead + (p, m)),
+                     error.reshape(lead + (p,)), positions.reshape(lead + (p, dims)), gain,
+                     du.reshape(lead + du.shape[1:]), dlam, energy, gradient)
 
     def rates(self, s: float, y: np.ndarray) -> np.ndarray:
         """``dy/ds`` for the integrator; ``y`` of shape ``(free + 1,)`` or ``(free + 1, k)`` (vectorized)."""
