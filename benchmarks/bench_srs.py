@@ -20,6 +20,9 @@ from __future__ import annotations
 
 from typing import Callable
 
+import os
+
+import numba
 import numpy as np
 
 from redkin.chain import SerialChain
@@ -33,6 +36,13 @@ from redkin.srs import (
     ik_all_branches,
     srs_geometry,
 )
+from redkin.srs.feasible import (
+    all_branch_pieces,
+    feasible_from_coefficients,
+    feasible_pieces_all_branches,
+    overall_pieces,
+)
+from redkin.srs.ik import coefficients_for
 from timing import best_time, best_time_short_rounds  # benchmarks/timing.py (the script's folder is on sys.path)
 
 
@@ -47,23 +57,63 @@ def main() -> None:
     t_branches = best_time_short_rounds(lambda: ik_all_branches(geometry, pose, 0.3))
     passed = passes(chain, ik_all_branches(geometry, poses[:200], 0.3), poses[:200, None])
     rows.append(("one pose, all 8 branches at psi", f"{t_branches * 1e6:9.1f} us ({passed}/1600 pass at 1e-9)"))
-    t = best_time_short_rounds(lambda: feasible_pieces(geometry, pose, "+++"))
-    rows.append(("one pose, feasible set (arrays)", f"{t * 1e6:9.1f} us"))
-    t = best_time_short_rounds(lambda: feasible_pieces(geometry, pose, "+++").arc_set())
-    rows.append(("one pose, feasible set (ArcSet)", f"{t * 1e6:9.1f} us"))
-    t = best_time_short_rounds(lambda: feasible_arm_angles(geometry, pose, "+++"))
-    rows.append(("one pose, feasible + per-joint ArcSets", f"{t * 1e6:9.1f} us"))
+    rows.extend(feasible_rows(geometry, pose))
     t = best_time(lambda: ik_all_branches(geometry, poses, 0.3), repeat=3)
     rows.append(("batch 100 000 poses x 8 branches", f"{8 * len(poses) / t:9.3g} solutions/s"))
-    t = best_time(lambda: feasible_pieces(geometry, poses, "+++"), repeat=2)
-    rows.append(("batch 100 000 feasible sets (arrays)", f"{t / len(poses) * 1e6:9.2f} us/pose"))
+    rows.extend(feasible_batch_rows(geometry, poses))
     rows.extend(rtb_rows(chain, poses[:200], t_branches))
     rows.extend(ssik_rows())
     width = max(len(r[0]) for r in rows)
-    header = f"benchmark (PA10-7C unless stated, numpy {np.__version__})"
+    load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
+    header = (f"benchmark (PA10-7C unless stated, numpy {np.__version__}, numba {numba.__version__} on "
+              f"{numba.get_num_threads()} threads, load average {load})")
     print(f"{header:<{width}}  result")
     for name, value in rows:
         print(f"{name:<{width}}  {value}")
+
+
+def feasible_calls(geometry: SRSGeometry, pose: np.ndarray) -> list[tuple[str, Callable[[], object]]]:
+    """The one-pose feasible-set calls, through the public API (validation and eqs. 4-19 included) and from
+    coefficients computed beforehand (eqs. 20-30 alone, the compiled kernels of redkin.srs.feasible_kernels)."""
+    branch = geometry.table1_branch("+++")
+    one = coefficients_for(geometry, pose, branch.elbow)
+    both = coefficients_for(geometry, pose[None], np.array([1, -1]))
+    return [
+        ("feasible set of one branch, arrays (feasible_pieces)", lambda: feasible_pieces(geometry, pose, "+++")),
+        ("  same, coefficients precomputed (overall_pieces)", lambda: overall_pieces(one, branch, geometry)),
+        ("feasible set of one branch, ArcSet (feasible_pieces(...).arc_set())",
+         lambda: feasible_pieces(geometry, pose, "+++").arc_set()),
+        ("feasible + per-joint ArcSets (feasible_arm_angles)", lambda: feasible_arm_angles(geometry, pose, "+++")),
+        ("  same, coefficients precomputed (feasible_from_coefficients)",
+         lambda: feasible_from_coefficients(one, branch, geometry)),
+        ("all 8 branches' feasible sets, arrays (feasible_pieces_all_branches)",
+         lambda: feasible_pieces_all_branches(geometry, pose)),
+        ("  same, coefficients precomputed (all_branch_pieces)", lambda: all_branch_pieces(both, geometry)),
+    ]
+
+
+def feasible_rows(geometry: SRSGeometry, pose: np.ndarray) -> list[tuple[str, str]]:
+    """One pose: each of :func:`feasible_calls`, in rounds of about 10 ms."""
+    return [(f"one pose, {name}", f"{best_time_short_rounds(call) * 1e6:9.1f} us")
+            for name, call in feasible_calls(geometry, pose)]
+
+
+def feasible_batch_rows(geometry: SRSGeometry, poses: np.ndarray) -> list[tuple[str, str]]:
+    """Batches of feasible sets in pose-branches per second, public and from precomputed coefficients."""
+    branch = geometry.table1_branch("+++")
+    one = coefficients_for(geometry, poses, branch.elbow)
+    both = coefficients_for(geometry, poses[:, None], np.array([1, -1]))
+    count = len(poses)
+    rows = []
+    for name, call, per_pose in (
+        ("feasible_pieces, one branch", lambda: feasible_pieces(geometry, poses, "+++"), 1),
+        ("  coefficients precomputed (overall_pieces)", lambda: overall_pieces(one, branch, geometry), 1),
+        ("feasible_pieces_all_branches, 8 branches", lambda: feasible_pieces_all_branches(geometry, poses), 8),
+        ("  coefficients precomputed (all_branch_pieces)", lambda: all_branch_pieces(both, geometry), 8),
+    ):
+        t = best_time(call, repeat=3)
+        rows.append((f"batch {count:,} poses, {name}".replace(",", " "), f"{per_pose * count / t:9.3g} pose-branches/s"))
+    return rows
 
 
 #: A solution passes when |(position error [m], rotation error [rad])| of our FK is at most this.
@@ -143,11 +193,12 @@ def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
         return [_branch_arcs(branch, limits) for branch in _enumerate_branches(body, srs_class, target)]
 
     def our_sets(arm, target):
-        return [feasible_pieces(arm, target, str(branch)).arc_set() for branch in BRANCHES]
+        pieces = feasible_pieces_all_branches(arm, target)
+        return [pieces.arc_set((k,)) for k in range(len(BRANCHES))]
 
     own_limits = [(lo, hi) for lo, hi in zip(chain.lower, chain.upper)]
     geometry = srs_geometry(chain)
-    ik_rows = ssik_ik_rows(chain, geometry, np.array(targets))
+    ik_rows, t_solution = ssik_ik_rows(chain, geometry, np.array(targets))
     t_ssik = sum(best_time(lambda: ssik_sets(t, own_limits), repeat=1) for t in targets) / poses
     t_ours = sum(best_time(lambda: our_sets(geometry, t), repeat=5, number=20) for t in targets) / poses
     gap = 0.0
@@ -155,7 +206,7 @@ def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
         theirs = sorted(sum(b - a for a, b in arcs) for arcs in ssik_sets(target, own_limits))
         ours = sorted(arc_set.length for arc_set in our_sets(geometry, target))
         gap = max(gap, float(np.max(np.abs(np.array(theirs) - np.array(ours)))))
-    rows = ik_rows + [
+    rows = ik_rows + feasible_ratio_rows(geometry, targets, 8 * t_solution) + [
         ("ssik 8.2 feasible-swivel search, 8 branches", f"{t_ssik * 1e3:9.1f} ms per pose (iiwa14)"),
         ("redkin feasible sets, 8 branches, same poses", f"{t_ours * 1e6:9.1f} us per pose: {t_ssik / t_ours:.0f}x faster"),
         ("  largest difference of a branch's set length", f"{gap:9.1e} rad"),
@@ -172,8 +223,11 @@ def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
     return rows
 
 
-def ssik_ik_rows(chain: SerialChain, geometry: SRSGeometry, targets: np.ndarray) -> list[tuple[str, str]]:
-    """ssik's native C++ IK (every solution it returns for one pose) beside ``ik_all_branches`` on the same poses.
+def ssik_ik_rows(
+    chain: SerialChain, geometry: SRSGeometry, targets: np.ndarray
+) -> tuple[list[tuple[str, str]], float]:
+    """ssik's native C++ IK (every solution it returns for one pose) beside ``ik_all_branches`` on the same poses,
+    and ssik's seconds per solution (NaN where its C++ extension is missing).
 
     Both sides are prepared once per arm: ssik's ``Solver``, our ``geometry``.  Ours runs at one arm angle
     (8 solutions) and at 16 (ssik's sweep, 128 solutions); the ratios are ours over ssik's time.
@@ -183,7 +237,7 @@ def ssik_ik_rows(chain: SerialChain, geometry: SRSGeometry, targets: np.ndarray)
     from ssik.prebuilt.kuka import iiwa14_ik
 
     if not _native.native_available():
-        return [("ssik native IK", "skipped: ssik's C++ extension is not shipped for this platform")]
+        return [("ssik native IK", "skipped: ssik's C++ extension is not shipped for this platform")], float("nan")
     solver = _native._solver(_native._load_ext(), iiwa14_ik._KB, iiwa14_ik.SOLVER_NAME)  # what solve(T) calls
 
     def solve(target):
@@ -203,6 +257,16 @@ def ssik_ik_rows(chain: SerialChain, geometry: SRSGeometry, targets: np.ndarray)
                      f"{t_ours * 1e6:9.1f} us per pose, {ours} solutions: {t_ours / ours * 1e6:.2f} us per solution "
                      f"({passed}/{ours * len(targets)} pass): {t_ours / t_ssik:.2f}x ssik's time per pose, "
                      f"{t_ours / ours / (t_ssik / per_pose):.2f}x per solution"))
+    return rows, t_ssik / per_pose
+
+
+def feasible_ratio_rows(geometry: SRSGeometry, targets: list[np.ndarray], t_eight: float) -> list[tuple[str, str]]:
+    """Each of :func:`feasible_calls` on the ssik poses (mean over them) over ssik's time for 8 IK solutions."""
+    calls = [feasible_calls(geometry, target) for target in targets]
+    rows = [("ssik's C++ time for 8 solutions (8 x its time per solution)", f"{t_eight * 1e6:9.1f} us")]
+    for k, (name, _) in enumerate(calls[0]):
+        t = float(np.mean([best_time_short_rounds(per_target[k][1]) for per_target in calls]))
+        rows.append((f"iiwa14 one pose, {name.strip()}", f"{t * 1e6:9.1f} us: {t / t_eight:.2f}x ssik's 8 solutions"))
     return rows
 
 

@@ -26,9 +26,13 @@ outside) and pieces shorter than :data:`PIECE_TOLERANCE` are not reported.
 
 The work is done by the compiled kernels of :mod:`redkin.srs.feasible_kernels`
 (one pose-branch per inner call, batches on all cores); the functions here
-validate and call them.  The cuts and signs of one elbow sign serve its
-four branches, so :func:`feasible_pieces_all_branches` costs little more
-than two single branches.
+validate and call them.  From poses, one compiled call checks each pose and
+computes eqs. 4-19 (:func:`redkin.srs.ik_kernels.coefficients_one`) and
+eqs. 20-30; from coefficients computed beforehand (:func:`overall_pieces`,
+:func:`feasible_from_coefficients`, :func:`all_branch_pieces`) it does eqs.
+20-30 alone.  The cuts and signs of one elbow sign serve its four
+branches, so :func:`feasible_pieces_all_branches` costs little more than
+two single branches.
 """
 
 from __future__ import annotations
@@ -44,12 +48,12 @@ from redkin.circle import ArcSet
 from redkin.compiled import run_batch
 from redkin.srs import feasible_kernels as kernels
 from redkin.srs.branches import Branch
-from redkin.srs.coefficients import ArmAngleCoefficients, as_poses
+from redkin.srs import ik_kernels
+from redkin.srs.coefficients import ArmAngleCoefficients, as_poses, raise_for_status
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.ik import as_geometry, coefficients_for
+from redkin.srs.ik import as_geometry
 
 PIECE_TOLERANCE = kernels.PIECE_TOLERANCE
-_ELBOW_SIGNS = np.array([1, -1])  # Table 1 elbow signs of the two halves of BRANCHES (sigma_4 = +1 first)
 _CACHE_KEY = "_feasible_limit_tables"
 _GROUP = 7  # entries per group (shoulder, wrist) in ArmAngleCoefficients.entries
 
@@ -174,6 +178,57 @@ def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometr
     return start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]), elbow_inside.reshape(shape)
 
 
+def _from_poses(pose: ArrayLike, branch: Branch, geometry: SRSGeometry, per_joint: bool):
+    """Run :func:`redkin.srs.feasible_kernels.poses_branch` (eqs. 4-30, one compiled call) on validated poses.
+
+    Returns ``start, end`` (..., 24), ``keep`` (..., R, 24) (``R = 7`` with
+    ``per_joint``, else 1), theta_4 and whether it is within its limits (...).
+
+    Raises
+    ------
+    ValueError
+        For a malformed or unreachable pose (the kernel flags it; the message is worded by
+        :func:`redkin.srs.coefficients.raise_for_status`).
+    """
+    pose = as_poses(pose)
+    shape = pose.shape[:-2]
+    poses = np.ascontiguousarray(pose).reshape(-1, 4, 4)
+    count = poses.shape[0]
+    status, distance = np.empty(count, dtype=np.int64), np.empty(count)
+    theta4, elbow_inside = np.empty(count), np.empty(count, dtype=bool)
+    start, end = np.empty((count, kernels.PIECES)), np.empty((count, kernels.PIECES))
+    keep = np.empty((count, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
+    tables = limit_tables(geometry)
+    run_batch(kernels.poses_branch, kernels.poses_branch_parallel, count, poses, int(branch.shoulder < 0),
+              int(branch.elbow < 0), int(branch.wrist < 0), geometry.kernel_arm, geometry.kernel_ends,
+              tables.equations, tables.membership, tables.elbow, status, distance, theta4, elbow_inside, start, end, keep)
+    if (status != ik_kernels.OK).any():
+        raise_for_status(geometry, pose, status.reshape(shape), distance.reshape(shape))
+    pieces = shape + (kernels.PIECES,)
+    return (start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]), theta4.reshape(shape),
+            elbow_inside.reshape(shape))
+
+
+def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) -> "FeasibleArmAngles | np.ndarray":
+    """:class:`FeasibleArmAngles` of a batch (object array, or one for the batch shape ``()``) from the pieces
+    ``start, end`` (..., 24), their rows ``keep`` (..., 7, 24), theta_4 and its membership (...)."""
+    shape = theta4.shape
+    count = theta4.size
+    sets = _arc_sets(start.reshape(count, -1), end.reshape(count, -1), keep.reshape(count, 7, -1))
+    angles = theta4.reshape(count).tolist()
+    elbow = elbow_inside.reshape(count).tolist()
+    results = np.empty(count, dtype=object)
+    for b in range(count):
+        overall, first, second, third, fifth, sixth, seventh = sets[b]  # rows: eq. 30, then PSI_JOINTS (eq. 29)
+        results[b] = FeasibleArmAngles(
+            branch=named, theta4=angles[b],
+            per_joint={1: first, 2: second, 3: third, 4: ArcSet.full() if elbow[b] else ArcSet.empty(),
+                       5: fifth, 6: sixth, 7: seventh},
+            feasible=overall,
+        )
+    return results[0] if shape == () else results.reshape(shape)
+
+
 def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
     """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once.
 
@@ -199,8 +254,8 @@ def feasible_pieces(
 ) -> FeasiblePieces:
     """Batched feasible sets (eq. 30) as arrays, for speed; see :func:`feasible_arm_angles`."""
     geometry = as_geometry(arm)
-    chosen = geometry.table1_branch(branch)
-    return overall_pieces(coefficients_for(geometry, pose, chosen.elbow), chosen, geometry)
+    start, end, keep, _, _ = _from_poses(pose, geometry.table1_branch(branch), geometry, False)
+    return FeasiblePieces(start, end, keep[..., 0, :])
 
 
 def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> FeasiblePieces:
@@ -225,7 +280,21 @@ def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLi
         For a malformed or unreachable pose.
     """
     geometry = as_geometry(arm)
-    return all_branch_pieces(coefficients_for(geometry, as_poses(pose)[..., None, :, :], _ELBOW_SIGNS), geometry)
+    pose = as_poses(pose)
+    shape = pose.shape[:-2]
+    poses = np.ascontiguousarray(pose).reshape(-1, 4, 4)
+    count = poses.shape[0]
+    status, distance = np.empty(count, dtype=np.int64), np.empty(count)
+    start, end = np.empty((count, 8, kernels.PIECES)), np.empty((count, 8, kernels.PIECES))
+    keep = np.empty((count, 8, 1, kernels.PIECES), dtype=bool)
+    tables = limit_tables(geometry)
+    run_batch(kernels.poses_all_branches, kernels.poses_all_branches_parallel, count, poses, geometry.kernel_arm,
+              geometry.kernel_ends, tables.equations, tables.membership, tables.elbow, geometry.branch_order,
+              status, distance, start, end, keep)
+    if (status != ik_kernels.OK).any():
+        raise_for_status(geometry, pose, status.reshape(shape), distance.reshape(shape))
+    pieces = shape + (8, kernels.PIECES)
+    return FeasiblePieces(start.reshape(pieces), end.reshape(pieces), keep.reshape(pieces))
 
 
 def all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> FeasiblePieces:
@@ -274,23 +343,8 @@ def feasible_from_coefficients(
     geometry : SRSGeometry
     """
     start, end, keep, elbow_inside = _classified(coefficients.entries, coefficients.theta4, branch, geometry, True)
-    shape = coefficients.theta4.shape
-    count = int(np.prod(shape))
-    sets = _arc_sets(start.reshape(count, -1), end.reshape(count, -1), keep.reshape(count, 7, -1))
     named = geometry.table1_branch(branch)  # as the caller named it
-    theta4 = coefficients.theta4.reshape(count).tolist()
-    elbow = elbow_inside.reshape(count).tolist()
-    results = np.empty(count, dtype=object)
-    for b in range(count):
-        overall, first, second, third, fifth, sixth, seventh = sets[b]  # rows: eq. 30, then PSI_JOINTS (eq. 29)
-        results[b] = FeasibleArmAngles(
-            branch=named, theta4=theta4[b],
-            per_joint={1: first, 2: second, 3: third, 4: ArcSet.full() if elbow[b] else ArcSet.empty(),
-                       5: fifth, 6: sixth, 7: seventh},
-            feasible=overall,
-        )
-    results = results.reshape(shape)
-    return results[()] if shape == () else results
+    return _feasible_arm_angles(start, end, keep, coefficients.theta4, elbow_inside, named)
 
 
 def feasible_arm_angles(
@@ -317,5 +371,5 @@ def feasible_arm_angles(
     """
     geometry = as_geometry(arm)
     chosen = geometry.table1_branch(branch)
-    coefficients = coefficients_for(geometry, pose, chosen.elbow)
-    return feasible_from_coefficients(coefficients, chosen, geometry)
+    start, end, keep, theta4, elbow_inside = _from_poses(pose, chosen, geometry, True)
+    return _feasible_arm_angles(start, end, keep, theta4, elbow_inside, geometry.table1_branch(chosen))

@@ -12,8 +12,8 @@ per elbow sign) loop over a batch.  :mod:`redkin.srs.feasible` validates at
 its public edge and calls them; the kernels trust their inputs: C-contiguous
 arrays of the documented shapes and types.
 
-The per-arm tables (:func:`redkin.srs.feasible.limit_tables`, cached on the
-geometry as :attr:`~redkin.srs.geometry.SRSGeometry.feasible_tables`) are
+The per-arm tables (:func:`redkin.srs.feasible.limit_tables`, built once per
+geometry from :attr:`~redkin.srs.geometry.SRSGeometry.psi_joint_limits`) are
 
 ``equations`` : (2, 17, 12) float64
     ``[0]`` the usual, ``[1]`` the stretched limit-equation table of
@@ -44,15 +44,13 @@ import numpy as np
 from numba import prange
 
 from redkin.compiled import kernel
-from redkin.srs import joints
+from redkin.srs import ik_kernels, joints
 from redkin.srs.joints import STRETCHED_TOLERANCE
 
 #: Limit equations per pose: lower and upper limit of the six psi-dependent joints.
 EQUATIONS = 12
 #: Piece slots per pose: at most two roots per limit equation.
 PIECES = 2 * EQUATIONS
-#: Rows of a limit-equation table: 14 entry weights and the offsets of ``p, q, r``.
-TABLE_ROWS = 17
 #: Pieces shorter than this (radians) are dropped: they are repeated roots split by
 #: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
 PIECE_TOLERANCE = 1e-12
@@ -61,6 +59,20 @@ TWO_PI = 2.0 * pi
 
 
 # ---------------------------------------------------------------- scalars
+@kernel
+def turn_once(angle):
+    """``angle mod 2 pi`` for ``angle`` in ``[-2 pi, 4 pi)``, with one addition or subtraction of ``2 pi``.
+
+    Equal to the floored modulo there: ``fmod`` would subtract ``2 pi``
+    exactly, and so does the subtraction (Sterbenz: ``2 pi <= angle < 4 pi``).
+    """
+    if angle < 0.0:
+        return angle + TWO_PI
+    if angle >= TWO_PI:
+        return angle - TWO_PI
+    return angle
+
+
 @kernel
 def sinusoid_roots(p, q, r, tolerance=1e-12):
     """Roots in ``[-pi, pi)`` of ``p sin psi + q cos psi + r = 0``, a pair, ``(nan, nan)`` where none.
@@ -78,20 +90,6 @@ def sinusoid_roots(p, q, r, tolerance=1e-12):
     phi = atan2(p, q)
     # phi -+ acos(-r / rho) shifted by pi, taken back into [-pi, pi)
     return turn_once(phi + half) - pi, turn_once(phi - half) - pi
-
-
-@kernel
-def turn_once(angle):
-    """``angle mod 2 pi`` for ``angle`` in ``[-2 pi, 4 pi)``, with one addition or subtraction of ``2 pi``.
-
-    Equal to the floored modulo there: ``fmod`` would subtract ``2 pi``
-    exactly, and so does the subtraction (Sterbenz: ``2 pi <= angle < 4 pi``).
-    """
-    if angle < 0.0:
-        return angle + TWO_PI
-    if angle >= TWO_PI:
-        return angle - TWO_PI
-    return angle
 
 
 #: :func:`redkin.srs.joints.within` compiled (the same source): is a joint value within its limits.
@@ -262,6 +260,65 @@ def pose_all_branches(entries, theta4, equations_table, membership, elbow, order
                 classify(patterns, start[slot], membership[n2, n6], elbow_inside, keep[slot])
 
 
+# ------------------------------------------- from the pose: eqs. 4-19 fused
+@kernel
+def pose_scratch():
+    """The work arrays of :func:`pose_feasible` and :func:`pose_feasible_all` (one set per thread): the
+    frame and coefficient arrays of :func:`redkin.srs.ik_kernels.coefficients_one`, the entries and theta_4
+    of both elbow signs, the limit equations and the sign patterns."""
+    return (np.empty((3, 4)), np.empty(3), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3, 3)),
+            np.empty((3, 3, 3)), np.empty((2, 3, 2 * _GROUP)), np.empty(2), np.empty((3, EQUATIONS)),
+            np.empty((PIECES, 6), np.int64))
+
+
+@kernel
+def pose_coefficients(pose, arm, ends, scratch, signs):
+    """Eqs. 4-19 of one pose (4, 4) of the chain for the elbow signs ``+1`` (``signs`` 0 or 2) and/or ``-1``
+    (1 or 2) into the scratch entries and theta_4 (:func:`redkin.srs.ik_kernels.coefficients_one`).
+
+    Returns the status (:data:`redkin.srs.ik_kernels.OK`, ``BAD_POSE`` or ``UNREACHABLE``) and ``|x_sw|``.
+    """
+    target, u, reference, elbow, shoulder, wrist, entries, theta4, _, _ = scratch
+    status, distance = ik_kernels.OK, np.nan
+    for e in range(2):
+        if signs == 1 - e:
+            continue
+        status, theta4[e], distance = ik_kernels.coefficients_one(
+            pose, 1.0 - 2.0 * e, arm, ends, target, u, reference, elbow, shoulder, wrist, entries[e])
+        if status != ik_kernels.OK:
+            break
+    return status, distance
+
+
+@kernel
+def pose_feasible(pose, n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start, end, keep):
+    """The feasible set of one pose (4, 4) of the chain on one branch, from the pose: eqs. 4-30 in one call.
+
+    ``n2, n4, n6`` are 1 where the Table 1 signs ``sigma_2, sigma_4,
+    sigma_6`` are negative, else 0.  Writes ``start``, ``end`` (24,) and
+    ``keep`` (R, 24) as :func:`pose_branch`; returns the status and ``|x_sw|``
+    of :func:`pose_coefficients`, theta_4 and whether it is within its limits.
+    """
+    status, distance = pose_coefficients(pose, arm, ends, scratch, n4)
+    if status != ik_kernels.OK:
+        return status, distance, np.nan, False
+    entries, theta4, equations, patterns = scratch[6], scratch[7], scratch[8], scratch[9]
+    elbow_inside = pose_branch(entries[n4], theta4[n4], n2, n6, equations_table, membership, elbow,
+                               equations, patterns, start, end, keep)
+    return status, distance, theta4[n4], elbow_inside
+
+
+@kernel
+def pose_feasible_all(pose, arm, ends, equations_table, membership, elbow, order, scratch, start, end, keep):
+    """The feasible sets of the eight branches of one pose (4, 4) of the chain, from the pose (eqs. 4-30):
+    :func:`pose_all_branches` on the coefficients of both elbow signs.  Returns the status and ``|x_sw|``."""
+    status, distance = pose_coefficients(pose, arm, ends, scratch, 2)
+    if status == ik_kernels.OK:
+        pose_all_branches(scratch[6], scratch[7], equations_table, membership, elbow, order, scratch[8],
+                          scratch[9], start, end, keep)
+    return status, distance
+
+
 @kernel
 def arc_runs(start, end, keep, out):
     """The arcs of the runs of consecutive kept pieces (each piece ends where the next starts) into ``out`` (12, 2).
@@ -346,3 +403,46 @@ def all_branches_parallel(entries, theta4, equations_table, membership, elbow, o
         for b in range(block * CHUNK, min(entries.shape[0], (block + 1) * CHUNK)):
             pose_all_branches(entries[b], theta4[b], equations_table, membership, elbow, order,
                               equations, patterns, start[b], end[b], keep[b])
+
+
+@kernel
+def poses_branch(poses, n2, n4, n6, arm, ends, equations_table, membership, elbow, status, distance, theta4,
+                 elbow_inside, start, end, keep):
+    """:func:`pose_feasible` for each pose of ``poses`` (N, 4, 4), one branch, into the (N, ...) outputs."""
+    scratch = pose_scratch()
+    for b in range(poses.shape[0]):
+        status[b], distance[b], theta4[b], elbow_inside[b] = pose_feasible(
+            poses[b], n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start[b], end[b], keep[b])
+
+
+@kernel(parallel=True)
+def poses_branch_parallel(poses, n2, n4, n6, arm, ends, equations_table, membership, elbow, status, distance, theta4,
+                          elbow_inside, start, end, keep):
+    """:func:`poses_branch` on all cores."""
+    for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
+        scratch = pose_scratch()
+        for b in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
+            status[b], distance[b], theta4[b], elbow_inside[b] = pose_feasible(
+                poses[b], n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start[b], end[b],
+                keep[b])
+
+
+@kernel
+def poses_all_branches(poses, arm, ends, equations_table, membership, elbow, order, status, distance, start, end,
+                       keep):
+    """:func:`pose_feasible_all` for each pose of ``poses`` (N, 4, 4) into the (N, ...) outputs."""
+    scratch = pose_scratch()
+    for b in range(poses.shape[0]):
+        status[b], distance[b] = pose_feasible_all(poses[b], arm, ends, equations_table, membership, elbow, order,
+                                                   scratch, start[b], end[b], keep[b])
+
+
+@kernel(parallel=True)
+def poses_all_branches_parallel(poses, arm, ends, equations_table, membership, elbow, order, status, distance,
+                                start, end, keep):
+    """:func:`poses_all_branches` on all cores."""
+    for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
+        scratch = pose_scratch()
+        for b in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
+            status[b], distance[b] = pose_feasible_all(poses[b], arm, ends, equations_table, membership, elbow,
+                                                       order, scratch, start[b], end[b], keep[b])
