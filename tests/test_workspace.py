@@ -50,7 +50,7 @@ def test_grid_chunks_cover_every_point_once():
     assert np.all(seen == 1)
     x, y, z = grid.axes
     assert x[0] == -1 and x[-1] == 1 and y[-1] == 2 and z[0] == 0
-    assert workspace_grid([-1, 1, -1, 1, -1, 1], 50, 500).chunk == 4  # 4^3 x 500 <= 32768 < 5^3 x 500
+    assert workspace_grid([-1, 1, -1, 1, -1, 1], 50, 500).chunk == 8  # 8^3 x 500 <= 262144 < 9^3 x 500
 
 
 @pytest.mark.parametrize("extent, message", [

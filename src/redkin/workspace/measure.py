@@ -16,11 +16,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from redkin.srs import BRANCHES, feasible_pieces, pose_from, reachable
+from redkin.srs import BRANCHES, pose_from, reachable
+from redkin.srs.feasible import feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry
 
 TWO_PI = 2.0 * np.pi
-#: Poses per call of the feasible-set kernel: bounds its work arrays to tens of megabytes.
+#: Poses per call of the feasible-set kernel, built per call: bounds the work arrays to tens of megabytes
+#: however many poses a chunk holds.
 BATCH_POSES = 8192
 
 
@@ -42,20 +44,17 @@ def feasible_measures(geometry: SRSGeometry, positions: np.ndarray, rotations: n
         Radians in ``[0, 2 pi]``, branches in the order of :data:`redkin.srs.BRANCHES`;
         0 out of reach.  A set counts only if :attr:`FeasiblePieces.nonempty` says so.
     """
-    poses = pose_from(
-        np.broadcast_to(positions[:, None, :], (len(positions), len(rotations), 3)),
-        np.broadcast_to(rotations[None], (len(positions),) + rotations.shape),
-    ).reshape(-1, 4, 4)
-    measure = np.zeros((len(poses), len(BRANCHES)))
-    for start in range(0, len(poses), BATCH_POSES):
-        batch = poses[start:start + BATCH_POSES]
+    count = len(positions) * len(rotations)
+    measure = np.zeros((count, len(BRANCHES)))
+    for start in range(0, count, BATCH_POSES):
+        pair = np.arange(start, min(start + BATCH_POSES, count))  # position-major, as the result
+        batch = pose_from(positions[pair // len(rotations)], rotations[pair % len(rotations)])
         inside = np.flatnonzero(reachable(geometry, batch))
         if inside.size == 0:  # nothing in reach: the measures stay 0
             continue
-        for column, branch in enumerate(BRANCHES):
-            pieces = feasible_pieces(geometry, batch[inside], branch)
-            lengths = np.where(pieces.feasible, pieces.end - pieces.start, 0.0).sum(axis=-1)
-            measure[start + inside, column] = np.where(pieces.nonempty, lengths, 0.0)
+        pieces = feasible_pieces_all_branches(geometry, batch[inside])  # (k, 8, 24), branches in BRANCHES order
+        lengths = np.where(pieces.feasible, pieces.end - pieces.start, 0.0).sum(axis=-1)
+        measure[start + inside] = np.where(pieces.nonempty, lengths, 0.0)
     return measure.reshape(len(positions), len(rotations), len(BRANCHES))
 
 
