@@ -4,6 +4,7 @@
 * :func:`arm_angle_of` -- arm angle and branch of joint values
 * :func:`reachable` -- which poses of a batch the wrist can reach (filter before the others)
 * :func:`feasible_arm_angles` -- per-joint and overall feasible arm angles, closed form (eqs. 21-30)
+* :func:`feasible_pieces`, :func:`feasible_pieces_all_branches` -- the same as arrays, one branch or all eight
 * :func:`joint_extrema` -- type, case, extrema and monotonicity of each joint over psi (eqs. 21-28)
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles (eqs. 31-34)
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles (eqs. 36-40)
@@ -17,7 +18,13 @@ from redkin.srs.arm_angle import ArmAngleState, arm_angle_of
 from redkin.srs.arm_class import ArmClass, arm_angle_class
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.extrema import JointExtrema, Stationary, joint_extrema
-from redkin.srs.feasible import FeasibleArmAngles, FeasiblePieces, feasible_arm_angles, feasible_pieces
+from redkin.srs.feasible import (
+    FeasibleArmAngles,
+    FeasiblePieces,
+    feasible_arm_angles,
+    feasible_pieces,
+    feasible_pieces_all_branches,
+)
 from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
@@ -44,6 +51,7 @@ __all__ = [
     "arm_angle_path",
     "feasible_arm_angles",
     "feasible_pieces",
+    "feasible_pieces_all_branches",
     "ik",
     "ik_all_branches",
     "joint_extrema",
