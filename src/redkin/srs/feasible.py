@@ -48,7 +48,6 @@ from redkin.circle import ArcSet
 from redkin.compiled import run_batch
 from redkin.srs import feasible_kernels as kernels
 from redkin.srs.branches import Branch
-from redkin.srs import ik_kernels
 from redkin.srs.coefficients import ArmAngleCoefficients, as_poses, raise_for_status
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry
@@ -199,10 +198,10 @@ def _from_poses(pose: ArrayLike, branch: Branch, geometry: SRSGeometry, per_join
     start, end = np.empty((count, kernels.PIECES)), np.empty((count, kernels.PIECES))
     keep = np.empty((count, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
     tables = limit_tables(geometry)
-    run_batch(kernels.poses_branch, kernels.poses_branch_parallel, count, poses, int(branch.shoulder < 0),
-              int(branch.elbow < 0), int(branch.wrist < 0), geometry.kernel_arm, geometry.kernel_ends,
-              tables.equations, tables.membership, tables.elbow, status, distance, theta4, elbow_inside, start, end, keep)
-    if (status != ik_kernels.OK).any():
+    if run_batch(kernels.poses_branch, kernels.poses_branch_parallel, count, poses, int(branch.shoulder < 0),
+                 int(branch.elbow < 0), int(branch.wrist < 0), geometry.kernel_arm, geometry.kernel_ends,
+                 tables.equations, tables.membership, tables.elbow, status, distance, theta4, elbow_inside, start, end,
+                 keep):
         raise_for_status(geometry, pose, status.reshape(shape), distance.reshape(shape))
     pieces = shape + (kernels.PIECES,)
     return (start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]), theta4.reshape(shape),
@@ -288,10 +287,9 @@ def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLi
     start, end = np.empty((count, 8, kernels.PIECES)), np.empty((count, 8, kernels.PIECES))
     keep = np.empty((count, 8, 1, kernels.PIECES), dtype=bool)
     tables = limit_tables(geometry)
-    run_batch(kernels.poses_all_branches, kernels.poses_all_branches_parallel, count, poses, geometry.kernel_arm,
-              geometry.kernel_ends, tables.equations, tables.membership, tables.elbow, geometry.branch_order,
-              status, distance, start, end, keep)
-    if (status != ik_kernels.OK).any():
+    if run_batch(kernels.poses_all_branches, kernels.poses_all_branches_parallel, count, poses, geometry.kernel_arm,
+                 geometry.kernel_ends, tables.equations, tables.membership, tables.elbow, geometry.branch_order,
+                 status, distance, start, end, keep):
         raise_for_status(geometry, pose, status.reshape(shape), distance.reshape(shape))
     pieces = shape + (8, kernels.PIECES)
     return FeasiblePieces(start.reshape(pieces), end.reshape(pieces), keep.reshape(pieces))

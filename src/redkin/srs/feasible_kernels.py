@@ -408,41 +408,57 @@ def all_branches_parallel(entries, theta4, equations_table, membership, elbow, o
 @kernel
 def poses_branch(poses, n2, n4, n6, arm, ends, equations_table, membership, elbow, status, distance, theta4,
                  elbow_inside, start, end, keep):
-    """:func:`pose_feasible` for each pose of ``poses`` (N, 4, 4), one branch, into the (N, ...) outputs."""
+    """:func:`pose_feasible` for each pose of ``poses`` (N, 4, 4), one branch, into the (N, ...) outputs.
+
+    Returns how many poses failed (a status other than :data:`redkin.srs.ik_kernels.OK`).
+    """
     scratch = pose_scratch()
+    failed = 0
     for b in range(poses.shape[0]):
         status[b], distance[b], theta4[b], elbow_inside[b] = pose_feasible(
             poses[b], n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start[b], end[b], keep[b])
+        failed += status[b] != ik_kernels.OK
+    return failed
 
 
 @kernel(parallel=True)
 def poses_branch_parallel(poses, n2, n4, n6, arm, ends, equations_table, membership, elbow, status, distance, theta4,
                           elbow_inside, start, end, keep):
     """:func:`poses_branch` on all cores."""
+    failed = 0
     for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
         scratch = pose_scratch()
         for b in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
             status[b], distance[b], theta4[b], elbow_inside[b] = pose_feasible(
                 poses[b], n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start[b], end[b],
                 keep[b])
+            failed += status[b] != ik_kernels.OK
+    return failed
 
 
 @kernel
 def poses_all_branches(poses, arm, ends, equations_table, membership, elbow, order, status, distance, start, end,
                        keep):
-    """:func:`pose_feasible_all` for each pose of ``poses`` (N, 4, 4) into the (N, ...) outputs."""
+    """:func:`pose_feasible_all` for each pose of ``poses`` (N, 4, 4) into the (N, ...) outputs; returns how
+    many poses failed."""
     scratch = pose_scratch()
+    failed = 0
     for b in range(poses.shape[0]):
         status[b], distance[b] = pose_feasible_all(poses[b], arm, ends, equations_table, membership, elbow, order,
                                                    scratch, start[b], end[b], keep[b])
+        failed += status[b] != ik_kernels.OK
+    return failed
 
 
 @kernel(parallel=True)
 def poses_all_branches_parallel(poses, arm, ends, equations_table, membership, elbow, order, status, distance,
                                 start, end, keep):
     """:func:`poses_all_branches` on all cores."""
+    failed = 0
     for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
         scratch = pose_scratch()
         for b in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
             status[b], distance[b] = pose_feasible_all(poses[b], arm, ends, equations_table, membership, elbow,
                                                        order, scratch, start[b], end[b], keep[b])
+            failed += status[b] != ik_kernels.OK
+    return failed
