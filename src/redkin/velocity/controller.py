@@ -6,10 +6,14 @@ the same robot.  The array API
 and broadcasts batches on every call; here the chain, the factorisation and
 every parameter are checked once in the constructor, and each step
 
-1. checks ``q`` and ``twist`` (shape and finite: still a ``ValueError`` on bad input),
-2. builds the Jacobian with ``chain.jacobian`` (the compiled kernel of :mod:`redkin.chain_kernels`),
-3. evaluates ``D_e`` (and ``D_i`` only where ``|D_e| < near_zero``), and
-4. calls the compiled step of one configuration,
+1. checks the shapes of ``q`` and ``twist``,
+2. evaluates ``D_e`` (and ``D_i`` only where ``|D_e| < near_zero``), and
+3. makes one call of a compiled control step,
+   :func:`~redkin.velocity.step_kernels.sc_control` or
+   :func:`~redkin.velocity.step_kernels.pinv_control`: it checks that
+   ``q`` and ``twist`` are finite (bad input is still a ``ValueError``),
+   builds the Jacobian from the chain's own tables (the kernel of
+   :mod:`redkin.chain_kernels`) and calls the step of one configuration,
    :func:`~redkin.velocity.step_kernels.sc_one` or
    :func:`~redkin.velocity.step_kernels.least_squares_one` -- the same
    kernels the array API runs over batches, so both give the same numbers.
@@ -33,16 +37,32 @@ _NO_FACTORS = np.zeros(7)  # D_i, not read by the step where |D_e| >= near_zero
 
 
 def read_vector(value: ArrayLike, length: int, name: str) -> np.ndarray:
-    """``value`` as a new array of ``length`` finite floats; ``ValueError`` naming ``name`` otherwise (one cheap check per step)."""
+    """``value`` as a new float array of shape ``(length,)``; ``ValueError`` naming ``name`` otherwise.
+
+    Finiteness is checked by the compiled step (:func:`finite_or_raise` turns its code into the error).
+    """
     try:
         array = np.array(value, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be numeric, got {value!r}") from None
     if array.shape != (length,):
         raise ValueError(f"{name} must have shape ({length},), got shape {array.shape}")
-    if not np.isfinite(array).all():
-        raise ValueError(f"{name} must be finite, got {array.tolist()}")
     return array
+
+
+def finite_or_raise(code: int, q: np.ndarray, twist: np.ndarray) -> None:
+    """``ValueError`` for a control step's code other than ``DONE`` (:mod:`redkin.velocity.step_kernels`)."""
+    if code == step_kernels.Q_NOT_FINITE:
+        raise ValueError(f"q must be finite, got {q.tolist()}")
+    if code == step_kernels.TWIST_NOT_FINITE:
+        raise ValueError(f"twist must be finite, got {twist.tolist()}")
+    if code == step_kernels.NO_FACTORS:
+        raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
+
+
+def _kernel_tables(chain: SerialChain) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The chain's link table, base and tool, and convention as :mod:`redkin.chain_kernels` takes them."""
+    return chain._links, chain._ends, chain._standard
 
 
 def _one_redundant_arm(chain: SerialChain) -> SerialChain:
@@ -68,15 +88,14 @@ class PseudoinverseController:
     """
 
     def __init__(self, chain: SerialChain) -> None:
-        self._chain = _one_redundant_arm(chain)
+        self._tables = _kernel_tables(_one_redundant_arm(chain))
 
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity for joint angles ``q`` ``(7,)`` and twist ``(6,)`` (linear, angular)."""
-        values = read_vector(q, 7, "q")
-        command = read_vector(twist, 6, "twist")
+        values, command = read_vector(q, 7, "q"), read_vector(twist, 6, "twist")
         qdot = np.empty(7)
-        step_kernels.least_squares_one(self._chain.jacobian(values), command, 0.0, 1.0, step_kernels.CONSTANT,
-                                       PINV_RCOND, qdot)
+        finite_or_raise(step_kernels.pinv_control(values, command, *self._tables, PINV_RCOND, np.empty((6, 7)), qdot),
+                        values, command)
         return VelocitySolution(qdot, command)
 
 
@@ -130,6 +149,7 @@ class SingularityConsistentController:
         near_zero: float | None = None,
     ) -> None:
         self._chain = _one_redundant_arm(chain)
+        self._tables = _kernel_tables(chain)
         self.factorisation = singularity_factorisation(chain) if factorisation is None else factorisation
         if not isinstance(self.factorisation, Factorisation):
             raise ValueError(f"factorisation must be a Factorisation, got {type(self.factorisation).__name__}")
@@ -148,22 +168,33 @@ class SingularityConsistentController:
 
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity and realised twist for joint angles ``q`` ``(7,)`` and commanded twist ``(6,)``."""
-        values = read_vector(q, 7, "q")
-        return self.solve(values, self._chain.jacobian(values), read_vector(twist, 6, "twist"))
+        values, command = read_vector(q, 7, "q"), read_vector(twist, 6, "twist")
+        d_e, factors = self._index_and_factors(values)
+        qdot, target = np.empty(7), np.empty(6)
+        code = step_kernels.sc_control(values, command, *self._tables, d_e, factors, self.eps, self.direction,
+                                       self.self_motion, self.modify_rotation, self.near_zero, np.empty((6, 7)),
+                                       qdot, target)
+        finite_or_raise(code, values, command)
+        return VelocitySolution(qdot, target)
 
     def solve(self, values: np.ndarray, jac: np.ndarray, command: np.ndarray) -> VelocitySolution:
-        """The step for trusted inputs: 7 finite joint values, their ``6 x 7`` Jacobian, 6 finite twist values.
+        """The step for a caller that holds the Jacobian (the bound method of tracking); no input checks.
 
-        For callers that already hold the Jacobian; no input checks (C-contiguous float64 arrays).
+        ``values`` (7,), ``jac`` (6, 7) and ``command`` (6,): finite, C-contiguous float64 arrays.
         """
-        d_e = float(self.factorisation.index(values))
-        factors = _NO_FACTORS
-        if abs(d_e) < self.near_zero:  # the exact path (eqs. 15, 21) needs D_i
-            factors = np.ascontiguousarray(self.factorisation.factors(values, jac), dtype=float)
-            if not np.isfinite(factors).all():
-                raise ValueError("factors D_i must be finite, got NaN or infinity")
+        d_e, factors = self._index_and_factors(values)
         qdot, target = np.empty(7), np.empty(6)
         if not step_kernels.sc_one(jac, command, d_e, factors, self.eps, self.direction, self.self_motion,
                                    self.modify_rotation, self.near_zero, qdot, target):
-            raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
+            finite_or_raise(step_kernels.NO_FACTORS, values, command)
         return VelocitySolution(qdot, target)
+
+    def _index_and_factors(self, values: np.ndarray) -> tuple[float, np.ndarray]:
+        """``D_e`` at ``values``, and ``D_i`` where the exact path needs them (``|D_e| < near_zero``)."""
+        d_e = float(self.factorisation.index(values))  # NaN for a q that is not finite: the kernel reports it
+        if not abs(d_e) < self.near_zero:
+            return d_e, _NO_FACTORS
+        factors = np.ascontiguousarray(self.factorisation.factors(values, None), dtype=float)  # None: builds J if needed
+        if not np.isfinite(factors).all():
+            raise ValueError("factors D_i must be finite, got NaN or infinity")
+        return d_e, factors

@@ -79,12 +79,17 @@ def wam_index_and_factors(q, a, d3, d5, index, factors):
 
 
 class Factorisation:
-    """Interface: ``index(q)`` -> ``D_e`` ``(...)``; ``factors(q, jacobian)`` -> ``D_i`` ``(..., n)``."""
+    """Interface: ``index(q)`` -> ``D_e`` ``(...)``; ``factors(q, jacobian)`` -> ``D_i`` ``(..., n)``.
+
+    ``jacobian`` is the Jacobian at ``q`` where the caller holds it, or
+    ``None`` (the control loop's exact path): then a factorisation that needs
+    it builds it.
+    """
 
     def index(self, q: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
         raise NotImplementedError
 
-    def factors(self, q: np.ndarray, jacobian: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
+    def factors(self, q: np.ndarray, jacobian: np.ndarray | None) -> np.ndarray:  # pragma: no cover - interface
         raise NotImplementedError
 
 

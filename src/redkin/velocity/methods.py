@@ -16,6 +16,7 @@ from redkin.chain import SerialChain
 from redkin.validation import check_positive
 from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
+from redkin.velocity.controller import SingularityConsistentController
 from redkin.velocity.proposed import lean_singularity_consistent, singularity_consistent
 from redkin.velocity.solution import VelocitySolution
 
@@ -83,11 +84,13 @@ class SingularityConsistent:
     (the closed form of a WAM-shaped chain, ``sin(theta_4)`` for an S-R-S arm);
     ``direction`` (``b_ep`` of eq. 22) defaults to the sign of ``D_e(q0)``,
     so the command is realised as given at the start.  ``lean`` (default)
-    steps with :func:`~redkin.velocity.proposed.lean_singularity_consistent`
-    (one pseudoinverse, same result to ~1e-12), which takes the exact
-    adjugate path only where ``|D_e| < eps / 100``; otherwise with
-    :func:`~redkin.velocity.proposed.singularity_consistent`.  The bound step
-    takes one configuration or a batch (``q`` (..., 7), ``jac`` (..., 6, 7)).
+    steps with the kernel of :func:`~redkin.velocity.proposed.lean_singularity_consistent`
+    (one pseudoinverse, same result to ~1e-12; for one configuration through
+    :meth:`~redkin.velocity.controller.SingularityConsistentController.solve`),
+    which takes the exact adjugate path only where ``|D_e| < eps / 100``;
+    otherwise with :func:`~redkin.velocity.proposed.singularity_consistent`.
+    The bound step takes one configuration or a batch (``q`` (..., 7),
+    ``jac`` (..., 6, 7)).
     """
 
     eps: float
@@ -112,10 +115,19 @@ class SingularityConsistent:
             start = float(factorisation.index(q0))
             direction = -1.0 if start < 0.0 else 1.0
         if self.lean:
-            return lambda q, jac, twist: lean_singularity_consistent(
-                jac, twist, factorisation.index(q), lambda: factorisation.factors(q, jac), self.eps,
-                direction, self.self_motion, self.modify_rotation,
+            controller = SingularityConsistentController(
+                chain, q0, self.eps, factorisation, direction, self.self_motion, self.modify_rotation
             )
+
+            def lean_step(q: np.ndarray, jac: np.ndarray, twist: np.ndarray) -> VelocitySolution:
+                if np.ndim(q) == 1:  # one configuration (tracking): the controller's step, without the batch handling
+                    return controller.solve(*(np.ascontiguousarray(a, dtype=float) for a in (q, jac, twist)))
+                return lean_singularity_consistent(
+                    jac, twist, factorisation.index(q), lambda: factorisation.factors(q, jac), self.eps,
+                    direction, self.self_motion, self.modify_rotation,
+                )
+
+            return lean_step
 
         def step(q: np.ndarray, jac: np.ndarray, twist: np.ndarray) -> VelocitySolution:
             return singularity_consistent(

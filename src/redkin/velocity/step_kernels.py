@@ -4,8 +4,9 @@ The one implementation in redkin of each step; the public functions of
 :mod:`redkin.velocity.baselines` and :mod:`redkin.velocity.proposed` and the
 controllers of :mod:`redkin.velocity.controller` validate their inputs and
 call these kernels.  Each step comes as a kernel of one configuration
-(``*_one``, callable from Python with one Jacobian) and a serial and a
-parallel loop over a batch of Jacobians ``(N, m, n)``
+(``*_one``, callable from Python with one Jacobian), a control step of one
+configuration that builds the Jacobian itself (``*_control``, one call per
+servo tick), and a serial and a parallel loop over a batch of Jacobians ``(N, m, n)``
 (:func:`~redkin.compiled.run_batch` picks one; every item is computed
 alone, so a batch equals its items one by one, bit for bit, on any number
 of threads).  Inputs are trusted: C-contiguous float64 arrays.
@@ -40,6 +41,7 @@ from math import sqrt
 import numpy as np
 from numba import prange
 
+from redkin import chain_kernels
 from redkin.compiled import kernel
 
 #: Largest number of Jacobi sweeps (a 6 x 7 Jacobian needs 5 to 8).
@@ -50,6 +52,8 @@ ORTHOGONAL = 1e-15
 MACHINE_EPSILON = float(np.finfo(float).eps)
 #: ``measure`` codes of :func:`damping`.
 CONSTANT, SIGMA, MANIPULABILITY = 0, 1, 2
+#: Codes returned by the control steps (:func:`sc_control`, :func:`pinv_control`).
+DONE, Q_NOT_FINITE, TWIST_NOT_FINITE, NO_FACTORS = 0, 1, 2, 3
 
 
 # ------------------------------------------------------------ linear algebra
@@ -292,6 +296,53 @@ def sc_one(jac, twist, index, factors, eps, direction, self_motion, modify_rotat
         for c in range(n):
             qdot[c] += self_motion * (minors[c] if c % 2 == 0 else -minors[c])
     return True
+
+
+# ------------------------------------------------------------ control loop
+@kernel
+def finite(values):
+    """Whether every entry of ``values`` (1-D) is finite."""
+    for value in values:
+        if not (value - value == 0.0):  # NaN and +-inf give NaN
+            return False
+    return True
+
+
+@kernel
+def chain_jacobian(q, links, ends, standard, jac):
+    """The tool Jacobian (6, n) of a chain's link table at ``q`` (:func:`~redkin.chain_kernels.jacobian_one`)."""
+    chain_kernels.jacobian_one(q, links, ends, standard, links.shape[0], True, np.zeros(3),
+                               np.empty((links.shape[0], 2)), jac)
+
+
+@kernel
+def sc_control(q, twist, links, ends, standard, index, factors, eps, direction, self_motion, modify_rotation,
+               near_zero, jac, qdot, target):
+    """One control step of the SC method: checks, the chain's Jacobian into ``jac`` and :func:`sc_one`.
+
+    Returns :data:`DONE`, :data:`Q_NOT_FINITE`, :data:`TWIST_NOT_FINITE` or
+    :data:`NO_FACTORS` (``D_s = 0`` on the exact path).
+    """
+    if not finite(q):
+        return Q_NOT_FINITE
+    if not finite(twist):
+        return TWIST_NOT_FINITE
+    chain_jacobian(q, links, ends, standard, jac)
+    if not sc_one(jac, twist, index, factors, eps, direction, self_motion, modify_rotation, near_zero, qdot, target):
+        return NO_FACTORS
+    return DONE
+
+
+@kernel
+def pinv_control(q, twist, links, ends, standard, rcond, jac, qdot):
+    """One control step of the pseudoinverse: checks, the chain's Jacobian into ``jac`` and ``J^+ v`` into ``qdot``."""
+    if not finite(q):
+        return Q_NOT_FINITE
+    if not finite(twist):
+        return TWIST_NOT_FINITE
+    chain_jacobian(q, links, ends, standard, jac)
+    least_squares_one(jac, twist, 0.0, 1.0, CONSTANT, rcond, qdot)
+    return DONE
 
 
 # ------------------------------------------------------------------- batches
