@@ -208,31 +208,47 @@ class ManipulabilityMap:
 # (+1 right, -1 left: the side's theta_1 is sign times the right-problem theta_1) and ``limits`` (2, 5),
 # the lower and upper limits of the side's joints 1-5.  Points and theta_1 are the right problem's.
 @kernel
-def posture_one(lengths, sign, limits, kind, vector, theta1, wrist, phi, q):
-    """One posture of the right problem at ``theta1``, ``wrist`` (3-tuple) and ``phi``: ``(status, feasible)``.
+def circle_stage(lengths, kind, vector, theta1, wrist):
+    """The part of a posture fixed by theta_1 and the wrist (sections 3.2-3.3): ``(shoulder, circle, e1, status)``.
 
-    Chapter 3: the shoulder, the elbow circle, the elbow at phi from the
-    reference ``kind``, and joints 1-5 of the four branches into ``q`` (4, 5).
-    ``status`` is OK, UNREACHABLE or NO_REFERENCE; ``feasible`` says that
-    the posture exists and some branch, wrapped into the side's limits,
-    respects them.
+    ``circle`` is :func:`~redkin.torso_arm.elbow_angle.circle_one`'s ``(n, centre, radius)``,
+    ``e1`` the phi = 0 direction of the reference ``kind``, ``status`` OK, UNREACHABLE or NO_REFERENCE.
     """
-    L0, L1, lew, delta = lengths[0], lengths[1], lengths[2], lengths[3]
+    L0, L1, lew = lengths[0], lengths[1], lengths[2]
     shoulder = (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
     n, centre, radius, _, reachable = circle_one(shoulder, wrist, L1, lew)
     e1, exists = reference_one(kind, vector, shoulder, wrist, n, centre, radius, L0, L1)
-    joints_one(theta1, elbow_one(centre, radius, n, e1, phi), wrist, L0, L1, delta, q)
     status = OK if reachable and exists else (NO_REFERENCE if reachable else UNREACHABLE)
-    if status != OK:
-        return status, False
+    return shoulder, (n, centre, radius), e1, status
+
+
+@kernel
+def elbow_stage(lengths, sign, limits, theta1, wrist, circle, e1, phi, q):
+    """The rest of a posture at ``phi``: joints 1-5 of the four branches into ``q`` (4, 5) (section 3.4);
+    whether some branch, wrapped into the side's limits, respects them."""
+    n, centre, radius = circle
+    joints_one(theta1, elbow_one(centre, radius, n, e1, phi), wrist, lengths[0], lengths[1], lengths[3], q)
     for b in range(4):
         inside = True
         for j in range(5):
             value = into_limits(sign * q[b, j] if j == 0 else q[b, j], limits[0, j], limits[1, j])
             inside = inside and limits[0, j] <= value <= limits[1, j]
         if inside:
-            return status, True
-    return status, False
+            return True
+    return False
+
+
+@kernel
+def posture_one(lengths, sign, limits, kind, vector, theta1, wrist, phi, q):
+    """One posture of the right problem at ``theta1``, ``wrist`` (3-tuple) and ``phi``: ``(status, feasible)``.
+
+    :func:`circle_stage` then :func:`elbow_stage`; joints 1-5 of the four
+    branches go into ``q`` (4, 5); ``feasible`` says that the posture exists
+    and some branch respects the side's limits.
+    """
+    _, circle, e1, status = circle_stage(lengths, kind, vector, theta1, wrist)
+    feasible = elbow_stage(lengths, sign, limits, theta1, wrist, circle, e1, phi, q)
+    return status, status == OK and feasible
 
 
 @kernel
@@ -262,18 +278,23 @@ def best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jacob
     """
     best, reached = -inf, False
     for t in thetas:
-        left = mirror_one(t, wrist)
-        left = (-left[0], left[1], left[2])
+        _, circle, e1, status = circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), t, wrist)
+        if status != OK:  # the wrist is out of reach at this theta_1, whatever phi
+            continue
+        left, circle_left, e1_left = wrist, circle, e1
+        if dual:
+            left = mirror_one(t, wrist)
+            left = (-left[0], left[1], left[2])
+            _, circle_left, e1_left, status = circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), -t, left)
+            if status != OK:
+                continue
+        reached = True
         for phi in phis:
-            status, feasible = posture_one(lengths, signs[0], limits[0], ANY_BASIS, (0.0, 1.0, 0.0), t, wrist, phi,
-                                           q[0])
-            ok = status == OK
-            if dual and ok:  # (a right arm that does not exist fails the pair)
-                status, other = posture_one(lengths, signs[1], limits[1], ANY_BASIS, (0.0, 1.0, 0.0), -t, left, phi,
-                                            q[1])
-                ok, feasible = status == OK, feasible and other
-            reached = reached or ok
-            if feasible if within else ok:
+            usable = elbow_stage(lengths, signs[0], limits[0], t, wrist, circle, e1, phi, q[0]) or not within
+            if dual and usable:
+                usable = elbow_stage(lengths, signs[1], limits[1], -t, left, circle_left, e1_left, phi, q[1]) \
+                    or not within
+            if usable:
                 jacobian_of(lengths, q[0], jacobians[0])
                 if dual:
                     jacobian_of(lengths, q[1], jacobians[1])
