@@ -14,6 +14,7 @@ distributed = pytest.importorskip("distributed")
 from redkin.cli.main import main  # noqa: E402
 from redkin.models import get_robot  # noqa: E402
 from redkin.workspace import workspace_map  # noqa: E402
+from redkin.workspace.run import match_worker_threads, restore_mmap_threshold  # noqa: E402
 from redkin.workspace.store import completed_chunks  # noqa: E402
 
 EXTENT = [-0.9, 0.9, -0.9, 0.9, -0.5, 1.3]
@@ -122,3 +123,21 @@ def test_map_completes_when_a_worker_is_killed(arm, reference, client, tmp_path)
     _assert_same_map(run.path, reference)
     client.wait_for_workers(2, timeout=60)  # the nanny restarts it
     assert killed[0] not in client.run(os.getpid).values()
+
+
+def test_chunk_tasks_fit_their_worker(client):
+    """A task on a single-threaded worker runs its compiled batches on one numba thread and gets glibc's 32 MiB mmap
+    threshold back (Dask's MALLOC_TRIM_THRESHOLD_ took it away); outside a worker neither changes anything."""
+    import platform
+
+    import numba
+
+    def in_task():
+        return match_worker_threads(), numba.get_num_threads(), restore_mmap_threshold(), "MALLOC_TRIM_THRESHOLD_" in os.environ
+
+    threads, numba_threads, restored, trimmed = client.submit(in_task, pure=False).result(timeout=60)
+    assert threads == numba_threads == 1 and trimmed
+    assert restored is (platform.libc_ver()[0] == "glibc")
+    assert match_worker_threads() is None
+    if "MALLOC_TRIM_THRESHOLD_" not in os.environ:
+        assert restore_mmap_threshold() is False

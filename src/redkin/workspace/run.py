@@ -14,12 +14,17 @@ and writing a chunk twice writes the same values.
 
 from __future__ import annotations
 
+import ctypes
+import functools
+import os
+import platform
 import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -33,6 +38,8 @@ from redkin.workspace.optional import require
 from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
 from redkin.workspace.store import completed_chunks, create_store, map_parameters, stored_parameters, write_chunk
 
+#: glibc's ``mallopt`` parameter number of the mmap threshold, and the threshold's dynamic maximum on 64-bit Linux.
+M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 32 * 1024 * 1024
 #: Grid points per axis of one Dask task of the summary (a map of 1000^3 positions reads in 512 of them).
 SUMMARY_SPAN = 128
 #: ``progress(done, total)`` after each chunk of a run (``total`` counts the chunks this run computes).
@@ -77,9 +84,64 @@ class WorkspaceRun:
         return self.positions * self.orientations * len(BRANCHES)
 
 
+@functools.cache
+def restore_mmap_threshold() -> bool:
+    """Give glibc's malloc back its mmap threshold of 32 MiB where ``MALLOC_TRIM_THRESHOLD_`` took it away.
+
+    Dask's nanny starts every worker with ``MALLOC_TRIM_THRESHOLD_=65536``.
+    Setting any malloc threshold from the environment turns off glibc's
+    dynamic mmap threshold, which otherwise rises to 32 MiB with the first
+    large blocks freed: every numpy temporary above 128 kB is then mapped and
+    unmapped anew, and its pages faulted in again, chunk after chunk (a
+    chunk took 1.4-1.7 times the CPU time of a plain process; in a
+    virtual machine the faults also stall).  This sets the threshold to the
+    32 MiB the dynamic one reaches, once per process; trimming stays as the
+    environment asks.  Nothing is changed where ``MALLOC_MMAP_THRESHOLD_``
+    is set, where the trim threshold is not, or off glibc.
+
+    Returns
+    -------
+    bool
+        Whether the threshold was set.
+    """
+    if ("MALLOC_TRIM_THRESHOLD_" not in os.environ or "MALLOC_MMAP_THRESHOLD_" in os.environ
+            or platform.libc_ver()[0] != "glibc"):
+        return False
+    return ctypes.CDLL(None).mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD) == 1
+
+
+def match_worker_threads() -> int | None:
+    """In a dask.distributed worker, give this thread's compiled batches as many threads as the worker has.
+
+    A worker's thread count is its share of the machine's cores (``dask
+    worker`` and ``LocalCluster`` split the cores among the worker
+    processes).  numba's thread pool would otherwise take every core in every
+    worker process, so two single-threaded workers on two cores would run
+    four threads.  numba's setting is per calling thread, so only the task's
+    own thread is affected; the results do not depend on it.  Outside a
+    worker (Dask's local threaded scheduler) nothing changes.
+
+    Returns
+    -------
+    int or None
+        The threads set, or ``None`` outside a worker.
+    """
+    try:
+        from distributed import get_worker
+
+        worker = get_worker()
+    except (ImportError, ValueError):  # ValueError: not in a worker
+        return None
+    threads = max(1, min(worker.state.nthreads, numba.config.NUMBA_NUM_THREADS))
+    numba.set_num_threads(threads)
+    return threads
+
+
 def compute_chunk(geometry: SRSGeometry, grid: WorkspaceGrid, rotations: np.ndarray, path: Path,
                   index: tuple[int, int, int]) -> tuple[int, int, int]:
     """Compute chunk ``index`` of the map and write it into the store at ``path`` (one Dask task)."""
+    restore_mmap_threshold()
+    match_worker_threads()
     positions = grid.chunk_positions(index)
     shape = positions.shape[:3] + (len(rotations), len(BRANCHES))
     measure = feasible_measures(geometry, positions.reshape(-1, 3), rotations).reshape(shape)
@@ -159,7 +221,7 @@ def workspace_map(
     orientations : int
         Tool orientations per position (``1..20000``): :func:`super_fibonacci_rotations`.
     chunk : int, optional
-        Grid points per axis of a chunk (default: about 32768 poses per chunk).
+        Grid points per axis of a chunk (default: about 262144 poses per chunk, :data:`redkin.workspace.grid.CHUNK_POSES`).
     client : distributed.Client, optional
         Run on this cluster instead of Dask's local threaded scheduler.
     progress : callable, optional
