@@ -101,8 +101,12 @@ def singular_values(b):
         total = 0.0
         for c in range(n):
             total += b[k, c] * b[k, c]
-        sigma[k] = sqrt(total)
-    return np.sort(sigma)[::-1][: min(m, n)]
+        value, i = sqrt(total), k
+        while i > 0 and sigma[i - 1] < value:  # insertion sort, largest first
+            sigma[i] = sigma[i - 1]
+            i -= 1
+        sigma[i] = value
+    return sigma[: min(m, n)]
 
 
 @kernel
@@ -119,7 +123,10 @@ def filtered(b, along, damping, rcond, out):
         for c in range(n):
             total += b[k, c] * b[k, c]
         squares[k] = total
-    cutoff = rcond * sqrt(squares.max())
+    largest = 0.0
+    for k in range(m):
+        largest = max(largest, squares[k])
+    cutoff = rcond * sqrt(largest)
     for c in range(n):
         out[c] = 0.0
     for k in range(m):
@@ -227,7 +234,11 @@ def damping(sigma, max_damping, threshold, measure):
     else ``max_damping sqrt(1 - min(s / threshold, 1)^2)`` with ``s = sigma_min`` (``SIGMA``) or ``prod sigma``."""
     if measure == CONSTANT:
         return max_damping
-    value = sigma[sigma.shape[0] - 1] if measure == SIGMA else np.prod(sigma)
+    value = sigma[sigma.shape[0] - 1]
+    if measure == MANIPULABILITY:
+        value = 1.0
+        for s in sigma:
+            value *= s
     ratio = min(value / threshold, 1.0)
     return max_damping * sqrt(1.0 - ratio * ratio)
 
