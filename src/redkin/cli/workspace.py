@@ -42,7 +42,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                          help="the thesis 001 humanoid (humanoid-right, humanoid-left) instead: its best manipulability "
                               "over N1 x NPHI samples of theta_1 and phi (default 24 24)")
     command.add_argument("--chunk", type=int, metavar="C",
-                         help="grid points per axis of a chunk (default: about 32768 poses per chunk)")
+                         help="grid points per axis of a chunk (default: about 262144 poses per chunk)")
     command.add_argument("--scheduler", metavar="ADDRESS",
                          help="a dask.distributed scheduler (tcp://host:port) whose workers can write DIR "
                               "(default: Dask's local scheduler, nothing to start)")
@@ -77,6 +77,9 @@ def run(args: argparse.Namespace) -> int:
             print(file=sys.stderr)
         if client is not None:
             client.close()
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only: no display needed
     from redkin.plot.workspace import save_mid_plane_slices
 
     images = [out / f"{name}.png" for name in SLICE_NAMES]

@@ -1,18 +1,54 @@
-"""Mid-plane slices of a workspace map's reachability and redundancy indices."""
+"""Workspace maps drawn: mid-plane slices of the per-position indices, and one line of the measure."""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping, Sequence
 
+import matplotlib.pyplot as plt
 import numpy as np
 
-#: The planes drawn: the fixed axis and the two in-plane axes (horizontal, vertical).
-MID_PLANES = (("z", "x", "y"), ("y", "x", "z"), ("x", "y", "z"))
+#: The planes drawn: the fixed axis and the two in-plane axes (horizontal, vertical), as indices of x, y, z.
+MID_PLANES = ((2, 0, 1), (1, 0, 2), (0, 1, 2))
+AXIS_NAMES = "xyz"
+
+
+def mid_plane_figure(coordinates: Sequence[np.ndarray], indices: Mapping[str, np.ndarray], title: str) -> "plt.Figure":
+    """Each index of a map on the three mid-planes (x-y, x-z, y-z), one row per index.
+
+    Parameters
+    ----------
+    coordinates : sequence of 3 numpy.ndarray
+        The grid axes ``x, y, z`` in metres, of lengths ``Mx, My, Mz``.
+    indices : mapping of str to numpy.ndarray
+        Name (``"reachability"``, ``"redundancy"``) to values of shape ``(Mx, My, Mz)`` in ``[0, 1]``.
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The plane through the middle grid point of each axis (the exact centre for an odd count).
+    """
+    fig, axes = plt.subplots(len(indices), 3, figsize=(13, 4.2 * len(indices)), constrained_layout=True, squeeze=False)
+    for row, (name, values) in zip(axes, indices.items()):
+        values = np.asarray(values)
+        for ax, (fixed, across, up) in zip(row, MID_PLANES):
+            middle = values.shape[fixed] // 2
+            plane = np.take(values, middle, axis=fixed)  # the two remaining axes keep their order: across, up
+            image = ax.pcolormesh(coordinates[across], coordinates[up], plane.T, vmin=0.0, vmax=1.0, cmap="viridis",
+                                  shading="nearest")
+            ax.set_aspect("equal")
+            ax.set_xlabel(f"{AXIS_NAMES[across]} [m]")
+            ax.set_ylabel(f"{AXIS_NAMES[up]} [m]")
+            ax.set_title(f"{name}, {AXIS_NAMES[fixed]} = {float(coordinates[fixed][middle]):.3f} m", fontsize=10)
+        fig.colorbar(image, ax=row, label=f"{name} index", shrink=0.9)
+    fig.suptitle(title, fontsize=10)
+    return fig
 
 
 def save_mid_plane_slices(dataset: Any, name: str, path: "str | Path") -> None:
-    """Save ``dataset[name]`` on the three mid-planes (x-y, x-z, y-z) side by side as one image.
+    """Save ``dataset[name]`` of a stored map on the three mid-planes side by side as one image.
 
     Parameters
     ----------
@@ -23,25 +59,42 @@ def save_mid_plane_slices(dataset: Any, name: str, path: "str | Path") -> None:
     path : str or Path
         The image file.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    values = dataset[name]
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), constrained_layout=True)
+    values = dataset[name].transpose("x", "y", "z")
+    coordinates = [dataset[axis].values for axis in AXIS_NAMES]
+    fig = mid_plane_figure(coordinates, {name: values.values},
+                           f"{dataset.attrs.get('robot', '')}: {name} ({values.attrs.get('long_name', '')})")
     try:
-        for ax, (fixed, across, up) in zip(axes, MID_PLANES):
-            middle = values.sizes[fixed] // 2
-            plane = values.isel({fixed: middle}).transpose(up, across)
-            u, v = dataset[across].values, dataset[up].values
-            image = ax.pcolormesh(u, v, np.asarray(plane.values), vmin=0.0, vmax=1.0, cmap="viridis", shading="nearest")
-            ax.set_aspect("equal")
-            ax.set_xlabel(f"{across} [m]")
-            ax.set_ylabel(f"{up} [m]")
-            ax.set_title(f"{fixed} = {float(dataset[fixed].values[middle]):.3f} m")
-        fig.colorbar(image, ax=axes, label=f"{name} index", shrink=0.9)
-        fig.suptitle(f"{dataset.attrs.get('robot', '')}: {name} ({values.attrs.get('long_name', '')})", fontsize=10)
         fig.savefig(path, dpi=110)
     finally:
         plt.close(fig)
+
+
+def plot_measure_line(ax: Any, angles: np.ndarray, measure: np.ndarray, branches: Sequence[str], xlabel: str) -> None:
+    """The feasible arm-angle measure of each branch along one line of a map (positions or orientations).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    angles : numpy.ndarray, shape (K,)
+        The line's parameter, drawn as given (e.g. degrees).
+    measure : numpy.ndarray, shape (K, B)
+        Radians, one column per branch; drawn in degrees.  Branches that are empty along the whole line are
+        named in the legend but not drawn.
+    branches : sequence of str
+        The ``B`` branch names.
+    xlabel : str
+        Label of the line's parameter.
+    """
+    empty = []
+    for column, branch in enumerate(branches):
+        if np.any(measure[:, column] > 0.0):
+            ax.plot(angles, np.degrees(measure[:, column]), label=f"branch {branch}")
+        else:
+            empty.append(branch)
+    if empty:
+        ax.plot([], [], " ", label=f"empty all along: {', '.join(empty)}")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("measure of the feasible arm angles [deg]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8, loc="lower center")
