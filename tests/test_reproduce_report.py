@@ -4,6 +4,7 @@ import json
 import re
 
 import matplotlib.pyplot as plt
+import numpy as np
 import pytest
 
 import redkin
@@ -138,3 +139,15 @@ def test_unwritable_out_fails_before_any_section_runs(capsys, tmp_path):
         captured = capsys.readouterr()
         assert len(captured.err.strip().splitlines()) == 1 and "--out" in captured.err, captured.err
         assert "[000]" not in captured.err  # refused up front, not after the section ran
+
+
+def test_data_files_are_saved_beside_the_page_linked_and_listed(tmp_path):
+    writer = SectionWriter("tst", "Paper tst: a test section", "A. Author, a test paper.", tmp_path)
+    path = writer.data("grid", {"x": np.linspace(0, 1, 5), "measure": np.eye(3)}, "The grid as arrays")
+    write_report(tmp_path, [writer], "Test report", {"date": "today", "version": "9.9", "commit": "abc"})
+    assert path == tmp_path / "tst_grid.npz"
+    with np.load(path) as data:
+        np.testing.assert_array_equal(data["x"], np.linspace(0, 1, 5))
+        np.testing.assert_array_equal(data["measure"], np.eye(3))
+    assert '<a href="tst_grid.npz">The grid as arrays</a>' in (tmp_path / "index.html").read_text()
+    assert json.loads((tmp_path / "summary.json").read_text())["sections"]["tst"]["data"] == ["tst_grid.npz"]

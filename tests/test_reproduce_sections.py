@@ -5,7 +5,13 @@ All tests read one full report (tests/report_builds.py), built once per session.
 
 import json
 
+import numpy as np
+import pytest
 from report_builds import full_report
+
+from redkin.models import get_robot
+from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable
+from redkin.workspace import super_fibonacci_rotations
 
 
 def _summary():
@@ -93,3 +99,68 @@ def test_paper_004_section_differs_only_where_the_goals_conflict():
     for row in _rows(tables["obstacle_runs"]):
         assert row["status"] == "reached" and row["min clearance [m]"] > 0.0 > row["unobstructed min clearance [m]"]
         assert row["limit violations"] == 0 and row["clamped motion [rad]"] == 0.0
+
+
+def _map_arrays(name):
+    with np.load(full_report() / f"workspace_{name}_map.npz") as data:
+        return dict(data)
+
+
+def test_workspace_section_map_entries_equal_direct_feasible_arm_angles():
+    """Sampled entries of the report's maps against feasible_arm_angles; the indices and the table from their definitions."""
+    tables = _tables("workspace")
+    assert not _differing(tables)
+    rows = {row["arm"]: row for row in _rows(tables["maps"])}
+    assert sorted(rows) == ["kuka-iiwa14", "pa10-7c"]
+    rng = np.random.default_rng(14)
+    for name, row in rows.items():
+        arm, arrays = get_robot(name), _map_arrays(name)
+        measure = arrays["measure"]
+        m, n = row["orientations"], measure.shape[0]
+        assert measure.shape == (n, n, n, m, 8) and row["grid"] == f"{n}^3" and row["pose-branch sets"] == measure.size
+        np.testing.assert_array_equal(arrays["rotation"], super_fibonacci_rotations(m))
+        best = measure.max(axis=-1)
+        reachable_count = (best > 0).sum(axis=-1)
+        np.testing.assert_array_equal(arrays["reachability"], reachable_count / m)
+        np.testing.assert_allclose(arrays["redundancy"], best.sum(axis=-1) / (2 * np.pi * np.maximum(reachable_count, 1)),
+                                   rtol=1e-12)
+        reached = arrays["reachability"] > 0
+        assert row["reachable positions [%]"] == pytest.approx(100 * reached.mean())
+        assert row["reachable poses [%]"] == pytest.approx(100 * arrays["reachability"].mean())
+        assert row["mean redundancy where reachable"] == pytest.approx(arrays["redundancy"][reached].mean())
+        assert 5 < row["reachable positions [%]"] < 60 and 0 < row["mean redundancy where reachable"] < 1
+        inside, outside = np.argwhere(best > 0), np.argwhere(best == 0)
+        samples = np.concatenate([inside[rng.choice(len(inside), 12, replace=False)],
+                                  outside[rng.choice(len(outside), 4, replace=False)]])
+        for i, j, k, o in samples:
+            pose = pose_from(np.array([arrays["x"][i], arrays["y"][j], arrays["z"][k]]), arrays["rotation"][o])
+            for column, branch in enumerate(BRANCHES):
+                expected = 0.0
+                if reachable(arm, pose):
+                    expected = feasible_arm_angles(arm, pose, branch).feasible.length  # arcs may wrap past pi
+                assert measure[i, j, k, o, column] == pytest.approx(expected, abs=1e-9), (name, i, j, k, o, branch)
+    page = (full_report() / "index.html").read_text()
+    for name in rows:
+        assert f'href="workspace_{name}_map.npz"' in page and (full_report() / f"workspace_{name}_map.png").exists()
+
+
+def test_workspace_section_gamma_line_equals_the_6_2_2_computation():
+    """The line's Gamma is section 000's Gamma (found there with feasible_arm_angles), and the line's measure is positive
+    exactly inside it."""
+    ours = {row["quantity"]: row["ours"] for row in _rows(_tables("workspace")["gamma_line"])}
+    paper_000 = {row["quantity"]: row["ours"] for row in _rows(_tables("000")["s6_2_2"])}
+    for side in ("lower", "upper"):
+        gamma = paper_000[f"Gamma {side} [deg] (psi controlled)"]
+        assert ours[f"Gamma {side} [deg] (psi controlled): measure on +++ > 0"] == pytest.approx(gamma, abs=1e-9)
+        assert ours[f"Gamma {side} [deg]: map reachability (any branch)"] == pytest.approx(gamma, abs=1e-9)
+    with np.load(full_report() / "workspace_gamma_line.npz") as data:
+        gamma, measure = data["gamma"], data["measure"]
+    plus = [str(b) for b in BRANCHES].index("+++")
+    bound = np.radians(ours["Gamma upper [deg] (psi controlled): measure on +++ > 0"])
+    np.testing.assert_array_equal(measure[:, plus] > 0, np.abs(gamma) < bound)
+    np.testing.assert_array_equal(np.delete(measure, plus, axis=1), 0.0)  # the other branches are empty all along
+    arm = get_robot("pa10-7c")
+    eq_41 = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
+    width = feasible_arm_angles(arm, eq_41, "+++").feasible.length
+    assert measure[np.flatnonzero(gamma == 0.0)[0], plus] == pytest.approx(width, abs=1e-12)
+    assert ours["measure on +++ at gamma = 0 [deg] (the pose of eq. 41)"] == pytest.approx(np.degrees(width), abs=1e-9)

@@ -41,7 +41,8 @@ def mid_plane_figure(coordinates: Sequence[np.ndarray], indices: Mapping[str, np
             ax.set_aspect("equal")
             ax.set_xlabel(f"{AXIS_NAMES[across]} [m]")
             ax.set_ylabel(f"{AXIS_NAMES[up]} [m]")
-            ax.set_title(f"{name}, {AXIS_NAMES[fixed]} = {float(coordinates[fixed][middle]):.3f} m", fontsize=10)
+            level = round(float(coordinates[fixed][middle]), 3) + 0.0  # + 0.0: never "-0.000"
+            ax.set_title(f"{name}, {AXIS_NAMES[fixed]} = {level:.3f} m", fontsize=10)
         fig.colorbar(image, ax=row, label=f"{name} index", shrink=0.9)
     fig.suptitle(title, fontsize=10)
     return fig

@@ -22,6 +22,7 @@ SECTION_MODULES = [
     "redkin.reproduce.paper_001",
     "redkin.reproduce.paper_003",
     "redkin.reproduce.paper_004",
+    "redkin.reproduce.workspace_section",
     "redkin.reproduce.models_section",
 ]
 

@@ -2,7 +2,7 @@
 
 A paper module builds its section through a :class:`SectionWriter`; the
 writer keeps the tables (for ``summary.json``), saves figures as PNG files
-beside ``index.html`` and writes linked pages (the arm-angle explorers).
+beside ``index.html`` and writes linked pages (the arm-angle explorers) and data files (``.npz``).
 Paper values enter only as the "paper" side of a :class:`Comparison`.
 """
 
@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -54,6 +55,7 @@ class SectionWriter:
     comparisons: dict[str, list[Comparison]] = field(default_factory=dict)
     figures: list[str] = field(default_factory=list)
     pages: list[str] = field(default_factory=list)
+    data_files: list[str] = field(default_factory=list)
 
     def heading(self, title: str) -> None:
         """Start a subsection (listed in the table of contents)."""
@@ -100,6 +102,15 @@ class SectionWriter:
         self.blocks.append(("page", (filename, label)))
         return path
 
+    def data(self, name: str, arrays: dict[str, np.ndarray], label: str) -> Path:
+        """Save ``arrays`` as a compressed ``.npz`` beside the report (``numpy.load`` reads it) and link it with ``label``."""
+        filename = f"{self.key}_{name}.npz"
+        path = self.figure_dir / filename
+        np.savez_compressed(path, **arrays)
+        self.data_files.append(filename)
+        self.blocks.append(("page", (filename, label)))
+        return path
+
     def progress(self, fraction: float, message: str = "") -> None:
         """Report progress of a long section (0 <= fraction <= 1)."""
         if self.progress_callback is not None:
@@ -123,6 +134,7 @@ class SectionWriter:
             "tables": self.tables,
             "figures": self.figures,
             "pages": self.pages,
+            "data": self.data_files,
         }
 
 
