@@ -172,6 +172,8 @@ def test_bad_construction_is_a_value_error():
         SingularityConsistentController(WAM, Q0, near_zero=-1.0)
     with pytest.raises(ValueError, match="q0"):
         SingularityConsistentController(WAM, np.zeros(3))
+    with pytest.raises(ValueError, match="q0 must be finite"):
+        SingularityConsistentController(WAM, np.full(7, np.nan))
     with pytest.raises(ValueError, match="factorisation"):
         SingularityConsistentController(WAM, Q0, factorisation=lambda q: q[..., 3])
     with pytest.raises(ValueError, match="self_motion"):

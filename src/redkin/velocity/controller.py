@@ -154,6 +154,8 @@ class SingularityConsistentController:
         if not isinstance(self.factorisation, Factorisation):
             raise ValueError(f"factorisation must be a Factorisation, got {type(self.factorisation).__name__}")
         start = read_vector(q0, 7, "q0")
+        if not np.isfinite(start).all():
+            raise ValueError(f"q0 must be finite, got {start.tolist()}")
         self.eps = check_positive(eps, "eps")
         if direction is None:
             direction = -1.0 if float(self.factorisation.index(start)) < 0.0 else 1.0
