@@ -107,9 +107,9 @@ def feasible_batch_rows(geometry: SRSGeometry, poses: np.ndarray) -> list[tuple[
     rows = []
     for name, call, per_pose in (
         ("feasible_pieces, one branch", lambda: feasible_pieces(geometry, poses, "+++"), 1),
-        ("  coefficients precomputed (overall_pieces)", lambda: overall_pieces(one, branch, geometry), 1),
+        ("  coefficients precomputed (overall_pieces, serial)", lambda: overall_pieces(one, branch, geometry), 1),
         ("feasible_pieces_all_branches, 8 branches", lambda: feasible_pieces_all_branches(geometry, poses), 8),
-        ("  coefficients precomputed (all_branch_pieces)", lambda: all_branch_pieces(both, geometry), 8),
+        ("  coefficients precomputed (all_branch_pieces, serial)", lambda: all_branch_pieces(both, geometry), 8),
     ):
         t = best_time(call, repeat=3)
         rows.append((f"batch {count:,} poses, {name}".replace(",", " "), f"{per_pose * count / t:9.3g} pose-branches/s"))

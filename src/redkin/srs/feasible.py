@@ -156,7 +156,7 @@ def limit_tables(geometry: SRSGeometry) -> LimitTables:
 
 
 def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometry: SRSGeometry, per_joint: bool):
-    """Run :func:`redkin.srs.feasible_kernels.branches` on coefficients of batch shape ``theta4.shape``.
+    """Run :func:`redkin.srs.feasible_kernels.branches` (serial) on coefficients of batch shape ``theta4.shape``.
 
     Returns ``start, end`` (..., 24), ``keep`` (..., R, 24) (``R = 7`` with
     ``per_joint``, else 1) and whether theta_4 is within its limits (...).
@@ -168,9 +168,9 @@ def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometr
     keep = np.empty((count, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
     elbow_inside = np.empty(count, dtype=bool)
     tables = limit_tables(geometry)
-    run_batch(kernels.branches, kernels.branches_parallel, count, flat,
-              np.ascontiguousarray(theta4, dtype=float).reshape(count), int(branch.shoulder < 0),
-              int(branch.wrist < 0), tables.equations, tables.membership, tables.elbow, start, end, keep, elbow_inside)
+    kernels.branches(flat, np.ascontiguousarray(theta4, dtype=float).reshape(count), int(branch.shoulder < 0),
+                     int(branch.wrist < 0), tables.equations, tables.membership, tables.elbow, start, end, keep,
+                     elbow_inside)
     if shape == (count,):
         return start, end, keep, elbow_inside
     pieces = shape + (kernels.PIECES,)
@@ -320,9 +320,8 @@ def all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry)
     start, end = np.empty((count, 8, kernels.PIECES)), np.empty((count, 8, kernels.PIECES))
     keep = np.empty((count, 8, 1, kernels.PIECES), dtype=bool)
     tables = limit_tables(geometry)
-    run_batch(kernels.all_branches, kernels.all_branches_parallel, count, entries,
-              np.ascontiguousarray(coefficients.theta4, dtype=float).reshape(count, 2), tables.equations,
-              tables.membership, tables.elbow, geometry.branch_order, start, end, keep)
+    kernels.all_branches(entries, np.ascontiguousarray(coefficients.theta4, dtype=float).reshape(count, 2),
+                         tables.equations, tables.membership, tables.elbow, geometry.branch_order, start, end, keep)
     pieces = shape + (8, kernels.PIECES)
     return FeasiblePieces(start.reshape(pieces), end.reshape(pieces), keep.reshape(pieces))
 

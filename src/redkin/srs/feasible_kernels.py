@@ -6,11 +6,16 @@ theta_4 of eq. 11) :func:`pose_pieces` cuts the circle of arm angles where
 any joint reaches a limit and reads, in the middle of each piece, the signs
 of the joints' limit equations; :func:`classify` turns those signs into the
 per-joint sets (eq. 29) and their intersection (eq. 30) on one branch.
-:func:`pose_branch` does both for one pose-branch; :func:`branches` and
-:func:`all_branches` (the eight branches of each pose, the cuts made once
-per elbow sign) loop over a batch.  :mod:`redkin.srs.feasible` validates at
-its public edge and calls them; the kernels trust their inputs: C-contiguous
-arrays of the documented shapes and types.
+:func:`pose_branch` does both for one pose-branch and
+:func:`pose_all_branches` for the eight branches of a pose (the cuts made
+once per elbow sign); :func:`pose_feasible` and :func:`pose_feasible_all`
+start from the pose itself, computing eqs. 4-19 with
+:func:`redkin.srs.ik_kernels.coefficients_one`.  :func:`poses_branch` and
+:func:`poses_all_branches` (with their parallel twins) loop over a batch of
+poses, :func:`branches` and :func:`all_branches` over coefficients computed
+beforehand.  :mod:`redkin.srs.feasible` validates at its public edge and
+calls them; the kernels trust their inputs: C-contiguous arrays of the
+documented shapes and types.
 
 The per-arm tables (:func:`redkin.srs.feasible.limit_tables`, built once per
 geometry from :attr:`~redkin.srs.geometry.SRSGeometry.psi_joint_limits`) are
@@ -343,10 +348,13 @@ def arc_runs(start, end, keep, out):
 
 
 # ------------------------------------------------------------------- batches
-# Serial and parallel loops over a batch, over blocks of CHUNK items with one
-# set of scratch arrays per block (numba caches one dispatcher per Python
-# function, so the two loops are two functions); launched through
-# redkin.compiled.run_batch.
+# From poses (the public path), serial and parallel loops over a batch, over
+# blocks of CHUNK items with one set of scratch arrays per block (numba caches
+# one dispatcher per Python function, so the two loops are two functions),
+# launched through redkin.compiled.run_batch.  From coefficients computed
+# beforehand (paths, optimal arm angles: a Python loop over the poses follows)
+# a serial loop only: a parallel twin would add seconds to the first, compiling
+# call of a fresh install for no measurable gain there.
 CHUNK = 128
 
 
@@ -360,16 +368,6 @@ def branches(entries, theta4, n2, n6, equations_table, membership, elbow, start,
     for b in range(entries.shape[0]):
         elbow_inside[b] = pose_branch(entries[b], theta4[b], n2, n6, equations_table, membership, elbow,
                                       equations, patterns, start[b], end[b], keep[b])
-
-
-@kernel(parallel=True)
-def branches_parallel(entries, theta4, n2, n6, equations_table, membership, elbow, start, end, keep, elbow_inside):
-    """:func:`branches` on all cores."""
-    for block in prange((entries.shape[0] + CHUNK - 1) // CHUNK):
-        equations, patterns = np.empty((3, EQUATIONS)), np.empty((PIECES, 6), np.int64)
-        for b in range(block * CHUNK, min(entries.shape[0], (block + 1) * CHUNK)):
-            elbow_inside[b] = pose_branch(entries[b], theta4[b], n2, n6, equations_table, membership, elbow,
-                                          equations, patterns, start[b], end[b], keep[b])
 
 
 @kernel
@@ -393,16 +391,6 @@ def all_branches(entries, theta4, equations_table, membership, elbow, order, sta
     for b in range(entries.shape[0]):
         pose_all_branches(entries[b], theta4[b], equations_table, membership, elbow, order,
                           equations, patterns, start[b], end[b], keep[b])
-
-
-@kernel(parallel=True)
-def all_branches_parallel(entries, theta4, equations_table, membership, elbow, order, start, end, keep):
-    """:func:`all_branches` on all cores."""
-    for block in prange((entries.shape[0] + CHUNK - 1) // CHUNK):
-        equations, patterns = np.empty((3, EQUATIONS)), np.empty((PIECES, 6), np.int64)
-        for b in range(block * CHUNK, min(entries.shape[0], (block + 1) * CHUNK)):
-            pose_all_branches(entries[b], theta4[b], equations_table, membership, elbow, order,
-                              equations, patterns, start[b], end[b], keep[b])
 
 
 @kernel
