@@ -73,7 +73,7 @@ class ArcSet:
             if hi - lo >= TWO_PI:
                 pieces.append((-PI, PI))
                 continue
-            start = wrap_angle(lo)
+            start = (lo + PI) % TWO_PI - PI  # wrap_angle(lo), without the call
             length = (hi - lo) % TWO_PI if hi != lo else 0.0
             end = start + length
             if end <= PI:
@@ -81,7 +81,7 @@ class ArcSet:
             else:
                 pieces.append((start, PI))
                 pieces.append((-PI, end - TWO_PI))
-        self._intervals = _merge(pieces)
+        self._intervals = tuple(pieces) if len(pieces) < 2 else _merge(pieces)  # one interval is merged already
 
     # ----------------------------------------------------------- constructors
     @classmethod
