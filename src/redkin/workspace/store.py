@@ -15,6 +15,7 @@ store with the same parameters resumes it, one with others is refused.
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 from typing import Any
 
@@ -60,18 +61,21 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     m, n, c = grid.resolution, len(rotations), grid.chunk
     x, y, z = grid.axes
     position = ("x", "y", "z")
+    # lazy templates of one Dask chunk each (a graph of a few tasks, never computed); the store's chunks are set
+    # by the encoding: one per map chunk (13 824 Dask chunks per array made the 1 cm map's metadata take 30 s)
     data = {
-        "measure": (position + ("orientation", "branch"),
-                    da.zeros((m, m, m, n, len(BRANCHES)), chunks=(c, c, c, n, len(BRANCHES))),
+        "measure": (position + ("orientation", "branch"), da.zeros((m, m, m, n, len(BRANCHES)), chunks=-1),
                     {"units": "rad", "long_name": "measure of the feasible arm-angle set (paper 000, eq. 30)",
                      "branches": [str(b) for b in BRANCHES]}),
-        "reachability": (position, da.zeros((m, m, m), chunks=c),
+        "reachability": (position, da.zeros((m, m, m), chunks=-1),
                          {"units": "1", "long_name": "fraction of orientations with a feasible arm angle on some branch"}),
-        "redundancy": (position, da.zeros((m, m, m), chunks=c),
+        "redundancy": (position, da.zeros((m, m, m), chunks=-1),
                        {"units": "1", "long_name": "mean over reachable orientations of the largest branch measure / 2 pi"}),
-        "chunk_complete": (("chunk_x", "chunk_y", "chunk_z"), da.zeros(grid.chunk_counts, dtype=bool, chunks=1),
+        "chunk_complete": (("chunk_x", "chunk_y", "chunk_z"), da.zeros(grid.chunk_counts, dtype=bool, chunks=-1),
                            {"long_name": "whether the chunk's values are written"}),
     }
+    encoding = {"measure": {"chunks": (c, c, c, n, len(BRANCHES))}, "reachability": {"chunks": (c, c, c)},
+                "redundancy": {"chunks": (c, c, c)}, "chunk_complete": {"chunks": (1, 1, 1)}}
     coords = {
         "x": ("x", x, {"units": "m"}), "y": ("y", y, {"units": "m"}), "z": ("z", z, {"units": "m"}),
         "rotation": (("orientation", "row", "column"), rotations,
@@ -84,7 +88,7 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     }
     dataset = xr.Dataset({name: xr.Variable(*spec) for name, spec in data.items()},
                          coords={name: xr.Variable(*spec) for name, spec in coords.items()}, attrs=attrs)
-    dataset.to_zarr(path, mode="w", compute=False, zarr_format=2)
+    dataset.to_zarr(path, mode="w", compute=False, zarr_format=2, encoding=encoding, safe_chunks=False)
 
 
 def stored_parameters(path: Path) -> str | None:
@@ -98,8 +102,20 @@ def stored_parameters(path: Path) -> str | None:
 
 
 def completed_chunks(path: Path) -> np.ndarray:
-    """``chunk_complete`` of the map at ``path``, shape ``grid.chunk_counts``."""
-    return require("zarr").open_array(path, path="chunk_complete", mode="r")[...]
+    """``chunk_complete`` of the map at ``path``, shape ``grid.chunk_counts``, from the names of its marker files.
+
+    A marker is written (true) after its chunk's values and never written
+    false, so a chunk is complete exactly where its marker file ``i.j.k``
+    exists (zarr format 2).  One listing of the folder takes milliseconds;
+    reading the markers one by one, most of them absent, took 26 s for the
+    13 824 chunks of the 1 cm iiwa map.
+    """
+    complete = np.zeros(require("zarr").open_array(path, path="chunk_complete", mode="r").shape, dtype=bool)
+    for entry in os.scandir(Path(path) / "chunk_complete"):
+        index = entry.name.split(".")
+        if len(index) == complete.ndim and all(part.isdigit() for part in index):
+            complete[tuple(int(part) for part in index)] = True
+    return complete
 
 
 def write_chunk(path: Path, grid: WorkspaceGrid, index: tuple[int, int, int],
