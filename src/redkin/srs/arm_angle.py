@@ -1,4 +1,4 @@
-"""The inverse of arm-angle IK: the arm angle and branch of a joint vector (paper 000 eqs. 5-8)."""
+"""The inverse of arm-angle IK: the arm angle and branch of a joint vector [000 eqs. 5-8]."""
 
 from __future__ import annotations
 
@@ -39,7 +39,7 @@ class ArmAngleState:
 def arm_angle_of(arm: "SerialChain | SRSGeometry", q: ArrayLike) -> ArmAngleState:
     """Arm angle and branch of joint vectors ``q`` ``(..., 7)``.
 
-    ``0R3 = R_psi 0R3o`` (eq. 8), so ``R_psi = 0R3 0R3o^T`` and ``psi`` is its
+    ``0R3 = R_psi 0R3o`` [000 eq. 8], so ``R_psi = 0R3 0R3o^T`` and ``psi`` is its
     angle about the shoulder-to-wrist axis: ``sin psi = u . vee(R_psi -
     R_psi^T) / 2``, ``cos psi = (trace R_psi - 1) / 2``.
     """

@@ -1,27 +1,27 @@
-"""The arm-angle parametrisation of paper 000 section 3: eqs. 4-19.
+"""The arm-angle parametrisation of paper 000 section 3: [000 eqs. 4-19].
 
 For a target pose (frame 7 in frame 0, Table 1 form) and the sign of the
 elbow angle, :func:`arm_angle_coefficients` returns the constant coefficient
 matrices of
 
-* eq. 12: ``0R3(psi) = A_s sin psi + B_s cos psi + C_s``
-* eq. 16: ``4R7(psi) = A_w sin psi + B_w cos psi + C_w``
+* [000 eq. 12]: ``0R3(psi) = A_s sin psi + B_s cos psi + C_s``
+* [000 eq. 16]: ``4R7(psi) = A_w sin psi + B_w cos psi + C_w``
 
 with ``A_s = [u x] R3o``, ``B_s = -[u x]^2 R3o`` and ``C_s = u u^T R3o``
 (the transcription prints ``C_s`` garbled; ``I + [u x]^2 = u u^T`` for a unit
 ``u``, so ``B_s = (I - u u^T) R3o``), and ``A_w = 3R4^T A_s^T 0R7`` etc.
 (``4R7 = 3R4^T 0R3^T 0R7``), where ``u`` is the unit shoulder-to-wrist vector
 and ``R3o = 0R3`` on the reference plane ``theta_3 = 0``.  ``psi`` is a
-right-handed rotation of the arm plane about ``u`` (Rodrigues, eq. 6:
+right-handed rotation of the arm plane about ``u`` (Rodrigues, [000 eq. 6]:
 ``R_psi = sin psi [u x] + cos psi (I - u u^T) + u u^T``).
 
-Eqs. 12 and 16 are linear in the three Rodrigues terms ``[u x]``,
+[000 eqs. 12, 16] are linear in the three Rodrigues terms ``[u x]``,
 ``I - u u^T`` and ``u u^T``, so :func:`rotation_terms` computes them for
 any weights of these terms: the identity gives the coefficient matrices,
 ``(sin psi, cos psi, 1)`` gives ``0R3`` and ``4R7`` at ``psi`` -- one
 implementation for both.
 
-Reference plane (eq. 7 with ``theta_3 = 0``): at ``theta_3 = 0``,
+Reference plane ([000 eq. 7] with ``theta_3 = 0``): at ``theta_3 = 0``,
 ``0R3 = Rz(theta_1) Rx(-pi/2) Rz(theta_2)`` and
 ``x_sw = [c1 w, s1 w, z]`` with ``(w, -z)`` = ``(v_x, v_y)`` turned by
 ``theta_2``, ``v = (d_ew s4, -(d_se + d_ew c4))`` (with an offset elbow
@@ -52,12 +52,12 @@ from redkin.validation import as_float_array, check_pose
 
 @dataclass(frozen=True)
 class ArmAngleCoefficients:
-    """Eqs. 4-12 and 16 for a batch of poses and elbow signs.
+    """[000 eqs. 4-12, 16] for a batch of poses and elbow signs.
 
     Attributes
     ----------
     theta4 : numpy.ndarray, shape (...)
-        Elbow angle (eq. 11), independent of psi.
+        Elbow angle [000 eq. 11], independent of psi.
     u_sw : numpy.ndarray, shape (..., 3)
         Unit shoulder-to-wrist vector.
     reference : numpy.ndarray, shape (..., 3, 3)
@@ -65,9 +65,9 @@ class ArmAngleCoefficients:
     elbow : numpy.ndarray, shape (..., 3, 3)
         ``3R4`` (depends on theta_4 only).
     shoulder : numpy.ndarray, shape (..., 3, 3, 3)
-        ``(A_s, B_s, C_s)`` of eq. 12.
+        ``(A_s, B_s, C_s)`` of [000 eq. 12].
     wrist : numpy.ndarray, shape (..., 3, 3, 3)
-        ``(A_w, B_w, C_w)`` of eq. 16.
+        ``(A_w, B_w, C_w)`` of [000 eq. 16].
     entries : numpy.ndarray, shape (..., 3, 14)
         The rows ``(a, b, c)`` of the entries of :data:`redkin.srs.ik_kernels.ENTRY_LAYOUT`:
         ``entry(psi) = a sin psi + b cos psi + c``.
@@ -85,7 +85,7 @@ class ArmAngleCoefficients:
 def unreachable_error(geometry, distance: np.ndarray, reach: np.ndarray) -> UnreachablePoseError | None:
     """The error naming the first pose whose wrist is out of reach, or ``None``.
 
-    ``distance`` is ``|x_sw|`` and ``reach`` whether eq. 11 has a solution, batched.
+    ``distance`` is ``|x_sw|`` and ``reach`` whether [000 eq. 11] has a solution, batched.
     """
     bad = ~reach
     if not bad.any():
@@ -129,7 +129,7 @@ def raise_for_status(geometry, pose: np.ndarray, status: np.ndarray, distance: n
 def coefficient_arrays(
     geometry, pose: np.ndarray, elbow_sign: np.ndarray | int
 ) -> tuple[ArmAngleCoefficients, np.ndarray, np.ndarray]:
-    """Eqs. 4-12 and 16 for poses of the chain's tool ``(..., 4, 4)`` (:func:`as_poses`), with the kernels'
+    """[000 eqs. 4-12, 16] for poses of the chain's tool ``(..., 4, 4)`` (:func:`as_poses`), with the kernels'
     status per pose and ``|x_sw|``.
 
     ``elbow_sign`` (+1 or -1, the sign ``sigma`` of ``theta_4 - phi``)
@@ -157,7 +157,7 @@ def coefficient_arrays(
 
 
 def arm_angle_coefficients(geometry, pose: ArrayLike, elbow_sign: np.ndarray | int) -> ArmAngleCoefficients:
-    """Coefficients of eqs. 12 and 16 for poses of the chain's tool ``(..., 4, 4)`` and elbow signs.
+    """Coefficients of [000 eqs. 12, 16] for poses of the chain's tool ``(..., 4, 4)`` and elbow signs.
 
     See :func:`coefficient_arrays`.
 
@@ -166,7 +166,7 @@ def arm_angle_coefficients(geometry, pose: ArrayLike, elbow_sign: np.ndarray | i
     RedkinError
         For a malformed pose.
     UnreachablePoseError
-        For a wrist position out of reach (eq. 11 has no solution).
+        For a wrist position out of reach ([000 eq. 11] has no solution).
     """
     pose = as_poses(pose)
     result, status, distance = coefficient_arrays(geometry, pose, elbow_sign)

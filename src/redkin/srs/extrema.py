@@ -1,4 +1,4 @@
-"""Extrema of the joint angles over the arm angle: paper 000 section 4.2, eqs. 21-28.
+"""Extrema of the joint angles over the arm angle: paper 000 section 4.2, [000 eqs. 21-28].
 
 For a pose and a branch, each psi-dependent joint (1, 2, 3, 5, 6, 7) is of
 one of the two types of section 4.2, read from the entry coefficients of
@@ -6,21 +6,21 @@ one of the two types of section 4.2, read from the entry coefficients of
 ``entry(psi) = a sin psi + b cos psi + c``, layout
 :data:`redkin.srs.coefficients.ENTRY_LAYOUT`):
 
-* tangent type (eq. 21), joints 1, 3, 5, 7: ``tan theta = N / D`` with
+* tangent type [000 eq. 21], joints 1, 3, 5, 7: ``tan theta = N / D`` with
   ``N = a_n s + b_n c + c_n``, ``D = a_d s + b_d c + c_d``
   (joint 1: ``N = y``, ``D = x``; joint 3: ``N = t``, ``D = -r2``; wrist
-  likewise).  Eq. 23: ``dtheta/dpsi = (a_t s + b_t c + c_t) / (N^2 + D^2)``
+  likewise).  [000 eq. 23]: ``dtheta/dpsi = (a_t s + b_t c + c_t) / (N^2 + D^2)``
   with ``a_t = b_d c_n - b_n c_d``, ``b_t = a_n c_d - a_d c_n``,
-  ``c_t = a_n b_d - a_d b_n`` (checked by differentiating eq. 21: the
+  ``c_t = a_n b_d - a_d b_n`` (checked by differentiating [000 eq. 21]: the
   transcription is correct).  The discriminant ``a_t^2 + b_t^2 - c_t^2``
-  (eq. 24) gives the case:
+  [000 eq. 24] gives the case:
 
   - ``> 0``: *periodic* (section 4.2.1 case (1), Fig. 3a): the two roots
-    ``psi_0`` of the numerator (eq. 25, computed as ``phi +- acos(-c_t /
+    ``psi_0`` of the numerator ([000 eq. 25], computed as ``phi +- acos(-c_t /
     rho)`` by :func:`redkin.srs.feasible_kernels.sinusoid_roots`, the same roots
-    without the division by ``b_t - c_t`` of eq. 25, which fails at
+    without the division by ``b_t - c_t`` of [000 eq. 25], which fails at
     ``psi_0 = +-pi``) are the global maximum and minimum, told apart by the
-    sign of eq. 26, ``(a_t cos psi_0 - b_t sin psi_0) / (N^2 + D^2)``;
+    sign of [000 eq. 26], ``(a_t cos psi_0 - b_t sin psi_0) / (N^2 + D^2)``;
   - ``< 0``: *monotonic* (section 4.2.1 case (2), Fig. 3b), increasing when
     ``c_t > 0``;
   - ``= 0`` (within a relative tolerance): *singular*, a case the paper does
@@ -37,9 +37,9 @@ one of the two types of section 4.2, read from the entry coefficients of
   - ``N = D = 0`` for every psi: *undefined* (singular at every arm angle,
     :attr:`redkin.srs.SingularArmAngles.shoulder_everywhere`).
 
-* cosine type (eq. 22), joints 2 and 6: ``cos theta = a s + b c + c``.
-  Eq. 27, ``dtheta/dpsi = -(a cos psi - b sin psi) / sin theta``, vanishes at
-  ``tan psi_0 = a / b``, i.e. at ``atan2(a, b)`` and ``atan2(-a, -b)``; eq. 28,
+* cosine type [000 eq. 22], joints 2 and 6: ``cos theta = a s + b c + c``.
+  [000 eq. 27], ``dtheta/dpsi = -(a cos psi - b sin psi) / sin theta``, vanishes at
+  ``tan psi_0 = a / b``, i.e. at ``atan2(a, b)`` and ``atan2(-a, -b)``; [000 eq. 28],
   ``d2theta/dpsi2 = (a sin psi_0 + b cos psi_0) / sin theta``, is positive
   (minimum) at ``atan2(a, b)`` when ``sin theta > 0`` (branch sign +), so that
   point is the minimum of ``theta`` on the ``+`` branch and the maximum on the
@@ -85,9 +85,9 @@ _ROUNDING_FLOOR = 1e-30
 VANISHING_TOLERANCE = 1e-12
 
 #: Columns (index into the 14 entries of ``ENTRY_LAYOUT``) and signs of ``N`` and ``D`` of the
-#: tangent-type joints 1, 3, 5, 7 (eqs. 13, 15, 17, 19): ``x, y, z, r0, r1, r2, t`` per group.
+#: tangent-type joints 1, 3, 5, 7 [000 eqs. 13, 15, 17, 19]: ``x, y, z, r0, r1, r2, t`` per group.
 _TANGENT = {1: (1, 1.0, 0, 1.0), 3: (6, 1.0, 5, -1.0), 5: (8, 1.0, 7, 1.0), 7: (13, 1.0, 12, -1.0)}
-#: Column of ``cos theta`` of the cosine-type joints 2 and 6 (eqs. 14, 18).
+#: Column of ``cos theta`` of the cosine-type joints 2 and 6 [000 eqs. 14, 18].
 _COSINE = {2: 2, 6: 9}
 
 #: The five cases of paper 000 section 4.3 for a periodic joint with limits ``[l, u]``.
@@ -141,17 +141,17 @@ class JointExtrema:
     joint : int
         1, 2, 3, 5, 6 or 7.
     kind : str
-        ``"tangent"`` (eq. 21) or ``"cosine"`` (eq. 22).
+        ``"tangent"`` [000 eq. 21] or ``"cosine"`` [000 eq. 22].
     case : str
         ``"periodic"``, ``"monotonic"``, ``"singular"``, ``"constant"`` or
         ``"undefined"`` (see the module docstring).
     reference : str
         Where the case is in the paper, in words.
     coefficients : tuple of float
-        ``(a_t, b_t, c_t)`` of eq. 23 (tangent) or ``(a, b, c)`` of eq. 22
+        ``(a_t, b_t, c_t)`` of [000 eq. 23] (tangent) or ``(a, b, c)`` of [000 eq. 22]
         (cosine, branch sign +).
     discriminant : float
-        ``a_t^2 + b_t^2 - c_t^2`` (eq. 24); ``a^2 + b^2`` for the cosine type.
+        ``a_t^2 + b_t^2 - c_t^2`` [000 eq. 24]; ``a^2 + b^2`` for the cosine type.
     maximum, minimum : Stationary or None
         The global extrema (periodic case only).  A tangent-type joint's
         values are angles on the circle: it sweeps from ``minimum.value`` up
@@ -186,20 +186,20 @@ class JointExtrema:
 
 
 def tangent_derivative_coefficients(numerator: np.ndarray, denominator: np.ndarray) -> np.ndarray:
-    """``(a_t, b_t, c_t)`` of eq. 23 from ``(a_n, b_n, c_n)`` and ``(a_d, b_d, c_d)`` (last axis), batched."""
+    """``(a_t, b_t, c_t)`` of [000 eq. 23] from ``(a_n, b_n, c_n)`` and ``(a_d, b_d, c_d)`` (last axis), batched."""
     a_n, b_n, c_n = np.moveaxis(numerator, -1, 0)
     a_d, b_d, c_d = np.moveaxis(denominator, -1, 0)
-    return np.stack([b_d * c_n - b_n * c_d, a_n * c_d - a_d * c_n, a_n * b_d - a_d * b_n], axis=-1)  # eq. 23
+    return np.stack([b_d * c_n - b_n * c_d, a_n * c_d - a_d * c_n, a_n * b_d - a_d * b_n], axis=-1)  # [000 eq. 23]
 
 
 def tangent_case(derivative: np.ndarray, scale: np.ndarray | float = 1.0, tolerance: float = EXTREMA_TOLERANCE) -> np.ndarray:
-    """Case of tangent-type joints from ``(a_t, b_t, c_t)`` ``(..., 3)``: eq. 24 and its equality.
+    """Case of tangent-type joints from ``(a_t, b_t, c_t)`` ``(..., 3)``: [000 eq. 24] and its equality.
 
     ``scale`` is ``|n| |d|`` (see :data:`CONSTANT_TOLERANCE`).  Returns an
     array of ``"periodic"``, ``"monotonic"``, ``"singular"`` or ``"constant"``.
     """
     size = np.einsum("...i,...i->...", derivative, derivative)
-    discriminant = size - 2.0 * derivative[..., 2] ** 2  # eq. 24
+    discriminant = size - 2.0 * derivative[..., 2] ** 2  # [000 eq. 24]
     case = np.where(discriminant > 0.0, "periodic", "monotonic")
     case = np.where(np.abs(discriminant) <= tolerance * size, "singular", case)
     return np.where(np.sqrt(size) <= CONSTANT_TOLERANCE * scale + _ROUNDING_FLOOR, "constant", case)
@@ -208,7 +208,7 @@ def tangent_case(derivative: np.ndarray, scale: np.ndarray | float = 1.0, tolera
 def tangent_cases(
     numerator: np.ndarray, denominator: np.ndarray, tolerance: float = EXTREMA_TOLERANCE
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``(a_t, b_t, c_t)`` (eq. 23) and the case of tangent-type joints from the coefficients of ``N`` and ``D``.
+    """``(a_t, b_t, c_t)`` [000 eq. 23] and the case of tangent-type joints from the coefficients of ``N`` and ``D``.
 
     Adds ``"undefined"`` to the cases of :func:`tangent_case` where ``N = D = 0`` for every psi.
     """
@@ -258,7 +258,7 @@ def joint_extrema(
     branch: str | Branch = "+++",
     tolerance: float = EXTREMA_TOLERANCE,
 ) -> dict[int, JointExtrema]:
-    """Type, case, extrema and monotonicity of each psi-dependent joint for one pose (paper 000 eqs. 21-28).
+    """Type, case, extrema and monotonicity of each psi-dependent joint for one pose [000 eqs. 21-28].
 
     Parameters
     ----------
@@ -269,12 +269,12 @@ def joint_extrema(
     branch : str or Branch
         Signs of theta_2, theta_4, theta_6, e.g. ``"+-+"``.
     tolerance : float
-        Relative tolerance of the singular case (equality in eq. 24), see :func:`tangent_case`.
+        Relative tolerance of the singular case (equality in [000 eq. 24]), see :func:`tangent_case`.
 
     Returns
     -------
     dict of int to JointExtrema
-        Keys 1, 2, 3, 5, 6, 7 (theta_4 does not depend on psi, eq. 11).
+        Keys 1, 2, 3, 5, 6, 7 (theta_4 does not depend on psi, [000 eq. 11]).
 
     Raises
     ------
@@ -312,13 +312,13 @@ def joint_extrema(
         a_t, b_t, c_t = derivative[k]
         if cases[k] != "periodic":
             continue
-        roots = np.array(sinusoid_roots(*(derivative[k] / np.linalg.norm(derivative[k]))))  # eq. 25 (scale-free)
-        curvature = a_t * np.cos(roots) - b_t * np.sin(roots)  # numerator of eq. 26
+        roots = np.array(sinusoid_roots(*(derivative[k] / np.linalg.norm(derivative[k]))))  # [000 eq. 25] (scale-free)
+        curvature = a_t * np.cos(roots) - b_t * np.sin(roots)  # numerator of [000 eq. 26]
         stationary[PSI_JOINTS.index(joint)] = roots[np.argsort(curvature)]  # negative first: maximum
     for joint, column in _COSINE.items():
         a, b, _ = entries[:, column]
         sigma = chosen.shoulder if joint == 2 else chosen.wrist
-        psi_0 = np.arctan2(a, b)  # eq. 27; eq. 28 > 0 here when sigma = +1
+        psi_0 = np.arctan2(a, b)  # [000 eq. 27]; [000 eq. 28] > 0 here when sigma = +1
         both = np.mod(np.array([psi_0, psi_0 + np.pi]) + np.pi, TWO_PI) - np.pi
         stationary[PSI_JOINTS.index(joint)] = both[::-1] if sigma > 0 else both
 

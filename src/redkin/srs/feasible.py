@@ -1,13 +1,13 @@
-"""Feasible arm angles under box joint limits: paper 000 section 4, eqs. 20-30.
+"""Feasible arm angles under box joint limits: paper 000 section 4, [000 eqs. 20-30].
 
 For each joint ``i`` the set ``Psi_i`` of arm angles at which
-``theta_i(psi)`` lies within its limits (eq. 29) is a union of closed arcs,
-and the feasible set is ``Psi = intersection of the Psi_i`` (eq. 30).
+``theta_i(psi)`` lies within its limits [000 eq. 29] is a union of closed arcs,
+and the feasible set is ``Psi = intersection of the Psi_i`` [000 eq. 30].
 
 Closed form, never missing a narrow arc: every arm angle where
 ``theta_i(psi)`` equals a limit solves a linear equation in
 ``(sin psi, cos psi)`` (:func:`redkin.srs.joints.limit_equation_table`, derived
-from eqs. 21 and 22), which has at most two roots in closed form
+from [000 eqs. 21, 22]), which has at most two roots in closed form
 (:func:`redkin.srs.feasible_kernels.sinusoid_roots`).  Between consecutive roots
 ``theta_i`` stays on one side of each limit (it is continuous there: its
 only discontinuities, where the tangent-type numerator and denominator both
@@ -20,15 +20,15 @@ cases of section 4.3 (none, around psi_max, around psi_min, the complement
 of both, all) and limits that cross ``+-pi`` alike, because the table is
 filled by testing membership modulo ``2 pi``.  The pieces between all
 joints' cut points refine every joint's own pieces, so one classification
-gives the per-joint sets (eq. 29) and their intersection (eq. 30).
+gives the per-joint sets [000 eq. 29] and their intersection [000 eq. 30].
 Isolated touching points (a limit reached at a single arm angle from
 outside) and pieces shorter than :data:`PIECE_TOLERANCE` are not reported.
 
 The work is done by the compiled kernels of :mod:`redkin.srs.feasible_kernels`
 (one pose-branch per inner call, batches on all cores); the functions here
 validate and call them.  From poses, one compiled call checks each pose and
-computes eqs. 4-19 (:func:`redkin.srs.ik_kernels.coefficients_one`) and
-eqs. 20-30; from coefficients computed beforehand (:func:`overall_pieces`,
+computes [000 eqs. 4-19] (:func:`redkin.srs.ik_kernels.coefficients_one`) and
+[000 eqs. 20-30]; from coefficients computed beforehand (:func:`overall_pieces`,
 :func:`feasible_from_coefficients`, :func:`all_branch_pieces`) it does eqs.
 20-30 alone.  The cuts and signs of one elbow sign serve its four
 branches, so :func:`feasible_pieces_all_branches` costs little more than
@@ -65,11 +65,11 @@ class FeasibleArmAngles:
     ----------
     branch : Branch
     theta4 : float
-        The elbow DH angle (independent of psi, eq. 11).
+        The elbow DH angle (independent of psi, [000 eq. 11]).
     per_joint : dict of int to ArcSet
-        ``Psi_i`` for joints 1..7 (eq. 29); joint 4 is the full circle or empty.
+        ``Psi_i`` for joints 1..7 [000 eq. 29]; joint 4 is the full circle or empty.
     feasible : ArcSet
-        ``Psi``, the intersection (eq. 30); empty means the pose is unreachable
+        ``Psi``, the intersection [000 eq. 30]; empty means the pose is unreachable
         within the limits on this branch.
     """
 
@@ -178,7 +178,7 @@ def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometr
 
 
 def _from_poses(pose: ArrayLike, branch: Branch, geometry: SRSGeometry, per_joint: bool):
-    """Run :func:`redkin.srs.feasible_kernels.poses_branch` (eqs. 4-30, one compiled call) on validated poses.
+    """Run :func:`redkin.srs.feasible_kernels.poses_branch` ([000 eqs. 4-30], one compiled call) on validated poses.
 
     Returns ``start, end`` (..., 24), ``keep`` (..., R, 24) (``R = 7`` with
     ``per_joint``, else 1), theta_4 and whether it is within its limits (...).
@@ -218,7 +218,7 @@ def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) 
     elbow = elbow_inside.reshape(count).tolist()
     results = np.empty(count, dtype=object)
     for b in range(count):
-        overall, first, second, third, fifth, sixth, seventh = sets[b]  # rows: eq. 30, then PSI_JOINTS (eq. 29)
+        overall, first, second, third, fifth, sixth, seventh = sets[b]  # [000 eq. 30], then PSI_JOINTS [000 eq. 29]
         results[b] = FeasibleArmAngles(
             branch=named, theta4=angles[b],
             per_joint={1: first, 2: second, 3: third, 4: ArcSet.full() if elbow[b] else ArcSet.empty(),
@@ -229,7 +229,7 @@ def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) 
 
 
 def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
-    """Eq. 30 for a batch: pieces between all joints' cut points, classified for every joint at once.
+    """[000 eq. 30] for a batch: pieces between all joints' cut points, classified for every joint at once.
 
     Parameters
     ----------
@@ -251,14 +251,14 @@ def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry:
 def feasible_pieces(
     arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
 ) -> FeasiblePieces:
-    """Batched feasible sets (eq. 30) as arrays, for speed; see :func:`feasible_arm_angles`."""
+    """Batched feasible sets [000 eq. 30] as arrays, for speed; see :func:`feasible_arm_angles`."""
     geometry = as_geometry(arm)
     start, end, keep, _, _ = _from_poses(pose, geometry.table1_branch(branch), geometry, False)
     return FeasiblePieces(start, end, keep[..., 0, :])
 
 
 def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> FeasiblePieces:
-    """The feasible sets (eq. 30) of all eight branches as arrays ``(..., 8, 24)``, in the order of :data:`BRANCHES`.
+    """The feasible sets [000 eq. 30] of the eight branches as arrays ``(..., 8, 24)``, in the order of :data:`BRANCHES`.
 
     The branches are named in the chain's joint senses, as in
     :func:`redkin.srs.ik_all_branches`; see :func:`all_branch_pieces`.
@@ -296,7 +296,7 @@ def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLi
 
 
 def all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> FeasiblePieces:
-    """Eq. 30 for the eight branches of a batch of poses, from their coefficients for both elbow signs.
+    """[000 eq. 30] for the eight branches of a batch of poses, from their coefficients for both elbow signs.
 
     The cut points and limit-equation signs of each elbow sign are computed
     once and classified for its four branches
@@ -347,7 +347,7 @@ def feasible_from_coefficients(
 def feasible_arm_angles(
     arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
 ) -> "FeasibleArmAngles | np.ndarray":
-    """Per-joint and overall feasible arm angles (paper 000 eqs. 29, 30).
+    """Per-joint and overall feasible arm angles [000 eqs. 29, 30].
 
     Parameters
     ----------

@@ -1,15 +1,15 @@
-"""The compiled core of the feasible arm angles: paper 000 section 4, eqs. 20-30.
+"""The compiled core of the feasible arm angles: paper 000 section 4, [000 eqs. 20-30].
 
 The one implementation of the feasible sets in redkin.  For one pose and
-one elbow sign (the entry coefficients ``(3, 14)`` of eqs. 12 and 16 and
-theta_4 of eq. 11) :func:`pose_pieces` cuts the circle of arm angles where
+one elbow sign (the entry coefficients ``(3, 14)`` of [000 eqs. 12, 16] and
+theta_4 of [000 eq. 11]) :func:`pose_pieces` cuts the circle of arm angles where
 any joint reaches a limit and reads, in the middle of each piece, the signs
 of the joints' limit equations; :func:`classify` turns those signs into the
-per-joint sets (eq. 29) and their intersection (eq. 30) on one branch.
+per-joint sets [000 eq. 29] and their intersection [000 eq. 30] on one branch.
 :func:`pose_branch` does both for one pose-branch and
 :func:`pose_all_branches` for the eight branches of a pose (the cuts made
 once per elbow sign); :func:`pose_feasible` and :func:`pose_feasible_all`
-start from the pose itself, computing eqs. 4-19 with
+start from the pose itself, computing [000 eqs. 4-19] with
 :func:`redkin.srs.ik_kernels.coefficients_one`.  :func:`poses_branch` and
 :func:`poses_all_branches` (with their parallel twins) loop over a batch of
 poses, :func:`branches` and :func:`all_branches` over coefficients computed
@@ -37,8 +37,8 @@ geometry from :attr:`~redkin.srs.geometry.SRSGeometry.psi_joint_limits`) are
 A pose's pieces are ``PIECES`` slots: piece ``j`` runs from ``start[j]`` to
 ``end[j]`` (``end`` may exceed ``pi``: the last piece wraps to the first
 cut plus ``2 pi``); unused slots have a NaN start.  ``keep`` ``(R, 24)``
-receives, per piece, row 0: feasible (eq. 30), and, when ``R = 7``, rows
-``1 + k``: column ``k`` of ``PSI_JOINTS`` within its limits (eq. 29).
+receives, per piece, row 0: feasible [000 eq. 30], and, when ``R = 7``, rows
+``1 + k``: column ``k`` of ``PSI_JOINTS`` within its limits [000 eq. 29].
 """
 
 from __future__ import annotations
@@ -83,7 +83,8 @@ def sinusoid_roots(p, q, r, tolerance=1e-12):
     """Roots in ``[-pi, pi)`` of ``p sin psi + q cos psi + r = 0``, a pair, ``(nan, nan)`` where none.
 
     With ``rho = hypot(p, q)`` and ``phi = atan2(p, q)``, ``p s + q c = rho
-    cos(psi - phi)``, so ``psi = phi +- acos(-r / rho)``.  Near tangency
+    cos(psi - phi)``, so ``psi = phi +- acos(-r / rho)`` (the stationary points of [000 eq. 25] and the
+    limit crossings of [000 eqs. 21, 22], without eq. 25's division by ``b_t - c_t``).  Near tangency
     (``|r| <= rho (1 + tolerance)``) the double root is returned.
     """
     rho = hypot(p, q)
@@ -101,17 +102,17 @@ def sinusoid_roots(p, q, r, tolerance=1e-12):
 within = kernel(joints.within)
 
 
-# -------------------------------------------------------- one pose, eqs. 20-28
+# -------------------------------------------------- one pose, [000 eqs. 20-28]
 @kernel
 def limit_equations(entries, table, out):
     """Rows ``(p, q, r)`` of the twelve limit equations ``p sin psi + q cos psi + r = 0`` into ``out`` (3, 12).
 
     Column ``2 k + j`` is column ``k`` of ``PSI_JOINTS`` at its lower
-    (``j = 0``) or upper limit (``j = 1``): eqs. 21 and 22 set equal to the
+    (``j = 0``) or upper limit (``j = 1``): [000 eqs. 21, 22] set equal to the
     limit, through the table of the module docstring.  A group (shoulder,
     wrist) whose ``x, y`` coefficients all vanish (:data:`~redkin.srs.joints.STRETCHED_TOLERANCE`) is
     singular at every arm angle -- e.g. the home pose of an arm stretched
-    along the joint-1 axis -- and takes the stretched table: eq. 15 (19) is
+    along the joint-1 axis -- and takes the stretched table: [000 eqs. 15, 19] are
     0/0 there for every psi, while the third joint the IK returns still
     turns with psi.  Each equation weighs the seven entries of its own group.
     """
@@ -134,7 +135,7 @@ def cut_points(equations, cuts):
     """Every arm angle where a joint reaches a limit into ``cuts`` (24,) (NaN: none).
 
     Slots ``4 k .. 4 k + 3`` hold the roots of the two :func:`limit_equations`
-    of column ``k`` of ``PSI_JOINTS`` (eqs. 21, 22 at its lower and upper
+    of column ``k`` of ``PSI_JOINTS`` ([000 eqs. 21, 22] at its lower and upper
     limit); an unlimited joint's equations read ``0 = 1`` and have none.
     """
     for e in range(EQUATIONS):
@@ -192,7 +193,7 @@ def sign_patterns(equations, start, end, patterns):
 
 @kernel
 def pose_pieces(entries, equations_table, equations, start, end, patterns):
-    """Pieces of one pose and elbow sign and their sign patterns (eqs. 20-28): :func:`limit_equations`
+    """Pieces of one pose and elbow sign and their sign patterns [000 eqs. 20-28]: :func:`limit_equations`
     (into the scratch ``equations`` (3, 12)), :func:`cut_points`, :func:`pieces`, :func:`sign_patterns`.
 
     The cuts and the patterns do not depend on ``sigma_2, sigma_6``: they serve
@@ -204,16 +205,16 @@ def pose_pieces(entries, equations_table, equations, start, end, patterns):
     sign_patterns(equations, start, end, patterns)
 
 
-# ------------------------------------------------ one pose-branch, eqs. 29-30
+# ------------------------------------------ one pose-branch, [000 eqs. 29-30]
 @kernel
 def classify(patterns, start, membership, elbow_inside, keep):
-    """Eq. 29 per joint and eq. 30 per piece from the sign patterns, for one branch.
+    """[000 eq. 29] per joint and [000 eq. 30] per piece from the sign patterns, for one branch.
 
     ``membership`` (6, 4) is the branch's table (``membership[n2, n6]`` of the
     module docstring); ``elbow_inside`` whether theta_4 (independent of psi,
-    eq. 11) is within its limits.  Row 0 of ``keep`` (R, 24): the piece
-    satisfies every limit (eq. 30); rows ``1 + k`` (when ``R = 7``): column
-    ``k`` of ``PSI_JOINTS`` is within its limits there (eq. 29).  Unused
+    [000 eq. 11]) is within its limits.  Row 0 of ``keep`` (R, 24): the piece
+    satisfies every limit [000 eq. 30]; rows ``1 + k`` (when ``R = 7``): column
+    ``k`` of ``PSI_JOINTS`` is within its limits there [000 eq. 29].  Unused
     slots keep nothing.
     """
     every = keep.shape[0] > 1
@@ -230,7 +231,7 @@ def classify(patterns, start, membership, elbow_inside, keep):
 
 @kernel
 def pose_branch(entries, theta4, n2, n6, equations_table, membership, elbow, equations, patterns, start, end, keep):
-    """The feasible set of one pose-branch (eqs. 20-30) as pieces: ``start``, ``end`` (24,) and ``keep`` (R, 24).
+    """The feasible set of one pose-branch [000 eqs. 20-30] as pieces: ``start``, ``end`` (24,) and ``keep`` (R, 24).
 
     ``entries`` (3, 14) and ``theta4`` are the pose's coefficients for the
     branch's elbow sign; ``n2``, ``n6`` are 1 where ``sigma_2``, ``sigma_6``
@@ -265,7 +266,7 @@ def pose_all_branches(entries, theta4, equations_table, membership, elbow, order
                 classify(patterns, start[slot], membership[n2, n6], elbow_inside, keep[slot])
 
 
-# ------------------------------------------- from the pose: eqs. 4-19 fused
+# ------------------------------------- from the pose: [000 eqs. 4-19] fused
 @kernel
 def pose_scratch():
     """The work arrays of :func:`pose_feasible` and :func:`pose_feasible_all` (one set per thread): the
@@ -278,7 +279,7 @@ def pose_scratch():
 
 @kernel
 def pose_coefficients(pose, arm, ends, scratch, signs):
-    """Eqs. 4-19 of one pose (4, 4) of the chain for the elbow signs ``+1`` (``signs`` 0 or 2) and/or ``-1``
+    """[000 eqs. 4-19] of one pose (4, 4) of the chain for the elbow signs ``+1`` (``signs`` 0 or 2) and/or ``-1``
     (1 or 2) into the scratch entries and theta_4 (:func:`redkin.srs.ik_kernels.coefficients_one`).
 
     Returns the status (:data:`redkin.srs.ik_kernels.OK`, ``BAD_POSE`` or ``UNREACHABLE``) and ``|x_sw|``.
@@ -297,7 +298,7 @@ def pose_coefficients(pose, arm, ends, scratch, signs):
 
 @kernel
 def pose_feasible(pose, n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start, end, keep):
-    """The feasible set of one pose (4, 4) of the chain on one branch, from the pose: eqs. 4-30 in one call.
+    """The feasible set of one pose (4, 4) of the chain on one branch, from the pose: [000 eqs. 4-30] in one call.
 
     ``n2, n4, n6`` are 1 where the Table 1 signs ``sigma_2, sigma_4,
     sigma_6`` are negative, else 0.  Writes ``start``, ``end`` (24,) and
@@ -315,7 +316,7 @@ def pose_feasible(pose, n2, n4, n6, arm, ends, equations_table, membership, elbo
 
 @kernel
 def pose_feasible_all(pose, arm, ends, equations_table, membership, elbow, order, scratch, start, end, keep):
-    """The feasible sets of the eight branches of one pose (4, 4) of the chain, from the pose (eqs. 4-30):
+    """The feasible sets of the eight branches of one pose (4, 4) of the chain, from the pose [000 eqs. 4-30]:
     :func:`pose_all_branches` on the coefficients of both elbow signs.  Returns the status and ``|x_sw|``."""
     status, distance = pose_coefficients(pose, arm, ends, scratch, 2)
     if status == ik_kernels.OK:

@@ -38,13 +38,13 @@ MEMBERSHIP_TOLERANCE = 1e-12
 
 
 class ElbowEquation(NamedTuple):
-    """``|x_sw|^2 = A cos theta_4 + B sin theta_4 + C = C + R cos(theta_4 - phi)`` (eq. 11 with an offset elbow).
+    """``|x_sw|^2 = A cos theta_4 + B sin theta_4 + C = C + R cos(theta_4 - phi)`` ([000 eq. 11] with an offset elbow).
 
     In frame 3 the shoulder-to-wrist vector is ``v(theta_4) = (a_3 + a_4 c4 +
     d_ew s4, -d_se + a_4 s4 - d_ew c4, 0)``, so ``A = 2 (a_3 a_4 + d_se d_ew)``,
     ``B = 2 (a_3 d_ew - d_se a_4)``, ``C = a_3^2 + a_4^2 + d_se^2 + d_ew^2``;
     ``R = sqrt(A^2 + B^2)`` and ``phi = atan2(B, A)``.  Without offsets
-    ``phi = 0`` and eq. 11 is paper 000's.
+    ``phi = 0`` and this is [000 eq. 11] itself.
 
     Attributes
     ----------
@@ -177,7 +177,7 @@ class SRSGeometry:
 
     @cached_property
     def psi_joint_limits(self) -> PsiJointLimits:
-        """The limits of joints 1, 2, 3, 5, 6, 7 (and 4) with their limit equations (computed once)."""
+        """The box limits [000 eq. 20] of joints 1, 2, 3, 5, 6, 7 (and 4) with their limit equations (computed once)."""
         limited = self.theta_limited
         lower = np.where(limited, self.theta_lower, 0.0)
         upper = np.where(limited, self.theta_upper, 0.0)

@@ -1,4 +1,4 @@
-"""Arm-angle inverse kinematics of S-R-S arms (paper 000 section 3.3, eqs. 11-19).
+"""Arm-angle inverse kinematics of S-R-S arms (paper 000 section 3.3, [000 eqs. 11-19]).
 
 Given a pose and an arm angle ``psi``, each of the eight branches (signs of
 theta_2, theta_4, theta_6) has exactly one joint vector.  Everything is
@@ -34,7 +34,7 @@ def as_geometry(arm: "SerialChain | SRSGeometry") -> SRSGeometry:
 
 
 def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
-    """Which target poses put the wrist within reach of the elbow (eq. 11 has a solution).
+    """Which target poses put the wrist within reach of the elbow ([000 eq. 11] has a solution).
 
     The arm-angle functions raise :class:`redkin.errors.UnreachablePoseError`
     (a ``ValueError``) for a batch holding an unreachable pose; filter the batch with this mask first, e.g.
@@ -74,12 +74,12 @@ def check_psi(psi: ArrayLike) -> np.ndarray:
 def coefficients_for(
     arm: "SerialChain | SRSGeometry", pose: ArrayLike, elbow_sign: "int | np.ndarray"
 ) -> ArmAngleCoefficients:
-    """Eq. 12 and eq. 16 coefficients of poses ``(..., 4, 4)`` of the chain's tool for an elbow sign (validated)."""
+    """[000 eqs. 12, 16] coefficients of poses ``(..., 4, 4)`` of the chain's tool for an elbow sign (validated)."""
     return arm_angle_coefficients(as_geometry(arm), pose, elbow_sign)
 
 
 def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch) -> np.ndarray:
-    """The 7 DH angles ``(..., 7)`` at arm angles ``psi`` for one branch (eqs. 11, 13-15, 17-19).
+    """The 7 DH angles ``(..., 7)`` at arm angles ``psi`` for one branch [000 eqs. 11, 13-15, 17-19].
 
     ``psi`` broadcasts against the batch shape of ``coefficients``
     (:func:`redkin.srs.ik_kernels.branch_angles`).
@@ -102,7 +102,7 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
     """Joint values ``(..., B, 7)`` of the chain for Table 1 branch signs ``branches`` (B, 3), validated.
 
     One compiled call per batch (:func:`redkin.srs.ik_kernels.solve_poses`):
-    the pose and psi checks, eqs. 4-19 and the chain's joint values.  Only a
+    the pose and psi checks, [000 eqs. 4-19] and the chain's joint values.  Only a
     batch the kernel flags goes through the slower checks that word the error.
     """
     pose = as_poses(pose)
@@ -146,7 +146,7 @@ def ik(
     pose : array_like, shape (..., 4, 4)
         Target poses of the tool in the base frame.
     psi : array_like, broadcastable to the batch shape
-        Arm angles in radians (right-handed about shoulder -> wrist, eq. 6).
+        Arm angles in radians (right-handed about shoulder -> wrist, [000 eq. 6]).
     branch : str or Branch
         Signs of theta_2, theta_4, theta_6, e.g. ``"+-+"``.
 
@@ -172,7 +172,7 @@ def ik_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike, psi: Arra
     """Joint values of all eight branches, shape ``(..., 8, 7)`` in the order of :data:`BRANCHES`.
 
     ``psi`` broadcasts against the batch shape of ``pose``.  See :func:`ik`.
-    Both elbow signs' frames (eqs. 4-12, 16) are computed once per pose and
+    Both elbow signs' frames [000 eqs. 4-12, 16] are computed once per pose and
     shared by their four branches.
     """
     geometry = as_geometry(arm)

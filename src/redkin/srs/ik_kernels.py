@@ -1,14 +1,14 @@
-"""The compiled core of arm-angle IK: paper 000 eqs. 4-19 for one pose, and batches of them.
+"""The compiled core of arm-angle IK: [000 eqs. 4-19] for one pose, and batches of them.
 
 The one implementation in redkin of
 
 * the target in Table 1 form and the pose check (:func:`pose_defect`, :func:`table1_target`);
-* the psi-independent frame of eqs. 4-11 (:func:`arm_frame`): the elbow
+* the psi-independent frame of [000 eqs. 4-11] (:func:`arm_frame`): the elbow
   angle, the unit shoulder-to-wrist vector ``u``, ``0R3`` on the reference
   plane and ``3R4``;
-* the coefficient matrices of eqs. 12 and 16 (:func:`coefficient_matrices`)
+* the coefficient matrices of [000 eqs. 12, 16] (:func:`coefficient_matrices`)
   and the 14 entries the joints are read from (:func:`select_entries`);
-* the joint angles at an arm angle on a branch, eqs. 13-15 and 17-19
+* the joint angles at an arm angle on a branch, [000 eqs. 13-15, 17-19]
   (:func:`branch_angles`), and the chain's joint values (:func:`chain_values`).
 
 :mod:`redkin.srs.coefficients`, :mod:`redkin.srs.joints` and
@@ -47,7 +47,7 @@ TWO_PI = 2.0 * pi
 
 #: Relative distance of the wrist from the joint-1 axis below which the wrist counts as on it.
 AXIS_TOLERANCE = 1e-12
-#: Slack on ``|cos(theta_4 - phi)| <= 1`` (eq. 11) absorbed as rounding before a pose counts as unreachable.
+#: Slack on ``|cos(theta_4 - phi)| <= 1`` [000 eq. 11] absorbed as rounding before a pose counts as unreachable.
 REACH_TOLERANCE = 1e-9
 #: ``hypot(x, y)`` (``|sin theta_2|`` or ``|sin theta_6|``) at or below which the first joint of a
 #: group is undefined and set to 0.  Rounding leaves ``x, y`` of about 1e-17 on an exactly singular
@@ -111,19 +111,19 @@ def table1_target(pose, ends, target):
         target[r, 3] += row[3]
 
 
-# -------------------------------------------------------------- eqs. 4-11
+# -------------------------------------------------------- [000 eqs. 4-11]
 @kernel
 def arm_frame(target, arm, elbow_sign, u, reference, elbow):
-    """The psi-independent part of eqs. 4-11 for a target (3, 4) of frame 7 in frame 0 and an elbow sign.
+    """The psi-independent part of [000 eqs. 4-11] for a target (3, 4) of frame 7 in frame 0 and an elbow sign.
 
-    ``x_sw = x_7 - l_bs - R_7 l_wt`` (eq. 4); ``theta_4 = phi + sigma
-    acos((|x_sw|^2 - C) / R)`` (eq. 11; ``phi = 0`` without elbow offsets),
-    wrapped to ``[-pi, pi)``; the reference plane ``theta_3 = 0`` (eq. 7,
+    ``x_sw = x_7 - l_bs - R_7 l_wt`` [000 eq. 4]; ``theta_4 = phi + sigma
+    acos((|x_sw|^2 - C) / R)`` ([000 eq. 11]; ``phi = 0`` without elbow offsets),
+    wrapped to ``[-pi, pi)``; the reference plane ``theta_3 = 0`` ([000 eq. 7],
     section 3.3): ``0R3o = Rz(theta_1o) Rx(-pi/2) Rz(theta_2o)`` with
     ``theta_1o = atan2(y_sw, x_sw)`` (0 on the joint-1 axis) and ``theta_2o =
     atan2(-z_sw, w) - atan2(v_y, v_x)``, where ``w = hypot(x_sw, y_sw)`` and
     ``(v_x, v_y) = (a_3 + a_4 c4 + d_ew s4, -d_se + a_4 s4 - d_ew c4)`` is the
-    wrist in frame 3; ``3R4 = Rz(theta_4) Rx(pi/2)`` (eq. 3, Table 1).
+    wrist in frame 3; ``3R4 = Rz(theta_4) Rx(pi/2)`` ([000 eq. 3], Table 1).
 
     Writes ``u`` (3,), ``reference`` = ``0R3o`` and ``elbow`` = ``3R4`` (3, 3);
     returns ``theta_4``, ``|x_sw|`` and whether the wrist is within reach
@@ -134,7 +134,7 @@ def arm_frame(target, arm, elbow_sign, u, reference, elbow):
     z = target[2, 3] - target[2, 2] * arm[D_WT] - arm[D_BS]
     squared = x * x + y * y + z * z
     distance = sqrt(squared)
-    cosine = (squared - arm[MEAN]) / arm[AMPLITUDE]  # eq. 11
+    cosine = (squared - arm[MEAN]) / arm[AMPLITUDE]  # [000 eq. 11]
     reach = abs(cosine) <= 1.0 + REACH_TOLERANCE
     theta4 = acos(min(max(cosine, -1.0), 1.0)) * elbow_sign
     if arm[PHASE] != 0.0:
@@ -163,13 +163,13 @@ def arm_frame(target, arm, elbow_sign, u, reference, elbow):
     return theta4, distance, reach
 
 
-# ------------------------------------------------------------ eqs. 12, 16
+# ------------------------------------------------------ [000 eqs. 12, 16]
 @kernel
 def coefficient_matrices(u, reference, elbow, target, shoulder, wrist):
-    """``(A_s, B_s, C_s)`` of eq. 12 and ``(A_w, B_w, C_w)`` of eq. 16 into ``shoulder``, ``wrist`` (3, 3, 3).
+    """``(A_s, B_s, C_s)`` [000 eq. 12] and ``(A_w, B_w, C_w)`` [000 eq. 16] into ``shoulder``, ``wrist`` (3, 3, 3).
 
-    ``0R3(psi) = R_psi 0R3o`` with Rodrigues' ``R_psi = sin psi [u x] + cos psi
-    (I - u u^T) + u u^T`` (eq. 6), so ``A_s = [u x] R3o``, ``B_s = (I - u u^T)
+    ``0R3(psi) = R_psi 0R3o`` [000 eq. 8] with Rodrigues' ``R_psi = sin psi [u x] + cos psi
+    (I - u u^T) + u u^T`` [000 eq. 6], so ``A_s = [u x] R3o``, ``B_s = (I - u u^T)
     R3o`` and ``C_s = u u^T R3o`` (the transcription prints ``C_s`` garbled;
     ``I + [u x]^2 = u u^T`` for a unit ``u``); ``4R7 = 3R4^T 0R3^T 0R7``, so
     ``A_w = 3R4^T A_s^T 0R7`` and likewise ``B_w``, ``C_w``.
@@ -201,23 +201,23 @@ def select_entries(shoulder, wrist, entries):
             entries[k, e] = factor * source[k, row, col]
 
 
-# --------------------------------------------------------- eqs. 13-15, 17-19
+# --------------------------------------------------- [000 eqs. 13-15, 17-19]
 @kernel
 def group_angles(x, y, z, r0, r1, r2, theta, first):
     """The three angles of a group (joints 1-3 from ``0R3``, or 5-7 from ``4R7``) on the branch sign +1.
 
-    * first joint (eqs. 13, 17): ``atan2(y, x)``; where ``hypot(x, y) = |sin
+    * first joint [000 eqs. 13, 17]: ``atan2(y, x)``; where ``hypot(x, y) = |sin
       theta_2|`` is at most :data:`UNDEFINED_TOLERANCE` only ``theta_1 +
       theta_3`` is defined and ``theta_1 = 0``, the convention of the end of
       section 3.3;
-    * second joint (eqs. 14, 18): ``acos z``, evaluated as ``atan2(hypot(x,
+    * second joint [000 eqs. 14, 18]: ``acos z``, evaluated as ``atan2(hypot(x,
       y), z)`` (no loss of digits near 0 and pi);
-    * third joint (eqs. 15, 19): from the rotation left after the first two,
+    * third joint [000 eqs. 15, 19]: from the rotation left after the first two,
       ``0R3 = Rz(theta_1) Ry(theta_2) Rz(theta_3) Rx(-pi/2)``, so ``theta_3 =
       atan2(p_2 . r, p_1 . r)`` with ``p_k`` the columns of ``Rz(theta_1)
-      Ry(theta_2)``.  This equals eq. 15 (``atan2(t, -r2)``) wherever eq. 15 is
+      Ry(theta_2)``.  This equals [000 eq. 15] (``atan2(t, -r2)``) wherever [000 eq. 15] is
       defined and stays exact at the singular arm angle (theta_2 = 0), where
-      eq. 15 is 0/0.
+      [000 eq. 15] is 0/0.
 
     Writes ``theta[first:first + 3]``; :func:`apply_sign` gives the branch sign -1.
     """
@@ -235,7 +235,7 @@ def group_angles(x, y, z, r0, r1, r2, theta, first):
 @kernel
 def apply_sign(theta, first, sigma):
     """A group's angles on the branch sign ``sigma``: for -1 the tangent-type angles (first, third) turn
-    by pi and the cosine type (second) is negated (``atan2(-N, -D)``, ``-acos``; eqs. 13-15, 17-19)."""
+    by pi and the cosine type (second) is negated (``atan2(-N, -D)``, ``-acos``; [000 eqs. 13-15, 17-19])."""
     if sigma < 0:
         for k in (first, first + 2):
             theta[k] += -pi if theta[k] > 0.0 else pi
@@ -244,13 +244,13 @@ def apply_sign(theta, first, sigma):
 
 @kernel
 def entry_at(entries, e, s, c):
-    """Entry ``e`` at the arm angle with ``s, c = sin psi, cos psi``: ``a s + b c + c`` (eqs. 12, 16)."""
+    """Entry ``e`` at the arm angle with ``s, c = sin psi, cos psi``: ``a s + b c + c`` [000 eqs. 12, 16]."""
     return entries[0, e] * s + entries[1, e] * c + entries[2, e]
 
 
 @kernel
 def branch_angles(entries, theta4, psi, sigma2, sigma6, theta):
-    """The 7 DH angles (eqs. 11, 13-15, 17-19) at arm angle ``psi`` on the branch ``(sigma_2, sigma_6)``
+    """The 7 DH angles [000 eqs. 11, 13-15, 17-19] at arm angle ``psi`` on the branch ``(sigma_2, sigma_6)``
     from the entry coefficients (3, 14) of the elbow sign of ``theta4``, into ``theta`` (7,)."""
     s, c = sin(psi), cos(psi)
     for g in range(2):

@@ -1,16 +1,16 @@
-"""Optimal arm angle for joint-limit avoidance: paper 000 section 5.2, eqs. 35-40.
+"""Optimal arm angle for joint-limit avoidance: paper 000 section 5.2, [000 eqs. 35-40].
 
 The shoulder objective ``f_s(psi) = trace(0R3(psi) 0R3d^T) = a_s sin psi +
-b_s cos psi + c_s = 1 + 2 cos phi_s`` (eq. 36) measures how close the
+b_s cos psi + c_s = 1 + 2 cos phi_s`` [000 eq. 36] measures how close the
 shoulder rotation is to the one at the target joint values ``theta^d``; the
-wrist objective ``f_w`` (eq. 38) likewise with ``4R7``.  The MAXIMISER of
-``a sin psi + b cos psi`` is ``psi = atan2(a, b)`` -- the root of eq. 37 /
-39 / 40 (``tan psi = a / b``) with ``(sin psi, cos psi)`` along ``(a, b)``.
+wrist objective ``f_w`` [000 eq. 38] likewise with ``4R7``.  The MAXIMISER of
+``a sin psi + b cos psi`` is ``psi = atan2(a, b)`` -- the root of [000 eqs. 37, 39,
+40] (``tan psi = a / b``) with ``(sin psi, cos psi)`` along ``(a, b)``.
 Because ``f`` decreases monotonically with the circular distance from its
 maximiser, the best feasible arm angle is the feasible point nearest to it
 (section 5.2.2, Fig. 5).
 
-The traces are linear in the coefficient matrices of eqs. 12 and 16 (see
+The traces are linear in the coefficient matrices of [000 eqs. 12, 16] (see
 :mod:`redkin.srs.coefficients`): ``a_s = sum_ij A_s[i, j] 0R3d[i, j]`` etc.
 """
 
@@ -45,13 +45,13 @@ class OptimalAngle:
 
 @dataclass(frozen=True)
 class OptimalArmAngles:
-    """Shoulder-only (eq. 37), wrist-only (eq. 39) and weighted (eq. 40) optimal arm angles.
+    """Shoulder-only [000 eq. 37], wrist-only [000 eq. 39] and weighted [000 eq. 40] optimal arm angles.
 
     Attributes
     ----------
     shoulder, wrist, overall : OptimalAngle
     shoulder_coefficients, wrist_coefficients : tuple of float
-        ``(a_s, b_s, c_s)`` of eq. 36 and ``(a_w, b_w, c_w)`` of eq. 38.
+        ``(a_s, b_s, c_s)`` of [000 eq. 36] and ``(a_w, b_w, c_w)`` of [000 eq. 38].
     weights : tuple of float
         ``(r_s, r_w)``.
     """
@@ -73,16 +73,16 @@ def default_target(geometry: SRSGeometry) -> np.ndarray:
 def objective_coefficients(
     coefficients: ArmAngleCoefficients, geometry: SRSGeometry, q_target: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``(a_s, b_s, c_s)`` (eq. 36) and ``(a_w, b_w, c_w)`` (eq. 38), each of shape ``(..., 3)``, for target
+    """``(a_s, b_s, c_s)`` [000 eq. 36] and ``(a_w, b_w, c_w)`` [000 eq. 38], each of shape ``(..., 3)``, for target
     joint values ``q_target`` ``(7,)`` of the chain."""
     shoulder_target, wrist_target = group_rotations(geometry, q_target)
-    shoulder = np.einsum("...kij,...ij->...k", coefficients.shoulder, shoulder_target)  # eq. 36
-    wrist = np.einsum("...kij,...ij->...k", coefficients.wrist, wrist_target)  # eq. 38
+    shoulder = np.einsum("...kij,...ij->...k", coefficients.shoulder, shoulder_target)  # [000 eq. 36]
+    wrist = np.einsum("...kij,...ij->...k", coefficients.wrist, wrist_target)  # [000 eq. 38]
     return shoulder, wrist
 
 
 def maximiser(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The arm angle maximising ``a sin psi + b cos psi`` (eqs. 37, 39, 40); 0 where the objective is flat."""
+    """The arm angle maximising ``a sin psi + b cos psi`` [000 eqs. 37, 39, 40]; 0 where the objective is flat."""
     return np.arctan2(a, b)
 
 
@@ -106,7 +106,7 @@ def optimal_arm_angles(
     weights: ArrayLike = (0.5, 0.5),
     feasible: ArcSet | None = None,
 ) -> OptimalArmAngles:
-    """Optimal arm angles of one pose for joint-limit avoidance (paper 000 eqs. 36-40).
+    """Optimal arm angles of one pose for joint-limit avoidance [000 eqs. 36-40].
 
     Parameters
     ----------
@@ -117,7 +117,7 @@ def optimal_arm_angles(
         Target joint values ``theta^d`` in ``q`` (joint 4 is not used);
         default: the limit midpoints.
     weights : (r_s, r_w)
-        Weights of eq. 40.
+        Weights of [000 eq. 40].
     feasible : ArcSet, optional
         The feasible set to clamp to; computed when not given.
 
@@ -139,11 +139,11 @@ def optimal_arm_angles(
     if feasible is None:
         feasible = feasible_from_coefficients(coefficients, chosen, geometry).feasible
     shoulder, wrist = objective_coefficients(coefficients, geometry, q_target)
-    combined = r_s * shoulder + r_w * wrist  # eq. 40 (the 1/(r_s + r_w) factor does not move the maximiser)
+    combined = r_s * shoulder + r_w * wrist  # [000 eq. 40] (the 1/(r_s + r_w) factor does not move the maximiser)
     return OptimalArmAngles(
-        shoulder=_clamped(maximiser(shoulder[0], shoulder[1]), feasible),  # eq. 37
-        wrist=_clamped(maximiser(wrist[0], wrist[1]), feasible),  # eq. 39
-        overall=_clamped(maximiser(combined[0], combined[1]), feasible),  # eq. 40
+        shoulder=_clamped(maximiser(shoulder[0], shoulder[1]), feasible),  # [000 eq. 37]
+        wrist=_clamped(maximiser(wrist[0], wrist[1]), feasible),  # [000 eq. 39]
+        overall=_clamped(maximiser(combined[0], combined[1]), feasible),  # [000 eq. 40]
         shoulder_coefficients=tuple(float(v) for v in shoulder),
         wrist_coefficients=tuple(float(v) for v in wrist),
         weights=(r_s, r_w),

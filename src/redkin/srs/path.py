@@ -1,7 +1,7 @@
 """Arm-angle control along a path of poses (paper 000 section 6.2.2).
 
 For each pose the arm angle is either held fixed (``Gamma_0`` of the paper)
-or chosen as the weighted optimum of eq. 40 clamped to the feasible set
+or chosen as the weighted optimum of [000 eq. 40] clamped to the feasible set
 (``Gamma``).  A pose is reachable when the chosen arm angle satisfies every
 joint limit, i.e. it lies in the feasible set.
 """
@@ -85,7 +85,7 @@ def arm_angle_path(
         r_s, r_w = check_weights(weights)
         shoulder, wrist = objective_coefficients(coefficients, geometry, q_target)
         combined = r_s * shoulder + r_w * wrist
-        best = maximiser(combined[..., 0], combined[..., 1])  # eq. 40
+        best = maximiser(combined[..., 0], combined[..., 1])  # [000 eq. 40]
         clamped = [f.feasible.nearest(p) for f, p in zip(feasible, best.tolist())]
         reachable = np.array([c is not None for c in clamped])
         psi = np.array([p if c is None else c for c, p in zip(clamped, best.tolist())])

@@ -1,8 +1,8 @@
-"""Rotations of the spherical shoulder and wrist of a Table 1 arm (eq. 3 of paper 000).
+"""Rotations of the spherical shoulder and wrist of a Table 1 arm ([000 eq. 3]).
 
 ``0R3`` (joints 1-3) and ``4R7`` (joints 5-7) are read from the frames of
 the arm's Table 1 chain (:meth:`redkin.chain.SerialChain.frames`, the
-compiled DH products), so there is one implementation of eq. 3 in redkin.
+compiled DH products), so there is one implementation of [000 eq. 3] in redkin.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 
 
 def group_rotations(geometry, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``0R3`` and ``4R7`` (each ``(..., 3, 3)``) of validated joint values ``q`` ``(..., 7)`` of ``geometry.chain``.
+    """``0R3`` and ``4R7`` of ``0R7 = 0R3 3R4 4R7`` [000 eq. 2] (each ``(..., 3, 3)``) of validated joint values ``q`` ``(..., 7)`` of ``geometry.chain``.
 
     Frame ``k`` of the chain is ``base A_1 ... A_k``, so ``0R3 = R_base^T
     R_3`` and ``4R7 = R_4^T R_7``.

@@ -1,12 +1,12 @@
 """Singular arm angles of the shoulder (theta_2 = 0) and the wrist (theta_6 = 0): paper 000 section 5.1.
 
-Shoulder: ``cos theta_2 = -(a s + b c + c_s32)`` (eq. 14) equals 1 somewhere
-only if ``a^2 + b^2 - (c_s32 + 1)^2 = 0`` (eq. 31; the left side is never
+Shoulder: ``cos theta_2 = -(a s + b c + c_s32)`` [000 eq. 14] equals 1 somewhere
+only if ``a^2 + b^2 - (c_s32 + 1)^2 = 0`` ([000 eq. 31]; the left side is never
 positive), and then at the single arm angle with ``(sin psi, cos psi) =
--(a, b) / (c_s32 + 1)``, which is eq. 32 ``psi = 2 atan(a / (b - c_s32 -
+-(a, b) / (c_s32 + 1)``, which is [000 eq. 32] ``psi = 2 atan(a / (b - c_s32 -
 1))`` written so that it also holds at ``psi = +-pi``.  Wrist likewise with
-``cos theta_6 = a s + b c + c_w33`` (eq. 18): eq. 33 ``a^2 + b^2 - (c_w33 -
-1)^2 = 0`` and eq. 34.  When ``a = b = 0`` and the constant is 1, every arm
+``cos theta_6 = a s + b c + c_w33`` [000 eq. 18]: [000 eq. 33] ``a^2 + b^2 - (c_w33 -
+1)^2 = 0`` and [000 eq. 34].  When ``a = b = 0`` and the constant is 1, every arm
 angle is singular (the wrist lies on the joint-1 axis with the arm
 stretched, or the mirror case at the wrist).  ``theta_2 = +-pi`` is not
 considered (as in the paper).
@@ -25,7 +25,7 @@ from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry, coefficients_for
 
-#: Default tolerance on the residuals of eqs. 31 and 33.
+#: Default tolerance on the residuals of [000 eqs. 31, 33].
 SINGULAR_TOLERANCE = 1e-9
 
 
@@ -36,13 +36,13 @@ class SingularArmAngles:
     Attributes
     ----------
     shoulder, wrist : tuple of float
-        Arm angles at which theta_2 = 0 (eq. 32) or theta_6 = 0 (eq. 34); empty if none.
+        Arm angles at which theta_2 = 0 [000 eq. 32] or theta_6 = 0 [000 eq. 34]; empty if none.
     shoulder_everywhere, wrist_everywhere : bool
         Every arm angle is singular.
     shoulder_coefficients, wrist_coefficients : tuple of float
         ``(a_s32, b_s32, c_s32)`` and ``(a_w33, b_w33, c_w33)``.
     shoulder_residual, wrist_residual : float
-        Left sides of eqs. 31 and 33 (never positive; zero at a singularity).
+        Left sides of [000 eqs. 31, 33] (never positive; zero at a singularity).
     tolerance : float
     """
 
@@ -58,7 +58,7 @@ class SingularArmAngles:
 
 
 def _singular_angle(a: float, b: float, constant: float, tolerance: float) -> tuple[tuple[float, ...], bool, float]:
-    """Roots of ``a s + b c + constant = 0`` when ``a^2 + b^2 = constant^2`` (eqs. 31-34)."""
+    """Roots of ``a s + b c + constant = 0`` when ``a^2 + b^2 = constant^2`` [000 eqs. 31-34]."""
     residual = a * a + b * b - constant * constant
     if abs(residual) > tolerance:
         return (), False, residual
@@ -68,11 +68,11 @@ def _singular_angle(a: float, b: float, constant: float, tolerance: float) -> tu
 
 
 def singular_from_coefficients(coefficients: ArmAngleCoefficients, tolerance: float = SINGULAR_TOLERANCE) -> SingularArmAngles:
-    """Eqs. 31-34 from precomputed coefficients of one pose."""
+    """[000 eqs. 31-34] from precomputed coefficients of one pose."""
     shoulder = tuple(float(v) for v in coefficients.shoulder[:, 2, 1])  # 0R3[2,1] = -cos theta_2
     wrist = tuple(float(v) for v in coefficients.wrist[:, 2, 2])  # 4R7[2,2] = cos theta_6
-    s_angles, s_all, s_res = _singular_angle(shoulder[0], shoulder[1], shoulder[2] + 1.0, tolerance)  # eqs. 31, 32
-    w_angles, w_all, w_res = _singular_angle(wrist[0], wrist[1], wrist[2] - 1.0, tolerance)  # eqs. 33, 34
+    s_angles, s_all, s_res = _singular_angle(shoulder[0], shoulder[1], shoulder[2] + 1.0, tolerance)  # [000 eqs. 31-32]
+    w_angles, w_all, w_res = _singular_angle(wrist[0], wrist[1], wrist[2] - 1.0, tolerance)  # [000 eqs. 33, 34]
     return SingularArmAngles(
         shoulder=s_angles,
         wrist=w_angles,
@@ -92,7 +92,7 @@ def singular_arm_angles(
     branch: "str | Branch" = "+++",
     tolerance: float = SINGULAR_TOLERANCE,
 ) -> SingularArmAngles:
-    """Shoulder and wrist singular arm angles of one pose (paper 000 eqs. 31-34).
+    """Shoulder and wrist singular arm angles of one pose [000 eqs. 31-34].
 
     Only the elbow sign of ``branch`` matters (theta_2 = 0 and theta_6 = 0 are
     shared by both signs of theta_2 and theta_6).
