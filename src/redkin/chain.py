@@ -8,8 +8,8 @@ column as ``-pi/2 + theta_1``, ``-pi/2 - theta_3``, ...).  Two conventions:
   ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``, joint ``i`` turns about
   the z axis of frame ``i-1`` (paper 000 Table 1, paper 003 Table 1).
 * ``"mdh"`` (modified, Craig): ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i)
-  Tz(d_i)``, joint ``i`` turns about the z axis of frame ``i`` (thesis 001
-  eq. 2.1).  Row ``i`` stores ``alpha_{i-1}`` and ``a_{i-1}``.
+  Tz(d_i)``, joint ``i`` turns about the z axis of frame ``i``
+  [001 eq. 2.1]).  Row ``i`` stores ``alpha_{i-1}`` and ``a_{i-1}``.
 
 The end pose is ``base @ A_1 ... A_n @ tool``.  Every kinematic function is
 batched over leading axes: ``q`` has shape ``(..., n)``.
@@ -244,7 +244,7 @@ class SerialChain:
         frame: int | None = None,
         offset: ArrayLike | None = None,
     ) -> np.ndarray:
-        """Geometric Jacobian in the base (world) frame, linear rows first.
+        """Geometric Jacobian in the base (world) frame, linear rows first ([001 eq. 5.1], [003 eq. 1]).
 
         Parameters
         ----------
@@ -291,7 +291,7 @@ class SerialChain:
         q : array_like, shape (..., n)
         rows : sequence of int or slice, optional
             Rows of the 6 x n geometric Jacobian to keep (0-2 linear, 3-5
-            angular); default all six.  Thesis 001 eq. 5.3 uses ``rows=[0, 1, 2]``.
+            angular); default all six.  [001 eq. 5.3] uses ``rows=[0, 1, 2]``.
         columns : sequence of int or slice, optional
             Joint columns (0-based) to keep; default all.  Thesis 001 uses joints
             1-5, i.e. ``columns=range(5)``.

@@ -71,7 +71,7 @@ def move(p, length, u):
 @kernel
 def standard_link(x, y, z, p, links, trig, i):
     """The frame ``(x, y, z, p)`` (axes and origin, 3-tuples in world coordinates) times
-    ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``."""
+    ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``, whose rotation is [000 eq. 3]."""
     x, y = turn(x, y, trig[i, 0], trig[i, 1])
     p = move(move(p, links[i, D], z), links[i, A], x)
     y, z = turn(y, z, links[i, COS_ALPHA], links[i, SIN_ALPHA])
@@ -80,7 +80,7 @@ def standard_link(x, y, z, p, links, trig, i):
 
 @kernel
 def modified_link(x, y, z, p, links, trig, i):
-    """The frame ``(x, y, z, p)`` times ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``."""
+    """The frame ``(x, y, z, p)`` times ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)`` [001 eq. 2.1]."""
     y, z = turn(y, z, links[i, COS_ALPHA], links[i, SIN_ALPHA])
     p = move(p, links[i, A], x)
     x, y = turn(x, y, trig[i, 0], trig[i, 1])
@@ -120,7 +120,8 @@ def store(x, y, z, p, out):
 # ``trig`` is an (n, 2) scratch array for :func:`angles`.
 @kernel
 def frames_one(q, links, ends, standard, trig, out):
-    """The frames of one joint vector ``q`` (n,): all, or the end pose alone (forward kinematics).
+    """The frames of one joint vector ``q`` (n,): all, or the end pose alone (forward kinematics:
+    [000 eqs. 1-2] of a Table 1 arm, [001 eq. 2.2] of Table 2.1).
 
     ``out`` (n + 2, 4, 4) receives the base, frame ``k`` after joint ``k``
     (``base A_1 ... A_k``) and the tool frame ``base A_1 ... A_n tool``;
@@ -144,7 +145,7 @@ def frames_one(q, links, ends, standard, trig, out):
 
 @kernel
 def jacobian_one(q, links, ends, standard, active, tool, offset, trig, out):
-    """Geometric Jacobian ``[v; omega] = J q_dot`` (6, n) of a point fixed in one frame, world coordinates.
+    """Geometric Jacobian ``[v; omega] = J q_dot`` [003 eq. 1] (6, n) of a point fixed in one frame, world coordinates.
 
     Joint ``i`` (of the first ``active``) turns with ``sign_i`` about the
     z axis of frame ``i - 1`` (standard DH) or ``i`` (modified DH), through

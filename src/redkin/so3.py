@@ -31,24 +31,24 @@ def _elementary(angle: ArrayLike, axis: int) -> np.ndarray:
 
 
 def rot_x(angle: ArrayLike) -> np.ndarray:
-    """Rotation about x by ``angle`` (radians); shape ``angle.shape + (3, 3)``."""
+    """Rotation about x by ``angle`` (radians), ``Rx`` of [001 eq. 4.3]; shape ``angle.shape + (3, 3)``."""
     return _elementary(angle, 0)
 
 
 def rot_y(angle: ArrayLike) -> np.ndarray:
-    """Rotation about y by ``angle`` (radians); shape ``angle.shape + (3, 3)``."""
+    """Rotation about y by ``angle`` (radians), ``Ry`` of [001 eq. 4.2]; shape ``angle.shape + (3, 3)``."""
     return _elementary(angle, 1)
 
 
 def rot_z(angle: ArrayLike) -> np.ndarray:
-    """Rotation about z by ``angle`` (radians); shape ``angle.shape + (3, 3)``."""
+    """Rotation about z by ``angle`` (radians), ``Rz`` of [001 eq. 4.1]; shape ``angle.shape + (3, 3)``."""
     return _elementary(angle, 2)
 
 
 def skew(vector: ArrayLike) -> np.ndarray:
     """The cross-product matrix ``[v x]`` of vectors of shape ``(..., 3)``.
 
-    ``skew(u) @ w == cross(u, w)``; used in eq. 6 of paper 000.
+    ``skew(u) @ w == cross(u, w)``; used in [000 eq. 6].
     """
     v = check_vectors(vector, 3, "vector")
     out = np.zeros(v.shape[:-1] + (3, 3))
@@ -59,7 +59,7 @@ def skew(vector: ArrayLike) -> np.ndarray:
 
 
 def axis_angle_to_matrix(axis: ArrayLike, angle: ArrayLike) -> np.ndarray:
-    """Rodrigues' formula ``I + sin(a)[u x] + (1 - cos(a))[u x]^2`` (eq. 6, paper 000).
+    """Rodrigues' formula ``I + sin(a)[u x] + (1 - cos(a))[u x]^2`` [000 eq. 6].
 
     Parameters
     ----------
@@ -98,7 +98,7 @@ def matrix_to_axis_angle(rotation: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
 def xyz_fixed_to_matrix(angles: ArrayLike) -> np.ndarray:
     """X-Y-Z fixed angles ``(alpha, beta, gamma)`` to ``Rz(alpha) Ry(beta) Rx(gamma)``.
 
-    This is eq. 4.4 of thesis 001: rotate about the fixed x axis by gamma,
+    This is [001 eq. 4.4]: rotate about the fixed x axis by gamma,
     then the fixed y axis by beta, then the fixed z axis by alpha.
     """
     a = check_vectors(angles, 3, "angles")
