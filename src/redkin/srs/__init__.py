@@ -1,9 +1,9 @@
 """Arm-angle inverse kinematics of 7-DOF S-R-S arms with joint limits (paper 000, Shimizu et al.).
 
-* :func:`ik`, :func:`ik_all_branches` -- joint values for a pose and an arm angle [000 eqs. 11-19]
+* :func:`ik`, :func:`ik_all_branches` -- joint values for a pose and an arm angle [000 eqs. 4-19]
 * :func:`arm_angle_of` -- arm angle and branch of joint values
 * :func:`reachable` -- which poses of a batch the wrist can reach (filter before the others)
-* :func:`feasible_arm_angles` -- per-joint and overall feasible arm angles, closed form [000 eqs. 21-30]
+* :func:`feasible_arm_angles` -- per-joint and overall feasible arm angles, closed form [000 eqs. 20-22, 29-30]
 * :func:`feasible_pieces`, :func:`feasible_pieces_all_branches` -- the same as arrays, one branch or all eight
 * :func:`joint_extrema` -- type, case, extrema and monotonicity of each joint over psi [000 eqs. 21-28]
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles [000 eqs. 31-34]
