@@ -11,6 +11,10 @@ wrist-position manipulability maps.  Modules:
 * :mod:`~redkin.torso_arm.ik` -- hand pose + (psi, phi) -> all 8 solutions;
 * :mod:`~redkin.torso_arm.manipulability` -- w of the wrist position (chapter 5), dual-arm measure;
 * :mod:`~redkin.torso_arm.maps` -- maps over planes, best over the redundancy, threshold regions.
+
+Each equation is one compiled kernel (numba) beside the public function that
+validates its input and calls it; :mod:`~redkin.torso_arm.kernel_tools` holds
+what the kernels share.
 """
 
 from redkin.torso_arm.branches import POSITION_BRANCHES, STATUS_NAMES, WRIST_BRANCHES

@@ -209,7 +209,7 @@ class ManipulabilityMap:
 # the lower and upper limits of the side's joints 1-5.  Points and theta_1 are the right problem's.
 @kernel
 def circle_stage(lengths, kind, vector, theta1, wrist):
-    """The part of a posture fixed by theta_1 and the wrist (sections 3.2-3.3): ``(shoulder, circle, e1, status)``.
+    """The part of a posture fixed by theta_1 and the wrist (sections 3.2-3.3): ``(circle, e1, status)``.
 
     ``circle`` is :func:`~redkin.torso_arm.elbow_angle.circle_one`'s ``(n, centre, radius)``,
     ``e1`` the phi = 0 direction of the reference ``kind``, ``status`` OK, UNREACHABLE or NO_REFERENCE.
@@ -219,7 +219,7 @@ def circle_stage(lengths, kind, vector, theta1, wrist):
     n, centre, radius, _, reachable = circle_one(shoulder, wrist, L1, lew)
     e1, exists = reference_one(kind, vector, shoulder, wrist, n, centre, radius, L0, L1)
     status = OK if reachable and exists else (NO_REFERENCE if reachable else UNREACHABLE)
-    return shoulder, (n, centre, radius), e1, status
+    return (n, centre, radius), e1, status
 
 
 @kernel
@@ -246,7 +246,7 @@ def posture_one(lengths, sign, limits, kind, vector, theta1, wrist, phi, q):
     branches go into ``q`` (4, 5); ``feasible`` says that the posture exists
     and some branch respects the side's limits.
     """
-    _, circle, e1, status = circle_stage(lengths, kind, vector, theta1, wrist)
+    circle, e1, status = circle_stage(lengths, kind, vector, theta1, wrist)
     feasible = elbow_stage(lengths, sign, limits, theta1, wrist, circle, e1, phi, q)
     return status, status == OK and feasible
 
@@ -278,14 +278,14 @@ def best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jacob
     """
     best, reached = -inf, False
     for t in thetas:
-        _, circle, e1, status = circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), t, wrist)
+        circle, e1, status = circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), t, wrist)
         if status != OK:  # the wrist is out of reach at this theta_1, whatever phi
             continue
         left, circle_left, e1_left = wrist, circle, e1
         if dual:
             left = mirror_one(t, wrist)
             left = (-left[0], left[1], left[2])
-            _, circle_left, e1_left, status = circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), -t, left)
+            circle_left, e1_left, status = circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), -t, left)
             if status != OK:
                 continue
         reached = True
