@@ -54,7 +54,13 @@ from redkin.torso_arm.maps import (
 from redkin.validation import check_count
 from redkin.workspace.grid import MAX_RESOLUTION, WorkspaceGrid, workspace_grid
 from redkin.workspace.optional import require
-from redkin.workspace.run import Progress, _run_distributed, _run_local
+from redkin.workspace.run import (
+    Progress,
+    _run_distributed,
+    _run_local,
+    match_worker_threads,
+    restore_mmap_threshold,
+)
 from redkin.workspace.store import arm_description, completed_chunks, stored_parameters
 
 #: The variables of a humanoid map, their units and what they hold.
@@ -161,7 +167,13 @@ def _prepare_store(path: Path, chain: SerialChain, arm: TorsoArm, grid: Workspac
 
 def compute_humanoid_chunk(arm: TorsoArm, grid: WorkspaceGrid, samples: tuple[int, int], path: Path,
                            index: tuple[int, int, int]) -> tuple[int, int, int]:
-    """Compute chunk ``index`` of a humanoid map, write it, then mark it complete (one Dask task)."""
+    """Compute chunk ``index`` of a humanoid map, write it, then mark it complete (one Dask task).
+
+    On a dask.distributed worker it first fits the worker as every map's chunk task does
+    (:func:`~redkin.workspace.run.match_worker_threads`, :func:`~redkin.workspace.run.restore_mmap_threshold`).
+    """
+    restore_mmap_threshold()
+    match_worker_threads()
     zarr = require("zarr")
     values = humanoid_measures(arm, grid.chunk_positions(index), samples)
     where = grid.chunk_slices(index)
