@@ -4,7 +4,7 @@ Shoulder-angle / elbow-angle inverse kinematics, wrist inverse kinematics and
 wrist-position manipulability maps.  Modules:
 
 * :mod:`~redkin.torso_arm.geometry` -- the arm, its lengths and landmark points, mirroring;
-* :mod:`~redkin.torso_arm.shoulder_angle` -- psi (section 3.2, eq. 3.1);
+* :mod:`~redkin.torso_arm.shoulder_angle` -- psi (section 3.2, [001 eq. 3.1]);
 * :mod:`~redkin.torso_arm.elbow_angle` -- phi and its reference (section 3.3);
 * :mod:`~redkin.torso_arm.position_ik` -- joints 1-5 (section 3.4, repaired);
 * :mod:`~redkin.torso_arm.wrist_ik` -- joints 6-8 (chapter 4, re-derived);

@@ -14,7 +14,7 @@ from redkin.torso_arm.kernel_tools import flat
 
 #: Position branches, in the order of the solution axis: (theta_3 flag, theta_5 flag).
 #: theta_3 flag +1: cos(theta_3) >= 0 (``asin``), -1: cos(theta_3) <= 0 (``pi - asin``);
-#: theta_5 flag +1: ``asin(k) - delta`` (eq. 3.19), -1: ``pi - asin(k) - delta`` (second branch).
+#: theta_5 flag +1: ``asin(k) - delta`` [001 eq. 3.19], -1: ``pi - asin(k) - delta`` (second branch).
 POSITION_BRANCHES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
 
 #: Wrist branches: sign of sin(theta_7).

@@ -3,15 +3,15 @@
 With the shoulder ``S`` and the wrist ``W`` fixed, the elbow ``E`` lies on a
 circle about the axis ``n = (W - S) / l`` (``l = |W - S|``): centre
 ``h = S + n L1 cos(ESW)`` (section 3.3.1), radius ``r = |hE| = 2 Area / l``
-(eqs. 3.2-3.3, Heron).  The elbow at angle phi is
+([001 eqs. 3.2-3.3], Heron).  The elbow at angle phi is
 
     E(phi) = h + r (cos(phi) e1 + sin(phi) e2),   e2 = n x e1,
 
 i.e. phi turns **right-handed about the shoulder->wrist axis** (this fixes
-the +/- of eq. 3.12: the thesis's ``I_b = I_a x SW / |.|`` equals ``-e2``,
-so our sense is the lower sign of eq. 3.12 in the thesis's basis).
+the +/- of [001 eq. 3.12]: the thesis's ``I_b = I_a x SW / |.|`` equals ``-e2``,
+so our sense is the lower sign of [001 eq. 3.12] in the thesis's basis).
 
-Eqs. 3.4-3.6 hold for every point of the circle, so they do not fix the
+[001 eqs. 3.4-3.6] hold for every point of the circle, so they do not fix the
 reference ``e1`` (phi = 0).  Two explicit references are offered
 (:class:`ElbowReference`):
 
@@ -111,7 +111,7 @@ def circle_one(shoulder, wrist, L1, lew):
 
     Returns ``(n, centre, radius, length, reachable)``: the axis ``n = (W - S) / l``,
     the centre ``h = S + n L1 cos(ESW)`` (law of cosines in the triangle SEW),
-    the radius ``r = L1 sin(ESW)`` (``= 2 Area / l``, eqs. 3.2-3.3), ``l = |W - S|``
+    the radius ``r = L1 sin(ESW)`` (``= 2 Area / l``, [001 eqs. 3.2-3.3]), ``l = |W - S|``
     and whether ``l`` lies in ``[|L1 - l_ew|, L1 + l_ew]`` (to ``1e-12 (L1 + l_ew)``).
     """
     sw = sub(wrist, shoulder)
@@ -182,7 +182,8 @@ def reference_one(kind, vector, shoulder, wrist, n, centre, radius, L0, L1):
 
 @kernel
 def elbow_one(centre, radius, n, e1, phi):
-    """``E(phi) = h + r (cos(phi) e1 + sin(phi) n x e1)`` (eqs. 3.8-3.14, sense fixed right-handed)."""
+    """``E(phi) = h + r (cos(phi) e1 + sin(phi) n x e1)`` ([001 eqs. 3.8-3.14], sense fixed right-handed), with
+    ``e2 = n x e1 = -I_b`` of [001 eq. 3.7]."""
     e2 = cross(n, e1)
     c, s = cos(phi), sin(phi)
     return add(centre, scale((c * e1[0] + s * e2[0], c * e1[1] + s * e2[1], c * e1[2] + s * e2[2]), radius))
@@ -275,7 +276,7 @@ def reference_direction(arm: TorsoArm, circle: ElbowCircle, reference: ElbowRefe
 
 
 def elbow_position(circle: ElbowCircle, e1: np.ndarray, phi: ArrayLike) -> np.ndarray:
-    """``E(phi) = h + r (cos(phi) e1 + sin(phi) n x e1)`` (eqs. 3.8-3.14, sense fixed right-handed), ``(..., 3)``."""
+    """``E(phi) = h + r (cos(phi) e1 + sin(phi) n x e1)`` [001 eqs. 3.8-3.14], right-handed, ``(..., 3)``."""
     shape, (centre, radius, axis, basis, angle) = flat((circle.centre, 1), (circle.radius, 0), (circle.axis, 1),
                                                       (e1, 1), (phi, 0))
     out = np.empty((centre.shape[0], 3))

@@ -6,7 +6,7 @@ works with:
 
 * the neck ``B`` = base origin, on the torso axis (base ``+y``);
 * the shoulder ``S`` = origin of frame 2, ``S(theta_1) = L0 (cos theta_1, 0, -sin theta_1)``
-  (eqs. 3.15-3.17 at ``L1 = 0``);
+  ([001 eqs. 3.15-3.17] at ``L1 = 0``);
 * the elbow ``E`` = origin of frame 4, ``|E - S| = L1``;
 * the wrist ``W`` = origin of frame 6, where the axes of joints 6, 7 and 8
   meet; ``|W - E| = l_ew = sqrt(L2^2 + L3^2)`` (section 3.4.2).

@@ -6,7 +6,7 @@ wrist ``W`` (origin of frame 6) and the rotation ``R8`` of frame 8.  Joints
 joints 6-8 from ``R58 = R5^T R8`` (:func:`~redkin.torso_arm.wrist_ik.wrist_ik`,
 2 branches): 8 solutions per pose, each marked within limits or not.  The
 orientation may be given as a rotation matrix or as X-Y-Z fixed angles
-``(alpha, beta, gamma)``, ``R = Rz(alpha) Ry(beta) Rx(gamma)`` (eq. 4.4).
+``(alpha, beta, gamma)``, ``R = Rz(alpha) Ry(beta) Rx(gamma)`` [001 eq. 4.4].
 """
 
 from __future__ import annotations
@@ -60,7 +60,7 @@ class IKSolution:
 
 
 def hand_rotation(rotation: ArrayLike | None = None, angles: ArrayLike | None = None) -> np.ndarray:
-    """A hand rotation from a matrix or from X-Y-Z fixed angles (eq. 4.4); exactly one must be given."""
+    """A hand rotation from a matrix or from X-Y-Z fixed angles [001 eq. 4.4]; exactly one must be given."""
     if (rotation is None) == (angles is None):
         raise ValueError("give exactly one of rotation (3x3 matrix) or angles (alpha, beta, gamma)")
     if rotation is not None:
@@ -89,7 +89,7 @@ def ik(
     rotation : array_like, shape (..., 3, 3), optional
         Hand orientation as a rotation matrix ...
     angles : array_like, shape (..., 3), optional
-        ... or as X-Y-Z fixed angles (eq. 4.4), radians.
+        ... or as X-Y-Z fixed angles [001 eq. 4.4], radians.
     reference : optional
         Elbow-angle reference (default: theta_4 = 0 rule).
 
@@ -118,7 +118,7 @@ def ik(
     q5 = joints_from_points(arm, np.where(defined, theta1, 0.0), elbow, wrist)  # (..., 4, 5)
     padded = np.concatenate([q5, np.zeros(q5.shape[:-1] + (3,))], axis=-1)
     rot5 = right.frames(np.where(np.isfinite(padded), padded, 0.0))[..., 5, :3, :3]
-    r58 = np.swapaxes(rot5, -1, -2) @ rot8[..., None, :, :]
+    r58 = np.swapaxes(rot5, -1, -2) @ rot8[..., None, :, :]  # [001 eq. 4.8]
     q678, singular = wrist_ik(r58)  # (..., 4, 2, 3)
     q = np.concatenate([np.broadcast_to(q5[..., None, :], q5.shape[:-1] + (2, 5)), q678], axis=-1)
     q = q.reshape(shape + (8, 8))

@@ -1,7 +1,7 @@
 """Manipulability of the wrist position w.r.t. joints 1-5 (chapter 5, thesis 001).
 
-``w = sqrt(det(J J^T))`` (eq. 5.3, Yoshikawa) with ``J`` the 3 x 5 Jacobian
-of the wrist position (origin of frame 6) w.r.t. theta_1..theta_5 (eq. 5.2).
+``w = sqrt(det(J J^T))`` ([001 eq. 5.3], Yoshikawa) with ``J`` the 3 x 5 Jacobian
+of the wrist position (origin of frame 6) w.r.t. theta_1..theta_5 [001 eq. 5.2].
 :func:`wrist_manipulability` evaluates it on the chain (the reference);
 :func:`wrist_jacobian_from_joints` builds the same Jacobian in closed form
 from the joint axes, for fast maps.  Because ``w`` is a Gram determinant it
@@ -32,13 +32,13 @@ from redkin.torso_arm.kernel_tools import add, cross, flat, scale, sub, turn_y
 
 
 def wrist_manipulability(arm: TorsoArm, q: ArrayLike) -> np.ndarray:
-    """Eq. 5.3 on the chain: ``sqrt(det(J J^T))`` of the wrist position w.r.t. joints 1-5, shape ``(...)``."""
+    """[001 eq. 5.3] on the chain: ``sqrt(det(J J^T))`` of the wrist Jacobian [001 eq. 5.2] (joints 1-5), ``(...)``."""
     return arm.chain.manipulability(q, rows=[0, 1, 2], columns=range(5), frame=WRIST_FRAME)
 
 
 @kernel
 def wrist_jacobian_one(q5, L0, L1, lew, delta, out):
-    """Closed-form 3 x 5 wrist-position Jacobian (eq. 5.2) of the right arm at joints 1-5 ``q5`` into ``out``.
+    """Closed-form 3 x 5 wrist-position Jacobian [001 eq. 5.2] of the right arm at joints 1-5 ``q5`` into ``out``.
 
     Columns ``z_i x (W - p_i)`` (see :func:`wrist_jacobian_from_joints`).
     """
@@ -83,7 +83,7 @@ def det3(g):
 
 @kernel
 def gram_one(jacobian):
-    """``sqrt(max(det(J J^T), 0))`` of one Jacobian ``(3, k)`` (eq. 5.3), by the explicit 3 x 3 determinant."""
+    """``sqrt(max(det(J J^T), 0))`` of one Jacobian ``(3, k)`` [001 eq. 5.3], by the explicit 3 x 3 determinant."""
     return sqrt(max(det3(gram3(jacobian, 0)), 0.0))
 
 
@@ -158,7 +158,7 @@ def duals_parallel(right, left, out):
 
 
 def wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
-    """Closed-form 3 x 5 wrist-position Jacobian of the right arm (eq. 5.2; columns up to sign).
+    """Closed-form 3 x 5 wrist-position Jacobian of the right arm ([001 eq. 5.2]; columns up to sign).
 
     Columns ``z_i x (W - p_i)``: torso axis ``y`` and joint-2 axis
     ``z2 = S / L0`` through the origin, joint-3 axis ``Ry(theta_1) (0, -s2, c2)``
@@ -182,7 +182,7 @@ def wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
 
 
 def gram_manipulability(jacobian: np.ndarray) -> np.ndarray:
-    """``sqrt(max(det(J J^T), 0))`` (eq. 5.3) of Jacobians ``(..., 3, k)`` by the explicit 3 x 3 determinant."""
+    """``sqrt(max(det(J J^T), 0))`` [001 eq. 5.3] of Jacobians ``(..., 3, k)`` by the explicit 3 x 3 determinant."""
     shape, (j,) = flat((jacobian, 2))
     out = np.empty(j.shape[0])
     run_batch(grams, grams_parallel, j.shape[0], j, out)

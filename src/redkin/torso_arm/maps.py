@@ -253,7 +253,7 @@ def posture_one(lengths, sign, limits, kind, vector, theta1, wrist, phi, q):
 
 @kernel
 def jacobian_of(lengths, q, jacobian):
-    """The wrist Jacobian (eq. 5.2) of the first branch of ``q`` (4, 5) into ``jacobian`` (3, 5)."""
+    """The wrist Jacobian [001 eq. 5.2] of the first branch of ``q`` (4, 5) into ``jacobian`` (3, 5)."""
     wrist_jacobian_one(q[0], lengths[0], lengths[1], lengths[2], lengths[3], jacobian)
 
 
@@ -268,7 +268,7 @@ def mirror_one(theta1, point):
 def best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jacobians):
     """``(best, reached)``: best ``w`` at a right-problem ``wrist`` over ``thetas`` x ``phis`` (theta_1, phi).
 
-    ``best`` is the largest ``w`` (eq. 5.3; the stacked dual measure if
+    ``best`` is the largest ``w`` ([001 eq. 5.3]; the stacked dual measure if
     ``dual``) of the postures that exist and, if ``within``, respect the
     limits (-inf if none); ``reached`` says some posture exists.  With
     ``dual`` the second arm is the left arm in the symmetric posture: at
@@ -422,7 +422,7 @@ def manipulability_map(
     reference: "ElbowReference | str | ArrayLike | None" = None,
     within_limits: bool = True,
 ) -> ManipulabilityMap:
-    """``w`` (eq. 5.3) of one arm over ``grid`` at fixed ``(psi, phi)`` (sections 3.2-3.3), one posture per point."""
+    """``w`` [001 eq. 5.3] of one arm over ``grid`` at fixed ``(psi, phi)`` (sections 3.2-3.3), a posture per point."""
     psi, phi = _fixed_angles(shoulder_angle, elbow_angle)
     ref = as_reference(reference)
     right_points = arm.to_right(grid.points)
@@ -485,7 +485,7 @@ def best_over_redundancy(
         Count only postures where some branch respects the limits of joints 1-5.
     dual : bool
         The stacked dual-arm measure (:func:`~redkin.torso_arm.manipulability.stacked_dual_manipulability`)
-        of the symmetric posture instead of one arm's ``w`` (eq. 5.3).
+        of the symmetric posture instead of one arm's ``w`` [001 eq. 5.3].
     progress : callable, optional
         ``progress(fraction)`` as the points are done.
 

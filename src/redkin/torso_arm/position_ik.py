@@ -6,19 +6,19 @@ Steps (right arm; the left arm is solved as its mirror image):
 2. The elbow ``E`` from the elbow angle phi (:mod:`redkin.torso_arm.elbow_angle`).
 3. The joints from the points ``S``, ``E``, ``W`` -- repaired forms of sections 3.4.2-3.4.5:
 
-   * theta_5 (eq. 3.19): ``sin(theta_5 + delta) = k = (l^2 - L1^2 - l_ew^2) / (2 L1 l_ew)``
+   * theta_5 [001 eq. 3.19]: ``sin(theta_5 + delta) = k = (l^2 - L1^2 - l_ew^2) / (2 L1 l_ew)``
      has two roots, ``asin(k) - delta`` and ``pi - asin(k) - delta`` (the
      thesis keeps only the first).
-   * theta_3 (eq. 3.22): with ``u' = Ry(-theta_1) (E - S) / L1 = (s3, c2 c3, s2 c3)``
-     (eqs. 3.15-3.17), ``sin(theta_3) = u'_x``; both ``asin`` and ``pi - asin``
+   * theta_3 [001 eq. 3.22]: with ``u' = Ry(-theta_1) (E - S) / L1 = (s3, c2 c3, s2 c3)``
+     [001 eqs. 3.15-3.17], ``sin(theta_3) = u'_x``; both ``asin`` and ``pi - asin``
      lie in the range -5..185 deg, so a branch flag picks ``sgn(cos theta_3)``.
-   * theta_2 (eqs. 3.20-3.24, repaired): ``theta_2 = atan2(sgn(c3) u'_z, sgn(c3) u'_y)``,
+   * theta_2 ([001 eqs. 3.20-3.24], repaired): ``theta_2 = atan2(sgn(c3) u'_z, sgn(c3) u'_y)``,
      no division by ``sin(theta_1)`` or ``cos(theta_3)``.
-   * theta_4 (eqs. 3.25-3.26 replaced): in frame 3 the forearm is
+   * theta_4 ([001 eqs. 3.25-3.26] replaced): in frame 3 the forearm is
      ``f3 = (m s4, c, m c4)`` with ``m = L3 c5 - L2 s5 = l_ew cos(theta_5 + delta)``,
      so ``theta_4 = atan2(sgn(m) f3_x, sgn(m) f3_z)`` over the full circle
-     (eq. 3.26 forced ``|theta_4| <= 90`` deg against the +-150 deg limit;
-     eq. 3.25 mixes lengths and ratios and divides by ``cos theta_3``).
+     ([001 eq. 3.26] forced ``|theta_4| <= 90`` deg against the +-150 deg limit;
+     [001 eq. 3.25] mixes lengths and ratios and divides by ``cos theta_3``).
 
 Every input is batched over leading axes (broadcast together).
 """
@@ -59,7 +59,8 @@ from redkin.validation import as_float_array, check_finite, check_vectors
 
 @kernel
 def joints_one(theta1, elbow, wrist, L0, L1, delta, out):
-    """Joints 1-5 of every position branch for right-arm points (repaired sections 3.4.2-3.4.5).
+    """Joints 1-5 of every position branch for right-arm points (repaired sections 3.4.2-3.4.5,
+    [001 eqs. 3.15-3.26]).
 
     ``elbow``, ``wrist`` (3-tuples) lie on a valid posture; ``out`` (4, 5)
     receives one row per branch of :data:`POSITION_BRANCHES`, angles in ``(-pi, pi]``.
@@ -67,13 +68,13 @@ def joints_one(theta1, elbow, wrist, L0, L1, delta, out):
     shoulder = (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
     upper = turn_y(-theta1, scale(sub(elbow, shoulder), 1.0 / L1))  # u' = Ry(-theta_1) (E - S) / L1
     forearm = turn_y(-theta1, sub(wrist, elbow))
-    # eq. 3.18/3.19 as atan2: sin(theta_5 + delta) = (f . u) / l_ew, |cos(theta_5 + delta)| = |f x u| / l_ew
+    # [001 eqs. 3.18, 3.19] as atan2: sin(theta_5 + delta) = (f . u) / l_ew, |cos(theta_5 + delta)| = |f x u| / l_ew
     asin_k = atan2(dot(forearm, upper), norm(cross(forearm, upper)))
-    asin_3 = atan2(upper[0], hypot(upper[1], upper[2]))  # eq. 3.22 as atan2
+    asin_3 = atan2(upper[0], hypot(upper[1], upper[2]))  # [001 eq. 3.22] as atan2
     for k3 in range(2):  # the order of POSITION_BRANCHES: theta_3 flag outer, theta_5 flag inner
         flag3 = 1.0 - 2.0 * k3
-        theta3 = asin_3 if flag3 > 0 else pi - asin_3  # eq. 3.22 + second branch
-        theta2 = atan2(flag3 * upper[2], flag3 * upper[1])  # eq. 3.24, repaired
+        theta3 = asin_3 if flag3 > 0 else pi - asin_3  # [001 eq. 3.22] + second branch
+        theta2 = atan2(flag3 * upper[2], flag3 * upper[1])  # [001 eq. 3.24], repaired
         c2, s2, c3, s3 = cos(theta2), sin(theta2), cos(theta3), sin(theta3)
         f3x = c3 * forearm[0] - s3 * c2 * forearm[1] - s2 * s3 * forearm[2]
         f3z = -s2 * forearm[1] + c2 * forearm[2]
@@ -81,8 +82,8 @@ def joints_one(theta1, elbow, wrist, L0, L1, delta, out):
             flag5 = 1.0 - 2.0 * k5
             b = 2 * k3 + k5
             out[b, 0], out[b, 1], out[b, 2] = theta1, theta2, theta3
-            out[b, 3] = atan2(flag5 * f3x, flag5 * f3z)  # replaces eqs. 3.25-3.26; sgn(m) = flag5
-            out[b, 4] = asin_k - delta if flag5 > 0 else pi - asin_k - delta  # eq. 3.19 + second branch
+            out[b, 3] = atan2(flag5 * f3x, flag5 * f3z)  # replaces [001 eqs. 3.25-3.26]; sgn(m) = flag5
+            out[b, 4] = asin_k - delta if flag5 > 0 else pi - asin_k - delta  # [001 eq. 3.19] + second branch
 
 
 @kernel
@@ -100,7 +101,8 @@ def joint_batch_parallel(theta1, elbow, wrist, L0, L1, delta, out):
 
 
 def joints_from_points(arm: TorsoArm, theta1: np.ndarray, elbow: np.ndarray, wrist: np.ndarray) -> np.ndarray:
-    """Joints 1-5 of every position branch for right-arm points (repaired sections 3.4.2-3.4.5).
+    """Joints 1-5 of every position branch for right-arm points (repaired sections 3.4.2-3.4.5,
+    [001 eqs. 3.15-3.26]).
 
     Parameters
     ----------

@@ -15,7 +15,7 @@ centred on the axis, so psi is strictly monotone in theta_1 (increasing when
 of psi.  The inverse is closed form (:func:`theta1_from_shoulder_angle`).
 It is undefined when ``W_y = 0`` (the ellipse degenerates to a segment).
 
-Eq. 3.1 instead takes the unsigned angle ``S h' S'`` at the midpoint
+[001 eq. 3.1] instead takes the unsigned angle ``S h' S'`` at the midpoint
 ``h' = W / 2``; it is not monotone in theta_1 and several theta_1 share one
 psi.  It is offered literally, with every root, by
 :func:`shoulder_angle_eq31` / :func:`theta1_from_shoulder_angle_eq31`.
@@ -162,12 +162,12 @@ def theta1_from_shoulder_angle(psi: ArrayLike, wrist: ArrayLike) -> tuple[np.nda
     return out.reshape(shape), defined.reshape(shape)
 
 
-# ----------------------------------------------------------- eq. 3.1, literal
+# ----------------------------------------------------- [001 eq. 3.1], literal
 def shoulder_angle_eq31(theta1: ArrayLike, wrist: ArrayLike, L0: float) -> np.ndarray:
-    """Eq. 3.1 literally: the unsigned angle ``S h' S'`` in ``[0, pi]`` at ``h' = W / 2``.
+    """[001 eq. 3.1] literally: the unsigned angle ``S h' S'`` in ``[0, pi]`` at ``h' = W / 2``.
 
     ``S = (L0, 0, 0)`` is the shoulder at theta_1 = 0 and ``S' = S(theta_1)``.
-    The law of cosines of eq. 3.1 is evaluated as the angle between
+    The law of cosines of [001 eq. 3.1] is evaluated as the angle between
     ``S - h'`` and ``S' - h'`` (the same number, without cancellation).
     """
     t = as_float_array(theta1, "theta1")
@@ -183,7 +183,7 @@ def shoulder_angle_eq31(theta1: ArrayLike, wrist: ArrayLike, L0: float) -> np.nd
 def theta1_from_shoulder_angle_eq31(psi: float, wrist: ArrayLike, L0: float) -> np.ndarray:
     """Every theta_1 in ``(-pi, pi]`` with :func:`shoulder_angle_eq31` equal to ``psi`` (one wrist).
 
-    With ``a = S - h'`` and ``b = S' - h'``, eq. 3.1 is ``a . b = cos(psi) |a| |b|``.
+    With ``a = S - h'`` and ``b = S' - h'``, [001 eq. 3.1] is ``a . b = cos(psi) |a| |b|``.
     Squared, it is a trigonometric polynomial of degree 2 in theta_1,
     solved exactly as a quartic in ``z = exp(i theta_1)``; the roots on the
     unit circle are polished and those satisfying the unsquared equation are kept.
@@ -208,7 +208,7 @@ def theta1_from_shoulder_angle_eq31(psi: float, wrist: ArrayLike, L0: float) -> 
     a1, b1 = 2 * P * R0 - K * U, 2 * Q * R0 - K * V
     a2, b2 = (P * P - Q * Q) / 2, P * Q
     coefficients = [(a2 - 1j * b2) / 2, (a1 - 1j * b1) / 2, a0, (a1 + 1j * b1) / 2, (a2 + 1j * b2) / 2]
-    if np.allclose(np.abs(coefficients), 0.0):  # eq. 3.1 holds for every theta_1 (degenerate wrist)
+    if np.allclose(np.abs(coefficients), 0.0):  # [001 eq. 3.1] holds for every theta_1 (degenerate wrist)
         return np.array([])
     roots = np.roots(coefficients)
     candidates = np.angle(roots[np.abs(np.abs(roots) - 1.0) < 1e-3])

@@ -1,6 +1,6 @@
 """Wrist inverse kinematics of joints 6-8 (chapter 4, thesis 001, re-derived from Table 2.1).
 
-Eqs. 4.6 and 4.9 of the thesis do not follow from Table 2.1 (they contain no
+[001 eqs. 4.6, 4.9] of the thesis do not follow from Table 2.1 (they contain no
 theta_8).  Multiplying rows 6-8 of Table 2.1 gives the rotation from frame 5
 to frame 8 (``c6 = cos theta_6`` etc., joint variables):
 
@@ -27,7 +27,7 @@ WRIST_SINGULAR_TOLERANCE = 1e-9
 
 
 def wrist_rotation(theta6: np.ndarray, theta7: np.ndarray, theta8: np.ndarray) -> np.ndarray:
-    """``R58`` of Table 2.1 rows 6-8 (the derived replacement of eq. 4.9), shape ``(..., 3, 3)``."""
+    """``R58`` of Table 2.1 rows 6-8 (the derived replacement of [001 eqs. 4.6, 4.9]), shape ``(..., 3, 3)``."""
     c6, s6, c7, s7, c8, s8 = (f(t) for t in (theta6, theta7, theta8) for f in (np.cos, np.sin))
     return np.stack([
         np.stack([-s6 * c7 * c8 - c6 * s8, -s6 * c7 * s8 + c6 * c8, s6 * s7], axis=-1),
@@ -37,7 +37,7 @@ def wrist_rotation(theta6: np.ndarray, theta7: np.ndarray, theta8: np.ndarray) -
 
 
 def wrist_ik(r58: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Joints 6-8 of both wrist branches from the frame-5-to-frame-8 rotation.
+    """Joints 6-8 of both wrist branches from the frame-5-to-frame-8 rotation ([001 eqs. 4.7, 4.10, 4.11], re-derived).
 
     Parameters
     ----------
