@@ -1,11 +1,11 @@
-"""Adjugate (pseudoinverse-based) singularity-consistent direction (paper 003 section 2.2, eqs. 12-14).
+"""Adjugate (pseudoinverse-based) singularity-consistent direction (paper 003 section 2.2, [003 eqs. 12-14]).
 
-``n_pi = J^T adj(J J^T) t`` (eq. 12) is the minimum-norm end-point vector:
-``J n_pi = det(J J^T) t`` (eq. 13), so it has no algorithmic singularity --
+``n_pi = J^T adj(J J^T) t`` [003 eq. 12] is the minimum-norm end-point vector:
+``J n_pi = det(J J^T) t`` [003 eq. 13], so it has no algorithmic singularity --
 ``det(J J^T) = 0`` only at true singularities.  But there
-``J^T adj(J J^T) = 0`` (eq. 14): the joint velocity vanishes and the arm
+``J^T adj(J J^T) = 0`` [003 eq. 14]: the joint velocity vanishes and the arm
 cannot leave the singularity.  By Cauchy-Binet it equals the weighted sum of
-eq. 15 with ``b_i = det J_i`` (eq. 17).
+[003 eq. 15] with ``b_i = det J_i`` [003 eq. 17].
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from redkin.velocity.cofactors import adjugate
 
 
 def adjugate_direction(jacobian: ArrayLike, twist: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """``n_pi = J^T adj(J J^T) t`` and the twist size ``det(J J^T)`` (paper 003 eqs. 12-13).
+    """``n_pi = J^T adj(J J^T) t`` and the twist size ``det(J J^T)`` [003 eqs. 12-13].
 
     Returns
     -------

@@ -1,19 +1,19 @@
-"""The singular-region blend of the singularity-consistent methods (paper 003 eqs. 11, 21, 22).
+"""The singular-region blend of the singularity-consistent methods [003 eqs. 11, 21, 22].
 
-Inside the singular region ``|x| <= eps`` (``x`` is ``det J_i`` for eq. 11
-or the singularity index ``D_e`` for eq. 21) the scalar weight must stay
+Inside the singular region ``|x| <= eps`` (``x`` is ``det J_i`` for [003 eq. 11]
+or the singularity index ``D_e`` for [003 eq. 21]) the scalar weight must stay
 finite; outside it must give exactly the commanded twist.  The realised
 twist is ``g(x) t`` with the *twist scale*
 
     g(x) = x (3 - x^2 / eps^2) / (2 eps)   for |x| <= eps,
     g(x) = sign(x)                           otherwise,
 
-obtained from the weight ``w(x) = g(x) / x`` of eq. 11:
+obtained from the weight ``w(x) = g(x) / x`` of [003 eq. 11]:
 ``w = (3 - x^2/eps^2) / (2 eps)`` inside, ``1 / |x|`` outside.
 
-Eq. 21 is garbled in the transcription (it prints ``3 - D_e^2 / (2 D_e^2)``,
+[003 eq. 21] is garbled in the transcription (it prints ``3 - D_e^2 / (2 D_e^2)``,
 ``D_i / (2 D_e D_s)`` inside the region -- divergent at ``D_e = 0`` -- and
-``D_i / (D_e D_s)`` outside).  We use eq. 11's form with ``D_e`` in place of
+``D_i / (D_e D_s)`` outside).  We use [003 eq. 11]'s form with ``D_e`` in place of
 ``det J_i`` because it is the unique choice (among these cubic blends) that
 
 * is continuous at ``|D_e| = eps`` with a continuous slope (``g'(+-eps) = 0``),
@@ -50,17 +50,17 @@ def _blend(index: ArrayLike, eps: float) -> tuple[np.ndarray, ...]:
 
 
 def twist_scale(index: ArrayLike, eps: float) -> np.ndarray:
-    """``g(x)``: realised twist = ``g(x)`` times the (modified) commanded twist (derived eq. 21/22)."""
+    """``g(x)``: realised twist = ``g(x)`` times the (modified) commanded twist (derived [003 eqs. 21, 22])."""
     return _blend(index, eps)[0]
 
 
 def blend_weight(index: ArrayLike, eps: float) -> np.ndarray:
-    """``w(x) = g(x) / x``: the weight ``b_ep`` of eq. 11 per unit twist, finite at ``x = 0`` (paper 003 eq. 11)."""
+    """``w(x) = g(x) / x``: the weight ``b_ep`` of [003 eq. 11] per unit twist, finite at ``x = 0``."""
     return _blend(index, eps)[1]
 
 
 def rotation_factor(index: ArrayLike, eps: float) -> np.ndarray:
-    """Factor ``clip(x / eps, -1, 1)`` applied in advance to the rotational command (paper 003 eq. 22 text).
+    """Factor ``clip(x / eps, -1, 1)`` applied in advance to the rotational command ([003 eq. 22] text).
 
     The paper multiplies the rotational command by ``D_e`` so that the realised
     rotation goes as ``D_e^2`` near the singularity: it slows and stops at

@@ -27,7 +27,7 @@ def _without_each_column(matrix: np.ndarray) -> np.ndarray:
 
 
 def column_minors(jacobian: ArrayLike) -> np.ndarray:
-    """``det J_i`` for every removed column ``i``, shape ``(..., m + 1)`` (paper 003 eq. 5).
+    """``det J_i`` for every removed column ``i``, shape ``(..., m + 1)`` [003 eq. 5].
 
     By Cauchy-Binet, ``det(J J^T) = sum_i det(J_i)^2``.  The kernel
     :func:`~redkin.velocity.step_kernels.column_minors_one` (Gaussian
@@ -42,7 +42,7 @@ def column_minors(jacobian: ArrayLike) -> np.ndarray:
 
 
 def self_motion_vector(jacobian: ArrayLike) -> np.ndarray:
-    """Self-motion joint velocity ``n_sm`` with ``C_sm,i = (-1)^(i+1) det J_i`` (paper 003 eqs. 4-5).
+    """Self-motion joint velocity ``n_sm`` with ``C_sm,i = (-1)^(i+1) det J_i`` [003 eqs. 4-5].
 
     ``J n_sm = 0`` (Laplace expansion of a matrix with a repeated row); it is
     zero only where ``rank J < m``.
@@ -53,16 +53,16 @@ def self_motion_vector(jacobian: ArrayLike) -> np.ndarray:
 
 
 def fixed_joint_vectors(jacobian: ArrayLike, twist: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """End-point null-space vectors ``n_i`` of ``[J  -t]`` with joint ``i`` fixed (paper 003 eqs. 6-8).
+    """End-point null-space vectors ``n_i`` of ``[J  -t]`` with joint ``i`` fixed [003 eqs. 6-8].
 
     With joint ``i`` fixed the arm is non-redundant, and Cramer's rule gives
     ``J_i adj(J_i) t = det(J_i) t``.  So ``n_i`` is ``adj(J_i) t`` with a zero
-    inserted at position ``i`` (eq. 7), and ``[n_i; det J_i]`` spans the null
-    space of the column-augmented Jacobian ``[J  -t]`` (eq. 2) with joint
+    inserted at position ``i`` [003 eq. 7], and ``[n_i; det J_i]`` spans the null
+    space of the column-augmented Jacobian ``[J  -t]`` [003 eq. 2] with joint
     ``i`` fixed: ``J n_i = det(J_i) t``, so the twist size is
-    ``q_dot_* = det J_i`` (eq. 10).  The sign convention differs from eq. 6 as
+    ``q_dot_* = det J_i`` [003 eq. 10].  The sign convention differs from [003 eq. 6] as
     transcribed (which puts ``(-1)^(i+1)`` on the last entry); ours makes
-    ``q_dot_* = det J_i`` hold for every ``i`` as eqs. 10 and 16 require.
+    ``q_dot_* = det J_i`` hold for every ``i`` as [003 eqs. 10, 16] require.
 
     Parameters
     ----------
@@ -94,7 +94,7 @@ def fixed_joint_vectors(jacobian: ArrayLike, twist: ArrayLike) -> tuple[np.ndarr
 
 
 def weighted_sum(weights: ArrayLike, vectors: np.ndarray) -> np.ndarray:
-    """``n_sum = sum_i b_i n_i`` (paper 003 eq. 15) for weights ``(..., k)`` and vectors ``(..., k, k)``."""
+    """``n_sum = sum_i b_i n_i`` [003 eq. 15] for weights ``(..., k)`` and vectors ``(..., k, k)``."""
     return np.einsum("...i,...ij->...j", np.asarray(weights, dtype=float), vectors)
 
 

@@ -1,8 +1,8 @@
-"""Conventional singularity-consistent method with one joint fixed (paper 003 section 2.1, eqs. 9-11).
+"""Conventional singularity-consistent method with one joint fixed (paper 003 section 2.1, [003 eqs. 9-11]).
 
 ``q_dot = b_sm n_sm + b_ep n_i`` with ``n_i`` the end-point vector of
 :func:`~redkin.velocity.cofactors.fixed_joint_vectors` and the weight of
-eq. 11, ``b_ep = w(det J_i)`` (:func:`~redkin.velocity.blend.blend_weight`).
+[003 eq. 11], ``b_ep = w(det J_i)`` (:func:`~redkin.velocity.blend.blend_weight`).
 The realised twist is ``g(det J_i) v``: exactly ``+-v`` outside the region
 ``|det J_i| <= eps``, slowed and reversed through ``det J_i = 0``.
 
@@ -33,19 +33,20 @@ def fixed_joint_sc(
     eps: float,
     self_motion: float = 0.0,
 ) -> VelocitySolution:
-    """Joint velocity of the column-augmented SC method with joint ``joint`` (0-based) fixed (eqs. 9-11).
+    """Joint velocity of the column-augmented SC method with joint ``joint`` (0-based) fixed [003 eqs. 9-11]
+    (``q_bar = b_sm n_sm + b_ep n_ep`` of [003 eq. 3]).
 
     Parameters
     ----------
     jacobian : array_like, shape (..., m, m + 1)
     twist : array_like, shape (..., m)
-        Commanded twist ``v`` (eq. 11 writes ``||V||`` times a unit direction; linear in ``v``).
+        Commanded twist ``v`` ([003 eq. 11] writes ``||V||`` times a unit direction; linear in ``v``).
     joint : int
         Fixed joint ``i`` (0-based).
     eps : float
         Singular-region threshold ``D_eps`` on ``|det J_i|``.
     self_motion : float
-        ``b_sm`` of eq. 9.
+        ``b_sm`` of [003 eq. 9].
     """
     jac, vel = jacobian_and_twist(jacobian, twist, one_redundant=True)
     k = jac.shape[-1]
@@ -54,7 +55,7 @@ def fixed_joint_sc(
     check_positive(eps, "eps")
     vectors, minors = fixed_joint_vectors(jac, vel)
     minor = minors[..., joint]
-    qdot = blend_weight(minor, eps)[..., None] * vectors[..., joint, :]  # eqs. 9, 11
+    qdot = blend_weight(minor, eps)[..., None] * vectors[..., joint, :]  # [003 eqs. 9, 11]
     if self_motion:
         qdot = qdot + self_motion * self_motion_vector(jac)
     return VelocitySolution(qdot, twist_scale(minor, eps)[..., None] * vel)

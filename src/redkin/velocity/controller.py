@@ -100,7 +100,7 @@ class PseudoinverseController:
 
 
 class SingularityConsistentController:
-    """The singularity-consistent step (paper 003 eqs. 17-22) for one configuration per call.
+    """The singularity-consistent step [003 eqs. 17-22] for one configuration per call.
 
     Same result as :class:`~redkin.velocity.methods.SingularityConsistent`
     bound to ``chain`` at ``q0`` (the same kernel), without the batch handling.
@@ -119,11 +119,11 @@ class SingularityConsistentController:
         closed form, or ``sin(theta_4)`` for S-R-S arms; ``ValueError`` for
         arms whose singularities do not factor through one parameter).
     direction : {+1, -1}, optional
-        ``b_ep`` of eq. 22; overrides the sign of ``D_e(q0)``.
+        ``b_ep`` of [003 eq. 22]; overrides the sign of ``D_e(q0)``.
     self_motion : float
-        ``b_sm`` of eq. 9 (costs the 7 column minors per step when non-zero).
+        ``b_sm`` of [003 eq. 9] (costs the 7 column minors per step when non-zero).
     modify_rotation : bool
-        Pre-multiply the rotational command by ``b_ep clip(D_e / eps, -1, 1)`` (eq. 22 text).
+        Pre-multiply the rotational command by ``b_ep clip(D_e / eps, -1, 1)`` ([003 eq. 22] text).
     near_zero : float, optional
         ``|D_e|`` below which the exact cofactor path is used; default ``eps / 100``.
 

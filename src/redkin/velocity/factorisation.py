@@ -1,4 +1,4 @@
-"""Singularities that factor through one parameter: ``det J_i = D_e D_i`` (paper 003 eqs. 19-20, section 3.3).
+"""Singularities that factor through one parameter: ``det J_i = D_e D_i`` ([003 eqs. 19-20], section 3.3).
 
 The proposed method needs a *singularity index* ``D_e(q)`` common to every
 column minor ``det J_i`` of the 6 x 7 Jacobian, and the remaining factors
@@ -40,7 +40,7 @@ def wam_singularity_index(q: ArrayLike, a: float, d3: float, d5: float) -> np.nd
 
 
 def wam_cofactors(q: ArrayLike, a: float, d3: float, d5: float) -> np.ndarray:
-    """Closed-form ``D_i`` with ``det J_i = D_e D_i`` for the Barrett WAM (paper 003 eq. 19), shape ``(..., 7)``.
+    """Closed-form ``D_i`` with ``det J_i = D_e D_i`` for the Barrett WAM [003 eq. 19], shape ``(..., 7)``.
 
     Derived with sympy (development aid, not a dependency) from the geometric
     Jacobian of paper 003 Table 1: every minor contains ``D_e`` as a factor.
@@ -62,7 +62,7 @@ def _wam(q: ArrayLike, a: float, d3: float, d5: float) -> tuple[np.ndarray, np.n
 
 @kernel
 def wam_index_and_factors(q, a, d3, d5, index, factors):
-    """``D_e`` into ``index`` (N,) and ``D_i`` into ``factors`` (N, 7) for each row of ``q`` (N, 7) (section 3.3, eq. 19)."""
+    """``D_e`` into ``index`` (N,) and ``D_i`` into ``factors`` (N, 7) for each row of ``q`` (N, 7) [003 eq. 19]."""
     for b in range(q.shape[0]):
         s2, s3, s4, s5, s6 = sin(q[b, 1]), sin(q[b, 2]), sin(q[b, 3]), sin(q[b, 4]), sin(q[b, 5])
         c2, c3, c4, c5, c6 = cos(q[b, 1]), cos(q[b, 2]), cos(q[b, 3]), cos(q[b, 4]), cos(q[b, 5])
@@ -132,7 +132,7 @@ class WamFactorisation(Factorisation):
 
 @dataclass(frozen=True)
 class NumericalFactorisation(Factorisation):
-    """``D_i = det J_i / D_e`` for any chain with a user-given index ``D_e(q)`` (paper 003 eq. 19).
+    """``D_i = det J_i / D_e`` for any chain with a user-given index ``D_e(q)`` [003 eq. 19].
 
     Where ``|D_e| < near_zero`` the ratio is 0/0; there ``D_i`` is taken as
     the l'Hopital limit along the unit gradient ``u`` of ``D_e``:

@@ -82,7 +82,7 @@ class SingularityConsistent:
 
     ``factorisation`` defaults to :func:`~redkin.velocity.factorisation.singularity_factorisation`
     (the closed form of a WAM-shaped chain, ``sin(theta_4)`` for an S-R-S arm);
-    ``direction`` (``b_ep`` of eq. 22) defaults to the sign of ``D_e(q0)``,
+    ``direction`` (``b_ep`` of [003 eq. 22]) defaults to the sign of ``D_e(q0)``,
     so the command is realised as given at the start.  ``lean`` (default)
     steps with the kernel of :func:`~redkin.velocity.proposed.lean_singularity_consistent`
     (one pseudoinverse, same result to ~1e-12; for one configuration through

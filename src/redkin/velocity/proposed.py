@@ -1,18 +1,18 @@
 """The proposed singularity-consistent method: a weighted sum of fixed-joint vectors (paper 003 section 3).
 
-``n_sum = sum_i b_i n_i`` (eq. 15) realises ``J n_sum = D_sum t`` with
-``D_sum = sum_i b_i det J_i`` (eq. 16).  Two choices of weights:
+``n_sum = sum_i b_i n_i`` [003 eq. 15] realises ``J n_sum = D_sum t`` with
+``D_sum = sum_i b_i det J_i`` [003 eq. 16].  Two choices of weights:
 
-* ``b_i = det J_i`` (eq. 17): ``n_sum = J^T adj(J J^T) t`` -- the
+* ``b_i = det J_i`` [003 eq. 17]: ``n_sum = J^T adj(J J^T) t`` -- the
   minimum-norm direction, orthogonal to the self-motion (Appendix A);
-* ``b_i = det J_i / det(J J^T)`` (eq. 18): ``n_sum = J^+ t``.
+* ``b_i = det J_i / det(J J^T)`` [003 eq. 18]: ``n_sum = J^+ t``.
 
 Where the singularity factors through one index, ``det J_i = D_e D_i``
-(eq. 19), eq. 18 becomes ``b_i = D_i / (D_e D_s)``, ``D_s = sum D_i^2``
-(eq. 20).  Replacing ``1 / D_e`` by the blend weight ``w(D_e)`` of
-:mod:`redkin.velocity.blend` (eq. 21, corrected) keeps ``b_i`` finite and
+[003 eq. 19], [003 eq. 18] becomes ``b_i = D_i / (D_e D_s)``, ``D_s = sum D_i^2``
+[003 eq. 20].  Replacing ``1 / D_e`` by the blend weight ``w(D_e)`` of
+:mod:`redkin.velocity.blend` ([003 eq. 21], corrected) keeps ``b_i`` finite and
 non-zero at ``D_e = 0``, so the joints keep moving through the singularity,
-and gives the realised twist ``b_ep g(D_e) t'`` (eq. 22) where ``t'`` is the
+and gives the realised twist ``b_ep g(D_e) t'`` [003 eq. 22] where ``t'`` is the
 command with its rotational part pre-multiplied by ``b_ep clip(D_e/eps)``.
 
 Both steps here are the kernel :func:`~redkin.velocity.step_kernels.sc_one`.
@@ -21,12 +21,12 @@ It sums the fixed-joint vectors in closed form: ``sum_i D_i n_i`` is
 are polynomials in ``J``, ``t'`` and ``D``; for ``D_e != 0``, expanding
 ``det M`` along its last row gives ``sum_i D_i det J_i = D_e D_s`` (eqs.
 19-20), and both solve ``M x = D_e D_s [t'; 0]`` (``J n_i = det(J_i) t'``,
-and ``c`` is parallel to the self-motion vector of eqs. 4-5, to which the
+and ``c`` is parallel to the self-motion vector of [003 eqs. 4-5], to which the
 minimum-norm ``sum_i D_i n_i`` is orthogonal); ``M`` is regular there, so
 they are equal, and by continuity also on ``D_e = 0``.  Away from ``D_e =
-0`` the sum collapses further.  With ``det J_i = D_e D_i`` (eq. 19),
-``sum_i det J_i n_i = J^T adj(J J^T) t'`` (eq. 17) and, by Cauchy-Binet,
-``det(J J^T) = D_e^2 D_s`` (eqs. 18, 20):
+0`` the sum collapses further.  With ``det J_i = D_e D_i`` [003 eq. 19],
+``sum_i det J_i n_i = J^T adj(J J^T) t'`` [003 eq. 17] and, by Cauchy-Binet,
+``det(J J^T) = D_e^2 D_s`` [003 eqs. 18, 20]:
 
     sum_i D_i n_i = D_e D_s J^+ t',    so    q_dot = b_ep g(D_e) J^+ t'   (D_e != 0)
 
@@ -36,7 +36,7 @@ rounding error growing like ``sigma_max / sigma_min``; so
 :func:`lean_singularity_consistent` takes the pseudoinverse only where
 ``|D_e| >= near_zero`` and the adjugate below, while
 :func:`singularity_consistent` always takes the adjugate.  The definitional
-form, the weighted sum of eq. 15 over the Cramer vectors of
+form, the weighted sum of [003 eq. 15] over the Cramer vectors of
 :func:`~redkin.velocity.cofactors.fixed_joint_vectors`, is the tests'
 reference for both.
 """
@@ -60,18 +60,18 @@ NEAR_ZERO_FRACTION = 1e-2
 
 
 def minimum_norm_weights(jacobian: ArrayLike) -> np.ndarray:
-    """``b_i = det J_i`` (paper 003 eq. 17): ``n_sum = J^T adj(J J^T) t``."""
+    """``b_i = det J_i`` [003 eq. 17]: ``n_sum = J^T adj(J J^T) t``."""
     return column_minors(jacobian)
 
 
 def pseudoinverse_weights(jacobian: ArrayLike) -> np.ndarray:
-    """``b_i = det J_i / det(J J^T)`` (paper 003 eq. 18): ``n_sum = J^+ t``; infinite at a singularity."""
+    """``b_i = det J_i / det(J J^T)`` [003 eq. 18]: ``n_sum = J^+ t``; infinite at a singularity."""
     minors = column_minors(jacobian)
     return minors / np.sum(minors * minors, axis=-1, keepdims=True)  # Cauchy-Binet denominator
 
 
 def weighted_sum_direction(jacobian: ArrayLike, twist: ArrayLike, weights: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """``n_sum`` and ``D_sum`` of paper 003 eqs. 15-16 for weights ``b`` of shape ``(..., n)``."""
+    """``n_sum`` and ``D_sum`` of [003 eqs. 15-16] for weights ``b`` of shape ``(..., n)``."""
     vectors, minors = fixed_joint_vectors(jacobian, twist)
     b = np.asarray(weights, dtype=float)
     if b.shape[-1:] != minors.shape[-1:]:
@@ -89,7 +89,7 @@ def singularity_consistent(
     self_motion: float = 0.0,
     modify_rotation: bool = True,
 ) -> VelocitySolution:
-    """Joint velocity of the proposed method (paper 003 eqs. 9, 15, 19-22).
+    """Joint velocity of the proposed method [003 eqs. 9, 15, 19-22].
 
     Parameters
     ----------
@@ -105,20 +105,20 @@ def singularity_consistent(
     eps : float
         Singular-region threshold ``D_eps`` on ``|D_e|``.
     direction : {+1, -1}
-        ``b_ep`` of eq. 22: the sign of ``D_e`` on whose side the command is
+        ``b_ep`` of [003 eq. 22]: the sign of ``D_e`` on whose side the command is
         realised as given; on the other side the translation is reversed.
     self_motion : float
-        ``b_sm`` of eq. 9 (self-motion added along ``n_sm``).
+        ``b_sm`` of [003 eq. 9] (self-motion added along ``n_sm``).
     modify_rotation : bool
         Pre-multiply the rotational command by ``b_ep clip(D_e / eps, -1, 1)``
-        (eq. 22 text) so that rotation keeps its axis and sign through
+        ([003 eq. 22] text) so that rotation keeps its axis and sign through
         ``D_e = 0``.
 
     Returns
     -------
     VelocitySolution
         ``target_twist = b_ep g(D_e) t'``: the command outside the region
-        ``|D_e| <= eps`` (translation reversed on the far side), eq. 22 inside.
+        ``|D_e| <= eps`` (translation reversed on the far side), [003 eq. 22] inside.
     """
     jac, vel, e = _checked(jacobian, twist, eps, direction, self_motion, modify_rotation)
     d_e = _index(index, jac)
@@ -137,7 +137,7 @@ def lean_singularity_consistent(
     modify_rotation: bool = True,
     near_zero: float | None = None,
 ) -> VelocitySolution:
-    """The SC joint velocity ``b_ep g(D_e) J^+ t'`` (paper 003 eqs. 17-22 combined), equal to the exact path.
+    """The SC joint velocity ``b_ep g(D_e) J^+ t'`` ([003 eqs. 17-22] combined), equal to the exact path.
 
     Parameters
     ----------

@@ -15,7 +15,7 @@ class VelocitySolution(NamedTuple):
     joint_velocity : numpy.ndarray, shape (..., n)
     target_twist : numpy.ndarray, shape (..., m)
         ``J q_dot`` by construction (up to rounding): the commanded twist
-        outside the singular region, the modified twist of paper 003 eq. 22
+        outside the singular region, the modified twist of [003 eq. 22]
         inside it.
     """
 

@@ -170,7 +170,7 @@ def determinant(a, lu):
 
 @kernel
 def column_minors_one(jac, out):
-    """``det J_i``, ``J`` (m, m + 1) without column ``i``, into ``out`` (m + 1,) (paper 003 eq. 5)."""
+    """``det J_i``, ``J`` (m, m + 1) without column ``i``, into ``out`` (m + 1,) [003 eq. 5]."""
     m, n = jac.shape
     reduced = np.empty((m, m))
     lu = np.empty((m, m))
@@ -195,10 +195,11 @@ def adjugate_times(square, rhs, out):
             replaced[r, i] = square[r, i]
 
 
-# ------------------------------------------------------------- blend (eqs. 11, 21, 22)
+# --------------------------------------------------------- blend [003 eqs. 11, 21, 22]
 @kernel
 def twist_scale_of(x, eps):
-    """``g(x) = x (3 - x^2 / eps^2) / (2 eps)`` for ``|x| <= eps``, ``sign(x)`` outside (derived eq. 21)."""
+    """``g(x) = x (3 - x^2 / eps^2) / (2 eps)`` for ``|x| <= eps``, ``sign(x)`` outside: the realised
+    twist factor of [003 eq. 22], derived with the blend of [003 eq. 21]."""
     if abs(x) <= eps:
         return x * (3.0 - (x / eps) ** 2) / (2.0 * eps)
     return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else x)  # NaN stays NaN
@@ -206,7 +207,8 @@ def twist_scale_of(x, eps):
 
 @kernel
 def weight_of(x, eps):
-    """``w(x) = g(x) / x``: ``(3 - x^2 / eps^2) / (2 eps)`` inside the region, ``1 / |x|`` outside (eq. 11)."""
+    """``w(x) = g(x) / x``: ``(3 - x^2 / eps^2) / (2 eps)`` inside the region, ``1 / |x|`` outside: the blend of
+    [003 eq. 11], and of [003 eq. 21] (repaired) with ``x = D_e``."""
     if abs(x) <= eps:
         return (3.0 - (x / eps) ** 2) / (2.0 * eps)
     return 1.0 / abs(x)
@@ -214,7 +216,7 @@ def weight_of(x, eps):
 
 @kernel
 def rotation_factor_of(x, eps):
-    """``clip(x / eps, -1, 1)``, the factor on the rotational command (eq. 22 text)."""
+    """``clip(x / eps, -1, 1)``, the factor on the rotational command ([003 eq. 22] text)."""
     ratio = x / eps
     return 1.0 if ratio > 1.0 else (-1.0 if ratio < -1.0 else ratio)
 
@@ -264,13 +266,13 @@ def least_squares_one(jac, twist, max_damping, threshold, measure, rcond, out):
 
 @kernel
 def sc_one(jac, twist, index, factors, eps, direction, self_motion, modify_rotation, near_zero, qdot, target):
-    """The singularity-consistent step (paper 003 eqs. 9, 15, 17-22) of one Jacobian ``J`` (m, m + 1).
+    """The singularity-consistent step [003 eqs. 9, 15, 17-22] of one Jacobian ``J`` (m, m + 1).
 
     ``target`` (m,) receives ``b_ep g(D_e) t'``, where ``t'`` is ``twist``
     with its rotational rows (3..5, if ``modify_rotation``) times ``b_ep
-    clip(D_e / eps, -1, 1)`` (eq. 22); ``qdot`` (m + 1,) the joint velocity
-    ``b_ep (w(D_e) / D_s) sum_i D_i n_i + b_sm n_sm`` (eqs. 9, 15, 21).
-    Where ``|D_e| >= near_zero`` the sum is ``D_e D_s J^+ t'`` (eqs. 17-20),
+    clip(D_e / eps, -1, 1)`` [003 eq. 22]; ``qdot`` (m + 1,) the joint velocity
+    ``b_ep (w(D_e) / D_s) sum_i D_i n_i + b_sm n_sm`` [003 eqs. 9, 15, 21].
+    Where ``|D_e| >= near_zero`` the sum is ``D_e D_s J^+ t'`` [003 eqs. 17-20],
     so ``qdot = J^+ target`` and ``factors`` is not read; below it the sum is
     ``adj(M) [t'; 0]`` with ``M = [J; c^T]``, ``c_i = (-1)^i D_i``, exact on
     ``D_e = 0``.  Returns ``False`` (and leaves ``qdot`` unset) where that
@@ -281,15 +283,15 @@ def sc_one(jac, twist, index, factors, eps, direction, self_motion, modify_rotat
     rhs = np.zeros(n)  # [t'; 0]
     for r in range(m):
         rhs[r] = twist[r] * turn if modify_rotation and r >= 3 else twist[r]
-    scale = direction * twist_scale_of(index, eps)  # b_ep g(D_e), eq. 22
+    scale = direction * twist_scale_of(index, eps)  # b_ep g(D_e), [003 eq. 22]
     for r in range(m):
         target[r] = scale * rhs[r]
     if abs(index) >= near_zero:
-        least_squares_one(jac, target, 0.0, 0.0, CONSTANT, MACHINE_EPSILON, qdot)  # J^+ (b_ep g t'), eqs. 18, 21
+        least_squares_one(jac, target, 0.0, 0.0, CONSTANT, MACHINE_EPSILON, qdot)  # J^+ (b_ep g t'), [003 eqs. 18, 21]
     else:
         d_s = 0.0
         for i in range(n):
-            d_s += factors[i] * factors[i]  # eq. 20
+            d_s += factors[i] * factors[i]  # [003 eq. 20]
         if not d_s > 0.0:
             return False
         square = np.empty((n, n))
@@ -299,10 +301,10 @@ def sc_one(jac, twist, index, factors, eps, direction, self_motion, modify_rotat
         for c in range(n):
             square[m, c] = factors[c] if c % 2 == 0 else -factors[c]
         adjugate_times(square, rhs, qdot)
-        gain = direction * weight_of(index, eps) / d_s  # eq. 21: b_i = b_ep w(D_e) D_i / D_s
+        gain = direction * weight_of(index, eps) / d_s  # [003 eq. 21]: b_i = b_ep w(D_e) D_i / D_s
         for c in range(n):
             qdot[c] *= gain
-    if self_motion != 0.0:  # eq. 9: b_sm n_sm, n_sm,i = (-1)^i det J_i (eqs. 4-5)
+    if self_motion != 0.0:  # [003 eq. 9]: b_sm n_sm, n_sm,i = (-1)^i det J_i [003 eqs. 4-5]
         minors = np.empty(n)
         column_minors_one(jac, minors)
         for c in range(n):

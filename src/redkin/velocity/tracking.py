@@ -38,7 +38,7 @@ class TrackingResult:
         Joint angles and the method's joint velocity at each grid point.
     commanded, target, realised : (N + 1, 6)
         Twist fed to the method, twist it promises (``J q_dot`` by
-        construction; eq. 22 for SC) and twist ``J q_dot`` realised.
+        construction; [003 eq. 22] for SC) and twist ``J q_dot`` realised.
     index : (N + 1,) or None
         Singularity index ``D_e`` if an index function was given.
     position : (N + 1, 3)
