@@ -4,7 +4,7 @@ A redundant arm is described by a set of virtual arms whose end points sit on
 its joints and links (:mod:`~redkin.virtual_arms.points`); one subsystem per
 virtual arm plans its own end point's goal and computes its own error
 gradient from its own forward model (analytic, :mod:`~.analytic`, or learned,
-:mod:`~.learned`); the joint trajectory emerges from the dynamics of eqs. 9-13
+:mod:`~.learned`); the joint trajectory emerges from the dynamics of [004 eqs. 9-13]
 (:mod:`~.dynamics`, :mod:`~.generate`); :mod:`~.obstacles` plans the goals
 round obstacles period by period (Fig. 8).
 """

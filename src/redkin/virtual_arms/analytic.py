@@ -1,6 +1,6 @@
-"""The analytic forward model of virtual arms: eq. 1 of paper 004 computed from the chain.
+"""The analytic forward model of virtual arms: [004 eq. 1] computed from the chain.
 
-Paper 004 section 4 builds the nonlinear functions ``f^i`` of eq. 1 directly
+Paper 004 section 4 builds the nonlinear functions ``f^i`` of [004 eq. 1] directly
 into each subsystem instead of learning them; this is that model.  One call
 evaluates every virtual end point and its Jacobian from a single pass of the
 chain, batched over leading axes of ``theta``: the compiled kernel
@@ -74,7 +74,8 @@ class AnalyticModel:
         return self.chain.n
 
     def evaluate(self, theta: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        """Positions ``X^k = f^k(theta)`` (eq. 1) and Jacobians ``d f^k / d theta``.
+        """Positions ``X^k = f^k(theta)`` [004 eq. 1] of all end points ([004 eq. 2], as ``(..., n, l)``) and
+        Jacobians ``d f^k / d theta``.
 
         The kernel :func:`~redkin.virtual_arms.kernels.virtual_points`: the
         chain's frames and, per end point, the Jacobian of that point

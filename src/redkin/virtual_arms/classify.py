@@ -1,8 +1,8 @@
 """The classification of section 2 and Fig. 2 of paper 004: redundant, over-constrained or singular.
 
-For stacked virtual end points ``X_0 = f(theta)`` (eq. 2, ``l n`` rows, ``m``
+For stacked virtual end points ``X_0 = f(theta)`` ([004 eq. 2], ``l n`` rows, ``m``
 joints) the kind of problem follows from the generic rank ``r`` of the
-stacked Jacobian ``J_0`` (eq. 18):
+stacked Jacobian ``J_0`` [004 eq. 18]:
 
 * ``r = l n < m``: **redundant** (Fig. 2 (a)); every virtual end point can reach
   its goal and ``m - r`` degrees of freedom remain;
@@ -52,7 +52,7 @@ class Classification:
 
 
 def classify_jacobians(jacobians: np.ndarray, tolerance: float = 1e-9) -> Classification:
-    """Classify from stacked Jacobians at several generic postures, shape ``(k, rows, m)``."""
+    """Classify from stacked Jacobians ``J_0`` [004 eq. 18] at several generic postures, shape ``(k, rows, m)``."""
     jac = np.asarray(jacobians, dtype=float)
     if jac.ndim != 3:
         raise ValueError(f"jacobians must have shape (k, rows, m), got {jac.shape}")

@@ -1,34 +1,34 @@
-"""The trajectory-generation dynamics of paper 004 (section 3.2, eqs. 9-14).
+"""The trajectory-generation dynamics of paper 004 (section 3.2, [004 eqs. 9-14]).
 
 All subsystems integrate the same equations from the same initial values and
 exchange the same signals, so their copies ``u^i``, ``theta^i`` and
-``lambda^i`` stay equal (the paper uses this in deriving eq. 16); we
+``lambda^i`` stay equal (the paper uses this in deriving [004 eq. 16]); we
 integrate one copy.  With ``delta = sum_k delta^k`` and
 ``g = lambda delta + (theta(0) - theta)``:
 
-* eq. 9:  ``du/ds = eta A G' g``
-* eq. 10: ``A = (1/2 |lambda delta|^2 + c_A |delta| |theta(0) - theta|) / |G' g|^2``
-* eq. 11: ``dlambda/ds = eta c_lambda |delta| |theta(0) - theta| / sum_k E^k``
-* eq. 13: ``theta = G(u)``
-* eq. 14: ``V = lambda sum_k E^k + 1/2 |theta(0) - theta|^2``
+* [004 eq. 9]:  ``du/ds = eta A G' g``
+* [004 eq. 10]: ``A = (1/2 |lambda delta|^2 + c_A |delta| |theta(0) - theta|) / |G' g|^2``
+* [004 eq. 11]: ``dlambda/ds = eta c_lambda |delta| |theta(0) - theta| / sum_k E^k``
+* [004 eq. 13]: ``theta = G(u)``
+* [004 eq. 14]: ``V = lambda sum_k E^k + 1/2 |theta(0) - theta|^2``
 
 Checked problems of the printed equations (our derivation; tests confirm):
 
-1. The paper prints ``c_A = 1/2`` in eq. 10 and ``c_lambda = 1`` in eq. 11.
+1. The paper prints ``c_A = 1/2`` in [004 eq. 10] and ``c_lambda = 1`` in [004 eq. 11].
    Then ``dV/ds = -eta/2 lambda^2 |delta|^2 + eta (c_lambda - c_A) |delta|
-   |theta(0) - theta|``: eq. 16 (``dV/ds = -eta/2 lambda^2 |delta|^2``) holds
+   |theta(0) - theta|``: [004 eq. 16] (``dV/ds = -eta/2 lambda^2 |delta|^2``) holds
    only when ``c_A = c_lambda``.
 2. As ``lambda`` grows, ``theta`` approaches the point where ``g = 0`` (the
-   minimiser of ``V`` at fixed ``lambda``), where the numerator of eq. 10 stays
+   minimiser of ``V`` at fixed ``lambda``), where the numerator of [004 eq. 10] stays
    positive while its denominator vanishes: ``A`` diverges, ``|du/ds|`` grows
    like ``1 / |G' g|`` and the state chatters across ``g = 0``; every
    integrator's step size collapses there.
 
-The laws below: ``"literal"`` (eqs. 10-11 as printed, unbounded; kept to
-show the stall), ``"consistent"`` (``c_A = c_lambda = 1/2``, unbounded: eq. 16
+The laws below: ``"literal"`` ([004 eqs. 10-11] as printed, unbounded; kept to
+show the stall), ``"consistent"`` (``c_A = c_lambda = 1/2``, unbounded: [004 eq. 16]
 holds exactly, but it still stalls), and ``"bounded"`` (the default:
 consistent constants and the smooth bound ``A = N / (|G' g|^2 + N / A_max)``
-with ``A_max = 10``: within 10 % of eq. 10 where ``|G' g|^2 >= N``, and at
+with ``A_max = 10``: within 10 % of [004 eq. 10] where ``|G' g|^2 >= N``, and at
 most ``A_max`` near ``g = 0``).  A smaller bound makes the equations less
 stiff: on the Fig. 6 cases ``A_max = 10`` takes about half the integrator work
 of ``A_max = 1000`` and never stalled in our runs, while the end posture is
@@ -37,9 +37,9 @@ bound, ``theta`` follows the minimiser of ``V`` as ``lambda`` grows
 exponentially (the penalty-method path), which converges to the joint vector
 closest to ``theta(0)`` among those minimising ``sum_k E^k``.
 
-Joints clamped by eq. 27 (``du_j/ds = 0``) are not integrated at all, so they
+Joints clamped by [004 eq. 27] (``du_j/ds = 0``) are not integrated at all, so they
 stay exactly fixed; ``delta`` and ``G' g`` above are taken over the free
-joints only, which keeps the eq. 16 identity for the joints that move.
+joints only, which keeps the [004 eq. 16] identity for the joints that move.
 """
 
 from __future__ import annotations
@@ -54,15 +54,15 @@ from redkin.virtual_arms.output_function import OutputFunction
 
 @dataclass(frozen=True)
 class GainLaw:
-    """Constants of eqs. 10 and 11 and the optional bound on ``A``.
+    """Constants of [004 eqs. 10, 11] and the optional bound on ``A``.
 
     Attributes
     ----------
     name : str
     gain_constant : float
-        ``c_A`` in the numerator of eq. 10.
+        ``c_A`` in the numerator of [004 eq. 10].
     lambda_constant : float
-        ``c_lambda`` in eq. 11.
+        ``c_lambda`` in [004 eq. 11].
     a_max : float or None
         Bound on ``A`` (``None``: unbounded, as printed).
     """
@@ -93,12 +93,12 @@ class State:
     gain: np.ndarray  # A, (...)
     du: np.ndarray  # du/ds on the free joints, (..., free)
     dlam: np.ndarray  # dlambda/ds, (...)
-    energy: np.ndarray  # V, eq. 14, (...)
+    energy: np.ndarray  # V, [004 eq. 14], (...)
     free_gradient: np.ndarray  # |G' delta| over the free joints (stopping measure), (...)
 
 
 class Dynamics:
-    """Right-hand side of eqs. 9-13 for the free input states and ``log lambda``.
+    """Right-hand side of [004 eqs. 9-13] for the free input states and ``log lambda``.
 
     The integrated vector is ``y = [u_free, log lambda]``: ``lambda`` grows
     exponentially along the run, and its logarithm keeps the integrator's
@@ -131,7 +131,7 @@ class Dynamics:
         return np.append(self.u0[self.free], np.log(lambda0))
 
     def state(self, y: np.ndarray) -> State:
-        """Evaluate the subsystems and eqs. 9-14 at ``y`` (shape ``(..., free + 1)``)."""
+        """Evaluate the subsystems and [004 eqs. 9-14] at ``y`` (shape ``(..., free + 1)``)."""
         lead = y.shape[:-1]
         flat = np.ascontiguousarray(y, dtype=float).reshape(-1, y.shape[-1])
         count, m, (p, dims) = flat.shape[0], self.theta0.shape[0], self.goals.shape
@@ -158,7 +158,7 @@ class Dynamics:
         return np.concatenate([st.du, (st.dlam / st.lam)[..., None]], axis=-1).T
 
     def energy_rate(self, y: np.ndarray) -> float:
-        """``dV/ds`` by the chain rule (eq. 15): ``-g . G' du/ds + (sum_k E^k) dlambda/ds``."""
+        """``dV/ds`` by the chain rule [004 eq. 15]: ``-g . G' du/ds + (sum_k E^k) dlambda/ds``."""
         st = self.state(y)
         g = st.lam * st.delta.sum(axis=0)[self.free] + (self.theta0 - st.theta)[self.free]
         slope = self.output.slope(st.u)[self.free]

@@ -28,7 +28,7 @@ class TrajectoryResult:
     Attributes
     ----------
     s, theta, lam, energy, error : numpy.ndarray
-        Time, joint vectors ``(K, m)``, Lagrange multiplier, ``V`` of eq. 14 and
+        Time, joint vectors ``(K, m)``, Lagrange multiplier, ``V`` of [004 eq. 14] and
         ``sum_k E^k`` along the run.
     positions : numpy.ndarray, shape (K, p, l)
         Virtual end points as the subsystems' own models see them (NaN for a dropped subsystem).
@@ -101,7 +101,7 @@ def half_lambda_state(record: Sequence[tuple[float, State]]) -> State | None:
     """The last recorded state whose ``lambda`` is at most half the latest one (``None`` before a doubling).
 
     ``record`` holds ``(s, state)`` pairs in the order of the run; ``lambda``
-    never decreases along it (eq. 11), so the search bisects.
+    never decreases along it [004 eq. 11], so the search bisects.
     """
     if len(record) < 2:
         return None
@@ -113,7 +113,7 @@ def settled(record: Sequence[tuple[float, State]], posture_tol: float) -> float 
     """Joint motion over the last doubling of ``lambda`` if it is at most ``posture_tol``, else ``None``.
 
     Late in a run ``theta`` follows the minimiser ``theta_lambda`` of ``V`` at
-    fixed ``lambda`` (eq. 14), and ``theta_lambda = theta* + c / lambda +
+    fixed ``lambda`` [004 eq. 14], and ``theta_lambda = theta* + c / lambda +
     O(1 / lambda^2)`` (a penalty path).  Over a doubling of ``lambda`` the
     joints therefore move by about ``|theta_lambda - theta*|``: when that
     motion is below ``posture_tol`` the remaining motion to the equilibrium
@@ -177,7 +177,7 @@ def generate_trajectory(
     atol: float = 1e-9,
     method: str = "Radau",
 ) -> TrajectoryResult:
-    """Integrate the trajectory-generation dynamics (eqs. 9-13) from ``theta0`` until equilibrium.
+    """Integrate the trajectory-generation dynamics [004 eqs. 9-13] from ``theta0`` until equilibrium.
 
     Parameters
     ----------
@@ -192,17 +192,17 @@ def generate_trajectory(
     weights : array_like, shape (p,) or (p, l), optional
         Diagonals of ``W^k`` (default all ones).
     output : OutputFunction, optional
-        Output function ``G`` (eq. 13); default identity (no limits); use
-        :meth:`OutputFunction.sine` for joint limits (eq. 25).
+        Output function ``G`` [004 eq. 13]; default identity (no limits); use
+        :meth:`OutputFunction.sine` for joint limits [004 eq. 25].
     fixed : sequence of int
-        Clamped joints, 0-based (eq. 27): their ``u`` is not integrated.
+        Clamped joints, 0-based [004 eq. 27]: their ``u`` is not integrated.
     gain : {"bounded", "consistent", "literal"}
-        Law of eqs. 10-11 (see :mod:`redkin.virtual_arms.dynamics`).
+        Law of [004 eqs. 10-11] (see :mod:`redkin.virtual_arms.dynamics`).
     evaluation : {"together", "one_by_one"}
     drop : mapping of int to float, optional
         Subsystem index -> time ``s`` at which it stops working.
     eta, lambda0 : float
-        Time constant of eqs. 9 and 11, and ``lambda(0) > 0``.
+        Time constant of [004 eqs. 9, 11], and ``lambda(0) > 0``.
     gradient_tol : float
         Converged when ``|G' delta|`` over the free joints is at most this
         (the goals are met, or the errors are stationary to that accuracy).

@@ -1,11 +1,11 @@
 """The compiled core of the virtual arms (paper 004): end points of the analytic model and the rate function.
 
-* :func:`virtual_points` -- eq. 1 for the analytic model: positions ``X^k``
+* :func:`virtual_points` -- [004 eq. 1] for the analytic model: positions ``X^k``
   and Jacobians of the virtual end points, from the chain kernels of
   :mod:`redkin.chain_kernels` (one pass of the frames, one Jacobian of a
   point per end point);
-* :func:`inputs` -- ``u``, ``theta = G(u)`` and ``G'(u)`` (eqs. 13, 25) at the integrated states;
-* :func:`rates` -- the subsystems' signals (eqs. 12, 17) and eqs. 9-11, 14
+* :func:`inputs` -- ``u``, ``theta = G(u)`` and ``G'(u)`` [004 eqs. 13, 25] at the integrated states;
+* :func:`rates` -- the subsystems' signals [004 eqs. 12, 17] and [004 eqs. 9-11, 14]
   from any forward model's positions and Jacobians.
 
 The integrator evaluates the rate function on a few states at a time (its
@@ -33,7 +33,7 @@ LAMBDA, LAMBDA_RATE, GAIN, ENERGY, FREE_GRADIENT = range(5)
 # ------------------------------------------------------------ analytic model
 @kernel
 def virtual_points_one(theta, links, ends, standard, frames, local, axes, trig, poses, jac, positions, jacobians):
-    """Positions ``X^k`` (p, l) and Jacobians (p, l, m) of the end points at one joint vector ``theta`` (eq. 1).
+    """Positions ``X^k`` (p, l) and Jacobians (p, l, m) of the end points at one joint vector ``theta`` [004 eq. 1].
 
     End point ``k`` is ``local[k]`` (3,) in frame ``frames[k]`` (``0 .. n + 1``,
     ``n + 1`` the tool frame); ``axes`` (l,) picks the task-space rows.
@@ -78,9 +78,9 @@ def virtual_points_parallel(theta, links, ends, standard, frames, local, axes, p
 def inputs(y, u0, free, half, lower, limited, theta0, u, theta, slope):
     """For each state ``y`` (N, f + 1) = ``[u_free, log lambda]``: ``u`` (N, m), ``theta = G(u)`` and ``G'(u)`` (N, m).
 
-    Clamped joints keep ``u0`` and ``theta0`` exactly (eq. 27); a limited
-    joint follows eq. 25, ``theta = h sin(u) + h + theta_min`` with ``h``
-    half its range; the others ``theta = u`` (eq. 13).
+    Clamped joints keep ``u0`` and ``theta0`` exactly [004 eq. 27]; a limited
+    joint follows [004 eq. 25], ``theta = h sin(u) + h + theta_min`` with ``h``
+    half its range; the others ``theta = u`` [004 eq. 13].
     """
     for b in range(y.shape[0]):
         k = 0
@@ -103,14 +103,15 @@ def inputs(y, u0, free, half, lower, limited, theta0, u, theta, slope):
 @kernel
 def rates(y, theta, slope, positions, jacobians, goals, weights, active, theta0, free, eta, gain_constant,
           lambda_constant, a_max, delta, error, du, scalars):
-    """Eqs. 9-12, 14 and 17 for each state ``y`` (N, f + 1) from the model's ``positions`` (N, p, l) and ``jacobians`` (N, p, l, m).
+    """[004 eqs. 9-12, 14, 17] for each state ``y`` (N, f + 1) from the model's ``positions`` (N, p, l) and
+    ``jacobians`` (N, p, l, m).
 
     Writes ``delta^k`` (N, p, m) and ``E^k`` (N, p) of every subsystem (zero
     for dropped ones), ``du/ds`` (N, f) on the free joints, and per state
     ``lambda, dlambda/ds, A, V, |G' delta|`` into ``scalars`` (N, 5).  With
     ``delta = sum_k delta^k`` and ``g = lambda delta + (theta(0) - theta)``
     over the free joints: ``A = N / (|G' g|^2 + N / a_max)`` with ``N = 1/2
-    |lambda delta|^2 + c_A |delta| |theta(0) - theta|`` (eq. 10, bounded;
+    |lambda delta|^2 + c_A |delta| |theta(0) - theta|`` ([004 eq. 10], bounded;
     ``a_max = inf``: as printed, infinite where ``G' g = 0``).
     """
     p, dims = goals.shape
@@ -129,8 +130,8 @@ def rates(y, theta, slope, positions, jacobians, goals, weights, active, theta0,
                 weighted = weights[k, c] * residual
                 error[b, k] += residual * weighted
                 for j in range(m):
-                    delta[b, k, j] += jacobians[b, k, c, j] * weighted  # eq. 17
-            error[b, k] *= 0.5  # eq. 12
+                    delta[b, k, j] += jacobians[b, k, c, j] * weighted  # [004 eq. 17]
+            error[b, k] *= 0.5  # [004 eq. 12]
             total_error += error[b, k]
         delta_square = moved_square = slope_g_square = gradient_square = 0.0
         f = 0
@@ -148,14 +149,14 @@ def rates(y, theta, slope, positions, jacobians, goals, weights, active, theta0,
             slope_g_square += du[b, f - 1] ** 2
             gradient_square += (slope[b, j] * total) ** 2
         delta_norm, moved = sqrt(delta_square), sqrt(moved_square)
-        numerator = 0.5 * lam**2 * delta_norm**2 + gain_constant * delta_norm * moved  # eq. 10
+        numerator = 0.5 * lam**2 * delta_norm**2 + gain_constant * delta_norm * moved  # [004 eq. 10]
         denominator = slope_g_square + numerator / a_max
         gain = 0.0 if numerator == 0.0 else (numerator / denominator if denominator > 0.0 else inf)
         for f in range(du.shape[1]):
-            du[b, f] *= eta * gain  # eq. 9
+            du[b, f] *= eta * gain  # [004 eq. 9]
         scalars[b, LAMBDA] = lam
         scalars[b, LAMBDA_RATE] = (eta * lambda_constant * delta_norm * moved / total_error
-                                   if total_error > 0.0 else 0.0)  # eq. 11
+                                   if total_error > 0.0 else 0.0)  # [004 eq. 11]
         scalars[b, GAIN] = gain
-        scalars[b, ENERGY] = lam * total_error + 0.5 * moved**2  # eq. 14 with equal copies
+        scalars[b, ENERGY] = lam * total_error + 0.5 * moved**2  # [004 eq. 14] with equal copies
         scalars[b, FREE_GRADIENT] = sqrt(gradient_square)

@@ -1,8 +1,8 @@
-"""Learning mode (paper 004 section 3.1): one network per subsystem learns its virtual arm's eq. 1.
+"""Learning mode (paper 004 section 3.1): one network per subsystem learns its virtual arm's [004 eq. 1].
 
 Each subsystem owns a :class:`~redkin.virtual_arms.mlp.MLP` from the joint
 vector to its virtual end point, trained independently by back-propagation on
-sampled joint vectors (eq. 8).  :class:`LearnedModel` then serves positions
+sampled joint vectors [004 eq. 8].  :class:`LearnedModel` then serves positions
 and input Jacobians with the same interface as the analytic model.
 """
 
@@ -93,7 +93,7 @@ def learn_forward_model(
     axes: tuple[int, ...] | None = None,
     seed: int | np.random.Generator = 0,
 ) -> tuple[LearnedModel, LearningReport]:
-    """Train one network per virtual end point on sampled joint vectors (paper 004 section 3.1, eq. 8).
+    """Train one network per virtual end point on sampled joint vectors (paper 004 section 3.1, [004 eq. 8]).
 
     Parameters
     ----------

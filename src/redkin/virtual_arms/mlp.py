@@ -2,7 +2,7 @@
 
 Linear input and output units and one hidden layer of sigmoid units, or of
 trigonometric (sine) units, which the paper suggests because forward
-kinematics is built from sines and cosines.  The error of eq. 8,
+kinematics is built from sines and cosines.  The error of [004 eq. 8],
 ``E = 1/2 |X - o|^2`` averaged over the samples, is differentiated by
 back-propagation; :meth:`MLP.input_jacobian` gives ``d o / d theta``, the
 quantity the trajectory-generation mode back-propagates to the input units.
@@ -90,7 +90,7 @@ class MLP:
 
     # ---------------------------------------------------------------- training
     def loss_and_gradient(self, x: np.ndarray, target: np.ndarray) -> tuple[float, np.ndarray]:
-        """Mean of eq. 8 over the samples and its gradient in the weights (back-propagation)."""
+        """Mean of [004 eq. 8] over the samples and its gradient in the weights (back-propagation)."""
         count = x.shape[0]
         hidden, slope = _activate(self.activation, x @ self.w1.T + self.b1)
         error = hidden @ self.w2.T + self.b2 - target  # (N, l)
@@ -103,7 +103,7 @@ class MLP:
         return loss, np.concatenate([grad_w1.ravel(), grad_b1, grad_w2.ravel(), grad_b2])
 
     def trained(self, x: np.ndarray, target: np.ndarray, iterations: int = 500) -> "MLP":
-        """The network after minimising eq. 8 on ``(x, target)``.
+        """The network after minimising [004 eq. 8] on ``(x, target)``.
 
         The gradient comes from back-propagation (:meth:`loss_and_gradient`);
         the descent steps use L-BFGS instead of fixed-rate steepest descent,

@@ -18,7 +18,7 @@ Once per *period*, with ``X^k`` the current virtual end points:
 * the repulsion ``r(X) = sum_o gain (1 - c_o(X) / influence) n_o(X)`` over the
   obstacles with clearance ``c_o < influence`` (``n_o`` the outward normal).
 
-The network then runs the trajectory-generation dynamics (eqs. 9-13, via
+The network then runs the trajectory-generation dynamics ([004 eqs. 9-13], via
 :func:`~redkin.virtual_arms.generate.generate_trajectory`) from the current
 posture towards these goals for at most ``period_steps`` integrator steps.
 A guard checks the recorded path of the period, densified to at most
@@ -211,9 +211,9 @@ def avoid_obstacles(
     model : ForwardModel, optional
         The subsystems' forward model of ``[end] + points`` (default analytic); e.g. a learned model.
     output : OutputFunction, optional
-        Output function; :meth:`OutputFunction.sine` keeps joint limits (eq. 25).
+        Output function; :meth:`OutputFunction.sine` keeps joint limits [004 eq. 25].
     fixed : sequence of int
-        Clamped joints, 0-based (eq. 27).
+        Clamped joints, 0-based [004 eq. 27].
     step : float
         Largest planned move of the end point's goal per period, metres.
     influence, gain : float

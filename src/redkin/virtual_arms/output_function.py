@@ -1,10 +1,10 @@
-"""The output function ``theta = G(u)`` of the input units (paper 004 eqs. 13 and 25).
+"""The output function ``theta = G(u)`` of the input units [004 eqs. 13, 25].
 
 Unlimited joints use the identity.  Limited joints use the sine function of
-eq. 25, ``g(u) = (r / 2) sin(u) + r / 2 + theta_min`` with
+[004 eq. 25], ``g(u) = (r / 2) sin(u) + r / 2 + theta_min`` with
 ``r = theta_max - theta_min``, whose range is exactly ``[theta_min,
 theta_max]``: whatever the input state ``u`` does, the joint never leaves its
-range (eq. 26).  The initial state is ``u(0) = G^{-1}(theta(0))`` on the
+range [004 eq. 26].  The initial state is ``u(0) = G^{-1}(theta(0))`` on the
 branch ``|u| <= pi / 2``.
 """
 
@@ -17,7 +17,7 @@ import numpy as np
 
 @dataclass(frozen=True)
 class OutputFunction:
-    """Per-joint output functions: sine (eq. 25) where ``limited``, identity elsewhere.
+    """Per-joint output functions: sine [004 eq. 25] where ``limited``, identity elsewhere.
 
     Parameters
     ----------
@@ -37,7 +37,8 @@ class OutputFunction:
 
     @classmethod
     def sine(cls, lower: np.ndarray, upper: np.ndarray) -> "OutputFunction":
-        """Eq. 25 on every joint with a finite range, identity on the others."""
+        """[004 eq. 25] on every joint with a finite range, identity on the others: ``theta`` stays within
+        ``[lower, upper]`` [004 eq. 26] by construction."""
         lower = np.asarray(lower, dtype=float)
         upper = np.asarray(upper, dtype=float)
         limited = np.isfinite(lower) & np.isfinite(upper)
@@ -50,7 +51,7 @@ class OutputFunction:
         return np.where(self.limited, (self.upper - self.lower) / 2.0, 1.0)
 
     def theta(self, u: np.ndarray) -> np.ndarray:
-        """``G(u)``: eq. 25 where limited, ``u`` elsewhere."""
+        """``theta = G(u)`` [004 eq. 13]: [004 eq. 25] where limited, ``u`` elsewhere."""
         half = self._half_range
         sine = half * np.sin(u) + half + np.where(self.limited, self.lower, 0.0)
         return np.where(self.limited, sine, u)
