@@ -24,7 +24,7 @@ class RedkinError(ValueError):
 
 
 class UnreachablePoseError(RedkinError):
-    """A target pose whose wrist the arm cannot reach (paper 000 eq. 11 has no solution).
+    """A target pose whose wrist the arm cannot reach ([000 eq. 11] has no solution).
 
     Attributes
     ----------

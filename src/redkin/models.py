@@ -324,7 +324,7 @@ HUMANOID_LENGTHS = {"L0": 0.3975, "L1": 0.355, "L2": 0.150, "L3": 0.315}
 def humanoid_right_arm(tool_length: float = 0.0) -> SerialChain:
     """Right arm of the 8-DOF dual-arm humanoid of thesis 001 (torso joint + 7-DOF arm).
 
-    Source: thesis 001 (Hamada) Table 2.1, modified DH (eq. 2.1):
+    Source: thesis 001 (Hamada) Table 2.1, modified DH [001 eq. 2.1]:
 
     ====  ==========  =======  =====  ================
     i     alpha_i-1   a_i-1    d_i    theta_i

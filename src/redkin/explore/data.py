@@ -132,7 +132,7 @@ def explorer_data(
     branch : str
         The branch shown first (signs of theta_2, theta_4, theta_6).
     target, weights
-        Target joint values and weights of the optimal arm angle (eq. 40), as
+        Target joint values and weights of the optimal arm angle [000 eq. 40], as
         :func:`redkin.srs.optimal_arm_angles` takes them.
     samples : int
         Points of the dense grid over ``[-pi, pi]``, from 16 to 20000.
