@@ -253,3 +253,10 @@ def test_best_over_redundancy_refuses_bad_input():
         best_over_redundancy(ARM, [0.5, 0.2, 0.1], (0, 3))
     with pytest.raises(ValueError, match="right arm"):
         best_over_redundancy(humanoid_arm("left"), [0.5, 0.2, 0.1], dual=True)
+
+
+def test_measures_refuse_jacobians_of_the_wrong_shape():
+    with pytest.raises(ValueError, match="jacobian"):
+        gram_manipulability(np.ones((4, 2, 5)))
+    with pytest.raises(ValueError, match="jacobians"):
+        stacked_dual_manipulability(np.ones((3, 5)), np.ones((3, 4)))

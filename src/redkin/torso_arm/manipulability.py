@@ -184,6 +184,8 @@ def wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
 def gram_manipulability(jacobian: np.ndarray) -> np.ndarray:
     """``sqrt(max(det(J J^T), 0))`` [001 eq. 5.3] of Jacobians ``(..., 3, k)`` by the explicit 3 x 3 determinant."""
     shape, (j,) = flat((jacobian, 2))
+    if j.shape[1] != 3:
+        raise ValueError(f"jacobian must have shape (..., 3, k), got {np.shape(jacobian)}")
     out = np.empty(j.shape[0])
     run_batch(grams, grams_parallel, j.shape[0], j, out)
     return out.reshape(shape)
