@@ -45,6 +45,19 @@ def test_srs_peer_check_counts_solutions_within_1e9_by_our_fk():
     assert bench_srs.passes(chain, moved, poses) == 2
 
 
+def test_srs_feasible_rows_run_on_a_tiny_batch():
+    """bench_srs.py's feasible-set rows: every call of the table runs, on one pose and on a batch of three."""
+    from redkin.srs import srs_geometry
+
+    chain = pa10_7c()
+    geometry = srs_geometry(chain)
+    poses = chain.fk(np.random.default_rng(3).uniform(chain.lower, chain.upper, (3, 7)))
+    calls = bench_srs.feasible_calls(geometry, poses[0])
+    assert len(calls) == 7 and all(call() is not None for _, call in calls)
+    rows = bench_srs.feasible_batch_rows(geometry, poses)
+    assert len(rows) == 4 and all("pose-branches/s" in value for _, value in rows)
+
+
 def test_bench_workspace_times_a_whole_map(tmp_path):
     """bench_workspace.py times complete maps (a map it times must have computed every chunk)."""
     pytest.importorskip("zarr")
