@@ -96,3 +96,9 @@ def row(array, i):
 def put(array, i, a):
     """Write the 3-tuple ``a`` into row ``i`` of an ``(N, 3)`` array."""
     array[i, 0], array[i, 1], array[i, 2] = a[0], a[1], a[2]
+
+
+@kernel
+def shoulder_point(L0, theta1):
+    """The right shoulder ``S(theta_1) = L0 (cos theta_1, 0, -sin theta_1)`` (frame 2; :meth:`TorsoArm.shoulder`)."""
+    return (L0 * cos(theta1), 0.0, -L0 * sin(theta1))

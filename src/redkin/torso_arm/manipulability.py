@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike
 
 from redkin.compiled import kernel, run_batch
 from redkin.torso_arm.geometry import WRIST_FRAME, TorsoArm
-from redkin.torso_arm.kernel_tools import add, cross, flat, scale, sub, turn_y
+from redkin.torso_arm.kernel_tools import add, cross, flat, scale, shoulder_point, sub, turn_y
 
 
 def wrist_manipulability(arm: TorsoArm, q: ArrayLike) -> np.ndarray:
@@ -47,7 +47,7 @@ def wrist_jacobian_one(q5, L0, L1, lew, delta, out):
     x3 = turn_y(t1, (c3, -s3 * c2, -s2 * s3))
     u = turn_y(t1, (s3, c2 * c3, s2 * c3))  # upper arm, joint-4 axis
     z3 = turn_y(t1, (0.0, -s2, c2))  # joint-3 axis
-    shoulder = (L0 * cos(t1), 0.0, -L0 * sin(t1))  # joint-2 axis z2 = S / L0
+    shoulder = shoulder_point(L0, t1)  # joint-2 axis z2 = S / L0
     elbow = add(shoulder, scale(u, L1))
     x4 = add(scale(x3, s4), scale(z3, c4))
     y4 = sub(scale(x3, c4), scale(z3, s4))  # joint-5 axis

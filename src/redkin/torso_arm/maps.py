@@ -42,7 +42,7 @@ from redkin.torso_arm.elbow_angle import (
     reference_one,
 )
 from redkin.torso_arm.geometry import MIRROR, TorsoArm, humanoid_arm
-from redkin.torso_arm.kernel_tools import flat, put, row
+from redkin.torso_arm.kernel_tools import flat, put, row, shoulder_point
 from redkin.torso_arm.manipulability import (
     dual_one,
     gram_manipulability,
@@ -215,7 +215,7 @@ def circle_stage(lengths, kind, vector, theta1, wrist):
     ``e1`` the phi = 0 direction of the reference ``kind``, ``status`` OK, UNREACHABLE or NO_REFERENCE.
     """
     L0, L1, lew = lengths[0], lengths[1], lengths[2]
-    shoulder = (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
+    shoulder = shoulder_point(L0, theta1)
     n, centre, radius, _, reachable = circle_one(shoulder, wrist, L1, lew)
     e1, exists = reference_one(kind, vector, shoulder, wrist, n, centre, radius, L0, L1)
     status = OK if reachable and exists else (NO_REFERENCE if reachable else UNREACHABLE)

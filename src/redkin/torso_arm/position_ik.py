@@ -52,7 +52,7 @@ from redkin.torso_arm.elbow_angle import (
     reference_direction,
 )
 from redkin.torso_arm.geometry import TorsoArm
-from redkin.torso_arm.kernel_tools import cross, dot, flat, norm, row, scale, sub, turn_y
+from redkin.torso_arm.kernel_tools import cross, dot, flat, norm, row, scale, shoulder_point, sub, turn_y
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
 from redkin.validation import as_float_array, check_finite, check_vectors
 
@@ -65,7 +65,7 @@ def joints_one(theta1, elbow, wrist, L0, L1, delta, out):
     ``elbow``, ``wrist`` (3-tuples) lie on a valid posture; ``out`` (4, 5)
     receives one row per branch of :data:`POSITION_BRANCHES`, angles in ``(-pi, pi]``.
     """
-    shoulder = (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
+    shoulder = shoulder_point(L0, theta1)
     upper = turn_y(-theta1, scale(sub(elbow, shoulder), 1.0 / L1))  # u' = Ry(-theta_1) (E - S) / L1
     forearm = turn_y(-theta1, sub(wrist, elbow))
     # [001 eqs. 3.18, 3.19] as atan2: sin(theta_5 + delta) = (f . u) / l_ew, |cos(theta_5 + delta)| = |f x u| / l_ew

@@ -30,7 +30,7 @@ from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin.compiled import kernel, run_batch
-from redkin.torso_arm.kernel_tools import cross, dot, flat, norm, row, scale
+from redkin.torso_arm.kernel_tools import cross, dot, flat, norm, row, scale, shoulder_point
 from redkin.validation import as_float_array, check_finite, check_vectors
 
 #: Below this ``|W_y| / |W|`` the signed shoulder angle is undefined.
@@ -61,7 +61,7 @@ def psi_one(theta1, wrist, L0):
     n, e1, e2, ok = reference_basis(wrist)
     if not ok:
         return nan
-    s = (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
+    s = shoulder_point(L0, theta1)
     return atan2(dot(s, e2), dot(s, e1))
 
 
