@@ -127,3 +127,14 @@ def test_gamma_experiment_of_paper_000_is_one_line_of_the_map():
     rotations[:, 2, 2] = -1.0
     line = feasible_measures(srs_geometry(get_robot("pa10-7c")), np.array([[0.65, 0.0, 0.5]]), rotations)[0, :, 0]
     np.testing.assert_array_equal(line > 0.0, np.abs(np.degrees(gamma)) < 147.693)
+
+
+def test_chunk_tasks_call_the_function_once_per_index_with_the_shared_values():
+    import dask
+
+    from redkin.workspace.run import chunk_tasks
+
+    shared = (np.arange(3.0), "store")
+    tasks = chunk_tasks(lambda values, name, index: (values.sum(), name, index), shared, [(0, 0, 0), (1, 0, 2)], "t")
+    assert len({task.key for task in tasks}) == 2
+    assert dask.compute(*tasks, scheduler="sync") == ((3.0, "store", (0, 0, 0)), (3.0, "store", (1, 0, 2)))

@@ -149,6 +149,37 @@ def compute_chunk(geometry: SRSGeometry, grid: WorkspaceGrid, rotations: np.ndar
     return index
 
 
+def chunk_tasks(function: Callable, shared: tuple, indices: list[tuple[int, int, int]], name: str) -> list:
+    """One Dask task ``function(*shared, index)`` per chunk index, as ``dask.delayed`` objects of one graph.
+
+    The graph is one layer written out directly: the shared values are
+    ``dask.delayed`` once each, and each task refers to them by key.  A
+    ``dask.delayed`` call per chunk merged their graphs anew every time,
+    about 0.6 ms per task (7-10 s for the 13 824 chunks of the 1 cm iiwa
+    map on a loaded machine).
+
+    Parameters
+    ----------
+    function : callable
+        Called as ``function(*shared, index)``.
+    shared : tuple
+        Values passed to every task (stored once in the graph).
+    indices : list of tuple of int
+        The chunks, one task each.
+    name : str
+        The tasks' key prefix; key ``f"{name}-{index}"``.
+    """
+    dask = require("dask")
+    from dask.delayed import Delayed
+    from dask.highlevelgraph import HighLevelGraph
+
+    values = [dask.delayed(value, pure=True) for value in shared]
+    references = [value.key for value in values]
+    layer = {f"{name}-{index}": (function, *references, tuple(index)) for index in indices}
+    graph = HighLevelGraph.from_collections(name, layer, dependencies=values)
+    return [Delayed(key, graph, layer=name) for key in layer]
+
+
 def _prepare_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray) -> None:
     """Create the store, or check that the one at ``path`` holds this map (to resume it)."""
     parameters = stored_parameters(path)
@@ -251,9 +282,8 @@ def workspace_map(
     missing = [index for index in grid.chunk_indices() if not complete[index]]
     token = dask.base.tokenize(str(store.resolve()), map_parameters(arm, grid, count))
     # workers write the absolute path: a cluster's workers need not share this process's working directory
-    shared = [dask.delayed(value, pure=True) for value in (geometry, grid, rotations, store.absolute())]
-    tasks = [dask.delayed(compute_chunk, pure=True)(*shared, index, dask_key_name=f"workspace-chunk-{token}-{index}")
-             for index in missing]
+    tasks = chunk_tasks(compute_chunk, (geometry, grid, rotations, store.absolute()), missing,
+                        f"workspace-chunk-{token}")
     if client is None:
         _run_local(tasks, progress)
     else:
