@@ -14,6 +14,13 @@ Where none is writable (a read-only install and a read-only home), numba
 refuses to cache; :func:`kernel` then compiles without a cache, so redkin
 still works and recompiles in every process.
 
+numba checks a cached function against its own source file only, so a
+kernel whose callee in another module changed would load stale machine code
+(numba documents this).  :func:`kernel` therefore keeps one stamp per cache
+directory, a digest of every redkin module that defines kernels, and empties
+that directory's numba files when the digest differs (after an edit or an
+upgrade): the compiled core is cached as a whole.
+
 Batches run over their leading axis with ``prange`` on all cores
 (:func:`run_batch`), through whichever threading layer numba picked
 (``NUMBA_THREADING_LAYER``; ``NUMBA_NUM_THREADS`` caps the threads).  Two
@@ -26,8 +33,10 @@ computed alone, so results do not depend on the thread count.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import threading
+from pathlib import Path
 from typing import Callable
 
 import numba
@@ -47,9 +56,51 @@ def kernel(function: Callable | None = None, *, parallel: bool = False):
     if function is None:
         return lambda f: kernel(f, parallel=parallel)
     try:
-        return numba.njit(cache=True, parallel=parallel)(function)
+        compiled = numba.njit(cache=True, parallel=parallel)(function)
     except RuntimeError:  # "cannot cache function ...: no locator available for file ..."
         return numba.njit(cache=False, parallel=parallel)(function)
+    _drop_stale_cache(compiled)
+    return compiled
+
+
+STAMP_NAME = "redkin-kernels.stamp"
+_checked: set[str] = set()  # cache directories whose stamp this process has checked
+
+
+def core_digest() -> str:
+    """A digest of the source of every redkin module that defines kernels (read once per process)."""
+    global _digest
+    if _digest is None:
+        package = Path(__file__).parent
+        digest = hashlib.sha256()
+        for path in sorted(package.rglob("*.py")):
+            text = path.read_bytes()
+            if b"@kernel" in text:
+                digest.update(str(path.relative_to(package)).encode() + b"\0" + text)
+        _digest = digest.hexdigest()
+    return _digest
+
+
+_digest: str | None = None
+
+
+def _drop_stale_cache(compiled) -> None:
+    """Empty the numba cache directory of a cached kernel if another version of the kernels filled it."""
+    path = getattr(getattr(compiled, "_cache", None), "_cache_path", None)  # where numba caches this kernel
+    if path is None or path in _checked:
+        return
+    _checked.add(path)
+    directory = Path(path)
+    stamp = directory / STAMP_NAME
+    digest = core_digest()
+    try:
+        if stamp.is_file() and stamp.read_text() == digest:
+            return
+        for cached in list(directory.glob("*.nbi")) + list(directory.glob("*.nbc")):
+            cached.unlink(missing_ok=True)
+        stamp.write_text(digest)
+    except OSError:  # pragma: no cover - a directory numba may write to but we cannot: leave it to numba
+        return
 
 
 def run_batch(serial: Callable, parallel: Callable, count: int, *args):
