@@ -47,7 +47,7 @@ from redkin.chain import SerialChain
 from redkin.circle import ArcSet
 from redkin.compiled import run_batch
 from redkin.srs import feasible_kernels as kernels
-from redkin.srs.branches import Branch
+from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients, as_poses, raise_for_status
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import as_geometry
@@ -177,18 +177,20 @@ def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometr
     return start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]), elbow_inside.reshape(shape)
 
 
-def _from_poses(pose: ArrayLike, branch: Branch, geometry: SRSGeometry, per_joint: bool):
+def _from_poses(pose: ArrayLike, branch: "str | Branch", geometry: SRSGeometry, per_joint: bool):
     """Run :func:`redkin.srs.feasible_kernels.poses_branch` ([000 eqs. 4-30], one compiled call) on validated poses.
 
-    Returns ``start, end`` (..., 24), ``keep`` (..., R, 24) (``R = 7`` with
-    ``per_joint``, else 1), theta_4 and whether it is within its limits (...).
+    ``branch`` is named in the chain's joint senses.  Returns ``start, end``
+    (..., 24), ``keep`` (..., R, 24) (``R = 7`` with ``per_joint``, else 1),
+    theta_4 and whether it is within its limits (...).
 
     Raises
     ------
     ValueError
-        For a malformed or unreachable pose (the kernel flags it; the message is worded by
-        :func:`redkin.srs.coefficients.raise_for_status`).
+        For a malformed branch, or a malformed or unreachable pose (the kernel flags it; the message is worded
+        by :func:`redkin.srs.coefficients.raise_for_status`).
     """
+    signs = geometry.kernel_branch(branch)  # Table 1 signs (1, 3), cached per name
     pose = as_poses(pose)
     shape = pose.shape[:-2]
     poses = np.ascontiguousarray(pose).reshape(-1, 4, 4)
@@ -198,10 +200,9 @@ def _from_poses(pose: ArrayLike, branch: Branch, geometry: SRSGeometry, per_join
     start, end = np.empty((count, kernels.PIECES)), np.empty((count, kernels.PIECES))
     keep = np.empty((count, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
     tables = limit_tables(geometry)
-    if run_batch(kernels.poses_branch, kernels.poses_branch_parallel, count, poses, int(branch.shoulder < 0),
-                 int(branch.elbow < 0), int(branch.wrist < 0), geometry.kernel_arm, geometry.kernel_ends,
-                 tables.equations, tables.membership, tables.elbow, status, distance, theta4, elbow_inside, start, end,
-                 keep):
+    if run_batch(kernels.poses_branch, kernels.poses_branch_parallel, count, poses, signs, geometry.kernel_arm,
+                 geometry.kernel_ends, tables.equations, tables.membership, tables.elbow, status, distance, theta4,
+                 elbow_inside, start, end, keep):
         raise_for_status(geometry, pose, status.reshape(shape), distance.reshape(shape))
     pieces = shape + (kernels.PIECES,)
     return (start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]), theta4.reshape(shape),
@@ -253,7 +254,7 @@ def feasible_pieces(
 ) -> FeasiblePieces:
     """Batched feasible sets [000 eq. 30] as arrays, for speed; see :func:`feasible_arm_angles`."""
     geometry = as_geometry(arm)
-    start, end, keep, _, _ = _from_poses(pose, geometry.table1_branch(branch), geometry, False)
+    start, end, keep, _, _ = _from_poses(pose, branch, geometry, False)
     return FeasiblePieces(start, end, keep[..., 0, :])
 
 
@@ -367,6 +368,5 @@ def feasible_arm_angles(
         For a malformed or unreachable pose or a malformed branch.
     """
     geometry = as_geometry(arm)
-    chosen = geometry.table1_branch(branch)
-    start, end, keep, theta4, elbow_inside = _from_poses(pose, chosen, geometry, True)
-    return _feasible_arm_angles(start, end, keep, theta4, elbow_inside, geometry.table1_branch(chosen))
+    start, end, keep, theta4, elbow_inside = _from_poses(pose, branch, geometry, True)
+    return _feasible_arm_angles(start, end, keep, theta4, elbow_inside, parse_branch(branch))

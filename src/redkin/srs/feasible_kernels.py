@@ -300,14 +300,15 @@ def pose_coefficients(pose, arm, ends, scratch, signs):
 
 
 @kernel
-def pose_feasible(pose, n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start, end, keep):
+def pose_feasible(pose, signs, arm, ends, equations_table, membership, elbow, scratch, start, end, keep):
     """The feasible set of one pose (4, 4) of the chain on one branch, from the pose: [000 eqs. 4-30] in one call.
 
-    ``n2, n4, n6`` are 1 where the Table 1 signs ``sigma_2, sigma_4,
-    sigma_6`` are negative, else 0.  Writes ``start``, ``end`` (24,) and
+    ``signs`` (3,) are the branch's Table 1 signs ``sigma_2, sigma_4,
+    sigma_6`` (:meth:`redkin.srs.geometry.SRSGeometry.kernel_branch`).  Writes ``start``, ``end`` (24,) and
     ``keep`` (R, 24) as :func:`pose_branch`; returns the status and ``|x_sw|``
     of :func:`pose_coefficients`, theta_4 and whether it is within its limits.
     """
+    n2, n4, n6 = int(signs[0] < 0.0), int(signs[1] < 0.0), int(signs[2] < 0.0)
     status, distance = pose_coefficients(pose, arm, ends, scratch, n4)
     if status != ik_kernels.OK:
         return status, distance, np.nan, False
@@ -398,9 +399,10 @@ def all_branches(entries, theta4, equations_table, membership, elbow, order, sta
 
 
 @kernel
-def poses_branch(poses, n2, n4, n6, arm, ends, equations_table, membership, elbow, status, distance, theta4,
-                 elbow_inside, start, end, keep):
-    """:func:`pose_feasible` for each pose of ``poses`` (N, 4, 4), one branch, into the (N, ...) outputs.
+def poses_branch(poses, signs, arm, ends, equations_table, membership, elbow, status, distance, theta4, elbow_inside,
+                 start, end, keep):
+    """:func:`pose_feasible` for each pose of ``poses`` (N, 4, 4), one branch (Table 1 ``signs`` (1, 3)), into the
+    (N, ...) outputs.
 
     Returns how many poses failed (a status other than :data:`redkin.srs.ik_kernels.OK`).
     """
@@ -408,13 +410,13 @@ def poses_branch(poses, n2, n4, n6, arm, ends, equations_table, membership, elbo
     failed = 0
     for b in range(poses.shape[0]):
         status[b], distance[b], theta4[b], elbow_inside[b] = pose_feasible(
-            poses[b], n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start[b], end[b], keep[b])
+            poses[b], signs[0], arm, ends, equations_table, membership, elbow, scratch, start[b], end[b], keep[b])
         failed += status[b] != ik_kernels.OK
     return failed
 
 
 @kernel(parallel=True)
-def poses_branch_parallel(poses, n2, n4, n6, arm, ends, equations_table, membership, elbow, status, distance, theta4,
+def poses_branch_parallel(poses, signs, arm, ends, equations_table, membership, elbow, status, distance, theta4,
                           elbow_inside, start, end, keep):
     """:func:`poses_branch` on all cores."""
     failed = 0
@@ -422,8 +424,7 @@ def poses_branch_parallel(poses, n2, n4, n6, arm, ends, equations_table, members
         scratch = pose_scratch()
         for b in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
             status[b], distance[b], theta4[b], elbow_inside[b] = pose_feasible(
-                poses[b], n2, n4, n6, arm, ends, equations_table, membership, elbow, scratch, start[b], end[b],
-                keep[b])
+                poses[b], signs[0], arm, ends, equations_table, membership, elbow, scratch, start[b], end[b], keep[b])
             failed += status[b] != ik_kernels.OK
     return failed
 
