@@ -113,13 +113,19 @@ class FeasiblePieces:
 
 def _arc_sets(start: np.ndarray, end: np.ndarray, keep: np.ndarray) -> list[list[ArcSet]]:
     """The :class:`ArcSet` of each row of ``keep`` (N, R, 24) on the pieces ``start``, ``end`` (N, 24)
-    (:func:`redkin.srs.feasible_kernels.arc_runs`)."""
-    arcs = np.empty(keep.shape[:2] + (kernels.PIECES // 2, 2))
+    (:func:`redkin.srs.feasible_kernels.batch_arc_runs`)."""
+    arcs = np.empty((keep.shape[0], keep.shape[1] * kernels.PIECES // 2, 2))
     counts = np.empty(keep.shape[:2], dtype=np.int64)
     kernels.batch_arc_runs(start, end, keep, arcs, counts)
-    numbers = counts.tolist()
-    return [[ArcSet(runs[:n]) if n else ArcSet.empty() for runs, n in zip(arcs[b].tolist(), numbers[b])]
-            for b in range(len(numbers))]
+    sets = []
+    for b, numbers in enumerate(counts.tolist()):
+        runs = arcs[b, :sum(numbers)].tolist()
+        rows, used = [], 0
+        for n in numbers:
+            rows.append(ArcSet(runs[used:used + n]) if n else ArcSet.empty())
+            used += n
+        sets.append(rows)
+    return sets
 
 
 class LimitTables(NamedTuple):

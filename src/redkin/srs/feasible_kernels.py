@@ -377,13 +377,16 @@ def branches(entries, theta4, n2, n6, equations_table, membership, elbow, start,
 
 @kernel
 def batch_arc_runs(start, end, keep, out, counts):
-    """:func:`arc_runs` of every row of ``keep`` (N, R, 24) into ``out`` (N, R, 12, 2) and ``counts`` (N, R).
+    """:func:`arc_runs` of every row of ``keep`` (N, R, 24), packed: the arcs of pose ``b`` row after row from
+    ``out[b, 0]`` (``out`` (N, 12 R, 2)), how many per row in ``counts`` (N, R).
 
     Serial only: it feeds a Python loop that builds one :class:`~redkin.circle.ArcSet` per row.
     """
     for b in range(keep.shape[0]):
+        used = 0
         for row in range(keep.shape[1]):
-            counts[b, row] = arc_runs(start[b], end[b], keep[b, row], out[b, row])
+            counts[b, row] = arc_runs(start[b], end[b], keep[b, row], out[b, used:])
+            used += counts[b, row]
 
 
 @kernel
