@@ -69,7 +69,7 @@ def test_report_reads_at_desktop_and_phone_width(browser, width):
         Object.fromEntries(Array.from(row.querySelectorAll('[data-count]')).map(c => [c.dataset.count, +c.textContent]))
     ])""")
     compared = {key: s["counts"] for key, s in summary["sections"].items() if any(s["counts"].values())}
-    assert dict(shown) == compared and len(compared) == 4
+    assert dict(shown) == compared and len(compared) == 5  # 000, 001, 003, 004 and workspace compare values
     differing = sum(ok is False for s in summary["sections"].values() for t in s["tables"].values()
                     for ok in t.get("agreement", []))
     links = page.evaluate("() => Array.from(document.querySelectorAll('#differs a')).map(a => a.getAttribute('href'))")
