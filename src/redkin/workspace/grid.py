@@ -13,7 +13,7 @@ from redkin.validation import as_float_array, check_count, check_finite
 #: Most grid points per axis (``redkin workspace --resolution``).
 MAX_RESOLUTION = 1000
 #: Poses one chunk aims at (positions x orientations): 8^3 positions at 500 orientations, 16 MB of
-#: ``measure`` and a second or two of one core per chunk, 13 824 chunks (Dask tasks, marker files) for the
+#: ``measure`` and about 0.7 s of one core per chunk, 13 824 chunks (Dask tasks, marker files) for the
 #: 1 cm iiwa map instead of the 110 592 of 4^3-position chunks.
 CHUNK_POSES = 262_144
 
