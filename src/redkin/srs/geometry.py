@@ -228,8 +228,11 @@ class SRSGeometry:
 
     @cached_property
     def kernel_arm(self) -> np.ndarray:
-        """The arm as :mod:`redkin.srs.ik_kernels` reads it: ``d_bs, d_se, d_ew, d_wt, a_3, a_4, C, R, phi``."""
-        return _read_only(np.array([self.d_bs, self.d_se, self.d_ew, self.d_wt, self.a3, self.a4, *self.elbow_equation]))
+        """The arm as :mod:`redkin.srs.ik_kernels` reads it: ``d_bs, d_se, d_ew, d_wt, a_3, a_4, C, R, phi, cos phi,
+        sin phi``."""
+        equation = self.elbow_equation
+        return _read_only(np.array([self.d_bs, self.d_se, self.d_ew, self.d_wt, self.a3, self.a4, *equation,
+                                    np.cos(equation.phase), np.sin(equation.phase)]))
 
     @cached_property
     def kernel_ends(self) -> np.ndarray:

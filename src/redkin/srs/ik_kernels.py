@@ -3,7 +3,7 @@
 The one implementation in redkin of
 
 * the target in Table 1 form and the pose check (:func:`pose_defect`, :func:`table1_target`);
-* the psi-independent frame of [000 eqs. 4-11] (:func:`arm_frame`): the elbow
+* the psi-independent frame of [000 eqs. 4-11] (:func:`wrist_point`, :func:`elbow_frame`): the elbow
   angle, the unit shoulder-to-wrist vector ``u``, ``0R3`` on the reference
   plane and ``3R4``;
 * the coefficient matrices of [000 eqs. 12, 16] (:func:`coefficient_matrices`)
@@ -19,9 +19,9 @@ trust their inputs: C-contiguous float64 arrays of the documented shapes.
 
 An arm is passed as
 
-``arm`` : (9,) float64
-    ``d_bs, d_se, d_ew, d_wt, a_3, a_4`` and ``C, R, phi`` of
-    :class:`redkin.srs.geometry.ElbowEquation` (:data:`ARM_COLUMNS`).
+``arm`` : (11,) float64
+    ``d_bs, d_se, d_ew, d_wt, a_3, a_4``, ``C, R, phi`` of
+    :class:`redkin.srs.geometry.ElbowEquation`, and ``cos phi, sin phi`` (:data:`ARM_COLUMNS`).
 ``ends`` : (2, 4, 4) float64
     ``base^-1`` and ``tool^-1`` of the chain: frame 7 in frame 0 is ``base^-1 pose tool^-1``.
 ``joints`` : (6, 7) float64
@@ -39,8 +39,8 @@ from numba import prange
 
 from redkin.compiled import kernel
 
-ARM_COLUMNS = ("d_bs", "d_se", "d_ew", "d_wt", "a3", "a4", "mean", "amplitude", "phase")
-D_BS, D_SE, D_EW, D_WT, A3, A4, MEAN, AMPLITUDE, PHASE = range(9)
+ARM_COLUMNS = ("d_bs", "d_se", "d_ew", "d_wt", "a3", "a4", "mean", "amplitude", "phase", "cos_phase", "sin_phase")
+D_BS, D_SE, D_EW, D_WT, A3, A4, MEAN, AMPLITUDE, PHASE, COS_PHASE, SIN_PHASE = range(11)
 JOINT_ROWS = ("offset", "sign", "wrap", "wrap_start", "upper", "limited")
 OFFSET, SIGN, WRAP, WRAP_START, UPPER, LIMITED = range(6)
 TWO_PI = 2.0 * pi
@@ -113,21 +113,17 @@ def table1_target(pose, ends, target):
 
 # -------------------------------------------------------- [000 eqs. 4-11]
 @kernel
-def arm_frame(target, arm, elbow_sign, u, reference, elbow):
-    """The psi-independent part of [000 eqs. 4-11] for a target (3, 4) of frame 7 in frame 0 and an elbow sign.
+def wrist_point(target, arm, u):
+    """What both elbow signs share in [000 eqs. 4-11] for a target (3, 4) of frame 7 in frame 0.
 
-    ``x_sw = x_7 - l_bs - R_7 l_wt`` [000 eq. 4]; ``theta_4 = phi + sigma
-    acos((|x_sw|^2 - C) / R)`` ([000 eq. 11]; ``phi = 0`` without elbow offsets),
-    wrapped to ``[-pi, pi)``; the reference plane ``theta_3 = 0`` ([000 eq. 7],
-    section 3.3): ``0R3o = Rz(theta_1o) Rx(-pi/2) Rz(theta_2o)`` with
-    ``theta_1o = atan2(y_sw, x_sw)`` (0 on the joint-1 axis) and ``theta_2o =
-    atan2(-z_sw, w) - atan2(v_y, v_x)``, where ``w = hypot(x_sw, y_sw)`` and
-    ``(v_x, v_y) = (a_3 + a_4 c4 + d_ew s4, -d_se + a_4 s4 - d_ew c4)`` is the
-    wrist in frame 3; ``3R4 = Rz(theta_4) Rx(pi/2)`` ([000 eq. 3], Table 1).
-
-    Writes ``u`` (3,), ``reference`` = ``0R3o`` and ``elbow`` = ``3R4`` (3, 3);
-    returns ``theta_4``, ``|x_sw|`` and whether the wrist is within reach
-    (``|cos(theta_4 - phi)| <= 1`` with :data:`REACH_TOLERANCE`).
+    ``x_sw = x_7 - l_bs - R_7 l_wt`` [000 eq. 4] and ``cos(theta_4 - phi) =
+    (|x_sw|^2 - C) / R`` [000 eq. 11]; writes ``u = x_sw / |x_sw|`` (3,).
+    Returns ``(w, c1, s1, z, cosine, sine, angle)`` -- ``w = hypot(x_sw,
+    y_sw)`` (0 on the joint-1 axis), ``c1, s1`` the cosine and sine of
+    ``theta_1o = atan2(y_sw, x_sw)`` (``1, 0`` on the axis), ``z = z_sw``, and
+    ``cosine``, ``sine`` and ``angle = acos(cosine)`` of ``|theta_4 - phi|`` --
+    then ``|x_sw|`` and whether the wrist is within reach (``|cos| <= 1`` with
+    :data:`REACH_TOLERANCE`).
     """
     x = target[0, 3] - target[0, 2] * arm[D_WT]
     y = target[1, 3] - target[1, 2] * arm[D_WT]
@@ -136,20 +132,45 @@ def arm_frame(target, arm, elbow_sign, u, reference, elbow):
     distance = sqrt(squared)
     cosine = (squared - arm[MEAN]) / arm[AMPLITUDE]  # [000 eq. 11]
     reach = abs(cosine) <= 1.0 + REACH_TOLERANCE
-    theta4 = acos(min(max(cosine, -1.0), 1.0)) * elbow_sign
-    if arm[PHASE] != 0.0:
-        theta4 = turns_removed(theta4 + arm[PHASE] + pi) - pi
-    c4, s4 = cos(theta4), sin(theta4)
+    cosine = min(max(cosine, -1.0), 1.0)
     w = sqrt(x * x + y * y)
     c1, s1 = 1.0, 0.0
     if w > AXIS_TOLERANCE * sqrt(arm[MEAN]):
         c1, s1 = x / w, y / w
     else:
         w = 0.0
+    scale = 1.0 / distance if distance > 0.0 else 0.0
+    u[0], u[1], u[2] = x * scale, y * scale, z * scale
+    return (w, c1, s1, z, cosine, sqrt(1.0 - cosine * cosine), acos(cosine)), distance, reach
+
+
+@kernel
+def elbow_frame(shared, arm, elbow_sign, reference, elbow):
+    """The rest of [000 eqs. 4-11] for one elbow sign ``sigma``, from :func:`wrist_point`'s ``shared``.
+
+    ``theta_4 = phi + sigma acos((|x_sw|^2 - C) / R)`` [000 eq. 11] (``phi =
+    0`` without elbow offsets), wrapped to ``[-pi, pi)``; the reference plane
+    ``theta_3 = 0`` ([000 eq. 7], section 3.3): ``0R3o = Rz(theta_1o)
+    Rx(-pi/2) Rz(theta_2o)`` with ``theta_2o = atan2(-z_sw, w) - atan2(v_y,
+    v_x)``, ``(v_x, v_y) = (a_3 + a_4 c4 + d_ew s4, -d_se + a_4 s4 - d_ew c4)``
+    the wrist in frame 3; ``3R4 = Rz(theta_4) Rx(pi/2)`` ([000 eq. 3], Table 1).
+    The cosines and sines of theta_4 and theta_2o come from the angle-sum
+    formulas, without evaluating the angles' trigonometric functions.
+
+    Writes ``reference`` = ``0R3o`` and ``elbow`` = ``3R4`` (3, 3); returns ``theta_4``.
+    """
+    w, c1, s1, z, cosine, sine, angle = shared
+    theta4 = elbow_sign * angle
+    c4, s4 = cosine, elbow_sign * sine
+    if arm[PHASE] != 0.0:
+        theta4 = turns_removed(theta4 + arm[PHASE] + pi) - pi
+        c4, s4 = arm[COS_PHASE] * c4 - arm[SIN_PHASE] * s4, arm[SIN_PHASE] * c4 + arm[COS_PHASE] * s4
     v_x = arm[A3] + arm[A4] * c4 + arm[D_EW] * s4
     v_y = arm[A4] * s4 - (arm[D_SE] + arm[D_EW] * c4)
-    theta2 = atan2(-z, w) - atan2(v_y, v_x)
-    c2, s2 = cos(theta2), sin(theta2)
+    rho, length = sqrt(w * w + z * z), sqrt(v_x * v_x + v_y * v_y)
+    ca, sa = (w / rho, -z / rho) if rho > 0.0 else (1.0, 0.0)  # atan2(-z, w)
+    cb, sb = (v_x / length, v_y / length) if length > 0.0 else (1.0, 0.0)  # atan2(v_y, v_x)
+    c2, s2 = ca * cb + sa * sb, sa * cb - ca * sb  # theta_2o = a - b
     # Rz(t1) Rx(-pi/2) Rz(t2): columns (c1 c2, s1 c2, -s2), (-c1 s2, -s1 s2, -c2), (-s1, c1, 0)
     reference[0, 0], reference[0, 1], reference[0, 2] = c1 * c2, -c1 * s2, -s1
     reference[1, 0], reference[1, 1], reference[1, 2] = s1 * c2, -s1 * s2, c1
@@ -158,9 +179,7 @@ def arm_frame(target, arm, elbow_sign, u, reference, elbow):
     elbow[0, 0], elbow[0, 1], elbow[0, 2] = c4, 0.0, s4
     elbow[1, 0], elbow[1, 1], elbow[1, 2] = s4, 0.0, -c4
     elbow[2, 0], elbow[2, 1], elbow[2, 2] = 0.0, 1.0, 0.0
-    scale = 1.0 / distance if distance > 0.0 else 0.0
-    u[0], u[1], u[2] = x * scale, y * scale, z * scale
-    return theta4, distance, reach
+    return theta4
 
 
 # ------------------------------------------------------ [000 eqs. 12, 16]
@@ -181,13 +200,20 @@ def coefficient_matrices(u, reference, elbow, target, shoulder, wrist):
         shoulder[0, 0, c], shoulder[0, 1, c], shoulder[0, 2, c] = uy * r2 - uz * r1, uz * r0 - ux * r2, ux * r1 - uy * r0
         shoulder[2, 0, c], shoulder[2, 1, c], shoulder[2, 2, c] = ux * along, uy * along, uz * along
         shoulder[1, 0, c], shoulder[1, 1, c], shoulder[1, 2, c] = r0 - ux * along, r1 - uy * along, r2 - uz * along
+    c4, s4 = elbow[0, 0], elbow[1, 0]  # 3R4 = Rz(theta_4) Rx(pi/2) = [[c4, 0, s4], [s4, 0, -c4], [0, 1, 0]]
     for k in range(3):
-        for r in range(3):  # (3R4^T S^T)[r, m] = sum_j elbow[j, r] S[m, j]
-            m0 = elbow[0, r] * shoulder[k, 0, 0] + elbow[1, r] * shoulder[k, 0, 1] + elbow[2, r] * shoulder[k, 0, 2]
-            m1 = elbow[0, r] * shoulder[k, 1, 0] + elbow[1, r] * shoulder[k, 1, 1] + elbow[2, r] * shoulder[k, 1, 2]
-            m2 = elbow[0, r] * shoulder[k, 2, 0] + elbow[1, r] * shoulder[k, 2, 1] + elbow[2, r] * shoulder[k, 2, 2]
-            for c in range(3):
-                wrist[k, r, c] = m0 * target[0, c] + m1 * target[1, c] + m2 * target[2, c]
+        # column r of 3R4^T S^T is row r of 3R4^T times S^T: (c4 S[m,0] + s4 S[m,1], S[m,2], s4 S[m,0] - c4 S[m,1])
+        p0 = c4 * shoulder[k, 0, 0] + s4 * shoulder[k, 0, 1]
+        p1 = c4 * shoulder[k, 1, 0] + s4 * shoulder[k, 1, 1]
+        p2 = c4 * shoulder[k, 2, 0] + s4 * shoulder[k, 2, 1]
+        q0, q1, q2 = shoulder[k, 0, 2], shoulder[k, 1, 2], shoulder[k, 2, 2]
+        t0 = s4 * shoulder[k, 0, 0] - c4 * shoulder[k, 0, 1]
+        t1 = s4 * shoulder[k, 1, 0] - c4 * shoulder[k, 1, 1]
+        t2 = s4 * shoulder[k, 2, 0] - c4 * shoulder[k, 2, 1]
+        for c in range(3):  # A_w = (3R4^T A_s^T) 0R7, likewise B_w, C_w
+            wrist[k, 0, c] = p0 * target[0, c] + p1 * target[1, c] + p2 * target[2, c]
+            wrist[k, 1, c] = q0 * target[0, c] + q1 * target[1, c] + q2 * target[2, c]
+            wrist[k, 2, c] = t0 * target[0, c] + t1 * target[1, c] + t2 * target[2, c]
 
 
 @kernel
@@ -225,8 +251,7 @@ def group_angles(x, y, z, r0, r1, r2, theta, first):
     c1, s1, angle1 = 1.0, 0.0, 0.0
     if sine > UNDEFINED_TOLERANCE:
         c1, s1, angle1 = x / sine, y / sine, atan2(y, x)
-    norm = sqrt(sine * sine + z * z)
-    c2, s2 = z / norm, sine / norm
+    c2, s2 = z, sine  # (x, y, z) = (c1 s2, s1 s2, c2) is a column of a rotation: a unit vector
     theta[first] = angle1
     theta[first + 1] = atan2(sine, z)
     theta[first + 2] = atan2(c1 * r1 - s1 * r0, c2 * (c1 * r0 + s1 * r1) - s2 * r2)
@@ -309,6 +334,9 @@ def solve_pose(pose, psi, branches, arm, ends, joints, out, scratch):
         return BAD_PSI
     target, u, reference, elbow, shoulder, wrist, entries, positive, theta = scratch
     table1_target(pose, ends, target)
+    shared, _, reach = wrist_point(target, arm, u)
+    if not reach:
+        return UNREACHABLE
     for e in range(2):
         sign = 1.0 if e == 0 else -1.0
         needed = False
@@ -316,9 +344,7 @@ def solve_pose(pose, psi, branches, arm, ends, joints, out, scratch):
             needed = needed or branches[b, 1] == sign
         if not needed:
             continue
-        theta4, _, reach = arm_frame(target, arm, sign, u, reference, elbow)
-        if not reach:
-            return UNREACHABLE
+        theta4 = elbow_frame(shared, arm, sign, reference, elbow)
         coefficient_matrices(u, reference, elbow, target, shoulder, wrist)
         select_entries(shoulder, wrist, entries)
         branch_angles(entries, theta4, psi, 1.0, 1.0, positive[e])  # the other branches differ by signs
@@ -376,7 +402,8 @@ def coefficients_one(pose, sign, arm, ends, target, u, reference, elbow, shoulde
     if pose_defect(pose) != OK:
         return BAD_POSE, np.nan, np.nan
     table1_target(pose, ends, target)
-    theta4, distance, reach = arm_frame(target, arm, sign, u, reference, elbow)
+    shared, distance, reach = wrist_point(target, arm, u)
+    theta4 = elbow_frame(shared, arm, sign, reference, elbow)
     coefficient_matrices(u, reference, elbow, target, shoulder, wrist)
     select_entries(shoulder, wrist, entries)
     return (OK if reach else UNREACHABLE), theta4, distance
