@@ -332,7 +332,7 @@ def solve_pose(pose, psi, branches, arm, ends, joints, out, scratch):
         return BAD_POSE
     if not isfinite(psi):
         return BAD_PSI
-    target, u, reference, elbow, shoulder, wrist, entries, positive, theta = scratch
+    target, u, reference, elbow, shoulder, wrist, entries, values, theta = scratch
     table1_target(pose, ends, target)
     shared, _, reach = wrist_point(target, arm, u)
     if not reach:
@@ -347,22 +347,29 @@ def solve_pose(pose, psi, branches, arm, ends, joints, out, scratch):
         theta4 = elbow_frame(shared, arm, sign, reference, elbow)
         coefficient_matrices(u, reference, elbow, target, shoulder, wrist)
         select_entries(shoulder, wrist, entries)
-        branch_angles(entries, theta4, psi, 1.0, 1.0, positive[e])  # the other branches differ by signs
+        # the branches of this elbow sign differ by the group signs: the chain's values of both, per joint
+        branch_angles(entries, theta4, psi, 1.0, 1.0, theta)
+        chain_values(theta, joints, values[e, 0])
+        apply_sign(theta, 0, -1.0)
+        apply_sign(theta, 4, -1.0)
+        chain_values(theta, joints, values[e, 1])
     for b in range(branches.shape[0]):
-        theta[:] = positive[0 if branches[b, 1] > 0 else 1]
-        apply_sign(theta, 0, branches[b, 0])
-        apply_sign(theta, 4, branches[b, 2])
-        chain_values(theta, joints, out[b])
+        e = 0 if branches[b, 1] > 0 else 1
+        shoulder_turned, wrist_turned = int(branches[b, 0] < 0), int(branches[b, 2] < 0)
+        for k in range(3):
+            out[b, k] = values[e, shoulder_turned, k]
+            out[b, k + 4] = values[e, wrist_turned, k + 4]
+        out[b, 3] = values[e, 0, 3]
     return OK
 
 
 @kernel
 def _scratch():
     """The work arrays of :func:`solve_pose`, views into one allocation (one per thread)."""
-    work = np.empty(160)
+    work = np.empty(164)
     return (work[0:12].reshape((3, 4)), work[12:15], work[15:24].reshape((3, 3)), work[24:33].reshape((3, 3)),
             work[33:60].reshape((3, 3, 3)), work[60:87].reshape((3, 3, 3)), work[87:129].reshape((3, 2 * GROUP)),
-            work[129:143].reshape((2, 7)), work[143:150])
+            work[129:157].reshape((2, 2, 7)), work[157:164])
 
 
 @kernel
