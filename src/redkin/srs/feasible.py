@@ -183,36 +183,37 @@ def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometr
     return start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]), elbow_inside.reshape(shape)
 
 
-def _from_poses(pose: ArrayLike, branch: "str | Branch", geometry: SRSGeometry, per_joint: bool):
-    """Run :func:`redkin.srs.feasible_kernels.poses_branch` ([000 eqs. 4-30], one compiled call) on validated poses.
+def _from_poses(pose: ArrayLike, branches: np.ndarray, geometry: SRSGeometry, per_joint: bool):
+    """Run :func:`redkin.srs.feasible_kernels.poses_feasible` ([000 eqs. 4-30], one compiled call) on validated
+    poses, for the Table 1 signs ``branches`` (B, 3) (:meth:`SRSGeometry.kernel_branch`,
+    :attr:`SRSGeometry.kernel_branches`).
 
-    ``branch`` is named in the chain's joint senses.  Returns ``start, end``
-    (..., 24), ``keep`` (..., R, 24) (``R = 7`` with ``per_joint``, else 1),
-    theta_4 and whether it is within its limits (...).
+    Returns ``start, end`` (..., B, 24), ``keep`` (..., B, R, 24) (``R = 7``
+    with ``per_joint``, else 1), theta_4 and whether it is within its limits
+    (..., B).
 
     Raises
     ------
     ValueError
-        For a malformed branch, or a malformed or unreachable pose (the kernel flags it; the message is worded
-        by :func:`redkin.srs.coefficients.raise_for_status`).
+        For a malformed or unreachable pose (the kernel flags it; the message is worded by
+        :func:`redkin.srs.coefficients.raise_for_status`).
     """
-    signs = geometry.kernel_branch(branch)  # Table 1 signs (1, 3), cached per name
     pose = as_poses(pose)
     shape = pose.shape[:-2]
     poses = np.ascontiguousarray(pose).reshape(-1, 4, 4)
-    count = poses.shape[0]
+    count, rows = poses.shape[0], branches.shape[0]
     status, distance = np.empty(count, dtype=np.int64), np.empty(count)
-    theta4, elbow_inside = np.empty(count), np.empty(count, dtype=bool)
-    start, end = np.empty((count, kernels.PIECES)), np.empty((count, kernels.PIECES))
-    keep = np.empty((count, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
+    theta4, elbow_inside = np.empty((count, rows)), np.empty((count, rows), dtype=bool)
+    start, end = np.empty((count, rows, kernels.PIECES)), np.empty((count, rows, kernels.PIECES))
+    keep = np.empty((count, rows, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
     tables = limit_tables(geometry)
-    if run_batch(kernels.poses_branch, kernels.poses_branch_parallel, count, poses, signs, geometry.kernel_arm,
+    if run_batch(kernels.poses_feasible, kernels.poses_feasible_parallel, count, poses, branches, geometry.kernel_arm,
                  geometry.kernel_ends, tables.equations, tables.membership, tables.elbow, status, distance, theta4,
                  elbow_inside, start, end, keep):
         raise_for_status(geometry, pose, status.reshape(shape), distance.reshape(shape))
-    pieces = shape + (kernels.PIECES,)
-    return (start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]), theta4.reshape(shape),
-            elbow_inside.reshape(shape))
+    pieces = shape + (rows, kernels.PIECES)
+    return (start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]),
+            theta4.reshape(shape + (rows,)), elbow_inside.reshape(shape + (rows,)))
 
 
 def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) -> "FeasibleArmAngles | np.ndarray":
@@ -260,8 +261,8 @@ def feasible_pieces(
 ) -> FeasiblePieces:
     """Batched feasible sets [000 eq. 30] as arrays, for speed; see :func:`feasible_arm_angles`."""
     geometry = as_geometry(arm)
-    start, end, keep, _, _ = _from_poses(pose, branch, geometry, False)
-    return FeasiblePieces(start, end, keep[..., 0, :])
+    start, end, keep, _, _ = _from_poses(pose, geometry.kernel_branch(branch), geometry, False)
+    return FeasiblePieces(start[..., 0, :], end[..., 0, :], keep[..., 0, 0, :])
 
 
 def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> FeasiblePieces:
@@ -286,20 +287,8 @@ def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLi
         For a malformed or unreachable pose.
     """
     geometry = as_geometry(arm)
-    pose = as_poses(pose)
-    shape = pose.shape[:-2]
-    poses = np.ascontiguousarray(pose).reshape(-1, 4, 4)
-    count = poses.shape[0]
-    status, distance = np.empty(count, dtype=np.int64), np.empty(count)
-    start, end = np.empty((count, 8, kernels.PIECES)), np.empty((count, 8, kernels.PIECES))
-    keep = np.empty((count, 8, 1, kernels.PIECES), dtype=bool)
-    tables = limit_tables(geometry)
-    if run_batch(kernels.poses_all_branches, kernels.poses_all_branches_parallel, count, poses, geometry.kernel_arm,
-                 geometry.kernel_ends, tables.equations, tables.membership, tables.elbow, geometry.branch_order,
-                 status, distance, start, end, keep):
-        raise_for_status(geometry, pose, status.reshape(shape), distance.reshape(shape))
-    pieces = shape + (8, kernels.PIECES)
-    return FeasiblePieces(start.reshape(pieces), end.reshape(pieces), keep.reshape(pieces))
+    start, end, keep, _, _ = _from_poses(pose, geometry.kernel_branches, geometry, False)
+    return FeasiblePieces(start, end, keep[..., 0, :])
 
 
 def all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> FeasiblePieces:
@@ -374,5 +363,6 @@ def feasible_arm_angles(
         For a malformed or unreachable pose or a malformed branch.
     """
     geometry = as_geometry(arm)
-    start, end, keep, theta4, elbow_inside = _from_poses(pose, branch, geometry, True)
-    return _feasible_arm_angles(start, end, keep, theta4, elbow_inside, parse_branch(branch))
+    start, end, keep, theta4, elbow_inside = _from_poses(pose, geometry.kernel_branch(branch), geometry, True)
+    return _feasible_arm_angles(start[..., 0, :], end[..., 0, :], keep[..., 0, :, :], theta4[..., 0],
+                                elbow_inside[..., 0], parse_branch(branch))

@@ -8,12 +8,12 @@ of the joints' limit equations; :func:`classify` turns those signs into the
 per-joint sets [000 eq. 29] and their intersection [000 eq. 30] on one branch.
 :func:`pose_branch` does both for one pose-branch and
 :func:`pose_all_branches` for the eight branches of a pose (the cuts made
-once per elbow sign); :func:`pose_feasible` and :func:`pose_feasible_all`
-start from the pose itself, computing [000 eqs. 4-19] with
-:func:`redkin.srs.ik_kernels.coefficients_one`.  :func:`poses_branch` and
-:func:`poses_all_branches` (with their parallel twins) loop over a batch of
-poses, :func:`branches` and :func:`all_branches` over coefficients computed
-beforehand.  :mod:`redkin.srs.feasible` validates at its public edge and
+once per elbow sign); :func:`pose_feasible` starts from the pose itself,
+computing [000 eqs. 4-19] with :func:`redkin.srs.ik_kernels.coefficients_one`,
+for any rows of branches (one, or all eight, sharing each elbow sign's
+cuts).  :func:`poses_feasible` (with its parallel twin) loops over a batch
+of poses, :func:`branches` and :func:`all_branches` over coefficients
+computed beforehand.  :mod:`redkin.srs.feasible` validates at its public edge and
 calls them; the kernels trust their inputs: C-contiguous arrays of the
 documented shapes and types.
 
@@ -272,7 +272,7 @@ def pose_all_branches(entries, theta4, equations_table, membership, elbow, order
 # ------------------------------------- from the pose: [000 eqs. 4-19] fused
 @kernel
 def pose_scratch():
-    """The work arrays of :func:`pose_feasible` and :func:`pose_feasible_all` (one set per thread): the
+    """The work arrays of :func:`pose_feasible` (one set per thread): the
     frame and coefficient arrays of :func:`redkin.srs.ik_kernels.coefficients_one`, the entries and theta_4
     of both elbow signs, the limit equations and the sign patterns."""
     return (np.empty((3, 4)), np.empty(3), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3, 3)),
@@ -300,32 +300,40 @@ def pose_coefficients(pose, arm, ends, scratch, signs):
 
 
 @kernel
-def pose_feasible(pose, signs, arm, ends, equations_table, membership, elbow, scratch, start, end, keep):
-    """The feasible set of one pose (4, 4) of the chain on one branch, from the pose: [000 eqs. 4-30] in one call.
+def pose_feasible(pose, branches, arm, ends, equations_table, membership, elbow, scratch, start, end, keep, theta4,
+                  elbow_inside):
+    """The feasible sets of one pose (4, 4) of the chain on some branches, from the pose: [000 eqs. 4-30] in one
+    call.
 
-    ``signs`` (3,) are the branch's Table 1 signs ``sigma_2, sigma_4,
-    sigma_6`` (:meth:`redkin.srs.geometry.SRSGeometry.kernel_branch`).  Writes ``start``, ``end`` (24,) and
-    ``keep`` (R, 24) as :func:`pose_branch`; returns the status and ``|x_sw|``
-    of :func:`pose_coefficients`, theta_4 and whether it is within its limits.
+    ``branches`` (B, 3) holds the Table 1 signs ``sigma_2, sigma_4,
+    sigma_6`` of each output row (:meth:`redkin.srs.geometry.SRSGeometry.kernel_branch`,
+    :attr:`~redkin.srs.geometry.SRSGeometry.kernel_branches`).  Each elbow
+    sign's coefficients, cuts and sign patterns are computed once and
+    classified for its rows.  Writes ``start``, ``end`` (B, 24), ``keep``
+    (B, R, 24) as :func:`pose_branch`, theta_4 and whether it is within its
+    limits (B,); returns the status and ``|x_sw|`` of :func:`pose_coefficients`.
     """
-    n2, n4, n6 = int(signs[0] < 0.0), int(signs[1] < 0.0), int(signs[2] < 0.0)
-    status, distance = pose_coefficients(pose, arm, ends, scratch, n4)
-    if status != ik_kernels.OK:
-        return status, distance, np.nan, False
-    entries, theta4, equations, patterns = scratch[6], scratch[7], scratch[8], scratch[9]
-    elbow_inside = pose_branch(entries[n4], theta4[n4], n2, n6, equations_table, membership, elbow,
-                               equations, patterns, start, end, keep)
-    return status, distance, theta4[n4], elbow_inside
-
-
-@kernel
-def pose_feasible_all(pose, arm, ends, equations_table, membership, elbow, order, scratch, start, end, keep):
-    """The feasible sets of the eight branches of one pose (4, 4) of the chain, from the pose [000 eqs. 4-30]:
-    :func:`pose_all_branches` on the coefficients of both elbow signs.  Returns the status and ``|x_sw|``."""
-    status, distance = pose_coefficients(pose, arm, ends, scratch, 2)
-    if status == ik_kernels.OK:
-        pose_all_branches(scratch[6], scratch[7], equations_table, membership, elbow, order, scratch[8],
-                          scratch[9], start, end, keep)
+    status, distance = ik_kernels.OK, np.nan
+    entries, angles, equations, patterns = scratch[6], scratch[7], scratch[8], scratch[9]
+    for n4 in range(2):
+        first = -1
+        inside = False
+        for b in range(branches.shape[0]):
+            if (branches[b, 1] < 0.0) != (n4 == 1):
+                continue
+            if first < 0:
+                status, distance = pose_coefficients(pose, arm, ends, scratch, n4)
+                if status != ik_kernels.OK:
+                    return status, distance
+                pose_pieces(entries[n4], equations_table, equations, start[b], end[b], patterns)
+                inside = within(angles[n4], elbow[0], elbow[1], elbow[2] != 0.0)
+                first = b
+            else:
+                start[b, :] = start[first]
+                end[b, :] = end[first]
+            classify(patterns, start[b], membership[int(branches[b, 0] < 0.0), int(branches[b, 2] < 0.0)], inside,
+                     keep[b])
+            theta4[b], elbow_inside[b] = angles[n4], inside
     return status, distance
 
 
@@ -402,59 +410,33 @@ def all_branches(entries, theta4, equations_table, membership, elbow, order, sta
 
 
 @kernel
-def poses_branch(poses, signs, arm, ends, equations_table, membership, elbow, status, distance, theta4, elbow_inside,
-                 start, end, keep):
-    """:func:`pose_feasible` for each pose of ``poses`` (N, 4, 4), one branch (Table 1 ``signs`` (1, 3)), into the
-    (N, ...) outputs.
+def poses_feasible(poses, branches, arm, ends, equations_table, membership, elbow, status, distance, theta4,
+                   elbow_inside, start, end, keep):
+    """:func:`pose_feasible` for each pose of ``poses`` (N, 4, 4) on the branches (B, 3), into ``status``,
+    ``distance`` (N,), ``theta4``, ``elbow_inside`` (N, B), ``start``, ``end`` (N, B, 24) and ``keep``
+    (N, B, R, 24).
 
     Returns how many poses failed (a status other than :data:`redkin.srs.ik_kernels.OK`).
     """
     scratch = pose_scratch()
     failed = 0
-    for b in range(poses.shape[0]):
-        status[b], distance[b], theta4[b], elbow_inside[b] = pose_feasible(
-            poses[b], signs[0], arm, ends, equations_table, membership, elbow, scratch, start[b], end[b], keep[b])
-        failed += status[b] != ik_kernels.OK
+    for n in range(poses.shape[0]):
+        status[n], distance[n] = pose_feasible(poses[n], branches, arm, ends, equations_table, membership, elbow,
+                                               scratch, start[n], end[n], keep[n], theta4[n], elbow_inside[n])
+        failed += status[n] != ik_kernels.OK
     return failed
 
 
 @kernel(parallel=True)
-def poses_branch_parallel(poses, signs, arm, ends, equations_table, membership, elbow, status, distance, theta4,
-                          elbow_inside, start, end, keep):
-    """:func:`poses_branch` on all cores."""
+def poses_feasible_parallel(poses, branches, arm, ends, equations_table, membership, elbow, status, distance, theta4,
+                            elbow_inside, start, end, keep):
+    """:func:`poses_feasible` on all cores."""
     failed = 0
     for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
         scratch = pose_scratch()
-        for b in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
-            status[b], distance[b], theta4[b], elbow_inside[b] = pose_feasible(
-                poses[b], signs[0], arm, ends, equations_table, membership, elbow, scratch, start[b], end[b], keep[b])
-            failed += status[b] != ik_kernels.OK
-    return failed
-
-
-@kernel
-def poses_all_branches(poses, arm, ends, equations_table, membership, elbow, order, status, distance, start, end,
-                       keep):
-    """:func:`pose_feasible_all` for each pose of ``poses`` (N, 4, 4) into the (N, ...) outputs; returns how
-    many poses failed."""
-    scratch = pose_scratch()
-    failed = 0
-    for b in range(poses.shape[0]):
-        status[b], distance[b] = pose_feasible_all(poses[b], arm, ends, equations_table, membership, elbow, order,
-                                                   scratch, start[b], end[b], keep[b])
-        failed += status[b] != ik_kernels.OK
-    return failed
-
-
-@kernel(parallel=True)
-def poses_all_branches_parallel(poses, arm, ends, equations_table, membership, elbow, order, status, distance,
-                                start, end, keep):
-    """:func:`poses_all_branches` on all cores."""
-    failed = 0
-    for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
-        scratch = pose_scratch()
-        for b in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
-            status[b], distance[b] = pose_feasible_all(poses[b], arm, ends, equations_table, membership, elbow,
-                                                       order, scratch, start[b], end[b], keep[b])
-            failed += status[b] != ik_kernels.OK
+        for n in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
+            status[n], distance[n] = pose_feasible(poses[n], branches, arm, ends, equations_table, membership,
+                                                   elbow, scratch, start[n], end[n], keep[n], theta4[n],
+                                                   elbow_inside[n])
+            failed += status[n] != ik_kernels.OK
     return failed
