@@ -1,10 +1,10 @@
 """Laws behind the fast S-R-S paths (paper 000): one formula evaluated two ways agrees, batched equals looped.
 
-The speed work evaluates eqs. 12 and 16 either as coefficient matrices
-(weights = identity) or directly at an arm angle (weights = (sin psi, cos psi, 1));
-all eight branches come from one positive-branch evaluation per elbow sign; the
-limit equations of all joints come from one cached matrix.  These tests check
-that each shortcut equals its definition.
+The compiled kernels (redkin.srs.ik_kernels) evaluate eqs. 12 and 16 as
+coefficient matrices and read the joints from 14 of their entries; all eight
+branches share one frame per elbow sign; the limit equations of all joints
+come from one cached matrix.  These tests check each against its definition,
+written here: DH rotation products, the entry layout, one branch at a time.
 """
 
 import numpy as np
@@ -15,11 +15,12 @@ from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
 from srs_arms import ARM_KINDS, arm
 from redkin.so3 import rot_x
 from redkin.srs import BRANCHES, arm_angle_of, feasible_arm_angles, feasible_pieces, ik, ik_all_branches, pose_from, srs_geometry
-from redkin.srs.coefficients import arm_angle_coefficients, entries_at, entries_of, rotation_terms
+from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs import feasible_kernels
 from redkin.srs.feasible import limit_tables
-from redkin.srs.joints import IS_COSINE, PSI_JOINTS, entry_values
-from redkin.srs.rotations import shoulder_rotation, wrist_rotation
+from redkin.srs.ik_kernels import ENTRY_LAYOUT
+from redkin.srs.joints import IS_COSINE, PSI_JOINTS
+from srs_arms import shoulder_rotation, wrist_rotation
 from redkin.validation import check_pose
 
 
@@ -48,25 +49,32 @@ def degenerate_q(kind):
 MODELS = st.sampled_from(ARM_KINDS)
 
 
+def entries_of(shoulder, wrist):
+    """The signed entries of ENTRY_LAYOUT, read one by one from 0R3 and 4R7 stacks (..., 3, 3) -> (..., 14)."""
+    matrices = (shoulder, wrist)
+    return np.stack([factor * matrices[int(m)][..., int(r), int(c)] for m, r, c, factor in ENTRY_LAYOUT], axis=-1)
+
+
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**31), MODELS, st.sampled_from([1, -1]))
-def test_values_at_psi_equal_coefficients_and_fk_rotations(seed, model, elbow):
-    """rotation_terms at (sin, cos, 1) == coefficients evaluated at psi == 0R3, 4R7 of the IK joint values."""
+def test_coefficients_at_psi_equal_the_rotations_of_the_ik_joint_values(seed, model, elbow):
+    """A sin psi + B cos psi + C (eqs. 12, 16) == 0R3, 4R7 of the IK joint values (DH products, eq. 3),
+    and the entry rows equal those entries of the coefficient matrices."""
     rng = np.random.default_rng(seed)
     chain, q = random_chain(rng, model)
     geometry = srs_geometry(chain)
-    poses = geometry.to_table1_pose(chain.fk(rng.uniform(-np.pi, np.pi, (5, 7))))
+    poses = chain.fk(rng.uniform(-np.pi, np.pi, (5, 7)))
     psi = rng.uniform(-np.pi, np.pi, 5)
-    coefficients = arm_angle_coefficients(geometry, poses[:, :3, 3], poses[:, :3, :3], elbow)
-    direct = entries_at(coefficients, psi)
-    np.testing.assert_allclose(direct, entry_values(coefficients.entries, psi), atol=1e-13)
-    weights = np.stack([np.sin(psi), np.cos(psi), np.ones(5)], axis=-1)[:, None, :]
-    shoulder, wrist = rotation_terms(coefficients, weights)
+    coefficients = arm_angle_coefficients(geometry, poses, elbow)
+    weights = np.stack([np.sin(psi), np.cos(psi), np.ones(5)], axis=-1)
+    shoulder = np.einsum("nk,nkij->nij", weights, coefficients.shoulder)
+    wrist = np.einsum("nk,nkij->nij", weights, coefficients.wrist)
+    np.testing.assert_allclose(np.einsum("nk,nke->ne", weights, coefficients.entries), entries_of(shoulder, wrist),
+                               atol=1e-13)
     branch = geometry.table1_branch(f"+{'+' if elbow > 0 else '-'}+")  # named in the chain's joint senses
-    theta = ik(geometry, geometry.chain.base @ poses @ geometry.chain.tool, psi, branch)
-    theta = geometry.theta_of_q(theta)
-    np.testing.assert_allclose(shoulder[:, 0], shoulder_rotation(theta), atol=1e-10)
-    np.testing.assert_allclose(wrist[:, 0], wrist_rotation(theta), atol=1e-10)
+    theta = geometry.theta_of_q(ik(geometry, poses, psi, branch))
+    np.testing.assert_allclose(shoulder, shoulder_rotation(theta), atol=1e-10)
+    np.testing.assert_allclose(wrist, wrist_rotation(theta), atol=1e-10)
 
 
 @settings(max_examples=30, deadline=None)
@@ -120,8 +128,7 @@ def test_cut_points_are_where_a_joint_meets_a_limit(seed, model, branch, crossin
     chain, q = random_chain(rng, model, crossing)
     geometry = srs_geometry(chain)
     pose = chain.fk(q)
-    local = geometry.to_table1_pose(pose)
-    coefficients = arm_angle_coefficients(geometry, local[:3, 3], local[:3, :3], geometry.table1_branch(branch).elbow)
+    coefficients = arm_angle_coefficients(geometry, pose, geometry.table1_branch(branch).elbow)
     equations, cuts = np.empty((3, 12)), np.empty(24)
     feasible_kernels.limit_equations(coefficients.entries, limit_tables(geometry).equations, equations)
     feasible_kernels.cut_points(equations, cuts)

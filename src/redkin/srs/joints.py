@@ -9,38 +9,20 @@ Every joint but the elbow is of one of two types (eqs. 21 and 22):
 
 where ``sigma`` is the branch sign of theta_2 (shoulder joints) or theta_6
 (wrist joints).  ``sigma = -1`` turns a tangent-type angle by ``pi`` and
-negates a cosine-type one, so the angles are computed once for
-``sigma = +1`` (:func:`positive_branch_angles`) and then signed
-(:func:`apply_branch_signs`).
+negates a cosine-type one.
 
 The shoulder (joints 1-3, read from ``0R3``) and the wrist (joints 5-7,
-read from ``4R7``) have the same structure, so both are computed by the
-same array operations on a group axis of length 2.  Each group has the
-seven signed entries ``x, y, z, r0, r1, r2, t`` of
-:data:`redkin.srs.coefficients.ENTRY_LAYOUT` (shoulder: ``x = c1 s2``,
+read from ``4R7``) have the same structure: each group has the seven
+signed entries ``x, y, z, r0, r1, r2, t`` of
+:data:`redkin.srs.ik_kernels.ENTRY_LAYOUT` (shoulder: ``x = c1 s2``,
 ``y = s1 s2``, ``z = c2``, ``r`` the first column of ``0R3`` with ``r2 =
--s2 c3``, ``t = s2 s3``; wrist likewise with joints 5-7):
-
-* first joint (eqs. 13, 17): ``atan2(y, x)``; where ``hypot(x, y) = |sin
-  theta_2|`` is below :data:`UNDEFINED_TOLERANCE` only ``theta_1 + theta_3``
-  is defined, and ``theta_1 = 0`` (turned by pi for ``sigma = -1``), the
-  convention of the end of section 3.3, so that the third joint takes the
-  whole rotation;
-* second joint (eqs. 14, 18): ``acos z`` evaluated as
-  ``atan2(hypot(x, y), z)``, the same function without the loss of digits
-  of ``acos`` near 0 and pi;
-* third joint (eqs. 15, 19): read from the rotation left after the first two
-  joints: ``0R3 = Rz(theta_1) Ry(theta_2) Rz(theta_3) Rx(-pi/2)``, so
-  ``theta_3 = atan2(p_2 . r, p_1 . r)`` with ``p_k`` the columns of
-  ``Rz(theta_1) Ry(theta_2)``.  This equals eq. 15 (``atan2(t, -r2)``)
-  wherever eq. 15 is defined and stays exact at the singular arm angle
-  (theta_2 = 0), where eq. 15 is 0/0 and only theta_1 + theta_3 is
-  determined.
+-s2 c3``, ``t = s2 s3``; wrist likewise with joints 5-7).  The angles
+themselves are computed by :func:`redkin.srs.ik_kernels.group_angles`; this
+module holds what the feasible sets need: the limit equations of each
+joint and which of their signs mean "within the limits".
 """
 
 from __future__ import annotations
-
-from functools import lru_cache
 
 import numpy as np
 
@@ -50,95 +32,11 @@ PSI_JOINTS = (1, 2, 3, 5, 6, 7)
 IS_COSINE = np.array([False, True, False, False, True, False])
 # slots of the seven entries of a group (see the module docstring)
 _X, _Y, _Z, _R0, _R1, _R2, _T = range(7)
-#: ``hypot(x, y)`` (``|sin theta_2|`` or ``|sin theta_6|``) at or below which the first joint of a
-#: group is undefined and set to 0.  Rounding leaves ``x, y`` of about 1e-17 on an exactly singular
-#: pose, where ``atan2`` alone would return an arbitrary angle.
-UNDEFINED_TOLERANCE = 1e-12
 #: A group whose ``x, y`` coefficients (eqs. 12, 16) are all at or below this is singular at every
 #: arm angle (the arm stretched along the joint-1 axis, or the mirror case at the wrist); below
-#: :data:`UNDEFINED_TOLERANCE` / 3, so that the IK then sets its first joint to 0 at every psi.
+#: :data:`redkin.srs.ik_kernels.UNDEFINED_TOLERANCE` / 3, so that the IK then sets its first joint to 0 at every psi.
 STRETCHED_TOLERANCE = 1e-13
 _GROUP = 7
-
-
-def entry_values(entries: np.ndarray, psi: np.ndarray) -> np.ndarray:
-    """The entries at arm angles ``psi``: ``a sin psi + b cos psi + c`` (eqs. 12, 16).
-
-    ``entries`` has shape ``(..., 3, 14)`` (rows ``a, b, c``); ``psi``
-    broadcasts against ``(...)``.  Returns ``(..., 14)``.
-    """
-    psi = np.asarray(psi, dtype=float)
-    trig = np.empty(psi.shape + (1, 3))
-    np.sin(psi, out=trig[..., 0, 0])
-    np.cos(psi, out=trig[..., 0, 1])
-    trig[..., 0, 2] = 1.0
-    return (trig @ entries)[..., 0, :]
-
-
-def positive_branch_angles(values: np.ndarray) -> np.ndarray:
-    """Joints 1, 2, 3, 5, 6, 7 for ``sigma_2 = sigma_6 = +1`` from the entry values ``(..., 14)``.
-
-    The work runs on a slot-major copy ``(7, 2, batch)`` so that every
-    operation sees contiguous arrays (strided views cost twice the time).
-    """
-    batch = values.shape[:-1]
-    slots = values.reshape(-1, 2, _GROUP).transpose(2, 1, 0).copy()  # (7, 2, B)
-    x, y, z = slots[_X], slots[_Y], slots[_Z]
-    r0, r1, r2 = slots[_R0], slots[_R1], slots[_R2]
-    angles = np.empty((3,) + x.shape)
-    sine = np.hypot(x, y)
-    np.arctan2(y, x, out=angles[0])  # eqs. 13, 17
-    np.copyto(angles[0], 0.0, where=sine <= UNDEFINED_TOLERANCE)  # only theta_1 + theta_3 defined
-    np.arctan2(sine, z, out=angles[1])  # eqs. 14, 18
-    cosines, sines = np.cos(angles[:2]), np.sin(angles[:2])
-    c1, c2, s1, s2 = cosines[0], cosines[1], sines[0], sines[1]
-    along_p1 = c2 * (c1 * r0 + s1 * r1) - s2 * r2
-    along_p2 = c1 * r1 - s1 * r0
-    np.arctan2(along_p2, along_p1, out=angles[2])  # eqs. 15, 19
-    return angles.transpose(2, 1, 0).reshape(batch + (6,))
-
-
-@lru_cache(maxsize=None)
-def branch_signs(shoulder: int, wrist: int) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`branch_sign_arrays` of one branch ``(sigma_2, sigma_6)``, cached."""
-    return branch_sign_arrays(np.array([shoulder, wrist]))
-
-
-def branch_sign_arrays(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(factor, turn)``, each ``(..., 2, 3)``, for branch signs ``(..., 2)`` = ``(sigma_2, sigma_6)``.
-
-    ``factor`` is -1 for the cosine-type joint of a group with ``sigma = -1``;
-    ``turn`` marks its tangent-type joints (turned by pi).
-    """
-    negative = (np.asarray(signs) < 0)[..., None]
-    factor = np.where(negative & IS_COSINE[:3], -1.0, 1.0)
-    turn = (negative & ~IS_COSINE[:3]).astype(float)
-    return factor, turn
-
-
-def apply_branch_signs(angles: np.ndarray, signs: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-    """Angles of the branch ``(sigma_2, sigma_6)`` from those of ``(+1, +1)`` (eqs. 13-19).
-
-    A tangent-type angle with ``sigma = -1`` is ``atan2(-N, -D)``, i.e. turned
-    by ``pi``; a cosine-type one is negated.  ``signs`` is the ``(factor,
-    turn)`` pair of :func:`branch_sign_arrays` or :func:`branch_signs`; it
-    broadcasts against the batch axes of ``angles`` ``(..., 6)``.
-    """
-    factor, turn = signs
-    grouped = angles.reshape(angles.shape[:-1] + (2, 3))
-    signed = grouped * factor + turn * np.where(grouped > 0.0, -np.pi, np.pi)
-    return signed.reshape(signed.shape[:-2] + (6,))
-
-
-def psi_joint_angles(values: np.ndarray, signs: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-    """Joints 1, 2, 3, 5, 6, 7, shape ``(..., 6)``, from entry values and branch signs (:func:`branch_signs`)."""
-    return apply_branch_signs(positive_branch_angles(values), signs)
-
-
-def assemble_theta(theta4: np.ndarray, psi_joints: np.ndarray) -> np.ndarray:
-    """The 7 DH angles from theta_4 ``(...)`` and the six psi-dependent joints ``(..., 6)``."""
-    theta4 = np.broadcast_to(theta4, psi_joints.shape[:-1])
-    return np.concatenate([psi_joints[..., :3], theta4[..., None], psi_joints[..., 3:]], axis=-1)
 
 
 def limit_equation_table(
