@@ -1,6 +1,6 @@
-"""Joint angles as functions of the arm angle: eqs. 13-15 and 17-19 of paper 000.
+"""Joint angles as functions of the arm angle: [000 eqs. 13-15, 17-19].
 
-Every joint but the elbow is of one of two types (eqs. 21 and 22):
+Every joint but the elbow is of one of two types [000 eqs. 21, 22]:
 
 * tangent type (joints 1, 3, 5, 7): ``theta = atan2(sigma N(psi), sigma D(psi))``
   with ``N, D = (a sin psi + b cos psi + c)``;
@@ -28,11 +28,11 @@ import numpy as np
 
 #: Joint numbers (1-based) whose angle depends on psi, in column order of the arrays below.
 PSI_JOINTS = (1, 2, 3, 5, 6, 7)
-#: Which of the columns of :data:`PSI_JOINTS` are of cosine type (eqs. 14, 18).
+#: Which of the columns of :data:`PSI_JOINTS` are of cosine type [000 eqs. 14, 18].
 IS_COSINE = np.array([False, True, False, False, True, False])
 # slots of the seven entries of a group (see the module docstring)
 _X, _Y, _Z, _R0, _R1, _R2, _T = range(7)
-#: A group whose ``x, y`` coefficients (eqs. 12, 16) are all at or below this is singular at every
+#: A group whose ``x, y`` coefficients [000 eqs. 12, 16] are all at or below this is singular at every
 #: arm angle (the arm stretched along the joint-1 axis, or the mirror case at the wrist); below
 #: :data:`redkin.srs.ik_kernels.UNDEFINED_TOLERANCE` / 3, so that the IK then sets its first joint to 0 at every psi.
 STRETCHED_TOLERANCE = 1e-13
@@ -47,9 +47,9 @@ def limit_equation_table(
     The arm angles where ``theta(psi)`` equals a limit ``L`` solve ``p sin psi
     + q cos psi + r = 0`` with
 
-    * tangent type (eq. 21 with ``theta = L``): ``N cos L - D sin L = 0``
+    * tangent type ([000 eq. 21] with ``theta = L``): ``N cos L - D sin L = 0``
       (also true where ``theta = L + pi``, which only adds a harmless cut);
-    * cosine type (eq. 22): ``z - cos L = 0`` (also true where ``theta =
+    * cosine type [000 eq. 22]: ``z - cos L = 0`` (also true where ``theta =
       -L``, likewise harmless).
 
     ``(p, q, r)`` of all twelve equations (lower and upper limit of each
@@ -93,7 +93,7 @@ def limit_equation_table(
                 weights[base + _Z, e], offset[2, e] = 1.0, -np.cos(limit)
             elif stretched:  # third joint after a first joint of 0: N = r1, D = r0
                 weights[base + _R1, e], weights[base + _R0, e] = np.cos(limit), -np.sin(limit)
-            else:  # third joint (eq. 15 / 19): N = t, D = -r2
+            else:  # third joint [000 eqs. 15, 19]: N = t, D = -r2
                 weights[base + _T, e], weights[base + _R2, e] = np.cos(limit), np.sin(limit)
     for array in (weights, offset):
         array.setflags(write=False)
@@ -124,7 +124,7 @@ REGION_TOLERANCE = 1e-12
 
 
 def limit_sign_membership(lower: np.ndarray, upper: np.ndarray, start, span, free) -> np.ndarray:
-    """Joint-limit membership as a function of the signs of the two limit equations of each joint (eqs. 21, 22, 29).
+    """Joint-limit membership as a function of the signs of the two limit equations of each joint [000 eqs. 21, 22, 29].
 
     Between consecutive zeros of its two limit equations (:func:`limit_equation_table`)
     a joint stays on one side of each limit, so whether it is within its
