@@ -42,7 +42,7 @@ from redkin.srs.feasible import (
     feasible_pieces_all_branches,
     overall_pieces,
 )
-from redkin.srs.ik import coefficients_for
+from redkin.srs.coefficients import coefficients_for
 from timing import best_time, best_time_short_rounds  # benchmarks/timing.py (the script's folder is on sys.path)
 
 

@@ -8,7 +8,7 @@ from redkin.chain import SerialChain
 from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c, planar_arm, srs_chain
 from redkin.so3 import rot_x, rot_z
 from redkin.srs import BRANCHES, arm_angle_of, ik, ik_all_branches, pose_from, reachable, srs_geometry
-from redkin.srs.ik import coefficients_for
+from redkin.srs.coefficients import coefficients_for
 from redkin.srs.joints import STRETCHED_TOLERANCE, first_joint_coefficients
 
 ROUND_TRIP = 1e-9

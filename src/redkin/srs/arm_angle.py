@@ -11,7 +11,7 @@ from redkin.chain import SerialChain
 from redkin.srs.branches import branch_of_theta
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.coefficients import arm_angle_coefficients
-from redkin.srs.ik import as_geometry
+from redkin.srs._targets import as_geometry
 from redkin.srs.rotations import group_rotations
 
 

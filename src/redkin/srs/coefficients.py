@@ -44,10 +44,11 @@ import numpy as np
 
 from numpy.typing import ArrayLike
 
+from redkin.chain import SerialChain
 from redkin.compiled import run_batch
-from redkin.errors import RedkinError, UnreachablePoseError
 from redkin.srs import ik_kernels
-from redkin.validation import as_float_array, check_pose
+from redkin.srs._targets import as_geometry, as_poses, raise_for_status
+from redkin.srs.geometry import SRSGeometry
 
 
 @dataclass(frozen=True)
@@ -82,50 +83,6 @@ class ArmAngleCoefficients:
     entries: np.ndarray
 
 
-def unreachable_error(geometry, distance: np.ndarray, reach: np.ndarray) -> UnreachablePoseError | None:
-    """The error naming the first pose whose wrist is out of reach, or ``None``.
-
-    ``distance`` is ``|x_sw|`` and ``reach`` whether [000 eq. 11] has a solution, batched.
-    """
-    bad = ~reach
-    if not bad.any():
-        return None
-    index = tuple(int(i) for i in np.unravel_index(int(np.argmax(bad)), bad.shape))
-    count = int(bad.sum())
-    where = f" (pose {index}; {count} unreachable)" if bad.ndim else ""
-    mean, amplitude, _ = geometry.elbow_equation
-    return UnreachablePoseError(
-        f"unreachable position: shoulder-wrist distance {float(distance[index]):.6g} m must lie in "
-        f"[{np.sqrt(max(mean - amplitude, 0.0)):.6g}, {np.sqrt(mean + amplitude):.6g}] m{where}",
-        index=index, count=count,
-    )
-
-
-def as_poses(pose: ArrayLike) -> np.ndarray:
-    """``pose`` as a float array of shape ``(..., 4, 4)`` (its values are checked by the kernels)."""
-    array = as_float_array(pose, "pose")
-    if array.ndim < 2 or array.shape[-2:] != (4, 4):
-        raise RedkinError(f"pose must have shape (..., 4, 4), got shape {array.shape}")
-    return array
-
-
-def raise_for_bad_pose(pose: np.ndarray, status: np.ndarray) -> None:
-    """Raise the ``ValueError`` of :func:`redkin.validation.check_pose` if the kernels flagged a pose
-    (:data:`redkin.srs.ik_kernels.BAD_POSE`)."""
-    if (status == ik_kernels.BAD_POSE).any():
-        check_pose(pose)
-        raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
-
-
-def raise_for_status(geometry, pose: np.ndarray, status: np.ndarray, distance: np.ndarray) -> None:
-    """Raise the ``ValueError`` of the first failing check of a batch the kernels flagged:
-    :func:`raise_for_bad_pose`, then :func:`unreachable_error`."""
-    raise_for_bad_pose(pose, status)
-    error = unreachable_error(geometry, distance, status != ik_kernels.UNREACHABLE)
-    if error is not None:
-        raise error
-
-
 def coefficient_arrays(
     geometry, pose: np.ndarray, elbow_sign: np.ndarray | int
 ) -> tuple[ArmAngleCoefficients, np.ndarray, np.ndarray]:
@@ -154,6 +111,13 @@ def coefficient_arrays(
         wrist=wrist.reshape(shape + (3, 3, 3)), entries=entries.reshape(shape + entries.shape[1:]),
     )
     return result, status.reshape(shape), distance.reshape(shape)
+
+
+def coefficients_for(
+    arm: "SerialChain | SRSGeometry", pose: ArrayLike, elbow_sign: "int | np.ndarray"
+) -> ArmAngleCoefficients:
+    """[000 eqs. 12, 16] coefficients of poses ``(..., 4, 4)`` of the chain's tool for an elbow sign (validated)."""
+    return arm_angle_coefficients(as_geometry(arm), pose, elbow_sign)
 
 
 def arm_angle_coefficients(geometry, pose: ArrayLike, elbow_sign: np.ndarray | int) -> ArmAngleCoefficients:

@@ -48,9 +48,9 @@ from redkin.circle import ArcSet
 from redkin.compiled import run_batch
 from redkin.srs import feasible_kernels as kernels
 from redkin.srs.branches import Branch, parse_branch
-from redkin.srs.coefficients import ArmAngleCoefficients, as_poses, raise_for_status
+from redkin.srs._targets import as_geometry, as_poses, raise_for_status
+from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.ik import as_geometry
 
 PIECE_TOLERANCE = kernels.PIECE_TOLERANCE
 _CACHE_KEY = "_feasible_limit_tables"

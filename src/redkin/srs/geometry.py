@@ -25,7 +25,6 @@ from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.srs import ik_kernels
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
-from redkin.validation import check_rotation, check_vectors
 
 HALF_PI = np.pi / 2.0
 TWO_PI = 2.0 * np.pi
@@ -387,22 +386,6 @@ def _derive_geometry(chain: SerialChain) -> SRSGeometry:
         plain_joints=plain_joints,
         wrap_columns=tuple(wrap),
     )
-
-
-def check_target(position: np.ndarray, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Validate a batch of target positions ``(..., 3)`` and rotations ``(..., 3, 3)``."""
-    position = check_vectors(position, 3, "position")
-    rotation = check_rotation(rotation, "rotation")
-    if position.shape[:-1] != rotation.shape[:-2]:
-        try:
-            shape = np.broadcast_shapes(position.shape[:-1], rotation.shape[:-2])
-        except ValueError:
-            raise ValueError(
-                f"position batch shape {position.shape[:-1]} does not match rotation batch shape {rotation.shape[:-2]}"
-            ) from None
-        position = np.broadcast_to(position, shape + (3,))
-        rotation = np.broadcast_to(rotation, shape + (3, 3))
-    return position, rotation
 
 
 def pose_from(position: np.ndarray, rotation: np.ndarray) -> np.ndarray:

@@ -16,21 +16,10 @@ from redkin.compiled import run_batch
 from redkin.errors import RedkinError
 from redkin.srs import ik_kernels
 from redkin.srs.branches import Branch
-from redkin.srs.coefficients import (
-    ArmAngleCoefficients,
-    arm_angle_coefficients,
-    as_poses,
-    coefficient_arrays,
-    raise_for_bad_pose,
-    raise_for_status,
-)
-from redkin.srs.geometry import SRSGeometry, srs_geometry
-from redkin.validation import as_float_array, check_finite
-
-
-def as_geometry(arm: "SerialChain | SRSGeometry") -> SRSGeometry:
-    """An :class:`SRSGeometry` from a chain (checked, derived once per chain) or a geometry (as is)."""
-    return arm if isinstance(arm, SRSGeometry) else srs_geometry(arm)
+from redkin.srs._targets import as_geometry, as_poses, check_psi, raise_for_bad_pose, raise_for_status
+from redkin.srs.coefficients import ArmAngleCoefficients, coefficient_arrays
+from redkin.srs.geometry import SRSGeometry
+from redkin.validation import as_float_array
 
 
 def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
@@ -62,20 +51,6 @@ def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
     _, status, _ = coefficient_arrays(geometry, pose, 1)
     raise_for_bad_pose(pose, status)
     return status == ik_kernels.OK
-
-
-def check_psi(psi: ArrayLike) -> np.ndarray:
-    """Arm angles as a finite float array."""
-    array = as_float_array(psi, "psi")
-    check_finite(array, "psi")
-    return array
-
-
-def coefficients_for(
-    arm: "SerialChain | SRSGeometry", pose: ArrayLike, elbow_sign: "int | np.ndarray"
-) -> ArmAngleCoefficients:
-    """[000 eqs. 12, 16] coefficients of poses ``(..., 4, 4)`` of the chain's tool for an elbow sign (validated)."""
-    return arm_angle_coefficients(as_geometry(arm), pose, elbow_sign)
 
 
 def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch) -> np.ndarray:

@@ -24,10 +24,10 @@ from numpy.typing import ArrayLike
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
 from redkin.srs.branches import Branch
-from redkin.srs.coefficients import ArmAngleCoefficients
+from redkin.srs.coefficients import ArmAngleCoefficients, coefficients_for
 from redkin.srs.feasible import feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.ik import as_geometry, coefficients_for
+from redkin.srs._targets import as_geometry
 from redkin.srs.rotations import group_rotations
 from redkin.validation import check_vectors
 

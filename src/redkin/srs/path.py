@@ -17,7 +17,9 @@ from redkin.chain import SerialChain
 from redkin.srs.branches import Branch
 from redkin.srs.feasible import FeasibleArmAngles, feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.ik import as_geometry, coefficients_for, theta_at
+from redkin.srs._targets import as_geometry
+from redkin.srs.coefficients import coefficients_for
+from redkin.srs.ik import theta_at
 from redkin.srs.optimal import check_weights, default_target, maximiser, objective_coefficients
 from redkin.validation import check_pose, check_vectors
 

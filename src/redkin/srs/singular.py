@@ -21,9 +21,9 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.srs.branches import Branch
-from redkin.srs.coefficients import ArmAngleCoefficients
+from redkin.srs.coefficients import ArmAngleCoefficients, coefficients_for
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.ik import as_geometry, coefficients_for
+from redkin.srs._targets import as_geometry
 
 #: Default tolerance on the residuals of [000 eqs. 31, 33].
 SINGULAR_TOLERANCE = 1e-9
