@@ -83,6 +83,11 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
     pose = as_poses(pose)
     psi_array = as_float_array(psi, "psi")
     shape = pose.shape[:-2]
+    if not shape and not psi_array.shape and pose.flags.c_contiguous:  # one pose: no batch to lay out
+        out = np.empty((branches.shape[0], 7))
+        if ik_kernels.solve_single(pose, psi_array, branches, *geometry.kernel_tables, out) != ik_kernels.OK:
+            _raise_for(geometry, pose, psi_array)
+        return out
     if psi_array.shape != shape:
         try:
             shape = np.broadcast_shapes(shape, psi_array.shape)
@@ -99,10 +104,15 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
     out = np.empty((count, branches.shape[0], 7))
     if run_batch(ik_kernels.solve_poses, ik_kernels.solve_poses_parallel, count, poses, angles, branches,
                  *geometry.kernel_tables, out):
-        check_psi(psi_array)
-        _, flags, distance = coefficient_arrays(geometry, poses, 1)
-        raise_for_status(geometry, pose, flags.reshape(shape), distance.reshape(shape))
+        _raise_for(geometry, pose, psi_array)
     return out.reshape(shape + branches.shape[:1] + (7,))
+
+
+def _raise_for(geometry: SRSGeometry, pose: np.ndarray, psi: np.ndarray) -> None:
+    """Raise the error of a batch :func:`redkin.srs.ik_kernels.solve_poses` flagged: psi, then the poses."""
+    check_psi(psi)
+    _, flags, distance = coefficient_arrays(geometry, pose, 1)
+    raise_for_status(geometry, pose, flags, distance)
 
 
 def ik(

@@ -373,6 +373,12 @@ def _scratch():
 
 
 @kernel
+def solve_single(pose, psi, branches, arm, ends, joints, out):
+    """:func:`solve_pose` for one pose (4, 4) and arm angle (a 0-d array) into ``out`` (B, 7); returns the status."""
+    return solve_pose(pose, psi[()], branches, arm, ends, joints, out, _scratch())
+
+
+@kernel
 def solve_poses(poses, psi, branches, arm, ends, joints, out):
     """:func:`solve_pose` for each pose (N, 4, 4) and arm angle (N,) into ``out`` (N, B, 7).
 
