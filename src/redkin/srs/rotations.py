@@ -1,8 +1,11 @@
 """Rotations of the spherical shoulder and wrist of a Table 1 arm ([000 eq. 3]).
 
-``0R3`` (joints 1-3) and ``4R7`` (joints 5-7) are read from the frames of
-the arm's Table 1 chain (:meth:`redkin.chain.SerialChain.frames`, the
-compiled DH products), so there is one implementation of [000 eq. 3] in redkin.
+``0R3`` (joints 1-3) and ``4R7`` (joints 5-7) at given joint values are
+read from the frames of the arm's Table 1 chain
+(:meth:`redkin.chain.SerialChain.frames`, the compiled DH products of
+[000 eq. 3]) rather than multiplied out again here.  (The IK kernels write
+the single factor ``3R4 = Rz(theta_4) Rx(pi/2)`` in closed form,
+:func:`redkin.srs.ik_kernels.elbow_frame`.)
 """
 
 from __future__ import annotations
