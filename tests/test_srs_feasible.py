@@ -7,7 +7,7 @@ from hypothesis import given, settings, strategies as st
 from redkin.circle import intersect_all, wrap_angle
 from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
 from srs_arms import ARM_KINDS, arm
-from redkin.srs import BRANCHES, feasible_arm_angles, feasible_pieces, ik, pose_from
+from redkin.srs import BRANCHES, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces, ik, pose_from
 
 GRID = np.linspace(-np.pi, np.pi, 6001, endpoint=False)
 
@@ -138,7 +138,7 @@ def test_batched_pieces_equal_single_pose_sets():
     q = rng.uniform(-1.0, 1.0, (30, 7)) * [1.5, 0.7, 2.0, 1.0, 1.5, 1.5, 2.0] + [0, 0, 0, 1.2, 0, 0, 0]
     poses = chain.fk(q)
     pieces = feasible_pieces(chain, poses, "+++")
-    batch = feasible_arm_angles(chain, poses, "+++")
+    batch = feasible_arm_angles_batch(chain, poses, "+++")
     assert batch.shape == (30,)
     for i in range(30):
         single = feasible_arm_angles(chain, poses[i], "+++")
@@ -191,3 +191,16 @@ def test_urdf_arm_feasible_sets_equal_dense_sampling_in_its_own_joint_values(lim
             state = arm_angle_of(chain, q)
             found = feasible_arm_angles(chain, pose, str(state.branch_strings()))
             assert found.feasible.contains(np.array([float(state.psi)]))[0]
+
+
+def test_feasible_arm_angles_takes_one_pose_and_the_batch_function_a_batch():
+    """One return type per function: a FeasibleArmAngles for one pose, an object array for a batch."""
+    chain = pa10_7c()
+    poses = chain.fk(np.random.default_rng(5).uniform(-1, 1, (2, 3, 7)))
+    with pytest.raises(ValueError, match="feasible_arm_angles_batch"):
+        feasible_arm_angles(chain, poses, "+++")
+    batch = feasible_arm_angles_batch(chain, poses, "+++")
+    assert batch.shape == (2, 3) and batch.dtype == object
+    assert batch[1, 2].feasible == feasible_arm_angles(chain, poses[1, 2], "+++").feasible
+    one = feasible_arm_angles_batch(chain, poses[0, 0], "+++")
+    assert one.shape == () and one[()].feasible == batch[0, 0].feasible

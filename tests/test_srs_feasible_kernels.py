@@ -13,7 +13,7 @@ from hypothesis import given, settings, strategies as st
 
 from redkin.compiled import PARALLEL_BATCH
 from redkin.models import kuka_iiwa14, pa10_7c
-from redkin.srs import BRANCHES, feasible_arm_angles, feasible_pieces
+from redkin.srs import BRANCHES, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces
 from redkin.srs.feasible import feasible_pieces_all_branches
 from redkin.srs.feasible_kernels import sinusoid_roots
 
@@ -45,7 +45,7 @@ def test_a_parallel_batch_equals_single_calls_bit_for_bit(chain, branch):
         np.testing.assert_array_equal(alone.start, batch.start[i])
         np.testing.assert_array_equal(alone.end, batch.end[i])
         np.testing.assert_array_equal(alone.feasible, batch.feasible[i])
-    sets = feasible_arm_angles(chain, poses[:PARALLEL_BATCH], branch)  # per-joint rows on the parallel loop too
+    sets = feasible_arm_angles_batch(chain, poses[:PARALLEL_BATCH], branch)  # per-joint rows on the parallel loop too
     for i in range(0, PARALLEL_BATCH, 17):
         single = feasible_arm_angles(chain, poses[i], branch)
         assert single.feasible == sets[i].feasible == batch.arc_set((i,))

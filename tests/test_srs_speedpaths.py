@@ -14,7 +14,8 @@ from hypothesis import example, given, settings, strategies as st
 from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
 from srs_arms import ARM_KINDS, arm
 from redkin.so3 import rot_x
-from redkin.srs import BRANCHES, arm_angle_of, feasible_arm_angles, feasible_pieces, ik, ik_all_branches, pose_from, srs_geometry
+from redkin.srs import (BRANCHES, arm_angle_of, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces, ik,
+                         ik_all_branches, pose_from, srs_geometry)
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs import feasible_kernels
 from redkin.srs.feasible import limit_tables
@@ -110,7 +111,7 @@ def test_batched_feasible_sets_equal_looped(seed, model, branch, crossing):
     chain, q = random_chain(rng, model, crossing)
     poses = chain.fk(q + rng.normal(0.0, 0.3, (5, 7)))
     pieces = feasible_pieces(chain, poses, branch)
-    batch = feasible_arm_angles(chain, poses, branch)
+    batch = feasible_arm_angles_batch(chain, poses, branch)
     for i in range(5):
         alone = feasible_pieces(chain, poses[i], branch)
         np.testing.assert_array_equal(alone.feasible, pieces.feasible[i])

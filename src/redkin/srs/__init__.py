@@ -3,7 +3,8 @@
 * :func:`ik`, :func:`ik_all_branches` -- joint values for a pose and an arm angle [000 eqs. 4-19]
 * :func:`arm_angle_of` -- arm angle and branch of joint values
 * :func:`reachable` -- which poses of a batch the wrist can reach (filter before the others)
-* :func:`feasible_arm_angles` -- per-joint and overall feasible arm angles, closed form [000 eqs. 20-22, 29-30]
+* :func:`feasible_arm_angles` -- per-joint and overall feasible arm angles of one pose, closed form
+  [000 eqs. 20-22, 29-30]; :func:`feasible_arm_angles_batch` for a batch (an object array of them)
 * :func:`feasible_pieces`, :func:`feasible_pieces_all_branches` -- the same as arrays, one branch or all eight
 * :func:`joint_extrema` -- type, case, extrema and monotonicity of each joint over psi [000 eqs. 21-28]
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles [000 eqs. 31-34]
@@ -22,6 +23,7 @@ from redkin.srs.feasible import (
     FeasibleArmAngles,
     FeasiblePieces,
     feasible_arm_angles,
+    feasible_arm_angles_batch,
     feasible_pieces,
     feasible_pieces_all_branches,
 )
@@ -50,6 +52,7 @@ __all__ = [
     "arm_angle_of",
     "arm_angle_path",
     "feasible_arm_angles",
+    "feasible_arm_angles_batch",
     "feasible_pieces",
     "feasible_pieces_all_branches",
     "ik",

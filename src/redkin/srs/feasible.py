@@ -45,6 +45,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
+from redkin.errors import RedkinError
 from redkin.compiled import run_batch
 from redkin.srs import feasible_kernels as kernels
 from redkin.srs.branches import Branch, parse_branch
@@ -216,8 +217,8 @@ def _from_poses(pose: ArrayLike, branches: np.ndarray, geometry: SRSGeometry, pe
             theta4.reshape(shape + (rows,)), elbow_inside.reshape(shape + (rows,)))
 
 
-def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) -> "FeasibleArmAngles | np.ndarray":
-    """:class:`FeasibleArmAngles` of a batch (object array, or one for the batch shape ``()``) from the pieces
+def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) -> np.ndarray:
+    """:class:`FeasibleArmAngles` of a batch (an object array with the batch shape, 0-d for one pose) from the pieces
     ``start, end`` (..., 24), their rows ``keep`` (..., 7, 24), theta_4 and its membership (...)."""
     shape = theta4.shape
     count = theta4.size
@@ -233,7 +234,7 @@ def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) 
                        5: fifth, 6: sixth, 7: seventh},
             feasible=overall,
         )
-    return results[0] if shape == () else results.reshape(shape)
+    return results.reshape(shape)
 
 
 def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
@@ -324,8 +325,8 @@ def all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry)
 
 def feasible_from_coefficients(
     coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry
-) -> "FeasibleArmAngles | np.ndarray":
-    """:class:`FeasibleArmAngles` from precomputed coefficients (object array for a batch).
+) -> np.ndarray:
+    """:class:`FeasibleArmAngles` from precomputed coefficients: an object array with their batch shape (0-d for one pose).
 
     Parameters
     ----------
@@ -342,25 +343,49 @@ def feasible_from_coefficients(
 
 def feasible_arm_angles(
     arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
-) -> "FeasibleArmAngles | np.ndarray":
-    """Per-joint and overall feasible arm angles [000 eqs. 29, 30].
+) -> FeasibleArmAngles:
+    """Per-joint and overall feasible arm angles of one pose [000 eqs. 29, 30].
 
     Parameters
     ----------
     arm : SerialChain or SRSGeometry
         S-R-S arm with its joint limits (ranges of width >= 2 pi are unlimited).
-    pose : array_like, shape (4, 4) or (..., 4, 4)
+    pose : array_like, shape (4, 4)
     branch : str or Branch
         Signs of theta_2, theta_4, theta_6.
 
     Returns
     -------
-    FeasibleArmAngles, or an object array of them with the batch shape.
+    FeasibleArmAngles
+        For a batch of poses see :func:`feasible_arm_angles_batch` (the same
+        results, as an object array) or :func:`feasible_pieces` (arrays).
 
     Raises
     ------
-    ValueError
-        For a malformed or unreachable pose or a malformed branch.
+    RedkinError
+        For a malformed pose or branch, or a batch of poses.
+    UnreachablePoseError
+        For a wrist position out of reach.
+    """
+    shape = np.shape(pose)
+    if shape != (4, 4):
+        raise RedkinError(f"feasible_arm_angles takes one pose of shape (4, 4), got shape {shape}; "
+                          "for a batch use feasible_arm_angles_batch or feasible_pieces")
+    return feasible_arm_angles_batch(arm, pose, branch)[()]
+
+
+def feasible_arm_angles_batch(
+    arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
+) -> np.ndarray:
+    """:func:`feasible_arm_angles` of a batch of poses ``(..., 4, 4)``: an object array of
+    :class:`FeasibleArmAngles` with the batch shape (0-d for one pose) [000 eqs. 29, 30].
+
+    Raises
+    ------
+    RedkinError
+        For a malformed pose or branch.
+    UnreachablePoseError
+        For a wrist position out of reach (its ``index`` names the first such pose).
     """
     geometry = as_geometry(arm)
     start, end, keep, theta4, elbow_inside = _from_poses(pose, geometry.kernel_branch(branch), geometry, True)

@@ -137,7 +137,7 @@ def optimal_arm_angles(
     r_s, r_w = check_weights(weights)
     coefficients = coefficients_for(geometry, pose, chosen.elbow)
     if feasible is None:
-        feasible = feasible_from_coefficients(coefficients, chosen, geometry).feasible
+        feasible = feasible_from_coefficients(coefficients, chosen, geometry)[()].feasible
     shoulder, wrist = objective_coefficients(coefficients, geometry, q_target)
     combined = r_s * shoulder + r_w * wrist  # [000 eq. 40] (the 1/(r_s + r_w) factor does not move the maximiser)
     return OptimalArmAngles(
