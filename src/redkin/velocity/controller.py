@@ -152,7 +152,8 @@ class SingularityConsistentController:
         self._tables = _kernel_tables(chain)
         self.factorisation = singularity_factorisation(chain) if factorisation is None else factorisation
         if not isinstance(self.factorisation, Factorisation):
-            raise ValueError(f"factorisation must be a Factorisation, got {type(self.factorisation).__name__}")
+            raise ValueError(f"factorisation must have index(q) and factors(q, jacobian) (a Factorisation), "
+                             f"got {type(self.factorisation).__name__}")
         start = read_vector(q0, 7, "q0")
         if not np.isfinite(start).all():
             raise ValueError(f"q0 must be finite, got {start.tolist()}")

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from math import cos, sin
-from typing import Callable
+from typing import Callable, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -78,19 +78,20 @@ def wam_index_and_factors(q, a, d3, d5, index, factors):
         factors[b, 6] = -wrist * s2 * c5
 
 
-class Factorisation:
-    """Interface: ``index(q)`` -> ``D_e`` ``(...)``; ``factors(q, jacobian)`` -> ``D_i`` ``(..., n)``.
+@runtime_checkable
+class Factorisation(Protocol):
+    """A singularity factorisation (the plug-in of the SC method, a ``Protocol`` like
+    :class:`redkin.velocity.methods.Method`): ``index(q)`` -> ``D_e`` ``(...)``;
+    ``factors(q, jacobian)`` -> ``D_i`` ``(..., n)``.
 
     ``jacobian`` is the Jacobian at ``q`` where the caller holds it, or
     ``None`` (the control loop's exact path): then a factorisation that needs
     it builds it.
     """
 
-    def index(self, q: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
-        raise NotImplementedError
+    def index(self, q: np.ndarray) -> np.ndarray: ...
 
-    def factors(self, q: np.ndarray, jacobian: np.ndarray | None) -> np.ndarray:  # pragma: no cover - interface
-        raise NotImplementedError
+    def factors(self, q: np.ndarray, jacobian: np.ndarray | None) -> np.ndarray: ...
 
 
 @dataclass(frozen=True)
