@@ -21,8 +21,9 @@ the methods here validate their inputs and call them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
-from typing import Literal, Sequence
+from collections.abc import Sequence
+from dataclasses import dataclass, field, fields, replace
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -36,7 +37,7 @@ TWO_PI = 2.0 * np.pi
 _NO_OFFSET = np.zeros((1, 3))
 
 
-def _frozen(values: ArrayLike, n: int, name: str, default: float | None = None) -> np.ndarray:
+def _frozen(values: ArrayLike | None, n: int, name: str, default: float | None = None) -> np.ndarray:
     if values is None:
         values = np.full(n, default)
     array = as_float_array(values, name).reshape(-1)
@@ -47,7 +48,7 @@ def _frozen(values: ArrayLike, n: int, name: str, default: float | None = None) 
     return array
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)
 class SerialChain:
     """A serial chain of revolute joints.
 
@@ -73,38 +74,58 @@ class SerialChain:
         One name per joint (a URDF's joint names); default ``joint 1`` .. ``joint n``.
     """
 
+    # The fields are what the constructor stores (read-only float arrays, 4x4 matrices, a tuple of names); it takes
+    # array-likes and None for the defaults, so it is written out rather than generated (dataclass init=False).
     a: np.ndarray
     alpha: np.ndarray
     d: np.ndarray
-    convention: Convention = "dh"
-    offset: np.ndarray | None = None
-    sign: np.ndarray | None = None
-    lower: np.ndarray | None = None
-    upper: np.ndarray | None = None
-    base: np.ndarray | None = None
-    tool: np.ndarray | None = None
-    name: str = "chain"
-    source: str = ""
-    joint_names: tuple[str, ...] = ()
+    convention: Convention
+    offset: np.ndarray
+    sign: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    base: np.ndarray
+    tool: np.ndarray
+    name: str
+    source: str
+    joint_names: tuple[str, ...]
     _standard: bool = field(init=False, repr=False)
     _links: np.ndarray = field(init=False, repr=False)
     _ends: np.ndarray = field(init=False, repr=False)
 
-    def __post_init__(self) -> None:
-        if self.convention not in ("dh", "mdh"):
-            raise ValueError(f"convention must be 'dh' or 'mdh', got {self.convention!r}")
-        a = as_float_array(self.a, "a").reshape(-1)
+    def __init__(
+        self,
+        a: ArrayLike,
+        alpha: ArrayLike,
+        d: ArrayLike,
+        convention: Convention = "dh",
+        offset: ArrayLike | None = None,
+        sign: ArrayLike | None = None,
+        lower: ArrayLike | None = None,
+        upper: ArrayLike | None = None,
+        base: ArrayLike | None = None,
+        tool: ArrayLike | None = None,
+        name: str = "chain",
+        source: str = "",
+        joint_names: Sequence[str] = (),
+    ) -> None:
+        if convention not in ("dh", "mdh"):
+            raise ValueError(f"convention must be 'dh' or 'mdh', got {convention!r}")
+        object.__setattr__(self, "convention", convention)
+        object.__setattr__(self, "name", name)
+        object.__setattr__(self, "source", source)
+        a = as_float_array(a, "a").reshape(-1)
         n = a.size
         if n == 0:
             raise ValueError("a chain needs at least one joint, got 0 rows")
         values = {
             "a": _frozen(a, n, "a"),
-            "alpha": _frozen(self.alpha, n, "alpha"),
-            "d": _frozen(self.d, n, "d"),
-            "offset": _frozen(self.offset, n, "offset", 0.0),
-            "sign": _frozen(self.sign, n, "sign", 1.0),
-            "lower": _frozen(self.lower, n, "lower", -np.inf),
-            "upper": _frozen(self.upper, n, "upper", np.inf),
+            "alpha": _frozen(alpha, n, "alpha"),
+            "d": _frozen(d, n, "d"),
+            "offset": _frozen(offset, n, "offset", 0.0),
+            "sign": _frozen(sign, n, "sign", 1.0),
+            "lower": _frozen(lower, n, "lower", -np.inf),
+            "upper": _frozen(upper, n, "upper", np.inf),
         }
         for key in ("a", "alpha", "d", "offset", "sign"):
             check_finite(values[key], key)
@@ -118,19 +139,19 @@ class SerialChain:
             raise ValueError(
                 f"joint {i + 1}: lower limit {values['lower'][i]:g} exceeds upper limit {values['upper'][i]:g}"
             )
-        for key in ("base", "tool"):
-            matrix = np.eye(4) if getattr(self, key) is None else check_pose(getattr(self, key), key)
+        for key, given in (("base", base), ("tool", tool)):
+            matrix = np.eye(4) if given is None else check_pose(given, key)
             if matrix.shape != (4, 4):
                 raise ValueError(f"{key} must have shape (4, 4), got {matrix.shape}")
             matrix = matrix.copy()
             matrix.setflags(write=False)
             values[key] = matrix
-        names = tuple(str(v) for v in self.joint_names) or tuple(f"joint {i + 1}" for i in range(n))
+        names = tuple(str(v) for v in joint_names) or tuple(f"joint {i + 1}" for i in range(n))
         if len(names) != n:
             raise ValueError(f"joint_names must have {n} entries (one per joint), got {len(names)}")
-        values["joint_names"] = names
         for key, value in values.items():
             object.__setattr__(self, key, value)
+        object.__setattr__(self, "joint_names", names)
         # what the kernels read (redkin.chain_kernels): one row per joint, and base and tool
         links = np.stack([self.offset, self.sign, self.a, self.d, *_cos_sin(self.alpha)], axis=-1)
         object.__setattr__(self, "_standard", self.convention == "dh")
@@ -153,17 +174,22 @@ class SerialChain:
         """Boolean mask of joints whose range is narrower than ``2 pi``."""
         return (self.upper - self.lower) < TWO_PI
 
-    def with_limits(self, lower: ArrayLike, upper: ArrayLike) -> "SerialChain":
+    def with_limits(self, lower: ArrayLike, upper: ArrayLike) -> SerialChain:
         """A copy of this chain with other joint limits."""
-        return replace(self, lower=lower, upper=upper)
+        return self._replaced(lower=lower, upper=upper)
 
-    def with_tool(self, tool: ArrayLike) -> "SerialChain":
+    def with_tool(self, tool: ArrayLike) -> SerialChain:
         """A copy of this chain with another tool transform."""
-        return replace(self, tool=tool)
+        return self._replaced(tool=tool)
 
-    def with_base(self, base: ArrayLike) -> "SerialChain":
+    def with_base(self, base: ArrayLike) -> SerialChain:
         """A copy of this chain with another base transform."""
-        return replace(self, base=base)
+        return self._replaced(base=base)
+
+    def _replaced(self, **changes: ArrayLike) -> SerialChain:
+        """``dataclasses.replace`` through the constructor, which takes array-likes where the fields hold arrays."""
+        arguments: dict[str, Any] = {f.name: getattr(self, f.name) for f in fields(self) if f.init}
+        return SerialChain(**{**arguments, **changes})
 
     def check_q(self, q: ArrayLike, name: str = "q") -> np.ndarray:
         """Validate joint vectors: finite, shape ``(..., n)``; return them as floats."""
@@ -337,7 +363,7 @@ class SerialChain:
             ok = (q >= self.lower - tolerance) & (q <= self.upper + tolerance)
         return ok | free
 
-    def mirrored(self, normal: ArrayLike = (1.0, 0.0, 0.0), flip_joints: Sequence[int] = ()) -> "SerialChain":
+    def mirrored(self, normal: ArrayLike = (1.0, 0.0, 0.0), flip_joints: Sequence[int] = ()) -> SerialChain:
         """The mirror image of this chain in the plane through the base origin with ``normal``.
 
         The mirrored chain at joints ``q`` reaches ``M fk(q) M'`` where ``M`` is
