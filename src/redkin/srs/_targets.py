@@ -18,7 +18,7 @@ from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.validation import as_float_array, check_finite, check_pose
 
 
-def as_geometry(arm: "SerialChain | SRSGeometry") -> SRSGeometry:
+def as_geometry(arm: SerialChain | SRSGeometry) -> SRSGeometry:
     """An :class:`SRSGeometry` from a chain (checked, derived once per chain) or a geometry (as is)."""
     return arm if isinstance(arm, SRSGeometry) else srs_geometry(arm)
 

@@ -8,10 +8,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
-from redkin.srs.branches import branch_of_theta
-from redkin.srs.geometry import SRSGeometry
-from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs._targets import as_geometry
+from redkin.srs.branches import branch_of_theta
+from redkin.srs.coefficients import arm_angle_coefficients
+from redkin.srs.geometry import SRSGeometry
 from redkin.srs.rotations import group_rotations
 
 
@@ -36,7 +36,7 @@ class ArmAngleState:
         return np.apply_along_axis(lambda row: "".join(row), -1, chars) if chars.ndim > 1 else np.array("".join(chars))
 
 
-def arm_angle_of(arm: "SerialChain | SRSGeometry", q: ArrayLike) -> ArmAngleState:
+def arm_angle_of(arm: SerialChain | SRSGeometry, q: ArrayLike) -> ArmAngleState:
     """Arm angle and branch of joint vectors ``q`` ``(..., 7)``.
 
     ``0R3 = R_psi 0R3o`` [000 eq. 8], so ``R_psi = 0R3 0R3o^T`` and ``psi`` is its

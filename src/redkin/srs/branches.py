@@ -33,7 +33,7 @@ BRANCHES: tuple[Branch, ...] = tuple(
 _BY_TEXT = {str(branch): branch for branch in BRANCHES}
 
 
-def parse_branch(value: "str | Branch | tuple[int, int, int]") -> Branch:
+def parse_branch(value: str | Branch | tuple[int, int, int]) -> Branch:
     """A :class:`Branch` from ``"+-+"`` or a triple of signs.
 
     Raises

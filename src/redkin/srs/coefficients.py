@@ -41,7 +41,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
@@ -114,7 +113,7 @@ def coefficient_arrays(
 
 
 def coefficients_for(
-    arm: "SerialChain | SRSGeometry", pose: ArrayLike, elbow_sign: "int | np.ndarray"
+    arm: SerialChain | SRSGeometry, pose: ArrayLike, elbow_sign: int | np.ndarray
 ) -> ArmAngleCoefficients:
     """[000 eqs. 12, 16] coefficients of poses ``(..., 4, 4)`` of the chain's tool for an elbow sign (validated)."""
     return arm_angle_coefficients(as_geometry(arm), pose, elbow_sign)

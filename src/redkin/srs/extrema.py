@@ -65,11 +65,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
+from redkin.srs.coefficients import coefficients_for
 from redkin.srs.feasible_kernels import sinusoid_roots
 from redkin.srs.geometry import MEMBERSHIP_TOLERANCE, SRSGeometry
-from redkin.srs._targets import as_geometry
-from redkin.srs.coefficients import coefficients_for
 from redkin.srs.ik import theta_at
 from redkin.srs.joints import PSI_JOINTS
 from redkin.validation import check_pose

@@ -45,11 +45,11 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
-from redkin.errors import RedkinError
 from redkin.compiled import run_batch
+from redkin.errors import RedkinError
 from redkin.srs import feasible_kernels as kernels
-from redkin.srs.branches import Branch, parse_branch
 from redkin.srs._targets import as_geometry, as_poses, raise_for_status
+from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
 from redkin.srs.geometry import SRSGeometry
 
@@ -258,7 +258,7 @@ def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry:
 
 
 def feasible_pieces(
-    arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
+    arm: SerialChain | SRSGeometry, pose: ArrayLike, branch: str | Branch = "+++"
 ) -> FeasiblePieces:
     """Batched feasible sets [000 eq. 30] as arrays, for speed; see :func:`feasible_arm_angles`."""
     geometry = as_geometry(arm)
@@ -266,7 +266,7 @@ def feasible_pieces(
     return FeasiblePieces(start[..., 0, :], end[..., 0, :], keep[..., 0, 0, :])
 
 
-def feasible_pieces_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> FeasiblePieces:
+def feasible_pieces_all_branches(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> FeasiblePieces:
     """The feasible sets [000 eq. 30] of the eight branches as arrays ``(..., 8, 24)``, in the order of :data:`BRANCHES`.
 
     The branches are named in the chain's joint senses, as in
@@ -342,7 +342,7 @@ def feasible_from_coefficients(
 
 
 def feasible_arm_angles(
-    arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
+    arm: SerialChain | SRSGeometry, pose: ArrayLike, branch: str | Branch = "+++"
 ) -> FeasibleArmAngles:
     """Per-joint and overall feasible arm angles of one pose [000 eqs. 29, 30].
 
@@ -375,7 +375,7 @@ def feasible_arm_angles(
 
 
 def feasible_arm_angles_batch(
-    arm: "SerialChain | SRSGeometry", pose: ArrayLike, branch: "str | Branch" = "+++"
+    arm: SerialChain | SRSGeometry, pose: ArrayLike, branch: str | Branch = "+++"
 ) -> np.ndarray:
     """:func:`feasible_arm_angles` of a batch of poses ``(..., 4, 4)``: an object array of
     :class:`FeasibleArmAngles` with the batch shape (0-d for one pose) [000 eqs. 29, 30].

@@ -139,7 +139,7 @@ class SRSGeometry:
         sign, offset = self.chain.sign, self.chain.offset
         return tuple(int(sign[k]) * (1 if np.cos(offset[k]) >= 0.0 else -1) for k in (1, 3, 5))
 
-    def table1_branch(self, branch: "str | Branch | tuple[int, int, int]") -> Branch:
+    def table1_branch(self, branch: str | Branch | tuple[int, int, int]) -> Branch:
         """The Table 1 branch of a branch named in the chain's joint senses (and back: the map is its own inverse).
 
         A branch names the signs of theta_2, ``theta_4 - phi`` and theta_6
@@ -247,7 +247,7 @@ class SRSGeometry:
         table = np.stack([chain.offset, chain.sign, wrap, start, chain.upper, chain.limited]).astype(float)
         return _read_only(table)
 
-    def kernel_branch(self, branch: "str | Branch | tuple[int, int, int]") -> np.ndarray:
+    def kernel_branch(self, branch: str | Branch | tuple[int, int, int]) -> np.ndarray:
         """The Table 1 signs of one branch named in the chain's joint senses, (1, 3) float, parsed once per name.
 
         Raises

@@ -15,14 +15,14 @@ from redkin.chain import SerialChain
 from redkin.compiled import run_batch
 from redkin.errors import RedkinError
 from redkin.srs import ik_kernels
-from redkin.srs.branches import Branch
 from redkin.srs._targets import as_geometry, as_poses, check_psi, raise_for_bad_pose, raise_for_status
+from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients, coefficient_arrays
 from redkin.srs.geometry import SRSGeometry
 from redkin.validation import as_float_array
 
 
-def reachable(arm: "SerialChain | SRSGeometry", pose: ArrayLike) -> np.ndarray:
+def reachable(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> np.ndarray:
     """Which target poses put the wrist within reach of the elbow ([000 eq. 11] has a solution).
 
     The arm-angle functions raise :class:`redkin.errors.UnreachablePoseError`
@@ -116,10 +116,10 @@ def _raise_for(geometry: SRSGeometry, pose: np.ndarray, psi: np.ndarray) -> None
 
 
 def ik(
-    arm: "SerialChain | SRSGeometry",
+    arm: SerialChain | SRSGeometry,
     pose: ArrayLike,
     psi: ArrayLike,
-    branch: "str | Branch" = "+++",
+    branch: str | Branch = "+++",
 ) -> np.ndarray:
     """Joint values reaching ``pose`` with arm angle ``psi`` on one branch.
 
@@ -153,7 +153,7 @@ def ik(
     return solve(geometry, pose, psi, geometry.kernel_branch(branch))[..., 0, :]
 
 
-def ik_all_branches(arm: "SerialChain | SRSGeometry", pose: ArrayLike, psi: ArrayLike) -> np.ndarray:
+def ik_all_branches(arm: SerialChain | SRSGeometry, pose: ArrayLike, psi: ArrayLike) -> np.ndarray:
     """Joint values of all eight branches, shape ``(..., 8, 7)`` in the order of :data:`BRANCHES`.
 
     ``psi`` broadcasts against the batch shape of ``pose``.  See :func:`ik`.

@@ -23,11 +23,11 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
+from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients, coefficients_for
 from redkin.srs.feasible import feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs._targets import as_geometry
 from redkin.srs.rotations import group_rotations
 from redkin.validation import check_vectors
 
@@ -99,9 +99,9 @@ def check_weights(weights: ArrayLike) -> tuple[float, float]:
 
 
 def optimal_arm_angles(
-    arm: "SerialChain | SRSGeometry",
+    arm: SerialChain | SRSGeometry,
     pose: ArrayLike,
-    branch: "str | Branch" = "+++",
+    branch: str | Branch = "+++",
     target: ArrayLike | None = None,
     weights: ArrayLike = (0.5, 0.5),
     feasible: ArcSet | None = None,

@@ -14,11 +14,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
+from redkin.srs.coefficients import coefficients_for
 from redkin.srs.feasible import FeasibleArmAngles, feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs._targets import as_geometry
-from redkin.srs.coefficients import coefficients_for
 from redkin.srs.ik import theta_at
 from redkin.srs.optimal import check_weights, default_target, maximiser, objective_coefficients
 from redkin.validation import check_pose, check_vectors
@@ -53,9 +53,9 @@ class ArmAnglePath:
 
 
 def arm_angle_path(
-    arm: "SerialChain | SRSGeometry",
+    arm: SerialChain | SRSGeometry,
     poses: ArrayLike,
-    branch: "str | Branch" = "+++",
+    branch: str | Branch = "+++",
     target: ArrayLike | None = None,
     weights: ArrayLike = (0.5, 0.5),
     fixed_psi: float | None = None,

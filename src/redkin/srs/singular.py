@@ -20,10 +20,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients, coefficients_for
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs._targets import as_geometry
 
 #: Default tolerance on the residuals of [000 eqs. 31, 33].
 SINGULAR_TOLERANCE = 1e-9
@@ -87,9 +87,9 @@ def singular_from_coefficients(coefficients: ArmAngleCoefficients, tolerance: fl
 
 
 def singular_arm_angles(
-    arm: "SerialChain | SRSGeometry",
+    arm: SerialChain | SRSGeometry,
     pose: ArrayLike,
-    branch: "str | Branch" = "+++",
+    branch: str | Branch = "+++",
     tolerance: float = SINGULAR_TOLERANCE,
 ) -> SingularArmAngles:
     """Shoulder and wrist singular arm angles of one pose [000 eqs. 31-34].
