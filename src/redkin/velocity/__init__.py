@@ -26,6 +26,7 @@ from redkin.velocity.cofactors import (
     weighted_sum,
 )
 from redkin.velocity.column_augmented import algorithmic_singularity, fixed_joint_sc
+from redkin.velocity.controller import PseudoinverseController, SingularityConsistentController
 from redkin.velocity.factorisation import (
     ElbowSine,
     FactorCheck,
@@ -36,7 +37,6 @@ from redkin.velocity.factorisation import (
     wam_cofactors,
     wam_singularity_index,
 )
-from redkin.velocity.controller import PseudoinverseController, SingularityConsistentController
 from redkin.velocity.methods import (
     METHOD_NAMES,
     AdaptiveDampedLeastSquares,

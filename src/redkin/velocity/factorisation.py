@@ -16,9 +16,10 @@ column minor ``det J_i`` of the 6 x 7 Jacobian, and the remaining factors
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from math import cos, sin
-from typing import Callable, Protocol, runtime_checkable
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -103,7 +104,7 @@ class WamFactorisation(Factorisation):
     d5: float
 
     @classmethod
-    def from_chain(cls, chain: SerialChain) -> "WamFactorisation":
+    def from_chain(cls, chain: SerialChain) -> WamFactorisation:
         """Read ``a, d3, d5`` from a chain with the WAM's DH pattern; ``ValueError`` otherwise."""
         a = chain.a
         pattern_ok = (

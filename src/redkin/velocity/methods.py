@@ -7,16 +7,17 @@ reads the side of the singularity it starts on) and then maps
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, Protocol
+from typing import Protocol
 
 import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.validation import check_positive
 from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
-from redkin.velocity.factorisation import Factorisation, singularity_factorisation
 from redkin.velocity.controller import SingularityConsistentController
+from redkin.velocity.factorisation import Factorisation, singularity_factorisation
 from redkin.velocity.proposed import lean_singularity_consistent, singularity_consistent
 from redkin.velocity.solution import VelocitySolution
 
