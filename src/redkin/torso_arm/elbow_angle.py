@@ -64,13 +64,13 @@ class ElbowReference:
             raise ValueError(f"reference vector must be one non-zero 3-vector, got {self.vector!r}")
         object.__setattr__(self, "vector", tuple(float(x) for x in v))
 
-    def mirrored(self) -> "ElbowReference":
+    def mirrored(self) -> ElbowReference:
         """The reference of the mirror image in ``x = 0``."""
         x, y, z = self.vector
         return ElbowReference(self.kind, (-x, y, z))
 
 
-def as_reference(value: "ElbowReference | str | ArrayLike | None") -> ElbowReference:
+def as_reference(value: ElbowReference | str | ArrayLike | None) -> ElbowReference:
     """``None`` or ``"theta4"`` -> thesis rule; ``"vector"`` -> +y; a 3-vector -> that vector."""
     if value is None:
         return ElbowReference()
@@ -285,7 +285,7 @@ def elbow_position(circle: ElbowCircle, e1: np.ndarray, phi: ArrayLike) -> np.nd
 
 
 def elbow_angle(arm: TorsoArm, shoulder: ArrayLike, elbow: ArrayLike, wrist: ArrayLike,
-                reference: "ElbowReference | str | ArrayLike | None" = None) -> tuple[np.ndarray, np.ndarray]:
+                reference: ElbowReference | str | ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Elbow angle phi of a right-arm posture given by its shoulder, elbow and wrist points.
 
     Returns

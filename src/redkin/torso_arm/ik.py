@@ -75,7 +75,7 @@ def ik(
     elbow_angle: ArrayLike,
     rotation: ArrayLike | None = None,
     angles: ArrayLike | None = None,
-    reference: "ElbowReference | str | ArrayLike | None" = None,
+    reference: ElbowReference | str | ArrayLike | None = None,
 ) -> IKSolution:
     """Every 8-joint solution for hand poses at shoulder angle psi and elbow angle phi.
 
@@ -134,7 +134,7 @@ def ik(
 
 
 def redundancy_parameters(
-    arm: TorsoArm, q: ArrayLike, reference: "ElbowReference | str | ArrayLike | None" = None
+    arm: TorsoArm, q: ArrayLike, reference: ElbowReference | str | ArrayLike | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The shoulder angle psi and elbow angle phi of joint vectors (the inverse of the IK's inputs).
 

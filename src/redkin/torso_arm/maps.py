@@ -21,9 +21,9 @@ question: where does ``w`` stay above a threshold?
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from math import cos, inf, sin
-from typing import Callable
 
 import numpy as np
 from numba import prange
@@ -419,7 +419,7 @@ def manipulability_map(
     grid: PlaneGrid,
     shoulder_angle: float,
     elbow_angle: float,
-    reference: "ElbowReference | str | ArrayLike | None" = None,
+    reference: ElbowReference | str | ArrayLike | None = None,
     within_limits: bool = True,
 ) -> ManipulabilityMap:
     """``w`` [001 eq. 5.3] of one arm over ``grid`` at fixed ``(psi, phi)`` (sections 3.2-3.3), a posture per point."""
@@ -561,7 +561,7 @@ def dual_arm_map(
     grid: PlaneGrid,
     shoulder_angle: float,
     elbow_angle: float,
-    reference: "ElbowReference | str | ArrayLike | None" = None,
+    reference: ElbowReference | str | ArrayLike | None = None,
     measure: DualMeasure = stacked_dual_manipulability,
     within_limits: bool = True,
     right: TorsoArm | None = None,

@@ -33,7 +33,6 @@ from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin.compiled import kernel, run_batch
-
 from redkin.torso_arm.branches import (
     NO_REFERENCE,
     OK,
@@ -182,7 +181,7 @@ def position_ik(
     wrist: ArrayLike,
     shoulder_angle: ArrayLike,
     elbow_angle: ArrayLike,
-    reference: "ElbowReference | str | ArrayLike | None" = None,
+    reference: ElbowReference | str | ArrayLike | None = None,
 ) -> PositionSolution:
     """Joints 1-5 from the wrist position and the shoulder and elbow angles (chapter 3).
 
@@ -216,7 +215,7 @@ def position_ik_from_theta1(
     wrist: ArrayLike,
     theta1: ArrayLike,
     elbow_angle: ArrayLike,
-    reference: "ElbowReference | str | ArrayLike | None" = None,
+    reference: ElbowReference | str | ArrayLike | None = None,
 ) -> PositionSolution:
     """As :func:`position_ik` but with the torso angle theta_1 given instead of psi."""
     w, t1, phi, ref = _prepare(arm, wrist, theta1, "theta1", elbow_angle, reference)

@@ -58,7 +58,7 @@ def reference_basis(wrist):
 @kernel
 def psi_one(theta1, wrist, L0):
     """psi = ``atan2(S . e2, S . e1)`` of the shoulder ``S(theta_1)`` (section 3.2, signed); NaN where undefined."""
-    n, e1, e2, ok = reference_basis(wrist)
+    _, e1, e2, ok = reference_basis(wrist)
     if not ok:
         return nan
     s = shoulder_point(L0, theta1)
