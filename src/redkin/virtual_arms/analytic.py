@@ -10,7 +10,7 @@ chain, batched over leading axes of ``theta``: the compiled kernel
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -98,6 +98,6 @@ class AnalyticModel:
                   self.chain._ends, self.chain._standard, self._frames, self._local, self._axes, positions, jacobians)
         return positions.reshape(lead + (p, dims)), jacobians.reshape(lead + (p, dims, n))
 
-    def split(self) -> list["AnalyticModel"]:
+    def split(self) -> list[AnalyticModel]:
         """One single-point model per virtual end point (the subsystems' own models)."""
         return [AnalyticModel(self.chain, [p], self.axes) for p in self.points]

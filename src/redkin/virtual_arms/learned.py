@@ -8,8 +8,8 @@ and input Jacobians with the same interface as the analytic model.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -65,7 +65,7 @@ class LearnedModel:
         jacobians = np.stack([net.input_jacobian(theta) for net in self.networks], axis=-3)
         return positions, jacobians
 
-    def split(self) -> list["LearnedModel"]:
+    def split(self) -> list[LearnedModel]:
         """One single-network model per virtual end point (the subsystems' own models)."""
         return [LearnedModel([net], [p], self.axes, self._joints) for net, p in zip(self.networks, self.points)]
 

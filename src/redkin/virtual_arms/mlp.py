@@ -46,7 +46,7 @@ class MLP:
     activation: str = "sigmoid"
 
     @classmethod
-    def initial(cls, inputs: int, hidden: int, outputs: int, activation: str, rng: np.random.Generator) -> "MLP":
+    def initial(cls, inputs: int, hidden: int, outputs: int, activation: str, rng: np.random.Generator) -> MLP:
         """Random weights of a fresh network (scaled by fan-in)."""
         if activation not in ACTIVATIONS:
             raise ValueError(f"activation must be one of {ACTIVATIONS}, got {activation!r}")
@@ -68,7 +68,7 @@ class MLP:
         """All weights as one flat vector."""
         return np.concatenate([self.w1.ravel(), self.b1, self.w2.ravel(), self.b2])
 
-    def with_parameters(self, flat: np.ndarray) -> "MLP":
+    def with_parameters(self, flat: np.ndarray) -> MLP:
         """A copy with the weights of a flat vector."""
         parts, start = [], 0
         for shape in self._shapes():
@@ -102,7 +102,7 @@ class MLP:
         grad_b1 = back.sum(axis=0) / count
         return loss, np.concatenate([grad_w1.ravel(), grad_b1, grad_w2.ravel(), grad_b2])
 
-    def trained(self, x: np.ndarray, target: np.ndarray, iterations: int = 500) -> "MLP":
+    def trained(self, x: np.ndarray, target: np.ndarray, iterations: int = 500) -> MLP:
         """The network after minimising [004 eq. 8] on ``(x, target)``.
 
         The gradient comes from back-propagation (:meth:`loss_and_gradient`);

@@ -31,12 +31,12 @@ class OutputFunction:
     limited: np.ndarray
 
     @classmethod
-    def identity(cls, m: int) -> "OutputFunction":
+    def identity(cls, m: int) -> OutputFunction:
         """No limits: ``theta = u``."""
         return cls(np.full(m, -np.inf), np.full(m, np.inf), np.zeros(m, dtype=bool))
 
     @classmethod
-    def sine(cls, lower: np.ndarray, upper: np.ndarray) -> "OutputFunction":
+    def sine(cls, lower: np.ndarray, upper: np.ndarray) -> OutputFunction:
         """[004 eq. 25] on every joint with a finite range, identity on the others: ``theta`` stays within
         ``[lower, upper]`` [004 eq. 26] by construction."""
         lower = np.asarray(lower, dtype=float)

@@ -43,17 +43,17 @@ class VirtualPoint:
     fraction: float = 0.0
 
     @classmethod
-    def joint(cls, j: int) -> "VirtualPoint":
+    def joint(cls, j: int) -> VirtualPoint:
         """The origin of joint ``j`` (1-based)."""
         return cls("joint", int(j))
 
     @classmethod
-    def on_link(cls, j: int, fraction: float = 0.5) -> "VirtualPoint":
+    def on_link(cls, j: int, fraction: float = 0.5) -> VirtualPoint:
         """The point ``fraction`` along link ``j`` (1-based) from joint ``j`` to joint ``j + 1``."""
         return cls("link", int(j), float(fraction))
 
     @classmethod
-    def end(cls) -> "VirtualPoint":
+    def end(cls) -> VirtualPoint:
         """The real arm's end point (tool origin)."""
         return cls("end")
 

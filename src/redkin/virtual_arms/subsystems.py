@@ -15,7 +15,8 @@ points in one batched call of a joint model.
 
 from __future__ import annotations
 
-from typing import Protocol, Sequence
+from collections.abc import Sequence
+from typing import Protocol
 
 import numpy as np
 
@@ -34,7 +35,7 @@ class ForwardModel(Protocol):
 
     def evaluate(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
 
-    def split(self) -> list["ForwardModel"]: ...
+    def split(self) -> list[ForwardModel]: ...
 
 
 class Together:
