@@ -6,6 +6,7 @@ import argparse
 
 import numpy as np
 
+from redkin.chain import SerialChain
 from redkin.cli.common import (
     add_output_flags,
     add_robot_argument,
@@ -16,7 +17,6 @@ from redkin.cli.common import (
     load_robot,
     print_json,
 )
-from redkin.chain import SerialChain
 from redkin.models import MODELS, get_robot
 from redkin.srs import arm_angle_class
 

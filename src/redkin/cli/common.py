@@ -6,7 +6,8 @@ import argparse
 import json
 import re
 import sys
-from typing import Any, NoReturn, Sequence
+from collections.abc import Sequence
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -14,7 +15,6 @@ from redkin.chain import SerialChain
 from redkin.models import get_robot
 from redkin.srs.geometry import pose_from
 from redkin.validation import check_rotation
-
 
 #: File types of the figures the commands write (matplotlib's writers without extra packages).
 IMAGE_SUFFIXES = frozenset({".png", ".pdf", ".svg"})

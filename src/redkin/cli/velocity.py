@@ -64,8 +64,9 @@ def run_track(args: argparse.Namespace) -> int:
     speed = np.linalg.norm(run.joint_velocity, axis=1)
     crossings = None if run.index is None else int(np.count_nonzero(np.diff(np.sign(run.index)) != 0))
     if args.plot:
-        from redkin.plot.velocity import tracking_figure
         import matplotlib.pyplot as plt
+
+        from redkin.plot.velocity import tracking_figure
 
         fig = tracking_figure(run, args.eps, title=f"{chain.name}, method {args.method}")
         fig.savefig(args.plot, dpi=100)

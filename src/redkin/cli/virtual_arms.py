@@ -17,6 +17,7 @@ from redkin.cli.common import (
     load_robot,
     print_json,
 )
+from redkin.validation import check_count, check_output_file
 from redkin.virtual_arms import (
     AnalyticModel,
     Obstacle,
@@ -27,7 +28,6 @@ from redkin.virtual_arms import (
     learn_forward_model,
     parse_point,
 )
-from redkin.validation import check_count, check_output_file
 from redkin.virtual_arms.generate import MAX_STEPS
 
 DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models

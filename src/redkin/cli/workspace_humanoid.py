@@ -9,8 +9,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from redkin.cli.common import UsageError, print_json, progress_bar
 from redkin.chain import SerialChain
+from redkin.cli.common import UsageError, print_json, progress_bar
 from redkin.torso_arm.maps import MAX_SWEEP_SAMPLES
 from redkin.validation import check_count, check_output_directory
 from redkin.workspace.grid import MAX_RESOLUTION
