@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -70,7 +70,7 @@ def draw_manipulability_map(
     return image
 
 
-def save_mid_plane_maps(maps: Sequence[ManipulabilityMap], path: "str | Path", unit: str, title: str) -> None:
+def save_mid_plane_maps(maps: Sequence[ManipulabilityMap], path: str | Path, unit: str, title: str) -> None:
     """Save 2-D maps (a 3-D map's mid-planes, :func:`redkin.workspace.humanoid.mid_plane_maps`) side by side.
 
     Parameters

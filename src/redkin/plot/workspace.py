@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -13,7 +14,7 @@ MID_PLANES = ((2, 0, 1), (1, 0, 2), (0, 1, 2))
 AXIS_NAMES = "xyz"
 
 
-def mid_plane_figure(coordinates: Sequence[np.ndarray], indices: Mapping[str, np.ndarray], title: str) -> "plt.Figure":
+def mid_plane_figure(coordinates: Sequence[np.ndarray], indices: Mapping[str, np.ndarray], title: str) -> plt.Figure:
     """Each index of a map on the three mid-planes (x-y, x-z, y-z), one row per index.
 
     Parameters
@@ -48,7 +49,7 @@ def mid_plane_figure(coordinates: Sequence[np.ndarray], indices: Mapping[str, np
     return fig
 
 
-def save_mid_plane_slices(dataset: Any, name: str, path: "str | Path") -> None:
+def save_mid_plane_slices(dataset: Any, name: str, path: str | Path) -> None:
     """Save ``dataset[name]`` of a stored map on the three mid-planes side by side as one image.
 
     Parameters
