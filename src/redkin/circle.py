@@ -14,7 +14,7 @@ public :attr:`ArcSet.arcs` joins the two pieces again.
 from __future__ import annotations
 
 import math
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -85,17 +85,17 @@ class ArcSet:
 
     # ----------------------------------------------------------- constructors
     @classmethod
-    def full(cls) -> "ArcSet":
+    def full(cls) -> ArcSet:
         """The whole circle (one shared instance: an ArcSet never changes)."""
         return _FULL
 
     @classmethod
-    def empty(cls) -> "ArcSet":
+    def empty(cls) -> ArcSet:
         """The empty set (one shared instance)."""
         return _EMPTY
 
     @classmethod
-    def _from_intervals(cls, intervals: Iterable[tuple[float, float]]) -> "ArcSet":
+    def _from_intervals(cls, intervals: Iterable[tuple[float, float]]) -> ArcSet:
         result = cls.__new__(cls)
         result._intervals = _merge(intervals)
         return result
@@ -140,11 +140,11 @@ class ArcSet:
         return float(sum(hi - lo for lo, hi in self._intervals))
 
     # ------------------------------------------------------------- operations
-    def union(self, other: "ArcSet") -> "ArcSet":
+    def union(self, other: ArcSet) -> ArcSet:
         """Points in either set."""
         return ArcSet._from_intervals(self._intervals + other._intervals)
 
-    def intersection(self, other: "ArcSet") -> "ArcSet":
+    def intersection(self, other: ArcSet) -> ArcSet:
         """Points in both sets."""
         result: list[tuple[float, float]] = []
         i = j = 0
@@ -160,7 +160,7 @@ class ArcSet:
                 j += 1
         return ArcSet._from_intervals(result)
 
-    def complement(self) -> "ArcSet":
+    def complement(self) -> ArcSet:
         """The closure of the points not in this set (closed arcs share their ends with this set)."""
         result: list[tuple[float, float]] = []
         start = -PI
@@ -211,7 +211,7 @@ class ArcSet:
             return "ArcSet.full()"
         return "ArcSet([" + ", ".join(f"({lo:.6g}, {hi:.6g})" for lo, hi in self.arcs) + "])"
 
-    def isclose(self, other: "ArcSet", tolerance: float = 1e-9) -> bool:
+    def isclose(self, other: ArcSet, tolerance: float = 1e-9) -> bool:
         """Same arcs with ends equal within ``tolerance``."""
         a, b = self._intervals, other._intervals
         return len(a) == len(b) and all(

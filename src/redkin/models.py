@@ -7,9 +7,9 @@ file path; :func:`robot_names` lists the names.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 

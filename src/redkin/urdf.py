@@ -44,6 +44,7 @@ from redkin.chain import SerialChain
 from redkin.errors import RedkinError, RobotDescriptionError
 from redkin.joint_lines import dh_rows_from_lines
 from redkin.so3 import xyz_fixed_to_matrix
+
 _UNSUPPORTED = {"prismatic", "floating", "planar"}
 
 

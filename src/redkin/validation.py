@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 import os
 import tempfile
+from collections.abc import Collection
 from pathlib import Path
-from typing import Collection
 
 import numpy as np
 from numpy.typing import ArrayLike
