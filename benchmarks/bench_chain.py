@@ -37,10 +37,10 @@ import tempfile
 import time
 
 import numpy as np
+from timing import best_time, best_time_short_rounds  # benchmarks/timing.py (the script's folder is on sys.path)
 
 from redkin.chain import SerialChain
 from redkin.models import franka_panda, pa10_7c
-from timing import best_time, best_time_short_rounds  # benchmarks/timing.py (the script's folder is on sys.path)
 
 BATCH = 1_000_000
 FIRST_CALLS = """

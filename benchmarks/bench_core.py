@@ -35,12 +35,12 @@ import tempfile
 import time
 
 import numpy as np
-
 from bench_chain import rtb_ets, versions  # benchmarks/ is on sys.path when a script of it runs
+from timing import best_time, best_time_short_rounds
+
 from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_pieces, ik_all_branches
 from redkin.velocity import SingularityConsistentController
-from timing import best_time, best_time_short_rounds
 
 FIRST_CALLS = """
 import time

@@ -18,12 +18,12 @@ reference.
 
 from __future__ import annotations
 
-from typing import Callable
-
 import os
+from collections.abc import Callable
 
 import numba
 import numpy as np
+from timing import best_time, best_time_short_rounds  # benchmarks/timing.py (the script's folder is on sys.path)
 
 from redkin.chain import SerialChain
 from redkin.models import kuka_iiwa14, pa10_7c
@@ -36,14 +36,13 @@ from redkin.srs import (
     ik_all_branches,
     srs_geometry,
 )
+from redkin.srs.coefficients import coefficients_for
 from redkin.srs.feasible import (
     all_branch_pieces,
     feasible_from_coefficients,
     feasible_pieces_all_branches,
     overall_pieces,
 )
-from redkin.srs.coefficients import coefficients_for
-from timing import best_time, best_time_short_rounds  # benchmarks/timing.py (the script's folder is on sys.path)
 
 
 def main() -> None:
@@ -145,7 +144,7 @@ def rtb_rows(chain: SerialChain, poses: np.ndarray, t_branches: float) -> list[t
     """roboticstoolbox's ``ETS.ik_LM`` (C++) on ``poses``, one solution per pose, beside our 8 branches of one pose."""
     try:
         import roboticstoolbox as rtb
-    except Exception as exc:  # noqa: BLE001 - any import failure means: peer not available
+    except Exception as exc:
         return [("roboticstoolbox ETS.ik_LM", f"skipped: roboticstoolbox-python not importable ({type(exc).__name__})")]
     links = [rtb.RevoluteDH(d=d, alpha=alpha, qlim=[lo, hi])
              for d, alpha, lo, hi in zip(chain.d, chain.alpha, chain.lower, chain.upper)]
@@ -179,7 +178,7 @@ def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
         from ssik.kinematics.predicates import _classify_srs_7r_geometric
         from ssik.prebuilt.kuka import iiwa14_ik
         from ssik.solvers.seven_r._swivel_limits import _branch_arcs, _enumerate_branches
-    except Exception as exc:  # noqa: BLE001 - any import failure means: peer not available
+    except Exception as exc:
         return [("ssik feasible-swivel search", f"skipped: ssik 8.2 not importable ({type(exc).__name__})")]
     body = iiwa14_ik._KB
     srs_class = _classify_srs_7r_geometric(body, DEFAULT_TOLERANCE_POLICY)

@@ -19,10 +19,10 @@ from pathlib import Path
 import numba
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from timing import best_time  # noqa: E402
+from timing import best_time
 
-from redkin.torso_arm import humanoid_arm  # noqa: E402
-from redkin.torso_arm.maps import (  # noqa: E402
+from redkin.torso_arm import humanoid_arm
+from redkin.torso_arm.maps import (
     best_dual_arm_map,
     best_manipulability_map,
     dual_arm_map,

@@ -30,8 +30,9 @@ import os
 import platform
 
 import numpy as np
-
 from bench_chain import rtb_ets, versions  # benchmarks/ is on sys.path when a script of it runs
+from timing import best_time, best_time_short_rounds
+
 from redkin.chain import SerialChain
 from redkin.models import barrett_wam
 from redkin.velocity import (
@@ -43,7 +44,6 @@ from redkin.velocity import (
     SingularityConsistentController,
     WamFactorisation,
 )
-from timing import best_time, best_time_short_rounds
 
 BATCH = 10_000
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from typing import Callable
+from collections.abc import Callable
 
 #: Length of a round in :func:`best_time_short_rounds`: short enough that some rounds run undisturbed.
 ROUND_SECONDS = 0.01
