@@ -82,3 +82,14 @@ def test_sizes_beyond_their_limit_are_caught_by_type():
         with pytest.raises(RedkinError) as raised:
             check_count(bad, "resolution", 1, 1000)
         assert not isinstance(raised.value, SizeLimitError)
+
+
+def test_a_tracking_run_longer_than_the_step_limit_is_a_size_error():
+    from redkin.models import barrett_wam
+    from redkin.velocity import Pseudoinverse
+    from redkin.velocity.tracking import MAX_STEPS, simulate
+
+    chain = barrett_wam()
+    with pytest.raises(SizeLimitError) as raised:
+        simulate(chain, np.full(7, 0.3), np.zeros(6), duration=1.0, method=Pseudoinverse(), dt=0.5 / MAX_STEPS)
+    assert raised.value.maximum == MAX_STEPS and raised.value.value > MAX_STEPS

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.errors import SizeLimitError
 from redkin.so3 import skew
 from redkin.validation import check_positive, check_vectors
 from redkin.velocity._inputs import nonnegative
@@ -99,7 +100,8 @@ def simulate(
     k_gain = nonnegative(gain, "gain")
     steps = max(1, int(round(total / step_size)))
     if steps > MAX_STEPS:
-        raise ValueError(f"duration / dt gives {steps} RK4 steps; at most {MAX_STEPS} are allowed (the run is kept in memory)")
+        raise SizeLimitError(f"duration / dt gives {steps} RK4 steps; at most {MAX_STEPS} are allowed "
+                             "(the run is kept in memory)", name="duration / dt", value=steps, maximum=MAX_STEPS)
     if callable(twist):
         command = twist
     else:
