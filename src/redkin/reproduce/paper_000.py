@@ -10,6 +10,7 @@ from redkin.explore import explorer_data, explorer_html
 from redkin.models import pa10_7c
 from redkin.plot.arm import draw_arm_3d, set_equal_3d
 from redkin.plot.srs import plot_joint_curves, plot_reachable_rotations
+from redkin.references import REFERENCES
 from redkin.reproduce import Section
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
@@ -207,7 +208,6 @@ def build(writer: SectionWriter) -> None:
 SECTION = Section(
     key="000",
     title="Paper 000: analytical IK of 7-DOF manipulators with joint limits",
-    reference="M. Shimizu, H. Kakuya, W.-K. Yoon, K. Kitagaki, K. Kosuge: Analytical Inverse Kinematics for 7 DOF "
-    "Redundant Manipulators with Joint Limits, J. Robotics Society of Japan (2007).",
+    reference=REFERENCES["000"],
     build=build,
 )

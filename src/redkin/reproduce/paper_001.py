@@ -6,6 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from redkin.plot.torso_arm import draw_manipulability_map
+from redkin.references import REFERENCES
 from redkin.reproduce import Section
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
@@ -177,7 +178,6 @@ def build(writer: SectionWriter) -> None:
 SECTION = Section(
     key="001",
     title="Thesis 001: the 8-DOF dual-arm humanoid (shoulder/elbow-angle IK, wrist IK, manipulability maps)",
-    reference="Y. Hamada, 8自由度冗長マニピュレータの機構解析 (On Structure Analysis of 8DOF Redundant Manipulators), "
-    "master's thesis, Hosei University, 2005.",
+    reference=REFERENCES["001"],
     build=build,
 )

@@ -11,6 +11,7 @@ from redkin.models import barrett_wam, barrett_wam7
 from redkin.plot.srs import plot_arm_angles_along_path
 from redkin.plot.velocity import comparison_figure, tracking_figure
 from redkin.srs import arm_angle_of, feasible_arm_angles, srs_geometry
+from redkin.references import REFERENCES
 from redkin.reproduce import Section
 from redkin.reproduce.comparison import Comparison
 from redkin.reproduce.report import SectionWriter
@@ -228,7 +229,6 @@ def build(writer: SectionWriter) -> None:
 SECTION = Section(
     key="003",
     title="Paper 003: singularity-consistent velocity IK through singularities",
-    reference="S. Miyata, D. Sato, Y. Kanemiya, inverse kinematics of redundant manipulators using the properties "
-    "of the pseudoinverse in the singularity-consistent method (Barrett WAM simulation, section 4).",
+    reference=REFERENCES["003"] + " Section 4 (Barrett WAM simulation).",
     build=build,
 )

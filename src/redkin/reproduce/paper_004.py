@@ -18,6 +18,7 @@ from redkin.plot.virtual_arms import (  # noqa: E402
     fit_planar_view,
     legend_below,
 )
+from redkin.references import REFERENCES
 from redkin.reproduce import Section  # noqa: E402
 from redkin.reproduce.comparison import Comparison, Note  # noqa: E402
 from redkin.reproduce.report import SectionWriter  # noqa: E402
@@ -333,7 +334,6 @@ def build(writer: SectionWriter) -> None:
 SECTION = Section(
     key="004",
     title="Paper 004: distributed trajectory generation for redundant manipulators with virtual arms",
-    reference="T. Tsuji, S. Nakayama, K. Ito, Distributed trajectory generation for redundant manipulators based on "
-    "virtual arms, Transactions of the Society of Instrument and Control Engineers (SICE).",
+    reference=REFERENCES["004"],
     build=build,
 )

@@ -14,6 +14,7 @@ import numpy as np
 
 from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.plot.workspace import mid_plane_figure, plot_measure_line
+from redkin.references import REFERENCES
 from redkin.reproduce import Section
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
@@ -204,7 +205,6 @@ def build(writer: SectionWriter) -> None:
 SECTION = Section(
     key="workspace",
     title="Workspace maps: exact reachability and redundancy (paper 000's feasible sets over a grid)",
-    reference="M. Shimizu, H. Kakuya, W.-K. Yoon, K. Kitagaki, K. Kosuge: Analytical Inverse Kinematics for 7 DOF "
-    "Redundant Manipulators with Joint Limits, J. Robotics Society of Japan (2007), eq. 30 and section 6.2.2.",
+    reference=REFERENCES["000"] + " Eq. 30 and section 6.2.2.",
     build=build,
 )
