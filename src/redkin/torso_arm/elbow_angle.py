@@ -32,7 +32,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from math import acos, atan2, cos, inf, sin, sqrt
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 from numba import prange
@@ -45,6 +45,8 @@ from redkin.validation import check_vectors
 
 #: Elbow circles with a smaller radius (metres) count as a single elbow point.
 RADIUS_TOLERANCE = 1e-12
+#: Where an elbow angle phi = 0 is measured from (see :class:`ElbowReference`).
+ReferenceKind = Literal["theta4", "vector"]
 #: Below this length a projected reference vector counts as zero.
 REFERENCE_TOLERANCE = 1e-9
 
@@ -53,7 +55,7 @@ REFERENCE_TOLERANCE = 1e-9
 class ElbowReference:
     """Where phi = 0: ``kind="theta4"`` (thesis rule) or ``kind="vector"`` with ``vector`` (world)."""
 
-    kind: Literal["theta4", "vector"] = "theta4"
+    kind: ReferenceKind = "theta4"
     vector: tuple[float, float, float] = (0.0, 1.0, 0.0)
 
     def __post_init__(self) -> None:
@@ -79,7 +81,7 @@ def as_reference(value: ElbowReference | str | ArrayLike | None) -> ElbowReferen
     if isinstance(value, str):
         if value not in ("theta4", "vector"):
             raise ValueError(f"reference must be 'theta4', 'vector' or a 3-vector, got {value!r}")
-        return ElbowReference(value)
+        return ElbowReference(cast(ReferenceKind, value))
     return ElbowReference("vector", tuple(np.asarray(value, dtype=float).reshape(-1)))
 
 

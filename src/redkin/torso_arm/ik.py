@@ -61,11 +61,11 @@ class IKSolution:
 
 def hand_rotation(rotation: ArrayLike | None = None, angles: ArrayLike | None = None) -> np.ndarray:
     """A hand rotation from a matrix or from X-Y-Z fixed angles [001 eq. 4.4]; exactly one must be given."""
-    if (rotation is None) == (angles is None):
-        raise ValueError("give exactly one of rotation (3x3 matrix) or angles (alpha, beta, gamma)")
-    if rotation is not None:
+    if rotation is not None and angles is None:
         return check_rotation(rotation, "rotation")
-    return xyz_fixed_to_matrix(check_vectors(angles, 3, "angles"))
+    if angles is not None and rotation is None:
+        return xyz_fixed_to_matrix(check_vectors(angles, 3, "angles"))
+    raise ValueError("give exactly one of rotation (3x3 matrix) or angles (alpha, beta, gamma)")
 
 
 def ik(
@@ -151,11 +151,11 @@ def redundancy_parameters(
     chain = arm.chain
     q = chain.check_q(q)
     frames = chain.frames(q)
-    points = [arm.to_right(frames[..., k, :3, 3]) for k in (SHOULDER_FRAME, ELBOW_FRAME, WRIST_FRAME)]
+    shoulder, elbow, wrist = (arm.to_right(frames[..., k, :3, 3]) for k in (SHOULDER_FRAME, ELBOW_FRAME, WRIST_FRAME))
     theta1 = q[..., 0] if arm.side == "right" else -q[..., 0]
     ref = as_reference(reference)
     if arm.side == "left":
         ref = ref.mirrored()
-    psi = shoulder_angle(theta1, points[2])
-    phi, exists = elbow_angle(arm, *points, reference=ref)
+    psi = shoulder_angle(theta1, wrist)
+    phi, exists = elbow_angle(arm, shoulder, elbow, wrist, reference=ref)
     return psi, phi, np.isfinite(psi) & exists

@@ -14,16 +14,17 @@ from __future__ import annotations
 from math import cos, sin, sqrt
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from redkin.compiled import kernel
 
 
-def flat(*pairs: tuple[np.ndarray, int]) -> tuple[tuple[int, ...], list[np.ndarray]]:
+def flat(*pairs: tuple[ArrayLike, int]) -> tuple[tuple[int, ...], list[np.ndarray]]:
     """Broadcast arrays over their leading axes and flatten them to ``(N, *trailing)``.
 
     Parameters
     ----------
-    *pairs : (numpy.ndarray, int)
+    *pairs : (array_like, int)
         Each array with the number of its trailing (per-item) axes.
 
     Returns

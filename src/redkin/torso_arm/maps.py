@@ -134,7 +134,7 @@ def plane_grid(plane: str, extent: ArrayLike, resolution: int | tuple[int, int])
     check_finite(box, "extent")
     if box[0] >= box[1] or box[2] >= box[3]:
         raise ValueError(f"extent must have u_min < u_max and v_min < v_max, got {box.tolist()}")
-    counts = (resolution, resolution) if np.isscalar(resolution) else tuple(resolution)
+    counts = tuple(resolution) if isinstance(resolution, (tuple, list, np.ndarray)) else (resolution, resolution)
     if len(counts) != 2:
         raise ValueError(f"resolution must be one integer or two, got {resolution!r}")
     nu, nv = (check_count(n, "resolution", 2, MAX_RESOLUTION) for n in counts)
