@@ -27,7 +27,10 @@ Step = Callable[[np.ndarray, np.ndarray, np.ndarray], VelocitySolution]
 class Method(Protocol):
     """A velocity-IK method: ``bind(chain, q0)`` returns ``step(q, J, twist)``."""
 
-    label: str
+    @property
+    def label(self) -> str:
+        """The method's name in tables and plots (read-only: the methods are frozen dataclasses)."""
+        ...
 
     def bind(self, chain: SerialChain, q0: np.ndarray) -> Step: ...
 
