@@ -7,7 +7,7 @@ file path; :func:`robot_names` lists the names.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -23,8 +23,8 @@ def srs_chain(
     d_se: float,
     d_ew: float,
     d_wt: float,
-    lower_deg: list[float] | None = None,
-    upper_deg: list[float] | None = None,
+    lower_deg: Sequence[float] | None = None,
+    upper_deg: Sequence[float] | None = None,
     name: str = "srs",
     source: str = "",
 ) -> SerialChain:
@@ -129,7 +129,7 @@ def kuka_iiwa14_table1() -> SerialChain:
 def _kuka_lbr_iiwa(d_bs: float, d_se: float, name: str, source: str) -> SerialChain:
     """An LBR iiwa (forearm 0.40 m, flange 0.126 m) in KUKA's conventions: Table 1 rows, joint 4 reversed."""
     table1 = srs_chain(d_bs, d_se, 0.40, 0.126, lower_deg=[-v for v in IIWA_RANGE_DEG], upper_deg=IIWA_RANGE_DEG)
-    return replace(table1, sign=KUKA_IIWA_SIGNS, name=name, source=source)
+    return replace(table1, sign=np.array(KUKA_IIWA_SIGNS, dtype=float), name=name, source=source)
 
 
 def barrett_wam(d3: float = 0.55, d5: float = 0.4, d7: float = 0.06, a: float = 0.045) -> SerialChain:

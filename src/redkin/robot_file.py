@@ -27,6 +27,7 @@ The format (TOML shown; JSON has the same keys)::
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -36,9 +37,9 @@ from redkin.chain import SerialChain
 from redkin.errors import RobotDescriptionError
 from redkin.so3 import xyz_fixed_to_matrix
 
-try:  # Python >= 3.11
+if sys.version_info >= (3, 11):
     import tomllib
-except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 TOP_KEYS = {"name", "convention", "angle_unit", "length_unit", "source", "joint", "base", "tool"}
@@ -88,7 +89,7 @@ def robot_from_dict(data: Any, default_name: str = "robot") -> SerialChain:
     joints = data.get("joint")
     if not isinstance(joints, list) or not joints:
         raise RobotDescriptionError("needs at least one [[joint]] table", key="joint")
-    rows = {key: [] for key in JOINT_KEYS}
+    rows: dict[str, list[float]] = {key: [] for key in JOINT_KEYS}
     for i, joint in enumerate(joints, start=1):
         if not isinstance(joint, dict):
             raise RobotDescriptionError(f"joint {i} must be a table", key=f"joint {i}")
@@ -110,7 +111,8 @@ def robot_from_dict(data: Any, default_name: str = "robot") -> SerialChain:
         tool=_transform(data.get("tool"), "tool", angle, length),
         name=name,
         source=str(data.get("source", "robot file")),
-        **arrays,
+        a=arrays["a"], alpha=arrays["alpha"], d=arrays["d"], offset=arrays["offset"], sign=arrays["sign"],
+        lower=arrays["lower"], upper=arrays["upper"],
     )
 
 
