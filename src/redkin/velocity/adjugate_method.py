@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.velocity._inputs import jacobian_and_twist
+from redkin.validation import check_jacobian_and_twist
 from redkin.velocity.cofactors import adjugate
 
 
@@ -26,7 +26,7 @@ def adjugate_direction(jacobian: ArrayLike, twist: ArrayLike) -> tuple[np.ndarra
     size : numpy.ndarray, shape (...)
         ``J n_pi = size * t``.
     """
-    jac, vel = jacobian_and_twist(jacobian, twist)
+    jac, vel = check_jacobian_and_twist(jacobian, twist)
     gram = jac @ np.swapaxes(jac, -1, -2)
     direction = np.einsum("...ji,...jk,...k->...i", jac, adjugate(gram), vel)
     return direction, np.linalg.det(gram)

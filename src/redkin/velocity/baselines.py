@@ -14,9 +14,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.compiled import run_batch
-from redkin.validation import as_float_array, check_finite, check_positive
+from redkin.validation import as_float_array, check_finite, check_jacobian_and_twist, check_nonnegative, check_positive
 from redkin.velocity import step_kernels
-from redkin.velocity._inputs import jacobian_and_twist, nonnegative
 
 #: Relative cut-off below which a singular value counts as zero in :func:`pseudoinverse`.
 PINV_RCOND = 1e-12
@@ -31,7 +30,7 @@ def pseudoinverse(jacobian: ArrayLike, twist: ArrayLike) -> np.ndarray:
     sigma_max`` are treated as zero (the component of ``v`` along them is
     dropped), so an exactly singular ``J`` gives a finite answer.
     """
-    jac, vel = jacobian_and_twist(jacobian, twist)
+    jac, vel = check_jacobian_and_twist(jacobian, twist)
     return least_squares(jac, vel, 0.0, 1.0, step_kernels.CONSTANT)[0]
 
 
@@ -44,7 +43,7 @@ def damped_least_squares(jacobian: ArrayLike, twist: ArrayLike, damping: float) 
     direction, also far from singularities.
     """
     lam = check_positive(damping, "damping")
-    jac, vel = jacobian_and_twist(jacobian, twist)
+    jac, vel = check_jacobian_and_twist(jacobian, twist)
     return least_squares(jac, vel, lam, 1.0, step_kernels.CONSTANT)[0]
 
 
@@ -88,13 +87,13 @@ def adaptive_damped_least_squares(
     ``||v|| / (2 max_damping)``.
     """
     eps, lam_max, code = _adaptive(threshold, max_damping, measure)
-    jac, vel = jacobian_and_twist(jacobian, twist)
+    jac, vel = check_jacobian_and_twist(jacobian, twist)
     return least_squares(jac, vel, lam_max, eps, code)[0]
 
 
 def _adaptive(threshold: float, max_damping: float, measure: str) -> tuple[float, float, int]:
     eps = check_positive(threshold, "threshold")
-    lam_max = nonnegative(max_damping, "max_damping")
+    lam_max = check_nonnegative(max_damping, "max_damping")
     if measure not in _MEASURES:
         raise ValueError(f"measure must be 'sigma' or 'manipulability', got {measure!r}")
     return eps, lam_max, _MEASURES[measure]

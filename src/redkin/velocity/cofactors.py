@@ -14,9 +14,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.compiled import run_batch
-from redkin.validation import as_float_array, check_finite
+from redkin.validation import as_float_array, check_finite, check_jacobian_and_twist
 from redkin.velocity import step_kernels
-from redkin.velocity._inputs import jacobian_and_twist
 
 
 def _without_each_column(matrix: np.ndarray) -> np.ndarray:
@@ -77,7 +76,7 @@ def fixed_joint_vectors(jacobian: ArrayLike, twist: ArrayLike) -> tuple[np.ndarr
     minors : numpy.ndarray, shape (..., m + 1)
         ``det J_i``.
     """
-    jac, vel = jacobian_and_twist(jacobian, twist, one_redundant=True)
+    jac, vel = check_jacobian_and_twist(jacobian, twist, one_redundant=True)
     m, k = jac.shape[-2:]
     reduced = _without_each_column(jac)  # (..., k, m, m)
     minors = np.linalg.det(reduced)

@@ -19,8 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.validation import check_positive
-from redkin.velocity._inputs import jacobian_and_twist
+from redkin.validation import check_jacobian_and_twist, check_positive
 from redkin.velocity.blend import blend_weight, twist_scale
 from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, self_motion_vector
 from redkin.velocity.solution import VelocitySolution
@@ -48,7 +47,7 @@ def fixed_joint_sc(
     self_motion : float
         ``b_sm`` of [003 eq. 9].
     """
-    jac, vel = jacobian_and_twist(jacobian, twist, one_redundant=True)
+    jac, vel = check_jacobian_and_twist(jacobian, twist, one_redundant=True)
     k = jac.shape[-1]
     if int(joint) != joint or not 0 <= joint < k:
         raise ValueError(f"joint must be an integer in 0..{k - 1}, got {joint!r}")

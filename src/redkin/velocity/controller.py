@@ -25,9 +25,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
-from redkin.validation import check_positive
+from redkin.validation import check_nonnegative, check_positive
 from redkin.velocity import step_kernels
-from redkin.velocity._inputs import nonnegative
 from redkin.velocity.baselines import PINV_RCOND
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
 from redkin.velocity.proposed import NEAR_ZERO_FRACTION
@@ -167,7 +166,7 @@ class SingularityConsistentController:
         if not np.isfinite(self.self_motion):
             raise ValueError(f"self_motion must be finite, got {self_motion!r}")
         self.modify_rotation = bool(modify_rotation)
-        self.near_zero = NEAR_ZERO_FRACTION * self.eps if near_zero is None else nonnegative(near_zero, "near_zero")
+        self.near_zero = NEAR_ZERO_FRACTION * self.eps if near_zero is None else check_nonnegative(near_zero, "near_zero")
 
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity and realised twist for joint angles ``q`` ``(7,)`` and commanded twist ``(6,)``."""

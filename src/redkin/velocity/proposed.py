@@ -49,9 +49,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.compiled import run_batch
-from redkin.validation import check_positive
+from redkin.validation import check_jacobian_and_twist, check_nonnegative, check_positive
 from redkin.velocity import step_kernels
-from redkin.velocity._inputs import jacobian_and_twist, nonnegative
 from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, weighted_sum
 from redkin.velocity.solution import VelocitySolution
 
@@ -156,7 +155,7 @@ def lean_singularity_consistent(
         rounding, ~1e-12 relative for ``|D_e| >= near_zero`` on the WAM).
     """
     jac, vel, e = _checked(jacobian, twist, eps, direction, self_motion, modify_rotation)
-    limit = NEAR_ZERO_FRACTION * e if near_zero is None else nonnegative(near_zero, "near_zero")
+    limit = NEAR_ZERO_FRACTION * e if near_zero is None else check_nonnegative(near_zero, "near_zero")
     d_e = _index(index, jac)
     exact = np.abs(d_e) < limit
     d_i = _factors(factors(), jac) if exact.any() else np.zeros(jac.shape[:-2] + jac.shape[-1:])
@@ -166,7 +165,7 @@ def lean_singularity_consistent(
 def _checked(jacobian: ArrayLike, twist: ArrayLike, eps: float, direction: float, self_motion: float,
              modify_rotation: bool) -> tuple[np.ndarray, np.ndarray, float]:
     """The checks both SC functions share: Jacobians ``(..., m, m + 1)``, twists, ``eps``, ``b_ep``, ``b_sm``."""
-    jac, vel = jacobian_and_twist(jacobian, twist, one_redundant=True)
+    jac, vel = check_jacobian_and_twist(jacobian, twist, one_redundant=True)
     e = check_positive(eps, "eps")
     if direction not in (1, -1):
         raise ValueError(f"direction must be +1 or -1, got {direction!r}")

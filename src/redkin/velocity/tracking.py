@@ -21,8 +21,7 @@ from numpy.typing import ArrayLike
 from redkin.chain import SerialChain
 from redkin.errors import SizeLimitError
 from redkin.so3 import skew
-from redkin.validation import check_positive, check_vectors
-from redkin.velocity._inputs import nonnegative
+from redkin.validation import check_nonnegative, check_positive, check_vectors
 from redkin.velocity.methods import Method
 
 TwistCommand = Callable[[float, np.ndarray], np.ndarray]
@@ -97,7 +96,7 @@ def simulate(
     step_size = check_positive(dt, "dt")
     if step_size > total:
         raise ValueError(f"dt must be at most duration ({total:g} s), got {step_size:g}")
-    k_gain = nonnegative(gain, "gain")
+    k_gain = check_nonnegative(gain, "gain")
     steps = max(1, int(round(total / step_size)))
     if steps > MAX_STEPS:
         raise SizeLimitError(f"duration / dt gives {steps} RK4 steps; at most {MAX_STEPS} are allowed "
