@@ -38,7 +38,7 @@ two single branches.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -116,7 +116,7 @@ def _arc_sets(start: np.ndarray, end: np.ndarray, keep: np.ndarray) -> list[list
     """The :class:`ArcSet` of each row of ``keep`` (N, R, 24) on the pieces ``start``, ``end`` (N, 24)
     (:func:`redkin.srs.feasible_kernels.batch_arc_runs`)."""
     arcs = np.empty((keep.shape[0], keep.shape[1] * kernels.PIECES // 2, 2))
-    counts = np.empty(keep.shape[:2], dtype=np.int64)
+    counts: np.ndarray = np.empty(keep.shape[:2], dtype=np.int64)
     kernels.batch_arc_runs(start, end, keep, arcs, counts)
     sets = []
     for b, numbers in enumerate(counts.tolist()):
@@ -371,7 +371,7 @@ def feasible_arm_angles(
     if shape != (4, 4):
         raise RedkinError(f"feasible_arm_angles takes one pose of shape (4, 4), got shape {shape}; "
                           "for a batch use feasible_arm_angles_batch or feasible_pieces")
-    return feasible_arm_angles_batch(arm, pose, branch)[()]
+    return cast(FeasibleArmAngles, feasible_arm_angles_batch(arm, pose, branch)[()])  # the one item of a 0-d object array
 
 
 def feasible_arm_angles_batch(

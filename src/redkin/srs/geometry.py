@@ -137,7 +137,8 @@ class SRSGeometry:
         """Per branch sign (theta_2, theta_4, theta_6), +1 or -1: the chain's own sense of that joint, turned over
         where its zero is nearer ``theta = pi`` (see :meth:`table1_branch`)."""
         sign, offset = self.chain.sign, self.chain.offset
-        return tuple(int(sign[k]) * (1 if np.cos(offset[k]) >= 0.0 else -1) for k in (1, 3, 5))
+        s2, s4, s6 = (int(sign[k]) * (1 if np.cos(offset[k]) >= 0.0 else -1) for k in (1, 3, 5))
+        return s2, s4, s6
 
     def table1_branch(self, branch: str | Branch | tuple[int, int, int]) -> Branch:
         """The Table 1 branch of a branch named in the chain's joint senses (and back: the map is its own inverse).
@@ -188,7 +189,7 @@ class SRSGeometry:
         stretched = limit_equation_table(lower[columns], upper[columns], limited[columns], stretched=True)
         arrays = (start[columns], span[columns], free[columns])
         by_sign = limit_sign_membership(lower[columns], upper[columns], *arrays)  # (2, 6, 4)
-        membership = np.empty((2, 2, 6, 4), dtype=bool)
+        membership: np.ndarray = np.empty((2, 2, 6, 4), dtype=bool)
         membership[:, :, :3] = by_sign[:, None, :3]  # shoulder joints follow sigma_2
         membership[:, :, 3:] = by_sign[None, :, 3:]  # wrist joints follow sigma_6
         membership = membership.reshape(2, 2, 24)

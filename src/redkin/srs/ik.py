@@ -63,7 +63,7 @@ def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch)
     shape = np.broadcast_shapes(coefficients.theta4.shape, psi.shape)
     entries = np.ascontiguousarray(np.broadcast_to(coefficients.entries, shape + coefficients.entries.shape[-2:]))
     entries = entries.reshape((-1,) + entries.shape[-2:])
-    count = entries.shape[0]
+    count = len(entries)  # not .shape[0]: numpy's stubs type this reshape's result as 0-d
     theta4 = np.ascontiguousarray(np.broadcast_to(coefficients.theta4, shape)).reshape(count)
     psi = np.ascontiguousarray(np.broadcast_to(psi, shape)).reshape(count)
     signs = np.broadcast_to(np.array([[branch.shoulder, branch.wrist]], dtype=float), (count, 2))
@@ -100,7 +100,7 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
     angles = psi_array.reshape(-1)
     if not (poses.flags.c_contiguous and angles.flags.c_contiguous):
         poses, angles = np.ascontiguousarray(poses), np.ascontiguousarray(angles)
-    count = poses.shape[0]
+    count = len(poses)  # not .shape[0]: numpy's stubs type this reshape's result as 0-d
     out = np.empty((count, branches.shape[0], 7))
     if run_batch(ik_kernels.solve_poses, ik_kernels.solve_poses_parallel, count, poses, angles, branches,
                  *geometry.kernel_tables, out):

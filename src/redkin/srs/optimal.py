@@ -17,6 +17,7 @@ The traces are linear in the coefficient matrices of [000 eqs. 12, 16] (see
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,7 +27,7 @@ from redkin.circle import ArcSet
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients, coefficients_for
-from redkin.srs.feasible import feasible_from_coefficients
+from redkin.srs.feasible import FeasibleArmAngles, feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.rotations import group_rotations
 from redkin.validation import check_vectors
@@ -86,8 +87,9 @@ def maximiser(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.arctan2(a, b)
 
 
-def _clamped(psi: float, feasible: ArcSet) -> OptimalAngle:
-    return OptimalAngle(unclamped=float(psi), feasible=feasible.nearest(psi))
+def _clamped(psi: float | np.ndarray, feasible: ArcSet) -> OptimalAngle:
+    value = float(psi)
+    return OptimalAngle(unclamped=value, feasible=feasible.nearest(value))
 
 
 def check_weights(weights: ArrayLike) -> tuple[float, float]:
@@ -137,14 +139,14 @@ def optimal_arm_angles(
     r_s, r_w = check_weights(weights)
     coefficients = coefficients_for(geometry, pose, chosen.elbow)
     if feasible is None:
-        feasible = feasible_from_coefficients(coefficients, chosen, geometry)[()].feasible
+        feasible = cast(FeasibleArmAngles, feasible_from_coefficients(coefficients, chosen, geometry)[()]).feasible
     shoulder, wrist = objective_coefficients(coefficients, geometry, q_target)
     combined = r_s * shoulder + r_w * wrist  # [000 eq. 40] (the 1/(r_s + r_w) factor does not move the maximiser)
     return OptimalArmAngles(
         shoulder=_clamped(maximiser(shoulder[0], shoulder[1]), feasible),  # [000 eq. 37]
         wrist=_clamped(maximiser(wrist[0], wrist[1]), feasible),  # [000 eq. 39]
         overall=_clamped(maximiser(combined[0], combined[1]), feasible),  # [000 eq. 40]
-        shoulder_coefficients=tuple(float(v) for v in shoulder),
-        wrist_coefficients=tuple(float(v) for v in wrist),
+        shoulder_coefficients=(float(shoulder[0]), float(shoulder[1]), float(shoulder[2])),
+        wrist_coefficients=(float(wrist[0]), float(wrist[1]), float(wrist[2])),
         weights=(r_s, r_w),
     )
