@@ -75,7 +75,8 @@ class MLP:
             size = int(np.prod(shape))
             parts.append(flat[start : start + size].reshape(shape))
             start += size
-        return MLP(*parts, activation=self.activation)
+        w1, b1, w2, b2 = parts
+        return MLP(w1, b1, w2, b2, activation=self.activation)
 
     # --------------------------------------------------------------- forward
     def __call__(self, x: np.ndarray) -> np.ndarray:

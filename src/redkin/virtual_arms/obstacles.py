@@ -274,7 +274,7 @@ def avoid_obstacles(
         if int(j) != j or not 0 <= j < chain.n:
             raise ValueError(f"fixed joints must be 0-based indices in 0..{chain.n - 1}, got {j!r}")
         clamped[int(j)] = True
-    options = {"output": output, "fixed": [int(j) for j in fixed]}
+    fixed_joints = [int(j) for j in fixed]
 
     path_theta, path_positions = [theta[None]], [model.evaluate(theta)[0][None]]
     steps, periods = 0, 0
@@ -300,14 +300,14 @@ def avoid_obstacles(
         weights[0] = 1.0
         if settle:
             goals[0] = goal
-            run = generate_trajectory(model, theta, goals, weights, **options)
+            run = generate_trajectory(model, theta, goals, weights, output=output, fixed=fixed_joints)
         else:
             push = repulsion(positions, obstacles, influence, gain)
             goals = positions + push
             goals[0] += end_step(positions[0], goal, obstacles, planned, influence)
             weights[1:] = np.where(np.linalg.norm(push[1:], axis=-1) > 0.0, virtual_weight, 0.0)
             run = generate_trajectory(model, theta, goals, weights, gradient_tol=1e-4, max_steps=period_steps,
-                                      lambda0=lambda0, **options)
+                                      lambda0=lambda0, output=output, fixed=fixed_joints)
         steps += run.steps
         keep, _ = guard.safe_records(run.theta)
         # a cut period halves the next planned step (repulsion then weighs more); a clear one doubles it back
