@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from redkin.models import barrett_wam, pa10_7c, planar_arm, srs_chain
-from srs_arms import offset_elbow_chain
+from tests.support.srs_arms import offset_elbow_chain, wrap
 from redkin.srs import (
     BRANCHES,
     feasible_arm_angles,
@@ -28,10 +28,6 @@ GRID = np.linspace(-np.pi, np.pi, SAMPLES, endpoint=False)
 STEP = 1e-5  # central finite difference step (radians of psi)
 PSI_JOINTS = (1, 2, 3, 5, 6, 7)
 WIDE = (np.full(7, -4.0), np.full(7, 4.0))  # limits that never bind (ranges >= 2 pi: unlimited)
-
-
-def wrap(angle):
-    return np.mod(np.asarray(angle) + np.pi, 2.0 * np.pi) - np.pi
 
 
 def sampled(arm, pose, branch, psi=GRID):

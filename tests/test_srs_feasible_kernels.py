@@ -16,16 +16,14 @@ from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces
 from redkin.srs.feasible import feasible_pieces_all_branches
 from redkin.srs.feasible_kernels import sinusoid_roots
+from tests.support.srs_arms import random_poses
 
 COUNT = 2 * PARALLEL_BATCH + 37  # several blocks of the parallel loop, the last one partial
 
 
 def poses_of(chain, count, seed):
     """Reachable poses of ``chain`` from random joint values (some with theta_2 or theta_6 at 0: stretched groups)."""
-    q = np.random.default_rng(seed).uniform(-np.pi, np.pi, (count, 7))
-    q[::50, 1] = 0.0
-    q[::70, 5] = 0.0
-    return chain.fk(q)
+    return random_poses(chain, count, np.random.default_rng(seed), stretched=True)
 
 
 def arms():

@@ -10,12 +10,9 @@ from redkin.so3 import rot_x, rot_z
 from redkin.srs import BRANCHES, arm_angle_of, ik, ik_all_branches, pose_from, reachable, srs_geometry
 from redkin.srs.coefficients import coefficients_for
 from redkin.srs.joints import STRETCHED_TOLERANCE, first_joint_coefficients
+from tests.support.srs_arms import random_poses
 
 ROUND_TRIP = 1e-9
-
-
-def random_poses(chain, count, rng):
-    return chain.fk(rng.uniform(-np.pi, np.pi, (count, chain.n)))
 
 
 def pose_error(a, b):

@@ -15,7 +15,7 @@ from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.ik import theta_at
 from redkin.srs.rotations import group_rotations
 from redkin.validation import check_pose
-from srs_arms import ARM_KINDS, arm, shoulder_rotation, wrist_rotation
+from tests.support.srs_arms import ARM_KINDS, arm, shoulder_rotation, wrist_rotation
 
 KINDS = st.sampled_from(ARM_KINDS)
 

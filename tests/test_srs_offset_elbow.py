@@ -26,14 +26,10 @@ from redkin.srs import (
     singular_arm_angles,
     srs_geometry,
 )
-from srs_arms import offset_elbow_chain
-from test_srs_feasible import assert_set_matches_sampling, random_limits
+from tests.support.srs_arms import offset_elbow_chain, wrap
+from tests.support.feasible_sampling import assert_set_matches_sampling, random_limits
 
 ROUND_TRIP = 1e-9
-
-
-def wrap(angle):
-    return np.mod(angle + np.pi, 2 * np.pi) - np.pi
 
 
 def shoulder_wrist_distance(chain, q):
@@ -188,7 +184,7 @@ def test_the_wam_in_other_descriptions_is_solved_in_its_own_joint_values(name):
 def test_a_wam_urdf_with_turned_frames_and_reversed_axes(tmp_path):
     """A URDF of the WAM whose joint frames are turned about their axes and whose axes point either way."""
     pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-    from test_urdf import reference_fk, urdf
+    from tests.support.urdf_reference import reference_fk, urdf
 
     wam = barrett_wam()
     rows = list(zip(wam.a, wam.alpha, wam.d))

@@ -14,7 +14,7 @@ from redkin.srs import (
     pose_from,
     singular_arm_angles,
 )
-from srs_arms import shoulder_rotation, wrist_rotation
+from tests.support.srs_arms import shoulder_rotation, wrist_rotation
 
 GRID = np.linspace(-np.pi, np.pi, 20001, endpoint=False)
 

@@ -12,7 +12,8 @@ import pytest
 from hypothesis import example, given, settings, strategies as st
 
 from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
-from srs_arms import ARM_KINDS, arm
+from tests.support.feasible_sampling import random_limits
+from tests.support.srs_arms import ARM_KINDS, arm
 from redkin.so3 import rot_x
 from redkin.srs import (BRANCHES, arm_angle_of, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces, ik,
                          ik_all_branches, pose_from, srs_geometry)
@@ -21,7 +22,7 @@ from redkin.srs import feasible_kernels
 from redkin.srs.feasible import limit_tables
 from redkin.srs.ik_kernels import ENTRY_LAYOUT
 from redkin.srs.joints import IS_COSINE, PSI_JOINTS
-from srs_arms import shoulder_rotation, wrist_rotation
+from tests.support.srs_arms import shoulder_rotation, wrist_rotation
 from redkin.validation import check_pose
 
 
@@ -29,11 +30,7 @@ def random_chain(rng, model, crossing=False):
     """A model or random S-R-S arm with random limits (optionally crossing +-pi), and a joint vector."""
     chain = arm(model, rng)
     q = rng.uniform(-np.pi, np.pi, 7)
-    width = rng.uniform(0.2, 4.0, 7)
-    centre = q + rng.uniform(-0.5, 0.5, 7) * width
-    if crossing:
-        centre = np.where(rng.random(7) < 0.5, np.pi + rng.uniform(-0.3, 0.3, 7), centre)
-    return chain.with_limits(centre - width / 2, centre + width / 2), q
+    return chain.with_limits(*random_limits(rng, q, crossing)), q
 
 
 def degenerate_q(kind):

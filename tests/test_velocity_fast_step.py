@@ -10,7 +10,7 @@ from redkin.velocity import (
     lean_singularity_consistent,
     singularity_consistent,
 )
-from velocity_wam_checks import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
+from tests.support.velocity_wam import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
 
 
 def both(q, twist, direction=1.0, self_motion=0.0, modify_rotation=True):

@@ -23,11 +23,9 @@ from redkin.velocity import (
     singularity_consistent,
     twist_scale,
 )
+from tests.support.velocity_wam import FACTOR, TWIST, WAM
 
-WAM = barrett_wam()
-FACTOR = WamFactorisation.from_chain(WAM)
 SINGULAR_Q4 = float(np.arctan2(0.045 * (0.55 + 0.4), 0.55 * 0.4 - 0.045**2))  # root of D_e, paper 003 sec. 3.3
-TWIST = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
 seeds = st.integers(0, 2**32 - 1)
 
 

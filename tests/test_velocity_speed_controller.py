@@ -20,9 +20,8 @@ from redkin.velocity import (
     singularity_consistent,
     singularity_factorisation,
 )
-from velocity_wam_checks import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
+from tests.support.velocity_wam import EPS, FACTOR, Q0, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
 
-Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
 
 
 def exact_step(q, twist, direction, self_motion=0.0, modify_rotation=True):

@@ -29,7 +29,7 @@ from redkin.velocity import (
 )
 from redkin.velocity import step_kernels
 from redkin.velocity.baselines import PINV_RCOND
-from velocity_wam_checks import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
+from tests.support.velocity_wam import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
 
 seeds = st.integers(0, 2**32 - 1)
 

@@ -3,34 +3,28 @@
 import numpy as np
 import pytest
 
-from redkin.models import barrett_wam
 from redkin.velocity import (
     AdaptiveDampedLeastSquares,
     DampedLeastSquares,
     Pseudoinverse,
     SingularityConsistent,
-    WamFactorisation,
     simulate,
 )
+from tests.support.velocity_wam import EPS, Q0, TWIST
 
-# Paper 003 section 4.
-Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
-TWIST = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
-EPS = 0.1
-WAM = barrett_wam()
-FACTOR = WamFactorisation.from_chain(WAM)
+# Paper 003 section 4 (its start, twist and eps in tests.support.velocity_wam).
 DURATION, DT = 4.0, 5e-3
 
 
 @pytest.fixture(scope="module")
-def runs():
+def runs(wam, wam_factor):
     methods = {
         "sc": SingularityConsistent(eps=EPS),
         "pinv": Pseudoinverse(),
         "dls": DampedLeastSquares(damping=0.05),
         "dls-adaptive": AdaptiveDampedLeastSquares(threshold=0.05, max_damping=0.05),
     }
-    return {name: simulate(WAM, Q0, TWIST, DURATION, m, dt=DT, index=FACTOR.index) for name, m in methods.items()}
+    return {name: simulate(wam, Q0, TWIST, DURATION, m, dt=DT, index=wam_factor.index) for name, m in methods.items()}
 
 
 def test_velocity_sc_crosses_once_and_realises_command_outside_region(runs):
@@ -52,9 +46,9 @@ def test_velocity_sc_crosses_once_and_realises_command_outside_region(runs):
     assert speed.max() < 5.0 and speed[np.argmin(np.abs(d_e))] > 0.1
 
 
-def test_velocity_sc_controller_run_equals_the_exact_cofactor_run(runs):
+def test_velocity_sc_controller_run_equals_the_exact_cofactor_run(runs, wam):
     # the default (lean) method steps through the controller; lean=False takes eqs. 15-22 literally
-    exact = simulate(WAM, Q0, TWIST, DURATION, SingularityConsistent(eps=EPS, lean=False), dt=DT)
+    exact = simulate(wam, Q0, TWIST, DURATION, SingularityConsistent(eps=EPS, lean=False), dt=DT)
     np.testing.assert_allclose(runs["sc"].q, exact.q, rtol=0, atol=1e-9)
     np.testing.assert_allclose(runs["sc"].joint_velocity, exact.joint_velocity, rtol=0, atol=1e-8)
 
@@ -67,20 +61,20 @@ def test_velocity_sc_path_reverses_along_x(runs):
     assert np.ptp(run.position[:, 1]) < 1e-6 and np.ptp(run.position[:, 2]) < 1e-6  # a straight line
 
 
-def test_velocity_pinv_is_exact_until_it_explodes(runs):
+def test_velocity_pinv_is_exact_until_it_explodes(runs, wam):
     run, sc = runs["pinv"], runs["sc"]
-    sigma = np.linalg.svd(WAM.jacobian(run.q), compute_uv=False)[:, -1]
+    sigma = np.linalg.svd(wam.jacobian(run.q), compute_uv=False)[:, -1]
     regular = sigma > 0.05
     assert np.abs(run.realised[regular] - TWIST).max() < 1e-9
     speed = np.linalg.norm(run.joint_velocity, axis=1)
     assert speed.max() > 10 * np.linalg.norm(sc.joint_velocity, axis=1).max()
 
 
-def test_velocity_dls_bounded_but_stalls(runs):
+def test_velocity_dls_bounded_but_stalls(runs, wam):
     for name, bound in (("dls", np.linalg.norm(TWIST) / (2 * 0.05)), ("dls-adaptive", np.linalg.norm(TWIST) / (2 * 0.05))):
         run = runs[name]
         speed = np.linalg.norm(run.joint_velocity, axis=1)
-        jac = WAM.jacobian(run.q)
+        jac = wam.jacobian(run.q)
         sigma = np.linalg.svd(jac, compute_uv=False)[:, -1]
         assert np.all(speed <= np.maximum(bound, np.linalg.norm(TWIST) / sigma) * (1 + 1e-9))
         assert np.all(run.index < 0)  # never crosses the boundary
@@ -89,23 +83,23 @@ def test_velocity_dls_bounded_but_stalls(runs):
     assert np.all(np.linalg.norm(runs["dls"].joint_velocity, axis=1) <= np.linalg.norm(TWIST) / 0.1 * (1 + 1e-9))
 
 
-def test_velocity_rk4_converges_and_closed_loop_removes_drift():
+def test_velocity_rk4_converges_and_closed_loop_removes_drift(wam):
     method = SingularityConsistent(eps=EPS)
-    coarse = simulate(WAM, Q0, TWIST, 0.5, method, dt=0.05)
-    fine = simulate(WAM, Q0, TWIST, 0.5, method, dt=0.025)
-    exact_x = WAM.fk(Q0)[0, 3] + 0.15 * 0.5
+    coarse = simulate(wam, Q0, TWIST, 0.5, method, dt=0.05)
+    fine = simulate(wam, Q0, TWIST, 0.5, method, dt=0.025)
+    exact_x = wam.fk(Q0)[0, 3] + 0.15 * 0.5
     err_c, err_f = abs(coarse.position[-1, 0] - exact_x), abs(fine.position[-1, 0] - exact_x)
     assert err_f < err_c / 8 or err_f < 1e-12  # fourth order
-    dls_open = simulate(WAM, Q0, TWIST, 0.5, DampedLeastSquares(0.05), dt=0.01)
-    dls_closed = simulate(WAM, Q0, TWIST, 0.5, DampedLeastSquares(0.05), dt=0.01, gain=20.0)
-    target = WAM.fk(Q0)[:3, 3] + 0.5 * TWIST[:3]
+    dls_open = simulate(wam, Q0, TWIST, 0.5, DampedLeastSquares(0.05), dt=0.01)
+    dls_closed = simulate(wam, Q0, TWIST, 0.5, DampedLeastSquares(0.05), dt=0.01, gain=20.0)
+    target = wam.fk(Q0)[:3, 3] + 0.5 * TWIST[:3]
     assert np.linalg.norm(dls_closed.position[-1] - target) < 0.2 * np.linalg.norm(dls_open.position[-1] - target)
 
 
-def test_velocity_simulate_bad_input():
+def test_velocity_simulate_bad_input(wam):
     with pytest.raises(ValueError, match="q0"):
-        simulate(WAM, np.zeros(6), TWIST, 1.0, Pseudoinverse())
+        simulate(wam, np.zeros(6), TWIST, 1.0, Pseudoinverse())
     with pytest.raises(ValueError, match="duration"):
-        simulate(WAM, Q0, TWIST, 0.0, Pseudoinverse())
+        simulate(wam, Q0, TWIST, 0.0, Pseudoinverse())
     with pytest.raises(ValueError, match="twist"):
-        simulate(WAM, Q0, TWIST[:5], 1.0, Pseudoinverse())
+        simulate(wam, Q0, TWIST[:5], 1.0, Pseudoinverse())

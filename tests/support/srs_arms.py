@@ -16,6 +16,23 @@ def offset_elbow_chain(d_bs: float, d_se: float, d_ew: float, d_wt: float, a3: f
                        d=[d_bs, 0.0, d_se, 0.0, d_ew, 0.0, d_wt], name="offset-elbow")
 
 
+def random_poses(chain: SerialChain, count: int, rng: np.random.Generator, stretched: bool = False) -> np.ndarray:
+    """``count`` reachable poses of ``chain`` from joint values uniform in [-pi, pi) drawn from ``rng``.
+
+    ``stretched``: every 50th has theta_2 = 0 and every 70th theta_6 = 0 (a stretched shoulder or wrist group).
+    """
+    q = rng.uniform(-np.pi, np.pi, (count, chain.n))
+    if stretched:
+        q[::50, 1] = 0.0
+        q[::70, 5] = 0.0
+    return chain.fk(q)
+
+
+def wrap(angle):
+    """``angle`` wrapped to [-pi, pi)."""
+    return np.mod(np.asarray(angle) + np.pi, 2.0 * np.pi) - np.pi
+
+
 def arm(kind: str, rng: np.random.Generator) -> SerialChain:
     """A chain of one of :data:`ARM_KINDS` (random lengths drawn from ``rng``)."""
     if kind == "srs":

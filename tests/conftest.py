@@ -1,0 +1,25 @@
+"""Fixtures shared across the test modules: the arms they build and the full reproduction report.
+
+Each is built once per session; tests must not change them (chains are read-only in use:
+``with_limits`` and friends return new chains).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from redkin.chain import SerialChain
+from redkin.velocity import WamFactorisation
+from tests.support import velocity_wam
+
+
+@pytest.fixture(scope="session")
+def wam() -> SerialChain:
+    """The Barrett WAM of paper 003 (offset elbow); the same object as ``tests.support.velocity_wam.WAM``."""
+    return velocity_wam.WAM
+
+
+@pytest.fixture(scope="session")
+def wam_factor() -> WamFactorisation:
+    """The WAM's D_e factorisation (paper 003 sec. 3.3); the same object as ``tests.support.velocity_wam.FACTOR``."""
+    return velocity_wam.FACTOR
