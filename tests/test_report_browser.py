@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from report_builds import full_report
+from tests.report_builds import full_report
 
 CHROMIUM = Path("/usr/bin/chromium")
 WIDTHS = (1400, 420)  # a desktop and a phone

@@ -7,7 +7,7 @@ import json
 
 import numpy as np
 import pytest
-from report_builds import full_report
+from tests.report_builds import full_report
 
 from redkin.models import get_robot
 from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable
