@@ -2,7 +2,7 @@
 
 The laws of the S-R-S tests, on the WAM and on random offset elbows: FK(IK) = x on every branch, the
 arm angle inverts IK, the elbow equation equals the distance the chain's own frames give, feasible
-sets equal dense sampling (in test_srs_feasible.py and test_srs_speedpaths.py through ``srs_arms``),
+sets equal dense sampling (in test_srs_feasible.py and test_srs_speedpaths.py through ``tests.support.srs_arms``),
 singular arm angles sit where theta_2 or theta_6 vanish, and the same arm written another way
 (modified DH, reversed joints, a URDF with turned frames) is solved in its own joint values.
 """
