@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 import numpy as np
 
@@ -49,7 +50,7 @@ def run_robots(args: argparse.Namespace) -> int:
         return _show_robot(get_robot(args.show, args.base, args.tip), args)
     if args.base is not None or args.tip is not None:
         raise ValueError("--base and --tip go with --show ROBOT")
-    entries = []
+    entries: list[dict[str, Any]] = []
     for name, factory in MODELS.items():
         chain = factory()
         kind, reason = arm_angle_class(chain)

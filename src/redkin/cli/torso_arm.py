@@ -6,6 +6,7 @@ import argparse
 import sys
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
@@ -89,14 +90,17 @@ def run_ik(args: argparse.Namespace) -> int:
     arm = humanoid_arm(args.arm, args.tool)
     psi, phi = angles_in([args.shoulder, args.elbow], args.deg)
     reference = _reference(args.reference)
+    branches: list[tuple[int, ...]]
     if args.angles is None and args.rotation is None:
-        sol = position_ik(arm, args.position, psi, phi, reference)
-        q, limits, branches, singular = sol.q, sol.within_limits, [b[:2] for b in BRANCHES[::2]], [False] * 4
+        position = position_ik(arm, args.position, psi, phi, reference)
+        q, limits, branches, singular = position.q, position.within_limits, [b[:2] for b in BRANCHES[::2]], [False] * 4
+        code = position.status
     else:
         kwargs = {"angles": angles_in(args.angles, args.deg)} if args.angles else {"rotation": np.reshape(args.rotation, (3, 3))}
         sol = ik(arm, args.position, psi, phi, reference=reference, **kwargs)
         q, limits, branches, singular = sol.q, sol.within_limits, list(BRANCHES), sol.wrist_singular.tolist()
-    status = STATUS_NAMES[int(sol.status)]
+        code = sol.status
+    status = STATUS_NAMES[int(code)]
     rows = [
         {"branch": list(b), "q": angles_out(q[i], args.deg), "within_limits": bool(limits[i]), "wrist_singular": bool(singular[i])}
         for i, b in enumerate(branches)
@@ -167,7 +171,9 @@ def _save(result, path: str, unit: str, arm: str) -> None:
     from redkin.plot.torso_arm import draw_manipulability_map
 
     right = humanoid_arm("right")
-    landmarks = {"neck": [0.0, 0.0, 0.0], "R shoulder": right.shoulder(0.0), "L shoulder": -right.shoulder(0.0)}
+    landmarks: dict[str, ArrayLike] = {
+        "neck": [0.0, 0.0, 0.0], "R shoulder": right.shoulder(0.0), "L shoulder": -right.shoulder(0.0),
+    }
     fig, ax = plt.subplots(figsize=(6, 5))
     draw_manipulability_map(ax, result, landmarks, unit=unit)
     try:

@@ -91,7 +91,7 @@ def run_track(args: argparse.Namespace) -> int:
         print(f"final q         {np.array2string(angles_out(run.q[-1], args.deg), precision=4)}")
         unit = "deg/s" if args.deg else "rad/s"
         print(f"max ||q_dot||   {float(angles_out(speed.max(), args.deg)):.4g} {unit}")
-        if crossings is not None:
+        if run.index is not None:  # crossings were counted
             print(f"D_e from {run.index[0]:.4g} to {run.index[-1]:.4g}, sign changes: {crossings}")
     return 0
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -29,6 +30,7 @@ from redkin.virtual_arms import (
     parse_point,
 )
 from redkin.virtual_arms.generate import MAX_STEPS
+from redkin.virtual_arms.subsystems import ForwardModel
 
 DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models
 
@@ -143,6 +145,7 @@ def run_virtual_arms(args: argparse.Namespace) -> int:
         if args.model == "learned":
             raise UsageError("--obstacle uses analytic forward models only (the planner watches many points)")
         return _run_with_obstacles(args, chain, q0, goals[0], obstacles, output)
+    model: ForwardModel
     if args.model == "learned":
         model, _ = learn_forward_model(chain, points, axes=probe.axes, seed=0)
     else:
@@ -195,7 +198,7 @@ def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: n
     return 0
 
 
-def _save_plot(path: str, chain, run, truth: np.ndarray | None, obstacles: list = ()) -> None:
+def _save_plot(path: str, chain, run, truth: np.ndarray | None, obstacles: Sequence[Obstacle] = ()) -> None:
     import matplotlib
 
     matplotlib.use("Agg")

@@ -28,8 +28,10 @@ def run_humanoid(args: argparse.Namespace, chain: SerialChain, connect) -> int:
         raise UsageError("--orientations is for arms with arm-angle IK; the humanoid's map takes --samples N1 NPHI "
                          "(theta_1 x phi samples of the redundancy)")
     resolution = check_count(args.resolution, "--resolution", 2, MAX_RESOLUTION)
-    samples = DEFAULT_SAMPLES if args.samples is None else tuple(
-        check_count(n, "--samples", 1, MAX_SWEEP_SAMPLES) for n in args.samples)
+    samples = DEFAULT_SAMPLES
+    if args.samples is not None:  # argparse gives two (nargs=2)
+        n1, n_phi = (check_count(n, "--samples", 1, MAX_SWEEP_SAMPLES) for n in args.samples)
+        samples = (n1, n_phi)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     grid = humanoid_grid(args.extent, resolution, samples, chunk)  # the extent refused before anything is written
     try:

@@ -178,25 +178,26 @@ def _branch_curves(chain: SerialChain, pose: np.ndarray, branch, grid: np.ndarra
     marks = tuple(Mark(kind, label, int(np.searchsorted(psi, value)), note) for kind, label, value, note in special)
     clamped = optimal.overall.feasible
     start = int(np.argmin(np.abs(psi - (0.0 if clamped is None else _on_circle(float(clamped))))))
-    return BranchCurves(str(branch), psi, q, origins, within, result.feasible.contains(psi, SAME_ANGLE), dict(result.per_joint),
+    in_set = np.asarray(result.feasible.contains(psi, SAME_ANGLE))
+    return BranchCurves(str(branch), psi, q, origins, within, in_set, dict(result.per_joint),
                         result.feasible, singular, optimal, marks, start)
 
 
 def _special_angles(feasible: ArcSet, singular: SingularArmAngles,
                     optimal: OptimalArmAngles) -> list[tuple[str, str, float, str]]:
     """``(kind, label, psi, note)`` of the marked arm angles, psi in ``[-pi, pi]``."""
-    special = []
+    special: list[tuple[str, str, float, str]] = []
     for k, (lo, hi) in enumerate([] if feasible.is_full else feasible.arcs):
         special += [("feasible", f"Ψ arc {k + 1} starts", lo, ""), ("feasible", f"Ψ arc {k + 1} ends", hi, "")]
     special += [("singular", "shoulder singular ψ (θ2 = 0)", a, SINGULAR_NOTE["shoulder"]) for a in singular.shoulder]
     special += [("singular", "wrist singular ψ (θ6 = 0)", a, SINGULAR_NOTE["wrist"]) for a in singular.wrist]
     special.append(("optimal", "optimal ψ (eq. 40)", optimal.overall.unclamped, ""))
     clamped = optimal.overall.feasible
-    if clamped is not None and abs(wrap_angle(float(clamped) - float(optimal.overall.unclamped))) > SAME_ANGLE:
+    if clamped is not None and abs(float(wrap_angle(float(clamped) - float(optimal.overall.unclamped)))) > SAME_ANGLE:
         special.append(("optimal", "optimal ψ clamped to Ψ", clamped, ""))
     return [(kind, label, _on_circle(float(value)), note) for kind, label, value, note in special]
 
 
 def _on_circle(angle: float) -> float:
     """``angle`` in ``[-pi, pi]``: unchanged when it is there already (wrapping could move it by a rounding)."""
-    return angle if -np.pi <= angle <= np.pi else wrap_angle(angle)
+    return angle if -np.pi <= angle <= np.pi else float(wrap_angle(angle))

@@ -61,7 +61,7 @@ def draw_manipulability_map(
         ax.plot(u, v, marker="s" if index == 0 else "o", color="red", markersize=6, linestyle="none")
         ax.annotate(", ".join(names), (u, v), textcoords="offset points", xytext=(5, 5), color="red", fontsize=8,
                     bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "alpha": 0.75, "linewidth": 0})
-    if len(landmarks or {}) > 1:
+    if landmarks is not None and len(landmarks) > 1:
         pts = np.array([np.asarray(p, float) for p in landmarks.values()])
         ax.plot(pts[:, iu], pts[:, iv], "-", color="red", linewidth=2)
     ax.set_xlabel(f"{grid.axis_names[0]} [m]")

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.models import humanoid_right_arm
@@ -123,7 +124,7 @@ class TorsoArm:
         """Right-arm points mapped back to this side's world."""
         return self.to_right(points)
 
-    def shoulder(self, theta1: np.ndarray) -> np.ndarray:
+    def shoulder(self, theta1: ArrayLike) -> np.ndarray:
         """Right-arm shoulder ``S(theta_1) = L0 (cos theta_1, 0, -sin theta_1)``, shape ``(..., 3)``."""
         theta1 = np.asarray(theta1, dtype=float)
         return self.L0 * np.stack([np.cos(theta1), np.zeros_like(theta1), -np.sin(theta1)], axis=-1)
