@@ -371,7 +371,8 @@ def feasible_arm_angles(
     if shape != (4, 4):
         raise RedkinError(f"feasible_arm_angles takes one pose of shape (4, 4), got shape {shape}; "
                           "for a batch use feasible_arm_angles_batch or feasible_pieces")
-    return cast(FeasibleArmAngles, feasible_arm_angles_batch(arm, pose, branch)[()])  # the one item of a 0-d object array
+    # the one item of a 0-d object array
+    return cast(FeasibleArmAngles, feasible_arm_angles_batch(arm, pose, branch)[()])
 
 
 def feasible_arm_angles_batch(

@@ -69,7 +69,8 @@ def _singular_angle(a: float, b: float, constant: float, tolerance: float) -> tu
 
 def singular_from_coefficients(coefficients: ArmAngleCoefficients, tolerance: float = SINGULAR_TOLERANCE) -> SingularArmAngles:
     """[000 eqs. 31-34] from precomputed coefficients of one pose."""
-    s, w = coefficients.shoulder[:, 2, 1], coefficients.wrist[:, 2, 2]  # 0R3[2,1] = -cos theta_2, 4R7[2,2] = cos theta_6
+    s = coefficients.shoulder[:, 2, 1]  # 0R3[2,1] = -cos theta_2
+    w = coefficients.wrist[:, 2, 2]  # 4R7[2,2] = cos theta_6
     shoulder = (float(s[0]), float(s[1]), float(s[2]))
     wrist = (float(w[0]), float(w[1]), float(w[2]))
     s_angles, s_all, s_res = _singular_angle(shoulder[0], shoulder[1], shoulder[2] + 1.0, tolerance)  # [000 eqs. 31-32]
