@@ -45,6 +45,7 @@ def test_srs_peer_check_counts_solutions_within_1e9_by_our_fk():
     assert bench_srs.passes(chain, moved, poses) == 2
 
 
+@pytest.mark.slow
 def test_srs_feasible_rows_run_on_a_tiny_batch():
     """bench_srs.py's feasible-set rows: every call of the table runs, on one pose and on a batch of three."""
     from redkin.srs import srs_geometry

@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pytest
 
 from redkin.cli.main import main
 from redkin.torso_arm import humanoid_arm
@@ -48,6 +49,7 @@ def test_torso_arm_cli_bad_input_exit_2(capsys):
     assert "plane" in err and "orthonormal" in err
 
 
+@pytest.mark.slow
 def test_map_without_extent_covers_the_reach_in_that_plane(capsys):
     """The default extent is the box of the arm's reach there: every valid point lies inside, none on its edge."""
     code = main(["torso-arm", "map", "--plane", "z=0.3", "--resolution", "40", "--shoulder", "0.2", "--elbow", "0.3",

@@ -84,6 +84,7 @@ def test_virtual_arms_cli_unknown_robot_exits_2(capsys):
     assert capsys.readouterr().err.count("\n") == 1
 
 
+@pytest.mark.slow
 def test_virtual_arms_cli_gif_out_animates_the_run(capsys, tmp_path):
     from PIL import Image  # matplotlib's own dependency
 

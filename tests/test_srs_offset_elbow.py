@@ -70,6 +70,7 @@ def test_elbow_equation_is_the_distance_the_frames_give():
         assert np.allclose(extremes ** 2, [mean + amplitude, mean - amplitude], atol=1e-13)
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(lengths=st.lists(st.floats(0.05, 0.9), min_size=4, max_size=4),
        offsets=st.lists(st.one_of(st.just(0.0), st.floats(-0.3, 0.3)), min_size=2, max_size=2),

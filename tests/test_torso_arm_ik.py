@@ -111,6 +111,7 @@ def test_torso_arm_wrist_singularity_reported():
 
 
 # ------------------------------------------------------------------ shoulder angle
+@pytest.mark.slow
 @settings(deadline=None, max_examples=40)
 @given(st.floats(-1, 1), st.floats(0.05, 1), st.floats(-1, 1), st.booleans())
 def test_torso_arm_psi_monotone_in_theta1_with_exact_inverse(x, y, z, below):
@@ -163,6 +164,7 @@ def test_torso_arm_phi_turns_right_handed_about_shoulder_to_wrist():
     assert np.all(moment[exists] > 0)
 
 
+@pytest.mark.slow
 def test_torso_arm_theta4_reference_gives_theta4_zero_or_reports_no_reference():
     arm, q, circle = _circle_setup(4)
     e1, exists = reference_direction(arm, circle, ElbowReference("theta4"))

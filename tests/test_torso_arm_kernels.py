@@ -203,6 +203,7 @@ def _kernel_arguments(count):
     return points, np.linspace(-1.5, 1.5, 4), np.linspace(-np.pi, np.pi, 5, endpoint=False), limits
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("dual", [False, True])
 def test_best_kernel_parallel_batch_equals_serial_bit_for_bit(dual):
     count = 2 * PARALLEL_BATCH + 3
@@ -217,6 +218,7 @@ def test_best_kernel_parallel_batch_equals_serial_bit_for_bit(dual):
     assert np.isfinite(results[0][0]).sum() > count // 4
 
 
+@pytest.mark.slow
 def test_state_kernel_parallel_batch_equals_serial_bit_for_bit():
     count = 2 * PARALLEL_BATCH + 3
     points, *_ , limits = _kernel_arguments(count)

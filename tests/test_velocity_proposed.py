@@ -23,6 +23,7 @@ def both(q, twist, direction=1.0, self_motion=0.0, modify_rotation=True):
     return exact, lean
 
 
+@pytest.mark.slow
 @settings(deadline=None, max_examples=60)
 @given(configurations, twists, st.sampled_from([1.0, -1.0]), st.booleans())
 def test_lean_equals_exact_on_random_configurations(q, twist, direction, modify_rotation):

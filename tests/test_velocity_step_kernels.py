@@ -169,6 +169,7 @@ def test_batched_steps_equal_looped_steps_bit_for_bit():
         np.testing.assert_array_equal(lean.target_twist[k], one.target_twist)
 
 
+@pytest.mark.slow
 def test_parallel_batches_equal_serial_batches_bit_for_bit():
     count = 2 * PARALLEL_BATCH + 3
     q, twist = random_batch(count, seed=1)
