@@ -8,11 +8,11 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
-import bench_srs  # noqa: E402 - benchmarks/ is not a package
-import bench_velocity  # noqa: E402
+import bench_srs
+import bench_velocity
 
-from redkin.models import barrett_wam, pa10_7c  # noqa: E402
-from redkin.velocity import WamFactorisation  # noqa: E402
+from redkin.models import barrett_wam, pa10_7c
+from redkin.velocity import WamFactorisation
 
 WAM = barrett_wam()
 FACTOR = WamFactorisation.from_chain(WAM)

@@ -7,15 +7,16 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from redkin.chain import SerialChain, yoshikawa
-from redkin.models import MODELS, HUMANOID_LENGTHS, humanoid_left_arm, humanoid_right_arm, pa10_7c
+from redkin.models import HUMANOID_LENGTHS, MODELS, humanoid_left_arm, humanoid_right_arm, pa10_7c
 from redkin.so3 import rot_x, rot_z
 
 MODEL_NAMES = list(MODELS)
 
 
-def transform(rotation=np.eye(3), translation=(0.0, 0.0, 0.0)):
+def transform(rotation=None, translation=(0.0, 0.0, 0.0)):
     out = np.eye(4)
-    out[:3, :3] = rotation
+    if rotation is not None:
+        out[:3, :3] = rotation
     out[:3, 3] = translation
     return out
 

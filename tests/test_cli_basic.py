@@ -37,7 +37,7 @@ def test_fk_degrees(capsys):
 
 def test_jacobian_and_manipulability(capsys):
     q = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7])
-    code, out, _ = run(capsys, "jacobian", "pa10-7c", *map(str, q), "--manipulability", "--json")
+    _, out, _ = run(capsys, "jacobian", "pa10-7c", *map(str, q), "--manipulability", "--json")
     data = json.loads(out)
     np.testing.assert_allclose(data["jacobian"], pa10_7c().jacobian(q), atol=1e-12)
     np.testing.assert_allclose(data["manipulability"], pa10_7c().manipulability(q))

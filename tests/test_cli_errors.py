@@ -113,7 +113,7 @@ def broken_commands(draw) -> tuple[str, list[str]]:
     slots = TEMPLATES[name]
     breakable = [i for i, (_, kind, values) in enumerate(slots) if BAD_VALUES[kind] or kind in KINDS_TAKING_A_COUNT_CHANGE]
     index = draw(st.sampled_from(breakable))
-    option, kind, values = slots[index]
+    _option, kind, values = slots[index]
     ways = ["value"] if BAD_VALUES[kind] else []
     if kind in KINDS_TAKING_A_COUNT_CHANGE:
         ways += ["fewer", "more"]
@@ -167,7 +167,7 @@ def test_templates_are_valid_so_the_law_above_is_not_vacuous(workdir, monkeypatc
         pytest.skip("the valid reproduce template runs a whole section; tests/test_reproduce_* run it")
     monkeypatch.chdir(workdir)
     argv = [value for option, _, values in TEMPLATES[name] for value in ([option] if option else []) + values]
-    code, out, err = run_cli(argv)
+    code, _out, err = run_cli(argv)
     assert code == 0, (argv, err)
 
 
@@ -175,7 +175,7 @@ def _every_single_break() -> list[tuple[str, list[str]]]:
     """Every (template, slot, bad value) once, and every count change: the sweep hypothesis samples from."""
     cases = []
     for name, slots in TEMPLATES.items():
-        for index, (option, kind, values) in enumerate(slots):
+        for index, (_option, kind, values) in enumerate(slots):
             variants = [values[:p] + [bad] + values[p + 1:] for p in range(len(values)) for bad in BAD_VALUES[kind]]
             if kind in KINDS_TAKING_A_COUNT_CHANGE:
                 variants += [values[:-1], values + ["0.25"]]

@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 
 import redkin
-from redkin.errors import NotArmAngleClassError, RedkinError, RobotDescriptionError, SizeLimitError, UnreachablePoseError
+from redkin.errors import (
+    NotArmAngleClassError,
+    RedkinError,
+    RobotDescriptionError,
+    SizeLimitError,
+    UnreachablePoseError,
+)
 from redkin.models import franka_panda, get_robot, pa10_7c
 from redkin.srs import feasible_pieces, ik, ik_all_branches, srs_geometry
 from redkin.validation import check_count, check_pose

@@ -28,7 +28,7 @@ def case(request):
 
 
 def test_every_branch_holds_the_exact_set_ends_and_marks(case):
-    chain, pose, data = case
+    _chain, _pose, data = case
     assert [b.branch for b in data.branches] == [str(b) for b in BRANCHES] and data.initial == 2
     for curves in data.branches:
         psi = curves.psi

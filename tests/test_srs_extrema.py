@@ -11,7 +11,6 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from redkin.models import barrett_wam, pa10_7c, planar_arm, srs_chain
-from tests.support.srs_arms import offset_elbow_chain, wrap
 from redkin.srs import (
     BRANCHES,
     feasible_arm_angles,
@@ -22,6 +21,7 @@ from redkin.srs import (
     srs_geometry,
 )
 from redkin.srs.extrema import LIMIT_CASES, limit_case, tangent_case
+from tests.support.srs_arms import offset_elbow_chain, wrap
 
 SAMPLES = 200_000
 GRID = np.linspace(-np.pi, np.pi, SAMPLES, endpoint=False)
@@ -341,5 +341,5 @@ def test_bad_input_raises_value_error_naming_the_argument():
         joint_extrema(arm, pose, "+++", tolerance=-1.0)
     with pytest.raises(ValueError, match="unreachable"):
         joint_extrema(arm, pose_from(np.array([3.0, 0.0, 0.0]), np.eye(3)), "+++")
-    with pytest.raises(ValueError, match="S-R-S|7 joints"):
+    with pytest.raises(ValueError, match=r"S-R-S|7 joints"):
         joint_extrema(planar_arm(), pose, "+++")

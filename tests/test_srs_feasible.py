@@ -2,13 +2,14 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from redkin.circle import intersect_all, wrap_angle
-from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
-from tests.support.feasible_sampling import GRID, assert_set_matches_sampling, random_limits, sampled_feasibility
-from tests.support.srs_arms import ARM_KINDS, arm
+from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces, ik, pose_from
+from tests.support.feasible_sampling import assert_set_matches_sampling, random_limits
+from tests.support.srs_arms import ARM_KINDS, arm
+
 
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**31), st.sampled_from([str(b) for b in BRANCHES]), st.booleans(), st.sampled_from(ARM_KINDS))

@@ -9,7 +9,8 @@ alone; the closed-form roots are roots.
 import numba
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from redkin.compiled import PARALLEL_BATCH
 from redkin.models import kuka_iiwa14, pa10_7c

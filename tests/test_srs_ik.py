@@ -2,7 +2,8 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from redkin.chain import SerialChain
 from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c, planar_arm, srs_chain

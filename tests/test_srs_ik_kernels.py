@@ -5,12 +5,12 @@ group rotations equal the definitional DH products of eq. 3 (paper 000)."""
 import numba
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from redkin.compiled import PARALLEL_BATCH
 from redkin.models import pa10_7c
-from redkin.srs import BRANCHES, feasible_pieces, ik, ik_all_branches, reachable, srs_geometry
-from redkin.srs import ik_kernels
+from redkin.srs import BRANCHES, feasible_pieces, ik, ik_all_branches, ik_kernels, reachable, srs_geometry
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.ik import theta_at
 from redkin.srs.rotations import group_rotations

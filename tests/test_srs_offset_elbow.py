@@ -11,7 +11,8 @@ import json
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from redkin.chain import SerialChain
 from redkin.cli.main import main
@@ -26,8 +27,8 @@ from redkin.srs import (
     singular_arm_angles,
     srs_geometry,
 )
-from tests.support.srs_arms import offset_elbow_chain, wrap
 from tests.support.feasible_sampling import assert_set_matches_sampling, random_limits
+from tests.support.srs_arms import offset_elbow_chain, wrap
 
 ROUND_TRIP = 1e-9
 
@@ -236,7 +237,7 @@ def test_arms_outside_the_class_are_refused_with_the_reason():
         srs_geometry(SerialChain(a=np.r_[0.0, through_shoulder.a[:6]], alpha=np.r_[0.0, through_shoulder.alpha[:6]],
                                  d=through_shoulder.d, convention="mdh"))
     along_joint_4 = SerialChain(a=wam.a, alpha=wam.alpha, d=np.r_[wam.d[:3], 0.02, wam.d[4:]])
-    with pytest.raises(ValueError, match="offset 0.02 m along joint 4"):
+    with pytest.raises(ValueError, match=r"offset 0\.02 m along joint 4"):
         srs_geometry(along_joint_4)
 
 

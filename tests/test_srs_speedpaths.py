@@ -9,21 +9,30 @@ written here: DH rotation products, the entry layout, one branch at a time.
 
 import numpy as np
 import pytest
-from hypothesis import example, given, settings, strategies as st
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
-from redkin.models import kuka_iiwa14, pa10_7c, srs_chain
-from tests.support.feasible_sampling import random_limits
-from tests.support.srs_arms import ARM_KINDS, arm
+from redkin.models import pa10_7c
 from redkin.so3 import rot_x
-from redkin.srs import (BRANCHES, arm_angle_of, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces, ik,
-                         ik_all_branches, pose_from, srs_geometry)
+from redkin.srs import (
+    BRANCHES,
+    arm_angle_of,
+    feasible_arm_angles,
+    feasible_arm_angles_batch,
+    feasible_kernels,
+    feasible_pieces,
+    ik,
+    ik_all_branches,
+    pose_from,
+    srs_geometry,
+)
 from redkin.srs.coefficients import arm_angle_coefficients
-from redkin.srs import feasible_kernels
 from redkin.srs.feasible import limit_tables
 from redkin.srs.ik_kernels import ENTRY_LAYOUT
 from redkin.srs.joints import IS_COSINE, PSI_JOINTS
-from tests.support.srs_arms import shoulder_rotation, wrist_rotation
 from redkin.validation import check_pose
+from tests.support.feasible_sampling import random_limits
+from tests.support.srs_arms import ARM_KINDS, arm, shoulder_rotation, wrist_rotation
 
 
 def random_chain(rng, model, crossing=False):
@@ -59,7 +68,7 @@ def test_coefficients_at_psi_equal_the_rotations_of_the_ik_joint_values(seed, mo
     """A sin psi + B cos psi + C (eqs. 12, 16) == 0R3, 4R7 of the IK joint values (DH products, eq. 3),
     and the entry rows equal those entries of the coefficient matrices."""
     rng = np.random.default_rng(seed)
-    chain, q = random_chain(rng, model)
+    chain, _q = random_chain(rng, model)
     geometry = srs_geometry(chain)
     poses = chain.fk(rng.uniform(-np.pi, np.pi, (5, 7)))
     psi = rng.uniform(-np.pi, np.pi, 5)

@@ -58,7 +58,7 @@ def _psi_basis(wrist):
 def test_shoulder_angle_is_the_turn_of_the_shoulder_about_the_neck_wrist_axis():
     _, _, _, wrist = _postures(300, 0)
     theta1 = np.random.default_rng(1).uniform(-1.5, 1.5, 300)
-    n, e1, e2 = _psi_basis(wrist)
+    _n, e1, e2 = _psi_basis(wrist)
     s = ARM.shoulder(theta1)
     reference = np.arctan2(np.sum(s * e2, axis=-1), np.sum(s * e1, axis=-1))
     np.testing.assert_allclose(shoulder_angle(theta1, wrist, ARM.L0), reference, rtol=0, atol=1e-13)

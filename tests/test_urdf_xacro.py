@@ -8,8 +8,8 @@ import pytest
 pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
 pytest.importorskip("xacrodoc", reason="the xacro extra (xacrodoc) is not installed")
 
-from redkin.cli.main import main  # noqa: E402
-from redkin.models import get_robot  # noqa: E402
+from redkin.cli.main import main
+from redkin.models import get_robot
 
 XACRO = """<?xml version="1.0"?>
 <robot name="macro_arm" xmlns:xacro="http://www.ros.org/wiki/xacro">

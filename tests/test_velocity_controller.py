@@ -20,8 +20,17 @@ from redkin.velocity import (
     singularity_consistent,
     singularity_factorisation,
 )
-from tests.support.velocity_wam import EPS, FACTOR, Q0, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
-
+from tests.support.velocity_wam import (
+    EPS,
+    FACTOR,
+    Q0,
+    Q4_ZERO,
+    WAM,
+    assert_same,
+    configurations,
+    twists,
+    well_conditioned,
+)
 
 
 def exact_step(q, twist, direction, self_motion=0.0, modify_rotation=True):

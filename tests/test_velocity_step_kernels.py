@@ -23,11 +23,11 @@ from redkin.velocity import (
     pseudoinverse,
     rotation_factor,
     singularity_consistent,
+    step_kernels,
     twist_scale,
     wam_cofactors,
     wam_singularity_index,
 )
-from redkin.velocity import step_kernels
 from redkin.velocity.baselines import PINV_RCOND
 from tests.support.velocity_wam import EPS, FACTOR, Q4_ZERO, WAM, assert_same, configurations, twists, well_conditioned
 
@@ -164,7 +164,7 @@ def test_batched_steps_equal_looped_steps_bit_for_bit():
         np.testing.assert_array_equal(pinv[k], pseudoinverse(jac[k], twist[k]))
         one = singularity_consistent(jac[k], twist[k], index[k], factors[k], EPS, -1.0, 0.3)
         np.testing.assert_array_equal(exact.joint_velocity[k], one.joint_velocity)
-        one = lean_singularity_consistent(jac[k], twist[k], index[k], lambda: factors[k], EPS, -1.0, 0.3)
+        one = lean_singularity_consistent(jac[k], twist[k], index[k], lambda k=k: factors[k], EPS, -1.0, 0.3)
         np.testing.assert_array_equal(lean.joint_velocity[k], one.joint_velocity)
         np.testing.assert_array_equal(lean.target_twist[k], one.target_twist)
 

@@ -152,7 +152,7 @@ def test_virtual_arms_one_by_one_equals_together_and_survives_a_dropped_subsyste
 def test_virtual_arms_literal_eq10_is_reported_stalled_far_from_goal():
     model = AnalyticModel(ARM, [VirtualPoint.end()])
     run = generate_trajectory(model, Q0, [GOAL], gain="literal")
-    assert run.status == "stalled" and "step size" in run.message or "failed" in run.message
+    assert (run.status == "stalled" and "step size" in run.message) or "failed" in run.message
     assert run.final_errors[0] > 1e-2
     assert generate_trajectory(model, Q0, [GOAL], gain="bounded").converged
 

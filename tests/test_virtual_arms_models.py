@@ -2,10 +2,18 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from redkin.models import pa10_7c, planar_arm
-from redkin.virtual_arms import AnalyticModel, VirtualPoint, classify, joints_and_midpoints, learn_forward_model, parse_point
+from redkin.virtual_arms import (
+    AnalyticModel,
+    VirtualPoint,
+    classify,
+    joints_and_midpoints,
+    learn_forward_model,
+    parse_point,
+)
 from redkin.virtual_arms.mlp import MLP
 
 ARM = planar_arm()

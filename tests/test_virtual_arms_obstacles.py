@@ -37,7 +37,10 @@ def _independent_clearance(chain, theta, obstacles, axes=(0, 1), samples=201):
     return min(float((np.linalg.norm(along - ob.centre, axis=-1) - ob.radius).min()) for ob in obstacles)
 
 
-def _dense(theta, step=np.radians(0.25)):
+DENSE_STEP = np.radians(0.25)
+
+
+def _dense(theta, step=DENSE_STEP):
     return densify(theta, step)[0]
 
 
