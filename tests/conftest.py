@@ -6,10 +6,13 @@ Each is built once per session; tests must not change them (chains are read-only
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from redkin.chain import SerialChain
 from redkin.velocity import WamFactorisation
+from tests import report_builds
 from tests.support import velocity_wam
 
 
@@ -23,3 +26,12 @@ def wam() -> SerialChain:
 def wam_factor() -> WamFactorisation:
     """The WAM's D_e factorisation (paper 003 sec. 3.3); the same object as ``tests.support.velocity_wam.FACTOR``."""
     return velocity_wam.FACTOR
+
+
+@pytest.fixture(scope="session")
+def full_report() -> Path:
+    """The folder of ``redkin reproduce`` with every section (index.html, summary.json, figures, explorers).
+
+    Built once per session (about a minute) and read by the section and browser tests, which must not change it.
+    """
+    return report_builds.full_report()

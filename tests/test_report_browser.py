@@ -2,7 +2,8 @@
 
 Playwright is launched on Debian's ``/usr/bin/chromium`` (``.ci/run`` installs
 it); it never downloads a browser of its own.  Without either, the tests skip
-and say why.  The report is the session's full report (tests/report_builds.py).
+and say why.  The report is the session's full report (the ``full_report`` fixture of tests/conftest.py).
+Every test here is marked slow: the first builds the whole report.
 """
 
 from __future__ import annotations
@@ -14,10 +15,9 @@ from pathlib import Path
 
 import pytest
 
-from tests.report_builds import full_report
-
 CHROMIUM = Path("/usr/bin/chromium")
 WIDTHS = (1400, 420)  # a desktop and a phone
+pytestmark = pytest.mark.slow
 
 sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed (pip install -e '.[test]')")
 if not CHROMIUM.exists():
@@ -48,8 +48,8 @@ class Page:
 
 
 @pytest.mark.parametrize("width", WIDTHS)
-def test_report_reads_at_desktop_and_phone_width(browser, width):
-    report = full_report()
+def test_report_reads_at_desktop_and_phone_width(browser, width, full_report):
+    report = full_report
     view = Page(browser, (report / "index.html").as_uri(), width)
     page = view.page
     images = page.evaluate("""async () => {
@@ -87,8 +87,8 @@ def _explorer_state(page) -> tuple[str, list[str]]:
 
 
 @pytest.mark.parametrize("width", WIDTHS)
-def test_report_explorer_slider_moves_the_arm(browser, width):
-    view = Page(browser, (full_report() / "000_explore_6_1.html").as_uri(), width)
+def test_report_explorer_slider_moves_the_arm(browser, width, full_report):
+    view = Page(browser, (full_report / "000_explore_6_1.html").as_uri(), width)
     page = view.page
     before = _explorer_state(page)
     assert len(before[1]) == 7 and page.locator(".curves svg").count() == 7
