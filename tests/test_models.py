@@ -26,17 +26,11 @@ from redkin.models import (
     ufactory_xarm7,
 )
 from redkin.srs import ik_all_branches
+from tests.support.urdf_reference import axis_angle
 
 PI, HALF = np.pi, np.pi / 2
 X, Y, Z, MINUS_Y = (1, 0, 0), (0, 1, 0), (0, 0, 1), (0, -1, 0)
 INF = np.inf
-
-
-def _turn(axis, angle: float) -> np.ndarray:
-    """Rodrigues: the rotation by ``angle`` about ``axis``."""
-    k = np.asarray(axis, float) / np.linalg.norm(axis)
-    skew = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * skew + (1.0 - np.cos(angle)) * skew @ skew
 
 
 def _step(xyz, rotation) -> np.ndarray:
@@ -52,10 +46,10 @@ def urdf_pose(joints: list[tuple], q: np.ndarray) -> tuple[np.ndarray, np.ndarra
     """
     pose, axes, k = np.eye(4), [], 0
     for xyz, (roll, pitch, yaw), axis in joints:
-        pose = pose @ _step(xyz, _turn(Z, yaw) @ _turn(Y, pitch) @ _turn(X, roll))
+        pose = pose @ _step(xyz, axis_angle(Z, yaw) @ axis_angle(Y, pitch) @ axis_angle(X, roll))
         if axis is not None:
             axes.append(pose[:3, :3] @ np.asarray(axis, float) / np.linalg.norm(axis))
-            pose, k = pose @ _step((0, 0, 0), _turn(axis, q[k])), k + 1
+            pose, k = pose @ _step((0, 0, 0), axis_angle(axis, q[k])), k + 1
     return pose, np.array(axes)
 
 

@@ -21,7 +21,8 @@ def _rotation(rpy) -> np.ndarray:
     return rz @ ry @ rx
 
 
-def _axis_angle(axis, angle) -> np.ndarray:
+def axis_angle(axis, angle) -> np.ndarray:
+    """Rodrigues: the rotation by ``angle`` about ``axis``."""
     k = np.asarray(axis, float) / np.linalg.norm(axis)
     skew = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
     return np.eye(3) + np.sin(angle) * skew + (1 - np.cos(angle)) * skew @ skew
@@ -45,7 +46,7 @@ def reference_fk(text: str, q: np.ndarray, tip: str) -> np.ndarray:
         pose = pose @ step
         if joint.get("type") in ("revolute", "continuous"):
             turn = np.eye(4)
-            turn[:3, :3] = _axis_angle([float(v) for v in joint.find("axis").get("xyz").split()], q[k])
+            turn[:3, :3] = axis_angle([float(v) for v in joint.find("axis").get("xyz").split()], q[k])
             pose, k = pose @ turn, k + 1
     return pose
 
