@@ -83,6 +83,43 @@ def ssik_solver():
     return _native._solver(_native._load_ext(), iiwa14_ik._KB, iiwa14_ik.SOLVER_NAME)
 
 
+def serial_cpu_rows(arm, q: np.ndarray, poses: np.ndarray) -> list[tuple[str, str, str, str]]:
+    """CPU time per item of the serial batch loops on one thread: what two free cores give is twice its inverse.
+
+    The parallel loops' wall time depends on what else runs on the machine;
+    this bound does not (beyond what a busy sibling core costs).
+    """
+    from redkin import compiled
+
+    threshold = compiled.PARALLEL_BATCH
+    compiled.PARALLEL_BATCH = len(q) + 1  # serial loops only
+    try:
+        def cpu(function, count: int) -> float:
+            function()
+            best = float("inf")
+            for _ in range(5):
+                start = time.process_time()
+                function()
+                best = min(best, time.process_time() - start)
+            return best / count
+        fk = cpu(lambda: arm.fk(q), len(q))
+        ik8 = cpu(lambda: ik_all_branches(arm, poses, 0.3), len(poses))
+        few = poses[:50_000]
+        one = cpu(lambda: feasible_pieces(arm, few, "+-+"), len(few))
+        eight = cpu(lambda: feasible_pieces_all_branches(arm, few), 8 * len(few))
+    finally:
+        compiled.PARALLEL_BATCH = threshold
+    return [
+        ("  serial CPU per pose, 8 branches (one thread)", f"{ik8 * 1e9:.0f} ns", f"2 free cores: {16 / ik8 / 1e6:.1f} M/s",
+         ""),
+        ("  serial CPU per pose-branch, one branch's feasible set", f"{one * 1e9:.0f} ns",
+         f"2 free cores: {2 / one / 1e6:.2f} M/s", ""),
+        ("  serial CPU per pose-branch, all 8 branches' sets", f"{eight * 1e9:.0f} ns",
+         f"2 free cores: {2 / eight / 1e6:.2f} M/s", ""),
+        ("  serial CPU per configuration, FK", f"{fk * 1e9:.0f} ns", f"2 free cores: {2 / fk / 1e6:.1f} M/s", ""),
+    ]
+
+
 def main() -> None:
     import numba
 
@@ -124,6 +161,8 @@ def main() -> None:
     seconds = best_time(lambda: feasible_pieces(pa10, few, "+-+"), repeat=3)
     rows.append(("batch feasible sets (2x10^5 poses, one branch)", f"{len(few) / seconds / 1e6:.2f} M pose-branches/s",
                  "", ">= 1 M/s"))
+
+    rows.extend(serial_cpu_rows(pa10, q_batch[:200_000], poses[:200_000]))
 
     # --- FK, Jacobian, SC step beside roboticstoolbox
     plain = pa10_7c()
