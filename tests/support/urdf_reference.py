@@ -51,6 +51,25 @@ def reference_fk(text: str, q: np.ndarray, tip: str) -> np.ndarray:
     return pose
 
 
+def reference_axes(text: str, tip: str) -> np.ndarray:
+    """World directions ``(n, 3)`` at q = 0 of the moving joints' axes on the way to ``tip``, from the URDF itself."""
+    root = ET.fromstring(text)
+    by_child = {j.find("child").get("link"): j for j in root.findall("joint")}
+    path, link = [], tip
+    while link in by_child:
+        path.append(by_child[link])
+        link = by_child[link].find("parent").get("link")
+    rotation, axes = np.eye(3), []
+    for joint in reversed(path):
+        origin = joint.find("origin")
+        if origin is not None:
+            rotation = rotation @ _rotation([float(v) for v in origin.get("rpy", "0 0 0").split()])
+        if joint.get("type") in ("revolute", "continuous"):
+            axis = np.array([float(v) for v in joint.find("axis").get("xyz").split()])
+            axes.append(rotation @ (axis / np.linalg.norm(axis)))
+    return np.array(axes)
+
+
 # ----------------------------------------------------------------------------- synthetic URDFs
 def urdf(joints: list[tuple], name: str = "synthetic") -> str:
     """``joints``: (type, xyz, rpy, axis) from the root link down a single chain."""
