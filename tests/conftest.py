@@ -6,13 +6,15 @@ Each is built once per session; tests must not change them (chains are read-only
 
 from __future__ import annotations
 
+import shutil
+import tempfile
 from pathlib import Path
 
 import pytest
 
+from redkin import reproduce
 from redkin.chain import SerialChain
 from redkin.velocity import WamFactorisation
-from tests import report_builds
 from tests.support import velocity_wam
 
 
@@ -29,9 +31,13 @@ def wam_factor() -> WamFactorisation:
 
 
 @pytest.fixture(scope="session")
-def full_report() -> Path:
+def full_report():
     """The folder of ``redkin reproduce`` with every section (index.html, summary.json, figures, explorers).
 
-    Built once per session (about a minute) and read by the section and browser tests, which must not change it.
+    Built once per session, by the first test that asks (about a minute), and read by the section and browser
+    tests, which must not change it; removed when the session ends.
     """
-    return report_builds.full_report()
+    folder = Path(tempfile.mkdtemp(prefix="redkin-report-"))
+    reproduce.run(folder)
+    yield folder
+    shutil.rmtree(folder, ignore_errors=True)

@@ -1,25 +1,27 @@
 """The main job: every section of the report runs, and disagrees with the papers only where explained.
 
-All tests read one full report (tests/report_builds.py), built once per session.
+All tests read one full report (the ``full_report`` fixture of tests/conftest.py), built once per session;
+they are marked slow.
 """
 
 import json
 
 import numpy as np
 import pytest
-from tests.report_builds import full_report
 
 from redkin.models import get_robot
 from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable
 from redkin.workspace import super_fibonacci_rotations
 
-
-def _summary():
-    return json.loads((full_report() / "summary.json").read_text())
+pytestmark = pytest.mark.slow
 
 
-def _tables(key):
-    return _summary()["sections"][key]["tables"]
+def _summary(report):
+    return json.loads((report / "summary.json").read_text())
+
+
+def _tables(report, key):
+    return _summary(report)["sections"][key]["tables"]
 
 
 def _rows(table):
@@ -30,8 +32,8 @@ def _differing(tables):
     return [row for t in tables.values() for row, ok in zip(t["rows"], t.get("agreement", [])) if ok is False]
 
 
-def test_paper_000_section_agrees_except_the_6_2_2_misprint():
-    tables = _tables("000")
+def test_paper_000_section_agrees_except_the_6_2_2_misprint(full_report):
+    tables = _tables(full_report, "000")
     differing = [row[0] for row in _differing(tables)]
     # 6.2.2's misprinted feasible set (three rows) and 6.2.1's set, printed for branch +++ but belonging to ++-
     assert sorted(differing) == ["Psi lower [deg]", "Psi upper [deg]", "Psi, branch +++", "psi_w^opt clamped to Psi [deg]"]
@@ -39,53 +41,53 @@ def test_paper_000_section_agrees_except_the_6_2_2_misprint():
     assert agreeing >= 60
     for row in _differing(tables):
         assert "misprint" in row[-1] or "belongs to branch ++-" in row[-1]
-    page = (full_report() / "index.html").read_text()
+    page = (full_report / "index.html").read_text()
     assert page.count("<img") >= 3
     for name in ("6_1", "6_2_1", "6_2_2"):  # an explorer for each case, linked from the page
         assert f'href="000_explore_{name}.html"' in page
-        assert (full_report() / f"000_explore_{name}.html").stat().st_size > 10_000
+        assert (full_report / f"000_explore_{name}.html").stat().st_size > 10_000
 
 
-def test_differences_are_ours_minus_the_paper():
-    for section in _summary()["sections"].values():
+def test_differences_are_ours_minus_the_paper(full_report):
+    for section in _summary(full_report)["sections"].values():
         for table in section["tables"].values():
             if "agreement" not in table:
                 continue
-            for quantity, paper, ours, difference, verdict in table["rows"]:
+            for quantity, paper, ours, difference, _verdict in table["rows"]:
                 numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (paper, ours))
                 assert (difference is None) is not numbers, quantity
                 if numbers:
                     assert abs(difference - (ours - paper)) < 1e-12
 
 
-def test_counts_in_summary_json_equal_the_verdicts():
-    for key, section in _summary()["sections"].items():
+def test_counts_in_summary_json_equal_the_verdicts(full_report):
+    for key, section in _summary(full_report)["sections"].items():
         verdicts = [ok for t in section["tables"].values() for ok in t.get("agreement", [])]
         assert section["counts"] == {"agrees": verdicts.count(True), "differs": verdicts.count(False),
                                      "no_value": verdicts.count(None)}, key
 
 
-def test_paper_001_section_has_no_disagreement():
-    tables = _tables("001")
+def test_paper_001_section_has_no_disagreement(full_report):
+    tables = _tables(full_report, "001")
     assert not _differing(tables)
     for row in _rows(tables["ik_round_trip"]):
         assert row["max joint error [rad]"] < 1e-8 and row["max FK error (pose matrix entries)"] < 1e-8, row
 
 
-def test_paper_003_section_meets_every_claim():
-    tables = _tables("003")
+def test_paper_003_section_meets_every_claim(full_report):
+    tables = _tables(full_report, "003")
     assert tables["claims"]["agreement"] == [True] * len(tables["claims"]["rows"])
     methods = {row["method"]: row for row in _rows(tables["methods"])}
     sc = next(row for name, row in methods.items() if name.startswith("sc"))
     assert sc["crossings of D_e = 0"] == 1
-    page = (full_report() / "index.html").read_text()
+    page = (full_report / "index.html").read_text()
     assert "True" not in page and "False" not in page  # Python's booleans never reach a sentence
     assert "feasible arm angles along the Fig. 1 path" in page  # the offset-elbow arm-angle subsection
-    assert (full_report() / "003_wam_arm_angles.png").exists()
+    assert (full_report / "003_wam_arm_angles.png").exists()
 
 
-def test_paper_004_section_differs_only_where_the_goals_conflict():
-    tables = _tables("004")
+def test_paper_004_section_differs_only_where_the_goals_conflict(full_report):
+    tables = _tables(full_report, "004")
     fig6 = tables["fig6"]
     for row, ok in zip(fig6["rows"], fig6["agreement"]):
         over_constrained = "(c)" in row[0] or "(d)" in row[0]
@@ -101,20 +103,20 @@ def test_paper_004_section_differs_only_where_the_goals_conflict():
         assert row["limit violations"] == 0 and row["clamped motion [rad]"] == 0.0
 
 
-def _map_arrays(name):
-    with np.load(full_report() / f"workspace_{name}_map.npz") as data:
+def _map_arrays(report, name):
+    with np.load(report / f"workspace_{name}_map.npz") as data:
         return dict(data)
 
 
-def test_workspace_section_map_entries_equal_direct_feasible_arm_angles():
+def test_workspace_section_map_entries_equal_direct_feasible_arm_angles(full_report):
     """Sampled entries of the report's maps against feasible_arm_angles; the indices and the table from their definitions."""
-    tables = _tables("workspace")
+    tables = _tables(full_report, "workspace")
     assert not _differing(tables)
     rows = {row["arm"]: row for row in _rows(tables["maps"])}
     assert sorted(rows) == ["kuka-iiwa14", "pa10-7c"]
     rng = np.random.default_rng(14)
     for name, row in rows.items():
-        arm, arrays = get_robot(name), _map_arrays(name)
+        arm, arrays = get_robot(name), _map_arrays(full_report, name)
         measure = arrays["measure"]
         m, n = row["orientations"], measure.shape[0]
         assert measure.shape == (n, n, n, m, 8) and row["grid"] == f"{n}^3" and row["pose-branch sets"] == measure.size
@@ -139,21 +141,21 @@ def test_workspace_section_map_entries_equal_direct_feasible_arm_angles():
                 if reachable(arm, pose):
                     expected = feasible_arm_angles(arm, pose, branch).feasible.length  # arcs may wrap past pi
                 assert measure[i, j, k, o, column] == pytest.approx(expected, abs=1e-9), (name, i, j, k, o, branch)
-    page = (full_report() / "index.html").read_text()
+    page = (full_report / "index.html").read_text()
     for name in rows:
-        assert f'href="workspace_{name}_map.npz"' in page and (full_report() / f"workspace_{name}_map.png").exists()
+        assert f'href="workspace_{name}_map.npz"' in page and (full_report / f"workspace_{name}_map.png").exists()
 
 
-def test_workspace_section_gamma_line_equals_the_6_2_2_computation():
+def test_workspace_section_gamma_line_equals_the_6_2_2_computation(full_report):
     """The line's Gamma is section 000's Gamma (found there with feasible_arm_angles), and the line's measure is positive
     exactly inside it."""
-    ours = {row["quantity"]: row["ours"] for row in _rows(_tables("workspace")["gamma_line"])}
-    paper_000 = {row["quantity"]: row["ours"] for row in _rows(_tables("000")["s6_2_2"])}
+    ours = {row["quantity"]: row["ours"] for row in _rows(_tables(full_report, "workspace")["gamma_line"])}
+    paper_000 = {row["quantity"]: row["ours"] for row in _rows(_tables(full_report, "000")["s6_2_2"])}
     for side in ("lower", "upper"):
         gamma = paper_000[f"Gamma {side} [deg] (psi controlled)"]
         assert ours[f"Gamma {side} [deg] (psi controlled): measure on +++ > 0"] == pytest.approx(gamma, abs=1e-9)
         assert ours[f"Gamma {side} [deg]: map reachability (any branch)"] == pytest.approx(gamma, abs=1e-9)
-    with np.load(full_report() / "workspace_gamma_line.npz") as data:
+    with np.load(full_report / "workspace_gamma_line.npz") as data:
         gamma, measure = data["gamma"], data["measure"]
     plus = [str(b) for b in BRANCHES].index("+++")
     bound = np.radians(ours["Gamma upper [deg] (psi controlled): measure on +++ > 0"])

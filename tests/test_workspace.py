@@ -64,9 +64,9 @@ def test_grid_rejects_bad_extents(extent, message):
 
 
 def test_grid_rejects_bad_sizes():
-    with pytest.raises(ValueError, match="resolution must be an integer in 2..1000"):
+    with pytest.raises(ValueError, match=r"resolution must be an integer in 2\.\.1000"):
         workspace_grid([0, 1, 0, 1, 0, 1], 1, 10)
-    with pytest.raises(ValueError, match="chunk must be an integer in 1..4"):
+    with pytest.raises(ValueError, match=r"chunk must be an integer in 1\.\.4"):
         workspace_grid([0, 1, 0, 1, 0, 1], 4, 10, chunk=5)
 
 
