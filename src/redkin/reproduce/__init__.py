@@ -8,9 +8,9 @@ module adds itself by appending one line there.
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Sequence
 
 from redkin.reproduce.provenance import build_info
 from redkin.reproduce.report import SectionWriter, write_report

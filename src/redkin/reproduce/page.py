@@ -12,7 +12,8 @@ from __future__ import annotations
 import html
 import re
 from collections import Counter
-from typing import TYPE_CHECKING, Any, Sequence
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, cast
 
 from redkin.reproduce.comparison import Comparison, Note, is_number
 from redkin.reproduce.numbers import column_format, fixed, general, printed_decimals, text
@@ -58,7 +59,7 @@ p.explore a { font-weight: 600; }
 """
 
 
-def render_page(sections: Sequence["SectionWriter"], title: str, build: dict[str, str]) -> str:
+def render_page(sections: Sequence[SectionWriter], title: str, build: dict[str, str]) -> str:
     """The whole report page: header, summary, contents and the sections."""
     ids = _Anchors()
     bodies = [_section_html(s, ids) for s in sections]
@@ -94,9 +95,10 @@ def row_id(section: str, table: str, index: int) -> str:
     return f"{section}-{table}-{index + 1}".replace("_", "-").lower()
 
 
-def _summary_html(sections: Sequence["SectionWriter"]) -> str:
+def _summary_html(sections: Sequence[SectionWriter]) -> str:
     compared = [s for s in sections if s.comparisons]
-    rows, totals = [], Counter()
+    rows: list[str] = []
+    totals: Counter[str] = Counter()
     for s in compared:
         counts = s.counts()
         totals.update(counts)
@@ -136,7 +138,7 @@ def _short(title: str) -> str:
     return title.split(":")[0].strip()
 
 
-def _contents_html(sections: Sequence["SectionWriter"], ids: _Anchors) -> str:
+def _contents_html(sections: Sequence[SectionWriter], ids: _Anchors) -> str:
     entries = ['<li><a href="#summary">Summary: what reproduces</a></li>']
     for s in sections:
         subsections = "".join(f'<li><a href="#{anchor}">{html.escape(title)}</a></li>'
@@ -146,7 +148,7 @@ def _contents_html(sections: Sequence["SectionWriter"], ids: _Anchors) -> str:
     return f'<nav aria-label="Contents"><h2>Contents</h2><ul>{"".join(entries)}</ul></nav>'
 
 
-def _section_html(writer: "SectionWriter", ids: _Anchors) -> str:
+def _section_html(writer: SectionWriter, ids: _Anchors) -> str:
     ids.used.add(writer.key)
     parts = [f'<section id="{html.escape(writer.key)}">', f"<h2>{html.escape(writer.title)}</h2>",
              f'<p class="ref">{html.escape(writer.reference)}</p>']
@@ -176,7 +178,7 @@ def _section_html(writer: "SectionWriter", ids: _Anchors) -> str:
 _TOP = '<p class="top"><a href="#top">↑ back to top</a></p>'
 
 
-def _figure_html(figure: "Figure") -> str:
+def _figure_html(figure: Figure) -> str:
     name = html.escape(figure.filename)
     detail = f'<p class="note">{html.escape(figure.detail)}</p>' if figure.detail else ""
     return (f'<figure><a href="{name}"><img src="{name}" width="{figure.width}" height="{figure.height}" '
@@ -214,7 +216,8 @@ def _shared_unit(comparisons: Sequence[Comparison]) -> str | None:
 
 
 def _decimals(c: Comparison) -> int:
-    return printed_decimals(c.paper) + 1
+    """Decimals for ours and the difference: one more than the paper prints (rows with a numeric paper value only)."""
+    return printed_decimals(cast(float, c.paper)) + 1
 
 
 def _paper_cell(c: Comparison) -> str:

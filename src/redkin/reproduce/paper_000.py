@@ -131,7 +131,10 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
     optimal = optimal_arm_angles(chain, pose, "+++", target=target, weights=(0.5, 0.5), feasible=feasible)
     default = optimal_arm_angles(chain, pose, "+++", weights=(0.5, 0.5), feasible=feasible)
     theta0 = ik(chain, pose, 0.0, "+++")
-    theta_opt = ik(chain, pose, optimal.overall.feasible, "+++")
+    psi_opt = optimal.overall.feasible
+    if psi_opt is None:  # the paper's pose has a feasible optimum; a changed pose or limits must say so
+        raise RuntimeError("the optimal arm angle of the paper's pose has no feasible arm angle to clamp to")
+    theta_opt = ik(chain, pose, psi_opt, "+++")
     lo, hi = feasible.arcs[0]
     misprint = Note("misprint in the paper: its own Gamma = 147.693 needs psi = 45.991 to be feasible",
                     "the printed [-43.246, 43.246] is a misprint: turning the tool about z leaves x_sw as in 6.1, so "

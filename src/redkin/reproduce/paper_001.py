@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+from numpy.typing import ArrayLike
 
 from redkin.plot.torso_arm import draw_manipulability_map
 from redkin.references import REFERENCES
@@ -139,7 +140,9 @@ def build(writer: SectionWriter) -> None:
         "in the torso mid-plane), indexed by the right wrist. Both wrists at one point is impossible within the limits "
         "(theta_3 >= -5 deg keeps each wrist >= 17 mm on its own side of the mid-plane)."
     )
-    landmarks = {"neck": [0.0, 0.0, 0.0], "R shoulder": right.shoulder(0.0), "L shoulder": -right.shoulder(0.0)}
+    landmarks: dict[str, ArrayLike] = {
+        "neck": [0.0, 0.0, 0.0], "R shoulder": right.shoulder(0.0), "L shoulder": -right.shoulder(0.0),
+    }
     summary = []
     for index, dual in enumerate((False, True)):
         for k, (fig_no, title, plane, extent) in enumerate(slices):

@@ -2,19 +2,18 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 import matplotlib.pyplot as plt
+import numpy as np
 
 from redkin.circle import ArcSet
 from redkin.models import barrett_wam, barrett_wam7
 from redkin.plot.srs import plot_arm_angles_along_path
 from redkin.plot.velocity import comparison_figure, tracking_figure
-from redkin.srs import arm_angle_of, feasible_arm_angles, srs_geometry
 from redkin.references import REFERENCES
 from redkin.reproduce import Section
 from redkin.reproduce.comparison import Comparison
 from redkin.reproduce.report import SectionWriter
+from redkin.srs import arm_angle_of, feasible_arm_angles, srs_geometry
 from redkin.velocity import (
     AdaptiveDampedLeastSquares,
     DampedLeastSquares,
@@ -25,6 +24,7 @@ from redkin.velocity import (
     check_single_parameter,
     simulate,
 )
+from redkin.velocity.methods import Method
 
 # Paper 003 section 4 scenario (paper values: used here and in the tests only).
 PAPER_Q0_DEG = [30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0]
@@ -35,22 +35,29 @@ DT = 1e-3
 DAMPING = 0.05
 
 
+def _index(run: TrackingResult) -> np.ndarray:
+    """``D_e`` along ``run``: every run of this section is simulated with the WAM's index."""
+    if run.index is None:
+        raise ValueError("the run was simulated without an index (D_e) to record")
+    return run.index
+
+
 def intended_twist(run: TrackingResult, twist: np.ndarray) -> np.ndarray:
     """The scenario's intended twist: the command, with translation reversed once ``D_e`` has changed sign."""
-    flips = np.cumsum(np.r_[0, np.diff(np.sign(run.index)) != 0])
+    flips = np.cumsum(np.r_[0, np.diff(np.sign(_index(run))) != 0])
     reverse = (flips % 2 == 1)[:, None]
     return np.where(reverse, twist * np.array([-1, -1, -1, 1, 1, 1]), twist)
 
 
 def run_summary(run: TrackingResult, twist: np.ndarray, eps: float, reverses: bool) -> list:
     """Crossings of ``D_e = 0``, max ``||q_dot||``, path drift off the x line, time with twist error > 10 %, outside-region error."""
-    crossings = int(np.count_nonzero(np.diff(np.sign(run.index)) != 0))
+    crossings = int(np.count_nonzero(np.diff(np.sign(_index(run))) != 0))
     speed = float(np.linalg.norm(run.joint_velocity, axis=1).max())
     drift = float(np.linalg.norm(run.position[:, 1:] - run.position[0, 1:], axis=1).max())
     intended = intended_twist(run, twist) if reverses else run.commanded
     error = np.linalg.norm(run.realised - intended, axis=1) / np.linalg.norm(twist)
     dt = run.time[1] - run.time[0]
-    outside = np.abs(run.index) > eps
+    outside = np.abs(_index(run)) > eps
     worst_outside = float(error[outside].max()) if outside.any() else float("nan")
     return [crossings, speed, drift, float(np.count_nonzero(error > 0.1) * dt), worst_outside, float(run.position[:, 0].max())]
 
@@ -65,7 +72,7 @@ def workspace_boundaries(chain, factorisation: WamFactorisation, run: TrackingRe
     height = float(run.position[0, 2])
     angle = np.linspace(0.0, 2 * np.pi, 361)
     circle = np.stack([np.cos(angle), np.sin(angle)], axis=1)
-    turn = int(np.argmin(np.abs(run.index)))
+    turn = int(np.argmin(np.abs(_index(run))))
     approach = run.rotation[turn][:, 2] * tool  # wrist centre = end point - d7 z_tool
     radius = np.sqrt(max(reach**2 - (height - approach[2]) ** 2, 0.0))
     return [
@@ -93,7 +100,7 @@ def arm_angle_subsection(writer: SectionWriter, run: TrackingResult, samples: in
     picked = np.linspace(0, len(run.time) - 1, samples).round().astype(int)
     psi, branches, sets = feasible_along_path(chain, run.q[picked])
     within_joints = chain.joints_within_limits(run.q[picked], wrap=True)
-    within = within_joints.all(axis=-1)
+    within = np.asarray(within_joints.all(axis=-1))
     time = run.time[picked]
     phase = np.degrees(srs_geometry(chain).elbow_equation.phase)
     switch = np.flatnonzero(branches[1:] != branches[:-1])
@@ -159,7 +166,7 @@ def build(writer: SectionWriter) -> None:
         f"of the WAM (largest minor on D_e = 0, relative: {check.worst_minor_on_set:.1e}; largest jump of det J_i / D_e "
         f"across the set, relative: {check.worst_ratio_jump:.1e}). The closed-form D_i agree with det J_i / D_e in the tests."
     )
-    methods = {
+    methods: dict[str, Method] = {
         "sc": SingularityConsistent(eps=PAPER_EPS),
         "pinv": Pseudoinverse(),
         "dls": DampedLeastSquares(damping=DAMPING),
@@ -194,7 +201,7 @@ def build(writer: SectionWriter) -> None:
     )
     summary = dict(zip(methods, rows))
     sc_row = summary["sc"]
-    inside = np.abs(sc.index) > PAPER_EPS
+    inside = np.abs(_index(sc)) > PAPER_EPS
     writer.heading("The claims of section 4")
     writer.comparison(
         "claims",

@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from redkin.models import pa10_7c, planar_arm  # noqa: E402
-from redkin.plot.virtual_arms import (  # noqa: E402
+from redkin.chain import SerialChain
+from redkin.models import pa10_7c, planar_arm
+from redkin.plot.virtual_arms import (
     draw_joint_history,
     draw_strobe,
     draw_strobe_3d,
@@ -19,10 +21,10 @@ from redkin.plot.virtual_arms import (  # noqa: E402
     legend_below,
 )
 from redkin.references import REFERENCES
-from redkin.reproduce import Section  # noqa: E402
-from redkin.reproduce.comparison import Comparison, Note  # noqa: E402
-from redkin.reproduce.report import SectionWriter  # noqa: E402
-from redkin.virtual_arms import (  # noqa: E402
+from redkin.reproduce import Section
+from redkin.reproduce.comparison import Comparison, Note
+from redkin.reproduce.report import SectionWriter
+from redkin.virtual_arms import (
     AnalyticModel,
     Obstacle,
     ObstacleRun,
@@ -83,7 +85,8 @@ def run_cases(progress=lambda fraction, message: None) -> list[Case]:
     heavy = np.ones(ten.count)
     heavy[0] = 100.0
     fig7, low7, high7 = _output(PAPER_FIG7_LIMITS_DEG)
-    plans = [
+    plans: list[tuple[str, AnalyticModel, np.ndarray, Any, np.ndarray | None, dict[str, Any],
+                      tuple[OutputFunction, np.ndarray, np.ndarray]]] = [
         ("Fig. 6 (a) end point only", end_only, q0, [goal], None, {}, (full, low, high)),
         ("Fig. 6 (b) joint 3 + end, same goal", two, q0, [goal, goal], None, {}, (full, low, high)),
         ("Fig. 6 (c) 9 points held, w_end = 1", ten, q0, held, None, {}, (full, low, high)),
@@ -129,7 +132,7 @@ class ObstacleCase:
     """One obstacle run with the unobstructed run it is compared with."""
 
     name: str
-    chain: object
+    chain: SerialChain
     run: ObstacleRun
     plain_clearance: float
     lower: np.ndarray

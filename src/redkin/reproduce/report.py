@@ -11,18 +11,19 @@ from __future__ import annotations
 import json
 import math
 import struct
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import matplotlib
 import numpy as np
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from redkin.reproduce.comparison import Comparison  # noqa: E402
-from redkin.reproduce.page import render_page  # noqa: E402
+from redkin.reproduce.comparison import Comparison
+from redkin.reproduce.page import render_page
 
 #: Resolution of the report's PNG files: twice the 110 dpi at which the page shows them.
 FIGURE_DPI = 220
@@ -81,7 +82,7 @@ class SectionWriter:
         self.tables[name]["agreement"] = [c.agrees for c in comparisons]
         self.comparisons[name] = list(comparisons)
 
-    def figure(self, fig: "plt.Figure", name: str, caption: str = "", detail: str = "") -> Path:
+    def figure(self, fig: plt.Figure, name: str, caption: str = "", detail: str = "") -> Path:
         """Save a matplotlib figure as PNG at :data:`FIGURE_DPI` beside the page and close it."""
         filename = f"{self.key}_{name}.png"
         path = self.figure_dir / filename
@@ -106,7 +107,7 @@ class SectionWriter:
         """Save ``arrays`` as a compressed ``.npz`` beside the report (``numpy.load`` reads it) and link it with ``label``."""
         filename = f"{self.key}_{name}.npz"
         path = self.figure_dir / filename
-        np.savez_compressed(path, **arrays)
+        np.savez_compressed(path, allow_pickle=True, **arrays)  # numpy's default, named: no array is called so
         self.data_files.append(filename)
         self.blocks.append(("page", (filename, label)))
         return path

@@ -7,7 +7,7 @@ workspace`` calls, at a resolution that keeps the report quick.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import matplotlib.pyplot as plt
 import numpy as np
