@@ -50,7 +50,8 @@ class WorkspaceGrid:
 
     def chunk_indices(self) -> list[tuple[int, int, int]]:
         """Every chunk's index ``(i, j, k)``, in C order."""
-        return list(itertools.product(*(range(c) for c in self.chunk_counts)))
+        ni, nj, nk = self.chunk_counts
+        return list(itertools.product(range(ni), range(nj), range(nk)))
 
     def chunk_slices(self, index: tuple[int, int, int]) -> tuple[slice, slice, slice]:
         """The grid slices of chunk ``index`` along x, y, z."""

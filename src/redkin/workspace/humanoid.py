@@ -220,7 +220,7 @@ class HumanoidRun:
 
 def humanoid_map(
     chain: SerialChain,
-    path: "str | Path",
+    path: str | Path,
     extent: ArrayLike,
     resolution: int,
     samples: tuple[int, int] = DEFAULT_SAMPLES,
@@ -270,7 +270,7 @@ def humanoid_map(
     if arm is None:
         raise ValueError(f"{chain.name!r} is not the thesis 001 humanoid's arm (Table 2.1 form or its mirror image)")
     grid = humanoid_grid(extent, resolution, samples, chunk)
-    samples = tuple(int(n) for n in samples)
+    samples = (int(samples[0]), int(samples[1]))
     store = Path(path)
     _prepare_store(store, chain, arm, grid, samples)
     complete = completed_chunks(store)

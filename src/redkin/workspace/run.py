@@ -20,9 +20,10 @@ import os
 import platform
 import shutil
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numba
 import numpy as np
@@ -172,10 +173,11 @@ def chunk_tasks(function: Callable, shared: tuple, indices: list[tuple[int, int,
     dask = require("dask")
     from dask.delayed import Delayed
     from dask.highlevelgraph import HighLevelGraph
+    from dask.typing import Key
 
     values = [dask.delayed(value, pure=True) for value in shared]
     references = [value.key for value in values]
-    layer = {f"{name}-{index}": (function, *references, tuple(index)) for index in indices}
+    layer: dict[Key, tuple[Any, ...]] = {f"{name}-{index}": (function, *references, tuple(index)) for index in indices}
     graph = HighLevelGraph.from_collections(name, layer, dependencies=values)
     return [Delayed(key, graph, layer=name) for key in layer]
 
@@ -228,7 +230,7 @@ def _run_distributed(tasks: list, client: Any, progress: Progress | None) -> Non
 
 def workspace_map(
     arm: SerialChain,
-    path: "str | Path",
+    path: str | Path,
     extent: ArrayLike,
     resolution: int,
     orientations: int,
