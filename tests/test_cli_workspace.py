@@ -21,6 +21,7 @@ def _command(out, *extra):
             *extra]
 
 
+@pytest.mark.slow
 def test_workspace_writes_map_slices_and_json_summary(tmp_path, capsys):
     out = tmp_path / "pa10"
     assert main(_command(out, "--chunk", "3", "--json")) == 0

@@ -54,6 +54,7 @@ def _assert_same_map(path, reference):
         np.testing.assert_array_equal(arrays[name], reference[name], err_msg=name)
 
 
+@pytest.mark.slow
 def test_local_cluster_gives_identical_arrays(arm, reference, client, tmp_path):
     run = workspace_map(arm, tmp_path / "map.zarr", EXTENT, client=client, **SIZES)
     assert run.computed == 27

@@ -92,6 +92,7 @@ def test_the_left_arm_map_is_the_mirror_image_of_the_right(reference, tmp_path):
                                    atol=1e-15, err_msg=name)
 
 
+@pytest.mark.slow
 def test_local_cluster_gives_identical_arrays(chain, reference, client, tmp_path):
     run = _within(TIMEOUT, humanoid_map, chain, tmp_path / "map.zarr", EXTENT, client=client, **SIZES)
     assert run.computed == 27
