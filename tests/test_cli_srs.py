@@ -7,6 +7,7 @@ import pytest
 
 from redkin.cli.main import main
 from redkin.models import pa10_7c
+from redkin.reproduce import printed
 
 POSE = ["--position", "0.65", "0", "0.5", "--rotation", "-1", "0", "0", "0", "1", "0", "0", "0", "-1"]
 
@@ -27,15 +28,16 @@ def test_ik_all_branches_json_round_trips(capsys):
 
 def test_ik_degrees_single_branch(capsys):
     data = run_json(capsys, ["ik", "pa10-7c", *POSE, "--psi", "0", "--deg", "--branch", "+++"])
-    assert np.allclose(data["solutions"][0]["q"], [0, 25.666, 0, 82.872, 0, 71.463, 0], atol=5e-4)
+    assert np.allclose(data["solutions"][0]["q"], printed.SECTION_6_1_THETA_AT_ZERO, atol=5e-4)
 
 
 def test_arm_angles_json_keys_and_paper_numbers(capsys):
     data = run_json(capsys, ["arm-angles", "pa10-7c", *POSE, "--deg"])
     assert set(data) >= {"elbow", "per_joint", "feasible", "singular", "optimal"}
-    assert data["elbow"] == pytest.approx(82.872, abs=5e-4)
-    assert np.allclose(data["feasible"], [[-45.991, 45.991]], atol=5e-4)
-    assert np.allclose(data["per_joint"]["6"], [[-62.154, 62.154]], atol=5e-4)
+    assert data["elbow"] == pytest.approx(printed.SECTION_6_1_THETA_AT_ZERO[3], abs=5e-4)
+    bound, sixth = printed.SECTION_6_1_PSI_BOUND, printed.SECTION_6_1_JOINT_BOUNDS[6]
+    assert np.allclose(data["feasible"], [[-bound, bound]], atol=5e-4)
+    assert np.allclose(data["per_joint"]["6"], [[-sixth, sixth]], atol=5e-4)
     assert set(data["singular"]) >= {"shoulder", "wrist"}
     assert set(data["optimal"]["overall"]) == {"unclamped", "feasible"}
 

@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from redkin.models import kuka_iiwa14, pa10_7c
+from redkin.reproduce import printed
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces, ik, pose_from
 from tests.support.feasible_sampling import assert_set_matches_sampling, random_limits
 from tests.support.srs_arms import ARM_KINDS, arm
@@ -111,14 +112,14 @@ def test_paper_section_6_1_feasible_sets():
     chain = pa10_7c()
     pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
     result = feasible_arm_angles(chain, pose, "+++")
-    printed = {1: None, 2: 45.991, 3: 111.734, 5: 108.926, 6: 62.154, 7: None}
-    for joint, bound in printed.items():
+    for joint, bound in printed.SECTION_6_1_JOINT_BOUNDS.items():
         arcs = np.degrees(result.per_joint[joint].arcs)
         if bound is None:
             assert result.per_joint[joint].is_full
         else:
             assert np.allclose(arcs, [[-bound, bound]], atol=5e-4)
-    assert np.allclose(np.degrees(result.feasible.arcs), [[-45.991, 45.991]], atol=5e-4)
+    bound = printed.SECTION_6_1_PSI_BOUND
+    assert np.allclose(np.degrees(result.feasible.arcs), [[-bound, bound]], atol=5e-4)
     # the bounds are where theta_2 reaches its 45 deg limit (paper Fig. 6)
     for psi in result.feasible.arcs[0]:
         assert np.degrees(ik(chain, pose, psi, "+++"))[1] == pytest.approx(45.0, abs=1e-9)

@@ -5,6 +5,7 @@ import pytest
 
 from redkin.circle import ArcSet
 from redkin.models import barrett_wam, pa10_7c
+from redkin.reproduce import printed
 from redkin.srs import (
     arm_angle_of,
     arm_angle_path,
@@ -65,13 +66,14 @@ def test_paper_section_6_2_1_singularity_coefficients_and_branch():
     chain = pa10_7c()
     pose = pose_from(np.array([0.55, 0.0, 0.767]), np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))
     result = singular_arm_angles(chain, pose, "+++")
-    assert np.allclose(result.shoulder_coefficients, [0.0, -0.532, -0.468], atol=5e-4)
-    assert np.allclose(result.wrist_coefficients, [0.0, 0.468, 0.532], atol=5e-4)
+    assert np.allclose(result.shoulder_coefficients, printed.SECTION_6_2_1_SHOULDER_COEFFICIENTS, atol=5e-4)
+    assert np.allclose(result.wrist_coefficients, printed.SECTION_6_2_1_WRIST_COEFFICIENTS, atol=5e-4)
     assert np.allclose(result.shoulder, [0.0]) and np.allclose(result.wrist, [0.0])
     # the printed feasible set [-63.277, 63.277] belongs to branch ++- (theta_6 < 0); +++ is empty
     assert feasible_arm_angles(chain, pose, "+++").is_empty
     other = feasible_arm_angles(chain, pose, "++-").feasible
-    assert np.allclose(np.degrees(other.arcs), [[-63.277, 63.277]], atol=5e-4)
+    bound = printed.SECTION_6_2_1_PSI_BOUND
+    assert np.allclose(np.degrees(other.arcs), [[-bound, bound]], atol=5e-4)
 
 
 def objective(chain, pose, branch, target, psi, part):
@@ -115,19 +117,20 @@ def test_paper_section_6_2_2_optimal_angles_and_joint_vector():
     pose = pose_from(np.array([0.65, 0.0, 0.5]), np.array([[0, -1, 0], [-1, 0, 0], [0, 0, -1.0]]))
     target = np.radians([0, 90, 0, 0, 0, 90, 0])
     result = optimal_arm_angles(chain, pose, "+++", target=target, weights=(0.5, 0.5))
-    assert np.degrees(result.shoulder.unclamped) == pytest.approx(0.0, abs=5e-4)
-    assert np.degrees(result.wrist.unclamped) == pytest.approx(54.479, abs=5e-4)
-    assert np.degrees(result.overall.unclamped) == pytest.approx(25.017, abs=5e-4)
+    assert np.degrees(result.shoulder.unclamped) == pytest.approx(printed.SECTION_6_2_2_SHOULDER_OPTIMUM, abs=5e-4)
+    assert np.degrees(result.wrist.unclamped) == pytest.approx(printed.SECTION_6_2_2_WRIST_OPTIMUM, abs=5e-4)
+    assert np.degrees(result.overall.unclamped) == pytest.approx(printed.SECTION_6_2_2_OPTIMUM, abs=5e-4)
     theta = np.degrees(ik(chain, pose, result.overall.feasible, "+++"))
-    assert np.allclose(theta, [-32.325, 32.687, 46.864, 82.872, -24.101, 74.814, -73.709], atol=5e-4)
-    assert np.allclose(np.degrees(ik(chain, pose, 0.0, "+++")), [0, 25.666, 0, 82.872, 0, 71.463, -90], atol=5e-4)
+    assert np.allclose(theta, printed.SECTION_6_2_2_THETA_AT_OPTIMUM, atol=5e-4)
+    assert np.allclose(np.degrees(ik(chain, pose, 0.0, "+++")), printed.SECTION_6_2_2_THETA_AT_ZERO, atol=5e-4)
     # our feasible set is [-45.991, 45.991] (the paper prints [-43.246, 43.246]); psi_w clamps to its end
     feasible = feasible_arm_angles(chain, pose, "+++").feasible
-    assert np.allclose(np.degrees(feasible.arcs), [[-45.991, 45.991]], atol=5e-4)
-    assert np.degrees(result.wrist.feasible) == pytest.approx(45.991, abs=5e-4)
+    bound = printed.SECTION_6_1_PSI_BOUND  # the paper's own 6.1 bound: its 6.2.2 set is a misprint
+    assert np.allclose(np.degrees(feasible.arcs), [[-bound, bound]], atol=5e-4)
+    assert np.degrees(result.wrist.feasible) == pytest.approx(bound, abs=5e-4)
     # the default targets (limit midpoints) give other optima
     default = optimal_arm_angles(chain, pose, "+++")
-    assert abs(np.degrees(default.overall.unclamped) - 25.017) > 1.0
+    assert abs(np.degrees(default.overall.unclamped) - printed.SECTION_6_2_2_OPTIMUM) > 1.0
 
 
 def gamma_pose(gamma):
@@ -142,8 +145,9 @@ def test_path_control_reaches_further_than_fixed_psi():
     target = np.radians([0, 90, 0, 0, 0, 90, 0])
     fixed = arm_angle_path(chain, poses, "+++", fixed_psi=0.0)
     controlled = arm_angle_path(chain, poses, "+++", target=target)
-    assert np.degrees(gammas[fixed.first_unreachable]) == pytest.approx(121.0)  # Gamma_0 = [-120, 120]
-    assert np.degrees(gammas[controlled.first_unreachable]) == pytest.approx(148.0)  # Gamma = [-147.693, 147.693]
+    # the first whole degree beyond Gamma_0 = [-120, 120] and beyond Gamma = [-147.693, 147.693]
+    assert np.degrees(gammas[fixed.first_unreachable]) == pytest.approx(np.floor(printed.SECTION_6_2_2_GAMMA_FIXED) + 1)
+    assert np.degrees(gammas[controlled.first_unreachable]) == pytest.approx(np.ceil(printed.SECTION_6_2_2_GAMMA))
     ok = controlled.reachable
     assert np.all(chain.within_limits(controlled.q[ok], tolerance=1e-9, wrap=True))
     assert np.abs(chain.fk(controlled.q) - poses).max() < 1e-9

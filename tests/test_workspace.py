@@ -8,6 +8,7 @@ pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
 from redkin.models import get_robot  # noqa: E402
+from redkin.reproduce import printed  # noqa: E402
 from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable, srs_geometry  # noqa: E402
 from redkin.workspace import (  # noqa: E402
     feasible_measures,
@@ -126,7 +127,7 @@ def test_gamma_experiment_of_paper_000_is_one_line_of_the_map():
     rotations[:, 0, 0], rotations[:, 0, 1], rotations[:, 1, 0], rotations[:, 1, 1] = -c, -s, -s, c  # eq. 41 turned about z
     rotations[:, 2, 2] = -1.0
     line = feasible_measures(srs_geometry(get_robot("pa10-7c")), np.array([[0.65, 0.0, 0.5]]), rotations)[0, :, 0]
-    np.testing.assert_array_equal(line > 0.0, np.abs(np.degrees(gamma)) < 147.693)
+    np.testing.assert_array_equal(line > 0.0, np.abs(np.degrees(gamma)) < printed.SECTION_6_2_2_GAMMA)
 
 
 def test_chunk_tasks_call_the_function_once_per_index_with_the_shared_values():

@@ -12,6 +12,7 @@ from redkin.plot.arm import draw_arm_3d, set_equal_3d
 from redkin.plot.srs import plot_joint_curves, plot_reachable_rotations
 from redkin.references import REFERENCES
 from redkin.reproduce import Section
+from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
 from redkin.srs import arm_angle_path, feasible_arm_angles, ik, optimal_arm_angles, pose_from, singular_arm_angles
@@ -54,18 +55,20 @@ def section_6_1(writer: SectionWriter, chain) -> None:
     pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
     result = feasible_arm_angles(chain, pose, "+++")
     rows = []
-    printed = {1: (-180, 180), 2: (-45.991, 45.991), 3: (-111.734, 111.734), 5: (-108.926, 108.926), 6: (-62.154, 62.154), 7: (-180, 180)}
+    printed = {joint: (-bound, bound) if bound is not None else (-180, 180)
+               for joint, bound in P.SECTION_6_1_JOINT_BOUNDS.items()}
     for joint, (lo, hi) in printed.items():
         ours = result.per_joint[joint]
         arcs = [(-np.pi, np.pi)] if ours.is_full else ours.arcs
         rows.append(Comparison(f"Psi_{joint} lower [deg]", lo, _deg(arcs[0][0]) if arcs else None, TOL, "" if len(arcs) == 1 else f"ours: {_arc_text(ours)}"))
         rows.append(Comparison(f"Psi_{joint} upper [deg]", hi, _deg(arcs[0][1]) if arcs else None, TOL))
     lo, hi = result.feasible.arcs[0]
-    rows += [Comparison("Psi lower [deg]", -45.991, _deg(lo), TOL), Comparison("Psi upper [deg]", 45.991, _deg(hi), TOL)]
+    rows += [Comparison("Psi lower [deg]", -P.SECTION_6_1_PSI_BOUND, _deg(lo), TOL),
+             Comparison("Psi upper [deg]", P.SECTION_6_1_PSI_BOUND, _deg(hi), TOL)]
     paper_theta = {
-        "psi = 0": (0.0, [0, 25.666, 0, 82.872, 0, 71.463, 0]),
-        "psi_min": (lo, [43.992, 45, -71.419, 82.872, 42.572, 82.193, -27.693]),
-        "psi_max": (hi, [-43.992, 45, 71.419, 82.872, -42.572, 82.193, 27.693]),
+        "psi = 0": (0.0, list(P.SECTION_6_1_THETA_AT_ZERO)),
+        "psi_min": (lo, list(P.SECTION_6_1_THETA_AT_PSI_MIN)),
+        "psi_max": (hi, [v if k in (1, 3, 5) else -v for k, v in enumerate(P.SECTION_6_1_THETA_AT_PSI_MIN)]),
     }
     postures = {}
     for name, (psi, values) in paper_theta.items():
@@ -104,18 +107,19 @@ def section_6_2_1(writer: SectionWriter, chain) -> None:
     plus = feasible_arm_angles(chain, pose, "+++").feasible
     other = feasible_arm_angles(chain, pose, "++-").feasible
     rows = [
-        Comparison("a_s32", 0.0, a, TOL), Comparison("b_s32", -0.532, b, TOL), Comparison("c_s32", -0.468, c, TOL),
-        Comparison("a_w33", 0.0, aw, TOL), Comparison("b_w33", 0.468, bw, TOL), Comparison("c_w33", 0.532, cw, TOL),
+        *(Comparison(name, printed, value, TOL) for name, printed, value in zip(
+            ("a_s32", "b_s32", "c_s32", "a_w33", "b_w33", "c_w33"),
+            P.SECTION_6_2_1_SHOULDER_COEFFICIENTS + P.SECTION_6_2_1_WRIST_COEFFICIENTS, (a, b, c, aw, bw, cw))),
         Comparison("eq. 31 residual", 0.0, singular.shoulder_residual, 1e-12, "shoulder singularity exists"),
         Comparison("eq. 33 residual", 0.0, singular.wrist_residual, 1e-12, "wrist singularity exists"),
         Comparison("shoulder singular psi [deg]", 0.0, _deg(singular.shoulder[0]), TOL),
         Comparison("wrist singular psi [deg]", 0.0, _deg(singular.wrist[0]), TOL),
-        Comparison("Psi, branch +++", "[-63.277, 63.277]", _arc_text(plus),
+        Comparison("Psi, branch +++", f"[{-P.SECTION_6_2_1_PSI_BOUND}, {P.SECTION_6_2_1_PSI_BOUND}]", _arc_text(plus),
                    note=Note("the printed set belongs to branch ++- (theta6 < 0)",
                              "the +++ branch is empty here (theta5 exceeds its limit for every psi); the next two "
                              "rows compare the printed set with branch ++-")),
-        Comparison("Psi, branch ++- (theta6 < 0) lower [deg]", -63.277, _deg(other.arcs[0][0]) if not other.is_empty else None, TOL),
-        Comparison("Psi, branch ++- (theta6 < 0) upper [deg]", 63.277, _deg(other.arcs[0][1]) if not other.is_empty else None, TOL),
+        Comparison("Psi, branch ++- (theta6 < 0) lower [deg]", -P.SECTION_6_2_1_PSI_BOUND, _deg(other.arcs[0][0]) if not other.is_empty else None, TOL),
+        Comparison("Psi, branch ++- (theta6 < 0) upper [deg]", P.SECTION_6_2_1_PSI_BOUND, _deg(other.arcs[0][1]) if not other.is_empty else None, TOL),
     ]
     writer.comparison("s6_2_1", rows, "Section 6.2.1: singularity coefficients and the feasible set",
                       "x = (0.55, 0, 0.767) m, R = [[0,0,1],[0,1,0],[-1,0,0]].")
@@ -141,24 +145,27 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
                     "theta2 reaches its 45 deg limit at psi = +-45.991 exactly as there, and the paper's own "
                     "Gamma = 147.693 = 120 + 27.693 needs psi = 45.991 (where theta7 = 27.693 in 6.1) to be feasible")
     rows = [
-        Comparison("Psi lower [deg]", -43.246, _deg(lo), TOL, misprint),
-        Comparison("Psi upper [deg]", 43.246, _deg(hi), TOL, misprint),
-        Comparison("psi_s^opt [deg] (eq. 37)", 0.0, _deg(optimal.shoulder.unclamped), TOL,
+        Comparison("Psi lower [deg]", -P.SECTION_6_2_2_PSI_BOUND, _deg(lo), TOL, misprint),
+        Comparison("Psi upper [deg]", P.SECTION_6_2_2_PSI_BOUND, _deg(hi), TOL, misprint),
+        Comparison("psi_s^opt [deg] (eq. 37)", P.SECTION_6_2_2_SHOULDER_OPTIMUM, _deg(optimal.shoulder.unclamped), TOL,
                    Note("targets theta^d = (0, 90, 0, -, 0, 90, 0) deg", "the paper does not state them")),
-        Comparison("psi_w^opt [deg] (eq. 39)", 54.479, _deg(optimal.wrist.unclamped), TOL),
-        Comparison("psi^opt [deg] (eq. 40, r_s = r_w = 0.5)", 25.017, _deg(optimal.overall.unclamped), TOL),
-        Comparison("psi_w^opt clamped to Psi [deg]", 43.246, _deg(optimal.wrist.feasible), TOL,
+        Comparison("psi_w^opt [deg] (eq. 39)", P.SECTION_6_2_2_WRIST_OPTIMUM, _deg(optimal.wrist.unclamped), TOL),
+        Comparison("psi^opt [deg] (eq. 40, r_s = r_w = 0.5)", P.SECTION_6_2_2_OPTIMUM, _deg(optimal.overall.unclamped),
+                   TOL),
+        Comparison("psi_w^opt clamped to Psi [deg]", P.SECTION_6_2_2_PSI_BOUND, _deg(optimal.wrist.feasible), TOL,
                    Note("the paper clamps to its misprinted bound",
                         "ours is clamped to the end of our feasible set (45.991), see the misprint note")),
         Comparison("psi^opt with default targets (limit midpoints) [deg]", None, _deg(default.overall.unclamped),
                    note="for comparison: with limit-midpoint targets the optimum moves"),
     ]
-    for i, value in enumerate([0, 25.666, 0, 82.872, 0, 71.463, -90]):
+    for i, value in enumerate(P.SECTION_6_2_2_THETA_AT_ZERO):
         rows.append(Comparison(f"theta_{i + 1} at psi = 0 [deg]", value, float(np.degrees(theta0[i])), TOL))
-    for i, value in enumerate([-32.325, 32.687, 46.864, 82.872, -24.101, 74.814, -73.709]):
+    for i, value in enumerate(P.SECTION_6_2_2_THETA_AT_OPTIMUM):
         rows.append(Comparison(f"theta_{i + 1} at psi^opt [deg]", value, float(np.degrees(theta_opt[i])), TOL))
-    rows.append(Comparison("max |theta| at psi = 0 [deg]", 90.0, float(np.degrees(np.abs(theta0).max())), TOL))
-    rows.append(Comparison("max |theta| at psi^opt [deg]", 74.814, float(np.degrees(np.abs(np.delete(theta_opt, 3)).max())), TOL,
+    rows.append(Comparison("max |theta| at psi = 0 [deg]", max(map(abs, P.SECTION_6_2_2_THETA_AT_ZERO)),
+                           float(np.degrees(np.abs(theta0).max())), TOL))
+    rows.append(Comparison("max |theta| at psi^opt [deg]", max(abs(v) for k, v in
+                                                               enumerate(P.SECTION_6_2_2_THETA_AT_OPTIMUM) if k != 3), float(np.degrees(np.abs(np.delete(theta_opt, 3)).max())), TOL,
                            "elbow theta4 = 82.872 is excluded, as in the paper's statement"))
     # reachable tool rotations: psi fixed at 0 (Gamma_0) versus controlled by eq. 40 and clamped (Gamma)
     def fixed_ok(g: float) -> bool:
@@ -172,11 +179,11 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
     gamma0_neg = -_boundary(lambda g: fixed_ok(-g), 0.0, np.pi)
     gamma_neg = -_boundary(lambda g: controlled_ok(-g), 0.0, np.pi)
     rows += [
-        Comparison("Gamma_0 lower [deg] (psi = 0)", -120.0, _deg(gamma0_neg), TOL),
-        Comparison("Gamma_0 upper [deg] (psi = 0)", 120.0, _deg(gamma0), TOL),
-        Comparison("Gamma lower [deg] (psi controlled)", -147.693, _deg(gamma_neg), TOL,
+        Comparison("Gamma_0 lower [deg] (psi = 0)", -P.SECTION_6_2_2_GAMMA_FIXED, _deg(gamma0_neg), TOL),
+        Comparison("Gamma_0 upper [deg] (psi = 0)", P.SECTION_6_2_2_GAMMA_FIXED, _deg(gamma0), TOL),
+        Comparison("Gamma lower [deg] (psi controlled)", -P.SECTION_6_2_2_GAMMA, _deg(gamma_neg), TOL,
                    "boundary where the feasible set becomes empty, found by bisection on our exact sets"),
-        Comparison("Gamma upper [deg] (psi controlled)", 147.693, _deg(gamma), TOL),
+        Comparison("Gamma upper [deg] (psi controlled)", P.SECTION_6_2_2_GAMMA, _deg(gamma), TOL),
     ]
     writer.comparison("s6_2_2", rows, "Section 6.2.2: feasible set, optimal arm angles, reachable rotations",
                       "x = (0.65, 0, 0.5) m, R as eq. 41 turned by gamma = 90 deg about z, branch +++.")

@@ -16,6 +16,7 @@ from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.plot.workspace import mid_plane_figure, plot_measure_line
 from redkin.references import REFERENCES
 from redkin.reproduce import Section
+from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
 from redkin.srs import BRANCHES
@@ -153,13 +154,13 @@ def section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
                        "every other branch is empty all along this line, so the map's reachability ends where +++ ends"
                        if not others else f"branches {', '.join(others)} are non-empty on this line too")
     rows = [
-        Comparison("Gamma lower [deg] (psi controlled): measure on +++ > 0", -147.693, float(np.degrees(low)), TOL),
-        Comparison("Gamma upper [deg] (psi controlled): measure on +++ > 0", 147.693, float(np.degrees(high)), TOL),
-        Comparison("Gamma lower [deg]: map reachability (any branch)", -147.693, float(np.degrees(any_low)), TOL,
+        Comparison("Gamma lower [deg] (psi controlled): measure on +++ > 0", -P.SECTION_6_2_2_GAMMA, float(np.degrees(low)), TOL),
+        Comparison("Gamma upper [deg] (psi controlled): measure on +++ > 0", P.SECTION_6_2_2_GAMMA, float(np.degrees(high)), TOL),
+        Comparison("Gamma lower [deg]: map reachability (any branch)", -P.SECTION_6_2_2_GAMMA, float(np.degrees(any_low)), TOL,
                    branch_note),
-        Comparison("Gamma upper [deg]: map reachability (any branch)", 147.693, float(np.degrees(any_high)), TOL,
+        Comparison("Gamma upper [deg]: map reachability (any branch)", P.SECTION_6_2_2_GAMMA, float(np.degrees(any_high)), TOL,
                    branch_note),
-        Comparison("measure on +++ at gamma = 0 [deg] (the pose of eq. 41)", 91.982,
+        Comparison("measure on +++ at gamma = 0 [deg] (the pose of eq. 41)", round(2 * P.SECTION_6_1_PSI_BOUND, 3),
                    float(np.degrees(line[np.flatnonzero(GAMMA_GRID_DEG == 0.0)[0], plus])), 1e-3,
                    Note("paper value derived: the width of section 6.1's Psi = [-45.991, 45.991]",
                         "2 x 45.991; tolerance 1e-3, twice the printed half digit")),
