@@ -10,7 +10,7 @@ pytest.importorskip("dask")
 pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
-from redkin.cli import workspace as workspace_cli  # noqa: E402
+from redkin.cli import map_run  # noqa: E402
 from redkin.cli.main import main  # noqa: E402
 
 EXTENT = ["-0.9", "0.9", "-0.9", "0.9", "-0.5", "1.3"]
@@ -73,7 +73,7 @@ def test_workspace_refuses_arm_without_arm_angle_ik_and_unwritable_out(tmp_path,
 
 
 def test_workspace_unreachable_scheduler_exits_2(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(workspace_cli, "CONNECT_TIMEOUT", "0.5s")
+    monkeypatch.setattr(map_run, "CONNECT_TIMEOUT", "0.5s")
     assert main(_command(tmp_path / "out", "--scheduler", "tcp://127.0.0.1:9")) == 2
     err = capsys.readouterr().err
     assert "cannot connect to --scheduler 'tcp://127.0.0.1:9'" in err and err.count("\n") == 1

@@ -28,16 +28,21 @@ def axis_angle(axis, angle) -> np.ndarray:
     return np.eye(3) + np.sin(angle) * skew + (1 - np.cos(angle)) * skew @ skew
 
 
-def reference_fk(text: str, q: np.ndarray, tip: str) -> np.ndarray:
-    """The tip link's pose in the root link's frame, straight from the URDF definition."""
+def _joints_to(text: str, tip: str) -> list:
+    """The ``<joint>`` elements from the root link down to ``tip``, in order."""
     root = ET.fromstring(text)
     by_child = {j.find("child").get("link"): j for j in root.findall("joint")}
     path, link = [], tip
     while link in by_child:
         path.append(by_child[link])
         link = by_child[link].find("parent").get("link")
+    return path[::-1]
+
+
+def reference_fk(text: str, q: np.ndarray, tip: str) -> np.ndarray:
+    """The tip link's pose in the root link's frame, straight from the URDF definition."""
     pose, k = np.eye(4), 0
-    for joint in reversed(path):
+    for joint in _joints_to(text, tip):
         origin = joint.find("origin")
         step = np.eye(4)
         if origin is not None:
@@ -53,14 +58,8 @@ def reference_fk(text: str, q: np.ndarray, tip: str) -> np.ndarray:
 
 def reference_axes(text: str, tip: str) -> np.ndarray:
     """World directions ``(n, 3)`` at q = 0 of the moving joints' axes on the way to ``tip``, from the URDF itself."""
-    root = ET.fromstring(text)
-    by_child = {j.find("child").get("link"): j for j in root.findall("joint")}
-    path, link = [], tip
-    while link in by_child:
-        path.append(by_child[link])
-        link = by_child[link].find("parent").get("link")
     rotation, axes = np.eye(3), []
-    for joint in reversed(path):
+    for joint in _joints_to(text, tip):
         origin = joint.find("origin")
         if origin is not None:
             rotation = rotation @ _rotation([float(v) for v in origin.get("rpy", "0 0 0").split()])

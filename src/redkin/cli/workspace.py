@@ -3,24 +3,20 @@
 from __future__ import annotations
 
 import argparse
-import sys
-from typing import Any
 
-from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json, progress_bar
+from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json
+from redkin.cli.map_run import open_client, require_map_libraries, run_on
 from redkin.cli.workspace_humanoid import run_humanoid
 from redkin.srs import srs_geometry
 from redkin.validation import check_count, check_output_directory
 from redkin.workspace.grid import MAX_RESOLUTION, workspace_grid
 from redkin.workspace.humanoid import humanoid_of
-from redkin.workspace.optional import require
 from redkin.workspace.orientations import MAX_ORIENTATIONS
 from redkin.workspace.run import workspace_map
 from redkin.workspace.store import MAP_NAME
 
 #: The images written beside the map: one per index, its three mid-planes side by side.
 SLICE_NAMES = ("reachability", "redundancy")
-#: How long ``--scheduler`` waits for the scheduler to answer.
-CONNECT_TIMEOUT = "10s"
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -53,7 +49,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     if humanoid_of(chain) is not None:
-        return run_humanoid(args, chain, _connect)
+        return run_humanoid(args, chain)
     if args.samples is not None:
         raise UsageError("--samples is for the thesis 001 humanoid; an arm with arm-angle IK takes --orientations N")
     resolution = check_count(args.resolution, "--resolution", 2, MAX_RESOLUTION)
@@ -61,22 +57,12 @@ def run(args: argparse.Namespace) -> int:
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     grid = workspace_grid(args.extent, resolution, orientations, chunk)
     srs_geometry(chain)  # the arm-angle refusal, before anything is written
-    try:
-        xr, _, _ = (require(name) for name in ("xarray", "dask", "zarr"))
-        client = None if args.scheduler is None else _connect(args.scheduler)
-    except ImportError as exc:
-        raise UsageError(str(exc)) from None
+    xr = require_map_libraries()
+    client = open_client(args.scheduler)
     out = check_output_directory(args.out, "--out")
-    chunks = len(grid.chunk_indices())
-    progress = (lambda done, total: progress_bar(done / total)) if chunks > 1 else None
-    try:
-        result = workspace_map(chain, out / MAP_NAME, args.extent, resolution, orientations,
-                               chunk=grid.chunk, client=client, progress=progress)
-    finally:
-        if progress is not None:
-            print(file=sys.stderr)
-        if client is not None:
-            client.close()
+    result = run_on(client, len(grid.chunk_indices()), lambda client, progress: workspace_map(
+        chain, out / MAP_NAME, args.extent, resolution, orientations, chunk=grid.chunk, client=client,
+        progress=progress))
     import matplotlib
 
     matplotlib.use("Agg")  # files only: no display needed
@@ -109,11 +95,3 @@ def run(args: argparse.Namespace) -> int:
         print("slices: " + ", ".join(str(image) for image in images))
     return 0
 
-
-def _connect(address: str) -> Any:
-    """A ``distributed.Client`` of the scheduler at ``address`` (UsageError if none answers)."""
-    distributed = require("distributed")
-    try:
-        return distributed.Client(address, timeout=CONNECT_TIMEOUT)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise UsageError(f"cannot connect to --scheduler {address!r}: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None

@@ -7,23 +7,22 @@ Called by :mod:`redkin.cli.workspace` when ROBOT is the humanoid's arm
 from __future__ import annotations
 
 import argparse
-import sys
 
 from redkin.chain import SerialChain
-from redkin.cli.common import UsageError, print_json, progress_bar
+from redkin.cli.common import UsageError, print_json
+from redkin.cli.map_run import open_client, require_map_libraries, run_on
 from redkin.torso_arm.maps import MAX_SWEEP_SAMPLES
 from redkin.validation import check_count, check_output_directory
 from redkin.workspace.grid import MAX_RESOLUTION
 from redkin.workspace.humanoid import DEFAULT_SAMPLES, VARIABLES, humanoid_grid, humanoid_map, mid_plane_maps
-from redkin.workspace.optional import require
 from redkin.workspace.store import MAP_NAME
 
 #: The images written beside the map: one per measure, its three mid-planes side by side.
 SLICE_NAMES = ("best_manipulability", "best_dual_manipulability")
 
 
-def run_humanoid(args: argparse.Namespace, chain: SerialChain, connect) -> int:
-    """The humanoid's map for the parsed ``redkin workspace`` arguments; ``connect(address)`` gives a client."""
+def run_humanoid(args: argparse.Namespace, chain: SerialChain) -> int:
+    """The humanoid's map for the parsed ``redkin workspace`` arguments."""
     if args.orientations is not None:
         raise UsageError("--orientations is for arms with arm-angle IK; the humanoid's map takes --samples N1 NPHI "
                          "(theta_1 x phi samples of the redundancy)")
@@ -34,21 +33,12 @@ def run_humanoid(args: argparse.Namespace, chain: SerialChain, connect) -> int:
         samples = (n1, n_phi)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     grid = humanoid_grid(args.extent, resolution, samples, chunk)  # the extent refused before anything is written
-    try:
-        xr, _, _ = (require(name) for name in ("xarray", "dask", "zarr"))
-        client = None if args.scheduler is None else connect(args.scheduler)
-    except ImportError as exc:
-        raise UsageError(str(exc)) from None
+    xr = require_map_libraries()
+    client = open_client(args.scheduler)
     out = check_output_directory(args.out, "--out")
-    progress = (lambda done, total: progress_bar(done / total)) if len(grid.chunk_indices()) > 1 else None
-    try:
-        result = humanoid_map(chain, out / MAP_NAME, args.extent, grid.resolution, samples, chunk=grid.chunk,
-                              client=client, progress=progress)
-    finally:
-        if progress is not None:
-            print(file=sys.stderr)
-        if client is not None:
-            client.close()
+    result = run_on(client, len(grid.chunk_indices()), lambda client, progress: humanoid_map(
+        chain, out / MAP_NAME, args.extent, grid.resolution, samples, chunk=grid.chunk, client=client,
+        progress=progress))
     import matplotlib
 
     matplotlib.use("Agg")  # files only: no display needed
