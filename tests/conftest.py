@@ -41,3 +41,15 @@ def full_report():
     reproduce.run(folder)
     yield folder
     shutil.rmtree(folder, ignore_errors=True)
+
+
+@pytest.fixture(scope="session")
+def client():
+    """A dask.distributed LocalCluster of 2 single-threaded worker processes on loopback, shared by the Dask
+    tests of the session and closed at its end."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster, timeout="60s") as client:
+        client.wait_for_workers(2, timeout=60)
+        yield client

@@ -35,14 +35,6 @@ def reference(arm, tmp_path_factory):
     return _arrays(run.path)
 
 
-@pytest.fixture(scope="module")
-def client():
-    """A LocalCluster of 2 worker processes on loopback, closed after the module."""
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        yield client
-
-
 def _arrays(path) -> dict:
     with xr.open_zarr(path) as dataset:
         return {name: dataset[name].values for name in VARIABLES}

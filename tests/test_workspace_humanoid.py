@@ -49,16 +49,6 @@ def reference(chain, tmp_path_factory):
     return _arrays(run.path)
 
 
-@pytest.fixture(scope="module")
-def client():
-    """A LocalCluster of 2 worker processes on loopback, closed after the module."""
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                  dashboard_address=None) as cluster, \
-            distributed.Client(cluster, timeout="60s") as client:
-        client.wait_for_workers(2, timeout=60)
-        yield client
-
-
 def _plane(arrays, axis, k):
     """The 3-D arrays on the plane ``axis = axis[k]`` as (v, u) images, the 2-D maps' layout, and its plane_grid."""
     fixed = "xyz".index(axis)
