@@ -48,6 +48,7 @@ from redkin.circle import ArcSet
 from redkin.compiled import run_batch
 from redkin.errors import RedkinError
 from redkin.srs import feasible_kernels as kernels
+from redkin.srs import ik_kernels
 from redkin.srs._targets import as_geometry, as_poses, raise_for_status
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
@@ -55,7 +56,7 @@ from redkin.srs.geometry import SRSGeometry
 
 PIECE_TOLERANCE = kernels.PIECE_TOLERANCE
 _CACHE_KEY = "_feasible_limit_tables"
-_GROUP = 7  # entries per group (shoulder, wrist) in ArmAngleCoefficients.entries
+_GROUP = ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
 
 
 @dataclass(frozen=True)

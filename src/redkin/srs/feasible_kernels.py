@@ -59,7 +59,7 @@ PIECES = 2 * EQUATIONS
 #: Pieces shorter than this (radians) are dropped: they are repeated roots split by
 #: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
 PIECE_TOLERANCE = 1e-12
-_GROUP = 7  # entries per group (shoulder, wrist); x and y are the first two
+_GROUP = ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
 TWO_PI = 2.0 * pi
 
 

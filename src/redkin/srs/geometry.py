@@ -123,7 +123,6 @@ class SRSGeometry:
     theta_upper: np.ndarray
     a3: float = 0.0
     a4: float = 0.0
-    plain_frames: bool = False
     plain_joints: bool = False
     wrap_columns: tuple[int, ...] = ()
 
@@ -383,7 +382,6 @@ def _derive_geometry(chain: SerialChain) -> SRSGeometry:
         theta_upper=theta_upper,
         a3=float(chain.a[2]),
         a4=float(chain.a[3]),
-        plain_frames=bool(np.array_equal(chain.base, np.eye(4)) and np.array_equal(chain.tool, np.eye(4))),
         plain_joints=plain_joints,
         wrap_columns=tuple(wrap),
     )

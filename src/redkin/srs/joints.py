@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from redkin.srs import ik_kernels
+
 #: Joint numbers (1-based) whose angle depends on psi, in column order of the arrays below.
 PSI_JOINTS = (1, 2, 3, 5, 6, 7)
 #: Which of the columns of :data:`PSI_JOINTS` are of cosine type [000 eqs. 14, 18].
@@ -36,7 +38,7 @@ _X, _Y, _Z, _R0, _R1, _R2, _T = range(7)
 #: arm angle (the arm stretched along the joint-1 axis, or the mirror case at the wrist); below
 #: :data:`redkin.srs.ik_kernels.UNDEFINED_TOLERANCE` / 3, so that the IK then sets its first joint to 0 at every psi.
 STRETCHED_TOLERANCE = 1e-13
-_GROUP = 7
+_GROUP = ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
 
 
 def limit_equation_table(
@@ -98,16 +100,6 @@ def limit_equation_table(
     for array in (weights, offset):
         array.setflags(write=False)
     return weights, offset
-
-
-def first_joint_coefficients(entries: np.ndarray) -> np.ndarray:
-    """``|a|, |b|, |c|`` of ``x`` and ``y`` of both groups, shape ``(..., 3, 2, 2)`` (rows, group, entry).
-
-    ``x = c1 s2`` and ``y = s1 s2`` (or ``c5 s6``, ``s5 s6``) vanish for
-    every psi exactly when all their coefficients do: the group is then
-    singular at every arm angle (:data:`STRETCHED_TOLERANCE`).
-    """
-    return np.abs(entries.reshape(entries.shape[:-1] + (2, _GROUP))[..., :2])
 
 
 def within(theta: np.ndarray, start, span, free) -> np.ndarray:
