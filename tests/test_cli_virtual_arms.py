@@ -32,7 +32,7 @@ def test_virtual_arms_cli_clamped_joints_keep_their_start(capsys):
     data = json.loads(capsys.readouterr().out)
     assert data["status"] == "converged"
     q = np.radians(data["q"])
-    assert np.allclose(q[:2], 0.5, atol=1e-12)  # clamped joints 1, 2 stay at the default start (eq. 27)
+    assert np.allclose(q[:2], 0.5, atol=1e-12)  # clamped joints 1, 2 stay at the default start ([004 eq. 27])
     assert np.linalg.norm(planar_arm().frames(q)[-1, :2, 3] - [0.5, 0.6]) < 1e-4
 
 

@@ -150,3 +150,16 @@ def test_citation_ranges_expand():
     assert _expand("13-15, 17-19") == {"13", "14", "15", "17", "18", "19"}
     assert _expand("3.8-3.14") == {f"3.{k}" for k in range(8, 15)}
     assert _expand("2.1") == {"2.1"}
+
+
+BARE = re.compile(r"(?<!\[\d\d\d )\b[Ee]qs?\. ?\d")
+
+
+def test_the_code_cites_equations_in_one_form():
+    """Every equation number in ``src/`` and ``tests/`` is written ``[000 eq. N]``: a bare number names no paper."""
+    bare = []
+    for path in sorted((ROOT / "src").rglob("*.py")) + sorted((ROOT / "tests").rglob("*.py")):
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if BARE.search(line):
+                bare.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert not bare, "\n".join(bare)

@@ -37,7 +37,7 @@ def test_every_branch_holds_the_exact_set_ends_and_marks(case):
         assert set(ends) <= set(psi.tolist())  # exactly, not to the nearest grid point
         for mark in curves.marks:
             assert mark.kind in ("feasible", "optimal", "singular")
-        optimum = [m for m in curves.marks if m.label == "optimal ψ (eq. 40)"]
+        optimum = [m for m in curves.marks if m.label == "optimal ψ ([000 eq. 40])"]
         unclamped = float(curves.optimal.overall.unclamped)
         assert len(optimum) == 1 and np.isclose(psi[optimum[0].index], wrap_angle(unclamped), rtol=0, atol=1e-15)
         if curves.feasible.is_empty:

@@ -63,7 +63,7 @@ def _small_report(tmp_path):
         Comparison("b [deg]", 0.0, 4.06978e-15, 5e-4),
         Comparison("c [deg]", 25.017, 25.0172073, 5e-4),
         Comparison("d [deg]", None, -9.22089),
-    ], caption="Section 1: numbers", detail="The pose of eq. 1.")
+    ], caption="Section 1: numbers", detail="The pose of section 1.")
     writer.heading("Second part")
     writer.table("plain", ["case", "error [m]", "steps"], [["a", 7.2e-7, 146], ["b", 0.310294, 197]], caption="Runs")
     fig, ax = plt.subplots(figsize=(2, 1))

@@ -165,4 +165,4 @@ def test_workspace_section_gamma_line_equals_the_6_2_2_computation(full_report):
     eq_41 = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
     width = feasible_arm_angles(arm, eq_41, "+++").feasible.length
     assert measure[np.flatnonzero(gamma == 0.0)[0], plus] == pytest.approx(width, abs=1e-12)
-    assert ours["measure on +++ at gamma = 0 [deg] (the pose of eq. 41)"] == pytest.approx(np.degrees(width), abs=1e-9)
+    assert ours["measure on +++ at gamma = 0 [deg] (the pose of [000 eq. 41])"] == pytest.approx(np.degrees(width), abs=1e-9)

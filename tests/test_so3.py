@@ -51,7 +51,7 @@ def test_elementary_rotations_are_right_handed():
 @given(st.floats(-np.pi, np.pi), st.floats(-np.pi / 2 + 1e-3, np.pi / 2 - 1e-3), st.floats(-np.pi, np.pi))
 def test_xyz_fixed_round_trip(alpha, beta, gamma):
     r = xyz_fixed_to_matrix([alpha, beta, gamma])
-    # eq. 4.4, thesis 001: Rz(alpha) Ry(beta) Rx(gamma)
+    # [001 eq. 4.4]: Rz(alpha) Ry(beta) Rx(gamma)
     np.testing.assert_allclose(r, rot_z(alpha) @ rot_y(beta) @ rot_x(gamma), atol=1e-14)
     np.testing.assert_allclose(xyz_fixed_to_matrix(matrix_to_xyz_fixed(r)), r, atol=1e-9)
 

@@ -1,4 +1,4 @@
-"""Extrema of the joint angles over the arm angle (paper 000 eqs. 21-28): redkin.srs.joint_extrema.
+"""Extrema of the joint angles over the arm angle ([000 eqs. 21-28]): redkin.srs.joint_extrema.
 
 Every reported property is checked against redkin.srs.ik sampled densely on the circle of arm angles.
 """
@@ -102,7 +102,7 @@ def check_against_dense_sampling(arm, pose, branch, extrema, tolerance=1e-6):
 
 
 def check_limit_cases(arm, pose, branch, extrema):
-    """Section 4.3: the case of each periodic joint matches its feasible set Psi_i (eq. 29)."""
+    """Section 4.3: the case of each periodic joint matches its feasible set Psi_i ([000 eq. 29])."""
     sets = feasible_arm_angles(arm, pose, branch).per_joint
     for joint, result in extrema.items():
         if result.limit_case is None:

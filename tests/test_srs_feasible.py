@@ -1,4 +1,4 @@
-"""Feasible arm angles (paper 000 eqs. 21-30) equal dense sampling with an FK check, and never miss a narrow arc."""
+"""Feasible arm angles ([000 eqs. 21-30]) equal dense sampling with an FK check, and never miss a narrow arc."""
 
 import numpy as np
 import pytest
@@ -59,7 +59,7 @@ def test_limits_crossing_pi_and_unlimited_joints():
     del q
 
 
-STRETCHED = {  # singular at every arm angle: eq. 15 (19) is 0/0 for every psi, the third joint still turns
+STRETCHED = {  # singular at every arm angle: [000 eq. 15] (19) is 0/0 for every psi, the third joint still turns
     "shoulder (home pose)": [0.0] * 7,
     "shoulder, rounding in x_sw": [0.3, 0.0, 0.2, 0.0, 0.1, 0.4, 0.2],
     "wrist": [0.3, 0.5, 0.2, 0.0, 0.1, 0.0, 0.2],

@@ -1,4 +1,4 @@
-"""Arm-angle IK (paper 000 eqs. 11-19): FK(IK(x)) = x on every branch, batched equals looped, inverse arm angle."""
+"""Arm-angle IK ([000 eqs. 11-19]): FK(IK(x)) = x on every branch, batched equals looped, inverse arm angle."""
 
 import numpy as np
 import pytest
@@ -165,7 +165,7 @@ STRETCHED = {  # singular at every arm angle: q_2 = q_4 = 0 (shoulder), or q_4 =
 def test_stretched_group_sets_its_first_joint_to_zero_at_every_psi(factory, q):
     """Where only theta_1 + theta_3 (theta_5 + theta_7) is defined, theta_1 (theta_5) is 0, or pi on sigma = -1.
 
-    A group counts as stretched when its x, y coefficients vanish to rounding.  Eq. 11 fixes
+    A group counts as stretched when its x, y coefficients vanish to rounding.  [000 eq. 11] fixes
     theta_4 only to about sqrt(eps) near 0 (acos), so some stretched poses come out bent by
     ~2e-8 rad; their first joint is then defined and the regular formulas hold (FK still exact).
     """

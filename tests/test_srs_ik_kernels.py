@@ -1,6 +1,6 @@
 """The compiled arm-angle IK (redkin.srs.ik_kernels): batches equal single calls on both loops, results do
 not depend on the thread count, the in-kernel pose check agrees with redkin.validation.check_pose, and the
-group rotations equal the definitional DH products of eq. 3 (paper 000)."""
+group rotations equal the definitional DH products of [000 eq. 3]."""
 
 import numba
 import numpy as np
@@ -93,7 +93,7 @@ def test_in_kernel_pose_check_agrees_with_check_pose(seed, defect, size):
 @settings(max_examples=30, deadline=None)
 @given(st.integers(0, 2**32 - 1), KINDS)
 def test_group_rotations_equal_the_dh_products(seed, kind):
-    """0R3 and 4R7 read from the chain's compiled frames == the products Rz Rx of eq. 3 (written in the test)."""
+    """0R3 and 4R7 read from the chain's compiled frames == the products Rz Rx of [000 eq. 3] (written in the test)."""
     rng = np.random.default_rng(seed)
     geometry = srs_geometry(arm(kind, rng))
     q = rng.uniform(-np.pi, np.pi, (6, 7))

@@ -1,4 +1,4 @@
-"""Singular arm angles (eqs. 31-34), optimal arm angles (eqs. 36-40), path control (section 6.2.2) and paper section 6.2."""
+"""Singular arm angles ([000 eqs. 31-34]), optimal arm angles ([000 eqs. 36-40]), path control (section 6.2.2) and paper section 6.2."""
 
 import numpy as np
 import pytest

@@ -1,6 +1,6 @@
 """Laws behind the fast S-R-S paths (paper 000): one formula evaluated two ways agrees, batched equals looped.
 
-The compiled kernels (redkin.srs.ik_kernels) evaluate eqs. 12 and 16 as
+The compiled kernels (redkin.srs.ik_kernels) evaluate [000 eqs. 12, 16] as
 coefficient matrices and read the joints from 14 of their entries; all eight
 branches share one frame per elbow sign; the limit equations of all joints
 come from one cached matrix.  These tests check each against its definition,
@@ -65,7 +65,7 @@ def entries_of(shoulder, wrist):
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**31), MODELS, st.sampled_from([1, -1]))
 def test_coefficients_at_psi_equal_the_rotations_of_the_ik_joint_values(seed, model, elbow):
-    """A sin psi + B cos psi + C (eqs. 12, 16) == 0R3, 4R7 of the IK joint values (DH products, eq. 3),
+    """A sin psi + B cos psi + C ([000 eqs. 12, 16]) == 0R3, 4R7 of the IK joint values (DH products, [000 eq. 3]),
     and the entry rows equal those entries of the coefficient matrices."""
     rng = np.random.default_rng(seed)
     chain, _q = random_chain(rng, model)
@@ -130,7 +130,7 @@ def test_batched_feasible_sets_equal_looped(seed, model, branch, crossing):
 @settings(max_examples=30, deadline=None)
 @given(st.integers(0, 2**31), MODELS, st.sampled_from([str(b) for b in BRANCHES]), st.booleans())
 def test_cut_points_are_where_a_joint_meets_a_limit(seed, model, branch, crossing):
-    """Every root of the cached limit-equation matrix puts its joint on the limit (eqs. 21, 22)."""
+    """Every root of the cached limit-equation matrix puts its joint on the limit ([000 eqs. 21, 22])."""
     rng = np.random.default_rng(seed)
     chain, q = random_chain(rng, model, crossing)
     geometry = srs_geometry(chain)

@@ -1,4 +1,4 @@
-"""Thesis 001: the chain of Table 2.1 against eq. 2.3 and the section 5.1 closed form (written here only)."""
+"""Thesis 001: the chain of Table 2.1 against [001 eq. 2.3] and the section 5.1 closed form (written here only)."""
 
 import numpy as np
 from hypothesis import given, settings
@@ -13,7 +13,7 @@ L4 = 0.137
 
 
 def eq_2_3(q):
-    """Eq. 2.3 position and approach column (r13, r23, r33), transcription's parentheses repaired.
+    """[001 eq. 2.3] position and approach column (r13, r23, r33), transcription's parentheses repaired.
 
     In P_x and P_z the transcription closes the L3 term one parenthesis early
     ("...s4)) -(c3s1s2 + c1s3)s5)"); the repaired form keeps -(...)s5 inside it.

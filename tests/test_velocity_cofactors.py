@@ -1,4 +1,4 @@
-"""Laws of the cofactor building blocks and of the weighted-sum method (paper 003 eqs. 4-8, 12-18, App. A)."""
+"""Laws of the cofactor building blocks and of the weighted-sum method ([003 eqs. 4-8, 12-18], App. A)."""
 
 import numpy as np
 import pytest
@@ -50,8 +50,8 @@ def test_velocity_fixed_joint_vectors_solve_augmented_system(seed):
     jac, twist = random_problem(seed)
     vectors, minors = fixed_joint_vectors(jac, twist)
     for i in range(7):
-        assert vectors[i, i] == 0.0  # eq. 7
-        augmented = np.hstack([jac, -twist[:, None]])  # eq. 2
+        assert vectors[i, i] == 0.0  # [003 eq. 7]
+        augmented = np.hstack([jac, -twist[:, None]])  # [003 eq. 2]
         assert np.allclose(augmented @ np.append(vectors[i], minors[i]), 0.0, atol=1e-9)
 
 
@@ -62,7 +62,7 @@ def test_velocity_eq17_is_adjugate_direction_and_eq18_is_pseudoinverse(seed):
     n17, size17 = weighted_sum_direction(jac, twist, minimum_norm_weights(jac))
     n_pi, size_pi = adjugate_direction(jac, twist)
     assert np.allclose(n17, n_pi, rtol=1e-9, atol=1e-9 * np.abs(n_pi).max())
-    assert np.isclose(size17, size_pi, rtol=1e-9)  # eq. 16 vs eq. 13
+    assert np.isclose(size17, size_pi, rtol=1e-9)  # [003 eq. 16] vs [003 eq. 13]
     n18, size18 = weighted_sum_direction(jac, twist, pseudoinverse_weights(jac))
     assert np.allclose(n18, np.linalg.pinv(jac) @ twist, rtol=1e-8, atol=1e-10)
     assert np.isclose(size18, 1.0)
@@ -83,7 +83,7 @@ def test_velocity_appendix_a_orthogonality(seed):
 def test_velocity_adjugate_direction_vanishes_at_singularity():
     chain = barrett_wam()
     q = np.radians([30.0, 20.0, 50.0, 0.0, 40.0, 100.0, 0.0])
-    q[3] = np.arctan2(0.045 * 0.95, 0.55 * 0.4 - 0.045**2)  # elbow stretched, eq. 14
+    q[3] = np.arctan2(0.045 * 0.95, 0.55 * 0.4 - 0.045**2)  # elbow stretched, [003 eq. 14]
     direction, size = adjugate_direction(chain.jacobian(q), [0.15, 0, 0, 0, 0.1, 0])
     assert abs(size) < 1e-12 and np.abs(direction).max() < 1e-12
     # Away from it the direction is not zero.

@@ -1,4 +1,4 @@
-"""The control-loop controllers equal the array API (paper 003 eqs. 17-22): fast path == general path."""
+"""The control-loop controllers equal the array API ([003 eqs. 17-22]): fast path == general path."""
 
 from dataclasses import replace
 

@@ -71,7 +71,7 @@ def test_velocity_pinv_finite_at_exact_singularity_but_dls_bounded():
     assert np.linalg.norm(damped_least_squares(jac, TWIST, 0.05)) <= np.linalg.norm(TWIST) / 0.1
 
 
-# ------------------------------------------------------------------ blend (derived eq. 21)
+# ------------------------------------------------------------------ blend (derived [003 eq. 21])
 @settings(deadline=None, max_examples=50)
 @given(st.floats(1e-3, 1.0))
 def test_velocity_blend_continuous_at_threshold(eps):
@@ -135,7 +135,7 @@ def test_velocity_wam_pattern_required():
         WamFactorisation.from_chain(pa10_7c())
 
 
-# ------------------------------------------------------------------ conventional SC (eqs. 9-11)
+# ------------------------------------------------------------------ conventional SC ([003 eqs. 9-11])
 def test_velocity_fixed_joint_sc_and_algorithmic_singularity():
     q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
     jac = WAM.jacobian(q)
@@ -153,7 +153,7 @@ def test_velocity_fixed_joint_sc_and_algorithmic_singularity():
     assert algorithmic_singularity(WAM.jacobian(q_alg), 0)
 
 
-# ------------------------------------------------------------------ proposed method (eqs. 15-22)
+# ------------------------------------------------------------------ proposed method ([003 eqs. 15-22])
 @settings(deadline=None, max_examples=30)
 @given(seeds, st.sampled_from([1.0, -1.0]))
 def test_velocity_sc_realises_its_target_and_equals_pseudoinverse_outside(seed, direction):
@@ -164,7 +164,7 @@ def test_velocity_sc_realises_its_target_and_equals_pseudoinverse_outside(seed, 
     assert np.allclose(jac @ sol.joint_velocity, sol.target_twist, atol=1e-12)
     if abs(d_e) > 0.05 and np.sign(d_e) == direction:
         assert np.allclose(sol.target_twist, TWIST, atol=1e-15)
-        assert np.allclose(sol.joint_velocity, np.linalg.pinv(jac) @ TWIST, atol=1e-9)  # eqs. 18, 20
+        assert np.allclose(sol.joint_velocity, np.linalg.pinv(jac) @ TWIST, atol=1e-9)  # [003 eqs. 18, 20]
     assert sol.target_twist[4] >= 0.0  # rotation about +y never reverses
 
 

@@ -1,4 +1,4 @@
-"""The lean SC step (one pseudoinverse) equals the exact adjugate path (paper 003 eqs. 17-22)."""
+"""The lean SC step (one pseudoinverse) equals the exact adjugate path ([003 eqs. 17-22])."""
 
 import numpy as np
 import pytest

@@ -1,9 +1,9 @@
 """The compiled velocity steps (redkin.velocity.step_kernels) equal the definitional formulas written here (paper 003).
 
-References: the blend of eqs. 11, 21-22 in numpy; the pseudoinverse and
+References: the blend of [003 eqs. 11, 21-22] in numpy; the pseudoinverse and
 damped least squares from numpy's SVD; column minors as determinants of the
-column-removed Jacobians (eq. 5); the SC step as the weighted sum of eq. 15
-over the Cramer vectors ``n_i`` of eqs. 6-8 with the weights of eq. 21.
+column-removed Jacobians ([003 eq. 5]); the SC step as the weighted sum of [003 eq. 15]
+over the Cramer vectors ``n_i`` of [003 eqs. 6-8] with the weights of [003 eq. 21].
 """
 
 import numpy as np
@@ -46,7 +46,7 @@ def reference_minors(jac):
 
 
 def reference_sc(jac, twist, index, factors, direction, self_motion=0.0, modify_rotation=True):
-    """Eqs. 15, 21, 22: b_i = b_ep w(D_e) D_i / D_s over the Cramer vectors n_i, plus b_sm n_sm (eq. 9)."""
+    """[003 eqs. 15, 21, 22]: b_i = b_ep w(D_e) D_i / D_s over the Cramer vectors n_i, plus b_sm n_sm ([003 eq. 9])."""
     x = index / EPS
     g = x * EPS * (3.0 - x * x) / (2.0 * EPS) if abs(x) <= 1 else np.sign(x)
     w = (3.0 - x * x) / (2.0 * EPS) if abs(x) <= 1 else 1.0 / abs(index)
@@ -125,7 +125,7 @@ def test_column_minors_equal_determinants_and_the_wam_closed_form(q):
 @given(configurations, twists, st.sampled_from([None, 0.0, 1e-12, -1e-6, 1e-3, -0.05, 0.3]),
        st.sampled_from([1.0, -1.0]), st.booleans(), st.sampled_from([0.0, 0.7]))
 def test_sc_step_equals_the_weighted_cramer_sum(q, twist, distance, direction, modify_rotation, self_motion):
-    """Both paths (adjugate everywhere; pseudoinverse off D_e = 0) equal eq. 15 with eq. 21's weights, also on D_e = 0."""
+    """Both paths (adjugate everywhere; pseudoinverse off D_e = 0) equal [003 eq. 15] with [003 eq. 21]'s weights, also on D_e = 0."""
     if distance is not None:
         q[3] = Q4_ZERO + distance
     if not well_conditioned(q):

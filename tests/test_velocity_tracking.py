@@ -47,7 +47,7 @@ def test_velocity_sc_crosses_once_and_realises_command_outside_region(runs):
 
 
 def test_velocity_sc_controller_run_equals_the_exact_cofactor_run(runs, wam):
-    # the default (lean) method steps through the controller; lean=False takes eqs. 15-22 literally
+    # the default (lean) method steps through the controller; lean=False takes [003 eqs. 15-22] literally
     exact = simulate(wam, Q0, TWIST, DURATION, SingularityConsistent(eps=EPS, lean=False), dt=DT)
     np.testing.assert_allclose(runs["sc"].q, exact.q, rtol=0, atol=1e-9)
     np.testing.assert_allclose(runs["sc"].joint_velocity, exact.joint_velocity, rtol=0, atol=1e-8)

@@ -1,5 +1,5 @@
 """Laws of the virtual-arm trajectory generation (paper 004): goals, minimum-norm and least-squares limits,
-limits, clamps, one-by-one evaluation, the literal eq. 10 stall and the eq. 16 identity."""
+limits, clamps, one-by-one evaluation, the literal [004 eq. 10] stall and the [004 eq. 16] identity."""
 
 from types import SimpleNamespace
 
@@ -22,7 +22,7 @@ FULL_RANGE = OutputFunction.sine(np.full(5, -np.pi), np.full(5, np.pi))  # |thet
 
 
 def min_norm_posture(model, theta0, goals):
-    """argmin |theta - theta0| subject to f(theta) = goals: the limit of the penalty path of eq. 14."""
+    """argmin |theta - theta0| subject to f(theta) = goals: the limit of the penalty path of [004 eq. 14]."""
     constraint = {"type": "eq", "fun": lambda q: (model.evaluate(q)[0] - goals).ravel()}
     result = minimize(lambda q: 0.5 * np.sum((q - theta0) ** 2), theta0, jac=lambda q: q - theta0,
                       constraints=[constraint], method="SLSQP", options={"ftol": 1e-14, "maxiter": 500})
@@ -59,7 +59,7 @@ def test_virtual_arms_over_constrained_matches_weighted_least_squares(end_weight
     goals[0] = [0.25, 1.3]
     weights = np.ones(len(points))
     weights[0] = end_weight
-    # the errors cannot vanish, lambda grows only like sqrt(s) (eq. 11): the run ends when they settle
+    # the errors cannot vanish, lambda grows only like sqrt(s) ([004 eq. 11]): the run ends when they settle
     run = generate_trajectory(model, Q0, goals, weights)
     assert run.converged and "errors settled" in run.message, run.message
     root_w = np.sqrt(weights)[:, None]
@@ -129,7 +129,7 @@ def test_virtual_arms_limits_hold_along_whole_path():  # Fig. 7
     assert np.linalg.norm(model.evaluate(run.final_theta)[0][0] - GOAL) < 1e-4
 
 
-def test_virtual_arms_clamped_joints_do_not_move():  # eq. 27
+def test_virtual_arms_clamped_joints_do_not_move():  # [004 eq. 27]
     model = AnalyticModel(ARM, [VirtualPoint.end()])
     run = generate_trajectory(model, Q0, [GOAL], output=FULL_RANGE, fixed=[0, 1])
     assert run.converged, run.message

@@ -1,8 +1,8 @@
-"""The compiled virtual-arm kernels equal the definitional numpy forms written here (paper 004 eqs. 1, 9-14, 17, 25).
+"""The compiled virtual-arm kernels equal the definitional numpy forms written here ([004 eqs. 1, 9-14, 17, 25]).
 
 References: end points and their Jacobians from the chain's frames and
 joint axes (``z_j x (X - o_j)`` for the joints before the point's frame);
-the rate function as eqs. 9-14 in numpy over the subsystems' signals.
+the rate function as [004 eqs. 9-14] in numpy over the subsystems' signals.
 """
 
 import numpy as np
@@ -20,7 +20,7 @@ seeds = st.integers(0, 2**32 - 1)
 
 
 def reference_points(model, theta):
-    """Eq. 1 from the frames: X = o_k + R_k local, columns z_j x (X - o_j) for joints j before frame k."""
+    """[004 eq. 1] from the frames: X = o_k + R_k local, columns z_j x (X - o_j) for joints j before frame k."""
     chain = model.chain
     frames = chain.frames(theta)
     directions, origins = chain.joint_axes_in(frames)
@@ -36,7 +36,7 @@ def reference_points(model, theta):
 
 
 def reference_state(dyn, y):
-    """Eqs. 9-14 and 17 in numpy at one state y = [u_free, log lambda]."""
+    """[004 eqs. 9-14, 17] in numpy at one state y = [u_free, log lambda]."""
     u = dyn.u0.copy()
     u[dyn.free] = y[:-1]
     theta = dyn.output.theta(u)
@@ -127,7 +127,7 @@ def test_rate_function_equals_the_equations(seed, law, fixed, dropped, one_by_on
 
 
 def test_literal_gain_is_infinite_where_g_vanishes():
-    """Eq. 10 as printed divides by |G' g|^2: at g = 0 with delta != 0 the gain is infinite (the stall), not an error."""
+    """[004 eq. 10] as printed divides by |G' g|^2: at g = 0 with delta != 0 the gain is infinite (the stall), not an error."""
     dyn = dynamics("literal", limited=False)
     y = np.append(dyn.u0, 0.0)
     scalars = np.empty((1, 5))  # G' = 0 (slope), so G' g = 0 while delta != 0

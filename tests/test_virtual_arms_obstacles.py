@@ -82,9 +82,9 @@ def test_virtual_arms_obstacles_reach_goal_with_the_whole_arm_clear(free_run):
 def test_virtual_arms_obstacles_clamped_joint_is_bit_exact_and_limits_hold(clamped_run):
     run, lower, upper = clamped_run
     assert run.status == "reached" and run.end_error < 1e-3
-    assert np.all(run.theta[:, 0] == Q0[0])  # eq. 27: not a single bit of motion
+    assert np.all(run.theta[:, 0] == Q0[0])  # [004 eq. 27]: not a single bit of motion
     assert run.fixed.tolist() == [True, False, False, False, False]
-    assert np.all((run.theta >= lower) & (run.theta <= upper))  # eq. 25 keeps the ranges by construction
+    assert np.all((run.theta >= lower) & (run.theta <= upper))  # [004 eq. 25] keeps the ranges by construction
     assert _independent_clearance(ARM, _dense(run.theta), BLOCK) > 0.0
 
 

@@ -124,7 +124,7 @@ def test_gamma_experiment_of_paper_000_is_one_line_of_the_map():
     gamma = np.radians(np.concatenate([np.arange(-180.0, 180.0, 2.0), [-147.8, -147.6, 147.6, 147.8]]))
     c, s = np.cos(gamma), np.sin(gamma)
     rotations = np.zeros((len(gamma), 3, 3))
-    rotations[:, 0, 0], rotations[:, 0, 1], rotations[:, 1, 0], rotations[:, 1, 1] = -c, -s, -s, c  # eq. 41 turned about z
+    rotations[:, 0, 0], rotations[:, 0, 1], rotations[:, 1, 0], rotations[:, 1, 1] = -c, -s, -s, c  # [000 eq. 41] turned about z
     rotations[:, 2, 2] = -1.0
     line = feasible_measures(srs_geometry(get_robot("pa10-7c")), np.array([[0.65, 0.0, 0.5]]), rotations)[0, :, 0]
     np.testing.assert_array_equal(line > 0.0, np.abs(np.degrees(gamma)) < printed.SECTION_6_2_2_GAMMA)

@@ -1,4 +1,4 @@
-"""Feasible arm-angle sets against dense sampling of IK with an FK check (paper 000 eqs. 21-30), and random limits."""
+"""Feasible arm-angle sets against dense sampling of IK with an FK check ([000 eqs. 21-30]), and random limits."""
 
 import numpy as np
 
@@ -35,7 +35,7 @@ def assert_set_matches_sampling(chain, pose, branch, result, margin=1e-7):
         if hi - lo > 4 * margin:
             inner = np.linspace(lo + margin, hi - margin, 9)
             assert not np.any(np.all(sampled_feasibility(chain, pose, branch, inner), axis=1)), (lo, hi)
-    # eq. 30: the overall set is the intersection of the per-joint sets
+    # [000 eq. 30]: the overall set is the intersection of the per-joint sets
     assert result.feasible.isclose(intersect_all(result.per_joint.values()), 1e-9)
 
 

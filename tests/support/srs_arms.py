@@ -42,12 +42,12 @@ def arm(kind: str, rng: np.random.Generator) -> SerialChain:
     return {"pa10": pa10_7c, "iiwa": kuka_iiwa14, "wam": barrett_wam}[kind]()
 
 
-# The definitional eq. 3 of paper 000 for the reference tests: products of Rz(theta_k) Rx(alpha_k), written here.
+# The definitional [000 eq. 3] for the reference tests: products of Rz(theta_k) Rx(alpha_k), written here.
 HALF_PI = np.pi / 2.0
 
 
 def dh_rotation(theta: np.ndarray, alpha: tuple[float, ...]) -> np.ndarray:
-    """``prod_k Rz(theta_k) Rx(alpha_k)`` (eq. 3) for DH angles ``theta`` of shape ``(..., K)``."""
+    """``prod_k Rz(theta_k) Rx(alpha_k)`` ([000 eq. 3]) for DH angles ``theta`` of shape ``(..., K)``."""
     theta = np.asarray(theta, dtype=float)
     result = np.broadcast_to(np.eye(3), theta.shape[:-1] + (3, 3)).copy()
     for k, twist in enumerate(alpha):

@@ -41,7 +41,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_target_arguments(angles)
     angles.add_argument("--branch", default="+++", help=BRANCH_HELP)
     angles.add_argument("--target", nargs=7, type=float, metavar="Q", help="target joint values (default: limit midpoints)")
-    angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5), help="eq. 40 weights")
+    angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5), help="[000 eq. 40] weights")
     add_output_flags(angles)
     angles.set_defaults(handler=run_arm_angles)
 

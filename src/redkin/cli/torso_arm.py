@@ -40,7 +40,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     solve = sub.add_parser("ik", help="every joint solution for a wrist/hand pose at shoulder angle psi, elbow angle phi")
     solve.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="metres")
     orient = solve.add_mutually_exclusive_group()
-    orient.add_argument("--angles", nargs=3, type=float, metavar=("A", "B", "G"), help="X-Y-Z fixed angles (eq. 4.4)")
+    orient.add_argument("--angles", nargs=3, type=float, metavar=("A", "B", "G"), help="X-Y-Z fixed angles ([001 eq. 4.4])")
     orient.add_argument("--rotation", nargs=9, type=float, metavar="R", help="rotation matrix, row by row")
     solve.add_argument("--shoulder", type=float, required=True, metavar="PSI", help="shoulder angle psi")
     solve.add_argument("--elbow", type=float, required=True, metavar="PHI", help="elbow angle phi")

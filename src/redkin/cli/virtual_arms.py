@@ -46,8 +46,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="a virtual end point and its goal, e.g. joint:3=0.5,0.6 or link:2@0.5=0.1,0.3 (repeatable)")
     parser.add_argument("--weight", action="append", type=float, default=None, metavar="W",
                         help="weights, one per point: the end point first, then each --point in order (repeatable)")
-    parser.add_argument("--fix", default="", metavar="J,J", help="clamped joints, 1-based, comma separated (eq. 27)")
-    parser.add_argument("--limits", action="store_true", help="keep the joints in the robot's ranges (eq. 25)")
+    parser.add_argument("--fix", default="", metavar="J,J", help="clamped joints, 1-based, comma separated ([004 eq. 27])")
+    parser.add_argument("--limits", action="store_true", help="keep the joints in the robot's ranges ([004 eq. 25])")
     parser.add_argument("--model", choices=("analytic", "learned"), default="analytic",
                         help="forward models of the subsystems (learned: one trained network per point)")
     parser.add_argument("--q0", nargs="+", type=float, metavar="Q",

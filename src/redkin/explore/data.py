@@ -191,7 +191,7 @@ def _special_angles(feasible: ArcSet, singular: SingularArmAngles,
         special += [("feasible", f"Ψ arc {k + 1} starts", lo, ""), ("feasible", f"Ψ arc {k + 1} ends", hi, "")]
     special += [("singular", "shoulder singular ψ (θ2 = 0)", a, SINGULAR_NOTE["shoulder"]) for a in singular.shoulder]
     special += [("singular", "wrist singular ψ (θ6 = 0)", a, SINGULAR_NOTE["wrist"]) for a in singular.wrist]
-    special.append(("optimal", "optimal ψ (eq. 40)", optimal.overall.unclamped, ""))
+    special.append(("optimal", "optimal ψ ([000 eq. 40])", optimal.overall.unclamped, ""))
     clamped = optimal.overall.feasible
     if clamped is not None and abs(float(wrap_angle(float(clamped) - float(optimal.overall.unclamped)))) > SAME_ANGLE:
         special.append(("optimal", "optimal ψ clamped to Ψ", clamped, ""))

@@ -71,7 +71,7 @@ x red, y green, z blue; the target frame at the tool.</figcaption></figure>
 <div id="curves" class="curves"></div>
 <p class="legend"><span class="k curve"></span> θ<sub>i</sub>(ψ) <span class="k limit"></span> limits
 <span class="k psi-i"></span> Ψ<sub>i</sub>: joint i within its limits <span class="k psi"></span> Ψ: all joints within
-<span class="k singular"></span> singular ψ <span class="k optimal"></span> optimal ψ (eq. 40)
+<span class="k singular"></span> singular ψ <span class="k optimal"></span> optimal ψ ([000 eq. 40])
 <span class="k cursor"></span> the slider's ψ. Click a plot to move the slider there.</p>
 <p class="note">Computed by redkin (paper 000's closed-form arm-angle IK and exact feasible sets); this page only draws
 the numbers it holds: a dense grid of arm angles with the exact ends of every set merged in.</p>"""

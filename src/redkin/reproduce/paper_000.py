@@ -51,7 +51,7 @@ def explorer_link(writer: SectionWriter, chain, pose: np.ndarray, name: str, lab
 
 
 def section_6_1(writer: SectionWriter, chain) -> None:
-    writer.heading("§6.1: feasible arm angles and postures (eq. 41)")
+    writer.heading("§6.1: feasible arm angles and postures ([000 eq. 41])")
     pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
     result = feasible_arm_angles(chain, pose, "+++")
     rows = []
@@ -85,7 +85,7 @@ def section_6_1(writer: SectionWriter, chain) -> None:
     geometry = srs_geometry(chain)
     fig, axes = plt.subplots(6, 1, figsize=(7, 11), sharex=True)
     plot_joint_curves(axes, PSI, theta, geometry.theta_lower, geometry.theta_upper, result.per_joint, result.feasible)
-    writer.figure(fig, "theta_of_psi_6_1", "theta_i(psi) for the pose of eq. 41 (Figs. 3, 4 style)",
+    writer.figure(fig, "theta_of_psi_6_1", "theta_i(psi) for the pose of [000 eq. 41] (Figs. 3, 4 style)",
                   "Limits dashed, Psi_i shaded green, the overall feasible set Psi shaded blue.")
     fig = plt.figure(figsize=(6, 5))
     ax = fig.add_subplot(111, projection="3d")
@@ -94,7 +94,7 @@ def section_6_1(writer: SectionWriter, chain) -> None:
     set_equal_3d(ax, np.concatenate([chain.frames(q)[:, :3, 3] for q in postures.values()]))
     ax.legend(fontsize=8, loc="upper left")
     writer.figure(fig, "postures_6_1", "Postures at psi = 0, psi_min and psi_max (paper Fig. 6)",
-                  "The pose of eq. 41; each posture drawn through its frame origins, with the tool frame.")
+                  "The pose of [000 eq. 41]; each posture drawn through its frame origins, with the tool frame.")
     explorer_link(writer, chain, pose, "explore_6_1", "Explore §6.1 live: the arm angle on a slider, all eight branches")
 
 
@@ -110,8 +110,8 @@ def section_6_2_1(writer: SectionWriter, chain) -> None:
         *(Comparison(name, printed, value, TOL) for name, printed, value in zip(
             ("a_s32", "b_s32", "c_s32", "a_w33", "b_w33", "c_w33"),
             P.SECTION_6_2_1_SHOULDER_COEFFICIENTS + P.SECTION_6_2_1_WRIST_COEFFICIENTS, (a, b, c, aw, bw, cw))),
-        Comparison("eq. 31 residual", 0.0, singular.shoulder_residual, 1e-12, "shoulder singularity exists"),
-        Comparison("eq. 33 residual", 0.0, singular.wrist_residual, 1e-12, "wrist singularity exists"),
+        Comparison("[000 eq. 31] residual", 0.0, singular.shoulder_residual, 1e-12, "shoulder singularity exists"),
+        Comparison("[000 eq. 33] residual", 0.0, singular.wrist_residual, 1e-12, "wrist singularity exists"),
         Comparison("shoulder singular psi [deg]", 0.0, _deg(singular.shoulder[0]), TOL),
         Comparison("wrist singular psi [deg]", 0.0, _deg(singular.wrist[0]), TOL),
         Comparison("Psi, branch +++", f"[{-P.SECTION_6_2_1_PSI_BOUND}, {P.SECTION_6_2_1_PSI_BOUND}]", _arc_text(plus),
@@ -147,10 +147,10 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
     rows = [
         Comparison("Psi lower [deg]", -P.SECTION_6_2_2_PSI_BOUND, _deg(lo), TOL, misprint),
         Comparison("Psi upper [deg]", P.SECTION_6_2_2_PSI_BOUND, _deg(hi), TOL, misprint),
-        Comparison("psi_s^opt [deg] (eq. 37)", P.SECTION_6_2_2_SHOULDER_OPTIMUM, _deg(optimal.shoulder.unclamped), TOL,
+        Comparison("psi_s^opt [deg] ([000 eq. 37])", P.SECTION_6_2_2_SHOULDER_OPTIMUM, _deg(optimal.shoulder.unclamped), TOL,
                    Note("targets theta^d = (0, 90, 0, -, 0, 90, 0) deg", "the paper does not state them")),
-        Comparison("psi_w^opt [deg] (eq. 39)", P.SECTION_6_2_2_WRIST_OPTIMUM, _deg(optimal.wrist.unclamped), TOL),
-        Comparison("psi^opt [deg] (eq. 40, r_s = r_w = 0.5)", P.SECTION_6_2_2_OPTIMUM, _deg(optimal.overall.unclamped),
+        Comparison("psi_w^opt [deg] ([000 eq. 39])", P.SECTION_6_2_2_WRIST_OPTIMUM, _deg(optimal.wrist.unclamped), TOL),
+        Comparison("psi^opt [deg] ([000 eq. 40], r_s = r_w = 0.5)", P.SECTION_6_2_2_OPTIMUM, _deg(optimal.overall.unclamped),
                    TOL),
         Comparison("psi_w^opt clamped to Psi [deg]", P.SECTION_6_2_2_PSI_BOUND, _deg(optimal.wrist.feasible), TOL,
                    Note("the paper clamps to its misprinted bound",
@@ -167,7 +167,7 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
     rows.append(Comparison("max |theta| at psi^opt [deg]", max(abs(v) for k, v in
                                                                enumerate(P.SECTION_6_2_2_THETA_AT_OPTIMUM) if k != 3), float(np.degrees(np.abs(np.delete(theta_opt, 3)).max())), TOL,
                            "elbow theta4 = 82.872 is excluded, as in the paper's statement"))
-    # reachable tool rotations: psi fixed at 0 (Gamma_0) versus controlled by eq. 40 and clamped (Gamma)
+    # reachable tool rotations: psi fixed at 0 (Gamma_0) versus controlled by [000 eq. 40] and clamped (Gamma)
     def fixed_ok(g: float) -> bool:
         return bool(feasible_arm_angles(chain, _gamma_pose(g), "+++").feasible.contains(0.0))
 
@@ -186,7 +186,7 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
         Comparison("Gamma upper [deg] (psi controlled)", P.SECTION_6_2_2_GAMMA, _deg(gamma), TOL),
     ]
     writer.comparison("s6_2_2", rows, "Section 6.2.2: feasible set, optimal arm angles, reachable rotations",
-                      "x = (0.65, 0, 0.5) m, R as eq. 41 turned by gamma = 90 deg about z, branch +++.")
+                      "x = (0.65, 0, 0.5) m, R as [000 eq. 41] turned by gamma = 90 deg about z, branch +++.")
     gammas = np.radians(np.arange(-179.0, 180.0, 1.0))
     poses = np.array([_gamma_pose(g) for g in gammas])
     controlled = arm_angle_path(chain, poses, "+++", target=target)
@@ -195,7 +195,7 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
     plot_reachable_rotations(ax, gammas, [f.feasible for f in controlled.feasible], controlled.psi,
                              controlled.reachable, 0.0, fixed.reachable)
     writer.figure(fig, "reachable_gamma", "Feasible arm angles over the tool rotation gamma (section 6.2.2)",
-                  "Green: the feasible arm angles; red: psi fixed at 0 (Gamma_0); blue: psi from eq. 40 clamped to the "
+                  "Green: the feasible arm angles; red: psi fixed at 0 (Gamma_0); blue: psi from [000 eq. 40] clamped to the "
                   "feasible set (Gamma).")
     explorer_link(writer, chain, pose, "explore_6_2_2", "Explore §6.2.2 live (optimal arm angle for the targets above)",
                   target=target)
@@ -205,7 +205,7 @@ def build(writer: SectionWriter) -> None:
     writer.text(
         "Closed-form arm-angle inverse kinematics of the 7-DOF S-R-S PA10-7C with the Table 2 joint limits. "
         "Every number of section 6 beside ours (degrees). Our feasible sets are exact unions of arcs computed "
-        "from the roots of theta_i(psi) = limit (eqs. 21, 22), tested against dense sampling with an FK check."
+        "from the roots of theta_i(psi) = limit ([000 eqs. 21, 22]), tested against dense sampling with an FK check."
     )
     chain = pa10_7c()
     section_6_1(writer, chain)

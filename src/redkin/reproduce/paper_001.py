@@ -20,7 +20,7 @@ CORRECTIONS = [
     ("2.3 (P_x, P_z)", "the L3 term closes one parenthesis early",
      "P_x = L0 c1 + L1 B - L3(-c5 A - B s5) + L2(c5 B - A s5) + L4 r13, A = c2c4s1 + (c1c3 - s1s2s3)s4, B = c3s1s2 + c1s3 (P_z likewise)"),
     ("3.1", "unsigned angle at h' = W/2: not monotone in theta_1, several roots",
-     "psi = atan2(n.(s0 x s), s0.s), signed rotation about n = W/|W| (section 3.2's words); inverse theta_1 = atan2(-sgn(n_y) v_x, -sgn(n_y) v_z), v = n x u(psi); eq. 3.1 kept as an option returning every root"),
+     "psi = atan2(n.(s0 x s), s0.s), signed rotation about n = W/|W| (section 3.2's words); inverse theta_1 = atan2(-sgn(n_y) v_x, -sgn(n_y) v_z), v = n x u(psi); [001 eq. 3.1] kept as an option returning every root"),
     ("3.4-3.6", "every point of the elbow circle satisfies them: no reference",
      "explicit reference: theta_4 = 0 of the principal branch, i.e. root of alpha1 cos(phi) + alpha2 sin(phi) = rho with f.(z2 x u) > 0, or a fixed vector; 'no reference' reported"),
     ("3.12", "sense of rotation left open (+/-)",
@@ -39,7 +39,7 @@ CORRECTIONS = [
 
 
 def _eq_2_3_position(q: np.ndarray, L: dict, L4: float) -> np.ndarray:
-    """Eq. 2.3 position with the repaired parentheses (independent check, not the library path)."""
+    """[001 eq. 2.3] position with the repaired parentheses (independent check, not the library path)."""
     c1, c2, c3, c4, c5, c6, c7 = np.cos(q[..., :7]).T
     s1, s2, s3, s4, s5, s6, s7 = np.sin(q[..., :7]).T
     L0, L1, L2, L3 = L["L0"], L["L1"], L["L2"], L["L3"]
@@ -79,16 +79,16 @@ def build(writer: SectionWriter) -> None:
     writer.text(
         "Thesis 001 models the right arm with the torso joint (Table 2.1, modified DH; L0 = 397.5, L1 = 355, "
         "L2 = 150, L3 = 315 mm; a tool L4 = 0.1 m is added here). The library's forward kinematics is the "
-        "DH chain; eq. 2.3 and the section 5.1 wrist formula are evaluated here only as independent checks."
+        "DH chain; [001 eq. 2.3] and the section 5.1 wrist formula are evaluated here only as independent checks."
     )
     writer.heading("Forward kinematics against the thesis's closed forms")
     writer.comparison("fk_agreement", [
-        Comparison("max |FK - eq. 2.3| / sum of lengths, 2000 random q", 0.0, float(fk_error), 1e-9,
-                   Note("eq. 2.3 with the parentheses of P_x, P_z repaired",
+        Comparison("max |FK - [001 eq. 2.3]| / sum of lengths, 2000 random q", 0.0, float(fk_error), 1e-9,
+                   Note("[001 eq. 2.3] with the parentheses of P_x, P_z repaired",
                         "as transcribed it does not parse; see the corrections table")),
         Comparison("max |wrist - section 5.1 X,Y,Z| / sum of lengths", 0.0, float(w_error), 1e-9,
                    "the section 5.1 closed form agrees with the chain as transcribed"),
-    ], caption="Forward kinematics: the DH product of Table 2.1 against eq. 2.3 and section 5.1",
+    ], caption="Forward kinematics: the DH product of Table 2.1 against [001 eq. 2.3] and section 5.1",
         detail="The thesis states that its closed forms are the chain's kinematics; the printed value 0 is that "
                "claim, compared relative to the sum of the link lengths.")
     writer.progress(0.1, "fk")

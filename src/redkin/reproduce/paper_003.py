@@ -122,7 +122,7 @@ def arm_angle_subsection(writer: SectionWriter, run: TrackingResult, samples: in
         + _range_summary(ranges, within_joints, sets, samples)
     )
     writer.figure(fig, "wam_arm_angles", "The WAM's exact feasible arm angles along the SC run",
-                  "Green: the feasible arm angles of the branch the arm is on (paper 000 eqs. 21-30 with the offset "
+                  "Green: the feasible arm angles of the branch the arm is on ([000 eqs. 21-30] with the offset "
                   "elbow); dots: the run's arm angle (filled within Barrett's ranges, hollow outside); dotted: a "
                   "change of elbow branch (D_e = 0).")
 
@@ -197,7 +197,7 @@ def build(writer: SectionWriter) -> None:
         caption="The four methods on the section 4 scenario",
         detail="Twist error is relative to the intended twist: for SC the command with translation reversed after "
         "the crossing (its design), for the baselines the constant command (they have no reversal). The SC "
-        "method's error inside the singular region is by design (eq. 22 slows it to zero at D_e = 0).",
+        "method's error inside the singular region is by design ([003 eq. 22] slows it to zero at D_e = 0).",
     )
     summary = dict(zip(methods, rows))
     sc_row = summary["sc"]
@@ -214,7 +214,7 @@ def build(writer: SectionWriter) -> None:
                        float(sc.realised[inside, 4].min()), 1e-9, ""),
             Comparison("rotation about +y keeps its sign through the singularity", "yes",
                        "yes" if sc.realised[:, 4].min() >= 0 else "no",
-                       note=f"smallest omega_y {sc.realised[:, 4].min():.2e} rad/s at D_e = 0 (rotation pauses there, eq. 22)"),
+                       note=f"smallest omega_y {sc.realised[:, 4].min():.2e} rad/s at D_e = 0 (rotation pauses there, [003 eq. 22])"),
             Comparison("translation inside the singular region only along x", "yes",
                        "yes" if np.abs(sc.realised[:, 1:3]).max() < 1e-9 else "no",
                        note=f"largest |v_y|, |v_z| {np.abs(sc.realised[:, 1:3]).max():.1e} m/s"),

@@ -70,7 +70,7 @@ def _output(limits_deg) -> tuple[OutputFunction, np.ndarray, np.ndarray]:
 
 
 def run_cases(progress=lambda fraction, message: None) -> list[Case]:
-    """Every run of the section: Fig. 6 (a)-(d), the weights in (c), a clamped joint, Fig. 7, literal eq. 10."""
+    """Every run of the section: Fig. 6 (a)-(d), the weights in (c), a clamped joint, Fig. 7, literal [004 eq. 10]."""
     arm = planar_arm()
     q0 = np.radians(THETA0_DEG)
     goal = np.array(END_GOAL)
@@ -92,10 +92,10 @@ def run_cases(progress=lambda fraction, message: None) -> list[Case]:
         ("Fig. 6 (c) 9 points held, w_end = 1", ten, q0, held, None, {}, (full, low, high)),
         ("Fig. 6 (c) 9 points held, w_end = 100", ten, q0, held, heavy, {}, (full, low, high)),
         ("Fig. 6 (d) 9 points to base, w_end = 100", ten, q0, to_base, heavy, {}, (full, low, high)),
-        ("Fig. 6 (a) with joint 1 clamped (eq. 27)", end_only, q0, [goal], None, {"fixed": [0]}, (full, low, high)),
+        ("Fig. 6 (a) with joint 1 clamped ([004 eq. 27])", end_only, q0, [goal], None, {"fixed": [0]}, (full, low, high)),
         ("Fig. 7 |theta4| <= 30, |theta5| <= 20 deg", end_only, np.radians(THETA0_FIG7_DEG), [goal], None, {},
          (fig7, low7, high7)),
-        ("Fig. 6 (a), literal eq. 10 gain", end_only, q0, [goal], None, {"gain": "literal"}, (full, low, high)),
+        ("Fig. 6 (a), literal [004 eq. 10] gain", end_only, q0, [goal], None, {"gain": "literal"}, (full, low, high)),
     ]
     cases = []
     for k, (name, model, start, goals, weights, options, (output, lower, upper)) in enumerate(plans):
@@ -183,7 +183,7 @@ def build_obstacles(writer: SectionWriter) -> None:
         "information (the real end point: towards the goal plus repulsion from nearby obstacles; the others: "
         "repulsion) and refers to its ref. 11 for the law, which is not available: the planner of "
         "redkin.virtual_arms.obstacles is ours (docs/virtual-arms.md). Every period (at most 20 integrator steps of "
-        "the eqs. 9-13 network) the end point's goal moves up to 5 cm towards the goal, sliding round an obstacle "
+        "the [004 eqs. 9-13] network) the end point's goal moves up to 5 cm towards the goal, sliding round an obstacle "
         "closer than 10 cm; the joints and three points inside every link get repulsion goals within 10 cm; a guard "
         "keeps only the part of a period whose whole skeleton (every link segment, checked every 1 deg of joint "
         "motion) stays 1 cm clear. The paper prints no obstacle positions: we chose two circles, "
@@ -202,7 +202,7 @@ def build_obstacles(writer: SectionWriter) -> None:
     legend_below(fig, axes[0], 0.07)
     writer.figure(fig, "fig8", "Fig. 8 recomputed: around two obstacles with 0, 1 and 2 joints failed",
                   "The arm at 14 instants of the obstacle-avoiding run (darker = later), the end-point path (dotted), "
-                  "the goal (star) and the obstacles (grey); (b) joint 1 and (c) joints 1 and 2 clamped by eq. 27.")
+                  "the goal (star) and the obstacles (grey); (b) joint 1 and (c) joints 1 and 2 clamped by [004 eq. 27].")
     case = cases[3]
     fig = plt.figure(figsize=(7, 6))
     ax = fig.add_subplot(projection="3d")
@@ -214,7 +214,7 @@ def build_obstacles(writer: SectionWriter) -> None:
                   f"From theta(0) = {PA10_THETA0_DEG} deg, hand goal {tuple(PA10_GOAL)} m, a sphere (x, y, z, r) = "
                   f"{PA10_SPHERE} m where the elbow goes in the unobstructed run; the elbow (joint 4) is the only "
                   "virtual end point with repulsion goals, the guard checks the whole skeleton; joint limits through "
-                  "eq. 25.")
+                  "[004 eq. 25].")
     writer.table(
         "obstacle_runs",
         ["case", "unobstructed min clearance [m]", "end error [m]", "min clearance [m]", "clamped motion [rad]",
@@ -252,7 +252,7 @@ def fig6_comparison(case: Case) -> Comparison:
 REDUNDANT = Note("redundant case: the goals can all be met, and the network meets them")
 OVER_CONSTRAINED = Note(
     "over-constrained goals with constant weights: the end point stops short",
-    "the ten goals cannot all be met, and with constant weights the equilibrium of eqs. 9-14 is the weighted "
+    "the ten goals cannot all be met, and with constant weights the equilibrium of [004 eqs. 9-14] is the weighted "
     "least-squares posture, a compromise in which the end point stops short. The paper weights the points by their "
     "distance to the goal (its ref. 11, not given), which lets the end point arrive; the heavier end weight shows the "
     "trend (w_end = 100 ends much closer than 1).")
@@ -263,7 +263,7 @@ def build(writer: SectionWriter) -> None:
     writer.heading("Figs. 6, 7: goals, weights and joint limits")
     writer.text(
         "Setting (paper 004 section 4): the 5-link planar arm with 40 cm links, every joint range |theta_j| <= 180 deg "
-        "applied through the sine output function (eq. 25), analytic forward models in every subsystem. The paper "
+        "applied through the sine output function ([004 eq. 25]), analytic forward models in every subsystem. The paper "
         f"prints no initial posture and no goals; we chose theta(0) = {THETA0_DEG} deg and the end goal "
         f"X* = ({END_GOAL[0]}, {END_GOAL[1]}) m for every case. That goal is reachable by joint 3 (0.78 m < 0.8 m), so "
         "in Fig. 6 (b) both the end point and joint 3 can reach it. Fig. 6 (c) holds the nine virtual end points "
@@ -310,7 +310,7 @@ def build(writer: SectionWriter) -> None:
     draw_joint_history(axes[1], case.run.s, case.run.theta, case.lower, case.upper)
     fig.tight_layout()
     writer.figure(fig, "fig7", "Fig. 7 recomputed: Fig. 6 (a) with |theta4| <= 30 deg and |theta5| <= 20 deg",
-                  "Left, the run (eq. 25 keeps the joints in range); right, the joint angles against the dynamics' "
+                  "Left, the run ([004 eq. 25] keeps the joints in range); right, the joint angles against the dynamics' "
                   "time s with the limits dashed.")
 
     writer.table(
@@ -322,10 +322,10 @@ def build(writer: SectionWriter) -> None:
         "Per run: final end-point error, the largest final error of the other virtual end points, recorded postures "
         "outside the joint ranges, largest motion of a clamped joint, accepted integrator steps (Radau), wall time, "
         "status; '–': the run has no other virtual end point. In the over-constrained cases (c), (d) the errors cannot all vanish: the equilibrium is the weighted "
-        "least-squares posture and lambda grows only like sqrt(s) (eq. 11), so these runs end when the joints move "
+        "least-squares posture and lambda grows only like sqrt(s) ([004 eq. 11]), so these runs end when the joints move "
         "less than 1e-6 rad while lambda doubles (the remaining motion is then below that too) or when |G' delta| "
         "falls below 1e-6, whichever comes first. The literal "
-        "eq. 10 gain grows without bound and stalls the integrator, as the last row shows; the other rows use the "
+        "[004 eq. 10] gain grows without bound and stalls the integrator, as the last row shows; the other rows use the "
         "bounded gain law of redkin.virtual_arms.dynamics.",
     )
     writer.comparison("fig6", [fig6_comparison(by_name[name]) for name in FIG6_CASES],

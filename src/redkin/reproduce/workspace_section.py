@@ -35,7 +35,7 @@ RESOLUTION = 15
 ORIENTATIONS = 64
 #: Margin of the box beyond the arm's longest reach from the shoulder, metres.
 MARGIN = 0.05
-#: Paper 000, section 6.2.2: the tool held at this position (metres) and turned about z by gamma from eq. 41's rotation.
+#: Paper 000, section 6.2.2: the tool held at this position (metres) and turned about z by gamma from [000 eq. 41]'s rotation.
 GAMMA_POSITION = np.array([0.65, 0.0, 0.5])
 #: The line's orientations, degrees (one per degree).
 GAMMA_GRID_DEG = np.arange(-180.0, 180.0, 1.0)
@@ -69,7 +69,7 @@ def exact_map(geometry: SRSGeometry, resolution: int, orientations: int) -> dict
 
 
 def gamma_rotations(gamma: np.ndarray) -> np.ndarray:
-    """Paper 000's tool orientation of section 6.2.2: eq. 41's rotation turned about the base z axis by ``gamma``."""
+    """Paper 000's tool orientation of section 6.2.2: [000 eq. 41]'s rotation turned about the base z axis by ``gamma``."""
     c, s = np.cos(gamma), np.sin(gamma)
     rotations = np.zeros(np.shape(gamma) + (3, 3))
     rotations[..., 0, 0], rotations[..., 0, 1], rotations[..., 1, 0], rotations[..., 1, 1] = -c, -s, -s, c
@@ -160,14 +160,14 @@ def section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
                    branch_note),
         Comparison("Gamma upper [deg]: map reachability (any branch)", P.SECTION_6_2_2_GAMMA, float(np.degrees(any_high)), TOL,
                    branch_note),
-        Comparison("measure on +++ at gamma = 0 [deg] (the pose of eq. 41)", round(2 * P.SECTION_6_1_PSI_BOUND, 3),
+        Comparison("measure on +++ at gamma = 0 [deg] (the pose of [000 eq. 41])", round(2 * P.SECTION_6_1_PSI_BOUND, 3),
                    float(np.degrees(line[np.flatnonzero(GAMMA_GRID_DEG == 0.0)[0], plus])), 1e-3,
                    Note("paper value derived: the width of section 6.1's Psi = [-45.991, 45.991]",
                         "2 x 45.991; tolerance 1e-3, twice the printed half digit")),
     ]
     writer.comparison(
         "gamma_line", rows, "Section 6.2.2: how far the tool turns with psi controlled, read off one line of the map",
-        "The map's position x = (0.65, 0, 0.5) m with the orientations of eq. 41 turned about z by gamma: the measure "
+        "The map's position x = (0.65, 0, 0.5) m with the orientations of [000 eq. 41] turned about z by gamma: the measure "
         "of the feasible arm-angle set per branch, as every map entry. Gamma is where the measure falls to 0, found by "
         "bisection on the map's measure function (feasible_measures) to machine precision. Gamma_0 = [-120, 120] deg (psi "
         "fixed at 0) asks whether psi = 0 lies in the set, which the measure does not say; section 000 compares it.",
@@ -179,7 +179,7 @@ def section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
     for bound in (low, high):
         ax.axvline(np.degrees(bound), color="0.4", linestyle="--", linewidth=0.8)
     writer.figure(fig, "gamma_line", "The measure along the line of section 6.2.2 (PA10-7C)",
-                  "Dashed: our Gamma, where the +++ measure reaches 0. At gamma = 0 the pose is eq. 41's and the set "
+                  "Dashed: our Gamma, where the +++ measure reaches 0. At gamma = 0 the pose is [000 eq. 41]'s and the set "
                   "is section 6.1's.")
     writer.text(
         "The line reproduces the paper's Gamma to its printed digits: nothing here disagrees with paper 000. The map "
@@ -194,7 +194,7 @@ def build(writer: SectionWriter) -> None:
     writer.text(
         "Exact workspace maps (redkin.workspace, issue 14): for every position of a grid and every orientation of a "
         "near-uniform set, the measure of the feasible arm-angle set on each of the 8 branches, from paper 000's "
-        "closed form (eq. 30) instead of sampled IK. Computed here in one process with feasible_measures, the function "
+        "closed form ([000 eq. 30]) instead of sampled IK. Computed here in one process with feasible_measures, the function "
         f"each Dask chunk of redkin workspace calls, at a modest {RESOLUTION}^3 positions x {ORIENTATIONS} orientations; "
         "redkin workspace computes the same maps at any resolution, on Dask, into Zarr."
     )
@@ -206,6 +206,6 @@ def build(writer: SectionWriter) -> None:
 SECTION = Section(
     key="workspace",
     title="Workspace maps: exact reachability and redundancy (paper 000's feasible sets over a grid)",
-    reference=REFERENCES["000"] + " Eq. 30 and section 6.2.2.",
+    reference=REFERENCES["000"] + " [000 eq. 30] and section 6.2.2.",
     build=build,
 )

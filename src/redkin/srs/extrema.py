@@ -102,19 +102,19 @@ LIMIT_CASES = {
 }
 
 _REFERENCES = {
-    ("tangent", "periodic"): "eq. 24 holds: section 4.2.1 case (1), periodic, global max and min at the psi_0 of eq. 25 (Fig. 3a)",
-    ("tangent", "monotonic"): "eq. 24 fails: section 4.2.1 case (2), monotonic (Fig. 3b)",
+    ("tangent", "periodic"): "[000 eq. 24] holds: section 4.2.1 case (1), periodic, global max and min at the psi_0 of [000 eq. 25] (Fig. 3a)",
+    ("tangent", "monotonic"): "[000 eq. 24] fails: section 4.2.1 case (2), monotonic (Fig. 3b)",
     ("tangent", "singular"): (
-        "eq. 24 with equality (not among the paper's cases): N = D = 0 at one arm angle "
+        "[000 eq. 24] with equality (not among the paper's cases): N = D = 0 at one arm angle "
         "(theta_2 or theta_6 = 0 or pi, section 5.1), where theta jumps by pi; monotonic elsewhere"
     ),
-    ("tangent", "constant"): "a_t = b_t = c_t = 0 in eq. 23: N and D of eq. 21 proportional, theta independent of psi",
+    ("tangent", "constant"): "a_t = b_t = c_t = 0 in [000 eq. 23]: N and D of [000 eq. 21] proportional, theta independent of psi",
     ("tangent", "undefined"): (
-        "N = D = 0 in eq. 21 for every psi: singular at every arm angle (arm stretched along the joint-1 axis, or "
+        "N = D = 0 in [000 eq. 21] for every psi: singular at every arm angle (arm stretched along the joint-1 axis, or "
         "the wrist counterpart); only the sum or difference with the third joint of the group is determined"
     ),
-    ("cosine", "periodic"): "section 4.2.2: extrema at tan psi_0 = a / b (eq. 27), max or min by eq. 28 (Fig. 4)",
-    ("cosine", "constant"): "a = b = 0 in eq. 22: theta independent of psi",
+    ("cosine", "periodic"): "section 4.2.2: extrema at tan psi_0 = a / b ([000 eq. 27]), max or min by [000 eq. 28] (Fig. 4)",
+    ("cosine", "constant"): "a = b = 0 in [000 eq. 22]: theta independent of psi",
 }
 
 

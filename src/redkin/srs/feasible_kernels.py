@@ -84,7 +84,7 @@ def sinusoid_roots(p, q, r, tolerance=1e-12):
 
     With ``rho = hypot(p, q)`` and ``phi = atan2(p, q)``, ``p s + q c = rho
     cos(psi - phi)``, so ``psi = phi +- acos(-r / rho)`` (the stationary points of [000 eq. 25] and the
-    limit crossings of [000 eqs. 21, 22], without eq. 25's division by ``b_t - c_t``).  Near tangency
+    limit crossings of [000 eqs. 21, 22], without [000 eq. 25]'s division by ``b_t - c_t``).  Near tangency
     (``|r| <= rho (1 + tolerance)``) the double root is returned.  ``rho`` is
     taken as ``sqrt(p^2 + q^2)``: the coefficients are of order 1 (entries of
     rotations, or a normalised vector), far from overflow, and ``hypot`` cost a

@@ -195,7 +195,7 @@ def theta1_from_shoulder_angle_eq31(psi: float, wrist: ArrayLike, L0: float) -> 
     """
     psi = float(psi)
     if not np.isfinite(psi) or not 0.0 <= psi <= np.pi:
-        raise ValueError(f"psi of eq. 3.1 must be an angle in [0, pi], got {psi!r}")
+        raise ValueError(f"psi of [001 eq. 3.1] must be an angle in [0, pi], got {psi!r}")
     w = check_vectors(wrist, 3, "wrist").reshape(-1)
     if w.shape != (3,):
         raise ValueError(f"wrist must be one position of shape (3,), got {np.shape(wrist)}")

@@ -1,7 +1,7 @@
 """Workspace maps: exact reachability and redundancy of an arm with arm-angle IK over a box of positions.
 
 * :func:`workspace_map` -- compute a map chunk by chunk on Dask into a Zarr store (resumable)
-* :func:`feasible_measures` -- measure of the feasible arm-angle set per pose and branch (paper 000, eq. 30)
+* :func:`feasible_measures` -- measure of the feasible arm-angle set per pose and branch ([000 eq. 30])
 * :func:`reachability_index`, :func:`redundancy_index` -- the per-position indices
 * :func:`super_fibonacci_rotations` -- the deterministic near-uniform orientation set
 * :func:`workspace_grid` -- the box of positions and its chunks

@@ -14,7 +14,7 @@ value for value.
 Layout of the store (zarr format 2, ``xarray.open_zarr``):
 
 * ``best_manipulability`` (x, y, z): m^3, the best ``w = sqrt(det(J J^T))``
-  of this arm's wrist (eq. 5.3) over the samples within the limits; NaN
+  of this arm's wrist ([001 eq. 5.3]) over the samples within the limits; NaN
   where no sampled posture respects them;
 * ``best_dual_manipulability`` (x, y, z): m^6, the best stacked dual-arm
   measure (our definition, :func:`~redkin.torso_arm.manipulability.stacked_dual_manipulability`)
@@ -66,7 +66,7 @@ from redkin.workspace.store import arm_description, completed_chunks, stored_par
 #: The variables of a humanoid map, their units and what they hold.
 VARIABLES = {
     "best_manipulability": ("m^3", "best w of the wrist position over theta_1 x phi within the limits of joints 1-5 "
-                                   "(thesis 001, eq. 5.3)"),
+                                   "([001 eq. 5.3])"),
     "best_dual_manipulability": ("m^6", "best stacked dual-arm measure, symmetric posture, within the limits"),
     "reachable": ("1", "some sampled posture of the arm exists (limits aside)"),
 }

@@ -1,6 +1,6 @@
 """Exact measure of the feasible arm angles per pose and branch, and the per-position indices of a map.
 
-For a pose and a branch the feasible set ``Psi`` (paper 000, eq. 30) is a
+For a pose and a branch the feasible set ``Psi`` ([000 eq. 30]) is a
 union of closed arcs; its measure is the sum of their lengths, in radians
 (``2 pi`` for a pose free over the whole circle, 0 where the pose is out of
 reach or every arm angle violates a limit).  From the measures of one

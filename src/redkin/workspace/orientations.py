@@ -18,7 +18,7 @@ import numpy as np
 
 from redkin.validation import check_count
 
-#: The real root > 1 of psi^4 = psi + 4 (Alexa 2022, eq. 11).
+#: The real root > 1 of psi^4 = psi + 4 (Alexa 2022, equation 11).
 SUPER_FIBONACCI_PSI = 1.533751168755204288118041
 #: Most orientations a map may take (``redkin workspace --orientations``).
 MAX_ORIENTATIONS = 20_000

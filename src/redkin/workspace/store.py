@@ -65,7 +65,7 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     # by the encoding: one per map chunk (13 824 Dask chunks per array made the 1 cm map's metadata take 30 s)
     data = {
         "measure": (position + ("orientation", "branch"), da.zeros((m, m, m, n, len(BRANCHES)), chunks=-1),
-                    {"units": "rad", "long_name": "measure of the feasible arm-angle set (paper 000, eq. 30)",
+                    {"units": "rad", "long_name": "measure of the feasible arm-angle set ([000 eq. 30])",
                      "branches": [str(b) for b in BRANCHES]}),
         "reachability": (position, da.zeros((m, m, m), chunks=-1),
                          {"units": "1", "long_name": "fraction of orientations with a feasible arm angle on some branch"}),
