@@ -73,7 +73,7 @@ def main() -> None:
 
 def feasible_calls(geometry: SRSGeometry, pose: np.ndarray) -> list[tuple[str, Callable[[], object]]]:
     """The one-pose feasible-set calls, through the public API (validation and eqs. 4-19 included) and from
-    coefficients computed beforehand (eqs. 20-30 alone, the compiled kernels of redkin.srs.feasible_kernels)."""
+    coefficients computed beforehand (eqs. 20-30 alone, the compiled kernels of redkin.srs._feasible_kernels)."""
     branch = geometry.table1_branch("+++")
     one = coefficients_for(geometry, pose, branch.elbow)
     both = coefficients_for(geometry, pose[None], np.array([1, -1]))

@@ -8,7 +8,7 @@ to train the learned end-point model to the stated held-out accuracy (RMS
 below 5 mm for joints in [-1.5, 1.5] rad, sine hidden units).
 
 The rate function (the analytic model's end points and eqs. 9-14) is
-compiled (:mod:`redkin.virtual_arms.kernels`); one short run before the
+compiled (:mod:`redkin.virtual_arms._kernels`); one short run before the
 table loads the kernels (or compiles them on a cold cache; its time is
 printed), so the rows time the runs themselves.  The load average is
 printed: two runs of this script compare only at similar load.

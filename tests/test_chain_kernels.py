@@ -1,4 +1,4 @@
-"""Laws of the compiled chain kernels (redkin.chain_kernels) on random and degenerate chains.
+"""Laws of the compiled chain kernels (redkin._chain_kernels) on random and degenerate chains.
 
 The reference is the definition: a product of 4x4 DH matrices written here
 from ``np.cos`` and ``np.sin``, independent of the kernels.
@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin import chain_kernels
+from redkin import _chain_kernels
 from redkin.chain import SerialChain
 from redkin.compiled import PARALLEL_BATCH
 
@@ -186,7 +186,7 @@ def test_degenerate_chains_and_batches():
 def test_link_table_rows():
     arm = SerialChain(a=[0.1, 0.2], alpha=[np.pi / 2, 0.3], d=[0.0, 0.4], offset=[0.5, 0.0], sign=[1, -1])
     table = arm._links
-    assert table.flags.c_contiguous and table.shape == (2, len(chain_kernels.LINK_COLUMNS))
+    assert table.flags.c_contiguous and table.shape == (2, len(_chain_kernels.LINK_COLUMNS))
     np.testing.assert_array_equal(table[0], [0.5, 1.0, 0.1, 0.0, 0.0, 1.0])  # quarter turn exact
     np.testing.assert_allclose(table[1], [0.0, -1.0, 0.2, 0.4, np.cos(0.3), np.sin(0.3)], rtol=0, atol=0)
 

@@ -1,4 +1,4 @@
-"""The compiled feasible sets (redkin.srs.feasible_kernels): a batch equals its items one at a time, on any thread count.
+"""The compiled feasible sets (redkin.srs._feasible_kernels): a batch equals its items one at a time, on any thread count.
 
 Laws: the parallel batch loop (>= 256 pose-branches, so run_batch takes
 prange) gives bit for bit what one call per pose gives; so do 1 and all
@@ -15,8 +15,8 @@ from hypothesis import strategies as st
 from redkin.compiled import PARALLEL_BATCH
 from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces
+from redkin.srs._feasible_kernels import sinusoid_roots
 from redkin.srs.feasible import feasible_pieces_all_branches
-from redkin.srs.feasible_kernels import sinusoid_roots
 from tests.support.srs_arms import random_poses
 
 COUNT = 2 * PARALLEL_BATCH + 37  # several blocks of the parallel loop, the last one partial

@@ -1,4 +1,4 @@
-"""The compiled arm-angle IK (redkin.srs.ik_kernels): batches equal single calls on both loops, results do
+"""The compiled arm-angle IK (redkin.srs._ik_kernels): batches equal single calls on both loops, results do
 not depend on the thread count, the in-kernel pose check agrees with redkin.validation.check_pose, and the
 group rotations equal the definitional DH products of [000 eq. 3]."""
 
@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from redkin.compiled import PARALLEL_BATCH
 from redkin.models import pa10_7c
-from redkin.srs import BRANCHES, feasible_pieces, ik, ik_all_branches, ik_kernels, reachable, srs_geometry
+from redkin.srs import BRANCHES, _ik_kernels, feasible_pieces, ik, ik_all_branches, reachable, srs_geometry
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.ik import theta_at
 from redkin.srs.rotations import group_rotations
@@ -87,7 +87,7 @@ def test_in_kernel_pose_check_agrees_with_check_pose(seed, defect, size):
         valid = True
     except ValueError:
         valid = False
-    assert (ik_kernels.pose_defect(pose) == ik_kernels.OK) == valid
+    assert (_ik_kernels.pose_defect(pose) == _ik_kernels.OK) == valid
 
 
 @settings(max_examples=30, deadline=None)

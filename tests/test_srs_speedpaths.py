@@ -1,6 +1,6 @@
 """Laws behind the fast S-R-S paths (paper 000): one formula evaluated two ways agrees, batched equals looped.
 
-The compiled kernels (redkin.srs.ik_kernels) evaluate [000 eqs. 12, 16] as
+The compiled kernels (redkin.srs._ik_kernels) evaluate [000 eqs. 12, 16] as
 coefficient matrices and read the joints from 14 of their entries; all eight
 branches share one frame per elbow sign; the limit equations of all joints
 come from one cached matrix.  These tests check each against its definition,
@@ -16,19 +16,19 @@ from redkin.models import pa10_7c
 from redkin.so3 import rot_x
 from redkin.srs import (
     BRANCHES,
+    _feasible_kernels,
     arm_angle_of,
     feasible_arm_angles,
     feasible_arm_angles_batch,
-    feasible_kernels,
     feasible_pieces,
     ik,
     ik_all_branches,
     pose_from,
     srs_geometry,
 )
+from redkin.srs._ik_kernels import ENTRY_LAYOUT
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.feasible import limit_tables
-from redkin.srs.ik_kernels import ENTRY_LAYOUT
 from redkin.srs.joints import IS_COSINE, PSI_JOINTS
 from redkin.validation import check_pose
 from tests.support.feasible_sampling import random_limits
@@ -137,8 +137,8 @@ def test_cut_points_are_where_a_joint_meets_a_limit(seed, model, branch, crossin
     pose = chain.fk(q)
     coefficients = arm_angle_coefficients(geometry, pose, geometry.table1_branch(branch).elbow)
     equations, cuts = np.empty((3, 12)), np.empty(24)
-    feasible_kernels.limit_equations(coefficients.entries, limit_tables(geometry).equations, equations)
-    feasible_kernels.cut_points(equations, cuts)
+    _feasible_kernels.limit_equations(coefficients.entries, limit_tables(geometry).equations, equations)
+    _feasible_kernels.cut_points(equations, cuts)
     cuts = cuts.reshape(6, 4)
     for k, joint in enumerate(PSI_JOINTS):
         limits = np.repeat([geometry.theta_lower[joint - 1], geometry.theta_upper[joint - 1]], 2)

@@ -1,4 +1,4 @@
-"""The compiled velocity steps (redkin.velocity.step_kernels) equal the definitional formulas written here (paper 003).
+"""The compiled velocity steps (redkin.velocity._step_kernels) equal the definitional formulas written here (paper 003).
 
 References: the blend of [003 eqs. 11, 21-22] in numpy; the pseudoinverse and
 damped least squares from numpy's SVD; column minors as determinants of the
@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from redkin.compiled import PARALLEL_BATCH
 from redkin.velocity import (
     SingularityConsistent,
+    _step_kernels,
     adaptive_damping,
     blend_weight,
     column_minors,
@@ -23,7 +24,6 @@ from redkin.velocity import (
     pseudoinverse,
     rotation_factor,
     singularity_consistent,
-    step_kernels,
     twist_scale,
     wam_cofactors,
     wam_singularity_index,
@@ -175,14 +175,14 @@ def test_parallel_batches_equal_serial_batches_bit_for_bit():
     q, twist = random_batch(count, seed=1)
     jac, index, factors = WAM.jacobian(q), FACTOR.index(q), FACTOR.factors(q)
     outputs = {}
-    for name, loop in (("serial", step_kernels.sc), ("parallel", step_kernels.sc_parallel)):
+    for name, loop in (("serial", _step_kernels.sc), ("parallel", _step_kernels.sc_parallel)):
         qdot, target, ok = np.empty((count, 7)), np.empty((count, 6)), np.empty(count, dtype=bool)
         loop(jac, twist, index, factors, EPS, 1.0, 0.2, True, 1e-3, qdot, target, ok)
         out, lam = np.empty((count, 7)), np.empty(count)
-        (step_kernels.least_squares if name == "serial" else step_kernels.least_squares_parallel)(
-            jac, twist, 0.05, 0.1, step_kernels.SIGMA, PINV_RCOND, out, lam)
+        (_step_kernels.least_squares if name == "serial" else _step_kernels.least_squares_parallel)(
+            jac, twist, 0.05, 0.1, _step_kernels.SIGMA, PINV_RCOND, out, lam)
         minors = np.empty((count, 7))
-        (step_kernels.column_minors if name == "serial" else step_kernels.column_minors_parallel)(jac, minors)
+        (_step_kernels.column_minors if name == "serial" else _step_kernels.column_minors_parallel)(jac, minors)
         outputs[name] = (qdot, target, ok, out, lam, minors)
     for serial, parallel in zip(outputs["serial"], outputs["parallel"]):
         np.testing.assert_array_equal(serial, parallel)

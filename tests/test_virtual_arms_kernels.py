@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from redkin.compiled import PARALLEL_BATCH
 from redkin.models import franka_panda, pa10_7c, planar_arm
-from redkin.virtual_arms import AnalyticModel, OutputFunction, VirtualPoint, joints_and_midpoints, kernels
+from redkin.virtual_arms import AnalyticModel, OutputFunction, VirtualPoint, joints_and_midpoints
+from redkin.virtual_arms import _kernels as kernels
 from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics
 from redkin.virtual_arms.subsystems import OneByOne, Together
 

@@ -15,7 +15,7 @@ The end pose is ``base @ A_1 ... A_n @ tool``.  Every kinematic function is
 batched over leading axes: ``q`` has shape ``(..., n)``.
 
 The kinematics are computed by the compiled kernels of
-:mod:`redkin.chain_kernels` (numba), one configuration and batches alike;
+:mod:`redkin._chain_kernels` (numba), one configuration and batches alike;
 the methods here validate their inputs and call them.
 """
 
@@ -28,7 +28,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin import chain_kernels as kernels
+from redkin import _chain_kernels as kernels
 from redkin.compiled import run_batch
 from redkin.validation import as_float_array, check_finite, check_pose, check_vectors
 
@@ -152,7 +152,7 @@ class SerialChain:
         for key, value in values.items():
             object.__setattr__(self, key, value)
         object.__setattr__(self, "joint_names", names)
-        # what the kernels read (redkin.chain_kernels): one row per joint, and base and tool
+        # what the kernels read (redkin._chain_kernels): one row per joint, and base and tool
         links = np.stack([self.offset, self.sign, self.a, self.d, *_cos_sin(self.alpha)], axis=-1)
         object.__setattr__(self, "_standard", self.convention == "dh")
         object.__setattr__(self, "_links", np.ascontiguousarray(links))

@@ -1,8 +1,8 @@
 """What every arm-angle function does at its public edge: the arm, the poses and psi checked, and the
 error of a batch the kernels flagged (private to :mod:`redkin.srs`).
 
-The kernels of :mod:`redkin.srs.ik_kernels` check each pose themselves
-(:func:`redkin.srs.ik_kernels.pose_defect`) and report a status; only a
+The kernels of :mod:`redkin.srs._ik_kernels` check each pose themselves
+(:func:`redkin.srs._ik_kernels.pose_defect`) and report a status; only a
 batch with a flagged pose comes here for the words of its error.
 """
 
@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError, UnreachablePoseError
-from redkin.srs import ik_kernels
+from redkin.srs import _ik_kernels
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.validation import as_float_array, check_finite, check_pose
 
@@ -59,8 +59,8 @@ def as_poses(pose: ArrayLike) -> np.ndarray:
 
 def raise_for_bad_pose(pose: np.ndarray, status: np.ndarray) -> None:
     """Raise the ``ValueError`` of :func:`redkin.validation.check_pose` if the kernels flagged a pose
-    (:data:`redkin.srs.ik_kernels.BAD_POSE`)."""
-    if (status == ik_kernels.BAD_POSE).any():
+    (:data:`redkin.srs._ik_kernels.BAD_POSE`)."""
+    if (status == _ik_kernels.BAD_POSE).any():
         check_pose(pose)
         raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
 
@@ -69,6 +69,6 @@ def raise_for_status(geometry, pose: np.ndarray, status: np.ndarray, distance: n
     """Raise the ``ValueError`` of the first failing check of a batch the kernels flagged:
     :func:`raise_for_bad_pose`, then :func:`unreachable_error`."""
     raise_for_bad_pose(pose, status)
-    error = unreachable_error(geometry, distance, status != ik_kernels.UNREACHABLE)
+    error = unreachable_error(geometry, distance, status != _ik_kernels.UNREACHABLE)
     if error is not None:
         raise error

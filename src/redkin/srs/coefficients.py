@@ -30,9 +30,9 @@ Reference plane ([000 eq. 7] with ``theta_3 = 0``): at ``theta_3 = 0``,
 on the joint-1 axis, ``theta_1o = 0`` (end of section 3.3).
 
 The joint angles are read from 14 entries of ``0R3`` and ``4R7``
-(:data:`redkin.srs.ik_kernels.ENTRY_LAYOUT`, in the order used by
+(:data:`redkin.srs._ik_kernels.ENTRY_LAYOUT`, in the order used by
 :mod:`redkin.srs.joints`).  The equations are computed by the compiled
-kernels of :mod:`redkin.srs.ik_kernels`; this module gives their batched
+kernels of :mod:`redkin.srs._ik_kernels`; this module gives their batched
 results a named form.
 """
 
@@ -45,7 +45,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.compiled import run_batch
-from redkin.srs import ik_kernels
+from redkin.srs import _ik_kernels
 from redkin.srs._targets import as_geometry, as_poses, raise_for_status
 from redkin.srs.geometry import SRSGeometry
 
@@ -69,7 +69,7 @@ class ArmAngleCoefficients:
     wrist : numpy.ndarray, shape (..., 3, 3, 3)
         ``(A_w, B_w, C_w)`` of [000 eq. 16].
     entries : numpy.ndarray, shape (..., 3, 14)
-        The rows ``(a, b, c)`` of the entries of :data:`redkin.srs.ik_kernels.ENTRY_LAYOUT`:
+        The rows ``(a, b, c)`` of the entries of :data:`redkin.srs._ik_kernels.ENTRY_LAYOUT`:
         ``entry(psi) = a sin psi + b cos psi + c``.
     """
 
@@ -101,8 +101,8 @@ def coefficient_arrays(
     status, theta4, distance = np.empty(count, dtype=np.int64), np.empty(count), np.empty(count)
     u, reference, elbow = np.empty((count, 3)), np.empty((count, 3, 3)), np.empty((count, 3, 3))
     shoulder, wrist = np.empty((count, 3, 3, 3)), np.empty((count, 3, 3, 3))
-    entries = np.empty((count, 3, 2 * ik_kernels.GROUP))
-    run_batch(ik_kernels.coefficients, ik_kernels.coefficients_parallel, count, poses, signs, geometry.kernel_arm,
+    entries = np.empty((count, 3, 2 * _ik_kernels.GROUP))
+    run_batch(_ik_kernels.coefficients, _ik_kernels.coefficients_parallel, count, poses, signs, geometry.kernel_arm,
               geometry.kernel_ends, status, theta4, distance, u, reference, elbow, shoulder, wrist, entries)
     result = ArmAngleCoefficients(
         theta4=theta4.reshape(shape), u_sw=u.reshape(shape + (3,)), reference=reference.reshape(shape + (3, 3)),

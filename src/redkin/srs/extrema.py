@@ -17,7 +17,7 @@ one of the two types of section 4.2, read from the entry coefficients of
 
   - ``> 0``: *periodic* (section 4.2.1 case (1), Fig. 3a): the two roots
     ``psi_0`` of the numerator ([000 eq. 25], computed as ``phi +- acos(-c_t /
-    rho)`` by :func:`redkin.srs.feasible_kernels.sinusoid_roots`, the same roots
+    rho)`` by :func:`redkin.srs._feasible_kernels.sinusoid_roots`, the same roots
     without the division by ``b_t - c_t`` of [000 eq. 25], which fails at
     ``psi_0 = +-pi``) are the global maximum and minimum, told apart by the
     sign of [000 eq. 26], ``(a_t cos psi_0 - b_t sin psi_0) / (N^2 + D^2)``;
@@ -65,10 +65,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.srs._feasible_kernels import sinusoid_roots
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import coefficients_for
-from redkin.srs.feasible_kernels import sinusoid_roots
 from redkin.srs.geometry import MEMBERSHIP_TOLERANCE, SRSGeometry
 from redkin.srs.ik import theta_at
 from redkin.srs.joints import PSI_JOINTS

@@ -8,7 +8,7 @@ Closed form, never missing a narrow arc: every arm angle where
 ``theta_i(psi)`` equals a limit solves a linear equation in
 ``(sin psi, cos psi)`` (:func:`redkin.srs.joints.limit_equation_table`, derived
 from [000 eqs. 21, 22]), which has at most two roots in closed form
-(:func:`redkin.srs.feasible_kernels.sinusoid_roots`).  Between consecutive roots
+(:func:`redkin.srs._feasible_kernels.sinusoid_roots`).  Between consecutive roots
 ``theta_i`` stays on one side of each limit (it is continuous there: its
 only discontinuities, where the tangent-type numerator and denominator both
 vanish, are roots of every limit equation), so one evaluation at the middle
@@ -24,10 +24,10 @@ gives the per-joint sets [000 eq. 29] and their intersection [000 eq. 30].
 Isolated touching points (a limit reached at a single arm angle from
 outside) and pieces shorter than :data:`PIECE_TOLERANCE` are not reported.
 
-The work is done by the compiled kernels of :mod:`redkin.srs.feasible_kernels`
+The work is done by the compiled kernels of :mod:`redkin.srs._feasible_kernels`
 (one pose-branch per inner call, batches on all cores); the functions here
 validate and call them.  From poses, one compiled call checks each pose and
-computes [000 eqs. 4-19] (:func:`redkin.srs.ik_kernels.coefficients_one`) and
+computes [000 eqs. 4-19] (:func:`redkin.srs._ik_kernels.coefficients_one`) and
 [000 eqs. 20-30]; from coefficients computed beforehand (:func:`overall_pieces`,
 :func:`feasible_from_coefficients`, :func:`all_branch_pieces`) it does eqs.
 20-30 alone.  The cuts and signs of one elbow sign serve its four
@@ -47,8 +47,8 @@ from redkin.chain import SerialChain
 from redkin.circle import ArcSet
 from redkin.compiled import run_batch
 from redkin.errors import RedkinError
-from redkin.srs import feasible_kernels as kernels
-from redkin.srs import ik_kernels
+from redkin.srs import _feasible_kernels as kernels
+from redkin.srs import _ik_kernels
 from redkin.srs._targets import as_geometry, as_poses, raise_for_status
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.coefficients import ArmAngleCoefficients
@@ -56,7 +56,7 @@ from redkin.srs.geometry import SRSGeometry
 
 PIECE_TOLERANCE = kernels.PIECE_TOLERANCE
 _CACHE_KEY = "_feasible_limit_tables"
-_GROUP = ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
+_GROUP = _ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
 
 
 @dataclass(frozen=True)
@@ -115,7 +115,7 @@ class FeasiblePieces:
 
 def _arc_sets(start: np.ndarray, end: np.ndarray, keep: np.ndarray) -> list[list[ArcSet]]:
     """The :class:`ArcSet` of each row of ``keep`` (N, R, 24) on the pieces ``start``, ``end`` (N, 24)
-    (:func:`redkin.srs.feasible_kernels.batch_arc_runs`)."""
+    (:func:`redkin.srs._feasible_kernels.batch_arc_runs`)."""
     arcs = np.empty((keep.shape[0], keep.shape[1] * kernels.PIECES // 2, 2))
     counts: np.ndarray = np.empty(keep.shape[:2], dtype=np.int64)
     kernels.batch_arc_runs(start, end, keep, arcs, counts)
@@ -131,7 +131,7 @@ def _arc_sets(start: np.ndarray, end: np.ndarray, keep: np.ndarray) -> list[list
 
 
 class LimitTables(NamedTuple):
-    """An arm's joint limits as :mod:`redkin.srs.feasible_kernels` reads them (see its module docstring).
+    """An arm's joint limits as :mod:`redkin.srs._feasible_kernels` reads them (see its module docstring).
 
     Attributes
     ----------
@@ -164,7 +164,7 @@ def limit_tables(geometry: SRSGeometry) -> LimitTables:
 
 
 def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometry: SRSGeometry, per_joint: bool):
-    """Run :func:`redkin.srs.feasible_kernels.branches` (serial) on coefficients of batch shape ``theta4.shape``.
+    """Run :func:`redkin.srs._feasible_kernels.branches` (serial) on coefficients of batch shape ``theta4.shape``.
 
     Returns ``start, end`` (..., 24), ``keep`` (..., R, 24) (``R = 7`` with
     ``per_joint``, else 1) and whether theta_4 is within its limits (...).
@@ -186,7 +186,7 @@ def _classified(entries: np.ndarray, theta4: np.ndarray, branch: Branch, geometr
 
 
 def _from_poses(pose: ArrayLike, branches: np.ndarray, geometry: SRSGeometry, per_joint: bool):
-    """Run :func:`redkin.srs.feasible_kernels.poses_feasible` ([000 eqs. 4-30], one compiled call) on validated
+    """Run :func:`redkin.srs._feasible_kernels.poses_feasible` ([000 eqs. 4-30], one compiled call) on validated
     poses, for the Table 1 signs ``branches`` (B, 3) (:meth:`SRSGeometry.kernel_branch`,
     :attr:`SRSGeometry.kernel_branches`).
 
@@ -298,7 +298,7 @@ def all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry)
 
     The cut points and limit-equation signs of each elbow sign are computed
     once and classified for its four branches
-    (:func:`redkin.srs.feasible_kernels.pose_all_branches`).
+    (:func:`redkin.srs._feasible_kernels.pose_all_branches`).
 
     Parameters
     ----------

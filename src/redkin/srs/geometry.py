@@ -22,7 +22,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError, RedkinError
-from redkin.srs import ik_kernels
+from redkin.srs import _ik_kernels
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
 
@@ -210,24 +210,24 @@ class SRSGeometry:
         Each value is shifted by a multiple of ``2 pi`` into its limit range
         when one such shift lands there (limits that cross ``+-pi``, e.g.
         ``[100, 260]`` deg); otherwise it is wrapped to ``[-pi, pi)``
-        (:func:`redkin.srs.ik_kernels.chain_values`).
+        (:func:`redkin.srs._ik_kernels.chain_values`).
         """
         if self.plain_joints and not self.wrap_columns:
             return theta  # DH angles from atan2 already lie in [-pi, pi] and so do the limits
         flat = np.ascontiguousarray(theta, dtype=float).reshape(-1, 7)
         q = np.empty_like(flat)
-        ik_kernels.joint_values(flat, self.kernel_joints, q)
+        _ik_kernels.joint_values(flat, self.kernel_joints, q)
         return q.reshape(np.shape(theta))
 
     @cached_property
     def kernel_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(kernel_arm, kernel_ends, kernel_joints)``: the arm as every kernel of :mod:`redkin.srs.ik_kernels`
+        """``(kernel_arm, kernel_ends, kernel_joints)``: the arm as every kernel of :mod:`redkin.srs._ik_kernels`
         takes it."""
         return self.kernel_arm, self.kernel_ends, self.kernel_joints
 
     @cached_property
     def kernel_arm(self) -> np.ndarray:
-        """The arm as :mod:`redkin.srs.ik_kernels` reads it: ``d_bs, d_se, d_ew, d_wt, a_3, a_4, C, R, phi, cos phi,
+        """The arm as :mod:`redkin.srs._ik_kernels` reads it: ``d_bs, d_se, d_ew, d_wt, a_3, a_4, C, R, phi, cos phi,
         sin phi``."""
         equation = self.elbow_equation
         return _read_only(np.array([self.d_bs, self.d_se, self.d_ew, self.d_wt, self.a3, self.a4, *equation,
@@ -240,7 +240,7 @@ class SRSGeometry:
 
     @cached_property
     def kernel_joints(self) -> np.ndarray:
-        """The joint-value map of :meth:`to_chain_q` as :mod:`redkin.srs.ik_kernels` reads it, (6, 7)."""
+        """The joint-value map of :meth:`to_chain_q` as :mod:`redkin.srs._ik_kernels` reads it, (6, 7)."""
         chain = self.chain
         wrap = np.isin(np.arange(7), self.wrap_columns)
         start = np.where(np.isfinite(chain.lower), chain.lower, -np.pi)

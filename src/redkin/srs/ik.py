@@ -3,7 +3,7 @@
 Given a pose and an arm angle ``psi``, each of the eight branches (signs of
 theta_2, theta_4, theta_6) has exactly one joint vector.  Everything is
 batched over leading axes of the pose and computed by the compiled kernels
-of :mod:`redkin.srs.ik_kernels`.
+of :mod:`redkin.srs._ik_kernels`.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 from redkin.chain import SerialChain
 from redkin.compiled import run_batch
 from redkin.errors import RedkinError
-from redkin.srs import ik_kernels
+from redkin.srs import _ik_kernels
 from redkin.srs._targets import as_geometry, as_poses, check_psi, raise_for_bad_pose, raise_for_status
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients, coefficient_arrays
@@ -39,7 +39,7 @@ def reachable(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> np.ndarray:
     numpy.ndarray of bool, shape (...)
         True where ``|x_sw|`` lies in ``[|d_se - d_ew|, d_se + d_ew]``, or for an
         offset elbow in ``[sqrt(C - R), sqrt(C + R)]`` (with the rounding slack
-        :data:`redkin.srs.ik_kernels.REACH_TOLERANCE` on ``cos(theta_4 - phi)``).
+        :data:`redkin.srs._ik_kernels.REACH_TOLERANCE` on ``cos(theta_4 - phi)``).
 
     Raises
     ------
@@ -50,14 +50,14 @@ def reachable(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> np.ndarray:
     pose = as_poses(pose)
     _, status, _ = coefficient_arrays(geometry, pose, 1)
     raise_for_bad_pose(pose, status)
-    return status == ik_kernels.OK
+    return status == _ik_kernels.OK
 
 
 def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch) -> np.ndarray:
     """The 7 DH angles ``(..., 7)`` at arm angles ``psi`` for one branch [000 eqs. 11, 13-15, 17-19].
 
     ``psi`` broadcasts against the batch shape of ``coefficients``
-    (:func:`redkin.srs.ik_kernels.branch_angles`).
+    (:func:`redkin.srs._ik_kernels.branch_angles`).
     """
     psi = np.asarray(psi, dtype=float)
     shape = np.broadcast_shapes(coefficients.theta4.shape, psi.shape)
@@ -68,7 +68,7 @@ def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch)
     psi = np.ascontiguousarray(np.broadcast_to(psi, shape)).reshape(count)
     signs = np.broadcast_to(np.array([[branch.shoulder, branch.wrist]], dtype=float), (count, 2))
     theta = np.empty((count, 7))
-    run_batch(ik_kernels.angles_at, ik_kernels.angles_at_parallel, count, entries, theta4, psi,
+    run_batch(_ik_kernels.angles_at, _ik_kernels.angles_at_parallel, count, entries, theta4, psi,
               np.ascontiguousarray(signs), theta)
     return theta.reshape(shape + (7,))
 
@@ -76,7 +76,7 @@ def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch)
 def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.ndarray) -> np.ndarray:
     """Joint values ``(..., B, 7)`` of the chain for Table 1 branch signs ``branches`` (B, 3), validated.
 
-    One compiled call per batch (:func:`redkin.srs.ik_kernels.solve_poses`):
+    One compiled call per batch (:func:`redkin.srs._ik_kernels.solve_poses`):
     the pose and psi checks, [000 eqs. 4-19] and the chain's joint values.  Only a
     batch the kernel flags goes through the slower checks that word the error.
     """
@@ -85,7 +85,7 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
     shape = pose.shape[:-2]
     if not shape and not psi_array.shape and pose.flags.c_contiguous:  # one pose: no batch to lay out
         out = np.empty((branches.shape[0], 7))
-        if ik_kernels.solve_single(pose, psi_array, branches, *geometry.kernel_tables, out) != ik_kernels.OK:
+        if _ik_kernels.solve_single(pose, psi_array, branches, *geometry.kernel_tables, out) != _ik_kernels.OK:
             _raise_for(geometry, pose, psi_array)
         return out
     if psi_array.shape != shape:
@@ -102,14 +102,14 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
         poses, angles = np.ascontiguousarray(poses), np.ascontiguousarray(angles)
     count = len(poses)  # not .shape[0]: numpy's stubs type this reshape's result as 0-d
     out = np.empty((count, branches.shape[0], 7))
-    if run_batch(ik_kernels.solve_poses, ik_kernels.solve_poses_parallel, count, poses, angles, branches,
+    if run_batch(_ik_kernels.solve_poses, _ik_kernels.solve_poses_parallel, count, poses, angles, branches,
                  *geometry.kernel_tables, out):
         _raise_for(geometry, pose, psi_array)
     return out.reshape(shape + branches.shape[:1] + (7,))
 
 
 def _raise_for(geometry: SRSGeometry, pose: np.ndarray, psi: np.ndarray) -> None:
-    """Raise the error of a batch :func:`redkin.srs.ik_kernels.solve_poses` flagged: psi, then the poses."""
+    """Raise the error of a batch :func:`redkin.srs._ik_kernels.solve_poses` flagged: psi, then the poses."""
     check_psi(psi)
     _, flags, distance = coefficient_arrays(geometry, pose, 1)
     raise_for_status(geometry, pose, flags, distance)

@@ -14,10 +14,10 @@ negates a cosine-type one.
 The shoulder (joints 1-3, read from ``0R3``) and the wrist (joints 5-7,
 read from ``4R7``) have the same structure: each group has the seven
 signed entries ``x, y, z, r0, r1, r2, t`` of
-:data:`redkin.srs.ik_kernels.ENTRY_LAYOUT` (shoulder: ``x = c1 s2``,
+:data:`redkin.srs._ik_kernels.ENTRY_LAYOUT` (shoulder: ``x = c1 s2``,
 ``y = s1 s2``, ``z = c2``, ``r`` the first column of ``0R3`` with ``r2 =
 -s2 c3``, ``t = s2 s3``; wrist likewise with joints 5-7).  The angles
-themselves are computed by :func:`redkin.srs.ik_kernels.group_angles`; this
+themselves are computed by :func:`redkin.srs._ik_kernels.group_angles`; this
 module holds what the feasible sets need: the limit equations of each
 joint and which of their signs mean "within the limits".
 """
@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from redkin.srs import ik_kernels
+from redkin.srs import _ik_kernels
 
 #: Joint numbers (1-based) whose angle depends on psi, in column order of the arrays below.
 PSI_JOINTS = (1, 2, 3, 5, 6, 7)
@@ -36,9 +36,9 @@ IS_COSINE = np.array([False, True, False, False, True, False])
 _X, _Y, _Z, _R0, _R1, _R2, _T = range(7)
 #: A group whose ``x, y`` coefficients [000 eqs. 12, 16] are all at or below this is singular at every
 #: arm angle (the arm stretched along the joint-1 axis, or the mirror case at the wrist); below
-#: :data:`redkin.srs.ik_kernels.UNDEFINED_TOLERANCE` / 3, so that the IK then sets its first joint to 0 at every psi.
+#: :data:`redkin.srs._ik_kernels.UNDEFINED_TOLERANCE` / 3, so that the IK then sets its first joint to 0 at every psi.
 STRETCHED_TOLERANCE = 1e-13
-_GROUP = ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
+_GROUP = _ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
 
 
 def limit_equation_table(

@@ -5,7 +5,7 @@ read from the frames of the arm's Table 1 chain
 (:meth:`redkin.chain.SerialChain.frames`, the compiled DH products of
 [000 eq. 3]) rather than multiplied out again here.  (The IK kernels write
 the single factor ``3R4 = Rz(theta_4) Rx(pi/2)`` in closed form,
-:func:`redkin.srs.ik_kernels.elbow_frame`.)
+:func:`redkin.srs._ik_kernels.elbow_frame`.)
 """
 
 from __future__ import annotations

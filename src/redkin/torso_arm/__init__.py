@@ -13,7 +13,7 @@ wrist-position manipulability maps.  Modules:
 * :mod:`~redkin.torso_arm.maps` -- maps over planes, best over the redundancy, threshold regions.
 
 Each equation is one compiled kernel (numba) beside the public function that
-validates its input and calls it; :mod:`~redkin.torso_arm.kernel_tools` holds
+validates its input and calls it; :mod:`~redkin.torso_arm._kernel_tools` holds
 what the kernels share.
 """
 

@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.compiled import kernel, run_batch
-from redkin.torso_arm.kernel_tools import flat
+from redkin.torso_arm._kernel_tools import flat
 
 #: Position branches, in the order of the solution axis: (theta_3 flag, theta_5 flag).
 #: theta_3 flag +1: cos(theta_3) >= 0 (``asin``), -1: cos(theta_3) <= 0 (``pi - asin``);

@@ -39,8 +39,8 @@ from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin.compiled import kernel, run_batch
+from redkin.torso_arm._kernel_tools import add, cross, dot, flat, norm, put, row, scale, sub
 from redkin.torso_arm.geometry import TorsoArm
-from redkin.torso_arm.kernel_tools import add, cross, dot, flat, norm, put, row, scale, sub
 from redkin.validation import check_vectors
 
 #: Elbow circles with a smaller radius (metres) count as a single elbow point.

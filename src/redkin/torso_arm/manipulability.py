@@ -27,8 +27,8 @@ from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin.compiled import kernel, run_batch
+from redkin.torso_arm._kernel_tools import add, cross, flat, scale, shoulder_point, sub, turn_y
 from redkin.torso_arm.geometry import WRIST_FRAME, TorsoArm
-from redkin.torso_arm.kernel_tools import add, cross, flat, scale, shoulder_point, sub, turn_y
 
 
 def wrist_manipulability(arm: TorsoArm, q: ArrayLike) -> np.ndarray:

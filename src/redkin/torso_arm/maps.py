@@ -30,6 +30,7 @@ from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin.compiled import PARALLEL_BATCH, kernel, run_batch
+from redkin.torso_arm._kernel_tools import flat, put, row, shoulder_point
 from redkin.torso_arm.branches import NO_REFERENCE, OK, SHOULDER_UNDEFINED, UNREACHABLE, into_limits
 from redkin.torso_arm.elbow_angle import (
     ANY_BASIS,
@@ -42,7 +43,6 @@ from redkin.torso_arm.elbow_angle import (
     reference_one,
 )
 from redkin.torso_arm.geometry import MIRROR, TorsoArm, humanoid_arm
-from redkin.torso_arm.kernel_tools import flat, put, row, shoulder_point
 from redkin.torso_arm.manipulability import (
     dual_one,
     gram_manipulability,

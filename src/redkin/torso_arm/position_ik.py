@@ -33,6 +33,7 @@ from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin.compiled import kernel, run_batch
+from redkin.torso_arm._kernel_tools import cross, dot, flat, norm, row, scale, shoulder_point, sub, turn_y
 from redkin.torso_arm.branches import (
     NO_REFERENCE,
     OK,
@@ -51,7 +52,6 @@ from redkin.torso_arm.elbow_angle import (
     reference_direction,
 )
 from redkin.torso_arm.geometry import TorsoArm
-from redkin.torso_arm.kernel_tools import cross, dot, flat, norm, row, scale, shoulder_point, sub, turn_y
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
 from redkin.validation import as_float_array, check_finite, check_vectors
 

@@ -6,7 +6,7 @@ adjugate direction, the proposed singularity-consistent method with its
 singular-region blend, singularity factorisations (closed form for the
 Barrett WAM, numerical for others), and a fixed-step RK4 tracking simulation.
 The steps themselves (pseudoinverse, damped least squares, the SC step) are
-compiled once, in :mod:`redkin.velocity.step_kernels`, and serve single
+compiled once, in :mod:`redkin.velocity._step_kernels`, and serve single
 configurations, batches and the control-loop controllers alike.
 """
 

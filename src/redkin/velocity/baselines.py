@@ -15,11 +15,11 @@ from numpy.typing import ArrayLike
 
 from redkin.compiled import run_batch
 from redkin.validation import as_float_array, check_finite, check_jacobian_and_twist, check_nonnegative, check_positive
-from redkin.velocity import step_kernels
+from redkin.velocity import _step_kernels
 
 #: Relative cut-off below which a singular value counts as zero in :func:`pseudoinverse`.
 PINV_RCOND = 1e-12
-_MEASURES = {"sigma": step_kernels.SIGMA, "manipulability": step_kernels.MANIPULABILITY}
+_MEASURES = {"sigma": _step_kernels.SIGMA, "manipulability": _step_kernels.MANIPULABILITY}
 
 
 def pseudoinverse(jacobian: ArrayLike, twist: ArrayLike) -> np.ndarray:
@@ -31,7 +31,7 @@ def pseudoinverse(jacobian: ArrayLike, twist: ArrayLike) -> np.ndarray:
     dropped), so an exactly singular ``J`` gives a finite answer.
     """
     jac, vel = check_jacobian_and_twist(jacobian, twist)
-    return least_squares(jac, vel, 0.0, 1.0, step_kernels.CONSTANT)[0]
+    return least_squares(jac, vel, 0.0, 1.0, _step_kernels.CONSTANT)[0]
 
 
 def damped_least_squares(jacobian: ArrayLike, twist: ArrayLike, damping: float) -> np.ndarray:
@@ -44,7 +44,7 @@ def damped_least_squares(jacobian: ArrayLike, twist: ArrayLike, damping: float) 
     """
     lam = check_positive(damping, "damping")
     jac, vel = check_jacobian_and_twist(jacobian, twist)
-    return least_squares(jac, vel, lam, 1.0, step_kernels.CONSTANT)[0]
+    return least_squares(jac, vel, lam, 1.0, _step_kernels.CONSTANT)[0]
 
 
 def adaptive_damping(
@@ -101,13 +101,13 @@ def _adaptive(threshold: float, max_damping: float, measure: str) -> tuple[float
 
 def least_squares(jac: np.ndarray, vel: np.ndarray, damping: float, threshold: float,
                   measure: int) -> tuple[np.ndarray, np.ndarray]:
-    """Joint velocities ``(..., n)`` and dampings ``(...)`` of :func:`~redkin.velocity.step_kernels.least_squares_one`
+    """Joint velocities ``(..., n)`` and dampings ``(...)`` of :func:`~redkin.velocity._step_kernels.least_squares_one`
     for trusted Jacobians ``(..., m, n)`` and twists ``(..., m)`` with the same leading axes."""
     lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
     flat_j = np.ascontiguousarray(jac.reshape(-1, m, n))
     flat_v = np.ascontiguousarray(vel.reshape(-1, m))
     out = np.empty((flat_j.shape[0], n))
     lam = np.empty(flat_j.shape[0])
-    run_batch(step_kernels.least_squares, step_kernels.least_squares_parallel, flat_j.shape[0],
+    run_batch(_step_kernels.least_squares, _step_kernels.least_squares_parallel, flat_j.shape[0],
               flat_j, flat_v, damping, threshold, measure, PINV_RCOND, out, lam)
     return out.reshape(lead + (n,)), lam.reshape(lead)

@@ -26,7 +26,7 @@ on both sides outside but ``-1`` at the inside edge ``D_e = -eps``: a jump
 of 2 that makes the motion chatter at the region edge and never cross.
 
 The three formulas are compiled once, as scalar kernels of
-:mod:`redkin.velocity.step_kernels` that the steps call; the functions here
+:mod:`redkin.velocity._step_kernels` that the steps call; the functions here
 apply them to arrays.
 """
 
@@ -36,16 +36,16 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.validation import check_positive
-from redkin.velocity import step_kernels
+from redkin.velocity import _step_kernels
 
 
 def _blend(index: ArrayLike, eps: float) -> tuple[np.ndarray, ...]:
-    """``g``, ``w`` and the rotation factor of every entry of ``index`` (kernel :func:`~redkin.velocity.step_kernels.blend`)."""
+    """``g``, ``w`` and the rotation factor of every entry of ``index`` (kernel :func:`~redkin.velocity._step_kernels.blend`)."""
     e = check_positive(eps, "eps")
     x = np.asarray(index, dtype=float)
     flat = np.ascontiguousarray(x.reshape(-1))
     outputs = tuple(np.empty(flat.shape) for _ in range(3))
-    step_kernels.blend(flat, e, *outputs)
+    _step_kernels.blend(flat, e, *outputs)
     return tuple(out.reshape(x.shape) if x.ndim else out[0] for out in outputs)
 
 

@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike
 
 from redkin.compiled import run_batch
 from redkin.validation import as_float_array, check_finite, check_jacobian_and_twist
-from redkin.velocity import step_kernels
+from redkin.velocity import _step_kernels
 
 
 def _without_each_column(matrix: np.ndarray) -> np.ndarray:
@@ -29,14 +29,14 @@ def column_minors(jacobian: ArrayLike) -> np.ndarray:
     """``det J_i`` for every removed column ``i``, shape ``(..., m + 1)`` [003 eq. 5].
 
     By Cauchy-Binet, ``det(J J^T) = sum_i det(J_i)^2``.  The kernel
-    :func:`~redkin.velocity.step_kernels.column_minors_one` (Gaussian
+    :func:`~redkin.velocity._step_kernels.column_minors_one` (Gaussian
     elimination with partial pivoting), which the SC step's self-motion term uses too.
     """
     jac = _redundant_one(jacobian)
     lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
     flat = np.ascontiguousarray(jac.reshape(-1, m, n))
     out = np.empty((flat.shape[0], n))
-    run_batch(step_kernels.column_minors, step_kernels.column_minors_parallel, flat.shape[0], flat, out)
+    run_batch(_step_kernels.column_minors, _step_kernels.column_minors_parallel, flat.shape[0], flat, out)
     return out.reshape(lead + (n,))
 
 

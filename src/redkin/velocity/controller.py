@@ -9,13 +9,13 @@ every parameter are checked once in the constructor, and each step
 1. checks the shapes of ``q`` and ``twist``,
 2. evaluates ``D_e`` (and ``D_i`` only where ``|D_e| < near_zero``), and
 3. makes one call of a compiled control step,
-   :func:`~redkin.velocity.step_kernels.sc_control` or
-   :func:`~redkin.velocity.step_kernels.pinv_control`: it checks that
+   :func:`~redkin.velocity._step_kernels.sc_control` or
+   :func:`~redkin.velocity._step_kernels.pinv_control`: it checks that
    ``q`` and ``twist`` are finite (bad input is still a ``ValueError``),
    builds the Jacobian from the chain's own tables (the kernel of
-   :mod:`redkin.chain_kernels`) and calls the step of one configuration,
-   :func:`~redkin.velocity.step_kernels.sc_one` or
-   :func:`~redkin.velocity.step_kernels.least_squares_one` -- the same
+   :mod:`redkin._chain_kernels`) and calls the step of one configuration,
+   :func:`~redkin.velocity._step_kernels.sc_one` or
+   :func:`~redkin.velocity._step_kernels.least_squares_one` -- the same
    kernels the array API runs over batches, so both give the same numbers.
 """
 
@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.validation import check_nonnegative, check_positive
-from redkin.velocity import step_kernels
+from redkin.velocity import _step_kernels
 from redkin.velocity.baselines import PINV_RCOND
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
 from redkin.velocity.proposed import NEAR_ZERO_FRACTION
@@ -50,17 +50,17 @@ def read_vector(value: ArrayLike, length: int, name: str) -> np.ndarray:
 
 
 def finite_or_raise(code: int, q: np.ndarray, twist: np.ndarray) -> None:
-    """``ValueError`` for a control step's code other than ``DONE`` (:mod:`redkin.velocity.step_kernels`)."""
-    if code == step_kernels.Q_NOT_FINITE:
+    """``ValueError`` for a control step's code other than ``DONE`` (:mod:`redkin.velocity._step_kernels`)."""
+    if code == _step_kernels.Q_NOT_FINITE:
         raise ValueError(f"q must be finite, got {q.tolist()}")
-    if code == step_kernels.TWIST_NOT_FINITE:
+    if code == _step_kernels.TWIST_NOT_FINITE:
         raise ValueError(f"twist must be finite, got {twist.tolist()}")
-    if code == step_kernels.NO_FACTORS:
+    if code == _step_kernels.NO_FACTORS:
         raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
 
 
 def _kernel_tables(chain: SerialChain) -> tuple[np.ndarray, np.ndarray, bool]:
-    """The chain's link table, base and tool, and convention as :mod:`redkin.chain_kernels` takes them."""
+    """The chain's link table, base and tool, and convention as :mod:`redkin._chain_kernels` takes them."""
     return chain._links, chain._ends, chain._standard
 
 
@@ -93,7 +93,7 @@ class PseudoinverseController:
         """Joint velocity for joint angles ``q`` ``(7,)`` and twist ``(6,)`` (linear, angular)."""
         values, command = read_vector(q, 7, "q"), read_vector(twist, 6, "twist")
         qdot = np.empty(7)
-        finite_or_raise(step_kernels.pinv_control(values, command, *self._tables, PINV_RCOND, np.empty((6, 7)), qdot),
+        finite_or_raise(_step_kernels.pinv_control(values, command, *self._tables, PINV_RCOND, np.empty((6, 7)), qdot),
                         values, command)
         return VelocitySolution(qdot, command)
 
@@ -173,7 +173,7 @@ class SingularityConsistentController:
         values, command = read_vector(q, 7, "q"), read_vector(twist, 6, "twist")
         d_e, factors = self._index_and_factors(values)
         qdot, target = np.empty(7), np.empty(6)
-        code = step_kernels.sc_control(values, command, *self._tables, d_e, factors, self.eps, self.direction,
+        code = _step_kernels.sc_control(values, command, *self._tables, d_e, factors, self.eps, self.direction,
                                        self.self_motion, self.modify_rotation, self.near_zero, np.empty((6, 7)),
                                        qdot, target)
         finite_or_raise(code, values, command)
@@ -186,9 +186,9 @@ class SingularityConsistentController:
         """
         d_e, factors = self._index_and_factors(values)
         qdot, target = np.empty(7), np.empty(6)
-        if not step_kernels.sc_one(jac, command, d_e, factors, self.eps, self.direction, self.self_motion,
+        if not _step_kernels.sc_one(jac, command, d_e, factors, self.eps, self.direction, self.self_motion,
                                    self.modify_rotation, self.near_zero, qdot, target):
-            finite_or_raise(step_kernels.NO_FACTORS, values, command)
+            finite_or_raise(_step_kernels.NO_FACTORS, values, command)
         return VelocitySolution(qdot, target)
 
     def _index_and_factors(self, values: np.ndarray) -> tuple[float, np.ndarray]:

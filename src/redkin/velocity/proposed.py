@@ -15,7 +15,7 @@ non-zero at ``D_e = 0``, so the joints keep moving through the singularity,
 and gives the realised twist ``b_ep g(D_e) t'`` [003 eq. 22] where ``t'`` is the
 command with its rotational part pre-multiplied by ``b_ep clip(D_e/eps)``.
 
-Both steps here are the kernel :func:`~redkin.velocity.step_kernels.sc_one`.
+Both steps here are the kernel :func:`~redkin.velocity._step_kernels.sc_one`.
 It sums the fixed-joint vectors in closed form: ``sum_i D_i n_i`` is
 ``adj(M) [t'; 0]`` with ``M = [J; c^T]``, ``c_i = (-1)^i D_i``.  Both sides
 are polynomials in ``J``, ``t'`` and ``D``; for ``D_e != 0``, expanding
@@ -50,7 +50,7 @@ from numpy.typing import ArrayLike
 
 from redkin.compiled import run_batch
 from redkin.validation import check_jacobian_and_twist, check_nonnegative, check_positive
-from redkin.velocity import step_kernels
+from redkin.velocity import _step_kernels
 from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, weighted_sum
 from redkin.velocity.solution import VelocitySolution
 
@@ -200,7 +200,7 @@ def _factors(factors: ArrayLike, jac: np.ndarray) -> np.ndarray:
 
 def sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray, eps: float, direction: float,
              self_motion: float, modify_rotation: bool, near_zero: float) -> VelocitySolution:
-    """:func:`~redkin.velocity.step_kernels.sc_one` over trusted arrays with common leading axes.
+    """:func:`~redkin.velocity._step_kernels.sc_one` over trusted arrays with common leading axes.
 
     Raises
     ------
@@ -210,7 +210,7 @@ def sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray,
     lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
     count = int(np.prod(lead))
     qdot, target, ok = np.empty((count, n)), np.empty((count, m)), np.empty(count, dtype=np.bool_)
-    run_batch(step_kernels.sc, step_kernels.sc_parallel, count,
+    run_batch(_step_kernels.sc, _step_kernels.sc_parallel, count,
               np.ascontiguousarray(jac.reshape(count, m, n)), np.ascontiguousarray(vel.reshape(count, m)),
               np.ascontiguousarray(d_e.reshape(count)), np.ascontiguousarray(d_i.reshape(count, n)),
               eps, float(direction), float(self_motion), bool(modify_rotation), float(near_zero), qdot, target, ok)

@@ -4,7 +4,7 @@ Paper 004 section 4 builds the nonlinear functions ``f^i`` of [004 eq. 1] direct
 into each subsystem instead of learning them; this is that model.  One call
 evaluates every virtual end point and its Jacobian from a single pass of the
 chain, batched over leading axes of ``theta``: the compiled kernel
-:func:`~redkin.virtual_arms.kernels.virtual_points` over the chain kernels
+:func:`~redkin.virtual_arms._kernels.virtual_points` over the chain kernels
 (its tables, the chain's own, are read from the chain).
 """
 
@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.compiled import run_batch
-from redkin.virtual_arms import kernels
+from redkin.virtual_arms import _kernels as kernels
 from redkin.virtual_arms.points import VirtualPoint
 
 
@@ -77,9 +77,9 @@ class AnalyticModel:
         """Positions ``X^k = f^k(theta)`` [004 eq. 1] of all end points ([004 eq. 2], as ``(..., n, l)``) and
         Jacobians ``d f^k / d theta``.
 
-        The kernel :func:`~redkin.virtual_arms.kernels.virtual_points`: the
+        The kernel :func:`~redkin.virtual_arms._kernels.virtual_points`: the
         chain's frames and, per end point, the Jacobian of that point
-        (:func:`~redkin.chain_kernels.jacobian_one`), task-space rows only.
+        (:func:`~redkin._chain_kernels.jacobian_one`), task-space rows only.
 
         Parameters
         ----------

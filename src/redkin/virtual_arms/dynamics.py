@@ -48,7 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from redkin.virtual_arms import kernels
+from redkin.virtual_arms import _kernels as kernels
 from redkin.virtual_arms.output_function import OutputFunction
 
 
@@ -105,8 +105,8 @@ class Dynamics:
     error control well scaled (``d log lambda / ds = (dlambda/ds) / lambda``;
     the path is the same).  Everything is batched over leading axes of ``y``,
     so the integrator's finite-difference Jacobian costs one model call.
-    The equations are the compiled kernels :func:`~redkin.virtual_arms.kernels.inputs`
-    and :func:`~redkin.virtual_arms.kernels.rates`, around one call of the
+    The equations are the compiled kernels :func:`~redkin.virtual_arms._kernels.inputs`
+    and :func:`~redkin.virtual_arms._kernels.rates`, around one call of the
     evaluator's forward model.
     """
 

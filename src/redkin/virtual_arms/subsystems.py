@@ -5,7 +5,7 @@ forward model at the shared joint vector and returns its steepest-descent
 direction ``delta^k = -dE^k / d theta = J_k^T W^k (X^k* - X^k)`` and its
 error ``E^k = 1/2 (X^k* - X^k)^T W^k (X^k* - X^k)`` [004 eqs. 12, 17].  The
 network exchanges only these signals, which the compiled rate function
-(:func:`~redkin.virtual_arms.kernels.rates`) forms from the end points and
+(:func:`~redkin.virtual_arms._kernels.rates`) forms from the end points and
 Jacobians an evaluator returns.
 
 Two evaluators give the same numbers: :class:`OneByOne` asks every

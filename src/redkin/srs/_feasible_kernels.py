@@ -9,7 +9,7 @@ per-joint sets [000 eq. 29] and their intersection [000 eq. 30] on one branch.
 :func:`pose_branch` does both for one pose-branch and
 :func:`pose_all_branches` for the eight branches of a pose (the cuts made
 once per elbow sign); :func:`pose_feasible` starts from the pose itself,
-computing [000 eqs. 4-19] with :func:`redkin.srs.ik_kernels.coefficients_one`,
+computing [000 eqs. 4-19] with :func:`redkin.srs._ik_kernels.coefficients_one`,
 for any rows of branches (one, or all eight, sharing each elbow sign's
 cuts).  :func:`poses_feasible` (with its parallel twin) loops over a batch
 of poses, :func:`branches` and :func:`all_branches` over coefficients
@@ -49,7 +49,7 @@ import numpy as np
 from numba import prange
 
 from redkin.compiled import kernel
-from redkin.srs import ik_kernels, joints
+from redkin.srs import _ik_kernels, joints
 from redkin.srs.joints import STRETCHED_TOLERANCE
 
 #: Limit equations per pose: lower and upper limit of the six psi-dependent joints.
@@ -59,7 +59,7 @@ PIECES = 2 * EQUATIONS
 #: Pieces shorter than this (radians) are dropped: they are repeated roots split by
 #: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
 PIECE_TOLERANCE = 1e-12
-_GROUP = ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
+_GROUP = _ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
 TWO_PI = 2.0 * pi
 
 
@@ -273,7 +273,7 @@ def pose_all_branches(entries, theta4, equations_table, membership, elbow, order
 @kernel
 def pose_scratch():
     """The work arrays of :func:`pose_feasible` (one set per thread): the
-    frame and coefficient arrays of :func:`redkin.srs.ik_kernels.coefficients_one`, the entries and theta_4
+    frame and coefficient arrays of :func:`redkin.srs._ik_kernels.coefficients_one`, the entries and theta_4
     of both elbow signs, the limit equations and the sign patterns."""
     return (np.empty((3, 4)), np.empty(3), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3, 3)),
             np.empty((3, 3, 3)), np.empty((2, 3, 2 * _GROUP)), np.empty(2), np.empty((3, EQUATIONS)),
@@ -283,18 +283,18 @@ def pose_scratch():
 @kernel
 def pose_coefficients(pose, arm, ends, scratch, signs):
     """[000 eqs. 4-19] of one pose (4, 4) of the chain for the elbow signs ``+1`` (``signs`` 0 or 2) and/or ``-1``
-    (1 or 2) into the scratch entries and theta_4 (:func:`redkin.srs.ik_kernels.coefficients_one`).
+    (1 or 2) into the scratch entries and theta_4 (:func:`redkin.srs._ik_kernels.coefficients_one`).
 
-    Returns the status (:data:`redkin.srs.ik_kernels.OK`, ``BAD_POSE`` or ``UNREACHABLE``) and ``|x_sw|``.
+    Returns the status (:data:`redkin.srs._ik_kernels.OK`, ``BAD_POSE`` or ``UNREACHABLE``) and ``|x_sw|``.
     """
     target, u, reference, elbow, shoulder, wrist, entries, theta4, _, _ = scratch
-    status, distance = ik_kernels.OK, np.nan
+    status, distance = _ik_kernels.OK, np.nan
     for e in range(2):
         if signs == 1 - e:
             continue
-        status, theta4[e], distance = ik_kernels.coefficients_one(
+        status, theta4[e], distance = _ik_kernels.coefficients_one(
             pose, 1.0 - 2.0 * e, arm, ends, target, u, reference, elbow, shoulder, wrist, entries[e])
-        if status != ik_kernels.OK:
+        if status != _ik_kernels.OK:
             break
     return status, distance
 
@@ -313,7 +313,7 @@ def pose_feasible(pose, branches, arm, ends, equations_table, membership, elbow,
     (B, R, 24) as :func:`pose_branch`, theta_4 and whether it is within its
     limits (B,); returns the status and ``|x_sw|`` of :func:`pose_coefficients`.
     """
-    status, distance = ik_kernels.OK, np.nan
+    status, distance = _ik_kernels.OK, np.nan
     entries, angles, equations, patterns = scratch[6], scratch[7], scratch[8], scratch[9]
     for n4 in range(2):
         first = -1
@@ -323,7 +323,7 @@ def pose_feasible(pose, branches, arm, ends, equations_table, membership, elbow,
                 continue
             if first < 0:
                 status, distance = pose_coefficients(pose, arm, ends, scratch, n4)
-                if status != ik_kernels.OK:
+                if status != _ik_kernels.OK:
                     return status, distance
                 pose_pieces(entries[n4], equations_table, equations, start[b], end[b], patterns)
                 inside = within(angles[n4], elbow[0], elbow[1], elbow[2] != 0.0)
@@ -416,14 +416,14 @@ def poses_feasible(poses, branches, arm, ends, equations_table, membership, elbo
     ``distance`` (N,), ``theta4``, ``elbow_inside`` (N, B), ``start``, ``end`` (N, B, 24) and ``keep``
     (N, B, R, 24).
 
-    Returns how many poses failed (a status other than :data:`redkin.srs.ik_kernels.OK`).
+    Returns how many poses failed (a status other than :data:`redkin.srs._ik_kernels.OK`).
     """
     scratch = pose_scratch()
     failed = 0
     for n in range(poses.shape[0]):
         status[n], distance[n] = pose_feasible(poses[n], branches, arm, ends, equations_table, membership, elbow,
                                                scratch, start[n], end[n], keep[n], theta4[n], elbow_inside[n])
-        failed += status[n] != ik_kernels.OK
+        failed += status[n] != _ik_kernels.OK
     return failed
 
 
@@ -438,5 +438,5 @@ def poses_feasible_parallel(poses, branches, arm, ends, equations_table, members
             status[n], distance[n] = pose_feasible(poses[n], branches, arm, ends, equations_table, membership,
                                                    elbow, scratch, start[n], end[n], keep[n], theta4[n],
                                                    elbow_inside[n])
-            failed += status[n] != ik_kernels.OK
+            failed += status[n] != _ik_kernels.OK
     return failed

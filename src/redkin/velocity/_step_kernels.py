@@ -42,7 +42,7 @@ from math import sqrt
 import numpy as np
 from numba import prange
 
-from redkin import chain_kernels
+from redkin import _chain_kernels
 from redkin.compiled import kernel
 
 #: Largest number of Jacobi sweeps (a 6 x 7 Jacobian needs 5 to 8).
@@ -324,8 +324,8 @@ def finite(values):
 
 @kernel
 def chain_jacobian(q, links, ends, standard, jac):
-    """The tool Jacobian (6, n) of a chain's link table at ``q`` (:func:`~redkin.chain_kernels.jacobian_one`)."""
-    chain_kernels.jacobian_one(q, links, ends, standard, links.shape[0], True, np.zeros(3),
+    """The tool Jacobian (6, n) of a chain's link table at ``q`` (:func:`~redkin._chain_kernels.jacobian_one`)."""
+    _chain_kernels.jacobian_one(q, links, ends, standard, links.shape[0], True, np.zeros(3),
                                np.empty((links.shape[0], 2)), jac)
 
 

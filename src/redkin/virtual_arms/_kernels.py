@@ -2,7 +2,7 @@
 
 * :func:`virtual_points` -- [004 eq. 1] for the analytic model: positions ``X^k``
   and Jacobians of the virtual end points, from the chain kernels of
-  :mod:`redkin.chain_kernels` (one pass of the frames, one Jacobian of a
+  :mod:`redkin._chain_kernels` (one pass of the frames, one Jacobian of a
   point per end point);
 * :func:`inputs` -- ``u``, ``theta = G(u)`` and ``G'(u)`` [004 eqs. 13, 25] at the integrated states;
 * :func:`rates` -- the subsystems' signals [004 eqs. 12, 17] and [004 eqs. 9-11, 14]
@@ -23,7 +23,7 @@ from math import cos, exp, inf, sin, sqrt
 import numpy as np
 from numba import prange
 
-from redkin import chain_kernels
+from redkin import _chain_kernels
 from redkin.compiled import kernel
 
 #: Columns of :func:`rates`' ``scalars``.
@@ -40,13 +40,13 @@ def virtual_points_one(theta, links, ends, standard, frames, local, axes, trig, 
     ``trig`` (n, 2), ``poses`` (n + 2, 4, 4) and ``jac`` (6, n) are scratch.
     """
     n = links.shape[0]
-    chain_kernels.frames_one(theta, links, ends, standard, trig, poses)
+    _chain_kernels.frames_one(theta, links, ends, standard, trig, poses)
     for k in range(frames.shape[0]):
         pose = poses[frames[k]]
         for c in range(axes.shape[0]):
             r = axes[c]
             positions[k, c] = pose[r, 3] + (pose[r, 0] * local[k, 0] + pose[r, 1] * local[k, 1] + pose[r, 2] * local[k, 2])
-        chain_kernels.jacobian_one(theta, links, ends, standard, min(frames[k], n), frames[k] > n, local[k], trig, jac)
+        _chain_kernels.jacobian_one(theta, links, ends, standard, min(frames[k], n), frames[k] > n, local[k], trig, jac)
         for c in range(axes.shape[0]):
             for j in range(n):
                 jacobians[k, c, j] = jac[axes[c], j]
@@ -66,9 +66,9 @@ def virtual_points(theta, links, ends, standard, frames, local, axes, positions,
 def virtual_points_parallel(theta, links, ends, standard, frames, local, axes, positions, jacobians):
     """:func:`virtual_points` on all cores."""
     n = links.shape[0]
-    for block in prange((theta.shape[0] + chain_kernels.CHUNK - 1) // chain_kernels.CHUNK):
+    for block in prange((theta.shape[0] + _chain_kernels.CHUNK - 1) // _chain_kernels.CHUNK):
         trig, poses, jac = np.empty((n, 2)), np.empty((n + 2, 4, 4)), np.empty((6, n))
-        for b in range(block * chain_kernels.CHUNK, min(theta.shape[0], (block + 1) * chain_kernels.CHUNK)):
+        for b in range(block * _chain_kernels.CHUNK, min(theta.shape[0], (block + 1) * _chain_kernels.CHUNK)):
             virtual_points_one(theta[b], links, ends, standard, frames, local, axes, trig, poses, jac,
                                positions[b], jacobians[b])
 

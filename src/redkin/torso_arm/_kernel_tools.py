@@ -1,7 +1,7 @@
 """What the compiled kernels of :mod:`redkin.torso_arm` share: 3-vector tuples, and batching for their wrappers.
 
 The kernels hold points and directions in registers as 3-tuples ``(x, y, z)``
-(as :mod:`redkin.chain_kernels` holds a running frame); :func:`add` ...
+(as :mod:`redkin._chain_kernels` holds a running frame); :func:`add` ...
 :func:`turn_y` are the few operations they need, written out by components.
 The public functions of the package validate their inputs, broadcast and
 flatten them with :func:`flat` (the kernels take C-contiguous float64
