@@ -12,12 +12,13 @@ import bench_srs
 import bench_velocity
 
 from redkin.models import barrett_wam, pa10_7c
+from redkin.reproduce import printed
 from redkin.velocity import WamFactorisation
 
 WAM = barrett_wam()
 FACTOR = WamFactorisation.from_chain(WAM)
-Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
-TWIST = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
+Q0 = np.radians(printed.SECTION_4_Q0_DEG)  # paper 003 section 4
+TWIST = np.array(printed.SECTION_4_TWIST)
 
 
 def test_velocity_array_api_table_runs_on_a_batch():

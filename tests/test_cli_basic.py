@@ -9,6 +9,7 @@ import pytest
 
 from redkin.cli.main import main
 from redkin.models import MODELS, barrett_wam, pa10_7c
+from redkin.reproduce import printed
 from redkin.srs import srs_geometry
 
 
@@ -28,11 +29,12 @@ def test_fk_json_prints_the_pose(capsys):
 
 
 def test_fk_degrees(capsys):
-    code, out, _ = run(capsys, "fk", "barrett-wam", "30", "20", "50", "70", "40", "100", "0", "--deg", "--json")
+    q_deg = printed.SECTION_4_Q0_DEG  # paper 003 section 4's start
+    code, out, _ = run(capsys, "fk", "barrett-wam", *map(str, q_deg), "--deg", "--json")
     assert code == 0
-    expected = barrett_wam().fk(np.radians([30, 20, 50, 70, 40, 100, 0]))
+    expected = barrett_wam().fk(np.radians(q_deg))
     np.testing.assert_allclose(json.loads(out)["pose"], expected, atol=1e-12)
-    np.testing.assert_allclose(json.loads(out)["q"], [30, 20, 50, 70, 40, 100, 0])
+    np.testing.assert_allclose(json.loads(out)["q"], q_deg)
 
 
 def test_jacobian_and_manipulability(capsys):
@@ -151,9 +153,9 @@ def test_cli_closed_pipe_ends_quietly():
     import subprocess
     import sys
 
-    command = [sys.executable, "-m", "redkin.cli.main", "track", "barrett-wam", "--q0", "30", "20", "50", "70", "40",
-               "100", "0", "--deg", "--twist", "0.15", "0", "0", "0", "0", "0", "--duration", "2", "--method", "pinv",
-               "--json"]
+    command = [sys.executable, "-m", "redkin.cli.main", "track", "barrett-wam",
+               "--q0", *map(str, printed.SECTION_4_Q0_DEG), "--deg", "--twist", str(printed.SECTION_4_LINEAR_SPEED),
+               "0", "0", "0", "0", "0", "--duration", "2", "--method", "pinv", "--json"]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     assert process.stdout.read(10)
     process.stdout.close()

@@ -6,9 +6,12 @@ import numpy as np
 
 from redkin.cli.main import main
 from redkin.models import get_robot
+from redkin.reproduce import printed
 
-SCENARIO = ["track", "barrett-wam", "--q0", "30", "20", "50", "70", "40", "100", "0", "--deg",
-            "--twist", "0.15", "0", "0", "0", "5.729577951", "0", "--duration", "4", "--dt", "0.01"]
+# paper 003 section 4, read with --deg: the angular rates in deg/s
+TWIST_DEG = [*printed.SECTION_4_TWIST[:3], *np.degrees(printed.SECTION_4_TWIST[3:])]
+SCENARIO = ["track", "barrett-wam", "--q0", *map(str, printed.SECTION_4_Q0_DEG), "--deg",
+            "--twist", *map(str, TWIST_DEG), "--duration", "4", "--dt", "0.01"]
 
 
 def test_velocity_cli_track_json_crosses_once(capsys, tmp_path):
@@ -18,8 +21,8 @@ def test_velocity_cli_track_json_crosses_once(capsys, tmp_path):
     assert out["crossings"] == 1 and png.stat().st_size > 1000
     realised = np.array(out["realised_twist"])
     assert out["units"]["realised_twist"] == "m/s (linear), deg/s (angular)"  # the scenario reads --deg
-    assert np.allclose(realised[0], [0.15, 0, 0, 0, 5.729577951, 0], atol=1e-8)
-    assert np.allclose(realised[-1], [-0.15, 0, 0, 0, 5.729577951, 0], atol=1e-8)
+    assert np.allclose(realised[0], TWIST_DEG, atol=1e-8)
+    assert np.allclose(realised[-1], [-TWIST_DEG[0], *TWIST_DEG[1:]], atol=1e-8)
 
 
 def test_velocity_cli_track_dls_text(capsys):
@@ -75,14 +78,14 @@ def test_track_json_says_its_units_and_keeps_them(capsys):
     short = ["--duration", "0.2", "--dt", "0.01", "--method", "sc", "--json"]
     assert main(SCENARIO[:-4] + short) == 0
     deg = json.loads(capsys.readouterr().out)
-    q0 = [str(v) for v in np.radians([30, 20, 50, 70, 40, 100, 0])]
-    assert main(["track", "barrett-wam", "--q0", *q0, "--twist", "0.15", "0", "0", "0", "0.1", "0", *short]) == 0
+    q0 = [str(v) for v in np.radians(printed.SECTION_4_Q0_DEG)]
+    assert main(["track", "barrett-wam", "--q0", *q0, "--twist", *map(str, printed.SECTION_4_TWIST), *short]) == 0
     rad = json.loads(capsys.readouterr().out)
     assert deg["units"]["max_joint_speed"] == "deg/s" and rad["units"]["max_joint_speed"] == "rad/s"
     assert deg["units"]["joint_velocity"] == "deg/s" and "deg/s (angular)" in deg["units"]["target_twist"]
     np.testing.assert_allclose(deg["max_joint_speed"], np.max(np.linalg.norm(deg["joint_velocity"], axis=1)))
     np.testing.assert_allclose(deg["max_joint_speed"], np.degrees(rad["max_joint_speed"]), rtol=1e-9)
-    np.testing.assert_allclose(np.array(deg["target_twist"])[:, 4], 5.729577951, rtol=1e-9)
+    np.testing.assert_allclose(np.array(deg["target_twist"])[:, 4], TWIST_DEG[4], rtol=1e-9)
     np.testing.assert_allclose(np.radians(deg["q"]), rad["q"], atol=1e-12)
 
 

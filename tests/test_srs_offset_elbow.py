@@ -277,15 +277,17 @@ def test_paper_003_elbow_singularity_is_where_the_two_elbow_branches_meet():
 def test_feasible_arm_angles_along_a_velocity_ik_run_contain_its_arm_angle_exactly_when_in_range():
     """The report's WAM subsection: along an SC run, psi(t) is in the feasible set iff q(t) is within the limits."""
     from redkin.models import barrett_wam7
+    from redkin.reproduce import printed
     from redkin.reproduce.paper_003 import feasible_along_path
     from redkin.velocity import SingularityConsistent, WamFactorisation, simulate
 
     wam = barrett_wam()
     ranges = barrett_wam7()
     chain = wam.with_limits(ranges.lower, ranges.upper)
-    q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 80.0, 0.0])  # q6 inside Barrett's +-91.7 deg
-    run = simulate(wam, q0, np.array([0.15, 0, 0, 0, 0.1, 0]), 1.0, SingularityConsistent(eps=0.1), dt=5e-3,
-                   index=WamFactorisation.from_chain(wam).index)
+    q0 = np.radians(printed.SECTION_4_Q0_DEG)  # paper 003 section 4's start ...
+    q0[5] = np.radians(80.0)  # ... with q6 inside Barrett's +-91.7 deg
+    run = simulate(wam, q0, np.array(printed.SECTION_4_TWIST), 1.0, SingularityConsistent(eps=printed.SECTION_4_D_EPS),
+                   dt=5e-3, index=WamFactorisation.from_chain(wam).index)
     psi, branches, sets = feasible_along_path(chain, run.q[::10])
     within = chain.joints_within_limits(run.q[::10], wrap=True).all(axis=-1)
     assert within.any()

@@ -16,6 +16,7 @@ from redkin.velocity import (
     self_motion_vector,
     weighted_sum_direction,
 )
+from tests.support.velocity_wam import FACTOR, Q0, TWIST
 
 seeds = st.integers(0, 2**32 - 1)
 
@@ -82,13 +83,14 @@ def test_velocity_appendix_a_orthogonality(seed):
 
 def test_velocity_adjugate_direction_vanishes_at_singularity():
     chain = barrett_wam()
-    q = np.radians([30.0, 20.0, 50.0, 0.0, 40.0, 100.0, 0.0])
-    q[3] = np.arctan2(0.045 * 0.95, 0.55 * 0.4 - 0.045**2)  # elbow stretched, [003 eq. 14]
-    direction, size = adjugate_direction(chain.jacobian(q), [0.15, 0, 0, 0, 0.1, 0])
+    q = Q0.copy()
+    # elbow stretched, [003 eq. 14]
+    q[3] = np.arctan2(FACTOR.a * (FACTOR.d3 + FACTOR.d5), FACTOR.d3 * FACTOR.d5 - FACTOR.a**2)
+    direction, size = adjugate_direction(chain.jacobian(q), TWIST)
     assert abs(size) < 1e-12 and np.abs(direction).max() < 1e-12
     # Away from it the direction is not zero.
     q[3] += 0.3
-    assert np.abs(adjugate_direction(chain.jacobian(q), [0.15, 0, 0, 0, 0.1, 0])[0]).max() > 1e-4
+    assert np.abs(adjugate_direction(chain.jacobian(q), TWIST)[0]).max() > 1e-4
 
 
 @settings(deadline=None, max_examples=30)

@@ -23,9 +23,10 @@ from redkin.velocity import (
     singularity_consistent,
     twist_scale,
 )
-from tests.support.velocity_wam import FACTOR, TWIST, WAM
+from tests.support.velocity_wam import EPS, FACTOR, Q0, TWIST, WAM
 
-SINGULAR_Q4 = float(np.arctan2(0.045 * (0.55 + 0.4), 0.55 * 0.4 - 0.045**2))  # root of D_e, paper 003 sec. 3.3
+# root of D_e, paper 003 sec. 3.3
+SINGULAR_Q4 = float(np.arctan2(FACTOR.a * (FACTOR.d3 + FACTOR.d5), FACTOR.d3 * FACTOR.d5 - FACTOR.a**2))
 seeds = st.integers(0, 2**32 - 1)
 
 
@@ -137,7 +138,7 @@ def test_velocity_wam_pattern_required():
 
 # ------------------------------------------------------------------ conventional SC ([003 eqs. 9-11])
 def test_velocity_fixed_joint_sc_and_algorithmic_singularity():
-    q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
+    q = Q0.copy()
     jac = WAM.jacobian(q)
     solution = fixed_joint_sc(jac, TWIST, joint=0, eps=1e-3)
     assert np.isclose(solution.joint_velocity[0], 0.0)  # joint 1 fixed
@@ -169,10 +170,10 @@ def test_velocity_sc_realises_its_target_and_equals_pseudoinverse_outside(seed, 
 
 
 def test_velocity_sc_moves_at_the_singularity():
-    q = np.radians([30.0, 20.0, 50.0, 0.0, 40.0, 100.0, 0.0])
+    q = Q0.copy()
     q[3] = SINGULAR_Q4
     jac = WAM.jacobian(q)
-    sol = singularity_consistent(jac, TWIST, FACTOR.index(q), FACTOR.factors(q), eps=0.1, direction=-1.0)
+    sol = singularity_consistent(jac, TWIST, FACTOR.index(q), FACTOR.factors(q), eps=EPS, direction=-1.0)
     assert np.linalg.norm(sol.joint_velocity) > 0.1  # q_dot != 0 at D_e = 0
     assert np.allclose(sol.target_twist, 0.0, atol=1e-15)
     assert np.allclose(jac @ sol.joint_velocity, 0.0, atol=1e-12)

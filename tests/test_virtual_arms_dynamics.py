@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from scipy.optimize import least_squares, minimize
 
 from redkin.models import pa10_7c, planar_arm
+from redkin.reproduce import printed
 from redkin.virtual_arms import AnalyticModel, OutputFunction, VirtualPoint, generate_trajectory, joints_and_midpoints
 from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics
 from redkin.virtual_arms.generate import settled
@@ -18,7 +19,8 @@ from redkin.virtual_arms.subsystems import Together
 ARM = planar_arm()
 Q0 = np.radians([30.0, 30.0, 30.0, 30.0, 30.0])
 GOAL = np.array([0.6, 1.2])
-FULL_RANGE = OutputFunction.sine(np.full(5, -np.pi), np.full(5, np.pi))  # |theta_j| <= 180 deg (section 4)
+_HALF_RANGE = np.full(5, np.radians(printed.FIG_6_JOINT_RANGE_DEG))
+FULL_RANGE = OutputFunction.sine(-_HALF_RANGE, _HALF_RANGE)  # Fig. 6's joint ranges ([004 section 4])
 
 
 def min_norm_posture(model, theta0, goals):
@@ -120,7 +122,7 @@ def test_virtual_arms_heavier_end_weight_brings_end_closer():
 
 
 def test_virtual_arms_limits_hold_along_whole_path():  # Fig. 7
-    lower = np.radians([-180, -180, -180, -30, -20])
+    lower = -np.radians(printed.FIG_7_JOINT_LIMITS_DEG)
     model = AnalyticModel(ARM, [VirtualPoint.end()])
     run = generate_trajectory(model, Q0 * np.array([1, 1, 1, 0.5, 0.5]), [GOAL],
                               output=OutputFunction.sine(lower, -lower))

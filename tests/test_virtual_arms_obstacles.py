@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from redkin.models import pa10_7c, planar_arm
+from redkin.reproduce import printed
 from redkin.virtual_arms import (
     AnalyticModel,
     Obstacle,
@@ -46,7 +47,7 @@ def _dense(theta, step=DENSE_STEP):
 
 @pytest.fixture(scope="module")
 def free_run():
-    output, _, _ = _limits(180.0)
+    output, _, _ = _limits(printed.FIG_6_JOINT_RANGE_DEG)
     return avoid_obstacles(ARM, Q0, GOAL, BLOCK, output=output)
 
 
@@ -57,7 +58,8 @@ def clamped_run():
 
 
 def test_virtual_arms_obstacles_matter_for_the_plain_run():
-    plain = generate_trajectory(AnalyticModel(ARM, [VirtualPoint.end()]), Q0, [GOAL], output=_limits(180.0)[0])
+    plain = generate_trajectory(AnalyticModel(ARM, [VirtualPoint.end()]), Q0, [GOAL],
+                                output=_limits(printed.FIG_6_JOINT_RANGE_DEG)[0])
     assert plain.converged
     assert arm_clearance(ARM, plain.theta, BLOCK, (0, 1)).min() < -0.05  # the arm would cut through the obstacle
 
@@ -89,7 +91,7 @@ def test_virtual_arms_obstacles_clamped_joint_is_bit_exact_and_limits_hold(clamp
 
 
 def test_virtual_arms_obstacles_without_obstacles_is_the_plain_run():
-    output, _, _ = _limits(180.0)
+    output, _, _ = _limits(printed.FIG_6_JOINT_RANGE_DEG)
     run = avoid_obstacles(ARM, Q0, GOAL, [], output=output)
     plain = generate_trajectory(AnalyticModel(ARM, [VirtualPoint.end()]), Q0, [GOAL], output=output)
     assert run.status == "reached" and run.periods == 1

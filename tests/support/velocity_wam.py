@@ -5,14 +5,15 @@ import numpy as np
 from hypothesis import strategies as st
 
 from redkin.models import barrett_wam
+from redkin.reproduce import printed
 from redkin.velocity import WamFactorisation
 
 WAM = barrett_wam()
 FACTOR = WamFactorisation.from_chain(WAM)
-EPS = 0.1
-# paper 003 section 4: the start of the tracking scenario and the commanded twist
-Q0 = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
-TWIST = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
+# paper 003 section 4: the threshold D_eps, the start of the tracking scenario and the commanded twist
+EPS = printed.SECTION_4_D_EPS
+Q0 = np.radians(printed.SECTION_4_Q0_DEG)
+TWIST = np.array(printed.SECTION_4_TWIST)
 # q4 where D_e = a (d3 + d5) cos q4 + (a^2 - d3 d5) sin q4 vanishes
 Q4_ZERO = float(np.arctan2(-FACTOR.a * (FACTOR.d3 + FACTOR.d5), FACTOR.a**2 - FACTOR.d3 * FACTOR.d5))
 

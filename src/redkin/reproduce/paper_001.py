@@ -6,15 +6,20 @@ import matplotlib.pyplot as plt
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin.models import HUMANOID_LENGTHS, humanoid_right_arm
 from redkin.plot.torso_arm import draw_manipulability_map
 from redkin.references import REFERENCES
 from redkin.reproduce import Section
+from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
 from redkin.torso_arm import BRANCHES, humanoid_arm, ik, redundancy_parameters
 from redkin.torso_arm.branches import wrap_angle
 from redkin.torso_arm.geometry import WRIST_FRAME
 from redkin.torso_arm.maps import best_dual_arm_map, best_manipulability_map, plane_grid, region_above
+
+#: Joint limits of the thesis's right arm ([001 section 5.1], as the model holds them), degrees, (8, 2).
+_LIMITS_DEG = np.degrees(humanoid_right_arm().limits)
 
 CORRECTIONS = [
     ("2.3 (P_x, P_z)", "the L3 term closes one parenthesis early",
@@ -26,11 +31,11 @@ CORRECTIONS = [
     ("3.12", "sense of rotation left open (+/-)",
      "E(phi) = h + r(cos(phi) e1 + sin(phi) n x e1): right-handed about S->W (the lower sign with the thesis's I_b)"),
     ("3.19", "only the principal root", "sin(theta_5 + delta) = k: theta_5 = asin(k) - delta or pi - asin(k) - delta (computed with atan2)"),
-    ("3.22", "asin gives only cos(theta_3) >= 0 (range is -5..185 deg)", "theta_3 = atan2(u'_x, +-|(u'_y, u'_z)|), branch flag"),
+    ("3.22", f"asin gives only cos(theta_3) >= 0 (range is {_LIMITS_DEG[2, 0]:g}..{_LIMITS_DEG[2, 1]:g} deg)", "theta_3 = atan2(u'_x, +-|(u'_y, u'_z)|), branch flag"),
     ("3.20-3.24", "divide by sin(theta_1) and cos(theta_3)", "theta_2 = atan2(sgn(c3) u'_z, sgn(c3) u'_y), u' = Ry(-theta_1)(E - S)/L1"),
     ("3.25", "dimensionally inconsistent, divides by cos(theta_3)",
      "in frame 3 the forearm is (m s4, c, m c4), m = L3 c5 - L2 s5: theta_4 = atan2(sgn(m) f3_x, sgn(m) f3_z)"),
-    ("3.26", "forces |theta_4| <= 90 deg against a +-150 deg limit", "full-circle atan2 above"),
+    ("3.26", f"forces |theta_4| <= 90 deg against a +-{_LIMITS_DEG[3, 1]:g} deg limit", "full-circle atan2 above"),
     ("4.6, 4.9", "do not follow from Table 2.1 (no theta_8)",
      "R58 = [[-s6c7c8 - c6s8, -s6c7s8 + c6c8, s6s7], [-s7c8, -s7s8, -c7], [s6s8 - c6c7c8, -s6c8 - c6c7s8, c6s7]]"),
     ("4.7-4.11", "single branch, no singularity", "theta_7 = atan2(+-|(R02, R22)|, -R12), theta_6 = atan2(sR02, sR22), theta_8 = atan2(-sR11, -sR10); sin(theta_7) = 0 reported"),
@@ -64,9 +69,12 @@ def _section_5_1(q: np.ndarray, L: dict) -> np.ndarray:
     return np.stack([c1 * outer + inner * s1, -c4 * s2 * m + c2 * (-s3 * s4 * m + c3 * k), c1 * inner - outer * s1], axis=-1)
 
 
-def build(writer: SectionWriter) -> None:
-    from redkin.models import HUMANOID_LENGTHS
+def _power(value: float) -> str:
+    """A power of ten as the report writes it: ``1e7``, ``1e-2``."""
+    return f"1e{round(np.log10(value))}"
 
+
+def build(writer: SectionWriter) -> None:
     rng = np.random.default_rng(1)
     tool = 0.1
     arm = humanoid_arm("right", tool)
@@ -77,16 +85,19 @@ def build(writer: SectionWriter) -> None:
     fk_error = np.abs(frames[:, -1, :3, 3] - _eq_2_3_position(q, HUMANOID_LENGTHS, tool)).max() / scale
     w_error = np.abs(frames[:, WRIST_FRAME, :3, 3] - _section_5_1(q, HUMANOID_LENGTHS)).max() / scale
     writer.text(
-        "Thesis 001 models the right arm with the torso joint (Table 2.1, modified DH; L0 = 397.5, L1 = 355, "
-        "L2 = 150, L3 = 315 mm; a tool L4 = 0.1 m is added here). The library's forward kinematics is the "
+        "Thesis 001 models the right arm with the torso joint (Table 2.1, modified DH; "
+        + ", ".join(f"{name} = {1000 * length:g}" for name, length in HUMANOID_LENGTHS.items())
+        + f" mm; a tool L4 = {tool:g} m is added here). The library's forward kinematics is the "
         "DH chain; [001 eq. 2.3] and the section 5.1 wrist formula are evaluated here only as independent checks."
     )
     writer.heading("Forward kinematics against the thesis's closed forms")
     writer.comparison("fk_agreement", [
-        Comparison("max |FK - [001 eq. 2.3]| / sum of lengths, 2000 random q", 0.0, float(fk_error), 1e-9,
+        Comparison("max |FK - [001 eq. 2.3]| / sum of lengths, 2000 random q", P.SECTION_2_4_FK_DIFFERENCE,
+                   float(fk_error), 1e-9,
                    Note("[001 eq. 2.3] with the parentheses of P_x, P_z repaired",
                         "as transcribed it does not parse; see the corrections table")),
-        Comparison("max |wrist - section 5.1 X,Y,Z| / sum of lengths", 0.0, float(w_error), 1e-9,
+        Comparison("max |wrist - section 5.1 X,Y,Z| / sum of lengths", P.SECTION_5_1_WRIST_DIFFERENCE,
+                   float(w_error), 1e-9,
                    "the section 5.1 closed form agrees with the chain as transcribed"),
     ], caption="Forward kinematics: the DH product of Table 2.1 against [001 eq. 2.3] and section 5.1",
         detail="The thesis states that its closed forms are the chain's kinematics; the printed value 0 is that "
@@ -121,6 +132,10 @@ def build(writer: SectionWriter) -> None:
     writer.progress(0.3, "ik")
 
     right = humanoid_arm("right")
+    # the thesis's plotted w: lengths in mm (1e9 mm^3 per m^3 for one arm, 1e18 mm^6 per m^6 for both), divided
+    divisor = _power(P.SECTION_5_1_MANIPULABILITY_DIVISOR)
+    one_arm = 1e9 / P.SECTION_5_1_MANIPULABILITY_DIVISOR
+    both_arms = 1e18 / P.SECTION_5_1_MANIPULABILITY_DIVISOR
     slices = [
         ("5.1", "Right-Arm Manipulability (X <= 0)", "x=-0.2", (-0.4, 1.0, -0.9, 0.9)),
         ("5.2", "Right-Arm Manipulability (Y >= 0)", "y=0.3", (-0.3, 1.1, -0.9, 0.9)),
@@ -132,8 +147,9 @@ def build(writer: SectionWriter) -> None:
         "Z <= 0). We recompute maps on the planes x = -0.2 m, y = 0.3 m and z = -0.3 m, inside those half-spaces, "
         "and, because w depends on the redundancy which the thesis does not state, plot the best w over the "
         "redundancy within the joint limits of joints 1-5 (theta_1 swept over its limits x phi over the full circle, "
-        "24 x 24 samples). Units: the thesis divides w by 1e7 with lengths in mm, so its plotted value is "
-        "w_mm / 1e7 = 100 w_SI for one arm (w in m^3; our Figs. 5.1-5.3 are in these units, 1e-2 m^3) and 1e11 w_SI "
+        f"24 x 24 samples). Units: the thesis divides w by {divisor} with lengths in mm, so its plotted value is "
+        f"w_mm / {divisor} = {one_arm:g} w_SI for one arm (w in m^3; our Figs. 5.1-5.3 are in these units, "
+        f"{_power(1 / one_arm)} m^3) and {_power(both_arms)} w_SI "
         "for our dual-arm measure (m^6; Figs. 5.4-5.6 and the table give it in SI). Dual arm: the "
         "thesis gives no definition; ours is sqrt(det(J J^T)) of the stacked 6 x 9 Jacobian of both wrists w.r.t. "
         "the shared theta_1 and both arms' joints 2-5, in the symmetric posture (left arm = mirror image of the right "
@@ -154,7 +170,7 @@ def build(writer: SectionWriter) -> None:
                 fig_no = f"5.{k + 4}"
             else:
                 result = best_manipulability_map(right, grid, (24, 24))
-                name, unit, factor = f"fig_5_{k + 1}", "1e-2 m^3 (thesis units)", 100.0
+                name, unit, factor = f"fig_5_{k + 1}", f"{_power(1 / one_arm)} m^3 (thesis units)", one_arm
             fig, ax = plt.subplots(figsize=(6, 5))
             top = float(np.nanmax(result.values)) if result.valid.any() else 0.0
             draw_manipulability_map(ax, result, landmarks, unit=unit, scale=factor, threshold=0.5 * top * factor)
@@ -166,8 +182,8 @@ def build(writer: SectionWriter) -> None:
     writer.table("maps", ["figure", "plane", "fraction of grid reachable within limits",
                           "max w [m^3 one arm, m^6 both]", "area with w >= max/2 [m^2]"], summary,
                  caption="Our recomputed maps, best over the redundancy within limits",
-                 detail="The thesis prints no values to compare. w in SI: m^3 for one arm (Figs. 5.1-5.3: 100 times "
-                        "these in thesis units), m^6 for both arms (5.4-5.6: 1e11 times).")
+                 detail=f"The thesis prints no values to compare. w in SI: m^3 for one arm (Figs. 5.1-5.3: {one_arm:g} "
+                        f"times these in thesis units), m^6 for both arms (5.4-5.6: {_power(both_arms)} times).")
     writer.comparison("map_values", [
         Comparison("Figs. 5.1-5.6 values", None, "see table 'maps'", 0.0,
                    "the figures are missing from the transcription; no number can be compared"),

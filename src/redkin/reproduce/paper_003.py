@@ -11,6 +11,7 @@ from redkin.plot.srs import plot_arm_angles_along_path
 from redkin.plot.velocity import comparison_figure, tracking_figure
 from redkin.references import REFERENCES
 from redkin.reproduce import Section
+from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison
 from redkin.reproduce.report import SectionWriter
 from redkin.srs import arm_angle_of, feasible_arm_angles, srs_geometry
@@ -26,10 +27,7 @@ from redkin.velocity import (
 )
 from redkin.velocity.methods import Method
 
-# Paper 003 section 4 scenario (paper values: used here and in the tests only).
-PAPER_Q0_DEG = [30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0]
-PAPER_TWIST = [0.15, 0.0, 0.0, 0.0, 0.1, 0.0]
-PAPER_EPS = 0.1
+# The section 4 scenario is the paper's (printed.SECTION_4_*); the duration, step and damping are ours.
 DURATION = 4.0
 DT = 1e-3
 DAMPING = 0.05
@@ -135,7 +133,7 @@ def _range_summary(ranges, within_joints: np.ndarray, sets: list[ArcSet], sample
     outside = np.flatnonzero(~within_joints.all(axis=0))
     empty = sum(arcs.is_empty for arcs in sets)
     return (f"The run leaves the ranges at {int((~within).sum())} of {samples} samples (joint(s) "
-            f"{', '.join(str(k + 1) for k in outside)}; q0 itself has q6 = {PAPER_Q0_DEG[5]:g} deg, beyond "
+            f"{', '.join(str(k + 1) for k in outside)}; q0 itself has q6 = {P.SECTION_4_Q0_DEG[5]:g} deg, beyond "
             f"Barrett's +-{np.degrees(ranges.upper[5]):.1f} deg). At {empty} samples no arm angle keeps every joint in "
             "range (no bar; among them those where the elbow, which the arm angle does not move, is outside "
             "its range); where a bar exists the same end motion was possible in range at another arm angle.")
@@ -144,21 +142,24 @@ def _range_summary(ranges, within_joints: np.ndarray, sets: list[ArcSet], sample
 def build(writer: SectionWriter) -> None:
     chain = barrett_wam()
     factor = WamFactorisation.from_chain(chain)
-    q0 = np.radians(PAPER_Q0_DEG)
-    twist = np.array(PAPER_TWIST)
+    q0 = np.radians(P.SECTION_4_Q0_DEG)
+    twist = np.array(P.SECTION_4_TWIST)
+    eps = P.SECTION_4_D_EPS
     d_e0 = float(factor.index(q0))
     peak = float(np.hypot(factor.a * (factor.d3 + factor.d5), factor.a**2 - factor.d3 * factor.d5))
-    width = np.degrees(np.arcsin(min(PAPER_EPS / peak, 1.0)))
+    width = np.degrees(np.arcsin(min(eps / peak, 1.0)))
     writer.heading("The scenario of section 4")
     writer.text(
-        "Scenario of paper 003 section 4 on the Barrett WAM (Table 1, d3 = 0.55, d5 = 0.4, d7 = 0.06, a = 0.045 m): "
-        f"q0 = {PAPER_Q0_DEG} deg, commanded twist 0.15 m/s along x and 0.1 rad/s about y, D_eps = {PAPER_EPS}, "
-        f"b_sm = 0, open loop, RK4 with dt = {DT} s for {DURATION} s. The paper prints no duration or step. "
+        f"Scenario of paper 003 section 4 on the Barrett WAM (Table 1, d3 = {factor.d3:g}, d5 = {factor.d5:g}, "
+        f"d7 = {float(chain.d[6]):g}, a = {factor.a:g} m): q0 = {list(P.SECTION_4_Q0_DEG)} deg, commanded twist "
+        f"{P.SECTION_4_LINEAR_SPEED:g} m/s along x and {P.SECTION_4_ANGULAR_SPEED:g} rad/s about y, D_eps = {eps:g}, "
+        f"b_sm = {P.SECTION_4_B_SM:g}, open loop, RK4 with dt = {DT} s for {DURATION} s. The paper prints no duration "
+        "or step. "
         f"Scale check of the threshold: |D_e| = |a(d3+d5) C4 + (a^2 - d3 d5) S4| is at most {peak:.4f} "
-        f"(a(d3+d5) = {factor.a * (factor.d3 + factor.d5):.4f}), and D_e(q0) = {d_e0:.4f}, so D_eps = 0.1 as printed "
-        f"does not make the whole run singular: the region |D_e| <= 0.1 is q4 within +-{width:.1f} deg of the "
+        f"(a(d3+d5) = {factor.a * (factor.d3 + factor.d5):.4f}), and D_e(q0) = {d_e0:.4f}, so D_eps = {eps:g} as printed "
+        f"does not make the whole run singular: the region |D_e| <= {eps:g} is q4 within +-{width:.1f} deg of the "
         f"stretched elbow ({np.degrees(np.arctan2(factor.a * (factor.d3 + factor.d5), factor.d3 * factor.d5 - factor.a**2)):.2f} deg). "
-        "It is wide (45 % of the largest |D_e|), so the arm slows well before the boundary; we keep the paper's value."
+        f"It is wide ({100 * eps / peak:.0f} % of the largest |D_e|), so the arm slows well before the boundary; we keep the paper's value."
     )
     check = check_single_parameter(chain, factor.index, samples=16)
     writer.text(
@@ -167,7 +168,7 @@ def build(writer: SectionWriter) -> None:
         f"across the set, relative: {check.worst_ratio_jump:.1e}). The closed-form D_i agree with det J_i / D_e in the tests."
     )
     methods: dict[str, Method] = {
-        "sc": SingularityConsistent(eps=PAPER_EPS),
+        "sc": SingularityConsistent(eps=eps, self_motion=P.SECTION_4_B_SM),
         "pinv": Pseudoinverse(),
         "dls": DampedLeastSquares(damping=DAMPING),
         "dls-adaptive": AdaptiveDampedLeastSquares(threshold=DAMPING, max_damping=DAMPING),
@@ -178,7 +179,7 @@ def build(writer: SectionWriter) -> None:
         writer.progress((k + 1) / (len(methods) + 1), name)
     sc = runs["sc"]
     writer.heading("Fig. 1: the proposed SC method")
-    fig = tracking_figure(sc, PAPER_EPS, workspace_boundaries(chain, factor, sc),
+    fig = tracking_figure(sc, eps, workspace_boundaries(chain, factor, sc),
                           title="Proposed SC method, Barrett WAM, paper 003 section 4 scenario")
     writer.figure(fig, "fig1_sc", "Fig. 1 recomputed: the SC method through the elbow singularity",
                   "(a) joint velocities, (b) end-point velocity, (c) angular velocity, (d) D_e, (e) end-point "
@@ -186,10 +187,10 @@ def build(writer: SectionWriter) -> None:
                   "boundary for the orientation at the turn; dashed: any orientation). Grey: singular region "
                   "|D_e| <= D_eps.")
     writer.heading("The SC method beside the pseudoinverse and DLS")
-    writer.figure(comparison_figure(runs, PAPER_EPS), "methods", "The same scenario with four methods",
+    writer.figure(comparison_figure(runs, eps), "methods", "The same scenario with four methods",
                   f"The proposed SC method, the pseudoinverse, DLS (lambda = {DAMPING}) and adaptive DLS (least "
                   f"singular value below {DAMPING}, lambda up to {DAMPING}). Grey: |D_e| <= D_eps of the SC run.")
-    rows = [[name] + run_summary(run, twist, PAPER_EPS, reverses=name == "sc") for name, run in runs.items()]
+    rows = [[name] + run_summary(run, twist, eps, reverses=name == "sc") for name, run in runs.items()]
     writer.table(
         "methods", ["method", "crossings of D_e = 0", "max ||q_dot|| [rad/s]", "path drift off the x line [m]",
                     "time with twist error > 10 % [s]", "max twist error outside |D_e| <= D_eps (relative)", "max x [m]"],
@@ -201,21 +202,22 @@ def build(writer: SectionWriter) -> None:
     )
     summary = dict(zip(methods, rows))
     sc_row = summary["sc"]
-    inside = np.abs(_index(sc)) > PAPER_EPS
+    inside = np.abs(_index(sc)) > eps
     writer.heading("The claims of section 4")
     writer.comparison(
         "claims",
         [
-            Comparison("SC passes the singularity (D_e changes sign)", "yes", "yes" if sc_row[1] >= 1 else "no",
+            Comparison("SC passes the singularity (D_e changes sign)", P.SECTION_4_PASSES_SINGULARITY,
+                       "yes" if sc_row[1] >= 1 else "no",
                        note="D_e changes sign exactly once in our run"),
-            Comparison("end-point speed along x outside the singular region [m/s]", 0.15,
+            Comparison("end-point speed along x outside the singular region [m/s]", P.SECTION_4_LINEAR_SPEED,
                        float(np.abs(sc.realised[inside, 0]).min()), 1e-9, "equal to the command on both sides; the sign reverses after the crossing"),
-            Comparison("angular speed about y outside the singular region [rad/s]", 0.1,
+            Comparison("angular speed about y outside the singular region [rad/s]", P.SECTION_4_ANGULAR_SPEED,
                        float(sc.realised[inside, 4].min()), 1e-9, ""),
-            Comparison("rotation about +y keeps its sign through the singularity", "yes",
+            Comparison("rotation about +y keeps its sign through the singularity", P.SECTION_4_ROTATION_KEEPS_SIGN,
                        "yes" if sc.realised[:, 4].min() >= 0 else "no",
                        note=f"smallest omega_y {sc.realised[:, 4].min():.2e} rad/s at D_e = 0 (rotation pauses there, [003 eq. 22])"),
-            Comparison("translation inside the singular region only along x", "yes",
+            Comparison("translation inside the singular region only along x", P.SECTION_4_TRANSLATION_ONLY_ALONG_X,
                        "yes" if np.abs(sc.realised[:, 1:3]).max() < 1e-9 else "no",
                        note=f"largest |v_y|, |v_z| {np.abs(sc.realised[:, 1:3]).max():.1e} m/s"),
         ],

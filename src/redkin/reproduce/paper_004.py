@@ -22,6 +22,7 @@ from redkin.plot.virtual_arms import (
 )
 from redkin.references import REFERENCES
 from redkin.reproduce import Section
+from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
 from redkin.virtual_arms import (
@@ -39,17 +40,17 @@ from redkin.virtual_arms import (
 
 # Our choices: the paper prints neither the initial posture nor the goals of Figs. 6-7.
 THETA0_DEG = [30.0, 30.0, 30.0, 30.0, 30.0]
-THETA0_FIG7_DEG = [30.0, 30.0, 30.0, 15.0, 10.0]  # 30 deg is outside |theta5| <= 20 deg, so joints 4, 5 start halfway
+THETA0_FIG7_DEG = [30.0, 30.0, 30.0, 15.0, 10.0]  # 30 deg is outside Fig. 7's range of joint 5: joints 4, 5 start halfway
 END_GOAL = [0.5, 0.6]  # reachable by joint 3 too (|goal| = 0.78 m < 0.8 m), as Fig. 6 (b) requires
-# Paper 004 section 4 values (used only here).
-PAPER_RANGE_DEG = 180.0
-PAPER_FIG7_LIMITS_DEG = [180.0, 180.0, 180.0, 30.0, 20.0]
+# The joint ranges of Figs. 6, 7 are the paper's (printed.FIG_6_JOINT_RANGE_DEG, printed.FIG_7_JOINT_LIMITS_DEG);
+# Fig. 8 keeps Fig. 6's.
 # Fig. 8 and the spatial case: our choices (the paper prints no obstacle positions), (x, y, r) in metres.
 FIG8_OBSTACLES = [(0.75, 0.9, 0.1), (0.15, 0.8, 0.07)]
 FIG8_CLAMPS = [("(a) all joints work", []), ("(b) joint 1 fixed", [0]), ("(c) joints 1, 2 fixed", [0, 1])]
 PA10_THETA0_DEG = [0.0, 30.0, 0.0, 60.0, 0.0, 30.0, 0.0]
 PA10_GOAL = [0.5, 0.4, 0.3]
 PA10_SPHERE = (0.25, 0.12, 0.68, 0.06)  # where the elbow goes without it
+FIG7_CASE = f"Fig. 7 |theta4| <= {P.FIG_7_JOINT_LIMITS_DEG[3]:g}, |theta5| <= {P.FIG_7_JOINT_LIMITS_DEG[4]:g} deg"
 
 
 @dataclass
@@ -74,7 +75,7 @@ def run_cases(progress=lambda fraction, message: None) -> list[Case]:
     arm = planar_arm()
     q0 = np.radians(THETA0_DEG)
     goal = np.array(END_GOAL)
-    full, low, high = _output([PAPER_RANGE_DEG] * arm.n)
+    full, low, high = _output([P.FIG_6_JOINT_RANGE_DEG] * arm.n)
     end_only = AnalyticModel(arm, [VirtualPoint.end()])
     two = AnalyticModel(arm, [VirtualPoint.end(), VirtualPoint.joint(3)])
     ten = AnalyticModel(arm, [VirtualPoint.end()] + joints_and_midpoints(arm))
@@ -84,7 +85,7 @@ def run_cases(progress=lambda fraction, message: None) -> list[Case]:
     to_base[0] = goal
     heavy = np.ones(ten.count)
     heavy[0] = 100.0
-    fig7, low7, high7 = _output(PAPER_FIG7_LIMITS_DEG)
+    fig7, low7, high7 = _output(P.FIG_7_JOINT_LIMITS_DEG)
     plans: list[tuple[str, AnalyticModel, np.ndarray, Any, np.ndarray | None, dict[str, Any],
                       tuple[OutputFunction, np.ndarray, np.ndarray]]] = [
         ("Fig. 6 (a) end point only", end_only, q0, [goal], None, {}, (full, low, high)),
@@ -93,7 +94,7 @@ def run_cases(progress=lambda fraction, message: None) -> list[Case]:
         ("Fig. 6 (c) 9 points held, w_end = 100", ten, q0, held, heavy, {}, (full, low, high)),
         ("Fig. 6 (d) 9 points to base, w_end = 100", ten, q0, to_base, heavy, {}, (full, low, high)),
         ("Fig. 6 (a) with joint 1 clamped ([004 eq. 27])", end_only, q0, [goal], None, {"fixed": [0]}, (full, low, high)),
-        ("Fig. 7 |theta4| <= 30, |theta5| <= 20 deg", end_only, np.radians(THETA0_FIG7_DEG), [goal], None, {},
+        (FIG7_CASE, end_only, np.radians(THETA0_FIG7_DEG), [goal], None, {},
          (fig7, low7, high7)),
         ("Fig. 6 (a), literal [004 eq. 10] gain", end_only, q0, [goal], None, {"gain": "literal"}, (full, low, high)),
     ]
@@ -145,7 +146,7 @@ def run_obstacle_cases(progress=lambda fraction, message: None) -> list[Obstacle
     q0 = np.radians(THETA0_DEG)
     goal = np.array(END_GOAL)
     obstacles = [Obstacle(np.array(row[:2]), row[2]) for row in FIG8_OBSTACLES]
-    output, lower, upper = _output([PAPER_RANGE_DEG] * arm.n)
+    output, lower, upper = _output([P.FIG_6_JOINT_RANGE_DEG] * arm.n)
     end_only = AnalyticModel(arm, [VirtualPoint.end()])
     cases = []
     for k, (name, fixed) in enumerate(FIG8_CLAMPS):
@@ -230,7 +231,7 @@ def build_obstacles(writer: SectionWriter) -> None:
                  "the paper states this for Fig. 8 (a)-(c) and prints no numbers; our obstacles, start and goal are "
                  "our own choices")
     writer.comparison("fig8", [
-        Comparison(f"{c.name}: reaches the goal without touching the obstacle", "yes",
+        Comparison(f"{c.name}: reaches the goal without touching the obstacle", P.FIG_8_REACHES_GOAL_CLEAR,
                    "yes" if c.run.reached and c.run.min_clearance > 0.0 else "no", 0.0, words)
         for c in cases[:3]
     ], "Fig. 8: what the paper states, beside our runs")
@@ -245,7 +246,7 @@ def fig6_comparison(case: Case) -> Comparison:
     """Paper: the end point reaches the goal; ours: whether it did, with the distance left."""
     error = float(case.run.final_errors[0])
     ours = "yes" if error <= REACHED else f"no, {error * 1000:.1f} mm short"
-    return Comparison(f"{case.name}: end point reaches its goal", "yes", ours, 0.0,
+    return Comparison(f"{case.name}: end point reaches its goal", P.FIG_6_END_REACHES_GOAL, ours, 0.0,
                       REDUNDANT if error <= REACHED else OVER_CONSTRAINED)
 
 
@@ -262,16 +263,19 @@ def build(writer: SectionWriter) -> None:
     arm = planar_arm()
     writer.heading("Figs. 6, 7: goals, weights and joint limits")
     writer.text(
-        "Setting (paper 004 section 4): the 5-link planar arm with 40 cm links, every joint range |theta_j| <= 180 deg "
-        "applied through the sine output function ([004 eq. 25]), analytic forward models in every subsystem. The paper "
+        f"Setting (paper 004 section 4): the {arm.n}-link planar arm with {100 * float(arm.a[0]):g} cm links, every "
+        f"joint range |theta_j| <= {P.FIG_6_JOINT_RANGE_DEG:g} deg applied through the sine output function "
+        "([004 eq. 25]), analytic forward models in every subsystem. The paper "
         f"prints no initial posture and no goals; we chose theta(0) = {THETA0_DEG} deg and the end goal "
-        f"X* = ({END_GOAL[0]}, {END_GOAL[1]}) m for every case. That goal is reachable by joint 3 (0.78 m < 0.8 m), so "
+        f"X* = ({END_GOAL[0]}, {END_GOAL[1]}) m for every case. That goal is reachable by joint 3 "
+        f"({np.linalg.norm(END_GOAL):.2f} m < {2 * float(arm.a[0]):g} m), so "
         "in Fig. 6 (b) both the end point and joint 3 can reach it. Fig. 6 (c) holds the nine virtual end points "
         "(joints 2-5 and the centres of links 1-5) at their initial positions; (d) pulls them to the base. The paper "
         "sets the weights W^i from the distance to the goal (its ref. 11, not given); we use constant weights and "
         "show their effect in (c): with w_end = 1 the end point stops short of its goal, with w_end = 100 it comes "
-        "much closer while the virtual points give way. For Fig. 7 joints 4 and 5 start at 15 and 10 deg because "
-        "30 deg lies outside |theta5| <= 20 deg."
+        "much closer while the virtual points give way. For Fig. 7 joints 4 and 5 start at "
+        f"{THETA0_FIG7_DEG[3]:g} and {THETA0_FIG7_DEG[4]:g} deg because {THETA0_DEG[4]:g} deg lies outside "
+        f"|theta5| <= {P.FIG_7_JOINT_LIMITS_DEG[4]:g} deg."
     )
     cases = run_cases(writer.progress)
     by_name = {c.name: c for c in cases}
@@ -302,14 +306,15 @@ def build(writer: SectionWriter) -> None:
                   "The same ten goals with the end point's weight 1 (left) and 100 (right); every virtual point keeps "
                   "weight 1.")
 
-    case = by_name["Fig. 7 |theta4| <= 30, |theta5| <= 20 deg"]
+    case = by_name[FIG7_CASE]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
     draw_strobe(axes[0], arm, case.run.theta, case.run.goals, title=case.name)
     fit_planar_view(axes[:1], arm, [case.run.theta], [case.run.goals])
     axes[0].legend(fontsize=7, loc="best")
     draw_joint_history(axes[1], case.run.s, case.run.theta, case.lower, case.upper)
     fig.tight_layout()
-    writer.figure(fig, "fig7", "Fig. 7 recomputed: Fig. 6 (a) with |theta4| <= 30 deg and |theta5| <= 20 deg",
+    writer.figure(fig, "fig7", f"Fig. 7 recomputed: Fig. 6 (a) with |theta4| <= {P.FIG_7_JOINT_LIMITS_DEG[3]:g} deg and "
+                  f"|theta5| <= {P.FIG_7_JOINT_LIMITS_DEG[4]:g} deg",
                   "Left, the run ([004 eq. 25] keeps the joints in range); right, the joint angles against the dynamics' "
                   "time s with the limits dashed.")
 
