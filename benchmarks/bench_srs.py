@@ -38,10 +38,10 @@ from redkin.srs import (
 )
 from redkin.srs.coefficients import coefficients_for
 from redkin.srs.feasible import (
-    all_branch_pieces,
+    _all_branch_pieces,
+    _overall_pieces,
     feasible_from_coefficients,
     feasible_pieces_all_branches,
-    overall_pieces,
 )
 
 
@@ -79,7 +79,7 @@ def feasible_calls(geometry: SRSGeometry, pose: np.ndarray) -> list[tuple[str, C
     both = coefficients_for(geometry, pose[None], np.array([1, -1]))
     return [
         ("feasible set of one branch, arrays (feasible_pieces)", lambda: feasible_pieces(geometry, pose, "+++")),
-        ("  same, coefficients precomputed (overall_pieces)", lambda: overall_pieces(one, branch, geometry)),
+        ("  same, coefficients precomputed (_overall_pieces)", lambda: _overall_pieces(one, branch, geometry)),
         ("feasible set of one branch, ArcSet (feasible_pieces(...).arc_set())",
          lambda: feasible_pieces(geometry, pose, "+++").arc_set()),
         ("feasible + per-joint ArcSets (feasible_arm_angles)", lambda: feasible_arm_angles(geometry, pose, "+++")),
@@ -87,7 +87,7 @@ def feasible_calls(geometry: SRSGeometry, pose: np.ndarray) -> list[tuple[str, C
          lambda: feasible_from_coefficients(one, branch, geometry)),
         ("all 8 branches' feasible sets, arrays (feasible_pieces_all_branches)",
          lambda: feasible_pieces_all_branches(geometry, pose)),
-        ("  same, coefficients precomputed (all_branch_pieces)", lambda: all_branch_pieces(both, geometry)),
+        ("  same, coefficients precomputed (_all_branch_pieces)", lambda: _all_branch_pieces(both, geometry)),
     ]
 
 
@@ -106,9 +106,9 @@ def feasible_batch_rows(geometry: SRSGeometry, poses: np.ndarray) -> list[tuple[
     rows = []
     for name, call, per_pose in (
         ("feasible_pieces, one branch", lambda: feasible_pieces(geometry, poses, "+++"), 1),
-        ("  coefficients precomputed (overall_pieces, serial)", lambda: overall_pieces(one, branch, geometry), 1),
+        ("  coefficients precomputed (_overall_pieces, serial)", lambda: _overall_pieces(one, branch, geometry), 1),
         ("feasible_pieces_all_branches, 8 branches", lambda: feasible_pieces_all_branches(geometry, poses), 8),
-        ("  coefficients precomputed (all_branch_pieces, serial)", lambda: all_branch_pieces(both, geometry), 8),
+        ("  coefficients precomputed (_all_branch_pieces, serial)", lambda: _all_branch_pieces(both, geometry), 8),
     ):
         t = best_time(call, repeat=3)
         rows.append((f"batch {count:,} poses, {name}".replace(",", " "), f"{per_pose * count / t:9.3g} pose-branches/s"))

@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.circle import ArcSet, intersect_all, wrap_angle
+from redkin.circle import ArcSet, _intersect_all, wrap_angle
 
 GRID = np.linspace(-np.pi, np.pi, 4001, endpoint=False)
 MARGIN = 1e-9
@@ -66,7 +66,7 @@ def test_full_and_empty_are_values():
     assert empty.is_empty and empty.arcs == [] and empty.length == 0.0
     assert full.complement().is_empty and empty.complement().is_full
     assert ArcSet([(0.0, 7.0)]).is_full
-    assert intersect_all([]) == full
+    assert _intersect_all([]) == full
     assert full.intersection(ArcSet([(1.0, 2.0)])) == ArcSet([(1.0, 2.0)])
     assert ArcSet([(-1.0, 0.0), (0.0, 1.0)]).arcs == [(-1.0, 1.0)]
     assert repr(ArcSet([(1.0, 2.0)])).startswith("ArcSet([")

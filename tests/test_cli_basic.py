@@ -128,12 +128,12 @@ def _commands(parser):
 
 def test_each_command_is_parsed_by_its_own_module_alone():
     """main builds only the module of the command it runs (``redkin fk`` imports no matplotlib): the table is complete."""
-    from redkin.cli.main import COMMANDS, build_parser
+    from redkin.cli.main import _COMMANDS, _build_parser
 
-    assert _commands(build_parser()) == sorted(COMMANDS)
-    for command in COMMANDS:
-        assert command in _commands(build_parser(command))
-    assert _commands(build_parser("no-such-command")) == sorted(COMMANDS)  # an unknown command lists them all
+    assert _commands(_build_parser()) == sorted(_COMMANDS)
+    for command in _COMMANDS:
+        assert command in _commands(_build_parser(command))
+    assert _commands(_build_parser("no-such-command")) == sorted(_COMMANDS)  # an unknown command lists them all
 
 
 def test_fk_imports_neither_matplotlib_nor_the_other_commands():

@@ -73,7 +73,7 @@ def test_workspace_refuses_arm_without_arm_angle_ik_and_unwritable_out(tmp_path,
 
 
 def test_workspace_unreachable_scheduler_exits_2(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(map_run, "CONNECT_TIMEOUT", "0.5s")
+    monkeypatch.setattr(map_run, "_CONNECT_TIMEOUT", "0.5s")
     assert main(_command(tmp_path / "out", "--scheduler", "tcp://127.0.0.1:9")) == 2
     err = capsys.readouterr().err
     assert "cannot connect to --scheduler 'tcp://127.0.0.1:9'" in err and err.count("\n") == 1
@@ -90,7 +90,7 @@ def test_workspace_without_the_extra_says_how_to_install(tmp_path, capsys, monke
 
 
 def test_plain_commands_do_not_import_dask():
-    code = ("import sys; from redkin.cli.main import build_parser; import redkin.workspace; build_parser(); "
+    code = ("import sys; from redkin.cli.main import _build_parser; import redkin.workspace; _build_parser(); "
             "print(sorted(m for m in ('dask', 'distributed', 'zarr', 'xarray') if m in sys.modules))")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "[]"

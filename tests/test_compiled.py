@@ -42,13 +42,13 @@ def test_a_cache_filled_by_other_kernels_is_emptied(tmp_path, monkeypatch):
     first = kernel(module.triple)
     assert first(2.0) == 6.0
     cache = tmp_path / "__pycache__"
-    assert (cache / compiled.STAMP_NAME).read_text() == compiled.core_digest()
+    assert (cache / compiled._STAMP_NAME).read_text() == compiled._core_digest()
     assert list(cache.glob("*.nbi")) and list(cache.glob("*.nbc"))
     kernel(module.triple)  # the same version in the same process: nothing is dropped
     assert list(cache.glob("*.nbi"))
-    (cache / compiled.STAMP_NAME).write_text("another version of the kernels")
+    (cache / compiled._STAMP_NAME).write_text("another version of the kernels")
     monkeypatch.setattr(compiled, "_checked", set())  # as a new process would
     again = kernel(module.triple)
     assert not list(cache.glob("*.nbi")) and not list(cache.glob("*.nbc"))
-    assert (cache / compiled.STAMP_NAME).read_text() == compiled.core_digest()
+    assert (cache / compiled._STAMP_NAME).read_text() == compiled._core_digest()
     assert again(2.0) == 6.0

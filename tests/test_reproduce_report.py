@@ -11,9 +11,9 @@ import redkin
 from redkin import reproduce
 from redkin.cli.main import main
 from redkin.reproduce.comparison import Comparison, Note
-from redkin.reproduce.numbers import column_format, fixed, printed_decimals, scientific
+from redkin.reproduce.numbers import _scientific, column_format, fixed, printed_decimals
 from redkin.reproduce.provenance import build_info
-from redkin.reproduce.report import PIXEL_RATIO, SectionWriter, png_size, write_report
+from redkin.reproduce.report import _PIXEL_RATIO, SectionWriter, _png_size, write_report
 
 
 def test_comparison_verdicts():
@@ -39,7 +39,7 @@ def test_paper_digits_plus_one_zero_without_sign():
     assert fixed(4.06978e-15, 4) == "0" and fixed(-1e-13, 2) == "0"
     assert fixed(-0.00001, 3) == "0.000" and fixed(-0.0, 2) == "0"  # rounds to zero: never "-0"
     assert fixed(-2.74484, 4, sign=True) == "-2.7448" and fixed(2.74484, 4, sign=True) == "+2.7448"
-    assert scientific(7.21771e-07) == "7.22 × 10⁻⁷" and scientific(2.438e9) == "2.44 × 10⁹" and scientific(1.5) == "1.50"
+    assert _scientific(7.21771e-07) == "7.22 × 10⁻⁷" and _scientific(2.438e9) == "2.44 × 10⁹" and _scientific(1.5) == "1.50"
 
 
 def test_one_format_per_column():
@@ -99,9 +99,9 @@ def test_page_puts_the_summary_first_and_explains_each_difference_once(tmp_path)
 
 def test_figures_are_saved_at_twice_the_size_they_are_shown_and_linked(tmp_path):
     page, _ = _small_report(tmp_path)
-    width, height = png_size(tmp_path / "tst_line.png")
+    width, height = _png_size(tmp_path / "tst_line.png")
     shown = re.search(r'<a href="tst_line.png"><img src="tst_line.png" width="(\d+)" height="(\d+)"', page)
-    assert shown and abs(int(shown[1]) * PIXEL_RATIO - width) <= 1 and abs(int(shown[2]) * PIXEL_RATIO - height) <= 1
+    assert shown and abs(int(shown[1]) * _PIXEL_RATIO - width) <= 1 and abs(int(shown[2]) * _PIXEL_RATIO - height) <= 1
 
 
 def test_build_info_names_version_and_commit():

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from redkin.models import get_robot, pa10_7c
-from redkin.robot_file import load_robot, robot_from_dict
+from redkin.robot_file import _robot_from_dict, load_robot
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pa10.toml"
 
@@ -62,7 +62,7 @@ def test_units_offsets_signs_and_tool(tmp_path):
 )
 def test_malformed_content(data, message):
     with pytest.raises(ValueError, match=message):
-        robot_from_dict(data)
+        _robot_from_dict(data)
 
 
 def test_unparsable_and_missing_files(tmp_path):

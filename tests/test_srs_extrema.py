@@ -20,7 +20,7 @@ from redkin.srs import (
     singular_arm_angles,
     srs_geometry,
 )
-from redkin.srs.extrema import LIMIT_CASES, limit_case, tangent_case
+from redkin.srs.extrema import _LIMIT_CASES, _limit_case, _tangent_case
 from tests.support.srs_arms import offset_elbow_chain, wrap
 
 SAMPLES = 200_000
@@ -247,18 +247,18 @@ def test_sign_and_offset_of_the_chain_swap_maximum_and_minimum():
 
 def test_limit_case_function_covers_the_five_cases_and_the_wrap():
     lo, hi = -1.0, 1.0
-    assert limit_case(-1.5, -2.0, lo, hi, True) == 1
-    assert limit_case(0.5, -2.0, lo, hi, True) == 2
-    assert limit_case(2.0, 0.5, lo, hi, True) == 3
-    assert limit_case(2.0, -2.0, lo, hi, True) == 4
-    assert limit_case(0.5, -0.5, lo, hi, True) == 5
-    assert limit_case(2.0, -2.0, lo, hi, False) == 5
+    assert _limit_case(-1.5, -2.0, lo, hi, True) == 1
+    assert _limit_case(0.5, -2.0, lo, hi, True) == 2
+    assert _limit_case(2.0, 0.5, lo, hi, True) == 3
+    assert _limit_case(2.0, -2.0, lo, hi, True) == 4
+    assert _limit_case(0.5, -0.5, lo, hi, True) == 5
+    assert _limit_case(2.0, -2.0, lo, hi, False) == 5
     # limits crossing +-pi: [2.5, 3.8] is [2.5, pi] and [-pi, -2.48]
-    assert limit_case(-2.6, 3.0, 2.5, 3.8, True) == 5
-    assert limit_case(-2.0, 3.0, 2.5, 3.8, True) == 3
+    assert _limit_case(-2.6, 3.0, 2.5, 3.8, True) == 5
+    assert _limit_case(-2.0, 3.0, 2.5, 3.8, True) == 3
     # both extremes within wide limits but the sweep crosses their gap at +-pi
-    assert limit_case(-2.9, 2.9, -3.0, 3.0, True) is None
-    assert set(LIMIT_CASES) == {1, 2, 3, 4, 5}
+    assert _limit_case(-2.9, 2.9, -3.0, 3.0, True) is None
+    assert set(_LIMIT_CASES) == {1, 2, 3, 4, 5}
 
 
 def test_limit_cases_on_a_crafted_pose_reach_every_case():
@@ -285,9 +285,9 @@ def test_limit_cases_on_a_crafted_pose_reach_every_case():
 
 def test_tangent_case_classifies_the_sign_of_eq_24():
     derivative = np.array([[1.0, 0.0, 0.5], [0.3, 0.0, 1.0], [0.6, 0.8, 1.0], [0.0, 0.0, 1e-14]])
-    assert tangent_case(derivative).tolist() == ["periodic", "monotonic", "singular", "constant"]
+    assert _tangent_case(derivative).tolist() == ["periodic", "monotonic", "singular", "constant"]
     # constant is relative to the size of N and D: the same coefficients are monotonic for tiny N and D
-    assert tangent_case(derivative[3:], scale=1e-14).tolist() == ["monotonic"]
+    assert _tangent_case(derivative[3:], scale=1e-14).tolist() == ["monotonic"]
 
 
 # ------------------------------------------------------------------ random poses and random S-R-S geometries

@@ -29,7 +29,7 @@ from redkin.srs import (
 from redkin.srs._ik_kernels import ENTRY_LAYOUT
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.feasible import limit_tables
-from redkin.srs.joints import IS_COSINE, PSI_JOINTS
+from redkin.srs.joints import _IS_COSINE, PSI_JOINTS
 from redkin.validation import check_pose
 from tests.support.feasible_sampling import random_limits
 from tests.support.srs_arms import ARM_KINDS, arm, shoulder_rotation, wrist_rotation
@@ -149,7 +149,7 @@ def test_cut_points_are_where_a_joint_meets_a_limit(seed, model, branch, crossin
         if not found.any():
             continue
         theta = geometry.theta_of_q(ik(geometry, pose, cuts[k][found], branch))[:, joint - 1]
-        if IS_COSINE[k]:  # theta = +-L
+        if _IS_COSINE[k]:  # theta = +-L
             residual = np.cos(theta) - np.cos(limits[found])
         else:  # theta = L or L + pi, or the joint is singular there
             residual = np.sin(theta - limits[found])

@@ -15,20 +15,20 @@ from redkin.torso_arm.branches import POSITION_BRANCHES, wrap_angle, wrap_to_lim
 from redkin.torso_arm.elbow_angle import ElbowReference, elbow_circle, elbow_position, reference_direction
 from redkin.torso_arm.geometry import ELBOW_FRAME, SHOULDER_FRAME, WRIST_FRAME, TorsoArm
 from redkin.torso_arm.manipulability import (
+    _wrist_jacobian_from_joints,
+    _wrist_manipulability,
     gram_manipulability,
     stacked_dual_manipulability,
-    wrist_jacobian_from_joints,
-    wrist_manipulability,
 )
 from redkin.torso_arm.maps import (
+    _best_points,
+    _best_points_parallel,
     _lengths,
     _limits,
+    _states_parallel,
+    _torso_mirror,
     best_over_redundancy,
-    best_points,
-    best_points_parallel,
     states,
-    states_parallel,
-    torso_mirror,
 )
 from redkin.torso_arm.position_ik import joints_from_points
 
@@ -115,12 +115,12 @@ def test_joints_from_points_give_back_the_posture_on_its_branch():
 # ------------------------------------------------------------ chapter 5: w
 def test_wrist_jacobian_and_w_equal_the_chain_and_the_determinant():
     q, *_ = _postures(300, 4)
-    jacobian = wrist_jacobian_from_joints(ARM, q[:, :5])
+    jacobian = _wrist_jacobian_from_joints(ARM, q[:, :5])
     chain = ARM.chain.jacobian(q, frame=WRIST_FRAME)[:, :3, :5]
     np.testing.assert_allclose(np.abs(jacobian), np.abs(chain), rtol=0, atol=1e-12)
     literal = np.sqrt(np.maximum(np.linalg.det(jacobian @ np.swapaxes(jacobian, -1, -2)), 0.0))
     np.testing.assert_allclose(gram_manipulability(jacobian), literal, rtol=1e-10, atol=1e-15)
-    np.testing.assert_allclose(gram_manipulability(jacobian), wrist_manipulability(ARM, q), rtol=1e-10, atol=1e-15)
+    np.testing.assert_allclose(gram_manipulability(jacobian), _wrist_manipulability(ARM, q), rtol=1e-10, atol=1e-15)
 
 
 def test_dual_measure_equals_the_determinant_of_the_stacked_jacobian():
@@ -150,7 +150,7 @@ def _best_reference(arm, point, samples, within, dual=False):
             usable = bool(sol.within_limits.any()) if within else ok
             if dual and ok:
                 left = TorsoArm(arm.right_chain, "left")
-                other = position_ik_from_theta1(left, torso_mirror(theta1, point), theta1, phi, reference="vector")
+                other = position_ik_from_theta1(left, _torso_mirror(theta1, point), theta1, phi, reference="vector")
                 ok = bool(other.ok)
                 usable = usable and (bool(other.within_limits.any()) if within else ok)
             reached = reached or ok
@@ -209,7 +209,7 @@ def test_best_kernel_parallel_batch_equals_serial_bit_for_bit(dual):
     count = 2 * PARALLEL_BATCH + 3
     points, thetas, phis, limits = _kernel_arguments(count)
     results = []
-    for function in (best_points, best_points_parallel):
+    for function in (_best_points, _best_points_parallel):
         best, reached = np.empty(count), np.empty(count, dtype=bool)
         function(points, thetas, phis, _lengths(ARM), np.array([1.0, -1.0]), limits, True, dual, best, reached)
         results.append((best, reached))
@@ -226,7 +226,7 @@ def test_state_kernel_parallel_batch_equals_serial_bit_for_bit():
     theta1, phi = rng.uniform(-1.5, 1.5, count), rng.uniform(-np.pi, np.pi, count)
     defined = rng.uniform(size=count) > 0.1
     results = []
-    for function in (states, states_parallel):
+    for function in (states, _states_parallel):
         jacobian, status, feasible = np.empty((count, 3, 5)), np.empty(count, dtype=np.int64), np.empty(count, bool)
         function(points, theta1, defined, phi, _lengths(ARM), 1.0, limits[0], 1, np.zeros(3), jacobian, status, feasible)
         results.append((jacobian, status, feasible))
@@ -238,11 +238,11 @@ def test_state_kernel_parallel_batch_equals_serial_bit_for_bit():
 def test_equation_wrappers_batched_equal_looped():
     q, shoulder, elbow, wrist = _postures(20, 10)
     joints = joints_from_points(ARM, q[:, 0], elbow, wrist)
-    jacobian = wrist_jacobian_from_joints(ARM, q[:, :5])
+    jacobian = _wrist_jacobian_from_joints(ARM, q[:, :5])
     circle = elbow_circle(ARM, shoulder, wrist)
     for i in range(20):
         np.testing.assert_array_equal(joints_from_points(ARM, q[i, 0], elbow[i], wrist[i]), joints[i])
-        np.testing.assert_array_equal(wrist_jacobian_from_joints(ARM, q[i, :5]), jacobian[i])
+        np.testing.assert_array_equal(_wrist_jacobian_from_joints(ARM, q[i, :5]), jacobian[i])
         one = elbow_circle(ARM, shoulder[i], wrist[i])
         np.testing.assert_array_equal(one.centre, circle.centre[i])
         np.testing.assert_array_equal(shoulder_angle(q[i, 0], wrist[i]), shoulder_angle(q[:, 0], wrist)[i])

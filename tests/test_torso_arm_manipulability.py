@@ -7,19 +7,19 @@ from hypothesis import strategies as st
 
 from redkin.torso_arm import humanoid_arm, position_ik
 from redkin.torso_arm.manipulability import (
+    _wrist_jacobian_from_joints,
+    _wrist_manipulability,
     gram_manipulability,
     stacked_dual_manipulability,
-    wrist_jacobian_from_joints,
-    wrist_manipulability,
 )
 from redkin.torso_arm.maps import (
+    _torso_mirror,
     best_dual_arm_map,
     best_manipulability_map,
     dual_arm_map,
     manipulability_map,
     plane_grid,
     region_above,
-    torso_mirror,
 )
 
 
@@ -27,20 +27,20 @@ def test_torso_arm_w_independent_of_theta1():
     arm = humanoid_arm()
     rng = np.random.default_rng(0)
     q = rng.uniform(-3, 3, (200, 8))
-    w = wrist_manipulability(arm, q)
+    w = _wrist_manipulability(arm, q)
     for theta1 in (-1.2, 0.4, 2.5):
         moved = q.copy()
         moved[:, 0] = theta1
-        np.testing.assert_allclose(wrist_manipulability(arm, moved), w, rtol=1e-10, atol=1e-14)
+        np.testing.assert_allclose(_wrist_manipulability(arm, moved), w, rtol=1e-10, atol=1e-14)
 
 
 def test_torso_arm_closed_form_jacobian_equals_chain():
     arm = humanoid_arm()
     q = np.random.default_rng(1).uniform(-3, 3, (300, 8))
     chain_jac = arm.chain.jacobian(q, frame=6)[:, :3, :5]
-    ours = wrist_jacobian_from_joints(arm, q[:, :5])
+    ours = _wrist_jacobian_from_joints(arm, q[:, :5])
     np.testing.assert_allclose(np.abs(ours), np.abs(chain_jac), atol=1e-12)
-    np.testing.assert_allclose(gram_manipulability(ours), wrist_manipulability(arm, q), atol=1e-12)
+    np.testing.assert_allclose(gram_manipulability(ours), _wrist_manipulability(arm, q), atol=1e-12)
 
 
 @pytest.mark.parametrize("side", ["right", "left"])
@@ -54,7 +54,7 @@ def test_torso_arm_map_at_a_point_equals_direct_w(side):
     assert np.array_equal(result.valid, sol.ok)
     assert result.valid.any()
     q = np.concatenate([sol.q, np.zeros(sol.q.shape[:-1] + (3,))], axis=-1)[sol.ok]
-    direct = wrist_manipulability(arm, q)  # (k, 4): every branch has the same w
+    direct = _wrist_manipulability(arm, q)  # (k, 4): every branch has the same w
     np.testing.assert_allclose(direct, np.broadcast_to(direct[:, :1], direct.shape), atol=1e-12)
     np.testing.assert_allclose(result.values[sol.ok], direct[:, 0], atol=1e-12)
     limited = manipulability_map(arm, grid, psi, phi, reference="vector")
@@ -94,7 +94,7 @@ def test_torso_arm_dual_map_uses_symmetric_posture_and_custom_measure():
     np.testing.assert_allclose(result.values[result.valid], 0.0, atol=1e-12)  # mirror postures: equal norms
     theta = 0.7
     p = np.array([0.3, 0.2, 0.5])
-    np.testing.assert_allclose(torso_mirror(theta, torso_mirror(theta, p)), p, atol=1e-15)
+    np.testing.assert_allclose(_torso_mirror(theta, _torso_mirror(theta, p)), p, atol=1e-15)
     best = best_dual_arm_map(grid, samples=(5, 6))
     assert best.values.shape == grid.points.shape[:-1]
 

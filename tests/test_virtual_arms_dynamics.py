@@ -13,7 +13,7 @@ from redkin.models import pa10_7c, planar_arm
 from redkin.reproduce import printed
 from redkin.virtual_arms import AnalyticModel, OutputFunction, VirtualPoint, generate_trajectory, joints_and_midpoints
 from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics
-from redkin.virtual_arms.generate import settled
+from redkin.virtual_arms.generate import _settled
 from redkin.virtual_arms.subsystems import Together
 
 ARM = planar_arm()
@@ -215,10 +215,10 @@ def test_virtual_arms_settled_measures_motion_over_a_doubling_of_lambda(lam_end,
     record = [(float(k), SimpleNamespace(lam=lam, theta=np.array([1.0, 2.0]) + np.array([c, 0.0]) / lam))
               for k, lam in enumerate(lams)]
     motion = abs(c) / lam_end
-    found = settled(record, tol)
+    found = _settled(record, tol)
     if motion <= tol * (1 - 1e-6):
         assert found == pytest.approx(motion, rel=1e-6, abs=1e-14)
     elif motion > tol * (1 + 1e-6):
         assert found is None
-    assert settled(record, 0.0) is None  # off
-    assert settled(record[:1], tol) is None  # no doubling yet
+    assert _settled(record, 0.0) is None  # off
+    assert _settled(record[:1], tol) is None  # no doubling yet

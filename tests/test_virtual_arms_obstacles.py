@@ -16,8 +16,8 @@ from redkin.virtual_arms import (
     avoid_obstacles,
     generate_trajectory,
 )
-from redkin.virtual_arms.clearance import densify, segment_clearance
-from redkin.virtual_arms.obstacles import end_step, repulsion
+from redkin.virtual_arms.clearance import _segment_clearance, densify
+from redkin.virtual_arms.obstacles import _end_step, repulsion
 
 ARM = planar_arm()
 Q0 = np.radians([30.0] * 5)
@@ -163,7 +163,7 @@ def test_virtual_arms_segment_clearance_equals_dense_sampling(values, radius, di
     obstacle = Obstacle(centre, radius)
     t = np.linspace(0.0, 1.0, 20001)[:, None]
     sampled = obstacle.clearance(start + t * (end - start)).min()
-    exact = float(segment_clearance(start, end, obstacle))
+    exact = float(_segment_clearance(start, end, obstacle))
     assert exact <= sampled + 1e-12
     assert sampled - exact <= np.linalg.norm(end - start) / 20000 + 1e-12
 
@@ -171,7 +171,7 @@ def test_virtual_arms_segment_clearance_equals_dense_sampling(values, radius, di
 def test_virtual_arms_segment_clearance_of_a_zero_length_segment_is_the_point_clearance():
     obstacle = Obstacle(np.array([1.0, 0.0]), 0.25)
     point = np.array([0.2, 0.3])
-    assert float(segment_clearance(point, point, obstacle)) == pytest.approx(float(obstacle.clearance(point)))
+    assert float(_segment_clearance(point, point, obstacle)) == pytest.approx(float(obstacle.clearance(point)))
 
 
 @settings(deadline=None, max_examples=30)
@@ -197,9 +197,9 @@ def test_virtual_arms_repulsion_pushes_outward_only_within_influence():
 def test_virtual_arms_end_step_slides_round_an_obstacle_in_its_way():
     obstacle = [Obstacle(np.array([0.0, 0.0]), 0.1)]
     position, goal = np.array([0.0, 0.15]), np.array([0.05, -1.0])
-    d = end_step(position, goal, obstacle, step=0.05, influence=0.1)
+    d = _end_step(position, goal, obstacle, step=0.05, influence=0.1)
     assert np.linalg.norm(d) == pytest.approx(0.05)
     assert d @ position == pytest.approx(0.0, abs=1e-12)  # tangent: no part heading into the obstacle
     assert d[0] > 0.0  # on the goal's side
-    far = end_step(np.array([0.0, 1.0]), np.array([0.0, 2.0]), obstacle, step=0.05, influence=0.1)
+    far = _end_step(np.array([0.0, 1.0]), np.array([0.0, 2.0]), obstacle, step=0.05, influence=0.1)
     assert far == pytest.approx([0.0, 0.05])

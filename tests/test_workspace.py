@@ -133,9 +133,9 @@ def test_gamma_experiment_of_paper_000_is_one_line_of_the_map():
 def test_chunk_tasks_call_the_function_once_per_index_with_the_shared_values():
     import dask
 
-    from redkin.workspace.run import chunk_tasks
+    from redkin.workspace.run import _chunk_tasks
 
     shared = (np.arange(3.0), "store")
-    tasks = chunk_tasks(lambda values, name, index: (values.sum(), name, index), shared, [(0, 0, 0), (1, 0, 2)], "t")
+    tasks = _chunk_tasks(lambda values, name, index: (values.sum(), name, index), shared, [(0, 0, 0), (1, 0, 2)], "t")
     assert len({task.key for task in tasks}) == 2
     assert dask.compute(*tasks, scheduler="sync") == ((3.0, "store", (0, 0, 0)), (3.0, "store", (1, 0, 2)))

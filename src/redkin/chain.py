@@ -29,11 +29,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin import _chain_kernels as kernels
+from redkin.circle import TWO_PI
 from redkin.compiled import run_batch
 from redkin.validation import as_float_array, check_finite, check_pose, check_vectors
 
 Convention = Literal["dh", "mdh"]
-TWO_PI = 2.0 * np.pi
 _NO_OFFSET = np.zeros((1, 3))
 
 

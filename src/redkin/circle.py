@@ -18,11 +18,13 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-PI = float(np.pi)
-TWO_PI = 2.0 * PI
+_PI = float(np.pi)
+#: The angle constants, defined once for every module of redkin.
+TWO_PI = 2.0 * _PI
+HALF_PI = 0.5 * _PI
 #: Gaps narrower than this (radians) are closed when arcs are merged: they are
 #: rounding left by wrapping at the +-pi seam, far below any physical angle.
-SEAM_TOLERANCE = 1e-12
+_SEAM_TOLERANCE = 1e-12
 
 
 def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
@@ -32,16 +34,16 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
     (the same floor modulo as ``np.mod``, without numpy's per-call cost).
     """
     if type(angle) is float:
-        return (angle + PI) % TWO_PI - PI
-    return np.mod(np.asarray(angle, dtype=float) + PI, TWO_PI) - PI
+        return (angle + _PI) % TWO_PI - _PI
+    return np.mod(np.asarray(angle, dtype=float) + _PI, TWO_PI) - _PI
 
 
 def _merge(intervals: Iterable[tuple[float, float]]) -> tuple[tuple[float, float], ...]:
-    """Sorted union of closed line intervals (touching ones, within :data:`SEAM_TOLERANCE`, are merged)."""
+    """Sorted union of closed line intervals (touching ones, within :data:`_SEAM_TOLERANCE`, are merged)."""
     ordered = sorted((float(lo), float(hi)) for lo, hi in intervals)
     merged: list[list[float]] = []
     for lo, hi in ordered:
-        if merged and lo <= merged[-1][1] + SEAM_TOLERANCE:
+        if merged and lo <= merged[-1][1] + _SEAM_TOLERANCE:
             merged[-1][1] = max(merged[-1][1], hi)
         else:
             merged.append([lo, hi])
@@ -71,16 +73,16 @@ class ArcSet:
             if not (math.isfinite(lo) and math.isfinite(hi)):
                 raise ValueError(f"arc ends must be finite, got ({lo}, {hi})")
             if hi - lo >= TWO_PI:
-                pieces.append((-PI, PI))
+                pieces.append((-_PI, _PI))
                 continue
-            start = (lo + PI) % TWO_PI - PI  # wrap_angle(lo), without the call
+            start = (lo + _PI) % TWO_PI - _PI  # wrap_angle(lo), without the call
             length = (hi - lo) % TWO_PI if hi != lo else 0.0
             end = start + length
-            if end <= PI:
+            if end <= _PI:
                 pieces.append((start, end))
             else:
-                pieces.append((start, PI))
-                pieces.append((-PI, end - TWO_PI))
+                pieces.append((start, _PI))
+                pieces.append((-_PI, end - TWO_PI))
         self._intervals = tuple(pieces) if len(pieces) < 2 else _merge(pieces)  # one interval is merged already
 
     # ----------------------------------------------------------- constructors
@@ -116,8 +118,8 @@ class ArcSet:
         """True for the whole circle."""
         return (
             len(self._intervals) == 1
-            and self._intervals[0][0] <= -PI + SEAM_TOLERANCE
-            and self._intervals[0][1] >= PI - SEAM_TOLERANCE
+            and self._intervals[0][0] <= -_PI + _SEAM_TOLERANCE
+            and self._intervals[0][1] >= _PI - _SEAM_TOLERANCE
         )
 
     @property
@@ -129,7 +131,7 @@ class ArcSet:
         pieces = list(self._intervals)
         if self.is_full or len(pieces) < 2:
             return pieces
-        if pieces[0][0] <= -PI + SEAM_TOLERANCE and pieces[-1][1] >= PI - SEAM_TOLERANCE:
+        if pieces[0][0] <= -_PI + _SEAM_TOLERANCE and pieces[-1][1] >= _PI - _SEAM_TOLERANCE:
             joined = (pieces[-1][0], pieces[0][1])
             return pieces[1:-1] + [joined]
         return pieces
@@ -163,13 +165,13 @@ class ArcSet:
     def complement(self) -> ArcSet:
         """The closure of the points not in this set (closed arcs share their ends with this set)."""
         result: list[tuple[float, float]] = []
-        start = -PI
+        start = -_PI
         for lo, hi in self._intervals:
             if lo > start:
                 result.append((start, lo))
             start = hi
-        if start < PI:
-            result.append((start, PI))
+        if start < _PI:
+            result.append((start, _PI))
         return ArcSet._from_intervals(result)
 
     def contains(self, angle: np.ndarray | float, tolerance: float = 0.0) -> np.ndarray | bool:
@@ -219,11 +221,11 @@ class ArcSet:
         )
 
 
-_FULL = ArcSet._from_intervals(((-PI, PI),))
+_FULL = ArcSet._from_intervals(((-_PI, _PI),))
 _EMPTY = ArcSet._from_intervals(())
 
 
-def intersect_all(sets: Iterable[ArcSet]) -> ArcSet:
+def _intersect_all(sets: Iterable[ArcSet]) -> ArcSet:
     """Intersection of several arc sets (the full circle for none)."""
     result = ArcSet.full()
     for arc_set in sets:

@@ -63,11 +63,11 @@ def kernel(function: Callable | None = None, *, parallel: bool = False):
     return compiled
 
 
-STAMP_NAME = "redkin-kernels.stamp"
+_STAMP_NAME = "redkin-kernels.stamp"
 _checked: set[str] = set()  # cache directories whose stamp this process has checked
 
 
-def core_digest() -> str:
+def _core_digest() -> str:
     """A digest of the source of every redkin module that defines kernels (read once per process)."""
     global _digest
     if _digest is None:
@@ -91,8 +91,8 @@ def _drop_stale_cache(compiled) -> None:
         return
     _checked.add(path)
     directory = Path(path)
-    stamp = directory / STAMP_NAME
-    digest = core_digest()
+    stamp = directory / _STAMP_NAME
+    digest = _core_digest()
     try:
         if stamp.is_file() and stamp.read_text() == digest:
             return

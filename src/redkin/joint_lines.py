@@ -23,7 +23,7 @@ import numpy as np
 #: for a 0.5 m offset); counted as parallel they lose ``t * length``.  The two meet near 2e-6, where the
 #: error is largest: a few micrometres per metre.
 PARALLEL_TOLERANCE = 2e-6
-DISTANCE_TOLERANCE = 1e-12
+_DISTANCE_TOLERANCE = 1e-12
 
 
 def dh_rows_from_lines(
@@ -87,7 +87,7 @@ def _next_frame(o, x0, z0, point, direction):
     across = offset - (offset @ z0) * z0
     distance = np.linalg.norm(across)
     foot = point - (offset @ z1) * z1  # the point of the next line closest to o
-    if distance <= DISTANCE_TOLERANCE:  # the same line: repeat the frame, a = 0
+    if distance <= _DISTANCE_TOLERANCE:  # the same line: repeat the frame, a = 0
         return o, x0, z1
     return foot, across / distance, z1
 

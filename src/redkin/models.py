@@ -14,8 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from redkin.chain import SerialChain
-
-HALF_PI = np.pi / 2.0
+from redkin.circle import HALF_PI
 
 
 def srs_chain(
@@ -66,10 +65,10 @@ def pa10_7c() -> SerialChain:
 
 
 #: Joint ranges of the KUKA LBR iiwa 7 R800 and 14 R820 (degrees, symmetric): KUKA's data sheet and URDFs.
-IIWA_RANGE_DEG = [170, 120, 170, 120, 170, 120, 175]
+_IIWA_RANGE_DEG = [170, 120, 170, 120, 170, 120, 175]
 #: KUKA's joint senses on paper 000's Table 1 rows: at the zero pose KUKA's A4 turns about -y of the base,
 #: Table 1's joint 4 about +y; every other joint turns the same way.
-KUKA_IIWA_SIGNS = [1, 1, 1, -1, 1, 1, 1]
+_KUKA_IIWA_SIGNS = [1, 1, 1, -1, 1, 1, 1]
 
 
 def kuka_iiwa14() -> SerialChain:
@@ -128,8 +127,8 @@ def kuka_iiwa14_table1() -> SerialChain:
 
 def _kuka_lbr_iiwa(d_bs: float, d_se: float, name: str, source: str) -> SerialChain:
     """An LBR iiwa (forearm 0.40 m, flange 0.126 m) in KUKA's conventions: Table 1 rows, joint 4 reversed."""
-    table1 = srs_chain(d_bs, d_se, 0.40, 0.126, lower_deg=[-v for v in IIWA_RANGE_DEG], upper_deg=IIWA_RANGE_DEG)
-    return replace(table1, sign=np.array(KUKA_IIWA_SIGNS, dtype=float), name=name, source=source)
+    table1 = srs_chain(d_bs, d_se, 0.40, 0.126, lower_deg=[-v for v in _IIWA_RANGE_DEG], upper_deg=_IIWA_RANGE_DEG)
+    return replace(table1, sign=np.array(_KUKA_IIWA_SIGNS, dtype=float), name=name, source=source)
 
 
 def barrett_wam(d3: float = 0.55, d5: float = 0.4, d7: float = 0.06, a: float = 0.045) -> SerialChain:

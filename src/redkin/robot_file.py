@@ -42,11 +42,11 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-TOP_KEYS = {"name", "convention", "angle_unit", "length_unit", "source", "joint", "base", "tool"}
-JOINT_KEYS = {"a", "alpha", "d", "offset", "sign", "lower", "upper"}
-TRANSFORM_KEYS = {"translation", "xyz_fixed_angles"}
-ANGLE_SCALE = {"deg": np.pi / 180.0, "rad": 1.0}
-LENGTH_SCALE = {"m": 1.0, "mm": 1e-3}
+_TOP_KEYS = {"name", "convention", "angle_unit", "length_unit", "source", "joint", "base", "tool"}
+_JOINT_KEYS = {"a", "alpha", "d", "offset", "sign", "lower", "upper"}
+_TRANSFORM_KEYS = {"translation", "xyz_fixed_angles"}
+_ANGLE_SCALE = {"deg": np.pi / 180.0, "rad": 1.0}
+_LENGTH_SCALE = {"m": 1.0, "mm": 1e-3}
 
 
 def load_robot(path: str | Path) -> SerialChain:
@@ -70,35 +70,35 @@ def load_robot(path: str | Path) -> SerialChain:
     except (json.JSONDecodeError, tomllib.TOMLDecodeError) as exc:
         raise RobotDescriptionError(f"robot file {str(path)!r} cannot be parsed: {exc}", path=str(path)) from exc
     try:
-        return robot_from_dict(data, default_name=path.stem)
+        return _robot_from_dict(data, default_name=path.stem)
     except ValueError as exc:
         raise RobotDescriptionError(f"robot file {str(path)!r}: {exc}", path=str(path),
                                     key=getattr(exc, "key", "")) from exc
 
 
-def robot_from_dict(data: Any, default_name: str = "robot") -> SerialChain:
+def _robot_from_dict(data: Any, default_name: str = "robot") -> SerialChain:
     """Build a chain from the parsed content of a robot file (see module docstring)."""
     if not isinstance(data, dict):
         raise RobotDescriptionError("the top level must be a table of keys")
-    _no_unknown(data, TOP_KEYS, "top level")
+    _no_unknown(data, _TOP_KEYS, "top level")
     convention = data.get("convention", "dh")
     if convention not in ("dh", "mdh"):
         raise RobotDescriptionError(f"convention must be 'dh' or 'mdh', got {convention!r}", key="convention")
-    angle = _unit(data, "angle_unit", ANGLE_SCALE, "rad")
-    length = _unit(data, "length_unit", LENGTH_SCALE, "m")
+    angle = _unit(data, "angle_unit", _ANGLE_SCALE, "rad")
+    length = _unit(data, "length_unit", _LENGTH_SCALE, "m")
     joints = data.get("joint")
     if not isinstance(joints, list) or not joints:
         raise RobotDescriptionError("needs at least one [[joint]] table", key="joint")
-    rows: dict[str, list[float]] = {key: [] for key in JOINT_KEYS}
+    rows: dict[str, list[float]] = {key: [] for key in _JOINT_KEYS}
     for i, joint in enumerate(joints, start=1):
         if not isinstance(joint, dict):
             raise RobotDescriptionError(f"joint {i} must be a table", key=f"joint {i}")
-        _no_unknown(joint, JOINT_KEYS, f"joint {i}")
+        _no_unknown(joint, _JOINT_KEYS, f"joint {i}")
         for key in ("a", "alpha", "d"):
             if key not in joint:
                 raise RobotDescriptionError(f"joint {i} is missing {key!r}", key=f"joint {i} {key}")
         defaults = {"offset": 0.0, "sign": 1.0, "lower": -np.inf, "upper": np.inf}
-        for key in JOINT_KEYS:
+        for key in _JOINT_KEYS:
             rows[key].append(_number(joint.get(key, defaults.get(key)), f"joint {i} {key}"))
     scale = {"a": length, "d": length, "alpha": angle, "offset": angle, "lower": angle, "upper": angle, "sign": 1.0}
     arrays = {key: np.asarray(values) * scale[key] for key, values in rows.items()}
@@ -141,7 +141,7 @@ def _transform(table: Any, what: str, angle: float, length: float) -> np.ndarray
         return None
     if not isinstance(table, dict):
         raise RobotDescriptionError(f"[{what}] must be a table", key=what)
-    _no_unknown(table, TRANSFORM_KEYS, f"[{what}]")
+    _no_unknown(table, _TRANSFORM_KEYS, f"[{what}]")
     out = np.eye(4)
     for key, scale, target in (("translation", length, "p"), ("xyz_fixed_angles", angle, "R")):
         if key not in table:

@@ -13,7 +13,7 @@ from scipy.spatial.transform import Rotation
 from redkin.validation import as_float_array, check_finite, check_rotation, check_vectors
 
 #: Below this value of ``cos(beta)`` the X-Y-Z fixed angles are in gimbal lock.
-GIMBAL_LOCK_TOLERANCE = 1e-9
+_GIMBAL_LOCK_TOLERANCE = 1e-9
 
 
 def _elementary(angle: ArrayLike, axis: int) -> np.ndarray:
@@ -109,13 +109,13 @@ def matrix_to_xyz_fixed(rotation: ArrayLike) -> np.ndarray:
     """Inverse of :func:`xyz_fixed_to_matrix`: angles ``(alpha, beta, gamma)``.
 
     ``beta`` lies in ``[-pi/2, pi/2]``.  At gimbal lock (``cos beta`` below
-    :data:`GIMBAL_LOCK_TOLERANCE`) only ``alpha -/+ gamma`` is defined; then
+    :data:`_GIMBAL_LOCK_TOLERANCE`) only ``alpha -/+ gamma`` is defined; then
     ``alpha = 0`` is returned.
     """
     r = check_rotation(rotation)
     cos_beta = np.hypot(r[..., 0, 0], r[..., 1, 0])
     beta = np.arctan2(-r[..., 2, 0], cos_beta)
-    regular = cos_beta > GIMBAL_LOCK_TOLERANCE
+    regular = cos_beta > _GIMBAL_LOCK_TOLERANCE
     alpha = np.where(regular, np.arctan2(r[..., 1, 0], r[..., 0, 0]), 0.0)
     # In gimbal lock R = Ry(beta) Rx(gamma) with alpha = 0: gamma from the second column.
     gamma_locked = np.arctan2(-r[..., 1, 2], r[..., 1, 1])

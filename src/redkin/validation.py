@@ -55,7 +55,7 @@ def check_vectors(value: ArrayLike, length: int, name: str) -> np.ndarray:
     return array
 
 
-def check_matrices(value: ArrayLike, rows: int, cols: int, name: str) -> np.ndarray:
+def _check_matrices(value: ArrayLike, rows: int, cols: int, name: str) -> np.ndarray:
     """Return ``value`` as a finite float array of shape ``(..., rows, cols)``."""
     array = as_float_array(value, name)
     if array.ndim < 2 or array.shape[-2:] != (rows, cols):
@@ -74,7 +74,7 @@ def check_rotation(
     Raises ``ValueError`` unless every matrix is finite, orthonormal
     (``max |R R^T - I| <= tolerance``) and proper (``|det R - 1| <= tolerance``).
     """
-    rotation = check_matrices(value, 3, 3, name)
+    rotation = _check_matrices(value, 3, 3, name)
     _check_proper_orthonormal(rotation, name, tolerance)
     return rotation
 
@@ -106,7 +106,7 @@ def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION
     The rotation block must pass :func:`check_rotation` and the last row must
     be ``[0, 0, 0, 1]``.
     """
-    pose = check_matrices(value, 4, 4, name)
+    pose = _check_matrices(value, 4, 4, name)
     if pose.size and float(np.abs(pose[..., 3, :] - _LAST_ROW).max()) > tolerance:
         raise RedkinError(f"{name} must have last row [0, 0, 0, 1]")
     _check_proper_orthonormal(pose[..., :3, :3], f"{name} rotation block", tolerance)

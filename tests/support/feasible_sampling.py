@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from redkin.circle import intersect_all, wrap_angle
+from redkin.circle import _intersect_all, wrap_angle
 from redkin.srs import ik
 
 GRID = np.linspace(-np.pi, np.pi, 6001, endpoint=False)
@@ -36,7 +36,7 @@ def assert_set_matches_sampling(chain, pose, branch, result, margin=1e-7):
             inner = np.linspace(lo + margin, hi - margin, 9)
             assert not np.any(np.all(sampled_feasibility(chain, pose, branch, inner), axis=1)), (lo, hi)
     # [000 eq. 30]: the overall set is the intersection of the per-joint sets
-    assert result.feasible.isclose(intersect_all(result.per_joint.values()), 1e-9)
+    assert result.feasible.isclose(_intersect_all(result.per_joint.values()), 1e-9)
 
 
 def random_limits(rng, q, crossing):

@@ -29,23 +29,23 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     robots.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (with --show)")
     robots.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (with --show)")
     add_output_flags(robots, degrees=True)
-    robots.set_defaults(handler=run_robots)
+    robots.set_defaults(handler=_run_robots)
 
     fk = subparsers.add_parser("fk", help="end pose of a robot at joint values")
     add_robot_argument(fk)
     fk.add_argument("q", nargs="+", type=float, metavar="Q", help="joint values (radians, or degrees with --deg)")
     add_output_flags(fk)
-    fk.set_defaults(handler=run_fk)
+    fk.set_defaults(handler=_run_fk)
 
     jac = subparsers.add_parser("jacobian", help="geometric Jacobian (6 x n, base frame, linear rows first)")
     add_robot_argument(jac)
     jac.add_argument("q", nargs="+", type=float, metavar="Q", help="joint values (radians, or degrees with --deg)")
     jac.add_argument("--manipulability", action="store_true", help="also print sqrt(det(J J^T))")
     add_output_flags(jac)
-    jac.set_defaults(handler=run_jacobian)
+    jac.set_defaults(handler=_run_jacobian)
 
 
-def run_robots(args: argparse.Namespace) -> int:
+def _run_robots(args: argparse.Namespace) -> int:
     if args.show is not None:
         return _show_robot(get_robot(args.show, args.base, args.tip), args)
     if args.base is not None or args.tip is not None:
@@ -107,7 +107,7 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
     return 0
 
 
-def run_fk(args: argparse.Namespace) -> int:
+def _run_fk(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     q = joint_vector(chain, args.q, args.deg)
     pose = chain.fk(q)
@@ -128,7 +128,7 @@ def run_fk(args: argparse.Namespace) -> int:
     return 0
 
 
-def run_jacobian(args: argparse.Namespace) -> int:
+def _run_jacobian(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     q = joint_vector(chain, args.q, args.deg)
     jac = chain.jacobian(q)

@@ -26,19 +26,19 @@ class UsageError(ValueError):
 
 #: Arguments that start with ``-`` but are values, not options: numbers in any float form (``-1e-3``,
 #: ``-inf``: argparse alone knows only ``-1`` and ``-.5``) and branches (``-++``, ``--+``, ``---``).
-VALUE_LIKE = re.compile(r"^-(\d|\.\d|inf$|infinity$|nan$)|^[+-]{3}$", re.IGNORECASE)
+_VALUE_LIKE = re.compile(r"^-(\d|\.\d|inf$|infinity$|nan$)|^[+-]{3}$", re.IGNORECASE)
 
 
 class Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line on stderr and exit code 2.
 
-    Values that begin with ``-`` (:data:`VALUE_LIKE`) are read as values,
+    Values that begin with ``-`` (:data:`_VALUE_LIKE`) are read as values,
     with or without ``=``: ``--branch -++`` and ``--position -1e-3 0 0``.
     """
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
-        self._negative_number_matcher = VALUE_LIKE  # argparse's own hook for "looks like a value"
+        self._negative_number_matcher = _VALUE_LIKE  # argparse's own hook for "looks like a value"
 
     def error(self, message: str) -> NoReturn:
         print(f"{self.prog}: error: {message}", file=sys.stderr)
@@ -115,14 +115,14 @@ def angle_unit(degrees: bool) -> str:
     return "deg" if degrees else "rad"
 
 
-def to_jsonable(value: Any) -> Any:
+def _to_jsonable(value: Any) -> Any:
     """Numpy arrays and scalars to plain JSON values (rounded-trip exact floats)."""
     if isinstance(value, dict):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
+        return {str(k): _to_jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [to_jsonable(v) for v in value]
+        return [_to_jsonable(v) for v in value]
     if isinstance(value, np.ndarray):
-        return to_jsonable(value.tolist())
+        return _to_jsonable(value.tolist())
     if isinstance(value, np.generic):
         return value.item()
     return value
@@ -130,7 +130,7 @@ def to_jsonable(value: Any) -> Any:
 
 def print_json(value: Any) -> None:
     """Print ``value`` as JSON on stdout."""
-    print(json.dumps(to_jsonable(value), indent=2, allow_nan=False))
+    print(json.dumps(_to_jsonable(value), indent=2, allow_nan=False))
 
 
 def format_matrix(matrix: np.ndarray, digits: int = 6) -> str:

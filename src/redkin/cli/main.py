@@ -11,7 +11,7 @@ from redkin import __version__
 from redkin.cli.common import Parser
 
 #: Modules with a ``register(subparsers)`` function, in help order.
-COMMAND_MODULES = [
+_COMMAND_MODULES = [
     "redkin.cli.basic",
     "redkin.cli.reproduce",
     "redkin.cli.srs",
@@ -25,7 +25,7 @@ COMMAND_MODULES = [
 
 #: The module of each command, so that a command imports only its own module (``redkin fk`` needs
 #: neither matplotlib nor dask); ``tests/test_cli_basic.py`` checks it against the modules' parsers.
-COMMANDS = {
+_COMMANDS = {
     "robots": "redkin.cli.basic", "fk": "redkin.cli.basic", "jacobian": "redkin.cli.basic",
     "reproduce": "redkin.cli.reproduce", "ik": "redkin.cli.srs", "arm-angles": "redkin.cli.srs",
     "explore": "redkin.cli.explore", "torso-arm": "redkin.cli.torso_arm", "track": "redkin.cli.velocity",
@@ -33,22 +33,22 @@ COMMANDS = {
 }
 
 
-def build_parser(command: str | None = None) -> Parser:
-    """The ``redkin`` parser: every command, or only the commands of ``command``'s module if it is one of :data:`COMMANDS`."""
+def _build_parser(command: str | None = None) -> Parser:
+    """The ``redkin`` parser: every command, or only the commands of ``command``'s module if it is one of :data:`_COMMANDS`."""
     parser = Parser(
         prog="redkin",
         description="Kinematics of redundant robot manipulators. Angles are radians unless --deg is given.",
     )
     parser.add_argument("--version", action="version", version=f"redkin {__version__}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in [COMMANDS[command]] if command in COMMANDS else COMMAND_MODULES:
+    for name in [_COMMANDS[command]] if command in _COMMANDS else _COMMAND_MODULES:
         importlib.import_module(name).register(subparsers)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser(argv[0] if argv else None)
+    parser = _build_parser(argv[0] if argv else None)
     args = parser.parse_args(argv)
     if getattr(args, "handler", None) is None:
         parser.print_help()

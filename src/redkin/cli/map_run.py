@@ -14,7 +14,7 @@ from redkin.cli.common import UsageError, progress_bar
 from redkin.workspace.optional import require
 
 #: How long ``--scheduler`` waits for the scheduler to answer.
-CONNECT_TIMEOUT = "10s"
+_CONNECT_TIMEOUT = "10s"
 
 
 def require_map_libraries() -> Any:
@@ -29,7 +29,7 @@ def require_map_libraries() -> Any:
 def open_client(scheduler: str | None) -> Any:
     """A client of the cluster at ``scheduler``, or ``None`` for Dask's local scheduler (UsageError if none answers)."""
     try:
-        return None if scheduler is None else connect(scheduler)
+        return None if scheduler is None else _connect(scheduler)
     except ImportError as exc:
         raise UsageError(str(exc)) from None
 
@@ -47,10 +47,10 @@ def run_on(client: Any, chunks: int, run: Callable[[Any, Any], Any]) -> Any:
             client.close()
 
 
-def connect(address: str) -> Any:
+def _connect(address: str) -> Any:
     """A ``distributed.Client`` of the scheduler at ``address`` (UsageError if none answers)."""
     distributed = require("distributed")
     try:
-        return distributed.Client(address, timeout=CONNECT_TIMEOUT)
+        return distributed.Client(address, timeout=_CONNECT_TIMEOUT)
     except (OSError, TimeoutError, ValueError) as exc:
         raise UsageError(f"cannot connect to --scheduler {address!r}: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None

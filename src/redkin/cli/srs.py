@@ -43,7 +43,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     angles.add_argument("--target", nargs=7, type=float, metavar="Q", help="target joint values (default: limit midpoints)")
     angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5), help="[000 eq. 40] weights")
     add_output_flags(angles)
-    angles.set_defaults(handler=run_arm_angles)
+    angles.set_defaults(handler=_run_arm_angles)
 
 
 def _arcs(arc_set, degrees: bool) -> list:
@@ -76,7 +76,7 @@ def run_ik(args: argparse.Namespace) -> int:
     return 0
 
 
-def run_arm_angles(args: argparse.Namespace) -> int:
+def _run_arm_angles(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     geometry = srs_geometry(chain)
     pose = target_pose(args)

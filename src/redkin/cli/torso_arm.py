@@ -65,7 +65,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     chart.add_argument("--threshold", type=float, help="report the region where w >= threshold (SI units)")
     chart.add_argument("--out", help="write the heat map to this PNG file")
     add_output_flags(chart)
-    chart.set_defaults(handler=run_map)
+    chart.set_defaults(handler=_run_map)
     top.set_defaults(handler=lambda args: _missing(top))
 
 
@@ -119,7 +119,7 @@ def run_ik(args: argparse.Namespace) -> int:
     return 0
 
 
-def run_map(args: argparse.Namespace) -> int:
+def _run_map(args: argparse.Namespace) -> int:
     if args.out:
         check_output_file(args.out, "--out", IMAGE_SUFFIXES)
     extent = reach_extent(humanoid_arm("right"), args.plane) if args.extent is None else args.extent

@@ -37,10 +37,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     track.add_argument("--dt", type=float, default=1e-3, help="RK4 step in seconds (default 0.001)")
     track.add_argument("--plot", metavar="PNG", help="save the six-panel figure here")
     add_output_flags(track)
-    track.set_defaults(handler=run_track)
+    track.set_defaults(handler=_run_track)
 
 
-def run_track(args: argparse.Namespace) -> int:
+def _run_track(args: argparse.Namespace) -> int:
     if args.plot:
         check_output_file(args.plot, "--plot", IMAGE_SUFFIXES)
     chain = load_robot(args)

@@ -32,7 +32,7 @@ from redkin.virtual_arms import (
 from redkin.virtual_arms.generate import MAX_STEPS
 from redkin.virtual_arms.subsystems import ForwardModel
 
-DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models
+_DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -51,7 +51,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--model", choices=("analytic", "learned"), default="analytic",
                         help="forward models of the subsystems (learned: one trained network per point)")
     parser.add_argument("--q0", nargs="+", type=float, metavar="Q",
-                        help=f"initial joint values (default {DEFAULT_Q0} rad at every joint)")
+                        help=f"initial joint values (default {_DEFAULT_Q0} rad at every joint)")
     parser.add_argument("--max-steps", type=int, default=5000, help=f"integrator step budget (default 5000, at most {MAX_STEPS})")
     parser.add_argument("--obstacle", action="append", default=[], metavar="X,Y,R",
                         help="a circular obstacle X,Y,R (planar arms) or a sphere X,Y,Z,R, metres (repeatable); "
@@ -60,7 +60,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="save a stroboscopic drawing of the run (PNG, PDF, SVG), or an animation if FILE ends in .gif "
                              "(planar arms)")
     add_output_flags(parser)
-    parser.set_defaults(handler=run_virtual_arms)
+    parser.set_defaults(handler=_run_virtual_arms)
 
 
 def _coordinates(values, dims: int, name: str) -> np.ndarray:
@@ -112,7 +112,7 @@ def _units(degrees: bool) -> dict:
             "centre": "m", "radius": "m", "seconds": "s (wall clock)"}
 
 
-def run_virtual_arms(args: argparse.Namespace) -> int:
+def _run_virtual_arms(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     probe = AnalyticModel(chain, [VirtualPoint.end()])
     dims = probe.dims
@@ -133,7 +133,7 @@ def run_virtual_arms(args: argparse.Namespace) -> int:
             raise UsageError(f"--weight: give one per point ({len(points)}: end first), got {len(args.weight)}")
         weights = np.asarray(args.weight, dtype=float)
     if args.q0 is None:
-        q0 = np.full(chain.n, DEFAULT_Q0)  # radians whatever --deg says
+        q0 = np.full(chain.n, _DEFAULT_Q0)  # radians whatever --deg says
     else:
         q0 = joint_vector(chain, args.q0, args.deg, name="--q0 values")
     output = OutputFunction.sine(chain.lower, chain.upper) if args.limits else None

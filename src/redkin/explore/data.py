@@ -34,11 +34,11 @@ from redkin.srs import (
 GRID_SAMPLES = 721
 #: Arm angles closer than this [rad] are one: an optimum that needed no clamping is one mark, and Psi holds the
 #: arm angles this close to its ends (its ends and the per-joint ends it came from differ by roundings).
-SAME_ANGLE = 1e-12
+_SAME_ANGLE = 1e-12
 #: A joint value this far [rad] beyond a limit counts as within it (the value at a set's end, rounded).
-LIMIT_TOLERANCE = 1e-9
+_LIMIT_TOLERANCE = 1e-9
 #: What a singular arm angle means for the joint values shown there.
-SINGULAR_NOTE = {
+_SINGULAR_NOTE = {
     "shoulder": "joints 1 and 3 turn about one axis here: only their combination is fixed, the values shown are one split",
     "wrist": "joints 5 and 7 turn about one axis here: only their combination is fixed, the values shown are one split",
 }
@@ -71,9 +71,9 @@ class BranchCurves:
     origins : numpy.ndarray, shape (G, n + 2, 3)
         Base, joint-frame and tool origins of the posture [m] (``SerialChain.frames``).
     within : numpy.ndarray of bool, shape (G, n)
-        Whether each joint value is within its limits (to :data:`LIMIT_TOLERANCE`).
+        Whether each joint value is within its limits (to :data:`_LIMIT_TOLERANCE`).
     feasible_at : numpy.ndarray of bool, shape (G,)
-        Whether each arm angle lies in ``Psi`` (within :data:`SAME_ANGLE` of it).
+        Whether each arm angle lies in ``Psi`` (within :data:`_SAME_ANGLE` of it).
     per_joint : dict of int to ArcSet
         ``Psi_i`` (joints numbered from 1).
     feasible : ArcSet
@@ -174,11 +174,11 @@ def _branch_curves(chain: SerialChain, pose: np.ndarray, branch, grid: np.ndarra
     psi = np.unique(np.concatenate([grid, arc_ends, [value for _, _, value, _ in special]]))
     q = ik(chain, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch)
     origins = chain.frames(q)[..., :3, 3]
-    within = (q >= chain.lower - LIMIT_TOLERANCE) & (q <= chain.upper + LIMIT_TOLERANCE)
+    within = (q >= chain.lower - _LIMIT_TOLERANCE) & (q <= chain.upper + _LIMIT_TOLERANCE)
     marks = tuple(Mark(kind, label, int(np.searchsorted(psi, value)), note) for kind, label, value, note in special)
     clamped = optimal.overall.feasible
     start = int(np.argmin(np.abs(psi - (0.0 if clamped is None else _on_circle(float(clamped))))))
-    in_set = np.asarray(result.feasible.contains(psi, SAME_ANGLE))
+    in_set = np.asarray(result.feasible.contains(psi, _SAME_ANGLE))
     return BranchCurves(str(branch), psi, q, origins, within, in_set, dict(result.per_joint),
                         result.feasible, singular, optimal, marks, start)
 
@@ -189,11 +189,11 @@ def _special_angles(feasible: ArcSet, singular: SingularArmAngles,
     special: list[tuple[str, str, float, str]] = []
     for k, (lo, hi) in enumerate([] if feasible.is_full else feasible.arcs):
         special += [("feasible", f"Ψ arc {k + 1} starts", lo, ""), ("feasible", f"Ψ arc {k + 1} ends", hi, "")]
-    special += [("singular", "shoulder singular ψ (θ2 = 0)", a, SINGULAR_NOTE["shoulder"]) for a in singular.shoulder]
-    special += [("singular", "wrist singular ψ (θ6 = 0)", a, SINGULAR_NOTE["wrist"]) for a in singular.wrist]
+    special += [("singular", "shoulder singular ψ (θ2 = 0)", a, _SINGULAR_NOTE["shoulder"]) for a in singular.shoulder]
+    special += [("singular", "wrist singular ψ (θ6 = 0)", a, _SINGULAR_NOTE["wrist"]) for a in singular.wrist]
     special.append(("optimal", "optimal ψ ([000 eq. 40])", optimal.overall.unclamped, ""))
     clamped = optimal.overall.feasible
-    if clamped is not None and abs(float(wrap_angle(float(clamped) - float(optimal.overall.unclamped)))) > SAME_ANGLE:
+    if clamped is not None and abs(float(wrap_angle(float(clamped) - float(optimal.overall.unclamped)))) > _SAME_ANGLE:
         special.append(("optimal", "optimal ψ clamped to Ψ", clamped, ""))
     return [(kind, label, _on_circle(float(value)), note) for kind, label, value, note in special]
 

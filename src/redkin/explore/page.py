@@ -19,11 +19,11 @@ from redkin.explore.data import BranchCurves, ExplorerData
 from redkin.explore.script import SCRIPT, STYLE
 
 #: Decimals of the printed angles in each unit (0.001 deg is about 2e-5 rad).
-DECIMALS = {"deg": 3, "rad": 5}
+_DECIMALS = {"deg": 3, "rad": 5}
 #: Decimals of the stored positions [m] (0.01 mm: far below a pixel).
-POSITION_DECIMALS = 5
+_POSITION_DECIMALS = 5
 #: A frame origin that moves less than this [m] over the arm angle is stored once.
-FIXED_ORIGIN = 1e-9
+_FIXED_ORIGIN = 1e-9
 
 
 def explorer_html(data: ExplorerData, degrees: bool = False) -> str:
@@ -49,12 +49,12 @@ def explorer_html(data: ExplorerData, degrees: bool = False) -> str:
         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
         f"<title>{html.escape(title)}</title><style>{STYLE}</style></head><body>\n"
         f"<header><h1>{html.escape(title)}</h1><p class=\"pose\">{html.escape(_pose_text(data.pose))}</p></header>\n"
-        f"{BODY}\n<script id=\"explorer-data\" type=\"application/json\">{payload}</script>\n"
+        f"{_BODY}\n<script id=\"explorer-data\" type=\"application/json\">{payload}</script>\n"
         f"<script>{SCRIPT}</script>\n</body></html>\n"
     )
 
 
-BODY = """<div class="controls">
+_BODY = """<div class="controls">
 <label>branch <select id="branch" aria-label="branch (signs of theta 2, 4, 6)"></select></label>
 <label class="slider">ψ <input id="psi" type="range" min="0" max="1" step="1" value="0" aria-label="arm angle"></label>
 <output id="psi-value" for="psi"></output>
@@ -84,7 +84,7 @@ def _pose_text(pose: np.ndarray) -> str:
 
 
 def _payload(data: ExplorerData, unit: str) -> dict[str, Any]:
-    decimals = DECIMALS[unit]
+    decimals = _DECIMALS[unit]
 
     def angle(values: Any) -> Any:
         array = np.degrees(values) if unit == "deg" else np.asarray(values, dtype=float)
@@ -129,13 +129,13 @@ def _branch(curves: BranchCurves, angle, decimals: int) -> dict[str, Any]:
 
 def _origin(path: np.ndarray) -> dict[str, list[float]]:
     """One frame origin over the grid: ``{"at": [x, y, z]}`` if it stays put, else ``{"path": [x0, y0, z0, x1, ...]}``."""
-    if np.ptp(path, axis=0).max() < FIXED_ORIGIN:
+    if np.ptp(path, axis=0).max() < _FIXED_ORIGIN:
         return {"at": _positions(path[0])}
     return {"path": _positions(path.ravel())}
 
 
 def _positions(values: np.ndarray) -> list:
-    return (np.round(np.asarray(values, dtype=float), POSITION_DECIMALS) + 0.0).tolist()
+    return (np.round(np.asarray(values, dtype=float), _POSITION_DECIMALS) + 0.0).tolist()
 
 
 def _arcs_text(arcs: ArcSet, angle, decimals: int) -> str:

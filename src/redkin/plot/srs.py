@@ -10,7 +10,7 @@ import numpy as np
 from redkin.circle import ArcSet
 
 
-def shade_arcs(ax, arc_set: ArcSet, color: str = "C2", alpha: float = 0.15, degrees: bool = True) -> None:
+def _shade_arcs(ax, arc_set: ArcSet, color: str = "C2", alpha: float = 0.15, degrees: bool = True) -> None:
     """Shade the arcs of ``arc_set`` as vertical bands over the x axis (arm angle)."""
     scale = np.degrees if degrees else (lambda v: v)
     for lo, hi in arc_set.intervals:
@@ -39,8 +39,8 @@ def plot_joint_curves(
         for limit in (lower[joint - 1], upper[joint - 1]):
             if np.isfinite(limit):
                 ax.axhline(np.degrees(limit), color="C3", linestyle="--", linewidth=1)
-        shade_arcs(ax, per_joint[joint], color="C2", alpha=0.15)
-        shade_arcs(ax, feasible, color="C0", alpha=0.15)
+        _shade_arcs(ax, per_joint[joint], color="C2", alpha=0.15)
+        _shade_arcs(ax, feasible, color="C0", alpha=0.15)
         ax.set_ylabel(f"theta_{joint} [deg]")
         ax.set_xlim(-180, 180)
         ax.set_ylim(-190, 190)

@@ -14,7 +14,7 @@ import numpy as np
 from redkin.velocity.tracking import TrackingResult
 
 
-def shade_singular(ax, time: np.ndarray, index: np.ndarray, eps: float, label: str | None = "|D_e| <= D_eps") -> None:
+def _shade_singular(ax, time: np.ndarray, index: np.ndarray, eps: float, label: str | None = "|D_e| <= D_eps") -> None:
     """Shade the time spans where ``|index| <= eps``."""
     inside = np.abs(index) <= eps
     edges = np.flatnonzero(np.diff(np.r_[0, inside.astype(int), 0]))
@@ -54,7 +54,7 @@ def tracking_figure(
     ax.set_title("(d) singularity index D_e", fontsize=10)
     if run.index is not None:
         for ax in (axes[0, 0], axes[0, 1], axes[1, 0], axes[1, 1], axes[2, 0]):
-            shade_singular(ax, t, run.index, eps, label=None)
+            _shade_singular(ax, t, run.index, eps, label=None)
     for ax in (axes[0, 0], axes[0, 1], axes[1, 0], axes[1, 1], axes[2, 0]):
         ax.set_xlabel("t [s]")
     ax = axes[2, 1]
@@ -94,7 +94,7 @@ def comparison_figure(runs: Mapping[str, TrackingResult], eps: float) -> plt.Fig
             if data is not None:
                 ax.plot(run.time, data, color=f"C{k}", linewidth=1.1, label=name)
         if first.index is not None:
-            shade_singular(ax, first.time, first.index, eps, label=None)
+            _shade_singular(ax, first.time, first.index, eps, label=None)
         if log:
             ax.set_yscale("log")
         else:

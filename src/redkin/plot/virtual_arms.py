@@ -12,7 +12,7 @@ from redkin.chain import SerialChain
 from redkin.plot.arm import draw_arm_3d, set_equal_3d
 
 
-def strobe_indices(count: int, frames: int) -> np.ndarray:
+def _strobe_indices(count: int, frames: int) -> np.ndarray:
     """Indices of ``frames`` records spread evenly over a run of ``count`` records (first and last included)."""
     return np.unique(np.linspace(0, count - 1, max(2, int(frames))).round().astype(int))
 
@@ -38,8 +38,8 @@ def draw_strobe(ax, chain: SerialChain, theta: np.ndarray, goals: np.ndarray, vi
     obstacles : sequence of Obstacle
         Circles drawn filled grey (Fig. 8).
     """
-    draw_obstacles(ax, obstacles)
-    picks = strobe_indices(len(theta), frames)
+    _draw_obstacles(ax, obstacles)
+    picks = _strobe_indices(len(theta), frames)
     points = chain.frames(theta[picks])[..., :2, 3]  # (frames, n + 2, 2)
     shades = np.linspace(0.25, 1.0, len(picks))
     for shade, polyline in zip(shades, points):
@@ -104,7 +104,7 @@ def legend_below(fig, ax, space: float = 0.07) -> None:
     fig.tight_layout(rect=(0, space, 1, 1))
 
 
-def draw_obstacles(ax, obstacles: Sequence) -> None:
+def _draw_obstacles(ax, obstacles: Sequence) -> None:
     """Circular obstacles (objects with ``centre`` and ``radius``) as grey discs on a planar plot."""
     for k, obstacle in enumerate(obstacles):
         ax.add_patch(Circle(tuple(obstacle.centre[:2]), obstacle.radius, facecolor="0.6", edgecolor="0.3",
@@ -141,7 +141,7 @@ def draw_strobe_3d(ax, chain: SerialChain, theta: np.ndarray, goal: np.ndarray, 
     watched : numpy.ndarray, shape (K, 3), optional
         Path of a virtual end point (e.g. the elbow), drawn dashed.
     """
-    picks = strobe_indices(len(theta), frames)
+    picks = _strobe_indices(len(theta), frames)
     shades = np.linspace(0.25, 1.0, len(picks))
     for shade, q in zip(shades, theta[picks]):
         draw_arm_3d(ax, chain, q, color="C0", alpha=float(shade))
@@ -189,8 +189,8 @@ def animate_planar(fig, ax, chain: SerialChain, theta: np.ndarray, goals: np.nda
     """
     from matplotlib.animation import FuncAnimation
 
-    draw_obstacles(ax, obstacles)
-    picks = strobe_indices(len(theta), frames)
+    _draw_obstacles(ax, obstacles)
+    picks = _strobe_indices(len(theta), frames)
     skeleton = chain.frames(theta)[..., :2, 3]  # (K, n + 2, 2)
     ends = skeleton[:, -1]
     everything = np.concatenate([skeleton.reshape(-1, 2), goals[:, :2]])

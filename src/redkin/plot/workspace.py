@@ -10,8 +10,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 #: The planes drawn: the fixed axis and the two in-plane axes (horizontal, vertical), as indices of x, y, z.
-MID_PLANES = ((2, 0, 1), (1, 0, 2), (0, 1, 2))
-AXIS_NAMES = "xyz"
+_MID_PLANES = ((2, 0, 1), (1, 0, 2), (0, 1, 2))
+_AXIS_NAMES = "xyz"
 
 
 def mid_plane_figure(coordinates: Sequence[np.ndarray], indices: Mapping[str, np.ndarray], title: str) -> plt.Figure:
@@ -34,16 +34,16 @@ def mid_plane_figure(coordinates: Sequence[np.ndarray], indices: Mapping[str, np
     fig, axes = plt.subplots(len(indices), 3, figsize=(13, 4.2 * len(indices)), constrained_layout=True, squeeze=False)
     for row, (name, values) in zip(axes, indices.items()):
         values = np.asarray(values)
-        for ax, (fixed, across, up) in zip(row, MID_PLANES):
+        for ax, (fixed, across, up) in zip(row, _MID_PLANES):
             middle = values.shape[fixed] // 2
             plane = np.take(values, middle, axis=fixed)  # the two remaining axes keep their order: across, up
             image = ax.pcolormesh(coordinates[across], coordinates[up], plane.T, vmin=0.0, vmax=1.0, cmap="viridis",
                                   shading="nearest")
             ax.set_aspect("equal")
-            ax.set_xlabel(f"{AXIS_NAMES[across]} [m]")
-            ax.set_ylabel(f"{AXIS_NAMES[up]} [m]")
+            ax.set_xlabel(f"{_AXIS_NAMES[across]} [m]")
+            ax.set_ylabel(f"{_AXIS_NAMES[up]} [m]")
             level = round(float(coordinates[fixed][middle]), 3) + 0.0  # + 0.0: never "-0.000"
-            ax.set_title(f"{name}, {AXIS_NAMES[fixed]} = {level:.3f} m", fontsize=10)
+            ax.set_title(f"{name}, {_AXIS_NAMES[fixed]} = {level:.3f} m", fontsize=10)
         fig.colorbar(image, ax=row, label=f"{name} index", shrink=0.9)
     fig.suptitle(title, fontsize=10)
     return fig
@@ -62,7 +62,7 @@ def save_mid_plane_slices(dataset: Any, name: str, path: str | Path) -> None:
         The image file.
     """
     values = dataset[name].transpose("x", "y", "z")
-    coordinates = [dataset[axis].values for axis in AXIS_NAMES]
+    coordinates = [dataset[axis].values for axis in _AXIS_NAMES]
     fig = mid_plane_figure(coordinates, {name: values.values},
                            f"{dataset.attrs.get('robot', '')}: {name} ({values.attrs.get('long_name', '')})")
     try:

@@ -26,7 +26,7 @@ SECTION_MODULES = [
     "redkin.reproduce.models_section",
 ]
 
-REPORT_TITLE = "redkin: reproduction of the papers"
+_REPORT_TITLE = "redkin: reproduction of the papers"
 
 
 @dataclass(frozen=True)
@@ -88,5 +88,5 @@ def run(
         section.build(writer)
         writer.progress(1.0, "done")
         writers[key] = writer
-    write_report(out, list(writers.values()), REPORT_TITLE, build_info())
+    write_report(out, list(writers.values()), _REPORT_TITLE, build_info())
     return writers

@@ -1,6 +1,6 @@
 """Numbers as the report prints them: the paper's digits plus one, zeros without a sign, one format per column.
 
-* A value with ``|x| < ZERO`` is printed ``0``; nothing is printed as ``-0``.
+* A value with ``|x| < _ZERO`` is printed ``0``; nothing is printed as ``-0``.
 * A comparison row prints ours with one decimal more than the paper's value
   as written (``45.991`` -> ``45.9908``), and the difference with the same
   decimals and a sign.
@@ -19,11 +19,11 @@ from typing import Any
 from redkin.reproduce.comparison import is_number
 
 #: Magnitudes below this are printed as 0 (rounding residue of a quantity that is zero).
-ZERO = 1e-12
+_ZERO = 1e-12
 #: Most decimals a column is printed with before it turns scientific.
-MAX_DECIMALS = 4
+_MAX_DECIMALS = 4
 #: Significant digits of a plain column.
-SIGNIFICANT = 3
+_SIGNIFICANT = 3
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
@@ -37,8 +37,8 @@ def printed_decimals(value: float) -> int:
 
 
 def fixed(value: float, decimals: int, sign: bool = False) -> str:
-    """``value`` with ``decimals`` decimals; ``0`` below :data:`ZERO`, never ``-0``; ``sign`` adds ``+``."""
-    if abs(value) < ZERO:
+    """``value`` with ``decimals`` decimals; ``0`` below :data:`_ZERO`, never ``-0``; ``sign`` adds ``+``."""
+    if abs(value) < _ZERO:
         return "0"
     text = f"{value:{'+' if sign else ''}.{decimals}f}"
     if float(text) == 0.0:  # rounds to zero: no sign
@@ -46,9 +46,9 @@ def fixed(value: float, decimals: int, sign: bool = False) -> str:
     return text
 
 
-def scientific(value: float, significant: int = SIGNIFICANT) -> str:
-    """``7.64 × 10⁻⁷``; ``0`` below :data:`ZERO`."""
-    if abs(value) < ZERO:
+def _scientific(value: float, significant: int = _SIGNIFICANT) -> str:
+    """``7.64 × 10⁻⁷``; ``0`` below :data:`_ZERO`."""
+    if abs(value) < _ZERO:
         return "0"
     mantissa, _, exponent = f"{value:.{significant - 1}e}".partition("e")
     power = int(exponent)
@@ -63,19 +63,19 @@ def general(value: float) -> str:
 def column_format(values: Sequence[Any]) -> Callable[[Any], str]:
     """One formatter for every number of a column (ints stay whole, words pass through)."""
     floats = [abs(float(v)) for v in values if is_number(v) and not isinstance(v, int)]
-    nonzero = [v for v in floats if v >= ZERO]
+    nonzero = [v for v in floats if v >= _ZERO]
     if not nonzero:
         decimals, use_scientific = 0, False
     else:
-        decimals = max(SIGNIFICANT - 1 - math.floor(math.log10(min(nonzero))), 0)
-        use_scientific = decimals > MAX_DECIMALS or max(nonzero) >= 1e6
+        decimals = max(_SIGNIFICANT - 1 - math.floor(math.log10(min(nonzero))), 0)
+        use_scientific = decimals > _MAX_DECIMALS or max(nonzero) >= 1e6
 
     def show(value: Any) -> str:
         if isinstance(value, int) and not isinstance(value, bool):
             return str(value)
         if not is_number(value):
             return text(value)
-        return scientific(float(value)) if use_scientific else fixed(float(value), decimals)
+        return _scientific(float(value)) if use_scientific else fixed(float(value), decimals)
 
     return show
 

@@ -90,7 +90,7 @@ class _Anchors:
         return anchor
 
 
-def row_id(section: str, table: str, index: int) -> str:
+def _row_id(section: str, table: str, index: int) -> str:
     """Element id of row ``index`` (from 0) of a table: the summary's links point there."""
     return f"{section}-{table}-{index + 1}".replace("_", "-").lower()
 
@@ -118,7 +118,7 @@ def _summary_html(sections: Sequence[SectionWriter]) -> str:
             note = c.explanation
             reason = note.reason if note is not None else "no reason given"
             values = f"paper: {_paper_cell(c)}; ours: {_ours_cell(c)}"
-            items.append(f'<li><a href="#{row_id(s.key, name, index)}">{html.escape(_short(s.title))}, '
+            items.append(f'<li><a href="#{_row_id(s.key, name, index)}">{html.escape(_short(s.title))}, '
                          f"{html.escape(where)}: {html.escape(c.quantity)}</a> <strong>✗ DIFFERS</strong> "
                          f"({html.escape(values)}): {html.escape(reason)}</li>")
     differs = (f'<ul class="differs" id="differs">{"".join(items)}</ul>' if items
@@ -247,7 +247,7 @@ def _comparison_html(section: str, name: str, table: dict[str, Any], comparisons
         quantity = _UNIT.sub("", c.quantity, count=1).strip() if unit else c.quantity
         difference = fixed(c.difference, _decimals(c), sign=True) if c.difference is not None else "–"
         body.append(
-            f'<tr id="{row_id(section, name, index)}"><td>{html.escape(quantity)}</td>'
+            f'<tr id="{_row_id(section, name, index)}"><td>{html.escape(quantity)}</td>'
             f"<td{_NUM}>{html.escape(_paper_cell(c))}</td><td{_NUM}>{html.escape(_ours_cell(c))}</td>"
             f"<td{_NUM}>{html.escape(difference)}</td>{_verdict_cell(c, usual, marker)}</tr>"
         )

@@ -45,12 +45,12 @@ def _arc_text(arc_set: ArcSet) -> str:
     return " U ".join(f"[{np.degrees(lo):.3f}, {np.degrees(hi):.3f}]" for lo, hi in arc_set.arcs)
 
 
-def explorer_link(writer: SectionWriter, chain, pose: np.ndarray, name: str, label: str, **options) -> None:
+def _explorer_link(writer: SectionWriter, chain, pose: np.ndarray, name: str, label: str, **options) -> None:
     """Write the arm-angle explorer of ``pose`` beside the report (angles in degrees) and link it."""
     writer.page(name, explorer_html(explorer_data(chain, pose, **options), degrees=True), label)
 
 
-def section_6_1(writer: SectionWriter, chain) -> None:
+def _section_6_1(writer: SectionWriter, chain) -> None:
     writer.heading("§6.1: feasible arm angles and postures ([000 eq. 41])")
     pose = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
     result = feasible_arm_angles(chain, pose, "+++")
@@ -95,10 +95,10 @@ def section_6_1(writer: SectionWriter, chain) -> None:
     ax.legend(fontsize=8, loc="upper left")
     writer.figure(fig, "postures_6_1", "Postures at psi = 0, psi_min and psi_max (paper Fig. 6)",
                   "The pose of [000 eq. 41]; each posture drawn through its frame origins, with the tool frame.")
-    explorer_link(writer, chain, pose, "explore_6_1", "Explore §6.1 live: the arm angle on a slider, all eight branches")
+    _explorer_link(writer, chain, pose, "explore_6_1", "Explore §6.1 live: the arm angle on a slider, all eight branches")
 
 
-def section_6_2_1(writer: SectionWriter, chain) -> None:
+def _section_6_2_1(writer: SectionWriter, chain) -> None:
     writer.heading("§6.2.1: singular arm angles")
     pose = pose_from(np.array([0.55, 0.0, 0.767]), np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))
     singular = singular_arm_angles(chain, pose, "+++")
@@ -123,11 +123,11 @@ def section_6_2_1(writer: SectionWriter, chain) -> None:
     ]
     writer.comparison("s6_2_1", rows, "Section 6.2.1: singularity coefficients and the feasible set",
                       "x = (0.55, 0, 0.767) m, R = [[0,0,1],[0,1,0],[-1,0,0]].")
-    explorer_link(writer, chain, pose, "explore_6_2_1", "Explore §6.2.1 live (branch +++ is empty; choose ++- "
+    _explorer_link(writer, chain, pose, "explore_6_2_1", "Explore §6.2.1 live (branch +++ is empty; choose ++- "
                   "for the printed set)")
 
 
-def section_6_2_2(writer: SectionWriter, chain) -> None:
+def _section_6_2_2(writer: SectionWriter, chain) -> None:
     writer.heading("§6.2.2: optimal arm angles and reachable tool rotations")
     pose = _gamma_pose(np.pi / 2)
     target = np.radians([0, 90, 0, 0, 0, 90, 0])
@@ -197,7 +197,7 @@ def section_6_2_2(writer: SectionWriter, chain) -> None:
     writer.figure(fig, "reachable_gamma", "Feasible arm angles over the tool rotation gamma (section 6.2.2)",
                   "Green: the feasible arm angles; red: psi fixed at 0 (Gamma_0); blue: psi from [000 eq. 40] clamped to the "
                   "feasible set (Gamma).")
-    explorer_link(writer, chain, pose, "explore_6_2_2", "Explore §6.2.2 live (optimal arm angle for the targets above)",
+    _explorer_link(writer, chain, pose, "explore_6_2_2", "Explore §6.2.2 live (optimal arm angle for the targets above)",
                   target=target)
 
 
@@ -208,11 +208,11 @@ def build(writer: SectionWriter) -> None:
         "from the roots of theta_i(psi) = limit ([000 eqs. 21, 22]), tested against dense sampling with an FK check."
     )
     chain = pa10_7c()
-    section_6_1(writer, chain)
+    _section_6_1(writer, chain)
     writer.progress(0.4, "6.1")
-    section_6_2_1(writer, chain)
+    _section_6_2_1(writer, chain)
     writer.progress(0.5, "6.2.1")
-    section_6_2_2(writer, chain)
+    _section_6_2_2(writer, chain)
 
 
 SECTION = Section(

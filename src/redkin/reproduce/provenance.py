@@ -14,11 +14,11 @@ def build_info() -> dict[str, str]:
     return {
         "date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "version": __version__,
-        "commit": source_commit(),
+        "commit": _source_commit(),
     }
 
 
-def source_commit() -> str:
+def _source_commit() -> str:
     """The git commit of redkin's source, ``-dirty`` when it has local changes; ``unknown`` outside a checkout."""
     try:
         done = subprocess.run(["git", "describe", "--always", "--dirty", "--abbrev=12"],

@@ -26,9 +26,9 @@ from redkin.reproduce.comparison import Comparison
 from redkin.reproduce.page import render_page
 
 #: Resolution of the report's PNG files: twice the 110 dpi at which the page shows them.
-FIGURE_DPI = 220
+_FIGURE_DPI = 220
 #: Pixels of a figure file per CSS pixel on the page.
-PIXEL_RATIO = 2
+_PIXEL_RATIO = 2
 
 
 @dataclass(frozen=True)
@@ -83,15 +83,15 @@ class SectionWriter:
         self.comparisons[name] = list(comparisons)
 
     def figure(self, fig: plt.Figure, name: str, caption: str = "", detail: str = "") -> Path:
-        """Save a matplotlib figure as PNG at :data:`FIGURE_DPI` beside the page and close it."""
+        """Save a matplotlib figure as PNG at :data:`_FIGURE_DPI` beside the page and close it."""
         filename = f"{self.key}_{name}.png"
         path = self.figure_dir / filename
-        fig.savefig(path, dpi=FIGURE_DPI, bbox_inches="tight")
+        fig.savefig(path, dpi=_FIGURE_DPI, bbox_inches="tight")
         plt.close(fig)
-        width, height = png_size(path)
+        width, height = _png_size(path)
         self.figures.append(filename)
-        self.blocks.append(("figure", Figure(filename, caption, detail, math.ceil(width / PIXEL_RATIO),
-                                             math.ceil(height / PIXEL_RATIO))))
+        self.blocks.append(("figure", Figure(filename, caption, detail, math.ceil(width / _PIXEL_RATIO),
+                                             math.ceil(height / _PIXEL_RATIO))))
         return path
 
     def page(self, name: str, content: str, label: str) -> Path:
@@ -146,7 +146,7 @@ def write_report(out_dir: Path, sections: Sequence[SectionWriter], title: str, b
     (out_dir / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=False), encoding="utf-8")
 
 
-def png_size(path: Path) -> tuple[int, int]:
+def _png_size(path: Path) -> tuple[int, int]:
     """Width and height in pixels of a PNG file, from its header."""
     with open(path, "rb") as handle:
         header = handle.read(24)

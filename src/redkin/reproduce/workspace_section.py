@@ -30,27 +30,27 @@ from redkin.workspace import (
 )
 
 #: Grid points per axis of the report's maps (odd: the mid-planes pass through the shoulder).
-RESOLUTION = 15
+_RESOLUTION = 15
 #: Orientations per position of the report's maps (a super-Fibonacci set).
-ORIENTATIONS = 64
+_ORIENTATIONS = 64
 #: Margin of the box beyond the arm's longest reach from the shoulder, metres.
-MARGIN = 0.05
+_MARGIN = 0.05
 #: Paper 000, section 6.2.2: the tool held at this position (metres) and turned about z by gamma from [000 eq. 41]'s rotation.
-GAMMA_POSITION = np.array([0.65, 0.0, 0.5])
+_GAMMA_POSITION = np.array([0.65, 0.0, 0.5])
 #: The line's orientations, degrees (one per degree).
-GAMMA_GRID_DEG = np.arange(-180.0, 180.0, 1.0)
+_GAMMA_GRID_DEG = np.arange(-180.0, 180.0, 1.0)
 TOL = 5e-4  # half of the last printed digit (3 decimals, degrees)
 
 
-def reach_box(geometry: SRSGeometry) -> tuple[float, ...]:
+def _reach_box(geometry: SRSGeometry) -> tuple[float, ...]:
     """``(xmin, xmax, ymin, ymax, zmin, zmax)``: the cube centred on the shoulder that holds every tool position."""
     shoulder = geometry.chain.base[:3, :3] @ np.array([0.0, 0.0, geometry.d_bs]) + geometry.chain.base[:3, 3]
-    half = geometry.d_se + geometry.d_ew + geometry.d_wt + abs(geometry.a3) + abs(geometry.a4) + MARGIN
+    half = geometry.d_se + geometry.d_ew + geometry.d_wt + abs(geometry.a3) + abs(geometry.a4) + _MARGIN
     return tuple(float(v) for centre in shoulder for v in (centre - half, centre + half))
 
 
-def exact_map(geometry: SRSGeometry, resolution: int, orientations: int) -> dict[str, np.ndarray]:
-    """The map of ``redkin workspace`` over :func:`reach_box`, in memory: axes, rotations, measure and indices.
+def _exact_map(geometry: SRSGeometry, resolution: int, orientations: int) -> dict[str, np.ndarray]:
+    """The map of ``redkin workspace`` over :func:`_reach_box`, in memory: axes, rotations, measure and indices.
 
     Returns
     -------
@@ -58,7 +58,7 @@ def exact_map(geometry: SRSGeometry, resolution: int, orientations: int) -> dict
         ``x, y, z`` (metres), ``rotation`` ``(N, 3, 3)``, ``measure`` ``(M, M, M, N, 8)`` in radians,
         ``reachability`` and ``redundancy`` ``(M, M, M)``.
     """
-    grid = workspace_grid(reach_box(geometry), resolution, orientations, chunk=resolution)
+    grid = workspace_grid(_reach_box(geometry), resolution, orientations, chunk=resolution)
     rotations = super_fibonacci_rotations(orientations)
     positions = grid.chunk_positions((0, 0, 0))  # the whole grid is one chunk
     measure = feasible_measures(geometry, positions.reshape(-1, 3), rotations)
@@ -68,7 +68,7 @@ def exact_map(geometry: SRSGeometry, resolution: int, orientations: int) -> dict
             "reachability": reachability_index(measure), "redundancy": redundancy_index(measure)}
 
 
-def gamma_rotations(gamma: np.ndarray) -> np.ndarray:
+def _gamma_rotations(gamma: np.ndarray) -> np.ndarray:
     """Paper 000's tool orientation of section 6.2.2: [000 eq. 41]'s rotation turned about the base z axis by ``gamma``."""
     c, s = np.cos(gamma), np.sin(gamma)
     rotations = np.zeros(np.shape(gamma) + (3, 3))
@@ -77,12 +77,12 @@ def gamma_rotations(gamma: np.ndarray) -> np.ndarray:
     return rotations
 
 
-def gamma_line(geometry: SRSGeometry, gamma: np.ndarray) -> np.ndarray:
-    """One line of the map: the measure at :data:`GAMMA_POSITION` for the orientations ``gamma``, shape ``(K, 8)``."""
-    return feasible_measures(geometry, GAMMA_POSITION[None], gamma_rotations(np.asarray(gamma, dtype=float)))[0]
+def _gamma_line(geometry: SRSGeometry, gamma: np.ndarray) -> np.ndarray:
+    """One line of the map: the measure at :data:`_GAMMA_POSITION` for the orientations ``gamma``, shape ``(K, 8)``."""
+    return feasible_measures(geometry, _GAMMA_POSITION[None], _gamma_rotations(np.asarray(gamma, dtype=float)))[0]
 
 
-def line_boundary(inside: Callable[[np.ndarray], np.ndarray], steps: int = 60) -> tuple[float, float]:
+def _line_boundary(inside: Callable[[np.ndarray], np.ndarray], steps: int = 60) -> tuple[float, float]:
     """Largest turns ``-g``, ``+g`` with ``inside`` true, by bisection on ``[0, pi]`` for each sign at once.
 
     ``inside(gamma)`` maps an array of turns to booleans; it must hold at 0 and fail at ``+-pi``.
@@ -105,19 +105,19 @@ def _map_rows(name: str, box: tuple[float, ...], result: dict[str, np.ndarray]) 
             float(redundancy.max())]
 
 
-def section_maps(writer: SectionWriter, arms: dict[str, SRSGeometry]) -> None:
+def _section_maps(writer: SectionWriter, arms: dict[str, SRSGeometry]) -> None:
     writer.heading("Exact maps of the PA10-7C and the KUKA iiwa 14")
     rows = []
     for name, geometry in arms.items():
-        box = reach_box(geometry)
-        result = exact_map(geometry, RESOLUTION, ORIENTATIONS)
+        box = _reach_box(geometry)
+        result = _exact_map(geometry, _RESOLUTION, _ORIENTATIONS)
         rows.append(_map_rows(name, box, result))
         writer.data(f"{name}_map", result, f"The {name} map as numpy arrays (.npz for numpy.load: x, y, z, rotation, "
                                            "measure, reachability, redundancy)")
         fig = mid_plane_figure([result[a] for a in "xyz"],
                                {"reachability": result["reachability"], "redundancy": result["redundancy"]},
-                               f"{name}: exact reachability and redundancy, {RESOLUTION}^3 positions x "
-                               f"{ORIENTATIONS} orientations x 8 branches")
+                               f"{name}: exact reachability and redundancy, {_RESOLUTION}^3 positions x "
+                               f"{_ORIENTATIONS} orientations x 8 branches")
         writer.figure(fig, f"{name}_map", f"{name}: reachability and redundancy on the mid-planes through the shoulder",
                       "Top: the fraction of the orientations with a feasible arm angle on some branch. Bottom: the "
                       "mean over those orientations of the best branch's feasible arm-angle measure / 2 pi.")
@@ -126,7 +126,7 @@ def section_maps(writer: SectionWriter, arms: dict[str, SRSGeometry]) -> None:
         "maps", ["arm", "box [m]", "grid", "orientations", "pose-branch sets", "reachable positions [%]",
                  "reachable poses [%]", "mean redundancy where reachable", "max redundancy"], rows,
         "The maps: reachability and redundancy indices",
-        f"The box is the cube centred on the shoulder whose half-width is the longest reach plus {MARGIN} m. "
+        f"The box is the cube centred on the shoulder whose half-width is the longest reach plus {_MARGIN} m. "
         "A position is reachable if some orientation has a non-empty feasible arm-angle set on some branch; "
         "reachable poses is the mean reachability index. The redundancy index is the mean, over the reachable "
         "orientations of a position, of the largest branch measure / 2 pi.",
@@ -141,14 +141,14 @@ def section_maps(writer: SectionWriter, arms: dict[str, SRSGeometry]) -> None:
     )
 
 
-def section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
+def _section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
     writer.heading("§6.2.2's Gamma as one line of the PA10's map")
-    gamma = np.radians(GAMMA_GRID_DEG)
-    line = gamma_line(geometry, gamma)
+    gamma = np.radians(_GAMMA_GRID_DEG)
+    line = _gamma_line(geometry, gamma)
     names = [str(b) for b in BRANCHES]
     plus = names.index("+++")
-    low, high = line_boundary(lambda g: gamma_line(geometry, g)[:, plus] > 0.0)
-    any_low, any_high = line_boundary(lambda g: gamma_line(geometry, g).max(axis=-1) > 0.0)
+    low, high = _line_boundary(lambda g: _gamma_line(geometry, g)[:, plus] > 0.0)
+    any_low, any_high = _line_boundary(lambda g: _gamma_line(geometry, g).max(axis=-1) > 0.0)
     others = [name for i, name in enumerate(names) if i != plus and np.any(line[:, i] > 0.0)]
     branch_note = Note("the paper follows branch +++; the map's reachability takes any branch",
                        "every other branch is empty all along this line, so the map's reachability ends where +++ ends"
@@ -161,7 +161,7 @@ def section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
         Comparison("Gamma upper [deg]: map reachability (any branch)", P.SECTION_6_2_2_GAMMA, float(np.degrees(any_high)), TOL,
                    branch_note),
         Comparison("measure on +++ at gamma = 0 [deg] (the pose of [000 eq. 41])", round(2 * P.SECTION_6_1_PSI_BOUND, 3),
-                   float(np.degrees(line[np.flatnonzero(GAMMA_GRID_DEG == 0.0)[0], plus])), 1e-3,
+                   float(np.degrees(line[np.flatnonzero(_GAMMA_GRID_DEG == 0.0)[0], plus])), 1e-3,
                    Note("paper value derived: the width of section 6.1's Psi = [-45.991, 45.991]",
                         "2 x 45.991; tolerance 1e-3, twice the printed half digit")),
     ]
@@ -175,7 +175,7 @@ def section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
     writer.data("gamma_line", {"gamma": gamma, "measure": line},
                 "The line as numpy arrays (.npz for numpy.load: gamma in rad, measure (360, 8) in rad)")
     fig, ax = plt.subplots(figsize=(7, 3.8))
-    plot_measure_line(ax, GAMMA_GRID_DEG, line, names, "tool turn gamma about z [deg]")
+    plot_measure_line(ax, _GAMMA_GRID_DEG, line, names, "tool turn gamma about z [deg]")
     for bound in (low, high):
         ax.axvline(np.degrees(bound), color="0.4", linestyle="--", linewidth=0.8)
     writer.figure(fig, "gamma_line", "The measure along the line of section 6.2.2 (PA10-7C)",
@@ -195,12 +195,12 @@ def build(writer: SectionWriter) -> None:
         "Exact workspace maps (redkin.workspace, issue 14): for every position of a grid and every orientation of a "
         "near-uniform set, the measure of the feasible arm-angle set on each of the 8 branches, from paper 000's "
         "closed form ([000 eq. 30]) instead of sampled IK. Computed here in one process with feasible_measures, the function "
-        f"each Dask chunk of redkin workspace calls, at a modest {RESOLUTION}^3 positions x {ORIENTATIONS} orientations; "
+        f"each Dask chunk of redkin workspace calls, at a modest {_RESOLUTION}^3 positions x {_ORIENTATIONS} orientations; "
         "redkin workspace computes the same maps at any resolution, on Dask, into Zarr."
     )
     arms = {chain.name: srs_geometry(chain) for chain in (pa10_7c(), kuka_iiwa14())}
-    section_maps(writer, arms)
-    section_gamma(writer, arms["pa10-7c"])
+    _section_maps(writer, arms)
+    _section_gamma(writer, arms["pa10-7c"])
 
 
 SECTION = Section(

@@ -48,6 +48,7 @@ from math import acos, atan2, cos, nan, pi, sin, sqrt
 import numpy as np
 from numba import prange
 
+from redkin.circle import TWO_PI
 from redkin.compiled import kernel
 from redkin.srs import _ik_kernels, joints
 from redkin.srs.joints import STRETCHED_TOLERANCE
@@ -60,7 +61,6 @@ PIECES = 2 * EQUATIONS
 #: rounding, or a singular arm angle itself, where theta_1/3 or theta_5/7 are undefined.
 PIECE_TOLERANCE = 1e-12
 _GROUP = _ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
-TWO_PI = 2.0 * pi
 
 
 # ---------------------------------------------------------------- scalars

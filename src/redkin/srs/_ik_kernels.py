@@ -37,13 +37,13 @@ from math import acos, atan2, cos, isfinite, pi, sin, sqrt
 import numpy as np
 from numba import prange
 
+from redkin.circle import TWO_PI
 from redkin.compiled import kernel
 
 ARM_COLUMNS = ("d_bs", "d_se", "d_ew", "d_wt", "a3", "a4", "mean", "amplitude", "phase", "cos_phase", "sin_phase")
 D_BS, D_SE, D_EW, D_WT, A3, A4, MEAN, AMPLITUDE, PHASE, COS_PHASE, SIN_PHASE = range(11)
 JOINT_ROWS = ("offset", "sign", "wrap", "wrap_start", "upper", "limited")
 OFFSET, SIGN, WRAP, WRAP_START, UPPER, LIMITED = range(6)
-TWO_PI = 2.0 * pi
 
 #: Relative distance of the wrist from the joint-1 axis below which the wrist counts as on it.
 AXIS_TOLERANCE = 1e-12

@@ -30,7 +30,7 @@ def check_psi(psi: ArrayLike) -> np.ndarray:
     return array
 
 
-def unreachable_error(geometry, distance: np.ndarray, reach: np.ndarray) -> UnreachablePoseError | None:
+def _unreachable_error(geometry, distance: np.ndarray, reach: np.ndarray) -> UnreachablePoseError | None:
     """The error naming the first pose whose wrist is out of reach, or ``None``.
 
     ``distance`` is ``|x_sw|`` and ``reach`` whether [000 eq. 11] has a solution, batched.
@@ -67,8 +67,8 @@ def raise_for_bad_pose(pose: np.ndarray, status: np.ndarray) -> None:
 
 def raise_for_status(geometry, pose: np.ndarray, status: np.ndarray, distance: np.ndarray) -> None:
     """Raise the ``ValueError`` of the first failing check of a batch the kernels flagged:
-    :func:`raise_for_bad_pose`, then :func:`unreachable_error`."""
+    :func:`raise_for_bad_pose`, then :func:`_unreachable_error`."""
     raise_for_bad_pose(pose, status)
-    error = unreachable_error(geometry, distance, status != _ik_kernels.UNREACHABLE)
+    error = _unreachable_error(geometry, distance, status != _ik_kernels.UNREACHABLE)
     if error is not None:
         raise error

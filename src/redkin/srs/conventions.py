@@ -46,7 +46,7 @@ from redkin.srs.geometry import TABLE1_ALPHA
 #: Largest distance (metres) of a joint axis from the point where its group meets, and largest
 #: ``|cos|`` between consecutive axes, for an S-R-S arm.  Tight on purpose: a chain accepted here is
 #: solved in closed form as if it were exactly S-R-S, so a looser test would return wrong answers.
-SRS_TOLERANCE = 1e-9
+_SRS_TOLERANCE = 1e-9
 _GROUPS = (("shoulder", (0, 1, 2)), ("wrist", (4, 5, 6)))
 #: Chains already converted (chains are immutable): a conversion with its FK check costs about 2 ms,
 #: and every arm-angle call on a chain asks for it.
@@ -59,7 +59,7 @@ def joint_lines(chain: SerialChain) -> tuple[np.ndarray, np.ndarray]:
     return points, directions * chain.sign[:, None]
 
 
-def meeting_point(points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, float]:
+def _meeting_point(points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, float]:
     """The point closest to the lines (least squares) and the largest distance of a line from it."""
     projectors = np.eye(3) - directions[:, :, None] * directions[:, None, :]
     point = np.linalg.lstsq(projectors.sum(axis=0), np.einsum("kij,kj->i", projectors, points), rcond=None)[0]
@@ -88,21 +88,21 @@ def _convert(chain: SerialChain) -> SerialChain:
     points, directions = joint_lines(chain)
     centres = {}
     for name, group in _GROUPS:
-        centres[name], distance = meeting_point(points[list(group)], directions[list(group)])
-        if distance > SRS_TOLERANCE:
+        centres[name], distance = _meeting_point(points[list(group)], directions[list(group)])
+        if distance > _SRS_TOLERANCE:
             numbers = "-".join(str(k + 1) for k in group[::2])
             raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point: "
                                         f"closest distance {distance:.3g} m", chain.name, float(distance))
-    offset_elbow = meeting_point(points[2:5], directions[2:5])[1] > SRS_TOLERANCE
+    offset_elbow = _meeting_point(points[2:5], directions[2:5])[1] > _SRS_TOLERANCE
     cosines = np.abs(np.sum(directions[:-1] * directions[1:], axis=-1))
-    if cosines.max() > SRS_TOLERANCE:
+    if cosines.max() > _SRS_TOLERANCE:
         k = int(np.argmax(cosines))
         angle = np.degrees(np.arccos(np.clip(cosines[k], 0.0, 1.0)))
         raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: axes {k + 1} and {k + 2} are not perpendicular "
                                     f"({angle:.6g} deg apart)", chain.name, float(np.radians(angle)))
     shoulder, wrist = centres["shoulder"], centres["wrist"]
     for name, centre in (("shoulder", shoulder), ("wrist", wrist)):
-        if _distance_to_line(centre, points[3], directions[3]) <= SRS_TOLERANCE:
+        if _distance_to_line(centre, points[3], directions[3]) <= _SRS_TOLERANCE:
             raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: its {name} and elbow coincide "
                                         f"(joint 4's axis passes through the {name})", chain.name, 0.0)
     # the elbow ends of the upper arm and the forearm: where the common normals meet joints 3 and 5
@@ -116,7 +116,7 @@ def _convert(chain: SerialChain) -> SerialChain:
     base_origin = chain.base[:3, 3]
     origin = shoulder + ((base_origin - shoulder) @ lines[0]) * lines[0]
     rows, frame0, frame7 = dh_rows_from_lines(through, lines, np.sign(TABLE1_ALPHA), origin)
-    if abs(rows[3, 2]) > SRS_TOLERANCE:
+    if abs(rows[3, 2]) > _SRS_TOLERANCE:
         raise NotArmAngleClassError(
             f"{chain.name!r} is not S-R-S: joints 3-5 do not meet, and its elbow is offset {abs(rows[3, 2]):.3g} m "
             "along joint 4 (only offsets across joint 4, as on the WAM, are solved)", chain.name, float(abs(rows[3, 2])))

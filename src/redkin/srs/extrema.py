@@ -32,7 +32,7 @@ one of the two types of section 4.2, read from the entry coefficients of
     ``c_t (1 - cos(psi - psi_s))`` keeps the sign of ``c_t``, so ``theta`` is
     monotonic;
   - ``a_t = b_t = c_t = 0`` (relative to the coefficients of ``N`` and
-    ``D``, :data:`CONSTANT_TOLERANCE`): *constant*, ``N`` and ``D`` proportional
+    ``D``, :data:`_CONSTANT_TOLERANCE`): *constant*, ``N`` and ``D`` proportional
     (e.g. joint 1 with the arm stretched, ``theta_4 = 0``);
   - ``N = D = 0`` for every psi: *undefined* (singular at every arm angle,
     :attr:`redkin.srs.SingularArmAngles.shoulder_everywhere`).
@@ -53,8 +53,8 @@ returns them (``q = sign (theta - offset)``; a joint with ``sign = -1`` swaps
 maximum and minimum).
 
 Section 4.3 sorts a periodic joint into five cases by where its maximum and
-minimum lie relative to its limits (:data:`LIMIT_CASES`); see
-:func:`limit_case`.
+minimum lie relative to its limits (:data:`_LIMIT_CASES`); see
+:func:`_limit_case`.
 """
 
 from __future__ import annotations
@@ -65,6 +65,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.circle import TWO_PI
 from redkin.srs._feasible_kernels import sinusoid_roots
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
@@ -74,17 +75,16 @@ from redkin.srs.ik import theta_at
 from redkin.srs.joints import PSI_JOINTS
 from redkin.validation import check_pose
 
-TWO_PI = 2.0 * np.pi
 #: Relative tolerance of the singular case: ``|a_t^2 + b_t^2 - c_t^2| <= tolerance (a_t^2 + b_t^2 + c_t^2)``.
-EXTREMA_TOLERANCE = 1e-9
+_EXTREMA_TOLERANCE = 1e-9
 #: A joint counts as constant when it swings by less than this (radians) between its extrema
 #: (cosine type: ``acos(c - rho) - acos(c + rho)``, ``rho = hypot(a, b)``), or, tangent type, when
-#: ``|(a_t, b_t, c_t)| = |n x d| <= CONSTANT_TOLERANCE |n| |d|`` (coefficient vectors of N and D parallel).
-CONSTANT_TOLERANCE = 1e-7
+#: ``|(a_t, b_t, c_t)| = |n x d| <= _CONSTANT_TOLERANCE |n| |d|`` (coefficient vectors of N and D parallel).
+_CONSTANT_TOLERANCE = 1e-7
 # |n x d| below this is rounding of products of O(1) entries whatever |n| |d| is (e.g. N ~ 1e-33 noise)
 _ROUNDING_FLOOR = 1e-30
 #: Below this size of the coefficient vectors of both N and D a tangent-type joint is undefined.
-VANISHING_TOLERANCE = 1e-12
+_VANISHING_TOLERANCE = 1e-12
 
 #: Columns (index into the 14 entries of ``ENTRY_LAYOUT``) and signs of ``N`` and ``D`` of the
 #: tangent-type joints 1, 3, 5, 7 [000 eqs. 13, 15, 17, 19]: ``x, y, z, r0, r1, r2, t`` per group.
@@ -93,7 +93,7 @@ _TANGENT = {1: (1, 1.0, 0, 1.0), 3: (6, 1.0, 5, -1.0), 5: (8, 1.0, 7, 1.0), 7: (
 _COSINE = {2: 2, 6: 9}
 
 #: The five cases of paper 000 section 4.3 for a periodic joint with limits ``[l, u]``.
-LIMIT_CASES = {
+_LIMIT_CASES = {
     1: "theta_max < l or theta_min > u: no feasible arm angle",
     2: "l <= theta_max <= u and theta_min < l: one feasible region around psi_max, bounded by theta = l",
     3: "theta_max > u and l <= theta_min <= u: one feasible region around psi_min, bounded by theta = u",
@@ -167,7 +167,7 @@ class JointExtrema:
         shoulder or wrist arm angle of :func:`redkin.srs.singular_arm_angles`
         when that is ``theta_2 = 0`` or ``theta_6 = 0``).
     limit_case : int or None
-        Case 1-5 of section 4.3 (:data:`LIMIT_CASES`) for a periodic joint;
+        Case 1-5 of section 4.3 (:data:`_LIMIT_CASES`) for a periodic joint;
         5 for an unlimited joint; None for monotonic, singular and constant
         joints and when the swept range leaves the limits through ``+-pi``
         and comes back (outside the paper's five cases).
@@ -187,40 +187,40 @@ class JointExtrema:
     limit_case: int | None
 
 
-def tangent_derivative_coefficients(numerator: np.ndarray, denominator: np.ndarray) -> np.ndarray:
+def _tangent_derivative_coefficients(numerator: np.ndarray, denominator: np.ndarray) -> np.ndarray:
     """``(a_t, b_t, c_t)`` of [000 eq. 23] from ``(a_n, b_n, c_n)`` and ``(a_d, b_d, c_d)`` (last axis), batched."""
     a_n, b_n, c_n = np.moveaxis(numerator, -1, 0)
     a_d, b_d, c_d = np.moveaxis(denominator, -1, 0)
     return np.stack([b_d * c_n - b_n * c_d, a_n * c_d - a_d * c_n, a_n * b_d - a_d * b_n], axis=-1)  # [000 eq. 23]
 
 
-def tangent_case(derivative: np.ndarray, scale: np.ndarray | float = 1.0, tolerance: float = EXTREMA_TOLERANCE) -> np.ndarray:
+def _tangent_case(derivative: np.ndarray, scale: np.ndarray | float = 1.0, tolerance: float = _EXTREMA_TOLERANCE) -> np.ndarray:
     """Case of tangent-type joints from ``(a_t, b_t, c_t)`` ``(..., 3)``: [000 eq. 24] and its equality.
 
-    ``scale`` is ``|n| |d|`` (see :data:`CONSTANT_TOLERANCE`).  Returns an
+    ``scale`` is ``|n| |d|`` (see :data:`_CONSTANT_TOLERANCE`).  Returns an
     array of ``"periodic"``, ``"monotonic"``, ``"singular"`` or ``"constant"``.
     """
     size = np.einsum("...i,...i->...", derivative, derivative)
     discriminant = size - 2.0 * derivative[..., 2] ** 2  # [000 eq. 24]
     case = np.where(discriminant > 0.0, "periodic", "monotonic")
     case = np.where(np.abs(discriminant) <= tolerance * size, "singular", case)
-    return np.where(np.sqrt(size) <= CONSTANT_TOLERANCE * scale + _ROUNDING_FLOOR, "constant", case)
+    return np.where(np.sqrt(size) <= _CONSTANT_TOLERANCE * scale + _ROUNDING_FLOOR, "constant", case)
 
 
-def tangent_cases(
-    numerator: np.ndarray, denominator: np.ndarray, tolerance: float = EXTREMA_TOLERANCE
+def _tangent_cases(
+    numerator: np.ndarray, denominator: np.ndarray, tolerance: float = _EXTREMA_TOLERANCE
 ) -> tuple[np.ndarray, np.ndarray]:
     """``(a_t, b_t, c_t)`` [000 eq. 23] and the case of tangent-type joints from the coefficients of ``N`` and ``D``.
 
-    Adds ``"undefined"`` to the cases of :func:`tangent_case` where ``N = D = 0`` for every psi.
+    Adds ``"undefined"`` to the cases of :func:`_tangent_case` where ``N = D = 0`` for every psi.
     """
-    derivative = tangent_derivative_coefficients(numerator, denominator)
+    derivative = _tangent_derivative_coefficients(numerator, denominator)
     n_size, d_size = np.linalg.norm(numerator, axis=-1), np.linalg.norm(denominator, axis=-1)
-    case = tangent_case(derivative, n_size * d_size, tolerance)
-    return derivative, np.where(np.maximum(n_size, d_size) <= VANISHING_TOLERANCE, "undefined", case)
+    case = _tangent_case(derivative, n_size * d_size, tolerance)
+    return derivative, np.where(np.maximum(n_size, d_size) <= _VANISHING_TOLERANCE, "undefined", case)
 
 
-def limit_case(maximum: float, minimum: float, lower: float, upper: float, limited: bool) -> int | None:
+def _limit_case(maximum: float, minimum: float, lower: float, upper: float, limited: bool) -> int | None:
     """Case 1-5 of paper 000 section 4.3 for a periodic joint sweeping ``[minimum, maximum]`` (modulo 2 pi).
 
     The comparisons are made modulo ``2 pi`` (limits crossing ``+-pi``
@@ -258,7 +258,7 @@ def joint_extrema(
     arm: SerialChain | SRSGeometry,
     pose: ArrayLike,
     branch: str | Branch = "+++",
-    tolerance: float = EXTREMA_TOLERANCE,
+    tolerance: float = _EXTREMA_TOLERANCE,
 ) -> dict[int, JointExtrema]:
     """Type, case, extrema and monotonicity of each psi-dependent joint for one pose [000 eqs. 21-28].
 
@@ -271,7 +271,7 @@ def joint_extrema(
     branch : str or Branch
         Signs of theta_2, theta_4, theta_6, e.g. ``"+-+"``.
     tolerance : float
-        Relative tolerance of the singular case (equality in [000 eq. 24]), see :func:`tangent_case`.
+        Relative tolerance of the singular case (equality in [000 eq. 24]), see :func:`_tangent_case`.
 
     Returns
     -------
@@ -307,7 +307,7 @@ def joint_extrema(
     tangent_joints = tuple(_TANGENT)
     numerator = np.stack([entries[:, n] * sn for n, sn, _, _ in _TANGENT.values()])  # (4, 3)
     denominator = np.stack([entries[:, d] * sd for _, _, d, sd in _TANGENT.values()])
-    derivative, cases = tangent_cases(numerator, denominator, tolerance)  # (4, 3), (4,)
+    derivative, cases = _tangent_cases(numerator, denominator, tolerance)  # (4, 3), (4,)
 
     stationary = np.zeros((len(PSI_JOINTS), 2))  # per column of PSI_JOINTS: psi of (maximum, minimum) of theta
     for k, joint in enumerate(tangent_joints):
@@ -348,10 +348,10 @@ def joint_extrema(
             discriminant = a * a + b * b
             rho = np.sqrt(discriminant)
             swing = np.arccos(max(c - rho, -1.0)) - np.arccos(min(c + rho, 1.0))
-            case = "constant" if swing <= CONSTANT_TOLERANCE else "periodic"
+            case = "constant" if swing <= _CONSTANT_TOLERANCE else "periodic"
             direction, jump = 0, None
         (psi_max, psi_min), (q_max, q_min) = stationary[k], q[k, :, column]
-        if case == "periodic" and abs(np.mod(q_max - q_min + np.pi, TWO_PI) - np.pi) <= CONSTANT_TOLERANCE:
+        if case == "periodic" and abs(np.mod(q_max - q_min + np.pi, TWO_PI) - np.pi) <= _CONSTANT_TOLERANCE:
             case = "constant"  # a swing below the tolerance (e.g. theta_4 = 0 up to rounding)
         maximum = minimum = None
         cut = None
@@ -360,7 +360,7 @@ def joint_extrema(
                 psi_max, psi_min, q_max, q_min = psi_min, psi_max, q_min, q_max
             maximum = Stationary(float(psi_max), float(q_max))
             minimum = Stationary(float(psi_min), float(q_min))
-            cut = limit_case(
+            cut = _limit_case(
                 maximum.value, minimum.value, float(chain.lower[column]), float(chain.upper[column]),
                 bool(chain.limited[column]),
             )

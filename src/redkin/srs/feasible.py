@@ -28,8 +28,8 @@ The work is done by the compiled kernels of :mod:`redkin.srs._feasible_kernels`
 (one pose-branch per inner call, batches on all cores); the functions here
 validate and call them.  From poses, one compiled call checks each pose and
 computes [000 eqs. 4-19] (:func:`redkin.srs._ik_kernels.coefficients_one`) and
-[000 eqs. 20-30]; from coefficients computed beforehand (:func:`overall_pieces`,
-:func:`feasible_from_coefficients`, :func:`all_branch_pieces`) it does eqs.
+[000 eqs. 20-30]; from coefficients computed beforehand (:func:`_overall_pieces`,
+:func:`feasible_from_coefficients`, :func:`_all_branch_pieces`) it does eqs.
 20-30 alone.  The cuts and signs of one elbow sign serve its four
 branches, so :func:`feasible_pieces_all_branches` costs little more than
 two single branches.
@@ -238,7 +238,7 @@ def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) 
     return results.reshape(shape)
 
 
-def overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
+def _overall_pieces(coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry) -> FeasiblePieces:
     """[000 eq. 30] for a batch: pieces between all joints' cut points, classified for every joint at once.
 
     Parameters
@@ -271,7 +271,7 @@ def feasible_pieces_all_branches(arm: SerialChain | SRSGeometry, pose: ArrayLike
     """The feasible sets [000 eq. 30] of the eight branches as arrays ``(..., 8, 24)``, in the order of :data:`BRANCHES`.
 
     The branches are named in the chain's joint senses, as in
-    :func:`redkin.srs.ik_all_branches`; see :func:`all_branch_pieces`.
+    :func:`redkin.srs.ik_all_branches`; see :func:`_all_branch_pieces`.
 
     Parameters
     ----------
@@ -293,7 +293,7 @@ def feasible_pieces_all_branches(arm: SerialChain | SRSGeometry, pose: ArrayLike
     return FeasiblePieces(start, end, keep[..., 0, :])
 
 
-def all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> FeasiblePieces:
+def _all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry) -> FeasiblePieces:
     """[000 eq. 30] for the eight branches of a batch of poses, from their coefficients for both elbow signs.
 
     The cut points and limit-equation signs of each elbow sign are computed

@@ -21,17 +21,16 @@ from typing import NamedTuple
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.circle import HALF_PI, TWO_PI
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.srs import _ik_kernels
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
 
-HALF_PI = np.pi / 2.0
-TWO_PI = 2.0 * np.pi
 #: The link twists of paper 000 Table 1.
 TABLE1_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
 #: Tolerance on the DH parameters when recognising the Table 1 form.
-GEOMETRY_TOLERANCE = 1e-9
+_GEOMETRY_TOLERANCE = 1e-9
 #: Slack (radians) when a joint value is compared with its limits (see :func:`redkin.srs.feasible.within`).
 MEMBERSHIP_TOLERANCE = 1e-12
 
@@ -288,7 +287,7 @@ def elbow_equation(a3: float, a4: float, d_se: float, d_ew: float) -> ElbowEquat
                          float(np.arctan2(b_coefficient, a_coefficient)))
 
 
-def table1_violation(chain: SerialChain) -> str | None:
+def _table1_violation(chain: SerialChain) -> str | None:
     """The first way a 7-joint chain departs from paper 000 Table 1 form, or ``None`` if it is in that form.
 
     The form admits an offset elbow (``a_3``, ``a_4``) as long as ``theta_4``
@@ -296,7 +295,7 @@ def table1_violation(chain: SerialChain) -> str | None:
     """
     if chain.convention != "dh":
         return f"an S-R-S arm in paper 000 Table 1 form uses standard DH, {chain.name!r} uses {chain.convention!r}"
-    tol = GEOMETRY_TOLERANCE
+    tol = _GEOMETRY_TOLERANCE
     bad = np.flatnonzero(np.abs(chain.a[[0, 1, 4, 5, 6]]) > tol)
     if bad.size:
         i = int([0, 1, 4, 5, 6][bad[0]])
@@ -354,11 +353,11 @@ def _derive_geometry(chain: SerialChain) -> SRSGeometry:
     """:func:`srs_geometry` without the cache."""
     if chain.n != 7:
         raise NotArmAngleClassError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}", chain.name)
-    if table1_violation(chain) is not None or np.cos(chain.offset[2]) < 0.0:
+    if _table1_violation(chain) is not None or np.cos(chain.offset[2]) < 0.0:
         from redkin.srs.conventions import table1_form
 
         chain = table1_form(chain)
-        problem = table1_violation(chain)
+        problem = _table1_violation(chain)
         if problem is not None:  # pragma: no cover - table1_form writes Table 1 rows
             raise NotArmAngleClassError(problem, chain.name)
     sign, offset = chain.sign, chain.offset

@@ -31,7 +31,7 @@ from redkin.srs import _ik_kernels
 #: Joint numbers (1-based) whose angle depends on psi, in column order of the arrays below.
 PSI_JOINTS = (1, 2, 3, 5, 6, 7)
 #: Which of the columns of :data:`PSI_JOINTS` are of cosine type [000 eqs. 14, 18].
-IS_COSINE = np.array([False, True, False, False, True, False])
+_IS_COSINE = np.array([False, True, False, False, True, False])
 # slots of the seven entries of a group (see the module docstring)
 _X, _Y, _Z, _R0, _R1, _R2, _T = range(7)
 #: A group whose ``x, y`` coefficients [000 eqs. 12, 16] are all at or below this is singular at every
@@ -112,7 +112,7 @@ def within(theta: np.ndarray, start, span, free) -> np.ndarray:
 
 
 #: Width (radians) below which a region between the zeros of a joint's limit equations is rounding.
-REGION_TOLERANCE = 1e-12
+_REGION_TOLERANCE = 1e-12
 
 
 def limit_sign_membership(lower: np.ndarray, upper: np.ndarray, start, span, free) -> np.ndarray:
@@ -148,17 +148,17 @@ def limit_sign_membership(lower: np.ndarray, upper: np.ndarray, start, span, fre
     table[:, free, :] = True  # an unlimited joint's equations read 0 = 1
     for k in np.flatnonzero(~free):
         limits = np.array([lower[k], upper[k]])
-        if IS_COSINE[k]:
+        if _IS_COSINE[k]:
             folded = np.abs(np.mod(limits + np.pi, 2.0 * np.pi) - np.pi)
             zeros = np.sort(np.concatenate([[0.0, np.pi], folded]))
             starts, ends = zeros[:-1], zeros[1:]
         else:
             zeros = np.sort(np.mod(np.concatenate([limits, limits + np.pi]), 2.0 * np.pi))
             starts, ends = zeros, np.append(zeros[1:], zeros[0] + 2.0 * np.pi)
-        # one inside each region; regions narrower than REGION_TOLERANCE are rounding (two limits pi apart give
+        # one inside each region; regions narrower than _REGION_TOLERANCE are rounding (two limits pi apart give
         # zeros that differ in the last bit), and their signs would read 0 and overwrite a real region's entry
-        samples = 0.5 * (starts + ends)[ends - starts > REGION_TOLERANCE]
-        if IS_COSINE[k]:
+        samples = 0.5 * (starts + ends)[ends - starts > _REGION_TOLERANCE]
+        if _IS_COSINE[k]:
             signs = np.cos(samples)[:, None] - np.cos(limits) > 0.0
             branch_angles = (samples, -samples)
         else:

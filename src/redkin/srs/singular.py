@@ -67,7 +67,7 @@ def _singular_angle(a: float, b: float, constant: float, tolerance: float) -> tu
     return (float(np.arctan2(-a / constant, -b / constant)),), False, residual
 
 
-def singular_from_coefficients(coefficients: ArmAngleCoefficients, tolerance: float = SINGULAR_TOLERANCE) -> SingularArmAngles:
+def _singular_from_coefficients(coefficients: ArmAngleCoefficients, tolerance: float = SINGULAR_TOLERANCE) -> SingularArmAngles:
     """[000 eqs. 31-34] from precomputed coefficients of one pose."""
     s = coefficients.shoulder[:, 2, 1]  # 0R3[2,1] = -cos theta_2
     w = coefficients.wrist[:, 2, 2]  # 4R7[2,2] = cos theta_6
@@ -111,4 +111,4 @@ def singular_arm_angles(
     if pose.shape != (4, 4):
         raise ValueError(f"pose must have shape (4, 4), got {pose.shape}")
     coefficients = coefficients_for(geometry, pose, geometry.table1_branch(branch).elbow)
-    return singular_from_coefficients(coefficients, tolerance)
+    return _singular_from_coefficients(coefficients, tolerance)

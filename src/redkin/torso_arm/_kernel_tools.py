@@ -103,3 +103,10 @@ def put(array, i, a):
 def shoulder_point(L0, theta1):
     """The right shoulder ``S(theta_1) = L0 (cos theta_1, 0, -sin theta_1)`` (frame 2; :meth:`TorsoArm.shoulder`)."""
     return (L0 * cos(theta1), 0.0, -L0 * sin(theta1))
+
+
+@kernel
+def shoulder_points(L0, theta1, out):
+    """:func:`shoulder_point` over a flat batch ``theta1`` (N,), written into ``out`` (N, 3)."""
+    for i in range(theta1.shape[0]):
+        out[i, 0], out[i, 1], out[i, 2] = shoulder_point(L0, theta1[i])

@@ -9,6 +9,7 @@ from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.circle import TWO_PI
 from redkin.compiled import kernel, run_batch
 from redkin.torso_arm._kernel_tools import flat
 
@@ -33,23 +34,22 @@ STATUS_NAMES = {
 }
 
 
-TWO_PI = 2.0 * pi
 
 
 @kernel
-def wrap_one(angle):
+def _wrap_one(angle):
     """``angle + 2 pi floor((pi - angle) / 2 pi)``: the same angle in ``(-pi, pi]``, unchanged if already there."""
     return floor((pi - angle) / TWO_PI) * TWO_PI + angle
 
 
 @kernel
 def into_limits(angle, lower, upper):
-    """:func:`wrap_one`, then shifted by ``+-2 pi`` where that brings it into ``[lower, upper]``.
+    """:func:`_wrap_one`, then shifted by ``+-2 pi`` where that brings it into ``[lower, upper]``.
 
     Only a joint whose range leaves ``(-pi, pi]`` can gain from a shift
     (theta_3 of thesis 001 ranges over -5..185 deg, beyond pi).
     """
-    q = wrap_one(angle)
+    q = _wrap_one(angle)
     if lower < -pi or upper > pi:
         for shift in (TWO_PI, -TWO_PI):
             moved = q + shift
@@ -60,20 +60,20 @@ def into_limits(angle, lower, upper):
 
 @kernel
 def wraps(angle, out):
-    """:func:`wrap_one` for each of ``angle`` (N,) -> ``out`` (N,)."""
+    """:func:`_wrap_one` for each of ``angle`` (N,) -> ``out`` (N,)."""
     for i in range(angle.shape[0]):
-        out[i] = wrap_one(angle[i])
+        out[i] = _wrap_one(angle[i])
 
 
 @kernel(parallel=True)
-def wraps_parallel(angle, out):
+def _wraps_parallel(angle, out):
     """:func:`wraps` on all cores."""
     for i in prange(angle.shape[0]):
-        out[i] = wrap_one(angle[i])
+        out[i] = _wrap_one(angle[i])
 
 
 @kernel
-def limit_wraps(q, lower, upper, out):
+def _limit_wraps(q, lower, upper, out):
     """:func:`into_limits` for each row of ``q`` (N, k), joint ranges ``lower``, ``upper`` (k,) -> ``out`` (N, k)."""
     for i in range(q.shape[0]):
         for j in range(q.shape[1]):
@@ -81,18 +81,18 @@ def limit_wraps(q, lower, upper, out):
 
 
 @kernel(parallel=True)
-def limit_wraps_parallel(q, lower, upper, out):
-    """:func:`limit_wraps` on all cores."""
+def _limit_wraps_parallel(q, lower, upper, out):
+    """:func:`_limit_wraps` on all cores."""
     for i in prange(q.shape[0]):
         for j in range(q.shape[1]):
             out[i, j] = into_limits(q[i, j], lower[j], upper[j])
 
 
 def wrap_angle(angle: ArrayLike) -> np.ndarray:
-    """Angles mapped into ``(-pi, pi]`` (:func:`wrap_one`); angles already there come back bit for bit."""
+    """Angles mapped into ``(-pi, pi]`` (:func:`_wrap_one`); angles already there come back bit for bit."""
     shape, (a,) = flat((angle, 0))
     out = np.empty(a.shape[0])
-    run_batch(wraps, wraps_parallel, a.shape[0], a, out)
+    run_batch(wraps, _wraps_parallel, a.shape[0], a, out)
     return out.reshape(shape)
 
 
@@ -102,5 +102,5 @@ def wrap_to_limits(chain: SerialChain, q: np.ndarray, joints: slice = slice(None
     lower, upper = np.ascontiguousarray(chain.lower[joints]), np.ascontiguousarray(chain.upper[joints])
     shape, (flat_q,) = flat((q, 1))
     out = np.empty(flat_q.shape)
-    run_batch(limit_wraps, limit_wraps_parallel, flat_q.shape[0], flat_q, lower, upper, out)
+    run_batch(_limit_wraps, _limit_wraps_parallel, flat_q.shape[0], flat_q, lower, upper, out)
     return out.reshape(shape + flat_q.shape[1:])

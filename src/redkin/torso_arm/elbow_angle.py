@@ -44,11 +44,11 @@ from redkin.torso_arm.geometry import TorsoArm
 from redkin.validation import check_vectors
 
 #: Elbow circles with a smaller radius (metres) count as a single elbow point.
-RADIUS_TOLERANCE = 1e-12
+_RADIUS_TOLERANCE = 1e-12
 #: Where an elbow angle phi = 0 is measured from (see :class:`ElbowReference`).
 ReferenceKind = Literal["theta4", "vector"]
 #: Below this length a projected reference vector counts as zero.
-REFERENCE_TOLERANCE = 1e-9
+_REFERENCE_TOLERANCE = 1e-9
 
 
 @dataclass(frozen=True)
@@ -62,7 +62,7 @@ class ElbowReference:
         if self.kind not in ("theta4", "vector"):
             raise ValueError(f"elbow reference kind must be 'theta4' or 'vector', got {self.kind!r}")
         v = check_vectors(self.vector, 3, "reference vector").reshape(-1)
-        if v.shape != (3,) or np.linalg.norm(v) < REFERENCE_TOLERANCE:
+        if v.shape != (3,) or np.linalg.norm(v) < _REFERENCE_TOLERANCE:
             raise ValueError(f"reference vector must be one non-zero 3-vector, got {self.vector!r}")
         object.__setattr__(self, "vector", tuple(float(x) for x in v))
 
@@ -127,18 +127,18 @@ def circle_one(shoulder, wrist, L1, lew):
 
 
 @kernel
-def perpendicular_unit(vector, n):
+def _perpendicular_unit(vector, n):
     """``(e, ok)``: the unit component of ``vector`` orthogonal to the unit ``n``; ``ok`` if it is not ~0."""
     v = sub(vector, scale(n, dot(vector, n)))
     size = norm(v)
-    return (scale(v, 1.0 / size) if size > 0.0 else v), size > REFERENCE_TOLERANCE
+    return (scale(v, 1.0 / size) if size > 0.0 else v), size > _REFERENCE_TOLERANCE
 
 
 @kernel
-def any_basis(n):
+def _any_basis(n):
     """A unit vector orthogonal to ``n``: the +y projection, or +z where ``n`` is along y."""
-    e1, ok = perpendicular_unit((0.0, 1.0, 0.0), n)
-    return e1 if ok else perpendicular_unit((0.0, 0.0, 1.0), n)[0]
+    e1, ok = _perpendicular_unit((0.0, 1.0, 0.0), n)
+    return e1 if ok else _perpendicular_unit((0.0, 0.0, 1.0), n)[0]
 
 
 @kernel
@@ -150,11 +150,11 @@ def reference_one(kind, vector, shoulder, wrist, n, centre, radius, L0, L1):
     the +y projection; a circle of radius ~0 takes any basis.
     """
     if kind == VECTOR:
-        return perpendicular_unit(vector, n)
-    b1 = any_basis(n)
+        return _perpendicular_unit(vector, n)
+    b1 = _any_basis(n)
     if kind == ANY_BASIS:
         return b1, True
-    if radius <= RADIUS_TOLERANCE:  # a single elbow: any reference will do
+    if radius <= _RADIUS_TOLERANCE:  # a single elbow: any reference will do
         return b1, True
     b2 = cross(n, b1)
     a = scale(shoulder, 1.0 / L0)  # joint-2 axis z2
@@ -164,7 +164,7 @@ def reference_one(kind, vector, shoulder, wrist, n, centre, radius, L0, L1):
     amplitude = sqrt(alpha1 * alpha1 + alpha2 * alpha2)
     size = radius * (1.0 + kappa / L1)
     rhs = dot(to_wrist, a) - kappa * dot(a, from_shoulder) / L1
-    if not (amplitude > REFERENCE_TOLERANCE and abs(size) > RADIUS_TOLERANCE):
+    if not (amplitude > _REFERENCE_TOLERANCE and abs(size) > _RADIUS_TOLERANCE):
         return b1, False
     ratio = rhs / (size * amplitude)
     if abs(ratio) > 1.0:
@@ -199,7 +199,7 @@ def circles(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable):
 
 
 @kernel(parallel=True)
-def circles_parallel(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable):
+def _circles_parallel(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable):
     """:func:`circles` on all cores."""
     for i in prange(shoulder.shape[0]):
         _circle_item(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable, i)
@@ -220,7 +220,7 @@ def references(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, 
 
 
 @kernel(parallel=True)
-def references_parallel(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists):
+def _references_parallel(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists):
     """:func:`references` on all cores."""
     for i in prange(shoulder.shape[0]):
         _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists, i)
@@ -241,7 +241,7 @@ def elbows(centre, radius, axis, e1, phi, out):
 
 
 @kernel(parallel=True)
-def elbows_parallel(centre, radius, axis, e1, phi, out):
+def _elbows_parallel(centre, radius, axis, e1, phi, out):
     """:func:`elbows` on all cores."""
     for i in prange(centre.shape[0]):
         put(out, i, elbow_one(row(centre, i), radius[i], row(axis, i), row(e1, i), phi[i]))
@@ -254,7 +254,7 @@ def elbow_circle(arm: TorsoArm, shoulder: np.ndarray, wrist: np.ndarray) -> Elbo
     count = S.shape[0]
     axis, centre = np.empty((count, 3)), np.empty((count, 3))
     radius, length, reachable = np.empty(count), np.empty(count), np.empty(count, dtype=bool)
-    run_batch(circles, circles_parallel, count, S, W, arm.L1, arm.forearm, axis, centre, radius, length, reachable)
+    run_batch(circles, _circles_parallel, count, S, W, arm.L1, arm.forearm, axis, centre, radius, length, reachable)
     return ElbowCircle(*(a.reshape(shape + a.shape[1:]) for a in (S, W, axis, centre, radius, length, reachable)))
 
 
@@ -272,7 +272,7 @@ def reference_direction(arm: TorsoArm, circle: ElbowCircle, reference: ElbowRefe
     count = arrays[0].shape[0]
     e1, exists = np.empty((count, 3)), np.empty(count, dtype=bool)
     kind = VECTOR if reference.kind == "vector" else THETA4
-    run_batch(references, references_parallel, count, kind, np.array(reference.vector), *arrays,
+    run_batch(references, _references_parallel, count, kind, np.array(reference.vector), *arrays,
               arm.L0, arm.L1, e1, exists)
     return e1.reshape(shape + (3,)), exists.reshape(shape)
 
@@ -282,7 +282,7 @@ def elbow_position(circle: ElbowCircle, e1: np.ndarray, phi: ArrayLike) -> np.nd
     shape, (centre, radius, axis, basis, angle) = flat((circle.centre, 1), (circle.radius, 0), (circle.axis, 1),
                                                       (e1, 1), (phi, 0))
     out = np.empty((centre.shape[0], 3))
-    run_batch(elbows, elbows_parallel, centre.shape[0], centre, radius, axis, basis, angle, out)
+    run_batch(elbows, _elbows_parallel, centre.shape[0], centre, radius, axis, basis, angle, out)
     return out.reshape(shape + (3,))
 
 

@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.models import humanoid_right_arm
+from redkin.torso_arm._kernel_tools import flat, shoulder_points
 
 Side = Literal["right", "left"]
 
@@ -125,9 +126,12 @@ class TorsoArm:
         return self.to_right(points)
 
     def shoulder(self, theta1: ArrayLike) -> np.ndarray:
-        """Right-arm shoulder ``S(theta_1) = L0 (cos theta_1, 0, -sin theta_1)``, shape ``(..., 3)``."""
-        theta1 = np.asarray(theta1, dtype=float)
-        return self.L0 * np.stack([np.cos(theta1), np.zeros_like(theta1), -np.sin(theta1)], axis=-1)
+        """Right-arm shoulder ``S(theta_1) = L0 (cos theta_1, 0, -sin theta_1)``, shape ``(..., 3)``
+        (the kernel :func:`redkin.torso_arm._kernel_tools.shoulder_point` over the batch)."""
+        shape, (flat_theta1,) = flat((theta1, 0))
+        out = np.empty((flat_theta1.shape[0], 3))
+        shoulder_points(self.L0, flat_theta1, out)
+        return out.reshape(shape + (3,))
 
 
 def humanoid_arm(side: Side = "right", tool_length: float = 0.0) -> TorsoArm:

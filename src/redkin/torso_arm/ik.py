@@ -59,7 +59,7 @@ class IKSolution:
         return np.vectorize(STATUS_NAMES.get, otypes=[object])(self.status)
 
 
-def hand_rotation(rotation: ArrayLike | None = None, angles: ArrayLike | None = None) -> np.ndarray:
+def _hand_rotation(rotation: ArrayLike | None = None, angles: ArrayLike | None = None) -> np.ndarray:
     """A hand rotation from a matrix or from X-Y-Z fixed angles [001 eq. 4.4]; exactly one must be given."""
     if rotation is not None and angles is None:
         return check_rotation(rotation, "rotation")
@@ -98,7 +98,7 @@ def ik(
     IKSolution
     """
     p = check_vectors(position, 3, "position")
-    rot = hand_rotation(rotation, angles)
+    rot = _hand_rotation(rotation, angles)
     psi = as_float_array(shoulder_angle, "shoulder_angle")
     check_finite(psi, "shoulder_angle")
     phi = as_float_array(elbow_angle, "elbow_angle")

@@ -2,8 +2,8 @@
 
 ``w = sqrt(det(J J^T))`` ([001 eq. 5.3], Yoshikawa) with ``J`` the 3 x 5 Jacobian
 of the wrist position (origin of frame 6) w.r.t. theta_1..theta_5 [001 eq. 5.2].
-:func:`wrist_manipulability` evaluates it on the chain (the reference);
-:func:`wrist_jacobian_from_joints` builds the same Jacobian in closed form
+:func:`_wrist_manipulability` evaluates it on the chain (the reference);
+:func:`_wrist_jacobian_from_joints` builds the same Jacobian in closed form
 from the joint axes, for fast maps.  Because ``w`` is a Gram determinant it
 does not depend on the signs of the columns, so all four position branches
 (which share the points ``S``, ``E``, ``W`` and the axis lines) have the same
@@ -31,7 +31,7 @@ from redkin.torso_arm._kernel_tools import add, cross, flat, scale, shoulder_poi
 from redkin.torso_arm.geometry import WRIST_FRAME, TorsoArm
 
 
-def wrist_manipulability(arm: TorsoArm, q: ArrayLike) -> np.ndarray:
+def _wrist_manipulability(arm: TorsoArm, q: ArrayLike) -> np.ndarray:
     """[001 eq. 5.3] on the chain: ``sqrt(det(J J^T))`` of the wrist Jacobian [001 eq. 5.2] (joints 1-5), ``(...)``."""
     return arm.chain.manipulability(q, rows=[0, 1, 2], columns=range(5), frame=WRIST_FRAME)
 
@@ -40,7 +40,7 @@ def wrist_manipulability(arm: TorsoArm, q: ArrayLike) -> np.ndarray:
 def wrist_jacobian_one(q5, L0, L1, lew, delta, out):
     """Closed-form 3 x 5 wrist-position Jacobian [001 eq. 5.2] of the right arm at joints 1-5 ``q5`` into ``out``.
 
-    Columns ``z_i x (W - p_i)`` (see :func:`wrist_jacobian_from_joints`).
+    Columns ``z_i x (W - p_i)`` (see :func:`_wrist_jacobian_from_joints`).
     """
     t1, t2, t3, t4, t5 = q5[0], q5[1], q5[2], q5[3], q5[4]
     c2, s2, c3, s3, c4, s4 = cos(t2), sin(t2), cos(t3), sin(t3), cos(t4), sin(t4)
@@ -60,7 +60,7 @@ def wrist_jacobian_one(q5, L0, L1, lew, delta, out):
 
 
 @kernel
-def gram3(jacobian, first):
+def _gram3(jacobian, first):
     """Entries ``g00, g01, g02, g11, g12, g22`` of ``J J^T`` over the columns ``first..k-1`` of ``J`` (3, k)."""
     g00 = g01 = g02 = g11 = g12 = g22 = 0.0
     for j in range(first, jacobian.shape[1]):
@@ -75,7 +75,7 @@ def gram3(jacobian, first):
 
 
 @kernel
-def det3(g):
+def _det3(g):
     """Determinant of the symmetric 3 x 3 matrix with entries ``g00, g01, g02, g11, g12, g22``."""
     g00, g01, g02, g11, g12, g22 = g
     return g00 * (g11 * g22 - g12 * g12) - g01 * (g01 * g22 - g12 * g02) + g02 * (g01 * g12 - g11 * g02)
@@ -84,12 +84,12 @@ def det3(g):
 @kernel
 def gram_one(jacobian):
     """``sqrt(max(det(J J^T), 0))`` of one Jacobian ``(3, k)`` [001 eq. 5.3], by the explicit 3 x 3 determinant."""
-    return sqrt(max(det3(gram3(jacobian, 0)), 0.0))
+    return sqrt(max(_det3(_gram3(jacobian, 0)), 0.0))
 
 
 @kernel
-def adjugate_form(g, a):
-    """``a^T adj(G) a`` for the symmetric 3 x 3 ``G`` (entries as :func:`gram3`) and a 3-vector ``a``."""
+def _adjugate_form(g, a):
+    """``a^T adj(G) a`` for the symmetric 3 x 3 ``G`` (entries as :func:`_gram3`) and a 3-vector ``a``."""
     g00, g01, g02, g11, g12, g22 = g
     a00, a11, a22 = g11 * g22 - g12 * g12, g00 * g22 - g02 * g02, g00 * g11 - g01 * g01
     a01, a02, a12 = g02 * g12 - g01 * g22, g01 * g12 - g02 * g11, g01 * g02 - g00 * g12
@@ -107,57 +107,57 @@ def dual_one(right, left):
     ``det(J J^T) = d_R d_L + d_L a_R^T adj(D_R) a_R + d_R a_L^T adj(D_L) a_L``,
     ``d = det(D)``; returns its square root (0 where rounding makes it negative).
     """
-    g_right, g_left = gram3(right, 1), gram3(left, 1)
-    d_right, d_left = det3(g_right), det3(g_left)
+    g_right, g_left = _gram3(right, 1), _gram3(left, 1)
+    d_right, d_left = _det3(g_right), _det3(g_left)
     a_right = (right[0, 0], right[1, 0], right[2, 0])
     a_left = (left[0, 0], left[1, 0], left[2, 0])
-    det = d_right * d_left + d_left * adjugate_form(g_right, a_right) + d_right * adjugate_form(g_left, a_left)
+    det = d_right * d_left + d_left * _adjugate_form(g_right, a_right) + d_right * _adjugate_form(g_left, a_left)
     return sqrt(max(det, 0.0))
 
 
 @kernel
-def wrist_jacobians(q5, L0, L1, lew, delta, out):
+def _wrist_jacobians(q5, L0, L1, lew, delta, out):
     """:func:`wrist_jacobian_one` for each row of ``q5`` (N, 5) -> ``out`` (N, 3, 5)."""
     for i in range(q5.shape[0]):
         wrist_jacobian_one(q5[i], L0, L1, lew, delta, out[i])
 
 
 @kernel(parallel=True)
-def wrist_jacobians_parallel(q5, L0, L1, lew, delta, out):
-    """:func:`wrist_jacobians` on all cores."""
+def _wrist_jacobians_parallel(q5, L0, L1, lew, delta, out):
+    """:func:`_wrist_jacobians` on all cores."""
     for i in prange(q5.shape[0]):
         wrist_jacobian_one(q5[i], L0, L1, lew, delta, out[i])
 
 
 @kernel
-def grams(jacobian, out):
+def _grams(jacobian, out):
     """:func:`gram_one` for each of ``jacobian`` (N, 3, k) -> ``out`` (N,)."""
     for i in range(jacobian.shape[0]):
         out[i] = gram_one(jacobian[i])
 
 
 @kernel(parallel=True)
-def grams_parallel(jacobian, out):
-    """:func:`grams` on all cores."""
+def _grams_parallel(jacobian, out):
+    """:func:`_grams` on all cores."""
     for i in prange(jacobian.shape[0]):
         out[i] = gram_one(jacobian[i])
 
 
 @kernel
-def duals(right, left, out):
+def _duals(right, left, out):
     """:func:`dual_one` for each pair of ``right``, ``left`` (N, 3, 5) -> ``out`` (N,)."""
     for i in range(right.shape[0]):
         out[i] = dual_one(right[i], left[i])
 
 
 @kernel(parallel=True)
-def duals_parallel(right, left, out):
-    """:func:`duals` on all cores."""
+def _duals_parallel(right, left, out):
+    """:func:`_duals` on all cores."""
     for i in prange(right.shape[0]):
         out[i] = dual_one(right[i], left[i])
 
 
-def wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
+def _wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
     """Closed-form 3 x 5 wrist-position Jacobian of the right arm ([001 eq. 5.2]; columns up to sign).
 
     Columns ``z_i x (W - p_i)``: torso axis ``y`` and joint-2 axis
@@ -177,7 +177,7 @@ def wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
     """
     shape, (q,) = flat((q5, 1))
     out = np.empty((q.shape[0], 3, 5))
-    run_batch(wrist_jacobians, wrist_jacobians_parallel, q.shape[0], q, arm.L0, arm.L1, arm.forearm, arm.delta, out)
+    run_batch(_wrist_jacobians, _wrist_jacobians_parallel, q.shape[0], q, arm.L0, arm.L1, arm.forearm, arm.delta, out)
     return out.reshape(shape + (3, 5))
 
 
@@ -187,7 +187,7 @@ def gram_manipulability(jacobian: np.ndarray) -> np.ndarray:
     if j.shape[1] != 3:
         raise ValueError(f"jacobian must have shape (..., 3, k), got {np.shape(jacobian)}")
     out = np.empty(j.shape[0])
-    run_batch(grams, grams_parallel, j.shape[0], j, out)
+    run_batch(_grams, _grams_parallel, j.shape[0], j, out)
     return out.reshape(shape)
 
 
@@ -208,5 +208,5 @@ def stacked_dual_manipulability(jacobian_right: np.ndarray, jacobian_left: np.nd
         raise ValueError(f"jacobians must have shape (..., 3, 5), got {np.shape(jacobian_right)} and "
                          f"{np.shape(jacobian_left)}")
     out = np.empty(right.shape[0])
-    run_batch(duals, duals_parallel, right.shape[0], right, left, out)
+    run_batch(_duals, _duals_parallel, right.shape[0], right, left, out)
     return out.reshape(shape)

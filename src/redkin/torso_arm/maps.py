@@ -60,9 +60,9 @@ MAX_RESOLUTION = 1000
 #: Largest number of theta_1 or phi samples of a best-over-the-redundancy map.
 MAX_SWEEP_SAMPLES = 3600
 #: Postures a best map evaluates in all (grid points x theta_1 x phi samples).
-MAX_MAP_POSTURES = 100_000_000
+_MAX_MAP_POSTURES = 100_000_000
 #: Progress reports of a best map (it runs in this many parts when a progress callback is given).
-PROGRESS_STEPS = 50
+_PROGRESS_STEPS = 50
 DualMeasure = Callable[[np.ndarray, np.ndarray], np.ndarray]
 _AXES = "xyz"
 
@@ -101,7 +101,7 @@ class PlaneGrid:
         return float(abs(du * dv))
 
 
-def parse_plane(plane: str) -> tuple[str, float]:
+def _parse_plane(plane: str) -> tuple[str, float]:
     """``"z=0"``, ``"x = -0.2"`` -> (axis, value)."""
     match = re.fullmatch(r"\s*([xyzXYZ])\s*=\s*([-+0-9.eE]+)\s*", str(plane))
     if not match:
@@ -127,7 +127,7 @@ def plane_grid(plane: str, extent: ArrayLike, resolution: int | tuple[int, int])
     resolution : int or (int, int)
         Points along u and v (2 to :data:`MAX_RESOLUTION` each).
     """
-    axis, value = parse_plane(plane)
+    axis, value = _parse_plane(plane)
     box = as_float_array(extent, "extent").reshape(-1)
     if box.shape != (4,):
         raise ValueError(f"extent must be (u_min, u_max, v_min, v_max), got {np.shape(extent)}")
@@ -163,7 +163,7 @@ def reach_extent(arm: TorsoArm, plane: str, margin: float = 0.05) -> tuple[float
     ValueError
         If the plane misses the reach altogether.
     """
-    axis, value = parse_plane(plane)
+    axis, value = _parse_plane(plane)
     reach = arm.L1 + arm.forearm
     outer = arm.L0 + reach
     pad = margin * reach
@@ -208,7 +208,7 @@ class ManipulabilityMap:
 # (+1 right, -1 left: the side's theta_1 is sign times the right-problem theta_1) and ``limits`` (2, 5),
 # the lower and upper limits of the side's joints 1-5.  Points and theta_1 are the right problem's.
 @kernel
-def circle_stage(lengths, kind, vector, theta1, wrist):
+def _circle_stage(lengths, kind, vector, theta1, wrist):
     """The part of a posture fixed by theta_1 and the wrist (sections 3.2-3.3): ``(circle, e1, status)``.
 
     ``circle`` is :func:`~redkin.torso_arm.elbow_angle.circle_one`'s ``(n, centre, radius)``,
@@ -223,7 +223,7 @@ def circle_stage(lengths, kind, vector, theta1, wrist):
 
 
 @kernel
-def elbow_stage(lengths, sign, limits, theta1, wrist, circle, e1, phi, q):
+def _elbow_stage(lengths, sign, limits, theta1, wrist, circle, e1, phi, q):
     """The rest of a posture at ``phi``: joints 1-5 of the four branches into ``q`` (4, 5) (section 3.4);
     whether some branch, wrapped into the side's limits, respects them."""
     n, centre, radius = circle
@@ -239,33 +239,33 @@ def elbow_stage(lengths, sign, limits, theta1, wrist, circle, e1, phi, q):
 
 
 @kernel
-def posture_one(lengths, sign, limits, kind, vector, theta1, wrist, phi, q):
+def _posture_one(lengths, sign, limits, kind, vector, theta1, wrist, phi, q):
     """One posture of the right problem at ``theta1``, ``wrist`` (3-tuple) and ``phi``: ``(status, feasible)``.
 
-    :func:`circle_stage` then :func:`elbow_stage`; joints 1-5 of the four
+    :func:`_circle_stage` then :func:`_elbow_stage`; joints 1-5 of the four
     branches go into ``q`` (4, 5); ``feasible`` says that the posture exists
     and some branch respects the side's limits.
     """
-    circle, e1, status = circle_stage(lengths, kind, vector, theta1, wrist)
-    feasible = elbow_stage(lengths, sign, limits, theta1, wrist, circle, e1, phi, q)
+    circle, e1, status = _circle_stage(lengths, kind, vector, theta1, wrist)
+    feasible = _elbow_stage(lengths, sign, limits, theta1, wrist, circle, e1, phi, q)
     return status, status == OK and feasible
 
 
 @kernel
-def jacobian_of(lengths, q, jacobian):
+def _jacobian_of(lengths, q, jacobian):
     """The wrist Jacobian [001 eq. 5.2] of the first branch of ``q`` (4, 5) into ``jacobian`` (3, 5)."""
     wrist_jacobian_one(q[0], lengths[0], lengths[1], lengths[2], lengths[3], jacobian)
 
 
 @kernel
-def mirror_one(theta1, point):
+def _mirror_one(theta1, point):
     """``Ry(theta_1) M Ry(-theta_1) p``: ``p`` mirrored in the torso's mid-plane at theta_1."""
     c, s = cos(2.0 * theta1), sin(2.0 * theta1)
     return (-c * point[0] + s * point[2], point[1], s * point[0] + c * point[2])
 
 
 @kernel
-def best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jacobians):
+def _best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jacobians):
     """``(best, reached)``: best ``w`` at a right-problem ``wrist`` over ``thetas`` x ``phis`` (theta_1, phi).
 
     ``best`` is the largest ``w`` ([001 eq. 5.3]; the stacked dual measure if
@@ -278,26 +278,26 @@ def best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jacob
     """
     best, reached = -inf, False
     for t in thetas:
-        circle, e1, status = circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), t, wrist)
+        circle, e1, status = _circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), t, wrist)
         if status != OK:  # the wrist is out of reach at this theta_1, whatever phi
             continue
         left, circle_left, e1_left = wrist, circle, e1
         if dual:
-            left = mirror_one(t, wrist)
+            left = _mirror_one(t, wrist)
             left = (-left[0], left[1], left[2])
-            circle_left, e1_left, status = circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), -t, left)
+            circle_left, e1_left, status = _circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), -t, left)
             if status != OK:
                 continue
         reached = True
         for phi in phis:
-            usable = elbow_stage(lengths, signs[0], limits[0], t, wrist, circle, e1, phi, q[0]) or not within
+            usable = _elbow_stage(lengths, signs[0], limits[0], t, wrist, circle, e1, phi, q[0]) or not within
             if dual and usable:
-                usable = elbow_stage(lengths, signs[1], limits[1], -t, left, circle_left, e1_left, phi, q[1]) \
+                usable = _elbow_stage(lengths, signs[1], limits[1], -t, left, circle_left, e1_left, phi, q[1]) \
                     or not within
             if usable:
-                jacobian_of(lengths, q[0], jacobians[0])
+                _jacobian_of(lengths, q[0], jacobians[0])
                 if dual:
-                    jacobian_of(lengths, q[1], jacobians[1])
+                    _jacobian_of(lengths, q[1], jacobians[1])
                     best = max(best, dual_one(jacobians[0], jacobians[1]))
                 else:
                     best = max(best, gram_one(jacobians[0]))
@@ -305,24 +305,24 @@ def best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jacob
 
 
 @kernel
-def best_points(points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
-    """:func:`best_one` for each of ``points`` (N, 3) -> ``best`` (N,), ``reached`` (N,) bool."""
+def _best_points(points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
+    """:func:`_best_one` for each of ``points`` (N, 3) -> ``best`` (N,), ``reached`` (N,) bool."""
     q, jacobians = np.empty((2, 4, 5)), np.empty((2, 3, 5))
     for i in range(points.shape[0]):
-        best[i], reached[i] = best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q, jacobians)
+        best[i], reached[i] = _best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q, jacobians)
 
 
 @kernel(parallel=True)
-def best_points_parallel(points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
-    """:func:`best_points` on all cores."""
+def _best_points_parallel(points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
+    """:func:`_best_points` on all cores."""
     for i in prange(points.shape[0]):
         q, jacobians = np.empty((2, 4, 5)), np.empty((2, 3, 5))
-        best[i], reached[i] = best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q, jacobians)
+        best[i], reached[i] = _best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q, jacobians)
 
 
 @kernel
 def states(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible):
-    """:func:`posture_one` for each item: ``points`` (N, 3), ``theta1``, ``phi`` (N,), ``defined`` (N,) bool
+    """:func:`_posture_one` for each item: ``points`` (N, 3), ``theta1``, ``phi`` (N,), ``defined`` (N,) bool
     -> ``jacobian`` (N, 3, 5), ``status`` (N,) (SHOULDER_UNDEFINED where not ``defined``), ``feasible`` (N,)."""
     q = np.empty((4, 5))
     for i in range(points.shape[0]):
@@ -330,7 +330,7 @@ def states(points, theta1, defined, phi, lengths, sign, limits, kind, vector, ja
 
 
 @kernel(parallel=True)
-def states_parallel(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible):
+def _states_parallel(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible):
     """:func:`states` on all cores."""
     for i in prange(points.shape[0]):
         q = np.empty((4, 5))
@@ -340,24 +340,24 @@ def states_parallel(points, theta1, defined, phi, lengths, sign, limits, kind, v
 @kernel
 def _state_item(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible, q, i):
     t = theta1[i] if defined[i] else 0.0
-    code, feasible[i] = posture_one(lengths, sign, limits, kind, (vector[0], vector[1], vector[2]), t,
+    code, feasible[i] = _posture_one(lengths, sign, limits, kind, (vector[0], vector[1], vector[2]), t,
                                     row(points, i), phi[i], q)
-    jacobian_of(lengths, q, jacobian[i])
+    _jacobian_of(lengths, q, jacobian[i])
     status[i] = code if defined[i] else SHOULDER_UNDEFINED
 
 
 @kernel
-def mirrors(theta1, points, out):
-    """:func:`mirror_one` for each item: ``theta1`` (N,), ``points`` (N, 3) -> ``out`` (N, 3)."""
+def _mirrors(theta1, points, out):
+    """:func:`_mirror_one` for each item: ``theta1`` (N,), ``points`` (N, 3) -> ``out`` (N, 3)."""
     for i in range(points.shape[0]):
-        put(out, i, mirror_one(theta1[i], row(points, i)))
+        put(out, i, _mirror_one(theta1[i], row(points, i)))
 
 
 @kernel(parallel=True)
-def mirrors_parallel(theta1, points, out):
-    """:func:`mirrors` on all cores."""
+def _mirrors_parallel(theta1, points, out):
+    """:func:`_mirrors` on all cores."""
     for i in prange(points.shape[0]):
-        put(out, i, mirror_one(theta1[i], row(points, i)))
+        put(out, i, _mirror_one(theta1[i], row(points, i)))
 
 
 # ----------------------------------------------------------------- wrappers
@@ -394,7 +394,7 @@ def _arm_state(arm: TorsoArm, right_points: np.ndarray, theta1: np.ndarray, defi
         reference = reference.mirrored() if arm.side == "left" else reference
         kind, vector = (VECTOR if reference.kind == "vector" else THETA4), np.array(reference.vector)
     jacobian, status, feasible = np.empty((count, 3, 5)), np.empty(count, dtype=np.int64), np.empty(count, dtype=bool)
-    run_batch(states, states_parallel, count, points, t1, ok.astype(bool), angle, _lengths(arm), _sign(arm),
+    run_batch(states, _states_parallel, count, points, t1, ok.astype(bool), angle, _lengths(arm), _sign(arm),
               _limits(arm), kind, vector, jacobian, status, feasible)
     if arm.side == "left":  # the mirror image's Jacobian: rows x -> -x, theta_1 column in the left's sense
         jacobian = MIRROR @ jacobian * np.array([-1.0, 1.0, 1.0, 1.0, 1.0])
@@ -453,9 +453,9 @@ def sweep_samples(arm: TorsoArm, samples: tuple[int, int]) -> tuple[np.ndarray, 
 
 def _check_total(points: int, samples: tuple[int, int]) -> None:
     total = points * samples[0] * samples[1]
-    if total > MAX_MAP_POSTURES:
+    if total > _MAX_MAP_POSTURES:
         raise ValueError(f"{points} grid points x {samples[0]} x {samples[1]} samples = {total} postures; at most "
-                         f"{MAX_MAP_POSTURES} are allowed (about a minute on two cores)")
+                         f"{_MAX_MAP_POSTURES} are allowed (about a minute on two cores)")
 
 
 def best_over_redundancy(
@@ -508,10 +508,10 @@ def best_over_redundancy(
     limits = np.ascontiguousarray(np.stack([_limits(arm), _limits(left)]))
     thetas = np.ascontiguousarray(thetas * _sign(arm))  # the right problem's theta_1
     best, reached = np.empty(count), np.empty(count, dtype=bool)
-    step = count if progress is None else max(PARALLEL_BATCH, -(-count // PROGRESS_STEPS))
+    step = count if progress is None else max(PARALLEL_BATCH, -(-count // _PROGRESS_STEPS))
     for start in range(0, count, step):
         part = slice(start, min(count, start + step))
-        run_batch(best_points, best_points_parallel, part.stop - start, flat_points[part], thetas, phis,
+        run_batch(_best_points, _best_points_parallel, part.stop - start, flat_points[part], thetas, phis,
                   _lengths(arm), signs, limits, bool(within_limits), bool(dual), best[part], reached[part])
         if progress is not None:
             progress(part.stop / count)
@@ -539,11 +539,11 @@ def _best_map(grid: PlaneGrid, best: np.ndarray, reached: np.ndarray, descriptio
     return ManipulabilityMap(grid, best, found, np.where(reached, OK, UNREACHABLE), description)
 
 
-def torso_mirror(theta1: ArrayLike, points: ArrayLike) -> np.ndarray:
+def _torso_mirror(theta1: ArrayLike, points: ArrayLike) -> np.ndarray:
     """Mirror ``points`` (..., 3) in the torso's mid-plane ``Ry(theta_1) {x = 0}``: ``Ry(theta_1) M Ry(-theta_1) p``."""
     shape, (t1, p) = flat((theta1, 0), (points, 1))
     out = np.empty((p.shape[0], 3))
-    run_batch(mirrors, mirrors_parallel, p.shape[0], t1, p, out)
+    run_batch(_mirrors, _mirrors_parallel, p.shape[0], t1, p, out)
     return out.reshape(shape + (3,))
 
 
@@ -553,7 +553,7 @@ def _dual_states(right: TorsoArm, points: np.ndarray, theta1: np.ndarray, define
     left = TorsoArm(right.right_chain, "left")
     theta1 = np.where(defined, theta1, 0.0)
     a = _arm_state(right, points, theta1, defined, phi, reference)
-    b = _arm_state(left, left.to_right(torso_mirror(theta1, points)), -theta1, defined, phi, reference)
+    b = _arm_state(left, left.to_right(_torso_mirror(theta1, points)), -theta1, defined, phi, reference)
     return a, b
 
 
@@ -570,7 +570,7 @@ def dual_arm_map(
 
     The left arm is the mirror image of the right arm in the torso's
     mid-plane (same joints 2-5, theta_1 shared), so its wrist is at
-    :func:`torso_mirror` of the grid point; theta_1 comes from the right
+    :func:`_torso_mirror` of the grid point; theta_1 comes from the right
     arm's psi.  (Both wrists at one point is impossible within the limits:
     theta_3 >= -5 deg keeps each wrist at least ~17 mm on its own side of the
     mid-plane.)  ``measure(J_right, J_left)`` receives the two world

@@ -86,15 +86,15 @@ def joints_one(theta1, elbow, wrist, L0, L1, delta, out):
 
 
 @kernel
-def joint_batch(theta1, elbow, wrist, L0, L1, delta, out):
+def _joint_batch(theta1, elbow, wrist, L0, L1, delta, out):
     """:func:`joints_one` for each item: ``theta1`` (N,), ``elbow``, ``wrist`` (N, 3) -> ``out`` (N, 4, 5)."""
     for i in range(theta1.shape[0]):
         joints_one(theta1[i], row(elbow, i), row(wrist, i), L0, L1, delta, out[i])
 
 
 @kernel(parallel=True)
-def joint_batch_parallel(theta1, elbow, wrist, L0, L1, delta, out):
-    """:func:`joint_batch` on all cores."""
+def _joint_batch_parallel(theta1, elbow, wrist, L0, L1, delta, out):
+    """:func:`_joint_batch` on all cores."""
     for i in prange(theta1.shape[0]):
         joints_one(theta1[i], row(elbow, i), row(wrist, i), L0, L1, delta, out[i])
 
@@ -116,7 +116,7 @@ def joints_from_points(arm: TorsoArm, theta1: np.ndarray, elbow: np.ndarray, wri
     """
     shape, (t1, E, W) = flat((theta1, 0), (elbow, 1), (wrist, 1))
     out = np.empty((t1.shape[0], len(POSITION_BRANCHES), 5))
-    run_batch(joint_batch, joint_batch_parallel, t1.shape[0], t1, E, W, arm.L0, arm.L1, arm.delta, out)
+    run_batch(_joint_batch, _joint_batch_parallel, t1.shape[0], t1, E, W, arm.L0, arm.L1, arm.delta, out)
     return out.reshape(shape + out.shape[1:])
 
 

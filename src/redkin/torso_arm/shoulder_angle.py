@@ -34,12 +34,12 @@ from redkin.torso_arm._kernel_tools import cross, dot, flat, norm, row, scale, s
 from redkin.validation import as_float_array, check_finite, check_vectors
 
 #: Below this ``|W_y| / |W|`` the signed shoulder angle is undefined.
-SHOULDER_TOLERANCE = 1e-9
+_SHOULDER_TOLERANCE = 1e-9
 
 
 # ------------------------------------------------------------------ kernels
 @kernel
-def reference_basis(wrist):
+def _reference_basis(wrist):
     """``(n, e1, e2, ok)`` of a right-arm wrist ``W`` (3-tuple): the neck->wrist axis and psi's basis.
 
     ``n = W / |W|``; ``e1`` is the unit component of ``+x`` orthogonal to
@@ -50,15 +50,15 @@ def reference_basis(wrist):
     n = scale(wrist, 1.0 / length) if length > 0.0 else wrist
     s0 = (1.0 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2])
     size = norm(s0)
-    ok = size > SHOULDER_TOLERANCE and abs(n[1]) > SHOULDER_TOLERANCE
+    ok = size > _SHOULDER_TOLERANCE and abs(n[1]) > _SHOULDER_TOLERANCE
     e1 = scale(s0, 1.0 / size) if size > 0.0 else s0
     return n, e1, cross(n, e1), ok
 
 
 @kernel
-def psi_one(theta1, wrist, L0):
+def _psi_one(theta1, wrist, L0):
     """psi = ``atan2(S . e2, S . e1)`` of the shoulder ``S(theta_1)`` (section 3.2, signed); NaN where undefined."""
-    _, e1, e2, ok = reference_basis(wrist)
+    _, e1, e2, ok = _reference_basis(wrist)
     if not ok:
         return nan
     s = shoulder_point(L0, theta1)
@@ -66,10 +66,10 @@ def psi_one(theta1, wrist, L0):
 
 
 @kernel
-def theta1_one(psi, wrist):
-    """``(theta_1, defined)`` with ``psi_one(theta_1, wrist) = psi``: ``atan2(-sgn(n_y) v_x, -sgn(n_y) v_z)``,
+def _theta1_one(psi, wrist):
+    """``(theta_1, defined)`` with ``_psi_one(theta_1, wrist) = psi``: ``atan2(-sgn(n_y) v_x, -sgn(n_y) v_z)``,
     ``v = n x (cos(psi) e1 + sin(psi) e2)``; theta_1 NaN where undefined."""
-    n, e1, e2, ok = reference_basis(wrist)
+    n, e1, e2, ok = _reference_basis(wrist)
     if not ok:
         return nan, False
     c, s = cos(psi), sin(psi)
@@ -79,35 +79,35 @@ def theta1_one(psi, wrist):
 
 
 @kernel
-def shoulder_angles(theta1, wrist, L0, out):
-    """:func:`psi_one` for each item: ``theta1`` (N,), ``wrist`` (N, 3) -> ``out`` (N,)."""
+def _shoulder_angles(theta1, wrist, L0, out):
+    """:func:`_psi_one` for each item: ``theta1`` (N,), ``wrist`` (N, 3) -> ``out`` (N,)."""
     for i in range(theta1.shape[0]):
-        out[i] = psi_one(theta1[i], row(wrist, i), L0)
+        out[i] = _psi_one(theta1[i], row(wrist, i), L0)
 
 
 @kernel(parallel=True)
-def shoulder_angles_parallel(theta1, wrist, L0, out):
-    """:func:`shoulder_angles` on all cores."""
+def _shoulder_angles_parallel(theta1, wrist, L0, out):
+    """:func:`_shoulder_angles` on all cores."""
     for i in prange(theta1.shape[0]):
-        out[i] = psi_one(theta1[i], row(wrist, i), L0)
+        out[i] = _psi_one(theta1[i], row(wrist, i), L0)
 
 
 @kernel
-def torso_angles(psi, wrist, out, defined):
-    """:func:`theta1_one` for each item: ``psi`` (N,), ``wrist`` (N, 3) -> ``out`` (N,), ``defined`` (N,) bool."""
+def _torso_angles(psi, wrist, out, defined):
+    """:func:`_theta1_one` for each item: ``psi`` (N,), ``wrist`` (N, 3) -> ``out`` (N,), ``defined`` (N,) bool."""
     for i in range(psi.shape[0]):
-        out[i], defined[i] = theta1_one(psi[i], row(wrist, i))
+        out[i], defined[i] = _theta1_one(psi[i], row(wrist, i))
 
 
 @kernel(parallel=True)
-def torso_angles_parallel(psi, wrist, out, defined):
-    """:func:`torso_angles` on all cores."""
+def _torso_angles_parallel(psi, wrist, out, defined):
+    """:func:`_torso_angles` on all cores."""
     for i in prange(psi.shape[0]):
-        out[i], defined[i] = theta1_one(psi[i], row(wrist, i))
+        out[i], defined[i] = _theta1_one(psi[i], row(wrist, i))
 
 
 # -------------------------------------------------------------- public API
-def shoulder_angle_defined(wrist: ArrayLike) -> np.ndarray:
+def _shoulder_angle_defined(wrist: ArrayLike) -> np.ndarray:
     """Whether the signed shoulder angle is defined for right-arm wrist positions ``(..., 3)``."""
     w = check_vectors(wrist, 3, "wrist")
     return theta1_from_shoulder_angle(np.zeros(w.shape[:-1]), w)[1]
@@ -129,13 +129,13 @@ def shoulder_angle(theta1: ArrayLike, wrist: ArrayLike, L0: float = 1.0) -> np.n
     -------
     numpy.ndarray, shape (...)
         psi in ``(-pi, pi]``; NaN where it is undefined (``W_y = 0``, see
-        :func:`shoulder_angle_defined`).
+        :func:`_shoulder_angle_defined`).
     """
     t = as_float_array(theta1, "theta1")
     check_finite(t, "theta1")
     shape, (t, w) = flat((t, 0), (check_vectors(wrist, 3, "wrist"), 1))
     out = np.empty(t.shape[0])
-    run_batch(shoulder_angles, shoulder_angles_parallel, t.shape[0], t, w, float(L0), out)
+    run_batch(_shoulder_angles, _shoulder_angles_parallel, t.shape[0], t, w, float(L0), out)
     return out.reshape(shape)
 
 
@@ -158,7 +158,7 @@ def theta1_from_shoulder_angle(psi: ArrayLike, wrist: ArrayLike) -> tuple[np.nda
     check_finite(p, "psi")
     shape, (p, w) = flat((p, 0), (check_vectors(wrist, 3, "wrist"), 1))
     out, defined = np.empty(p.shape[0]), np.empty(p.shape[0], dtype=bool)
-    run_batch(torso_angles, torso_angles_parallel, p.shape[0], p, w, out, defined)
+    run_batch(_torso_angles, _torso_angles_parallel, p.shape[0], p, w, out, defined)
     return out.reshape(shape), defined.reshape(shape)
 
 

@@ -23,10 +23,10 @@ import numpy as np
 from redkin.torso_arm.branches import WRIST_BRANCHES, wrap_angle
 
 #: ``|sin theta_7|`` below this counts as the wrist singularity.
-WRIST_SINGULAR_TOLERANCE = 1e-9
+_WRIST_SINGULAR_TOLERANCE = 1e-9
 
 
-def wrist_rotation(theta6: np.ndarray, theta7: np.ndarray, theta8: np.ndarray) -> np.ndarray:
+def _wrist_rotation(theta6: np.ndarray, theta7: np.ndarray, theta8: np.ndarray) -> np.ndarray:
     """``R58`` of Table 2.1 rows 6-8 (the derived replacement of [001 eqs. 4.6, 4.9]), shape ``(..., 3, 3)``."""
     c6, s6, c7, s7, c8, s8 = (f(t) for t in (theta6, theta7, theta8) for f in (np.cos, np.sin))
     return np.stack([
@@ -52,7 +52,7 @@ def wrist_ik(r58: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         The wrist singularity ``sin theta_7 = 0``; both branches then coincide.
     """
     sin7 = np.hypot(r58[..., 0, 2], r58[..., 2, 2])
-    singular = sin7 < WRIST_SINGULAR_TOLERANCE
+    singular = sin7 < _WRIST_SINGULAR_TOLERANCE
     cos7 = -r58[..., 1, 2]
     out = []
     for s in WRIST_BRANCHES:

@@ -35,10 +35,10 @@ from redkin.velocity.solution import VelocitySolution
 _NO_FACTORS = np.zeros(7)  # D_i, not read by the step where |D_e| >= near_zero
 
 
-def read_vector(value: ArrayLike, length: int, name: str) -> np.ndarray:
+def _read_vector(value: ArrayLike, length: int, name: str) -> np.ndarray:
     """``value`` as a new float array of shape ``(length,)``; ``ValueError`` naming ``name`` otherwise.
 
-    Finiteness is checked by the compiled step (:func:`finite_or_raise` turns its code into the error).
+    Finiteness is checked by the compiled step (:func:`_finite_or_raise` turns its code into the error).
     """
     try:
         array = np.array(value, dtype=float)
@@ -49,7 +49,7 @@ def read_vector(value: ArrayLike, length: int, name: str) -> np.ndarray:
     return array
 
 
-def finite_or_raise(code: int, q: np.ndarray, twist: np.ndarray) -> None:
+def _finite_or_raise(code: int, q: np.ndarray, twist: np.ndarray) -> None:
     """``ValueError`` for a control step's code other than ``DONE`` (:mod:`redkin.velocity._step_kernels`)."""
     if code == _step_kernels.Q_NOT_FINITE:
         raise ValueError(f"q must be finite, got {q.tolist()}")
@@ -91,9 +91,9 @@ class PseudoinverseController:
 
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity for joint angles ``q`` ``(7,)`` and twist ``(6,)`` (linear, angular)."""
-        values, command = read_vector(q, 7, "q"), read_vector(twist, 6, "twist")
+        values, command = _read_vector(q, 7, "q"), _read_vector(twist, 6, "twist")
         qdot = np.empty(7)
-        finite_or_raise(_step_kernels.pinv_control(values, command, *self._tables, PINV_RCOND, np.empty((6, 7)), qdot),
+        _finite_or_raise(_step_kernels.pinv_control(values, command, *self._tables, PINV_RCOND, np.empty((6, 7)), qdot),
                         values, command)
         return VelocitySolution(qdot, command)
 
@@ -153,7 +153,7 @@ class SingularityConsistentController:
         if not isinstance(self.factorisation, Factorisation):
             raise ValueError(f"factorisation must have index(q) and factors(q, jacobian) (a Factorisation), "
                              f"got {type(self.factorisation).__name__}")
-        start = read_vector(q0, 7, "q0")
+        start = _read_vector(q0, 7, "q0")
         if not np.isfinite(start).all():
             raise ValueError(f"q0 must be finite, got {start.tolist()}")
         self.eps = check_positive(eps, "eps")
@@ -170,13 +170,13 @@ class SingularityConsistentController:
 
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity and realised twist for joint angles ``q`` ``(7,)`` and commanded twist ``(6,)``."""
-        values, command = read_vector(q, 7, "q"), read_vector(twist, 6, "twist")
+        values, command = _read_vector(q, 7, "q"), _read_vector(twist, 6, "twist")
         d_e, factors = self._index_and_factors(values)
         qdot, target = np.empty(7), np.empty(6)
         code = _step_kernels.sc_control(values, command, *self._tables, d_e, factors, self.eps, self.direction,
                                        self.self_motion, self.modify_rotation, self.near_zero, np.empty((6, 7)),
                                        qdot, target)
-        finite_or_raise(code, values, command)
+        _finite_or_raise(code, values, command)
         return VelocitySolution(qdot, target)
 
     def solve(self, values: np.ndarray, jac: np.ndarray, command: np.ndarray) -> VelocitySolution:
@@ -188,7 +188,7 @@ class SingularityConsistentController:
         qdot, target = np.empty(7), np.empty(6)
         if not _step_kernels.sc_one(jac, command, d_e, factors, self.eps, self.direction, self.self_motion,
                                    self.modify_rotation, self.near_zero, qdot, target):
-            finite_or_raise(_step_kernels.NO_FACTORS, values, command)
+            _finite_or_raise(_step_kernels.NO_FACTORS, values, command)
         return VelocitySolution(qdot, target)
 
     def _index_and_factors(self, values: np.ndarray) -> tuple[float, np.ndarray]:

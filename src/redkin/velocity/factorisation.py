@@ -25,10 +25,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.circle import HALF_PI
 from redkin.compiled import kernel
 from redkin.velocity.cofactors import column_minors
 
-HALF_PI = 0.5 * np.pi
 _WAM_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
 
 
@@ -53,16 +53,16 @@ def wam_cofactors(q: ArrayLike, a: float, d3: float, d5: float) -> np.ndarray:
 
 
 def _wam(q: ArrayLike, a: float, d3: float, d5: float) -> tuple[np.ndarray, np.ndarray]:
-    """``D_e`` (...) and ``D_i`` (..., 7) from the kernel :func:`wam_index_and_factors`."""
+    """``D_e`` (...) and ``D_i`` (..., 7) from the kernel :func:`_wam_index_and_factors`."""
     values = np.asarray(q, dtype=float)
     flat = np.ascontiguousarray(values.reshape(-1, values.shape[-1]))
     index, factors = np.empty(flat.shape[0]), np.empty((flat.shape[0], 7))
-    wam_index_and_factors(flat, float(a), float(d3), float(d5), index, factors)
+    _wam_index_and_factors(flat, float(a), float(d3), float(d5), index, factors)
     return index.reshape(values.shape[:-1]), factors.reshape(values.shape[:-1] + (7,))
 
 
 @kernel
-def wam_index_and_factors(q, a, d3, d5, index, factors):
+def _wam_index_and_factors(q, a, d3, d5, index, factors):
     """``D_e`` into ``index`` (N,) and ``D_i`` into ``factors`` (N, 7) for each row of ``q`` (N, 7) [003 eq. 19]."""
     for b in range(q.shape[0]):
         s2, s3, s4, s5, s6 = sin(q[b, 1]), sin(q[b, 2]), sin(q[b, 3]), sin(q[b, 4]), sin(q[b, 5])
@@ -159,7 +159,7 @@ class NumericalFactorisation(Factorisation):
         small = np.abs(index) < self.near_zero
         ratio = minors / np.where(small, 1.0, index)[..., None]
         if np.any(small):
-            u = index_gradient(self.index_function, q, self.step)
+            u = _index_gradient(self.index_function, q, self.step)
             u = u / np.maximum(np.linalg.norm(u, axis=-1, keepdims=True), 1e-300)
             plus, minus = q + self.step * u, q - self.step * u
             d_minor = column_minors(self.chain.jacobian(plus)) - column_minors(self.chain.jacobian(minus))
@@ -215,7 +215,7 @@ def singularity_factorisation(chain: SerialChain, seed: int | np.random.Generato
     )
 
 
-def index_gradient(index_function: Callable[[np.ndarray], np.ndarray], q: np.ndarray, step: float = 1e-6) -> np.ndarray:
+def _index_gradient(index_function: Callable[[np.ndarray], np.ndarray], q: np.ndarray, step: float = 1e-6) -> np.ndarray:
     """Central-difference gradient of an index function, shape ``(..., n)``."""
     q = np.asarray(q, dtype=float)
     n = q.shape[-1]
@@ -263,12 +263,12 @@ def check_single_parameter(
     scale = np.max(np.abs(column_minors(chain.jacobian(q))), axis=-1)
     for _ in range(50):
         value = np.asarray(index_function(q), dtype=float)
-        grad = index_gradient(index_function, q)
+        grad = _index_gradient(index_function, q)
         norm2 = np.maximum(np.sum(grad * grad, axis=-1), 1e-300)
         q = q - (value / norm2)[..., None] * grad
     value = np.asarray(index_function(q), dtype=float)
     on_set = np.abs(value) < 1e-10
-    grad = index_gradient(index_function, q)
+    grad = _index_gradient(index_function, q)
     unit = grad / np.maximum(np.linalg.norm(grad, axis=-1, keepdims=True), 1e-300)
     h = 1e-4
     worst_minor = float(np.max(np.abs(column_minors(chain.jacobian(q))).max(axis=-1) / scale))

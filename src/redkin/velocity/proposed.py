@@ -122,7 +122,7 @@ def singularity_consistent(
     jac, vel, e = _checked(jacobian, twist, eps, direction, self_motion, modify_rotation)
     d_e = _index(index, jac)
     d_i = _factors(factors, jac)
-    return sc_steps(jac, vel, d_e, d_i, e, direction, self_motion, modify_rotation, np.inf)
+    return _sc_steps(jac, vel, d_e, d_i, e, direction, self_motion, modify_rotation, np.inf)
 
 
 def lean_singularity_consistent(
@@ -159,7 +159,7 @@ def lean_singularity_consistent(
     d_e = _index(index, jac)
     exact = np.abs(d_e) < limit
     d_i = _factors(factors(), jac) if exact.any() else np.zeros(jac.shape[:-2] + jac.shape[-1:])
-    return sc_steps(jac, vel, d_e, d_i, e, direction, self_motion, modify_rotation, limit)
+    return _sc_steps(jac, vel, d_e, d_i, e, direction, self_motion, modify_rotation, limit)
 
 
 def _checked(jacobian: ArrayLike, twist: ArrayLike, eps: float, direction: float, self_motion: float,
@@ -198,7 +198,7 @@ def _factors(factors: ArrayLike, jac: np.ndarray) -> np.ndarray:
         raise ValueError(f"factors must have shape {jac.shape[:-2] + d_i.shape[-1:]}, got shape {d_i.shape}") from None
 
 
-def sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray, eps: float, direction: float,
+def _sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray, eps: float, direction: float,
              self_motion: float, modify_rotation: bool, near_zero: float) -> VelocitySolution:
     """:func:`~redkin.velocity._step_kernels.sc_one` over trusted arrays with common leading axes.
 

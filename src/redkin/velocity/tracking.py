@@ -24,7 +24,7 @@ from redkin.so3 import skew
 from redkin.validation import check_nonnegative, check_positive, check_vectors
 from redkin.velocity.methods import Method
 
-TwistCommand = Callable[[float, np.ndarray], np.ndarray]
+_TwistCommand = Callable[[float, np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -64,7 +64,7 @@ MAX_STEPS = 2_000_000
 def simulate(
     chain: SerialChain,
     q0: ArrayLike,
-    twist: ArrayLike | TwistCommand,
+    twist: ArrayLike | _TwistCommand,
     duration: float,
     method: Method,
     dt: float = 1e-3,

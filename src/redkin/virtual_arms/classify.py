@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-KINDS = ("redundant", "determined", "over-constrained", "singular")
+_KINDS = ("redundant", "determined", "over-constrained", "singular")
 
 
 @dataclass(frozen=True)
@@ -51,7 +51,7 @@ class Classification:
         return self.joints - self.rank
 
 
-def classify_jacobians(jacobians: np.ndarray, tolerance: float = 1e-9) -> Classification:
+def _classify_jacobians(jacobians: np.ndarray, tolerance: float = 1e-9) -> Classification:
     """Classify from stacked Jacobians ``J_0`` [004 eq. 18] at several generic postures, shape ``(k, rows, m)``."""
     jac = np.asarray(jacobians, dtype=float)
     if jac.ndim != 3:
@@ -81,4 +81,4 @@ def classify(model, samples: int = 5, seed: int | np.random.Generator = 0) -> Cl
     rng = np.random.default_rng(seed)
     theta = rng.uniform(-np.pi, np.pi, size=(int(samples), model.joints))
     _, jac = model.evaluate(theta)
-    return classify_jacobians(jac.reshape(samples, -1, model.joints))
+    return _classify_jacobians(jac.reshape(samples, -1, model.joints))

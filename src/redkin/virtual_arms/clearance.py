@@ -77,7 +77,7 @@ def skeleton(chain: SerialChain, theta: ArrayLike, axes: Sequence[int]) -> np.nd
     return chain.frames(theta)[..., :3, 3][..., list(axes)]
 
 
-def segment_clearance(starts: np.ndarray, ends: np.ndarray, obstacle: Obstacle) -> np.ndarray:
+def _segment_clearance(starts: np.ndarray, ends: np.ndarray, obstacle: Obstacle) -> np.ndarray:
     """Clearance of the segments ``starts -> ends`` (..., l) to ``obstacle``: nearest point of each segment."""
     along = ends - starts
     length2 = np.sum(along * along, axis=-1)
@@ -94,7 +94,7 @@ def arm_clearance(chain: SerialChain, theta: ArrayLike, obstacles: Sequence[Obst
     points = skeleton(chain, theta, axes)
     result = np.full(points.shape[:-2], np.inf)
     for obstacle in obstacles:
-        per_link = segment_clearance(points[..., :-1, :], points[..., 1:, :], obstacle)
+        per_link = _segment_clearance(points[..., :-1, :], points[..., 1:, :], obstacle)
         result = np.minimum(result, per_link.min(axis=-1))
     return result
 

@@ -97,7 +97,7 @@ def _weights(weights: ArrayLike | None, count: int, dims: int) -> np.ndarray:
     return w
 
 
-def half_lambda_state(record: Sequence[tuple[float, State]]) -> State | None:
+def _half_lambda_state(record: Sequence[tuple[float, State]]) -> State | None:
     """The last recorded state whose ``lambda`` is at most half the latest one (``None`` before a doubling).
 
     ``record`` holds ``(s, state)`` pairs in the order of the run; ``lambda``
@@ -109,7 +109,7 @@ def half_lambda_state(record: Sequence[tuple[float, State]]) -> State | None:
     return record[half - 1][1] if half else None
 
 
-def settled(record: Sequence[tuple[float, State]], posture_tol: float) -> float | None:
+def _settled(record: Sequence[tuple[float, State]], posture_tol: float) -> float | None:
     """Joint motion over the last doubling of ``lambda`` if it is at most ``posture_tol``, else ``None``.
 
     Late in a run ``theta`` follows the minimiser ``theta_lambda`` of ``V`` at
@@ -117,16 +117,16 @@ def settled(record: Sequence[tuple[float, State]], posture_tol: float) -> float 
     O(1 / lambda^2)`` (a penalty path).  Over a doubling of ``lambda`` the
     joints therefore move by about ``|theta_lambda - theta*|``: when that
     motion is below ``posture_tol`` the remaining motion to the equilibrium
-    is too (:func:`half_lambda_state`).
+    is too (:func:`_half_lambda_state`).
     """
-    earlier = half_lambda_state(record) if posture_tol > 0.0 else None
+    earlier = _half_lambda_state(record) if posture_tol > 0.0 else None
     if earlier is None:
         return None
     motion = float(np.linalg.norm(record[-1][1].theta - earlier.theta))
     return motion if motion <= posture_tol else None
 
 
-def errors_settled(record: Sequence[tuple[float, State]], error_rtol: float) -> tuple[float, float] | None:
+def _errors_settled(record: Sequence[tuple[float, State]], error_rtol: float) -> tuple[float, float] | None:
     """``(relative change of sum_k E^k, joint motion)`` over the last doubling of ``lambda`` if the change is at most ``error_rtol``.
 
     When the goals conflict (an over-constrained run) ``sum_k E^k`` cannot
@@ -143,7 +143,7 @@ def errors_settled(record: Sequence[tuple[float, State]], error_rtol: float) -> 
     goals are met ``sum_k E^k`` falls by about 4 per doubling, so the test
     never fires there.
     """
-    earlier = half_lambda_state(record) if error_rtol > 0.0 else None
+    earlier = _half_lambda_state(record) if error_rtol > 0.0 else None
     if earlier is None:
         return None
     latest = record[-1][1]
@@ -208,12 +208,12 @@ def generate_trajectory(
         (the goals are met, or the errors are stationary to that accuracy).
     posture_tol : float
         Also converged when the joint vector moved at most this (radians, 2-norm)
-        while ``lambda`` doubled: see :func:`settled`.  This ends over-constrained
+        while ``lambda`` doubled: see :func:`_settled`.  This ends over-constrained
         runs whose goals are met and the joints settle first; ``0`` turns it off.
     error_rtol : float
         Also converged when ``sum_k E^k`` changed by at most this fraction while
         ``lambda`` doubled: this ends over-constrained runs, whose errors cannot
-        vanish (see :func:`errors_settled`; the message reports the joint motion
+        vanish (see :func:`_errors_settled`; the message reports the joint motion
         left); ``0`` turns it off.
     s_max, max_steps : float, int
         Give up (status ``"max_time"``/``"max_steps"``) after this time or these
@@ -299,12 +299,12 @@ def generate_trajectory(
             if current.free_gradient <= gradient_tol:
                 status, message, done = "converged", f"|G' delta| = {current.free_gradient:.3g} at s = {s:.6g}", True
                 break
-            motion = settled(record, posture_tol)
+            motion = _settled(record, posture_tol)
             if motion is not None:
                 status, done = "converged", True
                 message = f"settled: joints moved {motion:.3g} rad while lambda doubled (s = {s:.6g})"
                 break
-            stationary = errors_settled(record, error_rtol)
+            stationary = _errors_settled(record, error_rtol)
             if stationary is not None:
                 status, done = "converged", True
                 message = (f"errors settled: sum of E^k changed by {stationary[0]:.2g} (relative) while lambda doubled; "

@@ -70,7 +70,7 @@ class LearnedModel:
         return [LearnedModel([net], [p], self.axes, self._joints) for net, p in zip(self.networks, self.points)]
 
 
-def sample_joints(chain: SerialChain, count: int, rng: np.random.Generator, lower: ArrayLike | None = None,
+def _sample_joints(chain: SerialChain, count: int, rng: np.random.Generator, lower: ArrayLike | None = None,
                   upper: ArrayLike | None = None) -> np.ndarray:
     """Uniform joint vectors in ``[lower, upper]`` (default: the chain's limits, ``+-pi`` where unlimited)."""
     low = np.where(np.isfinite(chain.lower), chain.lower, -np.pi) if lower is None else check_vectors(lower, chain.n, "lower")
@@ -119,8 +119,8 @@ def learn_forward_model(
         raise ValueError(f"samples and held_out must be positive, got {samples} and {held_out}")
     rng = np.random.default_rng(seed)
     truth = AnalyticModel(chain, points, axes)
-    train_q = sample_joints(chain, samples, rng, lower, upper)
-    test_q = sample_joints(chain, held_out, rng, lower, upper)
+    train_q = _sample_joints(chain, samples, rng, lower, upper)
+    test_q = _sample_joints(chain, held_out, rng, lower, upper)
     train_x, _ = truth.evaluate(train_q)
     test_x, _ = truth.evaluate(test_q)
     networks, train_rms, test_rms, test_max = [], [], [], []

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-ACTIVATIONS = ("sigmoid", "sine")
+_ACTIVATIONS = ("sigmoid", "sine")
 
 
 def _activate(kind: str, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -48,8 +48,8 @@ class MLP:
     @classmethod
     def initial(cls, inputs: int, hidden: int, outputs: int, activation: str, rng: np.random.Generator) -> MLP:
         """Random weights of a fresh network (scaled by fan-in)."""
-        if activation not in ACTIVATIONS:
-            raise ValueError(f"activation must be one of {ACTIVATIONS}, got {activation!r}")
+        if activation not in _ACTIVATIONS:
+            raise ValueError(f"activation must be one of {_ACTIVATIONS}, got {activation!r}")
         if hidden < 1:
             raise ValueError(f"hidden must be a positive number of units, got {hidden!r}")
         return cls(

@@ -81,7 +81,7 @@ def _tangent(normal: np.ndarray, towards: np.ndarray) -> np.ndarray:
     return side / np.linalg.norm(side)
 
 
-def end_step(position: np.ndarray, goal: np.ndarray, obstacles: Sequence[Obstacle], step: float,
+def _end_step(position: np.ndarray, goal: np.ndarray, obstacles: Sequence[Obstacle], step: float,
              influence: float) -> np.ndarray:
     """``d`` of the real end point: towards ``goal``, at most ``step`` long, sliding round obstacles within ``influence``."""
     towards = goal - position
@@ -282,7 +282,7 @@ def avoid_obstacles(
     best, since_best, planned = np.inf, 0, float(step)
     for periods in range(1, max_periods + 1):
         positions = model.evaluate(theta)[0]
-        distance = float(np.linalg.norm(skeleton_end(chain, theta, axes) - goal))
+        distance = float(np.linalg.norm(_skeleton_end(chain, theta, axes) - goal))
         if distance <= goal_tol:
             status, message, periods = "reached", f"end point within {goal_tol:g} m of the goal", periods - 1
             break
@@ -304,7 +304,7 @@ def avoid_obstacles(
         else:
             push = repulsion(positions, obstacles, influence, gain)
             goals = positions + push
-            goals[0] += end_step(positions[0], goal, obstacles, planned, influence)
+            goals[0] += _end_step(positions[0], goal, obstacles, planned, influence)
             weights[1:] = np.where(np.linalg.norm(push[1:], axis=-1) > 0.0, virtual_weight, 0.0)
             run = generate_trajectory(model, theta, goals, weights, gradient_tol=1e-4, max_steps=period_steps,
                                       lambda0=lambda0, output=output, fixed=fixed_joints)
@@ -318,7 +318,7 @@ def avoid_obstacles(
             path_positions.append(run.positions[1:keep])
     theta_path = np.concatenate(path_theta)
     _, min_clearance = guard.safe_records(theta_path)
-    end_error = float(np.linalg.norm(skeleton_end(chain, theta_path[-1], axes) - goal))
+    end_error = float(np.linalg.norm(_skeleton_end(chain, theta_path[-1], axes) - goal))
     if end_error <= goal_tol:
         status, message = "reached", f"end point within {goal_tol:g} m of the goal"
     return ObstacleRun(theta_path, np.concatenate(path_positions), guard.clearance(theta_path), min_clearance,
@@ -326,6 +326,6 @@ def avoid_obstacles(
                        points, clamped)
 
 
-def skeleton_end(chain: SerialChain, theta: np.ndarray, axes: Sequence[int]) -> np.ndarray:
+def _skeleton_end(chain: SerialChain, theta: np.ndarray, axes: Sequence[int]) -> np.ndarray:
     """The real end point (tool origin) in task coordinates."""
     return chain.fk(theta)[..., :3, 3][..., list(axes)]

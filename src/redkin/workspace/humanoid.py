@@ -73,7 +73,7 @@ VARIABLES = {
 #: theta_1 x phi samples of a map unless told otherwise (those of the 2-D maps).
 DEFAULT_SAMPLES = (24, 24)
 #: Postures one chunk aims at (positions x samples x 2 measures): about a second of one core.
-CHUNK_POSTURES = 2_000_000
+_CHUNK_POSTURES = 2_000_000
 
 
 def humanoid_of(chain: SerialChain) -> TorsoArm | None:
@@ -90,7 +90,7 @@ def humanoid_of(chain: SerialChain) -> TorsoArm | None:
 
 def humanoid_grid(extent: ArrayLike, resolution: int, samples: tuple[int, int] = DEFAULT_SAMPLES,
                    chunk: int | None = None) -> WorkspaceGrid:
-    """The checked grid of a humanoid map; the default chunk holds about :data:`CHUNK_POSTURES` postures.
+    """The checked grid of a humanoid map; the default chunk holds about :data:`_CHUNK_POSTURES` postures.
 
     Raises
     ------
@@ -102,12 +102,12 @@ def humanoid_grid(extent: ArrayLike, resolution: int, samples: tuple[int, int] =
     n1, n2 = (check_count(n, "samples", 1, MAX_SWEEP_SAMPLES) for n in samples)
     m = check_count(resolution, "resolution", 2, MAX_RESOLUTION)
     if chunk is None:
-        edge = int(np.floor((CHUNK_POSTURES / (2 * n1 * n2)) ** (1.0 / 3.0) + 1e-9))
+        edge = int(np.floor((_CHUNK_POSTURES / (2 * n1 * n2)) ** (1.0 / 3.0) + 1e-9))
         chunk = min(max(edge, 1), m)
     return workspace_grid(extent, m, 1, chunk)
 
 
-def humanoid_measures(arm: TorsoArm, positions: np.ndarray, samples: tuple[int, int]) -> dict[str, np.ndarray]:
+def _humanoid_measures(arm: TorsoArm, positions: np.ndarray, samples: tuple[int, int]) -> dict[str, np.ndarray]:
     """The map's variables at wrist positions ``(..., 3)`` (metres): the per-chunk measure of a humanoid map."""
     best, reached = best_over_redundancy(arm, positions, samples)
     right = TorsoArm(arm.right_chain, "right")
@@ -165,7 +165,7 @@ def _prepare_store(path: Path, chain: SerialChain, arm: TorsoArm, grid: Workspac
                          "chunk); choose another path or remove it")
 
 
-def compute_humanoid_chunk(arm: TorsoArm, grid: WorkspaceGrid, samples: tuple[int, int], path: Path,
+def _compute_humanoid_chunk(arm: TorsoArm, grid: WorkspaceGrid, samples: tuple[int, int], path: Path,
                            index: tuple[int, int, int]) -> tuple[int, int, int]:
     """Compute chunk ``index`` of a humanoid map, write it, then mark it complete (one Dask task).
 
@@ -175,7 +175,7 @@ def compute_humanoid_chunk(arm: TorsoArm, grid: WorkspaceGrid, samples: tuple[in
     restore_mmap_threshold()
     match_worker_threads()
     zarr = require("zarr")
-    values = humanoid_measures(arm, grid.chunk_positions(index), samples)
+    values = _humanoid_measures(arm, grid.chunk_positions(index), samples)
     where = grid.chunk_slices(index)
     for name, array in values.items():
         zarr.open_array(path, path=name, mode="r+")[where] = array
@@ -245,7 +245,7 @@ def humanoid_map(
     samples : (int, int)
         theta_1 x phi samples per position (each ``1..3600``; default 24 x 24, as the 2-D maps).
     chunk : int, optional
-        Grid points per axis of a chunk (default: about :data:`CHUNK_POSTURES` postures per chunk).
+        Grid points per axis of a chunk (default: about :data:`_CHUNK_POSTURES` postures per chunk).
     client : distributed.Client, optional
         Run on this cluster instead of Dask's local threaded scheduler.
     progress : callable, optional
@@ -277,7 +277,7 @@ def humanoid_map(
     missing = [index for index in grid.chunk_indices() if not complete[index]]
     token = dask.base.tokenize(str(store.resolve()), _parameters(chain, grid, samples))
     shared = [dask.delayed(value, pure=True) for value in (arm, grid, samples, store.absolute())]
-    tasks = [dask.delayed(compute_humanoid_chunk, pure=True)(*shared, index,
+    tasks = [dask.delayed(_compute_humanoid_chunk, pure=True)(*shared, index,
                                                              dask_key_name=f"humanoid-chunk-{token}-{index}")
              for index in missing]
     if client is None:

@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from redkin.circle import TWO_PI
 from redkin.srs import BRANCHES, pose_from, reachable
 from redkin.srs.feasible import feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry
 
-TWO_PI = 2.0 * np.pi
 #: Poses per call of the feasible-set kernel, built per call: bounds the work arrays to tens of megabytes
 #: however many poses a chunk holds.
-BATCH_POSES = 8192
+_BATCH_POSES = 8192
 
 
 def feasible_measures(geometry: SRSGeometry, positions: np.ndarray, rotations: np.ndarray) -> np.ndarray:
@@ -46,8 +46,8 @@ def feasible_measures(geometry: SRSGeometry, positions: np.ndarray, rotations: n
     """
     count = len(positions) * len(rotations)
     measure = np.zeros((count, len(BRANCHES)))
-    for start in range(0, count, BATCH_POSES):
-        pair = np.arange(start, min(start + BATCH_POSES, count))  # position-major, as the result
+    for start in range(0, count, _BATCH_POSES):
+        pair = np.arange(start, min(start + _BATCH_POSES, count))  # position-major, as the result
         batch = pose_from(positions[pair // len(rotations)], rotations[pair % len(rotations)])
         inside = np.flatnonzero(reachable(geometry, batch))
         if inside.size == 0:  # nothing in reach: the measures stay 0

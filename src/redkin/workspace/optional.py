@@ -6,12 +6,12 @@ import importlib
 from types import ModuleType
 
 #: The one line a plain install prints when a workspace map is asked for.
-INSTALL_HINT = "workspace maps need dask, distributed, zarr and xarray: pip install 'redkin[workspace]'"
+_INSTALL_HINT = "workspace maps need dask, distributed, zarr and xarray: pip install 'redkin[workspace]'"
 
 
 def require(name: str) -> ModuleType:
-    """Import the module ``name`` of the ``workspace`` extra, or raise ``ImportError`` with :data:`INSTALL_HINT`."""
+    """Import the module ``name`` of the ``workspace`` extra, or raise ``ImportError`` with :data:`_INSTALL_HINT`."""
     try:
         return importlib.import_module(name)
     except ImportError as exc:
-        raise ImportError(f"{INSTALL_HINT} ({exc})") from None
+        raise ImportError(f"{_INSTALL_HINT} ({exc})") from None

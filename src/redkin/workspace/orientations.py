@@ -19,12 +19,12 @@ import numpy as np
 from redkin.validation import check_count
 
 #: The real root > 1 of psi^4 = psi + 4 (Alexa 2022, equation 11).
-SUPER_FIBONACCI_PSI = 1.533751168755204288118041
+_SUPER_FIBONACCI_PSI = 1.533751168755204288118041
 #: Most orientations a map may take (``redkin workspace --orientations``).
 MAX_ORIENTATIONS = 20_000
 
 
-def quaternion_to_matrix(quaternion: np.ndarray) -> np.ndarray:
+def _quaternion_to_matrix(quaternion: np.ndarray) -> np.ndarray:
     """Rotation matrices ``(..., 3, 3)`` of unit quaternions ``(..., 4)`` ordered ``(w, x, y, z)``."""
     w, x, y, z = np.moveaxis(quaternion, -1, 0)
     return np.stack(
@@ -58,6 +58,6 @@ def super_fibonacci_rotations(count: int) -> np.ndarray:
     n = check_count(count, "count", 1, MAX_ORIENTATIONS)
     s = np.arange(n) + 0.5
     r, big_r = np.sqrt(s / n), np.sqrt(1.0 - s / n)
-    alpha, beta = 2.0 * np.pi * s / np.sqrt(2.0), 2.0 * np.pi * s / SUPER_FIBONACCI_PSI
+    alpha, beta = 2.0 * np.pi * s / np.sqrt(2.0), 2.0 * np.pi * s / _SUPER_FIBONACCI_PSI
     quaternion = np.stack([r * np.sin(alpha), r * np.cos(alpha), big_r * np.sin(beta), big_r * np.cos(beta)], axis=-1)
-    return quaternion_to_matrix(quaternion)
+    return _quaternion_to_matrix(quaternion)

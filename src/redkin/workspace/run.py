@@ -42,7 +42,7 @@ from redkin.workspace.store import completed_chunks, create_store, map_parameter
 #: glibc's ``mallopt`` parameter number of the mmap threshold, and the threshold's dynamic maximum on 64-bit Linux.
 M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 32 * 1024 * 1024
 #: Grid points per axis of one Dask task of the summary (a map of 1000^3 positions reads in 512 of them).
-SUMMARY_SPAN = 128
+_SUMMARY_SPAN = 128
 #: ``progress(done, total)`` after each chunk of a run (``total`` counts the chunks this run computes).
 Progress = Callable[[int, int], None]
 
@@ -138,7 +138,7 @@ def match_worker_threads() -> int | None:
     return threads
 
 
-def compute_chunk(geometry: SRSGeometry, grid: WorkspaceGrid, rotations: np.ndarray, path: Path,
+def _compute_chunk(geometry: SRSGeometry, grid: WorkspaceGrid, rotations: np.ndarray, path: Path,
                   index: tuple[int, int, int]) -> tuple[int, int, int]:
     """Compute chunk ``index`` of the map and write it into the store at ``path`` (one Dask task)."""
     restore_mmap_threshold()
@@ -150,7 +150,7 @@ def compute_chunk(geometry: SRSGeometry, grid: WorkspaceGrid, rotations: np.ndar
     return index
 
 
-def chunk_tasks(function: Callable, shared: tuple, indices: list[tuple[int, int, int]], name: str) -> list:
+def _chunk_tasks(function: Callable, shared: tuple, indices: list[tuple[int, int, int]], name: str) -> list:
     """One Dask task ``function(*shared, index)`` per chunk index, as ``dask.delayed`` objects of one graph.
 
     The graph is one layer written out directly: the shared values are
@@ -284,7 +284,7 @@ def workspace_map(
     missing = [index for index in grid.chunk_indices() if not complete[index]]
     token = dask.base.tokenize(str(store.resolve()), map_parameters(arm, grid, count))
     # workers write the absolute path: a cluster's workers need not share this process's working directory
-    tasks = chunk_tasks(compute_chunk, (geometry, grid, rotations, store.absolute()), missing,
+    tasks = _chunk_tasks(_compute_chunk, (geometry, grid, rotations, store.absolute()), missing,
                         f"workspace-chunk-{token}")
     if client is None:
         _run_local(tasks, progress)
@@ -296,7 +296,7 @@ def workspace_map(
 def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int, seconds: float) -> WorkspaceRun:
     """Read the map's indices back (chunked) into a :class:`WorkspaceRun`."""
     xr = require("xarray")
-    span = grid.chunk * max(1, SUMMARY_SPAN // grid.chunk)  # whole store chunks, few Dask tasks
+    span = grid.chunk * max(1, _SUMMARY_SPAN // grid.chunk)  # whole store chunks, few Dask tasks
     with xr.open_zarr(store, chunks={axis: span for axis in "xyz"}) as dataset:
         reach = dataset["reachability"]
         reached = reach > 0.0

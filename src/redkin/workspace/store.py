@@ -29,7 +29,7 @@ from redkin.workspace.optional import require
 
 #: The file name of the map inside the output directory of ``redkin workspace``.
 MAP_NAME = "map.zarr"
-ORIENTATION_SET = "super-Fibonacci spiral on SO(3) (Alexa, CVPR 2022), deterministic in the count"
+_ORIENTATION_SET = "super-Fibonacci spiral on SO(3) (Alexa, CVPR 2022), deterministic in the count"
 
 
 def arm_description(chain: SerialChain) -> dict[str, Any]:
@@ -79,7 +79,7 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     coords = {
         "x": ("x", x, {"units": "m"}), "y": ("y", y, {"units": "m"}), "z": ("z", z, {"units": "m"}),
         "rotation": (("orientation", "row", "column"), rotations,
-                     {"units": "1", "long_name": "tool orientation in the base frame", "set": ORIENTATION_SET}),
+                     {"units": "1", "long_name": "tool orientation in the base frame", "set": _ORIENTATION_SET}),
     }
     attrs = {
         "title": f"workspace map of {chain.name}: exact feasible arm angles (paper 000)",
