@@ -89,7 +89,7 @@ def serial_cpu_rows(arm, q: np.ndarray, poses: np.ndarray) -> list[tuple[str, st
     The parallel loops' wall time depends on what else runs on the machine;
     this bound does not (beyond what a busy sibling core costs).
     """
-    from redkin import compiled
+    from redkin import _compiled as compiled
 
     threshold = compiled.PARALLEL_BATCH
     compiled.PARALLEL_BATCH = len(q) + 1  # serial loops only

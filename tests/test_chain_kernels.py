@@ -13,8 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from redkin import _chain_kernels
+from redkin._compiled import PARALLEL_BATCH
 from redkin.chain import SerialChain
-from redkin.compiled import PARALLEL_BATCH
 
 QUARTER_TURNS = [0.0, np.pi / 2, -np.pi / 2, np.pi, -np.pi]
 SPECIAL_ANGLES = [0.0, np.pi / 2, -np.pi / 2, np.pi, -np.pi, 2 * np.pi]

@@ -4,7 +4,7 @@ import numba
 import pytest
 from numba.core import config
 
-from redkin.compiled import kernel
+from redkin._compiled import kernel
 
 
 def twice(x):
@@ -31,7 +31,7 @@ def test_a_cache_filled_by_other_kernels_is_emptied(tmp_path, monkeypatch):
     """numba checks a cached kernel against its own file only; redkin's stamp covers every kernel module."""
     import importlib.util
 
-    from redkin import compiled
+    from redkin import _compiled as compiled
 
     source = tmp_path / "kernel_module.py"
     source.write_text("def triple(x):\n    return 3.0 * x\n")

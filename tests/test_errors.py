@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import redkin
+from redkin._validation import check_count, check_pose
 from redkin.errors import (
     NotArmAngleClassError,
     RedkinError,
@@ -13,7 +14,6 @@ from redkin.errors import (
 )
 from redkin.models import franka_panda, get_robot, pa10_7c
 from redkin.srs import feasible_pieces, ik, ik_all_branches, srs_geometry
-from redkin.validation import check_count, check_pose
 
 
 @pytest.mark.parametrize("kind", [NotArmAngleClassError, RobotDescriptionError, SizeLimitError, UnreachablePoseError])

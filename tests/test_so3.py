@@ -6,6 +6,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
+from redkin._validation import check_rotation
 from redkin.so3 import (
     axis_angle_to_matrix,
     matrix_to_axis_angle,
@@ -16,7 +17,6 @@ from redkin.so3 import (
     skew,
     xyz_fixed_to_matrix,
 )
-from redkin.validation import check_rotation
 
 finite = st.floats(-10, 10, allow_nan=False)
 vectors = arrays(float, 3, elements=finite)

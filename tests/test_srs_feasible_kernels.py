@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH
 from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces
 from redkin.srs._feasible_kernels import sinusoid_roots

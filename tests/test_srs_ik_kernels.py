@@ -1,5 +1,5 @@
 """The compiled arm-angle IK (redkin.srs._ik_kernels): batches equal single calls on both loops, results do
-not depend on the thread count, the in-kernel pose check agrees with redkin.validation.check_pose, and the
+not depend on the thread count, the in-kernel pose check agrees with redkin._validation.check_pose, and the
 group rotations equal the definitional DH products of [000 eq. 3]."""
 
 import numba
@@ -8,13 +8,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH
+from redkin._validation import check_pose
 from redkin.models import pa10_7c
 from redkin.srs import BRANCHES, _ik_kernels, feasible_pieces, ik, ik_all_branches, reachable, srs_geometry
+from redkin.srs._rotations import group_rotations
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.ik import theta_at
-from redkin.srs.rotations import group_rotations
-from redkin.validation import check_pose
 from tests.support.srs_arms import ARM_KINDS, arm, shoulder_rotation, wrist_rotation
 
 KINDS = st.sampled_from(ARM_KINDS)
@@ -64,7 +64,7 @@ POSE_DEFECTS = st.sampled_from(["nan", "inf", "last_row", "scale", "shear", "ref
 @settings(max_examples=80, deadline=None)
 @given(st.integers(0, 2**32 - 1), POSE_DEFECTS, st.floats(1e-8, 1e-3))
 def test_in_kernel_pose_check_agrees_with_check_pose(seed, defect, size):
-    """pose_defect flags a pose exactly when redkin.validation.check_pose raises (sizes around the tolerance)."""
+    """pose_defect flags a pose exactly when redkin._validation.check_pose raises (sizes around the tolerance)."""
     rng = np.random.default_rng(seed)
     pose = pa10_7c().fk(rng.uniform(-np.pi, np.pi, 7))
     entry = tuple(rng.integers(0, 3, 2))

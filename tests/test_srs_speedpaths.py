@@ -12,6 +12,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from redkin._validation import check_pose
 from redkin.models import pa10_7c
 from redkin.so3 import rot_x
 from redkin.srs import (
@@ -30,7 +31,6 @@ from redkin.srs._ik_kernels import ENTRY_LAYOUT
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.feasible import limit_tables
 from redkin.srs.joints import _IS_COSINE, PSI_JOINTS
-from redkin.validation import check_pose
 from tests.support.feasible_sampling import random_limits
 from tests.support.srs_arms import ARM_KINDS, arm, shoulder_rotation, wrist_rotation
 
@@ -217,7 +217,7 @@ def test_limit_equation_signs_decide_joint_membership(seed, lower, width):
     ],
 )
 def test_pose_errors_match_the_shared_validator(mutate):
-    """The lean pose check of the srs entry points raises what redkin.validation.check_pose raises."""
+    """The lean pose check of the srs entry points raises what redkin._validation.check_pose raises."""
     chain = pa10_7c()
     bad = mutate(chain.fk(np.full(7, 0.3)))
     with pytest.raises(ValueError) as expected:

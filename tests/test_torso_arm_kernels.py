@@ -9,7 +9,7 @@ Jacobians from the chain): they live here only, as what the kernels must equal.
 import numpy as np
 import pytest
 
-from redkin.compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH
 from redkin.torso_arm import humanoid_arm, position_ik_from_theta1, shoulder_angle, theta1_from_shoulder_angle
 from redkin.torso_arm.branches import POSITION_BRANCHES, wrap_angle, wrap_to_limits
 from redkin.torso_arm.elbow_angle import ElbowReference, elbow_circle, elbow_position, reference_direction

@@ -95,9 +95,9 @@ def test_any_chain_of_origins_and_axes_matches(tmp_path_factory, origins, q_seed
 
 def _stated_accuracy(chain, text: str, tip: str) -> float:
     """1e-12, unless two consecutive axes of the URDF are nearly parallel (docs/urdf.md, "Accuracy"): a tilt
-    ``t`` below :data:`~redkin.joint_lines.PARALLEL_TOLERANCE` counts as parallel and costs ``t`` times the
+    ``t`` below :data:`~redkin._joint_lines.PARALLEL_TOLERANCE` counts as parallel and costs ``t`` times the
     lengths; above it the common normal lies ``offset / t`` away and rounding costs about ``eps * d^2``."""
-    from redkin.joint_lines import PARALLEL_TOLERANCE
+    from redkin._joint_lines import PARALLEL_TOLERANCE
 
     directions = reference_axes(text, tip)
     tilts = np.linalg.norm(np.cross(directions[:-1], directions[1:]), axis=-1)
@@ -113,10 +113,10 @@ def _stated_accuracy(chain, text: str, tip: str) -> float:
 def test_nearly_parallel_axes_cost_digits_as_stated(tmp_path, digits):
     """``rpy="1.5708 0 0"`` tilts an axis off parallel.  DH rows need the common normal, which then lies far
     away (``d ~ offset / tilt``): the chain stays exact up to rounding of about ``eps * d^2``.  Below
-    :data:`~redkin.joint_lines.PARALLEL_TOLERANCE` (2e-6) the axes count as parallel, at a cost of the tilt
+    :data:`~redkin._joint_lines.PARALLEL_TOLERANCE` (2e-6) the axes count as parallel, at a cost of the tilt
     times the lengths.  The two costs meet near that tolerance: a few micrometres per metre at worst, and
     tilts from the usual 4 printed digits cost about 1e-11 m."""
-    from redkin.joint_lines import PARALLEL_TOLERANCE
+    from redkin._joint_lines import PARALLEL_TOLERANCE
 
     tilt_text = f"{np.pi / 2:.{digits}f}"
     tilt = abs(float(tilt_text) - np.pi / 2)

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH
 from redkin.velocity import (
     SingularityConsistent,
     _step_kernels,

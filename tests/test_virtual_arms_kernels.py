@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH
 from redkin.models import franka_panda, pa10_7c, planar_arm
 from redkin.virtual_arms import AnalyticModel, OutputFunction, VirtualPoint, joints_and_midpoints
 from redkin.virtual_arms import _kernels as kernels

@@ -4,7 +4,7 @@ The one implementation of a chain's kinematics in redkin: :func:`frames`
 (all frames, or the end pose alone) and :func:`jacobian`.  Each kernel takes
 a batch of joint vectors ``q`` of shape ``(N, n)`` and writes into an output
 array; :class:`~redkin.chain.SerialChain` validates at its public edge and
-calls them (:func:`~redkin.compiled.run_batch` picks the serial or the
+calls them (:func:`~redkin._compiled.run_batch` picks the serial or the
 parallel loop).  They trust their inputs: C-contiguous float64 arrays of the
 documented shapes.
 
@@ -32,7 +32,7 @@ from math import cos, sin
 import numpy as np
 from numba import prange
 
-from redkin.compiled import kernel
+from redkin._compiled import kernel
 
 #: Columns of a chain's link table.
 LINK_COLUMNS = ("offset", "sign", "a", "d", "cos_alpha", "sin_alpha")

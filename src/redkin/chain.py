@@ -29,9 +29,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin import _chain_kernels as kernels
+from redkin._compiled import run_batch
+from redkin._validation import as_float_array, check_finite, check_pose, check_vectors
 from redkin.circle import TWO_PI
-from redkin.compiled import run_batch
-from redkin.validation import as_float_array, check_finite, check_pose, check_vectors
 
 Convention = Literal["dh", "mdh"]
 _NO_OFFSET = np.zeros((1, 3))

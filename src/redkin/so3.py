@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
-from redkin.validation import as_float_array, check_finite, check_rotation, check_vectors
+from redkin._validation import as_float_array, check_finite, check_rotation, check_vectors
 
 #: Below this value of ``cos(beta)`` the X-Y-Z fixed angles are in gimbal lock.
 _GIMBAL_LOCK_TOLERANCE = 1e-9

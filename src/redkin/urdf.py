@@ -29,7 +29,7 @@ numerical limit, that of DH rows themselves: axes a tiny tilt ``t`` off
 parallel (``rpy="1.5708 0 0"`` for pi/2 gives ``t ~ 4e-6``) have a common
 normal ``offset / t`` away, and rounding then costs ``eps * offset / t``
 (1e-11 m there; at most about 1e-8 m, near ``t ~ 1e-8``, see
-:data:`redkin.joint_lines.PARALLEL_TOLERANCE`).
+:data:`redkin._joint_lines.PARALLEL_TOLERANCE`).
 """
 
 from __future__ import annotations
@@ -40,9 +40,9 @@ from pathlib import Path
 
 import numpy as np
 
+from redkin._joint_lines import dh_rows_from_lines
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError, RobotDescriptionError
-from redkin.joint_lines import dh_rows_from_lines
 from redkin.so3 import xyz_fixed_to_matrix
 
 _UNSUPPORTED = {"prismatic", "floating", "planar"}

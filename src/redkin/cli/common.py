@@ -11,10 +11,10 @@ from typing import Any, NoReturn
 
 import numpy as np
 
+from redkin._validation import check_rotation
 from redkin.chain import SerialChain
 from redkin.models import get_robot
 from redkin.srs.geometry import pose_from
-from redkin.validation import check_rotation
 
 #: File types of the figures the commands write (matplotlib's writers without extra packages).
 IMAGE_SUFFIXES = frozenset({".png", ".pdf", ".svg"})

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from redkin._validation import check_output_file
 from redkin.cli.common import (
     BRANCH_HELP,
     add_output_flags,
@@ -16,7 +17,6 @@ from redkin.cli.common import (
     target_pose,
 )
 from redkin.explore import explorer_data, explorer_html
-from redkin.validation import check_output_file
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

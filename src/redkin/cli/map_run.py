@@ -11,7 +11,7 @@ from collections.abc import Callable
 from typing import Any
 
 from redkin.cli.common import UsageError, progress_bar
-from redkin.workspace.optional import require
+from redkin.workspace._optional import require
 
 #: How long ``--scheduler`` waits for the scheduler to answer.
 _CONNECT_TIMEOUT = "10s"

@@ -8,6 +8,7 @@ import sys
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_output_file
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
     UsageError,
@@ -30,7 +31,6 @@ from redkin.torso_arm.maps import (
     reach_extent,
     region_above,
 )
-from redkin.validation import check_output_file
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

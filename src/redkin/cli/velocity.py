@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from redkin._validation import check_output_file
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
     add_output_flags,
@@ -17,7 +18,6 @@ from redkin.cli.common import (
     load_robot,
     print_json,
 )
-from redkin.validation import check_output_file
 from redkin.velocity import METHOD_NAMES, SingularityConsistent, make_method, simulate, singularity_factorisation
 
 

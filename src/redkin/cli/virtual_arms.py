@@ -7,6 +7,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from redkin._validation import check_count, check_output_file
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
     UsageError,
@@ -18,7 +19,6 @@ from redkin.cli.common import (
     load_robot,
     print_json,
 )
-from redkin.validation import check_count, check_output_file
 from redkin.virtual_arms import (
     AnalyticModel,
     Obstacle,

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 
+from redkin._validation import check_count, check_output_directory
 from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json
 from redkin.cli.map_run import open_client, require_map_libraries, run_on
 from redkin.cli.workspace_humanoid import run_humanoid
 from redkin.srs import srs_geometry
-from redkin.validation import check_count, check_output_directory
 from redkin.workspace.grid import MAX_RESOLUTION, workspace_grid
 from redkin.workspace.humanoid import humanoid_of
 from redkin.workspace.orientations import MAX_ORIENTATIONS

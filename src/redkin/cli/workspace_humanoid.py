@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import argparse
 
+from redkin._validation import check_count, check_output_directory
 from redkin.chain import SerialChain
 from redkin.cli.common import UsageError, print_json
 from redkin.cli.map_run import open_client, require_map_libraries, run_on
 from redkin.torso_arm.maps import MAX_SWEEP_SAMPLES
-from redkin.validation import check_count, check_output_directory
 from redkin.workspace.grid import MAX_RESOLUTION
 from redkin.workspace.humanoid import DEFAULT_SAMPLES, VARIABLES, humanoid_grid, humanoid_map, mid_plane_maps
 from redkin.workspace.store import MAP_NAME

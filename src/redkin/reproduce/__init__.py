@@ -12,9 +12,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from redkin._validation import check_output_directory
 from redkin.reproduce.provenance import build_info
 from redkin.reproduce.report import SectionWriter, write_report
-from redkin.validation import check_output_directory
 
 #: Modules defining ``SECTION``, in the order of the report.
 SECTION_MODULES = [

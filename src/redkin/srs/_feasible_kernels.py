@@ -48,8 +48,8 @@ from math import acos, atan2, cos, nan, pi, sin, sqrt
 import numpy as np
 from numba import prange
 
+from redkin._compiled import kernel
 from redkin.circle import TWO_PI
-from redkin.compiled import kernel
 from redkin.srs import _ik_kernels, joints
 from redkin.srs.joints import STRETCHED_TOLERANCE
 
@@ -364,7 +364,7 @@ def arc_runs(start, end, keep, out):
 # From poses (the public path), serial and parallel loops over a batch, over
 # blocks of CHUNK items with one set of scratch arrays per block (numba caches
 # one dispatcher per Python function, so the two loops are two functions),
-# launched through redkin.compiled.run_batch.  From coefficients computed
+# launched through redkin._compiled.run_batch.  From coefficients computed
 # beforehand (paths, optimal arm angles: a Python loop over the poses follows)
 # a serial loop only: a parallel twin would add seconds to the first, compiling
 # call of a fresh install for no measurable gain there.

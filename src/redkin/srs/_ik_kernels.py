@@ -14,7 +14,7 @@ The one implementation in redkin of
 :mod:`redkin.srs.coefficients`, :mod:`redkin.srs.joints` and
 :mod:`redkin.srs.ik` validate at the public edge and call the batch kernels
 here (:func:`solve_poses`, :func:`coefficients`, :func:`angles_at`,
-:func:`joint_values`), through :func:`redkin.compiled.run_batch`.  Kernels
+:func:`joint_values`), through :func:`redkin._compiled.run_batch`.  Kernels
 trust their inputs: C-contiguous float64 arrays of the documented shapes.
 
 An arm is passed as
@@ -37,8 +37,8 @@ from math import acos, atan2, cos, isfinite, pi, sin, sqrt
 import numpy as np
 from numba import prange
 
+from redkin._compiled import kernel
 from redkin.circle import TWO_PI
-from redkin.compiled import kernel
 
 ARM_COLUMNS = ("d_bs", "d_se", "d_ew", "d_wt", "a3", "a4", "mean", "amplitude", "phase", "cos_phase", "sin_phase")
 D_BS, D_SE, D_EW, D_WT, A3, A4, MEAN, AMPLITUDE, PHASE, COS_PHASE, SIN_PHASE = range(11)
@@ -53,7 +53,7 @@ REACH_TOLERANCE = 1e-9
 #: group is undefined and set to 0.  Rounding leaves ``x, y`` of about 1e-17 on an exactly singular
 #: pose, where ``atan2`` alone would return an arbitrary angle.
 UNDEFINED_TOLERANCE = 1e-12
-#: Tolerance of the pose check (:data:`redkin.validation.ROTATION_TOLERANCE`).
+#: Tolerance of the pose check (:data:`redkin._validation.ROTATION_TOLERANCE`).
 POSE_TOLERANCE = 1e-6
 
 #: Status of a pose in the batch kernels.
@@ -78,7 +78,7 @@ GROUP = 7  # entries per group (shoulder, wrist)
 def pose_defect(pose):
     """:data:`OK`, or :data:`BAD_POSE` for a pose that is not finite, whose last row is not
     ``0 0 0 1`` or whose rotation block is not a proper rotation within :data:`POSE_TOLERANCE`
-    (the checks of :func:`redkin.validation.check_pose`, which words the error)."""
+    (the checks of :func:`redkin._validation.check_pose`, which words the error)."""
     for r in range(4):
         for c in range(4):
             if not isfinite(pose[r, c]):

@@ -11,11 +11,11 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import as_float_array, check_finite, check_pose
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError, UnreachablePoseError
 from redkin.srs import _ik_kernels
 from redkin.srs.geometry import SRSGeometry, srs_geometry
-from redkin.validation import as_float_array, check_finite, check_pose
 
 
 def as_geometry(arm: SerialChain | SRSGeometry) -> SRSGeometry:
@@ -58,7 +58,7 @@ def as_poses(pose: ArrayLike) -> np.ndarray:
 
 
 def raise_for_bad_pose(pose: np.ndarray, status: np.ndarray) -> None:
-    """Raise the ``ValueError`` of :func:`redkin.validation.check_pose` if the kernels flagged a pose
+    """Raise the ``ValueError`` of :func:`redkin._validation.check_pose` if the kernels flagged a pose
     (:data:`redkin.srs._ik_kernels.BAD_POSE`)."""
     if (status == _ik_kernels.BAD_POSE).any():
         check_pose(pose)

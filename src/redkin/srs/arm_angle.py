@@ -8,11 +8,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.srs._rotations import group_rotations
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import branch_of_theta
 from redkin.srs.coefficients import arm_angle_coefficients
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.rotations import group_rotations
 
 
 @dataclass(frozen=True)

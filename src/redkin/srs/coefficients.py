@@ -43,8 +43,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import run_batch
 from redkin.chain import SerialChain
-from redkin.compiled import run_batch
 from redkin.srs import _ik_kernels
 from redkin.srs._targets import as_geometry, as_poses, raise_for_status
 from redkin.srs.geometry import SRSGeometry

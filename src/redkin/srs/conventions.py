@@ -23,7 +23,7 @@ neither S nor W.  Its Table 1 form has ``a_3``, ``a_4`` as the elbow offsets
 the distances when they fail) and writes the Table 1 chain whose joints turn
 about the same lines: frame 0 on joint 1's line where the base's origin
 projects onto it, common normals turned so that the twists take Table 1's
-signs (:func:`redkin.joint_lines.dh_rows_from_lines`), joints 3 and 5 turned
+signs (:func:`redkin._joint_lines.dh_rows_from_lines`), joints 3 and 5 turned
 over where needed so that ``d_se`` and ``d_ew`` are not negative (``sign =
 -1``), the DH angles at ``q = 0`` as offsets, the rest in ``base`` and
 ``tool``.  Its ``q`` and limits are the original chain's, and so is its
@@ -38,9 +38,9 @@ from weakref import WeakKeyDictionary
 
 import numpy as np
 
+from redkin._joint_lines import dh_rows_from_lines
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError
-from redkin.joint_lines import dh_rows_from_lines
 from redkin.srs.geometry import TABLE1_ALPHA
 
 #: Largest distance (metres) of a joint axis from the point where its group meets, and largest

@@ -64,6 +64,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_pose
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.srs._feasible_kernels import sinusoid_roots
@@ -73,7 +74,6 @@ from redkin.srs.coefficients import coefficients_for
 from redkin.srs.geometry import MEMBERSHIP_TOLERANCE, SRSGeometry
 from redkin.srs.ik import theta_at
 from redkin.srs.joints import PSI_JOINTS
-from redkin.validation import check_pose
 
 #: Relative tolerance of the singular case: ``|a_t^2 + b_t^2 - c_t^2| <= tolerance (a_t^2 + b_t^2 + c_t^2)``.
 _EXTREMA_TOLERANCE = 1e-9

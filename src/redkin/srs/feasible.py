@@ -43,9 +43,9 @@ from typing import NamedTuple, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import run_batch
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
-from redkin.compiled import run_batch
 from redkin.errors import RedkinError
 from redkin.srs import _feasible_kernels as kernels
 from redkin.srs import _ik_kernels

@@ -11,15 +11,15 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import run_batch
+from redkin._validation import as_float_array
 from redkin.chain import SerialChain
-from redkin.compiled import run_batch
 from redkin.errors import RedkinError
 from redkin.srs import _ik_kernels
 from redkin.srs._targets import as_geometry, as_poses, check_psi, raise_for_bad_pose, raise_for_status
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients, coefficient_arrays
 from redkin.srs.geometry import SRSGeometry
-from redkin.validation import as_float_array
 
 
 def reachable(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> np.ndarray:

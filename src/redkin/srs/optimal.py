@@ -22,15 +22,15 @@ from typing import cast
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_vectors
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
+from redkin.srs._rotations import group_rotations
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients, coefficients_for
 from redkin.srs.feasible import FeasibleArmAngles, feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.rotations import group_rotations
-from redkin.validation import check_vectors
 
 
 @dataclass(frozen=True)

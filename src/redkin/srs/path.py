@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_pose, check_vectors
 from redkin.chain import SerialChain
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
@@ -21,7 +22,6 @@ from redkin.srs.feasible import FeasibleArmAngles, feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import theta_at
 from redkin.srs.optimal import check_weights, default_target, maximiser, objective_coefficients
-from redkin.validation import check_pose, check_vectors
 
 
 @dataclass(frozen=True)

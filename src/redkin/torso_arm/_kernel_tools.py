@@ -6,7 +6,7 @@ The kernels hold points and directions in registers as 3-tuples ``(x, y, z)``
 The public functions of the package validate their inputs, broadcast and
 flatten them with :func:`flat` (the kernels take C-contiguous float64
 batches ``(N, ...)``), and launch a batch kernel with
-:func:`redkin.compiled.run_batch`.
+:func:`redkin._compiled.run_batch`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from math import cos, sin, sqrt
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.compiled import kernel
+from redkin._compiled import kernel
 
 
 def flat(*pairs: tuple[ArrayLike, int]) -> tuple[tuple[int, ...], list[np.ndarray]]:

@@ -8,9 +8,9 @@ import numpy as np
 from numba import prange
 from numpy.typing import ArrayLike
 
+from redkin._compiled import kernel, run_batch
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
-from redkin.compiled import kernel, run_batch
 from redkin.torso_arm._kernel_tools import flat
 
 #: Position branches, in the order of the solution axis: (theta_3 flag, theta_5 flag).

@@ -38,10 +38,10 @@ import numpy as np
 from numba import prange
 from numpy.typing import ArrayLike
 
-from redkin.compiled import kernel, run_batch
+from redkin._compiled import kernel, run_batch
+from redkin._validation import check_vectors
 from redkin.torso_arm._kernel_tools import add, cross, dot, flat, norm, put, row, scale, sub
 from redkin.torso_arm.geometry import TorsoArm
-from redkin.validation import check_vectors
 
 #: Elbow circles with a smaller radius (metres) count as a single elbow point.
 _RADIUS_TOLERANCE = 1e-12

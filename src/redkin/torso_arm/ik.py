@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import as_float_array, check_finite, check_rotation, check_vectors
 from redkin.so3 import xyz_fixed_to_matrix
 from redkin.torso_arm.branches import OK, POSITION_BRANCHES, STATUS_NAMES, WRIST_BRANCHES, wrap_to_limits
 from redkin.torso_arm.elbow_angle import ElbowReference, as_reference
@@ -23,7 +24,6 @@ from redkin.torso_arm.geometry import MIRROR, TorsoArm
 from redkin.torso_arm.position_ik import joints_from_points, solve_points
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
 from redkin.torso_arm.wrist_ik import wrist_ik
-from redkin.validation import as_float_array, check_finite, check_rotation, check_vectors
 
 #: ``(theta_3 flag, theta_5 flag, sin theta_7 flag)`` of each of the 8 solutions, in order.
 BRANCHES = tuple((f3, f5, f7) for f3, f5 in POSITION_BRANCHES for f7 in WRIST_BRANCHES)

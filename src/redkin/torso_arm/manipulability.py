@@ -26,7 +26,7 @@ import numpy as np
 from numba import prange
 from numpy.typing import ArrayLike
 
-from redkin.compiled import kernel, run_batch
+from redkin._compiled import kernel, run_batch
 from redkin.torso_arm._kernel_tools import add, cross, flat, scale, shoulder_point, sub, turn_y
 from redkin.torso_arm.geometry import WRIST_FRAME, TorsoArm
 

@@ -29,7 +29,8 @@ import numpy as np
 from numba import prange
 from numpy.typing import ArrayLike
 
-from redkin.compiled import PARALLEL_BATCH, kernel, run_batch
+from redkin._compiled import PARALLEL_BATCH, kernel, run_batch
+from redkin._validation import as_float_array, check_count, check_finite, check_vectors
 from redkin.torso_arm._kernel_tools import flat, put, row, shoulder_point
 from redkin.torso_arm.branches import NO_REFERENCE, OK, SHOULDER_UNDEFINED, UNREACHABLE, into_limits
 from redkin.torso_arm.elbow_angle import (
@@ -52,7 +53,6 @@ from redkin.torso_arm.manipulability import (
 )
 from redkin.torso_arm.position_ik import joints_one
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
-from redkin.validation import as_float_array, check_count, check_finite, check_vectors
 
 Progress = Callable[[float], None]
 #: Largest number of grid points along one axis of a map (10^6 points in all).

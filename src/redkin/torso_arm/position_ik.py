@@ -32,7 +32,8 @@ import numpy as np
 from numba import prange
 from numpy.typing import ArrayLike
 
-from redkin.compiled import kernel, run_batch
+from redkin._compiled import kernel, run_batch
+from redkin._validation import as_float_array, check_finite, check_vectors
 from redkin.torso_arm._kernel_tools import cross, dot, flat, norm, row, scale, shoulder_point, sub, turn_y
 from redkin.torso_arm.branches import (
     NO_REFERENCE,
@@ -53,7 +54,6 @@ from redkin.torso_arm.elbow_angle import (
 )
 from redkin.torso_arm.geometry import TorsoArm
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
-from redkin.validation import as_float_array, check_finite, check_vectors
 
 
 @kernel

@@ -29,9 +29,9 @@ import numpy as np
 from numba import prange
 from numpy.typing import ArrayLike
 
-from redkin.compiled import kernel, run_batch
+from redkin._compiled import kernel, run_batch
+from redkin._validation import as_float_array, check_finite, check_vectors
 from redkin.torso_arm._kernel_tools import cross, dot, flat, norm, row, scale, shoulder_point
-from redkin.validation import as_float_array, check_finite, check_vectors
 
 #: Below this ``|W_y| / |W|`` the signed shoulder angle is undefined.
 _SHOULDER_TOLERANCE = 1e-9

@@ -7,7 +7,7 @@ call these kernels.  Each step comes as a kernel of one configuration
 (``*_one``, callable from Python with one Jacobian), a control step of one
 configuration that builds the Jacobian itself (``*_control``, one call per
 servo tick), and a serial and a parallel loop over a batch of Jacobians ``(N, m, n)``
-(:func:`~redkin.compiled.run_batch` picks one; every item is computed
+(:func:`~redkin._compiled.run_batch` picks one; every item is computed
 alone, so a batch equals its items one by one, bit for bit, on any number
 of threads).  Inputs are trusted: C-contiguous float64 arrays.
 
@@ -43,7 +43,7 @@ import numpy as np
 from numba import prange
 
 from redkin import _chain_kernels
-from redkin.compiled import kernel
+from redkin._compiled import kernel
 
 #: Largest number of Jacobi sweeps (a 6 x 7 Jacobian needs 5 to 8).
 MAX_SWEEPS = 40

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.validation import check_jacobian_and_twist
+from redkin._validation import check_jacobian_and_twist
 from redkin.velocity.cofactors import adjugate
 
 

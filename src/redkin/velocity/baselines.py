@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.compiled import run_batch
-from redkin.validation import as_float_array, check_finite, check_jacobian_and_twist, check_nonnegative, check_positive
+from redkin._compiled import run_batch
+from redkin._validation import as_float_array, check_finite, check_jacobian_and_twist, check_nonnegative, check_positive
 from redkin.velocity import _step_kernels
 
 #: Relative cut-off below which a singular value counts as zero in :func:`pseudoinverse`.

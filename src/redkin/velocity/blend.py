@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.validation import check_positive
+from redkin._validation import check_positive
 from redkin.velocity import _step_kernels
 
 

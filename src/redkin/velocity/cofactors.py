@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.compiled import run_batch
-from redkin.validation import as_float_array, check_finite, check_jacobian_and_twist
+from redkin._compiled import run_batch
+from redkin._validation import as_float_array, check_finite, check_jacobian_and_twist
 from redkin.velocity import _step_kernels
 
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.validation import check_jacobian_and_twist, check_positive
+from redkin._validation import check_jacobian_and_twist, check_positive
 from redkin.velocity.blend import blend_weight, twist_scale
 from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, self_motion_vector
 from redkin.velocity.solution import VelocitySolution

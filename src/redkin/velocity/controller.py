@@ -24,8 +24,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_nonnegative, check_positive
 from redkin.chain import SerialChain
-from redkin.validation import check_nonnegative, check_positive
 from redkin.velocity import _step_kernels
 from redkin.velocity.baselines import PINV_RCOND
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation

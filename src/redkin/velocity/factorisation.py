@@ -24,9 +24,9 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import kernel
 from redkin.chain import SerialChain
 from redkin.circle import HALF_PI
-from redkin.compiled import kernel
 from redkin.velocity.cofactors import column_minors
 
 _WAM_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])

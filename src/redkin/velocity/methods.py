@@ -13,8 +13,8 @@ from typing import Protocol
 
 import numpy as np
 
+from redkin._validation import check_positive
 from redkin.chain import SerialChain
-from redkin.validation import check_positive
 from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
 from redkin.velocity.controller import SingularityConsistentController
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation

@@ -48,8 +48,8 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.compiled import run_batch
-from redkin.validation import check_jacobian_and_twist, check_nonnegative, check_positive
+from redkin._compiled import run_batch
+from redkin._validation import check_jacobian_and_twist, check_nonnegative, check_positive
 from redkin.velocity import _step_kernels
 from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, weighted_sum
 from redkin.velocity.solution import VelocitySolution

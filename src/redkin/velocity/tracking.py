@@ -18,10 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_nonnegative, check_positive, check_vectors
 from redkin.chain import SerialChain
 from redkin.errors import SizeLimitError
 from redkin.so3 import skew
-from redkin.validation import check_nonnegative, check_positive, check_vectors
 from redkin.velocity.methods import Method
 
 _TwistCommand = Callable[[float, np.ndarray], np.ndarray]

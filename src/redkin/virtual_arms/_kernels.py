@@ -12,7 +12,7 @@ The integrator evaluates the rate function on a few states at a time (its
 finite-difference Jacobian: one state per free joint and ``log lambda``), so
 :func:`inputs` and :func:`rates` loop over them serially; :func:`virtual_points`
 also serves large batches (a learned model's training data) and comes as a
-serial and a parallel loop for :func:`~redkin.compiled.run_batch`.  Inputs
+serial and a parallel loop for :func:`~redkin._compiled.run_batch`.  Inputs
 are trusted: C-contiguous arrays of the documented shapes.
 """
 
@@ -24,7 +24,7 @@ import numpy as np
 from numba import prange
 
 from redkin import _chain_kernels
-from redkin.compiled import kernel
+from redkin._compiled import kernel
 
 #: Columns of :func:`rates`' ``scalars``.
 LAMBDA, LAMBDA_RATE, GAIN, ENERGY, FREE_GRADIENT = range(5)

@@ -15,8 +15,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import run_batch
 from redkin.chain import SerialChain
-from redkin.compiled import run_batch
 from redkin.virtual_arms import _kernels as kernels
 from redkin.virtual_arms.points import VirtualPoint
 

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import BDF, LSODA, Radau
 
-from redkin.validation import check_count, check_positive, check_vectors
+from redkin._validation import check_count, check_positive, check_vectors
 from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics, State
 from redkin.virtual_arms.output_function import OutputFunction
 from redkin.virtual_arms.subsystems import ForwardModel, OneByOne, Together

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_vectors
 from redkin.chain import SerialChain
-from redkin.validation import check_vectors
 from redkin.virtual_arms.analytic import AnalyticModel
 from redkin.virtual_arms.mlp import MLP
 from redkin.virtual_arms.points import VirtualPoint

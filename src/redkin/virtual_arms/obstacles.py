@@ -41,8 +41,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_positive, check_vectors
 from redkin.chain import SerialChain
-from redkin.validation import check_positive, check_vectors
 from redkin.virtual_arms.analytic import AnalyticModel
 from redkin.virtual_arms.clearance import Obstacle, arm_clearance, as_obstacles, densify
 from redkin.virtual_arms.generate import generate_trajectory

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.validation import as_float_array, check_count, check_finite
+from redkin._validation import as_float_array, check_count, check_finite
 
 #: Most grid points per axis (``redkin workspace --resolution``).
 MAX_RESOLUTION = 1000

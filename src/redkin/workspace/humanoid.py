@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin import __version__
+from redkin._validation import check_count
 from redkin.chain import SerialChain
 from redkin.torso_arm.geometry import MIRROR, TorsoArm
 from redkin.torso_arm.maps import (
@@ -51,9 +52,8 @@ from redkin.torso_arm.maps import (
     best_over_redundancy,
     sweep_samples,
 )
-from redkin.validation import check_count
+from redkin.workspace._optional import require
 from redkin.workspace.grid import MAX_RESOLUTION, WorkspaceGrid, workspace_grid
-from redkin.workspace.optional import require
 from redkin.workspace.run import (
     Progress,
     _run_distributed,

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from redkin.validation import check_count
+from redkin._validation import check_count
 
 #: The real root > 1 of psi^4 = psi + 4 (Alexa 2022, equation 11).
 _SUPER_FIBONACCI_PSI = 1.533751168755204288118041

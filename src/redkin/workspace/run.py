@@ -29,13 +29,13 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import check_count
 from redkin.chain import SerialChain
 from redkin.srs import BRANCHES, srs_geometry
 from redkin.srs.geometry import SRSGeometry
-from redkin.validation import check_count
+from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid, workspace_grid
 from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index
-from redkin.workspace.optional import require
 from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
 from redkin.workspace.store import completed_chunks, create_store, map_parameters, stored_parameters, write_chunk
 

@@ -24,8 +24,8 @@ import numpy as np
 from redkin import __version__
 from redkin.chain import SerialChain
 from redkin.srs import BRANCHES
+from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid
-from redkin.workspace.optional import require
 
 #: The file name of the map inside the output directory of ``redkin workspace``.
 MAP_NAME = "map.zarr"
