@@ -42,7 +42,9 @@ def reference_pinv(jac, twist):
 
 
 def reference_minors(jac):
-    return np.array([np.linalg.det(np.delete(jac, i, axis=1)) for i in range(jac.shape[1])])
+    # numpy's det divides by a zero pivot (and warns) when a column-removed Jacobian is exactly singular; it is 0 then
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.array([np.linalg.det(np.delete(jac, i, axis=1)) for i in range(jac.shape[1])])
 
 
 def reference_sc(jac, twist, index, factors, direction, self_motion=0.0, modify_rotation=True):
