@@ -53,7 +53,7 @@ _GROUPS = (("shoulder", (0, 1, 2)), ("wrist", (4, 5, 6)))
 _CONVERTED: WeakKeyDictionary[SerialChain, SerialChain] = WeakKeyDictionary()
 
 
-def joint_lines(chain: SerialChain) -> tuple[np.ndarray, np.ndarray]:
+def _joint_lines(chain: SerialChain) -> tuple[np.ndarray, np.ndarray]:
     """Points and unit directions of the joint lines at ``q = 0``, directions turning with positive ``q``."""
     directions, points = chain.joint_axes(np.zeros(chain.n))
     return points, directions * chain.sign[:, None]
@@ -85,7 +85,7 @@ def _convert(chain: SerialChain) -> SerialChain:
     """:func:`table1_form` without the cache."""
     if chain.n != 7:
         raise NotArmAngleClassError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}", chain.name)
-    points, directions = joint_lines(chain)
+    points, directions = _joint_lines(chain)
     centres = {}
     for name, group in _GROUPS:
         centres[name], distance = _meeting_point(points[list(group)], directions[list(group)])
@@ -119,7 +119,8 @@ def _convert(chain: SerialChain) -> SerialChain:
     if abs(rows[3, 2]) > _SRS_TOLERANCE:
         raise NotArmAngleClassError(
             f"{chain.name!r} is not S-R-S: joints 3-5 do not meet, and its elbow is offset {abs(rows[3, 2]):.3g} m "
-            "along joint 4 (only offsets across joint 4, as on the WAM, are solved)", chain.name, float(abs(rows[3, 2])))
+            "along joint 4 (only offsets across joint 4, as on the WAM, are solved)",
+            chain.name, float(abs(rows[3, 2])))
     a = np.zeros(7)  # rounding only, except an offset elbow's a_3 and a_4
     if offset_elbow:
         a[2:4] = rows[2:4, 0]
@@ -154,7 +155,8 @@ def _elbow_pair_turned(chain: SerialChain) -> SerialChain:
 
 
 def _foot(point: np.ndarray, direction: np.ndarray, other_point: np.ndarray) -> np.ndarray:
-    """The point of a line closest to a line perpendicular to it through ``other_point`` (their common normal's foot)."""
+    """The point of a line closest to a line perpendicular to it through ``other_point`` (their common
+    normal's foot)."""
     return point + ((other_point - point) @ direction) * direction
 
 

@@ -107,12 +107,6 @@ def _torso_angles_parallel(psi, wrist, out, defined):
 
 
 # -------------------------------------------------------------- public API
-def _shoulder_angle_defined(wrist: ArrayLike) -> np.ndarray:
-    """Whether the signed shoulder angle is defined for right-arm wrist positions ``(..., 3)``."""
-    w = check_vectors(wrist, 3, "wrist")
-    return theta1_from_shoulder_angle(np.zeros(w.shape[:-1]), w)[1]
-
-
 def shoulder_angle(theta1: ArrayLike, wrist: ArrayLike, L0: float = 1.0) -> np.ndarray:
     """Signed shoulder angle psi of the right arm (section 3.2, rotation about the neck->wrist axis).
 
@@ -128,8 +122,8 @@ def shoulder_angle(theta1: ArrayLike, wrist: ArrayLike, L0: float = 1.0) -> np.n
     Returns
     -------
     numpy.ndarray, shape (...)
-        psi in ``(-pi, pi]``; NaN where it is undefined (``W_y = 0``, see
-        :func:`_shoulder_angle_defined`).
+        psi in ``(-pi, pi]``; NaN where it is undefined (``W_y = 0``; the second value of
+        :func:`theta1_from_shoulder_angle` says where it is defined).
     """
     t = as_float_array(theta1, "theta1")
     check_finite(t, "theta1")

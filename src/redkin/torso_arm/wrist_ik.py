@@ -26,18 +26,9 @@ from redkin.torso_arm.branches import WRIST_BRANCHES, wrap_angle
 _WRIST_SINGULAR_TOLERANCE = 1e-9
 
 
-def _wrist_rotation(theta6: np.ndarray, theta7: np.ndarray, theta8: np.ndarray) -> np.ndarray:
-    """``R58`` of Table 2.1 rows 6-8 (the derived replacement of [001 eqs. 4.6, 4.9]), shape ``(..., 3, 3)``."""
-    c6, s6, c7, s7, c8, s8 = (f(t) for t in (theta6, theta7, theta8) for f in (np.cos, np.sin))
-    return np.stack([
-        np.stack([-s6 * c7 * c8 - c6 * s8, -s6 * c7 * s8 + c6 * c8, s6 * s7], axis=-1),
-        np.stack([-s7 * c8, -s7 * s8, -c7], axis=-1),
-        np.stack([s6 * s8 - c6 * c7 * c8, -s6 * c8 - c6 * c7 * s8, c6 * s7], axis=-1),
-    ], axis=-2)
-
-
 def wrist_ik(r58: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Joints 6-8 of both wrist branches from the frame-5-to-frame-8 rotation ([001 eqs. 4.7, 4.10, 4.11], re-derived).
+    """Joints 6-8 of both wrist branches from the frame-5-to-frame-8 rotation ([001 eqs. 4.7, 4.10, 4.11],
+    re-derived from the ``R58`` of the module docstring, which replaces [001 eqs. 4.6, 4.9]).
 
     Parameters
     ----------
