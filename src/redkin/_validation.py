@@ -121,7 +121,9 @@ def check_positive(value: float, name: str) -> float:
     return number
 
 
-def check_jacobian_and_twist(jacobian: ArrayLike, twist: ArrayLike, one_redundant: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def check_jacobian_and_twist(
+    jacobian: ArrayLike, twist: ArrayLike, one_redundant: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """Validate Jacobians ``(..., m, n)`` and twists ``(..., m)``; broadcast their leading axes.
 
     Parameters

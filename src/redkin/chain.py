@@ -196,7 +196,8 @@ class SerialChain:
         return check_vectors(q, self.n, name)
 
     def _flat(self, q: ArrayLike) -> tuple[np.ndarray, tuple[int, ...]]:
-        """Validated joint vectors as the kernels take them (C-contiguous float64, ``(N, n)``) and their leading shape."""
+        """Validated joint vectors as the kernels take them (C-contiguous float64, ``(N, n)``) and their
+        leading shape."""
         q = self.check_q(q)
         return np.ascontiguousarray(q.reshape(-1, self.n)), q.shape[:-1]
 

@@ -148,7 +148,8 @@ def _transform(table: Any, what: str, angle: float, length: float) -> np.ndarray
             continue
         vector = table[key]
         if not isinstance(vector, list) or len(vector) != 3:
-            raise RobotDescriptionError(f"[{what}] {key} must be a list of 3 numbers, got {vector!r}", key=f"{what} {key}")
+            raise RobotDescriptionError(f"[{what}] {key} must be a list of 3 numbers, got {vector!r}",
+                                        key=f"{what} {key}")
         values = np.array([_number(v, f"[{what}] {key}") for v in vector]) * scale
         if target == "p":
             out[:3, 3] = values

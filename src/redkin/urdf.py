@@ -82,19 +82,20 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None)
     roots = sorted(links - set(parent_of))
     base = base if base is not None else (roots[0] if len(roots) == 1 else None)
     if base is None:
-        raise RobotDescriptionError(f"{path}: the URDF has {len(roots)} root links ({', '.join(roots)}); name one with --base",
-                                    path=str(path))
+        raise RobotDescriptionError(f"{path}: the URDF has {len(roots)} root links ({', '.join(roots)}); "
+                                    "name one with --base", path=str(path))
     for name, role in ((base, "base"), (tip, "tip")):
         if name is not None and name not in links:
-            raise RobotDescriptionError(f"{path}: no link named {name!r} for the {role} (links: {', '.join(sorted(links))})",
-                                        path=str(path), key=str(name))
+            raise RobotDescriptionError(f"{path}: no link named {name!r} for the {role} "
+                                        f"(links: {', '.join(sorted(links))})", path=str(path), key=str(name))
     if tip is None:
         tip = _only_leaf(robot, base, path)
     joints = []
     link = tip
     while link != base:
         if link not in parent_of:
-            raise RobotDescriptionError(f"{path}: link {tip!r} is not below link {base!r}", path=str(path), key=str(tip))
+            raise RobotDescriptionError(f"{path}: link {tip!r} is not below link {base!r}", path=str(path),
+                                        key=str(tip))
         joint = parent_of[link]
         joints.append(joint)
         link = joint.parent
@@ -110,7 +111,8 @@ def _parse(path: Path):
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise RobotDescriptionError(f"cannot read robot file {str(path)!r}: {exc.strerror or exc}", path=str(path)) from None
+        raise RobotDescriptionError(f"cannot read robot file {str(path)!r}: {exc.strerror or exc}",
+                                    path=str(path)) from None
     if path.suffix.lower() == ".xacro":
         text = _expand_xacro(path)
     noise = io.StringIO()
@@ -171,11 +173,11 @@ def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str) ->
     points, directions, lower, upper, names = [], [], [], [], []
     for joint in joints:
         if joint.type in _UNSUPPORTED:
-            raise RobotDescriptionError(f"joint {joint.name!r} is {joint.type}: redkin chains have revolute joints only",
-                                        path=path, key=joint.name)
+            raise RobotDescriptionError(f"joint {joint.name!r} is {joint.type}: redkin chains have revolute "
+                                        "joints only", path=path, key=joint.name)
         if joint.mimic is not None:
-            raise RobotDescriptionError(f"joint {joint.name!r} mimics {joint.mimic.joint!r}: mimic joints are not supported",
-                                        path=path, key=joint.name)
+            raise RobotDescriptionError(f"joint {joint.name!r} mimics {joint.mimic.joint!r}: mimic joints are not "
+                                        "supported", path=path, key=joint.name)
         pose = pose @ _origin(joint)
         if joint.type == "fixed":
             continue
@@ -184,8 +186,8 @@ def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str) ->
                                         path=path, key=joint.name)
         axis = np.array([1.0, 0.0, 0.0] if joint.axis is None else joint.axis, dtype=float)
         if not np.all(np.isfinite(axis)) or np.linalg.norm(axis) < 1e-12:
-            raise RobotDescriptionError(f"joint {joint.name!r}: axis must be a non-zero finite vector, got {axis.tolist()}",
-                                        path=path, key=joint.name)
+            raise RobotDescriptionError(f"joint {joint.name!r}: axis must be a non-zero finite vector, "
+                                        f"got {axis.tolist()}", path=path, key=joint.name)
         names.append(joint.name)
         points.append(pose[:3, 3].copy())
         directions.append(pose[:3, :3] @ (axis / np.linalg.norm(axis)))

@@ -23,7 +23,8 @@ from redkin.srs import arm_angle_class
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    robots = subparsers.add_parser("robots", help="list the named robot models and their arm-angle class, or --show one")
+    robots = subparsers.add_parser("robots",
+                                   help="list the named robot models and their arm-angle class, or --show one")
     robots.add_argument("--show", metavar="ROBOT",
                         help="print one chain (a model, robot file or URDF): joints, limits, frames, arm-angle class")
     robots.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (with --show)")
@@ -83,7 +84,8 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
         print_json({
             "name": chain.name, "source": chain.source, "convention": chain.convention, "class": kind,
             "class_reason": reason,
-            "units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg), "point": "m", "base": "m", "tool": "m"},
+            "units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg), "point": "m", "base": "m",
+                      "tool": "m"},
             "joints": [{"name": name, "lower": low, "upper": high, "point": point, "axis": axis}
                        for name, low, high, point, axis in zip(chain.joint_names, _finite(lower), _finite(upper),
                                                                 points, directions)],
@@ -134,7 +136,8 @@ def _run_jacobian(args: argparse.Namespace) -> int:
     jac = chain.jacobian(q)
     manip = float(chain.manipulability(q)) if args.manipulability else None
     if args.json:
-        units = {"q": angle_unit(args.deg), "jacobian": "per rad of joint motion: m/rad (linear rows), rad/rad (angular rows)",
+        units = {"q": angle_unit(args.deg),
+                 "jacobian": "per rad of joint motion: m/rad (linear rows), rad/rad (angular rows)",
                  "manipulability": "of J as printed"}
         out = {"robot": chain.name, "units": units, "q": angles_out(q, args.deg), "jacobian": jac}
         if manip is not None:

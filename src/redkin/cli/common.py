@@ -46,7 +46,8 @@ class Parser(argparse.ArgumentParser):
 
 
 def add_robot_argument(parser: argparse.ArgumentParser) -> None:
-    """``ROBOT``: a model name (``redkin robots``), a robot file or a URDF, with ``--base``/``--tip`` links for a URDF."""
+    """``ROBOT``: a model name (``redkin robots``), a robot file or a URDF, with ``--base``/``--tip`` links for
+    a URDF."""
     parser.add_argument("robot", metavar="ROBOT",
                         help="model name (see `redkin robots`), a .toml/.json robot file, or a .urdf or .xacro file")
     parser.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link)")
@@ -59,9 +60,11 @@ BRANCH_HELP = "signs of q2, q4, q6 in the robot's own joint senses, e.g. +-+ (de
 
 def add_target_arguments(parser: argparse.ArgumentParser) -> None:
     """``--position X Y Z --rotation R11 ... R33``: a target pose of the tool."""
-    parser.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="tool position [m]")
+    parser.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"),
+                        help="tool position [m]")
     parser.add_argument(
-        "--rotation", nargs=9, type=float, required=True, metavar="R", help="tool rotation R11 R12 R13 R21 ... R33 (row by row)"
+        "--rotation", nargs=9, type=float, required=True, metavar="R",
+        help="tool rotation R11 R12 R13 R21 ... R33 (row by row)"
     )
 
 

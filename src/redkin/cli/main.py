@@ -34,7 +34,8 @@ _COMMANDS = {
 
 
 def _build_parser(command: str | None = None) -> Parser:
-    """The ``redkin`` parser: every command, or only the commands of ``command``'s module if it is one of :data:`_COMMANDS`."""
+    """The ``redkin`` parser: every command, or only the commands of ``command``'s module if it is one of
+    :data:`_COMMANDS`."""
     parser = Parser(
         prog="redkin",
         description="Kinematics of redundant robot manipulators. Angles are radians unless --deg is given.",

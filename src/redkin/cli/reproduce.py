@@ -13,7 +13,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "reproduce",
         help="recompute the papers' figures and tables into DIR/index.html and DIR/summary.json",
     )
-    parser.add_argument("papers", nargs="*", metavar="PAPER", help=f"sections to run (default all): {', '.join(reproduce.section_keys())}")
+    parser.add_argument("papers", nargs="*", metavar="PAPER",
+                        help=f"sections to run (default all): {', '.join(reproduce.section_keys())}")
     parser.add_argument("--out", default="report", metavar="DIR", help="output directory (default: report)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     parser.set_defaults(handler=run)
@@ -27,7 +28,8 @@ def _progress(key: str, fraction: float, message: str) -> None:
     width = 30
     filled = int(round(width * max(0.0, min(1.0, fraction))))
     end = "\n" if fraction >= 1.0 else ""
-    sys.stderr.write(f"\r[{key:>6}] [{'#' * filled}{'.' * (width - filled)}] {100 * fraction:5.1f}% {message[:40]:<40}{end}")
+    sys.stderr.write(f"\r[{key:>6}] [{'#' * filled}{'.' * (width - filled)}] {100 * fraction:5.1f}% "
+                     f"{message[:40]:<40}{end}")
     sys.stderr.flush()
 
 

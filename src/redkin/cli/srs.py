@@ -24,7 +24,9 @@ from redkin.srs.geometry import srs_geometry
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    solve = subparsers.add_parser("ik", help="joint values of an S-R-S or offset-elbow arm for a pose and an arm angle (paper 000)")
+    solve = subparsers.add_parser(
+        "ik", help="joint values of an S-R-S or offset-elbow arm for a pose and an arm angle (paper 000)"
+    )
     add_robot_argument(solve)
     add_target_arguments(solve)
     solve.add_argument("--psi", type=float, required=True, help="arm angle (radians, or degrees with --deg)")
@@ -35,13 +37,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     solve.set_defaults(handler=run_ik)
 
     angles = subparsers.add_parser(
-        "arm-angles", help="feasible, singular and optimal arm angles of an S-R-S or offset-elbow arm for a pose (paper 000)"
+        "arm-angles",
+        help="feasible, singular and optimal arm angles of an S-R-S or offset-elbow arm for a pose (paper 000)",
     )
     add_robot_argument(angles)
     add_target_arguments(angles)
     angles.add_argument("--branch", default="+++", help=BRANCH_HELP)
-    angles.add_argument("--target", nargs=7, type=float, metavar="Q", help="target joint values (default: limit midpoints)")
-    angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5), help="[000 eq. 40] weights")
+    angles.add_argument("--target", nargs=7, type=float, metavar="Q",
+                        help="target joint values (default: limit midpoints)")
+    angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5),
+                        help="[000 eq. 40] weights")
     add_output_flags(angles)
     angles.set_defaults(handler=_run_arm_angles)
 
@@ -84,7 +89,8 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
     feasible = feasible_arm_angles(geometry, pose, branch)
     singular = singular_arm_angles(geometry, pose, branch)
-    optimal = optimal_arm_angles(geometry, pose, branch, target=target, weights=args.weights, feasible=feasible.feasible)
+    optimal = optimal_arm_angles(geometry, pose, branch, target=target, weights=args.weights,
+                                 feasible=feasible.feasible)
     deg = args.deg
 
     def pair(angle):

@@ -37,10 +37,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     top = subparsers.add_parser("torso-arm", help="8-DOF humanoid arm of thesis 001: IK and manipulability maps")
     sub = top.add_subparsers(dest="torso_command", metavar="ACTION")
 
-    solve = sub.add_parser("ik", help="every joint solution for a wrist/hand pose at shoulder angle psi, elbow angle phi")
+    solve = sub.add_parser("ik",
+                           help="every joint solution for a wrist/hand pose at shoulder angle psi, elbow angle phi")
     solve.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="metres")
     orient = solve.add_mutually_exclusive_group()
-    orient.add_argument("--angles", nargs=3, type=float, metavar=("A", "B", "G"), help="X-Y-Z fixed angles ([001 eq. 4.4])")
+    orient.add_argument("--angles", nargs=3, type=float, metavar=("A", "B", "G"),
+                        help="X-Y-Z fixed angles ([001 eq. 4.4])")
     orient.add_argument("--rotation", nargs=9, type=float, metavar="R", help="rotation matrix, row by row")
     solve.add_argument("--shoulder", type=float, required=True, metavar="PSI", help="shoulder angle psi")
     solve.add_argument("--elbow", type=float, required=True, metavar="PHI", help="elbow angle phi")
@@ -96,13 +98,15 @@ def run_ik(args: argparse.Namespace) -> int:
         q, limits, branches, singular = position.q, position.within_limits, [b[:2] for b in BRANCHES[::2]], [False] * 4
         code = position.status
     else:
-        kwargs = {"angles": angles_in(args.angles, args.deg)} if args.angles else {"rotation": np.reshape(args.rotation, (3, 3))}
+        kwargs = ({"angles": angles_in(args.angles, args.deg)} if args.angles
+                  else {"rotation": np.reshape(args.rotation, (3, 3))})
         sol = ik(arm, args.position, psi, phi, reference=reference, **kwargs)
         q, limits, branches, singular = sol.q, sol.within_limits, list(BRANCHES), sol.wrist_singular.tolist()
         code = sol.status
     status = STATUS_NAMES[int(code)]
     rows = [
-        {"branch": list(b), "q": angles_out(q[i], args.deg), "within_limits": bool(limits[i]), "wrist_singular": bool(singular[i])}
+        {"branch": list(b), "q": angles_out(q[i], args.deg), "within_limits": bool(limits[i]),
+         "wrist_singular": bool(singular[i])}
         for i, b in enumerate(branches)
     ] if status == "ok" else []
     if args.json:
@@ -150,12 +154,14 @@ def _run_map(args: argparse.Namespace) -> int:
     }
     if args.threshold is not None:
         region = region_above(result, args.threshold)
-        summary["threshold"] = {"value": region.threshold, "area_m2": region.area, "fraction_of_valid": float(region.fraction)}
+        summary["threshold"] = {"value": region.threshold, "area_m2": region.area,
+                                "fraction_of_valid": float(region.fraction)}
     if args.out:
         _save(result, args.out, unit, args.arm)
         summary["out"] = args.out
     if args.json:
-        print_json({**summary, "u": grid.u, "v": grid.v, "values": [[None if not np.isfinite(x) else x for x in row] for row in result.values]})
+        print_json({**summary, "u": grid.u, "v": grid.v,
+                    "values": [[None if not np.isfinite(x) else x for x in row] for row in result.values]})
     else:
         for key, value in summary.items():
             print(f"{key}: {value}")

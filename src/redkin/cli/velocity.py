@@ -33,7 +33,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     track.add_argument("--method", choices=METHOD_NAMES, default="sc")
     track.add_argument("--eps", type=float, default=0.1, metavar="D",
                        help="singular-region threshold: on |D_e| for sc, on sigma_min for dls-adaptive (default 0.1)")
-    track.add_argument("--damping", type=float, default=0.05, metavar="L", help="(maximum) damping for dls / dls-adaptive")
+    track.add_argument("--damping", type=float, default=0.05, metavar="L",
+                       help="(maximum) damping for dls / dls-adaptive")
     track.add_argument("--dt", type=float, default=1e-3, help="RK4 step in seconds (default 0.001)")
     track.add_argument("--plot", metavar="PNG", help="save the six-panel figure here")
     add_output_flags(track)
@@ -76,7 +77,8 @@ def _run_track(args: argparse.Namespace) -> int:
         print_json({
             "robot": chain.name, "method": args.method,
             "units": {"time": "s", "q": angle, "joint_velocity": f"{angle}/s", "max_joint_speed": f"{angle}/s",
-                      "realised_twist": f"m/s (linear), {angle}/s (angular)", "target_twist": f"m/s (linear), {angle}/s (angular)",
+                      "realised_twist": f"m/s (linear), {angle}/s (angular)",
+                      "target_twist": f"m/s (linear), {angle}/s (angular)",
                       "position": "m", "index": "D_e, as the singularity factorisation defines it"},
             "time": run.time, "q": angles_out(run.q, args.deg),
             "joint_velocity": angles_out(run.joint_velocity, args.deg),

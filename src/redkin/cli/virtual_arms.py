@@ -43,22 +43,25 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--goal", nargs="+", type=float, required=True, metavar="X",
                         help="end-point goal: X Y for a planar arm, X Y Z otherwise (metres)")
     parser.add_argument("--point", action="append", default=[], metavar="POINT=X,Y[,Z]",
-                        help="a virtual end point and its goal, e.g. joint:3=0.5,0.6 or link:2@0.5=0.1,0.3 (repeatable)")
+                        help="a virtual end point and its goal, e.g. joint:3=0.5,0.6 or link:2@0.5=0.1,0.3 "
+                             "(repeatable)")
     parser.add_argument("--weight", action="append", type=float, default=None, metavar="W",
                         help="weights, one per point: the end point first, then each --point in order (repeatable)")
-    parser.add_argument("--fix", default="", metavar="J,J", help="clamped joints, 1-based, comma separated ([004 eq. 27])")
+    parser.add_argument("--fix", default="", metavar="J,J",
+                        help="clamped joints, 1-based, comma separated ([004 eq. 27])")
     parser.add_argument("--limits", action="store_true", help="keep the joints in the robot's ranges ([004 eq. 25])")
     parser.add_argument("--model", choices=("analytic", "learned"), default="analytic",
                         help="forward models of the subsystems (learned: one trained network per point)")
     parser.add_argument("--q0", nargs="+", type=float, metavar="Q",
                         help=f"initial joint values (default {_DEFAULT_Q0} rad at every joint)")
-    parser.add_argument("--max-steps", type=int, default=5000, help=f"integrator step budget (default 5000, at most {MAX_STEPS})")
+    parser.add_argument("--max-steps", type=int, default=5000,
+                        help=f"integrator step budget (default 5000, at most {MAX_STEPS})")
     parser.add_argument("--obstacle", action="append", default=[], metavar="X,Y,R",
                         help="a circular obstacle X,Y,R (planar arms) or a sphere X,Y,Z,R, metres (repeatable); "
                              "the planner of Fig. 8 then keeps the whole arm clear of it")
     parser.add_argument("--out", metavar="FILE",
-                        help="save a stroboscopic drawing of the run (PNG, PDF, SVG), or an animation if FILE ends in .gif "
-                             "(planar arms)")
+                        help="save a stroboscopic drawing of the run (PNG, PDF, SVG), or an animation if FILE ends "
+                             "in .gif (planar arms)")
     add_output_flags(parser)
     parser.set_defaults(handler=_run_virtual_arms)
 
@@ -184,8 +187,8 @@ def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: n
     if args.json:
         print_json({
             "robot": chain.name, "status": run.status, "message": run.message, "model": "analytic",
-            "q": q_final, "angles": angle_unit(args.deg), "units": _units(args.deg), "goal": goal, "end_error": run.end_error,
-            "min_clearance": run.min_clearance,
+            "q": q_final, "angles": angle_unit(args.deg), "units": _units(args.deg), "goal": goal,
+            "end_error": run.end_error, "min_clearance": run.min_clearance,
             "obstacles": [{"centre": ob.centre, "radius": ob.radius} for ob in obstacles],
             "periods": run.periods, "steps": run.steps, "seconds": run.seconds,
         })

@@ -32,11 +32,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     command.add_argument("--resolution", type=int, required=True, metavar="M",
                          help=f"grid points per axis, ends included (2..{MAX_RESOLUTION})")
     command.add_argument("--orientations", type=int, metavar="N",
-                         help=f"tool orientations per position, a super-Fibonacci set on SO(3) (1..{MAX_ORIENTATIONS}); "
-                              "required for an arm with arm-angle IK")
+                         help="tool orientations per position, a super-Fibonacci set on SO(3) "
+                              f"(1..{MAX_ORIENTATIONS}); required for an arm with arm-angle IK")
     command.add_argument("--samples", type=int, nargs=2, metavar=("N1", "NPHI"),
-                         help="the thesis 001 humanoid (humanoid-right, humanoid-left) instead: its best manipulability "
-                              "over N1 x NPHI samples of theta_1 and phi (default 24 24)")
+                         help="the thesis 001 humanoid (humanoid-right, humanoid-left) instead: its best "
+                              "manipulability over N1 x NPHI samples of theta_1 and phi (default 24 24)")
     command.add_argument("--chunk", type=int, metavar="C",
                          help="grid points per axis of a chunk (default: about 262144 poses per chunk)")
     command.add_argument("--scheduler", metavar="ADDRESS",

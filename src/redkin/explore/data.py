@@ -39,7 +39,8 @@ _SAME_ANGLE = 1e-12
 _LIMIT_TOLERANCE = 1e-9
 #: What a singular arm angle means for the joint values shown there.
 _SINGULAR_NOTE = {
-    "shoulder": "joints 1 and 3 turn about one axis here: only their combination is fixed, the values shown are one split",
+    "shoulder": ("joints 1 and 3 turn about one axis here: only their combination is fixed, the values shown are "
+                 "one split"),
     "wrist": "joints 5 and 7 turn about one axis here: only their combination is fixed, the values shown are one split",
 }
 #: Stated limits of ``samples``.
@@ -48,7 +49,8 @@ MIN_SAMPLES, MAX_SAMPLES = 16, 20_000
 
 @dataclass(frozen=True)
 class Mark:
-    """A special arm angle on a branch's grid: its kind (``feasible``, ``optimal``, ``singular``), label, index and note."""
+    """A special arm angle on a branch's grid: its kind (``feasible``, ``optimal``, ``singular``), label, index
+    and note."""
 
     kind: str
     label: str
@@ -147,7 +149,8 @@ def explorer_data(
         For an arm without arm-angle IK, a malformed or unreachable pose, a
         malformed branch, target or weights, or ``samples`` out of range.
     """
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not MIN_SAMPLES <= samples <= MAX_SAMPLES:
+    if (isinstance(samples, bool) or not isinstance(samples, (int, np.integer))
+            or not MIN_SAMPLES <= samples <= MAX_SAMPLES):
         raise ValueError(f"samples must be an integer from {MIN_SAMPLES} to {MAX_SAMPLES}, got {samples!r}")
     first = parse_branch(branch)
     pose = np.asarray(pose, dtype=float)

@@ -128,7 +128,8 @@ def _branch(curves: BranchCurves, angle, decimals: int) -> dict[str, Any]:
 
 
 def _origin(path: np.ndarray) -> dict[str, list[float]]:
-    """One frame origin over the grid: ``{"at": [x, y, z]}`` if it stays put, else ``{"path": [x0, y0, z0, x1, ...]}``."""
+    """One frame origin over the grid: ``{"at": [x, y, z]}`` if it stays put, else
+    ``{"path": [x0, y0, z0, x1, ...]}``."""
     if np.ptp(path, axis=0).max() < _FIXED_ORIGIN:
         return {"at": _positions(path[0])}
     return {"path": _positions(path.ravel())}

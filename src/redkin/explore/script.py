@@ -22,8 +22,8 @@ output { font-variant-numeric: tabular-nums; font-weight: 600; min-width: 9em; }
 .status { margin: 0.2em 0; font-size: 0.92em; }
 .status .bad { color: #8a0000; font-weight: 600; }
 .marks { display: flex; flex-wrap: wrap; gap: 0.3em; margin: 0.3em 0 0.6em; }
-.marks button { font-size: 0.8em; padding: 0.15em 0.5em; border: 1px solid #999; background: #f6f6f6; border-radius: 3px;
-                cursor: pointer; }
+.marks button { font-size: 0.8em; padding: 0.15em 0.5em; border: 1px solid #999; background: #f6f6f6;
+                border-radius: 3px; cursor: pointer; }
 .marks button.optimal { border-color: #d07000; }
 .marks button.singular { border-color: #7a3db8; }
 .marks button.feasible { border-color: #2864b4; }
@@ -104,7 +104,8 @@ SCRIPT = r"""
     const colours = ["#d03030", "#20a040", "#2060d0"];
     axes.forEach((axis, k) => {
       const end = origin.map((v, c) => v + length * axis[c]);
-      node("polyline", { points: points([origin, end]), stroke: colours[k], "stroke-width": width, fill: "none" }, group);
+      node("polyline", { points: points([origin, end]), stroke: colours[k], "stroke-width": width, fill: "none" },
+           group);
     });
   }
   function drawView() {
@@ -116,7 +117,8 @@ SCRIPT = r"""
       if (!o.path) continue;
       const path = [];
       for (let i = 0; i < o.path.length; i += 3) path.push(o.path.slice(i, i + 3));
-      node("polyline", { class: "locus", points: points(path), stroke: "#b8b8b8", "stroke-width": 0.008, fill: "none" }, g);
+      node("polyline", { class: "locus", points: points(path), stroke: "#b8b8b8", "stroke-width": 0.008,
+                         fill: "none" }, g);
     }
     drawAxes(g, D.target.position, D.target.axes, 0.18 * bounds.radius, 0.014);
     node("polyline", { id: "arm", points: points(frames), stroke: "#1f4e9a", "stroke-width": 0.03, fill: "none" }, g);
@@ -127,7 +129,10 @@ SCRIPT = r"""
     }
   }
   let drag = null;
-  view3d.addEventListener("pointerdown", e => { drag = [e.clientX, e.clientY]; view3d.setPointerCapture(e.pointerId); });
+  view3d.addEventListener("pointerdown", e => {
+    drag = [e.clientX, e.clientY];
+    view3d.setPointerCapture(e.pointerId);
+  });
   view3d.addEventListener("pointermove", e => {
     if (!drag) return;
     view.az -= 0.01 * (e.clientX - drag[0]);
@@ -171,7 +176,8 @@ SCRIPT = r"""
       }
       band(branch.per_joint[j], "rgba(40,160,60,0.22)");
       band(branch.feasible, "rgba(40,100,180,0.22)");
-      node("rect", { x: LEFT, y: plotTop, width: W - LEFT - RIGHT, height: plotHeight, fill: "none", stroke: "#999" }, svg);
+      node("rect", { x: LEFT, y: plotTop, width: W - LEFT - RIGHT, height: plotHeight, fill: "none",
+                     stroke: "#999" }, svg);
       const step = niceStep(ymax - ymin);
       for (let t = Math.ceil(ymin / step) * step; t <= ymax; t += step) {
         node("line", { x1: LEFT - 4, x2: LEFT, y1: yOf(t), y2: yOf(t), stroke: "#666" }, svg);
@@ -179,7 +185,8 @@ SCRIPT = r"""
         label.textContent = Math.abs(t) < step / 1e6 ? "0" : +t.toPrecision(6);
       }
       for (const [v, text] of xTicks) {
-        node("line", { x1: xOf(v), x2: xOf(v), y1: plotTop + plotHeight, y2: plotTop + plotHeight + 4, stroke: "#666" }, svg);
+        node("line", { x1: xOf(v), x2: xOf(v), y1: plotTop + plotHeight, y2: plotTop + plotHeight + 4,
+                       stroke: "#666" }, svg);
         const label = node("text", { x: xOf(v), y: H - 5, "text-anchor": "middle", "font-size": 11 }, svg);
         label.textContent = text;
       }
@@ -200,7 +207,9 @@ SCRIPT = r"""
       const starts = [0].concat(branch.breaks[j], [q.length]);
       for (let s = 0; s + 1 < starts.length; s++) {
         const segment = [];
-        for (let i = starts[s]; i < starts[s + 1]; i++) segment.push(xOf(branch.psi[i]).toFixed(2) + "," + yOf(q[i]).toFixed(2));
+        for (let i = starts[s]; i < starts[s + 1]; i++) {
+          segment.push(xOf(branch.psi[i]).toFixed(2) + "," + yOf(q[i]).toFixed(2));
+        }
         node("polyline", { points: segment.join(" "), fill: "none", stroke: "#111", "stroke-width": 1.4 }, svg);
       }
       const line = node("line", { y1: plotTop, y2: plotTop + plotHeight, stroke: "#777", "stroke-width": 1.4 }, svg);
@@ -258,7 +267,9 @@ SCRIPT = r"""
     if (outside.length) joints.className = "bad";
     status.appendChild(joints);
     const notes = branch.marks.filter(m => m.index === index && m.note).map(m => " " + m.label + ": " + m.note + ".");
-    for (const part of branch.singular_everywhere) notes.push(" The " + part + " is singular at every ψ for this pose.");
+    for (const part of branch.singular_everywhere) {
+      notes.push(" The " + part + " is singular at every ψ for this pose.");
+    }
     for (const note of notes) status.appendChild(document.createTextNode(note));
   }
   function setIndex(i) {

@@ -8,7 +8,8 @@ from numpy.typing import ArrayLike
 from redkin.chain import SerialChain
 
 
-def draw_arm_3d(ax, chain: SerialChain, q: ArrayLike, color: str = "C0", label: str | None = None, alpha: float = 1.0) -> None:
+def draw_arm_3d(ax, chain: SerialChain, q: ArrayLike, color: str = "C0", label: str | None = None,
+                alpha: float = 1.0) -> None:
     """Draw ``chain`` at joints ``q`` on a 3-D axes: links, joints and the tool frame.
 
     The polyline passes through the base, every frame origin and the tool.
@@ -23,7 +24,8 @@ def draw_arm_3d(ax, chain: SerialChain, q: ArrayLike, color: str = "C0", label: 
         ax.plot(*np.stack([tool[:3, 3], end], axis=1), color=axis_color, linewidth=1.5, alpha=alpha)
 
 
-def draw_arm_2d(ax, chain: SerialChain, q: ArrayLike, color: str = "C0", alpha: float = 1.0, label: str | None = None) -> None:
+def draw_arm_2d(ax, chain: SerialChain, q: ArrayLike, color: str = "C0", alpha: float = 1.0,
+                label: str | None = None) -> None:
     """Draw a planar arm (x-y plane) at joints ``q``."""
     points = chain.frames(q)[:, :2, 3]
     ax.plot(points[:, 0], points[:, 1], "-o", color=color, markersize=3, alpha=alpha, label=label)

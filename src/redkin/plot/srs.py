@@ -62,8 +62,10 @@ def plot_reachable_rotations(
     for value, arc_set in zip(g, feasible):
         for lo, hi in arc_set.intervals:
             ax.plot([value, value], np.degrees([lo, hi]), color="C2", linewidth=max(1.0, step), alpha=0.5)
-    ax.plot(g[fixed_ok], np.full(fixed_ok.sum(), np.degrees(fixed_psi)), ".", color="C3", markersize=3, label="psi fixed (reachable)")
-    ax.plot(g[controlled_ok], np.degrees(controlled_psi[controlled_ok]), ".", color="C0", markersize=3, label="psi controlled, [000 eq. 40]")
+    ax.plot(g[fixed_ok], np.full(fixed_ok.sum(), np.degrees(fixed_psi)), ".", color="C3", markersize=3,
+            label="psi fixed (reachable)")
+    ax.plot(g[controlled_ok], np.degrees(controlled_psi[controlled_ok]), ".", color="C0", markersize=3,
+            label="psi controlled, [000 eq. 40]")
     ax.set_xlabel("tool rotation gamma [deg]")
     ax.set_ylabel("arm angle psi [deg]")
     ax.set_ylim(-180, 180)

@@ -64,7 +64,8 @@ def render_page(sections: Sequence[SectionWriter], title: str, build: dict[str, 
     ids = _Anchors()
     bodies = [_section_html(s, ids) for s in sections]
     meta = (f"Generated {html.escape(build['date'])} · redkin {html.escape(build['version'])} · commit "
-            f"<code>{html.escape(build['commit'])}</code> · every table's rows: <a href=\"summary.json\">summary.json</a>")
+            f"<code>{html.escape(build['commit'])}</code> · every table's rows: "
+            "<a href=\"summary.json\">summary.json</a>")
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
@@ -197,7 +198,8 @@ def _table_html(table: dict[str, Any]) -> str:
     numeric = [bool(rows) and sum(is_number(row[j]) for row in rows) * 2 >= len(rows) for j in range(len(columns))]
     head = "".join(f'<th{_NUM if numeric[j] else ""}>{html.escape(str(c))}</th>' for j, c in enumerate(columns))
     body = "".join(
-        "<tr>" + "".join(f'<td{_NUM if is_number(v) else ""}>{html.escape(formats[j](v))}</td>' for j, v in enumerate(row))
+        "<tr>"
+        + "".join(f'<td{_NUM if is_number(v) else ""}>{html.escape(formats[j](v))}</td>' for j, v in enumerate(row))
         + "</tr>"
         for row in rows
     )

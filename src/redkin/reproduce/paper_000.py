@@ -60,7 +60,8 @@ def _section_6_1(writer: SectionWriter, chain) -> None:
     for joint, (lo, hi) in printed.items():
         ours = result.per_joint[joint]
         arcs = [(-np.pi, np.pi)] if ours.is_full else ours.arcs
-        rows.append(Comparison(f"Psi_{joint} lower [deg]", lo, _deg(arcs[0][0]) if arcs else None, TOL, "" if len(arcs) == 1 else f"ours: {_arc_text(ours)}"))
+        rows.append(Comparison(f"Psi_{joint} lower [deg]", lo, _deg(arcs[0][0]) if arcs else None, TOL,
+                               "" if len(arcs) == 1 else f"ours: {_arc_text(ours)}"))
         rows.append(Comparison(f"Psi_{joint} upper [deg]", hi, _deg(arcs[0][1]) if arcs else None, TOL))
     lo, hi = result.feasible.arcs[0]
     rows += [Comparison("Psi lower [deg]", -P.SECTION_6_1_PSI_BOUND, _deg(lo), TOL),
@@ -95,7 +96,8 @@ def _section_6_1(writer: SectionWriter, chain) -> None:
     ax.legend(fontsize=8, loc="upper left")
     writer.figure(fig, "postures_6_1", "Postures at psi = 0, psi_min and psi_max (paper Fig. 6)",
                   "The pose of [000 eq. 41]; each posture drawn through its frame origins, with the tool frame.")
-    _explorer_link(writer, chain, pose, "explore_6_1", "Explore §6.1 live: the arm angle on a slider, all eight branches")
+    _explorer_link(writer, chain, pose, "explore_6_1",
+                   "Explore §6.1 live: the arm angle on a slider, all eight branches")
 
 
 def _section_6_2_1(writer: SectionWriter, chain) -> None:
@@ -118,8 +120,10 @@ def _section_6_2_1(writer: SectionWriter, chain) -> None:
                    note=Note("the printed set belongs to branch ++- (theta6 < 0)",
                              "the +++ branch is empty here (theta5 exceeds its limit for every psi); the next two "
                              "rows compare the printed set with branch ++-")),
-        Comparison("Psi, branch ++- (theta6 < 0) lower [deg]", -P.SECTION_6_2_1_PSI_BOUND, _deg(other.arcs[0][0]) if not other.is_empty else None, TOL),
-        Comparison("Psi, branch ++- (theta6 < 0) upper [deg]", P.SECTION_6_2_1_PSI_BOUND, _deg(other.arcs[0][1]) if not other.is_empty else None, TOL),
+        Comparison("Psi, branch ++- (theta6 < 0) lower [deg]", -P.SECTION_6_2_1_PSI_BOUND,
+                   _deg(other.arcs[0][0]) if not other.is_empty else None, TOL),
+        Comparison("Psi, branch ++- (theta6 < 0) upper [deg]", P.SECTION_6_2_1_PSI_BOUND,
+                   _deg(other.arcs[0][1]) if not other.is_empty else None, TOL),
     ]
     writer.comparison("s6_2_1", rows, "Section 6.2.1: singularity coefficients and the feasible set",
                       "x = (0.55, 0, 0.767) m, R = [[0,0,1],[0,1,0],[-1,0,0]].")
@@ -147,11 +151,12 @@ def _section_6_2_2(writer: SectionWriter, chain) -> None:
     rows = [
         Comparison("Psi lower [deg]", -P.SECTION_6_2_2_PSI_BOUND, _deg(lo), TOL, misprint),
         Comparison("Psi upper [deg]", P.SECTION_6_2_2_PSI_BOUND, _deg(hi), TOL, misprint),
-        Comparison("psi_s^opt [deg] ([000 eq. 37])", P.SECTION_6_2_2_SHOULDER_OPTIMUM, _deg(optimal.shoulder.unclamped), TOL,
+        Comparison("psi_s^opt [deg] ([000 eq. 37])", P.SECTION_6_2_2_SHOULDER_OPTIMUM,
+                   _deg(optimal.shoulder.unclamped), TOL,
                    Note("targets theta^d = (0, 90, 0, -, 0, 90, 0) deg", "the paper does not state them")),
         Comparison("psi_w^opt [deg] ([000 eq. 39])", P.SECTION_6_2_2_WRIST_OPTIMUM, _deg(optimal.wrist.unclamped), TOL),
-        Comparison("psi^opt [deg] ([000 eq. 40], r_s = r_w = 0.5)", P.SECTION_6_2_2_OPTIMUM, _deg(optimal.overall.unclamped),
-                   TOL),
+        Comparison("psi^opt [deg] ([000 eq. 40], r_s = r_w = 0.5)", P.SECTION_6_2_2_OPTIMUM,
+                   _deg(optimal.overall.unclamped), TOL),
         Comparison("psi_w^opt clamped to Psi [deg]", P.SECTION_6_2_2_PSI_BOUND, _deg(optimal.wrist.feasible), TOL,
                    Note("the paper clamps to its misprinted bound",
                         "ours is clamped to the end of our feasible set (45.991), see the misprint note")),
@@ -164,8 +169,9 @@ def _section_6_2_2(writer: SectionWriter, chain) -> None:
         rows.append(Comparison(f"theta_{i + 1} at psi^opt [deg]", value, float(np.degrees(theta_opt[i])), TOL))
     rows.append(Comparison("max |theta| at psi = 0 [deg]", max(map(abs, P.SECTION_6_2_2_THETA_AT_ZERO)),
                            float(np.degrees(np.abs(theta0).max())), TOL))
-    rows.append(Comparison("max |theta| at psi^opt [deg]", max(abs(v) for k, v in
-                                                               enumerate(P.SECTION_6_2_2_THETA_AT_OPTIMUM) if k != 3), float(np.degrees(np.abs(np.delete(theta_opt, 3)).max())), TOL,
+    rows.append(Comparison("max |theta| at psi^opt [deg]",
+                           max(abs(v) for k, v in enumerate(P.SECTION_6_2_2_THETA_AT_OPTIMUM) if k != 3),
+                           float(np.degrees(np.abs(np.delete(theta_opt, 3)).max())), TOL,
                            "elbow theta4 = 82.872 is excluded, as in the paper's statement"))
     # reachable tool rotations: psi fixed at 0 (Gamma_0) versus controlled by [000 eq. 40] and clamped (Gamma)
     def fixed_ok(g: float) -> bool:
@@ -195,10 +201,10 @@ def _section_6_2_2(writer: SectionWriter, chain) -> None:
     plot_reachable_rotations(ax, gammas, [f.feasible for f in controlled.feasible], controlled.psi,
                              controlled.reachable, 0.0, fixed.reachable)
     writer.figure(fig, "reachable_gamma", "Feasible arm angles over the tool rotation gamma (section 6.2.2)",
-                  "Green: the feasible arm angles; red: psi fixed at 0 (Gamma_0); blue: psi from [000 eq. 40] clamped to the "
-                  "feasible set (Gamma).")
-    _explorer_link(writer, chain, pose, "explore_6_2_2", "Explore §6.2.2 live (optimal arm angle for the targets above)",
-                  target=target)
+                  "Green: the feasible arm angles; red: psi fixed at 0 (Gamma_0); blue: psi from [000 eq. 40] clamped "
+                  "to the feasible set (Gamma).")
+    _explorer_link(writer, chain, pose, "explore_6_2_2",
+                   "Explore §6.2.2 live (optimal arm angle for the targets above)", target=target)
 
 
 def build(writer: SectionWriter) -> None:

@@ -23,22 +23,31 @@ _LIMITS_DEG = np.degrees(humanoid_right_arm().limits)
 
 CORRECTIONS = [
     ("2.3 (P_x, P_z)", "the L3 term closes one parenthesis early",
-     "P_x = L0 c1 + L1 B - L3(-c5 A - B s5) + L2(c5 B - A s5) + L4 r13, A = c2c4s1 + (c1c3 - s1s2s3)s4, B = c3s1s2 + c1s3 (P_z likewise)"),
+     "P_x = L0 c1 + L1 B - L3(-c5 A - B s5) + L2(c5 B - A s5) + L4 r13, A = c2c4s1 + (c1c3 - s1s2s3)s4, "
+     "B = c3s1s2 + c1s3 (P_z likewise)"),
     ("3.1", "unsigned angle at h' = W/2: not monotone in theta_1, several roots",
-     "psi = atan2(n.(s0 x s), s0.s), signed rotation about n = W/|W| (section 3.2's words); inverse theta_1 = atan2(-sgn(n_y) v_x, -sgn(n_y) v_z), v = n x u(psi); [001 eq. 3.1] kept as an option returning every root"),
+     "psi = atan2(n.(s0 x s), s0.s), signed rotation about n = W/|W| (section 3.2's words); inverse "
+     "theta_1 = atan2(-sgn(n_y) v_x, -sgn(n_y) v_z), v = n x u(psi); [001 eq. 3.1] kept as an option returning "
+     "every root"),
     ("3.4-3.6", "every point of the elbow circle satisfies them: no reference",
-     "explicit reference: theta_4 = 0 of the principal branch, i.e. root of alpha1 cos(phi) + alpha2 sin(phi) = rho with f.(z2 x u) > 0, or a fixed vector; 'no reference' reported"),
+     "explicit reference: theta_4 = 0 of the principal branch, i.e. root of alpha1 cos(phi) + alpha2 sin(phi) "
+     "= rho with f.(z2 x u) > 0, or a fixed vector; 'no reference' reported"),
     ("3.12", "sense of rotation left open (+/-)",
      "E(phi) = h + r(cos(phi) e1 + sin(phi) n x e1): right-handed about S->W (the lower sign with the thesis's I_b)"),
-    ("3.19", "only the principal root", "sin(theta_5 + delta) = k: theta_5 = asin(k) - delta or pi - asin(k) - delta (computed with atan2)"),
-    ("3.22", f"asin gives only cos(theta_3) >= 0 (range is {_LIMITS_DEG[2, 0]:g}..{_LIMITS_DEG[2, 1]:g} deg)", "theta_3 = atan2(u'_x, +-|(u'_y, u'_z)|), branch flag"),
-    ("3.20-3.24", "divide by sin(theta_1) and cos(theta_3)", "theta_2 = atan2(sgn(c3) u'_z, sgn(c3) u'_y), u' = Ry(-theta_1)(E - S)/L1"),
+    ("3.19", "only the principal root",
+     "sin(theta_5 + delta) = k: theta_5 = asin(k) - delta or pi - asin(k) - delta (computed with atan2)"),
+    ("3.22", f"asin gives only cos(theta_3) >= 0 (range is {_LIMITS_DEG[2, 0]:g}..{_LIMITS_DEG[2, 1]:g} deg)",
+     "theta_3 = atan2(u'_x, +-|(u'_y, u'_z)|), branch flag"),
+    ("3.20-3.24", "divide by sin(theta_1) and cos(theta_3)",
+     "theta_2 = atan2(sgn(c3) u'_z, sgn(c3) u'_y), u' = Ry(-theta_1)(E - S)/L1"),
     ("3.25", "dimensionally inconsistent, divides by cos(theta_3)",
      "in frame 3 the forearm is (m s4, c, m c4), m = L3 c5 - L2 s5: theta_4 = atan2(sgn(m) f3_x, sgn(m) f3_z)"),
     ("3.26", f"forces |theta_4| <= 90 deg against a +-{_LIMITS_DEG[3, 1]:g} deg limit", "full-circle atan2 above"),
     ("4.6, 4.9", "do not follow from Table 2.1 (no theta_8)",
      "R58 = [[-s6c7c8 - c6s8, -s6c7s8 + c6c8, s6s7], [-s7c8, -s7s8, -c7], [s6s8 - c6c7c8, -s6c8 - c6c7s8, c6s7]]"),
-    ("4.7-4.11", "single branch, no singularity", "theta_7 = atan2(+-|(R02, R22)|, -R12), theta_6 = atan2(sR02, sR22), theta_8 = atan2(-sR11, -sR10); sin(theta_7) = 0 reported"),
+    ("4.7-4.11", "single branch, no singularity",
+     "theta_7 = atan2(+-|(R02, R22)|, -R12), theta_6 = atan2(sR02, sR22), theta_8 = atan2(-sR11, -sR10); "
+     "sin(theta_7) = 0 reported"),
     ("3.2 text / 3.3 text", "'angle Eh'E'' is called the shoulder angle", "it is the elbow angle phi at the centre h"),
 ]
 
@@ -50,9 +59,11 @@ def _eq_2_3_position(q: np.ndarray, L: dict, L4: float) -> np.ndarray:
     L0, L1, L2, L3 = L["L0"], L["L1"], L["L2"], L["L3"]
     out = []
     for A, B, C, lead in (
-        (c2 * c4 * s1 + (c1 * c3 - s1 * s2 * s3) * s4, c3 * s1 * s2 + c1 * s3, -c4 * (c1 * c3 - s1 * s2 * s3) + c2 * s1 * s4, L0 * c1),
+        (c2 * c4 * s1 + (c1 * c3 - s1 * s2 * s3) * s4, c3 * s1 * s2 + c1 * s3,
+         -c4 * (c1 * c3 - s1 * s2 * s3) + c2 * s1 * s4, L0 * c1),
         (-c4 * s2 - c2 * s3 * s4, c2 * c3, c2 * c4 * s3 - s2 * s4, 0.0 * c1),
-        (c1 * c2 * c4 + (-c3 * s1 - c1 * s2 * s3) * s4, c1 * c3 * s2 - s1 * s3, -c4 * (-c3 * s1 - c1 * s2 * s3) + c1 * c2 * s4, -L0 * s1),
+        (c1 * c2 * c4 + (-c3 * s1 - c1 * s2 * s3) * s4, c1 * c3 * s2 - s1 * s3,
+         -c4 * (-c3 * s1 - c1 * s2 * s3) + c1 * c2 * s4, -L0 * s1),
     ):
         r = c7 * (c5 * A + B * s5) - (-c6 * C - (c5 * B - A * s5) * s6) * s7
         out.append(lead + L1 * B - L3 * (-c5 * A - B * s5) + L2 * (c5 * B - A * s5) + L4 * r)
@@ -66,7 +77,8 @@ def _section_5_1(q: np.ndarray, L: dict) -> np.ndarray:
     k = L["L1"] + L["L2"] * c5 + L["L3"] * s5
     inner = c2 * c4 * m + s2 * (-s3 * s4 * m + c3 * k)
     outer = L["L0"] + c3 * s4 * m + s3 * k
-    return np.stack([c1 * outer + inner * s1, -c4 * s2 * m + c2 * (-s3 * s4 * m + c3 * k), c1 * inner - outer * s1], axis=-1)
+    return np.stack([c1 * outer + inner * s1, -c4 * s2 * m + c2 * (-s3 * s4 * m + c3 * k), c1 * inner - outer * s1],
+                    axis=-1)
 
 
 def _power(value: float) -> str:
@@ -112,7 +124,8 @@ def build(writer: SectionWriter) -> None:
         for reference in ("theta4", "vector"):
             psi, phi, defined = redundancy_parameters(side_arm, sample, reference)
             pose = side_arm.chain.fk(sample[defined])
-            sol = ik(side_arm, pose[:, :3, 3], psi[defined], phi[defined], rotation=pose[:, :3, :3], reference=reference)
+            sol = ik(side_arm, pose[:, :3, 3], psi[defined], phi[defined], rotation=pose[:, :3, :3],
+                     reference=reference)
             fk_err = np.abs(side_arm.chain.fk(sol.q) - pose[:, None]).max(axis=(-2, -1))
             joint_err = np.abs(wrap_angle(sol.q - sample[defined][:, None])).max(axis=-1)
             owner = np.argmin(joint_err, axis=-1)

@@ -48,7 +48,8 @@ def intended_twist(run: TrackingResult, twist: np.ndarray) -> np.ndarray:
 
 
 def run_summary(run: TrackingResult, twist: np.ndarray, eps: float, reverses: bool) -> list:
-    """Crossings of ``D_e = 0``, max ``||q_dot||``, path drift off the x line, time with twist error > 10 %, outside-region error."""
+    """Crossings of ``D_e = 0``, max ``||q_dot||``, path drift off the x line, time with twist error > 10 %,
+    outside-region error."""
     crossings = int(np.count_nonzero(np.diff(np.sign(_index(run))) != 0))
     speed = float(np.linalg.norm(run.joint_velocity, axis=1).max())
     drift = float(np.linalg.norm(run.position[:, 1:] - run.position[0, 1:], axis=1).max())
@@ -57,11 +58,13 @@ def run_summary(run: TrackingResult, twist: np.ndarray, eps: float, reverses: bo
     dt = run.time[1] - run.time[0]
     outside = np.abs(_index(run)) > eps
     worst_outside = float(error[outside].max()) if outside.any() else float("nan")
-    return [crossings, speed, drift, float(np.count_nonzero(error > 0.1) * dt), worst_outside, float(run.position[:, 0].max())]
+    return [crossings, speed, drift, float(np.count_nonzero(error > 0.1) * dt), worst_outside,
+            float(run.position[:, 0].max())]
 
 
 def workspace_boundaries(chain, factorisation: WamFactorisation, run: TrackingResult) -> list[tuple[str, np.ndarray]]:
-    """x-y circles of the workspace boundary at the path height: for any orientation, and for the orientation at the turn."""
+    """x-y circles of the workspace boundary at the path height: for any orientation, and for the orientation at
+    the turn."""
     q_stretch = np.zeros(7)
     q_stretch[3] = np.arctan2(factorisation.a * (factorisation.d3 + factorisation.d5),
                               factorisation.d3 * factorisation.d5 - factorisation.a**2)
@@ -156,16 +159,19 @@ def build(writer: SectionWriter) -> None:
         f"b_sm = {P.SECTION_4_B_SM:g}, open loop, RK4 with dt = {DT} s for {DURATION} s. The paper prints no duration "
         "or step. "
         f"Scale check of the threshold: |D_e| = |a(d3+d5) C4 + (a^2 - d3 d5) S4| is at most {peak:.4f} "
-        f"(a(d3+d5) = {factor.a * (factor.d3 + factor.d5):.4f}), and D_e(q0) = {d_e0:.4f}, so D_eps = {eps:g} as printed "
-        f"does not make the whole run singular: the region |D_e| <= {eps:g} is q4 within +-{width:.1f} deg of the "
-        f"stretched elbow ({np.degrees(np.arctan2(factor.a * (factor.d3 + factor.d5), factor.d3 * factor.d5 - factor.a**2)):.2f} deg). "
-        f"It is wide ({100 * eps / peak:.0f} % of the largest |D_e|), so the arm slows well before the boundary; we keep the paper's value."
+        f"(a(d3+d5) = {factor.a * (factor.d3 + factor.d5):.4f}), and D_e(q0) = {d_e0:.4f}, so D_eps = {eps:g} "
+        f"as printed does not make the whole run singular: the region |D_e| <= {eps:g} is q4 within "
+        f"+-{width:.1f} deg of the stretched elbow ("
+        f"{np.degrees(np.arctan2(factor.a * (factor.d3 + factor.d5), factor.d3 * factor.d5 - factor.a**2)):.2f} deg). "
+        f"It is wide ({100 * eps / peak:.0f} % of the largest |D_e|), so the arm slows well before the boundary; "
+        "we keep the paper's value."
     )
     check = check_single_parameter(chain, factor.index, samples=16)
     writer.text(
         f"Factorisation check: D_e {'factors' if check.factors else 'does NOT factor'} every column minor det J_i "
-        f"of the WAM (largest minor on D_e = 0, relative: {check.worst_minor_on_set:.1e}; largest jump of det J_i / D_e "
-        f"across the set, relative: {check.worst_ratio_jump:.1e}). The closed-form D_i agree with det J_i / D_e in the tests."
+        f"of the WAM (largest minor on D_e = 0, relative: {check.worst_minor_on_set:.1e}; largest jump of "
+        f"det J_i / D_e across the set, relative: {check.worst_ratio_jump:.1e}). The closed-form D_i agree with "
+        "det J_i / D_e in the tests."
     )
     methods: dict[str, Method] = {
         "sc": SingularityConsistent(eps=eps, self_motion=P.SECTION_4_B_SM),
@@ -193,7 +199,8 @@ def build(writer: SectionWriter) -> None:
     rows = [[name] + run_summary(run, twist, eps, reverses=name == "sc") for name, run in runs.items()]
     writer.table(
         "methods", ["method", "crossings of D_e = 0", "max ||q_dot|| [rad/s]", "path drift off the x line [m]",
-                    "time with twist error > 10 % [s]", "max twist error outside |D_e| <= D_eps (relative)", "max x [m]"],
+                    "time with twist error > 10 % [s]", "max twist error outside |D_e| <= D_eps (relative)",
+                    "max x [m]"],
         rows,
         caption="The four methods on the section 4 scenario",
         detail="Twist error is relative to the intended twist: for SC the command with translation reversed after "
@@ -211,12 +218,14 @@ def build(writer: SectionWriter) -> None:
                        "yes" if sc_row[1] >= 1 else "no",
                        note="D_e changes sign exactly once in our run"),
             Comparison("end-point speed along x outside the singular region [m/s]", P.SECTION_4_LINEAR_SPEED,
-                       float(np.abs(sc.realised[inside, 0]).min()), 1e-9, "equal to the command on both sides; the sign reverses after the crossing"),
+                       float(np.abs(sc.realised[inside, 0]).min()), 1e-9,
+                       "equal to the command on both sides; the sign reverses after the crossing"),
             Comparison("angular speed about y outside the singular region [rad/s]", P.SECTION_4_ANGULAR_SPEED,
                        float(sc.realised[inside, 4].min()), 1e-9, ""),
             Comparison("rotation about +y keeps its sign through the singularity", P.SECTION_4_ROTATION_KEEPS_SIGN,
                        "yes" if sc.realised[:, 4].min() >= 0 else "no",
-                       note=f"smallest omega_y {sc.realised[:, 4].min():.2e} rad/s at D_e = 0 (rotation pauses there, [003 eq. 22])"),
+                       note=f"smallest omega_y {sc.realised[:, 4].min():.2e} rad/s at D_e = 0 "
+                            "(rotation pauses there, [003 eq. 22])"),
             Comparison("translation inside the singular region only along x", P.SECTION_4_TRANSLATION_ONLY_ALONG_X,
                        "yes" if np.abs(sc.realised[:, 1:3]).max() < 1e-9 else "no",
                        note=f"largest |v_y|, |v_z| {np.abs(sc.realised[:, 1:3]).max():.1e} m/s"),

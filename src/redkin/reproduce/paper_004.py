@@ -40,7 +40,8 @@ from redkin.virtual_arms import (
 
 # Our choices: the paper prints neither the initial posture nor the goals of Figs. 6-7.
 THETA0_DEG = [30.0, 30.0, 30.0, 30.0, 30.0]
-THETA0_FIG7_DEG = [30.0, 30.0, 30.0, 15.0, 10.0]  # 30 deg is outside Fig. 7's range of joint 5: joints 4, 5 start halfway
+# 30 deg is outside Fig. 7's range of joint 5: joints 4, 5 start halfway
+THETA0_FIG7_DEG = [30.0, 30.0, 30.0, 15.0, 10.0]
 END_GOAL = [0.5, 0.6]  # reachable by joint 3 too (|goal| = 0.78 m < 0.8 m), as Fig. 6 (b) requires
 # The joint ranges of Figs. 6, 7 are the paper's (printed.FIG_6_JOINT_RANGE_DEG, printed.FIG_7_JOINT_LIMITS_DEG);
 # Fig. 8 keeps Fig. 6's.
@@ -93,7 +94,8 @@ def run_cases(progress=lambda fraction, message: None) -> list[Case]:
         ("Fig. 6 (c) 9 points held, w_end = 1", ten, q0, held, None, {}, (full, low, high)),
         ("Fig. 6 (c) 9 points held, w_end = 100", ten, q0, held, heavy, {}, (full, low, high)),
         ("Fig. 6 (d) 9 points to base, w_end = 100", ten, q0, to_base, heavy, {}, (full, low, high)),
-        ("Fig. 6 (a) with joint 1 clamped ([004 eq. 27])", end_only, q0, [goal], None, {"fixed": [0]}, (full, low, high)),
+        ("Fig. 6 (a) with joint 1 clamped ([004 eq. 27])", end_only, q0, [goal], None, {"fixed": [0]},
+         (full, low, high)),
         (FIG7_CASE, end_only, np.radians(THETA0_FIG7_DEG), [goal], None, {},
          (fig7, low7, high7)),
         ("Fig. 6 (a), literal [004 eq. 10] gain", end_only, q0, [goal], None, {"gain": "literal"}, (full, low, high)),
@@ -184,13 +186,14 @@ def build_obstacles(writer: SectionWriter) -> None:
         "information (the real end point: towards the goal plus repulsion from nearby obstacles; the others: "
         "repulsion) and refers to its ref. 11 for the law, which is not available: the planner of "
         "redkin.virtual_arms.obstacles is ours (docs/virtual-arms.md). Every period (at most 20 integrator steps of "
-        "the [004 eqs. 9-13] network) the end point's goal moves up to 5 cm towards the goal, sliding round an obstacle "
-        "closer than 10 cm; the joints and three points inside every link get repulsion goals within 10 cm; a guard "
-        "keeps only the part of a period whose whole skeleton (every link segment, checked every 1 deg of joint "
-        "motion) stays 1 cm clear. The paper prints no obstacle positions: we chose two circles, "
-        f"(x, y, r) = {FIG8_OBSTACLES[0]} and {FIG8_OBSTACLES[1]} m, across the paths the unobstructed runs take from the same start "
-        f"({THETA0_DEG[0]:g} deg at every joint) to the same goal {tuple(END_GOAL)} m (the table's first numeric "
-        "column: the unobstructed run's minimum clearance, negative = it cuts through the obstacle)."
+        "the [004 eqs. 9-13] network) the end point's goal moves up to 5 cm towards the goal, sliding round an "
+        "obstacle closer than 10 cm; the joints and three points inside every link get repulsion goals within 10 cm; "
+        "a guard keeps only the part of a period whose whole skeleton (every link segment, checked every 1 deg of "
+        "joint motion) stays 1 cm clear. The paper prints no obstacle positions: we chose two circles, "
+        f"(x, y, r) = {FIG8_OBSTACLES[0]} and {FIG8_OBSTACLES[1]} m, across the paths the unobstructed runs take "
+        f"from the same start ({THETA0_DEG[0]:g} deg at every joint) to the same goal {tuple(END_GOAL)} m (the "
+        "table's first numeric column: the unobstructed run's minimum clearance, negative = it cuts through the "
+        "obstacle)."
     )
     cases = run_obstacle_cases(writer.progress)
     fig, axes = plt.subplots(1, 3, figsize=(10, 4.4))
@@ -203,7 +206,8 @@ def build_obstacles(writer: SectionWriter) -> None:
     legend_below(fig, axes[0], 0.07)
     writer.figure(fig, "fig8", "Fig. 8 recomputed: around two obstacles with 0, 1 and 2 joints failed",
                   "The arm at 14 instants of the obstacle-avoiding run (darker = later), the end-point path (dotted), "
-                  "the goal (star) and the obstacles (grey); (b) joint 1 and (c) joints 1 and 2 clamped by [004 eq. 27].")
+                  "the goal (star) and the obstacles (grey); (b) joint 1 and (c) joints 1 and 2 clamped by "
+                  "[004 eq. 27].")
     case = cases[3]
     fig = plt.figure(figsize=(7, 6))
     ax = fig.add_subplot(projection="3d")
@@ -313,10 +317,11 @@ def build(writer: SectionWriter) -> None:
     axes[0].legend(fontsize=7, loc="best")
     draw_joint_history(axes[1], case.run.s, case.run.theta, case.lower, case.upper)
     fig.tight_layout()
-    writer.figure(fig, "fig7", f"Fig. 7 recomputed: Fig. 6 (a) with |theta4| <= {P.FIG_7_JOINT_LIMITS_DEG[3]:g} deg and "
+    writer.figure(fig, "fig7",
+                  f"Fig. 7 recomputed: Fig. 6 (a) with |theta4| <= {P.FIG_7_JOINT_LIMITS_DEG[3]:g} deg and "
                   f"|theta5| <= {P.FIG_7_JOINT_LIMITS_DEG[4]:g} deg",
-                  "Left, the run ([004 eq. 25] keeps the joints in range); right, the joint angles against the dynamics' "
-                  "time s with the limits dashed.")
+                  "Left, the run ([004 eq. 25] keeps the joints in range); right, the joint angles against the "
+                  "dynamics' time s with the limits dashed.")
 
     writer.table(
         "runs",
@@ -326,12 +331,12 @@ def build(writer: SectionWriter) -> None:
         "Every run of Figs. 6 and 7",
         "Per run: final end-point error, the largest final error of the other virtual end points, recorded postures "
         "outside the joint ranges, largest motion of a clamped joint, accepted integrator steps (Radau), wall time, "
-        "status; '–': the run has no other virtual end point. In the over-constrained cases (c), (d) the errors cannot all vanish: the equilibrium is the weighted "
-        "least-squares posture and lambda grows only like sqrt(s) ([004 eq. 11]), so these runs end when the joints move "
-        "less than 1e-6 rad while lambda doubles (the remaining motion is then below that too) or when |G' delta| "
-        "falls below 1e-6, whichever comes first. The literal "
-        "[004 eq. 10] gain grows without bound and stalls the integrator, as the last row shows; the other rows use the "
-        "bounded gain law of redkin.virtual_arms.dynamics.",
+        "status; '–': the run has no other virtual end point. In the over-constrained cases (c), (d) the errors "
+        "cannot all vanish: the equilibrium is the weighted least-squares posture and lambda grows only like sqrt(s) "
+        "([004 eq. 11]), so these runs end when the joints move less than 1e-6 rad while lambda doubles (the "
+        "remaining motion is then below that too) or when |G' delta| falls below 1e-6, whichever comes first. The "
+        "literal [004 eq. 10] gain grows without bound and stalls the integrator, as the last row shows; the other "
+        "rows use the bounded gain law of redkin.virtual_arms.dynamics.",
     )
     writer.comparison("fig6", [fig6_comparison(by_name[name]) for name in FIG6_CASES],
                       "Fig. 6: the end point reaches its goal in every case, says the paper",

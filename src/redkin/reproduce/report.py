@@ -104,7 +104,8 @@ class SectionWriter:
         return path
 
     def data(self, name: str, arrays: dict[str, np.ndarray], label: str) -> Path:
-        """Save ``arrays`` as a compressed ``.npz`` beside the report (``numpy.load`` reads it) and link it with ``label``."""
+        """Save ``arrays`` as a compressed ``.npz`` beside the report (``numpy.load`` reads it) and link it with
+        ``label``."""
         filename = f"{self.key}_{name}.npz"
         path = self.figure_dir / filename
         np.savez_compressed(path, allow_pickle=True, **arrays)  # numpy's default, named: no array is called so
@@ -125,7 +126,8 @@ class SectionWriter:
 
     def differing(self) -> list[tuple[str, int, Comparison]]:
         """``(table name, row index, comparison)`` of every row that differs, in page order."""
-        return [(name, i, c) for name, rows in self.comparisons.items() for i, c in enumerate(rows) if c.agrees is False]
+        return [(name, i, c) for name, rows in self.comparisons.items() for i, c in enumerate(rows)
+                if c.agrees is False]
 
     def to_json(self) -> dict[str, Any]:
         return {

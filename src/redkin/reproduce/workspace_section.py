@@ -1,4 +1,5 @@
-"""Report section: exact reachability and redundancy maps of the PA10-7C and the iiwa, and paper 000's Gamma as one line.
+"""Report section: exact reachability and redundancy maps of the PA10-7C and the iiwa, and paper 000's Gamma as one
+line.
 
 The maps are computed here with :func:`redkin.workspace.feasible_measures`
 directly (numpy only, no Dask), the function every chunk of ``redkin
@@ -35,7 +36,8 @@ _RESOLUTION = 15
 _ORIENTATIONS = 64
 #: Margin of the box beyond the arm's longest reach from the shoulder, metres.
 _MARGIN = 0.05
-#: Paper 000, section 6.2.2: the tool held at this position (metres) and turned about z by gamma from [000 eq. 41]'s rotation.
+#: Paper 000, section 6.2.2: the tool held at this position (metres) and turned about z by gamma from
+#: [000 eq. 41]'s rotation.
 _GAMMA_POSITION = np.array([0.65, 0.0, 0.5])
 #: The line's orientations, degrees (one per degree).
 _GAMMA_GRID_DEG = np.arange(-180.0, 180.0, 1.0)
@@ -69,7 +71,8 @@ def _exact_map(geometry: SRSGeometry, resolution: int, orientations: int) -> dic
 
 
 def _gamma_rotations(gamma: np.ndarray) -> np.ndarray:
-    """Paper 000's tool orientation of section 6.2.2: [000 eq. 41]'s rotation turned about the base z axis by ``gamma``."""
+    """Paper 000's tool orientation of section 6.2.2: [000 eq. 41]'s rotation turned about the base z axis by
+    ``gamma``."""
     c, s = np.cos(gamma), np.sin(gamma)
     rotations = np.zeros(np.shape(gamma) + (3, 3))
     rotations[..., 0, 0], rotations[..., 0, 1], rotations[..., 1, 0], rotations[..., 1, 1] = -c, -s, -s, c
@@ -133,11 +136,11 @@ def _section_maps(writer: SectionWriter, arms: dict[str, SRSGeometry]) -> None:
     )
     (pa10, iiwa) = rows
     writer.text(
-        f"The PA10-7C, with paper 000's Table 2 limits, holds its tool at {pa10[5]:.1f}% of its box's positions in some "
-        f"orientation, and keeps {pa10[7]:.2f} of the circle of arm angles free there on average; the iiwa, with its "
-        f"wider joint ranges, reaches {iiwa[5]:.1f}% and keeps {iiwa[7]:.2f}. Both maps have a hole around the "
-        "shoulder. Near full stretch few orientations are reachable, but those leave most arm angles free: there the "
-        "iiwa's redundancy is highest."
+        f"The PA10-7C, with paper 000's Table 2 limits, holds its tool at {pa10[5]:.1f}% of its box's positions in "
+        f"some orientation, and keeps {pa10[7]:.2f} of the circle of arm angles free there on average; the iiwa, "
+        f"with its wider joint ranges, reaches {iiwa[5]:.1f}% and keeps {iiwa[7]:.2f}. Both maps have a hole around "
+        "the shoulder. Near full stretch few orientations are reachable, but those leave most arm angles free: there "
+        "the iiwa's redundancy is highest."
     )
 
 
@@ -154,23 +157,27 @@ def _section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
                        "every other branch is empty all along this line, so the map's reachability ends where +++ ends"
                        if not others else f"branches {', '.join(others)} are non-empty on this line too")
     rows = [
-        Comparison("Gamma lower [deg] (psi controlled): measure on +++ > 0", -P.SECTION_6_2_2_GAMMA, float(np.degrees(low)), TOL),
-        Comparison("Gamma upper [deg] (psi controlled): measure on +++ > 0", P.SECTION_6_2_2_GAMMA, float(np.degrees(high)), TOL),
-        Comparison("Gamma lower [deg]: map reachability (any branch)", -P.SECTION_6_2_2_GAMMA, float(np.degrees(any_low)), TOL,
-                   branch_note),
-        Comparison("Gamma upper [deg]: map reachability (any branch)", P.SECTION_6_2_2_GAMMA, float(np.degrees(any_high)), TOL,
-                   branch_note),
-        Comparison("measure on +++ at gamma = 0 [deg] (the pose of [000 eq. 41])", round(2 * P.SECTION_6_1_PSI_BOUND, 3),
+        Comparison("Gamma lower [deg] (psi controlled): measure on +++ > 0", -P.SECTION_6_2_2_GAMMA,
+                   float(np.degrees(low)), TOL),
+        Comparison("Gamma upper [deg] (psi controlled): measure on +++ > 0", P.SECTION_6_2_2_GAMMA,
+                   float(np.degrees(high)), TOL),
+        Comparison("Gamma lower [deg]: map reachability (any branch)", -P.SECTION_6_2_2_GAMMA,
+                   float(np.degrees(any_low)), TOL, branch_note),
+        Comparison("Gamma upper [deg]: map reachability (any branch)", P.SECTION_6_2_2_GAMMA,
+                   float(np.degrees(any_high)), TOL, branch_note),
+        Comparison("measure on +++ at gamma = 0 [deg] (the pose of [000 eq. 41])",
+                   round(2 * P.SECTION_6_1_PSI_BOUND, 3),
                    float(np.degrees(line[np.flatnonzero(_GAMMA_GRID_DEG == 0.0)[0], plus])), 1e-3,
                    Note("paper value derived: the width of section 6.1's Psi = [-45.991, 45.991]",
                         "2 x 45.991; tolerance 1e-3, twice the printed half digit")),
     ]
     writer.comparison(
         "gamma_line", rows, "Section 6.2.2: how far the tool turns with psi controlled, read off one line of the map",
-        "The map's position x = (0.65, 0, 0.5) m with the orientations of [000 eq. 41] turned about z by gamma: the measure "
-        "of the feasible arm-angle set per branch, as every map entry. Gamma is where the measure falls to 0, found by "
-        "bisection on the map's measure function (feasible_measures) to machine precision. Gamma_0 = [-120, 120] deg (psi "
-        "fixed at 0) asks whether psi = 0 lies in the set, which the measure does not say; section 000 compares it.",
+        "The map's position x = (0.65, 0, 0.5) m with the orientations of [000 eq. 41] turned about z by gamma: the "
+        "measure of the feasible arm-angle set per branch, as every map entry. Gamma is where the measure falls to 0, "
+        "found by bisection on the map's measure function (feasible_measures) to machine precision. "
+        "Gamma_0 = [-120, 120] deg (psi fixed at 0) asks whether psi = 0 lies in the set, which the measure does not "
+        "say; section 000 compares it.",
     )
     writer.data("gamma_line", {"gamma": gamma, "measure": line},
                 "The line as numpy arrays (.npz for numpy.load: gamma in rad, measure (360, 8) in rad)")
@@ -179,8 +186,8 @@ def _section_gamma(writer: SectionWriter, geometry: SRSGeometry) -> None:
     for bound in (low, high):
         ax.axvline(np.degrees(bound), color="0.4", linestyle="--", linewidth=0.8)
     writer.figure(fig, "gamma_line", "The measure along the line of section 6.2.2 (PA10-7C)",
-                  "Dashed: our Gamma, where the +++ measure reaches 0. At gamma = 0 the pose is [000 eq. 41]'s and the set "
-                  "is section 6.1's.")
+                  "Dashed: our Gamma, where the +++ measure reaches 0. At gamma = 0 the pose is [000 eq. 41]'s and the "
+                  "set is section 6.1's.")
     writer.text(
         "The line reproduces the paper's Gamma to its printed digits: nothing here disagrees with paper 000. The map "
         "adds what the paper's single branch does not show: no other branch is feasible anywhere along this line."
@@ -194,9 +201,9 @@ def build(writer: SectionWriter) -> None:
     writer.text(
         "Exact workspace maps (redkin.workspace, issue 14): for every position of a grid and every orientation of a "
         "near-uniform set, the measure of the feasible arm-angle set on each of the 8 branches, from paper 000's "
-        "closed form ([000 eq. 30]) instead of sampled IK. Computed here in one process with feasible_measures, the function "
-        f"each Dask chunk of redkin workspace calls, at a modest {_RESOLUTION}^3 positions x {_ORIENTATIONS} orientations; "
-        "redkin workspace computes the same maps at any resolution, on Dask, into Zarr."
+        "closed form ([000 eq. 30]) instead of sampled IK. Computed here in one process with feasible_measures, the "
+        f"function each Dask chunk of redkin workspace calls, at a modest {_RESOLUTION}^3 positions x {_ORIENTATIONS} "
+        "orientations; redkin workspace computes the same maps at any resolution, on Dask, into Zarr."
     )
     arms = {chain.name: srs_geometry(chain) for chain in (pa10_7c(), kuka_iiwa14())}
     _section_maps(writer, arms)

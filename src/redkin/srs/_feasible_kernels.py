@@ -248,7 +248,8 @@ def pose_branch(entries, theta4, n2, n6, equations_table, membership, elbow, equ
 
 
 @kernel
-def pose_all_branches(entries, theta4, equations_table, membership, elbow, order, equations, patterns, start, end, keep):
+def pose_all_branches(entries, theta4, equations_table, membership, elbow, order, equations, patterns, start, end,
+                      keep):
     """The feasible sets of the eight branches of one pose: the pieces once per elbow sign, classified four ways.
 
     ``entries`` (2, 3, 14) and ``theta4`` (2,) for the elbow signs ``+1, -1``

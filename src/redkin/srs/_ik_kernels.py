@@ -197,7 +197,9 @@ def coefficient_matrices(u, reference, elbow, target, shoulder, wrist):
     for c in range(3):
         r0, r1, r2 = reference[0, c], reference[1, c], reference[2, c]
         along = ux * r0 + uy * r1 + uz * r2
-        shoulder[0, 0, c], shoulder[0, 1, c], shoulder[0, 2, c] = uy * r2 - uz * r1, uz * r0 - ux * r2, ux * r1 - uy * r0
+        shoulder[0, 0, c], shoulder[0, 1, c], shoulder[0, 2, c] = (
+            uy * r2 - uz * r1, uz * r0 - ux * r2, ux * r1 - uy * r0
+        )
         shoulder[2, 0, c], shoulder[2, 1, c], shoulder[2, 2, c] = ux * along, uy * along, uz * along
         shoulder[1, 0, c], shoulder[1, 1, c], shoulder[1, 2, c] = r0 - ux * along, r1 - uy * along, r2 - uz * along
     c4, s4 = elbow[0, 0], elbow[1, 0]  # 3R4 = Rz(theta_4) Rx(pi/2) = [[c4, 0, s4], [s4, 0, -c4], [0, 1, 0]]

@@ -14,7 +14,8 @@ import numpy as np
 
 
 def group_rotations(geometry, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``0R3`` and ``4R7`` of ``0R7 = 0R3 3R4 4R7`` [000 eq. 2] (each ``(..., 3, 3)``) of validated joint values ``q`` ``(..., 7)`` of ``geometry.chain``.
+    """``0R3`` and ``4R7`` of ``0R7 = 0R3 3R4 4R7`` [000 eq. 2] (each ``(..., 3, 3)``) of validated joint
+    values ``q`` ``(..., 7)`` of ``geometry.chain``.
 
     Frame ``k`` of the chain is ``base A_1 ... A_k``, so ``0R3 = R_base^T
     R_3`` and ``4R7 = R_4^T R_7``.

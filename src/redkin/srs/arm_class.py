@@ -23,7 +23,8 @@ class ArmClass(NamedTuple):
 
 
 def arm_angle_class(chain: SerialChain) -> ArmClass:
-    """Whether ``chain`` has closed-form arm-angle IK, and which kind (see :data:`SRS`, :data:`OFFSET_ELBOW`, :data:`GENERAL`).
+    """Whether ``chain`` has closed-form arm-angle IK, and which kind (see :data:`SRS`, :data:`OFFSET_ELBOW`,
+    :data:`GENERAL`).
 
     The reason of a general chain is the first condition it violates, with
     its distance or angle (the message :func:`redkin.srs.srs_geometry` raises).

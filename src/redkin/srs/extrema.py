@@ -102,18 +102,26 @@ _LIMIT_CASES = {
 }
 
 _REFERENCES = {
-    ("tangent", "periodic"): "[000 eq. 24] holds: section 4.2.1 case (1), periodic, global max and min at the psi_0 of [000 eq. 25] (Fig. 3a)",
+    ("tangent", "periodic"): (
+        "[000 eq. 24] holds: section 4.2.1 case (1), periodic, global max and min at the psi_0 of [000 eq. 25] "
+        "(Fig. 3a)"
+    ),
     ("tangent", "monotonic"): "[000 eq. 24] fails: section 4.2.1 case (2), monotonic (Fig. 3b)",
     ("tangent", "singular"): (
         "[000 eq. 24] with equality (not among the paper's cases): N = D = 0 at one arm angle "
         "(theta_2 or theta_6 = 0 or pi, section 5.1), where theta jumps by pi; monotonic elsewhere"
     ),
-    ("tangent", "constant"): "a_t = b_t = c_t = 0 in [000 eq. 23]: N and D of [000 eq. 21] proportional, theta independent of psi",
-    ("tangent", "undefined"): (
-        "N = D = 0 in [000 eq. 21] for every psi: singular at every arm angle (arm stretched along the joint-1 axis, or "
-        "the wrist counterpart); only the sum or difference with the third joint of the group is determined"
+    ("tangent", "constant"): (
+        "a_t = b_t = c_t = 0 in [000 eq. 23]: N and D of [000 eq. 21] proportional, theta independent of psi"
     ),
-    ("cosine", "periodic"): "section 4.2.2: extrema at tan psi_0 = a / b ([000 eq. 27]), max or min by [000 eq. 28] (Fig. 4)",
+    ("tangent", "undefined"): (
+        "N = D = 0 in [000 eq. 21] for every psi: singular at every arm angle (arm stretched along the joint-1 "
+        "axis, or the wrist counterpart); only the sum or difference with the third joint of the group is "
+        "determined"
+    ),
+    ("cosine", "periodic"): (
+        "section 4.2.2: extrema at tan psi_0 = a / b ([000 eq. 27]), max or min by [000 eq. 28] (Fig. 4)"
+    ),
     ("cosine", "constant"): "a = b = 0 in [000 eq. 22]: theta independent of psi",
 }
 
@@ -194,7 +202,9 @@ def _tangent_derivative_coefficients(numerator: np.ndarray, denominator: np.ndar
     return np.stack([b_d * c_n - b_n * c_d, a_n * c_d - a_d * c_n, a_n * b_d - a_d * b_n], axis=-1)  # [000 eq. 23]
 
 
-def _tangent_case(derivative: np.ndarray, scale: np.ndarray | float = 1.0, tolerance: float = _EXTREMA_TOLERANCE) -> np.ndarray:
+def _tangent_case(
+    derivative: np.ndarray, scale: np.ndarray | float = 1.0, tolerance: float = _EXTREMA_TOLERANCE
+) -> np.ndarray:
     """Case of tangent-type joints from ``(a_t, b_t, c_t)`` ``(..., 3)``: [000 eq. 24] and its equality.
 
     ``scale`` is ``|n| |d|`` (see :data:`_CONSTANT_TOLERANCE`).  Returns an

@@ -268,7 +268,8 @@ def feasible_pieces(
 
 
 def feasible_pieces_all_branches(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> FeasiblePieces:
-    """The feasible sets [000 eq. 30] of the eight branches as arrays ``(..., 8, 24)``, in the order of :data:`BRANCHES`.
+    """The feasible sets [000 eq. 30] of the eight branches as arrays ``(..., 8, 24)``, in the order of
+    :data:`BRANCHES`.
 
     The branches are named in the chain's joint senses, as in
     :func:`redkin.srs.ik_all_branches`; see :func:`_all_branch_pieces`.
@@ -327,7 +328,8 @@ def _all_branch_pieces(coefficients: ArmAngleCoefficients, geometry: SRSGeometry
 def feasible_from_coefficients(
     coefficients: ArmAngleCoefficients, branch: Branch, geometry: SRSGeometry
 ) -> np.ndarray:
-    """:class:`FeasibleArmAngles` from precomputed coefficients: an object array with their batch shape (0-d for one pose).
+    """:class:`FeasibleArmAngles` from precomputed coefficients: an object array with their batch shape (0-d for
+    one pose).
 
     Parameters
     ----------

@@ -193,7 +193,8 @@ class SRSGeometry:
         membership = membership.reshape(2, 2, 24)
         for array in arrays + (membership,):
             array.setflags(write=False)
-        return PsiJointLimits(*arrays, weights, offset, *stretched, membership, float(start[3]), float(span[3]), free[3])
+        return PsiJointLimits(*arrays, weights, offset, *stretched, membership, float(start[3]), float(span[3]),
+                              free[3])
 
     def theta_of_q(self, q: np.ndarray) -> np.ndarray:
         """DH angles ``theta = offset + sign * q``."""
@@ -299,7 +300,8 @@ def _table1_violation(chain: SerialChain) -> str | None:
     bad = np.flatnonzero(np.abs(chain.a[[0, 1, 4, 5, 6]]) > tol)
     if bad.size:
         i = int([0, 1, 4, 5, 6][bad[0]])
-        return f"Table 1 form has a_{i + 1} = 0 (only a_3 and a_4 may be elbow offsets), {chain.name!r} has {chain.a[i]:g}"
+        return (f"Table 1 form has a_{i + 1} = 0 (only a_3 and a_4 may be elbow offsets), "
+                f"{chain.name!r} has {chain.a[i]:g}")
     bad = np.flatnonzero(np.abs(np.mod(chain.alpha - TABLE1_ALPHA + np.pi, TWO_PI) - np.pi) > tol)
     if bad.size:
         i = int(bad[0])

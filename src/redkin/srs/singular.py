@@ -67,7 +67,9 @@ def _singular_angle(a: float, b: float, constant: float, tolerance: float) -> tu
     return (float(np.arctan2(-a / constant, -b / constant)),), False, residual
 
 
-def _singular_from_coefficients(coefficients: ArmAngleCoefficients, tolerance: float = SINGULAR_TOLERANCE) -> SingularArmAngles:
+def _singular_from_coefficients(
+    coefficients: ArmAngleCoefficients, tolerance: float = SINGULAR_TOLERANCE
+) -> SingularArmAngles:
     """[000 eqs. 31-34] from precomputed coefficients of one pose."""
     s = coefficients.shoulder[:, 2, 1]  # 0R3[2,1] = -cos theta_2
     w = coefficients.wrist[:, 2, 2]  # 4R7[2,2] = cos theta_6

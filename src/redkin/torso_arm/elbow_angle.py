@@ -235,7 +235,8 @@ def _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1,
 
 @kernel
 def elbows(centre, radius, axis, e1, phi, out):
-    """:func:`elbow_one` for each item: ``centre``, ``axis``, ``e1`` (N, 3), ``radius``, ``phi`` (N,) -> ``out`` (N, 3)."""
+    """:func:`elbow_one` for each item: ``centre``, ``axis``, ``e1`` (N, 3), ``radius``, ``phi`` (N,) ->
+    ``out`` (N, 3)."""
     for i in range(centre.shape[0]):
         put(out, i, elbow_one(row(centre, i), radius[i], row(axis, i), row(e1, i), phi[i]))
 

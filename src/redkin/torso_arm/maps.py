@@ -309,7 +309,8 @@ def _best_points(points, thetas, phis, lengths, signs, limits, within, dual, bes
     """:func:`_best_one` for each of ``points`` (N, 3) -> ``best`` (N,), ``reached`` (N,) bool."""
     q, jacobians = np.empty((2, 4, 5)), np.empty((2, 3, 5))
     for i in range(points.shape[0]):
-        best[i], reached[i] = _best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q, jacobians)
+        best[i], reached[i] = _best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q,
+                                        jacobians)
 
 
 @kernel(parallel=True)
@@ -317,7 +318,8 @@ def _best_points_parallel(points, thetas, phis, lengths, signs, limits, within, 
     """:func:`_best_points` on all cores."""
     for i in prange(points.shape[0]):
         q, jacobians = np.empty((2, 4, 5)), np.empty((2, 3, 5))
-        best[i], reached[i] = _best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q, jacobians)
+        best[i], reached[i] = _best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q,
+                                        jacobians)
 
 
 @kernel
@@ -429,7 +431,8 @@ def manipulability_map(
     theta1, defined = theta1_from_shoulder_angle(np.full(grid.points.shape[:-1], psi), right_points)
     state = _arm_state(arm, right_points, theta1, defined, np.asarray(phi), ref)
     return _finish(grid, gram_manipulability(state.jacobian), state.status, state.feasible, within_limits,
-                   f"{arm.side} arm, psi = {np.degrees(psi):g} deg, phi = {np.degrees(phi):g} deg ({ref.kind} reference)")
+                   f"{arm.side} arm, psi = {np.degrees(psi):g} deg, phi = {np.degrees(phi):g} deg "
+                   f"({ref.kind} reference)")
 
 
 def sweep_samples(arm: TorsoArm, samples: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:

@@ -56,12 +56,13 @@ from redkin.velocity.solution import VelocitySolution
 from redkin.velocity.tracking import TrackingResult, simulate
 
 __all__ = [
-    "AdaptiveDampedLeastSquares", "DampedLeastSquares", "ElbowSine", "FactorCheck", "METHOD_NAMES", "NumericalFactorisation",
-    "Pseudoinverse", "PseudoinverseController", "SingularityConsistent",
+    "AdaptiveDampedLeastSquares", "DampedLeastSquares", "ElbowSine", "FactorCheck", "METHOD_NAMES",
+    "NumericalFactorisation", "Pseudoinverse", "PseudoinverseController", "SingularityConsistent",
     "SingularityConsistentController", "TrackingResult", "VelocitySolution", "WamFactorisation",
     "adaptive_damped_least_squares", "adaptive_damping", "adjugate", "adjugate_direction", "algorithmic_singularity",
     "blend_weight", "check_single_parameter", "column_minors", "damped_least_squares", "fixed_joint_sc",
-    "fixed_joint_vectors", "lean_singularity_consistent", "make_method", "minimum_norm_weights", "pseudoinverse", "pseudoinverse_weights",
-    "rotation_factor", "self_motion_vector", "simulate", "singularity_consistent", "singularity_factorisation", "twist_scale",
-    "wam_cofactors", "wam_singularity_index", "weighted_sum", "weighted_sum_direction",
+    "fixed_joint_vectors", "lean_singularity_consistent", "make_method", "minimum_norm_weights", "pseudoinverse",
+    "pseudoinverse_weights", "rotation_factor", "self_motion_vector", "simulate", "singularity_consistent",
+    "singularity_factorisation", "twist_scale", "wam_cofactors", "wam_singularity_index", "weighted_sum",
+    "weighted_sum_direction",
 ]

@@ -378,7 +378,8 @@ def least_squares_parallel(jac, twist, max_damping, threshold, measure, rcond, o
 
 @kernel
 def sc(jac, twist, index, factors, eps, direction, self_motion, modify_rotation, near_zero, qdot, target, ok):
-    """:func:`sc_one` for each item: ``jac`` (N, m, n), ``twist`` (N, m), ``index`` (N,), ``factors`` (N, n); ``ok`` (N,)."""
+    """:func:`sc_one` for each item: ``jac`` (N, m, n), ``twist`` (N, m), ``index`` (N,), ``factors`` (N, n);
+    ``ok`` (N,)."""
     for b in range(jac.shape[0]):
         ok[b] = sc_one(jac[b], twist[b], index[b], factors[b], eps, direction, self_motion, modify_rotation,
                        near_zero, qdot[b], target[b])

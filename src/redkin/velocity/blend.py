@@ -40,7 +40,8 @@ from redkin.velocity import _step_kernels
 
 
 def _blend(index: ArrayLike, eps: float) -> tuple[np.ndarray, ...]:
-    """``g``, ``w`` and the rotation factor of every entry of ``index`` (kernel :func:`~redkin.velocity._step_kernels.blend`)."""
+    """``g``, ``w`` and the rotation factor of every entry of ``index`` (kernel
+    :func:`~redkin.velocity._step_kernels.blend`)."""
     e = check_positive(eps, "eps")
     x = np.asarray(index, dtype=float)
     flat = np.ascontiguousarray(x.reshape(-1))

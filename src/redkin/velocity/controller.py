@@ -166,7 +166,8 @@ class SingularityConsistentController:
         if not np.isfinite(self.self_motion):
             raise ValueError(f"self_motion must be finite, got {self_motion!r}")
         self.modify_rotation = bool(modify_rotation)
-        self.near_zero = NEAR_ZERO_FRACTION * self.eps if near_zero is None else check_nonnegative(near_zero, "near_zero")
+        self.near_zero = (NEAR_ZERO_FRACTION * self.eps if near_zero is None
+                          else check_nonnegative(near_zero, "near_zero"))
 
     def __call__(self, q: ArrayLike, twist: ArrayLike) -> VelocitySolution:
         """Joint velocity and realised twist for joint angles ``q`` ``(7,)`` and commanded twist ``(6,)``."""
@@ -196,7 +197,8 @@ class SingularityConsistentController:
         d_e = float(self.factorisation.index(values))  # NaN for a q that is not finite: the kernel reports it
         if not abs(d_e) < self.near_zero:
             return d_e, _NO_FACTORS
-        factors = np.ascontiguousarray(self.factorisation.factors(values, None), dtype=float)  # None: builds J if needed
+        factors = np.ascontiguousarray(self.factorisation.factors(values, None),  # None: builds J if needed
+                                       dtype=float)
         if not np.isfinite(factors).all():
             raise ValueError("factors D_i must be finite, got NaN or infinity")
         return d_e, factors

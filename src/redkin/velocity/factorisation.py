@@ -74,7 +74,8 @@ def _wam_index_and_factors(q, a, d3, d5, index, factors):
         factors[b, 1] = shoulder * s2 * s3 * s6
         factors[b, 2] = (a * s2 * s4 - a * c2 * c3 * c4 + a * c2 * c3 + d3 * s2 + d5 * s2 * c4 + d5 * s4 * c2 * c3) * s6
         factors[b, 3] = 0.0
-        factors[b, 4] = (-a * s4 * s6 + a * c4 * c5 * c6 - a * c5 * c6 - d3 * s4 * c5 * c6 - d3 * s6 * c4 - d5 * s6) * s2
+        factors[b, 4] = (-a * s4 * s6 + a * c4 * c5 * c6 - a * c5 * c6 - d3 * s4 * c5 * c6 - d3 * s6 * c4
+                         - d5 * s6) * s2
         factors[b, 5] = -wrist * s2 * s5 * s6
         factors[b, 6] = -wrist * s2 * c5
 
@@ -171,7 +172,8 @@ class NumericalFactorisation(Factorisation):
 
 @dataclass(frozen=True)
 class ElbowSine:
-    """``D_e = sin(theta_4)``, the elbow index of an S-R-S arm (``theta_4 = offset + sign * q_4``; paper 003 section 3.3).
+    """``D_e = sin(theta_4)``, the elbow index of an S-R-S arm (``theta_4 = offset + sign * q_4``; paper 003
+    section 3.3).
 
     Zero where the elbow is stretched or folded: there the shoulder and wrist
     centres and the elbow axis are coplanar and every column minor vanishes.
@@ -215,7 +217,9 @@ def singularity_factorisation(chain: SerialChain, seed: int | np.random.Generato
     )
 
 
-def _index_gradient(index_function: Callable[[np.ndarray], np.ndarray], q: np.ndarray, step: float = 1e-6) -> np.ndarray:
+def _index_gradient(
+    index_function: Callable[[np.ndarray], np.ndarray], q: np.ndarray, step: float = 1e-6
+) -> np.ndarray:
     """Central-difference gradient of an index function, shape ``(..., n)``."""
     q = np.asarray(q, dtype=float)
     n = q.shape[-1]

@@ -61,7 +61,8 @@ class DampedLeastSquares:
 
 @dataclass(frozen=True)
 class AdaptiveDampedLeastSquares:
-    """Damping growing to ``max_damping`` as the smallest singular value (or manipulability) falls below ``threshold``."""
+    """Damping growing to ``max_damping`` as the smallest singular value (or manipulability) falls below
+    ``threshold``."""
 
     threshold: float = 0.05
     max_damping: float = 0.05

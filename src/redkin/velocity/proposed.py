@@ -183,7 +183,8 @@ def _index(index: ArrayLike, jac: np.ndarray) -> np.ndarray:
     try:
         return np.broadcast_to(d_e, jac.shape[:-2])
     except ValueError:
-        raise ValueError(f"index must have shape {jac.shape[:-2]} (one D_e per jacobian), got shape {d_e.shape}") from None
+        raise ValueError(f"index must have shape {jac.shape[:-2]} (one D_e per jacobian), "
+                         f"got shape {d_e.shape}") from None
 
 
 def _factors(factors: ArrayLike, jac: np.ndarray) -> np.ndarray:

@@ -133,7 +133,8 @@ def simulate(
     for k in range(steps + 1):
         t = k * step_size
         k1, jac, fed, solution = evaluate(t, y)
-        records.append((y[:n].copy(), solution.joint_velocity, fed, solution.target_twist, jac @ solution.joint_velocity))
+        records.append((y[:n].copy(), solution.joint_velocity, fed, solution.target_twist,
+                        jac @ solution.joint_velocity))
         if k == steps:
             break
         k2 = evaluate(t + 0.5 * step_size, y + 0.5 * step_size * k1)[0]

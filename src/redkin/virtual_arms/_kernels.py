@@ -45,7 +45,8 @@ def virtual_points_one(theta, links, ends, standard, frames, local, axes, trig, 
         pose = poses[frames[k]]
         for c in range(axes.shape[0]):
             r = axes[c]
-            positions[k, c] = pose[r, 3] + (pose[r, 0] * local[k, 0] + pose[r, 1] * local[k, 1] + pose[r, 2] * local[k, 2])
+            positions[k, c] = pose[r, 3] + (pose[r, 0] * local[k, 0] + pose[r, 1] * local[k, 1]
+                                            + pose[r, 2] * local[k, 2])
         _chain_kernels.jacobian_one(theta, links, ends, standard, min(frames[k], n), frames[k] > n, local[k], trig, jac)
         for c in range(axes.shape[0]):
             for j in range(n):
@@ -54,7 +55,8 @@ def virtual_points_one(theta, links, ends, standard, frames, local, axes, trig, 
 
 @kernel
 def virtual_points(theta, links, ends, standard, frames, local, axes, positions, jacobians):
-    """:func:`virtual_points_one` for each row of ``theta`` (N, n); ``positions`` (N, p, l), ``jacobians`` (N, p, l, n)."""
+    """:func:`virtual_points_one` for each row of ``theta`` (N, n); ``positions`` (N, p, l), ``jacobians``
+    (N, p, l, n)."""
     n = links.shape[0]
     trig, poses, jac = np.empty((n, 2)), np.empty((n + 2, 4, 4)), np.empty((6, n))
     for b in range(theta.shape[0]):

@@ -31,7 +31,8 @@ def task_axes(chain: SerialChain) -> tuple[int, ...]:
     for q in rng.uniform(-2.0, 2.0, size=(2, chain.n)):
         directions, _ = chain.joint_axes(q)
         origins = chain.frames(q)[:, 2, 3]
-        if not (np.allclose(np.abs(directions[:, 2]), 1.0, atol=1e-12) and np.allclose(origins, origins[0], atol=1e-12)):
+        if not (np.allclose(np.abs(directions[:, 2]), 1.0, atol=1e-12)
+                and np.allclose(origins, origins[0], atol=1e-12)):
             return (0, 1, 2)
     return (0, 1)
 

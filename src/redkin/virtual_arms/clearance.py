@@ -86,7 +86,9 @@ def _segment_clearance(starts: np.ndarray, ends: np.ndarray, obstacle: Obstacle)
     return obstacle.clearance(nearest)
 
 
-def arm_clearance(chain: SerialChain, theta: ArrayLike, obstacles: Sequence[Obstacle], axes: Sequence[int]) -> np.ndarray:
+def arm_clearance(
+    chain: SerialChain, theta: ArrayLike, obstacles: Sequence[Obstacle], axes: Sequence[int]
+) -> np.ndarray:
     """Smallest clearance of the arm's skeleton (every link segment) to any obstacle, per joint vector (...).
 
     ``inf`` when there are no obstacles.

@@ -127,7 +127,8 @@ def _settled(record: Sequence[tuple[float, State]], posture_tol: float) -> float
 
 
 def _errors_settled(record: Sequence[tuple[float, State]], error_rtol: float) -> tuple[float, float] | None:
-    """``(relative change of sum_k E^k, joint motion)`` over the last doubling of ``lambda`` if the change is at most ``error_rtol``.
+    """``(relative change of sum_k E^k, joint motion)`` over the last doubling of ``lambda`` if the change is at
+    most ``error_rtol``.
 
     When the goals conflict (an over-constrained run) ``sum_k E^k`` cannot
     vanish: along the penalty path it falls to its least-squares minimum
@@ -307,8 +308,8 @@ def generate_trajectory(
             stationary = _errors_settled(record, error_rtol)
             if stationary is not None:
                 status, done = "converged", True
-                message = (f"errors settled: sum of E^k changed by {stationary[0]:.2g} (relative) while lambda doubled; "
-                           f"joints moved {stationary[1]:.3g} rad (s = {s:.6g})")
+                message = (f"errors settled: sum of E^k changed by {stationary[0]:.2g} (relative) while lambda "
+                           f"doubled; joints moved {stationary[1]:.3g} rad (s = {s:.6g})")
                 break
             tiny = solver.step_size is not None and solver.step_size < min_step * max(1.0, s)
             tiny_steps = tiny_steps + 1 if tiny else 0

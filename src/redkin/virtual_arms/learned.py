@@ -73,8 +73,10 @@ class LearnedModel:
 def _sample_joints(chain: SerialChain, count: int, rng: np.random.Generator, lower: ArrayLike | None = None,
                   upper: ArrayLike | None = None) -> np.ndarray:
     """Uniform joint vectors in ``[lower, upper]`` (default: the chain's limits, ``+-pi`` where unlimited)."""
-    low = np.where(np.isfinite(chain.lower), chain.lower, -np.pi) if lower is None else check_vectors(lower, chain.n, "lower")
-    high = np.where(np.isfinite(chain.upper), chain.upper, np.pi) if upper is None else check_vectors(upper, chain.n, "upper")
+    low = (np.where(np.isfinite(chain.lower), chain.lower, -np.pi) if lower is None
+           else check_vectors(lower, chain.n, "lower"))
+    high = (np.where(np.isfinite(chain.upper), chain.upper, np.pi) if upper is None
+            else check_vectors(upper, chain.n, "upper"))
     if np.any(high <= low):
         raise ValueError("sampling range must have upper > lower for every joint")
     return rng.uniform(low, high, size=(int(count), chain.n))

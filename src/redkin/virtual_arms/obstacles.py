@@ -61,7 +61,8 @@ def monitored_points(chain: SerialChain, per_link: int = 3) -> list[VirtualPoint
 
 
 def repulsion(points: np.ndarray, obstacles: Sequence[Obstacle], influence: float, gain: float) -> np.ndarray:
-    """Repulsion ``r(X)`` of ``points`` (p, l): ``gain (1 - c / influence)`` along the outward normal, per obstacle nearer than ``influence``."""
+    """Repulsion ``r(X)`` of ``points`` (p, l): ``gain (1 - c / influence)`` along the outward normal, per
+    obstacle nearer than ``influence``."""
     push = np.zeros_like(points)
     for obstacle in obstacles:
         away = points - obstacle.centre
@@ -83,7 +84,8 @@ def _tangent(normal: np.ndarray, towards: np.ndarray) -> np.ndarray:
 
 def _end_step(position: np.ndarray, goal: np.ndarray, obstacles: Sequence[Obstacle], step: float,
              influence: float) -> np.ndarray:
-    """``d`` of the real end point: towards ``goal``, at most ``step`` long, sliding round obstacles within ``influence``."""
+    """``d`` of the real end point: towards ``goal``, at most ``step`` long, sliding round obstacles within
+    ``influence``."""
     towards = goal - position
     length = min(step, float(np.linalg.norm(towards)))
     if length == 0.0:

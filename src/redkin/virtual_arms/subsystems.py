@@ -56,7 +56,8 @@ class OneByOne:
         self.models = list(models)
 
     def __call__(self, theta: np.ndarray, active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """As :meth:`Together.__call__`; a dropped subsystem (``active`` false) sends nothing: NaN positions, zero Jacobians."""
+        """As :meth:`Together.__call__`; a dropped subsystem (``active`` false) sends nothing: NaN positions, zero
+        Jacobians."""
         lead, m = theta.shape[:-1], theta.shape[-1]
         parts = []
         for k, model in enumerate(self.models):

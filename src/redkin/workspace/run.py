@@ -254,7 +254,8 @@ def workspace_map(
     orientations : int
         Tool orientations per position (``1..20000``): :func:`super_fibonacci_rotations`.
     chunk : int, optional
-        Grid points per axis of a chunk (default: about 262144 poses per chunk, :data:`redkin.workspace.grid.CHUNK_POSES`).
+        Grid points per axis of a chunk (default: about 262144 poses per chunk,
+        :data:`redkin.workspace.grid.CHUNK_POSES`).
     client : distributed.Client, optional
         Run on this cluster instead of Dask's local threaded scheduler.
     progress : callable, optional

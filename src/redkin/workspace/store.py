@@ -68,9 +68,11 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
                     {"units": "rad", "long_name": "measure of the feasible arm-angle set ([000 eq. 30])",
                      "branches": [str(b) for b in BRANCHES]}),
         "reachability": (position, da.zeros((m, m, m), chunks=-1),
-                         {"units": "1", "long_name": "fraction of orientations with a feasible arm angle on some branch"}),
+                         {"units": "1",
+                          "long_name": "fraction of orientations with a feasible arm angle on some branch"}),
         "redundancy": (position, da.zeros((m, m, m), chunks=-1),
-                       {"units": "1", "long_name": "mean over reachable orientations of the largest branch measure / 2 pi"}),
+                       {"units": "1",
+                        "long_name": "mean over reachable orientations of the largest branch measure / 2 pi"}),
         "chunk_complete": (("chunk_x", "chunk_y", "chunk_z"), da.zeros(grid.chunk_counts, dtype=bool, chunks=-1),
                            {"long_name": "whether the chunk's values are written"}),
     }
