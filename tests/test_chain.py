@@ -141,7 +141,8 @@ def test_standard_and_modified_dh_describe_the_same_arm():
 @given(arrays(float, 7, elements=st.floats(-np.pi, np.pi)))
 @settings(max_examples=50, deadline=None)
 def test_pa10_shoulder_rotation_entries_of_paper_000(q):
-    """Section 3.3 of paper 000 prints entries of 0R3: (1,2) -c1 s2, (2,2) -s1 s2, (3,1) -s2 c3, (3,2) -c2, (3,3) s2 s3."""
+    """Section 3.3 of paper 000 prints entries of 0R3: (1,2) -c1 s2, (2,2) -s1 s2, (3,1) -s2 c3, (3,2) -c2,
+    (3,3) s2 s3."""
     r03 = pa10_7c().frames(q)[3, :3, :3]
     c, s = np.cos(q), np.sin(q)
     np.testing.assert_allclose(r03[0, 1], -c[0] * s[1], atol=1e-12)
@@ -199,7 +200,8 @@ def test_within_limits_plain_and_wrapped():
     assert chain.within_limits(q + np.array([0, 0, 0, 0, 0, 0, 2 * np.pi]), wrap=True)
     assert not chain.within_limits(q + np.array([0, 0, 0, 0, 0, 0, 2 * np.pi]))
     assert chain.within_limits(np.radians([90.5, 0, 0, 10, 0, 0, 0]), tolerance=np.radians(1))
-    crossing = chain.with_limits(np.radians([150, -45, -120, 0, -90, -90, -120]), np.radians([210, 45, 120, 135, 90, 90, 120]))
+    crossing = chain.with_limits(np.radians([150, -45, -120, 0, -90, -90, -120]),
+                                 np.radians([210, 45, 120, 135, 90, 90, 120]))
     assert crossing.within_limits(np.radians([-170, 0, 0, 10, 0, 0, 0]), wrap=True)
     assert not crossing.within_limits(np.radians([140, 0, 0, 10, 0, 0, 0]), wrap=True)
     unlimited = chain.with_limits(np.full(7, -4.0), np.full(7, 4.0))

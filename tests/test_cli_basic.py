@@ -127,7 +127,8 @@ def _commands(parser):
 
 
 def test_each_command_is_parsed_by_its_own_module_alone():
-    """main builds only the module of the command it runs (``redkin fk`` imports no matplotlib): the table is complete."""
+    """main builds only the module of the command it runs (``redkin fk`` imports no matplotlib): the table is
+    complete."""
     from redkin.cli.main import _COMMANDS, _build_parser
 
     assert _commands(_build_parser()) == sorted(_COMMANDS)
@@ -144,7 +145,8 @@ def test_fk_imports_neither_matplotlib_nor_the_other_commands():
 
 
 def test_console_script_runs():
-    result = subprocess.run([sys.executable, "-m", "redkin.cli.main", "fk", "pa10-7c", "0"], capture_output=True, text=True)
+    result = subprocess.run([sys.executable, "-m", "redkin.cli.main", "fk", "pa10-7c", "0"], capture_output=True,
+                            text=True)
     assert result.returncode == 2 and "Traceback" not in result.stderr
 
 

@@ -43,18 +43,20 @@ TEMPLATES = {
                      ("--elbow", "number", ["20"]), ("--reference", "reference", ["vector"]), ("--deg", "flag", [])],
     "torso-arm map": [(None, "word", ["torso-arm", "map"]), ("--plane", "plane", ["z=0.3"]),
                       ("--extent", "numbers", ["-0.3", "1.1", "-0.6", "1.0"]), ("--resolution", "count", ["5"]),
-                      ("--shoulder", "number", ["0.2"]), ("--elbow", "number", ["0.3"]), ("--out", "file", ["map.png"])],
+                      ("--shoulder", "number", ["0.2"]), ("--elbow", "number", ["0.3"]),
+                      ("--out", "file", ["map.png"])],
     "torso-arm best map": [(None, "word", ["torso-arm", "map"]), ("--plane", "plane, default extent", ["y=0.3"]),
                            ("--resolution", "count", ["4"]), ("--samples", "counts", ["2", "3"])],
-    "virtual-arms": [(None, "word", ["virtual-arms"]), (None, "robot", ["planar-5"]), ("--goal", "numbers", ["0.5", "0.6"]),
-                     ("--point", "point", ["joint:3=0.5,0.6"]), ("--weight", "number", ["1"]), ("--weight", "number", ["2"]),
+    "virtual-arms": [(None, "word", ["virtual-arms"]), (None, "robot", ["planar-5"]),
+                     ("--goal", "numbers", ["0.5", "0.6"]), ("--point", "point", ["joint:3=0.5,0.6"]),
+                     ("--weight", "number", ["1"]), ("--weight", "number", ["2"]),
                      ("--fix", "joints", ["1"]), ("--max-steps", "count", ["3"]), ("--out", "file", ["run.png"])],
     "virtual-arms obstacle": [(None, "word", ["virtual-arms"]), (None, "robot", ["planar-5"]),
                               ("--goal", "numbers", ["0.5", "0.6"]), ("--obstacle", "obstacle", ["1.2,-0.9,0.1"]),
                               ("--max-steps", "count", ["2"])],
     "workspace": [(None, "word", ["workspace"]), (None, "robot", ["pa10-7c"]), ("--out", "directory", ["map"]),
-                  ("--extent", "numbers", ["-0.9", "0.9", "-0.9", "0.9", "-0.5", "1.3"]), ("--resolution", "count", ["2"]),
-                  ("--orientations", "count", ["2"]), ("--chunk", "count", ["1"])],
+                  ("--extent", "numbers", ["-0.9", "0.9", "-0.9", "0.9", "-0.5", "1.3"]),
+                  ("--resolution", "count", ["2"]), ("--orientations", "count", ["2"]), ("--chunk", "count", ["1"])],
     "reproduce": [(None, "word", ["reproduce"]), (None, "paper", ["000"]), ("--out", "directory", ["report"]),
                   ("--quiet", "flag", [])],
 }
@@ -75,7 +77,8 @@ BAD_VALUES = {
     "plane": ["w=1", "z=", "=0.3", "z=nan", "z=inf", "z=1e999", "z=0.3m", "z", ""],
     "plane, default extent": ["w=1", "z=nan", "z=1e999", "y=5", "x=-9", "z=2.1"],  # the last three miss the reach
     "reference": ["sideways", "1,2", "1,2,3,4", "a,b,c", "nan,0,0", "0,0,0"],
-    "point": ["joint:3", "joint:9=0.5,0.6", "joint:3=a,b", "elbow=0.1,0.2", "joint:3=0.5", "joint:3=nan,0", "link:2@1.5=0,0"],
+    "point": ["joint:3", "joint:9=0.5,0.6", "joint:3=a,b", "elbow=0.1,0.2", "joint:3=0.5", "joint:3=nan,0",
+              "link:2@1.5=0,0"],
     "joints": ["0", "9", "a", "1,,2", "-1", "1.5"],
     "obstacle": ["1.2,-0.9", "1.2,-0.9,0", "1.2,-0.9,-0.1", "a,b,c", "nan,-0.9,0.1", "1.2,-0.9,0.1,0.2"],
     "paper": ["999", "abc", "", "000x"],
@@ -111,7 +114,8 @@ def broken_commands(draw) -> tuple[str, list[str]]:
     """A template with exactly one slot broken: a bad value, or a value too many or too few."""
     name = draw(st.sampled_from(sorted(TEMPLATES)))
     slots = TEMPLATES[name]
-    breakable = [i for i, (_, kind, values) in enumerate(slots) if BAD_VALUES[kind] or kind in KINDS_TAKING_A_COUNT_CHANGE]
+    breakable = [i for i, (_, kind, values) in enumerate(slots)
+                 if BAD_VALUES[kind] or kind in KINDS_TAKING_A_COUNT_CHANGE]
     index = draw(st.sampled_from(breakable))
     _option, kind, values = slots[index]
     ways = ["value"] if BAD_VALUES[kind] else []

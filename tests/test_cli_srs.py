@@ -48,7 +48,8 @@ def test_arm_angles_empty_set_gives_null_feasible_optimum(capsys):
 
 
 def test_arm_angles_text_output(capsys):
-    assert main(["arm-angles", "pa10-7c", *POSE, "--target", "0", "90", "0", "0", "0", "90", "0", "--deg", "--weights", "1", "1"]) == 0
+    assert main(["arm-angles", "pa10-7c", *POSE, "--target", "0", "90", "0", "0", "0", "90", "0", "--deg",
+                 "--weights", "1", "1"]) == 0
     assert "Psi (feasible)" in capsys.readouterr().out
 
 
@@ -59,7 +60,8 @@ def test_arm_angles_text_output(capsys):
         (["ik", "pa10-7c", *POSE[:4], "--rotation", *["1"] * 9, "--psi", "0"], "orthonormal"),
         (["ik", "pa10-7c", *POSE, "--psi", "0", "--branch", "+x+"], "branch"),
         (["ik", "planar-5", *POSE, "--psi", "0"], "7 joints"),
-        (["arm-angles", "pa10-7c", *POSE, "--target", "0", "0", "0", "0", "0", "0", "0", "--weights", "0", "0"], "weights"),
+        (["arm-angles", "pa10-7c", *POSE, "--target", "0", "0", "0", "0", "0", "0", "0", "--weights", "0", "0"],
+         "weights"),
         (["ik", "pa10-7c", *POSE[:3], "--psi", "0"], "position"),
     ],
 )

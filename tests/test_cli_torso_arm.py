@@ -44,7 +44,8 @@ def test_torso_arm_cli_map_writes_png_and_json(tmp_path, capsys):
 def test_torso_arm_cli_bad_input_exit_2(capsys):
     assert main(["torso-arm", "map", "--plane", "q=1", "--extent", "0", "1", "0", "1"]) == 2
     assert main(["torso-arm", "map", "--plane", "z=0", "--extent", "0", "1", "0", "1", "--shoulder", "1"]) == 2
-    assert main(["torso-arm", "ik", "--position", "1", "2", "3", "--rotation", *["1"] * 9, "--shoulder", "0", "--elbow", "0"]) == 2
+    assert main(["torso-arm", "ik", "--position", "1", "2", "3", "--rotation", *["1"] * 9, "--shoulder", "0",
+                 "--elbow", "0"]) == 2
     err = capsys.readouterr().err
     assert "plane" in err and "orthonormal" in err
 

@@ -31,7 +31,8 @@ def test_velocity_cli_track_dls_text(capsys):
 
 
 def test_velocity_cli_bad_input(capsys):
-    assert main(["track", "barrett-wam", "--q0", "0", "0", "--twist", "0", "0", "0", "0", "0", "0", "--duration", "1"]) == 2
+    assert main(["track", "barrett-wam", "--q0", "0", "0", "--twist", "0", "0", "0", "0", "0", "0",
+                 "--duration", "1"]) == 2
     assert "7 joints" in capsys.readouterr().err
     assert main(SCENARIO + ["--method", "dls", "--damping", "-1"]) == 2
     assert main(SCENARIO[:-4] + ["--duration", "-1"]) == 2
@@ -39,7 +40,8 @@ def test_velocity_cli_bad_input(capsys):
 
 
 def test_velocity_cli_track_sc_on_srs_arms_crosses_the_stretched_elbow(capsys):
-    """PA10 and iiwa: D_e = sin theta_4 (found automatically); stretching the arm passes q4 = 0 once, translation reverses.
+    """PA10 and iiwa: D_e = sin theta_4 (found automatically); stretching the arm passes q4 = 0 once, translation
+    reverses.
 
     D_e changes sign; which sign it starts with depends on the arm's joint-4 sense (KUKA's A4 turns the other
     way from the PA10's Table 1 joint 4).

@@ -39,7 +39,8 @@ def test_paper_digits_plus_one_zero_without_sign():
     assert fixed(4.06978e-15, 4) == "0" and fixed(-1e-13, 2) == "0"
     assert fixed(-0.00001, 3) == "0.000" and fixed(-0.0, 2) == "0"  # rounds to zero: never "-0"
     assert fixed(-2.74484, 4, sign=True) == "-2.7448" and fixed(2.74484, 4, sign=True) == "+2.7448"
-    assert _scientific(7.21771e-07) == "7.22 × 10⁻⁷" and _scientific(2.438e9) == "2.44 × 10⁹" and _scientific(1.5) == "1.50"
+    assert (_scientific(7.21771e-07) == "7.22 × 10⁻⁷" and _scientific(2.438e9) == "2.44 × 10⁹"
+            and _scientific(1.5) == "1.50")
 
 
 def test_one_format_per_column():
@@ -87,7 +88,8 @@ def test_page_puts_the_summary_first_and_explains_each_difference_once(tmp_path)
     assert page.count("misprint in the paper") == 3  # the note once, the summary's two links
     links = re.findall(r'<li><a href="#(tst-numbers-\d)">', page)
     assert links == ["tst-numbers-1", "tst-numbers-2"] and all(f'id="{a}"' in page for a in links)
-    assert page.count("✗ <strong>DIFFERS</strong>") == 2 and page.count('agrees">✓ agrees') == 2  # a mark, never colour alone
+    # a mark, never colour alone
+    assert page.count("✗ <strong>DIFFERS</strong>") == 2 and page.count('agrees">✓ agrees') == 2
     assert "ours [deg]" in page and "Δ = ours − paper [deg]" in page and ">a lower<" in page  # unit in the header
     assert ">-45.9908<" in page and ">-2.7448<" in page and ">+2.7448<" in page and ">+0.0002<" in page
     assert "e-15" not in page and ">-0<" not in page and "-0.0000" not in page
@@ -106,7 +108,8 @@ def test_figures_are_saved_at_twice_the_size_they_are_shown_and_linked(tmp_path)
 
 def test_build_info_names_version_and_commit():
     info = build_info()
-    assert info["version"] == redkin.__version__ and info["commit"] and re.match(r"\d{4}-\d\d-\d\d \d\d:\d\d UTC", info["date"])
+    assert (info["version"] == redkin.__version__ and info["commit"]
+            and re.match(r"\d{4}-\d\d-\d\d \d\d:\d\d UTC", info["date"]))
 
 
 def test_models_section_writes_page_and_summary(tmp_path):

@@ -36,7 +36,8 @@ def test_paper_000_section_agrees_except_the_6_2_2_misprint(full_report):
     tables = _tables(full_report, "000")
     differing = [row[0] for row in _differing(tables)]
     # 6.2.2's misprinted feasible set (three rows) and 6.2.1's set, printed for branch +++ but belonging to ++-
-    assert sorted(differing) == ["Psi lower [deg]", "Psi upper [deg]", "Psi, branch +++", "psi_w^opt clamped to Psi [deg]"]
+    assert sorted(differing) == ["Psi lower [deg]", "Psi upper [deg]", "Psi, branch +++",
+                                 "psi_w^opt clamped to Psi [deg]"]
     agreeing = sum(ok is True for table in tables.values() for ok in table.get("agreement", []))
     assert agreeing >= 60
     for row in _differing(tables):
@@ -109,7 +110,8 @@ def _map_arrays(report, name):
 
 
 def test_workspace_section_map_entries_equal_direct_feasible_arm_angles(full_report):
-    """Sampled entries of the report's maps against feasible_arm_angles; the indices and the table from their definitions."""
+    """Sampled entries of the report's maps against feasible_arm_angles; the indices and the table from their
+    definitions."""
     tables = _tables(full_report, "workspace")
     assert not _differing(tables)
     rows = {row["arm"]: row for row in _rows(tables["maps"])}
@@ -124,8 +126,8 @@ def test_workspace_section_map_entries_equal_direct_feasible_arm_angles(full_rep
         best = measure.max(axis=-1)
         reachable_count = (best > 0).sum(axis=-1)
         np.testing.assert_array_equal(arrays["reachability"], reachable_count / m)
-        np.testing.assert_allclose(arrays["redundancy"], best.sum(axis=-1) / (2 * np.pi * np.maximum(reachable_count, 1)),
-                                   rtol=1e-12)
+        np.testing.assert_allclose(arrays["redundancy"],
+                                   best.sum(axis=-1) / (2 * np.pi * np.maximum(reachable_count, 1)), rtol=1e-12)
         reached = arrays["reachability"] > 0
         assert row["reachable positions [%]"] == pytest.approx(100 * reached.mean())
         assert row["reachable poses [%]"] == pytest.approx(100 * arrays["reachability"].mean())
@@ -147,8 +149,8 @@ def test_workspace_section_map_entries_equal_direct_feasible_arm_angles(full_rep
 
 
 def test_workspace_section_gamma_line_equals_the_6_2_2_computation(full_report):
-    """The line's Gamma is section 000's Gamma (found there with feasible_arm_angles), and the line's measure is positive
-    exactly inside it."""
+    """The line's Gamma is section 000's Gamma (found there with feasible_arm_angles), and the line's measure is
+    positive exactly inside it."""
     ours = {row["quantity"]: row["ours"] for row in _rows(_tables(full_report, "workspace")["gamma_line"])}
     paper_000 = {row["quantity"]: row["ours"] for row in _rows(_tables(full_report, "000")["s6_2_2"])}
     for side in ("lower", "upper"):
@@ -165,4 +167,5 @@ def test_workspace_section_gamma_line_equals_the_6_2_2_computation(full_report):
     eq_41 = pose_from(np.array([0.65, 0.0, 0.5]), np.diag([-1.0, 1.0, -1.0]))
     width = feasible_arm_angles(arm, eq_41, "+++").feasible.length
     assert measure[np.flatnonzero(gamma == 0.0)[0], plus] == pytest.approx(width, abs=1e-12)
-    assert ours["measure on +++ at gamma = 0 [deg] (the pose of [000 eq. 41])"] == pytest.approx(np.degrees(width), abs=1e-9)
+    assert ours["measure on +++ at gamma = 0 [deg] (the pose of [000 eq. 41])"] == pytest.approx(np.degrees(width),
+                                                                                                 abs=1e-9)

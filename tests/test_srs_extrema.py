@@ -295,7 +295,9 @@ def test_tangent_case_classifies_the_sign_of_eq_24():
 # Generic random inputs come from a seeded generator: hypothesis' own float shrinking drifts to doubly degenerate
 # poses (theta_4 ~ 1e-7 with theta_6 ~ 1e-15), whose near-singular cases the explicit tests above cover one at a time.
 angles = st.floats(-np.pi, np.pi, allow_nan=False)
-joint_vectors = st.integers(0, 2**32 - 1).map(lambda seed: np.random.default_rng(seed).uniform(-np.pi, np.pi, 7).tolist())
+joint_vectors = st.integers(0, 2**32 - 1).map(
+    lambda seed: np.random.default_rng(seed).uniform(-np.pi, np.pi, 7).tolist()
+)
 lengths = st.floats(0.05, 1.0)
 
 

@@ -70,7 +70,8 @@ STRETCHED = {  # singular at every arm angle: [000 eq. 15] (19) is 0/0 for every
 @pytest.mark.parametrize("q", STRETCHED.values(), ids=STRETCHED.keys())
 @pytest.mark.parametrize("model", ["pa10", "iiwa", "wam"])
 def test_stretched_arm_feasible_sets_equal_dense_sampling(model, q):
-    """The home pose and its kin: the third joint's limits still cut the arm-angle circle (all branches, own and random limits).
+    """The home pose and its kin: the third joint's limits still cut the arm-angle circle (all branches, own and
+    random limits).
 
     On the WAM too: at theta_4 = 0 its offsets cancel and the upper arm, forearm and shoulder-wrist line are parallel.
     """

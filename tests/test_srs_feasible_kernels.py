@@ -1,4 +1,5 @@
-"""The compiled feasible sets (redkin.srs._feasible_kernels): a batch equals its items one at a time, on any thread count.
+"""The compiled feasible sets (redkin.srs._feasible_kernels): a batch equals its items one at a time, on any thread
+count.
 
 Laws: the parallel batch loop (>= 256 pose-branches, so run_batch takes
 prange) gives bit for bit what one call per pose gives; so do 1 and all

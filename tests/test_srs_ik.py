@@ -146,7 +146,8 @@ def test_wrist_on_joint1_axis_uses_theta1_zero_reference():
 
 def test_elbow_stretched_and_degenerate_configurations():
     chain = pa10_7c()
-    for q in ([0.3, 0.0, 0.5, 0.9, 0.2, 0.4, 0.1], [0.3, 0.7, 0.5, 0.9, 0.2, 0.0, 0.1], [0.3, 0.7, 0.5, 0.0, 0.2, 0.4, 0.1]):
+    for q in ([0.3, 0.0, 0.5, 0.9, 0.2, 0.4, 0.1], [0.3, 0.7, 0.5, 0.9, 0.2, 0.0, 0.1],
+              [0.3, 0.7, 0.5, 0.0, 0.2, 0.4, 0.1]):
         pose = chain.fk(np.array(q))
         for psi in np.linspace(-np.pi, np.pi, 13):
             assert pose_error(chain.fk(ik_all_branches(chain, pose, psi)), pose) < ROUND_TRIP

@@ -124,7 +124,8 @@ def test_out_of_reach_poses_name_the_reach_interval():
     near = far.copy()
     near[:3, 3] = [0.0, 0.0, np.sqrt(mean + amplitude) + chain.d[6] - 1e-4]
     assert reachable(chain, np.stack([far, near])).tolist() == [False, True]
-    with pytest.raises(ValueError, match=rf"must lie in \[{np.sqrt(mean - amplitude):.6g}, {np.sqrt(mean + amplitude):.6g}\]"):
+    with pytest.raises(ValueError,
+                       match=rf"must lie in \[{np.sqrt(mean - amplitude):.6g}, {np.sqrt(mean + amplitude):.6g}\]"):
         ik(chain, far, 0.0)
 
 
@@ -245,7 +246,8 @@ def test_cli_ik_and_arm_angles_on_the_wam(capsys):
     wam = barrett_wam().with_limits(np.full(7, -2.5), np.full(7, 2.5))
     q = np.array([0.3, 0.7, 0.5, 0.9, 0.2, 0.4, 0.1])
     pose = wam.fk(q)
-    argv = ["--position", *(f"{v:.17g}" for v in pose[:3, 3]), "--rotation", *(f"{v:.17g}" for v in pose[:3, :3].ravel())]
+    argv = ["--position", *(f"{v:.17g}" for v in pose[:3, 3]),
+            "--rotation", *(f"{v:.17g}" for v in pose[:3, :3].ravel())]
     assert main(["ik", "barrett-wam", *argv, "--psi", "0.5", "--all", "--json"]) == 0
     solutions = np.array([s["q"] for s in json.loads(capsys.readouterr().out)["solutions"]])
     assert solutions.shape == (8, 7) and np.abs(wam.fk(solutions) - pose).max() < ROUND_TRIP

@@ -1,4 +1,5 @@
-"""Singular arm angles ([000 eqs. 31-34]), optimal arm angles ([000 eqs. 36-40]), path control (section 6.2.2) and paper section 6.2."""
+"""Singular arm angles ([000 eqs. 31-34]), optimal arm angles ([000 eqs. 36-40]), path control (section 6.2.2) and
+paper section 6.2."""
 
 import numpy as np
 import pytest
@@ -99,7 +100,8 @@ def test_optimal_angles_are_the_sampled_maximisers_and_clamp_to_nearest_feasible
             f = objective(chain, pose, "+++", target, GRID, part)
             best = GRID[np.argmax(f)]
             assert abs(np.sin((getattr(result, part).unclamped - best) / 2)) < 1e-3
-        f = 0.3 * objective(chain, pose, "+++", target, GRID, "shoulder") + 0.7 * objective(chain, pose, "+++", target, GRID, "wrist")
+        f = (0.3 * objective(chain, pose, "+++", target, GRID, "shoulder")
+             + 0.7 * objective(chain, pose, "+++", target, GRID, "wrist"))
         assert abs(np.sin((result.overall.unclamped - GRID[np.argmax(f)]) / 2)) < 1e-3
         feasible = feasible_arm_angles(chain, pose, "+++").feasible
         if feasible.is_empty:
@@ -108,7 +110,8 @@ def test_optimal_angles_are_the_sampled_maximisers_and_clamp_to_nearest_feasible
             assert feasible.contains(result.overall.feasible, tolerance=1e-12)
             inside = feasible.contains(GRID)
             at = np.array([result.overall.feasible])
-            f_at = 0.3 * objective(chain, pose, "+++", target, at, "shoulder") + 0.7 * objective(chain, pose, "+++", target, at, "wrist")
+            f_at = (0.3 * objective(chain, pose, "+++", target, at, "shoulder")
+                    + 0.7 * objective(chain, pose, "+++", target, at, "wrist"))
             assert np.max(f[inside]) <= f_at[0] + 1e-9
 
 

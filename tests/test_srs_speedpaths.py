@@ -178,7 +178,8 @@ WIDTHS = st.one_of(st.floats(1e-3, 7.0), st.sampled_from([np.pi, np.pi / 2, 2 * 
 
 
 @settings(max_examples=150, deadline=None)
-@given(st.integers(0, 2**31), st.lists(st.floats(-2 * np.pi, 2 * np.pi), min_size=7, max_size=7), st.lists(WIDTHS, min_size=7, max_size=7))
+@given(st.integers(0, 2**31), st.lists(st.floats(-2 * np.pi, 2 * np.pi), min_size=7, max_size=7),
+       st.lists(WIDTHS, min_size=7, max_size=7))
 @example(0, [2 * np.pi - 1e-15] + [0.0] * 6, [np.pi] + [1.0] * 6)  # limits pi apart: their zeros differ by rounding
 def test_limit_equation_signs_decide_joint_membership(seed, lower, width):
     """Off its cut points a joint's limit membership is read from the signs of its two limit equations.
@@ -222,7 +223,8 @@ def test_pose_errors_match_the_shared_validator(mutate):
     bad = mutate(chain.fk(np.full(7, 0.3)))
     with pytest.raises(ValueError) as expected:
         check_pose(bad, "pose")
-    for call in (lambda: feasible_pieces(chain, bad), lambda: ik(chain, bad, 0.0), lambda: ik_all_branches(chain, bad, 0.0)):
+    for call in (lambda: feasible_pieces(chain, bad), lambda: ik(chain, bad, 0.0),
+                 lambda: ik_all_branches(chain, bad, 0.0)):
         with pytest.raises(ValueError) as raised:
             call()
         assert str(raised.value) == str(expected.value)

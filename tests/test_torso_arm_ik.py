@@ -48,7 +48,8 @@ def test_torso_arm_full_ik_recovers_every_branch(side, reference):
     solution = ik(arm, pose[:, :3, 3], psi[defined], phi[defined], rotation=pose[:, :3, :3], reference=reference)
     assert np.all(solution.ok)
     # every branch reproduces the hand pose
-    np.testing.assert_allclose(arm.chain.fk(solution.q), np.broadcast_to(pose[:, None], (len(pose), 8, 4, 4)), atol=1e-10)
+    np.testing.assert_allclose(arm.chain.fk(solution.q), np.broadcast_to(pose[:, None], (len(pose), 8, 4, 4)),
+                               atol=1e-10)
     # the original joints are one of the 8 branches, to 1e-8 rad
     error = angle_error(solution.q, q[defined][:, None]).max(axis=-1)
     assert np.all(error.min(axis=-1) <= 1e-8)
@@ -179,7 +180,8 @@ def test_torso_arm_theta4_reference_gives_theta4_zero_or_reports_no_reference():
         sub = type(circle)(*(np.broadcast_to(getattr(circle, f)[i], (sample.size,) + getattr(circle, f)[i].shape)
                              for f in circle.__dataclass_fields__))
         basis = np.broadcast_to(reference_direction(arm, sub, ElbowReference("vector"))[0][0], (sample.size, 3))
-        theta4 = joints_from_points(arm, np.full(sample.size, q[i, 0]), elbow_position(sub, basis, sample), sub.wrist)[:, 0, 3]
+        theta4 = joints_from_points(arm, np.full(sample.size, q[i, 0]), elbow_position(sub, basis, sample),
+                                    sub.wrist)[:, 0, 3]
         assert np.min(np.abs(theta4)) > 1e-3
     sol = position_ik(arm, circle.wrist[missing], shoulder_angle(q[missing, 0], circle.wrist[missing]), 0.0)
     assert np.all(sol.status == NO_REFERENCE) and np.isnan(sol.q).all()

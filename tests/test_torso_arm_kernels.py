@@ -105,8 +105,10 @@ def test_joints_from_points_give_back_the_posture_on_its_branch():
     assert joints.shape == (400, len(POSITION_BRANCHES), 5)
     padded = np.concatenate([joints, np.zeros(joints.shape[:-1] + (3,))], axis=-1)
     frames = ARM.chain.frames(padded)
-    np.testing.assert_allclose(frames[..., ELBOW_FRAME, :3, 3], np.broadcast_to(elbow[:, None], (400, 4, 3)), atol=1e-12)
-    np.testing.assert_allclose(frames[..., WRIST_FRAME, :3, 3], np.broadcast_to(wrist[:, None], (400, 4, 3)), atol=1e-12)
+    np.testing.assert_allclose(frames[..., ELBOW_FRAME, :3, 3], np.broadcast_to(elbow[:, None], (400, 4, 3)),
+                               atol=1e-12)
+    np.testing.assert_allclose(frames[..., WRIST_FRAME, :3, 3], np.broadcast_to(wrist[:, None], (400, 4, 3)),
+                               atol=1e-12)
     # the posture's own joints are one of the four branches
     distance = np.abs(wrap_angle(wrap_to_limits(ARM.chain, joints, slice(0, 5)) - q[:, None, :5])).max(axis=-1)
     assert np.all(distance.min(axis=-1) < 1e-9)
@@ -130,7 +132,8 @@ def test_dual_measure_equals_the_determinant_of_the_stacked_jacobian():
     stacked = np.zeros((200, 6, 9))
     stacked[:, :3, 0], stacked[:, 3:, 0] = right[:, :, 0], left[:, :, 0]
     stacked[:, :3, 1:5], stacked[:, 3:, 5:] = right[:, :, 1:], left[:, :, 1:]
-    literal = np.maximum(np.linalg.det(stacked @ np.swapaxes(stacked, -1, -2)), 0.0)  # w^2; 0 = rounding on the singular ones
+    # w^2; 0 = rounding on the singular ones
+    literal = np.maximum(np.linalg.det(stacked @ np.swapaxes(stacked, -1, -2)), 0.0)
     squared = stacked_dual_manipulability(right, left) ** 2
     np.testing.assert_allclose(squared, literal, rtol=1e-9, atol=1e-10 * literal.max())
     assert np.all(squared[:20] < 1e-10 * literal.max())
@@ -162,7 +165,9 @@ def _best_reference(arm, point, samples, within, dual=False):
                 ql = np.concatenate([other.q[0], np.zeros(3)])
                 jl = left.chain.jacobian(ql, frame=WRIST_FRAME)[:3, :5]
                 stacked = np.zeros((6, 9))
-                stacked[:3, 0], stacked[3:, 0], stacked[:3, 1:5], stacked[3:, 5:] = jr[:, 0], jl[:, 0], jr[:, 1:], jl[:, 1:]
+                stacked[:3, 0], stacked[3:, 0], stacked[:3, 1:5], stacked[3:, 5:] = (
+                    jr[:, 0], jl[:, 0], jr[:, 1:], jl[:, 1:]
+                )
                 w = np.sqrt(max(np.linalg.det(stacked @ stacked.T), 0.0))
             else:
                 w = np.sqrt(max(np.linalg.det(jr @ jr.T), 0.0))
@@ -228,7 +233,8 @@ def test_state_kernel_parallel_batch_equals_serial_bit_for_bit():
     results = []
     for function in (states, _states_parallel):
         jacobian, status, feasible = np.empty((count, 3, 5)), np.empty(count, dtype=np.int64), np.empty(count, bool)
-        function(points, theta1, defined, phi, _lengths(ARM), 1.0, limits[0], 1, np.zeros(3), jacobian, status, feasible)
+        function(points, theta1, defined, phi, _lengths(ARM), 1.0, limits[0], 1, np.zeros(3), jacobian, status,
+                 feasible)
         results.append((jacobian, status, feasible))
     for a, b in zip(*results):
         np.testing.assert_array_equal(a, b)

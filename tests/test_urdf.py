@@ -36,8 +36,10 @@ SYNTHETIC = {
         ("revolute", "0.1 0 0", f"-{HALF_PI} 0 0", "0 -1 0"), ("fixed", "0 0 0.05", "0 0 0", "")]),
     # oblique axes and offsets in every direction: skew lines
     "oblique axes": urdf([
-        ("revolute", "0.1 -0.2 0.3", "0.2 0.3 0.4", "0.3 0.5 0.8"), ("revolute", "0.2 0.1 0.05", "-0.7 0.1 1.2", "1 1 0"),
-        ("continuous", "-0.1 0.3 0.2", "0.5 0.5 -0.5", "0.2 -0.9 0.1"), ("revolute", "0 0 0.25", "1 2 3", "-1 0.5 0.5")]),
+        ("revolute", "0.1 -0.2 0.3", "0.2 0.3 0.4", "0.3 0.5 0.8"),
+        ("revolute", "0.2 0.1 0.05", "-0.7 0.1 1.2", "1 1 0"),
+        ("continuous", "-0.1 0.3 0.2", "0.5 0.5 -0.5", "0.2 -0.9 0.1"),
+        ("revolute", "0 0 0.25", "1 2 3", "-1 0.5 0.5")]),
     # parallel axes (a planar arm), the first not along the base z
     "parallel axes": urdf([
         ("revolute", "0 0 0.1", f"{HALF_PI} 0 0", "0 0 1"), ("revolute", "0.4 0 0", "0 0 0.3", "0 0 1"),
@@ -48,8 +50,8 @@ SYNTHETIC = {
         ("revolute", "0 0 0.1", "0 0 0", "0 1 0"), ("revolute", "0 0 0", "0 0 0", "1 0 0"),
         ("revolute", "0 0 0", "0.4 0 0", "0 0 1"), ("fixed", "0 0 0.1", "0 0 0", "")]),
 }
-FILES = {"iiwa14 (examples)": (EXAMPLES / "iiwa14.urdf").read_text(), "panda (examples)": (EXAMPLES / "panda.urdf").read_text(),
-         **SYNTHETIC}
+FILES = {"iiwa14 (examples)": (EXAMPLES / "iiwa14.urdf").read_text(),
+         "panda (examples)": (EXAMPLES / "panda.urdf").read_text(), **SYNTHETIC}
 
 
 def _load(tmp_path: Path, text: str, **links):
@@ -72,7 +74,8 @@ def test_chain_equals_the_product_of_the_urdf_transforms(tmp_path_factory, name)
     q = rng.uniform(-np.pi, np.pi, (50, chain.n))
     expected = np.array([reference_fk(text, row, _tip(text)) for row in q])
     np.testing.assert_allclose(chain.fk(q), expected, atol=1e-12)
-    np.testing.assert_allclose(chain.fk(np.zeros(chain.n)), reference_fk(text, np.zeros(chain.n), _tip(text)), atol=1e-12)
+    np.testing.assert_allclose(chain.fk(np.zeros(chain.n)), reference_fk(text, np.zeros(chain.n), _tip(text)),
+                               atol=1e-12)
 
 
 @settings(max_examples=40, deadline=None)
@@ -184,7 +187,8 @@ TREE = ('<robot name="tree"><link name="root"/><link name="a"/><link name="b"/><
     (TREE, {"tip": "nowhere"}, "no link named 'nowhere'"),
     (TREE, {"base": "b", "tip": "c"}, "not below link 'b'"),
     (urdf([("prismatic", "0 0 0", "0 0 0", "0 0 1")]), {}, "joint 'j0' is prismatic"),
-    (urdf([("revolute", "0 0 0", "0 0 0", "0 0 1"), ("floating", "0 0 0", "0 0 0", "0 0 1")]), {}, "joint 'j1' is floating"),
+    (urdf([("revolute", "0 0 0", "0 0 0", "0 0 1"), ("floating", "0 0 0", "0 0 0", "0 0 1")]), {},
+     "joint 'j1' is floating"),
     (urdf([("planar", "0 0 0", "0 0 0", "0 0 1")]), {}, "joint 'j0' is planar"),
     (urdf([("fixed", "0 0 0", "0 0 0", "")]), {}, "no revolute joint"),
     (TREE.replace('<joint name="jc" type="continuous">', '<joint name="jc" type="continuous"><mimic joint="jb"/>'),

@@ -124,10 +124,12 @@ def test_velocity_numerical_route_matches_closed_form_on_and_off_the_singularity
 
 def test_velocity_single_parameter_check():
     assert check_single_parameter(WAM, FACTOR.index, samples=16).factors
-    assert not check_single_parameter(WAM, lambda q: np.sin(q[..., 3]), samples=16).factors  # S-R-S index fails on the WAM
+    # S-R-S index fails on the WAM
+    assert not check_single_parameter(WAM, lambda q: np.sin(q[..., 3]), samples=16).factors
     assert check_single_parameter(pa10_7c(), lambda q: np.sin(q[..., 3]), samples=16).factors
     assert check_single_parameter(kuka_iiwa14(), lambda q: np.sin(q[..., 3]), samples=16).factors
-    assert not check_single_parameter(pa10_7c(), lambda q: np.sin(q[..., 5]), samples=16).factors  # wrist: not a J singularity
+    # wrist: not a J singularity
+    assert not check_single_parameter(pa10_7c(), lambda q: np.sin(q[..., 5]), samples=16).factors
     assert not check_single_parameter(WAM, lambda q: FACTOR.index(q) ** 3, samples=16).factors  # higher-order zero
 
 

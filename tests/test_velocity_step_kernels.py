@@ -91,7 +91,8 @@ def test_least_squares_equals_the_svd_formulas(seed, shape, rank_drop):
     scale = max(1.0, float(np.abs(reference).max()))
     np.testing.assert_allclose(pseudoinverse(jac, twist), reference, rtol=0, atol=1e-13 * cond * scale)
     dls = jac.T @ np.linalg.solve(jac @ jac.T + 0.05**2 * np.eye(shape[0]), twist)
-    np.testing.assert_allclose(damped_least_squares(jac, twist, 0.05), dls, rtol=0, atol=1e-11 * max(1, np.abs(dls).max()))
+    np.testing.assert_allclose(damped_least_squares(jac, twist, 0.05), dls, rtol=0,
+                               atol=1e-11 * max(1, np.abs(dls).max()))
 
 
 @settings(deadline=None, max_examples=40)
@@ -127,7 +128,8 @@ def test_column_minors_equal_determinants_and_the_wam_closed_form(q):
 @given(configurations, twists, st.sampled_from([None, 0.0, 1e-12, -1e-6, 1e-3, -0.05, 0.3]),
        st.sampled_from([1.0, -1.0]), st.booleans(), st.sampled_from([0.0, 0.7]))
 def test_sc_step_equals_the_weighted_cramer_sum(q, twist, distance, direction, modify_rotation, self_motion):
-    """Both paths (adjugate everywhere; pseudoinverse off D_e = 0) equal [003 eq. 15] with [003 eq. 21]'s weights, also on D_e = 0."""
+    """Both paths (adjugate everywhere; pseudoinverse off D_e = 0) equal [003 eq. 15] with [003 eq. 21]'s weights,
+    also on D_e = 0."""
     if distance is not None:
         q[3] = Q4_ZERO + distance
     if not well_conditioned(q):
@@ -145,7 +147,8 @@ def test_sc_step_with_every_factor_zero_is_a_value_error():
     jac = WAM.jacobian(np.full(7, 0.5))
     with pytest.raises(ValueError, match="D_s"):
         singularity_consistent(jac, np.ones(6), 0.0, np.zeros(7), EPS)
-    assert np.all(np.isfinite(lean_singularity_consistent(jac, np.ones(6), 0.5, lambda: np.zeros(7), EPS).joint_velocity))
+    assert np.all(np.isfinite(lean_singularity_consistent(jac, np.ones(6), 0.5, lambda: np.zeros(7),
+                                                          EPS).joint_velocity))
 
 
 # ---------------------------------------------------------- batches and threads

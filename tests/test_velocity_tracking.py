@@ -71,7 +71,8 @@ def test_velocity_pinv_is_exact_until_it_explodes(runs, wam):
 
 
 def test_velocity_dls_bounded_but_stalls(runs, wam):
-    for name, bound in (("dls", np.linalg.norm(TWIST) / (2 * 0.05)), ("dls-adaptive", np.linalg.norm(TWIST) / (2 * 0.05))):
+    for name, bound in (("dls", np.linalg.norm(TWIST) / (2 * 0.05)),
+                        ("dls-adaptive", np.linalg.norm(TWIST) / (2 * 0.05))):
         run = runs[name]
         speed = np.linalg.norm(run.joint_velocity, axis=1)
         jac = wam.jacobian(run.q)

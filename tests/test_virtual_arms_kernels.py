@@ -52,7 +52,8 @@ def reference_state(dyn, y):
     displacement = (dyn.theta0 - theta)[dyn.free]
     slope = dyn.output.slope(u)[dyn.free]
     slope_g = slope * (lam * delta + displacement)
-    numerator = 0.5 * lam**2 * delta @ delta + dyn.law.gain_constant * np.linalg.norm(delta) * np.linalg.norm(displacement)
+    numerator = (0.5 * lam**2 * delta @ delta
+                 + dyn.law.gain_constant * np.linalg.norm(delta) * np.linalg.norm(displacement))
     bound = 0.0 if dyn.law.a_max is None else numerator / dyn.law.a_max
     with np.errstate(divide="ignore"):
         gain = 0.0 if numerator == 0 else numerator / (slope_g @ slope_g + bound)
@@ -63,7 +64,8 @@ def reference_state(dyn, y):
 
 MODELS = [
     AnalyticModel(planar_arm(), [VirtualPoint.end(), VirtualPoint.joint(3), VirtualPoint.on_link(2, 0.3)]),
-    AnalyticModel(pa10_7c(), [VirtualPoint.end(), VirtualPoint.joint(4), VirtualPoint.joint(1), VirtualPoint.on_link(7)]),
+    AnalyticModel(pa10_7c(),
+                  [VirtualPoint.end(), VirtualPoint.joint(4), VirtualPoint.joint(1), VirtualPoint.on_link(7)]),
     AnalyticModel(franka_panda(), joints_and_midpoints(franka_panda())),
 ]
 
@@ -128,7 +130,8 @@ def test_rate_function_equals_the_equations(seed, law, fixed, dropped, one_by_on
 
 
 def test_literal_gain_is_infinite_where_g_vanishes():
-    """[004 eq. 10] as printed divides by |G' g|^2: at g = 0 with delta != 0 the gain is infinite (the stall), not an error."""
+    """[004 eq. 10] as printed divides by |G' g|^2: at g = 0 with delta != 0 the gain is infinite (the stall), not
+    an error."""
     dyn = dynamics("literal", limited=False)
     y = np.append(dyn.u0, 0.0)
     scalars = np.empty((1, 5))  # G' = 0 (slope), so G' g = 0 while delta != 0

@@ -1,4 +1,5 @@
-"""Forward models of paper 004: analytic Jacobians, the numpy MLP's back-propagation, learned accuracy, classification."""
+"""Forward models of paper 004: analytic Jacobians, the numpy MLP's back-propagation, learned accuracy,
+classification."""
 
 import numpy as np
 import pytest
@@ -27,7 +28,8 @@ def test_virtual_arms_analytic_jacobian_equals_finite_differences(q, fraction):
     model = AnalyticModel(PA10, [VirtualPoint.end(), VirtualPoint.joint(4), VirtualPoint.on_link(5, fraction)])
     _, jac = model.evaluate(q)
     h = 1e-6
-    numeric = np.stack([(model.evaluate(q + h * e)[0] - model.evaluate(q - h * e)[0]) / (2 * h) for e in np.eye(7)], axis=-1)
+    numeric = np.stack([(model.evaluate(q + h * e)[0] - model.evaluate(q - h * e)[0]) / (2 * h) for e in np.eye(7)],
+                       axis=-1)
     assert np.allclose(jac, numeric, atol=1e-7)
 
 
@@ -63,7 +65,8 @@ def test_virtual_arms_mlp_backprop_and_input_jacobian_equal_finite_differences()
         _, grad = net.loss_and_gradient(x, target)
         flat, h = net.parameters(), 1e-6
         numeric = [(net.with_parameters(flat + h * e).loss_and_gradient(x, target)[0]
-                    - net.with_parameters(flat - h * e).loss_and_gradient(x, target)[0]) / (2 * h) for e in np.eye(flat.size)]
+                    - net.with_parameters(flat - h * e).loss_and_gradient(x, target)[0]) / (2 * h)
+                   for e in np.eye(flat.size)]
         assert np.allclose(grad, numeric, atol=1e-7)
         jac = net.input_jacobian(x[0])
         numeric_j = np.stack([(net(x[0] + h * e) - net(x[0] - h * e)) / (2 * h) for e in np.eye(3)], axis=-1)

@@ -25,7 +25,8 @@ EXTENTS = {"pa10-7c": [-0.9, 0.9, -0.9, 0.9, -0.5, 1.3], "barrett-wam": [-0.8, 0
 def test_super_fibonacci_rotations_are_deterministic_proper_and_spread():
     rotations = super_fibonacci_rotations(400)
     assert np.array_equal(rotations, super_fibonacci_rotations(400))
-    np.testing.assert_allclose(rotations @ rotations.swapaxes(-1, -2), np.broadcast_to(np.eye(3), (400, 3, 3)), atol=1e-12)
+    np.testing.assert_allclose(rotations @ rotations.swapaxes(-1, -2), np.broadcast_to(np.eye(3), (400, 3, 3)),
+                               atol=1e-12)
     np.testing.assert_allclose(np.linalg.det(rotations), 1.0, atol=1e-12)
     # the Haar mean of R is 0; every random rotation is near one of the set (covering radius)
     assert np.abs(rotations.mean(axis=0)).max() < 0.01
@@ -124,7 +125,8 @@ def test_gamma_experiment_of_paper_000_is_one_line_of_the_map():
     gamma = np.radians(np.concatenate([np.arange(-180.0, 180.0, 2.0), [-147.8, -147.6, 147.6, 147.8]]))
     c, s = np.cos(gamma), np.sin(gamma)
     rotations = np.zeros((len(gamma), 3, 3))
-    rotations[:, 0, 0], rotations[:, 0, 1], rotations[:, 1, 0], rotations[:, 1, 1] = -c, -s, -s, c  # [000 eq. 41] turned about z
+    # [000 eq. 41] turned about z
+    rotations[:, 0, 0], rotations[:, 0, 1], rotations[:, 1, 0], rotations[:, 1, 1] = -c, -s, -s, c
     rotations[:, 2, 2] = -1.0
     line = feasible_measures(srs_geometry(get_robot("pa10-7c")), np.array([[0.65, 0.0, 0.5]]), rotations)[0, :, 0]
     np.testing.assert_array_equal(line > 0.0, np.abs(np.degrees(gamma)) < printed.SECTION_6_2_2_GAMMA)

@@ -1,4 +1,5 @@
-"""redkin.workspace on Dask: local scheduler and a 2-process LocalCluster agree, runs resume, a killed worker costs nothing."""
+"""redkin.workspace on Dask: local scheduler and a 2-process LocalCluster agree, runs resume, a killed worker costs
+nothing."""
 
 import json
 import os
@@ -126,7 +127,8 @@ def test_chunk_tasks_fit_their_worker(client):
     import numba
 
     def in_task():
-        return match_worker_threads(), numba.get_num_threads(), restore_mmap_threshold(), "MALLOC_TRIM_THRESHOLD_" in os.environ
+        return (match_worker_threads(), numba.get_num_threads(), restore_mmap_threshold(),
+                "MALLOC_TRIM_THRESHOLD_" in os.environ)
 
     threads, numba_threads, restored, trimmed = client.submit(in_task, pure=False).result(timeout=60)
     assert threads == numba_threads == 1 and trimmed
