@@ -113,7 +113,8 @@ def pinocchio_model(chain: SerialChain):
         axis = pin.JointModelRZ() if chain.sign[i] > 0 else pin.JointModelRevoluteUnaligned(0.0, 0.0, -1.0)
         parent = model.addJoint(parent, axis, pin.SE3(np.linalg.solve(previous, joint)), f"joint{i + 1}")
         previous = joint
-    tool = model.addFrame(pin.Frame("tool", parent, pin.SE3(np.linalg.solve(previous, frames[-1])), pin.FrameType.OP_FRAME))
+    tool = model.addFrame(pin.Frame("tool", parent, pin.SE3(np.linalg.solve(previous, frames[-1])),
+                                    pin.FrameType.OP_FRAME))
     return pin, model, model.createData(), tool
 
 
@@ -129,8 +130,10 @@ def peer_rows(chain: SerialChain, q1: np.ndarray, batch: np.ndarray, fk1: float,
         jac = best_time_short_rounds(lambda: ets.jacob0(q1))
         few = batch[:100_000]
         fkine = best_time(lambda: ets.fkine(few), repeat=3) / len(few) * len(batch)
-        rows.append(("  roboticstoolbox ETS eval (C++), one configuration", f"{fk * 1e6:8.2f} us", f"redkin / rtb {fk1 / fk:.2f}"))
-        rows.append(("  roboticstoolbox ETS jacob0 (C++), one configuration", f"{jac * 1e6:8.2f} us", f"redkin / rtb {jac1 / jac:.2f}"))
+        rows.append(("  roboticstoolbox ETS eval (C++), one configuration", f"{fk * 1e6:8.2f} us",
+                     f"redkin / rtb {fk1 / fk:.2f}"))
+        rows.append(("  roboticstoolbox ETS jacob0 (C++), one configuration", f"{jac * 1e6:8.2f} us",
+                     f"redkin / rtb {jac1 / jac:.2f}"))
         rows.append(("  roboticstoolbox ETS fkine, batch (from 100 000)", f"{fkine * 1e3:8.1f} ms",
                      f"{len(batch) / fkine / 1e6:.2f} M configs/s; redkin is {fkine / ours_batch:.0f}x faster"))
     model = pinocchio_model(chain)
@@ -145,7 +148,8 @@ def peer_rows(chain: SerialChain, q1: np.ndarray, batch: np.ndarray, fk1: float,
             return data.oMf[tool].homogeneous
 
         assert np.allclose(fk_pin(q1), chain.fk(q1), rtol=0, atol=1e-12)
-        assert np.allclose(pin.computeFrameJacobian(pmodel, data, q1, tool, local), chain.jacobian(q1), rtol=0, atol=1e-12)
+        assert np.allclose(pin.computeFrameJacobian(pmodel, data, q1, tool, local), chain.jacobian(q1), rtol=0,
+                           atol=1e-12)
         fk = best_time_short_rounds(lambda: fk_pin(q1))
         jac = best_time_short_rounds(lambda: pin.computeFrameJacobian(pmodel, data, q1, tool, local))
         few = batch[:100_000]
@@ -170,8 +174,10 @@ def arm_rows(chain: SerialChain, rng: np.random.Generator) -> list[tuple[str, st
         (f"{chain.name} ({chain.convention})", "", ""),
         ("  redkin fk, one configuration", f"{fk1 * 1e6:8.2f} us", ""),
         ("  redkin jacobian, one configuration", f"{jac1 * 1e6:8.2f} us", ""),
-        (f"  redkin fk, batch of 10^{round(np.log10(BATCH))}", f"{ours_batch * 1e3:8.1f} ms", f"{BATCH / ours_batch / 1e6:.2f} M configs/s"),
-        (f"  redkin jacobian, batch of 10^{round(np.log10(BATCH))}", f"{jac_batch * 1e3:8.1f} ms", f"{BATCH / jac_batch / 1e6:.2f} M configs/s"),
+        (f"  redkin fk, batch of 10^{round(np.log10(BATCH))}", f"{ours_batch * 1e3:8.1f} ms",
+         f"{BATCH / ours_batch / 1e6:.2f} M configs/s"),
+        (f"  redkin jacobian, batch of 10^{round(np.log10(BATCH))}", f"{jac_batch * 1e3:8.1f} ms",
+         f"{BATCH / jac_batch / 1e6:.2f} M configs/s"),
     ]
     if chain.convention == "dh":
         few = batch[:100_000]
@@ -198,7 +204,8 @@ def start_rows() -> list[tuple[str, str, str]]:
     return [
         ("cold start: import + first calls, fresh cache (compiles)", f"{cold:8.2f} s", "target <= 10 s"),
         ("the same, cached", f"{warm:8.2f} s", ""),
-        ("redkin fk pa10-7c (a process), warm cache, best of 5", f"{min(cli):8.2f} s", f"median {np.median(cli):.2f} s"),
+        ("redkin fk pa10-7c (a process), warm cache, best of 5", f"{min(cli):8.2f} s",
+         f"median {np.median(cli):.2f} s"),
     ]
 
 
@@ -221,9 +228,9 @@ def main() -> None:
     rows = arm_rows(pa10_7c(), rng) + arm_rows(franka_panda(), rng)
     if "--skip-cold" not in sys.argv:
         rows += start_rows()
-    print(f"# chain benchmark -- {platform.machine()}, {os.cpu_count()} cores ({numba.get_num_threads()} numba threads, "
-          f"{numba.threading_layer()}), python {platform.python_version()}, numpy {np.__version__}, {versions()}, "
-          f"{time.strftime('%Y-%m-%d')}, load average {os.getloadavg()[0]:.2f}")
+    print(f"# chain benchmark -- {platform.machine()}, {os.cpu_count()} cores "
+          f"({numba.get_num_threads()} numba threads, {numba.threading_layer()}), python {platform.python_version()}, "
+          f"numpy {np.__version__}, {versions()}, {time.strftime('%Y-%m-%d')}, load average {os.getloadavg()[0]:.2f}")
     width = max(len(r[0]) for r in rows)
     for name, value, note in rows:
         print(f"{name:<{width}}  {value:>12}  {note}")

@@ -110,8 +110,8 @@ def serial_cpu_rows(arm, q: np.ndarray, poses: np.ndarray) -> list[tuple[str, st
     finally:
         compiled.PARALLEL_BATCH = threshold
     return [
-        ("  serial CPU per pose, 8 branches (one thread)", f"{ik8 * 1e9:.0f} ns", f"2 free cores: {16 / ik8 / 1e6:.1f} M/s",
-         ""),
+        ("  serial CPU per pose, 8 branches (one thread)", f"{ik8 * 1e9:.0f} ns",
+         f"2 free cores: {16 / ik8 / 1e6:.1f} M/s", ""),
         ("  serial CPU per pose-branch, one branch's feasible set", f"{one * 1e9:.0f} ns",
          f"2 free cores: {2 / one / 1e6:.2f} M/s", ""),
         ("  serial CPU per pose-branch, all 8 branches' sets", f"{eight * 1e9:.0f} ns",
@@ -175,7 +175,8 @@ def main() -> None:
     else:
         rtb_fk, rtb_jac = microseconds(lambda: ets.eval(q)), microseconds(lambda: ets.jacob0(q))
     rows.append(("FK, one configuration (PA10)", f"{fk:.2f} us", f"{fk / rtb_fk:.2f} x rtb ETS eval", "<= 1"))
-    rows.append(("Jacobian, one configuration (PA10)", f"{jac:.2f} us", f"{jac / rtb_jac:.2f} x rtb ETS jacob0", "<= 1"))
+    rows.append(("Jacobian, one configuration (PA10)", f"{jac:.2f} us", f"{jac / rtb_jac:.2f} x rtb ETS jacob0",
+                 "<= 1"))
     seconds = best_time(lambda: plain.fk(q_batch), repeat=3)
     rows.append(("batch FK, 10^6 configurations", f"{1.0 / seconds:.1f} M/s", "", ">= 10 M/s"))
     wam = barrett_wam()

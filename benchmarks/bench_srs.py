@@ -111,7 +111,8 @@ def feasible_batch_rows(geometry: SRSGeometry, poses: np.ndarray) -> list[tuple[
         ("  coefficients precomputed (_all_branch_pieces, serial)", lambda: _all_branch_pieces(both, geometry), 8),
     ):
         t = best_time(call, repeat=3)
-        rows.append((f"batch {count:,} poses, {name}".replace(",", " "), f"{per_pose * count / t:9.3g} pose-branches/s"))
+        rows.append((f"batch {count:,} poses, {name}".replace(",", " "),
+                     f"{per_pose * count / t:9.3g} pose-branches/s"))
     return rows
 
 
@@ -207,7 +208,8 @@ def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
         gap = max(gap, float(np.max(np.abs(np.array(theirs) - np.array(ours)))))
     rows = ik_rows + feasible_ratio_rows(geometry, targets, 8 * t_solution) + [
         ("ssik 8.2 feasible-swivel search, 8 branches", f"{t_ssik * 1e3:9.1f} ms per pose (iiwa14)"),
-        ("redkin feasible sets, 8 branches, same poses", f"{t_ours * 1e6:9.1f} us per pose: {t_ssik / t_ours:.0f}x faster"),
+        ("redkin feasible sets, 8 branches, same poses",
+         f"{t_ours * 1e6:9.1f} us per pose: {t_ssik / t_ours:.0f}x faster"),
         ("  largest difference of a branch's set length", f"{gap:9.1e} rad"),
     ]
     for half_width in (1e-2, 1e-3, 1e-4):  # limits tight around a known solution: its arc must be found
@@ -218,7 +220,8 @@ def ssik_rows(poses: int = 10) -> list[tuple[str, str]]:
             state = arm_angle_of(tight, q)
             result = feasible_arm_angles(tight, chain.fk(q), str(state.branch_strings()))
             found_ours += result.feasible.contains(float(state.psi), tolerance=1e-12)
-        rows.append((f"  limits +-{half_width:g} rad around a solution", f"arc found: ssik {found_ssik}/{poses}, redkin {found_ours}/{poses}"))
+        rows.append((f"  limits +-{half_width:g} rad around a solution",
+                     f"arc found: ssik {found_ssik}/{poses}, redkin {found_ours}/{poses}"))
     return rows
 
 

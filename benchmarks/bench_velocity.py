@@ -109,7 +109,8 @@ def array_api_rows(
     chain: SerialChain, factor: WamFactorisation, q: np.ndarray, twist: np.ndarray, batch_q: np.ndarray,
     calls: int = 500,
 ) -> list[tuple[str, float, float, float]]:
-    """Rows of Table 2: per method, us of the bound step and of Jacobian + step for one ``q``, and us per ``q`` of a batch."""
+    """Rows of Table 2: per method, us of the bound step and of Jacobian + step for one ``q``, and us per ``q`` of
+    a batch."""
     jac = chain.jacobian(q)
     batch_j = chain.jacobian(batch_q)
     methods = [Pseudoinverse(), DampedLeastSquares(0.05), AdaptiveDampedLeastSquares(0.05, 0.05),

@@ -64,7 +64,8 @@ def main() -> None:
         seconds = time.perf_counter() - started
         rms = float(report.held_out_rms[0])
         verdict = "meets 5 mm" if rms < STATED_RMS else "misses 5 mm"
-        print(f"{'12 sine units, 400 L-BFGS iterations':<44} {samples:>7} {rms * 1000:>18.3f} {seconds:>15.3f}  {verdict}")
+        print(f"{'12 sine units, 400 L-BFGS iterations':<44} {samples:>7} {rms * 1000:>18.3f} "
+              f"{seconds:>15.3f}  {verdict}")
 
 
 if __name__ == "__main__":

@@ -52,7 +52,8 @@ def process_seconds() -> float:
 
 
 def timed_map(folder: Path, name: str, resolution: int, orientations: int, client=None) -> tuple[float, float]:
-    """Wall seconds and CPU seconds (of the worker processes, or of this process) of one whole map into a fresh store."""
+    """Wall seconds and CPU seconds (of the worker processes, or of this process) of one whole map into a fresh
+    store."""
     cpu = (lambda: sum(client.run(process_seconds).values())) if client is not None else process_seconds
     cpu_start, start = cpu(), time.perf_counter()
     run = workspace_map(get_robot("kuka-iiwa14"), folder / f"{name}.zarr", IIWA_BOX, resolution, orientations,
@@ -63,7 +64,8 @@ def timed_map(folder: Path, name: str, resolution: int, orientations: int, clien
 
 
 def cluster_map(folder: Path, name: str, workers: int, resolution: int, orientations: int) -> tuple[float, float]:
-    """:func:`timed_map` on a LocalCluster of ``workers`` single-threaded processes (started and warmed before timing)."""
+    """:func:`timed_map` on a LocalCluster of ``workers`` single-threaded processes (started and warmed before
+    timing)."""
     from distributed import Client, LocalCluster
 
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
