@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from redkin.models import planar_arm
-from redkin.reproduce.paper_004 import run_cases, run_obstacle_cases
+from redkin.reproduce.paper_004 import _run_cases, _run_obstacle_cases
 from redkin.virtual_arms import AnalyticModel, VirtualPoint, generate_trajectory, learn_forward_model
 
 TARGET_SECONDS = 2.0
@@ -40,7 +40,7 @@ def main() -> None:
     print(f"load average (1, 5, 15 min): {' '.join(f'{v:.2f}' for v in os.getloadavg())}, {os.cpu_count()} cores; "
           f"first run (kernels loaded or compiled): {warm_up():.2f} s")
     print(f"{'case':<44} {'status':<10} {'steps':>6} {'evals':>7} {'time [s]':>9}  target < {TARGET_SECONDS:g} s")
-    cases = run_cases()
+    cases = _run_cases()
     for case in cases:
         run = case.run
         verdict = "ok" if run.seconds < TARGET_SECONDS else "SLOWER"
@@ -48,7 +48,7 @@ def main() -> None:
     print(f"{'all Fig. 6 / 7 runs':<44} {'':<10} {'':>6} {'':>7} {sum(c.run.seconds for c in cases):>9.3f}")
     print()
     print(f"{'obstacle case':<44} {'status':<10} {'steps':>6} {'periods':>7} {'time [s]':>9}  min clearance [mm]")
-    obstacle_cases = run_obstacle_cases()
+    obstacle_cases = _run_obstacle_cases()
     for case in obstacle_cases:
         run = case.run
         print(f"{case.name:<44} {run.status:<10} {run.steps:>6} {run.periods:>7} {run.seconds:>9.3f}  "

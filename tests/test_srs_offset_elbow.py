@@ -280,7 +280,7 @@ def test_feasible_arm_angles_along_a_velocity_ik_run_contain_its_arm_angle_exact
     """The report's WAM subsection: along an SC run, psi(t) is in the feasible set iff q(t) is within the limits."""
     from redkin.models import barrett_wam7
     from redkin.reproduce import printed
-    from redkin.reproduce.paper_003 import feasible_along_path
+    from redkin.reproduce.paper_003 import _feasible_along_path
     from redkin.velocity import SingularityConsistent, WamFactorisation, simulate
 
     wam = barrett_wam()
@@ -290,7 +290,7 @@ def test_feasible_arm_angles_along_a_velocity_ik_run_contain_its_arm_angle_exact
     q0[5] = np.radians(80.0)  # ... with q6 inside Barrett's +-91.7 deg
     run = simulate(wam, q0, np.array(printed.SECTION_4_TWIST), 1.0, SingularityConsistent(eps=printed.SECTION_4_D_EPS),
                    dt=5e-3, index=WamFactorisation.from_chain(wam).index)
-    psi, branches, sets = feasible_along_path(chain, run.q[::10])
+    psi, branches, sets = _feasible_along_path(chain, run.q[::10])
     within = chain.joints_within_limits(run.q[::10], wrap=True).all(axis=-1)
     assert within.any()
     assert [s.contains(p, tolerance=1e-9) for s, p in zip(sets, psi)] == within.tolist()

@@ -21,7 +21,7 @@ from redkin.torso_arm.maps import best_dual_arm_map, best_manipulability_map, pl
 #: Joint limits of the thesis's right arm ([001 section 5.1], as the model holds them), degrees, (8, 2).
 _LIMITS_DEG = np.degrees(humanoid_right_arm().limits)
 
-CORRECTIONS = [
+_CORRECTIONS = [
     ("2.3 (P_x, P_z)", "the L3 term closes one parenthesis early",
      "P_x = L0 c1 + L1 B - L3(-c5 A - B s5) + L2(c5 B - A s5) + L4 r13, A = c2c4s1 + (c1c3 - s1s2s3)s4, "
      "B = c3s1s2 + c1s3 (P_z likewise)"),
@@ -202,7 +202,7 @@ def build(writer: SectionWriter) -> None:
                    "the figures are missing from the transcription; no number can be compared"),
     ], caption="Figs. 5.1-5.6: what can be compared")
     writer.heading("Equations we corrected")
-    writer.table("corrections", ["equation", "problem", "corrected form used"], [list(c) for c in CORRECTIONS],
+    writer.table("corrections", ["equation", "problem", "corrected form used"], [list(c) for c in _CORRECTIONS],
                  caption="Every equation of thesis 001 we had to correct, and the form implemented",
                  detail="Each corrected form is tested in tests/test_torso_arm_*.py.")
 

@@ -28,9 +28,9 @@ from redkin.velocity import (
 from redkin.velocity.methods import Method
 
 # The section 4 scenario is the paper's (printed.SECTION_4_*); the duration, step and damping are ours.
-DURATION = 4.0
-DT = 1e-3
-DAMPING = 0.05
+_DURATION = 4.0
+_DT = 1e-3
+_DAMPING = 0.05
 
 
 def _index(run: TrackingResult) -> np.ndarray:
@@ -40,20 +40,20 @@ def _index(run: TrackingResult) -> np.ndarray:
     return run.index
 
 
-def intended_twist(run: TrackingResult, twist: np.ndarray) -> np.ndarray:
+def _intended_twist(run: TrackingResult, twist: np.ndarray) -> np.ndarray:
     """The scenario's intended twist: the command, with translation reversed once ``D_e`` has changed sign."""
     flips = np.cumsum(np.r_[0, np.diff(np.sign(_index(run))) != 0])
     reverse = (flips % 2 == 1)[:, None]
     return np.where(reverse, twist * np.array([-1, -1, -1, 1, 1, 1]), twist)
 
 
-def run_summary(run: TrackingResult, twist: np.ndarray, eps: float, reverses: bool) -> list:
+def _run_summary(run: TrackingResult, twist: np.ndarray, eps: float, reverses: bool) -> list:
     """Crossings of ``D_e = 0``, max ``||q_dot||``, path drift off the x line, time with twist error > 10 %,
     outside-region error."""
     crossings = int(np.count_nonzero(np.diff(np.sign(_index(run))) != 0))
     speed = float(np.linalg.norm(run.joint_velocity, axis=1).max())
     drift = float(np.linalg.norm(run.position[:, 1:] - run.position[0, 1:], axis=1).max())
-    intended = intended_twist(run, twist) if reverses else run.commanded
+    intended = _intended_twist(run, twist) if reverses else run.commanded
     error = np.linalg.norm(run.realised - intended, axis=1) / np.linalg.norm(twist)
     dt = run.time[1] - run.time[0]
     outside = np.abs(_index(run)) > eps
@@ -62,7 +62,7 @@ def run_summary(run: TrackingResult, twist: np.ndarray, eps: float, reverses: bo
             float(run.position[:, 0].max())]
 
 
-def workspace_boundaries(chain, factorisation: WamFactorisation, run: TrackingResult) -> list[tuple[str, np.ndarray]]:
+def _workspace_boundaries(chain, factorisation: WamFactorisation, run: TrackingResult) -> list[tuple[str, np.ndarray]]:
     """x-y circles of the workspace boundary at the path height: for any orientation, and for the orientation at
     the turn."""
     q_stretch = np.zeros(7)
@@ -82,7 +82,7 @@ def workspace_boundaries(chain, factorisation: WamFactorisation, run: TrackingRe
     ]
 
 
-def feasible_along_path(chain, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[ArcSet]]:
+def _feasible_along_path(chain, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[ArcSet]]:
     """Arm angle, branch and exact feasible arm angles (paper 000, offset elbow) at each joint vector of a path.
 
     Returns ``psi (N,)``, branch strings ``(N,)`` and, per sample, the feasible set of the branch the arm is on.
@@ -94,12 +94,12 @@ def feasible_along_path(chain, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, l
     return state.psi, branches, sets
 
 
-def arm_angle_subsection(writer: SectionWriter, run: TrackingResult, samples: int = 161) -> None:
+def _arm_angle_subsection(writer: SectionWriter, run: TrackingResult, samples: int = 161) -> None:
     """The WAM's feasible arm angles along the SC run, under Barrett's joint ranges."""
     ranges = barrett_wam7()
     chain = barrett_wam().with_limits(ranges.lower, ranges.upper)
     picked = np.linspace(0, len(run.time) - 1, samples).round().astype(int)
-    psi, branches, sets = feasible_along_path(chain, run.q[picked])
+    psi, branches, sets = _feasible_along_path(chain, run.q[picked])
     within_joints = chain.joints_within_limits(run.q[picked], wrap=True)
     within = np.asarray(within_joints.all(axis=-1))
     time = run.time[picked]
@@ -156,8 +156,8 @@ def build(writer: SectionWriter) -> None:
         f"Scenario of paper 003 section 4 on the Barrett WAM (Table 1, d3 = {factor.d3:g}, d5 = {factor.d5:g}, "
         f"d7 = {float(chain.d[6]):g}, a = {factor.a:g} m): q0 = {list(P.SECTION_4_Q0_DEG)} deg, commanded twist "
         f"{P.SECTION_4_LINEAR_SPEED:g} m/s along x and {P.SECTION_4_ANGULAR_SPEED:g} rad/s about y, D_eps = {eps:g}, "
-        f"b_sm = {P.SECTION_4_B_SM:g}, open loop, RK4 with dt = {DT} s for {DURATION} s. The paper prints no duration "
-        "or step. "
+        f"b_sm = {P.SECTION_4_B_SM:g}, open loop, RK4 with dt = {_DT} s for {_DURATION} s. "
+        "The paper prints no duration or step. "
         f"Scale check of the threshold: |D_e| = |a(d3+d5) C4 + (a^2 - d3 d5) S4| is at most {peak:.4f} "
         f"(a(d3+d5) = {factor.a * (factor.d3 + factor.d5):.4f}), and D_e(q0) = {d_e0:.4f}, so D_eps = {eps:g} "
         f"as printed does not make the whole run singular: the region |D_e| <= {eps:g} is q4 within "
@@ -176,16 +176,16 @@ def build(writer: SectionWriter) -> None:
     methods: dict[str, Method] = {
         "sc": SingularityConsistent(eps=eps, self_motion=P.SECTION_4_B_SM),
         "pinv": Pseudoinverse(),
-        "dls": DampedLeastSquares(damping=DAMPING),
-        "dls-adaptive": AdaptiveDampedLeastSquares(threshold=DAMPING, max_damping=DAMPING),
+        "dls": DampedLeastSquares(damping=_DAMPING),
+        "dls-adaptive": AdaptiveDampedLeastSquares(threshold=_DAMPING, max_damping=_DAMPING),
     }
     runs = {}
     for k, (name, method) in enumerate(methods.items()):
-        runs[name] = simulate(chain, q0, twist, DURATION, method, dt=DT, index=factor.index)
+        runs[name] = simulate(chain, q0, twist, _DURATION, method, dt=_DT, index=factor.index)
         writer.progress((k + 1) / (len(methods) + 1), name)
     sc = runs["sc"]
     writer.heading("Fig. 1: the proposed SC method")
-    fig = tracking_figure(sc, eps, workspace_boundaries(chain, factor, sc),
+    fig = tracking_figure(sc, eps, _workspace_boundaries(chain, factor, sc),
                           title="Proposed SC method, Barrett WAM, paper 003 section 4 scenario")
     writer.figure(fig, "fig1_sc", "Fig. 1 recomputed: the SC method through the elbow singularity",
                   "(a) joint velocities, (b) end-point velocity, (c) angular velocity, (d) D_e, (e) end-point "
@@ -194,9 +194,9 @@ def build(writer: SectionWriter) -> None:
                   "|D_e| <= D_eps.")
     writer.heading("The SC method beside the pseudoinverse and DLS")
     writer.figure(comparison_figure(runs, eps), "methods", "The same scenario with four methods",
-                  f"The proposed SC method, the pseudoinverse, DLS (lambda = {DAMPING}) and adaptive DLS (least "
-                  f"singular value below {DAMPING}, lambda up to {DAMPING}). Grey: |D_e| <= D_eps of the SC run.")
-    rows = [[name] + run_summary(run, twist, eps, reverses=name == "sc") for name, run in runs.items()]
+                  f"The proposed SC method, the pseudoinverse, DLS (lambda = {_DAMPING}) and adaptive DLS (least "
+                  f"singular value below {_DAMPING}, lambda up to {_DAMPING}). Grey: |D_e| <= D_eps of the SC run.")
+    rows = [[name] + _run_summary(run, twist, eps, reverses=name == "sc") for name, run in runs.items()]
     writer.table(
         "methods", ["method", "crossings of D_e = 0", "max ||q_dot|| [rad/s]", "path drift off the x line [m]",
                     "time with twist error > 10 % [s]", "max twist error outside |D_e| <= D_eps (relative)",
@@ -233,7 +233,7 @@ def build(writer: SectionWriter) -> None:
         caption="Claims of paper 003 section 4, read from its text",
         detail="The transcription has no numbers from Fig. 1; the two speeds are the commanded twist.",
     )
-    arm_angle_subsection(writer, sc)
+    _arm_angle_subsection(writer, sc)
     writer.text(
         "Reading the table: the pseudoinverse realises the command exactly until the smallest singular value "
         "collapses, then its joint velocity explodes and the discrete integration jumps back and forth across "

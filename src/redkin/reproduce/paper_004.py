@@ -39,19 +39,19 @@ from redkin.virtual_arms import (
 )
 
 # Our choices: the paper prints neither the initial posture nor the goals of Figs. 6-7.
-THETA0_DEG = [30.0, 30.0, 30.0, 30.0, 30.0]
+_THETA0_DEG = [30.0, 30.0, 30.0, 30.0, 30.0]
 # 30 deg is outside Fig. 7's range of joint 5: joints 4, 5 start halfway
-THETA0_FIG7_DEG = [30.0, 30.0, 30.0, 15.0, 10.0]
-END_GOAL = [0.5, 0.6]  # reachable by joint 3 too (|goal| = 0.78 m < 0.8 m), as Fig. 6 (b) requires
+_THETA0_FIG7_DEG = [30.0, 30.0, 30.0, 15.0, 10.0]
+_END_GOAL = [0.5, 0.6]  # reachable by joint 3 too (|goal| = 0.78 m < 0.8 m), as Fig. 6 (b) requires
 # The joint ranges of Figs. 6, 7 are the paper's (printed.FIG_6_JOINT_RANGE_DEG, printed.FIG_7_JOINT_LIMITS_DEG);
 # Fig. 8 keeps Fig. 6's.
 # Fig. 8 and the spatial case: our choices (the paper prints no obstacle positions), (x, y, r) in metres.
-FIG8_OBSTACLES = [(0.75, 0.9, 0.1), (0.15, 0.8, 0.07)]
-FIG8_CLAMPS = [("(a) all joints work", []), ("(b) joint 1 fixed", [0]), ("(c) joints 1, 2 fixed", [0, 1])]
-PA10_THETA0_DEG = [0.0, 30.0, 0.0, 60.0, 0.0, 30.0, 0.0]
-PA10_GOAL = [0.5, 0.4, 0.3]
-PA10_SPHERE = (0.25, 0.12, 0.68, 0.06)  # where the elbow goes without it
-FIG7_CASE = f"Fig. 7 |theta4| <= {P.FIG_7_JOINT_LIMITS_DEG[3]:g}, |theta5| <= {P.FIG_7_JOINT_LIMITS_DEG[4]:g} deg"
+_FIG8_OBSTACLES = [(0.75, 0.9, 0.1), (0.15, 0.8, 0.07)]
+_FIG8_CLAMPS = [("(a) all joints work", []), ("(b) joint 1 fixed", [0]), ("(c) joints 1, 2 fixed", [0, 1])]
+_PA10_THETA0_DEG = [0.0, 30.0, 0.0, 60.0, 0.0, 30.0, 0.0]
+_PA10_GOAL = [0.5, 0.4, 0.3]
+_PA10_SPHERE = (0.25, 0.12, 0.68, 0.06)  # where the elbow goes without it
+_FIG7_CASE = f"Fig. 7 |theta4| <= {P.FIG_7_JOINT_LIMITS_DEG[3]:g}, |theta5| <= {P.FIG_7_JOINT_LIMITS_DEG[4]:g} deg"
 
 
 @dataclass
@@ -71,11 +71,11 @@ def _output(limits_deg) -> tuple[OutputFunction, np.ndarray, np.ndarray]:
     return OutputFunction.sine(-upper, upper), -upper, upper
 
 
-def run_cases(progress=lambda fraction, message: None) -> list[Case]:
+def _run_cases(progress=lambda fraction, message: None) -> list[Case]:
     """Every run of the section: Fig. 6 (a)-(d), the weights in (c), a clamped joint, Fig. 7, literal [004 eq. 10]."""
     arm = planar_arm()
-    q0 = np.radians(THETA0_DEG)
-    goal = np.array(END_GOAL)
+    q0 = np.radians(_THETA0_DEG)
+    goal = np.array(_END_GOAL)
     full, low, high = _output([P.FIG_6_JOINT_RANGE_DEG] * arm.n)
     end_only = AnalyticModel(arm, [VirtualPoint.end()])
     two = AnalyticModel(arm, [VirtualPoint.end(), VirtualPoint.joint(3)])
@@ -96,7 +96,7 @@ def run_cases(progress=lambda fraction, message: None) -> list[Case]:
         ("Fig. 6 (d) 9 points to base, w_end = 100", ten, q0, to_base, heavy, {}, (full, low, high)),
         ("Fig. 6 (a) with joint 1 clamped ([004 eq. 27])", end_only, q0, [goal], None, {"fixed": [0]},
          (full, low, high)),
-        (FIG7_CASE, end_only, np.radians(THETA0_FIG7_DEG), [goal], None, {},
+        (_FIG7_CASE, end_only, np.radians(_THETA0_FIG7_DEG), [goal], None, {},
          (fig7, low7, high7)),
         ("Fig. 6 (a), literal [004 eq. 10] gain", end_only, q0, [goal], None, {"gain": "literal"}, (full, low, high)),
     ]
@@ -108,13 +108,13 @@ def run_cases(progress=lambda fraction, message: None) -> list[Case]:
     return cases
 
 
-def limit_violations(case: Case) -> int:
+def _limit_violations(case: Case) -> int:
     """Recorded joint vectors with some joint outside its range (strictly, no tolerance)."""
     theta = case.run.theta
     return int(np.count_nonzero(np.any((theta < case.lower) | (theta > case.upper), axis=1)))
 
 
-def clamped_motion(case: Case) -> float:
+def _clamped_motion(case: Case) -> float:
     """Largest motion of a clamped joint along the run, in radians (0 when none is clamped)."""
     fixed = case.run.fixed
     if not fixed.any():
@@ -122,16 +122,16 @@ def clamped_motion(case: Case) -> float:
     return float(np.max(np.abs(case.run.theta[:, fixed] - case.run.theta[0, fixed])))
 
 
-def table_row(case: Case) -> list:
+def _table_row(case: Case) -> list:
     run = case.run
     errors = run.final_errors
     virtual = float(np.max(errors[1:])) if len(errors) > 1 else None
-    return [case.name, float(errors[0]), virtual, limit_violations(case), clamped_motion(case), run.steps,
+    return [case.name, float(errors[0]), virtual, _limit_violations(case), _clamped_motion(case), run.steps,
             round(run.seconds, 3), run.status]
 
 
 @dataclass
-class ObstacleCase:
+class _ObstacleCase:
     """One obstacle run with the unobstructed run it is compared with."""
 
     name: str
@@ -142,34 +142,34 @@ class ObstacleCase:
     upper: np.ndarray
 
 
-def run_obstacle_cases(progress=lambda fraction, message: None) -> list[ObstacleCase]:
+def _run_obstacle_cases(progress=lambda fraction, message: None) -> list[_ObstacleCase]:
     """Fig. 8 (a)-(c) on the planar arm and the PA10 elbow kept clear of a sphere."""
     arm = planar_arm()
-    q0 = np.radians(THETA0_DEG)
-    goal = np.array(END_GOAL)
-    obstacles = [Obstacle(np.array(row[:2]), row[2]) for row in FIG8_OBSTACLES]
+    q0 = np.radians(_THETA0_DEG)
+    goal = np.array(_END_GOAL)
+    obstacles = [Obstacle(np.array(row[:2]), row[2]) for row in _FIG8_OBSTACLES]
     output, lower, upper = _output([P.FIG_6_JOINT_RANGE_DEG] * arm.n)
     end_only = AnalyticModel(arm, [VirtualPoint.end()])
     cases = []
-    for k, (name, fixed) in enumerate(FIG8_CLAMPS):
+    for k, (name, fixed) in enumerate(_FIG8_CLAMPS):
         progress(k / 4, f"Fig. 8 {name}")
         plain = generate_trajectory(end_only, q0, [goal], output=output, fixed=fixed)
         run = avoid_obstacles(arm, q0, goal, obstacles, output=output, fixed=fixed)
-        cases.append(ObstacleCase(f"Fig. 8 {name}", arm, run, float(arm_clearance(arm, plain.theta, obstacles,
+        cases.append(_ObstacleCase(f"Fig. 8 {name}", arm, run, float(arm_clearance(arm, plain.theta, obstacles,
                                                                                     (0, 1)).min()), lower, upper))
     progress(3 / 4, "PA10 elbow and a sphere")
     pa10 = pa10_7c()
-    q0 = np.radians(PA10_THETA0_DEG)
-    sphere = [Obstacle(np.array(PA10_SPHERE[:3]), PA10_SPHERE[3])]
+    q0 = np.radians(_PA10_THETA0_DEG)
+    sphere = [Obstacle(np.array(_PA10_SPHERE[:3]), _PA10_SPHERE[3])]
     output = OutputFunction.sine(pa10.lower, pa10.upper)
-    plain = generate_trajectory(AnalyticModel(pa10, [VirtualPoint.end()]), q0, [PA10_GOAL], output=output)
-    run = avoid_obstacles(pa10, q0, PA10_GOAL, sphere, points=[VirtualPoint.joint(4)], output=output)
-    cases.append(ObstacleCase("PA10: elbow (joint 4) and a sphere", pa10, run,
+    plain = generate_trajectory(AnalyticModel(pa10, [VirtualPoint.end()]), q0, [_PA10_GOAL], output=output)
+    run = avoid_obstacles(pa10, q0, _PA10_GOAL, sphere, points=[VirtualPoint.joint(4)], output=output)
+    cases.append(_ObstacleCase("PA10: elbow (joint 4) and a sphere", pa10, run,
                               float(arm_clearance(pa10, plain.theta, sphere, (0, 1, 2)).min()), pa10.lower, pa10.upper))
     return cases
 
 
-def obstacle_row(case: ObstacleCase) -> list:
+def _obstacle_row(case: _ObstacleCase) -> list:
     run = case.run
     clamped = float(np.max(np.abs(run.theta[:, run.fixed] - run.theta[0, run.fixed]))) if run.fixed.any() else 0.0
     outside = int(np.count_nonzero(np.any((run.theta < case.lower) | (run.theta > case.upper), axis=1)))
@@ -177,7 +177,7 @@ def obstacle_row(case: ObstacleCase) -> list:
             run.steps, round(run.seconds, 3), run.status]
 
 
-def build_obstacles(writer: SectionWriter) -> None:
+def _build_obstacles(writer: SectionWriter) -> None:
     """Fig. 8 (a)-(c) and the spatial PA10 case."""
     arm = planar_arm()
     writer.heading("Fig. 8: obstacles, with joints failing")
@@ -190,12 +190,12 @@ def build_obstacles(writer: SectionWriter) -> None:
         "obstacle closer than 10 cm; the joints and three points inside every link get repulsion goals within 10 cm; "
         "a guard keeps only the part of a period whose whole skeleton (every link segment, checked every 1 deg of "
         "joint motion) stays 1 cm clear. The paper prints no obstacle positions: we chose two circles, "
-        f"(x, y, r) = {FIG8_OBSTACLES[0]} and {FIG8_OBSTACLES[1]} m, across the paths the unobstructed runs take "
-        f"from the same start ({THETA0_DEG[0]:g} deg at every joint) to the same goal {tuple(END_GOAL)} m (the "
+        f"(x, y, r) = {_FIG8_OBSTACLES[0]} and {_FIG8_OBSTACLES[1]} m, across the paths the unobstructed runs take "
+        f"from the same start ({_THETA0_DEG[0]:g} deg at every joint) to the same goal {tuple(_END_GOAL)} m (the "
         "table's first numeric column: the unobstructed run's minimum clearance, negative = it cuts through the "
         "obstacle)."
     )
-    cases = run_obstacle_cases(writer.progress)
+    cases = _run_obstacle_cases(writer.progress)
     fig, axes = plt.subplots(1, 3, figsize=(10, 4.4))
     for ax, case in zip(axes, cases[:3]):
         draw_strobe(ax, arm, case.run.theta, case.run.goal[None], frames=14, obstacles=case.run.obstacles,
@@ -216,15 +216,15 @@ def build_obstacles(writer: SectionWriter) -> None:
                    title=f"{case.name}: {case.run.status}, min clearance {case.run.min_clearance * 1000:.0f} mm")
     ax.legend(fontsize=7, loc="upper left")
     writer.figure(fig, "pa10_elbow", "The spatial case: the PA10-7C's elbow kept clear of a sphere",
-                  f"From theta(0) = {PA10_THETA0_DEG} deg, hand goal {tuple(PA10_GOAL)} m, a sphere (x, y, z, r) = "
-                  f"{PA10_SPHERE} m where the elbow goes in the unobstructed run; the elbow (joint 4) is the only "
+                  f"From theta(0) = {_PA10_THETA0_DEG} deg, hand goal {tuple(_PA10_GOAL)} m, a sphere (x, y, z, r) = "
+                  f"{_PA10_SPHERE} m where the elbow goes in the unobstructed run; the elbow (joint 4) is the only "
                   "virtual end point with repulsion goals, the guard checks the whole skeleton; joint limits through "
                   "[004 eq. 25].")
     writer.table(
         "obstacle_runs",
         ["case", "unobstructed min clearance [m]", "end error [m]", "min clearance [m]", "clamped motion [rad]",
          "limit violations", "periods", "steps", "wall time [s]", "status"],
-        [obstacle_row(c) for c in cases],
+        [_obstacle_row(c) for c in cases],
         "Obstacle runs",
         "The unobstructed run's minimum clearance (negative: it would collide), final end error on the chain, "
         "minimum clearance of the whole arm along the kept path (densified), largest motion of a clamped joint, "
@@ -241,21 +241,22 @@ def build_obstacles(writer: SectionWriter) -> None:
     ], "Fig. 8: what the paper states, beside our runs")
 
 
-FIG6_CASES = ["Fig. 6 (a) end point only", "Fig. 6 (b) joint 3 + end, same goal", "Fig. 6 (c) 9 points held, w_end = 1",
-              "Fig. 6 (c) 9 points held, w_end = 100", "Fig. 6 (d) 9 points to base, w_end = 100"]
-REACHED = 1e-4  # metres: the end point "reaches" its goal
+_FIG6_CASES = ["Fig. 6 (a) end point only", "Fig. 6 (b) joint 3 + end, same goal",
+               "Fig. 6 (c) 9 points held, w_end = 1", "Fig. 6 (c) 9 points held, w_end = 100",
+               "Fig. 6 (d) 9 points to base, w_end = 100"]
+_REACHED = 1e-4  # metres: the end point "reaches" its goal
 
 
-def fig6_comparison(case: Case) -> Comparison:
+def _fig6_comparison(case: Case) -> Comparison:
     """Paper: the end point reaches the goal; ours: whether it did, with the distance left."""
     error = float(case.run.final_errors[0])
-    ours = "yes" if error <= REACHED else f"no, {error * 1000:.1f} mm short"
+    ours = "yes" if error <= _REACHED else f"no, {error * 1000:.1f} mm short"
     return Comparison(f"{case.name}: end point reaches its goal", P.FIG_6_END_REACHES_GOAL, ours, 0.0,
-                      REDUNDANT if error <= REACHED else OVER_CONSTRAINED)
+                      _REDUNDANT if error <= _REACHED else _OVER_CONSTRAINED)
 
 
-REDUNDANT = Note("redundant case: the goals can all be met, and the network meets them")
-OVER_CONSTRAINED = Note(
+_REDUNDANT = Note("redundant case: the goals can all be met, and the network meets them")
+_OVER_CONSTRAINED = Note(
     "over-constrained goals with constant weights: the end point stops short",
     "the ten goals cannot all be met, and with constant weights the equilibrium of [004 eqs. 9-14] is the weighted "
     "least-squares posture, a compromise in which the end point stops short. The paper weights the points by their "
@@ -270,18 +271,18 @@ def build(writer: SectionWriter) -> None:
         f"Setting (paper 004 section 4): the {arm.n}-link planar arm with {100 * float(arm.a[0]):g} cm links, every "
         f"joint range |theta_j| <= {P.FIG_6_JOINT_RANGE_DEG:g} deg applied through the sine output function "
         "([004 eq. 25]), analytic forward models in every subsystem. The paper "
-        f"prints no initial posture and no goals; we chose theta(0) = {THETA0_DEG} deg and the end goal "
-        f"X* = ({END_GOAL[0]}, {END_GOAL[1]}) m for every case. That goal is reachable by joint 3 "
-        f"({np.linalg.norm(END_GOAL):.2f} m < {2 * float(arm.a[0]):g} m), so "
+        f"prints no initial posture and no goals; we chose theta(0) = {_THETA0_DEG} deg and the end goal "
+        f"X* = ({_END_GOAL[0]}, {_END_GOAL[1]}) m for every case. That goal is reachable by joint 3 "
+        f"({np.linalg.norm(_END_GOAL):.2f} m < {2 * float(arm.a[0]):g} m), so "
         "in Fig. 6 (b) both the end point and joint 3 can reach it. Fig. 6 (c) holds the nine virtual end points "
         "(joints 2-5 and the centres of links 1-5) at their initial positions; (d) pulls them to the base. The paper "
         "sets the weights W^i from the distance to the goal (its ref. 11, not given); we use constant weights and "
         "show their effect in (c): with w_end = 1 the end point stops short of its goal, with w_end = 100 it comes "
         "much closer while the virtual points give way. For Fig. 7 joints 4 and 5 start at "
-        f"{THETA0_FIG7_DEG[3]:g} and {THETA0_FIG7_DEG[4]:g} deg because {THETA0_DEG[4]:g} deg lies outside "
+        f"{_THETA0_FIG7_DEG[3]:g} and {_THETA0_FIG7_DEG[4]:g} deg because {_THETA0_DEG[4]:g} deg lies outside "
         f"|theta5| <= {P.FIG_7_JOINT_LIMITS_DEG[4]:g} deg."
     )
-    cases = run_cases(writer.progress)
+    cases = _run_cases(writer.progress)
     by_name = {c.name: c for c in cases}
 
     fig, axes = plt.subplots(2, 2, figsize=(10, 10))
@@ -310,7 +311,7 @@ def build(writer: SectionWriter) -> None:
                   "The same ten goals with the end point's weight 1 (left) and 100 (right); every virtual point keeps "
                   "weight 1.")
 
-    case = by_name[FIG7_CASE]
+    case = by_name[_FIG7_CASE]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
     draw_strobe(axes[0], arm, case.run.theta, case.run.goals, title=case.name)
     fit_planar_view(axes[:1], arm, [case.run.theta], [case.run.goals])
@@ -327,7 +328,7 @@ def build(writer: SectionWriter) -> None:
         "runs",
         ["case", "end error [m]", "max virtual error [m]", "limit violations", "clamped motion [rad]", "steps",
          "wall time [s]", "status"],
-        [table_row(c) for c in cases],
+        [_table_row(c) for c in cases],
         "Every run of Figs. 6 and 7",
         "Per run: final end-point error, the largest final error of the other virtual end points, recorded postures "
         "outside the joint ranges, largest motion of a clamped joint, accepted integrator steps (Radau), wall time, "
@@ -338,10 +339,10 @@ def build(writer: SectionWriter) -> None:
         "literal [004 eq. 10] gain grows without bound and stalls the integrator, as the last row shows; the other "
         "rows use the bounded gain law of redkin.virtual_arms.dynamics.",
     )
-    writer.comparison("fig6", [fig6_comparison(by_name[name]) for name in FIG6_CASES],
+    writer.comparison("fig6", [_fig6_comparison(by_name[name]) for name in _FIG6_CASES],
                       "Fig. 6: the end point reaches its goal in every case, says the paper",
                       "Our final end-point error beside it (reached = within 1e-4 m).")
-    build_obstacles(writer)
+    _build_obstacles(writer)
 
 
 SECTION = Section(
