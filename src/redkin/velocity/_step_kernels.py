@@ -94,15 +94,26 @@ def orthogonal_rows(b, v):
 
 
 @kernel
-def singular_values(b):
-    """``sigma_k = |b_k|`` of the rows of :func:`orthogonal_rows`'s ``b``, largest first, ``min(m, n)`` of them."""
+def row_squares(b):
+    """``|b_k|^2`` of each row of ``b`` (m,)."""
     m, n = b.shape
-    sigma = np.empty(m)
+    squares = np.empty(m)
     for k in range(m):
         total = 0.0
         for c in range(n):
             total += b[k, c] * b[k, c]
-        value, i = sqrt(total), k
+        squares[k] = total
+    return squares
+
+
+@kernel
+def singular_values(b):
+    """``sigma_k = |b_k|`` of the rows of :func:`orthogonal_rows`'s ``b``, largest first, ``min(m, n)`` of them."""
+    m, n = b.shape
+    sigma = np.empty(m)
+    squares = row_squares(b)
+    for k in range(m):
+        value, i = sqrt(squares[k]), k
         while i > 0 and sigma[i - 1] < value:  # insertion sort, largest first
             sigma[i] = sigma[i - 1]
             i -= 1
@@ -118,12 +129,7 @@ def filtered(b, along, damping, rcond, out):
     dropped), else ``J^T (J J^T + lambda^2 I)^-1 v``.
     """
     m, n = b.shape
-    squares = np.empty(m)
-    for k in range(m):
-        total = 0.0
-        for c in range(n):
-            total += b[k, c] * b[k, c]
-        squares[k] = total
+    squares = row_squares(b)
     largest = 0.0
     for k in range(m):
         largest = max(largest, squares[k])
