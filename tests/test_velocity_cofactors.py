@@ -131,3 +131,13 @@ def test_velocity_batched_equals_looped():
 def test_velocity_cofactor_bad_input(jac, twist, match):
     with pytest.raises(ValueError, match=match):
         fixed_joint_vectors(jac, twist)
+
+
+def test_fixed_joint_vectors_of_an_exactly_singular_jacobian():
+    """Two zero columns leave every J_i singular: all minors are exactly 0 and each n_i stays finite with
+    ``J n_i = det(J_i) t = 0``."""
+    jac = np.random.default_rng(3).normal(size=(6, 7))
+    jac[:, :2] = 0.0
+    vectors, minors = fixed_joint_vectors(jac, np.ones(6))
+    assert np.all(minors == 0.0) and np.all(np.isfinite(vectors))
+    np.testing.assert_allclose(vectors @ jac.T, 0.0, atol=1e-12)

@@ -79,12 +79,14 @@ def fixed_joint_vectors(jacobian: ArrayLike, twist: ArrayLike) -> tuple[np.ndarr
     jac, vel = check_jacobian_and_twist(jacobian, twist, one_redundant=True)
     m, k = jac.shape[-2:]
     reduced = _without_each_column(jac)  # (..., k, m, m)
-    minors = np.linalg.det(reduced)
     # Cramer: (adj(J_i) t)_c = det(J_i with column c replaced by t).
     replaced = np.repeat(reduced[..., None, :, :], m, axis=-3).copy()  # (..., k, m, m, m)
     for c in range(m):
         replaced[..., c, :, c] = vel[..., None, :]
-    adj_t = np.linalg.det(replaced)  # (..., k, m)
+    # numpy's det meets a zero pivot on an exactly singular J_i and warns while returning the right 0
+    with np.errstate(divide="ignore"):
+        minors = np.linalg.det(reduced)
+        adj_t = np.linalg.det(replaced)  # (..., k, m)
     vectors = np.zeros(jac.shape[:-2] + (k, k))
     keep = np.array([[j for j in range(k) if j != i] for i in range(k)])
     rows = np.arange(k)[:, None]
