@@ -32,7 +32,6 @@ A chunk's values read NaN (``reachable`` False) until it is computed.
 from __future__ import annotations
 
 import json
-import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -54,14 +53,8 @@ from redkin.torso_arm.maps import (
 )
 from redkin.workspace._optional import require
 from redkin.workspace.grid import MAX_RESOLUTION, WorkspaceGrid, workspace_grid
-from redkin.workspace.run import (
-    Progress,
-    _run_distributed,
-    _run_local,
-    match_worker_threads,
-    restore_mmap_threshold,
-)
-from redkin.workspace.store import arm_description, completed_chunks, stored_parameters
+from redkin.workspace.run import Progress, match_worker_threads, prepare_store, restore_mmap_threshold, run_chunks
+from redkin.workspace.store import arm_description
 
 #: The variables of a humanoid map, their units and what they hold.
 VARIABLES = {
@@ -147,22 +140,6 @@ def _create_store(path: Path, chain: SerialChain, arm: TorsoArm, grid: Workspace
     dataset = xr.Dataset({name: xr.Variable(*spec) for name, spec in data.items()},
                          coords={name: xr.Variable(*spec) for name, spec in coords.items()}, attrs=attrs)
     dataset.to_zarr(path, mode="w", compute=False, zarr_format=2)
-
-
-def _prepare_store(path: Path, chain: SerialChain, arm: TorsoArm, grid: WorkspaceGrid,
-                   samples: tuple[int, int]) -> None:
-    """Create the store whole (or not at all), or check that the one at ``path`` holds this map."""
-    parameters = stored_parameters(path)
-    if parameters is None and path.exists():
-        raise ValueError(f"{str(path)!r} exists and is not a workspace map; choose another path")
-    if parameters is None:
-        creating = path.with_name(path.name + ".creating")
-        shutil.rmtree(creating, ignore_errors=True)
-        _create_store(creating, chain, arm, grid, samples)
-        creating.rename(path)
-    elif parameters != _parameters(chain, grid, samples):
-        raise ValueError(f"{str(path)!r} holds a map with other parameters (arm, extent, resolution, samples or "
-                         "chunk); choose another path or remove it")
 
 
 def _compute_humanoid_chunk(arm: TorsoArm, grid: WorkspaceGrid, samples: tuple[int, int], path: Path,
@@ -264,7 +241,7 @@ def humanoid_map(
         Without the ``workspace`` extra, in one line saying how to install it.
     """
     started = time.perf_counter()
-    dask = require("dask")
+    require("dask")
     require("zarr")
     arm = humanoid_of(chain)
     if arm is None:
@@ -272,19 +249,11 @@ def humanoid_map(
     grid = humanoid_grid(extent, resolution, samples, chunk)
     samples = (int(samples[0]), int(samples[1]))
     store = Path(path)
-    _prepare_store(store, chain, arm, grid, samples)
-    complete = completed_chunks(store)
-    missing = [index for index in grid.chunk_indices() if not complete[index]]
-    token = dask.base.tokenize(str(store.resolve()), _parameters(chain, grid, samples))
-    shared = [dask.delayed(value, pure=True) for value in (arm, grid, samples, store.absolute())]
-    tasks = [dask.delayed(_compute_humanoid_chunk, pure=True)(*shared, index,
-                                                             dask_key_name=f"humanoid-chunk-{token}-{index}")
-             for index in missing]
-    if client is None:
-        _run_local(tasks, progress)
-    else:
-        _run_distributed(tasks, client, progress)
-    return _summary(store, grid, samples, len(missing), time.perf_counter() - started)
+    parameters = _parameters(chain, grid, samples)
+    prepare_store(store, parameters, lambda folder: _create_store(folder, chain, arm, grid, samples), "samples")
+    computed = run_chunks(_compute_humanoid_chunk, (arm, grid, samples, store.absolute()), store, grid,
+                          "humanoid-chunk", parameters, client, progress)
+    return _summary(store, grid, samples, computed, time.perf_counter() - started)
 
 
 def _summary(store: Path, grid: WorkspaceGrid, samples: tuple[int, int], computed: int, seconds: float) -> HumanoidRun:

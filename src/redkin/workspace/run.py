@@ -182,19 +182,52 @@ def _chunk_tasks(function: Callable, shared: tuple, indices: list[tuple[int, int
     return [Delayed(key, graph, layer=name) for key in layer]
 
 
-def _prepare_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray) -> None:
-    """Create the store, or check that the one at ``path`` holds this map (to resume it)."""
-    parameters = stored_parameters(path)
-    if parameters is None and path.exists():
+def prepare_store(path: Path, parameters: str, create: Callable[[Path], None], varying: str) -> None:
+    """Create the store whole (or not at all), or check that the one at ``path`` holds this map (to resume it).
+
+    Parameters
+    ----------
+    path : Path
+        The store.
+    parameters : str
+        The map's parameters as the store records them (``stored_parameters`` reads them back).
+    create : callable
+        ``create(folder)`` writes a new, empty store into ``folder``; it is renamed to ``path`` once whole.
+    varying : str
+        The map's own parameter besides arm, extent, resolution and chunk, named in the error
+        (``"orientations"``, ``"samples"``).
+    """
+    stored = stored_parameters(path)
+    if stored is None and path.exists():
         raise ValueError(f"{str(path)!r} exists and is not a workspace map; choose another path")
-    if parameters is None:
+    if stored is None:
         creating = path.with_name(path.name + ".creating")  # a store appears whole or not at all
         shutil.rmtree(creating, ignore_errors=True)
-        create_store(creating, chain, grid, rotations)
+        create(creating)
         creating.rename(path)
-    elif parameters != map_parameters(chain, grid, len(rotations)):
+    elif stored != parameters:
         raise ValueError(f"{str(path)!r} holds a map with other parameters (arm, extent, resolution, "
-                         "orientations or chunk); choose another path or remove it")
+                         f"{varying} or chunk); choose another path or remove it")
+
+
+def run_chunks(function: Callable, shared: tuple, path: Path, grid: WorkspaceGrid, name: str, parameters: str,
+               client: Any, progress: Progress | None) -> int:
+    """Compute the chunks of the store at ``path`` not yet marked complete, one Dask task each; returns how many.
+
+    ``function(*shared, index)`` computes, writes and marks chunk ``index``; the tasks' keys are
+    ``name`` with a token of the store and ``parameters``, so a resumed map reuses none of another map's.
+    ``client`` (a ``distributed.Client``) runs them on a cluster, ``None`` on Dask's local threaded scheduler.
+    """
+    dask = require("dask")
+    complete = completed_chunks(path)
+    missing = [index for index in grid.chunk_indices() if not complete[index]]
+    token = dask.base.tokenize(str(path.resolve()), parameters)
+    tasks = _chunk_tasks(function, shared, missing, f"{name}-{token}")
+    if client is None:
+        _run_local(tasks, progress)
+    else:
+        _run_distributed(tasks, client, progress)
+    return len(missing)
 
 
 def _run_local(tasks: list, progress: Progress | None) -> None:
@@ -273,25 +306,19 @@ def workspace_map(
         Without the ``workspace`` extra, in one line saying how to install it.
     """
     started = time.perf_counter()
-    dask = require("dask")
+    require("dask")
     require("zarr")
     geometry = srs_geometry(arm)
     count = check_count(orientations, "orientations", 1, MAX_ORIENTATIONS)
     grid = workspace_grid(extent, resolution, count, chunk)
     rotations = super_fibonacci_rotations(count)
     store = Path(path)
-    _prepare_store(store, arm, grid, rotations)
-    complete = completed_chunks(store)
-    missing = [index for index in grid.chunk_indices() if not complete[index]]
-    token = dask.base.tokenize(str(store.resolve()), map_parameters(arm, grid, count))
+    parameters = map_parameters(arm, grid, count)
+    prepare_store(store, parameters, lambda folder: create_store(folder, arm, grid, rotations), "orientations")
     # workers write the absolute path: a cluster's workers need not share this process's working directory
-    tasks = _chunk_tasks(_compute_chunk, (geometry, grid, rotations, store.absolute()), missing,
-                        f"workspace-chunk-{token}")
-    if client is None:
-        _run_local(tasks, progress)
-    else:
-        _run_distributed(tasks, client, progress)
-    return _summary(store, grid, count, len(missing), time.perf_counter() - started)
+    computed = run_chunks(_compute_chunk, (geometry, grid, rotations, store.absolute()), store, grid,
+                          "workspace-chunk", parameters, client, progress)
+    return _summary(store, grid, count, computed, time.perf_counter() - started)
 
 
 def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int, seconds: float) -> WorkspaceRun:
