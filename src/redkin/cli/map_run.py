@@ -47,6 +47,26 @@ def run_on(client: Any, chunks: int, run: Callable[[Any, Any], Any]) -> Any:
             client.close()
 
 
+def run_summary(chain_name: str, result: Any, images: list, scheduler: str | None, units: dict,
+                fields: dict) -> dict:
+    """The ``--json`` summary of a map run: robot, store, images and scheduler, the map's own ``fields``, then
+    the chunks computed and resumed and the time."""
+    return {
+        "robot": chain_name, "map": str(result.path), "images": [str(image) for image in images],
+        "scheduler": scheduler or "local", "units": {"seconds": "s", "fractions": "1", **units}, **fields,
+        "chunks": result.chunks, "chunks_computed": result.computed, "chunks_resumed": result.chunks - result.computed,
+        "seconds": result.seconds,
+    }
+
+
+def print_run(summary: dict) -> None:
+    """The lines every map run prints after its own: chunks and scheduler, the store, the slice images."""
+    print(f"chunks: {summary['chunks']} ({summary['chunks_computed']} computed, {summary['chunks_resumed']} resumed) "
+          f"on {summary['scheduler']} in {summary['seconds']:.1f} s")
+    print(f"map: {summary['map']}  (xarray.open_zarr)")
+    print("slices: " + ", ".join(summary["images"]))
+
+
 def _connect(address: str) -> Any:
     """A ``distributed.Client`` of the scheduler at ``address`` (UsageError if none answers)."""
     distributed = require("distributed")

@@ -6,7 +6,7 @@ import argparse
 
 from redkin._validation import check_count, check_output_directory
 from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json
-from redkin.cli.map_run import open_client, require_map_libraries, run_on
+from redkin.cli.map_run import open_client, print_run, require_map_libraries, run_on, run_summary
 from redkin.cli.workspace_humanoid import run_humanoid
 from redkin.srs import srs_geometry
 from redkin.workspace.grid import MAX_RESOLUTION, workspace_grid
@@ -72,16 +72,13 @@ def run(args: argparse.Namespace) -> int:
     with xr.open_zarr(result.path) as dataset:
         for name, image in zip(SLICE_NAMES, images):
             save_mid_plane_slices(dataset, name, image)
-    summary = {
-        "robot": chain.name, "map": str(result.path), "images": [str(image) for image in images],
-        "scheduler": args.scheduler or "local",
-        "units": {"seconds": "s", "fractions": "1", "mean_redundancy": "1 (feasible arm-angle measure / 2 pi)"},
+    summary = run_summary(chain.name, result, images, args.scheduler,
+                          {"mean_redundancy": "1 (feasible arm-angle measure / 2 pi)"}, {
         "positions": result.positions, "orientations": result.orientations,
         "pose_branch_evaluations": result.pose_branch_evaluations,
-        "chunks": result.chunks, "chunks_computed": result.computed, "chunks_resumed": result.chunks - result.computed,
         "reachable_positions": result.reachable_positions, "reachable_poses": result.reachable_poses,
-        "mean_redundancy": result.mean_redundancy, "seconds": result.seconds,
-    }
+        "mean_redundancy": result.mean_redundancy,
+    })
     if args.json:
         print_json(summary)
     else:
@@ -89,9 +86,6 @@ def run(args: argparse.Namespace) -> int:
               f"= {result.pose_branch_evaluations} exact feasible sets")
         print(f"reachable: {100 * result.reachable_positions:.1f}% of positions, "
               f"{100 * result.reachable_poses:.1f}% of poses; mean redundancy there {result.mean_redundancy:.3f}")
-        print(f"chunks: {result.chunks} ({result.computed} computed, {result.chunks - result.computed} resumed) "
-              f"on {summary['scheduler']} in {result.seconds:.1f} s")
-        print(f"map: {result.path}  (xarray.open_zarr)")
-        print("slices: " + ", ".join(str(image) for image in images))
+        print_run(summary)
     return 0
 

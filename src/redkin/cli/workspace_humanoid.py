@@ -11,7 +11,7 @@ import argparse
 from redkin._validation import check_count, check_output_directory
 from redkin.chain import SerialChain
 from redkin.cli.common import UsageError, print_json
-from redkin.cli.map_run import open_client, require_map_libraries, run_on
+from redkin.cli.map_run import open_client, print_run, require_map_libraries, run_on, run_summary
 from redkin.torso_arm.maps import MAX_SWEEP_SAMPLES
 from redkin.workspace.grid import MAX_RESOLUTION
 from redkin.workspace.humanoid import DEFAULT_SAMPLES, VARIABLES, humanoid_grid, humanoid_map, mid_plane_maps
@@ -49,17 +49,14 @@ def run_humanoid(args: argparse.Namespace, chain: SerialChain) -> int:
         for name, image in zip(SLICE_NAMES, images):
             save_mid_plane_maps(mid_plane_maps(dataset, name), image, VARIABLES[name][0],
                                 f"{chain.name}: {name} over theta_1 x phi = {samples[0]} x {samples[1]} samples")
-    summary = {
-        "robot": chain.name, "map": str(result.path), "images": [str(image) for image in images],
-        "scheduler": args.scheduler or "local",
-        "units": {"seconds": "s", "fractions": "1", "manipulability": "m^3", "dual_manipulability": "m^6"},
+    summary = run_summary(chain.name, result, images, args.scheduler,
+                          {"manipulability": "m^3", "dual_manipulability": "m^6"}, {
         "positions": result.positions, "samples": list(result.samples),
         "postures": result.positions * result.samples[0] * result.samples[1],
-        "chunks": result.chunks, "chunks_computed": result.computed, "chunks_resumed": result.chunks - result.computed,
         "reachable_positions": result.reachable_positions, "feasible_positions": result.feasible_positions,
         "max_manipulability": result.max_manipulability, "mean_manipulability": result.mean_manipulability,
-        "max_dual_manipulability": result.max_dual_manipulability, "seconds": result.seconds,
-    }
+        "max_dual_manipulability": result.max_dual_manipulability,
+    })
     if args.json:
         print_json(summary)
     else:
@@ -68,8 +65,5 @@ def run_humanoid(args: argparse.Namespace, chain: SerialChain) -> int:
         print(f"reachable: {100 * result.reachable_positions:.1f}% of positions, within limits "
               f"{100 * result.feasible_positions:.1f}%; best w there: max {result.max_manipulability:.4g} m^3, "
               f"mean {result.mean_manipulability:.4g} m^3; dual arm max {result.max_dual_manipulability:.4g} m^6")
-        print(f"chunks: {result.chunks} ({result.computed} computed, {result.chunks - result.computed} resumed) "
-              f"on {summary['scheduler']} in {result.seconds:.1f} s")
-        print(f"map: {result.path}  (xarray.open_zarr)")
-        print("slices: " + ", ".join(str(image) for image in images))
+        print_run(summary)
     return 0
