@@ -204,7 +204,11 @@ def test_within_limits_plain_and_wrapped():
                                  np.radians([210, 45, 120, 135, 90, 90, 120]))
     assert crossing.within_limits(np.radians([-170, 0, 0, 10, 0, 0, 0]), wrap=True)
     assert not crossing.within_limits(np.radians([140, 0, 0, 10, 0, 0, 0]), wrap=True)
-    unlimited = chain.with_limits(np.full(7, -4.0), np.full(7, 4.0))
+    wide = chain.with_limits(np.full(7, -4.0), np.full(7, 4.0))  # wider than 2 pi: still a range (issue 22)
+    assert np.all(wide.limited) and np.all(wide.covers_circle)
+    assert not wide.within_limits(np.full(7, 100.0))
+    assert wide.within_limits(np.full(7, 100.0), wrap=True)  # every angle has a representative in range
+    unlimited = chain.with_limits(np.full(7, -np.inf), np.full(7, np.inf))
     assert not np.any(unlimited.limited)
     assert unlimited.within_limits(np.full(7, 100.0))
 

@@ -222,3 +222,52 @@ def jacobian_parallel(q, links, ends, standard, active, tool, offsets, out):
         trig = np.empty((q.shape[1], 2))
         for b in range(block * CHUNK, min(q.shape[0], (block + 1) * CHUNK)):
             jacobian_one(q[b], links, ends, standard, active, tool, offsets[b * step], trig, out[b])
+
+
+# ----------------------------------------------------------- joint ranges
+# A joint's range is [lower, upper]; only a continuous joint (both infinite) is unlimited.  A range may be wider
+# than 2 pi (a Sawyer's +-270 deg wrist): then an angle has several representatives q + 2 pi k inside it, and a
+# value is chosen among them by a target (a seed, or the middle of the range).
+@kernel
+def range_middle(lower, upper):
+    """The default target of :func:`representative`: the middle of ``[lower, upper]``; half a turn inside the finite
+    end of a half-open range; 0 for an unlimited joint."""
+    if lower > -np.inf and upper < np.inf:
+        return 0.5 * (lower + upper)
+    if lower > -np.inf:
+        return lower + np.pi
+    if upper < np.inf:
+        return upper - np.pi
+    return 0.0
+
+
+@kernel
+def representative(value, lower, upper, target):
+    """The angle ``value + 2 pi k`` inside ``[lower, upper]`` nearest ``target``; NaN where no ``k`` puts it inside.
+
+    ``k = 0`` where ``value`` itself is the answer, so a value already in place comes back bit for bit.  An
+    unlimited joint (both limits infinite) gets the representative nearest ``target``.
+    """
+    k = np.floor((target - value) / (2.0 * np.pi) + 0.5)
+    low, high = -np.inf, np.inf
+    if lower > -np.inf:
+        low = np.ceil((lower - value) / (2.0 * np.pi))
+    if upper < np.inf:
+        high = np.floor((upper - value) / (2.0 * np.pi))
+    if low > high:
+        return np.nan
+    k = min(max(k, low), high)
+    return value + 2.0 * np.pi * k if k != 0.0 else value
+
+
+@kernel
+def representatives(q, lower, upper, targets, seeded, out):
+    """:func:`representative` for each entry of ``q`` (N, n) with ranges ``lower``, ``upper`` (n,) into ``out``.
+
+    ``targets`` (N, n) are the seeds where ``seeded``; otherwise the middles of the ranges (:func:`range_middle`)
+    are the targets.
+    """
+    for i in range(q.shape[0]):
+        for j in range(q.shape[1]):
+            target = targets[i, j] if seeded else range_middle(lower[j], upper[j])
+            out[i, j] = representative(q[i, j], lower[j], upper[j], target)

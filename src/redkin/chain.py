@@ -63,7 +63,9 @@ class SerialChain:
         ``theta_i = offset_i + sign_i * q_i``; defaults 0 and +1.  A sign must be +1 or -1.
     lower, upper : array_like, shape (n,), optional
         Joint limits on ``q`` in radians; default ``-inf`` and ``+inf``.
-        A range of width ``>= 2 pi`` means the joint is not limited.
+        Only a joint with both limits infinite (a continuous joint) is
+        unlimited: a finite range is a range however wide, and one wider than
+        ``2 pi`` (a Sawyer's +-270 deg wrist) holds some angles twice.
     base, tool : array_like, shape (4, 4), optional
         Fixed transforms before the first and after the last row.
     name : str
@@ -171,8 +173,23 @@ class SerialChain:
 
     @property
     def limited(self) -> np.ndarray:
-        """Boolean mask of joints whose range is narrower than ``2 pi``."""
-        return (self.upper - self.lower) < TWO_PI
+        """Boolean mask of joints with a hard stop (a finite limit); only a continuous joint is unlimited."""
+        return np.isfinite(self.lower) | np.isfinite(self.upper)
+
+    @property
+    def covers_circle(self) -> np.ndarray:
+        """Boolean mask of joints whose range holds every angle modulo ``2 pi`` (width ``>= 2 pi``, or unlimited).
+
+        Such a joint constrains no angle taken modulo ``2 pi`` (the feasible arm angles, [000 eq. 20]), yet its
+        value must still be chosen inside the range (:meth:`nearest_in_range`).
+        """
+        return (self.upper - self.lower) >= TWO_PI
+
+    @property
+    def middle(self) -> np.ndarray:
+        """The middle of each joint's range: half a turn inside the finite end of a half-open range, 0 for an
+        unlimited joint (the default target of :meth:`nearest_in_range`)."""
+        return np.array([kernels.range_middle(lo, hi) for lo, hi in zip(self.lower.tolist(), self.upper.tolist())])
 
     def with_limits(self, lower: ArrayLike, upper: ArrayLike) -> SerialChain:
         """A copy of this chain with other joint limits."""
@@ -355,14 +372,49 @@ class SerialChain:
     def joints_within_limits(self, q: ArrayLike, tolerance: float = 0.0, wrap: bool = False) -> np.ndarray:
         """Per-joint version of :meth:`within_limits`, shape ``(..., n)``."""
         q = self.check_q(q)
-        free = ~self.limited
-        if wrap:
-            width = np.where(free, 0.0, self.upper - self.lower)
-            shifted = np.mod(q - np.where(free, 0.0, self.lower) + tolerance, TWO_PI)
-            ok = shifted <= width + 2.0 * tolerance
-        else:
-            ok = (q >= self.lower - tolerance) & (q <= self.upper + tolerance)
-        return ok | free
+        if not wrap:
+            return (q >= self.lower - tolerance) & (q <= self.upper + tolerance)
+        anywhere = self.covers_circle
+        lower = np.where(anywhere, 0.0, self.lower)
+        width = np.where(anywhere, 0.0, self.upper - self.lower)
+        return (np.mod(q - lower + tolerance, TWO_PI) <= width + 2.0 * tolerance) | anywhere
+
+    def nearest_in_range(self, q: ArrayLike, near: ArrayLike | None = None) -> np.ndarray:
+        """The same angles, each shifted by a multiple of ``2 pi`` into its joint's range.
+
+        A joint whose range is wider than ``2 pi`` holds some angles twice
+        (or more); of those representatives the one nearest ``near`` is
+        returned, or without ``near`` the one nearest the middle of the range.
+        A value with no representative in range (it violates the limits) is
+        returned as the representative nearest ``near``, or without ``near``
+        wrapped to ``(-pi, pi]``; so is a value of an unlimited joint.  A
+        value already in place comes back bit for bit.
+
+        Parameters
+        ----------
+        q : array_like, shape (..., n)
+            Joint angles, e.g. a closed-form solution known modulo ``2 pi``.
+        near : array_like, shape (..., n), optional
+            Seeds (the previous configuration of a path, a controller's state).
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., n)
+        """
+        flat, lead = self._flat(q)
+        targets = flat
+        if near is not None:
+            seeds = np.broadcast_to(self.check_q(near, "near"), lead + (self.n,))
+            targets = np.ascontiguousarray(seeds.reshape(-1, self.n))
+        out = np.empty_like(flat)
+        kernels.representatives(flat, self.lower, self.upper, targets, near is not None, out)
+        missing = np.isnan(out)
+        if np.any(missing):  # out of range: the representative nearest the seed, or in (-pi, pi]
+            free = np.empty_like(flat)
+            unlimited = np.full(self.n, np.inf)
+            kernels.representatives(flat, -unlimited, unlimited, targets, near is not None, free)
+            out[missing] = free[missing]
+        return out.reshape(lead + (self.n,))
 
     def mirrored(self, normal: ArrayLike = (1.0, 0.0, 0.0), flip_joints: Sequence[int] = ()) -> SerialChain:
         """The mirror image of this chain in the plane through the base origin with ``normal``.

@@ -290,7 +290,10 @@ def ufactory_xarm7() -> SerialChain:
     7     -pi/2       0.076   0.097   [-2 pi, 2 pi]
     ====  ==========  ======  ======  =====================
 
-    The +-2 pi joints (+-360 deg on the data sheet) are not limited in effect.
+    The +-2 pi joints (+-360 deg on the data sheet) span two full turns: every
+    angle lies in range twice, and the stops at +-2 pi still hold
+    (:meth:`SerialChain.within_limits`; closed forms return the angle nearest
+    the middle of the range or a seed, :meth:`SerialChain.nearest_in_range`).
     The URDF prints pi/2 as 1.5708; the right angles are taken exact (the
     literal numbers put the flange up to 6e-6 m and 2e-5 rad away, sampled).  The
     tool frame is the flange (``link_eef``).  A general chain (the elbow

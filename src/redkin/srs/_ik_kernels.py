@@ -24,9 +24,9 @@ An arm is passed as
     :class:`redkin.srs.geometry.ElbowEquation`, and ``cos phi, sin phi`` (:data:`ARM_COLUMNS`).
 ``ends`` : (2, 4, 4) float64
     ``base^-1`` and ``tool^-1`` of the chain: frame 7 in frame 0 is ``base^-1 pose tool^-1``.
-``joints`` : (6, 7) float64
+``joints`` : (5, 7) float64
     Per joint ``offset, sign``, whether its value is wrapped into its limits,
-    where the wrapped range starts, its upper limit, and whether it is limited
+    and its lower and upper limit (``-inf``, ``inf`` for an unlimited joint)
     (:data:`JOINT_ROWS`; see :meth:`redkin.srs.geometry.SRSGeometry.to_chain_q`).
 """
 
@@ -37,13 +37,14 @@ from math import acos, atan2, cos, isfinite, pi, sin, sqrt
 import numpy as np
 from numba import prange
 
+from redkin._chain_kernels import range_middle, representative
 from redkin._compiled import kernel
 from redkin.circle import TWO_PI
 
 ARM_COLUMNS = ("d_bs", "d_se", "d_ew", "d_wt", "a3", "a4", "mean", "amplitude", "phase", "cos_phase", "sin_phase")
 D_BS, D_SE, D_EW, D_WT, A3, A4, MEAN, AMPLITUDE, PHASE, COS_PHASE, SIN_PHASE = range(11)
-JOINT_ROWS = ("offset", "sign", "wrap", "wrap_start", "upper", "limited")
-OFFSET, SIGN, WRAP, WRAP_START, UPPER, LIMITED = range(6)
+JOINT_ROWS = ("offset", "sign", "wrap", "lower", "upper")
+OFFSET, SIGN, WRAP, LOWER, UPPER = range(5)
 
 #: Relative distance of the wrist from the joint-1 axis below which the wrist counts as on it.
 AXIS_TOLERANCE = 1e-12
@@ -301,18 +302,20 @@ def chain_values(theta, joints, q):
     """The chain's joint values ``q = sign (theta - offset)`` of DH angles ``theta`` (7,), into ``q`` (7,).
 
     A wrapped joint is shifted by a multiple of ``2 pi`` into its limit range
-    when one such shift lands there (limits crossing ``+-pi``), else wrapped to
+    when one such shift lands there (limits crossing ``+-pi``); of several
+    such shifts (a range wider than ``2 pi``) the one nearest the middle of
+    the range (:func:`redkin._chain_kernels.representative`).  A value no
+    shift brings inside, and a value of an unlimited joint, is wrapped to
     ``[-pi, pi)``.
     """
     for k in range(theta.shape[0]):
         value = joints[SIGN, k] * (theta[k] - joints[OFFSET, k])
         if joints[WRAP, k] != 0.0:
-            start = joints[WRAP_START, k]
-            shifted = start + turns_removed(value - start)
-            if shifted <= joints[UPPER, k] and joints[LIMITED, k] != 0.0:
-                value = shifted
-            else:
-                value = turns_removed(value + pi) - pi
+            lower, upper = joints[LOWER, k], joints[UPPER, k]
+            inside = np.nan
+            if lower > -np.inf or upper < np.inf:
+                inside = representative(value, lower, upper, range_middle(lower, upper))
+            value = inside if inside == inside else turns_removed(value + pi) - pi
         q[k] = value
 
 

@@ -230,7 +230,7 @@ def _tangent_cases(
     return derivative, np.where(np.maximum(n_size, d_size) <= _VANISHING_TOLERANCE, "undefined", case)
 
 
-def _limit_case(maximum: float, minimum: float, lower: float, upper: float, limited: bool) -> int | None:
+def _limit_case(maximum: float, minimum: float, lower: float, upper: float, binding: bool) -> int | None:
     """Case 1-5 of paper 000 section 4.3 for a periodic joint sweeping ``[minimum, maximum]`` (modulo 2 pi).
 
     The comparisons are made modulo ``2 pi`` (limits crossing ``+-pi``
@@ -240,7 +240,7 @@ def _limit_case(maximum: float, minimum: float, lower: float, upper: float, limi
     two feasible regions, one around each extremum -- not one of the five
     cases, which assume no wrap-around).
     """
-    if not limited:
+    if not binding:  # unlimited, or a range holding every angle modulo 2 pi
         return 5
     slack = MEMBERSHIP_TOLERANCE
     span = upper - lower + 2.0 * slack
@@ -372,7 +372,7 @@ def joint_extrema(
             minimum = Stationary(float(psi_min), float(q_min))
             cut = _limit_case(
                 maximum.value, minimum.value, float(chain.lower[column]), float(chain.upper[column]),
-                bool(chain.limited[column]),
+                not bool(chain.covers_circle[column]),
             )
         results[joint] = JointExtrema(
             joint=joint,

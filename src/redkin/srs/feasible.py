@@ -352,7 +352,8 @@ def feasible_arm_angles(
     Parameters
     ----------
     arm : SerialChain or SRSGeometry
-        S-R-S arm with its joint limits (ranges of width >= 2 pi are unlimited).
+        S-R-S arm with its joint limits (a range of width >= 2 pi holds every
+        arm angle: it constrains the choice of representative, not psi).
     pose : array_like, shape (4, 4)
     branch : str or Branch
         Signs of theta_2, theta_4, theta_6.

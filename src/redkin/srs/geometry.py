@@ -109,8 +109,11 @@ class SRSGeometry:
         Offsets of an offset elbow (DH ``a_3``, ``a_4``; 0 on an S-R-S arm,
         0.045 and -0.045 m on the Barrett WAM).
     theta_lower, theta_upper : numpy.ndarray, shape (7,)
-        Joint limits on the DH angles ``theta``; unlimited joints (range
-        ``>= 2 pi``) get ``(-inf, inf)``.
+        Joint limits on the DH angles ``theta`` modulo ``2 pi``: a joint whose
+        range holds every angle (unlimited, or wider than ``2 pi``;
+        :attr:`SerialChain.covers_circle`) gets ``(-inf, inf)``.  The joint
+        values themselves are chosen inside the chain's own limits
+        (:meth:`to_chain_q`).
     """
 
     chain: SerialChain
@@ -209,8 +212,11 @@ class SRSGeometry:
 
         Each value is shifted by a multiple of ``2 pi`` into its limit range
         when one such shift lands there (limits that cross ``+-pi``, e.g.
-        ``[100, 260]`` deg); otherwise it is wrapped to ``[-pi, pi)``
-        (:func:`redkin.srs._ik_kernels.chain_values`).
+        ``[100, 260]`` deg); where several do (a range wider than ``2 pi``),
+        the one nearest the middle of the range; otherwise it is wrapped to
+        ``[-pi, pi)`` (:func:`redkin.srs._ik_kernels.chain_values`).  For the
+        representative nearest a seed instead, pass the result to
+        :meth:`SerialChain.nearest_in_range` with ``near``.
         """
         if self.plain_joints and not self.wrap_columns:
             return theta  # DH angles from atan2 already lie in [-pi, pi] and so do the limits
@@ -240,11 +246,10 @@ class SRSGeometry:
 
     @cached_property
     def kernel_joints(self) -> np.ndarray:
-        """The joint-value map of :meth:`to_chain_q` as :mod:`redkin.srs._ik_kernels` reads it, (6, 7)."""
+        """The joint-value map of :meth:`to_chain_q` as :mod:`redkin.srs._ik_kernels` reads it, (5, 7)."""
         chain = self.chain
         wrap = np.isin(np.arange(7), self.wrap_columns)
-        start = np.where(np.isfinite(chain.lower), chain.lower, -np.pi)
-        table = np.stack([chain.offset, chain.sign, wrap, start, chain.upper, chain.limited]).astype(float)
+        table = np.stack([chain.offset, chain.sign, wrap, chain.lower, chain.upper]).astype(float)
         return _read_only(table)
 
     def kernel_branch(self, branch: str | Branch | tuple[int, int, int]) -> np.ndarray:
@@ -365,7 +370,7 @@ def _derive_geometry(chain: SerialChain) -> SRSGeometry:
     sign, offset = chain.sign, chain.offset
     lo = np.where(sign > 0, offset + chain.lower, offset - chain.upper)
     hi = np.where(sign > 0, offset + chain.upper, offset - chain.lower)
-    free = ~chain.limited
+    free = chain.covers_circle  # every angle has a representative in range: no constraint modulo 2 pi
     theta_lower = np.where(free, -np.inf, lo)
     theta_upper = np.where(free, np.inf, hi)
     for array in (theta_lower, theta_upper):

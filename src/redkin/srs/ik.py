@@ -139,7 +139,9 @@ def ik(
     -------
     numpy.ndarray, shape (..., 7)
         Joint values ``q`` of the chain (each wrapped into its limit range
-        when a multiple of 2 pi gets it there, else into ``[-pi, pi)``).
+        when a multiple of 2 pi gets it there, else into ``[-pi, pi)``; in a
+        range wider than 2 pi, the representative nearest the range's middle:
+        ``arm.nearest_in_range(q, near=seed)`` picks the one nearest a seed).
         They may violate the limits: see :func:`redkin.srs.feasible_arm_angles`.
 
     Raises

@@ -66,9 +66,8 @@ class OptimalArmAngles:
 
 
 def default_target(geometry: SRSGeometry) -> np.ndarray:
-    """Limit midpoints of the chain's joints (0 for an unlimited joint), in ``q``."""
-    chain = geometry.chain
-    return 0.5 * (np.where(chain.limited, chain.lower, 0.0) + np.where(chain.limited, chain.upper, 0.0))
+    """The middles of the chain's joint ranges (0 for an unlimited joint), in ``q`` (:attr:`SerialChain.middle`)."""
+    return geometry.chain.middle
 
 
 def objective_coefficients(

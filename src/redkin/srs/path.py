@@ -33,7 +33,9 @@ class ArmAnglePath:
     psi : numpy.ndarray, shape (N,)
         Chosen arm angle per pose (the unclamped optimum where the feasible set is empty).
     q : numpy.ndarray, shape (N, 7)
-        Joint values at ``psi``.
+        Joint values at ``psi``: the first waypoint's as :func:`redkin.srs.ik` gives them, each later one's
+        inside the joint ranges nearest the waypoint before it (a range wider than ``2 pi`` holds some angles
+        twice; an unlimited joint turns on without wrapping).
     reachable : numpy.ndarray of bool, shape (N,)
         ``psi`` satisfies every joint limit.
     feasible : list of FeasibleArmAngles
@@ -92,4 +94,6 @@ def arm_angle_path(
         reachable = np.array([c is not None for c in clamped])
         psi = np.array([p if c is None else c for c, p in zip(clamped, best.tolist())])
     q = geometry.to_chain_q(theta_at(coefficients, psi, chosen))
+    for k in range(1, len(q)):  # where a range holds an angle twice, the representative nearest the last waypoint
+        q[k] = geometry.chain.nearest_in_range(q[k], near=q[k - 1])
     return ArmAnglePath(psi=psi, q=q, reachable=reachable, feasible=feasible)

@@ -8,6 +8,7 @@ import numpy as np
 from numba import prange
 from numpy.typing import ArrayLike
 
+from redkin._chain_kernels import range_middle, representative
 from redkin._compiled import kernel, run_batch
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
@@ -44,17 +45,18 @@ def _wrap_one(angle):
 
 @kernel
 def into_limits(angle, lower, upper):
-    """:func:`_wrap_one`, then shifted by ``+-2 pi`` where that brings it into ``[lower, upper]``.
+    """:func:`_wrap_one`, then shifted by a multiple of ``2 pi`` where that brings it into ``[lower, upper]``.
 
     Only a joint whose range leaves ``(-pi, pi]`` can gain from a shift
-    (theta_3 of thesis 001 ranges over -5..185 deg, beyond pi).
+    (theta_3 of thesis 001 ranges over -5..185 deg, beyond pi); of several
+    shifts that land inside (a range wider than ``2 pi``), the one nearest
+    the middle of the range (:func:`redkin._chain_kernels.representative`).
     """
     q = _wrap_one(angle)
     if lower < -pi or upper > pi:
-        for shift in (TWO_PI, -TWO_PI):
-            moved = q + shift
-            if not (lower <= q <= upper) and lower <= moved <= upper:
-                q = moved
+        inside = representative(q, lower, upper, range_middle(lower, upper))
+        if inside == inside:
+            q = inside
     return q
 
 
