@@ -4,20 +4,44 @@ The proposed method needs a *singularity index* ``D_e(q)`` common to every
 column minor ``det J_i`` of the 6 x 7 Jacobian, and the remaining factors
 ``D_i = det J_i / D_e``.  This module gives
 
-* :class:`WamFactorisation` -- the Barrett WAM (paper 003 Table 1, standard DH):
+* :class:`WamFactorisation` -- a Barrett-WAM-shaped arm (paper 003 Table 1, standard DH),
   ``D_e = a (d3 + d5) C4 + (a^2 - d3 d5) S4`` and every ``D_i`` in closed form,
+  in any description of the arm,
 * :class:`NumericalFactorisation` -- any arm with a known index function:
   ``D_i = det J_i / D_e``, and at (or very near) ``D_e = 0`` the limit of that
   ratio by l'Hopital along the gradient of ``D_e``,
+* :class:`ElbowSine` -- the index ``sin(theta_4 - phi)`` of S-R-S arms and offset elbows,
+* :func:`singularity_factorisation` -- the one that fits a chain, found from its geometry,
 * :func:`check_single_parameter` -- a numerical test of whether an index
   really factors every ``det J_i`` (S-R-S arms with ``sin q4``: yes; the WAM
   with its ``D_e``: yes; the WAM with ``sin q4``: no).
+
+Any description.  The index is found on the arm's paper 000 Table 1 form
+(:func:`redkin.srs.srs_geometry`, :func:`redkin.srs.conventions.table1_form`),
+whatever the description's twists, zero pose, joint senses, base and tool
+frames or DH convention.  That form has the same joint values ``q`` and the
+same pose for every ``q``; its DH angles are ``theta = offset + sign * q``.
+So the two Jacobians are equal, ``J(q) = J_T1(theta(q)) diag(sign)``, where
+``J_T1`` is the Jacobian in ``theta`` of the Table 1 rows (the world frame and
+the tool point do not change a 6 x 6 minor: they multiply it by a
+determinant 1), and
+
+    det J_i(q) = det J_i^T1(theta) prod_{j != i} sign_j.
+
+On the Table 1 form the shoulder-wrist distance is ``|x_sw|^2 = C + R
+cos(theta_4 - phi)`` (:class:`redkin.srs.geometry.ElbowEquation`).  With the
+shoulder and the wrist spherical, every minor ``det J_i`` has the factor
+``d |x_sw|^2 / d theta_4 = -R sin(theta_4 - phi)``: the wrist centre's
+velocity from joint 4 is the only one with a component along ``x_sw``
+(and likewise the shoulder's, seen from the wrist).  On the WAM
+(``a_3 = a``, ``a_4 = -a``) that factor is ``D_e = a (d3 + d5) cos theta_4 +
+(a^2 - d3 d5) sin theta_4 = -(R / 2) sin(theta_4 - phi)``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 from math import cos, sin
 from typing import Protocol, runtime_checkable
 
@@ -26,47 +50,86 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel
 from redkin.chain import SerialChain
-from redkin.circle import HALF_PI
+from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.velocity.cofactors import column_minors
 
-_WAM_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
+#: Largest ``|a_3 + a_4| / |a_3|`` of the Table 1 form for the WAM's closed form (``a_4 = -a_3``).  Tight: the closed
+#: form is exact only for ``a_4 = -a_3``; the form itself rounds ``a_3``, ``a_4`` to about 1e-16 relative.
+_WAM_TOLERANCE = 1e-9
+_PLAIN_JOINTS = np.array([np.zeros(7), np.ones(7)])  # offset 0, sign +1: theta = q
+_PLAIN_JOINTS.setflags(write=False)
 
 
-def wam_singularity_index(q: ArrayLike, a: float, d3: float, d5: float) -> np.ndarray:
-    """``D_e = a (d3 + d5) cos q4 + (a^2 - d3 d5) sin q4`` (paper 003 section 3.3), shape ``(...)``.
+def wam_singularity_index(q: ArrayLike, a: float, d3: float, d5: float, offset: ArrayLike | None = None,
+                          sign: ArrayLike | None = None) -> np.ndarray:
+    """``D_e = a (d3 + d5) cos theta_4 + (a^2 - d3 d5) sin theta_4`` (paper 003 section 3.3), shape ``(...)``.
 
     Zero exactly at the elbow-stretch singularity (the workspace boundary).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 7)
+        Joint values.
+    a, d3, d5 : float
+        The elbow offset and the upper-arm and forearm lengths of paper 003 Table 1.
+    offset, sign : array_like, shape (7,), optional
+        ``theta = offset + sign * q`` (default 0 and +1: ``q`` are the DH angles of Table 1).
     """
-    return _wam(q, a, d3, d5)[0]
+    return _wam(q, a, d3, d5, offset, sign)[0]
 
 
-def wam_cofactors(q: ArrayLike, a: float, d3: float, d5: float) -> np.ndarray:
+def wam_cofactors(q: ArrayLike, a: float, d3: float, d5: float, offset: ArrayLike | None = None,
+                  sign: ArrayLike | None = None) -> np.ndarray:
     """Closed-form ``D_i`` with ``det J_i = D_e D_i`` for the Barrett WAM [003 eq. 19], shape ``(..., 7)``.
 
     Derived with sympy (development aid, not a dependency) from the geometric
     Jacobian of paper 003 Table 1: every minor contains ``D_e`` as a factor.
     ``det J_i`` does not depend on the reference point, the base frame, ``d7``,
     ``q1`` or ``q7``.  ``D_4 = 0``: with the elbow joint fixed the remaining
-    six joints are always singular (shoulder and wrist both spherical).
+    six joints are always singular (shoulder and wrist both spherical).  With
+    ``theta = offset + sign * q`` (see :func:`wam_singularity_index`) each
+    ``D_i`` is multiplied by ``prod_{j != i} sign_j``, the sign its minor
+    takes from the other columns.
     """
-    return _wam(q, a, d3, d5)[1]
+    return _wam(q, a, d3, d5, offset, sign)[1]
 
 
-def _wam(q: ArrayLike, a: float, d3: float, d5: float) -> tuple[np.ndarray, np.ndarray]:
+def _wam(q: ArrayLike, a: float, d3: float, d5: float, offset: ArrayLike | None,
+         sign: ArrayLike | None) -> tuple[np.ndarray, np.ndarray]:
     """``D_e`` (...) and ``D_i`` (..., 7) from the kernel :func:`_wam_index_and_factors`."""
+    joints = _PLAIN_JOINTS
+    if offset is not None or sign is not None:
+        joints = np.array([_PLAIN_JOINTS[0] if offset is None else np.asarray(offset, dtype=float).reshape(7),
+                           _PLAIN_JOINTS[1] if sign is None else np.asarray(sign, dtype=float).reshape(7)])
+    return _wam_joints(q, a, d3, d5, joints)
+
+
+def _wam_joints(q: ArrayLike, a: float, d3: float, d5: float, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_wam` with ``joints`` = ``(offset, sign)`` as one C-contiguous (2, 7) array."""
     values = np.asarray(q, dtype=float)
     flat = np.ascontiguousarray(values.reshape(-1, values.shape[-1]))
     index, factors = np.empty(flat.shape[0]), np.empty((flat.shape[0], 7))
-    _wam_index_and_factors(flat, float(a), float(d3), float(d5), index, factors)
+    _wam_index_and_factors(flat, float(a), float(d3), float(d5), joints, index, factors)
     return index.reshape(values.shape[:-1]), factors.reshape(values.shape[:-1] + (7,))
 
 
 @kernel
-def _wam_index_and_factors(q, a, d3, d5, index, factors):
-    """``D_e`` into ``index`` (N,) and ``D_i`` into ``factors`` (N, 7) for each row of ``q`` (N, 7) [003 eq. 19]."""
+def _wam_index_and_factors(q, a, d3, d5, joints, index, factors):
+    """``D_e`` into ``index`` (N,) and ``D_i`` into ``factors`` (N, 7) for each row of ``q`` (N, 7) [003 eq. 19].
+
+    The closed form is in the DH angles ``theta = offset + sign * q`` (``joints``
+    = ``(offset, sign)``, (2, 7)); ``D_i`` takes the sign ``prod_{j != i} sign_j``
+    of its minor's other columns.
+    """
+    offset, sign = joints[0], joints[1]
+    turned = 1.0
+    for k in range(7):
+        turned *= sign[k]
     for b in range(q.shape[0]):
-        s2, s3, s4, s5, s6 = sin(q[b, 1]), sin(q[b, 2]), sin(q[b, 3]), sin(q[b, 4]), sin(q[b, 5])
-        c2, c3, c4, c5, c6 = cos(q[b, 1]), cos(q[b, 2]), cos(q[b, 3]), cos(q[b, 4]), cos(q[b, 5])
+        t2, t3, t4 = offset[1] + sign[1] * q[b, 1], offset[2] + sign[2] * q[b, 2], offset[3] + sign[3] * q[b, 3]
+        t5, t6 = offset[4] + sign[4] * q[b, 4], offset[5] + sign[5] * q[b, 5]
+        s2, s3, s4, s5, s6 = sin(t2), sin(t3), sin(t4), sin(t5), sin(t6)
+        c2, c3, c4, c5, c6 = cos(t2), cos(t3), cos(t4), cos(t5), cos(t6)
         index[b] = a * (d3 + d5) * c4 + (a * a - d3 * d5) * s4
         shoulder = a * (c4 - 1.0) - d5 * s4
         wrist = a * (c4 - 1.0) - d3 * s4
@@ -78,6 +141,8 @@ def _wam_index_and_factors(q, a, d3, d5, index, factors):
                          - d5 * s6) * s2
         factors[b, 5] = -wrist * s2 * s5 * s6
         factors[b, 6] = -wrist * s2 * c5
+        for i in range(7):
+            factors[b, i] *= turned * sign[i]  # prod_{j != i} sign_j, as sign_i^2 = 1
 
 
 @runtime_checkable
@@ -98,39 +163,92 @@ class Factorisation(Protocol):
 
 @dataclass(frozen=True)
 class WamFactorisation(Factorisation):
-    """Closed-form ``D_e`` and ``D_i`` of a Barrett-WAM-shaped chain (paper 003 Table 1)."""
+    """Closed-form ``D_e`` and ``D_i`` of a Barrett-WAM-shaped arm [003 eq. 19], in any description.
+
+    The closed form (:func:`wam_singularity_index`, :func:`wam_cofactors`) is
+    in the DH angles ``theta`` of paper 003 Table 1; ``offset`` and ``sign``
+    map a description's joint values to them, ``theta = offset + sign * q``
+    (the arm's Table 1 form, see the module docstring).
+
+    Attributes
+    ----------
+    a, d3, d5 : float
+        Elbow offset (``a_3 = a``, ``a_4 = -a``), upper arm and forearm of the Table 1 form, in metres.
+    offset, sign : tuple of 7 floats
+        ``theta = offset + sign * q``; default 0 and +1 (the chain is the Table 1 rows themselves, as
+        :func:`redkin.models.barrett_wam`).
+    """
 
     a: float
     d3: float
     d5: float
+    offset: Sequence[float] = (0.0,) * 7
+    sign: Sequence[float] = (1.0,) * 7
+    _joints: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        offset = tuple(float(v) for v in np.ravel(np.asarray(self.offset, dtype=float)))
+        sign = tuple(float(v) for v in np.ravel(np.asarray(self.sign, dtype=float)))
+        if len(offset) != 7 or not np.all(np.isfinite(offset)):
+            raise ValueError(f"offset must be 7 finite angles (theta = offset + sign * q), got {list(offset)}")
+        if len(sign) != 7 or any(s not in (1.0, -1.0) for s in sign):
+            raise ValueError(f"sign must be 7 entries of +1 or -1 (theta = offset + sign * q), got {list(sign)}")
+        object.__setattr__(self, "offset", offset)
+        object.__setattr__(self, "sign", sign)
+        joints = np.array([offset, sign])
+        joints.setflags(write=False)
+        object.__setattr__(self, "_joints", joints)
 
     @classmethod
     def from_chain(cls, chain: SerialChain) -> WamFactorisation:
-        """Read ``a, d3, d5`` from a chain with the WAM's DH pattern; ``ValueError`` otherwise."""
-        a = chain.a
-        pattern_ok = (
-            chain.n == 7
-            and chain.convention == "dh"
-            and np.allclose(chain.alpha, _WAM_ALPHA)
-            and np.allclose(a[[0, 1, 4, 5, 6]], 0.0)
-            and np.isclose(a[3], -a[2])
-            and np.allclose(chain.d[[0, 1, 3, 5]], 0.0)
-            and np.allclose(chain.offset, 0.0)
-            and np.allclose(chain.sign, 1.0)
-        )
-        if not pattern_ok:
+        """The closed form for a chain that describes a Barrett-WAM-shaped arm, in any description.
+
+        The arm must be in the arm-angle class with an offset elbow
+        (:func:`redkin.srs.srs_geometry`) whose Table 1 form has ``a_4 =
+        -a_3 != 0`` (relative tolerance 1e-9): paper 003's rows up to the
+        description (URDF frames, twists of either sign, zero pose, joint
+        senses, modified DH, base and tool).
+
+        Raises
+        ------
+        ValueError
+            For any other chain (one line, with the reason).
+        """
+        geometry, reason = _geometry(chain)
+        if geometry is not None:
+            reason = _not_wam_shaped(geometry)
+        if geometry is None or reason:
             raise ValueError(
-                f"chain {chain.name!r} does not have the Barrett WAM DH pattern of paper 003 Table 1 "
-                "(7 standard-DH rows, alpha = -+-+-+0 quarter turns, a = (0,0,a,-a,0,0,0), d = (0,0,d3,0,d5,0,d7)); "
-                "use NumericalFactorisation with your own index"
-            )
-        return cls(a=float(a[2]), d3=float(chain.d[2]), d5=float(chain.d[4]))
+                f"chain {chain.name!r} does not have the Barrett WAM DH pattern of paper 003 Table 1 in any "
+                f"description (an offset elbow with a_4 = -a_3): {reason}; use NumericalFactorisation with your own "
+                "index")
+        table1 = geometry.chain
+        return cls(a=geometry.a3, d3=geometry.d_se, d5=geometry.d_ew, offset=tuple(table1.offset),
+                   sign=tuple(table1.sign))
 
     def index(self, q: np.ndarray) -> np.ndarray:
-        return wam_singularity_index(q, self.a, self.d3, self.d5)
+        return _wam_joints(q, self.a, self.d3, self.d5, self._joints)[0]
 
     def factors(self, q: np.ndarray, jacobian: np.ndarray | None = None) -> np.ndarray:
-        return wam_cofactors(q, self.a, self.d3, self.d5)
+        return _wam_joints(q, self.a, self.d3, self.d5, self._joints)[1]
+
+
+def _geometry(chain: SerialChain) -> tuple[SRSGeometry | None, str]:
+    """The arm-angle geometry of a 7-joint chain (with its Table 1 form), or ``None`` and why not."""
+    try:
+        return srs_geometry(chain), ""
+    except ValueError as exc:  # not in the arm-angle class (NotArmAngleClassError), with the reason
+        return None, str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+
+
+def _not_wam_shaped(geometry: SRSGeometry) -> str:
+    """Why an arm-angle-class arm is not shaped like the WAM (``a_4 = -a_3 != 0``), or ``""`` if it is."""
+    a3, a4 = geometry.a3, geometry.a4
+    if not geometry.offset_elbow:
+        return "its elbow has no offset (an S-R-S arm)"
+    if abs(a3 + a4) > _WAM_TOLERANCE * abs(a3):
+        return f"its elbow offsets are a_3 = {a3:.6g} m, a_4 = {a4:.6g} m"
+    return ""
 
 
 @dataclass(frozen=True)
@@ -172,48 +290,69 @@ class NumericalFactorisation(Factorisation):
 
 @dataclass(frozen=True)
 class ElbowSine:
-    """``D_e = sin(theta_4)``, the elbow index of an S-R-S arm (``theta_4 = offset + sign * q_4``; paper 003
-    section 3.3).
+    """``D_e = sin(theta_4 - phi)``, the elbow index of S-R-S arms (``phi = 0``; paper 003 section 3.3) and of
+    offset elbows, with ``theta_4 = offset + sign * q_4``.
 
-    Zero where the elbow is stretched or folded: there the shoulder and wrist
-    centres and the elbow axis are coplanar and every column minor vanishes.
+    Zero where the shoulder-wrist distance ``|x_sw|^2 = C + R cos(theta_4 -
+    phi)`` is longest or shortest (:class:`redkin.srs.geometry.ElbowEquation`):
+    the elbow is stretched or folded, joint 4 cannot move the wrist centre
+    towards the shoulder, and every column minor vanishes.  ``offset``,
+    ``sign`` and ``phi`` are those of the arm's Table 1 form (see the module
+    docstring); on a chain in another description ``sin(theta_4 - phi)`` is
+    evaluated at that form's ``theta_4``.
     """
 
     offset: float
     sign: float
+    phase: float = 0.0
 
     def __call__(self, q: np.ndarray) -> np.ndarray:
-        return np.sin(self.offset + self.sign * np.asarray(q, dtype=float)[..., 3])
+        return np.sin(self.offset + self.sign * np.asarray(q, dtype=float)[..., 3] - self.phase)
 
 
 def singularity_factorisation(chain: SerialChain, seed: int | np.random.Generator = 0) -> Factorisation:
-    """The factorisation ``det J_i = D_e D_i`` of a 7-joint chain, found automatically (paper 003 section 3.3).
+    """The factorisation ``det J_i = D_e D_i`` [003 eq. 19] of a 7-joint chain, found from its geometry.
 
-    A chain with the Barrett WAM's DH pattern gets the closed form
-    (:class:`WamFactorisation`); otherwise the S-R-S index ``sin(theta_4)``
-    is tried with :func:`check_single_parameter` and, if it factors every
-    minor, used through :class:`NumericalFactorisation`.
+    In whatever description the chain comes (DH or modified DH, any twists,
+    zero pose, joint senses, base and tool; a URDF), an arm of the arm-angle
+    class (:func:`redkin.srs.srs_geometry`: shoulder and wrist spherical, an
+    elbow with or without offsets) is read on its paper 000 Table 1 form:
+
+    * a WAM-shaped offset elbow (``a_4 = -a_3``) gets the closed form
+      :class:`WamFactorisation` at the form's ``theta(q)``, with the column
+      signs of the description;
+    * any other elbow gets ``D_e = sin(theta_4 - phi)`` (:class:`ElbowSine`,
+      ``phi = 0`` for an S-R-S arm), used through :class:`NumericalFactorisation`
+      once :func:`check_single_parameter` confirms that it divides every minor.
+
+    Any other chain gets ``sin(theta_4)`` of its own DH angles, on the same
+    condition.  ``D_e`` is unique up to a constant factor; its sign follows the
+    description's joint senses, and the SC method's ``b_ep`` (the sign of
+    ``D_e`` at the start) makes the motion independent of that sign.
 
     Raises
     ------
     ValueError
-        If the chain does not have 7 joints, or if neither index factors its
+        If the chain does not have 7 joints, or if no index factors its
         minors (its singularities do not go through one parameter, e.g. an
-        offset elbow or wrist, as on the European Robotic Arm).
+        offset wrist, as on the European Robotic Arm); one line.
     """
     if chain.n != 7:
         raise ValueError(f"chain must have 7 joints (a 6 x 7 Jacobian), got {chain.n} ({chain.name!r})")
-    try:
+    geometry, _ = _geometry(chain)
+    if geometry is not None and not _not_wam_shaped(geometry):
         return WamFactorisation.from_chain(chain)
-    except ValueError:
-        pass
-    elbow = ElbowSine(float(chain.offset[3]), float(chain.sign[3]))
+    if geometry is not None:
+        table1 = geometry.chain
+        elbow = ElbowSine(float(table1.offset[3]), float(table1.sign[3]), geometry.elbow_equation.phase)
+    else:
+        elbow = ElbowSine(float(chain.offset[3]), float(chain.sign[3]))
     if check_single_parameter(chain, elbow, seed=seed).factors:
         return NumericalFactorisation(chain, elbow)
     raise ValueError(
         f"chain {chain.name!r}: its singularities do not factor through one parameter "
-        "(neither the Barrett WAM closed form nor sin(theta_4) divides every column minor det J_i), "
-        "so the singularity-consistent method has no index D_e for it"
+        "(neither the Barrett WAM closed form nor the elbow index sin(theta_4 - phi) divides every column minor "
+        "det J_i), so the singularity-consistent method has no index D_e for it"
     )
 
 
@@ -262,30 +401,33 @@ def check_single_parameter(
     must agree (a simple common zero, no other factor changing sign) and
     stay bounded (no higher-order zero of ``D_e``).
     """
-    rng = np.random.default_rng(seed)
-    q = rng.uniform(-np.pi, np.pi, (samples, chain.n))
-    scale = np.max(np.abs(column_minors(chain.jacobian(q))), axis=-1)
-    for _ in range(50):
+    # A chain singular everywhere (every minor 0 at a random configuration) gives 0 / 0 here: NaN, and not
+    # factored, without numpy's warning reaching the caller.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rng = np.random.default_rng(seed)
+        q = rng.uniform(-np.pi, np.pi, (samples, chain.n))
+        scale = np.max(np.abs(column_minors(chain.jacobian(q))), axis=-1)
+        for _ in range(50):
+            value = np.asarray(index_function(q), dtype=float)
+            grad = _index_gradient(index_function, q)
+            norm2 = np.maximum(np.sum(grad * grad, axis=-1), 1e-300)
+            q = q - (value / norm2)[..., None] * grad
         value = np.asarray(index_function(q), dtype=float)
+        on_set = np.abs(value) < 1e-10
         grad = _index_gradient(index_function, q)
-        norm2 = np.maximum(np.sum(grad * grad, axis=-1), 1e-300)
-        q = q - (value / norm2)[..., None] * grad
-    value = np.asarray(index_function(q), dtype=float)
-    on_set = np.abs(value) < 1e-10
-    grad = _index_gradient(index_function, q)
-    unit = grad / np.maximum(np.linalg.norm(grad, axis=-1, keepdims=True), 1e-300)
-    h = 1e-4
-    worst_minor = float(np.max(np.abs(column_minors(chain.jacobian(q))).max(axis=-1) / scale))
-    def ratios_at(distance: float) -> np.ndarray:
-        qh = q + distance * unit
-        return column_minors(chain.jacobian(qh)) / np.asarray(index_function(qh))[..., None]
+        unit = grad / np.maximum(np.linalg.norm(grad, axis=-1, keepdims=True), 1e-300)
+        h = 1e-4
+        worst_minor = float(np.max(np.abs(column_minors(chain.jacobian(q))).max(axis=-1) / scale))
+        def ratios_at(distance: float) -> np.ndarray:
+            qh = q + distance * unit
+            return column_minors(chain.jacobian(qh)) / np.asarray(index_function(qh))[..., None]
 
-    near_plus, near_minus, far = ratios_at(h), ratios_at(-h), ratios_at(10.0 * h)
-    # A common simple zero leaves det J_i / D_e continuous (jump O(h)) and
-    # bounded; a minor that vanishes without the factor makes the ratio flip
-    # sign (jump ~ its size), an index vanishing to higher order makes it blow up.
-    size = max(float(np.max(np.abs(near_plus))), float(np.max(np.abs(near_minus))), 1e-300)
-    worst_jump = float(np.max(np.abs(near_plus - near_minus)) / size)
-    growth = size / max(float(np.max(np.abs(far))), 1e-300)
+        near_plus, near_minus, far = ratios_at(h), ratios_at(-h), ratios_at(10.0 * h)
+        # A common simple zero leaves det J_i / D_e continuous (jump O(h)) and
+        # bounded; a minor that vanishes without the factor makes the ratio flip
+        # sign (jump ~ its size), an index vanishing to higher order makes it blow up.
+        size = max(float(np.max(np.abs(near_plus))), float(np.max(np.abs(near_minus))), 1e-300)
+        worst_jump = float(np.max(np.abs(near_plus - near_minus)) / size)
+        growth = size / max(float(np.max(np.abs(far))), 1e-300)
     factors = bool(np.all(on_set) and worst_minor < tolerance and worst_jump < 100.0 * h and growth < 2.0)
     return FactorCheck(factors=factors, samples=samples, worst_minor_on_set=worst_minor, worst_ratio_jump=worst_jump)
