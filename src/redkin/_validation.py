@@ -22,6 +22,8 @@ from redkin.errors import RedkinError, SizeLimitError
 
 #: Tolerance on ``R R^T = I`` (max abs entry) and ``det R = 1`` for rotations.
 ROTATION_TOLERANCE = 1e-6
+#: Largest length (metres) a robot description may hold: far beyond any arm, far below where squares overflow.
+MAX_LENGTH = 1e6
 _EYE3 = np.eye(3)
 _LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
 _SMALL_ARRAY = 32
@@ -80,9 +82,23 @@ def check_rotation(
 
 
 def _check_proper_orthonormal(rotation: np.ndarray, name: str, tolerance: float) -> None:
-    """The orthonormality and determinant tests of :func:`check_rotation` on a checked ``(..., 3, 3)`` array."""
+    """The orthonormality and determinant tests of :func:`check_rotation` on a checked ``(..., 3, 3)`` array.
+
+    An entry of an orthonormal matrix lies in ``[-1, 1]``; a larger one is refused before any product, so that a
+    huge entry (1e308) gives the message below and not numpy's overflow warning.
+    """
     if rotation.size == 0:
         return
+    if rotation.size <= _SMALL_ARRAY:  # one matrix: in plain Python, a third of numpy's per-call cost
+        entries = rotation.ravel().tolist()
+        largest = max(max(entries), -min(entries))
+    else:
+        largest = float(np.abs(rotation).max())
+    if largest > 1.0 + tolerance:
+        raise RedkinError(
+            f"{name} must be orthonormal (R R^T = I within {tolerance:g}), "
+            f"but it has an entry of magnitude {largest:.3g} (a rotation's entries lie in [-1, 1])"
+        )
     deviation = rotation @ np.swapaxes(rotation, -1, -2)
     deviation -= _EYE3
     worst = float(np.abs(deviation).max())
@@ -150,6 +166,22 @@ def check_jacobian_and_twist(
             f"leading axes of jacobian {jac.shape[:-2]} and twist {vel.shape[:-1]} do not broadcast"
         ) from exc
     return np.broadcast_to(jac, lead + (m, n)), np.broadcast_to(vel, lead + (m,))
+
+
+def check_magnitude(value: ArrayLike, name: str, maximum: float, unit: str = "") -> np.ndarray:
+    """Return ``value`` as a finite float array whose entries are at most ``maximum`` in magnitude.
+
+    For numbers that are finite but absurd (a link of 1e308 m): refused with the limit in the message, before
+    they overflow in a product.
+    """
+    array = as_float_array(value, name)
+    check_finite(array, name)
+    if array.size:
+        largest = float(np.abs(array).max())
+        if largest > maximum:
+            suffix = f" {unit}" if unit else ""
+            raise RedkinError(f"{name} must be at most {maximum:g}{suffix} in magnitude, got {largest:g}{suffix}")
+    return array
 
 
 def check_nonnegative(value: float, name: str) -> float:

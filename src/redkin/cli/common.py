@@ -1,17 +1,20 @@
-"""Helpers shared by the command modules: parser, robot and angle arguments, output."""
+"""Helpers shared by the command modules: parser, robot and angle arguments, output files, printed numbers."""
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Collection, Sequence
+from pathlib import Path
 from typing import Any, NoReturn
 
 import numpy as np
 
-from redkin._validation import check_rotation
+from redkin._validation import MAX_LENGTH, check_magnitude, check_output_directory, check_output_file, check_rotation
 from redkin.chain import SerialChain
 from redkin.models import get_robot
 from redkin.srs.geometry import pose_from
@@ -71,10 +74,16 @@ def add_target_arguments(parser: argparse.ArgumentParser) -> None:
 def target_pose(args: argparse.Namespace) -> np.ndarray:
     """The pose of ``--position`` and ``--rotation`` (ValueError for a non-finite position or a non-rotation)."""
     rotation = check_rotation(np.array(args.rotation, dtype=float).reshape(3, 3), "--rotation")
-    position = np.array(args.position, dtype=float)
+    return pose_from(checked_position(args.position), rotation)
+
+
+def checked_position(values: Sequence[float], name: str = "--position") -> np.ndarray:
+    """A position from the command line: finite, and at most :data:`MAX_LENGTH` metres from the origin in each
+    coordinate (a 1e308 m target is refused here rather than reported as a distance of inf m)."""
+    position = np.array(values, dtype=float)
     if not np.all(np.isfinite(position)):
-        raise UsageError("--position must be finite numbers")
-    return pose_from(position, rotation)
+        raise UsageError(f"{name} must be finite numbers")
+    return check_magnitude(position, name, MAX_LENGTH, "m")
 
 
 def add_output_flags(parser: argparse.ArgumentParser, degrees: bool = True) -> None:
@@ -86,7 +95,35 @@ def add_output_flags(parser: argparse.ArgumentParser, degrees: bool = True) -> N
 
 def load_robot(args: argparse.Namespace) -> SerialChain:
     """The chain for the ROBOT, ``--base`` and ``--tip`` arguments (ValueError for an unknown name or a bad file)."""
-    return get_robot(args.robot, args.base, args.tip)
+    return load_chain(args.robot, args.base, args.tip)
+
+
+def load_chain(robot: str, base: str | None = None, tip: str | None = None) -> SerialChain:
+    """The chain of a model name, robot file or URDF, refused with one line if its numbers are absurd.
+
+    A file may hold any finite number; a length of 1e308 m overflows the first product of the loader (numpy's
+    warnings) or of every command after it.  Overflow while loading, or a length beyond :data:`MAX_LENGTH`
+    (``a``, ``d``, base and tool translations), is a ValueError that names the file.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RuntimeWarning)
+        try:
+            chain = get_robot(robot, base, tip)
+        except ValueError:
+            _refuse_overflow(robot, caught)
+            raise
+    _refuse_overflow(robot, caught)
+    for values, what in ((chain.a, "a"), (chain.d, "d"), (chain.base[:3, 3], "base translation"),
+                         (chain.tool[:3, 3], "tool translation")):
+        check_magnitude(values, f"robot {robot!r}: {what}", MAX_LENGTH, "m")
+    return chain
+
+
+def _refuse_overflow(robot: str, caught: Sequence[warnings.WarningMessage]) -> None:
+    numeric = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    if numeric:
+        raise UsageError(f"robot {robot!r}: its numbers do not compute ({numeric[0].message}); lengths must be at "
+                         f"most {MAX_LENGTH:g} m in magnitude")
 
 
 def angles_in(values: Sequence[float], degrees: bool) -> np.ndarray:
@@ -106,7 +143,7 @@ def angles_out(values: Any, degrees: bool) -> Any:
 def joint_vector(chain: SerialChain, values: Sequence[float], degrees: bool, name: str = "joint values") -> np.ndarray:
     """Joint values for ``chain`` from the command line, checked for count and finiteness."""
     if len(values) != chain.n:
-        raise UsageError(f"{chain.name} has {chain.n} joints, got {len(values)} {name}")
+        raise UsageError(f"{chain.name} has {plural(chain.n, 'joint')}, got {len(values)} {name}")
     q = angles_in(values, degrees)
     if not np.all(np.isfinite(q)):
         raise UsageError(f"{name} must be finite numbers")
@@ -127,7 +164,9 @@ def _to_jsonable(value: Any) -> Any:
     if isinstance(value, np.ndarray):
         return _to_jsonable(value.tolist())
     if isinstance(value, np.generic):
-        return value.item()
+        value = value.item()
+    if isinstance(value, float):
+        return value + 0.0  # -0.0 prints as 0.0
     return value
 
 
@@ -136,13 +175,89 @@ def print_json(value: Any) -> None:
     print(json.dumps(_to_jsonable(value), indent=2, allow_nan=False))
 
 
+def fixed(value: float, digits: int = 6, sign: str = "") -> str:
+    """``value`` with ``digits`` decimals; a value that rounds to zero prints as ``0.000000``, never ``-0.000000``.
+
+    ``sign`` is the format's sign option: ``" "`` leaves a space where a minus sign would go (aligned columns).
+    """
+    text = f"{value:{sign}.{digits}f}"
+    if text.lstrip().startswith("-") and float(text) == 0.0:
+        text = f"{0.0:{sign}.{digits}f}"
+    return text
+
+
+def plural(count: int, noun: str, many: str | None = None) -> str:
+    """``"1 joint"``, ``"7 joints"``: the count and the noun in its right number (``many`` for an irregular
+    plural)."""
+    return f"{count} {noun if count == 1 else (many or noun + 's')}"
+
+
 def format_matrix(matrix: np.ndarray, digits: int = 6) -> str:
     """A matrix as aligned text rows."""
     rows = np.atleast_2d(matrix)
-    return "\n".join("  ".join(f"{v: .{digits}f}" for v in row) for row in rows)
+    return "\n".join("  ".join(fixed(v, digits, " ") for v in row) for row in rows)
+
+
+def format_values(values: Any, digits: int = 6) -> str:
+    """A vector as aligned text, one space and a sign slot per value."""
+    return " ".join(fixed(v, digits, " ") for v in np.ravel(values))
 
 
 def progress_bar(fraction: float) -> None:
     """Draw a progress bar at ``fraction`` (0..1) over itself on stderr (end it with a newline there)."""
     filled = int(30 * fraction)
     print(f"\r[{'#' * filled}{'.' * (30 - filled)}] {100 * fraction:5.1f}%", end="", file=sys.stderr, flush=True)
+
+
+def add_force_flag(parser: argparse.ArgumentParser) -> None:
+    """``--force``: replace output files that exist (without it the command refuses, before any work)."""
+    parser.add_argument("--force", action="store_true",
+                        help="replace an output file that already exists (without it the command refuses to)")
+
+
+def output_file(path: str | os.PathLike, option: str, suffixes: Collection[str] | None, force: bool) -> Path:
+    """The file an option names, checked before any work is done: ``suffixes`` (lower case, with the dot), a
+    folder that exists or can be made and is writable, and no file there already unless ``force``.
+
+    Every command that writes a file goes through here, so that no output is replaced without the user asking
+    (``--force``): a refusal costs a re-run with one more flag, a silent overwrite can cost a result.
+    """
+    file = check_output_file(path, option, suffixes)
+    if file.exists():
+        if not force:
+            raise UsageError(f"{option} {str(file)!r} already exists: add --force to replace it, or choose "
+                             "another name")
+        _check_replaceable(file, option)
+    return file
+
+
+def output_directory(path: str | os.PathLike, option: str, owned: Sequence[str], force: bool) -> Path:
+    """A folder a command writes its files into (made if needed), refused if it already holds one of the
+    ``owned`` files of an earlier run, unless ``force``."""
+    directory = check_output_directory(path, option)
+    earlier = [name for name in owned if (directory / name).exists()]
+    if earlier and not force:
+        raise UsageError(f"{option} {str(directory)!r} already holds {earlier[0]} of an earlier run: add --force to "
+                         "replace it, or choose another folder")
+    for name in earlier:
+        _check_replaceable(directory / name, option)
+    return directory
+
+
+def _check_replaceable(file: Path, option: str) -> None:
+    """Open an existing file for appending (which changes nothing) to learn whether it can be replaced."""
+    try:
+        with open(file, "ab"):
+            pass
+    except OSError as exc:
+        raise UsageError(f"cannot write to {option} {str(file)!r}: {exc.strerror or exc}") from None
+
+
+def plus_minus(stream: Any = None) -> str:
+    """``"±"``, or ``"+-"`` where the output stream cannot encode it."""
+    encoding = getattr(stream or sys.stdout, "encoding", None) or "ascii"
+    try:
+        "±".encode(encoding)
+    except (LookupError, UnicodeEncodeError):
+        return "+-"
+    return "±"

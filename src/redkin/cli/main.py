@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 
 from redkin import __version__
@@ -54,18 +55,33 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "handler", None) is None:
         parser.print_help()
         return 2
-    try:
-        return int(args.handler(args) or 0)
-    except ValueError as exc:  # user mistakes: one line, exit code 2
-        message = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
-        print(f"redkin: error: {message}", file=sys.stderr)
-        return 2
-    except BrokenPipeError:  # the reader went away (`redkin ... | head`): stop quietly, as other tools do
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error when Python flushes stdout
-        return 1
-    except OSError as exc:  # the machine, not the user: a full disk, a file removed under us; one line, exit 1
-        print(f"redkin: error: {exc}", file=sys.stderr)
-        return 1
+    # Warnings (numpy's "overflow encountered in matmul" with its source line) are held back: after a user
+    # mistake the one line of the error says what went wrong; after a run each is printed once, as one line.
+    with warnings.catch_warnings(record=True) as caught:
+        try:
+            code = int(args.handler(args) or 0)
+        except ValueError as exc:  # user mistakes: one line, exit code 2
+            message = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
+            print(f"redkin: error: {message}", file=sys.stderr)
+            return 2
+        except BrokenPipeError:  # the reader went away (`redkin ... | head`): stop quietly, as other tools do
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error when Python flushes
+            return 1
+        except OSError as exc:  # the machine, not the user: a full disk, a file removed under us; one line, exit 1
+            print(f"redkin: error: {exc}", file=sys.stderr)
+            return 1
+    _print_warnings(caught)
+    return code
+
+
+def _print_warnings(caught: Sequence[warnings.WarningMessage]) -> None:
+    """Each distinct warning of a run once, as one line on stderr."""
+    seen: set[str] = set()
+    for warning in caught:
+        text = str(warning.message).splitlines()[0] if str(warning.message) else warning.category.__name__
+        if text not in seen:
+            seen.add(text)
+            print(f"redkin: warning: {text}", file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover
