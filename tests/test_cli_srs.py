@@ -120,3 +120,60 @@ def test_ik_refuses_an_arm_that_is_not_srs_in_one_line(capsys):
     assert main(["ik", path, *POSE, "--psi", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "joints 5-7 do not meet in one point: closest distance" in err[0]
+
+
+#: A pose of the PA10 whose feasible arm angles on branch -++ form one arc through +-pi (joint 5 limits it).
+WRAPPING_Q = [1.311, -0.723, 0.12, 1.082, -1.375, 0.444, 1.477]
+
+
+def _wrapping_pose_argv() -> list[str]:
+    pose = pa10_7c().fk(np.array(WRAPPING_Q))
+    return ["--position", *map(repr, pose[:3, 3].tolist()), "--rotation", *map(repr, pose[:3, :3].ravel().tolist()),
+            "--branch", "-++"]
+
+
+@pytest.mark.parametrize("degrees", [True, False])
+def test_an_arc_through_pi_prints_as_one_arc_that_says_it_wraps(capsys, degrees):
+    """[117.16, -141.65] deg read alone looks empty or reversed: the line says the arc passes +-180 (+-pi)."""
+    unit = ["--deg"] if degrees else []
+    assert main(["arm-angles", "pa10-7c", *_wrapping_pose_argv(), *unit]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    feasible = next(line for line in lines if line.startswith("Psi (feasible):"))
+    seam = "180" if degrees else "pi"
+    assert feasible.endswith(f"(through ±{seam})") and " U " not in feasible, feasible
+    start, end = (float(v) for v in feasible.split("[")[1].split("]")[0].split(","))
+    assert start > end  # one arc, read counter-clockwise through the seam
+    ordinary = next(line for line in lines if line.startswith("Psi_2:"))
+    assert "through" not in ordinary  # the full circle [-180, 180] does not wrap
+
+
+def test_an_arc_through_pi_in_json_keeps_its_pair_and_adds_a_wraps_flag(capsys):
+    from redkin.srs import feasible_arm_angles
+
+    data = run_json(capsys, ["arm-angles", "pa10-7c", *_wrapping_pose_argv()])
+    chain = pa10_7c()
+    exact = feasible_arm_angles(chain, chain.fk(np.array(WRAPPING_Q)), "-++")
+    assert np.allclose(data["feasible"], exact.feasible.arcs) and data["feasible_wraps"] == [True]
+    assert set(data["per_joint_wraps"]) == set(data["per_joint"])
+    for joint, arcs in data["per_joint"].items():
+        assert data["per_joint_wraps"][joint] == [start > end for start, end in arcs]
+    assert data["per_joint_wraps"]["5"] == [True] and data["per_joint_wraps"]["2"] == [False]
+    assert "wraps" in data["arcs"]
+    ordinary = run_json(capsys, ["arm-angles", "pa10-7c", *POSE])
+    assert ordinary["feasible_wraps"] == [False]
+
+
+def test_printed_numbers_have_no_negative_zero(capsys):
+    """The WAM's Jacobian has entries of -1e-17: they print as 0.000000, never -0.000000."""
+    assert main(["jacobian", "barrett-wam", "30", "20", "50", "70", "40", "100", "0", "--deg"]) == 0
+    out = capsys.readouterr().out
+    assert "-0.000000" not in out and " 0.000000" in out
+    assert main(["ik", "pa10-7c", *POSE, "--psi", "0", "--all"]) == 0
+    assert "-0.000000" not in capsys.readouterr().out
+
+
+def test_weights_and_target_help_say_what_they_do(capsys):
+    with pytest.raises(SystemExit):
+        main(["arm-angles", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "shoulder joints (RS) and the wrist joints (RW)" in text and "default 0.5 0.5" in text

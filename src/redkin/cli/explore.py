@@ -4,15 +4,16 @@ from __future__ import annotations
 
 import argparse
 
-from redkin._validation import check_output_file
 from redkin.cli.common import (
     BRANCH_HELP,
+    add_force_flag,
     add_output_flags,
     add_robot_argument,
     add_target_arguments,
     angle_unit,
     angles_out,
     load_robot,
+    output_file,
     print_json,
     target_pose,
 )
@@ -27,19 +28,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_target_arguments(parser)
     parser.add_argument("--branch", default="+++", help=f"branch shown first: {BRANCH_HELP}")
     parser.add_argument("--out", required=True, metavar="FILE.html", help="the page to write")
+    add_force_flag(parser)
     add_output_flags(parser)
     parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    out = check_output_file(args.out, "--out", {".html", ".htm"})
+    out = output_file(args.out, "--out", {".html", ".htm"}, args.force)
     chain = load_robot(args)
     data = explorer_data(chain, target_pose(args), args.branch)
     out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
     feasible = {b.branch: [angles_out(arc, args.deg).tolist() for arc in b.feasible.arcs] for b in data.branches}
     if args.json:
+        wraps = {b.branch: [bool(lo > hi) for lo, hi in b.feasible.arcs] for b in data.branches}
         print_json({"robot": chain.name, "out": str(out), "units": {"feasible": angle_unit(args.deg)},
-                    "grid_points": {b.branch: len(b.psi) for b in data.branches}, "feasible": feasible})
+                    "grid_points": {b.branch: len(b.psi) for b in data.branches}, "feasible": feasible,
+                    "feasible_wraps": wraps})
     else:
         reachable = sum(bool(arcs) for arcs in feasible.values())
         print(f"wrote {out}: {chain.name}, feasible arm angles on {reachable} of 8 branches; open it in a browser")

@@ -14,8 +14,10 @@ from redkin.cli.common import (
     angle_unit,
     angles_in,
     angles_out,
+    fixed,
     joint_vector,
     load_robot,
+    plus_minus,
     print_json,
     target_pose,
 )
@@ -44,15 +46,33 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_target_arguments(angles)
     angles.add_argument("--branch", default="+++", help=BRANCH_HELP)
     angles.add_argument("--target", nargs=7, type=float, metavar="Q",
-                        help="target joint values (default: limit midpoints)")
+                        help="joint values the optimal arm angles stay nearest to (radians, or degrees with --deg; "
+                             "default: the middle of each joint's range)")
     angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5),
-                        help="[000 eq. 40] weights")
+                        help="how much the shoulder joints (RS) and the wrist joints (RW) count in the overall "
+                             "optimal arm angle, two numbers >= 0, not both 0 (default 0.5 0.5; [000 eq. 40])")
     add_output_flags(angles)
     angles.set_defaults(handler=_run_arm_angles)
 
 
 def _arcs(arc_set, degrees: bool) -> list:
+    """The arcs as ``[start, end]`` pairs, read counter-clockwise from start to end."""
     return [[float(v) for v in angles_out(arc, degrees)] for arc in arc_set.arcs]
+
+
+def _wraps(arc_set) -> list[bool]:
+    """Per arc of :func:`_arcs`: whether it passes through +-pi (then its start is larger than its end)."""
+    return [bool(lo > hi) for lo, hi in arc_set.arcs]
+
+
+def _scaled_weights(weights) -> np.ndarray:
+    """The weights divided by the larger one: the same optimum ([000 eq. 40] weighs the two objectives against
+    each other), and no overflow for weights such as 1e308.  Weights that are not finite and >= 0 pass unchanged,
+    for the library's own refusal."""
+    values = np.asarray(weights, dtype=float)
+    if np.all(np.isfinite(values)) and np.all(values >= 0) and values.max() > 0:
+        return values / values.max()
+    return values
 
 
 def run_ik(args: argparse.Namespace) -> int:
@@ -75,7 +95,7 @@ def run_ik(args: argparse.Namespace) -> int:
     else:
         unit = "deg" if args.deg else "rad"
         for s in solutions:
-            values = "  ".join(f"{v: .6f}" for v in s["q"])
+            values = "  ".join(fixed(v, 6, " ") for v in s["q"])
             note = "" if s["within_limits"] else "  (outside limits)"
             print(f"{s['branch']}  {values}  [{unit}]{note}")
     return 0
@@ -89,7 +109,7 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
     feasible = feasible_arm_angles(geometry, pose, branch)
     singular = singular_arm_angles(geometry, pose, branch)
-    optimal = optimal_arm_angles(geometry, pose, branch, target=target, weights=args.weights,
+    optimal = optimal_arm_angles(geometry, pose, branch, target=target, weights=_scaled_weights(args.weights),
                                  feasible=feasible.feasible)
     deg = args.deg
 
@@ -99,10 +119,14 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     result = {
         "robot": chain.name,
         "units": {"angles": f"{angle_unit(deg)} (every arm angle and joint value below)"},
+        "arcs": "[start, end] read counter-clockwise from start to end; the parallel *_wraps entry is true for an arc "
+                "through +-180 deg (+-pi rad), whose start is larger than its end",
         "branch": str(branch),
         "elbow": angles_out(geometry.q_of_theta(np.r_[np.zeros(3), feasible.theta4, np.zeros(3)])[3], deg),
         "per_joint": {str(j): _arcs(s, deg) for j, s in feasible.per_joint.items()},
+        "per_joint_wraps": {str(j): _wraps(s) for j, s in feasible.per_joint.items()},
         "feasible": _arcs(feasible.feasible, deg),
+        "feasible_wraps": _wraps(feasible.feasible),
         "singular": {
             "shoulder": [float(angles_out(a, deg)) for a in singular.shoulder],
             "wrist": [float(angles_out(a, deg)) for a in singular.wrist],
@@ -116,17 +140,27 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
         return 0
     unit = "deg" if deg else "rad"
     print(f"{chain.name}, branch {branch}; angles in {unit}")
-    print(f"elbow (joint 4): {result['elbow']:.6f}")
+    print(f"elbow (joint 4): {fixed(result['elbow'])}")
     for joint, arcs in result["per_joint"].items():
-        print(f"Psi_{joint}: {_format_arcs(arcs)}")
-    print(f"Psi (feasible): {_format_arcs(result['feasible'])}")
-    print(f"singular shoulder: {result['singular']['shoulder']}  wrist: {result['singular']['wrist']}")
+        print(f"Psi_{joint}: {format_arcs(arcs, deg)}")
+    print(f"Psi (feasible): {format_arcs(result['feasible'], deg)}")
+    singular = result["singular"]
+    print(f"singular shoulder: {_format_list(singular['shoulder'])}  wrist: {_format_list(singular['wrist'])}")
     for name in ("shoulder", "wrist", "overall"):
         entry = result["optimal"][name]
-        clamped = "none (empty feasible set)" if entry["feasible"] is None else f"{entry['feasible']:.6f}"
-        print(f"optimal {name}: {entry['unclamped']:.6f} -> feasible {clamped}")
+        clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
+        print(f"optimal {name}: {fixed(entry['unclamped'])} -> feasible {clamped}")
     return 0
 
 
-def _format_arcs(arcs: list) -> str:
-    return "empty" if not arcs else " U ".join(f"[{lo:.6f}, {hi:.6f}]" for lo, hi in arcs)
+def format_arcs(arcs: list, degrees: bool) -> str:
+    """Arcs ``[start, end]`` (counter-clockwise) as text; an arc through +-pi says so, in the printed unit:
+    ``[-61.589003, -99.990472] (through ±180)``."""
+    if not arcs:
+        return "empty"
+    seam = f"{plus_minus()}{'180' if degrees else 'pi'}"
+    return " U ".join(f"[{fixed(lo)}, {fixed(hi)}]" + (f" (through {seam})" if lo > hi else "") for lo, hi in arcs)
+
+
+def _format_list(values: list) -> str:
+    return "[" + ", ".join(fixed(v) for v in values) + "]"
