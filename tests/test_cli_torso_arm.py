@@ -74,3 +74,37 @@ def test_map_sizes_beyond_their_limits_exit_2_naming_the_limit(capsys):
 def test_plane_outside_the_reach_needs_an_extent(capsys):
     assert main(["torso-arm", "map", "--plane", "y=0.9", "--resolution", "10"]) == 2
     assert "outside the arm's reach" in capsys.readouterr().err
+
+
+def test_map_prints_readable_lines_and_no_blank_line(capsys):
+    """The README's fixed-(psi, phi) map at resolution 200 drew no bar yet printed a bar's closing newline: the
+    output began with a blank line (stderr) and showed `units:` and `threshold:` as Python dicts."""
+    assert main(["torso-arm", "map", "--plane", "z=0.3", "--resolution", "200", "--shoulder", "0.2", "--elbow", "0.3",
+                 "--threshold", "0.01"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    lines = captured.out.splitlines()
+    assert lines[0] == "plane: z = 0.3 m" and all(line.strip() for line in lines)
+    assert not any("{" in line or "'" in line for line in lines), lines
+    assert any(line.startswith("max: ") and line.endswith(" m^3") for line in lines)
+    assert any(line.startswith("w >= 0.01 m^3: ") and "m^2" in line for line in lines)
+
+
+def test_ik_help_states_units_and_what_arm_means(capsys):
+    for argv, phrases in ((["torso-arm", "ik", "--help"], ["shoulder angle psi", "elbow angle phi",
+                                                              "X-Y-Z fixed angles", "which arm"]),
+                          (["torso-arm", "map", "--help"], ["both: the two arms together", "fixed shoulder angle"])):
+        with pytest.raises(SystemExit):
+            main(argv)
+        text = " ".join(capsys.readouterr().out.split())
+        for phrase in phrases:
+            assert phrase in text, (argv, phrase)
+        assert text.count("radians, or degrees with --deg") >= 2
+
+
+def test_ik_text_counts_the_solutions_within_the_limits(capsys):
+    assert main(["torso-arm", "ik", "--position", "0.6", "0.4", "0.3", "--angles", "0", "90", "0", "--shoulder", "10",
+                 "--elbow", "20", "--deg"]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[0] == "status: ok, 2 of 8 solutions within the limits"
+    assert "-0.000000" not in out
