@@ -3,22 +3,39 @@
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from redkin._validation import check_output_file
+from redkin._validation import check_magnitude
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
+    UsageError,
+    add_force_flag,
     add_output_flags,
     add_robot_argument,
     angle_unit,
     angles_out,
+    format_values,
     joint_vector,
     load_robot,
+    output_file,
+    plural,
     print_json,
 )
-from redkin.velocity import METHOD_NAMES, SingularityConsistent, make_method, simulate, singularity_factorisation
+from redkin.errors import SizeLimitError
+from redkin.velocity import (
+    METHOD_NAMES,
+    SingularityConsistent,
+    TrackingResult,
+    make_method,
+    simulate,
+    singularity_factorisation,
+)
+from redkin.velocity.tracking import MAX_STEPS
+
+#: Largest entry of a commanded twist (m/s, rad/s): far beyond any arm, far below where the integration overflows.
+MAX_SPEED = 1e6
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -26,24 +43,34 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "track", help="integrate velocity IK (sc, pinv, dls, dls-adaptive) along a constant commanded twist"
     )
     add_robot_argument(track)
-    track.add_argument("--q0", nargs="+", type=float, required=True, metavar="Q", help="initial joint values")
+    track.add_argument("--q0", nargs="+", type=float, required=True, metavar="Q",
+                       help="initial joint values (radians, or degrees with --deg)")
     track.add_argument("--twist", nargs=6, type=float, required=True, metavar=("VX", "VY", "VZ", "WX", "WY", "WZ"),
                        help="commanded twist: m/s and rad/s (angular part in deg/s with --deg)")
     track.add_argument("--duration", type=float, required=True, metavar="T", help="simulated seconds")
-    track.add_argument("--method", choices=METHOD_NAMES, default="sc")
+    track.add_argument("--method", choices=METHOD_NAMES, default="sc",
+                       help="velocity IK method: sc, singularity-consistent (paper 003; passes singularities "
+                            "keeping the commanded direction, default); pinv, the pseudoinverse; dls, damped least "
+                            "squares with --damping; dls-adaptive, damping that grows as sigma_min falls below --eps")
     track.add_argument("--eps", type=float, default=0.1, metavar="D",
                        help="singular-region threshold: on |D_e| for sc, on sigma_min for dls-adaptive (default 0.1)")
     track.add_argument("--damping", type=float, default=0.05, metavar="L",
                        help="(maximum) damping for dls / dls-adaptive")
     track.add_argument("--dt", type=float, default=1e-3, help="RK4 step in seconds (default 0.001)")
     track.add_argument("--plot", metavar="PNG", help="save the six-panel figure here")
+    add_force_flag(track)
     add_output_flags(track)
+    track.add_argument("--series", action="store_true",
+                       help="with --json: also print the whole time series (every RK4 step: time, q, joint "
+                            "velocity, twists, D_e, position); without it --json prints the summary only")
     track.set_defaults(handler=_run_track)
 
 
 def _run_track(args: argparse.Namespace) -> int:
+    if args.series and not args.json:
+        raise UsageError("--series adds the time series to the --json output: add --json")
     if args.plot:
-        check_output_file(args.plot, "--plot", IMAGE_SUFFIXES)
+        output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
     chain = load_robot(args)
     q0 = joint_vector(chain, args.q0, args.deg, name="--q0 values")
     twist = np.asarray(args.twist, dtype=float)
@@ -51,6 +78,11 @@ def _run_track(args: argparse.Namespace) -> int:
         twist[3:] = np.radians(twist[3:])
     if not np.all(np.isfinite(twist)):
         raise ValueError("--twist must be finite numbers")
+    check_magnitude(twist, "--twist (m/s, rad/s)", MAX_SPEED)
+    for option, value in (("--eps", args.eps), ("--damping", args.damping)):  # the library says if not > 0
+        if np.isfinite(value):
+            check_magnitude(value, option, MAX_SPEED)
+    _check_steps(args.duration, args.dt)
     method = make_method(args.method, eps=args.eps, damping=args.damping)
     try:
         factorisation = singularity_factorisation(chain)
@@ -62,8 +94,7 @@ def _run_track(args: argparse.Namespace) -> int:
         method = replace(method, factorisation=factorisation)
     run = simulate(chain, q0, twist, args.duration, method, dt=args.dt,
                    index=None if factorisation is None else factorisation.index)
-    speed = np.linalg.norm(run.joint_velocity, axis=1)
-    crossings = None if run.index is None else int(np.count_nonzero(np.diff(np.sign(run.index)) != 0))
+    summary = tracking_summary(run)
     if args.plot:
         import matplotlib.pyplot as plt
 
@@ -72,30 +103,106 @@ def _run_track(args: argparse.Namespace) -> int:
         fig = tracking_figure(run, args.eps, title=f"{chain.name}, method {args.method}")
         fig.savefig(args.plot, dpi=100)
         plt.close(fig)
+    deg = args.deg
+    angle = angle_unit(deg)
     if args.json:
-        angle = angle_unit(args.deg)
-        print_json({
+        out = {
             "robot": chain.name, "method": args.method,
-            "units": {"time": "s", "q": angle, "joint_velocity": f"{angle}/s", "max_joint_speed": f"{angle}/s",
-                      "realised_twist": f"m/s (linear), {angle}/s (angular)",
-                      "target_twist": f"m/s (linear), {angle}/s (angular)",
-                      "position": "m", "index": "D_e, as the singularity factorisation defines it"},
-            "time": run.time, "q": angles_out(run.q, args.deg),
-            "joint_velocity": angles_out(run.joint_velocity, args.deg),
-            "realised_twist": _twist_out(run.realised, args.deg), "target_twist": _twist_out(run.target, args.deg),
-            "index": run.index, "position": run.position,
-            "max_joint_speed": float(angles_out(speed.max(), args.deg)), "crossings": crossings,
-        })
+            "units": {"time": "s", "q": angle, "max_joint_speed": f"{angle}/s", "position": "m",
+                      "twist": f"m/s (linear), {angle}/s (angular)", "final_error": f"m/s (linear), {angle}/s "
+                      "(angular)", "max_error": f"m/s (linear), {angle}/s (angular)",
+                      "singularity_index": "D_e, as the singularity factorisation defines it"},
+            "steps": len(run.time) - 1, "dt": args.dt, "duration": float(run.time[-1]),
+            "start": {"q": angles_out(run.q[0], deg), "position": run.position[0]},
+            "final": {"time": float(run.time[-1]), "q": angles_out(run.q[-1], deg), "position": run.position[-1],
+                      "commanded_twist": _twist_out(run.commanded[-1], deg),
+                      "realised_twist": _twist_out(run.realised[-1], deg)},
+            "final_error": _error_out(summary.final_error, deg), "max_error": _error_out(summary.max_error, deg),
+            "error": "|J q_dot - commanded twist|: linear and angular parts (sc keeps the commanded direction but "
+                     "may reverse or slow the motion at a singularity; dls trades accuracy for bounded speed)",
+            "max_joint_speed": float(angles_out(summary.peak_speed, deg)), "max_joint_speed_time": summary.peak_time,
+            "crossings": summary.crossings, "crossing_times": summary.crossing_times,
+            "singularity_index": None if run.index is None else {
+                "start": float(run.index[0]), "final": float(run.index[-1]),
+                "min_abs": float(np.abs(run.index).min())},
+        }
+        if args.series:
+            out["units"].update({"joint_velocity": f"{angle}/s", "realised_twist": f"m/s (linear), {angle}/s (angular)",
+                                 "target_twist": f"m/s (linear), {angle}/s (angular)",
+                                 "index": "D_e, as the singularity factorisation defines it"})
+            out.update({"time": run.time, "q": angles_out(run.q, deg),
+                        "joint_velocity": angles_out(run.joint_velocity, deg),
+                        "realised_twist": _twist_out(run.realised, deg), "target_twist": _twist_out(run.target, deg),
+                        "index": run.index, "position": run.position})
+        print_json(out)
     else:
-        print(f"{chain.name}, method {args.method}: {len(run.time) - 1} RK4 steps of {args.dt:g} s")
-        print(f"start position  {np.array2string(run.position[0], precision=4)}")
-        print(f"final position  {np.array2string(run.position[-1], precision=4)}")
-        print(f"final q         {np.array2string(angles_out(run.q[-1], args.deg), precision=4)}")
-        unit = "deg/s" if args.deg else "rad/s"
-        print(f"max ||q_dot||   {float(angles_out(speed.max(), args.deg)):.4g} {unit}")
+        print(f"{chain.name}, method {args.method}: {plural(len(run.time) - 1, 'RK4 step')} of {args.dt:g} s")
+        print(f"start position  {format_values(run.position[0], 4)} m")
+        print(f"final position  {format_values(run.position[-1], 4)} m")
+        print(f"final q         {format_values(angles_out(run.q[-1], deg), 4)} {angle}")
+        print(f"max ||q_dot||   {float(angles_out(summary.peak_speed, deg)):.4g} {angle}/s at t = "
+              f"{summary.peak_time:.4g} s")
+        final = _error_out(summary.final_error, deg)
+        print(f"final error     {final['linear']:.3g} m/s, {final['angular']:.3g} {angle}/s "
+              "(|J q_dot - commanded twist|)")
         if run.index is not None:  # crossings were counted
-            print(f"D_e from {run.index[0]:.4g} to {run.index[-1]:.4g}, sign changes: {crossings}")
+            times = ", ".join(f"{t:.4g}" for t in summary.crossing_times or [])
+            print(f"D_e from {run.index[0]:.4g} to {run.index[-1]:.4g}, sign changes: {summary.crossings}"
+                  + (f" (t = {times} s)" if times else ""))
+        if args.plot:
+            print(f"wrote {args.plot}")
     return 0
+
+
+def _check_steps(duration: float, dt: float) -> None:
+    """Refuse ``--duration / --dt`` beyond the step limit of :func:`~redkin.velocity.simulate` here, where the
+    ratio of two huge or tiny numbers (1e308 / 0.005) may be infinite; other mistakes are the library's to name."""
+    if np.isfinite(duration) and np.isfinite(dt) and duration > 0 and dt > 0:
+        steps = duration / dt
+        if not steps <= MAX_STEPS:
+            raise SizeLimitError(f"--duration / --dt gives {steps:.3g} RK4 steps; at most {MAX_STEPS} are allowed "
+                                 "(the run is kept in memory)", name="--duration / --dt", value=steps,
+                                 maximum=MAX_STEPS)
+
+
+@dataclass(frozen=True)
+class TrackingSummary:
+    """What a run did, in radians: its peak joint speed and when, its twist errors, and where D_e changed sign."""
+
+    peak_speed: float
+    peak_time: float
+    final_error: tuple[float, float]
+    max_error: tuple[float, float]
+    crossings: int | None
+    crossing_times: list[float] | None
+
+
+def tracking_summary(run: TrackingResult) -> TrackingSummary:
+    """The summary of ``run`` that ``track`` prints: ||q_dot|| at its peak, the realised twist's distance from the
+    command (linear, angular) at the end and at its largest, and the sign changes of D_e (their times
+    interpolated linearly between the steps)."""
+    speed = np.linalg.norm(run.joint_velocity, axis=1)
+    peak = int(np.argmax(speed))
+    error = run.realised - run.commanded
+    linear, angular = np.linalg.norm(error[:, :3], axis=1), np.linalg.norm(error[:, 3:], axis=1)
+    crossings = times = None
+    if run.index is not None:
+        d = np.asarray(run.index, dtype=float)
+        changes = np.flatnonzero(np.diff(np.sign(d)) != 0)
+        crossings = int(changes.size)
+        times = []
+        for k in changes:
+            step = d[k] - d[k + 1]
+            fraction = d[k] / step if step != 0 else 0.0
+            times.append(float(run.time[k] + fraction * (run.time[k + 1] - run.time[k])))
+    return TrackingSummary(peak_speed=float(speed[peak]), peak_time=float(run.time[peak]),
+                           final_error=(float(linear[-1]), float(angular[-1])),
+                           max_error=(float(linear.max()), float(angular.max())),
+                           crossings=crossings, crossing_times=times)
+
+
+def _error_out(error: tuple[float, float], degrees: bool) -> dict[str, float]:
+    return {"linear": error[0], "angular": float(angles_out(error[1], degrees))}
 
 
 def _twist_out(twists: np.ndarray, degrees: bool) -> np.ndarray:
