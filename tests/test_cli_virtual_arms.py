@@ -111,3 +111,39 @@ def test_out_creates_missing_folders(capsys, tmp_path):
     target = tmp_path / "new" / "folder" / "run.png"
     assert main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--out", str(target)]) == 0
     assert target.stat().st_size > 1000
+
+
+def test_a_goal_that_is_not_met_is_named_with_its_distance_and_why(capsys):
+    """The README example: joint 3's goal lies 3.5 cm beyond its reach with joint 1 fixed; the run ends
+    'converged' (at rest), and the output says what that means here."""
+    argv = ["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--point", "joint:3=0.5,0.6", "--fix", "1"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("planar-5: converged")
+    assert "joint:3: error 3.456e-02 m  (goal not met)" in out
+    note = out.strip().splitlines()[-1]
+    assert note.startswith("converged: the dynamics came to rest") and "goal of joint:3 not met, 3.46 cm away" in note
+    assert "out of its reach (joint 1 fixed)" in note
+    assert main(argv + ["--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [p["met"] for p in data["points"]] == [True, False] and data["all_goals_met"] is False
+    assert data["points"][1]["error_alone"] > 0.03 and data["note"] == note
+    assert data["goal_tolerance"] == 1e-3 and data["units"]["error_alone"] == "m"
+
+
+def test_goals_that_compete_are_told_apart_from_goals_out_of_reach(capsys):
+    """Joint 5's goal is 0.72 m from the end point's, one 0.4 m link away: each point reaches its goal alone, not
+    both together; the note says the weights decide (the over-constrained run of Fig. 6 ends on its step budget)."""
+    assert main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--point", "joint:5=1.1,0.2", "--max-steps",
+                 "300", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["all_goals_met"] is False and all(p["error_alone"] < 1e-3 for p in data["points"])
+    assert data["note"].startswith(data["status"] + ": ")
+    assert "goals of end (" in data["note"] and "each reaches its goal on its own" in data["note"]
+    assert "compete for the joints" in data["note"]
+
+
+def test_a_run_that_meets_its_goals_adds_no_note(capsys):
+    assert main(["virtual-arms", "planar-5", "--goal", "0.5", "0.6", "--point", "joint:3=0.3,0.4"]) == 0
+    out = capsys.readouterr().out
+    assert "not met" not in out and "converged:" not in out

@@ -7,16 +7,20 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from redkin._validation import check_count, check_output_file
+from redkin._validation import MAX_LENGTH, check_count, check_magnitude
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
     UsageError,
+    add_force_flag,
     add_output_flags,
     add_robot_argument,
     angle_unit,
     angles_out,
+    format_values,
     joint_vector,
     load_robot,
+    output_file,
+    plural,
     print_json,
 )
 from redkin.virtual_arms import (
@@ -33,6 +37,8 @@ from redkin.virtual_arms.generate import MAX_STEPS
 from redkin.virtual_arms.subsystems import ForwardModel
 
 _DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models
+#: A goal counts as met when its point ends this close to it (metres); the runs end far closer (~1e-6 m).
+GOAL_TOLERANCE = 1e-3
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -62,6 +68,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", metavar="FILE",
                         help="save a stroboscopic drawing of the run (PNG, PDF, SVG), or an animation if FILE ends "
                              "in .gif (planar arms)")
+    add_force_flag(parser)
     add_output_flags(parser)
     parser.set_defaults(handler=_run_virtual_arms)
 
@@ -70,7 +77,7 @@ def _coordinates(values, dims: int, name: str) -> np.ndarray:
     array = np.asarray(values, dtype=float)
     if array.shape != (dims,) or not np.all(np.isfinite(array)):
         raise UsageError(f"{name} needs {dims} finite coordinates for this robot, got {list(values)}")
-    return array
+    return check_magnitude(array, name, MAX_LENGTH, "m")
 
 
 def _point_goal(text: str, dims: int) -> tuple[VirtualPoint, np.ndarray]:
@@ -105,14 +112,15 @@ def _obstacle(text: str, dims: int) -> Obstacle:
         raise UsageError(f"--obstacle must be {shape} (numbers, metres), got {text!r}") from None
     if len(values) != dims + 1 or not np.all(np.isfinite(values)):
         raise UsageError(f"--obstacle must be {shape} (finite numbers, metres) for this robot, got {text!r}")
+    check_magnitude(values, f"--obstacle {text}", MAX_LENGTH, "m")
     if values[-1] <= 0.0:
         raise UsageError(f"--obstacle radius must be positive, got {values[-1]:g} in {text!r}")
     return Obstacle(np.array(values[:-1]), values[-1])
 
 
 def _units(degrees: bool) -> dict:
-    return {"q": angle_unit(degrees), "goal": "m", "error": "m", "end_error": "m", "min_clearance": "m",
-            "centre": "m", "radius": "m", "seconds": "s (wall clock)"}
+    return {"q": angle_unit(degrees), "goal": "m", "error": "m", "error_alone": "m", "goal_tolerance": "m",
+            "end_error": "m", "min_clearance": "m", "centre": "m", "radius": "m", "seconds": "s (wall clock)"}
 
 
 def _run_virtual_arms(args: argparse.Namespace) -> int:
@@ -120,7 +128,7 @@ def _run_virtual_arms(args: argparse.Namespace) -> int:
     probe = AnalyticModel(chain, [VirtualPoint.end()])
     dims = probe.dims
     if args.out:
-        check_output_file(args.out, "--out", IMAGE_SUFFIXES | {".gif"})
+        output_file(args.out, "--out", IMAGE_SUFFIXES | {".gif"}, args.force)
         if dims != 2:
             raise UsageError("--out draws planar arms only; this robot's task space is 3-D")
     points = [VirtualPoint.end()]
@@ -153,11 +161,16 @@ def _run_virtual_arms(args: argparse.Namespace) -> int:
         model, _ = learn_forward_model(chain, points, axes=probe.axes, seed=0)
     else:
         model = AnalyticModel(chain, points, probe.axes)
-    run = generate_trajectory(model, q0, np.array(goals), weights, output=output, fixed=_fixed(args.fix, chain.n),
+    fixed = _fixed(args.fix, chain.n)
+    run = generate_trajectory(model, q0, np.array(goals), weights, output=output, fixed=fixed,
                               max_steps=args.max_steps)
     # errors measured on the real chain (for a learned model the networks' view may differ)
     truth = AnalyticModel(chain, points, probe.axes).evaluate(run.final_theta)[0]
     errors = np.linalg.norm(truth - np.array(goals), axis=-1)
+    met = errors <= GOAL_TOLERANCE
+    alone = {int(k): _alone(chain, points[k], goals[k], probe.axes, run.final_theta, output, fixed, args.max_steps)
+             for k in np.flatnonzero(~met)}
+    note = _goals_note(run.status, points, errors, alone, fixed, output is not None)
     if args.out:
         _save_plot(args.out, chain, run, truth)
     q_final = angles_out(run.final_theta, args.deg)
@@ -165,16 +178,69 @@ def _run_virtual_arms(args: argparse.Namespace) -> int:
         print_json({
             "robot": chain.name, "status": run.status, "message": run.message, "model": args.model,
             "q": q_final, "angles": angle_unit(args.deg), "units": _units(args.deg),
-            "points": [{"point": p.label, "goal": g, "error": e} for p, g, e in zip(points, goals, errors)],
+            "points": [{"point": p.label, "goal": g, "error": e, "met": bool(ok), "error_alone": alone.get(k)}
+                       for k, (p, g, e, ok) in enumerate(zip(points, goals, errors, met))],
+            "goal_tolerance": GOAL_TOLERANCE, "all_goals_met": bool(met.all()), "note": note,
             "steps": run.steps, "seconds": run.seconds,
         })
         return 0
     unit = "deg" if args.deg else "rad"
-    print(f"{chain.name}: {run.status} ({run.message}), {run.steps} steps, {run.seconds:.3f} s")
-    print(f"q [{unit}]: " + " ".join(f"{v:.6f}" for v in q_final))
-    for point, error in zip(points, errors):
-        print(f"  {point.label:>12}: error {error:.3e} m")
+    print(f"{chain.name}: {run.status} ({run.message}), {plural(run.steps, 'step')}, {run.seconds:.3f} s")
+    print(f"q [{unit}]: " + format_values(q_final))
+    for point, error, ok in zip(points, errors, met):
+        print(f"  {point.label:>12}: error {error:.3e} m" + ("" if ok else "  (goal not met)"))
+    if note:
+        print(note)
+    if args.out:
+        print(f"wrote {args.out}")
     return 0
+
+
+def _alone(chain, point: VirtualPoint, goal: np.ndarray, axes, start: np.ndarray, output, fixed: list[int],
+           max_steps: int) -> float:
+    """How close ``point`` gets to ``goal`` with no other goal to share the joints with: from where the run ended,
+    the same clamped joints and limits (metres)."""
+    model = AnalyticModel(chain, [point], axes)
+    run = generate_trajectory(model, start, goal[None], output=output, fixed=fixed, max_steps=max_steps)
+    return float(np.linalg.norm(model.evaluate(run.final_theta)[0][0] - goal))
+
+
+def _goals_note(status: str, points: Sequence[VirtualPoint], errors: np.ndarray, alone: dict,
+                fixed: list[int], limits: bool) -> str | None:
+    """One line on the goals that were not met, and why, or ``None`` when every goal was met.
+
+    The status says how the dynamics stopped: ``converged`` is an equilibrium of [004 eqs. 9-13], where the
+    weighted errors cannot decrease further, and not a promise that every goal was met.  A goal is out of
+    reach when its point, alone, still ends away from it; otherwise the goals compete for the joints and the
+    weights decide the trade.
+    """
+    if not alone:
+        return None
+    held = []
+    if fixed:
+        held.append(f"{'joint' if len(fixed) == 1 else 'joints'} {','.join(str(j + 1) for j in fixed)} fixed")
+    if limits:
+        held.append("within the joint limits")
+    under = f" ({', '.join(held)})" if held else ""
+    reasons = []
+    for k, alone_error in alone.items():
+        if alone_error > GOAL_TOLERANCE:
+            reasons.append(f"goal of {points[k].label} not met, {_distance(float(errors[k]))} away: out of its "
+                           f"reach{under}, on its own it gets no closer than {_distance(alone_error)}")
+    competing = [k for k, alone_error in alone.items() if alone_error <= GOAL_TOLERANCE]
+    if competing:
+        names = " and ".join(f"{points[k].label} ({_distance(float(errors[k]))} away)" for k in competing)
+        each = "it reaches its goal" if len(competing) == 1 else "each reaches its goal"
+        reasons.append(f"goal{'s' if len(competing) > 1 else ''} of {names} not met: {each} on its own, so the "
+                       "goals compete for the joints and the weights (--weight) decide how close each point gets")
+    meaning = {"converged": "converged: the dynamics came to rest, where the weighted errors cannot decrease further",
+               "stalled": "stalled: the integrator could not go on", "max_steps": "max_steps: the step budget ran out",
+               "max_time": "max_time: the time budget ran out"}.get(status, status)
+    return f"{meaning}; " + "; ".join(reasons)
+
+
+def _distance(metres: float) -> str:
+    return f"{100 * metres:.3g} cm" if metres < 1.0 else f"{metres:.3g} m"
 
 
 def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: np.ndarray, obstacles: list,
@@ -194,10 +260,12 @@ def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: n
         })
         return 0
     unit = "deg" if args.deg else "rad"
-    print(f"{chain.name}: {run.status} ({run.message}), {run.periods} periods, {run.steps} steps, "
-          f"{run.seconds:.3f} s")
-    print(f"q [{unit}]: " + " ".join(f"{v:.6f}" for v in q_final))
+    print(f"{chain.name}: {run.status} ({run.message}), {plural(run.periods, 'period')}, "
+          f"{plural(run.steps, 'step')}, {run.seconds:.3f} s")
+    print(f"q [{unit}]: " + format_values(q_final))
     print(f"  end error {run.end_error:.3e} m, minimum clearance {run.min_clearance:.4f} m")
+    if args.out:
+        print(f"wrote {args.out}")
     return 0
 
 
