@@ -157,10 +157,36 @@ def test_cli_closed_pipe_ends_quietly():
 
     command = [sys.executable, "-m", "redkin.cli.main", "track", "barrett-wam",
                "--q0", *map(str, printed.SECTION_4_Q0_DEG), "--deg", "--twist", str(printed.SECTION_4_LINEAR_SPEED),
-               "0", "0", "0", "0", "0", "--duration", "2", "--method", "pinv", "--json"]
+               "0", "0", "0", "0", "0", "--duration", "2", "--method", "pinv", "--json", "--series"]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     assert process.stdout.read(10)
     process.stdout.close()
     error = process.stderr.read().decode()
     assert process.wait(timeout=120) == 1
     assert "Traceback" not in error and error == ""
+
+
+def test_one_joint_is_one_joint(tmp_path, capsys):
+    path = tmp_path / "one.toml"
+    path.write_text("name = 'one'\nconvention = 'dh'\n[[joint]]\na = 0.5\nalpha = 0\nd = 0\n")
+    code, out, _ = run(capsys, "robots", "--show", str(path))
+    assert code == 0 and out.startswith("one: 1 joint (dh)")
+    code, _, err = run(capsys, "fk", str(path), "0", "0")
+    assert code == 2 and "one has 1 joint, got 2 joint values" in err
+
+
+def test_robots_show_prints_no_negative_zero(capsys):
+    """Axis components of -1e-17 printed as -0.0000."""
+    for robot in ("kuka-iiwa14", "barrett-wam7", "franka-panda", "humanoid-left"):
+        code, out, _ = run(capsys, "robots", "--show", robot)
+        assert code == 0 and "-0.0000" not in out, robot
+
+
+@pytest.mark.parametrize("length", ["1e308", "-1e308", "1e7"])
+def test_a_robot_file_with_an_absurd_length_exits_2_naming_the_limit(tmp_path, capsys, length):
+    path = tmp_path / "huge.toml"
+    path.write_text(f"name = 'huge'\nconvention = 'dh'\n[[joint]]\na = {length}\nalpha = 0\nd = 0\n")
+    for argv in (["fk", str(path), "0"], ["robots", "--show", str(path)]):
+        code, out, err = run(capsys, *argv)
+        assert code == 2 and len(err.strip().splitlines()) == 1, err
+        assert "at most 1e+06 m" in err and "Warning" not in err and out == ""

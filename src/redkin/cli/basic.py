@@ -14,11 +14,14 @@ from redkin.cli.common import (
     angle_unit,
     angles_out,
     format_matrix,
+    format_values,
     joint_vector,
+    load_chain,
     load_robot,
+    plural,
     print_json,
 )
-from redkin.models import MODELS, get_robot
+from redkin.models import MODELS
 from redkin.srs import arm_angle_class
 
 
@@ -48,7 +51,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _run_robots(args: argparse.Namespace) -> int:
     if args.show is not None:
-        return _show_robot(get_robot(args.show, args.base, args.tip), args)
+        return _show_robot(load_chain(args.show, args.base, args.tip), args)
     if args.base is not None or args.tip is not None:
         raise ValueError("--base and --tip go with --show ROBOT")
     entries: list[dict[str, Any]] = []
@@ -70,7 +73,7 @@ def _run_robots(args: argparse.Namespace) -> int:
     else:
         width = max(len(e["name"]) for e in entries)
         for e in entries:
-            print(f"{e['name']:<{width}}  {e['joints']} joints  {e['class']:<19}  {e['source']}")
+            print(f"{e['name']:<{width}}  {plural(e['joints'], 'joint')}  {e['class']:<19}  {e['source']}")
     return 0
 
 
@@ -93,14 +96,14 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
         })
         return 0
     unit = angle_unit(args.deg)
-    print(f"{chain.name}: {chain.n} joints ({chain.convention}), {chain.source}")
+    print(f"{chain.name}: {plural(chain.n, 'joint')} ({chain.convention}), {chain.source}")
     print(f"class: {kind} ({reason})")
     print(f"joints at q = 0 (point on the axis in m, axis turning with +q, limits in {unit}):")
     width = max(len(name) for name in chain.joint_names)
     for k, name in enumerate(chain.joint_names):
         limits = f"[{lower[k]:.6g}, {upper[k]:.6g}]" if chain.limited[k] else "unlimited"
-        point = " ".join(f"{v: .4f}" for v in points[k])
-        axis = " ".join(f"{v: .4f}" for v in directions[k])
+        point = format_values(points[k], 4)
+        axis = format_values(directions[k], 4)
         print(f"  {k + 1}  {name:<{width}}  point {point}  axis {axis}  {limits}")
     print("base:")
     print(format_matrix(chain.base))

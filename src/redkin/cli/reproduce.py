@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from redkin import reproduce
+from redkin.cli.common import add_force_flag, output_directory, plural
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -17,6 +18,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help=f"sections to run (default all): {', '.join(reproduce.section_keys())}")
     parser.add_argument("--out", default="report", metavar="DIR", help="output directory (default: report)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_force_flag(parser)
     parser.set_defaults(handler=run)
 
 
@@ -33,7 +35,16 @@ def _progress(key: str, fraction: float, message: str) -> None:
     sys.stderr.flush()
 
 
+#: The files of a report that mark a folder as holding one (``--force`` replaces them).
+REPORT_FILES = ("index.html", "summary.json")
+
+
 def run(args: argparse.Namespace) -> int:
+    known = reproduce.section_keys()
+    unknown = [key for key in args.papers if key not in known]
+    if unknown:  # before the folder is looked at: a misspelt section is the first thing to say
+        raise ValueError(f"unknown section {unknown[0]!r}: expected one of {', '.join(known)}")
+    output_directory(args.out, "--out", REPORT_FILES, args.force)
     writers = reproduce.run(args.out, args.papers, progress=None if args.quiet else _progress)
     differing = sum(
         1
@@ -42,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
         for ok in table.get("agreement", [])
         if ok is False
     )
-    print(f"wrote {args.out}/index.html and {args.out}/summary.json ({len(writers)} sections, "
-          f"{differing} paper values that we do not reproduce, each explained in the report)")
+    print(f"wrote {args.out}/index.html and {args.out}/summary.json ({plural(len(writers), 'section')}, "
+          f"{plural(differing, 'paper value')} that we do not reproduce"
+          + {0: ")", 1: ", explained in the report)"}.get(differing, ", each explained in the report)"))
     return 0

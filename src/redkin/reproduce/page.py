@@ -126,12 +126,18 @@ def _summary_html(sections: Sequence[SectionWriter]) -> str:
                else '<p id="differs">Every printed value is reproduced.</p>')
     return (
         '<section id="summary"><h2>Summary: what reproduces</h2>'
-        f"<p>Of the values the papers print, <strong>{totals['agrees']} agree</strong> with ours and "
-        f"<strong>{totals['differs']} differ</strong>, each for a reason given below; {totals['no_value']} "
-        f"{'row' if totals['no_value'] == 1 else 'rows'} of ours {'has' if totals['no_value'] == 1 else 'have'} no "
-        "printed value to compare.</p>"
+        f"<p>Of the values the papers print, <strong>{totals['agrees']} {_verb(totals['agrees'], 'agree')}</strong> "
+        f"with ours and <strong>{totals['differs']} {_verb(totals['differs'], 'differ')}</strong>"
+        + {0: "", 1: ", for a reason given below"}.get(totals["differs"], ", each for a reason given below")
+        + f"; {totals['no_value']} {'row' if totals['no_value'] == 1 else 'rows'} of ours "
+        f"{'has' if totals['no_value'] == 1 else 'have'} no printed value to compare.</p>"
         f"{counts_table}<h3 id=\"summary-differs\">What does not reproduce, and why</h3>{differs}</section>"
     )
+
+
+def _verb(count: int, verb: str) -> str:
+    """The verb agreeing with ``count`` values: ``1 agrees``, ``2 agree``."""
+    return verb + "s" if count == 1 else verb
 
 
 def _short(title: str) -> str:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import struct
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -63,8 +64,8 @@ class SectionWriter:
         self.blocks.append(("heading", title))
 
     def text(self, paragraph: str) -> None:
-        """A paragraph of plain text."""
-        self.blocks.append(("text", paragraph))
+        """A paragraph of plain text (a number printed as ``-0.0`` reads ``0.0``)."""
+        self.blocks.append(("text", no_negative_zero(paragraph)))
 
     def table(self, name: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], caption: str = "",
               detail: str = "") -> None:
@@ -148,6 +149,16 @@ def write_report(out_dir: Path, sections: Sequence[SectionWriter], title: str, b
     (out_dir / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=False), encoding="utf-8")
 
 
+#: A number that is a negative zero as printed (``-0``, ``-0.0``, ``-0.000``), not part of a longer number or a
+#: difference (``x-0.5``).
+_NEGATIVE_ZERO = re.compile(r"(?<![\w.)\]])-(0(?:\.0+)?)(?![\d.eE])")
+
+
+def no_negative_zero(text: str) -> str:
+    """``text`` with every printed negative zero (``[18.6, -0.0]``) written as zero (``[18.6, 0.0]``)."""
+    return _NEGATIVE_ZERO.sub(r"\1", text)
+
+
 def _png_size(path: Path) -> tuple[int, int]:
     """Width and height in pixels of a PNG file, from its header."""
     with open(path, "rb") as handle:
@@ -159,8 +170,8 @@ def _jsonable(value: Any) -> Any:
     """Plain JSON values: numpy scalars to Python, non-finite floats to strings."""
     if hasattr(value, "item") and callable(value.item) and getattr(value, "ndim", 1) == 0:
         value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return str(value)
+    if isinstance(value, float):
+        return value + 0.0 if math.isfinite(value) else str(value)  # + 0.0: no -0.0
     if isinstance(value, (list, tuple)):
         return [_jsonable(v) for v in value]
     return value
