@@ -1,31 +1,97 @@
 """The report and the explorer as a person sees them: headless Chromium, driven by Playwright.
 
 Playwright is launched on Debian's ``/usr/bin/chromium`` (``.ci/run`` installs
-it); it never downloads a browser of its own.  Without either, the tests skip
-and say why.  The report is the session's full report (the ``full_report`` fixture of tests/conftest.py).
-Every test here is marked slow: the first builds the whole report.
+it); it never downloads a browser of its own.  The report is the session's full
+report (the ``full_report`` fixture of tests/conftest.py).  Every browser test
+here is marked slow: the first builds the whole report.
+
+Without Chromium or Playwright the browser tests skip locally, with the reason
+and the install line (also shown as a warning, which ``-q`` prints); under
+``CI=true`` they fail instead, so that a broken install step cannot pass as
+"2 skipped".  :func:`browser_decision` makes that choice and is tested below.
 """
 
 from __future__ import annotations
 
+import importlib
 import json
+import os
 import subprocess
 import sys
+import warnings
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import pytest
 
 CHROMIUM = Path("/usr/bin/chromium")
 WIDTHS = (1400, 420)  # a desktop and a phone
-pytestmark = pytest.mark.slow
 
-sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed (pip install -e '.[test]')")
-if not CHROMIUM.exists():
-    pytest.skip(f"no Chromium at {CHROMIUM} (apt-get install chromium)", allow_module_level=True)
+
+def missing_browser(chromium: Path = CHROMIUM, import_module: Callable = importlib.import_module) -> str | None:
+    """Why the browser tests cannot run here, with the line that installs what is missing; ``None`` if they can."""
+    if not (chromium.is_file() and os.access(chromium, os.X_OK)):
+        return f"Chromium not found at {chromium}: apt-get install chromium (Debian's package; .ci/run installs it)"
+    try:
+        import_module("playwright.sync_api")
+    except ImportError:
+        return "playwright is not installed: pip install -e '.[test]'"
+    return None
+
+
+def browser_decision(environ: Mapping[str, str], missing: str | None) -> str:
+    """``"run"`` when nothing is missing; else ``"fail"`` under CI (``CI`` set to true, 1 or yes, as CI services
+    set it) and ``"skip"`` on a developer's machine."""
+    if missing is None:
+        return "run"
+    return "fail" if environ.get("CI", "").strip().lower() in ("true", "1", "yes") else "skip"
+
+
+MISSING = missing_browser()
+DECISION = browser_decision(os.environ, MISSING)
+if DECISION == "skip":
+    warnings.warn(f"the browser tests of {Path(__file__).name} are skipped: {MISSING}", pytest.PytestWarning,
+                  stacklevel=1)
+#: Every browser test: slow, and skipped (locally) or failed (CI) with the reason when the browser is missing.
+browser_test = pytest.mark.skipif(DECISION == "skip", reason=str(MISSING))
+
+
+def test_browser_decision_fails_in_ci_and_skips_locally_with_the_install_line(tmp_path):
+    missing = missing_browser(chromium=tmp_path / "chromium")
+    assert missing == (f"Chromium not found at {tmp_path / 'chromium'}: apt-get install chromium (Debian's package; "
+                       ".ci/run installs it)")
+    for environ, expected in (({"CI": "true"}, "fail"), ({"CI": "1"}, "fail"), ({"CI": "True"}, "fail"),
+                              ({}, "skip"), ({"CI": "false"}, "skip"), ({"CI": ""}, "skip")):
+        assert browser_decision(environ, missing) == expected, environ
+    assert browser_decision({"CI": "true"}, None) == "run" and browser_decision({}, None) == "run"
+
+
+def test_missing_browser_names_playwright_when_chromium_is_there(tmp_path, monkeypatch):
+    chromium = tmp_path / "chromium"
+    chromium.write_text("#!/bin/sh\n")
+    chromium.chmod(0o755)
+
+    def no_playwright(name):
+        raise ModuleNotFoundError(f"No module named {name!r}")
+
+    assert missing_browser(chromium, no_playwright) == "playwright is not installed: pip install -e '.[test]'"
+    assert missing_browser(chromium, lambda name: None) is None
+    monkeypatch.setenv("CI", "true")
+    assert browser_decision(os.environ, missing_browser(tmp_path / "none", lambda name: None)) == "fail"
+
+
+@browser_test
+def test_the_browser_is_there_when_ci_needs_it():
+    """Under CI=true a missing Chromium or Playwright fails here, by name, besides each browser test's error."""
+    if DECISION == "fail":
+        pytest.fail(f"the browser tests cannot run under CI: {MISSING}", pytrace=False)
 
 
 @pytest.fixture(scope="module")
 def browser():
+    if DECISION == "fail":
+        pytest.fail(f"the browser tests cannot run under CI: {MISSING}", pytrace=False)
+    sync_api = importlib.import_module("playwright.sync_api")
     with sync_api.sync_playwright() as playwright:
         chromium = playwright.chromium.launch(executable_path=str(CHROMIUM))
         yield chromium
@@ -47,6 +113,8 @@ class Page:
         return self.page.evaluate("document.documentElement.scrollWidth - window.innerWidth")
 
 
+@browser_test
+@pytest.mark.slow
 @pytest.mark.parametrize("width", WIDTHS)
 def test_report_reads_at_desktop_and_phone_width(browser, width, full_report):
     report = full_report
@@ -86,6 +154,8 @@ def _explorer_state(page) -> tuple[str, list[str]]:
             page.evaluate("() => Array.from(document.querySelectorAll('#joints td.value')).map(c => c.textContent)"))
 
 
+@browser_test
+@pytest.mark.slow
 @pytest.mark.parametrize("width", WIDTHS)
 def test_report_explorer_slider_moves_the_arm(browser, width, full_report):
     view = Page(browser, (full_report / "000_explore_6_1.html").as_uri(), width)
@@ -112,6 +182,8 @@ def test_report_explorer_slider_moves_the_arm(browser, width, full_report):
     assert view.sideways() <= 0 and not view.errors
 
 
+@browser_test
+@pytest.mark.slow
 def test_cli_explorer_of_the_iiwa_switches_branches(browser, tmp_path):
     out = tmp_path / "iiwa.html"
     subprocess.run([sys.executable, "-m", "redkin.cli.main", "explore", "kuka-iiwa14", "--position", "0.45", "-0.2",
