@@ -266,3 +266,18 @@ def test_large_batches_equal_single_calls(name):
         np.testing.assert_allclose(jac[k], chain.jacobian(q[k]), atol=1e-14)
         np.testing.assert_allclose(directions[k], chain.joint_axes(q[k])[0], atol=1e-14)
         np.testing.assert_allclose(points[k], chain.joint_axes(q[k])[1], atol=1e-14)
+
+
+@pytest.mark.parametrize("key", ["a", "d", "base", "tool"])
+def test_absurd_lengths_are_refused_before_they_overflow(key):
+    """A description with a 1e308 m link (finite, so no NaN check catches it) is refused with the limit named."""
+    values = {"a": [0.1, 0.2], "alpha": [0.0, 0.0], "d": [0.0, 0.0]}
+    if key in ("a", "d"):
+        values[key] = [0.1, 1e308]
+        arguments = values
+    else:
+        far = np.eye(4)
+        far[0, 3] = 1e308
+        arguments = {**values, key: far}
+    with pytest.raises(ValueError, match="at most 1e\\+06 m"):
+        SerialChain(**arguments)

@@ -104,3 +104,12 @@ def test_velocity_simulate_bad_input(wam):
         simulate(wam, Q0, TWIST, 0.0, Pseudoinverse())
     with pytest.raises(ValueError, match="twist"):
         simulate(wam, Q0, TWIST[:5], 1.0, Pseudoinverse())
+
+
+@pytest.mark.parametrize("duration, dt", [(1e308, 0.005), (1e6, 1e-300)])
+def test_a_step_count_past_any_size_is_refused_before_it_overflows(wam, duration, dt):
+    """duration / dt overflows a float-to-int conversion (1e308 / 0.005 = inf): a SizeLimitError, not OverflowError."""
+    from redkin.errors import SizeLimitError
+
+    with pytest.raises(SizeLimitError, match="RK4 steps"):
+        simulate(wam, Q0, TWIST, duration, Pseudoinverse(), dt=dt)

@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike
 
 from redkin import _chain_kernels as kernels
 from redkin._compiled import run_batch
-from redkin._validation import as_float_array, check_finite, check_pose, check_vectors
+from redkin._validation import MAX_LENGTH, as_float_array, check_finite, check_magnitude, check_pose, check_vectors
 from redkin.circle import TWO_PI
 
 Convention = Literal["dh", "mdh"]
@@ -131,6 +131,8 @@ class SerialChain:
         }
         for key in ("a", "alpha", "d", "offset", "sign"):
             check_finite(values[key], key)
+        for key in ("a", "d"):  # finite but absurd lengths (1e308 m) would overflow in the products
+            check_magnitude(values[key], key, MAX_LENGTH, "m")
         if not np.all(np.isin(values["sign"], (-1.0, 1.0))):
             raise ValueError(f"sign entries must be +1 or -1, got {values['sign'].tolist()}")
         if np.any(np.isnan(values["lower"])) or np.any(np.isnan(values["upper"])):
@@ -145,6 +147,7 @@ class SerialChain:
             matrix = np.eye(4) if given is None else check_pose(given, key)
             if matrix.shape != (4, 4):
                 raise ValueError(f"{key} must have shape (4, 4), got {matrix.shape}")
+            check_magnitude(matrix[:3, 3], f"{key} translation", MAX_LENGTH, "m")
             matrix = matrix.copy()
             matrix.setflags(write=False)
             values[key] = matrix

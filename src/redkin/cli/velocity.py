@@ -23,7 +23,6 @@ from redkin.cli.common import (
     plural,
     print_json,
 )
-from redkin.errors import SizeLimitError
 from redkin.velocity import (
     METHOD_NAMES,
     SingularityConsistent,
@@ -32,7 +31,6 @@ from redkin.velocity import (
     simulate,
     singularity_factorisation,
 )
-from redkin.velocity.tracking import MAX_STEPS
 
 #: Largest entry of a commanded twist (m/s, rad/s): far beyond any arm, far below where the integration overflows.
 MAX_SPEED = 1e6
@@ -82,7 +80,6 @@ def _run_track(args: argparse.Namespace) -> int:
     for option, value in (("--eps", args.eps), ("--damping", args.damping)):  # the library says if not > 0
         if np.isfinite(value):
             check_magnitude(value, option, MAX_SPEED)
-    _check_steps(args.duration, args.dt)
     method = make_method(args.method, eps=args.eps, damping=args.damping)
     try:
         factorisation = singularity_factorisation(chain)
@@ -152,17 +149,6 @@ def _run_track(args: argparse.Namespace) -> int:
         if args.plot:
             print(f"wrote {args.plot}")
     return 0
-
-
-def _check_steps(duration: float, dt: float) -> None:
-    """Refuse ``--duration / --dt`` beyond the step limit of :func:`~redkin.velocity.simulate` here, where the
-    ratio of two huge or tiny numbers (1e308 / 0.005) may be infinite; other mistakes are the library's to name."""
-    if np.isfinite(duration) and np.isfinite(dt) and duration > 0 and dt > 0:
-        steps = duration / dt
-        if not steps <= MAX_STEPS:
-            raise SizeLimitError(f"--duration / --dt gives {steps:.3g} RK4 steps; at most {MAX_STEPS} are allowed "
-                                 "(the run is kept in memory)", name="--duration / --dt", value=steps,
-                                 maximum=MAX_STEPS)
 
 
 @dataclass(frozen=True)

@@ -97,10 +97,11 @@ def simulate(
     if step_size > total:
         raise ValueError(f"dt must be at most duration ({total:g} s), got {step_size:g}")
     k_gain = check_nonnegative(gain, "gain")
-    steps = max(1, int(round(total / step_size)))
-    if steps > MAX_STEPS:
-        raise SizeLimitError(f"duration / dt gives {steps} RK4 steps; at most {MAX_STEPS} are allowed "
-                             "(the run is kept in memory)", name="duration / dt", value=steps, maximum=MAX_STEPS)
+    ratio = total / step_size  # inf for duration 1e308 and dt 1e-3: compared before it becomes a count
+    if not ratio <= MAX_STEPS + 0.5:
+        raise SizeLimitError(f"duration / dt gives {ratio:.3g} RK4 steps; at most {MAX_STEPS} are allowed "
+                             "(the run is kept in memory)", name="duration / dt", value=ratio, maximum=MAX_STEPS)
+    steps = max(1, int(round(ratio)))
     if callable(twist):
         command = twist
     else:
