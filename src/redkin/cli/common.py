@@ -102,8 +102,8 @@ def load_chain(robot: str, base: str | None = None, tip: str | None = None) -> S
     """The chain of a model name, robot file or URDF, refused with one line if its numbers are absurd.
 
     A file may hold any finite number; a length of 1e308 m overflows the first product of the loader (numpy's
-    warnings) or of every command after it.  Overflow while loading, or a length beyond :data:`MAX_LENGTH`
-    (``a``, ``d``, base and tool translations), is a ValueError that names the file.
+    warnings) or of every command after it.  Overflow while loading is a ValueError that names the file; a length
+    beyond :data:`MAX_LENGTH` (``a``, ``d``, base and tool translations) is refused by the chain itself.
     """
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", RuntimeWarning)
@@ -113,9 +113,6 @@ def load_chain(robot: str, base: str | None = None, tip: str | None = None) -> S
             _refuse_overflow(robot, caught)
             raise
     _refuse_overflow(robot, caught)
-    for values, what in ((chain.a, "a"), (chain.d, "d"), (chain.base[:3, 3], "base translation"),
-                         (chain.tool[:3, 3], "tool translation")):
-        check_magnitude(values, f"robot {robot!r}: {what}", MAX_LENGTH, "m")
     return chain
 
 
