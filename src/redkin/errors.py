@@ -89,3 +89,28 @@ class SizeLimitError(RedkinError):
         self.name = name
         self.value = value
         self.maximum = maximum
+
+
+class MapStoreError(RedkinError):
+    """A workspace map's store that cannot take this run now: another run holds it, or its disk is full.
+
+    Nothing computed is lost either way: the chunks complete so far stay in
+    the store, and the same call resumes it once the other run has ended or
+    space is free (:mod:`redkin.workspace.store`).
+
+    Attributes
+    ----------
+    path : str
+        The store (or the file being written).
+    reason : str
+        ``"in use"`` (another run holds the store) or ``"no space"`` (a full disk or quota).
+    """
+
+    def __init__(self, message: str, path: str = "", reason: str = "") -> None:
+        super().__init__(message)
+        self.path = path
+        self.reason = reason
+
+    def __reduce__(self) -> tuple:
+        """Pickle with the attributes (errors cross processes pickled: multiprocessing, dask.distributed)."""
+        return type(self), (str(self), self.path, self.reason)
