@@ -6,10 +6,10 @@ the redundancy, so redkin maps its best value over theta_1 x phi samples
 within the limits of joints 1-5 (:func:`redkin.torso_arm.maps.best_over_redundancy`).
 This is the same map on a 3-D box, chunk by chunk on Dask into Zarr, on
 the machinery of :func:`redkin.workspace.workspace_map` (the grid, the
-local scheduler or a ``distributed.Client``, resuming by the per-chunk
-completion markers).  A plane of it equals the 2-D map
-(:func:`~redkin.torso_arm.maps.best_manipulability_map`) on that plane,
-value for value.
+local scheduler or a ``distributed.Client``, the store's lock, whole-file
+writes, and resuming by the per-chunk completion markers).  A plane of it
+equals the 2-D map (:func:`~redkin.torso_arm.maps.best_manipulability_map`)
+on that plane, value for value.
 
 Layout of the store (zarr format 2, ``xarray.open_zarr``):
 
@@ -54,7 +54,7 @@ from redkin.torso_arm.maps import (
 from redkin.workspace._optional import require
 from redkin.workspace.grid import MAX_RESOLUTION, WorkspaceGrid, workspace_grid
 from redkin.workspace.run import Progress, match_worker_threads, prepare_store, restore_mmap_threshold, run_chunks
-from redkin.workspace.store import arm_description
+from redkin.workspace.store import arm_description, durable_store, hold_store, write_chunk
 
 #: The variables of a humanoid map, their units and what they hold.
 VARIABLES = {
@@ -139,24 +139,19 @@ def _create_store(path: Path, chain: SerialChain, arm: TorsoArm, grid: Workspace
     }
     dataset = xr.Dataset({name: xr.Variable(*spec) for name, spec in data.items()},
                          coords={name: xr.Variable(*spec) for name, spec in coords.items()}, attrs=attrs)
-    dataset.to_zarr(path, mode="w", compute=False, zarr_format=2)
+    dataset.to_zarr(durable_store(path), mode="w", compute=False, zarr_format=2)
 
 
 def _compute_humanoid_chunk(arm: TorsoArm, grid: WorkspaceGrid, samples: tuple[int, int], path: Path,
                            index: tuple[int, int, int]) -> tuple[int, int, int]:
-    """Compute chunk ``index`` of a humanoid map, write it, then mark it complete (one Dask task).
+    """Compute chunk ``index`` of a humanoid map, write it, then mark it complete, each file whole (one Dask task).
 
     On a dask.distributed worker it first fits the worker as every map's chunk task does
     (:func:`~redkin.workspace.run.match_worker_threads`, :func:`~redkin.workspace.run.restore_mmap_threshold`).
     """
     restore_mmap_threshold()
     match_worker_threads()
-    zarr = require("zarr")
-    values = _humanoid_measures(arm, grid.chunk_positions(index), samples)
-    where = grid.chunk_slices(index)
-    for name, array in values.items():
-        zarr.open_array(path, path=name, mode="r+")[where] = array
-    zarr.open_array(path, path="chunk_complete", mode="r+")[index] = True
+    write_chunk(path, grid, index, _humanoid_measures(arm, grid.chunk_positions(index), samples))
     return index
 
 
@@ -237,6 +232,9 @@ def humanoid_map(
     ValueError
         For a chain that is not the humanoid's arm, a malformed size, extent or sample count,
         or a path that holds something else.
+    MapStoreError
+        A ``ValueError`` too: another run holds the store (``reason="in use"``), or the disk filled
+        (``reason="no space"``; the chunks complete so far are kept, and the same call resumes).
     ImportError
         Without the ``workspace`` extra, in one line saying how to install it.
     """
@@ -250,9 +248,10 @@ def humanoid_map(
     samples = (int(samples[0]), int(samples[1]))
     store = Path(path)
     parameters = _parameters(chain, grid, samples)
-    prepare_store(store, parameters, lambda folder: _create_store(folder, chain, arm, grid, samples), "samples")
-    computed = run_chunks(_compute_humanoid_chunk, (arm, grid, samples, store.absolute()), store, grid,
-                          "humanoid-chunk", parameters, client, progress)
+    with hold_store(store):
+        prepare_store(store, parameters, lambda folder: _create_store(folder, chain, arm, grid, samples), "samples")
+        computed = run_chunks(_compute_humanoid_chunk, (arm, grid, samples, store.absolute()), store, grid,
+                              "humanoid-chunk", parameters, client, progress)
     return _summary(store, grid, samples, computed, time.perf_counter() - started)
 
 

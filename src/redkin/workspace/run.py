@@ -3,17 +3,22 @@
 Each chunk (a cube of grid positions with every orientation and branch) is
 one task of a Dask graph: it computes its measures
 (:func:`redkin.workspace.measure.feasible_measures`) and indices, writes them
-into the store and then marks the chunk complete.  The same graph runs on
+into the store and then marks the chunk complete, each file whole or not at
+all (:func:`redkin.workspace.store.write_chunk`).  The same graph runs on
 Dask's local scheduler (the default: threads of this process, nothing to
 start) or, given a ``distributed.Client``, on a cluster whose workers can
 write the store's path (the same machine or a shared file system).  A run
-on a store that already holds the same map computes only the chunks not
-marked complete; a task lost with a dying worker is rescheduled by Dask,
-and writing a chunk twice writes the same values.
+holds the store for itself (:func:`redkin.workspace.store.hold_store`; a
+second run is refused) and, on a store that already holds the same map,
+computes only the chunks not marked complete; a task lost with a dying
+worker is rescheduled by Dask, and writing a chunk twice writes the same
+values.  A full disk stops the run with one line
+(:class:`redkin.errors.MapStoreError`), keeping every chunk complete so far.
 """
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import functools
 import os
@@ -21,6 +26,7 @@ import platform
 import shutil
 import time
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -37,12 +43,23 @@ from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid, workspace_grid
 from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index
 from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
-from redkin.workspace.store import completed_chunks, create_store, map_parameters, stored_parameters, write_chunk
+from redkin.workspace.store import (
+    completed_chunks,
+    create_store,
+    hold_store,
+    map_parameters,
+    no_space_errors,
+    remove_partial_files,
+    stored_parameters,
+    write_chunk,
+)
 
 #: glibc's ``mallopt`` parameter number of the mmap threshold, and the threshold's dynamic maximum on 64-bit Linux.
 M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 32 * 1024 * 1024
 #: Grid points per axis of one Dask task of the summary (a map of 1000^3 positions reads in 512 of them).
 _SUMMARY_SPAN = 128
+#: Seconds a failed run on a cluster waits for the chunks its workers hold to be written.
+_DRAIN_SECONDS = 300
 #: ``progress(done, total)`` after each chunk of a run (``total`` counts the chunks this run computes).
 Progress = Callable[[int, int], None]
 
@@ -146,7 +163,8 @@ def _compute_chunk(geometry: SRSGeometry, grid: WorkspaceGrid, rotations: np.nda
     positions = grid.chunk_positions(index)
     shape = positions.shape[:3] + (len(rotations), len(BRANCHES))
     measure = feasible_measures(geometry, positions.reshape(-1, 3), rotations).reshape(shape)
-    write_chunk(path, grid, index, measure, reachability_index(measure), redundancy_index(measure))
+    write_chunk(path, grid, index, {"measure": measure, "reachability": reachability_index(measure),
+                                    "redundancy": redundancy_index(measure)})
     return index
 
 
@@ -185,6 +203,10 @@ def _chunk_tasks(function: Callable, shared: tuple, indices: list[tuple[int, int
 def prepare_store(path: Path, parameters: str, create: Callable[[Path], None], varying: str) -> None:
     """Create the store whole (or not at all), or check that the one at ``path`` holds this map (to resume it).
 
+    Call it holding the store (:func:`~redkin.workspace.store.hold_store`): no other run then creates,
+    resumes or writes it, so a creation an earlier run left unfinished (``NAME.creating``) and the
+    ``*.partial`` files a killed writer left are garbage, and are removed here.
+
     Parameters
     ----------
     path : Path
@@ -196,6 +218,13 @@ def prepare_store(path: Path, parameters: str, create: Callable[[Path], None], v
     varying : str
         The map's own parameter besides arm, extent, resolution and chunk, named in the error
         (``"orientations"``, ``"samples"``).
+
+    Raises
+    ------
+    ValueError
+        A path that holds something else, or a map with other parameters.
+    MapStoreError
+        ``reason="no space"``: the disk filled while the store was created (nothing of it is left).
     """
     stored = stored_parameters(path)
     if stored is None and path.exists():
@@ -203,11 +232,18 @@ def prepare_store(path: Path, parameters: str, create: Callable[[Path], None], v
     if stored is None:
         creating = path.with_name(path.name + ".creating")  # a store appears whole or not at all
         shutil.rmtree(creating, ignore_errors=True)
-        create(creating)
+        try:
+            with no_space_errors(path, "nothing was written; free space and run again"):
+                create(creating)
+        except BaseException:
+            shutil.rmtree(creating, ignore_errors=True)
+            raise
         creating.rename(path)
     elif stored != parameters:
         raise ValueError(f"{str(path)!r} holds a map with other parameters (arm, extent, resolution, "
                          f"{varying} or chunk); choose another path or remove it")
+    else:
+        remove_partial_files(path)
 
 
 def run_chunks(function: Callable, shared: tuple, path: Path, grid: WorkspaceGrid, name: str, parameters: str,
@@ -217,21 +253,37 @@ def run_chunks(function: Callable, shared: tuple, path: Path, grid: WorkspaceGri
     ``function(*shared, index)`` computes, writes and marks chunk ``index``; the tasks' keys are
     ``name`` with a token of the store and ``parameters``, so a resumed map reuses none of another map's.
     ``client`` (a ``distributed.Client``) runs them on a cluster, ``None`` on Dask's local threaded scheduler.
+    Call it holding the store (:func:`~redkin.workspace.store.hold_store`).
+
+    Raises
+    ------
+    MapStoreError
+        ``reason="no space"``: the disk filled; the chunks complete so far are kept, and a run with space resumes.
     """
     dask = require("dask")
     complete = completed_chunks(path)
     missing = [index for index in grid.chunk_indices() if not complete[index]]
     token = dask.base.tokenize(str(path.resolve()), parameters)
     tasks = _chunk_tasks(function, shared, missing, f"{name}-{token}")
-    if client is None:
-        _run_local(tasks, progress)
-    else:
-        _run_distributed(tasks, client, progress)
+
+    def state() -> str:
+        return (f"{int(completed_chunks(path).sum())} of {complete.size} chunks are complete and kept; "
+                "free space and run again to resume")
+
+    with no_space_errors(path, state):
+        if client is None:
+            _run_local(tasks, progress)
+        else:
+            _run_distributed(tasks, client, progress)
     return len(missing)
 
 
 def _run_local(tasks: list, progress: Progress | None) -> None:
-    """Compute ``tasks`` on Dask's local threaded scheduler, reporting each finished chunk."""
+    """Compute ``tasks`` on Dask's local threaded scheduler, reporting each finished chunk.
+
+    On an error (or Ctrl-C) the chunks under way are written to the end before it is raised, so nothing
+    computed is lost and no thread of this run still writes the store once it returns.
+    """
     dask = require("dask")
     from dask.callbacks import Callback
 
@@ -244,12 +296,20 @@ def _run_local(tasks: list, progress: Progress | None) -> None:
                 done[0] += 1
                 progress(done[0], len(keys))
 
-    with ChunkProgress():
-        dask.compute(*tasks, scheduler="threads")
+    with ChunkProgress(), ThreadPoolExecutor(os.cpu_count() or 1, thread_name_prefix="redkin-map") as pool:
+        try:
+            dask.compute(*tasks, scheduler="threads", pool=pool)
+        except BaseException:
+            pool.shutdown(wait=True, cancel_futures=True)
+            raise
 
 
 def _run_distributed(tasks: list, client: Any, progress: Progress | None) -> None:
-    """Compute ``tasks`` on a dask.distributed cluster, reporting each finished chunk."""
+    """Compute ``tasks`` on a dask.distributed cluster, reporting each finished chunk.
+
+    On an error (or Ctrl-C) the chunks not started are cancelled and those the workers hold already are
+    waited for (:data:`_DRAIN_SECONDS` at most) before it is raised, as on the local scheduler.
+    """
     distributed = require("distributed")
     futures = client.compute(tasks)
     try:
@@ -257,8 +317,25 @@ def _run_distributed(tasks: list, client: Any, progress: Progress | None) -> Non
             future.result()  # raises the task's error here
             if progress is not None:
                 progress(done, len(futures))
-    finally:
-        client.cancel([f for f in futures if not f.done()])
+    except BaseException:
+        _drain(client, futures)
+        raise
+
+
+def _drain(client: Any, futures: list) -> None:
+    """Cancel the futures no worker holds, and wait for the ones the workers hold to end (their errors ignored).
+
+    A task running on a worker cannot be stopped: cancelled, it would go on writing after the run had
+    returned and let the store go.  Where the scheduler cannot be asked, everything is cancelled.
+    """
+    distributed = require("distributed")
+    try:
+        held = {key for keys in client.processing().values() for key in keys}
+    except Exception:  # the scheduler is gone: nothing to wait for
+        held = set()
+    client.cancel([f for f in futures if not f.done() and f.key not in held])
+    with contextlib.suppress(Exception):
+        distributed.wait([f for f in futures if f.key in held], timeout=_DRAIN_SECONDS)
 
 
 def workspace_map(
@@ -302,6 +379,9 @@ def workspace_map(
     ------
     ValueError
         For an arm without arm-angle IK, a malformed size or extent, or a path that holds something else.
+    MapStoreError
+        A ``ValueError`` too: another run holds the store (``reason="in use"``), or the disk filled
+        (``reason="no space"``; the chunks complete so far are kept, and the same call resumes).
     ImportError
         Without the ``workspace`` extra, in one line saying how to install it.
     """
@@ -314,10 +394,11 @@ def workspace_map(
     rotations = super_fibonacci_rotations(count)
     store = Path(path)
     parameters = map_parameters(arm, grid, count)
-    prepare_store(store, parameters, lambda folder: create_store(folder, arm, grid, rotations), "orientations")
-    # workers write the absolute path: a cluster's workers need not share this process's working directory
-    computed = run_chunks(_compute_chunk, (geometry, grid, rotations, store.absolute()), store, grid,
-                          "workspace-chunk", parameters, client, progress)
+    with hold_store(store):
+        prepare_store(store, parameters, lambda folder: create_store(folder, arm, grid, rotations), "orientations")
+        # workers write the absolute path: a cluster's workers need not share this process's working directory
+        computed = run_chunks(_compute_chunk, (geometry, grid, rotations, store.absolute()), store, grid,
+                              "workspace-chunk", parameters, client, progress)
     return _summary(store, grid, count, computed, time.perf_counter() - started)
 
 
