@@ -1,5 +1,6 @@
 """``redkin workspace``: the map, its slices and its summary; one-line errors with exit code 2."""
 
+import io
 import json
 import subprocess
 import sys
@@ -30,16 +31,58 @@ def test_workspace_writes_map_slices_and_json_summary(tmp_path, capsys):
     assert summary["positions"] == 125 and summary["orientations"] == 6 and summary["pose_branch_evaluations"] == 6000
     assert (summary["chunks"], summary["chunks_computed"], summary["chunks_resumed"]) == (8, 8, 0)
     assert summary["units"]["seconds"] == "s" and summary["scheduler"] == "local"
-    assert "100.0%" in captured.err  # the progress bar
+    # stderr is not a terminal here: plain progress lines, no bar redrawn with \r
+    assert "\r" not in captured.err and captured.err.splitlines()[-1] == "progress: 8/8 chunks (100.0%)"
     with xr.open_zarr(out / "map.zarr") as dataset:
         reach = dataset["reachability"].values
         assert summary["reachable_positions"] == pytest.approx((reach > 0).mean())
         assert summary["reachable_poses"] == pytest.approx(reach.mean())
     for name in ("reachability", "redundancy"):
         assert (out / f"{name}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert main(_command(out, "--chunk", "3")) == 0  # the same map again: resumed, nothing computed
-    text = capsys.readouterr().out
-    assert "(0 computed, 8 resumed)" in text and "reachable:" in text
+    assert main(_command(out, "--chunk", "3", "--quiet")) == 0  # the same map again: resumed, nothing computed
+    captured = capsys.readouterr()
+    assert "(0 computed, 8 resumed)" in captured.out and "reachable:" in captured.out and captured.err == ""
+
+
+def test_progress_is_a_bar_on_a_terminal_and_plain_lines_elsewhere(monkeypatch):
+    class Stream(io.StringIO):
+        def __init__(self, terminal):
+            super().__init__()
+            self.terminal = terminal
+
+        def isatty(self):
+            return self.terminal
+
+    terminal = Stream(True)
+    monkeypatch.setattr(sys, "stderr", terminal)  # the bar draws on sys.stderr
+    bar = map_run._ChunkProgress(terminal)
+    for done in range(1, 101):
+        bar(done, 100)
+    bar.close()
+    assert terminal.getvalue().count("\r") == 100 and terminal.getvalue().endswith("100.0%\n")
+
+    redirected = Stream(False)
+    lines = map_run._ChunkProgress(redirected)
+    for done in range(1, 1001):
+        lines(done, 1000)
+    lines.close()
+    text = redirected.getvalue()
+    assert "\r" not in text and text.splitlines() == [f"progress: {100 * k}/1000 chunks ({10 * k:.1f}%)"
+                                                     for k in range(1, 11)]
+    monkeypatch.setattr(map_run, "_LINE_EVERY", 0.0)  # a slow run also says it is alive between tenths
+    lines = map_run._ChunkProgress(redirected)
+    lines(1, 1000)
+    assert redirected.getvalue().endswith("progress: 1/1000 chunks (0.1%)\n")
+
+
+def test_a_store_in_use_is_refused_in_one_line(tmp_path, capsys):
+    from redkin.workspace.store import hold_store
+
+    with hold_store(tmp_path / "map.zarr"):
+        assert main(_command(tmp_path)) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{str(tmp_path / 'map.zarr')!r} is in use by another run (pid " in err
+    assert not (tmp_path / "map.zarr").exists()
 
 
 @pytest.mark.parametrize("change, message", [

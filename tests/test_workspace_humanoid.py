@@ -120,9 +120,11 @@ def test_humanoid_of_knows_both_arms_and_nothing_else():
 
 def test_cli_writes_the_map_its_slices_and_its_summary(reference, tmp_path, capsys):
     argv = ["workspace", "humanoid-right", "--out", str(tmp_path), "--extent", *map(str, EXTENT),
-            "--resolution", "5", "--samples", "5", "6", "--chunk", "2", "--json"]
+            "--resolution", "5", "--samples", "5", "6", "--chunk", "2", "--json", "--quiet"]
     assert main(argv) == 0
-    summary = json.loads(capsys.readouterr().out)
+    captured = capsys.readouterr()
+    assert captured.err == ""  # --quiet: no progress
+    summary = json.loads(captured.out)
     assert summary["chunks"] == 27 and summary["positions"] == 125 and summary["samples"] == [5, 6]
     assert 0 < summary["feasible_positions"] <= summary["reachable_positions"] < 1
     best = reference["best_manipulability"]

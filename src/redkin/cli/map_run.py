@@ -1,5 +1,8 @@
 """How ``redkin workspace`` runs a map: the optional libraries checked, the scheduler connected, progress shown.
 
+Progress goes to stderr: a bar redrawn in place (``\\r``) on a terminal, plain
+lines elsewhere (a file, a pipe, a CI log), nothing with ``--quiet``.
+
 Shared by the arm-angle maps (:mod:`redkin.cli.workspace`) and the humanoid's
 (:mod:`redkin.cli.workspace_humanoid`).
 """
@@ -7,14 +10,19 @@ Shared by the arm-angle maps (:mod:`redkin.cli.workspace`) and the humanoid's
 from __future__ import annotations
 
 import sys
+import time
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TextIO
 
 from redkin.cli.common import UsageError, progress_bar
 from redkin.workspace._optional import require
 
 #: How long ``--scheduler`` waits for the scheduler to answer.
 _CONNECT_TIMEOUT = "10s"
+#: What a full disk leaves when the slices are drawn after the map (the end of its one line).
+IMAGES_LEFT = "the map is complete; free space and run the same command again to draw the slices"
+#: Off a terminal, a progress line at each tenth of the chunks, and one at least this often (seconds) in between.
+_LINE_EVERY = 60.0
 
 
 def require_map_libraries() -> Any:
@@ -34,17 +42,50 @@ def open_client(scheduler: str | None) -> Any:
         raise UsageError(str(exc)) from None
 
 
-def run_on(client: Any, chunks: int, run: Callable[[Any, Any], Any]) -> Any:
-    """``run(client, progress)``, with a progress bar on stderr when there is more than one chunk; the client is
-    closed afterwards."""
-    progress = (lambda done, total: progress_bar(done / total)) if chunks > 1 else None
+def run_on(client: Any, chunks: int, run: Callable[[Any, Any], Any], quiet: bool = False) -> Any:
+    """``run(client, progress)`` with the run's progress on stderr (none with ``quiet`` or a single chunk); the
+    client is closed afterwards."""
+    progress = None if quiet or chunks <= 1 else _ChunkProgress(sys.stderr)
     try:
         return run(client, progress)
     finally:
         if progress is not None:
-            print(file=sys.stderr)
+            progress.close()
         if client is not None:
             client.close()
+
+
+class _ChunkProgress:
+    """``progress(done, total)`` of a map run, shown on ``stream``.
+
+    On a terminal a bar is redrawn in place (:func:`redkin.cli.common.progress_bar`), ended by a newline
+    on :meth:`close`.  Anywhere else (a file, a pipe) ``\\r`` would pile every redraw into one long line,
+    so it prints plain lines instead, ``progress: 14/27 chunks (51.9%)``: one at each tenth of the chunks, one at
+    least every :data:`_LINE_EVERY` seconds while chunks finish, and the last.
+    """
+
+    def __init__(self, stream: TextIO) -> None:
+        self.stream = stream
+        self.terminal = bool(getattr(stream, "isatty", lambda: False)())
+        self.drawn = False
+        self.tenths = 0
+        self.last = time.monotonic()
+
+    def __call__(self, done: int, total: int) -> None:
+        if self.terminal:
+            self.drawn = True
+            progress_bar(done / total)
+            return
+        tenths = 10 * done // total
+        now = time.monotonic()
+        if done == total or tenths > self.tenths or now - self.last >= _LINE_EVERY:
+            self.tenths, self.last = tenths, now
+            print(f"progress: {done}/{total} chunks ({100 * done / total:.1f}%)", file=self.stream, flush=True)
+
+    def close(self) -> None:
+        """End the bar's line (on a terminal, once anything was drawn)."""
+        if self.drawn:
+            print(file=self.stream, flush=True)
 
 
 def run_summary(chain_name: str, result: Any, images: list, scheduler: str | None, units: dict,

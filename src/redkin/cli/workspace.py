@@ -6,14 +6,14 @@ import argparse
 
 from redkin._validation import check_count, check_output_directory
 from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json
-from redkin.cli.map_run import open_client, print_run, require_map_libraries, run_on, run_summary
+from redkin.cli.map_run import IMAGES_LEFT, open_client, print_run, require_map_libraries, run_on, run_summary
 from redkin.cli.workspace_humanoid import run_humanoid
 from redkin.srs import srs_geometry
 from redkin.workspace.grid import MAX_RESOLUTION, workspace_grid
 from redkin.workspace.humanoid import humanoid_of
 from redkin.workspace.orientations import MAX_ORIENTATIONS
 from redkin.workspace.run import workspace_map
-from redkin.workspace.store import MAP_NAME
+from redkin.workspace.store import MAP_NAME, no_space_errors
 
 #: The images written beside the map: one per index, its three mid-planes side by side.
 SLICE_NAMES = ("reachability", "redundancy")
@@ -42,6 +42,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     command.add_argument("--scheduler", metavar="ADDRESS",
                          help="a dask.distributed scheduler (tcp://host:port) whose workers can write DIR "
                               "(default: Dask's local scheduler, nothing to start)")
+    command.add_argument("--quiet", action="store_true",
+                         help="no progress on stderr (by default a bar on a terminal, plain lines elsewhere)")
     add_output_flags(command, degrees=False)
     command.set_defaults(handler=run)
 
@@ -62,14 +64,14 @@ def run(args: argparse.Namespace) -> int:
     out = check_output_directory(args.out, "--out")
     result = run_on(client, len(grid.chunk_indices()), lambda client, progress: workspace_map(
         chain, out / MAP_NAME, args.extent, resolution, orientations, chunk=grid.chunk, client=client,
-        progress=progress))
+        progress=progress), args.quiet)
     import matplotlib
 
     matplotlib.use("Agg")  # files only: no display needed
     from redkin.plot.workspace import save_mid_plane_slices
 
     images = [out / f"{name}.png" for name in SLICE_NAMES]
-    with xr.open_zarr(result.path) as dataset:
+    with xr.open_zarr(result.path) as dataset, no_space_errors(out, IMAGES_LEFT):
         for name, image in zip(SLICE_NAMES, images):
             save_mid_plane_slices(dataset, name, image)
     summary = run_summary(chain.name, result, images, args.scheduler,

@@ -11,11 +11,11 @@ import argparse
 from redkin._validation import check_count, check_output_directory
 from redkin.chain import SerialChain
 from redkin.cli.common import UsageError, print_json
-from redkin.cli.map_run import open_client, print_run, require_map_libraries, run_on, run_summary
+from redkin.cli.map_run import IMAGES_LEFT, open_client, print_run, require_map_libraries, run_on, run_summary
 from redkin.torso_arm.maps import MAX_SWEEP_SAMPLES
 from redkin.workspace.grid import MAX_RESOLUTION
 from redkin.workspace.humanoid import DEFAULT_SAMPLES, VARIABLES, humanoid_grid, humanoid_map, mid_plane_maps
-from redkin.workspace.store import MAP_NAME
+from redkin.workspace.store import MAP_NAME, no_space_errors
 
 #: The images written beside the map: one per measure, its three mid-planes side by side.
 SLICE_NAMES = ("best_manipulability", "best_dual_manipulability")
@@ -38,14 +38,14 @@ def run_humanoid(args: argparse.Namespace, chain: SerialChain) -> int:
     out = check_output_directory(args.out, "--out")
     result = run_on(client, len(grid.chunk_indices()), lambda client, progress: humanoid_map(
         chain, out / MAP_NAME, args.extent, grid.resolution, samples, chunk=grid.chunk, client=client,
-        progress=progress))
+        progress=progress), args.quiet)
     import matplotlib
 
     matplotlib.use("Agg")  # files only: no display needed
     from redkin.plot.torso_arm import save_mid_plane_maps
 
     images = [out / f"{name}.png" for name in SLICE_NAMES]
-    with xr.open_zarr(result.path) as dataset:
+    with xr.open_zarr(result.path) as dataset, no_space_errors(out, IMAGES_LEFT):
         for name, image in zip(SLICE_NAMES, images):
             save_mid_plane_maps(mid_plane_maps(dataset, name), image, VARIABLES[name][0],
                                 f"{chain.name}: {name} over theta_1 x phi = {samples[0]} x {samples[1]} samples")
