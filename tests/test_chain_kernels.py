@@ -4,16 +4,12 @@ The reference is the definition: a product of 4x4 DH matrices written here
 from ``np.cos`` and ``np.sin``, independent of the kernels.
 """
 
-import os
-
-import numba
 import numpy as np
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from redkin import _chain_kernels
-from redkin._compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH, set_threads
 from redkin.chain import SerialChain
 
 QUARTER_TURNS = [0.0, np.pi / 2, -np.pi / 2, np.pi, -np.pi]
@@ -129,8 +125,9 @@ def test_jacobian_equals_finite_differences(case, data):
 
 @given(chains(), st.integers(0, 2**32 - 1))
 @settings(max_examples=30, deadline=None)
-def test_batches_equal_single_calls_on_both_loops(chain, seed):
-    """A batch above PARALLEL_BATCH runs on the parallel loop, a single q on the serial one: the same numbers."""
+def test_batches_equal_single_calls(chain, seed):
+    """A batch above PARALLEL_BATCH runs in chunks on the thread pool, a single q in the calling thread: the same
+    numbers."""
     rng = np.random.default_rng(seed)
     q = rng.uniform(-np.pi, np.pi, (3, PARALLEL_BATCH // 2 + 1, chain.n))
     offsets = rng.uniform(-0.1, 0.1, q.shape[:-1] + (3,))
@@ -145,16 +142,33 @@ def test_batches_equal_single_calls_on_both_loops(chain, seed):
 def test_results_do_not_depend_on_the_thread_count():
     chain = SerialChain(a=[0.1, 0.3, 0.0, 0.2], alpha=[np.pi / 2, 0.3, -np.pi / 2, 0.0], d=[0.2, 0.0, 0.1, 0.05])
     q = np.random.default_rng(1).uniform(-np.pi, np.pi, (5000, 4))
-    threads = numba.get_num_threads()
     try:
         results = []
-        for count in sorted({1, threads}):
-            numba.set_num_threads(count)
+        for count in (1, 2, 3):  # in the calling thread; 8 and 12 chunks on the pool
+            set_threads(count)
             results.append((chain.fk(q), chain.frames(q), chain.jacobian(q)))
     finally:
-        numba.set_num_threads(threads)
-    for one, other in zip(results[0], results[-1]):
-        np.testing.assert_array_equal(one, other)
+        set_threads(None)
+    for other in results[1:]:
+        for one, same in zip(results[0], other):
+            np.testing.assert_array_equal(one, same)
+
+
+def test_a_chunk_of_a_batch_writes_its_rows_alone():
+    """The batch kernels compute items start .. stop - 1: any split of a batch gives the whole batch's numbers."""
+    chain = SerialChain(a=[0.1, 0.3, 0.2], alpha=[np.pi / 2, 0.0, -np.pi / 2], d=[0.2, 0.0, 0.1])
+    q = np.random.default_rng(5).uniform(-np.pi, np.pi, (300, 3))
+    whole = np.empty((300, 5, 4, 4))
+    _chain_kernels.frames(0, 300, q, chain._links, chain._ends, chain._standard, whole)
+    parts = np.full((300, 5, 4, 4), np.nan)
+    for start, stop in ((0, 1), (1, 38), (38, 38), (38, 299), (299, 300)):
+        _chain_kernels.frames(start, stop, q, chain._links, chain._ends, chain._standard, parts)
+    np.testing.assert_array_equal(parts, whole)
+    np.testing.assert_array_equal(whole, chain.frames(q))
+    jac = np.full((300, 6, 3), np.nan)
+    _chain_kernels.jacobian(5, 7, q, chain._links, chain._ends, chain._standard, 3, True, np.zeros((1, 3)), jac)
+    assert np.isnan(jac[:5]).all() and np.isnan(jac[7:]).all()
+    np.testing.assert_array_equal(jac[5:7], chain.jacobian(q[5:7]))
 
 
 def test_degenerate_chains_and_batches():
@@ -189,23 +203,3 @@ def test_link_table_rows():
     assert table.flags.c_contiguous and table.shape == (2, len(_chain_kernels.LINK_COLUMNS))
     np.testing.assert_array_equal(table[0], [0.5, 1.0, 0.1, 0.0, 0.0, 1.0])  # quarter turn exact
     np.testing.assert_allclose(table[1], [0.0, -1.0, 0.2, 0.4, np.cos(0.3), np.sin(0.3)], rtol=0, atol=0)
-
-
-@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
-def test_a_process_forked_after_a_parallel_batch_computes_its_batches():
-    """GNU OpenMP kills a forked child that launches a parallel kernel its parent used; the child runs serially."""
-    chain = SerialChain(a=[0.1, 0.3, 0.2], alpha=[np.pi / 2, 0.0, -np.pi / 2], d=[0.2, 0.0, 0.1])
-    q = np.random.default_rng(3).uniform(-np.pi, np.pi, (4 * PARALLEL_BATCH, 3))
-    expected = chain.fk(q)  # a parallel launch in this process
-    read, write = os.pipe()
-    pid = os.fork()
-    if pid == 0:  # pragma: no cover - the child
-        try:
-            os.write(write, b"1" if np.array_equal(chain.fk(q), expected) else b"0")
-        finally:
-            os._exit(0)
-    os.close(write)
-    _, status = os.waitpid(pid, 0)
-    answer = os.read(read, 1)
-    os.close(read)
-    assert status == 0 and answer == b"1"

@@ -1,10 +1,19 @@
-"""How kernels are compiled: cached where numba finds a cache directory, uncached (still working) where not."""
+"""How kernels are compiled (cached where numba finds a cache directory, uncached and still working where not;
+serial and nogil) and how run_batch hands a batch out in chunks."""
+
+import ast
+import os
+import threading
+from itertools import pairwise
+from pathlib import Path
 
 import numba
+import numpy as np
 import pytest
 from numba.core import config
 
-from redkin._compiled import kernel
+from redkin import _compiled
+from redkin._compiled import default_threads, kernel, run_batch, set_threads, thread_count
 
 
 def twice(x):
@@ -15,6 +24,7 @@ def test_kernel_caches_where_a_cache_directory_is_writable():
     compiled = kernel(twice)
     assert compiled(1.5) == 3.0
     assert type(compiled._cache).__name__ != "NullCache"
+    assert compiled.targetoptions["nogil"] and not compiled.targetoptions.get("parallel", False)
 
 
 def test_kernel_compiles_without_a_cache_where_none_is_writable(monkeypatch):
@@ -22,7 +32,7 @@ def test_kernel_compiles_without_a_cache_where_none_is_writable(monkeypatch):
     monkeypatch.setattr(config, "CACHE_LOCATOR_CLASSES", "IPythonCacheLocator")
     with pytest.raises(RuntimeError, match="no locator available"):
         numba.njit(cache=True)(twice)
-    compiled = kernel(parallel=False)(twice)
+    compiled = kernel(twice)
     assert compiled(1.5) == 3.0
     assert type(compiled._cache).__name__ == "NullCache"
 
@@ -52,3 +62,106 @@ def test_a_cache_filled_by_other_kernels_is_emptied(tmp_path, monkeypatch):
     assert not list(cache.glob("*.nbi")) and not list(cache.glob("*.nbc"))
     assert (cache / compiled._STAMP_NAME).read_text() == compiled._core_digest()
     assert again(2.0) == 6.0
+
+
+def recorder():
+    """A batch "kernel" in Python that records the chunks it is given and the thread that ran each."""
+    calls = []
+
+    def chunk(start, stop, out):
+        calls.append((start, stop, threading.current_thread().name))
+        out[start:stop] = np.arange(start, stop)
+        return stop - start if start % 2 else 0
+    return chunk, calls
+
+
+@pytest.mark.parametrize("threads", [2, 3, 5])
+@pytest.mark.parametrize("count", [_compiled.PARALLEL_BATCH, 1001, 40_000])
+def test_chunks_cover_the_batch_once_on_the_calling_thread_and_the_pool(threads, count):
+    chunk, calls = recorder()
+    out = np.full(count, -1.0)
+    try:
+        set_threads(threads)
+        total = run_batch(chunk, count, out)
+    finally:
+        set_threads(None)
+    bounds = sorted((start, stop) for start, stop, _ in calls)
+    assert bounds[0][0] == 0 and bounds[-1][1] == count
+    assert all(a[1] == b[0] for a, b in pairwise(bounds))  # adjacent, disjoint, no gaps
+    assert 2 <= len(bounds) <= _compiled.CHUNKS_PER_THREAD * threads
+    assert all(stop - start >= _compiled.MIN_CHUNK for start, stop in bounds)
+    helpers = {name for _, _, name in calls} - {threading.current_thread().name}
+    assert all(name.startswith("redkin-batch") for name in helpers) and len(helpers) <= threads - 1
+    assert total == sum(stop - start for start, stop in bounds if start % 2)  # the chunks' returns add up
+    np.testing.assert_array_equal(out, np.arange(count))
+
+
+def test_small_batches_and_one_thread_run_in_the_calling_thread():
+    for threads, count in ((None, _compiled.PARALLEL_BATCH - 1), (1, 100_000)):
+        chunk, calls = recorder()
+        try:
+            set_threads(threads)
+            run_batch(chunk, count, np.empty(count))
+        finally:
+            set_threads(None)
+        assert calls == [(0, count, threading.current_thread().name)]
+
+
+def test_a_failing_chunk_raises_after_every_chunk_is_done():
+    done = []
+
+    def chunk(start, stop):
+        if start == 0:
+            raise ZeroDivisionError("first chunk")
+        done.append(start)
+
+    try:
+        set_threads(2)
+        with pytest.raises(ZeroDivisionError, match="first chunk"):
+            run_batch(chunk, 10_000)
+    finally:
+        set_threads(None)
+    assert len(done) == 2 * _compiled.CHUNKS_PER_THREAD - 1
+
+
+def test_thread_count_is_the_cores_capped_by_numba_num_threads(monkeypatch):
+    cores = len(os.sched_getaffinity(0))
+    monkeypatch.delenv("NUMBA_NUM_THREADS", raising=False)
+    assert default_threads() == thread_count() == cores
+    monkeypatch.setenv("NUMBA_NUM_THREADS", "1")
+    assert default_threads() == 1
+    monkeypatch.setenv("NUMBA_NUM_THREADS", str(cores + 7))
+    assert default_threads() == cores
+    try:
+        set_threads(cores + 3)
+        assert thread_count() == cores + 3
+    finally:
+        set_threads(None)
+    assert thread_count() == cores
+    for wrong in (0, -1, 1.5, True, "2", "many"):
+        with pytest.raises(ValueError, match="threads must be a positive integer"):
+            set_threads(wrong)
+
+
+def test_every_batch_kernel_computes_its_chunk_and_nothing_has_a_parallel_twin():
+    """Read from the source: no prange, no parallel=True; every kernel handed to run_batch takes ``start, stop``
+    first and loops ``range(start, stop)`` (so a chunk writes its rows alone); every run_batch call passes one
+    kernel, then the count."""
+    package = Path(_compiled.__file__).parent
+    kernels, launched = {}, []
+    for path in package.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        assert "prange" not in text or path.name == "_compiled.py", path
+        assert "parallel=True" not in text, path
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, ast.FunctionDef) and any(
+                    isinstance(d, ast.Name) and d.id == "kernel" for d in node.decorator_list):
+                kernels[node.name] = (path.name, [a.arg for a in node.args.args[:2]], ast.unparse(node))
+            elif isinstance(node, ast.Call) and getattr(node.func, "id", None) == "run_batch":
+                first = node.args[0]
+                launched.append((path.name, first.attr if isinstance(first, ast.Attribute) else first.id))
+    assert len(launched) >= 25
+    for module, name in launched:
+        assert name in kernels, (module, name)
+        _, arguments, source = kernels[name]
+        assert arguments == ["start", "stop"] and "in range(start, stop)" in source, (module, name)

@@ -1,26 +1,24 @@
 """The compiled feasible sets (redkin.srs._feasible_kernels): a batch equals its items one at a time, on any thread
 count.
 
-Laws: the parallel batch loop (>= 256 pose-branches, so run_batch takes
-prange) gives bit for bit what one call per pose gives; so do 1 and all
-numba threads; the eight branches of one pose at once equal each branch
+Laws: a batch split into chunks on the thread pool (>= 256 poses) gives bit
+for bit what one call per pose gives; so do 1, 2 and 3 threads; the eight branches of one pose at once equal each branch
 alone; the closed-form roots are roots.
 """
 
-import numba
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin._compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH, set_threads
 from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.srs import BRANCHES, feasible_arm_angles, feasible_arm_angles_batch, feasible_pieces
 from redkin.srs._feasible_kernels import sinusoid_roots
 from redkin.srs.feasible import feasible_pieces_all_branches
 from tests.support.srs_arms import random_poses
 
-COUNT = 2 * PARALLEL_BATCH + 37  # several blocks of the parallel loop, the last one partial
+COUNT = 2 * PARALLEL_BATCH + 37  # several chunks on the thread pool, of unequal sizes
 
 
 def poses_of(chain, count, seed):
@@ -36,7 +34,7 @@ def arms():
 
 @pytest.mark.parametrize("chain", arms(), ids=["pa10", "iiwa-crossing"])
 @pytest.mark.parametrize("branch", ["+++", "-+-", "+--"])
-def test_a_parallel_batch_equals_single_calls_bit_for_bit(chain, branch):
+def test_a_batch_equals_single_calls_bit_for_bit(chain, branch):
     poses = poses_of(chain, COUNT, 1)
     batch = feasible_pieces(chain, poses, branch)
     assert batch.start.shape == (COUNT, 24)
@@ -45,7 +43,7 @@ def test_a_parallel_batch_equals_single_calls_bit_for_bit(chain, branch):
         np.testing.assert_array_equal(alone.start, batch.start[i])
         np.testing.assert_array_equal(alone.end, batch.end[i])
         np.testing.assert_array_equal(alone.feasible, batch.feasible[i])
-    sets = feasible_arm_angles_batch(chain, poses[:PARALLEL_BATCH], branch)  # per-joint rows on the parallel loop too
+    sets = feasible_arm_angles_batch(chain, poses[:PARALLEL_BATCH], branch)  # per-joint rows on the pool too
     for i in range(0, PARALLEL_BATCH, 17):
         single = feasible_arm_angles(chain, poses[i], branch)
         assert single.feasible == sets[i].feasible == batch.arc_set((i,))
@@ -55,18 +53,18 @@ def test_a_parallel_batch_equals_single_calls_bit_for_bit(chain, branch):
 def test_results_do_not_depend_on_the_thread_count():
     chain = pa10_7c()
     poses = poses_of(chain, COUNT, 2)
-    threads = numba.get_num_threads()
     results = []
     try:
-        for count in sorted({1, threads}):
-            numba.set_num_threads(count)
+        for count in (1, 2, 3):
+            set_threads(count)
             pieces = feasible_pieces(chain, poses, "+-+")
             every = feasible_pieces_all_branches(chain, poses)
             results.append((pieces.start, pieces.end, pieces.feasible, every.start, every.end, every.feasible))
     finally:
-        numba.set_num_threads(threads)
-    for first, other in zip(results[0], results[-1]):
-        np.testing.assert_array_equal(first, other)
+        set_threads(None)
+    for other in results[1:]:
+        for first, same in zip(results[0], other):
+            np.testing.assert_array_equal(first, same)
 
 
 @pytest.mark.parametrize("chain", arms(), ids=["pa10", "iiwa-crossing"])

@@ -1,14 +1,13 @@
-"""The compiled arm-angle IK (redkin.srs._ik_kernels): batches equal single calls on both loops, results do
-not depend on the thread count, the in-kernel pose check agrees with redkin._validation.check_pose, and the
+"""The compiled arm-angle IK (redkin.srs._ik_kernels): batches equal single calls, results do not depend on the
+thread count or the chunks, the in-kernel pose check agrees with redkin._validation.check_pose, and the
 group rotations equal the definitional DH products of [000 eq. 3]."""
 
-import numba
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin._compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH, set_threads
 from redkin._validation import check_pose
 from redkin.models import pa10_7c
 from redkin.srs import BRANCHES, _ik_kernels, feasible_pieces, ik, ik_all_branches, reachable, srs_geometry
@@ -22,8 +21,9 @@ KINDS = st.sampled_from(ARM_KINDS)
 
 @settings(max_examples=25, deadline=None)
 @given(st.integers(0, 2**32 - 1), KINDS)
-def test_batches_equal_single_calls_on_both_loops(seed, kind):
-    """A batch above PARALLEL_BATCH runs on the parallel loop, one pose on the serial one: the same numbers."""
+def test_batches_equal_single_calls(seed, kind):
+    """A batch above PARALLEL_BATCH runs in chunks on the thread pool, one pose in the calling thread: the same
+    numbers."""
     rng = np.random.default_rng(seed)
     chain = arm(kind, rng)
     poses = chain.fk(rng.uniform(-np.pi, np.pi, (2, PARALLEL_BATCH // 2 + 3, 7)))
@@ -44,18 +44,41 @@ def test_results_do_not_depend_on_the_thread_count():
     rng = np.random.default_rng(4)
     poses = chain.fk(rng.uniform(-np.pi, np.pi, (3000, 7)))
     psi = rng.uniform(-np.pi, np.pi, 3000)
-    threads = numba.get_num_threads()
     try:
         results = []
-        for count in sorted({1, threads}):
-            numba.set_num_threads(count)
+        for count in (1, 2, 3):
+            set_threads(count)
             coefficients = arm_angle_coefficients(srs_geometry(chain), poses, 1)
             results.append((ik_all_branches(chain, poses, psi), coefficients.entries,
                             theta_at(coefficients, psi, BRANCHES[1]), feasible_pieces(chain, poses, "+-+").start))
     finally:
-        numba.set_num_threads(threads)
-    for one, other in zip(results[0], results[-1]):
-        np.testing.assert_array_equal(one, other)
+        set_threads(None)
+    for other in results[1:]:
+        for one, same in zip(results[0], other):
+            np.testing.assert_array_equal(one, same)
+
+
+def test_a_chunk_of_a_batch_writes_its_rows_alone_and_counts_its_failures():
+    """solve_poses computes poses start .. stop - 1 and returns how many of those failed; the chunks' counts add up
+    to the batch's."""
+    chain = pa10_7c()
+    geometry = srs_geometry(chain)
+    rng = np.random.default_rng(6)
+    poses = chain.fk(rng.uniform(-np.pi, np.pi, (100, 7)))
+    far = chain.fk(np.zeros(7))
+    far[:3, 3] *= 9.0  # out of reach
+    poses[[3, 50, 51]] = far
+    psi = rng.uniform(-np.pi, np.pi, 100)
+    whole, parts = np.empty((100, 8, 7)), np.full((100, 8, 7), np.nan)
+    arguments = (poses, psi, geometry.kernel_branches, *geometry.kernel_tables)
+    assert _ik_kernels.solve_poses(0, 100, *arguments, whole) == 3
+    counts = [_ik_kernels.solve_poses(start, stop, *arguments, parts)
+              for start, stop in ((0, 4), (4, 4), (4, 51), (51, 100))]
+    assert counts == [1, 0, 1, 1]
+    ok = np.ones(100, bool)
+    ok[[3, 50, 51]] = False
+    np.testing.assert_array_equal(parts[ok], whole[ok])
+    np.testing.assert_array_equal(whole[ok], ik_all_branches(chain, poses[ok], psi[ok]))
 
 
 POSE_DEFECTS = st.sampled_from(["nan", "inf", "last_row", "scale", "shear", "reflection", "tiny", "none"])

@@ -1,5 +1,5 @@
 """The compiled kernels of redkin.torso_arm equal definitional numpy references; batches equal loops;
-a parallel batch equals the serial one bit for bit.
+a batch computed in chunks (any split, any thread count) equals it computed in one call, bit for bit.
 
 The references below are the slow, literal forms of thesis 001's equations
 (products of vectors as arrays, the stacked 6 x 9 Jacobian's determinant,
@@ -9,7 +9,7 @@ Jacobians from the chain): they live here only, as what the kernels must equal.
 import numpy as np
 import pytest
 
-from redkin._compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH, run_batch, set_threads
 from redkin.torso_arm import humanoid_arm, position_ik_from_theta1, shoulder_angle, theta1_from_shoulder_angle
 from redkin.torso_arm.branches import POSITION_BRANCHES, wrap_angle, wrap_to_limits
 from redkin.torso_arm.elbow_angle import ElbowReference, elbow_circle, elbow_position, reference_direction
@@ -22,10 +22,8 @@ from redkin.torso_arm.manipulability import (
 )
 from redkin.torso_arm.maps import (
     _best_points,
-    _best_points_parallel,
     _lengths,
     _limits,
-    _states_parallel,
     _torso_mirror,
     best_over_redundancy,
     states,
@@ -201,6 +199,27 @@ def test_best_over_redundancy_batched_equals_looped():
             np.testing.assert_array_equal(one, best.reshape(-1)[i])
 
 
+def _one_call(kernel, count, *args):
+    kernel(0, count, *args)
+
+
+def _odd_chunks(kernel, count, *args):
+    for start, stop in ((0, 1), (1, 38), (38, 38), (38, count - 1), (count - 1, count)):
+        kernel(start, stop, *args)
+
+
+def _three_threads(kernel, count, *args):
+    try:
+        set_threads(3)
+        run_batch(kernel, count, *args)
+    finally:
+        set_threads(None)
+
+
+#: A batch kernel run in one call, in odd chunks in this thread, and in chunks on three threads.
+_SPLITS = (_one_call, _odd_chunks, _three_threads)
+
+
 def _kernel_arguments(count):
     points = np.random.default_rng(8).uniform([-0.2, -0.7, -0.6], [1.0, 0.7, 0.6], (count, 3))
     left = TorsoArm(ARM.right_chain, "left")
@@ -210,34 +229,37 @@ def _kernel_arguments(count):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("dual", [False, True])
-def test_best_kernel_parallel_batch_equals_serial_bit_for_bit(dual):
+def test_best_kernel_in_chunks_equals_one_call_bit_for_bit(dual):
     count = 2 * PARALLEL_BATCH + 3
     points, thetas, phis, limits = _kernel_arguments(count)
     results = []
-    for function in (_best_points, _best_points_parallel):
+    for run in _SPLITS:
         best, reached = np.empty(count), np.empty(count, dtype=bool)
-        function(points, thetas, phis, _lengths(ARM), np.array([1.0, -1.0]), limits, True, dual, best, reached)
+        run(_best_points, count, points, thetas, phis, _lengths(ARM), np.array([1.0, -1.0]), limits, True, dual, best,
+            reached)
         results.append((best, reached))
-    np.testing.assert_array_equal(results[0][0], results[1][0])
-    np.testing.assert_array_equal(results[0][1], results[1][1])
+    for best, reached in results[1:]:
+        np.testing.assert_array_equal(results[0][0], best)
+        np.testing.assert_array_equal(results[0][1], reached)
     assert np.isfinite(results[0][0]).sum() > count // 4
 
 
 @pytest.mark.slow
-def test_state_kernel_parallel_batch_equals_serial_bit_for_bit():
+def test_state_kernel_in_chunks_equals_one_call_bit_for_bit():
     count = 2 * PARALLEL_BATCH + 3
     points, *_ , limits = _kernel_arguments(count)
     rng = np.random.default_rng(9)
     theta1, phi = rng.uniform(-1.5, 1.5, count), rng.uniform(-np.pi, np.pi, count)
     defined = rng.uniform(size=count) > 0.1
     results = []
-    for function in (states, _states_parallel):
+    for run in _SPLITS:
         jacobian, status, feasible = np.empty((count, 3, 5)), np.empty(count, dtype=np.int64), np.empty(count, bool)
-        function(points, theta1, defined, phi, _lengths(ARM), 1.0, limits[0], 1, np.zeros(3), jacobian, status,
-                 feasible)
+        run(states, count, points, theta1, defined, phi, _lengths(ARM), 1.0, limits[0], 1, np.zeros(3), jacobian,
+            status, feasible)
         results.append((jacobian, status, feasible))
-    for a, b in zip(*results):
-        np.testing.assert_array_equal(a, b)
+    for other in results[1:]:
+        for a, b in zip(results[0], other):
+            np.testing.assert_array_equal(a, b)
     assert set(np.unique(results[0][1])) >= {0, 1, 3}
 
 

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin._compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH, run_batch, set_threads
 from redkin.velocity import (
     SingularityConsistent,
     _step_kernels,
@@ -175,22 +175,38 @@ def test_batched_steps_equal_looped_steps_bit_for_bit():
 
 
 @pytest.mark.slow
-def test_parallel_batches_equal_serial_batches_bit_for_bit():
+def test_batches_in_chunks_equal_one_call_bit_for_bit():
+    """Each batch kernel run in one call, in odd chunks (items start .. stop - 1 each) and on three threads."""
     count = 2 * PARALLEL_BATCH + 3
     q, twist = random_batch(count, seed=1)
     jac, index, factors = WAM.jacobian(q), FACTOR.index(q), FACTOR.factors(q)
-    outputs = {}
-    for name, loop in (("serial", _step_kernels.sc), ("parallel", _step_kernels.sc_parallel)):
+
+    def one_call(kernel, *args):
+        kernel(0, count, *args)
+
+    def odd_chunks(kernel, *args):
+        for start, stop in ((0, 1), (1, 38), (38, 38), (38, count - 1), (count - 1, count)):
+            kernel(start, stop, *args)
+
+    def three_threads(kernel, *args):
+        try:
+            set_threads(3)
+            run_batch(kernel, count, *args)
+        finally:
+            set_threads(None)
+
+    outputs = []
+    for run in (one_call, odd_chunks, three_threads):
         qdot, target, ok = np.empty((count, 7)), np.empty((count, 6)), np.empty(count, dtype=bool)
-        loop(jac, twist, index, factors, EPS, 1.0, 0.2, True, 1e-3, qdot, target, ok)
+        run(_step_kernels.sc, jac, twist, index, factors, EPS, 1.0, 0.2, True, 1e-3, qdot, target, ok)
         out, lam = np.empty((count, 7)), np.empty(count)
-        (_step_kernels.least_squares if name == "serial" else _step_kernels.least_squares_parallel)(
-            jac, twist, 0.05, 0.1, _step_kernels.SIGMA, PINV_RCOND, out, lam)
+        run(_step_kernels.least_squares, jac, twist, 0.05, 0.1, _step_kernels.SIGMA, PINV_RCOND, out, lam)
         minors = np.empty((count, 7))
-        (_step_kernels.column_minors if name == "serial" else _step_kernels.column_minors_parallel)(jac, minors)
-        outputs[name] = (qdot, target, ok, out, lam, minors)
-    for serial, parallel in zip(outputs["serial"], outputs["parallel"]):
-        np.testing.assert_array_equal(serial, parallel)
+        run(_step_kernels.column_minors, jac, minors)
+        outputs.append((qdot, target, ok, out, lam, minors))
+    for other in outputs[1:]:
+        for one, same in zip(outputs[0], other):
+            np.testing.assert_array_equal(one, same)
 
 
 @pytest.mark.parametrize("lean", [True, False])

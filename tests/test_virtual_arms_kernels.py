@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin._compiled import PARALLEL_BATCH
+from redkin._compiled import PARALLEL_BATCH, set_threads
 from redkin.models import franka_panda, pa10_7c, planar_arm
 from redkin.virtual_arms import AnalyticModel, OutputFunction, VirtualPoint, joints_and_midpoints
 from redkin.virtual_arms import _kernels as kernels
@@ -81,15 +81,25 @@ def test_virtual_points_equal_frames_and_axes(seed, which):
     np.testing.assert_allclose(jacobians, ref_jacobians, rtol=0, atol=1e-14)
 
 
-def test_virtual_points_batched_and_parallel_equal_single_calls_bit_for_bit():
+def test_virtual_points_batched_and_in_chunks_equal_single_calls_bit_for_bit():
     model = MODELS[1]
-    theta = np.random.default_rng(1).uniform(-2, 2, (2 * PARALLEL_BATCH + 5, 7))
-    positions, jacobians = model.evaluate(theta)  # the parallel loop
-    serial = np.empty(positions.shape), np.empty(jacobians.shape)
-    kernels.virtual_points(theta, model.chain._links, model.chain._ends, model.chain._standard, model._frames,
-                           model._local, model._axes, *serial)
-    np.testing.assert_array_equal(positions, serial[0])
-    np.testing.assert_array_equal(jacobians, serial[1])
+    count = 2 * PARALLEL_BATCH + 5
+    theta = np.random.default_rng(1).uniform(-2, 2, (count, 7))
+    try:
+        set_threads(3)
+        positions, jacobians = model.evaluate(theta)  # chunks on the thread pool
+    finally:
+        set_threads(None)
+    arguments = (theta, model.chain._links, model.chain._ends, model.chain._standard, model._frames, model._local,
+                 model._axes)
+    whole = np.empty(positions.shape), np.empty(jacobians.shape)
+    kernels.virtual_points(0, count, *arguments, *whole)
+    parts = np.empty(positions.shape), np.empty(jacobians.shape)
+    for start, stop in ((0, 7), (7, 8), (8, count)):
+        kernels.virtual_points(start, stop, *arguments, *parts)
+    for computed in (whole, parts):
+        np.testing.assert_array_equal(positions, computed[0])
+        np.testing.assert_array_equal(jacobians, computed[1])
     for k in (0, 7, len(theta) - 1):
         one = model.evaluate(theta[k])
         np.testing.assert_array_equal(one[0], positions[k])

@@ -4,9 +4,9 @@ The one implementation of a chain's kinematics in redkin: :func:`frames`
 (all frames, or the end pose alone) and :func:`jacobian`.  Each kernel takes
 a batch of joint vectors ``q`` of shape ``(N, n)`` and writes into an output
 array; :class:`~redkin.chain.SerialChain` validates at its public edge and
-calls them (:func:`~redkin._compiled.run_batch` picks the serial or the
-parallel loop).  They trust their inputs: C-contiguous float64 arrays of the
-documented shapes.
+calls them through :func:`~redkin._compiled.run_batch`, which hands out a
+batch in chunks (each kernel computes items ``start .. stop - 1``).  They
+trust their inputs: C-contiguous float64 arrays of the documented shapes.
 
 A chain is passed as
 
@@ -30,7 +30,6 @@ from __future__ import annotations
 from math import cos, sin
 
 import numpy as np
-from numba import prange
 
 from redkin._compiled import kernel
 
@@ -182,46 +181,24 @@ def jacobian_one(q, links, ends, standard, active, tool, offset, trig, out):
 
 
 # ------------------------------------------------------------------- batches
-# Each kernel comes as a serial loop and a parallel one over blocks of
-# CHUNK items, one scratch array per block (numba caches one dispatcher per
-# Python function, so the two loops are two functions).
-CHUNK = 128
-
-
+# Items start..stop - 1 of a batch, one scratch array per call (redkin._compiled.run_batch hands out the chunks).
 @kernel
-def frames(q, links, ends, standard, out):
-    """:func:`frames_one` for each row of ``q`` (N, n); ``out`` (N, n + 2, 4, 4), or (N, 1, 4, 4) for the end poses."""
+def frames(start, stop, q, links, ends, standard, out):
+    """:func:`frames_one` for rows ``start .. stop - 1`` of ``q`` (N, n); ``out`` (N, n + 2, 4, 4), or (N, 1, 4, 4)
+    for the end poses."""
     trig = np.empty((q.shape[1], 2))
-    for b in range(q.shape[0]):
+    for b in range(start, stop):
         frames_one(q[b], links, ends, standard, trig, out[b])
 
 
-@kernel(parallel=True)
-def frames_parallel(q, links, ends, standard, out):
-    """:func:`frames` on all cores."""
-    for block in prange((q.shape[0] + CHUNK - 1) // CHUNK):
-        trig = np.empty((q.shape[1], 2))
-        for b in range(block * CHUNK, min(q.shape[0], (block + 1) * CHUNK)):
-            frames_one(q[b], links, ends, standard, trig, out[b])
-
-
 @kernel
-def jacobian(q, links, ends, standard, active, tool, offsets, out):
-    """:func:`jacobian_one` for each row of ``q`` (N, n); ``offsets`` (N, 3) or (1, 3) for all; ``out`` (N, 6, n)."""
+def jacobian(start, stop, q, links, ends, standard, active, tool, offsets, out):
+    """:func:`jacobian_one` for rows ``start .. stop - 1`` of ``q`` (N, n); ``offsets`` (N, 3) or (1, 3) for all;
+    ``out`` (N, 6, n)."""
     trig = np.empty((q.shape[1], 2))
     step = 1 if offsets.shape[0] > 1 else 0
-    for b in range(q.shape[0]):
+    for b in range(start, stop):
         jacobian_one(q[b], links, ends, standard, active, tool, offsets[b * step], trig, out[b])
-
-
-@kernel(parallel=True)
-def jacobian_parallel(q, links, ends, standard, active, tool, offsets, out):
-    """:func:`jacobian` on all cores."""
-    step = 1 if offsets.shape[0] > 1 else 0
-    for block in prange((q.shape[0] + CHUNK - 1) // CHUNK):
-        trig = np.empty((q.shape[1], 2))
-        for b in range(block * CHUNK, min(q.shape[0], (block + 1) * CHUNK)):
-            jacobian_one(q[b], links, ends, standard, active, tool, offsets[b * step], trig, out[b])
 
 
 # ----------------------------------------------------------- joint ranges

@@ -1,10 +1,11 @@
-"""How redkin compiles its kernels: numba ``njit`` with an on-disk cache, and safe parallel launches.
+"""How redkin compiles its kernels and runs their batches: numba ``njit`` with an on-disk cache, one thread pool.
 
 Every compiled kernel of redkin is made by :func:`kernel`, i.e.
-``numba.njit(cache=True)``: the first call in a fresh install compiles it
-(about a second per kernel) and writes the machine code to numba's cache;
-later processes load it from there in milliseconds.  numba looks for a
-writable cache directory in this order:
+``numba.njit(cache=True, nogil=True)``: serial machine code that runs
+without Python's global interpreter lock.  The first call in a fresh install
+compiles it and writes the machine code to numba's cache; later processes
+load it from there in milliseconds.  numba looks for a writable cache
+directory in this order:
 
 1. ``NUMBA_CACHE_DIR``, if set;
 2. ``__pycache__`` beside the source file (an editable install: ``src/redkin/__pycache__``);
@@ -21,44 +22,78 @@ directory, a digest of every redkin module that defines kernels, and empties
 that directory's numba files when the digest differs (after an edit or an
 upgrade): the compiled core is cached as a whole.
 
-Batches run over their leading axis with ``prange`` on all cores
-(:func:`run_batch`), through whichever threading layer numba picked
-(``NUMBA_THREADING_LAYER``; ``NUMBA_NUM_THREADS`` caps the threads).  Two
-launches never overlap (numba's ``workqueue`` layer aborts the process on
-concurrent launches), and a process forked after its parent launched a
-parallel kernel runs its batches serially (GNU OpenMP, numba's ``omp``
-layer here, aborts a forked child that launches one).  Each batch item is
-computed alone, so results do not depend on the thread count.
+Batches
+-------
+A batch kernel takes the half-open range of items it computes as its first
+two arguments, ``kernel(start, stop, *arrays)``, and loops
+``for n in range(start, stop)`` over the whole arrays it is given, writing
+rows ``start .. stop - 1`` of its outputs and nothing else (with its own
+scratch arrays, allocated per call).  One compiled kernel thus serves one
+item, a whole batch (``start, stop = 0, N``) and any chunk of it; the
+arrays are passed unchanged to every chunk (no per-chunk slicing of a dozen
+arguments in Python, and an output row has its input row's index).
+
+:func:`run_batch` runs ``[0, count)``: below :data:`PARALLEL_BATCH` items,
+or with one thread, in one call in the calling thread; otherwise split into
+up to :data:`CHUNKS_PER_THREAD` chunks per thread of at least
+:data:`MIN_CHUNK` items, which the calling thread and ``threads - 1``
+helpers take one after another until none is left.  The helpers are the
+threads of one pool shared by the whole process
+(``concurrent.futures.ThreadPoolExecutor``, created on first use).  The
+calling thread works rather than waits: a batch starts at once, needs one
+wake-up per helper, and where the helpers' cores are busy with other work
+the calling thread simply takes more chunks.  ``threads`` is the number of
+cores this process may run on (``os.sched_getaffinity``), capped by
+``NUMBA_NUM_THREADS`` when set; :func:`set_threads` changes it from Python
+(``set_threads(1)`` runs every batch in the calling thread).
+
+Why the pool is safe, and why results do not depend on it:
+
+* no shared writes -- the chunks of a batch write disjoint rows of the
+  outputs, read inputs nobody writes, and keep their scratch to themselves;
+  each item is computed alone, by the same machine code, whatever the chunk
+  or thread, so a batch equals its items one by one, bit for bit, on any
+  number of threads and any chunking;
+* no GIL, no Python objects -- a kernel is compiled ``nogil=True`` and
+  touches only the arrays it is given, so chunks run at once on all cores
+  and the interpreter is free meanwhile;
+* no launch lock -- numba's own thread pools (``prange``, OpenMP, TBB) are
+  not used: two Python threads (a web server, a Dask worker with several
+  threads) run batches at the same time, each in its own thread with the
+  helpers it gets from the one pool; a kernel never calls back into Python,
+  so a helper never waits on the pool;
+* fork -- threads do not survive ``fork``; a child (``multiprocessing``'s
+  ``fork`` context) sees that its process id is not the pool's and starts a
+  pool of its own on its first batch.
 """
 
 from __future__ import annotations
 
 import hashlib
+import operator
 import os
 import threading
 from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import wait as _wait
 from pathlib import Path
 
 import numba
 
-#: Batches of at least this many items run on all cores (below it, launching threads costs more than it saves).
+#: Batches of fewer items run in the calling thread (handing out chunks costs more than the cores save).
 PARALLEL_BATCH = 256
+#: A batch is split into at most this many chunks per thread (each taken by whichever thread is free).
+CHUNKS_PER_THREAD = 4
+#: Items per chunk at least.
+MIN_CHUNK = 128
 
-_LAUNCH = threading.Lock()
-_launched_in: int | None = None  # the process that started numba's thread pool
 
-
-def kernel(function: Callable | None = None, *, parallel: bool = False):
-    """``numba.njit(cache=True)``, or without the cache where numba finds no writable cache directory.
-
-    Use as ``@kernel`` or ``@kernel(parallel=True)``.
-    """
-    if function is None:
-        return lambda f: kernel(f, parallel=parallel)
+def kernel(function: Callable):
+    """``numba.njit(cache=True, nogil=True)``, or without the cache where numba finds no writable cache directory."""
     try:
-        compiled = numba.njit(cache=True, parallel=parallel)(function)
+        compiled = numba.njit(cache=True, nogil=True)(function)
     except RuntimeError:  # "cannot cache function ...: no locator available for file ..."
-        return numba.njit(cache=False, parallel=parallel)(function)
+        return numba.njit(cache=False, nogil=True)(function)
     _drop_stale_cache(compiled)
     return compiled
 
@@ -103,16 +138,110 @@ def _drop_stale_cache(compiled) -> None:
         return
 
 
-def run_batch(serial: Callable, parallel: Callable, count: int, *args):
-    """Call ``parallel(*args)`` for a batch of ``count`` items where it pays and is safe, else ``serial(*args)``;
-    return what it returns.
+# ------------------------------------------------------------ the pool
+_lock = threading.Lock()  # guards the three below
+_setting: int | None = None  # set_threads' value; None: the default
+_pool: ThreadPoolExecutor | None = None
+_pool_key: tuple[int, int] = (0, 0)  # (process id, threads) the pool was made for
 
-    ``serial`` and ``parallel`` are the same loop over the batch, with
-    ``range`` and with ``prange``.
+
+def default_threads() -> int:
+    """The cores this process may run on (``os.sched_getaffinity``, else ``os.cpu_count``), capped by
+    ``NUMBA_NUM_THREADS`` where that is set to a positive integer."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not on Linux
+        cores = os.cpu_count() or 1
+    cap = os.environ.get("NUMBA_NUM_THREADS", "")
+    if cap.strip().isdigit() and int(cap) > 0:
+        cores = min(cores, int(cap))
+    return max(1, cores)
+
+
+def thread_count() -> int:
+    """The threads :func:`run_batch` splits a batch over: :func:`set_threads`' value, else :func:`default_threads`."""
+    return _setting if _setting is not None else default_threads()
+
+
+def set_threads(threads: int | None) -> None:
+    """Run batches on ``threads`` threads from now on (``1``: in the calling thread); ``None`` restores the
+    default (:func:`default_threads`).  Results do not depend on it.
+
+    Raises
+    ------
+    ValueError
+        For anything but ``None`` or a positive integer.
     """
-    global _launched_in
-    if count < PARALLEL_BATCH or _launched_in not in (None, os.getpid()):
-        return serial(*args)
-    _launched_in = os.getpid()  # before the lock: a child forked from here on runs serially, never waits on it
-    with _LAUNCH:
-        return parallel(*args)
+    global _setting
+    count = None
+    if threads is not None:
+        try:
+            count = operator.index(threads)  # an int or a numpy integer, not a float or a string
+        except TypeError:
+            count = 0
+        if isinstance(threads, bool) or count < 1:
+            raise ValueError(f"threads must be a positive integer or None, got {threads!r}")
+    with _lock:
+        _setting = count
+
+
+def _executor(threads: int) -> ThreadPoolExecutor:
+    """The shared pool of ``threads`` threads of this process, made on first use (and anew in a forked child or
+    after :func:`set_threads`; a pool left behind ends its idle threads once the batches using it are done)."""
+    global _pool, _pool_key
+    key = (os.getpid(), threads)
+    pool = _pool
+    if pool is not None and _pool_key == key:
+        return pool
+    with _lock:
+        if _pool is None or _pool_key != key:
+            _pool, _pool_key = ThreadPoolExecutor(threads, thread_name_prefix="redkin-batch"), key
+        return _pool
+
+
+def _after_fork_in_child() -> None:
+    """A forked child has the parent's pool object but none of its threads, and maybe a lock held by a thread
+    that does not exist here: start both afresh."""
+    global _lock, _pool
+    _lock, _pool = threading.Lock(), None
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_after_fork_in_child)
+
+
+def run_batch(kernel: Callable, count: int, *args):
+    """Run the batch kernel ``kernel(start, stop, *args)`` over ``[0, count)``, in chunks on the calling thread and
+    the shared pool where the batch is large enough, and return the sum of what the chunks return (the kernels that
+    return something return a count of failed items), or ``None``.
+
+    When this returns or raises, no chunk is running (a chunk's exception is raised once the others are done).
+    """
+    if count < PARALLEL_BATCH:
+        return kernel(0, count, *args)
+    threads = thread_count()
+    chunks = min(CHUNKS_PER_THREAD * threads, count // MIN_CHUNK)
+    if threads < 2 or chunks < 2:
+        return kernel(0, count, *args)
+    bounds = [count * k // chunks for k in range(chunks + 1)]
+    results = [None] * chunks
+    order = iter(range(chunks))  # shared by the runners: next() on it is atomic under the GIL
+
+    def runner() -> None:
+        for k in order:
+            results[k] = kernel(bounds[k], bounds[k + 1], *args)
+
+    pool = _executor(threads - 1)
+    helpers: list[Future] = []
+    try:
+        for _ in range(min(threads, chunks) - 1):
+            helpers.append(pool.submit(runner))
+    except RuntimeError:  # the interpreter is shutting down and the pool takes no more work: this thread does it
+        pass
+    try:
+        runner()
+    finally:
+        _wait(helpers)
+    for helper in helpers:
+        helper.result()  # a helper's exception
+    return None if results[0] is None else sum(results)

@@ -240,8 +240,7 @@ class SerialChain:
         """
         flat, lead = self._flat(q)
         out = np.empty((flat.shape[0], 1, 4, 4))  # the tool frame alone
-        run_batch(kernels.frames, kernels.frames_parallel, flat.shape[0],
-                  flat, self._links, self._ends, self._standard, out)
+        run_batch(kernels.frames, flat.shape[0], flat, self._links, self._ends, self._standard, out)
         return out.reshape(lead + (4, 4))
 
     def frames(self, q: ArrayLike) -> np.ndarray:
@@ -255,8 +254,7 @@ class SerialChain:
         """
         flat, lead = self._flat(q)
         out = np.empty((flat.shape[0], self.n + 2, 4, 4))
-        run_batch(kernels.frames, kernels.frames_parallel, flat.shape[0],
-                  flat, self._links, self._ends, self._standard, out)
+        run_batch(kernels.frames, flat.shape[0], flat, self._links, self._ends, self._standard, out)
         return out.reshape(lead + (self.n + 2, 4, 4))
 
     def joint_axes(self, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -319,8 +317,8 @@ class SerialChain:
             offsets = np.ascontiguousarray(offsets)
         active = self.n if frame is None else int(frame)
         out = np.empty((flat.shape[0], 6, self.n))
-        run_batch(kernels.jacobian, kernels.jacobian_parallel, flat.shape[0],
-                  flat, self._links, self._ends, self._standard, active, frame is None, offsets, out)
+        run_batch(kernels.jacobian, flat.shape[0], flat, self._links, self._ends, self._standard, active, frame is None,
+                  offsets, out)
         return out.reshape(lead + (6, self.n))
 
     def manipulability(

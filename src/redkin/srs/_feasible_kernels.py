@@ -11,11 +11,12 @@ per-joint sets [000 eq. 29] and their intersection [000 eq. 30] on one branch.
 once per elbow sign); :func:`pose_feasible` starts from the pose itself,
 computing [000 eqs. 4-19] with :func:`redkin.srs._ik_kernels.coefficients_one`,
 for any rows of branches (one, or all eight, sharing each elbow sign's
-cuts).  :func:`poses_feasible` (with its parallel twin) loops over a batch
-of poses, :func:`branches` and :func:`all_branches` over coefficients
-computed beforehand.  :mod:`redkin.srs.feasible` validates at its public edge and
-calls them; the kernels trust their inputs: C-contiguous arrays of the
-documented shapes and types.
+cuts).  :func:`poses_feasible` loops over a chunk of a batch of poses
+(:func:`redkin._compiled.run_batch`), :func:`branches` and
+:func:`all_branches` over coefficients computed beforehand.
+:mod:`redkin.srs.feasible` validates at its public edge and calls them;
+the kernels trust their inputs: C-contiguous arrays of the documented
+shapes and types.
 
 The per-arm tables (:func:`redkin.srs.feasible.limit_tables`, built once per
 geometry from :attr:`~redkin.srs.geometry.SRSGeometry.psi_joint_limits`) are
@@ -46,7 +47,6 @@ from __future__ import annotations
 from math import acos, atan2, cos, nan, pi, sin, sqrt
 
 import numpy as np
-from numba import prange
 
 from redkin._compiled import kernel
 from redkin.circle import TWO_PI
@@ -362,14 +362,9 @@ def arc_runs(start, end, keep, out):
 
 
 # ------------------------------------------------------------------- batches
-# From poses (the public path), serial and parallel loops over a batch, over
-# blocks of CHUNK items with one set of scratch arrays per block (numba caches
-# one dispatcher per Python function, so the two loops are two functions),
-# launched through redkin._compiled.run_batch.  From coefficients computed
-# beforehand (paths, optimal arm angles: a Python loop over the poses follows)
-# a serial loop only: a parallel twin would add seconds to the first, compiling
-# call of a fresh install for no measurable gain there.
-CHUNK = 128
+# From poses (the public path), items start..stop - 1 of a batch with one set of scratch arrays per call, launched
+# through redkin._compiled.run_batch (which hands out the chunks).  From coefficients computed beforehand (paths,
+# optimal arm angles: a Python loop over the poses follows) a plain loop over the batch.
 
 
 @kernel
@@ -411,33 +406,19 @@ def all_branches(entries, theta4, equations_table, membership, elbow, order, sta
 
 
 @kernel
-def poses_feasible(poses, branches, arm, ends, equations_table, membership, elbow, status, distance, theta4,
-                   elbow_inside, start, end, keep):
-    """:func:`pose_feasible` for each pose of ``poses`` (N, 4, 4) on the branches (B, 3), into ``status``,
-    ``distance`` (N,), ``theta4``, ``elbow_inside`` (N, B), ``start``, ``end`` (N, B, 24) and ``keep``
-    (N, B, R, 24).
+def poses_feasible(start, stop, poses, branches, arm, ends, equations_table, membership, elbow, status, distance,
+                   theta4, elbow_inside, start_angles, end_angles, keep):
+    """:func:`pose_feasible` for poses ``start .. stop - 1`` of ``poses`` (N, 4, 4) on the branches (B, 3), into
+    ``status``, ``distance`` (N,), ``theta4``, ``elbow_inside`` (N, B), ``start_angles``, ``end_angles``
+    (N, B, 24) and ``keep`` (N, B, R, 24).
 
-    Returns how many poses failed (a status other than :data:`redkin.srs._ik_kernels.OK`).
+    Returns how many of those poses failed (a status other than :data:`redkin.srs._ik_kernels.OK`).
     """
     scratch = pose_scratch()
     failed = 0
-    for n in range(poses.shape[0]):
+    for n in range(start, stop):
         status[n], distance[n] = pose_feasible(poses[n], branches, arm, ends, equations_table, membership, elbow,
-                                               scratch, start[n], end[n], keep[n], theta4[n], elbow_inside[n])
+                                               scratch, start_angles[n], end_angles[n], keep[n], theta4[n],
+                                               elbow_inside[n])
         failed += status[n] != _ik_kernels.OK
-    return failed
-
-
-@kernel(parallel=True)
-def poses_feasible_parallel(poses, branches, arm, ends, equations_table, membership, elbow, status, distance, theta4,
-                            elbow_inside, start, end, keep):
-    """:func:`poses_feasible` on all cores."""
-    failed = 0
-    for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
-        scratch = pose_scratch()
-        for n in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
-            status[n], distance[n] = pose_feasible(poses[n], branches, arm, ends, equations_table, membership,
-                                                   elbow, scratch, start[n], end[n], keep[n], theta4[n],
-                                                   elbow_inside[n])
-            failed += status[n] != _ik_kernels.OK
     return failed

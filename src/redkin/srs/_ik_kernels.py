@@ -13,8 +13,9 @@ The one implementation in redkin of
 
 :mod:`redkin.srs.coefficients`, :mod:`redkin.srs.joints` and
 :mod:`redkin.srs.ik` validate at the public edge and call the batch kernels
-here (:func:`solve_poses`, :func:`coefficients`, :func:`angles_at`,
-:func:`joint_values`), through :func:`redkin._compiled.run_batch`.  Kernels
+here: :func:`solve_poses`, :func:`coefficients` and :func:`angles_at`
+through :func:`redkin._compiled.run_batch` (which hands each call a chunk
+``start .. stop - 1`` of the batch), :func:`joint_values` directly.  Kernels
 trust their inputs: C-contiguous float64 arrays of the documented shapes.
 
 An arm is passed as
@@ -35,7 +36,6 @@ from __future__ import annotations
 from math import acos, atan2, cos, isfinite, pi, sin, sqrt
 
 import numpy as np
-from numba import prange
 
 from redkin._chain_kernels import range_middle, representative
 from redkin._compiled import kernel
@@ -320,11 +320,7 @@ def chain_values(theta, joints, q):
 
 
 # ----------------------------------------------------------------- batches
-# Each batch kernel is a serial loop and a parallel one over blocks of CHUNK
-# items (numba caches one dispatcher per Python function, so two functions).
-CHUNK = 64
-
-
+# A batch kernel computes items start..stop - 1 (redkin._compiled.run_batch hands out the chunks).
 @kernel
 def solve_pose(pose, psi, branches, arm, ends, joints, out, scratch):
     """All requested branches of one pose at one arm angle: the status and ``out`` (B, 7).
@@ -384,29 +380,18 @@ def solve_single(pose, psi, branches, arm, ends, joints, out):
 
 
 @kernel
-def solve_poses(poses, psi, branches, arm, ends, joints, out):
-    """:func:`solve_pose` for each pose (N, 4, 4) and arm angle (N,) into ``out`` (N, B, 7).
+def solve_poses(start, stop, poses, psi, branches, arm, ends, joints, out):
+    """:func:`solve_pose` for poses ``start .. stop - 1`` of ``poses`` (N, 4, 4) and arm angles (N,) into ``out``
+    (N, B, 7).
 
-    Returns the number of poses whose status is not :data:`OK` (their rows of
-    ``out`` are meaningless; the caller words the error).
+    Returns the number of those poses whose status is not :data:`OK` (their
+    rows of ``out`` are meaningless; the caller words the error).
     """
     scratch = _scratch()
     failed = 0
-    for n in range(poses.shape[0]):
+    for n in range(start, stop):
         if solve_pose(poses[n], psi[n], branches, arm, ends, joints, out[n], scratch) != OK:
             failed += 1
-    return failed
-
-
-@kernel(parallel=True)
-def solve_poses_parallel(poses, psi, branches, arm, ends, joints, out):
-    """:func:`solve_poses` on all cores."""
-    failed = 0
-    for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
-        scratch = _scratch()
-        for n in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
-            if solve_pose(poses[n], psi[n], branches, arm, ends, joints, out[n], scratch) != OK:
-                failed += 1
     return failed
 
 
@@ -428,38 +413,21 @@ def coefficients_one(pose, sign, arm, ends, target, u, reference, elbow, shoulde
 
 
 @kernel
-def coefficients(poses, signs, arm, ends, status, theta4, distance, u, reference, elbow, shoulder, wrist, entries):
-    """:func:`coefficients_one` for poses (N, 4, 4) and elbow signs (N,) into the (N, ...) outputs."""
+def coefficients(start, stop, poses, signs, arm, ends, status, theta4, distance, u, reference, elbow, shoulder, wrist,
+                 entries):
+    """:func:`coefficients_one` for poses ``start .. stop - 1`` of ``poses`` (N, 4, 4) and elbow signs (N,) into
+    the (N, ...) outputs."""
     target = np.empty((3, 4))
-    for n in range(poses.shape[0]):
+    for n in range(start, stop):
         status[n], theta4[n], distance[n] = coefficients_one(
             poses[n], signs[n], arm, ends, target, u[n], reference[n], elbow[n], shoulder[n], wrist[n], entries[n])
 
 
-@kernel(parallel=True)
-def coefficients_parallel(poses, signs, arm, ends, status, theta4, distance, u, reference, elbow, shoulder, wrist,
-                          entries):
-    """:func:`coefficients` on all cores."""
-    for block in prange((poses.shape[0] + CHUNK - 1) // CHUNK):
-        target = np.empty((3, 4))
-        for n in range(block * CHUNK, min(poses.shape[0], (block + 1) * CHUNK)):
-            status[n], theta4[n], distance[n] = coefficients_one(
-                poses[n], signs[n], arm, ends, target, u[n], reference[n], elbow[n], shoulder[n], wrist[n],
-                entries[n])
-
-
 @kernel
-def angles_at(entries, theta4, psi, signs, out):
-    """:func:`branch_angles` for entries (N, 3, 14), ``theta4`` (N,), ``psi`` (N,) and
-    branch signs ``(sigma_2, sigma_6)`` (N, 2) into ``out`` (N, 7)."""
-    for n in range(entries.shape[0]):
-        branch_angles(entries[n], theta4[n], psi[n], signs[n, 0], signs[n, 1], out[n])
-
-
-@kernel(parallel=True)
-def angles_at_parallel(entries, theta4, psi, signs, out):
-    """:func:`angles_at` on all cores."""
-    for n in prange(entries.shape[0]):
+def angles_at(start, stop, entries, theta4, psi, signs, out):
+    """:func:`branch_angles` for items ``start .. stop - 1`` of entries (N, 3, 14), ``theta4`` (N,), ``psi`` (N,)
+    and branch signs ``(sigma_2, sigma_6)`` (N, 2) into ``out`` (N, 7)."""
+    for n in range(start, stop):
         branch_angles(entries[n], theta4[n], psi[n], signs[n, 0], signs[n, 1], out[n])
 
 

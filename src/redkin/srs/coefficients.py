@@ -102,8 +102,8 @@ def coefficient_arrays(
     u, reference, elbow = np.empty((count, 3)), np.empty((count, 3, 3)), np.empty((count, 3, 3))
     shoulder, wrist = np.empty((count, 3, 3, 3)), np.empty((count, 3, 3, 3))
     entries = np.empty((count, 3, 2 * _ik_kernels.GROUP))
-    run_batch(_ik_kernels.coefficients, _ik_kernels.coefficients_parallel, count, poses, signs, geometry.kernel_arm,
-              geometry.kernel_ends, status, theta4, distance, u, reference, elbow, shoulder, wrist, entries)
+    run_batch(_ik_kernels.coefficients, count, poses, signs, geometry.kernel_arm, geometry.kernel_ends, status, theta4,
+              distance, u, reference, elbow, shoulder, wrist, entries)
     result = ArmAngleCoefficients(
         theta4=theta4.reshape(shape), u_sw=u.reshape(shape + (3,)), reference=reference.reshape(shape + (3, 3)),
         elbow=elbow.reshape(shape + (3, 3)), shoulder=shoulder.reshape(shape + (3, 3, 3)),

@@ -209,9 +209,9 @@ def _from_poses(pose: ArrayLike, branches: np.ndarray, geometry: SRSGeometry, pe
     start, end = np.empty((count, rows, kernels.PIECES)), np.empty((count, rows, kernels.PIECES))
     keep = np.empty((count, rows, 7 if per_joint else 1, kernels.PIECES), dtype=bool)
     tables = limit_tables(geometry)
-    if run_batch(kernels.poses_feasible, kernels.poses_feasible_parallel, count, poses, branches, geometry.kernel_arm,
-                 geometry.kernel_ends, tables.equations, tables.membership, tables.elbow, status, distance, theta4,
-                 elbow_inside, start, end, keep):
+    if run_batch(kernels.poses_feasible, count, poses, branches, geometry.kernel_arm, geometry.kernel_ends,
+                 tables.equations, tables.membership, tables.elbow, status, distance, theta4, elbow_inside, start, end,
+                 keep):
         raise_for_status(geometry, pose, status.reshape(shape), distance.reshape(shape))
     pieces = shape + (rows, kernels.PIECES)
     return (start.reshape(pieces), end.reshape(pieces), keep.reshape(shape + keep.shape[1:]),

@@ -68,8 +68,7 @@ def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch)
     psi = np.ascontiguousarray(np.broadcast_to(psi, shape)).reshape(count)
     signs = np.broadcast_to(np.array([[branch.shoulder, branch.wrist]], dtype=float), (count, 2))
     theta = np.empty((count, 7))
-    run_batch(_ik_kernels.angles_at, _ik_kernels.angles_at_parallel, count, entries, theta4, psi,
-              np.ascontiguousarray(signs), theta)
+    run_batch(_ik_kernels.angles_at, count, entries, theta4, psi, np.ascontiguousarray(signs), theta)
     return theta.reshape(shape + (7,))
 
 
@@ -102,8 +101,7 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
         poses, angles = np.ascontiguousarray(poses), np.ascontiguousarray(angles)
     count = len(poses)  # not .shape[0]: numpy's stubs type this reshape's result as 0-d
     out = np.empty((count, branches.shape[0], 7))
-    if run_batch(_ik_kernels.solve_poses, _ik_kernels.solve_poses_parallel, count, poses, angles, branches,
-                 *geometry.kernel_tables, out):
+    if run_batch(_ik_kernels.solve_poses, count, poses, angles, branches, *geometry.kernel_tables, out):
         _raise_for(geometry, pose, psi_array)
     return out.reshape(shape + branches.shape[:1] + (7,))
 

@@ -6,7 +6,9 @@ The kernels hold points and directions in registers as 3-tuples ``(x, y, z)``
 The public functions of the package validate their inputs, broadcast and
 flatten them with :func:`flat` (the kernels take C-contiguous float64
 batches ``(N, ...)``), and launch a batch kernel with
-:func:`redkin._compiled.run_batch`.
+:func:`redkin._compiled.run_batch`.  A batch kernel's first two arguments
+``start, stop`` are the chunk of the batch it computes: "each item" in its
+docstring means items ``start .. stop - 1``.
 """
 
 from __future__ import annotations

@@ -5,7 +5,6 @@ from __future__ import annotations
 from math import floor, pi
 
 import numpy as np
-from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin._chain_kernels import range_middle, representative
@@ -61,31 +60,16 @@ def into_limits(angle, lower, upper):
 
 
 @kernel
-def wraps(angle, out):
+def wraps(start, stop, angle, out):
     """:func:`_wrap_one` for each of ``angle`` (N,) -> ``out`` (N,)."""
-    for i in range(angle.shape[0]):
-        out[i] = _wrap_one(angle[i])
-
-
-@kernel(parallel=True)
-def _wraps_parallel(angle, out):
-    """:func:`wraps` on all cores."""
-    for i in prange(angle.shape[0]):
+    for i in range(start, stop):
         out[i] = _wrap_one(angle[i])
 
 
 @kernel
-def _limit_wraps(q, lower, upper, out):
+def _limit_wraps(start, stop, q, lower, upper, out):
     """:func:`into_limits` for each row of ``q`` (N, k), joint ranges ``lower``, ``upper`` (k,) -> ``out`` (N, k)."""
-    for i in range(q.shape[0]):
-        for j in range(q.shape[1]):
-            out[i, j] = into_limits(q[i, j], lower[j], upper[j])
-
-
-@kernel(parallel=True)
-def _limit_wraps_parallel(q, lower, upper, out):
-    """:func:`_limit_wraps` on all cores."""
-    for i in prange(q.shape[0]):
+    for i in range(start, stop):
         for j in range(q.shape[1]):
             out[i, j] = into_limits(q[i, j], lower[j], upper[j])
 
@@ -94,7 +78,7 @@ def wrap_angle(angle: ArrayLike) -> np.ndarray:
     """Angles mapped into ``(-pi, pi]`` (:func:`_wrap_one`); angles already there come back bit for bit."""
     shape, (a,) = flat((angle, 0))
     out = np.empty(a.shape[0])
-    run_batch(wraps, _wraps_parallel, a.shape[0], a, out)
+    run_batch(wraps, a.shape[0], a, out)
     return out.reshape(shape)
 
 
@@ -104,5 +88,5 @@ def wrap_to_limits(chain: SerialChain, q: np.ndarray, joints: slice = slice(None
     lower, upper = np.ascontiguousarray(chain.lower[joints]), np.ascontiguousarray(chain.upper[joints])
     shape, (flat_q,) = flat((q, 1))
     out = np.empty(flat_q.shape)
-    run_batch(_limit_wraps, _limit_wraps_parallel, flat_q.shape[0], flat_q, lower, upper, out)
+    run_batch(_limit_wraps, flat_q.shape[0], flat_q, lower, upper, out)
     return out.reshape(shape + flat_q.shape[1:])

@@ -35,7 +35,6 @@ from math import acos, atan2, cos, inf, sin, sqrt
 from typing import Literal, cast
 
 import numpy as np
-from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel, run_batch
@@ -192,16 +191,9 @@ def elbow_one(centre, radius, n, e1, phi):
 
 
 @kernel
-def circles(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable):
+def circles(start, stop, shoulder, wrist, L1, lew, axis, centre, radius, length, reachable):
     """:func:`circle_one` for each item: ``shoulder``, ``wrist`` (N, 3) -> the fields of :class:`ElbowCircle`."""
-    for i in range(shoulder.shape[0]):
-        _circle_item(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable, i)
-
-
-@kernel(parallel=True)
-def _circles_parallel(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable):
-    """:func:`circles` on all cores."""
-    for i in prange(shoulder.shape[0]):
+    for i in range(start, stop):
         _circle_item(shoulder, wrist, L1, lew, axis, centre, radius, length, reachable, i)
 
 
@@ -213,16 +205,9 @@ def _circle_item(shoulder, wrist, L1, lew, axis, centre, radius, length, reachab
 
 
 @kernel
-def references(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists):
+def references(start, stop, kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists):
     """:func:`reference_one` for each item (arrays as in :func:`circles`) -> ``e1`` (N, 3), ``exists`` (N,)."""
-    for i in range(shoulder.shape[0]):
-        _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists, i)
-
-
-@kernel(parallel=True)
-def _references_parallel(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists):
-    """:func:`references` on all cores."""
-    for i in prange(shoulder.shape[0]):
+    for i in range(start, stop):
         _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists, i)
 
 
@@ -234,17 +219,10 @@ def _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1,
 
 
 @kernel
-def elbows(centre, radius, axis, e1, phi, out):
+def elbows(start, stop, centre, radius, axis, e1, phi, out):
     """:func:`elbow_one` for each item: ``centre``, ``axis``, ``e1`` (N, 3), ``radius``, ``phi`` (N,) ->
     ``out`` (N, 3)."""
-    for i in range(centre.shape[0]):
-        put(out, i, elbow_one(row(centre, i), radius[i], row(axis, i), row(e1, i), phi[i]))
-
-
-@kernel(parallel=True)
-def _elbows_parallel(centre, radius, axis, e1, phi, out):
-    """:func:`elbows` on all cores."""
-    for i in prange(centre.shape[0]):
+    for i in range(start, stop):
         put(out, i, elbow_one(row(centre, i), radius[i], row(axis, i), row(e1, i), phi[i]))
 
 
@@ -255,7 +233,7 @@ def elbow_circle(arm: TorsoArm, shoulder: np.ndarray, wrist: np.ndarray) -> Elbo
     count = S.shape[0]
     axis, centre = np.empty((count, 3)), np.empty((count, 3))
     radius, length, reachable = np.empty(count), np.empty(count), np.empty(count, dtype=bool)
-    run_batch(circles, _circles_parallel, count, S, W, arm.L1, arm.forearm, axis, centre, radius, length, reachable)
+    run_batch(circles, count, S, W, arm.L1, arm.forearm, axis, centre, radius, length, reachable)
     return ElbowCircle(*(a.reshape(shape + a.shape[1:]) for a in (S, W, axis, centre, radius, length, reachable)))
 
 
@@ -273,7 +251,7 @@ def reference_direction(arm: TorsoArm, circle: ElbowCircle, reference: ElbowRefe
     count = arrays[0].shape[0]
     e1, exists = np.empty((count, 3)), np.empty(count, dtype=bool)
     kind = VECTOR if reference.kind == "vector" else THETA4
-    run_batch(references, _references_parallel, count, kind, np.array(reference.vector), *arrays,
+    run_batch(references, count, kind, np.array(reference.vector), *arrays,
               arm.L0, arm.L1, e1, exists)
     return e1.reshape(shape + (3,)), exists.reshape(shape)
 
@@ -283,7 +261,7 @@ def elbow_position(circle: ElbowCircle, e1: np.ndarray, phi: ArrayLike) -> np.nd
     shape, (centre, radius, axis, basis, angle) = flat((circle.centre, 1), (circle.radius, 0), (circle.axis, 1),
                                                       (e1, 1), (phi, 0))
     out = np.empty((centre.shape[0], 3))
-    run_batch(elbows, _elbows_parallel, centre.shape[0], centre, radius, axis, basis, angle, out)
+    run_batch(elbows, centre.shape[0], centre, radius, axis, basis, angle, out)
     return out.reshape(shape + (3,))
 
 

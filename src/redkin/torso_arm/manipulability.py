@@ -23,7 +23,6 @@ from __future__ import annotations
 from math import cos, sin, sqrt
 
 import numpy as np
-from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel, run_batch
@@ -116,44 +115,23 @@ def dual_one(right, left):
 
 
 @kernel
-def _wrist_jacobians(q5, L0, L1, lew, delta, out):
+def _wrist_jacobians(start, stop, q5, L0, L1, lew, delta, out):
     """:func:`wrist_jacobian_one` for each row of ``q5`` (N, 5) -> ``out`` (N, 3, 5)."""
-    for i in range(q5.shape[0]):
-        wrist_jacobian_one(q5[i], L0, L1, lew, delta, out[i])
-
-
-@kernel(parallel=True)
-def _wrist_jacobians_parallel(q5, L0, L1, lew, delta, out):
-    """:func:`_wrist_jacobians` on all cores."""
-    for i in prange(q5.shape[0]):
+    for i in range(start, stop):
         wrist_jacobian_one(q5[i], L0, L1, lew, delta, out[i])
 
 
 @kernel
-def _grams(jacobian, out):
+def _grams(start, stop, jacobian, out):
     """:func:`gram_one` for each of ``jacobian`` (N, 3, k) -> ``out`` (N,)."""
-    for i in range(jacobian.shape[0]):
-        out[i] = gram_one(jacobian[i])
-
-
-@kernel(parallel=True)
-def _grams_parallel(jacobian, out):
-    """:func:`_grams` on all cores."""
-    for i in prange(jacobian.shape[0]):
+    for i in range(start, stop):
         out[i] = gram_one(jacobian[i])
 
 
 @kernel
-def _duals(right, left, out):
+def _duals(start, stop, right, left, out):
     """:func:`dual_one` for each pair of ``right``, ``left`` (N, 3, 5) -> ``out`` (N,)."""
-    for i in range(right.shape[0]):
-        out[i] = dual_one(right[i], left[i])
-
-
-@kernel(parallel=True)
-def _duals_parallel(right, left, out):
-    """:func:`_duals` on all cores."""
-    for i in prange(right.shape[0]):
+    for i in range(start, stop):
         out[i] = dual_one(right[i], left[i])
 
 
@@ -177,7 +155,7 @@ def _wrist_jacobian_from_joints(arm: TorsoArm, q5: np.ndarray) -> np.ndarray:
     """
     shape, (q,) = flat((q5, 1))
     out = np.empty((q.shape[0], 3, 5))
-    run_batch(_wrist_jacobians, _wrist_jacobians_parallel, q.shape[0], q, arm.L0, arm.L1, arm.forearm, arm.delta, out)
+    run_batch(_wrist_jacobians, q.shape[0], q, arm.L0, arm.L1, arm.forearm, arm.delta, out)
     return out.reshape(shape + (3, 5))
 
 
@@ -187,7 +165,7 @@ def gram_manipulability(jacobian: np.ndarray) -> np.ndarray:
     if j.shape[1] != 3:
         raise ValueError(f"jacobian must have shape (..., 3, k), got {np.shape(jacobian)}")
     out = np.empty(j.shape[0])
-    run_batch(_grams, _grams_parallel, j.shape[0], j, out)
+    run_batch(_grams, j.shape[0], j, out)
     return out.reshape(shape)
 
 
@@ -208,5 +186,5 @@ def stacked_dual_manipulability(jacobian_right: np.ndarray, jacobian_left: np.nd
         raise ValueError(f"jacobians must have shape (..., 3, 5), got {np.shape(jacobian_right)} and "
                          f"{np.shape(jacobian_left)}")
     out = np.empty(right.shape[0])
-    run_batch(_duals, _duals_parallel, right.shape[0], right, left, out)
+    run_batch(_duals, right.shape[0], right, left, out)
     return out.reshape(shape)

@@ -26,7 +26,6 @@ from dataclasses import dataclass
 from math import cos, inf, sin
 
 import numpy as np
-from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin._compiled import PARALLEL_BATCH, kernel, run_batch
@@ -305,37 +304,20 @@ def _best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jaco
 
 
 @kernel
-def _best_points(points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
+def _best_points(start, stop, points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
     """:func:`_best_one` for each of ``points`` (N, 3) -> ``best`` (N,), ``reached`` (N,) bool."""
     q, jacobians = np.empty((2, 4, 5)), np.empty((2, 3, 5))
-    for i in range(points.shape[0]):
-        best[i], reached[i] = _best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q,
-                                        jacobians)
-
-
-@kernel(parallel=True)
-def _best_points_parallel(points, thetas, phis, lengths, signs, limits, within, dual, best, reached):
-    """:func:`_best_points` on all cores."""
-    for i in prange(points.shape[0]):
-        q, jacobians = np.empty((2, 4, 5)), np.empty((2, 3, 5))
+    for i in range(start, stop):
         best[i], reached[i] = _best_one(row(points, i), thetas, phis, lengths, signs, limits, within, dual, q,
                                         jacobians)
 
 
 @kernel
-def states(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible):
+def states(start, stop, points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible):
     """:func:`_posture_one` for each item: ``points`` (N, 3), ``theta1``, ``phi`` (N,), ``defined`` (N,) bool
     -> ``jacobian`` (N, 3, 5), ``status`` (N,) (SHOULDER_UNDEFINED where not ``defined``), ``feasible`` (N,)."""
     q = np.empty((4, 5))
-    for i in range(points.shape[0]):
-        _state_item(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible, q, i)
-
-
-@kernel(parallel=True)
-def _states_parallel(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible):
-    """:func:`states` on all cores."""
-    for i in prange(points.shape[0]):
-        q = np.empty((4, 5))
+    for i in range(start, stop):
         _state_item(points, theta1, defined, phi, lengths, sign, limits, kind, vector, jacobian, status, feasible, q, i)
 
 
@@ -349,16 +331,9 @@ def _state_item(points, theta1, defined, phi, lengths, sign, limits, kind, vecto
 
 
 @kernel
-def _mirrors(theta1, points, out):
+def _mirrors(start, stop, theta1, points, out):
     """:func:`_mirror_one` for each item: ``theta1`` (N,), ``points`` (N, 3) -> ``out`` (N, 3)."""
-    for i in range(points.shape[0]):
-        put(out, i, _mirror_one(theta1[i], row(points, i)))
-
-
-@kernel(parallel=True)
-def _mirrors_parallel(theta1, points, out):
-    """:func:`_mirrors` on all cores."""
-    for i in prange(points.shape[0]):
+    for i in range(start, stop):
         put(out, i, _mirror_one(theta1[i], row(points, i)))
 
 
@@ -396,7 +371,7 @@ def _arm_state(arm: TorsoArm, right_points: np.ndarray, theta1: np.ndarray, defi
         reference = reference.mirrored() if arm.side == "left" else reference
         kind, vector = (VECTOR if reference.kind == "vector" else THETA4), np.array(reference.vector)
     jacobian, status, feasible = np.empty((count, 3, 5)), np.empty(count, dtype=np.int64), np.empty(count, dtype=bool)
-    run_batch(states, _states_parallel, count, points, t1, ok.astype(bool), angle, _lengths(arm), _sign(arm),
+    run_batch(states, count, points, t1, ok.astype(bool), angle, _lengths(arm), _sign(arm),
               _limits(arm), kind, vector, jacobian, status, feasible)
     if arm.side == "left":  # the mirror image's Jacobian: rows x -> -x, theta_1 column in the left's sense
         jacobian = MIRROR @ jacobian * np.array([-1.0, 1.0, 1.0, 1.0, 1.0])
@@ -514,7 +489,7 @@ def best_over_redundancy(
     step = count if progress is None else max(PARALLEL_BATCH, -(-count // _PROGRESS_STEPS))
     for start in range(0, count, step):
         part = slice(start, min(count, start + step))
-        run_batch(_best_points, _best_points_parallel, part.stop - start, flat_points[part], thetas, phis,
+        run_batch(_best_points, part.stop - start, flat_points[part], thetas, phis,
                   _lengths(arm), signs, limits, bool(within_limits), bool(dual), best[part], reached[part])
         if progress is not None:
             progress(part.stop / count)
@@ -546,7 +521,7 @@ def _torso_mirror(theta1: ArrayLike, points: ArrayLike) -> np.ndarray:
     """Mirror ``points`` (..., 3) in the torso's mid-plane ``Ry(theta_1) {x = 0}``: ``Ry(theta_1) M Ry(-theta_1) p``."""
     shape, (t1, p) = flat((theta1, 0), (points, 1))
     out = np.empty((p.shape[0], 3))
-    run_batch(_mirrors, _mirrors_parallel, p.shape[0], t1, p, out)
+    run_batch(_mirrors, p.shape[0], t1, p, out)
     return out.reshape(shape + (3,))
 
 

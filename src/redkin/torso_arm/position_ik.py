@@ -29,7 +29,6 @@ from dataclasses import dataclass
 from math import atan2, cos, hypot, pi, sin
 
 import numpy as np
-from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel, run_batch
@@ -86,16 +85,9 @@ def joints_one(theta1, elbow, wrist, L0, L1, delta, out):
 
 
 @kernel
-def _joint_batch(theta1, elbow, wrist, L0, L1, delta, out):
+def _joint_batch(start, stop, theta1, elbow, wrist, L0, L1, delta, out):
     """:func:`joints_one` for each item: ``theta1`` (N,), ``elbow``, ``wrist`` (N, 3) -> ``out`` (N, 4, 5)."""
-    for i in range(theta1.shape[0]):
-        joints_one(theta1[i], row(elbow, i), row(wrist, i), L0, L1, delta, out[i])
-
-
-@kernel(parallel=True)
-def _joint_batch_parallel(theta1, elbow, wrist, L0, L1, delta, out):
-    """:func:`_joint_batch` on all cores."""
-    for i in prange(theta1.shape[0]):
+    for i in range(start, stop):
         joints_one(theta1[i], row(elbow, i), row(wrist, i), L0, L1, delta, out[i])
 
 
@@ -116,7 +108,7 @@ def joints_from_points(arm: TorsoArm, theta1: np.ndarray, elbow: np.ndarray, wri
     """
     shape, (t1, E, W) = flat((theta1, 0), (elbow, 1), (wrist, 1))
     out = np.empty((t1.shape[0], len(POSITION_BRANCHES), 5))
-    run_batch(_joint_batch, _joint_batch_parallel, t1.shape[0], t1, E, W, arm.L0, arm.L1, arm.delta, out)
+    run_batch(_joint_batch, t1.shape[0], t1, E, W, arm.L0, arm.L1, arm.delta, out)
     return out.reshape(shape + out.shape[1:])
 
 

@@ -26,7 +26,6 @@ from __future__ import annotations
 from math import atan2, cos, nan, sin
 
 import numpy as np
-from numba import prange
 from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel, run_batch
@@ -79,30 +78,16 @@ def _theta1_one(psi, wrist):
 
 
 @kernel
-def _shoulder_angles(theta1, wrist, L0, out):
+def _shoulder_angles(start, stop, theta1, wrist, L0, out):
     """:func:`_psi_one` for each item: ``theta1`` (N,), ``wrist`` (N, 3) -> ``out`` (N,)."""
-    for i in range(theta1.shape[0]):
-        out[i] = _psi_one(theta1[i], row(wrist, i), L0)
-
-
-@kernel(parallel=True)
-def _shoulder_angles_parallel(theta1, wrist, L0, out):
-    """:func:`_shoulder_angles` on all cores."""
-    for i in prange(theta1.shape[0]):
+    for i in range(start, stop):
         out[i] = _psi_one(theta1[i], row(wrist, i), L0)
 
 
 @kernel
-def _torso_angles(psi, wrist, out, defined):
+def _torso_angles(start, stop, psi, wrist, out, defined):
     """:func:`_theta1_one` for each item: ``psi`` (N,), ``wrist`` (N, 3) -> ``out`` (N,), ``defined`` (N,) bool."""
-    for i in range(psi.shape[0]):
-        out[i], defined[i] = _theta1_one(psi[i], row(wrist, i))
-
-
-@kernel(parallel=True)
-def _torso_angles_parallel(psi, wrist, out, defined):
-    """:func:`_torso_angles` on all cores."""
-    for i in prange(psi.shape[0]):
+    for i in range(start, stop):
         out[i], defined[i] = _theta1_one(psi[i], row(wrist, i))
 
 
@@ -129,7 +114,7 @@ def shoulder_angle(theta1: ArrayLike, wrist: ArrayLike, L0: float = 1.0) -> np.n
     check_finite(t, "theta1")
     shape, (t, w) = flat((t, 0), (check_vectors(wrist, 3, "wrist"), 1))
     out = np.empty(t.shape[0])
-    run_batch(_shoulder_angles, _shoulder_angles_parallel, t.shape[0], t, w, float(L0), out)
+    run_batch(_shoulder_angles, t.shape[0], t, w, float(L0), out)
     return out.reshape(shape)
 
 
@@ -152,7 +137,7 @@ def theta1_from_shoulder_angle(psi: ArrayLike, wrist: ArrayLike) -> tuple[np.nda
     check_finite(p, "psi")
     shape, (p, w) = flat((p, 0), (check_vectors(wrist, 3, "wrist"), 1))
     out, defined = np.empty(p.shape[0]), np.empty(p.shape[0], dtype=bool)
-    run_batch(_torso_angles, _torso_angles_parallel, p.shape[0], p, w, out, defined)
+    run_batch(_torso_angles, p.shape[0], p, w, out, defined)
     return out.reshape(shape), defined.reshape(shape)
 
 

@@ -6,10 +6,10 @@ controllers of :mod:`redkin.velocity.controller` validate their inputs and
 call these kernels.  Each step comes as a kernel of one configuration
 (``*_one``, callable from Python with one Jacobian), a control step of one
 configuration that builds the Jacobian itself (``*_control``, one call per
-servo tick), and a serial and a parallel loop over a batch of Jacobians ``(N, m, n)``
-(:func:`~redkin._compiled.run_batch` picks one; every item is computed
-alone, so a batch equals its items one by one, bit for bit, on any number
-of threads).  Inputs are trusted: C-contiguous float64 arrays.
+servo tick), and a loop over items ``start .. stop - 1`` of a batch of
+Jacobians ``(N, m, n)`` (:func:`~redkin._compiled.run_batch` hands out the
+chunks; every item is computed alone, so a batch equals its items one by
+one, bit for bit, on any number of threads).  Inputs are trusted: C-contiguous float64 arrays.
 
 Singular values come from the one-sided Jacobi method (Hestenes) on the
 rows of ``J`` (:func:`orthogonal_rows`): plane rotations ``W`` turn the rows
@@ -40,7 +40,6 @@ from __future__ import annotations
 from math import sqrt
 
 import numpy as np
-from numba import prange
 
 from redkin import _chain_kernels
 from redkin._compiled import kernel
@@ -366,48 +365,27 @@ def pinv_control(q, twist, links, ends, standard, rcond, jac, qdot):
 
 
 # ------------------------------------------------------------------- batches
-# Serial and parallel loops over the leading axis (numba caches one
-# dispatcher per Python function, so the two loops are two functions).
+# Loops over items start..stop - 1 of the leading axis (redkin._compiled.run_batch hands out the chunks).
 @kernel
-def least_squares(jac, twist, max_damping, threshold, measure, rcond, out, lam):
-    """:func:`least_squares_one` for each ``J`` of ``jac`` (N, m, n) and ``v`` of ``twist`` (N, m); ``lam`` (N,)."""
-    for b in range(jac.shape[0]):
-        lam[b] = least_squares_one(jac[b], twist[b], max_damping, threshold, measure, rcond, out[b])
-
-
-@kernel(parallel=True)
-def least_squares_parallel(jac, twist, max_damping, threshold, measure, rcond, out, lam):
-    """:func:`least_squares` on all cores."""
-    for b in prange(jac.shape[0]):
+def least_squares(start, stop, jac, twist, max_damping, threshold, measure, rcond, out, lam):
+    """:func:`least_squares_one` for items ``start .. stop - 1``: ``J`` of ``jac`` (N, m, n) and ``v`` of ``twist``
+    (N, m); ``out`` (N, n), ``lam`` (N,)."""
+    for b in range(start, stop):
         lam[b] = least_squares_one(jac[b], twist[b], max_damping, threshold, measure, rcond, out[b])
 
 
 @kernel
-def sc(jac, twist, index, factors, eps, direction, self_motion, modify_rotation, near_zero, qdot, target, ok):
-    """:func:`sc_one` for each item: ``jac`` (N, m, n), ``twist`` (N, m), ``index`` (N,), ``factors`` (N, n);
-    ``ok`` (N,)."""
-    for b in range(jac.shape[0]):
-        ok[b] = sc_one(jac[b], twist[b], index[b], factors[b], eps, direction, self_motion, modify_rotation,
-                       near_zero, qdot[b], target[b])
-
-
-@kernel(parallel=True)
-def sc_parallel(jac, twist, index, factors, eps, direction, self_motion, modify_rotation, near_zero, qdot, target, ok):
-    """:func:`sc` on all cores."""
-    for b in prange(jac.shape[0]):
+def sc(start, stop, jac, twist, index, factors, eps, direction, self_motion, modify_rotation, near_zero, qdot, target,
+       ok):
+    """:func:`sc_one` for items ``start .. stop - 1``: ``jac`` (N, m, n), ``twist`` (N, m), ``index`` (N,),
+    ``factors`` (N, n); ``ok`` (N,)."""
+    for b in range(start, stop):
         ok[b] = sc_one(jac[b], twist[b], index[b], factors[b], eps, direction, self_motion, modify_rotation,
                        near_zero, qdot[b], target[b])
 
 
 @kernel
-def column_minors(jac, out):
-    """:func:`column_minors_one` for each ``J`` of ``jac`` (N, m, m + 1); ``out`` (N, m + 1)."""
-    for b in range(jac.shape[0]):
-        column_minors_one(jac[b], out[b])
-
-
-@kernel(parallel=True)
-def column_minors_parallel(jac, out):
-    """:func:`column_minors` on all cores."""
-    for b in prange(jac.shape[0]):
+def column_minors(start, stop, jac, out):
+    """:func:`column_minors_one` for items ``start .. stop - 1`` of ``jac`` (N, m, m + 1); ``out`` (N, m + 1)."""
+    for b in range(start, stop):
         column_minors_one(jac[b], out[b])

@@ -108,6 +108,6 @@ def least_squares(jac: np.ndarray, vel: np.ndarray, damping: float, threshold: f
     flat_v = np.ascontiguousarray(vel.reshape(-1, m))
     out = np.empty((flat_j.shape[0], n))
     lam = np.empty(flat_j.shape[0])
-    run_batch(_step_kernels.least_squares, _step_kernels.least_squares_parallel, flat_j.shape[0],
-              flat_j, flat_v, damping, threshold, measure, PINV_RCOND, out, lam)
+    run_batch(_step_kernels.least_squares, flat_j.shape[0], flat_j, flat_v, damping, threshold, measure, PINV_RCOND,
+              out, lam)
     return out.reshape(lead + (n,)), lam.reshape(lead)

@@ -36,7 +36,7 @@ def column_minors(jacobian: ArrayLike) -> np.ndarray:
     lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
     flat = np.ascontiguousarray(jac.reshape(-1, m, n))
     out = np.empty((flat.shape[0], n))
-    run_batch(_step_kernels.column_minors, _step_kernels.column_minors_parallel, flat.shape[0], flat, out)
+    run_batch(_step_kernels.column_minors, flat.shape[0], flat, out)
     return out.reshape(lead + (n,))
 
 

@@ -211,7 +211,7 @@ def _sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray
     lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
     count = int(np.prod(lead))
     qdot, target, ok = np.empty((count, n)), np.empty((count, m)), np.empty(count, dtype=np.bool_)
-    run_batch(_step_kernels.sc, _step_kernels.sc_parallel, count,
+    run_batch(_step_kernels.sc, count,
               np.ascontiguousarray(jac.reshape(count, m, n)), np.ascontiguousarray(vel.reshape(count, m)),
               np.ascontiguousarray(d_e.reshape(count)), np.ascontiguousarray(d_i.reshape(count, n)),
               eps, float(direction), float(self_motion), bool(modify_rotation), float(near_zero), qdot, target, ok)

@@ -11,8 +11,9 @@
 The integrator evaluates the rate function on a few states at a time (its
 finite-difference Jacobian: one state per free joint and ``log lambda``), so
 :func:`inputs` and :func:`rates` loop over them serially; :func:`virtual_points`
-also serves large batches (a learned model's training data) and comes as a
-serial and a parallel loop for :func:`~redkin._compiled.run_batch`.  Inputs
+also serves large batches (a learned model's training data): it computes
+items ``start .. stop - 1``, the chunks :func:`~redkin._compiled.run_batch`
+hands out.  Inputs
 are trusted: C-contiguous arrays of the documented shapes.
 """
 
@@ -21,7 +22,6 @@ from __future__ import annotations
 from math import cos, exp, inf, sin, sqrt
 
 import numpy as np
-from numba import prange
 
 from redkin import _chain_kernels
 from redkin._compiled import kernel
@@ -54,25 +54,14 @@ def virtual_points_one(theta, links, ends, standard, frames, local, axes, trig, 
 
 
 @kernel
-def virtual_points(theta, links, ends, standard, frames, local, axes, positions, jacobians):
-    """:func:`virtual_points_one` for each row of ``theta`` (N, n); ``positions`` (N, p, l), ``jacobians``
-    (N, p, l, n)."""
+def virtual_points(start, stop, theta, links, ends, standard, frames, local, axes, positions, jacobians):
+    """:func:`virtual_points_one` for rows ``start .. stop - 1`` of ``theta`` (N, n); ``positions`` (N, p, l),
+    ``jacobians`` (N, p, l, n)."""
     n = links.shape[0]
     trig, poses, jac = np.empty((n, 2)), np.empty((n + 2, 4, 4)), np.empty((6, n))
-    for b in range(theta.shape[0]):
+    for b in range(start, stop):
         virtual_points_one(theta[b], links, ends, standard, frames, local, axes, trig, poses, jac,
                            positions[b], jacobians[b])
-
-
-@kernel(parallel=True)
-def virtual_points_parallel(theta, links, ends, standard, frames, local, axes, positions, jacobians):
-    """:func:`virtual_points` on all cores."""
-    n = links.shape[0]
-    for block in prange((theta.shape[0] + _chain_kernels.CHUNK - 1) // _chain_kernels.CHUNK):
-        trig, poses, jac = np.empty((n, 2)), np.empty((n + 2, 4, 4)), np.empty((6, n))
-        for b in range(block * _chain_kernels.CHUNK, min(theta.shape[0], (block + 1) * _chain_kernels.CHUNK)):
-            virtual_points_one(theta[b], links, ends, standard, frames, local, axes, trig, poses, jac,
-                               positions[b], jacobians[b])
 
 
 # ------------------------------------------------------------- rate function

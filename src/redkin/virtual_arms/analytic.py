@@ -95,8 +95,8 @@ class AnalyticModel:
         lead, n, p, dims = q.shape[:-1], self.chain.n, self.count, self.dims
         flat = np.ascontiguousarray(q.reshape(-1, n))
         positions, jacobians = np.empty((flat.shape[0], p, dims)), np.empty((flat.shape[0], p, dims, n))
-        run_batch(kernels.virtual_points, kernels.virtual_points_parallel, flat.shape[0], flat, self.chain._links,
-                  self.chain._ends, self.chain._standard, self._frames, self._local, self._axes, positions, jacobians)
+        run_batch(kernels.virtual_points, flat.shape[0], flat, self.chain._links, self.chain._ends,
+                  self.chain._standard, self._frames, self._local, self._axes, positions, jacobians)
         return positions.reshape(lead + (p, dims)), jacobians.reshape(lead + (p, dims, n))
 
     def split(self) -> list[AnalyticModel]:
