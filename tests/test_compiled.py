@@ -165,3 +165,36 @@ def test_every_batch_kernel_computes_its_chunk_and_nothing_has_a_parallel_twin()
         assert name in kernels, (module, name)
         _, arguments, source = kernels[name]
         assert arguments == ["start", "stop"] and "in range(start, stop)" in source, (module, name)
+
+
+def test_one_compiled_version_however_the_caller_made_its_arrays():
+    """A broadcast (read-only) input and a writeable one, one item and a batch, a scalar and an array parameter:
+    the public functions hand the kernels the same argument types, so each is compiled once, not once per pattern
+    (a second compile of the SC step or the S-R-S IK costs seconds on a cold start)."""
+    from redkin.models import barrett_wam, pa10_7c
+    from redkin.srs import _ik_kernels, ik_all_branches, reachable
+    from redkin.torso_arm import humanoid_arm, position_ik
+    from redkin.velocity import _step_kernels, damped_least_squares, singularity_consistent
+
+    rng = np.random.default_rng(0)
+    arm, wam = pa10_7c(), barrett_wam()
+    q = rng.uniform(-1, 1, (300, 7))
+    poses, jac = arm.fk(q), wam.jacobian(q)
+    right = humanoid_arm()
+    wrists = right.chain.frames(rng.uniform(-0.5, 0.5, (300, 8)))[:, 6, :3, 3]
+
+    def calls(k):  # pattern k of the same calls
+        twist = np.full(6, 0.1) if k == 0 else np.full((300, 6), 0.1)
+        ik_all_branches(arm, poses if k else poses[0], 0.3 if k < 2 else np.full(300, 0.3))
+        reachable(arm, np.broadcast_to(poses[0], (300, 4, 4)) if k == 2 else poses)
+        singularity_consistent(jac, twist, np.ones(300), np.ones((300, 7)), 0.1)
+        damped_least_squares(jac[0] if k == 0 else jac, twist, 0.1)
+        position_ik(right, wrists if k else wrists[0], 0.2 if k < 2 else np.full(300, 0.2), 0.1)
+
+    kernels = [_ik_kernels.solve_pose, _ik_kernels.solve_poses, _ik_kernels.coefficients, _step_kernels.sc,
+               _step_kernels.sc_one, _step_kernels.least_squares, _step_kernels.least_squares_one]
+    before = [len(kernel.signatures) for kernel in kernels]  # other tests may have compiled some already
+    for k in (0, 1, 2):
+        calls(k)
+    added = [len(kernel.signatures) - count for kernel, count in zip(kernels, before)]
+    assert max(added) <= 1, added

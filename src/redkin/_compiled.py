@@ -79,6 +79,7 @@ from concurrent.futures import wait as _wait
 from pathlib import Path
 
 import numba
+import numpy as np
 
 #: Batches of fewer items run in the calling thread (handing out chunks costs more than the cores save).
 PARALLEL_BATCH = 256
@@ -96,6 +97,22 @@ def kernel(function: Callable):
         return numba.njit(cache=False, nogil=True)(function)
     _drop_stale_cache(compiled)
     return compiled
+
+
+def kernel_array(array: np.ndarray, shape: tuple[int, ...] | None = None) -> np.ndarray:
+    """``array`` (broadcast to ``shape`` if given and different) itself where it is C-contiguous and writeable, else
+    a C-contiguous copy (writeable).
+
+    numba compiles a kernel once per argument type, and a read-only array (a
+    ``numpy.broadcast_to`` view, a frozen table) is another type than a
+    writeable one: per-item inputs passed through here give one type however
+    the caller made them (one more compile of a large kernel costs seconds).
+    """
+    if shape is not None and array.shape != shape:
+        array = np.broadcast_to(array, shape)
+    if array.flags.c_contiguous and array.flags.writeable:
+        return array
+    return np.array(array, order="C")
 
 
 _STAMP_NAME = "redkin-kernels.stamp"

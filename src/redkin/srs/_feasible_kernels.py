@@ -265,8 +265,8 @@ def pose_all_branches(entries, theta4, equations_table, membership, elbow, order
             for n6 in range(2):
                 slot = order[4 * n2 + 2 * n4 + n6]
                 if slot != first:
-                    start[slot, :] = start[first]
-                    end[slot, :] = end[first]
+                    for j in range(PIECES):  # element by element: a slice assignment compiles numba's shape checks
+                        start[slot, j], end[slot, j] = start[first, j], end[first, j]
                 classify(patterns, start[slot], membership[n2, n6], elbow_inside, keep[slot])
 
 
@@ -330,8 +330,8 @@ def pose_feasible(pose, branches, arm, ends, equations_table, membership, elbow,
                 inside = within(angles[n4], elbow[0], elbow[1], elbow[2] != 0.0)
                 first = b
             else:
-                start[b, :] = start[first]
-                end[b, :] = end[first]
+                for j in range(PIECES):  # as in pose_all_branches
+                    start[b, j], end[b, j] = start[first, j], end[first, j]
             classify(patterns, start[b], membership[int(branches[b, 0] < 0.0), int(branches[b, 2] < 0.0)], inside,
                      keep[b])
             theta4[b], elbow_inside[b] = angles[n4], inside

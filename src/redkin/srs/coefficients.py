@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._compiled import run_batch
+from redkin._compiled import kernel_array, run_batch
 from redkin.chain import SerialChain
 from redkin.srs import _ik_kernels
 from redkin.srs._targets import as_geometry, as_poses, raise_for_status
@@ -95,9 +95,9 @@ def coefficient_arrays(
     """
     signs = np.asarray(elbow_sign, dtype=float)
     shape = np.broadcast_shapes(pose.shape[:-2], signs.shape)
-    poses = np.ascontiguousarray(np.broadcast_to(pose, shape + (4, 4))).reshape(-1, 4, 4)
+    poses = kernel_array(pose, shape + (4, 4)).reshape(-1, 4, 4)
     count = poses.shape[0]
-    signs = np.ascontiguousarray(np.broadcast_to(signs, shape)).reshape(count)
+    signs = kernel_array(signs, shape).reshape(count)
     status, theta4, distance = np.empty(count, dtype=np.int64), np.empty(count), np.empty(count)
     u, reference, elbow = np.empty((count, 3)), np.empty((count, 3, 3)), np.empty((count, 3, 3))
     shoulder, wrist = np.empty((count, 3, 3, 3)), np.empty((count, 3, 3, 3))

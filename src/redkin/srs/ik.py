@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._compiled import run_batch
+from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
@@ -61,14 +61,14 @@ def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch)
     """
     psi = np.asarray(psi, dtype=float)
     shape = np.broadcast_shapes(coefficients.theta4.shape, psi.shape)
-    entries = np.ascontiguousarray(np.broadcast_to(coefficients.entries, shape + coefficients.entries.shape[-2:]))
+    entries = kernel_array(coefficients.entries, shape + coefficients.entries.shape[-2:])
     entries = entries.reshape((-1,) + entries.shape[-2:])
     count = len(entries)  # not .shape[0]: numpy's stubs type this reshape's result as 0-d
-    theta4 = np.ascontiguousarray(np.broadcast_to(coefficients.theta4, shape)).reshape(count)
-    psi = np.ascontiguousarray(np.broadcast_to(psi, shape)).reshape(count)
+    theta4 = kernel_array(coefficients.theta4, shape).reshape(count)
+    psi = kernel_array(psi, shape).reshape(count)
     signs = np.broadcast_to(np.array([[branch.shoulder, branch.wrist]], dtype=float), (count, 2))
     theta = np.empty((count, 7))
-    run_batch(_ik_kernels.angles_at, count, entries, theta4, psi, np.ascontiguousarray(signs), theta)
+    run_batch(_ik_kernels.angles_at, count, entries, theta4, psi, kernel_array(signs), theta)
     return theta.reshape(shape + (7,))
 
 
@@ -82,7 +82,8 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
     pose = as_poses(pose)
     psi_array = as_float_array(psi, "psi")
     shape = pose.shape[:-2]
-    if not shape and not psi_array.shape and pose.flags.c_contiguous:  # one pose: no batch to lay out
+    if not shape and not psi_array.shape:  # one pose: no batch to lay out
+        pose, psi_array = kernel_array(pose), kernel_array(psi_array)
         out = np.empty((branches.shape[0], 7))
         if _ik_kernels.solve_single(pose, psi_array, branches, *geometry.kernel_tables, out) != _ik_kernels.OK:
             _raise_for(geometry, pose, psi_array)
@@ -93,12 +94,11 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
         except ValueError:
             raise RedkinError(f"psi of shape {psi_array.shape} does not broadcast against the pose batch "
                              f"{pose.shape[:-2]}") from None
-        pose = np.broadcast_to(pose, shape + (4, 4))
+        if pose.shape[:-2] != shape:
+            pose = np.broadcast_to(pose, shape + (4, 4))
         psi_array = np.broadcast_to(psi_array, shape)
-    poses = pose.reshape((-1, 4, 4))
-    angles = psi_array.reshape(-1)
-    if not (poses.flags.c_contiguous and angles.flags.c_contiguous):
-        poses, angles = np.ascontiguousarray(poses), np.ascontiguousarray(angles)
+    poses = kernel_array(pose.reshape((-1, 4, 4)))  # a copy where a pose was broadcast
+    angles = kernel_array(psi_array.reshape(-1))
     count = len(poses)  # not .shape[0]: numpy's stubs type this reshape's result as 0-d
     out = np.empty((count, branches.shape[0], 7))
     if run_batch(_ik_kernels.solve_poses, count, poses, angles, branches, *geometry.kernel_tables, out):

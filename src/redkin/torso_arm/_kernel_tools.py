@@ -18,7 +18,7 @@ from math import cos, sin, sqrt
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._compiled import kernel
+from redkin._compiled import kernel, kernel_array
 
 
 def flat(*pairs: tuple[ArrayLike, int]) -> tuple[tuple[int, ...], list[np.ndarray]]:
@@ -34,7 +34,8 @@ def flat(*pairs: tuple[ArrayLike, int]) -> tuple[tuple[int, ...], list[np.ndarra
     shape : tuple of int
         The broadcast leading shape (``N`` is its product).
     arrays : list of numpy.ndarray
-        C-contiguous float64 copies or views, shape ``(N, *trailing)``.
+        C-contiguous writeable float64 views or copies, shape ``(N, *trailing)``
+        (:func:`redkin._compiled.kernel_array`: one compiled type per kernel).
     """
     arrays = [np.asarray(a, dtype=float) for a, _ in pairs]
     shape = np.broadcast_shapes(*(a.shape[:a.ndim - k] for a, (_, k) in zip(arrays, pairs)))
@@ -42,7 +43,7 @@ def flat(*pairs: tuple[ArrayLike, int]) -> tuple[tuple[int, ...], list[np.ndarra
     out = []
     for a, (_, k) in zip(arrays, pairs):
         trailing = a.shape[a.ndim - k:]
-        out.append(np.ascontiguousarray(np.broadcast_to(a, shape + trailing).reshape((count,) + trailing)))
+        out.append(kernel_array(a, shape + trailing).reshape((count,) + trailing))
     return shape, out
 
 

@@ -213,8 +213,8 @@ def references(start, stop, kind, vector, shoulder, wrist, axis, centre, radius,
 
 @kernel
 def _reference_item(kind, vector, shoulder, wrist, axis, centre, radius, L0, L1, e1, exists, i):
-    e, exists[i] = reference_one(kind, vector, row(shoulder, i), row(wrist, i), row(axis, i), row(centre, i),
-                                 radius[i], L0, L1)
+    e, exists[i] = reference_one(kind, (vector[0], vector[1], vector[2]), row(shoulder, i), row(wrist, i),
+                                 row(axis, i), row(centre, i), radius[i], L0, L1)  # a 3-tuple, as the maps pass it
     put(e1, i, e)
 
 

@@ -276,15 +276,16 @@ def _best_one(wrist, thetas, phis, lengths, signs, limits, within, dual, q, jaco
     the scratch arrays ``q`` (2, 4, 5) and ``jacobians`` (2, 3, 5) hold both arms.
     """
     best, reached = -inf, False
+    kind = int(ANY_BASIS)  # not a literal: the compiled _circle_stage of the state kernel serves
     for t in thetas:
-        circle, e1, status = _circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), t, wrist)
+        circle, e1, status = _circle_stage(lengths, kind, (0.0, 1.0, 0.0), t, wrist)
         if status != OK:  # the wrist is out of reach at this theta_1, whatever phi
             continue
         left, circle_left, e1_left = wrist, circle, e1
         if dual:
             left = _mirror_one(t, wrist)
             left = (-left[0], left[1], left[2])
-            circle_left, e1_left, status = _circle_stage(lengths, ANY_BASIS, (0.0, 1.0, 0.0), -t, left)
+            circle_left, e1_left, status = _circle_stage(lengths, kind, (0.0, 1.0, 0.0), -t, left)
             if status != OK:
                 continue
         reached = True

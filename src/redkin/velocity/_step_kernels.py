@@ -292,7 +292,8 @@ def sc_one(jac, twist, index, factors, eps, direction, self_motion, modify_rotat
     for r in range(m):
         target[r] = scale * rhs[r]
     if abs(index) >= near_zero:
-        least_squares_one(jac, target, 0.0, 0.0, CONSTANT, MACHINE_EPSILON, qdot)  # J^+ (b_ep g t'), [003 eqs. 18, 21]
+        # J^+ (b_ep g t'), [003 eqs. 18, 21]; int(): not a literal, so the batch's compiled least_squares_one serves
+        least_squares_one(jac, target, 0.0, 0.0, int(CONSTANT), MACHINE_EPSILON, qdot)
     else:
         d_s = 0.0
         for i in range(n):
@@ -330,7 +331,8 @@ def finite(values):
 @kernel
 def chain_jacobian(q, links, ends, standard, jac):
     """The tool Jacobian (6, n) of a chain's link table at ``q`` (:func:`~redkin._chain_kernels.jacobian_one`)."""
-    _chain_kernels.jacobian_one(q, links, ends, standard, links.shape[0], True, np.zeros(3),
+    tool = bool(True)  # noqa: UP018 - not the literal True: the chain's compiled jacobian_one (a bool) serves
+    _chain_kernels.jacobian_one(q, links, ends, standard, links.shape[0], tool, np.zeros(3),
                                np.empty((links.shape[0], 2)), jac)
 
 
@@ -360,7 +362,7 @@ def pinv_control(q, twist, links, ends, standard, rcond, jac, qdot):
     if not finite(twist):
         return TWIST_NOT_FINITE
     chain_jacobian(q, links, ends, standard, jac)
-    least_squares_one(jac, twist, 0.0, 1.0, CONSTANT, rcond, qdot)
+    least_squares_one(jac, twist, 0.0, 1.0, int(CONSTANT), rcond, qdot)  # int(): as in sc_one
     return DONE
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._compiled import run_batch
+from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_finite, check_jacobian_and_twist, check_nonnegative, check_positive
 from redkin.velocity import _step_kernels
 
@@ -104,8 +104,8 @@ def least_squares(jac: np.ndarray, vel: np.ndarray, damping: float, threshold: f
     """Joint velocities ``(..., n)`` and dampings ``(...)`` of :func:`~redkin.velocity._step_kernels.least_squares_one`
     for trusted Jacobians ``(..., m, n)`` and twists ``(..., m)`` with the same leading axes."""
     lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
-    flat_j = np.ascontiguousarray(jac.reshape(-1, m, n))
-    flat_v = np.ascontiguousarray(vel.reshape(-1, m))
+    flat_j = kernel_array(jac.reshape(-1, m, n))
+    flat_v = kernel_array(vel.reshape(-1, m))
     out = np.empty((flat_j.shape[0], n))
     lam = np.empty(flat_j.shape[0])
     run_batch(_step_kernels.least_squares, flat_j.shape[0], flat_j, flat_v, damping, threshold, measure, PINV_RCOND,

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._compiled import run_batch
+from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_finite, check_jacobian_and_twist
 from redkin.velocity import _step_kernels
 
@@ -34,7 +34,7 @@ def column_minors(jacobian: ArrayLike) -> np.ndarray:
     """
     jac = _redundant_one(jacobian)
     lead, (m, n) = jac.shape[:-2], jac.shape[-2:]
-    flat = np.ascontiguousarray(jac.reshape(-1, m, n))
+    flat = kernel_array(jac.reshape(-1, m, n))
     out = np.empty((flat.shape[0], n))
     run_batch(_step_kernels.column_minors, flat.shape[0], flat, out)
     return out.reshape(lead + (n,))

@@ -48,7 +48,7 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._compiled import run_batch
+from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_jacobian_and_twist, check_nonnegative, check_positive
 from redkin.velocity import _step_kernels
 from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, weighted_sum
@@ -212,8 +212,8 @@ def _sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray
     count = int(np.prod(lead))
     qdot, target, ok = np.empty((count, n)), np.empty((count, m)), np.empty(count, dtype=np.bool_)
     run_batch(_step_kernels.sc, count,
-              np.ascontiguousarray(jac.reshape(count, m, n)), np.ascontiguousarray(vel.reshape(count, m)),
-              np.ascontiguousarray(d_e.reshape(count)), np.ascontiguousarray(d_i.reshape(count, n)),
+              kernel_array(jac.reshape(count, m, n)), kernel_array(vel.reshape(count, m)),
+              kernel_array(d_e.reshape(count)), kernel_array(d_i.reshape(count, n)),
               eps, float(direction), float(self_motion), bool(modify_rotation), float(near_zero), qdot, target, ok)
     if not ok.all():
         raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
