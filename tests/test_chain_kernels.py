@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin import _chain_kernels
+from redkin import _chain_kernels, _compiled
 from redkin._compiled import PARALLEL_BATCH, set_threads
 from redkin.chain import SerialChain
 
@@ -139,7 +139,8 @@ def test_batches_equal_single_calls(chain, seed):
         np.testing.assert_array_equal(jac[i, j], chain.jacobian(q[i, j], frame=chain.n, offset=offsets[i, j]))
 
 
-def test_results_do_not_depend_on_the_thread_count():
+def test_results_do_not_depend_on_the_thread_count(monkeypatch):
+    monkeypatch.setattr(_compiled, "POOL_SECONDS", 0.0)  # on the pool however short the batch
     chain = SerialChain(a=[0.1, 0.3, 0.0, 0.2], alpha=[np.pi / 2, 0.3, -np.pi / 2, 0.0], d=[0.2, 0.0, 0.1, 0.05])
     q = np.random.default_rng(1).uniform(-np.pi, np.pi, (5000, 4))
     try:

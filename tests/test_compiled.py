@@ -107,6 +107,27 @@ def test_small_batches_and_one_thread_run_in_the_calling_thread():
         assert calls == [(0, count, threading.current_thread().name)]
 
 
+def test_a_batch_too_short_for_the_pool_runs_in_the_calling_thread(monkeypatch):
+    """A kernel's measured time per item decides: a batch it would finish within POOL_SECONDS runs alone."""
+    chunk, calls = recorder()
+    out = np.empty(1001)
+    try:
+        set_threads(2)
+        run_batch(chunk, 1001, out)  # not timed yet: on the pool, which times the calling thread's chunks
+        assert len(calls) > 1 and _compiled._seconds_per_item[chunk] > 0.0
+        monkeypatch.setitem(_compiled._seconds_per_item, chunk, 1e-9)  # about its cost; a busy machine measures more
+        calls.clear()
+        run_batch(chunk, 1001, out)
+        assert calls == [(0, 1001, threading.current_thread().name)]
+        calls.clear()
+        monkeypatch.setattr(_compiled, "POOL_SECONDS", 0.0)
+        run_batch(chunk, 1001, out)
+        assert len(calls) > 1
+    finally:
+        set_threads(None)
+    np.testing.assert_array_equal(out, np.arange(1001))
+
+
 def test_a_failing_chunk_raises_after_every_chunk_is_done():
     done = []
 

@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from redkin import _compiled
 from redkin._compiled import PARALLEL_BATCH, set_threads
 from redkin._validation import check_pose
 from redkin.models import pa10_7c
@@ -39,7 +40,8 @@ def test_batches_equal_single_calls(seed, kind):
         np.testing.assert_array_equal(coefficients.theta4[i, j], alone.theta4)
 
 
-def test_results_do_not_depend_on_the_thread_count():
+def test_results_do_not_depend_on_the_thread_count(monkeypatch):
+    monkeypatch.setattr(_compiled, "POOL_SECONDS", 0.0)  # on the pool however short the batch
     chain = pa10_7c().with_limits(np.full(7, -2.5), np.full(7, 2.5))
     rng = np.random.default_rng(4)
     poses = chain.fk(rng.uniform(-np.pi, np.pi, (3000, 7)))

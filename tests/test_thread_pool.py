@@ -99,13 +99,15 @@ def every_batch_function():
 
 @pytest.fixture
 def chunking(monkeypatch):
-    """Set the thread count and the chunking of run_batch for one test; restored afterwards."""
+    """Set the thread count and the chunking of run_batch for one test (every batch of PARALLEL_BATCH items or more
+    on the pool); restored afterwards."""
     def configure(threads, per_thread=_compiled.CHUNKS_PER_THREAD, smallest=_compiled.MIN_CHUNK,
                   threshold=_compiled.PARALLEL_BATCH):
         set_threads(threads)
         monkeypatch.setattr(_compiled, "CHUNKS_PER_THREAD", per_thread)
         monkeypatch.setattr(_compiled, "MIN_CHUNK", smallest)
         monkeypatch.setattr(_compiled, "PARALLEL_BATCH", threshold)
+        monkeypatch.setattr(_compiled, "POOL_SECONDS", 0.0)  # on the pool however short the batch
     yield configure
     set_threads(None)
 

@@ -9,6 +9,7 @@ Jacobians from the chain): they live here only, as what the kernels must equal.
 import numpy as np
 import pytest
 
+from redkin import _compiled
 from redkin._compiled import PARALLEL_BATCH, run_batch, set_threads
 from redkin.torso_arm import humanoid_arm, position_ik_from_theta1, shoulder_angle, theta1_from_shoulder_angle
 from redkin.torso_arm.branches import POSITION_BRANCHES, wrap_angle, wrap_to_limits
@@ -229,7 +230,8 @@ def _kernel_arguments(count):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("dual", [False, True])
-def test_best_kernel_in_chunks_equals_one_call_bit_for_bit(dual):
+def test_best_kernel_in_chunks_equals_one_call_bit_for_bit(dual, monkeypatch):
+    monkeypatch.setattr(_compiled, "POOL_SECONDS", 0.0)  # on the pool however short the batch
     count = 2 * PARALLEL_BATCH + 3
     points, thetas, phis, limits = _kernel_arguments(count)
     results = []
@@ -245,7 +247,8 @@ def test_best_kernel_in_chunks_equals_one_call_bit_for_bit(dual):
 
 
 @pytest.mark.slow
-def test_state_kernel_in_chunks_equals_one_call_bit_for_bit():
+def test_state_kernel_in_chunks_equals_one_call_bit_for_bit(monkeypatch):
+    monkeypatch.setattr(_compiled, "POOL_SECONDS", 0.0)  # on the pool however short the batch
     count = 2 * PARALLEL_BATCH + 3
     points, *_ , limits = _kernel_arguments(count)
     rng = np.random.default_rng(9)

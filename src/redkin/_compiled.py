@@ -33,17 +33,20 @@ item, a whole batch (``start, stop = 0, N``) and any chunk of it; the
 arrays are passed unchanged to every chunk (no per-chunk slicing of a dozen
 arguments in Python, and an output row has its input row's index).
 
-:func:`run_batch` runs ``[0, count)``: below :data:`PARALLEL_BATCH` items,
-or with one thread, in one call in the calling thread; otherwise split into
-up to :data:`CHUNKS_PER_THREAD` chunks per thread of at least
-:data:`MIN_CHUNK` items, which the calling thread and ``threads - 1``
-helpers take one after another until none is left.  The helpers are the
-threads of one pool shared by the whole process
-(``concurrent.futures.ThreadPoolExecutor``, created on first use).  The
-calling thread works rather than waits: a batch starts at once, needs one
-wake-up per helper, and where the helpers' cores are busy with other work
-the calling thread simply takes more chunks.  ``threads`` is the number of
-cores this process may run on (``os.sched_getaffinity``), capped by
+:func:`run_batch` runs ``[0, count)`` in one call in the calling thread
+below :data:`PARALLEL_BATCH` items, with one thread, or where the kernel's
+last measured time per item says the batch takes less than
+:data:`POOL_SECONDS` (waking a helper and being woken by it cost tens of
+microseconds).  Otherwise it splits the batch into up to
+:data:`CHUNKS_PER_THREAD` chunks per thread of at least :data:`MIN_CHUNK`
+items, which the calling thread and ``threads - 1`` helpers take one after
+another until none is left.  The helpers are the threads of one pool shared
+by the whole process (``concurrent.futures.ThreadPoolExecutor``, created on
+first use).  The calling thread works rather than waits: a batch starts at
+once, needs one wake-up per helper, and where the helpers' cores are busy
+with other work the calling thread simply takes more chunks (and waits only
+for chunks still running elsewhere).  ``threads`` is the number of cores
+this process may run on (``os.sched_getaffinity``), capped by
 ``NUMBA_NUM_THREADS`` when set; :func:`set_threads` changes it from Python
 (``set_threads(1)`` runs every batch in the calling thread).
 
@@ -53,7 +56,7 @@ Why the pool is safe, and why results do not depend on it:
   outputs, read inputs nobody writes, and keep their scratch to themselves;
   each item is computed alone, by the same machine code, whatever the chunk
   or thread, so a batch equals its items one by one, bit for bit, on any
-  number of threads and any chunking;
+  number of threads and any chunking (and whatever the timings decide);
 * no GIL, no Python objects -- a kernel is compiled ``nogil=True`` and
   touches only the arrays it is given, so chunks run at once on all cores
   and the interpreter is free meanwhile;
@@ -73,9 +76,9 @@ import hashlib
 import operator
 import os
 import threading
+import time
 from collections.abc import Callable
-from concurrent.futures import Future, ThreadPoolExecutor
-from concurrent.futures import wait as _wait
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numba
@@ -87,6 +90,12 @@ PARALLEL_BATCH = 256
 CHUNKS_PER_THREAD = 4
 #: Items per chunk at least.
 MIN_CHUNK = 128
+#: Batches whose kernel, at its last measured time per item, would take less than this (seconds) run in the
+#: calling thread: waking a helper and being woken by it cost tens of microseconds (about 20-30 us each on a
+#: 2-core virtual machine), so a batch of FK shorter than this is faster alone.
+POOL_SECONDS = 2e-4
+
+_seconds_per_item: dict = {}  # kernel -> its last measured time per item (a run in one call, or the caller's chunks)
 
 
 def kernel(function: Callable):
@@ -234,31 +243,56 @@ def run_batch(kernel: Callable, count: int, *args):
 
     When this returns or raises, no chunk is running (a chunk's exception is raised once the others are done).
     """
-    if count < PARALLEL_BATCH:
+    if count < PARALLEL_BATCH:  # the path of one item: nothing else on it
         return kernel(0, count, *args)
     threads = thread_count()
     chunks = min(CHUNKS_PER_THREAD * threads, count // MIN_CHUNK)
-    if threads < 2 or chunks < 2:
-        return kernel(0, count, *args)
-    bounds = [count * k // chunks for k in range(chunks + 1)]
-    results = [None] * chunks
-    order = iter(range(chunks))  # shared by the runners: next() on it is atomic under the GIL
+    if threads > 1 and chunks > 1 and _seconds_per_item.get(kernel, POOL_SECONDS) * count >= POOL_SECONDS:
+        return _run_chunks(kernel, count, chunks, threads, args)
+    start = time.perf_counter()
+    result = kernel(0, count, *args)
+    _seconds_per_item[kernel] = (time.perf_counter() - start) / count
+    return result
 
-    def runner() -> None:
+
+def _run_chunks(kernel: Callable, count: int, chunks: int, threads: int, args: tuple):
+    """:func:`run_batch` in ``chunks`` chunks, taken one after another by the calling thread and ``threads - 1``
+    helpers from the pool.  The calling thread waits only for chunks still running elsewhere: a helper that wakes
+    after every chunk is taken finds nothing to do and is not waited for."""
+    bounds = [count * k // chunks for k in range(chunks + 1)]
+    results: list = [None] * chunks
+    errors: list[BaseException] = []
+    order = iter(range(chunks))  # shared by the runners: next() on it is atomic under the GIL
+    finished = threading.Event()
+    done = [0]
+    lock = threading.Lock()
+
+    def runner() -> int:
+        """Take chunks until none is left; return how many items this thread computed."""
+        items = 0
         for k in order:
-            results[k] = kernel(bounds[k], bounds[k + 1], *args)
+            try:
+                results[k] = kernel(bounds[k], bounds[k + 1], *args)
+                items += bounds[k + 1] - bounds[k]
+            except BaseException as error:  # raised by the calling thread once every chunk is done
+                errors.append(error)
+            with lock:
+                done[0] += 1
+                if done[0] == chunks:
+                    finished.set()
+        return items
 
     pool = _executor(threads - 1)
-    helpers: list[Future] = []
     try:
         for _ in range(min(threads, chunks) - 1):
-            helpers.append(pool.submit(runner))
+            pool.submit(runner)
     except RuntimeError:  # the interpreter is shutting down and the pool takes no more work: this thread does it
         pass
-    try:
-        runner()
-    finally:
-        _wait(helpers)
-    for helper in helpers:
-        helper.result()  # a helper's exception
+    start = time.perf_counter()
+    items = runner()
+    if items:
+        _seconds_per_item[kernel] = (time.perf_counter() - start) / items
+    finished.wait()
+    if errors:
+        raise errors[0]
     return None if results[0] is None else sum(results)
