@@ -173,6 +173,17 @@ def _wait_for(condition, process: subprocess.Popen | None = None, seconds: float
         time.sleep(0.01)
 
 
+def _two_live_workers(client, dead: int | None = None) -> None:
+    """Wait until the session's cluster has its two workers again, none of them the process ``dead``."""
+    end = time.monotonic() + 60
+    while True:
+        pids = client.run(os.getpid, on_error="ignore")  # a worker dead but not yet removed does not answer
+        if len(pids) == 2 and dead not in pids.values():
+            return
+        assert time.monotonic() < end, f"the cluster did not get two live workers back: {pids}"
+        time.sleep(0.1)
+
+
 def _markers(path: Path) -> int:
     folder = path / "chunk_complete"
     return sum(1 for name in os.listdir(folder) if not name.startswith(".")) if folder.is_dir() else 0
@@ -230,14 +241,14 @@ def test_a_cluster_worker_killed_mid_write_costs_nothing(arm, reference, client,
         worker_durable.os.__dict__.update(vars(real), write=write)
         return real.getpid()
 
+    _two_live_workers(client)
     victim = sorted(client.scheduler_info()["workers"])[0]
     pid = client.run(die_in_third_values_write, workers=[victim])[victim]
     path = tmp_path / "map.zarr"
     try:
         run = workspace_map(arm, path, EXTENT, client=client, **SIZES)
     finally:
-        client.wait_for_workers(2, timeout=60)  # the nanny restarts the victim, without the patch
-    assert pid not in client.run(os.getpid).values()
+        _two_live_workers(client, dead=pid)  # the nanny restarts the victim, without the patch
     assert run.computed == CHUNKS and len(_partial_files(path)) == 1
     _assert_resumes_to_the_reference(arm, path, reference, CHUNKS)
 
@@ -441,7 +452,8 @@ def test_a_full_disk_under_a_cluster_is_one_line_too(arm, reference, client, tmp
         worker_durable.write_durably = full if limit is not None else real
 
     path = tmp_path / "map.zarr"
-    client.run(fill_after, 4)  # each worker writes 4 chunks' values, then its disk is full
+    _two_live_workers(client)
+    assert len(client.run(fill_after, 4)) == 2  # each worker writes 4 chunks' values, then its disk is full
     try:
         with pytest.raises(MapStoreError) as raised:
             workspace_map(arm, path, EXTENT, client=client, **SIZES)
