@@ -165,3 +165,16 @@ def test_feasible_arm_angles_takes_one_pose_and_the_batch_function_a_batch():
     assert batch[1, 2].feasible == feasible_arm_angles(chain, poses[1, 2], "+++").feasible
     one = feasible_arm_angles_batch(chain, poses[0, 0], "+++")
     assert one.shape == () and one[()].feasible == batch[0, 0].feasible
+
+
+def test_the_result_builds_its_arc_sets_on_access_and_compares_by_content():
+    """feasible_arm_angles keeps the kernel's pieces and makes the ArcSets when asked (issue 23): the sets equal
+    those of feasible_pieces and of the batch call, and two results of one pose compare equal."""
+    chain = kuka_iiwa14()
+    pose = chain.fk(np.array([0.3, 0.6, 0.2, -1.2, 0.4, 0.9, 0.8]))
+    result = feasible_arm_angles(chain, pose, "+-+")
+    assert "feasible" not in vars(result) and "per_joint" not in vars(result)  # nothing built yet
+    assert result.feasible == feasible_pieces(chain, pose, "+-+").arc_set()
+    assert result == feasible_arm_angles_batch(chain, pose[None], "+-+")[0]
+    assert set(result.per_joint) == set(range(1, 8)) and result.per_joint[4].is_full
+    assert result != feasible_arm_angles(chain, pose, "+++")

@@ -38,6 +38,7 @@ two single branches.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple, cast
 
 import numpy as np
@@ -59,9 +60,13 @@ _CACHE_KEY = "_feasible_limit_tables"
 _GROUP = _ik_kernels.GROUP  # entries per group (shoulder, wrist): x, y, z, r0, r1, r2, t
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False, repr=False)
 class FeasibleArmAngles:
     """Feasible arm angles of one pose and branch.
+
+    Holds the classified pieces the kernel computed; the :class:`ArcSet` s
+    are made on first access (building eight of them costs more than
+    computing the pieces), then kept.
 
     Attributes
     ----------
@@ -77,13 +82,44 @@ class FeasibleArmAngles:
 
     branch: Branch
     theta4: float
-    per_joint: dict[int, ArcSet]
-    feasible: ArcSet
+    _start: np.ndarray  # the pieces (24,) and which of them each row keeps (7, 24): overall, then PSI_JOINTS
+    _end: np.ndarray
+    _keep: np.ndarray
+    _elbow_inside: bool
+
+    def _rows(self, rows: slice) -> list[ArcSet]:
+        """The :class:`ArcSet` s of some rows of the pieces' classification."""
+        start, end = self._start.reshape(1, kernels.PIECES), self._end.reshape(1, kernels.PIECES)
+        keep = np.ascontiguousarray(self._keep[rows])
+        return _arc_sets(start, end, keep.reshape((1,) + keep.shape))[0]
+
+    @cached_property
+    def feasible(self) -> ArcSet:
+        """``Psi`` [000 eq. 30]."""
+        return self._rows(slice(0, 1))[0]
+
+    @cached_property
+    def per_joint(self) -> dict[int, ArcSet]:
+        """``Psi_i`` for joints 1..7 [000 eq. 29]."""
+        first, second, third, fifth, sixth, seventh = self._rows(slice(1, 7))
+        elbow = ArcSet.full() if self._elbow_inside else ArcSet.empty()
+        return {1: first, 2: second, 3: third, 4: elbow, 5: fifth, 6: sixth, 7: seventh}
 
     @property
     def is_empty(self) -> bool:
         """True when no arm angle satisfies every limit."""
         return self.feasible.is_empty
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, FeasibleArmAngles):
+            return NotImplemented
+        return (self.branch == other.branch and self.theta4 == other.theta4 and self.feasible == other.feasible
+                and self.per_joint == other.per_joint)
+
+    __hash__ = None  # type: ignore[assignment]  # mutable-looking value: equal by content, like the dataclass was
+
+    def __repr__(self) -> str:
+        return f"FeasibleArmAngles(branch={self.branch!r}, theta4={self.theta4!r}, feasible={self.feasible!r})"
 
 
 @dataclass(frozen=True)
@@ -223,18 +259,12 @@ def _feasible_arm_angles(start, end, keep, theta4, elbow_inside, named: Branch) 
     ``start, end`` (..., 24), their rows ``keep`` (..., 7, 24), theta_4 and its membership (...)."""
     shape = theta4.shape
     count = theta4.size
-    sets = _arc_sets(start.reshape(count, -1), end.reshape(count, -1), keep.reshape(count, 7, -1))
+    start, end, keep = start.reshape(count, -1), end.reshape(count, -1), keep.reshape(count, 7, -1)
     angles = theta4.reshape(count).tolist()
     elbow = elbow_inside.reshape(count).tolist()
     results = np.empty(count, dtype=object)
-    for b in range(count):
-        overall, first, second, third, fifth, sixth, seventh = sets[b]  # [000 eq. 30], then PSI_JOINTS [000 eq. 29]
-        results[b] = FeasibleArmAngles(
-            branch=named, theta4=angles[b],
-            per_joint={1: first, 2: second, 3: third, 4: ArcSet.full() if elbow[b] else ArcSet.empty(),
-                       5: fifth, 6: sixth, 7: seventh},
-            feasible=overall,
-        )
+    for b in range(count):  # rows of keep: [000 eq. 30], then PSI_JOINTS [000 eq. 29]
+        results[b] = FeasibleArmAngles(named, angles[b], start[b], end[b], keep[b], elbow[b])
     return results.reshape(shape)
 
 
