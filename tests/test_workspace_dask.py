@@ -124,14 +124,14 @@ def test_chunk_tasks_fit_their_worker(client):
     threshold back (Dask's MALLOC_TRIM_THRESHOLD_ took it away); outside a worker neither changes anything."""
     import platform
 
-    import numba
+    from redkin._compiled import thread_count
 
     def in_task():
-        return (match_worker_threads(), numba.get_num_threads(), restore_mmap_threshold(),
+        return (match_worker_threads(), thread_count(), restore_mmap_threshold(),
                 "MALLOC_TRIM_THRESHOLD_" in os.environ)
 
-    threads, numba_threads, restored, trimmed = client.submit(in_task, pure=False).result(timeout=60)
-    assert threads == numba_threads == 1 and trimmed
+    threads, pool_threads, restored, trimmed = client.submit(in_task, pure=False).result(timeout=60)
+    assert threads == pool_threads == 1 and trimmed
     assert restored is (platform.libc_ver()[0] == "glibc")
     assert match_worker_threads() is None
     if "MALLOC_TRIM_THRESHOLD_" not in os.environ:

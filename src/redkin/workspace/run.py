@@ -31,10 +31,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import default_threads, set_threads
 from redkin._validation import check_count
 from redkin.chain import SerialChain
 from redkin.srs import BRANCHES, srs_geometry
@@ -129,15 +129,16 @@ def restore_mmap_threshold() -> bool:
 
 
 def match_worker_threads() -> int | None:
-    """In a dask.distributed worker, give this thread's compiled batches as many threads as the worker has.
+    """In a dask.distributed worker, give the process's compiled batches as many threads as the worker has.
 
     A worker's thread count is its share of the machine's cores (``dask
     worker`` and ``LocalCluster`` split the cores among the worker
-    processes).  numba's thread pool would otherwise take every core in every
-    worker process, so two single-threaded workers on two cores would run
-    four threads.  numba's setting is per calling thread, so only the task's
-    own thread is affected; the results do not depend on it.  Outside a
-    worker (Dask's local threaded scheduler) nothing changes.
+    processes).  redkin's batch pool (:func:`redkin._compiled.run_batch`)
+    would otherwise take every core in every worker process, so two
+    single-threaded workers on two cores would run four threads.  The
+    setting is the process's (:func:`redkin._compiled.set_threads`), and a
+    worker process is the worker's own; the results do not depend on it.
+    Outside a worker (Dask's local threaded scheduler) nothing changes.
 
     Returns
     -------
@@ -150,8 +151,8 @@ def match_worker_threads() -> int | None:
         worker = get_worker()
     except (ImportError, ValueError):  # ValueError: not in a worker
         return None
-    threads = max(1, min(worker.state.nthreads, numba.config.NUMBA_NUM_THREADS))
-    numba.set_num_threads(threads)
+    threads = max(1, min(worker.state.nthreads, default_threads()))
+    set_threads(threads)
     return threads
 
 
