@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin import _chain_kernels as kernels
-from redkin._compiled import run_batch
+from redkin._compiled import kernel_array, run_batch
 from redkin._validation import MAX_LENGTH, as_float_array, check_finite, check_magnitude, check_pose, check_vectors
 from redkin.circle import TWO_PI
 
@@ -408,7 +408,9 @@ class SerialChain:
             seeds = np.broadcast_to(self.check_q(near, "near"), lead + (self.n,))
             targets = np.ascontiguousarray(seeds.reshape(-1, self.n))
         out = np.empty_like(flat)
-        kernels.representatives(flat, self.lower, self.upper, targets, near is not None, out)
+        lower, upper = kernel_array(self.lower), kernel_array(self.upper)  # one compiled type (the fields are read-only)
+        flat, targets = kernel_array(flat), kernel_array(targets)
+        kernels.representatives(flat, lower, upper, targets, near is not None, out)
         missing = np.isnan(out)
         if np.any(missing):  # out of range: the representative nearest the seed, or in (-pi, pi]
             free = np.empty_like(flat)
