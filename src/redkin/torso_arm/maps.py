@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import PARALLEL_BATCH, kernel, run_batch
+from redkin._constants import TORSO_ARM_MAX_RESOLUTION as MAX_RESOLUTION  # most grid points along one axis
 from redkin._validation import as_float_array, check_count, check_finite, check_vectors
 from redkin.torso_arm._kernel_tools import flat, put, row, shoulder_point
 from redkin.torso_arm.branches import NO_REFERENCE, OK, SHOULDER_UNDEFINED, UNREACHABLE, into_limits
@@ -54,8 +55,6 @@ from redkin.torso_arm.position_ik import joints_one
 from redkin.torso_arm.shoulder_angle import theta1_from_shoulder_angle
 
 Progress = Callable[[float], None]
-#: Largest number of grid points along one axis of a map (10^6 points in all).
-MAX_RESOLUTION = 1000
 #: Largest number of theta_1 or phi samples of a best-over-the-redundancy map.
 MAX_SWEEP_SAMPLES = 3600
 #: Postures a best map evaluates in all (grid points x theta_1 x phi samples).

@@ -13,6 +13,7 @@ from typing import Protocol
 
 import numpy as np
 
+from redkin._constants import VELOCITY_METHOD_NAMES as METHOD_NAMES  # the methods by name
 from redkin._validation import check_positive
 from redkin.chain import SerialChain
 from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
@@ -141,9 +142,6 @@ class SingularityConsistent:
             )
 
         return step
-
-
-METHOD_NAMES = ("sc", "pinv", "dls", "dls-adaptive")
 
 
 def make_method(name: str, eps: float = 0.1, damping: float = 0.05) -> Method:

@@ -11,14 +11,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import BDF, LSODA, Radau
 
+from redkin._constants import VIRTUAL_ARMS_MAX_STEPS as MAX_STEPS  # largest step budget of one run
 from redkin._validation import check_count, check_positive, check_vectors
 from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics, State
 from redkin.virtual_arms.output_function import OutputFunction
 from redkin.virtual_arms.subsystems import ForwardModel, OneByOne, Together
 
 _SOLVERS = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}
-#: Largest step budget of one run (every accepted step is recorded with the subsystems' signals).
-MAX_STEPS = 1_000_000
 
 
 @dataclass

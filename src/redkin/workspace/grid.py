@@ -8,10 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._constants import WORKSPACE_MAX_RESOLUTION as MAX_RESOLUTION  # most grid points per axis
 from redkin._validation import as_float_array, check_count, check_finite
 
-#: Most grid points per axis (``redkin workspace --resolution``).
-MAX_RESOLUTION = 1000
 #: Poses one chunk aims at (positions x orientations): 8^3 positions at 500 orientations, 16 MB of
 #: ``measure`` and about 0.7 s of one core per chunk, 13 824 chunks (Dask tasks, marker files) for the
 #: 1 cm iiwa map instead of the 110 592 of 4^3-position chunks.

@@ -16,12 +16,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from redkin._constants import WORKSPACE_MAX_ORIENTATIONS as MAX_ORIENTATIONS  # most orientations of a map
 from redkin._validation import check_count
 
 #: The real root > 1 of psi^4 = psi + 4 (Alexa 2022, equation 11).
 _SUPER_FIBONACCI_PSI = 1.533751168755204288118041
-#: Most orientations a map may take (``redkin workspace --orientations``).
-MAX_ORIENTATIONS = 20_000
 
 
 def _quaternion_to_matrix(quaternion: np.ndarray) -> np.ndarray:

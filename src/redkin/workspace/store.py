@@ -58,14 +58,13 @@ from typing import Any
 import numpy as np
 
 from redkin import __version__
+from redkin._constants import WORKSPACE_MAP_NAME as MAP_NAME  # noqa: F401  (the map's file name; redkin.workspace)
 from redkin.chain import SerialChain
 from redkin.errors import MapStoreError
 from redkin.srs import BRANCHES
 from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid
 
-#: The file name of the map inside the output directory of ``redkin workspace``.
-MAP_NAME = "map.zarr"
 _ORIENTATION_SET = "super-Fibonacci spiral on SO(3) (Alexa, CVPR 2022), deterministic in the count"
 #: The ending of a file being written (renamed to its own name once whole); a run removes those it finds.
 PARTIAL_SUFFIX = ".partial"
