@@ -1,8 +1,12 @@
 """``redkin reproduce``: recompute every paper's figures and tables, paper value beside ours.
 
 Each section lives in its own module that defines ``SECTION``, a
-:class:`Section`.  :data:`SECTION_MODULES` lists them in report order; a paper
-module adds itself by appending one line there.
+:class:`Section`.  :data:`SECTION_MODULES` lists them in report order, each
+with its key; a paper module adds itself by appending one line there.
+
+This package's own module imports no section and no plotting, so that
+``redkin reproduce --help`` lists the keys without importing matplotlib or the
+kernels: :func:`run` imports them.
 """
 
 from __future__ import annotations
@@ -11,20 +15,24 @@ import importlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from redkin._validation import check_output_directory
 from redkin.reproduce.provenance import build_info
-from redkin.reproduce.report import SectionWriter, write_report
 
-#: Modules defining ``SECTION``, in the order of the report.
-SECTION_MODULES = [
-    "redkin.reproduce.paper_000",
-    "redkin.reproduce.paper_001",
-    "redkin.reproduce.paper_003",
-    "redkin.reproduce.paper_004",
-    "redkin.reproduce.workspace_section",
-    "redkin.reproduce.models_section",
-]
+if TYPE_CHECKING:
+    from redkin.reproduce.report import SectionWriter
+
+#: Modules defining ``SECTION``, in the order of the report, and the key of each section on the command line
+#: (``redkin reproduce 000``); a section takes its key from here (:func:`section_key`).
+SECTION_MODULES = {
+    "redkin.reproduce.paper_000": "000",
+    "redkin.reproduce.paper_001": "001",
+    "redkin.reproduce.paper_003": "003",
+    "redkin.reproduce.paper_004": "004",
+    "redkin.reproduce.workspace_section": "workspace",
+    "redkin.reproduce.models_section": "models",
+}
 
 _REPORT_TITLE = "redkin: reproduction of the papers"
 
@@ -57,8 +65,13 @@ def sections() -> list[Section]:
 
 
 def section_keys() -> list[str]:
-    """Keys accepted by :func:`run`."""
-    return [s.key for s in sections()]
+    """Keys accepted by :func:`run`, in report order (no section is imported)."""
+    return list(SECTION_MODULES.values())
+
+
+def section_key(module: str) -> str:
+    """The key of the section that ``module`` (its ``__name__``) defines."""
+    return SECTION_MODULES[module]
 
 
 def run(
@@ -74,6 +87,8 @@ def run(
         For an unknown section key or an output directory that cannot be
         written (checked before any section runs).
     """
+    from redkin.reproduce.report import SectionWriter, write_report  # matplotlib: only when a report is made
+
     available = {s.key: s for s in sections()}
     chosen = list(available) if not keys else list(keys)
     unknown = [k for k in chosen if k not in available]

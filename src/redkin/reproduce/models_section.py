@@ -7,7 +7,7 @@ import numpy as np
 
 from redkin.models import MODELS
 from redkin.plot.arm import draw_arm_2d, draw_arm_3d, set_equal_3d
-from redkin.reproduce import Section
+from redkin.reproduce import Section, section_key
 from redkin.reproduce.report import SectionWriter
 
 
@@ -69,7 +69,7 @@ def _limit(value: float) -> float | None:
 
 
 SECTION = Section(
-    key="models",
+    key=section_key(__name__),
     title="Robot models",
     reference="Models of paper 000 (PA10-7C), paper 003 (Barrett WAM), thesis 001 (dual-arm humanoid), "
     "paper 004 (planar arm) and the KUKA LBR iiwa 14 R820 data sheet.",

@@ -11,7 +11,7 @@ from redkin.models import pa10_7c
 from redkin.plot.arm import draw_arm_3d, set_equal_3d
 from redkin.plot.srs import plot_joint_curves, plot_reachable_rotations
 from redkin.references import REFERENCES
-from redkin.reproduce import Section
+from redkin.reproduce import Section, section_key
 from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
@@ -222,7 +222,7 @@ def build(writer: SectionWriter) -> None:
 
 
 SECTION = Section(
-    key="000",
+    key=section_key(__name__),
     title="Paper 000: analytical IK of 7-DOF manipulators with joint limits",
     reference=REFERENCES["000"],
     build=build,

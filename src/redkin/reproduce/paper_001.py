@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike
 from redkin.models import HUMANOID_LENGTHS, humanoid_right_arm
 from redkin.plot.torso_arm import draw_manipulability_map
 from redkin.references import REFERENCES
-from redkin.reproduce import Section
+from redkin.reproduce import Section, section_key
 from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
@@ -208,7 +208,7 @@ def build(writer: SectionWriter) -> None:
 
 
 SECTION = Section(
-    key="001",
+    key=section_key(__name__),
     title="Thesis 001: the 8-DOF dual-arm humanoid (shoulder/elbow-angle IK, wrist IK, manipulability maps)",
     reference=REFERENCES["001"],
     build=build,

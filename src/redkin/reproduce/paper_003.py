@@ -10,7 +10,7 @@ from redkin.models import barrett_wam, barrett_wam7
 from redkin.plot.srs import plot_arm_angles_along_path
 from redkin.plot.velocity import comparison_figure, tracking_figure
 from redkin.references import REFERENCES
-from redkin.reproduce import Section
+from redkin.reproduce import Section, section_key
 from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison
 from redkin.reproduce.report import SectionWriter
@@ -245,7 +245,7 @@ def build(writer: SectionWriter) -> None:
 
 
 SECTION = Section(
-    key="003",
+    key=section_key(__name__),
     title="Paper 003: singularity-consistent velocity IK through singularities",
     reference=REFERENCES["003"] + " Section 4 (Barrett WAM simulation).",
     build=build,

@@ -21,7 +21,7 @@ from redkin.plot.virtual_arms import (
     legend_below,
 )
 from redkin.references import REFERENCES
-from redkin.reproduce import Section
+from redkin.reproduce import Section, section_key
 from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
@@ -346,7 +346,7 @@ def build(writer: SectionWriter) -> None:
 
 
 SECTION = Section(
-    key="004",
+    key=section_key(__name__),
     title="Paper 004: distributed trajectory generation for redundant manipulators with virtual arms",
     reference=REFERENCES["004"],
     build=build,

@@ -16,7 +16,7 @@ import numpy as np
 from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.plot.workspace import mid_plane_figure, plot_measure_line
 from redkin.references import REFERENCES
-from redkin.reproduce import Section
+from redkin.reproduce import Section, section_key
 from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
@@ -211,7 +211,7 @@ def build(writer: SectionWriter) -> None:
 
 
 SECTION = Section(
-    key="workspace",
+    key=section_key(__name__),
     title="Workspace maps: exact reachability and redundancy (paper 000's feasible sets over a grid)",
     reference=REFERENCES["000"] + " [000 eq. 30] and section 6.2.2.",
     build=build,
