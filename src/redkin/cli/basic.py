@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from redkin.chain import SerialChain
 from redkin.cli.common import (
     add_output_flags,
     add_robot_argument,
@@ -21,8 +20,9 @@ from redkin.cli.common import (
     plural,
     print_json,
 )
-from redkin.models import MODELS
-from redkin.srs import arm_angle_class
+
+if TYPE_CHECKING:  # the parsers are built without the chain, the models or the kernels; each handler imports its own
+    from redkin.chain import SerialChain
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -50,6 +50,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run_robots(args: argparse.Namespace) -> int:
+    from redkin.models import MODELS
+    from redkin.srs import arm_angle_class
+
     if args.show is not None:
         return _show_robot(load_chain(args.show, args.base, args.tip), args)
     if args.base is not None or args.tip is not None:
@@ -79,6 +82,8 @@ def _run_robots(args: argparse.Namespace) -> int:
 
 def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
     """``redkin robots --show ROBOT``: joint names, limits, joint frames at q = 0, base, tool and class."""
+    from redkin.srs import arm_angle_class
+
     kind, reason = arm_angle_class(chain)
     directions, points = chain.joint_axes(np.zeros(chain.n))
     directions = directions * chain.sign[:, None]  # the sense in which q turns

@@ -10,14 +10,14 @@ import sys
 import warnings
 from collections.abc import Collection, Sequence
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
 from redkin._validation import MAX_LENGTH, check_magnitude, check_output_directory, check_output_file, check_rotation
-from redkin.chain import SerialChain
-from redkin.models import get_robot
-from redkin.srs.geometry import pose_from
+
+if TYPE_CHECKING:  # the commands' parsers are built from this module: it imports no chain, models or kernels
+    from redkin.chain import SerialChain
 
 #: File types of the figures the commands write (matplotlib's writers without extra packages).
 IMAGE_SUFFIXES = frozenset({".png", ".pdf", ".svg"})
@@ -73,6 +73,8 @@ def add_target_arguments(parser: argparse.ArgumentParser) -> None:
 
 def target_pose(args: argparse.Namespace) -> np.ndarray:
     """The pose of ``--position`` and ``--rotation`` (ValueError for a non-finite position or a non-rotation)."""
+    from redkin.srs.geometry import pose_from
+
     rotation = check_rotation(np.array(args.rotation, dtype=float).reshape(3, 3), "--rotation")
     return pose_from(checked_position(args.position), rotation)
 
@@ -105,6 +107,8 @@ def load_chain(robot: str, base: str | None = None, tip: str | None = None) -> S
     warnings) or of every command after it.  Overflow while loading is a ValueError that names the file; a length
     beyond :data:`MAX_LENGTH` (``a``, ``d``, base and tool translations) is refused by the chain itself.
     """
+    from redkin.models import get_robot
+
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", RuntimeWarning)
         try:

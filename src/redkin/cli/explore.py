@@ -17,7 +17,6 @@ from redkin.cli.common import (
     print_json,
     target_pose,
 )
-from redkin.explore import explorer_data, explorer_html
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -34,6 +33,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from redkin.explore import explorer_data, explorer_html
+
     out = output_file(args.out, "--out", {".html", ".htm"}, args.force)
     chain = load_robot(args)
     data = explorer_data(chain, target_pose(args), args.branch)

@@ -15,7 +15,6 @@ from collections.abc import Callable
 from typing import Any, TextIO
 
 from redkin.cli.common import UsageError, progress_bar
-from redkin.workspace._optional import require
 
 #: How long ``--scheduler`` waits for the scheduler to answer.
 _CONNECT_TIMEOUT = "10s"
@@ -27,6 +26,8 @@ _LINE_EVERY = 60.0
 
 def require_map_libraries() -> Any:
     """The ``xarray`` module, after checking that xarray, dask and zarr (the ``workspace`` extra) import."""
+    from redkin.workspace._optional import require
+
     try:
         xr, _, _ = (require(name) for name in ("xarray", "dask", "zarr"))
     except ImportError as exc:
@@ -110,6 +111,8 @@ def print_run(summary: dict) -> None:
 
 def _connect(address: str) -> Any:
     """A ``distributed.Client`` of the scheduler at ``address`` (UsageError if none answers)."""
+    from redkin.workspace._optional import require
+
     distributed = require("distributed")
     try:
         return distributed.Client(address, timeout=_CONNECT_TIMEOUT)

@@ -21,8 +21,6 @@ from redkin.cli.common import (
     print_json,
     target_pose,
 )
-from redkin.srs import BRANCHES, feasible_arm_angles, ik, optimal_arm_angles, parse_branch, singular_arm_angles
-from redkin.srs.geometry import srs_geometry
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -76,6 +74,8 @@ def _scaled_weights(weights) -> np.ndarray:
 
 
 def run_ik(args: argparse.Namespace) -> int:
+    from redkin.srs import BRANCHES, ik, parse_branch, srs_geometry
+
     chain = load_robot(args)
     geometry = srs_geometry(chain)
     pose = target_pose(args)
@@ -102,6 +102,8 @@ def run_ik(args: argparse.Namespace) -> int:
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
+    from redkin.srs import feasible_arm_angles, optimal_arm_angles, parse_branch, singular_arm_angles, srs_geometry
+
     chain = load_robot(args)
     geometry = srs_geometry(chain)
     pose = target_pose(args)

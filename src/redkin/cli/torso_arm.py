@@ -8,6 +8,7 @@ import sys
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._constants import TORSO_ARM_MAX_RESOLUTION
 from redkin._validation import MAX_LENGTH, check_magnitude
 from redkin.circle import wrap_angle
 from redkin.cli.common import (
@@ -23,18 +24,6 @@ from redkin.cli.common import (
     output_file,
     print_json,
     progress_bar,
-)
-from redkin.torso_arm import BRANCHES, humanoid_arm, ik, position_ik
-from redkin.torso_arm.branches import STATUS_NAMES
-from redkin.torso_arm.maps import (
-    MAX_RESOLUTION,
-    best_dual_arm_map,
-    best_manipulability_map,
-    dual_arm_map,
-    manipulability_map,
-    plane_grid,
-    reach_extent,
-    region_above,
 )
 
 
@@ -70,7 +59,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     chart.add_argument("--extent", nargs=4, type=float, metavar=("U0", "U1", "V0", "V1"),
                        help="range of the two in-plane axes (x-y-z order), metres (default: the arm's reach there)")
     chart.add_argument("--resolution", type=int, default=100, metavar="N",
-                       help=f"grid points along each axis (default 100, at most {MAX_RESOLUTION})")
+                       help=f"grid points along each axis (default 100, at most {TORSO_ARM_MAX_RESOLUTION})")
     chart.add_argument("--arm", choices=("right", "left", "both"), default="right",
                        help="right (default) or left: one arm's manipulability w [m^3]; both: the two arms together "
                             "in the symmetric posture, the right wrist on the grid [m^6]")
@@ -108,6 +97,8 @@ def _reference(text: str):
 
 
 def run_ik(args: argparse.Namespace) -> int:
+    from redkin.torso_arm import BRANCHES, STATUS_NAMES, humanoid_arm, ik, position_ik
+
     arm = humanoid_arm(args.arm, args.tool)
     psi, phi = angles_in([args.shoulder, args.elbow], args.deg)
     reference = _reference(args.reference)
@@ -145,6 +136,17 @@ def run_ik(args: argparse.Namespace) -> int:
 
 
 def _run_map(args: argparse.Namespace) -> int:
+    from redkin.torso_arm import humanoid_arm
+    from redkin.torso_arm.maps import (
+        best_dual_arm_map,
+        best_manipulability_map,
+        dual_arm_map,
+        manipulability_map,
+        plane_grid,
+        reach_extent,
+        region_above,
+    )
+
     if args.out:
         output_file(args.out, "--out", IMAGE_SUFFIXES, args.force)
     extent = (reach_extent(humanoid_arm("right"), args.plane) if args.extent is None
@@ -220,6 +222,7 @@ def _save(result, path: str, unit: str, arm: str) -> None:
     import matplotlib.pyplot as plt
 
     from redkin.plot.torso_arm import draw_manipulability_map
+    from redkin.torso_arm import humanoid_arm
 
     right = humanoid_arm("right")
     landmarks: dict[str, ArrayLike] = {

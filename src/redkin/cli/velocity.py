@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from redkin._constants import VELOCITY_METHOD_NAMES
 from redkin._validation import check_magnitude
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
@@ -23,14 +25,9 @@ from redkin.cli.common import (
     plural,
     print_json,
 )
-from redkin.velocity import (
-    METHOD_NAMES,
-    SingularityConsistent,
-    TrackingResult,
-    make_method,
-    simulate,
-    singularity_factorisation,
-)
+
+if TYPE_CHECKING:  # the parser is built without the velocity package (and its kernels): the handler imports it
+    from redkin.velocity import TrackingResult
 
 #: Largest entry of a commanded twist (m/s, rad/s): far beyond any arm, far below where the integration overflows.
 MAX_SPEED = 1e6
@@ -46,7 +43,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     track.add_argument("--twist", nargs=6, type=float, required=True, metavar=("VX", "VY", "VZ", "WX", "WY", "WZ"),
                        help="commanded twist: m/s and rad/s (angular part in deg/s with --deg)")
     track.add_argument("--duration", type=float, required=True, metavar="T", help="simulated seconds")
-    track.add_argument("--method", choices=METHOD_NAMES, default="sc",
+    track.add_argument("--method", choices=VELOCITY_METHOD_NAMES, default="sc",
                        help="velocity IK method: sc, singularity-consistent (paper 003; passes singularities "
                             "keeping the commanded direction, default); pinv, the pseudoinverse; dls, damped least "
                             "squares with --damping; dls-adaptive, damping that grows as sigma_min falls below --eps")
@@ -65,6 +62,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run_track(args: argparse.Namespace) -> int:
+    from redkin.velocity import SingularityConsistent, make_method, simulate, singularity_factorisation
+
     if args.series and not args.json:
         raise UsageError("--series adds the time series to the --json output: add --json")
     if args.plot:

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from redkin._constants import VIRTUAL_ARMS_MAX_STEPS
 from redkin._validation import MAX_LENGTH, check_count, check_magnitude
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
@@ -23,18 +25,10 @@ from redkin.cli.common import (
     plural,
     print_json,
 )
-from redkin.virtual_arms import (
-    AnalyticModel,
-    Obstacle,
-    OutputFunction,
-    VirtualPoint,
-    avoid_obstacles,
-    generate_trajectory,
-    learn_forward_model,
-    parse_point,
-)
-from redkin.virtual_arms.generate import MAX_STEPS
-from redkin.virtual_arms.subsystems import ForwardModel
+
+if TYPE_CHECKING:  # the parser is built without the virtual-arms package (scipy, the kernels): the handlers import it
+    from redkin.virtual_arms import Obstacle, VirtualPoint
+    from redkin.virtual_arms.subsystems import ForwardModel
 
 _DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models
 #: A goal counts as met when its point ends this close to it (metres); the runs end far closer (~1e-6 m).
@@ -61,7 +55,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--q0", nargs="+", type=float, metavar="Q",
                         help=f"initial joint values (default {_DEFAULT_Q0} rad at every joint)")
     parser.add_argument("--max-steps", type=int, default=5000,
-                        help=f"integrator step budget (default 5000, at most {MAX_STEPS})")
+                        help=f"integrator step budget (default 5000, at most {VIRTUAL_ARMS_MAX_STEPS})")
     parser.add_argument("--obstacle", action="append", default=[], metavar="X,Y,R",
                         help="a circular obstacle X,Y,R (planar arms) or a sphere X,Y,Z,R, metres (repeatable); "
                              "the planner of Fig. 8 then keeps the whole arm clear of it")
@@ -81,6 +75,8 @@ def _coordinates(values, dims: int, name: str) -> np.ndarray:
 
 
 def _point_goal(text: str, dims: int) -> tuple[VirtualPoint, np.ndarray]:
+    from redkin.virtual_arms import parse_point
+
     label, sep, coords = text.partition("=")
     if not sep:
         raise UsageError(f"--point must look like joint:3=X,Y, got {text!r}")
@@ -105,6 +101,8 @@ def _fixed(text: str, joints: int) -> list[int]:
 
 
 def _obstacle(text: str, dims: int) -> Obstacle:
+    from redkin.virtual_arms import Obstacle
+
     shape = "X,Y,R" if dims == 2 else "X,Y,Z,R"
     try:
         values = [float(v) for v in text.split(",")]
@@ -124,6 +122,14 @@ def _units(degrees: bool) -> dict:
 
 
 def _run_virtual_arms(args: argparse.Namespace) -> int:
+    from redkin.virtual_arms import (
+        AnalyticModel,
+        OutputFunction,
+        VirtualPoint,
+        generate_trajectory,
+        learn_forward_model,
+    )
+
     chain = load_robot(args)
     probe = AnalyticModel(chain, [VirtualPoint.end()])
     dims = probe.dims
@@ -148,7 +154,7 @@ def _run_virtual_arms(args: argparse.Namespace) -> int:
     else:
         q0 = joint_vector(chain, args.q0, args.deg, name="--q0 values")
     output = OutputFunction.sine(chain.lower, chain.upper) if args.limits else None
-    check_count(args.max_steps, "--max-steps", 1, MAX_STEPS)
+    check_count(args.max_steps, "--max-steps", 1, VIRTUAL_ARMS_MAX_STEPS)
     obstacles = [_obstacle(text, dims) for text in args.obstacle]
     if obstacles:
         if len(points) > 1 or weights is not None:
@@ -200,6 +206,8 @@ def _alone(chain, point: VirtualPoint, goal: np.ndarray, axes, start: np.ndarray
            max_steps: int) -> float:
     """How close ``point`` gets to ``goal`` with no other goal to share the joints with: from where the run ended,
     the same clamped joints and limits (metres)."""
+    from redkin.virtual_arms import AnalyticModel, generate_trajectory
+
     model = AnalyticModel(chain, [point], axes)
     run = generate_trajectory(model, start, goal[None], output=output, fixed=fixed, max_steps=max_steps)
     return float(np.linalg.norm(model.evaluate(run.final_theta)[0][0] - goal))
@@ -245,6 +253,8 @@ def _distance(metres: float) -> str:
 
 def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: np.ndarray, obstacles: list,
                         output) -> int:
+    from redkin.virtual_arms import avoid_obstacles
+
     run = avoid_obstacles(chain, q0, goal, obstacles, output=output, fixed=_fixed(args.fix, chain.n),
                           period_steps=min(args.max_steps, 20))
     if args.out:

@@ -4,16 +4,10 @@ from __future__ import annotations
 
 import argparse
 
+from redkin._constants import WORKSPACE_MAP_NAME, WORKSPACE_MAX_ORIENTATIONS, WORKSPACE_MAX_RESOLUTION
 from redkin._validation import check_count, check_output_directory
 from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json
 from redkin.cli.map_run import IMAGES_LEFT, open_client, print_run, require_map_libraries, run_on, run_summary
-from redkin.cli.workspace_humanoid import run_humanoid
-from redkin.srs import srs_geometry
-from redkin.workspace.grid import MAX_RESOLUTION, workspace_grid
-from redkin.workspace.humanoid import humanoid_of
-from redkin.workspace.orientations import MAX_ORIENTATIONS
-from redkin.workspace.run import workspace_map
-from redkin.workspace.store import MAP_NAME, no_space_errors
 
 #: The images written beside the map: one per index, its three mid-planes side by side.
 SLICE_NAMES = ("reachability", "redundancy")
@@ -26,14 +20,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     add_robot_argument(command)
     command.add_argument("--out", required=True, metavar="DIR",
-                         help=f"output directory: DIR/{MAP_NAME} (resumed if it holds the same map) and PNG slices")
+                         help=f"output directory: DIR/{WORKSPACE_MAP_NAME} (resumed if it holds the same map) and PNG "
+                              "slices")
     command.add_argument("--extent", nargs=6, type=float, required=True,
                          metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"), help="box of tool positions [m]")
     command.add_argument("--resolution", type=int, required=True, metavar="M",
-                         help=f"grid points per axis, ends included (2..{MAX_RESOLUTION})")
+                         help=f"grid points per axis, ends included (2..{WORKSPACE_MAX_RESOLUTION})")
     command.add_argument("--orientations", type=int, metavar="N",
                          help="tool orientations per position, a super-Fibonacci set on SO(3) "
-                              f"(1..{MAX_ORIENTATIONS}); required for an arm with arm-angle IK")
+                              f"(1..{WORKSPACE_MAX_ORIENTATIONS}); required for an arm with arm-angle IK")
     command.add_argument("--samples", type=int, nargs=2, metavar=("N1", "NPHI"),
                          help="the thesis 001 humanoid (humanoid-right, humanoid-left) instead: its best "
                               "manipulability over N1 x NPHI samples of theta_1 and phi (default 24 24)")
@@ -49,13 +44,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from redkin.cli.workspace_humanoid import run_humanoid
+    from redkin.srs import srs_geometry
+    from redkin.workspace.grid import workspace_grid
+    from redkin.workspace.humanoid import humanoid_of
+    from redkin.workspace.run import workspace_map
+    from redkin.workspace.store import no_space_errors
+
     chain = load_robot(args)
     if humanoid_of(chain) is not None:
         return run_humanoid(args, chain)
     if args.samples is not None:
         raise UsageError("--samples is for the thesis 001 humanoid; an arm with arm-angle IK takes --orientations N")
-    resolution = check_count(args.resolution, "--resolution", 2, MAX_RESOLUTION)
-    orientations = check_count(args.orientations, "--orientations", 1, MAX_ORIENTATIONS)
+    resolution = check_count(args.resolution, "--resolution", 2, WORKSPACE_MAX_RESOLUTION)
+    orientations = check_count(args.orientations, "--orientations", 1, WORKSPACE_MAX_ORIENTATIONS)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     grid = workspace_grid(args.extent, resolution, orientations, chunk)
     srs_geometry(chain)  # the arm-angle refusal, before anything is written
@@ -63,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     client = open_client(args.scheduler)
     out = check_output_directory(args.out, "--out")
     result = run_on(client, len(grid.chunk_indices()), lambda client, progress: workspace_map(
-        chain, out / MAP_NAME, args.extent, resolution, orientations, chunk=grid.chunk, client=client,
+        chain, out / WORKSPACE_MAP_NAME, args.extent, resolution, orientations, chunk=grid.chunk, client=client,
         progress=progress), args.quiet)
     import matplotlib
 
