@@ -1,0 +1,132 @@
+"""The command line imports only what it uses (issue 23: a command line that starts fast).
+
+``redkin --help``, each command's ``--help`` and an argument error import none of numba, scipy, matplotlib, the Dask
+stack or the compiled kernels; ``redkin fk`` imports the chain and its kernels, and nothing of the other methods.
+These tests check what a fresh process imports, never how long it takes: timings belong in benchmarks/.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+from redkin.cli.main import _COMMANDS
+
+PACKAGE = Path(__file__).resolve().parents[1] / "src" / "redkin"
+
+#: Libraries a parser must not need (llvmlite comes only with numba).
+HEAVY = ("numba", "llvmlite", "scipy", "matplotlib", "dask", "distributed", "zarr", "xarray")
+
+#: The redkin packages of the methods other than the chain: ``redkin fk`` needs none of them.
+OTHER_METHODS = ("redkin.srs", "redkin.torso_arm", "redkin.velocity", "redkin.virtual_arms", "redkin.workspace",
+                 "redkin.explore", "redkin.plot", "redkin.reproduce")
+
+#: The modules of :data:`OTHER_METHODS` a parser reads: ``redkin.reproduce`` lists its sections' keys (and imports
+#: no section).
+READ_BY_HELP = {"redkin.reproduce", "redkin.reproduce.provenance"}
+
+#: Argument lists that end before any command runs: help, and mistakes argparse refuses.
+BEFORE_ANY_WORK = [
+    [], ["--help"], ["--version"], ["--bogus"],
+    *([command, "--help"] for command in _COMMANDS), ["torso-arm", "ik", "--help"], ["torso-arm", "map", "--help"],
+    ["fk"], ["fk", "pa10-7c", "zero"], ["ik", "pa10-7c", "--bogus"], ["track", "barrett-wam", "--method", "bogus"],
+    ["workspace", "pa10-7c"], ["torso-arm", "map"], ["reproduce", "--bogus"], ["no-such-command"],
+]
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports_compiled(tree: ast.Module) -> bool:
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import) and any(alias.name == "redkin._compiled" for alias in node.names):
+            return True
+        if isinstance(node, ast.ImportFrom) and (node.module == "redkin._compiled" or (
+                node.module == "redkin" and any(alias.name == "_compiled" for alias in node.names))):
+            return True
+    return False
+
+
+#: ``redkin._compiled`` and every module that imports it: the modules that define or call compiled kernels (every
+#: kernel is made by ``redkin._compiled.kernel``, so no kernel loads without them).
+KERNEL_MODULES = {"redkin._compiled"} | {
+    _module_name(path) for path in PACKAGE.rglob("*.py") if _imports_compiled(ast.parse(path.read_text("utf-8")))
+}
+
+
+def _run(code: str) -> list:
+    """The lines ``code`` prints in a fresh interpreter, each read as a Python literal."""
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return [ast.literal_eval(line) for line in result.stdout.splitlines() if line.startswith("(")]
+
+
+def _modules_after(argv_lists: list[list[str]]) -> list[tuple[list[str], int, set[str]]]:
+    """For each argument list in turn, in one fresh process: main's exit code and every module loaded so far.
+
+    One process serves them all: a module loaded by one call stays loaded for the next, so the first call that
+    loads a forbidden module is the one named when a check fails (all before it loaded none).
+    """
+    code = "\n".join([
+        "import contextlib, io, sys",
+        "from redkin.cli.main import main",
+        f"for argv in {argv_lists!r}:",
+        "    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):",
+        "        try:",
+        "            code = main(argv)",
+        "        except SystemExit as exc:",
+        "            code = exc.code",
+        "    print((argv, code, sorted(sys.modules)))",
+    ])
+    return [(argv, code, set(modules)) for argv, code, modules in _run(code)]
+
+
+def _forbidden(modules: set[str], names: set[str] | tuple[str, ...]) -> list[str]:
+    """The modules among ``modules`` that are one of ``names`` or inside one of them."""
+    return sorted(m for m in modules if any(m == name or m.startswith(name + ".") for name in names))
+
+
+def test_help_and_argument_errors_import_no_heavy_library_and_no_kernel():
+    runs = _modules_after(BEFORE_ANY_WORK)
+    assert [argv for argv, _, _ in runs] == BEFORE_ANY_WORK
+    for argv, code, modules in runs:
+        assert code in (0, 2), (argv, code)
+        assert _forbidden(modules, HEAVY) == [], argv
+        assert _forbidden(modules, KERNEL_MODULES) == [], argv
+        # of the methods, only the registry of reproduce's sections, which gives the help their keys
+        assert set(_forbidden(modules, ("redkin.chain", "redkin.models", *OTHER_METHODS))) <= READ_BY_HELP, argv
+
+
+def test_the_kernel_modules_are_found():
+    """The list above is not empty by mistake: the chain's and the S-R-S kernels are in it."""
+    assert {"redkin._chain_kernels", "redkin.chain", "redkin.srs._ik_kernels"} <= KERNEL_MODULES
+
+
+def test_fk_imports_the_chain_kernels_and_nothing_of_the_other_methods():
+    [(_, code, modules)] = _modules_after([["fk", "pa10-7c", "0", "0", "0", "0", "0", "0", "0"]])
+    assert code == 0
+    assert {"numba", "redkin.chain", "redkin._chain_kernels", "redkin.models"} <= modules  # it did compute the pose
+    assert _forbidden(modules, ("matplotlib", "dask", "distributed", "zarr", "xarray")) == []
+    assert _forbidden(modules, OTHER_METHODS) == []
+    assert _forbidden(modules, KERNEL_MODULES - {"redkin._compiled", "redkin._chain_kernels", "redkin.chain"}) == []
+    # numba itself imports scipy (its version check, and scipy.linalg's BLAS the first time it loads any compiled
+    # function, cached or not): fk adds no scipy module of its own
+    [numba_alone] = _run("import sys, numba\nnumba.njit(lambda x: x + 1)(1)\nprint(tuple(sorted(sys.modules)))")
+    assert set(_forbidden(modules, ("scipy",))) <= set(numba_alone)
+
+
+def test_import_redkin_is_light_and_its_names_load_on_first_use():
+    code = "\n".join([
+        "import sys, redkin",
+        "print(tuple(sorted(sys.modules)))",
+        "from redkin import SerialChain, get_robot, RedkinError",
+        "print((SerialChain.__module__, get_robot.__module__, RedkinError.__module__, redkin.__version__))",
+        "print((sorted(set(redkin.__all__) - set(dir(redkin))), hasattr(redkin, 'no_such_name')))",
+    ])
+    modules, names, missing = _run(code)
+    assert _forbidden(set(modules), HEAVY) == [] and _forbidden(set(modules), KERNEL_MODULES) == []
+    assert names[:3] == ("redkin.chain", "redkin.models", "redkin.errors") and isinstance(names[3], str)
+    assert missing == ([], False)
