@@ -22,6 +22,20 @@ directory, a digest of every redkin module that defines kernels, and empties
 that directory's numba files when the digest differs (after an edit or an
 upgrade): the compiled core is cached as a whole.
 
+Compiling is the one slow thing a new install does (about 25 s of CPU for
+every kernel, on the 2-core machine of ``benchmarks/cold_start.py``; a
+command compiles only the kernels it calls), so it is announced: the first
+time a process compiles a redkin kernel, one line goes to stderr
+(:data:`COMPILE_NOTICE`, naming the cache directory), and every kernel
+compile calls the listeners registered with :func:`on_compile` (the
+progress of ``redkin reproduce`` moves on them).  numba reports compiles
+through its event API (``numba.core.event``, ``"numba:compile"``); loading
+from the cache is not a compile and says nothing.  :func:`set_compile_notice`
+or ``REDKIN_COMPILE_NOTICE=0`` in the environment turns the line off (the
+tests do, for the processes they start too); ``redkin compile``
+(:func:`redkin.warm_up.warm_up`) compiles everything ahead, for a Docker
+image or a cluster's workers.
+
 Batches
 -------
 A batch kernel takes the half-open range of items it computes as its first
@@ -75,6 +89,7 @@ from __future__ import annotations
 import hashlib
 import operator
 import os
+import sys
 import threading
 import time
 from collections.abc import Callable
@@ -82,6 +97,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numba
+import numba.core.event
 import numpy as np
 
 #: Batches of fewer items run in the calling thread (handing out chunks costs more than the cores save).
@@ -96,6 +112,56 @@ MIN_CHUNK = 128
 POOL_SECONDS = 2e-4
 
 _seconds_per_item: dict = {}  # kernel -> its last measured time per item (a run in one call, or the caller's chunks)
+
+
+#: The line said on stderr the first time a process compiles a redkin kernel (``{cache}``: where it is cached).
+COMPILE_NOTICE = ("redkin: compiling its kernels for this machine, once per install (cached in {cache}; up to about "
+                  "30 s for all of them, 'redkin compile' does it ahead)...")
+
+_notice = {"enabled": os.environ.get("REDKIN_COMPILE_NOTICE", "1") != "0", "said": False}
+_compile_listeners: list[Callable[[str], None]] = []
+
+
+def on_compile(listener: Callable[[str], None]) -> Callable[[], None]:
+    """Call ``listener(name)`` before each redkin kernel compiles (``name``: the kernel's module and function);
+    return a function that removes it again."""
+    _compile_listeners.append(listener)
+    return lambda: _compile_listeners.remove(listener) if listener in _compile_listeners else None
+
+
+def set_compile_notice(enabled: bool) -> None:
+    """Say (``True``, the default) or do not say :data:`COMPILE_NOTICE` when this process first compiles."""
+    _notice["enabled"] = bool(enabled)
+
+
+def cache_directory() -> str:
+    """Where numba caches the kernels imported so far (see the module docstring): one folder, or the folder that
+    holds them all (each source folder's ``__pycache__`` in an editable install); ``"no cache"`` where none."""
+    if not _checked:
+        return "no cache"
+    return os.path.commonpath(sorted(_checked))
+
+
+class _CompileListener(numba.core.event.Listener):
+    """numba's ``"numba:compile"`` events of redkin's kernels: the notice once, then the listeners."""
+
+    def on_start(self, event) -> None:
+        dispatcher = event.data.get("dispatcher") if isinstance(event.data, dict) else None
+        function = getattr(dispatcher, "py_func", None)
+        module = getattr(function, "__module__", "") or ""
+        if function is None or not module.startswith("redkin."):
+            return
+        if _notice["enabled"] and not _notice["said"]:
+            _notice["said"] = True
+            print(COMPILE_NOTICE.format(cache=cache_directory()), file=sys.stderr, flush=True)
+        for listener in list(_compile_listeners):
+            listener(f"{module}.{function.__name__}")
+
+    def on_end(self, event) -> None:
+        return None
+
+
+numba.core.event.register("numba:compile", _CompileListener())
 
 
 def kernel(function: Callable):

@@ -1,0 +1,148 @@
+"""Compile every kernel ahead of use: ``redkin compile``, for a Docker image, a cluster's workers or a CI cache.
+
+A kernel compiles on its first call in a fresh install and is cached (:mod:`redkin._compiled`); a process that
+calls everything once, section by section, leaves a cache from which every later process loads in milliseconds.
+:func:`warm_up` is that process's work: each public function that runs a compiled kernel, called once on one item
+and once on a batch past :data:`redkin._compiled.PARALLEL_BATCH`, with standard and modified DH, every arm class
+and both torso arms.  ``benchmarks/cold_start.py`` times it on a fresh cache.
+
+To share the cache, point ``NUMBA_CACHE_DIR`` at one folder before the first ``import redkin`` in every process
+that should use it (a read-only install writes nowhere else; Dask workers on one machine or a shared file system
+then load instead of compiling each): run ``NUMBA_CACHE_DIR=/opt/redkin-cache redkin compile`` once, and give the
+workers the same variable.  The cache holds machine code for this CPU: copy it only between machines of one kind.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+#: Items of the batch calls (past the pool's threshold, so a batch takes the multi-threaded path too).
+_BATCH = 1000
+
+
+def _chain(rng: np.random.Generator) -> None:
+    from redkin import models
+
+    for arm in (models.pa10_7c(), models.franka_panda()):  # standard and modified DH
+        one, many = rng.uniform(-1, 1, 7), rng.uniform(-1, 1, (_BATCH, 7))
+        for q in (one, many):
+            arm.fk(q), arm.frames(q), arm.jacobian(q), arm.jacobian(q, frame=4, offset=[0.0, 0.0, 0.1])
+            arm.manipulability(q), arm.nearest_in_range(q), arm.nearest_in_range(q, near=q)
+
+
+def _srs_ik(rng: np.random.Generator) -> None:
+    from redkin import models, srs
+    from redkin.srs.coefficients import coefficients_for
+
+    for arm in (models.pa10_7c().with_limits(np.full(7, -2.5), np.full(7, 2.5)), models.barrett_wam7()):
+        poses = arm.fk(rng.uniform(-1, 1, (_BATCH, 7)))
+        poses = poses[srs.reachable(arm, poses)]
+        for target in (poses[0], poses):
+            srs.ik(arm, target, 0.1, "+-+"), srs.ik_all_branches(arm, target, 0.1), srs.reachable(arm, target)
+            coefficients_for(srs.srs_geometry(arm), target, 1)
+        srs.arm_angle_of(arm, rng.uniform(-1, 1, (_BATCH, 7)))
+
+
+def _srs_sets(rng: np.random.Generator) -> None:
+    from redkin import models, srs
+
+    arm = models.pa10_7c().with_limits(np.full(7, -2.5), np.full(7, 2.5))
+    poses = arm.fk(rng.uniform(-1, 1, (_BATCH, 7)))
+    for target in (poses[0], poses):
+        srs.feasible_pieces(arm, target, "+-+"), srs.feasible_pieces_all_branches(arm, target)
+        srs.feasible_arm_angles_batch(arm, target, "+-+")
+    result = srs.feasible_arm_angles(arm, poses[0], "+-+")
+    assert result.feasible is not None and len(result.per_joint) == 7  # the sets are made on first access
+    srs.joint_extrema(arm, poses[0], "+-+"), srs.singular_arm_angles(arm, poses[0], "+-+")
+    srs.optimal_arm_angles(arm, poses[0], "+-+")
+    srs.arm_angle_path(arm, poses[:20], "+-+")
+
+
+def _torso_arm(rng: np.random.Generator) -> None:
+    from redkin import torso_arm
+    from redkin.torso_arm import maps
+
+    right = torso_arm.humanoid_arm("right")
+    wrists = right.chain.frames(rng.uniform(-0.5, 0.5, (_BATCH, 8)))[:, 6, :3, 3]
+    for wrist in (wrists[0], wrists):
+        torso_arm.position_ik(right, wrist, 0.2, 0.1)
+        torso_arm.ik(right, wrist, 0.2, 0.1, rotation=np.eye(3))
+        theta1 = np.zeros(np.shape(wrist)[:-1])
+        torso_arm.shoulder_angle(theta1, wrist), torso_arm.theta1_from_shoulder_angle(0.2, wrist)
+        shoulder = right.shoulder(theta1)
+        torso_arm.elbow_angle(right, shoulder, (shoulder + wrist) / 2, wrist)
+    plane = (0.0, 1.0, -0.4, 0.8)
+    for side in ("right", "left"):
+        maps.manipulability_map(torso_arm.humanoid_arm(side), maps.plane_grid("z=0.3", plane, 40), 0.2, 0.1)
+        maps.best_manipulability_map(torso_arm.humanoid_arm(side), maps.plane_grid("z=0.3", plane, 4),
+                                     samples=(4, 4))
+    maps.dual_arm_map(maps.plane_grid("z=0.3", plane, 40), 0.2, 0.1)
+    maps.best_dual_arm_map(maps.plane_grid("z=0.3", plane, 4), samples=(4, 4))
+
+
+def _velocity(rng: np.random.Generator) -> None:
+    from redkin import models, velocity
+
+    wam = models.barrett_wam()
+    factor = velocity.WamFactorisation.from_chain(wam)
+    twist = np.array([0.15, 0.0, 0.0, 0.0, 0.1, 0.0])
+    for q in (rng.uniform(-1, 1, 7), rng.uniform(-1, 1, (_BATCH, 7))):
+        jac = wam.jacobian(q)
+        velocity.pseudoinverse(jac, twist), velocity.damped_least_squares(jac, twist, 0.1)
+        velocity.adaptive_damped_least_squares(jac, twist, 0.1, 0.1)
+        velocity.column_minors(jac)
+        velocity.singularity_consistent(jac, twist, factor.index(q), factor.factors(q), 0.1)
+        factors = factor.factors(q)
+        velocity.lean_singularity_consistent(jac, twist, factor.index(q), lambda: factors, 0.1)  # noqa: B023
+    q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
+    velocity.SingularityConsistentController(wam, q, eps=0.1)(q, twist)
+    velocity.PseudoinverseController(wam)(q, twist)
+    velocity.singularity_factorisation(models.barrett_wam7())
+
+
+def _virtual_arms(rng: np.random.Generator) -> None:
+    from redkin import models, virtual_arms
+
+    model = virtual_arms.AnalyticModel(models.pa10_7c(), [virtual_arms.VirtualPoint.end()])
+    model.evaluate(np.zeros(7)), model.evaluate(rng.uniform(-1, 1, (_BATCH, 7)))
+    planar = virtual_arms.AnalyticModel(models.planar_arm(), [virtual_arms.VirtualPoint.end()])
+    virtual_arms.generate_trajectory(planar, np.radians([30.0] * 5), [[0.6, 1.2]])
+
+
+#: The sections of :func:`warm_up`, in order: name and the calls that compile its kernels.
+SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
+    ("chain", _chain),
+    ("srs ik", _srs_ik),
+    ("srs sets", _srs_sets),
+    ("torso arm", _torso_arm),
+    ("velocity", _velocity),
+    ("virtual arms", _virtual_arms),
+)
+
+
+def warm_up(progress: Callable[[str], None] | None = None) -> list[tuple[str, float, float]]:
+    """Call every compiled path once (compiling and caching what is not cached yet); return each section's seconds.
+
+    Parameters
+    ----------
+    progress : callable, optional
+        ``progress(section)`` before each section of :data:`SECTIONS`.
+
+    Returns
+    -------
+    list of (str, float, float)
+        Per section: its name, wall-clock seconds and this process's CPU seconds (compiling is serial; on a
+        busy machine CPU time is the steadier measure).
+    """
+    rng = np.random.default_rng(0)
+    times = []
+    for name, calls in SECTIONS:
+        if progress is not None:
+            progress(name)
+        wall, cpu = time.perf_counter(), time.process_time()
+        calls(rng)
+        times.append((name, time.perf_counter() - wall, time.process_time() - cpu))
+    return times
