@@ -8,7 +8,7 @@ import json
 from redkin.cli.main import main
 from redkin.reproduce.comparison import Comparison
 from redkin.reproduce.page import render_page
-from redkin.reproduce.report import SectionWriter, no_negative_zero
+from redkin.reproduce.report import SectionWriter, _no_negative_zero
 
 
 def test_reproduce_says_one_section_and_one_value_in_the_singular(tmp_path, monkeypatch, capsys):
@@ -30,7 +30,7 @@ def test_a_negative_zero_in_the_reports_text_reads_zero(tmp_path):
     assert paragraph == ("Sample q = [18.6, 43.9, -8.6, 53.6, 0.0, -7.2, 17.3] deg; 0 and 0.000, but x-0.0 and -0.05 "
                          "stay.")
     assert json.dumps(writer.tables["t"]["rows"]) == "[[0.0], [1.5]]"
-    assert no_negative_zero("(-0.0)") == "(0.0)" and no_negative_zero("1e-0.0") == "1e-0.0"
+    assert _no_negative_zero("(-0.0)") == "(0.0)" and _no_negative_zero("1e-0.0") == "1e-0.0"
 
 
 def test_the_summary_agrees_in_number(tmp_path):

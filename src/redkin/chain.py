@@ -408,7 +408,7 @@ class SerialChain:
             seeds = np.broadcast_to(self.check_q(near, "near"), lead + (self.n,))
             targets = np.ascontiguousarray(seeds.reshape(-1, self.n))
         out = np.empty_like(flat)
-        lower, upper = kernel_array(self.lower), kernel_array(self.upper)  # one compiled type (the fields are read-only)
+        lower, upper = kernel_array(self.lower), kernel_array(self.upper)  # one compiled type: the fields are frozen
         flat, targets = kernel_array(flat), kernel_array(targets)
         kernels.representatives(flat, lower, upper, targets, near is not None, out)
         missing = np.isnan(out)

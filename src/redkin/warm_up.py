@@ -113,7 +113,7 @@ def _virtual_arms(rng: np.random.Generator) -> None:
 
 
 #: The sections of :func:`warm_up`, in order: name and the calls that compile its kernels.
-SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
+_SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("chain", _chain),
     ("srs ik", _srs_ik),
     ("srs sets", _srs_sets),
@@ -129,7 +129,7 @@ def warm_up(progress: Callable[[str], None] | None = None) -> list[tuple[str, fl
     Parameters
     ----------
     progress : callable, optional
-        ``progress(section)`` before each section of :data:`SECTIONS`.
+        ``progress(section)`` before each section of :data:`_SECTIONS`.
 
     Returns
     -------
@@ -139,7 +139,7 @@ def warm_up(progress: Callable[[str], None] | None = None) -> list[tuple[str, fl
     """
     rng = np.random.default_rng(0)
     times = []
-    for name, calls in SECTIONS:
+    for name, calls in _SECTIONS:
         if progress is not None:
             progress(name)
         wall, cpu = time.perf_counter(), time.process_time()

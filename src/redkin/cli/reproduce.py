@@ -36,7 +36,7 @@ def _progress(key: str, fraction: float, message: str) -> None:
 
 
 #: The files of a report that mark a folder as holding one (``--force`` replaces them).
-REPORT_FILES = ("index.html", "summary.json")
+_REPORT_FILES = ("index.html", "summary.json")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -44,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
     unknown = [key for key in args.papers if key not in known]
     if unknown:  # before the folder is looked at: a misspelt section is the first thing to say
         raise ValueError(f"unknown section {unknown[0]!r}: expected one of {', '.join(known)}")
-    output_directory(args.out, "--out", REPORT_FILES, args.force)
+    output_directory(args.out, "--out", _REPORT_FILES, args.force)
     writers = reproduce.run(args.out, args.papers, progress=None if args.quiet else _progress)
     differing = sum(
         1

@@ -144,8 +144,8 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     print(f"{chain.name}, branch {branch}; angles in {unit}")
     print(f"elbow (joint 4): {fixed(result['elbow'])}")
     for joint, arcs in result["per_joint"].items():
-        print(f"Psi_{joint}: {format_arcs(arcs, deg)}")
-    print(f"Psi (feasible): {format_arcs(result['feasible'], deg)}")
+        print(f"Psi_{joint}: {_format_arcs(arcs, deg)}")
+    print(f"Psi (feasible): {_format_arcs(result['feasible'], deg)}")
     singular = result["singular"]
     print(f"singular shoulder: {_format_list(singular['shoulder'])}  wrist: {_format_list(singular['wrist'])}")
     for name in ("shoulder", "wrist", "overall"):
@@ -155,7 +155,7 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     return 0
 
 
-def format_arcs(arcs: list, degrees: bool) -> str:
+def _format_arcs(arcs: list, degrees: bool) -> str:
     """Arcs ``[start, end]`` (counter-clockwise) as text; an arc through +-pi says so, in the printed unit:
     ``[-61.589003, -99.990472] (through ±180)``."""
     if not arcs:

@@ -30,7 +30,7 @@ if TYPE_CHECKING:  # the parser is built without the velocity package (and its k
     from redkin.velocity import TrackingResult
 
 #: Largest entry of a commanded twist (m/s, rad/s): far beyond any arm, far below where the integration overflows.
-MAX_SPEED = 1e6
+_MAX_SPEED = 1e6
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -75,10 +75,10 @@ def _run_track(args: argparse.Namespace) -> int:
         twist[3:] = np.radians(twist[3:])
     if not np.all(np.isfinite(twist)):
         raise ValueError("--twist must be finite numbers")
-    check_magnitude(twist, "--twist (m/s, rad/s)", MAX_SPEED)
+    check_magnitude(twist, "--twist (m/s, rad/s)", _MAX_SPEED)
     for option, value in (("--eps", args.eps), ("--damping", args.damping)):  # the library says if not > 0
         if np.isfinite(value):
-            check_magnitude(value, option, MAX_SPEED)
+            check_magnitude(value, option, _MAX_SPEED)
     method = make_method(args.method, eps=args.eps, damping=args.damping)
     try:
         factorisation = singularity_factorisation(chain)
@@ -90,7 +90,7 @@ def _run_track(args: argparse.Namespace) -> int:
         method = replace(method, factorisation=factorisation)
     run = simulate(chain, q0, twist, args.duration, method, dt=args.dt,
                    index=None if factorisation is None else factorisation.index)
-    summary = tracking_summary(run)
+    summary = _tracking_summary(run)
     if args.plot:
         import matplotlib.pyplot as plt
 
@@ -151,7 +151,7 @@ def _run_track(args: argparse.Namespace) -> int:
 
 
 @dataclass(frozen=True)
-class TrackingSummary:
+class _TrackingSummary:
     """What a run did, in radians: its peak joint speed and when, its twist errors, and where D_e changed sign."""
 
     peak_speed: float
@@ -162,7 +162,7 @@ class TrackingSummary:
     crossing_times: list[float] | None
 
 
-def tracking_summary(run: TrackingResult) -> TrackingSummary:
+def _tracking_summary(run: TrackingResult) -> _TrackingSummary:
     """The summary of ``run`` that ``track`` prints: ||q_dot|| at its peak, the realised twist's distance from the
     command (linear, angular) at the end and at its largest, and the sign changes of D_e (their times
     interpolated linearly between the steps)."""
@@ -180,7 +180,7 @@ def tracking_summary(run: TrackingResult) -> TrackingSummary:
             step = d[k] - d[k + 1]
             fraction = d[k] / step if step != 0 else 0.0
             times.append(float(run.time[k] + fraction * (run.time[k + 1] - run.time[k])))
-    return TrackingSummary(peak_speed=float(speed[peak]), peak_time=float(run.time[peak]),
+    return _TrackingSummary(peak_speed=float(speed[peak]), peak_time=float(run.time[peak]),
                            final_error=(float(linear[-1]), float(angular[-1])),
                            max_error=(float(linear.max()), float(angular.max())),
                            crossings=crossings, crossing_times=times)

@@ -32,7 +32,7 @@ if TYPE_CHECKING:  # the parser is built without the virtual-arms package (scipy
 
 _DEFAULT_Q0 = 0.5  # rad at every joint: a bent, non-singular start for the planar and spatial models
 #: A goal counts as met when its point ends this close to it (metres); the runs end far closer (~1e-6 m).
-GOAL_TOLERANCE = 1e-3
+_GOAL_TOLERANCE = 1e-3
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -173,7 +173,7 @@ def _run_virtual_arms(args: argparse.Namespace) -> int:
     # errors measured on the real chain (for a learned model the networks' view may differ)
     truth = AnalyticModel(chain, points, probe.axes).evaluate(run.final_theta)[0]
     errors = np.linalg.norm(truth - np.array(goals), axis=-1)
-    met = errors <= GOAL_TOLERANCE
+    met = errors <= _GOAL_TOLERANCE
     alone = {int(k): _alone(chain, points[k], goals[k], probe.axes, run.final_theta, output, fixed, args.max_steps)
              for k in np.flatnonzero(~met)}
     note = _goals_note(run.status, points, errors, alone, fixed, output is not None)
@@ -186,7 +186,7 @@ def _run_virtual_arms(args: argparse.Namespace) -> int:
             "q": q_final, "angles": angle_unit(args.deg), "units": _units(args.deg),
             "points": [{"point": p.label, "goal": g, "error": e, "met": bool(ok), "error_alone": alone.get(k)}
                        for k, (p, g, e, ok) in enumerate(zip(points, goals, errors, met))],
-            "goal_tolerance": GOAL_TOLERANCE, "all_goals_met": bool(met.all()), "note": note,
+            "goal_tolerance": _GOAL_TOLERANCE, "all_goals_met": bool(met.all()), "note": note,
             "steps": run.steps, "seconds": run.seconds,
         })
         return 0
@@ -232,10 +232,10 @@ def _goals_note(status: str, points: Sequence[VirtualPoint], errors: np.ndarray,
     under = f" ({', '.join(held)})" if held else ""
     reasons = []
     for k, alone_error in alone.items():
-        if alone_error > GOAL_TOLERANCE:
+        if alone_error > _GOAL_TOLERANCE:
             reasons.append(f"goal of {points[k].label} not met, {_distance(float(errors[k]))} away: out of its "
                            f"reach{under}, on its own it gets no closer than {_distance(alone_error)}")
-    competing = [k for k, alone_error in alone.items() if alone_error <= GOAL_TOLERANCE]
+    competing = [k for k, alone_error in alone.items() if alone_error <= _GOAL_TOLERANCE]
     if competing:
         names = " and ".join(f"{points[k].label} ({_distance(float(errors[k]))} away)" for k in competing)
         each = "it reaches its goal" if len(competing) == 1 else "each reaches its goal"

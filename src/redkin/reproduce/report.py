@@ -65,7 +65,7 @@ class SectionWriter:
 
     def text(self, paragraph: str) -> None:
         """A paragraph of plain text (a number printed as ``-0.0`` reads ``0.0``)."""
-        self.blocks.append(("text", no_negative_zero(paragraph)))
+        self.blocks.append(("text", _no_negative_zero(paragraph)))
 
     def table(self, name: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], caption: str = "",
               detail: str = "") -> None:
@@ -154,7 +154,7 @@ def write_report(out_dir: Path, sections: Sequence[SectionWriter], title: str, b
 _NEGATIVE_ZERO = re.compile(r"(?<![\w.)\]])-(0(?:\.0+)?)(?![\d.eE])")
 
 
-def no_negative_zero(text: str) -> str:
+def _no_negative_zero(text: str) -> str:
     """``text`` with every printed negative zero (``[18.6, -0.0]``) written as zero (``[18.6, 0.0]``)."""
     return _NEGATIVE_ZERO.sub(r"\1", text)
 
