@@ -42,7 +42,9 @@ def _module_name(path: Path) -> str:
 
 
 def _imports_compiled(tree: ast.Module) -> bool:
-    for node in ast.walk(tree):
+    """Whether a module imports ``redkin._compiled`` when it loads (at its top level; a handler that imports it when
+    it runs, as ``redkin compile`` does, loads no kernel before then)."""
+    for node in tree.body:
         if isinstance(node, ast.Import) and any(alias.name == "redkin._compiled" for alias in node.names):
             return True
         if isinstance(node, ast.ImportFrom) and (node.module == "redkin._compiled" or (

@@ -108,3 +108,25 @@ def test_ik_text_counts_the_solutions_within_the_limits(capsys):
     out = capsys.readouterr().out
     assert out.splitlines()[0] == "status: ok, 2 of 8 solutions within the limits"
     assert "-0.000000" not in out
+
+
+def test_map_progress_off_a_terminal_is_plain_lines(monkeypatch, capsys):
+    """--arm both into a log or a file (issue 22): one plain line per tenth, never the '\\r' of a bar."""
+    import redkin.torso_arm.maps as maps
+
+    real = maps.best_dual_arm_map
+
+    def reporting(grid, samples, progress=None, **kwargs):
+        for k in range(1, 21):
+            if progress is not None:
+                progress(k / 20)
+        return real(maps.plane_grid("y=0.3", (0.0, 1.0, -0.4, 0.8), 4), samples, **kwargs)  # small: fast
+
+    monkeypatch.setattr(maps, "best_dual_arm_map", reporting)
+    monkeypatch.setattr("sys.stderr.isatty", lambda: False)
+    assert main(["torso-arm", "map", "--plane", "y=0.3", "--extent", "0", "1", "-0.4", "0.8", "--resolution", "400",
+                 "--arm", "both", "--samples", "4", "4"]) == 0  # 400^2 x 16 evaluations: a large map, progress
+    err = capsys.readouterr().err
+    assert "\r" not in err
+    assert [line for line in err.splitlines() if line.startswith("progress:")] == [
+        f"progress: {10 * k}%" for k in range(1, 11)]

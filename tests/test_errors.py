@@ -6,6 +6,7 @@ import pytest
 import redkin
 from redkin._validation import check_count, check_pose
 from redkin.errors import (
+    MapStoreError,
     NotArmAngleClassError,
     RedkinError,
     RobotDescriptionError,
@@ -16,7 +17,8 @@ from redkin.models import franka_panda, get_robot, pa10_7c
 from redkin.srs import feasible_pieces, ik, ik_all_branches, srs_geometry
 
 
-@pytest.mark.parametrize("kind", [NotArmAngleClassError, RobotDescriptionError, SizeLimitError, UnreachablePoseError])
+@pytest.mark.parametrize("kind", [MapStoreError, NotArmAngleClassError, RobotDescriptionError, SizeLimitError,
+                                  UnreachablePoseError])
 def test_every_error_is_a_redkin_error_and_a_value_error(kind):
     assert issubclass(kind, RedkinError) and issubclass(kind, ValueError)
     assert getattr(redkin, kind.__name__) is kind

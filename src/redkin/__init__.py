@@ -10,8 +10,10 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # what type checkers and editors see; at run time :func:`__getattr__` loads them
+    from redkin._compiled import set_threads, thread_count
     from redkin.chain import SerialChain, yoshikawa
     from redkin.errors import (
+        MapStoreError,
         NotArmAngleClassError,
         RedkinError,
         RobotDescriptionError,
@@ -23,6 +25,7 @@ if TYPE_CHECKING:  # what type checkers and editors see; at run time :func:`__ge
 __version__ = "0.1.0"
 
 __all__ = [
+    "MapStoreError",
     "NotArmAngleClassError",
     "RedkinError",
     "RobotDescriptionError",
@@ -31,12 +34,15 @@ __all__ = [
     "UnreachablePoseError",
     "get_robot",
     "robot_names",
+    "set_threads",
+    "thread_count",
     "yoshikawa",
     "__version__",
 ]
 
 #: The module that defines each public name of :data:`__all__` (``__version__`` is defined here).
 _LAZY = {
+    "MapStoreError": "redkin.errors",
     "NotArmAngleClassError": "redkin.errors",
     "RedkinError": "redkin.errors",
     "RobotDescriptionError": "redkin.errors",
@@ -45,6 +51,8 @@ _LAZY = {
     "UnreachablePoseError": "redkin.errors",
     "get_robot": "redkin.models",
     "robot_names": "redkin.models",
+    "set_threads": "redkin._compiled",
+    "thread_count": "redkin._compiled",
     "yoshikawa": "redkin.chain",
 }
 

@@ -139,7 +139,9 @@ def cache_directory() -> str:
     holds them all (each source folder's ``__pycache__`` in an editable install); ``"no cache"`` where none."""
     if not _checked:
         return "no cache"
-    return os.path.commonpath(sorted(_checked))
+    if len(_checked) == 1:
+        return next(iter(_checked))
+    return f"the __pycache__ folders under {os.path.commonpath(sorted(_checked))}"
 
 
 class _CompileListener(numba.core.event.Listener):

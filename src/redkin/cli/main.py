@@ -22,6 +22,7 @@ _COMMAND_MODULES = [
     "redkin.cli.velocity",
     "redkin.cli.virtual_arms",
     "redkin.cli.workspace",
+    "redkin.cli.compile",
 ]
 
 
@@ -31,7 +32,7 @@ _COMMANDS = {
     "robots": "redkin.cli.basic", "fk": "redkin.cli.basic", "jacobian": "redkin.cli.basic",
     "reproduce": "redkin.cli.reproduce", "ik": "redkin.cli.srs", "arm-angles": "redkin.cli.srs",
     "explore": "redkin.cli.explore", "torso-arm": "redkin.cli.torso_arm", "track": "redkin.cli.velocity",
-    "virtual-arms": "redkin.cli.virtual_arms", "workspace": "redkin.cli.workspace",
+    "virtual-arms": "redkin.cli.virtual_arms", "workspace": "redkin.cli.workspace", "compile": "redkin.cli.compile",
 }
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from redkin import reproduce
 from redkin.cli.common import add_force_flag, output_directory, plural
@@ -23,6 +24,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _progress(key: str, fraction: float, message: str) -> None:
+    if not message.startswith("compiling "):
+        _last_section.update(key=key, fraction=fraction)
     if not sys.stderr.isatty():  # logs get one line at the start and end of a section
         if message in ("start", "done"):  # the two calls made by reproduce.run
             sys.stderr.write(f"[{key}] {message}\n")
@@ -35,6 +38,16 @@ def _progress(key: str, fraction: float, message: str) -> None:
     sys.stderr.flush()
 
 
+_last_section: dict[str, Any] = {"key": "", "fraction": 0.0}
+
+
+def _compiling(kernel: str) -> None:
+    """Progress while a kernel compiles (:func:`redkin._compiled.on_compile`): the line moves with each kernel."""
+    name = kernel.rsplit(".", 1)[-1]
+    if sys.stderr.isatty():
+        _progress(_last_section["key"], _last_section["fraction"], f"compiling {name}")
+
+
 #: The files of a report that mark a folder as holding one (``--force`` replaces them).
 _REPORT_FILES = ("index.html", "summary.json")
 
@@ -45,7 +58,18 @@ def run(args: argparse.Namespace) -> int:
     if unknown:  # before the folder is looked at: a misspelt section is the first thing to say
         raise ValueError(f"unknown section {unknown[0]!r}: expected one of {', '.join(known)}")
     output_directory(args.out, "--out", _REPORT_FILES, args.force)
-    writers = reproduce.run(args.out, args.papers, progress=None if args.quiet else _progress)
+    from redkin._compiled import on_compile, set_compile_notice
+
+    remove = None
+    if args.quiet:
+        set_compile_notice(False)
+    else:  # a fresh install compiles for tens of seconds inside a section: the progress line names each kernel
+        remove = on_compile(_compiling)
+    try:
+        writers = reproduce.run(args.out, args.papers, progress=None if args.quiet else _progress)
+    finally:
+        if remove is not None:
+            remove()
     differing = sum(
         1
         for w in writers.values()

@@ -157,9 +157,15 @@ def _run_map(args: argparse.Namespace) -> int:
         raise UsageError("give both --shoulder and --elbow for a fixed-(psi, phi) map, or neither for the best map")
     drawn = []
 
+    tenths = [0]
+
     def progress(fraction: float) -> None:
-        drawn.append(fraction)
-        progress_bar(fraction)
+        if sys.stderr.isatty():  # a bar that redraws itself
+            drawn.append(fraction)
+            progress_bar(fraction)
+        elif int(10 * fraction) > tenths[0]:  # a log or a file: a plain line per tenth, never '\r'
+            tenths[0] = int(10 * fraction)
+            print(f"progress: {100 * fraction:.0f}%", file=sys.stderr, flush=True)
 
     large = args.resolution * args.resolution * args.samples[0] * args.samples[1] > 2e6
     if fixed_angles:  # turns of planes: wrapped to [-pi, pi), as the map's description prints them
