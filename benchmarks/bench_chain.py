@@ -222,14 +222,14 @@ def versions() -> str:
 
 
 def main() -> None:
-    import numba
+    from redkin import thread_count
 
     rng = np.random.default_rng(0)
     rows = arm_rows(pa10_7c(), rng) + arm_rows(franka_panda(), rng)
     if "--skip-cold" not in sys.argv:
         rows += start_rows()
     print(f"# chain benchmark -- {platform.machine()}, {os.cpu_count()} cores "
-          f"({numba.get_num_threads()} numba threads, {numba.threading_layer()}), python {platform.python_version()}, "
+          f"({thread_count()} redkin batch threads), python {platform.python_version()}, "
           f"numpy {np.__version__}, {versions()}, {time.strftime('%Y-%m-%d')}, load average {os.getloadavg()[0]:.2f}")
     width = max(len(r[0]) for r in rows)
     for name, value, note in rows:

@@ -121,9 +121,9 @@ def serial_cpu_rows(arm, q: np.ndarray, poses: np.ndarray) -> list[tuple[str, st
 
 
 def main() -> None:
-    import numba
+    from redkin import thread_count
 
-    print(f"# issue 13 targets -- {platform.machine()}, {os.cpu_count()} cores ({numba.get_num_threads()} numba "
+    print(f"# issue 13 targets -- {platform.machine()}, {os.cpu_count()} cores ({thread_count()} redkin batch "
           f"threads), python {platform.python_version()}, numpy {np.__version__}, "
           f"{versions()}, load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     rows: list[tuple[str, str, str, str]] = []

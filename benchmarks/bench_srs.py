@@ -25,6 +25,7 @@ import numba
 import numpy as np
 from timing import best_time, best_time_short_rounds  # benchmarks/timing.py (the script's folder is on sys.path)
 
+from redkin import thread_count
 from redkin.chain import SerialChain
 from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.srs import (
@@ -64,8 +65,8 @@ def main() -> None:
     rows.extend(ssik_rows())
     width = max(len(r[0]) for r in rows)
     load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
-    header = (f"benchmark (PA10-7C unless stated, numpy {np.__version__}, numba {numba.__version__} on "
-              f"{numba.get_num_threads()} threads, load average {load})")
+    header = (f"benchmark (PA10-7C unless stated, numpy {np.__version__}, numba {numba.__version__}, redkin's pool on "
+              f"{thread_count()} threads, load average {load})")
     print(f"{header:<{width}}  result")
     for name, value in rows:
         print(f"{name:<{width}}  {value}")

@@ -16,11 +16,10 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numba
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from timing import best_time
 
+from redkin._compiled import default_threads, set_threads
 from redkin.torso_arm import humanoid_arm
 from redkin.torso_arm.maps import (
     best_dual_arm_map,
@@ -51,17 +50,15 @@ def map_rows() -> list[tuple[str, str, int, float]]:
 
 
 def scaling_rows() -> list[tuple[str, str, int, float]]:
-    """The best map on one thread and on all (numba's threads; results are the same bit for bit)."""
-    if not hasattr(numba, "set_num_threads"):
-        return []
+    """The best map on one thread and on all (redkin's batch pool; results are the same bit for bit)."""
     arm = humanoid_arm()
     grid = plane_grid("z=0.3", (-0.3, 1.1, -0.6, 1.0), 60)
     rows = []
-    for threads in (1, numba.config.NUMBA_NUM_THREADS):
-        numba.set_num_threads(threads)
+    for threads in (1, default_threads()):
+        set_threads(threads)
         rows.append((f"right arm, best 24 x 24, {threads} thread(s)", "60 x 60", 576,
                      best_time(lambda: best_manipulability_map(arm, grid, (24, 24)), repeat=3)))
-    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    set_threads(None)
     return rows
 
 

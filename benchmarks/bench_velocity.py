@@ -59,9 +59,9 @@ def short_rounds(func) -> float:
 
 
 def main() -> None:
-    import numba
+    from redkin import thread_count
 
-    print(f"# velocity benchmark -- {platform.machine()}, {os.cpu_count()} cores ({numba.get_num_threads()} numba "
+    print(f"# velocity benchmark -- {platform.machine()}, {os.cpu_count()} cores ({thread_count()} redkin batch "
           f"threads), python {platform.python_version()}, numpy {np.__version__}, {versions()}, "
           f"load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     chain = barrett_wam()
