@@ -18,11 +18,15 @@ a missing peer is reported and its ratios skipped):
   a ``DHRobot`` of the same DH rows converted once with ``.ets()``
   (``bench_chain.rtb_ets``).
 
-The cold-start row runs a new process with an empty numba cache
+The cold-start rows (issue 23) run a new process with an empty numba cache
 (``NUMBA_CACHE_DIR``) that imports redkin and makes the first call of every
-compiled path (FK, Jacobian and frames; S-R-S IK and feasible sets; the SC
-and pinv control steps; the torso-arm map and the virtual-arms rate), one
-item and a batch each, then the same again with that cache filled.
+compiled path (:func:`redkin.warm_up.warm_up`, what ``redkin compile`` runs;
+``cold_start.py`` lists its sections), then the same again with that cache
+filled; then ``redkin reproduce 000`` on another fresh cache (the first section
+a newcomer runs).  The command-line rows time whole processes, best of five,
+each beside ``python -c "import numpy"`` timed in the same loop.  The steady
+batch row makes five consecutive calls of 2x10^5 iiwa poses x 8 branches in
+one process and gives each call's rate.
 """
 
 from __future__ import annotations
@@ -41,30 +45,6 @@ from timing import best_time, best_time_short_rounds
 from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c
 from redkin.srs import feasible_arm_angles, feasible_pieces, feasible_pieces_all_branches, ik_all_branches
 from redkin.velocity import SingularityConsistentController
-
-FIRST_CALLS = """
-import time
-start = time.perf_counter()
-import numpy as np
-from redkin.models import barrett_wam, pa10_7c, franka_panda
-from redkin.srs import feasible_arm_angles, feasible_pieces, ik, ik_all_branches
-from redkin.velocity import PseudoinverseController, SingularityConsistentController
-rng = np.random.default_rng(0)
-for arm in (pa10_7c(), franka_panda()):
-    one, many = np.zeros(7), rng.uniform(-1, 1, (1000, 7))
-    for method in (arm.fk, arm.jacobian, arm.frames):
-        method(one), method(many)
-arm = pa10_7c().with_limits(np.full(7, -2.5), np.full(7, 2.5))
-poses = arm.fk(rng.uniform(-1, 1, (1000, 7)))
-for target in (poses[0], poses):
-    ik_all_branches(arm, target, 0.1), ik(arm, target, 0.1), feasible_pieces(arm, target, "+-+")
-feasible_arm_angles(arm, poses[0])
-wam = barrett_wam()
-q = np.radians([30.0, 20.0, 50.0, 70.0, 40.0, 100.0, 0.0])
-SingularityConsistentController(wam, q, eps=0.1)(q, np.ones(6) * 0.1)
-PseudoinverseController(wam)(q, np.ones(6) * 0.1)
-print(time.perf_counter() - start)
-"""
 
 
 def microseconds(function) -> float:
@@ -118,6 +98,48 @@ def serial_cpu_rows(arm, q: np.ndarray, poses: np.ndarray) -> list[tuple[str, st
          f"2 free cores: {2 / eight / 1e6:.2f} M/s", ""),
         ("  serial CPU per configuration, FK", f"{fk * 1e9:.0f} ns", f"2 free cores: {2 / fk / 1e6:.1f} M/s", ""),
     ]
+
+
+def _process_seconds(command: list[str], env: dict | None = None) -> float:
+    start = time.perf_counter()
+    subprocess.run(command, capture_output=True, env=env)
+    return time.perf_counter() - start
+
+
+def command_line_rows() -> list[tuple[str, str, str, str]]:
+    """``redkin --help``, an argument error and a warm ``redkin fk``, each best of five beside ``import numpy``."""
+    numpy_only = [sys.executable, "-c", "import numpy"]
+    subprocess.run(["redkin", "fk", "pa10-7c", *["0.1"] * 7], capture_output=True)  # the cache filled
+    rows = []
+    for label, command, target in (
+        ("redkin --help", ["redkin", "--help"], 2.0),
+        ("an argument error (redkin fk)", ["redkin", "fk"], 2.0),
+        ("warm redkin fk pa10-7c 0.1 x 7", ["redkin", "fk", "pa10-7c", *["0.1"] * 7], 3.0),
+    ):
+        ours, base = [], []
+        for _ in range(5):
+            ours.append(_process_seconds(command))
+            base.append(_process_seconds(numpy_only))
+        rows.append((label, f"{min(ours):.3f} s", f"{min(ours) / min(base):.2f} x import numpy",
+                     f"<= {target:g} x import numpy"))
+    return rows
+
+
+def cold_rows() -> list[tuple[str, str, str, str]]:
+    """The first call of every compiled path on a fresh cache, then filled; the first reproduce section, fresh."""
+    from cold_start import run
+
+    rows = []
+    with tempfile.TemporaryDirectory() as cache:
+        cold, warm = run(cache)[-1], run(cache)[-1]
+    rows.append(("cold start: every compiled path once, fresh cache (wall, CPU)", f"{cold[1]:.1f} s, {cold[2]:.1f} s",
+                 "", "<= 10 s"))
+    rows.append(("  the same in a new process, cache filled", f"{warm[1]:.2f} s", "", ""))
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        seconds = _process_seconds(["redkin", "reproduce", "000", "--quiet", "--out", out], env)
+    rows.append(("first redkin reproduce 000, fresh cache", f"{seconds:.1f} s", "", ""))
+    return rows
 
 
 def main() -> None:
@@ -189,25 +211,18 @@ def main() -> None:
     rows.append(("SC control step, Jacobian included (WAM)", f"{step:.2f} us", f"{step / wam_jac:.2f} x rtb jacob0",
                  "<= 2"))
 
+    iiwa_poses = iiwa.fk(rng.uniform(-2.0, 2.0, (200_000, 7)))
+    rates = []
+    for _ in range(5):
+        start = time.perf_counter()
+        ik_all_branches(iiwa, iiwa_poses, 0.3)
+        rates.append(8 * len(iiwa_poses) / (time.perf_counter() - start) / 1e6)
+    rows.append(("batch IK, 2x10^5 iiwa poses x 8, 5 calls in a row", " ".join(f"{r:.1f}" for r in rates) + " M/s",
+                 f"spread {max(rates) / min(rates):.2f}", ">= 20 M/s, within 20 %"))
+
+    rows.extend(command_line_rows())
     if "--skip-cold" not in sys.argv:
-        with tempfile.TemporaryDirectory() as cache:
-            env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-            cold = float(subprocess.run([sys.executable, "-c", FIRST_CALLS], env=env, capture_output=True,
-                                        text=True, check=True).stdout)
-            warm = float(subprocess.run([sys.executable, "-c", FIRST_CALLS], env=env, capture_output=True,
-                                        text=True, check=True).stdout)
-        rows.append(("cold start: import + first call of every compiled path, fresh cache", f"{cold:.1f} s", "",
-                     "<= 10 s"))
-        rows.append(("  the same in a new process, cache filled", f"{warm:.2f} s", "", ""))
-        command = ["redkin", "fk", "pa10-7c", *["0.1"] * 7]
-        subprocess.run(command, check=True, capture_output=True)
-        times = []
-        for _ in range(5):
-            start = time.perf_counter()
-            subprocess.run(command, check=True, capture_output=True)
-            times.append(time.perf_counter() - start)
-        rows.append(("redkin fk pa10-7c (a process, warm cache), best of 5", f"{min(times):.2f} s", "",
-                     "no slower than before (1.34-1.45 s)"))
+        rows.extend(cold_rows())
 
     width = max(len(r[0]) for r in rows)
     print(f"\n{'measurement':<{width}}  {'redkin':>26}  {'ratio':>28}  target")
