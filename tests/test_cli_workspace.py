@@ -137,3 +137,17 @@ def test_plain_commands_do_not_import_dask():
             "print(sorted(m for m in ('dask', 'distributed', 'zarr', 'xarray') if m in sys.modules))")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "[]"
+
+
+def test_an_absurd_extent_is_refused_in_one_line_before_any_work(tmp_path, capsys):
+    """--extent of 1e308 m (finite, so no NaN check catches it) once computed a whole map and failed in the plot;
+    the humanoid map's grid is checked by the same workspace_grid."""
+    from redkin.workspace.humanoid import humanoid_grid
+
+    code = main(["workspace", "pa10-7c", "--extent", "-1e308", "1e308", "-1", "1", "-1", "1", "--resolution", "4",
+                 "--orientations", "8", "--out", str(tmp_path / "m")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "at most 1e+06 m" in err
+    assert not (tmp_path / "m").exists() or not any((tmp_path / "m").iterdir())
+    with pytest.raises(ValueError, match="at most 1e\\+06 m"):
+        humanoid_grid([-1e308, 1e308, -1, 1, -1, 1], 4)

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._constants import WORKSPACE_MAX_RESOLUTION as MAX_RESOLUTION  # most grid points per axis
-from redkin._validation import as_float_array, check_count, check_finite
+from redkin._validation import MAX_LENGTH, as_float_array, check_count, check_magnitude
 
 #: Poses one chunk aims at (positions x orientations): 8^3 positions at 500 orientations, 16 MB of
 #: ``measure`` and about 0.7 s of one core per chunk, 13 824 chunks (Dask tasks, marker files) for the
@@ -85,7 +85,7 @@ def workspace_grid(extent: ArrayLike, resolution: int, orientations: int, chunk:
     box = as_float_array(extent, "extent").reshape(-1)
     if box.shape != (6,):
         raise ValueError(f"extent must have 6 numbers (xmin xmax ymin ymax zmin zmax), got {box.size}")
-    check_finite(box, "extent")
+    check_magnitude(box, "extent", MAX_LENGTH, "m")  # finite but absurd (1e308) overflows the grid's steps
     for axis, (lo, hi) in zip("xyz", box.reshape(3, 2)):
         if not lo < hi:
             raise ValueError(f"extent: {axis}min must be below {axis}max, got {lo:g} and {hi:g}")
