@@ -151,3 +151,10 @@ def test_an_absurd_extent_is_refused_in_one_line_before_any_work(tmp_path, capsy
     assert not (tmp_path / "m").exists() or not any((tmp_path / "m").iterdir())
     with pytest.raises(ValueError, match="at most 1e\\+06 m"):
         humanoid_grid([-1e308, 1e308, -1, 1, -1, 1], 4)
+
+
+def test_a_missing_orientations_option_is_named_as_missing(tmp_path, capsys):
+    code = main(["workspace", "pa10-7c", "--extent", "-1", "1", "-1", "1", "-1", "1", "--resolution", "4",
+                 "--out", str(tmp_path / "m")])
+    err = capsys.readouterr().err
+    assert code == 2 and "needs --orientations N" in err and "None" not in err

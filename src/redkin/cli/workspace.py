@@ -56,6 +56,9 @@ def run(args: argparse.Namespace) -> int:
         return run_humanoid(args, chain)
     if args.samples is not None:
         raise UsageError("--samples is for the thesis 001 humanoid; an arm with arm-angle IK takes --orientations N")
+    if args.orientations is None:
+        raise UsageError(f"{chain.name!r} has arm-angle IK: its map needs --orientations N (tool orientations per "
+                         f"position, 1..{WORKSPACE_MAX_ORIENTATIONS})")
     resolution = check_count(args.resolution, "--resolution", 2, WORKSPACE_MAX_RESOLUTION)
     orientations = check_count(args.orientations, "--orientations", 1, WORKSPACE_MAX_ORIENTATIONS)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
