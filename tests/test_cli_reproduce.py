@@ -48,8 +48,12 @@ def test_the_progress_line_moves_while_kernels_compile(monkeypatch, capsys):
     from redkin.cli import reproduce as command
 
     monkeypatch.setattr(command.sys.stderr, "isatty", lambda: True)
+    monkeypatch.setitem(command._last_section, "noticed", False)
     command._progress("000", 0.25, "Table 2")
     command._compiling("redkin.srs._ik_kernels.solve_pose")
+    command._compiling("redkin.srs._ik_kernels.solve_poses")
     err = capsys.readouterr().err
-    assert err.count("\r") == 2 and err.rstrip().endswith("compiling solve_pose")
-    assert " 25.0% compiling solve_pose" in err and "[   000]" in err.split("\r")[-1]
+    assert err.count("\r") == 3 and err.rstrip().endswith("compiling solve_poses")
+    assert " 25.0% compiling solve_pose " in err and "[   000]" in err.split("\r")[-1]
+    notices = [line for line in err.split("\r") if "redkin: compiling its kernels" in line]
+    assert len(notices) == 1 and "\nredkin: compiling its kernels" in notices[0]  # once, on a line of its own

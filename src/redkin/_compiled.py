@@ -137,6 +137,8 @@ def set_compile_notice(enabled: bool) -> None:
 def cache_directory() -> str:
     """Where numba caches the kernels imported so far (see the module docstring): one folder, or the folder that
     holds them all (each source folder's ``__pycache__`` in an editable install); ``"no cache"`` where none."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return os.environ["NUMBA_CACHE_DIR"]
     if not _checked:
         return "no cache"
     if len(_checked) == 1:

@@ -42,10 +42,17 @@ _last_section: dict[str, Any] = {"key": "", "fraction": 0.0}
 
 
 def _compiling(kernel: str) -> None:
-    """Progress while a kernel compiles (:func:`redkin._compiled.on_compile`): the line moves with each kernel."""
-    name = kernel.rsplit(".", 1)[-1]
-    if sys.stderr.isatty():
-        _progress(_last_section["key"], _last_section["fraction"], f"compiling {name}")
+    """Progress while a kernel compiles (:func:`redkin._compiled.on_compile`): the notice once, on a line of its own
+    (not inside the bar), then the bar names each kernel as it compiles."""
+    from redkin._compiled import COMPILE_NOTICE, cache_directory
+
+    terminal = sys.stderr.isatty()
+    if not _last_section.get("noticed"):
+        _last_section["noticed"] = True
+        sys.stderr.write(("\n" if terminal and _last_section["key"] else "") + COMPILE_NOTICE.format(
+            cache=cache_directory()) + "\n")
+    if terminal:
+        _progress(_last_section["key"], _last_section["fraction"], f"compiling {kernel.rsplit('.', 1)[-1]}")
 
 
 #: The files of a report that mark a folder as holding one (``--force`` replaces them).
@@ -61,9 +68,8 @@ def run(args: argparse.Namespace) -> int:
     from redkin._compiled import on_compile, set_compile_notice
 
     remove = None
-    if args.quiet:
-        set_compile_notice(False)
-    else:  # a fresh install compiles for tens of seconds inside a section: the progress line names each kernel
+    set_compile_notice(False)  # said here instead, where it does not break the progress line
+    if not args.quiet:  # a fresh install compiles for tens of seconds inside a section: the progress names each kernel
         remove = on_compile(_compiling)
     try:
         writers = reproduce.run(args.out, args.papers, progress=None if args.quiet else _progress)
