@@ -140,7 +140,7 @@ def test_cli_writes_the_map_its_slices_and_its_summary(reference, tmp_path, caps
     ("humanoid-right", ["--orientations", "4"], "--orientations is for arms with arm-angle IK"),
     ("humanoid-right", ["--samples", "0", "4"], "--samples must be an integer in 1..3600"),
     ("pa10-7c", ["--samples", "4", "4"], "--samples is for the thesis 001 humanoid"),
-    ("pa10-7c", [], "--orientations must be an integer"),
+    ("pa10-7c", [], "its map needs --orientations N"),
 ])
 def test_cli_refuses_options_of_the_other_kind_of_map_in_one_line(robot, extra, message, tmp_path, capsys):
     argv = ["workspace", robot, "--out", str(tmp_path / "out"), "--extent", *map(str, EXTENT), "--resolution", "3"]
