@@ -129,4 +129,4 @@ def test_map_progress_off_a_terminal_is_plain_lines(monkeypatch, capsys):
     err = capsys.readouterr().err
     assert "\r" not in err
     assert [line for line in err.splitlines() if line.startswith("progress:")] == [
-        f"progress: {10 * k}%" for k in range(1, 11)]
+        f"progress: {10 * k:.1f}%" for k in range(1, 11)]

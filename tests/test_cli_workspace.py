@@ -11,7 +11,7 @@ pytest.importorskip("dask")
 pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
-from redkin.cli import map_run  # noqa: E402
+from redkin.cli import common, map_run  # noqa: E402
 from redkin.cli.main import main  # noqa: E402
 
 EXTENT = ["-0.9", "0.9", "-0.9", "0.9", "-0.5", "1.3"]
@@ -69,7 +69,7 @@ def test_progress_is_a_bar_on_a_terminal_and_plain_lines_elsewhere(monkeypatch):
     text = redirected.getvalue()
     assert "\r" not in text and text.splitlines() == [f"progress: {100 * k}/1000 chunks ({10 * k:.1f}%)"
                                                      for k in range(1, 11)]
-    monkeypatch.setattr(map_run, "_LINE_EVERY", 0.0)  # a slow run also says it is alive between tenths
+    monkeypatch.setattr(common, "_PROGRESS_LINE_EVERY", 0.0)  # a slow run also says it is alive between tenths
     lines = map_run._ChunkProgress(redirected)
     lines(1, 1000)
     assert redirected.getvalue().endswith("progress: 1/1000 chunks (0.1%)\n")

@@ -7,6 +7,7 @@ import json
 import os
 import re
 import sys
+import time
 import warnings
 from collections.abc import Collection, Sequence
 from pathlib import Path
@@ -204,10 +205,43 @@ def format_values(values: Any, digits: int = 6) -> str:
     return " ".join(fixed(v, digits, " ") for v in np.ravel(values))
 
 
-def progress_bar(fraction: float) -> None:
-    """Draw a progress bar at ``fraction`` (0..1) over itself on stderr (end it with a newline there)."""
-    filled = int(30 * fraction)
-    print(f"\r[{'#' * filled}{'.' * (30 - filled)}] {100 * fraction:5.1f}%", end="", file=sys.stderr, flush=True)
+#: Off a terminal, a progress line at each tenth, and one at least this often (seconds) in between.
+_PROGRESS_LINE_EVERY = 60.0
+
+
+class Progress:
+    """``progress(fraction, detail="")`` of a long command, on ``stream`` (default stderr).
+
+    On a terminal a bar is redrawn in place, ended by a newline on :meth:`close` once anything was drawn.
+    Anywhere else (a file, a pipe, a CI log) ``\\r`` would pile every redraw into one long line, so it prints
+    plain lines instead, ``progress: 14/27 chunks (51.9%)`` (``detail`` first where given): one at each tenth, one
+    at least every :data:`_PROGRESS_LINE_EVERY` seconds while it moves, and the last.
+    """
+
+    def __init__(self, stream: Any = None) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.drawn = False
+        self.tenths = 0
+        self.last = time.monotonic()
+
+    def __call__(self, fraction: float, detail: str = "") -> None:
+        if self.terminal:
+            self.drawn = True
+            filled = int(30 * fraction)
+            print(f"\r[{'#' * filled}{'.' * (30 - filled)}] {100 * fraction:5.1f}%", end="", file=self.stream,
+                  flush=True)
+            return
+        tenths, now = int(10 * fraction + 1e-9), time.monotonic()
+        if fraction >= 1.0 or tenths > self.tenths or now - self.last >= _PROGRESS_LINE_EVERY:
+            self.tenths, self.last = tenths, now
+            text = f"{detail} ({100 * fraction:.1f}%)" if detail else f"{100 * fraction:.1f}%"
+            print(f"progress: {text}", file=self.stream, flush=True)
+
+    def close(self) -> None:
+        """End the bar's line (on a terminal, once anything was drawn)."""
+        if self.drawn:
+            print(file=self.stream, flush=True)
 
 
 def add_force_flag(parser: argparse.ArgumentParser) -> None:

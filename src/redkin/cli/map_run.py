@@ -10,18 +10,15 @@ Shared by the arm-angle maps (:mod:`redkin.cli.workspace`) and the humanoid's
 from __future__ import annotations
 
 import sys
-import time
 from collections.abc import Callable
-from typing import Any, TextIO
+from typing import Any
 
-from redkin.cli.common import UsageError, progress_bar
+from redkin.cli.common import Progress, UsageError
 
 #: How long ``--scheduler`` waits for the scheduler to answer.
 _CONNECT_TIMEOUT = "10s"
 #: What a full disk leaves when the slices are drawn after the map (the end of its one line).
 IMAGES_LEFT = "the map is complete; free space and run the same command again to draw the slices"
-#: Off a terminal, a progress line at each tenth of the chunks, and one at least this often (seconds) in between.
-_LINE_EVERY = 60.0
 
 
 def require_map_libraries() -> Any:
@@ -56,37 +53,11 @@ def run_on(client: Any, chunks: int, run: Callable[[Any, Any], Any], quiet: bool
             client.close()
 
 
-class _ChunkProgress:
-    """``progress(done, total)`` of a map run, shown on ``stream``.
+class _ChunkProgress(Progress):
+    """:class:`redkin.cli.common.Progress` as ``progress(done, total)`` of a map's chunks."""
 
-    On a terminal a bar is redrawn in place (:func:`redkin.cli.common.progress_bar`), ended by a newline
-    on :meth:`close`.  Anywhere else (a file, a pipe) ``\\r`` would pile every redraw into one long line,
-    so it prints plain lines instead, ``progress: 14/27 chunks (51.9%)``: one at each tenth of the chunks, one at
-    least every :data:`_LINE_EVERY` seconds while chunks finish, and the last.
-    """
-
-    def __init__(self, stream: TextIO) -> None:
-        self.stream = stream
-        self.terminal = bool(getattr(stream, "isatty", lambda: False)())
-        self.drawn = False
-        self.tenths = 0
-        self.last = time.monotonic()
-
-    def __call__(self, done: int, total: int) -> None:
-        if self.terminal:
-            self.drawn = True
-            progress_bar(done / total)
-            return
-        tenths = 10 * done // total
-        now = time.monotonic()
-        if done == total or tenths > self.tenths or now - self.last >= _LINE_EVERY:
-            self.tenths, self.last = tenths, now
-            print(f"progress: {done}/{total} chunks ({100 * done / total:.1f}%)", file=self.stream, flush=True)
-
-    def close(self) -> None:
-        """End the bar's line (on a terminal, once anything was drawn)."""
-        if self.drawn:
-            print(file=self.stream, flush=True)
+    def __call__(self, done: int, total: int) -> None:  # type: ignore[override]
+        super().__call__(done / total, f"{done}/{total} chunks")
 
 
 def run_summary(chain_name: str, result: Any, images: list, scheduler: str | None, units: dict,

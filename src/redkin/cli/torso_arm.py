@@ -13,6 +13,7 @@ from redkin._validation import MAX_LENGTH, check_magnitude
 from redkin.circle import wrap_angle
 from redkin.cli.common import (
     IMAGE_SUFFIXES,
+    Progress,
     UsageError,
     add_force_flag,
     add_output_flags,
@@ -23,7 +24,6 @@ from redkin.cli.common import (
     fixed,
     output_file,
     print_json,
-    progress_bar,
 )
 
 
@@ -155,17 +155,8 @@ def _run_map(args: argparse.Namespace) -> int:
     fixed_angles = args.shoulder is not None or args.elbow is not None
     if fixed_angles and (args.shoulder is None or args.elbow is None):
         raise UsageError("give both --shoulder and --elbow for a fixed-(psi, phi) map, or neither for the best map")
-    drawn = []
 
-    tenths = [0]
-
-    def progress(fraction: float) -> None:
-        if sys.stderr.isatty():  # a bar that redraws itself
-            drawn.append(fraction)
-            progress_bar(fraction)
-        elif int(10 * fraction) > tenths[0]:  # a log or a file: a plain line per tenth, never '\r'
-            tenths[0] = int(10 * fraction)
-            print(f"progress: {100 * fraction:.0f}%", file=sys.stderr, flush=True)
+    progress = Progress()
 
     large = args.resolution * args.resolution * args.samples[0] * args.samples[1] > 2e6
     if fixed_angles:  # turns of planes: wrapped to [-pi, pi), as the map's description prints them
@@ -183,8 +174,7 @@ def _run_map(args: argparse.Namespace) -> int:
     else:
         result = best_manipulability_map(humanoid_arm(args.arm), grid, tuple(args.samples),
                                          progress=progress if large else None)
-    if drawn:  # end the bar's line; a map that drew none prints nothing here
-        print(file=sys.stderr)
+    progress.close()  # ends the bar's line; a map that drew none prints nothing here
     unit = "m^6" if args.arm == "both" else "m^3"
     summary = {
         "plane": grid.label, "description": result.description, "unit": unit,
