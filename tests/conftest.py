@@ -53,3 +53,23 @@ def client():
             distributed.Client(cluster, timeout="60s") as client:
         client.wait_for_workers(2, timeout=60)
         yield client
+
+
+@pytest.fixture(scope="session")
+def pa10() -> SerialChain:
+    """The PA10-7C model, for the tests of its workspace map."""
+    from redkin.models import get_robot
+
+    return get_robot("pa10-7c")
+
+
+@pytest.fixture(scope="session")
+def small_map(pa10, tmp_path_factory) -> dict:
+    """The arrays of :mod:`tests.support.small_map`'s map in one uninterrupted run on the local scheduler, computed
+    once for the Dask and the fault tests."""
+    from redkin.workspace import workspace_map
+    from tests.support import small_map as sizes
+
+    run = workspace_map(pa10, tmp_path_factory.mktemp("reference") / "map.zarr", sizes.EXTENT, **sizes.SIZES)
+    assert run.computed == run.chunks == sizes.CHUNKS
+    return sizes.arrays(run.path)

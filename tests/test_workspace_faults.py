@@ -35,12 +35,9 @@ from redkin.workspace import _durable as durable  # noqa: E402
 from redkin.workspace import store, workspace_map  # noqa: E402
 from redkin.workspace.humanoid import humanoid_map  # noqa: E402
 from redkin.workspace.store import completed_chunks  # noqa: E402
+from tests.support.small_map import CHUNKS, EXTENT, SIZES, VALUES, VARIABLES  # noqa: E402
+from tests.support.small_map import arrays as _arrays  # noqa: E402
 
-EXTENT = [-0.9, 0.9, -0.9, 0.9, -0.5, 1.3]
-SIZES = {"resolution": 6, "orientations": 16, "chunk": 2}  # 27 chunks of 2x2x2 positions
-CHUNKS = 27
-VALUES = ("measure", "reachability", "redundancy")
-VARIABLES = (*VALUES, "rotation", "x", "y", "z", "chunk_complete")
 #: Seconds a subprocess may take before the test fails instead of hanging.
 TIMEOUT = 120
 
@@ -95,19 +92,6 @@ durable.os.__dict__.update(vars(real), open=patched_open, write=patched_write, r
 """
 
 
-@pytest.fixture(scope="module")
-def arm():
-    return get_robot("pa10-7c")
-
-
-@pytest.fixture(scope="module")
-def reference(arm, tmp_path_factory):
-    """The map in one uninterrupted run on the local scheduler."""
-    run = workspace_map(arm, tmp_path_factory.mktemp("reference") / "map.zarr", EXTENT, **SIZES)
-    assert run.computed == run.chunks == CHUNKS
-    return _arrays(run.path)
-
-
 @pytest.fixture
 def spawn():
     """``spawn(code, *args)``: a ``python -c`` subprocess in its own session (killed with its group at the end)."""
@@ -131,16 +115,11 @@ def _code(*parts: str, slow: float = 0.0, **values) -> str:
                      (PRELUDE, *parts))
 
 
-def _arrays(path) -> dict:
-    with xr.open_zarr(path) as dataset:
-        return {name: dataset[name].values for name in VARIABLES}
-
-
 def _partial_files(path: Path) -> list[Path]:
     return sorted(path.rglob("*.partial"))
 
 
-def _assert_marked_chunks_are_right(path: Path, reference: dict) -> int:
+def _assert_marked_chunks_are_right(path: Path, small_map: dict) -> int:
     """Every chunk marked complete holds the clean run's values exactly; the store reads whole. Returns how many."""
     complete = completed_chunks(path)
     arrays = _arrays(path)  # a torn file anywhere would fail to decode here
@@ -149,17 +128,17 @@ def _assert_marked_chunks_are_right(path: Path, reference: dict) -> int:
     for index in zip(*np.nonzero(complete)):
         where = tuple(slice(c * i, c * (i + 1)) for i in index)
         for name in VALUES:
-            np.testing.assert_array_equal(arrays[name][where], reference[name][where], err_msg=f"{name} {index}")
+            np.testing.assert_array_equal(arrays[name][where], small_map[name][where], err_msg=f"{name} {index}")
     return int(complete.sum())
 
 
-def _assert_resumes_to_the_reference(arm, path: Path, reference: dict, marked: int) -> None:
+def _assert_resumes_to_the_reference(pa10, path: Path, small_map: dict, marked: int) -> None:
     """A run with nothing in the way computes exactly the unmarked chunks and gives the clean map bit for bit."""
-    run = workspace_map(arm, path, EXTENT, **SIZES)
+    run = workspace_map(pa10, path, EXTENT, **SIZES)
     assert run.computed == CHUNKS - marked
     arrays = _arrays(path)
     for name in VARIABLES:
-        np.testing.assert_array_equal(arrays[name], reference[name], err_msg=name)
+        np.testing.assert_array_equal(arrays[name], small_map[name], err_msg=name)
     assert not _partial_files(path), "a resumed run removes what a killed writer left"
     assert not path.with_name(path.name + ".lock").exists()
 
@@ -196,7 +175,7 @@ def _markers(path: Path) -> int:
     ("chunk_complete", "rename", 2),  # every value file in place, the marker whole but not yet renamed into place
     ("chunk_complete", "write", 3),   # the marker half written
 ])
-def test_a_process_killed_in_a_chunk_write_keeps_no_unfinished_chunk(arm, reference, tmp_path, spawn, folder, mode,
+def test_a_process_killed_in_a_chunk_write_keeps_no_unfinished_chunk(pa10, small_map, tmp_path, spawn, folder, mode,
                                                                      nth):
     path = tmp_path / "map.zarr"
     process = spawn(_code(KILL_IN_WRITE, "workspace_map(ARM, sys.argv[1], EXTENT, **SIZES)", folder=folder,
@@ -206,18 +185,18 @@ def test_a_process_killed_in_a_chunk_write_keeps_no_unfinished_chunk(arm, refere
     hit = Path(out.strip())  # the file the process died writing
     assert hit.parent == path / folder
     chunk = tuple(int(part) for part in hit.name.lstrip(".").split(".")[:3])
-    marked = _assert_marked_chunks_are_right(path, reference)
+    marked = _assert_marked_chunks_are_right(path, small_map)
     assert not completed_chunks(path)[chunk] and 0 < marked < CHUNKS
     if mode == "write":  # killed mid-write: only the temporary file is torn, and nothing reads it
         assert hit.name.endswith(".partial") and hit.exists()
     else:  # killed between the values and the marker: the values are in place, the chunk is still not complete
         keys = {name: ".".join(map(str, chunk + ((0, 0) if name == "measure" else ()))) for name in VALUES}
         assert not hit.exists() and all((path / name / key).exists() for name, key in keys.items())
-    _assert_resumes_to_the_reference(arm, path, reference, marked)
+    _assert_resumes_to_the_reference(pa10, path, small_map, marked)
 
 
 @pytest.mark.slow
-def test_a_cluster_worker_killed_mid_write_costs_nothing(arm, reference, client, tmp_path):
+def test_a_cluster_worker_killed_mid_write_costs_nothing(pa10, small_map, client, tmp_path):
     """A worker process dies (SIGKILL) half-way through writing a chunk's values: Dask reruns the task elsewhere,
     the map is the clean one, and the torn temporary file is gone after the next run.
 
@@ -255,7 +234,7 @@ def test_a_cluster_worker_killed_mid_write_costs_nothing(arm, reference, client,
     patched = set(client.run(die_in_third_values_write).values())
     path = tmp_path / "map.zarr"
     try:
-        run = workspace_map(arm, path, EXTENT, client=client, **SIZES)
+        run = workspace_map(pa10, path, EXTENT, client=client, **SIZES)
     finally:
         client.run(heal, on_error="ignore")  # a patched worker still alive dies no more
         alive = set(client.run(os.getpid, on_error="ignore").values())
@@ -263,14 +242,14 @@ def test_a_cluster_worker_killed_mid_write_costs_nothing(arm, reference, client,
         _two_live_workers(client)  # the nannies restart the dead, without the patch
     assert dead, "no worker died: the fault was not injected"
     assert run.computed == CHUNKS and 1 <= len(_partial_files(path)) <= len(dead)
-    _assert_resumes_to_the_reference(arm, path, reference, CHUNKS)
+    _assert_resumes_to_the_reference(pa10, path, small_map, CHUNKS)
 
 
 # -- the scheduler (the process running the map) killed mid-run, then the run restarted ---------------------------
 
 @pytest.mark.slow
 @pytest.mark.parametrize("scheduler", ["local", "distributed"])
-def test_a_run_killed_at_random_moments_resumes_to_the_same_map(arm, reference, tmp_path, spawn, scheduler):
+def test_a_run_killed_at_random_moments_resumes_to_the_same_map(pa10, small_map, tmp_path, spawn, scheduler):
     """The whole process (Dask's local scheduler, or a dask.distributed scheduler with its workers in it) is
     killed twice at a random moment after its first chunks appear; every run after it takes over the store (no stale
     lock), loses none of the chunks marked, and the last one gives the clean map."""
@@ -290,16 +269,16 @@ def test_a_run_killed_at_random_moments_resumes_to_the_same_map(arm, reference, 
         time.sleep(delay)
         os.killpg(process.pid, signal.SIGKILL)
         process.communicate(timeout=TIMEOUT)
-        now = _assert_marked_chunks_are_right(path, reference)
+        now = _assert_marked_chunks_are_right(path, small_map)
         assert marked < now < CHUNKS, f"killed after {delay:.3f} s"
         marked = now
-    _assert_resumes_to_the_reference(arm, path, reference, marked)
+    _assert_resumes_to_the_reference(pa10, path, small_map, marked)
 
 
 # -- a second run on the same store while one runs -------------------------------------------------------------
 
 @pytest.mark.slow
-def test_two_runs_started_at_once_one_runs_the_other_is_refused_in_one_line(arm, reference, tmp_path, spawn):
+def test_two_runs_started_at_once_one_runs_the_other_is_refused_in_one_line(pa10, small_map, tmp_path, spawn):
     """The issue's case: two ``redkin workspace`` runs at once on a new ``--out``.  One creates the store and
     completes the map; the other is refused with one line and exit 2, and so is a third call while the first runs.
     Nobody meets "Directory not empty" or "No array found"."""
@@ -319,7 +298,7 @@ def test_two_runs_started_at_once_one_runs_the_other_is_refused_in_one_line(arm,
     go.touch()
     _wait_for(lambda: any(p.poll() is not None for p in processes))
     with pytest.raises(MapStoreError, match="is in use by another run") as refused:
-        workspace_map(arm, out / "map.zarr", EXTENT, **SIZES)
+        workspace_map(pa10, out / "map.zarr", EXTENT, **SIZES)
     assert refused.value.reason == "in use" and refused.value.path == str(out / "map.zarr")
     results = [(p.wait(TIMEOUT), *p.communicate()) for p in processes]
     assert sorted(code for code, _, _ in results) == [0, 2], results
@@ -328,7 +307,7 @@ def test_two_runs_started_at_once_one_runs_the_other_is_refused_in_one_line(arm,
                                                    "run (pid "), err
     (_, summary, err), = [result for result in results if result[0] == 0]
     assert json.loads(summary)["chunks_computed"] == CHUNKS and err == ""
-    _assert_resumes_to_the_reference(arm, out / "map.zarr", reference, CHUNKS)
+    _assert_resumes_to_the_reference(pa10, out / "map.zarr", small_map, CHUNKS)
 
 
 def test_the_lock_is_per_store_and_one_holder_at_a_time(tmp_path):
@@ -387,7 +366,7 @@ def small_disk(tmp_path):
         subprocess.run(["umount", "-l", str(folder)], check=False)
 
 
-def test_a_full_disk_stops_the_run_in_one_line_and_the_store_resumes(arm, reference, small_disk, capsys):
+def test_a_full_disk_stops_the_run_in_one_line_and_the_store_resumes(pa10, small_map, small_disk, capsys):
     disk, remount = small_disk
     argv = ["workspace", "pa10-7c", "--out", str(disk), "--extent", *map(str, EXTENT),
             *(f"--{name}={value}" for name, value in SIZES.items()), "--quiet"]
@@ -396,18 +375,18 @@ def test_a_full_disk_stops_the_run_in_one_line_and_the_store_resumes(arm, refere
     path = disk / "map.zarr"
     assert err.count("\n") == 1, err
     assert err.startswith(f"redkin: error: no space left on device writing {str(path)!r}: ")
-    marked = _assert_marked_chunks_are_right(path, reference)
+    marked = _assert_marked_chunks_are_right(path, small_map)
     assert 0 < marked < CHUNKS and f"{marked} of {CHUNKS} chunks are complete and kept" in err
     assert not _partial_files(path)  # a write that failed removed its temporary file
     remount("4m")  # space again
     assert main(argv + ["--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["chunks_computed"] == CHUNKS - marked
-    _assert_resumes_to_the_reference(arm, path, reference, CHUNKS)
+    _assert_resumes_to_the_reference(pa10, path, small_map, CHUNKS)
 
 
 @pytest.mark.parametrize("stage, writes", [("creation", 0), ("chunks", 0), ("chunks", 40)])
-def test_writes_failing_with_enospc_keep_the_store_resumable(arm, reference, tmp_path, monkeypatch, stage, writes):
+def test_writes_failing_with_enospc_keep_the_store_resumable(pa10, small_map, tmp_path, monkeypatch, stage, writes):
     """The same without root: the store's file writes fail with ENOSPC, from the first one (the store being
     created), from the first chunk's first file, or after 40 files of chunks (10 chunks are 40 files)."""
     count, lock, write = [0], threading.Lock(), durable.write_durably
@@ -425,7 +404,7 @@ def test_writes_failing_with_enospc_keep_the_store_resumable(arm, reference, tmp
     monkeypatch.setattr(durable, "write_durably", full_after)
     path = tmp_path / "map.zarr"
     with pytest.raises(MapStoreError) as raised:
-        workspace_map(arm, path, EXTENT, **SIZES)
+        workspace_map(pa10, path, EXTENT, **SIZES)
     message = str(raised.value)
     assert raised.value.reason == "no space" and "\n" not in message
     assert message.startswith(f"no space left on device writing {str(path)!r}: ")
@@ -434,15 +413,15 @@ def test_writes_failing_with_enospc_keep_the_store_resumable(arm, reference, tmp
         assert not path.with_name("map.zarr.creating").exists()
         marked = 0
     else:
-        marked = _assert_marked_chunks_are_right(path, reference)
+        marked = _assert_marked_chunks_are_right(path, small_map)
         assert f"{marked} of {CHUNKS} chunks are complete and kept" in message
         assert (marked == 0) == (writes == 0) and marked < CHUNKS
     monkeypatch.undo()
-    _assert_resumes_to_the_reference(arm, path, reference, marked)
+    _assert_resumes_to_the_reference(pa10, path, small_map, marked)
 
 
 @pytest.mark.slow
-def test_a_full_disk_under_a_cluster_is_one_line_too(arm, reference, client, tmp_path):
+def test_a_full_disk_under_a_cluster_is_one_line_too(pa10, small_map, client, tmp_path):
     """The workers' ENOSPC reaches the caller as the same one line; the chunks they completed stay."""
     def fill_after(limit):
         import errno as worker_errno
@@ -469,10 +448,10 @@ def test_a_full_disk_under_a_cluster_is_one_line_too(arm, reference, client, tmp
     assert len(client.run(fill_after, 4)) == 2  # each worker writes 4 chunks' values, then its disk is full
     try:
         with pytest.raises(MapStoreError) as raised:
-            workspace_map(arm, path, EXTENT, client=client, **SIZES)
+            workspace_map(pa10, path, EXTENT, client=client, **SIZES)
     finally:
         client.run(fill_after, None)
-    marked = _assert_marked_chunks_are_right(path, reference)
+    marked = _assert_marked_chunks_are_right(path, small_map)
     assert raised.value.reason == "no space" and not _partial_files(path)
     assert f"{marked} of {CHUNKS} chunks are complete and kept" in str(raised.value) and 0 < marked <= 8
-    _assert_resumes_to_the_reference(arm, path, reference, marked)
+    _assert_resumes_to_the_reference(pa10, path, small_map, marked)
