@@ -167,3 +167,19 @@ def test_optimal_bad_inputs():
     with pytest.raises(ValueError, match="pose"):
         optimal_arm_angles(chain, np.stack([pose, pose]))
     assert optimal_arm_angles(chain, pose, feasible=ArcSet.empty()).overall.feasible is None
+
+
+def test_huge_weights_give_the_optimum_of_their_ratio():
+    """[000 eq. 40] depends on the weights' ratio only: (1e308, 1e308) is (0.5, 0.5), without overflow."""
+    import warnings
+
+    from redkin.models import pa10_7c
+    from redkin.srs import optimal_arm_angles
+
+    chain = pa10_7c()
+    pose = chain.fk(np.radians([10.0, 30.0, 0.0, 60.0, 0.0, 45.0, 0.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        huge = optimal_arm_angles(chain, pose, "+++", weights=(1e308, 1e308))
+    plain = optimal_arm_angles(chain, pose, "+++", weights=(0.5, 0.5))
+    assert huge.overall == plain.overall

@@ -63,16 +63,6 @@ def _wraps(arc_set) -> list[bool]:
     return [bool(lo > hi) for lo, hi in arc_set.arcs]
 
 
-def _scaled_weights(weights) -> np.ndarray:
-    """The weights divided by the larger one: the same optimum ([000 eq. 40] weighs the two objectives against
-    each other), and no overflow for weights such as 1e308.  Weights that are not finite and >= 0 pass unchanged,
-    for the library's own refusal."""
-    values = np.asarray(weights, dtype=float)
-    if np.all(np.isfinite(values)) and np.all(values >= 0) and values.max() > 0:
-        return values / values.max()
-    return values
-
-
 def run_ik(args: argparse.Namespace) -> int:
     from redkin.srs import BRANCHES, ik, parse_branch, srs_geometry
 
@@ -111,7 +101,7 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
     feasible = feasible_arm_angles(geometry, pose, branch)
     singular = singular_arm_angles(geometry, pose, branch)
-    optimal = optimal_arm_angles(geometry, pose, branch, target=target, weights=_scaled_weights(args.weights),
+    optimal = optimal_arm_angles(geometry, pose, branch, target=target, weights=args.weights,
                                  feasible=feasible.feasible)
     deg = args.deg
 

@@ -99,6 +99,17 @@ def check_weights(weights: ArrayLike) -> tuple[float, float]:
     return float(values[0]), float(values[1])
 
 
+def weighted_objective(shoulder: np.ndarray, wrist: np.ndarray, weights: tuple[float, float]) -> np.ndarray:
+    """The coefficients of [000 eq. 40]'s combined objective ``r_s f_s + r_w f_w`` (``(..., 3)`` each).
+
+    The weights are divided by the larger one first: neither that nor eq. 40's ``1 / (r_s + r_w)`` moves the
+    maximiser, and weights such as 1e308 then do not overflow.
+    """
+    r_s, r_w = weights
+    largest = max(r_s, r_w)
+    return (r_s / largest) * shoulder + (r_w / largest) * wrist
+
+
 def optimal_arm_angles(
     arm: SerialChain | SRSGeometry,
     pose: ArrayLike,
@@ -140,7 +151,7 @@ def optimal_arm_angles(
     if feasible is None:
         feasible = cast(FeasibleArmAngles, feasible_from_coefficients(coefficients, chosen, geometry)[()]).feasible
     shoulder, wrist = objective_coefficients(coefficients, geometry, q_target)
-    combined = r_s * shoulder + r_w * wrist  # [000 eq. 40] (the 1/(r_s + r_w) factor does not move the maximiser)
+    combined = weighted_objective(shoulder, wrist, (r_s, r_w))  # [000 eq. 40]
     return OptimalArmAngles(
         shoulder=_clamped(maximiser(shoulder[0], shoulder[1]), feasible),  # [000 eq. 37]
         wrist=_clamped(maximiser(wrist[0], wrist[1]), feasible),  # [000 eq. 39]

@@ -21,7 +21,7 @@ from redkin.srs.coefficients import coefficients_for
 from redkin.srs.feasible import FeasibleArmAngles, feasible_from_coefficients
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import theta_at
-from redkin.srs.optimal import check_weights, default_target, maximiser, objective_coefficients
+from redkin.srs.optimal import check_weights, default_target, maximiser, objective_coefficients, weighted_objective
 
 
 @dataclass(frozen=True)
@@ -86,9 +86,8 @@ def arm_angle_path(
         reachable = np.array([bool(f.feasible.contains(fixed_psi)) for f in feasible])
     else:
         q_target = default_target(geometry) if target is None else check_vectors(target, 7, "target").reshape(7)
-        r_s, r_w = check_weights(weights)
         shoulder, wrist = objective_coefficients(coefficients, geometry, q_target)
-        combined = r_s * shoulder + r_w * wrist
+        combined = weighted_objective(shoulder, wrist, check_weights(weights))
         best = maximiser(combined[..., 0], combined[..., 1])  # [000 eq. 40]
         clamped = [f.feasible.nearest(p) for f, p in zip(feasible, best.tolist())]
         reachable = np.array([c is not None for c in clamped])
