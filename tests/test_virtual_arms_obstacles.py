@@ -203,3 +203,18 @@ def test_virtual_arms_end_step_slides_round_an_obstacle_in_its_way():
     assert d[0] > 0.0  # on the goal's side
     far = _end_step(np.array([0.0, 1.0]), np.array([0.0, 2.0]), obstacle, step=0.05, influence=0.1)
     assert far == pytest.approx([0.0, 0.05])
+
+
+def test_absurd_goals_and_obstacles_are_refused_by_name():
+    """A finite but absurd goal or obstacle (1e308 m) overflowed into 'theta must be finite'; now the input is
+    named, in the library as in the CLI."""
+    from redkin.models import planar_arm
+    from redkin.virtual_arms import AnalyticModel, VirtualPoint, avoid_obstacles, generate_trajectory
+
+    model = AnalyticModel(planar_arm(), [VirtualPoint.end()])
+    with pytest.raises(ValueError, match="goals must be at most 1e\\+06 m"):
+        generate_trajectory(model, np.radians([30.0] * 5), [[1e308, 1.2]])
+    with pytest.raises(ValueError, match="goal must be at most 1e\\+06 m"):
+        avoid_obstacles(planar_arm(), np.radians([30.0] * 5), [1e308, 0.6], [])
+    with pytest.raises(ValueError, match="obstacle 0 must be at most 1e\\+06 m"):
+        avoid_obstacles(planar_arm(), np.radians([30.0] * 5), [0.5, 0.6], [[0.75, 0.9, 1e308]])

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._validation import MAX_LENGTH, check_magnitude
 from redkin.chain import SerialChain
 
 
@@ -68,6 +69,7 @@ def as_obstacles(obstacles: Sequence[Obstacle | ArrayLike], dims: int) -> list[O
             item = Obstacle(row[:-1], row[-1])
         if item.dims != dims:
             raise ValueError(f"obstacle {k} is {item.dims}-D but the task space is {dims}-D")
+        check_magnitude(np.append(item.centre, item.radius), f"obstacle {k}", MAX_LENGTH, "m")
         checked.append(item)
     return checked
 

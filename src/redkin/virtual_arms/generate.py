@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike
 from scipy.integrate import BDF, LSODA, Radau
 
 from redkin._constants import VIRTUAL_ARMS_MAX_STEPS as MAX_STEPS  # largest step budget of one run
-from redkin._validation import check_count, check_positive, check_vectors
+from redkin._validation import MAX_LENGTH, check_count, check_magnitude, check_positive, check_vectors
 from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics, State
 from redkin.virtual_arms.output_function import OutputFunction
 from redkin.virtual_arms.subsystems import ForwardModel, OneByOne, Together
@@ -245,6 +245,7 @@ def generate_trajectory(
     m, p, dims = model.joints, model.count, model.dims
     theta0 = check_vectors(theta0, m, "theta0").reshape(m)
     goals = check_vectors(goals, dims, "goals")
+    check_magnitude(goals, "goals", MAX_LENGTH, "m")  # a finite but absurd goal (1e308) would overflow the rates
     if goals.shape != (p, dims):
         raise ValueError(f"goals must have shape ({p}, {dims}) (one goal per virtual end point), got {goals.shape}")
     weight = _weights(weights, p, dims)

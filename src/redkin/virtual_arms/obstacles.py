@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._validation import check_positive, check_vectors
+from redkin._validation import MAX_LENGTH, check_magnitude, check_positive, check_vectors
 from redkin.chain import SerialChain
 from redkin.virtual_arms.analytic import AnalyticModel
 from redkin.virtual_arms.clearance import Obstacle, arm_clearance, as_obstacles, densify
@@ -245,7 +245,7 @@ def avoid_obstacles(
     started = time.perf_counter()
     probe = AnalyticModel(chain, [VirtualPoint.end()])
     axes, dims = probe.axes, probe.dims
-    goal = check_vectors(goal, dims, "goal").reshape(dims)
+    goal = check_magnitude(check_vectors(goal, dims, "goal").reshape(dims), "goal", MAX_LENGTH, "m")
     theta = check_vectors(theta0, chain.n, "theta0").reshape(chain.n)
     obstacles = as_obstacles(obstacles, dims)
     for name, value in (("step", step), ("influence", influence), ("gain", gain), ("margin", margin),
