@@ -102,7 +102,7 @@ def check_weights(weights: ArrayLike) -> tuple[float, float]:
 def weighted_objective(shoulder: np.ndarray, wrist: np.ndarray, weights: tuple[float, float]) -> np.ndarray:
     """The coefficients of [000 eq. 40]'s combined objective ``r_s f_s + r_w f_w`` (``(..., 3)`` each).
 
-    The weights are divided by the larger one first: neither that nor eq. 40's ``1 / (r_s + r_w)`` moves the
+    The weights are divided by the larger one first: neither that nor [000 eq. 40]'s ``1 / (r_s + r_w)`` moves the
     maximiser, and weights such as 1e308 then do not overflow.
     """
     r_s, r_w = weights
