@@ -187,41 +187,101 @@ def barrett_wam7() -> SerialChain:
 
 
 def franka_panda() -> SerialChain:
-    """Franka Emika Panda, in Franka's modified DH frames and joint limits.
+    """Franka Emika Panda (FER), in Franka's modified DH frames and joint limits.
 
     Source: Franka Control Interface documentation, "Robot and interface
     specifications" (https://frankaemika.github.io/docs/control_parameters.html):
-    modified DH (Craig) and the joint limits q_min, q_max; the same frames as
-    Franka's URDF (frankaemika/franka_ros, ``franka_description/robots/panda_arm.xacro``,
-    and ``examples/panda.urdf``):
+    modified DH (Craig) and the joint limits q_min, q_max; the same frames and
+    limits as Franka's URDF (frankaemika/franka_description,
+    ``robots/fer/kinematics.yaml`` and ``robots/fer/joint_limits.yaml``;
+    frankaemika/franka_ros, ``franka_description/robots/panda_arm.xacro`` and
+    ``robots/panda/joint_limits.yaml``) and ``examples/panda.urdf``:
 
-    ======  ==========  =======  =====  ===================
-    i       alpha_i-1   a_i-1    d_i    range (rad)
-    ======  ==========  =======  =====  ===================
-    1       0           0        0.333  [-2.8973, 2.8973]
-    2       -pi/2       0        0      [-1.7628, 1.7628]
-    3       +pi/2       0        0.316  [-2.8973, 2.8973]
-    4       +pi/2       0.0825   0      [-3.0718, -0.0698]
-    5       -pi/2       -0.0825  0.384  [-2.8973, 2.8973]
-    6       +pi/2       0        0      [-0.0175, 3.7525]
-    7       +pi/2       0.088    0      [-2.8973, 2.8973]
+    ======  ==========  =======  =====  ===================  ===========
+    i       alpha_i-1   a_i-1    d_i    range (rad)          max (rad/s)
+    ======  ==========  =======  =====  ===================  ===========
+    1       0           0        0.333  [-2.8973, 2.8973]    2.175
+    2       -pi/2       0        0      [-1.7628, 1.7628]    2.175
+    3       +pi/2       0        0.316  [-2.8973, 2.8973]    2.175
+    4       +pi/2       0.0825   0      [-3.0718, -0.0698]   2.175
+    5       -pi/2       -0.0825  0.384  [-2.8973, 2.8973]    2.61
+    6       +pi/2       0        0      [-0.0175, 3.7525]    2.61
+    7       +pi/2       0.088    0      [-2.8973, 2.8973]    2.61
     flange  0           0        0.107
-    ======  ==========  =======  =====  ===================
+    ======  ==========  =======  =====  ===================  ===========
 
-    The tool frame is the flange (``panda_link8``), without the hand.  Joints
-    5-7 do not meet (the 0.088 m offset), so this is a general chain: FK,
-    Jacobian, velocity IK and virtual arms, no arm-angle IK.
+    The speeds are the URDF's velocity limits, for reference (a chain keeps
+    positions only).  The tool frame is the flange (``panda_link8``), without
+    the hand; Franka's hand frame is the flange turned by -pi/4 about z, and
+    its TCP 0.1034 m along the hand's z (as on the FR3, whose
+    ``examples/fr3.urdf`` has both).  The arm is of the Franka class: a spherical
+    shoulder, an offset elbow, axes 5 and 6 meeting and axis 7 offset 0.088 m
+    from axis 6; its pose IK is in closed form at a given q7
+    (:mod:`redkin.franka`, docs/franka.md).
     """
+    return _franka_arm(
+        lower=[-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973],
+        upper=[2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973],
+        name="franka-panda",
+        source="Franka Control Interface docs: modified DH table and joint limits (as franka_description, fer)",
+    )
+
+
+def franka_fr3() -> SerialChain:
+    """Franka Research 3 (FR3), in Franka's modified DH frames and joint limits.
+
+    Source: Franka's URDF (frankaemika/franka_description, 2025:
+    ``robots/fr3/kinematics.yaml``, ``robots/fr3/joint_limits.yaml`` and
+    ``robots/common/franka_arm.xacro``; the same frames as ``examples/fr3.urdf``)
+    and the FR3 limits of the Franka Control Interface documentation
+    (https://frankaemika.github.io/docs/control_parameters.html).  The link
+    lengths are the FER's (:func:`franka_panda`); the limits differ:
+
+    ======  ==========  =======  =====  ===================  ===========
+    i       alpha_i-1   a_i-1    d_i    range (rad)          max (rad/s)
+    ======  ==========  =======  =====  ===================  ===========
+    1       0           0        0.333  [-2.7437, 2.7437]    2.62
+    2       -pi/2       0        0      [-1.7837, 1.7837]    2.62
+    3       +pi/2       0        0.316  [-2.9007, 2.9007]    2.62
+    4       +pi/2       0.0825   0      [-3.0421, -0.1518]   2.62
+    5       -pi/2       -0.0825  0.384  [-2.8065, 2.8065]    5.26
+    6       +pi/2       0        0      [0.5445, 4.5169]     4.18
+    7       +pi/2       0.088    0      [-3.0159, 3.0159]    5.26
+    flange  0           0        0.107
+    ======  ==========  =======  =====  ===================  ===========
+
+    The speeds are the URDF's velocity limits, for reference (a chain keeps
+    positions only; the FR3's controller further lowers them near the
+    position limits).  The older franka_ros package (2024) carried narrower
+    FR3 ranges (``franka_description/robots/fr3/joint_limits.yaml``: +-2.3093,
+    +-1.5133, ...); these are the current ones.  The tool frame is the flange
+    (``fr3_link8``), without the hand; ``examples/fr3.urdf`` adds the hand
+    (``fr3_hand``, the flange turned by -pi/4 about z) and its TCP
+    (``fr3_hand_tcp``, 0.1034 m along the hand's z).  The arm is of the
+    Franka class: a spherical shoulder, an offset elbow, axes 5 and 6 meeting
+    and axis 7 offset 0.088 m from axis 6; its pose IK is in closed form at a
+    given q7 (:mod:`redkin.franka`, docs/franka.md).
+    """
+    return _franka_arm(
+        lower=[-2.7437, -1.7837, -2.9007, -3.0421, -2.8065, 0.5445, -3.0159],
+        upper=[2.7437, 1.7837, 2.9007, -0.1518, 2.8065, 4.5169, 3.0159],
+        name="franka-fr3",
+        source="franka_description (2025): robots/fr3 kinematics and joint limits, in Franka's modified DH",
+    )
+
+
+def _franka_arm(lower: Sequence[float], upper: Sequence[float], name: str, source: str) -> SerialChain:
+    """Franka's modified DH rows to the flange (the same for the FER and the FR3), with the given limits."""
     return SerialChain(
         a=[0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088],
         alpha=[0.0, -HALF_PI, HALF_PI, HALF_PI, -HALF_PI, HALF_PI, HALF_PI],
         d=[0.333, 0.0, 0.316, 0.0, 0.384, 0.0, 0.0],
         convention="mdh",
-        lower=[-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973],
-        upper=[2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973],
+        lower=lower,
+        upper=upper,
         tool=_translation_z(0.107),
-        name="franka-panda",
-        source="Franka Control Interface docs: modified DH table and joint limits (as franka_description)",
+        name=name,
+        source=source,
     )
 
 
@@ -417,6 +477,7 @@ MODELS: dict[str, Callable[[], SerialChain]] = {
     "kuka-iiwa7": kuka_iiwa7,
     "barrett-wam7": barrett_wam7,
     "franka-panda": franka_panda,
+    "franka-fr3": franka_fr3,
     "kinova-gen3": kinova_gen3,
     "ufactory-xarm7": ufactory_xarm7,
 }
