@@ -11,7 +11,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import bench_srs
 import bench_velocity
 
-from redkin.models import barrett_wam, pa10_7c
+from redkin.models import barrett_wam, get_robot, pa10_7c
 from redkin.reproduce import printed
 from redkin.velocity import WamFactorisation
 
@@ -67,3 +67,79 @@ def test_bench_workspace_times_a_whole_map(tmp_path):
 
     seconds, cpu = bench_workspace.timed_map(tmp_path, "tiny", 2, 2)
     assert seconds > 0.0 and cpu > 0.0
+
+
+# bench_franka.py (issue 24): the frames of the peers, the set comparisons and the correctness counts
+
+PANDA = get_robot("franka-panda")
+
+
+@pytest.mark.parametrize(("module", "prefix"), [("frankik", "frankik"), ("geofikpy", "GeoFIK"), ("ssik", "ssik")])
+def test_franka_peer_frames_close_by_our_fk(module, prefix):
+    """Each peer's claimed end frame (frankik's fk and GeoFIK: the hand, frankik's ik_full and ssik: the flange) is
+    what it computes: its FK equals ours in that frame, and its IK rows reach our flange pose (median row)."""
+    pytest.importorskip(module)
+    import bench_franka
+
+    q = bench_franka.configurations(PANDA, 5, np.random.default_rng(4))
+    residuals = {name: value for name, value in bench_franka.frame_residuals(PANDA, q).items()
+                 if name.startswith(prefix)}
+    assert residuals and max(residuals.values()) < 1e-9, residuals
+
+
+def test_franka_hand_frame_is_the_flange_turned_and_moved():
+    """HAND_IN_FLANGE: -pi/4 about the flange's z, then 0.1034 m along it (franka_description's hand TCP)."""
+    import bench_franka
+
+    hand = bench_franka.HAND_IN_FLANGE
+    np.testing.assert_allclose(hand[:3, :3] @ [1.0, 0.0, 0.0], [np.sqrt(0.5), -np.sqrt(0.5), 0.0], atol=1e-15)
+    np.testing.assert_allclose(hand[:3, 3], [0.0, 0.0, 0.1034])
+    np.testing.assert_allclose(hand[:3, :3].T @ hand[:3, :3], np.eye(3), atol=1e-15)
+
+
+@pytest.mark.parametrize(("joint", "centre"), [(1, 0.0), (5, 0.0), (5, np.pi)])
+def test_franka_degenerate_families_are_singular_and_in_limits(joint, centre):
+    """The degenerate configurations of bench_franka.py lie within the limits and within 1e-6 rad of what their
+    labels say: q2 = 0 aligns axes 1 and 3, q6 = 0 or pi makes axes 5 and 7 parallel."""
+    import bench_franka
+
+    q = bench_franka.configurations(PANDA, 20, np.random.default_rng(5), joint, centre)
+    assert PANDA.within_limits(q).all() and np.abs(q[:, joint] - centre).max() <= bench_franka.NEAR
+    directions, _ = PANDA.joint_axes(q)
+    pair = (0, 2) if joint == 1 else (4, 6)
+    cosine = np.abs(np.sum(directions[:, pair[0]] * directions[:, pair[1]], axis=-1))
+    assert np.all(1.0 - cosine < 1e-11)
+
+
+def test_franka_set_comparisons_count_missed_and_extra_arcs_only():
+    """disagreements: a sample counts when the arcs and the dense mask differ away from every endpoint, so a
+    missed or an extra arc counts and an endpoint within the margin does not; count_disagreements compares the
+    number of branches containing each sample, whatever the branches' order."""
+    import bench_franka
+
+    t = np.linspace(0.0, 1.0, 1001)
+    inside = (t >= 0.2) & (t <= 0.4)
+    assert bench_franka.disagreements([(0.2, 0.4)], inside, t) == 0
+    assert bench_franka.disagreements([(0.2 + 1e-12, 0.4 - 1e-12)], inside, t) == 0
+    assert bench_franka.disagreements([], inside, t) == 201
+    assert bench_franka.disagreements([(0.2, 0.4), (0.7, 0.8)], inside, t) == 99  # the endpoints are samples
+    assert bench_franka.disagreements([(0.2, 0.3)], inside, t) == 100
+    one = [[(0.1, 0.5)], [], [(0.6, 0.9)]]
+    assert bench_franka.count_disagreements(one, [[(0.6, 0.9)], [(0.1, 0.5)]], t) == 0
+    assert bench_franka.count_disagreements(one, [[(0.6, 0.9)], [(0.1, 0.3)]], t) == 199
+
+
+@pytest.mark.parametrize("module", ["frankik", "geofikpy"])
+def test_franka_correctness_counts_rows_by_our_fk(module):
+    """at_q7_correctness on a peer: every row returned at q's own q7 is judged by our FK, and a configuration
+    the peer returns counts as found (GeoFIK returns every in-limit branch; frankik one elbow of two)."""
+    pytest.importorskip(module)
+    import bench_franka
+
+    solvers, _ = bench_franka.at_q7_solvers(PANDA)
+    solver = next(s for s in solvers if s.name.lower().startswith(module[:6]))
+    q = bench_franka.configurations(PANDA, 6, np.random.default_rng(6))
+    counts = bench_franka.at_q7_correctness(PANDA, solver, q)
+    assert counts.rows >= counts.found > 0 and 0 <= counts.wrong <= counts.rows
+    if module == "geofikpy":
+        assert counts.found == len(q)
