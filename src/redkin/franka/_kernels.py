@@ -1,0 +1,459 @@
+"""Compiled kernels of the Franka class: the closed form at a given q7 and the limit polynomials in q7.
+
+Equations [F1]-[F9] are derived in docs/franka.md; the arm is the DH form of
+:mod:`redkin.franka.geometry` (twists of paper 000 Table 1, ``a = (0, 0, a_3,
+a_4, 0, a_6, 0)``, ``d = (d_1, 0, d_3, 0, d_5, d_6, 0)``), read from the
+table :attr:`~redkin.franka.geometry.FrankaGeometry.kernel_arm`.
+
+The same functions serve two purposes.  With real numbers they solve the
+arm (:func:`solve`).  With complex numbers they evaluate, at a sample q7,
+the conjugate solutions that the square roots of [F3] and [F5] give when
+their arguments are negative: the product over the conjugates of a limit
+function is then a trigonometric polynomial in q7 ([F8]), whose roots
+(:func:`limit_roots`) are every q7 at which a joint reaches a limit on some
+branch.  Quantities are scaled (``lambda`` below) so that every factor is a
+polynomial, without divisions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from redkin._compiled import kernel
+from redkin.franka.geometry import A3, A4, A6, AMPLITUDE, D1, D3, D5, D6, MEAN, PHASE
+from redkin.srs._ik_kernels import chain_values
+
+#: Slack (radians) when a joint value is compared with its limits, as for S-R-S arms.
+MEMBERSHIP_TOLERANCE = 1e-12
+#: How far past +-1 the cosine of [F3] or the sine of [F4] may be rounded back (a stretched elbow, a wrist at the
+#: edge of its reach): relative to the lengths, 1e-12 is rounding, not a miss.
+_REACH_TOLERANCE = 1e-12
+#: Degree in q7 of the limit polynomial of each joint (1..6) and of the existence polynomials ([F8]); the
+#: tests check them against a higher-degree fit on random arms and poses.
+DEGREES = np.array([16, 16, 16, 16, 16, 16, 2, 2, 4, 4, 12, 12, 2, 4])
+#: Number of limit functions: two limits of joints 1-6, then the existence of the elbow and of the wrist.
+FUNCTIONS = 14
+#: Samples of q7 of each limit function: enough for the largest degree (``2 D + 1``), and a few more.
+SAMPLES = 36
+#: How far from the unit circle a root ``z = exp(i theta_7)`` of a limit polynomial may lie and still be taken as
+#: a candidate q7: a double root (a joint touching its limit) moves off the circle by about the square root of the
+#: rounding, a triple one by its cube root.  A candidate that is no real crossing only splits an interval in two.
+_CIRCLE_TOLERANCE = 1e-3
+#: ``exp(-i k 2 pi j / SAMPLES)`` for ``k = 0 .. 16``: the discrete Fourier transform of the samples.
+_TWIDDLES = np.exp(-2j * np.pi * np.outer(np.arange(17), np.arange(SAMPLES)) / SAMPLES)
+
+
+@kernel
+def frame_seven(pose, ends):
+    """Frame 7 of the form in frame 0 (4, 4): ``base^-1 pose tool^-1``."""
+    return ends[0] @ pose @ ends[1]
+
+
+@kernel
+def wrist_and_frame_six(t07, theta7, arm):
+    """Frame 6's axes ``x6, y6, z6`` and the wrist point W at ``theta_7`` [F1].
+
+    ``R_06 = R_07 Rz(-theta_7)``; the origin of frame 6 is that of frame 7,
+    and W lies ``-a_6`` along ``x_6`` and ``-d_6`` along ``y_6`` from it.
+    """
+    c, s = np.cos(theta7), np.sin(theta7)
+    x6 = np.empty(3)
+    y6 = np.empty(3)
+    z6 = np.empty(3)
+    w = np.empty(3)
+    for r in range(3):
+        x6[r] = c * t07[r, 0] - s * t07[r, 1]
+        y6[r] = s * t07[r, 0] + c * t07[r, 1]
+        z6[r] = t07[r, 2]
+    for r in range(3):
+        w[r] = t07[r, 3] - arm[A6] * x6[r] - arm[D6] * y6[r]
+    return x6, y6, z6, w
+
+
+@kernel
+def elbow_cosine(w, arm):
+    """``cos(theta_4 - phi) = (|W - S|^2 - C) / R`` [F2], with the shoulder ``S = (0, 0, d_1)``."""
+    distance2 = w[0] * w[0] + w[1] * w[1] + (w[2] - arm[D1]) * (w[2] - arm[D1])
+    return (distance2 - arm[MEAN]) / arm[AMPLITUDE]
+
+
+@kernel
+def elbow_trig(kappa, root, arm):
+    """``cos theta_4, sin theta_4`` from ``cos(theta_4 - phi) = kappa`` and ``sin(theta_4 - phi) = root`` [F3]."""
+    cp, sp = np.cos(arm[PHASE]), np.sin(arm[PHASE])
+    return kappa * cp - root * sp, root * cp + kappa * sp
+
+
+@kernel
+def shoulder_in_frame_four(c4, s4, arm):
+    """``S_4x, S_4z``: the shoulder point in frame 4 (its y component is ``-d_4 = 0``) [F4]."""
+    return -arm[A3] * c4 + arm[D3] * s4 - arm[A4], -(arm[A3] * s4 + arm[D3] * c4)
+
+
+@kernel
+def shoulder_seen_from_six(x6, y6, z6, t07, arm):
+    """``V = Rx(alpha_6) R_06^T (S - O_6) + (a_6, 0, d_6)``, ``O_6`` the origin of frames 6 and 7: the shoulder
+    point as frame 5 sees it once turned by ``theta_6`` (``V = Rz(-theta_6) S_5``) [F5]."""
+    rx, ry, rz = -t07[0, 3], -t07[1, 3], arm[D1] - t07[2, 3]
+    sx = x6[0] * rx + x6[1] * ry + x6[2] * rz
+    sy = y6[0] * rx + y6[1] * ry + y6[2] * rz
+    sz = z6[0] * rx + z6[1] * ry + z6[2] * rz
+    return sx + arm[A6], -sz, sy + arm[D6]
+
+
+@kernel
+def wrist_six_trig(c5, s5, scale5, s4x, s4z, vx, vy, arm):
+    """``(cos theta_6, sin theta_6)`` times ``lambda_6`` from ``V_xy = Rz(-theta_6) S_5xy`` [F6], where
+    ``S_5 = (c_5 S_4x, d_5 - S_4z, -s_5 S_4x)`` and ``c_5, s_5`` are scaled by ``scale5`` (``lambda_6 = scale5
+    |V_xy|^2``)."""
+    px, py = c5 * s4x, (arm[D5] - s4z) * scale5
+    return px * vx + py * vy, py * vx - px * vy
+
+
+@kernel
+def link_rotation(c, s, scale, twist_sign, out):
+    """``scale * Rz(theta) Rx(alpha)`` with ``cos, sin theta = c / scale, s / scale`` and ``sin alpha = twist_sign``
+    (``cos alpha = 0``), into ``out`` (3, 3)."""
+    out[0, 0], out[0, 1], out[0, 2] = c, 0.0, twist_sign * s
+    out[1, 0], out[1, 1], out[1, 2] = s, 0.0, -twist_sign * c
+    out[2, 0], out[2, 1], out[2, 2] = 0.0, twist_sign * scale, 0.0
+
+
+@kernel
+def shoulder_matrix(x6, y6, z6, r34, r45, r56, out):
+    """``M = R_06 (R_34 R_45 R_56)^T Rx(-alpha_3) = Rz(theta_1) Ry(theta_2) Rz(theta_3)`` [F7], into ``out`` (3, 3)
+    (scaled by the product of the scales of the three link rotations)."""
+    r36 = r34 @ r45 @ r56
+    for i in range(3):
+        for j in range(3):
+            row = x6[i] * r36[j, 0] + y6[i] * r36[j, 1] + z6[i] * r36[j, 2]  # (R_06 R_36^T)[i, j]
+            out[i, j] = row
+    # times Rx(-alpha_3) with alpha_3 = -pi/2: columns (x, y, z) -> (x, z, -y)
+    for i in range(3):
+        column1, column2 = out[i, 1], out[i, 2]
+        out[i, 1], out[i, 2] = column2, -column1
+
+
+@kernel
+def shoulder_angles(m, sigma):
+    """``theta_1, theta_2, theta_3`` of ``M = Rz(theta_1) Ry(theta_2) Rz(theta_3)`` with ``sign(sin theta_2) =
+    sigma`` [F7]; ``theta_2`` and ``theta_3`` are read after turning back by ``theta_1``, so that FK holds also at
+    ``theta_2 = 0`` (where ``theta_1`` is arbitrary)."""
+    theta1 = np.arctan2(sigma * m[1, 2], sigma * m[0, 2])
+    c1, s1 = np.cos(theta1), np.sin(theta1)
+    theta2 = np.arctan2(c1 * m[0, 2] + s1 * m[1, 2], m[2, 2])
+    theta3 = np.arctan2(-s1 * m[0, 0] + c1 * m[1, 0], -s1 * m[0, 1] + c1 * m[1, 1])
+    return theta1, theta2, theta3
+
+
+@kernel
+def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch):
+    """Every requested branch at one ``theta_7`` [F1]-[F7]: joint values into ``q`` (B, 7), ``exists`` (B,).
+
+    ``branches`` (B, 3) holds the signs (shoulder, elbow, wrist) in the
+    solver's senses; ``joints`` maps DH angles to the chain's values
+    (:func:`redkin.srs._ik_kernels.chain_values`); ``scratch`` (4, 3, 3).
+    A branch that does not exist (the elbow cannot span ``|W - S|``, or the
+    wrist cannot turn S onto ``V``) gets zeros and ``exists = False``.
+    """
+    x6, y6, z6, w = wrist_and_frame_six(t07, theta7, arm)
+    kappa = elbow_cosine(w, arm)
+    vx, vy, vz = shoulder_seen_from_six(x6, y6, z6, t07, arm)
+    theta = np.empty(7)
+    r34, r45, r56, m = scratch[0], scratch[1], scratch[2], scratch[3]
+    for b in range(branches.shape[0]):
+        exists[b] = False
+        for k in range(7):
+            q[b, k] = 0.0
+        if abs(kappa) > 1.0 + _REACH_TOLERANCE:
+            continue
+        kappa_b = min(1.0, max(-1.0, kappa))
+        root4 = branches[b, 1] * np.sqrt(1.0 - kappa_b * kappa_b)
+        c4, s4 = elbow_trig(kappa_b, root4, arm)
+        s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
+        # [F5]: -S_4x sin theta_5 = V_z
+        if abs(vz) > abs(s4x) * (1.0 + _REACH_TOLERANCE) + _REACH_TOLERANCE * arm[D5]:
+            continue
+        s5 = 0.0 if s4x == 0.0 else min(1.0, max(-1.0, -vz / s4x))
+        c5 = branches[b, 2] * np.sqrt(1.0 - s5 * s5)
+        c6, s6 = wrist_six_trig(c5, s5, 1.0, s4x, s4z, vx, vy, arm)
+        theta6 = np.arctan2(s6, c6)
+        link_rotation(c4, s4, 1.0, 1.0, r34)
+        link_rotation(c5, s5, 1.0, -1.0, r45)
+        link_rotation(np.cos(theta6), np.sin(theta6), 1.0, 1.0, r56)
+        shoulder_matrix(x6, y6, z6, r34, r45, r56, m)
+        theta[0], theta[1], theta[2] = shoulder_angles(m, branches[b, 0])
+        theta[3] = np.arctan2(s4, c4)
+        theta[4] = np.arctan2(s5, c5)
+        theta[5] = theta6
+        theta[6] = theta7
+        chain_values(theta, joints, q[b])
+        exists[b] = True
+
+
+@kernel
+def within(theta, lower, upper, limited):
+    """Whether the DH angle ``theta`` of one joint lies in ``[lower, upper]`` modulo ``2 pi`` (with the slack)."""
+    if limited == 0.0:
+        return True
+    return np.mod(theta - lower + MEMBERSHIP_TOLERANCE, 2.0 * np.pi) <= upper - lower + 2.0 * MEMBERSHIP_TOLERANCE
+
+
+@kernel
+def limit_values(t07, theta7, arm, limits, out, scratch):
+    """The limit functions [F8] at one ``theta_7`` into ``out`` (:data:`FUNCTIONS`,), real parts.
+
+    For joint ``j`` (1-6) and its limit ``L`` (``limits`` (3, 7): lower and
+    upper DH limits and whether the joint is limited), function ``2 (j - 1)``
+    (lower) or ``2 j - 1`` (upper) is the product over the four conjugate
+    solutions (both roots of [F3], both of [F5]; complex where a root's
+    argument is negative) of a polynomial that vanishes exactly where that
+    solution has ``theta_j = L`` or ``L + pi`` (``theta_2 = +-L`` for joint 2);
+    the elbow's and the wrist's existence follow ([F9]).  Each is a
+    trigonometric polynomial in ``theta_7`` of degree :data:`DEGREES`.
+    ``scratch`` (4, 3, 3) complex.
+    """
+    x6, y6, z6, w = wrist_and_frame_six(t07, theta7, arm)
+    kappa = elbow_cosine(w, arm)
+    vx, vy, vz = shoulder_seen_from_six(x6, y6, z6, t07, arm)
+    vxy2 = vx * vx + vy * vy
+    products = np.ones(12, dtype=np.complex128)
+    wrist_existence = 1.0 + 0.0j
+    root4 = np.sqrt(complex(1.0 - kappa * kappa))
+    r34, r45, r56, m = scratch[0], scratch[1], scratch[2], scratch[3]
+    for sign4 in (1.0, -1.0):
+        c4, s4 = elbow_trig(kappa, sign4 * root4, arm)
+        s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
+        wrist_existence *= s4x * s4x - vz * vz
+        for k in range(2):  # joint 4: one factor per elbow root
+            lower_or_upper = limits[k, 3]
+            products[6 + k] *= np.cos(lower_or_upper) * s4 - np.sin(lower_or_upper) * c4
+        tau = np.sqrt(s4x * s4x - vz * vz)
+        for sign5 in (1.0, -1.0):
+            c5, s5, scale5 = sign5 * tau, -vz + 0.0j, s4x
+            c6, s6 = wrist_six_trig(c5, s5, scale5, s4x, s4z, vx, vy, arm)
+            scale6 = scale5 * vxy2
+            link_rotation(c4, s4, 1.0, 1.0, r34)
+            link_rotation(c5, s5, scale5, -1.0, r45)
+            link_rotation(c6, s6, scale6, 1.0, r56)
+            shoulder_matrix(x6, y6, z6, r34, r45, r56, m)
+            scale = scale5 * scale6
+            for k in range(2):
+                lo_hi = limits[k, 0]
+                products[k] *= np.cos(lo_hi) * m[1, 2] - np.sin(lo_hi) * m[0, 2]
+                products[2 + k] *= m[2, 2] - np.cos(limits[k, 1]) * scale
+                lo_hi = limits[k, 2]
+                products[4 + k] *= np.cos(lo_hi) * m[2, 1] + np.sin(lo_hi) * m[2, 0]
+                lo_hi = limits[k, 4]
+                products[8 + k] *= np.cos(lo_hi) * s5 - np.sin(lo_hi) * c5
+                lo_hi = limits[k, 5]
+                products[10 + k] *= np.cos(lo_hi) * s6 - np.sin(lo_hi) * c6
+    for f in range(12):
+        out[f] = products[f].real
+    out[12] = 1.0 - kappa * kappa
+    out[13] = wrist_existence.real
+
+
+@kernel
+def candidate_angles(values, degree, out):
+    """The roots ``theta_7`` of one limit polynomial of ``degree`` sampled at :data:`SAMPLES` equal steps
+    (``values``), into ``out``; returns how many.
+
+    The coefficients ``g_k`` (``|k| <= degree``) come from the samples'
+    discrete Fourier transform (exact for a trigonometric polynomial of that
+    degree); the roots of ``sum_k g_k z^(k + degree)`` near the unit circle
+    (the companion matrix's eigenvalues) are the candidates, each polished by
+    Newton steps on the polynomial itself ([F8]).
+    """
+    n = values.shape[0]
+    coefficients = np.zeros(2 * degree + 1, dtype=np.complex128)
+    largest = 0.0
+    for k in range(degree + 1):
+        total = 0.0 + 0.0j
+        for j in range(n):
+            total += values[j] * _TWIDDLES[k, j]
+        coefficients[degree + k] = total / n
+        coefficients[degree - k] = np.conj(total / n)  # a real function: g_-k is the conjugate of g_k
+        largest = max(largest, abs(total / n))
+    if largest == 0.0:
+        return 0
+    top = 2 * degree
+    while top > 0 and abs(coefficients[top]) <= 1e-13 * largest:
+        top -= 1
+    bottom = 0
+    while bottom < top and abs(coefficients[bottom]) <= 1e-13 * largest:
+        bottom += 1
+    size = top - bottom
+    if size < 1:
+        return 0
+    companion = np.zeros((size, size), dtype=np.complex128)
+    for i in range(size - 1):
+        companion[i + 1, i] = 1.0
+    for i in range(size):
+        companion[i, size - 1] = -coefficients[bottom + i] / coefficients[top]
+    roots = np.linalg.eigvals(companion)
+    count = 0
+    for root in roots:
+        z = root
+        for _ in range(3):  # Newton on the polynomial: the eigenvalues of a cluster of roots are less accurate
+            value, slope = coefficients[top] + 0.0j, 0.0j
+            for m in range(top - 1, bottom - 1, -1):
+                slope = slope * z + value
+                value = value * z + coefficients[m]
+            if slope == 0.0:
+                break
+            step = value / slope
+            if abs(step) > 1e-3:
+                break
+            z -= step
+        if abs(abs(z) - 1.0) <= _CIRCLE_TOLERANCE:
+            out[count] = np.angle(z)
+            count += 1
+    return count
+
+
+@kernel
+def in_limits(q, joints):
+    """Whether joint values ``q`` (7,) lie within the chain's limits (``joints`` rows 3 and 4), with the slack."""
+    for k in range(7):
+        if q[k] < joints[3, k] - MEMBERSHIP_TOLERANCE or q[k] > joints[4, k] + MEMBERSHIP_TOLERANCE:
+            return False
+    return True
+
+
+@kernel
+def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
+    """The exact feasible q7 set of every branch of one pose: arcs ``[start, end]`` of q7 (the chain's value)
+    into ``arcs`` (B, K, 2) and their number into ``counts`` (B,).  Returns the number of breakpoints used.
+
+    The breakpoints are the ends of ``domain`` (the q7 range) and every
+    root in it of the limit polynomials ([F8], [F9]; every value of q7 at
+    which some branch's joint meets a limit, a branch appears or vanishes,
+    or a joint jumps at a singular configuration).  Between two breakpoints
+    no branch changes its status, so one evaluation at the midpoint decides
+    each interval; adjacent feasible intervals are merged.
+    """
+    offset7 = joints[0, 6]
+    scratch = np.empty((4, 3, 3), dtype=np.complex128)
+    samples = np.empty((SAMPLES, FUNCTIONS))
+    for j in range(SAMPLES):
+        limit_values(t07, 2.0 * np.pi * j / SAMPLES, arm, limits, samples[j], scratch)
+    total = 0
+    for f in range(FUNCTIONS):
+        total += 2 * DEGREES[f]
+    angles = np.empty(total)
+    roots = np.empty(2 * 16)
+    found = 0
+    for f in range(FUNCTIONS):
+        if f < 12:
+            joint = f // 2
+            if limits[2, joint] == 0.0:
+                continue
+            if f % 2 == 1 and (joint == 1 or joint == 4) and limits[0, joint] == -limits[1, joint]:
+                continue  # cos(theta_2), and theta_5 up to its sign, give the same polynomial for L and -L
+        count = candidate_angles(np.ascontiguousarray(samples[:, f]), DEGREES[f], roots)
+        for r in range(count):
+            angles[found] = roots[r]
+            found += 1
+    lower, upper = domain[0], domain[1]
+    turns = int(np.ceil((upper - lower) / (2.0 * np.pi))) + 1
+    points = np.empty(found * (turns + 1) + 2)
+    size = 0
+    points[size] = lower
+    size += 1
+    for r in range(found):
+        q7 = angles[r] - offset7
+        k = np.ceil((lower - q7) / (2.0 * np.pi))
+        value = q7 + 2.0 * np.pi * k
+        while value < upper:
+            if value > lower:
+                points[size] = value
+                size += 1
+            value += 2.0 * np.pi
+    points[size] = upper
+    size += 1
+    points[:size].sort()
+    count = size - 1
+    status = np.zeros((count, branches.shape[0]), dtype=np.bool_)
+    q = np.empty((branches.shape[0], 7))
+    exists = np.empty(branches.shape[0], dtype=np.bool_)
+    real_scratch = np.empty((4, 3, 3))
+    for i in range(count):
+        if points[i + 1] > points[i]:
+            solve_q7(t07, offset7 + 0.5 * (points[i] + points[i + 1]), arm, branches, joints, q, exists, real_scratch)
+            for b in range(branches.shape[0]):
+                status[i, b] = exists[b] and in_limits(q[b], joints)
+    for b in range(branches.shape[0]):
+        counts[b] = 0
+        previous = -1  # the last interval of positive width, and its status
+        for i in range(count):
+            if points[i + 1] <= points[i]:
+                continue
+            if status[i, b] and (previous < 0 or not status[previous, b]):
+                arcs[b, counts[b], 0] = points[i] if previous < 0 else crossing(
+                    t07, arm, branches[b:b + 1], joints, offset7, points, previous, i, real_scratch)
+                counts[b] += 1
+            if not status[i, b] and previous >= 0 and status[previous, b]:
+                arcs[b, counts[b] - 1, 1] = crossing(t07, arm, branches[b:b + 1], joints, offset7, points, previous, i,
+                                                     real_scratch)
+            previous = i
+        if previous >= 0 and status[previous, b]:
+            arcs[b, counts[b] - 1, 1] = points[count]
+    return size
+
+
+@kernel
+def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch):
+    """Where one branch's status (exists and within the limits) changes between the midpoints of intervals
+    ``left`` and ``right`` of ``points``: bisection to the rounding of q7, so that an arc's end is exact even where
+    the limit polynomial's root is not (a cluster of roots)."""
+    low = 0.5 * (points[left] + points[left + 1])
+    high = 0.5 * (points[right] + points[right + 1])
+    q = np.empty((1, 7))
+    exists = np.empty(1, dtype=np.bool_)
+    solve_q7(t07, offset7 + low, arm, branch, joints, q, exists, scratch)
+    status_low = exists[0] and in_limits(q[0], joints)
+    while high - low > 4e-16 * max(1.0, abs(low)):
+        middle = 0.5 * (low + high)
+        if middle <= low or middle >= high:
+            break
+        solve_q7(t07, offset7 + middle, arm, branch, joints, q, exists, scratch)
+        if (exists[0] and in_limits(q[0], joints)) == status_low:
+            low = middle
+        else:
+            high = middle
+    return 0.5 * (low + high)
+
+
+# ----------------------------------------------------------------- batches
+# A batch kernel computes items start..stop - 1 (redkin._compiled.run_batch hands out the chunks).
+@kernel
+def solve_poses(start, stop, t07, theta7, arm, branches, joints, q, exists, within):
+    """:func:`solve_q7` for items ``start .. stop - 1``: ``t07`` (N, 4, 4), ``theta7`` (N,) into ``q`` (N, B, 7),
+    ``exists`` and ``within`` (N, B) (exists and lies within the limits)."""
+    scratch = np.empty((4, 3, 3))
+    for n in range(start, stop):
+        solve_q7(t07[n], theta7[n], arm, branches, joints, q[n], exists[n], scratch)
+        for b in range(branches.shape[0]):
+            within[n, b] = exists[n, b] and in_limits(q[n, b], joints)
+
+
+@kernel
+def feasible_poses(start, stop, t07, arm, limits, joints, branches, domain, arcs, counts):
+    """:func:`feasible_q7` for items ``start .. stop - 1``: ``t07`` (N, 4, 4) into ``arcs`` (N, B, K, 2) and
+    ``counts`` (N, B).  An item with more than K arcs on a branch is left with its counts set to -1 (the caller
+    computes it again with room for them)."""
+    size = 2 * int(DEGREES.sum()) * (int(np.ceil((domain[1] - domain[0]) / (2.0 * np.pi))) + 2) + 2
+    room = np.empty((branches.shape[0], size, 2))
+    for n in range(start, stop):
+        feasible_q7(t07[n], arm, limits, joints, branches, domain, room, counts[n])
+        fits = True
+        for b in range(branches.shape[0]):
+            fits = fits and counts[n, b] <= arcs.shape[2]
+        for b in range(branches.shape[0]):
+            if not fits:
+                counts[n, b] = -1
+                continue
+            for k in range(counts[n, b]):
+                arcs[n, b, k, 0] = room[b, k, 0]
+                arcs[n, b, k, 1] = room[b, k, 1]

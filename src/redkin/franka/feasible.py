@@ -1,0 +1,115 @@
+"""The exact feasible set of q7 under the joint limits, per branch (docs/franka.md, [F8]-[F9]).
+
+A branch's solution is a function of q7 (:mod:`redkin.franka.ik`); it is
+feasible where it exists and every joint lies within its limits.  Its
+status can change only where some joint meets a limit, where the branch
+appears or vanishes, or where a joint jumps (a singular configuration).
+Every such q7 is a real root of one of fourteen trigonometric polynomials
+in q7 ([F8]: the product, over the four conjugate solutions that the square
+roots of [F3] and [F5] give, of a polynomial vanishing where a joint meets
+a limit; [F9]: the discriminants of [F3] and [F5]).  Their degrees are
+known (at most 16), so each is recovered exactly from 36 samples and all its
+roots come from one eigenvalue problem: no crossing is missed for want of a
+sample, however narrow the arc it bounds.  Between two consecutive
+candidates the status of each branch is constant and is read at the
+midpoint; each arc's ends are then located by bisection on the branch
+itself, to the rounding of q7.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._compiled import run_batch
+from redkin.chain import SerialChain
+from redkin.franka import _kernels
+from redkin.franka.geometry import FrankaGeometry
+from redkin.franka.ik import PARAMETER, as_franka, frames_seven
+from redkin.srs.branches import BRANCHES, Branch
+
+#: Arcs per branch and pose kept in the batch's arrays; a pose with more is computed again with room for all.
+_ARCS = 16
+#: Room for every arc a branch can have: one per two candidates of the fourteen polynomials over a q7 range of
+#: up to two turns (the xArm7's +-2 pi), and then some.
+_ROOM = 2048
+
+
+class FeasibleQ7(NamedTuple):
+    """The feasible values of q7 of one pose, per branch.
+
+    Attributes
+    ----------
+    arcs : tuple of numpy.ndarray
+        Per branch of ``branches``, the intervals ``[start, end]`` (K, 2) of
+        q7 (the chain's values, increasing, disjoint) on which that branch
+        exists and lies within every joint limit.  An empty array: no
+        solution of that branch within the limits at any q7.
+    domain : tuple of float
+        The q7 range searched: joint 7's limits (``[-pi, pi]`` for an unlimited joint 7).
+    branches : tuple of Branch
+    parameter : str
+        ``"q7"``.
+    """
+
+    arcs: tuple[np.ndarray, ...]
+    domain: tuple[float, float]
+    branches: tuple[Branch, ...]
+    parameter: str = PARAMETER
+
+    def contains(self, q7: float, branch: int) -> bool:
+        """Whether ``q7`` lies in the feasible set of branch index ``branch`` (ends included)."""
+        return any(start <= q7 <= end for start, end in self.arcs[branch])
+
+
+def q7_domain(geometry: FrankaGeometry) -> np.ndarray:
+    """Joint 7's range, the set q7 is searched in; ``[-pi, pi]`` where it covers the circle."""
+    chain = geometry.chain
+    if chain.covers_circle[6] and not chain.limited[6]:
+        return np.array([-np.pi, np.pi])
+    return np.array([chain.lower[6], chain.upper[6]])
+
+
+def feasible_q7(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> FeasibleQ7 | np.ndarray:
+    """The exact feasible q7 set of every branch of target poses ([F8]-[F9]; module docstring).
+
+    Parameters
+    ----------
+    arm : SerialChain or FrankaGeometry
+        A Franka-class arm.
+    pose : array_like, shape (4, 4) or (..., 4, 4)
+        Target poses of the chain's tool frame in its base frame.
+
+    Returns
+    -------
+    FeasibleQ7, or for a batch of poses a numpy object array of them with the batch's shape.
+
+    Raises
+    ------
+    ValueError
+        For a chain not of the Franka class or a malformed pose.
+    """
+    geometry = as_franka(arm)
+    t07 = frames_seven(geometry, pose)
+    shape = t07.shape[:-2]
+    flat = np.ascontiguousarray(t07.reshape(-1, 4, 4))
+    count = len(flat)
+    domain = q7_domain(geometry)
+    arcs = np.empty((count, len(BRANCHES), _ARCS, 2))
+    counts = np.empty((count, len(BRANCHES)), dtype=np.int64)
+    run_batch(_kernels.feasible_poses, count, flat, geometry.kernel_arm, geometry.kernel_limits,
+              geometry.kernel_joints, geometry.kernel_branches, domain, arcs, counts)
+    results = np.empty(count, dtype=object)
+    for n in range(count):
+        if counts[n, 0] < 0:  # more arcs than the batch kept room for: this pose alone, with room for all
+            room = np.empty((len(BRANCHES), _ROOM, 2))
+            one = np.empty((1, len(BRANCHES)), dtype=np.int64)
+            _kernels.feasible_poses(0, 1, flat[n : n + 1], geometry.kernel_arm, geometry.kernel_limits,
+                                    geometry.kernel_joints, geometry.kernel_branches, domain, room[None], one)
+            pieces = tuple(room[b, : one[0, b]].copy() for b in range(len(BRANCHES)))
+        else:
+            pieces = tuple(arcs[n, b, : counts[n, b]].copy() for b in range(len(BRANCHES)))
+        results[n] = FeasibleQ7(pieces, (float(domain[0]), float(domain[1])), BRANCHES)
+    return results[0] if not shape else results.reshape(shape)

@@ -1,0 +1,131 @@
+"""Closed-form inverse kinematics of Franka-class arms at a given q7 (docs/franka.md, [F1]-[F7]).
+
+With q7 fixed, the flange pose fixes frame 6 and the wrist point W [F1];
+``|W - S|`` fixes q4 up to two elbow solutions [F2]-[F3]; the shoulder
+point seen from frame 6 fixes q5 up to two wrist solutions and then q6
+[F4]-[F6]; the shoulder's rotation gives q1-q3 up to the two solutions of a
+spherical shoulder [F7].  So a pose and q7 have at most 2 x 2 x 2 = 8
+solutions, named by three signs (:data:`BRANCHES`):
+
+* shoulder -- the sign of ``q_2`` (the chain's own sense; ``q_2 = 0`` is the shoulder singularity);
+* elbow -- the sign of ``theta_4 - phi``, on either side of the elbow angle ``phi`` of the longest reach
+  (``|W - S|`` largest), as on an offset-elbow S-R-S arm;
+* wrist -- the sign of ``cos q_5``.
+
+A branch may not exist at a given pose and q7 (the elbow cannot span ``|W
+- S|``, or the wrist cannot turn the shoulder point into place); that is a
+value (``exists`` false), not an error.  Solutions are returned whether or
+not they lie within the joint limits; ``within_limits`` says which do.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._compiled import kernel_array, run_batch
+from redkin._validation import as_float_array, check_finite, check_pose
+from redkin.chain import SerialChain
+from redkin.franka import _kernels
+from redkin.franka.geometry import FrankaGeometry, franka_geometry
+from redkin.srs.branches import BRANCHES, Branch
+
+#: The parameter of the Franka class's solutions, as results and the command line name it.
+PARAMETER = "q7"
+
+
+class Q7Solutions(NamedTuple):
+    """The solutions of poses at values of q7.
+
+    Attributes
+    ----------
+    q : numpy.ndarray, shape (..., B, 7)
+        Joint values in the chain's conventions, one row per branch of ``branches``
+        (zeros where the branch does not exist).
+    exists : numpy.ndarray of bool, shape (..., B)
+    within_limits : numpy.ndarray of bool, shape (..., B)
+        Exists and lies within the chain's joint limits.
+    branches : tuple of Branch
+    parameter : str
+        ``"q7"``: the redundancy parameter these solutions are a function of.
+    """
+
+    q: np.ndarray
+    exists: np.ndarray
+    within_limits: np.ndarray
+    branches: tuple[Branch, ...]
+    parameter: str = PARAMETER
+
+
+def as_franka(arm: SerialChain | FrankaGeometry) -> FrankaGeometry:
+    """The :class:`FrankaGeometry` of a chain (derived once and cached on it), or the geometry itself.
+
+    Raises
+    ------
+    NotArmAngleClassError
+        If the chain is not of the Franka class, naming the condition it breaks.
+    """
+    return arm if isinstance(arm, FrankaGeometry) else franka_geometry(arm)
+
+
+def frames_seven(geometry: FrankaGeometry, pose: ArrayLike) -> np.ndarray:
+    """Validated target poses ``(..., 4, 4)`` as frame 7 of the solver's form in its frame 0 (``base^-1 pose
+    tool^-1``)."""
+    pose = check_pose(pose)
+    ends = geometry.kernel_ends
+    return ends[0] @ pose @ ends[1]
+
+
+def ik(
+    arm: SerialChain | FrankaGeometry,
+    pose: ArrayLike,
+    q7: ArrayLike,
+    branch: str | Branch | tuple[int, int, int] | None = None,
+) -> Q7Solutions:
+    """Every solution (or one branch's) of target poses at values of joint 7 [F1]-[F7].
+
+    Parameters
+    ----------
+    arm : SerialChain or FrankaGeometry
+        A Franka-class arm (:func:`redkin.franka.franka_geometry`).
+    pose : array_like, shape (..., 4, 4)
+        Target poses of the chain's tool frame in its base frame.
+    q7 : array_like, shape (...)
+        Values of joint 7 in the chain's conventions (radians), broadcast against the poses' batch shape.
+    branch : str or Branch, optional
+        One branch (``"+-+"``: signs of shoulder, elbow, wrist; module
+        docstring); default all eight, in the order of :data:`BRANCHES`.
+
+    Returns
+    -------
+    Q7Solutions
+        With ``B = 8``, or ``B = 1`` for one branch.
+
+    Raises
+    ------
+    ValueError
+        For a chain not of the Franka class, a malformed pose (shape, NaN, a
+        rotation that is not orthonormal), a non-finite q7 or a malformed branch.
+    """
+    geometry = as_franka(arm)
+    t07 = frames_seven(geometry, pose)
+    q7 = as_float_array(q7, "q7")
+    check_finite(q7, "q7")
+    shape = np.broadcast_shapes(t07.shape[:-2], q7.shape)
+    if branch is None:
+        chosen, signs = BRANCHES, geometry.kernel_branches
+    else:
+        index = geometry.branch_index(branch)
+        chosen, signs = (BRANCHES[index],), geometry.kernel_branches[index : index + 1]
+    count = int(np.prod(shape, dtype=np.int64))
+    t07 = kernel_array(t07, shape + (4, 4)).reshape(count, 4, 4)
+    theta7 = kernel_array(q7 + geometry.form.offset[6], shape).reshape(count)
+    q = np.empty((count, len(chosen), 7))
+    exists = np.empty((count, len(chosen)), dtype=bool)
+    within = np.empty((count, len(chosen)), dtype=bool)
+    run_batch(_kernels.solve_poses, count, t07, theta7, geometry.kernel_arm, signs, geometry.kernel_joints,
+              q, exists, within)
+    return Q7Solutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + (len(chosen),)),
+                       within.reshape(shape + (len(chosen),)), chosen)

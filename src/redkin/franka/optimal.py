@@ -1,0 +1,125 @@
+"""The limit-avoiding q7 of a Franka-class arm, in the spirit of paper 000 section 5.2 ([000 eqs. 35-40]).
+
+Paper 000 chooses the arm angle whose joint values are nearest given target
+values (the middle of each range by default), then clamps it into the
+feasible set.  Here the measure is the joints' squared distances from the
+targets, each in units of its half range [F10]:
+
+    ``f(q7) = sum_i ((q_i(q7) - t_i) / h_i)^2``, ``h_i = (upper_i - lower_i) / 2`` (1 for an unlimited joint),
+
+over the q7 at which the branch exists (``unclamped``) and over its feasible
+set (``feasible``, ``None`` where that is empty).  ``f`` has no closed-form
+minimiser, so it is sampled densely over each piece and the best sample
+refined by a bounded scalar search (Brent's method) between its neighbours.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.optimize import minimize_scalar
+
+from redkin._validation import check_vectors
+from redkin.chain import SerialChain
+from redkin.franka.feasible import FeasibleQ7, feasible_q7, q7_domain
+from redkin.franka.geometry import FrankaGeometry
+from redkin.franka.ik import PARAMETER, as_franka, ik
+from redkin.srs.branches import BRANCHES, Branch
+
+#: Samples of q7 over the whole range, and over each feasible arc, before the refinement.
+_SAMPLES = 361
+
+
+@dataclass(frozen=True)
+class OptimalQ7:
+    """The limit-avoiding q7 of one pose and branch [F10].
+
+    Attributes
+    ----------
+    unclamped : float or None
+        The minimiser of ``f`` over every q7 at which the branch exists (``None`` if it exists nowhere).
+    feasible : float or None
+        The minimiser over the feasible set (``None`` if that is empty); equal to ``unclamped`` where that is feasible.
+    value, feasible_value : float or None
+        ``f`` at each.
+    parameter : str
+        ``"q7"``.
+    """
+
+    unclamped: float | None
+    feasible: float | None
+    value: float | None
+    feasible_value: float | None
+    parameter: str = PARAMETER
+
+
+def optimal_q7(
+    arm: SerialChain | FrankaGeometry,
+    pose: ArrayLike,
+    branch: str | Branch | tuple[int, int, int],
+    target: ArrayLike | None = None,
+    feasible: FeasibleQ7 | None = None,
+) -> OptimalQ7:
+    """The q7 of one pose and branch whose joint values are nearest ``target`` in units of the half ranges [F10].
+
+    Parameters
+    ----------
+    arm : SerialChain or FrankaGeometry
+    pose : array_like, shape (4, 4)
+    branch : str or Branch
+    target : array_like, shape (7,), optional
+        Joint values to stay near (default: the middle of each range, 0 for an unlimited joint).
+    feasible : FeasibleQ7, optional
+        The pose's feasible sets, if already computed (:func:`redkin.franka.feasible_q7`).
+
+    Raises
+    ------
+    ValueError
+        For a chain not of the Franka class, a malformed pose, branch or target.
+    """
+    geometry = as_franka(arm)
+    pose = np.asarray(pose, dtype=float)
+    if pose.shape != (4, 4):
+        raise ValueError(f"pose must be one 4x4 pose, got shape {pose.shape}")
+    index = geometry.branch_index(branch)
+    chain = geometry.chain
+    limited = chain.limited & ~chain.covers_circle
+    middle = np.where(limited, 0.5 * (chain.lower + chain.upper), 0.0)
+    goal = middle if target is None else check_vectors(target, 7, "target")
+    half = np.where(limited, 0.5 * (chain.upper - chain.lower), 1.0)
+    sets = feasible if feasible is not None else feasible_q7(geometry, pose)
+    if not isinstance(sets, FeasibleQ7):  # pragma: no cover - one pose gives one FeasibleQ7
+        raise TypeError("feasible must be the FeasibleQ7 of one pose")
+
+    def objective(q7: np.ndarray) -> np.ndarray:
+        solutions = ik(geometry, pose, q7, BRANCHES[index])
+        cost = np.sum(((solutions.q[..., 0, :] - goal) / half) ** 2, axis=-1)
+        return np.where(solutions.exists[..., 0], cost, np.inf)
+
+    low, high = q7_domain(geometry)
+    unclamped = _minimise(objective, [(float(low), float(high))])
+    best = _minimise(objective, [(float(a), float(b)) for a, b in sets.arcs[index]])
+    return OptimalQ7(unclamped[0], best[0], unclamped[1], best[1])
+
+
+def _minimise(objective, pieces: list[tuple[float, float]]) -> tuple[float | None, float | None]:
+    """The minimiser of ``objective`` over the union of intervals and its value, or ``(None, None)``."""
+    best_q7, best_value = None, np.inf
+    for low, high in pieces:
+        grid = np.linspace(low, high, _SAMPLES if high > low else 1)
+        values = objective(grid)
+        k = int(np.argmin(values))
+        if not np.isfinite(values[k]):
+            continue
+        candidate, value = float(grid[k]), float(values[k])
+        if high > low:
+            left, right = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+            refined = minimize_scalar(lambda x: float(objective(np.array(x))), bounds=(left, right), method="bounded",
+                                      options={"xatol": 1e-10})
+            if refined.fun < value:
+                candidate, value = float(refined.x), float(refined.fun)
+        if value < best_value:
+            best_q7, best_value = candidate, value
+    return (best_q7, best_value) if best_q7 is not None else (None, None)
