@@ -38,6 +38,7 @@ from timing import best_time, best_time_short_rounds  # benchmarks/timing.py (th
 
 from redkin import thread_count
 from redkin.chain import SerialChain
+from redkin.franka import feasible_q7, franka_geometry, ik
 from redkin.models import get_robot
 
 #: The hand frame E (``panda_hand_tcp``) in the flange frame ``link8``: -pi/4 about z, 0.1034 m along z (GeoFIK's
@@ -83,16 +84,7 @@ Row = tuple[str, str]
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small sizes: every row, in about a minute")
-    sizes = QUICK if parser.parse_args(argv).quick else FULL
-    chain = get_robot("franka-panda")
-    rng = np.random.default_rng(0)
-    rows = frame_rows(chain, configurations(chain, 20, rng))
-    q = configurations(chain, sizes.one_pose, rng)
-    solvers, skipped = at_q7_solvers(chain)
-    rows += skipped + one_pose_rows(chain, solvers, q, sizes.ssik_solve)
-    rows += batch_rows(solvers, chain, configurations(chain, sizes.batch, rng))
-    rows += correctness_rows(chain, solvers, rng, sizes)
-    rows += feasible_rows(chain, rng, sizes)
+    rows = table(QUICK if parser.parse_args(argv).quick else FULL)
     width = max(len(r[0]) for r in rows)
     load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
     header = (f"benchmark (franka-panda, numpy {np.__version__}, numba {numba.__version__}, redkin's pool on "
@@ -100,6 +92,18 @@ def main(argv: Sequence[str] | None = None) -> None:
     print(f"{header:<{width}}  result")
     for name, value in rows:
         print(f"{name:<{width}}  {value}")
+
+
+def table(sizes: Sizes) -> list[Row]:
+    """Every row of the table, on the Panda: frames, one pose, the batch, correctness, feasible sets."""
+    chain = get_robot("franka-panda")
+    rng = np.random.default_rng(0)
+    rows = frame_rows(chain, configurations(chain, 20, rng))
+    solvers, skipped = at_q7_solvers(chain)
+    rows += skipped + one_pose_rows(chain, solvers, configurations(chain, sizes.one_pose, rng), sizes.ssik_solve)
+    rows += batch_rows(chain, configurations(chain, sizes.batch, rng))
+    rows += correctness_rows(chain, solvers, rng, sizes)
+    return rows + feasible_rows(chain, rng, sizes)
 
 
 # ------------------------------------------------------------------------------------------ poses and frames
@@ -208,14 +212,9 @@ def geofik_rows(out: tuple[list[list[float]], int]) -> np.ndarray:
 
 
 def at_q7_solvers(chain: SerialChain) -> tuple[list[AtQ7], list[Row]]:
-    """redkin and the peers that are installed, and a row for each that is not."""
-    solvers: list[AtQ7] = []
+    """redkin (first) and the peers that are installed, and a row for each peer that is not."""
+    solvers = [redkin_at_q7(chain)]
     skipped: list[Row] = []
-    redkin = redkin_at_q7(chain)
-    if isinstance(redkin, AtQ7):
-        solvers.append(redkin)
-    else:
-        skipped.append(redkin)
     try:
         import frankik
     except ImportError as exc:
@@ -237,58 +236,58 @@ def at_q7_solvers(chain: SerialChain) -> tuple[list[AtQ7], list[Row]]:
     return solvers, skipped
 
 
-def redkin_at_q7(chain: SerialChain) -> AtQ7 | Row:
-    """redkin's ``ik_all_branches`` on the chain's class geometry, or the row saying it is not there yet."""
-    try:
-        from redkin.franka import franka_geometry, ik_all_branches
-    except ImportError:
-        return ("redkin ik_all_branches", "pending: redkin.franka has no ik_all_branches yet")
+def redkin_at_q7(chain: SerialChain) -> AtQ7:
+    """redkin's ``ik`` on the chain's class geometry (derived once, cached on the chain): every branch that
+    exists, in or out of the limits."""
     geometry = franka_geometry(chain)
-    return AtQ7("redkin ik_all_branches", "ik_all_branches(geometry, T_flange, q7), public API with its checks",
-                lambda poses: list(poses), lambda pose, q7: ik_all_branches(geometry, pose, q7),
-                lambda out: out.q[out.exists])
+    return AtQ7("redkin franka.ik", "ik(geometry, T_flange, q7): all 8 branches, public API with its checks",
+                lambda poses: list(poses), lambda pose, q7: ik(geometry, pose, q7), lambda out: out.q[out.exists])
 
 
 # ------------------------------------------------------------------------------------------ speed
 
 
 class OnePose(NamedTuple):
-    """Mean seconds per call and returned solutions per call of a solver over some poses at their own q7."""
+    """Mean seconds per call, returned solutions per call and of them those within the chain's limits, of a solver
+    over some poses at their own q7."""
 
     seconds: float
     solutions: float
+    within_limits: float
 
     @property
     def per_solution(self) -> float:
         return self.seconds / max(self.solutions, 1e-300)
 
 
-def time_at_q7(solver: AtQ7, poses: np.ndarray, q7: np.ndarray) -> OnePose:
+def time_at_q7(chain: SerialChain, solver: AtQ7, poses: np.ndarray, q7: np.ndarray) -> OnePose:
     """:class:`OnePose` of ``solver`` on ``poses`` (flange) at ``q7``, the targets converted beforehand."""
     pairs = list(zip(solver.targets(poses), q7.tolist()))
     seconds = best_time_short_rounds(lambda: [solver.call(target, value) for target, value in pairs]) / len(pairs)
-    counts = [len(solver.rows(solver.call(target, value))) for target, value in pairs]
-    return OnePose(seconds, float(np.mean(counts)))
+    rows = [solver.rows(solver.call(target, value)) for target, value in pairs]
+    return OnePose(seconds, float(np.mean([len(r) for r in rows])),
+                   float(np.mean([np.sum(chain.within_limits(r)) for r in rows])))
 
 
 def one_pose_rows(chain: SerialChain, solvers: list[AtQ7], q: np.ndarray, ssik_poses: int) -> list[Row]:
     """One pose, every solution at a given q7 (each pose at its own q7), per call and per returned solution; then
     ssik's ``solve(T)``, which picks q7 itself; then redkin's ratios to the peers."""
     poses = chain.fk(q)
-    times = {solver.name: time_at_q7(solver, poses, q[:, 6]) for solver in solvers}
+    times = {solver.name: time_at_q7(chain, solver, poses, q[:, 6]) for solver in solvers}
     rows: list[Row] = []
     for solver in solvers:
         t = times[solver.name]
         rows.append((f"one pose, all solutions at q7: {solver.name}",
-                     f"{t.seconds * 1e6:9.2f} us per call, {t.solutions:.2f} solutions per call, "
+                     f"{t.seconds * 1e6:9.2f} us per call, {t.solutions:.2f} solutions per call "
+                     f"({t.within_limits:.2f} in limits), "
                      f"{t.per_solution * 1e6:.2f} us per solution ({len(q)} poses)"))
         rows.append(("  configuration", solver.configuration))
     rows += ssik_solve_rows(chain, poses[:ssik_poses])
-    ours = next((t for name, t in times.items() if name.startswith("redkin")), None)
-    for name, t in times.items():
-        if ours is not None and not name.startswith("redkin"):
-            rows.append((f"  redkin / {name}", f"{ours.seconds / t.seconds:9.2f}x the time per call, "
-                         f"{ours.per_solution / t.per_solution:.2f}x per returned solution"))
+    ours = times[solvers[0].name]
+    for solver in solvers[1:]:
+        t = times[solver.name]
+        rows.append((f"  redkin / {solver.name}", f"{ours.seconds / t.seconds:9.2f}x the time per call, "
+                     f"{ours.per_solution / t.per_solution:.2f}x per returned solution"))
     return rows
 
 
@@ -325,31 +324,30 @@ def ssik_solve_rows(chain: SerialChain, poses: np.ndarray) -> list[Row]:
     ]
 
 
-def batch_rows(solvers: list[AtQ7], chain: SerialChain, q: np.ndarray) -> list[Row]:
-    """A batch of poses, each at its own q7, in one call (redkin); the peers' one-pose rate for comparison."""
+def batch_rows(chain: SerialChain, q: np.ndarray) -> list[Row]:
+    """A batch of poses, each at its own q7, in one call of redkin's ``ik`` (the peers have no batch call: their
+    one-pose rows give their rate on one thread)."""
+    geometry = franka_geometry(chain)
     poses = chain.fk(q)
-    rows: list[Row] = []
-    for solver in solvers:
-        if solver.name.startswith("redkin"):
-            batch = solver.call  # ik_all_branches broadcasts over poses and q7
-            t = best_time(lambda: batch(poses, q[:, 6]), repeat=3)
-            out = batch(poses, q[:, 6])
-            rows.append((f"batch {len(q):,} poses at their q7: {solver.name}".replace(",", " "),
-                         f"{int(out.exists.sum()) / t:9.3g} solutions/s ({8 * len(q) / t:.3g} branch slots/s; "
-                         f"{thread_count()} threads)"))
-    return rows
+    t = best_time(lambda: ik(geometry, poses, q[:, 6]), repeat=3)
+    solutions = ik(geometry, poses, q[:, 6])
+    return [(f"batch {len(q):,} poses at their q7: redkin franka.ik".replace(",", " "),
+             f"{int(solutions.exists.sum()) / t:9.3g} solutions/s ({8 * len(q) / t:.3g} branch slots/s, "
+             f"{int(solutions.within_limits.sum()) / t:.3g} in limits/s; {thread_count()} threads)")]
 
 
 # ------------------------------------------------------------------------------------------ correctness
 
 
 class Correctness(NamedTuple):
-    """Returned rows, rows that miss their pose by more than 1e-9 (and the worst miss), configurations found."""
+    """Returned rows, rows that miss their pose by more than 1e-9 (and the worst miss), configurations found, and
+    the largest distance of a configuration from the nearest row (infinite when a pose got no row)."""
 
     rows: int
     wrong: int
     worst: float
     found: int
+    farthest: float
 
 
 def at_q7_correctness(chain: SerialChain, solver: AtQ7, q: np.ndarray) -> Correctness:
@@ -357,16 +355,18 @@ def at_q7_correctness(chain: SerialChain, solver: AtQ7, q: np.ndarray) -> Correc
     the configuration is among them (:data:`JOINT_TOLERANCE`)."""
     poses = chain.fk(q)
     rows = wrong = found = 0
-    worst = 0.0
+    worst = farthest = 0.0
     for target, pose, qi in zip(solver.targets(poses), poses, q):
         solutions = solver.rows(solver.call(target, float(qi[6])))
         rows += len(solutions)
+        distance = nearest(solutions, qi)
+        found += distance <= JOINT_TOLERANCE
+        farthest = max(farthest, distance)
         if len(solutions):
             errors = pose_errors(chain, solutions, pose)
             wrong += int(np.sum(errors > POSE_TOLERANCE))
             worst = max(worst, float(errors.max()))
-            found += nearest(solutions, qi) <= JOINT_TOLERANCE
-    return Correctness(rows, wrong, worst, found)
+    return Correctness(rows, wrong, worst, found, farthest)
 
 
 #: The families of configurations of the correctness rows: (label, joint held near a value, the value).
@@ -388,8 +388,8 @@ def correctness_rows(chain: SerialChain, solvers: list[AtQ7], rng: np.random.Gen
         for solver in solvers:
             c = at_q7_correctness(chain, solver, q)
             rows.append((f"{label}, own q7: {solver.name}",
-                         f"q found {c.found}/{count} ({100 * c.found / count:.1f} %); wrong rows {c.wrong}/{c.rows}"
-                         f" (worst {c.worst:.1e})"))
+                         f"q found {c.found}/{count} ({100 * c.found / count:.1f} %, farthest {c.farthest:.1e} rad); "
+                         f"wrong rows {c.wrong}/{c.rows} (worst {c.worst:.1e})"))
         if solve is not None:
             poses = chain.fk(q[: sizes.ssik_solve])
             errors = np.concatenate([pose_errors(chain, ssik_rows(solve, pose), pose) for pose in poses])
@@ -462,36 +462,60 @@ def narrow_found(q: np.ndarray, sets: Sequence[Sequence[tuple[float, float]]]) -
     return any(lo - JOINT_TOLERANCE <= q[6] <= hi + JOINT_TOLERANCE for arcs in sets for lo, hi in arcs)
 
 
+def redkin_sets(chain: SerialChain, pose: np.ndarray) -> tuple[np.ndarray, ...]:
+    """redkin's feasible q7 arcs ``(K, 2)`` of every branch of ``pose`` (``feasible_q7`` on the chain's class)."""
+    return feasible_q7(franka_geometry(chain), pose).arcs
+
+
+def redkin_dense(chain: SerialChain, pose: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Dense reference of redkin's sets: its solutions of ``pose`` at every ``t`` that exist and lie in the
+    limits, by our own check (:func:`in_limits_mask`), shape ``(8, M)``."""
+    solutions = ik(franka_geometry(chain), pose, t)
+    return in_limits_mask(chain, solutions.q, solutions.exists).T
+
+
 def feasible_rows(chain: SerialChain, rng: np.random.Generator, sizes: Sizes) -> list[Row]:
-    """One pose's feasible q7 sets of every branch: time (redkin, ssik ``in_limits()``), dense sampling, narrow
-    arcs."""
+    """One pose's feasible q7 sets of every branch: time (redkin ``feasible_q7``, ssik ``in_limits()`` on the same
+    poses), each against dense sampling of q7, the two against each other, and narrow arcs."""
     q = configurations(chain, sizes.feasible, rng)
     poses = chain.fk(q)
+    few = poses[: sizes.ssik_feasible]
     t = np.linspace(chain.lower[6], chain.upper[6], sizes.samples)
-    rows: list[Row] = []
-    arm = ssik_arm()
+    samples = f"{len(t):,} q7 samples".replace(",", " ")
     narrow = configurations(chain, sizes.narrow, rng)
+    geometry = franka_geometry(chain)
+    ours = float(np.mean([best_time_short_rounds(lambda: feasible_q7(geometry, pose)) for pose in few]))
+    rows = [(f"one pose, feasible q7 sets of all 8 branches: redkin feasible_q7 ({len(few)} poses)",
+             f"{ours * 1e6:9.2f} us per pose"),
+            ("  configuration", "feasible_q7(geometry, T_flange), public API with its checks")]
+    branches = sum(disagreements(arcs, inside, t) > 0 for pose in poses
+                   for arcs, inside in zip(redkin_sets(chain, pose), redkin_dense(chain, pose, t)))
+    rows.append((f"  redkin sets vs its IK at {samples}, limits by our check",
+                 f"{branches} of {8 * len(poses)} pose-branches disagree ({len(poses)} poses)"))
+    found = sum(narrow_found(qi, redkin_sets(chain.with_limits(qi - NARROW, qi + NARROW), chain.fk(qi)))
+                for qi in narrow)
+    rows.append((f"  redkin: limits +-{NARROW:g} rad around a known solution", f"arc found {found}/{len(narrow)}"))
+    arm = ssik_arm()
     if arm is None:
         rows.append(("ssik chart.in_limits()", "skipped: ssik not importable"))
     else:
-        few = poses[: sizes.ssik_feasible]
-        seconds = float(np.mean([best_time(lambda: ssik_sets(arm, pose), repeat=3) for pose in few]))
+        theirs = float(np.mean([best_time(lambda: ssik_sets(arm, pose), repeat=3) for pose in few]))
         rows.append((f"one pose, feasible q7 sets of every chart: ssik in_limits() ({len(few)} poses)",
-                     f"{seconds * 1e3:9.2f} ms per pose"))
+                     f"{theirs * 1e3:9.2f} ms per pose"))
         rows.append(("  configuration", "[c.in_limits() for c in Manipulator.from_prebuilt('panda')"
                                         ".self_motion(T).charts] (native C++ charts, a fresh manifold per pose)"))
         bad = 0
         for pose in few:
             arcs, inside = ssik_dense(arm, chain, pose, t)
             bad += sum(disagreements(a, m, t) > 0 for a, m in zip(arcs, inside))
-        rows.append((f"  ssik arcs vs its own q(t) at {len(t):,} q7 samples".replace(",", " "),
-                     f"{bad} charts disagree ({len(few)} poses)"))
-        found = 0
-        for qi in narrow:
-            tight = np.stack([qi - NARROW, qi + NARROW], axis=1)
-            found += narrow_found(qi, ssik_sets(arm, chain.fk(qi), tight))
+        rows.append((f"  ssik arcs vs its own q(t) at {samples}", f"{bad} charts disagree ({len(few)} poses)"))
+        found = sum(narrow_found(qi, ssik_sets(arm, chain.fk(qi), np.stack([qi - NARROW, qi + NARROW], axis=1)))
+                    for qi in narrow)
         rows.append((f"  ssik: limits +-{NARROW:g} rad around a known solution", f"arc found {found}/{len(narrow)}"))
-    rows.append(("redkin feasible_q7", "pending: redkin.franka has no feasible_q7 yet"))
+        apart = sum(count_disagreements(redkin_sets(chain, pose), ssik_sets(arm, pose), t) > 0 for pose in few)
+        rows.append(("  redkin / ssik in_limits(), same poses",
+                     f"{ours / theirs:9.4f}x the time; sets differ on {apart}/{len(few)} poses (branches "
+                     f"containing each of {samples})"))
     return rows
 
 

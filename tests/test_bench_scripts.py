@@ -143,3 +143,18 @@ def test_franka_correctness_counts_rows_by_our_fk(module):
     assert counts.rows >= counts.found > 0 and 0 <= counts.wrong <= counts.rows
     if module == "geofikpy":
         assert counts.found == len(q)
+
+
+def test_franka_table_runs_on_tiny_sizes():
+    """bench_franka.py's whole table on tiny sizes: every section has its rows, redkin's included, and redkin's
+    sets agree with its densely sampled IK and find the narrow arcs."""
+    import bench_franka
+
+    tiny = bench_franka.Sizes(one_pose=2, batch=300, correctness=4, degenerate=2, ssik_solve=1, feasible=2,
+                              ssik_feasible=1, samples=500, narrow=2)
+    rows = dict(bench_franka.table(tiny))
+    assert "one pose, all solutions at q7: redkin franka.ik" in rows
+    assert "batch 300 poses at their q7: redkin franka.ik" in rows
+    assert rows["random in-limit q, own q7: redkin franka.ik"].startswith("q found 4/4")
+    assert rows["  redkin sets vs its IK at 500 q7 samples, limits by our check"].startswith("0 of 16")
+    assert rows["  redkin: limits +-0.0001 rad around a known solution"] == "arc found 2/2"
