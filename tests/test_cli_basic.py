@@ -10,6 +10,7 @@ import pytest
 from redkin.cli.main import main
 from redkin.models import MODELS, barrett_wam, pa10_7c
 from redkin.reproduce import printed
+from redkin.franka import franka_geometry
 from redkin.srs import srs_geometry
 
 
@@ -51,14 +52,21 @@ def test_robots_lists_models_with_their_arm_angle_class(capsys):
     assert code == 0 and set(robots) == set(MODELS)
     assert robots["pa10-7c"]["class"] == "S-R-S" and robots["barrett-wam"]["class"] == "S-R-S, offset elbow"
     assert robots["planar-5"]["class"] == "general chain" and "7 joints" in robots["planar-5"]["class_reason"]
-    for name, entry in robots.items():  # each class is the one the arm-angle solver acts on
+    assert robots["franka-panda"]["class"] == "Franka (q7)" and "0.088 m" in robots["franka-panda"]["class_reason"]
+    for name, entry in robots.items():  # each class is the one its closed-form solver acts on
         chain = MODELS[name]()
         try:
             srs_geometry(chain)
         except ValueError as exc:
-            assert entry["class"] == "general chain" and entry["class_reason"] == str(exc)
+            try:
+                franka_geometry(chain)
+            except ValueError as other:
+                assert entry["class"] == "general chain" and entry["class_reason"].startswith(str(exc))
+                assert chain.n != 7 or entry["class_reason"].endswith(str(other))
+            else:
+                assert entry["class"] == "Franka (q7)"
         else:
-            assert entry["class"] != "general chain"
+            assert entry["class"] not in ("general chain", "Franka (q7)")
     code, out, _ = run(capsys, "robots")
     assert code == 0 and len(out.splitlines()) == len(MODELS)
 
@@ -76,15 +84,15 @@ def test_robots_show_prints_the_chain_and_why_it_is_of_its_class(capsys):
     assert code == 0 and "class: S-R-S" in out and "[-90, 90]" in out and "joint 7" in out
 
 
-def test_robots_show_names_why_a_urdf_arm_has_no_arm_angle(capsys):
+def test_robots_show_names_the_franka_class_of_a_urdf_arm(capsys):
     pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from pathlib import Path
 
     path = Path(__file__).resolve().parents[1] / "examples" / "panda.urdf"
     code, out, _ = run(capsys, "robots", "--show", str(path), "--json")
     data = json.loads(out)
-    assert code == 0 and data["class"] == "general chain"
-    assert "joints 5-7 do not meet in one point: closest distance 0.0587 m" in data["class_reason"]
+    assert code == 0 and data["class"] == "Franka (q7)"
+    assert "axis 7 offset a_6 0.088 m from axis 6" in data["class_reason"]
     assert [j["name"] for j in data["joints"]] == [f"panda_joint{k}" for k in range(1, 8)]
 
 

@@ -112,14 +112,17 @@ def test_ik_and_arm_angles_on_a_urdf_in_the_makers_joint_values(capsys):
     assert run_json(capsys, ["arm-angles", path, *argv, "--branch", "+-+"])["feasible"]
 
 
-def test_ik_refuses_an_arm_that_is_not_srs_in_one_line(capsys):
+def test_ik_refuses_an_arm_without_a_closed_form_and_the_wrong_parameter_in_one_line(capsys):
     pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from pathlib import Path
 
-    path = str(Path(__file__).resolve().parents[1] / "examples" / "panda.urdf")
-    assert main(["ik", path, *POSE, "--psi", "0"]) == 2
+    examples = Path(__file__).resolve().parents[1] / "examples"
+    assert main(["ik", str(examples / "sawyer.urdf"), *POSE, "--psi", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "joints 5-7 do not meet in one point: closest distance" in err[0]
+    assert len(err) == 1 and "has no closed-form IK" in err[0] and "is not S-R-S" in err[0]
+    assert main(["ik", str(examples / "panda.urdf"), *POSE, "--psi", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "redundancy parameter is q7 (--q7), not psi" in err[0]
 
 
 #: A pose of the PA10 whose feasible arm angles on branch -++ form one arc through +-pi (joint 5 limits it).

@@ -17,7 +17,7 @@ PACKAGE = ROOT / "src" / "redkin"
 #: Public although no other module uses them: model builders and rotation helpers a user calls directly, the
 #: types that appear in public signatures, and the console entry point.
 PUBLIC = {
-    "redkin.models": {"srs_chain", "kuka_iiwa7", "kuka_iiwa14_table1", "franka_panda", "kinova_gen3",
+    "redkin.models": {"srs_chain", "kuka_iiwa7", "kuka_iiwa14_table1", "franka_panda", "franka_fr3", "kinova_gen3",
                       "ufactory_xarm7"},
     "redkin.so3": {"rot_x", "rot_y", "rot_z", "axis_angle_to_matrix", "matrix_to_axis_angle", "matrix_to_xyz_fixed"},
     "redkin.chain": {"Convention"},

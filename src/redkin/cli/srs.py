@@ -1,4 +1,5 @@
-"""``redkin ik`` and ``redkin arm-angles``: arm-angle IK of S-R-S arms (paper 000)."""
+"""``redkin ik`` and ``redkin arm-angles``: closed-form IK over the redundancy parameter -- the arm angle psi of
+S-R-S and offset-elbow arms (paper 000), q7 of the Franka class (docs/franka.md)."""
 
 from __future__ import annotations
 
@@ -25,11 +26,15 @@ from redkin.cli.common import (
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     solve = subparsers.add_parser(
-        "ik", help="joint values of an S-R-S or offset-elbow arm for a pose and an arm angle (paper 000)"
+        "ik", help="joint values for a pose and a redundancy parameter: the arm angle --psi of an S-R-S or "
+                   "offset-elbow arm (paper 000), or --q7 of a Franka-class arm (Panda, FR3, xArm7)"
     )
     add_robot_argument(solve)
     add_target_arguments(solve)
-    solve.add_argument("--psi", type=float, required=True, help="arm angle (radians, or degrees with --deg)")
+    parameter = solve.add_mutually_exclusive_group(required=True)
+    parameter.add_argument("--psi", type=float, help="arm angle (radians, or degrees with --deg)")
+    parameter.add_argument("--q7", type=float, help="value of joint 7 of a Franka-class arm (radians, or degrees "
+                                                     "with --deg)")
     group = solve.add_mutually_exclusive_group()
     group.add_argument("--branch", default="+++", help=BRANCH_HELP)
     group.add_argument("--all", action="store_true", help="all eight branches")
@@ -38,7 +43,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     angles = subparsers.add_parser(
         "arm-angles",
-        help="feasible, singular and optimal arm angles of an S-R-S or offset-elbow arm for a pose (paper 000)",
+        help="feasible, singular and optimal arm angles of an S-R-S or offset-elbow arm for a pose (paper 000); "
+             "feasible and optimal q7 of a Franka-class arm",
     )
     add_robot_argument(angles)
     add_target_arguments(angles)
@@ -46,9 +52,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     angles.add_argument("--target", nargs=7, type=float, metavar="Q",
                         help="joint values the optimal arm angles stay nearest to (radians, or degrees with --deg; "
                              "default: the middle of each joint's range)")
-    angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"), default=(0.5, 0.5),
+    angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"),
                         help="how much the shoulder joints (RS) and the wrist joints (RW) count in the overall "
-                             "optimal arm angle, two numbers >= 0, not both 0 (default 0.5 0.5; [000 eq. 40])")
+                             "optimal arm angle, two numbers >= 0, not both 0 (default 0.5 0.5; [000 eq. 40]; "
+                             "S-R-S and offset-elbow arms)")
     add_output_flags(angles)
     angles.set_defaults(handler=_run_arm_angles)
 
@@ -63,10 +70,29 @@ def _wraps(arc_set) -> list[bool]:
     return [bool(lo > hi) for lo, hi in arc_set.arcs]
 
 
+def _closed_form_class(chain, args: argparse.Namespace) -> str:
+    """``"psi"`` or ``"q7"``: the redundancy parameter of the chain's class; a ValueError naming the right option
+    where the command line gave the other one, or where the chain has no closed form."""
+    from redkin.srs.arm_class import FRANKA, GENERAL, arm_angle_class
+
+    kind, reason = arm_angle_class(chain)
+    if kind == GENERAL:
+        raise ValueError(f"{chain.name} has no closed-form IK: {reason}")
+    parameter = "q7" if kind == FRANKA else "psi"
+    given = "q7" if getattr(args, "q7", None) is not None else "psi"
+    if getattr(args, "psi", None) is not None or getattr(args, "q7", None) is not None:
+        if given != parameter:
+            raise ValueError(f"{chain.name} is of the {kind} class: its redundancy parameter is "
+                             f"{'q7 (--q7)' if parameter == 'q7' else 'the arm angle (--psi)'}, not {given}")
+    return parameter
+
+
 def run_ik(args: argparse.Namespace) -> int:
     from redkin.srs import BRANCHES, ik, parse_branch, srs_geometry
 
     chain = load_robot(args)
+    if _closed_form_class(chain, args) == "q7":
+        return _run_franka_ik(chain, args)
     geometry = srs_geometry(chain)
     pose = target_pose(args)
     psi = float(angles_in(args.psi, args.deg))
@@ -80,7 +106,8 @@ def run_ik(args: argparse.Namespace) -> int:
             "within_limits": bool(chain.within_limits(q, tolerance=1e-9, wrap=True)),
         })
     if args.json:
-        print_json({"robot": chain.name, "units": {"psi": angle_unit(args.deg), "q": angle_unit(args.deg)},
+        print_json({"robot": chain.name, "parameter": "psi",
+                    "units": {"psi": angle_unit(args.deg), "q": angle_unit(args.deg)},
                     "psi": angles_out(psi, args.deg), "solutions": solutions})
     else:
         unit = "deg" if args.deg else "rad"
@@ -91,10 +118,44 @@ def run_ik(args: argparse.Namespace) -> int:
     return 0
 
 
+def _run_franka_ik(chain, args: argparse.Namespace) -> int:
+    """``redkin ik --q7`` on a Franka-class arm: every existing solution (or the chosen branch's)."""
+    from redkin.franka import BRANCHES, ik
+    from redkin.srs import parse_branch
+
+    pose = target_pose(args)
+    q7 = float(angles_in(args.q7, args.deg))
+    branch = None if args.all else parse_branch(args.branch)
+    result = ik(chain, pose, q7, branch)
+    solutions = [
+        {"branch": str(label), "q": angles_out(result.q[k], args.deg), "within_limits": bool(result.within_limits[k])}
+        for k, label in enumerate(result.branches) if result.exists[k]
+    ]
+    if args.json:
+        print_json({"robot": chain.name, "parameter": "q7", "units": {"q7": angle_unit(args.deg),
+                                                                        "q": angle_unit(args.deg)},
+                    "q7": angles_out(q7, args.deg), "solutions": solutions,
+                    "missing": [str(label) for k, label in enumerate(result.branches) if not result.exists[k]]})
+        return 0
+    unit = "deg" if args.deg else "rad"
+    if not solutions:
+        asked = "branch " + str(branch) if branch is not None else f"any of the {len(BRANCHES)} branches"
+        print(f"no solution of {asked} at q7 = {fixed(angles_out(q7, args.deg))} {unit}")
+    for s in solutions:
+        values = "  ".join(fixed(v, 6, " ") for v in s["q"])
+        note = "" if s["within_limits"] else "  (outside limits)"
+        print(f"{s['branch']}  {values}  [{unit}]{note}")
+    return 0
+
+
 def _run_arm_angles(args: argparse.Namespace) -> int:
     from redkin.srs import feasible_arm_angles, optimal_arm_angles, parse_branch, singular_arm_angles, srs_geometry
 
     chain = load_robot(args)
+    if _closed_form_class(chain, args) == "q7":
+        return _run_franka_arm_angles(chain, args)
+    if args.weights is None:
+        args.weights = (0.5, 0.5)
     geometry = srs_geometry(chain)
     pose = target_pose(args)
     branch = parse_branch(args.branch)
@@ -156,3 +217,53 @@ def _format_arcs(arcs: list, degrees: bool) -> str:
 
 def _format_list(values: list) -> str:
     return "[" + ", ".join(fixed(v) for v in values) + "]"
+
+
+def _run_franka_arm_angles(chain, args: argparse.Namespace) -> int:
+    """``redkin arm-angles`` on a Franka-class arm: the feasible q7 arcs of the branch (and of every branch), and the
+    limit-avoiding q7."""
+    from redkin.franka import BRANCHES, feasible_q7, optimal_q7
+    from redkin.srs import parse_branch
+
+    if args.weights is not None:
+        raise ValueError(f"--weights weighs the shoulder against the wrist in the optimal arm angle of S-R-S arms; "
+                         f"{chain.name} is of the Franka class (parameter q7): leave it out")
+    pose = target_pose(args)
+    branch = parse_branch(args.branch)
+    target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
+    sets = feasible_q7(chain, pose)
+    index = BRANCHES.index(branch)
+    optimal = optimal_q7(chain, pose, branch, target=target, feasible=sets)
+    deg = args.deg
+
+    def arcs(pieces) -> list:
+        return [[float(v) for v in angles_out(arc, deg)] for arc in pieces]
+
+    result = {
+        "robot": chain.name,
+        "parameter": "q7",
+        "units": {"angles": f"{angle_unit(deg)} (every q7 below)"},
+        "arcs": "[start, end] intervals of q7, increasing, within joint 7's range (domain)",
+        "branch": str(branch),
+        "domain": [float(v) for v in angles_out(sets.domain, deg)],
+        "feasible": arcs(sets.arcs[index]),
+        "branches": {str(label): arcs(sets.arcs[k]) for k, label in enumerate(BRANCHES)},
+        "optimal": {"unclamped": angles_out(optimal.unclamped, deg), "feasible": angles_out(optimal.feasible, deg)},
+    }
+    if args.json:
+        print_json(result)
+        return 0
+    unit = "deg" if deg else "rad"
+    print(f"{chain.name}, branch {branch}; the redundancy parameter is q7, in {unit}")
+    print(f"q7 (feasible): {_format_q7_arcs(result['feasible'])}")
+    for label, pieces in result["branches"].items():
+        print(f"  branch {label}: {_format_q7_arcs(pieces)}")
+    entry = result["optimal"]
+    unclamped = "none (no solution at any q7)" if entry["unclamped"] is None else fixed(entry["unclamped"])
+    clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
+    print(f"optimal q7: {unclamped} -> feasible {clamped}")
+    return 0
+
+
+def _format_q7_arcs(arcs: list) -> str:
+    return " U ".join(f"[{fixed(lo)}, {fixed(hi)}]" for lo, hi in arcs) if arcs else "empty"

@@ -1,7 +1,9 @@
-"""Which arm-angle class a chain belongs to: S-R-S, S-R-S with an offset elbow, or a general chain.
+"""Which closed-form class a chain belongs to: S-R-S, S-R-S with an offset elbow, the Franka class, or a general chain.
 
-The arm-angle functions (paper 000) serve the first two classes; a general
-chain has FK, Jacobian, velocity IK and virtual arms, but no arm angle.
+The arm-angle functions (paper 000) serve the first two classes, whose
+redundancy parameter is the arm angle psi; :mod:`redkin.franka` serves the
+third, whose parameter is q7; a general chain has FK, Jacobian, velocity IK
+and virtual arms, but no closed form.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from redkin.chain import SerialChain
 from redkin.srs.geometry import srs_geometry
 
 #: The classes, in the words ``redkin robots`` prints.
-SRS, OFFSET_ELBOW, GENERAL = "S-R-S", "S-R-S, offset elbow", "general chain"
+SRS, OFFSET_ELBOW, FRANKA, GENERAL = "S-R-S", "S-R-S, offset elbow", "Franka (q7)", "general chain"
 
 
 class ArmClass(NamedTuple):
@@ -23,16 +25,25 @@ class ArmClass(NamedTuple):
 
 
 def arm_angle_class(chain: SerialChain) -> ArmClass:
-    """Whether ``chain`` has closed-form arm-angle IK, and which kind (see :data:`SRS`, :data:`OFFSET_ELBOW`,
+    """Whether ``chain`` has closed-form IK, and which kind (see :data:`SRS`, :data:`OFFSET_ELBOW`, :data:`FRANKA`,
     :data:`GENERAL`).
 
-    The reason of a general chain is the first condition it violates, with
-    its distance or angle (the message :func:`redkin.srs.srs_geometry` raises).
+    The reason of a general chain names the first condition of each closed
+    form it violates, with its distance or angle (the messages
+    :func:`redkin.srs.srs_geometry` and :func:`redkin.franka.franka_geometry` raise).
     """
+    from redkin.franka.geometry import franka_geometry
+
     try:
         geometry = srs_geometry(chain)
     except ValueError as exc:
-        return ArmClass(GENERAL, str(exc))
+        try:
+            franka = franka_geometry(chain)
+        except ValueError as other:
+            return ArmClass(GENERAL, str(exc) if chain.n != 7 else f"{exc}; {other}")
+        return ArmClass(FRANKA, f"spherical shoulder, axes 5 and 6 meet, axis 7 offset a_6 {abs(franka.a6):.6g} m "
+                                f"from axis 6, elbow offsets {abs(franka.a3):.6g} m and {abs(franka.a4):.6g} m: the "
+                                "redundancy parameter is q7")
     lengths = f"d_se {geometry.d_se:.6g} m, d_ew {geometry.d_ew:.6g} m"
     if geometry.offset_elbow:
         return ArmClass(OFFSET_ELBOW, f"joints 1-3 and 5-7 meet in points, joints 3-5 do not: {lengths}, elbow offsets "
