@@ -28,7 +28,7 @@ from __future__ import annotations
 import argparse
 import os
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, NamedTuple
 
 import numba
@@ -87,8 +87,8 @@ def main(argv: Sequence[str] | None = None) -> None:
     rows = table(QUICK if parser.parse_args(argv).quick else FULL)
     width = max(len(r[0]) for r in rows)
     load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
-    header = (f"benchmark (franka-panda, numpy {np.__version__}, numba {numba.__version__}, redkin's pool on "
-              f"{thread_count()} threads, load average {load})")
+    header = (f"benchmark (franka-panda unless 'fr3:', numpy {np.__version__}, numba {numba.__version__}, redkin's "
+              f"pool on {thread_count()} threads, load average {load})")
     print(f"{header:<{width}}  result")
     for name, value in rows:
         print(f"{name:<{width}}  {value}")
@@ -103,7 +103,31 @@ def table(sizes: Sizes) -> list[Row]:
     rows += skipped + one_pose_rows(chain, solvers, configurations(chain, sizes.one_pose, rng), sizes.ssik_solve)
     rows += batch_rows(chain, configurations(chain, sizes.batch, rng))
     rows += correctness_rows(chain, solvers, rng, sizes)
-    return rows + feasible_rows(chain, rng, sizes)
+    return rows + feasible_rows(chain, rng, sizes) + fr3_rows(rng, sizes)
+
+
+def fr3_rows(rng: np.random.Generator, sizes: Sizes) -> list[Row]:
+    """The FR3 (``franka-fr3``, franka_description's limits): redkin's one-pose and correctness rows and the
+    feasible sets beside ssik's ``fr3`` charts under the same limits, on a tenth of the Panda's feasible poses.
+
+    frankik's ``is_fr3`` and ssik's ``fr3_ik`` filter with other FR3 limits (q1 +-2.3093, ... in both), and GeoFIK
+    knows only the Panda's, so no peer's IK at a given q7 is compared here.
+    """
+    chain = get_robot("franka-fr3")
+    solver = redkin_at_q7(chain)
+    q = configurations(chain, sizes.one_pose, rng)
+    t = time_at_q7(chain, solver, chain.fk(q), q[:, 6])
+    c = at_q7_correctness(chain, solver, configurations(chain, sizes.correctness, rng))
+    rows = [
+        (f"fr3: one pose, all solutions at q7: {solver.name}",
+         f"{t.seconds * 1e6:9.2f} us per call, {t.solutions:.2f} solutions per call ({t.within_limits:.2f} in "
+         f"limits), {t.per_solution * 1e6:.2f} us per solution ({len(q)} poses)"),
+        (f"fr3: random in-limit q, own q7: {solver.name}",
+         f"q found {c.found}/{sizes.correctness} (farthest {c.farthest:.1e} rad); wrong rows {c.wrong}/{c.rows} "
+         f"(worst {c.worst:.1e})"),
+    ]
+    fewer = replace(sizes, feasible=max(1, sizes.feasible // 10), narrow=max(1, sizes.narrow // 10))
+    return rows + feasible_rows(chain, rng, fewer, "fr3", "fr3: ")
 
 
 # ------------------------------------------------------------------------------------------ poses and frames
@@ -433,28 +457,31 @@ def in_limits_mask(chain: SerialChain, q: np.ndarray, exists: np.ndarray) -> np.
     return exists & chain.within_limits(np.where(exists[..., None], q, 0.0), wrap=True)
 
 
-def ssik_arm() -> Any:
-    """ssik's prebuilt Panda as a ``Manipulator`` (its documented route to the charts), or None."""
+def ssik_arm(name: str) -> Any:
+    """ssik's prebuilt arm ``name`` (``"panda"``, ``"fr3"``) as a ``Manipulator`` (its documented route to the
+    charts), or None."""
     try:
         import ssik
     except ImportError:
         return None
-    return ssik.Manipulator.from_prebuilt("panda")
+    return ssik.Manipulator.from_prebuilt(name)
 
 
-def ssik_sets(arm: Any, pose: np.ndarray, limits: np.ndarray | None = None) -> list[tuple[tuple[float, float], ...]]:
-    """ssik's feasible q7 arcs of every chart of ``pose`` (``chart.in_limits()``), built from scratch."""
+def ssik_sets(arm: Any, pose: np.ndarray, limits: np.ndarray) -> list[tuple[tuple[float, float], ...]]:
+    """ssik's feasible q7 arcs under ``limits (7, 2)`` of every chart of ``pose`` (``chart.in_limits(limits)``),
+    the manifold built from scratch."""
     return [chart.in_limits(limits) for chart in arm.self_motion(pose).charts]
 
 
 def ssik_dense(arm: Any, chain: SerialChain, pose: np.ndarray, t: np.ndarray) -> tuple[list[Any], np.ndarray]:
-    """ssik's arcs of ``pose`` and its own charts ``q(t)`` sampled at ``t``, in limits: (arcs, mask (charts, M))."""
+    """ssik's arcs of ``pose`` under the chain's limits and its own charts ``q(t)`` sampled at ``t``, in those
+    limits by our check: (arcs, mask (charts, M))."""
     charts = arm.self_motion(pose).charts
     inside = []
     for chart in charts:
         q = chart.q(t)
         inside.append(in_limits_mask(chain, q, ~np.isnan(q).any(axis=1)))
-    return [chart.in_limits() for chart in charts], np.array(inside).reshape(len(charts), len(t))
+    return [chart.in_limits(chain.limits) for chart in charts], np.array(inside).reshape(len(charts), len(t))
 
 
 def narrow_found(q: np.ndarray, sets: Sequence[Sequence[tuple[float, float]]]) -> bool:
@@ -474,9 +501,11 @@ def redkin_dense(chain: SerialChain, pose: np.ndarray, t: np.ndarray) -> np.ndar
     return in_limits_mask(chain, solutions.q, solutions.exists).T
 
 
-def feasible_rows(chain: SerialChain, rng: np.random.Generator, sizes: Sizes) -> list[Row]:
-    """One pose's feasible q7 sets of every branch: time (redkin ``feasible_q7``, ssik ``in_limits()`` on the same
-    poses), each against dense sampling of q7, the two against each other, and narrow arcs."""
+def feasible_rows(chain: SerialChain, rng: np.random.Generator, sizes: Sizes, ssik_name: str = "panda",
+                  prefix: str = "") -> list[Row]:
+    """One pose's feasible q7 sets of every branch: time (redkin ``feasible_q7``, ssik ``in_limits()`` of its arm
+    ``ssik_name`` under the chain's limits, on the same poses), each against dense sampling of q7, the two against
+    each other, and narrow arcs; ``prefix`` starts each row's label."""
     q = configurations(chain, sizes.feasible, rng)
     poses = chain.fk(q)
     few = poses[: sizes.ssik_feasible]
@@ -485,7 +514,7 @@ def feasible_rows(chain: SerialChain, rng: np.random.Generator, sizes: Sizes) ->
     narrow = configurations(chain, sizes.narrow, rng)
     geometry = franka_geometry(chain)
     ours = float(np.mean([best_time_short_rounds(lambda: feasible_q7(geometry, pose)) for pose in few]))
-    rows = [(f"one pose, feasible q7 sets of all 8 branches: redkin feasible_q7 ({len(few)} poses)",
+    rows = [(f"{prefix}one pose, feasible q7 sets of all 8 branches: redkin feasible_q7 ({len(few)} poses)",
              f"{ours * 1e6:9.2f} us per pose"),
             ("  configuration", "feasible_q7(geometry, T_flange), public API with its checks")]
     branches = sum(disagreements(arcs, inside, t) > 0 for pose in poses
@@ -495,15 +524,16 @@ def feasible_rows(chain: SerialChain, rng: np.random.Generator, sizes: Sizes) ->
     found = sum(narrow_found(qi, redkin_sets(chain.with_limits(qi - NARROW, qi + NARROW), chain.fk(qi)))
                 for qi in narrow)
     rows.append((f"  redkin: limits +-{NARROW:g} rad around a known solution", f"arc found {found}/{len(narrow)}"))
-    arm = ssik_arm()
+    arm = ssik_arm(ssik_name)
     if arm is None:
-        rows.append(("ssik chart.in_limits()", "skipped: ssik not importable"))
+        rows.append((f"{prefix}ssik chart.in_limits()", "skipped: ssik not importable"))
     else:
-        theirs = float(np.mean([best_time(lambda: ssik_sets(arm, pose), repeat=3) for pose in few]))
-        rows.append((f"one pose, feasible q7 sets of every chart: ssik in_limits() ({len(few)} poses)",
+        theirs = float(np.mean([best_time(lambda: ssik_sets(arm, pose, chain.limits), repeat=3) for pose in few]))
+        rows.append((f"{prefix}one pose, feasible q7 sets of every chart: ssik in_limits() ({len(few)} poses)",
                      f"{theirs * 1e3:9.2f} ms per pose"))
-        rows.append(("  configuration", "[c.in_limits() for c in Manipulator.from_prebuilt('panda')"
-                                        ".self_motion(T).charts] (native C++ charts, a fresh manifold per pose)"))
+        rows.append(("  configuration", f"[c.in_limits(limits) for c in Manipulator.from_prebuilt({ssik_name!r})"
+                                        ".self_motion(T).charts], limits the chain's (native C++ charts, a fresh "
+                                        "manifold per pose)"))
         bad = 0
         for pose in few:
             arcs, inside = ssik_dense(arm, chain, pose, t)
@@ -512,7 +542,8 @@ def feasible_rows(chain: SerialChain, rng: np.random.Generator, sizes: Sizes) ->
         found = sum(narrow_found(qi, ssik_sets(arm, chain.fk(qi), np.stack([qi - NARROW, qi + NARROW], axis=1)))
                     for qi in narrow)
         rows.append((f"  ssik: limits +-{NARROW:g} rad around a known solution", f"arc found {found}/{len(narrow)}"))
-        apart = sum(count_disagreements(redkin_sets(chain, pose), ssik_sets(arm, pose), t) > 0 for pose in few)
+        apart = sum(count_disagreements(redkin_sets(chain, pose), ssik_sets(arm, pose, chain.limits), t) > 0
+                    for pose in few)
         rows.append(("  redkin / ssik in_limits(), same poses",
                      f"{ours / theirs:9.4f}x the time; sets differ on {apart}/{len(few)} poses (branches "
                      f"containing each of {samples})"))
