@@ -25,7 +25,8 @@ def test_json_names_its_units(tmp_path, capsys):
     out = tmp_path / "iiwa.html"
     assert main(["explore", str(EXAMPLES / "iiwa14.urdf"), *POSE, "--json", "--out", str(out)]) == 0
     printed = json.loads(capsys.readouterr().out)
-    assert printed["units"] == {"feasible": "rad"} and printed["out"] == str(out) and len(printed["feasible"]) == 8
+    assert printed["units"] == {"feasible": "rad", "domain": "rad"} and printed["out"] == str(out)
+    assert printed["parameter"] == "psi" and len(printed["feasible"]) == 8
     assert all(count > 721 for count in printed["grid_points"].values()) and out.stat().st_size > 10_000
 
 
@@ -35,8 +36,8 @@ def test_json_names_its_units(tmp_path, capsys):
     ["pa10-7c", *POSE, "--out", "a-directory"],                     # a directory
     ["pa10-7c", *POSE],                                             # no --out
     ["no-such-robot", *POSE, "--out", "page.html"],
-    ["planar-5", *POSE, "--out", "page.html"],                      # no arm-angle IK
-    [str(EXAMPLES / "panda.urdf"), *POSE, "--tip", "panda_link8", "--out", "page.html"],  # not S-R-S
+    ["planar-5", *POSE, "--out", "page.html"],                      # no closed form: 5 joints
+    [str(EXAMPLES / "sawyer.urdf"), *POSE, "--out", "page.html"],   # 7R, neither S-R-S nor of the Franka class
     ["pa10-7c", "--position", "3", "0", "0.5", *POSE[4:], "--out", "page.html"],          # out of reach
     ["pa10-7c", *POSE[:4], "--rotation", "2", "0", "0", "0", "1", "0", "0", "0", "-1", "--out", "page.html"],
     ["pa10-7c", "--position", "nan", "0", "0.5", *POSE[4:], "--out", "page.html"],

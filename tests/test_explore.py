@@ -11,7 +11,7 @@ import pytest
 from redkin.circle import wrap_angle
 from redkin.explore import explorer_data, explorer_html
 from redkin.models import get_robot
-from redkin.srs import BRANCHES, feasible_arm_angles, pose_from
+from redkin.srs import BRANCHES, feasible_arm_angles, optimal_arm_angles, pose_from
 
 DOWN = np.diag([-1.0, 1.0, -1.0])
 CASES = {
@@ -28,22 +28,30 @@ def case(request):
 
 
 def test_every_branch_holds_the_exact_set_ends_and_marks(case):
-    _chain, _pose, data = case
+    chain, pose, data = case
     assert [b.branch for b in data.branches] == [str(b) for b in BRANCHES] and data.initial == 2
+    assert data.parameter.name == "psi" and data.parameter.domain == (-np.pi, np.pi) and data.parameter.circular
     for curves in data.branches:
-        psi = curves.psi
-        assert np.all(np.diff(psi) > 0) and psi[0] >= -np.pi and psi[-1] <= np.pi
-        ends = [e for arcs in list(curves.per_joint.values()) + [curves.feasible] for iv in arcs.intervals for e in iv]
+        psi = curves.values
+        result = feasible_arm_angles(chain, pose, curves.branch)
+        optimal = optimal_arm_angles(chain, pose, curves.branch, feasible=result.feasible).overall
+        assert np.all(np.diff(psi) > 0) and psi[0] >= -np.pi and psi[-1] <= np.pi and curves.exists.all()
+        assert np.array_equal(curves.arcs.reshape(-1, 2), np.array(result.feasible.arcs).reshape(-1, 2))
+        assert curves.full == result.feasible.is_full
+        for j in range(7):
+            assert np.array_equal(curves.per_joint[j], np.array(result.per_joint[j + 1].arcs).reshape(-1, 2))
+        sets = list(result.per_joint.values()) + [result.feasible]
+        ends = [e for arcs in sets for iv in arcs.intervals for e in iv]
         assert set(ends) <= set(psi.tolist())  # exactly, not to the nearest grid point
         for mark in curves.marks:
             assert mark.kind in ("feasible", "optimal", "singular")
         optimum = [m for m in curves.marks if m.label == "optimal ψ ([000 eq. 40])"]
-        unclamped = float(curves.optimal.overall.unclamped)
+        unclamped = float(optimal.unclamped)
         assert len(optimum) == 1 and np.isclose(psi[optimum[0].index], wrap_angle(unclamped), rtol=0, atol=1e-15)
-        if curves.feasible.is_empty:
+        if result.feasible.is_empty:
             assert not curves.feasible_at.any()
         else:
-            clamped = wrap_angle(float(curves.optimal.overall.feasible))
+            clamped = wrap_angle(float(optimal.feasible))
             assert curves.feasible_at[curves.start] and abs(psi[curves.start] - clamped) < 1e-12
 
 
@@ -52,7 +60,7 @@ def test_the_offset_elbow_wam_without_limits_has_a_full_set_and_no_arc_ends():
     pose = pose_from(np.array([0.5, 0.2, 0.4]), DOWN)
     curves = explorer_data(chain, pose, samples=64).branches[0]
     assert np.abs(chain.frames(curves.q)[:, -1] - pose).max() < 1e-9
-    assert curves.feasible.is_full and curves.feasible_at.all() and curves.within.all()
+    assert curves.full and curves.feasible_at.all() and curves.within.all()
     assert not [m for m in curves.marks if m.kind == "feasible"]
 
 
@@ -67,16 +75,17 @@ def test_postures_reach_the_pose_and_are_the_chains_frames(case):
 def test_limit_flags_are_the_joint_values_and_agree_with_the_exact_sets(case):
     """The flags say whether the shown joint values are within the limits; away from the limits and the singular
     arm angles (where the IK picks one split of two joints) that is membership of the exact sets Psi_i."""
-    chain, _, data = case
+    chain, pose, data = case
     for curves in data.branches:
         q = curves.q
+        result = feasible_arm_angles(chain, pose, curves.branch)
         assert np.array_equal(curves.within, (q >= chain.lower - 1e-9) & (q <= chain.upper + 1e-9))
-        singular = np.zeros(len(curves.psi), dtype=bool)
+        singular = np.zeros(len(curves.values), dtype=bool)
         singular[[m.index for m in curves.marks if m.kind == "singular"]] = True
         clear = (np.minimum(np.abs(q - chain.lower), np.abs(q - chain.upper)) > 1e-7) & ~singular[:, None]
-        exact = np.stack([curves.per_joint[j + 1].contains(curves.psi) for j in range(7)], axis=1)
+        exact = np.stack([result.per_joint[j + 1].contains(curves.values) for j in range(7)], axis=1)
         assert np.array_equal(exact[clear], curves.within[clear])
-        assert np.array_equal(curves.feasible_at, curves.feasible.contains(curves.psi, 1e-12))
+        assert np.array_equal(curves.feasible_at, result.feasible.contains(curves.values, 1e-12))
         rows = ~singular & np.all(clear, axis=1)
         assert np.array_equal(curves.feasible_at[rows], curves.within[rows].all(axis=1))
 
@@ -88,7 +97,7 @@ def test_a_singular_arm_angle_is_marked_and_explained():
     marks = {m.label: m for m in curves.marks if m.kind == "singular"}
     assert set(marks) == {"shoulder singular ψ (θ2 = 0)", "wrist singular ψ (θ6 = 0)"}
     for mark in marks.values():
-        assert abs(curves.psi[mark.index]) < 1e-9 and "one split" in mark.note
+        assert abs(curves.values[mark.index]) < 1e-9 and "one split" in mark.note
         assert curves.feasible_at[mark.index]  # psi = 0 lies in the closed set Psi
 
 
@@ -102,12 +111,15 @@ def test_the_page_is_self_contained_and_holds_the_numbers(case):
     branch = payload["branches"][data.initial]
     curves = data.branches[data.initial]
     assert np.allclose(branch["q"], np.degrees(curves.q.T), atol=6e-4)
-    assert np.allclose(branch["psi"], np.degrees(curves.psi), atol=6e-4)
+    assert np.allclose(branch["values"], np.degrees(curves.values), atol=6e-4)
+    assert payload["parameter"]["symbol"] == "ψ" and [t[1] for t in payload["parameter"]["ticks"]] == [
+        "-180", "-90", "0", "90", "180"]
     assert branch["within"][1] == "".join("1" if v else "0" for v in curves.within[:, 1])
     moving = [o for o in branch["origins"] if "path" in o]
-    assert moving and all(len(o["path"]) == 3 * len(curves.psi) for o in moving)
+    assert moving and all(len(o["path"]) == 3 * len(curves.values) for o in moving)
     radians = json.loads(re.search(r'type="application/json">(.*?)</script>', explorer_html(data), re.S)[1])
     assert radians["unit"] == "rad" and np.allclose(radians["branches"][0]["q"], data.branches[0].q.T, atol=6e-6)
+    assert [t[1] for t in radians["parameter"]["ticks"]] == ["-π", "-π/2", "0", "π/2", "π"]
     assert not re.search(r"-0\.0[,\]]", json.dumps(branch["q"]))  # no -0
 
 
@@ -116,7 +128,7 @@ def test_an_empty_branch_is_a_value():
     pose = pose_from(np.array([0.55, 0.0, 0.767]), np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))
     data = explorer_data(chain, pose, samples=64)
     plus = data.branches[0]
-    assert feasible_arm_angles(chain, pose, "+++").is_empty and plus.feasible.is_empty
+    assert feasible_arm_angles(chain, pose, "+++").is_empty and not len(plus.arcs)
     assert not plus.feasible_at.any() and "empty" in explorer_html(data)
 
 
@@ -129,7 +141,7 @@ def test_bad_input_is_a_value_error(kwargs, message):
         explorer_data(get_robot("pa10-7c"), CASES["pa10-7c"], **kwargs)
 
 
-def test_an_arm_without_arm_angle_ik_is_refused():
+def test_an_arm_without_a_closed_form_is_refused():
     with pytest.raises(ValueError, match="7 joints"):
         explorer_data(get_robot("planar-5"), CASES["pa10-7c"])
     with pytest.raises(ValueError, match="reach"):

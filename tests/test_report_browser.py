@@ -162,14 +162,14 @@ def test_report_explorer_slider_moves_the_arm(browser, width, full_report):
     page = view.page
     before = _explorer_state(page)
     assert len(before[1]) == 7 and page.locator(".curves svg").count() == 7
-    page.focus("#psi")
+    page.focus("#parameter")
     for _ in range(40):
         page.keyboard.press("ArrowRight")
     after = _explorer_state(page)
     assert after[0] != before[0] and after[1] != before[1]
     data = json.loads(page.text_content("#explorer-data"))
     branch = data["branches"][data["initial"]]
-    index = int(page.input_value("#psi"))
+    index = int(page.input_value("#parameter"))
     assert index == branch["start"] + 40
     assert after[1] == [f"{branch['q'][j][index]:.3f}" for j in range(7)]  # the page prints redkin's numbers
     box = page.locator("#arm-view").bounding_box()
@@ -195,7 +195,34 @@ def test_cli_explorer_of_the_iiwa_switches_branches(browser, tmp_path):
     page.select_option("#branch", "3")
     after = _explorer_state(page)
     assert after != before and page.input_value("#branch") == "3"
-    assert page.text_content("#psi-value").endswith(" rad")
+    assert page.text_content("#parameter-value").endswith(" rad")
     page.locator("#marks button").first.click()
+    assert view.sideways() <= 0 and not view.errors
+
+
+@browser_test
+@pytest.mark.slow
+def test_cli_explorer_of_the_panda_slides_over_q7(browser, tmp_path):
+    """The Franka class's page: a q7 slider over joint 7's range; where a branch has no solution, no arm and a
+    status that says so."""
+    out = tmp_path / "panda.html"
+    half = "0.7071068"  # the Panda's ready pose (flange), branch +++: no solution over part of q7's range
+    subprocess.run([sys.executable, "-m", "redkin.cli.main", "explore", "franka-panda", "--position", "0.30689",
+                    "0", "0.59028", "--rotation", half, f"-{half}", "0", f"-{half}", f"-{half}", "0", "0", "0", "-1",
+                    "--branch", "+++", "--out", str(out)], check=True, capture_output=True)
+    view = Page(browser, out.as_uri(), 420)
+    page = view.page
+    data = json.loads(page.text_content("#explorer-data"))
+    branch = data["branches"][data["initial"]]
+    assert data["parameter"]["name"] == "q7" and branch["name"] == "+++" and "0" in branch["exists"]
+    assert page.text_content("#parameter-value").startswith("q7 = ")
+    assert page.locator(".curves svg").count() == 7 and page.locator("#arm").count() == 1
+    page.fill("#parameter", str(branch["exists"].index("0")))  # a q7 at which +++ has no solution
+    page.dispatch_event("#parameter", "input")
+    assert page.locator("#arm").count() == 0 and "has no solution at this q7" in page.text_content("#status")
+    assert page.evaluate("() => Array.from(document.querySelectorAll('#joints td.value')).map(c => c.textContent)") \
+        == ["—"] * 7
+    page.select_option("#branch", "6")  # --+, the ready configuration's branch: a solution at every q7
+    assert page.locator("#arm").count() == 1 and "Q7" in page.text_content("#status")
     assert view.sideways() <= 0 and not view.errors
 

@@ -1,4 +1,5 @@
-"""``redkin explore``: the interactive arm-angle explorer of an arm at a pose, as one offline HTML page."""
+"""``redkin explore``: the interactive explorer of an arm's redundancy parameter at a pose (the arm angle of S-R-S
+and offset-elbow arms, q7 of Franka-class arms), as one offline HTML page."""
 
 from __future__ import annotations
 
@@ -21,7 +22,8 @@ from redkin.cli.common import (
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
-        "explore", help="an interactive arm-angle explorer of an S-R-S or offset-elbow arm at a pose: one HTML page"
+        "explore", help="an interactive explorer of the redundancy at a pose, one HTML page: the arm angle of an S-R-S "
+                        "or offset-elbow arm, q7 of a Franka-class arm (Panda, FR3, xArm7)"
     )
     add_robot_argument(parser)
     add_target_arguments(parser)
@@ -39,13 +41,17 @@ def run(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     data = explorer_data(chain, target_pose(args), args.branch)
     out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
-    feasible = {b.branch: [angles_out(arc, args.deg).tolist() for arc in b.feasible.arcs] for b in data.branches}
+    parameter = data.parameter
+    feasible = {b.branch: [angles_out(arc, args.deg).tolist() for arc in b.arcs] for b in data.branches}
     if args.json:
-        wraps = {b.branch: [bool(lo > hi) for lo, hi in b.feasible.arcs] for b in data.branches}
-        print_json({"robot": chain.name, "out": str(out), "units": {"feasible": angle_unit(args.deg)},
-                    "grid_points": {b.branch: len(b.psi) for b in data.branches}, "feasible": feasible,
+        wraps = {b.branch: [bool(lo > hi) for lo, hi in b.arcs] for b in data.branches}
+        print_json({"robot": chain.name, "out": str(out), "parameter": parameter.name,
+                    "domain": angles_out(parameter.domain, args.deg).tolist(),
+                    "units": {"feasible": angle_unit(args.deg), "domain": angle_unit(args.deg)},
+                    "grid_points": {b.branch: len(b.values) for b in data.branches}, "feasible": feasible,
                     "feasible_wraps": wraps})
     else:
         reachable = sum(bool(arcs) for arcs in feasible.values())
-        print(f"wrote {out}: {chain.name}, feasible arm angles on {reachable} of 8 branches; open it in a browser")
+        print(f"wrote {out}: {chain.name}, feasible {parameter.plural} on {reachable} of {len(feasible)} branches; "
+              "open it in a browser")
     return 0

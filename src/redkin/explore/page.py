@@ -1,28 +1,29 @@
-"""The arm-angle explorer as one self-contained HTML page: the numbers as JSON, a small script that draws them.
+"""The explorer as one self-contained HTML page: the numbers as JSON, a small script that draws them.
 
 The page loads nothing from anywhere: its style, script and data are inside
 it, so it works from a file, offline, with no server.  The script only
-draws: every angle, position, limit flag and special arm angle comes from
-:func:`redkin.explore.data.explorer_data`, rounded to the digits it prints.
+draws: every angle, position, limit flag and special value comes from
+:func:`redkin.explore.explorer_data`, rounded to the digits it prints, and
+the redundancy parameter's name, domain, ticks and words come with them.
 """
 
 from __future__ import annotations
 
 import html
 import json
+import math
 from typing import Any
 
 import numpy as np
 
-from redkin.circle import ArcSet
-from redkin.explore.data import BranchCurves, ExplorerData
+from redkin.explore.curves import BranchCurves, ExplorerData, Parameter
 from redkin.explore.script import SCRIPT, STYLE
 
 #: Decimals of the printed angles in each unit (0.001 deg is about 2e-5 rad).
 _DECIMALS = {"deg": 3, "rad": 5}
 #: Decimals of the stored positions [m] (0.01 mm: far below a pixel).
 _POSITION_DECIMALS = 5
-#: A frame origin that moves less than this [m] over the arm angle is stored once.
+#: A frame origin that moves less than this [m] over the parameter is stored once.
 _FIXED_ORIGIN = 1e-9
 
 
@@ -43,38 +44,49 @@ def explorer_html(data: ExplorerData, degrees: bool = False) -> str:
     """
     unit = "deg" if degrees else "rad"
     payload = json.dumps(_payload(data, unit), separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
-    title = f"Arm-angle explorer: {data.robot}"
+    title = f"{data.parameter.title}: {data.robot}"
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
         f"<title>{html.escape(title)}</title><style>{STYLE}</style></head><body>\n"
         f"<header><h1>{html.escape(title)}</h1><p class=\"pose\">{html.escape(_pose_text(data.pose))}</p></header>\n"
-        f"{_BODY}\n<script id=\"explorer-data\" type=\"application/json\">{payload}</script>\n"
+        f"{_body(data)}\n<script id=\"explorer-data\" type=\"application/json\">{payload}</script>\n"
         f"<script>{SCRIPT}</script>\n</body></html>\n"
     )
 
 
-_BODY = """<div class="controls">
-<label>branch <select id="branch" aria-label="branch (signs of theta 2, 4, 6)"></select></label>
-<label class="slider">ψ <input id="psi" type="range" min="0" max="1" step="1" value="0" aria-label="arm angle"></label>
-<output id="psi-value" for="psi"></output>
+def _body(data: ExplorerData) -> str:
+    """The page's controls, views and legend, in the words of the data's parameter."""
+    p = data.parameter
+    symbol, sets, joint = (html.escape(text, quote=False) for text in (p.symbol, p.set_symbol, p.joint_symbol))
+    legend = [f'<span class="k curve"></span> {joint}<sub>i</sub>({symbol}) <span class="k limit"></span> limits']
+    if data.branches[0].per_joint is not None:
+        legend.append(f'<span class="k set-i"></span> {sets}<sub>i</sub>: joint i within its limits')
+    legend.append(f'<span class="k set"></span> {sets}: all joints within')
+    if "singular" in p.kinds:
+        legend.append(f'<span class="k singular"></span> singular {symbol}')
+    legend.append(f'<span class="k optimal"></span> optimal {symbol} ({html.escape(p.optimum, quote=False)})')
+    legend.append(f'<span class="k cursor"></span> the slider\'s {symbol}. Click a plot to move the slider there.')
+    return f"""<div class="controls">
+<label>branch <select id="branch" aria-label="branch ({html.escape(p.branches)})"></select></label>
+<label class="slider">{symbol} <input id="parameter" type="range" min="0" max="1" step="1" value="0" \
+aria-label="{html.escape(p.noun)}"></label>
+<output id="parameter-value" for="parameter"></output>
 </div>
 <p id="status" class="status"></p>
-<div id="marks" class="marks" aria-label="special arm angles"></div>
+<div id="marks" class="marks" aria-label="special {html.escape(p.plural)}"></div>
 <div class="views">
 <figure class="view3d"><svg id="arm-view" viewBox="-1.1 -1.1 2.2 2.2" role="img" aria-label="posture in 3-D"></svg>
-<figcaption>Posture at the slider's ψ (drag to rotate). Grey: paths of the moving joints over ψ;
+<figcaption>Posture at the slider's {symbol} (drag to rotate). Grey: paths of the moving joints over {symbol};
 x red, y green, z blue; the target frame at the tool.</figcaption></figure>
 <div class="joints"><table id="joints"><thead><tr><th>joint</th><th class="num">value</th><th class="num">lower</th>
 <th class="num">upper</th><th>in limits</th></tr></thead><tbody></tbody></table></div>
 </div>
 <div id="curves" class="curves"></div>
-<p class="legend"><span class="k curve"></span> θ<sub>i</sub>(ψ) <span class="k limit"></span> limits
-<span class="k psi-i"></span> Ψ<sub>i</sub>: joint i within its limits <span class="k psi"></span> Ψ: all joints within
-<span class="k singular"></span> singular ψ <span class="k optimal"></span> optimal ψ ([000 eq. 40])
-<span class="k cursor"></span> the slider's ψ. Click a plot to move the slider there.</p>
-<p class="note">Computed by redkin (paper 000's closed-form arm-angle IK and exact feasible sets); this page only draws
-the numbers it holds: a dense grid of arm angles with the exact ends of every set merged in.</p>"""
+<p class="legend">{chr(10).join(legend)}</p>
+<p class="note">Computed by redkin ({html.escape(p.method, quote=False)}); this page only draws
+the numbers it holds: a dense grid of {html.escape(p.plural, quote=False)} with the exact ends of every set merged
+in.</p>"""
 
 
 def _pose_text(pose: np.ndarray) -> str:
@@ -87,61 +99,112 @@ def _payload(data: ExplorerData, unit: str) -> dict[str, Any]:
     decimals = _DECIMALS[unit]
 
     def angle(values: Any) -> Any:
+        """Angles in the page's unit, rounded to its digits; ``None`` for NaN (no solution there)."""
         array = np.degrees(values) if unit == "deg" else np.asarray(values, dtype=float)
-        return (np.round(array, decimals) + 0.0).tolist()  # + 0.0: no -0
+        return _nullable(np.round(array, decimals) + 0.0)  # + 0.0: no -0
 
     def limit(value: float) -> float | None:
         return angle(value) if np.isfinite(value) else None
 
+    p = data.parameter
     return {
         "robot": data.robot,
         "unit": unit,
         "decimals": decimals,
         "half_turn": angle(np.pi),
+        "parameter": {"name": p.name, "symbol": p.symbol, "set": p.set_symbol, "noun": p.noun,
+                      "joint": p.joint_symbol, "domain": angle(p.domain), "ticks": _ticks(p.domain, unit, angle)},
         "joints": list(data.joint_names),
         "lower": [limit(v) for v in data.lower],
         "upper": [limit(v) for v in data.upper],
         "target": {"position": _positions(data.pose[:3, 3]), "axes": _positions(data.pose[:3, :3].T)},
+        "base": _positions(next(b.origins[b.exists][0, 0] for b in data.branches if b.exists.any())),
         "initial": data.initial,
-        "branches": [_branch(b, angle, decimals) for b in data.branches],
+        "branches": [_branch(b, p, angle, decimals) for b in data.branches],
     }
 
 
-def _branch(curves: BranchCurves, angle, decimals: int) -> dict[str, Any]:
+def _branch(curves: BranchCurves, parameter: Parameter, angle, decimals: int) -> dict[str, Any]:
     jumps = np.abs(np.diff(curves.q, axis=0)) > np.pi  # a wrapped joint value: the curve is not joined there
+    domain = parameter.domain
     return {
         "name": curves.branch,
-        "label": f"{curves.branch}: Ψ = {_arcs_text(curves.feasible, angle, decimals)}",
-        "psi": angle(curves.psi),
+        "label": f"{curves.branch}: {parameter.set_symbol} = {_arcs_text(curves, parameter, angle, decimals)}",
+        "values": angle(curves.values),
         "q": angle(curves.q.T),
         "breaks": [(np.flatnonzero(jumps[:, j]) + 1).tolist() for j in range(curves.q.shape[1])],
-        "within": ["".join("1" if v else "0" for v in column) for column in curves.within.T],
-        "feasible_at": "".join("1" if v else "0" for v in curves.feasible_at),
-        "per_joint": [angle(curves.per_joint[j + 1].intervals) for j in range(curves.q.shape[1])],
-        "feasible": angle(curves.feasible.intervals),
-        "singular_everywhere": [name for name, every in (("shoulder", curves.singular.shoulder_everywhere),
-                                                        ("wrist", curves.singular.wrist_everywhere)) if every],
+        "exists": _flags(curves.exists),
+        "within": [_flags(column) for column in curves.within.T],
+        "feasible_at": _flags(curves.feasible_at),
+        "per_joint": None if curves.per_joint is None else [angle(_intervals(arcs, domain))
+                                                            for arcs in curves.per_joint],
+        "feasible": angle(_intervals(curves.arcs, domain)),
+        "notes": list(curves.notes),
         "marks": [{"kind": m.kind, "label": m.label, "index": m.index, "note": m.note} for m in curves.marks],
         "start": curves.start,
-        "origins": [_origin(curves.origins[:, k]) for k in range(curves.origins.shape[1])],
+        "origins": [_origin(curves.origins[:, k], curves.exists) for k in range(curves.origins.shape[1])],
     }
 
 
-def _origin(path: np.ndarray) -> dict[str, list[float]]:
-    """One frame origin over the grid: ``{"at": [x, y, z]}`` if it stays put, else
-    ``{"path": [x0, y0, z0, x1, ...]}``."""
-    if np.ptp(path, axis=0).max() < _FIXED_ORIGIN:
-        return {"at": _positions(path[0])}
+def _flags(values: np.ndarray) -> str:
+    return "".join("1" if v else "0" for v in values)
+
+
+def _intervals(arcs: np.ndarray, domain: tuple[float, float]) -> np.ndarray:
+    """Arcs ``[start, end]`` as intervals of the domain: an arc through its ends (``start > end``) in two."""
+    pieces = [(lo, hi) for lo, hi in arcs if lo <= hi]
+    pieces += [piece for lo, hi in arcs if lo > hi for piece in ((lo, domain[1]), (domain[0], hi))]
+    return np.asarray(pieces, dtype=float).reshape(-1, 2)
+
+
+def _ticks(domain: tuple[float, float], unit: str, angle) -> list[list[Any]]:
+    """``[value, label]`` of the x axis: multiples of the largest of pi, pi/2, pi/4 that gives at least five
+    within the domain, labelled in degrees or as fractions of pi."""
+    low, high = domain
+    for parts in (1, 2, 4):
+        first, last = math.ceil(low * parts / np.pi - 1e-9), math.floor(high * parts / np.pi + 1e-9)
+        if last - first >= 4:
+            break
+    ticks = []
+    for k in range(first, last + 1):
+        value = angle(k * np.pi / parts)
+        ticks.append([value, f"{value:g}" if unit == "deg" else _pi_fraction(k, parts)])
+    return ticks
+
+
+def _pi_fraction(numerator: int, denominator: int) -> str:
+    """``numerator * pi / denominator`` as a label: ``0``, ``π``, ``-π/2``, ``3π/4``."""
+    if numerator == 0:
+        return "0"
+    common = math.gcd(numerator, denominator)
+    top, bottom = numerator // common, denominator // common
+    text = {1: "π", -1: "-π"}.get(top, f"{top}π")
+    return text if bottom == 1 else f"{text}/{bottom}"
+
+
+def _origin(path: np.ndarray, exists: np.ndarray) -> dict[str, list]:
+    """One frame origin over the grid: ``{"at": [x, y, z]}`` if it stays put wherever the branch has a solution,
+    else ``{"path": [x0, y0, z0, x1, ...]}`` with ``null`` where it has none."""
+    shown = path[exists]
+    if len(shown) and np.ptp(shown, axis=0).max() < _FIXED_ORIGIN:
+        return {"at": _positions(shown[0])}
     return {"path": _positions(path.ravel())}
 
 
 def _positions(values: np.ndarray) -> list:
-    return (np.round(np.asarray(values, dtype=float), _POSITION_DECIMALS) + 0.0).tolist()
+    return _nullable(np.round(np.asarray(values, dtype=float), _POSITION_DECIMALS) + 0.0)
 
 
-def _arcs_text(arcs: ArcSet, angle, decimals: int) -> str:
-    if arcs.is_empty:
-        return "empty (no feasible ψ)"
-    if arcs.is_full:
-        return "every ψ"
-    return " ∪ ".join(f"[{lo:.{decimals}f}, {hi:.{decimals}f}]" for lo, hi in (angle(arc) for arc in arcs.arcs))
+def _nullable(array: np.ndarray) -> Any:
+    """``array.tolist()`` with ``None`` for NaN (JSON's ``null``)."""
+    if np.isnan(array).any():
+        return np.where(np.isnan(array), np.asarray(None, dtype=object), array.astype(object)).tolist()
+    return array.tolist()
+
+
+def _arcs_text(curves: BranchCurves, parameter: Parameter, angle, decimals: int) -> str:
+    if not len(curves.arcs):
+        return f"empty (no feasible {parameter.symbol})"
+    if curves.full:
+        return f"every {parameter.symbol}"
+    return " ∪ ".join(f"[{lo:.{decimals}f}, {hi:.{decimals}f}]" for lo, hi in (angle(arc) for arc in curves.arcs))

@@ -2,8 +2,11 @@
 
 The script draws the numbers of the page's JSON and computes none of its
 own beyond screen coordinates: an orthographic view of the posture (turned
-by dragging), the curves of every joint over the arm angle with their
-limits, sets and marks, and the joint values at the slider's arm angle.
+by dragging), the curves of every joint over the redundancy parameter with
+their limits, sets and marks, and the joint values at the slider's value.
+The parameter's symbols, domain and ticks come from the JSON: the same
+script draws the arm angle psi and q7.  Where a branch has no solution (its
+joint values are ``null``) the curves break, and no posture is drawn.
 """
 
 STYLE = """
@@ -42,8 +45,8 @@ td.out { color: #8a0000; font-weight: 600; }
 .k { display: inline-block; width: 1.4em; height: 0.7em; margin: 0 0.2em 0 0.6em; vertical-align: middle; }
 .k.curve { border-top: 2px solid #111; height: 0; }
 .k.limit { border-top: 2px dashed #c03030; height: 0; }
-.k.psi-i { background: rgba(40, 160, 60, 0.25); }
-.k.psi { background: rgba(40, 100, 180, 0.25); }
+.k.set-i { background: rgba(40, 160, 60, 0.25); }
+.k.set { background: rgba(40, 100, 180, 0.25); }
 .k.singular { border-top: 2px dashed #7a3db8; height: 0; }
 .k.optimal { border-top: 2px solid #d07000; height: 0; }
 .k.cursor { border-top: 2px solid #888; height: 0; }
@@ -53,12 +56,14 @@ SCRIPT = r"""
 "use strict";
 (function () {
   const D = JSON.parse(document.getElementById("explorer-data").textContent);
+  const P = D.parameter;
   const NS = "http://www.w3.org/2000/svg";
   const W = 640, H = 128, LEFT = 56, RIGHT = 10, TOP = 8, BOTTOM = 22;
-  const slider = document.getElementById("psi");
+  const slider = document.getElementById("parameter");
   const select = document.getElementById("branch");
   const view3d = document.getElementById("arm-view");
   const half = D.half_turn;
+  const low = P.domain[0], high = P.domain[1];
   const view = { az: 0.8, el: 0.45 };
   let branch = D.branches[D.initial];
   let index = branch.start;
@@ -77,16 +82,19 @@ SCRIPT = r"""
     while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (values[mid] <= v) lo = mid; else hi = mid; }
     return Math.abs(values[hi] - v) < Math.abs(values[lo] - v) ? hi : lo;
   }
-  function originsAt(b, i) {
-    return b.origins.map(o => o.at ? o.at : [o.path[3 * i], o.path[3 * i + 1], o.path[3 * i + 2]]);
+  function pointAt(o, i) {
+    if (o.at) return o.at;
+    return o.path[3 * i] === null ? null : [o.path[3 * i], o.path[3 * i + 1], o.path[3 * i + 2]];
   }
+  function solved(b, i) { return b.exists[i] === "1"; }
 
   // ---- the 3-D view: orthographic, turned by dragging
   const bounds = (function () {
     const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
     function add(p) { for (let k = 0; k < 3; k++) { lo[k] = Math.min(lo[k], p[k]); hi[k] = Math.max(hi[k], p[k]); } }
     for (const b of D.branches) for (const o of b.origins) {
-      if (o.at) add(o.at); else for (let i = 0; i < o.path.length; i += 3) add(o.path.slice(i, i + 3));
+      if (o.at) add(o.at);
+      else for (let i = 0; i < o.path.length; i += 3) if (o.path[i] !== null) add(o.path.slice(i, i + 3));
     }
     add(D.target.position);
     const centre = lo.map((v, k) => (v + hi[k]) / 2);
@@ -111,16 +119,25 @@ SCRIPT = r"""
   function drawView() {
     view3d.textContent = "";
     const g = node("g", { "stroke-linecap": "round", "stroke-linejoin": "round" }, view3d);
-    const frames = originsAt(branch, index);
-    drawAxes(g, frames[0], [[1, 0, 0], [0, 1, 0], [0, 0, 1]], 0.3 * bounds.radius, 0.012);
+    drawAxes(g, D.base, [[1, 0, 0], [0, 1, 0], [0, 0, 1]], 0.3 * bounds.radius, 0.012);
     for (const o of branch.origins) {
       if (!o.path) continue;
-      const path = [];
-      for (let i = 0; i < o.path.length; i += 3) path.push(o.path.slice(i, i + 3));
-      node("polyline", { class: "locus", points: points(path), stroke: "#b8b8b8", "stroke-width": 0.008,
-                         fill: "none" }, g);
+      let path = [];
+      const flush = () => {
+        if (path.length > 1) {
+          node("polyline", { class: "locus", points: points(path), stroke: "#b8b8b8", "stroke-width": 0.008,
+                             fill: "none" }, g);
+        }
+        path = [];
+      };
+      for (let i = 0; i < o.path.length; i += 3) {
+        if (o.path[i] === null) flush(); else path.push(o.path.slice(i, i + 3));
+      }
+      flush();
     }
     drawAxes(g, D.target.position, D.target.axes, 0.18 * bounds.radius, 0.014);
+    if (!solved(branch, index)) return;
+    const frames = branch.origins.map(o => pointAt(o, index));
     node("polyline", { id: "arm", points: points(frames), stroke: "#1f4e9a", "stroke-width": 0.03, fill: "none" }, g);
     for (const p of frames) {
       const s = project(p);
@@ -144,29 +161,29 @@ SCRIPT = r"""
   view3d.addEventListener("pointerup", stop);
   view3d.addEventListener("pointercancel", stop);
 
-  // ---- the curves of every joint over psi
+  // ---- the curves of every joint over the parameter
   function niceStep(span) {
     const raw = span / 4, power = Math.pow(10, Math.floor(Math.log10(raw)));
     for (const m of [1, 2, 5, 10]) if (m * power >= raw) return m * power;
     return 10 * power;
   }
-  function xOf(v) { return LEFT + (v + half) / (2 * half) * (W - LEFT - RIGHT); }
-  const xTicks = D.unit === "deg" ? [[-180, "-180"], [-90, "-90"], [0, "0"], [90, "90"], [180, "180"]]
-    : [[-half, "-π"], [-half / 2, "-π/2"], [0, "0"], [half / 2, "π/2"], [half, "π"]];
+  function xOf(v) { return LEFT + (v - low) / (high - low) * (W - LEFT - RIGHT); }
   function buildCurves() {
     const box = document.getElementById("curves");
     box.textContent = "";
     cursors = [];
     D.joints.forEach((name, j) => {
       const q = branch.q[j];
-      let ymin = Math.min.apply(null, q), ymax = Math.max.apply(null, q);
+      const shown = q.filter(v => v !== null);
+      let ymin = Math.min.apply(null, shown), ymax = Math.max.apply(null, shown);
       if (D.lower[j] !== null) ymin = Math.min(ymin, D.lower[j]);
       if (D.upper[j] !== null) ymax = Math.max(ymax, D.upper[j]);
+      if (!isFinite(ymin) || !isFinite(ymax)) { ymin = -half; ymax = half; }
       const pad = Math.max(0.06 * (ymax - ymin), half / 36);
       ymin -= pad; ymax += pad;
       const yOf = v => TOP + (ymax - v) / (ymax - ymin) * (H - TOP - BOTTOM);
       const svg = node("svg", { viewBox: "0 0 " + W + " " + H, class: "curve", "data-joint": j + 1,
-                                role: "img", "aria-label": "joint " + (j + 1) + " over the arm angle" }, box);
+                                role: "img", "aria-label": "joint " + (j + 1) + " over the " + P.noun }, box);
       const plotTop = TOP, plotHeight = H - TOP - BOTTOM;
       function band(intervals, colour) {
         for (const [lo, hi] of intervals) {
@@ -174,7 +191,7 @@ SCRIPT = r"""
                          fill: colour }, svg);
         }
       }
-      band(branch.per_joint[j], "rgba(40,160,60,0.22)");
+      if (branch.per_joint !== null) band(branch.per_joint[j], "rgba(40,160,60,0.22)");
       band(branch.feasible, "rgba(40,100,180,0.22)");
       node("rect", { x: LEFT, y: plotTop, width: W - LEFT - RIGHT, height: plotHeight, fill: "none",
                      stroke: "#999" }, svg);
@@ -184,14 +201,14 @@ SCRIPT = r"""
         const label = node("text", { x: LEFT - 6, y: yOf(t) + 4, "text-anchor": "end", "font-size": 11 }, svg);
         label.textContent = Math.abs(t) < step / 1e6 ? "0" : +t.toPrecision(6);
       }
-      for (const [v, text] of xTicks) {
+      for (const [v, text] of P.ticks) {
         node("line", { x1: xOf(v), x2: xOf(v), y1: plotTop + plotHeight, y2: plotTop + plotHeight + 4,
                        stroke: "#666" }, svg);
         const label = node("text", { x: xOf(v), y: H - 5, "text-anchor": "middle", "font-size": 11 }, svg);
         label.textContent = text;
       }
       const title = node("text", { x: 6, y: plotTop + plotHeight / 2, "font-size": 12, "font-weight": 600 }, svg);
-      title.textContent = "θ" + (j + 1);
+      title.textContent = P.joint + (j + 1);
       for (const limit of [D.lower[j], D.upper[j]]) {
         if (limit === null) continue;
         node("line", { x1: LEFT, x2: W - RIGHT, y1: yOf(limit), y2: yOf(limit), stroke: "#c03030",
@@ -199,18 +216,24 @@ SCRIPT = r"""
       }
       for (const mark of branch.marks) {
         if (mark.kind === "feasible") continue;
-        const x = xOf(branch.psi[mark.index]);
+        const x = xOf(branch.values[mark.index]);
         node("line", { x1: x, x2: x, y1: plotTop, y2: plotTop + plotHeight, "stroke-width": 1.4,
                        stroke: mark.kind === "singular" ? "#7a3db8" : "#d07000",
                        "stroke-dasharray": mark.kind === "singular" ? "3 3" : "none", class: mark.kind }, svg);
       }
       const starts = [0].concat(branch.breaks[j], [q.length]);
       for (let s = 0; s + 1 < starts.length; s++) {
-        const segment = [];
+        let segment = [];
+        const flush = () => {
+          if (segment.length) node("polyline", { points: segment.join(" "), fill: "none", stroke: "#111",
+                                                 "stroke-width": 1.4 }, svg);
+          segment = [];
+        };
         for (let i = starts[s]; i < starts[s + 1]; i++) {
-          segment.push(xOf(branch.psi[i]).toFixed(2) + "," + yOf(q[i]).toFixed(2));
+          if (q[i] === null) { flush(); continue; }
+          segment.push(xOf(branch.values[i]).toFixed(2) + "," + yOf(q[i]).toFixed(2));
         }
-        node("polyline", { points: segment.join(" "), fill: "none", stroke: "#111", "stroke-width": 1.4 }, svg);
+        flush();
       }
       const line = node("line", { y1: plotTop, y2: plotTop + plotHeight, stroke: "#777", "stroke-width": 1.4 }, svg);
       const dot = node("circle", { r: 3.5, fill: "#1f4e9a" }, svg);
@@ -218,7 +241,7 @@ SCRIPT = r"""
       svg.addEventListener("click", e => {
         const box = svg.getBoundingClientRect();
         const x = (e.clientX - box.left) / box.width * W;
-        setIndex(nearest(branch.psi, (x - LEFT) / (W - LEFT - RIGHT) * 2 * half - half));
+        setIndex(nearest(branch.values, low + (x - LEFT) / (W - LEFT - RIGHT) * (high - low)));
       });
     });
   }
@@ -231,7 +254,7 @@ SCRIPT = r"""
       const button = document.createElement("button");
       button.type = "button";
       button.className = mark.kind;
-      button.textContent = mark.label + ": " + angleText(branch.psi[mark.index]);
+      button.textContent = mark.label + ": " + angleText(branch.values[mark.index]);
       button.addEventListener("click", () => setIndex(mark.index));
       box.appendChild(button);
     }
@@ -239,11 +262,13 @@ SCRIPT = r"""
   function drawJoints() {
     const body = document.querySelector("#joints tbody");
     body.textContent = "";
+    const here = solved(branch, index);
     D.joints.forEach((name, j) => {
       const row = document.createElement("tr");
       const inside = branch.within[j][index] === "1";
-      const cells = [[name, ""], [fmt(branch.q[j][index]), "num value"], [fmt(D.lower[j]), "num"],
-                     [fmt(D.upper[j]), "num"], [inside ? "✓ yes" : "✗ no", inside ? "" : "out"]];
+      const flag = here ? (inside ? "✓ yes" : "✗ no") : "—";
+      const cells = [[name, ""], [here ? fmt(branch.q[j][index]) : "—", "num value"], [fmt(D.lower[j]), "num"],
+                     [fmt(D.upper[j]), "num"], [flag, here && !inside ? "out" : ""]];
       for (const [text, cls] of cells) {
         const cell = document.createElement("td");
         cell.textContent = text;
@@ -256,42 +281,49 @@ SCRIPT = r"""
   }
   function drawStatus() {
     const status = document.getElementById("status");
-    const outside = D.joints.filter((_, j) => branch.within[j][index] !== "1");
     status.textContent = "";
-    const inPsi = document.createElement("span");
-    inPsi.textContent = branch.feasible_at[index] === "1" ? "ψ ∈ Ψ. " : "ψ ∉ Ψ. ";
-    if (branch.feasible_at[index] !== "1") inPsi.className = "bad";
-    status.appendChild(inPsi);
+    const inSet = document.createElement("span");
+    const feasible = branch.feasible_at[index] === "1";
+    inSet.textContent = P.symbol + (feasible ? " ∈ " : " ∉ ") + P.set + ". ";
+    if (!feasible) inSet.className = "bad";
+    status.appendChild(inSet);
     const joints = document.createElement("span");
-    joints.textContent = outside.length ? outside.join(", ") + " beyond the limits." : "Every joint within its limits.";
-    if (outside.length) joints.className = "bad";
+    if (solved(branch, index)) {
+      const outside = D.joints.filter((_, j) => branch.within[j][index] !== "1");
+      joints.textContent = outside.length ? outside.join(", ") + " beyond the limits."
+        : "Every joint within its limits.";
+      if (outside.length) joints.className = "bad";
+    } else {
+      joints.textContent = "Branch " + branch.name + " has no solution at this " + P.noun + ".";
+      joints.className = "bad";
+    }
     status.appendChild(joints);
     const notes = branch.marks.filter(m => m.index === index && m.note).map(m => " " + m.label + ": " + m.note + ".");
-    for (const part of branch.singular_everywhere) {
-      notes.push(" The " + part + " is singular at every ψ for this pose.");
-    }
+    for (const note of branch.notes) notes.push(" " + note);
     for (const note of notes) status.appendChild(document.createTextNode(note));
   }
   function setIndex(i) {
-    index = Math.max(0, Math.min(branch.psi.length - 1, i));
+    index = Math.max(0, Math.min(branch.values.length - 1, i));
     slider.value = index;
-    document.getElementById("psi-value").textContent = "ψ = " + angleText(branch.psi[index]);
+    document.getElementById("parameter-value").textContent = P.symbol + " = " + angleText(branch.values[index]);
     for (const c of cursors) {
-      const x = xOf(branch.psi[index]);
+      const x = xOf(branch.values[index]);
       c.line.setAttribute("x1", x); c.line.setAttribute("x2", x);
-      c.dot.setAttribute("cx", x); c.dot.setAttribute("cy", c.yOf(c.q[index]));
+      const y = c.q[index];
+      c.dot.setAttribute("visibility", y === null ? "hidden" : "visible");
+      c.dot.setAttribute("cx", x); c.dot.setAttribute("cy", y === null ? 0 : c.yOf(y));
     }
     drawView();
     drawJoints();
     drawStatus();
   }
   function setBranch(k) {
-    const psi = branch.psi[index];
+    const value = branch.values[index];
     branch = D.branches[k];
-    slider.max = branch.psi.length - 1;
+    slider.max = branch.values.length - 1;
     buildCurves();
     buildMarks();
-    setIndex(nearest(branch.psi, psi));
+    setIndex(nearest(branch.values, value));
   }
 
   D.branches.forEach((b, k) => {
@@ -303,7 +335,7 @@ SCRIPT = r"""
   select.value = D.initial;
   select.addEventListener("change", () => setBranch(+select.value));
   slider.addEventListener("input", () => setIndex(+slider.value));
-  slider.max = branch.psi.length - 1;
+  slider.max = branch.values.length - 1;
   buildCurves();
   buildMarks();
   setIndex(branch.start);
