@@ -1,0 +1,220 @@
+"""The graph path resolution searches: arm-angle samples inside the exact feasible arcs, per waypoint and branch.
+
+A node is one arm angle on one branch at one waypoint, with its joint values
+(the closed-form IK [000 eqs. 11-19]) and its clearance (the smallest
+distance of a joint to a limit).  Nodes lie in the *pieces* of the exact
+feasible sets [000 eq. 30] (:func:`redkin.srs.feasible_pieces_all_branches`):
+the arcs between consecutive limit crossings, inside which every joint is a
+continuous function of the arm angle.  Each piece contributes its two ends,
+its middle and the points of a uniform grid inside it, so no feasible arc is
+missed however narrow.  :func:`connect` then halves every interval between
+neighbouring nodes of a piece across which some joint moves more than a
+fraction of its step bound, and :func:`window` samples finer around
+the nodes a search chose (:func:`window`).
+
+Joints whose range holds every angle (:attr:`SerialChain.covers_circle`) are
+compared on the circle; the others as plain differences of the joint values
+inside their ranges.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from redkin._compiled import run_batch
+from redkin.circle import TWO_PI
+from redkin.srs import _ik_kernels
+from redkin.srs.feasible import PIECE_TOLERANCE, FeasiblePieces
+from redkin.srs.geometry import SRSGeometry
+
+#: Clearance below this (radians) drops a node: an arc end computed a few ulps outside its limit is clipped back,
+#: anything further out is not a feasible sample.
+_CLIP_TOLERANCE = 1e-9
+#: Intervals of a piece are not halved below this width (radians of arm angle).
+_MIN_SPACING = 1e-9
+
+
+@dataclass(frozen=True)
+class Graph:
+    """Nodes sorted by waypoint, piece and arm angle.
+
+    Attributes
+    ----------
+    offsets : numpy.ndarray of int, shape (W + 1,)
+        The nodes of waypoint ``w`` are ``offsets[w] .. offsets[w + 1] - 1``.
+    piece : numpy.ndarray of int, shape (K,)
+        The piece a node lies in (numbered over all waypoints and branches); -1 for a node that stands alone.
+    branch : numpy.ndarray of int, shape (K,)
+        Index into :data:`redkin.srs.BRANCHES` (the chain's senses).
+    psi, q, clearance : numpy.ndarray, shapes (K,), (K, 7), (K,)
+    """
+
+    offsets: np.ndarray
+    piece: np.ndarray
+    branch: np.ndarray
+    psi: np.ndarray
+    q: np.ndarray
+    clearance: np.ndarray
+
+    @property
+    def waypoint(self) -> np.ndarray:
+        """The waypoint of each node."""
+        return np.repeat(np.arange(len(self.offsets) - 1), np.diff(self.offsets))
+
+
+@dataclass(frozen=True)
+class Arm:
+    """What the graph needs of an arm along a path: its geometry, the IK coefficients of every waypoint for both
+    elbow signs, the per-joint bounds and which joints are compared on the circle.
+
+    Attributes
+    ----------
+    geometry : SRSGeometry
+    entries, theta4 : numpy.ndarray, shapes (W, 2, 3, 14), (W, 2)
+        [000 eqs. 11, 12, 16] per waypoint, for the Table 1 elbow signs ``+1, -1``.
+    step : numpy.ndarray, shape (7,)
+    circle : numpy.ndarray of bool, shape (7,)
+    """
+
+    geometry: SRSGeometry
+    entries: np.ndarray
+    theta4: np.ndarray
+    step: np.ndarray
+    circle: np.ndarray
+
+    def joint_values(self, waypoint: np.ndarray, branch: np.ndarray, psi: np.ndarray) -> np.ndarray:
+        """Joint values ``(K, 7)`` of nodes (waypoint, branch index, arm angle), [000 eqs. 11, 13-15, 17-19] by
+        :func:`redkin.srs._ik_kernels.angles_at`, the kernel of :func:`redkin.srs.ik`."""
+        table = self.geometry.kernel_branches[branch]  # Table 1 signs (sigma_2, sigma_4, sigma_6)
+        elbow = (table[:, 1] < 0.0).astype(np.int64)
+        entries = np.ascontiguousarray(self.entries[waypoint, elbow])
+        theta4 = np.ascontiguousarray(self.theta4[waypoint, elbow])
+        signs = np.ascontiguousarray(table[:, [0, 2]])
+        theta = np.empty((len(psi), 7))
+        run_batch(_ik_kernels.angles_at, len(psi), entries, theta4, np.ascontiguousarray(psi, dtype=float), signs,
+                  theta)
+        return self.geometry.to_chain_q(theta)
+
+    def clearance(self, q: np.ndarray) -> np.ndarray:
+        """The smallest distance of a joint with a range narrower than ``2 pi`` to a limit, per row of ``q``
+        (``inf`` where no joint has such a range)."""
+        chain = self.geometry.chain
+        binding = ~self.circle
+        if not binding.any():
+            return np.full(q.shape[:-1], np.inf)
+        inside = np.minimum(q[..., binding] - chain.lower[binding], chain.upper[binding] - q[..., binding])
+        return inside.min(axis=-1)
+
+    def clipped(self, q: np.ndarray) -> np.ndarray:
+        """``q`` with each joint of a range narrower than ``2 pi`` clipped into it (a move of at most
+        :data:`_CLIP_TOLERANCE` for a node's values)."""
+        chain = self.geometry.chain
+        return np.where(self.circle, q, np.clip(q, chain.lower, chain.upper))
+
+    def moves(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """How far each joint moves between ``a`` and ``b`` (..., 7): on the circle for the joints of
+        :attr:`circle` (as :func:`redkin.paths._dp_kernels.gap`), plain differences for the others."""
+        d = np.abs(a - b)
+        turned = np.mod(d, TWO_PI)
+        return np.where(self.circle, np.minimum(turned, TWO_PI - turned), d)
+
+    def ratio(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """The largest move between ``a`` and ``b`` (..., 7) relative to the step bound, per row."""
+        return (self.moves(a, b) / self.step).max(axis=-1)
+
+
+def piece_samples(pieces: FeasiblePieces, spacing: float) -> tuple[np.ndarray, ...]:
+    """The initial samples of every feasible piece of every waypoint and branch.
+
+    Parameters
+    ----------
+    pieces : FeasiblePieces
+        Of shape ``(W, 8, 24)``.
+    spacing : float
+        The grid: arm angles ``-pi + k spacing`` (shifted by ``2 pi`` into a piece that wraps).
+
+    Returns
+    -------
+    waypoint, branch, piece, psi : numpy.ndarray, shape (K,)
+        Each piece's ends and middle, and the grid points inside it.
+    bounds : numpy.ndarray, shape (pieces, 2)
+        The ends of each piece (``piece`` indexes it).
+    """
+    keep = pieces.feasible & (pieces.end - pieces.start > PIECE_TOLERANCE)
+    waypoint, branch, _ = np.nonzero(keep)
+    lo, hi = pieces.start[keep], pieces.end[keep]
+    first = np.floor((lo + np.pi) / spacing).astype(np.int64) + 1
+    last = np.ceil((hi + np.pi) / spacing).astype(np.int64) - 1
+    count = np.maximum(last - first + 1, 0)
+    piece = np.arange(lo.size)
+    grid_piece = np.repeat(piece, count)
+    within = np.arange(grid_piece.size) - np.repeat(np.cumsum(count) - count, count)
+    grid = -np.pi + spacing * (np.repeat(first, count) + within)
+    psi = np.concatenate([lo, hi, 0.5 * (lo + hi), grid])
+    which = np.concatenate([piece, piece, piece, grid_piece])
+    return waypoint[which], branch[which], which, psi, np.stack([lo, hi], axis=-1)
+
+
+def build(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, piece: np.ndarray, psi: np.ndarray,
+          count: int) -> Graph:
+    """The graph of the nodes given (any order) over ``count`` waypoints: joint values, clearance, sorted."""
+    q = arm.joint_values(waypoint, branch, psi)
+    clearance = arm.clearance(q)
+    good = clearance >= -_CLIP_TOLERANCE
+    return _sorted(arm, waypoint[good], branch[good], piece[good], psi[good], q[good], clearance[good], count)
+
+
+def _sorted(arm: Arm, waypoint, branch, piece, psi, q, clearance, count: int) -> Graph:
+    order = np.lexsort((psi, piece, waypoint))
+    waypoint = waypoint[order]
+    offsets = np.searchsorted(waypoint, np.arange(count + 1))
+    q = arm.clipped(q[order])
+    return Graph(offsets, piece[order], branch[order], psi[order], q, np.maximum(clearance[order], 0.0))
+
+
+def _extended(arm: Arm, graph: Graph, waypoint: np.ndarray, branch: np.ndarray, piece: np.ndarray,
+             psi: np.ndarray) -> Graph:
+    """``graph`` with more nodes."""
+    added = build(arm, waypoint, branch, piece, psi, len(graph.offsets) - 1)
+    return _sorted(arm, np.concatenate([graph.waypoint, added.waypoint]), np.concatenate([graph.branch, added.branch]),
+                   np.concatenate([graph.piece, added.piece]), np.concatenate([graph.psi, added.psi]),
+                   np.concatenate([graph.q, added.q]), np.concatenate([graph.clearance, added.clearance]),
+                   len(graph.offsets) - 1)
+
+
+def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
+    """Subdivide each interval between neighbouring nodes of a piece across which some joint moves more than
+    ``fraction`` of its bound, evenly into as many parts as that move needs, until none does (or an interval is
+    :data:`_MIN_SPACING` wide)."""
+    for _ in range(rounds):
+        same = (graph.piece[1:] == graph.piece[:-1]) & (graph.piece[1:] >= 0)
+        width = graph.psi[1:] - graph.psi[:-1]
+        wide = np.flatnonzero(same & (width > 2.0 * _MIN_SPACING))
+        parts = np.ceil(arm.ratio(graph.q[1:][wide], graph.q[:-1][wide]) / fraction)
+        parts = np.minimum(parts, np.floor(width[wide] / _MIN_SPACING))
+        split = parts > 1.0
+        left, parts = wide[split], parts[split].astype(np.int64)
+        if left.size == 0:
+            break
+        interval = np.repeat(left, parts - 1)
+        within = np.arange(interval.size) - np.repeat(np.cumsum(parts - 1) - (parts - 1), parts - 1) + 1
+        psi = graph.psi[interval] + width[interval] * within / np.repeat(parts, parts - 1)
+        graph = _extended(arm, graph, graph.waypoint[interval], graph.branch[interval], graph.piece[interval], psi)
+    return graph
+
+
+def window(arm: Arm, graph: Graph, chosen: np.ndarray, width: float, bounds: np.ndarray, count: int) -> Graph:
+    """A graph of the arm angles ``psi_c + width j / 4`` (``j = -4 .. 4``) of each chosen node ``c``, in its piece
+    (``bounds`` (pieces, 2): each piece's ends) and on its branch: the chosen path stays in it, and neighbouring
+    paths up to ``width`` away are sampled four times finer.  A node outside any piece (``q0``'s own) is kept
+    alone."""
+    node = np.repeat(chosen, 9)
+    piece = graph.piece[node]
+    psi = graph.psi[node] + width * np.tile(np.arange(-4, 5) / 4.0, chosen.size)
+    alone = piece < 0
+    inside = alone | ((psi >= bounds[piece, 0]) & (psi <= bounds[piece, 1]))
+    inside &= ~alone | (np.tile(np.arange(-4, 5), chosen.size) == 0)
+    psi = np.where(alone, graph.psi[node], psi)
+    return build(arm, graph.waypoint[node][inside], graph.branch[node][inside], piece[inside], psi[inside], count)

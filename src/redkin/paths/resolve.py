@@ -1,0 +1,346 @@
+"""Path resolution: the arm angle chosen over a whole path of poses, inside the exact feasible sets.
+
+:func:`resolve_path` (one path) and :func:`resolve_paths` (many, searched in
+one sweep) build the graph of :mod:`redkin.paths.graph` over every waypoint,
+search it (:mod:`redkin.paths.search`), refine around the path found, and
+either return it -- checked: every pose reached within :data:`FK_TOLERANCE`,
+every joint within its limits, no joint moving more than its bound -- or
+the first waypoint where no path exists (:mod:`redkin.paths.failure`).
+Method, objective and guarantees: docs/paths.md.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._validation import check_pose, check_vectors
+from redkin.chain import SerialChain
+from redkin.circle import TWO_PI
+from redkin.errors import RedkinError
+from redkin.paths import graph as graphs
+from redkin.paths import search
+from redkin.paths.bounds import step_bound
+from redkin.paths.failure import empty_blocker, step_blocker
+from redkin.paths.graph import Arm, Graph
+from redkin.paths.result import PathFailure, PathResult
+from redkin.srs import _ik_kernels
+from redkin.srs.arm_angle import arm_angle_of
+from redkin.srs.branches import BRANCHES, Branch, parse_branch
+from redkin.srs.coefficients import coefficient_arrays
+from redkin.srs.feasible import feasible_pieces_all_branches
+from redkin.srs.geometry import SRSGeometry, srs_geometry
+
+#: Every waypoint of a returned path reaches its pose within this (largest entry of the 4x4 difference).
+FK_TOLERANCE = 1e-9
+#: The initial grid of arm angles in every feasible piece (radians): 64 points on the circle.
+DEFAULT_SPACING = 2.0 * np.pi / 64
+#: Neighbouring samples of a piece are made this close (a fraction of each joint's bound) before the search.
+DEFAULT_CONNECT = 0.25
+#: Rounds of refinement around the path found (:func:`redkin.paths.graph.window`; the window halves each round).
+DEFAULT_REFINEMENTS = 30
+#: The first refinement window (radians of arm angle on each side of the path found).
+_FIRST_WINDOW = 0.05
+#: Refinement stops once the window is narrower than this (radians of arm angle).
+_REFINED = 1e-9
+_MAX_WAYPOINTS = 10_000_000
+
+
+def resolve_path(
+    arm: SerialChain | SRSGeometry,
+    poses: ArrayLike,
+    max_step: ArrayLike | None = None,
+    *,
+    speed: ArrayLike | None = None,
+    dt: float | None = None,
+    q0: ArrayLike | None = None,
+    q_end: ArrayLike | None = None,
+    end_branch: str | Branch | None = None,
+    spacing: float = DEFAULT_SPACING,
+    connect: float = DEFAULT_CONNECT,
+    refinements: int = DEFAULT_REFINEMENTS,
+) -> PathResult:
+    """Joint values along a path of poses, as far from the joint limits as the path allows, or where none exist.
+
+    Maximises the smallest distance of any joint to its limits over the whole path, then (among equals) minimises
+    the total joint motion, over arm angles inside the exact feasible sets [000 eq. 30] of every branch, with no
+    joint moving more than its bound between waypoints.  The branch may change wherever the joint values stay
+    within the bound (through a singular configuration).
+
+    Parameters
+    ----------
+    arm : SerialChain or SRSGeometry
+        An S-R-S or offset-elbow arm with its joint limits.
+    poses : array_like, shape (N, 4, 4)
+        The waypoints.
+    max_step : float or array_like of shape (7,), optional
+        The largest move of each joint between consecutive waypoints (radians).
+    speed : float or array_like of shape (7,), optional
+        Joint speeds (rad/s), with ``dt``, instead of ``max_step`` (:func:`redkin.paths.step_bound`).
+    dt : float, optional
+        Seconds between waypoints.
+    q0 : array_like, shape (7,), optional
+        The configuration before the path: the first waypoint is within one step of it.  Its own arm angle and
+        branch are sampled at the first waypoint, so ``q0`` itself is chosen where it reaches the first pose.
+    q_end : array_like, shape (7,), optional
+        The last waypoint is within one step of it.
+    end_branch : str or Branch, optional
+        The branch of the last waypoint.
+    spacing : float
+        The initial grid of arm angles in each feasible piece.
+    connect : float
+        Neighbouring samples of a piece are refined until no joint moves more than this fraction of its bound
+        between them (0 < connect <= 1).
+    refinements : int
+        Rounds of refinement around the path found.
+
+    Returns
+    -------
+    PathResult
+        ``status`` ``"ok"`` with the path, or ``"no-path"`` with the first failing waypoint (:class:`PathFailure`).
+
+    Raises
+    ------
+    RedkinError
+        For malformed poses, bounds or configurations.
+    """
+    poses = check_pose(poses, "poses")
+    if poses.ndim != 3:
+        raise RedkinError(f"poses must have shape (N, 4, 4), got shape {poses.shape}; for many paths use "
+                          "resolve_paths")
+    return resolve_paths(arm, poses[None], max_step, speed=speed, dt=dt, q0=q0, q_end=q_end, end_branch=end_branch,
+                         spacing=spacing, connect=connect, refinements=refinements)[0]
+
+
+def resolve_paths(
+    arm: SerialChain | SRSGeometry,
+    paths: ArrayLike,
+    max_step: ArrayLike | None = None,
+    *,
+    speed: ArrayLike | None = None,
+    dt: float | None = None,
+    q0: ArrayLike | None = None,
+    q_end: ArrayLike | None = None,
+    end_branch: str | Branch | None = None,
+    spacing: float = DEFAULT_SPACING,
+    connect: float = DEFAULT_CONNECT,
+    refinements: int = DEFAULT_REFINEMENTS,
+) -> list[PathResult]:
+    """:func:`resolve_path` for ``P`` paths of ``N`` poses each, ``paths`` of shape ``(P, N, 4, 4)``: one
+    batch of feasible sets and IK, one sweep.  ``q0`` and ``q_end`` are ``(7,)`` (the same for every path) or
+    ``(P, 7)``."""
+    geometry = arm if isinstance(arm, SRSGeometry) else srs_geometry(arm)
+    chain = geometry.chain
+    poses = check_pose(paths, "paths")
+    if poses.ndim != 4 or poses.shape[1] == 0:
+        raise RedkinError(f"paths must have shape (P, N, 4, 4) with N >= 1, got shape {poses.shape}")
+    count, length = poses.shape[:2]
+    if count * length > _MAX_WAYPOINTS:
+        raise RedkinError(f"at most {_MAX_WAYPOINTS} waypoints in all, got {count * length}")
+    step = step_bound(chain, max_step, speed, dt)
+    starts = _configurations(q0, count, "q0")
+    ends = _configurations(q_end, count, "q_end")
+    last_branch = None if end_branch is None else BRANCHES.index(parse_branch(end_branch))
+    if not (np.isfinite(spacing) and 0.0 < spacing <= np.pi):
+        raise RedkinError(f"spacing must be in (0, pi] radians, got {spacing!r}")
+    if not (np.isfinite(connect) and 0.0 < connect <= 1.0):
+        raise RedkinError(f"connect must be in (0, 1], got {connect!r}")
+    if int(refinements) != refinements or refinements < 0:
+        raise RedkinError(f"refinements must be an integer >= 0, got {refinements!r}")
+    return search_paths(geometry, poses, step, starts, ends, last_branch,
+                        lambda pieces: graphs.piece_samples(pieces, spacing), connect, int(refinements))
+
+
+def search_paths(geometry: SRSGeometry, poses: np.ndarray, step: np.ndarray, starts: np.ndarray | None,
+                 ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
+                 refinements: int) -> list[PathResult]:
+    """:func:`resolve_paths` on validated input: ``poses`` (P, N, 4, 4), ``starts``/``ends`` (P, 7) or
+    ``None``, ``last_branch`` an index into :data:`BRANCHES` or ``None``; ``sampler(pieces)`` gives the
+    initial samples (waypoint, branch, piece, psi, and each piece's ends) from the feasible pieces
+    (:func:`graph.piece_samples`);
+    ``connect`` as in :func:`resolve_path`, ``None`` for no subdivision."""
+    chain = geometry.chain
+    count, length = poses.shape[:2]
+    flat = np.ascontiguousarray(poses.reshape(-1, 4, 4))
+    coefficients, status, _ = coefficient_arrays(geometry, flat[:, None], np.array([1.0, -1.0]))
+    if np.any(status == _ik_kernels.BAD_POSE):
+        raise RedkinError("paths: every pose must have a proper rotation block and last row [0, 0, 0, 1]")
+    reach = np.all(status == _ik_kernels.OK, axis=-1).reshape(count, length)
+    prefix = np.where(reach.all(axis=1), length, np.argmin(reach, axis=1))  # waypoints before the first unreachable
+    rows = np.concatenate([p * length + np.arange(n) for p, n in enumerate(prefix.tolist())]).astype(np.int64)
+    path_starts = np.concatenate([[0], np.cumsum(prefix)]).astype(np.int64)
+    arm_data = Arm(geometry, coefficients.entries[rows], coefficients.theta4[rows], step, chain.covers_circle)
+
+    pieces = feasible_pieces_all_branches(geometry, flat[rows])
+    waypoint, branch, piece, psi, bounds = sampler(pieces)
+    extra = _own_nodes(geometry, starts, path_starts[:-1], prefix > 0) + _own_nodes(
+        geometry, ends, path_starts[1:] - 1, prefix == length)
+    for w, b, p in extra:
+        waypoint, branch = np.append(waypoint, w), np.append(branch, b)
+        piece, psi = np.append(piece, -1), np.append(psi, p)
+    graph = graphs.build(arm_data, waypoint, branch, piece, psi, len(rows))
+    if connect is not None:
+        graph = graphs.connect(arm_data, graph, connect)
+
+    def searched(graph: Graph) -> tuple[search.Sweep, dict[int, np.ndarray]]:
+        """The sweep of ``graph`` and the best path of each path that has one."""
+        sweep = search.run(arm_data, graph, path_starts, *_first_values(arm_data, graph, path_starts, starts))
+        chosen = {}
+        for p in np.flatnonzero((prefix > 0) & (sweep.dead < 0)).tolist():
+            last = search.best_end(sweep, _end_nodes(arm_data, graph, path_starts[p + 1] - 1, ends, p, last_branch))
+            if last >= 0:
+                chosen[p] = search.trace(sweep, last, int(prefix[p]))
+        return sweep, chosen
+
+    sweep, chosen = searched(graph)
+    failures = {p: _failure(arm_data, graph, sweep, flat[rows], path_starts, p, starts, ends, last_branch,
+                            int(prefix[p])) for p in range(count) if p not in chosen}
+    nodes = len(graph.psi)
+    width = _FIRST_WINDOW
+    for _ in range(refinements):  # finer around the paths found, in a window that halves each round
+        if not chosen or width < _REFINED:
+            break
+        path_nodes = np.concatenate([chosen[p] for p in sorted(chosen)])
+        graph = graphs.window(arm_data, graph, path_nodes, width, bounds, len(rows))
+        nodes += len(graph.psi)
+        _, chosen = searched(graph)
+        width *= 0.5
+
+    results = []
+    for p in range(count):
+        failure = failures.get(p)
+        if failure is None and prefix[p] < length:
+            failure = PathFailure(int(prefix[p]), "out-of-reach", None, True)
+        if failure is not None:
+            results.append(PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"),
+                                      step, failure, nodes))
+            continue
+        results.append(_checked_path(arm_data, graph, chosen[p], poses[p], starts, p, nodes))
+    return results
+
+
+def _configurations(value: ArrayLike | None, count: int, name: str) -> np.ndarray | None:
+    """``q0`` or ``q_end`` as ``(P, 7)``, or ``None``."""
+    if value is None:
+        return None
+    array = check_vectors(value, 7, name)
+    if array.shape not in ((7,), (1, 7), (count, 7)):
+        raise RedkinError(f"{name} must have shape (7,) or ({count}, 7), got {array.shape}")
+    return np.broadcast_to(array.reshape(-1, 7), (count, 7))
+
+
+def _own_nodes(geometry: SRSGeometry, configurations: np.ndarray | None, waypoints: np.ndarray,
+               used: np.ndarray) -> list[tuple[int, int, float]]:
+    """The arm angle and branch of ``q0`` (``q_end``) as a sample of the first (last) waypoint of each path."""
+    if configurations is None:
+        return []
+    state = arm_angle_of(geometry, configurations)
+    nodes = []
+    for p in np.flatnonzero(used).tolist():
+        signs = Branch(*(int(s) for s in state.branch[p]))
+        nodes.append((int(waypoints[p]), BRANCHES.index(signs), float(state.psi[p])))
+    return nodes
+
+
+def _first_values(arm: Arm, graph: Graph, path_starts: np.ndarray, starts: np.ndarray | None):
+    """The value and motion of the first waypoint's nodes: their clearance, and without ``q0`` no motion;
+    with it, only the nodes within one step of it, and their move from it."""
+    value = graph.clearance.copy()
+    motion = np.zeros(len(value))
+    if starts is not None:
+        path = np.searchsorted(path_starts, graph.waypoint, side="right") - 1
+        origin = starts[np.minimum(path, len(starts) - 1)]
+        moves = arm.moves(graph.q, origin)
+        value[np.any(moves > arm.step, axis=-1)] = -np.inf
+        motion = moves.sum(axis=-1)
+    return value, motion
+
+
+def _end_nodes(arm: Arm, graph: Graph, waypoint: int, ends: np.ndarray | None, path: int,
+               last_branch: int | None) -> np.ndarray:
+    """The nodes of the last waypoint that meet the end conditions."""
+    nodes = np.arange(graph.offsets[waypoint], graph.offsets[waypoint + 1])
+    if last_branch is not None:
+        nodes = nodes[graph.branch[nodes] == last_branch]
+    if ends is not None:
+        nodes = nodes[np.all(arm.moves(graph.q[nodes], ends[path]) <= arm.step, axis=-1)]
+    return nodes
+
+
+def _failure(arm: Arm, graph: Graph, sweep: search.Sweep, poses: np.ndarray, path_starts: np.ndarray, p: int,
+             starts: np.ndarray | None, ends: np.ndarray | None, last_branch: int | None,
+             prefix: int) -> PathFailure:
+    """Why path ``p`` has no path: the first waypoint and its reason."""
+    if prefix == 0:
+        return PathFailure(0, "out-of-reach", None, True)
+    first = int(path_starts[p])
+    dead = int(sweep.dead[p])
+    if dead < 0:  # every waypoint reached, but not the end conditions
+        last = first + prefix - 1
+        reached = np.arange(graph.offsets[last], graph.offsets[last + 1])
+        reached = reached[sweep.value[reached] > -np.inf]
+        joint, needed = None, None
+        if ends is not None:
+            if last_branch is not None:
+                reached = reached[graph.branch[reached] == last_branch]
+            if reached.size:
+                joint, needed = step_blocker(arm, graph.q[reached], ends[p][None])
+        return PathFailure(prefix - 1, "end", joint, False, needed)
+    w = first + dead
+    after = graph.q[graph.offsets[w]:graph.offsets[w + 1]]
+    if after.shape[0] == 0:
+        joint, per_branch = empty_blocker(arm.geometry, poses[w])
+        proved = all(blocker is not None for blocker in per_branch.values())  # else only the samples are empty
+        return PathFailure(dead, "empty", joint, proved, None, per_branch)
+    if dead == 0:  # nodes exist, none within a step of q0
+        assert starts is not None
+        joint, needed = step_blocker(arm, starts[p][None], after)
+        return PathFailure(0, "start", joint, False, needed)
+    before = np.arange(graph.offsets[w - 1], graph.offsets[w])
+    before = before[sweep.value[before] > -np.inf]
+    joint, needed = step_blocker(arm, graph.q[before], after)
+    return PathFailure(dead, "step", joint, False, needed)
+
+
+def _unwound(arm: Arm, q: np.ndarray, origin: np.ndarray | None) -> np.ndarray:
+    """``q`` with each joint of a range of ``2 pi`` or more (compared on the circle) made continuous along the
+    path, from ``origin`` where given; a finite such range is then met by a whole number of turns if one fits."""
+    circle = arm.circle
+    if not circle.any():
+        return q
+    chain = arm.geometry.chain
+    reference = q[0, circle] if origin is None else origin[circle]
+    turned = np.diff(np.concatenate([reference[None], q[:, circle]]), axis=0)
+    turned -= np.round(turned / TWO_PI) * TWO_PI
+    out = q.copy()
+    out[:, circle] = reference + np.cumsum(turned, axis=0)
+    if origin is None:
+        middle = chain.middle[circle]
+        centre = 0.5 * (out[:, circle].min(axis=0) + out[:, circle].max(axis=0))
+        out[:, circle] += np.round((middle - centre) / TWO_PI) * TWO_PI
+    return out
+
+
+def _checked_path(arm: Arm, graph: Graph, nodes: np.ndarray, poses: np.ndarray, starts: np.ndarray | None,
+                  p: int, size: int) -> PathResult:
+    """The :class:`PathResult` of the nodes found (:func:`_unwound`), checked against the poses, the limits and
+    the bound; a ``"winding"`` failure where a joint of a range over ``2 pi`` would leave it."""
+    chain = arm.geometry.chain
+    origin = None if starts is None else starts[p]
+    q = _unwound(arm, graph.q[nodes], origin)
+    inside = chain.joints_within_limits(q)
+    if not inside.all():
+        waypoint, joint = (int(i) for i in np.argwhere(~inside)[0])
+        return PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"), arm.step,
+                          PathFailure(waypoint, "winding", joint + 1, False), size)
+    error = float(np.abs(chain.fk(q) - poses).max())
+    moves = arm.moves(q[1:], q[:-1])
+    if error > FK_TOLERANCE or np.any(moves > arm.step):
+        raise RuntimeError(f"path resolution produced a path that fails its check (FK error {error:.3g}, largest "
+                           f"step/bound {float((moves / arm.step).max(initial=0.0)):.6g}); please report it")
+    motion = float(moves.sum()) + (0.0 if origin is None else float(arm.moves(q[0], origin).sum()))
+    psi = np.mod(graph.psi[nodes] + np.pi, TWO_PI) - np.pi
+    return PathResult("ok", q, [str(BRANCHES[b]) for b in graph.branch[nodes]], psi,
+                      float(arm.clearance(q).min()), motion, arm.step, None, size)

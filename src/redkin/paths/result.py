@@ -1,0 +1,104 @@
+"""What path resolution returns: a path through every waypoint, or the first waypoint where none exists."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: Why no path exists, by :attr:`PathFailure.reason`.
+REASONS = {
+    "out-of-reach": "the wrist position is out of the arm's reach",
+    "empty": "no arm angle satisfies every joint limit on any branch",
+    "step": "no feasible configuration lies within the step bound of one reachable from the start",
+    "start": "no feasible configuration lies within the step bound of the start configuration",
+    "end": "no configuration reachable from the start meets the end condition",
+    "winding": "a joint whose range exceeds 2 pi would have to turn past its range",
+}
+
+
+@dataclass(frozen=True)
+class PathFailure:
+    """The first waypoint at which no path exists, and why.
+
+    Attributes
+    ----------
+    waypoint : int
+        Index of the waypoint (0-based).
+    reason : str
+        One of :data:`REASONS`: ``"out-of-reach"``, ``"empty"``, ``"step"``, ``"start"``, ``"end"`` or
+        ``"winding"``.
+    joint : int or None
+        The blocking joint (1-based): for ``"empty"`` the joint whose own feasible set is empty, or whose set
+        empties the intersection of the joints before it, on the most branches; for ``"step"``, ``"start"`` and
+        ``"end"`` the joint that must move most (relative to its bound) on the closest pair of configurations.
+        ``None`` for ``"out-of-reach"``.
+    exact : bool
+        True where the failure is proved by the exact feasible sets (``"out-of-reach"``, ``"empty"``); False
+        where it is a statement about the sampled graph (see docs/paths.md).
+    needed : float or None
+        For a step failure: how far ``joint`` must move at least on the closest pair (radians); its bound is
+        :attr:`PathResult.step` of that joint.
+    per_branch : dict
+        For ``"empty"``: the blocking joint of each branch (``"+++"`` -> joint, ``None`` where the branch is
+        blocked by rounding alone).
+    """
+
+    waypoint: int
+    reason: str
+    joint: int | None
+    exact: bool
+    needed: float | None = None
+    per_branch: dict[str, int | None] = field(default_factory=dict)
+
+    @property
+    def message(self) -> str:
+        """One line: the waypoint, the reason and the joint."""
+        text = f"no path: waypoint {self.waypoint}: {REASONS[self.reason]}"
+        if self.joint is not None:
+            text += f" (joint {self.joint}"
+            text += f" must move {self.needed:.6g} rad)" if self.needed is not None else " blocks it)"
+        return text
+
+
+@dataclass(frozen=True)
+class PathResult:
+    """Joint values along a path of poses, or why there are none.
+
+    Attributes
+    ----------
+    status : str
+        ``"ok"`` or ``"no-path"``.
+    q : numpy.ndarray, shape (N, 7)
+        Joint values per waypoint (each within its limits, each joint moving at most ``step`` between
+        waypoints, each reaching its pose within 1e-9); shape ``(0, 7)`` for ``"no-path"``.
+    branch : list of str
+        Branch per waypoint (``"+-+"``: signs of q2, q4, q6 in the chain's senses).
+    psi : numpy.ndarray, shape (N,)
+        Arm angle per waypoint.
+    clearance : float
+        The smallest distance of any joint (with a range narrower than ``2 pi``) to a limit along the path,
+        radians; ``inf`` where no joint has one; NaN for ``"no-path"``.
+    motion : float
+        The total joint motion, ``sum_k sum_i |q_{k+1, i} - q_{k, i}|`` (plus the move from ``q0``), radians.
+    step : numpy.ndarray, shape (7,)
+        The bound on each joint's move between waypoints.
+    failure : PathFailure or None
+    nodes : int
+        Size of the graph searched (arm-angle samples over all waypoints and branches).
+    """
+
+    status: str
+    q: np.ndarray
+    branch: list[str]
+    psi: np.ndarray
+    clearance: float
+    motion: float
+    step: np.ndarray
+    failure: PathFailure | None
+    nodes: int
+
+    @property
+    def ok(self) -> bool:
+        """Whether a path was found."""
+        return self.status == "ok"

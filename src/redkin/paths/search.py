@@ -1,0 +1,77 @@
+"""Dynamic programming over a :class:`~redkin.paths.graph.Graph`: the best path to every node, and the path back.
+
+The objective is lexicographic (:mod:`redkin.paths._dp_kernels`): the
+largest smallest clearance along the path first, then the least total joint
+motion.  The sweep itself is the one compiled loop; this module prepares its
+arrays and reads its answer.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from redkin.paths import _dp_kernels
+from redkin.paths.graph import Arm, Graph
+
+#: The joint whose sorted values give each node's window of candidates (joint 1: it turns with the arm angle,
+#: unlike joint 4).
+_KEY_JOINT = 0
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """The best path to each node of a graph.
+
+    Attributes
+    ----------
+    value, motion : numpy.ndarray, shape (K,)
+        The smallest clearance (``-inf``: not reached) and the total motion of the best path to each node.
+    parent : numpy.ndarray of int, shape (K,)
+        The node before it (``-1`` on the first waypoint or where not reached).
+    dead : numpy.ndarray of int, shape (P,)
+        Per path, the first waypoint (from its start) no node reaches, ``-1`` if none.
+    """
+
+    value: np.ndarray
+    motion: np.ndarray
+    parent: np.ndarray
+    dead: np.ndarray
+
+
+def run(arm: Arm, graph: Graph, path_starts: np.ndarray, first_value: np.ndarray, first_motion: np.ndarray) -> Sweep:
+    """Sweep every path; ``first_value``, ``first_motion`` (K,) are read on each path's first waypoint only."""
+    waypoint = graph.waypoint
+    order = np.lexsort((graph.q[:, _KEY_JOINT], waypoint)).astype(np.int64)
+    sorted_key = np.ascontiguousarray(graph.q[order, _KEY_JOINT])
+    starts = np.zeros(len(waypoint), dtype=bool)
+    starts[np.isin(waypoint, path_starts[:-1])] = True
+    value = np.where(starts, first_value, -np.inf)
+    motion = np.where(starts, first_motion, 0.0)
+    parent = np.full(len(waypoint), -1, dtype=np.int64)
+    dead = np.empty(len(path_starts) - 1, dtype=np.int64)
+    _dp_kernels.sweep(np.ascontiguousarray(path_starts, dtype=np.int64), np.ascontiguousarray(graph.offsets,
+                      dtype=np.int64), np.ascontiguousarray(graph.q), np.ascontiguousarray(graph.clearance),
+                      sorted_key, order, _KEY_JOINT, np.ascontiguousarray(arm.step), np.ascontiguousarray(arm.circle),
+                      value, motion, parent, dead)
+    return Sweep(value, motion, parent, dead)
+
+
+def best_end(sweep: Sweep, nodes: np.ndarray) -> int:
+    """The best of ``nodes`` (largest value, then least motion), or -1 where none is reached."""
+    nodes = nodes[sweep.value[nodes] > -np.inf]
+    if nodes.size == 0:
+        return -1
+    order = np.lexsort((sweep.motion[nodes], -sweep.value[nodes]))
+    return int(nodes[order[0]])
+
+
+def trace(sweep: Sweep, last: int, count: int) -> np.ndarray:
+    """The nodes of the path ending at node ``last``, ``count`` waypoints long, first to last."""
+    nodes = np.empty(count, dtype=np.int64)
+    node = last
+    for k in range(count - 1, -1, -1):
+        nodes[k] = node
+        node = sweep.parent[node]
+    return nodes

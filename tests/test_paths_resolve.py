@@ -1,0 +1,221 @@
+"""Path resolution (redkin.paths): every returned path reaches its poses, keeps the limits and the step bound;
+failures name the right waypoint, reason and joint; the sampled baselines fail where it does not."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from redkin.errors import RedkinError
+from redkin.models import get_robot
+from redkin.paths import FK_TOLERANCE, resolve_path, resolve_paths, step_bound
+from redkin.paths.baselines import clamped_optimum_path, fixed_psi_path, greedy_path, sampled_path
+from redkin.srs import arm_angle_of, ik
+
+ROBOTS = ["kuka-iiwa14", "pa10-7c", "barrett-wam7"]
+
+
+def _joint_line(chain, rng, count):
+    """Poses along a straight joint-space line between two configurations inside the limits (margin 0.2 rad)."""
+    lower = np.where(np.isfinite(chain.lower), chain.lower + 0.2, -np.pi)
+    upper = np.where(np.isfinite(chain.upper), chain.upper - 0.2, np.pi)
+    a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
+    q = a + (b - a) * np.linspace(0.0, 1.0, count)[:, None]
+    return q, chain.fk(q)
+
+
+def _assert_lawful(chain, poses, result):
+    """The laws of a returned path: FK, limits, bound, and the reported branch and arm angle."""
+    assert result.ok and result.q.shape == (len(poses), 7)
+    assert np.abs(chain.fk(result.q) - poses).max() <= FK_TOLERANCE
+    assert chain.within_limits(result.q).all()
+    moves = np.abs(np.diff(result.q, axis=0))
+    assert np.all(moves <= result.step)
+    for k in range(len(poses)):
+        again = ik(chain, poses[k], result.psi[k], result.branch[k])
+        turned = np.mod(again - result.q[k] + np.pi, 2 * np.pi) - np.pi
+        assert np.abs(turned).max() < 1e-9
+    clearance = np.minimum(result.q - chain.lower, chain.upper - result.q)[:, ~chain.covers_circle]
+    expected = clearance.min() if clearance.size else np.inf
+    assert result.clearance == pytest.approx(expected, abs=1e-12)
+
+
+@settings(max_examples=5, deadline=None)
+@given(st.integers(0, 2**31), st.sampled_from(ROBOTS))
+def test_a_path_that_exists_is_found_and_keeps_every_law(seed, robot):
+    chain = get_robot(robot)
+    q, poses = _joint_line(chain, np.random.default_rng(seed), 8)
+    step = 2.0 * np.abs(np.diff(q, axis=0)).max(axis=0) + 1e-3  # the joint line itself is a path
+    result = resolve_path(chain, poses, step)
+    _assert_lawful(chain, poses, result)
+    reference = np.minimum(q - chain.lower, chain.upper - q)[:, ~chain.covers_circle]
+    if reference.size:  # at least as far from the limits as the path the poses came from
+        assert result.clearance >= reference.min() - 1e-6
+
+
+def test_the_start_and_end_conditions_hold():
+    chain = get_robot("kuka-iiwa14")
+    q, poses = _joint_line(chain, np.random.default_rng(3), 10)
+    step = 2.0 * np.abs(np.diff(q, axis=0)).max(axis=0) + 1e-3
+    end_branch = str(arm_angle_of(chain, q[-1]).branch_strings())
+    result = resolve_path(chain, poses, step, q0=q[0], q_end=q[-1], end_branch=end_branch)
+    _assert_lawful(chain, poses, result)
+    assert np.all(np.abs(result.q[0] - q[0]) <= step)
+    assert np.all(np.abs(result.q[-1] - q[-1]) <= step)
+    assert result.branch[-1] == end_branch
+
+
+def test_many_paths_at_once_equal_one_by_one():
+    chain = get_robot("pa10-7c")
+    rng = np.random.default_rng(5)
+    lines = [_joint_line(chain, rng, 8) for _ in range(3)]
+    step = max(2.0 * np.abs(np.diff(q, axis=0)).max() for q, _ in lines) + 1e-3
+    together = resolve_paths(chain, np.stack([poses for _, poses in lines]), step)
+    for (_, poses), result in zip(lines, together):
+        alone = resolve_path(chain, poses, step)
+        assert alone.status == result.status
+        np.testing.assert_array_equal(alone.q, result.q)
+
+
+def test_speed_and_dt_give_the_step():
+    chain = get_robot("kuka-iiwa14")
+    np.testing.assert_allclose(step_bound(chain, speed=[1.0] * 7, dt=0.01), 0.01)
+    with pytest.raises(RedkinError, match="one of them"):
+        step_bound(chain, max_step=0.1, speed=1.0)
+    with pytest.raises(RedkinError, match="needs dt"):
+        step_bound(chain, speed=1.0)
+    with pytest.raises(RedkinError, match="> 0"):
+        step_bound(chain, max_step=[0.1] * 6 + [0.0])
+    with pytest.raises(RedkinError, match="one number or 7"):
+        step_bound(chain, max_step=[0.1] * 3)
+
+
+def test_bad_input_is_refused():
+    chain = get_robot("kuka-iiwa14")
+    poses = chain.fk(np.zeros((3, 7)) + 0.3)
+    with pytest.raises(RedkinError, match=r"shape \(N, 4, 4\)"):
+        resolve_path(chain, poses[0], 0.1)
+    with pytest.raises(ValueError):
+        resolve_path(chain, poses * 2.0, 0.1)
+    with pytest.raises(RedkinError, match="q0"):
+        resolve_path(chain, poses, 0.1, q0=[0.0] * 6)
+    with pytest.raises(ValueError, match="branch"):
+        resolve_path(chain, poses, 0.1, end_branch="+x+")
+
+
+# ------------------------------------------------------------------ failures, exact and on the graph
+def _line_through(chain, q_middle, count=9):
+    """Poses along a gentle joint-space path through ``q_middle`` at its middle waypoint."""
+    offsets = np.linspace(-0.2, 0.2, count)[:, None] * np.array([1.0, 0.5, -0.5, 0.0, 0.5, 0.5, 1.0])
+    return q_middle + offsets
+
+
+def test_an_elbow_beyond_its_limit_is_reported_at_its_waypoint_and_joint():
+    chain = get_robot("kuka-iiwa14")
+    q = _line_through(chain, np.array([0.2, 0.8, 0.1, -1.4, 0.3, 0.9, 0.0]))
+    q[6:, 3] = -2.2  # the elbow beyond -120 deg from waypoint 6 on: no arm angle helps
+    result = resolve_path(chain, chain.fk(q), 1.0)
+    assert result.status == "no-path" and result.q.shape == (0, 7)
+    failure = result.failure
+    assert (failure.waypoint, failure.reason, failure.joint, failure.exact) == (6, "empty", 4, True)
+    assert set(failure.per_branch.values()) == {4}
+    assert "waypoint 6" in failure.message and "joint 4" in failure.message
+
+
+def test_a_pose_out_of_reach_is_reported():
+    chain = get_robot("kuka-iiwa14")
+    poses = chain.fk(_line_through(chain, np.array([0.2, 0.8, 0.1, -1.4, 0.3, 0.9, 0.0])))
+    poses[5, :3, 3] *= 10.0
+    failure = resolve_path(chain, poses, 1.0).failure
+    assert (failure.waypoint, failure.reason, failure.joint, failure.exact) == (5, "out-of-reach", None, True)
+
+
+def test_a_jump_between_waypoints_is_a_step_failure_naming_the_joint():
+    chain = get_robot("kuka-iiwa14")
+    q = _line_through(chain, np.array([0.2, 0.8, 0.1, -1.4, 0.3, 0.9, 0.0]))
+    q[5:, 3] += 0.3  # the elbow (the same at every arm angle) jumps by 0.3 rad into waypoint 5
+    result = resolve_path(chain, chain.fk(q), 0.2)
+    failure = result.failure
+    assert (failure.waypoint, failure.reason, failure.joint, failure.exact) == (5, "step", 4, False)
+    assert failure.needed == pytest.approx(0.3 - 0.05 * 0.0, abs=1e-6)
+
+
+def test_a_start_too_far_from_the_first_pose_is_a_start_failure():
+    chain = get_robot("kuka-iiwa14")
+    q = _line_through(chain, np.array([0.2, 0.8, 0.1, -1.4, 0.3, 0.9, 0.0]))
+    start = q[0].copy()
+    start[3] += 0.5
+    failure = resolve_path(chain, chain.fk(q), 0.2, q0=start).failure
+    assert (failure.waypoint, failure.reason, failure.joint) == (0, "start", 4)
+    assert failure.needed == pytest.approx(0.5, abs=1e-6)
+
+
+# ------------------------------------------------------------------ a narrow passage
+def _narrow_passage(width=1e-4):
+    """An iiwa path of 9 poses whose limits leave, at waypoint 4, one feasible arc ``width`` wide (joints 1 and 3
+    close it from both sides; joints 2, 4, 6 keep one branch), and the arm angle inside it."""
+    base = get_robot("kuka-iiwa14")
+    t = np.linspace(0.0, 1.0, 9)
+    u = t - t[4]
+    q = np.stack([0.5 + 2 * u**2, 0.7 + 0.2 * t, -0.3 + 2 * u**2, -1.3 + 0.3 * t, 0.2 + 0.3 * t, 0.6 - 0.4 * t,
+                  0.1 * t], axis=-1)
+    poses = base.fk(q)
+    psi = float(arm_angle_of(base, q[4]).psi)
+    lower, upper = base.lower.copy(), base.upper.copy()
+    lower[1], lower[3], upper[3], lower[5] = 0.0, -2.0, 0.0, 0.0  # branch +-+ only
+    lower[0], upper[0] = ik(base, poses[4], psi + width / 2, "+-+")[0], 1.5  # joint 1 falls with psi here
+    lower[2], upper[2] = ik(base, poses[4], psi - width / 2, "+-+")[2], 0.7  # joint 3 rises with psi here
+    return base.with_limits(lower, upper), q, poses, psi
+
+
+def test_a_passage_a_ten_thousandth_of_a_radian_wide_is_found():
+    chain, q, poses, psi = _narrow_passage()
+    from redkin.srs import feasible_pieces_all_branches
+
+    pieces = feasible_pieces_all_branches(chain, poses[4])
+    widths = np.where(pieces.feasible, pieces.end - pieces.start, 0.0)
+    assert widths.sum() == pytest.approx(1e-4, rel=1e-3)  # the whole feasible set of waypoint 4
+    step = 2.0 * np.abs(np.diff(q, axis=0)).max(axis=0)
+    result = resolve_path(chain, poses, step)
+    _assert_lawful(chain, poses, result)
+    assert abs(result.psi[4] - psi) <= 0.5e-4 + 1e-12
+    coarse = sampled_path(chain, poses, step, np.radians(0.1))  # the literature's grid misses it
+    assert coarse.failure.waypoint == 4 and coarse.failure.reason == "empty" and not coarse.failure.exact
+
+
+# ------------------------------------------------------------------ against the baselines
+def test_agrees_with_a_dense_sampled_search_on_small_paths():
+    chain = get_robot("kuka-iiwa14")
+    rng = np.random.default_rng(11)
+    for _ in range(2):
+        q, _ = _joint_line(chain, rng, 5)
+        q = q[0] + 0.2 * (q - q[0])  # a short stretch: small steps keep the dense search's windows small
+        poses = chain.fk(q)
+        step = 1.5 * np.abs(np.diff(q, axis=0)).max()
+        ours = resolve_path(chain, poses, step)
+        dense = sampled_path(chain, poses, step, np.radians(0.25))
+        assert ours.status == dense.status == "ok"
+        # the refinement is local: where the step bound binds on every edge (here joint 3's) it stops about
+        # 1.5e-5 rad short of the dense grid's optimum (docs/paths.md, "What is optimal")
+        assert ours.clearance >= dense.clearance - 1e-4
+    q = _line_through(chain, np.array([0.2, 0.8, 0.1, -1.4, 0.3, 0.9, 0.0]), 4)
+    q[2:, 3] += 0.3
+    ours, dense = resolve_path(chain, chain.fk(q), 0.2), sampled_path(chain, chain.fk(q), 0.2, np.radians(0.25))
+    assert ours.status == dense.status == "no-path"
+    assert ours.failure.waypoint == dense.failure.waypoint == 2
+
+
+def test_per_pose_baselines_fail_where_the_global_path_succeeds():
+    chain = get_robot("kuka-iiwa14")
+    q0 = np.array([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1])
+    q1 = np.array([-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9])
+    poses = chain.fk(q0 + (q1 - q0) * np.linspace(0.0, 1.0, 20)[:, None])
+    result = resolve_path(chain, poses, 0.1)
+    _assert_lawful(chain, poses, result)
+    greedy = greedy_path(chain, poses, 0.1)
+    fixed = fixed_psi_path(chain, poses, 0.1, 0.0, "+-+")
+    clamped = clamped_optimum_path(chain, poses, 0.1, "+-+")
+    for baseline in (greedy, fixed, clamped):
+        assert not baseline.ok
+        assert baseline.first_failure is not None
+    assert greedy.jump.max() > 1.0  # greedy jumps: a step over the bound
