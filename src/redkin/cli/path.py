@@ -1,0 +1,113 @@
+"""``redkin path``: the arm angle chosen over a whole path of poses, inside the exact feasible sets."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from redkin.cli.common import (
+    BRANCH_HELP,
+    UsageError,
+    add_output_flags,
+    add_robot_argument,
+    angle_unit,
+    angles_in,
+    angles_out,
+    fixed,
+    format_values,
+    joint_vector,
+    load_robot,
+    print_json,
+)
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    path = subparsers.add_parser(
+        "path", help="joint values along a path of poses, as far from the limits as the path allows within a step "
+                     "bound, or the waypoint and joint that make it impossible (exit 1)")
+    add_robot_argument(path)
+    path.add_argument("--poses", required=True, metavar="FILE.npy", help="the waypoints: an (N, 4, 4) array of poses")
+    bound = path.add_mutually_exclusive_group(required=True)
+    bound.add_argument("--max-step", nargs="+", type=float, metavar="A",
+                       help="largest move of each joint between waypoints: one value or 7 (radians, or degrees "
+                            "with --deg)")
+    bound.add_argument("--speed", nargs="+", type=float, metavar="V",
+                       help="joint speeds, one value or 7 (rad/s, or deg/s with --deg), with --dt; velocity limits "
+                            "of a robot description are not read yet")
+    path.add_argument("--dt", type=float, metavar="T", help="seconds between waypoints (with --speed)")
+    path.add_argument("--q0", nargs=7, type=float, metavar="Q", help="the configuration before the first waypoint")
+    path.add_argument("--end-branch", metavar="BRANCH", help="branch of the last waypoint: " + BRANCH_HELP)
+    add_output_flags(path)
+    path.set_defaults(handler=run_path)
+
+
+def _poses(file: str) -> np.ndarray:
+    """The ``(N, 4, 4)`` array of ``--poses`` (a ValueError with one line for a missing or malformed file)."""
+    try:
+        poses = np.load(file, allow_pickle=False)
+    except (OSError, ValueError) as exc:
+        raise UsageError(f"--poses {file!r}: cannot read it as a .npy array ({exc})") from None
+    if poses.ndim != 3 or poses.shape[1:] != (4, 4) or poses.shape[0] == 0:
+        raise UsageError(f"--poses must hold an (N, 4, 4) array with N >= 1, got shape {poses.shape}")
+    return poses.astype(float)
+
+
+def _failure_line(failure, degrees: bool) -> str:
+    """The failure in one line, its angle in the command's unit, and whether the exact sets prove it."""
+    from redkin.paths import REASONS
+
+    text = f"no path: waypoint {failure.waypoint}: {REASONS[failure.reason]}"
+    if failure.joint is not None and failure.needed is not None:
+        needed = fixed(float(angles_out(failure.needed, degrees)))
+        text += f" (joint {failure.joint} must move {needed} {angle_unit(degrees)})"
+    elif failure.joint is not None:
+        text += f" (joint {failure.joint} blocks it)"
+    return text + (" [proved by the exact feasible sets]" if failure.exact else " [on the searched graph]")
+
+
+def run_path(args: argparse.Namespace) -> int:
+    from redkin.paths import resolve_path
+
+    chain = load_robot(args)
+    poses = _poses(args.poses)
+    q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
+    if args.max_step is not None:
+        if args.dt is not None:
+            raise UsageError("--dt goes with --speed; --max-step is already a step per waypoint")
+        result = resolve_path(chain, poses, angles_in(args.max_step, args.deg), q0=q0, end_branch=args.end_branch)
+    else:
+        if args.dt is None:
+            raise UsageError("--speed needs --dt, the seconds between waypoints")
+        result = resolve_path(chain, poses, speed=angles_in(args.speed, args.deg), dt=args.dt, q0=q0,
+                              end_branch=args.end_branch)
+    degrees = args.deg
+    failure = result.failure
+    if args.json:
+        report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
+                        "nodes": result.nodes}
+        if result.ok:
+            report.update(q=angles_out(result.q, degrees), branch=result.branch, psi=angles_out(result.psi, degrees),
+                          clearance=None if not np.isfinite(result.clearance) else angles_out(result.clearance,
+                                                                                               degrees),
+                          motion=angles_out(result.motion, degrees))
+        else:
+            assert failure is not None
+            report["failure"] = {"waypoint": failure.waypoint, "reason": failure.reason, "joint": failure.joint,
+                                 "exact": failure.exact, "message": failure.message,
+                                 "needed": None if failure.needed is None else angles_out(failure.needed, degrees)}
+        print_json(report)
+        return 0 if result.ok else 1
+    unit = angle_unit(degrees)
+    if not result.ok:
+        assert failure is not None
+        print(_failure_line(failure, degrees))
+        return 1
+    clearance = fixed(float(angles_out(result.clearance, degrees)))
+    motion = fixed(float(angles_out(result.motion, degrees)))
+    print(f"path of {len(poses)} waypoints on {chain.name}: clearance {clearance} {unit}, total motion {motion} {unit}")
+    print(f"{'k':>5}  branch  {'psi':>10}  q [{unit}]")
+    for k in range(len(poses)):
+        print(f"{k:>5}  {result.branch[k]:>6}  {fixed(float(angles_out(result.psi[k], degrees)), 6, ' '):>10}  "
+              f"{format_values(angles_out(result.q[k], degrees))}")
+    return 0

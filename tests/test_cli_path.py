@@ -1,0 +1,65 @@
+"""``redkin path``: exit 0 with a lawful path, 1 with the failing waypoint and joint, 2 with one line for bad input."""
+
+import json
+
+import numpy as np
+
+from redkin.cli.main import main
+from redkin.models import get_robot
+
+
+def _line(count=8, elbow_jump=0.0):
+    q = np.array([0.2, 0.8, 0.1, -1.4, 0.3, 0.9, 0.0]) + np.linspace(-0.2, 0.2, count)[:, None] * np.array(
+        [1.0, 0.5, -0.5, 0.0, 0.5, 0.5, 1.0])
+    q[count // 2:, 3] += elbow_jump
+    return q
+
+
+def test_a_path_in_json(tmp_path, capsys):
+    chain = get_robot("kuka-iiwa14")
+    file = tmp_path / "poses.npy"
+    np.save(file, chain.fk(_line()))
+    assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.2", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    q = np.array(report["q"])
+    assert report["status"] == "ok" and q.shape == (8, 7) and len(report["branch"]) == 8
+    assert np.abs(chain.fk(q) - np.load(file)).max() <= 1e-9
+    assert chain.within_limits(q).all() and np.all(np.abs(np.diff(q, axis=0)) <= 0.2)
+    assert report["clearance"] > 0
+
+
+def test_degrees_and_speed_with_dt(tmp_path, capsys):
+    chain = get_robot("kuka-iiwa14")
+    file = tmp_path / "poses.npy"
+    np.save(file, chain.fk(_line()))
+    assert main(["path", "kuka-iiwa14", "--poses", str(file), "--speed", "100", "--dt", "0.1", "--deg",
+                 "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["unit"] == "deg" and np.allclose(report["step"], 10.0)
+    assert np.all(np.abs(np.diff(report["q"], axis=0)) <= 10.0)
+
+
+def test_no_path_exits_1_naming_the_waypoint_and_joint(tmp_path, capsys):
+    file = tmp_path / "poses.npy"
+    np.save(file, get_robot("kuka-iiwa14").fk(_line(elbow_jump=0.3)))
+    assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.2", "--json"]) == 1
+    failure = json.loads(capsys.readouterr().out)["failure"]
+    assert (failure["waypoint"], failure["reason"], failure["joint"]) == (4, "step", 4)
+    assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.2"]) == 1
+    out = capsys.readouterr().out
+    assert out.startswith("no path: waypoint 4") and "joint 4" in out and out.count("\n") == 1
+
+
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys):
+    file = tmp_path / "poses.npy"
+    np.save(file, np.zeros((3, 3)))
+    for argv in (["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.1"],
+                 ["path", "kuka-iiwa14", "--poses", str(tmp_path / "none.npy"), "--max-step", "0.1"],
+                 ["path", "kuka-iiwa14", "--poses", str(file), "--speed", "1"],
+                 ["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "-1"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("redkin: error:") and err.count("\n") == 1
+    np.save(file, get_robot("kuka-iiwa14").fk(_line()))
+    assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0", "--json"]) == 2
+    assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.1", "--dt", "1"]) == 2
