@@ -17,6 +17,7 @@ _COMMAND_MODULES = [
     "redkin.cli.basic",
     "redkin.cli.reproduce",
     "redkin.cli.srs",
+    "redkin.cli.path",
     "redkin.cli.explore",
     "redkin.cli.torso_arm",
     "redkin.cli.velocity",
@@ -33,6 +34,7 @@ _COMMANDS = {
     "reproduce": "redkin.cli.reproduce", "ik": "redkin.cli.srs", "arm-angles": "redkin.cli.srs",
     "explore": "redkin.cli.explore", "torso-arm": "redkin.cli.torso_arm", "track": "redkin.cli.velocity",
     "virtual-arms": "redkin.cli.virtual_arms", "workspace": "redkin.cli.workspace", "compile": "redkin.cli.compile",
+    "path": "redkin.cli.path",
 }
 
 
