@@ -169,3 +169,28 @@ def test_workspace_section_gamma_line_equals_the_6_2_2_computation(full_report):
     assert measure[np.flatnonzero(gamma == 0.0)[0], plus] == pytest.approx(width, abs=1e-12)
     assert ours["measure on +++ at gamma = 0 [deg] (the pose of [000 eq. 41])"] == pytest.approx(np.degrees(width),
                                                                                                  abs=1e-9)
+
+
+def test_models_section_has_the_franka_case_over_q7(full_report):
+    """The FR3 case: its rows are redkin.franka.feasible_q7's arcs (degrees), with a figure and an explorer; no
+    paper value, and the text says so."""
+    from redkin.franka import BRANCHES as Q7_BRANCHES
+    from redkin.franka import feasible_q7
+    from redkin.reproduce.models_section import _FRANKA_READY
+
+    arm = get_robot("franka-fr3")
+    sets = feasible_q7(arm, arm.fk(_FRANKA_READY))
+    rows = _rows(_tables(full_report, "models")["franka_q7_sets"])
+    for label, arcs in zip(Q7_BRANCHES, sets.arcs):
+        mine = [row for row in rows if row["branch"] == str(label)]
+        if not len(arcs):
+            assert [row["arc"] for row in mine] == ["none"]
+            continue
+        assert [row["arc"] for row in mine] == list(range(1, len(arcs) + 1))
+        np.testing.assert_allclose([[row["start [deg]"], row["end [deg]"]] for row in mine], np.degrees(arcs),
+                                   rtol=0, atol=1e-12)
+    assert any(len(arcs) for arcs in sets.arcs)
+    page = (full_report / "index.html").read_text()
+    assert "extension beyond paper 000" in page and 'href="models_franka_explore.html"' in page
+    assert (full_report / "models_franka_q7_curves.png").exists()
+    assert '"name":"q7"' in (full_report / "models_franka_explore.html").read_text()
