@@ -1,0 +1,386 @@
+"""The exact feasible q7 sets of Franka-class arms (redkin.franka.feasible_q7, [F8]-[F9]) and the limit-avoiding q7.
+
+The reference is dense sampling: ``ik`` on a fine grid of q7, every row checked by FK, and the chain's own
+``within_limits`` (with the solver's documented slack of 1e-12 rad).  Laws: the arcs equal the sampling but within
+1e-7 rad of an arc end; arcs are sorted, disjoint and inside joint 7's range; just inside each interior end the branch
+is feasible and 1e-7 outside it is not, and there some joint meets a limit or the branch stops existing; an arc a
+few microradians wide round a known solution (every limit narrowed round it) is found on its branch; a pose with no
+feasible q7 has empty arcs; a batch gives an object array of the single results.  The degree law behind the method:
+each of the fourteen limit functions is a trigonometric polynomial in q7 of at most ``_kernels.DEGREES``.  The
+limit-avoiding q7 lies in the feasible set, is no worse than 2000 samples of it, and is the unclamped one when that is
+feasible.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from redkin.chain import SerialChain
+from redkin.franka import BRANCHES, FeasibleQ7, _kernels, feasible_q7, franka_geometry, ik, optimal_q7
+from redkin.franka.ik import frames_seven
+from redkin.models import get_robot
+from tests.support.feasible_sampling import random_limits
+from tests.support.franka_arms import MODELS, branch_index, other_conventions, random_arm, random_pose
+
+#: The solver's slack at the limits (redkin.franka._kernels.MEMBERSHIP_TOLERANCE), given to the chain's own check.
+SLACK = 1e-12
+#: Sampling and the arcs may disagree only this near an arc end.
+MARGIN = 1e-7
+TURN = 2.0 * np.pi
+
+
+def wrap(angle):
+    """``angle`` wrapped to [-pi, pi)."""
+    return np.mod(np.asarray(angle) + np.pi, TURN) - np.pi
+
+
+def sampled(chain: SerialChain, pose: np.ndarray, q7: np.ndarray, branch=None) -> np.ndarray:
+    """Feasibility (..., B) by sampling: IK at each q7, every existing row checked by FK, then the chain's limits."""
+    solutions = ik(chain, pose, q7, branch)
+    reached = chain.fk(solutions.q) - pose
+    assert np.abs(np.where(solutions.exists[..., None, None], reached, 0.0)).max(initial=0.0) < 1e-9
+    return solutions.exists & chain.within_limits(solutions.q, tolerance=SLACK)
+
+
+def inside(arcs: np.ndarray, q7: np.ndarray) -> np.ndarray:
+    """Whether each q7 lies in one of the arcs (K, 2), ends included."""
+    q7 = np.asarray(q7)
+    return ((q7[..., None] >= arcs[:, 0]) & (q7[..., None] <= arcs[:, 1])).any(axis=-1)
+
+
+def assert_well_formed(chain: SerialChain, result: FeasibleQ7) -> None:
+    """Sorted, disjoint arcs inside joint 7's range (``[-pi, pi]`` for a joint that turns freely)."""
+    assert isinstance(result, FeasibleQ7) and result.branches == BRANCHES and result.parameter == "q7"
+    expected = (-np.pi, np.pi) if not chain.limited[6] else (chain.lower[6], chain.upper[6])
+    assert result.domain == pytest.approx(expected, abs=0.0)
+    lower, upper = result.domain
+    assert len(result.arcs) == len(BRANCHES)
+    for arcs in result.arcs:
+        assert arcs.ndim == 2 and arcs.shape[1] == 2 and np.isfinite(arcs).all()
+        assert np.all(arcs[:, 0] <= arcs[:, 1])
+        assert np.all(arcs[1:, 0] > arcs[:-1, 1])
+        assert np.all(arcs >= lower) and np.all(arcs <= upper)
+
+
+def assert_matches_sampling(chain: SerialChain, pose: np.ndarray, result: FeasibleQ7, count: int = 20001,
+                            margin: float = MARGIN) -> None:
+    """Equal to dense sampling of q7 but within ``margin`` of an arc end."""
+    lower, upper = result.domain
+    grid = np.linspace(lower, upper, count)
+    reference = sampled(chain, pose, grid)
+    for b, arcs in enumerate(result.arcs):
+        near = np.zeros(count, dtype=bool)
+        if arcs.size:
+            near = np.abs(grid[:, None] - arcs.reshape(-1)[None, :]).min(axis=1) < margin
+        differ = (inside(arcs, grid) != reference[:, b]) & ~near
+        assert not differ.any(), (BRANCHES[b], grid[differ][:5], arcs)
+
+
+def assert_interior_ends(chain: SerialChain, pose: np.ndarray, result: FeasibleQ7) -> int:
+    """At each interior end (not an end of joint 7's range): feasible just inside, infeasible 1e-7 outside, and
+    there a joint within 1e-8 of a limit (modulo 2 pi, as IK returns a value past a limit) or the branch gone just
+    outside.  Returns the number of ends checked."""
+    lower, upper = result.domain
+    limited = ~chain.covers_circle
+    limited[6] = False  # q7 is the parameter: its limits are the range's ends
+    checked = 0
+    for b, arcs in enumerate(result.arcs):
+        ends, inward, widths = arcs.reshape(-1), np.tile([1.0, -1.0], len(arcs)), np.repeat(arcs[:, 1] - arcs[:, 0], 2)
+        interior = (ends > lower) & (ends < upper)
+        ends, inward, widths = ends[interior], inward[interior], widths[interior]
+        if not ends.size:
+            continue
+        checked += ends.size
+        just_inside = ends + inward * np.minimum(1e-9, 0.5 * widths)
+        assert sampled(chain, pose, just_inside, BRANCHES[b]).all(), (BRANCHES[b], ends, arcs)
+        outside = ends - inward * MARGIN
+        away = (outside > lower) & (outside < upper) & ~inside(arcs, outside)  # not in the next arc
+        assert not sampled(chain, pose, outside[away], BRANCHES[b]).any(), (BRANCHES[b], ends, arcs)
+        at_end = ik(chain, pose, ends, BRANCHES[b])
+        gone = ~ik(chain, pose, ends - inward * 1e-9, BRANCHES[b]).exists[:, 0]
+        row = at_end.q[:, 0]
+        gap = np.minimum(np.abs(wrap(row - chain.lower)), np.abs(wrap(row - chain.upper)))
+        at_limit = at_end.exists[:, 0] & (np.where(limited, gap, np.inf).min(axis=-1) < 1e-8)
+        assert np.all(at_limit | gone), (BRANCHES[b], ends[~(at_limit | gone)], arcs)
+    return checked
+
+
+def assert_exact(chain: SerialChain, pose: np.ndarray, count: int = 20001) -> FeasibleQ7:
+    result = feasible_q7(chain, pose)
+    assert_well_formed(chain, result)
+    assert_matches_sampling(chain, pose, result, count)
+    assert_interior_ends(chain, pose, result)
+    return result
+
+
+# ----------------------------------------------------------------------------- the sets against sampling
+@settings(max_examples=6, deadline=None)
+@given(seed=st.integers(0, 2**31), name=st.sampled_from(MODELS))
+def test_feasible_sets_of_the_models_equal_dense_sampling(seed, name):
+    chain = get_robot(name)
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(chain.lower, chain.upper)
+    result = assert_exact(chain, chain.fk(q))
+    assert result.contains(q[6], int(branch_index(franka_geometry(chain), q)))  # the pose's own q7 and branch
+
+
+@settings(max_examples=12, deadline=None)
+@given(seed=st.integers(0, 2**31), crossing=st.booleans(), zero_elbow=st.booleans())
+def test_feasible_sets_of_random_arms_with_random_limits_equal_dense_sampling(seed, crossing, zero_elbow):
+    """Random arms in a random convention, with random limits round a solution (crossing +-pi or not)."""
+    rng = np.random.default_rng(seed)
+    arm = random_arm(rng, zero_elbow=zero_elbow)
+    conventions = list(other_conventions(arm, rng).values())
+    chain = conventions[rng.integers(len(conventions))]
+    q = rng.uniform(-np.pi, np.pi, 7)
+    chain = chain.with_limits(*random_limits(rng, q, crossing))
+    pose = chain.fk(q)
+    result = assert_exact(chain, pose, count=10001)
+    assert result.contains(chain.nearest_in_range(q)[6], int(branch_index(franka_geometry(chain), q))) \
+        or not chain.within_limits(q, wrap=True)
+
+
+def test_every_interior_end_has_its_reason():
+    """Many poses of each model: each interior end sits where a joint meets a limit or the branch ends."""
+    ends = 0
+    for name in MODELS:
+        chain = get_robot(name)
+        rng = np.random.default_rng(21)
+        for q in rng.uniform(chain.lower, chain.upper, (30, 7)):
+            result = feasible_q7(chain, chain.fk(q))
+            assert_well_formed(chain, result)
+            ends += assert_interior_ends(chain, chain.fk(q), result)
+    assert ends > 500
+
+
+@pytest.mark.parametrize("width", [1e-4, 1e-6])
+@pytest.mark.parametrize("name", MODELS)
+def test_narrow_arcs_round_a_known_solution_are_found(name, width):
+    """Every limit (joint 7's too) narrowed to +-width round a random in-limit q: an arc holding q7 on q's branch."""
+    chain = get_robot(name)
+    franka_geometry(chain)  # cached on chain; the narrowed copies derive their own
+    rng = np.random.default_rng(22)
+    for k, q in enumerate(rng.uniform(chain.lower, chain.upper, (12, 7))):
+        narrow = dataclasses.replace(chain, lower=q - width, upper=q + width)
+        geometry = franka_geometry(narrow)
+        assert np.array_equal(geometry.chain.lower, q - width)
+        pose = narrow.fk(q)
+        result = feasible_q7(narrow, pose)
+        assert_well_formed(narrow, result)
+        branch = int(branch_index(geometry, q))
+        assert result.contains(q[6], branch), (q.tolist(), BRANCHES[branch], result.arcs[branch])
+        if k < 3:
+            assert_matches_sampling(narrow, pose, result, count=2001, margin=1e-12)
+            assert_interior_ends(narrow, pose, result)
+
+
+@pytest.mark.xfail(strict=True, reason="feasible_q7 misses arcs narrower than about 1e-8 rad: every branch comes back "
+                                       "empty although q itself is a feasible solution (0.2 to 0.3 % of random "
+                                       "in-limit q at +-1e-6 to +-1e-8 on each model)")
+@pytest.mark.parametrize("name, q, width", [  # the arc's width in q7, by sampling, after each
+    ("franka-panda", [-0.403, 0.048, 2.057, -0.47, 0.646, 2.211, -1.141], 1e-6),  # 1.3e-8, branch +-+
+    ("ufactory-xarm7", [-1.747, 0.173, -3.416, 3.229, -6.281, 1.938, 5.198], 1e-6),  # 7.6e-10, +++
+    ("franka-fr3", [0.417, -0.024, 1.164, -0.963, -2.021, 2.214, 1.817], 1e-7),  # 3.8e-9, ---
+    ("franka-fr3", [-0.283, -0.033, -2.066, -0.4, -0.73, 2.335, 1.629], 1e-8),  # 5.9e-10, -++
+])
+def test_arcs_narrower_than_1e_8_rad_are_found(name, q, width):
+    """Every limit narrowed to +-width round q (the issue's bar: ssik found 40 of 40 at +-1e-8)."""
+    chain = get_robot(name)
+    q = np.array(q)
+    narrow = dataclasses.replace(chain, lower=q - width, upper=q + width)
+    branch = int(branch_index(franka_geometry(narrow), q))
+    assert sampled(narrow, narrow.fk(q), np.array([q[6]]), BRANCHES[branch]).all()  # q is a feasible solution
+    assert feasible_q7(narrow, narrow.fk(q)).contains(q[6], branch)
+
+
+def test_a_pose_with_no_feasible_q7_has_empty_arcs():
+    chain = get_robot("franka-fr3")
+    far = np.eye(4)
+    far[:3, 3] = [2.0, 0.0, 0.3]
+    for result in (feasible_q7(chain, far), feasible_q7(chain.with_limits(chain.lower, chain.upper), far)):
+        assert_well_formed(chain, result)
+        assert all(arcs.shape == (0, 2) for arcs in result.arcs)
+    # reachable, but the limits (narrow, round another posture) hold none of its solutions
+    rng = np.random.default_rng(23)
+    q = rng.uniform(chain.lower, chain.upper, (2, 7))
+    narrow = chain.with_limits(q[0] - 0.05, q[0] + 0.05)
+    pose = chain.fk(q[1])
+    assert ik(narrow, pose, q[1, 6]).exists.any()
+    result = feasible_q7(narrow, pose)
+    assert all(arcs.shape == (0, 2) for arcs in result.arcs)
+    assert_matches_sampling(narrow, pose, result)
+
+
+def test_a_batch_of_poses_gives_an_object_array_of_the_single_results():
+    chain = get_robot("ufactory-xarm7")
+    rng = np.random.default_rng(24)
+    poses = chain.fk(rng.uniform(chain.lower, chain.upper, (2, 3, 7)))
+    poses[1, 2, :3, 3] = [2.0, 0.0, 0.0]  # one unreachable
+    batch = feasible_q7(chain, poses)
+    assert isinstance(batch, np.ndarray) and batch.dtype == object and batch.shape == (2, 3)
+    for index in np.ndindex(2, 3):
+        one = feasible_q7(chain, poses[index])
+        assert isinstance(one, FeasibleQ7) and batch[index].domain == one.domain
+        assert all(np.array_equal(a, b) for a, b in zip(batch[index].arcs, one.arcs))
+    assert feasible_q7(chain, poses[:1, 0]).shape == (1,)
+    with pytest.raises(ValueError, match="pose"):
+        feasible_q7(chain, np.eye(3))
+    with pytest.raises(ValueError, match="not of the Franka class"):
+        feasible_q7(get_robot("kuka-iiwa14"), np.eye(4))
+
+
+# ----------------------------------------------------------------------------- the degree law
+def limit_function_samples(chain: SerialChain, pose: np.ndarray, count: int = 128) -> np.ndarray:
+    """The fourteen limit functions ([F8], [F9]) at ``count`` equally spaced theta_7, (count, 14)."""
+    geometry = franka_geometry(chain)
+    t07 = np.ascontiguousarray(frames_seven(geometry, pose))
+    out = np.empty((count, _kernels.FUNCTIONS))
+    scratch = np.empty((4, 3, 3), dtype=np.complex128)
+    for j in range(count):
+        _kernels.limit_values(t07, TURN * j / count, geometry.kernel_arm, geometry.kernel_limits, out[j], scratch)
+    return out
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**31), reachable=st.booleans(), model=st.sampled_from((None, *MODELS)))
+def test_the_limit_functions_have_the_stated_degrees(seed, reachable, model):
+    """No Fourier coefficient of a limit function above its degree in ``_kernels.DEGREES`` (128 samples: up to 64)."""
+    rng = np.random.default_rng(seed)
+    if model is None:
+        arm = random_arm(rng, zero_elbow=bool(rng.integers(2)), zero_d6=bool(rng.integers(2)))
+        chain = arm.with_limits(*random_limits(rng, rng.uniform(-np.pi, np.pi, 7), crossing=bool(rng.integers(2))))
+    else:
+        chain = get_robot(model)
+    pose = chain.fk(rng.uniform(-np.pi, np.pi, 7)) if reachable else random_pose(rng)
+    coefficients = np.abs(np.fft.rfft(limit_function_samples(chain, pose), axis=0))
+    assert len(_kernels.DEGREES) == _kernels.FUNCTIONS and _kernels.SAMPLES >= 2 * _kernels.DEGREES.max() + 1
+    for f, degree in enumerate(_kernels.DEGREES):
+        largest = coefficients[:, f].max()
+        assert largest > 0.0
+        assert coefficients[degree + 1:, f].max() <= 1e-9 * largest, (f, degree, coefficients[:, f] / largest)
+
+
+# ----------------------------------------------------------------------------- the limit-avoiding q7
+def objective(chain: SerialChain, pose: np.ndarray, branch, q7, target=None) -> np.ndarray:
+    """[F10] as optimal_q7's docstring states it: ``sum_i ((q_i(q7) - t_i) / h_i)^2``, ``t`` the middle of each
+    range (0 for an unlimited joint) or ``target``, ``h`` half the range (1 for an unlimited joint), with ``q_7 = q7``
+    itself; infinite where the branch does not exist."""
+    limited = chain.limited
+    goal = np.where(limited, 0.5 * (chain.lower + chain.upper), 0.0) if target is None else np.asarray(target)
+    half = np.where(limited, 0.5 * (chain.upper - chain.lower), 1.0)
+    q7 = np.asarray(q7, dtype=float)
+    solutions = ik(chain, pose, q7, branch)
+    q = solutions.q[..., 0, :].copy()
+    q[..., 6] = q7
+    return np.where(solutions.exists[..., 0], np.sum(((q - goal) / half) ** 2, axis=-1), np.inf)
+
+
+def samples_of(arcs: np.ndarray, count: int = 2000) -> np.ndarray:
+    """About ``count`` q7 spread over the arcs in proportion to their lengths, ends included."""
+    lengths = arcs[:, 1] - arcs[:, 0]
+    share = lengths / lengths.sum() if lengths.sum() > 0 else np.full(len(arcs), 1.0 / len(arcs))
+    return np.concatenate([np.linspace(a, b, max(2, int(round(count * s)))) for (a, b), s in zip(arcs, share)])
+
+
+def _optimal_chains(seed: int):
+    """The Panda, the FR3 and a random arm in a random convention with random limits (ranges under 2 pi)."""
+    rng = np.random.default_rng(seed)
+    arm = random_arm(rng)
+    conventions = list(other_conventions(arm, rng).values())
+    q = rng.uniform(-np.pi, np.pi, 7)
+    random_chain = conventions[rng.integers(len(conventions))].with_limits(*random_limits(rng, q, crossing=False))
+    return [get_robot("franka-panda"), get_robot("franka-fr3"), random_chain], rng
+
+
+@settings(max_examples=6, deadline=None)
+@given(seed=st.integers(0, 2**31))
+def test_the_optimal_q7_is_feasible_and_no_worse_than_samples_of_the_feasible_set(seed):
+    chains, rng = _optimal_chains(seed)
+    for chain in chains:
+        pose = chain.fk(rng.uniform(chain.lower, chain.upper))
+        sets = feasible_q7(chain, pose)
+        for b, branch in enumerate(BRANCHES):
+            best = optimal_q7(chain, pose, branch, feasible=sets)
+            assert best.parameter == "q7"
+            if not len(sets.arcs[b]):
+                assert best.feasible is None and best.feasible_value is None
+                continue
+            assert sets.contains(best.feasible, b)
+            value = float(objective(chain, pose, branch, best.feasible))
+            assert best.feasible_value == pytest.approx(value, rel=1e-12, abs=1e-12)
+            assert value <= objective(chain, pose, branch, samples_of(sets.arcs[b])).min() + 1e-9
+
+
+@pytest.mark.parametrize("name", ["franka-panda", "franka-fr3"])
+def test_the_optimal_q7_of_a_target_posture_is_its_q7(name):
+    """With ``target`` a feasible posture of the pose, the objective is 0 at that posture's own q7, and nowhere less."""
+    chain = get_robot(name)
+    rng = np.random.default_rng(25)
+    for q in rng.uniform(chain.lower, chain.upper, (5, 7)):
+        pose = chain.fk(q)
+        branch = BRANCHES[int(branch_index(franka_geometry(chain), q))]
+        best = optimal_q7(chain, pose, branch, target=q)
+        assert best.feasible_value < 1e-12 and abs(best.feasible - q[6]) < 1e-6
+        assert best.value < 1e-12 and abs(best.unclamped - q[6]) < 1e-6
+
+
+@pytest.mark.xfail(strict=True, reason="optimal_q7 looks for the unclamped optimum on 361 samples of joint 7's whole "
+                                       "range; here branch -++ exists only on two arcs of 0.0097 rad (narrower than "
+                                       "the 0.016 rad spacing), and unclamped = 1.781 (f = 2.463) is feasible while "
+                                       "feasible = -1.487 has f = 2.141")
+def test_the_unclamped_optimum_is_the_feasible_one_when_it_is_feasible():
+    chain = get_robot("franka-panda")
+    pose = chain.fk(np.array([-1.725, -0.856, 0.292, -0.525, -0.944, 3.392, -1.505]))
+    sets = feasible_q7(chain, pose)
+    best = optimal_q7(chain, pose, "-++", feasible=sets)
+    assert best.unclamped is not None and sets.contains(best.unclamped, BRANCHES.index((-1, 1, 1)))
+    assert best.value <= best.feasible_value + 1e-9  # a minimum over more q7 is no larger
+    assert abs(best.unclamped - best.feasible) < 1e-6
+
+
+def test_the_unclamped_optimum_is_the_feasible_one_when_it_is_feasible_on_random_poses():
+    """Where the unclamped optimum is feasible it is the feasible one (q7 to 1e-6, objective to 1e-9).  Left out,
+    counted: poses whose feasible optimum sits where its branch vanishes (19 of the 31 such of 92 cases here break
+    the law, by up to 0.34 in the objective; the xfail above)."""
+    cases = vanishing = 0
+    for name in ("franka-panda", "franka-fr3"):
+        chain = get_robot(name)
+        rng = np.random.default_rng(26)
+        for q in rng.uniform(chain.lower, chain.upper, (10, 7)):
+            pose = chain.fk(q)
+            sets = feasible_q7(chain, pose)
+            for b, branch in enumerate(BRANCHES):
+                best = optimal_q7(chain, pose, branch, feasible=sets)
+                if best.unclamped is None or not sets.contains(best.unclamped, b):
+                    continue
+                cases += 1
+                near = best.feasible + np.array([-1e-7, 1e-7])
+                if not ik(chain, pose, near, branch).exists.all():
+                    vanishing += 1
+                    continue
+                assert abs(best.unclamped - best.feasible) < 1e-6
+                assert best.value == pytest.approx(best.feasible_value, abs=1e-9)
+    assert cases - vanishing >= 40
+
+
+@pytest.mark.xfail(strict=True, reason="on the xArm7 optimal_q7 weighs the +-2 pi joints (limited, covering the "
+                                       "circle) as unlimited (h = 1) where its docstring says half the range, and "
+                                       "ik shifts q7 by 2 pi toward 0, so the objective never sees q7 near its stops")
+def test_the_optimal_q7_of_the_xarm7_is_its_documented_objective():
+    chain = get_robot("ufactory-xarm7")
+    rng = np.random.default_rng(27)
+    for q in rng.uniform(chain.lower, chain.upper, (4, 7)):
+        pose = chain.fk(q)
+        sets = feasible_q7(chain, pose)
+        for b, branch in enumerate(BRANCHES):
+            if not len(sets.arcs[b]):
+                continue
+            best = optimal_q7(chain, pose, branch, feasible=sets)
+            value = float(objective(chain, pose, branch, best.feasible))
+            assert best.feasible_value == pytest.approx(value, rel=1e-9)
+            assert value <= objective(chain, pose, branch, samples_of(sets.arcs[b])).min() + 1e-9
