@@ -30,17 +30,29 @@ MEMBERSHIP_TOLERANCE = 1e-12
 _REACH_TOLERANCE = 1e-12
 #: Degree in q7 of the limit polynomial of each joint (1..6) and of the existence polynomials ([F8]); the
 #: tests check them against a higher-degree fit on random arms and poses.
-DEGREES = np.array([16, 16, 16, 16, 16, 16, 2, 2, 4, 4, 12, 12, 2, 4])
+DEGREES = np.array([8, 8, 8, 8, 8, 8, 2, 2, 4, 4, 4, 4, 2, 4])
 #: Number of limit functions: two limits of joints 1-6, then the existence of the elbow and of the wrist.
 FUNCTIONS = 14
 #: Samples of q7 of each limit function: enough for the largest degree (``2 D + 1``), and a few more.
-SAMPLES = 36
+SAMPLES = 20
 #: How far from the unit circle a root ``z = exp(i theta_7)`` of a limit polynomial may lie and still be taken as
 #: a candidate q7: a double root (a joint touching its limit) moves off the circle by about the square root of the
 #: rounding, a triple one by its cube root.  A candidate that is no real crossing only splits an interval in two.
 _CIRCLE_TOLERANCE = 1e-3
+#: Cells :func:`isolated_roots` may visit before it hands a polynomial to the eigenvalue route, and the half width
+#: below which a cell that may hold a root is taken as one (two roots closer than this are one candidate).
+_CELL_BUDGET = 2000
+_SMALLEST_CELL = 1e-9
+#: Values of a limit polynomial this small, relative to the largest it can take, count as zero: a double root
+#: (on arms whose elbow has no offsets the elbow's two roots give squared factors) rounds to a near miss.
+_NEAR_ZERO = 1e-12
+#: Half width of the bracket about a breakpoint in which an arc's end is first sought (:func:`crossing`).
+_ROOT_BRACKET = 1e-12
 #: ``exp(-i k 2 pi j / SAMPLES)`` for ``k = 0 .. 16``: the discrete Fourier transform of the samples.
-_TWIDDLES = np.exp(-2j * np.pi * np.outer(np.arange(17), np.arange(SAMPLES)) / SAMPLES)
+_TWIDDLES = np.exp(-2j * np.pi * np.outer(np.arange(9), np.arange(SAMPLES)) / SAMPLES)
+#: A sample grid on which a divisor of [F8] comes this close to zero (relative to its largest sample) is shifted by
+#: half a step, so that the division stays well conditioned.
+_SMALL_DIVISOR = 1e-6
 
 
 @kernel
@@ -51,22 +63,17 @@ def frame_seven(pose, ends):
 
 @kernel
 def wrist_and_frame_six(t07, theta7, arm):
-    """Frame 6's axes ``x6, y6, z6`` and the wrist point W at ``theta_7`` [F1].
+    """Frame 6's axes ``x6, y6, z6`` and the wrist point W (3-tuples) at ``theta_7`` [F1].
 
     ``R_06 = R_07 Rz(-theta_7)``; the origin of frame 6 is that of frame 7,
     and W lies ``-a_6`` along ``x_6`` and ``-d_6`` along ``y_6`` from it.
     """
     c, s = np.cos(theta7), np.sin(theta7)
-    x6 = np.empty(3)
-    y6 = np.empty(3)
-    z6 = np.empty(3)
-    w = np.empty(3)
-    for r in range(3):
-        x6[r] = c * t07[r, 0] - s * t07[r, 1]
-        y6[r] = s * t07[r, 0] + c * t07[r, 1]
-        z6[r] = t07[r, 2]
-    for r in range(3):
-        w[r] = t07[r, 3] - arm[A6] * x6[r] - arm[D6] * y6[r]
+    x6 = (c * t07[0, 0] - s * t07[0, 1], c * t07[1, 0] - s * t07[1, 1], c * t07[2, 0] - s * t07[2, 1])
+    y6 = (s * t07[0, 0] + c * t07[0, 1], s * t07[1, 0] + c * t07[1, 1], s * t07[2, 0] + c * t07[2, 1])
+    z6 = (t07[0, 2], t07[1, 2], t07[2, 2])
+    w = (t07[0, 3] - arm[A6] * x6[0] - arm[D6] * y6[0], t07[1, 3] - arm[A6] * x6[1] - arm[D6] * y6[1],
+         t07[2, 3] - arm[A6] * x6[2] - arm[D6] * y6[2])
     return x6, y6, z6, w
 
 
@@ -122,12 +129,16 @@ def link_rotation(c, s, scale, twist_sign, out):
 @kernel
 def shoulder_matrix(x6, y6, z6, r34, r45, r56, out):
     """``M = R_06 (R_34 R_45 R_56)^T Rx(-alpha_3) = Rz(theta_1) Ry(theta_2) Rz(theta_3)`` [F7], into ``out`` (3, 3)
-    (scaled by the product of the scales of the three link rotations)."""
-    r36 = r34 @ r45 @ r56
-    for i in range(3):
+    (scaled by the product of the scales of the three link rotations).  ``r34`` is overwritten with ``R_36``."""
+    for i in range(3):  # R_36 row by row, in place of R_34's row (no temporary arrays)
+        a0 = r34[i, 0] * r45[0, 0] + r34[i, 1] * r45[1, 0] + r34[i, 2] * r45[2, 0]
+        a1 = r34[i, 0] * r45[0, 1] + r34[i, 1] * r45[1, 1] + r34[i, 2] * r45[2, 1]
+        a2 = r34[i, 0] * r45[0, 2] + r34[i, 1] * r45[1, 2] + r34[i, 2] * r45[2, 2]
         for j in range(3):
-            row = x6[i] * r36[j, 0] + y6[i] * r36[j, 1] + z6[i] * r36[j, 2]  # (R_06 R_36^T)[i, j]
-            out[i, j] = row
+            r34[i, j] = a0 * r56[0, j] + a1 * r56[1, j] + a2 * r56[2, j]
+    for i in range(3):
+        for j in range(3):  # (R_06 R_36^T)[i, j]
+            out[i, j] = x6[i] * r34[j, 0] + y6[i] * r34[j, 1] + z6[i] * r34[j, 2]
     # times Rx(-alpha_3) with alpha_3 = -pi/2: columns (x, y, z) -> (x, z, -y)
     for i in range(3):
         column1, column2 = out[i, 1], out[i, 2]
@@ -152,7 +163,8 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch):
 
     ``branches`` (B, 3) holds the signs (shoulder, elbow, wrist) in the
     solver's senses; ``joints`` maps DH angles to the chain's values
-    (:func:`redkin.srs._ik_kernels.chain_values`); ``scratch`` (4, 3, 3).
+    (:func:`redkin.srs._ik_kernels.chain_values`), except q7, which is
+    returned as given; ``scratch`` (4, 3, 3).
     A branch that does not exist (the elbow cannot span ``|W - S|``, or the
     wrist cannot turn S onto ``V``) gets zeros and ``exists = False``.
     """
@@ -188,6 +200,7 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch):
         theta[5] = theta6
         theta[6] = theta7
         chain_values(theta, joints, q[b])
+        q[b, 6] = theta7 - joints[0, 6]  # the parameter as given (a range wider than 2 pi holds it twice)
         exists[b] = True
 
 
@@ -201,7 +214,7 @@ def within(theta, lower, upper, limited):
 
 @kernel
 def limit_values(t07, theta7, arm, limits, out, scratch):
-    """The limit functions [F8] at one ``theta_7`` into ``out`` (:data:`FUNCTIONS`,), real parts.
+    """The limit functions [F8] at one ``theta_7`` into ``out`` (:data:`FUNCTIONS` + 2,), real parts.
 
     For joint ``j`` (1-6) and its limit ``L`` (``limits`` (3, 7): lower and
     upper DH limits and whether the joint is limited), function ``2 (j - 1)``
@@ -209,9 +222,12 @@ def limit_values(t07, theta7, arm, limits, out, scratch):
     solutions (both roots of [F3], both of [F5]; complex where a root's
     argument is negative) of a polynomial that vanishes exactly where that
     solution has ``theta_j = L`` or ``L + pi`` (``theta_2 = +-L`` for joint 2);
-    the elbow's and the wrist's existence follow ([F9]).  Each is a
-    trigonometric polynomial in ``theta_7`` of degree :data:`DEGREES`.
-    ``scratch`` (4, 3, 3) complex.
+    the elbow's and the wrist's existence follow ([F9]).  The products of
+    joints 1-3 and 6 hold the square of the scales' product, ``Sigma^2
+    |V_xy|^4`` with ``Sigma = prod S_4x`` over the two elbows, which is
+    divided out.  Each is then a trigonometric polynomial in ``theta_7`` of
+    degree :data:`DEGREES`.  The last two entries are ``Sigma`` and
+    ``|V_xy|^2``.  ``scratch`` (4, 3, 3) complex.
     """
     x6, y6, z6, w = wrist_and_frame_six(t07, theta7, arm)
     kappa = elbow_cosine(w, arm)
@@ -219,12 +235,14 @@ def limit_values(t07, theta7, arm, limits, out, scratch):
     vxy2 = vx * vx + vy * vy
     products = np.ones(12, dtype=np.complex128)
     wrist_existence = 1.0 + 0.0j
+    sigma = 1.0 + 0.0j
     root4 = np.sqrt(complex(1.0 - kappa * kappa))
     r34, r45, r56, m = scratch[0], scratch[1], scratch[2], scratch[3]
     for sign4 in (1.0, -1.0):
         c4, s4 = elbow_trig(kappa, sign4 * root4, arm)
         s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
         wrist_existence *= s4x * s4x - vz * vz
+        sigma *= s4x
         for k in range(2):  # joint 4: one factor per elbow root
             lower_or_upper = limits[k, 3]
             products[6 + k] *= np.cos(lower_or_upper) * s4 - np.sin(lower_or_upper) * c4
@@ -248,22 +266,26 @@ def limit_values(t07, theta7, arm, limits, out, scratch):
                 products[8 + k] *= np.cos(lo_hi) * s5 - np.sin(lo_hi) * c5
                 lo_hi = limits[k, 5]
                 products[10 + k] *= np.cos(lo_hi) * s6 - np.sin(lo_hi) * c6
+    divisor = sigma.real * sigma.real * vxy2 * vxy2
     for f in range(12):
-        out[f] = products[f].real
+        out[f] = products[f].real / divisor if f < 6 or f >= 10 else products[f].real
     out[12] = 1.0 - kappa * kappa
     out[13] = wrist_existence.real
+    out[14] = sigma.real
+    out[15] = vxy2
 
 
 @kernel
-def candidate_angles(values, degree, out):
-    """The roots ``theta_7`` of one limit polynomial of ``degree`` sampled at :data:`SAMPLES` equal steps
-    (``values``), into ``out``; returns how many.
+def candidate_angles(values, degree, phase, out):
+    """The real roots ``theta_7`` of one limit polynomial of ``degree`` sampled at :data:`SAMPLES` equal steps from
+    ``phase`` (``values``), into ``out``; returns how many ([F8]).
 
     The coefficients ``g_k`` (``|k| <= degree``) come from the samples'
     discrete Fourier transform (exact for a trigonometric polynomial of that
-    degree); the roots of ``sum_k g_k z^(k + degree)`` near the unit circle
-    (the companion matrix's eigenvalues) are the candidates, each polished by
-    Newton steps on the polynomial itself ([F8]).
+    degree).  The real roots are isolated by subdivision
+    (:func:`isolated_roots`); where that needs more cells than it may use (a
+    cluster of nearly coincident roots), they are the roots of ``sum_k g_k
+    z^(k + degree)`` near the unit circle (:func:`circle_roots`).
     """
     n = values.shape[0]
     coefficients = np.zeros(2 * degree + 1, dtype=np.complex128)
@@ -272,12 +294,119 @@ def candidate_angles(values, degree, out):
         total = 0.0 + 0.0j
         for j in range(n):
             total += values[j] * _TWIDDLES[k, j]
-        coefficients[degree + k] = total / n
-        coefficients[degree - k] = np.conj(total / n)  # a real function: g_-k is the conjugate of g_k
-        largest = max(largest, abs(total / n))
+        total *= np.exp(-1j * k * phase) / n
+        coefficients[degree + k] = total
+        coefficients[degree - k] = np.conj(total)  # a real function: g_-k is the conjugate of g_k
+        largest = max(largest, abs(total))
     if largest == 0.0:
         return 0
-    top = 2 * degree
+    count = isolated_roots(coefficients[degree:], out)
+    if count >= 0:
+        return count
+    return circle_roots(coefficients, largest, out)
+
+
+@kernel
+def trig_value(half, theta):
+    """``G(theta) = g_0 + 2 Re sum_k g_k e^(i k theta)`` and its first two derivatives, from ``half = (g_0, ...,
+    g_D)``."""
+    z = np.exp(1j * theta)
+    value, slope, curve = 0.0j, 0.0j, 0.0j
+    for k in range(half.shape[0] - 1, -1, -1):  # sum_k c_k (i k)^n z^k for n = 0, 1, 2; c_0 = g_0, c_k = 2 g_k
+        term = half[k] * (2.0 if k > 0 else 1.0)
+        value = value * z + term
+        slope = slope * z + 1j * k * term
+        curve = curve * z - k * k * term
+    return value.real, slope.real, curve.real
+
+
+@kernel
+def isolated_roots(half, out):
+    """The real roots of ``G`` on the circle (``half = (g_0, ..., g_D)``) by subdivision, into ``out``; returns how
+    many, or -1 where :data:`_CELL_BUDGET` cells did not settle them or more candidates than ``out`` holds came up.
+
+    A cell ``[m - r, m + r]`` holds no root where ``|G(m)| > r |G1(m)| +
+    r^2 B2 / 2`` (plus :data:`_NEAR_ZERO` of ``G``'s largest possible value,
+    so that a double root, which rounding may lift off zero, is kept), and
+    at most one where ``|G1(m)| > r |G2(m)| + r^2 B3 /
+    2`` (``G`` is then monotone), with ``G1``, ``G2`` the first two
+    derivatives and ``Bn = 2 sum k^n |g_k|`` a bound of the n-th.  A
+    monotone cell whose ends differ in sign holds exactly one, found by
+    safeguarded Newton steps; other cells are halved, down to a half width
+    of :data:`_SMALLEST_CELL`, where a cell that may hold a root (a double
+    root: a joint touching its limit) gives its middle.
+    """
+    bound2, bound3, floor = 0.0, 0.0, abs(half[0])
+    for k in range(1, half.shape[0]):
+        bound2 += 2.0 * k * k * abs(half[k])
+        bound3 += 2.0 * k * k * k * abs(half[k])
+        floor += 2.0 * abs(half[k])
+    floor *= _NEAR_ZERO
+    cells = 4 * half.shape[0]
+    stack = np.empty((_CELL_BUDGET + 64, 2))
+    size = 0
+    for c in range(cells):
+        stack[size, 0] = 2.0 * np.pi * c / cells - np.pi
+        stack[size, 1] = 2.0 * np.pi * (c + 1) / cells - np.pi
+        size += 1
+    count = 0
+    visited = 0
+    while size > 0:
+        size -= 1
+        low, high = stack[size, 0], stack[size, 1]
+        visited += 1
+        if visited > _CELL_BUDGET:
+            return -1
+        middle, radius = 0.5 * (low + high), 0.5 * (high - low)
+        value, slope, curve = trig_value(half, middle)
+        if abs(value) > radius * abs(slope) + 0.5 * radius * radius * bound2 + floor:
+            continue
+        if abs(slope) > radius * abs(curve) + 0.5 * radius * radius * bound3:  # monotone: at most one root
+            left = trig_value(half, low)[0]
+            right = trig_value(half, high)[0]
+            if left == 0.0 or right == 0.0 or (left < 0.0) != (right < 0.0):
+                if count == out.shape[0]:
+                    return -1
+                out[count] = monotone_root(half, low, high, left)
+                count += 1
+            continue
+        if radius < _SMALLEST_CELL:
+            if count == out.shape[0]:
+                return -1
+            out[count] = middle
+            count += 1
+            continue
+        if size + 2 > stack.shape[0]:
+            return -1
+        stack[size, 0], stack[size, 1] = low, middle
+        stack[size + 1, 0], stack[size + 1, 1] = middle, high
+        size += 2
+    return count
+
+
+@kernel
+def monotone_root(half, low, high, left):
+    """The root of ``G`` in ``[low, high]``, where ``G`` is monotone and ``G(low) = left`` differs in sign from
+    ``G(high)``: Newton steps kept inside a shrinking bracket (bisection where a step leaves it)."""
+    theta = 0.5 * (low + high)
+    for _ in range(100):
+        value, slope, _ = trig_value(half, theta)
+        if value == 0.0 or high - low <= 4e-16 * max(1.0, abs(theta)):
+            return theta
+        if (value < 0.0) == (left < 0.0):
+            low = theta
+        else:
+            high = theta
+        step = theta - value / slope if slope != 0.0 else low - 1.0
+        theta = step if low < step < high else 0.5 * (low + high)
+    return theta
+
+
+@kernel
+def circle_roots(coefficients, largest, out):
+    """The roots ``theta`` of ``sum_k g_k z^(k + D)`` within :data:`_CIRCLE_TOLERANCE` of the unit circle
+    ``z = e^(i theta)``: the companion matrix's eigenvalues, each polished by Newton steps on the polynomial."""
+    top = coefficients.shape[0] - 1
     while top > 0 and abs(coefficients[top]) <= 1e-13 * largest:
         top -= 1
     bottom = 0
@@ -335,14 +464,23 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     """
     offset7 = joints[0, 6]
     scratch = np.empty((4, 3, 3), dtype=np.complex128)
-    samples = np.empty((SAMPLES, FUNCTIONS))
-    for j in range(SAMPLES):
-        limit_values(t07, 2.0 * np.pi * j / SAMPLES, arm, limits, samples[j], scratch)
+    samples = np.empty((SAMPLES, FUNCTIONS + 2))
+    phase = 0.0
+    for _ in range(2):  # the grid, and once more moved by half a step if a divisor nearly vanishes on it
+        for j in range(SAMPLES):
+            limit_values(t07, phase + 2.0 * np.pi * j / SAMPLES, arm, limits, samples[j], scratch)
+        small = False
+        for column in (FUNCTIONS, FUNCTIONS + 1):
+            largest = np.abs(samples[:, column]).max()
+            small = small or np.abs(samples[:, column]).min() <= _SMALL_DIVISOR * largest
+        if not small:
+            break
+        phase = np.pi / SAMPLES
     total = 0
     for f in range(FUNCTIONS):
         total += 2 * DEGREES[f]
     angles = np.empty(total)
-    roots = np.empty(2 * 16)
+    roots = np.empty(2 * 8)
     found = 0
     for f in range(FUNCTIONS):
         if f < 12:
@@ -351,7 +489,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                 continue
             if f % 2 == 1 and (joint == 1 or joint == 4) and limits[0, joint] == -limits[1, joint]:
                 continue  # cos(theta_2), and theta_5 up to its sign, give the same polynomial for L and -L
-        count = candidate_angles(np.ascontiguousarray(samples[:, f]), DEGREES[f], roots)
+        count = candidate_angles(np.ascontiguousarray(samples[:, f]), DEGREES[f], phase, roots)
         for r in range(count):
             angles[found] = roots[r]
             found += 1
@@ -405,14 +543,28 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
 @kernel
 def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch):
     """Where one branch's status (exists and within the limits) changes between the midpoints of intervals
-    ``left`` and ``right`` of ``points``: bisection to the rounding of q7, so that an arc's end is exact even where
-    the limit polynomial's root is not (a cluster of roots)."""
+    ``left`` and ``right`` of ``points``, by bisection to the rounding of q7.
+
+    The change is at the breakpoint between them (``points[right]``, a
+    polished root) unless that root is inaccurate (a cluster of roots, the
+    eigenvalue route): where the status differs at
+    ``points[right] +- _ROOT_BRACKET`` the breakpoint is the answer,
+    otherwise the whole span between the midpoints is bisected, so that an
+    arc's end is exact either way.
+    """
     low = 0.5 * (points[left] + points[left + 1])
     high = 0.5 * (points[right] + points[right + 1])
     q = np.empty((1, 7))
     exists = np.empty(1, dtype=np.bool_)
     solve_q7(t07, offset7 + low, arm, branch, joints, q, exists, scratch)
     status_low = exists[0] and in_limits(q[0], joints)
+    near_low = max(low, points[right] - _ROOT_BRACKET)
+    near_high = min(high, points[right] + _ROOT_BRACKET)
+    solve_q7(t07, offset7 + near_low, arm, branch, joints, q, exists, scratch)
+    if (exists[0] and in_limits(q[0], joints)) == status_low:
+        solve_q7(t07, offset7 + near_high, arm, branch, joints, q, exists, scratch)
+        if (exists[0] and in_limits(q[0], joints)) != status_low:
+            return points[right]
     while high - low > 4e-16 * max(1.0, abs(low)):
         middle = 0.5 * (low + high)
         if middle <= low or middle >= high:

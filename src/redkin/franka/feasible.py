@@ -8,12 +8,14 @@ Every such q7 is a real root of one of fourteen trigonometric polynomials
 in q7 ([F8]: the product, over the four conjugate solutions that the square
 roots of [F3] and [F5] give, of a polynomial vanishing where a joint meets
 a limit; [F9]: the discriminants of [F3] and [F5]).  Their degrees are
-known (at most 16), so each is recovered exactly from 36 samples and all its
-roots come from one eigenvalue problem: no crossing is missed for want of a
-sample, however narrow the arc it bounds.  Between two consecutive
-candidates the status of each branch is constant and is read at the
-midpoint; each arc's ends are then located by bisection on the branch
-itself, to the rounding of q7.
+known (at most 8), so each is recovered exactly from 20 samples, and its
+real roots are isolated by a subdivision whose every step is a Taylor bound
+(or, where that does not settle, found among its complex roots): no
+crossing is missed for want of a sample, however narrow the arc it bounds.
+Between two consecutive candidates the status of each branch is constant
+and is read at the midpoint; each arc's ends are the polished roots, or
+found by bisection on the branch itself where a root is not accurate.
+docs/franka.md has the argument.
 """
 
 from __future__ import annotations

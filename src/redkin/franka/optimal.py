@@ -7,10 +7,13 @@ targets, each in units of its half range [F10]:
 
     ``f(q7) = sum_i ((q_i(q7) - t_i) / h_i)^2``, ``h_i = (upper_i - lower_i) / 2`` (1 for an unlimited joint),
 
-over the q7 at which the branch exists (``unclamped``) and over its feasible
-set (``feasible``, ``None`` where that is empty).  ``f`` has no closed-form
-minimiser, so it is sampled densely over each piece and the best sample
-refined by a bounded scalar search (Brent's method) between its neighbours.
+over its feasible set (``feasible``, ``None`` where that is empty) and over
+every q7 at which the branch exists (``unclamped``).  ``f`` has no
+closed-form minimiser, so it is sampled densely over each feasible arc and
+over joint 7's range, and the best sample refined by a bounded scalar
+search (Brent's method) between its neighbours; the unclamped optimum is the
+better of that and the feasible one, so that it is never worse than it
+(a branch may exist only on arcs narrower than the samples' spacing).
 """
 
 from __future__ import annotations
@@ -85,7 +88,7 @@ def optimal_q7(
         raise ValueError(f"pose must be one 4x4 pose, got shape {pose.shape}")
     index = geometry.branch_index(branch)
     chain = geometry.chain
-    limited = chain.limited & ~chain.covers_circle
+    limited = chain.limited
     middle = np.where(limited, 0.5 * (chain.lower + chain.upper), 0.0)
     goal = middle if target is None else check_vectors(target, 7, "target")
     half = np.where(limited, 0.5 * (chain.upper - chain.lower), 1.0)
@@ -99,8 +102,10 @@ def optimal_q7(
         return np.where(solutions.exists[..., 0], cost, np.inf)
 
     low, high = q7_domain(geometry)
-    unclamped = _minimise(objective, [(float(low), float(high))])
     best = _minimise(objective, [(float(a), float(b)) for a, b in sets.arcs[index]])
+    unclamped = _minimise(objective, [(float(low), float(high))])
+    if best[1] is not None and (unclamped[1] is None or best[1] <= unclamped[1]):
+        unclamped = best
     return OptimalQ7(unclamped[0], best[0], unclamped[1], best[1])
 
 
@@ -116,8 +121,9 @@ def _minimise(objective, pieces: list[tuple[float, float]]) -> tuple[float | Non
         candidate, value = float(grid[k]), float(values[k])
         if high > low:
             left, right = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
-            refined = minimize_scalar(lambda x: float(objective(np.array(x))), bounds=(left, right), method="bounded",
-                                      options={"xatol": 1e-10})
+            ceiling = value + 1e6  # where the branch does not exist, instead of inf (Brent's parabolas need numbers)
+            refined = minimize_scalar(lambda x, top=ceiling: min(float(objective(np.array(x))), top),
+                                      bounds=(left, right), method="bounded", options={"xatol": 1e-10})
             if refined.fun < value:
                 candidate, value = float(refined.x), float(refined.fun)
         if value < best_value:
