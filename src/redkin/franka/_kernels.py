@@ -21,7 +21,7 @@ import numpy as np
 
 from redkin._compiled import kernel
 from redkin.franka.geometry import A3, A4, A6, AMPLITUDE, D1, D3, D5, D6, MEAN, PHASE
-from redkin.srs._ik_kernels import chain_values
+from redkin.srs._ik_kernels import BAD_POSE, OK, chain_values, pose_defect
 
 #: Slack (radians) when a joint value is compared with its limits, as for S-R-S arms.
 MEMBERSHIP_TOLERANCE = 1e-12
@@ -164,52 +164,53 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch):
     ``branches`` (B, 3) holds the signs (shoulder, elbow, wrist) in the
     solver's senses; ``joints`` maps DH angles to the chain's values
     (:func:`redkin.srs._ik_kernels.chain_values`), except q7, which is
-    returned as given; ``scratch`` (4, 3, 3).
-    A branch that does not exist (the elbow cannot span ``|W - S|``, or the
-    wrist cannot turn S onto ``V``) gets zeros and ``exists = False``.
+    returned as given; ``scratch`` (8, 3, 3).  The elbow and wrist of each
+    pair of signs (and the shoulder's matrix ``M``) are computed once and
+    shared by its two shoulder branches.  A branch that does not exist (the
+    elbow cannot span ``|W - S|``, or the wrist cannot turn S onto ``V``)
+    gets zeros and ``exists = False``.
     """
     x6, y6, z6, w = wrist_and_frame_six(t07, theta7, arm)
     kappa = elbow_cosine(w, arm)
     vx, vy, vz = shoulder_seen_from_six(x6, y6, z6, t07, arm)
     theta = np.empty(7)
-    r34, r45, r56, m = scratch[0], scratch[1], scratch[2], scratch[3]
+    angles = np.empty((4, 3))  # theta_4, theta_5, theta_6 of each (elbow, wrist) pair
+    state = np.zeros(4, dtype=np.int64)  # 0: not computed, 1: exists, 2: does not
+    r34, r45, r56 = scratch[0], scratch[1], scratch[2]
     for b in range(branches.shape[0]):
         exists[b] = False
         for k in range(7):
             q[b, k] = 0.0
-        if abs(kappa) > 1.0 + _REACH_TOLERANCE:
+        pair = (0 if branches[b, 1] > 0.0 else 2) + (0 if branches[b, 2] > 0.0 else 1)
+        if state[pair] == 0:
+            state[pair] = 2
+            if abs(kappa) > 1.0 + _REACH_TOLERANCE:
+                continue
+            kappa_b = min(1.0, max(-1.0, kappa))
+            root4 = branches[b, 1] * np.sqrt(1.0 - kappa_b * kappa_b)
+            c4, s4 = elbow_trig(kappa_b, root4, arm)
+            s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
+            # [F5]: -S_4x sin theta_5 = V_z
+            if abs(vz) > abs(s4x) * (1.0 + _REACH_TOLERANCE) + _REACH_TOLERANCE * arm[D5]:
+                continue
+            s5 = 0.0 if s4x == 0.0 else min(1.0, max(-1.0, -vz / s4x))
+            c5 = branches[b, 2] * np.sqrt(1.0 - s5 * s5)
+            c6, s6 = wrist_six_trig(c5, s5, 1.0, s4x, s4z, vx, vy, arm)
+            theta6 = np.arctan2(s6, c6)
+            link_rotation(c4, s4, 1.0, 1.0, r34)
+            link_rotation(c5, s5, 1.0, -1.0, r45)
+            link_rotation(np.cos(theta6), np.sin(theta6), 1.0, 1.0, r56)
+            shoulder_matrix(x6, y6, z6, r34, r45, r56, scratch[4 + pair])
+            angles[pair, 0], angles[pair, 1], angles[pair, 2] = np.arctan2(s4, c4), np.arctan2(s5, c5), theta6
+            state[pair] = 1
+        if state[pair] != 1:
             continue
-        kappa_b = min(1.0, max(-1.0, kappa))
-        root4 = branches[b, 1] * np.sqrt(1.0 - kappa_b * kappa_b)
-        c4, s4 = elbow_trig(kappa_b, root4, arm)
-        s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
-        # [F5]: -S_4x sin theta_5 = V_z
-        if abs(vz) > abs(s4x) * (1.0 + _REACH_TOLERANCE) + _REACH_TOLERANCE * arm[D5]:
-            continue
-        s5 = 0.0 if s4x == 0.0 else min(1.0, max(-1.0, -vz / s4x))
-        c5 = branches[b, 2] * np.sqrt(1.0 - s5 * s5)
-        c6, s6 = wrist_six_trig(c5, s5, 1.0, s4x, s4z, vx, vy, arm)
-        theta6 = np.arctan2(s6, c6)
-        link_rotation(c4, s4, 1.0, 1.0, r34)
-        link_rotation(c5, s5, 1.0, -1.0, r45)
-        link_rotation(np.cos(theta6), np.sin(theta6), 1.0, 1.0, r56)
-        shoulder_matrix(x6, y6, z6, r34, r45, r56, m)
-        theta[0], theta[1], theta[2] = shoulder_angles(m, branches[b, 0])
-        theta[3] = np.arctan2(s4, c4)
-        theta[4] = np.arctan2(s5, c5)
-        theta[5] = theta6
+        theta[0], theta[1], theta[2] = shoulder_angles(scratch[4 + pair], branches[b, 0])
+        theta[3], theta[4], theta[5] = angles[pair, 0], angles[pair, 1], angles[pair, 2]
         theta[6] = theta7
         chain_values(theta, joints, q[b])
         q[b, 6] = theta7 - joints[0, 6]  # the parameter as given (a range wider than 2 pi holds it twice)
         exists[b] = True
-
-
-@kernel
-def within(theta, lower, upper, limited):
-    """Whether the DH angle ``theta`` of one joint lies in ``[lower, upper]`` modulo ``2 pi`` (with the slack)."""
-    if limited == 0.0:
-        return True
-    return np.mod(theta - lower + MEMBERSHIP_TOLERANCE, 2.0 * np.pi) <= upper - lower + 2.0 * MEMBERSHIP_TOLERANCE
 
 
 @kernel
@@ -515,7 +516,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     status = np.zeros((count, branches.shape[0]), dtype=np.bool_)
     q = np.empty((branches.shape[0], 7))
     exists = np.empty(branches.shape[0], dtype=np.bool_)
-    real_scratch = np.empty((4, 3, 3))
+    real_scratch = np.empty((8, 3, 3))
     for i in range(count):
         if points[i + 1] > points[i]:
             solve_q7(t07, offset7 + 0.5 * (points[i] + points[i + 1]), arm, branches, joints, q, exists, real_scratch)
@@ -580,14 +581,47 @@ def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch):
 # ----------------------------------------------------------------- batches
 # A batch kernel computes items start..stop - 1 (redkin._compiled.run_batch hands out the chunks).
 @kernel
-def solve_poses(start, stop, t07, theta7, arm, branches, joints, q, exists, within):
-    """:func:`solve_q7` for items ``start .. stop - 1``: ``t07`` (N, 4, 4), ``theta7`` (N,) into ``q`` (N, B, 7),
-    ``exists`` and ``within`` (N, B) (exists and lies within the limits)."""
-    scratch = np.empty((4, 3, 3))
+def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, scratch):
+    """One target pose (4, 4) of the chain at one value of q7: its checks, then :func:`solve_q7` into ``q`` (B, 7),
+    ``exists`` and ``within`` (B,) (exists and lies within the limits).  Returns :data:`OK`, or :data:`BAD_POSE`
+    for a pose that is not finite or not a proper rigid transform, or a q7 that is not finite (the caller words
+    the error).  ``frame`` (4, 4) and ``scratch`` (8, 3, 3) are work space."""
+    if pose_defect(pose) != OK or not np.isfinite(q7):
+        return BAD_POSE
+    for r in range(4):  # frame 7 in frame 0: base^-1 pose tool^-1
+        for c in range(4):
+            total = 0.0
+            for k in range(4):
+                inner = 0.0
+                for m in range(4):
+                    inner += pose[k, m] * ends[1, m, c]
+                total += ends[0, r, k] * inner
+            frame[r, c] = total
+    solve_q7(frame, q7 + joints[0, 6], arm, branches, joints, q, exists, scratch)
+    for b in range(branches.shape[0]):
+        within[b] = exists[b] and in_limits(q[b], joints)
+    return OK
+
+
+@kernel
+def solve_single(pose, q7, arm, ends, branches, joints, q, exists, within):
+    """:func:`solve_pose` for one pose and one q7 (a 0-d array); returns the status."""
+    return solve_pose(pose, q7[()], arm, ends, branches, joints, q, exists, within, np.empty((4, 4)),
+                      np.empty((8, 3, 3)))
+
+
+@kernel
+def solve_poses(start, stop, poses, q7, arm, ends, branches, joints, q, exists, within):
+    """:func:`solve_pose` for items ``start .. stop - 1``: ``poses`` (N, 4, 4), ``q7`` (N,) into ``q`` (N, B, 7),
+    ``exists`` and ``within`` (N, B).  Returns how many items failed their checks."""
+    frame = np.empty((4, 4))
+    scratch = np.empty((8, 3, 3))
+    failed = 0
     for n in range(start, stop):
-        solve_q7(t07[n], theta7[n], arm, branches, joints, q[n], exists[n], scratch)
-        for b in range(branches.shape[0]):
-            within[n, b] = exists[n, b] and in_limits(q[n, b], joints)
+        if solve_pose(poses[n], q7[n], arm, ends, branches, joints, q[n], exists[n], within[n], frame,
+                      scratch) != OK:
+            failed += 1
+    return failed
 
 
 @kernel

@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_finite, check_pose
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.franka import _kernels
 from redkin.franka.geometry import FrankaGeometry, franka_geometry
 from redkin.srs.branches import BRANCHES, Branch
@@ -110,22 +111,42 @@ def ik(
         rotation that is not orthonormal), a non-finite q7 or a malformed branch.
     """
     geometry = as_franka(arm)
-    t07 = frames_seven(geometry, pose)
-    q7 = as_float_array(q7, "q7")
-    check_finite(q7, "q7")
-    shape = np.broadcast_shapes(t07.shape[:-2], q7.shape)
     if branch is None:
         chosen, signs = BRANCHES, geometry.kernel_branches
     else:
         index = geometry.branch_index(branch)
         chosen, signs = (BRANCHES[index],), geometry.kernel_branches[index : index + 1]
+    pose = as_float_array(pose, "pose")
+    if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
+        raise RedkinError(f"pose must have shape (..., 4, 4), got shape {pose.shape}")
+    q7 = as_float_array(q7, "q7")
+    tables = (geometry.kernel_arm, geometry.kernel_ends, signs, geometry.kernel_joints)
+    if pose.ndim == 2 and q7.ndim == 0:  # one pose: no batch to lay out
+        q = np.empty((len(chosen), 7))
+        exists = np.empty(len(chosen), dtype=bool)
+        within = np.empty(len(chosen), dtype=bool)
+        if _kernels.solve_single(kernel_array(pose), kernel_array(q7), *tables, q, exists, within) != _kernels.OK:
+            _raise_for(pose, q7)
+        return Q7Solutions(q, exists, within, chosen)
+    try:
+        shape = np.broadcast_shapes(pose.shape[:-2], q7.shape)
+    except ValueError:
+        raise RedkinError(f"q7 of shape {q7.shape} does not broadcast against the pose batch "
+                          f"{pose.shape[:-2]}") from None
     count = int(np.prod(shape, dtype=np.int64))
-    t07 = kernel_array(t07, shape + (4, 4)).reshape(count, 4, 4)
-    theta7 = kernel_array(q7 + geometry.form.offset[6], shape).reshape(count)
+    poses = kernel_array(pose, shape + (4, 4)).reshape(count, 4, 4)
+    values = kernel_array(q7, shape).reshape(count)
     q = np.empty((count, len(chosen), 7))
     exists = np.empty((count, len(chosen)), dtype=bool)
     within = np.empty((count, len(chosen)), dtype=bool)
-    run_batch(_kernels.solve_poses, count, t07, theta7, geometry.kernel_arm, signs, geometry.kernel_joints,
-              q, exists, within)
+    if run_batch(_kernels.solve_poses, count, poses, values, *tables, q, exists, within):
+        _raise_for(pose, q7)
     return Q7Solutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + (len(chosen),)),
                        within.reshape(shape + (len(chosen),)), chosen)
+
+
+def _raise_for(pose: np.ndarray, q7: np.ndarray) -> None:
+    """Raise the error of a batch the kernels flagged: a q7 that is not finite, then a malformed pose."""
+    check_finite(q7, "q7")
+    check_pose(pose)
+    raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
