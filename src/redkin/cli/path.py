@@ -39,7 +39,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     path.add_argument("--q0", nargs=7, type=float, metavar="Q", help="the configuration before the first waypoint")
     path.add_argument("--end-branch", metavar="BRANCH", help="branch of the last waypoint: " + BRANCH_HELP)
     add_output_flags(path)
-    path.set_defaults(handler=run_path)
+    path.set_defaults(handler=_run_path)
 
 
 def _poses(file: str) -> np.ndarray:
@@ -66,7 +66,7 @@ def _failure_line(failure, degrees: bool) -> str:
     return text + (" [proved by the exact feasible sets]" if failure.exact else " [on the searched graph]")
 
 
-def run_path(args: argparse.Namespace) -> int:
+def _run_path(args: argparse.Namespace) -> int:
     from redkin.paths import resolve_path
 
     chain = load_robot(args)
