@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from redkin.cli.main import main
+from redkin.franka import franka_geometry
 from redkin.models import MODELS, barrett_wam, pa10_7c
 from redkin.reproduce import printed
-from redkin.franka import franka_geometry
 from redkin.srs import srs_geometry
 
 

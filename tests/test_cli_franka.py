@@ -71,7 +71,8 @@ def test_arm_angles_prints_the_library_q7_sets_and_optimum(capsys):
     data = run_json(capsys, ["arm-angles", "franka-panda", *pose_argv(pose), "--branch", "--+"])
     sets = franka.feasible_q7(chain, pose)
     assert data["parameter"] == "q7" and data["domain"] == list(sets.domain)
-    np.testing.assert_array_equal(np.array(data["feasible"]).reshape(-1, 2), sets.arcs[franka.franka_geometry(chain).branch_index("--+")])
+    index = franka.franka_geometry(chain).branch_index("--+")
+    np.testing.assert_array_equal(np.array(data["feasible"]).reshape(-1, 2), sets.arcs[index])
     assert any(lo <= Q[6] <= hi for lo, hi in data["feasible"])
     assert set(data["branches"]) == {str(b) for b in franka.BRANCHES}
     optimal = data["optimal"]["feasible"]

@@ -21,7 +21,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from redkin.chain import SerialChain
-from redkin.franka import BRANCHES, FeasibleQ7, _kernels, feasible_q7, franka_geometry, ik, optimal_q7
+from redkin.franka import (
+    BRANCHES,
+    FeasibleQ7,
+    _kernels,
+    feasible_q7,
+    feasible_q7_batch,
+    franka_geometry,
+    ik,
+    optimal_q7,
+)
 from redkin.franka.ik import frames_seven
 from redkin.models import get_robot
 from tests.support.feasible_sampling import random_limits
@@ -219,13 +228,15 @@ def test_a_batch_of_poses_gives_an_object_array_of_the_single_results():
     rng = np.random.default_rng(24)
     poses = chain.fk(rng.uniform(chain.lower, chain.upper, (2, 3, 7)))
     poses[1, 2, :3, 3] = [2.0, 0.0, 0.0]  # one unreachable
-    batch = feasible_q7(chain, poses)
+    batch = feasible_q7_batch(chain, poses)
     assert isinstance(batch, np.ndarray) and batch.dtype == object and batch.shape == (2, 3)
     for index in np.ndindex(2, 3):
         one = feasible_q7(chain, poses[index])
         assert isinstance(one, FeasibleQ7) and batch[index].domain == one.domain
         assert all(np.array_equal(a, b) for a, b in zip(batch[index].arcs, one.arcs))
-    assert feasible_q7(chain, poses[:1, 0]).shape == (1,)
+    assert feasible_q7_batch(chain, poses[:1, 0]).shape == (1,)
+    with pytest.raises(ValueError, match="feasible_q7_batch takes a batch"):
+        feasible_q7(chain, poses[:1, 0])
     with pytest.raises(ValueError, match="pose"):
         feasible_q7(chain, np.eye(3))
     with pytest.raises(ValueError, match="not of the Franka class"):

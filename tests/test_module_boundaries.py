@@ -21,6 +21,7 @@ PUBLIC = {
                       "ufactory_xarm7"},
     "redkin.so3": {"rot_x", "rot_y", "rot_z", "axis_angle_to_matrix", "matrix_to_axis_angle", "matrix_to_xyz_fixed"},
     "redkin.chain": {"Convention"},
+    "redkin.closed_form": {"ClosedFormSolutions"},
     "redkin.cli.main": {"main"},
     "redkin.reproduce": {"SECTION_MODULES"},
     "redkin.srs.feasible": {"LimitTables"},

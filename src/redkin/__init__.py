@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # what type checkers and editors see; at run time :func:`__getattr__` loads them
     from redkin._compiled import set_threads, thread_count
     from redkin.chain import SerialChain, yoshikawa
+    from redkin.closed_form import ik
     from redkin.errors import (
         MapStoreError,
         NotArmAngleClassError,
@@ -33,6 +34,7 @@ __all__ = [
     "SizeLimitError",
     "UnreachablePoseError",
     "get_robot",
+    "ik",
     "robot_names",
     "set_threads",
     "thread_count",
@@ -50,6 +52,7 @@ _LAZY = {
     "SizeLimitError": "redkin.errors",
     "UnreachablePoseError": "redkin.errors",
     "get_robot": "redkin.models",
+    "ik": "redkin.closed_form",
     "robot_names": "redkin.models",
     "set_threads": "redkin._compiled",
     "thread_count": "redkin._compiled",

@@ -71,19 +71,16 @@ def _wraps(arc_set) -> list[bool]:
 
 
 def _closed_form_class(chain, args: argparse.Namespace) -> str:
-    """``"psi"`` or ``"q7"``: the redundancy parameter of the chain's class; a ValueError naming the right option
-    where the command line gave the other one, or where the chain has no closed form."""
-    from redkin.srs.arm_class import FRANKA, GENERAL, arm_angle_class
+    """``"psi"`` or ``"q7"``: the redundancy parameter of the chain's class
+    (:func:`redkin.closed_form.redundancy_parameter`); a ValueError naming the right option where the command line
+    gave the other one."""
+    from redkin.closed_form import redundancy_parameter
 
-    kind, reason = arm_angle_class(chain)
-    if kind == GENERAL:
-        raise ValueError(f"{chain.name} has no closed-form IK: {reason}")
-    parameter = "q7" if kind == FRANKA else "psi"
-    given = "q7" if getattr(args, "q7", None) is not None else "psi"
-    if getattr(args, "psi", None) is not None or getattr(args, "q7", None) is not None:
-        if given != parameter:
-            raise ValueError(f"{chain.name} is of the {kind} class: its redundancy parameter is "
-                             f"{'q7 (--q7)' if parameter == 'q7' else 'the arm angle (--psi)'}, not {given}")
+    parameter = redundancy_parameter(chain)
+    given = "q7" if getattr(args, "q7", None) is not None else "psi" if getattr(args, "psi", None) is not None else None
+    if given is not None and given != parameter:
+        right = "q7 (--q7)" if parameter == "q7" else "the arm angle (--psi)"
+        raise ValueError(f"{chain.name}: its redundancy parameter is {right}, not {given}")
     return parameter
 
 

@@ -7,11 +7,12 @@ eight solutions in closed form.
 
 * :func:`franka_geometry` -- detection in any description, and the solver's form of the arm
 * :func:`ik` -- every solution (or one branch's) of poses at values of q7 [F1]-[F7]
-* :func:`feasible_q7` -- the exact feasible q7 set of every branch under the joint limits [F8]-[F9]
+* :func:`feasible_q7` -- the exact feasible q7 set of every branch under the joint limits [F8]-[F9];
+  :func:`feasible_q7_batch` for a batch of poses
 * :func:`optimal_q7` -- the q7 that keeps the joints farthest from their limits, within the feasible set
 """
 
-from redkin.franka.feasible import FeasibleQ7, feasible_q7
+from redkin.franka.feasible import FeasibleQ7, feasible_q7, feasible_q7_batch
 from redkin.franka.geometry import FrankaGeometry, franka_geometry
 from redkin.franka.ik import PARAMETER, Q7Solutions, ik
 from redkin.franka.optimal import OptimalQ7, optimal_q7
@@ -25,6 +26,7 @@ __all__ = [
     "PARAMETER",
     "Q7Solutions",
     "feasible_q7",
+    "feasible_q7_batch",
     "franka_geometry",
     "ik",
     "optimal_q7",

@@ -20,13 +20,14 @@ docs/franka.md has the argument.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import run_batch
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.franka import _kernels
 from redkin.franka.geometry import FrankaGeometry
 from redkin.franka.ik import PARAMETER, as_franka, frames_seven
@@ -74,19 +75,29 @@ def q7_domain(geometry: FrankaGeometry) -> np.ndarray:
     return np.array([chain.lower[6], chain.upper[6]])
 
 
-def feasible_q7(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> FeasibleQ7 | np.ndarray:
-    """The exact feasible q7 set of every branch of target poses ([F8]-[F9]; module docstring).
+def feasible_q7(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> FeasibleQ7:
+    """The exact feasible q7 set of every branch of one target pose ([F8]-[F9]; module docstring).
 
     Parameters
     ----------
     arm : SerialChain or FrankaGeometry
         A Franka-class arm.
-    pose : array_like, shape (4, 4) or (..., 4, 4)
-        Target poses of the chain's tool frame in its base frame.
+    pose : array_like, shape (4, 4)
+        Target pose of the chain's tool frame in its base frame.
 
-    Returns
-    -------
-    FeasibleQ7, or for a batch of poses a numpy object array of them with the batch's shape.
+    Raises
+    ------
+    ValueError
+        For a chain not of the Franka class or a malformed pose (a batch: :func:`feasible_q7_batch`).
+    """
+    if np.shape(pose) != (4, 4):
+        raise RedkinError(f"pose must be one 4x4 pose (feasible_q7_batch takes a batch), got shape {np.shape(pose)}")
+    return cast(FeasibleQ7, feasible_q7_batch(arm, pose)[()])
+
+
+def feasible_q7_batch(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> np.ndarray:
+    """:func:`feasible_q7` of a batch of poses ``(..., 4, 4)``: a numpy object array of :class:`FeasibleQ7` with the
+    batch's shape, computed on the shared thread pool.
 
     Raises
     ------
@@ -114,4 +125,4 @@ def feasible_q7(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> FeasibleQ
         else:
             pieces = tuple(arcs[n, b, : counts[n, b]].copy() for b in range(len(BRANCHES)))
         results[n] = FeasibleQ7(pieces, (float(domain[0]), float(domain[1])), BRANCHES)
-    return results[0] if not shape else results.reshape(shape)
+    return results.reshape(shape)

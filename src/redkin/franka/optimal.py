@@ -93,8 +93,6 @@ def optimal_q7(
     goal = middle if target is None else check_vectors(target, 7, "target")
     half = np.where(limited, 0.5 * (chain.upper - chain.lower), 1.0)
     sets = feasible if feasible is not None else feasible_q7(geometry, pose)
-    if not isinstance(sets, FeasibleQ7):  # pragma: no cover - one pose gives one FeasibleQ7
-        raise TypeError("feasible must be the FeasibleQ7 of one pose")
 
     def objective(q7: np.ndarray) -> np.ndarray:
         solutions = ik(geometry, pose, q7, BRANCHES[index])

@@ -1,0 +1,120 @@
+"""One front door to the closed forms: the solutions of poses at a value of the chain's redundancy parameter.
+
+The chain's class (:func:`redkin.srs.arm_angle_class`) picks the solver and
+the parameter: the arm angle ``psi`` of S-R-S and offset-elbow arms
+(:mod:`redkin.srs`, paper 000), ``q7`` of Franka-class arms
+(:mod:`redkin.franka`).  Giving the other parameter is an error that names
+the right one, so that no arm-angle function ever reads a q7 as an arm
+angle, nor the other way round.
+
+    >>> from redkin import get_robot, ik
+    >>> result = ik(get_robot("franka-fr3"), pose, q7=0.5)      # result.parameter == "q7"
+    >>> result = ik(get_robot("kuka-iiwa14"), pose, psi=0.3)    # result.parameter == "psi"
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.chain import SerialChain
+from redkin.errors import NotArmAngleClassError, RedkinError
+from redkin.srs.branches import BRANCHES, Branch, parse_branch
+
+
+class ClosedFormSolutions(NamedTuple):
+    """Solutions of poses at values of the redundancy parameter, one row per branch.
+
+    Attributes
+    ----------
+    q : numpy.ndarray, shape (..., B, 7)
+        Joint values in the chain's conventions (zeros where a branch has no solution).
+    exists : numpy.ndarray of bool, shape (..., B)
+        Whether the branch has a solution (an S-R-S pose out of the wrist's reach has none on any branch).
+    within_limits : numpy.ndarray of bool, shape (..., B)
+        Exists and lies within the chain's joint limits.
+    branches : tuple of Branch
+        The branch of each row (``B = 8``, or 1 for one branch).
+    parameter : str
+        ``"psi"`` or ``"q7"``: what the given value was.
+    """
+
+    q: np.ndarray
+    exists: np.ndarray
+    within_limits: np.ndarray
+    branches: tuple[Branch, ...]
+    parameter: str
+
+
+def redundancy_parameter(chain: SerialChain) -> str:
+    """``"psi"`` for an S-R-S or offset-elbow arm, ``"q7"`` for a Franka-class arm.
+
+    Raises
+    ------
+    NotArmAngleClassError
+        For a chain with no closed form, naming the conditions it breaks.
+    """
+    from redkin.srs.arm_class import FRANKA, GENERAL, arm_angle_class
+
+    kind, reason = arm_angle_class(chain)
+    if kind == GENERAL:
+        raise NotArmAngleClassError(f"{chain.name!r} has no closed-form IK: {reason}", chain.name)
+    return "q7" if kind == FRANKA else "psi"
+
+
+def ik(
+    chain: SerialChain,
+    pose: ArrayLike,
+    *,
+    psi: ArrayLike | None = None,
+    q7: ArrayLike | None = None,
+    branch: str | Branch | tuple[int, int, int] | None = None,
+) -> ClosedFormSolutions:
+    """Every solution (or one branch's) of target poses at a value of the chain's redundancy parameter.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        An S-R-S, offset-elbow or Franka-class arm, in any description.
+    pose : array_like, shape (..., 4, 4)
+        Target poses of the chain's tool in its base frame.
+    psi, q7 : array_like, broadcast against the poses' batch shape
+        The arm angle (S-R-S arms, [000 eq. 6]) or the value of joint 7 (Franka class, docs/franka.md): exactly
+        the one of the chain's class.
+    branch : str or Branch, optional
+        One branch (three signs, e.g. ``"+-+"``); default all eight, in the order of :data:`redkin.srs.BRANCHES`.
+
+    Raises
+    ------
+    ValueError
+        For a chain without a closed form, the other class's parameter, both or neither, a malformed pose,
+        parameter or branch.
+    """
+    from redkin import franka, srs
+
+    parameter = redundancy_parameter(chain)
+    given = [name for name, value in (("psi", psi), ("q7", q7)) if value is not None]
+    if given != [parameter]:
+        right = "the arm angle psi" if parameter == "psi" else "q7 (the value of joint 7)"
+        raise RedkinError(f"{chain.name!r} takes {right} as its redundancy parameter; got "
+                          f"{' and '.join(given) or 'neither psi nor q7'}")
+    if q7 is not None:
+        result = franka.ik(chain, pose, q7, branch)
+        return ClosedFormSolutions(result.q, result.exists, result.within_limits, result.branches, "q7")
+    chosen = BRANCHES if branch is None else (parse_branch(branch),)
+    geometry = srs.srs_geometry(chain)
+    reach = srs.reachable(geometry, pose)
+    poses = np.asarray(pose, dtype=float)
+    psi = np.asarray(psi, dtype=float)
+    angles = np.broadcast_to(psi, np.broadcast_shapes(reach.shape, psi.shape))
+    reach = np.broadcast_to(reach, angles.shape)
+    poses = np.broadcast_to(poses, angles.shape + (4, 4))
+    q = np.zeros(angles.shape + (len(chosen), 7))
+    if reach.any():
+        rows = [srs.ik(geometry, poses[reach], angles[reach], b) for b in chosen]
+        q[reach] = np.stack(rows, axis=-2)
+    exists = np.broadcast_to(reach[..., None], q.shape[:-1]).copy()
+    within = exists & chain.within_limits(q, tolerance=1e-9, wrap=True)
+    return ClosedFormSolutions(q, exists, within, chosen, "psi")
