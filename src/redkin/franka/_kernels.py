@@ -23,6 +23,8 @@ from redkin._compiled import kernel
 from redkin.franka.geometry import A3, A4, A6, AMPLITUDE, D1, D3, D5, D6, MEAN, PHASE
 from redkin.srs._ik_kernels import BAD_POSE, OK, chain_values, pose_defect
 
+#: Length of the work vector of :func:`solve_q7`.
+WORK = 24
 #: Slack (radians) when a joint value is compared with its limits, as for S-R-S arms.
 MEMBERSHIP_TOLERANCE = 1e-12
 #: How far past +-1 the cosine of [F3] or the sine of [F4] may be rounded back (a stretched elbow, a wrist at the
@@ -158,13 +160,14 @@ def shoulder_angles(m, sigma):
 
 
 @kernel
-def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch):
+def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch, work):
     """Every requested branch at one ``theta_7`` [F1]-[F7]: joint values into ``q`` (B, 7), ``exists`` (B,).
 
     ``branches`` (B, 3) holds the signs (shoulder, elbow, wrist) in the
     solver's senses; ``joints`` maps DH angles to the chain's values
     (:func:`redkin.srs._ik_kernels.chain_values`), except q7, which is
-    returned as given; ``scratch`` (8, 3, 3).  The elbow and wrist of each
+    returned as given; ``scratch`` (8, 3, 3) and ``work`` (:data:`WORK`,) are
+    work space (no allocation per call).  The elbow and wrist of each
     pair of signs (and the shoulder's matrix ``M``) are computed once and
     shared by its two shoulder branches.  A branch that does not exist (the
     elbow cannot span ``|W - S|``, or the wrist cannot turn S onto ``V``)
@@ -173,17 +176,18 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch):
     x6, y6, z6, w = wrist_and_frame_six(t07, theta7, arm)
     kappa = elbow_cosine(w, arm)
     vx, vy, vz = shoulder_seen_from_six(x6, y6, z6, t07, arm)
-    theta = np.empty(7)
-    angles = np.empty((4, 3))  # theta_4, theta_5, theta_6 of each (elbow, wrist) pair
-    state = np.zeros(4, dtype=np.int64)  # 0: not computed, 1: exists, 2: does not
+    theta = work[:7]  # the DH angles of one branch
+    angles = work[7:19].reshape((4, 3))  # theta_4, theta_5, theta_6 of each (elbow, wrist) pair
+    state = work[19:23]  # 0: not computed, 1: exists, 2: does not
+    state[:] = 0.0
     r34, r45, r56 = scratch[0], scratch[1], scratch[2]
     for b in range(branches.shape[0]):
         exists[b] = False
         for k in range(7):
             q[b, k] = 0.0
         pair = (0 if branches[b, 1] > 0.0 else 2) + (0 if branches[b, 2] > 0.0 else 1)
-        if state[pair] == 0:
-            state[pair] = 2
+        if state[pair] == 0.0:
+            state[pair] = 2.0
             if abs(kappa) > 1.0 + _REACH_TOLERANCE:
                 continue
             kappa_b = min(1.0, max(-1.0, kappa))
@@ -202,8 +206,8 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch):
             link_rotation(np.cos(theta6), np.sin(theta6), 1.0, 1.0, r56)
             shoulder_matrix(x6, y6, z6, r34, r45, r56, scratch[4 + pair])
             angles[pair, 0], angles[pair, 1], angles[pair, 2] = np.arctan2(s4, c4), np.arctan2(s5, c5), theta6
-            state[pair] = 1
-        if state[pair] != 1:
+            state[pair] = 1.0
+        if state[pair] != 1.0:
             continue
         theta[0], theta[1], theta[2] = shoulder_angles(scratch[4 + pair], branches[b, 0])
         theta[3], theta[4], theta[5] = angles[pair, 0], angles[pair, 1], angles[pair, 2]
@@ -517,9 +521,11 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     q = np.empty((branches.shape[0], 7))
     exists = np.empty(branches.shape[0], dtype=np.bool_)
     real_scratch = np.empty((8, 3, 3))
+    work = np.empty(WORK)
     for i in range(count):
         if points[i + 1] > points[i]:
-            solve_q7(t07, offset7 + 0.5 * (points[i] + points[i + 1]), arm, branches, joints, q, exists, real_scratch)
+            solve_q7(t07, offset7 + 0.5 * (points[i] + points[i + 1]), arm, branches, joints, q, exists, real_scratch,
+                     work)
             for b in range(branches.shape[0]):
                 status[i, b] = exists[b] and in_limits(q[b], joints)
     for b in range(branches.shape[0]):
@@ -530,11 +536,11 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                 continue
             if status[i, b] and (previous < 0 or not status[previous, b]):
                 arcs[b, counts[b], 0] = points[i] if previous < 0 else crossing(
-                    t07, arm, branches[b:b + 1], joints, offset7, points, previous, i, real_scratch)
+                    t07, arm, branches[b:b + 1], joints, offset7, points, previous, i, real_scratch, work)
                 counts[b] += 1
             if not status[i, b] and previous >= 0 and status[previous, b]:
                 arcs[b, counts[b] - 1, 1] = crossing(t07, arm, branches[b:b + 1], joints, offset7, points, previous, i,
-                                                     real_scratch)
+                                                     real_scratch, work)
             previous = i
         if previous >= 0 and status[previous, b]:
             arcs[b, counts[b] - 1, 1] = points[count]
@@ -542,7 +548,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
 
 
 @kernel
-def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch):
+def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch, work):
     """Where one branch's status (exists and within the limits) changes between the midpoints of intervals
     ``left`` and ``right`` of ``points``, by bisection to the rounding of q7.
 
@@ -557,20 +563,20 @@ def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch):
     high = 0.5 * (points[right] + points[right + 1])
     q = np.empty((1, 7))
     exists = np.empty(1, dtype=np.bool_)
-    solve_q7(t07, offset7 + low, arm, branch, joints, q, exists, scratch)
+    solve_q7(t07, offset7 + low, arm, branch, joints, q, exists, scratch, work)
     status_low = exists[0] and in_limits(q[0], joints)
     near_low = max(low, points[right] - _ROOT_BRACKET)
     near_high = min(high, points[right] + _ROOT_BRACKET)
-    solve_q7(t07, offset7 + near_low, arm, branch, joints, q, exists, scratch)
+    solve_q7(t07, offset7 + near_low, arm, branch, joints, q, exists, scratch, work)
     if (exists[0] and in_limits(q[0], joints)) == status_low:
-        solve_q7(t07, offset7 + near_high, arm, branch, joints, q, exists, scratch)
+        solve_q7(t07, offset7 + near_high, arm, branch, joints, q, exists, scratch, work)
         if (exists[0] and in_limits(q[0], joints)) != status_low:
             return points[right]
     while high - low > 4e-16 * max(1.0, abs(low)):
         middle = 0.5 * (low + high)
         if middle <= low or middle >= high:
             break
-        solve_q7(t07, offset7 + middle, arm, branch, joints, q, exists, scratch)
+        solve_q7(t07, offset7 + middle, arm, branch, joints, q, exists, scratch, work)
         if (exists[0] and in_limits(q[0], joints)) == status_low:
             low = middle
         else:
@@ -581,11 +587,11 @@ def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch):
 # ----------------------------------------------------------------- batches
 # A batch kernel computes items start..stop - 1 (redkin._compiled.run_batch hands out the chunks).
 @kernel
-def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, scratch):
+def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, scratch, work):
     """One target pose (4, 4) of the chain at one value of q7: its checks, then :func:`solve_q7` into ``q`` (B, 7),
     ``exists`` and ``within`` (B,) (exists and lies within the limits).  Returns :data:`OK`, or :data:`BAD_POSE`
     for a pose that is not finite or not a proper rigid transform, or a q7 that is not finite (the caller words
-    the error).  ``frame`` (4, 4) and ``scratch`` (8, 3, 3) are work space."""
+    the error).  ``frame`` (4, 4), ``scratch`` (8, 3, 3) and ``work`` (:data:`WORK`,) are work space."""
     if pose_defect(pose) != OK or not np.isfinite(q7):
         return BAD_POSE
     for r in range(4):  # frame 7 in frame 0: base^-1 pose tool^-1
@@ -597,7 +603,7 @@ def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, 
                     inner += pose[k, m] * ends[1, m, c]
                 total += ends[0, r, k] * inner
             frame[r, c] = total
-    solve_q7(frame, q7 + joints[0, 6], arm, branches, joints, q, exists, scratch)
+    solve_q7(frame, q7 + joints[0, 6], arm, branches, joints, q, exists, scratch, work)
     for b in range(branches.shape[0]):
         within[b] = exists[b] and in_limits(q[b], joints)
     return OK
@@ -607,7 +613,7 @@ def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, 
 def solve_single(pose, q7, arm, ends, branches, joints, q, exists, within):
     """:func:`solve_pose` for one pose and one q7 (a 0-d array); returns the status."""
     return solve_pose(pose, q7[()], arm, ends, branches, joints, q, exists, within, np.empty((4, 4)),
-                      np.empty((8, 3, 3)))
+                      np.empty((8, 3, 3)), np.empty(WORK))
 
 
 @kernel
@@ -616,10 +622,11 @@ def solve_poses(start, stop, poses, q7, arm, ends, branches, joints, q, exists, 
     ``exists`` and ``within`` (N, B).  Returns how many items failed their checks."""
     frame = np.empty((4, 4))
     scratch = np.empty((8, 3, 3))
+    work = np.empty(WORK)
     failed = 0
     for n in range(start, stop):
         if solve_pose(poses[n], q7[n], arm, ends, branches, joints, q[n], exists[n], within[n], frame,
-                      scratch) != OK:
+                      scratch, work) != OK:
             failed += 1
     return failed
 

@@ -33,6 +33,8 @@ from redkin.srs.branches import BRANCHES, Branch
 
 #: Samples of q7 over the whole range, and over each feasible arc, before the refinement.
 _SAMPLES = 361
+#: How many of the lowest sampled local minima are refined.
+_REFINED = 4
 
 
 @dataclass(frozen=True)
@@ -104,26 +106,33 @@ def optimal_q7(
     unclamped = _minimise(objective, [(float(low), float(high))])
     if best[1] is not None and (unclamped[1] is None or best[1] <= unclamped[1]):
         unclamped = best
+    elif unclamped[0] is not None and sets.contains(unclamped[0], index):
+        best = unclamped  # the whole-range search found a better feasible point than the arcs' own
     return OptimalQ7(unclamped[0], best[0], unclamped[1], best[1])
 
 
 def _minimise(objective, pieces: list[tuple[float, float]]) -> tuple[float | None, float | None]:
-    """The minimiser of ``objective`` over the union of intervals and its value, or ``(None, None)``."""
+    """The minimiser of ``objective`` over the union of intervals and its value, or ``(None, None)``.
+
+    Each sampled local minimum among the :data:`_REFINED` lowest is refined, not only the lowest sample: where a
+    branch's solution jumps (``q_2`` through 0 turns ``q_1`` and ``q_3`` by pi) ``f`` jumps too, and its infimum
+    can sit at the jump, next to a sample no lower than others far away.
+    """
     best_q7, best_value = None, np.inf
     for low, high in pieces:
         grid = np.linspace(low, high, _SAMPLES if high > low else 1)
         values = objective(grid)
-        k = int(np.argmin(values))
-        if not np.isfinite(values[k]):
-            continue
-        candidate, value = float(grid[k]), float(values[k])
-        if high > low:
-            left, right = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
-            ceiling = value + 1e6  # where the branch does not exist, instead of inf (Brent's parabolas need numbers)
-            refined = minimize_scalar(lambda x, top=ceiling: min(float(objective(np.array(x))), top),
-                                      bounds=(left, right), method="bounded", options={"xatol": 1e-10})
-            if refined.fun < value:
-                candidate, value = float(refined.x), float(refined.fun)
-        if value < best_value:
-            best_q7, best_value = candidate, value
+        inner = np.concatenate([[np.inf], values, [np.inf]])
+        minima = np.flatnonzero((values <= inner[:-2]) & (values <= inner[2:]) & np.isfinite(values))
+        for k in minima[np.argsort(values[minima])][:_REFINED]:
+            candidate, value = float(grid[k]), float(values[k])
+            if high > low:
+                left, right = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+                ceiling = value + 1e6  # in place of inf where the branch does not exist (Brent needs numbers)
+                refined = minimize_scalar(lambda x, top=ceiling: min(float(objective(np.array(x))), top),
+                                          bounds=(left, right), method="bounded", options={"xatol": 1e-10})
+                if refined.fun < value:
+                    candidate, value = float(refined.x), float(refined.fun)
+            if value < best_value:
+                best_q7, best_value = candidate, value
     return (best_q7, best_value) if best_q7 is not None else (None, None)
