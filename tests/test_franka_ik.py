@@ -91,7 +91,8 @@ def test_every_row_reaches_the_pose_and_q_is_in_its_own_row(seed, name):
     chain = get_robot(name)
     rng = np.random.default_rng(seed)
     q = rng.uniform(chain.lower, chain.upper, (400, 7))
-    assert_q_in_its_own_row(chain, q)
+    solutions = assert_q_in_its_own_row(chain, q)
+    assert np.all((solutions.q[..., 6] == q[:, 6:7]) | ~solutions.exists)  # q7 as given, even past +-pi (xArm7)
     # the branches as the docstring names them, in the user's own values: sign q_2, theta_4 - phi, sign cos q_5
     geometry = franka_geometry(chain)
     elbow = wrap(geometry.form.offset[3] + q[:, 3] - geometry.kernel_arm[9])
@@ -99,7 +100,10 @@ def test_every_row_reaches_the_pose_and_q_is_in_its_own_row(seed, name):
     assert np.array_equal(np.array(BRANCHES)[branch_index(geometry, q)], expected)
     # and some other q7 of the same poses: every row still reaches them
     poses = chain.fk(q[:50])
-    check_solutions(chain, ik(chain, poses, rng.uniform(chain.lower[6], chain.upper[6], 50)), poses)
+    q7 = rng.uniform(chain.lower[6], chain.upper[6], 50)
+    solutions = ik(chain, poses, q7)
+    check_solutions(chain, solutions, poses)
+    assert np.all((solutions.q[..., 6] == q7[:, None]) | ~solutions.exists)
 
 
 @settings(max_examples=15, deadline=None)
