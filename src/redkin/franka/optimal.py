@@ -33,6 +33,8 @@ from redkin.srs.branches import BRANCHES, Branch
 
 #: Samples of q7 over the whole range, and over each feasible arc, before the refinement.
 _SAMPLES = 361
+#: How far inside an interval its end samples are taken (radians).
+_INSIDE = 1e-12
 #: How many of the lowest sampled local minima are refined.
 _REFINED = 4
 
@@ -122,6 +124,10 @@ def _minimise(objective, pieces: list[tuple[float, float]]) -> tuple[float | Non
     for low, high in pieces:
         grid = np.linspace(low, high, _SAMPLES if high > low else 1)
         values = objective(grid)
+        if high - low > 4.0 * _INSIDE:  # an end where the branch vanishes has no solution itself: just inside it
+            for k, inside in ((0, low + _INSIDE), (-1, high - _INSIDE)):
+                if not np.isfinite(values[k]):
+                    grid[k], values[k] = inside, objective(np.array(inside))
         inner = np.concatenate([[np.inf], values, [np.inf]])
         minima = np.flatnonzero((values <= inner[:-2]) & (values <= inner[2:]) & np.isfinite(values))
         for k in minima[np.argsort(values[minima])][:_REFINED]:
