@@ -1,8 +1,8 @@
 """Every number the explorer page shows, from the public functions of the arm's class.
 
-:func:`explorer_data` classifies the chain once (:func:`redkin.srs.arm_angle_class`) and fills the page's one
-form (:mod:`redkin.explore.curves`) over the class's redundancy parameter: the arm angle psi of S-R-S and
-offset-elbow arms (:mod:`redkin.explore.arm_angle`), q7 of the Franka class (:mod:`redkin.explore.q7`).
+:func:`explorer_data` classifies the chain once (:func:`redkin.closed_form.redundancy_parameter`) and fills
+the page's one form (:mod:`redkin.explore.curves`) over the class's redundancy parameter: the arm angle psi of
+S-R-S and offset-elbow arms (:mod:`redkin.explore.arm_angle`), q7 of the Franka class (:mod:`redkin.explore.q7`).
 """
 
 from __future__ import annotations
@@ -12,12 +12,12 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
 from redkin.chain import SerialChain
-from redkin.errors import NotArmAngleClassError, RedkinError
+from redkin.closed_form import redundancy_parameter
+from redkin.errors import RedkinError
 from redkin.explore.arm_angle import arm_angle_curves
 from redkin.explore.curves import ExplorerData
 from redkin.explore.q7 import q7_curves
 from redkin.srs import BRANCHES, parse_branch
-from redkin.srs.arm_class import FRANKA, GENERAL, arm_angle_class
 
 #: Values of the dense grid over the parameter's domain before the special ones are merged in (0.5 deg apart over
 #: a full turn).
@@ -72,11 +72,7 @@ def explorer_data(
     pose = check_pose(pose)
     if pose.shape != (4, 4):
         raise RedkinError(f"pose must be one 4x4 pose, got shape {pose.shape}")
-    kind, reason = arm_angle_class(chain)
-    if kind == GENERAL:
-        raise NotArmAngleClassError(f"{chain.name} has no closed-form IK over a redundancy parameter: {reason}",
-                                    chain.name)
-    curves = q7_curves if kind == FRANKA else arm_angle_curves
+    curves = q7_curves if redundancy_parameter(chain) == "q7" else arm_angle_curves
     parameter, branches = curves(chain, pose, int(samples), target, weights)
     return ExplorerData(
         robot=chain.name,

@@ -41,8 +41,6 @@ def q7_curves(chain: SerialChain, pose: np.ndarray, samples: int, target,
         raise RedkinError(f"weights weigh the shoulder against the wrist in the optimal arm angle of S-R-S arms; "
                           f"{chain.name} is of the Franka class (parameter q7): leave them out")
     sets = feasible_q7(chain, pose)
-    if not isinstance(sets, FeasibleQ7):  # pragma: no cover - one pose gives one FeasibleQ7
-        raise TypeError("one pose gives one FeasibleQ7")
     lo, hi = sets.domain
     grid = np.linspace(lo, hi, samples)
     branches = tuple(_branch_curves(chain, pose, sets, k, grid, target) for k in range(len(sets.branches)))
