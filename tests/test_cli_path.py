@@ -63,3 +63,40 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys):
     np.save(file, get_robot("kuka-iiwa14").fk(_line()))
     assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0", "--json"]) == 2
     assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.1", "--dt", "1"]) == 2
+
+
+def test_plot_writes_the_figure_and_refuses_to_replace_it_without_force(tmp_path, capsys):
+    chain = get_robot("kuka-iiwa14")
+    poses, figure = tmp_path / "poses.npy", tmp_path / "plane.png"
+    np.save(poses, chain.fk(_line()))
+    argv = ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--json", "--plot", str(figure)]
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["status"] == "ok"
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    written = figure.stat().st_mtime_ns, figure.stat().st_size
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and "already exists" in captured.err and "--force" in captured.err
+    assert captured.err.count("\n") == 1 and (figure.stat().st_mtime_ns, figure.stat().st_size) == written
+    assert main([*argv, "--force"]) == 0
+    capsys.readouterr()
+
+
+def test_plot_of_a_path_that_does_not_exist_is_written_and_exits_1(tmp_path, capsys):
+    poses, figure = tmp_path / "poses.npy", tmp_path / "plane.svg"
+    np.save(poses, get_robot("kuka-iiwa14").fk(_line(elbow_jump=0.3)))
+    assert main(["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--plot", str(figure)]) == 1
+    assert capsys.readouterr().out.startswith("no path: waypoint 4")
+    assert "<svg" in figure.read_text()
+
+
+def test_plot_to_a_bad_place_is_one_line_and_exit_2_before_any_work(tmp_path, capsys):
+    poses = tmp_path / "poses.npy"
+    np.save(poses, get_robot("kuka-iiwa14").fk(_line()))
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    for place in (blocker / "plane.png", tmp_path / "plane.txt", tmp_path):
+        assert main(["path", "kuka-iiwa14", "--poses", str(tmp_path / "missing.npy"), "--max-step", "0.2",
+                     "--plot", str(place)]) == 2
+        captured = capsys.readouterr()
+        assert captured.out == "" and "--plot" in captured.err and captured.err.count("\n") == 1

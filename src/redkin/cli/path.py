@@ -8,7 +8,9 @@ import numpy as np
 
 from redkin.cli.common import (
     BRANCH_HELP,
+    IMAGE_SUFFIXES,
     UsageError,
+    add_force_flag,
     add_output_flags,
     add_robot_argument,
     angle_unit,
@@ -18,6 +20,7 @@ from redkin.cli.common import (
     format_values,
     joint_vector,
     load_robot,
+    output_file,
     print_json,
 )
 
@@ -38,6 +41,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     path.add_argument("--dt", type=float, metavar="T", help="seconds between waypoints (with --speed)")
     path.add_argument("--q0", nargs=7, type=float, metavar="Q", help="the configuration before the first waypoint")
     path.add_argument("--end-branch", metavar="BRANCH", help="branch of the last waypoint: " + BRANCH_HELP)
+    path.add_argument("--plot", metavar="FILE.png",
+                      help="save the (waypoint, arm angle) plane of each branch here: the exact feasible arm angles, "
+                           "the path (or the failing waypoint), and beside it the fixed arm angle, the clamped "
+                           "per-pose optimum and greedy seeded tracking with their first failures")
+    add_force_flag(path)
     add_output_flags(path)
     path.set_defaults(handler=_run_path)
 
@@ -66,9 +74,41 @@ def _failure_line(failure, degrees: bool) -> str:
     return text + (" [proved by the exact feasible sets]" if failure.exact else " [on the searched graph]")
 
 
+def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None) -> None:
+    """The figure of :func:`redkin.plot.paths.path_plane_figure`: the path (or its failure) beside the baselines
+    that start where it starts (the fixed arm angle and the clamped optimum on its first branch, or on ``q0``'s
+    without a path; greedy tracking from ``q0``), drawn where every pose is within reach."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from redkin.paths import clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path
+    from redkin.plot.paths import path_plane_figure
+    from redkin.srs import arm_angle_of, reachable
+
+    baselines = []
+    if reachable(chain, poses).all():
+        start = None
+        if result.ok:
+            start = (float(result.psi[0]), result.branch[0])
+        elif q0 is not None:
+            state = arm_angle_of(chain, q0)
+            start = (float(state.psi), str(state.branch_strings()))
+        if start is not None:
+            baselines += [fixed_psi_path(chain, poses, result.step, *start),
+                          clamped_optimum_path(chain, poses, result.step, start[1])]
+        baselines.append(greedy_path(chain, poses, result.step, q0=q0))
+    fig = path_plane_figure(feasible_along_path(chain, poses), result, baselines,
+                            title=f"{chain.name}: {len(poses)} waypoints")
+    fig.savefig(file, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+
+
 def _run_path(args: argparse.Namespace) -> int:
     from redkin.paths import resolve_path
 
+    plot = None if args.plot is None else output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
     chain = load_robot(args)
     poses = _poses(args.poses)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
@@ -81,6 +121,8 @@ def _run_path(args: argparse.Namespace) -> int:
             raise UsageError("--speed needs --dt, the seconds between waypoints")
         result = resolve_path(chain, poses, speed=angles_in(args.speed, args.deg), dt=args.dt, q0=q0,
                               end_branch=args.end_branch)
+    if plot is not None:
+        _save_plot(plot, chain, poses, result, q0)
     degrees = args.deg
     failure = result.failure
     if args.json:

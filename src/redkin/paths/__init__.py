@@ -6,18 +6,24 @@
 * :class:`PathResult`, :class:`PathFailure` -- what they return
 * the baselines it is measured against: :func:`fixed_psi_path` (paper 000's ``Gamma_0``),
   :func:`clamped_optimum_path` (``Gamma``), :func:`greedy_path` (seeded tracking), :func:`sampled_path`
-  (dynamic programming on a uniform grid), the first three returning a :class:`BaselinePath`
+  (dynamic programming on a uniform grid), the first three returning a :class:`BaselinePath`, as
+  :func:`judge_path` returns it for joint values from anywhere
+* :func:`feasible_along_path` -- the exact feasible pieces of every waypoint and branch (the figures' plane)
 """
 
 from redkin.paths.baselines import (
+    BASELINE_REASONS,
     GREEDY_SPACING,
+    LIMIT_SLACK,
     BaselinePath,
     clamped_optimum_path,
     fixed_psi_path,
     greedy_path,
+    judge_path,
     sampled_path,
 )
 from redkin.paths.bounds import step_bound
+from redkin.paths.plane import feasible_along_path
 from redkin.paths.resolve import (
     DEFAULT_CONNECT,
     DEFAULT_REFINEMENTS,
@@ -29,18 +35,22 @@ from redkin.paths.resolve import (
 from redkin.paths.result import REASONS, PathFailure, PathResult
 
 __all__ = [
+    "BASELINE_REASONS",
     "BaselinePath",
     "DEFAULT_CONNECT",
     "DEFAULT_REFINEMENTS",
     "DEFAULT_SPACING",
     "FK_TOLERANCE",
     "GREEDY_SPACING",
+    "LIMIT_SLACK",
     "PathFailure",
     "PathResult",
     "REASONS",
     "clamped_optimum_path",
+    "feasible_along_path",
     "fixed_psi_path",
     "greedy_path",
+    "judge_path",
     "resolve_path",
     "resolve_paths",
     "sampled_path",

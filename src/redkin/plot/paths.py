@@ -1,0 +1,183 @@
+"""Figures of path resolution (issue 26): the (waypoint, arm angle) plane of each branch.
+
+The exact feasible arm angles of every waypoint are shaded (the pieces of
+:func:`redkin.paths.feasible_along_path`), the global path of
+:func:`redkin.paths.resolve_path` is drawn through them with its branch
+changes marked, the baselines beside it with their first failure, and a
+path that does not exist is marked at its failing waypoint and joint.
+Plotting only: every set and path is computed by the caller.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.collections import PolyCollection
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+from matplotlib.ticker import MaxNLocator
+
+from redkin.circle import TWO_PI
+from redkin.paths import BaselinePath, PathResult
+from redkin.srs.branches import BRANCHES
+from redkin.srs.feasible import FeasiblePieces
+
+#: Colour and width of the global path's line; the baselines take the colours after it.
+_PATH_COLOUR, _PATH_WIDTH = "k", 1.8
+_BASELINE_COLOURS = ("C1", "C3", "C4", "C5", "C6")
+_FEASIBLE_COLOUR = "C2"
+
+
+def _wrapped_degrees(psi: np.ndarray) -> np.ndarray:
+    """Arm angles in degrees in ``[-180, 180)``."""
+    return np.degrees(np.mod(np.asarray(psi, dtype=float) + np.pi, TWO_PI) - np.pi)
+
+
+def _broken(x: np.ndarray, y: np.ndarray, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The points ``keep``, with a NaN between neighbours that are not consecutive waypoints or that wrap across
+    +-180 deg (a line is not drawn through the gap)."""
+    x, y = x[keep], y[keep]
+    gap = (np.diff(x) != 1) | (np.abs(np.diff(y)) > 180.0)
+    at = np.flatnonzero(gap) + 1
+    return np.insert(x.astype(float), at, np.nan), np.insert(y, at, np.nan)
+
+
+def _feasible_rectangles(pieces: FeasiblePieces, branch: int) -> list[np.ndarray]:
+    """One rectangle (4 corners, degrees) per feasible piece of ``branch`` and waypoint, a piece that wraps past
+    180 deg split in two."""
+    start, end = pieces.start[:, branch], pieces.end[:, branch]
+    waypoint, slot = np.nonzero(pieces.feasible[:, branch] & (end > start))
+    lo, hi = start[waypoint, slot], end[waypoint, slot]
+    shift = np.floor((lo + np.pi) / TWO_PI) * TWO_PI  # the piece's start into [-pi, pi)
+    lo, hi = lo - shift, hi - shift
+    spans = [(waypoint, lo, np.minimum(hi, np.pi))]
+    wraps = hi > np.pi
+    spans.append((waypoint[wraps], np.full(wraps.sum(), -np.pi), hi[wraps] - TWO_PI))
+    rectangles = []
+    for k, a, b in spans:
+        for x, y0, y1 in zip(k.tolist(), np.degrees(a).tolist(), np.degrees(b).tolist()):
+            rectangles.append(np.array([[x - 0.5, y0], [x + 0.5, y0], [x + 0.5, y1], [x - 0.5, y1]]))
+    return rectangles
+
+
+def _shown_branches(pieces: FeasiblePieces, result: PathResult, baselines: Sequence[BaselinePath]) -> list[int]:
+    """The branches with a feasible arm angle somewhere along the path, or used by a path drawn (at least one)."""
+    used = set(result.branch) | {b for baseline in baselines for b in baseline.branch if b}
+    shown = [b for b, name in enumerate(map(str, BRANCHES))
+             if pieces.feasible[:, b].any() or name in used]
+    return shown or [0]
+
+
+def _plot_branch_plane(ax, pieces: FeasiblePieces, branch: int, result: PathResult,
+                      baselines: Sequence[BaselinePath] = ()) -> None:
+    """One branch's (waypoint, arm angle) plane: feasible arm angles shaded, the paths drawn on it.
+
+    The artists carry ids (``get_gid()``): ``"feasible"`` (the shading), ``"path"``, ``"branch change"``,
+    ``"no path"``, each baseline's method and ``"<method> fails"``.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    pieces : FeasiblePieces
+        Of shape ``(N, 8, 24)`` (:func:`redkin.paths.feasible_along_path`).
+    branch : int
+        Index into :data:`redkin.srs.BRANCHES`.
+    result : PathResult
+        The global path (drawn where it is on this branch, a diamond where it changes branch), or a failure
+        (a vertical line at its waypoint).
+    baselines : sequence of BaselinePath
+        Drawn where they are on this branch, a cross at each one's first failure.
+    """
+    name = str(BRANCHES[branch])
+    count = pieces.start.shape[0]
+    ax.add_collection(PolyCollection(_feasible_rectangles(pieces, branch), facecolors=_FEASIBLE_COLOUR, alpha=0.35,
+                                     linewidths=0, gid="feasible"))
+    waypoints = np.arange(count)
+    for baseline, colour in zip(baselines, _BASELINE_COLOURS):
+        on = np.array([b == name for b in baseline.branch]) & np.isfinite(baseline.psi)
+        y = _wrapped_degrees(np.where(on, baseline.psi, 0.0))
+        ax.plot(*_broken(waypoints, y, on), color=colour, linewidth=1.0, linestyle="--", gid=baseline.method)
+        k = baseline.first_failure
+        if k is not None and on[k]:
+            ax.plot([k], [y[k]], "X", color=colour, markersize=8, markeredgecolor="k", markeredgewidth=0.5,
+                    gid=f"{baseline.method} fails")
+        elif k is not None and not np.isfinite(baseline.psi[k]):  # no arm angle there: the whole column
+            ax.axvline(k, color=colour, linestyle=":", linewidth=1.2, gid=f"{baseline.method} fails")
+    if result.ok:
+        on = np.array([b == name for b in result.branch])
+        y = _wrapped_degrees(result.psi)
+        ax.plot(*_broken(waypoints, y, on), color=_PATH_COLOUR, linewidth=_PATH_WIDTH, gid="path")
+        change = np.r_[False, np.array(result.branch[1:]) != np.array(result.branch[:-1])]
+        ends = on & (change | np.r_[change[1:], False])  # both sides of a change
+        ax.plot(waypoints[ends], y[ends], "D", color="k", markerfacecolor="w", markersize=5, gid="branch change")
+    elif result.failure is not None:
+        failure = result.failure
+        ax.axvline(failure.waypoint, color="C3", linewidth=1.5, gid="no path")
+        joint = "" if failure.joint is None else f", joint {failure.joint}"
+        ax.text(failure.waypoint, 175, f" {failure.reason}{joint}", color="C3", fontsize=7, va="top")
+    ax.set_xlim(-0.5, count - 0.5)
+    ax.set_ylim(-180, 180)
+    ax.set_yticks([-180, -90, 0, 90, 180])
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.set_title(f"branch {name}", fontsize=9)
+
+
+def path_plane_figure(pieces: FeasiblePieces, result: PathResult, baselines: Sequence[BaselinePath] = (),
+                      title: str = "") -> plt.Figure:
+    """The (waypoint, arm angle) plane of every branch that has a feasible arm angle along the path or carries a
+    path drawn, one panel each, with a legend that names each baseline's first failure and the global path's
+    clearance or failure (waypoint, reason, joint).
+
+    Parameters
+    ----------
+    pieces : FeasiblePieces
+        Of shape ``(N, 8, 24)`` (:func:`redkin.paths.feasible_along_path`).
+    result : PathResult
+        :func:`redkin.paths.resolve_path` on the same poses.
+    baselines : sequence of BaselinePath
+        At most five (:func:`redkin.paths.fixed_psi_path`, :func:`redkin.paths.clamped_optimum_path`,
+        :func:`redkin.paths.greedy_path`, :func:`redkin.paths.judge_path`).
+    title : str
+    """
+    if len(baselines) > len(_BASELINE_COLOURS):
+        raise ValueError(f"at most {len(_BASELINE_COLOURS)} baselines in one figure, got {len(baselines)}")
+    shown = _shown_branches(pieces, result, baselines)
+    columns = 1 if len(shown) <= 3 else 2
+    rows = -(-len(shown) // columns)
+    fig, axes = plt.subplots(rows, columns, figsize=(6.0 * columns, 1.2 + 2.0 * rows), sharex=True, sharey=True,
+                             squeeze=False)
+    for ax, branch in zip(axes.ravel(), shown):
+        _plot_branch_plane(ax, pieces, branch, result, baselines)
+    for ax in axes.ravel()[len(shown):]:
+        ax.set_visible(False)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("arm angle psi [deg]")
+    for ax in axes[-1]:
+        ax.set_xlabel("waypoint")
+    handles: list = [Patch(color=_FEASIBLE_COLOUR, alpha=0.35, label="feasible arm angles (exact)")]
+    if result.ok:
+        clearance = f"clearance {np.degrees(result.clearance):.3g} deg"
+        handles.append(Line2D([], [], color=_PATH_COLOUR, linewidth=_PATH_WIDTH, label=f"global path ({clearance})"))
+        if len(set(result.branch)) > 1:
+            handles.append(Line2D([], [], marker="D", color="k", markerfacecolor="w", linestyle="none",
+                                  label="global path changes branch"))
+    elif result.failure is not None:
+        failure = result.failure
+        joint = "" if failure.joint is None else f", joint {failure.joint}"
+        handles.append(Line2D([], [], color="C3", linewidth=1.5,
+                              label=f"no path: waypoint {failure.waypoint}, {failure.reason}{joint}"))
+    for baseline, colour in zip(baselines, _BASELINE_COLOURS):
+        k = baseline.first_failure
+        what = "keeps every limit and the bound" if k is None else f"fails at waypoint {k}: {baseline.reason}"
+        if k is not None and baseline.joint is not None:
+            what += f", joint {baseline.joint}"
+        handles.append(Line2D([], [], color=colour, linestyle="--", marker=None if k is None else "X",
+                              markeredgecolor="k", markeredgewidth=0.5, label=f"{baseline.method} ({what})"))
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.legend(handles=handles, loc="upper center", ncol=2 if len(handles) > 3 else len(handles), fontsize=8,
+               frameon=False, bbox_to_anchor=(0.5, 0.0))  # below the panels: save with bbox_inches="tight"
+    return fig
