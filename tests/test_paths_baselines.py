@@ -37,6 +37,7 @@ def test_a_limit_broken_at_one_waypoint_is_found_with_its_joint_and_excess(seed,
     assert (judged.first_failure, judged.reason, judged.joint) == (k, "limit", joint + 1)
     assert judged.excess == pytest.approx(excess, abs=1e-12)
     assert not judged.within_limits[k] and judged.within_limits.sum() == len(q) - 1
+    assert judged.clearance[k] == pytest.approx(-excess, abs=1e-12) and np.all(np.delete(judged.clearance, k) > 0)
     q[k, joint] = inside + 2 * np.pi  # the same angle as a value in range, but not one to command
     turned = judge_path(chain, q, 10.0)
     assert (turned.reason, turned.joint) == ("limit", joint + 1)
@@ -68,6 +69,7 @@ def test_values_that_miss_the_pose_or_are_missing_fail_first_there():
     q[4] = np.nan
     judged = judge_path(chain, q, 0.1, poses)
     assert (judged.first_failure, judged.reason, judged.joint, judged.excess) == (4, "no-solution", None, None)
+    assert np.isnan(judged.clearance[4]) and np.isfinite(np.delete(judged.clearance, 4)).all()
 
 
 def test_a_limit_met_within_the_slack_is_kept():
@@ -84,6 +86,7 @@ def test_a_resolved_path_is_judged_lawful():
     result = resolve_path(chain, poses, 0.12)
     judged = judge_path(chain, result.q, result.step, poses, "global", result.psi, result.branch)
     assert judged.ok and judged.reason is None and judged.method == "global" and judged.branch == result.branch
+    assert judged.clearance.min() == pytest.approx(result.clearance, abs=1e-15)
 
 
 def test_bad_input_is_refused():

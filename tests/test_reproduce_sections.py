@@ -49,6 +49,46 @@ def test_paper_000_section_agrees_except_the_6_2_2_misprint(full_report):
         assert (full_report / f"000_explore_{name}.html").stat().st_size > 10_000
 
 
+def test_paper_000_6_2_2_walked_as_paths_beside_the_global_path(full_report):
+    """The 6.2.2 extension: on the paper's sweep and on the constructed line the global path's row is
+    resolve_path's own path (judged lawful: no failure, its clearance, steps within the bound); on the line
+    Gamma_0 and Gamma fail where the global path does not; no paper value, and the text says so."""
+    from redkin.paths import resolve_path
+    from redkin.reproduce import paper_000
+
+    rows = _rows(_tables(full_report, "000")["s6_2_2_paths"])
+    walks = {}
+    for row in rows:
+        walks.setdefault(row["path"].split(":")[0], []).append(row)
+    assert sorted(walks) == ["constructed", "sweep"] and all(len(w) == 4 for w in walks.values())
+    chain = get_robot("pa10-7c")
+    a, b = np.radians(paper_000._LINE_START_DEG), np.radians(paper_000._LINE_END_DEG)
+    q_line = a + (b - a) * np.linspace(0.0, 1.0, paper_000._LINE_WAYPOINTS)[:, None]
+    line = chain.fk(q_line)
+    own = np.degrees(np.minimum(q_line - chain.lower, chain.upper - q_line).min())
+    for walk, step in (("constructed", paper_000._LINE_STEP_DEG), ("sweep", paper_000._SWEEP_STEP_DEG)):
+        fixed, clamped, _, ours = walks[walk]
+        assert fixed["arm angle chosen by"].startswith("Gamma_0")
+        assert clamped["arm angle chosen by"].startswith("Gamma:")
+        assert ours["arm angle chosen by"].startswith("global path")
+        assert ours["first failure"].startswith("none") and ours["largest step / bound"] <= 1.0 + 1e-9
+        assert ours["largest step [deg]"] == pytest.approx(ours["largest step / bound"] * step, abs=1e-12)
+        assert fixed["first failure"].startswith("waypoint") and ours["smallest clearance [deg]"] > 0.0
+    fixed, clamped, _, ours = walks["constructed"]
+    assert clamped["first failure"].startswith("waypoint") and clamped["largest step / bound"] > 1.0
+    result = resolve_path(chain, line, np.radians(paper_000._LINE_STEP_DEG))
+    assert ours["smallest clearance [deg]"] == pytest.approx(np.degrees(result.clearance), abs=1e-9)
+    assert ours["smallest clearance [deg]"] > own  # farther from the limits than the line the poses came from
+    fixed, clamped, _, ours = walks["sweep"]
+    assert fixed["first failure"].startswith("waypoint 0: limit")  # psi = 0 is infeasible beyond Gamma_0
+    assert clamped["waypoints within limits"] == ours["waypoints within limits"] == "295 of 295"
+    assert ours["smallest clearance [deg]"] >= clamped["smallest clearance [deg]"]
+    page = (full_report / "index.html").read_text()
+    assert "extension beyond paper 000 (issue 26): the paper prints no value" in page
+    for name in ("paths_sweep", "paths_line"):
+        assert (full_report / f"000_{name}.png").exists() and f"000_{name}.png" in page
+
+
 def test_differences_are_ours_minus_the_paper(full_report):
     for section in _summary(full_report)["sections"].values():
         for table in section["tables"].values():

@@ -63,6 +63,10 @@ class BaselinePath:
         :data:`LIMIT_SLACK`).
     jump : numpy.ndarray, shape (N - 1,)
         The largest move of a joint between consecutive waypoints relative to its bound (> 1 breaks it).
+    clearance : numpy.ndarray, shape (N,)
+        The smallest distance of a joint with a range narrower than ``2 pi`` to a limit, per waypoint, radians
+        (as :attr:`PathResult.clearance`): negative outside the limits, ``inf`` where no joint has such a range,
+        NaN where the method found no joint values.
     reason : str or None
         What breaks first at :attr:`first_failure` (:data:`BASELINE_REASONS`), ``None`` for a lawful path.
     joint : int or None
@@ -79,6 +83,7 @@ class BaselinePath:
     branch: list[str]
     within_limits: np.ndarray
     jump: np.ndarray
+    clearance: np.ndarray
     reason: str | None = None
     joint: int | None = None
     excess: float | None = None
@@ -181,7 +186,11 @@ def judge_path(arm: SerialChain | SRSGeometry, q: ArrayLike, max_step: ArrayLike
     jump = (moves / step).max(axis=-1, initial=0.0)
     angles = np.full(count, np.nan) if psi is None else as_float_array(psi, "psi").reshape(count)
     names = [""] * count if branch is None else list(branch)
-    path = BaselinePath(method, values, angles, names, within, jump)
+    binding = ~chain.covers_circle
+    inside = np.minimum(values - chain.lower, chain.upper - values)[:, binding]
+    clearance = inside.min(axis=-1, initial=np.inf)
+    clearance[~found] = np.nan
+    path = BaselinePath(method, values, angles, names, within, jump, clearance)
     k = path.first_failure
     if k is None:
         return path
@@ -196,12 +205,13 @@ def judge_path(arm: SerialChain | SRSGeometry, q: ArrayLike, max_step: ArrayLike
         relative = moves[k - 1] / step
         joint = int(np.argmax(relative))
         reason, excess, joint = "step", float(moves[k - 1, joint] - step[joint]), joint + 1
-    return BaselinePath(method, values, angles, names, within, jump, reason, joint, excess)
+    return BaselinePath(method, values, angles, names, within, jump, clearance, reason, joint, excess)
 
 
 def _from_arm_angle_path(method: str, geometry: SRSGeometry, poses: np.ndarray, step: np.ndarray,
-                         branch: str | Branch, fixed: float | None) -> BaselinePath:
-    path = arm_angle_path(geometry, poses, branch, fixed_psi=fixed)
+                         branch: str | Branch, fixed: float | None, target: ArrayLike | None = None,
+                         weights: ArrayLike = (0.5, 0.5)) -> BaselinePath:
+    path = arm_angle_path(geometry, poses, branch, target=target, weights=weights, fixed_psi=fixed)
     q = path.q.copy()
     if np.all(np.isfinite(q[0])):  # the first waypoint as srs.ik gives it; the later ones follow it into range
         q[0] = geometry.chain.nearest_in_range(q[0])
@@ -218,11 +228,14 @@ def fixed_psi_path(arm: SerialChain | SRSGeometry, poses: ArrayLike, max_step: A
 
 
 def clamped_optimum_path(arm: SerialChain | SRSGeometry, poses: ArrayLike, max_step: ArrayLike,
-                         branch: str | Branch = "+++") -> BaselinePath:
-    """The per-pose optimum [000 eq. 40] clamped to each feasible set, on ``branch`` (``Gamma``)."""
+                         branch: str | Branch = "+++", target: ArrayLike | None = None,
+                         weights: ArrayLike = (0.5, 0.5)) -> BaselinePath:
+    """The per-pose optimum [000 eq. 40] clamped to each feasible set, on ``branch`` (``Gamma``); ``target`` and
+    ``weights`` as in :func:`redkin.srs.optimal_arm_angles` (default: the middles of the limits)."""
     geometry = _geometry(arm)
     step = step_bound(geometry.chain, max_step)
-    return _from_arm_angle_path("clamped optimum", geometry, _path_poses(poses), step, branch, None)
+    return _from_arm_angle_path("clamped optimum", geometry, _path_poses(poses), step, branch, None, target,
+                                weights)
 
 
 def greedy_path(arm: SerialChain | SRSGeometry, poses: ArrayLike, max_step: ArrayLike, q0: ArrayLike | None = None,

@@ -2,24 +2,54 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import matplotlib.pyplot as plt
 import numpy as np
 
 from redkin.circle import ArcSet
 from redkin.explore import explorer_data, explorer_html
 from redkin.models import pa10_7c
+from redkin.paths import (
+    BaselinePath,
+    PathResult,
+    clamped_optimum_path,
+    feasible_along_path,
+    fixed_psi_path,
+    greedy_path,
+    judge_path,
+    resolve_path,
+)
 from redkin.plot.arm import draw_arm_3d, set_equal_3d
+from redkin.plot.paths import path_plane_figure
 from redkin.plot.srs import plot_joint_curves, plot_reachable_rotations
 from redkin.references import REFERENCES
 from redkin.reproduce import Section, section_key
 from redkin.reproduce import printed as P
 from redkin.reproduce.comparison import Comparison, Note
 from redkin.reproduce.report import SectionWriter
-from redkin.srs import arm_angle_path, feasible_arm_angles, ik, optimal_arm_angles, pose_from, singular_arm_angles
+from redkin.srs import (
+    arm_angle_of,
+    arm_angle_path,
+    feasible_arm_angles,
+    ik,
+    optimal_arm_angles,
+    pose_from,
+    singular_arm_angles,
+)
 from redkin.srs.geometry import srs_geometry
 
 TOL = 5e-4  # half of the last printed digit (3 decimals, degrees)
 PSI = np.linspace(-np.pi, np.pi, 1441)
+#: The bound on each joint's move per waypoint of the section 6.2.2 sweep walked as a path (1 deg of tool
+#: rotation per waypoint), degrees.
+_SWEEP_STEP_DEG = 2.0
+#: The constructed path beside it: a straight joint-space line of the PA10 between these configurations
+#: (degrees, branch +++ all along), its waypoints and its bound (degrees per waypoint).
+_LINE_START_DEG = (47.0, 5.0, -79.0, 106.0, 51.0, 36.0, 52.0)
+_LINE_END_DEG = (-7.0, 11.0, 111.0, 123.0, -51.0, 22.0, 82.0)
+_LINE_WAYPOINTS = 40
+_LINE_STEP_DEG = 5.0
 
 
 def _deg(value):
@@ -205,6 +235,118 @@ def _section_6_2_2(writer: SectionWriter, chain) -> None:
                   "to the feasible set (Gamma).")
     _explorer_link(writer, chain, pose, "explore_6_2_2",
                    "Explore §6.2.2 live (optimal arm angle for the targets above)", target=target)
+    _section_6_2_2_paths(writer, chain, target, gamma)
+
+
+def _failure_words(path: BaselinePath) -> str:
+    """Where ``path`` first fails, why, the joint and by how much (degrees), or that it does not."""
+    k = path.first_failure
+    if k is None:
+        return "none: every limit and the bound kept"
+    text = f"waypoint {k}: {path.reason}"
+    if path.joint is not None:
+        text += f", joint {path.joint}"
+    if path.excess is not None and path.reason in ("limit", "step"):
+        text += f" by {np.degrees(path.excess):.4f} deg"
+    return text
+
+
+def _walk_rows(walk: str, step_deg: float, paths: list[BaselinePath]) -> list[list]:
+    """One table row per way of choosing the arm angle: where it first fails, how many waypoints keep the limits,
+    the smallest clearance and the largest step."""
+    return [[walk, path.method, _failure_words(path), f"{int(path.within_limits.sum())} of {len(path.q)}",
+             float(np.degrees(np.nanmin(path.clearance))), float(np.nanmax(path.jump) * step_deg),
+             float(np.nanmax(path.jump))] for path in paths]
+
+
+def _walk(chain, poses: np.ndarray, step_deg: float, start: tuple[float, str], target: np.ndarray,
+          result: PathResult) -> list[BaselinePath]:
+    """Gamma_0 (the arm angle held at ``start``), Gamma (the clamped optimum of [000 eq. 40] for ``target``),
+    greedy tracking and the global path, all judged alike (:func:`redkin.paths.judge_path`)."""
+    step = np.radians(step_deg)
+    psi, branch = start
+    fixed = fixed_psi_path(chain, poses, step, psi, branch)
+    clamped = clamped_optimum_path(chain, poses, step, branch, target=target)
+    paths = [dataclasses.replace(fixed, method=f"Gamma_0: psi held at {np.degrees(psi):.3f} deg"),
+             dataclasses.replace(clamped, method="Gamma: psi^opt [000 eq. 40] clamped per pose"),
+             dataclasses.replace(greedy_path(chain, poses, step), method="greedy seeded tracking")]
+    if result.ok:
+        paths.append(judge_path(chain, result.q, step, poses, "global path (redkin.paths.resolve_path)",
+                                result.psi, result.branch))
+    return paths
+
+
+def _walk_words(name: str, result: PathResult, paths: list[BaselinePath]) -> str:
+    """One sentence per path of a walk, from its numbers."""
+    words = [path.method.split(":")[0] + (" keeps every limit and the bound" if path.ok else
+                                          f" fails at {_failure_words(path)}") for path in paths[:3]]
+    text = f"On the {name}: " + "; ".join(words) + ". "
+    if not result.ok:
+        assert result.failure is not None
+        return text + f"No global path exists: {result.failure.message}."
+    changes = [k for k in range(1, len(result.branch)) if result.branch[k] != result.branch[k - 1]]
+    text += (f"The global path keeps every limit and the bound with a smallest clearance of "
+             f"{np.degrees(result.clearance):.3f} deg")
+    if changes:
+        text += ", changing branch " + ", ".join(f"{result.branch[k - 1]} -> {result.branch[k]} at waypoint {k}"
+                                                for k in changes)
+        text += " (through a singular configuration: the joints stay within the bound)"
+    return text + "."
+
+
+def _section_6_2_2_paths(writer: SectionWriter, chain, target: np.ndarray, gamma: float) -> None:
+    """The 6.2.2 sweep and a constructed line walked as paths: Gamma_0 and Gamma beside the global path."""
+    writer.heading("§6.2.2 extended: the arm angle chosen over the whole path (redkin)")
+    writer.text(
+        "Section 6.2.2 chooses the arm angle one pose at a time: held at 0 (Gamma_0) or set to the optimum of "
+        "[000 eq. 40] clamped to the feasible set (Gamma). Walked as a path, a choice must also be continuous: here "
+        "no joint may move more than a bound between waypoints. redkin.paths.resolve_path chooses the branch and "
+        "arm angle of every waypoint together, inside the exact feasible sets, as far from the limits as the path "
+        "allows (the largest smallest clearance, then the least motion; docs/paths.md). This is redkin's extension "
+        "beyond paper 000 (issue 26): the paper prints no value for it, so the rows below have nothing to compare "
+        "with. Greedy seeded tracking (at each waypoint the in-limit solution nearest the last, as ssik ranks them) "
+        "is shown beside them. Each path is judged alike: every pose reached within 1e-9, every joint within its "
+        "Table 2 limits, no joint moving more than the bound."
+    )
+    limit = int(np.floor(np.degrees(gamma)))
+    sweep = np.array([_gamma_pose(g) for g in np.radians(np.arange(-limit, limit + 1, 1.0))])
+    sweep_result = resolve_path(chain, sweep, np.radians(_SWEEP_STEP_DEG))
+    sweep_paths = _walk(chain, sweep, _SWEEP_STEP_DEG, (0.0, "+++"), target, sweep_result)
+    a, b = np.radians(_LINE_START_DEG), np.radians(_LINE_END_DEG)
+    q_line = a + (b - a) * np.linspace(0.0, 1.0, _LINE_WAYPOINTS)[:, None]
+    line = chain.fk(q_line)
+    own = np.degrees(judge_path(chain, q_line, np.radians(_LINE_STEP_DEG), line).clearance.min())
+    state = arm_angle_of(chain, a)
+    line_result = resolve_path(chain, line, np.radians(_LINE_STEP_DEG))
+    line_paths = _walk(chain, line, _LINE_STEP_DEG, (float(state.psi), str(state.branch_strings())), target,
+                       line_result)
+    rows = (_walk_rows(f"sweep: gamma = -{limit} .. {limit} deg", _SWEEP_STEP_DEG, sweep_paths)
+            + _walk_rows("constructed: a joint-space line", _LINE_STEP_DEG, line_paths))
+    writer.table(
+        "s6_2_2_paths", ["path", "arm angle chosen by", "first failure", "waypoints within limits",
+                         "smallest clearance [deg]", "largest step [deg]", "largest step / bound"], rows,
+        caption="Section 6.2.2 walked as paths: Gamma_0 and Gamma beside the global path",
+        detail=f"Sweep: the poses of section 6.2.2 at every whole degree of gamma inside Gamma = "
+               f"+-{np.degrees(gamma):.3f} deg (only branch +++ has feasible arm angles there), one waypoint per "
+               f"degree, a bound of {_SWEEP_STEP_DEG:g} deg per joint and waypoint; Gamma_0 holds psi = 0 as the "
+               f"paper does. Constructed: the PA10's poses along the straight joint-space line from "
+               f"{_LINE_START_DEG} to {_LINE_END_DEG} deg ({_LINE_WAYPOINTS} waypoints on branch +++, the line's own "
+               f"smallest clearance {own:.3f} deg), a bound of {_LINE_STEP_DEG:g} deg; Gamma_0 holds the arm angle "
+               "of its first pose. Gamma uses the targets above on branch +++. Clearance: the smallest distance of a "
+               "joint to a limit over the path (negative: outside); the largest step is over all joints and "
+               "waypoints; first failure: the first waypoint that breaks a limit (limit) or is reached by a move "
+               "over the bound (step), the joint and by how much.")
+    writer.text(_walk_words("sweep", sweep_result, sweep_paths) + " "
+                + _walk_words(f"constructed line (its own clearance {own:.3f} deg)", line_result, line_paths))
+    for name, poses, result, paths, caption in (
+            ("paths_sweep", sweep, sweep_result, sweep_paths,
+             f"The sweep of section 6.2.2 as a path (waypoint k is gamma = {-limit} + k deg)"),
+            ("paths_line", line, line_result, line_paths, "The constructed joint-space line as a path")):
+        fig = path_plane_figure(feasible_along_path(chain, poses), result, paths[:3], title=f"PA10-7C: {caption}")
+        writer.figure(fig, name, caption,
+                      "Green: the exact feasible arm angles of each waypoint and branch; black: the global path "
+                      "(redkin.paths.resolve_path), a diamond where it changes branch; dashed: Gamma_0, Gamma and "
+                      "greedy tracking, a cross where each first breaks a limit or the bound.")
 
 
 def build(writer: SectionWriter) -> None:
