@@ -197,24 +197,18 @@ def test_narrow_arcs_round_a_known_solution_are_found(name, width):
             assert_interior_ends(narrow, pose, result)
 
 
-_STILL_MISSED = ("feasible_q7 (as of f42d35b) misses these arcs: every branch empty although q is a feasible "
-                 "solution (2 of 600 random in-limit q of the xArm7 at +-1e-7; 0 of 600 per model at +-1e-6 and "
-                 "+-1e-8)")
-
-
 @pytest.mark.parametrize("name, q, width", [  # the arc's width in q7, by sampling, after each
     ("franka-panda", [-0.403, 0.048, 2.057, -0.47, 0.646, 2.211, -1.141], 1e-6),  # 1.3e-8, branch +-+
     ("ufactory-xarm7", [-1.747, 0.173, -3.416, 3.229, -6.281, 1.938, 5.198], 1e-6),  # 7.6e-10, +++
     ("franka-fr3", [0.417, -0.024, 1.164, -0.963, -2.021, 2.214, 1.817], 1e-7),  # 3.8e-9, ---
     ("franka-fr3", [-0.283, -0.033, -2.066, -0.4, -0.73, 2.335, 1.629], 1e-8),  # 5.9e-10, -++
-    pytest.param("ufactory-xarm7", [-1.747, 0.173, -3.416, 3.229, -6.281, 1.938, 5.198], 1e-7,  # 7.6e-11, +++
-                 marks=pytest.mark.xfail(strict=True, reason=_STILL_MISSED)),
-    pytest.param("ufactory-xarm7", [-1.016, -1.781, -2.468, 3.26, -0.007, 2.658, -1.173], 1e-7,  # 4.9e-9, -++
-                 marks=pytest.mark.xfail(strict=True, reason=_STILL_MISSED)),
+    ("ufactory-xarm7", [-1.747, 0.173, -3.416, 3.229, -6.281, 1.938, 5.198], 1e-7),  # 7.6e-11, +++
+    ("ufactory-xarm7", [-1.016, -1.781, -2.468, 3.26, -0.007, 2.658, -1.173], 1e-7),  # 4.9e-9, -++
 ])
 def test_arcs_narrower_than_1e_8_rad_are_found(name, q, width):
-    """Every limit narrowed to +-width round q (the issue's bar: ssik found 40 of 40 at +-1e-8).  These four were
-    missed while double roots of the limit polynomials could round to near misses."""
+    """Every limit narrowed to +-width round q (the issue's bar: ssik found 40 of 40 at +-1e-8).  The first four
+    were missed while double roots of the limit polynomials could round to near misses, the last two while the
+    candidates were the polynomials' roots alone (1e-8 off in q7 there; now polished on the branches)."""
     chain = get_robot(name)
     q = np.array(q)
     narrow = dataclasses.replace(chain, lower=q - width, upper=q + width)

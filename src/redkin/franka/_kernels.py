@@ -35,6 +35,8 @@ _REACH_TOLERANCE = 1e-12
 DEGREES = np.array([8, 8, 8, 8, 8, 8, 2, 2, 4, 4, 4, 4, 2, 4])
 #: Number of limit functions: two limits of joints 1-6, then the existence of the elbow and of the wrist.
 FUNCTIONS = 14
+#: Length of :func:`limit_values`' output: the limit functions, then the two divisors ``Sigma`` and ``|V_xy|^2``.
+OUTPUTS = FUNCTIONS + 2
 #: Samples of q7 of each limit function: enough for the largest degree (``2 D + 1``), and a few more.
 SAMPLES = 20
 #: How far from the unit circle a root ``z = exp(i theta_7)`` of a limit polynomial may lie and still be taken as
@@ -48,6 +50,9 @@ _SMALLEST_CELL = 1e-9
 #: Values of a limit polynomial this small, relative to the largest it can take, count as zero: a double root
 #: (on arms whose elbow has no offsets the elbow's two roots give squared factors) rounds to a near miss.
 _NEAR_ZERO = 1e-12
+#: How close to a limit a real branch's joint must be at a polynomial's root to be polished on (radians of the
+#: joint, and of q7 for the polish's reach).
+_POLISH_REACH = 1e-4
 #: Half width of the bracket about a breakpoint in which an arc's end is first sought (:func:`crossing`).
 _ROOT_BRACKET = 1e-12
 #: ``exp(-i k 2 pi j / SAMPLES)`` for ``k = 0 .. 16``: the discrete Fourier transform of the samples.
@@ -219,7 +224,7 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch, work):
 
 @kernel
 def limit_values(t07, theta7, arm, limits, out, scratch):
-    """The limit functions [F8] at one ``theta_7`` into ``out`` (:data:`FUNCTIONS` + 2,), real parts.
+    """The limit functions [F8] at one ``theta_7`` into ``out`` (:data:`OUTPUTS`,), real parts.
 
     For joint ``j`` (1-6) and its limit ``L`` (``limits`` (3, 7): lower and
     upper DH limits and whether the joint is limited), function ``2 (j - 1)``
@@ -469,7 +474,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     """
     offset7 = joints[0, 6]
     scratch = np.empty((4, 3, 3), dtype=np.complex128)
-    samples = np.empty((SAMPLES, FUNCTIONS + 2))
+    samples = np.empty((SAMPLES, OUTPUTS))
     phase = 0.0
     for _ in range(2):  # the grid, and once more moved by half a step if a divisor nearly vanishes on it
         for j in range(SAMPLES):
@@ -484,7 +489,8 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     total = 0
     for f in range(FUNCTIONS):
         total += 2 * DEGREES[f]
-    angles = np.empty(total)
+    angles = np.empty(total * (1 + 2 * branches.shape[0]))
+    sources = np.empty(total, dtype=np.int64)
     roots = np.empty(2 * 8)
     found = 0
     for f in range(FUNCTIONS):
@@ -497,7 +503,9 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
         count = candidate_angles(np.ascontiguousarray(samples[:, f]), DEGREES[f], phase, roots)
         for r in range(count):
             angles[found] = roots[r]
+            sources[found] = f
             found += 1
+    found = polished_crossings(t07, arm, branches, joints, angles, sources, found)
     lower, upper = domain[0], domain[1]
     turns = int(np.ceil((upper - lower) / (2.0 * np.pi))) + 1
     points = np.empty(found * (turns + 1) + 2)
@@ -548,6 +556,59 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
 
 
 @kernel
+def polished_crossings(t07, arm, branches, joints, angles, sources, found):
+    """Add to the candidates ``angles[:found]`` (from the limit polynomials ``sources``) the crossings of the real
+    branches themselves: where a branch has its joint within :data:`_POLISH_REACH` of a limit at a candidate,
+    secant steps on that joint's value minus the limit, evaluated by :func:`solve_q7`.  Returns the new count.
+
+    A polynomial's root is only as accurate as its coefficients, which can
+    be 1e-8 in q7 where the product's other factors are small; an arc
+    narrower than that could lie between two candidates and never be
+    sampled.  The branch's own joint value is exact to rounding, and so is
+    the crossing found on it.
+    """
+    scratch = np.empty((8, 3, 3))
+    work = np.empty(WORK)
+    q = np.empty((branches.shape[0], 7))
+    exists = np.empty(branches.shape[0], dtype=np.bool_)
+    one = np.empty((1, 7))
+    one_exists = np.empty(1, dtype=np.bool_)
+    total = found
+    for r in range(found):
+        if sources[r] >= 12:
+            continue
+        joint = sources[r] // 2
+        start = angles[r]
+        solve_q7(t07, start, arm, branches, joints, q, exists, scratch, work)
+        for b in range(branches.shape[0]):
+            if not exists[b]:
+                continue
+            for row in (3, 4):  # the joint's lower and upper limit (joint 2's polynomial serves both)
+                limit = joints[row, joint]
+                gap = np.mod(q[b, joint] - limit + np.pi, 2.0 * np.pi) - np.pi
+                if abs(gap) > _POLISH_REACH:
+                    continue
+                x0, g0 = start, gap
+                x1 = start + 1e-10
+                solve_q7(t07, x1, arm, branches[b : b + 1], joints, one, one_exists, scratch, work)
+                g1 = np.mod(one[0, joint] - limit + np.pi, 2.0 * np.pi) - np.pi
+                for _ in range(12):
+                    if not one_exists[0] or g1 == g0 or abs(g1) <= 1e-15:
+                        break
+                    x2 = x1 - g1 * (x1 - x0) / (g1 - g0)
+                    if abs(x2 - start) > _POLISH_REACH:
+                        break
+                    x0, g0 = x1, g1
+                    x1 = x2
+                    solve_q7(t07, x1, arm, branches[b : b + 1], joints, one, one_exists, scratch, work)
+                    g1 = np.mod(one[0, joint] - limit + np.pi, 2.0 * np.pi) - np.pi
+                if one_exists[0] and abs(g1) <= 1e-12 and abs(x1 - start) <= _POLISH_REACH:
+                    angles[total] = x1
+                    total += 1
+    return total
+
+
+@kernel
 def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch, work):
     """Where one branch's status (exists and within the limits) changes between the midpoints of intervals
     ``left`` and ``right`` of ``points``, by bisection to the rounding of q7.
@@ -555,9 +616,10 @@ def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch, wo
     The change is at the breakpoint between them (``points[right]``, a
     polished root) unless that root is inaccurate (a cluster of roots, the
     eigenvalue route): where the status differs at
-    ``points[right] +- _ROOT_BRACKET`` the breakpoint is the answer,
-    otherwise the whole span between the midpoints is bisected, so that an
-    arc's end is exact either way.
+    ``points[right] +- _ROOT_BRACKET`` the answer is the one of those two on
+    the feasible side, otherwise the whole span between the midpoints is
+    bisected down to the rounding, and again the feasible side's end is
+    returned: an arc's ends are themselves feasible.
     """
     low = 0.5 * (points[left] + points[left + 1])
     high = 0.5 * (points[right] + points[right + 1])
@@ -571,7 +633,7 @@ def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch, wo
     if (exists[0] and in_limits(q[0], joints)) == status_low:
         solve_q7(t07, offset7 + near_high, arm, branch, joints, q, exists, scratch, work)
         if (exists[0] and in_limits(q[0], joints)) != status_low:
-            return points[right]
+            return near_low if status_low else near_high
     while high - low > 4e-16 * max(1.0, abs(low)):
         middle = 0.5 * (low + high)
         if middle <= low or middle >= high:
@@ -581,7 +643,7 @@ def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch, wo
             low = middle
         else:
             high = middle
-    return 0.5 * (low + high)
+    return low if status_low else high
 
 
 # ----------------------------------------------------------------- batches
