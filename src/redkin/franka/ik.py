@@ -7,10 +7,12 @@ point seen from frame 6 fixes q5 up to two wrist solutions and then q6
 spherical shoulder [F7].  So a pose and q7 have at most 2 x 2 x 2 = 8
 solutions, named by three signs (:data:`BRANCHES`):
 
-* shoulder -- the sign of ``q_2`` (the chain's own sense; ``q_2 = 0`` is the shoulder singularity);
+* shoulder -- the sign of ``q_2`` where the description's ``q_2 = 0`` is the shoulder singularity (as in every
+  maker's description we know); precisely, the sign of ``sin theta_2`` in the solver's form, turned over where that
+  form's zero of joint 2 is nearer ``theta = pi`` (:attr:`FrankaGeometry.branch_senses`);
 * elbow -- the sign of ``theta_4 - phi``, on either side of the elbow angle ``phi`` of the longest reach
   (``|W - S|`` largest), as on an offset-elbow S-R-S arm;
-* wrist -- the sign of ``cos q_5``.
+* wrist -- the sign of ``cos q_5`` likewise (precisely of ``cos theta_5``, turned over in the same way).
 
 A branch may not exist at a given pose and q7 (the elbow cannot span ``|W
 - S|``, or the wrist cannot turn the shoulder point into place); that is a
@@ -47,7 +49,7 @@ class Q7Solutions(NamedTuple):
         (zeros where the branch does not exist).
     exists : numpy.ndarray of bool, shape (..., B)
     within_limits : numpy.ndarray of bool, shape (..., B)
-        Exists and lies within the chain's joint limits.
+        Exists and lies within the chain's joint limits, with a slack of 1e-12 rad (rounding).
     branches : tuple of Branch
     parameter : str
         ``"q7"``: the redundancy parameter these solutions are a function of.
