@@ -23,6 +23,97 @@ import numpy as np
 
 from redkin._compiled import kernel
 from redkin.circle import TWO_PI
+from redkin.srs._ik_kernels import branch_angles, chain_values
+
+
+@kernel
+def node_values(start, stop, waypoint, branch, entries, theta4, psi, table, joints, out):
+    """The chain's joint values of nodes ``start .. stop - 1`` into ``out`` (K, 7): node ``n`` is arm angle
+    ``psi[n]`` on branch ``branch[n]`` (a row of ``table`` (8, 3), its Table 1 signs) at waypoint
+    ``waypoint[n]``, whose entry coefficients and theta_4 for the elbow signs ``+1, -1`` are ``entries`` (W, 2, 3,
+    14) and ``theta4`` (W, 2): :func:`redkin.srs._ik_kernels.branch_angles` [000 eqs. 11, 13-15, 17-19], then
+    :func:`redkin.srs._ik_kernels.chain_values` with ``joints`` (5, 7), read per node without copying the
+    waypoint's coefficients."""
+    theta = np.empty(7)
+    for n in range(start, stop):
+        b = branch[n]
+        elbow = 1 if table[b, 1] < 0.0 else 0
+        branch_angles(entries[waypoint[n], elbow], theta4[waypoint[n], elbow], psi[n], table[b, 0], table[b, 2],
+                      theta)
+        chain_values(theta, joints, out[n])
+
+
+@kernel
+def split_counts(psi, piece, q, step, circle, fraction, min_spacing, parts):
+    """Into how many parts :func:`split_nodes` cuts the interval between nodes ``i`` and ``i + 1`` (``parts`` (K -
+    1,), 1: not cut): nodes sorted by waypoint, piece and arm angle ``psi`` (K,), ``piece`` (K,) (-1: a node
+    alone), joint values ``q`` (K, n).  An interval inside a piece wider than ``2 min_spacing`` is cut into
+    ``ceil(r / fraction)`` parts, ``r`` the largest move of a joint across it relative to ``step`` (on the circle
+    where ``circle``), but none narrower than ``min_spacing``."""
+    for i in range(psi.shape[0] - 1):
+        parts[i] = 1
+        if piece[i + 1] != piece[i] or piece[i + 1] < 0:
+            continue
+        width = psi[i + 1] - psi[i]
+        if not width > 2.0 * min_spacing:
+            continue
+        ratio = 0.0
+        for a in range(q.shape[1]):
+            ratio = max(ratio, gap(q[i + 1, a], q[i, a], circle[a]) / step[a])
+        count = min(np.ceil(ratio / fraction), np.floor(width / min_spacing))
+        if count > 1.0:
+            parts[i] = int(count)
+
+
+@kernel
+def split_nodes(offsets, psi, piece, branch, q, clearance, parts, entries, theta4, table, joints, lower, upper, circle,
+                clip_tolerance, out_offsets, out_psi, out_piece, out_branch, out_q, out_clearance):
+    """The graph (``offsets`` (W + 1,), ``psi``, ``piece``, ``branch``, ``q``, ``clearance`` per node, sorted) with
+    each interval ``i`` cut evenly into ``parts[i]`` (:func:`split_counts`), in order, into the ``out_`` arrays;
+    returns the number of nodes written.
+
+    A new node takes the waypoint, piece and branch of the interval's left end; its joint values are
+    :func:`node_values`' (``entries``, ``theta4``, ``table``, ``joints`` as there), its clearance the smallest
+    distance of a joint that is not ``circle`` to ``lower``/``upper``.  A node more than ``clip_tolerance``
+    outside a limit is dropped; the others are clipped into the limits and their clearance floored at 0.
+    """
+    theta = np.empty(7)
+    value = np.empty(q.shape[1])
+    count = offsets.shape[0] - 1
+    written = 0
+    w = 0
+    out_offsets[0] = 0
+    for i in range(psi.shape[0]):
+        while i >= offsets[w + 1]:
+            w += 1
+            out_offsets[w] = written
+        out_psi[written], out_piece[written], out_branch[written] = psi[i], piece[i], branch[i]
+        out_q[written] = q[i]
+        out_clearance[written] = clearance[i]
+        written += 1
+        if i + 1 == psi.shape[0] or parts[i] < 2:
+            continue
+        width = psi[i + 1] - psi[i]
+        b = branch[i]
+        elbow = 1 if table[b, 1] < 0.0 else 0
+        for j in range(1, parts[i]):
+            angle = psi[i] + width * j / parts[i]
+            branch_angles(entries[w, elbow], theta4[w, elbow], angle, table[b, 0], table[b, 2], theta)
+            chain_values(theta, joints, value)
+            least = inf
+            for a in range(value.shape[0]):
+                if not circle[a]:
+                    least = min(least, min(value[a] - lower[a], upper[a] - value[a]))
+            if not least >= -clip_tolerance:
+                continue
+            for a in range(value.shape[0]):
+                out_q[written, a] = value[a] if circle[a] else min(max(value[a], lower[a]), upper[a])
+            out_psi[written], out_piece[written], out_branch[written] = angle, piece[i], b
+            out_clearance[written] = max(least, 0.0)
+            written += 1
+    for v in range(w + 1, count + 1):
+        out_offsets[v] = written
+    return written
 
 
 @kernel

@@ -7,10 +7,10 @@ feasible sets [000 eq. 30] (:func:`redkin.srs.feasible_pieces_all_branches`):
 the arcs between consecutive limit crossings, inside which every joint is a
 continuous function of the arm angle.  Each piece contributes its two ends,
 its middle and the points of a uniform grid inside it, so no feasible arc is
-missed however narrow.  :func:`connect` then halves every interval between
+missed however narrow.  :func:`connect` then splits evenly every interval between
 neighbouring nodes of a piece across which some joint moves more than a
 fraction of its step bound, and :func:`window` samples finer around
-the nodes a search chose (:func:`window`).
+the nodes a search chose.
 
 Joints whose range holds every angle (:attr:`SerialChain.covers_circle`) are
 compared on the circle; the others as plain differences of the joint values
@@ -25,7 +25,7 @@ import numpy as np
 
 from redkin._compiled import run_batch
 from redkin.circle import TWO_PI
-from redkin.srs import _ik_kernels
+from redkin.paths import _dp_kernels
 from redkin.srs.feasible import PIECE_TOLERANCE, FeasiblePieces
 from redkin.srs.geometry import SRSGeometry
 
@@ -86,16 +86,14 @@ class Arm:
 
     def joint_values(self, waypoint: np.ndarray, branch: np.ndarray, psi: np.ndarray) -> np.ndarray:
         """Joint values ``(K, 7)`` of nodes (waypoint, branch index, arm angle), [000 eqs. 11, 13-15, 17-19] by
-        :func:`redkin.srs._ik_kernels.angles_at`, the kernel of :func:`redkin.srs.ik`."""
-        table = self.geometry.kernel_branches[branch]  # Table 1 signs (sigma_2, sigma_4, sigma_6)
-        elbow = (table[:, 1] < 0.0).astype(np.int64)
-        entries = np.ascontiguousarray(self.entries[waypoint, elbow])
-        theta4 = np.ascontiguousarray(self.theta4[waypoint, elbow])
-        signs = np.ascontiguousarray(table[:, [0, 2]])
-        theta = np.empty((len(psi), 7))
-        run_batch(_ik_kernels.angles_at, len(psi), entries, theta4, np.ascontiguousarray(psi, dtype=float), signs,
-                  theta)
-        return self.geometry.to_chain_q(theta)
+        :func:`redkin.paths._dp_kernels.node_values` (the closed form of :func:`redkin.srs.ik`, one compiled pass
+        that reads each waypoint's coefficients in place)."""
+        q = np.empty((len(psi), 7))
+        run_batch(_dp_kernels.node_values, len(psi), np.ascontiguousarray(waypoint, dtype=np.int64),
+                  np.ascontiguousarray(branch, dtype=np.int64), self.entries, self.theta4,
+                  np.ascontiguousarray(psi, dtype=float), self.geometry.kernel_branches,
+                  self.geometry.kernel_joints, q)
+        return q
 
     def clearance(self, q: np.ndarray) -> np.ndarray:
         """The smallest distance of a joint with a range narrower than ``2 pi`` to a limit, per row of ``q``
@@ -119,10 +117,6 @@ class Arm:
         d = np.abs(a - b)
         turned = np.mod(d, TWO_PI)
         return np.where(self.circle, np.minimum(turned, TWO_PI - turned), d)
-
-    def ratio(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """The largest move between ``a`` and ``b`` (..., 7) relative to the step bound, per row."""
-        return (self.moves(a, b) / self.step).max(axis=-1)
 
 
 def piece_samples(pieces: FeasiblePieces, spacing: float) -> tuple[np.ndarray, ...]:
@@ -174,34 +168,29 @@ def _sorted(arm: Arm, waypoint, branch, piece, psi, q, clearance, count: int) ->
     return Graph(offsets, piece[order], branch[order], psi[order], q, np.maximum(clearance[order], 0.0))
 
 
-def _extended(arm: Arm, graph: Graph, waypoint: np.ndarray, branch: np.ndarray, piece: np.ndarray,
-             psi: np.ndarray) -> Graph:
-    """``graph`` with more nodes."""
-    added = build(arm, waypoint, branch, piece, psi, len(graph.offsets) - 1)
-    return _sorted(arm, np.concatenate([graph.waypoint, added.waypoint]), np.concatenate([graph.branch, added.branch]),
-                   np.concatenate([graph.piece, added.piece]), np.concatenate([graph.psi, added.psi]),
-                   np.concatenate([graph.q, added.q]), np.concatenate([graph.clearance, added.clearance]),
-                   len(graph.offsets) - 1)
-
-
 def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
     """Subdivide each interval between neighbouring nodes of a piece across which some joint moves more than
     ``fraction`` of its bound, evenly into as many parts as that move needs, until none does (or an interval is
-    :data:`_MIN_SPACING` wide)."""
+    :data:`_MIN_SPACING` wide): rounds of :func:`redkin.paths._dp_kernels.split_counts` and
+    :func:`redkin.paths._dp_kernels.split_nodes`, which insert the new nodes in order."""
+    geometry = arm.geometry
+    chain = geometry.chain
     for _ in range(rounds):
-        same = (graph.piece[1:] == graph.piece[:-1]) & (graph.piece[1:] >= 0)
-        width = graph.psi[1:] - graph.psi[:-1]
-        wide = np.flatnonzero(same & (width > 2.0 * _MIN_SPACING))
-        parts = np.ceil(arm.ratio(graph.q[1:][wide], graph.q[:-1][wide]) / fraction)
-        parts = np.minimum(parts, np.floor(width[wide] / _MIN_SPACING))
-        split = parts > 1.0
-        left, parts = wide[split], parts[split].astype(np.int64)
-        if left.size == 0:
+        size = len(graph.psi)
+        parts = np.ones(max(size - 1, 0), dtype=np.int64)
+        _dp_kernels.split_counts(graph.psi, graph.piece, graph.q, arm.step, arm.circle, fraction, _MIN_SPACING, parts)
+        added = int((parts - 1).sum())
+        if added == 0:
             break
-        interval = np.repeat(left, parts - 1)
-        within = np.arange(interval.size) - np.repeat(np.cumsum(parts - 1) - (parts - 1), parts - 1) + 1
-        psi = graph.psi[interval] + width[interval] * within / np.repeat(parts, parts - 1)
-        graph = _extended(arm, graph, graph.waypoint[interval], graph.branch[interval], graph.piece[interval], psi)
+        offsets = np.empty_like(graph.offsets)
+        psi, clearance = np.empty(size + added), np.empty(size + added)
+        piece, branch = np.empty(size + added, dtype=np.int64), np.empty(size + added, dtype=np.int64)
+        q = np.empty((size + added, graph.q.shape[1]))
+        used = _dp_kernels.split_nodes(graph.offsets, graph.psi, graph.piece, graph.branch, graph.q, graph.clearance,
+                                       parts, arm.entries, arm.theta4, geometry.kernel_branches, geometry.kernel_joints,
+                                       chain.lower, chain.upper, arm.circle, _CLIP_TOLERANCE, offsets, psi, piece,
+                                       branch, q, clearance)
+        graph = Graph(offsets, piece[:used], branch[:used], psi[:used], q[:used], clearance[:used])
     return graph
 
 

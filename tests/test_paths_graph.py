@@ -1,0 +1,60 @@
+"""The nodes of path resolution's graph (redkin.paths.graph): their joint values are redkin.srs.ik's, bit for bit,
+read from each waypoint's coefficients in one compiled pass."""
+
+import numpy as np
+import pytest
+
+from redkin.models import get_robot
+from redkin.paths.graph import Arm
+from redkin.srs import BRANCHES, ik
+from redkin.srs.coefficients import coefficient_arrays
+from redkin.srs.geometry import srs_geometry
+
+
+@pytest.mark.parametrize("robot", ["kuka-iiwa14", "pa10-7c", "barrett-wam7"])
+def test_node_values_are_the_closed_form_ik_of_their_waypoint_and_branch(robot):
+    chain = get_robot(robot)
+    geometry = srs_geometry(chain)
+    rng = np.random.default_rng(3)
+    q = rng.uniform(np.maximum(chain.lower, -3.0), np.minimum(chain.upper, 3.0), (12, 7))
+    poses = chain.fk(q)
+    coefficients, _, _ = coefficient_arrays(geometry, poses[:, None], np.array([1.0, -1.0]))
+    arm = Arm(geometry, coefficients.entries, coefficients.theta4, np.full(7, 0.1), chain.covers_circle)
+    waypoint, branch = rng.integers(0, 12, 300), rng.integers(0, 8, 300)
+    psi = rng.uniform(-np.pi, np.pi, 300)
+    values = arm.joint_values(waypoint, branch, psi)
+    for n in range(300):
+        expected = ik(chain, poses[waypoint[n]], psi[n], str(BRANCHES[branch[n]]))
+        np.testing.assert_array_equal(values[n], expected)
+
+
+@pytest.mark.parametrize(("robot", "step"), [("kuka-iiwa14", 0.05), ("pa10-7c", 0.03), ("barrett-wam7", 0.1)])
+def test_connect_keeps_every_node_and_leaves_no_interval_of_a_piece_wider_than_its_share_of_the_bound(robot, step):
+    from redkin.paths import graph as graphs
+    from redkin.paths.graph import _MIN_SPACING
+    from redkin.srs.feasible import feasible_pieces_all_branches
+
+    chain = get_robot(robot)
+    geometry = srs_geometry(chain)
+    rng = np.random.default_rng(1)
+    lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
+    a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
+    poses = chain.fk(a + (b - a) * np.linspace(0.0, 1.0, 20)[:, None])
+    coefficients, _, _ = coefficient_arrays(geometry, poses[:, None], np.array([1.0, -1.0]))
+    arm = Arm(geometry, coefficients.entries, coefficients.theta4, np.full(7, step), chain.covers_circle)
+    waypoint, branch, piece, psi, _ = graphs.piece_samples(feasible_pieces_all_branches(geometry, poses), 0.1)
+    before = graphs.build(arm, np.append(waypoint, 0), np.append(branch, 2), np.append(piece, -1),
+                          np.append(psi, 0.3), 20)  # and one node alone, as q0's
+    after = graphs.connect(arm, before, 0.25)
+    assert len(after.psi) > len(before.psi)
+    old = set(zip(before.waypoint.tolist(), before.piece.tolist(), before.psi.tolist()))
+    assert old <= set(zip(after.waypoint.tolist(), after.piece.tolist(), after.psi.tolist()))
+    order = np.lexsort((after.psi, after.piece, after.waypoint))
+    np.testing.assert_array_equal(order, np.arange(len(order)))
+    np.testing.assert_array_equal(after.offsets, np.searchsorted(after.waypoint, np.arange(21)))
+    same = (after.piece[1:] == after.piece[:-1]) & (after.piece[1:] >= 0)
+    moves = arm.moves(after.q[1:], after.q[:-1])[same].max(axis=-1)
+    narrow = np.diff(after.psi)[same] <= 2 * _MIN_SPACING
+    assert np.all((moves <= 0.25 * step) | narrow)
+    np.testing.assert_array_equal(after.q, arm.clipped(arm.joint_values(after.waypoint, after.branch, after.psi)))
+    assert np.all(after.clearance >= 0) and np.all(chain.within_limits(after.q))
