@@ -44,22 +44,21 @@ def _broken(x: np.ndarray, y: np.ndarray, keep: np.ndarray) -> tuple[np.ndarray,
     return np.insert(x.astype(float), at, np.nan), np.insert(y, at, np.nan)
 
 
-def _feasible_rectangles(pieces: FeasiblePieces, branch: int) -> list[np.ndarray]:
-    """One rectangle (4 corners, degrees) per feasible piece of ``branch`` and waypoint, a piece that wraps past
-    180 deg split in two."""
+def _feasible_rectangles(pieces: FeasiblePieces, branch: int) -> np.ndarray:
+    """One rectangle (4 corners, degrees) per feasible piece of ``branch`` and waypoint, (M, 4, 2); a piece that
+    wraps past 180 deg split in two."""
     start, end = pieces.start[:, branch], pieces.end[:, branch]
     waypoint, slot = np.nonzero(pieces.feasible[:, branch] & (end > start))
     lo, hi = start[waypoint, slot], end[waypoint, slot]
     shift = np.floor((lo + np.pi) / TWO_PI) * TWO_PI  # the piece's start into [-pi, pi)
     lo, hi = lo - shift, hi - shift
-    spans = [(waypoint, lo, np.minimum(hi, np.pi))]
     wraps = hi > np.pi
-    spans.append((waypoint[wraps], np.full(wraps.sum(), -np.pi), hi[wraps] - TWO_PI))
-    rectangles = []
-    for k, a, b in spans:
-        for x, y0, y1 in zip(k.tolist(), np.degrees(a).tolist(), np.degrees(b).tolist()):
-            rectangles.append(np.array([[x - 0.5, y0], [x + 0.5, y0], [x + 0.5, y1], [x - 0.5, y1]]))
-    return rectangles
+    x = np.concatenate([waypoint, waypoint[wraps]]).astype(float)
+    y0 = np.degrees(np.concatenate([lo, np.full(wraps.sum(), -np.pi)]))
+    y1 = np.degrees(np.concatenate([np.minimum(hi, np.pi), hi[wraps] - TWO_PI]))
+    corners_x = np.stack([x - 0.5, x + 0.5, x + 0.5, x - 0.5], axis=-1)
+    corners_y = np.stack([y0, y0, y1, y1], axis=-1)
+    return np.stack([corners_x, corners_y], axis=-1)
 
 
 def _shown_branches(pieces: FeasiblePieces, result: PathResult, baselines: Sequence[BaselinePath]) -> list[int]:
@@ -71,7 +70,7 @@ def _shown_branches(pieces: FeasiblePieces, result: PathResult, baselines: Seque
 
 
 def _plot_branch_plane(ax, pieces: FeasiblePieces, branch: int, result: PathResult,
-                      baselines: Sequence[BaselinePath] = ()) -> None:
+                       baselines: Sequence[BaselinePath] = ()) -> None:
     """One branch's (waypoint, arm angle) plane: feasible arm angles shaded, the paths drawn on it.
 
     The artists carry ids (``get_gid()``): ``"feasible"`` (the shading), ``"path"``, ``"branch change"``,
@@ -92,8 +91,8 @@ def _plot_branch_plane(ax, pieces: FeasiblePieces, branch: int, result: PathResu
     """
     name = str(BRANCHES[branch])
     count = pieces.start.shape[0]
-    ax.add_collection(PolyCollection(_feasible_rectangles(pieces, branch), facecolors=_FEASIBLE_COLOUR, alpha=0.35,
-                                     linewidths=0, gid="feasible"))
+    rectangles = list(_feasible_rectangles(pieces, branch))
+    ax.add_collection(PolyCollection(rectangles, facecolors=_FEASIBLE_COLOUR, alpha=0.35, linewidths=0, gid="feasible"))
     waypoints = np.arange(count)
     for baseline, colour in zip(baselines, _BASELINE_COLOURS):
         on = np.array([b == name for b in baseline.branch]) & np.isfinite(baseline.psi)
