@@ -9,13 +9,20 @@ lines take the common normal through the previous frame's origin (``d = 0``),
 intersecting lines their intersection (``a = 0``), and the same line repeats
 the previous frame.  The last row is a pure turn (``a = d = alpha = 0``).
 
-Used by the URDF import (:mod:`redkin.urdf`) and to bring an S-R-S arm in any
-convention to paper 000's Table 1 form (:mod:`redkin.srs.conventions`).
+Used by the URDF import (:mod:`redkin.urdf`), to bring an S-R-S arm in any
+convention to paper 000's Table 1 form (:mod:`redkin.srs.conventions`) and a
+Franka-class arm to its solver's form (:mod:`redkin.franka.geometry`); the
+last two share :func:`meeting_point` and :func:`certify_same_poses`.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:  # the chain module imports nothing from here; typing only
+    from redkin.chain import SerialChain
 
 #: ``|sin|`` of the angle between two joint axes below which they count as parallel.  Axes tilted by ``t``
 #: off parallel have their common normal ``offset / t`` away, and the chain built on it loses about
@@ -107,3 +114,23 @@ def _frame(x: np.ndarray, z: np.ndarray, origin: np.ndarray) -> np.ndarray:
     frame[:3, 1] = np.cross(z, x)
     frame[:3, 3] = origin
     return frame
+
+
+def meeting_point(points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, float]:
+    """The point closest to the lines (least squares) and the largest distance of a line from it."""
+    projectors = np.eye(3) - directions[:, :, None] * directions[:, None, :]
+    point = np.linalg.lstsq(projectors.sum(axis=0), np.einsum("kij,kj->i", projectors, points), rcond=None)[0]
+    distances = np.linalg.norm(np.einsum("kij,kj->ki", projectors, point - points), axis=-1)
+    return point, float(distances.max())
+
+
+def certify_same_poses(chain: SerialChain, converted: SerialChain, form: str) -> None:
+    """A chain rewritten in another form (``form`` names it) must give the original's poses, checked on fixed
+    sample configurations; a failure is a bug in the conversion."""
+    from redkin.errors import RedkinError
+
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (16, chain.n))
+    error = float(np.max(np.abs(converted.fk(q) - chain.fk(q))))
+    scale = max(1.0, float(np.max(np.abs(chain.fk(q)[..., :3, 3]))))
+    if error > 1e-9 * scale:  # pragma: no cover - a failure here is a bug in the conversion
+        raise RedkinError(f"{chain.name!r}: its {form} differs from it by {error:.3g} m; please report this")

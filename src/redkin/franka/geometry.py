@@ -33,7 +33,7 @@ from functools import cached_property
 
 import numpy as np
 
-from redkin._joint_lines import dh_rows_from_lines
+from redkin._joint_lines import certify_same_poses, dh_rows_from_lines, meeting_point
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
@@ -179,12 +179,6 @@ def _line_distance(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarra
     return float(abs(across @ normal) / size)
 
 
-def _meeting_point(points: np.ndarray, directions: np.ndarray) -> np.ndarray:
-    """The point closest to the lines in the least-squares sense."""
-    projectors = np.eye(3) - directions[:, :, None] * directions[:, None, :]
-    return np.linalg.lstsq(projectors.sum(axis=0), np.einsum("kij,kj->i", projectors, points), rcond=None)[0]
-
-
 def _convert(chain: SerialChain) -> FrankaGeometry:
     if chain.n != 7:
         raise _refuse(chain, f"it has {chain.n} joints, not 7", 0.0)
@@ -204,8 +198,8 @@ def _convert(chain: SerialChain) -> FrankaGeometry:
     if wrist_offset <= _CLASS_TOLERANCE:
         raise _refuse(chain, "axes 6 and 7 meet (no wrist offset): an S-R-S wrist, solved by the arm angle instead",
                       wrist_offset)
-    shoulder = _meeting_point(points[:3], directions[:3])
-    wrist = _meeting_point(points[4:6], directions[4:6])
+    shoulder = meeting_point(points[:3], directions[:3])[0]
+    wrist = meeting_point(points[4:6], directions[4:6])[0]
     through = np.array([shoulder, shoulder, shoulder, points[3], wrist, wrist, points[6]])
     origin = shoulder + ((chain.base[:3, 3] - shoulder) @ directions[0]) * directions[0]
     rows, frame0, frame7 = dh_rows_from_lines(through, directions, np.sign(TABLE1_ALPHA), origin)
@@ -222,15 +216,6 @@ def _convert(chain: SerialChain) -> FrankaGeometry:
         tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
         source=f"{chain.source} (in the Franka-class DH form)", joint_names=chain.joint_names,
     )
-    _certify(chain, form)
+    certify_same_poses(chain, form, "Franka-class form")
     return FrankaGeometry(chain=chain, form=form, d1=float(d[0]), a3=float(a3), d3=float(d3), a4=float(a4),
                           d5=float(d5), a6=float(a[5]), d6=float(d[5]))
-
-
-def _certify(chain: SerialChain, form: SerialChain) -> None:
-    """The form must give the chain's poses (checked on fixed sample configurations)."""
-    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (16, 7))
-    error = float(np.max(np.abs(form.fk(q) - chain.fk(q))))
-    scale = max(1.0, float(np.max(np.abs(chain.fk(q)[..., :3, 3]))))
-    if error > 1e-9 * scale:  # pragma: no cover - a failure here is a bug in the conversion
-        raise RedkinError(f"{chain.name!r}: its Franka-class form differs from it by {error:.3g} m; please report this")

@@ -38,7 +38,7 @@ from weakref import WeakKeyDictionary
 
 import numpy as np
 
-from redkin._joint_lines import dh_rows_from_lines
+from redkin._joint_lines import certify_same_poses, dh_rows_from_lines, meeting_point
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError
 from redkin.srs.geometry import TABLE1_ALPHA
@@ -57,14 +57,6 @@ def _joint_lines(chain: SerialChain) -> tuple[np.ndarray, np.ndarray]:
     """Points and unit directions of the joint lines at ``q = 0``, directions turning with positive ``q``."""
     directions, points = chain.joint_axes(np.zeros(chain.n))
     return points, directions * chain.sign[:, None]
-
-
-def _meeting_point(points: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, float]:
-    """The point closest to the lines (least squares) and the largest distance of a line from it."""
-    projectors = np.eye(3) - directions[:, :, None] * directions[:, None, :]
-    point = np.linalg.lstsq(projectors.sum(axis=0), np.einsum("kij,kj->i", projectors, points), rcond=None)[0]
-    distances = np.linalg.norm(np.einsum("kij,kj->ki", projectors, point - points), axis=-1)
-    return point, float(distances.max())
 
 
 def table1_form(chain: SerialChain) -> SerialChain:
@@ -88,12 +80,12 @@ def _convert(chain: SerialChain) -> SerialChain:
     points, directions = _joint_lines(chain)
     centres = {}
     for name, group in _GROUPS:
-        centres[name], distance = _meeting_point(points[list(group)], directions[list(group)])
+        centres[name], distance = meeting_point(points[list(group)], directions[list(group)])
         if distance > _SRS_TOLERANCE:
             numbers = "-".join(str(k + 1) for k in group[::2])
             raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point: "
                                         f"closest distance {distance:.3g} m", chain.name, float(distance))
-    offset_elbow = _meeting_point(points[2:5], directions[2:5])[1] > _SRS_TOLERANCE
+    offset_elbow = meeting_point(points[2:5], directions[2:5])[1] > _SRS_TOLERANCE
     cosines = np.abs(np.sum(directions[:-1] * directions[1:], axis=-1))
     if cosines.max() > _SRS_TOLERANCE:
         k = int(np.argmax(cosines))
@@ -134,7 +126,7 @@ def _convert(chain: SerialChain) -> SerialChain:
     )
     if np.cos(converted.offset[2]) < 0.0:  # the reference plane theta_3 = 0 where the chain's own q_3 = 0
         converted = _elbow_pair_turned(converted)
-    _certify(chain, converted)
+    certify_same_poses(chain, converted, "Table 1 form")
     return converted
 
 
@@ -164,12 +156,3 @@ def _distance_to_line(point: np.ndarray, line_point: np.ndarray, direction: np.n
     """Distance of a point from a line with unit direction."""
     across = point - line_point
     return float(np.linalg.norm(across - (across @ direction) * direction))
-
-
-def _certify(chain: SerialChain, converted: SerialChain) -> None:
-    """The converted chain must give the original's poses (checked on fixed sample configurations)."""
-    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (16, 7))
-    error = float(np.max(np.abs(converted.fk(q) - chain.fk(q))))
-    scale = max(1.0, float(np.max(np.abs(chain.fk(q)[..., :3, 3]))))
-    if error > 1e-9 * scale:  # pragma: no cover - a failure here is a bug in the conversion
-        raise ValueError(f"{chain.name!r}: its Table 1 form differs from it by {error:.3g} m; please report this")
