@@ -4,7 +4,8 @@ A kernel compiles on its first call in a fresh install and is cached (:mod:`redk
 calls everything once, section by section, leaves a cache from which every later process loads in milliseconds.
 :func:`warm_up` is that process's work: each public function that runs a compiled kernel, called once on one item
 and once on a batch past :data:`redkin._compiled.PARALLEL_BATCH`, with standard and modified DH, every arm class
-and both torso arms.  ``benchmarks/cold_start.py`` times it on a fresh cache.
+(S-R-S, offset elbow, Franka), a short path, and both torso arms.  ``benchmarks/cold_start.py`` times it on a fresh
+cache.
 
 To share the cache, point ``NUMBA_CACHE_DIR`` at one folder before the first ``import redkin`` in every process
 that should use it (a read-only install writes nowhere else; Dask workers on one machine or a shared file system
@@ -59,6 +60,25 @@ def _srs_sets(rng: np.random.Generator) -> None:
     srs.joint_extrema(arm, poses[0], "+-+"), srs.singular_arm_angles(arm, poses[0], "+-+")
     srs.optimal_arm_angles(arm, poses[0], "+-+")
     srs.arm_angle_path(arm, poses[:20], "+-+")
+
+
+def _franka(rng: np.random.Generator) -> None:
+    from redkin import franka, models
+
+    arm = models.franka_fr3()
+    q = rng.uniform(arm.lower, arm.upper, (_BATCH, 7))
+    poses = arm.fk(q)
+    franka.ik(arm, poses[0], q[0, 6]), franka.ik(arm, poses, q[:, 6]), franka.ik(arm, poses[0], q[0, 6], "+-+")
+    franka.feasible_q7(arm, poses[0]), franka.feasible_q7_batch(arm, poses[:20])
+    franka.optimal_q7(arm, poses[0], "+-+")
+
+
+def _paths(rng: np.random.Generator) -> None:
+    from redkin import models, paths
+
+    arm = models.kuka_iiwa14()
+    q = np.radians([10.0, 40.0, 0.0, -70.0, 0.0, 50.0, 0.0]) + np.linspace(0.0, 0.2, 8)[:, None]
+    paths.resolve_path(arm, arm.fk(q), 0.2)
 
 
 def _torso_arm(rng: np.random.Generator) -> None:
@@ -117,6 +137,8 @@ _SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("chain", _chain),
     ("srs ik", _srs_ik),
     ("srs sets", _srs_sets),
+    ("franka", _franka),
+    ("paths", _paths),
     ("torso arm", _torso_arm),
     ("velocity", _velocity),
     ("virtual arms", _virtual_arms),
