@@ -14,8 +14,12 @@ VARIABLES = (*VALUES, "rotation", "x", "y", "z", "chunk_complete")
 
 
 def arrays(path) -> dict:
-    """Every variable of a map's store, read back as numpy arrays."""
+    """Every variable of a map's store, read back as numpy arrays.
+
+    Read without Dask (``chunks=None``): a test that has a distributed client open would otherwise send the read to
+    its workers, and one left restarting by a fault test once hung the suite there (``Client.gather``).
+    """
     import xarray as xr
 
-    with xr.open_zarr(path) as dataset:
+    with xr.open_zarr(path, chunks=None) as dataset:
         return {name: dataset[name].values for name in VARIABLES}
