@@ -356,8 +356,10 @@ def ufactory_xarm7() -> SerialChain:
     the middle of the range or a seed, :meth:`SerialChain.nearest_in_range`).
     The URDF prints pi/2 as 1.5708; the right angles are taken exact (the
     literal numbers put the flange up to 6e-6 m and 2e-5 rad away, sampled).  The
-    tool frame is the flange (``link_eef``).  A general chain (the elbow
-    and the wrist are offset).
+    tool frame is the flange (``link_eef``).  Of the Franka class, as the
+    Panda: a spherical shoulder, an offset elbow, axes 5 and 6 meeting and
+    axis 7 offset 0.076 m from axis 6, so it has the closed form at a given
+    q7 (:mod:`redkin.franka`, docs/franka.md).
     """
     two_pi = 2.0 * np.pi
     return SerialChain(
