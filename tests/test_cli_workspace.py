@@ -33,7 +33,7 @@ def test_workspace_writes_map_slices_and_json_summary(tmp_path, capsys):
     assert summary["units"]["seconds"] == "s" and summary["scheduler"] == "local"
     # stderr is not a terminal here: plain progress lines, no bar redrawn with \r
     assert "\r" not in captured.err and captured.err.splitlines()[-1] == "progress: 8/8 chunks (100.0%)"
-    with xr.open_zarr(out / "map.zarr") as dataset:
+    with xr.open_zarr(out / "map.zarr", chunks=None) as dataset:
         reach = dataset["reachability"].values
         assert summary["reachable_positions"] == pytest.approx((reach > 0).mean())
         assert summary["reachable_poses"] == pytest.approx(reach.mean())

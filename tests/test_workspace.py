@@ -83,7 +83,7 @@ def test_map_entries_equal_direct_feasible_arm_angles(robot, tmp_path):
     arm = get_robot(robot)
     run = workspace_map(arm, tmp_path / "map.zarr", EXTENTS[robot], 5, 12, chunk=3)
     assert (run.chunks, run.computed, run.positions) == (8, 8, 125)
-    with xr.open_zarr(run.path) as dataset:
+    with xr.open_zarr(run.path, chunks=None) as dataset:
         measure = dataset["measure"].values
         x, y, z = (dataset[axis].values for axis in "xyz")
         rotations = dataset["rotation"].values

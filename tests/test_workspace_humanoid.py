@@ -32,7 +32,7 @@ def _within(seconds, function, *args, **kwargs):
 
 
 def _arrays(path):
-    with xr.open_zarr(path) as dataset:
+    with xr.open_zarr(path, chunks=None) as dataset:
         return {name: dataset[name].values for name in NAMES}
 
 

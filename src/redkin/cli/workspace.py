@@ -76,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
     from redkin.plot.workspace import save_mid_plane_slices
 
     images = [out / f"{name}.png" for name in SLICE_NAMES]
-    with xr.open_zarr(result.path) as dataset, no_space_errors(out, IMAGES_LEFT):
+    # read back without Dask (chunks=None): the pictures need the values here, not from a cluster that may be gone
+    with xr.open_zarr(result.path, chunks=None) as dataset, no_space_errors(out, IMAGES_LEFT):
         for name, image in zip(SLICE_NAMES, images):
             save_mid_plane_slices(dataset, name, image)
     summary = run_summary(chain.name, result, images, args.scheduler,

@@ -45,7 +45,8 @@ def run_humanoid(args: argparse.Namespace, chain: SerialChain) -> int:
     from redkin.plot.torso_arm import save_mid_plane_maps
 
     images = [out / f"{name}.png" for name in SLICE_NAMES]
-    with xr.open_zarr(result.path) as dataset, no_space_errors(out, IMAGES_LEFT):
+    # read back without Dask (chunks=None): the pictures need the values here, not from a cluster that may be gone
+    with xr.open_zarr(result.path, chunks=None) as dataset, no_space_errors(out, IMAGES_LEFT):
         for name, image in zip(SLICE_NAMES, images):
             save_mid_plane_maps(mid_plane_maps(dataset, name), image, VARIABLES[name][0],
                                 f"{chain.name}: {name} over theta_1 x phi = {samples[0]} x {samples[1]} samples")
