@@ -63,12 +63,6 @@ _SMALL_DIVISOR = 1e-6
 
 
 @kernel
-def frame_seven(pose, ends):
-    """Frame 7 of the form in frame 0 (4, 4): ``base^-1 pose tool^-1``."""
-    return ends[0] @ pose @ ends[1]
-
-
-@kernel
 def wrist_and_frame_six(t07, theta7, arm):
     """Frame 6's axes ``x6, y6, z6`` and the wrist point W (3-tuples) at ``theta_7`` [F1].
 
