@@ -94,6 +94,7 @@ class SerialChain:
     _standard: bool = field(init=False, repr=False)
     _links: np.ndarray = field(init=False, repr=False)
     _ends: np.ndarray = field(init=False, repr=False)
+    _bounds: np.ndarray = field(init=False, repr=False)
 
     def __init__(
         self,
@@ -162,6 +163,7 @@ class SerialChain:
         object.__setattr__(self, "_standard", self.convention == "dh")
         object.__setattr__(self, "_links", np.ascontiguousarray(links))
         object.__setattr__(self, "_ends", np.ascontiguousarray(np.stack([self.base, self.tool])))
+        object.__setattr__(self, "_bounds", np.ascontiguousarray(np.stack([self.lower, self.upper])))
 
     # ------------------------------------------------------------------ basics
     @property

@@ -1,0 +1,390 @@
+"""The compiled core of the numerical pose IK: damped Gauss-Newton steps with joint limits, restarts, certificates.
+
+One start runs damped least-squares (Levenberg-Marquardt) steps [N2]-[N3] on
+the pose error [N1] from a joint vector, each step clipped to the joint
+limits with the joints pinned at a limit taken out of the step [N4]; with a
+seed, every step also moves the joints towards the seed inside the
+self-motion [N5].  A start ends when the error is within the tolerance (a
+certified solution, read off our own FK, :func:`~redkin._chain_kernels.frames_one`),
+or when it stops shrinking.  The starts are the seed and then random joint
+vectors within the limits, drawn from a per-pose stream (:func:`uniform`),
+until ``count`` distinct solutions are certified or the budget of starts is
+spent.  Equations: docs/numerical-ik.md.
+
+Inputs are trusted (C-contiguous float64 arrays of the documented shapes);
+:mod:`redkin.numerical.solve` validates at the public edge.
+"""
+
+from __future__ import annotations
+
+from math import atan2, pi, sqrt
+
+import numpy as np
+
+from redkin import _chain_kernels
+from redkin._compiled import kernel
+from redkin.srs._ik_kernels import OK, pose_defect
+
+#: Entries of the ``settings`` array of :func:`solve`.
+POSITION_TOLERANCE, ROTATION_TOLERANCE, SEPARATION, SETTINGS = 0, 1, 2, 3
+#: Largest joint step of one iteration [rad]: a damped step near a singular configuration can be huge.
+MAX_STEP = 0.5
+#: Largest pull towards the seed in one iteration [rad] ([N5]).
+MAX_PULL = 0.2
+#: Damping floor of [N3]: keeps the 6 x 6 system positive definite where ``J`` loses rank at a solution.
+DAMPING_FLOOR = 1e-12
+#: Iterations one start may take.
+ITERATIONS = 100
+#: A start is given up when its error has not halved over this many iterations.
+STALL = 12
+#: After a start is certified: steps that pull it towards the seed, with one ([N5]); then plain steps that take its
+#: error from the tolerance to rounding.
+SETTLE, POLISH = 8, 2
+#: The phases of :func:`descend`.
+DESCENT, PULL, FINAL = 0, 1, 2
+#: The pull towards the seed has settled when its last step moved no joint by more than this [rad].
+SETTLED = 1e-10
+#: Where ``pi - theta`` falls below this, the rotation error's axis is read from the symmetric part of ``E``.
+NEAR_HALF_TURN = 1e-3
+
+
+# ------------------------------------------------------------------ random starts
+@kernel
+def uniform(state):
+    """The next number in ``[0, 1)`` of the stream ``state`` (1,) uint64 (SplitMix64, Steele et al. 2014).
+
+    Each pose has its own stream, seeded from one integer the caller draws per pose, so a pose's starts do not
+    depend on the other poses of its batch or on which thread solves it.
+    """
+    state[0] += np.uint64(0x9E3779B97F4A7C15)
+    z = state[0]
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z = z ^ (z >> np.uint64(31))
+    return float(z >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+@kernel
+def random_start(lower, upper, state, q):
+    """A joint vector drawn uniformly within the limits into ``q`` (n,); a turn wide where a limit is infinite."""
+    for j in range(q.shape[0]):
+        u = uniform(state)
+        if lower[j] > -np.inf and upper[j] < np.inf:
+            q[j] = lower[j] + u * (upper[j] - lower[j])
+        elif lower[j] > -np.inf:
+            q[j] = lower[j] + 2.0 * pi * u
+        elif upper[j] < np.inf:
+            q[j] = upper[j] - 2.0 * pi * u
+        else:
+            q[j] = -pi + 2.0 * pi * u
+
+
+# ------------------------------------------------------------------ pose error
+@kernel
+def pose_error(target, pose, e):
+    """The pose error [N1] ``e = [p_t - p; log(R_t R^T)]`` (6,) of ``pose`` against ``target``; returns its
+    position error [m] and rotation angle [rad].
+
+    The rotation vector is world-referred, so that ``e(q + dq) = e(q) - J dq`` to first order with the geometric
+    Jacobian ``J``.  Its angle is ``atan2(|s| / 2, (tr E - 1) / 2)`` with ``s`` the skew part of ``E = R_t R^T``,
+    accurate near 0 and near pi alike; near a half turn the axis comes from the symmetric part.
+    """
+    for r in range(3):
+        e[r] = target[r, 3] - pose[r, 3]
+    m = np.empty((3, 3))
+    for r in range(3):
+        for c in range(3):
+            m[r, c] = target[r, 0] * pose[c, 0] + target[r, 1] * pose[c, 1] + target[r, 2] * pose[c, 2]
+    s0, s1, s2 = m[2, 1] - m[1, 2], m[0, 2] - m[2, 0], m[1, 0] - m[0, 1]
+    size = sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+    cosine = 0.5 * (m[0, 0] + m[1, 1] + m[2, 2] - 1.0)
+    angle = atan2(0.5 * size, cosine)
+    if pi - angle > NEAR_HALF_TURN:
+        scale = angle / size if size > 0.0 else 0.0
+        e[3], e[4], e[5] = scale * s0, scale * s1, scale * s2
+    else:  # (E + E^T) / 2 = cos I + (1 - cos) a a^T: the largest diagonal entry gives a well-conditioned a_k
+        k = 0
+        for i in range(1, 3):
+            if m[i, i] > m[k, k]:
+                k = i
+        axis = np.empty(3)
+        axis[k] = sqrt(max((m[k, k] - cosine) / (1.0 - cosine), 0.0))
+        for i in range(3):
+            if i != k:
+                axis[i] = 0.5 * (m[i, k] + m[k, i]) / ((1.0 - cosine) * axis[k])
+        if axis[0] * s0 + axis[1] * s1 + axis[2] * s2 < 0.0:
+            angle = -angle  # the sign that makes the axis agree with the skew part, 2 sin(theta) a
+        for i in range(3):
+            e[3 + i] = angle * axis[i]
+        angle = abs(angle)
+    position = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+    return position, angle
+
+
+# ------------------------------------------------------------------ one step
+@kernel
+def damped_step(jac, e, free, pull, damping, a, y, dq):
+    """The step [N2]-[N5] into ``dq`` (n,): ``dq = r + W J^T y`` with ``(J W J^T + lambda I) y = e - J r``.
+
+    ``W`` is diagonal with ``free`` (n,) (1 for a joint that may move, 0 for one pinned at a limit), ``r`` the
+    pull towards the seed (``pull`` (n,), zeros without a seed) on the free joints, ``lambda`` the ``damping``.
+    The 6 x 6 system is solved by Cholesky factorisation in ``a`` (6, 6); ``y`` (6,) is scratch.
+    """
+    n = jac.shape[1]
+    for r in range(6):
+        total = e[r]
+        for j in range(n):
+            total -= jac[r, j] * free[j] * pull[j]
+        y[r] = total
+        for c in range(r + 1):
+            value = 0.0
+            for j in range(n):
+                value += jac[r, j] * free[j] * jac[c, j]
+            a[r, c] = value
+        a[r, r] += damping
+    for r in range(6):  # Cholesky: a = L L^T, L in the lower triangle
+        for c in range(r + 1):
+            value = a[r, c]
+            for k in range(c):
+                value -= a[r, k] * a[c, k]
+            if r == c:
+                a[r, r] = sqrt(max(value, DAMPING_FLOOR))
+            else:
+                a[r, c] = value / a[c, c]
+    for r in range(6):  # L z = b
+        value = y[r]
+        for k in range(r):
+            value -= a[r, k] * y[k]
+        y[r] = value / a[r, r]
+    for r in range(5, -1, -1):  # L^T y = z
+        value = y[r]
+        for k in range(r + 1, 6):
+            value -= a[k, r] * y[k]
+        y[r] = value / a[r, r]
+    for j in range(n):
+        value = 0.0
+        for r in range(6):
+            value += jac[r, j] * y[r]
+        dq[j] = free[j] * (pull[j] + value)
+
+
+@kernel
+def limited_step(q, jac, e, seed, seeded, lower, upper, free, pull, a, y, dq):
+    """One damped step [N3] from ``q`` with the limits [N4]: joints at a limit that the step would push out are
+    pinned (``free = 0``) and the step taken again, until no pinned joint pushes out; then the step is scaled to
+    at most :data:`MAX_STEP` and ``q + dq`` clipped to the limits, in place."""
+    n = q.shape[0]
+    half_square = 0.0
+    for r in range(6):
+        half_square += 0.5 * e[r] * e[r]
+    pull_size = 0.0
+    for j in range(n):
+        free[j] = 1.0
+        pull[j] = seed[j] - q[j] if seeded else 0.0
+        pull_size = max(pull_size, abs(pull[j]))
+    if pull_size > MAX_PULL:
+        for j in range(n):
+            pull[j] *= MAX_PULL / pull_size
+    for _ in range(n + 1):
+        damped_step(jac, e, free, pull, half_square + DAMPING_FLOOR, a, y, dq)
+        pinned = False
+        for j in range(n):
+            if free[j] == 1.0 and ((q[j] <= lower[j] and dq[j] < 0.0) or (q[j] >= upper[j] and dq[j] > 0.0)):
+                free[j] = 0.0
+                pinned = True
+        if not pinned:
+            break
+    largest = 0.0
+    for j in range(n):
+        largest = max(largest, abs(dq[j]))
+    scale = MAX_STEP / largest if largest > MAX_STEP else 1.0
+    for j in range(n):
+        q[j] = min(max(q[j] + scale * dq[j], lower[j]), upper[j])
+    return largest * scale
+
+
+# ------------------------------------------------------------------ one start
+@kernel
+def measure(q, target, links, ends, standard, trig, pose, e):
+    """Our FK of ``q`` (:func:`~redkin._chain_kernels.frames_one`) into ``pose`` (1, 4, 4) and its error [N1]
+    into ``e``; returns the position error [m] and the rotation angle [rad]."""
+    _chain_kernels.frames_one(q, links, ends, standard, trig, pose)
+    return pose_error(target, pose[0], e)
+
+
+@kernel
+def descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolerance, work, best, best_error):
+    """Damped steps from ``q`` (n,) until it is certified (returns ``True``, ``q`` the solution) or stalls.
+
+    Three phases: plain damped steps [N3]-[N4] until the error is within the tolerance; with a seed, up to
+    :data:`SETTLE` steps that also pull towards it [N5] while the error stays within the tolerance (the pull only
+    once certified, so that it never slows the descent); then :data:`POLISH` plain steps, which take the error
+    from the tolerance to rounding.  The last certified ``q`` is the answer.  ``best`` (n,) and ``best_error``
+    (2,) keep the joint vector of the smallest error met across calls (position plus rotation).
+    """
+    n = q.shape[0]
+    trig, pose, e, jac, free, pull, a, y, dq, certified = work
+    tool = bool(True)  # noqa: UP018 - the chain's compiled jacobian_one (a bool) serves
+    origin = np.zeros(3)
+    checkpoint = np.inf
+    phase, left = DESCENT, 0
+    for iteration in range(ITERATIONS + SETTLE + POLISH):
+        position, angle = measure(q, target, links, ends, standard, trig, pose, e)
+        if position + angle < best_error[0] + best_error[1]:
+            best_error[0], best_error[1] = position, angle
+            best[:] = q
+        within = position <= tolerance[0] and angle <= tolerance[1]
+        if phase == DESCENT:
+            if within:
+                phase, left = (PULL, SETTLE) if seeded else (FINAL, POLISH)
+            elif iteration >= ITERATIONS:
+                return False
+            elif iteration % STALL == 0:
+                if position + angle > 0.5 * checkpoint:
+                    return False
+                checkpoint = position + angle
+        if phase != DESCENT:
+            if not within:  # a pull step left the tolerance: polish from the last certified q
+                q[:] = certified
+                if phase == FINAL:
+                    return True
+                phase, left = FINAL, POLISH
+                continue
+            certified[:] = q
+            if left == 0:
+                if phase == FINAL:
+                    return True
+                phase, left = FINAL, POLISH
+            left -= 1
+        _chain_kernels.jacobian_one(q, links, ends, standard, n, tool, origin, trig, jac)
+        moved = limited_step(q, jac, e, seed, phase == PULL, lower, upper, free, pull, a, y, dq)
+        if phase == PULL and moved <= SETTLED:
+            phase, left = FINAL, POLISH
+    q[:] = certified
+    return phase != DESCENT
+
+
+# ------------------------------------------------------------------ one pose, a batch
+@kernel
+def nearest_pose(target, out):
+    """``target`` (4, 4) with its rotation block replaced by the nearest rotation (its polar factor), into ``out``.
+
+    The public edge accepts rotations orthonormal to within ``1e-6`` (:func:`redkin._validation.check_pose`); a
+    solution can match only a rotation, so the target is the nearest one.  Newton-Schulz iterations
+    ``X <- X (3 I - X^T X) / 2`` converge quadratically from there (three reach rounding from ``1e-6``).
+    """
+    out[:] = target
+    gram = np.empty((3, 3))
+    for _ in range(4):
+        for r in range(3):
+            for c in range(3):
+                gram[r, c] = 1.5 * (r == c) - 0.5 * (out[0, r] * out[0, c] + out[1, r] * out[1, c]
+                                                      + out[2, r] * out[2, c])
+        for r in range(3):
+            x0, x1, x2 = out[r, 0], out[r, 1], out[r, 2]
+            for c in range(3):
+                out[r, c] = x0 * gram[0, c] + x1 * gram[1, c] + x2 * gram[2, c]
+
+
+@kernel
+def normalise(q, seed, seeded, lower, upper):
+    """Each joint moved by whole turns to the representative within its limits nearest the seed (with a seed), or
+    an unlimited joint into ``[-pi, pi]`` (without); a value already in place stays bit for bit."""
+    for j in range(q.shape[0]):
+        if seeded:
+            q[j] = _chain_kernels.representative(q[j], lower[j], upper[j], seed[j])
+        elif lower[j] == -np.inf and upper[j] == np.inf:
+            q[j] = _chain_kernels.representative(q[j], lower[j], upper[j], 0.0)
+
+
+@kernel
+def distinct(q, solutions, found, separation):
+    """Whether ``q`` differs from every found row of ``solutions`` by more than ``separation`` in some joint."""
+    for k in range(found):
+        largest = 0.0
+        for j in range(q.shape[0]):
+            largest = max(largest, abs(q[j] - solutions[k, j]))
+        if largest <= separation:
+            return False
+    return True
+
+
+@kernel
+def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, settings, starts, q_out, found_out, closest,
+              error):
+    """Up to ``count = q_out.shape[0]`` distinct certified solutions of one pose ``target`` (4, 4) into ``q_out``
+    (count, n) and ``found_out`` (count,), with at most ``starts`` starts; returns the starts used.
+
+    ``closest`` (n,) receives the first solution, or without one the joint vector of the smallest error met, and
+    ``error`` (2,) its position and rotation error.  ``bounds`` (2, n) holds the lower and the upper limits.  With
+    a seed the solutions are sorted by their largest joint
+    distance to it.  A target that is not a pose (:func:`~redkin.srs._ik_kernels.pose_defect`) returns -1.
+    """
+    lower, upper = bounds[0], bounds[1]
+    n = lower.shape[0]
+    count = q_out.shape[0]
+    if pose_defect(target) != OK:
+        return -1
+    tolerance = settings[POSITION_TOLERANCE:ROTATION_TOLERANCE + 1]
+    work = (np.empty((n, 2)), np.empty((1, 4, 4)), np.empty(6), np.empty((6, n)), np.empty(n), np.empty(n),
+            np.empty((6, 6)), np.empty(6), np.empty(n), np.empty(n))
+    goal = np.empty((4, 4))
+    nearest_pose(target, goal)
+    target = goal
+    state = np.empty(1, dtype=np.uint64)
+    state[0] = stream
+    q = np.empty(n)
+    best = np.empty(n)
+    best_error = np.full(2, np.inf)
+    found = 0
+    used = 0
+    q_out[:] = 0.0
+    found_out[:] = False
+    while found < count and used < starts:
+        if used == 0 and seeded:
+            q[:] = np.minimum(np.maximum(seed, lower), upper)
+        else:
+            random_start(lower, upper, state, q)
+        used += 1
+        if not descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolerance, work, best,
+                       best_error):
+            continue
+        normalise(q, seed, seeded, lower, upper)
+        position, angle = measure(q, target, links, ends, standard, work[0], work[1], work[2])
+        if position > tolerance[0] or angle > tolerance[1]:  # the certificate is of the q returned
+            continue
+        if distinct(q, q_out, found, settings[SEPARATION]):
+            q_out[found] = q
+            found_out[found] = True
+            found += 1
+    if seeded:  # insertion sort by the largest joint distance to the seed
+        for k in range(1, found):
+            row = q_out[k].copy()
+            key = np.max(np.abs(row - seed))
+            i = k
+            while i > 0 and np.max(np.abs(q_out[i - 1] - seed)) > key:
+                q_out[i] = q_out[i - 1]
+                i -= 1
+            q_out[i] = row
+    if found:
+        closest[:] = q_out[0]
+        position, angle = measure(closest, target, links, ends, standard, work[0], work[1], work[2])
+        error[0], error[1] = position, angle
+    else:
+        closest[:] = best
+        error[:] = best_error
+    return used
+
+
+@kernel
+def solve(start, stop, targets, seeds, seeded, streams, links, ends, standard, bounds, settings, starts, q_out,
+          found_out, closest, error, used):
+    """:func:`solve_one` for poses ``start .. stop - 1`` of ``targets`` (N, 4, 4), with ``seeds`` (N, n),
+    ``streams`` (N,) uint64, into ``q_out`` (N, count, n), ``found_out`` (N, count), ``closest`` (N, n),
+    ``error`` (N, 2) and ``used`` (N,); returns how many targets are not poses."""
+    bad = 0
+    for b in range(start, stop):
+        used[b] = solve_one(targets[b], seeds[b], seeded, streams[b], links, ends, standard, bounds, settings, starts,
+                            q_out[b], found_out[b], closest[b], error[b])
+        bad += used[b] < 0
+    return bad

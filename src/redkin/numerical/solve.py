@@ -1,0 +1,186 @@
+"""Numerical pose IK for any serial chain, within its joint limits, every answer certified by our own FK.
+
+The method (docs/numerical-ik.md, [N1]-[N5]): damped Gauss-Newton
+(Levenberg-Marquardt) steps on the pose error with the damping ``E + 1e-12``
+of the error's half square, the joints at a limit pinned out of the step,
+and restarts from the seed and then from random joint vectors within the
+limits until ``count`` distinct solutions are certified or ``restarts``
+starts are spent.  A solution counts only when our FK of the returned joint
+vector matches the target within ``tolerance``; a pose with none is a value
+(``found`` false, the best residual in ``error``), never NaN and never an
+inaccurate joint vector among the solutions.
+
+The starts come from one integer per pose drawn from ``rng``: a pose's
+answer depends on the pose, the seed, the settings and that integer only,
+not on the other poses, the thread count or the chunking of a batch.
+"""
+
+from __future__ import annotations
+
+from math import prod
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._compiled import kernel_array, run_batch
+from redkin._validation import as_float_array, check_finite, check_pose
+from redkin.chain import SerialChain
+from redkin.errors import RedkinError
+from redkin.numerical import _kernels
+
+#: Default tolerance of the certificate: position error [m] and rotation angle [rad].
+TOLERANCE = 1e-9
+#: Default budget of starts per pose (the seed, then random joint vectors).
+RESTARTS = 200
+#: Default separation of distinct solutions: they differ by more than this in some joint [rad].
+SEPARATION = 0.1
+#: The value of ``NumericalSolutions.method``.
+METHOD = "numerical"
+#: Largest number of starts per pose, and of solutions asked per pose.
+MAX_RESTARTS = 100_000
+MAX_COUNT = 1000
+
+
+class NumericalSolutions(NamedTuple):
+    """Certified solutions of target poses found numerically.
+
+    Attributes
+    ----------
+    q : numpy.ndarray, shape (..., count, n)
+        Solutions in the chain's joint values, within its limits, each certified (zeros where ``found`` is false).
+        With a seed, ordered by the largest joint distance to it; else in the order found.
+    found : numpy.ndarray of bool, shape (..., count)
+    closest : numpy.ndarray, shape (..., n)
+        The first solution where one was found; otherwise the joint vector of the smallest error met (within the
+        limits, **not** a solution).
+    error : numpy.ndarray, shape (..., 2)
+        Position error [m] and rotation angle [rad] of ``closest`` against the target.
+    starts : numpy.ndarray of int, shape (...)
+        How many starts were used.
+    method : str
+        ``"numerical"``.
+    """
+
+    q: np.ndarray
+    found: np.ndarray
+    closest: np.ndarray
+    error: np.ndarray
+    starts: np.ndarray
+    method: str = METHOD
+
+
+def ik(
+    chain: SerialChain,
+    pose: ArrayLike,
+    *,
+    q0: ArrayLike | None = None,
+    count: int = 1,
+    tolerance: float | tuple[float, float] = TOLERANCE,
+    restarts: int = RESTARTS,
+    separation: float = SEPARATION,
+    rng: int | np.random.Generator | None = None,
+) -> NumericalSolutions:
+    """Joint values within the limits that put the chain's tool at target poses [N1]-[N5].
+
+    Parameters
+    ----------
+    chain : SerialChain
+        Any chain of revolute joints.
+    pose : array_like, shape (..., 4, 4)
+        Target poses of the tool in the base frame.  A rotation block orthonormal to within 1e-6 is accepted and
+        replaced by its nearest rotation.
+    q0 : array_like, shape (..., n), optional
+        Seeds, broadcast against the poses' batch shape.  The first start is the seed (clipped to the limits), and
+        every step also moves towards it inside the self-motion [N5], so that a solution near the seed is returned
+        as the nearest one of its self-motion; joints are then taken by whole turns to the representative nearest
+        the seed.
+    count : int
+        Distinct solutions wanted per pose (they differ by more than ``separation`` in some joint).
+    tolerance : float or (float, float)
+        The certificate: the largest position error [m] and rotation angle [rad] of our FK of a solution against
+        the target (one number for both).
+    restarts : int
+        The budget of starts per pose.
+    separation : float
+        Radians; see ``count``.
+    rng : int or numpy.random.Generator, optional
+        Where the random starts come from (one integer drawn per pose); ``None`` is seed 0, so that a call is
+        reproducible: pose ``i`` of the batch (in C order) then starts from stream ``i``.
+
+    Returns
+    -------
+    NumericalSolutions
+
+    Raises
+    ------
+    ValueError
+        For a malformed pose or seed (shape, NaN, a rotation that is not orthonormal), ``count`` or ``restarts``
+        below 1 or too large, a tolerance or separation that is not a positive finite number.
+    """
+    n = chain.n
+    pose = as_float_array(pose, "pose")
+    if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
+        raise RedkinError(f"pose must have shape (..., 4, 4), got shape {pose.shape}")
+    count = _whole(count, "count", MAX_COUNT)
+    restarts = _whole(restarts, "restarts", MAX_RESTARTS)
+    settings = np.array([*_tolerance(tolerance), _positive(separation, "separation")])
+    shape = pose.shape[:-2]
+    seeds = np.zeros(n) if q0 is None else as_float_array(q0, "q0")
+    if q0 is not None:
+        if seeds.ndim < 1 or seeds.shape[-1] != n:
+            raise RedkinError(f"q0 must have shape (..., {n}) for {chain.name!r} ({n} joints), got shape "
+                              f"{seeds.shape}")
+        check_finite(seeds, "q0")
+        if seeds.ndim > 1:
+            try:
+                shape = np.broadcast_shapes(shape, seeds.shape[:-1])
+            except ValueError:
+                raise RedkinError(f"q0 of shape {seeds.shape} does not broadcast against the pose batch "
+                                  f"{pose.shape[:-2]}") from None
+    size = prod(shape)
+    poses = kernel_array(pose, shape + (4, 4)).reshape(size, 4, 4)
+    seeds = kernel_array(seeds, shape + (n,)).reshape(size, n)
+    if rng is None:
+        streams = np.arange(size, dtype=np.uint64)
+    else:
+        generator = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+        streams = generator.integers(0, np.iinfo(np.int64).max, size=size, dtype=np.int64).astype(np.uint64)
+    q = np.empty((size, count, n))
+    found = np.empty((size, count), dtype=bool)
+    closest = np.empty((size, n))
+    error = np.empty((size, 2))
+    used = np.empty(size, dtype=np.int64)
+    if run_batch(_kernels.solve, size, poses, seeds, q0 is not None, streams, chain._links, chain._ends,
+                 chain._standard, chain._bounds, settings, restarts, q, found, closest, error, used):
+        check_pose(pose)  # words the error the kernel found
+        raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
+    return NumericalSolutions(q.reshape(shape + (count, n)), found.reshape(shape + (count,)),
+                              closest.reshape(shape + (n,)), error.reshape(shape + (2,)), used.reshape(shape))
+
+
+def _whole(value: int, name: str, maximum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise RedkinError(f"{name} must be a whole number, got {value!r}")
+    if not 1 <= value <= maximum:
+        raise RedkinError(f"{name} must be between 1 and {maximum}, got {value}")
+    return int(value)
+
+
+def _positive(value: float, name: str) -> float:
+    number = float(value)
+    if number > 0.0 and number < np.inf:
+        return number
+    if not (np.isfinite(number) and number > 0.0):
+        raise RedkinError(f"{name} must be a positive finite number, got {value!r}")
+    return number
+
+
+def _tolerance(value: float | tuple[float, float]) -> tuple[float, float]:
+    if isinstance(value, float):
+        return _positive(value, "tolerance"), _positive(value, "tolerance")
+    pair = np.atleast_1d(np.asarray(value, dtype=float))
+    if pair.shape not in ((1,), (2,)):
+        raise RedkinError(f"tolerance must be one number or a (metres, radians) pair, got {value!r}")
+    position, rotation = (float(pair[0]), float(pair[-1]))
+    return _positive(position, "tolerance (position)"), _positive(rotation, "tolerance (rotation)")
