@@ -39,12 +39,22 @@ def test_an_srs_pose_out_of_reach_has_no_solution_rather_than_an_error():
 @pytest.mark.parametrize("robot, arguments, fragment", [
     ("franka-fr3", {"psi": 0.1}, "takes q7 (the value of joint 7) as its redundancy parameter; got psi"),
     ("kuka-iiwa14", {"q7": 0.1}, "takes the arm angle psi as its redundancy parameter; got q7"),
-    ("kuka-iiwa14", {}, "got neither psi nor q7"),
+    ("kuka-iiwa14", {"psi": 0.1, "q0": np.zeros(7)}, "q0: keywords of the numerical solver"),
+    ("kinova-gen3", {"branch": "+++"}, "branch applies to the closed forms"),
     ("franka-fr3", {"psi": 0.1, "q7": 0.1}, "got psi and q7"),
 ])
 def test_the_wrong_parameter_is_refused_by_name(robot, arguments, fragment):
     with pytest.raises(ValueError, match=fragment.replace("(", r"\(").replace(")", r"\)")):
         ik(get_robot(robot), np.eye(4), **arguments)
+
+
+@pytest.mark.parametrize("robot", ["kuka-iiwa14", "kinova-gen3"])
+def test_without_a_parameter_the_front_door_solves_numerically_and_says_so(robot):
+    chain = get_robot(robot)
+    q = np.array([0.3, 0.5, -0.2, -1.1, 0.4, 0.9, -0.3])
+    result = ik(chain, chain.fk(q), q0=q + 1e-3)
+    assert result.method == "numerical" and result.found[0]
+    assert np.abs(chain.fk(result.q[0]) - chain.fk(q)).max() < 1e-9
 
 
 def test_a_chain_without_a_closed_form_says_why():

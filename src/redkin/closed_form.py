@@ -1,4 +1,4 @@
-"""One front door to the closed forms: the solutions of poses at a value of the chain's redundancy parameter.
+"""One front door to pose IK: the closed forms at a value of the chain's redundancy parameter, or the numerical solver.
 
 The chain's class (:func:`redkin.srs.arm_angle_class`) picks the solver and
 the parameter: the arm angle ``psi`` of S-R-S and offset-elbow arms
@@ -10,17 +10,23 @@ angle, nor the other way round.
     >>> from redkin import get_robot, ik
     >>> result = ik(get_robot("franka-fr3"), pose, q7=0.5)      # result.parameter == "q7"
     >>> result = ik(get_robot("kuka-iiwa14"), pose, psi=0.3)    # result.parameter == "psi"
+    >>> result = ik(get_robot("kinova-gen3"), pose)              # result.method == "numerical"
+
+Without ``psi`` or ``q7`` any chain is solved numerically
+(:func:`redkin.numerical.ik`: certified solutions within the limits), and the
+result says so in its ``method``.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError, RedkinError
+from redkin.numerical.solve import NumericalSolutions
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 
 
@@ -71,8 +77,10 @@ def ik(
     psi: ArrayLike | None = None,
     q7: ArrayLike | None = None,
     branch: str | Branch | tuple[int, int, int] | None = None,
-) -> ClosedFormSolutions:
-    """Every solution (or one branch's) of target poses at a value of the chain's redundancy parameter.
+    **solver: Any,
+) -> ClosedFormSolutions | NumericalSolutions:
+    """Every solution (or one branch's) of target poses at a value of the chain's redundancy parameter, or
+    certified numerical solutions of any chain where neither ``psi`` nor ``q7`` is given.
 
     Parameters
     ----------
@@ -85,21 +93,37 @@ def ik(
         the one of the chain's class.
     branch : str or Branch, optional
         One branch (three signs, e.g. ``"+-+"``); default all eight, in the order of :data:`redkin.srs.BRANCHES`.
+    **solver
+        Without ``psi`` and ``q7``: the keyword arguments of :func:`redkin.numerical.ik` (``q0``, ``count``,
+        ``tolerance``, ``restarts``, ``separation``, ``rng``).
+
+    Returns
+    -------
+    ClosedFormSolutions or NumericalSolutions
+        The closed form's rows per branch (``parameter`` names the parameter), or the numerical solver's
+        certified solutions (``method == "numerical"``).
 
     Raises
     ------
     ValueError
-        For a chain without a closed form, the other class's parameter, both or neither, a malformed pose,
-        parameter or branch.
+        For a parameter given to a chain without a closed form, the other class's parameter or both, a branch
+        or numerical keywords mixed with the other kind of call, a malformed pose, parameter or branch.
     """
-    from redkin import franka, srs
+    from redkin import franka, numerical, srs
+
+    if psi is None and q7 is None:
+        if branch is not None:
+            raise RedkinError("branch applies to the closed forms: give psi or q7 with it")
+        return numerical.ik(chain, pose, **solver)
+    if solver:
+        raise RedkinError(f"{', '.join(sorted(solver))}: keywords of the numerical solver, which runs without "
+                          "psi and q7")
 
     parameter = redundancy_parameter(chain)
     given = [name for name, value in (("psi", psi), ("q7", q7)) if value is not None]
     if given != [parameter]:
         right = "the arm angle psi" if parameter == "psi" else "q7 (the value of joint 7)"
-        raise RedkinError(f"{chain.name!r} takes {right} as its redundancy parameter; got "
-                          f"{' and '.join(given) or 'neither psi nor q7'}")
+        raise RedkinError(f"{chain.name!r} takes {right} as its redundancy parameter; got {' and '.join(given)}")
     if q7 is not None:
         result = franka.ik(chain, pose, q7, branch)
         return ClosedFormSolutions(result.q, result.exists, result.within_limits, result.branches, "q7")
