@@ -25,14 +25,16 @@ EQUATIONS = {
     "004": [str(k) for k in range(1, 28)],
     # redkin's own derivation of the Franka class (docs/franka.md), cited [F1] .. [F10]
     "F": [f"F{k}" for k in range(1, 11)],
+    # redkin's numerical pose IK (docs/numerical-ik.md), cited [N1] .. [N5]
+    "N": [f"N{k}" for k in range(1, 6)],
 }
 
-HEADING = re.compile(r"^## (\d{3}|F):")
+HEADING = re.compile(r"^## (\d{3}|F|N):")
 NAME = re.compile(r"`(redkin(?:\.\w+)+)`")
 LINK = re.compile(r"\]\(\.\./(src/redkin/[\w/]+\.py)\)")
 CITATION = re.compile(r"\[(\d{3}) eqs?\. ([0-9., -]+?)\]")
-#: A citation of our own derivation: ``[F2]``, or a range ``[F1]-[F7]``.
-OWN_CITATION = re.compile(r"\[F(\d+)\](?:-\[F(\d+)\])?")
+#: A citation of our own derivations: ``[F2]``, or a range ``[F1]-[F7]`` (likewise ``[N1]``).
+OWN_CITATION = re.compile(r"\[([FN])(\d+)\](?:-\[[FN](\d+)\])?")
 
 
 def _rows() -> dict[str, list[list[str]]]:
@@ -92,9 +94,9 @@ def _cited(obj, paper: str) -> set[str]:
         text = inspect.getsource(target)
     except TypeError:  # a cached property or other descriptor
         text = inspect.getsource(target.func) if hasattr(target, "func") else (target.__doc__ or "")
-    if paper == "F":
-        return {f"F{k}" for m in OWN_CITATION.finditer(text) for k in range(int(m.group(1)),
-                                                                              int(m.group(2) or m.group(1)) + 1)}
+    if paper in ("F", "N"):
+        return {f"{paper}{k}" for m in OWN_CITATION.finditer(text) if m.group(1) == paper
+                for k in range(int(m.group(2)), int(m.group(3) or m.group(2)) + 1)}
     return set().union(*(_expand(m.group(2)) for m in CITATION.finditer(text) if m.group(1) == paper))
 
 

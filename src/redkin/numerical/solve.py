@@ -36,10 +36,10 @@ RESTARTS = 200
 #: Default separation of distinct solutions: they differ by more than this in some joint [rad].
 SEPARATION = 0.1
 #: The value of ``NumericalSolutions.method``.
-METHOD = "numerical"
+_METHOD = "numerical"
 #: Largest number of starts per pose, and of solutions asked per pose.
-MAX_RESTARTS = 100_000
-MAX_COUNT = 1000
+_MAX_RESTARTS = 100_000
+_MAX_COUNT = 1000
 
 
 class NumericalSolutions(NamedTuple):
@@ -67,7 +67,7 @@ class NumericalSolutions(NamedTuple):
     closest: np.ndarray
     error: np.ndarray
     starts: np.ndarray
-    method: str = METHOD
+    method: str = _METHOD
 
 
 def ik(
@@ -122,8 +122,8 @@ def ik(
     pose = as_float_array(pose, "pose")
     if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
         raise RedkinError(f"pose must have shape (..., 4, 4), got shape {pose.shape}")
-    count = _whole(count, "count", MAX_COUNT)
-    restarts = _whole(restarts, "restarts", MAX_RESTARTS)
+    count = _whole(count, "count", _MAX_COUNT)
+    restarts = _whole(restarts, "restarts", _MAX_RESTARTS)
     settings = np.array([*_tolerance(tolerance), _positive(separation, "separation")])
     shape = pose.shape[:-2]
     seeds = np.zeros(n) if q0 is None else as_float_array(q0, "q0")
