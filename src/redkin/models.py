@@ -7,7 +7,8 @@ file path; :func:`robot_names` lists the names.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import os
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -490,7 +491,9 @@ def robot_names() -> list[str]:
     return list(MODELS)
 
 
-def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None = None) -> SerialChain:
+def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None = None, *,
+              xacro_args: Mapping[str, str | int | float | bool] | None = None,
+              package_paths: str | os.PathLike | Iterable[str | os.PathLike] = ()) -> SerialChain:
     """A model by name (see :func:`robot_names`), a chain read from a robot file, or one read from a URDF.
 
     Parameters
@@ -499,20 +502,28 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
         A model name, a ``.toml``/``.json`` robot file, or a ``.urdf`` or ``.xacro`` file.
     base, tip : str, optional
         For a URDF, the links the chain runs between (see :func:`redkin.urdf.load_urdf`).
+    xacro_args : mapping of str to str, optional
+        For a ``.xacro``, its arguments, ``NAME -> VALUE`` (see :func:`redkin.urdf.load_urdf`).
+    package_paths : path or iterable of paths, optional
+        For a ``.xacro``, folders searched first for the ROS packages of its ``$(find PKG)``.
 
     Raises
     ------
     ValueError
-        For an unknown name, a missing file or a malformed file, or ``base``/``tip`` given for anything but a URDF.
+        For an unknown name, a missing file or a malformed file, ``base``/``tip`` given for anything but a URDF,
+        and ``xacro_args``/``package_paths`` given for anything but a ``.xacro``.
     """
     key = str(name_or_path)
     path = Path(key)
     if path.suffix.lower() in (".urdf", ".xacro"):
         from redkin.urdf import load_urdf
 
-        return load_urdf(path, base, tip)
+        return load_urdf(path, base, tip, xacro_args=xacro_args, package_paths=package_paths)
     if base is not None or tip is not None:
         raise ValueError(f"base and tip links apply to URDF files only, not to {key!r}")
+    places = [package_paths] if isinstance(package_paths, (str, os.PathLike)) else list(package_paths)
+    if xacro_args or places:
+        raise ValueError(f"xacro arguments and package paths apply to .xacro files only, not to {key!r}")
     if key.lower() in MODELS:
         return MODELS[key.lower()]()
     if path.suffix.lower() in (".toml", ".json"):

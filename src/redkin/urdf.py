@@ -5,7 +5,12 @@ The file is read with ROS's own pure-Python parser, ``urdfdom-py``
 lxml and PyYAML, where ``yourdfpy`` also pulls trimesh and its mesh stack,
 none of which a kinematic chain uses.  A ``.xacro`` file is expanded first
 with ``xacrodoc`` (ROS's xacro without a ROS install; the extra
-``redkin[xacro]``).
+``redkin[xacro]``), with the caller's xacro arguments, includes relative to
+the file, and ``$(find PKG)`` looked up in the caller's package paths, the
+folders above the file, ``ROS_PACKAGE_PATH`` and (under ROS 2) the ament
+index.  A ``.xacro`` is code: it can read files and environment variables and
+evaluate Python expressions (``${...}``, ``$(eval ...)``; xacro restricts
+them, which is no sandbox), so it is trusted input.
 
 Conversion.  Joint ``k`` of the chain turns the rest of the chain about a
 line: at ``q = 0`` that line passes through the origin of the joint's frame
@@ -36,6 +41,11 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
+import re
+import threading
+import warnings
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -48,7 +58,9 @@ from redkin.so3 import xyz_fixed_to_matrix
 _UNSUPPORTED = {"prismatic", "floating", "planar"}
 
 
-def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None) -> SerialChain:
+def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None, *,
+              xacro_args: Mapping[str, str | int | float | bool] | None = None,
+              package_paths: str | os.PathLike | Iterable[str | os.PathLike] = ()) -> SerialChain:
     """The chain from link ``base`` to link ``tip`` of the URDF at ``path``.
 
     Parameters
@@ -58,6 +70,16 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None)
     base, tip : str, optional
         Link names.  ``base`` defaults to the root link; ``tip`` to the one
         leaf below ``base`` (a tree with several leaves must name it).
+    xacro_args : mapping of str to str, optional
+        For a ``.xacro``: the values of its ``<xacro:arg>`` arguments, as
+        ``NAME:=VALUE`` on xacro's command line (numbers and booleans are
+        written as text, ``True`` as ``true``).  An argument the file neither
+        declares nor reads is ignored, as by xacro, with a ``UserWarning``.
+    package_paths : path or iterable of paths, optional
+        For a ``.xacro``: folders searched first for the ROS packages of its
+        ``$(find PKG)`` (a folder that is a package, or holds packages, each
+        a folder with a ``package.xml`` naming it).  Then come the folders
+        above the file, ``ROS_PACKAGE_PATH`` and, under ROS 2, the ament index.
 
     Returns
     -------
@@ -68,13 +90,32 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None)
     Raises
     ------
     RobotDescriptionError
-        For a missing or malformed file, an unknown link, a tree without a
-        single tip, links not on one path, and prismatic, floating, planar or
-        mimic joints (named); its ``path`` and ``key`` (the joint or link) say where.
+        For a missing or malformed file (the whole reason, in one line), a
+        missing ROS package (named), an unknown link, a tree without a single
+        tip, links not on one path, and prismatic, floating, planar or mimic
+        joints (named); its ``path`` and ``key`` (the joint or link) say where.
+        Also for xacro arguments or package paths given with a plain URDF,
+        and a package path that is not a folder.
     RedkinError
-        When the ``urdf`` (or, for ``.xacro``, the ``xacro``) extra is not installed.
+        When the ``urdf`` (or, for ``.xacro``, the ``xacro``) extra is not
+        installed, or ``xacro_args`` is not a mapping of names to values.
+
+    Notes
+    -----
+    A ``.xacro`` is code: it can read any file and environment variable the
+    process can, and evaluate Python expressions.  Load only files you trust.
     """
-    robot = _parse(Path(path))
+    file = Path(path)
+    arguments = _xacro_arguments(xacro_args)
+    places = _package_places(package_paths, file)
+    if file.suffix.lower() != ".xacro":
+        if arguments:
+            raise RobotDescriptionError(f"{path}: xacro arguments apply to .xacro files only; a URDF is read as it "
+                                        "is written", path=str(path))
+        if places:
+            raise RobotDescriptionError(f"{path}: package paths apply to .xacro files only (for their $(find PKG)); "
+                                        "a URDF's package:// mesh files are not read", path=str(path))
+    robot = _parse(file, arguments, places)
     links = {link.name for link in robot.links}
     if not links:
         raise RobotDescriptionError(f"{path}: the URDF has no links", path=str(path))
@@ -100,10 +141,41 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None)
         joints.append(joint)
         link = joint.parent
     joints.reverse()
-    return _chain(robot.name or Path(path).stem, joints, str(path), base, tip)
+    return _chain(robot.name or file.stem, joints, str(path), base, tip, arguments)
 
 
-def _parse(path: Path):
+def _xacro_arguments(xacro_args: Mapping[str, str | int | float | bool] | None) -> dict[str, str]:
+    """The xacro arguments as text, checked: a mapping of non-empty names to strings, numbers or booleans."""
+    if xacro_args is None:
+        return {}
+    if not isinstance(xacro_args, Mapping):
+        raise RedkinError(f"xacro_args must be a mapping of NAME -> VALUE, got {type(xacro_args).__name__}")
+    arguments = {}
+    for name, value in xacro_args.items():
+        if not isinstance(name, str) or not name.strip() or ":=" in name:
+            raise RedkinError(f"xacro_args: an argument name must be a non-empty string without ':=', got {name!r}")
+        if isinstance(value, bool):
+            value = "true" if value else "false"
+        elif isinstance(value, (int, float)):
+            value = repr(value)
+        elif not isinstance(value, str):
+            raise RedkinError(f"xacro_args[{name!r}] must be a string, number or boolean, got "
+                              f"{type(value).__name__}")
+        arguments[name] = value
+    return arguments
+
+
+def _package_places(package_paths: str | os.PathLike | Iterable[str | os.PathLike], file: Path) -> list[Path]:
+    """The package paths as folders that exist (one path alone is taken as a list of one)."""
+    paths = [package_paths] if isinstance(package_paths, (str, os.PathLike)) else list(package_paths)
+    for place in paths:
+        if not Path(place).is_dir():
+            raise RobotDescriptionError(f"package path {str(place)!r} is not a folder", path=str(file),
+                                        key=str(place))
+    return [Path(place) for place in paths]
+
+
+def _parse(path: Path, arguments: dict[str, str], places: list[Path]):
     try:
         from urdf_parser_py.urdf import URDF
     except ImportError:
@@ -114,29 +186,125 @@ def _parse(path: Path):
         raise RobotDescriptionError(f"cannot read robot file {str(path)!r}: {exc.strerror or exc}",
                                     path=str(path)) from None
     if path.suffix.lower() == ".xacro":
-        text = _expand_xacro(path)
+        text = _expand_xacro(path, arguments, places)
     noise = io.StringIO()
     try:
         with contextlib.redirect_stderr(noise):  # the parser prints warnings of its own
             return URDF.from_xml_string(text)
     except Exception as exc:  # lxml and the parser raise many kinds; all mean a malformed file
-        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise RobotDescriptionError(f"{path}: malformed URDF: {reason}", path=str(path)) from None
+        raise RobotDescriptionError(f"{path}: malformed URDF{_urdf_reason(exc)}", path=str(path)) from None
 
 
-def _expand_xacro(path: Path) -> str:
-    """The URDF text a ``.xacro`` file expands to (macros, properties, includes relative to the file)."""
+def _one_line(text: str) -> str:
+    """A message of several lines as one: its lines joined by single spaces."""
+    return " ".join(text.split())
+
+
+def _urdf_reason(exc: Exception) -> str:
+    """The parser's reason in one line, after ``malformed URDF``: ``" at /robot/joint[@name='j']: could not
+    convert ..."`` for urdf_parser_py's ``ParseError in <where>:\n<why>``, ``": <why>"`` otherwise (lxml's
+    ``(<string>, line N)`` dropped: the line is already in the reason)."""
+    text = _one_line(str(exc)) or type(exc).__name__
+    text = re.sub(r" \(<string>, line \d+\)$", "", text)
+    located = re.match(r"ParseError in (\S+?):\s*(.*)$", text)
+    return f" at {located[1]}: {located[2]}" if located else f": {text}"
+
+
+#: xacro and xacrodoc keep their state in module globals (the file stack, the package finder): one expansion at a
+#: time in this process.
+_XACRO_LOCK = threading.Lock()
+
+
+class _SeenArguments(dict):
+    """The xacro arguments, noting each name xacro looks up: ``in`` where the file declares one (``<xacro:arg>``),
+    ``[]`` where it reads one (``$(arg NAME)``)."""
+
+    def __init__(self, arguments: dict[str, str]) -> None:
+        super().__init__(arguments)
+        self.seen: set[str] = set()
+
+    def __contains__(self, name: object) -> bool:
+        self.seen.add(str(name))
+        return super().__contains__(name)
+
+    def __getitem__(self, name: str) -> str:
+        self.seen.add(name)
+        return super().__getitem__(name)
+
+
+def _expand_xacro(path: Path, arguments: dict[str, str], places: list[Path]) -> str:
+    """The URDF text a ``.xacro`` file expands to (macros, properties, arguments, includes relative to the file).
+
+    ``package://`` file names (meshes) are left as written: the chain reads none.  Each expansion starts from a
+    fresh package finder, so that no package found for an earlier file, nor a place searched for it, leaks into
+    this one: the places, first searched first, are ``places``, the folders above the file, ``ROS_PACKAGE_PATH``,
+    and xacrodoc's default (the ament index under ROS 2, else ``ROS_PACKAGE_PATH`` again).
+    """
     try:
-        from xacrodoc import XacroDoc
+        import xacro  # type: ignore[import-untyped]
+        from xacrodoc import XacroDoc, packages
     except ImportError:
         raise RedkinError("reading a .xacro file needs the xacro extra: pip install 'redkin[xacro]'") from None
+    given = _SeenArguments(arguments)
+    environment = [place for place in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if place]
     noise = io.StringIO()
-    try:
-        with contextlib.redirect_stderr(noise), contextlib.redirect_stdout(noise):  # xacro prints warnings
-            return XacroDoc.from_file(str(path)).to_urdf_string()
-    except Exception as exc:  # xacro raises its own exceptions and lxml's; all mean a malformed file
-        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise RobotDescriptionError(f"{path}: malformed xacro: {reason}", path=str(path)) from None
+    with _XACRO_LOCK:
+        packages.reset()
+        try:
+            if environment:
+                packages.look_in(environment)
+            packages.walk_up_from(path)  # each call puts its places first
+            if places:
+                packages.look_in([str(place) for place in places])
+            xacro.init_stacks(str(path.resolve()))  # includes relative to this file, not the working directory
+            with contextlib.redirect_stderr(noise), contextlib.redirect_stdout(noise):  # xacro prints warnings
+                text = XacroDoc.from_file(str(path), walk_up=False, subargs=given,
+                                          resolve_packages=False).to_urdf_string()
+        except Exception as exc:  # xacro raises its own exceptions and lxml's; all mean a file we cannot expand
+            raise RobotDescriptionError(_xacro_failure(path, exc, places), path=str(path)) from None
+        finally:
+            packages.reset()
+            xacro.init_stacks(None)
+    for name in arguments:
+        if name not in given.seen:
+            known = sorted(given.seen | set(given) - set(arguments))
+            warnings.warn(f"{path} neither declares nor reads the xacro argument {name!r}: ignored (its arguments: "
+                          f"{', '.join(known) or 'none'})", UserWarning, stacklevel=4)
+    return text
+
+
+def _xacro_failure(path: Path, exc: BaseException, places: list[Path]) -> str:
+    """The message of a failed expansion in one line: the package missing, or xacro's whole reason."""
+    from xacro.substitution_args import ArgException  # type: ignore[import-untyped]
+    from xacrodoc.packages import PackageNotFoundError
+
+    causes = [exc]
+    while len(causes) < 20:  # xacro wraps the original in ``exc``; Python chains it as the cause or context
+        last = causes[-1]
+        inner = getattr(last, "exc", None) or last.__cause__ or last.__context__
+        if not isinstance(inner, BaseException) or inner in causes:
+            break
+        causes.append(inner)
+    missing = next((cause for cause in causes if isinstance(cause, PackageNotFoundError)), None)
+    if missing is not None:
+        package = " ".join(str(arg) for arg in missing.args)
+        searched = "".join(f"{place}, " for place in places)
+        environment = "" if os.environ.get("ROS_PACKAGE_PATH") else " (unset)"
+        return (f"{path}: ROS package {package!r} not found (searched {searched}the folders above the file and "
+                f"ROS_PACKAGE_PATH{environment}): give the folder that holds it with --package-path DIR "
+                "(package_paths in Python) or add it to ROS_PACKAGE_PATH")
+    undefined = next((cause for cause in causes if isinstance(cause, ArgException)), None)
+    if undefined is not None:
+        name = " ".join(str(arg) for arg in undefined.args)
+        return (f"{path}: the xacro argument {name!r} has no value and no default: give it with --xacro-arg "
+                f"{name}:=VALUE (xacro_args in Python)")
+    inner = getattr(exc, "exc", None)
+    text = str(exc)
+    if isinstance(inner, BaseException) and exc.args and exc.args[0] == f"{type(inner)}: {inner}":
+        text = f"{type(inner).__name__}: {inner}"  # xacro's wrapper repeats the reason after the class's repr
+    elif isinstance(inner, OSError) and exc.args:
+        text = str(exc.args[0])  # "No such file or directory: <file>", without errno's repeat of it
+    return f"{path}: malformed xacro: {_one_line(text) or type(exc).__name__}"
 
 
 def _only_leaf(robot, base: str, path) -> str:
@@ -167,8 +335,10 @@ def _origin(joint) -> np.ndarray:
     return pose
 
 
-def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str) -> SerialChain:
-    """Exact DH rows for the joints from the base link to the tip link (see the module docstring)."""
+def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str,
+           arguments: dict[str, str]) -> SerialChain:
+    """Exact DH rows for the joints from the base link to the tip link (see the module docstring); the source
+    names the file, the xacro ``arguments`` it was expanded with, and the links."""
     pose = np.eye(4)  # base link -> current frame at q = 0
     points, directions, lower, upper, names = [], [], [], [], []
     for joint in joints:
@@ -200,8 +370,9 @@ def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str) ->
     if not points:
         raise RobotDescriptionError(f"no revolute joint between links {base_link!r} and {tip_link!r}", path=path)
     rows, base, last = dh_rows_from_lines(np.array(points), np.array(directions))
+    given = " (xacro " + " ".join(f"{key}:={value}" for key, value in arguments.items()) + ")" if arguments else ""
     return SerialChain(
         a=rows[:, 0], alpha=rows[:, 1], d=rows[:, 2], offset=rows[:, 3], convention="dh",
         lower=lower, upper=upper, base=base, tool=np.linalg.inv(last) @ pose,
-        name=name, source=f"URDF {path}, links {base_link} -> {tip_link}", joint_names=names,
+        name=name, source=f"URDF {path}{given}, links {base_link} -> {tip_link}", joint_names=names,
     )
