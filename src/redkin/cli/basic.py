@@ -10,6 +10,7 @@ import numpy as np
 from redkin.cli.common import (
     add_output_flags,
     add_robot_argument,
+    add_xacro_arguments,
     angle_unit,
     angles_out,
     format_matrix,
@@ -19,6 +20,7 @@ from redkin.cli.common import (
     load_robot,
     plural,
     print_json,
+    xacro_options,
 )
 
 if TYPE_CHECKING:  # the parsers are built without the chain, the models or the kernels; each handler imports its own
@@ -32,6 +34,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="print one chain (a model, robot file or URDF): joints, limits, frames, arm-angle class")
     robots.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (with --show)")
     robots.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (with --show)")
+    add_xacro_arguments(robots)
     add_output_flags(robots, degrees=True)
     robots.set_defaults(handler=_run_robots)
 
@@ -54,9 +57,9 @@ def _run_robots(args: argparse.Namespace) -> int:
     from redkin.srs import arm_angle_class
 
     if args.show is not None:
-        return _show_robot(load_chain(args.show, args.base, args.tip), args)
-    if args.base is not None or args.tip is not None:
-        raise ValueError("--base and --tip go with --show ROBOT")
+        return _show_robot(load_chain(args.show, args.base, args.tip, **xacro_options(args)), args)
+    if args.base is not None or args.tip is not None or args.xacro_args or args.package_paths:
+        raise ValueError("--base and --tip go with --show ROBOT, as do --xacro-arg and --package-path")
     entries: list[dict[str, Any]] = []
     for name, factory in MODELS.items():
         chain = factory()

@@ -9,7 +9,7 @@ import re
 import sys
 import time
 import warnings
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
@@ -51,11 +51,36 @@ class Parser(argparse.ArgumentParser):
 
 def add_robot_argument(parser: argparse.ArgumentParser) -> None:
     """``ROBOT``: a model name (``redkin robots``), a robot file or a URDF, with ``--base``/``--tip`` links for
-    a URDF."""
+    a URDF and ``--xacro-arg``/``--package-path`` for a ``.xacro``."""
     parser.add_argument("robot", metavar="ROBOT",
                         help="model name (see `redkin robots`), a .toml/.json robot file, or a .urdf or .xacro file")
     parser.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link)")
     parser.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (default: the only leaf)")
+    add_xacro_arguments(parser)
+
+
+def add_xacro_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--xacro-arg NAME:=VALUE`` and ``--package-path DIR``, both repeatable, for a ``.xacro`` robot."""
+    parser.add_argument("--xacro-arg", dest="xacro_args", action="append", type=_xacro_argument, default=[],
+                        metavar="NAME:=VALUE",
+                        help=".xacro: the value of one of its <xacro:arg> arguments (repeatable; the last of a name "
+                             "counts)")
+    parser.add_argument("--package-path", dest="package_paths", action="append", default=[], metavar="DIR",
+                        help=".xacro: a folder holding ROS packages (or one package) for its $(find PKG), searched "
+                             "before the folders above the file and ROS_PACKAGE_PATH (repeatable)")
+
+
+def _xacro_argument(text: str) -> tuple[str, str]:
+    """``NAME:=VALUE`` as ``(NAME, VALUE)`` (argparse words an error as one usage line, exit code 2)."""
+    name, assign, value = text.partition(":=")
+    if not assign or not name.strip():
+        raise argparse.ArgumentTypeError(f"expected NAME:=VALUE (as on xacro's command line), got {text!r}")
+    return name.strip(), value
+
+
+def xacro_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The keyword arguments of :func:`redkin.models.get_robot` that ``--xacro-arg``/``--package-path`` give."""
+    return {"xacro_args": dict(args.xacro_args), "package_paths": list(args.package_paths)}
 
 
 #: How every command that takes ``--branch`` describes it.
@@ -97,27 +122,33 @@ def add_output_flags(parser: argparse.ArgumentParser, degrees: bool = True) -> N
 
 
 def load_robot(args: argparse.Namespace) -> SerialChain:
-    """The chain for the ROBOT, ``--base`` and ``--tip`` arguments (ValueError for an unknown name or a bad file)."""
-    return load_chain(args.robot, args.base, args.tip)
+    """The chain for the ROBOT, ``--base``, ``--tip``, ``--xacro-arg`` and ``--package-path`` arguments
+    (ValueError for an unknown name or a bad file)."""
+    return load_chain(args.robot, args.base, args.tip, **xacro_options(args))
 
 
-def load_chain(robot: str, base: str | None = None, tip: str | None = None) -> SerialChain:
+def load_chain(robot: str, base: str | None = None, tip: str | None = None, *,
+               xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[str] = ()) -> SerialChain:
     """The chain of a model name, robot file or URDF, refused with one line if its numbers are absurd.
 
     A file may hold any finite number; a length of 1e308 m overflows the first product of the loader (numpy's
     warnings) or of every command after it.  Overflow while loading is a ValueError that names the file; a length
-    beyond :data:`MAX_LENGTH` (``a``, ``d``, base and tool translations) is refused by the chain itself.
+    beyond :data:`MAX_LENGTH` (``a``, ``d``, base and tool translations) is refused by the chain itself.  A
+    ``UserWarning`` of the loader (a xacro argument the file does not know) is passed on, printed after the run.
     """
     from redkin.models import get_robot
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", RuntimeWarning)
         try:
-            chain = get_robot(robot, base, tip)
+            chain = get_robot(robot, base, tip, xacro_args=xacro_args, package_paths=package_paths)
         except ValueError:
             _refuse_overflow(robot, caught)
             raise
     _refuse_overflow(robot, caught)
+    for warning in caught:
+        if issubclass(warning.category, UserWarning):
+            warnings.warn(warning.message, stacklevel=2)
     return chain
 
 
