@@ -164,3 +164,52 @@ def test_franka_table_runs_on_tiny_sizes():
     dense = values("  redkin sets vs its IK at 500 q7 samples, limits by our check")  # Panda, then FR3
     assert [value.split(" of ")[0] for value in dense] == ["0", "0"]
     assert values("  redkin: limits +-0.0001 rad around a known solution") == ["arc found 2/2", "arc found 1/1"]
+
+
+# bench_numerical.py (issue 25): the certificate, the targets, and one quick run
+
+
+def test_numerical_certificate_is_our_fk_at_1e9_within_the_limits():
+    """bench_numerical.certified: our FK within 1e-9 m and rad of the target and the joints within the limits;
+    1e-10 rad off the last joint passes, 1e-8 fails, a row 1e-9 past a limit fails even on its own pose, NaN fails."""
+    import bench_numerical
+
+    chain = bench_numerical.load("iiwa14")
+    targets = bench_numerical.problem(chain, 5)
+    assert chain.within_limits(targets.q).all() and chain.within_limits(targets.seeds).all()
+    np.testing.assert_array_equal(targets.poses, chain.fk(targets.q))
+    moved = targets.q + np.array([[0.0], [1e-10], [1e-8], [0.0], [0.0]]) * np.eye(7)[6]
+    moved[3] = np.nan
+    outside = targets.q[4].copy()
+    outside[0] = chain.upper[0] + 1e-9
+    moved[4] = outside
+    poses = targets.poses.copy()
+    poses[4] = chain.fk(outside)
+    assert bench_numerical.certified(chain, moved, poses).tolist() == [True, True, False, False, False]
+
+
+def test_numerical_rotation_error_is_accurate_for_small_angles():
+    """bench_numerical.pose_errors measures a 1e-10 rad turn as 1e-10 (an arccos of the trace would say 0)."""
+    import bench_numerical
+
+    chain = bench_numerical.load("gen3")
+    q = bench_numerical.problem(chain, 3).q
+    turned = chain.fk(q)
+    turned[..., :3, :3] = turned[..., :3, :3] @ np.array([[1.0, -1e-10, 0.0], [1e-10, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    position, angle = bench_numerical.pose_errors(chain, q, turned)
+    np.testing.assert_allclose(angle, 1e-10, rtol=1e-5)
+    assert position.max() < 1e-15
+
+
+@pytest.mark.slow
+def test_numerical_quick_run_of_one_arm():
+    """bench_numerical.py --quick on the xArm7 (ranges of two turns): every row is made, redkin's own flag and our
+    certificate agree on every target, and the seeded row returns the solution that made the target."""
+    import bench_numerical
+
+    (result,) = bench_numerical.main(["--quick", "--arms", "xarm7", "--mink-targets", "10"])
+    redkin = result.rows[0]
+    assert redkin.name.startswith("redkin") and redkin.targets == 200
+    assert redkin.success == redkin.claimed and result.seeded.success == result.seeded.claimed
+    assert result.batch.success == redkin.success and result.same_solution == result.seeded.success
+    assert all(row.targets == (10 if row.name.startswith("mink") else 200) for row in result.rows)
