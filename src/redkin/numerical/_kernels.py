@@ -31,12 +31,15 @@ POSITION_TOLERANCE, ROTATION_TOLERANCE, SEPARATION, SETTINGS = 0, 1, 2, 3
 MAX_STEP = 0.5
 #: Largest pull towards the seed in one iteration [rad] ([N5]).
 MAX_PULL = 0.2
+#: The damping of [N3] is ``DAMPING e.e + DAMPING_FLOOR`` (measured on five arms: 0.05 needs 15-25 % less time per
+#: solve than Chan and Lawrence's 0.5, with the same success).
+DAMPING = 0.05
 #: Damping floor of [N3]: keeps the 6 x 6 system positive definite where ``J`` loses rank at a solution.
 DAMPING_FLOOR = 1e-12
 #: Iterations one start may take.
-ITERATIONS = 100
+ITERATIONS = 60
 #: A start is given up when its error has not halved over this many iterations.
-STALL = 12
+STALL = 8
 #: After a start is certified: steps that pull it towards the seed, with one ([N5]); then plain steps that take its
 #: error from the tolerance to rounding.
 SETTLE, POLISH = 8, 2
@@ -174,9 +177,9 @@ def limited_step(q, jac, e, seed, seeded, lower, upper, free, pull, a, y, dq):
     pinned (``free = 0``) and the step taken again, until no pinned joint pushes out; then the step is scaled to
     at most :data:`MAX_STEP` and ``q + dq`` clipped to the limits, in place."""
     n = q.shape[0]
-    half_square = 0.0
+    damping = DAMPING_FLOOR
     for r in range(6):
-        half_square += 0.5 * e[r] * e[r]
+        damping += DAMPING * e[r] * e[r]
     pull_size = 0.0
     for j in range(n):
         free[j] = 1.0
@@ -186,7 +189,7 @@ def limited_step(q, jac, e, seed, seeded, lower, upper, free, pull, a, y, dq):
         for j in range(n):
             pull[j] *= MAX_PULL / pull_size
     for _ in range(n + 1):
-        damped_step(jac, e, free, pull, half_square + DAMPING_FLOOR, a, y, dq)
+        damped_step(jac, e, free, pull, damping, a, y, dq)
         pinned = False
         for j in range(n):
             if free[j] == 1.0 and ((q[j] <= lower[j] and dq[j] < 0.0) or (q[j] >= upper[j] and dq[j] > 0.0)):
