@@ -36,6 +36,8 @@ from redkin._joint_lines import dh_rows_from_lines
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError, RobotDescriptionError
 
+#: The mass [kg] and inertia given to a body without one, so that a kinematics-only file compiles.
+_LEAST_MASS = 1e-6
 #: MuJoCo's name for a model whose ``<mujoco>`` element has no ``model`` attribute.
 _UNNAMED_MODEL = "MuJoCo Model"
 
@@ -132,7 +134,12 @@ def _compile(path: Path):
         raise RobotDescriptionError(f"cannot read robot file {str(path)!r}: {exc.strerror or exc}",
                                     path=str(path)) from None
     try:
-        return mujoco, mujoco.MjModel.from_xml_path(str(path))
+        spec = mujoco.MjSpec.from_file(str(path))
+        # a kinematic description (bodies and joints, no geoms or inertials) is complete for a chain: give massless
+        # bodies MuJoCo's smallest mass instead of refusing them (a file's own masses are untouched)
+        spec.compiler.boundmass = max(spec.compiler.boundmass, _LEAST_MASS)
+        spec.compiler.boundinertia = max(spec.compiler.boundinertia, _LEAST_MASS)
+        return mujoco, spec.compile()
     except Exception as exc:  # the compiler raises ValueError with its message; anything else is as malformed
         lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
         reason = "; ".join(lines) if lines else type(exc).__name__

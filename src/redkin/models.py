@@ -499,9 +499,10 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
     Parameters
     ----------
     name_or_path : str or Path
-        A model name, a ``.toml``/``.json`` robot file, or a ``.urdf`` or ``.xacro`` file.
+        A model name, a ``.toml``/``.json`` robot file, a ``.urdf`` or ``.xacro`` file, or an MJCF ``.xml`` file.
     base, tip : str, optional
-        For a URDF, the links the chain runs between (see :func:`redkin.urdf.load_urdf`).
+        For a URDF, the links the chain runs between (see :func:`redkin.urdf.load_urdf`); for an MJCF file, the
+        bodies (the tip may be a site) (see :func:`redkin.mjcf.load_mjcf`).
     xacro_args : mapping of str to str, optional
         For a ``.xacro``, its arguments, ``NAME -> VALUE`` (see :func:`redkin.urdf.load_urdf`).
     package_paths : path or iterable of paths, optional
@@ -510,8 +511,8 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
     Raises
     ------
     ValueError
-        For an unknown name, a missing file or a malformed file, ``base``/``tip`` given for anything but a URDF,
-        and ``xacro_args``/``package_paths`` given for anything but a ``.xacro``.
+        For an unknown name, a missing file or a malformed file, ``base``/``tip`` given for anything but a URDF or
+        an MJCF file, and ``xacro_args``/``package_paths`` given for anything but a ``.xacro``.
     """
     key = str(name_or_path)
     path = Path(key)
@@ -519,11 +520,15 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
         from redkin.urdf import load_urdf
 
         return load_urdf(path, base, tip, xacro_args=xacro_args, package_paths=package_paths)
-    if base is not None or tip is not None:
-        raise ValueError(f"base and tip links apply to URDF files only, not to {key!r}")
     places = [package_paths] if isinstance(package_paths, (str, os.PathLike)) else list(package_paths)
     if xacro_args or places:
         raise ValueError(f"xacro arguments and package paths apply to .xacro files only, not to {key!r}")
+    if path.suffix.lower() in (".xml", ".mjcf"):
+        from redkin.mjcf import load_mjcf
+
+        return load_mjcf(path, base, tip)
+    if base is not None or tip is not None:
+        raise ValueError(f"base and tip links apply to URDF and MJCF files only, not to {key!r}")
     if key.lower() in MODELS:
         return MODELS[key.lower()]()
     if path.suffix.lower() in (".toml", ".json"):
@@ -531,5 +536,6 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
 
         return load_robot(path)
     raise ValueError(
-        f"unknown robot {key!r}: expected one of {', '.join(MODELS)}, a .toml/.json robot file or a .urdf/.xacro file"
+        f"unknown robot {key!r}: expected one of {', '.join(MODELS)}, a .toml/.json robot file, a .urdf/.xacro file "
+        "or an MJCF .xml file"
     )

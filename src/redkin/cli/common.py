@@ -50,12 +50,15 @@ class Parser(argparse.ArgumentParser):
 
 
 def add_robot_argument(parser: argparse.ArgumentParser) -> None:
-    """``ROBOT``: a model name (``redkin robots``), a robot file or a URDF, with ``--base``/``--tip`` links for
-    a URDF and ``--xacro-arg``/``--package-path`` for a ``.xacro``."""
+    """``ROBOT``: a model name (``redkin robots``), a robot file, a URDF or an MJCF file, with ``--base``/``--tip``
+    links (bodies, or a site as the tip, of an MJCF file) and ``--xacro-arg``/``--package-path`` for a ``.xacro``."""
     parser.add_argument("robot", metavar="ROBOT",
-                        help="model name (see `redkin robots`), a .toml/.json robot file, or a .urdf or .xacro file")
-    parser.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link)")
-    parser.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (default: the only leaf)")
+                        help="model name (see `redkin robots`), a .toml/.json robot file, a .urdf or .xacro file, or "
+                             "an MJCF .xml file (the mjcf extra)")
+    parser.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link); "
+                                                       "MJCF: the body (default: the world body)")
+    parser.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (default: the only leaf); "
+                                                      "MJCF: the body or site")
     add_xacro_arguments(parser)
 
 
@@ -87,12 +90,13 @@ def xacro_options(args: argparse.Namespace) -> dict[str, Any]:
 BRANCH_HELP = "signs of q2, q4, q6 in the robot's own joint senses, e.g. +-+ (default +++)"
 
 
-def add_target_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--position X Y Z --rotation R11 ... R33``: a target pose of the tool."""
-    parser.add_argument("--position", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"),
+def add_target_arguments(parser: argparse.ArgumentParser, required: bool = True) -> None:
+    """``--position X Y Z --rotation R11 ... R33``: a target pose of the tool (optional where a command takes
+    ``--poses`` instead)."""
+    parser.add_argument("--position", nargs=3, type=float, required=required, metavar=("X", "Y", "Z"),
                         help="tool position [m]")
     parser.add_argument(
-        "--rotation", nargs=9, type=float, required=True, metavar="R",
+        "--rotation", nargs=9, type=float, required=required, metavar="R",
         help="tool rotation R11 R12 R13 R21 ... R33 (row by row)"
     )
 
@@ -103,6 +107,20 @@ def target_pose(args: argparse.Namespace) -> np.ndarray:
 
     rotation = check_rotation(np.array(args.rotation, dtype=float).reshape(3, 3), "--rotation")
     return pose_from(checked_position(args.position), rotation)
+
+
+def read_poses(file: str, option: str = "--poses") -> np.ndarray:
+    """The ``(N, 4, 4)`` array of a ``--poses`` file (a ValueError with one line for a missing or malformed file;
+    the poses themselves are checked by the method that takes them)."""
+    try:
+        poses = np.load(file, allow_pickle=False)
+    except (OSError, ValueError) as exc:
+        raise UsageError(f"{option} {file!r}: cannot read it as a .npy array ({exc})") from None
+    if poses.ndim != 3 or poses.shape[1:] != (4, 4) or poses.shape[0] == 0:
+        raise UsageError(f"{option} must hold an (N, 4, 4) array with N >= 1, got shape {poses.shape}")
+    if poses.dtype.kind not in "biuf":
+        raise UsageError(f"{option} must hold numbers, got an array of {poses.dtype}")
+    return poses.astype(float)
 
 
 def checked_position(values: Sequence[float], name: str = "--position") -> np.ndarray:

@@ -22,6 +22,7 @@ from redkin.cli.common import (
     load_robot,
     output_file,
     print_json,
+    read_poses,
 )
 
 
@@ -48,17 +49,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_force_flag(path)
     add_output_flags(path)
     path.set_defaults(handler=_run_path)
-
-
-def _poses(file: str) -> np.ndarray:
-    """The ``(N, 4, 4)`` array of ``--poses`` (a ValueError with one line for a missing or malformed file)."""
-    try:
-        poses = np.load(file, allow_pickle=False)
-    except (OSError, ValueError) as exc:
-        raise UsageError(f"--poses {file!r}: cannot read it as a .npy array ({exc})") from None
-    if poses.ndim != 3 or poses.shape[1:] != (4, 4) or poses.shape[0] == 0:
-        raise UsageError(f"--poses must hold an (N, 4, 4) array with N >= 1, got shape {poses.shape}")
-    return poses.astype(float)
 
 
 def _failure_line(failure, degrees: bool) -> str:
@@ -110,7 +100,7 @@ def _run_path(args: argparse.Namespace) -> int:
 
     plot = None if args.plot is None else output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
     chain = load_robot(args)
-    poses = _poses(args.poses)
+    poses = read_poses(args.poses)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     if args.max_step is not None:
         if args.dt is not None:

@@ -9,6 +9,7 @@ import numpy as np
 
 from redkin.cli.common import (
     BRANCH_HELP,
+    UsageError,
     add_output_flags,
     add_robot_argument,
     add_target_arguments,
@@ -16,28 +17,36 @@ from redkin.cli.common import (
     angles_in,
     angles_out,
     fixed,
+    format_values,
     joint_vector,
     load_robot,
     plus_minus,
     print_json,
+    read_poses,
     target_pose,
 )
+from redkin.cli.ik_numerical import add_numerical_arguments, run_numerical
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     solve = subparsers.add_parser(
-        "ik", help="joint values for a pose and a redundancy parameter: the arm angle --psi of an S-R-S or "
-                   "offset-elbow arm (paper 000), or --q7 of a Franka-class arm (Panda, FR3, xArm7)"
+        "ik", help="joint values for a pose (or every pose of --poses): at a redundancy parameter, the arm angle "
+                   "--psi of an S-R-S or offset-elbow arm (paper 000) or --q7 of a Franka-class arm (Panda, FR3, "
+                   "xArm7); without one, numerically on any arm, certified and within the limits (exit 1 where a "
+                   "pose has no solution found)"
     )
     add_robot_argument(solve)
-    add_target_arguments(solve)
-    parameter = solve.add_mutually_exclusive_group(required=True)
+    add_target_arguments(solve, required=False)
+    solve.add_argument("--poses", metavar="FILE.npy", help="solve every pose of an (N, 4, 4) array instead of "
+                                                          "--position and --rotation")
+    parameter = solve.add_mutually_exclusive_group()
     parameter.add_argument("--psi", type=float, help="arm angle (radians, or degrees with --deg)")
     parameter.add_argument("--q7", type=float, help="value of joint 7 of a Franka-class arm (radians, or degrees "
                                                      "with --deg)")
     group = solve.add_mutually_exclusive_group()
     group.add_argument("--branch", default="+++", help=BRANCH_HELP)
     group.add_argument("--all", action="store_true", help="all eight branches")
+    add_numerical_arguments(solve)
     add_output_flags(solve)
     solve.set_defaults(handler=run_ik)
 
@@ -84,10 +93,29 @@ def _closed_form_class(chain, args: argparse.Namespace) -> str:
     return parameter
 
 
+def _ik_poses(args: argparse.Namespace) -> tuple[np.ndarray, bool]:
+    """The target of ``redkin ik``: ``--position`` and ``--rotation``, or the ``--poses`` file (then ``True``)."""
+    single = args.position is not None or args.rotation is not None
+    if args.poses is not None:
+        if single:
+            raise UsageError("give --poses or --position and --rotation, not both")
+        return read_poses(args.poses), True
+    if args.position is None or args.rotation is None:
+        raise UsageError("the target needs --position X Y Z and --rotation R11 ... R33 (or --poses FILE.npy)")
+    return target_pose(args), False
+
+
 def run_ik(args: argparse.Namespace) -> int:
     from redkin.srs import BRANCHES, ik, parse_branch, srs_geometry
 
     chain = load_robot(args)
+    poses, batch = _ik_poses(args)
+    if (args.psi is None and args.q7 is None) or args.numerical:
+        if args.psi is not None or args.q7 is not None:
+            raise UsageError("--numerical solves without a redundancy parameter: drop --psi/--q7")
+        return run_numerical(chain, poses, args, batch)
+    if batch:
+        return _run_closed_form_poses(chain, poses, args)
     if _closed_form_class(chain, args) == "q7":
         return _run_franka_ik(chain, args)
     geometry = srs_geometry(chain)
@@ -112,6 +140,37 @@ def run_ik(args: argparse.Namespace) -> int:
             values = "  ".join(fixed(v, 6, " ") for v in s["q"])
             note = "" if s["within_limits"] else "  (outside limits)"
             print(f"{s['branch']}  {values}  [{unit}]{note}")
+    return 0
+
+
+def _run_closed_form_poses(chain, poses: np.ndarray, args: argparse.Namespace) -> int:
+    """``redkin ik --poses FILE --psi|--q7``: the closed form at one parameter value for every pose of the file
+    (:func:`redkin.closed_form.ik`), one entry per pose."""
+    from redkin.closed_form import ik
+    from redkin.srs import parse_branch
+
+    parameter = _closed_form_class(chain, args)
+    value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
+    result = ik(chain, poses, **{parameter: value}, branch=None if args.all else parse_branch(args.branch))
+    entries = [{
+        "index": k,
+        "solutions": [{"branch": str(label), "q": angles_out(result.q[k, b], args.deg),
+                       "within_limits": bool(result.within_limits[k, b])}
+                      for b, label in enumerate(result.branches) if result.exists[k, b]],
+        "missing": [str(label) for b, label in enumerate(result.branches) if not result.exists[k, b]],
+    } for k in range(len(poses))]
+    if args.json:
+        print_json({"robot": chain.name, "parameter": parameter,
+                    "units": {parameter: angle_unit(args.deg), "q": angle_unit(args.deg)},
+                    parameter: angles_out(value, args.deg), "poses": entries})
+        return 0
+    unit = angle_unit(args.deg)
+    for entry in entries:
+        if not entry["solutions"]:
+            print(f"pose {entry['index']}: no solution at {parameter} = {fixed(angles_out(value, args.deg))} {unit}")
+        for s in entry["solutions"]:
+            note = "" if s["within_limits"] else "  (outside limits)"
+            print(f"pose {entry['index']}: {s['branch']}  {format_values(s['q'])}  [{unit}]{note}")
     return 0
 
 

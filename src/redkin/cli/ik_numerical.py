@@ -1,0 +1,93 @@
+"""``redkin ik`` without ``--psi``/``--q7``: certified numerical pose IK on any chain (:func:`redkin.numerical.ik`),
+for one pose or every pose of a ``--poses`` file; exit 1 where a pose has no solution found."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from redkin.cli.common import UsageError, angle_unit, angles_out, format_values, joint_vector, print_json
+
+
+def add_numerical_arguments(parser: argparse.ArgumentParser) -> None:
+    """The numerical solver's options of ``redkin ik``."""
+    group = parser.add_argument_group("numerical IK (without --psi and --q7)")
+    group.add_argument("--q0", nargs="+", type=float, metavar="Q",
+                       help="seed: the solution nearest it is preferred (one value per joint; radians, or degrees "
+                            "with --deg)")
+    group.add_argument("--count", type=int, default=1, metavar="K", help="distinct solutions wanted per pose "
+                                                                          "(default 1)")
+    group.add_argument("--tolerance", nargs="+", type=float, metavar="T",
+                       help="certificate: largest position error [m] and rotation error [rad], one number for both "
+                            "or two (default 1e-9)")
+    group.add_argument("--restarts", type=int, default=None, metavar="S",
+                       help="starts per pose: the seed, then random joint vectors within the limits (default 200)")
+    group.add_argument("--seed", type=int, default=None, metavar="INT",
+                       help="random seed of the restarts (default: a fixed stream per pose, so runs repeat)")
+    group.add_argument("--numerical", action="store_true",
+                       help="solve numerically even where the arm has a closed form (the default without --psi and "
+                            "--q7)")
+
+
+def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: bool) -> int:
+    """Solve ``poses`` ((4, 4), or (N, 4, 4) from ``--poses`` where ``batch``) and print them; 0 when every pose
+    has a solution, else 1."""
+    from redkin.closed_form import redundancy_parameter
+    from redkin.errors import NotArmAngleClassError
+    from redkin.numerical import ik
+    from redkin.numerical.solve import RESTARTS, TOLERANCE
+
+    options: dict = {"count": args.count, "restarts": RESTARTS if args.restarts is None else args.restarts}
+    tolerance = (TOLERANCE, TOLERANCE) if args.tolerance is None else tuple(args.tolerance)
+    if len(tolerance) > 2:
+        raise UsageError(f"--tolerance takes one or two numbers, got {len(tolerance)}")
+    options["tolerance"] = tolerance if len(tolerance) == 2 else tolerance[0]
+    position, rotation = (tolerance * 2)[:2]
+    if args.q0 is not None:
+        options["q0"] = joint_vector(chain, args.q0, args.deg, "--q0 values")
+    if args.seed is not None:
+        options["rng"] = args.seed
+    try:
+        why = f"{chain.name} has a closed form in {redundancy_parameter(chain)}; solved numerically as asked"
+    except NotArmAngleClassError as error:
+        why = str(error)
+    result = ik(chain, poses, **options)
+    entries = [_entry(result, k, args.deg) for k in range(len(poses))] if batch else [_entry(result, (), args.deg)]
+    if args.json:
+        head = {"robot": chain.name, "method": "numerical", "why": why,
+                "units": {"q": angle_unit(args.deg), "position_error": "m", "rotation_error": "rad"},
+                "tolerance": {"position": position, "rotation": rotation}}
+        print_json({**head, "poses": entries} if batch else {**head, **entries[0]})
+    else:
+        unit = angle_unit(args.deg)
+        print(f"numerical IK, certified to {position:g} m and {rotation:g} rad: {why}")
+        for k, entry in enumerate(entries):
+            label = f"pose {k}: " if batch else ""
+            if entry["status"] == "found":
+                for q in entry["solutions"]:
+                    print(f"{label}{format_values(q)}  [{unit}]")
+                short = "" if len(entry["solutions"]) == args.count else f"; {len(entry['solutions'])} of the " \
+                    f"{args.count} distinct solutions asked"
+                print(f"{label}error {entry['error']['position']:.2g} m, {entry['error']['rotation']:.2g} rad "
+                      f"({entry['starts']} start{'s' if entry['starts'] != 1 else ''}{short})")
+            else:
+                print(f"{label}no solution found in {entry['starts']} starts; the closest joint values "
+                      f"{format_values(entry['closest'])} [{unit}] miss by {entry['error']['position']:.3g} m and "
+                      f"{entry['error']['rotation']:.3g} rad")
+    return 0 if bool(np.all(result.found[..., 0])) else 1
+
+
+def _entry(result, index, degrees: bool) -> dict:
+    """One pose's JSON entry: status, solutions, the closest joint values and their error, starts used."""
+    found = result.found[index]
+    entry = {
+        "status": "found" if found[0] else "not-found",
+        "solutions": [angles_out(q, degrees) for q in result.q[index][found]],
+        "closest": angles_out(result.closest[index], degrees),
+        "error": {"position": float(result.error[index][0]), "rotation": float(result.error[index][1])},
+        "starts": int(result.starts[index]),
+    }
+    if isinstance(index, int):
+        entry = {"index": index, **entry}
+    return entry
