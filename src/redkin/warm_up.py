@@ -4,8 +4,8 @@ A kernel compiles on its first call in a fresh install and is cached (:mod:`redk
 calls everything once, section by section, leaves a cache from which every later process loads in milliseconds.
 :func:`warm_up` is that process's work: each public function that runs a compiled kernel, called once on one item
 and once on a batch past :data:`redkin._compiled.PARALLEL_BATCH`, with standard and modified DH, every arm class
-(S-R-S, offset elbow, Franka), a short path, and both torso arms.  ``benchmarks/cold_start.py`` times it on a fresh
-cache.
+(S-R-S, offset elbow, Franka), the numerical IK, a short path, and both torso arms.  ``benchmarks/cold_start.py``
+times it on a fresh cache.
 
 To share the cache, point ``NUMBA_CACHE_DIR`` at one folder before the first ``import redkin`` in every process
 that should use it (a read-only install writes nowhere else; Dask workers on one machine or a shared file system
@@ -73,6 +73,15 @@ def _franka(rng: np.random.Generator) -> None:
     franka.optimal_q7(arm, poses[0], "+-+")
 
 
+def _numerical(rng: np.random.Generator) -> None:
+    from redkin import models, numerical
+
+    arm = models.kinova_gen3()
+    q = rng.uniform(-1, 1, (_BATCH, 7))
+    poses = arm.fk(q)
+    numerical.ik(arm, poses[0]), numerical.ik(arm, poses[0], q0=q[0], rng=1), numerical.ik(arm, poses, q0=q, count=2)
+
+
 def _paths(rng: np.random.Generator) -> None:
     from redkin import models, paths
 
@@ -138,6 +147,7 @@ _SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("srs ik", _srs_ik),
     ("srs sets", _srs_sets),
     ("franka", _franka),
+    ("numerical ik", _numerical),
     ("paths", _paths),
     ("torso arm", _torso_arm),
     ("velocity", _velocity),
