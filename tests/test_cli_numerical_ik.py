@@ -111,8 +111,8 @@ def test_numerical_on_request_on_an_arm_with_a_closed_form(capsys):
     (["--tolerance", "0"], "tolerance must be a positive finite number"),
     (["--q0", "0", "0"], "kinova-gen3 has 7 joints, got 2 --q0 values"),
     (["--q0", "0", "0", "0", "nan", "0", "0", "0"], "--q0 values must be finite numbers"),
-    (["--count", "0"], "count must be between 1 and 1000, got 0"),
-    (["--restarts", "-3"], "restarts must be between 1 and 100000, got -3"),
+    (["--count", "0"], "count must be an integer in 1..1000, got 0"),
+    (["--restarts", "-3"], "restarts must be an integer in 1..100000, got -3"),
 ])
 def test_mistakes_are_one_line_and_exit_2(capsys, tmp_path, extra, fragment):
     file = tmp_path / "poses.npy"
@@ -135,6 +135,14 @@ def test_a_bad_poses_file_is_one_line_and_exit_2(capsys, tmp_path, content, frag
     else:
         np.save(file, content)
     assert fragment in refused(capsys, ["ik", "kinova-gen3", "--poses", str(file)])
+
+
+def test_too_many_values_for_one_call_are_refused():
+    from redkin.errors import SizeLimitError
+    from redkin.numerical import ik
+
+    with pytest.raises(SizeLimitError, match="at most 1e\\+08 are computed in one call"):
+        ik(get_robot("kinova-gen3"), np.broadcast_to(np.eye(4), (20_000, 4, 4)), count=1000)
 
 
 def test_no_target_is_one_line_and_exit_2(capsys):

@@ -24,9 +24,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
-from redkin._validation import as_float_array, check_finite, check_pose
+from redkin._validation import as_float_array, check_count, check_finite, check_pose
 from redkin.chain import SerialChain
-from redkin.errors import RedkinError
+from redkin.errors import RedkinError, SizeLimitError
 from redkin.numerical import _kernels
 
 #: Default tolerance of the certificate: position error [m] and rotation angle [rad].
@@ -40,6 +40,8 @@ _METHOD = "numerical"
 #: Largest number of starts per pose, and of solutions asked per pose.
 _MAX_RESTARTS = 100_000
 _MAX_COUNT = 1000
+#: Largest number of joint values of the solutions of one call (800 MB).
+_MAX_VALUES = 100_000_000
 
 
 class NumericalSolutions(NamedTuple):
@@ -115,15 +117,17 @@ def ik(
     Raises
     ------
     ValueError
-        For a malformed pose or seed (shape, NaN, a rotation that is not orthonormal), ``count`` or ``restarts``
-        below 1 or too large, a tolerance or separation that is not a positive finite number.
+        For a malformed pose or seed (shape, NaN, a rotation that is not orthonormal), ``count`` (at most 1000) or
+        ``restarts`` (at most 100 000) not a whole number from 1, a tolerance or separation that is not a positive
+        finite number; :class:`~redkin.errors.SizeLimitError` for more than 10^8 joint values of solutions in one
+        call.
     """
     n = chain.n
     pose = as_float_array(pose, "pose")
     if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
         raise RedkinError(f"pose must have shape (..., 4, 4), got shape {pose.shape}")
-    count = _whole(count, "count", _MAX_COUNT)
-    restarts = _whole(restarts, "restarts", _MAX_RESTARTS)
+    count = check_count(count, "count", 1, _MAX_COUNT)
+    restarts = check_count(restarts, "restarts", 1, _MAX_RESTARTS)
     settings = np.array([*_tolerance(tolerance), _positive(separation, "separation")])
     shape = pose.shape[:-2]
     seeds = np.zeros(n) if q0 is None else as_float_array(q0, "q0")
@@ -139,6 +143,10 @@ def ik(
                 raise RedkinError(f"q0 of shape {seeds.shape} does not broadcast against the pose batch "
                                   f"{pose.shape[:-2]}") from None
     size = prod(shape)
+    if size * count * n > _MAX_VALUES:
+        raise SizeLimitError(f"{size} poses x count {count} x {n} joints is {size * count * n:.3g} joint values; at "
+                             f"most {_MAX_VALUES:.0e} are computed in one call: split the batch",
+                             name="pose", value=size * count * n, maximum=_MAX_VALUES)
     poses = kernel_array(pose, shape + (4, 4)).reshape(size, 4, 4)
     seeds = kernel_array(seeds, shape + (n,)).reshape(size, n)
     if rng is None:
@@ -157,14 +165,6 @@ def ik(
         raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
     return NumericalSolutions(q.reshape(shape + (count, n)), found.reshape(shape + (count,)),
                               closest.reshape(shape + (n,)), error.reshape(shape + (2,)), used.reshape(shape))
-
-
-def _whole(value: int, name: str, maximum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise RedkinError(f"{name} must be a whole number, got {value!r}")
-    if not 1 <= value <= maximum:
-        raise RedkinError(f"{name} must be between 1 and {maximum}, got {value}")
-    return int(value)
 
 
 def _positive(value: float, name: str) -> float:
