@@ -562,6 +562,22 @@ def test_a_robot_placed_in_the_world_keeps_its_placement_unless_its_body_is_the_
                                atol=1e-12)
 
 
+def test_a_kinematics_only_file_without_masses_loads(tmp_path):
+    """Bodies and hinges alone (no inertial, no geom) describe a chain: MuJoCo itself refuses such a file as a model
+    to simulate, redkin compiles it with a least mass per body and reads the same kinematics."""
+    text = "".join(line for line in IIWA14.splitlines(keepends=True) if "<inertial" not in line)
+    path = _write(tmp_path, text)
+    with pytest.raises(ValueError, match="mass and inertia of moving bodies"):
+        mujoco.MjModel.from_xml_path(str(path))
+    chain = load_mjcf(path, tip="attachment_site")
+    q = _random_q(chain, np.random.default_rng(8), 20)
+    np.testing.assert_allclose(chain.fk(q), kuka_iiwa14().fk(q), rtol=0, atol=1e-12)
+    reference = Reference(text)
+    for row in q[:5]:
+        np.testing.assert_allclose(chain.fk(row), reference.poses(dict(zip(chain.joint_names, row)))["attachment_site"],
+                                   rtol=0, atol=1e-12)
+
+
 def test_unnamed_joints_and_an_unnamed_model_get_names(tmp_path):
     text = """<mujoco><worldbody><body name="arm"><inertial mass="1" diaginertia="1 1 1" pos="0 0 0"/>
       <joint axis="0 0 1"/><joint axis="0 1 0"/>

@@ -136,7 +136,7 @@ def _compile(path: Path):
     try:
         spec = mujoco.MjSpec.from_file(str(path))
         # a kinematic description (bodies and joints, no geoms or inertials) is complete for a chain: give massless
-        # bodies MuJoCo's smallest mass instead of refusing them (a file's own masses are untouched)
+        # bodies a least mass instead of refusing them (larger masses are untouched; no mass enters the chain)
         spec.compiler.boundmass = max(spec.compiler.boundmass, _LEAST_MASS)
         spec.compiler.boundinertia = max(spec.compiler.boundinertia, _LEAST_MASS)
         return mujoco, spec.compile()
