@@ -125,7 +125,7 @@ def load_mjcf(path: str | Path, base: str | None = None, tip: str | None = None)
 def _compile(path: Path):
     """The ``mujoco`` module and the compiled model of the file."""
     try:
-        import mujoco  # type: ignore[import-untyped]
+        import mujoco
     except ImportError:
         raise RedkinError("reading an MJCF file needs the mjcf extra: pip install 'redkin[mjcf]'") from None
     try:

@@ -4,6 +4,7 @@ S-R-S and offset-elbow arms (paper 000), q7 of the Franka class (docs/franka.md)
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 import numpy as np
 
@@ -146,13 +147,14 @@ def run_ik(args: argparse.Namespace) -> int:
 def _run_closed_form_poses(chain, poses: np.ndarray, args: argparse.Namespace) -> int:
     """``redkin ik --poses FILE --psi|--q7``: the closed form at one parameter value for every pose of the file
     (:func:`redkin.closed_form.ik`), one entry per pose."""
-    from redkin.closed_form import ik
+    from redkin.closed_form import ClosedFormSolutions, ik
     from redkin.srs import parse_branch
 
     parameter = _closed_form_class(chain, args)
     value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
     result = ik(chain, poses, **{parameter: value}, branch=None if args.all else parse_branch(args.branch))
-    entries = [{
+    assert isinstance(result, ClosedFormSolutions)  # a parameter was given
+    entries: list[dict[str, Any]] = [{
         "index": k,
         "solutions": [{"branch": str(label), "q": angles_out(result.q[k, b], args.deg),
                        "within_limits": bool(result.within_limits[k, b])}
