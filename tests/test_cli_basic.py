@@ -12,6 +12,7 @@ from redkin.franka import franka_geometry
 from redkin.models import MODELS, barrett_wam, pa10_7c
 from redkin.reproduce import printed
 from redkin.srs import srs_geometry
+from redkin.srs.nearly import nearly_srs
 
 
 def run(capsys, *argv):
@@ -53,6 +54,9 @@ def test_robots_lists_models_with_their_arm_angle_class(capsys):
     assert robots["pa10-7c"]["class"] == "S-R-S" and robots["barrett-wam"]["class"] == "S-R-S, offset elbow"
     assert robots["planar-5"]["class"] == "general chain" and "7 joints" in robots["planar-5"]["class_reason"]
     assert robots["franka-panda"]["class"] == "Franka (q7)" and "0.088 m" in robots["franka-panda"]["class_reason"]
+    assert robots["kinova-gen3"]["class"] == "nearly S-R-S"
+    assert "offset along axis 4 by 12.75 mm, axes 1 and 3 miss each other by 11.75 mm" in \
+        robots["kinova-gen3"]["class_reason"]
     for name, entry in robots.items():  # each class is the one its closed-form solver acts on
         chain = MODELS[name]()
         try:
@@ -61,8 +65,13 @@ def test_robots_lists_models_with_their_arm_angle_class(capsys):
             try:
                 franka_geometry(chain)
             except ValueError as other:
-                assert entry["class"] == "general chain" and entry["class_reason"].startswith(str(exc))
-                assert chain.n != 7 or entry["class_reason"].endswith(str(other))
+                try:
+                    nearly = nearly_srs(chain)
+                except ValueError:
+                    assert entry["class"] == "general chain" and entry["class_reason"].startswith(str(exc))
+                    assert chain.n != 7 or entry["class_reason"].endswith(str(other))
+                else:
+                    assert entry["class"] == "nearly S-R-S" and entry["class_reason"] == nearly.describe()
             else:
                 assert entry["class"] == "Franka (q7)"
         else:

@@ -1,6 +1,8 @@
 """The front door ``redkin.ik``: the chain's class picks the solver and its parameter, the other parameter is
 refused by name, and the answers are the class solvers' own."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -58,5 +60,18 @@ def test_without_a_parameter_the_front_door_solves_numerically_and_says_so(robot
 
 
 def test_a_chain_without_a_closed_form_says_why():
-    with pytest.raises(NotArmAngleClassError, match=r"has no closed-form IK: .*axes 1 and 3 miss each other"):
-        ik(get_robot("kinova-gen3"), np.eye(4), psi=0.0)
+    sawyer = get_robot(str(Path(__file__).resolve().parents[1] / "examples" / "sawyer.urdf"))
+    with pytest.raises(NotArmAngleClassError, match=r"has no closed-form IK: .*axes 1 and 3 miss each other by "
+                                                    r"0.1925 m"):
+        ik(sawyer, np.eye(4), psi=0.0)
+
+
+def test_a_nearly_srs_arm_takes_the_arm_angle_at_the_front_door():
+    gen3 = get_robot("kinova-gen3")
+    q = np.array([0.3, 0.5, -0.2, -1.1, 0.4, 0.9, -0.3])
+    from redkin.srs.nearly import arm_angle, nearly_srs
+
+    result = ik(gen3, gen3.fk(q), psi=arm_angle(nearly_srs(gen3), q))
+    assert result.parameter == "psi" and result.exists.sum() >= 1
+    assert np.abs(gen3.fk(result.q[result.exists]) - gen3.fk(q)).max() < 1e-9
+    assert np.abs(result.q[result.exists] - q).max(axis=-1).min() < 1e-8  # q itself among them

@@ -200,7 +200,8 @@ def test_not_srs_chains_name_the_violated_condition():
         srs_geometry(planar_arm())
     plain = srs_chain(0.3, 0.4, 0.4, 0.1)
     offset_wrist = SerialChain(a=plain.a, alpha=plain.alpha, d=[0.3, 0, 0.4, 0.0, 0.4, 0.05, 0.1])
-    with pytest.raises(ValueError, match="joints 5-7 do not meet in one point: closest distance"):
+    with pytest.raises(ValueError, match=r"joints 5-7 do not meet in one point: axes 5 and 7 miss each other by "
+                                         r"0\.05 m"):
         srs_geometry(offset_wrist)
     with pytest.raises(ValueError, match="shoulder and elbow coincide"):
         srs_geometry(SerialChain(a=plain.a, alpha=plain.alpha, d=[0.3, 0, 0.0, 0, 0.4, 0, 0.1]))

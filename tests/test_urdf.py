@@ -211,6 +211,6 @@ def test_cli_reads_a_urdf_with_base_and_tip(capsys, tmp_path):
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "--tip" in err
     assert main(["fk", "pa10-7c", *["0"] * 7, "--tip", "b"]) == 2
-    assert "URDF files only" in capsys.readouterr().err
+    assert "URDF and MJCF files only" in capsys.readouterr().err
     assert main(["fk", str(tmp_path / "missing.urdf"), "0"]) == 2
     assert "cannot read" in capsys.readouterr().err

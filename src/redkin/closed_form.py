@@ -2,8 +2,9 @@
 
 The chain's class (:func:`redkin.srs.arm_angle_class`) picks the solver and
 the parameter: the arm angle ``psi`` of S-R-S and offset-elbow arms
-(:mod:`redkin.srs`, paper 000), ``q7`` of Franka-class arms
-(:mod:`redkin.franka`).  Giving the other parameter is an error that names
+(:mod:`redkin.srs`, paper 000) and of nearly S-R-S arms (their exact
+neighbour's closed form polished on the real arm, :mod:`redkin.srs.nearly`),
+``q7`` of Franka-class arms (:mod:`redkin.franka`).  Giving the other parameter is an error that names
 the right one, so that no arm-angle function ever reads a q7 as an arm
 angle, nor the other way round.
 
@@ -38,7 +39,8 @@ class ClosedFormSolutions(NamedTuple):
     q : numpy.ndarray, shape (..., B, 7)
         Joint values in the chain's conventions (zeros where a branch has no solution).
     exists : numpy.ndarray of bool, shape (..., B)
-        Whether the branch has a solution (an S-R-S pose out of the wrist's reach has none on any branch).
+        Whether the branch has a solution (an S-R-S pose out of the wrist's reach has none on any branch; on a
+        nearly S-R-S arm, whether one was found and certified on the real arm).
     within_limits : numpy.ndarray of bool, shape (..., B)
         Exists and lies within the chain's joint limits.
     branches : tuple of Branch
@@ -127,6 +129,13 @@ def ik(
     if q7 is not None:
         result = franka.ik(chain, pose, q7, branch)
         return ClosedFormSolutions(result.q, result.exists, result.within_limits, result.branches, "q7")
+    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
+    from redkin.srs.nearly import ik as nearly_ik
+    from redkin.srs.nearly import nearly_srs
+
+    if psi is not None and arm_angle_class(chain).kind == NEARLY_SRS:
+        solutions = nearly_ik(nearly_srs(chain), pose, psi, branch)
+        return ClosedFormSolutions(solutions.q, solutions.exists, solutions.within_limits, solutions.branches, "psi")
     chosen = BRANCHES if branch is None else (parse_branch(branch),)
     geometry = srs.srs_geometry(chain)
     reach = srs.reachable(geometry, pose)

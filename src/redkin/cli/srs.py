@@ -117,8 +117,12 @@ def run_ik(args: argparse.Namespace) -> int:
         return run_numerical(chain, poses, args, batch)
     if batch:
         return _run_closed_form_poses(chain, poses, args)
+    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
+
     if _closed_form_class(chain, args) == "q7":
-        return _run_franka_ik(chain, args)
+        return _run_rows_ik(chain, args, "q7")
+    if arm_angle_class(chain).kind == NEARLY_SRS:
+        return _run_rows_ik(chain, args, "psi")
     geometry = srs_geometry(chain)
     pose = target_pose(args)
     psi = float(angles_in(args.psi, args.deg))
@@ -176,29 +180,31 @@ def _run_closed_form_poses(chain, poses: np.ndarray, args: argparse.Namespace) -
     return 0
 
 
-def _run_franka_ik(chain, args: argparse.Namespace) -> int:
-    """``redkin ik --q7`` on a Franka-class arm: every existing solution (or the chosen branch's)."""
-    from redkin.franka import BRANCHES, ik
-    from redkin.srs import parse_branch
+def _run_rows_ik(chain, args: argparse.Namespace, parameter: str) -> int:
+    """``redkin ik --q7`` on a Franka-class arm, or ``--psi`` on a nearly S-R-S arm: every existing solution (or the
+    chosen branch's) through :func:`redkin.closed_form.ik`, and the branches that have none."""
+    from redkin.closed_form import ClosedFormSolutions, ik
+    from redkin.srs import BRANCHES, parse_branch
 
     pose = target_pose(args)
-    q7 = float(angles_in(args.q7, args.deg))
+    value = float(angles_in(args.q7 if parameter == "q7" else args.psi, args.deg))
     branch = None if args.all else parse_branch(args.branch)
-    result = ik(chain, pose, q7, branch)
+    result = ik(chain, pose, **{parameter: value}, branch=branch)
+    assert isinstance(result, ClosedFormSolutions)  # a parameter was given
     solutions = [
         {"branch": str(label), "q": angles_out(result.q[k], args.deg), "within_limits": bool(result.within_limits[k])}
         for k, label in enumerate(result.branches) if result.exists[k]
     ]
     if args.json:
-        print_json({"robot": chain.name, "parameter": "q7", "units": {"q7": angle_unit(args.deg),
-                                                                        "q": angle_unit(args.deg)},
-                    "q7": angles_out(q7, args.deg), "solutions": solutions,
+        print_json({"robot": chain.name, "parameter": parameter, "units": {parameter: angle_unit(args.deg),
+                                                                             "q": angle_unit(args.deg)},
+                    parameter: angles_out(value, args.deg), "solutions": solutions,
                     "missing": [str(label) for k, label in enumerate(result.branches) if not result.exists[k]]})
         return 0
     unit = "deg" if args.deg else "rad"
     if not solutions:
         asked = "branch " + str(branch) if branch is not None else f"any of the {len(BRANCHES)} branches"
-        print(f"no solution of {asked} at q7 = {fixed(angles_out(q7, args.deg))} {unit}")
+        print(f"no solution of {asked} at {parameter} = {fixed(angles_out(value, args.deg))} {unit}")
     for s in solutions:
         values = "  ".join(fixed(v, 6, " ") for v in s["q"])
         note = "" if s["within_limits"] else "  (outside limits)"

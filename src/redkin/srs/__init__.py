@@ -29,6 +29,7 @@ from redkin.srs.feasible import (
 )
 from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
+from redkin.srs.nearly import NearlySolutions, NearlySRS, nearly_srs
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
 from redkin.srs.path import ArmAnglePath, arm_angle_path
 from redkin.srs.singular import SINGULAR_TOLERANCE, SingularArmAngles, singular_arm_angles
@@ -42,6 +43,8 @@ __all__ = [
     "FeasibleArmAngles",
     "FeasiblePieces",
     "JointExtrema",
+    "NearlySRS",
+    "NearlySolutions",
     "OptimalAngle",
     "OptimalArmAngles",
     "SINGULAR_TOLERANCE",
@@ -58,6 +61,7 @@ __all__ = [
     "ik",
     "ik_all_branches",
     "joint_extrema",
+    "nearly_srs",
     "optimal_arm_angles",
     "parse_branch",
     "pose_from",

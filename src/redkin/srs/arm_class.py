@@ -1,9 +1,12 @@
-"""Which closed-form class a chain belongs to: S-R-S, S-R-S with an offset elbow, the Franka class, or a general chain.
+"""Which closed-form class a chain belongs to: S-R-S, S-R-S with an offset elbow, the Franka class, nearly S-R-S, or
+a general chain.
 
 The arm-angle functions (paper 000) serve the first two classes, whose
 redundancy parameter is the arm angle psi; :mod:`redkin.franka` serves the
-third, whose parameter is q7; a general chain has FK, Jacobian, velocity IK
-and virtual arms, but no closed form.
+third, whose parameter is q7; :mod:`redkin.srs.nearly` the fourth, an arm
+within :data:`redkin.srs.nearly.TOLERANCE_DEFAULT` of an exact S-R-S neighbour,
+whose arm angle is the neighbour's; a general chain has FK, Jacobian, the
+numerical pose IK, velocity IK and virtual arms, but no closed form.
 """
 
 from __future__ import annotations
@@ -14,7 +17,8 @@ from redkin.chain import SerialChain
 from redkin.srs.geometry import srs_geometry
 
 #: The classes, in the words ``redkin robots`` prints.
-SRS, OFFSET_ELBOW, FRANKA, GENERAL = "S-R-S", "S-R-S, offset elbow", "Franka (q7)", "general chain"
+SRS, OFFSET_ELBOW, FRANKA, NEARLY_SRS, GENERAL = ("S-R-S", "S-R-S, offset elbow", "Franka (q7)", "nearly S-R-S",
+                                                 "general chain")
 
 
 class ArmClass(NamedTuple):
@@ -26,13 +30,17 @@ class ArmClass(NamedTuple):
 
 def arm_angle_class(chain: SerialChain) -> ArmClass:
     """Whether ``chain`` has closed-form IK, and which kind (see :data:`SRS`, :data:`OFFSET_ELBOW`, :data:`FRANKA`,
-    :data:`GENERAL`).
+    :data:`NEARLY_SRS`, :data:`GENERAL`).
 
     The reason of a general chain names the first condition of each closed
     form it violates, with its distance or angle (the messages
-    :func:`redkin.srs.srs_geometry` and :func:`redkin.franka.franka_geometry` raise).
+    :func:`redkin.srs.srs_geometry` and :func:`redkin.franka.franka_geometry` raise); that of a nearly S-R-S arm
+    what its neighbour drops and how far their poses differ; that of an S-R-S arm snapped from rounded numbers
+    (:func:`redkin.srs.conventions.table1_form`) how far it was snapped.
     """
     from redkin.franka.geometry import franka_geometry
+    from redkin.srs.conventions import departures
+    from redkin.srs.nearly import nearly_srs
 
     try:
         geometry = srs_geometry(chain)
@@ -40,11 +48,21 @@ def arm_angle_class(chain: SerialChain) -> ArmClass:
         try:
             franka = franka_geometry(chain)
         except ValueError as other:
-            return ArmClass(GENERAL, str(exc) if chain.n != 7 else f"{exc}; {other}")
+            if chain.n != 7:
+                return ArmClass(GENERAL, str(exc))
+            try:
+                nearly = nearly_srs(chain)
+            except ValueError:
+                return ArmClass(GENERAL, f"{exc}; {other}")
+            return ArmClass(NEARLY_SRS, nearly.describe())
         return ArmClass(FRANKA, f"spherical shoulder, axes 5 and 6 meet, axis 7 offset a_6 {abs(franka.a6):.6g} m "
                                 f"from axis 6, elbow offsets {abs(franka.a3):.6g} m and {abs(franka.a4):.6g} m: the "
                                 "redundancy parameter is q7")
     lengths = f"d_se {geometry.d_se:.6g} m, d_ew {geometry.d_ew:.6g} m"
+    dropped = departures(chain)
+    if dropped:  # snapped: its departures are the description's rounding
+        what, value, unit = dropped[0]
+        lengths += f" (to the description's rounding: {what} {value:.3g} {unit} at most)"
     if geometry.offset_elbow:
         return ArmClass(OFFSET_ELBOW, f"joints 1-3 and 5-7 meet in points, joints 3-5 do not: {lengths}, elbow offsets "
                                       f"a_3 {geometry.a3:.6g} m, a_4 {geometry.a4:.6g} m")

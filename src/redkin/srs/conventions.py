@@ -47,6 +47,12 @@ from redkin.srs.geometry import TABLE1_ALPHA
 #: ``|cos|`` between consecutive axes, for an S-R-S arm.  Tight on purpose: a chain accepted here is
 #: solved in closed form as if it were exactly S-R-S, so a looser test would return wrong answers.
 _SRS_TOLERANCE = 1e-9
+#: Departures from S-R-S at most this large (metres, radians) are rounding of the description (pi/2 written with 6
+#: digits is 3.3e-6 rad off): :func:`table1_form` snaps them to the exact neighbour.
+SNAP_DISTANCE, SNAP_ANGLE = 1e-6, 1e-5
+#: An elbow whose axes 3-5 miss one point by more than this is an offset elbow (the WAM's 45 mm); below it, and
+#: below the tolerance of :func:`neighbour_form`, a plain elbow whose offset is dropped.
+_ELBOW_OFFSET = 1e-9
 _GROUPS = (("shoulder", (0, 1, 2)), ("wrist", (4, 5, 6)))
 #: Chains already converted (chains are immutable): a conversion with its FK check costs about 2 ms,
 #: and every arm-angle call on a chain asks for it.
@@ -62,6 +68,11 @@ def _joint_lines(chain: SerialChain) -> tuple[np.ndarray, np.ndarray]:
 def table1_form(chain: SerialChain) -> SerialChain:
     """The same arm as a paper 000 Table 1 chain, with the same joint values, limits and poses.
 
+    A description whose axes miss the conditions only by rounding (every departure of
+    :func:`departures` at most :data:`SNAP_DISTANCE` m and :data:`SNAP_ANGLE` rad, e.g. pi/2 written
+    with 6 digits) is snapped: its exact neighbour (:func:`neighbour_form`) stands for it, and differs
+    from it by no more than its own rounding.
+
     Raises
     ------
     ValueError
@@ -69,29 +80,126 @@ def table1_form(chain: SerialChain) -> SerialChain:
         or angle that violates it (see the module docstring).
     """
     if chain not in _CONVERTED:
-        _CONVERTED[chain] = _convert(chain)
+        try:
+            _CONVERTED[chain] = _convert(chain, _SRS_TOLERANCE)
+        except NotArmAngleClassError as exact:
+            if not _snaps(chain):
+                raise
+            try:
+                _CONVERTED[chain] = neighbour_form(chain, SNAP_DISTANCE)
+            except NotArmAngleClassError:
+                raise exact from None
     return _CONVERTED[chain]
 
 
-def _convert(chain: SerialChain) -> SerialChain:
-    """:func:`table1_form` without the cache."""
+def neighbour_form(chain: SerialChain, tolerance: float) -> SerialChain:
+    """The exact S-R-S (or offset-elbow) arm nearest a chain whose axes miss the conditions by at most
+    ``tolerance`` (metres for distances, radians for angles), in Table 1 form with the chain's joint values
+    and limits.
+
+    The axes of the shoulder and of the wrist are moved, parallel to themselves, through their least-squares
+    meeting points, the twists are set to Table 1's right angles, the offsets that S-R-S arms do not have are
+    dropped, and the tool is chosen so that the neighbour's pose at ``q = 0`` is the chain's.  What was dropped
+    is :func:`departures`; how far the poses then differ is :func:`model_error`.
+
+    Raises
+    ------
+    NotArmAngleClassError
+        For a departure beyond ``tolerance``, named as for an exact S-R-S arm.
+    """
+    return _convert(chain, tolerance)
+
+
+def _snaps(chain: SerialChain) -> bool:
+    """Whether every departure of the chain from S-R-S is rounding (:data:`SNAP_DISTANCE`, :data:`SNAP_ANGLE`)."""
+    if chain.n != 7:
+        return False
+    for _, value, unit in departures(chain):
+        if value > (SNAP_DISTANCE if unit == "m" else SNAP_ANGLE):
+            return False
+    return True
+
+
+def departures(chain: SerialChain) -> list[tuple[str, float, str]]:
+    """How a 7-joint chain's axes at ``q = 0`` miss the S-R-S conditions, largest first: ``(what, value, unit)``.
+
+    Distances (``unit`` ``"m"``) are as a user measures them: two axes that must meet (the shoulder's 1-3, the
+    wrist's 5-7) miss each other by the length of their common normal, and the elbow is offset along axis 4 by
+    the distance between the feet of the common normals of axes 3-4 and 4-5 on it (``d_4``; an offset across
+    axis 4, the WAM's ``a_3`` and ``a_4``, is the offset-elbow class's geometry, not a departure).  Angles
+    (``"rad"``) are how far consecutive axes are from perpendicular.  Departures below 1e-12 are left out.
+    """
+    points, directions = _joint_lines(chain)
+    found = []
+    for i, k in ((0, 1), (1, 2), (0, 2), (4, 5), (5, 6), (4, 6)):
+        found.append((f"axes {i + 1} and {k + 1} miss each other by", _line_distance(points[i], directions[i],
+                                                                                    points[k], directions[k]), "m"))
+    upper = _normal_foot(points[2], directions[2], points[3], directions[3])
+    lower = _normal_foot(points[4], directions[4], points[3], directions[3])
+    found.append(("the elbow is offset along axis 4 by", float(abs((lower - upper) @ directions[3])), "m"))
+    for i in range(6):
+        cosine = float(abs(directions[i] @ directions[i + 1]))
+        found.append((f"axes {i + 1} and {i + 2} are off perpendicular by", float(np.arcsin(min(cosine, 1.0))),
+                      "rad"))
+    return sorted([item for item in found if item[1] > 1e-12], key=lambda item: -item[1])
+
+
+def _normal_foot(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> np.ndarray:
+    """The foot on line 2 of the common normal of lines 1 and 2 (unit directions); for parallel lines, the point
+    of line 2 nearest ``p1``."""
+    normal = np.cross(u1, u2)
+    if float(np.linalg.norm(normal)) <= 1e-9:
+        return p2 + ((p1 - p2) @ u2) * u2
+    _, t, _ = np.linalg.solve(np.column_stack([u1, -u2, -normal]), p2 - p1)
+    return p2 + t * u2
+
+
+def model_error(chain: SerialChain, neighbour: SerialChain) -> tuple[float, float]:
+    """The largest position [m] and rotation [rad] difference of the two chains' poses over fixed sample
+    configurations (64 uniform in ``[-pi, pi]^7``, the same every call)."""
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (64, chain.n))
+    mine, theirs = chain.fk(q), neighbour.fk(q)
+    position = float(np.max(np.linalg.norm(mine[:, :3, 3] - theirs[:, :3, 3], axis=-1)))
+    relative = np.einsum("nji,njk->nik", mine[:, :3, :3], theirs[:, :3, :3])
+    cosine = np.clip((np.trace(relative, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+    sine = np.linalg.norm(relative - np.swapaxes(relative, -1, -2), axis=(-2, -1)) / (2.0 * np.sqrt(2.0))
+    return position, float(np.max(np.arctan2(sine, cosine)))
+
+
+def _line_distance(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> float:
+    """The length of the common normal of two lines (unit directions): the distance a user measures between
+    two axes."""
+    normal = np.cross(u1, u2)
+    size = float(np.linalg.norm(normal))
+    if size > 1e-9:
+        return float(abs((p2 - p1) @ normal) / size)
+    return _distance_to_line(p2, p1, u1)
+
+
+def _convert(chain: SerialChain, tolerance: float) -> SerialChain:
+    """:func:`table1_form` (``tolerance`` :data:`_SRS_TOLERANCE`: the same arm) or :func:`neighbour_form`
+    without the cache."""
     if chain.n != 7:
         raise NotArmAngleClassError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}", chain.name)
     points, directions = _joint_lines(chain)
     centres = {}
     for name, group in _GROUPS:
         centres[name], distance = meeting_point(points[list(group)], directions[list(group)])
-        if distance > _SRS_TOLERANCE:
+        if distance > tolerance:
             numbers = "-".join(str(k + 1) for k in group[::2])
+            gap, i, k = max((_line_distance(points[i], directions[i], points[k], directions[k]), i, k)
+                            for i, k in ((group[0], group[1]), (group[1], group[2]), (group[0], group[2])))
             raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point: "
-                                        f"closest distance {distance:.3g} m", chain.name, float(distance))
-    offset_elbow = meeting_point(points[2:5], directions[2:5])[1] > _SRS_TOLERANCE
+                                        f"axes {i + 1} and {k + 1} miss each other by {gap:.4g} m", chain.name,
+                                        float(gap))
+    offset_elbow = meeting_point(points[2:5], directions[2:5])[1] > max(tolerance, _ELBOW_OFFSET)
     cosines = np.abs(np.sum(directions[:-1] * directions[1:], axis=-1))
-    if cosines.max() > _SRS_TOLERANCE:
+    if np.arcsin(min(cosines.max(), 1.0)) > tolerance:
         k = int(np.argmax(cosines))
-        angle = np.degrees(np.arccos(np.clip(cosines[k], 0.0, 1.0)))
+        off = np.degrees(np.arcsin(min(cosines[k], 1.0)))
         raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: axes {k + 1} and {k + 2} are not perpendicular "
-                                    f"({angle:.6g} deg apart)", chain.name, float(np.radians(angle)))
+                                    f"({90.0 - off:.9g} deg apart, {off:.3g} deg off)", chain.name,
+                                    float(np.radians(off)))
     shoulder, wrist = centres["shoulder"], centres["wrist"]
     for name, centre in (("shoulder", shoulder), ("wrist", wrist)):
         if _distance_to_line(centre, points[3], directions[3]) <= _SRS_TOLERANCE:
@@ -108,7 +216,7 @@ def _convert(chain: SerialChain) -> SerialChain:
     base_origin = chain.base[:3, 3]
     origin = shoulder + ((base_origin - shoulder) @ lines[0]) * lines[0]
     rows, frame0, frame7 = dh_rows_from_lines(through, lines, np.sign(TABLE1_ALPHA), origin)
-    if abs(rows[3, 2]) > _SRS_TOLERANCE:
+    if abs(rows[3, 2]) > tolerance:
         raise NotArmAngleClassError(
             f"{chain.name!r} is not S-R-S: joints 3-5 do not meet, and its elbow is offset {abs(rows[3, 2]):.3g} m "
             "along joint 4 (only offsets across joint 4, as on the WAM, are solved)",
@@ -124,9 +232,14 @@ def _convert(chain: SerialChain) -> SerialChain:
         tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
         source=f"{chain.source} (as paper 000 Table 1)", joint_names=chain.joint_names,
     )
+    if tolerance > _SRS_TOLERANCE:  # a neighbour: its rows are snapped, so its tool makes the poses at q = 0 agree
+        home = replace(converted, tool=np.eye(4)).fk(np.zeros(7))
+        converted = replace(converted, tool=np.linalg.inv(home) @ chain.fk(np.zeros(7)),
+                            source=f"{chain.source} (its exact S-R-S neighbour, as paper 000 Table 1)")
     if np.cos(converted.offset[2]) < 0.0:  # the reference plane theta_3 = 0 where the chain's own q_3 = 0
         converted = _elbow_pair_turned(converted)
-    certify_same_poses(chain, converted, "Table 1 form")
+    if tolerance <= _SRS_TOLERANCE:
+        certify_same_poses(chain, converted, "Table 1 form")
     return converted
 
 

@@ -1,0 +1,340 @@
+"""Nearly S-R-S arms: arm-angle IK on the real arm through its exact neighbour (docs/srs.md, "Nearly S-R-S arms").
+
+A description whose axes miss the S-R-S conditions by a few millimetres (the
+Kinova Gen3's 11.75 mm and 12.75 mm, the ROS-Industrial iiwa's 0.436 mm, a
+URDF with rounded angles) has an exact S-R-S **neighbour**
+(:func:`redkin.srs.conventions.neighbour_form`): its shoulder and wrist axes
+moved through their meeting points, right angles restored, the offsets it
+does not have dropped.  The neighbour has paper 000's closed form; the real
+arm does not.
+
+The arm angle of the real arm at ``q`` is the neighbour's arm angle at the
+same joint values, ``psi(q) = psi_N(q)`` [000 eqs. 5-8]: the elbow's turn
+about the shoulder-wrist line, with the shoulder and wrist the meeting points
+of the real axis groups.  It is continuous wherever the neighbour's is, and
+equals the exact arm angle where the offsets vanish.
+
+Solutions at ``psi``: the neighbour's closed form maps a pose ``T'`` to
+``q = IK_N(T', psi)`` on each branch, with ``psi_N(q) = psi`` exactly; the
+real arm's pose of that ``q`` is ``G(T') = FK(q)``, near ``T'`` by the model
+error.  The target ``T'`` is corrected until ``G(T') = T``: ``T' <- T G(T')^-1 T'``,
+a fixed-point iteration whose rate is about the model error over the
+lengths of the arm (a few per cent on the Gen3), so a dozen steps reach 1e-9.
+Each returned solution is certified on the real chain: its FK within
+:data:`TOLERANCE` of the target, and its arm angle within :data:`TOLERANCE` of
+``psi``.  A branch whose iteration does not settle (near the stretched elbow,
+where the closed form's sensitivity outgrows the contraction) is reported
+missing, never returned inaccurate.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._validation import as_float_array, check_finite, check_pose
+from redkin.chain import SerialChain
+from redkin.errors import RedkinError
+from redkin.srs.arm_angle import arm_angle_of
+from redkin.srs.branches import BRANCHES, Branch, parse_branch
+from redkin.srs.conventions import departures, model_error, neighbour_form
+from redkin.srs.geometry import SRSGeometry, srs_geometry
+from redkin.srs.ik import solve
+
+#: Largest departure (metres between axes that must meet, radians off perpendicular) of a nearly S-R-S arm from
+#: its neighbour by default: the Kinova Gen3's 12.75 mm and Jaco2's 11.4 mm are inside, the Panda's 88 mm outside.
+TOLERANCE_DEFAULT = 0.02
+#: The certificate of a solution: position error [m], rotation angle [rad] and arm-angle error [rad].
+TOLERANCE = 1e-9
+#: Corrections of the target before a branch counts as not settling.
+ITERATIONS = 60
+#: The corrections go on while they shrink the error (position plus rotation) below this share of the best so far,
+#: down to :data:`FINE`.
+SHRINK, FINE = 0.9, 1e-14
+#: Damped Newton steps on the real arm where the corrections did not settle.
+_NEWTON_ITERATIONS = 30
+#: How far from its stretch a Newton start's elbow is opened [rad] (:func:`_elbow_opened`).
+_OPENED = 0.05
+
+
+@dataclass(frozen=True)
+class NearlySRS:
+    """A nearly S-R-S arm, its exact neighbour and how far apart they are.
+
+    Attributes
+    ----------
+    chain : SerialChain
+        The real arm.
+    neighbour : SerialChain
+        Its exact S-R-S neighbour in paper 000 Table 1 form, with the real arm's joint values and limits.
+    geometry : SRSGeometry
+        The neighbour's arm-angle geometry.
+    departures : tuple of (str, float, str)
+        What was dropped, largest first (:func:`redkin.srs.conventions.departures`).
+    position_error, rotation_error : float
+        The largest pose difference of the two chains over sample configurations [m, rad].
+    """
+
+    chain: SerialChain
+    neighbour: SerialChain
+    geometry: SRSGeometry
+    departures: tuple[tuple[str, float, str], ...]
+    position_error: float
+    rotation_error: float
+
+    def describe(self) -> str:
+        """The neighbour and the model error in one line, in millimetres as users give offsets."""
+        dropped = ", ".join(f"{what} {value * 1e3:.4g} mm" if unit == "m" else f"{what} {np.degrees(value):.3g} deg"
+                            for what, value, unit in self.departures)
+        return (f"its exact S-R-S neighbour drops: {dropped}; poses differ by up to {self.position_error * 1e3:.3g} mm "
+                f"and {np.degrees(self.rotation_error):.3g} deg, and solutions are polished on the real arm")
+
+
+class NearlySolutions(NamedTuple):
+    """Certified solutions of a nearly S-R-S arm at arm angles, one row per branch.
+
+    Attributes
+    ----------
+    q : numpy.ndarray, shape (..., B, 7)
+        Joint values of the real arm (zeros where a branch is missing).
+    exists : numpy.ndarray of bool, shape (..., B)
+        Found and certified (FK and arm angle within :data:`TOLERANCE`).
+    within_limits : numpy.ndarray of bool, shape (..., B)
+    branches : tuple of Branch
+    parameter : str
+        ``"psi"``.
+    """
+
+    q: np.ndarray
+    exists: np.ndarray
+    within_limits: np.ndarray
+    branches: tuple[Branch, ...]
+    parameter: str = "psi"
+
+
+def nearly_srs(chain: SerialChain, tolerance: float = TOLERANCE_DEFAULT) -> NearlySRS:
+    """The exact neighbour of a chain whose axes miss the S-R-S conditions by at most ``tolerance``.
+
+    Derived once per chain and tolerance and cached on the chain.
+
+    Raises
+    ------
+    NotArmAngleClassError
+        For a departure beyond ``tolerance``, naming it.
+    """
+    if not (np.isfinite(tolerance) and tolerance > 0.0):
+        raise RedkinError(f"tolerance must be a positive finite number, got {tolerance!r}")
+    cache = chain.__dict__.setdefault(_CACHE_KEY, {})
+    if tolerance not in cache:
+        neighbour = neighbour_form(chain, tolerance)
+        position, rotation = model_error(chain, neighbour)
+        cache[tolerance] = NearlySRS(chain, neighbour, srs_geometry(neighbour), tuple(departures(chain)), position,
+                                     rotation)
+    return cache[tolerance]
+
+
+_CACHE_KEY = "_nearly_srs"
+
+
+def arm_angle(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
+    """The real arm's arm angle at joint values ``q`` (..., 7): the neighbour's at the same values (module
+    docstring)."""
+    return arm_angle_of(arm.geometry, q).psi
+
+
+def ik(
+    arm: NearlySRS,
+    pose: ArrayLike,
+    psi: ArrayLike,
+    branch: str | Branch | tuple[int, int, int] | None = None,
+) -> NearlySolutions:
+    """Every solution (or one branch's) of target poses at arm angles on the real arm, certified.
+
+    Parameters
+    ----------
+    arm : NearlySRS
+        From :func:`nearly_srs`.
+    pose : array_like, shape (..., 4, 4)
+        Target poses of the real arm's tool in its base frame.
+    psi : array_like, broadcast against the poses' batch shape
+        Arm angles (:func:`arm_angle`).
+    branch : str or Branch, optional
+        One branch; default all eight, in the order of :data:`redkin.srs.BRANCHES`.
+
+    Raises
+    ------
+    ValueError
+        For a malformed pose, psi or branch.
+    """
+    chosen = BRANCHES if branch is None else (parse_branch(branch),)
+    poses = check_pose(pose)
+    angles = as_float_array(psi, "psi")
+    check_finite(angles, "psi")
+    try:
+        shape = np.broadcast_shapes(poses.shape[:-2], angles.shape)
+    except ValueError:
+        raise RedkinError(f"psi of shape {angles.shape} does not broadcast against the pose batch "
+                          f"{poses.shape[:-2]}") from None
+    target = np.broadcast_to(poses, shape + (4, 4)).reshape(-1, 4, 4)
+    angles = np.broadcast_to(angles, shape).reshape(-1)
+    count = len(target)
+    q = np.zeros((count, len(chosen), 7))
+    exists = np.zeros((count, len(chosen)), dtype=bool)
+    for column, label in enumerate(chosen):
+        q[:, column], exists[:, column] = _settle(arm, target, angles, arm.geometry.kernel_branch(label))
+    within = exists & arm.chain.within_limits(q, tolerance=1e-9, wrap=True)
+    return NearlySolutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + exists.shape[1:]),
+                           within.reshape(shape + within.shape[1:]), tuple(chosen))
+
+
+def _settle(arm: NearlySRS, target: np.ndarray, psi: np.ndarray, signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """One branch's solutions for targets (N, 4, 4) at ``psi`` (N,): the fixed-point iteration (module docstring),
+    then damped Newton steps on the real arm (:func:`_newton`) from the best iterate where it did not settle;
+    joint values (N, 7) and whether each is certified."""
+    moved = target.copy()  # T', the neighbour's target
+    q = np.zeros((len(target), 7))
+    best = np.full((len(target), 2), np.inf)  # position and rotation error of the best iterate, and its q
+    live = np.ones(len(target), dtype=bool)  # still iterating
+    for _ in range(ITERATIONS):
+        rows = np.flatnonzero(live)
+        if rows.size == 0:
+            break
+        moved[rows] = _within_reach(arm.geometry, moved[rows])
+        trial = solve(arm.geometry, moved[rows], psi[rows], signs)[:, 0]
+        reached = arm.chain.fk(trial)
+        error = np.stack(_pose_error(reached, target[rows]), axis=-1)
+        before = best[rows].sum(axis=-1)
+        better = error.sum(axis=-1) < before
+        q[rows[better]], best[rows[better]] = trial[better], error[better]
+        # on to rounding (a certificate at the tolerance alone leaves joint errors of tolerance / sigma_min near a
+        # singular configuration), until the error stops shrinking
+        stop = (error.sum(axis=-1) <= FINE) | (error.sum(axis=-1) > SHRINK * before)
+        live[rows[stop]] = False
+        rest = rows[~stop]
+        if rest.size:
+            correction = target[rest] @ np.linalg.inv(reached[~stop])
+            moved[rest] = _orthonormal(correction @ moved[rest])
+    done = np.all(best <= TOLERANCE, axis=-1)
+    for start in ("best iterate", "elbow opened"):  # Newton's starting points
+        rows = np.flatnonzero(~done)
+        if rows.size == 0:
+            break
+        guess = q[rows] if start == "best iterate" else _elbow_opened(arm, q[rows], signs)
+        polished, settled = _newton(arm, guess, target[rows], psi[rows], signs)
+        q[rows[settled]], done[rows[settled]] = polished[settled], True
+    if done.any():  # the certificate, on the solutions as returned: the pose and the arm angle
+        rows = np.flatnonzero(done)
+        position, rotation = _pose_error(arm.chain.fk(q[rows]), target[rows])
+        error = np.abs(_wrapped(arm_angle(arm, q[rows]) - psi[rows]))
+        done[rows[(position > TOLERANCE) | (rotation > TOLERANCE) | (error > TOLERANCE)]] = False
+    q[~done] = 0.0
+    return q, done
+
+
+def _elbow_opened(arm: NearlySRS, q: np.ndarray, signs: np.ndarray) -> np.ndarray:
+    """Joint values (N, 7) with the elbow opened to at least :data:`_OPENED` rad from the neighbour's stretched (or
+    folded) elbow, on the side of the branch ``signs``: near the stretch the iterate lies where the arm angle's
+    gradient vanishes, a start from which Newton's steps go nowhere."""
+    theta = arm.geometry.theta_of_q(q)
+    phase = arm.geometry.elbow_equation.phase
+    theta[:, 3] = phase + signs[0, 1] * np.maximum(np.abs(_wrapped(theta[:, 3] - phase)), _OPENED)
+    return arm.geometry.q_of_theta(theta)
+
+
+def _newton(arm: NearlySRS, q: np.ndarray, target: np.ndarray, psi: np.ndarray,
+            signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Damped Newton steps on the real arm for the 7 equations ``FK(q) = T`` and ``psi(q) = psi`` from ``q``
+    (N, 7), the arm angle's gradient by central differences; joint values and whether each settled on the
+    branch ``signs`` (Table 1 signs, (1, 3))."""
+    step = 1e-7
+    for _ in range(_NEWTON_ITERATIONS):
+        reached = arm.chain.fk(q)
+        residual = np.concatenate([_pose_residual(reached, target), _wrapped(psi - arm_angle(arm, q))[:, None]],
+                                  axis=-1)
+        if np.all(np.abs(residual) <= FINE):  # on to rounding, as the corrections
+            break
+        jacobian = np.empty((len(q), 7, 7))
+        jacobian[:, :6] = arm.chain.jacobian(q)
+        for j in range(7):
+            ahead, behind = q.copy(), q.copy()
+            ahead[:, j] += step
+            behind[:, j] -= step
+            jacobian[:, 6, j] = _wrapped(arm_angle(arm, ahead) - arm_angle(arm, behind)) / (2.0 * step)
+        damping = 0.05 * np.sum(residual * residual, axis=-1)[:, None, None] * np.eye(7) + 1e-12 * np.eye(7)
+        transposed = np.swapaxes(jacobian, -1, -2)
+        q = q + np.linalg.solve(transposed @ jacobian + damping, (transposed @ residual[..., None]))[..., 0]
+    reached = arm.chain.fk(q)
+    position, rotation = _pose_error(reached, target)
+    settled = (position <= TOLERANCE) & (rotation <= TOLERANCE) & (np.abs(_wrapped(psi - arm_angle(arm, q)))
+                                                                    <= TOLERANCE)
+    theta = arm.geometry.theta_of_q(q)
+    same = np.all(_branch_signs(arm, theta) == signs[0], axis=-1)
+    return q, settled & same
+
+
+def _branch_signs(arm: NearlySRS, theta: np.ndarray) -> np.ndarray:
+    """Table 1 branch signs (N, 3) of DH angles (N, 7) of the neighbour."""
+    from redkin.srs.branches import branch_of_theta
+
+    return branch_of_theta(theta, arm.geometry.elbow_equation.phase)
+
+
+def _pose_residual(reached: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """``[p_t - p; rotation vector of R_t R^T]`` (N, 6), the world-referred pose error of Newton's step."""
+    relative = target[:, :3, :3] @ np.swapaxes(reached[:, :3, :3], -1, -2)
+    skew = np.stack([relative[:, 2, 1] - relative[:, 1, 2], relative[:, 0, 2] - relative[:, 2, 0],
+                     relative[:, 1, 0] - relative[:, 0, 1]], axis=-1)
+    size = np.linalg.norm(skew, axis=-1)
+    angle = np.arctan2(0.5 * size, 0.5 * (np.trace(relative, axis1=-2, axis2=-1) - 1.0))
+    scale = np.where(size > 0.0, angle / np.where(size > 0.0, size, 1.0), 0.5)
+    return np.concatenate([target[:, :3, 3] - reached[:, :3, 3], scale[:, None] * skew], axis=-1)
+
+
+def _wrapped(angle: np.ndarray) -> np.ndarray:
+    """Angles into ``(-pi, pi]``."""
+    return np.angle(np.exp(1j * angle))
+
+
+def _within_reach(geometry: SRSGeometry, poses: np.ndarray) -> np.ndarray:
+    """Poses (N, 4, 4) moved, where the neighbour's wrist cannot reach them, along the shoulder-wrist line to just
+    inside its reach ([000 eq. 11]): near the stretched (or folded) elbow the real arm reaches targets that its
+    neighbour does not, and the iteration starts from the nearest pose the neighbour reaches."""
+    chain = geometry.chain
+    shoulder = chain.base[:3, :3] @ np.array([0.0, 0.0, geometry.d_bs]) + chain.base[:3, 3]
+    frames = poses @ np.linalg.inv(chain.tool)
+    wrist = frames[:, :3, 3] - geometry.d_wt * frames[:, :3, 2]
+    span = wrist - shoulder
+    length = np.linalg.norm(span, axis=-1)
+    elbow = geometry.elbow_equation
+    low = np.sqrt(max(elbow.mean - elbow.amplitude, 0.0)) * (1.0 + _INSIDE)
+    high = np.sqrt(elbow.mean + elbow.amplitude) * (1.0 - _INSIDE)
+    wanted = np.clip(length, low, high)
+    outside = (wanted != length) & (length > 0.0)
+    if outside.any():
+        poses = poses.copy()
+        poses[outside, :3, 3] += ((wanted - length)[outside] / length[outside])[:, None] * span[outside]
+    return poses
+
+
+#: How far inside its reach a target is moved (relative to the reach).
+_INSIDE = 1e-9
+
+
+def _pose_error(reached: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Position error [m] and rotation angle [rad] of poses (N, 4, 4) against targets."""
+    position = np.linalg.norm(reached[:, :3, 3] - target[:, :3, 3], axis=-1)
+    relative = np.einsum("nji,njk->nik", target[:, :3, :3], reached[:, :3, :3])
+    skew = np.stack([relative[:, 2, 1] - relative[:, 1, 2], relative[:, 0, 2] - relative[:, 2, 0],
+                     relative[:, 1, 0] - relative[:, 0, 1]], axis=-1)
+    cosine = 0.5 * (np.trace(relative, axis1=-2, axis2=-1) - 1.0)
+    return position, np.arctan2(0.5 * np.linalg.norm(skew, axis=-1), cosine)
+
+
+def _orthonormal(poses: np.ndarray) -> np.ndarray:
+    """Poses with their rotation blocks replaced by the nearest rotations (rounding of the products)."""
+    u, _, vt = np.linalg.svd(poses[:, :3, :3])
+    poses[:, :3, :3] = u @ vt
+    return poses
