@@ -214,10 +214,13 @@ def _run_rows_ik(chain, args: argparse.Namespace, parameter: str) -> int:
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
     from redkin.srs import feasible_arm_angles, optimal_arm_angles, parse_branch, singular_arm_angles, srs_geometry
+    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
 
     chain = load_robot(args)
     if _closed_form_class(chain, args) == "q7":
         return _run_franka_arm_angles(chain, args)
+    if arm_angle_class(chain).kind == NEARLY_SRS:
+        return _run_nearly_arm_angles(chain, args)
     if args.weights is None:
         args.weights = (0.5, 0.5)
     geometry = srs_geometry(chain)
@@ -281,6 +284,41 @@ def _format_arcs(arcs: list, degrees: bool) -> str:
 
 def _format_list(values: list) -> str:
     return "[" + ", ".join(fixed(v) for v in values) + "]"
+
+
+def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
+    """``redkin arm-angles`` on a nearly S-R-S arm: the branch's feasible arm angles on the real arm
+    (:func:`redkin.srs.nearly_feasible.feasible_arm_angles_nearly`) and what its neighbour drops."""
+    from redkin.srs import nearly_srs, parse_branch
+    from redkin.srs.nearly_feasible import feasible_arm_angles_nearly
+
+    for option in ("target", "weights"):
+        if getattr(args, option) is not None:
+            raise ValueError(f"--{option}: the optimal arm angle of a nearly S-R-S arm is not computed yet; leave it "
+                             "out")
+    arm = nearly_srs(chain)
+    result = feasible_arm_angles_nearly(arm, target_pose(args), parse_branch(args.branch))
+    deg = args.deg
+    report = {
+        "robot": chain.name,
+        "class": "nearly S-R-S",
+        "neighbour": arm.describe(),
+        "units": {"angles": f"{angle_unit(deg)} (every arm angle below)"},
+        "arcs": "[start, end] read counter-clockwise from start to end; the parallel *_wraps entry is true for an arc "
+                "through +-180 deg (+-pi rad), whose start is larger than its end",
+        "branch": str(result.branch),
+        "feasible": _arcs(result.feasible, deg),
+        "feasible_wraps": _wraps(result.feasible),
+        "samples": result.samples,
+    }
+    if args.json:
+        print_json(report)
+        return 0
+    unit = angle_unit(deg)
+    print(f"{chain.name}, branch {result.branch}: nearly S-R-S; {arm.describe()}")
+    arcs = ", ".join(f"[{fixed(a)}, {fixed(b)}]" for a, b in report["feasible"]) or "none"
+    print(f"feasible arm angles on the real arm [{unit}]: {arcs}")
+    return 0
 
 
 def _run_franka_arm_angles(chain, args: argparse.Namespace) -> int:

@@ -30,6 +30,7 @@ from redkin.srs.feasible import (
 from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.nearly import NearlySolutions, NearlySRS, nearly_srs
+from redkin.srs.nearly_feasible import NearlyFeasible, feasible_arm_angles_nearly
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
 from redkin.srs.path import ArmAnglePath, arm_angle_path
 from redkin.srs.singular import SINGULAR_TOLERANCE, SingularArmAngles, singular_arm_angles
@@ -43,6 +44,7 @@ __all__ = [
     "FeasibleArmAngles",
     "FeasiblePieces",
     "JointExtrema",
+    "NearlyFeasible",
     "NearlySRS",
     "NearlySolutions",
     "OptimalAngle",
@@ -56,6 +58,7 @@ __all__ = [
     "arm_angle_path",
     "feasible_arm_angles",
     "feasible_arm_angles_batch",
+    "feasible_arm_angles_nearly",
     "feasible_pieces",
     "feasible_pieces_all_branches",
     "ik",
