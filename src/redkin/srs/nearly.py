@@ -30,31 +30,28 @@ missing, never returned inaccurate.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_finite, check_pose
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
+from redkin.srs import _nearly_kernels
 from redkin.srs.arm_angle import arm_angle_of
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.conventions import departures, model_error, neighbour_form
 from redkin.srs.geometry import SRSGeometry, srs_geometry
-from redkin.srs.ik import solve
 
 #: Largest departure (metres between axes that must meet, radians off perpendicular) of a nearly S-R-S arm from
 #: its neighbour by default: the Kinova Gen3's 12.75 mm and Jaco2's 11.4 mm are inside, the Panda's 88 mm outside.
 TOLERANCE_DEFAULT = 0.02
 #: The certificate of a solution: position error [m], rotation angle [rad] and arm-angle error [rad].
 TOLERANCE = 1e-9
-#: Corrections of the target before a branch counts as not settling.
-ITERATIONS = 60
-#: The corrections go on while they shrink the error (position plus rotation) below this share of the best so far,
-#: down to :data:`FINE`.
-SHRINK, FINE = 0.9, 1e-14
-#: Damped Newton steps on the real arm where the corrections did not settle.
+#: Damped Newton steps on the real arm where the corrections (:mod:`redkin.srs._nearly_kernels`) did not settle.
 _NEWTON_ITERATIONS = 30
 #: How far from its stretch a Newton start's elbow is opened [rad] (:func:`_elbow_opened`).
 _OPENED = 0.05
@@ -84,6 +81,23 @@ class NearlySRS:
     departures: tuple[tuple[str, float, str], ...]
     position_error: float
     rotation_error: float
+
+    @cached_property
+    def kernel_reach(self) -> np.ndarray:
+        """The neighbour's reach as :func:`redkin.srs._nearly_kernels.within_reach` takes it: the shortest and
+        longest shoulder-wrist distance [000 eq. 11], moved inside by a relative 1e-9, ``d_7`` and the shoulder."""
+        geometry = self.geometry
+        base = geometry.chain.base
+        elbow = geometry.elbow_equation
+        low = np.sqrt(max(elbow.mean - elbow.amplitude, 0.0)) * (1.0 + 1e-9)
+        high = np.sqrt(elbow.mean + elbow.amplitude) * (1.0 - 1e-9)
+        shoulder = base[:3, :3] @ np.array([0.0, 0.0, geometry.d_bs]) + base[:3, 3]
+        return np.concatenate([[low, high, geometry.d_wt], shoulder])
+
+    @cached_property
+    def kernel_tool_inverse(self) -> np.ndarray:
+        """The inverse of the neighbour's tool transform."""
+        return np.ascontiguousarray(np.linalg.inv(self.geometry.chain.tool))
 
     def describe(self) -> str:
         """The neighbour and the model error in one line, in millimetres as users give offsets."""
@@ -178,60 +192,41 @@ def ik(
     except ValueError:
         raise RedkinError(f"psi of shape {angles.shape} does not broadcast against the pose batch "
                           f"{poses.shape[:-2]}") from None
-    target = np.broadcast_to(poses, shape + (4, 4)).reshape(-1, 4, 4)
-    angles = np.broadcast_to(angles, shape).reshape(-1)
+    target = kernel_array(poses, shape + (4, 4)).reshape(-1, 4, 4)
+    angles = kernel_array(angles, shape).reshape(-1)
     count = len(target)
+    signs = np.ascontiguousarray([arm.geometry.kernel_branch(label)[0] for label in chosen])
     q = np.zeros((count, len(chosen), 7))
-    exists = np.zeros((count, len(chosen)), dtype=bool)
-    for column, label in enumerate(chosen):
-        q[:, column], exists[:, column] = _settle(arm, target, angles, arm.geometry.kernel_branch(label))
+    error = np.empty((count, len(chosen), 2))
+    run_batch(_nearly_kernels.settle, count, target, angles, signs, *arm.geometry.kernel_tables, arm.chain._links,
+              arm.chain._ends, arm.chain._standard, arm.kernel_tool_inverse, arm.kernel_reach, q, error)
+    exists = np.all(error <= TOLERANCE, axis=-1)
+    for column in range(len(chosen)):  # Newton where the corrections did not settle
+        rows = np.flatnonzero(~exists[:, column])
+        for start in ("best iterate", "elbow opened"):
+            if rows.size == 0:
+                break
+            signs_b = signs[column:column + 1]
+            guess = q[rows, column] if start == "best iterate" else _elbow_opened(arm, q[rows, column], signs_b)
+            polished, settled = _newton(arm, guess, target[rows], angles[rows], signs_b)
+            q[rows[settled], column], exists[rows[settled], column] = polished[settled], True
+            rows = rows[~settled]
+    exists &= _certified(arm, q, target, angles)
+    q[~exists] = 0.0
     within = exists & arm.chain.within_limits(q, tolerance=1e-9, wrap=True)
     return NearlySolutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + exists.shape[1:]),
                            within.reshape(shape + within.shape[1:]), tuple(chosen))
 
 
-def _settle(arm: NearlySRS, target: np.ndarray, psi: np.ndarray, signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """One branch's solutions for targets (N, 4, 4) at ``psi`` (N,): the fixed-point iteration (module docstring),
-    then damped Newton steps on the real arm (:func:`_newton`) from the best iterate where it did not settle;
-    joint values (N, 7) and whether each is certified."""
-    moved = target.copy()  # T', the neighbour's target
-    q = np.zeros((len(target), 7))
-    best = np.full((len(target), 2), np.inf)  # position and rotation error of the best iterate, and its q
-    live = np.ones(len(target), dtype=bool)  # still iterating
-    for _ in range(ITERATIONS):
-        rows = np.flatnonzero(live)
-        if rows.size == 0:
-            break
-        moved[rows] = _within_reach(arm.geometry, moved[rows])
-        trial = solve(arm.geometry, moved[rows], psi[rows], signs)[:, 0]
-        reached = arm.chain.fk(trial)
-        error = np.stack(_pose_error(reached, target[rows]), axis=-1)
-        before = best[rows].sum(axis=-1)
-        better = error.sum(axis=-1) < before
-        q[rows[better]], best[rows[better]] = trial[better], error[better]
-        # on to rounding (a certificate at the tolerance alone leaves joint errors of tolerance / sigma_min near a
-        # singular configuration), until the error stops shrinking
-        stop = (error.sum(axis=-1) <= FINE) | (error.sum(axis=-1) > SHRINK * before)
-        live[rows[stop]] = False
-        rest = rows[~stop]
-        if rest.size:
-            correction = target[rest] @ np.linalg.inv(reached[~stop])
-            moved[rest] = _orthonormal(correction @ moved[rest])
-    done = np.all(best <= TOLERANCE, axis=-1)
-    for start in ("best iterate", "elbow opened"):  # Newton's starting points
-        rows = np.flatnonzero(~done)
-        if rows.size == 0:
-            break
-        guess = q[rows] if start == "best iterate" else _elbow_opened(arm, q[rows], signs)
-        polished, settled = _newton(arm, guess, target[rows], psi[rows], signs)
-        q[rows[settled]], done[rows[settled]] = polished[settled], True
-    if done.any():  # the certificate, on the solutions as returned: the pose and the arm angle
-        rows = np.flatnonzero(done)
-        position, rotation = _pose_error(arm.chain.fk(q[rows]), target[rows])
-        error = np.abs(_wrapped(arm_angle(arm, q[rows]) - psi[rows]))
-        done[rows[(position > TOLERANCE) | (rotation > TOLERANCE) | (error > TOLERANCE)]] = False
-    q[~done] = 0.0
-    return q, done
+def _certified(arm: NearlySRS, q: np.ndarray, target: np.ndarray, psi: np.ndarray) -> np.ndarray:
+    """The certificate of joint values (N, B, 7) as returned: their pose within :data:`TOLERANCE` of the targets
+    (N, 4, 4) and their arm angle of ``psi`` (N,)."""
+    count, branches = q.shape[:2]
+    flat = q.reshape(-1, 7)
+    goals = np.repeat(target, branches, axis=0)
+    position, rotation = _pose_error(arm.chain.fk(flat), goals)
+    angle = np.abs(_wrapped(arm_angle(arm, flat) - np.repeat(psi, branches)))
+    return ((position <= TOLERANCE) & (rotation <= TOLERANCE) & (angle <= TOLERANCE)).reshape(count, branches)
 
 
 def _elbow_opened(arm: NearlySRS, q: np.ndarray, signs: np.ndarray) -> np.ndarray:
@@ -250,22 +245,32 @@ def _newton(arm: NearlySRS, q: np.ndarray, target: np.ndarray, psi: np.ndarray,
     (N, 7), the arm angle's gradient by central differences; joint values and whether each settled on the
     branch ``signs`` (Table 1 signs, (1, 3))."""
     step = 1e-7
+    q = q.copy()
+    active = np.arange(len(q))  # rows still stepping: not yet at rounding, not diverging
+    first = np.full(len(q), np.inf)
     for _ in range(_NEWTON_ITERATIONS):
-        reached = arm.chain.fk(q)
-        residual = np.concatenate([_pose_residual(reached, target), _wrapped(psi - arm_angle(arm, q))[:, None]],
-                                  axis=-1)
-        if np.all(np.abs(residual) <= FINE):  # on to rounding, as the corrections
+        if active.size == 0:
             break
-        jacobian = np.empty((len(q), 7, 7))
-        jacobian[:, :6] = arm.chain.jacobian(q)
+        now = q[active]
+        reached = arm.chain.fk(now)
+        residual = np.concatenate([_pose_residual(reached, target[active]),
+                                   _wrapped(psi[active] - arm_angle(arm, now))[:, None]], axis=-1)
+        size = np.linalg.norm(residual, axis=-1)
+        first[active] = np.minimum(first[active], np.where(np.isinf(first[active]), size, np.inf))
+        keep = (size > _nearly_kernels.FINE) & (size <= 10.0 * first[active])  # on to rounding; drop a divergence
+        active, now, residual = active[keep], now[keep], residual[keep]
+        if active.size == 0:
+            break
+        jacobian = np.empty((len(now), 7, 7))
+        jacobian[:, :6] = arm.chain.jacobian(now)
         for j in range(7):
-            ahead, behind = q.copy(), q.copy()
+            ahead, behind = now.copy(), now.copy()
             ahead[:, j] += step
             behind[:, j] -= step
             jacobian[:, 6, j] = _wrapped(arm_angle(arm, ahead) - arm_angle(arm, behind)) / (2.0 * step)
         damping = 0.05 * np.sum(residual * residual, axis=-1)[:, None, None] * np.eye(7) + 1e-12 * np.eye(7)
         transposed = np.swapaxes(jacobian, -1, -2)
-        q = q + np.linalg.solve(transposed @ jacobian + damping, (transposed @ residual[..., None]))[..., 0]
+        q[active] = now + np.linalg.solve(transposed @ jacobian + damping, (transposed @ residual[..., None]))[..., 0]
     reached = arm.chain.fk(q)
     position, rotation = _pose_error(reached, target)
     settled = (position <= TOLERANCE) & (rotation <= TOLERANCE) & (np.abs(_wrapped(psi - arm_angle(arm, q)))
@@ -298,31 +303,6 @@ def _wrapped(angle: np.ndarray) -> np.ndarray:
     return np.angle(np.exp(1j * angle))
 
 
-def _within_reach(geometry: SRSGeometry, poses: np.ndarray) -> np.ndarray:
-    """Poses (N, 4, 4) moved, where the neighbour's wrist cannot reach them, along the shoulder-wrist line to just
-    inside its reach ([000 eq. 11]): near the stretched (or folded) elbow the real arm reaches targets that its
-    neighbour does not, and the iteration starts from the nearest pose the neighbour reaches."""
-    chain = geometry.chain
-    shoulder = chain.base[:3, :3] @ np.array([0.0, 0.0, geometry.d_bs]) + chain.base[:3, 3]
-    frames = poses @ np.linalg.inv(chain.tool)
-    wrist = frames[:, :3, 3] - geometry.d_wt * frames[:, :3, 2]
-    span = wrist - shoulder
-    length = np.linalg.norm(span, axis=-1)
-    elbow = geometry.elbow_equation
-    low = np.sqrt(max(elbow.mean - elbow.amplitude, 0.0)) * (1.0 + _INSIDE)
-    high = np.sqrt(elbow.mean + elbow.amplitude) * (1.0 - _INSIDE)
-    wanted = np.clip(length, low, high)
-    outside = (wanted != length) & (length > 0.0)
-    if outside.any():
-        poses = poses.copy()
-        poses[outside, :3, 3] += ((wanted - length)[outside] / length[outside])[:, None] * span[outside]
-    return poses
-
-
-#: How far inside its reach a target is moved (relative to the reach).
-_INSIDE = 1e-9
-
-
 def _pose_error(reached: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Position error [m] and rotation angle [rad] of poses (N, 4, 4) against targets."""
     position = np.linalg.norm(reached[:, :3, 3] - target[:, :3, 3], axis=-1)
@@ -331,10 +311,3 @@ def _pose_error(reached: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np
                      relative[:, 1, 0] - relative[:, 0, 1]], axis=-1)
     cosine = 0.5 * (np.trace(relative, axis1=-2, axis2=-1) - 1.0)
     return position, np.arctan2(0.5 * np.linalg.norm(skew, axis=-1), cosine)
-
-
-def _orthonormal(poses: np.ndarray) -> np.ndarray:
-    """Poses with their rotation blocks replaced by the nearest rotations (rounding of the products)."""
-    u, _, vt = np.linalg.svd(poses[:, :3, :3])
-    poses[:, :3, :3] = u @ vt
-    return poses
