@@ -4,8 +4,8 @@ A kernel compiles on its first call in a fresh install and is cached (:mod:`redk
 calls everything once, section by section, leaves a cache from which every later process loads in milliseconds.
 :func:`warm_up` is that process's work: each public function that runs a compiled kernel, called once on one item
 and once on a batch past :data:`redkin._compiled.PARALLEL_BATCH`, with standard and modified DH, every arm class
-(S-R-S, offset elbow, Franka), the numerical IK, a short path, and both torso arms.  ``benchmarks/cold_start.py``
-times it on a fresh cache.
+(S-R-S, offset elbow, Franka, nearly S-R-S), the numerical IK, a short path, and both torso arms.
+``benchmarks/cold_start.py`` times it on a fresh cache.
 
 To share the cache, point ``NUMBA_CACHE_DIR`` at one folder before the first ``import redkin`` in every process
 that should use it (a read-only install writes nowhere else; Dask workers on one machine or a shared file system
@@ -71,6 +71,16 @@ def _franka(rng: np.random.Generator) -> None:
     franka.ik(arm, poses[0], q[0, 6]), franka.ik(arm, poses, q[:, 6]), franka.ik(arm, poses[0], q[0, 6], "+-+")
     franka.feasible_q7(arm, poses[0]), franka.feasible_q7_batch(arm, poses[:20])
     franka.optimal_q7(arm, poses[0], "+-+")
+
+
+def _nearly_srs(rng: np.random.Generator) -> None:
+    from redkin import models, srs
+    from redkin.srs import nearly
+
+    arm = srs.nearly_srs(models.kinova_gen3())
+    q = rng.uniform(-1, 1, (_BATCH, 7))
+    poses, psi = arm.chain.fk(q), nearly.arm_angle(arm, q)
+    nearly.ik(arm, poses[0], psi[0]), nearly.ik(arm, poses, psi, "+-+")
 
 
 def _numerical(rng: np.random.Generator) -> None:
@@ -147,6 +157,7 @@ _SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("srs ik", _srs_ik),
     ("srs sets", _srs_sets),
     ("franka", _franka),
+    ("nearly S-R-S", _nearly_srs),
     ("numerical ik", _numerical),
     ("paths", _paths),
     ("torso arm", _torso_arm),
