@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_pose
 from redkin.chain import SerialChain
 from redkin.closed_form import redundancy_parameter
-from redkin.errors import RedkinError
+from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.explore.arm_angle import arm_angle_curves
 from redkin.explore.curves import ExplorerData
 from redkin.explore.q7 import q7_curves
@@ -72,6 +72,12 @@ def explorer_data(
     pose = check_pose(pose)
     if pose.shape != (4, 4):
         raise RedkinError(f"pose must be one 4x4 pose, got shape {pose.shape}")
+    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
+
+    if arm_angle_class(chain).kind == NEARLY_SRS:
+        raise NotArmAngleClassError(f"{chain.name!r} is nearly S-R-S: the explorer does not draw such arms yet (their "
+                                    "solutions at an arm angle and feasible arm angles are in `redkin ik --psi` and "
+                                    "`redkin arm-angles`)", chain.name)
     curves = q7_curves if redundancy_parameter(chain) == "q7" else arm_angle_curves
     parameter, branches = curves(chain, pose, int(samples), target, weights)
     return ExplorerData(

@@ -20,8 +20,9 @@ from __future__ import annotations
 import numpy as np
 
 from redkin._compiled import kernel
+from redkin._pose_kernels import BAD_POSE, OK, pose_defect
 from redkin.franka.geometry import A3, A4, A6, AMPLITUDE, D1, D3, D5, D6, MEAN, PHASE
-from redkin.srs._ik_kernels import BAD_POSE, OK, chain_values, pose_defect
+from redkin.srs._ik_kernels import chain_values
 
 #: Length of the work vector of :func:`solve_q7`.
 WORK = 24

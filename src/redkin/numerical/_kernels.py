@@ -23,7 +23,7 @@ import numpy as np
 
 from redkin import _chain_kernels
 from redkin._compiled import kernel
-from redkin.srs._ik_kernels import OK, pose_defect
+from redkin._pose_kernels import OK, pose_defect
 
 #: Entries of the ``settings`` array of :func:`solve`.
 POSITION_TOLERANCE, ROTATION_TOLERANCE, SEPARATION, SETTINGS = 0, 1, 2, 3
@@ -292,12 +292,14 @@ def nearest_pose(target, out):
 @kernel
 def normalise(q, seed, seeded, lower, upper):
     """Each joint moved by whole turns to the representative within its limits nearest the seed (with a seed), or
-    an unlimited joint into ``[-pi, pi]`` (without); a value already in place stays bit for bit."""
+    an unlimited joint into ``[-pi, pi]`` (without); a value already in place stays bit for bit, and one that the
+    turn's rounding puts past a limit is put on it (the certificate is taken afterwards)."""
     for j in range(q.shape[0]):
         if seeded:
             q[j] = _chain_kernels.representative(q[j], lower[j], upper[j], seed[j])
         elif lower[j] == -np.inf and upper[j] == np.inf:
             q[j] = _chain_kernels.representative(q[j], lower[j], upper[j], 0.0)
+        q[j] = min(max(q[j], lower[j]), upper[j])  # a whole turn added may round past a limit by an ulp
 
 
 @kernel
@@ -321,7 +323,7 @@ def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, setti
     ``closest`` (n,) receives the first solution, or without one the joint vector of the smallest error met, and
     ``error`` (2,) its position and rotation error.  ``bounds`` (2, n) holds the lower and the upper limits.  With
     a seed the solutions are sorted by their largest joint
-    distance to it.  A target that is not a pose (:func:`~redkin.srs._ik_kernels.pose_defect`) returns -1.
+    distance to it.  A target that is not a pose (:func:`~redkin._pose_kernels.pose_defect`) returns -1.
     """
     lower, upper = bounds[0], bounds[1]
     n = lower.shape[0]

@@ -39,6 +39,7 @@ import numpy as np
 
 from redkin._chain_kernels import range_middle, representative
 from redkin._compiled import kernel
+from redkin._pose_kernels import BAD_POSE, OK, pose_defect
 from redkin.circle import TWO_PI
 
 ARM_COLUMNS = ("d_bs", "d_se", "d_ew", "d_wt", "a3", "a4", "mean", "amplitude", "phase", "cos_phase", "sin_phase")
@@ -54,11 +55,8 @@ REACH_TOLERANCE = 1e-9
 #: group is undefined and set to 0.  Rounding leaves ``x, y`` of about 1e-17 on an exactly singular
 #: pose, where ``atan2`` alone would return an arbitrary angle.
 UNDEFINED_TOLERANCE = 1e-12
-#: Tolerance of the pose check (:data:`redkin._validation.ROTATION_TOLERANCE`).
-POSE_TOLERANCE = 1e-6
-
-#: Status of a pose in the batch kernels.
-OK, BAD_POSE, BAD_PSI, UNREACHABLE = range(4)
+#: Status of a pose in the batch kernels (:data:`OK` and :data:`BAD_POSE` are :func:`pose_defect`'s).
+BAD_PSI, UNREACHABLE = BAD_POSE + 1, BAD_POSE + 2
 
 #: The entries the joint angles are read from: ``(matrix, row, column, factor)``, matrix 0 being
 #: ``0R3`` and 1 ``4R7``, for the slots ``x, y, z, r0, r1, r2, t`` of each group.  Shoulder:
@@ -75,29 +73,6 @@ GROUP = 7  # entries per group (shoulder, wrist)
 
 
 # ------------------------------------------------------------- the target
-@kernel
-def pose_defect(pose):
-    """:data:`OK`, or :data:`BAD_POSE` for a pose that is not finite, whose last row is not
-    ``0 0 0 1`` or whose rotation block is not a proper rotation within :data:`POSE_TOLERANCE`
-    (the checks of :func:`redkin._validation.check_pose`, which words the error)."""
-    for r in range(4):
-        for c in range(4):
-            if not isfinite(pose[r, c]):
-                return BAD_POSE
-    for c in range(4):
-        if abs(pose[3, c] - (1.0 if c == 3 else 0.0)) > POSE_TOLERANCE:
-            return BAD_POSE
-    for r in range(3):
-        for c in range(3):
-            dot = pose[r, 0] * pose[c, 0] + pose[r, 1] * pose[c, 1] + pose[r, 2] * pose[c, 2]
-            if abs(dot - (1.0 if r == c else 0.0)) > POSE_TOLERANCE:
-                return BAD_POSE
-    det = (pose[0, 0] * (pose[1, 1] * pose[2, 2] - pose[1, 2] * pose[2, 1])
-           - pose[0, 1] * (pose[1, 0] * pose[2, 2] - pose[1, 2] * pose[2, 0])
-           + pose[0, 2] * (pose[1, 0] * pose[2, 1] - pose[1, 1] * pose[2, 0]))
-    return OK if abs(det - 1.0) <= POSE_TOLERANCE else BAD_POSE
-
-
 @kernel
 def table1_target(pose, ends, target):
     """Frame 7 in frame 0, ``base^-1 pose tool^-1``, into ``target`` (3, 4): rotation and position."""

@@ -2,7 +2,7 @@
 error of a batch the kernels flagged (private to :mod:`redkin.srs`).
 
 The kernels of :mod:`redkin.srs._ik_kernels` check each pose themselves
-(:func:`redkin.srs._ik_kernels.pose_defect`) and report a status; only a
+(:func:`redkin._pose_kernels.pose_defect`) and report a status; only a
 batch with a flagged pose comes here for the words of its error.
 """
 
