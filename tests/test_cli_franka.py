@@ -86,7 +86,8 @@ def test_arm_angles_prints_the_library_q7_sets_and_optimum(capsys):
     [
         (["ik", "franka-panda", "--psi", "0"], "its redundancy parameter is q7 (--q7), not psi"),
         (["ik", "pa10-7c", "--q7", "0"], "its redundancy parameter is the arm angle (--psi), not q7"),
-        (["ik", "kinova-gen3", "--q7", "0"], "has no closed-form IK"),
+        (["ik", str(EXAMPLES / "sawyer.urdf"), "--q7", "0"], "has no closed-form IK"),
+        (["ik", "kinova-gen3", "--q7", "0"], "its redundancy parameter is the arm angle (--psi), not q7"),
         (["arm-angles", "franka-panda", "--weights", "1", "0"], "--weights"),
         (["ik", "franka-panda", "--q7", "0", "--branch", "+x+"], "branch must be three signs"),
     ],
