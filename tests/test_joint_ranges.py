@@ -72,6 +72,30 @@ def test_nearest_in_range_picks_the_representative_the_docs_promise(lower, width
         assert -np.pi - 1e-9 < placed <= np.pi + 1e-9
 
 
+@settings(max_examples=300, deadline=None)
+@given(st.integers(-2, 1), st.integers(1, 3), st.integers(1, 3), st.integers(-6, 6), st.floats(0.0, 0.5))
+def test_a_value_turned_onto_a_stop_of_whole_turns_stays_within_it(stop_turns, width_turns, turns, ulps, past):
+    """A stop at a whole number of turns (the xArm7's -2 pi) and a value a few ulps from that stop plus whole turns,
+    with a seed near the stop: the turned value may round past the stop, and must be put on it (found by
+    tests/test_numerical_ik: an xArm7 solution at -6.283185307179587 below its -2 pi stop)."""
+    lower = TURN * stop_turns
+    upper = lower + TURN * width_turns
+    value = lower + TURN * min(turns, width_turns)
+    for _ in range(abs(ulps)):
+        value = np.nextafter(value, np.inf if ulps > 0 else -np.inf)
+    chain = _one_joint(lower, upper)
+    placed = chain.nearest_in_range([value], near=[lower - past])
+    assert lower <= float(placed[0]) <= upper and bool(chain.within_limits(placed))
+
+
+def test_the_xarm_joint_one_value_below_its_stop():
+    xarm = ufactory_xarm7()
+    q, near = np.zeros(7), np.zeros(7)
+    q[0], near[0] = 6.283185307179585, -6.0
+    placed = xarm.nearest_in_range(q, near=near)
+    assert placed[0] >= xarm.lower[0] and bool(xarm.within_limits(placed))
+
+
 def test_a_value_in_place_comes_back_bit_for_bit():
     chain = _one_joint(-4.7124, 4.7124)
     q = np.array([[0.123456789], [-3.5], [4.7124], [-4.7124]])

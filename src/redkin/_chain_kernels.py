@@ -222,7 +222,8 @@ def range_middle(lower, upper):
 def representative(value, lower, upper, target):
     """The angle ``value + 2 pi k`` inside ``[lower, upper]`` nearest ``target``; NaN where no ``k`` puts it inside.
 
-    ``k = 0`` where ``value`` itself is the answer, so a value already in place comes back bit for bit.  An
+    ``k = 0`` where ``value`` itself is the answer, so a value already in place comes back bit for bit; a turned
+    value that rounding puts an ulp past a limit is put on the limit.  An
     unlimited joint (both limits infinite) gets the representative nearest ``target``.
     """
     k = np.floor((target - value) / (2.0 * np.pi) + 0.5)
@@ -234,7 +235,8 @@ def representative(value, lower, upper, target):
     if low > high:
         return np.nan
     k = min(max(k, low), high)
-    return value + 2.0 * np.pi * k if k != 0.0 else value
+    moved = value + 2.0 * np.pi * k if k != 0.0 else value
+    return min(max(moved, lower), upper)  # the turn's rounding may land an ulp past a limit
 
 
 @kernel

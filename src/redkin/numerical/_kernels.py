@@ -292,14 +292,13 @@ def nearest_pose(target, out):
 @kernel
 def normalise(q, seed, seeded, lower, upper):
     """Each joint moved by whole turns to the representative within its limits nearest the seed (with a seed), or
-    an unlimited joint into ``[-pi, pi]`` (without); a value already in place stays bit for bit, and one that the
-    turn's rounding puts past a limit is put on it (the certificate is taken afterwards)."""
+    an unlimited joint into ``[-pi, pi]`` (without); a value already in place stays bit for bit
+    (:func:`redkin._chain_kernels.representative`, which keeps the turned value within the limits)."""
     for j in range(q.shape[0]):
         if seeded:
             q[j] = _chain_kernels.representative(q[j], lower[j], upper[j], seed[j])
         elif lower[j] == -np.inf and upper[j] == np.inf:
             q[j] = _chain_kernels.representative(q[j], lower[j], upper[j], 0.0)
-        q[j] = min(max(q[j], lower[j]), upper[j])  # a whole turn added may round past a limit by an ulp
 
 
 @kernel
