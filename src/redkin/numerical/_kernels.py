@@ -17,7 +17,7 @@ Inputs are trusted (C-contiguous float64 arrays of the documented shapes);
 
 from __future__ import annotations
 
-from math import atan2, pi, sqrt
+from math import atan2, isfinite, pi, sqrt
 
 import numpy as np
 
@@ -43,6 +43,8 @@ STALL = 8
 #: After a start is certified: steps that pull it towards the seed, with one ([N5]); then plain steps that take its
 #: error from the tolerance to rounding.
 SETTLE, POLISH = 8, 2
+#: An error (position plus rotation) at which the polish stops: rounding.
+ROUNDING = 1e-14
 #: The phases of :func:`descend`.
 DESCENT, PULL, FINAL = 0, 1, 2
 #: The pull towards the seed has settled when its last step moved no joint by more than this [rad].
@@ -221,9 +223,9 @@ def descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolera
 
     Three phases: plain damped steps [N3]-[N4] until the error is within the tolerance; with a seed, up to
     :data:`SETTLE` steps that also pull towards it [N5] while the error stays within the tolerance (the pull only
-    once certified, so that it never slows the descent); then :data:`POLISH` plain steps, which take the error
-    from the tolerance to rounding.  The last certified ``q`` is the answer.  ``best`` (n,) and ``best_error``
-    (2,) keep the joint vector of the smallest error met across calls (position plus rotation).
+    once certified, so that it never slows the descent); then up to :data:`POLISH` plain steps, which take the error
+    from the tolerance to rounding (:data:`ROUNDING`).  The last certified ``q`` is the answer.  ``best`` (n,) and
+    ``best_error`` (2,) keep the joint vector of the smallest error met across calls (position plus rotation).
     """
     n = q.shape[0]
     trig, pose, e, jac, free, pull, a, y, dq, certified = work
@@ -254,7 +256,7 @@ def descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolera
                 phase, left = FINAL, POLISH
                 continue
             certified[:] = q
-            if left == 0:
+            if left == 0 or (phase == FINAL and position + angle <= ROUNDING):
                 if phase == FINAL:
                     return True
                 phase, left = FINAL, POLISH
@@ -314,32 +316,42 @@ def distinct(q, solutions, found, separation):
 
 
 @kernel
+def scratch(n):
+    """The scratch arrays of :func:`solve_one` for a chain of ``n`` joints, made once per batch: those of
+    :func:`descend` (``work``) and the target, the random stream's state, two joint vectors and an error pair."""
+    work = (np.empty((n, 2)), np.empty((1, 4, 4)), np.empty(6), np.empty((6, n)), np.empty(n), np.empty(n),
+            np.empty((6, 6)), np.empty(6), np.empty(n), np.empty(n))
+    local = (np.empty((4, 4)), np.empty(1, dtype=np.uint64), np.empty((2, n)), np.empty(2))
+    return work, local
+
+
+@kernel
 def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, settings, starts, q_out, found_out, closest,
-              error):
+              error, work, local):
     """Up to ``count = q_out.shape[0]`` distinct certified solutions of one pose ``target`` (4, 4) into ``q_out``
     (count, n) and ``found_out`` (count,), with at most ``starts`` starts; returns the starts used.
 
     ``closest`` (n,) receives the first solution, or without one the joint vector of the smallest error met, and
     ``error`` (2,) its position and rotation error.  ``bounds`` (2, n) holds the lower and the upper limits.  With
-    a seed the solutions are sorted by their largest joint
-    distance to it.  A target that is not a pose (:func:`~redkin._pose_kernels.pose_defect`) returns -1.
+    a seed the solutions are sorted by their largest joint distance to it.  ``work`` and ``local`` are the scratch
+    arrays of :func:`scratch`.  A target that is not a pose (:func:`~redkin._pose_kernels.pose_defect`), or a seed
+    that is not finite, returns -1.
     """
     lower, upper = bounds[0], bounds[1]
     n = lower.shape[0]
     count = q_out.shape[0]
     if pose_defect(target) != OK:
         return -1
+    for j in range(n):
+        if seeded and not isfinite(seed[j]):
+            return -1
     tolerance = settings[POSITION_TOLERANCE:ROTATION_TOLERANCE + 1]
-    work = (np.empty((n, 2)), np.empty((1, 4, 4)), np.empty(6), np.empty((6, n)), np.empty(n), np.empty(n),
-            np.empty((6, 6)), np.empty(6), np.empty(n), np.empty(n))
-    goal = np.empty((4, 4))
+    goal, state, vectors, best_error = local
+    q, best = vectors[0], vectors[1]
     nearest_pose(target, goal)
     target = goal
-    state = np.empty(1, dtype=np.uint64)
     state[0] = stream
-    q = np.empty(n)
-    best = np.empty(n)
-    best_error = np.full(2, np.inf)
+    best_error[0], best_error[1] = np.inf, np.inf
     found = 0
     used = 0
     q_out[:] = 0.0
@@ -387,8 +399,9 @@ def solve(start, stop, targets, seeds, seeded, streams, links, ends, standard, b
     ``streams`` (N,) uint64, into ``q_out`` (N, count, n), ``found_out`` (N, count), ``closest`` (N, n),
     ``error`` (N, 2) and ``used`` (N,); returns how many targets are not poses."""
     bad = 0
+    work, local = scratch(bounds.shape[1])
     for b in range(start, stop):
         used[b] = solve_one(targets[b], seeds[b], seeded, streams[b], links, ends, standard, bounds, settings, starts,
-                            q_out[b], found_out[b], closest[b], error[b])
+                            q_out[b], found_out[b], closest[b], error[b], work, local)
         bad += used[b] < 0
     return bad

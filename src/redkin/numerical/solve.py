@@ -17,6 +17,7 @@ not on the other poses, the thread count or the chunking of a batch.
 
 from __future__ import annotations
 
+from functools import lru_cache
 from math import prod
 from typing import NamedTuple
 
@@ -126,16 +127,17 @@ def ik(
     pose = as_float_array(pose, "pose")
     if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
         raise RedkinError(f"pose must have shape (..., 4, 4), got shape {pose.shape}")
-    count = check_count(count, "count", 1, _MAX_COUNT)
-    restarts = check_count(restarts, "restarts", 1, _MAX_RESTARTS)
-    settings = np.array([*_tolerance(tolerance), _positive(separation, "separation")])
+    if not (type(count) is int and 1 <= count <= _MAX_COUNT):
+        count = check_count(count, "count", 1, _MAX_COUNT)
+    if not (type(restarts) is int and 1 <= restarts <= _MAX_RESTARTS):
+        restarts = check_count(restarts, "restarts", 1, _MAX_RESTARTS)
+    settings = _settings(tolerance, separation)
     shape = pose.shape[:-2]
-    seeds = np.zeros(n) if q0 is None else as_float_array(q0, "q0")
+    seeds = _NO_SEED if q0 is None else as_float_array(q0, "q0")
     if q0 is not None:
         if seeds.ndim < 1 or seeds.shape[-1] != n:
             raise RedkinError(f"q0 must have shape (..., {n}) for {chain.name!r} ({n} joints), got shape "
                               f"{seeds.shape}")
-        check_finite(seeds, "q0")
         if seeds.ndim > 1:
             try:
                 shape = np.broadcast_shapes(shape, seeds.shape[:-1])
@@ -148,7 +150,7 @@ def ik(
                              f"most {_MAX_VALUES:.0e} are computed in one call: split the batch",
                              name="pose", value=size * count * n, maximum=_MAX_VALUES)
     poses = kernel_array(pose, shape + (4, 4)).reshape(size, 4, 4)
-    seeds = kernel_array(seeds, shape + (n,)).reshape(size, n)
+    seeds = kernel_array(np.zeros(n) if q0 is None else seeds, shape + (n,)).reshape(size, n)
     if rng is None:
         streams = np.arange(size, dtype=np.uint64)
     else:
@@ -161,10 +163,29 @@ def ik(
     used = np.empty(size, dtype=np.int64)
     if run_batch(_kernels.solve, size, poses, seeds, q0 is not None, streams, chain._links, chain._ends,
                  chain._standard, chain._bounds, settings, restarts, q, found, closest, error, used):
-        check_pose(pose)  # words the error the kernel found
+        if q0 is not None:
+            check_finite(seeds, "q0")  # words the error the kernel found: the seeds, then the poses
+        check_pose(pose)
         raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
     return NumericalSolutions(q.reshape(shape + (count, n)), found.reshape(shape + (count,)),
                               closest.reshape(shape + (n,)), error.reshape(shape + (2,)), used.reshape(shape))
+
+
+#: ``q0`` not given (a placeholder: the kernel reads no seed then).
+_NO_SEED = np.zeros(0)
+
+
+def _settings(tolerance: float | tuple[float, float], separation: float) -> np.ndarray:
+    """The kernel's ``settings`` array, validated; the same array for the same plain numbers (most calls)."""
+    try:
+        return _settings_cached(tolerance, separation)
+    except TypeError:  # an unhashable tolerance (a list): validated afresh
+        return np.array([*_tolerance(tolerance), _positive(separation, "separation")])
+
+
+@lru_cache(maxsize=64)
+def _settings_cached(tolerance: float | tuple[float, float], separation: float) -> np.ndarray:
+    return np.array([*_tolerance(tolerance), _positive(separation, "separation")])
 
 
 def _positive(value: float, name: str) -> float:
