@@ -129,7 +129,7 @@ def _iiwa_like() -> SerialChain:
 
 @pytest.mark.parametrize("chain, message, distance", [
     # Franka's modified DH rows: a_5 (row 6) offsets axis 6 from axis 5
-    (_panda_rows(a=(5, 1e-6)), r"axes 5 and 6 miss each other by 1e-06 m", 1e-6),
+    (_panda_rows(a=(5, 1e-4)), r"axes 5 and 6 miss each other by 0\.0001 m", 1e-4),
     (get_robot("kinova-gen3"), r"axes 1 and 3 miss each other by 0\.01175 m", 0.01175),
     (get_robot("kuka-iiwa14"), r"axes 6 and 7 meet \(no wrist offset\): an S-R-S wrist", 0.0),
     (_iiwa_like(), r"axes 6 and 7 meet \(no wrist offset\): an S-R-S wrist", 0.0),
@@ -163,3 +163,20 @@ def test_the_geometry_is_cached_on_the_chain():
     assert geometry.kernel_arm is geometry.kernel_arm and not geometry.kernel_arm.flags.writeable
     other = chain.with_limits(chain.lower, chain.upper)  # a new chain derives its own
     assert franka_geometry(other) is not geometry and franka_geometry(other) is franka_geometry(other)
+
+
+@pytest.mark.parametrize("offset", [1e-6, 5e-6])
+def test_a_franka_arm_off_by_rounding_is_snapped_and_says_how_far(offset):
+    """A description whose axes miss the class by rounding (UFactory's xArm7 URDF prints pi/2 as 1.5708) is solved
+    as the exact arm; its solutions reach the description's poses to about that rounding, and the class says so."""
+    from redkin.srs import arm_angle_class
+
+    chain = _panda_rows(a=(5, offset))
+    geometry = franka_geometry(chain)
+    assert geometry.snapped
+    reason = arm_angle_class(chain).reason
+    assert "snapped to the exact arm from the description's rounding" in reason
+    q = np.array([0.3, -0.5, 0.2, -2.0, 0.4, 1.8, 0.5])
+    result = ik(chain, chain.fk(q), q[6])
+    assert np.abs(chain.fk(result.q[result.exists]) - chain.fk(q)).max() < 20 * offset
+    assert np.abs(result.q[result.exists] - q).max(axis=-1).min() < 1e3 * offset

@@ -28,7 +28,7 @@ configurations).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -43,6 +43,8 @@ from redkin.srs.geometry import TABLE1_ALPHA, elbow_equation
 #: perpendicular.  Tight on purpose, as for S-R-S arms: an arm accepted here is solved as if it were exactly of the
 #: class.
 _CLASS_TOLERANCE = 1e-9
+#: The largest difference of a pose entry between a description and its snapped form (rounding of the description).
+_SNAP_POSE = 1e-4
 _CACHE_KEY = "_franka_geometry"
 # Columns of :attr:`FrankaGeometry.kernel_arm`.
 D1, A3, D3, A4, D5, A6, D6, MEAN, AMPLITUDE, PHASE = range(10)
@@ -72,6 +74,7 @@ class FrankaGeometry:
     d5: float
     a6: float
     d6: float
+    snapped: bool = False
 
     @cached_property
     def kernel_arm(self) -> np.ndarray:
@@ -158,11 +161,19 @@ def franka_geometry(chain: SerialChain) -> FrankaGeometry:
 
 
 def _derive(chain: SerialChain) -> FrankaGeometry | NotArmAngleClassError:
-    """:func:`franka_geometry` without the cache; a refusal is returned (and cached) rather than raised."""
+    """:func:`franka_geometry` without the cache; a refusal is returned (and cached) rather than raised.
+
+    A description that misses the class only by rounding (axes off by at most
+    :data:`redkin.srs.conventions.SNAP_DISTANCE` m and :data:`~redkin.srs.conventions.SNAP_ANGLE` rad, e.g.
+    UFactory's xArm7 URDF with pi/2 printed as 1.5708) is snapped to the exact arm, as S-R-S arms are.
+    """
     try:
-        return _convert(chain)
+        return _convert(chain, snap=False)
     except NotArmAngleClassError as refusal:
-        return refusal
+        try:
+            return _convert(chain, snap=True)
+        except NotArmAngleClassError:
+            return refusal
 
 
 def _refuse(chain: SerialChain, reason: str, distance: float) -> NotArmAngleClassError:
@@ -179,19 +190,24 @@ def _line_distance(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarra
     return float(abs(across @ normal) / size)
 
 
-def _convert(chain: SerialChain) -> FrankaGeometry:
+def _convert(chain: SerialChain, snap: bool) -> FrankaGeometry:
+    """The Franka-class form of a chain (exact, or snapped from rounding); a refusal names the first condition the
+    chain breaks."""
+    from redkin.srs.conventions import SNAP_ANGLE, SNAP_DISTANCE
+
+    distance, angle_tolerance = (SNAP_DISTANCE, np.sin(SNAP_ANGLE)) if snap else (_CLASS_TOLERANCE, _CLASS_TOLERANCE)
     if chain.n != 7:
         raise _refuse(chain, f"it has {chain.n} joints, not 7", 0.0)
     directions, points = chain.joint_axes(np.zeros(7))
     directions = directions * chain.sign[:, None]
     cosines = np.abs(np.sum(directions[:-1] * directions[1:], axis=-1))
-    if cosines.max() > _CLASS_TOLERANCE:
+    if cosines.max() > angle_tolerance:
         k = int(np.argmax(cosines))
         angle = float(np.degrees(np.arccos(np.clip(cosines[k], 0.0, 1.0))))
         raise _refuse(chain, f"axes {k + 1} and {k + 2} are {angle:.6g} deg apart, not 90", np.radians(90.0 - angle))
     for first, second in ((0, 1), (1, 2), (0, 2), (4, 5)):
         gap = _line_distance(points[first], directions[first], points[second], directions[second])
-        if gap > _CLASS_TOLERANCE:
+        if gap > distance:
             raise _refuse(chain, f"axes {first + 1} and {second + 1} miss each other by {gap:.6g} m "
                                  f"(they must meet)", gap)
     wrist_offset = _line_distance(points[5], directions[5], points[6], directions[6])
@@ -203,7 +219,7 @@ def _convert(chain: SerialChain) -> FrankaGeometry:
     through = np.array([shoulder, shoulder, shoulder, points[3], wrist, wrist, points[6]])
     origin = shoulder + ((chain.base[:3, 3] - shoulder) @ directions[0]) * directions[0]
     rows, frame0, frame7 = dh_rows_from_lines(through, directions, np.sign(TABLE1_ALPHA), origin)
-    if abs(rows[3, 2]) > _CLASS_TOLERANCE:
+    if abs(rows[3, 2]) > distance:
         raise _refuse(chain, f"its elbow is offset {abs(rows[3, 2]):.6g} m along axis 4 (only offsets across axis 4, "
                              "as on the WAM and the Panda, are solved)", abs(rows[3, 2]))
     a3, a4, d3, d5 = rows[2, 0], rows[3, 0], rows[2, 2], rows[4, 2]
@@ -216,6 +232,14 @@ def _convert(chain: SerialChain) -> FrankaGeometry:
         tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
         source=f"{chain.source} (in the Franka-class DH form)", joint_names=chain.joint_names,
     )
-    certify_same_poses(chain, form, "Franka-class form")
+    if snap:  # the snapped rows: a tool that makes the poses at q = 0 agree, and poses that differ by rounding only
+        home = replace(form, tool=np.eye(4)).fk(np.zeros(7))
+        form = replace(form, tool=np.linalg.inv(home) @ chain.fk(np.zeros(7)))
+        q = np.random.default_rng(0).uniform(-np.pi, np.pi, (16, 7))
+        error = float(np.max(np.abs(form.fk(q) - chain.fk(q))))
+        if error > _SNAP_POSE:
+            raise _refuse(chain, f"snapped to the class, its poses move by {error:.3g} m", error)
+    else:
+        certify_same_poses(chain, form, "Franka-class form")
     return FrankaGeometry(chain=chain, form=form, d1=float(d[0]), a3=float(a3), d3=float(d3), a4=float(a4),
-                          d5=float(d5), a6=float(a[5]), d6=float(d[5]))
+                          d5=float(d5), a6=float(a[5]), d6=float(d[5]), snapped=snap)

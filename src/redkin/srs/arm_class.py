@@ -55,15 +55,28 @@ def arm_angle_class(chain: SerialChain) -> ArmClass:
             except ValueError:
                 return ArmClass(GENERAL, f"{exc}; {other}")
             return ArmClass(NEARLY_SRS, nearly.describe())
+        snapped = _snapped(chain, franka.form, False) if franka.snapped else ""
         return ArmClass(FRANKA, f"spherical shoulder, axes 5 and 6 meet, axis 7 offset a_6 {abs(franka.a6):.6g} m "
                                 f"from axis 6, elbow offsets {abs(franka.a3):.6g} m and {abs(franka.a4):.6g} m: the "
-                                "redundancy parameter is q7")
+                                f"redundancy parameter is q7{snapped}")
     lengths = f"d_se {geometry.d_se:.6g} m, d_ew {geometry.d_ew:.6g} m"
-    dropped = departures(chain)
-    if dropped:  # snapped: its departures are the description's rounding
-        what, value, unit = dropped[0]
-        lengths += f" (to the description's rounding: {what} {value:.3g} {unit} at most)"
+    if departures(chain):  # snapped: its departures are the description's rounding
+        lengths += _snapped(chain, geometry.chain, True)
     if geometry.offset_elbow:
         return ArmClass(OFFSET_ELBOW, f"joints 1-3 and 5-7 meet in points, joints 3-5 do not: {lengths}, elbow offsets "
                                       f"a_3 {geometry.a3:.6g} m, a_4 {geometry.a4:.6g} m")
     return ArmClass(SRS, f"joints 1-3, 3-5 and 5-7 meet in points: {lengths}")
+
+
+def _snapped(chain: SerialChain, exact: SerialChain, srs: bool) -> str:
+    """How a description whose departures are rounding was snapped to the exact arm of its class: for an S-R-S arm
+    its largest departure, and how far the poses then move."""
+    from redkin.srs.conventions import departures, model_error
+
+    position, rotation = model_error(chain, exact)
+    largest = ""
+    if srs:
+        what, value, unit = departures(chain)[0]
+        largest = f": {what} {value:.3g} {unit} at most"
+    return (f" (snapped to the exact arm from the description's rounding{largest}; poses differ by up to "
+            f"{position:.2g} m and {rotation:.2g} rad)")

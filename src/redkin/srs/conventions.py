@@ -47,9 +47,10 @@ from redkin.srs.geometry import TABLE1_ALPHA
 #: ``|cos|`` between consecutive axes, for an S-R-S arm.  Tight on purpose: a chain accepted here is
 #: solved in closed form as if it were exactly S-R-S, so a looser test would return wrong answers.
 _SRS_TOLERANCE = 1e-9
-#: Departures from S-R-S at most this large (metres, radians) are rounding of the description (pi/2 written with 6
-#: digits is 3.3e-6 rad off): :func:`table1_form` snaps them to the exact neighbour.
-SNAP_DISTANCE, SNAP_ANGLE = 1e-6, 1e-5
+#: Departures from S-R-S at most this large (metres, radians) are rounding of the description: pi/2 printed as
+#: 1.5708 (as Kinova and UFactory print it) is 3.7e-6 rad off, which moves axes about 1e-6 m apart on a 0.3 m link;
+#: :func:`table1_form` snaps them to the exact neighbour (and :mod:`redkin.franka.geometry` the Franka class).
+SNAP_DISTANCE, SNAP_ANGLE = 1e-5, 1e-5
 #: An elbow whose axes 3-5 miss one point by more than this is an offset elbow (the WAM's 45 mm); below it, and
 #: below the tolerance of :func:`neighbour_form`, a plain elbow whose offset is dropped.
 _ELBOW_OFFSET = 1e-9
