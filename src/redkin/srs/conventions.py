@@ -186,10 +186,10 @@ def _convert(chain: SerialChain, tolerance: float) -> SerialChain:
     centres = {}
     for name, group in _GROUPS:
         centres[name], distance = meeting_point(points[list(group)], directions[list(group)])
-        if distance > tolerance:
+        gap, i, k = max((_line_distance(points[i], directions[i], points[k], directions[k]), i, k)
+                        for i, k in ((group[0], group[1]), (group[1], group[2]), (group[0], group[2])))
+        if max(distance, gap) > tolerance:  # the tolerance holds for the offsets as departures() reports them
             numbers = "-".join(str(k + 1) for k in group[::2])
-            gap, i, k = max((_line_distance(points[i], directions[i], points[k], directions[k]), i, k)
-                            for i, k in ((group[0], group[1]), (group[1], group[2]), (group[0], group[2])))
             raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point: "
                                         f"axes {i + 1} and {k + 1} miss each other by {gap:.4g} m", chain.name,
                                         float(gap))
