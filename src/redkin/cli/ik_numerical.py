@@ -49,7 +49,10 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
     if args.seed is not None:
         options["rng"] = args.seed
     try:
-        why = f"{chain.name} has a closed form in {redundancy_parameter(chain)}; solved numerically as asked"
+        parameter = redundancy_parameter(chain)
+        why = (f"{chain.name} has a closed form in {parameter}; solved numerically as asked (--numerical)"
+               if args.numerical else f"{chain.name} has a closed form in {parameter}, but no --{parameter} was "
+                                      "given: solved numerically")
     except NotArmAngleClassError as error:
         why = str(error)
     result = ik(chain, poses, **options)
@@ -72,7 +75,7 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
                 print(f"{label}error {entry['error']['position']:.2g} m, {entry['error']['rotation']:.2g} rad "
                       f"({entry['starts']} start{'s' if entry['starts'] != 1 else ''}{short})")
             else:
-                print(f"{label}no solution found in {entry['starts']} starts; the closest joint values "
+                print(f"{label}no solution found in {entry['starts']} starts; the closest joint values"
                       f"{format_values(entry['closest'])} [{unit}] miss by {entry['error']['position']:.3g} m and "
                       f"{entry['error']['rotation']:.3g} rad")
     return 0 if bool(np.all(result.found[..., 0])) else 1

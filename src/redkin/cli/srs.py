@@ -32,16 +32,18 @@ from redkin.cli.ik_numerical import add_numerical_arguments, run_numerical
 def register(subparsers: argparse._SubParsersAction) -> None:
     solve = subparsers.add_parser(
         "ik", help="joint values for a pose (or every pose of --poses): at a redundancy parameter, the arm angle "
-                   "--psi of an S-R-S or offset-elbow arm (paper 000) or --q7 of a Franka-class arm (Panda, FR3, "
-                   "xArm7); without one, numerically on any arm, certified and within the limits (exit 1 where a "
-                   "pose has no solution found)"
+                   "--psi of an S-R-S, offset-elbow or nearly S-R-S arm (paper 000; the Gen3 and Jaco2 polished on "
+                   "the real arm) or --q7 of a Franka-class arm (Panda, FR3, xArm7); without one, numerically on any "
+                   "arm, certified and within the limits (exit 1 where a pose has no solution found)"
     )
     add_robot_argument(solve)
     add_target_arguments(solve, required=False)
     solve.add_argument("--poses", metavar="FILE.npy", help="solve every pose of an (N, 4, 4) array instead of "
                                                           "--position and --rotation")
     parameter = solve.add_mutually_exclusive_group()
-    parameter.add_argument("--psi", type=float, help="arm angle (radians, or degrees with --deg)")
+    parameter.add_argument("--psi", type=float,
+                           help="arm angle of an S-R-S, offset-elbow or nearly S-R-S arm (radians, or degrees with "
+                                "--deg)")
     parameter.add_argument("--q7", type=float, help="value of joint 7 of a Franka-class arm (radians, or degrees "
                                                      "with --deg)")
     group = solve.add_mutually_exclusive_group()
