@@ -303,3 +303,14 @@ def test_a_parse_failure_gives_its_whole_reason_in_one_line(tmp_path: Path, monk
     assert main(["fk", str(file), "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [f"redkin: error: {message}"]
+
+
+def test_a_file_of_macros_only_says_so(tmp_path: Path):
+    """Kinova's j2s7s300.xacro defines the arm's macro under a <root> element and calls nothing: the parser's own
+    message was "Required attribute not set in XML: name" (a new-user tryout)."""
+    path = tmp_path / "macros.xacro"
+    path.write_text('<?xml version="1.0"?>\n<!-- macros -->\n<root xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                    '  <xacro:macro name="arm" params="prefix"><link name="${prefix}l"/></xacro:macro>\n</root>\n')
+    with pytest.raises(RobotDescriptionError, match=r"it expands to no robot \(its root element is <root>, not "
+                                                    r"<robot>\): a file of macros only; load the \.xacro that calls"):
+        get_robot(path)

@@ -187,6 +187,11 @@ def _parse(path: Path, arguments: dict[str, str], places: list[Path]):
                                     path=str(path)) from None
     if path.suffix.lower() == ".xacro":
         text = _expand_xacro(path, arguments, places)
+        root = re.search(r"<\s*([A-Za-z_][\w:.-]*)[\s>/]", re.sub(r"<\?.*?\?>|<!--.*?-->", "", text, flags=re.S))
+        if root is not None and root[1] != "robot":
+            raise RobotDescriptionError(f"{path}: it expands to no robot (its root element is <{root[1]}>, not "
+                                        "<robot>): a file of macros only; load the .xacro that calls them",
+                                        path=str(path))
     noise = io.StringIO()
     try:
         with contextlib.redirect_stderr(noise):  # the parser prints warnings of its own
