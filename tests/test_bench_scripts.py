@@ -213,3 +213,68 @@ def test_numerical_quick_run_of_one_arm():
     assert redkin.success == redkin.claimed and result.seeded.success == result.seeded.claimed
     assert result.batch.success == redkin.success and result.same_solution == result.seeded.success
     assert all(row.targets == (10 if row.name.startswith("mink") else 200) for row in result.rows)
+
+
+# bench_nearly.py (issue 27): the certificate, the pose sets, ssik's frames, and one quick run
+
+
+def test_nearly_certificate_and_same_solution_checks():
+    """bench_nearly.certified: our FK within 1e-9 m and rad (1e-10 rad off the last joint passes, 1e-8 fails);
+    distance and distinct_rows compare joints modulo 2 pi, so a row a turn away is the same solution."""
+    import bench_nearly
+
+    chain = bench_nearly.ARMS["jaco2"].load()
+    q = bench_nearly.in_limits(chain, np.random.default_rng(8), 3)
+    moved = q + np.array([[0.0], [1e-10], [1e-8]]) * np.eye(7)[6]
+    assert bench_nearly.certified(chain, moved, chain.fk(q)).tolist() == [True, True, False]
+    turned = q[0] + 2.0 * np.pi * np.array([1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0])
+    rows = np.stack([q[0], turned, q[0] + 2e-6, q[1]])
+    assert bench_nearly.distance(rows, q[0]).max() > bench_nearly.SAME
+    np.testing.assert_allclose(bench_nearly.distance(rows[:2], q[0]), 0.0, atol=1e-14)
+    assert bench_nearly.distinct_rows(rows) == 3 and bench_nearly.distinct_rows(rows[:0]) == 0
+
+
+@pytest.mark.parametrize(("name", "q4"), [("gen3", 0.0), ("jaco2", np.pi)])
+def test_nearly_pose_sets_lie_near_the_stretched_elbow_and_q3_zero(name, q4):
+    """The stretched elbow (the neighbour's theta_4 at its elbow phase, where [000 eq. 11]'s shoulder-wrist
+    distance is largest) is at q4 = 0 on the Gen3 and pi on the Jaco2; the near sets hold that joint, and q3, within
+    1 deg of it and lie within the limits."""
+    import bench_nearly
+
+    from redkin.srs import nearly_srs
+
+    arm = nearly_srs(bench_nearly.ARMS[name].load())
+    assert bench_nearly.stretched_q4(arm) == pytest.approx(q4, abs=1e-12)
+    random, stretched, near_q3 = bench_nearly.pose_sets(arm, 5, 20)
+    assert len(random.q) == 5 and len(stretched.q) == len(near_q3.q) == 20
+    assert np.abs(stretched.q[:, 3] - q4).max() <= bench_nearly.NEAR
+    assert np.abs(near_q3.q[:, 2]).max() <= bench_nearly.NEAR
+    np.testing.assert_array_equal(stretched.poses, arm.chain.fk(stretched.q))
+
+
+@pytest.mark.parametrize(("name", "equal"), [("gen3", False), ("gen3-urdf", True), ("jaco2", True)])
+def test_nearly_ssik_frames_are_ours_where_the_script_runs_ssik(name, equal):
+    """ssik's gen3_ik and j2s7s300_ik compute our FK of the URDF arms (to 1e-12); the named DH Gen3 differs (the
+    URDF's rounded angles), so the script runs ssik on the URDF arms only."""
+    pytest.importorskip("ssik")
+    import bench_nearly
+
+    spec = bench_nearly.ARMS[name]
+    peer = bench_nearly.load_ssik(spec.reference)
+    assert not isinstance(peer, str), peer
+    residual = bench_nearly.ssik_fk_residual(spec.load(), peer, np.random.default_rng(9), 20)
+    assert (residual < 1e-12) == equal and bool(spec.ssik) == equal
+
+
+@pytest.mark.slow
+def test_nearly_quick_run_of_the_jaco2():
+    """bench_nearly.py --quick on the Jaco2: every row that redkin marks found passes our certificate, the batch
+    returns what one call per pose returns, and ssik's native answers are judged (when ssik is installed)."""
+    import bench_nearly
+
+    (result,) = bench_nearly.main(["--quick", "--arms", "jaco2"])
+    assert [s.poses for s in result.redkin] == [200, 50, 50]
+    assert all(s.uncertified == 0 for s in result.redkin) and result.redkin[0].found >= 190
+    assert any(line.startswith("|   one call per pose and the batch") and "200/200" in line for line in result.lines)
+    if result.ssik is not None:
+        assert [s.poses for s in result.ssik] == [200, 50, 50] and result.ssik_native is not None

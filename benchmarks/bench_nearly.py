@@ -1,0 +1,543 @@
+"""Nearly S-R-S arm-angle IK (issue 27, item 6): redkin.srs.nearly.ik beside ssik 8.2's approximate-S-R-S solver.
+
+Run: ``python benchmarks/bench_nearly.py`` (10^4 random poses and 10^3 near-singular poses per set and arm, about
+three minutes with ssik); ``--poses N`` (random poses), ``--near M`` (poses per near-singular set), ``--arms``
+(a subset of gen3, gen3-urdf, jaco2), ``--ssik-python K`` (poses for ssik's one-swivel Python call, 1000 by
+default), ``--quick`` (200 random, 50 near, 20 for the Python call).  Prints the machine, one table per arm and the
+issue's targets.
+
+The arms:
+
+* ``gen3``: ``redkin.models.get_robot("kinova-gen3")``, the Gen3 in the User Guide's DH form with exact right
+  angles.  Its poses differ from ssik's Gen3 by up to about 1.4e-5 m (printed): the maker's URDF writes pi/2 as
+  1.5708 and pi as 3.1416, and ssik keeps those digits.  A pose is not a frame away from the other model's (the
+  axes themselves differ by 7.3e-6 rad), so ssik's answers cannot be certified on this model at 1e-9: this arm
+  is redkin's alone.
+* ``gen3-urdf``: ``examples/gen3.urdf`` from ``base_link`` to ``end_effector_link``, the frames of ssik's
+  ``ssik.prebuilt.kinova.gen3_ik`` (its FK equals ours to about 3e-15, checked and printed): the side-by-side arm.
+  redkin classes it nearly S-R-S too (its departures include the rounding, 0.00021 deg off perpendicular).
+* ``jaco2``: ``examples/jaco2.urdf`` from ``j2s7s300_link_base`` to ``j2s7s300_link_7``, the frames of ssik's
+  ``j2s7s300_ik`` (FK equal to about 1e-15).  (ssik's ``jaco2_ik`` is the six-joint j2n6s200.)
+
+Poses: FK of joint vectors drawn uniformly within the limits (an unlimited joint in [-pi, pi]) by one
+``numpy.random.default_rng(1)`` per arm: the random set, then the set within 1 deg of the stretched elbow (q4 within
+1 deg of the value where the neighbour's theta_4 is its elbow phase: 0 on the Gen3, pi on the Jaco2) and the set
+within 1 deg of q3 = 0 (the user's joint value), the other joints uniform.
+
+redkin: ``nearly.ik(arm, pose, psi)`` with ``arm = nearly_srs(chain)`` and ``psi = nearly.arm_angle(arm, q)`` of
+the joint vector that made the pose; every branch (8 rows).  Timed one pose per call (``time.perf_counter`` around
+each call: median and 99th percentile), at 16 arm angles in one call (ssik's sweep), and as one call on all the
+random poses (best of 3, seconds per pose).  **Success**: the joint vector itself is among the returned rows, i.e. a
+row within 1e-6 rad of it in every joint (modulo 2 pi) that passes our own certificate: our FK within 1e-9 m and
+1e-9 rad of the pose and ``nearly.arm_angle`` within 1e-9 rad of psi (the certificate redkin states, checked again
+here).  The misses are split by whether fewer than 8 distinct certified rows came back (a branch reported
+missing) or all 8 did and q is not among them (near a singular configuration the real arm can have more than 8
+solutions at one pose and arm angle, or the polish of one branch can settle on another's solution).
+
+ssik 8.2 (``pip install ssik==8.2.*``; skipped with the reason when it does not import):
+
+* Its redundancy parameter is the elbow's swivel angle: the angle of the elbow joint's origin about the line from
+  its shoulder pivot to its wrist pivot, from the projection of the base's z axis (``ssik.chart``'s
+  ``param_of``; ``ssik.solvers.seven_r.srs``).  That is the same kind of parameter as paper 000's arm angle with a
+  different zero (the world's z instead of the reference plane of theta_3 = 0) and, on these arms, different
+  pivots (ssik's least-squares near-intersections).  More to the point, ssik's approximate-S-R-S solver
+  (``seven_r.srs_polished``) seeds its polish with the exact closed form of the snapped arm at the requested swivel
+  angles and then runs Levenberg-Marquardt on the six pose equations only: the swivel angle is not held, so an
+  answer lies on the self-motion near, not at, the requested angle (the drift is printed).  ssik has no call for
+  the solutions at a given redundancy parameter of the real arm.
+* Timed: its native C++ call for every solution of a pose, the prepared ``Solver`` that the artifact's
+  ``solve(T)`` calls, with ``respect_limits=0`` (no joint-limit filter, as ours): 16 swivel angles x 8 branches,
+  polished.  Its Python ``srs_polished.solve(kb, T, swivel_samples=[s])`` solves at one swivel angle (the native
+  call takes no angle); it is timed on the first ``--ssik-python`` random poses, at ``s`` = ssik's swivel angle of
+  the joint vector that made the pose, and its answers are compared with that joint vector.
+* Success: every answer is judged by our FK (1e-9 m and 1e-9 rad).  Since ssik cannot be asked for q's own
+  parameter, its comparable count is "q's branch found": a certified answer of the native sweep on q's Table 1
+  branch (the branch signs of redkin's neighbour).  Also printed: the distinct branches among its certified
+  answers per pose, beside redkin's certified rows.
+
+Times are per call, failures included.  The machine may be shared: the load average is printed at the start and
+the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import platform
+import subprocess
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from redkin import thread_count
+from redkin.chain import SerialChain
+from redkin.models import get_robot
+from redkin.srs import NearlySolutions, NearlySRS, arm_angle_of, nearly, nearly_srs
+from redkin.urdf import load_urdf
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+#: The certificate: position [m], rotation angle [rad] and arm angle [rad].
+TOLERANCE = 1e-9
+#: A returned row "is" the joint vector that made the pose when every joint is this close (radians, modulo 2 pi).
+SAME = 1e-6
+#: Half-width of the near-singular sets [rad].
+NEAR = np.radians(1.0)
+#: ssik's native sweep: swivel angles per pose (its default; the native call takes no angle).
+SSIK_SWEEP = 16
+
+
+class Arm(NamedTuple):
+    description: str
+    load: Callable[[], SerialChain]
+    ssik: str  # the ssik.prebuilt.kinova module whose frames equal ours, or "" when there is none
+    reference: str  # the ssik module to compare the FK with (printed), for an arm whose model differs
+
+
+ARMS = {
+    "gen3": Arm('redkin.models.get_robot("kinova-gen3") (DH, exact right angles)',
+                lambda: get_robot("kinova-gen3"), "", "gen3_ik"),
+    "gen3-urdf": Arm("examples/gen3.urdf, base_link to end_effector_link",
+                     lambda: load_urdf(EXAMPLES / "gen3.urdf", base="base_link", tip="end_effector_link"),
+                     "gen3_ik", "gen3_ik"),
+    "jaco2": Arm("examples/jaco2.urdf, j2s7s300_link_base to j2s7s300_link_7",
+                 lambda: load_urdf(EXAMPLES / "jaco2.urdf", base="j2s7s300_link_base", tip="j2s7s300_link_7"),
+                 "j2s7s300_ik", "j2s7s300_ik"),
+}
+
+
+class PoseSet(NamedTuple):
+    """Joint vectors, the poses they make and redkin's arm angles of them."""
+
+    label: str
+    q: np.ndarray
+    poses: np.ndarray
+    psi: np.ndarray
+
+
+class Success(NamedTuple):
+    """How redkin or ssik did on a pose set."""
+
+    poses: int
+    found: int  # redkin: q itself among the certified rows; ssik: q's branch among the certified answers
+    short: int  # misses where fewer than 8 distinct certified rows (redkin) or branches (ssik) came back
+    singular: int  # misses whose q is near a singular configuration (:func:`near_singular`)
+    rows: float  # distinct certified rows (redkin) or distinct certified branches (ssik) per pose
+    uncertified: int  # rows the solver returned (redkin: marked as existing) that fail our certificate
+
+
+# ----------------------------------------------------------------------------- poses and checks
+def wrapped(angle: np.ndarray) -> np.ndarray:
+    """Angles into ``[-pi, pi)``."""
+    return np.mod(angle + np.pi, 2.0 * np.pi) - np.pi
+
+
+def in_limits(chain: SerialChain, rng: np.random.Generator, count: int) -> np.ndarray:
+    """``count`` joint vectors uniform within the limits (an unlimited joint in [-pi, pi])."""
+    lower = np.where(np.isfinite(chain.lower), chain.lower, -np.pi)
+    upper = np.where(np.isfinite(chain.upper), chain.upper, np.pi)
+    return rng.uniform(lower, upper, (count, chain.n))
+
+
+def stretched_q4(arm: NearlySRS) -> float:
+    """The user's q4 where the neighbour's theta_4 is its elbow phase (the stretched elbow), moved into q4's limits
+    by whole turns."""
+    theta = np.zeros(7)
+    theta[3] = arm.geometry.elbow_equation.phase
+    value = float(arm.geometry.q_of_theta(theta)[3])
+    lower = arm.chain.lower[3] if np.isfinite(arm.chain.lower[3]) else -np.pi
+    return lower + float(np.mod(value - lower, 2.0 * np.pi))
+
+
+def pose_sets(arm: NearlySRS, count: int, near: int) -> list[PoseSet]:
+    """The random set and the sets within :data:`NEAR` of the stretched elbow and of q3 = 0, from one Generator."""
+    chain = arm.chain
+    rng = np.random.default_rng(1)
+    random = in_limits(chain, rng, count)
+    stretched = in_limits(chain, rng, near)
+    stretched[:, 3] = stretched_q4(arm) + rng.uniform(-NEAR, NEAR, near)
+    q3 = in_limits(chain, rng, near)
+    q3[:, 2] = rng.uniform(-NEAR, NEAR, near)
+    sets = []
+    for label, q in (("random in-limit q", random), ("within 1 deg of the stretched elbow", stretched),
+                     ("within 1 deg of q3 = 0", q3)):
+        assert chain.within_limits(q).all(), label
+        sets.append(PoseSet(label, q, chain.fk(q), nearly.arm_angle(arm, q)))
+    return sets
+
+
+def pose_errors(chain: SerialChain, q: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Position error [m] and rotation angle [rad] of our FK of ``q`` against ``poses`` (broadcast); the angle of
+    E = R_pose^T R is atan2(|vee(E - E^T)| / 2, (trace E - 1) / 2), accurate for small angles."""
+    reached = chain.fk(q)
+    position = np.linalg.norm(reached[..., :3, 3] - poses[..., :3, 3], axis=-1)
+    error = np.swapaxes(poses[..., :3, :3], -1, -2) @ reached[..., :3, :3]
+    skew = np.stack([error[..., 2, 1] - error[..., 1, 2], error[..., 0, 2] - error[..., 2, 0],
+                     error[..., 1, 0] - error[..., 0, 1]], axis=-1)
+    angle = np.arctan2(np.linalg.norm(skew, axis=-1) / 2.0, (np.trace(error, axis1=-2, axis2=-1) - 1.0) / 2.0)
+    return position, angle
+
+
+def certified(chain: SerialChain, q: np.ndarray, poses: np.ndarray) -> np.ndarray:
+    """Our certificate of rows ``q`` (..., 7) against ``poses`` (..., 4, 4): FK within :data:`TOLERANCE` m and rad."""
+    position, angle = pose_errors(chain, q, poses)
+    return (position <= TOLERANCE) & (angle <= TOLERANCE)
+
+
+def branch_signs(arm: NearlySRS, q: np.ndarray) -> np.ndarray:
+    """Table 1 branch signs (..., 3) of joint vectors on the neighbour (redkin's branches)."""
+    return np.asarray(arm_angle_of(arm.geometry, q).branch)
+
+
+def distance(rows: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Largest joint difference modulo 2 pi of rows (..., R, 7) from ``q`` (..., 7)."""
+    return np.abs(wrapped(rows - q[..., None, :])).max(axis=-1)
+
+
+def redkin_success(arm: NearlySRS, poses: PoseSet, result: NearlySolutions) -> Success:
+    """Whether each pose's joint vector is among redkin's rows at its own arm angle, certified by our checks."""
+    rows, exists = result.q, result.exists
+    goals = np.broadcast_to(poses.poses[:, None], rows.shape[:2] + (4, 4))
+    angle_error = np.abs(wrapped(nearly.arm_angle(arm, rows) - poses.psi[:, None]))
+    good = exists & certified(arm.chain, rows, goals) & (angle_error <= TOLERANCE)
+    found = np.any(good & (distance(rows, poses.q) <= SAME), axis=-1)
+    distinct = np.array([distinct_rows(rows[k, good[k]]) for k in range(len(rows))])
+    return Success(len(poses.q), int(found.sum()), int(np.sum(~found & (distinct < 8))),
+                   int(np.sum(~found & near_singular(arm, poses.q))), float(distinct.mean()),
+                   int((exists & ~good).sum()))
+
+
+#: :func:`near_singular`'s bound on the sines of the neighbour's theta_2, theta_4 and theta_6.
+SINGULAR_SINE = 0.05
+
+
+def near_singular(arm: NearlySRS, q: np.ndarray) -> np.ndarray:
+    """Whether the sine of the neighbour's theta_2, theta_4 - phi or theta_6 at ``q`` (..., 7) is below
+    :data:`SINGULAR_SINE` (shoulder, elbow or wrist near its singular configuration)."""
+    theta = arm.geometry.theta_of_q(q)[..., [1, 3, 5]] - np.array([0.0, arm.geometry.elbow_equation.phase, 0.0])
+    return np.abs(np.sin(theta)).min(axis=-1) < SINGULAR_SINE
+
+
+def distinct_rows(rows: np.ndarray) -> int:
+    """How many of ``rows`` (R, 7) differ from every earlier row by more than :data:`SAME` (modulo 2 pi)."""
+    return sum(k == 0 or bool(np.all(distance(rows[None, :k], rows[k][None])[0] > SAME)) for k in range(len(rows)))
+
+
+def per_call(solve: Callable[[int], Any], count: int) -> tuple[np.ndarray, list[Any]]:
+    """Seconds of each call ``solve(k)``, k < count, and what the calls returned."""
+    seconds = np.empty(count)
+    out = []
+    for k in range(count):
+        start = time.perf_counter()
+        out.append(solve(k))
+        seconds[k] = time.perf_counter() - start
+    return seconds, out
+
+
+# ----------------------------------------------------------------------------- ssik
+class Ssik(NamedTuple):
+    """ssik's prebuilt arm: its module, KinBody, prepared native Solver and swivel-circle constants."""
+
+    module: Any
+    kb: Any
+    solver: Any
+    shoulder: np.ndarray
+    ee_offset: np.ndarray
+    elbow_index: int
+    version: str
+
+
+def load_ssik(name: str) -> Ssik | str:
+    """ssik's prebuilt Kinova arm ``name``, or why it cannot be had."""
+    try:
+        import importlib
+
+        import ssik
+        from ssik import _native
+
+        module = importlib.import_module(f"ssik.prebuilt.kinova.{name}")
+    except Exception as exc:
+        return f"ssik not importable ({type(exc).__name__}: {exc}); pip install 'ssik==8.2.*'"
+    if not _native.native_available():
+        return "ssik's C++ extension is not shipped for this platform"
+    kb = module._KB
+    geometry = _native.srs_polished_native_geometry(kb)  # the relaxed pivots srs_polished solves with
+    solver = _native._solver(_native._load_ext(), kb, module.SOLVER_NAME)  # what module.solve(T) calls
+    if geometry is None or solver is None:
+        return f"ssik does not class {name} as approximately S-R-S"
+    return Ssik(module, kb, solver, np.asarray(geometry["shoulder_pivot"]), np.asarray(geometry["ee_offset_local"]),
+                int(geometry["elbow_index"]), ssik.__version__)
+
+
+def ssik_fk_residual(chain: SerialChain, peer: Ssik, rng: np.random.Generator, count: int = 200) -> float:
+    """Largest entry of ``chain.fk(q) - ssik fk(q)`` over random joint vectors in [-pi, pi]."""
+    q = rng.uniform(-np.pi, np.pi, (count, 7))
+    return float(max(np.abs(chain.fk(x) - peer.module.fk(x)).max() for x in q))
+
+
+def ssik_native(peer: Ssik, pose: np.ndarray) -> np.ndarray:
+    """Every answer of ssik's native call (its 16-swivel sweep, polished; no limit filter), (k, 7)."""
+    return np.reshape(np.asarray(peer.solver.solve(pose, 0)[0], dtype=float), (-1, 7))
+
+
+def ssik_one_swivel(peer: Ssik, pose: np.ndarray, swivel: float) -> np.ndarray:
+    """ssik's answers at one swivel angle (its Python ``srs_polished.solve``), (k, 7)."""
+    from ssik.solvers.seven_r import srs_polished
+
+    answers, _ = srs_polished.solve(peer.kb, pose, swivel_samples=np.array([swivel]))
+    return np.reshape(np.array([answer.q for answer in answers], dtype=float), (-1, 7))
+
+
+def ssik_swivel(peer: Ssik, q: np.ndarray, pose: np.ndarray) -> float:
+    """ssik's swivel angle of ``q`` at ``pose``: the elbow joint's origin about its shoulder-wrist line, from the
+    base z axis projected on the circle's plane (``ssik.chart``'s ``param_of``)."""
+    from ssik.solvers.seven_r.srs import _frame_at_joint_batch, _swivel_basis
+
+    wrist = pose[:3, 3] - pose[:3, :3] @ peer.ee_offset
+    axis = (wrist - peer.shoulder) / np.linalg.norm(wrist - peer.shoulder)
+    first, second = _swivel_basis(axis)
+    _, origin = _frame_at_joint_batch(peer.kb, q[None, :], peer.elbow_index)
+    elbow = origin[0] - peer.shoulder
+    return float(np.arctan2(elbow @ second, elbow @ first))
+
+
+def ssik_success(arm: NearlySRS, poses: PoseSet, answers: list[np.ndarray]) -> Success:
+    """ssik's native answers on a pose set: q's branch among the certified answers, distinct certified branches."""
+    found = short = singular = uncertified = branches = 0
+    own = branch_signs(arm, poses.q)
+    near = near_singular(arm, poses.q)
+    for k, rows in enumerate(answers):
+        good = certified(arm.chain, rows, poses.poses[k]) if len(rows) else np.zeros(0, dtype=bool)
+        uncertified += int((~good).sum())
+        signs = branch_signs(arm, rows[good]) if good.any() else np.zeros((0, 3))
+        hit = bool(np.any(np.all(signs == own[k], axis=-1)))
+        count = len({tuple(s) for s in signs.astype(int)})
+        found += hit
+        short += not hit and count < 8
+        singular += not hit and bool(near[k])
+        branches += count
+    return Success(len(poses.q), found, short, singular, branches / max(len(answers), 1), uncertified)
+
+
+# ----------------------------------------------------------------------------- one arm
+class Timing(NamedTuple):
+    median: float
+    p99: float
+
+
+def timing(seconds: np.ndarray) -> Timing:
+    return Timing(float(np.median(seconds)), float(np.percentile(seconds, 99)))
+
+
+class ArmResult(NamedTuple):
+    name: str
+    lines: list[str]
+    redkin_one: Timing
+    redkin_batch: float  # seconds per pose
+    ssik_native: Timing | None
+    redkin: list[Success]  # per pose set
+    ssik: list[Success] | None
+
+
+def measure(name: str, count: int, near: int, python_count: int) -> ArmResult:
+    spec = ARMS[name]
+    chain = spec.load()
+    arm = nearly_srs(chain)
+    lines = [f"## {name}: {spec.description}", "", f"- {arm.describe()}"]
+    peer = load_ssik(spec.reference)
+    if isinstance(peer, str):
+        lines.append(f"- ssik skipped: {peer}")
+    else:
+        residual = ssik_fk_residual(chain, peer, np.random.default_rng(7))
+        lines.append(f"- FK of ssik {peer.version}'s `{spec.reference}` ({peer.module.SOLVER_NAME}) minus ours, "
+                     f"200 random q: {residual:.2g}"
+                     + ("" if spec.ssik else "; different models, so ssik is not run on this arm's poses"))
+        if not spec.ssik:
+            peer = "its poses are not ssik's model's (above)"
+        elif residual > 1e-12:
+            lines.append("- ssik skipped: its model is not ours")
+            peer = "model differs"
+    sets = pose_sets(arm, count, near)
+    lines.append(f"- stretched elbow at q4 = {stretched_q4(arm):.6g} rad; poses: {count} random, {near} per near set")
+    random = sets[0]
+    nearly.ik(arm, random.poses[0], random.psi[0])  # compiled (or loaded from the cache) before the clock
+    seconds, singles = per_call(lambda k: nearly.ik(arm, random.poses[k], random.psi[k]), count)
+    one = timing(seconds)
+    sweep = np.linspace(-np.pi, np.pi, SSIK_SWEEP, endpoint=False)
+    sixteen = timing(per_call(lambda k: nearly.ik(arm, random.poses[k], sweep), min(count, 1000))[0])
+    batch = min(_seconds(lambda: nearly.ik(arm, random.poses, random.psi)) for _ in range(3)) / count
+    results = [nearly.ik(arm, s.poses, s.psi) for s in sets]
+    agree = sum(np.array_equal(single.exists, results[0].exists[k]) and np.array_equal(single.q, results[0].q[k])
+                for k, single in enumerate(singles))
+    redkin = [redkin_success(arm, s, r) for s, r in zip(sets, results)]
+    rows = [("redkin `nearly.ik(arm, T, psi)`, one pose per call, 8 branches", _times(one)),
+            (f"redkin, one pose at {SSIK_SWEEP} arm angles in one call (ssik's sweep; {min(count, 1000)} poses)",
+             _times(sixteen)),
+            (f"redkin, {count} poses in one call ({thread_count()} threads)", f"{batch * 1e6:.1f} µs per pose"),
+            ("  one call per pose and the batch return the same rows", f"{agree}/{count} poses")]
+    ssik_time = ssik_results = None
+    if not isinstance(peer, str):
+        ssik_native(peer, random.poses[0])
+        seconds, answers = per_call(lambda k: ssik_native(peer, random.poses[k]), count)
+        ssik_time = timing(seconds)
+        per_pose = float(np.mean([len(a) for a in answers]))
+        rows.append((f"ssik native C++ call, all answers ({SSIK_SWEEP} swivel angles x 8 branches, polished)",
+                     f"{_times(ssik_time)}; {per_pose:.1f} answers per pose"))
+        rows.append(("  redkin one pose / ssik native", f"{one.median / ssik_time.median:.2f} x median, "
+                                                        f"{one.p99 / ssik_time.p99:.2f} x p99"))
+        rows.append(("  redkin batch per pose / ssik native median", f"{batch / ssik_time.median:.2f} x"))
+        rows.append((f"  redkin at {SSIK_SWEEP} arm angles / ssik native (the same {SSIK_SWEEP} x 8 workload)",
+                     f"{sixteen.median / ssik_time.median:.2f} x median"))
+        rows.extend(_one_swivel_rows(arm, peer, random, min(count, python_count)))
+        ssik_results = [ssik_success(arm, sets[0], answers)]
+        for s in sets[1:]:
+            ssik_results.append(ssik_success(arm, s, [ssik_native(peer, pose) for pose in s.poses]))
+    lines += ["", "| measurement | result |", "|---|---|"] + [f"| {label} | {value} |" for label, value in rows]
+    lines += ["", "| pose set | redkin: q itself at its own psi, certified | misses with < 8 rows, with 8 | "
+                  f"misses near a singular q (a sine < {SINGULAR_SINE:g}) | distinct certified rows per pose | "
+                  "rows marked found that fail our check | ssik native: q's branch among certified answers | "
+                  "distinct certified branches per pose | answers that fail our FK check |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for k, s in enumerate(sets):
+        r = redkin[k]
+        line = (f"| {s.label} | {_percent(r.found, r.poses)} | {r.short}, {r.poses - r.found - r.short} | "
+                f"{r.singular} | {r.rows:.2f} | {r.uncertified} |")
+        if ssik_results is None:
+            line += " skipped | | |"
+        else:
+            p = ssik_results[k]
+            line += f" {_percent(p.found, p.poses)} | {p.rows:.2f} | {p.uncertified} |"
+        lines.append(line)
+    lines.append("")
+    return ArmResult(name, lines, one, batch, ssik_time, redkin, ssik_results)
+
+
+def _one_swivel_rows(arm: NearlySRS, peer: Ssik, poses: PoseSet, count: int) -> list[tuple[str, str]]:
+    """ssik's Python call at one swivel angle, that of the joint vector that made each pose."""
+    swivels = [ssik_swivel(peer, poses.q[k], poses.poses[k]) for k in range(count)]
+    ssik_one_swivel(peer, poses.poses[0], swivels[0])
+    seconds, answers = per_call(lambda k: ssik_one_swivel(peer, poses.poses[k], swivels[k]), count)
+    found = 0
+    nearest, drift = [], []
+    for k, rows in enumerate(answers):
+        good = rows[certified(arm.chain, rows, poses.poses[k])] if len(rows) else rows
+        if len(good):
+            gap = distance(good[None], poses.q[k][None])[0]
+            found += bool(np.any(gap <= SAME))
+            nearest.append(float(gap.min()))
+            drift.extend(abs(float(wrapped(np.array(ssik_swivel(peer, row, poses.poses[k]) - swivels[k]))))
+                         for row in good)
+    return [(f"ssik Python `srs_polished.solve(kb, T, swivel_samples=[s])`, one swivel angle ({count} poses)",
+             f"{_times(timing(seconds))}; {np.mean([len(a) for a in answers]):.2f} answers per pose"),
+            ("  at s = ssik's swivel of q: q itself among its certified answers (within 1e-6 rad)",
+             f"{_percent(found, count)}; nearest certified answer to q: median {np.median(nearest):.2g} rad"),
+            ("  swivel angle of its certified answers minus s (the polish does not hold it)",
+             f"median {np.median(drift):.2g} rad, 90th percentile {np.percentile(drift, 90):.2g} rad")]
+
+
+def _seconds(call: Callable[[], object]) -> float:
+    start = time.perf_counter()
+    call()
+    return time.perf_counter() - start
+
+
+def _us(seconds: float) -> str:
+    return f"{seconds * 1e6:.3g} µs" if seconds < 1e-3 else f"{seconds * 1e3:.3g} ms"
+
+
+def _times(t: Timing) -> str:
+    return f"median {_us(t.median)}, p99 {_us(t.p99)}"
+
+
+def _percent(count: int, total: int) -> str:
+    return f"{100.0 * count / max(total, 1):.2f} %"
+
+
+# ----------------------------------------------------------------------------- the issue's targets
+def targets_table(results: list[ArmResult]) -> list[str]:
+    """The issue's targets per arm, each marked met or not met."""
+    names = [r.name for r in results]
+    lines = ["## Issue 27 targets", "", "| measurement | " + " | ".join(names) + " | target |",
+             "|---|" + "---|" * len(names) + "---|"]
+
+    def row(label: str, values: list[tuple[float, str] | None], goal: float, at_most: bool, text: str) -> None:
+        cells = []
+        for value in values:
+            if value is None:
+                cells.append("n/a")
+                continue
+            met = value[0] <= goal if at_most else value[0] >= goal
+            cells.append(f"{value[1]}, {'met' if met else '**not met**'}")
+        lines.append(f"| {label} | " + " | ".join(cells) + f" | {text} |")
+
+    row("one pose, all branches at psi: redkin median", [(r.redkin_one.median, _us(r.redkin_one.median))
+                                                         for r in results], 100e-6, True, "<= 100 µs")
+    row("  the same / ssik native median (same poses)",
+        [None if r.ssik_native is None else (r.redkin_one.median / r.ssik_native.median,
+                                            f"{r.redkin_one.median / r.ssik_native.median:.2f} x")
+         for r in results], 0.25, True, "<= 0.25 x")
+    goals = (0.999, 0.99, 0.99)
+    for k, goal in enumerate(goals):
+        row(f"success, {('random', 'near the stretched elbow', 'near q3 = 0')[k]}: q at its own psi, certified",
+            [(r.redkin[k].found / r.redkin[k].poses, _percent(r.redkin[k].found, r.redkin[k].poses))
+             for r in results], goal, False, f">= {goal * 100:g} %")
+    return lines
+
+
+def machine() -> list[str]:
+    try:
+        cpu = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
+                   if line.startswith("model name"))
+    except (OSError, StopIteration):
+        cpu = platform.processor() or "unknown"
+    versions = []
+    for module in ("numpy", "numba", "ssik"):
+        try:
+            from importlib.metadata import version
+
+            versions.append(f"{module} {version(module)}")
+        except Exception:
+            versions.append(f"{module} absent")
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                                cwd=EXAMPLES.parent, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        commit = "unknown"
+    return [f"- {datetime.datetime.now().isoformat(timespec='minutes')}, redkin at {commit}: {cpu}, "
+            f"{os.cpu_count()} cores, Python {platform.python_version()}",
+            f"- {', '.join(versions)}; redkin threads {thread_count()}",
+            f"- load average at start (1, 5, 15 min): {_load()}"]
+
+
+def _load() -> str:
+    return ", ".join(f"{value:.2f}" for value in os.getloadavg())
+
+
+def main(argv: Sequence[str] | None = None) -> list[ArmResult]:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--poses", type=int, default=10_000, help="random poses per arm (default 10000)")
+    parser.add_argument("--near", type=int, default=1000, help="poses per near-singular set (default 1000)")
+    parser.add_argument("--ssik-python", type=int, default=1000,
+                        help="poses for ssik's one-swivel Python call (default 1000)")
+    parser.add_argument("--arms", nargs="+", choices=list(ARMS), default=list(ARMS), help="a subset of the arms")
+    parser.add_argument("--quick", action="store_true", help="200 random poses, 50 near, 20 for the Python call")
+    args = parser.parse_args(argv)
+    count, near, python_count = (200, 50, 20) if args.quick else (args.poses, args.near, args.ssik_python)
+    if min(count, near, python_count) < 1:
+        parser.error("--poses, --near and --ssik-python must be positive")
+    print("# Nearly S-R-S arm-angle IK, issue 27 (benchmarks/bench_nearly.py)\n")
+    print("\n".join(machine()) + "\n", flush=True)
+    results = []
+    for name in args.arms:
+        results.append(measure(name, count, near, python_count))
+        print("\n".join(results[-1].lines), flush=True)
+    print("\n".join(targets_table(results)))
+    print(f"\n- load average at the end (1, 5, 15 min): {_load()}")
+    return results
+
+
+if __name__ == "__main__":
+    main()
