@@ -217,11 +217,16 @@ def _convert(chain: SerialChain, tolerance: float) -> SerialChain:
     base_origin = chain.base[:3, 3]
     origin = shoulder + ((base_origin - shoulder) @ lines[0]) * lines[0]
     rows, frame0, frame7 = dh_rows_from_lines(through, lines, np.sign(TABLE1_ALPHA), origin)
-    if abs(rows[3, 2]) > tolerance:
+    # the elbow's offset along joint 4 as departures() measures it, on the description's own axes (the rows' d_4 is
+    # taken from the axes moved through S and W, which a neighbour changes)
+    along = abs((_normal_foot(points[4], directions[4], points[3], directions[3])
+                 - _normal_foot(points[2], directions[2], points[3], directions[3])) @ directions[3])
+    elbow_offset = abs(rows[3, 2]) if tolerance <= _SRS_TOLERANCE else float(along)
+    if elbow_offset > tolerance:
         raise NotArmAngleClassError(
-            f"{chain.name!r} is not S-R-S: joints 3-5 do not meet, and its elbow is offset {abs(rows[3, 2]):.3g} m "
+            f"{chain.name!r} is not S-R-S: joints 3-5 do not meet, and its elbow is offset {elbow_offset:.3g} m "
             "along joint 4 (only offsets across joint 4, as on the WAM, are solved)",
-            chain.name, float(abs(rows[3, 2])))
+            chain.name, float(elbow_offset))
     a = np.zeros(7)  # rounding only, except an offset elbow's a_3 and a_4
     if offset_elbow:
         a[2:4] = rows[2:4, 0]
