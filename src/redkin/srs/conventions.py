@@ -115,20 +115,21 @@ def _snaps(chain: SerialChain) -> bool:
     """Whether every departure of the chain from S-R-S is rounding (:data:`SNAP_DISTANCE`, :data:`SNAP_ANGLE`)."""
     if chain.n != 7:
         return False
-    for _, value, unit in departures(chain):
+    for _, value, unit in departures(chain, SNAP_DISTANCE):
         if value > (SNAP_DISTANCE if unit == "m" else SNAP_ANGLE):
             return False
     return True
 
 
-def departures(chain: SerialChain) -> list[tuple[str, float, str]]:
+def departures(chain: SerialChain, tolerance: float = 0.0) -> list[tuple[str, float, str]]:
     """How a 7-joint chain's axes at ``q = 0`` miss the S-R-S conditions, largest first: ``(what, value, unit)``.
 
     Distances (``unit`` ``"m"``) are as a user measures them: two axes that must meet (the shoulder's 1-3, the
     wrist's 5-7) miss each other by the length of their common normal, and the elbow is offset along axis 4 by
     the distance between the feet of the common normals of axes 3-4 and 4-5 on it (``d_4``; an offset across
-    axis 4, the WAM's ``a_3`` and ``a_4``, is the offset-elbow class's geometry, not a departure).  Angles
-    (``"rad"``) are how far consecutive axes are from perpendicular.  Departures below 1e-12 are left out.
+    axis 4, the WAM's ``a_3`` and ``a_4``, is the offset-elbow class's geometry, not a departure, except where it
+    is at most ``tolerance``: a neighbour with that tolerance drops it).  Angles (``"rad"``) are how far
+    consecutive axes are from perpendicular.  Departures below 1e-12 are left out.
     """
     points, directions = _joint_lines(chain)
     found = []
@@ -138,6 +139,10 @@ def departures(chain: SerialChain) -> list[tuple[str, float, str]]:
     upper = _normal_foot(points[2], directions[2], points[3], directions[3])
     lower = _normal_foot(points[4], directions[4], points[3], directions[3])
     found.append(("the elbow is offset along axis 4 by", float(abs((lower - upper) @ directions[3])), "m"))
+    if meeting_point(points[2:5], directions[2:5])[1] <= tolerance:  # a plain elbow for such a neighbour
+        for i, k in ((2, 3), (3, 4)):
+            found.append((f"axes {i + 1} and {k + 1} miss each other by",
+                          _line_distance(points[i], directions[i], points[k], directions[k]), "m"))
     for i in range(6):
         cosine = float(abs(directions[i] @ directions[i + 1]))
         found.append((f"axes {i + 1} and {i + 2} are off perpendicular by", float(np.arcsin(min(cosine, 1.0))),

@@ -145,8 +145,8 @@ def nearly_srs(chain: SerialChain, tolerance: float = TOLERANCE_DEFAULT) -> Near
     if tolerance not in cache:
         neighbour = neighbour_form(chain, tolerance)
         position, rotation = model_error(chain, neighbour)
-        cache[tolerance] = NearlySRS(chain, neighbour, srs_geometry(neighbour), tuple(departures(chain)), position,
-                                     rotation)
+        dropped = tuple(departures(chain, tolerance))
+        cache[tolerance] = NearlySRS(chain, neighbour, srs_geometry(neighbour), dropped, position, rotation)
     return cache[tolerance]
 
 
