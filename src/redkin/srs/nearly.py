@@ -263,11 +263,12 @@ def _newton(arm: NearlySRS, q: np.ndarray, target: np.ndarray, psi: np.ndarray,
             break
         jacobian = np.empty((len(now), 7, 7))
         jacobian[:, :6] = arm.chain.jacobian(now)
+        moved = np.repeat(now[None], 14, axis=0)  # the 14 central-difference rows of every joint, in one call
         for j in range(7):
-            ahead, behind = now.copy(), now.copy()
-            ahead[:, j] += step
-            behind[:, j] -= step
-            jacobian[:, 6, j] = _wrapped(arm_angle(arm, ahead) - arm_angle(arm, behind)) / (2.0 * step)
+            moved[2 * j, :, j] += step
+            moved[2 * j + 1, :, j] -= step
+        angles = arm_angle(arm, moved).reshape(7, 2, len(now))
+        jacobian[:, 6, :] = (_wrapped(angles[:, 0] - angles[:, 1]) / (2.0 * step)).T
         damping = 0.05 * np.sum(residual * residual, axis=-1)[:, None, None] * np.eye(7) + 1e-12 * np.eye(7)
         transposed = np.swapaxes(jacobian, -1, -2)
         q[active] = now + np.linalg.solve(transposed @ jacobian + damping, (transposed @ residual[..., None]))[..., 0]
