@@ -62,16 +62,13 @@ the end.
 from __future__ import annotations
 
 import argparse
-import datetime
-import os
-import platform
-import subprocess
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NamedTuple
 
 import numpy as np
+from timing import load_average, machine_lines  # benchmarks/timing.py (the script's folder is on sys.path)
 
 from redkin import thread_count
 from redkin.chain import SerialChain
@@ -487,35 +484,6 @@ def targets_table(results: list[ArmResult]) -> list[str]:
     return lines
 
 
-def machine() -> list[str]:
-    try:
-        cpu = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                   if line.startswith("model name"))
-    except (OSError, StopIteration):
-        cpu = platform.processor() or "unknown"
-    versions = []
-    for module in ("numpy", "numba", "ssik"):
-        try:
-            from importlib.metadata import version
-
-            versions.append(f"{module} {version(module)}")
-        except Exception:
-            versions.append(f"{module} absent")
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                                cwd=EXAMPLES.parent, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        commit = "unknown"
-    return [f"- {datetime.datetime.now().isoformat(timespec='minutes')}, redkin at {commit}: {cpu}, "
-            f"{os.cpu_count()} cores, Python {platform.python_version()}",
-            f"- {', '.join(versions)}; redkin threads {thread_count()}",
-            f"- load average at start (1, 5, 15 min): {_load()}"]
-
-
-def _load() -> str:
-    return ", ".join(f"{value:.2f}" for value in os.getloadavg())
-
-
 def main(argv: Sequence[str] | None = None) -> list[ArmResult]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--poses", type=int, default=10_000, help="random poses per arm (default 10000)")
@@ -529,13 +497,13 @@ def main(argv: Sequence[str] | None = None) -> list[ArmResult]:
     if min(count, near, python_count) < 1:
         parser.error("--poses, --near and --ssik-python must be positive")
     print("# Nearly S-R-S arm-angle IK, issue 27 (benchmarks/bench_nearly.py)\n")
-    print("\n".join(machine()) + "\n", flush=True)
+    print("\n".join(machine_lines(("numpy", "numba", "ssik"))) + "\n", flush=True)
     results = []
     for name in args.arms:
         results.append(measure(name, count, near, python_count))
         print("\n".join(results[-1].lines), flush=True)
     print("\n".join(targets_table(results)))
-    print(f"\n- load average at the end (1, 5, 15 min): {_load()}")
+    print(f"\n- load average at the end (1, 5, 15 min): {load_average()}")
     return results
 
 

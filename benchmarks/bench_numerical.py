@@ -49,10 +49,6 @@ Configurations (each peer's best documented one, named again in its row):
 from __future__ import annotations
 
 import argparse
-import datetime
-import os
-import platform
-import subprocess
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -61,6 +57,7 @@ from typing import Any, NamedTuple
 
 import numba
 import numpy as np
+from timing import load_average, machine_lines  # benchmarks/timing.py (the script's folder is on sys.path)
 
 from redkin import set_threads, thread_count
 from redkin.chain import SerialChain
@@ -504,32 +501,6 @@ def targets_table(results: list[ArmResult]) -> list[str]:
     return lines
 
 
-def machine() -> list[str]:
-    try:
-        cpu = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                   if line.startswith("model name"))
-    except (OSError, StopIteration):
-        cpu = platform.processor() or "unknown"
-    versions = []
-    for module in ("numpy", "numba", "pytracik", "roboticstoolbox", "mink", "mujoco"):
-        try:
-            from importlib.metadata import version
-
-            versions.append(f"{module} {version(module if module != 'roboticstoolbox' else 'roboticstoolbox-python')}")
-        except Exception:
-            versions.append(f"{module} absent")
-    load = ", ".join(f"{value:.2f}" for value in os.getloadavg())
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                                cwd=EXAMPLES.parent, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        commit = "unknown"
-    return [f"- {datetime.datetime.now().isoformat(timespec='minutes')}, redkin at {commit}: {cpu}, "
-            f"{os.cpu_count()} cores, Python {platform.python_version()}",
-            f"- {', '.join(versions)}; redkin threads {thread_count()}",
-            f"- load average at start (1, 5, 15 min): {load}"]
-
-
 def main(argv: Sequence[str] | None = None) -> list[ArmResult]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--targets", type=int, default=10_000, help="targets per arm (default 10000)")
@@ -541,13 +512,14 @@ def main(argv: Sequence[str] | None = None) -> list[ArmResult]:
     if count < 1 or args.mink_targets < 1:
         parser.error("--targets and --mink-targets must be positive")
     print("# Numerical pose IK, issue 25 (benchmarks/bench_numerical.py)\n")
-    print("\n".join(machine()) + "\n", flush=True)
+    peers = ("numpy", "numba", "pytracik", "roboticstoolbox-python", "mink", "mujoco")
+    print("\n".join(machine_lines(peers)) + "\n", flush=True)
     results = []
     for arm in args.arms:
         results.append(measure(arm, count, min(count, args.mink_targets)))
         print("\n".join(arm_table(results[-1])), flush=True)
     print("\n".join(targets_table(results)))
-    load = ", ".join(f"{value:.2f}" for value in os.getloadavg())
+    load = load_average()
     print(f"\n- load average at the end (1, 5, 15 min): {load}")
     return results
 
