@@ -335,7 +335,11 @@ def test_the_optimal_q7_is_feasible_and_no_worse_than_samples_of_the_feasible_se
             assert sets.contains(best.feasible, b)
             value = float(objective(chain, pose, branch, best.feasible))
             assert best.feasible_value == pytest.approx(value, rel=1e-12, abs=1e-12)
-            assert value <= objective(chain, pose, branch, samples_of(sets.arcs[b])).min() + 1e-9
+            # the optimum may sit 1e-12 rad inside an end where the branch vanishes (redkin.franka.optimal._INSIDE);
+            # on a steep objective (hypothesis found 1e4 per rad on an arc 7.5e-6 rad wide) that alone is 1e-8, so the
+            # samples are taken as far inside
+            arcs = sets.arcs[b] + np.where(np.diff(sets.arcs[b], axis=-1) > 1e-11, [[2e-12, -2e-12]], 0.0)
+            assert value <= objective(chain, pose, branch, samples_of(arcs)).min() + 1e-9
 
 
 @pytest.mark.parametrize("name", ["franka-panda", "franka-fr3"])
@@ -417,4 +421,8 @@ def test_the_optimal_q7_of_the_xarm7_is_its_documented_objective():
             best = optimal_q7(chain, pose, branch, feasible=sets)
             value = float(objective(chain, pose, branch, best.feasible))
             assert best.feasible_value == pytest.approx(value, rel=1e-9)
-            assert value <= objective(chain, pose, branch, samples_of(sets.arcs[b])).min() + 1e-9
+            # the optimum may sit 1e-12 rad inside an end where the branch vanishes (redkin.franka.optimal._INSIDE);
+            # on a steep objective (hypothesis found 1e4 per rad on an arc 7.5e-6 rad wide) that alone is 1e-8, so the
+            # samples are taken as far inside
+            arcs = sets.arcs[b] + np.where(np.diff(sets.arcs[b], axis=-1) > 1e-11, [[2e-12, -2e-12]], 0.0)
+            assert value <= objective(chain, pose, branch, samples_of(arcs)).min() + 1e-9
