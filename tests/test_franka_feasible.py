@@ -309,6 +309,22 @@ def samples_of(arcs: np.ndarray, count: int = 2000) -> np.ndarray:
     return np.concatenate([np.linspace(a, b, max(2, int(round(count * s)))) for (a, b), s in zip(arcs, share)])
 
 
+def assert_no_worse_than_samples(chain, pose, branch, arcs: np.ndarray, value: float) -> None:
+    """The optimum's objective ``value`` is no worse than 2000 samples of the arcs.
+
+    The optimum is located to xatol 1e-10 rad in q7, and may sit 1e-12 rad inside an end where the branch vanishes
+    (redkin.franka.optimal): on a steep objective (hypothesis found slopes of 1e4-1e5 per rad on arcs 1e-5 rad
+    wide) those steps alone are 1e-8-1e-6, so the allowance grows with the steepest slope between neighbouring
+    samples times 1e-10 rad.
+    """
+    q7 = samples_of(arcs)
+    sampled = objective(chain, pose, branch, q7)
+    finite = np.isfinite(sampled)
+    steps = np.abs(np.diff(sampled[finite])) / np.maximum(np.diff(q7[finite]), 1e-300)
+    slope = float(steps.max()) if steps.size else 0.0
+    assert value <= sampled[finite].min() + 1e-9 + 1e-10 * slope
+
+
 def _optimal_chains(seed: int):
     """The Panda, the FR3 and a random arm in a random convention with random limits (ranges under 2 pi)."""
     rng = np.random.default_rng(seed)
@@ -335,16 +351,7 @@ def test_the_optimal_q7_is_feasible_and_no_worse_than_samples_of_the_feasible_se
             assert sets.contains(best.feasible, b)
             value = float(objective(chain, pose, branch, best.feasible))
             assert best.feasible_value == pytest.approx(value, rel=1e-12, abs=1e-12)
-            # the optimum is located to xatol 1e-10 rad in q7, and may sit 1e-12 rad inside an end where the branch
-            # vanishes (redkin.franka.optimal): on a steep objective (hypothesis found slopes of 1e4-1e5 per rad on
-            # arcs 1e-5 rad wide) those steps alone are 1e-8-1e-6, so the allowance grows with the steepest slope
-            # between neighbouring samples times 1e-10 rad
-            q7 = samples_of(sets.arcs[b])
-            sampled = objective(chain, pose, branch, q7)
-            finite = np.isfinite(sampled)
-            steps = np.abs(np.diff(sampled[finite])) / np.maximum(np.diff(q7[finite]), 1e-300)
-            slope = float(steps.max()) if steps.size else 0.0
-            assert value <= sampled[finite].min() + 1e-9 + 1e-10 * slope
+            assert_no_worse_than_samples(chain, pose, branch, sets.arcs[b], value)
 
 
 @pytest.mark.parametrize("name", ["franka-panda", "franka-fr3"])
@@ -426,13 +433,4 @@ def test_the_optimal_q7_of_the_xarm7_is_its_documented_objective():
             best = optimal_q7(chain, pose, branch, feasible=sets)
             value = float(objective(chain, pose, branch, best.feasible))
             assert best.feasible_value == pytest.approx(value, rel=1e-9)
-            # the optimum is located to xatol 1e-10 rad in q7, and may sit 1e-12 rad inside an end where the branch
-            # vanishes (redkin.franka.optimal): on a steep objective (hypothesis found slopes of 1e4-1e5 per rad on
-            # arcs 1e-5 rad wide) those steps alone are 1e-8-1e-6, so the allowance grows with the steepest slope
-            # between neighbouring samples times 1e-10 rad
-            q7 = samples_of(sets.arcs[b])
-            sampled = objective(chain, pose, branch, q7)
-            finite = np.isfinite(sampled)
-            steps = np.abs(np.diff(sampled[finite])) / np.maximum(np.diff(q7[finite]), 1e-300)
-            slope = float(steps.max()) if steps.size else 0.0
-            assert value <= sampled[finite].min() + 1e-9 + 1e-10 * slope
+            assert_no_worse_than_samples(chain, pose, branch, sets.arcs[b], value)
