@@ -74,6 +74,10 @@ class SerialChain:
         Where the numbers come from.
     joint_names : sequence of str, optional
         One name per joint (a URDF's joint names); default ``joint 1`` .. ``joint n``.
+    velocity : array_like, shape (n,), optional
+        Joint speed limits ``|dq_i/dt| <= velocity_i`` in rad/s, each finite and positive, or ``inf`` where
+        unknown; default all unknown.  Kinematics never read them; a path's default step bound does
+        (:func:`redkin.paths.step_bound`).
     """
 
     # The fields are what the constructor stores (read-only float arrays, 4x4 matrices, a tuple of names); it takes
@@ -91,6 +95,7 @@ class SerialChain:
     name: str
     source: str
     joint_names: tuple[str, ...]
+    velocity: np.ndarray
     _standard: bool = field(init=False, repr=False)
     _links: np.ndarray = field(init=False, repr=False)
     _ends: np.ndarray = field(init=False, repr=False)
@@ -111,6 +116,7 @@ class SerialChain:
         name: str = "chain",
         source: str = "",
         joint_names: Sequence[str] = (),
+        velocity: ArrayLike | None = None,
     ) -> None:
         if convention not in ("dh", "mdh"):
             raise ValueError(f"convention must be 'dh' or 'mdh', got {convention!r}")
@@ -129,6 +135,7 @@ class SerialChain:
             "sign": _frozen(sign, n, "sign", 1.0),
             "lower": _frozen(lower, n, "lower", -np.inf),
             "upper": _frozen(upper, n, "upper", np.inf),
+            "velocity": _frozen(velocity, n, "velocity", np.inf),
         }
         for key in ("a", "alpha", "d", "offset", "sign"):
             check_finite(values[key], key)
@@ -144,6 +151,9 @@ class SerialChain:
             raise ValueError(
                 f"joint {i + 1}: lower limit {values['lower'][i]:g} exceeds upper limit {values['upper'][i]:g}"
             )
+        if not np.all(values["velocity"] > 0.0):  # NaN fails too
+            raise ValueError(f"velocity limits must be > 0 rad/s, or inf where unknown, got "
+                             f"{values['velocity'].tolist()}")
         for key, given in (("base", base), ("tool", tool)):
             matrix = np.eye(4) if given is None else check_pose(given, key)
             if matrix.shape != (4, 4):
@@ -200,6 +210,15 @@ class SerialChain:
         """A copy of this chain with other joint limits."""
         return self._replaced(lower=lower, upper=upper)
 
+    def with_velocity(self, velocity: ArrayLike | None) -> SerialChain:
+        """A copy of this chain with other joint speed limits (rad/s, ``inf`` where unknown; ``None``: none known)."""
+        return self._replaced(velocity=velocity)
+
+    @property
+    def velocity_known(self) -> np.ndarray:
+        """Boolean mask of joints with a known speed limit (a finite :attr:`velocity`)."""
+        return np.isfinite(self.velocity)
+
     def with_tool(self, tool: ArrayLike) -> SerialChain:
         """A copy of this chain with another tool transform."""
         return self._replaced(tool=tool)
@@ -208,7 +227,7 @@ class SerialChain:
         """A copy of this chain with another base transform."""
         return self._replaced(base=base)
 
-    def _replaced(self, **changes: ArrayLike) -> SerialChain:
+    def _replaced(self, **changes: ArrayLike | None) -> SerialChain:
         """``dataclasses.replace`` through the constructor, which takes array-likes where the fields hold arrays."""
         arguments: dict[str, Any] = {f.name: getattr(self, f.name) for f in fields(self) if f.init}
         return SerialChain(**{**arguments, **changes})
