@@ -195,9 +195,24 @@ def _parse(path: Path, arguments: dict[str, str], places: list[Path]):
     noise = io.StringIO()
     try:
         with contextlib.redirect_stderr(noise):  # the parser prints warnings of its own
-            return URDF.from_xml_string(text)
+            return URDF.from_xml_string(_speeds_written(text))
     except Exception as exc:  # lxml and the parser raise many kinds; all mean a malformed file
         raise RobotDescriptionError(f"{path}: malformed URDF{_urdf_reason(exc)}", path=str(path)) from None
+
+
+def _speeds_written(text: str) -> str:
+    """The URDF text with ``velocity="0"`` (unknown, as the importer reads it) in each joint's ``<limit>`` that has
+    no velocity: the URDF format requires the attribute, and ``urdf_parser_py`` refuses a file without it, but many
+    kinematics-only files leave it out.  Text with a velocity in every limit is returned as it is."""
+    from lxml import etree  # type: ignore[import-untyped]  # urdf_parser_py's own XML library
+
+    root = etree.fromstring(text)
+    missing = [limit for limit in root.iterfind("joint/limit") if "velocity" not in limit.attrib]
+    if not missing:
+        return text
+    for limit in missing:
+        limit.set("velocity", "0")
+    return etree.tostring(root, encoding="unicode")
 
 
 def _one_line(text: str) -> str:
@@ -345,7 +360,7 @@ def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str,
     """Exact DH rows for the joints from the base link to the tip link (see the module docstring); the source
     names the file, the xacro ``arguments`` it was expanded with, and the links."""
     pose = np.eye(4)  # base link -> current frame at q = 0
-    points, directions, lower, upper, names = [], [], [], [], []
+    points, directions, lower, upper, speeds, names = [], [], [], [], [], []
     for joint in joints:
         if joint.type in _UNSUPPORTED:
             raise RobotDescriptionError(f"joint {joint.name!r} is {joint.type}: redkin chains have revolute "
@@ -372,6 +387,7 @@ def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str,
                                         path=path, key=joint.name)
         lower.append(-np.inf if limit is None else float(limit.lower))
         upper.append(np.inf if limit is None else float(limit.upper))
+        speeds.append(_speed(joint, path))
     if not points:
         raise RobotDescriptionError(f"no revolute joint between links {base_link!r} and {tip_link!r}", path=path)
     rows, base, last = dh_rows_from_lines(np.array(points), np.array(directions))
@@ -379,5 +395,14 @@ def _chain(name: str, joints: list, path: str, base_link: str, tip_link: str,
     return SerialChain(
         a=rows[:, 0], alpha=rows[:, 1], d=rows[:, 2], offset=rows[:, 3], convention="dh",
         lower=lower, upper=upper, base=base, tool=np.linalg.inv(last) @ pose,
-        name=name, source=f"URDF {path}{given}, links {base_link} -> {tip_link}", joint_names=names,
+        name=name, source=f"URDF {path}{given}, links {base_link} -> {tip_link}", joint_names=names, velocity=speeds,
     )
+
+
+def _speed(joint, path: str) -> float:
+    """The joint's ``<limit velocity=...>`` in rad/s, ``inf`` (unknown) where the file gives none or 0."""
+    speed = np.inf if joint.limit is None else float(joint.limit.velocity)
+    if np.isnan(speed) or speed < 0.0:
+        raise RobotDescriptionError(f"joint {joint.name!r}: <limit velocity> must be >= 0 rad/s (0 where unknown), "
+                                    f"got {speed:g}", path=path, key=joint.name)
+    return np.inf if speed == 0.0 else speed
