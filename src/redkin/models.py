@@ -67,6 +67,10 @@ def pa10_7c() -> SerialChain:
 
 #: Joint ranges of the KUKA LBR iiwa 7 R800 and 14 R820 (degrees, symmetric): KUKA's data sheet and URDFs.
 _IIWA_RANGE_DEG = [170, 120, 170, 120, 170, 120, 175]
+#: Joint speed limits of the LBR iiwa 14 R820 and 7 R800 (degrees per second): KUKA's data sheet, as KUKA's URDF
+#: (kroshu/kuka_robot_descriptions) and lbr-stack's descriptions write them.
+_IIWA14_SPEED_DEG = [85, 85, 100, 75, 130, 135, 135]
+_IIWA7_SPEED_DEG = [98, 98, 100, 130, 140, 180, 180]
 #: KUKA's joint senses on paper 000's Table 1 rows: at the zero pose KUKA's A4 turns about -y of the base,
 #: Table 1's joint 4 about +y; every other joint turns the same way.
 _KUKA_IIWA_SIGNS = [1, 1, 1, -1, 1, 1, 1]
@@ -83,7 +87,12 @@ def kuka_iiwa14() -> SerialChain:
     0.2155), flange 0.126 m beyond the wrist (0.081 to link 7, 0.045 to the
     flange: the data sheet's flange height of 1306 mm at the zero pose; the
     URDF puts its ``flange`` link 0.071 beyond link 7 instead), joint ranges
-    +-170, +-120, +-170, +-120, +-170, +-120, +-175 deg.
+    +-170, +-120, +-170, +-120, +-170, +-120, +-175 deg, joint speed limits
+    85, 85, 100, 75, 130, 135, 135 deg/s (the data sheet's; the same in that
+    URDF, ``velocity="${radians(85)}"`` ..., at commit 7766e92, and in
+    lbr-stack/lbr_fri_ros2_stack ``lbr_description/urdf/iiwa14/joint_limits.yaml``;
+    that package's MoveIt ``config/lbr_iiwa14_r820_joint_limits.yaml`` sets
+    6.283 rad/s on every joint, which is not the robot's).
 
     At ``q = 0`` the arm stands straight up and the flange frame is the base
     frame lifted by 1.306 m; the axes are z, y, z, -y, z, y, z of the base
@@ -91,8 +100,8 @@ def kuka_iiwa14() -> SerialChain:
     reversed (``sign = -1``); :func:`kuka_iiwa14_table1` is the Table 1 form
     itself.
     """
-    return _kuka_lbr_iiwa(0.36, 0.42, "kuka-iiwa14", "KUKA LBR iiwa 14 R820: KUKA's URDF joint frames, data-sheet "
-                          "lengths and ranges")
+    return _kuka_lbr_iiwa(0.36, 0.42, _IIWA14_SPEED_DEG, "kuka-iiwa14", "KUKA LBR iiwa 14 R820: KUKA's URDF joint "
+                          "frames, data-sheet lengths, ranges and speeds")
 
 
 def kuka_iiwa7() -> SerialChain:
@@ -101,15 +110,18 @@ def kuka_iiwa7() -> SerialChain:
     Source: the data sheet "LBR iiwa 7 R800, LBR iiwa 14 R820" (KUKA
     Roboter): shoulder 0.34 m above the base, upper arm and forearm 0.40 m,
     flange 0.126 m beyond the wrist (flange height 1266 mm at the zero pose),
-    joint ranges +-170, +-120, +-170, +-120, +-170, +-120, +-175 deg; joint
-    frames and senses of KUKA's iiwa URDFs (kroshu/kuka_robot_descriptions,
+    joint ranges +-170, +-120, +-170, +-120, +-170, +-120, +-175 deg, joint
+    speed limits 98, 98, 100, 130, 140, 180, 180 deg/s (the data sheet's, as
+    lbr-stack/lbr_fri_ros2_stack writes them, ``lbr_description/urdf/iiwa7/joint_limits.yaml``
+    at commit 218d723); joint frames and senses of KUKA's iiwa URDFs
+    (kroshu/kuka_robot_descriptions,
     ``kuka_lbr_iiwa_support/urdf/lbriiwa7_macro.xacro``: origins 0.1375 +
     0.2025, 0.1845 + 0.2155, 0.1845 + 0.2155, 0.081; that file narrows the
-    ranges to 90 % of the data sheet's, which is not used here).  Axes and
-    zero pose as :func:`kuka_iiwa14`.
+    ranges to 90 % of the data sheet's and puts 6.283 rad/s on every joint,
+    neither of which is used here).  Axes and zero pose as :func:`kuka_iiwa14`.
     """
-    return _kuka_lbr_iiwa(0.34, 0.40, "kuka-iiwa7", "KUKA LBR iiwa 7 R800: KUKA's URDF joint frames, data-sheet "
-                          "lengths and ranges")
+    return _kuka_lbr_iiwa(0.34, 0.40, _IIWA7_SPEED_DEG, "kuka-iiwa7", "KUKA LBR iiwa 7 R800: KUKA's URDF joint "
+                          "frames, data-sheet lengths, ranges and speeds")
 
 
 def kuka_iiwa14_table1() -> SerialChain:
@@ -117,19 +129,21 @@ def kuka_iiwa14_table1() -> SerialChain:
 
     Source: as :func:`kuka_iiwa14` (d_bs = 0.36, d_se = 0.42, d_ew = 0.40,
     d_wt = 0.126 m, ranges +-170, +-120, +-170, +-120, +-170, +-120, +-175
-    deg).  The same arm with joint 4 turning the other way from KUKA's:
-    ``q_table1 = q_kuka * (1, 1, 1, -1, 1, 1, 1)``.  Kept so that results
-    computed in this form keep their numbers; send :func:`kuka_iiwa14`'s joint
-    values to a robot.
+    deg, speeds 85, 85, 100, 75, 130, 135, 135 deg/s).  The same arm with
+    joint 4 turning the other way from KUKA's: ``q_table1 = q_kuka * (1, 1,
+    1, -1, 1, 1, 1)``.  Kept so that results computed in this form keep their
+    numbers; send :func:`kuka_iiwa14`'s joint values to a robot.
     """
     return replace(kuka_iiwa14(), sign=np.ones(7), name="kuka-iiwa14-table1",
                    source="KUKA LBR iiwa 14 R820 data sheet, in paper 000 Table 1 form (joint 4 reversed from KUKA's)")
 
 
-def _kuka_lbr_iiwa(d_bs: float, d_se: float, name: str, source: str) -> SerialChain:
-    """An LBR iiwa (forearm 0.40 m, flange 0.126 m) in KUKA's conventions: Table 1 rows, joint 4 reversed."""
+def _kuka_lbr_iiwa(d_bs: float, d_se: float, speed_deg: Sequence[float], name: str, source: str) -> SerialChain:
+    """An LBR iiwa (forearm 0.40 m, flange 0.126 m) in KUKA's conventions: Table 1 rows, joint 4 reversed, with the
+    joint speed limits ``speed_deg`` (deg/s)."""
     table1 = srs_chain(d_bs, d_se, 0.40, 0.126, lower_deg=[-v for v in _IIWA_RANGE_DEG], upper_deg=_IIWA_RANGE_DEG)
-    return replace(table1, sign=np.array(_KUKA_IIWA_SIGNS, dtype=float), name=name, source=source)
+    return replace(table1, sign=np.array(_KUKA_IIWA_SIGNS, dtype=float), name=name, source=source,
+                   velocity=np.radians(speed_deg))
 
 
 def barrett_wam(d3: float = 0.55, d5: float = 0.4, d7: float = 0.06, a: float = 0.045) -> SerialChain:
@@ -211,8 +225,9 @@ def franka_panda() -> SerialChain:
     flange  0           0        0.107
     ======  ==========  =======  =====  ===================  ===========
 
-    The speeds are the URDF's velocity limits, for reference (a chain keeps
-    positions only).  The tool frame is the flange (``panda_link8``), without
+    The speeds are the URDF's velocity limits (``robots/fer/joint_limits.yaml``
+    at franka_description commit b299b39), kept as the chain's ``velocity``.
+    The tool frame is the flange (``panda_link8``), without
     the hand; Franka's hand frame is the flange turned by -pi/4 about z, and
     its TCP 0.1034 m along the hand's z (as on the FR3, whose
     ``examples/fr3.urdf`` has both).  The arm is of the Franka class: a spherical
@@ -223,6 +238,7 @@ def franka_panda() -> SerialChain:
     return _franka_arm(
         lower=[-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973],
         upper=[2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973],
+        velocity=[2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61],
         name="franka-panda",
         source="Franka Control Interface docs: modified DH table and joint limits (as franka_description, fer)",
     )
@@ -251,11 +267,12 @@ def franka_fr3() -> SerialChain:
     flange  0           0        0.107
     ======  ==========  =======  =====  ===================  ===========
 
-    The speeds are the URDF's velocity limits, for reference (a chain keeps
-    positions only; the FR3's controller further lowers them near the
-    position limits).  The older franka_ros package (2024) carried narrower
-    FR3 ranges (``franka_description/robots/fr3/joint_limits.yaml``: +-2.3093,
-    +-1.5133, ...); these are the current ones.  The tool frame is the flange
+    The speeds are the URDF's velocity limits (``robots/fr3/joint_limits.yaml``
+    at franka_description commit b299b39), kept as the chain's ``velocity``
+    (the FR3's controller further lowers them near the position limits).
+    The older franka_ros package (2024) carried narrower FR3 ranges
+    (``franka_description/robots/fr3/joint_limits.yaml``: +-2.3093, +-1.5133,
+    ...); these are the current ones.  The tool frame is the flange
     (``fr3_link8``), without the hand; ``examples/fr3.urdf`` adds the hand
     (``fr3_hand``, the flange turned by -pi/4 about z) and its TCP
     (``fr3_hand_tcp``, 0.1034 m along the hand's z).  The arm is of the
@@ -266,12 +283,14 @@ def franka_fr3() -> SerialChain:
     return _franka_arm(
         lower=[-2.7437, -1.7837, -2.9007, -3.0421, -2.8065, 0.5445, -3.0159],
         upper=[2.7437, 1.7837, 2.9007, -0.1518, 2.8065, 4.5169, 3.0159],
+        velocity=[2.62, 2.62, 2.62, 2.62, 5.26, 4.18, 5.26],
         name="franka-fr3",
         source="franka_description (2025): robots/fr3 kinematics and joint limits, in Franka's modified DH",
     )
 
 
-def _franka_arm(lower: Sequence[float], upper: Sequence[float], name: str, source: str) -> SerialChain:
+def _franka_arm(lower: Sequence[float], upper: Sequence[float], velocity: Sequence[float], name: str,
+                source: str) -> SerialChain:
     """Franka's modified DH rows to the flange (the same for the FER and the FR3), with the given limits."""
     return SerialChain(
         a=[0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088],
@@ -280,6 +299,7 @@ def _franka_arm(lower: Sequence[float], upper: Sequence[float], name: str, sourc
         convention="mdh",
         lower=lower,
         upper=upper,
+        velocity=velocity,
         tool=_translation_z(0.107),
         name=name,
         source=source,
@@ -312,7 +332,11 @@ def kinova_gen3() -> SerialChain:
     prints pi/2 as 1.5708 and pi as 3.1416 (and CAD residues below 1e-14);
     the right angles are taken exact: the file's literal numbers put the end
     pose up to 1e-5 m and 2.5e-5 rad away (sampled).  The ranges are those the URDF took
-    from the User Guide in 2024.  The tool frame is ``end_effector_link``.  At
+    from the User Guide in 2024.  The speed limits are the URDF's
+    ``velocity`` (ros2_kortex commit 1fdbef3): 1.3963 rad/s (80 deg/s) on
+    joints 1-4 and 1.2218 rad/s (70 deg/s) on joints 5-7; the package's
+    ``config/joint_limits.yaml`` gives its controllers 0.8727 rad/s on every
+    joint, which is not used.  The tool frame is ``end_effector_link``.  At
     ``q = 0`` the arm stands straight up.  A general chain (joints 1-3 do not
     meet).
     """
@@ -325,6 +349,7 @@ def kinova_gen3() -> SerialChain:
         offset=[0.0] + [np.pi] * 6,
         lower=[-np.inf, -2.24, -np.inf, -2.57, -np.inf, -2.09, -np.inf],
         upper=[np.inf, 2.24, np.inf, 2.57, np.inf, 2.09, np.inf],
+        velocity=[1.3963] * 4 + [1.2218] * 3,
         base=np.diag([1.0, -1.0, -1.0, 1.0]),  # Rx(pi)
         name="kinova-gen3",
         source="Kinova Gen3 7-DOF: kortex_description URDF lengths and limits in the User Guide's DH form",
@@ -351,6 +376,10 @@ def ufactory_xarm7() -> SerialChain:
     7     -pi/2       0.076   0.097   [-2 pi, 2 pi]
     ====  ==========  ======  ======  =====================
 
+    The URDF gives every joint a speed limit of 3.14 rad/s (``velocity="3.14"``
+    in ``xarm7.urdf.xacro``, xarm_ros2 commit 3654ba7), kept as the chain's
+    ``velocity``; the MoveIt config's 2.14 rad/s (``xarm_moveit_config/config/xarm7/joint_limits.yaml``)
+    is not used.
     The +-2 pi joints (+-360 deg on the data sheet) span two full turns: every
     angle lies in range twice, and the stops at +-2 pi still hold
     (:meth:`SerialChain.within_limits`; closed forms return the angle nearest
@@ -370,6 +399,7 @@ def ufactory_xarm7() -> SerialChain:
         convention="mdh",
         lower=[-two_pi, -2.059, -two_pi, -0.19198, -two_pi, -1.69297, -two_pi],
         upper=[two_pi, 2.0944, two_pi, 3.927, two_pi, np.pi, two_pi],
+        velocity=[3.14] * 7,
         name="ufactory-xarm7",
         source="UFactory xArm7 modified DH parameters and xarm_description URDF limits",
     )
