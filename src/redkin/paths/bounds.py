@@ -1,8 +1,9 @@
 """The bound on joint motion between consecutive waypoints: a maximum step, or joint speeds and a time step.
 
-Chains do not carry velocity limits yet (the URDF importer does not read ``<limit velocity=...>``), so the bound
-is always given: ``max_step`` in radians per waypoint, or ``speed`` in radians per second with the time ``dt``
-between waypoints (``step = speed * dt``).
+The bound is ``max_step`` in radians per waypoint, or joint speeds in radians per second times the time ``dt``
+between waypoints (``step = speed * dt``).  The speeds are ``speed`` where it is given, else the chain's own
+velocity limits (:attr:`redkin.chain.SerialChain.velocity`: a model's maker's figures, a URDF's
+``<limit velocity=...>``), so that ``dt`` alone bounds a path by what the robot can do.
 """
 
 from __future__ import annotations
@@ -39,23 +40,45 @@ def step_bound(
     max_step : float or array_like of shape (n,), optional
         The bound itself.
     speed : float or array_like of shape (n,), optional
-        Joint speeds in rad/s, with ``dt``: the bound is ``speed * dt``.
+        Joint speeds in rad/s, with ``dt``: the bound is ``speed * dt``.  Without it, ``dt`` takes the chain's
+        velocity limits (:attr:`~redkin.chain.SerialChain.velocity`).
     dt : float, optional
         Seconds between waypoints.
 
     Raises
     ------
     RedkinError
-        Unless exactly one of ``max_step`` and ``speed`` (with ``dt``) is given, finite and positive.
+        Unless exactly one of ``max_step`` and ``dt`` is given, finite and positive (``speed`` goes with ``dt``);
+        and for ``dt`` without ``speed`` on a chain that lacks a velocity limit on some joint (the message names
+        those joints).
     """
-    if (max_step is None) == (speed is None):
-        raise RedkinError("give the bound on joint motion as max_step, or as speed with dt (one of them)")
     if max_step is not None:
-        if dt is not None:
-            raise RedkinError("dt goes with speed; max_step is already a step per waypoint")
+        if speed is not None or dt is not None:
+            raise RedkinError("give the bound on joint motion as max_step, or as dt (with speed, or the chain's "
+                              "velocity limits), one of them: max_step is already a step per waypoint")
         return _positive_per_joint(max_step, chain.n, "max_step")
     if dt is None:
-        raise RedkinError("speed needs dt, the time between waypoints in seconds")
+        if speed is not None:
+            raise RedkinError("speed needs dt, the time between waypoints in seconds")
+        raise RedkinError("give the bound on joint motion as max_step, or as dt (with speed, or the chain's velocity "
+                          "limits)")
     seconds = _positive_per_joint(dt, 1, "dt")[0]
-    assert speed is not None  # one of the two, and not max_step
-    return _positive_per_joint(speed, chain.n, "speed") * seconds
+    if speed is not None:
+        return _positive_per_joint(speed, chain.n, "speed") * seconds
+    missing = missing_speeds(chain)
+    if missing:
+        raise RedkinError(f"{chain.name} has no velocity limit on {missing}: give speed (rad/s) with dt, or max_step")
+    return chain.velocity * seconds
+
+
+def missing_speeds(chain: SerialChain) -> str:
+    """The joints without a velocity limit, in words: ``""`` for none, ``"any joint"`` for all, else ``"joint 2"``
+    or ``"joints 2, 5 (A5)"`` (1-based numbers, each with its name where the chain has one of its own)."""
+    unknown = np.flatnonzero(~chain.velocity_known).tolist()
+    if not unknown:
+        return ""
+    if len(unknown) == chain.n:
+        return "any joint"
+    named = [f"{k + 1}" if chain.joint_names[k] == f"joint {k + 1}" else f"{k + 1} ({chain.joint_names[k]})"
+             for k in unknown]
+    return ("joints " if len(named) > 1 else "joint ") + ", ".join(named)
