@@ -32,14 +32,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                      "bound, or the waypoint and joint that make it impossible (exit 1)")
     add_robot_argument(path)
     path.add_argument("--poses", required=True, metavar="FILE.npy", help="the waypoints: an (N, 4, 4) array of poses")
-    bound = path.add_mutually_exclusive_group(required=True)
+    bound = path.add_mutually_exclusive_group()
     bound.add_argument("--max-step", nargs="+", type=float, metavar="A",
                        help="largest move of each joint between waypoints: one value or 7 (radians, or degrees "
                             "with --deg)")
     bound.add_argument("--speed", nargs="+", type=float, metavar="V",
-                       help="joint speeds, one value or 7 (rad/s, or deg/s with --deg), with --dt; velocity limits "
-                            "of a robot description are not read yet")
-    path.add_argument("--dt", type=float, metavar="T", help="seconds between waypoints (with --speed)")
+                       help="joint speeds, one value or 7 (rad/s, or deg/s with --deg), with --dt, instead of the "
+                            "robot description's velocity limits")
+    path.add_argument("--dt", type=float, metavar="T",
+                      help="seconds between waypoints: each joint moves at most its speed times T per waypoint, the "
+                           "speed being the description's velocity limit (or --speed); give --dt or --max-step")
     path.add_argument("--q0", nargs=7, type=float, metavar="Q", help="the configuration before the first waypoint")
     path.add_argument("--end-branch", metavar="BRANCH", help="branch of the last waypoint: " + BRANCH_HELP)
     path.add_argument("--plot", metavar="FILE.png",
@@ -95,28 +97,50 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None) ->
     plt.close(fig)
 
 
+def _bound(args: argparse.Namespace, chain) -> tuple[np.ndarray, np.ndarray | None, str | None]:
+    """The step bound of the options, and the joint speeds (rad/s) it is made of with where they come from
+    (``"--speed"``, or with ``--dt`` alone ``"description"``: its velocity limits); no speeds for ``--max-step``."""
+    from redkin.paths import step_bound
+    from redkin.paths.bounds import missing_speeds
+
+    if args.max_step is not None:
+        if args.dt is not None:
+            raise UsageError("--dt goes with --speed, or alone for the description's velocity limits; --max-step is "
+                             "already a step per waypoint")
+        return step_bound(chain, angles_in(args.max_step, args.deg)), None, None
+    if args.dt is None:
+        if args.speed is not None:
+            raise UsageError("--speed needs --dt, the seconds between waypoints")
+        raise UsageError("give the bound on joint motion: --max-step A, or --dt T (with the description's velocity "
+                         "limits, or --speed V)")
+    if args.speed is not None:
+        speed = angles_in(args.speed, args.deg)
+        step = step_bound(chain, speed=speed, dt=args.dt)
+        return step, np.broadcast_to(speed.reshape(-1), step.shape), "--speed"
+    missing = missing_speeds(chain)
+    if missing:
+        raise UsageError(f"{chain.name} has no velocity limit on {missing} in its description: give --speed V with "
+                         "--dt, or --max-step A")
+    return step_bound(chain, dt=args.dt), chain.velocity, "description"
+
+
 def _run_path(args: argparse.Namespace) -> int:
     from redkin.paths import resolve_path
 
     plot = None if args.plot is None else output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
     chain = load_robot(args)
+    step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own
     poses = read_poses(args.poses)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
-    if args.max_step is not None:
-        if args.dt is not None:
-            raise UsageError("--dt goes with --speed; --max-step is already a step per waypoint")
-        result = resolve_path(chain, poses, angles_in(args.max_step, args.deg), q0=q0, end_branch=args.end_branch)
-    else:
-        if args.dt is None:
-            raise UsageError("--speed needs --dt, the seconds between waypoints")
-        result = resolve_path(chain, poses, speed=angles_in(args.speed, args.deg), dt=args.dt, q0=q0,
-                              end_branch=args.end_branch)
+    result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0)
     degrees = args.deg
     failure = result.failure
     if args.json:
         report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
+                        "speed": angles_out(speed, degrees), "speed_unit": f"{angle_unit(degrees)}/s",
+                        "speed_source": speed_source, "dt": args.dt if speed is not None else None,
                         "nodes": result.nodes}
         if result.ok:
             report.update(q=angles_out(result.q, degrees), branch=result.branch, psi=angles_out(result.psi, degrees),
@@ -131,6 +155,10 @@ def _run_path(args: argparse.Namespace) -> int:
         print_json(report)
         return 0 if result.ok else 1
     unit = angle_unit(degrees)
+    if speed is not None:
+        source = "the description's velocity limits" if speed_source == "description" else "--speed"
+        print(f"step bound: speed x dt ({args.dt:g} s), speeds [{unit}/s] from {source}: "
+              f"{format_values(angles_out(speed, degrees), 4)}")
     if not result.ok:
         assert failure is not None
         print(_failure_line(failure, degrees))
