@@ -12,7 +12,10 @@ turns a hinge by ``qpos - ref`` from the pose the file writes (``ref``
 defaults to 0, so most files need no thought); with a ``ref`` the written pose
 is ``q = ref``.  The ranges are the compiled ``jnt_range``, on ``qpos``, in
 radians whatever ``<compiler angle>`` said; an unlimited hinge gets
-``-inf``/``inf``.
+``-inf``/``inf``.  MJCF gives a joint no speed limit (an actuator's
+``ctrlrange`` bounds its control, whatever that drives), so the chain's
+``velocity`` is unknown on every joint (:meth:`SerialChain.with_velocity`
+sets it).
 
 Conversion.  With every joint's ``qpos`` at its ``qpos0`` and the chain's
 hinges at 0, ``mj_kinematics`` gives each hinge's world anchor
