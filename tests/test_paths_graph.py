@@ -1,5 +1,5 @@
-"""The nodes of path resolution's graph (redkin.paths.graph): their joint values are redkin.srs.ik's, bit for bit,
-read from each waypoint's coefficients in one compiled pass."""
+"""The nodes of path resolution's graph (redkin.paths.graph): their joint values are redkin.srs.ik's, bit for bit
+(clipped into the limits), read from each waypoint's coefficients in one compiled pass."""
 
 import numpy as np
 import pytest
@@ -22,10 +22,13 @@ def test_node_values_are_the_closed_form_ik_of_their_waypoint_and_branch(robot):
     arm = Arm(geometry, coefficients.entries, coefficients.theta4, np.full(7, 0.1), chain.covers_circle)
     waypoint, branch = rng.integers(0, 12, 300), rng.integers(0, 8, 300)
     psi = rng.uniform(-np.pi, np.pi, 300)
-    values = arm.joint_values(waypoint, branch, psi)
+    values, clearance = arm.rows(waypoint, branch, psi)
+    limited = ~chain.covers_circle
     for n in range(300):
         expected = ik(chain, poses[waypoint[n]], psi[n], str(BRANCHES[branch[n]]))
-        np.testing.assert_array_equal(values[n], expected)
+        np.testing.assert_array_equal(values[n], np.where(limited, np.clip(expected, chain.lower, chain.upper),
+                                                          expected))
+        assert clearance[n] == np.min(np.minimum(expected - chain.lower, chain.upper - expected)[limited])
 
 
 @pytest.mark.parametrize(("robot", "step"), [("kuka-iiwa14", 0.05), ("pa10-7c", 0.03), ("barrett-wam7", 0.1)])
@@ -56,5 +59,5 @@ def test_connect_keeps_every_node_and_leaves_no_interval_of_a_piece_wider_than_i
     moves = arm.moves(after.q[1:], after.q[:-1])[same].max(axis=-1)
     narrow = np.diff(after.psi)[same] <= 2 * _MIN_SPACING
     assert np.all((moves <= 0.25 * step) | narrow)
-    np.testing.assert_array_equal(after.q, arm.clipped(arm.joint_values(after.waypoint, after.branch, after.psi)))
+    np.testing.assert_array_equal(after.q, arm.rows(after.waypoint, after.branch, after.psi)[0])
     assert np.all(after.clearance >= 0) and np.all(chain.within_limits(after.q))

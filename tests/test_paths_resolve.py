@@ -8,9 +8,9 @@ from hypothesis import strategies as st
 
 from redkin.errors import RedkinError
 from redkin.models import get_robot
-from redkin.paths import FK_TOLERANCE, resolve_path, resolve_paths, step_bound
+from redkin.paths import FK_TOLERANCE, OPTIMALITY_MARGIN, resolve_path, resolve_paths, step_bound
 from redkin.paths.baselines import clamped_optimum_path, fixed_psi_path, greedy_path, sampled_path
-from redkin.srs import arm_angle_of, ik
+from redkin.srs import arm_angle_of, ik, ik_all_branches
 
 ROBOTS = ["kuka-iiwa14", "pa10-7c", "barrett-wam7"]
 
@@ -181,6 +181,78 @@ def test_a_passage_a_ten_thousandth_of_a_radian_wide_is_found():
     assert abs(result.psi[4] - psi) <= 0.5e-4 + 1e-12
     coarse = sampled_path(chain, poses, step, np.radians(0.1))  # the literature's grid misses it
     assert coarse.failure.waypoint == 4 and coarse.failure.reason == "empty" and not coarse.failure.exact
+
+
+# ------------------------------------------------------------------ optimality: the proof and the two stages
+def _densest_clearance(chain, pose, samples=20_000):
+    """The largest clearance of any in-limit solution of ``pose`` on a dense arm-angle grid of all branches,
+    from the closed form alone (no feasible set): an independent lower estimate of the best possible."""
+    psi = np.linspace(-np.pi, np.pi, samples, endpoint=False)
+    q = ik_all_branches(chain, np.broadcast_to(pose, (samples, 4, 4)), psi).reshape(-1, 7)
+    q = q[np.all(np.isfinite(q), axis=-1)]
+    limited = ~chain.covers_circle
+    inside = np.minimum(q - chain.lower, chain.upper - q)[:, limited].min(axis=-1)
+    return inside.max(initial=-np.inf)
+
+
+@settings(max_examples=6, deadline=None)
+@given(st.integers(0, 2**31), st.sampled_from(ROBOTS), st.floats(1.2, 3.0))
+def test_a_clearance_said_optimal_is_not_beaten_at_its_bottleneck(seed, robot, slack):
+    chain = get_robot(robot)
+    q, poses = _joint_line(chain, np.random.default_rng(seed), 12)
+    step = slack * np.abs(np.diff(q, axis=0)).max(axis=0) + 1e-3
+    result = resolve_path(chain, poses, step)
+    _assert_lawful(chain, poses, result)
+    if not result.optimal:
+        assert result.bottleneck is None
+        return
+    k = result.bottleneck
+    own = np.minimum(result.q[k] - chain.lower, chain.upper - result.q[k])[~chain.covers_circle].min()
+    assert own <= result.clearance + OPTIMALITY_MARGIN  # the path is at its smallest clearance there
+    assert _densest_clearance(chain, poses[k]) <= result.clearance + OPTIMALITY_MARGIN
+
+
+def test_the_line_of_the_docs_is_proved_optimal_and_a_binding_bound_is_not():
+    chain = get_robot("kuka-iiwa14")
+    q0 = np.array([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1])
+    q1 = np.array([-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9])
+    result = resolve_path(chain, chain.fk(q0 + (q1 - q0) * np.linspace(0.0, 1.0, 20)[:, None]), 0.1)
+    assert result.optimal and result.bottleneck is not None
+    rng = np.random.default_rng(1)
+    lower, upper = chain.lower + 0.2, chain.upper - 0.2
+    for _ in range(5):  # the fifth of these lines: each waypoint alone could keep more than any path can
+        a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
+    q = a + (b - a) * np.linspace(0.0, 1.0, 30)[:, None]
+    bound = resolve_path(chain, chain.fk(q), 1.5 * np.abs(np.diff(q, axis=0)).max())
+    assert bound.ok and not bound.optimal and bound.bottleneck is None
+    best_alone = min(_densest_clearance(chain, pose, 4000) for pose in chain.fk(q))
+    assert best_alone > bound.clearance + 1e-3
+
+
+@settings(max_examples=6, deadline=None)
+@given(st.integers(0, 2**31), st.sampled_from(ROBOTS))
+def test_the_two_stages_are_never_worse_than_the_subdivided_search_alone(seed, robot):
+    from redkin.paths import graph as graphs
+    from redkin.paths.resolve import DEFAULT_CONNECT, DEFAULT_REFINEMENTS, DEFAULT_SPACING, _search
+    from redkin.srs.geometry import srs_geometry
+
+    chain = get_robot(robot)
+    q, poses = _joint_line(chain, np.random.default_rng(seed), 10)
+    step = step_bound(chain, 1.5 * np.abs(np.diff(q, axis=0)).max())
+    fine = _search(srs_geometry(chain), poses[None], step, None, None, None,
+                   lambda pieces: graphs.piece_samples(pieces, DEFAULT_SPACING), DEFAULT_CONNECT,
+                   DEFAULT_REFINEMENTS)[0]
+    ours, thorough = resolve_path(chain, poses, step), resolve_path(chain, poses, step, thorough=True)
+    assert ours.status == thorough.status == fine.status
+    if not fine.ok:
+        return
+    # thorough: the better of both stages, clearance first, then motion
+    assert (thorough.clearance, -thorough.motion) >= (fine.clearance, -fine.motion)
+    assert thorough.clearance >= ours.clearance
+    if ours.optimal:  # proved: the finer graph cannot keep more (its motion may be less)
+        assert fine.clearance <= ours.clearance + OPTIMALITY_MARGIN
+    else:  # searched on both graphs
+        assert (ours.clearance, -ours.motion) >= (fine.clearance, -fine.motion)
 
 
 # ------------------------------------------------------------------ against the baselines

@@ -29,6 +29,7 @@ from redkin.paths.resolve import (
     DEFAULT_REFINEMENTS,
     DEFAULT_SPACING,
     FK_TOLERANCE,
+    OPTIMALITY_MARGIN,
     resolve_path,
     resolve_paths,
 )
@@ -43,6 +44,7 @@ __all__ = [
     "FK_TOLERANCE",
     "GREEDY_SPACING",
     "LIMIT_SLACK",
+    "OPTIMALITY_MARGIN",
     "PathFailure",
     "PathResult",
     "REASONS",

@@ -27,20 +27,35 @@ from redkin.srs._ik_kernels import branch_angles, chain_values
 
 
 @kernel
-def node_values(start, stop, waypoint, branch, entries, theta4, psi, table, joints, out):
-    """The chain's joint values of nodes ``start .. stop - 1`` into ``out`` (K, 7): node ``n`` is arm angle
-    ``psi[n]`` on branch ``branch[n]`` (a row of ``table`` (8, 3), its Table 1 signs) at waypoint
-    ``waypoint[n]``, whose entry coefficients and theta_4 for the elbow signs ``+1, -1`` are ``entries`` (W, 2, 3,
-    14) and ``theta4`` (W, 2): :func:`redkin.srs._ik_kernels.branch_angles` [000 eqs. 11, 13-15, 17-19], then
-    :func:`redkin.srs._ik_kernels.chain_values` with ``joints`` (5, 7), read per node without copying the
-    waypoint's coefficients."""
+def _node_row(entries, theta4, angle, first, third, joints, lower, upper, circle, theta, row):
+    """One node's joint values into ``row`` (n,): :func:`redkin.srs._ik_kernels.branch_angles` [000 eqs. 11, 13-15,
+    17-19] at arm angle ``angle`` from one waypoint's ``entries`` (3, 14) and ``theta4`` for one elbow sign, with
+    the branch's shoulder and wrist signs ``first``, ``third``, then :func:`redkin.srs._ik_kernels.chain_values`
+    (``joints`` (5, 7), ``theta`` (7,) scratch).  Each joint that is not ``circle`` is clipped into ``lower`` ..
+    ``upper``; returns the node's clearance before the clip: the smallest distance of such a joint to a limit
+    (negative outside, ``inf`` where every joint is ``circle``)."""
+    branch_angles(entries, theta4, angle, first, third, theta)
+    chain_values(theta, joints, row)
+    least = inf
+    for a in range(row.shape[0]):
+        if not circle[a]:
+            least = min(least, min(row[a] - lower[a], upper[a] - row[a]))
+            row[a] = min(max(row[a], lower[a]), upper[a])
+    return least
+
+
+@kernel
+def node_rows(start, stop, waypoint, branch, entries, theta4, psi, table, joints, lower, upper, circle, q, clearance):
+    """:func:`_node_row` of nodes ``start .. stop - 1`` into ``q`` (K, n) and ``clearance`` (K,): node ``k`` is
+    arm angle ``psi[k]`` on branch ``branch[k]`` (a row of ``table`` (8, 3), its Table 1 signs) at waypoint
+    ``waypoint[k]``, whose entry coefficients and theta_4 for the elbow signs ``+1, -1`` are ``entries`` (W, 2,
+    3, 14) and ``theta4`` (W, 2), read in place (no per-node copy of a waypoint's coefficients)."""
     theta = np.empty(7)
-    for n in range(start, stop):
-        b = branch[n]
+    for k in range(start, stop):
+        b = branch[k]
         elbow = 1 if table[b, 1] < 0.0 else 0
-        branch_angles(entries[waypoint[n], elbow], theta4[waypoint[n], elbow], psi[n], table[b, 0], table[b, 2],
-                      theta)
-        chain_values(theta, joints, out[n])
+        clearance[k] = _node_row(entries[waypoint[k], elbow], theta4[waypoint[k], elbow], psi[k], table[b, 0],
+                                 table[b, 2], joints, lower, upper, circle, theta, q[k])
 
 
 @kernel
@@ -72,13 +87,12 @@ def split_nodes(offsets, psi, piece, branch, q, clearance, parts, entries, theta
     each interval ``i`` cut evenly into ``parts[i]`` (:func:`split_counts`), in order, into the ``out_`` arrays;
     returns the number of nodes written.
 
-    A new node takes the waypoint, piece and branch of the interval's left end; its joint values are
-    :func:`node_values`' (``entries``, ``theta4``, ``table``, ``joints`` as there), its clearance the smallest
-    distance of a joint that is not ``circle`` to ``lower``/``upper``.  A node more than ``clip_tolerance``
-    outside a limit is dropped; the others are clipped into the limits and their clearance floored at 0.
+    A new node takes the waypoint, piece and branch of the interval's left end; its joint values and clearance
+    are :func:`_node_row`'s (``entries``, ``theta4``, ``table``, ``joints`` as in :func:`node_rows`).  A node
+    more than ``clip_tolerance`` outside a limit is dropped; the others are clipped into the limits and their
+    clearance floored at 0.
     """
     theta = np.empty(7)
-    value = np.empty(q.shape[1])
     count = offsets.shape[0] - 1
     written = 0
     w = 0
@@ -98,16 +112,10 @@ def split_nodes(offsets, psi, piece, branch, q, clearance, parts, entries, theta
         elbow = 1 if table[b, 1] < 0.0 else 0
         for j in range(1, parts[i]):
             angle = psi[i] + width * j / parts[i]
-            branch_angles(entries[w, elbow], theta4[w, elbow], angle, table[b, 0], table[b, 2], theta)
-            chain_values(theta, joints, value)
-            least = inf
-            for a in range(value.shape[0]):
-                if not circle[a]:
-                    least = min(least, min(value[a] - lower[a], upper[a] - value[a]))
+            least = _node_row(entries[w, elbow], theta4[w, elbow], angle, table[b, 0], table[b, 2], joints, lower,
+                              upper, circle, theta, out_q[written])
             if not least >= -clip_tolerance:
-                continue
-            for a in range(value.shape[0]):
-                out_q[written, a] = value[a] if circle[a] else min(max(value[a], lower[a]), upper[a])
+                continue  # the row is overwritten by the next node kept
             out_psi[written], out_piece[written], out_branch[written] = angle, piece[i], b
             out_clearance[written] = max(least, 0.0)
             written += 1

@@ -32,6 +32,8 @@ from redkin.srs.geometry import SRSGeometry
 #: Clearance below this (radians) drops a node: an arc end computed a few ulps outside its limit is clipped back,
 #: anything further out is not a feasible sample.
 _CLIP_TOLERANCE = 1e-9
+#: A refinement window (:func:`window`) samples this many arm angles on each side of the chosen node.
+_WINDOW_SIDE = 2
 #: Intervals of a piece are not halved below this width (radians of arm angle).
 _MIN_SPACING = 1e-9
 
@@ -84,16 +86,19 @@ class Arm:
     step: np.ndarray
     circle: np.ndarray
 
-    def joint_values(self, waypoint: np.ndarray, branch: np.ndarray, psi: np.ndarray) -> np.ndarray:
-        """Joint values ``(K, 7)`` of nodes (waypoint, branch index, arm angle), [000 eqs. 11, 13-15, 17-19] by
-        :func:`redkin.paths._dp_kernels.node_values` (the closed form of :func:`redkin.srs.ik`, one compiled pass
-        that reads each waypoint's coefficients in place)."""
-        q = np.empty((len(psi), 7))
-        run_batch(_dp_kernels.node_values, len(psi), np.ascontiguousarray(waypoint, dtype=np.int64),
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Joint values ``(K, 7)`` and clearance ``(K,)`` of nodes (waypoint, branch index, arm angle): the closed
+        form of :func:`redkin.srs.ik` [000 eqs. 11, 13-15, 17-19] by :func:`redkin.paths._dp_kernels.node_rows`,
+        in one compiled pass that reads each waypoint's coefficients in place.  The clearance is the smallest
+        distance of a joint with a range narrower than ``2 pi`` to a limit (negative outside, ``inf`` where no
+        joint has such a range); such joints are clipped into their limits."""
+        chain = self.geometry.chain
+        q, clearance = np.empty((len(psi), 7)), np.empty(len(psi))
+        run_batch(_dp_kernels.node_rows, len(psi), np.ascontiguousarray(waypoint, dtype=np.int64),
                   np.ascontiguousarray(branch, dtype=np.int64), self.entries, self.theta4,
                   np.ascontiguousarray(psi, dtype=float), self.geometry.kernel_branches,
-                  self.geometry.kernel_joints, q)
-        return q
+                  self.geometry.kernel_joints, chain.lower, chain.upper, self.circle, q, clearance)
+        return q, clearance
 
     def clearance(self, q: np.ndarray) -> np.ndarray:
         """The smallest distance of a joint with a range narrower than ``2 pi`` to a limit, per row of ``q``
@@ -104,12 +109,6 @@ class Arm:
             return np.full(q.shape[:-1], np.inf)
         inside = np.minimum(q[..., binding] - chain.lower[binding], chain.upper[binding] - q[..., binding])
         return inside.min(axis=-1)
-
-    def clipped(self, q: np.ndarray) -> np.ndarray:
-        """``q`` with each joint of a range narrower than ``2 pi`` clipped into it (a move of at most
-        :data:`_CLIP_TOLERANCE` for a node's values)."""
-        chain = self.geometry.chain
-        return np.where(self.circle, q, np.clip(q, chain.lower, chain.upper))
 
     def moves(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """How far each joint moves between ``a`` and ``b`` (..., 7): on the circle for the joints of
@@ -152,20 +151,19 @@ def piece_samples(pieces: FeasiblePieces, spacing: float) -> tuple[np.ndarray, .
 
 
 def build(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, piece: np.ndarray, psi: np.ndarray,
-          count: int) -> Graph:
-    """The graph of the nodes given (any order) over ``count`` waypoints: joint values, clearance, sorted."""
-    q = arm.joint_values(waypoint, branch, psi)
-    clearance = arm.clearance(q)
+          count: int, ordered: bool = False) -> Graph:
+    """The graph of the nodes given over ``count`` waypoints: joint values, clearance, sorted by waypoint, piece
+    and arm angle (``ordered``: they already are).  A node more than :data:`_CLIP_TOLERANCE` outside a limit is
+    dropped, the others clipped into the limits."""
+    q, clearance = arm.rows(waypoint, branch, psi)
     good = clearance >= -_CLIP_TOLERANCE
-    return _sorted(arm, waypoint[good], branch[good], piece[good], psi[good], q[good], clearance[good], count)
-
-
-def _sorted(arm: Arm, waypoint, branch, piece, psi, q, clearance, count: int) -> Graph:
-    order = np.lexsort((psi, piece, waypoint))
-    waypoint = waypoint[order]
+    if not good.all():
+        waypoint, branch, piece, psi, q, clearance = (a[good] for a in (waypoint, branch, piece, psi, q, clearance))
+    if not ordered:
+        order = np.lexsort((psi, piece, waypoint))
+        waypoint, branch, piece, psi, q, clearance = (a[order] for a in (waypoint, branch, piece, psi, q, clearance))
     offsets = np.searchsorted(waypoint, np.arange(count + 1))
-    q = arm.clipped(q[order])
-    return Graph(offsets, piece[order], branch[order], psi[order], q, np.maximum(clearance[order], 0.0))
+    return Graph(offsets, piece, branch, psi, q, np.maximum(clearance, 0.0))
 
 
 def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
@@ -199,11 +197,14 @@ def window(arm: Arm, graph: Graph, chosen: np.ndarray, width: float, bounds: np.
     (``bounds`` (pieces, 2): each piece's ends) and on its branch: the chosen path stays in it, and neighbouring
     paths up to ``width`` away are sampled four times finer.  A node outside any piece (``q0``'s own) is kept
     alone."""
-    node = np.repeat(chosen, 9)
+    offsets = np.arange(-_WINDOW_SIDE, _WINDOW_SIDE + 1)
+    node = np.repeat(chosen, offsets.size)
     piece = graph.piece[node]
-    psi = graph.psi[node] + width * np.tile(np.arange(-4, 5) / 4.0, chosen.size)
+    psi = graph.psi[node] + width * np.tile(offsets / _WINDOW_SIDE, chosen.size)
     alone = piece < 0
     inside = alone | ((psi >= bounds[piece, 0]) & (psi <= bounds[piece, 1]))
-    inside &= ~alone | (np.tile(np.arange(-4, 5), chosen.size) == 0)
+    inside &= ~alone | (np.tile(offsets, chosen.size) == 0)
     psi = np.where(alone, graph.psi[node], psi)
-    return build(arm, graph.waypoint[node][inside], graph.branch[node][inside], piece[inside], psi[inside], count)
+    # one chosen node per waypoint, in order, and its samples in increasing psi: already sorted
+    return build(arm, graph.waypoint[node][inside], graph.branch[node][inside], piece[inside], psi[inside], count,
+                 ordered=True)

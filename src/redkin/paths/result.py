@@ -85,7 +85,13 @@ class PathResult:
         The bound on each joint's move between waypoints.
     failure : PathFailure or None
     nodes : int
-        Size of the graph searched (arm-angle samples over all waypoints and branches).
+        Size of the graphs searched (arm-angle samples over all waypoints, branches and rounds).
+    optimal : bool
+        Whether ``clearance`` is proved the largest any path through these poses can keep, to within
+        :data:`redkin.paths.OPTIMALITY_MARGIN` (1e-7 rad): the exact feasible sets of waypoint ``bottleneck``,
+        with every limit moved that much further in than ``clearance``, are empty on every branch.
+    bottleneck : int or None
+        The waypoint that proves it (``None`` where not proved).
     """
 
     status: str
@@ -97,6 +103,8 @@ class PathResult:
     step: np.ndarray
     failure: PathFailure | None
     nodes: int
+    optimal: bool = False
+    bottleneck: int | None = None
 
     @property
     def ok(self) -> bool:
