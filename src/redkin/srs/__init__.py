@@ -8,6 +8,8 @@
 * :func:`feasible_pieces`, :func:`feasible_pieces_all_branches` -- the same as arrays, one branch or all eight
 * :func:`joint_extrema` -- type, case, extrema and monotonicity of each joint over psi [000 eqs. 21-28]
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles [000 eqs. 31-34]
+* :func:`nearly_srs`, :func:`feasible_arm_angles_nearly`, :func:`singular_arm_angles_nearly` -- nearly S-R-S arms
+  (the Kinova Gen3): the exact neighbour, feasible and singular arm angles on the real arm
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles [000 eqs. 36-40]
 * :func:`arm_angle_path` -- arm-angle control along a path (section 6.2.2)
 * :func:`arm_angle_class` -- whether a chain is S-R-S, S-R-S with an offset elbow (the WAM), or neither
@@ -31,11 +33,13 @@ from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.nearly import NearlySolutions, NearlySRS, nearly_srs
 from redkin.srs.nearly_feasible import NearlyFeasible, feasible_arm_angles_nearly
+from redkin.srs.nearly_singular import Alignment, NearlySingular, alignment_angles, singular_arm_angles_nearly
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
 from redkin.srs.path import ArmAnglePath, arm_angle_path
 from redkin.srs.singular import SINGULAR_TOLERANCE, SingularArmAngles, singular_arm_angles
 
 __all__ = [
+    "Alignment",
     "ArmAnglePath",
     "ArmClass",
     "ArmAngleState",
@@ -46,6 +50,7 @@ __all__ = [
     "JointExtrema",
     "NearlyFeasible",
     "NearlySRS",
+    "NearlySingular",
     "NearlySolutions",
     "OptimalAngle",
     "OptimalArmAngles",
@@ -53,6 +58,7 @@ __all__ = [
     "SRSGeometry",
     "SingularArmAngles",
     "Stationary",
+    "alignment_angles",
     "arm_angle_class",
     "arm_angle_of",
     "arm_angle_path",
@@ -70,5 +76,6 @@ __all__ = [
     "pose_from",
     "reachable",
     "singular_arm_angles",
+    "singular_arm_angles_nearly",
     "srs_geometry",
 ]
