@@ -26,6 +26,11 @@ def test_a_path_in_json(tmp_path, capsys):
     assert np.abs(chain.fk(q) - np.load(file)).max() <= 1e-9
     assert chain.within_limits(q).all() and np.all(np.abs(np.diff(q, axis=0)) <= 0.2)
     assert report["clearance"] > 0
+    assert report["parameter"] == "psi" and len(report["psi"]) == 8
+    assert isinstance(report["optimal"], bool) and (report["bottleneck"] is not None) == report["optimal"]
+    assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.2", "--json", "--thorough"]) == 0
+    thorough = json.loads(capsys.readouterr().out)
+    assert thorough["clearance"] >= report["clearance"] and thorough["nodes"] >= report["nodes"]
 
 
 def test_degrees_and_speed_with_dt(tmp_path, capsys):

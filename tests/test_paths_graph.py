@@ -4,10 +4,10 @@
 import numpy as np
 import pytest
 
+from redkin import franka
 from redkin.models import get_robot
-from redkin.paths.graph import Arm
+from redkin.paths.family import ArmAngleFamily, Q7Family
 from redkin.srs import BRANCHES, ik
-from redkin.srs.coefficients import coefficient_arrays
 from redkin.srs.geometry import srs_geometry
 
 
@@ -18,8 +18,7 @@ def test_node_values_are_the_closed_form_ik_of_their_waypoint_and_branch(robot):
     rng = np.random.default_rng(3)
     q = rng.uniform(np.maximum(chain.lower, -3.0), np.minimum(chain.upper, 3.0), (12, 7))
     poses = chain.fk(q)
-    coefficients, _, _ = coefficient_arrays(geometry, poses[:, None], np.array([1.0, -1.0]))
-    arm = Arm(geometry, coefficients.entries, coefficients.theta4, np.full(7, 0.1), chain.covers_circle)
+    _, arm = ArmAngleFamily(geometry).arm(poses, np.full(7, 0.1))
     waypoint, branch = rng.integers(0, 12, 300), rng.integers(0, 8, 300)
     psi = rng.uniform(-np.pi, np.pi, 300)
     values, clearance = arm.rows(waypoint, branch, psi)
@@ -29,6 +28,40 @@ def test_node_values_are_the_closed_form_ik_of_their_waypoint_and_branch(robot):
         np.testing.assert_array_equal(values[n], np.where(limited, np.clip(expected, chain.lower, chain.upper),
                                                           expected))
         assert clearance[n] == np.min(np.minimum(expected - chain.lower, chain.upper - expected)[limited])
+
+
+@pytest.mark.parametrize("robot", ["franka-fr3", "franka-panda", "ufactory-xarm7"])
+def test_franka_nodes_are_the_closed_form_at_q7_of_their_waypoint_and_branch(robot):
+    chain = get_robot(robot)
+    rng = np.random.default_rng(4)
+    q = rng.uniform(np.maximum(chain.lower, -3.0), np.minimum(chain.upper, 3.0), (12, 7))
+    poses = chain.fk(q)
+    family = Q7Family(franka.franka_geometry(chain))
+    _, arm = family.arm(poses, np.full(7, 0.1))
+    waypoint, branch = rng.integers(0, 12, 300), rng.integers(0, 8, 300)
+    q7 = rng.uniform(chain.lower[6], chain.upper[6], 300)
+    values, clearance = arm.rows(waypoint, branch, q7)
+    limited = ~chain.covers_circle
+    for n in range(300):
+        expected = franka.ik(chain, poses[waypoint[n]], q7[n], str(BRANCHES[branch[n]]))
+        if not expected.exists[0]:
+            assert clearance[n] == -np.inf
+            continue
+        row = expected.q[0]
+        np.testing.assert_array_equal(values[n], np.where(limited, np.clip(row, chain.lower, chain.upper), row))
+        assert clearance[n] == np.min(np.minimum(row - chain.lower, chain.upper - row)[limited])
+
+
+def test_the_parameter_of_a_configuration_is_its_own_branch_and_q7():
+    chain = get_robot("franka-fr3")
+    rng = np.random.default_rng(6)
+    q = rng.uniform(chain.lower, chain.upper, (50, 7))
+    family = Q7Family(franka.franka_geometry(chain))
+    branch, q7 = family.parameter_of(q)
+    np.testing.assert_array_equal(q7, q[:, 6])
+    for n in range(50):
+        again = franka.ik(chain, chain.fk(q[n]), q7[n], str(BRANCHES[branch[n]]))
+        assert again.exists[0] and np.abs(again.q[0] - q[n]).max() < 1e-9
 
 
 @pytest.mark.parametrize(("robot", "step"), [("kuka-iiwa14", 0.05), ("pa10-7c", 0.03), ("barrett-wam7", 0.1)])
@@ -43,8 +76,7 @@ def test_connect_keeps_every_node_and_leaves_no_interval_of_a_piece_wider_than_i
     lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
     a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
     poses = chain.fk(a + (b - a) * np.linspace(0.0, 1.0, 20)[:, None])
-    coefficients, _, _ = coefficient_arrays(geometry, poses[:, None], np.array([1.0, -1.0]))
-    arm = Arm(geometry, coefficients.entries, coefficients.theta4, np.full(7, step), chain.covers_circle)
+    _, arm = ArmAngleFamily(geometry).arm(poses, np.full(7, step))
     waypoint, branch, piece, psi, _ = graphs.piece_samples(feasible_pieces_all_branches(geometry, poses), 0.1)
     before = graphs.build(arm, np.append(waypoint, 0), np.append(branch, 2), np.append(piece, -1),
                           np.append(psi, 0.3), 20)  # and one node alone, as q0's

@@ -1,4 +1,5 @@
-"""``redkin path``: the arm angle chosen over a whole path of poses, inside the exact feasible sets."""
+"""``redkin path``: the redundancy (the arm angle, or q7 on a Franka-class arm) chosen over a whole path of poses,
+inside the exact feasible sets."""
 
 from __future__ import annotations
 
@@ -44,10 +45,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "speed being the description's velocity limit (or --speed); give --dt or --max-step")
     path.add_argument("--q0", nargs=7, type=float, metavar="Q", help="the configuration before the first waypoint")
     path.add_argument("--end-branch", metavar="BRANCH", help="branch of the last waypoint: " + BRANCH_HELP)
+    path.add_argument("--thorough", action="store_true",
+                      help="search the subdivided graph too where the first search already proved its clearance "
+                           "optimal: the least motion among such paths on a finer graph (slower)")
     path.add_argument("--plot", metavar="FILE.png",
                       help="save the (waypoint, arm angle) plane of each branch here: the exact feasible arm angles, "
                            "the path (or the failing waypoint), and beside it the fixed arm angle, the clamped "
-                           "per-pose optimum and greedy seeded tracking with their first failures")
+                           "per-pose optimum and greedy seeded tracking with their first failures (S-R-S and "
+                           "offset-elbow arms)")
     add_force_flag(path)
     add_output_flags(path)
     path.set_defaults(handler=_run_path)
@@ -126,13 +131,18 @@ def _bound(args: argparse.Namespace, chain) -> tuple[np.ndarray, np.ndarray | No
 
 def _run_path(args: argparse.Namespace) -> int:
     from redkin.paths import resolve_path
+    from redkin.paths.family import path_family
 
     plot = None if args.plot is None else output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
     chain = load_robot(args)
+    family = path_family(chain)
+    if plot is not None and not family.wraps:
+        raise UsageError(f"--plot draws the arm-angle plane of S-R-S and offset-elbow arms; {chain.name} is of the "
+                         "Franka class (its parameter is q7): leave --plot out")
     step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own
     poses = read_poses(args.poses)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
-    result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch)
+    result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0)
     degrees = args.deg
@@ -141,12 +151,14 @@ def _run_path(args: argparse.Namespace) -> int:
         report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
                         "speed": angles_out(speed, degrees), "speed_unit": f"{angle_unit(degrees)}/s",
                         "speed_source": speed_source, "dt": args.dt if speed is not None else None,
-                        "nodes": result.nodes}
+                        "nodes": result.nodes, "parameter": result.parameter}
         if result.ok:
-            report.update(q=angles_out(result.q, degrees), branch=result.branch, psi=angles_out(result.psi, degrees),
+            report.update(q=angles_out(result.q, degrees), branch=result.branch,
                           clearance=None if not np.isfinite(result.clearance) else angles_out(result.clearance,
                                                                                                degrees),
-                          motion=angles_out(result.motion, degrees))
+                          motion=angles_out(result.motion, degrees), optimal=result.optimal,
+                          bottleneck=result.bottleneck)
+            report[result.parameter] = angles_out(result.psi, degrees)
         else:
             assert failure is not None
             report["failure"] = {"waypoint": failure.waypoint, "reason": failure.reason, "joint": failure.joint,
@@ -165,8 +177,11 @@ def _run_path(args: argparse.Namespace) -> int:
         return 1
     clearance = fixed(float(angles_out(result.clearance, degrees)))
     motion = fixed(float(angles_out(result.motion, degrees)))
-    print(f"path of {len(poses)} waypoints on {chain.name}: clearance {clearance} {unit}, total motion {motion} {unit}")
-    print(f"{'k':>5}  branch  {'psi':>10}  q [{unit}]")
+    proof = (f"proved the largest any path keeps, at waypoint {result.bottleneck}" if result.optimal
+             else "not proved the largest possible")
+    print(f"path of {len(poses)} waypoints on {chain.name}: clearance {clearance} {unit} ({proof}), total motion "
+          f"{motion} {unit}")
+    print(f"{'k':>5}  branch  {result.parameter:>10}  q [{unit}]")
     for k in range(len(poses)):
         print(f"{k:>5}  {result.branch[k]:>6}  {fixed(float(angles_out(result.psi[k], degrees)), 6, ' '):>10}  "
               f"{format_values(angles_out(result.q[k], degrees))}")

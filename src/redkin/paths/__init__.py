@@ -9,6 +9,8 @@
   (dynamic programming on a uniform grid), the first three returning a :class:`BaselinePath`, as
   :func:`judge_path` returns it for joint values from anywhere
 * :func:`feasible_along_path` -- the exact feasible pieces of every waypoint and branch (the figures' plane)
+* :func:`path_family` -- the arm's class as path resolution sees it: :class:`ArmAngleFamily` (S-R-S and
+  offset-elbow arms, the arm angle psi) or :class:`Q7Family` (the Franka class, q7)
 """
 
 from redkin.paths.baselines import (
@@ -23,6 +25,7 @@ from redkin.paths.baselines import (
     sampled_path,
 )
 from redkin.paths.bounds import step_bound
+from redkin.paths.family import ArmAngleFamily, Family, Q7Family, path_family
 from redkin.paths.plane import feasible_along_path
 from redkin.paths.resolve import (
     DEFAULT_CONNECT,
@@ -36,23 +39,27 @@ from redkin.paths.resolve import (
 from redkin.paths.result import REASONS, PathFailure, PathResult
 
 __all__ = [
+    "ArmAngleFamily",
     "BASELINE_REASONS",
     "BaselinePath",
     "DEFAULT_CONNECT",
     "DEFAULT_REFINEMENTS",
     "DEFAULT_SPACING",
     "FK_TOLERANCE",
+    "Family",
     "GREEDY_SPACING",
     "LIMIT_SLACK",
     "OPTIMALITY_MARGIN",
     "PathFailure",
     "PathResult",
+    "Q7Family",
     "REASONS",
     "clamped_optimum_path",
     "feasible_along_path",
     "fixed_psi_path",
     "greedy_path",
     "judge_path",
+    "path_family",
     "resolve_path",
     "resolve_paths",
     "sampled_path",

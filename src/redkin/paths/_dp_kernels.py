@@ -23,6 +23,7 @@ import numpy as np
 
 from redkin._compiled import kernel
 from redkin.circle import TWO_PI
+from redkin.franka._kernels import WORK, solve_q7
 from redkin.srs._ik_kernels import branch_angles, chain_values
 
 
@@ -36,12 +37,37 @@ def _node_row(entries, theta4, angle, first, third, joints, lower, upper, circle
     (negative outside, ``inf`` where every joint is ``circle``)."""
     branch_angles(entries, theta4, angle, first, third, theta)
     chain_values(theta, joints, row)
+    return _clipped(row, lower, upper, circle)
+
+
+@kernel
+def _clipped(row, lower, upper, circle):
+    """Clip each joint of ``row`` that is not ``circle`` into ``lower`` .. ``upper``; returns the clearance before
+    the clip: the smallest distance of such a joint to a limit (negative outside, ``inf`` where every joint is
+    ``circle``)."""
     least = inf
     for a in range(row.shape[0]):
         if not circle[a]:
             least = min(least, min(row[a] - lower[a], upper[a] - row[a]))
             row[a] = min(max(row[a], lower[a]), upper[a])
     return least
+
+
+@kernel
+def q7_node_rows(start, stop, waypoint, branch, frames, q7, arm, table, joints, lower, upper, circle, q, clearance):
+    """The Franka class's nodes ``start .. stop - 1`` into ``q`` (K, 7) and ``clearance`` (K,): node ``k`` is
+    joint 7 at ``q7[k]`` on branch ``branch[k]`` (a row of ``table`` (8, 3), the solver's signs) at waypoint
+    ``waypoint[k]``, whose frame 7 in frame 0 is ``frames[waypoint[k]]``: one branch of
+    :func:`redkin.franka._kernels.solve_q7` [F1]-[F7] (``arm``, ``joints`` as there), clipped as :func:`_clipped`.
+    Where the branch does not exist the clearance is ``-inf`` (and the row zeros)."""
+    scratch = np.empty((8, 3, 3))
+    work = np.empty(WORK)
+    exists = np.empty(1, dtype=np.bool_)
+    for k in range(start, stop):
+        b = branch[k]
+        solve_q7(frames[waypoint[k]], q7[k] + joints[0, 6], arm, table[b : b + 1], joints, q[k : k + 1], exists,
+                 scratch, work)
+        clearance[k] = _clipped(q[k], lower, upper, circle) if exists[0] else -inf
 
 
 @kernel
@@ -60,9 +86,9 @@ def node_rows(start, stop, waypoint, branch, entries, theta4, psi, table, joints
 
 @kernel
 def split_counts(psi, piece, q, step, circle, fraction, min_spacing, parts):
-    """Into how many parts :func:`split_nodes` cuts the interval between nodes ``i`` and ``i + 1`` (``parts`` (K -
-    1,), 1: not cut): nodes sorted by waypoint, piece and arm angle ``psi`` (K,), ``piece`` (K,) (-1: a node
-    alone), joint values ``q`` (K, n).  An interval inside a piece wider than ``2 min_spacing`` is cut into
+    """Into how many parts :func:`redkin.paths.graph.connect` cuts the interval between nodes ``i`` and ``i + 1``
+    (``parts`` (K - 1,), 1: not cut): nodes sorted by waypoint, piece and parameter ``psi`` (K,), ``piece`` (K,)
+    (-1: a node alone), joint values ``q`` (K, n).  An interval inside a piece wider than ``2 min_spacing`` is cut into
     ``ceil(r / fraction)`` parts, ``r`` the largest move of a joint across it relative to ``step`` (on the circle
     where ``circle``), but none narrower than ``min_spacing``."""
     for i in range(psi.shape[0] - 1):
@@ -78,50 +104,6 @@ def split_counts(psi, piece, q, step, circle, fraction, min_spacing, parts):
         count = min(np.ceil(ratio / fraction), np.floor(width / min_spacing))
         if count > 1.0:
             parts[i] = int(count)
-
-
-@kernel
-def split_nodes(offsets, psi, piece, branch, q, clearance, parts, entries, theta4, table, joints, lower, upper, circle,
-                clip_tolerance, out_offsets, out_psi, out_piece, out_branch, out_q, out_clearance):
-    """The graph (``offsets`` (W + 1,), ``psi``, ``piece``, ``branch``, ``q``, ``clearance`` per node, sorted) with
-    each interval ``i`` cut evenly into ``parts[i]`` (:func:`split_counts`), in order, into the ``out_`` arrays;
-    returns the number of nodes written.
-
-    A new node takes the waypoint, piece and branch of the interval's left end; its joint values and clearance
-    are :func:`_node_row`'s (``entries``, ``theta4``, ``table``, ``joints`` as in :func:`node_rows`).  A node
-    more than ``clip_tolerance`` outside a limit is dropped; the others are clipped into the limits and their
-    clearance floored at 0.
-    """
-    theta = np.empty(7)
-    count = offsets.shape[0] - 1
-    written = 0
-    w = 0
-    out_offsets[0] = 0
-    for i in range(psi.shape[0]):
-        while i >= offsets[w + 1]:
-            w += 1
-            out_offsets[w] = written
-        out_psi[written], out_piece[written], out_branch[written] = psi[i], piece[i], branch[i]
-        out_q[written] = q[i]
-        out_clearance[written] = clearance[i]
-        written += 1
-        if i + 1 == psi.shape[0] or parts[i] < 2:
-            continue
-        width = psi[i + 1] - psi[i]
-        b = branch[i]
-        elbow = 1 if table[b, 1] < 0.0 else 0
-        for j in range(1, parts[i]):
-            angle = psi[i] + width * j / parts[i]
-            least = _node_row(entries[w, elbow], theta4[w, elbow], angle, table[b, 0], table[b, 2], joints, lower,
-                              upper, circle, theta, out_q[written])
-            if not least >= -clip_tolerance:
-                continue  # the row is overwritten by the next node kept
-            out_psi[written], out_piece[written], out_branch[written] = angle, piece[i], b
-            out_clearance[written] = max(least, 0.0)
-            written += 1
-    for v in range(w + 1, count + 1):
-        out_offsets[v] = written
-    return written
 
 
 @kernel

@@ -25,6 +25,7 @@ from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
 from redkin.paths.bounds import step_bound
+from redkin.paths.family import path_family
 from redkin.paths.resolve import FK_TOLERANCE, search_paths
 from redkin.paths.result import PathResult
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
@@ -296,4 +297,4 @@ def sampled_path(arm: SerialChain | SRSGeometry, poses: ArrayLike, max_step: Arr
         branch = np.tile(np.repeat(np.arange(8), grid.size), count)
         return waypoint, branch, np.full(waypoint.size, -1), np.tile(grid, 8 * count), np.empty((0, 2))
 
-    return search_paths(geometry, poses[None], step, starts, None, None, uniform, None, 0)[0]
+    return search_paths(path_family(geometry), poses[None], step, starts, None, None, uniform, None, 0)[0]

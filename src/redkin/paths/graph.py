@@ -23,11 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from redkin._compiled import run_batch
+from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.paths import _dp_kernels
 from redkin.srs.feasible import PIECE_TOLERANCE, FeasiblePieces
-from redkin.srs.geometry import SRSGeometry
 
 #: Clearance below this (radians) drops a node: an arc end computed a few ulps outside its limit is clipped back,
 #: anything further out is not a feasible sample.
@@ -68,42 +67,37 @@ class Graph:
 
 @dataclass(frozen=True)
 class Arm:
-    """What the graph needs of an arm along a path: its geometry, the IK coefficients of every waypoint for both
-    elbow signs, the per-joint bounds and which joints are compared on the circle.
+    """What the graph needs of an arm along a path: its chain, the per-joint bounds, which joints are compared on the
+    circle, and the joint values of its nodes (:meth:`rows`, given by the arm's class:
+    :mod:`redkin.paths.family`).
 
     Attributes
     ----------
-    geometry : SRSGeometry
-    entries, theta4 : numpy.ndarray, shapes (W, 2, 3, 14), (W, 2)
-        [000 eqs. 11, 12, 16] per waypoint, for the Table 1 elbow signs ``+1, -1``.
+    chain : SerialChain
+        The chain whose joint values the nodes hold.
     step : numpy.ndarray, shape (7,)
     circle : numpy.ndarray of bool, shape (7,)
     """
 
-    geometry: SRSGeometry
-    entries: np.ndarray
-    theta4: np.ndarray
+    chain: SerialChain
     step: np.ndarray
     circle: np.ndarray
 
-    def rows(self, waypoint: np.ndarray, branch: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Joint values ``(K, 7)`` and clearance ``(K,)`` of nodes (waypoint, branch index, arm angle): the closed
-        form of :func:`redkin.srs.ik` [000 eqs. 11, 13-15, 17-19] by :func:`redkin.paths._dp_kernels.node_rows`,
-        in one compiled pass that reads each waypoint's coefficients in place.  The clearance is the smallest
-        distance of a joint with a range narrower than ``2 pi`` to a limit (negative outside, ``inf`` where no
-        joint has such a range); such joints are clipped into their limits."""
-        chain = self.geometry.chain
-        q, clearance = np.empty((len(psi), 7)), np.empty(len(psi))
-        run_batch(_dp_kernels.node_rows, len(psi), np.ascontiguousarray(waypoint, dtype=np.int64),
-                  np.ascontiguousarray(branch, dtype=np.int64), self.entries, self.theta4,
-                  np.ascontiguousarray(psi, dtype=float), self.geometry.kernel_branches,
-                  self.geometry.kernel_joints, chain.lower, chain.upper, self.circle, q, clearance)
-        return q, clearance
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Joint values ``(K, 7)`` and clearance ``(K,)`` of nodes (waypoint, branch index, value of the redundancy
+        parameter).  The clearance is the smallest distance of a joint with a range narrower than ``2 pi`` to a
+        limit (negative outside, ``inf`` where no joint has such a range; ``-inf`` where the branch does not exist
+        there); such joints are clipped into their limits."""
+        raise NotImplementedError
+
+    def take(self, waypoints: np.ndarray) -> Arm:
+        """The same arm along the waypoints ``waypoints`` only, numbered from 0."""
+        raise NotImplementedError
 
     def clearance(self, q: np.ndarray) -> np.ndarray:
         """The smallest distance of a joint with a range narrower than ``2 pi`` to a limit, per row of ``q``
         (``inf`` where no joint has such a range)."""
-        chain = self.geometry.chain
+        chain = self.chain
         binding = ~self.circle
         if not binding.any():
             return np.full(q.shape[:-1], np.inf)
@@ -169,26 +163,36 @@ def build(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, piece: np.ndarray,
 def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
     """Subdivide each interval between neighbouring nodes of a piece across which some joint moves more than
     ``fraction`` of its bound, evenly into as many parts as that move needs, until none does (or an interval is
-    :data:`_MIN_SPACING` wide): rounds of :func:`redkin.paths._dp_kernels.split_counts` and
-    :func:`redkin.paths._dp_kernels.split_nodes`, which insert the new nodes in order."""
-    geometry = arm.geometry
-    chain = geometry.chain
+    :data:`_MIN_SPACING` wide): rounds of :func:`redkin.paths._dp_kernels.split_counts`, the new nodes' joint values
+    (:meth:`Arm.rows`), and each new node put in its place between the ends of its interval (no sort).  A new node
+    more than :data:`_CLIP_TOLERANCE` outside a limit, or where its branch does not exist, is dropped."""
+    count = len(graph.offsets) - 1
     for _ in range(rounds):
         size = len(graph.psi)
         parts = np.ones(max(size - 1, 0), dtype=np.int64)
         _dp_kernels.split_counts(graph.psi, graph.piece, graph.q, arm.step, arm.circle, fraction, _MIN_SPACING, parts)
-        added = int((parts - 1).sum())
+        extra = parts - 1
+        added = int(extra.sum())
         if added == 0:
             break
-        offsets = np.empty_like(graph.offsets)
-        psi, clearance = np.empty(size + added), np.empty(size + added)
-        piece, branch = np.empty(size + added, dtype=np.int64), np.empty(size + added, dtype=np.int64)
-        q = np.empty((size + added, graph.q.shape[1]))
-        used = _dp_kernels.split_nodes(graph.offsets, graph.psi, graph.piece, graph.branch, graph.q, graph.clearance,
-                                       parts, arm.entries, arm.theta4, geometry.kernel_branches, geometry.kernel_joints,
-                                       chain.lower, chain.upper, arm.circle, _CLIP_TOLERANCE, offsets, psi, piece,
-                                       branch, q, clearance)
-        graph = Graph(offsets, piece[:used], branch[:used], psi[:used], q[:used], clearance[:used])
+        left = np.repeat(np.arange(size - 1), extra)  # the interval each new node cuts
+        j = np.arange(added) - np.repeat(np.cumsum(extra) - extra, extra) + 1  # 1 .. parts - 1 within it
+        psi = graph.psi[left] + (graph.psi[left + 1] - graph.psi[left]) * (j / parts[left])
+        waypoint = graph.waypoint
+        q, clearance = arm.rows(waypoint[left], graph.branch[left], psi)
+        old = np.arange(size) + np.concatenate([[0], np.cumsum(extra)])  # where each node goes
+        new = old[left] + j
+        kept = np.ones(size + added, dtype=bool)
+        kept[new[clearance < -_CLIP_TOLERANCE]] = False
+        merged = []
+        for before, after in ((waypoint, waypoint[left]), (graph.piece, graph.piece[left]),
+                              (graph.branch, graph.branch[left]), (graph.psi, psi), (graph.q, q),
+                              (graph.clearance, np.maximum(clearance, 0.0))):
+            out = np.empty((size + added,) + before.shape[1:], dtype=before.dtype)
+            out[old], out[new] = before, after
+            merged.append(out[kept])
+        offsets = np.searchsorted(merged[0], np.arange(count + 1))
+        graph = Graph(offsets, *merged[1:])
     return graph
 
 

@@ -12,7 +12,7 @@ Method, objective and guarantees: docs/paths.md.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -21,18 +21,17 @@ from redkin._validation import check_pose, check_vectors
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
+from redkin.franka.geometry import FrankaGeometry
 from redkin.paths import graph as graphs
 from redkin.paths import search
 from redkin.paths.bounds import step_bound
-from redkin.paths.failure import empty_blocker, step_blocker
+from redkin.paths.failure import step_blocker
+from redkin.paths.family import Family, path_family
 from redkin.paths.graph import Arm, Graph
 from redkin.paths.result import PathFailure, PathResult
-from redkin.srs import _ik_kernels
-from redkin.srs.arm_angle import arm_angle_of
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
-from redkin.srs.coefficients import coefficient_arrays
-from redkin.srs.feasible import feasible_pieces_all_branches
-from redkin.srs.geometry import SRSGeometry, srs_geometry
+from redkin.srs.feasible import FeasiblePieces
+from redkin.srs.geometry import SRSGeometry
 
 #: Every waypoint of a returned path reaches its pose within this (largest entry of the 4x4 difference).
 FK_TOLERANCE = 1e-9
@@ -52,7 +51,7 @@ OPTIMALITY_MARGIN = 1e-7
 
 
 def resolve_path(
-    arm: SerialChain | SRSGeometry,
+    arm: SerialChain | SRSGeometry | FrankaGeometry,
     poses: ArrayLike,
     max_step: ArrayLike | None = None,
     *,
@@ -75,8 +74,9 @@ def resolve_path(
 
     Parameters
     ----------
-    arm : SerialChain or SRSGeometry
-        An S-R-S or offset-elbow arm with its joint limits.
+    arm : SerialChain, SRSGeometry or FrankaGeometry
+        An S-R-S or offset-elbow arm (the redundancy is the arm angle psi) or a Franka-class arm (joint 7's value
+        q7, :mod:`redkin.franka`), with its joint limits.
     poses : array_like, shape (N, 4, 4)
         The waypoints.
     max_step : float or array_like of shape (7,), optional
@@ -124,7 +124,7 @@ def resolve_path(
 
 
 def resolve_paths(
-    arm: SerialChain | SRSGeometry,
+    arm: SerialChain | SRSGeometry | FrankaGeometry,
     paths: ArrayLike,
     max_step: ArrayLike | None = None,
     *,
@@ -141,8 +141,8 @@ def resolve_paths(
     """:func:`resolve_path` for ``P`` paths of ``N`` poses each, ``paths`` of shape ``(P, N, 4, 4)``: one
     batch of feasible sets and IK, one sweep.  ``q0`` and ``q_end`` are ``(7,)`` (the same for every path) or
     ``(P, 7)``."""
-    geometry = arm if isinstance(arm, SRSGeometry) else srs_geometry(arm)
-    chain = geometry.chain
+    family = path_family(arm)
+    chain = family.chain
     poses = check_pose(paths, "paths")
     if poses.ndim != 4 or poses.shape[1] == 0:
         raise RedkinError(f"paths must have shape (P, N, 4, 4) with N >= 1, got shape {poses.shape}")
@@ -159,11 +159,11 @@ def resolve_paths(
         raise RedkinError(f"connect must be in (0, 1], got {connect!r}")
     if int(refinements) != refinements or refinements < 0:
         raise RedkinError(f"refinements must be an integer >= 0, got {refinements!r}")
-    return search_paths(geometry, poses, step, starts, ends, last_branch,
+    return search_paths(family, poses, step, starts, ends, last_branch,
                         lambda pieces: graphs.piece_samples(pieces, spacing), connect, int(refinements), thorough)
 
 
-def search_paths(geometry: SRSGeometry, poses: np.ndarray, step: np.ndarray, starts: np.ndarray | None,
+def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np.ndarray | None,
                  ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
                  refinements: int, thorough: bool = False) -> list[PathResult]:
     """:func:`resolve_paths` on validated input: ``poses`` (P, N, 4, 4), ``starts``/``ends`` (P, 7) or
@@ -175,14 +175,23 @@ def search_paths(geometry: SRSGeometry, poses: np.ndarray, step: np.ndarray, sta
     clearance is then proved optimal (:func:`_bottleneck`), or a failure proved by the exact sets, is final.
     The others (all but the proved failures with ``thorough``) are searched again on the samples subdivided until
     neighbours differ by ``connect`` of the bound, and the better of the two answers is kept."""
-    results = _search(geometry, poses, step, starts, ends, last_branch, sampler, None, refinements)
+    count, length = poses.shape[:2]
+    flat = np.ascontiguousarray(poses.reshape(-1, 4, 4))
+    reach, arm_along = family.arm(flat, step)
+    empty = np.zeros((0, len(BRANCHES), 1))
+    found = family.pieces(flat[reach]) if reach.any() else FeasiblePieces(empty, empty, empty.astype(bool))
+    shape = (len(flat), len(BRANCHES), found.start.shape[-1])
+    start, end, feasible = np.full(shape, np.nan), np.full(shape, np.nan), np.zeros(shape, dtype=bool)
+    start[reach], end[reach], feasible[reach] = found.start, found.end, found.feasible
+    along = _Along(reach.reshape(count, length), arm_along, FeasiblePieces(start, end, feasible))
+    results = _search(family, poses, along, starts, ends, last_branch, sampler, None, refinements)
     if connect is None:
         return results
     again = [p for p, result in enumerate(results) if (result.ok and (thorough or not result.optimal))
              or (result.failure is not None and not result.failure.exact)]
     if again:
         rows = np.array(again)
-        finer = _search(geometry, poses[rows], step, None if starts is None else starts[rows],
+        finer = _search(family, poses[rows], along.paths(rows), None if starts is None else starts[rows],
                         None if ends is None else ends[rows], last_branch, sampler, connect, refinements)
         for p, result in zip(again, finer):
             results[p] = _better(results[p], result)
@@ -198,27 +207,43 @@ def _better(coarse: PathResult, fine: PathResult) -> PathResult:
     return replace(best, nodes=coarse.nodes + fine.nodes)
 
 
-def _search(geometry: SRSGeometry, poses: np.ndarray, step: np.ndarray, starts: np.ndarray | None,
+@dataclass(frozen=True)
+class _Along:
+    """What :func:`search_paths` computes once for both stages: per path and waypoint whether the pose is within
+    reach (P, N), the arm along every waypoint, and the exact feasible pieces of every waypoint (none where out of
+    reach)."""
+
+    reach: np.ndarray
+    arm: Arm
+    pieces: FeasiblePieces
+
+    def paths(self, rows: np.ndarray) -> _Along:
+        """The same for the paths ``rows`` only."""
+        length = self.reach.shape[1]
+        flat = (rows[:, None] * length + np.arange(length)).reshape(-1)
+        pieces = self.pieces
+        return _Along(self.reach[rows], self.arm.take(flat),
+                      FeasiblePieces(pieces.start[flat], pieces.end[flat], pieces.feasible[flat]))
+
+
+def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray | None,
             ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
             refinements: int) -> list[PathResult]:
     """One search of :func:`search_paths`: the graph of the samples (subdivided by ``connect`` unless ``None``),
     swept, refined around the paths found, each path checked and its optimality tried."""
-    chain = geometry.chain
     count, length = poses.shape[:2]
     flat = np.ascontiguousarray(poses.reshape(-1, 4, 4))
-    coefficients, status, _ = coefficient_arrays(geometry, flat[:, None], np.array([1.0, -1.0]))
-    if np.any(status == _ik_kernels.BAD_POSE):
-        raise RedkinError("paths: every pose must have a proper rotation block and last row [0, 0, 0, 1]")
-    reach = np.all(status == _ik_kernels.OK, axis=-1).reshape(count, length)
+    reach = along.reach
     prefix = np.where(reach.all(axis=1), length, np.argmin(reach, axis=1))  # waypoints before the first unreachable
     rows = np.concatenate([p * length + np.arange(n) for p, n in enumerate(prefix.tolist())]).astype(np.int64)
     path_starts = np.concatenate([[0], np.cumsum(prefix)]).astype(np.int64)
-    arm_data = Arm(geometry, coefficients.entries[rows], coefficients.theta4[rows], step, chain.covers_circle)
-
-    pieces = feasible_pieces_all_branches(geometry, flat[rows])
-    waypoint, branch, piece, psi, bounds = sampler(pieces)
-    extra = _own_nodes(geometry, starts, path_starts[:-1], prefix > 0) + _own_nodes(
-        geometry, ends, path_starts[1:] - 1, prefix == length)
+    arm_data = along.arm.take(rows)
+    step = arm_data.step
+    pieces = along.pieces
+    waypoint, branch, piece, psi, bounds = sampler(FeasiblePieces(pieces.start[rows], pieces.end[rows],
+                                                                  pieces.feasible[rows]))
+    extra = _own_nodes(family, starts, path_starts[:-1], prefix > 0) + _own_nodes(
+        family, ends, path_starts[1:] - 1, prefix == length)
     for w, b, p in extra:
         waypoint, branch = np.append(waypoint, w), np.append(branch, b)
         piece, psi = np.append(piece, -1), np.append(psi, p)
@@ -237,7 +262,7 @@ def _search(geometry: SRSGeometry, poses: np.ndarray, step: np.ndarray, starts: 
         return sweep, chosen
 
     sweep, chosen = searched(graph)
-    failures = {p: _failure(arm_data, graph, sweep, flat[rows], path_starts, p, starts, ends, last_branch,
+    failures = {p: _failure(family, arm_data, graph, sweep, flat[rows], path_starts, p, starts, ends, last_branch,
                             int(prefix[p])) for p in range(count) if p not in chosen}
     nodes = len(graph.psi)
     width = _FIRST_WINDOW
@@ -259,7 +284,7 @@ def _search(geometry: SRSGeometry, poses: np.ndarray, step: np.ndarray, starts: 
             results.append(PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"),
                                       step, failure, nodes))
             continue
-        results.append(_checked_path(arm_data, graph, chosen[p], poses[p], starts, p, nodes))
+        results.append(_checked_path(family, arm_data, graph, chosen[p], poses[p], starts, p, nodes))
     return results
 
 
@@ -273,17 +298,14 @@ def _configurations(value: ArrayLike | None, count: int, name: str) -> np.ndarra
     return np.broadcast_to(array.reshape(-1, 7), (count, 7))
 
 
-def _own_nodes(geometry: SRSGeometry, configurations: np.ndarray | None, waypoints: np.ndarray,
+def _own_nodes(family: Family, configurations: np.ndarray | None, waypoints: np.ndarray,
                used: np.ndarray) -> list[tuple[int, int, float]]:
-    """The arm angle and branch of ``q0`` (``q_end``) as a sample of the first (last) waypoint of each path."""
-    if configurations is None:
+    """The parameter and branch of ``q0`` (``q_end``) as a sample of the first (last) waypoint of each path."""
+    if configurations is None or not used.any():
         return []
-    state = arm_angle_of(geometry, configurations)
-    nodes = []
-    for p in np.flatnonzero(used).tolist():
-        signs = Branch(*(int(s) for s in state.branch[p]))
-        nodes.append((int(waypoints[p]), BRANCHES.index(signs), float(state.psi[p])))
-    return nodes
+    paths = np.flatnonzero(used)
+    branch, value = family.parameter_of(np.ascontiguousarray(configurations[paths]))
+    return [(int(waypoints[p]), int(b), float(v)) for p, b, v in zip(paths.tolist(), branch, value)]
 
 
 def _first_values(arm: Arm, graph: Graph, path_starts: np.ndarray, starts: np.ndarray | None):
@@ -311,9 +333,9 @@ def _end_nodes(arm: Arm, graph: Graph, waypoint: int, ends: np.ndarray | None, p
     return nodes
 
 
-def _failure(arm: Arm, graph: Graph, sweep: search.Sweep, poses: np.ndarray, path_starts: np.ndarray, p: int,
-             starts: np.ndarray | None, ends: np.ndarray | None, last_branch: int | None,
-             prefix: int) -> PathFailure:
+def _failure(family: Family, arm: Arm, graph: Graph, sweep: search.Sweep, poses: np.ndarray,
+             path_starts: np.ndarray, p: int, starts: np.ndarray | None, ends: np.ndarray | None,
+             last_branch: int | None, prefix: int) -> PathFailure:
     """Why path ``p`` has no path: the first waypoint and its reason."""
     if prefix == 0:
         return PathFailure(0, "out-of-reach", None, True)
@@ -333,8 +355,7 @@ def _failure(arm: Arm, graph: Graph, sweep: search.Sweep, poses: np.ndarray, pat
     w = first + dead
     after = graph.q[graph.offsets[w]:graph.offsets[w + 1]]
     if after.shape[0] == 0:
-        joint, per_branch = empty_blocker(arm.geometry, poses[w])
-        proved = all(blocker is not None for blocker in per_branch.values())  # else only the samples are empty
+        joint, per_branch, proved = family.blocker(poses[w])
         return PathFailure(dead, "empty", joint, proved, None, per_branch)
     if dead == 0:  # nodes exist, none within a step of q0
         assert starts is not None
@@ -352,7 +373,7 @@ def _unwound(arm: Arm, q: np.ndarray, origin: np.ndarray | None) -> np.ndarray:
     circle = arm.circle
     if not circle.any():
         return q
-    chain = arm.geometry.chain
+    chain = arm.chain
     reference = q[0, circle] if origin is None else origin[circle]
     turned = np.diff(np.concatenate([reference[None], q[:, circle]]), axis=0)
     turned -= np.round(turned / TWO_PI) * TWO_PI
@@ -365,11 +386,11 @@ def _unwound(arm: Arm, q: np.ndarray, origin: np.ndarray | None) -> np.ndarray:
     return out
 
 
-def _checked_path(arm: Arm, graph: Graph, nodes: np.ndarray, poses: np.ndarray, starts: np.ndarray | None,
-                  p: int, size: int) -> PathResult:
+def _checked_path(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, poses: np.ndarray,
+                  starts: np.ndarray | None, p: int, size: int) -> PathResult:
     """The :class:`PathResult` of the nodes found (:func:`_unwound`), checked against the poses, the limits and
     the bound; a ``"winding"`` failure where a joint of a range over ``2 pi`` would leave it."""
-    chain = arm.geometry.chain
+    chain = arm.chain
     origin = None if starts is None else starts[p]
     q = _unwound(arm, graph.q[nodes], origin)
     inside = chain.joints_within_limits(q)
@@ -383,32 +404,28 @@ def _checked_path(arm: Arm, graph: Graph, nodes: np.ndarray, poses: np.ndarray, 
         raise RuntimeError(f"path resolution produced a path that fails its check (FK error {error:.3g}, largest "
                            f"step/bound {float((moves / arm.step).max(initial=0.0)):.6g}); please report it")
     motion = float(moves.sum()) + (0.0 if origin is None else float(arm.moves(q[0], origin).sum()))
-    psi = np.mod(graph.psi[nodes] + np.pi, TWO_PI) - np.pi
+    parameter = np.mod(graph.psi[nodes] + np.pi, TWO_PI) - np.pi if family.wraps else q[:, 6].copy()
     clearance = arm.clearance(q)
-    bottleneck = _bottleneck(arm, poses, clearance)
-    return PathResult("ok", q, [str(BRANCHES[b]) for b in graph.branch[nodes]], psi, float(clearance.min()),
-                      motion, arm.step, None, size, bottleneck is not None, bottleneck)
+    bottleneck = _bottleneck(family, poses, clearance)
+    return PathResult("ok", q, [str(BRANCHES[b]) for b in graph.branch[nodes]], parameter, float(clearance.min()),
+                      motion, arm.step, None, size, bottleneck is not None, bottleneck, family.parameter)
 
 
-def _bottleneck(arm: Arm, poses: np.ndarray, clearance: np.ndarray) -> int | None:
+def _bottleneck(family: Family, poses: np.ndarray, clearance: np.ndarray) -> int | None:
     """A waypoint that proves a path's clearance optimal, or ``None``.
 
     ``clearance`` (N,) is the path's own at each waypoint, ``c`` its smallest.  A waypoint where the path is at
-    ``c`` and whose exact feasible sets [000 eq. 30] are empty on every branch once each limit is moved
-    :data:`OPTIMALITY_MARGIN` past ``c`` inwards, cannot be passed by any path more than ``c +``
-    :data:`OPTIMALITY_MARGIN` from the limits: no other choice of branches and arm angles does better.
+    ``c`` and whose exact feasible sets ([000 eq. 30], or [F8]-[F9] of q7) are empty on every branch once each
+    limit is moved :data:`OPTIMALITY_MARGIN` past ``c`` inwards, cannot be passed by any path more than ``c +``
+    :data:`OPTIMALITY_MARGIN` from the limits: no other choice of branches and parameters does better.
     A chain with no joint of a range under ``2 pi`` has clearance ``inf`` everywhere: waypoint 0 proves it."""
     least = float(clearance.min())
     if least == np.inf:
         return 0
     level = least + OPTIMALITY_MARGIN
-    chain = arm.geometry.chain
-    limited = ~arm.circle
     tight = np.flatnonzero(clearance <= level)
-    if np.any(limited & (chain.upper - chain.lower < 2.0 * level)):  # no configuration at all is that far
+    inner = family.inner(level)
+    if inner is None:  # no configuration at all is that far
         return int(tight[0])
-    inner = chain.with_limits(np.where(limited, chain.lower + level, chain.lower),
-                              np.where(limited, chain.upper - level, chain.upper))
-    pieces = feasible_pieces_all_branches(srs_geometry(inner), poses[tight])
-    empty = ~pieces.feasible.any(axis=(-2, -1))
+    empty = ~inner.pieces(poses[tight]).feasible.any(axis=(-2, -1))
     return int(tight[np.argmax(empty)]) if empty.any() else None

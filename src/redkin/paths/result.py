@@ -9,7 +9,7 @@ import numpy as np
 #: Why no path exists, by :attr:`PathFailure.reason`.
 REASONS = {
     "out-of-reach": "the wrist position is out of the arm's reach",
-    "empty": "no arm angle satisfies every joint limit on any branch",
+    "empty": "no arm angle (or q7) satisfies every joint limit on any branch",
     "step": "no feasible configuration lies within the step bound of one reachable from the start",
     "start": "no feasible configuration lies within the step bound of the start configuration",
     "end": "no configuration reachable from the start meets the end condition",
@@ -75,7 +75,7 @@ class PathResult:
     branch : list of str
         Branch per waypoint (``"+-+"``: signs of q2, q4, q6 in the chain's senses).
     psi : numpy.ndarray, shape (N,)
-        Arm angle per waypoint.
+        The redundancy parameter per waypoint (:attr:`parameter`): the arm angle, or q7 on a Franka-class arm.
     clearance : float
         The smallest distance of any joint (with a range narrower than ``2 pi``) to a limit along the path,
         radians; ``inf`` where no joint has one; NaN for ``"no-path"``.
@@ -92,6 +92,9 @@ class PathResult:
         with every limit moved that much further in than ``clearance``, are empty on every branch.
     bottleneck : int or None
         The waypoint that proves it (``None`` where not proved).
+    parameter : str
+        What ``psi`` holds: ``"psi"``, the arm angle (S-R-S and offset-elbow arms), or ``"q7"``, joint 7's value
+        (the Franka class).
     """
 
     status: str
@@ -105,6 +108,7 @@ class PathResult:
     nodes: int
     optimal: bool = False
     bottleneck: int | None = None
+    parameter: str = "psi"
 
     @property
     def ok(self) -> bool:

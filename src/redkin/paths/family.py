@@ -1,0 +1,262 @@
+"""What path resolution needs of an arm's class: the exact feasible pieces of its redundancy parameter along a
+path, the joint values of a node, the parameter of a configuration, and the pieces once the limits move in.
+
+Two classes have exact feasible sets of their redundancy parameter, and so take part:
+
+* S-R-S and offset-elbow arms (paper 000): the arm angle psi, whose pieces are [000 eq. 30]'s
+  (:func:`redkin.srs.feasible_pieces_all_branches`), the nodes the closed form [000 eqs. 11-19];
+* the Franka class (docs/franka.md): the value q7 of joint 7, whose arcs are [F8]-[F9]'s
+  (:func:`redkin.franka.feasible_q7_batch`), the nodes the closed form at q7 [F1]-[F7].
+
+:func:`path_family` picks the class of a chain; :mod:`redkin.paths.resolve` is written once for both.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from redkin._compiled import run_batch
+from redkin.chain import SerialChain
+from redkin.errors import NotArmAngleClassError, RedkinError
+from redkin.franka.feasible import feasible_q7_batch
+from redkin.franka.geometry import FrankaGeometry, franka_geometry
+from redkin.franka.ik import PARAMETER as Q7
+from redkin.franka.ik import frames_seven
+from redkin.franka.ik import ik as franka_ik
+from redkin.paths import _dp_kernels
+from redkin.paths.failure import empty_blocker
+from redkin.paths.graph import Arm
+from redkin.srs import _ik_kernels
+from redkin.srs.arm_angle import arm_angle_of
+from redkin.srs.branches import BRANCHES, Branch
+from redkin.srs.coefficients import coefficient_arrays
+from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
+from redkin.srs.geometry import SRSGeometry, srs_geometry
+
+#: The arm angle's name in results.
+PSI = "psi"
+
+
+@dataclass(frozen=True)
+class _ArmAngleArm(Arm):
+    """An S-R-S or offset-elbow arm along a path: the IK coefficients of every waypoint for both elbow signs.
+
+    Attributes
+    ----------
+    geometry : SRSGeometry
+    entries, theta4 : numpy.ndarray, shapes (W, 2, 3, 14), (W, 2)
+        [000 eqs. 11, 12, 16] per waypoint, for the Table 1 elbow signs ``+1, -1``.
+    """
+
+    geometry: SRSGeometry
+    entries: np.ndarray
+    theta4: np.ndarray
+
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`Arm.rows` at arm angles ``parameter``: the closed form of :func:`redkin.srs.ik` [000 eqs. 11,
+        13-15, 17-19] by :func:`redkin.paths._dp_kernels.node_rows`, which reads each waypoint's coefficients in
+        place."""
+        q, clearance = np.empty((len(parameter), 7)), np.empty(len(parameter))
+        run_batch(_dp_kernels.node_rows, len(parameter), np.ascontiguousarray(waypoint, dtype=np.int64),
+                  np.ascontiguousarray(branch, dtype=np.int64), self.entries, self.theta4,
+                  np.ascontiguousarray(parameter, dtype=float), self.geometry.kernel_branches,
+                  self.geometry.kernel_joints, self.chain.lower, self.chain.upper, self.circle, q, clearance)
+        return q, clearance
+
+    def take(self, waypoints: np.ndarray) -> _ArmAngleArm:
+        return replace(self, entries=self.entries[waypoints], theta4=self.theta4[waypoints])
+
+
+@dataclass(frozen=True)
+class _Q7Arm(Arm):
+    """A Franka-class arm along a path: frame 7 of every waypoint in the solver's frame 0.
+
+    Attributes
+    ----------
+    geometry : FrankaGeometry
+    frames : numpy.ndarray, shape (W, 4, 4)
+    """
+
+    geometry: FrankaGeometry
+    frames: np.ndarray
+
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`Arm.rows` at joint 7 values ``parameter``: one branch of the closed form at q7 [F1]-[F7] by
+        :func:`redkin.paths._dp_kernels.q7_node_rows`."""
+        q, clearance = np.empty((len(parameter), 7)), np.empty(len(parameter))
+        geometry = self.geometry
+        run_batch(_dp_kernels.q7_node_rows, len(parameter), np.ascontiguousarray(waypoint, dtype=np.int64),
+                  np.ascontiguousarray(branch, dtype=np.int64), self.frames,
+                  np.ascontiguousarray(parameter, dtype=float), geometry.kernel_arm, geometry.kernel_branches,
+                  geometry.kernel_joints, self.chain.lower, self.chain.upper, self.circle, q, clearance)
+        return q, clearance
+
+    def take(self, waypoints: np.ndarray) -> _Q7Arm:
+        return replace(self, frames=self.frames[waypoints])
+
+
+class Family:
+    """An arm's class as path resolution sees it (:class:`ArmAngleFamily`, :class:`Q7Family`).
+
+    Attributes
+    ----------
+    parameter : str
+        The redundancy parameter's name in results: ``"psi"`` or ``"q7"``.
+    wraps : bool
+        Whether the parameter is an angle on the circle, reported in ``[-pi, pi)`` (the arm angle), or a joint
+        value reported as the joint has it (q7).
+    """
+
+    parameter: str = PSI
+    wraps: bool = True
+
+    @property
+    def chain(self) -> SerialChain:
+        """The chain whose joint values the nodes hold."""
+        raise NotImplementedError
+
+    def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
+        """Whether each pose ``(W, 4, 4)`` is within reach (W,), and the :class:`Arm` along all of them.
+
+        Raises
+        ------
+        RedkinError
+            For a pose that is not a proper rigid transform.
+        """
+        raise NotImplementedError
+
+    def pieces(self, poses: np.ndarray) -> FeasiblePieces:
+        """The exact feasible pieces ``(W, 8, K)`` of poses within reach, per branch of :data:`BRANCHES`: intervals
+        of the parameter on which the branch exists, lies within every limit and is continuous."""
+        raise NotImplementedError
+
+    def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The branch (index into :data:`BRANCHES`) and parameter of configurations ``q`` (P, 7)."""
+        raise NotImplementedError
+
+    def inner(self, level: float) -> Family | None:
+        """The same class with every limit of a range under ``2 pi`` moved ``level`` inwards; ``None`` where such a
+        range is narrower than ``2 level`` (no configuration is that far from its limits)."""
+        limited = ~self.chain.covers_circle
+        chain = self.chain
+        if np.any(limited & (chain.upper - chain.lower < 2.0 * level)):
+            return None
+        return self._with(chain.with_limits(np.where(limited, chain.lower + level, chain.lower),
+                                            np.where(limited, chain.upper - level, chain.upper)))
+
+    def _with(self, chain: SerialChain) -> Family:
+        raise NotImplementedError
+
+    def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
+        """Why a pose within reach has no feasible sample: the joint that empties its feasible set on most branches
+        (``None`` where not known), the blocking joint per branch, and whether the exact sets prove it empty."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class ArmAngleFamily(Family):
+    """S-R-S and offset-elbow arms: the arm angle psi (paper 000)."""
+
+    geometry: SRSGeometry
+
+    @property
+    def chain(self) -> SerialChain:
+        return self.geometry.chain
+
+    def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
+        coefficients, status, _ = coefficient_arrays(self.geometry, poses[:, None], np.array([1.0, -1.0]))
+        if np.any(status == _ik_kernels.BAD_POSE):
+            raise RedkinError("paths: every pose must have a proper rotation block and last row [0, 0, 0, 1]")
+        reach = np.all(status == _ik_kernels.OK, axis=-1)
+        return reach, _ArmAngleArm(self.chain, step, self.chain.covers_circle, self.geometry, coefficients.entries,
+                                  coefficients.theta4)
+
+    def pieces(self, poses: np.ndarray) -> FeasiblePieces:
+        return feasible_pieces_all_branches(self.geometry, poses)
+
+    def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        state = arm_angle_of(self.geometry, q)
+        branch = [BRANCHES.index(Branch(*(int(s) for s in signs))) for signs in np.reshape(state.branch, (-1, 3))]
+        return np.array(branch, dtype=np.int64), np.reshape(state.psi, -1)
+
+    def _with(self, chain: SerialChain) -> Family:
+        return ArmAngleFamily(srs_geometry(chain))
+
+    def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
+        joint, per_branch = empty_blocker(self.geometry, pose)
+        return joint, per_branch, all(b is not None for b in per_branch.values())  # else the samples are empty
+
+
+@dataclass(frozen=True)
+class Q7Family(Family):
+    """The Franka class: the value q7 of joint 7 (docs/franka.md)."""
+
+    geometry: FrankaGeometry
+    parameter: str = Q7
+    wraps: bool = False
+
+    @property
+    def chain(self) -> SerialChain:
+        return self.geometry.chain
+
+    def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
+        try:
+            frames = np.ascontiguousarray(frames_seven(self.geometry, poses))
+        except ValueError as exc:
+            raise RedkinError(f"paths: {exc}") from exc
+        # a pose out of reach has no branch at any q7: an empty feasible set, proved by [F8]-[F9]
+        return np.ones(len(poses), dtype=bool), _Q7Arm(self.chain, step, self.chain.covers_circle, self.geometry,
+                                                      frames)
+
+    def pieces(self, poses: np.ndarray) -> FeasiblePieces:
+        sets = feasible_q7_batch(self.geometry, poses).reshape(-1)
+        most = max([1] + [len(arcs) for result in sets for arcs in result.arcs])
+        shape = (len(sets), len(BRANCHES), most)
+        start, end, feasible = np.full(shape, np.nan), np.full(shape, np.nan), np.zeros(shape, dtype=bool)
+        for w, result in enumerate(sets):
+            for b, arcs in enumerate(result.arcs):
+                start[w, b, : len(arcs)], end[w, b, : len(arcs)] = arcs[:, 0], arcs[:, 1]
+                feasible[w, b, : len(arcs)] = True
+        return FeasiblePieces(start, end, feasible)
+
+    def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """q7 is the configuration's own joint 7; its branch is the one whose solution at that q7 is nearest."""
+        solutions = franka_ik(self.geometry, self.chain.fk(q), q[:, 6])
+        d = np.abs(solutions.q - q[:, None, :])
+        turned = np.mod(d, 2.0 * np.pi)
+        far = np.where(self.chain.covers_circle, np.minimum(turned, 2.0 * np.pi - turned), d).max(axis=-1)
+        branch = np.argmin(np.where(solutions.exists, far, np.inf), axis=-1)
+        return branch.astype(np.int64), q[:, 6].copy()
+
+    def _with(self, chain: SerialChain) -> Family:
+        return Q7Family(franka_geometry(chain))
+
+    def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
+        return None, {}, not self.pieces(pose[None]).feasible.any()
+
+
+def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry) -> Family:
+    """The class of ``arm`` as path resolution sees it.
+
+    Raises
+    ------
+    NotArmAngleClassError
+        For a chain of neither class, with the reasons of both.
+    """
+    if isinstance(arm, SRSGeometry):
+        return ArmAngleFamily(arm)
+    if isinstance(arm, FrankaGeometry):
+        return Q7Family(arm)
+    if not isinstance(arm, SerialChain):
+        raise RedkinError(f"arm must be a SerialChain, got {type(arm).__name__}")
+    try:
+        return ArmAngleFamily(srs_geometry(arm))
+    except NotArmAngleClassError as exc:
+        try:
+            return Q7Family(franka_geometry(arm))
+        except NotArmAngleClassError as other:
+            raise NotArmAngleClassError(
+                f"path resolution needs the exact feasible sets of a closed form: {arm.name!r} is neither S-R-S nor "
+                f"of the Franka class ({exc}; {other})", arm.name) from None

@@ -1,0 +1,116 @@
+"""Path resolution on Franka-class arms (redkin.paths with q7 as the parameter): every returned path reaches its
+poses, keeps the limits and the bound, names its branch and q7 truly; a clearance said optimal is not beaten at its
+bottleneck by any sampled q7 of any branch; failures are proved by the exact q7 sets; the command line says q7."""
+
+import json
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from redkin import franka
+from redkin.cli.main import main
+from redkin.models import get_robot
+from redkin.paths import FK_TOLERANCE, OPTIMALITY_MARGIN, Q7Family, path_family, resolve_path, resolve_paths
+from redkin.srs import BRANCHES
+
+ROBOTS = ["franka-fr3", "franka-panda", "ufactory-xarm7"]
+
+
+def _joint_line(chain, rng, count):
+    lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
+    a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
+    q = a + (b - a) * np.linspace(0.0, 1.0, count)[:, None]
+    return q, chain.fk(q)
+
+
+def _clearance(chain, q):
+    return np.minimum(q - chain.lower, chain.upper - q)[..., ~chain.covers_circle].min(axis=-1)
+
+
+def _assert_lawful(chain, poses, result):
+    assert result.ok and result.parameter == "q7" and result.q.shape == (len(poses), 7)
+    assert np.abs(chain.fk(result.q) - poses).max() <= FK_TOLERANCE
+    assert chain.within_limits(result.q).all()
+    assert np.all(np.abs(np.diff(result.q, axis=0)) <= result.step)
+    np.testing.assert_array_equal(result.psi, result.q[:, 6])
+    for k in range(len(poses)):  # the branch named is the branch whose solution at that q7 it is
+        again = franka.ik(chain, poses[k], result.psi[k], result.branch[k])
+        assert again.exists[0] and np.abs(again.q[0] - result.q[k]).max() < 1e-9
+    assert result.clearance == pytest.approx(_clearance(chain, result.q).min(), abs=1e-12)
+
+
+def _densest_clearance(chain, pose, samples=4000):
+    """The largest clearance of any in-limit solution of ``pose`` on a dense q7 grid of all branches (the closed
+    form alone, no feasible set)."""
+    q7 = np.linspace(chain.lower[6], chain.upper[6], samples)
+    solutions = franka.ik(chain, np.broadcast_to(pose, (samples, 4, 4)), q7)
+    q = solutions.q[solutions.exists]
+    return _clearance(chain, q).max(initial=-np.inf)
+
+
+@settings(max_examples=6, deadline=None)
+@given(st.integers(0, 2**31), st.sampled_from(ROBOTS), st.floats(1.2, 3.0))
+def test_a_path_that_exists_is_found_keeps_every_law_and_a_proved_clearance_is_not_beaten(seed, robot, slack):
+    chain = get_robot(robot)
+    q, poses = _joint_line(chain, np.random.default_rng(seed), 10)
+    step = slack * np.abs(np.diff(q, axis=0)).max(axis=0) + 1e-3
+    result = resolve_path(chain, poses, step)
+    _assert_lawful(chain, poses, result)
+    assert result.clearance >= _clearance(chain, q).min() - 1e-6  # at least the line the poses came from
+    if result.optimal:
+        assert _densest_clearance(chain, poses[result.bottleneck]) <= result.clearance + OPTIMALITY_MARGIN
+
+
+def test_the_family_of_each_class():
+    assert path_family(get_robot("franka-fr3")).parameter == "q7"
+    assert path_family(get_robot("kuka-iiwa14")).parameter == "psi"
+    with pytest.raises(ValueError, match="neither S-R-S nor of the Franka class"):
+        path_family(get_robot("kinova-gen3"))
+
+
+def test_the_start_configuration_and_many_paths_at_once():
+    chain = get_robot("franka-fr3")
+    rng = np.random.default_rng(8)
+    lines = [_joint_line(chain, rng, 8) for _ in range(3)]
+    step = max(2.0 * np.abs(np.diff(q, axis=0)).max() for q, _ in lines) + 1e-3
+    starts = np.stack([q[0] for q, _ in lines])
+    together = resolve_paths(chain, np.stack([poses for _, poses in lines]), step, q0=starts)
+    for (q, poses), result in zip(lines, together):
+        _assert_lawful(chain, poses, result)
+        assert np.all(np.abs(result.q[0] - q[0]) <= step)
+        alone = resolve_path(chain, poses, step, q0=q[0])
+        np.testing.assert_array_equal(alone.q, result.q)
+
+
+def test_a_pose_out_of_reach_is_an_empty_set_proved_at_its_waypoint():
+    chain = get_robot("franka-fr3")
+    _, poses = _joint_line(chain, np.random.default_rng(2), 6)
+    poses = poses.copy()
+    poses[3, :3, 3] = [2.0, 0.0, 0.5]  # two metres away
+    result = resolve_path(chain, poses, 0.5)
+    assert not result.ok
+    assert (result.failure.waypoint, result.failure.reason, result.failure.exact) == (3, "empty", True)
+    family = Q7Family(franka.franka_geometry(chain))
+    assert not family.pieces(poses[3:4]).feasible.any()
+
+
+def test_the_command_line_names_q7(tmp_path, capsys):
+    chain = get_robot("franka-fr3")
+    q, poses = _joint_line(chain, np.random.default_rng(4), 6)
+    file = tmp_path / "poses.npy"
+    np.save(file, poses)
+    step = float(2.0 * np.abs(np.diff(q, axis=0)).max() + 1e-3)
+    assert main(["path", "franka-fr3", "--poses", str(file), "--max-step", str(step), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["parameter"] == "q7" and "psi" not in report
+    np.testing.assert_allclose(report["q7"], np.array(report["q"])[:, 6])
+    assert report["branch"][0] in [str(b) for b in BRANCHES]
+    assert main(["path", "franka-fr3", "--poses", str(file), "--max-step", str(step)]) == 0
+    out = capsys.readouterr().out
+    assert "q7" in out.splitlines()[1] and "clearance" in out
+    assert main(["path", "franka-fr3", "--poses", str(file), "--max-step", str(step), "--plot",
+                 str(tmp_path / "plane.png")]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "Franka class" in err and not (tmp_path / "plane.png").exists()
