@@ -238,11 +238,12 @@ def test_resolve_path_with_dt_alone_keeps_each_joint_within_its_speed():
         resolve_path(chain.with_velocity(None), poses, dt=dt)
 
 
-@pytest.mark.xfail(strict=True, raises=RedkinError,
-                   reason="srs.conventions.table1_form builds the Table 1 form without the chain's velocity limits, "
-                          "and resolve_paths bounds the steps by that form's (reported)")
 def test_resolve_path_with_dt_alone_on_a_urdf_arm():
     pytest.importorskip("urdf_parser_py")
     chain = get_robot(EXAMPLES / "iiwa14.urdf")  # 1.5 rad/s on every joint, as the file writes
     result = resolve_path(chain, chain.fk(_line()), dt=0.05)
     assert result.ok and np.all(np.abs(np.diff(result.q, axis=0)) <= 1.5 * 0.05)
+    fr3 = get_robot(EXAMPLES / "fr3.urdf", tip="fr3_link8")  # the Franka form keeps them too
+    from redkin.franka import franka_geometry
+
+    np.testing.assert_array_equal(franka_geometry(fr3).form.velocity, fr3.velocity)
