@@ -17,14 +17,21 @@ equals the exact arm angle where the offsets vanish.
 Solutions at ``psi``: the neighbour's closed form maps a pose ``T'`` to
 ``q = IK_N(T', psi)`` on each branch, with ``psi_N(q) = psi`` exactly; the
 real arm's pose of that ``q`` is ``G(T') = FK(q)``, near ``T'`` by the model
-error.  The target ``T'`` is corrected until ``G(T') = T``: ``T' <- T G(T')^-1 T'``,
-a fixed-point iteration whose rate is about the model error over the
-lengths of the arm (a few per cent on the Gen3), so a dozen steps reach 1e-9.
-Each returned solution is certified on the real chain: its FK within
-:data:`TOLERANCE` of the target, and its arm angle within :data:`TOLERANCE` of
-``psi``.  A branch whose iteration does not settle (near the stretched elbow,
-where the closed form's sensitivity outgrows the contraction) is reported
-missing, never returned inaccurate.
+error.  A few corrections of the target, ``T' <- T G(T')^-1 T'``, bring it
+within a few per cent of the model error; damped Newton steps on the real
+arm for the 7 equations ``FK(q) = T``, ``psi(q) = psi`` (the arm angle's
+gradient in closed form) then take it to rounding.  All of it, for every
+branch of a pose, is one compiled call (:mod:`redkin.srs._nearly_kernels`).
+
+A branch is named by the real arm's own signs, as an exact arm's are: those of
+``theta_2``, of ``theta_4`` minus the real arm's stretched elbow
+(:attr:`NearlySRS.real_phase`) and of ``theta_6``, ``theta`` the neighbour's
+Table 1 angles at the same joint values.  A row holds at most one solution, of
+its own branch; where the real arm has two on one branch (near the stretched
+elbow, or near ``theta_2 = +-pi``), one is returned.  Each returned solution
+is certified on the real chain: its FK within :data:`TOLERANCE` of the
+target, and its arm angle within :data:`TOLERANCE` of ``psi``.  A branch
+whose solution is not found is reported missing, never returned inaccurate.
 """
 
 from __future__ import annotations
@@ -39,9 +46,9 @@ from numpy.typing import ArrayLike
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_finite, check_pose
 from redkin.chain import SerialChain
+from redkin.circle import HALF_PI
 from redkin.errors import RedkinError
 from redkin.srs import _nearly_kernels
-from redkin.srs.arm_angle import arm_angle_of
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.conventions import departures, model_error, neighbour_form
 from redkin.srs.geometry import SRSGeometry, srs_geometry
@@ -50,11 +57,7 @@ from redkin.srs.geometry import SRSGeometry, srs_geometry
 #: its neighbour by default: the Kinova Gen3's 12.75 mm and Jaco2's 11.4 mm are inside, the Panda's 88 mm outside.
 TOLERANCE_DEFAULT = 0.02
 #: The certificate of a solution: position error [m], rotation angle [rad] and arm-angle error [rad].
-TOLERANCE = 1e-9
-#: Damped Newton steps on the real arm where the corrections (:mod:`redkin.srs._nearly_kernels`) did not settle.
-_NEWTON_ITERATIONS = 30
-#: How far from its stretch a Newton start's elbow is opened [rad] (:func:`_elbow_opened`).
-_OPENED = 0.05
+TOLERANCE = _nearly_kernels.TOLERANCE
 
 
 @dataclass(frozen=True)
@@ -93,6 +96,36 @@ class NearlySRS:
         high = np.sqrt(elbow.mean + elbow.amplitude) * (1.0 - 1e-9)
         shoulder = base[:3, :3] @ np.array([0.0, 0.0, geometry.d_bs]) + base[:3, 3]
         return np.concatenate([[low, high, geometry.d_wt], shoulder])
+
+    @cached_property
+    def kernel_real(self) -> tuple[np.ndarray, np.ndarray, bool]:
+        """The real chain as :mod:`redkin._chain_kernels` takes it: links, ends and whether it is standard DH."""
+        return self.chain._links, self.chain._ends, self.chain._standard
+
+    @cached_property
+    def kernel_model(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The neighbour as :func:`redkin.srs._nearly_kernels.arm_angle_one` takes it: its links and ends (standard
+        DH, Table 1 form) and its kernel arm and ends (:mod:`redkin.srs._ik_kernels`)."""
+        neighbour = self.neighbour
+        return neighbour._links, neighbour._ends, self.geometry.kernel_arm, self.geometry.kernel_ends
+
+    @cached_property
+    def real_phase(self) -> float:
+        """The real arm's stretched elbow as the neighbour's ``theta_4`` [rad]: where the distance of a point of
+        axis 3 (its nearest to axis 2) from a point of axis 5 (its nearest to axis 6), ``C + R cos(theta_4 -
+        phase)`` as joint 4 turns, is largest.  The neighbour's own phase where its offsets vanish."""
+        chain, offset, sign = self.chain, self.neighbour.offset[3], self.neighbour.sign[3]
+        angles = np.array([0.0, HALF_PI, np.pi])  # theta_4 of the neighbour; the other joints at zero
+        q = np.zeros((3, 7))
+        q[:, 3] = sign * (angles - offset)
+        frames = chain.frames(q)
+        axes = frames[..., :chain.n, :3, 2] if chain._standard else frames[..., 1:chain.n + 1, :3, 2]
+        origins = frames[..., :chain.n, :3, 3] if chain._standard else frames[..., 1:chain.n + 1, :3, 3]
+        shoulder = _nearest_on(origins[:, 2], axes[:, 2], origins[:, 1], axes[:, 1])
+        wrist = _nearest_on(origins[:, 4], axes[:, 4], origins[:, 5], axes[:, 5])
+        squared = np.sum((shoulder - wrist) ** 2, axis=-1)  # C + A cos + B sin at 0, pi/2, pi
+        mean = 0.5 * (squared[0] + squared[2])
+        return float(np.arctan2(squared[1] - mean, squared[0] - mean))
 
     @cached_property
     def kernel_tool_inverse(self) -> np.ndarray:
@@ -151,12 +184,36 @@ def nearly_srs(chain: SerialChain, tolerance: float = TOLERANCE_DEFAULT) -> Near
 
 
 _CACHE_KEY = "_nearly_srs"
+#: The rows of :data:`BRANCHES` as :func:`redkin.srs._nearly_kernels.solve` takes them: all, or one.
+_ALL_ROWS = np.arange(len(BRANCHES))
+_ROWS = tuple(np.array([row]) for row in range(len(BRANCHES)))
+
+
+def _nearest_on(point: np.ndarray, direction: np.ndarray, other: np.ndarray, other_direction: np.ndarray) -> np.ndarray:
+    """The point of each line ``point + t direction`` (..., 3) nearest the line ``other + s other_direction``; the
+    line's own point where the two are parallel."""
+    across = point - other
+    b = np.sum(direction * other_direction, axis=-1)
+    d, e = np.sum(direction * across, axis=-1), np.sum(other_direction * across, axis=-1)
+    denominator = 1.0 - b * b
+    t = np.where(denominator > 1e-12, (b * e - d) / np.where(denominator > 1e-12, denominator, 1.0), 0.0)
+    return point + t[..., None] * direction
 
 
 def arm_angle(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
     """The real arm's arm angle at joint values ``q`` (..., 7): the neighbour's at the same values (module
-    docstring)."""
-    return arm_angle_of(arm.geometry, q).psi
+    docstring), in ``[-pi, pi]``.
+
+    Raises
+    ------
+    ValueError
+        For joint values of the wrong length or not finite.
+    """
+    values = arm.chain.check_q(q)
+    flat = np.ascontiguousarray(values, dtype=float).reshape(-1, 7)
+    out = np.empty(len(flat))
+    run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, out)
+    return out.reshape(values.shape[:-1])
 
 
 def ik(
@@ -176,14 +233,18 @@ def ik(
     psi : array_like, broadcast against the poses' batch shape
         Arm angles (:func:`arm_angle`).
     branch : str or Branch, optional
-        One branch; default all eight, in the order of :data:`redkin.srs.BRANCHES`.
+        One branch; default all eight, in the order of :data:`redkin.srs.BRANCHES`.  A branch is the signs of the
+        real arm's joints 2, 4 (from its own stretched elbow, :attr:`NearlySRS.real_phase`) and 6, as an exact
+        arm's are defined; a row holds at most one solution, of its own branch.
 
     Raises
     ------
     ValueError
         For a malformed pose, psi or branch.
     """
+    geometry = arm.geometry
     chosen = BRANCHES if branch is None else (parse_branch(branch),)
+    rows = _ALL_ROWS if branch is None else _ROWS[BRANCHES.index(chosen[0])]
     poses = check_pose(pose)
     angles = as_float_array(psi, "psi")
     check_finite(angles, "psi")
@@ -195,120 +256,10 @@ def ik(
     target = kernel_array(poses, shape + (4, 4)).reshape(-1, 4, 4)
     angles = kernel_array(angles, shape).reshape(-1)
     count = len(target)
-    signs = np.ascontiguousarray([arm.geometry.kernel_branch(label)[0] for label in chosen])
-    q = np.zeros((count, len(chosen), 7))
-    error = np.empty((count, len(chosen), 2))
-    run_batch(_nearly_kernels.settle, count, target, angles, signs, *arm.geometry.kernel_tables, arm.chain._links,
-              arm.chain._ends, arm.chain._standard, arm.kernel_tool_inverse, arm.kernel_reach, q, error)
-    exists = np.all(error <= TOLERANCE, axis=-1)
-    for column in range(len(chosen)):  # Newton where the corrections did not settle
-        rows = np.flatnonzero(~exists[:, column])
-        for start in ("best iterate", "elbow opened"):
-            if rows.size == 0:
-                break
-            signs_b = signs[column:column + 1]
-            guess = q[rows, column] if start == "best iterate" else _elbow_opened(arm, q[rows, column], signs_b)
-            polished, settled = _newton(arm, guess, target[rows], angles[rows], signs_b)
-            q[rows[settled], column], exists[rows[settled], column] = polished[settled], True
-            rows = rows[~settled]
-    exists &= _certified(arm, q, target, angles)
-    q[~exists] = 0.0
+    q = np.empty((count, len(chosen), 7))
+    exists = np.empty((count, len(chosen)), dtype=bool)
+    run_batch(_nearly_kernels.solve, count, target, angles, rows, geometry.kernel_branches, geometry.kernel_tables,
+              arm.kernel_real, arm.kernel_model, arm.kernel_tool_inverse, arm.kernel_reach, arm.real_phase, q, exists)
     within = exists & arm.chain.within_limits(q, tolerance=1e-9, wrap=True)
     return NearlySolutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + exists.shape[1:]),
                            within.reshape(shape + within.shape[1:]), tuple(chosen))
-
-
-def _certified(arm: NearlySRS, q: np.ndarray, target: np.ndarray, psi: np.ndarray) -> np.ndarray:
-    """The certificate of joint values (N, B, 7) as returned: their pose within :data:`TOLERANCE` of the targets
-    (N, 4, 4) and their arm angle of ``psi`` (N,)."""
-    count, branches = q.shape[:2]
-    flat = q.reshape(-1, 7)
-    goals = np.repeat(target, branches, axis=0)
-    position, rotation = _pose_error(arm.chain.fk(flat), goals)
-    angle = np.abs(_wrapped(arm_angle(arm, flat) - np.repeat(psi, branches)))
-    return ((position <= TOLERANCE) & (rotation <= TOLERANCE) & (angle <= TOLERANCE)).reshape(count, branches)
-
-
-def _elbow_opened(arm: NearlySRS, q: np.ndarray, signs: np.ndarray) -> np.ndarray:
-    """Joint values (N, 7) with the elbow opened to at least :data:`_OPENED` rad from the neighbour's stretched (or
-    folded) elbow, on the side of the branch ``signs``: near the stretch the iterate lies where the arm angle's
-    gradient vanishes, a start from which Newton's steps go nowhere."""
-    theta = arm.geometry.theta_of_q(q)
-    phase = arm.geometry.elbow_equation.phase
-    theta[:, 3] = phase + signs[0, 1] * np.maximum(np.abs(_wrapped(theta[:, 3] - phase)), _OPENED)
-    return arm.geometry.q_of_theta(theta)
-
-
-def _newton(arm: NearlySRS, q: np.ndarray, target: np.ndarray, psi: np.ndarray,
-            signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Damped Newton steps on the real arm for the 7 equations ``FK(q) = T`` and ``psi(q) = psi`` from ``q``
-    (N, 7), the arm angle's gradient by central differences; joint values and whether each settled on the
-    branch ``signs`` (Table 1 signs, (1, 3))."""
-    step = 1e-7
-    q = q.copy()
-    active = np.arange(len(q))  # rows still stepping: not yet at rounding, not diverging
-    first = np.full(len(q), np.inf)
-    for _ in range(_NEWTON_ITERATIONS):
-        if active.size == 0:
-            break
-        now = q[active]
-        reached = arm.chain.fk(now)
-        residual = np.concatenate([_pose_residual(reached, target[active]),
-                                   _wrapped(psi[active] - arm_angle(arm, now))[:, None]], axis=-1)
-        size = np.linalg.norm(residual, axis=-1)
-        first[active] = np.minimum(first[active], np.where(np.isinf(first[active]), size, np.inf))
-        keep = (size > _nearly_kernels.FINE) & (size <= 10.0 * first[active])  # on to rounding; drop a divergence
-        active, now, residual = active[keep], now[keep], residual[keep]
-        if active.size == 0:
-            break
-        jacobian = np.empty((len(now), 7, 7))
-        jacobian[:, :6] = arm.chain.jacobian(now)
-        moved = np.repeat(now[None], 14, axis=0)  # the 14 central-difference rows of every joint, in one call
-        for j in range(7):
-            moved[2 * j, :, j] += step
-            moved[2 * j + 1, :, j] -= step
-        angles = arm_angle(arm, moved).reshape(7, 2, len(now))
-        jacobian[:, 6, :] = (_wrapped(angles[:, 0] - angles[:, 1]) / (2.0 * step)).T
-        damping = 0.05 * np.sum(residual * residual, axis=-1)[:, None, None] * np.eye(7) + 1e-12 * np.eye(7)
-        transposed = np.swapaxes(jacobian, -1, -2)
-        q[active] = now + np.linalg.solve(transposed @ jacobian + damping, (transposed @ residual[..., None]))[..., 0]
-    reached = arm.chain.fk(q)
-    position, rotation = _pose_error(reached, target)
-    settled = (position <= TOLERANCE) & (rotation <= TOLERANCE) & (np.abs(_wrapped(psi - arm_angle(arm, q)))
-                                                                    <= TOLERANCE)
-    theta = arm.geometry.theta_of_q(q)
-    same = np.all(_branch_signs(arm, theta) == signs[0], axis=-1)
-    return q, settled & same
-
-
-def _branch_signs(arm: NearlySRS, theta: np.ndarray) -> np.ndarray:
-    """Table 1 branch signs (N, 3) of DH angles (N, 7) of the neighbour."""
-    from redkin.srs.branches import branch_of_theta
-
-    return branch_of_theta(theta, arm.geometry.elbow_equation.phase)
-
-
-def _pose_residual(reached: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """``[p_t - p; rotation vector of R_t R^T]`` (N, 6), the world-referred pose error of Newton's step."""
-    relative = target[:, :3, :3] @ np.swapaxes(reached[:, :3, :3], -1, -2)
-    skew = np.stack([relative[:, 2, 1] - relative[:, 1, 2], relative[:, 0, 2] - relative[:, 2, 0],
-                     relative[:, 1, 0] - relative[:, 0, 1]], axis=-1)
-    size = np.linalg.norm(skew, axis=-1)
-    angle = np.arctan2(0.5 * size, 0.5 * (np.trace(relative, axis1=-2, axis2=-1) - 1.0))
-    scale = np.where(size > 0.0, angle / np.where(size > 0.0, size, 1.0), 0.5)
-    return np.concatenate([target[:, :3, 3] - reached[:, :3, 3], scale[:, None] * skew], axis=-1)
-
-
-def _wrapped(angle: np.ndarray) -> np.ndarray:
-    """Angles into ``(-pi, pi]``."""
-    return np.angle(np.exp(1j * angle))
-
-
-def _pose_error(reached: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Position error [m] and rotation angle [rad] of poses (N, 4, 4) against targets."""
-    position = np.linalg.norm(reached[:, :3, 3] - target[:, :3, 3], axis=-1)
-    relative = np.einsum("nji,njk->nik", target[:, :3, :3], reached[:, :3, :3])
-    skew = np.stack([relative[:, 2, 1] - relative[:, 1, 2], relative[:, 0, 2] - relative[:, 2, 0],
-                     relative[:, 1, 0] - relative[:, 0, 1]], axis=-1)
-    cosine = 0.5 * (np.trace(relative, axis1=-2, axis2=-1) - 1.0)
-    return position, np.arctan2(0.5 * np.linalg.norm(skew, axis=-1), cosine)
