@@ -8,8 +8,9 @@
 * :func:`feasible_pieces`, :func:`feasible_pieces_all_branches` -- the same as arrays, one branch or all eight
 * :func:`joint_extrema` -- type, case, extrema and monotonicity of each joint over psi [000 eqs. 21-28]
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles [000 eqs. 31-34]
-* :func:`nearly_srs`, :func:`feasible_arm_angles_nearly`, :func:`singular_arm_angles_nearly` -- nearly S-R-S arms
-  (the Kinova Gen3): the exact neighbour, feasible and singular arm angles on the real arm
+* :func:`nearly_srs`, :func:`feasible_arm_angles_nearly`, :func:`singular_arm_angles_nearly`,
+  :func:`optimal_arm_angles_nearly` -- nearly S-R-S arms (the Kinova Gen3): the exact neighbour, feasible, singular
+  and optimal arm angles on the real arm
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles [000 eqs. 36-40]
 * :func:`arm_angle_path` -- arm-angle control along a path (section 6.2.2)
 * :func:`arm_angle_class` -- whether a chain is S-R-S, S-R-S with an offset elbow (the WAM), or neither
@@ -33,6 +34,7 @@ from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.nearly import NearlySolutions, NearlySRS, nearly_srs
 from redkin.srs.nearly_feasible import NearlyFeasible, feasible_arm_angles_nearly
+from redkin.srs.nearly_optimal import NearlyOptimal, optimal_arm_angles_nearly
 from redkin.srs.nearly_singular import Alignment, NearlySingular, alignment_angles, singular_arm_angles_nearly
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
 from redkin.srs.path import ArmAnglePath, arm_angle_path
@@ -49,6 +51,7 @@ __all__ = [
     "FeasiblePieces",
     "JointExtrema",
     "NearlyFeasible",
+    "NearlyOptimal",
     "NearlySRS",
     "NearlySingular",
     "NearlySolutions",
@@ -72,6 +75,7 @@ __all__ = [
     "joint_extrema",
     "nearly_srs",
     "optimal_arm_angles",
+    "optimal_arm_angles_nearly",
     "parse_branch",
     "pose_from",
     "reachable",

@@ -20,7 +20,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from redkin.srs.branches import Branch
+from redkin.srs.branches import Branch, branch_of_theta
 from redkin.srs.nearly import TOLERANCE, NearlySRS, arm_angle, ik
 
 #: Width [rad] to which an extremum is bracketed.
@@ -45,36 +45,57 @@ def _derivative_along(arm: NearlySRS, q: np.ndarray, function: Callable[[np.ndar
 
 
 def located_extremum(arm: NearlySRS, pose: np.ndarray, branch: Branch, function: Callable[[np.ndarray], np.ndarray],
-                     low: float, high: float, maximum: bool) -> float | None:
-    """The arm angle in ``[low, high]`` (``high - low < 2 pi``, read counter-clockwise) where ``F`` has its maximum
-    (or minimum), located to :data:`_RESOLUTION` by bisection on the sign of ``dF/dpsi``; ``None`` where the branch
-    has no solution at a bisection point (a gap in the certified solutions).
+                     start: tuple[float, np.ndarray], low: float, high: float,
+                     maximum: bool) -> tuple[float, np.ndarray]:
+    """The arm angle in ``[low, high]`` (``low <= psi_0 <= high``, read counter-clockwise, less than a turn) where
+    ``F`` has its maximum (or minimum) along the self-motion through the branch's solution ``q_0`` at ``psi_0``
+    (``start``), and the solution there (7,).
 
-    The bracket's ends must have derivatives of opposite signs (rising then falling for a maximum); where they do
-    not, the better end is returned.
+    The side is chosen by the sign of ``dF/dpsi`` at ``q_0``; the self-motion is followed there
+    (:func:`polished` at each arm angle, from the nearest point already found, so that it stays on the sheet of
+    ``q_0`` where :func:`redkin.srs.nearly.ik` would jump to another or miss), the far end moved in while the
+    branch's signs change before it, and the zero of ``dF/dpsi`` bracketed to :data:`_RESOLUTION` by bisection.
+    Where ``F`` still improves at the far end, that end is returned.
     """
     sense = -1.0 if maximum else 1.0  # the derivative of sense * F rises through its zero
+    psi0, q0 = start
+    signs = np.array(arm.geometry.kernel_branch(branch)[0])
 
-    def slope(psi: float) -> float | None:
-        q, exists = solutions_at(arm, pose, np.array([psi]), branch)
-        if not exists[0]:
-            return None
-        return float(sense * _derivative_along(arm, q, function)[0])
+    def slope(q: np.ndarray) -> float:
+        return float(sense * _derivative_along(arm, q[None], function)[0])
 
-    at_low, at_high = slope(low), slope(high)
-    if at_low is None or at_high is None:
-        return None
-    if not (at_low < 0.0 < at_high):
-        values = function(solutions_at(arm, pose, np.array([low, high]), branch)[0])
-        return low if (values[0] >= values[1]) == maximum else high
-    while high - low > _RESOLUTION:
-        middle = 0.5 * (low + high)
-        at_middle = slope(middle)
-        if at_middle is None:
-            return None
-        low, high = (middle, high) if at_middle < 0.0 else (low, middle)
-    return float(np.angle(np.exp(1j * (0.5 * (low + high)))))
+    def followed(psi: float, near: np.ndarray) -> np.ndarray | None:
+        moved, certified = polished(arm, near[None], pose, lambda values: arm_angle(arm, values), psi)
+        theta = arm.geometry.theta_of_q(moved)
+        same = np.all(branch_of_theta(theta, arm.geometry.elbow_equation.phase)[0] == signs)
+        return moved[0] if certified[0] and same else None
 
+    at_start = slope(q0)
+    if at_start == 0.0:
+        return float(np.angle(np.exp(1j * psi0))), q0
+    far = high if at_start < 0.0 else low  # where sense * F falls
+    q_far = followed(far, q0)
+    for _ in range(30):
+        if q_far is not None:
+            break
+        far = 0.5 * (far + psi0)
+        q_far = followed(far, q0)
+    if q_far is None:
+        return float(np.angle(np.exp(1j * psi0))), q0
+    if (slope(q_far) < 0.0) == (at_start < 0.0):  # still improving at the far end
+        return float(np.angle(np.exp(1j * far))), q_far
+    near, q_near = psi0, q0
+    while abs(far - near) > _RESOLUTION:
+        middle = 0.5 * (near + far)
+        q_middle = followed(middle, q_near)
+        if q_middle is None:
+            far, q_far = middle, q_far
+            continue
+        if (slope(q_middle) < 0.0) == (at_start < 0.0):
+            near, q_near = middle, q_middle
+        else:
+            far, q_far = middle, q_middle
+    return float(np.angle(np.exp(1j * near))), q_near
 
 
 def polished(arm: NearlySRS, q: np.ndarray, pose: np.ndarray, function: Callable[[np.ndarray], np.ndarray],
@@ -98,7 +119,7 @@ def polished(arm: NearlySRS, q: np.ndarray, pose: np.ndarray, function: Callable
     residual = residual_of(q, np.arange(len(q)))
     size = np.linalg.norm(residual, axis=-1)
     for _ in range(iterations):
-        active = np.flatnonzero(size > 1e-14)
+        active = np.flatnonzero((size > 1e-14) & (damping < 1e6))  # on to rounding, unless stalled
         if active.size == 0:
             break
         matrix = np.empty((active.size, 7, 7))

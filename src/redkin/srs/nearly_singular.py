@@ -159,7 +159,7 @@ def singular_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Br
             return alignment_angles(arm, values)[k]
 
         minima = _local_minima(size)
-        approaches = [_refined(arm, pose, label, psi, size, m, pair_size) for m in minima]
+        approaches = [_refined(arm, pose, label, psi, q, size, m, pair_size) for m in minima]
         starts = [m for m in minima if size[m] <= _START]
         angles, configurations = _aligned(arm, pose, _split(arm, q[starts], _PAIRS[part][0]), pair_sigma, signs,
                                           _PAIRS[part][3])
@@ -261,19 +261,14 @@ def _local_minima(size: np.ndarray) -> list[int]:
     return np.flatnonzero(minimum).tolist()
 
 
-def _refined(arm: NearlySRS, pose: np.ndarray, label: Branch, psi: np.ndarray, size: np.ndarray, m: int,
-             pair_size) -> Alignment:
-    """The local minimum of the grid at index ``m`` located between its neighbours (its grid value next to a
-    missing solution, or where the bisection meets one)."""
+def _refined(arm: NearlySRS, pose: np.ndarray, label: Branch, psi: np.ndarray, q: np.ndarray, size: np.ndarray,
+             m: int, pair_size) -> Alignment:
+    """The local minimum of the grid at index ``m`` located between its neighbours along the self-motion through
+    the grid's solution there (:func:`redkin.srs.nearly_search.located_extremum`)."""
     count = len(psi)
-    grid = Alignment(float(psi[m]), float(size[m]))
-    if not (np.isfinite(size[m - 1]) and np.isfinite(size[(m + 1) % count])):
-        return grid
     low = psi[m - 1] - (2.0 * np.pi if m == 0 else 0.0)
     high = psi[(m + 1) % count] + (2.0 * np.pi if m == count - 1 else 0.0)
-    located = located_extremum(arm, pose, label, pair_size, float(low), float(high), maximum=False)
-    if located is None:
-        return grid
-    q, exists = solutions_at(arm, pose, np.array([located]), label)
-    value = float(pair_size(q)[0]) if exists[0] else np.inf
-    return Alignment(located, value) if value <= size[m] else grid
+    located, q_located = located_extremum(arm, pose, label, pair_size, (float(psi[m]), q[m]), float(low),
+                                          float(high), maximum=False)
+    value = float(pair_size(q_located[None])[0])
+    return Alignment(located, value) if value <= size[m] else Alignment(float(psi[m]), float(size[m]))
