@@ -39,7 +39,7 @@ from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, check_weights, op
 
 #: Arm angles of the uniform grid over the circle; each feasible arc is sampled at least as densely.
 _SAMPLES = 720
-#: The objectives, in the order :func:`objective_values` returns them.
+#: The objectives, in the order :func:`_objective_values` returns them.
 _PARTS = ("shoulder", "wrist", "overall")
 
 
@@ -75,7 +75,7 @@ class NearlyOptimal:
     neighbour: OptimalArmAngles | None
 
 
-def objective_values(arm: NearlySRS, q: np.ndarray, target: np.ndarray,
+def _objective_values(arm: NearlySRS, q: np.ndarray, target: np.ndarray,
                      weights: tuple[float, float]) -> np.ndarray:
     """``f_s`` [000 eq. 36], ``f_w`` [000 eq. 38] and their weighted sum [000 eq. 40] at joint values ``q``
     (..., 7), stacked on a leading axis of 3: the shoulder's and wrist's rotations through the neighbour's frames at
@@ -134,10 +134,10 @@ def optimal_arm_angles_nearly(
     grid = np.unique(np.concatenate([circle, np.angle(np.exp(1j * np.array(hints, dtype=float)))]))
 
     def objective(k: int):
-        return lambda values: objective_values(arm, values, q_target, chosen)[k]
+        return lambda values: _objective_values(arm, values, q_target, chosen)[k]
 
     q, exists = solutions_at(arm, pose, grid, label)
-    values = np.where(exists, objective_values(arm, q, q_target, chosen), -np.inf)
+    values = np.where(exists, _objective_values(arm, q, q_target, chosen), -np.inf)
     unclamped = [_maximum(arm, pose, label, objective(k), grid, q, values[k], circular=True) for k in range(3)]
     clamped = [u if u is not None and feasible.contains(u[0]) else None for u in unclamped]
     pending = [k for k in range(3) if clamped[k] is None]  # the optima outside the feasible set
@@ -145,7 +145,7 @@ def optimal_arm_angles_nearly(
         length = (end - start) % TWO_PI
         psi = start + np.linspace(0.0, length, max(8, int(np.ceil(length / TWO_PI * _SAMPLES)) + 1))
         q, exists = solutions_at(arm, pose, psi, label)
-        arc_values = np.where(exists, objective_values(arm, q, q_target, chosen), -np.inf)
+        arc_values = np.where(exists, _objective_values(arm, q, q_target, chosen), -np.inf)
         for k in pending:
             found, kept = _maximum(arm, pose, label, objective(k), psi, q, arc_values[k], circular=False), clamped[k]
             if found is not None and (kept is None or found[1] > kept[1]):
