@@ -287,6 +287,9 @@ def _walk_words(name: str, result: PathResult, paths: list[BaselinePath]) -> str
     changes = [k for k in range(1, len(result.branch)) if result.branch[k] != result.branch[k - 1]]
     text += (f"The global path keeps every limit and the bound with a smallest clearance of "
              f"{np.degrees(result.clearance):.3f} deg")
+    if result.optimal:
+        text += (f", proved the largest any path keeps (the exact feasible sets of waypoint {result.bottleneck}, "
+                 "with every limit moved that far in, are empty on every branch)")
     if changes:
         text += ", changing branch " + ", ".join(f"{result.branch[k - 1]} -> {result.branch[k]} at waypoint {k}"
                                                 for k in changes)
