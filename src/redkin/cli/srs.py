@@ -55,8 +55,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     angles = subparsers.add_parser(
         "arm-angles",
-        help="feasible, singular and optimal arm angles of an S-R-S or offset-elbow arm for a pose (paper 000); "
-             "feasible and optimal q7 of a Franka-class arm",
+        help="feasible, singular and optimal arm angles of an S-R-S, offset-elbow or nearly S-R-S arm for a pose "
+             "(paper 000; nearly S-R-S arms on the real arm); feasible and optimal q7 of a Franka-class arm",
     )
     add_robot_argument(angles)
     add_target_arguments(angles)
@@ -67,7 +67,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     angles.add_argument("--weights", nargs=2, type=float, metavar=("RS", "RW"),
                         help="how much the shoulder joints (RS) and the wrist joints (RW) count in the overall "
                              "optimal arm angle, two numbers >= 0, not both 0 (default 0.5 0.5; [000 eq. 40]; "
-                             "S-R-S and offset-elbow arms)")
+                             "S-R-S, offset-elbow and nearly S-R-S arms)")
     add_output_flags(angles)
     angles.set_defaults(handler=_run_arm_angles)
 
@@ -289,37 +289,74 @@ def _format_list(values: list) -> str:
 
 
 def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
-    """``redkin arm-angles`` on a nearly S-R-S arm: the branch's feasible arm angles on the real arm
-    (:func:`redkin.srs.nearly_feasible.feasible_arm_angles_nearly`) and what its neighbour drops."""
-    from redkin.srs import nearly_srs, parse_branch
-    from redkin.srs.nearly_feasible import feasible_arm_angles_nearly
+    """``redkin arm-angles`` on a nearly S-R-S arm: the branch's feasible, singular and optimal arm angles on the real
+    arm (:func:`redkin.srs.feasible_arm_angles_nearly`, :func:`redkin.srs.singular_arm_angles_nearly`,
+    :func:`redkin.srs.optimal_arm_angles_nearly`) and what its neighbour drops; no per-joint sets (not computed on
+    such arms)."""
+    from redkin.srs import (
+        feasible_arm_angles_nearly,
+        nearly_srs,
+        optimal_arm_angles_nearly,
+        parse_branch,
+        singular_arm_angles_nearly,
+    )
 
-    for option in ("target", "weights"):
-        if getattr(args, option) is not None:
-            raise ValueError(f"--{option}: the optimal arm angle of a nearly S-R-S arm is not computed yet; leave it "
-                             "out")
     arm = nearly_srs(chain)
-    result = feasible_arm_angles_nearly(arm, target_pose(args), parse_branch(args.branch))
+    pose = target_pose(args)
+    branch = parse_branch(args.branch)
+    target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
+    result = feasible_arm_angles_nearly(arm, pose, branch)
+    singular = singular_arm_angles_nearly(arm, pose, branch)
+    optimal = optimal_arm_angles_nearly(arm, pose, branch, target=target,
+                                        weights=(0.5, 0.5) if args.weights is None else args.weights,
+                                        feasible=result.feasible)
     deg = args.deg
+
+    def angle(value):
+        return None if value is None or not np.isfinite(value) else angles_out(value, deg)
+
+    def nearest(alignment):
+        return None if alignment is None else {"psi": angle(alignment.psi), "angle": angle(alignment.angle)}
+
     report = {
         "robot": chain.name,
         "class": "nearly S-R-S",
         "neighbour": arm.describe(),
-        "units": {"angles": f"{angle_unit(deg)} (every arm angle below)"},
+        "units": {"angles": f"{angle_unit(deg)} (every arm angle and angle below)"},
         "arcs": "[start, end] read counter-clockwise from start to end; the parallel *_wraps entry is true for an arc "
                 "through +-180 deg (+-pi rad), whose start is larger than its end",
         "branch": str(result.branch),
         "feasible": _arcs(result.feasible, deg),
         "feasible_wraps": _wraps(result.feasible),
         "samples": result.samples,
+        "singular": {
+            "shoulder": [float(angles_out(a, deg)) for a in singular.shoulder],
+            "wrist": [float(angles_out(a, deg)) for a in singular.wrist],
+            "shoulder_nearest": nearest(singular.shoulder_nearest),
+            "wrist_nearest": nearest(singular.wrist_nearest),
+        },
+        "optimal": {name: {"unclamped": angle(part.unclamped), "feasible": angle(part.feasible)}
+                    for name, part in (("shoulder", optimal.shoulder), ("wrist", optimal.wrist),
+                                       ("overall", optimal.overall))},
     }
     if args.json:
         print_json(report)
         return 0
-    unit = angle_unit(deg)
-    print(f"{chain.name}, branch {result.branch}: nearly S-R-S; {arm.describe()}")
-    arcs = ", ".join(f"[{fixed(a)}, {fixed(b)}]" for a, b in report["feasible"]) or "none"
-    print(f"feasible arm angles on the real arm [{unit}]: {arcs}")
+    print(f"{chain.name}, branch {result.branch}; angles in {angle_unit(deg)}")
+    print(f"nearly S-R-S: {arm.describe()}")
+    print(f"Psi (feasible, on the real arm): {_format_arcs(report['feasible'], deg)}")
+    singular_report = report["singular"]
+    print(f"singular shoulder: {_format_list(singular_report['shoulder'])}  wrist: "
+          f"{_format_list(singular_report['wrist'])}  (axes 1 and 3, 5 and 7 parallel)")
+    for part in ("shoulder", "wrist"):
+        entry = singular_report[f"{part}_nearest"]
+        if entry is not None:
+            print(f"nearest {part} alignment: {fixed(entry['angle'])} at psi {fixed(entry['psi'])}")
+    for name in ("shoulder", "wrist", "overall"):
+        entry = report["optimal"][name]
+        unclamped = "none (no solution on this branch)" if entry["unclamped"] is None else fixed(entry["unclamped"])
+        clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
+        print(f"optimal {name}: {unclamped} -> feasible {clamped}")
     return 0
 
 

@@ -34,7 +34,7 @@ from redkin.srs._rotations import group_rotations
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.nearly import NearlySRS
 from redkin.srs.nearly_feasible import feasible_arm_angles_nearly
-from redkin.srs.nearly_search import located_extremum, solutions_at
+from redkin.srs.nearly_search import located_extremum, merged, solutions_at
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, check_weights, optimal_arm_angles, weighted_objective
 
 #: Arm angles of the uniform grid over the circle; each feasible arc is sampled at least as densely.
@@ -131,7 +131,7 @@ def optimal_arm_angles_nearly(
     neighbour = _neighbour_optimal(arm, pose, label, q_target, chosen)
     hints = [] if neighbour is None else [getattr(neighbour, part).unclamped for part in _PARTS]
     circle = np.linspace(-np.pi, np.pi, _SAMPLES, endpoint=False)
-    grid = np.unique(np.concatenate([circle, np.angle(np.exp(1j * np.array(hints, dtype=float)))]))
+    grid = merged(circle, np.array(hints, dtype=float))
 
     def objective(k: int):
         return lambda values: _objective_values(arm, values, q_target, chosen)[k]

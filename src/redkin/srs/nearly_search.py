@@ -25,6 +25,8 @@ from redkin.srs.nearly import TOLERANCE, NearlySRS, arm_angle, ik
 
 #: Width [rad] to which an extremum is bracketed.
 _RESOLUTION = 1e-10
+#: Arm angles closer than this [rad] are one sample (:func:`merged`).
+_DISTINCT = 1e-6
 #: Step [rad] of the central differences in ``q``.
 _STEP = 1e-6
 
@@ -34,6 +36,15 @@ def solutions_at(arm: NearlySRS, pose: np.ndarray, psi: np.ndarray, branch: Bran
     exists."""
     result = ik(arm, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch)
     return result.q[:, 0], result.exists[:, 0]
+
+
+def merged(grid: np.ndarray, extra: np.ndarray) -> np.ndarray:
+    """The sorted arm angles of ``grid`` and of ``extra`` (wrapped into ``(-pi, pi]``) that lie more than
+    :data:`_DISTINCT` rad from every grid value: two samples closer than that would hold one extremum between
+    them and the bracket of :func:`located_extremum` would shrink to nothing."""
+    extra = np.angle(np.exp(1j * np.asarray(extra, dtype=float)))
+    gap = np.abs(np.angle(np.exp(1j * (extra[:, None] - grid[None, :])))).min(axis=1) if grid.size else extra
+    return np.sort(np.concatenate([grid, np.unique(extra[gap > _DISTINCT])]))
 
 
 def _derivative_along(arm: NearlySRS, q: np.ndarray, function: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:

@@ -41,7 +41,7 @@ from redkin._validation import check_pose
 from redkin.errors import RedkinError
 from redkin.srs.branches import Branch, branch_of_theta, parse_branch
 from redkin.srs.nearly import NearlySRS, arm_angle
-from redkin.srs.nearly_search import located_extremum, polished, solutions_at
+from redkin.srs.nearly_search import located_extremum, merged, polished, solutions_at
 from redkin.srs.singular import SingularArmAngles, singular_arm_angles
 
 #: Arm angles of the uniform grid.
@@ -145,7 +145,7 @@ def singular_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Br
     neighbour = _neighbour_singular(arm, pose, label)
     psi = np.linspace(-np.pi, np.pi, int(samples), endpoint=False)
     if neighbour is not None:
-        psi = np.unique(np.concatenate([psi, _neighbour_nearest(neighbour)]))
+        psi = merged(psi, _neighbour_nearest(neighbour))
     q, exists = solutions_at(arm, pose, psi, label)
     signs = np.array(arm.geometry.kernel_branch(label)[0])
     found: dict[str, tuple[list[float], np.ndarray, Alignment | None]] = {}
