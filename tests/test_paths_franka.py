@@ -114,3 +114,17 @@ def test_the_command_line_names_q7(tmp_path, capsys):
                  str(tmp_path / "plane.png")]) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "Franka class" in err and not (tmp_path / "plane.png").exists()
+
+
+def test_judge_path_judges_a_franka_path_as_the_baselines_are():
+    from redkin.paths import judge_path
+
+    chain = get_robot("franka-fr3")
+    q, poses = _joint_line(chain, np.random.default_rng(12), 8)
+    step = 2.0 * np.abs(np.diff(q, axis=0)).max() + 1e-3
+    result = resolve_path(chain, poses, step)
+    assert judge_path(chain, result.q, step, poses).ok
+    jumped = result.q.copy()
+    jumped[5:, 0] += 0.5  # a joint-1 jump: the poses are missed and the bound broken at waypoint 5
+    judged = judge_path(chain, jumped, step, poses)
+    assert not judged.ok and judged.first_failure == 5

@@ -24,6 +24,7 @@ from redkin._validation import as_float_array, check_pose, check_vectors
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
+from redkin.franka.geometry import FrankaGeometry
 from redkin.paths.bounds import step_bound
 from redkin.paths.family import path_family
 from redkin.paths.resolve import FK_TOLERANCE, search_paths
@@ -136,15 +137,15 @@ def _outside(chain: SerialChain, q: np.ndarray) -> np.ndarray:
     return np.maximum(np.maximum(below, above), 0.0)
 
 
-def judge_path(arm: SerialChain | SRSGeometry, q: ArrayLike, max_step: ArrayLike, poses: ArrayLike | None = None,
-               method: str = "given", psi: ArrayLike | None = None,
+def judge_path(arm: SerialChain | SRSGeometry | FrankaGeometry, q: ArrayLike, max_step: ArrayLike,
+               poses: ArrayLike | None = None, method: str = "given", psi: ArrayLike | None = None,
                branch: Sequence[str] | None = None) -> BaselinePath:
     """Judge joint values along a path as the baselines are judged: limits, the step bound, and the poses.
 
     Parameters
     ----------
-    arm : SerialChain or SRSGeometry
-        The arm with its joint limits.
+    arm : SerialChain, SRSGeometry or FrankaGeometry
+        The arm with its joint limits (an S-R-S, offset-elbow or Franka-class arm).
     q : array_like, shape (N, 7)
         Joint values per waypoint as they would be commanded (a limit is not met modulo ``2 pi``), NaN where the
         method gave none.
@@ -165,7 +166,7 @@ def judge_path(arm: SerialChain | SRSGeometry, q: ArrayLike, max_step: ArrayLike
     BaselinePath
         With the first failure's ``reason``, ``joint`` and ``excess``.
     """
-    chain = _geometry(arm).chain
+    chain = path_family(arm).chain
     step = step_bound(chain, max_step)
     values = as_float_array(q, "q")
     if values.ndim != 2 or values.shape[1] != 7 or values.shape[0] == 0:
