@@ -37,8 +37,8 @@ _SINGULAR_NOTE = {
                  "one split"),
     "wrist": "joints 5 and 7 turn about one axis here: only their combination is fixed, the values shown are one split",
 }
-#: The arm angle as the page names it.
-_ARM_ANGLE = Parameter(
+#: The arm angle as the page names it (a nearly S-R-S arm's page, :mod:`redkin.explore.nearly`, changes its method).
+ARM_ANGLE = Parameter(
     name="psi", symbol="ψ", set_symbol="Ψ", noun="arm angle", plural="arm angles", title="Arm-angle explorer",
     joint_symbol="θ", branches="signs of theta 2, 4, 6", optimum="[000 eq. 40]",
     method="paper 000's closed-form arm-angle IK and exact feasible sets", domain=(-np.pi, np.pi), circular=True,
@@ -56,7 +56,7 @@ def arm_angle_curves(chain: SerialChain, pose: np.ndarray, samples: int, target,
     """
     grid = np.linspace(-np.pi, np.pi, samples)
     weights = (0.5, 0.5) if weights is None else weights
-    return _ARM_ANGLE, tuple(_branch_curves(chain, pose, b, grid, target, weights) for b in BRANCHES)
+    return ARM_ANGLE, tuple(_branch_curves(chain, pose, b, grid, target, weights) for b in BRANCHES)
 
 
 def _branch_curves(chain: SerialChain, pose: np.ndarray, branch, grid: np.ndarray, target, weights) -> BranchCurves:
@@ -72,7 +72,7 @@ def _branch_curves(chain: SerialChain, pose: np.ndarray, branch, grid: np.ndarra
     origins, within = postures(chain, q, exists)
     marks = tuple(Mark(kind, label, int(np.searchsorted(psi, value)), note) for kind, label, value, note in special)
     clamped = optimal.overall.feasible
-    start = int(np.argmin(np.abs(psi - (0.0 if clamped is None else _on_circle(float(clamped))))))
+    start = int(np.argmin(np.abs(psi - (0.0 if clamped is None else on_circle(float(clamped))))))
     in_set = np.asarray(result.feasible.contains(psi, _SAME_ANGLE))
     notes = tuple(f"The {part} is singular at every ψ for this pose." for part, every in
                   (("shoulder", singular.shoulder_everywhere), ("wrist", singular.wrist_everywhere)) if every)
@@ -93,9 +93,9 @@ def _special_angles(feasible: ArcSet, singular: SingularArmAngles,
     clamped = optimal.overall.feasible
     if clamped is not None and abs(float(wrap_angle(float(clamped) - float(optimal.overall.unclamped)))) > _SAME_ANGLE:
         special.append(("optimal", "optimal ψ clamped to Ψ", clamped, ""))
-    return [(kind, label, _on_circle(float(value)), note) for kind, label, value, note in special]
+    return [(kind, label, on_circle(float(value)), note) for kind, label, value, note in special]
 
 
-def _on_circle(angle: float) -> float:
+def on_circle(angle: float) -> float:
     """``angle`` in ``[-pi, pi]``: unchanged when it is there already (wrapping could move it by a rounding)."""
     return angle if -np.pi <= angle <= np.pi else float(wrap_angle(angle))

@@ -129,8 +129,8 @@ class BranchCurves:
 
 @dataclass(frozen=True)
 class ExplorerData:
-    """The explorer's numbers for one arm and one pose: the parameter, every branch, the limits and the branch
-    shown first."""
+    """The explorer's numbers for one arm and one pose: the parameter, every branch, the limits, the branch shown
+    first and sentences about the arm that the page states (a nearly S-R-S arm's neighbour and model error)."""
 
     robot: str
     joint_names: tuple[str, ...]
@@ -140,6 +140,7 @@ class ExplorerData:
     parameter: Parameter
     branches: tuple[BranchCurves, ...]
     initial: int
+    remarks: tuple[str, ...] = ()
 
 
 def postures(chain: SerialChain, q: np.ndarray, exists: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -2,7 +2,8 @@
 
 :func:`explorer_data` classifies the chain once (:func:`redkin.closed_form.redundancy_parameter`) and fills
 the page's one form (:mod:`redkin.explore.curves`) over the class's redundancy parameter: the arm angle psi of
-S-R-S and offset-elbow arms (:mod:`redkin.explore.arm_angle`), q7 of the Franka class (:mod:`redkin.explore.q7`).
+S-R-S and offset-elbow arms (:mod:`redkin.explore.arm_angle`) and of nearly S-R-S arms, on the real arm
+(:mod:`redkin.explore.nearly`), q7 of the Franka class (:mod:`redkin.explore.q7`).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_pose
 from redkin.chain import SerialChain
 from redkin.closed_form import redundancy_parameter
-from redkin.errors import NotArmAngleClassError, RedkinError
+from redkin.errors import RedkinError
 from redkin.explore.arm_angle import arm_angle_curves
 from redkin.explore.curves import ExplorerData
 from redkin.explore.q7 import q7_curves
@@ -39,8 +40,9 @@ def explorer_data(
     Parameters
     ----------
     chain : SerialChain
-        An arm with closed-form IK over a redundancy parameter: an S-R-S or offset-elbow arm (the arm angle psi,
-        :mod:`redkin.srs`) or a Franka-class arm (q7, :mod:`redkin.franka`), in any description.
+        An arm with closed-form IK over a redundancy parameter: an S-R-S, offset-elbow or nearly S-R-S arm (the
+        arm angle psi, :mod:`redkin.srs`; a nearly S-R-S arm's numbers on the real arm, its neighbour and model
+        error in ``remarks``) or a Franka-class arm (q7, :mod:`redkin.franka`), in any description.
     pose : array_like, shape (4, 4)
         The tool pose in the base frame.
     branch : str
@@ -73,13 +75,18 @@ def explorer_data(
     if pose.shape != (4, 4):
         raise RedkinError(f"pose must be one 4x4 pose, got shape {pose.shape}")
     from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
+    from redkin.srs.nearly import TOLERANCE_DEFAULT
 
+    remarks: tuple[str, ...] = ()
     if arm_angle_class(chain).kind == NEARLY_SRS:
-        raise NotArmAngleClassError(f"{chain.name!r} is nearly S-R-S: the explorer does not draw such arms yet (their "
-                                    "solutions at an arm angle and feasible arm angles are in `redkin ik --psi` and "
-                                    "`redkin arm-angles`)", chain.name)
-    curves = q7_curves if redundancy_parameter(chain) == "q7" else arm_angle_curves
-    parameter, branches = curves(chain, pose, int(samples), target, weights)
+        from redkin.explore.nearly import nearly_curves, remarks_of
+        from redkin.srs import nearly_srs
+
+        parameter, branches = nearly_curves(chain, pose, int(samples), target, weights, TOLERANCE_DEFAULT)
+        remarks = remarks_of(nearly_srs(chain, TOLERANCE_DEFAULT))
+    else:
+        curves = q7_curves if redundancy_parameter(chain) == "q7" else arm_angle_curves
+        parameter, branches = curves(chain, pose, int(samples), target, weights)
     return ExplorerData(
         robot=chain.name,
         joint_names=tuple(chain.joint_names),
@@ -89,4 +96,5 @@ def explorer_data(
         parameter=parameter,
         branches=branches,
         initial=BRANCHES.index(first),
+        remarks=remarks,
     )

@@ -67,6 +67,7 @@ def _body(data: ExplorerData) -> str:
         legend.append(f'<span class="k singular"></span> singular {symbol}')
     legend.append(f'<span class="k optimal"></span> optimal {symbol} ({html.escape(p.optimum, quote=False)})')
     legend.append(f'<span class="k cursor"></span> the slider\'s {symbol}. Click a plot to move the slider there.')
+    remarks = "".join(f'\n<p class="note remark">{html.escape(text, quote=False)}</p>' for text in data.remarks)
     return f"""<div class="controls">
 <label>branch <select id="branch" aria-label="branch ({html.escape(p.branches)})"></select></label>
 <label class="slider">{symbol} <input id="parameter" type="range" min="0" max="1" step="1" value="0" \
@@ -86,7 +87,7 @@ x red, y green, z blue; the target frame at the tool.</figcaption></figure>
 <p class="legend">{chr(10).join(legend)}</p>
 <p class="note">Computed by redkin ({html.escape(p.method, quote=False)}); this page only draws
 the numbers it holds: a dense grid of {html.escape(p.plural, quote=False)} with the exact ends of every set merged
-in.</p>"""
+in.</p>{remarks}"""
 
 
 def _pose_text(pose: np.ndarray) -> str:
