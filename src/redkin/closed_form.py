@@ -56,8 +56,11 @@ class ClosedFormSolutions(NamedTuple):
     parameter: str
 
 
-def redundancy_parameter(chain: SerialChain) -> str:
-    """``"psi"`` for an S-R-S or offset-elbow arm, ``"q7"`` for a Franka-class arm.
+def redundancy_parameter(chain: SerialChain, srs_tolerance: float | None = None) -> str:
+    """``"psi"`` for an S-R-S, offset-elbow or nearly S-R-S arm, ``"q7"`` for a Franka-class arm.
+
+    ``srs_tolerance`` is the nearly S-R-S tolerance of :func:`redkin.srs.arm_angle_class` (default
+    :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
 
     Raises
     ------
@@ -66,7 +69,7 @@ def redundancy_parameter(chain: SerialChain) -> str:
     """
     from redkin.srs.arm_class import FRANKA, GENERAL, arm_angle_class
 
-    kind, reason = arm_angle_class(chain)
+    kind, reason = arm_angle_class(chain, srs_tolerance)
     if kind == GENERAL:
         raise NotArmAngleClassError(f"{chain.name!r} has no closed-form IK: {reason}", chain.name)
     return "q7" if kind == FRANKA else "psi"
@@ -79,6 +82,7 @@ def ik(
     psi: ArrayLike | None = None,
     q7: ArrayLike | None = None,
     branch: str | Branch | tuple[int, int, int] | None = None,
+    srs_tolerance: float | None = None,
     **solver: Any,
 ) -> ClosedFormSolutions | NumericalSolutions:
     """Every solution (or one branch's) of target poses at a value of the chain's redundancy parameter, or
@@ -95,6 +99,10 @@ def ik(
         the one of the chain's class.
     branch : str or Branch, optional
         One branch (three signs, e.g. ``"+-+"``); default all eight, in the order of :data:`redkin.srs.BRANCHES`.
+    srs_tolerance : float, optional
+        With ``psi`` or ``q7``: the largest departure (metres, radians off perpendicular) of an arm solved as nearly
+        S-R-S through its exact neighbour (:func:`redkin.srs.arm_angle_class`; default
+        :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
     **solver
         Without ``psi`` and ``q7``: the keyword arguments of :func:`redkin.numerical.ik` (``q0``, ``count``,
         ``tolerance``, ``restarts``, ``separation``, ``rng``).
@@ -108,20 +116,22 @@ def ik(
     Raises
     ------
     ValueError
-        For a parameter given to a chain without a closed form, the other class's parameter or both, a branch
-        or numerical keywords mixed with the other kind of call, a malformed pose, parameter or branch.
+        For a parameter given to a chain without a closed form, the other class's parameter or both, a branch,
+        ``srs_tolerance`` or numerical keywords mixed with the other kind of call, a malformed pose, parameter,
+        branch or tolerance.
     """
     from redkin import franka, numerical, srs
 
     if psi is None and q7 is None:
-        if branch is not None:
-            raise RedkinError("branch applies to the closed forms: give psi or q7 with it")
+        for name, value in (("branch", branch), ("srs_tolerance", srs_tolerance)):
+            if value is not None:
+                raise RedkinError(f"{name} applies to the closed forms: give psi or q7 with it")
         return numerical.ik(chain, pose, **solver)
     if solver:
         raise RedkinError(f"{', '.join(sorted(solver))}: keywords of the numerical solver, which runs without "
                           "psi and q7")
 
-    parameter = redundancy_parameter(chain)
+    parameter = redundancy_parameter(chain, srs_tolerance)
     given = [name for name, value in (("psi", psi), ("q7", q7)) if value is not None]
     if given != [parameter]:
         right = "the arm angle psi" if parameter == "psi" else "q7 (the value of joint 7)"
@@ -133,8 +143,9 @@ def ik(
     from redkin.srs.nearly import ik as nearly_ik
     from redkin.srs.nearly import nearly_srs
 
-    if psi is not None and arm_angle_class(chain).kind == NEARLY_SRS:
-        solutions = nearly_ik(nearly_srs(chain), pose, psi, branch)
+    if psi is not None and arm_angle_class(chain, srs_tolerance).kind == NEARLY_SRS:
+        solutions = nearly_ik(nearly_srs(chain) if srs_tolerance is None else nearly_srs(chain, srs_tolerance),
+                              pose, psi, branch)
         return ClosedFormSolutions(solutions.q, solutions.exists, solutions.within_limits, solutions.branches, "psi")
     chosen = BRANCHES if branch is None else (parse_branch(branch),)
     geometry = srs.srs_geometry(chain)

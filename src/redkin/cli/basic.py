@@ -10,6 +10,7 @@ import numpy as np
 from redkin.cli.common import (
     add_output_flags,
     add_robot_argument,
+    add_srs_tolerance_argument,
     add_xacro_arguments,
     angle_unit,
     angles_out,
@@ -35,6 +36,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     robots.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (with --show)")
     robots.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (with --show)")
     add_xacro_arguments(robots)
+    add_srs_tolerance_argument(robots)
     add_output_flags(robots, degrees=True)
     robots.set_defaults(handler=_run_robots)
 
@@ -63,7 +65,7 @@ def _run_robots(args: argparse.Namespace) -> int:
     entries: list[dict[str, Any]] = []
     for name, factory in MODELS.items():
         chain = factory()
-        kind, reason = arm_angle_class(chain)
+        kind, reason = arm_angle_class(chain, args.srs_tolerance)
         entries.append({
             "name": name,
             "joints": chain.n,
@@ -87,7 +89,7 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
     """``redkin robots --show ROBOT``: joint names, limits, joint frames at q = 0, base, tool and class."""
     from redkin.srs import arm_angle_class
 
-    kind, reason = arm_angle_class(chain)
+    kind, reason = arm_angle_class(chain, args.srs_tolerance)
     directions, points = chain.joint_axes(np.zeros(chain.n))
     directions = directions * chain.sign[:, None]  # the sense in which q turns
     lower, upper = angles_out(chain.lower, args.deg), angles_out(chain.upper, args.deg)

@@ -86,6 +86,25 @@ def xacro_options(args: argparse.Namespace) -> dict[str, Any]:
     return {"xacro_args": dict(args.xacro_args), "package_paths": list(args.package_paths)}
 
 
+def add_srs_tolerance_argument(parser: argparse.ArgumentParser) -> None:
+    """``--srs-tolerance METRES``: the nearly S-R-S tolerance of :func:`redkin.srs.arm_angle_class` (issue 27), on the
+    commands whose work depends on the arm's class; ``args.srs_tolerance`` is ``None`` when not given."""
+    parser.add_argument("--srs-tolerance", type=_srs_tolerance, metavar="METRES",
+                        help="largest departure from S-R-S (metres between axes that must meet; radians for axes off "
+                             "perpendicular) of an arm solved as nearly S-R-S through its exact neighbour (default "
+                             "0.02; the Kinova Gen3's largest is 12.75 mm)")
+
+
+def _srs_tolerance(text: str) -> float:
+    """The value of ``--srs-tolerance``: a finite number > 0 (argparse words a refusal as one usage line, exit 2)."""
+    from redkin.srs.arm_class import check_tolerance
+
+    try:
+        return check_tolerance(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 #: How every command that takes ``--branch`` describes it.
 BRANCH_HELP = "signs of q2, q4, q6 in the robot's own joint senses, e.g. +-+ (default +++)"
 

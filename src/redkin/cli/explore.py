@@ -1,5 +1,5 @@
-"""``redkin explore``: the interactive explorer of an arm's redundancy parameter at a pose (the arm angle of S-R-S
-and offset-elbow arms, q7 of Franka-class arms), as one offline HTML page."""
+"""``redkin explore``: the interactive explorer of an arm's redundancy parameter at a pose (the arm angle of S-R-S,
+offset-elbow and nearly S-R-S arms, q7 of Franka-class arms), as one offline HTML page."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from redkin.cli.common import (
     add_force_flag,
     add_output_flags,
     add_robot_argument,
+    add_srs_tolerance_argument,
     add_target_arguments,
     angle_unit,
     angles_out,
@@ -22,14 +23,16 @@ from redkin.cli.common import (
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
-        "explore", help="an interactive explorer of the redundancy at a pose, one HTML page: the arm angle of an S-R-S "
-                        "or offset-elbow arm, q7 of a Franka-class arm (Panda, FR3, xArm7)"
+        "explore", help="an interactive explorer of the redundancy at a pose, one HTML page: the arm angle of an "
+                        "S-R-S, offset-elbow or nearly S-R-S arm (the Gen3, on the real arm), q7 of a Franka-class arm "
+                        "(Panda, FR3, xArm7)"
     )
     add_robot_argument(parser)
     add_target_arguments(parser)
     parser.add_argument("--branch", default="+++", help=f"branch shown first: {BRANCH_HELP}")
     parser.add_argument("--out", required=True, metavar="FILE.html", help="the page to write")
     add_force_flag(parser)
+    add_srs_tolerance_argument(parser)
     add_output_flags(parser)
     parser.set_defaults(handler=run)
 
@@ -39,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
 
     out = output_file(args.out, "--out", {".html", ".htm"}, args.force)
     chain = load_robot(args)
-    data = explorer_data(chain, target_pose(args), args.branch)
+    data = explorer_data(chain, target_pose(args), args.branch, srs_tolerance=args.srs_tolerance)
     out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
     parameter = data.parameter
     feasible = {b.branch: [angles_out(arc, args.deg).tolist() for arc in b.arcs] for b in data.branches}

@@ -13,6 +13,7 @@ from redkin.cli.common import (
     UsageError,
     add_output_flags,
     add_robot_argument,
+    add_srs_tolerance_argument,
     add_target_arguments,
     angle_unit,
     angles_in,
@@ -49,6 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     group = solve.add_mutually_exclusive_group()
     group.add_argument("--branch", default="+++", help=BRANCH_HELP)
     group.add_argument("--all", action="store_true", help="all eight branches")
+    add_srs_tolerance_argument(solve)
     add_numerical_arguments(solve)
     add_output_flags(solve)
     solve.set_defaults(handler=run_ik)
@@ -68,6 +70,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="how much the shoulder joints (RS) and the wrist joints (RW) count in the overall "
                              "optimal arm angle, two numbers >= 0, not both 0 (default 0.5 0.5; [000 eq. 40]; "
                              "S-R-S, offset-elbow and nearly S-R-S arms)")
+    add_srs_tolerance_argument(angles)
     add_output_flags(angles)
     angles.set_defaults(handler=_run_arm_angles)
 
@@ -88,7 +91,7 @@ def _closed_form_class(chain, args: argparse.Namespace) -> str:
     gave the other one."""
     from redkin.closed_form import redundancy_parameter
 
-    parameter = redundancy_parameter(chain)
+    parameter = redundancy_parameter(chain, args.srs_tolerance)
     given = "q7" if getattr(args, "q7", None) is not None else "psi" if getattr(args, "psi", None) is not None else None
     if given is not None and given != parameter:
         right = "q7 (--q7)" if parameter == "q7" else "the arm angle (--psi)"
@@ -116,6 +119,9 @@ def run_ik(args: argparse.Namespace) -> int:
     if (args.psi is None and args.q7 is None) or args.numerical:
         if args.psi is not None or args.q7 is not None:
             raise UsageError("--numerical solves without a redundancy parameter: drop --psi/--q7")
+        if args.srs_tolerance is not None:
+            raise UsageError("--srs-tolerance chooses the closed form of --psi or --q7; the numerical solver (without "
+                             "them) does not use it")
         return run_numerical(chain, poses, args, batch)
     if batch:
         return _run_closed_form_poses(chain, poses, args)
@@ -123,7 +129,7 @@ def run_ik(args: argparse.Namespace) -> int:
 
     if _closed_form_class(chain, args) == "q7":
         return _run_rows_ik(chain, args, "q7")
-    if arm_angle_class(chain).kind == NEARLY_SRS:
+    if arm_angle_class(chain, args.srs_tolerance).kind == NEARLY_SRS:
         return _run_rows_ik(chain, args, "psi")
     geometry = srs_geometry(chain)
     pose = target_pose(args)
@@ -158,7 +164,8 @@ def _run_closed_form_poses(chain, poses: np.ndarray, args: argparse.Namespace) -
 
     parameter = _closed_form_class(chain, args)
     value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
-    result = ik(chain, poses, **{parameter: value}, branch=None if args.all else parse_branch(args.branch))
+    result = ik(chain, poses, **{parameter: value}, branch=None if args.all else parse_branch(args.branch),
+                srs_tolerance=args.srs_tolerance)
     assert isinstance(result, ClosedFormSolutions)  # a parameter was given
     entries: list[dict[str, Any]] = [{
         "index": k,
@@ -191,7 +198,7 @@ def _run_rows_ik(chain, args: argparse.Namespace, parameter: str) -> int:
     pose = target_pose(args)
     value = float(angles_in(args.q7 if parameter == "q7" else args.psi, args.deg))
     branch = None if args.all else parse_branch(args.branch)
-    result = ik(chain, pose, **{parameter: value}, branch=branch)
+    result = ik(chain, pose, **{parameter: value}, branch=branch, srs_tolerance=args.srs_tolerance)
     assert isinstance(result, ClosedFormSolutions)  # a parameter was given
     solutions = [
         {"branch": str(label), "q": angles_out(result.q[k], args.deg), "within_limits": bool(result.within_limits[k])}
@@ -221,7 +228,7 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     if _closed_form_class(chain, args) == "q7":
         return _run_franka_arm_angles(chain, args)
-    if arm_angle_class(chain).kind == NEARLY_SRS:
+    if arm_angle_class(chain, args.srs_tolerance).kind == NEARLY_SRS:
         return _run_nearly_arm_angles(chain, args)
     if args.weights is None:
         args.weights = (0.5, 0.5)
@@ -301,7 +308,7 @@ def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
         singular_arm_angles_nearly,
     )
 
-    arm = nearly_srs(chain)
+    arm = nearly_srs(chain) if args.srs_tolerance is None else nearly_srs(chain, args.srs_tolerance)
     pose = target_pose(args)
     branch = parse_branch(args.branch)
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")

@@ -34,6 +34,7 @@ def explorer_data(
     target: ArrayLike | None = None,
     weights: ArrayLike | None = None,
     samples: int = GRID_SAMPLES,
+    srs_tolerance: float | None = None,
 ) -> ExplorerData:
     """The numbers of an explorer page for ``chain`` at ``pose``, all eight branches over its redundancy parameter.
 
@@ -56,6 +57,9 @@ def explorer_data(
     samples : int
         Points of the dense grid over the parameter's domain (``[-pi, pi]`` for psi, joint 7's range for q7),
         from 16 to 20000.
+    srs_tolerance : float, optional
+        The largest departure (metres, radians off perpendicular) of an arm drawn as nearly S-R-S through its exact
+        neighbour (:func:`redkin.srs.arm_angle_class`; default :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
 
     Returns
     -------
@@ -64,8 +68,9 @@ def explorer_data(
     Raises
     ------
     ValueError
-        For an arm without closed-form IK, a malformed or unreachable pose, a malformed branch, target or
-        weights (or weights for q7), or ``samples`` out of range.
+        For an arm without closed-form IK (within ``srs_tolerance`` of an S-R-S neighbour), a malformed or
+        unreachable pose, a malformed branch, target or weights (or weights for q7), ``samples`` out of range or a
+        tolerance that is not a finite number > 0.
     """
     if (isinstance(samples, bool) or not isinstance(samples, (int, np.integer))
             or not MIN_SAMPLES <= samples <= MAX_SAMPLES):
@@ -74,18 +79,19 @@ def explorer_data(
     pose = check_pose(pose)
     if pose.shape != (4, 4):
         raise RedkinError(f"pose must be one 4x4 pose, got shape {pose.shape}")
-    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
+    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class, check_tolerance
     from redkin.srs.nearly import TOLERANCE_DEFAULT
 
+    tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance)
     remarks: tuple[str, ...] = ()
-    if arm_angle_class(chain).kind == NEARLY_SRS:
+    if arm_angle_class(chain, tolerance).kind == NEARLY_SRS:
         from redkin.explore.nearly import nearly_curves, remarks_of
         from redkin.srs import nearly_srs
 
-        parameter, branches = nearly_curves(chain, pose, int(samples), target, weights, TOLERANCE_DEFAULT)
-        remarks = remarks_of(nearly_srs(chain, TOLERANCE_DEFAULT))
+        parameter, branches = nearly_curves(chain, pose, int(samples), target, weights, tolerance)
+        remarks = remarks_of(nearly_srs(chain, tolerance))
     else:
-        curves = q7_curves if redundancy_parameter(chain) == "q7" else arm_angle_curves
+        curves = q7_curves if redundancy_parameter(chain, tolerance) == "q7" else arm_angle_curves
         parameter, branches = curves(chain, pose, int(samples), target, weights)
     return ExplorerData(
         robot=chain.name,

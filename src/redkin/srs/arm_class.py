@@ -13,7 +13,10 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import numpy as np
+
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.srs.geometry import srs_geometry
 
 #: The classes, in the words ``redkin robots`` prints.
@@ -28,9 +31,13 @@ class ArmClass(NamedTuple):
     reason: str
 
 
-def arm_angle_class(chain: SerialChain) -> ArmClass:
+def arm_angle_class(chain: SerialChain, tolerance: float | None = None) -> ArmClass:
     """Whether ``chain`` has closed-form IK, and which kind (see :data:`SRS`, :data:`OFFSET_ELBOW`, :data:`FRANKA`,
     :data:`NEARLY_SRS`, :data:`GENERAL`).
+
+    ``tolerance`` is the largest departure from an exact S-R-S neighbour (metres between axes that must meet,
+    radians off perpendicular) of a nearly S-R-S arm (:func:`redkin.srs.nearly_srs`); default
+    :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`.  It decides only between nearly S-R-S and a general chain.
 
     The reason of a general chain names the first condition of each closed
     form it violates, with its distance or angle (the messages
@@ -40,8 +47,9 @@ def arm_angle_class(chain: SerialChain) -> ArmClass:
     """
     from redkin.franka.geometry import franka_geometry
     from redkin.srs.conventions import departures
-    from redkin.srs.nearly import nearly_srs
+    from redkin.srs.nearly import TOLERANCE_DEFAULT, nearly_srs
 
+    tolerance = TOLERANCE_DEFAULT if tolerance is None else check_tolerance(tolerance)
     try:
         geometry = srs_geometry(chain)
     except ValueError as exc:
@@ -51,9 +59,9 @@ def arm_angle_class(chain: SerialChain) -> ArmClass:
             if chain.n != 7:
                 return ArmClass(GENERAL, str(exc))
             try:
-                nearly = nearly_srs(chain)
+                nearly = nearly_srs(chain, tolerance)
             except ValueError:
-                return ArmClass(GENERAL, f"{exc}; {other}")
+                return ArmClass(GENERAL, f"{exc} (beyond the nearly S-R-S tolerance of {tolerance:g} m); {other}")
             return ArmClass(NEARLY_SRS, nearly.describe())
         snapped = _snapped(chain, franka.form, False) if franka.snapped else ""
         return ArmClass(FRANKA, f"spherical shoulder, axes 5 and 6 meet, axis 7 offset a_6 {abs(franka.a6):.6g} m "
@@ -66,6 +74,17 @@ def arm_angle_class(chain: SerialChain) -> ArmClass:
         return ArmClass(OFFSET_ELBOW, f"joints 1-3 and 5-7 meet in points, joints 3-5 do not: {lengths}, elbow offsets "
                                       f"a_3 {geometry.a3:.6g} m, a_4 {geometry.a4:.6g} m")
     return ArmClass(SRS, f"joints 1-3, 3-5 and 5-7 meet in points: {lengths}")
+
+
+def check_tolerance(tolerance: float) -> float:
+    """The nearly S-R-S tolerance as a float: a finite number > 0 (a ``RedkinError`` naming it otherwise)."""
+    try:
+        value = float(tolerance)
+    except (TypeError, ValueError):
+        raise RedkinError(f"the nearly S-R-S tolerance must be a number of metres > 0, got {tolerance!r}") from None
+    if not (np.isfinite(value) and value > 0.0):
+        raise RedkinError(f"the nearly S-R-S tolerance must be a finite number of metres > 0, got {tolerance!r}")
+    return value
 
 
 def _snapped(chain: SerialChain, exact: SerialChain, srs: bool) -> str:
