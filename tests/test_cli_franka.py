@@ -59,9 +59,10 @@ def test_ik_single_branch_and_an_unreachable_pose_is_an_empty_answer(capsys):
     assert [s["branch"] for s in data["solutions"]] == ["--+"]
     far = pose.copy()
     far[:3, 3] = [2.0, 0.0, 0.5]
-    data = run_json(capsys, ["ik", "franka-fr3", *pose_argv(far), "--q7", "0.5", "--all"])
+    assert main(["ik", "franka-fr3", *pose_argv(far), "--q7", "0.5", "--all", "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
     assert data["solutions"] == [] and len(data["missing"]) == 8
-    assert main(["ik", "franka-fr3", *pose_argv(far), "--q7", "0.5"]) == 0
+    assert main(["ik", "franka-fr3", *pose_argv(far), "--q7", "0.5"]) == 1  # no solution: exit 1 on every class
     assert "no solution of branch +++ at q7 = 0.5" in capsys.readouterr().out
 
 

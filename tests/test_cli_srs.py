@@ -56,7 +56,6 @@ def test_arm_angles_text_output(capsys):
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["ik", "pa10-7c", "--position", "3", "0", "0.5", *POSE[4:], "--psi", "0"], "unreachable"),
         (["ik", "pa10-7c", *POSE[:4], "--rotation", *["1"] * 9, "--psi", "0"], "orthonormal"),
         (["ik", "pa10-7c", *POSE, "--psi", "0", "--branch", "+x+"], "branch"),
         (["ik", "planar-5", *POSE, "--psi", "0"], "7 joints"),

@@ -112,8 +112,6 @@ def _ik_poses(args: argparse.Namespace) -> tuple[np.ndarray, bool]:
 
 
 def run_ik(args: argparse.Namespace) -> int:
-    from redkin.srs import BRANCHES, ik, parse_branch, srs_geometry
-
     chain = load_robot(args)
     poses, batch = _ik_poses(args)
     if (args.psi is None and args.q7 is None) or args.numerical:
@@ -123,102 +121,52 @@ def run_ik(args: argparse.Namespace) -> int:
             raise UsageError("--srs-tolerance chooses the closed form of --psi or --q7; the numerical solver (without "
                              "them) does not use it")
         return run_numerical(chain, poses, args, batch)
-    if batch:
-        return _run_closed_form_poses(chain, poses, args)
-    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
-
-    if _closed_form_class(chain, args) == "q7":
-        return _run_rows_ik(chain, args, "q7")
-    if arm_angle_class(chain, args.srs_tolerance).kind == NEARLY_SRS:
-        return _run_rows_ik(chain, args, "psi")
-    geometry = srs_geometry(chain)
-    pose = target_pose(args)
-    psi = float(angles_in(args.psi, args.deg))
-    branches = list(BRANCHES) if args.all else [parse_branch(args.branch)]
-    solutions = []
-    for branch in branches:
-        q = ik(geometry, pose, psi, branch)
-        solutions.append({
-            "branch": str(branch),
-            "q": angles_out(q, args.deg),
-            "within_limits": bool(chain.within_limits(q, tolerance=1e-9, wrap=True)),
-        })
-    if args.json:
-        print_json({"robot": chain.name, "parameter": "psi",
-                    "units": {"psi": angle_unit(args.deg), "q": angle_unit(args.deg)},
-                    "psi": angles_out(psi, args.deg), "solutions": solutions})
-    else:
-        unit = "deg" if args.deg else "rad"
-        for s in solutions:
-            values = "  ".join(fixed(v, 6, " ") for v in s["q"])
-            note = "" if s["within_limits"] else "  (outside limits)"
-            print(f"{s['branch']}  {values}  [{unit}]{note}")
-    return 0
+    return _run_closed_form(chain, poses, args, batch)
 
 
-def _run_closed_form_poses(chain, poses: np.ndarray, args: argparse.Namespace) -> int:
-    """``redkin ik --poses FILE --psi|--q7``: the closed form at one parameter value for every pose of the file
-    (:func:`redkin.closed_form.ik`), one entry per pose."""
-    from redkin.closed_form import ClosedFormSolutions, ik
-    from redkin.srs import parse_branch
+def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: bool) -> int:
+    """``redkin ik --psi|--q7``: the closed form of the chain's class at one parameter value
+    (:func:`redkin.closed_form.ik`: S-R-S, offset-elbow and nearly S-R-S arms at psi, the Franka class at q7) for the
+    pose, or every pose of ``--poses`` (``batch``, one entry each); the solutions of the asked branches and the
+    branches without one.
 
-    parameter = _closed_form_class(chain, args)
-    value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
-    result = ik(chain, poses, **{parameter: value}, branch=None if args.all else parse_branch(args.branch),
-                srs_tolerance=args.srs_tolerance)
-    assert isinstance(result, ClosedFormSolutions)  # a parameter was given
-    entries: list[dict[str, Any]] = [{
-        "index": k,
-        "solutions": [{"branch": str(label), "q": angles_out(result.q[k, b], args.deg),
-                       "within_limits": bool(result.within_limits[k, b])}
-                      for b, label in enumerate(result.branches) if result.exists[k, b]],
-        "missing": [str(label) for b, label in enumerate(result.branches) if not result.exists[k, b]],
-    } for k in range(len(poses))]
-    if args.json:
-        print_json({"robot": chain.name, "parameter": parameter,
-                    "units": {parameter: angle_unit(args.deg), "q": angle_unit(args.deg)},
-                    parameter: angles_out(value, args.deg), "poses": entries})
-        return 0
-    unit = angle_unit(args.deg)
-    for entry in entries:
-        if not entry["solutions"]:
-            print(f"pose {entry['index']}: no solution at {parameter} = {fixed(angles_out(value, args.deg))} {unit}")
-        for s in entry["solutions"]:
-            note = "" if s["within_limits"] else "  (outside limits)"
-            print(f"pose {entry['index']}: {s['branch']}  {format_values(s['q'])}  [{unit}]{note}")
-    return 0
-
-
-def _run_rows_ik(chain, args: argparse.Namespace, parameter: str) -> int:
-    """``redkin ik --q7`` on a Franka-class arm, or ``--psi`` on a nearly S-R-S arm: every existing solution (or the
-    chosen branch's) through :func:`redkin.closed_form.ik`, and the branches that have none."""
+    A pose without a solution on any asked branch at that value (out of the wrist's reach, or none certified on a
+    nearly S-R-S arm) is an answer, printed as such, and the exit code is 1, as the numerical path's for a pose
+    whose solution was not found; 0 when every pose has one.
+    """
     from redkin.closed_form import ClosedFormSolutions, ik
     from redkin.srs import BRANCHES, parse_branch
 
-    pose = target_pose(args)
-    value = float(angles_in(args.q7 if parameter == "q7" else args.psi, args.deg))
+    parameter = _closed_form_class(chain, args)
+    value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
     branch = None if args.all else parse_branch(args.branch)
-    result = ik(chain, pose, **{parameter: value}, branch=branch, srs_tolerance=args.srs_tolerance)
+    result = ik(chain, poses, **{parameter: value}, branch=branch, srs_tolerance=args.srs_tolerance)
     assert isinstance(result, ClosedFormSolutions)  # a parameter was given
-    solutions = [
-        {"branch": str(label), "q": angles_out(result.q[k], args.deg), "within_limits": bool(result.within_limits[k])}
-        for k, label in enumerate(result.branches) if result.exists[k]
-    ]
+    q, exists = result.q.reshape(-1, len(result.branches), 7), result.exists.reshape(-1, len(result.branches))
+    within = result.within_limits.reshape(exists.shape)
+    entries: list[dict[str, Any]] = [{
+        "index": k,
+        "solutions": [{"branch": str(label), "q": angles_out(q[k, b], args.deg), "within_limits": bool(within[k, b])}
+                      for b, label in enumerate(result.branches) if exists[k, b]],
+        "missing": [str(label) for b, label in enumerate(result.branches) if not exists[k, b]],
+    } for k in range(len(q))]
+    code = 0 if all(entry["solutions"] for entry in entries) else 1
+    unit = angle_unit(args.deg)
     if args.json:
-        print_json({"robot": chain.name, "parameter": parameter, "units": {parameter: angle_unit(args.deg),
-                                                                             "q": angle_unit(args.deg)},
-                    parameter: angles_out(value, args.deg), "solutions": solutions,
-                    "missing": [str(label) for k, label in enumerate(result.branches) if not result.exists[k]]})
-        return 0
-    unit = "deg" if args.deg else "rad"
-    if not solutions:
-        asked = "branch " + str(branch) if branch is not None else f"any of the {len(BRANCHES)} branches"
-        print(f"no solution of {asked} at {parameter} = {fixed(angles_out(value, args.deg))} {unit}")
-    for s in solutions:
-        values = "  ".join(fixed(v, 6, " ") for v in s["q"])
-        note = "" if s["within_limits"] else "  (outside limits)"
-        print(f"{s['branch']}  {values}  [{unit}]{note}")
-    return 0
+        head = {"robot": chain.name, "parameter": parameter, "units": {parameter: unit, "q": unit},
+                parameter: angles_out(value, args.deg)}
+        single = {key: entries[0][key] for key in ("solutions", "missing")}
+        print_json({**head, "poses": entries} if batch else {**head, **single})
+        return code
+    asked = "branch " + str(branch) if branch is not None else f"any of the {len(BRANCHES)} branches"
+    for entry in entries:
+        label = f"pose {entry['index']}: " if batch else ""
+        if not entry["solutions"]:
+            print(f"{label}no solution of {asked} at {parameter} = {fixed(angles_out(value, args.deg))} {unit}")
+        for s in entry["solutions"]:
+            note = "" if s["within_limits"] else "  (outside limits)"
+            print(f"{label}{s['branch']}  {format_values(s['q'])}  [{unit}]{note}")
+    return code
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
