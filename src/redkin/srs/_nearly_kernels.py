@@ -26,6 +26,7 @@ import numpy as np
 
 from redkin import _chain_kernels
 from redkin._compiled import kernel
+from redkin._pose_kernels import pose_defect
 from redkin.circle import TWO_PI
 from redkin.numerical._kernels import DAMPING, DAMPING_FLOOR, MAX_STEP, nearest_pose, pose_error
 from redkin.srs._ik_kernels import (
@@ -54,7 +55,9 @@ TOLERANCE = 1e-9
 CORRECTIONS = 3
 #: Newton's steps per start at most; a start is given up when its error has not halved over ``STALL`` steps, and
 #: ends at ``FINE`` (position plus rotation plus arm angle: rounding).
-NEWTON_ITERATIONS, STALL, FINE = 30, 6, 1e-14
+NEWTON_ITERATIONS, STALL, FINE = 30, 6, 1e-12
+#: Slack [rad] of :func:`within_limits`.
+LIMIT_SLACK = 1e-9
 #: How far from its stretch [rad] the second start's elbow is opened (:func:`opened`).
 OPENED = 0.05
 #: The last starts of a branch not found otherwise: the neighbour's solutions at ``psi +- k SWEEP_STEP``, ``k = 1 ..
@@ -149,26 +152,28 @@ def arm_angle_one(q, neighbour, neighbour_ends, arm, ends, work, gradient, with_
     v_x = arm[A3] + arm[A4] * c4 + arm[D_EW] * s4
     v_y = arm[A4] * s4 - (arm[D_SE] + arm[D_EW] * c4)
     beta = (v_x * (arm[A4] * c4 + arm[D_EW] * s4) - v_y * (arm[D_EW] * c4 - arm[A4] * s4)) / (v_x * v_x + v_y * v_y)
-    wrist = np.empty(3)  # x_w in frame 0
-    for r in range(3):
-        wrist[r] = target[r, 3] - target[r, 2] * arm[D_WT]
-    for j in range(7):
+    wrist0 = target[0, 3] - target[0, 2] * arm[D_WT]  # x_w in frame 0
+    wrist1 = target[1, 3] - target[1, 2] * arm[D_WT]
+    wrist2 = target[2, 3] - target[2, 2] * arm[D_WT]
+    for j in range(4, 7):
         gradient[j] = 0.0
     for j in range(4):
-        a, v = np.empty(3), np.empty(3)
-        for r in range(3):  # the axis and origin of joint j in frame 0 (base^-1 frame j - 1)
-            a[r] = neighbour[j, _chain_kernels.SIGN] * (frames[0, 0, r] * frames[j, 0, 2] + frames[0, 1, r]
-                                                        * frames[j, 1, 2] + frames[0, 2, r] * frames[j, 2, 2])
-            v[r] = (frames[0, 0, r] * (frames[j, 0, 3] - frames[0, 0, 3]) + frames[0, 1, r]
-                    * (frames[j, 1, 3] - frames[0, 1, 3]) + frames[0, 2, r] * (frames[j, 2, 3] - frames[0, 2, 3]))
-        d0, d1, d2 = wrist[0] - v[0], wrist[1] - v[1], wrist[2] - v[2]
-        moved_x, moved_y, moved_z = a[1] * d2 - a[2] * d1, a[2] * d0 - a[0] * d2, a[0] * d1 - a[1] * d0
+        axis, base = frames[j, :3, 2], frames[0]  # joint j's axis: frame j - 1's z (standard DH), in the world
+        sense = neighbour[j, _chain_kernels.SIGN]
+        a0 = sense * (base[0, 0] * axis[0] + base[1, 0] * axis[1] + base[2, 0] * axis[2])  # in frame 0
+        a1 = sense * (base[0, 1] * axis[0] + base[1, 1] * axis[1] + base[2, 1] * axis[2])
+        a2 = sense * (base[0, 2] * axis[0] + base[1, 2] * axis[1] + base[2, 2] * axis[2])
+        p0, p1, p2 = frames[j, 0, 3] - base[0, 3], frames[j, 1, 3] - base[1, 3], frames[j, 2, 3] - base[2, 3]
+        d0 = wrist0 - (base[0, 0] * p0 + base[1, 0] * p1 + base[2, 0] * p2)  # x_w - o_j in frame 0
+        d1 = wrist1 - (base[0, 1] * p0 + base[1, 1] * p1 + base[2, 1] * p2)
+        d2 = wrist2 - (base[0, 2] * p0 + base[1, 2] * p1 + base[2, 2] * p2)
+        moved_x, moved_y, moved_z = a1 * d2 - a2 * d1, a2 * d0 - a0 * d2, a0 * d1 - a1 * d0
         turn1 = (x * moved_y - y * moved_x) / (w * w)
         moved_w = (x * moved_x + y * moved_y) / w
         turn2 = (z * moved_w - w * moved_z) / (w * w + z * z)
         if j == 3:  # theta_4 turns v as well
             turn2 -= neighbour[3, _chain_kernels.SIGN] * beta
-        own = u[0] * a[0] + u[1] * a[1] + u[2] * a[2] if j < 3 else 0.0
+        own = u[0] * a0 + u[1] * a1 + u[2] * a2 if j < 3 else 0.0
         gradient[j] = own - (u[2] * turn1 + (c1 * u[1] - s1 * u[0]) * turn2)
     return psi
 
@@ -202,8 +207,7 @@ def newton(q, target, psi, real, model, work, best):
     """
     links, ends, standard = real
     trig = work[0]
-    e, gradient, jac, a, y, dq = work[3], work[4], work[5], work[6], work[7], work[8]
-    origin = np.zeros(3)
+    e, gradient, jac, a, y, dq, origin = work[3], work[4], work[5], work[6], work[7], work[8], work[9]
     smallest = (np.inf, np.inf, np.inf)
     checkpoint = np.inf
     for iteration in range(NEWTON_ITERATIONS):
@@ -294,7 +298,7 @@ def scratch():
     model_work = (np.empty((9, 4, 4)), np.empty((7, 2)), np.empty((3, 4)), np.empty(3), np.empty((3, 3)),
                   np.empty((3, 3)))
     work = (np.empty((7, 2)), np.empty((1, 4, 4)), model_work, np.empty(7), np.empty(7), np.empty((7, 7)),
-            np.empty((7, 7)), np.empty(7), np.empty(7))
+            np.empty((7, 7)), np.empty(7), np.empty(7), np.zeros(3))
     correction = (_scratch(), np.empty((4, 4)), np.empty((1, 7)), np.empty((7, 2)), np.empty((1, 4, 4)), np.empty(6),
                   np.empty((2, 4, 4)))
     vectors = np.empty((5, 7))
@@ -336,13 +340,22 @@ def certified_branch(q, target, psi, signs, geometry, real, model, real_phase, w
     joints, neighbour = geometry[2], model[0]
     best, theta, label = vectors[1], vectors[2], vectors[3]
     e, gradient = newton_work[3], newton_work[4]
-    newton(q, target, psi, real, model, newton_work, best)
+    position, angle, turn = newton(q, target, psi, real, model, newton_work, best)
+    if position > TOLERANCE or angle > TOLERANCE or turn > TOLERANCE:
+        return -1
     for k in range(7):
         theta[k] = neighbour[k, _chain_kernels.OFFSET] + neighbour[k, _chain_kernels.SIGN] * best[k]
     chain_values(theta, joints, q)
-    position, angle, turn = measured(q, target, psi, real, model, newton_work, gradient, False, e)
-    if position > TOLERANCE or angle > TOLERANCE or turn > TOLERANCE:
-        return -1
+    moved = False
+    for k in range(7):  # whole turns only: a value the map merely rounds stays bit for bit
+        if abs(q[k] - best[k]) < 1.0:
+            q[k] = best[k]
+        else:
+            moved = True
+    if moved:  # the certificate is of the joint values returned
+        position, angle, turn = measured(q, target, psi, real, model, newton_work, gradient, False, e)
+        if position > TOLERANCE or angle > TOLERANCE or turn > TOLERANCE:
+            return -1
     branch_signs(q, neighbour, real_phase, label)
     for row in range(signs.shape[0]):
         if label[0] == signs[row, 0] and label[1] == signs[row, 1] and label[2] == signs[row, 2]:
@@ -463,13 +476,37 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
 
 
 @kernel
-def solve(begin, end, targets, psi, rows, signs, geometry, real, model, tool_inverse, reach, real_phase, q, exists):
+def within_limits(q, limits):
+    """Whether ``q`` (7,) is within the joint limits modulo whole turns, with 1e-9 rad of slack: ``limits`` (3, 7)
+    holds the lower limits, the widths and whether a joint covers the circle (as
+    :meth:`redkin.chain.SerialChain.within_limits` with ``wrap=True`` reads them)."""
+    for k in range(7):
+        if limits[2, k] == 0.0 and turns_removed(q[k] - limits[0, k] + LIMIT_SLACK) > limits[1, k] + 2.0 * LIMIT_SLACK:
+            return False
+    return True
+
+
+@kernel
+def solve(begin, end, targets, psi, rows, signs, geometry, real, model, tool_inverse, reach, real_phase, limits, q,
+          exists, inside):
     """:func:`solve_one` for poses ``begin .. end - 1`` of ``targets`` (N, 4, 4) at ``psi`` (N,) on the branches
-    ``rows`` (R,) of ``signs`` (8, 3), into ``q`` (N, R, 7) and ``exists`` (N, R)."""
+    ``rows`` (R,) of ``signs`` (8, 3), into ``q`` (N, R, 7), ``exists`` (N, R) and ``inside`` (N, R), whether a
+    solution is within the limits (:func:`within_limits`); returns how many targets are not poses
+    (:func:`redkin._pose_kernels.pose_defect`; their rows are missing)."""
     work = scratch()
+    bad = 0
     for n in range(begin, end):
+        if pose_defect(targets[n]) != OK:
+            bad += 1
+            q[n, :, :] = 0.0
+            exists[n, :] = False
+            inside[n, :] = False
+            continue
         solve_one(targets[n], psi[n], rows, signs, geometry, real, model, tool_inverse, reach, real_phase, q[n],
                   exists[n], work)
+        for r in range(rows.shape[0]):
+            inside[n, r] = exists[n, r] and within_limits(q[n, r], limits)
+    return bad
 
 
 @kernel

@@ -44,11 +44,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
-from redkin._validation import as_float_array, check_finite, check_pose
 from redkin.chain import SerialChain
 from redkin.circle import HALF_PI
 from redkin.errors import RedkinError
 from redkin.srs import _nearly_kernels
+from redkin.srs._ik_kernels import BAD_POSE
+from redkin.srs._targets import as_poses, check_psi, raise_for_bad_pose
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.conventions import departures, model_error, neighbour_form
 from redkin.srs.geometry import SRSGeometry, srs_geometry
@@ -126,6 +127,15 @@ class NearlySRS:
         squared = np.sum((shoulder - wrist) ** 2, axis=-1)  # C + A cos + B sin at 0, pi/2, pi
         mean = 0.5 * (squared[0] + squared[2])
         return float(np.arctan2(squared[1] - mean, squared[0] - mean))
+
+    @cached_property
+    def kernel_limits(self) -> np.ndarray:
+        """The real chain's limits as :func:`redkin.srs._nearly_kernels.within_limits` takes them, (3, 7): lower
+        limits, widths and whether a joint covers the circle."""
+        chain = self.chain
+        anywhere = chain.covers_circle
+        return np.ascontiguousarray([np.where(anywhere, 0.0, chain.lower),
+                                     np.where(anywhere, 0.0, chain.upper - chain.lower), anywhere], dtype=float)
 
     @cached_property
     def kernel_tool_inverse(self) -> np.ndarray:
@@ -245,9 +255,8 @@ def ik(
     geometry = arm.geometry
     chosen = BRANCHES if branch is None else (parse_branch(branch),)
     rows = _ALL_ROWS if branch is None else _ROWS[BRANCHES.index(chosen[0])]
-    poses = check_pose(pose)
-    angles = as_float_array(psi, "psi")
-    check_finite(angles, "psi")
+    poses = as_poses(pose)
+    angles = check_psi(psi)
     try:
         shape = np.broadcast_shapes(poses.shape[:-2], angles.shape)
     except ValueError:
@@ -256,10 +265,13 @@ def ik(
     target = kernel_array(poses, shape + (4, 4)).reshape(-1, 4, 4)
     angles = kernel_array(angles, shape).reshape(-1)
     count = len(target)
-    q = np.empty((count, len(chosen), 7))
-    exists = np.empty((count, len(chosen)), dtype=bool)
-    run_batch(_nearly_kernels.solve, count, target, angles, rows, geometry.kernel_branches, geometry.kernel_tables,
-              arm.kernel_real, arm.kernel_model, arm.kernel_tool_inverse, arm.kernel_reach, arm.real_phase, q, exists)
-    within = exists & arm.chain.within_limits(q, tolerance=1e-9, wrap=True)
+    q = np.empty((count, len(rows), 7))
+    exists = np.empty((count, len(rows)), dtype=bool)
+    within = np.empty((count, len(rows)), dtype=bool)
+    bad = run_batch(_nearly_kernels.solve, count, target, angles, rows, geometry.kernel_branches,
+                    geometry.kernel_tables, arm.kernel_real, arm.kernel_model, arm.kernel_tool_inverse,
+                    arm.kernel_reach, arm.real_phase, arm.kernel_limits, q, exists, within)
+    if bad:
+        raise_for_bad_pose(poses, np.asarray(BAD_POSE))
     return NearlySolutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + exists.shape[1:]),
                            within.reshape(shape + within.shape[1:]), tuple(chosen))
