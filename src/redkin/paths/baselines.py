@@ -298,4 +298,5 @@ def sampled_path(arm: SerialChain | SRSGeometry, poses: ArrayLike, max_step: Arr
         branch = np.tile(np.repeat(np.arange(8), grid.size), count)
         return waypoint, branch, np.full(waypoint.size, -1), np.tile(grid, 8 * count), np.empty((0, 2))
 
-    return search_paths(path_family(geometry), poses[None], step, starts, None, None, uniform, None, 0)[0]
+    return search_paths(path_family(geometry), poses[None], step, starts, None, None, uniform, None, 0,
+                        polish=False)[0]

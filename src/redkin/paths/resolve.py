@@ -28,6 +28,7 @@ from redkin.paths.bounds import step_bound
 from redkin.paths.failure import step_blocker
 from redkin.paths.family import Family, path_family
 from redkin.paths.graph import Arm, Graph
+from redkin.paths.polish import raised
 from redkin.paths.result import PathFailure, PathResult
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.feasible import FeasiblePieces
@@ -46,6 +47,8 @@ _FIRST_WINDOW = 0.05
 #: Refinement stops once the window is narrower than this (radians of arm angle).
 _REFINED = 1e-9
 _MAX_WAYPOINTS = 10_000_000
+#: Two feasible pieces whose ends are this close touch (radians of the parameter; :func:`_arcs_around`).
+_TOUCH = 1e-12
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
 OPTIMALITY_MARGIN = 1e-7
 
@@ -165,11 +168,12 @@ def resolve_paths(
 
 def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np.ndarray | None,
                  ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
-                 refinements: int, thorough: bool = False) -> list[PathResult]:
+                 refinements: int, thorough: bool = False, polish: bool = True) -> list[PathResult]:
     """:func:`resolve_paths` on validated input: ``poses`` (P, N, 4, 4), ``starts``/``ends`` (P, 7) or
     ``None``, ``last_branch`` an index into :data:`BRANCHES` or ``None``; ``sampler(pieces)`` gives the
     initial samples (waypoint, branch, piece, psi, and each piece's ends) from the feasible pieces
-    (:func:`graph.piece_samples`); ``connect`` as in :func:`resolve_path`, ``None`` for the samples alone.
+    (:func:`graph.piece_samples`); ``connect`` as in :func:`resolve_path`, ``None`` for the samples alone;
+    ``polish``: raise the clearance of a path not proved optimal between the samples (:func:`_polished`).
 
     Two stages (docs/paths.md, "Method"): the samples alone first, refined around the path found; a path whose
     clearance is then proved optimal (:func:`_bottleneck`), or a failure proved by the exact sets, is final.
@@ -184,7 +188,7 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
     start, end, feasible = np.full(shape, np.nan), np.full(shape, np.nan), np.zeros(shape, dtype=bool)
     start[reach], end[reach], feasible[reach] = found.start, found.end, found.feasible
     along = _Along(reach.reshape(count, length), arm_along, FeasiblePieces(start, end, feasible))
-    results = _search(family, poses, along, starts, ends, last_branch, sampler, None, refinements)
+    results = _search(family, poses, along, starts, ends, last_branch, sampler, None, refinements, polish)
     if connect is None:
         return results
     again = [p for p, result in enumerate(results) if (result.ok and (thorough or not result.optimal))
@@ -192,7 +196,7 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
     if again:
         rows = np.array(again)
         finer = _search(family, poses[rows], along.paths(rows), None if starts is None else starts[rows],
-                        None if ends is None else ends[rows], last_branch, sampler, connect, refinements)
+                        None if ends is None else ends[rows], last_branch, sampler, connect, refinements, polish)
         for p, result in zip(again, finer):
             results[p] = _better(results[p], result)
     return results
@@ -228,7 +232,7 @@ class _Along:
 
 def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray | None,
             ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
-            refinements: int) -> list[PathResult]:
+            refinements: int, polish: bool) -> list[PathResult]:
     """One search of :func:`search_paths`: the graph of the samples (subdivided by ``connect`` unless ``None``),
     swept, refined around the paths found, each path checked and its optimality tried."""
     count, length = poses.shape[:2]
@@ -284,8 +288,55 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
             results.append(PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"),
                                       step, failure, nodes))
             continue
-        results.append(_checked_path(family, arm_data, graph, chosen[p], poses[p], starts, p, nodes))
+        result = _checked_path(family, arm_data, graph, chosen[p], poses[p], starts, p, nodes)
+        if polish and result.ok and not result.optimal:
+            result = _polished(family, arm_data, graph, chosen[p], pieces, poses[p], path_starts[p], starts, ends, p,
+                               result)
+        results.append(result)
     return results
+
+
+def _polished(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, pieces: FeasiblePieces, poses: np.ndarray,
+              first: int, starts: np.ndarray | None, ends: np.ndarray | None, p: int, found: PathResult) -> PathResult:
+    """Path ``p`` (``nodes`` of ``graph``, from waypoint ``first``; ``pieces`` of every waypoint) with its clearance
+    raised between the samples (:func:`redkin.paths.polish.raised`) inside the feasible arcs its parameters lie in
+    (:func:`_arcs_around`), checked and its optimality tried again; ``found`` where nothing is gained."""
+    rows = first + np.arange(len(nodes))
+    branch = graph.branch[nodes]
+    parameter = graph.psi[nodes]
+    arcs = _arcs_around(pieces, rows, branch, parameter)
+    arcs[graph.piece[nodes] < 0] = parameter[graph.piece[nodes] < 0, None]  # q0's own node stays
+    along = arm.take(rows)
+    moved = raised(along, branch, parameter, arcs, None if starts is None else starts[p],
+                   None if ends is None else ends[p])
+    if np.array_equal(moved, parameter):
+        return found
+    q, clearance = along.rows(np.arange(len(nodes)), branch, moved)
+    path = Graph(np.arange(len(nodes) + 1), graph.piece[nodes], branch, moved, q, np.maximum(clearance, 0.0))
+    better = _checked_path(family, arm, path, np.arange(len(nodes)), poses, starts, p, found.nodes)
+    return better if better.ok and better.clearance > found.clearance else found
+
+
+def _arcs_around(pieces: FeasiblePieces, rows: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> np.ndarray:
+    """The feasible arc ``(N, 2)`` each parameter lies in: its piece joined with the feasible pieces of the same
+    waypoint and branch that touch it (pieces are also cut where no joint meets a limit); ``(parameter,
+    parameter)`` where none holds it."""
+    arcs = np.repeat(parameter[:, None], 2, axis=1)
+    for i, (row, b, value) in enumerate(zip(rows.tolist(), branch.tolist(), parameter.tolist())):
+        keep = pieces.feasible[row, b]
+        start, end = pieces.start[row, b][keep], pieces.end[row, b][keep]
+        order = np.argsort(start)
+        start, end = start[order], end[order]
+        inside = np.flatnonzero((start <= value) & (value <= end))
+        if inside.size == 0:
+            continue
+        low = high = int(inside[0])
+        while low > 0 and end[low - 1] >= start[low] - _TOUCH:
+            low -= 1
+        while high + 1 < len(start) and start[high + 1] <= end[high] + _TOUCH:
+            high += 1
+        arcs[i] = start[low], end[high]
+    return arcs
 
 
 def _configurations(value: ArrayLike | None, count: int, name: str) -> np.ndarray | None:
