@@ -111,9 +111,36 @@ def test_the_command_line_names_q7(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "q7" in out.splitlines()[1] and "clearance" in out
     assert main(["path", "franka-fr3", "--poses", str(file), "--max-step", str(step), "--plot",
-                 str(tmp_path / "plane.png")]) == 2
-    err = capsys.readouterr().err
-    assert len(err.strip().splitlines()) == 1 and "Franka class" in err and not (tmp_path / "plane.png").exists()
+                 str(tmp_path / "plane.png")]) == 0
+    assert (tmp_path / "plane.png").stat().st_size > 0
+
+
+def test_the_q7_plane_shades_the_exact_sets_and_draws_the_path_unwrapped():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from redkin.paths import feasible_along_path
+    from redkin.plot.paths import path_plane_figure
+
+    chain = get_robot("ufactory-xarm7")  # q7 in +-2 pi: drawn as the joint has it, never folded into +-180 deg
+    q, poses = _joint_line(chain, np.random.default_rng(5), 8)
+    result = resolve_path(chain, poses, 2.0 * np.abs(np.diff(q, axis=0)).max() + 1e-3)
+    pieces = feasible_along_path(chain, poses)
+    assert pieces.start.shape[:2] == (8, 8)
+    fig = path_plane_figure(pieces, result)
+    axes = [ax for ax in fig.axes if ax.get_visible()]
+    assert axes[0].get_ylabel() == "q7 [deg]"
+    for ax in axes:
+        branch = ax.get_title().split()[-1]
+        for line in ax.get_lines():
+            if line.get_gid() == "path":
+                x, y = line.get_data()
+                keep = np.isfinite(x)
+                on = np.array([b == branch for b in result.branch])
+                np.testing.assert_allclose(y[keep], np.degrees(result.q[on, 6]))
+    plt.close(fig)
 
 
 def test_judge_path_judges_a_franka_path_as_the_baselines_are():

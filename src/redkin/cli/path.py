@@ -51,8 +51,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     path.add_argument("--plot", metavar="FILE.png",
                       help="save the (waypoint, arm angle) plane of each branch here: the exact feasible arm angles, "
                            "the path (or the failing waypoint), and beside it the fixed arm angle, the clamped "
-                           "per-pose optimum and greedy seeded tracking with their first failures (S-R-S and "
-                           "offset-elbow arms)")
+                           "per-pose optimum and greedy seeded tracking with their first failures (the (waypoint, "
+                           "q7) plane without baselines on a Franka-class arm)")
     add_force_flag(path)
     add_output_flags(path)
     path.set_defaults(handler=_run_path)
@@ -74,7 +74,8 @@ def _failure_line(failure, degrees: bool) -> str:
 def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None) -> None:
     """The figure of :func:`redkin.plot.paths.path_plane_figure`: the path (or its failure) beside the baselines
     that start where it starts (the fixed arm angle and the clamped optimum on its first branch, or on ``q0``'s
-    without a path; greedy tracking from ``q0``), drawn where every pose is within reach."""
+    without a path; greedy tracking from ``q0``), drawn where every pose is within reach; a Franka-class arm's
+    (waypoint, q7) plane has no baselines (they choose arm angles)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -85,7 +86,7 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None) ->
     from redkin.srs import arm_angle_of, reachable
 
     baselines = []
-    if reachable(chain, poses).all():
+    if result.parameter == "psi" and reachable(chain, poses).all():  # the baselines choose arm angles
         start = None
         if result.ok:
             start = (float(result.psi[0]), result.branch[0])
@@ -131,14 +132,8 @@ def _bound(args: argparse.Namespace, chain) -> tuple[np.ndarray, np.ndarray | No
 
 def _run_path(args: argparse.Namespace) -> int:
     from redkin.paths import resolve_path
-    from redkin.paths.family import path_family
-
     plot = None if args.plot is None else output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
     chain = load_robot(args)
-    family = path_family(chain)
-    if plot is not None and not family.wraps:
-        raise UsageError(f"--plot draws the arm-angle plane of S-R-S and offset-elbow arms; {chain.name} is of the "
-                         "Franka class (its parameter is q7): leave --plot out")
     step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own
     poses = read_poses(args.poses)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")

@@ -1,5 +1,6 @@
-"""The (waypoint, arm angle) plane of a path: the exact feasible pieces of every waypoint and branch, for the
-figures of :mod:`redkin.plot.paths` and anyone who wants to see where a path can go."""
+"""The (waypoint, parameter) plane of a path: the exact feasible pieces of every waypoint and branch (of the arm
+angle, or of q7 on a Franka-class arm), for the figures of :mod:`redkin.plot.paths` and anyone who wants to see
+where a path can go."""
 
 from __future__ import annotations
 
@@ -9,32 +10,39 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_pose
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
+from redkin.franka.geometry import FrankaGeometry
+from redkin.paths.family import ArmAngleFamily, path_family
 from redkin.srs import _feasible_kernels
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
-from redkin.srs.geometry import SRSGeometry, srs_geometry
+from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import reachable
 
 
-def feasible_along_path(arm: SerialChain | SRSGeometry, poses: ArrayLike) -> FeasiblePieces:
-    """The feasible arm angles [000 eq. 30] of every waypoint on the eight branches, as pieces ``(N, 8, 24)``.
+def feasible_along_path(arm: SerialChain | SRSGeometry | FrankaGeometry, poses: ArrayLike) -> FeasiblePieces:
+    """The feasible arm angles [000 eq. 30] of every waypoint on the eight branches, as pieces ``(N, 8, 24)``; on
+    a Franka-class arm the feasible values of q7 [F8]-[F9] (``(N, 8, K)``).
 
     Unlike :func:`redkin.srs.feasible_pieces_all_branches`, a pose out of the arm's reach is not an error: its
     row has no feasible piece (``feasible`` false, NaN ends), as no arm angle reaches it.
 
     Parameters
     ----------
-    arm : SerialChain or SRSGeometry
+    arm : SerialChain, SRSGeometry or FrankaGeometry
     poses : array_like, shape (N, 4, 4)
 
     Returns
     -------
     FeasiblePieces
-        ``arc_set((k, b))`` is the feasible set of waypoint ``k`` on branch ``redkin.srs.BRANCHES[b]``.
+        ``arc_set((k, b))`` is the feasible set of waypoint ``k`` on branch ``redkin.srs.BRANCHES[b]`` (of the arm
+        angle).
     """
-    geometry = arm if isinstance(arm, SRSGeometry) else srs_geometry(arm)
+    family = path_family(arm)
     poses = check_pose(poses, "poses")
     if poses.ndim != 3 or poses.shape[0] == 0:
         raise RedkinError(f"poses must have shape (N, 4, 4) with N >= 1, got shape {poses.shape}")
+    if not isinstance(family, ArmAngleFamily):
+        return family.pieces(poses)  # a pose out of reach has no branch at any q7: no feasible piece
+    geometry = family.geometry
     shape = (poses.shape[0], 8, _feasible_kernels.PIECES)
     start, end = np.full(shape, np.nan), np.full(shape, np.nan)
     feasible = np.zeros(shape, dtype=bool)

@@ -1,6 +1,7 @@
-"""Figures of path resolution (issue 26): the (waypoint, arm angle) plane of each branch.
+"""Figures of path resolution (issue 26): the (waypoint, arm angle) plane of each branch, or the (waypoint, q7)
+plane of a Franka-class arm.
 
-The exact feasible arm angles of every waypoint are shaded (the pieces of
+The exact feasible arm angles (or values of q7) of every waypoint are shaded (the pieces of
 :func:`redkin.paths.feasible_along_path`), the global path of
 :func:`redkin.paths.resolve_path` is drawn through them with its branch
 changes marked, the baselines beside it with their first failure, and a
@@ -30,32 +31,33 @@ _BASELINE_COLOURS = ("C1", "C3", "C4", "C5", "C6")
 _FEASIBLE_COLOUR = "C2"
 
 
-def _wrapped_degrees(psi: np.ndarray) -> np.ndarray:
-    """Arm angles in degrees in ``[-180, 180)``."""
-    return np.degrees(np.mod(np.asarray(psi, dtype=float) + np.pi, TWO_PI) - np.pi)
+def _wrapped_degrees(psi: np.ndarray, wraps: bool = True) -> np.ndarray:
+    """Arm angles in degrees in ``[-180, 180)`` (``wraps``), or a joint value (q7) in degrees as it is."""
+    values = np.asarray(psi, dtype=float)
+    return np.degrees(np.mod(values + np.pi, TWO_PI) - np.pi if wraps else values)
 
 
-def _broken(x: np.ndarray, y: np.ndarray, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _broken(x: np.ndarray, y: np.ndarray, keep: np.ndarray, wraps: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """The points ``keep``, with a NaN between neighbours that are not consecutive waypoints or that wrap across
     +-180 deg (a line is not drawn through the gap)."""
     x, y = x[keep], y[keep]
-    gap = (np.diff(x) != 1) | (np.abs(np.diff(y)) > 180.0)
+    gap = (np.diff(x) != 1) | ((np.abs(np.diff(y)) > 180.0) & wraps)
     at = np.flatnonzero(gap) + 1
     return np.insert(x.astype(float), at, np.nan), np.insert(y, at, np.nan)
 
 
-def _feasible_rectangles(pieces: FeasiblePieces, branch: int) -> np.ndarray:
+def _feasible_rectangles(pieces: FeasiblePieces, branch: int, wraps: bool = True) -> np.ndarray:
     """One rectangle (4 corners, degrees) per feasible piece of ``branch`` and waypoint, (M, 4, 2); a piece that
-    wraps past 180 deg split in two."""
+    wraps past 180 deg split in two (``wraps``: arm angles; q7's pieces are drawn as they are)."""
     start, end = pieces.start[:, branch], pieces.end[:, branch]
     waypoint, slot = np.nonzero(pieces.feasible[:, branch] & (end > start))
     lo, hi = start[waypoint, slot], end[waypoint, slot]
-    shift = np.floor((lo + np.pi) / TWO_PI) * TWO_PI  # the piece's start into [-pi, pi)
+    shift = np.floor((lo + np.pi) / TWO_PI) * TWO_PI if wraps else np.zeros_like(lo)  # the start into [-pi, pi)
     lo, hi = lo - shift, hi - shift
-    wraps = hi > np.pi
-    x = np.concatenate([waypoint, waypoint[wraps]]).astype(float)
-    y0 = np.degrees(np.concatenate([lo, np.full(wraps.sum(), -np.pi)]))
-    y1 = np.degrees(np.concatenate([np.minimum(hi, np.pi), hi[wraps] - TWO_PI]))
+    past = (hi > np.pi) & wraps
+    x = np.concatenate([waypoint, waypoint[past]]).astype(float)
+    y0 = np.degrees(np.concatenate([lo, np.full(past.sum(), -np.pi)]))
+    y1 = np.degrees(np.concatenate([np.where(wraps, np.minimum(hi, np.pi), hi), hi[past] - TWO_PI]))
     corners_x = np.stack([x - 0.5, x + 0.5, x + 0.5, x - 0.5], axis=-1)
     corners_y = np.stack([y0, y0, y1, y1], axis=-1)
     return np.stack([corners_x, corners_y], axis=-1)
@@ -91,7 +93,8 @@ def _plot_branch_plane(ax, pieces: FeasiblePieces, branch: int, result: PathResu
     """
     name = str(BRANCHES[branch])
     count = pieces.start.shape[0]
-    rectangles = list(_feasible_rectangles(pieces, branch))
+    wraps = result.parameter == "psi"
+    rectangles = list(_feasible_rectangles(pieces, branch, wraps))
     ax.add_collection(PolyCollection(rectangles, facecolors=_FEASIBLE_COLOUR, alpha=0.35, linewidths=0, gid="feasible"))
     waypoints = np.arange(count)
     for baseline, colour in zip(baselines, _BASELINE_COLOURS):
@@ -106,8 +109,8 @@ def _plot_branch_plane(ax, pieces: FeasiblePieces, branch: int, result: PathResu
             ax.axvline(k, color=colour, linestyle=":", linewidth=1.2, gid=f"{baseline.method} fails")
     if result.ok:
         on = np.array([b == name for b in result.branch])
-        y = _wrapped_degrees(result.psi)
-        ax.plot(*_broken(waypoints, y, on), color=_PATH_COLOUR, linewidth=_PATH_WIDTH, gid="path")
+        y = _wrapped_degrees(result.psi, wraps)
+        ax.plot(*_broken(waypoints, y, on, wraps), color=_PATH_COLOUR, linewidth=_PATH_WIDTH, gid="path")
         change = np.r_[False, np.array(result.branch[1:]) != np.array(result.branch[:-1])]
         ends = on & (change | np.r_[change[1:], False])  # both sides of a change
         ax.plot(waypoints[ends], y[ends], "D", color="k", markerfacecolor="w", markersize=5, gid="branch change")
@@ -115,10 +118,14 @@ def _plot_branch_plane(ax, pieces: FeasiblePieces, branch: int, result: PathResu
         failure = result.failure
         ax.axvline(failure.waypoint, color="C3", linewidth=1.5, gid="no path")
         joint = "" if failure.joint is None else f", joint {failure.joint}"
-        ax.text(failure.waypoint, 175, f" {failure.reason}{joint}", color="C3", fontsize=7, va="top")
+        ax.text(failure.waypoint, 175 if wraps else 0.0, f" {failure.reason}{joint}", color="C3", fontsize=7,
+                va="top")
     ax.set_xlim(-0.5, count - 0.5)
-    ax.set_ylim(-180, 180)
-    ax.set_yticks([-180, -90, 0, 90, 180])
+    if wraps:
+        ax.set_ylim(-180, 180)
+        ax.set_yticks([-180, -90, 0, 90, 180])
+    else:
+        ax.autoscale_view(scalex=False)
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set_title(f"branch {name}", fontsize=9)
 
@@ -151,11 +158,14 @@ def path_plane_figure(pieces: FeasiblePieces, result: PathResult, baselines: Seq
         _plot_branch_plane(ax, pieces, branch, result, baselines)
     for ax in axes.ravel()[len(shown):]:
         ax.set_visible(False)
+    what = "arm angle psi" if result.parameter == "psi" else "q7"
     for ax in axes[:, 0]:
-        ax.set_ylabel("arm angle psi [deg]")
+        ax.set_ylabel(f"{what} [deg]")
     for ax in axes[-1]:
         ax.set_xlabel("waypoint")
-    handles: list = [Patch(color=_FEASIBLE_COLOUR, alpha=0.35, label="feasible arm angles (exact)")]
+    handles: list = [Patch(color=_FEASIBLE_COLOUR, alpha=0.35,
+                           label="feasible arm angles (exact)" if result.parameter == "psi" else
+                           "feasible q7 (exact)")]
     if result.ok:
         clearance = f"clearance {np.degrees(result.clearance):.3g} deg"
         handles.append(Line2D([], [], color=_PATH_COLOUR, linewidth=_PATH_WIDTH, label=f"global path ({clearance})"))
