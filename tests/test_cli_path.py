@@ -31,6 +31,10 @@ def test_a_path_in_json(tmp_path, capsys):
     assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.2", "--json", "--thorough"]) == 0
     thorough = json.loads(capsys.readouterr().out)
     assert thorough["clearance"] >= report["clearance"] and thorough["nodes"] >= report["nodes"]
+    assert main(["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.2", "--json", "--objective",
+                 "motion"]) == 0
+    least = json.loads(capsys.readouterr().out)
+    assert least["objective"] == "motion" and least["motion"] <= report["motion"] + 1e-9 and not least["optimal"]
 
 
 def test_degrees_and_speed_with_dt(tmp_path, capsys):

@@ -275,6 +275,28 @@ def test_the_linear_programs_never_lower_a_clearance_nor_break_a_law(seed, robot
         assert chain.within_limits(runs[1].q).all() and np.all(np.abs(np.diff(runs[1].q, axis=0)) <= step)
 
 
+@pytest.mark.parametrize("robot", ["kuka-iiwa14", "franka-fr3"])
+def test_the_motion_objective_moves_least_and_keeps_every_law(robot):
+    chain = get_robot(robot)
+    for seed in range(4):
+        lower = np.maximum(chain.lower + 0.2, -3.0)
+        upper = np.minimum(chain.upper - 0.2, 3.0)
+        rng = np.random.default_rng(seed)
+        a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
+        q = a + (b - a) * np.linspace(0.0, 1.0, 10)[:, None]
+        poses = chain.fk(q)
+        step = 2.0 * np.abs(np.diff(q, axis=0)).max() + 1e-3
+        clearance, motion = resolve_path(chain, poses, step), resolve_path(chain, poses, step, objective="motion")
+        assert motion.ok and not motion.optimal and motion.bottleneck is None
+        assert np.abs(chain.fk(motion.q) - poses).max() <= FK_TOLERANCE and chain.within_limits(motion.q).all()
+        assert np.all(np.abs(np.diff(motion.q, axis=0)) <= step)
+        assert motion.motion == pytest.approx(np.abs(np.diff(motion.q, axis=0)).sum(), abs=1e-12)
+        assert motion.motion <= clearance.motion + 1e-9 and clearance.clearance >= motion.clearance - 1e-9
+        assert motion.motion <= 1.01 * np.abs(np.diff(q, axis=0)).sum()  # about the line the poses came from
+    with pytest.raises(RedkinError, match="objective"):
+        resolve_path(chain, poses, step, objective="speed")
+
+
 # ------------------------------------------------------------------ against the baselines
 def test_agrees_with_a_dense_sampled_search_on_small_paths():
     chain = get_robot("kuka-iiwa14")

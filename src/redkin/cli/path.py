@@ -45,6 +45,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "speed being the description's velocity limit (or --speed); give --dt or --max-step")
     path.add_argument("--q0", nargs=7, type=float, metavar="Q", help="the configuration before the first waypoint")
     path.add_argument("--end-branch", metavar="BRANCH", help="branch of the last waypoint: " + BRANCH_HELP)
+    path.add_argument("--objective", choices=("clearance", "motion"), default="clearance",
+                      help="clearance: as far from the limits as the path allows, then the least motion (default); "
+                           "motion: the least total joint motion, then the largest clearance")
     path.add_argument("--thorough", action="store_true",
                       help="search the subdivided graph too where the first search already proved its clearance "
                            "optimal: the least motion among such paths on a finer graph (slower)")
@@ -137,7 +140,8 @@ def _run_path(args: argparse.Namespace) -> int:
     step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own
     poses = read_poses(args.poses)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
-    result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough)
+    result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough,
+                          objective=args.objective)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0)
     degrees = args.deg
@@ -146,7 +150,7 @@ def _run_path(args: argparse.Namespace) -> int:
         report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
                         "speed": angles_out(speed, degrees), "speed_unit": f"{angle_unit(degrees)}/s",
                         "speed_source": speed_source, "dt": args.dt if speed is not None else None,
-                        "nodes": result.nodes, "parameter": result.parameter}
+                        "nodes": result.nodes, "parameter": result.parameter, "objective": args.objective}
         if result.ok:
             report.update(q=angles_out(result.q, degrees), branch=result.branch,
                           clearance=None if not np.isfinite(result.clearance) else angles_out(result.clearance,

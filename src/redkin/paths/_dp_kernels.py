@@ -4,7 +4,8 @@
 (waypoint, branch, arm angle) with its joint values and clearance; its value
 is the pair (smallest clearance along the best path reaching it, total
 joint motion of that path), compared lexicographically: larger clearance
-first, then less motion.  An edge joins two nodes of consecutive waypoints
+first, then less motion (or, for the objective ``"motion"``, the other way
+round).  An edge joins two nodes of consecutive waypoints
 where no joint moves more than its bound (on the circle for a joint whose
 range holds every angle, as a plain difference otherwise).
 
@@ -142,9 +143,9 @@ def _first_above(keys, first, last, x):
 
 
 @kernel
-def _scan(first, last, order, node, q, step, circle, value, motion, clear, best):
+def _scan(first, last, order, node, q, step, circle, value, motion, clear, best, motion_first):
     """Relax ``node`` from the candidates ``order[first .. last - 1]``; ``best`` (3,) holds (value, motion,
-    parent) and is updated in place."""
+    parent) and is updated in place; ``motion_first``: the least motion first, then the largest value."""
     for t in range(first, last):
         i = order[t]
         reached = value[i]
@@ -162,13 +163,17 @@ def _scan(first, last, order, node, q, step, circle, value, motion, clear, best)
             continue
         v = min(reached, clear)
         m = motion[i] + total
-        if v > best[0] or (v == best[0] and m < best[1]):
+        if motion_first:
+            better = m < best[1] or (m == best[1] and v > best[0])
+        else:
+            better = v > best[0] or (v == best[0] and m < best[1])
+        if better:
             best[0], best[1], best[2] = v, m, i
 
 
 @kernel
 def _relax_waypoint(before, after, offsets, q, clearance, sorted_key, order, key_joint, step, circle, value, motion,
-                    parent, best):
+                    parent, best, motion_first):
     """Relax every node of waypoint ``after`` from waypoint ``before``; returns whether any node was reached."""
     a0, a1 = offsets[before], offsets[before + 1]
     s = step[key_joint]
@@ -178,17 +183,17 @@ def _relax_waypoint(before, after, offsets, q, clearance, sorted_key, order, key
         best[0], best[1], best[2] = -inf, inf, -1.0
         key = q[node, key_joint]
         if wrap and s >= pi:
-            _scan(a0, a1, order, node, q, step, circle, value, motion, clearance[node], best)
+            _scan(a0, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
         else:
             lo = _first_at_least(sorted_key, a0, a1, key - s)
             hi = _first_above(sorted_key, a0, a1, key + s)
-            _scan(lo, hi, order, node, q, step, circle, value, motion, clearance[node], best)
+            _scan(lo, hi, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
             if wrap and key - s < -pi:  # the window's part beyond -pi, seen from +pi
                 lo = _first_at_least(sorted_key, a0, a1, key - s + TWO_PI)
-                _scan(lo, a1, order, node, q, step, circle, value, motion, clearance[node], best)
+                _scan(lo, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
             if wrap and key + s > pi:
                 hi = _first_above(sorted_key, a0, a1, key + s - TWO_PI)
-                _scan(a0, hi, order, node, q, step, circle, value, motion, clearance[node], best)
+                _scan(a0, hi, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
         value[node], motion[node], parent[node] = best[0], best[1], int(best[2])
         alive = alive or best[2] >= 0.0
     return alive
@@ -196,14 +201,15 @@ def _relax_waypoint(before, after, offsets, q, clearance, sorted_key, order, key
 
 @kernel
 def sweep(path_starts, offsets, q, clearance, sorted_key, order, key_joint, step, circle, value, motion, parent,
-          dead):
+          dead, motion_first):
     """Dynamic programming over every path: ``value``, ``motion`` and ``parent`` of each node (K,).
 
     ``path_starts`` (P + 1,): the waypoints of path ``p`` are ``path_starts[p] .. path_starts[p + 1] - 1``;
     ``offsets`` (W + 1,): the nodes of waypoint ``w`` are ``offsets[w] .. offsets[w + 1] - 1``; ``q`` (K, n)
     and ``clearance`` (K,) per node; ``sorted_key``, ``order`` (K,): per waypoint, the key joint's values
     sorted and the node each came from.  The caller sets ``value`` and ``motion`` of each path's first
-    waypoint (``-inf`` where a node is not allowed to start) and ``value`` of the others to ``-inf``.  Writes
+    waypoint (``-inf`` where a node is not allowed to start) and ``value`` of the others to ``-inf``.
+    ``motion_first``: the objective's order is (least motion, largest value) instead of the other way.  Writes
     ``dead[p]``: the first waypoint of path ``p`` (counted from its start) that no node reaches, ``-1`` if
     its last one is reached.
     """
@@ -220,7 +226,7 @@ def sweep(path_starts, offsets, q, clearance, sorted_key, order, key_joint, step
             continue
         for w in range(first + 1, path_starts[p + 1]):
             if not _relax_waypoint(w - 1, w, offsets, q, clearance, sorted_key, order, key_joint, step, circle,
-                                   value, motion, parent, best):
+                                   value, motion, parent, best, motion_first):
                 dead[p] = w - first
                 break
 

@@ -49,6 +49,8 @@ _REFINED = 1e-9
 _MAX_WAYPOINTS = 10_000_000
 #: Two feasible pieces whose ends are this close touch (radians of the parameter; :func:`_arcs_around`).
 _TOUCH = 1e-12
+#: What :func:`resolve_path` can make best: the clearance (then the motion), or the motion (then the clearance).
+OBJECTIVES = ("clearance", "motion")
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
 OPTIMALITY_MARGIN = 1e-7
 
@@ -67,6 +69,7 @@ def resolve_path(
     connect: float = DEFAULT_CONNECT,
     refinements: int = DEFAULT_REFINEMENTS,
     thorough: bool = False,
+    objective: str = "clearance",
 ) -> PathResult:
     """Joint values along a path of poses, as far from the joint limits as the path allows, or where none exist.
 
@@ -107,6 +110,10 @@ def resolve_path(
         samples alone neither found a path whose clearance is proved optimal nor proved that none exists: the
         least motion among the paths of that clearance is then sought on the finer graph too (a few percent
         less motion on short random paths, about ten times the time on long ones).
+    objective : str
+        What "best" means (:data:`OBJECTIVES`): ``"clearance"``, the largest smallest distance of a joint to its
+        limits, then the least total motion (the default); ``"motion"``, the least total joint motion, then the
+        largest clearance (both stages are searched, as with ``thorough``; no clearance is proved optimal).
 
     Returns
     -------
@@ -123,7 +130,8 @@ def resolve_path(
         raise RedkinError(f"poses must have shape (N, 4, 4), got shape {poses.shape}; for many paths use "
                           "resolve_paths")
     return resolve_paths(arm, poses[None], max_step, speed=speed, dt=dt, q0=q0, q_end=q_end, end_branch=end_branch,
-                         spacing=spacing, connect=connect, refinements=refinements, thorough=thorough)[0]
+                         spacing=spacing, connect=connect, refinements=refinements, thorough=thorough,
+                         objective=objective)[0]
 
 
 def resolve_paths(
@@ -140,6 +148,7 @@ def resolve_paths(
     connect: float = DEFAULT_CONNECT,
     refinements: int = DEFAULT_REFINEMENTS,
     thorough: bool = False,
+    objective: str = "clearance",
 ) -> list[PathResult]:
     """:func:`resolve_path` for ``P`` paths of ``N`` poses each, ``paths`` of shape ``(P, N, 4, 4)``: one
     batch of feasible sets and IK, one sweep.  ``q0`` and ``q_end`` are ``(7,)`` (the same for every path) or
@@ -162,18 +171,23 @@ def resolve_paths(
         raise RedkinError(f"connect must be in (0, 1], got {connect!r}")
     if int(refinements) != refinements or refinements < 0:
         raise RedkinError(f"refinements must be an integer >= 0, got {refinements!r}")
+    if objective not in OBJECTIVES:
+        raise RedkinError(f"objective must be one of {', '.join(OBJECTIVES)}, got {objective!r}")
     return search_paths(family, poses, step, starts, ends, last_branch,
-                        lambda pieces: graphs.piece_samples(pieces, spacing), connect, int(refinements), thorough)
+                        lambda pieces: graphs.piece_samples(pieces, spacing), connect, int(refinements), thorough,
+                        objective=objective)
 
 
 def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np.ndarray | None,
                  ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
-                 refinements: int, thorough: bool = False, polish: bool = True) -> list[PathResult]:
+                 refinements: int, thorough: bool = False, polish: bool = True,
+                 objective: str = "clearance") -> list[PathResult]:
     """:func:`resolve_paths` on validated input: ``poses`` (P, N, 4, 4), ``starts``/``ends`` (P, 7) or
     ``None``, ``last_branch`` an index into :data:`BRANCHES` or ``None``; ``sampler(pieces)`` gives the
     initial samples (waypoint, branch, piece, psi, and each piece's ends) from the feasible pieces
     (:func:`graph.piece_samples`); ``connect`` as in :func:`resolve_path`, ``None`` for the samples alone;
-    ``polish``: raise the clearance of a path not proved optimal between the samples (:func:`_polished`).
+    ``polish``: raise the clearance of a path not proved optimal between the samples (:func:`_polished`);
+    ``objective`` as in :func:`resolve_path`.
 
     Two stages (docs/paths.md, "Method"): the samples alone first, refined around the path found; a path whose
     clearance is then proved optimal (:func:`_bottleneck`), or a failure proved by the exact sets, is final.
@@ -188,25 +202,30 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
     start, end, feasible = np.full(shape, np.nan), np.full(shape, np.nan), np.zeros(shape, dtype=bool)
     start[reach], end[reach], feasible[reach] = found.start, found.end, found.feasible
     along = _Along(reach.reshape(count, length), arm_along, FeasiblePieces(start, end, feasible))
-    results = _search(family, poses, along, starts, ends, last_branch, sampler, None, refinements, polish)
+    motion = objective == "motion"
+    results = _search(family, poses, along, starts, ends, last_branch, sampler, None, refinements, polish, motion)
     if connect is None:
         return results
-    again = [p for p, result in enumerate(results) if (result.ok and (thorough or not result.optimal))
+    again = [p for p, result in enumerate(results) if (result.ok and (thorough or motion or not result.optimal))
              or (result.failure is not None and not result.failure.exact)]
     if again:
         rows = np.array(again)
         finer = _search(family, poses[rows], along.paths(rows), None if starts is None else starts[rows],
-                        None if ends is None else ends[rows], last_branch, sampler, connect, refinements, polish)
+                        None if ends is None else ends[rows], last_branch, sampler, connect, refinements, polish,
+                        motion)
         for p, result in zip(again, finer):
-            results[p] = _better(results[p], result)
+            results[p] = _better(results[p], result, motion)
     return results
 
 
-def _better(coarse: PathResult, fine: PathResult) -> PathResult:
-    """Of two answers for one path, the found one, or the larger clearance then the lesser motion; ``nodes``
-    counts both searches."""
+def _better(coarse: PathResult, fine: PathResult, motion_first: bool) -> PathResult:
+    """Of two answers for one path, the found one, or the larger clearance then the lesser motion (``motion_first``:
+    the other way round); ``nodes`` counts both searches."""
+    def key(result: PathResult) -> tuple[float, float]:
+        return (-result.motion, result.clearance) if motion_first else (result.clearance, -result.motion)
+
     best = fine
-    if coarse.ok and (not fine.ok or (coarse.clearance, -coarse.motion) > (fine.clearance, -fine.motion)):
+    if coarse.ok and (not fine.ok or key(coarse) > key(fine)):
         best = coarse
     return replace(best, nodes=coarse.nodes + fine.nodes)
 
@@ -232,7 +251,7 @@ class _Along:
 
 def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray | None,
             ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
-            refinements: int, polish: bool) -> list[PathResult]:
+            refinements: int, polish: bool, motion_first: bool) -> list[PathResult]:
     """One search of :func:`search_paths`: the graph of the samples (subdivided by ``connect`` unless ``None``),
     swept, refined around the paths found, each path checked and its optimality tried."""
     count, length = poses.shape[:2]
@@ -257,10 +276,12 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
 
     def searched(graph: Graph) -> tuple[search.Sweep, dict[int, np.ndarray]]:
         """The sweep of ``graph`` and the best path of each path that has one."""
-        sweep = search.run(arm_data, graph, path_starts, *_first_values(arm_data, graph, path_starts, starts))
+        first_value, first_motion = _first_values(arm_data, graph, path_starts, starts)
+        sweep = search.run(arm_data, graph, path_starts, first_value, first_motion, motion_first)
         chosen = {}
         for p in np.flatnonzero((prefix > 0) & (sweep.dead < 0)).tolist():
-            last = search.best_end(sweep, _end_nodes(arm_data, graph, path_starts[p + 1] - 1, ends, p, last_branch))
+            last = search.best_end(sweep, _end_nodes(arm_data, graph, path_starts[p + 1] - 1, ends, p, last_branch),
+                                   motion_first)
             if last >= 0:
                 chosen[p] = search.trace(sweep, last, int(prefix[p]))
         return sweep, chosen
@@ -288,8 +309,8 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
             results.append(PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"),
                                       step, failure, nodes))
             continue
-        result = _checked_path(family, arm_data, graph, chosen[p], poses[p], starts, p, nodes)
-        if polish and result.ok and not result.optimal:
+        result = _checked_path(family, arm_data, graph, chosen[p], poses[p], starts, p, nodes, not motion_first)
+        if polish and not motion_first and result.ok and not result.optimal:
             result = _polished(family, arm_data, graph, chosen[p], pieces, poses[p], path_starts[p], starts, ends, p,
                                result)
         results.append(result)
@@ -313,7 +334,7 @@ def _polished(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, pieces:
         return found
     q, clearance = along.rows(np.arange(len(nodes)), branch, moved)
     path = Graph(np.arange(len(nodes) + 1), graph.piece[nodes], branch, moved, q, np.maximum(clearance, 0.0))
-    better = _checked_path(family, arm, path, np.arange(len(nodes)), poses, starts, p, found.nodes)
+    better = _checked_path(family, arm, path, np.arange(len(nodes)), poses, starts, p, found.nodes, True)
     return better if better.ok and better.clearance > found.clearance else found
 
 
@@ -438,9 +459,10 @@ def _unwound(arm: Arm, q: np.ndarray, origin: np.ndarray | None) -> np.ndarray:
 
 
 def _checked_path(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, poses: np.ndarray,
-                  starts: np.ndarray | None, p: int, size: int) -> PathResult:
+                  starts: np.ndarray | None, p: int, size: int, prove: bool) -> PathResult:
     """The :class:`PathResult` of the nodes found (:func:`_unwound`), checked against the poses, the limits and
-    the bound; a ``"winding"`` failure where a joint of a range over ``2 pi`` would leave it."""
+    the bound, its clearance's optimality tried where ``prove`` (:func:`_bottleneck`); a ``"winding"`` failure
+    where a joint of a range over ``2 pi`` would leave it."""
     chain = arm.chain
     origin = None if starts is None else starts[p]
     q = _unwound(arm, graph.q[nodes], origin)
@@ -457,7 +479,7 @@ def _checked_path(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, pos
     motion = float(moves.sum()) + (0.0 if origin is None else float(arm.moves(q[0], origin).sum()))
     parameter = np.mod(graph.psi[nodes] + np.pi, TWO_PI) - np.pi if family.wraps else q[:, 6].copy()
     clearance = arm.clearance(q)
-    bottleneck = _bottleneck(family, poses, clearance)
+    bottleneck = _bottleneck(family, poses, clearance) if prove else None
     return PathResult("ok", q, [str(BRANCHES[b]) for b in graph.branch[nodes]], parameter, float(clearance.min()),
                       motion, arm.step, None, size, bottleneck is not None, bottleneck, family.parameter)
 

@@ -40,8 +40,10 @@ class Sweep:
     dead: np.ndarray
 
 
-def run(arm: Arm, graph: Graph, path_starts: np.ndarray, first_value: np.ndarray, first_motion: np.ndarray) -> Sweep:
-    """Sweep every path; ``first_value``, ``first_motion`` (K,) are read on each path's first waypoint only."""
+def run(arm: Arm, graph: Graph, path_starts: np.ndarray, first_value: np.ndarray, first_motion: np.ndarray,
+        motion_first: bool = False) -> Sweep:
+    """Sweep every path; ``first_value``, ``first_motion`` (K,) are read on each path's first waypoint only;
+    ``motion_first``: the least motion first, then the largest clearance."""
     waypoint = graph.waypoint
     order = np.lexsort((graph.q[:, _KEY_JOINT], waypoint)).astype(np.int64)
     sorted_key = np.ascontiguousarray(graph.q[order, _KEY_JOINT])
@@ -54,16 +56,18 @@ def run(arm: Arm, graph: Graph, path_starts: np.ndarray, first_value: np.ndarray
     _dp_kernels.sweep(np.ascontiguousarray(path_starts, dtype=np.int64), np.ascontiguousarray(graph.offsets,
                       dtype=np.int64), np.ascontiguousarray(graph.q), np.ascontiguousarray(graph.clearance),
                       sorted_key, order, _KEY_JOINT, np.ascontiguousarray(arm.step), np.ascontiguousarray(arm.circle),
-                      value, motion, parent, dead)
+                      value, motion, parent, dead, motion_first)
     return Sweep(value, motion, parent, dead)
 
 
-def best_end(sweep: Sweep, nodes: np.ndarray) -> int:
-    """The best of ``nodes`` (largest value, then least motion), or -1 where none is reached."""
+def best_end(sweep: Sweep, nodes: np.ndarray, motion_first: bool = False) -> int:
+    """The best of ``nodes`` (largest value, then least motion; ``motion_first``: the other way round), or -1
+    where none is reached."""
     nodes = nodes[sweep.value[nodes] > -np.inf]
     if nodes.size == 0:
         return -1
-    order = np.lexsort((sweep.motion[nodes], -sweep.value[nodes]))
+    keys = (-sweep.value[nodes], sweep.motion[nodes]) if motion_first else (sweep.motion[nodes], -sweep.value[nodes])
+    order = np.lexsort(keys)
     return int(nodes[order[0]])
 
 
