@@ -1,15 +1,17 @@
 """Issue 26's targets for path resolution (redkin.paths), measured in one run.
 
-Run:  python benchmarks/bench_paths.py [--long N]
+Run:  python benchmarks/bench_paths.py [--long N ...]
 
 * time of ``resolve_path`` on an iiwa14 path of 1000 waypoints (all 8 branches, the default objective, the
   feasible sets included), warm, at step bounds of 0.2 and 0.05 rad (``--long`` N adds N waypoints at 0.2),
-  with the graph's size (nodes; about 100 bytes each at the peak);
+  with the graph's size (nodes over both stages and every refinement), whether the clearance was proved
+  optimal, the peak memory allocated (tracemalloc) and the time with ``thorough=True``;
 * random paths (straight joint-space lines between random in-limit configurations, 30 waypoints, a step bound
   of 1.5 x the line's largest step): how often the global path is found, and how often greedy seeded tracking,
   the fixed arm angle and the clamped per-pose optimum break a limit or the bound there;
-* against the sampled DP on a uniform grid (the literature's method) on short random paths: the same yes/no,
-  and the clearance difference;
+* against the sampled DP on a uniform grid (the literature's method) on 100 short random paths and 20 whose
+  limits are tightened around them (narrow feasible sets): the same yes/no, and the clearance difference where
+  ours is proved optimal and where it is not;
 * the narrow passage (a feasible set 1e-4 rad wide at one waypoint): found, and whether the sampled DP finds it;
 * ssik 8.2's ``Manipulator.solve_path`` (its prebuilt iiwa14, ``Manipulator.from_prebuilt("iiwa14")``, native)
   on the same poses, in its documented configuration: ``q0`` the configuration the path starts from (the branch
@@ -17,7 +19,9 @@ Run:  python benchmarks/bench_paths.py [--long N]
   the middle of its domain; a path counts as found if any of the eight tracks passes).  ssik's tracks know no
   joint limits and no step bound, so every track is judged as redkin's baselines are
   (:func:`redkin.paths.judge_path`): FK within 1e-9 of each pose, our limits, the same bound.  ssik's iiwa14 is
-  our ``kuka-iiwa14`` (same joint values, FK, limits: checked at the start).
+  our ``kuka-iiwa14`` (same joint values, FK, limits: checked at the start);
+* the Franka class (q7): random FR3 lines, beside ssik's prebuilt ``fr3`` ``solve_path`` (its FK is our
+  ``franka-fr3``'s, checked; its tracks judged by our limits).
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -61,30 +66,43 @@ def timed(function, repeat=3):
     return best, result
 
 
+def peak_memory(function):
+    """The peak of memory allocated during ``function()`` (numpy's arrays included; tracemalloc), bytes."""
+    tracemalloc.start()
+    function()
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    return peak
+
+
 def scaling(chain, cases):
     rng = np.random.default_rng(0)
     q, _ = line(chain, rng, 2, 0.3)
-    print("| waypoints | step bound (rad) | time (s) | per waypoint (us) | nodes | status |")
-    print("|---|---|---|---|---|---|")
+    print("| waypoints | step bound (rad) | time (s) | per waypoint (us) | nodes | proved optimal | peak memory (MB) | "
+          "thorough (s) |")
+    print("|---|---|---|---|---|---|---|---|")
     for count, step in cases:
         path = q[0] + (q[1] - q[0]) * np.linspace(0.0, 1.0, count)[:, None]
         poses = chain.fk(path)
-        seconds, result = timed(lambda: resolve_path(chain, poses, step), 1)
+        seconds, result = timed(lambda: resolve_path(chain, poses, step), 3 if count <= 10_000 else 1)
+        memory = peak_memory(lambda: resolve_path(chain, poses, step)) / 1e6
+        thorough = ""
+        if count <= 10_000:
+            thorough = f"{timed(lambda: resolve_path(chain, poses, step, thorough=True), 1)[0]:.2f}"
         print(f"| {count} | {step:.3g} | {seconds:.3f} | {1e6 * seconds / count:.1f} | {result.nodes} | "
-              f"{result.status} |", flush=True)
+              f"{result.optimal} | {memory:.0f} | {thorough} |", flush=True)
 
 
-def ssik_arm(chain):
-    """ssik's iiwa14 as a Manipulator (its chart API), checked against ``chain``; None when ssik is missing."""
+def ssik_arm(chain, name="iiwa14"):
+    """ssik's prebuilt ``name`` as a Manipulator (its chart API), checked against ``chain`` (FK; the limits are ours,
+    judged by :func:`redkin.paths.judge_path`); None when ssik is missing."""
     try:
         import ssik
     except ImportError:
         return None
-    arm = ssik.Manipulator.from_prebuilt("iiwa14")
+    arm = ssik.Manipulator.from_prebuilt(name)
     q = np.random.default_rng(9).uniform(-2.0, 2.0, (20, 7))
-    assert max(float(np.abs(arm.fk(x) - chain.fk(x)).max()) for x in q) < 1e-12, "iiwa14 models differ"
-    assert np.allclose(np.array(arm.joint_limits, dtype=float), np.stack([chain.lower, chain.upper], axis=-1),
-                       atol=1e-10), "iiwa14 limits differ"
+    assert max(float(np.abs(arm.fk(x) - chain.fk(x)).max()) for x in q) < 1e-12, f"{name} models differ"
     return arm
 
 
@@ -112,7 +130,7 @@ def _failure(path: BaselinePath) -> str:
 
 def random_paths(chain, arm, count=20, length=30):
     rng = np.random.default_rng(1)
-    found = greedy_bad = fixed_bad = clamped_bad = 0
+    found = proved = greedy_bad = fixed_bad = clamped_bad = 0
     where = []
     ssik_start, ssik_any, ssik_time, ours_time = [], 0, 0.0, 0.0
     for _ in range(count):
@@ -122,6 +140,7 @@ def random_paths(chain, arm, count=20, length=30):
         result = resolve_path(chain, poses, step)
         ours_time += time.perf_counter() - start
         found += result.ok
+        proved += result.optimal
         branch = str(arm_angle_of(chain, q[0]).branch_strings())
         psi = float(arm_angle_of(chain, q[0]).psi)
         greedy = greedy_path(chain, poses, step)
@@ -138,7 +157,8 @@ def random_paths(chain, arm, count=20, length=30):
             ssik_time += time.perf_counter() - start
             ssik_start.append(from_start)
             ssik_any += any(t.ok for t in ssik_tracks(chain, arm, poses, step))
-    print(f"random paths: {count} lines of {length} waypoints; global path found on {found}; greedy fails on "
+    print(f"random paths: {count} lines of {length} waypoints; global path found on {found} ({proved} with the "
+          f"clearance proved optimal), {1e3 * ours_time / count:.1f} ms per path; greedy fails on "
           f"{greedy_bad}, fixed psi (the start's) on {fixed_bad}, clamped optimum on {clamped_bad}")
     if where:
         print("greedy's first failure (waypoint, largest step / bound): " +
@@ -175,22 +195,42 @@ def constructed(chain, arm):
           + ", ".join(_failure(t) for t in every))
 
 
-def against_sampled(chain, count=10, spacing_deg=0.1):
+def tightened(chain, q, rng):
+    """``chain`` with three joints' limits moved to within 1e-4 .. 1e-2 rad of the range joint-space path ``q``
+    sweeps: the path stays feasible, and the feasible sets along it become narrow."""
+    lower, upper = chain.lower.copy(), chain.upper.copy()
+    for joint in rng.choice(7, 3, replace=False):
+        margin = 10.0 ** rng.uniform(-4.0, -2.0)
+        lower[joint] = max(lower[joint], q[:, joint].min() - margin)
+        upper[joint] = min(upper[joint], q[:, joint].max() + margin)
+    return chain.with_limits(lower, upper)
+
+
+def against_sampled(chain, count=100, constructed_count=20, spacing_deg=0.1):
+    """The issue's comparison with the literature's dynamic programming on a uniform grid: ``count`` short random
+    lines, and ``constructed_count`` lines whose chain has three joints' limits tightened around them (narrow
+    feasible sets; the line itself stays a path)."""
     rng = np.random.default_rng(2)
-    same = 0
-    gaps = []
-    for _ in range(count):
+    rows = []
+    for k in range(count + constructed_count):
         q, _ = line(chain, rng, 5)
         q = q[0] + 0.2 * (q - q[0])
-        poses = chain.fk(q)
+        arm = chain if k < count else tightened(chain, q, rng)
+        poses = arm.fk(q)
         step = 1.5 * np.abs(np.diff(q, axis=0)).max()
-        ours = resolve_path(chain, poses, step)
-        dense = sampled_path(chain, poses, step, np.radians(spacing_deg))
-        same += ours.status == dense.status
-        if ours.ok and dense.ok:
-            gaps.append(ours.clearance - dense.clearance)
-    print(f"against the sampled DP ({spacing_deg} deg grid) on {count} short paths: same yes/no on {same}; "
-          f"clearance ours - sampled: min {min(gaps):.3g}, max {max(gaps):.3g} rad")
+        ours = resolve_path(arm, poses, step)
+        dense = sampled_path(arm, poses, step, np.radians(spacing_deg))
+        rows.append((k < count, ours, dense))
+    for name, which in (("random", True), ("constructed (tightened limits)", False)):
+        group = [(ours, dense) for random, ours, dense in rows if random == which]
+        same = sum(ours.status == dense.status for ours, dense in group)
+        only = sum(ours.ok and not dense.ok for ours, dense in group)
+        proved = [ours.clearance - dense.clearance for ours, dense in group if ours.ok and dense.ok and ours.optimal]
+        other = [ours.clearance - dense.clearance for ours, dense in group if ours.ok and dense.ok and not ours.optimal]
+        print(f"against the sampled DP ({spacing_deg} deg grid), {len(group)} {name} short paths: same yes/no on "
+              f"{same} (a path only we found: {only}); clearance ours - sampled where ours is proved optimal "
+              f"({len(proved)}): min {min(proved, default=np.nan):.3g}; where not proved ({len(other)}): min "
+              f"{min(other, default=np.nan):.3g}, max {max(other, default=np.nan):.3g} rad")
 
 
 def narrow(chain, arm):
@@ -222,19 +262,73 @@ def long_path(chain, arm, count=1000, step=0.2):
     print(f"ssik solve_path on the {count}-waypoint path from its start: {seconds:.3f} s, {_failure(tracks[0])}")
 
 
+def into_range(chain, q):
+    """``q`` with each joint moved by whole turns into its range where one fits (a peer that returns joint values
+    modulo 2 pi, judged charitably)."""
+    turns = np.ceil((chain.lower - q) / (2.0 * np.pi))
+    moved = q + 2.0 * np.pi * turns
+    return np.where(np.isfinite(moved) & (moved <= chain.upper), moved, q)
+
+
+def franka(count=20, length=30):
+    """The Franka class (q7 the parameter) on random FR3 lines, beside ssik's prebuilt ``fr3`` solve_path from the
+    line's start (its tracks judged by our limits, FK and bound, as returned and with every joint moved by whole
+    turns into its range: ssik returns some FR3 joint 4 values 2 pi above the range)."""
+    chain = get_robot("franka-fr3")
+    arm = ssik_arm(chain, "fr3")
+    rng = np.random.default_rng(3)
+    found = proved = ssik_pass = ssik_turned = 0
+    ours_time = ssik_time = 0.0
+    failures, turned_failures = [], []
+    for _ in range(count):
+        lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
+        a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
+        q = a + (b - a) * np.linspace(0.0, 1.0, length)[:, None]
+        poses = chain.fk(q)
+        step = 1.5 * np.abs(np.diff(q, axis=0)).max()
+        start = time.perf_counter()
+        result = resolve_path(chain, poses, step)
+        ours_time += time.perf_counter() - start
+        found += result.ok
+        proved += result.optimal
+        if arm is not None:
+            start = time.perf_counter()
+            track = arm.solve_path(poses, q0=q[0])
+            ssik_time += time.perf_counter() - start
+            rows = np.full((length, 7), np.nan)
+            values = np.asarray(track.q(next(iter(track.tracks))))
+            rows[: len(values)] = values
+            judged = judge_path(chain, rows, step, poses, "ssik solve_path")
+            turned = judge_path(chain, into_range(chain, rows), step, poses, "ssik solve_path, into range")
+            ssik_pass += judged.ok
+            ssik_turned += turned.ok
+            if not judged.ok:
+                failures.append(_failure(judged))
+            if not turned.ok:
+                turned_failures.append(_failure(turned))
+    print(f"FR3 (q7): {count} random lines of {length} waypoints; path found on {found} ({proved} proved optimal), "
+          f"{1e3 * ours_time / count:.1f} ms per path")
+    if arm is not None:
+        print(f"  ssik solve_path (prebuilt fr3) from the line's start, {1e3 * ssik_time / count:.1f} ms per path: "
+              f"passes on {ssik_pass} of {count} as returned (" + ", ".join(failures[:5]) + ", ...); on "
+              f"{ssik_turned} of {count} with its joints turned into their ranges (" + ", ".join(turned_failures)
+              + ")")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--long", type=int, default=0, help="also time a path of this many waypoints")
+    parser.add_argument("--long", type=int, nargs="*", default=[], help="also time paths of these many waypoints")
     args = parser.parse_args()
     chain = get_robot("kuka-iiwa14")
     resolve_path(chain, chain.fk(np.zeros((3, 7)) + 0.3), 0.1)  # load the kernels
     arm = ssik_arm(chain)
-    scaling(chain, [(1000, 0.2), (1000, 0.05)] + ([(args.long, 0.2)] if args.long else []))
+    scaling(chain, [(1000, 0.2), (1000, 0.05)] + [(n, 0.2) for n in args.long])
     long_path(chain, arm)
     random_paths(chain, arm)
     constructed(chain, arm)
     against_sampled(chain)
     narrow(chain, arm)
+    franka()
 
 
 if __name__ == "__main__":
