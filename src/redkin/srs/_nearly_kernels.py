@@ -10,10 +10,13 @@ For one pose, arm angle and branch, :func:`solve_one`
    smallest error (:func:`redkin.numerical._kernels.pose_error`);
 2. takes damped Newton steps on the real arm for the 7 equations, pose and arm
    angle (:func:`newton`), with the arm angle's gradient in closed form
-   (:func:`arm_angle_one`); where they do not end on the branch, once more
+   (:func:`arm_angle_one`), each step kept on the branch
+   (:func:`kept_on_side`); where they do not end on the branch, once more
    with the elbow opened from its stretch (:func:`opened`);
 3. certifies the solution as returned and keeps it only on its own branch, by
-   the real arm's signs (:func:`branch_signs`).
+   the real arm's signs (:func:`branch_signs`);
+4. for a branch still missing, starts from the other branches' solutions
+   (:func:`flipped`) and from the neighbour at nearby arm angles.
 
 Inputs are trusted.
 """
@@ -27,7 +30,7 @@ import numpy as np
 from redkin import _chain_kernels
 from redkin._compiled import kernel
 from redkin._pose_kernels import pose_defect
-from redkin.circle import TWO_PI
+from redkin.circle import HALF_PI, TWO_PI
 from redkin.numerical._kernels import DAMPING, DAMPING_FLOOR, MAX_STEP, nearest_pose, pose_error
 from redkin.srs._ik_kernels import (
     A3,
@@ -195,15 +198,17 @@ def measured(q, target, psi, real, model, work, gradient, with_gradient, e):
 
 
 @kernel
-def newton(q, target, psi, real, model, work, best):
+def newton(q, target, psi, real, model, work, best, side, real_phase):
     """Damped Newton steps on the 7 equations ``FK(q) = T``, ``psi(q) = psi`` from ``q`` (7,), the Jacobian
     our geometric one [N1] over the gradient of :func:`arm_angle_one`; the iterate of the smallest error (position
     plus rotation plus arm angle) into ``best`` (7,), returned with its three errors.
 
     The step is ``dq = J^T y`` with ``(J J^T + lambda I) y = e`` [N2]-[N3] (``lambda`` as the numerical IK's,
     :data:`redkin.numerical._kernels.DAMPING`), at most :data:`redkin.numerical._kernels.MAX_STEP` in any joint.
-    It stops at rounding (:data:`FINE`), after :data:`NEWTON_ITERATIONS`, or once the error has not halved over
-    :data:`STALL` steps.
+    Each step stays on the branch ``side`` (3,) (Table 1 signs, :func:`branch_signs`): a joint 2, 4 or 6 that it
+    would take across its branch's boundary (``theta = 0`` or ``pi``, from the real stretched elbow ``real_phase``
+    for joint 4) goes half way to it instead (:func:`kept_on_side`).  It stops at rounding (:data:`FINE`), after
+    :data:`NEWTON_ITERATIONS`, or once the error has not halved over :data:`STALL` steps.
     """
     links, ends, standard = real
     trig = work[0]
@@ -260,8 +265,30 @@ def newton(q, target, psi, real, model, work, best):
             largest = max(largest, abs(step))
         scale = MAX_STEP / largest if largest > MAX_STEP else 1.0
         for k in range(7):
-            q[k] += scale * dq[k]
+            moved = q[k] + scale * dq[k]
+            if k % 2 == 1:
+                moved = kept_on_side(q[k], moved, model[0], k, side[k // 2], real_phase if k == 3 else 0.0)
+            q[k] = moved
     return smallest
+
+
+@kernel
+def kept_on_side(old, new, neighbour, k, sense, centre):
+    """Joint ``k``'s value ``new``, or where it leaves the side ``sense`` (+-1) of its branch (the neighbour's
+    ``theta - centre`` in ``(0, pi)`` for +1, ``(-pi, 0)`` for -1, wrapped) that ``old`` lies on, the point half
+    way from ``old`` to the boundary it crosses."""
+    sign, offset = neighbour[k, _chain_kernels.SIGN], neighbour[k, _chain_kernels.OFFSET]
+    after = turns_removed(offset + sign * new - centre + pi) - pi
+    if (after >= 0.0) == (sense > 0.0):
+        return new
+    before = turns_removed(offset + sign * old - centre + pi) - pi
+    if (before >= 0.0) != (sense > 0.0):
+        return new  # not on the side to begin with: nothing to keep
+    if abs(after) < HALF_PI:  # across 0
+        kept = 0.5 * before
+    else:  # across +-pi
+        kept = before + 0.5 * ((pi if before >= 0.0 else -pi) - before)
+    return new + sign * (kept - after)
 
 
 # ------------------------------------------------------------------ one pose, all branches
@@ -331,8 +358,9 @@ def corrections(target, psi, signs, geometry, real, tool_inverse, reach, q, work
 
 
 @kernel
-def certified_branch(q, target, psi, signs, geometry, real, model, real_phase, work):
-    """Newton's steps (:func:`newton`) from ``q`` (7,), the result normalised to the chain's joint ranges
+def certified_branch(q, target, psi, side, signs, geometry, real, model, real_phase, work):
+    """Newton's steps (:func:`newton`, kept on the branch ``side`` (3,)) from ``q`` (7,), the result normalised to
+    the chain's joint ranges
     (:func:`redkin.srs._ik_kernels.chain_values`) into ``q`` and certified as returned (FK within
     :data:`TOLERANCE` of the target, arm angle within :data:`TOLERANCE` of ``psi``); returns the row of ``signs``
     (8, 3) of its branch (:func:`branch_signs`), or -1 where it is not certified."""
@@ -340,7 +368,7 @@ def certified_branch(q, target, psi, signs, geometry, real, model, real_phase, w
     joints, neighbour = geometry[2], model[0]
     best, theta, label = vectors[1], vectors[2], vectors[3]
     e, gradient = newton_work[3], newton_work[4]
-    position, angle, turn = newton(q, target, psi, real, model, newton_work, best)
+    position, angle, turn = newton(q, target, psi, real, model, newton_work, best, side, real_phase)
     if position > TOLERANCE or angle > TOLERANCE or turn > TOLERANCE:
         return -1
     for k in range(7):
@@ -379,7 +407,7 @@ def primary(b, target, psi, signs, geometry, real, model, tool_inverse, reach, r
             start[:] = seed
         else:
             opened(seed, model[0], geometry[0][PHASE], signs[b, 1], start)
-        label = certified_branch(start, target, psi, signs, geometry, real, model, real_phase, work)
+        label = certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work)
         if label >= 0 and labels[b] < 0:
             labels[b] = label
             found[b] = start
@@ -419,8 +447,8 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
     ``False``.
 
     A branch's first starts are :func:`primary`'s.  Where they end elsewhere, the branch takes, in this order, the
-    first other branch's primary solution that landed on it, or Newton's steps (:func:`certified_branch`) from each
-    other branch's own primary solution :func:`flipped` to it, those differing in fewer signs first, or from the
+    first other branch's primary solution that landed on it, or Newton's steps (:func:`certified_branch`) from the
+    primary solutions of the three branches that differ from it in one sign, :func:`flipped` to it, or from the
     neighbour's solutions on the branch at nearby arm angles (:data:`SWEEP`).  A row is
     computed the same whichever other rows are asked for, holds one solution of its own branch (the real arm's
     signs, :func:`branch_signs`), and two rows never hold the same solution.
@@ -451,26 +479,25 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
                 q[r, :] = found[o]
                 exists[r] = True
                 break
-        for differ in range(1, 4):
-            for o in range(signs.shape[0]):
-                if exists[r] or labels[o] != o:
-                    continue
-                count = 0
-                for k in range(3):
-                    count += signs[o, k] != signs[b, k]
-                if count != differ:
-                    continue
-                flipped(found[o], model[0], real_phase, signs[b], signs[o], start)
-                if certified_branch(start, target, psi, signs, geometry, real, model, real_phase, work) == b:
-                    q[r, :] = start
-                    exists[r] = True
+        for o in range(signs.shape[0]):  # the branches that differ from it in one sign
+            if exists[r] or labels[o] != o:
+                continue
+            count = 0
+            for k in range(3):
+                count += signs[o, k] != signs[b, k]
+            if count != 1:
+                continue
+            flipped(found[o], model[0], real_phase, signs[b], signs[o], start)
+            if certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work) == b:
+                q[r, :] = start
+                exists[r] = True
         for k in range(2 * SWEEP):
             if exists[r]:
                 break
             moved = psi + (k // 2 + 1) * SWEEP_STEP * (1.0 if k % 2 == 0 else -1.0)
             if not corrections(target, moved, signs[b:b + 1], geometry, real, tool_inverse, reach, start, work[1]):
                 break
-            if certified_branch(start, target, psi, signs, geometry, real, model, real_phase, work) == b:
+            if certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work) == b:
                 q[r, :] = start
                 exists[r] = True
 
