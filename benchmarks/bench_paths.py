@@ -281,10 +281,7 @@ def franka(count=20, length=30):
     ours_time = ssik_time = 0.0
     failures, turned_failures = [], []
     for _ in range(count):
-        lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
-        a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
-        q = a + (b - a) * np.linspace(0.0, 1.0, length)[:, None]
-        poses = chain.fk(q)
+        q, poses = line(chain, rng, length)
         step = 1.5 * np.abs(np.diff(q, axis=0)).max()
         start = time.perf_counter()
         result = resolve_path(chain, poses, step)
