@@ -12,7 +12,7 @@ ROS-Industrial iiwa:
 
 The search is only as good as the solutions it is given: the laws are stated for poses where
 :func:`redkin.srs.nearly.ik` finds the branch at 99 % of the sampled arm angles or more (on 100 random poses x 8
-branches: all of the Jaco2's, 98.1 % of the Gen3's, 99.5 % of the ROS-I iiwa's); elsewhere (the stretched elbow,
+branches: all of the Jaco2's, 99.0 % of the Gen3's, 99.5 % of the ROS-I iiwa's); elsewhere (the stretched elbow,
 the wrist near axis 1) the branch's solutions come from several sheets with gaps between them, and a sample of
 another sheet can beat the optimum found on the best sample's sheet.
 """

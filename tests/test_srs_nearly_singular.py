@@ -89,7 +89,7 @@ def _branches_through(arm: NearlySRS, q: np.ndarray, part: str) -> list:
     """The two branches (user labels) that meet at an aligned configuration: its own signs, the pair's either way."""
     from redkin.srs.branches import branch_of_theta
 
-    signs = branch_of_theta(arm.geometry.theta_of_q(q), arm.geometry.elbow_equation.phase)
+    signs = branch_of_theta(arm.geometry.theta_of_q(q), arm.real_phase)
     flipped = signs.copy()
     flipped[PAIRS[part][2]] *= -1
     return [b for b in BRANCHES if tuple(arm.geometry.kernel_branch(b)[0]) in (tuple(signs), tuple(flipped))]
@@ -108,7 +108,7 @@ def _assert_certified(arm: NearlySRS, result, pose: np.ndarray) -> None:
         assert position.max() <= CERTIFICATE and rotation.max() <= CERTIFICATE
         assert _cross(arm, q, part).max() <= CERTIFICATE
         assert np.abs(_wrapped(arm_angle(arm, q) - angles)).max() <= CERTIFICATE
-        own = branch_of_theta(arm.geometry.theta_of_q(q), arm.geometry.elbow_equation.phase)
+        own = branch_of_theta(arm.geometry.theta_of_q(q), arm.real_phase)
         assert np.all(own[:, kept] == signs[kept])
 
 

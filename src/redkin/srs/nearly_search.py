@@ -78,7 +78,7 @@ def located_extremum(arm: NearlySRS, pose: np.ndarray, branch: Branch, function:
     def followed(psi: float, near: np.ndarray) -> np.ndarray | None:
         moved, certified = polished(arm, near[None], pose, lambda values: arm_angle(arm, values), psi)
         theta = arm.geometry.theta_of_q(moved)
-        same = np.all(branch_of_theta(theta, arm.geometry.elbow_equation.phase)[0] == signs)
+        same = np.all(branch_of_theta(theta, arm.real_phase)[0] == signs)
         return moved[0] if certified[0] and same else None
 
     at_start = slope(q0)
@@ -99,8 +99,8 @@ def located_extremum(arm: NearlySRS, pose: np.ndarray, branch: Branch, function:
     while abs(far - near) > _RESOLUTION:
         middle = 0.5 * (near + far)
         q_middle = followed(middle, q_near)
-        if q_middle is None:
-            far, q_far = middle, q_far
+        if q_middle is None:  # off the branch: the extremum lies nearer
+            far = middle
             continue
         if (slope(q_middle) < 0.0) == (at_start < 0.0):
             near, q_near = middle, q_middle

@@ -10,7 +10,7 @@ the axes apart, joints 1 and 3 no longer undo each other there, the aligned conf
 poses, and a self-motion near one of the neighbour's singular poses typically passes through alignment at two arm
 angles, where its ``theta_2`` changes sign: the branch ``(+, s4, s6)`` ends there and ``(-, s4, s6)`` goes on.
 Near such an arm angle the neighbour's closed form is ill-conditioned and :func:`redkin.srs.nearly.ik` may miss
-solutions over an interval of about 0.01 rad (docs/srs.md).
+the solution or land on another sheet (docs/srs.md).
 
 :func:`singular_arm_angles_nearly` computes, for one pose and branch, on the real arm:
 
@@ -178,7 +178,7 @@ def _aligned(arm: NearlySRS, pose: np.ndarray, starts: np.ndarray, sigma, signs:
     q = q[certified]
     q = np.concatenate([q, _traced_crossings(arm, pose, q, sigma)])
     theta = arm.geometry.theta_of_q(q)
-    same = np.all(branch_of_theta(theta, arm.geometry.elbow_equation.phase)[:, kept] == signs[list(kept)], axis=-1)
+    same = np.all(branch_of_theta(theta, arm.real_phase)[:, kept] == signs[list(kept)], axis=-1)
     q = q[same]
     psi = arm_angle(arm, q)
     order = np.argsort(psi)
