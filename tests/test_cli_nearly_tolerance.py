@@ -60,7 +60,7 @@ def test_the_class_follows_the_tolerance_in_python():
     assert kind == GENERAL and "0.01175 m (beyond the nearly S-R-S tolerance of 0.01 m)" in reason
     assert arm_angle_class(chain).kind == NEARLY_SRS  # no state left behind by the call above
     assert redundancy_parameter(chain, 0.013) == "psi"
-    with pytest.raises(NotArmAngleClassError, match="tolerance of 0.01 m"):
+    with pytest.raises(NotArmAngleClassError, match=r"tolerance of 0\.01 m"):
         redundancy_parameter(chain, 0.01)
     with pytest.raises(NotArmAngleClassError):
         redkin.ik(chain, _pose(), psi=0.3, srs_tolerance=0.01)

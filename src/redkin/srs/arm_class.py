@@ -76,8 +76,9 @@ def arm_angle_class(chain: SerialChain, tolerance: float | None = None) -> ArmCl
     return ArmClass(SRS, f"joints 1-3, 3-5 and 5-7 meet in points: {lengths}")
 
 
-def check_tolerance(tolerance: float) -> float:
-    """The nearly S-R-S tolerance as a float: a finite number > 0 (a ``RedkinError`` naming it otherwise)."""
+def check_tolerance(tolerance: float | str) -> float:
+    """The nearly S-R-S tolerance (a number, or its text from the command line) as a float: a finite number > 0
+    (a ``RedkinError`` naming it otherwise)."""
     try:
         value = float(tolerance)
     except (TypeError, ValueError):
