@@ -269,8 +269,8 @@ def test_the_linear_programs_never_lower_a_clearance_nor_break_a_law(seed, robot
                          lambda pieces: graphs.piece_samples(pieces, DEFAULT_SPACING), DEFAULT_CONNECT,
                          DEFAULT_REFINEMENTS, polish=polish)[0] for polish in (False, True)]
     assert runs[0].status == runs[1].status
-    if runs[1].ok:
-        assert runs[1].clearance >= runs[0].clearance
+    if runs[1].ok:  # a polished first stage may be proved and end the search, within the proof's margin
+        assert runs[1].clearance >= runs[0].clearance - (OPTIMALITY_MARGIN if runs[1].optimal else 0.0)
         assert np.abs(chain.fk(runs[1].q) - poses).max() <= FK_TOLERANCE
         assert chain.within_limits(runs[1].q).all() and np.all(np.abs(np.diff(runs[1].q, axis=0)) <= step)
 

@@ -26,7 +26,7 @@ from scipy.optimize import linprog
 from redkin.paths.graph import _CLIP_TOLERANCE, Arm
 
 #: Rounds of linear programming at most.
-ROUNDS = 40
+_ROUNDS = 40
 #: The first trust region (radians of the parameter at every waypoint).
 _FIRST_TRUST = 1e-2
 #: The derivative's half-step (radians of the parameter).
@@ -55,7 +55,7 @@ def raised(arm: Arm, branch: np.ndarray, parameter: np.ndarray, piece: np.ndarra
     if count == 0 or not np.isfinite(best):
         return parameter
     trust, curvature, again = _FIRST_TRUST, 0.0, False
-    for _ in range(ROUNDS):
+    for _ in range(_ROUNDS):
         delta = _step(arm, waypoint, branch, parameter, piece, q, start, end, trust, curvature * trust**2)
         if delta is not None:
             candidate = parameter + delta
