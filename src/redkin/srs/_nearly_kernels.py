@@ -514,15 +514,15 @@ def within_limits(q, limits):
 
 
 @kernel
-def solve(begin, end, targets, psi, rows, signs, geometry, real, model, tool_inverse, reach, real_phase, limits, q,
+def solve(start, stop, targets, psi, rows, signs, geometry, real, model, tool_inverse, reach, real_phase, limits, q,
           exists, inside):
-    """:func:`solve_one` for poses ``begin .. end - 1`` of ``targets`` (N, 4, 4) at ``psi`` (N,) on the branches
+    """:func:`solve_one` for poses ``start .. stop - 1`` of ``targets`` (N, 4, 4) at ``psi`` (N,) on the branches
     ``rows`` (R,) of ``signs`` (8, 3), into ``q`` (N, R, 7), ``exists`` (N, R) and ``inside`` (N, R), whether a
     solution is within the limits (:func:`within_limits`); returns how many targets are not poses
     (:func:`redkin._pose_kernels.pose_defect`; their rows are missing)."""
     work = scratch()
     bad = 0
-    for n in range(begin, end):
+    for n in range(start, stop):
         if pose_defect(targets[n]) != OK:
             bad += 1
             q[n, :, :] = 0.0
@@ -537,10 +537,10 @@ def solve(begin, end, targets, psi, rows, signs, geometry, real, model, tool_inv
 
 
 @kernel
-def arm_angles(begin, end, q, model, out):
-    """:func:`arm_angle_one` of joint vectors ``begin .. end - 1`` of ``q`` (N, 7) into ``out`` (N,)."""
+def arm_angles(start, stop, q, model, out):
+    """:func:`arm_angle_one` of joint vectors ``start .. stop - 1`` of ``q`` (N, 7) into ``out`` (N,)."""
     work = scratch()[0][2]
     gradient = np.empty(7)
-    for n in range(begin, end):
+    for n in range(start, stop):
         out[n] = arm_angle_one(q[n], model[0], model[1], model[2], model[3], work, gradient, False)
 
