@@ -1,7 +1,7 @@
 """Nearly S-R-S arm-angle IK (issue 27, item 6): redkin.srs.nearly.ik beside ssik 8.2's approximate-S-R-S solver.
 
 Run: ``python benchmarks/bench_nearly.py`` (10^4 random poses and 10^3 near-singular poses per set and arm, about
-five minutes with ssik); ``--poses N`` (random poses), ``--near M`` (poses per near-singular set), ``--arms``
+three minutes with ssik); ``--poses N`` (random poses), ``--near M`` (poses per near-singular set), ``--arms``
 (a subset of gen3, gen3-urdf, jaco2), ``--ssik-python K`` (poses for ssik's one-swivel Python call, 1000 by
 default), ``--quick`` (200 random, 50 near, 20 for the Python call).  Prints the machine, one table per arm and the
 issue's targets.
