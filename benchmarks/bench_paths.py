@@ -128,17 +128,24 @@ def _failure(path: BaselinePath) -> str:
     return f"{path.reason} at {k}{joint}{excess}"
 
 
+def random_line_path(chain, rng, length):
+    """A random joint-space line of ``length`` waypoints, its poses, a bound of 1.5 x its largest step, and
+    ``resolve_path``'s answer with its time (seconds)."""
+    q, poses = line(chain, rng, length)
+    step = 1.5 * np.abs(np.diff(q, axis=0)).max()
+    start = time.perf_counter()
+    result = resolve_path(chain, poses, step)
+    return q, poses, step, result, time.perf_counter() - start
+
+
 def random_paths(chain, arm, count=20, length=30):
     rng = np.random.default_rng(1)
     found = proved = greedy_bad = fixed_bad = clamped_bad = 0
     where = []
     ssik_start, ssik_any, ssik_time, ours_time = [], 0, 0.0, 0.0
     for _ in range(count):
-        q, poses = line(chain, rng, length)
-        step = 1.5 * np.abs(np.diff(q, axis=0)).max()
-        start = time.perf_counter()
-        result = resolve_path(chain, poses, step)
-        ours_time += time.perf_counter() - start
+        q, poses, step, result, seconds = random_line_path(chain, rng, length)
+        ours_time += seconds
         found += result.ok
         proved += result.optimal
         branch = str(arm_angle_of(chain, q[0]).branch_strings())
@@ -281,11 +288,8 @@ def franka(count=20, length=30):
     ours_time = ssik_time = 0.0
     failures, turned_failures = [], []
     for _ in range(count):
-        q, poses = line(chain, rng, length)
-        step = 1.5 * np.abs(np.diff(q, axis=0)).max()
-        start = time.perf_counter()
-        result = resolve_path(chain, poses, step)
-        ours_time += time.perf_counter() - start
+        q, poses, step, result, seconds = random_line_path(chain, rng, length)
+        ours_time += seconds
         found += result.ok
         proved += result.optimal
         if arm is not None:
