@@ -7,9 +7,9 @@ feasible sets [000 eq. 30] (:func:`redkin.srs.feasible_pieces_all_branches`):
 the arcs between consecutive limit crossings, inside which every joint is a
 continuous function of the arm angle.  Each piece contributes its two ends,
 its middle and the points of a uniform grid inside it, so no feasible arc is
-missed however narrow.  :func:`connect` then splits evenly every interval between
-neighbouring nodes of a piece across which some joint moves more than a
-fraction of its step bound, and :func:`window` samples finer around
+missed however narrow.  :func:`connect` then splits evenly every interval
+between neighbouring nodes of a piece across which some joint moves more than
+a fraction of its step bound, and :func:`window` samples finer around
 the nodes a search chose.
 
 Joints whose range holds every angle (:attr:`SerialChain.covers_circle`) are
@@ -196,16 +196,19 @@ def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
     return graph
 
 
-def window(arm: Arm, graph: Graph, chosen: np.ndarray, width: float, bounds: np.ndarray, count: int) -> Graph:
-    """A graph of the arm angles ``psi_c + width j / 4`` (``j = -4 .. 4``) of each chosen node ``c``, in its piece
+def window(arm: Arm, graph: Graph, chosen: np.ndarray, width: float, bounds: np.ndarray, count: int,
+           frozen: np.ndarray | None = None) -> Graph:
+    """A graph of the parameters ``psi_c + width j / 2`` (``j = -2 .. 2``) of each chosen node ``c``, in its piece
     (``bounds`` (pieces, 2): each piece's ends) and on its branch: the chosen path stays in it, and neighbouring
-    paths up to ``width`` away are sampled four times finer.  A node outside any piece (``q0``'s own) is kept
-    alone."""
+    paths up to ``width`` away are sampled twice finer.  A node outside any piece (``q0``'s own), or ``frozen``
+    (per chosen node: its path is refined no further), is kept alone."""
     offsets = np.arange(-_WINDOW_SIDE, _WINDOW_SIDE + 1)
     node = np.repeat(chosen, offsets.size)
     piece = graph.piece[node]
     psi = graph.psi[node] + width * np.tile(offsets / _WINDOW_SIDE, chosen.size)
     alone = piece < 0
+    if frozen is not None:
+        alone |= np.repeat(frozen, offsets.size)
     inside = alone | ((psi >= bounds[piece, 0]) & (psi <= bounds[piece, 1]))
     inside &= ~alone | (np.tile(offsets, chosen.size) == 0)
     psi = np.where(alone, graph.psi[node], psi)

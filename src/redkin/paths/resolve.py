@@ -42,6 +42,9 @@ DEFAULT_SPACING = 2.0 * np.pi / 16
 DEFAULT_CONNECT = 0.25
 #: Rounds of refinement around the path found (:func:`redkin.paths.graph.window`; the window halves each round).
 DEFAULT_REFINEMENTS = 30
+#: Rounds of refinement where the first search's clearance is already proved optimal (for the motion alone: the
+#: rounds after these changed the motion of 1000 iiwa14 waypoints by 1e-5 of itself).
+_PROVED_REFINEMENTS = 10
 #: The first refinement window (radians of arm angle on each side of the path found).
 _FIRST_WINDOW = 0.05
 #: Refinement stops once the window is narrower than this (radians of arm angle).
@@ -291,11 +294,14 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
                             int(prefix[p])) for p in range(count) if p not in chosen}
     nodes = len(graph.psi)
     width = _FIRST_WINDOW
-    for _ in range(refinements):  # finer around the paths found, in a window that halves each round
-        if not chosen or width < _REFINED:
+    rounds = {p: refinements if motion_first or not _proved(family, arm_data, graph, chosen[p], poses[p])
+              else min(refinements, _PROVED_REFINEMENTS) for p in chosen}  # proved: rounds for the motion alone
+    for done in range(refinements):  # finer around the paths found, in a window that halves each round
+        if not chosen or width < _REFINED or all(rounds[p] <= done for p in chosen):
             break
         path_nodes = np.concatenate([chosen[p] for p in sorted(chosen)])
-        graph = graphs.window(arm_data, graph, path_nodes, width, bounds, len(rows))
+        frozen = np.concatenate([np.full(len(chosen[p]), rounds[p] <= done) for p in sorted(chosen)])
+        graph = graphs.window(arm_data, graph, path_nodes, width, bounds, len(rows), frozen)
         nodes += len(graph.psi)
         _, chosen = searched(graph)
         width *= 0.5
@@ -482,6 +488,11 @@ def _checked_path(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, pos
     bottleneck = _bottleneck(family, poses, clearance) if prove else None
     return PathResult("ok", q, [str(BRANCHES[b]) for b in graph.branch[nodes]], parameter, float(clearance.min()),
                       motion, arm.step, None, size, bottleneck is not None, bottleneck, family.parameter)
+
+
+def _proved(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, poses: np.ndarray) -> bool:
+    """Whether the path ``nodes`` of ``graph`` already has a clearance proved optimal (:func:`_bottleneck`)."""
+    return _bottleneck(family, poses, arm.clearance(graph.q[nodes])) is not None
 
 
 def _bottleneck(family: Family, poses: np.ndarray, clearance: np.ndarray) -> int | None:
