@@ -4,7 +4,10 @@ Run: ``python benchmarks/bench_nearly.py`` (10^4 random poses and 10^3 near-sing
 three minutes with ssik); ``--poses N`` (random poses), ``--near M`` (poses per near-singular set), ``--arms``
 (a subset of gen3, gen3-urdf, jaco2), ``--ssik-python K`` (poses for ssik's one-swivel Python call, 1000 by
 default), ``--quick`` (200 random, 50 near, 20 for the Python call).  Prints the machine, one table per arm and the
-issue's targets.
+issue's targets.  ``--feasible`` runs only the feasible-set check below (``--feasible-poses N``, 100 by default;
+``--feasible-samples M``, 10^4 by default; ``--feasible-arms``): about 4 minutes at the default size on 2 cores;
+the issue's full size, 1000 poses x 10^5 arm angles, is 100 times the sampling, about 5 hours (0.5-1 s per
+pose-branch for 10^5 arm angles).
 
 The arms:
 
@@ -61,6 +64,29 @@ ssik 8.2 (``pip install ssik==8.2.*``; skipped with the reason when it does not 
   branch (the branch signs of redkin's neighbour).  Also printed: the distinct branches among its certified
   answers per pose, beside redkin's certified rows.
 
+**Feasible sets** (``--feasible``; issue 27's "feasible sets vs dense sampling" target): the Gen3
+(``examples/gen3.urdf`` as above), the Jaco2 (``examples/jaco2.urdf``) and the ROS-Industrial iiwa
+(``examples/iiwa14_rosi.urdf``, base_link to tool0), with limits that cut the circle: the Gen3's and Jaco2's
+continuous joints 1, 3, 5, 7 get +-2.9 rad for the check (:data:`CONTINUOUS_LIMIT`), the other joints and the
+iiwa's keep their own.  Poses: FK of q uniform within those limits (``default_rng(3)``).  Per pose and branch:
+
+* ``feasible_arm_angles_nearly(arm, pose, branch)``, timed;
+* M uniform arm angles (``psi[0] = -pi``, spacing 2 pi / M), all 8 branches in one ``nearly.ik`` call per pose
+  (it broadcasts one pose against an array of psi): a sample is feasible where the branch's row is marked found,
+  passes our certificate (FK 1e-9 m and rad, ``nearly.arm_angle`` 1e-9 rad) and ``chain.within_limits`` modulo
+  whole turns (the samples where this differs from ``nearly.ik``'s own flag are counted);
+* compared: runs of consecutive feasible samples outside the computed set (missed; 2 samples or more are an arc
+  wider than the spacing, and any sample farther than 1e-6 rad from the set breaks the issue's target), runs of
+  infeasible samples inside it (false, with the depth: distance from the set's nearest end), and the ends of the
+  computed arcs (agreeing when the sample just inside is feasible and the one just outside is not, i.e. the sampled
+  boundary within one spacing).
+
+Each flagged run (up to :data:`CLASSIFIED` per arm, farthest first) is printed with its pose index, branch, psi
+and the pose's q, ``nearly.ik``'s row there, the oracle's (:func:`existing_branches`) solution of the branch and
+whether it lies within the limits (an infeasible sample the oracle finds feasible is ``nearly.ik`` missing the
+branch, not the set), where the solution lies (:func:`where_solutions_lie`) and the distance to the branch's
+nearest singular arm angle (``singular_arm_angles_nearly``).
+
 Times are per call, failures included.  The machine may be shared: the load average is printed at the start and
 the end.
 """
@@ -78,8 +104,21 @@ from timing import load_average, machine_lines  # benchmarks/timing.py (the scri
 
 from redkin import thread_count
 from redkin.chain import SerialChain
+from redkin.circle import ArcSet
 from redkin.models import get_robot
-from redkin.srs import BRANCHES, NearlySolutions, NearlySRS, arm_angle_of, nearly, nearly_srs, reachable
+from redkin.srs import (
+    BRANCHES,
+    NearlySolutions,
+    NearlySRS,
+    arm_angle_of,
+    feasible_arm_angles,
+    feasible_arm_angles_nearly,
+    nearly,
+    nearly_srs,
+    reachable,
+    singular_arm_angles_nearly,
+    srs_geometry,
+)
 from redkin.srs import ik as exact_ik
 from redkin.urdf import load_urdf
 
@@ -250,25 +289,28 @@ def miss_causes(arm: NearlySRS, poses: np.ndarray, solutions: np.ndarray, missed
     if not missed.any():
         return "none"
     pose_index, branch = np.nonzero(missed)
-    q = solutions[pose_index, branch]
+    places = where_solutions_lie(arm, poses[pose_index], solutions[pose_index, branch])
+    return ", ".join(f"{name} {int(np.sum(places == name))}" for name in CAUSES if np.any(places == name))
+
+
+#: :func:`where_solutions_lie`'s labels, in the order they are tried.
+CAUSES = ("wrist near axis 1", "near the stretched elbow", "theta_2 near 0 or pi", "theta_6 near 0 or pi",
+          "elsewhere")
+
+
+def where_solutions_lie(arm: NearlySRS, poses: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The first label of :data:`CAUSES` that applies to each solution ``q`` (M, 7) of ``poses`` (M, 4, 4): the
+    wrist within :data:`CAUSE_SINE` (a sine seen from the shoulder) of axis 1, the neighbour's theta_4 within it of
+    the real stretched elbow, theta_2 or theta_6 within it of 0 or pi, else "elsewhere"."""
     geometry = arm.geometry
-    frame = np.linalg.inv(geometry.chain.base) @ poses[pose_index] @ np.linalg.inv(geometry.chain.tool)
+    frame = np.linalg.inv(geometry.chain.base) @ poses @ np.linalg.inv(geometry.chain.tool)
     wrist = frame[:, :3, 3] - geometry.d_wt * frame[:, :3, 2] - np.array([0.0, 0.0, geometry.d_bs])
     sines = np.hypot(wrist[:, 0], wrist[:, 1]) / np.linalg.norm(wrist, axis=-1)
     theta = geometry.theta_of_q(q)
-    names = ("wrist near axis 1", "near the stretched elbow", "theta_2 near 0 or pi", "theta_6 near 0 or pi",
-             "elsewhere")
     tests = (sines < CAUSE_SINE, np.abs(np.sin(theta[:, 3] - arm.real_phase)) < CAUSE_SINE,
              np.abs(np.sin(theta[:, 1])) < CAUSE_SINE, np.abs(np.sin(theta[:, 5])) < CAUSE_SINE,
              np.ones(len(q), dtype=bool))
-    taken = np.zeros(len(q), dtype=bool)
-    counts = []
-    for name, test in zip(names, tests):
-        hit = test & ~taken
-        taken |= hit
-        if hit.any():
-            counts.append(f"{name} {int(hit.sum())}")
-    return ", ".join(counts)
+    return np.select(tests, CAUSES, default=CAUSES[-1])
 
 
 #: :func:`near_singular`'s bound on the sines of the neighbour's theta_2, theta_4 and theta_6.
@@ -614,6 +656,274 @@ def _percent(count: int, total: int) -> str:
     return f"{100.0 * count / max(total, 1):.2f} %"
 
 
+# ----------------------------------------------------------------------------- feasible sets vs dense sampling
+#: The continuous joints (Gen3 and Jaco2 joints 1, 3, 5, 7) get these limits [rad] in the feasible-set check, so
+#: that every joint's limits cut the circle of arm angles.
+CONTINUOUS_LIMIT = 2.9
+FEASIBLE_ARMS: dict[str, tuple[str, Callable[[], SerialChain]]] = {
+    "gen3": (ARMS["gen3-urdf"].description, ARMS["gen3-urdf"].load),
+    "jaco2": (ARMS["jaco2"].description, ARMS["jaco2"].load),
+    "iiwa14-rosi": ("examples/iiwa14_rosi.urdf, base_link to tool0 (ROS-Industrial, 0.436 mm offsets)",
+                    lambda: load_urdf(EXAMPLES / "iiwa14_rosi.urdf")),
+}
+#: Flagged arcs per arm that are classified (oracle, singular arm angles); the rest are only counted.
+CLASSIFIED = 30
+#: The target's width [rad]: a feasible sample farther than this from the computed set is an arc it misses.
+MISSED = 1e-6
+#: Arm angles per call of ``nearly.ik`` in the sampling (memory).
+CHUNK = 20_000
+
+
+def limited(chain: SerialChain) -> SerialChain:
+    """``chain`` with its unlimited joints limited to +-:data:`CONTINUOUS_LIMIT`."""
+    return chain.with_limits(np.where(np.isfinite(chain.lower), chain.lower, -CONTINUOUS_LIMIT),
+                             np.where(np.isfinite(chain.upper), chain.upper, CONTINUOUS_LIMIT))
+
+
+def sampled_feasible(arm: NearlySRS, pose: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, int]:
+    """Where each branch has a solution within the limits at each arm angle ``psi`` (M,), (M, 8) in the order of
+    ``nearly.ik``'s rows: a row that ``nearly.ik`` marks found and that passes our certificate (FK within 1e-9 m and
+    rad, ``nearly.arm_angle`` within 1e-9 rad) and ``chain.within_limits`` (modulo whole turns); and how many samples
+    this verdict differs from ``nearly.ik``'s own ``within_limits``."""
+    feasible = np.empty((len(psi), 8), dtype=bool)
+    differ = 0
+    for start in range(0, len(psi), CHUNK):
+        angles = psi[start:start + CHUNK]
+        result = nearly.ik(arm, pose, angles)
+        angle_error = np.abs(wrapped(nearly.arm_angle(arm, result.q) - angles[:, None]))
+        ours = (result.exists & certified(arm.chain, result.q, pose) & (angle_error <= TOLERANCE)
+                & arm.chain.within_limits(result.q, wrap=True))
+        feasible[start:start + CHUNK] = ours
+        differ += int(np.sum(ours != result.within_limits))
+    return feasible, differ
+
+
+def cyclic_runs(mask: np.ndarray) -> list[np.ndarray]:
+    """The maximal runs of consecutive True entries of ``mask`` (M,), read cyclically, as index arrays."""
+    if not mask.any():
+        return []
+    if mask.all():
+        return [np.arange(len(mask))]
+    start = int(np.argmin(mask))  # a False entry: no run crosses it
+    edges = np.diff(np.concatenate([[0], np.roll(mask, -start).astype(int), [0]]))
+    return [(np.arange(low, high) + start) % len(mask)
+            for low, high in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1))]
+
+
+def end_distance(arcs: ArcSet, psi: np.ndarray) -> np.ndarray:
+    """Distance [rad] of each arm angle from the nearest end of the set's arcs (inf for an empty or full set)."""
+    if arcs.is_empty or arcs.is_full:
+        return np.full(len(psi), np.inf)
+    ends = np.array([end for arc in arcs.arcs for end in arc])
+    return np.abs(wrapped(psi[:, None] - ends)).min(axis=-1)
+
+
+class Flag(NamedTuple):
+    """A disagreement of the computed set with the sampling on one pose and branch."""
+
+    kind: str  # "missed": feasible samples outside the set; "false": infeasible samples inside it
+    pose: int
+    branch: int  # index in BRANCHES
+    psi: float  # the run's sample farthest from the set's nearest end
+    samples: int  # samples in the run
+    distance: float  # that sample's distance from the set's nearest end [rad]
+
+
+class Comparison(NamedTuple):
+    """One pose and branch: the disagreements and how the set's ends agree with the sampled boundary."""
+
+    flags: list[Flag]
+    ends_agreeing: int
+    ends_checked: int
+    narrow: int  # computed arcs that hold no sample
+
+
+def compare(psi: np.ndarray, feasible: np.ndarray, arcs: ArcSet, pose: int, branch: int) -> Comparison:
+    """The computed set ``arcs`` against the sampled verdicts ``feasible`` at the uniform arm angles ``psi`` (M,),
+    ``psi[0] = -pi``: runs of feasible samples outside the set, runs of infeasible samples inside it, and each end of
+    a computed arc that holds a sample, which agrees when the sample just inside the end is feasible and the one just
+    outside is not (the sampled boundary within one spacing of the end)."""
+    count = len(psi)
+    spacing = 2.0 * np.pi / count
+    inside = np.asarray(arcs.contains(psi))
+    flags = []
+    for kind, mask in (("missed", feasible & ~inside), ("false", ~feasible & inside)):
+        for run in cyclic_runs(mask):
+            distance = end_distance(arcs, psi[run])
+            far = int(np.argmax(distance))
+            flags.append(Flag(kind, pose, branch, float(psi[run[far]]), len(run), float(distance[far])))
+    agreeing = checked = narrow = 0
+    if not (arcs.is_empty or arcs.is_full):
+        for low, high in arcs.arcs:
+            first = int(np.ceil((low + np.pi) / spacing - 1e-9)) % count
+            if (psi[first] - low) % (2.0 * np.pi) > (high - low) % (2.0 * np.pi):
+                narrow += 1
+                continue
+            last = int(np.floor((high + np.pi) / spacing + 1e-9)) % count
+            agreeing += int(feasible[first] and not feasible[first - 1])
+            agreeing += int(feasible[last] and not feasible[(last + 1) % count])
+            checked += 2
+    return Comparison(flags, agreeing, checked, narrow)
+
+
+class FeasibleResult(NamedTuple):
+    name: str
+    lines: list[str]
+    pose_branches: int
+    missed: list[Flag]
+    false: list[Flag]
+
+
+def measure_feasible(name: str, count: int, samples: int) -> FeasibleResult:
+    """``feasible_arm_angles_nearly`` on ``count`` random poses and every branch of one arm, against ``samples``
+    uniform arm angles (module docstring, "Feasible sets")."""
+    description, load = FEASIBLE_ARMS[name]
+    chain = limited(load())
+    arm = nearly_srs(chain)
+    q = in_limits(chain, np.random.default_rng(3), count)
+    poses = chain.fk(q)
+    psi = np.linspace(-np.pi, np.pi, samples, endpoint=False)
+    spacing = 2.0 * np.pi / samples
+    feasible_arm_angles_nearly(arm, poses[0], BRANCH_NAMES[0])  # compiled (or loaded from the cache) before the clock
+    set_seconds = sample_seconds = 0.0
+    flags: list[Flag] = []
+    agreeing = checked = narrow = differ = nonempty = 0
+    sets: dict[tuple[int, int], ArcSet] = {}
+    for k in range(count):
+        start = time.perf_counter()
+        feasible, different = sampled_feasible(arm, poses[k], psi)
+        sample_seconds += time.perf_counter() - start
+        differ += different
+        for b, branch in enumerate(BRANCH_NAMES):
+            start = time.perf_counter()
+            arcs = feasible_arm_angles_nearly(arm, poses[k], branch).feasible
+            set_seconds += time.perf_counter() - start
+            nonempty += not arcs.is_empty or bool(feasible[:, b].any())
+            comparison = compare(psi, feasible[:, b], arcs, k, b)
+            flags += comparison.flags
+            if comparison.flags:
+                sets[k, b] = arcs
+            agreeing += comparison.ends_agreeing
+            checked += comparison.ends_checked
+            narrow += comparison.narrow
+    pose_branches = 8 * count
+    missed = [f for f in flags if f.kind == "missed"]
+    false = [f for f in flags if f.kind == "false"]
+    wide = [f for f in missed if f.samples >= 2]
+
+    def largest(values: list[Flag]) -> str:
+        return "-" if not values else f"{max(f.distance for f in values):.3g} rad"
+
+    lines = [f"## feasible sets, {name}: {description}", "", f"- {arm.describe()}",
+             f"- limits (rad): lower {np.round(chain.lower, 4).tolist()}, upper {np.round(chain.upper, 4).tolist()}"
+             f"{'' if np.isfinite(load().lower).all() else f' (continuous joints given +-{CONTINUOUS_LIMIT})'}",
+             f"- {count} poses (FK of q uniform within the limits, default_rng(3)) x 8 branches; {samples} arm angles "
+             f"sampled per pose (spacing {spacing:.3g} rad)", "",
+             "| measurement | result |", "|---|---|",
+             f"| pose-branches (with a feasible arm angle, computed or sampled) | {pose_branches} ({nonempty}) |",
+             f"| `feasible_arm_angles_nearly`, per pose-branch | {_us(set_seconds / pose_branches)} |",
+             f"| sampling ({samples} arm angles, 8 branches per call), per pose-branch | "
+             f"{_us(sample_seconds / pose_branches)} |",
+             f"| missed arcs: >= 2 consecutive feasible samples outside the set (wider than {spacing:.2g} rad) | "
+             f"{len(wide)}; widest run {max((f.samples for f in wide), default=0)} samples, farthest from the set "
+             f"{largest(wide)} |",
+             f"| single feasible samples outside the set | {len(missed) - len(wide)}; farthest from the set "
+             f"{largest([f for f in missed if f.samples < 2])} |",
+             f"| false arcs: runs of infeasible samples inside the set | {len(false)}; {sum(f.samples for f in false)} "
+             f"samples, deepest {largest(false)} from the set's nearest end |",
+             f"| ends of computed arcs within one spacing of the sampled boundary | {agreeing}/{checked} "
+             f"({narrow} computed arcs hold no sample) |",
+             f"| samples where our check and `nearly.ik`'s `within_limits` differ | {differ} |"]
+    lines += classify(arm, q, poses, flags, sets, spacing)
+    lines.append("")
+    return FeasibleResult(name, lines, pose_branches, missed, false)
+
+
+def classify(arm: NearlySRS, q: np.ndarray, poses: np.ndarray, flags: list[Flag], sets: dict[tuple[int, int], ArcSet],
+             spacing: float) -> list[str]:
+    """One line per flagged run (the :data:`CLASSIFIED` farthest from the set), to reproduce and explain it:
+    ``nearly.ik``'s row at the run's arm angle, the oracle's (:func:`existing_branches`) solution of the branch
+    there and whether it lies within the limits, where the solution lies (:func:`where_solutions_lie`), and the
+    distance to the branch's nearest singular arm angle (``singular_arm_angles_nearly``)."""
+    if not flags:
+        return []
+    chosen = sorted(flags, key=lambda f: -f.distance)[:CLASSIFIED]
+    index = np.array([f.pose for f in chosen])
+    angles = np.array([f.psi for f in chosen])
+    exists, solutions = existing_branches(arm, poses[index], angles, q[index])
+    lines = ["", f"Flagged runs ({len(chosen)} of {len(flags)}, farthest from the set first; q: the pose's joint "
+                 "vector):", ""]
+    for k, flag in enumerate(chosen):
+        pose = poses[flag.pose]
+        row = nearly.ik(arm, pose, flag.psi, BRANCH_NAMES[flag.branch])
+        found = bool(row.exists[0])
+        oracle = bool(exists[k, flag.branch])
+        solution = row.q[0] if found else solutions[k, flag.branch]
+        if found:
+            verdict = f"nearly.ik row {'within' if row.within_limits[0] else 'outside'} the limits"
+        else:
+            verdict = "nearly.ik: branch missing"
+        if oracle:
+            inside = bool(arm.chain.within_limits(solutions[k, flag.branch], wrap=True))
+            verdict += f"; oracle: a solution {'within' if inside else 'outside'} the limits"
+        else:
+            verdict += "; oracle: none"
+        if found or oracle:
+            verdict += f"; {where_solutions_lie(arm, pose[None], solution[None])[0]}; {_solution_facts(arm, solution)}"
+        singular = singular_arm_angles_nearly(arm, pose, BRANCH_NAMES[flag.branch])
+        marks = np.array(singular.shoulder + singular.wrist)
+        nearest = f"{np.abs(wrapped(marks - flag.psi)).min():.3g} rad" if marks.size else "none"
+        lines.append(f"- {flag.kind}: pose {flag.pose}, branch {BRANCH_NAMES[flag.branch]}, psi = {flag.psi!r} "
+                     f"({flag.samples} samples, about {flag.samples * spacing:.2g} rad wide; {flag.distance:.3g} rad "
+                     f"from the set's nearest end); {verdict}; nearest singular arm angle {nearest}; "
+                     f"{_neighbour_facts(arm, pose, flag.psi, BRANCH_NAMES[flag.branch], solution)}; set "
+                     f"{[(round(a, 6), round(b, 6)) for a, b in sets[flag.pose, flag.branch].arcs]}; "
+                     f"q = {np.round(q[flag.pose], 12).tolist()}")
+    return lines
+
+
+def _solution_facts(arm: NearlySRS, solution: np.ndarray) -> str:
+    """The joint of ``solution`` (7,) nearest its limit (modulo whole turns; negative: beyond it) and the sines of
+    the neighbour's theta_2, theta_4 from the real stretched elbow, and theta_6 there."""
+    lower, upper = arm.chain.lower, arm.chain.upper
+    middle = 0.5 * (lower + upper)
+    moved = middle + wrapped(solution - middle)
+    margin = np.minimum(moved - lower, upper - moved)
+    joint = int(np.argmin(margin))
+    theta = arm.geometry.theta_of_q(solution)
+    sines = np.abs(np.sin([theta[1], theta[3] - arm.real_phase, theta[5]]))
+    return (f"tightest joint q{joint + 1} = {moved[joint]:.4f}, margin {margin[joint]:.3g} rad; |sin| of theta_2, "
+            f"theta_4 - stretch, theta_6: {sines[0]:.2g}, {sines[1]:.2g}, {sines[2]:.2g}")
+
+
+def _neighbour_facts(arm: NearlySRS, pose: np.ndarray, psi: float, branch: str, solution: np.ndarray) -> str:
+    """The set's own ``delta``, the difference of ``solution`` from the nearest of the neighbour's closed-form
+    solutions at ``psi``, and whether the neighbour's set for limits loosened by ``delta`` holds ``psi`` (the
+    premise of ``feasible_arm_angles_nearly``'s step 2 for a feasible sample)."""
+    delta = feasible_arm_angles_nearly(arm, pose, branch).delta
+    if not reachable(arm.geometry, pose):
+        return f"delta {delta:.3g} rad; the neighbour does not reach the pose"
+    closed = np.stack([exact_ik(arm.geometry, pose, psi, name) for name in BRANCH_NAMES])
+    gap = float(distance(closed[None], solution[None])[0].min()) if np.isfinite(solution).all() else np.nan
+    loose = arm.neighbour.with_limits(arm.neighbour.lower - delta, arm.neighbour.upper + delta)
+    holds = bool(feasible_arm_angles(srs_geometry(loose), pose, branch).feasible.contains(psi))
+    return (f"delta {delta:.3g} rad, |q - q_N| there {gap:.3g} rad; the neighbour's set loosened by delta "
+            f"{'holds' if holds else 'does not hold'} psi")
+
+
+def feasible_table(results: list[FeasibleResult]) -> list[str]:
+    """Issue 27's feasible-set target per arm at the size run."""
+    lines = ["## Issue 27 target: feasible sets vs dense sampling", "",
+             "| arm | pose-branches | missed runs (>= 2 samples / single) | missed runs with a sample more than "
+             f"{MISSED:g} rad from the set | false arcs | target: none of those |", "|---|---|---|---|---|---|"]
+    for r in results:
+        wide = sum(f.samples >= 2 for f in r.missed)
+        far = sum(f.distance > MISSED for f in r.missed)
+        lines.append(f"| {r.name} | {r.pose_branches} | {wide} / {len(r.missed) - wide} | {far} | {len(r.false)} | "
+                     f"{'met' if far == 0 else '**not met**'} |")
+    return lines
+
+
 # ----------------------------------------------------------------------------- the issue's targets
 def targets_table(results: list[ArmResult]) -> list[str]:
     """The issue's targets per arm, each marked met or not met."""
@@ -645,7 +955,7 @@ def targets_table(results: list[ArmResult]) -> list[str]:
     return lines
 
 
-def main(argv: Sequence[str] | None = None) -> list[ArmResult]:
+def main(argv: Sequence[str] | None = None) -> list[ArmResult] | list[FeasibleResult]:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--poses", type=int, default=10_000, help="random poses per arm (default 10000)")
     parser.add_argument("--near", type=int, default=1000, help="poses per near-singular set (default 1000)")
@@ -653,7 +963,16 @@ def main(argv: Sequence[str] | None = None) -> list[ArmResult]:
                         help="poses for ssik's one-swivel Python call (default 1000)")
     parser.add_argument("--arms", nargs="+", choices=list(ARMS), default=list(ARMS), help="a subset of the arms")
     parser.add_argument("--quick", action="store_true", help="200 random poses, 50 near, 20 for the Python call")
+    parser.add_argument("--feasible", action="store_true",
+                        help="only the feasible sets against dense sampling (module docstring)")
+    parser.add_argument("--feasible-poses", type=int, default=100, help="poses per arm for --feasible (default 100)")
+    parser.add_argument("--feasible-samples", type=int, default=10_000,
+                        help="arm angles sampled per pose for --feasible (default 10000)")
+    parser.add_argument("--feasible-arms", nargs="+", choices=list(FEASIBLE_ARMS), default=list(FEASIBLE_ARMS),
+                        help="a subset of the arms for --feasible")
     args = parser.parse_args(argv)
+    if args.feasible:
+        return main_feasible(args.feasible_arms, args.feasible_poses, args.feasible_samples, parser)
     count, near, python_count = (200, 50, 20) if args.quick else (args.poses, args.near, args.ssik_python)
     if min(count, near, python_count) < 1:
         parser.error("--poses, --near and --ssik-python must be positive")
@@ -664,6 +983,22 @@ def main(argv: Sequence[str] | None = None) -> list[ArmResult]:
         results.append(measure(name, count, near, python_count))
         print("\n".join(results[-1].lines), flush=True)
     print("\n".join(targets_table(results)))
+    print(f"\n- load average at the end (1, 5, 15 min): {load_average()}")
+    return results
+
+
+def main_feasible(arms: Sequence[str], count: int, samples: int,
+                  parser: argparse.ArgumentParser) -> list[FeasibleResult]:
+    """The feasible-set section alone (``--feasible``)."""
+    if count < 1 or samples < 8:
+        parser.error("--feasible-poses must be positive and --feasible-samples at least 8")
+    print("# Nearly S-R-S feasible arm angles vs dense sampling, issue 27 (benchmarks/bench_nearly.py --feasible)\n")
+    print("\n".join(machine_lines(("numpy", "numba"))) + "\n", flush=True)
+    results = []
+    for name in arms:
+        results.append(measure_feasible(name, count, samples))
+        print("\n".join(results[-1].lines), flush=True)
+    print("\n".join(feasible_table(results)))
     print(f"\n- load average at the end (1, 5, 15 min): {load_average()}")
     return results
 
