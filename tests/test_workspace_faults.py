@@ -241,7 +241,9 @@ def test_a_cluster_worker_killed_mid_write_costs_nothing(pa10, small_map, client
         dead = patched - alive
         _two_live_workers(client)  # the nannies restart the dead, without the patch
     assert dead, "no worker died: the fault was not injected"
-    assert run.computed == CHUNKS and 1 <= len(_partial_files(path)) <= len(dead)
+    # each death tears the file being written and any other write under way in that worker at the moment (zarr may
+    # store several files at once: a CI run found 3 torn files from 2 deaths); none is a file the map reads
+    assert run.computed == CHUNKS and len(_partial_files(path)) >= 1
     _assert_resumes_to_the_reference(pa10, path, small_map, CHUNKS)
 
 
