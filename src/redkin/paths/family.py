@@ -27,7 +27,7 @@ from redkin.franka.ik import frames_seven
 from redkin.franka.ik import ik as franka_ik
 from redkin.paths import _dp_kernels
 from redkin.paths.failure import empty_blocker
-from redkin.paths.graph import Arm
+from redkin.paths.graph import Arm, joint_moves
 from redkin.srs import _ik_kernels
 from redkin.srs.arm_angle import arm_angle_of
 from redkin.srs.branches import BRANCHES, Branch
@@ -224,9 +224,7 @@ class Q7Family(Family):
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """q7 is the configuration's own joint 7; its branch is the one whose solution at that q7 is nearest."""
         solutions = franka_ik(self.geometry, self.chain.fk(q), q[:, 6])
-        d = np.abs(solutions.q - q[:, None, :])
-        turned = np.mod(d, 2.0 * np.pi)
-        far = np.where(self.chain.covers_circle, np.minimum(turned, 2.0 * np.pi - turned), d).max(axis=-1)
+        far = joint_moves(solutions.q, q[:, None, :], self.chain.covers_circle).max(axis=-1)
         branch = np.argmin(np.where(solutions.exists, far, np.inf), axis=-1)
         return branch.astype(np.int64), q[:, 6].copy()
 

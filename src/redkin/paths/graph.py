@@ -105,11 +105,16 @@ class Arm:
         return inside.min(axis=-1)
 
     def moves(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """How far each joint moves between ``a`` and ``b`` (..., 7): on the circle for the joints of
-        :attr:`circle` (as :func:`redkin.paths._dp_kernels.gap`), plain differences for the others."""
-        d = np.abs(a - b)
-        turned = np.mod(d, TWO_PI)
-        return np.where(self.circle, np.minimum(turned, TWO_PI - turned), d)
+        """How far each joint moves between ``a`` and ``b`` (..., 7): :func:`joint_moves` with :attr:`circle`."""
+        return joint_moves(a, b, self.circle)
+
+
+def joint_moves(a: np.ndarray, b: np.ndarray, circle: np.ndarray) -> np.ndarray:
+    """How far each joint moves between ``a`` and ``b`` (..., n): on the circle (the shorter way round) for the
+    joints of ``circle`` (as :func:`redkin.paths._dp_kernels.gap`), plain differences for the others."""
+    d = np.abs(a - b)
+    turned = np.mod(d, TWO_PI)
+    return np.where(circle, np.minimum(turned, TWO_PI - turned), d)
 
 
 def piece_samples(pieces: FeasiblePieces, spacing: float) -> tuple[np.ndarray, ...]:

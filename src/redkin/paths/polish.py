@@ -23,6 +23,7 @@ import numpy as np
 import scipy.sparse as sparse
 from scipy.optimize import linprog
 
+from redkin.circle import wrap_angle
 from redkin.paths.graph import _CLIP_TOLERANCE, Arm
 
 #: Rounds of linear programming at most.
@@ -149,5 +150,4 @@ def _step(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndar
 
 def _turn(arm: Arm, difference: np.ndarray, joint: np.ndarray) -> np.ndarray:
     """Differences of joint values, taken the shorter way round for the joints compared on the circle."""
-    wrapped = np.mod(difference + np.pi, 2.0 * np.pi) - np.pi
-    return np.where(arm.circle[joint], wrapped, difference)
+    return np.where(arm.circle[joint], wrap_angle(difference), difference)

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose, check_vectors
 from redkin.chain import SerialChain
-from redkin.circle import TWO_PI
+from redkin.circle import TWO_PI, wrap_angle
 from redkin.errors import RedkinError
 from redkin.franka.geometry import FrankaGeometry
 from redkin.paths import graph as graphs
@@ -483,7 +483,7 @@ def _checked_path(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, pos
         raise RuntimeError(f"path resolution produced a path that fails its check (FK error {error:.3g}, largest "
                            f"step/bound {float((moves / arm.step).max(initial=0.0)):.6g}); please report it")
     motion = float(moves.sum()) + (0.0 if origin is None else float(arm.moves(q[0], origin).sum()))
-    parameter = np.mod(graph.psi[nodes] + np.pi, TWO_PI) - np.pi if family.wraps else q[:, 6].copy()
+    parameter = np.asarray(wrap_angle(graph.psi[nodes])) if family.wraps else q[:, 6].copy()
     clearance = arm.clearance(q)
     bottleneck = _bottleneck(family, poses, clearance) if prove else None
     return PathResult("ok", q, [str(BRANCHES[b]) for b in graph.branch[nodes]], parameter, float(clearance.min()),
