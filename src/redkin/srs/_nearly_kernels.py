@@ -537,10 +537,10 @@ def solve(start, stop, targets, psi, rows, signs, geometry, real, model, tool_in
 
 
 @kernel
-def arm_angles(start, stop, q, model, out):
-    """:func:`arm_angle_one` of joint vectors ``start .. stop - 1`` of ``q`` (N, 7) into ``out`` (N,)."""
+def arm_angles(start, stop, q, model, out, gradients, with_gradient):
+    """:func:`arm_angle_one` of joint vectors ``start .. stop - 1`` of ``q`` (N, 7) into ``out`` (N,), with
+    ``with_gradient`` their gradients into ``gradients`` (N, 7)."""
     work = scratch()[0][2]
-    gradient = np.empty(7)
     for n in range(start, stop):
-        out[n] = arm_angle_one(q[n], model[0], model[1], model[2], model[3], work, gradient, False)
+        out[n] = arm_angle_one(q[n], model[0], model[1], model[2], model[3], work, gradients[n], with_gradient)
 

@@ -222,8 +222,33 @@ def arm_angle(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
     values = arm.chain.check_q(q)
     flat = np.ascontiguousarray(values, dtype=float).reshape(-1, 7)
     out = np.empty(len(flat))
-    run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, out)
+    run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, out, np.empty((len(flat), 7)), False)
     return out.reshape(values.shape[:-1])
+
+
+def self_motion_rates(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
+    """``dq/dpsi`` (..., 7) at joint values ``q`` (..., 7): how each joint turns with the arm angle as the real arm
+    moves in its self-motion, the pose held.
+
+    The self-motion's direction is the null vector ``n`` of the real chain's Jacobian, scaled so that the arm
+    angle's gradient (in closed form, :func:`redkin.srs._nearly_kernels.arm_angle_one`) gives ``grad psi . n = 1``.
+    Infinite where the arm angle stands still along the self-motion (``grad psi . n = 0``); at a singular
+    configuration (a null space of two dimensions) one of its directions.
+
+    Raises
+    ------
+    ValueError
+        For joint values of the wrong length or not finite.
+    """
+    values = arm.chain.check_q(q)
+    flat = np.ascontiguousarray(values, dtype=float).reshape(-1, 7)
+    gradients = np.empty((len(flat), 7))
+    run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, np.empty(len(flat)), gradients, True)
+    null = np.linalg.svd(arm.chain.jacobian(flat))[2][:, -1]
+    along = np.einsum("mj,mj->m", gradients, null)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rates = null / along[:, None]
+    return np.where(np.isfinite(rates), rates, np.inf).reshape(values.shape)
 
 
 def ik(

@@ -2,27 +2,43 @@
 
 On the real arm the joint values at an arm angle, ``q(psi)``, are the
 polished solutions of :func:`redkin.srs.nearly.ik`; no closed form gives the
-arm angles where a joint meets a limit.  They differ from the exact
-neighbour's ``q_N(psi)`` [000 eqs. 13-19] by a small amount ``delta``, so a
-real arc of feasible arm angles lies inside the neighbour's arcs for limits
-loosened by ``delta`` ([000 eqs. 20-30] on the neighbour).  The set is found
-in three steps:
+arm angles where a joint meets a limit.  Feasibility of joint ``i`` changes
+only where ``q_i(psi)`` crosses a limit, and between two neighbouring
+critical points of ``q_i(psi)`` (zeros of its rate ``dq_i/dpsi``,
+:func:`redkin.srs.nearly.self_motion_rates`) it crosses each limit at most
+once.  The set is found in five steps:
 
-1. the polished solutions on a uniform grid of arm angles give ``delta``
-   (the largest ``|q - q_N|`` met, doubled, plus 1e-6 rad);
-2. the endpoints and midpoints of the neighbour's arcs for limits loosened
-   by ``delta`` join the grid, so that every neighbour arc, however narrow,
-   holds a sample;
-3. where feasibility changes between neighbouring samples, bisection on the
-   polished solutions locates the arm angle of the change to
-   1e-10 rad, on its feasible side.
+1. samples: a uniform grid, with the endpoints and midpoints of the exact
+   neighbour's feasible arcs [000 eqs. 20-30] for its limits loosened by
+   ``delta`` (the largest ``|q - q_N|`` met on the grid, doubled, plus
+   1e-6 rad), so that every neighbour arc, however narrow, holds a sample;
+2. refinement: an interval between neighbouring samples is halved while a
+   limited joint turns, or its rate changes times the width, by more than
+   :data:`_BEND` rad across it (near a singular wrist ``q_5`` and ``q_7``
+   sweep half a turn over a few milliradians of arm angle);
+3. critical points: where a limited joint's rate changes sign between
+   neighbouring samples within ``2 _BEND`` of a limit, bisection on its
+   sign locates the extremum of ``q_i`` to 1e-10 rad, and the extremum
+   joins the samples (a joint that touches or passes its limit between two
+   samples: the narrow islands and gaps of a grid; after step 2 an
+   extremum lies within about ``_BEND`` of the samples beside it);
+4. each flag (whether the branch's solution exists, and for each limited
+   joint whether it lies within its limits where it exists) is located by
+   bisection where it changes between neighbouring samples, to 1e-10 rad,
+   on its own true side;
+5. the set is the intersection of the flags' arcs.
 
 What is certified: every arm angle of the returned set that a sample or an
-endpoint holds has a certified solution within the limits.  What is not: an
-arc of the real arm narrower than the grid that no neighbour arc (with the
-measured ``delta``) announces, which needs ``delta`` to under-estimate the
-true difference; the doubling is the margin.  A polish that does not settle
-counts as infeasible.
+endpoint holds has a certified solution within the limits, and every
+endpoint is a change of one flag, to 1e-10 rad.  The set is complete (no
+arc of the real arm missed) when, after step 2, no limited joint's rate
+changes sign twice between two neighbouring samples: then steps 3-4 see
+every extremum and every crossing.  That needs the joint curves to bend
+by less than :data:`_BEND` within an interval, which the refinement
+measures at the samples only; it is not proved between them.  A polish
+that does not settle counts as a solution that does not exist, and
+refinement stops at intervals of :data:`_NARROWEST` rad (a solution that
+jumps to another sheet of the branch) or at :data:`_MOST_SAMPLES` samples.
 """
 
 from __future__ import annotations
@@ -33,18 +49,27 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
-from redkin.circle import ArcSet
+from redkin.circle import TWO_PI, ArcSet, wrap_angle
 from redkin.errors import RedkinError
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.feasible import feasible_arm_angles
 from redkin.srs.geometry import srs_geometry
 from redkin.srs.ik import solve
-from redkin.srs.nearly import NearlySRS, ik
+from redkin.srs.nearly import NearlySRS, ik, self_motion_rates
 
 #: Arm angles of the uniform grid.
 _SAMPLES = 720
-#: Width [rad] below which a change of feasibility is located.
+#: Width [rad] below which a change of feasibility or of a rate's sign is located.
 _ENDPOINT_TOLERANCE = 1e-10
+#: Largest turn [rad] of a limited joint between neighbouring samples, and largest change of its rate times their
+#: distance, after refinement (step 2).
+_BEND = 0.02
+#: Narrowest interval [rad] that refinement halves.
+_NARROWEST = 1e-8
+#: Samples at most after refinement.
+_MOST_SAMPLES = 50_000
+#: Slack [rad] of the limit test, as :func:`redkin.srs._nearly_kernels.within_limits`'s.
+_LIMIT_SLACK = 1e-9
 
 
 class NearlyFeasible(NamedTuple):
@@ -83,48 +108,142 @@ def feasible_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Br
         raise RedkinError(f"samples must be at least 8, got {samples}")
     label = parse_branch(branch)
     grid = np.linspace(-np.pi, np.pi, samples, endpoint=False)
-    q, good = _solved(arm, pose, grid, label)
-    delta = _delta(arm, pose, grid, q, good, label)
-    psi = np.unique(np.concatenate([grid, _announced(arm, pose, label, delta)]))
-    q, good = _solved(arm, pose, psi, label)
-    count = len(psi)
-    changes = np.flatnonzero(good != np.roll(good, -1))  # between psi[k] and psi[k + 1] (cyclic)
-    if changes.size == 0:
-        return NearlyFeasible(ArcSet.full() if good[0] else ArcSet.empty(), label, delta, count)
-    low = psi[changes]
-    high = np.where(changes + 1 < len(psi), psi[(changes + 1) % len(psi)], psi[0] + 2.0 * np.pi)
-    low_good = good[changes]
-    while np.max(high - low) > _ENDPOINT_TOLERANCE:
-        middle = 0.5 * (low + high)
-        _, inside = _solved(arm, pose, middle, label)
-        count += len(middle)
-        same = inside == low_good
-        low, high = np.where(same, middle, low), np.where(same, high, middle)
-    edge = np.where(low_good, low, high)  # each change located on its feasible side
-    starts = edge[~low_good]  # feasibility begins where the low side is infeasible
-    ends = edge[low_good]
-    order = np.argsort(np.concatenate([starts, ends]) % (2.0 * np.pi))
-    marks = np.concatenate([starts, ends])[order]
-    kinds = np.concatenate([np.ones(len(starts)), np.zeros(len(ends))])[order]
+    curve = _Curve(arm, pose, label, grid)
+    delta = _delta(arm, pose, grid, curve.q, curve.exists, label)
+    curve.add(_announced(arm, pose, label, delta))
+    curve.refine()
+    curve.add(curve.extrema())
+    return NearlyFeasible(curve.located(), label, delta, curve.count)
+
+
+class _Curve:
+    """The branch's certified solutions of one pose as functions of the arm angle: the samples so far, sorted, in
+    ``[-pi, pi)`` (``psi``), their joint values, whether each exists and the limited joints' rates, and how many arm
+    angles were solved."""
+
+    def __init__(self, arm: NearlySRS, pose: np.ndarray, label: Branch, psi: np.ndarray) -> None:
+        self.arm, self.pose, self.label = arm, pose, label
+        chain = arm.chain
+        self.limited = np.flatnonzero(~chain.covers_circle)
+        self.lower, self.upper = chain.lower[self.limited], chain.upper[self.limited]
+        self.count = 0
+        self.psi = np.empty(0)
+        self.q, self.exists, self.rates = np.empty((0, 7)), np.empty(0, dtype=bool), np.empty((0, len(self.limited)))
+        self.add(psi)
+
+    def solved(self, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Joint values (M, 7) at arm angles ``psi`` (M,) and whether each exists (certified)."""
+        result = ik(self.arm, np.broadcast_to(self.pose, psi.shape + (4, 4)), psi, self.label)
+        self.count += len(psi)
+        return result.q[:, 0], result.exists[:, 0]
+
+    def rates_of(self, q: np.ndarray, exists: np.ndarray) -> np.ndarray:
+        """The limited joints' ``dq/dpsi`` (M, L) at solutions ``q`` (M, 7); NaN where none exists."""
+        rates = np.full((len(q), len(self.limited)), np.nan)
+        if exists.any():
+            rates[exists] = self_motion_rates(self.arm, q[exists])[:, self.limited]
+        return rates
+
+    def add(self, psi: np.ndarray) -> None:
+        """Solve at new arm angles ``psi`` (any) and merge them into the samples; those already held are skipped."""
+        psi = np.setdiff1d(_wrapped(psi), self.psi)
+        q, exists = self.solved(psi)
+        order = np.argsort(np.concatenate([self.psi, psi]), kind="stable")
+        self.psi = np.concatenate([self.psi, psi])[order]
+        self.q = np.concatenate([self.q, q])[order]
+        self.exists = np.concatenate([self.exists, exists])[order]
+        self.rates = np.concatenate([self.rates, self.rates_of(q, exists)])[order]
+
+    def following(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each sample's next one (cyclic) and the width to it."""
+        return np.roll(np.arange(len(self.psi)), -1), np.diff(np.append(self.psi, self.psi[0] + TWO_PI))
+
+    def refine(self) -> None:
+        """Halve intervals until no limited joint turns, nor its rate changes times the width, by more than
+        :data:`_BEND` across one (module docstring, step 2)."""
+        while len(self.psi) < _MOST_SAMPLES:
+            following, width = self.following()
+            turn = np.abs(_wrapped(self.q[following][:, self.limited] - self.q[:, self.limited]))
+            bend = np.abs(self.rates[following] - self.rates) * width[:, None]
+            split = (self.exists & self.exists[following] & (width > _NARROWEST)
+                     & np.any((turn > _BEND) | ~(bend <= _BEND), axis=1))  # an infinite rate bends
+            split = np.flatnonzero(split)[:_MOST_SAMPLES - len(self.psi)]
+            if split.size == 0:
+                break
+            self.add(self.psi[split] + 0.5 * width[split])
+
+    def extrema(self) -> np.ndarray:
+        """The arm angles of the limited joints' extrema between neighbouring samples that come within
+        ``2 _BEND`` of a limit (module docstring, step 3): where a joint's rate changes sign, located by bisection on
+        the sign to :data:`_ENDPOINT_TOLERANCE`."""
+        following, width = self.following()
+        rates, q = self.rates, self.q[:, self.limited]
+        near = np.minimum(np.abs(_wrapped(q - self.lower)), np.abs(_wrapped(q - self.upper))) <= 2.0 * _BEND
+        change = ((self.exists & self.exists[following])[:, None] & (near | near[following])
+                  & (np.sign(rates) * np.sign(rates[following]) < 0.0))
+        interval, joint = np.nonzero(change)
+        low = self.psi[interval]
+        high = low + width[interval]
+        low_sign = np.sign(rates[interval, joint])
+        while low.size and np.max(high - low) > _ENDPOINT_TOLERANCE:
+            middle = 0.5 * (low + high)
+            q_middle, exists_middle = self.solved(_wrapped(middle))
+            sign = np.sign(self.rates_of(q_middle, exists_middle)[np.arange(len(middle)), joint])
+            keep = exists_middle  # where the solution is lost, the bisection goes on between low and the middle
+            same = sign == low_sign
+            low = np.where(keep & same, middle, low)
+            high = np.where(keep & ~same, middle, np.where(keep, high, middle))
+        return low
+
+    def located(self) -> ArcSet:
+        """The arcs where every flag holds (the solution exists; each limited joint lies within its limits where a
+        solution exists), each change of a flag between neighbouring samples located by bisection to
+        :data:`_ENDPOINT_TOLERANCE` on the flag's true side (module docstring, steps 4-5)."""
+        flags = self.flags(self.q, self.exists)
+        changes, which = np.nonzero(flags != np.roll(flags, -1, axis=0))  # between psi[k] and psi[k + 1] (cyclic)
+        low = self.psi[changes]
+        high = low + self.following()[1][changes]
+        low_true = flags[changes, which]
+        while low.size and np.max(high - low) > _ENDPOINT_TOLERANCE:
+            middle = 0.5 * (low + high)
+            same = self.flags(*self.solved(_wrapped(middle)))[np.arange(len(middle)), which] == low_true
+            low, high = np.where(same, middle, low), np.where(same, high, middle)
+        edge = np.where(low_true, low, high)  # each change on its true side
+        feasible = ArcSet.full()
+        for flag in range(flags.shape[1]):
+            mine = which == flag
+            feasible = feasible.intersection(_arcs(edge[mine], low_true[mine], bool(flags[0, flag])))
+        return feasible
+
+    def flags(self, q: np.ndarray, exists: np.ndarray) -> np.ndarray:
+        """(M, 1 + L): whether each solution exists, and whether each limited joint lies within its limits modulo
+        whole turns or no solution exists."""
+        inside = (np.mod(q[:, self.limited] - self.lower + _LIMIT_SLACK, TWO_PI)
+                  <= self.upper - self.lower + 2.0 * _LIMIT_SLACK)
+        return np.concatenate([exists[:, None], inside | ~exists[:, None]], axis=1)
+
+
+def _arcs(edge: np.ndarray, low_true: np.ndarray, everywhere: bool) -> ArcSet:
+    """The arcs where a flag holds from its changes: at ``edge`` it ends where ``low_true`` and begins elsewhere;
+    without a change it holds ``everywhere`` or nowhere."""
+    if edge.size == 0:
+        return ArcSet.full() if everywhere else ArcSet.empty()
+    marks = np.concatenate([edge[~low_true], edge[low_true]])
+    kinds = np.concatenate([np.ones(np.count_nonzero(~low_true)), np.zeros(np.count_nonzero(low_true))])
+    order = np.argsort(np.mod(marks, TWO_PI))
+    marks, kinds = marks[order], kinds[order]
     first = int(np.argmax(kinds == 1.0))
     marks, kinds = np.roll(marks, -first), np.roll(kinds, -first)
-    arcs = [(float(marks[k]), float(marks[k + 1])) for k in range(0, len(marks) - 1, 2)]
-    return NearlyFeasible(ArcSet(arcs), label, delta, count)
+    return ArcSet([(float(marks[k]), float(marks[k + 1])) for k in range(0, len(marks) - 1, 2)])
 
 
-def _solved(arm: NearlySRS, pose: np.ndarray, psi: np.ndarray, label: Branch) -> tuple[np.ndarray, np.ndarray]:
-    """The branch's certified solutions at arm angles ``psi`` (M,): joint values (M, 7) and whether each exists
-    within the limits."""
-    result = ik(arm, np.broadcast_to(pose, psi.shape + (4, 4)), psi, label)
-    return result.q[:, 0], result.within_limits[:, 0]
-
-
-def _delta(arm: NearlySRS, pose: np.ndarray, grid: np.ndarray, q: np.ndarray, good: np.ndarray,
+def _delta(arm: NearlySRS, pose: np.ndarray, grid: np.ndarray, q: np.ndarray, exists: np.ndarray,
            label: Branch) -> float:
-    """The largest ``|q - q_N|`` [rad] of the certified solutions on the grid, doubled, plus 1e-6 rad."""
+    """The largest ``|q - q_N|`` [rad] of the certified solutions ``q`` (M, 7) on the grid (M,), doubled, plus
+    1e-6 rad."""
     from redkin.srs.ik import reachable
 
-    found = np.flatnonzero(np.any(q != 0.0, axis=-1))
+    found = np.flatnonzero(exists)
     if found.size == 0 or not reachable(arm.geometry, pose):
         return 1e-6
     exact = solve(arm.geometry, pose, grid[found], arm.geometry.kernel_branch(label))[:, 0]
@@ -134,7 +253,7 @@ def _delta(arm: NearlySRS, pose: np.ndarray, grid: np.ndarray, q: np.ndarray, go
 
 def _announced(arm: NearlySRS, pose: np.ndarray, label: Branch, delta: float) -> np.ndarray:
     """The endpoints and midpoints of the neighbour's feasible arcs of each joint with its limits loosened by
-    ``delta`` (module docstring, step 2); none where the neighbour does not reach the pose."""
+    ``delta`` (module docstring, step 1); none where the neighbour does not reach the pose."""
     from redkin.srs.ik import reachable
 
     loose = arm.neighbour.with_limits(arm.neighbour.lower - delta, arm.neighbour.upper + delta)
@@ -145,6 +264,10 @@ def _announced(arm: NearlySRS, pose: np.ndarray, label: Branch, delta: float) ->
     points = []
     for arcs in (*result.per_joint.values(), result.feasible):
         for start, end in arcs.arcs:
-            width = (end - start) % (2.0 * np.pi)
-            points += [start, end, start + 0.5 * width]
-    return np.angle(np.exp(1j * np.array(points))) if points else np.empty(0)
+            points += [start, end, start + 0.5 * ((end - start) % TWO_PI)]
+    return _wrapped(np.array(points)) if points else np.empty(0)
+
+
+def _wrapped(angles: np.ndarray) -> np.ndarray:
+    """Arm angles into ``[-pi, pi)`` (:func:`redkin.circle.wrap_angle`, as an array)."""
+    return np.asarray(wrap_angle(angles))

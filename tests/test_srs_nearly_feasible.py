@@ -1,0 +1,152 @@
+"""Feasible arm angles of nearly S-R-S arms on the real arm (:mod:`redkin.srs.nearly_feasible`).
+
+Laws, on the Kinova Gen3 and Jaco2 (their continuous joints limited to +-2.9 rad, so that every joint's limits cut
+the circle) and the ROS-Industrial iiwa:
+
+- **the set equals dense sampling**: at every sampled arm angle farther than :data:`AT_AN_END` from the set's
+  ends, the set holds it exactly when :func:`redkin.srs.nearly.ik` finds the branch's solution within the limits;
+- **every end is a change**: just inside an end the branch is feasible, just outside it is not;
+- the narrow islands and gaps that a grid of 720 arm angles misses, found by the benchmark near a singular wrist
+  or shoulder (``benchmarks/README.md``, issue 27), are in the set exactly, checked on a window sampled 10^-5 rad
+  apart;
+- :func:`redkin.srs.nearly.self_motion_rates` equals the central differences of the polished solutions in the arm
+  angle, and is the self-motion: the Jacobian maps it to zero;
+- bad input raises ValueError.
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from redkin.errors import RedkinError
+from redkin.srs import BRANCHES, feasible_arm_angles_nearly, nearly_srs
+from redkin.srs.nearly import NearlySRS, arm_angle, ik, self_motion_rates
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+#: Sampled arm angles this close to an end [rad] may fall either side: ends are located to 1e-10 rad.
+AT_AN_END = 1e-8
+#: The limit given to the Gen3's and Jaco2's continuous joints [rad].
+CONTINUOUS_LIMIT = 2.9
+
+
+@functools.cache
+def _arm(name: str) -> NearlySRS:
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from redkin.urdf import load_urdf
+
+    if name == "gen3":
+        chain = load_urdf(EXAMPLES / "gen3.urdf", base="base_link", tip="end_effector_link")
+    elif name == "jaco2":
+        chain = load_urdf(EXAMPLES / "jaco2.urdf", base="j2s7s300_link_base", tip="j2s7s300_link_7")
+    else:
+        chain = load_urdf(EXAMPLES / "iiwa14_rosi.urdf")
+    lower = np.where(np.isfinite(chain.lower), chain.lower, -CONTINUOUS_LIMIT)
+    upper = np.where(np.isfinite(chain.upper), chain.upper, CONTINUOUS_LIMIT)
+    return nearly_srs(chain.with_limits(lower, upper))
+
+
+def _sampled(arm: NearlySRS, pose: np.ndarray, branch: str, psi: np.ndarray) -> np.ndarray:
+    """Whether the branch's certified solution at each arm angle ``psi`` lies within the limits."""
+    return ik(arm, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch).within_limits[:, 0]
+
+
+def _disagreements(arm: NearlySRS, pose: np.ndarray, branch: str, psi: np.ndarray) -> np.ndarray:
+    """The arm angles of ``psi`` farther than :data:`AT_AN_END` from the set's ends where set and sampling differ."""
+    feasible = feasible_arm_angles_nearly(arm, pose, branch).feasible
+    held = np.asarray(feasible.contains(psi))
+    ends = np.array([end for arc in feasible.arcs for end in arc])
+    far = (np.ones(len(psi), dtype=bool) if ends.size == 0 else
+           np.abs(np.angle(np.exp(1j * (psi[:, None] - ends[None])))).min(axis=1) > AT_AN_END)
+    return psi[far & (held != _sampled(arm, pose, branch, psi))]
+
+
+@settings(max_examples=12, deadline=None)
+@given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
+       branch=st.sampled_from([str(b) for b in BRANCHES]))
+def test_set_equals_dense_sampling(name, seed, branch):
+    arm = _arm(name)
+    rng = np.random.default_rng(seed)
+    pose = arm.chain.fk(rng.uniform(arm.chain.lower, arm.chain.upper))
+    psi = np.sort(rng.uniform(-np.pi, np.pi, 6000))
+    assert _disagreements(arm, pose, branch, psi).size == 0
+
+
+@settings(max_examples=10, deadline=None)
+@given(name=st.sampled_from(["gen3", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
+       branch=st.sampled_from([str(b) for b in BRANCHES]))
+def test_every_end_is_a_change(name, seed, branch):
+    arm = _arm(name)
+    rng = np.random.default_rng(seed)
+    pose = arm.chain.fk(rng.uniform(arm.chain.lower, arm.chain.upper))
+    feasible = feasible_arm_angles_nearly(arm, pose, branch).feasible
+    assume(not feasible.is_empty and not feasible.is_full)
+    arcs = np.array(feasible.arcs)
+    gaps = np.mod(np.roll(arcs[:, 0], -1) - arcs[:, 1], 2.0 * np.pi)
+    widths = np.mod(arcs[:, 1] - arcs[:, 0], 2.0 * np.pi)
+    step = 1e-7
+    assume(gaps.min() > 4.0 * step and widths.min() > 4.0 * step)
+    inside = np.concatenate([arcs[:, 0] + step, arcs[:, 1] - step])
+    outside = np.concatenate([arcs[:, 0] - step, arcs[:, 1] + step])
+    assert np.all(_sampled(arm, pose, branch, np.angle(np.exp(1j * inside))))
+    assert not np.any(_sampled(arm, pose, branch, np.angle(np.exp(1j * outside))))
+
+
+#: Joint values whose pose holds an island or gap narrower than 2 pi / 720 (found by benchmarks/bench_nearly.py
+#: --feasible before the extrema were located), the branch and the arm angle it lies near.
+NARROW = [
+    ("iiwa14-rosi", [0.987214, -0.737526, 1.005361, 0.481701, 1.69648, -0.082825, -2.889126], "-++", -1.9796),
+    ("iiwa14-rosi", [0.987214, -0.737526, 1.005361, 0.481701, 1.69648, -0.082825, -2.889126], "---", 1.1628),
+    ("iiwa14-rosi", [-1.801814, 1.085819, 1.199488, 0.449969, -0.640954, 0.568607, 2.486787], "+-+", 2.9460),
+    ("gen3", [-1.77754, -1.281876, 2.080123, -1.918479, -1.178805, -0.0299, 2.02687], "-+-", 1.4081),
+    ("gen3", [-1.77754, -1.281876, 2.080123, -1.918479, -1.178805, -0.0299, 2.02687], "--+", -1.7088),
+    ("gen3", [-0.553356, 0.740753, -0.969431, -1.556296, 2.504703, -1.070513, -2.047027], "-+-", 3.1307),
+    ("gen3", [-1.112111, -0.573973, 1.5388, -0.024672, 1.646728, 0.068136, -1.972164], "---", 2.7770),
+]
+
+
+@pytest.mark.parametrize(("name", "q", "branch", "near"), NARROW)
+def test_narrow_islands_and_gaps_are_found(name, q, branch, near):
+    arm = _arm(name)
+    pose = arm.chain.fk(np.array(q))
+    psi = np.angle(np.exp(1j * np.linspace(near - 0.02, near + 0.02, 4001)))
+    sampled = _sampled(arm, pose, branch, psi)
+    runs = np.diff(np.flatnonzero(np.diff(sampled.astype(int)))) * (psi[1] - psi[0]) if sampled.any() else []
+    assert np.any(np.asarray(runs) < 2.0 * np.pi / 720.0), "the case holds no narrow island or gap any more"
+    assert _disagreements(arm, pose, branch, psi).size == 0
+
+
+@settings(max_examples=20, deadline=None)
+@given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1))
+def test_self_motion_rates_are_the_derivative_of_the_solutions(name, seed):
+    arm = _arm(name)
+    rng = np.random.default_rng(seed)
+    q0 = rng.uniform(arm.chain.lower, arm.chain.upper)
+    pose, psi = arm.chain.fk(q0), float(arm_angle(arm, q0))
+    h = 1e-6
+    solutions = ik(arm, np.broadcast_to(pose, (3, 4, 4)), np.array([psi - h, psi, psi + h]))
+    for row in np.flatnonzero(solutions.exists.all(axis=0)):
+        q = solutions.q[:, row]
+        assume(np.max(np.abs(q[2] - q[0])) < 1e-3)  # one sheet: no jump between the three
+        rates = self_motion_rates(arm, q[1])
+        assume(np.all(np.isfinite(rates)) and np.max(np.abs(rates)) < 1e3)
+        assert np.allclose(rates, (q[2] - q[0]) / (2.0 * h), rtol=1e-5, atol=1e-5 * (1.0 + np.abs(rates).max()))
+        assert np.max(np.abs(arm.chain.jacobian(q[1]) @ rates)) < 1e-9 * (1.0 + np.abs(rates).max())
+
+
+def test_bad_input():
+    arm = _arm("iiwa14-rosi")
+    pose = arm.chain.fk(np.full(7, 0.3))
+    with pytest.raises(ValueError, match="one .4, 4. pose"):
+        feasible_arm_angles_nearly(arm, np.stack([pose, pose]))
+    with pytest.raises(ValueError, match="at least 8"):
+        feasible_arm_angles_nearly(arm, pose, samples=4)
+    with pytest.raises(ValueError):
+        feasible_arm_angles_nearly(arm, pose, "+x+")
+    with pytest.raises(RedkinError):
+        self_motion_rates(arm, np.full(6, 0.3))
