@@ -2,8 +2,8 @@
 
 A function of the joint values, ``F(q)``, becomes a function of the arm angle on one branch of one pose through the
 real arm's certified solution ``q(psi)`` (:func:`redkin.srs.nearly.ik`).  Its extrema are located by bisection on
-the sign of its derivative along the self-motion, ``dF/dpsi = grad F . t`` with ``t = dq/dpsi`` the null vector of
-the real arm's Jacobian scaled so that ``grad psi . t = 1`` (gradients by central differences in ``q``).  The
+the sign of its derivative along the self-motion, ``dF/dpsi = grad F . t`` with ``t = dq/dpsi``
+(:func:`redkin.srs.nearly.self_motion_rates`; ``grad F`` by central differences in ``q``).  The
 derivative is smooth where ``F`` is, so the bisection locates a smooth extremum to :data:`_RESOLUTION` rad, which a
 search on the values of ``F`` alone (golden section) could not (its values flatten quadratically there); at a kink
 (``F`` the angle between two axes as they pass through alignment) the derivative changes sign and the bisection
@@ -21,7 +21,7 @@ from collections.abc import Callable
 import numpy as np
 
 from redkin.srs.branches import Branch, branch_of_theta
-from redkin.srs.nearly import TOLERANCE, NearlySRS, arm_angle, ik
+from redkin.srs.nearly import TOLERANCE, NearlySRS, arm_angle, ik, self_motion_rates
 
 #: Width [rad] to which an extremum is bracketed.
 _RESOLUTION = 1e-10
@@ -49,10 +49,7 @@ def merged(grid: np.ndarray, extra: np.ndarray) -> np.ndarray:
 
 def _derivative_along(arm: NearlySRS, q: np.ndarray, function: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
     """``dF/dpsi`` (M,) at joint values ``q`` (M, 7) along the real arm's self-motion (module docstring)."""
-    gradient = _gradient(q, function)
-    psi_gradient = _gradient(q, lambda values: arm_angle(arm, values))
-    null = np.linalg.svd(arm.chain.jacobian(q))[2][:, -1]  # the self-motion's direction in q
-    return np.einsum("mj,mj->m", gradient, null) / np.einsum("mj,mj->m", psi_gradient, null)
+    return np.einsum("mj,mj->m", _gradient(q, function), self_motion_rates(arm, q))
 
 
 def located_extremum(arm: NearlySRS, pose: np.ndarray, branch: Branch, function: Callable[[np.ndarray], np.ndarray],
