@@ -6,7 +6,14 @@ import argparse
 
 from redkin._constants import WORKSPACE_MAP_NAME, WORKSPACE_MAX_ORIENTATIONS, WORKSPACE_MAX_RESOLUTION
 from redkin._validation import check_count, check_output_directory
-from redkin.cli.common import UsageError, add_output_flags, add_robot_argument, load_robot, print_json
+from redkin.cli.common import (
+    UsageError,
+    add_output_flags,
+    add_robot_argument,
+    add_srs_tolerance_argument,
+    load_robot,
+    print_json,
+)
 from redkin.cli.map_run import IMAGES_LEFT, open_client, print_run, require_map_libraries, run_on, run_summary
 
 #: The images written beside the map: one per index, its three mid-planes side by side.
@@ -16,7 +23,8 @@ SLICE_NAMES = ("reachability", "redundancy")
 def register(subparsers: argparse._SubParsersAction) -> None:
     command = subparsers.add_parser(
         "workspace",
-        help="exact reachability and redundancy map of an arm with arm-angle IK over a box (paper 000, on Dask)",
+        help="exact reachability and redundancy map of an arm with arm-angle IK over a box (paper 000, on Dask; a "
+             "nearly S-R-S arm with its exact neighbour's sets)",
     )
     add_robot_argument(command)
     command.add_argument("--out", required=True, metavar="DIR",
@@ -39,20 +47,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                               "(default: Dask's local scheduler, nothing to start)")
     command.add_argument("--quiet", action="store_true",
                          help="no progress on stderr (by default a bar on a terminal, plain lines elsewhere)")
+    add_srs_tolerance_argument(command)
     add_output_flags(command, degrees=False)
     command.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from redkin.cli.workspace_humanoid import run_humanoid
-    from redkin.srs import srs_geometry
     from redkin.workspace.grid import workspace_grid
     from redkin.workspace.humanoid import humanoid_of
-    from redkin.workspace.run import workspace_map
+    from redkin.workspace.run import map_model, workspace_map
     from redkin.workspace.store import no_space_errors
 
     chain = load_robot(args)
     if humanoid_of(chain) is not None:
+        if args.srs_tolerance is not None:
+            raise UsageError("--srs-tolerance is for arms with arm-angle IK; the thesis 001 humanoid has none")
         return run_humanoid(args, chain)
     if args.samples is not None:
         raise UsageError("--samples is for the thesis 001 humanoid; an arm with arm-angle IK takes --orientations N")
@@ -63,13 +73,13 @@ def run(args: argparse.Namespace) -> int:
     orientations = check_count(args.orientations, "--orientations", 1, WORKSPACE_MAX_ORIENTATIONS)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     grid = workspace_grid(args.extent, resolution, orientations, chunk)
-    srs_geometry(chain)  # the arm-angle refusal, before anything is written
+    map_model(chain, args.srs_tolerance)  # the arm-angle refusal, before anything is written
     xr = require_map_libraries()
     client = open_client(args.scheduler)
     out = check_output_directory(args.out, "--out")
     result = run_on(client, len(grid.chunk_indices()), lambda client, progress: workspace_map(
         chain, out / WORKSPACE_MAP_NAME, args.extent, resolution, orientations, chunk=grid.chunk, client=client,
-        progress=progress), args.quiet)
+        progress=progress, srs_tolerance=args.srs_tolerance), args.quiet)
     import matplotlib
 
     matplotlib.use("Agg")  # files only: no display needed
@@ -85,13 +95,18 @@ def run(args: argparse.Namespace) -> int:
         "positions": result.positions, "orientations": result.orientations,
         "pose_branch_evaluations": result.pose_branch_evaluations,
         "reachable_positions": result.reachable_positions, "reachable_poses": result.reachable_poses,
-        "mean_redundancy": result.mean_redundancy,
+        "mean_redundancy": result.mean_redundancy, "model": result.model, "model_error": result.model_error or None,
     })
     if args.json:
         print_json(summary)
     else:
+        whose = "" if not result.model_error else " of its exact S-R-S neighbour"
         print(f"{chain.name}: {result.positions} positions x {result.orientations} orientations x 8 branches "
-              f"= {result.pose_branch_evaluations} exact feasible sets")
+              f"= {result.pose_branch_evaluations} exact feasible sets{whose}")
+        if result.model_error:
+            print(f"nearly S-R-S: {result.model_error}")
+            print("the map holds the neighbour's exact feasible sets, not the real arm's (they differ near the sets' "
+                  "ends and near singular wrists)")
         print(f"reachable: {100 * result.reachable_positions:.1f}% of positions, "
               f"{100 * result.reachable_poses:.1f}% of poses; mean redundancy there {result.mean_redundancy:.3f}")
         print_run(summary)

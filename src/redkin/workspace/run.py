@@ -37,13 +37,18 @@ from numpy.typing import ArrayLike
 from redkin._compiled import default_threads, set_threads
 from redkin._validation import check_count
 from redkin.chain import SerialChain
-from redkin.srs import BRANCHES, srs_geometry
+from redkin.errors import NotArmAngleClassError
+from redkin.srs import BRANCHES, NearlySRS, arm_angle_class, nearly_srs, srs_geometry
+from redkin.srs.arm_class import NEARLY_SRS, check_tolerance
 from redkin.srs.geometry import SRSGeometry
+from redkin.srs.nearly import TOLERANCE_DEFAULT
 from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid, workspace_grid
 from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index
 from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
 from redkin.workspace.store import (
+    MODEL_EXACT,
+    MODEL_NEARLY,
     completed_chunks,
     create_store,
     hold_store,
@@ -84,6 +89,12 @@ class WorkspaceRun:
         Mean redundancy index over the reachable positions (0 if there are none).
     seconds : float
         Wall time of the run.
+    model : str
+        Whose feasible sets the map holds: ``"exact"`` (the arm's own) or ``"nearly S-R-S neighbour"`` (a nearly
+        S-R-S arm's exact neighbour; :data:`redkin.workspace.store.MODEL_EXACT`, ``MODEL_NEARLY``).
+    model_error : str
+        For a nearly S-R-S arm, what its neighbour drops and how far their poses differ
+        (:meth:`redkin.srs.NearlySRS.describe`); empty for an exact arm.
     """
 
     path: Path
@@ -95,6 +106,8 @@ class WorkspaceRun:
     reachable_poses: float
     mean_redundancy: float
     seconds: float
+    model: str
+    model_error: str
 
     @property
     def pose_branch_evaluations(self) -> int:
@@ -339,6 +352,43 @@ def _drain(client: Any, futures: list) -> None:
         distributed.wait([f for f in futures if f.key in held], timeout=_DRAIN_SECONDS)
 
 
+def map_model(arm: SerialChain, srs_tolerance: float | None = None) -> tuple[SRSGeometry, NearlySRS | None]:
+    """The geometry whose exact feasible sets make the map of ``arm``, and for a nearly S-R-S arm its neighbour.
+
+    An S-R-S or offset-elbow arm (:func:`redkin.srs.srs_geometry`) is mapped with its own geometry (``None``
+    second).  An arm within ``srs_tolerance`` of an exact neighbour (:func:`redkin.srs.arm_angle_class` says
+    nearly S-R-S) is mapped with the neighbour's (:attr:`redkin.srs.NearlySRS.geometry`): the same kernels at
+    the same poses, which is not the real arm's set (docs/workspace.md, "Nearly S-R-S arms").
+
+    Parameters
+    ----------
+    arm : SerialChain
+    srs_tolerance : float, optional
+        The nearly S-R-S tolerance (metres between axes that must meet, radians off perpendicular); default
+        :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`.  An exact arm does not use it (it is still checked).
+
+    Raises
+    ------
+    NotArmAngleClassError
+        For an arm neither S-R-S, offset-elbow nor nearly S-R-S within the tolerance (a Franka-class arm
+        included: its parameter is q7, which these maps do not take).
+    RedkinError
+        For a tolerance that is not a finite number > 0.
+    """
+    tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance)
+    try:
+        return srs_geometry(arm), None
+    except NotArmAngleClassError as exc:
+        kind = arm_angle_class(arm, tolerance).kind
+        if kind != NEARLY_SRS and arm.n == 7 and exc.distance is not None:
+            raise NotArmAngleClassError(f"{exc} (beyond the nearly S-R-S tolerance of {tolerance:g} m)",
+                                        exc.chain_name, exc.distance) from None
+        if kind != NEARLY_SRS:
+            raise
+    nearly = nearly_srs(arm, tolerance)
+    return nearly.geometry, nearly
+
+
 def workspace_map(
     arm: SerialChain,
     path: str | Path,
@@ -349,13 +399,19 @@ def workspace_map(
     chunk: int | None = None,
     client: Any = None,
     progress: Progress | None = None,
+    srs_tolerance: float | None = None,
 ) -> WorkspaceRun:
     """Exact reachability and redundancy map of an arm with arm-angle IK over a box, into a Zarr store.
+
+    A nearly S-R-S arm (the Kinova Gen3, the Jaco2, the ROS-Industrial iiwa) is mapped with the exact feasible
+    sets of its exact S-R-S neighbour at the same poses (:func:`map_model`); the run's ``model`` and
+    ``model_error`` and the store's attributes say so.
 
     Parameters
     ----------
     arm : SerialChain
-        An arm with arm-angle IK (S-R-S or offset elbow; :func:`redkin.srs.srs_geometry`).
+        An arm with arm-angle IK (S-R-S or offset elbow; :func:`redkin.srs.srs_geometry`), or a nearly S-R-S arm
+        (:func:`redkin.srs.nearly_srs`).
     path : str or Path
         The Zarr store; resumed if it holds the same map, created if absent.
     extent : array_like, shape (6,)
@@ -371,6 +427,10 @@ def workspace_map(
         Run on this cluster instead of Dask's local threaded scheduler.
     progress : callable, optional
         ``progress(done, total)`` after each chunk computed.
+    srs_tolerance : float, optional
+        The largest departure of an arm mapped as nearly S-R-S through its exact neighbour (metres between axes
+        that must meet, radians off perpendicular; default :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
+        Unused by an exact arm.  A store resumes only a map of the same model and neighbour.
 
     Returns
     -------
@@ -379,7 +439,8 @@ def workspace_map(
     Raises
     ------
     ValueError
-        For an arm without arm-angle IK, a malformed size or extent, or a path that holds something else.
+        For an arm without arm-angle IK (within ``srs_tolerance``), a malformed size, extent or tolerance, or a
+        path that holds something else (another map included: another arm, grid, model or neighbour).
     MapStoreError
         A ``ValueError`` too: another run holds the store (``reason="in use"``), or the disk filled
         (``reason="no space"``; the chunks complete so far are kept, and the same call resumes).
@@ -389,21 +450,23 @@ def workspace_map(
     started = time.perf_counter()
     require("dask")
     require("zarr")
-    geometry = srs_geometry(arm)
+    geometry, nearly = map_model(arm, srs_tolerance)
     count = check_count(orientations, "orientations", 1, MAX_ORIENTATIONS)
     grid = workspace_grid(extent, resolution, count, chunk)
     rotations = super_fibonacci_rotations(count)
     store = Path(path)
-    parameters = map_parameters(arm, grid, count)
+    parameters = map_parameters(arm, grid, count, None if nearly is None else nearly.neighbour)
     with hold_store(store):
-        prepare_store(store, parameters, lambda folder: create_store(folder, arm, grid, rotations), "orientations")
+        prepare_store(store, parameters, lambda folder: create_store(folder, arm, grid, rotations, nearly),
+                      "orientations")
         # workers write the absolute path: a cluster's workers need not share this process's working directory
         computed = run_chunks(_compute_chunk, (geometry, grid, rotations, store.absolute()), store, grid,
                               "workspace-chunk", parameters, client, progress)
-    return _summary(store, grid, count, computed, time.perf_counter() - started)
+    return _summary(store, grid, count, computed, time.perf_counter() - started, nearly)
 
 
-def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int, seconds: float) -> WorkspaceRun:
+def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int, seconds: float,
+             nearly: NearlySRS | None) -> WorkspaceRun:
     """Read the map's indices back (chunked) into a :class:`WorkspaceRun`."""
     xr = require("xarray")
     span = grid.chunk * max(1, _SUMMARY_SPAN // grid.chunk)  # whole store chunks, few Dask tasks
@@ -417,4 +480,5 @@ def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int,
         path=store, positions=grid.resolution ** 3, orientations=orientations, chunks=len(grid.chunk_indices()),
         computed=computed, reachable_positions=fractions[0], reachable_poses=fractions[1],
         mean_redundancy=fractions[3] / fractions[2] if fractions[2] else 0.0, seconds=seconds,
+        model=MODEL_EXACT if nearly is None else MODEL_NEARLY, model_error="" if nearly is None else nearly.describe(),
     )

@@ -8,8 +8,13 @@ Layout (zarr format 2, readable with ``xarray.open_zarr``):
 * ``chunk_complete`` (chunk_x, chunk_y, chunk_z): set once a chunk's values are written, after them.
 
 A chunk's values are NaN until it is computed.  The map's parameters (arm,
-grid, orientations, chunk) are stored as attributes; a run on an existing
-store with the same parameters resumes it, one with others is refused.
+grid, orientations, chunk, and for a nearly S-R-S arm the exact neighbour whose
+sets the map holds) are stored as attributes; a run on an existing store with
+the same parameters resumes it, one with others is refused.  The attribute
+``model`` says whose feasible sets the map holds: :data:`MODEL_EXACT` (the
+arm's own), or :data:`MODEL_NEARLY` (a nearly S-R-S arm's exact neighbour,
+with ``model_error``, ``departures`` and ``neighbour`` beside it).  A store
+written before ``model`` existed is an exact arm's.
 
 What a crash leaves
 -------------------
@@ -61,7 +66,7 @@ from redkin import __version__
 from redkin._constants import WORKSPACE_MAP_NAME as MAP_NAME  # noqa: F401  (the map's file name; redkin.workspace)
 from redkin.chain import SerialChain
 from redkin.errors import MapStoreError
-from redkin.srs import BRANCHES
+from redkin.srs import BRANCHES, NearlySRS
 from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid
 
@@ -70,6 +75,12 @@ _ORIENTATION_SET = "super-Fibonacci spiral on SO(3) (Alexa, CVPR 2022), determin
 PARTIAL_SUFFIX = ".partial"
 #: ``errno`` values of a full disk or an exhausted quota.
 _NO_SPACE = (errno.ENOSPC, errno.EDQUOT)
+#: The store's ``model``: the map holds the arm's own exact feasible sets, or those of a nearly S-R-S arm's exact
+#: neighbour (:func:`redkin.srs.nearly_srs`).
+MODEL_EXACT, MODEL_NEARLY = "exact", "nearly S-R-S neighbour"
+_NEARLY_NOTE = ("the measures are the exact feasible arm-angle sets of the arm's exact S-R-S neighbour (attribute "
+                "neighbour) at the same poses, not the real arm's; the real sets differ near their ends and near "
+                "singular wrists (docs/workspace.md, Nearly S-R-S arms)")
 
 
 def arm_description(chain: SerialChain) -> dict[str, Any]:
@@ -86,26 +97,43 @@ def arm_description(chain: SerialChain) -> dict[str, Any]:
     }
 
 
-def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int) -> str:
-    """What makes two maps the same map, as canonical JSON (compared when a run resumes)."""
-    return json.dumps({
+def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int,
+                   neighbour: SerialChain | None = None) -> str:
+    """What makes two maps the same map, as canonical JSON (compared when a run resumes).
+
+    ``neighbour`` is the exact S-R-S neighbour whose feasible sets make the map of a nearly S-R-S arm
+    (:attr:`redkin.srs.NearlySRS.neighbour`), ``None`` for an arm mapped with its own.  An exact arm's
+    parameters have no ``model`` entry (as before nearly S-R-S maps existed, so its stores still resume); a
+    nearly S-R-S arm's name the model and the neighbour, so a store of one model, or of another neighbour
+    (another tolerance that changes it), is not resumed by the other.
+    """
+    parameters: dict[str, Any] = {
         "arm": arm_description(chain), "extent": list(grid.extent), "resolution": grid.resolution,
         "orientations": orientations, "chunk": grid.chunk,
-    }, sort_keys=True)
+    }
+    if neighbour is not None:
+        parameters["model"] = {"kind": MODEL_NEARLY, "neighbour": arm_description(neighbour)}
+    return json.dumps(parameters, sort_keys=True)
 
 
-def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray) -> None:
-    """Write the metadata and coordinates of an empty map at ``path`` (values NaN, no chunk complete)."""
+def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray,
+                 nearly: NearlySRS | None = None) -> None:
+    """Write the metadata and coordinates of an empty map at ``path`` (values NaN, no chunk complete).
+
+    ``nearly`` is given for a nearly S-R-S arm mapped with its exact neighbour's feasible sets: the attributes then
+    say so (``model``, ``model_error``, ``departures``, ``neighbour``, ``model_note``).
+    """
     xr = require("xarray")
     da = require("dask.array")
     m, n, c = grid.resolution, len(rotations), grid.chunk
     x, y, z = grid.axes
+    whose = "" if nearly is None else " of the exact S-R-S neighbour"
     position = ("x", "y", "z")
     # lazy templates of one Dask chunk each (a graph of a few tasks, never computed); the store's chunks are set
     # by the encoding: one per map chunk (13 824 Dask chunks per array made the 1 cm map's metadata take 30 s)
     data = {
         "measure": (position + ("orientation", "branch"), da.zeros((m, m, m, n, len(BRANCHES)), chunks=-1),
-                    {"units": "rad", "long_name": "measure of the feasible arm-angle set ([000 eq. 30])",
+                    {"units": "rad", "long_name": f"measure of the feasible arm-angle set{whose} ([000 eq. 30])",
                      "branches": [str(b) for b in BRANCHES]}),
         "reachability": (position, da.zeros((m, m, m), chunks=-1),
                          {"units": "1",
@@ -123,11 +151,19 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
         "rotation": (("orientation", "row", "column"), rotations,
                      {"units": "1", "long_name": "tool orientation in the base frame", "set": _ORIENTATION_SET}),
     }
-    attrs = {
-        "title": f"workspace map of {chain.name}: exact feasible arm angles (paper 000)",
+    attrs: dict[str, Any] = {
+        "title": f"workspace map of {chain.name}: exact feasible arm angles{whose} (paper 000)",
         "robot": chain.name, "arm": arm_description(chain), "branches": [str(b) for b in BRANCHES],
-        "parameters": map_parameters(chain, grid, len(rotations)), "redkin_version": __version__,
+        "parameters": map_parameters(chain, grid, len(rotations), None if nearly is None else nearly.neighbour),
+        "redkin_version": __version__, "model": MODEL_EXACT,
     }
+    if nearly is not None:
+        attrs.update({
+            "model": MODEL_NEARLY, "model_error": nearly.describe(), "model_note": _NEARLY_NOTE,
+            "departures": [{"what": what, "value": float(value), "unit": unit}
+                           for what, value, unit in nearly.departures],
+            "neighbour": arm_description(nearly.neighbour),
+        })
     dataset = xr.Dataset({name: xr.Variable(*spec) for name, spec in data.items()},
                          coords={name: xr.Variable(*spec) for name, spec in coords.items()}, attrs=attrs)
     dataset.to_zarr(durable_store(path), mode="w", compute=False, zarr_format=2, encoding=encoding,
