@@ -9,6 +9,8 @@ the circle) and the ROS-Industrial iiwa:
 - the narrow islands and gaps that a grid of 720 arm angles misses, found by the benchmark near a singular wrist
   or shoulder (``benchmarks/README.md``, issue 27), are in the set exactly, checked on a window sampled 10^-5 rad
   apart;
+- **between the neighbour's sets**: the set holds the neighbour's exact set for the limits tightened by its
+  ``delta`` and lies within the one for the limits loosened by it, where both arms solve the branch everywhere;
 - :func:`redkin.srs.nearly.self_motion_rates` equals the central differences of the polished solutions in the arm
   angle, and is the self-motion: the Jacobian maps it to zero;
 - bad input raises ValueError.
@@ -150,3 +152,21 @@ def test_bad_input():
         feasible_arm_angles_nearly(arm, pose, "+x+")
     with pytest.raises(RedkinError):
         self_motion_rates(arm, np.full(6, 0.3))
+
+
+@settings(max_examples=10, deadline=None)
+@given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
+       branch=st.sampled_from([str(b) for b in BRANCHES]))
+def test_the_set_lies_between_the_neighbours_tightened_and_loosened_sets(name, seed, branch):
+    arm = _arm(name)
+    rng = np.random.default_rng(seed)
+    pose = arm.chain.fk(rng.uniform(arm.chain.lower, arm.chain.upper))
+    result = feasible_arm_angles_nearly(arm, pose, branch)
+    psi = np.sort(rng.uniform(-np.pi, np.pi, 4000))
+    assume(ik(arm, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch).exists.all())  # both arms solve everywhere
+    ends = np.array([end for sets in (result.feasible, result.inner, result.outer) for arc in sets.arcs for end in arc])
+    far = (np.ones(len(psi), dtype=bool) if ends.size == 0 else
+           np.abs(np.angle(np.exp(1j * (psi[:, None] - ends[None])))).min(axis=1) > AT_AN_END)
+    held = np.asarray(result.feasible.contains(psi))
+    assert not np.any(far & np.asarray(result.inner.contains(psi)) & ~held)
+    assert not np.any(far & held & ~np.asarray(result.outer.contains(psi)))

@@ -39,6 +39,18 @@ measures at the samples only; it is not proved between them.  A polish
 that does not settle counts as a solution that does not exist, and
 refinement stops at intervals of :data:`_NARROWEST` rad (a solution that
 jumps to another sheet of the branch) or at :data:`_MOST_SAMPLES` samples.
+
+How far the real set lies from the neighbour's: where both arms have the
+branch's solution at ``psi`` and they differ by at most ``d`` in every
+joint, a real solution within the limits makes the neighbour's lie within
+the limits loosened by ``d``, and a neighbour's solution within the limits
+tightened by ``d`` makes the real one lie within the limits.  So the real
+set lies between the neighbour's exact sets for the limits tightened and
+loosened by ``d`` (:attr:`NearlyFeasible.inner`, :attr:`NearlyFeasible.outer`),
+``d`` the largest difference over every sample, doubled, plus 1e-6 rad
+(:attr:`NearlyFeasible.delta`: measured, not derived from the offsets, which
+bound ``|q - q_N|`` only through the inverse of a Jacobian that grows
+without bound near a singular wrist or shoulder).
 """
 
 from __future__ import annotations
@@ -52,7 +64,7 @@ from redkin._validation import check_pose
 from redkin.circle import TWO_PI, ArcSet, wrap_angle
 from redkin.errors import RedkinError
 from redkin.srs.branches import Branch, parse_branch
-from redkin.srs.feasible import feasible_arm_angles
+from redkin.srs.feasible import FeasibleArmAngles, feasible_arm_angles
 from redkin.srs.geometry import srs_geometry
 from redkin.srs.ik import solve
 from redkin.srs.nearly import NearlySRS, ik, self_motion_rates
@@ -81,15 +93,23 @@ class NearlyFeasible(NamedTuple):
         Arm angles where the branch's certified solution lies within the limits.
     branch : Branch
     delta : float
-        The joint difference [rad] allowed between the real arm and its neighbour (module docstring, step 1).
+        The largest ``|q - q_N|`` [rad] between the real arm's solution and the neighbour's at the same arm angle over
+        every sample, doubled, plus 1e-6 rad.
     samples : int
         Arm angles at which the real arm was solved, the bisections included.
+    inner, outer : ArcSet
+        The neighbour's exact feasible sets [000 eqs. 20-30] for the limits tightened and loosened by ``delta``:
+        ``inner`` within ``feasible`` within ``outer`` wherever both arms have the branch's solution and they differ
+        by ``delta`` at most (module docstring, "How far the real set lies from the neighbour's").  Where the
+        neighbour does not reach the pose, ``inner`` is empty and ``outer`` the whole circle.
     """
 
     feasible: ArcSet
     branch: Branch
     delta: float
     samples: int
+    inner: ArcSet
+    outer: ArcSet
 
 
 def feasible_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Branch = "+++",
@@ -109,11 +129,14 @@ def feasible_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Br
     label = parse_branch(branch)
     grid = np.linspace(-np.pi, np.pi, samples, endpoint=False)
     curve = _Curve(arm, pose, label, grid)
-    delta = _delta(arm, pose, grid, curve.q, curve.exists, label)
-    curve.add(_announced(arm, pose, label, delta))
+    curve.add(_announced(_neighbour_sets(arm, pose, label, _delta(arm, pose, grid, curve.q, curve.exists, label))))
     curve.refine()
     curve.add(curve.extrema())
-    return NearlyFeasible(curve.located(), label, delta, curve.count)
+    feasible = curve.located()
+    delta = _delta(arm, pose, curve.psi, curve.q, curve.exists, label)
+    inner, outer = _neighbour_sets(arm, pose, label, -delta), _neighbour_sets(arm, pose, label, delta)
+    return NearlyFeasible(feasible, label, delta, curve.count, ArcSet.empty() if inner is None else inner.feasible,
+                          ArcSet.full() if outer is None else outer.feasible)
 
 
 class _Curve:
@@ -237,32 +260,40 @@ def _arcs(edge: np.ndarray, low_true: np.ndarray, everywhere: bool) -> ArcSet:
     return ArcSet([(float(marks[k]), float(marks[k + 1])) for k in range(0, len(marks) - 1, 2)])
 
 
-def _delta(arm: NearlySRS, pose: np.ndarray, grid: np.ndarray, q: np.ndarray, exists: np.ndarray,
+def _delta(arm: NearlySRS, pose: np.ndarray, psi: np.ndarray, q: np.ndarray, exists: np.ndarray,
            label: Branch) -> float:
-    """The largest ``|q - q_N|`` [rad] of the certified solutions ``q`` (M, 7) on the grid (M,), doubled, plus
-    1e-6 rad."""
+    """The largest ``|q - q_N|`` [rad] of the certified solutions ``q`` (M, 7) at arm angles ``psi`` (M,), doubled,
+    plus 1e-6 rad."""
     from redkin.srs.ik import reachable
 
     found = np.flatnonzero(exists)
     if found.size == 0 or not reachable(arm.geometry, pose):
         return 1e-6
-    exact = solve(arm.geometry, pose, grid[found], arm.geometry.kernel_branch(label))[:, 0]
-    difference = np.abs(np.angle(np.exp(1j * (q[found] - exact))))
-    return float(2.0 * difference.max() + 1e-6)
+    exact = solve(arm.geometry, pose, psi[found], arm.geometry.kernel_branch(label))[:, 0]
+    return float(2.0 * np.max(np.abs(_wrapped(q[found] - exact))) + 1e-6)
 
 
-def _announced(arm: NearlySRS, pose: np.ndarray, label: Branch, delta: float) -> np.ndarray:
-    """The endpoints and midpoints of the neighbour's feasible arcs of each joint with its limits loosened by
-    ``delta`` (module docstring, step 1); none where the neighbour does not reach the pose."""
+def _neighbour_sets(arm: NearlySRS, pose: np.ndarray, label: Branch, change: float) -> FeasibleArmAngles | None:
+    """The neighbour's exact feasible sets [000 eqs. 20-30] of the branch with its limits loosened by ``change``
+    [rad] (tightened where negative); ``None`` where the neighbour does not reach the pose or a tightened joint's
+    range closes."""
     from redkin.srs.ik import reachable
 
-    loose = arm.neighbour.with_limits(arm.neighbour.lower - delta, arm.neighbour.upper + delta)
-    geometry = srs_geometry(loose)
-    if not reachable(geometry, pose):
+    neighbour = arm.neighbour
+    lower, upper = neighbour.lower - change, neighbour.upper + change
+    if np.any(lower > upper):
+        return None
+    geometry = srs_geometry(neighbour.with_limits(lower, upper))
+    return feasible_arm_angles(geometry, pose, label) if reachable(geometry, pose) else None
+
+
+def _announced(loosened: FeasibleArmAngles | None) -> np.ndarray:
+    """The endpoints and midpoints of the neighbour's feasible arcs of each joint with its limits loosened
+    (module docstring, step 1); none where the neighbour does not reach the pose."""
+    if loosened is None:
         return np.empty(0)
-    result = feasible_arm_angles(geometry, pose, label)
     points = []
-    for arcs in (*result.per_joint.values(), result.feasible):
+    for arcs in (*loosened.per_joint.values(), loosened.feasible):
         for start, end in arcs.arcs:
             points += [start, end, start + 0.5 * ((end - start) % TWO_PI)]
     return _wrapped(np.array(points)) if points else np.empty(0)
