@@ -1,5 +1,5 @@
 """``redkin path``: the redundancy (the arm angle, or q7 on a Franka-class arm) chosen over a whole path of poses,
-inside the exact feasible sets."""
+inside the exact feasible sets (the certified ones of the real arm on a nearly S-R-S arm)."""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ from redkin.cli.common import (
     add_force_flag,
     add_output_flags,
     add_robot_argument,
+    add_srs_tolerance_argument,
     angle_unit,
     angles_in,
     angles_out,
@@ -55,7 +56,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                       help="save the (waypoint, arm angle) plane of each branch here: the exact feasible arm angles, "
                            "the path (or the failing waypoint), and beside it the fixed arm angle, the clamped "
                            "per-pose optimum and greedy seeded tracking with their first failures (the (waypoint, "
-                           "q7) plane without baselines on a Franka-class arm)")
+                           "q7) plane without baselines on a Franka-class arm, and without them on a nearly S-R-S "
+                           "arm)")
+    add_srs_tolerance_argument(path)
     add_force_flag(path)
     add_output_flags(path)
     path.set_defaults(handler=_run_path)
@@ -74,22 +77,25 @@ def _failure_line(failure, degrees: bool) -> str:
     return text + (" [proved by the exact feasible sets]" if failure.exact else " [on the searched graph]")
 
 
-def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None) -> None:
+def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, srs_tolerance: float | None) -> None:
     """The figure of :func:`redkin.plot.paths.path_plane_figure`: the path (or its failure) beside the baselines
     that start where it starts (the fixed arm angle and the clamped optimum on its first branch, or on ``q0``'s
     without a path; greedy tracking from ``q0``), drawn where every pose is within reach; a Franka-class arm's
-    (waypoint, q7) plane has no baselines (they choose arm angles)."""
+    (waypoint, q7) plane has no baselines (they choose arm angles), nor a nearly S-R-S arm's (they use the exact
+    closed form)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from redkin.paths import clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path
+    from redkin.paths.family import ArmAngleFamily, path_family
     from redkin.plot.paths import path_plane_figure
     from redkin.srs import arm_angle_of, reachable
 
     baselines = []
-    if result.parameter == "psi" and reachable(chain, poses).all():  # the baselines choose arm angles
+    exact_psi = isinstance(path_family(chain, srs_tolerance), ArmAngleFamily)
+    if exact_psi and reachable(chain, poses).all():  # the baselines choose arm angles in closed form
         start = None
         if result.ok:
             start = (float(result.psi[0]), result.branch[0])
@@ -100,10 +106,22 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None) ->
             baselines += [fixed_psi_path(chain, poses, result.step, *start),
                           clamped_optimum_path(chain, poses, result.step, start[1])]
         baselines.append(greedy_path(chain, poses, result.step, q0=q0))
-    fig = path_plane_figure(feasible_along_path(chain, poses), result, baselines,
+    fig = path_plane_figure(feasible_along_path(chain, poses, srs_tolerance), result, baselines,
                             title=f"{chain.name}: {len(poses)} waypoints")
     fig.savefig(file, dpi=120, bbox_inches="tight")
     plt.close(fig)
+
+
+def _model_line(chain, srs_tolerance: float | None) -> str | None:
+    """What a nearly S-R-S arm's path rests on, in one line (its neighbour and model error); ``None`` for an arm of
+    an exact class."""
+    from redkin.paths.family import NearlyFamily, path_family
+
+    family = path_family(chain, srs_tolerance)
+    if not isinstance(family, NearlyFamily):
+        return None
+    return (f"nearly S-R-S: {family.nearly.describe()}; the feasible sets are certified on the real arm, not exact, "
+            "so no clearance is proved optimal")
 
 
 def _bound(args: argparse.Namespace, chain) -> tuple[np.ndarray, np.ndarray | None, str | None]:
@@ -141,16 +159,18 @@ def _run_path(args: argparse.Namespace) -> int:
     poses = read_poses(args.poses)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough,
-                          objective=args.objective)
+                          objective=args.objective, srs_tolerance=args.srs_tolerance)
+    model = _model_line(chain, args.srs_tolerance)
     if plot is not None:
-        _save_plot(plot, chain, poses, result, q0)
+        _save_plot(plot, chain, poses, result, q0, args.srs_tolerance)
     degrees = args.deg
     failure = result.failure
     if args.json:
         report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
                         "speed": angles_out(speed, degrees), "speed_unit": f"{angle_unit(degrees)}/s",
                         "speed_source": speed_source, "dt": args.dt if speed is not None else None,
-                        "nodes": result.nodes, "parameter": result.parameter, "objective": args.objective}
+                        "nodes": result.nodes, "parameter": result.parameter, "objective": args.objective,
+                        "model": model}
         if result.ok:
             report.update(q=angles_out(result.q, degrees), branch=result.branch,
                           clearance=None if not np.isfinite(result.clearance) else angles_out(result.clearance,
@@ -166,6 +186,8 @@ def _run_path(args: argparse.Namespace) -> int:
         print_json(report)
         return 0 if result.ok else 1
     unit = angle_unit(degrees)
+    if model is not None:
+        print(model)
     if speed is not None:
         source = "the description's velocity limits" if speed_source == "description" else "--speed"
         print(f"step bound: speed x dt ({args.dt:g} s), speeds [{unit}/s] from {source}: "

@@ -8,7 +8,12 @@ Two classes have exact feasible sets of their redundancy parameter, and so take 
 * the Franka class (docs/franka.md): the value q7 of joint 7, whose arcs are [F8]-[F9]'s
   (:func:`redkin.franka.feasible_q7_batch`), the nodes the closed form at q7 [F1]-[F7].
 
-:func:`path_family` picks the class of a chain; :mod:`redkin.paths.resolve` is written once for both.
+Nearly S-R-S arms (docs/srs.md, "Nearly S-R-S arms") take part too, with the real arm's arm angle: their feasible
+sets are located on the polished solutions (:func:`redkin.srs.feasible_arm_angles_nearly`), certified but not
+proved complete, and the nodes are the polished solutions (:func:`redkin.srs.nearly.ik`).  Their family is not
+:attr:`Family.exact`: no clearance is proved optimal and no failure proved from their sets.
+
+:func:`path_family` picks the class of a chain; :mod:`redkin.paths.resolve` is written once for all three.
 """
 
 from __future__ import annotations
@@ -19,6 +24,7 @@ import numpy as np
 
 from redkin._compiled import run_batch
 from redkin.chain import SerialChain
+from redkin.circle import TWO_PI
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.franka.feasible import feasible_q7_batch
 from redkin.franka.geometry import FrankaGeometry, franka_geometry
@@ -27,13 +33,18 @@ from redkin.franka.ik import frames_seven
 from redkin.franka.ik import ik as franka_ik
 from redkin.paths import _dp_kernels
 from redkin.paths.failure import empty_blocker
-from redkin.paths.graph import Arm, joint_moves
+from redkin.paths.graph import _CLIP_TOLERANCE, Arm, joint_moves
 from redkin.srs import _ik_kernels
 from redkin.srs.arm_angle import arm_angle_of
 from redkin.srs.branches import BRANCHES, Branch
 from redkin.srs.coefficients import coefficient_arrays
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry, srs_geometry
+from redkin.srs.nearly import TOLERANCE_DEFAULT, NearlySRS, nearly_srs
+from redkin.srs.nearly import arm_angle as nearly_arm_angle
+from redkin.srs.nearly import branch_of as nearly_branch_of
+from redkin.srs.nearly import ik as nearly_ik
+from redkin.srs.nearly_feasible import feasible_arm_angles_nearly
 
 #: The arm angle's name in results.
 PSI = "psi"
@@ -107,10 +118,14 @@ class Family:
     wraps : bool
         Whether the parameter is an angle on the circle, reported in ``[-pi, pi)`` (the arm angle), or a joint
         value reported as the joint has it (q7).
+    exact : bool
+        Whether the feasible sets are a closed form's, exact enough to prove a clearance optimal or a pose
+        infeasible.
     """
 
     parameter: str = PSI
     wraps: bool = True
+    exact: bool = True
 
     @property
     def chain(self) -> SerialChain:
@@ -211,15 +226,7 @@ class Q7Family(Family):
                                                       frames)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
-        sets = feasible_q7_batch(self.geometry, poses).reshape(-1)
-        most = max([1] + [len(arcs) for result in sets for arcs in result.arcs])
-        shape = (len(sets), len(BRANCHES), most)
-        start, end, feasible = np.full(shape, np.nan), np.full(shape, np.nan), np.zeros(shape, dtype=bool)
-        for w, result in enumerate(sets):
-            for b, arcs in enumerate(result.arcs):
-                start[w, b, : len(arcs)], end[w, b, : len(arcs)] = arcs[:, 0], arcs[:, 1]
-                feasible[w, b, : len(arcs)] = True
-        return FeasiblePieces(start, end, feasible)
+        return _as_pieces([list(result.arcs) for result in feasible_q7_batch(self.geometry, poses).reshape(-1)])
 
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """q7 is the configuration's own joint 7; its branch is the one whose solution at that q7 is nearest."""
@@ -235,18 +242,112 @@ class Q7Family(Family):
         return None, {}, not self.pieces(pose[None]).feasible.any()
 
 
-def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry) -> Family:
-    """The class of ``arm`` as path resolution sees it.
+@dataclass(frozen=True)
+class _NearlyArm(Arm):
+    """A nearly S-R-S arm along a path: its neighbour and every waypoint's pose.
+
+    Attributes
+    ----------
+    nearly : NearlySRS
+    poses : numpy.ndarray, shape (W, 4, 4)
+    """
+
+    nearly: NearlySRS
+    poses: np.ndarray
+
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`Arm.rows` at the real arm's arm angles ``parameter``: the certified solutions of
+        :func:`redkin.srs.nearly.ik`, each limited joint moved by whole turns to just above its lower limit (the
+        solver's values are right modulo whole turns), then clipped as :func:`redkin.paths._dp_kernels._clipped`
+        clips; a joint outside its range is as far out as the nearer limit, either way round."""
+        q, exists = np.zeros((len(parameter), 7)), np.zeros(len(parameter), dtype=bool)
+        for b in np.unique(branch):
+            mine = np.flatnonzero(branch == b)
+            solutions = nearly_ik(self.nearly, self.poses[waypoint[mine]], parameter[mine], BRANCHES[b])
+            q[mine], exists[mine] = solutions.q[:, 0], solutions.exists[:, 0]
+        limited = ~self.circle
+        if not limited.any():
+            return q, np.where(exists, np.inf, -np.inf)
+        lower, upper = self.chain.lower[limited], self.chain.upper[limited]
+        turned = lower + np.mod(q[:, limited] - lower + _CLIP_TOLERANCE, TWO_PI) - _CLIP_TOLERANCE
+        room = np.where(turned <= upper, np.minimum(turned - lower, upper - turned),
+                        -np.minimum(turned - upper, lower + TWO_PI - turned))
+        q[:, limited] = np.clip(turned, lower, upper)
+        return q, np.where(exists, room.min(axis=1), -np.inf)
+
+    def take(self, waypoints: np.ndarray) -> _NearlyArm:
+        return replace(self, poses=self.poses[waypoints])
+
+
+@dataclass(frozen=True)
+class NearlyFamily(Family):
+    """Nearly S-R-S arms: the real arm's arm angle (docs/srs.md, "Nearly S-R-S arms"); not :attr:`Family.exact`."""
+
+    nearly: NearlySRS
+    tolerance: float
+    exact: bool = False
+
+    @property
+    def chain(self) -> SerialChain:
+        return self.nearly.chain
+
+    def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
+        # a pose out of reach has no certified solution at any arm angle: an empty feasible set
+        return np.ones(len(poses), dtype=bool), _NearlyArm(self.chain, step, self.chain.covers_circle, self.nearly,
+                                                           poses)
+
+    def pieces(self, poses: np.ndarray) -> FeasiblePieces:
+        """The real feasible sets of every branch (:func:`redkin.srs.feasible_arm_angles_nearly`), an arc through
+        ``+-pi`` cut in two."""
+        sets = [[feasible_arm_angles_nearly(self.nearly, pose, branch).feasible.intervals for branch in BRANCHES]
+                for pose in poses]
+        return _as_pieces(sets)
+
+    def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The real arm's arm angle (:func:`redkin.srs.nearly.arm_angle`) and its own branch signs."""
+        return (np.reshape(nearly_branch_of(self.nearly, q), -1).astype(np.int64),
+                np.reshape(nearly_arm_angle(self.nearly, q), -1))
+
+    def _with(self, chain: SerialChain) -> Family:
+        return NearlyFamily(nearly_srs(chain, self.tolerance), self.tolerance)
+
+    def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
+        return None, {}, False
+
+
+def _as_pieces(sets: list[list]) -> FeasiblePieces:
+    """:class:`FeasiblePieces` ``(W, 8, K)`` of each waypoint's and branch's sorted intervals ``[(start, end),
+    ...]``."""
+    most = max([1] + [len(intervals) for per_pose in sets for intervals in per_pose])
+    shape = (len(sets), len(BRANCHES), most)
+    start, end, feasible = np.full(shape, np.nan), np.full(shape, np.nan), np.zeros(shape, dtype=bool)
+    for w, per_pose in enumerate(sets):
+        for b, intervals in enumerate(per_pose):
+            if len(intervals):
+                arcs = np.asarray(intervals, dtype=float)
+                start[w, b, : len(arcs)], end[w, b, : len(arcs)] = arcs[:, 0], arcs[:, 1]
+                feasible[w, b, : len(arcs)] = True
+    return FeasiblePieces(start, end, feasible)
+
+
+def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
+                srs_tolerance: float | None = None) -> Family:
+    """The class of ``arm`` as path resolution sees it: S-R-S or offset elbow, the Franka class, or nearly S-R-S
+    within ``srs_tolerance`` (:func:`redkin.srs.arm_angle_class`; default
+    :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
 
     Raises
     ------
     NotArmAngleClassError
-        For a chain of neither class, with the reasons of both.
+        For a chain of none of these classes, with the reasons.
     """
     if isinstance(arm, SRSGeometry):
         return ArmAngleFamily(arm)
     if isinstance(arm, FrankaGeometry):
         return Q7Family(arm)
+    tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else srs_tolerance
+    if isinstance(arm, NearlySRS):
+        return NearlyFamily(arm, tolerance)
     if not isinstance(arm, SerialChain):
         raise RedkinError(f"arm must be a SerialChain, got {type(arm).__name__}")
     try:
@@ -255,6 +356,9 @@ def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry) -> Family:
         try:
             return Q7Family(franka_geometry(arm))
         except NotArmAngleClassError as other:
-            raise NotArmAngleClassError(
-                f"path resolution needs the exact feasible sets of a closed form: {arm.name!r} is neither S-R-S nor "
-                f"of the Franka class ({exc}; {other})", arm.name) from None
+            try:
+                return NearlyFamily(nearly_srs(arm, tolerance), tolerance)
+            except NotArmAngleClassError:
+                raise NotArmAngleClassError(
+                    f"path resolution needs an arm-angle or q7 parameterisation: {arm.name!r} is neither S-R-S, nor "
+                    f"of the Franka class, nor S-R-S within {tolerance:g} m ({exc}; {other})", arm.name) from None

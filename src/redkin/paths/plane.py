@@ -16,19 +16,24 @@ from redkin.srs import _feasible_kernels
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import reachable
+from redkin.srs.nearly import NearlySRS
 
 
-def feasible_along_path(arm: SerialChain | SRSGeometry | FrankaGeometry, poses: ArrayLike) -> FeasiblePieces:
+def feasible_along_path(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS, poses: ArrayLike,
+                        srs_tolerance: float | None = None) -> FeasiblePieces:
     """The feasible arm angles [000 eq. 30] of every waypoint on the eight branches, as pieces ``(N, 8, 24)``; on
-    a Franka-class arm the feasible values of q7 [F8]-[F9] (``(N, 8, K)``).
+    a Franka-class arm the feasible values of q7 [F8]-[F9] (``(N, 8, K)``); on a nearly S-R-S arm (within
+    ``srs_tolerance``, :func:`redkin.paths.family.path_family`) the real arm's certified sets
+    (:func:`redkin.srs.feasible_arm_angles_nearly`, ``(N, 8, K)``).
 
     Unlike :func:`redkin.srs.feasible_pieces_all_branches`, a pose out of the arm's reach is not an error: its
     row has no feasible piece (``feasible`` false, NaN ends), as no arm angle reaches it.
 
     Parameters
     ----------
-    arm : SerialChain, SRSGeometry or FrankaGeometry
+    arm : SerialChain, SRSGeometry, FrankaGeometry or NearlySRS
     poses : array_like, shape (N, 4, 4)
+    srs_tolerance : float, optional
 
     Returns
     -------
@@ -36,12 +41,12 @@ def feasible_along_path(arm: SerialChain | SRSGeometry | FrankaGeometry, poses: 
         ``arc_set((k, b))`` is the feasible set of waypoint ``k`` on branch ``redkin.srs.BRANCHES[b]`` (of the arm
         angle).
     """
-    family = path_family(arm)
+    family = path_family(arm, srs_tolerance)
     poses = check_pose(poses, "poses")
     if poses.ndim != 3 or poses.shape[0] == 0:
         raise RedkinError(f"poses must have shape (N, 4, 4) with N >= 1, got shape {poses.shape}")
     if not isinstance(family, ArmAngleFamily):
-        return family.pieces(poses)  # a pose out of reach has no branch at any q7: no feasible piece
+        return family.pieces(poses)  # a pose out of reach has no solution at any parameter: no feasible piece
     geometry = family.geometry
     shape = (poses.shape[0], 8, _feasible_kernels.PIECES)
     start, end = np.full(shape, np.nan), np.full(shape, np.nan)

@@ -33,6 +33,7 @@ from redkin.paths.result import PathFailure, PathResult
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.feasible import FeasiblePieces
 from redkin.srs.geometry import SRSGeometry
+from redkin.srs.nearly import NearlySRS
 
 #: Every waypoint of a returned path reaches its pose within this (largest entry of the 4x4 difference).
 FK_TOLERANCE = 1e-9
@@ -59,7 +60,7 @@ OPTIMALITY_MARGIN = 1e-7
 
 
 def resolve_path(
-    arm: SerialChain | SRSGeometry | FrankaGeometry,
+    arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
     poses: ArrayLike,
     max_step: ArrayLike | None = None,
     *,
@@ -73,6 +74,7 @@ def resolve_path(
     refinements: int = DEFAULT_REFINEMENTS,
     thorough: bool = False,
     objective: str = "clearance",
+    srs_tolerance: float | None = None,
 ) -> PathResult:
     """Joint values along a path of poses, as far from the joint limits as the path allows, or where none exist.
 
@@ -83,9 +85,10 @@ def resolve_path(
 
     Parameters
     ----------
-    arm : SerialChain, SRSGeometry or FrankaGeometry
-        An S-R-S or offset-elbow arm (the redundancy is the arm angle psi) or a Franka-class arm (joint 7's value
-        q7, :mod:`redkin.franka`), with its joint limits.
+    arm : SerialChain, SRSGeometry, FrankaGeometry or NearlySRS
+        An S-R-S or offset-elbow arm (the redundancy is the arm angle psi), a Franka-class arm (joint 7's value
+        q7, :mod:`redkin.franka`) or a nearly S-R-S arm (the real arm's arm angle, :mod:`redkin.srs.nearly`; its
+        feasible sets are certified, not exact: no clearance is proved optimal), with its joint limits.
     poses : array_like, shape (N, 4, 4)
         The waypoints.
     max_step : float or array_like of shape (7,), optional
@@ -117,6 +120,8 @@ def resolve_path(
         What "best" means (:data:`OBJECTIVES`): ``"clearance"``, the largest smallest distance of a joint to its
         limits, then the least total motion (the default); ``"motion"``, the least total joint motion, then the
         largest clearance (both stages are searched, as with ``thorough``; no clearance is proved optimal).
+    srs_tolerance : float, optional
+        The nearly S-R-S tolerance of :func:`redkin.srs.arm_angle_class` [m] for a chain of neither exact class.
 
     Returns
     -------
@@ -134,11 +139,11 @@ def resolve_path(
                           "resolve_paths")
     return resolve_paths(arm, poses[None], max_step, speed=speed, dt=dt, q0=q0, q_end=q_end, end_branch=end_branch,
                          spacing=spacing, connect=connect, refinements=refinements, thorough=thorough,
-                         objective=objective)[0]
+                         objective=objective, srs_tolerance=srs_tolerance)[0]
 
 
 def resolve_paths(
-    arm: SerialChain | SRSGeometry | FrankaGeometry,
+    arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
     paths: ArrayLike,
     max_step: ArrayLike | None = None,
     *,
@@ -152,11 +157,12 @@ def resolve_paths(
     refinements: int = DEFAULT_REFINEMENTS,
     thorough: bool = False,
     objective: str = "clearance",
+    srs_tolerance: float | None = None,
 ) -> list[PathResult]:
     """:func:`resolve_path` for ``P`` paths of ``N`` poses each, ``paths`` of shape ``(P, N, 4, 4)``: one
     batch of feasible sets and IK, one sweep.  ``q0`` and ``q_end`` are ``(7,)`` (the same for every path) or
     ``(P, 7)``."""
-    family = path_family(arm)
+    family = path_family(arm, srs_tolerance)
     chain = family.chain
     poses = check_pose(paths, "paths")
     if poses.ndim != 4 or poses.shape[1] == 0:
@@ -502,8 +508,11 @@ def _bottleneck(family: Family, poses: np.ndarray, clearance: np.ndarray) -> int
     ``c`` and whose exact feasible sets ([000 eq. 30], or [F8]-[F9] of q7) are empty on every branch once each
     limit is moved :data:`OPTIMALITY_MARGIN` past ``c`` inwards, cannot be passed by any path more than ``c +``
     :data:`OPTIMALITY_MARGIN` from the limits: no other choice of branches and parameters does better.
-    A chain with no joint of a range under ``2 pi`` has clearance ``inf`` everywhere: waypoint 0 proves it."""
+    A chain with no joint of a range under ``2 pi`` has clearance ``inf`` everywhere: waypoint 0 proves it.  A
+    family whose sets are not exact (:attr:`redkin.paths.family.Family.exact`) proves nothing."""
     least = float(clearance.min())
+    if not family.exact:
+        return None
     if least == np.inf:
         return 0
     level = least + OPTIMALITY_MARGIN

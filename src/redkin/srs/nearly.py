@@ -50,7 +50,7 @@ from redkin.errors import RedkinError
 from redkin.srs import _nearly_kernels
 from redkin.srs._ik_kernels import BAD_POSE
 from redkin.srs._targets import as_poses, check_psi, raise_for_bad_pose
-from redkin.srs.branches import BRANCHES, Branch, parse_branch
+from redkin.srs.branches import BRANCHES, Branch, branch_of_theta, parse_branch
 from redkin.srs.conventions import departures, model_error, neighbour_form
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 
@@ -224,6 +224,21 @@ def arm_angle(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
     out = np.empty(len(flat))
     run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, out, np.empty((len(flat), 7)), False)
     return out.reshape(values.shape[:-1])
+
+
+def branch_of(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
+    """The branch of joint values ``q`` (..., 7) on the real arm, as an index into :data:`redkin.srs.BRANCHES` (the
+    row :func:`ik` gives it): the Table 1 signs of the neighbour's ``theta_2``, ``theta_4`` minus the real arm's
+    stretched elbow (:attr:`NearlySRS.real_phase`) and ``theta_6`` at the same joint values.
+
+    Raises
+    ------
+    ValueError
+        For joint values of the wrong length or not finite.
+    """
+    values = arm.chain.check_q(q)
+    signs = branch_of_theta(arm.geometry.theta_of_q(values), arm.real_phase)
+    return np.argmax(np.all(signs[..., None, :] == arm.geometry.kernel_branches, axis=-1), axis=-1)
 
 
 def self_motion_rates(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
