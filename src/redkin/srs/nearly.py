@@ -220,10 +220,16 @@ def arm_angle(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
         For joint values of the wrong length or not finite.
     """
     values = arm.chain.check_q(q)
-    flat = np.ascontiguousarray(values, dtype=float).reshape(-1, 7)
-    out = np.empty(len(flat))
-    run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, out, np.empty((len(flat), 7)), False)
-    return out.reshape(values.shape[:-1])
+    return _arm_angles(arm, values, False)[0].reshape(values.shape[:-1])
+
+
+def _arm_angles(arm: NearlySRS, q: np.ndarray, with_gradient: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The arm angles (M,) of checked joint values ``q`` (..., 7) flattened to (M, 7), and with ``with_gradient``
+    their gradients (M, 7) (:func:`redkin.srs._nearly_kernels.arm_angles`)."""
+    flat = np.ascontiguousarray(q, dtype=float).reshape(-1, 7)
+    out, gradients = np.empty(len(flat)), np.empty((len(flat), 7))
+    run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, out, gradients, with_gradient)
+    return out, gradients
 
 
 def branch_of(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
@@ -256,10 +262,8 @@ def self_motion_rates(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
         For joint values of the wrong length or not finite.
     """
     values = arm.chain.check_q(q)
-    flat = np.ascontiguousarray(values, dtype=float).reshape(-1, 7)
-    gradients = np.empty((len(flat), 7))
-    run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, np.empty(len(flat)), gradients, True)
-    null = np.linalg.svd(arm.chain.jacobian(flat))[2][:, -1]
+    gradients = _arm_angles(arm, values, True)[1]
+    null = np.linalg.svd(arm.chain.jacobian(values.reshape(-1, 7)))[2][:, -1]
     along = np.einsum("mj,mj->m", gradients, null)
     with np.errstate(divide="ignore", invalid="ignore"):
         rates = null / along[:, None]
