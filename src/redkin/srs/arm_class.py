@@ -62,7 +62,7 @@ def arm_angle_class(chain: SerialChain, tolerance: float | None = None) -> ArmCl
                 nearly = nearly_srs(chain, tolerance)
             except ValueError:
                 return ArmClass(GENERAL, f"{exc} (beyond the nearly S-R-S tolerance of {tolerance:g} m); {other}")
-            return ArmClass(NEARLY_SRS, nearly.describe())
+            return ArmClass(NEARLY_SRS, f"{nearly.describe()}, and solutions are polished on the real arm")
         snapped = _snapped(chain, franka.form, False) if franka.snapped else ""
         return ArmClass(FRANKA, f"spherical shoulder, axes 5 and 6 meet, axis 7 offset a_6 {abs(franka.a6):.6g} m "
                                 f"from axis 6, elbow offsets {abs(franka.a3):.6g} m and {abs(franka.a4):.6g} m: the "

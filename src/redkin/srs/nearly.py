@@ -147,7 +147,7 @@ class NearlySRS:
         dropped = ", ".join(f"{what} {value * 1e3:.4g} mm" if unit == "m" else f"{what} {np.degrees(value):.3g} deg"
                             for what, value, unit in self.departures)
         return (f"its exact S-R-S neighbour drops: {dropped}; poses differ by up to {self.position_error * 1e3:.3g} mm "
-                f"and {np.degrees(self.rotation_error):.3g} deg, and solutions are polished on the real arm")
+                f"and {np.degrees(self.rotation_error):.3g} deg")
 
 
 class NearlySolutions(NamedTuple):
