@@ -93,3 +93,25 @@ def test_connect_keeps_every_node_and_leaves_no_interval_of_a_piece_wider_than_i
     assert np.all((moves <= 0.25 * step) | narrow)
     np.testing.assert_array_equal(after.q, arm.rows(after.waypoint, after.branch, after.psi)[0])
     assert np.all(after.clearance >= 0) and np.all(chain.within_limits(after.q))
+
+
+@pytest.mark.parametrize(("robot", "seed"), [("kuka-iiwa14", 1), ("kuka-iiwa14", 2), ("barrett-wam7", 3)])
+def test_the_path_does_not_depend_on_the_joint_that_keys_the_sweep(robot, seed, monkeypatch):
+    """The sweep's window of candidates is a filter on one joint: whichever joint keys it (a tight bound on one
+    joint makes it the cheapest key, :func:`redkin.paths.search.key_joint`), the best path is the same, exact ties
+    going to the lower node index."""
+    from redkin.paths import resolve_path, search
+
+    chain = get_robot(robot)
+    rng = np.random.default_rng(seed)
+    lower, upper = chain.lower + 0.2, chain.upper - 0.2
+    a = rng.uniform(lower, upper)
+    q = a + 0.3 * (rng.uniform(lower, upper) - a) * np.linspace(0.0, 1.0, 12)[:, None]
+    step = 1.5 * np.abs(np.diff(q, axis=0)).max(axis=0) + 1e-3
+    results = []
+    for key in range(7):
+        monkeypatch.setattr(search, "key_joint", lambda graph, step, circle, key=key: key)
+        results.append(resolve_path(chain, chain.fk(q), step))
+    for result in results[1:]:
+        np.testing.assert_array_equal(result.q, results[0].q)
+        assert result.clearance == results[0].clearance and result.motion == results[0].motion

@@ -145,7 +145,9 @@ def _first_above(keys, first, last, x):
 @kernel
 def _scan(first, last, order, node, q, step, circle, value, motion, clear, best, motion_first):
     """Relax ``node`` from the candidates ``order[first .. last - 1]``; ``best`` (3,) holds (value, motion,
-    parent) and is updated in place; ``motion_first``: the least motion first, then the largest value."""
+    parent) and is updated in place; ``motion_first``: the least motion first, then the largest value.  Exact ties
+    go to the lower node index, so that the result does not depend on the order of the candidates (the window's
+    key joint, :func:`redkin.paths.search.key_joint`)."""
     for t in range(first, last):
         i = order[t]
         reached = value[i]
@@ -164,9 +166,9 @@ def _scan(first, last, order, node, q, step, circle, value, motion, clear, best,
         v = min(reached, clear)
         m = motion[i] + total
         if motion_first:
-            better = m < best[1] or (m == best[1] and v > best[0])
+            better = m < best[1] or (m == best[1] and (v > best[0] or (v == best[0] and i < best[2])))
         else:
-            better = v > best[0] or (v == best[0] and m < best[1])
+            better = v > best[0] or (v == best[0] and (m < best[1] or (m == best[1] and i < best[2])))
         if better:
             best[0], best[1], best[2] = v, m, i
 

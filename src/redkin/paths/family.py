@@ -24,7 +24,7 @@ import numpy as np
 
 from redkin._compiled import run_batch
 from redkin.chain import SerialChain
-from redkin.circle import TWO_PI
+from redkin.circle import TWO_PI, wrap_angle
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.franka.feasible import feasible_q7_batch
 from redkin.franka.geometry import FrankaGeometry, franka_geometry
@@ -258,13 +258,15 @@ class _NearlyArm(Arm):
     def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`Arm.rows` at the real arm's arm angles ``parameter``: the certified solutions of
         :func:`redkin.srs.nearly.ik`, each limited joint moved by whole turns to just above its lower limit (the
-        solver's values are right modulo whole turns), then clipped as :func:`redkin.paths._dp_kernels._clipped`
-        clips; a joint outside its range is as far out as the nearer limit, either way round."""
+        solver's values are right modulo whole turns) and the others into ``[-pi, pi)``, then clipped as
+        :func:`redkin.paths._dp_kernels._clipped` clips; a joint outside its range is as far out as the nearer limit,
+        either way round."""
         q, exists = np.zeros((len(parameter), 7)), np.zeros(len(parameter), dtype=bool)
         for b in np.unique(branch):
             mine = np.flatnonzero(branch == b)
             solutions = nearly_ik(self.nearly, self.poses[waypoint[mine]], parameter[mine], BRANCHES[b])
             q[mine], exists[mine] = solutions.q[:, 0], solutions.exists[:, 0]
+        q[:, self.circle] = wrap_angle(q[:, self.circle])  # as the closed forms' nodes, in [-pi, pi)
         limited = ~self.circle
         if not limited.any():
             return q, np.where(exists, np.inf, -np.inf)
