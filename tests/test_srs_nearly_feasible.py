@@ -105,7 +105,8 @@ def test_every_end_is_a_change(name, seed, branch):
 
 
 #: Joint values whose pose holds an island or gap narrower than 2 pi / 720 (found by benchmarks/bench_nearly.py
-#: --feasible before the extrema were located), the branch and the arm angle it lies near.
+#: --feasible before the extrema were located, and the last three before the ends of the branch's solution were
+#: refined from), the branch and the arm angle it lies near.
 NARROW = [
     ("iiwa14-rosi", [0.987214, -0.737526, 1.005361, 0.481701, 1.69648, -0.082825, -2.889126], "-++", -1.9796),
     ("iiwa14-rosi", [0.987214, -0.737526, 1.005361, 0.481701, 1.69648, -0.082825, -2.889126], "---", 1.1628),
@@ -114,6 +115,10 @@ NARROW = [
     ("gen3", [-1.77754, -1.281876, 2.080123, -1.918479, -1.178805, -0.0299, 2.02687], "--+", -1.7088),
     ("gen3", [-0.553356, 0.740753, -0.969431, -1.556296, 2.504703, -1.070513, -2.047027], "-+-", 3.1307),
     ("gen3", [-1.112111, -0.573973, 1.5388, -0.024672, 1.646728, 0.068136, -1.972164], "---", 2.7770),
+    # the branch gives way to another for 1.5e-3 rad (theta_6 passes 0) and comes back with q5 past its limit
+    ("gen3", [0.980418, 1.074935, 0.617558, 1.036204, 1.808391, 0.38172, 0.025696], "-++", 1.9434),
+    ("gen3", [-0.905855, -0.397723, 1.089756, 0.673095, -1.647377, 0.008121, -2.041717], "--+", 1.4502),
+    ("gen3", [2.667899, 0.72756, -2.158559, -1.077697, -1.643822, -0.09874, 1.631771], "+--", -0.5316),
 ]
 
 

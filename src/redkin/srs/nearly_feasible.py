@@ -11,7 +11,11 @@ once.  The set is found in five steps:
 1. samples: a uniform grid, with the endpoints and midpoints of the exact
    neighbour's feasible arcs [000 eqs. 20-30] for its limits loosened by
    ``delta`` (the largest ``|q - q_N|`` met on the grid, doubled, plus
-   1e-6 rad), so that every neighbour arc, however narrow, holds a sample;
+   1e-6 rad), so that every neighbour arc, however narrow, holds a sample,
+   and the arm angles where the branch's solution begins or ends (located by
+   bisection, on the side where it exists: near a singular wrist the branch
+   gives way to another for a few milliradians and comes back with a joint
+   past its limit);
 2. refinement: an interval between neighbouring samples is halved while a
    limited joint turns, or its rate changes times the width, by more than
    :data:`_BEND` rad across it (near a singular wrist ``q_5`` and ``q_7``
@@ -78,6 +82,8 @@ _ENDPOINT_TOLERANCE = 1e-10
 _BEND = 0.02
 #: Narrowest interval [rad] that refinement halves.
 _NARROWEST = 1e-8
+#: Rounds at most of locating where the branch's solution begins or ends and refining from there (step 1-2).
+_EDGE_ROUNDS = 5
 #: Samples at most after refinement.
 _MOST_SAMPLES = 50_000
 #: Slack [rad] of the limit test, as :func:`redkin.srs._nearly_kernels.within_limits`'s.
@@ -130,7 +136,12 @@ def feasible_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Br
     grid = np.linspace(-np.pi, np.pi, samples, endpoint=False)
     curve = _Curve(arm, pose, label, grid)
     curve.add(_announced(_neighbour_sets(arm, pose, label, _delta(arm, pose, grid, curve.q, curve.exists, label))))
-    curve.refine()
+    for _ in range(_EDGE_ROUNDS):  # where the solution begins or ends (the refinement finds more): refined from there
+        count = len(curve.psi)
+        curve.add(curve.changes([0])[0])
+        curve.refine()
+        if len(curve.psi) == count:
+            break
     curve.add(curve.extrema())
     feasible = curve.located()
     delta = _delta(arm, pose, curve.psi, curve.q, curve.exists, label)
@@ -222,8 +233,22 @@ class _Curve:
         """The arcs where every flag holds (the solution exists; each limited joint lies within its limits where a
         solution exists), each change of a flag between neighbouring samples located by bisection to
         :data:`_ENDPOINT_TOLERANCE` on the flag's true side (module docstring, steps 4-5)."""
+        edge, which, low_true = self.changes(range(1 + len(self.limited)))
+        flags = self.flags(self.q, self.exists)
+        feasible = ArcSet.full()
+        for flag in range(flags.shape[1]):
+            mine = which == flag
+            feasible = feasible.intersection(_arcs(edge[mine], low_true[mine], bool(flags[0, flag])))
+        return feasible
+
+    def changes(self, chosen) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each change of the ``chosen`` flags (:meth:`flags`' columns) between neighbouring samples, located by
+        bisection to :data:`_ENDPOINT_TOLERANCE`: its arm angle on the flag's true side (not wrapped), the flag,
+        and whether the flag holds before it."""
         flags = self.flags(self.q, self.exists)
         changes, which = np.nonzero(flags != np.roll(flags, -1, axis=0))  # between psi[k] and psi[k + 1] (cyclic)
+        kept = np.isin(which, list(chosen))
+        changes, which = changes[kept], which[kept]
         low = self.psi[changes]
         high = low + self.following()[1][changes]
         low_true = flags[changes, which]
@@ -231,12 +256,7 @@ class _Curve:
             middle = 0.5 * (low + high)
             same = self.flags(*self.solved(_wrapped(middle)))[np.arange(len(middle)), which] == low_true
             low, high = np.where(same, middle, low), np.where(same, high, middle)
-        edge = np.where(low_true, low, high)  # each change on its true side
-        feasible = ArcSet.full()
-        for flag in range(flags.shape[1]):
-            mine = which == flag
-            feasible = feasible.intersection(_arcs(edge[mine], low_true[mine], bool(flags[0, flag])))
-        return feasible
+        return np.where(low_true, low, high), which, low_true
 
     def flags(self, q: np.ndarray, exists: np.ndarray) -> np.ndarray:
         """(M, 1 + L): whether each solution exists, and whether each limited joint lies within its limits modulo
