@@ -11,7 +11,8 @@ wrist may pass on a sheet the solver does not return, and is not asked for):
 - its clearance is at least the line's own, less the certificate's 1e-9 rad;
 - no clearance is said optimal and no failure said proved: the sets are certified, not exact;
 - a pose out of reach in the middle is a failure at that waypoint;
-- the command line takes ``--srs-tolerance`` and refuses the arm (exit 2, one line) when it is not within it.
+- the command line takes ``--srs-tolerance`` and refuses the arm (exit 2, one line) when it is not within it; its
+  plot's legend calls the sets certified, not exact.
 """
 
 from __future__ import annotations
@@ -101,9 +102,25 @@ def test_the_command_line(tmp_path, capsys):
     report = json.loads(capsys.readouterr().out)
     assert report["status"] == "ok" and report["parameter"] == "psi" and len(report["q"]) == 4
     assert report["optimal"] is False and "nearly S-R-S" in report["model"]
-    assert main(["path", robot, "--poses", str(tmp_path / "poses.npy"), "--max-step", "0.5"]) == 0
-    assert "neighbour" in capsys.readouterr().out
+    assert main(["path", robot, "--poses", str(tmp_path / "poses.npy"), "--max-step", "0.5", "--plot",
+                 str(tmp_path / "path.png")]) == 0
+    assert "neighbour" in capsys.readouterr().out and (tmp_path / "path.png").stat().st_size > 0
     code = main(["path", robot, "--poses", str(tmp_path / "poses.npy"), "--max-step", "0.5", "--srs-tolerance",
                  "1e-5"])
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1 and "S-R-S" in err
+
+
+def test_the_plot_calls_the_sets_certified():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from redkin.paths import feasible_along_path
+    from redkin.plot.paths import path_plane_figure
+
+    chain = _chain("iiwa14-rosi")
+    _, poses = _joint_line(chain, np.random.default_rng(5), 3)
+    result = resolve_path(chain, poses, 0.5)
+    figure = path_plane_figure(feasible_along_path(chain, poses), result, exact=path_family(chain).exact)
+    labels = [text.get_text() for legend in figure.legends for text in legend.get_texts()]
+    assert "feasible arm angles (certified on the real arm)" in labels

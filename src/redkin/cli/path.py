@@ -94,7 +94,8 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
     from redkin.srs import arm_angle_of, reachable
 
     baselines = []
-    exact_psi = isinstance(path_family(chain, srs_tolerance), ArmAngleFamily)
+    family = path_family(chain, srs_tolerance)
+    exact_psi = isinstance(family, ArmAngleFamily)
     if exact_psi and reachable(chain, poses).all():  # the baselines choose arm angles in closed form
         start = None
         if result.ok:
@@ -106,7 +107,7 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
             baselines += [fixed_psi_path(chain, poses, result.step, *start),
                           clamped_optimum_path(chain, poses, result.step, start[1])]
         baselines.append(greedy_path(chain, poses, result.step, q0=q0))
-    fig = path_plane_figure(feasible_along_path(chain, poses, srs_tolerance), result, baselines,
+    fig = path_plane_figure(feasible_along_path(chain, poses, srs_tolerance), result, baselines, exact=family.exact,
                             title=f"{chain.name}: {len(poses)} waypoints")
     fig.savefig(file, dpi=120, bbox_inches="tight")
     plt.close(fig)

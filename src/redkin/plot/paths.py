@@ -131,7 +131,7 @@ def _plot_branch_plane(ax, pieces: FeasiblePieces, branch: int, result: PathResu
 
 
 def path_plane_figure(pieces: FeasiblePieces, result: PathResult, baselines: Sequence[BaselinePath] = (),
-                      title: str = "") -> plt.Figure:
+                      title: str = "", exact: bool = True) -> plt.Figure:
     """The (waypoint, arm angle) plane of every branch that has a feasible arm angle along the path or carries a
     path drawn, one panel each, with a legend that names each baseline's first failure and the global path's
     clearance or failure (waypoint, reason, joint).
@@ -146,6 +146,9 @@ def path_plane_figure(pieces: FeasiblePieces, result: PathResult, baselines: Seq
         At most five (:func:`redkin.paths.fixed_psi_path`, :func:`redkin.paths.clamped_optimum_path`,
         :func:`redkin.paths.greedy_path`, :func:`redkin.paths.judge_path`).
     title : str
+    exact : bool
+        Whether the sets are a closed form's; ``False`` for a nearly S-R-S arm's certified sets (the legend says
+        which).
     """
     if len(baselines) > len(_BASELINE_COLOURS):
         raise ValueError(f"at most {len(_BASELINE_COLOURS)} baselines in one figure, got {len(baselines)}")
@@ -164,8 +167,8 @@ def path_plane_figure(pieces: FeasiblePieces, result: PathResult, baselines: Seq
     for ax in axes[-1]:
         ax.set_xlabel("waypoint")
     handles: list = [Patch(color=_FEASIBLE_COLOUR, alpha=0.35,
-                           label="feasible arm angles (exact)" if result.parameter == "psi" else
-                           "feasible q7 (exact)")]
+                           label=f"feasible {'arm angles' if result.parameter == 'psi' else 'q7'} "
+                                 f"({'exact' if exact else 'certified on the real arm'})")]
     if result.ok:
         clearance = f"clearance {np.degrees(result.clearance):.3g} deg"
         handles.append(Line2D([], [], color=_PATH_COLOUR, linewidth=_PATH_WIDTH, label=f"global path ({clearance})"))
