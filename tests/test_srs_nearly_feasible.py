@@ -53,6 +53,13 @@ def _arm(name: str) -> NearlySRS:
     return nearly_srs(chain.with_limits(lower, upper))
 
 
+def _random_pose(name: str, seed: int) -> tuple[NearlySRS, np.random.Generator, np.ndarray]:
+    """The arm, a generator seeded with ``seed``, and the pose of joint values uniform within the limits."""
+    arm = _arm(name)
+    rng = np.random.default_rng(seed)
+    return arm, rng, arm.chain.fk(rng.uniform(arm.chain.lower, arm.chain.upper))
+
+
 def _sampled(arm: NearlySRS, pose: np.ndarray, branch: str, psi: np.ndarray) -> np.ndarray:
     """Whether the branch's certified solution at each arm angle ``psi`` lies within the limits."""
     return ik(arm, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch).within_limits[:, 0]
@@ -77,9 +84,7 @@ def _far_from_ends(psi: np.ndarray, *sets) -> np.ndarray:
 @given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
        branch=st.sampled_from([str(b) for b in BRANCHES]))
 def test_set_equals_dense_sampling(name, seed, branch):
-    arm = _arm(name)
-    rng = np.random.default_rng(seed)
-    pose = arm.chain.fk(rng.uniform(arm.chain.lower, arm.chain.upper))
+    arm, rng, pose = _random_pose(name, seed)
     psi = np.sort(rng.uniform(-np.pi, np.pi, 6000))
     assert _disagreements(arm, pose, branch, psi).size == 0
 
@@ -88,9 +93,7 @@ def test_set_equals_dense_sampling(name, seed, branch):
 @given(name=st.sampled_from(["gen3", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
        branch=st.sampled_from([str(b) for b in BRANCHES]))
 def test_every_end_is_a_change(name, seed, branch):
-    arm = _arm(name)
-    rng = np.random.default_rng(seed)
-    pose = arm.chain.fk(rng.uniform(arm.chain.lower, arm.chain.upper))
+    arm, rng, pose = _random_pose(name, seed)
     feasible = feasible_arm_angles_nearly(arm, pose, branch).feasible
     assume(not feasible.is_empty and not feasible.is_full)
     arcs = np.array(feasible.arcs)
@@ -168,9 +171,7 @@ def test_bad_input():
 @given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
        branch=st.sampled_from([str(b) for b in BRANCHES]))
 def test_the_set_lies_between_the_neighbours_tightened_and_loosened_sets(name, seed, branch):
-    arm = _arm(name)
-    rng = np.random.default_rng(seed)
-    pose = arm.chain.fk(rng.uniform(arm.chain.lower, arm.chain.upper))
+    arm, rng, pose = _random_pose(name, seed)
     result = feasible_arm_angles_nearly(arm, pose, branch)
     psi = np.sort(rng.uniform(-np.pi, np.pi, 4000))
     assume(ik(arm, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch).exists.all())  # both arms solve everywhere
