@@ -93,7 +93,7 @@ def test_set_equals_dense_sampling(name, seed, branch):
 @given(name=st.sampled_from(["gen3", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
        branch=st.sampled_from([str(b) for b in BRANCHES]))
 def test_every_end_is_a_change(name, seed, branch):
-    arm, rng, pose = _random_pose(name, seed)
+    arm, _, pose = _random_pose(name, seed)
     feasible = feasible_arm_angles_nearly(arm, pose, branch).feasible
     assume(not feasible.is_empty and not feasible.is_full)
     arcs = np.array(feasible.arcs)
