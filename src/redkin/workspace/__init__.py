@@ -1,6 +1,7 @@
 """Workspace maps: exact reachability and redundancy of an arm with arm-angle IK over a box of positions.
 
-* :func:`workspace_map` -- compute a map chunk by chunk on Dask into a Zarr store (resumable)
+* :func:`workspace_map` -- compute a map chunk by chunk on Dask into a Zarr store (resumable); a nearly S-R-S
+  arm is mapped with its exact neighbour's sets, and the store says so
 * :func:`feasible_measures` -- measure of the feasible arm-angle set per pose and branch ([000 eq. 30])
 * :func:`reachability_index`, :func:`redundancy_index` -- the per-position indices
 * :func:`super_fibonacci_rotations` -- the deterministic near-uniform orientation set
