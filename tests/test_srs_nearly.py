@@ -578,6 +578,20 @@ def test_tolerance_above_every_departure_accepts():
     assert nearly_srs(chain, tolerance=0.013).neighbour.n == 7
 
 
+@pytest.mark.parametrize("tolerance", [0.01, 0.03, 0.044, 0.046, 0.05])
+def test_an_offset_elbow_is_dropped_only_within_the_tolerance(tolerance):
+    """A WAM (offset elbow, a_3 = 45 mm) with a 0.3 mm shoulder offset: its neighbour keeps the offset elbow while
+    the tolerance is under 45 mm, the axes' distance as a user measures it, and drops it from there on; every
+    departure it reports lies within the tolerance (the plain elbow was once decided by the axes' distance from a
+    least-squares point, 22.5 mm, so that 30 mm dropped the 45 mm offset)."""
+    a = np.array([0.0003, 0.0, 0.045, -0.045, 0.0, 0.0, 0.0])
+    chain = SerialChain(a=a, alpha=np.array([-np.pi / 2, np.pi / 2] * 3 + [0.0]),
+                        d=np.array([0.0, 0.0, 0.55, 0.0, 0.3, 0.0, 0.06]), name="wam-shoulder-offset")
+    arm = nearly_srs(chain, tolerance)
+    assert max(value for _what, value, unit in arm.departures if unit == "m") <= tolerance
+    assert (np.abs(arm.neighbour.a).max() > 0.04) == (tolerance < 0.045)
+
+
 @pytest.mark.parametrize("tolerance", [0.0, -0.01, np.nan, np.inf])
 def test_bad_tolerance_raises_value_error(tolerance):
     with pytest.raises(ValueError, match="tolerance"):

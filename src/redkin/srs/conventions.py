@@ -139,7 +139,7 @@ def departures(chain: SerialChain, tolerance: float = 0.0) -> list[tuple[str, fl
     upper = _normal_foot(points[2], directions[2], points[3], directions[3])
     lower = _normal_foot(points[4], directions[4], points[3], directions[3])
     found.append(("the elbow is offset along axis 4 by", float(abs((lower - upper) @ directions[3])), "m"))
-    if meeting_point(points[2:5], directions[2:5])[1] <= tolerance:  # a plain elbow for such a neighbour
+    if _elbow_gap(points, directions) <= tolerance:  # a plain elbow for such a neighbour
         for i, k in ((2, 3), (3, 4)):
             found.append((f"axes {i + 1} and {k + 1} miss each other by",
                           _line_distance(points[i], directions[i], points[k], directions[k]), "m"))
@@ -148,6 +148,12 @@ def departures(chain: SerialChain, tolerance: float = 0.0) -> list[tuple[str, fl
         found.append((f"axes {i + 1} and {i + 2} are off perpendicular by", float(np.arcsin(min(cosine, 1.0))),
                       "rad"))
     return sorted([item for item in found if item[1] > 1e-12], key=lambda item: -item[1])
+
+
+def _elbow_gap(points: np.ndarray, directions: np.ndarray) -> float:
+    """How far axis 4 misses axes 3 and 5, the larger common normal: the offset across the elbow (the WAM's
+    ``a_3``) as a user measures it, which a neighbour drops only within its tolerance."""
+    return max(_line_distance(points[i], directions[i], points[k], directions[k]) for i, k in ((2, 3), (3, 4)))
 
 
 def _normal_foot(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> np.ndarray:
@@ -198,7 +204,7 @@ def _convert(chain: SerialChain, tolerance: float) -> SerialChain:
             raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: joints {numbers} do not meet in one point: "
                                         f"axes {i + 1} and {k + 1} miss each other by {gap:.4g} m", chain.name,
                                         float(gap))
-    offset_elbow = meeting_point(points[2:5], directions[2:5])[1] > max(tolerance, _ELBOW_OFFSET)
+    offset_elbow = _elbow_gap(points, directions) > max(tolerance, _ELBOW_OFFSET)
     cosines = np.abs(np.sum(directions[:-1] * directions[1:], axis=-1))
     if np.arcsin(min(cosines.max(), 1.0)) > tolerance:
         k = int(np.argmax(cosines))
