@@ -36,6 +36,7 @@ from redkin.paths.failure import empty_blocker
 from redkin.paths.graph import _CLIP_TOLERANCE, Arm, joint_moves
 from redkin.srs import _ik_kernels
 from redkin.srs.arm_angle import arm_angle_of
+from redkin.srs.arm_class import FRANKA, NEARLY_SRS, OFFSET_ELBOW, SRS, arm_angle_class
 from redkin.srs.branches import BRANCHES, Branch
 from redkin.srs.coefficients import coefficient_arrays
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
@@ -334,8 +335,8 @@ def _as_pieces(sets: list[list]) -> FeasiblePieces:
 
 def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
                 srs_tolerance: float | None = None) -> Family:
-    """The class of ``arm`` as path resolution sees it: S-R-S or offset elbow, the Franka class, or nearly S-R-S
-    within ``srs_tolerance`` (:func:`redkin.srs.arm_angle_class`; default
+    """The class of ``arm`` as path resolution sees it, the one :func:`redkin.srs.arm_angle_class` names: S-R-S or
+    offset elbow, the Franka class, or nearly S-R-S within ``srs_tolerance`` (default
     :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
 
     Raises
@@ -352,15 +353,12 @@ def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
         return NearlyFamily(arm, tolerance)
     if not isinstance(arm, SerialChain):
         raise RedkinError(f"arm must be a SerialChain, got {type(arm).__name__}")
-    try:
+    kind, reason = arm_angle_class(arm, tolerance)
+    if kind in (SRS, OFFSET_ELBOW):
         return ArmAngleFamily(srs_geometry(arm))
-    except NotArmAngleClassError as exc:
-        try:
-            return Q7Family(franka_geometry(arm))
-        except NotArmAngleClassError as other:
-            try:
-                return NearlyFamily(nearly_srs(arm, tolerance), tolerance)
-            except NotArmAngleClassError:
-                raise NotArmAngleClassError(
-                    f"path resolution needs an arm-angle or q7 parameterisation: {arm.name!r} is neither S-R-S, nor "
-                    f"of the Franka class, nor S-R-S within {tolerance:g} m ({exc}; {other})", arm.name) from None
+    if kind == FRANKA:
+        return Q7Family(franka_geometry(arm))
+    if kind == NEARLY_SRS:
+        return NearlyFamily(nearly_srs(arm, tolerance), tolerance)
+    raise NotArmAngleClassError(f"path resolution needs an arm-angle or q7 parameterisation: {arm.name!r} is a "
+                                f"general chain ({reason})", arm.name)

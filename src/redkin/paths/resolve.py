@@ -510,9 +510,9 @@ def _bottleneck(family: Family, poses: np.ndarray, clearance: np.ndarray) -> int
     :data:`OPTIMALITY_MARGIN` from the limits: no other choice of branches and parameters does better.
     A chain with no joint of a range under ``2 pi`` has clearance ``inf`` everywhere: waypoint 0 proves it.  A
     family whose sets are not exact (:attr:`redkin.paths.family.Family.exact`) proves nothing."""
-    least = float(clearance.min())
     if not family.exact:
         return None
+    least = float(clearance.min())
     if least == np.inf:
         return 0
     level = least + OPTIMALITY_MARGIN

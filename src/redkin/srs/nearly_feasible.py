@@ -67,6 +67,7 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_pose
 from redkin.circle import TWO_PI, ArcSet, wrap_angle
 from redkin.errors import RedkinError
+from redkin.srs import _nearly_kernels
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.feasible import FeasibleArmAngles, feasible_arm_angles
 from redkin.srs.geometry import srs_geometry
@@ -87,7 +88,7 @@ _EDGE_ROUNDS = 5
 #: Samples at most after refinement.
 _MOST_SAMPLES = 50_000
 #: Slack [rad] of the limit test, as :func:`redkin.srs._nearly_kernels.within_limits`'s.
-_LIMIT_SLACK = 1e-9
+_LIMIT_SLACK = _nearly_kernels.LIMIT_SLACK
 
 
 class NearlyFeasible(NamedTuple):
@@ -261,8 +262,7 @@ class _Curve:
     def flags(self, q: np.ndarray, exists: np.ndarray) -> np.ndarray:
         """(M, 1 + L): whether each solution exists, and whether each limited joint lies within its limits modulo
         whole turns or no solution exists."""
-        inside = (np.mod(q[:, self.limited] - self.lower + _LIMIT_SLACK, TWO_PI)
-                  <= self.upper - self.lower + 2.0 * _LIMIT_SLACK)
+        inside = self.arm.chain.joints_within_limits(q, _LIMIT_SLACK, wrap=True)[:, self.limited]
         return np.concatenate([exists[:, None], inside | ~exists[:, None]], axis=1)
 
 
