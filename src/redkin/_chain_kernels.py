@@ -226,6 +226,8 @@ def representative(value, lower, upper, target):
     value that rounding puts an ulp past a limit is put on the limit.  An
     unlimited joint (both limits infinite) gets the representative nearest ``target``.
     """
+    if lower <= value <= upper and upper - lower < 2.0 * np.pi:
+        return value  # the one representative inside a range narrower than a turn (k = 0 below, without divisions)
     k = np.floor((target - value) / (2.0 * np.pi) + 0.5)
     low, high = -np.inf, np.inf
     if lower > -np.inf:
