@@ -77,7 +77,7 @@ def test_connect_keeps_every_node_and_leaves_no_interval_of_a_piece_wider_than_i
     a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
     poses = chain.fk(a + (b - a) * np.linspace(0.0, 1.0, 20)[:, None])
     _, arm = ArmAngleFamily(geometry).arm(poses, np.full(7, step))
-    waypoint, branch, piece, psi, _ = graphs.piece_samples(feasible_pieces_all_branches(geometry, poses), 0.1)
+    waypoint, branch, piece, psi, _, _ = graphs.piece_samples(feasible_pieces_all_branches(geometry, poses), 0.1)
     before = graphs.build(arm, np.append(waypoint, 0), np.append(branch, 2), np.append(piece, -1),
                           np.append(psi, 0.3), 20)  # and one node alone, as q0's
     after = graphs.connect(arm, before, 0.25)
@@ -115,3 +115,38 @@ def test_the_path_does_not_depend_on_the_joint_that_keys_the_sweep(robot, seed, 
     for result in results[1:]:
         np.testing.assert_array_equal(result.q, results[0].q)
         assert result.clearance == results[0].clearance and result.motion == results[0].motion
+
+
+@pytest.mark.parametrize("robot", ["kuka-iiwa14", "pa10-7c", "barrett-wam7"])
+def test_initial_samples_are_sorted_hold_every_piece_and_share_only_equal_samples(robot):
+    """The samples come sorted as a graph's nodes, every piece gives its two ends and its middle, and the nodes that
+    share a sample (same waypoint, elbow sign and arm angle) get the same joint values as each computed alone, bit
+    for bit."""
+    from redkin.paths import graph as graphs
+    from redkin.srs.feasible import feasible_pieces_all_branches
+
+    chain = get_robot(robot)
+    geometry = srs_geometry(chain)
+    family = ArmAngleFamily(geometry)
+    rng = np.random.default_rng(6)
+    lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
+    a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
+    poses = chain.fk(a + (b - a) * np.linspace(0.0, 1.0, 15)[:, None])
+    waypoint, branch, piece, psi, shared, bounds = graphs.piece_samples(
+        feasible_pieces_all_branches(geometry, poses), 0.3, family.sample_groups())
+    np.testing.assert_array_equal(np.lexsort((psi, piece, waypoint)), np.arange(len(psi)))
+    assert np.all((psi >= bounds[piece, 0]) & (psi <= bounds[piece, 1]))
+    for k in range(len(bounds)):
+        mine = psi[piece == k]
+        assert mine[0] == bounds[k, 0] and mine[-1] == bounds[k, 1] and 0.5 * bounds[k].sum() in mine
+    assert np.all(shared <= np.arange(len(psi))) and np.all(shared[shared] == shared)
+    elbow = geometry.kernel_branches[:, 1]
+    np.testing.assert_array_equal(waypoint[shared], waypoint)
+    np.testing.assert_array_equal(psi[shared], psi)
+    np.testing.assert_array_equal(elbow[branch[shared]], elbow[branch])
+    if robot == "kuka-iiwa14":  # here an elbow sign's branches keep most of their pieces in common
+        assert np.mean(shared != np.arange(len(psi))) > 0.3
+    _, arm = family.arm(poses, np.full(7, 0.1))
+    together, alone = arm.rows(waypoint, branch, psi, shared), arm.rows(waypoint, branch, psi)
+    np.testing.assert_array_equal(together[0], alone[0])
+    np.testing.assert_array_equal(together[1], alone[1])

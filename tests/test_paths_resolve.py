@@ -77,6 +77,34 @@ def test_many_paths_at_once_equal_one_by_one():
         np.testing.assert_array_equal(alone.q, result.q)
 
 
+@pytest.mark.parametrize("fractions", [(1.0, 0.5), (10.0,), (0.9,)])
+def test_the_floors_of_the_first_sweep_change_no_answer(fractions, monkeypatch):
+    """The first sweep keeps only the nodes at or above a floor (:func:`redkin.paths.resolve._floored`): the paths
+    found, their clearance and motion, and the failures, are those of the sweep without one, whether the floor
+    holds (the best path lies above it), lies above every path (10 x the ceiling: lowered in turn) or anywhere."""
+    import redkin.paths.resolve as resolve
+
+    chain = get_robot("kuka-iiwa14")
+    rng = np.random.default_rng(8)
+    lines = [_joint_line(chain, rng, 12) for _ in range(4)]
+    step = max(1.5 * np.abs(np.diff(q, axis=0)).max() for q, _ in lines)
+    poses = np.stack([p for _, p in lines])
+    poses[2, 6, :3, 3] *= 10.0  # out of reach: no path
+    q_end = np.stack([q[-1] for q, _ in lines])
+    q_end[3] += 3.0 * step  # an end no path meets
+    cases = [dict(), dict(q0=np.stack([q[0] for q, _ in lines]), q_end=q_end), dict(objective="motion")]
+    monkeypatch.setattr(resolve, "_FLOOR_FRACTIONS", ())
+    plain = [resolve_paths(chain, poses, step, **case) for case in cases]
+    monkeypatch.setattr(resolve, "_FLOOR_FRACTIONS", fractions)
+    for case, expected in zip(cases, plain):
+        for result, alone in zip(resolve_paths(chain, poses, step, **case), expected):
+            assert result.status == alone.status and result.failure == alone.failure
+            np.testing.assert_array_equal(result.q, alone.q)
+            assert result.clearance == alone.clearance or (np.isnan(result.clearance) and np.isnan(alone.clearance))
+    assert [r.status for r in plain[0]] == ["ok", "ok", "no-path", "ok"]
+    assert plain[1][3].status == "no-path"
+
+
 def test_speed_and_dt_give_the_step():
     chain = get_robot("kuka-iiwa14")
     np.testing.assert_allclose(step_bound(chain, speed=[1.0] * 7, dt=0.01), 0.01)

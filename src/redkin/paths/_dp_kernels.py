@@ -25,20 +25,7 @@ import numpy as np
 from redkin._compiled import kernel
 from redkin.circle import TWO_PI
 from redkin.franka._kernels import WORK, solve_q7
-from redkin.srs._ik_kernels import branch_angles, chain_values
-
-
-@kernel
-def _node_row(entries, theta4, angle, first, third, joints, lower, upper, circle, theta, row):
-    """One node's joint values into ``row`` (n,): :func:`redkin.srs._ik_kernels.branch_angles` [000 eqs. 11, 13-15,
-    17-19] at arm angle ``angle`` from one waypoint's ``entries`` (3, 14) and ``theta4`` for one elbow sign, with
-    the branch's shoulder and wrist signs ``first``, ``third``, then :func:`redkin.srs._ik_kernels.chain_values`
-    (``joints`` (5, 7), ``theta`` (7,) scratch).  Each joint that is not ``circle`` is clipped into ``lower`` ..
-    ``upper``; returns the node's clearance before the clip: the smallest distance of such a joint to a limit
-    (negative outside, ``inf`` where every joint is ``circle``)."""
-    branch_angles(entries, theta4, angle, first, third, theta)
-    chain_values(theta, joints, row)
-    return _clipped(row, lower, upper, circle)
+from redkin.srs._ik_kernels import apply_sign, chain_values, groups_angles
 
 
 @kernel
@@ -72,17 +59,70 @@ def q7_node_rows(start, stop, waypoint, branch, frames, q7, arm, table, joints, 
 
 
 @kernel
-def node_rows(start, stop, waypoint, branch, entries, theta4, psi, table, joints, lower, upper, circle, q, clearance):
-    """:func:`_node_row` of nodes ``start .. stop - 1`` into ``q`` (K, n) and ``clearance`` (K,): node ``k`` is
-    arm angle ``psi[k]`` on branch ``branch[k]`` (a row of ``table`` (8, 3), its Table 1 signs) at waypoint
-    ``waypoint[k]``, whose entry coefficients and theta_4 for the elbow signs ``+1, -1`` are ``entries`` (W, 2,
-    3, 14) and ``theta4`` (W, 2), read in place (no per-node copy of a waypoint's coefficients)."""
+def sample_angles(start, stop, nodes, waypoint, branch, entries, psi, table, angles):
+    """The shoulder's and wrist's angles on the branch signs +1 (:func:`redkin.srs._ik_kernels.groups_angles`
+    [000 eqs. 13-15, 17-19]) of samples ``start .. stop - 1`` into ``angles`` (S, 7): sample ``t`` is arm angle
+    ``psi[k]`` at waypoint ``waypoint[k]`` with the elbow sign of branch ``branch[k]`` (a row of ``table`` (8, 3),
+    its Table 1 signs), ``k = nodes[t]``; ``entries`` (W, 2, 3, 14) holds each waypoint's entry coefficients for
+    the elbow signs ``+1, -1``, read in place."""
+    for t in range(start, stop):
+        k = nodes[t]
+        elbow = 1 if table[branch[k], 1] < 0.0 else 0
+        groups_angles(entries[waypoint[k], elbow], psi[k], angles[t])
+
+
+@kernel
+def node_rows(start, stop, sample, angles, waypoint, branch, theta4, table, joints, lower, upper, circle, q,
+              clearance):
+    """The joint values of nodes ``start .. stop - 1`` into ``q`` (K, n) and their clearance into ``clearance``
+    (K,): node ``k`` on branch ``branch[k]`` (a row of ``table`` (8, 3), its Table 1 signs) at waypoint
+    ``waypoint[k]`` takes the angles of its arm angle's sample, ``angles[sample[k]]`` (:func:`sample_angles`),
+    theta_4 of its elbow sign from ``theta4`` (W, 2) [000 eq. 11], its branch's signs
+    (:func:`redkin.srs._ik_kernels.apply_sign`), then :func:`redkin.srs._ik_kernels.chain_values` (``joints``
+    (5, 7)); each joint that is not ``circle`` is clipped into ``lower .. upper`` and the clearance is the one
+    before the clip (:func:`_clipped`)."""
     theta = np.empty(7)
     for k in range(start, stop):
         b = branch[k]
-        elbow = 1 if table[b, 1] < 0.0 else 0
-        clearance[k] = _node_row(entries[waypoint[k], elbow], theta4[waypoint[k], elbow], psi[k], table[b, 0],
-                                 table[b, 2], joints, lower, upper, circle, theta, q[k])
+        theta[:] = angles[sample[k]]
+        theta[3] = theta4[waypoint[k], 1 if table[b, 1] < 0.0 else 0]
+        apply_sign(theta, 0, table[b, 0])
+        apply_sign(theta, 4, table[b, 2])
+        chain_values(theta, joints, q[k])
+        clearance[k] = _clipped(q[k], lower, upper, circle)
+
+
+@kernel
+def piece_nodes(start, stop, lo, hi, first, grid, spacing, offsets, leader, waypoint, branch, node_waypoint,
+                node_branch, piece, psi, shared):
+    """The initial nodes of pieces ``start .. stop - 1`` (:func:`redkin.paths.graph.piece_samples`) from
+    ``offsets[k]`` on, in increasing arm angle: piece ``k`` (``lo[k] .. hi[k]``, on branch ``branch[k]`` at
+    waypoint ``waypoint[k]``) gives its start, the ``grid[k]`` grid points ``-pi + (first[k] + j) spacing``
+    (clipped into the piece against rounding) with its middle in their midst, and its end.  Writes each node's
+    waypoint, branch, piece and arm angle, and in ``shared`` the node at the same place of piece ``leader[k]`` (a
+    piece with the same ends)."""
+    for k in range(start, stop):
+        t = offsets[k]
+        u = offsets[k + 1]
+        psi[t] = lo[k]
+        t += 1
+        middle = 0.5 * (lo[k] + hi[k])
+        placed = False
+        for j in range(grid[k]):
+            sample = min(max(-pi + spacing * (first[k] + j), lo[k]), hi[k])
+            if not placed and middle <= sample:
+                psi[t] = middle
+                t += 1
+                placed = True
+            psi[t] = sample
+            t += 1
+        if not placed:
+            psi[t] = middle
+            t += 1
+        psi[t] = hi[k]
+        moved = offsets[leader[k]] - offsets[k]
+        for t in range(offsets[k], u):
+            node_waypoint[t], node_branch[t], piece[t], shared[t] = waypoint[k], branch[k], k, t + moved
 
 
 @kernel
@@ -151,8 +191,8 @@ def _scan(first, last, order, node, q, step, circle, value, motion, clear, best,
     for t in range(first, last):
         i = order[t]
         reached = value[i]
-        if reached == -inf:
-            continue
+        if reached == -inf or (not motion_first and min(reached, clear) < best[0]):
+            continue  # not reached, or (clearance first) it cannot beat the best so far whatever its motion
         total = 0.0
         fits = True
         for a in range(q.shape[1]):
@@ -174,43 +214,70 @@ def _scan(first, last, order, node, q, step, circle, value, motion, clear, best,
 
 
 @kernel
-def _relax_waypoint(before, after, offsets, q, clearance, sorted_key, order, key_joint, step, circle, value, motion,
-                    parent, best, motion_first):
-    """Relax every node of waypoint ``after`` from waypoint ``before``; returns whether any node was reached."""
-    a0, a1 = offsets[before], offsets[before + 1]
+def _relax_waypoint(before, after, kept_offsets, q, clearance, sorted_key, order, key_joint, step, circle, value,
+                    motion, parent, best, motion_first):
+    """Relax every kept node of waypoint ``after`` from the kept nodes of waypoint ``before`` (:func:`sweep`);
+    returns whether any node was reached.  The nodes are taken in the order of their key joint's value, so the
+    window's ends only move forward (one pass over the waypoint before, no bisection but for a circle's wrapped
+    part)."""
+    a0, a1 = kept_offsets[before], kept_offsets[before + 1]
     s = step[key_joint]
     wrap = circle[key_joint]
     alive = False
-    for node in range(offsets[after], offsets[after + 1]):
+    lo, hi = a0, a0
+    for t in range(kept_offsets[after], kept_offsets[after + 1]):
+        node = order[t]
         best[0], best[1], best[2] = -inf, inf, -1.0
         key = q[node, key_joint]
         if wrap and s >= pi:
             _scan(a0, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
         else:
-            lo = _first_at_least(sorted_key, a0, a1, key - s)
-            hi = _first_above(sorted_key, a0, a1, key + s)
+            while lo < a1 and sorted_key[lo] < key - s:
+                lo += 1
+            hi = max(hi, lo)
+            while hi < a1 and sorted_key[hi] <= key + s:
+                hi += 1
             _scan(lo, hi, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
             if wrap and key - s < -pi:  # the window's part beyond -pi, seen from +pi
-                lo = _first_at_least(sorted_key, a0, a1, key - s + TWO_PI)
-                _scan(lo, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
+                first = _first_at_least(sorted_key, a0, a1, key - s + TWO_PI)
+                _scan(first, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
             if wrap and key + s > pi:
-                hi = _first_above(sorted_key, a0, a1, key + s - TWO_PI)
-                _scan(a0, hi, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
+                last = _first_above(sorted_key, a0, a1, key + s - TWO_PI)
+                _scan(a0, last, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
         value[node], motion[node], parent[node] = best[0], best[1], int(best[2])
         alive = alive or best[2] >= 0.0
     return alive
 
 
 @kernel
-def sweep(path_starts, offsets, q, clearance, sorted_key, order, key_joint, step, circle, value, motion, parent,
-          dead, motion_first):
+def sort_by_key(start, stop, offsets, kept, kept_offsets, key, order, sorted_key):
+    """Per waypoint ``w`` in ``start .. stop - 1`` (nodes ``offsets[w] .. offsets[w + 1] - 1``): its nodes that are
+    ``kept`` (K,), sorted by ``key`` (K,), into ``order`` (the nodes) and ``sorted_key`` (their keys) at
+    ``kept_offsets[w] .. kept_offsets[w + 1] - 1`` (the running count of kept nodes)."""
+    for w in range(start, stop):
+        first, t = kept_offsets[w], kept_offsets[w]
+        for node in range(offsets[w], offsets[w + 1]):
+            if kept[node]:
+                order[t] = node
+                t += 1
+        nodes = order[first:t].copy()
+        ranked = np.argsort(key[nodes])
+        for u in range(t - first):
+            order[first + u] = nodes[ranked[u]]
+            sorted_key[first + u] = key[nodes[ranked[u]]]
+
+
+@kernel
+def sweep(path_starts, offsets, kept_offsets, q, clearance, sorted_key, order, key_joint, step, circle, value, motion,
+          parent, dead, motion_first):
     """Dynamic programming over every path: ``value``, ``motion`` and ``parent`` of each node (K,).
 
     ``path_starts`` (P + 1,): the waypoints of path ``p`` are ``path_starts[p] .. path_starts[p + 1] - 1``;
     ``offsets`` (W + 1,): the nodes of waypoint ``w`` are ``offsets[w] .. offsets[w + 1] - 1``; ``q`` (K, n)
-    and ``clearance`` (K,) per node; ``sorted_key``, ``order`` (K,): per waypoint, the key joint's values
-    sorted and the node each came from.  The caller sets ``value`` and ``motion`` of each path's first
-    waypoint (``-inf`` where a node is not allowed to start) and ``value`` of the others to ``-inf``.
+    and ``clearance`` (K,) per node.  Only the *kept* nodes take part (the others stay unreached): those of
+    waypoint ``w`` are ``order[kept_offsets[w] .. kept_offsets[w + 1] - 1]``, sorted by their key joint's values
+    ``sorted_key`` (:func:`sort_by_key`).  The caller sets ``value`` and ``motion`` of each path's first waypoint
+    (``-inf`` where a node is not allowed to start, or not kept) and ``value`` of the others to ``-inf``.
     ``motion_first``: the objective's order is (least motion, largest value) instead of the other way.  Writes
     ``dead[p]``: the first waypoint of path ``p`` (counted from its start) that no node reaches, ``-1`` if
     its last one is reached.
@@ -219,6 +286,9 @@ def sweep(path_starts, offsets, q, clearance, sorted_key, order, key_joint, step
     for p in range(path_starts.shape[0] - 1):
         dead[p] = -1
         first = path_starts[p]
+        if first == path_starts[p + 1]:  # no waypoint
+            dead[p] = 0
+            continue
         alive = False
         for node in range(offsets[first], offsets[first + 1]):
             parent[node] = -1
@@ -227,7 +297,7 @@ def sweep(path_starts, offsets, q, clearance, sorted_key, order, key_joint, step
             dead[p] = 0
             continue
         for w in range(first + 1, path_starts[p + 1]):
-            if not _relax_waypoint(w - 1, w, offsets, q, clearance, sorted_key, order, key_joint, step, circle,
+            if not _relax_waypoint(w - 1, w, kept_offsets, q, clearance, sorted_key, order, key_joint, step, circle,
                                    value, motion, parent, best, motion_first):
                 dead[p] = w - first
                 break

@@ -293,10 +293,13 @@ def sampled_path(arm: SerialChain | SRSGeometry, poses: ArrayLike, max_step: Arr
     grid = np.arange(-np.pi, np.pi, float(spacing))
 
     def uniform(pieces) -> tuple[np.ndarray, ...]:
+        """Every branch at every grid angle of every waypoint, sorted as a graph's nodes (nodes alone: piece -1),
+        nothing shared."""
         count = pieces.start.shape[0]
         waypoint = np.repeat(np.arange(count), 8 * grid.size)
-        branch = np.tile(np.repeat(np.arange(8), grid.size), count)
-        return waypoint, branch, np.full(waypoint.size, -1), np.tile(grid, 8 * count), np.empty((0, 2))
+        branch = np.tile(np.arange(8), grid.size * count)
+        psi = np.tile(np.repeat(grid, 8), count)
+        return waypoint, branch, np.full(waypoint.size, -1), psi, np.arange(waypoint.size), np.empty((0, 2))
 
     return search_paths(path_family(geometry), poses[None], step, starts, None, None, uniform, None, 0,
                         polish=False)[0]

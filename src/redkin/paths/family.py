@@ -66,14 +66,29 @@ class _ArmAngleArm(Arm):
     entries: np.ndarray
     theta4: np.ndarray
 
-    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray,
+             shared: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`Arm.rows` at arm angles ``parameter``: the closed form of :func:`redkin.srs.ik` [000 eqs. 11,
-        13-15, 17-19] by :func:`redkin.paths._dp_kernels.node_rows`, which reads each waypoint's coefficients in
-        place."""
-        q, clearance = np.empty((len(parameter), 7)), np.empty(len(parameter))
-        run_batch(_dp_kernels.node_rows, len(parameter), np.ascontiguousarray(waypoint, dtype=np.int64),
-                  np.ascontiguousarray(branch, dtype=np.int64), self.entries, self.theta4,
-                  np.ascontiguousarray(parameter, dtype=float), self.geometry.kernel_branches,
+        13-15, 17-19], the shoulder's and wrist's angles once per sample (the nodes that ``shared`` makes one
+        sample share them; :func:`redkin.paths._dp_kernels.sample_angles`), then each node's branch signs and
+        joint values (:func:`redkin.paths._dp_kernels.node_rows`); each waypoint's coefficients are read in place."""
+        size = len(parameter)
+        waypoint = np.ascontiguousarray(waypoint, dtype=np.int64)
+        branch = np.ascontiguousarray(branch, dtype=np.int64)
+        parameter = np.ascontiguousarray(parameter, dtype=float)
+        if shared is None:
+            leaders, sample = np.arange(size), np.arange(size)
+        else:
+            leaders = np.flatnonzero(shared == np.arange(size))
+            index = np.empty(size, dtype=np.int64)
+            index[leaders] = np.arange(len(leaders))
+            sample = index[shared]
+        table = self.geometry.kernel_branches
+        angles = np.empty((len(leaders), 7))
+        run_batch(_dp_kernels.sample_angles, len(leaders), leaders, waypoint, branch, self.entries, parameter, table,
+                  angles)
+        q, clearance = np.empty((size, 7)), np.empty(size)
+        run_batch(_dp_kernels.node_rows, size, sample, angles, waypoint, branch, self.theta4, table,
                   self.geometry.kernel_joints, self.chain.lower, self.chain.upper, self.circle, q, clearance)
         return q, clearance
 
@@ -94,9 +109,10 @@ class _Q7Arm(Arm):
     geometry: FrankaGeometry
     frames: np.ndarray
 
-    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray,
+             shared: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`Arm.rows` at joint 7 values ``parameter``: one branch of the closed form at q7 [F1]-[F7] by
-        :func:`redkin.paths._dp_kernels.q7_node_rows`."""
+        :func:`redkin.paths._dp_kernels.q7_node_rows` (each node on its own: ``shared`` is not used)."""
         q, clearance = np.empty((len(parameter), 7)), np.empty(len(parameter))
         geometry = self.geometry
         run_batch(_dp_kernels.q7_node_rows, len(parameter), np.ascontiguousarray(waypoint, dtype=np.int64),
@@ -152,6 +168,12 @@ class Family:
         """The branch (index into :data:`BRANCHES`) and parameter of configurations ``q`` (P, 7)."""
         raise NotImplementedError
 
+    def sample_groups(self) -> np.ndarray | None:
+        """Per branch of :data:`BRANCHES`, a group label: the branches of one group have their pieces' ends slot
+        for slot, and their nodes at one value of the parameter share part of their work (:meth:`Arm.rows` with
+        ``shared``); ``None``: no such groups."""
+        return None
+
     def inner(self, level: float) -> Family | None:
         """The same class with every limit of a range under ``2 pi`` moved ``level`` inwards; ``None`` where such a
         range is narrower than ``2 level`` (no configuration is that far from its limits)."""
@@ -191,6 +213,11 @@ class ArmAngleFamily(Family):
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         return feasible_pieces_all_branches(self.geometry, poses)
+
+    def sample_groups(self) -> np.ndarray:
+        """The elbow sign: the four branches of one share its cuts [000 eqs. 20-28] and, at one arm angle, the
+        shoulder's and wrist's angles up to their signs [000 eqs. 13-15, 17-19]."""
+        return self.geometry.kernel_branches[:, 1]
 
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         state = arm_angle_of(self.geometry, q)
@@ -256,10 +283,11 @@ class _NearlyArm(Arm):
     nearly: NearlySRS
     poses: np.ndarray
 
-    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`Arm.rows` at the real arm's arm angles ``parameter``: the certified solutions of
-        :func:`redkin.srs.nearly.ik`, each limited joint moved by whole turns to just above its lower limit (the
-        solver's values are right modulo whole turns) and the others into ``[-pi, pi)``, then clipped as
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray,
+             shared: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`Arm.rows` at the real arm's arm angles ``parameter`` (``shared`` is not used): the certified
+        solutions of :func:`redkin.srs.nearly.ik`, each limited joint moved by whole turns to just above its lower
+        limit (the solver's values are right modulo whole turns) and the others into ``[-pi, pi)``, then clipped as
         :func:`redkin.paths._dp_kernels._clipped` clips; a joint outside its range is as far out as the nearer limit,
         either way round."""
         q, exists = np.zeros((len(parameter), 7)), np.zeros(len(parameter), dtype=bool)

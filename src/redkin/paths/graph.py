@@ -83,11 +83,14 @@ class Arm:
     step: np.ndarray
     circle: np.ndarray
 
-    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray,
+             shared: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Joint values ``(K, 7)`` and clearance ``(K,)`` of nodes (waypoint, branch index, value of the redundancy
         parameter).  The clearance is the smallest distance of a joint with a range narrower than ``2 pi`` to a
         limit (negative outside, ``inf`` where no joint has such a range; ``-inf`` where the branch does not exist
-        there); such joints are clipped into their limits."""
+        there); such joints are clipped into their limits.  ``shared`` (K,): per node, a node with the same
+        waypoint, elbow sign and parameter (at most its own index, itself where it is the first), whose work a
+        class may share (:func:`piece_samples`); ``None``: nothing shared."""
         raise NotImplementedError
 
     def take(self, waypoints: np.ndarray) -> Arm:
@@ -117,44 +120,60 @@ def joint_moves(a: np.ndarray, b: np.ndarray, circle: np.ndarray) -> np.ndarray:
     return np.where(circle, np.minimum(turned, TWO_PI - turned), d)
 
 
-def piece_samples(pieces: FeasiblePieces, spacing: float) -> tuple[np.ndarray, ...]:
-    """The initial samples of every feasible piece of every waypoint and branch.
+def piece_samples(pieces: FeasiblePieces, spacing: float, groups: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+    """The initial samples of every feasible piece of every waypoint and branch, sorted as :class:`Graph` sorts its
+    nodes (by waypoint, piece and arm angle).
 
     Parameters
     ----------
     pieces : FeasiblePieces
-        Of shape ``(W, 8, 24)``.
+        Of shape ``(W, 8, S)``.
     spacing : float
         The grid: arm angles ``-pi + k spacing`` (shifted by ``2 pi`` into a piece that wraps).
+    groups : numpy.ndarray, shape (8,), optional
+        A label per branch (:meth:`redkin.paths.family.Family.sample_groups`): the branches of one group have their
+        pieces' ends slot for slot, so the nodes of one slot share their samples.  ``None``: nothing shared.
 
     Returns
     -------
     waypoint, branch, piece, psi : numpy.ndarray, shape (K,)
-        Each piece's ends and middle, and the grid points inside it.
+        Each piece's ends, its middle and the grid points inside it.
+    shared : numpy.ndarray of int, shape (K,)
+        The node whose sample each node shares (the same waypoint, group and parameter; itself for the first such
+        node), as :meth:`Arm.rows` takes it.
     bounds : numpy.ndarray, shape (pieces, 2)
         The ends of each piece (``piece`` indexes it).
     """
     keep = pieces.feasible & (pieces.end - pieces.start > PIECE_TOLERANCE)
-    waypoint, branch, _ = np.nonzero(keep)
+    waypoint, branch, slot = np.nonzero(keep)
     lo, hi = pieces.start[keep], pieces.end[keep]
     first = np.floor((lo + np.pi) / spacing).astype(np.int64) + 1
     last = np.ceil((hi + np.pi) / spacing).astype(np.int64) - 1
-    count = np.maximum(last - first + 1, 0)
-    piece = np.arange(lo.size)
-    grid_piece = np.repeat(piece, count)
-    within = np.arange(grid_piece.size) - np.repeat(np.cumsum(count) - count, count)
-    grid = -np.pi + spacing * (np.repeat(first, count) + within)
-    psi = np.concatenate([lo, hi, 0.5 * (lo + hi), grid])
-    which = np.concatenate([piece, piece, piece, grid_piece])
-    return waypoint[which], branch[which], which, psi, np.stack([lo, hi], axis=-1)
+    grid = np.maximum(last - first + 1, 0)
+    count = grid + 3  # the start, the grid points and the middle, the end
+    offsets = np.concatenate([[0], np.cumsum(count)])
+    leader = np.arange(lo.size)  # a piece with the same ends, whose samples a piece shares
+    if groups is not None:
+        numbered = np.full(keep.shape, -1, dtype=np.int64)
+        numbered[keep] = leader
+        for label in np.unique(groups):
+            group = np.flatnonzero(groups == label)
+            mine = np.isin(branch, group)
+            first_keeper = group[np.argmax(keep[:, group, :], axis=1)]  # (W, S): the group's first branch keeping it
+            leader[mine] = numbered[waypoint[mine], first_keeper[waypoint[mine], slot[mine]], slot[mine]]
+    size = offsets[-1]
+    nodes = (np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64),
+             np.empty(size), np.empty(size, dtype=np.int64))
+    _dp_kernels.piece_nodes(0, lo.size, lo, hi, first, grid, spacing, offsets, leader, waypoint, branch, *nodes)
+    return (*nodes, np.stack([lo, hi], axis=-1))
 
 
 def build(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, piece: np.ndarray, psi: np.ndarray,
-          count: int, ordered: bool = False) -> Graph:
+          count: int, ordered: bool = False, shared: np.ndarray | None = None) -> Graph:
     """The graph of the nodes given over ``count`` waypoints: joint values, clearance, sorted by waypoint, piece
-    and arm angle (``ordered``: they already are).  A node more than :data:`_CLIP_TOLERANCE` outside a limit is
-    dropped, the others clipped into the limits."""
-    q, clearance = arm.rows(waypoint, branch, psi)
+    and arm angle (``ordered``: they already are; ``shared`` as in :meth:`Arm.rows`).  A node more than
+    :data:`_CLIP_TOLERANCE` outside a limit is dropped, the others clipped into the limits."""
+    q, clearance = arm.rows(waypoint, branch, psi, shared)
     good = clearance >= -_CLIP_TOLERANCE
     if not good.all():
         waypoint, branch, piece, psi, q, clearance = (a[good] for a in (waypoint, branch, piece, psi, q, clearance))

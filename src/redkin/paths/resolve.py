@@ -53,6 +53,9 @@ _REFINED = 1e-9
 _MAX_WAYPOINTS = 10_000_000
 #: Two feasible pieces whose ends are this close touch (radians of the parameter; :func:`_arcs_around`).
 _TOUCH = 1e-12
+#: The first search sweeps the nodes of clearance at least these fractions of the clearance no path can exceed, in
+#: turn, until it finds a path (:func:`_floored`).
+_FLOOR_FRACTIONS = (1.0, 0.5)
 #: What :func:`resolve_path` can make best: the clearance (then the motion), or the motion (then the clearance).
 OBJECTIVES = ("clearance", "motion")
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
@@ -183,7 +186,8 @@ def resolve_paths(
     if objective not in OBJECTIVES:
         raise RedkinError(f"objective must be one of {', '.join(OBJECTIVES)}, got {objective!r}")
     return search_paths(family, poses, step, starts, ends, last_branch,
-                        lambda pieces: graphs.piece_samples(pieces, spacing), connect, int(refinements), thorough,
+                        lambda pieces: graphs.piece_samples(pieces, spacing, family.sample_groups()), connect,
+                        int(refinements), thorough,
                         objective=objective)
 
 
@@ -193,8 +197,9 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
                  objective: str = "clearance") -> list[PathResult]:
     """:func:`resolve_paths` on validated input: ``poses`` (P, N, 4, 4), ``starts``/``ends`` (P, 7) or
     ``None``, ``last_branch`` an index into :data:`BRANCHES` or ``None``; ``sampler(pieces)`` gives the
-    initial samples (waypoint, branch, piece, psi, and each piece's ends) from the feasible pieces
-    (:func:`graph.piece_samples`); ``connect`` as in :func:`resolve_path`, ``None`` for the samples alone;
+    initial samples (waypoint, branch, piece, psi, sorted as a graph's nodes, the node whose sample each shares,
+    and each piece's ends) from the feasible pieces (:func:`graph.piece_samples`); ``connect`` as in
+    :func:`resolve_path`, ``None`` for the samples alone;
     ``polish``: raise the clearance of a path not proved optimal between the samples (:func:`_polished`);
     ``objective`` as in :func:`resolve_path`.
 
@@ -272,21 +277,24 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
     arm_data = along.arm.take(rows)
     step = arm_data.step
     pieces = along.pieces
-    waypoint, branch, piece, psi, bounds = sampler(FeasiblePieces(pieces.start[rows], pieces.end[rows],
-                                                                  pieces.feasible[rows]))
+    waypoint, branch, piece, psi, shared, bounds = sampler(FeasiblePieces(pieces.start[rows], pieces.end[rows],
+                                                                          pieces.feasible[rows]))
     extra = _own_nodes(family, starts, path_starts[:-1], prefix > 0) + _own_nodes(
         family, ends, path_starts[1:] - 1, prefix == length)
     for w, b, p in extra:
-        waypoint, branch = np.append(waypoint, w), np.append(branch, b)
+        waypoint, branch, shared = np.append(waypoint, w), np.append(branch, b), np.append(shared, len(shared))
         piece, psi = np.append(piece, -1), np.append(psi, p)
-    graph = graphs.build(arm_data, waypoint, branch, piece, psi, len(rows))
+    graph = graphs.build(arm_data, waypoint, branch, piece, psi, len(rows), ordered=not extra, shared=shared)
     if connect is not None:
         graph = graphs.connect(arm_data, graph, connect)
 
-    def searched(graph: Graph) -> tuple[search.Sweep, dict[int, np.ndarray]]:
-        """The sweep of ``graph`` and the best path of each path that has one."""
+    key = search.key_joint(graph, arm_data.step, arm_data.circle)  # the refinements' graphs lie in the same pieces
+
+    def searched(graph: Graph, floor: np.ndarray | None = None) -> tuple[search.Sweep, dict[int, np.ndarray]]:
+        """The sweep of ``graph`` (each path on its nodes of clearance at least ``floor``) and the best path of each
+        path that has one."""
         first_value, first_motion = _first_values(arm_data, graph, path_starts, starts)
-        sweep = search.run(arm_data, graph, path_starts, first_value, first_motion, motion_first)
+        sweep = search.run(arm_data, graph, path_starts, first_value, first_motion, motion_first, key, floor)
         chosen = {}
         for p in np.flatnonzero((prefix > 0) & (sweep.dead < 0)).tolist():
             last = search.best_end(sweep, _end_nodes(arm_data, graph, path_starts[p + 1] - 1, ends, p, last_branch),
@@ -295,7 +303,7 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
                 chosen[p] = search.trace(sweep, last, int(prefix[p]))
         return sweep, chosen
 
-    sweep, chosen = searched(graph)
+    sweep, chosen = _floored(graph, path_starts, searched, motion_first)
     failures = {p: _failure(family, arm_data, graph, sweep, flat[rows], path_starts, p, starts, ends, last_branch,
                             int(prefix[p])) for p in range(count) if p not in chosen}
     nodes = len(graph.psi)
@@ -390,6 +398,35 @@ def _own_nodes(family: Family, configurations: np.ndarray | None, waypoints: np.
     paths = np.flatnonzero(used)
     branch, value = family.parameter_of(np.ascontiguousarray(configurations[paths]))
     return [(int(waypoints[p]), int(b), float(v)) for p, b, v in zip(paths.tolist(), branch, value)]
+
+
+def _floored(graph: Graph, path_starts: np.ndarray, searched: Callable, motion_first: bool):
+    """``searched(graph, floor)`` on the nodes of clearance at least a floor, raised as far as it can be: the best
+    path of a graph keeps its clearance on the nodes at or above it, so the best path found above a floor is the
+    best of the whole graph, and the nodes below are never swept.  Each path's floor is :data:`_FLOOR_FRACTIONS`
+    of its *ceiling* in turn (the least, over its waypoints, of the largest clearance of a node there: no path of
+    the graph keeps more), then none, until the path is found; a path not found without a floor has none (its
+    sweep is the whole graph's, which its failure reads).  The objective ``"motion"`` sweeps without a floor."""
+    paths = len(path_starts) - 1
+    floor = np.full(paths, -np.inf)
+    levels = iter(() if motion_first or not len(graph.psi) else _FLOOR_FRACTIONS)
+    ceiling = floor.copy()
+    first = next(levels, None)
+    if first is not None:
+        nodes = np.diff(graph.offsets)
+        most = np.full(len(nodes), -np.inf)
+        most[nodes > 0] = np.maximum.reduceat(graph.clearance, graph.offsets[:-1][nodes > 0])
+        lengths = np.diff(path_starts)
+        ceiling[lengths > 0] = np.minimum.reduceat(most, path_starts[:-1][lengths > 0])
+        floor = np.where(ceiling > 0.0, first * ceiling, -np.inf)
+    while True:
+        sweep, chosen = searched(graph, floor)
+        again = np.array([p not in chosen for p in range(paths)], dtype=bool) & (floor > 0.0)  # clearance is >= 0
+        if not again.any():
+            break
+        fraction = next(levels, None)
+        floor[again] = -np.inf if fraction is None else fraction * ceiling[again]
+    return sweep, chosen
 
 
 def _first_values(arm: Arm, graph: Graph, path_starts: np.ndarray, starts: np.ndarray | None):

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from redkin._compiled import run_batch
 from redkin.paths import _dp_kernels
 from redkin.paths.graph import Arm, Graph
 
@@ -40,23 +41,34 @@ class Sweep:
 
 
 def run(arm: Arm, graph: Graph, path_starts: np.ndarray, first_value: np.ndarray, first_motion: np.ndarray,
-        motion_first: bool = False) -> Sweep:
+        motion_first: bool = False, key: int | None = None, floor: np.ndarray | None = None) -> Sweep:
     """Sweep every path; ``first_value``, ``first_motion`` (K,) are read on each path's first waypoint only;
-    ``motion_first``: the least motion first, then the largest clearance."""
+    ``motion_first``: the least motion first, then the largest clearance; ``key``: the joint that keys the window
+    of candidates (:func:`key_joint` of ``graph`` where ``None``, or where it is a joint compared on the circle
+    whose values leave ``[-pi, pi]`` in ``graph``); ``floor`` (P,): each path uses only the nodes whose clearance
+    is at least this (``None``: every node)."""
     waypoint = graph.waypoint
-    key = key_joint(graph, arm.step, arm.circle)
-    order = np.lexsort((graph.q[:, key], waypoint)).astype(np.int64)
-    sorted_key = np.ascontiguousarray(graph.q[order, key])
+    if key is None or not _keys_circle(graph, arm.circle, key):
+        key = key_joint(graph, arm.step, arm.circle)
+    offsets = np.ascontiguousarray(graph.offsets, dtype=np.int64)
     starts = np.zeros(len(waypoint), dtype=bool)
     starts[np.isin(waypoint, path_starts[:-1])] = True
     value = np.where(starts, first_value, -np.inf)
+    kept = np.ones(len(waypoint), dtype=bool)
+    if floor is not None:
+        kept = graph.clearance >= np.repeat(np.repeat(floor, np.diff(path_starts)), np.diff(offsets))
+        value[~kept] = -np.inf
+    kept_offsets = np.concatenate([[0], np.cumsum(kept)])[offsets]
+    order, sorted_key = np.empty(kept_offsets[-1], dtype=np.int64), np.empty(kept_offsets[-1])
+    run_batch(_dp_kernels.sort_by_key, len(offsets) - 1, offsets, kept, kept_offsets,
+              np.ascontiguousarray(graph.q[:, key]), order, sorted_key)
     motion = np.where(starts, first_motion, 0.0)
     parent = np.full(len(waypoint), -1, dtype=np.int64)
     dead = np.empty(len(path_starts) - 1, dtype=np.int64)
-    _dp_kernels.sweep(np.ascontiguousarray(path_starts, dtype=np.int64), np.ascontiguousarray(graph.offsets,
-                      dtype=np.int64), np.ascontiguousarray(graph.q), np.ascontiguousarray(graph.clearance),
-                      sorted_key, order, key, np.ascontiguousarray(arm.step), np.ascontiguousarray(arm.circle),
-                      value, motion, parent, dead, motion_first)
+    _dp_kernels.sweep(np.ascontiguousarray(path_starts, dtype=np.int64), offsets, kept_offsets,
+                      np.ascontiguousarray(graph.q), np.ascontiguousarray(graph.clearance), sorted_key, order, key,
+                      np.ascontiguousarray(arm.step), np.ascontiguousarray(arm.circle), value, motion, parent, dead,
+                      motion_first)
     return Sweep(value, motion, parent, dead)
 
 
@@ -75,7 +87,9 @@ def key_joint(graph: Graph, step: np.ndarray, circle: np.ndarray) -> int:
         return 0
     pairs = np.unique(np.linspace(0, len(offsets) - 3, _KEY_PAIRS).astype(np.int64))
     counts = np.zeros(graph.q.shape[1])
-    counts[circle & (np.abs(graph.q).max(axis=0, initial=0.0) > np.pi)] = np.inf
+    for joint in np.flatnonzero(circle).tolist():
+        if not _keys_circle(graph, circle, joint):
+            counts[joint] = np.inf
     for w in pairs:
         before = graph.q[offsets[w]:offsets[w + 1]]
         after = graph.q[offsets[w + 1]:offsets[w + 2]]
@@ -86,6 +100,13 @@ def key_joint(graph: Graph, step: np.ndarray, circle: np.ndarray) -> int:
             counts[j] += np.sum(np.searchsorted(ordered[:, j], after[:, j] + step[j], side="right")
                                 - np.searchsorted(ordered[:, j], after[:, j] - step[j], side="left"))
     return int(np.argmin(counts))
+
+
+def _keys_circle(graph: Graph, circle: np.ndarray, joint: int) -> bool:
+    """Whether ``joint`` can key the sweep's window in ``graph``: it is not compared on the circle, or its values lie
+    in ``[-pi, pi]``, as the window reads them."""
+    values = graph.q[:, joint]
+    return not circle[joint] or values.size == 0 or bool(np.abs(values).max() <= np.pi)
 
 
 def best_end(sweep: Sweep, nodes: np.ndarray, motion_first: bool = False) -> int:

@@ -252,15 +252,23 @@ def entry_at(entries, e, s, c):
 
 
 @kernel
-def branch_angles(entries, theta4, psi, sigma2, sigma6, theta):
-    """The 7 DH angles [000 eqs. 11, 13-15, 17-19] at arm angle ``psi`` on the branch ``(sigma_2, sigma_6)``
-    from the entry coefficients (3, 14) of the elbow sign of ``theta4``, into ``theta`` (7,)."""
+def groups_angles(entries, psi, theta):
+    """The shoulder's and the wrist's angles [000 eqs. 13-15, 17-19] at arm angle ``psi`` on the branch signs +1,
+    from the entry coefficients (3, 14) of one elbow sign, into ``theta[0:3]`` and ``theta[4:7]``."""
     s, c = sin(psi), cos(psi)
     for g in range(2):
         k = GROUP * g
         group_angles(entry_at(entries, k, s, c), entry_at(entries, k + 1, s, c), entry_at(entries, k + 2, s, c),
                      entry_at(entries, k + 3, s, c), entry_at(entries, k + 4, s, c), entry_at(entries, k + 5, s, c),
                      theta, 4 * g)
+
+
+@kernel
+def branch_angles(entries, theta4, psi, sigma2, sigma6, theta):
+    """The 7 DH angles [000 eqs. 11, 13-15, 17-19] at arm angle ``psi`` on the branch ``(sigma_2, sigma_6)``
+    from the entry coefficients (3, 14) of the elbow sign of ``theta4``, into ``theta`` (7,):
+    :func:`groups_angles`, then the branch's signs (:func:`apply_sign`)."""
+    groups_angles(entries, psi, theta)
     theta[3] = theta4
     apply_sign(theta, 0, sigma2)
     apply_sign(theta, 4, sigma6)
