@@ -150,3 +150,21 @@ def test_initial_samples_are_sorted_hold_every_piece_and_share_only_equal_sample
     together, alone = arm.rows(waypoint, branch, psi, shared), arm.rows(waypoint, branch, psi)
     np.testing.assert_array_equal(together[0], alone[0])
     np.testing.assert_array_equal(together[1], alone[1])
+
+
+def test_each_waypoint_s_kept_nodes_are_sorted_by_their_key_short_runs_and_long():
+    from redkin.paths import _dp_kernels
+
+    rng = np.random.default_rng(9)
+    sizes = rng.integers(0, 60, 40)  # runs under and over the insertion sort's length, and empty ones
+    offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    key = rng.choice(rng.normal(size=30), offsets[-1])  # ties too
+    kept = rng.random(offsets[-1]) < 0.7
+    kept_offsets = np.concatenate([[0], np.cumsum(kept)])[offsets]
+    order, sorted_key = np.empty(kept.sum(), dtype=np.int64), np.empty(kept.sum())
+    _dp_kernels.sort_by_key(0, len(sizes), offsets, kept, kept_offsets, key, order, sorted_key)
+    for w in range(len(sizes)):
+        mine = order[kept_offsets[w]:kept_offsets[w + 1]]
+        np.testing.assert_array_equal(np.sort(mine), np.flatnonzero(kept[offsets[w]:offsets[w + 1]]) + offsets[w])
+        np.testing.assert_array_equal(sorted_key[kept_offsets[w]:kept_offsets[w + 1]], key[mine])
+        assert np.all(np.diff(key[mine]) >= 0)

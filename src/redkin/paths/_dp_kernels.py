@@ -249,6 +249,10 @@ def _relax_waypoint(before, after, kept_offsets, q, clearance, sorted_key, order
     return alive
 
 
+#: Runs of at most this many nodes are sorted in place by insertion (no allocation); longer ones by numpy's argsort.
+_SHORT_RUN = 16
+
+
 @kernel
 def sort_by_key(start, stop, offsets, kept, kept_offsets, key, order, sorted_key):
     """Per waypoint ``w`` in ``start .. stop - 1`` (nodes ``offsets[w] .. offsets[w + 1] - 1``): its nodes that are
@@ -258,13 +262,22 @@ def sort_by_key(start, stop, offsets, kept, kept_offsets, key, order, sorted_key
         first, t = kept_offsets[w], kept_offsets[w]
         for node in range(offsets[w], offsets[w + 1]):
             if kept[node]:
-                order[t] = node
+                order[t], sorted_key[t] = node, key[node]
                 t += 1
-        nodes = order[first:t].copy()
-        ranked = np.argsort(key[nodes])
+        if t - first <= _SHORT_RUN:
+            for u in range(first + 1, t):
+                node, value = order[u], sorted_key[u]
+                v = u
+                while v > first and sorted_key[v - 1] > value:
+                    order[v], sorted_key[v] = order[v - 1], sorted_key[v - 1]
+                    v -= 1
+                order[v], sorted_key[v] = node, value
+            continue
+        ranked = np.argsort(sorted_key[first:t])
+        nodes = order[first:t][ranked]
         for u in range(t - first):
-            order[first + u] = nodes[ranked[u]]
-            sorted_key[first + u] = key[nodes[ranked[u]]]
+            order[first + u] = nodes[u]
+            sorted_key[first + u] = key[nodes[u]]
 
 
 @kernel
