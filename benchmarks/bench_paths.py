@@ -235,7 +235,7 @@ def tightened(chain, q, rng):
     return chain.with_limits(lower, upper)
 
 
-def against_sampled(chain, count=100, constructed_count=20, spacing_deg=0.1):
+def against_sampled(chain, count=100, constructed_count=20, spacing_deg=0.01):
     """The issue's comparison with the literature's dynamic programming on a uniform grid: ``count`` short random
     lines, and ``constructed_count`` lines whose chain has three joints' limits tightened around them (narrow
     feasible sets; the line itself stays a path)."""
@@ -304,6 +304,7 @@ def franka(count=20, length=30):
     line's start (its tracks judged by our limits, FK and bound, as returned and with every joint moved by whole
     turns into its range: ssik returns some FR3 joint 4 values 2 pi above the range)."""
     chain = get_robot("franka-fr3")
+    resolve_path(chain, chain.fk(np.zeros((3, 7)) + 0.3), 0.1)  # load (or compile) the q7 kernels first
     arm = ssik_arm(chain, "fr3")
     rng = np.random.default_rng(3)
     found = proved = ssik_pass = ssik_turned = 0

@@ -261,6 +261,68 @@ def test_the_line_of_the_docs_is_proved_optimal_and_a_binding_bound_is_not():
     assert bound.clearance >= sampled_path(chain, chain.fk(q), step, np.radians(0.5)).clearance - 1e-12
 
 
+def _peaked_arc():
+    """An iiwa14 line of 5 waypoints with joints 4, 5 and 7 narrowed around it (bench_paths's constructed case 105):
+    at waypoint 0 the clearance on branch +-- is bimodal, 2.1e-4 near the right end of its arc and 3.3e-4 within
+    1e-3 rad of its left end (joint 7 nears a limit in the middle, joint 5 meets one at either end)."""
+    chain = get_robot("kuka-iiwa14")
+    first = np.array([0.744302704422052, 0.9897379938004682, -1.0105715712168124, -1.8287150761338702,
+                      1.5560649997011637, -1.2496296587395301, 1.4372540861353622])
+    last = np.array([0.10127360924758655, 0.48562393428177264, -1.2322346153855608, -1.7334571596602122,
+                     1.5903018485277065, -1.360020306667608, 0.928273409191801])
+    q = first + (last - first) * np.linspace(0.0, 1.0, 5)[:, None]
+    lower, upper = chain.lower.copy(), chain.upper.copy()
+    lower[[3, 4, 6]] = -1.8309920229031489, 1.5548774920155162, 0.9280863524572623
+    upper[[3, 4, 6]] = -1.7311802128909335, 1.591489356213354, 1.4374411428699008
+    arm = chain.with_limits(lower, upper)
+    return arm, arm.fk(q), 1.5 * np.abs(np.diff(q, axis=0)).max()
+
+
+def test_a_clearance_that_peaks_near_an_arc_end_is_found_and_proved(monkeypatch):
+    """The samples and the refinement around the first path found stay near the lower peak; the search inside
+    limits moved inwards (:func:`redkin.paths.resolve._leveled`) finds the higher one, at least the dense sampled
+    search's clearance on a 0.01 deg grid, and proves it optimal."""
+    import redkin.paths.resolve as resolve
+
+    arm, poses, step = _peaked_arc()
+    result = resolve_path(arm, poses, step)
+    _assert_lawful(arm, poses, result)
+    dense = sampled_path(arm, poses, step, np.radians(0.01))
+    assert result.optimal and result.clearance >= dense.clearance > 3.3e-4
+    monkeypatch.setattr(resolve, "_LEVEL_ROUNDS", 0)
+    assert resolve_path(arm, poses, step).clearance < 2.2e-4  # without the levels: the lower peak
+
+
+@settings(max_examples=6, deadline=None)
+@given(st.integers(0, 2**31))
+def test_the_levels_never_lower_a_clearance_nor_break_a_law(seed):
+    """On lines whose limits are narrowed around them (narrow arcs, peaked clearances), the search inside moved
+    limits keeps every law and never returns less than the search without it."""
+    import redkin.paths.resolve as resolve
+
+    chain = get_robot("kuka-iiwa14")
+    rng = np.random.default_rng(seed)
+    q, _ = _joint_line(chain, rng, 6)
+    q = q[0] + 0.2 * (q - q[0])
+    lower, upper = chain.lower.copy(), chain.upper.copy()
+    for joint in rng.choice(7, 3, replace=False):
+        margin = 10.0 ** rng.uniform(-4.0, -2.0)
+        lower[joint] = max(lower[joint], q[:, joint].min() - margin)
+        upper[joint] = min(upper[joint], q[:, joint].max() + margin)
+    arm = chain.with_limits(lower, upper)
+    poses, step = arm.fk(q), 1.5 * np.abs(np.diff(q, axis=0)).max()
+    result = resolve_path(arm, poses, step)
+    _assert_lawful(arm, poses, result)
+    rounds = resolve._LEVEL_ROUNDS
+    try:
+        resolve._LEVEL_ROUNDS = 0
+        plain = resolve_path(arm, poses, step)
+    finally:
+        resolve._LEVEL_ROUNDS = rounds
+    assert result.clearance >= plain.clearance
+    assert result.optimal or not plain.optimal
+
+
 @settings(max_examples=6, deadline=None)
 @given(st.integers(0, 2**31), st.sampled_from(ROBOTS))
 def test_the_thorough_search_is_never_worse_and_cannot_beat_a_proved_clearance(seed, robot):

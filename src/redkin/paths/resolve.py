@@ -56,6 +56,10 @@ _TOUCH = 1e-12
 #: The first search sweeps the nodes of clearance at least these fractions of the clearance no path can exceed, in
 #: turn, until it finds a path (:func:`_floored`).
 _FLOOR_FRACTIONS = (1.0, 0.5)
+#: Searches of a path not proved optimal inside limits moved inwards (:func:`_leveled`), at most.
+_LEVEL_ROUNDS = 12
+#: The levels of :func:`_leveled` and :func:`_ceiling` stop this close (radians).
+_LEVEL_GAP = 1e-7
 #: What :func:`resolve_path` can make best: the clearance (then the motion), or the motion (then the clearance).
 OBJECTIVES = ("clearance", "motion")
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
@@ -187,21 +191,21 @@ def resolve_paths(
         raise RedkinError(f"objective must be one of {', '.join(OBJECTIVES)}, got {objective!r}")
     return search_paths(family, poses, step, starts, ends, last_branch,
                         lambda pieces: graphs.piece_samples(pieces, spacing, family.sample_groups()), connect,
-                        int(refinements), thorough,
-                        objective=objective)
+                        int(refinements), thorough, objective=objective, levels=True)
 
 
 def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np.ndarray | None,
                  ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
                  refinements: int, thorough: bool = False, polish: bool = True,
-                 objective: str = "clearance") -> list[PathResult]:
+                 objective: str = "clearance", levels: bool = False) -> list[PathResult]:
     """:func:`resolve_paths` on validated input: ``poses`` (P, N, 4, 4), ``starts``/``ends`` (P, 7) or
     ``None``, ``last_branch`` an index into :data:`BRANCHES` or ``None``; ``sampler(pieces)`` gives the
     initial samples (waypoint, branch, piece, psi, sorted as a graph's nodes, the node whose sample each shares,
     and each piece's ends) from the feasible pieces (:func:`graph.piece_samples`); ``connect`` as in
     :func:`resolve_path`, ``None`` for the samples alone;
     ``polish``: raise the clearance of a path not proved optimal between the samples (:func:`_polished`);
-    ``objective`` as in :func:`resolve_path`.
+    ``objective`` as in :func:`resolve_path`; ``levels``: search a path whose clearance is still not proved
+    optimal again inside limits moved inwards (:func:`_leveled`).
 
     Two stages (docs/paths.md, "Method"): the samples alone first, refined around the path found; a path whose
     clearance is then proved optimal (:func:`_bottleneck`), or a failure proved by the exact sets, is final.
@@ -229,7 +233,61 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
                         motion)
         for p, result in zip(again, finer):
             results[p] = _better(results[p], result, motion)
+    if levels and not motion and family.exact:
+        for p, result in enumerate(results):
+            if result.ok and not result.optimal:
+                results[p] = _leveled(family, poses[p], step, None if starts is None else starts[p : p + 1],
+                                      None if ends is None else ends[p : p + 1], last_branch, sampler, refinements,
+                                      result)
     return results
+
+
+def _leveled(family: Family, poses: np.ndarray, step: np.ndarray, start: np.ndarray | None, end: np.ndarray | None,
+             last_branch: int | None, sampler: Callable, refinements: int, found: PathResult) -> PathResult:
+    """A path ``found`` whose clearance ``c`` is not proved optimal, searched again inside the limits moved
+    inwards by a *level* between ``c`` and the least level at which some waypoint has no configuration left
+    (:func:`_ceiling`; no path keeps more), halving the gap each round (:data:`_LEVEL_ROUNDS` at most): a path
+    found there keeps at least the level, and its own search, free of the configurations below it, is not drawn
+    to a path of clearance ``c`` again (a clearance that peaks near one end of an arc, where the samples and the
+    refinement around the path found do not look).  A level where no path is found becomes the new top.  A path
+    proved optimal inside moved limits is optimal inside the arm's own: the proof's level moves with them.  Each
+    search is the first stage's (the samples, refined, polished; no subdivided second stage)."""
+    best = found
+    top = _ceiling(family, poses, best.clearance)
+    for _ in range(_LEVEL_ROUNDS):
+        if best.optimal or top - best.clearance <= _LEVEL_GAP:
+            break
+        level = 0.5 * (best.clearance + top)
+        inner = family.inner(level)
+        result = None if inner is None else search_paths(inner, poses[None], step, start, end, last_branch, sampler,
+                                                         None, refinements)[0]
+        if result is None or not result.ok:
+            top = level
+            continue
+        chain, q = family.chain, result.q
+        limited = ~chain.covers_circle
+        clearance = float(np.minimum(q - chain.lower, chain.upper - q)[:, limited].min())
+        best = replace(result, clearance=clearance, step=found.step, nodes=found.nodes + result.nodes)
+    return best if best.clearance > found.clearance else replace(found, nodes=best.nodes)
+
+
+def _ceiling(family: Family, poses: np.ndarray, least: float) -> float:
+    """The level (radians, at least ``least``, to :data:`_LEVEL_GAP`) above which some pose of ``poses`` has no
+    configuration on any branch keeping that far from every limit (the exact feasible sets inside moved limits,
+    by bisection): no path of these poses keeps more clearance."""
+    chain = family.chain
+    limited = ~chain.covers_circle
+    if not limited.any():
+        return np.inf
+    low, high = least, 0.5 * float((chain.upper - chain.lower)[limited].min())
+    while high - low > _LEVEL_GAP:
+        level = 0.5 * (low + high)
+        inner = family.inner(level)
+        if inner is not None and inner.pieces(poses).feasible.any(axis=(-2, -1)).all():
+            low = level
+        else:
+            high = level
+    return high
 
 
 def _better(coarse: PathResult, fine: PathResult, motion_first: bool) -> PathResult:
