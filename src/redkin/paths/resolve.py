@@ -57,9 +57,11 @@ _TOUCH = 1e-12
 #: turn, until it finds a path (:func:`_floored`).
 _FLOOR_FRACTIONS = (1.0, 0.5)
 #: Searches of a path not proved optimal inside limits moved inwards (:func:`_leveled`), at most.
-_LEVEL_ROUNDS = 12
+_LEVEL_ROUNDS = 6
 #: The levels of :func:`_leveled` and :func:`_ceiling` stop this close (radians).
 _LEVEL_GAP = 1e-7
+#: Bisections of :func:`_ceiling` at most.
+_CEILING_STEPS = 6
 #: What :func:`resolve_path` can make best: the clearance (then the motion), or the motion (then the clearance).
 OBJECTIVES = ("clearance", "motion")
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
@@ -272,15 +274,18 @@ def _leveled(family: Family, poses: np.ndarray, step: np.ndarray, start: np.ndar
 
 
 def _ceiling(family: Family, poses: np.ndarray, least: float) -> float:
-    """The level (radians, at least ``least``, to :data:`_LEVEL_GAP`) above which some pose of ``poses`` has no
-    configuration on any branch keeping that far from every limit (the exact feasible sets inside moved limits,
-    by bisection): no path of these poses keeps more clearance."""
+    """A level (radians, at least ``least``) above which some pose of ``poses`` has no configuration on any branch
+    keeping that far from every limit, so that no path of these poses keeps more clearance: the exact feasible sets
+    inside moved limits, bisected :data:`_CEILING_STEPS` times from half the narrowest range (the levels of
+    :func:`_leveled` halve the gap below it further)."""
     chain = family.chain
     limited = ~chain.covers_circle
     if not limited.any():
         return np.inf
     low, high = least, 0.5 * float((chain.upper - chain.lower)[limited].min())
-    while high - low > _LEVEL_GAP:
+    for _ in range(_CEILING_STEPS):
+        if high - low <= _LEVEL_GAP:
+            break
         level = 0.5 * (low + high)
         inner = family.inner(level)
         if inner is not None and inner.pieces(poses).feasible.any(axis=(-2, -1)).all():
