@@ -28,6 +28,7 @@ Run:  python benchmarks/bench_paths.py [--long N ...]
 from __future__ import annotations
 
 import argparse
+import subprocess
 import sys
 import time
 import tracemalloc
@@ -76,21 +77,33 @@ def peak_memory(function):
     return peak
 
 
+def fresh_memory_cost(size=1 << 30):
+    """Seconds per 4 KiB page for a new process to map and touch ``size`` bytes (in a process of its own, so that
+    this one's memory stays as it was): what a call pays for memory beyond the most its process has held."""
+    code = (f"import time, numpy as np; start = time.perf_counter(); np.ones({size // 8}); "
+            f"print((time.perf_counter() - start) / {size // 4096})")
+    return float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
+
+
 def scaling(chain, cases):
+    """The long line at each (waypoints, bound): the first call and the best of the calls after it (3 up to 10^4
+    waypoints, 1 beyond), nodes, proof, peak memory (tracemalloc) and ``thorough=True``."""
     rng = np.random.default_rng(0)
     q, _ = line(chain, rng, 2, 0.3)
-    print("| waypoints | step bound (rad) | time (s) | per waypoint (us) | nodes | proved optimal | peak memory (MB) | "
-          "thorough (s) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print(f"fresh memory on this machine: {1e6 * fresh_memory_cost():.2f} us per 4 KiB page")
+    print("| waypoints | step bound (rad) | first call (s) | time (s) | per waypoint (us) | nodes | proved optimal | "
+          "peak memory (MB) | thorough (s) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for count, step in cases:
         path = q[0] + (q[1] - q[0]) * np.linspace(0.0, 1.0, count)[:, None]
         poses = chain.fk(path)
+        first, _ = timed(lambda: resolve_path(chain, poses, step), 1)
         seconds, result = timed(lambda: resolve_path(chain, poses, step), 3 if count <= 10_000 else 1)
         memory = peak_memory(lambda: resolve_path(chain, poses, step)) / 1e6
         thorough = ""
         if count <= 10_000:
             thorough = f"{timed(lambda: resolve_path(chain, poses, step, thorough=True), 1)[0]:.2f}"
-        print(f"| {count} | {step:.3g} | {seconds:.3f} | {1e6 * seconds / count:.1f} | {result.nodes} | "
+        print(f"| {count} | {step:.3g} | {first:.3f} | {seconds:.3f} | {1e6 * seconds / count:.1f} | {result.nodes} | "
               f"{result.optimal} | {memory:.0f} | {thorough} |", flush=True)
 
 
