@@ -64,18 +64,22 @@ def test_the_parameter_of_a_configuration_is_its_own_branch_and_q7():
         assert again.exists[0] and np.abs(again.q[0] - q[n]).max() < 1e-9
 
 
+def _line_poses(robot, seed, count):
+    """The chain, its S-R-S geometry and ``count`` poses along a joint-space line 0.2 rad inside its limits."""
+    chain = get_robot(robot)
+    rng = np.random.default_rng(seed)
+    lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
+    a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
+    return chain, srs_geometry(chain), chain.fk(a + (b - a) * np.linspace(0.0, 1.0, count)[:, None])
+
+
 @pytest.mark.parametrize(("robot", "step"), [("kuka-iiwa14", 0.05), ("pa10-7c", 0.03), ("barrett-wam7", 0.1)])
 def test_connect_keeps_every_node_and_leaves_no_interval_of_a_piece_wider_than_its_share_of_the_bound(robot, step):
     from redkin.paths import graph as graphs
     from redkin.paths.graph import _MIN_SPACING
     from redkin.srs.feasible import feasible_pieces_all_branches
 
-    chain = get_robot(robot)
-    geometry = srs_geometry(chain)
-    rng = np.random.default_rng(1)
-    lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
-    a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
-    poses = chain.fk(a + (b - a) * np.linspace(0.0, 1.0, 20)[:, None])
+    chain, geometry, poses = _line_poses(robot, 1, 20)
     _, arm = ArmAngleFamily(geometry).arm(poses, np.full(7, step))
     waypoint, branch, piece, psi, _, _ = graphs.piece_samples(feasible_pieces_all_branches(geometry, poses), 0.1)
     before = graphs.build(arm, np.append(waypoint, 0), np.append(branch, 2), np.append(piece, -1),
@@ -125,13 +129,8 @@ def test_initial_samples_are_sorted_hold_every_piece_and_share_only_equal_sample
     from redkin.paths import graph as graphs
     from redkin.srs.feasible import feasible_pieces_all_branches
 
-    chain = get_robot(robot)
-    geometry = srs_geometry(chain)
+    _, geometry, poses = _line_poses(robot, 6, 15)
     family = ArmAngleFamily(geometry)
-    rng = np.random.default_rng(6)
-    lower, upper = np.maximum(chain.lower + 0.2, -3.0), np.minimum(chain.upper - 0.2, 3.0)
-    a, b = rng.uniform(lower, upper), rng.uniform(lower, upper)
-    poses = chain.fk(a + (b - a) * np.linspace(0.0, 1.0, 15)[:, None])
     waypoint, branch, piece, psi, shared, bounds = graphs.piece_samples(
         feasible_pieces_all_branches(geometry, poses), 0.3, family.sample_groups())
     np.testing.assert_array_equal(np.lexsort((psi, piece, waypoint)), np.arange(len(psi)))
