@@ -774,13 +774,15 @@ class FeasibleResult(NamedTuple):
     false: list[Flag]
 
 
-def measure_feasible(name: str, count: int, samples: int) -> FeasibleResult:
+def measure_feasible(name: str, count: int, samples: int, first: int = 0) -> FeasibleResult:
     """``feasible_arm_angles_nearly`` on ``count`` random poses and every branch of one arm, against ``samples``
-    uniform arm angles (module docstring, "Feasible sets")."""
+    uniform arm angles (module docstring, "Feasible sets"); the poses are ``first .. first + count - 1`` of one
+    sequence, so that a long run can be split into parts that together are the whole (flags name the pose's place in
+    the sequence)."""
     description, load = FEASIBLE_ARMS[name]
     chain = limited(load())
     arm = nearly_srs(chain)
-    q = in_limits(chain, np.random.default_rng(3), count)
+    q = in_limits(chain, np.random.default_rng(3), first + count)
     poses = chain.fk(q)
     psi = np.linspace(-np.pi, np.pi, samples, endpoint=False)
     spacing = 2.0 * np.pi / samples
@@ -789,7 +791,7 @@ def measure_feasible(name: str, count: int, samples: int) -> FeasibleResult:
     flags: list[Flag] = []
     agreeing = checked = narrow = differ = nonempty = 0
     sets: dict[tuple[int, int], ArcSet] = {}
-    for k in range(count):
+    for k in range(first, first + count):
         start = time.perf_counter()
         feasible, different = sampled_feasible(arm, poses[k], psi)
         sample_seconds += time.perf_counter() - start
@@ -817,8 +819,8 @@ def measure_feasible(name: str, count: int, samples: int) -> FeasibleResult:
     lines = [f"## feasible sets, {name}: {description}", "", f"- {arm.describe()}",
              f"- limits (rad): lower {np.round(chain.lower, 4).tolist()}, upper {np.round(chain.upper, 4).tolist()}"
              f"{'' if np.isfinite(load().lower).all() else f' (continuous joints given +-{CONTINUOUS_LIMIT})'}",
-             f"- {count} poses (FK of q uniform within the limits, default_rng(3)) x 8 branches; {samples} arm angles "
-             f"sampled per pose (spacing {spacing:.3g} rad)", "",
+             f"- {count} poses (FK of q uniform within the limits, default_rng(3); poses {first}-{first + count - 1} "
+             f"of its sequence) x 8 branches; {samples} arm angles sampled per pose (spacing {spacing:.3g} rad)", "",
              "| measurement | result |", "|---|---|",
              f"| pose-branches (with a feasible arm angle, computed or sampled) | {pose_branches} ({nonempty}) |",
              f"| `feasible_arm_angles_nearly`, per pose-branch | {_us(set_seconds / pose_branches)} |",
@@ -970,9 +972,12 @@ def main(argv: Sequence[str] | None = None) -> list[ArmResult] | list[FeasibleRe
                         help="arm angles sampled per pose for --feasible (default 10000)")
     parser.add_argument("--feasible-arms", nargs="+", choices=list(FEASIBLE_ARMS), default=list(FEASIBLE_ARMS),
                         help="a subset of the arms for --feasible")
+    parser.add_argument("--feasible-first", type=int, default=0,
+                        help="for --feasible, start at this pose of the sequence (default 0): a long run in parts")
     args = parser.parse_args(argv)
     if args.feasible:
-        return main_feasible(args.feasible_arms, args.feasible_poses, args.feasible_samples, parser)
+        return main_feasible(args.feasible_arms, args.feasible_poses, args.feasible_samples, parser,
+                             args.feasible_first)
     count, near, python_count = (200, 50, 20) if args.quick else (args.poses, args.near, args.ssik_python)
     if min(count, near, python_count) < 1:
         parser.error("--poses, --near and --ssik-python must be positive")
@@ -987,16 +992,16 @@ def main(argv: Sequence[str] | None = None) -> list[ArmResult] | list[FeasibleRe
     return results
 
 
-def main_feasible(arms: Sequence[str], count: int, samples: int,
-                  parser: argparse.ArgumentParser) -> list[FeasibleResult]:
-    """The feasible-set section alone (``--feasible``)."""
-    if count < 1 or samples < 8:
-        parser.error("--feasible-poses must be positive and --feasible-samples at least 8")
+def main_feasible(arms: Sequence[str], count: int, samples: int, parser: argparse.ArgumentParser,
+                  first: int = 0) -> list[FeasibleResult]:
+    """The feasible-set section alone (``--feasible``), on poses ``first .. first + count - 1``."""
+    if count < 1 or samples < 8 or first < 0:
+        parser.error("--feasible-poses must be positive, --feasible-samples at least 8 and --feasible-first >= 0")
     print("# Nearly S-R-S feasible arm angles vs dense sampling, issue 27 (benchmarks/bench_nearly.py --feasible)\n")
     print("\n".join(machine_lines(("numpy", "numba"))) + "\n", flush=True)
     results = []
     for name in arms:
-        results.append(measure_feasible(name, count, samples))
+        results.append(measure_feasible(name, count, samples, first))
         print("\n".join(results[-1].lines), flush=True)
     print("\n".join(feasible_table(results)))
     print(f"\n- load average at the end (1, 5, 15 min): {load_average()}")

@@ -278,3 +278,27 @@ def test_nearly_quick_run_of_the_jaco2():
     assert any(line.startswith("|   one call per pose and the batch") and "200/200" in line for line in result.lines)
     if result.ssik is not None:
         assert [s.poses for s in result.ssik] == [200, 50, 50] and result.ssik_native is not None
+
+
+def test_nearly_feasible_run_in_parts_is_the_whole_run():
+    """bench_nearly.py --feasible --feasible-first: poses 0-1 and then pose 2 flag what poses 0-2 flag in one run,
+    naming each pose by its place in the one sequence (so that the issue's 1000 poses x 10^5 arm angles, hours on
+    this machine, can be run in parts)."""
+    import bench_nearly
+
+    whole = bench_nearly.measure_feasible("gen3", 3, 96)
+    parts = [bench_nearly.measure_feasible("gen3", 2, 96), bench_nearly.measure_feasible("gen3", 1, 96, first=2)]
+    assert whole.pose_branches == sum(part.pose_branches for part in parts) == 24
+    assert whole.missed + whole.false == parts[0].missed + parts[0].false + parts[1].missed + parts[1].false
+    assert any("poses 2-2 of its sequence" in line for line in parts[1].lines)
+
+    def ends(result):  # the row "ends of computed arcs within one spacing of the sampled boundary | a/b (...)"
+        (line,) = [line for line in result.lines if line.startswith("| ends of computed arcs")]
+        agreeing, checked = line.split("|")[2].split("(")[0].strip().split("/")
+        return np.array([int(agreeing), int(checked)])
+
+    assert ends(whole)[1] > 0
+    np.testing.assert_array_equal(ends(whole), ends(parts[0]) + ends(parts[1]))
+    assert not np.array_equal(ends(parts[1]), ends(bench_nearly.measure_feasible("gen3", 1, 96)))
+    with pytest.raises(SystemExit):
+        bench_nearly.main(["--feasible", "--feasible-first", "-1"])
