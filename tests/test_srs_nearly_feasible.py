@@ -105,7 +105,8 @@ def test_every_end_is_a_change(name, seed, branch):
     arcs = np.array(feasible.arcs)
     gaps = np.mod(np.roll(arcs[:, 0], -1) - arcs[:, 1], 2.0 * np.pi)
     widths = np.mod(arcs[:, 1] - arcs[:, 0], 2.0 * np.pi)
-    step = 1e-7
+    step = 1e-6  # issue 27's resolution: where a branch begins at a fold near the stretched elbow, nearly.ik finds
+    # it or not within about 2e-7 of its end (gen3, seed 27022, +++: found 1e-7 outside, missed 1e-8 inside)
     assume(gaps.min() > 4.0 * step and widths.min() > 4.0 * step)
     inside = np.concatenate([arcs[:, 0] + step, arcs[:, 1] - step])
     outside = np.concatenate([arcs[:, 0] - step, arcs[:, 1] + step])
