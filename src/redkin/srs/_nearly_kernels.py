@@ -16,7 +16,9 @@ For one pose, arm angle and branch, :func:`solve_one`
 3. certifies the solution as returned and keeps it only on its own branch, by
    the real arm's signs (:func:`branch_signs`);
 4. for a branch still missing, starts from the other branches' solutions
-   (:func:`flipped`) and from the neighbour at nearby arm angles.
+   (:func:`flipped`), from the neighbour at nearby arm angles, and near a
+   singular shoulder or wrist from the neighbour's solution turned along the
+   singular direction (:func:`turned`).
 
 Inputs are trusted.
 """
@@ -68,6 +70,13 @@ OPENED = 0.05
 #: the joints and the real arm's solution lies nearer the neighbour's at another arm angle (measured on 3000 Gen3
 #: poses: of 99 branches missed without these starts, 67 found at 15 deg, 87 within 30 deg, 92 within 45 deg).
 SWEEP, SWEEP_STEP = 3, TWO_PI / 24.0
+#: The last starts of a branch where its solution (or the neighbour's) lies near a singular shoulder or wrist
+#: (``|sin theta_2|`` or ``|sin theta_6|`` below ``TURNED_SINE``): there the real arm's outer joints of the group turn
+#: fast with the arm angle (half a turn within a few mrad on the Gen3), and Newton's steps converge only from
+#: within a few tenths of a radian along the singular direction (measured on the Gen3 and the ROS-I iiwa), with no
+#: error to rank the starts by.  The joint vector is turned along it (:func:`turned`) by ``+-k 2 pi / TURNED``, the
+#: smallest turns first.
+TURNED, TURNED_SINE = 16, 0.1
 
 
 @kernel
@@ -441,6 +450,43 @@ def flipped(q, neighbour, phase, to, signs, start):
 
 
 @kernel
+def turned(q, neighbour, group, angle, start):
+    """``q`` (7,) with the shoulder's (``group`` 0) or wrist's (1) outer joints turned by ``angle`` along their
+    singular direction (:data:`TURNED`), into ``start`` (7,): ``theta_1 + angle`` and ``theta_3 - angle`` where
+    ``cos theta_2 >= 0``, ``theta_3 + angle`` otherwise."""
+    start[:] = q
+    first = 4 * group
+    middle = neighbour[first + 1, _chain_kernels.OFFSET] + neighbour[first + 1, _chain_kernels.SIGN] * q[first + 1]
+    start[first] += neighbour[first, _chain_kernels.SIGN] * angle
+    start[first + 2] += neighbour[first + 2, _chain_kernels.SIGN] * (-angle if np.cos(middle) >= 0.0 else angle)
+
+
+@kernel
+def near_singular(q, neighbour, group):
+    """Whether the neighbour's ``theta_2`` (``group`` 0) or ``theta_6`` (1) at ``q`` (7,) has ``|sin|`` below
+    :data:`TURNED_SINE`."""
+    j = 4 * group + 1
+    return abs(np.sin(neighbour[j, _chain_kernels.OFFSET] + neighbour[j, _chain_kernels.SIGN] * q[j])) < TURNED_SINE
+
+
+@kernel
+def turned_solution(base, target, psi, b, signs, geometry, real, model, real_phase, work, q):
+    """Newton's steps (:func:`certified_branch`) from ``base`` (7,) turned along each singular direction it lies near
+    (:data:`TURNED`, :func:`turned`), the first certified on branch ``b`` into ``q`` (7,); returns whether one was
+    found.  ``base`` is not written."""
+    start = work[2][0]
+    for group in range(2):
+        if not near_singular(base, model[0], group):
+            continue
+        for k in range(1, TURNED):
+            turned(base, model[0], group, ((k + 1) // 2) * (TWO_PI / TURNED) * (1.0 if k % 2 == 1 else -1.0), start)
+            if certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work) == b:
+                q[:] = start
+                return True
+    return False
+
+
+@kernel
 def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, reach, real_phase, q, exists, work):
     """The branches ``rows`` (R,) (rows of ``signs``, (8, 3), the Table 1 signs of every branch) of one pose
     ``target`` (4, 4) at arm angle ``psi``: the certified solution into ``q[r]`` (7,) and ``exists[r]``, or zeros and
@@ -448,13 +494,15 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
 
     A branch's first starts are :func:`primary`'s.  Where they end elsewhere, the branch takes, in this order, the
     first other branch's primary solution that landed on it, or Newton's steps (:func:`certified_branch`) from the
-    primary solutions of the three branches that differ from it in one sign, :func:`flipped` to it, or from the
-    neighbour's solutions on the branch at nearby arm angles (:data:`SWEEP`).  A row is
+    primary solutions of the three branches that differ from it in one sign, :func:`flipped` to it, from the
+    neighbour's solutions on the branch at nearby arm angles (:data:`SWEEP`), or, where the neighbour's solution on
+    the branch lies near a singular shoulder or wrist, from it turned along the singular direction
+    (:func:`turned_solution`).  A row is
     computed the same whichever other rows are asked for, holds one solution of its own branch (the real arm's
     signs, :func:`branch_signs`), and two rows never hold the same solution.
     """
     _, _, vectors, found, labels = work
-    start = vectors[0]
+    start, seed = vectors[0], vectors[4]
     done = np.zeros(signs.shape[0], dtype=np.bool_)
     for r in range(rows.shape[0]):
         b = rows[r]
@@ -500,6 +548,10 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
             if certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work) == b:
                 q[r, :] = start
                 exists[r] = True
+        if exists[r] or not corrections(target, psi, signs[b:b + 1], geometry, real, tool_inverse, reach, seed,
+                                        work[1]):
+            continue
+        exists[r] = turned_solution(seed, target, psi, b, signs, geometry, real, model, real_phase, work, q[r])
 
 
 @kernel
