@@ -70,12 +70,12 @@ OPENED = 0.05
 #: the joints and the real arm's solution lies nearer the neighbour's at another arm angle (measured on 3000 Gen3
 #: poses: of 99 branches missed without these starts, 67 found at 15 deg, 87 within 30 deg, 92 within 45 deg).
 SWEEP, SWEEP_STEP = 3, TWO_PI / 24.0
-#: The last starts of a branch where its solution (or the neighbour's) lies near a singular shoulder or wrist
-#: (``|sin theta_2|`` or ``|sin theta_6|`` below ``TURNED_SINE``): there the real arm's outer joints of the group turn
-#: fast with the arm angle (half a turn within a few mrad on the Gen3), and Newton's steps converge only from
-#: within a few tenths of a radian along the singular direction (measured on the Gen3 and the ROS-I iiwa), with no
-#: error to rank the starts by.  The joint vector is turned along it (:func:`turned`) by ``+-k 2 pi / TURNED``, the
-#: smallest turns first.
+#: The last starts of a missing branch whose neighbour's solution lies near a singular shoulder or wrist (``|sin
+#: theta_2|`` or ``|sin theta_6|`` below ``TURNED_SINE``): there the real arm's outer joints of the group turn fast
+#: with the arm angle (half a turn within a few mrad on the Gen3), and Newton's steps converge only from within a
+#: few tenths of a radian along the singular direction (measured on the Gen3 and the ROS-I iiwa).  The pose error
+#: of a turned start does not point to it (the smallest lies near the unturned start, which failed), so the
+#: neighbour's solution is turned (:func:`turned`) by ``+-k 2 pi / TURNED``, the smallest turns first.
 TURNED, TURNED_SINE = 16, 0.1
 
 
@@ -452,8 +452,9 @@ def flipped(q, neighbour, phase, to, signs, start):
 @kernel
 def turned(q, neighbour, group, angle, start):
     """``q`` (7,) with the shoulder's (``group`` 0) or wrist's (1) outer joints turned by ``angle`` along their
-    singular direction (:data:`TURNED`), into ``start`` (7,): ``theta_1 + angle`` and ``theta_3 - angle`` where
-    ``cos theta_2 >= 0``, ``theta_3 + angle`` otherwise."""
+    singular direction (:data:`TURNED`), into ``start`` (7,): for the shoulder ``theta_1 + angle`` and ``theta_3 -
+    angle`` where ``cos theta_2 >= 0`` (their sum, which the pose fixes at ``theta_2 = 0``, stays), ``theta_3 +
+    angle`` otherwise (their difference stays); for the wrist likewise ``theta_5``, ``theta_6``, ``theta_7``."""
     start[:] = q
     first = 4 * group
     middle = neighbour[first + 1, _chain_kernels.OFFSET] + neighbour[first + 1, _chain_kernels.SIGN] * q[first + 1]
