@@ -11,6 +11,8 @@
 * :func:`nearly_srs`, :func:`feasible_arm_angles_nearly`, :func:`singular_arm_angles_nearly`,
   :func:`optimal_arm_angles_nearly` -- nearly S-R-S arms (the Kinova Gen3): the exact neighbour, feasible, singular
   and optimal arm angles on the real arm
+* :func:`self_motion`, :func:`branch_solutions` -- a nearly S-R-S arm's self-motion at a pose, and every solution
+  of a branch at an arm angle on it (two where the arm angle turns back along the self-motion)
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles [000 eqs. 36-40]
 * :func:`arm_angle_path` -- arm-angle control along a path (section 6.2.2)
 * :func:`arm_angle_class` -- whether a chain is S-R-S, S-R-S with an offset elbow (the WAM), or neither
@@ -35,6 +37,7 @@ from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.nearly import NearlySolutions, NearlySRS, nearly_srs
 from redkin.srs.nearly_feasible import NearlyFeasible, feasible_arm_angles_nearly
 from redkin.srs.nearly_optimal import NearlyOptimal, optimal_arm_angles_nearly
+from redkin.srs.nearly_self_motion import SelfMotion, branch_solutions, self_motion
 from redkin.srs.nearly_singular import Alignment, NearlySingular, alignment_angles, singular_arm_angles_nearly
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
 from redkin.srs.path import ArmAnglePath, arm_angle_path
@@ -59,12 +62,14 @@ __all__ = [
     "OptimalArmAngles",
     "SINGULAR_TOLERANCE",
     "SRSGeometry",
+    "SelfMotion",
     "SingularArmAngles",
     "Stationary",
     "alignment_angles",
     "arm_angle_class",
     "arm_angle_of",
     "arm_angle_path",
+    "branch_solutions",
     "feasible_arm_angles",
     "feasible_arm_angles_batch",
     "feasible_arm_angles_nearly",
@@ -79,6 +84,7 @@ __all__ = [
     "parse_branch",
     "pose_from",
     "reachable",
+    "self_motion",
     "singular_arm_angles",
     "singular_arm_angles_nearly",
     "srs_geometry",

@@ -73,6 +73,7 @@ from redkin.srs.feasible import FeasibleArmAngles, feasible_arm_angles
 from redkin.srs.geometry import srs_geometry
 from redkin.srs.ik import solve
 from redkin.srs.nearly import NearlySRS, ik, self_motion_rates
+from redkin.srs.nearly_self_motion import SelfMotion, curves_through, feasible_along
 
 #: Arm angles of the uniform grid.
 _SAMPLES = 720
@@ -87,6 +88,8 @@ _NARROWEST = 1e-8
 _EDGE_ROUNDS = 5
 #: Samples at most after refinement.
 _MOST_SAMPLES = 50_000
+#: Curves of the self-motion at most where the samples are not one sheet.
+_MOST_CURVES = 16
 #: Slack [rad] of the limit test, as :func:`redkin.srs._nearly_kernels.within_limits`'s.
 _LIMIT_SLACK = _nearly_kernels.LIMIT_SLACK
 
@@ -144,7 +147,7 @@ def feasible_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Br
         if len(curve.psi) == count:
             break
     curve.add(curve.extrema())
-    feasible = curve.located()
+    feasible = curve.located() if curve.one_sheet() else feasible_along(arm, pose, label, curve.curves())
     delta = _delta(arm, pose, curve.psi, curve.q, curve.exists, label)
     inner, outer = _neighbour_sets(arm, pose, label, -delta), _neighbour_sets(arm, pose, label, delta)
     return NearlyFeasible(feasible, label, delta, curve.count, ArcSet.empty() if inner is None else inner.feasible,
@@ -258,6 +261,18 @@ class _Curve:
             same = self.flags(*self.solved(_wrapped(middle)))[np.arange(len(middle)), which] == low_true
             low, high = np.where(same, middle, low), np.where(same, high, middle)
         return np.where(low_true, low, high), which, low_true
+
+    def one_sheet(self) -> bool:
+        """Whether the samples read as one sheet: the branch's solution exists at every sample, and refinement left
+        no interval at :data:`_NARROWEST` across which a limited joint jumps (module docstring, "Two solutions")."""
+        following, width = self.following()
+        turn = np.abs(_wrapped(self.q[following][:, self.limited] - self.q[:, self.limited]))
+        return bool(self.exists.all() and not np.any((width <= _NARROWEST)[:, None] & (turn > _BEND)))
+
+    def curves(self) -> list[SelfMotion]:
+        """The self-motion's curves through the samples' solutions
+        (:func:`redkin.srs.nearly_self_motion.curves_through`), :data:`_MOST_CURVES` at most."""
+        return curves_through(self.arm, self.pose, self.q[self.exists], _MOST_CURVES)
 
     def flags(self, q: np.ndarray, exists: np.ndarray) -> np.ndarray:
         """(M, 1 + L): whether each solution exists, and whether each limited joint lies within its limits modulo
