@@ -28,7 +28,8 @@ A branch is named by the real arm's own signs, as an exact arm's are: those of
 (:attr:`NearlySRS.real_phase`) and of ``theta_6``, ``theta`` the neighbour's
 Table 1 angles at the same joint values.  A row holds at most one solution, of
 its own branch; where the real arm has two on one branch (near the stretched
-elbow, or near ``theta_2 = +-pi``), one is returned.  Each returned solution
+elbow, or near ``theta_2 = +-pi``), one is returned
+(:func:`redkin.srs.nearly_self_motion.branch_solutions` gives both).  Each returned solution
 is certified on the real chain: its FK within :data:`TOLERANCE` of the
 target, and its arm angle within :data:`TOLERANCE` of ``psi``.  A branch
 whose solution is not found is reported missing, never returned inaccurate.

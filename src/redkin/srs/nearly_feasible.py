@@ -32,6 +32,15 @@ once.  The set is found in five steps:
    on its own true side;
 5. the set is the intersection of the flags' arcs.
 
+Two solutions: where the samples are not one sheet (the branch's solution is
+missing at a sample, or refinement ends at :data:`_NARROWEST` with a limited
+joint jumping across: the arm angle turns back along the self-motion there,
+and :func:`redkin.srs.nearly.ik` returns one of the branch's two solutions),
+steps 4-5 give way to the self-motion's curves through the samples' solutions
+(:func:`redkin.srs.nearly_self_motion.feasible_along`): the arm angles of
+their points on the branch and within the limits, each end and fold located
+to 1e-10 rad along the curve.
+
 What is certified: every arm angle of the returned set that a sample or an
 endpoint holds has a certified solution within the limits, and every
 endpoint is a change of one flag, to 1e-10 rad.  The set is complete (no
@@ -100,7 +109,8 @@ class NearlyFeasible(NamedTuple):
     Attributes
     ----------
     feasible : ArcSet
-        Arm angles where the branch's certified solution lies within the limits.
+        Arm angles where a certified solution of the branch lies within the limits (where the branch has two, either:
+        module docstring, "Two solutions").
     branch : Branch
     delta : float
         The largest ``|q - q_N|`` [rad] between the real arm's solution and the neighbour's at the same arm angle over
