@@ -75,9 +75,11 @@ EXACT = 1e-12
 
 def exact(arm, pose: np.ndarray, q: np.ndarray, psi: float) -> bool:
     """Whether Levenberg-Marquardt steps (:func:`redkin.srs.nearly_search.polished`) from the certified solution
-    ``q`` at the arm angle ``psi`` reach a solution to :data:`EXACT` (our FK and arm angle)."""
+    ``q`` at the arm angle ``psi`` reach a solution to :data:`EXACT` (our FK and arm angle) on the same branch (next
+    to the stretched elbow a certified row can lie across the branch boundary from the exact solution)."""
     from redkin.srs.nearly_search import polished
 
     polished_q = polished(arm, q[None], pose, lambda values: arm_angle(arm, values), psi)[0][0]
     return bool(np.abs(_pose_residual(arm, polished_q, pose)).max() <= EXACT
-                and abs(_wrapped(arm_angle(arm, polished_q) - psi)) <= EXACT)
+                and abs(_wrapped(arm_angle(arm, polished_q) - psi)) <= EXACT
+                and branch_of(arm, polished_q) == branch_of(arm, q))

@@ -52,8 +52,9 @@ _RESOLUTION = 1e-10
 _FINEST = 1e-15
 #: How nearly the first joint values must reach the pose [m, and each entry of the rotation].
 _REACHED = 1e-6
-#: Joint values closer than this [rad] are one solution (:func:`on_curve`).
-_SAME = 1e-7
+#: Joint values closer than this [rad] are one solution (:func:`on_curve`): a certified solution (1e-9) lies up to
+#: about 1e-6 rad from the curve next to the stretched elbow, where the Jacobian is nearly singular.
+_SAME = 1e-5
 #: Width [rad of arc length] to which a joint's extremum is located.
 _EXTREMUM = 1e-9
 #: Slack [rad] of the limit test, as :func:`redkin.srs._nearly_kernels.within_limits`'s.
