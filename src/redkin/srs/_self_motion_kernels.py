@@ -8,8 +8,10 @@ tangent ``t`` is the null vector of the 6 x 7 Jacobian ``J`` [N1], from
 predictor is ``q + h t``; the corrector takes Newton's steps on the pose
 equations and the hyperplane ``t . (q - q_pred) = 0`` (7 equations,
 ``[J; t^T] dq = [e; -t . (q - q_pred)]``), so that ``h`` is the arc length of
-the step to first order.  A step whose corrector does not settle, or moves
-by more than half the step, is retried at half the step.
+the step to first order.  A step is retried at half its length unless the
+corrector settles, moves the point by at most :data:`CLOSE` times the step,
+and the tangent and the arm angle turn little (:data:`COS_TURN`,
+:data:`ARM_ANGLE_STEP`).
 
 Inputs are trusted.
 """
@@ -70,7 +72,8 @@ def tangent(jac, previous, out):
 @kernel
 def corrected(q, direction, target, real, work, e):
     """Newton's steps from ``q`` (7,) in place onto the self-motion of ``target`` within the hyperplane through ``q``
-    normal to ``direction`` (7,) (module docstring); returns whether the pose error settled (:data:`SETTLED`)."""
+    normal to ``direction`` (7,) (module docstring); returns whether the pose error settled (:data:`SETTLED`), and
+    where it did, leaves the Jacobian at the settled ``q`` in ``work`` (:func:`pose_jacobian`)."""
     jac = work[5]
     anchor = q.copy()
     for _ in range(CORRECTOR_STEPS):
@@ -143,9 +146,8 @@ def traced(start, target, real, model, step, sense, most, points, tangents, angl
         if count == most:
             break
         while True:  # a step is kept where it settles, stays near its predictor and turns little
-            if on_curve(q, direction, h, target, real, work, e, moved):
+            if on_curve(q, direction, h, target, real, work, e, moved):  # the Jacobian is at moved
                 change = moved - q - h * direction
-                pose_jacobian(moved, target, real, work, e)
                 if sqrt(np.sum(change * change)) <= CLOSE * h and tangent(jac, direction, following) \
                         and np.sum(following * direction) >= COS_TURN:
                     psi = arm_angle_one(moved, model[0], model[1], model[2], model[3], model_work, gradient, True)
@@ -176,9 +178,8 @@ def point_at(q, direction, distance, target, real, model, work, out, following):
     whether it settled, its arm angle and ``d psi / ds`` along its unit tangent, which goes into ``following`` (7,)
     in the sense of ``direction``."""
     e, gradient, jac = work[3], work[4], work[5]
-    if not on_curve(q, direction, distance, target, real, work, e, out):
+    if not on_curve(q, direction, distance, target, real, work, e, out):  # the Jacobian is at out
         return False, 0.0, 0.0
-    pose_jacobian(out, target, real, work, e)
     if not tangent(jac, direction, following):
         return False, 0.0, 0.0
     psi = arm_angle_one(out, model[0], model[1], model[2], model[3], work[2], gradient, True)

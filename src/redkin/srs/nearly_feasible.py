@@ -36,7 +36,7 @@ Two solutions: where the samples are not one sheet (the branch's solution is
 missing at a sample, or refinement ends at :data:`_NARROWEST` with a limited
 joint jumping across: the arm angle turns back along the self-motion there,
 and :func:`redkin.srs.nearly.ik` returns one of the branch's two solutions),
-steps 4-5 give way to the self-motion's curves through the samples' solutions
+steps 3-5 give way to the self-motion's curves through the samples' solutions
 (:func:`redkin.srs.nearly_self_motion.feasible_along`): the arm angles of
 their points on the branch and within the limits, each end and fold located
 to 1e-10 rad along the curve.
@@ -156,8 +156,11 @@ def feasible_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Br
         curve.refine()
         if len(curve.psi) == count:
             break
-    curve.add(curve.extrema())
-    feasible = curve.located() if curve.one_sheet() else feasible_along(arm, pose, label, curve.curves())
+    if curve.one_sheet():
+        curve.add(curve.extrema())
+        feasible = curve.located()
+    else:
+        feasible = feasible_along(arm, pose, label, curve.curves())
     delta = _delta(arm, pose, curve.psi, curve.q, curve.exists, label)
     inner, outer = _neighbour_sets(arm, pose, label, -delta), _neighbour_sets(arm, pose, label, delta)
     return NearlyFeasible(feasible, label, delta, curve.count, ArcSet.empty() if inner is None else inner.feasible,

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
-from redkin.circle import TWO_PI, ArcSet
+from redkin.circle import ArcSet, wrap_angle
 from redkin.errors import RedkinError
 from redkin.srs import _nearly_kernels, _self_motion_kernels
 from redkin.srs._targets import check_psi
@@ -52,7 +52,7 @@ _RESOLUTION = 1e-10
 _FINEST = 1e-15
 #: How nearly the first joint values must reach the pose [m, and each entry of the rotation].
 _REACHED = 1e-6
-#: Joint values closer than this [rad] are one solution (:func:`on_curve`): a certified solution (1e-9) lies up to
+#: Joint values closer than this [rad] are one solution (:func:`_lies_on`): a certified solution (1e-9) lies up to
 #: about 1e-6 rad from the curve next to the stretched elbow, where the Jacobian is nearly singular.
 _SAME = 1e-5
 #: Width [rad of arc length] to which a joint's extremum is located.
@@ -120,13 +120,13 @@ def self_motion(arm: NearlySRS, pose: ArrayLike, q: ArrayLike, step: float = _ST
 
 def curves_through(arm: NearlySRS, pose: ArrayLike, solutions: ArrayLike, most: int = 16) -> list[SelfMotion]:
     """The curves of the self-motion of ``pose`` through the ``solutions`` (M, 7): one from the first solution on no
-    curve found before (:func:`on_curve`), until each lies on one or ``most`` are found."""
+    curve found before (:func:`_lies_on`), until each lies on one or ``most`` are found."""
     target = np.ascontiguousarray(check_pose(pose), dtype=float)
     found: list[SelfMotion] = []
     for q in np.asarray(solutions, dtype=float).reshape(-1, 7):
         if len(found) == most:
             break
-        if not any(on_curve(arm, target, curve, q) for curve in found):
+        if not any(_lies_on(arm, target, curve, q) for curve in found):
             found.append(self_motion(arm, target, q))
     return found
 
@@ -160,24 +160,24 @@ def branch_solutions(arm: NearlySRS, pose: ArrayLike, psi: float, branch: str | 
         count = len(curve.psi)
         following = (np.arange(count) + 1) % count
         on = branch_of(arm, curve.q) == row
-        off = _wrap(curve.psi - angle)
+        off = np.asarray(wrap_angle(curve.psi - angle))
         crossing = on & on[following] & (off * off[following] <= 0.0) & (np.abs(off - off[following]) < np.pi)
         if not curve.closed:
             crossing[-1] = False
         for k in np.flatnonzero(crossing):
             low, high = _bisected(arm, target, curve, int(k), partial(_arm_angle_from, angle), 0.0)
             q, _, value, _ = _point(arm, target, curve, int(k), low)
-            if abs(_wrap(value - angle)) > _RESOLUTION:
+            if abs(float(wrap_angle(value - angle))) > _RESOLUTION:
                 q = _point(arm, target, curve, int(k), high)[0]
             found.append(q)
     return np.array(found).reshape(-1, 7)
 
 
-def on_curve(arm: NearlySRS, pose: np.ndarray, curve: SelfMotion, q: np.ndarray) -> bool:
+def _lies_on(arm: NearlySRS, pose: np.ndarray, curve: SelfMotion, q: np.ndarray) -> bool:
     """Whether the solution ``q`` (7,) of ``pose`` lies on ``curve``: the curve's point on the hyperplane through
     ``q`` normal to the tangent at its nearest point (:func:`_point`) is ``q`` to :data:`_SAME` rad (modulo whole
     turns)."""
-    gaps = _wrap(q - curve.q)
+    gaps = np.asarray(wrap_angle(q - curve.q))
     k = int(np.argmin(np.einsum("mj,mj->m", gaps, gaps)))
     if np.linalg.norm(gaps[k]) > _STEP:
         return False
@@ -185,7 +185,7 @@ def on_curve(arm: NearlySRS, pose: np.ndarray, curve: SelfMotion, q: np.ndarray)
         point = _point(arm, np.ascontiguousarray(pose, dtype=float), curve, k, float(gaps[k] @ curve.tangents[k]))[0]
     except RedkinError:
         return False
-    return bool(np.max(np.abs(_wrap(point - q))) <= _SAME)
+    return bool(np.max(np.abs(wrap_angle(point - q))) <= _SAME)
 
 
 def _traced(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, sense: float) -> SelfMotion:
@@ -210,11 +210,9 @@ def feasible_along(arm: NearlySRS, pose: np.ndarray, branch: str | Branch, curve
         good = _good(arm, curve.q, row)
         for run in _runs(good, curve.closed):
             psi = np.unwrap(curve.psi[run])
-            low, high = float(np.min(psi)), float(np.max(psi))
-            if high - low >= TWO_PI or (curve.closed and len(run) == len(good)):
-                low, high = (low, low + TWO_PI) if abs(psi[-1] + _wrap(psi[0] - psi[-1]) - psi[0]) > np.pi else \
-                    (low, high)
-            feasible = feasible.union(ArcSet([(low, high)]))
+            if len(run) == len(good) and curve.closed:  # the whole closed curve: it covers the circle if it winds
+                psi = np.append(psi, psi[-1] + wrap_angle(psi[0] - psi[-1]))
+            feasible = feasible.union(ArcSet([(float(np.min(psi)), float(np.max(psi)))]))
     return feasible
 
 
@@ -230,7 +228,7 @@ def _resolved(arm: NearlySRS, target: np.ndarray, curve: SelfMotion) -> SelfMoti
         found = []
         for j in range(7):
             if (thresholds[j].size and curve.tangents[k, j] * curve.tangents[following, j] < 0.0
-                    and np.min(np.abs(_wrap(curve.q[k, j] - thresholds[j]))) <= 2.0 * _STEP):
+                    and np.min(np.abs(wrap_angle(curve.q[k, j] - thresholds[j]))) <= 2.0 * _STEP):
                 found.append(_bisected(arm, target, curve, k, partial(_joint_rate, j), _EXTREMUM)[0])
         return found
 
@@ -240,7 +238,7 @@ def _resolved(arm: NearlySRS, target: np.ndarray, curve: SelfMotion) -> SelfMoti
         found = []
         for j in range(7):
             for value in thresholds[j]:
-                before, after = _wrap(curve.q[k, j] - value), _wrap(curve.q[following, j] - value)
+                before, after = wrap_angle(curve.q[k, j] - value), wrap_angle(curve.q[following, j] - value)
                 if before * after <= 0.0 and abs(before - after) < np.pi and before != after:
                     found += _bisected(arm, target, curve, k, partial(_joint_from, j, value), 0.0)
         if curve.rates[k] * curve.rates[following] < 0.0:
@@ -275,7 +273,8 @@ def _bisected(arm: NearlySRS, target: np.ndarray, curve: SelfMotion, k: int, mea
     low, high = 0.0, _chord(curve, k)
     psi_low, psi_high = float(curve.psi[k]), float(curve.psi[(k + 1) % len(curve.psi)])
     sign = np.sign(measure((curve.q[k], curve.tangents[k], psi_low, float(curve.rates[k]))))
-    while high - low > max(width, _FINEST) and (width > 0.0 or abs(_wrap(psi_high - psi_low)) > _RESOLUTION):
+    while high - low > max(width, _FINEST) and (width > 0.0
+                                                or abs(float(wrap_angle(psi_high - psi_low))) > _RESOLUTION):
         middle = 0.5 * (low + high)
         point = _point(arm, target, curve, k, middle)
         if np.sign(measure(point)) == sign:
@@ -292,7 +291,7 @@ def _joint_rate(j: int, point: _Point) -> float:
 
 def _joint_from(j: int, value: float, point: _Point) -> float:
     """Joint ``j`` at ``point`` less ``value``, wrapped."""
-    return float(_wrap(point[0][j] - value))
+    return float(wrap_angle(point[0][j] - value))
 
 
 def _arm_angle_rate(point: _Point) -> float:
@@ -302,7 +301,7 @@ def _arm_angle_rate(point: _Point) -> float:
 
 def _arm_angle_from(angle: float, point: _Point) -> float:
     """The arm angle at ``point`` less ``angle``, wrapped."""
-    return float(_wrap(point[2] - angle))
+    return float(wrap_angle(point[2] - angle))
 
 
 def _thresholds(arm: NearlySRS) -> list[np.ndarray]:
@@ -317,11 +316,6 @@ def _thresholds(arm: NearlySRS) -> list[np.ndarray]:
         centre = arm.real_phase if j == 3 else 0.0
         values[j] += [float(neighbour.sign[j] * (centre + turn - neighbour.offset[j])) for turn in (0.0, np.pi)]
     return [np.array(v) for v in values]
-
-
-def _wrap(angles):
-    """Angles into ``[-pi, pi)``."""
-    return (angles + np.pi) % TWO_PI - np.pi
 
 
 def _good(arm: NearlySRS, q: np.ndarray, row: int) -> np.ndarray:
@@ -348,7 +342,7 @@ def _chord(curve: SelfMotion, k: int) -> float:
     following = (k + 1) % len(curve.psi)
     gap = curve.q[following] - curve.q[k]
     if following == 0:
-        gap = _wrap(gap)
+        gap = np.asarray(wrap_angle(gap))
     return float(gap @ curve.tangents[k])
 
 
