@@ -76,16 +76,27 @@ class NearlySRS:
         The neighbour's arm-angle geometry.
     departures : tuple of (str, float, str)
         What was dropped, largest first (:func:`redkin.srs.conventions.departures`).
-    position_error, rotation_error : float
-        The largest pose difference of the two chains over sample configurations [m, rad].
     """
 
     chain: SerialChain
     neighbour: SerialChain
     geometry: SRSGeometry
     departures: tuple[tuple[str, float, str], ...]
-    position_error: float
-    rotation_error: float
+
+    @cached_property
+    def _model_error(self) -> tuple[float, float]:
+        return model_error(self.chain, self.neighbour)
+
+    @property
+    def position_error(self) -> float:
+        """The largest position difference [m] of the two chains' tool poses over all joint values
+        (:func:`redkin.srs.conventions.model_error`, found on first use: about 50 ms)."""
+        return self._model_error[0]
+
+    @property
+    def rotation_error(self) -> float:
+        """The largest rotation angle [rad] between the two chains' tool poses over all joint values."""
+        return self._model_error[1]
 
     @cached_property
     def kernel_reach(self) -> np.ndarray:
@@ -188,9 +199,7 @@ def nearly_srs(chain: SerialChain, tolerance: float = TOLERANCE_DEFAULT) -> Near
     cache = chain.__dict__.setdefault(_CACHE_KEY, {})
     if tolerance not in cache:
         neighbour = neighbour_form(chain, tolerance)
-        position, rotation = model_error(chain, neighbour)
-        dropped = tuple(departures(chain, tolerance))
-        cache[tolerance] = NearlySRS(chain, neighbour, srs_geometry(neighbour), dropped, position, rotation)
+        cache[tolerance] = NearlySRS(chain, neighbour, srs_geometry(neighbour), tuple(departures(chain, tolerance)))
     return cache[tolerance]
 
 
