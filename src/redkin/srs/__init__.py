@@ -11,6 +11,8 @@
 * :func:`nearly_srs`, :func:`feasible_arm_angles_nearly`, :func:`singular_arm_angles_nearly`,
   :func:`optimal_arm_angles_nearly` -- nearly S-R-S arms (the Kinova Gen3): the exact neighbour, feasible, singular
   and optimal arm angles on the real arm
+* :func:`neighbour_distance` -- how far a nearly S-R-S arm's solution lies from its neighbour's: a bound from the
+  offsets and the derivatives
 * :func:`self_motion`, :func:`branch_solutions` -- a nearly S-R-S arm's self-motion at a pose, and every solution
   of a branch at an arm angle on it (two where the arm angle turns back along the self-motion)
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles [000 eqs. 36-40]
@@ -35,6 +37,7 @@ from redkin.srs.feasible import (
 from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.nearly import NearlySolutions, NearlySRS, nearly_srs
+from redkin.srs.nearly_bound import NeighbourDistance, neighbour_distance
 from redkin.srs.nearly_feasible import NearlyFeasible, feasible_arm_angles_nearly
 from redkin.srs.nearly_optimal import NearlyOptimal, optimal_arm_angles_nearly
 from redkin.srs.nearly_self_motion import SelfMotion, branch_solutions, self_motion
@@ -58,6 +61,7 @@ __all__ = [
     "NearlySRS",
     "NearlySingular",
     "NearlySolutions",
+    "NeighbourDistance",
     "OptimalAngle",
     "OptimalArmAngles",
     "SINGULAR_TOLERANCE",
@@ -79,6 +83,7 @@ __all__ = [
     "ik_all_branches",
     "joint_extrema",
     "nearly_srs",
+    "neighbour_distance",
     "optimal_arm_angles",
     "optimal_arm_angles_nearly",
     "parse_branch",

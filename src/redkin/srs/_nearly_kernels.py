@@ -590,6 +590,22 @@ def solve(start, stop, targets, psi, rows, signs, geometry, real, model, tool_in
 
 
 @kernel
+def equations(start, stop, q, targets, psi, real, model, e, jac):
+    """The residual of the 7 equations ``FK(q) = T``, ``psi(q) = psi`` (:func:`measured`) of joint vectors ``start
+    .. stop - 1`` of ``q`` (N, 7) against ``targets`` (N, 4, 4) and ``psi`` (N,) into ``e`` (N, 7), and their
+    Jacobian, our geometric one [N1] over the arm angle's gradient (:func:`arm_angle_one`), into ``jac`` (N, 7, 7):
+    the system of :func:`newton`'s steps, undamped."""
+    links, ends, standard = real
+    work = scratch()[0]
+    gradient = work[4]
+    for n in range(start, stop):
+        measured(q[n], targets[n], psi[n], real, model, work, gradient, True, e[n])
+        _chain_kernels.jacobian_one(q[n], links, ends, standard, 7, True, work[9], work[0], jac[n])
+        for c in range(7):
+            jac[n, 6, c] = gradient[c]
+
+
+@kernel
 def arm_angles(start, stop, q, model, out, gradients, with_gradient):
     """:func:`arm_angle_one` of joint vectors ``start .. stop - 1`` of ``q`` (N, 7) into ``out`` (N,), with
     ``with_gradient`` their gradients into ``gradients`` (N, 7)."""
