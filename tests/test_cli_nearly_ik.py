@@ -10,6 +10,7 @@ code 2 with one line.
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ from redkin.cli.main import main
 from redkin.models import get_robot
 from redkin.srs import pose_from
 
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 FAR = ["--position", "3", "0", "0.5", "--rotation", "1", "0", "0", "0", "-1", "0", "0", "0", "-1"]
 CLASSES = {  # robot, parameter option, a reachable pose's joint values
     "pa10-7c": ("--psi", [0.3, 0.6, -0.2, 1.1, 0.4, -0.7, 0.3]),
@@ -81,3 +83,50 @@ def test_a_batch_with_a_pose_out_of_reach_exits_1_after_every_entry(capsys, tmp_
     assert capsys.readouterr().out.splitlines()[-1].startswith("pose 1: no solution of branch +++ at")
     np.save(file, np.stack([chain.fk(np.array(q))] * 2))
     assert main(["ik", robot, "--poses", str(file), option, value, "--all", "--json"]) == 0
+
+
+def test_every_solution_lists_both_solutions_of_a_branch_where_the_arm_angle_turns_back(capsys):
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from redkin.srs import BRANCHES, nearly_srs, parse_branch
+    from redkin.srs.nearly import arm_angle, branch_of
+    from redkin.urdf import load_urdf
+    from tests.test_srs_nearly_self_motion import TWO_SOLUTIONS
+
+    gen3 = EXAMPLES / "gen3.urdf"
+    chain = load_urdf(gen3, base="base_link", tip="end_effector_link")
+    pose = chain.fk(np.array(TWO_SOLUTIONS))
+    argv = ["ik", str(gen3), "--base", "base_link", "--tip", "end_effector_link", *_pose_argv(pose), "--psi", "1.5",
+            "--branch", "-++", "--json"]
+    assert main(argv) == 0
+    one = json.loads(capsys.readouterr().out)["solutions"]
+    assert main([*argv, "--every-solution"]) == 0
+    every = json.loads(capsys.readouterr().out)
+    assert len(one) == 1 and every["missing"] == [] and every["solutions"][0] == one[0]
+    q = np.array([s["q"] for s in every["solutions"]])
+    assert len(q) == 2 and np.abs(np.angle(np.exp(1j * (q[1] - q[0])))).max() > 0.1  # two solutions, apart
+    arm = nearly_srs(chain)
+    assert np.abs(chain.fk(q) - pose).max() < 1e-9
+    assert np.abs(np.angle(np.exp(1j * (arm_angle(arm, q) - 1.5)))).max() < 1e-9
+    assert np.all(branch_of(arm, q) == BRANCHES.index(parse_branch("-++")))
+    assert all(s["within_limits"] == bool(chain.within_limits(s["q"], 1e-9, wrap=True)) for s in every["solutions"])
+    assert main([*argv[:-1], "--every-solution"]) == 0
+    assert [line.split()[0] for line in capsys.readouterr().out.splitlines()] == ["-++", "-++"]
+
+
+def test_every_solution_on_an_exact_arm_is_its_one_per_branch(capsys):
+    argv, value = _reachable("pa10-7c")
+    assert main(["ik", "pa10-7c", *argv, "--psi", value, "--all", "--json"]) == 0
+    once = capsys.readouterr().out
+    assert main(["ik", "pa10-7c", *argv, "--psi", value, "--all", "--json", "--every-solution"]) == 0
+    assert capsys.readouterr().out == once
+
+
+@pytest.mark.parametrize("extra", [[], ["--numerical"], ["--q7", "0.5"]])
+def test_every_solution_without_an_arm_angle_exits_2(capsys, extra):
+    argv, _ = _reachable("kinova-gen3")
+    with pytest.raises(SystemExit) as stop:
+        code = main(["ik", "kinova-gen3", *argv, *extra, "--every-solution"])
+        raise SystemExit(code)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--every-solution" in err

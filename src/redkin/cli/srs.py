@@ -50,6 +50,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     group = solve.add_mutually_exclusive_group()
     group.add_argument("--branch", default="+++", help=BRANCH_HELP)
     group.add_argument("--all", action="store_true", help="all eight branches")
+    solve.add_argument("--every-solution", action="store_true",
+                       help="with --psi on a nearly S-R-S arm: every solution of each asked branch, two where the arm "
+                            "angle turns back along the real arm's self-motion (redkin.srs.branch_solutions, about "
+                            "0.1-0.4 s per branch); an exact arm has one per branch")
     add_srs_tolerance_argument(solve)
     add_numerical_arguments(solve)
     add_output_flags(solve)
@@ -114,6 +118,8 @@ def _ik_poses(args: argparse.Namespace) -> tuple[np.ndarray, bool]:
 def run_ik(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     poses, batch = _ik_poses(args)
+    if args.every_solution and (args.psi is None or args.numerical):
+        raise UsageError("--every-solution lists the solutions at an arm angle: give --psi (without --numerical)")
     if (args.psi is None and args.q7 is None) or args.numerical:
         if args.psi is not None or args.q7 is not None:
             raise UsageError("--numerical solves without a redundancy parameter: drop --psi/--q7")
@@ -144,11 +150,15 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     assert isinstance(result, ClosedFormSolutions)  # a parameter was given
     q, exists = result.q.reshape(-1, len(result.branches), 7), result.exists.reshape(-1, len(result.branches))
     within = result.within_limits.reshape(exists.shape)
+    found = [[[(q[k, b], bool(within[k, b]))] if exists[k, b] else [] for b in range(len(result.branches))]
+             for k in range(len(q))]
+    if args.every_solution:
+        _add_every_solution(chain, poses.reshape(-1, 4, 4), value, result.branches, found, args.srs_tolerance)
     entries: list[dict[str, Any]] = [{
         "index": k,
-        "solutions": [{"branch": str(label), "q": angles_out(q[k, b], args.deg), "within_limits": bool(within[k, b])}
-                      for b, label in enumerate(result.branches) if exists[k, b]],
-        "missing": [str(label) for b, label in enumerate(result.branches) if not exists[k, b]],
+        "solutions": [{"branch": str(label), "q": angles_out(one, args.deg), "within_limits": inside}
+                      for b, label in enumerate(result.branches) for one, inside in found[k][b]],
+        "missing": [str(label) for b, label in enumerate(result.branches) if not found[k][b]],
     } for k in range(len(q))]
     code = 0 if all(entry["solutions"] for entry in entries) else 1
     unit = angle_unit(args.deg)
@@ -167,6 +177,29 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
             note = "" if s["within_limits"] else "  (outside limits)"
             print(f"{label}{s['branch']}  {format_values(s['q'])}  [{unit}]{note}")
     return code
+
+
+def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
+                        found: list[list[list[tuple[np.ndarray, bool]]]], tolerance: float | None) -> None:
+    """Add to ``found[k][b]`` (the closed form's solution of branch ``b`` at pose ``k`` and whether it is within the
+    limits, if any) every other solution of the branch at ``psi`` on a nearly S-R-S arm
+    (:func:`redkin.srs.branch_solutions`, each joint shifted by whole turns into its range where it can be); nothing
+    on an exact arm, which has one per branch."""
+    from redkin.srs import branch_solutions, nearly_srs
+    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
+
+    if arm_angle_class(chain, tolerance).kind != NEARLY_SRS:
+        return
+    arm = nearly_srs(chain) if tolerance is None else nearly_srs(chain, tolerance)
+    for pose, row in zip(poses, found):
+        for label, solutions in zip(branches, row):
+            for other in chain.nearest_in_range(branch_solutions(arm, pose, psi, label)):
+                if all(np.abs(np.angle(np.exp(1j * (other - known)))).max() > _SAME_SOLUTION for known, _ in solutions):
+                    solutions.append((other, bool(chain.within_limits(other, tolerance=1e-9, wrap=True))))
+
+
+#: Joint values closer than this [rad] in every joint are one solution (``--every-solution``).
+_SAME_SOLUTION = 1e-6
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
