@@ -81,6 +81,7 @@ def _nearly_srs(rng: np.random.Generator) -> None:
     q = rng.uniform(-1, 1, (_BATCH, 7))
     poses, psi = arm.chain.fk(q), nearly.arm_angle(arm, q)
     nearly.ik(arm, poses[0], psi[0]), nearly.ik(arm, poses, psi, "+-+")
+    srs.neighbour_distance(arm, poses[0], psi[0], "+-+"), srs.neighbour_distance(arm, poses[0], psi, "+-+")
 
 
 def _numerical(rng: np.random.Generator) -> None:
