@@ -38,6 +38,9 @@ from tests.test_srs_nearly_feasible import _arm, _far_from_ends
 ARMS = ["gen3", "jaco2", "iiwa14-rosi"]
 #: The configurations drawn: uniform within the limits, then one joint moved to a degenerate place.
 KINDS = ["uniform", "stretched elbow", "q6 near 0", "q2 near 0", "wrist near axis 1"]
+#: A case: an arm, a seed for its configuration and arm angles, the kind of configuration and a branch.
+CASES = dict(name=st.sampled_from(ARMS), seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(KINDS),
+             branch=st.sampled_from([str(b) for b in BRANCHES]))
 #: Central-difference step of the arm angle's gradient [rad].
 STEP = 1e-6
 
@@ -114,8 +117,7 @@ def test_the_equations_are_the_real_arms(name, seed, kind):
 
 
 @settings(max_examples=30, deadline=None)
-@given(name=st.sampled_from(ARMS), seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(KINDS),
-       branch=st.sampled_from([str(b) for b in BRANCHES]))
+@given(**CASES)
 def test_at_the_neighbours_solution_the_residual_is_the_offsets(name, seed, kind, branch):
     arm, rng, pose = _case(name, seed, kind)
     psi = rng.uniform(-np.pi, np.pi, 8)
@@ -132,8 +134,7 @@ def test_at_the_neighbours_solution_the_residual_is_the_offsets(name, seed, kind
 
 
 @settings(max_examples=45, deadline=None)
-@given(name=st.sampled_from(ARMS), seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(KINDS),
-       branch=st.sampled_from([str(b) for b in BRANCHES]))
+@given(**CASES)
 def test_the_real_solution_lies_within_the_bound(name, seed, kind, branch):
     arm, rng, pose = _case(name, seed, kind)
     psi = rng.uniform(-np.pi, np.pi, 6)
