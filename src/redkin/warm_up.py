@@ -82,6 +82,8 @@ def _nearly_srs(rng: np.random.Generator) -> None:
     poses, psi = arm.chain.fk(q), nearly.arm_angle(arm, q)
     nearly.ik(arm, poses[0], psi[0]), nearly.ik(arm, poses, psi, "+-+")
     srs.neighbour_distance(arm, poses[0], psi[0], "+-+"), srs.neighbour_distance(arm, poses[0], psi, "+-+")
+    srs.feasible_arm_angles_nearly(arm, poses[0], "+-+")
+    srs.self_motion(arm, poses[0], q[0]), srs.branch_solutions(arm, poses[0], float(psi[0]), "+-+")
 
 
 def _numerical(rng: np.random.Generator) -> None:
