@@ -11,7 +11,7 @@ Laws:
   row is within the limits, and at every arm angle of the set a certified solution on the branch within the limits
   exists (found by Newton's steps along the curve from its points, checked with our FK, arm angle, branch and
   limits);
-- ``branch_solutions`` there returns certified solutions of the branch, nearly.ik's row among them and one within
+- ``branch_solutions`` there returns certified solutions of the branch, each once, nearly.ik's row first and one within
   the limits;
 - bad input raises ValueError.
 """
@@ -85,8 +85,9 @@ def test_two_solutions_on_one_branch(branch):
         assert np.abs(_wrapped(arm_angle(arm, solutions) - angle)).max() < 1e-9
         assert np.all(branch_of(arm, solutions) == BRANCHES.index(parse_branch(branch)))
         assert arm.chain.within_limits(solutions, wrap=True).any()
-        row = ik(arm, pose, angle, branch).q[0]
-        assert np.abs(_wrapped(solutions - row)).max(axis=-1).min() < 1e-6
+        np.testing.assert_array_equal(solutions[0], ik(arm, pose, angle, branch).q[0])  # nearly.ik's row first
+        apart = np.abs(_wrapped(solutions[:, None] - solutions[None])).max(axis=-1)
+        assert np.all(apart[~np.eye(len(solutions), dtype=bool)] > 1e-5)  # each solution once
 
 
 def test_bad_input():

@@ -181,10 +181,10 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
 
 def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
                         found: list[list[list[tuple[np.ndarray, bool]]]], tolerance: float | None) -> None:
-    """Add to ``found[k][b]`` (the closed form's solution of branch ``b`` at pose ``k`` and whether it is within the
-    limits, if any) every other solution of the branch at ``psi`` on a nearly S-R-S arm
-    (:func:`redkin.srs.branch_solutions`, each joint shifted by whole turns into its range where it can be); nothing
-    on an exact arm, which has one per branch."""
+    """Replace ``found[k][b]`` (the closed form's solution of branch ``b`` at pose ``k`` and whether it is within
+    the limits, if any) by every solution of the branch at ``psi`` on a nearly S-R-S arm
+    (:func:`redkin.srs.branch_solutions`: the closed form's first, each joint shifted by whole turns into its range
+    where it can be); nothing on an exact arm, which has one per branch."""
     from redkin.srs import branch_solutions, nearly_srs
     from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
 
@@ -192,14 +192,9 @@ def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
         return
     arm = nearly_srs(chain) if tolerance is None else nearly_srs(chain, tolerance)
     for pose, row in zip(poses, found):
-        for label, solutions in zip(branches, row):
-            for other in chain.nearest_in_range(branch_solutions(arm, pose, psi, label)):
-                if all(np.abs(np.angle(np.exp(1j * (other - known)))).max() > _SAME_SOLUTION for known, _ in solutions):
-                    solutions.append((other, bool(chain.within_limits(other, tolerance=1e-9, wrap=True))))
-
-
-#: Joint values closer than this [rad] in every joint are one solution (``--every-solution``).
-_SAME_SOLUTION = 1e-6
+        for b, label in enumerate(branches):
+            every = chain.nearest_in_range(branch_solutions(arm, pose, psi, label))
+            row[b] = [(q, bool(chain.within_limits(q, tolerance=1e-9, wrap=True))) for q in every]
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:

@@ -133,11 +133,12 @@ def curves_through(arm: NearlySRS, pose: ArrayLike, solutions: ArrayLike, most: 
 
 def branch_solutions(arm: NearlySRS, pose: ArrayLike, psi: float, branch: str | Branch,
                      curves: list[SelfMotion] | None = None) -> np.ndarray:
-    """Every solution of ``branch`` at the arm angle ``psi`` on the self-motion's curves (K, 7): where a curve's
+    """Every solution of ``branch`` at the arm angle ``psi`` on the self-motion's curves (K, 7), each once (to
+    :data:`_SAME` rad): :func:`redkin.srs.nearly.ik`'s row at ``psi`` first where it exists, then where a curve's
     points on the branch (:func:`_resolved`) cross ``psi``, located by bisection along it to :data:`_RESOLUTION` rad.
-    Where the branch has two solutions at ``psi`` (module docstring), both; :func:`redkin.srs.nearly.ik` returns
-    one.  ``curves`` default to those through ``nearly.ik``'s solutions of the branch at 72 arm angles
-    (:func:`curves_through`); a curve through none of them is not found.
+    Where the branch has two solutions at ``psi`` (module docstring), both; ``nearly.ik`` returns one.  ``curves``
+    default to those through ``nearly.ik``'s solutions of the branch at 72 arm angles (:func:`curves_through`); a
+    curve through none of them is not found.
 
     Raises
     ------
@@ -154,7 +155,8 @@ def branch_solutions(arm: NearlySRS, pose: ArrayLike, psi: float, branch: str | 
         grid = np.linspace(-np.pi, np.pi, 72, endpoint=False)
         solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid, label)
         curves = curves_through(arm, target, solved.q[solved.exists[:, 0], 0])
-    found = []
+    own = ik(arm, target, angle, label)
+    found = [own.q[0]] if own.exists[0] else []
     for traced in curves:
         curve = _resolved(arm, target, traced)
         count = len(curve.psi)
@@ -169,7 +171,8 @@ def branch_solutions(arm: NearlySRS, pose: ArrayLike, psi: float, branch: str | 
             q, _, value, _ = _point(arm, target, curve, int(k), low)
             if abs(float(wrap_angle(value - angle))) > _RESOLUTION:
                 q = _point(arm, target, curve, int(k), high)[0]
-            found.append(q)
+            if all(np.max(np.abs(wrap_angle(q - known))) > _SAME for known in found):  # a curve traced twice
+                found.append(q)
     return np.array(found).reshape(-1, 7)
 
 
