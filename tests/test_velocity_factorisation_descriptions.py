@@ -167,13 +167,15 @@ def jhu_wam_urdf() -> str:
 
 # ----------------------------------------------------------------------------- the laws
 def assert_factors(chain: SerialChain, factorisation, q: np.ndarray) -> None:
-    """``D_e D_i = det J_i`` (relative to the largest minor of each configuration, 1e-9) and Cauchy-Binet
+    """``D_e D_i = det J_i`` (relative to the largest minor of each configuration, 1e-9, or to the largest of the
+    batch, 1e-12, where every minor is rounding: hypothesis drew ``theta_4`` 5e-7 from pi on an arm with equal upper
+    arm and forearm, where the wrist meets the shoulder and both factors vanish) and Cauchy-Binet
     ``det(J J^T) = D_e^2 D_s``: the Jacobian loses rank exactly where ``D_e = 0`` or ``D_s = sum D_i^2 = 0``."""
     jac = chain.jacobian(q)
     minors = column_minors(jac)
     d_e, d_i = factorisation.index(q), factorisation.factors(q, jac)
     scale = np.abs(minors).max(axis=-1, keepdims=True)
-    assert np.all(np.abs(d_e[:, None] * d_i - minors) <= 1e-9 * scale)
+    assert np.all(np.abs(d_e[:, None] * d_i - minors) <= 1e-9 * scale + 1e-12 * scale.max())
     gram = np.linalg.det(jac @ np.swapaxes(jac, -1, -2))
     np.testing.assert_allclose(d_e**2 * np.sum(d_i**2, axis=-1), gram, rtol=1e-8, atol=1e-12 * scale.max() ** 2)
 
