@@ -321,13 +321,16 @@ def _run_local(tasks: list, progress: Progress | None) -> None:
 def _run_distributed(tasks: list, client: Any, progress: Progress | None) -> None:
     """Compute ``tasks`` on a dask.distributed cluster, reporting each finished chunk.
 
+    Everything goes through ``client`` and its event loop, never Dask's default client or scheduler: a client made
+    with ``set_as_default=False`` works, and another client that is the default is not touched
+    (``distributed.as_completed`` without ``loop`` and ``distributed.wait`` look the default client up).
     On an error (or Ctrl-C) the chunks not started are cancelled and those the workers hold already are
     waited for (:data:`_DRAIN_SECONDS` at most) before it is raised, as on the local scheduler.
     """
     distributed = require("distributed")
     futures = client.compute(tasks)
     try:
-        for done, future in enumerate(distributed.as_completed(futures), start=1):
+        for done, future in enumerate(distributed.as_completed(futures, loop=client.loop), start=1):
             future.result()  # raises the task's error here
             if progress is not None:
                 progress(done, len(futures))
@@ -340,7 +343,8 @@ def _drain(client: Any, futures: list) -> None:
     """Cancel the futures no worker holds, and wait for the ones the workers hold to end (their errors ignored).
 
     A task running on a worker cannot be stopped: cancelled, it would go on writing after the run had
-    returned and let the store go.  Where the scheduler cannot be asked, everything is cancelled.
+    returned and let the store go.  Where the scheduler cannot be asked, everything is cancelled.  Like
+    :func:`_run_distributed`, it waits on ``client``'s own loop (``distributed.wait`` needs a default client).
     """
     distributed = require("distributed")
     try:
@@ -348,8 +352,10 @@ def _drain(client: Any, futures: list) -> None:
     except Exception:  # the scheduler is gone: nothing to wait for
         held = set()
     client.cancel([f for f in futures if not f.done() and f.key not in held])
-    with contextlib.suppress(Exception):
-        distributed.wait([f for f in futures if f.key in held], timeout=_DRAIN_SECONDS)
+    with contextlib.suppress(Exception):  # a task's error, or the time up
+        for _ in distributed.as_completed([f for f in futures if f.key in held], loop=client.loop,
+                                          timeout=_DRAIN_SECONDS):
+            pass
 
 
 def map_model(arm: SerialChain, srs_tolerance: float | None = None) -> tuple[SRSGeometry, NearlySRS | None]:
