@@ -1,13 +1,20 @@
-"""Fixtures shared across the test modules: the arms they build and the full reproduction report.
+"""Fixtures shared across the test modules: the arms they build, the full reproduction report, the Dask clusters.
 
-Each is built once per session; tests must not change them (chains are read-only in use:
+Each session fixture is built once per session; tests must not change them (chains are read-only in use:
 ``with_limits`` and friends return new chains).
+
+Dask: no test may leave a default client or scheduler behind (:func:`_no_default_dask_scheduler`); a test that
+needs a cluster asks for one (``client``, ``own_client``) and passes it explicitly.
 """
 
 from __future__ import annotations
 
+import contextlib
 import shutil
+import sys
 import tempfile
+import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -43,16 +50,69 @@ def full_report():
     shutil.rmtree(folder, ignore_errors=True)
 
 
-@pytest.fixture(scope="session")
-def client():
-    """A dask.distributed LocalCluster of 2 single-threaded worker processes on loopback, shared by the Dask
-    tests of the session and closed at its end."""
+@contextlib.contextmanager
+def local_cluster_client() -> Iterator:
+    """A ``distributed.Client(set_as_default=False)`` of a new LocalCluster of 2 single-threaded worker processes on
+    loopback, closed with its cluster at the end of the ``with`` block.
+
+    Not the default client: Dask work goes to it only where the test passes it (``workspace_map(client=...)``,
+    ``client.compute``), and nothing else in the process (an ``xarray`` read, another test) reaches its workers.
+    """
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                  dashboard_address=None) as cluster, \
-            distributed.Client(cluster, timeout="60s") as client:
+    with warnings.catch_warnings():
+        # the scheduler's HTTP server (health checks, even without a dashboard) tries port 8787 first, and takes
+        # another with a warning where the session's cluster has it
+        warnings.filterwarnings("ignore", "Port 8787 is already in use", UserWarning)
+        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                           dashboard_address=None)
+    with cluster, distributed.Client(cluster, timeout="60s", set_as_default=False) as client:
         client.wait_for_workers(2, timeout=60)
         yield client
+
+
+@pytest.fixture(scope="session")
+def client():
+    """The session's Dask cluster (:func:`local_cluster_client`), shared by the Dask tests and closed at its end.
+
+    It is not the default client: pass it.  A test must leave its workers as it found them; one that kills or
+    restarts workers takes ``own_client`` instead.
+    """
+    with local_cluster_client() as client:
+        yield client
+
+
+@pytest.fixture
+def own_client():
+    """A Dask cluster of the test's own (:func:`local_cluster_client`), for a test that kills or restarts workers."""
+    with local_cluster_client() as client:
+        yield client
+
+
+def default_dask_scheduler() -> list[str]:
+    """What Dask would use in this process without being told: a default ``distributed`` client, a ``scheduler``
+    in Dask's configuration (empty: none, Dask's local schedulers per collection)."""
+    found = []
+    if "distributed" in sys.modules:  # no client exists unless distributed was imported
+        try:
+            found.append(f"default client {sys.modules['distributed'].default_client()!r}")
+        except ValueError:  # "No clients found"
+            pass
+    if "dask" in sys.modules and sys.modules["dask"].config.get("scheduler", None) is not None:
+        found.append(f"dask.config scheduler={sys.modules['dask'].config.get('scheduler')!r}")
+    return found
+
+
+@pytest.fixture(autouse=True)
+def _no_default_dask_scheduler(request):
+    """Fail the test that leaves a default Dask client or scheduler set, which would take every later test's Dask
+    work (CI hung twice on a store read sent to a cluster whose workers a test had restarted)."""
+    yield
+    left = default_dask_scheduler()
+    if left:  # cleared, so that the tests after it do not fail too
+        with contextlib.suppress(ValueError):
+            sys.modules["distributed"].default_client().close()
+        sys.modules["dask"].config.refresh()
+        pytest.fail(f"{request.node.nodeid} left a default Dask scheduler set: {'; '.join(left)}", pytrace=False)
 
 
 @pytest.fixture(scope="session")

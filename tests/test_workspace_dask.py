@@ -1,9 +1,15 @@
 """redkin.workspace on Dask: local scheduler and a 2-process LocalCluster agree, runs resume, a killed worker costs
-nothing."""
+nothing.
+
+The clusters' clients are not Dask's default (``set_as_default=False``, tests/conftest.py): every run here is given its
+client, and works with no default client in the process.
+"""
 
 import json
 import os
 import signal
+import time
+import warnings
 
 import numpy as np
 import pytest
@@ -14,8 +20,9 @@ distributed = pytest.importorskip("distributed")
 
 from redkin.cli.main import main  # noqa: E402
 from redkin.workspace import workspace_map  # noqa: E402
-from redkin.workspace.run import match_worker_threads, restore_mmap_threshold  # noqa: E402
+from redkin.workspace.run import _drain, match_worker_threads, restore_mmap_threshold  # noqa: E402
 from redkin.workspace.store import completed_chunks  # noqa: E402
+from tests.conftest import default_dask_scheduler  # noqa: E402
 from tests.support.small_map import EXTENT, SIZES, VARIABLES  # noqa: E402
 from tests.support.small_map import arrays as _arrays  # noqa: E402
 
@@ -26,11 +33,79 @@ def _assert_same_map(path, small_map):
         np.testing.assert_array_equal(arrays[name], small_map[name], err_msg=name)
 
 
+def _assert_not_the_default(client):
+    """No default client in the process: a Dask call that looks one up ("No clients found") fails the test."""
+    assert default_dask_scheduler() == []
+    with pytest.raises(ValueError, match="No clients found"):
+        distributed.default_client()
+    assert client.status == "running"
+
+
 @pytest.mark.slow
 def test_local_cluster_gives_identical_arrays(pa10, small_map, client, tmp_path):
+    _assert_not_the_default(client)
     run = workspace_map(pa10, tmp_path / "map.zarr", EXTENT, client=client, **SIZES)
     assert run.computed == 27
     _assert_same_map(run.path, small_map)
+    assert default_dask_scheduler() == []
+
+
+def test_a_client_that_is_not_the_default_runs_the_map_it_is_given(pa10, client, tmp_path):
+    """Issue 38: ``Client(set_as_default=False)`` failed with "No clients found" (``distributed.as_completed`` and
+    ``wait`` look the default client up).  A small map on it equals the local scheduler's bit for bit."""
+    _assert_not_the_default(client)
+    sizes = {"resolution": 3, "orientations": 4, "chunk": 1}  # 27 chunks of one position
+    local = workspace_map(pa10, tmp_path / "local.zarr", EXTENT, **sizes)
+    run = workspace_map(pa10, tmp_path / "cluster.zarr", EXTENT, client=client, **sizes)
+    assert run.computed == local.computed == 27
+    expected, arrays = _arrays(local.path), _arrays(run.path)
+    for name in VARIABLES:
+        np.testing.assert_array_equal(arrays[name], expected[name], err_msg=name)
+    assert (run.reachable_positions, run.reachable_poses, run.mean_redundancy) == \
+        (local.reachable_positions, local.reachable_poses, local.mean_redundancy)
+    assert default_dask_scheduler() == []
+
+
+def test_an_interrupted_run_on_a_client_not_the_default_resumes_to_the_same_map(pa10, small_map, client, tmp_path):
+    """Ctrl-C on a run on a non-default client: the chunks under way are waited for on that client (the drain), and
+    a local run resumes the store to the clean map."""
+    _assert_not_the_default(client)
+
+    def interrupt(done, total):
+        if done == 3:
+            raise KeyboardInterrupt
+
+    path = tmp_path / "map.zarr"
+    with pytest.raises(KeyboardInterrupt):
+        workspace_map(pa10, path, EXTENT, client=client, progress=interrupt, **SIZES)
+    marked = int(completed_chunks(path).sum())
+    assert 3 <= marked < 27
+    run = workspace_map(pa10, path, EXTENT, **SIZES)
+    assert 0 < run.computed <= 27 - marked
+    _assert_same_map(path, small_map)
+
+
+def test_the_drain_waits_for_held_tasks_on_the_client_it_is_given(client):
+    """``_drain`` waits on its own client for a task a worker runs: ``distributed.wait`` needed a default client,
+    and its "No clients found" was swallowed, so a failed run returned while its workers still wrote the store."""
+    _assert_not_the_default(client)
+    future = client.submit(time.sleep, 1.5, pure=False)
+    end = time.monotonic() + 60
+    while future.key not in {key for keys in client.processing().values() for key in keys}:
+        assert time.monotonic() < end, "the task never started"
+        time.sleep(0.01)
+    _drain(client, [future])
+    assert future.status == "finished"
+
+
+def test_the_isolation_check_sees_a_default_client(client):
+    """tests/conftest.py's check after every test finds a client made the default, and nothing once it is closed."""
+    assert default_dask_scheduler() == []
+    with distributed.Client(client.scheduler.address, timeout="60s") as default:
+        assert any("default client" in what for what in default_dask_scheduler())
+        assert any("scheduler='dask.distributed'" in what for what in default_dask_scheduler())
+        assert default is not client
+    assert default_dask_scheduler() == []
 
 
 def test_cli_scheduler_option_gives_the_same_map(small_map, client, tmp_path, capsys):
@@ -81,7 +156,9 @@ def test_resume_refuses_a_store_of_another_map(pa10, tmp_path):
         workspace_map(pa10, tmp_path / "other", EXTENT, 2, 1)
 
 
-def test_map_completes_when_a_worker_is_killed(pa10, small_map, client, tmp_path):
+def test_map_completes_when_a_worker_is_killed(pa10, small_map, own_client, tmp_path):
+    """On a cluster of the test's own: a worker killed and restarted leaves the session's cluster as it was."""
+    client = own_client
     pids = client.run(os.getpid)
     killed = []
 
@@ -115,3 +192,21 @@ def test_chunk_tasks_fit_their_worker(client):
     assert match_worker_threads() is None
     if "MALLOC_TRIM_THRESHOLD_" not in os.environ:
         assert restore_mmap_threshold() is False
+
+
+def test_a_default_client_of_another_cluster_is_never_used(pa10, client, tmp_path):
+    """A user's default client (another cluster) gets none of a map's work: not a run on the client given, not a run
+    on the local scheduler (the store's creation and the summary's reads included)."""
+    sizes = {"resolution": 2, "orientations": 2, "chunk": 1}
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "Port 8787 is already in use", UserWarning)  # the session cluster has it
+        other = distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None)
+    with other, distributed.Client(other) as default:  # in this process (threads), the default client
+        assert distributed.default_client() is default
+        on_cluster = workspace_map(pa10, tmp_path / "cluster.zarr", EXTENT, client=client, **sizes)
+        local = workspace_map(pa10, tmp_path / "local.zarr", EXTENT, **sizes)
+        assert dict(other.scheduler.task_prefixes) == {}, "the default client's cluster ran tasks"
+    assert on_cluster.computed == local.computed == 8
+    expected, arrays = _arrays(local.path), _arrays(on_cluster.path)
+    for name in VARIABLES:
+        np.testing.assert_array_equal(arrays[name], expected[name], err_msg=name)

@@ -153,7 +153,7 @@ def _wait_for(condition, process: subprocess.Popen | None = None, seconds: float
 
 
 def _two_live_workers(client, dead: int | None = None) -> None:
-    """Wait until the session's cluster has its two workers again, none of them the process ``dead``."""
+    """Wait until the cluster has its two workers again, none of them the process ``dead``."""
     end = time.monotonic() + 60
     while True:
         pids = client.run(os.getpid, on_error="ignore")  # a worker dead but not yet removed does not answer
@@ -196,12 +196,15 @@ def test_a_process_killed_in_a_chunk_write_keeps_no_unfinished_chunk(pa10, small
 
 
 @pytest.mark.slow
-def test_a_cluster_worker_killed_mid_write_costs_nothing(pa10, small_map, client, tmp_path):
+def test_a_cluster_worker_killed_mid_write_costs_nothing(pa10, small_map, own_client, tmp_path):
     """A worker process dies (SIGKILL) half-way through writing a chunk's values: Dask reruns the task elsewhere,
     the map is the clean one, and the torn temporary file is gone after the next run.
 
     Both workers are set to die in their third write of values: which worker the scheduler gives how many chunks is
-    its choice, but of 27 chunks on two workers one writes at least three, so at least one dies."""
+    its choice, but of 27 chunks on two workers one writes at least three, so at least one dies.  On a cluster of the
+    test's own, so that no other test meets a worker restarting."""
+    client = own_client
+
     def die_in_third_values_write():
         import os as real
         import signal
@@ -259,7 +262,8 @@ def test_a_run_killed_at_random_moments_resumes_to_the_same_map(pa10, small_map,
         client = None
         if sys.argv[2] == "distributed":
             from distributed import Client, LocalCluster
-            client = Client(LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None))
+            client = Client(LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None),
+                            set_as_default=False)
         workspace_map(ARM, sys.argv[1], EXTENT, client=client, **SIZES)
     """, slow=0.15)
     path = tmp_path / "map.zarr"

@@ -17,6 +17,7 @@ from redkin.torso_arm import humanoid_arm  # noqa: E402
 from redkin.torso_arm.maps import best_dual_arm_map, best_manipulability_map, plane_grid  # noqa: E402
 from redkin.workspace.humanoid import VARIABLES, humanoid_map, humanoid_of  # noqa: E402
 from redkin.workspace.store import completed_chunks  # noqa: E402
+from tests.conftest import default_dask_scheduler  # noqa: E402
 
 EXTENT = [-0.3, 1.0, -0.7, 0.7, -0.6, 0.6]
 SIZES = {"resolution": 5, "samples": (5, 6), "chunk": 2}  # 27 chunks, 125 positions
@@ -84,11 +85,33 @@ def test_the_left_arm_map_is_the_mirror_image_of_the_right(reference, tmp_path):
 
 @pytest.mark.slow
 def test_local_cluster_gives_identical_arrays(chain, reference, client, tmp_path):
+    """On the session's cluster, whose client is not Dask's default (``set_as_default=False``)."""
+    assert default_dask_scheduler() == []
     run = _within(TIMEOUT, humanoid_map, chain, tmp_path / "map.zarr", EXTENT, client=client, **SIZES)
     assert run.computed == 27
     arrays = _arrays(run.path)
     for name in NAMES:
         np.testing.assert_array_equal(arrays[name], reference[name], err_msg=name)
+    assert default_dask_scheduler() == []
+
+
+def test_a_client_that_is_not_the_default_runs_the_map_it_is_given(chain, client, tmp_path):
+    """Issue 38: a ``Client(set_as_default=False)`` failed with "No clients found"; a small map on it equals the local
+    scheduler's bit for bit, summary included."""
+    with pytest.raises(ValueError, match="No clients found"):
+        distributed.default_client()
+    sizes = {"resolution": 3, "samples": (3, 4), "chunk": 1}  # 27 chunks of one position
+    local = humanoid_map(chain, tmp_path / "local.zarr", EXTENT, **sizes)
+    run = _within(TIMEOUT, humanoid_map, chain, tmp_path / "cluster.zarr", EXTENT, client=client, **sizes)
+    assert run.computed == local.computed == 27
+    expected, arrays = _arrays(local.path), _arrays(run.path)
+    for name in NAMES:
+        np.testing.assert_array_equal(arrays[name], expected[name], err_msg=name)
+    fields = ("reachable_positions", "feasible_positions", "max_manipulability", "mean_manipulability",
+              "max_dual_manipulability")
+    assert [getattr(run, f) for f in fields] == [getattr(local, f) for f in fields]
+    assert np.isfinite(expected["best_manipulability"]).any()
+    assert default_dask_scheduler() == []
 
 
 def test_interrupted_run_resumes_to_the_same_map(chain, reference, tmp_path):
