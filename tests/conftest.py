@@ -1,7 +1,14 @@
-"""Fixtures shared across the test modules: the arms they build, the full reproduction report, the Dask clusters.
+"""Fixtures shared across the test modules: the arms they build, the full reproduction report, the Dask clusters;
+and the hypothesis profiles of the suite.
 
 Each session fixture is built once per session; tests must not change them (chains are read-only in use:
 ``with_limits`` and friends return new chains).
+
+Hypothesis (docs/testing.md): the profile ``redkin``, loaded here, is what ``python -m pytest`` runs, locally and
+in CI alike: derandomized (each test draws the same examples on every run, on every machine), no example database,
+no deadline, and each test's own ``max_examples``.  ``python -m pytest --hypothesis-profile=explore`` draws fresh
+random examples instead, and keeps the failing ones in ``.hypothesis/examples`` so that they replay; a failure
+found that way goes into the suite as an ``@example(...)``.
 
 Dask: no test may leave a default client or scheduler behind (:func:`_no_default_dask_scheduler`); a test that
 needs a cluster asks for one (``client``, ``own_client``) and passes it explicitly.
@@ -18,11 +25,57 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
+from hypothesis.database import DirectoryBasedExampleDatabase
 
 from redkin import reproduce
 from redkin.chain import SerialChain
 from redkin.velocity import WamFactorisation
 from tests.support import velocity_wam
+
+#: The suite's own profile (module docstring): the same examples on every run; a failure is a finding, never luck.
+#: ``too_slow`` is a health check on the time taken to draw examples, which a loaded machine can fail: suppressed,
+#: as in hypothesis's own "ci" profile (which this replaces; hypothesis loads that one where ``CI`` is set).
+_HYPOTHESIS_DEFAULT = settings.get_profile("default")
+settings.register_profile("redkin", _HYPOTHESIS_DEFAULT, derandomize=True, database=None, deadline=None,
+                          print_blob=True, suppress_health_check=[HealthCheck.too_slow])
+#: Fresh random examples on each run; failures are kept in ``.hypothesis/examples`` and tried first next time.
+settings.register_profile("explore", _HYPOTHESIS_DEFAULT, derandomize=False, deadline=None, print_blob=True,
+                          database=DirectoryBasedExampleDatabase(Path(__file__).resolve().parents[1] / ".hypothesis"
+                                                                 / "examples"),
+                          suppress_health_check=[HealthCheck.too_slow])
+# hypothesis's pytest plugin loads the profile named by --hypothesis-profile after this conftest is imported
+settings.load_profile("redkin")
+
+
+def _source_constants_only_when_exploring() -> None:
+    """Keep the numbers written in our own modules out of the derandomized draws.
+
+    Hypothesis sometimes draws a constant found in the source of any local module imported so far (its "local
+    constants": ``0.02``, ``1e-9``, ``-90.0`` of src/ and tests/), so with ``derandomize`` a test's examples still
+    changed when any module changed (an edit to ``redkin/srs/conventions.py`` changed what the circle tests draw) or
+    when fewer modules were imported (one module run alone).  Under a derandomized profile the pool is empty, and a
+    test's examples depend on the test and its strategies only; ``explore`` keeps the pool, a good source of edge
+    cases.  Hypothesis has no setting for this: ``providers._get_local_constants`` is its internal function, and
+    ``tests/test_hypothesis_profile.py`` checks that the draws do not change when a module of new constants loads.
+    """
+    try:
+        from hypothesis.internal.conjecture import providers
+        from hypothesis.internal.constants_ast import Constants
+    except ImportError:  # another hypothesis: the test of the law says so
+        return
+    real = getattr(providers, "_get_local_constants", None)
+    if real is None:
+        return
+    none = Constants()
+
+    def local_constants() -> Constants:
+        return none if settings.default.derandomize else real()
+
+    providers._get_local_constants = local_constants
+
+
+_source_constants_only_when_exploring()
 
 
 @pytest.fixture(scope="session")
