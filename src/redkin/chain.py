@@ -23,7 +23,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields, replace
-from typing import Any, Literal
+from functools import cached_property
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -32,9 +33,46 @@ from redkin import _chain_kernels as kernels
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import MAX_LENGTH, as_float_array, check_finite, check_magnitude, check_pose, check_vectors
 from redkin.circle import TWO_PI
+from redkin.errors import RedkinError
 
 Convention = Literal["dh", "mdh"]
 _NO_OFFSET = np.zeros((1, 3))
+#: Slack of the reach bound, relative to the chain's size (``|c| + r`` of :attr:`SerialChain.reach_bound`): rounding
+#: in FK is about 1e-15 of it, so a distance beyond the bound by more than this is no rounding.
+_REACH_ROUNDING = 1e-9
+
+
+class Reach(NamedTuple):
+    """Target poses against an arm's reach: a distance that every joint vector keeps within ``[lower, upper]``.
+
+    :meth:`SerialChain.reach` measures any chain against its links' lengths; the closed forms measure their class's
+    own distance (the shoulder-wrist distance of S-R-S arms [000 eq. 11], of the Franka class over every q7), and
+    know a minimum.  A pose whose distance lies outside the range has no solution, whatever a solver tries.
+
+    Attributes
+    ----------
+    distance : numpy.ndarray, shape (...)
+        Metres: what ``measure`` names, per pose.
+    lower, upper : float
+        Metres: the range of that distance over all joint values (``lower`` 0 where no minimum is known).
+    out : numpy.ndarray of bool, shape (...)
+        Proven out of reach: the distance lies outside the range by more than rounding (and than the tolerance a
+        solver certifies its solutions to, where it gave one).
+    measure : str
+        What ``distance`` is, in words that read before "is 9.86 m": ``"the shoulder-wrist distance"``.
+    """
+
+    distance: np.ndarray
+    lower: float
+    upper: float
+    out: np.ndarray
+    measure: str
+
+    @property
+    def miss(self) -> np.ndarray:
+        """Metres by which each distance lies outside ``[lower, upper]`` (beyond ``upper``, or short of ``lower``);
+        0 within."""
+        return np.maximum(np.maximum(self.distance - self.upper, self.lower - self.distance), 0.0)
 
 
 def _frozen(values: ArrayLike | None, n: int, name: str, default: float | None = None) -> np.ndarray:
@@ -231,6 +269,78 @@ class SerialChain:
         """``dataclasses.replace`` through the constructor, which takes array-likes where the fields hold arrays."""
         arguments: dict[str, Any] = {f.name: getattr(self, f.name) for f in fields(self) if f.init}
         return SerialChain(**{**arguments, **changes})
+
+    @cached_property
+    def reach_bound(self) -> tuple[np.ndarray, float]:
+        """A point ``c`` on joint 1's axis (base frame) and a radius ``r``: at every joint vector, the tool point
+        lies within ``r`` of ``c``.
+
+        Between the turns of consecutive joints the chain is a fixed transform; let ``t_k`` be the translation of the
+        one after joint ``k`` (the last one with the tool), in the frame of joint ``k``'s turn: ``(a_k, 0, d_k)``
+        (standard DH: ``Tz(d_k) Tx(a_k) Rx(alpha_k)``; modified DH: ``Tz(d_k) Rx(alpha_k) Tx(a_k)`` with the next
+        row's ``a``, ``alpha``).  A turn about an axis through the origin keeps lengths, so by the triangle
+        inequality the tool point lies within ``r = |t_1 - (t_1 . z) z| + |t_2| + ... + |t_n|`` of ``c``, the point
+        ``(t_1 . z) z`` on joint 1's axis (which joint 1 does not move).  The bound is reached where the translations
+        line up (a stretched S-R-S arm: ``d_se + d_ew + d_wt`` from the shoulder).
+        """
+        a, alpha, d, n = self.a, self.alpha, self.d, self.n
+        steps = []
+        for k in range(n):
+            if self._standard:
+                step = _translation(0.0, 0.0, d[k]) @ _translation(a[k], 0.0, 0.0) @ _twist(alpha[k])
+            elif k + 1 < n:
+                step = _translation(0.0, 0.0, d[k]) @ _twist(alpha[k + 1]) @ _translation(a[k + 1], 0.0, 0.0)
+            else:
+                step = _translation(0.0, 0.0, d[k])
+            steps.append(step)
+        steps[-1] = steps[-1] @ self.tool
+        first = self.base if self._standard else self.base @ _twist(alpha[0]) @ _translation(a[0], 0.0, 0.0)
+        along = float(steps[0][2, 3])
+        centre = first[:3, 3] + along * first[:3, 2]
+        radius = float(np.hypot(steps[0][0, 3], steps[0][1, 3]) + sum(np.linalg.norm(s[:3, 3]) for s in steps[1:]))
+        centre.setflags(write=False)
+        return centre, radius
+
+    def reach(self, pose: ArrayLike, tolerance: float = 0.0) -> Reach:
+        """Target poses against :attr:`reach_bound`: the tool point's distance from its point on joint 1's axis.
+
+        Parameters
+        ----------
+        pose : array_like, shape (..., 4, 4)
+            Target poses of the tool in the base frame (only their positions are read).
+        tolerance : float
+            Metres a target may lie beyond the bound and still count as reached: the position tolerance of a
+            solver's certificate.
+
+        Returns
+        -------
+        Reach
+            ``lower`` 0 (no minimum known for a general chain); ``out`` where the distance exceeds the radius by
+            more than ``tolerance`` and rounding (:data:`_REACH_ROUNDING` of the chain's size).
+
+        Raises
+        ------
+        RedkinError
+            For poses that are not ``(..., 4, 4)`` arrays with finite positions, or a negative tolerance.
+        """
+        pose = as_float_array(pose, "pose")
+        if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
+            raise RedkinError(f"pose must have shape (..., 4, 4), got shape {pose.shape}")
+        check_finite(pose[..., :3, 3], "pose position")
+        if not tolerance >= 0.0:
+            raise RedkinError(f"tolerance must be a number of metres >= 0, got {tolerance!r}")
+        centre, radius, slack, measure = self._reach_table
+        offset = pose[..., :3, 3] - centre
+        distance = np.sqrt(np.sum(offset * offset, axis=-1))
+        return Reach(distance, 0.0, radius, distance > radius + slack + tolerance, measure)
+
+    @cached_property
+    def _reach_table(self) -> tuple[np.ndarray, float, float, str]:
+        """What :meth:`reach` reads: :attr:`reach_bound`, its rounding slack and the words of its measure."""
+        centre, radius = self.reach_bound
+        x, y, z = (float(v) + 0.0 for v in centre)
+        return (centre, radius, _REACH_ROUNDING * (radius + float(np.linalg.norm(centre))),
+                f"the tool point's distance from ({x:.6g}, {y:.6g}, {z:.6g}) m on joint 1's axis")
 
     def check_q(self, q: ArrayLike, name: str = "q") -> np.ndarray:
         """Validate joint vectors: finite, shape ``(..., n)``; return them as floats."""
@@ -489,6 +599,20 @@ def yoshikawa(jacobian: ArrayLike) -> np.ndarray:
     if m > k:
         return np.zeros(jac.shape[:-2])
     return np.prod(np.linalg.svd(jac, compute_uv=False), axis=-1)
+
+
+def _translation(x: float, y: float, z: float) -> np.ndarray:
+    matrix = np.eye(4)
+    matrix[:3, 3] = x, y, z
+    return matrix
+
+
+def _twist(alpha: float) -> np.ndarray:
+    """``Rx(alpha)`` as a 4x4 transform."""
+    matrix = np.eye(4)
+    c, s = np.cos(alpha), np.sin(alpha)
+    matrix[1:3, 1:3] = [[c, -s], [s, c]]
+    return matrix
 
 
 def _cos_sin(alpha: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
