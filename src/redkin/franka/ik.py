@@ -29,14 +29,17 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_finite, check_pose
-from redkin.chain import SerialChain
+from redkin.chain import Reach, SerialChain
 from redkin.errors import RedkinError
 from redkin.franka import _kernels
-from redkin.franka.geometry import FrankaGeometry, franka_geometry
+from redkin.franka.geometry import AMPLITUDE, MEAN, FrankaGeometry, franka_geometry
 from redkin.srs.branches import BRANCHES, Branch
 
 #: The parameter of the Franka class's solutions, as results and the command line name it.
 PARAMETER = "q7"
+#: Slack of :func:`reach` on ``|W - S|^2``, relative to ``R`` of [F2]: the solver's own (``1e-12``) and far more, so
+#: that a pose :func:`reach` puts out has no elbow at any q7 in the solver too.
+_REACH_SLACK = 1e-9
 
 
 class Q7Solutions(NamedTuple):
@@ -145,6 +148,47 @@ def ik(
         _raise_for(pose, q7)
     return Q7Solutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + (len(chosen),)),
                        within.reshape(shape + (len(chosen),)), chosen)
+
+
+def reach(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> Reach:
+    """The shoulder-wrist distance ``|W - S|`` of target poses over every q7, against the elbow's range [F1]-[F2].
+
+    Turning q7 moves W on a circle about axis 7: ``W = O_7 - R_07 Rz(-theta_7) (a_6, d_6, 0)``, of radius ``rho_W =
+    hypot(a_6, d_6)`` about the flange origin ``O_7`` in the plane normal to ``z_7`` [F1].  With ``h`` the height of
+    ``S - O_7`` along ``z_7`` and ``rho`` its distance from the axis, ``|W - S|`` runs over ``[sqrt(h^2 + (rho -
+    rho_W)^2), sqrt(h^2 + (rho + rho_W)^2)]``; the elbow spans ``[sqrt(C - R), sqrt(C + R)]`` [F2].  Where the two
+    do not meet, no q7 has a solution.
+
+    Parameters
+    ----------
+    arm : SerialChain or FrankaGeometry
+    pose : array_like, shape (..., 4, 4)
+
+    Returns
+    -------
+    Reach
+        ``distance`` the value of ``|W - S|`` over q7 nearest the elbow's range (its least where beyond the
+        reach, its greatest where inside the shortest); ``out`` where they do not meet by more than rounding.
+
+    Raises
+    ------
+    ValueError
+        For a chain not of the Franka class or a malformed pose.
+    """
+    geometry = as_franka(arm)
+    t07 = frames_seven(geometry, pose)
+    offset = t07[..., :3, 3] - np.array([0.0, 0.0, geometry.d1])
+    height = np.einsum("...i,...i->...", offset, t07[..., :3, 2])
+    across = np.sqrt(np.maximum(np.einsum("...i,...i->...", offset, offset) - height * height, 0.0))
+    circle = float(np.hypot(geometry.a6, geometry.d6))
+    nearest = np.hypot(height, across - circle)
+    farthest = np.hypot(height, across + circle)
+    mean, amplitude = geometry.kernel_arm[MEAN], geometry.kernel_arm[AMPLITUDE]
+    lower, upper = float(np.sqrt(max(mean - amplitude, 0.0))), float(np.sqrt(mean + amplitude))
+    slack = _REACH_SLACK * amplitude
+    out = (nearest * nearest > mean + amplitude + slack) | (farthest * farthest < mean - amplitude - slack)
+    return Reach(np.minimum(np.maximum(lower, nearest), farthest), lower, upper, out,
+                 "the shoulder-wrist distance at the most favourable q7")
 
 
 def _raise_for(pose: np.ndarray, q7: np.ndarray) -> None:

@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array
-from redkin.chain import SerialChain
+from redkin.chain import Reach, SerialChain
 from redkin.errors import RedkinError
 from redkin.srs import _ik_kernels
 from redkin.srs._targets import as_geometry, as_poses, check_psi, raise_for_bad_pose, raise_for_status
@@ -22,8 +22,40 @@ from redkin.srs.coefficients import ArmAngleCoefficients, coefficient_arrays
 from redkin.srs.geometry import SRSGeometry
 
 
+def reach(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> Reach:
+    """The shoulder-wrist distance ``|x_sw|`` of target poses against the range [000 eq. 11] allows.
+
+    The wrist point of a pose does not depend on the arm angle, and ``|x_sw|^2 = C + R cos(theta_4 - phi)``
+    [000 eq. 11], so a pose whose ``|x_sw|`` lies outside ``[sqrt(C - R), sqrt(C + R)]`` (``[|d_se - d_ew|,
+    d_se + d_ew]`` without elbow offsets) has no solution at any arm angle on any branch.
+
+    Parameters
+    ----------
+    arm : SerialChain or SRSGeometry
+    pose : array_like, shape (..., 4, 4)
+
+    Returns
+    -------
+    Reach
+        ``out`` exactly where the closed form has no solution (the rounding slack
+        :data:`redkin.srs._ik_kernels.REACH_TOLERANCE` on ``cos(theta_4 - phi)``).
+
+    Raises
+    ------
+    ValueError
+        For a malformed pose.
+    """
+    geometry = as_geometry(arm)
+    pose = as_poses(pose)
+    _, status, distance = coefficient_arrays(geometry, pose, 1)
+    raise_for_bad_pose(pose, status)
+    mean, amplitude, _ = geometry.elbow_equation
+    return Reach(distance, float(np.sqrt(max(mean - amplitude, 0.0))), float(np.sqrt(mean + amplitude)),
+                 status == _ik_kernels.UNREACHABLE, "the shoulder-wrist distance")
+
+
 def reachable(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> np.ndarray:
-    """Which target poses put the wrist within reach of the elbow ([000 eq. 11] has a solution).
+    """Which target poses put the wrist within reach of the elbow ([000 eq. 11] has a solution; :func:`reach`).
 
     The arm-angle functions raise :class:`redkin.errors.UnreachablePoseError`
     (a ``ValueError``) for a batch holding an unreachable pose; filter the batch with this mask first, e.g.
@@ -46,11 +78,7 @@ def reachable(arm: SerialChain | SRSGeometry, pose: ArrayLike) -> np.ndarray:
     ValueError
         For a malformed pose.
     """
-    geometry = as_geometry(arm)
-    pose = as_poses(pose)
-    _, status, _ = coefficient_arrays(geometry, pose, 1)
-    raise_for_bad_pose(pose, status)
-    return status == _ik_kernels.OK
+    return ~reach(arm, pose).out
 
 
 def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch) -> np.ndarray:
