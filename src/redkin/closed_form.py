@@ -16,6 +16,14 @@ angle, nor the other way round.
 Without ``psi`` or ``q7`` any chain is solved numerically
 (:func:`redkin.numerical.ik`: certified solutions within the limits), and the
 result says so in its ``method``.
+
+Either result carries the poses' :class:`~redkin.chain.Reach`: a pose beyond
+the arm's reach (or inside its shortest) is told apart from one the solver
+found no solution for, and is not searched.  Each class measures its own
+distance: the shoulder-wrist distance of S-R-S and offset-elbow arms
+[000 eq. 11] and of the Franka class over every q7, the tool point's distance
+from joint 1's axis against the links' lengths on nearly S-R-S arms and in the
+numerical solver (:meth:`redkin.chain.SerialChain.reach`).
 """
 
 from __future__ import annotations
@@ -25,7 +33,8 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.chain import SerialChain
+from redkin._validation import as_float_array, check_finite, check_pose
+from redkin.chain import Reach, SerialChain
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.numerical.solve import NumericalSolutions
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
@@ -47,6 +56,9 @@ class ClosedFormSolutions(NamedTuple):
         The branch of each row (``B = 8``, or 1 for one branch).
     parameter : str
         ``"psi"`` or ``"q7"``: what the given value was.
+    reach : Reach
+        The poses against the reach of the chain's class, batch shape as ``exists``: where ``reach.out``, no
+        branch has a solution at any value of the parameter.
     """
 
     q: np.ndarray
@@ -54,6 +66,7 @@ class ClosedFormSolutions(NamedTuple):
     within_limits: np.ndarray
     branches: tuple[Branch, ...]
     parameter: str
+    reach: Reach
 
 
 def redundancy_parameter(chain: SerialChain, srs_tolerance: float | None = None) -> str:
@@ -121,6 +134,8 @@ def ik(
         branch or tolerance.
     """
     from redkin import franka, numerical, srs
+    from redkin.franka.ik import reach as franka_reach
+    from redkin.srs.ik import reach as srs_reach
 
     if psi is None and q7 is None:
         for name, value in (("branch", branch), ("srs_tolerance", srs_tolerance)):
@@ -138,27 +153,46 @@ def ik(
         raise RedkinError(f"{chain.name!r} takes {right} as its redundancy parameter; got {' and '.join(given)}")
     if q7 is not None:
         result = franka.ik(chain, pose, q7, branch)
-        return ClosedFormSolutions(result.q, result.exists, result.within_limits, result.branches, "q7")
+        return ClosedFormSolutions(result.q, result.exists, result.within_limits, result.branches, "q7",
+                                   _spread(franka_reach(chain, pose), result.exists.shape[:-1]))
     from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
+    from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
     from redkin.srs.nearly import ik as nearly_ik
     from redkin.srs.nearly import nearly_srs
 
-    if psi is not None and arm_angle_class(chain, srs_tolerance).kind == NEARLY_SRS:
-        solutions = nearly_ik(nearly_srs(chain) if srs_tolerance is None else nearly_srs(chain, srs_tolerance),
-                              pose, psi, branch)
-        return ClosedFormSolutions(solutions.q, solutions.exists, solutions.within_limits, solutions.branches, "psi")
+    nearly = arm_angle_class(chain, srs_tolerance).kind == NEARLY_SRS
+    if nearly:  # the links' bound, with the slack of the real arm's certificate
+        reach = chain.reach(check_pose(pose), tolerance=NEARLY_TOLERANCE)
+    else:
+        geometry = srs.srs_geometry(chain)
+        reach = srs_reach(geometry, pose)
     chosen = BRANCHES if branch is None else (parse_branch(branch),)
-    geometry = srs.srs_geometry(chain)
-    reach = srs.reachable(geometry, pose)
-    poses = np.asarray(pose, dtype=float)
-    psi = np.asarray(psi, dtype=float)
-    angles = np.broadcast_to(psi, np.broadcast_shapes(reach.shape, psi.shape))
-    reach = np.broadcast_to(reach, angles.shape)
-    poses = np.broadcast_to(poses, angles.shape + (4, 4))
-    q = np.zeros(angles.shape + (len(chosen), 7))
-    if reach.any():
-        rows = [srs.ik(geometry, poses[reach], angles[reach], b) for b in chosen]
-        q[reach] = np.stack(rows, axis=-2)
-    exists = np.broadcast_to(reach[..., None], q.shape[:-1]).copy()
-    within = exists & chain.within_limits(q, tolerance=1e-9, wrap=True)
-    return ClosedFormSolutions(q, exists, within, chosen, "psi")
+    assert psi is not None  # given == ["psi"]
+    psi = as_float_array(psi, "psi")
+    check_finite(psi, "psi")
+    try:
+        shape = np.broadcast_shapes(reach.out.shape, psi.shape)
+    except ValueError:
+        raise RedkinError(f"psi of shape {psi.shape} does not broadcast against the pose batch "
+                          f"{reach.out.shape}") from None
+    reach = _spread(reach, shape)
+    inside = ~reach.out
+    angles = np.broadcast_to(psi, shape)[inside]
+    poses = np.broadcast_to(np.asarray(pose, dtype=float), shape + (4, 4))[inside]
+    q = np.zeros(shape + (len(chosen), 7))
+    exists = np.zeros(shape + (len(chosen),), dtype=bool)
+    within = np.zeros(shape + (len(chosen),), dtype=bool)
+    if inside.any() and nearly:  # the real arm's solutions, searched only for poses within reach
+        arm = nearly_srs(chain) if srs_tolerance is None else nearly_srs(chain, srs_tolerance)
+        solutions = nearly_ik(arm, poses, angles, branch)
+        q[inside], exists[inside], within[inside] = solutions.q, solutions.exists, solutions.within_limits
+    elif inside.any():
+        q[inside] = np.stack([srs.ik(geometry, poses, angles, b) for b in chosen], axis=-2)
+        exists[inside] = True
+        within = exists & chain.within_limits(q, tolerance=1e-9, wrap=True)
+    return ClosedFormSolutions(q, exists, within, chosen, "psi", reach)
+
+
+def _spread(reach: Reach, shape: tuple[int, ...]) -> Reach:
+    """``reach`` of a pose batch broadcast to the batch of a result (poses against parameter values)."""
+    return reach._replace(distance=np.broadcast_to(reach.distance, shape), out=np.broadcast_to(reach.out, shape))

@@ -393,15 +393,23 @@ def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, setti
 
 
 @kernel
-def solve(start, stop, targets, seeds, seeded, streams, links, ends, standard, bounds, settings, starts, q_out,
-          found_out, closest, error, used):
-    """:func:`solve_one` for poses ``start .. stop - 1`` of ``targets`` (N, 4, 4), with ``seeds`` (N, n),
+def solve(start, stop, targets, seeds, seeded, streams, links, ends, standard, bounds, settings, starts, reach, q_out,
+          found_out, closest, error, used, distance):
+    """:func:`solve_one` for poses ``start .. stop - 1`` of ``targets`` (N, 4, 4), with ``seeds`` (N, n) and
     ``streams`` (N,) uint64, into ``q_out`` (N, count, n), ``found_out`` (N, count), ``closest`` (N, n),
-    ``error`` (N, 2) and ``used`` (N,); returns how many targets are not poses."""
+    ``error`` (N, 2) and ``used`` (N,); returns how many targets are not poses.
+
+    ``reach`` (4,) is the centre of the chain's reach bound and the largest distance from it that may hold a
+    solution (:meth:`redkin.chain.SerialChain.reach`); ``distance`` (N,) receives each target's.  A target farther
+    out takes one start (for ``closest``) instead of ``starts``.
+    """
     bad = 0
     work, local = scratch(bounds.shape[1])
     for b in range(start, stop):
-        used[b] = solve_one(targets[b], seeds[b], seeded, streams[b], links, ends, standard, bounds, settings, starts,
-                            q_out[b], found_out[b], closest[b], error[b], work, local)
+        x, y, z = targets[b, 0, 3] - reach[0], targets[b, 1, 3] - reach[1], targets[b, 2, 3] - reach[2]
+        distance[b] = sqrt(x * x + y * y + z * z)
+        budget = 1 if distance[b] > reach[3] else starts
+        used[b] = solve_one(targets[b], seeds[b], seeded, streams[b], links, ends, standard, bounds, settings,
+                            budget, q_out[b], found_out[b], closest[b], error[b], work, local)
         bad += used[b] < 0
     return bad

@@ -8,7 +8,10 @@ limits until ``count`` distinct solutions are certified or ``restarts``
 starts are spent.  A solution counts only when our FK of the returned joint
 vector matches the target within ``tolerance``; a pose with none is a value
 (``found`` false, the best residual in ``error``), never NaN and never an
-inaccurate joint vector among the solutions.
+inaccurate joint vector among the solutions.  A pose beyond the links' reach
+(:meth:`redkin.chain.SerialChain.reach`, by more than the position tolerance)
+has no solution: it is not searched, only its first start descended for
+``closest``, and ``reach`` says why.
 
 The starts come from one integer per pose drawn from ``rng``: a pose's
 answer depends on the pose, the seed, the settings and that integer only,
@@ -26,7 +29,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_count, check_finite, check_pose
-from redkin.chain import SerialChain
+from redkin.chain import Reach, SerialChain
 from redkin.errors import RedkinError, SizeLimitError
 from redkin.numerical import _kernels
 
@@ -60,9 +63,13 @@ class NumericalSolutions(NamedTuple):
     error : numpy.ndarray, shape (..., 2)
         Position error [m] and rotation angle [rad] of ``closest`` against the target.
     starts : numpy.ndarray of int, shape (...)
-        How many starts were used.
+        How many starts were used (1 where ``reach.out``: the pose was not searched).
     method : str
         ``"numerical"``.
+    reach : Reach
+        The poses against the links' reach (:meth:`redkin.chain.SerialChain.reach` with the position tolerance):
+        where ``reach.out`` the pose has no solution, proven before any search.  Always set by :func:`ik`; last, with
+        a default, so that a result may be rebuilt from its first six fields.
     """
 
     q: np.ndarray
@@ -71,6 +78,7 @@ class NumericalSolutions(NamedTuple):
     error: np.ndarray
     starts: np.ndarray
     method: str = _METHOD
+    reach: Reach | None = None
 
 
 def ik(
@@ -104,7 +112,7 @@ def ik(
         The certificate: the largest position error [m] and rotation angle [rad] of our FK of a solution against
         the target (one number for both).
     restarts : int
-        The budget of starts per pose.
+        The budget of starts per pose; one for a pose beyond the links' reach (``reach.out`` of the result).
     separation : float
         Radians; see ``count``.
     rng : int or numpy.random.Generator, optional
@@ -161,14 +169,20 @@ def ik(
     closest = np.empty((size, n))
     error = np.empty((size, 2))
     used = np.empty(size, dtype=np.int64)
+    distance = np.empty(size)
+    centre, radius, slack, measure = chain._reach_table  # the bound of SerialChain.reach, tested in the kernel
+    limit = radius + slack + float(settings[_kernels.POSITION_TOLERANCE])
+    reach = np.array([centre[0], centre[1], centre[2], limit])
     if run_batch(_kernels.solve, size, poses, seeds, q0 is not None, streams, chain._links, chain._ends,
-                 chain._standard, chain._bounds, settings, restarts, q, found, closest, error, used):
+                 chain._standard, chain._bounds, settings, restarts, reach, q, found, closest, error, used, distance):
         if q0 is not None:
             check_finite(seeds, "q0")  # words the error the kernel found: the seeds, then the poses
         check_pose(pose)
         raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
+    distances = distance.reshape(shape)
     return NumericalSolutions(q.reshape(shape + (count, n)), found.reshape(shape + (count,)),
-                              closest.reshape(shape + (n,)), error.reshape(shape + (2,)), used.reshape(shape))
+                              closest.reshape(shape + (n,)), error.reshape(shape + (2,)), used.reshape(shape),
+                              reach=Reach(distances, 0.0, radius, distances > limit, measure))
 
 
 #: ``q0`` not given (a placeholder: the kernel reads no seed then).
