@@ -193,7 +193,7 @@ def _line_distance(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarra
 def _convert(chain: SerialChain, snap: bool) -> FrankaGeometry:
     """The Franka-class form of a chain (exact, or snapped from rounding); a refusal names the first condition the
     chain breaks."""
-    from redkin.srs.conventions import SNAP_ANGLE, SNAP_DISTANCE
+    from redkin.srs.conventions import SNAP_ANGLE, SNAP_DISTANCE, degrees_apart
 
     distance, angle_tolerance = (SNAP_DISTANCE, np.sin(SNAP_ANGLE)) if snap else (_CLASS_TOLERANCE, _CLASS_TOLERANCE)
     if chain.n != 7:
@@ -204,7 +204,8 @@ def _convert(chain: SerialChain, snap: bool) -> FrankaGeometry:
     if cosines.max() > angle_tolerance:
         k = int(np.argmax(cosines))
         angle = float(np.degrees(np.arccos(np.clip(cosines[k], 0.0, 1.0))))
-        raise _refuse(chain, f"axes {k + 1} and {k + 2} are {angle:.6g} deg apart, not 90", np.radians(90.0 - angle))
+        raise _refuse(chain, f"axes {k + 1} and {k + 2} are {degrees_apart(angle)} deg apart, not 90",
+                      np.radians(90.0 - angle))
     for first, second in ((0, 1), (1, 2), (0, 2), (4, 5)):
         gap = _line_distance(points[first], directions[first], points[second], directions[second])
         if gap > distance:

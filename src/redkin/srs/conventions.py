@@ -121,6 +121,19 @@ def _snaps(chain: SerialChain) -> bool:
     return True
 
 
+def degrees_apart(angle: float, expected: float = 90.0) -> str:
+    """An angle between axes in degrees, with the fewest decimals that print it unlike ``expected``: ``89.9``,
+    ``89.99996`` (not ``90``, which a fixed number of significant digits can print for an angle that is not).
+
+    A reason text that says an angle is not what the class needs must show a different number.
+    """
+    for decimals in range(16):
+        text = f"{angle:.{decimals}f}"
+        if text != f"{expected:.{decimals}f}":
+            return text
+    return f"{angle!r}"
+
+
 def departures(chain: SerialChain, tolerance: float = 0.0) -> list[tuple[str, float, str]]:
     """How a 7-joint chain's axes at ``q = 0`` miss the S-R-S conditions, largest first: ``(what, value, unit)``.
 
@@ -245,7 +258,7 @@ def _convert(chain: SerialChain, tolerance: float) -> SerialChain:
         k = int(np.argmax(cosines))
         off = np.degrees(np.arcsin(min(cosines[k], 1.0)))
         raise NotArmAngleClassError(f"{chain.name!r} is not S-R-S: axes {k + 1} and {k + 2} are not perpendicular "
-                                    f"({90.0 - off:.9g} deg apart, {off:.3g} deg off)", chain.name,
+                                    f"({degrees_apart(90.0 - off)} deg apart, {off:.3g} deg off)", chain.name,
                                     float(np.radians(off)))
     shoulder, wrist = centres["shoulder"], centres["wrist"]
     for name, centre in (("shoulder", shoulder), ("wrist", wrist)):
