@@ -3,8 +3,9 @@
 The chosen behaviour for "the pose has no solution at this value of the redundancy parameter", the same on every
 class and as the numerical path's for a pose without a solution found: the answer is printed (text: ``no solution
 of ... at psi = ...``; JSON: ``solutions`` empty, every asked branch under ``missing``) and the exit code is 1.
-A batch (``--poses``) exits 1 when one of its poses has none, after printing every entry.  Bad input stays exit
-code 2 with one line.
+Where the pose is beyond the arm's reach the line says so and by how much, and the JSON has ``"reason":
+"out-of-reach"`` with the distances (``null`` otherwise).  A batch (``--poses``) exits 1 when one of its poses has
+none, after printing every entry.  Bad input stays exit code 2 with one line.
 """
 
 from __future__ import annotations
@@ -39,16 +40,28 @@ def _reachable(robot: str) -> tuple[list[str], str]:
     return _pose_argv(chain.fk(np.array(q))), value
 
 
+#: What each class measures against its reach (the nearly S-R-S Gen3: the links' bound of any chain).
+MEASURES = {"pa10-7c": "the shoulder-wrist distance", "kinova-gen3": "the tool point's distance from (0, 0, 0.28481) m "
+            "on joint 1's axis", "franka-fr3": "the shoulder-wrist distance at the most favourable q7"}
+
+
 @pytest.mark.parametrize("robot", sorted(CLASSES))
-def test_a_pose_out_of_reach_is_an_answer_with_exit_1(capsys, robot):
+def test_a_pose_out_of_reach_is_an_answer_with_exit_1_and_says_by_how_much(capsys, robot):
     option, _ = CLASSES[robot]
-    assert main(["ik", robot, *FAR, option, "0.5"]) == 1
-    captured = capsys.readouterr()
-    name = option.lstrip("-")
-    assert captured.out.strip() == f"no solution of branch +++ at {name} = 0.500000 rad" and captured.err == ""
     assert main(["ik", robot, *FAR, option, "0.5", "--all", "--json"]) == 1
     data = json.loads(capsys.readouterr().out)
+    name = option.lstrip("-")
     assert data["parameter"] == name and data["solutions"] == [] and len(data["missing"]) == 8
+    assert data["reason"] == "out-of-reach" and data["units"]["reach"] == "m"
+    reach = data["reach"]
+    assert reach["measure"] == MEASURES[robot] and reach["min"] < reach["max"] < 1.0 < reach["distance"]
+    assert reach["miss"] == pytest.approx(reach["distance"] - reach["max"], abs=1e-15)
+    assert main(["ik", robot, *FAR, option, "0.5"]) == 1
+    captured = capsys.readouterr()
+    assert captured.err == "" and captured.out.count("\n") == 1
+    assert captured.out.strip() == (
+        f"no solution of branch +++ at {name} = 0.500000 rad: the pose is out of reach ({reach['measure']} is "
+        f"{reach['distance']:.6g} m, beyond the reach of {reach['max']:.6g} m by {reach['miss']:.6g} m)")
 
 
 @pytest.mark.parametrize("robot", sorted(CLASSES))
@@ -57,7 +70,8 @@ def test_a_reachable_pose_prints_the_same_form_on_every_class(capsys, robot):
     argv, value = _reachable(robot)
     assert main(["ik", robot, *argv, option, value, "--all", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"robot", "parameter", "units", data["parameter"], "solutions", "missing"}
+    assert set(data) == {"robot", "parameter", "units", data["parameter"], "solutions", "missing", "reason"}
+    assert data["reason"] is None
     assert data["solutions"] and {s["branch"] for s in data["solutions"]}.isdisjoint(data["missing"])
     chain = get_robot(robot)
     q = np.array([s["q"] for s in data["solutions"]])
@@ -79,8 +93,11 @@ def test_a_batch_with_a_pose_out_of_reach_exits_1_after_every_entry(capsys, tmp_
     assert main(["ik", robot, "--poses", str(file), option, value, "--all", "--json"]) == 1
     entries = json.loads(capsys.readouterr().out)["poses"]
     assert [bool(e["solutions"]) for e in entries] == [True, False] and len(entries[1]["missing"]) == 8
+    assert [e["reason"] for e in entries] == [None, "out-of-reach"] and "reach" not in entries[0]
+    assert entries[1]["reach"]["distance"] > entries[1]["reach"]["max"]
     assert main(["ik", robot, "--poses", str(file), option, value]) == 1
-    assert capsys.readouterr().out.splitlines()[-1].startswith("pose 1: no solution of branch +++ at")
+    last = capsys.readouterr().out.splitlines()[-1]
+    assert last.startswith("pose 1: no solution of branch +++ at") and "the pose is out of reach (" in last
     np.save(file, np.stack([chain.fk(np.array(q))] * 2))
     assert main(["ik", robot, "--poses", str(file), option, value, "--all", "--json"]) == 0
 

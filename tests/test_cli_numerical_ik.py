@@ -75,10 +75,34 @@ def test_every_pose_of_a_file_gets_an_entry_and_an_unreachable_one_exits_1(capsy
         assert len(q) == 2 and np.abs(q[0] - q[1]).max() > 0.1
         assert np.abs(chain.fk(q) - pose).max() < 1e-9
     lost = data["poses"][3]
-    assert lost["solutions"] == [] and lost["starts"] == 40 and lost["error"]["position"] > 1.0
+    assert lost["solutions"] == [] and lost["error"]["position"] > 1.0
     assert np.all(chain.within_limits(np.array(lost["closest"])))
+    assert lost["starts"] == 1 and lost["reason"] == "out-of-reach"  # proven before any search
+    assert [entry["reason"] for entry in data["poses"][:3]] == [None] * 3
+    assert all("reach" not in entry for entry in data["poses"][:3])
+    centre, radius = chain.reach_bound
+    distance = float(np.linalg.norm(far[:3, 3] - centre))
+    assert lost["reach"] == {"measure": "the tool point's distance from (0, 0, 0.28481) m on joint 1's axis",
+                             "distance": distance, "min": 0.0, "max": radius, "miss": distance - radius}
     code, out, _ = run(capsys, ["ik", "kinova-gen3", "--poses", str(file), "--restarts", "40"])
-    assert code == 1 and "pose 3: no solution found in 40 starts" in out
+    assert code == 1 and out.splitlines()[-1] == (
+        f"pose 3: no solution: the pose is out of reach (the tool point's distance from (0, 0, 0.28481) m on joint "
+        f"1's axis is {distance:.6g} m, beyond the reach of {radius:.6g} m by {distance - radius:.6g} m); not searched")
+
+
+def test_a_pose_within_reach_without_a_solution_is_searched_and_its_line_is_well_formed(capsys):
+    chain = get_robot("planar-5")
+    pose = chain.fk(np.full(5, 0.3))
+    pose[2, 3] = 0.1  # out of the arm's plane, yet within the links' reach: only a search can tell
+    code, out, _ = run(capsys, ["ik", "planar-5", *pose_argv(pose), "--restarts", "7", "--json"])
+    data = json.loads(out)
+    assert code == 1 and data["status"] == "not-found" and data["starts"] == 7 and data["reason"] is None
+    code, out, _ = run(capsys, ["ik", "planar-5", *pose_argv(pose), "--restarts", "7"])
+    line = out.splitlines()[-1]
+    values = " ".join(f"{v: .6f}" for v in data["closest"]).lstrip()  # a sign slot per value, as solutions print
+    assert code == 1 and line == (f"no solution found in 7 starts; the closest joint values miss by "
+                                  f"{data['error']['position']:.3g} m and {data['error']['rotation']:.3g} rad: "
+                                  f"{values} [rad]")
 
 
 def test_a_poses_file_with_an_arm_angle_gives_the_closed_form_of_every_pose(capsys, tmp_path):

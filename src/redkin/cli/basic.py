@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from redkin.cli.common import (
+    add_base_tip_arguments,
     add_output_flags,
     add_robot_argument,
     add_srs_tolerance_argument,
@@ -32,9 +33,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     robots = subparsers.add_parser("robots",
                                    help="list the named robot models and their arm-angle class, or --show one")
     robots.add_argument("--show", metavar="ROBOT",
-                        help="print one chain (a model, robot file or URDF): joints, limits, frames, arm-angle class")
-    robots.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (with --show)")
-    robots.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (with --show)")
+                        help="print one chain (a model, robot file, URDF or MJCF file): joints, limits, frames, "
+                             "arm-angle class")
+    add_base_tip_arguments(robots, "with --show")
     add_xacro_arguments(robots)
     add_srs_tolerance_argument(robots)
     add_output_flags(robots, degrees=True)

@@ -18,7 +18,7 @@ import numpy as np
 from redkin._validation import MAX_LENGTH, check_magnitude, check_output_directory, check_output_file, check_rotation
 
 if TYPE_CHECKING:  # the commands' parsers are built from this module: it imports no chain, models or kernels
-    from redkin.chain import SerialChain
+    from redkin.chain import Reach, SerialChain
 
 #: File types of the figures the commands write (matplotlib's writers without extra packages).
 IMAGE_SUFFIXES = frozenset({".png", ".pdf", ".svg"})
@@ -55,11 +55,18 @@ def add_robot_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("robot", metavar="ROBOT",
                         help="model name (see `redkin robots`), a .toml/.json robot file, a .urdf or .xacro file, or "
                              "an MJCF .xml file (the mjcf extra)")
-    parser.add_argument("--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link); "
-                                                       "MJCF: the body (default: the world body)")
-    parser.add_argument("--tip", metavar="LINK", help="URDF: the link the chain ends at (default: the only leaf); "
-                                                      "MJCF: the body or site")
+    add_base_tip_arguments(parser)
     add_xacro_arguments(parser)
+
+
+def add_base_tip_arguments(parser: argparse.ArgumentParser, note: str = "") -> None:
+    """``--base`` and ``--tip``, described the same on every command: a URDF's links, an MJCF's bodies (a site as the
+    tip); ``note`` is added to both (``"with --show"``)."""
+    extra = f"; {note}" if note else ""
+    parser.add_argument("--base", metavar="LINK", help="where the chain starts: a URDF link (default: the root link) "
+                                                       f"or an MJCF body (default: the world body){extra}")
+    parser.add_argument("--tip", metavar="LINK", help="where the chain ends: a URDF link or an MJCF body or site "
+                                                      f"(default: the only leaf){extra}")
 
 
 def add_xacro_arguments(parser: argparse.ArgumentParser) -> None:
@@ -254,6 +261,26 @@ def fixed(value: float, digits: int = 6, sign: str = "") -> str:
     if text.lstrip().startswith("-") and float(text) == 0.0:
         text = f"{0.0:{sign}.{digits}f}"
     return text
+
+
+def reach_reason(reach: Reach, index: Any = ()) -> dict[str, Any]:
+    """The JSON of a pose's reason (pose ``index`` of ``reach``'s batch): ``{"reason": "out-of-reach", "reach":
+    {...}}`` with the distances in metres where the pose is proven out of reach, else ``{"reason": None}``."""
+    if not bool(reach.out[index]):
+        return {"reason": None}
+    return {"reason": "out-of-reach", "reach": {
+        "measure": reach.measure, "distance": float(reach.distance[index]), "min": reach.lower, "max": reach.upper,
+        "miss": float(reach.miss[index]),
+    }}
+
+
+def out_of_reach(reach: Reach, index: Any = ()) -> str:
+    """Why pose ``index`` of ``reach``'s batch has no solution, in one line: ``the pose is out of reach (the
+    shoulder-wrist distance is 10.003 m, beyond the reach of 0.93 m by 9.07305 m)``."""
+    distance = float(reach.distance[index])
+    side = (f"beyond the reach of {reach.upper:.6g} m" if distance > reach.upper else
+            f"inside the shortest reach of {reach.lower:.6g} m")
+    return f"the pose is out of reach ({reach.measure} is {distance:.6g} m, {side} by {float(reach.miss[index]):.6g} m)"
 
 
 def plural(count: int, noun: str, many: str | None = None) -> str:

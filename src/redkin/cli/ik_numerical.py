@@ -7,7 +7,16 @@ import argparse
 
 import numpy as np
 
-from redkin.cli.common import UsageError, angle_unit, angles_out, format_values, joint_vector, print_json
+from redkin.cli.common import (
+    UsageError,
+    angle_unit,
+    angles_out,
+    format_values,
+    joint_vector,
+    out_of_reach,
+    print_json,
+    reach_reason,
+)
 
 
 def add_numerical_arguments(parser: argparse.ArgumentParser) -> None:
@@ -56,10 +65,12 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
     except NotArmAngleClassError as error:
         why = str(error)
     result = ik(chain, poses, **options)
+    reach = result.reach
+    assert reach is not None  # ik always measures the poses' reach
     entries = [_entry(result, k, args.deg) for k in range(len(poses))] if batch else [_entry(result, (), args.deg)]
     if args.json:
         head = {"robot": chain.name, "method": "numerical", "why": why,
-                "units": {"q": angle_unit(args.deg), "position_error": "m", "rotation_error": "rad"},
+                "units": {"q": angle_unit(args.deg), "position_error": "m", "rotation_error": "rad", "reach": "m"},
                 "tolerance": {"position": position, "rotation": rotation}}
         print_json({**head, "poses": entries} if batch else {**head, **entries[0]})
     else:
@@ -67,7 +78,9 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
         print(f"numerical IK, certified to {position:g} m and {rotation:g} rad: {why}")
         for k, entry in enumerate(entries):
             label = f"pose {k}: " if batch else ""
-            if entry["status"] == "found":
+            if entry["reason"]:
+                print(f"{label}no solution: {out_of_reach(reach, k if batch else ())}; not searched")
+            elif entry["status"] == "found":
                 for q in entry["solutions"]:
                     print(f"{label}{format_values(q)}  [{unit}]")
                 short = "" if len(entry["solutions"]) == args.count else f"; {len(entry['solutions'])} of the " \
@@ -75,14 +88,15 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
                 print(f"{label}error {entry['error']['position']:.2g} m, {entry['error']['rotation']:.2g} rad "
                       f"({entry['starts']} start{'s' if entry['starts'] != 1 else ''}{short})")
             else:
-                print(f"{label}no solution found in {entry['starts']} starts; the closest joint values"
-                      f"{format_values(entry['closest'])} [{unit}] miss by {entry['error']['position']:.3g} m and "
-                      f"{entry['error']['rotation']:.3g} rad")
+                print(f"{label}no solution found in {entry['starts']} starts; the closest joint values miss by "
+                      f"{entry['error']['position']:.3g} m and {entry['error']['rotation']:.3g} rad: "
+                      f"{format_values(entry['closest']).lstrip()} [{unit}]")
     return 0 if bool(np.all(result.found[..., 0])) else 1
 
 
 def _entry(result, index, degrees: bool) -> dict:
-    """One pose's JSON entry: status, solutions, the closest joint values and their error, starts used."""
+    """One pose's JSON entry: status, solutions, the closest joint values and their error, starts used, and the
+    reason where the pose is out of reach."""
     found = result.found[index]
     entry = {
         "status": "found" if found[0] else "not-found",
@@ -90,6 +104,7 @@ def _entry(result, index, degrees: bool) -> dict:
         "closest": angles_out(result.closest[index], degrees),
         "error": {"position": float(result.error[index][0]), "rotation": float(result.error[index][1])},
         "starts": int(result.starts[index]),
+        **reach_reason(result.reach, index),
     }
     if isinstance(index, int):
         entry = {"index": index, **entry}

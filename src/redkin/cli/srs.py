@@ -22,8 +22,10 @@ from redkin.cli.common import (
     format_values,
     joint_vector,
     load_robot,
+    out_of_reach,
     plus_minus,
     print_json,
+    reach_reason,
     read_poses,
     target_pose,
 )
@@ -154,25 +156,28 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
              for k in range(len(q))]
     if args.every_solution:
         _add_every_solution(chain, poses.reshape(-1, 4, 4), value, result.branches, found, args.srs_tolerance)
+    reach = result.reach._replace(out=result.reach.out.reshape(-1), distance=result.reach.distance.reshape(-1))
     entries: list[dict[str, Any]] = [{
         "index": k,
         "solutions": [{"branch": str(label), "q": angles_out(one, args.deg), "within_limits": inside}
                       for b, label in enumerate(result.branches) for one, inside in found[k][b]],
         "missing": [str(label) for b, label in enumerate(result.branches) if not found[k][b]],
+        **reach_reason(reach, k),
     } for k in range(len(q))]
     code = 0 if all(entry["solutions"] for entry in entries) else 1
     unit = angle_unit(args.deg)
     if args.json:
-        head = {"robot": chain.name, "parameter": parameter, "units": {parameter: unit, "q": unit},
+        head = {"robot": chain.name, "parameter": parameter, "units": {parameter: unit, "q": unit, "reach": "m"},
                 parameter: angles_out(value, args.deg)}
-        single = {key: entries[0][key] for key in ("solutions", "missing")}
+        single = {key: value for key, value in entries[0].items() if key != "index"}
         print_json({**head, "poses": entries} if batch else {**head, **single})
         return code
     asked = "branch " + str(branch) if branch is not None else f"any of the {len(BRANCHES)} branches"
-    for entry in entries:
+    for k, entry in enumerate(entries):
         label = f"pose {entry['index']}: " if batch else ""
         if not entry["solutions"]:
-            print(f"{label}no solution of {asked} at {parameter} = {fixed(angles_out(value, args.deg))} {unit}")
+            why = f": {out_of_reach(reach, k)}" if entry["reason"] else ""
+            print(f"{label}no solution of {asked} at {parameter} = {fixed(angles_out(value, args.deg))} {unit}{why}")
         for s in entry["solutions"]:
             note = "" if s["within_limits"] else "  (outside limits)"
             print(f"{label}{s['branch']}  {format_values(s['q'])}  [{unit}]{note}")
