@@ -338,9 +338,9 @@ class SerialChain:
     def _reach_table(self) -> tuple[np.ndarray, float, float, str]:
         """What :meth:`reach` reads: :attr:`reach_bound`, its rounding slack and the words of its measure."""
         centre, radius = self.reach_bound
-        x, y, z = (float(v) + 0.0 for v in centre)
+        x, y, z = (f"{round(float(v), 6) + 0.0:.6f}".rstrip("0").rstrip(".") for v in centre)  # to the micrometre
         return (centre, radius, _REACH_ROUNDING * (radius + float(np.linalg.norm(centre))),
-                f"the tool point's distance from ({x:.6g}, {y:.6g}, {z:.6g}) m on joint 1's axis")
+                f"the tool point's distance from ({x}, {y}, {z}) m on joint 1's axis")
 
     def check_q(self, q: ArrayLike, name: str = "q") -> np.ndarray:
         """Validate joint vectors: finite, shape ``(..., n)``; return them as floats."""
