@@ -18,14 +18,14 @@ from dataclasses import replace
 import numpy as np
 
 from redkin.chain import SerialChain
-from redkin.circle import wrap_angle
+from redkin.circle import ArcSet, wrap_angle
 from redkin.errors import UnreachablePoseError
 from redkin.explore.arm_angle import ARM_ANGLE, on_circle
 from redkin.explore.curves import BranchCurves, Mark, Parameter, as_arcs, postures
 from redkin.srs import (
     BRANCHES,
     NearlySRS,
-    feasible_arm_angles_nearly,
+    feasible_arm_angles_nearly_all,
     nearly_srs,
     optimal_arm_angles_nearly,
     singular_arm_angles_nearly,
@@ -62,15 +62,17 @@ def nearly_curves(chain: SerialChain, pose: np.ndarray, samples: int, target, we
     parameter = replace(ARM_ANGLE, optimum="[000 eq. 40] on the real arm",
                         method="the exact S-R-S neighbour's closed form polished on the real nearly S-R-S arm, "
                                "its feasible sets, singular and optimal arm angles located on the real arm")
-    branches = tuple(_branch_curves(arm, pose, b, grid, target, weights) for b in BRANCHES)
+    sets = feasible_arm_angles_nearly_all(arm, pose)
+    branches = tuple(_branch_curves(arm, pose, b, grid, target, weights, sets[k].feasible)
+                     for k, b in enumerate(BRANCHES))
     if not any(b.exists.any() for b in branches):
         raise UnreachablePoseError(f"{chain.name} cannot reach this pose: no branch has a certified solution at any "
                                    f"of {samples} arm angles")
     return parameter, branches
 
 
-def _branch_curves(arm: NearlySRS, pose: np.ndarray, branch, grid: np.ndarray, target, weights) -> BranchCurves:
-    feasible = feasible_arm_angles_nearly(arm, pose, branch).feasible
+def _branch_curves(arm: NearlySRS, pose: np.ndarray, branch, grid: np.ndarray, target, weights,
+                   feasible: ArcSet) -> BranchCurves:
     singular = singular_arm_angles_nearly(arm, pose, branch)
     optimal = optimal_arm_angles_nearly(arm, pose, branch, target=target, weights=weights, feasible=feasible)
     special: list[tuple[str, str, float, str]] = []

@@ -45,7 +45,7 @@ from redkin.srs.nearly import TOLERANCE_DEFAULT, NearlySRS, nearly_srs
 from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
 from redkin.srs.nearly import ik as nearly_ik
-from redkin.srs.nearly_feasible import feasible_arm_angles_nearly
+from redkin.srs.nearly_feasible import feasible_arm_angles_nearly_all
 
 #: The arm angle's name in results.
 PSI = "psi"
@@ -328,9 +328,9 @@ class NearlyFamily(Family):
                                                            poses)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
-        """The real feasible sets of every branch (:func:`redkin.srs.feasible_arm_angles_nearly`), an arc through
+        """The real feasible sets of every branch (:func:`redkin.srs.feasible_arm_angles_nearly_all`), an arc through
         ``+-pi`` cut in two."""
-        sets = [[feasible_arm_angles_nearly(self.nearly, pose, branch).feasible.intervals for branch in BRANCHES]
+        sets = [[result.feasible.intervals for result in feasible_arm_angles_nearly_all(self.nearly, pose)]
                 for pose in poses]
         return _as_pieces(sets)
 

@@ -8,13 +8,14 @@
 * :func:`feasible_pieces`, :func:`feasible_pieces_all_branches` -- the same as arrays, one branch or all eight
 * :func:`joint_extrema` -- type, case, extrema and monotonicity of each joint over psi [000 eqs. 21-28]
 * :func:`singular_arm_angles` -- shoulder and wrist singular arm angles [000 eqs. 31-34]
-* :func:`nearly_srs`, :func:`feasible_arm_angles_nearly`, :func:`singular_arm_angles_nearly`,
-  :func:`optimal_arm_angles_nearly` -- nearly S-R-S arms (the Kinova Gen3): the exact neighbour, feasible, singular
-  and optimal arm angles on the real arm
+* :func:`nearly_srs`, :func:`feasible_arm_angles_nearly` (:func:`feasible_arm_angles_nearly_all` for every branch
+  at once), :func:`singular_arm_angles_nearly`, :func:`optimal_arm_angles_nearly` -- nearly S-R-S arms (the Kinova
+  Gen3): the exact neighbour, feasible (certified), singular and optimal arm angles on the real arm
 * :func:`neighbour_distance` -- how far a nearly S-R-S arm's solution lies from its neighbour's: a bound from the
   offsets and the derivatives
-* :func:`self_motion`, :func:`branch_solutions` -- a nearly S-R-S arm's self-motion at a pose, and every solution
-  of a branch at an arm angle on it (two where the arm angle turns back along the self-motion)
+* :func:`self_motion`, :func:`self_motions`, :func:`branch_solutions` -- a nearly S-R-S arm's certified self-motion
+  at a pose (one curve, or every curve), and every solution of a branch at an arm angle on it (two where the arm
+  angle turns back along the self-motion)
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles [000 eqs. 36-40]
 * :func:`arm_angle_path` -- arm-angle control along a path (section 6.2.2)
 * :func:`arm_angle_class` -- whether a chain is S-R-S, S-R-S with an offset elbow (the WAM), or neither
@@ -38,9 +39,9 @@ from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.nearly import NearlySolutions, NearlySRS, nearly_srs
 from redkin.srs.nearly_bound import NeighbourDistance, neighbour_distance
-from redkin.srs.nearly_feasible import NearlyFeasible, feasible_arm_angles_nearly
+from redkin.srs.nearly_feasible import NearlyFeasible, feasible_arm_angles_nearly, feasible_arm_angles_nearly_all
 from redkin.srs.nearly_optimal import NearlyOptimal, optimal_arm_angles_nearly
-from redkin.srs.nearly_self_motion import SelfMotion, branch_solutions, self_motion
+from redkin.srs.nearly_self_motion import SelfMotion, branch_solutions, self_motion, self_motions
 from redkin.srs.nearly_singular import Alignment, NearlySingular, alignment_angles, singular_arm_angles_nearly
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
 from redkin.srs.path import ArmAnglePath, arm_angle_path
@@ -77,6 +78,7 @@ __all__ = [
     "feasible_arm_angles",
     "feasible_arm_angles_batch",
     "feasible_arm_angles_nearly",
+    "feasible_arm_angles_nearly_all",
     "feasible_pieces",
     "feasible_pieces_all_branches",
     "ik",
@@ -90,6 +92,7 @@ __all__ = [
     "pose_from",
     "reachable",
     "self_motion",
+    "self_motions",
     "singular_arm_angles",
     "singular_arm_angles_nearly",
     "srs_geometry",

@@ -1,186 +1,575 @@
-"""The compiled core of :mod:`redkin.srs.nearly_self_motion`: the real arm's self-motion followed by continuation.
+"""The compiled core of :mod:`redkin.srs.nearly_self_motion`: the real arm's self-motion, followed with a certificate.
 
 For one pose ``T`` the real arm's solutions form curves in joint space (its
-self-motion): ``FK(q) = T`` is 6 equations in 7 unknowns.  :func:`traced`
-follows one from a solution by predictor-corrector continuation: the unit
-tangent ``t`` is the null vector of the 6 x 7 Jacobian ``J`` [N1], from
-``[J; t_prev^T] t = [0; 1]`` (the previous tangent fixes its sense); the
-predictor is ``q + h t``; the corrector takes Newton's steps on the pose
-equations and the hyperplane ``t . (q - q_pred) = 0`` (7 equations,
-``[J; t^T] dq = [e; -t . (q - q_pred)]``), so that ``h`` is the arc length of
-the step to first order.  A step is retried at half its length unless the
-corrector settles, moves the point by at most :data:`CLOSE` times the step,
-and the tangent and the arm angle turn little (:data:`COS_TURN`,
-:data:`ARM_ANGLE_STEP`).
+self-motion): 6 equations ``F(q) = 0`` in 7 unknowns.  :func:`traced`
+follows one from a solution by predictor-corrector continuation and proves,
+step by step, that the points it returns are joined by a curve of true
+solutions, and where that curve lies (docs/srs.md, "The certified
+self-motion", eqs. C1-C6).
 
-Inputs are trusted.
+The equations [C1] are ``F(q) = [c (p(q) - p_T); r(q)]``, ``r = vee(M - M^T)
+/ 2`` with ``M = R(q) R_T^T`` (``r = sin(angle) axis``, zero at the target's
+rotation), ``c`` a scale [1/m] (2 over the arm's longest lever arm).  Their
+derivatives are exact (:func:`residual`, :func:`curvature`): with ``w_i``
+joint ``i``'s signed unit axis, the position rows of ``F'`` are ``c`` times
+the geometric Jacobian's, ``dr/dq_i = N(M) w_i`` with ``N(X) = (tr(X) I - X)
+/ 2`` (from ``dM/dq_i = [w_i]x M`` and ``[w]x M + M^T [w]x = [2 N(M) w]x``),
+and for ``j <= i`` the second derivatives are ``w_j x J_pos,i`` and ``N([w_j]x
+M) w_i + N(M) (w_j x w_i)`` (the last term for ``j < i`` only).
+
+A step from a point ``x`` with unit tangent ``t`` (``F'(x) t = 0``) covers
+``s`` in ``[0, H]``: the curve's point on the hyperplane ``t . (q - x) = s``
+solves ``G_s(q) = [F(q); t . (q - x) - s] = 0``, whose Jacobian is ``A(q) =
+[F'(q); t^T]``.  The affine-covariant Newton-Kantorovich theorem [C2]
+(Deuflhard, *Newton Methods for Nonlinear Problems*, thm. 2.1) from ``y_s =
+x + s t`` needs
+
+* ``omega``, a Lipschitz constant of ``A(x)^-1 F'`` over the ball ``D`` of
+  radius ``2 H`` (plus :data:`REGION`) about ``x`` [C3]: ``omega = Omega +
+  beta K |D|``, ``Omega`` bounding ``|A(x)^-1 F''(x)|`` (the 28 second
+  derivatives at ``x`` mapped by ``A(x)^-1``, their norms' spectral norm
+  bounded by its Frobenius norm and its largest row sum), ``beta >=
+  |A(x)^-1|`` (:func:`inverse_bound`) and ``K`` a bound of the third
+  derivatives (:func:`third_bound`: every derivative of a turning vector is a
+  cross product with a unit axis, lever arms no longer than the links that
+  follow the joint, ``|r|`` bounded over the ball from its value at ``x``);
+* relative to ``A(y_s)``: ``omega_s = omega / (1 - omega s)``, and the first
+  Newton step ``alpha_s <= (beta eps + beta s delta + omega s^2 / 2) / (1 -
+  omega s)`` (``eps = |F(x)|``, ``delta = |F'(x) t|``: rounding).
+
+Where ``h_K = omega_s alpha_s <= 0.45`` for ``s = H``, it gives one solution
+``x*(s)`` within ``r* = (1 - sqrt(1 - 2 h_K)) / omega_s`` of ``y_s`` for every
+``s``, the only one within the larger uniqueness radius, and so (by the
+implicit function theorem at each ``x*(s)``) a continuous arc of true
+solutions.  Consecutive steps share a point: each is certified a little past
+its end (:data:`OVERLAP`) and the next step's start lies within its
+uniqueness ball.  Every joint therefore stays, over the arc, within ``r*`` of
+the chord from ``x`` to ``y_H``; a step is classified by that tube [C4]: each
+branch sign (the neighbour's ``theta_2``, ``theta_4 - phi_real`` and
+``theta_6`` away from 0 and pi) and each limited joint (within its limits
+modulo whole turns, outside them, or not decided).  The arm angle changes
+over the arc by at most ``G (H + r*)``, ``G`` a bound of its gradient over
+the ball [C5] from the wrist's distances to joint 1's axis and to the
+shoulder; a step is kept only where that is at most :data:`ARM_ANGLE_STEP`,
+so the arc's arm angles cover the short arc between its ends [C6].  Where a
+step is not decided (a sign or a limit crossed, or a fold: ``d psi / ds``
+changes sign) it is halved until its arm-angle bound is at most
+:data:`RESOLUTION`.
+
+Floating-point rounding of the bounds themselves is covered by the margin of
+0.45 against Kantorovich's 1/2 and by :data:`OVERLAP`.  Inputs are trusted.
 """
 
 from __future__ import annotations
 
-from math import pi, sqrt
+from math import floor, pi, sqrt
 
 import numpy as np
 
 from redkin import _chain_kernels
 from redkin._compiled import kernel
-from redkin.numerical._kernels import pose_error
-from redkin.srs._ik_kernels import turns_removed
+from redkin.circle import TWO_PI
+from redkin.srs._ik_kernels import AXIS_TOLERANCE, turns_removed, wrist_point
 from redkin.srs._nearly_kernels import arm_angle_one
 
-#: Newton's steps of the corrector at most, and the pose error (position plus rotation) at which it has settled.
-CORRECTOR_STEPS, SETTLED = 8, 1e-12
-#: The smallest step [rad of arc length in joint space] before the continuation gives up.
-SMALLEST_STEP = 1e-9
-#: A step is kept where the corrector moves the point by at most ``CLOSE`` times the step, the tangent turns by at most
-#: ``acos(COS_TURN)`` (0.2 rad) and the arm angle by at most ``ARM_ANGLE_STEP`` [rad]; otherwise it is halved.  So a
-#: joint's rate changes sign at most once between neighbouring points wherever the curve bends less than its steps
-#: resolve, and neighbouring arm angles unwrap unambiguously.
-CLOSE, COS_TURN, ARM_ANGLE_STEP = 0.1, 0.9800665778412416, 0.1
+#: Entries of an arm's ``bounds`` (:attr:`redkin.srs.nearly.NearlySRS.kernel_bounds`): the position rows' scale ``c``
+#: [1/m]; the squared Frobenius norm of the bounds of their third derivatives; the sums over the 343 third
+#: derivatives of the rotation rows of ``S``, ``S^2``, ``T``, ``T^2`` and ``S T`` (:func:`third_bound`); the
+#: Lipschitz constant of the neighbour's wrist point in ``q`` [m], each of joints 1-4's lever arm to it [m] (4) and
+#: the forearm's length [m].
+SCALE, POSITION_THIRD, SUM_S, SUM_S2, SUM_T, SUM_T2, SUM_ST, WRIST_LIPSCHITZ, LEVER = range(9)
+FOREARM = LEVER + 4
+#: Kantorovich's ``h_K`` at most (1/2 in the theorem; the margin covers the rounding of the bounds).
+KANTOROVICH = 0.45
+#: How far past its end [rad of arc length] a step is certified at least, so that it meets the next (module
+#: docstring); more where the next point's existence radius ``2 beta |F|`` (and, for the step that closes a curve,
+#: the first point's and the distance between the two) is larger.
+OVERLAP = 1e-12
+#: Added to the radius [rad] of the ball about a step's start over which ``L`` holds, so that a short step's
+#: uniqueness ball still reaches well past its tube.
+REGION = 1e-6
+#: A step's arm-angle change at most [rad], so that the arm angle covers the short arc between its ends.
+ARM_ANGLE_STEP = 0.5
+#: The arm-angle bound [rad] down to which a step that is not decided is halved.
+RESOLUTION = 1e-10
+#: Newton's steps of the corrector at most; the residual ``|F|`` at which it stops, and at most which it has settled
+#: where Newton's steps stop halving it (rounding).
+CORRECTOR_STEPS, FINE, SETTLED = 12, 1e-15, 1e-13
+#: The smallest step [rad] before the continuation gives up (a singular configuration).
+SMALLEST_STEP = 1e-15
+#: States of a step's limited joints: all within their limits, one outside, not decided.
+INSIDE, OUTSIDE, UNDECIDED = 1, 0, -1
+#: What :func:`traced` returns: the curve came back to its first point; it stopped at ``most`` points; a step could
+#: not be certified (a singular configuration, or the wrist on joint 1's axis).
+CLOSED, FULL, STUCK = 0, 1, 2
 
 
+# ------------------------------------------------------------------ small dense linear algebra
 @kernel
-def pose_jacobian(q, target, real, work, e):
-    """The pose error [N1] of ``q`` (7,) on the real chain ``real`` against ``target`` into ``e[:6]`` and the
-    geometric Jacobian into ``work``'s ``jac[:6]``; returns the position plus rotation error."""
-    links, ends, standard = real
-    trig, pose, jac, origin = work[0], work[1], work[5], work[9]
-    _chain_kernels.frames_one(q, links, ends, standard, trig, pose)
-    position, angle = pose_error(target, pose[0], e)
-    _chain_kernels.jacobian_one(q, links, ends, standard, 7, True, origin, trig, jac)
-    return position + angle
-
-
-@kernel
-def tangent(jac, previous, out):
-    """The unit null vector of ``jac[:6]`` (7, 7) with ``previous . out > 0`` into ``out`` (7,): ``[J; previous^T]
-    out = [0; 1]``, normalised; returns ``False`` where that system is singular (a singular configuration)."""
-    system = jac.copy()
-    system[6, :] = previous
-    right = np.zeros(7)
-    right[6] = 1.0
-    if abs(np.linalg.det(system)) < 1e-300:
-        return False
-    out[:] = np.linalg.solve(system, right)
-    size = sqrt(np.sum(out * out))
-    if not np.isfinite(size) or size == 0.0:
-        return False
-    out /= size
+def factored(a, pivots):
+    """LU factorisation with partial pivoting of ``a`` (7, 7) in place (LAPACK's layout); returns ``False`` where a
+    pivot is zero."""
+    n = a.shape[0]
+    for k in range(n):
+        row, big = k, abs(a[k, k])
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > big:
+                row, big = i, abs(a[i, k])
+        if big == 0.0 or not np.isfinite(big):
+            return False
+        pivots[k] = row
+        if row != k:
+            for j in range(n):
+                a[k, j], a[row, j] = a[row, j], a[k, j]
+        inverse = 1.0 / a[k, k]
+        for i in range(k + 1, n):
+            a[i, k] *= inverse
+            factor = a[i, k]
+            for j in range(k + 1, n):
+                a[i, j] -= factor * a[k, j]
     return True
 
 
 @kernel
-def corrected(q, direction, target, real, work, e):
-    """Newton's steps from ``q`` (7,) in place onto the self-motion of ``target`` within the hyperplane through ``q``
-    normal to ``direction`` (7,) (module docstring); returns whether the pose error settled (:data:`SETTLED`), and
-    where it did, leaves the Jacobian at the settled ``q`` in ``work`` (:func:`pose_jacobian`)."""
-    jac = work[5]
-    anchor = q.copy()
-    for _ in range(CORRECTOR_STEPS):
-        size = pose_jacobian(q, target, real, work, e)
-        if size <= SETTLED:
-            return True
-        if not np.isfinite(size):
-            return False
-        system = jac.copy()
-        system[6, :] = direction
-        right = np.empty(7)
-        right[:6] = e[:6]
-        right[6] = -np.sum(direction * (q - anchor))
-        if abs(np.linalg.det(system)) < 1e-300:
-            return False
-        q += np.linalg.solve(system, right)
-    return pose_jacobian(q, target, real, work, e) <= SETTLED
+def solved(a, pivots, b):
+    """``b`` (7,) in place by the factors of :func:`factored`."""
+    n = a.shape[0]
+    for k in range(n):
+        row = pivots[k]
+        if row != k:
+            b[k], b[row] = b[row], b[k]
+    for k in range(n):
+        for i in range(k + 1, n):
+            b[i] -= a[i, k] * b[k]
+    for k in range(n - 1, -1, -1):
+        total = b[k]
+        for j in range(k + 1, n):
+            total -= a[k, j] * b[j]
+        b[k] = total / a[k, k]
 
 
 @kernel
-def on_curve(q, direction, distance, target, real, work, e, out):
-    """The point of the self-motion near ``q + distance direction`` (``q`` on it, ``direction`` its unit tangent
-    there): that predictor corrected (:func:`corrected`) into ``out`` (7,); returns whether it settled."""
-    out[:] = q + distance * direction
-    return corrected(out, direction, target, real, work, e)
+def inverse_bound(a, pivots, inverse):
+    """``A^-1`` into ``inverse`` (7, 7) from the factors of :func:`factored`, and an upper bound of ``|A^-1|_2``:
+    with ``B = A^-T A^-1``, ``|A^-1|_2^2 = lambda_max(B) <= |B^8|_F^(1/8)``, at most ``7^(1/16)`` times too large
+    (the Frobenius norm of ``A^-1`` alone can be ``sqrt(7)`` times too large)."""
+    n = a.shape[0]
+    column = np.empty(n)
+    for j in range(n):
+        column[:] = 0.0
+        column[j] = 1.0
+        solved(a, pivots, column)
+        inverse[:, j] = column
+    power = np.empty((n, n))
+    for i in range(n):
+        for j in range(i + 1):
+            total = 0.0
+            for k in range(n):
+                total += inverse[k, i] * inverse[k, j]
+            power[i, j] = power[j, i] = total
+    squared = np.empty((n, n))
+    for _ in range(3):
+        for i in range(n):
+            for j in range(i + 1):
+                total = 0.0
+                for k in range(n):
+                    total += power[i, k] * power[k, j]
+                squared[i, j] = squared[j, i] = total
+        power[:] = squared
+    return np.sqrt(np.sum(power * power)) ** (1.0 / 16.0)
+
+
+# ------------------------------------------------------------------ the equations [C1]
+@kernel
+def residual(q, target, real, scale, work):
+    """``F(q)`` [C1] of the real chain ``real`` against ``target`` (4, 4) into ``work``'s ``f`` (6,), its Jacobian
+    into ``system[:6]`` (7, 7), the signed axes ``w_i`` into ``axes`` (3, 7) and ``M`` into ``m`` (3, 3)
+    (:func:`scratch`); returns ``|F|`` and ``|r|`` (the rotation rows)."""
+    trig, pose, origin, system, f, axes, m = work[0], work[1], work[2], work[3], work[4], work[11], work[12]
+    links, ends, standard = real
+    _chain_kernels.frames_one(q, links, ends, standard, trig, pose)
+    _chain_kernels.jacobian_one(q, links, ends, standard, 7, True, origin, trig, system)
+    end = pose[0]
+    for r in range(3):
+        f[r] = scale * (end[r, 3] - target[r, 3])
+        for c in range(3):
+            m[r, c] = end[r, 0] * target[c, 0] + end[r, 1] * target[c, 1] + end[r, 2] * target[c, 2]
+    f[3], f[4], f[5] = 0.5 * (m[2, 1] - m[1, 2]), 0.5 * (m[0, 2] - m[2, 0]), 0.5 * (m[1, 0] - m[0, 1])
+    trace = m[0, 0] + m[1, 1] + m[2, 2]
+    for i in range(7):
+        z0, z1, z2 = system[3, i], system[4, i], system[5, i]
+        axes[0, i], axes[1, i], axes[2, i] = z0, z1, z2
+        for r in range(3):
+            system[r, i] *= scale
+            system[3 + r, i] = 0.5 * (trace * axes[r, i] - m[r, 0] * z0 - m[r, 1] * z1 - m[r, 2] * z2)
+    size = 0.0
+    for r in range(6):
+        size += f[r] * f[r]
+    return sqrt(size), sqrt(f[3] * f[3] + f[4] * f[4] + f[5] * f[5])
 
 
 @kernel
-def traced(start, target, real, model, step, sense, most, points, tangents, angles, rates, work):
-    """Follow the self-motion of ``target`` (4, 4) on the real chain from the solution ``start`` (7,) with steps of
-    at most ``step`` [rad of arc length], the arm angle first increasing (``sense`` +1) or decreasing (-1).
+def curvature(work, inverse):
+    """``Omega`` [C3]: a bound of ``|A^-1 F''|`` (a bilinear map) at the point last passed to :func:`residual`
+    (``F'`` copied to ``work``'s ``jacobian`` by :func:`described`), ``inverse`` (7, 7) being ``A^-1``: the spectral
+    norm of the matrix of the norms ``|A^-1 [F''_ij; 0]|`` bounded by the smaller of its Frobenius norm and its
+    largest row sum (module docstring's second derivatives)."""
+    jacobian, axes, m = work[10], work[11], work[12]
+    norms = np.empty((7, 7))
+    h = np.empty(6)
+    mw = np.empty(3)
+    for i in range(7):
+        w0, w1, w2 = axes[0, i], axes[1, i], axes[2, i]
+        mw[0] = m[0, 0] * w0 + m[0, 1] * w1 + m[0, 2] * w2
+        mw[1] = m[1, 0] * w0 + m[1, 1] * w1 + m[1, 2] * w2
+        mw[2] = m[2, 0] * w0 + m[2, 1] * w1 + m[2, 2] * w2
+        for j in range(i + 1):
+            v0, v1, v2 = axes[0, j], axes[1, j], axes[2, j]
+            p0, p1, p2 = jacobian[0, i], jacobian[1, i], jacobian[2, i]  # c w_i x (p - o_i)
+            h[0], h[1], h[2] = v1 * p2 - v2 * p1, v2 * p0 - v0 * p2, v0 * p1 - v1 * p0
+            turn = v0 * (m[1, 2] - m[2, 1]) + v1 * (m[2, 0] - m[0, 2]) + v2 * (m[0, 1] - m[1, 0])  # tr([v]x M)
+            h[3] = 0.5 * (turn * w0 - (v1 * mw[2] - v2 * mw[1]))
+            h[4] = 0.5 * (turn * w1 - (v2 * mw[0] - v0 * mw[2]))
+            h[5] = 0.5 * (turn * w2 - (v0 * mw[1] - v1 * mw[0]))
+            if j < i:  # N(M) (w_j x w_i): N(M)'s rows are system[3:6]'s map of an axis
+                c0, c1, c2 = v1 * w2 - v2 * w1, v2 * w0 - v0 * w2, v0 * w1 - v1 * w0
+                trace = m[0, 0] + m[1, 1] + m[2, 2]
+                h[3] += 0.5 * (trace * c0 - m[0, 0] * c0 - m[0, 1] * c1 - m[0, 2] * c2)
+                h[4] += 0.5 * (trace * c1 - m[1, 0] * c0 - m[1, 1] * c1 - m[1, 2] * c2)
+                h[5] += 0.5 * (trace * c2 - m[2, 0] * c0 - m[2, 1] * c1 - m[2, 2] * c2)
+            total = 0.0
+            for r in range(7):
+                value = 0.0
+                for k in range(6):
+                    value += inverse[r, k] * h[k]
+                total += value * value
+            norms[i, j] = norms[j, i] = sqrt(total)
+    squares, largest = 0.0, 0.0
+    for i in range(7):
+        row = 0.0
+        for j in range(7):
+            squares += norms[i, j] * norms[i, j]
+            row += norms[i, j]
+        largest = max(largest, row)
+    return min(sqrt(squares), largest)
 
-    ``start`` need reach the pose only nearly: it is first corrected onto the curve (:func:`corrected`, normal to
-    its tangent there).  Writes up to ``most`` points into ``points`` (most, 7), their unit tangents into
-    ``tangents`` (most, 7), arm angles (:func:`redkin.srs._nearly_kernels.arm_angle_one`) into ``angles`` (most,)
-    and ``d psi / ds`` (``grad psi . t``) into ``rates`` (most,).  Stops where the curve closes (it comes back
-    within a step of ``start`` heading the same way), at ``most`` points, or where a step fails (a singular
-    configuration, or the corrector does not settle at :data:`SMALLEST_STEP`).  Returns the number of points and
-    whether the curve closed.
-    """
-    e, gradient, jac = work[3], work[4], work[5]
-    model_work = work[2]
-    q = start.copy()
-    pose_jacobian(q, target, real, work, e)
-    guess = np.zeros(7)
-    for k in range(7):  # a first sense for the tangent: any row of the identity not nearly in J's row space
-        trial = np.zeros(7)
-        trial[k] = 1.0
-        if tangent(jac, trial, guess):
-            break
-    direction = np.empty(7)
-    if not tangent(jac, guess, direction) or not corrected(q, direction, target, real, work, e) \
-            or not tangent(jac, direction, direction):
-        return 0, False
-    start = q.copy()
+
+# ------------------------------------------------------------------ one point of the curve
+@kernel
+def scratch():
+    """The scratch arrays of :func:`residual`, :func:`described` and :func:`corrected`: ``F`` (6,), the system (7, 7)
+    whose first six rows hold ``F'`` at the point last evaluated, the axes (3, 7) and ``M`` (3, 3) there, and the
+    rest."""
+    model_work = (np.empty((9, 4, 4)), np.empty((7, 2)), np.empty((3, 4)), np.empty(3), np.empty((3, 3)),
+                  np.empty((3, 3)))
+    return (np.empty((7, 2)), np.empty((1, 4, 4)), np.zeros(3), np.empty((7, 7)), np.empty(6), np.empty(7, np.int64),
+            np.empty((7, 7)), np.empty(7), model_work, np.empty(3), np.empty((6, 7)), np.empty((3, 7)),
+            np.empty((3, 3)))
+
+
+@kernel
+def described(q, size, rotation, previous, model, work, tangent, gradient, state):
+    """Everything a step from ``q`` (7,) needs, ``F`` and ``F'`` being in ``work`` (:func:`residual`, whose two
+    norms are ``size`` and ``rotation``): into ``tangent`` (7,) the unit null vector of ``F'`` with ``previous .
+    tangent > 0``, into ``gradient`` (7,) ``d psi / dq``, and into ``state`` (9,) ``|F|``, ``|r|``, ``delta = |F'
+    t|``, ``beta`` (bounds ``|A^-1|``, ``A = [F'; t^T]``), ``psi``, ``d psi / ds``, the wrist's distance ``w`` from
+    joint 1's axis, ``|x_sw|`` and ``Omega`` (:func:`curvature`) (module docstring).  Returns ``False`` at a
+    singular configuration."""
+    system, pivots, inverse, model_work, u, jacobian = work[3], work[5], work[6], work[8], work[9], work[10]
+    jacobian[:] = system[:6]
+    system[6, :] = previous
+    if not factored(system, pivots):
+        return False
+    tangent[:] = 0.0
+    tangent[6] = 1.0
+    solved(system, pivots, tangent)
+    length = sqrt(np.sum(tangent * tangent))
+    if not np.isfinite(length) or length == 0.0:
+        return False
+    tangent /= length
+    delta = 0.0
+    for r in range(6):
+        value = 0.0
+        for j in range(7):
+            value += jacobian[r, j] * tangent[j]
+        delta += value * value
+    system[:6] = jacobian
+    system[6, :] = tangent
+    if not factored(system, pivots):
+        return False
     psi = arm_angle_one(q, model[0], model[1], model[2], model[3], model_work, gradient, True)
-    rate = np.sum(gradient * direction)
-    if rate * sense < 0.0:
-        direction = -direction
-        rate = -rate
+    shared = wrist_point(model_work[2], model[2], u)[0]
+    state[0], state[1], state[2] = size, rotation, sqrt(delta)
+    state[3] = inverse_bound(system, pivots, inverse)
+    state[4], state[5] = psi, np.sum(gradient * tangent)
+    state[6], state[7] = shared[0], sqrt(shared[0] * shared[0] + shared[3] * shared[3])
+    state[8] = curvature(work, inverse)
+    return bool(np.isfinite(state[3]) and np.isfinite(state[8]))
+
+
+@kernel
+def corrected(q, anchor, direction, distance, target, real, bounds, work):
+    """Newton's steps from ``q`` (7,) in place onto ``G_s(q) = 0`` (module docstring) for the hyperplane
+    ``direction . (q - anchor) = distance``; returns whether ``|F|`` settled (:data:`FINE`, or :data:`SETTLED` where
+    rounding stops Newton's steps halving it) and ``|F|`` and ``|r|`` there, ``F`` and ``F'`` at the settled ``q``
+    being left in ``work``."""
+    system, f, pivots, right = work[3], work[4], work[5], work[7]
+    best = np.inf
+    for _ in range(CORRECTOR_STEPS):
+        size, rotation = residual(q, target, real, bounds[SCALE], work)
+        if not np.isfinite(size):
+            return False, size, rotation
+        if size <= FINE or size >= 0.5 * best:
+            return size <= SETTLED, size, rotation
+        best = size
+        system[6, :] = direction
+        if not factored(system, pivots):
+            return False, size, rotation
+        for r in range(6):
+            right[r] = -f[r]
+        along = 0.0
+        for j in range(7):
+            along += direction[j] * (q[j] - anchor[j])
+        right[6] = distance - along
+        solved(system, pivots, right)
+        q += right
+    size, rotation = residual(q, target, real, bounds[SCALE], work)
+    return size <= SETTLED, size, rotation
+
+
+# ------------------------------------------------------------------ the certificate of a step [C2]-[C5]
+@kernel
+def third_bound(rotation, bounds, radius):
+    """``K`` [C3]: a bound of the third derivatives of ``F`` (a trilinear map) over the ball of ``radius`` about a
+    point whose rotation rows are ``rotation`` (``|r|``), by the Frobenius norm of bounds of its 343 entries.
+
+    Position rows: ``c rho_max(i, j, m)`` (``bounds[POSITION_THIRD]`` holds their squares' sum).  Rotation rows, for
+    column ``i`` differentiated by ``j`` and ``m``: ``a + b S + T`` with ``S = [m < j] + [m < i] + [j < i]``, ``T =
+    ([m < j] + [m < i]) [j < i]``, ``b = 1/2 + |r|`` and ``a = 3/2 + (e + e^2) / 2``, ``e = |M - I|`` (from
+    ``|N(X)| <= (|tr X| + |X|) / 2``, ``|N(M)| <= 1``, ``|tr([a]x M)| = 2 |a . r|`` and ``|tr([u]x [v]x M)| <= 2 + e
+    + e^2``); ``|r|`` and ``e`` over the ball from the rotation angle there plus ``sqrt(7) radius``."""
+    angle = np.arcsin(min(rotation, 1.0)) + sqrt(7.0) * radius
+    b = 0.5 + np.sin(min(angle, 0.5 * pi))
+    e = 2.0 * np.sin(0.5 * min(angle, pi))
+    a = 1.5 + 0.5 * (e + e * e)
+    turning = (343.0 * a * a + b * b * bounds[SUM_S2] + bounds[SUM_T2] + 2.0 * a * b * bounds[SUM_S]
+               + 2.0 * a * bounds[SUM_T] + 2.0 * b * bounds[SUM_ST])
+    return sqrt(bounds[POSITION_THIRD] + turning)
+
+
+@kernel
+def certified(state, bounds, reach, overlap):
+    """The certificate of a step of length ``reach`` (``H``, the ``overlap`` past its end included) from a point
+    with ``state`` (:func:`described`) [C2]-[C3]: the radius ``r*`` of the tube about the chord that holds the arc, or
+    -1 where the theorem's conditions fail (the uniqueness radius must exceed ``r*`` by twice the overlap, so that
+    the next step's start, within the overlap of this step's end, is this step's arc's point)."""
+    size, delta, beta, local = state[0], state[2], state[3], state[8]
+    ball = 2.0 * reach + REGION
+    omega = local + beta * third_bound(state[1], bounds, ball) * ball
+    shrink = 1.0 - omega * reach
+    if shrink <= 0.0:
+        return -1.0
+    omega_s = omega / shrink
+    alpha = (beta * (size + reach * delta) + 0.5 * omega * reach * reach) / shrink
+    h = omega_s * alpha
+    if h > KANTOROVICH:
+        return -1.0
+    root = sqrt(1.0 - 2.0 * h)
+    radius = (1.0 - root) / omega_s
+    if min((1.0 + root) / omega_s, reach + REGION) <= radius + 2.0 * overlap:
+        return -1.0
+    return radius
+
+
+@kernel
+def arm_angle_bound(state, bounds, reach):
+    """A bound [C5] of ``|grad psi|`` over the ball of radius ``reach`` about a point with ``state``
+    (:func:`described`), from the wrist's distances to joint 1's axis and to the shoulder there; infinite where the
+    ball may hold the wrist on the axis (where the arm angle is not continuous) or at the shoulder."""
+    moved = bounds[WRIST_LIPSCHITZ] * reach
+    off_axis, apart = state[6] - moved, state[7] - moved
+    if off_axis <= AXIS_TOLERANCE * 10.0 or apart <= 0.0:
+        return np.inf
+    total = 0.0
+    for j in range(4):
+        lever = bounds[LEVER + j]
+        term = 1.0 + lever * (1.0 / off_axis + 1.0 / apart)
+        if j == 3:
+            term += bounds[FOREARM] / apart
+        total += term * term
+    return sqrt(total)
+
+
+@kernel
+def classified(start, direction, reach, radius, model, real_phase, limits, signs):
+    """The branch signs [C4] (+1, -1, or 0 where the tube crosses a boundary) into ``signs`` (3,), and the state of
+    the limited joints (:data:`INSIDE`, :data:`OUTSIDE` or :data:`UNDECIDED`; ``limits`` as
+    :attr:`redkin.srs.nearly.NearlySRS.kernel_limits`, modulo whole turns), over the tube of ``radius`` about the
+    chord from ``start`` along ``direction`` for ``reach``."""
+    neighbour = model[0]
+    for k in range(3):
+        j = 2 * k + 1
+        sign, offset = neighbour[j, _chain_kernels.SIGN], neighbour[j, _chain_kernels.OFFSET]
+        centre = real_phase if j == 3 else 0.0
+        a = offset + sign * start[j] - centre
+        b = offset + sign * (start[j] + reach * direction[j]) - centre
+        low, high = min(a, b) - radius, max(a, b) + radius
+        turn = floor(low / pi)
+        if high >= (turn + 1.0) * pi:
+            signs[k] = 0
+        else:
+            signs[k] = 1 if turn % 2.0 == 0.0 else -1
+    state = INSIDE
+    for j in range(7):
+        if limits[2, j] > 0.5:  # covers the circle
+            continue
+        lower, width = limits[0, j], limits[1, j]
+        a, b = start[j], start[j] + reach * direction[j]
+        low, high = min(a, b) - radius, max(a, b) + radius
+        base = lower + TWO_PI * floor((low - lower) / TWO_PI)  # the turn of the range at or below low
+        if low - base <= width:
+            if high > base + width:
+                state = UNDECIDED
+        elif high >= base + TWO_PI:
+            state = UNDECIDED
+        else:
+            return OUTSIDE
+    return state
+
+
+# ------------------------------------------------------------------ the curve
+@kernel
+def started(seed, target, real, model, bounds, work, q, tangent, gradient, state):
+    """The curve's point nearest the solution ``seed`` (7,) into ``q`` (7,): Newton's steps on the hyperplane
+    through ``seed`` normal to the tangent there; returns whether it settled, with the point's tangent and state
+    (:func:`described`)."""
+    q[:] = seed
+    trial = np.zeros(7)
+    size, rotation = residual(q, target, real, bounds[SCALE], work)
+    found = False
+    for k in range(7):  # a first sense for the tangent: any unit vector not nearly in F''s row space
+        trial[:] = 0.0
+        trial[k] = 1.0
+        if described(q, size, rotation, trial, model, work, tangent, gradient, state):
+            found = True
+            break
+    if not found:
+        return False
+    settled, size, rotation = corrected(q, seed, tangent, 0.0, target, real, bounds, work)
+    trial[:] = tangent
+    return settled and described(q, size, rotation, trial, model, work, tangent, gradient, state)
+
+
+@kernel
+def longest_step(state, bounds, longest):
+    """The longest step [rad] up to ``longest`` that :func:`certified` and :data:`ARM_ANGLE_STEP` admit from a point
+    with ``state``, to a few per cent: ``omega H`` at most 0.48 (where ``h_K`` is 0.45 for a negligible ``|F|``),
+    and then shortened until both hold."""
+    h = longest
+    beta, local = state[3], state[8]
+    for _ in range(2):  # omega(h) = Omega + beta K (2 h + REGION) and omega h = 0.48, K at the last h
+        k = beta * third_bound(state[1], bounds, 2.0 * h + REGION)
+        linear = local + k * REGION
+        h = min(h, 2.0 * 0.48 / (linear + sqrt(linear * linear + 8.0 * k * 0.48)))
+    for _ in range(60):
+        radius = certified(state, bounds, h + OVERLAP, OVERLAP)
+        if radius >= 0.0 and arm_angle_bound(state, bounds, h + OVERLAP + radius) * (h + OVERLAP + radius) \
+                <= ARM_ANGLE_STEP:
+            return h
+        h *= 0.8
+    return 0.0
+
+
+@kernel
+def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense, most, points, tangents, angles,
+           rates, signs, inside, spreads):
+    """Follow the self-motion of ``target`` (4, 4) on the real chain from the solution ``seed`` (7,) with certified
+    steps (module docstring) of at most ``longest`` [rad of arc length], the arm angle first increasing (``sense``
+    +1) or decreasing (-1).
+
+    Writes up to ``most`` points (continuous joint values, not wrapped) into ``points`` (most, 7), their unit
+    tangents into ``tangents``, arm angles into ``angles`` and ``d psi / ds`` into ``rates``; for the step from
+    point ``k`` to ``k + 1``, its branch signs into ``signs[k]`` (3,) and its limited joints' state into
+    ``inside[k]`` (:func:`classified`), and the bound of its arm-angle change into ``spreads[k]``.  Where the curve
+    closes, its last point is its first (modulo whole turns).  Returns the number of points and :data:`CLOSED`,
+    :data:`FULL` or :data:`STUCK`.
+    """
+    work = scratch()
+    q, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(9)
+    if not started(seed, target, real, model, bounds, work, q, tangent, gradient, state):
+        return 0, STUCK
+    if state[5] * sense < 0.0:
+        tangent = -tangent
+        state[5] = -state[5]
+    first = state[3] * state[0]  # beta |F| at the first point
+    apart = np.inf
+    moved, following, following_gradient, following_state = np.empty(7), np.empty(7), np.empty(7), np.empty(9)
+    step_signs = np.empty(3, np.int64)
+    gap = np.empty(7)
     count = 0
-    h = step
-    moved, following = np.empty(7), np.empty(7)
-    while count < most:
+    h = longest
+    while True:
         points[count] = q
-        tangents[count] = direction
-        angles[count] = psi
-        rates[count] = rate
+        tangents[count] = tangent
+        angles[count] = state[4]
+        rates[count] = state[5]
         count += 1
         if count == most:
-            break
-        while True:  # a step is kept where it settles, stays near its predictor and turns little
-            if on_curve(q, direction, h, target, real, work, e, moved):  # the Jacobian is at moved
-                change = moved - q - h * direction
-                if sqrt(np.sum(change * change)) <= CLOSE * h and tangent(jac, direction, following) \
-                        and np.sum(following * direction) >= COS_TURN:
-                    psi = arm_angle_one(moved, model[0], model[1], model[2], model[3], model_work, gradient, True)
-                    if abs(turns_removed(psi - angles[count - 1] + pi) - pi) <= ARM_ANGLE_STEP:
-                        break
-            h *= 0.5
+            return count, FULL
+        h = min(2.0 * h, longest_step(state, bounds, longest))
+        closing = False
+        if count > 2:  # within a step of the first point, heading on: the last step is the one onto it
+            for j in range(7):
+                gap[j] = turns_removed(points[0, j] - q[j] + pi) - pi
+            along = np.sum(gap * tangent)
+            across = sqrt(max(np.sum(gap * gap) - along * along, 0.0))
+            if 0.0 < along <= h and across <= 0.1 * along and np.sum(tangents[0] * tangent) > 0.0:
+                h, closing = along, True
+        while True:
             if h < SMALLEST_STEP:
-                return count, False
-        from_start = 0.0
-        ahead = 0.0
-        for j in range(7):
-            gap = turns_removed(moved[j] - start[j] + pi) - pi
-            from_start += gap * gap
-            ahead += gap * tangents[0, j]
-        if count > 2 and sqrt(from_start) < h and ahead >= 0.0 and np.sum(following * tangents[0]) > 0.0:
-            return count, True
+                return count, STUCK
+            for j in range(7):
+                moved[j] = q[j] + h * tangent[j]
+            settled, size, rotation = corrected(moved, q, tangent, h, target, real, bounds, work)
+            if not settled or not described(moved, size, rotation, tangent, model, work, following,
+                                            following_gradient, following_state):
+                h *= 0.5
+                closing = False
+                continue
+            overlap = max(OVERLAP, 2.02 * following_state[3] * following_state[0] + 1e-14)
+            if closing:  # the first point's own curve point, and the distance to it, within the overlap too
+                apart = 0.0
+                for j in range(7):
+                    apart += (turns_removed(moved[j] - points[0, j] + pi) - pi) ** 2
+                overlap = max(overlap, 2.02 * first + sqrt(apart) + 1e-14)
+            reach = h + overlap
+            radius = certified(state, bounds, reach, overlap)
+            spread = arm_angle_bound(state, bounds, reach + radius) * (reach + radius)
+            off = 0.0
+            for j in range(7):
+                off += (moved[j] - q[j] - h * tangent[j]) ** 2
+            if radius < 0.0 or not spread <= ARM_ANGLE_STEP or sqrt(off) > radius + overlap:
+                h *= 0.5
+                closing = False
+                continue
+            state_of_limits = classified(q, tangent, reach, radius, model, real_phase, limits, step_signs)
+            undecided = (step_signs[0] == 0 or step_signs[1] == 0 or step_signs[2] == 0 or state_of_limits == UNDECIDED
+                         or state[5] * following_state[5] < 0.0)
+            if undecided and spread > RESOLUTION and h > 4.0 * overlap:
+                h *= 0.5
+                closing = False
+                continue
+            break
+        signs[count - 1] = step_signs
+        inside[count - 1] = state_of_limits
+        spreads[count - 1] = spread
+        if closing and apart <= 1e-18:  # landed on the first point (to 1e-9 rad)
+            points[count] = moved
+            tangents[count] = following
+            angles[count] = following_state[4]
+            rates[count] = following_state[5]
+            return count + 1, CLOSED
         q[:] = moved
-        direction[:] = following
-        rate = np.sum(gradient * direction)
-        h = min(step, 1.5 * h)
-    return count, False
-
-
-@kernel
-def point_at(q, direction, distance, target, real, model, work, out, following):
-    """The self-motion's point on the hyperplane through ``q + distance direction`` normal to ``direction``
-    (:func:`on_curve`, ``q`` a point of the curve and ``direction`` its tangent there) into ``out`` (7,); returns
-    whether it settled, its arm angle and ``d psi / ds`` along its unit tangent, which goes into ``following`` (7,)
-    in the sense of ``direction``."""
-    e, gradient, jac = work[3], work[4], work[5]
-    if not on_curve(q, direction, distance, target, real, work, e, out):  # the Jacobian is at out
-        return False, 0.0, 0.0
-    if not tangent(jac, direction, following):
-        return False, 0.0, 0.0
-    psi = arm_angle_one(out, model[0], model[1], model[2], model[3], work[2], gradient, True)
-    return True, psi, np.sum(gradient * following)
+        tangent[:] = following
+        gradient[:] = following_gradient
+        state[:] = following_state

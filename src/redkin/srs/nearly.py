@@ -44,12 +44,13 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin import _chain_kernels
 from redkin._compiled import kernel_array, run_batch
 from redkin.chain import SerialChain
 from redkin.circle import HALF_PI
 from redkin.errors import RedkinError
 from redkin.srs import _nearly_kernels
-from redkin.srs._ik_kernels import BAD_POSE
+from redkin.srs._ik_kernels import A4, BAD_POSE, D_EW
 from redkin.srs._targets import as_poses, check_psi, raise_for_bad_pose
 from redkin.srs.branches import BRANCHES, Branch, branch_of_theta, parse_branch
 from redkin.srs.conventions import departures, model_error, neighbour_form
@@ -139,6 +140,33 @@ class NearlySRS:
         squared = np.sum((shoulder - wrist) ** 2, axis=-1)  # C + A cos + B sin at 0, pi/2, pi
         mean = 0.5 * (squared[0] + squared[2])
         return float(np.arctan2(squared[1] - mean, squared[0] - mean))
+
+    @cached_property
+    def kernel_bounds(self) -> np.ndarray:
+        """The constants of the certified self-motion (:mod:`redkin.srs._self_motion_kernels`, docs/srs.md eqs. C3
+        and N6): the position rows' scale ``c`` (2 over the longest lever arm), the sum of the squares of the bounds
+        ``c rho_max(i, j, m)`` of their third derivatives (``rho_k`` the lengths of the links after joint ``k``, the
+        tool's included: no point of the tool lies farther from joint ``k``'s axis), the sums over the rotation
+        rows' 343 third derivatives of ``S``, ``S^2``, ``T``, ``T^2`` and ``S T``
+        (:func:`redkin.srs._self_motion_kernels.third_bound`), and for the arm angle's gradient the Lipschitz
+        constant of the neighbour's wrist point, joints 1-4's lever arms to it (the lengths of the neighbour's links
+        from the joint to the wrist) and the forearm's ``hypot(a_4, d_ew)``."""
+        links, ends, standard = self.kernel_real
+        lengths = np.hypot(links[:, _chain_kernels.A], links[:, _chain_kernels.D])
+        tool = float(np.linalg.norm(ends[1][:3, 3]))
+        first = 0 if standard else 1  # a modified-DH row's translation comes before its joint's axis
+        levers = np.array([lengths[k + first:].sum() + tool for k in range(7)])
+        scale = 2.0 / levers[0]
+        i, j, m = np.meshgrid(np.arange(7), np.arange(7), np.arange(7), indexing="ij")
+        position = np.sum((scale * levers[np.maximum(np.maximum(i, j), m)]) ** 2)
+        s = (m < j).astype(float) + (m < i) + (j < i)
+        t = ((m < j).astype(float) + (m < i)) * (j < i)
+        neighbour = self.neighbour._links
+        reaching = np.hypot(neighbour[:, _chain_kernels.A], neighbour[:, _chain_kernels.D])
+        wrist = np.array([reaching[k:5].sum() for k in range(4)])
+        arm = self.geometry.kernel_arm
+        return np.concatenate([[scale, position, s.sum(), (s * s).sum(), t.sum(), (t * t).sum(), (s * t).sum(),
+                                np.sqrt(np.sum(wrist * wrist))], wrist, [np.hypot(arm[A4], arm[D_EW])]])
 
     @cached_property
     def kernel_limits(self) -> np.ndarray:
