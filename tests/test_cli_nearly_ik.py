@@ -118,7 +118,8 @@ def test_every_solution_lists_both_solutions_of_a_branch_where_the_arm_angle_tur
     one = json.loads(capsys.readouterr().out)["solutions"]
     assert main([*argv, "--every-solution"]) == 0
     every = json.loads(capsys.readouterr().out)
-    assert len(one) == 1 and every["missing"] == [] and every["solutions"][0] == one[0]
+    assert len(one) == 1 and one[0]["others"] == 1 and every["missing"] == []
+    assert np.abs(np.subtract(every["solutions"][0]["q"], one[0]["q"])).max() < 1e-9  # the closed form's first
     q = np.array([s["q"] for s in every["solutions"]])
     assert len(q) == 2 and np.abs(np.angle(np.exp(1j * (q[1] - q[0])))).max() > 0.1  # two solutions, apart
     arm = nearly_srs(chain)
@@ -128,6 +129,42 @@ def test_every_solution_lists_both_solutions_of_a_branch_where_the_arm_angle_tur
     assert all(s["within_limits"] == bool(chain.within_limits(s["q"], 1e-9, wrap=True)) for s in every["solutions"])
     assert main([*argv[:-1], "--every-solution"]) == 0
     assert [line.split()[0] for line in capsys.readouterr().out.splitlines()] == ["-++", "-++"]
+
+
+def test_q0_picks_the_branch_solution_nearest_it(capsys):
+    """Issue 38, item 4: where a branch has two solutions at the arm angle, ``--q0`` near the second returns it, and
+    the output says the branch has another."""
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from redkin.urdf import load_urdf
+    from tests.test_srs_nearly_self_motion import TWO_SOLUTIONS
+
+    gen3 = EXAMPLES / "gen3.urdf"
+    chain = load_urdf(gen3, base="base_link", tip="end_effector_link")
+    pose = chain.fk(np.array(TWO_SOLUTIONS))
+    argv = ["ik", str(gen3), "--base", "base_link", "--tip", "end_effector_link", *_pose_argv(pose), "--psi", "1.5",
+            "--branch", "-++", "--json"]
+    assert main([*argv, "--every-solution"]) == 0
+    first, second = (np.array(s["q"]) for s in json.loads(capsys.readouterr().out)["solutions"])
+    for wanted in (first, second):
+        assert main([*argv, "--q0", *map(repr, (wanted + 0.01).tolist())]) == 0
+        (picked,) = json.loads(capsys.readouterr().out)["solutions"]
+        assert np.abs(np.array(picked["q"]) - wanted).max() < 1e-9 and picked["others"] == 1
+    assert main([*argv[:-1], "--q0", *map(repr, second.tolist())]) == 0
+    line = capsys.readouterr().out.strip()
+    assert line.startswith("-++") and "1 other solution of -++ at this psi: --every-solution lists them" in line
+
+
+def test_q0_shifts_an_exact_arms_solution_by_whole_turns(capsys):
+    argv, value = _reachable("pa10-7c")
+    assert main(["ik", "pa10-7c", *argv, "--psi", value, "--json"]) == 0
+    (plain,) = json.loads(capsys.readouterr().out)["solutions"]
+    assert plain["others"] == 0
+    near = np.array(plain["q"]) + np.array([0, 0, 0, 0, 0, 0, 2.0 * np.pi])
+    assert main(["ik", "pa10-7c", *argv, "--psi", value, "--json", "--q0", *map(repr, near.tolist())]) == 0
+    (shifted,) = json.loads(capsys.readouterr().out)["solutions"]
+    shifted_q, plain_q = np.array(shifted["q"]), np.array(plain["q"])
+    np.testing.assert_allclose(np.angle(np.exp(1j * (shifted_q - plain_q))), 0.0, atol=1e-12)  # the same solution
+    assert np.all(np.abs(shifted_q - near) <= np.abs(plain_q - near) + 1e-12)  # turned towards q0
 
 
 def test_every_solution_on_an_exact_arm_is_its_one_per_branch(capsys):

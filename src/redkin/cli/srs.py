@@ -23,6 +23,7 @@ from redkin.cli.common import (
     joint_vector,
     load_robot,
     out_of_reach,
+    plural,
     plus_minus,
     print_json,
     reach_reason,
@@ -54,8 +55,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     group.add_argument("--all", action="store_true", help="all eight branches")
     solve.add_argument("--every-solution", action="store_true",
                        help="with --psi on a nearly S-R-S arm: every solution of each asked branch, two where the arm "
-                            "angle turns back along the real arm's self-motion (redkin.srs.branch_solutions, about "
-                            "0.1-0.4 s per branch); an exact arm has one per branch")
+                            "angle turns back along the real arm's certified self-motion (redkin.srs.branch_solutions, "
+                            "about 0.1-1 s per pose); an exact arm has one per branch")
     add_srs_tolerance_argument(solve)
     add_numerical_arguments(solve)
     add_output_flags(solve)
@@ -154,12 +155,19 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     within = result.within_limits.reshape(exists.shape)
     found = [[[(q[k, b], bool(within[k, b]))] if exists[k, b] else [] for b in range(len(result.branches))]
              for k in range(len(q))]
-    if args.every_solution:
-        _add_every_solution(chain, poses.reshape(-1, 4, 4), value, result.branches, found, args.srs_tolerance)
+    q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     reach = result.reach._replace(out=result.reach.out.reshape(-1), distance=result.reach.distance.reshape(-1))
+    others = [[0] * len(result.branches) for _ in found]
+    if parameter == "psi" and (args.every_solution or q0 is not None or not batch):
+        _add_every_solution(chain, poses.reshape(-1, 4, 4), value, result.branches, found, others, reach.out,
+                            args.srs_tolerance, q0, args.every_solution)
+    if q0 is not None:  # each solution's joint values nearest q0 modulo whole turns
+        found = [[[(chain.nearest_in_range(one, near=q0), inside) for one, inside in row] for row in pose_rows]
+                 for pose_rows in found]
     entries: list[dict[str, Any]] = [{
         "index": k,
-        "solutions": [{"branch": str(label), "q": angles_out(one, args.deg), "within_limits": inside}
+        "solutions": [{"branch": str(label), "q": angles_out(one, args.deg), "within_limits": inside,
+                       "others": others[k][b]}
                       for b, label in enumerate(result.branches) for one, inside in found[k][b]],
         "missing": [str(label) for b, label in enumerate(result.branches) if not found[k][b]],
         **reach_reason(reach, k),
@@ -180,26 +188,45 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
             print(f"{label}no solution of {asked} at {parameter} = {fixed(angles_out(value, args.deg))} {unit}{why}")
         for s in entry["solutions"]:
             note = "" if s["within_limits"] else "  (outside limits)"
+            if s["others"]:
+                note += (f"  ({plural(s['others'], 'other solution')} of {s['branch']} at this {parameter}: "
+                         "--every-solution lists them)")
             print(f"{label}{s['branch']}  {format_values(s['q'])}  [{unit}]{note}")
     return code
 
 
 def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
-                        found: list[list[list[tuple[np.ndarray, bool]]]], tolerance: float | None) -> None:
-    """Replace ``found[k][b]`` (the closed form's solution of branch ``b`` at pose ``k`` and whether it is within
-    the limits, if any) by every solution of the branch at ``psi`` on a nearly S-R-S arm
-    (:func:`redkin.srs.branch_solutions`: the closed form's first, each joint shifted by whole turns into its range
-    where it can be); nothing on an exact arm, which has one per branch."""
-    from redkin.srs import branch_solutions, nearly_srs
+                        found: list[list[list[tuple[np.ndarray, bool]]]], others: list[list[int]],
+                        out: np.ndarray, tolerance: float | None, q0: np.ndarray | None, every: bool) -> None:
+    """On a nearly S-R-S arm, every solution of each branch ``b`` at ``psi`` for pose ``k``
+    (:func:`redkin.srs.branch_solutions` on the pose's certified self-motion, the closed form's first, each joint
+    shifted by whole turns into its range where it can be, nearest ``q0`` where given): all of them into
+    ``found[k][b]`` where ``every``, else the one nearest ``q0`` (without ``q0`` the closed form's), and how many
+    others there are into ``others[k][b]``.  Nothing on an exact arm, which has one per branch, nor for a pose
+    proven out of reach (``out``)."""
+    from redkin.srs import branch_solutions, nearly_srs, self_motions
     from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
 
     if arm_angle_class(chain, tolerance).kind != NEARLY_SRS:
         return
     arm = nearly_srs(chain) if tolerance is None else nearly_srs(chain, tolerance)
-    for pose, row in zip(poses, found):
+    for k, (pose, row) in enumerate(zip(poses, found)):
+        if out[k]:
+            continue
+        curves = self_motions(arm, pose)
         for b, label in enumerate(branches):
-            every = chain.nearest_in_range(branch_solutions(arm, pose, psi, label))
-            row[b] = [(q, bool(chain.within_limits(q, tolerance=1e-9, wrap=True))) for q in every]
+            solutions = branch_solutions(arm, pose, psi, label, curves)
+            solutions = chain.nearest_in_range(solutions, near=None if q0 is None else np.broadcast_to(
+                q0, solutions.shape))
+            listed = [(q, bool(chain.within_limits(q, tolerance=1e-9, wrap=True))) for q in solutions]
+            if not listed:
+                continue
+            others[k][b] = 0 if every else len(listed) - 1
+            if every:
+                row[b] = listed
+            else:
+                nearest = 0 if q0 is None else int(np.argmin(np.linalg.norm(solutions - q0, axis=-1)))
+                row[b] = [listed[nearest]]
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
