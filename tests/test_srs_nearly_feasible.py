@@ -12,6 +12,8 @@ the circle) and the ROS-Industrial iiwa:
 - the narrow islands and gaps that a grid of 720 arm angles misses, found by the benchmark near a singular wrist
   or shoulder (``benchmarks/README.md``, issue 27), are in the set exactly, checked on a window sampled 10^-5 rad
   apart;
+- **a straight wrist's gap is left out** (issue 38): on Gen3 poses with the wrist within 1e-4 rad of straight, the
+  arm angles where the branch has no solution (by ``nearly.ik`` and on the self-motion) are not in the set;
 - **between the neighbour's sets**: the set holds the neighbour's exact set for the limits tightened by its
   ``delta`` and lies within the one for the limits loosened by it, where both arms solve the branch everywhere;
 - :func:`redkin.srs.nearly.self_motion_rates` equals the central differences of the polished solutions in the arm
@@ -30,7 +32,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from redkin.errors import RedkinError
-from redkin.srs import BRANCHES, feasible_arm_angles_nearly, nearly_srs
+from redkin.srs import BRANCHES, branch_solutions, feasible_arm_angles_nearly, nearly_srs
 from redkin.srs.branches import parse_branch
 from redkin.srs.nearly import NearlySRS, arm_angle, branch_of, ik, self_motion_rates
 from tests.support.nearly_witness import exact, witnessed
@@ -196,6 +198,37 @@ def test_branches_near_a_singular_shoulder_are_found(name, q, branch, near):
     assert np.abs(np.angle(np.exp(1j * (arm_angle(arm, solved.q[:, 0]) - psi)))).max() < 1e-8
     assert np.all(branch_of(arm, solved.q[:, 0]) == BRANCHES.index(parse_branch(branch)))
     assert _disagreements(arm, pose, branch, psi).size == 0
+
+
+#: Gen3 configurations (examples/gen3.urdf, its default tip) with the wrist within 1e-4 rad of straight, the branch,
+#: and the gap where the branch has no solution (issue 38): 0.46 and 3.2 mrad wide, narrower than the grid of 720 arm
+#: angles of the sampled method this module replaced, which claimed them feasible.  At their ends the self-motion
+#: turns back.
+STRAIGHT_WRIST_GAPS = [
+    ([0.625477333023, 1.986069004848, 1.378428451226, -1.373964050047, -0.999168575444, -8.5434316e-05,
+      -2.473673477172], "+-+", (1.95612, 1.95657)),
+    ([1.581690519095, -0.602769142248, 2.393739422056, 0.449958465053, 0.525281269149, 0.000308023968,
+      0.882251219064], "+-+", (0.64201, 0.64518)),
+]
+
+
+@pytest.mark.parametrize(("q", "branch", "gap"), STRAIGHT_WRIST_GAPS)
+def test_a_straight_wrists_gap_is_left_out(q, branch, gap):
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from redkin.urdf import load_urdf
+
+    arm = nearly_srs(load_urdf(EXAMPLES / "gen3.urdf"))
+    pose = arm.chain.fk(np.array(q))
+    feasible = feasible_arm_angles_nearly(arm, pose, branch).feasible
+    psi = np.linspace(gap[0] - 1e-3, gap[1] + 1e-3, 4001)
+    solved = ik(arm, np.broadcast_to(pose, psi.shape + (4, 4)), psi, branch)
+    inside = (psi > gap[0]) & (psi < gap[1])
+    assert not solved.exists[inside, 0].any(), "the branch has a solution in the gap now"
+    assert solved.within_limits[~inside, 0].mean() > 0.9  # feasible on either side
+    assert not np.any(np.asarray(feasible.contains(psi)) & inside)
+    assert gap[1] - gap[0] < 2.0 * np.pi / 720.0  # narrower than the replaced method's grid
+    for angle in psi[inside][::400]:  # no solution of the branch on the self-motion either
+        assert len(branch_solutions(arm, pose, float(angle), branch)) == 0
 
 
 @settings(max_examples=20, deadline=None)
