@@ -27,14 +27,16 @@ EQUATIONS = {
     "F": [f"F{k}" for k in range(1, 11)],
     # redkin's numerical pose IK (docs/numerical-ik.md), cited [N1] .. [N5]
     "N": [f"N{k}" for k in range(1, 6)],
+    # redkin's certified self-motion of nearly S-R-S arms (docs/srs.md), cited [C1] .. [C6]
+    "C": [f"C{k}" for k in range(1, 7)],
 }
 
-HEADING = re.compile(r"^## (\d{3}|F|N):")
+HEADING = re.compile(r"^## (\d{3}|F|N|C):")
 NAME = re.compile(r"`(redkin(?:\.\w+)+)`")
 LINK = re.compile(r"\]\(\.\./(src/redkin/[\w/]+\.py)\)")
 CITATION = re.compile(r"\[(\d{3}) eqs?\. ([0-9., -]+?)\]")
-#: A citation of our own derivations: ``[F2]``, or a range ``[F1]-[F7]`` (likewise ``[N1]``).
-OWN_CITATION = re.compile(r"\[([FN])(\d+)\](?:-\[[FN](\d+)\])?")
+#: A citation of our own derivations: ``[F2]``, or a range ``[F1]-[F7]`` (likewise ``[N1]``, ``[C1]``).
+OWN_CITATION = re.compile(r"\[([FNC])(\d+)\](?:-\[[FNC](\d+)\])?")
 
 
 def _rows() -> dict[str, list[list[str]]]:
@@ -94,7 +96,7 @@ def _cited(obj, paper: str) -> set[str]:
         text = inspect.getsource(target)
     except TypeError:  # a cached property or other descriptor
         text = inspect.getsource(target.func) if hasattr(target, "func") else (target.__doc__ or "")
-    if paper in ("F", "N"):
+    if paper in ("F", "N", "C"):
         return {f"{paper}{k}" for m in OWN_CITATION.finditer(text) if m.group(1) == paper
                 for k in range(int(m.group(2)), int(m.group(3) or m.group(2)) + 1)}
     return set().union(*(_expand(m.group(2)) for m in CITATION.finditer(text) if m.group(1) == paper))

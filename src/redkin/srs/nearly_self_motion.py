@@ -186,8 +186,9 @@ def _through(arm: NearlySRS, target: np.ndarray, seeds: np.ndarray, angles: np.n
 
 def feasible_along(curves: tuple[SelfMotion, ...] | list[SelfMotion], branch: str | Branch) -> ArcSet:
     """The arm angles of the certified arcs of ``curves`` that lie on ``branch`` and within the limits (module
-    docstring): each run of such steps gives the arc from the smallest to the largest arm angle at its points (from
-    the arm angle unwrapped along the run; the whole circle where it turns a whole turn)."""
+    docstring) [C6]: each run of such steps gives the arc from the smallest to the largest arm angle at its points
+    (from the arm angle unwrapped along the run, each step's change less than pi by its certificate; the whole circle
+    where it turns a whole turn)."""
     row = BRANCHES.index(parse_branch(branch))
     arcs = []
     for curve in curves:
