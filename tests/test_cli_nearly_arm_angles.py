@@ -54,6 +54,7 @@ def test_json_equals_the_api_in_degrees(capsys):
     np.testing.assert_allclose(np.radians(data["feasible"]).reshape(-1, 2),
                                np.array(feasible.feasible.arcs).reshape(-1, 2), atol=1e-12)
     assert data["feasible_wraps"] == [bool(lo > hi) for lo, hi in feasible.feasible.arcs]
+    assert data["complete"] is feasible.complete is True
     assert np.allclose(np.radians(data["singular"]["shoulder"]), singular.shoulder)
     nearest = data["singular"]["wrist_nearest"]
     assert np.allclose(np.radians([nearest["psi"], nearest["angle"]]), singular.wrist_nearest)

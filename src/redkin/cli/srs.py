@@ -343,6 +343,7 @@ def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
         "branch": str(result.branch),
         "feasible": _arcs(result.feasible, deg),
         "feasible_wraps": _wraps(result.feasible),
+        "complete": result.complete,
         "samples": result.samples,
         "singular": {
             "shoulder": [float(angles_out(a, deg)) for a in singular.shoulder],
@@ -360,6 +361,9 @@ def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
     print(f"{chain.name}, branch {result.branch}; angles in {angle_unit(deg)}")
     print(f"nearly S-R-S: {arm.describe()}")
     print(f"Psi (feasible, on the real arm): {_format_arcs(report['feasible'], deg)}")
+    if not result.complete:
+        print("  (certified arcs of the self-motion followed; it could not be followed whole within the work budget, "
+              "near a stretched elbow or a straight wrist or shoulder, so the set may miss arcs)")
     singular_report = report["singular"]
     print(f"singular shoulder: {_format_list(singular_report['shoulder'])}  wrist: "
           f"{_format_list(singular_report['wrist'])}  (axes 1 and 3, 5 and 7 parallel)")
