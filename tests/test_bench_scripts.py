@@ -283,22 +283,80 @@ def test_nearly_quick_run_of_the_jaco2():
 def test_nearly_feasible_run_in_parts_is_the_whole_run():
     """bench_nearly.py --feasible --feasible-first: poses 0-1 and then pose 2 flag what poses 0-2 flag in one run,
     naming each pose by its place in the one sequence (so that the issue's 1000 poses x 10^5 arm angles, hours on
-    this machine, can be run in parts)."""
+    this machine, can be run in parts); each pose's 8 sets come from one feasible_arm_angles_nearly_all, timed."""
     import bench_nearly
 
-    whole = bench_nearly.measure_feasible("gen3", 3, 96)
-    parts = [bench_nearly.measure_feasible("gen3", 2, 96), bench_nearly.measure_feasible("gen3", 1, 96, first=2)]
+    whole = bench_nearly.measure_feasible("gen3", 3, 96, ssik=False)
+    parts = [bench_nearly.measure_feasible("gen3", 2, 96, ssik=False),
+             bench_nearly.measure_feasible("gen3", 1, 96, first=2, ssik=False)]
     assert whole.pose_branches == sum(part.pose_branches for part in parts) == 24
     assert whole.missed + whole.false == parts[0].missed + parts[0].false + parts[1].missed + parts[1].false
-    assert any("poses 2-2 of its sequence" in line for line in parts[1].lines)
+    assert any("places 2-2 of its sequence" in line for line in parts[1].lines)
+    ((draw,),) = [result.draws for result in parts[1:]]
+    assert draw.kind == "random" and draw.poses == 1 and draw.seconds.shape == (1,) and draw.ssik_native is None
+    assert [len(result.draws[0].seconds) for result in (whole, *parts)] == [3, 2, 1]
 
-    def ends(result):  # the row "ends of computed arcs within one spacing of the sampled boundary | a/b (...)"
+    def ends(result):  # the row "ends of computed arcs within one spacing of the sampled boundary | a/b (...) |"
         (line,) = [line for line in result.lines if line.startswith("| ends of computed arcs")]
         agreeing, checked = line.split("|")[2].split("(")[0].strip().split("/")
         return np.array([int(agreeing), int(checked)])
 
     assert ends(whole)[1] > 0
     np.testing.assert_array_equal(ends(whole), ends(parts[0]) + ends(parts[1]))
-    assert not np.array_equal(ends(parts[1]), ends(bench_nearly.measure_feasible("gen3", 1, 96)))
+    assert not np.array_equal(ends(parts[1]), ends(bench_nearly.measure_feasible("gen3", 1, 96, ssik=False)))
     with pytest.raises(SystemExit):
         bench_nearly.main(["--feasible", "--feasible-first", "-1"])
+    with pytest.raises(SystemExit):
+        bench_nearly.main(["--feasible", "--feasible-poses", "0", "--feasible-near", "0"])
+
+
+@pytest.mark.parametrize("name", ["gen3", "jaco2", "iiwa14-rosi"])
+def test_nearly_feasible_near_draws_lie_next_to_singular_configurations(name):
+    """--feasible-near (issue 38): q6 within 1e-6..1e-3 rad of a value where the neighbour's theta_6 is 0 or pi, q2
+    the same for theta_2, q4 within 1e-5..1e-2 rad of the real arm's stretched elbow; within the limits; drawn one
+    pose at a time, so that a run in parts draws what one run draws."""
+    import bench_nearly
+
+    from redkin.srs import nearly_srs
+
+    arm = nearly_srs(bench_nearly.limited(bench_nearly.FEASIBLE_ARMS[name][1]()))
+    draws = bench_nearly.feasible_draws(arm, 2, 6)
+    assert [d.kind for d in draws] == ["random"] * 2 + [k for k in bench_nearly.DRAWS[1:] for _ in range(6)]
+    later = bench_nearly.feasible_draws(arm, 1, 2, first=4)
+    assert [(d.kind, d.index) for d in later] == [("random", 4)] + [(k, i) for k in bench_nearly.DRAWS[1:]
+                                                                     for i in (4, 5)]
+    for d in later:
+        (same,) = [e for e in bench_nearly.feasible_draws(arm, 6, 6) if (e.kind, e.index) == (d.kind, d.index)]
+        np.testing.assert_array_equal(d.q, same.q)
+    q = np.array([d.q for d in draws])
+    assert arm.chain.within_limits(q).all()
+    theta = arm.neighbour.offset + arm.neighbour.sign * q  # the neighbour's Table 1 angles
+    for kind, (joint, (small, large)) in bench_nearly.NEAR_DRAWS.items():
+        rows = [k for k, d in enumerate(draws) if d.kind == kind]
+        off = theta[rows, joint] - (arm.real_phase if kind == "stretched elbow" else 0.0)
+        period = 2.0 * np.pi if kind == "stretched elbow" else np.pi
+        gap = np.abs(np.mod(off + period / 2, period) - period / 2)
+        assert np.all((gap >= small * (1 - 1e-9)) & (gap <= large * (1 + 1e-9))), (kind, gap)
+        np.testing.assert_allclose(np.abs(np.sin(off)), gap, rtol=1e-4)  # the joint sits that far from singular
+
+
+def test_nearly_feasible_run_reports_each_draw_and_ssik_beside_it():
+    """One pose of each draw on the Gen3: a table column per draw, the 8 branches' time per pose, no false run, and
+    ssik's native call and feasible-swivel arcs timed on the same poses where ssik is installed."""
+    import bench_nearly
+
+    result = bench_nearly.measure_feasible("gen3", 1, 96, near=1)
+    assert [d.kind for d in result.draws] == list(bench_nearly.DRAWS)
+    assert all(d.poses == 1 and d.pose_branches == 8 and d.seconds.shape == (1,) for d in result.draws)
+    assert not result.false and result.pose_branches == 32
+    assert result.lines[result.lines.index("| measurement | random | straight wrist | straight shoulder | "
+                                           "stretched elbow |") + 1] == "|---|---|---|---|---|"
+    try:
+        import ssik  # noqa: F401
+    except ImportError:
+        assert all(d.ssik_native is None for d in result.draws)
+    else:
+        assert result.ssik.startswith("ssik 8.2") and "gen3_ik" in result.ssik, result.ssik
+        assert all(d.ssik_native.shape == (1,) and d.ssik_arcs.shape == (1,) for d in result.draws)
+    table = bench_nearly.feasible_table([result])
+    assert table[3].startswith("|---|") and [row.split(" | ")[1] for row in table[4:]] == list(bench_nearly.DRAWS)
