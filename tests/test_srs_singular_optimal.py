@@ -1,5 +1,7 @@
-"""Singular arm angles ([000 eqs. 31-34]), optimal arm angles ([000 eqs. 36-40]), path control (section 6.2.2) and
-paper section 6.2."""
+"""Singular arm angles ([000 eqs. 31-34], theta = 0 and pi), optimal arm angles ([000 eqs. 36-40]), path control
+(section 6.2.2) and paper section 6.2."""
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -45,6 +47,40 @@ def test_singular_arm_angle_is_found_where_the_configuration_is(q, joint):
     assert abs(np.sin(theta[joint - 1])) < 1e-7
     if q[0] == 0.0 and q[2] == 0.0:
         assert abs(abs(angles[0]) - np.pi) < 1e-9
+
+
+@pytest.mark.parametrize("name", ["gen3.urdf", "jaco2.urdf", "iiwa14_rosi.urdf"])
+@pytest.mark.parametrize("joint", [1, 5])
+@pytest.mark.parametrize("value", [0.0, np.pi])
+def test_a_pair_on_one_line_in_the_users_joint_values_is_singular(name, joint, value):
+    """Exact S-R-S arms whose zero pose is ``theta = pi`` of the Table 1 form: the neighbours of the examples' arms,
+    in the user's joint values (the Gen3's ``q_2 = 0`` and ``q_6 = 0`` are ``theta = pi``, the Jaco2's and the
+    iiwa's ``theta = 0``).  At ``q_2`` (``q_6``) = 0 or pi axes 1 and 3 (5 and 7) lie on one line, parallel or
+    antiparallel, by the chain's own frames; [000 eqs. 31-34] with their ``theta = pi`` counterpart give the
+    configuration's arm angle, and the solution at every singular arm angle has the pair on one line."""
+    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
+    from redkin.srs import nearly_srs
+    from redkin.urdf import load_urdf
+
+    chain = nearly_srs(load_urdf(Path(__file__).resolve().parents[1] / "examples" / name)).neighbour
+    first, second = (0, 2) if joint == 1 else (4, 6)
+
+    def off_line(q):  # the sine of the angle between the pair's axes (standard DH: joint k turns about z_(k-1))
+        frames = chain.frames(q)
+        return np.linalg.norm(np.cross(frames[first, :3, 2], frames[second, :3, 2]))
+
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        q = rng.uniform(-2.5, 2.5, 7)
+        q[joint] = value
+        assert off_line(q) < 1e-12
+        state = arm_angle_of(chain, q)
+        pose = chain.fk(q)
+        result = singular_arm_angles(chain, pose, branch_string(state))
+        angles = np.array(result.shoulder if joint == 1 else result.wrist)
+        assert angles.size and np.abs(np.angle(np.exp(1j * (angles - state.psi)))).min() < 1e-9
+        for psi in angles:
+            assert off_line(ik(chain, pose, psi, branch_string(state))) < 1e-7
 
 
 def test_no_singularity_for_generic_pose_and_degenerate_everywhere_case():
