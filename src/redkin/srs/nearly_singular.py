@@ -1,67 +1,89 @@
 """Singular arm angles of a nearly S-R-S arm: where the real arm's joint 1/3 or 5/7 pair aligns along the self-motion.
 
-On an exact S-R-S arm the shoulder is singular where ``theta_2 = 0`` [000 eqs. 31-32]: axes 1 and 3 coincide, and
-only ``theta_1 + theta_3`` is fixed; likewise the wrist where ``theta_6 = 0`` [000 eqs. 33-34].  The configurations
-with ``theta_2 = 0`` reach a set of poses of one dimension less, so most poses have no singular arm angle.
+On an exact S-R-S arm the shoulder is singular where ``theta_2 = 0`` or ``pi`` ([000 eqs. 31-32], and their
+counterpart for ``pi``, :mod:`redkin.srs.singular`): axes 1 and 3 lie on one line, parallel or antiparallel, and only
+``theta_1 + theta_3`` (``theta_1 - theta_3``) is fixed; likewise the wrist where ``theta_6 = 0`` or ``pi``
+[000 eqs. 33-34].  Which of the two a maker's zero pose is depends on the description: the Kinova Gen3's
+``q_2 = 0`` and ``q_6 = 0`` are ``theta = pi`` of the Table 1 form, the Jaco2's and the iiwa's ``theta = 0``.  The
+configurations with ``theta_2 = 0`` reach a set of poses of one dimension less, so most poses have no singular arm
+angle.
 
-On the real arm the pair's axes need not meet (the Gen3's axes 1 and 3 are 11.75 mm apart), so "coincide" becomes
-**aligned**: axes 1 and 3 (5 and 7) parallel, as the neighbour's are at ``theta_2 = 0`` (``theta_6 = 0``).  With
-the axes apart, joints 1 and 3 no longer undo each other there, the aligned configurations reach an open set of
-poses, and a self-motion near one of the neighbour's singular poses typically passes through alignment at two arm
-angles, where its ``theta_2`` changes sign: the branch ``(+, s4, s6)`` ends there and ``(-, s4, s6)`` goes on.
-Near such an arm angle the neighbour's closed form is ill-conditioned and :func:`redkin.srs.nearly.ik` may miss
-the solution or land on another sheet (docs/srs.md).
+On the real arm the pair's axes need not meet (the Gen3's axes 1 and 3 are 11.75 mm apart), so "on one line"
+becomes **aligned**: axes 1 and 3 (5 and 7) parallel or antiparallel, measured by the signed angle ``sigma`` of
+:func:`alignment_angles`.  With the axes apart, joints 1 and 3 no longer undo each other there, the aligned
+configurations reach an open set of poses, and a self-motion near one of the neighbour's singular poses typically
+passes through alignment at two arm angles, where its ``theta_2`` changes sign: the branch ``(+, s4, s6)`` ends
+there and ``(-, s4, s6)`` goes on.  Near such an arm angle the neighbour's closed form is ill-conditioned, the
+real arm can have two solutions on one branch, and :func:`redkin.srs.nearly.ik` may miss the solution or land on
+another sheet (docs/srs.md).  So the search runs along the self-motion itself, not over ``nearly.ik``'s rows.
 
 :func:`singular_arm_angles_nearly` computes, for one pose and branch, on the real arm:
 
-* the **singular arm angles** of the shoulder (wrist): the arm angles of configurations that reach the pose with
-  the pair aligned, ``sigma(q) = 0`` (:func:`alignment_angles`), and the branch's other two signs.  Each is found
-  by Newton's method on the seven equations ``FK(q) = T``, ``sigma(q) = 0`` (:func:`redkin.srs.nearly_search.polished`)
-  from the branch's solution where ``|sigma|`` has a local minimum on a grid of arm angles (with the neighbour's own
-  nearest approach, the largest ``cos theta_2`` [000 eq. 14] or ``cos theta_6`` [000 eq. 18], merged in), and is
-  certified: the pose within 1e-9 m and 1e-9 rad, ``|sigma|`` within 1e-9 rad, the arm angle that of the
-  configuration (:func:`redkin.srs.nearly.arm_angle`);
-* the **nearest approach** of each pair to alignment along the branch's certified solutions: the arm angle where
-  ``|sigma|`` is smallest, located by bisection on its derivative along the self-motion
-  (:func:`redkin.srs.nearly_search.located_extremum`) to 1e-10 rad, and ``|sigma|`` there.
+1. the branch's solutions on a grid of arm angles, with the neighbour's nearest approaches to ``theta = 0`` and
+   ``pi`` (the largest and smallest ``cos theta_2`` [000 eq. 14] and ``cos theta_6`` [000 eq. 18]) merged in;
+2. the curves of the self-motion (:func:`redkin.srs.nearly_self_motion.curves_through`) through those where
+   ``|sigma|`` of either pair has a local minimum on the grid, unless it is below :data:`_SINGULAR_START`;
+3. along each curve, every local minimum of ``|sigma|`` over its points with the branch's other two signs, and over
+   its points on the branch, located between the neighbouring points by sampling the curve (the solutions with the
+   tangent's largest joint at given values, :func:`redkin.srs.nearly_search.polished`) and shrinking the bracket
+   to :data:`_ZOOM_END` rad of arc length;
+4. the **singular arm angles**: from each located minimum of the first kind, and each of the grid's minima, below
+   :data:`_START`, Newton's method on the seven equations ``FK(q) = T``, ``sigma(q) = 0``; each result is certified
+   (the pose within 1e-9 m and 1e-9 rad, ``|sigma|`` within 1e-9 rad, the branch's other two signs), its arm angle
+   that of the configuration (:func:`redkin.srs.nearly.arm_angle`);
+5. the **nearest approach** of each pair to alignment along the branch's certified solutions: the smallest
+   ``|sigma|`` of the located minima of the second kind, of the grid's minima and of the aligned configurations
+   (where the branch ends at alignment), and its arm angle.
 
-What is not claimed: a dip of ``|sigma|`` narrower than the grid that the neighbour's nearest approach does not
-announce, and an aligned configuration whose Newton start is not in its basin.
+What is not claimed: a curve of the self-motion through none of the grid's minima; a second alignment between two
+neighbouring points of a curve; an alignment on a curve that is not followed (its grid sample within
+:data:`_SINGULAR_START` of alignment) and that Newton's method does not reach from the grid.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
+from redkin.circle import wrap_angle
 from redkin.errors import RedkinError
 from redkin.srs.branches import Branch, branch_of_theta, parse_branch
 from redkin.srs.nearly import NearlySRS, arm_angle
-from redkin.srs.nearly_search import located_extremum, merged, polished, solutions_at
+from redkin.srs.nearly_search import merged, polished, solutions_at
+from redkin.srs.nearly_self_motion import SelfMotion, curves_through
 from redkin.srs.singular import SingularArmAngles, singular_arm_angles
 
-#: Arm angles of the uniform grid.
-_SAMPLES = 720
 #: The joints (0-based) of the shoulder's and the wrist's pair, the joint between them, and the branch signs that
 #: stay fixed through the pair's alignment (Table 1 signs of theta_2, theta_4, theta_6).
 _PAIRS = {"shoulder": (0, 2, 1, (1, 2)), "wrist": (4, 6, 5, (0, 1))}
-#: A local minimum of ``|sigma|`` on the grid larger than this [rad] starts no Newton search.
+#: Arm angles of the grid.
+_SAMPLES = 720
+#: A grid sample whose ``|sigma|`` is at most this [rad] is not followed along the self-motion (on a pair whose axes
+#: meet, the Gen3's none, it is next to a singular configuration, where the certified steps shrink without end); it
+#: starts a Newton search for alignment as it is.
+_SINGULAR_START = 1e-6
+#: A located minimum of ``|sigma|`` larger than this [rad] starts no Newton search for alignment.
 _START = 0.2
-#: The turns ``d`` of :func:`_split` [rad].
-_SPLITS = np.linspace(-np.pi, np.pi, 12, endpoint=False)
-#: Arm-angle offsets [rad] at which the self-motion through an aligned configuration is followed.
-_TRACE = 1e-5 * 2.0 ** np.arange(12)
+#: Points per sampling of a bracket along a curve, and the spacing [rad of arc length] at which it stops.
+_ZOOM, _ZOOM_END = 17, 1e-9
+#: Sizes of ``|sigma|`` along a curve below this [rad] are one: a stretch of aligned points (an exact pair's
+#: configurations at a singular pose, where only ``theta_5 + theta_7`` is fixed) has its rounding's local minima.
+_FLOOR = 1e-10
+#: Neighbouring sizes of ``|sigma|`` along a curve equal to this relative difference are one run
+#: (:func:`_local_minima`).
+_EQUAL = 1e-9
 #: Singular arm angles closer than this [rad] are one.
 _SAME = 1e-9
 
 
 class Alignment(NamedTuple):
     """Where a pair of axes comes nearest to alignment along a branch: the arm angle [rad] and the angle between
-    the axes there [rad]."""
+    the axes' lines there [rad] (0 where they are parallel or antiparallel, at most pi/2)."""
 
     psi: float
     angle: float
@@ -74,13 +96,13 @@ class NearlySingular:
     Attributes
     ----------
     shoulder, wrist : tuple of float
-        Arm angles [rad] at which a configuration reaching the pose has axes 1 and 3 (5 and 7) aligned, sorted;
-        empty if none was found.
+        Arm angles [rad] at which a configuration reaching the pose has axes 1 and 3 (5 and 7) aligned (parallel or
+        antiparallel) and the branch's other two signs, sorted; empty if none was found.
     shoulder_q, wrist_q : numpy.ndarray, shape (K, 7)
         Those configurations, certified (module docstring), in the order of the arm angles.
     shoulder_nearest, wrist_nearest : Alignment or None
-        The pair's nearest approach to alignment along the branch's certified solutions; ``None`` where the branch
-        has none at any sampled arm angle.
+        The pair's nearest approach to alignment along the branch's certified solutions (module docstring, step
+        5); ``None`` where the branch has none at any sampled arm angle.
     branch : Branch
     neighbour : SingularArmAngles or None
         The exact neighbour's singular arm angles [000 eqs. 31-34]; ``None`` where it cannot reach the pose.
@@ -97,23 +119,25 @@ class NearlySingular:
 
 
 def alignment_angles(arm: NearlySRS, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The signed angles ``sigma`` [rad] of the real arm's axes 1 and 3, and 5 and 7, from their alignment at joint
-    values ``q`` (..., 7).
+    """The signed angles ``sigma`` [rad] of the real arm's axes 1 and 3, and 5 and 7, from alignment at joint values
+    ``q`` (..., 7), each in ``[-pi/2, pi/2]``.
 
-    Zero where the pair is parallel as the neighbour's is at ``theta_2 = 0`` (``theta_6 = 0``); the sign is that of
-    the turn from axis 1 to axis 3 about axis 2 (5 to 7 about 6), so that ``sigma`` is smooth through alignment;
-    ``sigma = +-theta_2`` (``+-theta_6``) on an arm whose twists are right angles.
+    Aligned means parallel or antiparallel: on the neighbour, ``theta_2 = 0`` or ``pi`` (``theta_6 = 0`` or ``pi``)
+    of the Table 1 form [000 eqs. 31-34], whichever of the two the user's ``q_2 = 0`` is (``pi`` on the Kinova
+    Gen3).  ``|sigma|`` is the angle between the axes' lines, ``arctan2(|a x b|, |a . b|)`` for unit directions
+    ``a``, ``b``; its sign is that of ``(a x b) . m`` (``m`` axis 2, or 6) times that of ``a . b``, so that ``sigma``
+    is smooth through both alignments; ``sigma = +-theta_2`` (``+-theta_6``) from the nearer of 0 and pi on an arm
+    whose twists are right angles.
     """
     directions, _ = arm.chain.joint_axes(q)
-    reference, _ = arm.chain.joint_axes(arm.geometry.q_of_theta(np.zeros(7)))
     angles = []
     for first, second, middle, _ in _PAIRS.values():
-        sense = np.sign(reference[first] @ reference[second])
-        a, b = directions[..., first, :], sense * directions[..., second, :]
+        a, b = directions[..., first, :], directions[..., second, :]
         cross = np.cross(a, b)
-        turn = np.sign(np.einsum("...i,...i->...", cross, directions[..., middle, :]))
-        angles.append(np.where(turn < 0.0, -1.0, 1.0) * np.arctan2(np.linalg.norm(cross, axis=-1),
-                                                                   np.einsum("...i,...i->...", a, b)))
+        dot = np.einsum("...i,...i->...", a, b)
+        turn = np.einsum("...i,...i->...", cross, directions[..., middle, :])
+        sign = np.where(turn < 0.0, -1.0, 1.0) * np.where(dot < 0.0, -1.0, 1.0)
+        angles.append(sign * np.arctan2(np.linalg.norm(cross, axis=-1), np.abs(dot)))
     return angles[0], angles[1]
 
 
@@ -147,44 +171,145 @@ def singular_arm_angles_nearly(arm: NearlySRS, pose: ArrayLike, branch: str | Br
     if neighbour is not None:
         psi = merged(psi, _neighbour_nearest(neighbour))
     q, exists = solutions_at(arm, pose, psi, label)
+    sizes = np.where(exists, np.abs(np.array(alignment_angles(arm, q))), np.inf)
+    minima = np.unique(np.concatenate([_local_minima(size, closed=True) for size in sizes]))
+    followed = minima[sizes[:, minima].min(axis=0) > _SINGULAR_START]
+    curves = curves_through(arm, pose, q[followed]) if followed.size else ()
     signs = np.array(arm.geometry.kernel_branch(label)[0])
+    tracks = [_track(arm, curve) for curve in curves]
     found: dict[str, tuple[list[float], np.ndarray, Alignment | None]] = {}
-    for k, (part, sigma) in enumerate(zip(_PAIRS, alignment_angles(arm, q))):
-        size = np.where(exists, np.abs(sigma), np.inf)
-
-        def pair_size(values: np.ndarray, k: int = k) -> np.ndarray:
-            return np.abs(alignment_angles(arm, values)[k])
+    for k, part in enumerate(_PAIRS):
 
         def pair_sigma(values: np.ndarray, k: int = k) -> np.ndarray:
             return alignment_angles(arm, values)[k]
 
-        minima = _local_minima(size)
-        approaches = [_refined(arm, pose, label, psi, q, size, m, pair_size) for m in minima]
-        starts = [m for m in minima if size[m] <= _START]
-        angles, configurations = _aligned(arm, pose, _split(arm, q[starts], _PAIRS[part][0]), pair_sigma, signs,
-                                          _PAIRS[part][3])
+        kept = list(_PAIRS[part][3])
+        located, on_branch = _located_minima(arm, pose, tracks, k, pair_sigma, signs, kept)
+        starts = np.concatenate([located[~on_branch], q[minima]])
+        angles, configurations = _aligned(arm, pose, starts[np.abs(pair_sigma(starts)) <= _START], pair_sigma, signs,
+                                          kept)
+        ends = located[on_branch]
+        approaches = ([Alignment(float(a), float(v)) for a, v in zip(psi[minima], sizes[k, minima]) if np.isfinite(v)]
+                      + [Alignment(float(a), float(v)) for a, v in zip(arm_angle(arm, ends), np.abs(pair_sigma(ends)))]
+                      + [Alignment(a, float(v)) for a, v in zip(angles, np.abs(pair_sigma(configurations)))])
         found[part] = (angles, configurations, min(approaches, key=lambda a: a.angle) if approaches else None)
     return NearlySingular(tuple(found["shoulder"][0]), tuple(found["wrist"][0]), found["shoulder"][1],
                           found["wrist"][1], found["shoulder"][2], found["wrist"][2], label, neighbour)
 
 
+def _neighbour_nearest(neighbour: SingularArmAngles) -> np.ndarray:
+    """The neighbour's nearest approaches to alignment: the arm angles of the largest and the smallest
+    ``cos theta_2 = -(a s + b c + c)`` [000 eq. 14] and ``cos theta_6 = a s + b c + c`` [000 eq. 18], nearest
+    ``theta = 0`` and ``theta = pi``."""
+    a_s, b_s, _ = neighbour.shoulder_coefficients
+    a_w, b_w, _ = neighbour.wrist_coefficients
+    return np.arctan2([-a_s, a_s, a_w, -a_w], [-b_s, b_s, b_w, -b_w])
+
+
+class _Track(NamedTuple):
+    """A curve's points (a closed curve's last, its first again, left out), tangents, branch signs (M, 3), ``sigma`` of
+    both pairs (2, M), and whether it is closed."""
+
+    q: np.ndarray
+    tangents: np.ndarray
+    signs: np.ndarray
+    sigma: np.ndarray
+    closed: bool
+
+
+def _track(arm: NearlySRS, curve: SelfMotion) -> _Track:
+    count = len(curve.q) - 1 if curve.closed else len(curve.q)
+    q = curve.q[:count]
+    return _Track(q, curve.tangents[:count], branch_of_theta(arm.geometry.theta_of_q(q), arm.real_phase),
+                  np.array(alignment_angles(arm, q)), curve.closed)
+
+
+def _located_minima(arm: NearlySRS, pose: np.ndarray, tracks: list[_Track], k: int, sigma, signs: np.ndarray,
+                    kept: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """The local minima of ``|sigma|`` of pair ``k`` along the curves, over their points with the branch's ``kept``
+    signs and over their points on the branch (``signs``), each located between its neighbouring points (module
+    docstring, step 3): the certified configurations (K, 7) and whether each is a minimum of the second kind."""
+    pair = [j for j in range(3) if j not in kept]
+    starts, tangents, lows, highs, kinds = [], [], [], [], []
+    for track in tracks:
+        points, count = track.q, len(track.q)
+        with_kept = np.all(track.signs[:, kept] == signs[kept], axis=-1)
+        size = np.maximum(np.abs(track.sigma[k]), _FLOOR)
+        for kind, mask in enumerate((with_kept, with_kept & (track.signs[:, pair[0]] == signs[pair[0]]))):
+            for m in _local_minima(np.where(mask, size, np.inf), track.closed):
+                before = points[m - 1] if m > 0 or track.closed else points[m]
+                after = points[(m + 1) % count] if m < count - 1 or track.closed else points[m]
+                gaps = np.asarray(wrap_angle(np.array([before, after]) - points[m])) @ track.tangents[m]
+                starts.append(points[m])
+                tangents.append(track.tangents[m])
+                lows.append(min(gaps[0], 0.0))
+                highs.append(max(gaps[1], 0.0))
+                kinds.append(kind)
+    if not starts:
+        return np.empty((0, 7)), np.empty(0, dtype=bool)
+    on_branch = np.array(kinds) == 1
+    checked = np.zeros((len(starts), 3), dtype=bool)
+    checked[:, kept] = True
+    checked[:, pair[0]] = on_branch
+    located = _along(arm, pose, np.array(starts), np.array(tangents), np.array(lows), np.array(highs), sigma, signs,
+                     checked)
+    return located, on_branch
+
+
+def _along(arm: NearlySRS, pose: np.ndarray, start: np.ndarray, tangent: np.ndarray, low: np.ndarray,
+           high: np.ndarray, sigma, signs: np.ndarray, checked: np.ndarray) -> np.ndarray:
+    """The points (K, 7) of smallest ``|sigma|`` whose branch signs are ``signs`` where ``checked`` (K, 3), on the
+    curves through ``start`` (K, 7) between the distances ``low`` and ``high`` along their ``tangent`` (K, 7): the
+    curve sampled at :data:`_ZOOM` points, the bracket shrunk to one spacing either side of the best point so far
+    until the spacing is below :data:`_ZOOM_END`.  The point at distance ``d`` is the solution with the tangent's
+    largest joint ``j`` at ``start_j + d t_j``, polished (:func:`redkin.srs.nearly_search.polished`) from
+    ``start + d t``."""
+    best, best_size = start.copy(), np.abs(sigma(start))
+    rows = np.arange(len(start))
+    joint = np.argmax(np.abs(tangent), axis=1)
+    centre = np.zeros(len(start))
+    while True:
+        distance = low[:, None] + (high - low)[:, None] * np.linspace(0.0, 1.0, _ZOOM)[None, :]
+        moved = start[:, None, :] + distance[..., None] * tangent[:, None, :]
+        size = np.full(distance.shape, np.inf)
+        for j in np.unique(joint):
+            group = joint == j
+            points, certified = polished(arm, moved[group].reshape(-1, 7), pose, partial(_joint_value, int(j)),
+                                         moved[group][..., j].reshape(-1))
+            own = branch_of_theta(arm.geometry.theta_of_q(points), arm.real_phase).reshape(-1, _ZOOM, 3)
+            fits = np.all((own == signs) | ~checked[group][:, None, :], axis=-1)
+            moved[group] = points.reshape(-1, _ZOOM, 7)
+            size[group] = np.where(certified.reshape(-1, _ZOOM) & fits,
+                                   np.abs(sigma(points)).reshape(-1, _ZOOM), np.inf)
+        k = np.argmin(size, axis=1)
+        better = size[rows, k] < best_size
+        best[better], best_size[better] = moved[rows[better], k[better]], size[rows[better], k[better]]
+        centre[better] = distance[rows[better], k[better]]
+        spacing = (high - low) / (_ZOOM - 1)
+        if spacing.max() < _ZOOM_END:
+            return best
+        low, high = np.maximum(low, centre - spacing), np.minimum(high, centre + spacing)
+
+
+def _joint_value(j: int, values: np.ndarray) -> np.ndarray:
+    """Joint ``j``'s values of joint values ``values`` (..., 7)."""
+    return values[..., j]
+
+
 def _aligned(arm: NearlySRS, pose: np.ndarray, starts: np.ndarray, sigma, signs: np.ndarray,
-             kept: tuple[int, int]) -> tuple[list[float], np.ndarray]:
+             kept: list[int]) -> tuple[list[float], np.ndarray]:
     """The certified aligned configurations Newton reaches from ``starts`` (M, 7) whose branch signs ``kept`` are
     those of ``signs``: their arm angles, sorted and each once, and the configurations (K, 7)."""
     if len(starts) == 0:
         return [], np.empty((0, 7))
     q, certified = polished(arm, starts, pose, sigma)
     q = q[certified]
-    q = np.concatenate([q, _traced_crossings(arm, pose, q, sigma)])
     theta = arm.geometry.theta_of_q(q)
-    same = np.all(branch_of_theta(theta, arm.real_phase)[:, kept] == signs[list(kept)], axis=-1)
-    q = q[same]
+    q = q[np.all(branch_of_theta(theta, arm.real_phase)[:, kept] == signs[kept], axis=-1)]
     psi = arm_angle(arm, q)
-    order = np.argsort(psi)
     angles: list[float] = []
     rows: list[np.ndarray] = []
-    for index in order:
+    for index in np.argsort(psi):
         if not angles or abs(np.angle(np.exp(1j * (psi[index] - angles[-1])))) > _SAME:
             angles.append(float(psi[index]))
             rows.append(q[index])
@@ -192,48 +317,6 @@ def _aligned(arm: NearlySRS, pose: np.ndarray, starts: np.ndarray, sigma, signs:
         angles.pop()
         rows.pop()
     return angles, np.array(rows).reshape(-1, 7)
-
-
-def _split(arm: NearlySRS, q: np.ndarray, first: int) -> np.ndarray:
-    """Newton starts (M * S, 7) from joint values ``q`` (M, 7): the pair's turns ``theta_1 + d``, ``theta_3 - d``
-    (``theta_5``, ``theta_7``) for :data:`_SPLITS` values of ``d``.  Near alignment the neighbour's pose depends on
-    their sum alone; the real arm's aligned configuration has one split, which the closed form does not know."""
-    theta = np.repeat(arm.geometry.theta_of_q(q), len(_SPLITS), axis=0)
-    turns = np.tile(_SPLITS, len(q))
-    theta[:, first] += turns
-    theta[:, first + 2] -= turns
-    return arm.geometry.q_of_theta(theta)
-
-
-def _traced_crossings(arm: NearlySRS, pose: np.ndarray, q: np.ndarray, sigma) -> np.ndarray:
-    """Further aligned configurations (K, 7) next to aligned ones ``q`` (M, 7): the self-motion through each is
-    followed (Newton's method at fixed arm angles, :func:`redkin.srs.nearly_search.polished`) over arm angles
-    :data:`_TRACE` rad either side, and where ``sigma`` changes sign between two of its points Newton solves
-    ``sigma = 0`` from the later one.  Near one of the neighbour's singular poses the self-motion passes through
-    alignment twice, often closer together than the grid's spacing."""
-    if len(q) == 0:
-        return np.empty((0, 7))
-    psi0 = np.repeat(arm_angle(arm, q), 2)
-    side = np.tile([1.0, -1.0], len(q))
-    current = np.repeat(q, 2, axis=0)
-    before = np.zeros(len(current))
-    alive = np.ones(len(current), dtype=bool)
-    found = []
-    for step in _TRACE:
-        target = psi0 + side * step
-        moved, certified = polished(arm, current[alive], pose, lambda values: arm_angle(arm, values),
-                                    target[alive])
-        rows = np.flatnonzero(alive)
-        alive[rows[~certified]] = False
-        rows = rows[certified]
-        current[rows] = moved[certified]
-        now = sigma(current[rows])
-        crossed = rows[(before[rows] != 0.0) & (np.sign(now) != np.sign(before[rows]))]
-        if crossed.size:
-            aligned, good = polished(arm, current[crossed], pose, sigma)
-            found.append(aligned[good])
-        before[rows] = now
-    return np.concatenate(found) if found else np.empty((0, 7))
 
 
 def _neighbour_singular(arm: NearlySRS, pose: np.ndarray, label: Branch) -> SingularArmAngles | None:
@@ -245,30 +328,26 @@ def _neighbour_singular(arm: NearlySRS, pose: np.ndarray, label: Branch) -> Sing
     return singular_arm_angles(arm.geometry, pose, label)
 
 
-def _neighbour_nearest(neighbour: SingularArmAngles) -> np.ndarray:
-    """The neighbour's nearest approaches: the arm angles of largest ``cos theta_2 = -(a s + b c + c)``
-    [000 eq. 14] and ``cos theta_6 = a s + b c + c`` [000 eq. 18]."""
-    a_s, b_s, _ = neighbour.shoulder_coefficients
-    a_w, b_w, _ = neighbour.wrist_coefficients
-    return np.array([np.arctan2(-a_s, -b_s), np.arctan2(a_w, b_w)])
+def _local_minima(size: np.ndarray, closed: bool) -> np.ndarray:
+    """Indices of the local minima of sizes sampled along a curve, the first and last samples neighbours where
+    ``closed``: one per run of neighbouring sizes equal to :data:`_EQUAL` (relative), at its smallest, where the runs
+    either side are larger (or ``inf``, a missing value, on one side and larger on the other).  A stretch that only
+    rounding varies (a joint pair that the self-motion leaves still) is one run, not thousands of minima."""
+    if len(size) == 0:
+        return np.empty(0, dtype=int)
 
+    def equal(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return np.isclose(a, b, rtol=_EQUAL, atol=0.0) | (np.isinf(a) & np.isinf(b))
 
-def _local_minima(size: np.ndarray) -> list[int]:
-    """Indices of the cyclic local minima of the sampled sizes (finite, no larger than either neighbour and
-    smaller than one; next to a missing solution, ``inf``, too)."""
-    before, after = np.roll(size, 1), np.roll(size, -1)
-    minimum = np.isfinite(size) & (size <= before) & (size <= after) & ((size < before) | (size < after))
-    return np.flatnonzero(minimum).tolist()
-
-
-def _refined(arm: NearlySRS, pose: np.ndarray, label: Branch, psi: np.ndarray, q: np.ndarray, size: np.ndarray,
-             m: int, pair_size) -> Alignment:
-    """The local minimum of the grid at index ``m`` located between its neighbours along the self-motion through
-    the grid's solution there (:func:`redkin.srs.nearly_search.located_extremum`)."""
-    count = len(psi)
-    low = psi[m - 1] - (2.0 * np.pi if m == 0 else 0.0)
-    high = psi[(m + 1) % count] + (2.0 * np.pi if m == count - 1 else 0.0)
-    located, q_located = located_extremum(arm, pose, label, pair_size, (float(psi[m]), q[m]), float(low),
-                                          float(high), maximum=False)
-    value = float(pair_size(q_located[None])[0])
-    return Alignment(located, value) if value <= size[m] else Alignment(float(psi[m]), float(size[m]))
+    run = np.concatenate([[0], np.cumsum(~equal(size[1:], size[:-1]))])
+    if closed and run[-1] > 0 and equal(size[:1], size[-1:])[0]:
+        run[run == run[-1]] = 0  # the last run goes on round into the first
+    order = np.lexsort((size, run))
+    lowest = order[np.searchsorted(run[order], np.unique(run))]
+    value = size[lowest]
+    if len(value) == 1:
+        return lowest[np.isfinite(value)]
+    padded = np.concatenate([value[-1:], value, value[:1]]) if closed else np.concatenate([[np.inf], value, [np.inf]])
+    before, after = padded[:-2], padded[2:]
+    minimum = np.isfinite(value) & (value <= before) & (value <= after) & ((value < before) | (value < after))
+    return lowest[minimum]
