@@ -95,7 +95,7 @@ def test_a_singular_arm_angle_is_marked_and_explained():
     pose = pose_from(np.array([0.55, 0.0, 0.767]), np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))
     curves = explorer_data(chain, pose, samples=64).branches[1]  # ++-: the paper's 6.2.1 set, singular at psi = 0
     marks = {m.label: m for m in curves.marks if m.kind == "singular"}
-    assert set(marks) == {"shoulder singular ψ (θ2 = 0)", "wrist singular ψ (θ6 = 0)"}
+    assert set(marks) == {"shoulder singular ψ (θ2 = 0 or π)", "wrist singular ψ (θ6 = 0 or π)"}
     for mark in marks.values():
         assert abs(curves.values[mark.index]) < 1e-9 and "one split" in mark.note
         assert curves.feasible_at[mark.index]  # psi = 0 lies in the closed set Psi

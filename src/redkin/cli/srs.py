@@ -32,6 +32,10 @@ from redkin.cli.common import (
 )
 from redkin.cli.ik_numerical import add_numerical_arguments, run_numerical
 
+#: The angle [rad] between two axes' lines at or below which they are aligned: the certificate of a singular arm
+#: angle (:func:`redkin.srs.singular_arm_angles_nearly`).
+_ALIGNED = 1e-9
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     solve = subparsers.add_parser(
@@ -340,6 +344,8 @@ def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
         "units": {"angles": f"{angle_unit(deg)} (every arm angle and angle below)"},
         "arcs": "[start, end] read counter-clockwise from start to end; the parallel *_wraps entry is true for an arc "
                 "through +-180 deg (+-pi rad), whose start is larger than its end",
+        "alignment": "a *_nearest angle is the signed angle between the pair's axes' lines: 0 where they are parallel "
+                     "or antiparallel",
         "branch": str(result.branch),
         "feasible": _arcs(result.feasible, deg),
         "feasible_wraps": _wraps(result.feasible),
@@ -366,11 +372,16 @@ def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
               "near a stretched elbow or a straight wrist or shoulder, so the set may miss arcs)")
     singular_report = report["singular"]
     print(f"singular shoulder: {_format_list(singular_report['shoulder'])}  wrist: "
-          f"{_format_list(singular_report['wrist'])}  (axes 1 and 3, 5 and 7 parallel)")
-    for part in ("shoulder", "wrist"):
+          f"{_format_list(singular_report['wrist'])}  (axes 1 and 3, 5 and 7 parallel or antiparallel)")
+    for part, axes in (("shoulder", "1 and 3"), ("wrist", "5 and 7")):
         entry = singular_report[f"{part}_nearest"]
-        if entry is not None:
-            print(f"nearest {part} alignment: {fixed(entry['angle'])} at psi {fixed(entry['psi'])}")
+        if entry is None:
+            continue
+        if abs(entry["angle"]) <= angles_out(_ALIGNED, deg):
+            print(f"nearest {part} alignment: axes {axes} on one line at psi {fixed(entry['psi'])}")
+        else:
+            print(f"nearest {part} alignment: axes {axes} are {abs(entry['angle']):.3g} {angle_unit(deg)} from one "
+                  f"line at psi {fixed(entry['psi'])}")
     for name in ("shoulder", "wrist", "overall"):
         entry = report["optimal"][name]
         unclamped = "none (no solution on this branch)" if entry["unclamped"] is None else fixed(entry["unclamped"])

@@ -87,8 +87,9 @@ def _special_angles(feasible: ArcSet, singular: SingularArmAngles,
     special: list[tuple[str, str, float, str]] = []
     for k, (lo, hi) in enumerate([] if feasible.is_full else feasible.arcs):
         special += [("feasible", f"Ψ arc {k + 1} starts", lo, ""), ("feasible", f"Ψ arc {k + 1} ends", hi, "")]
-    special += [("singular", "shoulder singular ψ (θ2 = 0)", a, _SINGULAR_NOTE["shoulder"]) for a in singular.shoulder]
-    special += [("singular", "wrist singular ψ (θ6 = 0)", a, _SINGULAR_NOTE["wrist"]) for a in singular.wrist]
+    special += [("singular", "shoulder singular ψ (θ2 = 0 or π)", a, _SINGULAR_NOTE["shoulder"])
+                for a in singular.shoulder]
+    special += [("singular", "wrist singular ψ (θ6 = 0 or π)", a, _SINGULAR_NOTE["wrist"]) for a in singular.wrist]
     special.append(("optimal", "optimal ψ ([000 eq. 40])", optimal.overall.unclamped, ""))
     clamped = optimal.overall.feasible
     if clamped is not None and abs(float(wrap_angle(float(clamped) - float(optimal.overall.unclamped)))) > _SAME_ANGLE:

@@ -35,8 +35,8 @@ from redkin.srs.nearly import ik
 #: Arm angles closer than this [rad] are one mark (an optimum that needed no clamping).
 _SAME_ANGLE = 1e-12
 #: What a singular arm angle of the real arm means for the values shown there.
-_SINGULAR_NOTE = ("axes {0} of the real arm are parallel here: the branch's sign of {1} changes, and the values "
-                  "shown are the aligned configuration")
+_SINGULAR_NOTE = ("axes {0} of the real arm are parallel or antiparallel here: the branch's sign of {1} changes, "
+                  "and the values shown are the aligned configuration")
 
 
 def remarks_of(arm: NearlySRS) -> tuple[str, ...]:
@@ -80,9 +80,9 @@ def _branch_curves(arm: NearlySRS, pose: np.ndarray, branch, grid: np.ndarray, t
         special += [("feasible", f"Ψ arc {k + 1} starts", lo, ""), ("feasible", f"Ψ arc {k + 1} ends", hi, "")]
     aligned = [(value, q) for part in ("shoulder", "wrist")
                for value, q in zip(getattr(singular, part), getattr(singular, f"{part}_q"))]
-    special += [("singular", "shoulder singular ψ (axes 1, 3 parallel)", a, _SINGULAR_NOTE.format("1 and 3", "θ2"))
+    special += [("singular", "shoulder singular ψ (axes 1, 3 on one line)", a, _SINGULAR_NOTE.format("1 and 3", "θ2"))
                 for a in singular.shoulder]
-    special += [("singular", "wrist singular ψ (axes 5, 7 parallel)", a, _SINGULAR_NOTE.format("5 and 7", "θ6"))
+    special += [("singular", "wrist singular ψ (axes 5, 7 on one line)", a, _SINGULAR_NOTE.format("5 and 7", "θ6"))
                 for a in singular.wrist]
     overall = optimal.overall
     if np.isfinite(overall.unclamped):

@@ -97,6 +97,10 @@ RESOLUTION = 1e-10
 CORRECTOR_STEPS, FINE, SETTLED = 12, 1e-15, 1e-13
 #: The smallest step [rad] before the continuation gives up (a singular configuration).
 SMALLEST_STEP = 1e-15
+#: The shortest step [rad] the certificate alone may allow before the continuation gives up: the curve runs into a
+#: singular configuration (two sheets of the self-motion crossing, as at a wrist exactly straight on an arm whose
+#: wrist axes meet), towards which the certified steps shrink without end.
+SINGULAR_STEP = 1e-9
 #: States of a step's limited joints: all within their limits, one outside, not decided.
 INSIDE, OUTSIDE, UNDECIDED = 1, 0, -1
 #: What :func:`traced` returns: the curve came back to its first point; it stopped at ``most`` points; a step could
@@ -492,7 +496,8 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
     point ``k`` to ``k + 1``, its branch signs into ``signs[k]`` (3,) and its limited joints' state into
     ``inside[k]`` (:func:`classified`), and the bound of its arm-angle change into ``spreads[k]``.  Where the curve
     closes, its last point is its first (modulo whole turns).  Returns the number of points and :data:`CLOSED`,
-    :data:`FULL` or :data:`STUCK`.
+    :data:`FULL` or :data:`STUCK` (where a step cannot be certified, or the certificate allows no step longer than
+    :data:`SINGULAR_STEP`).
     """
     work = scratch()
     q, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(9)
@@ -516,7 +521,10 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
         count += 1
         if count == most:
             return count, FULL
-        h = min(2.0 * h, longest_step(state, bounds, longest))
+        allowed = longest_step(state, bounds, longest)
+        if allowed < SINGULAR_STEP:
+            return count, STUCK
+        h = min(2.0 * h, allowed)
         closing = False
         if count > 2:  # within a step of the first point, heading on: the last step is the one onto it
             for j in range(7):
