@@ -102,18 +102,26 @@ def test_a_batch_with_a_pose_out_of_reach_exits_1_after_every_entry(capsys, tmp_
     assert main(["ik", robot, "--poses", str(file), option, value, "--all", "--json"]) == 0
 
 
-def test_every_solution_lists_both_solutions_of_a_branch_where_the_arm_angle_turns_back(capsys):
+def _two_solutions() -> tuple[object, np.ndarray, list[str]]:
+    """The Gen3 (examples/gen3.urdf to end_effector_link) whose branch ``-++`` has two solutions at psi 1.5 for the
+    pose of ``tests.test_srs_nearly_self_motion.TWO_SOLUTIONS``: its chain, the pose and the ``redkin ik`` argv
+    (JSON) of that branch at that arm angle."""
     pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-    from redkin.srs import BRANCHES, nearly_srs, parse_branch
-    from redkin.srs.nearly import arm_angle, branch_of
     from redkin.urdf import load_urdf
     from tests.test_srs_nearly_self_motion import TWO_SOLUTIONS
 
     gen3 = EXAMPLES / "gen3.urdf"
     chain = load_urdf(gen3, base="base_link", tip="end_effector_link")
     pose = chain.fk(np.array(TWO_SOLUTIONS))
-    argv = ["ik", str(gen3), "--base", "base_link", "--tip", "end_effector_link", *_pose_argv(pose), "--psi", "1.5",
-            "--branch", "-++", "--json"]
+    return chain, pose, ["ik", str(gen3), "--base", "base_link", "--tip", "end_effector_link", *_pose_argv(pose),
+                         "--psi", "1.5", "--branch", "-++", "--json"]
+
+
+def test_every_solution_lists_both_solutions_of_a_branch_where_the_arm_angle_turns_back(capsys):
+    from redkin.srs import BRANCHES, nearly_srs, parse_branch
+    from redkin.srs.nearly import arm_angle, branch_of
+
+    chain, pose, argv = _two_solutions()
     assert main(argv) == 0
     one = json.loads(capsys.readouterr().out)["solutions"]
     assert main([*argv, "--every-solution"]) == 0
@@ -134,15 +142,7 @@ def test_every_solution_lists_both_solutions_of_a_branch_where_the_arm_angle_tur
 def test_q0_picks_the_branch_solution_nearest_it(capsys):
     """Issue 38, item 4: where a branch has two solutions at the arm angle, ``--q0`` near the second returns it, and
     the output says the branch has another."""
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-    from redkin.urdf import load_urdf
-    from tests.test_srs_nearly_self_motion import TWO_SOLUTIONS
-
-    gen3 = EXAMPLES / "gen3.urdf"
-    chain = load_urdf(gen3, base="base_link", tip="end_effector_link")
-    pose = chain.fk(np.array(TWO_SOLUTIONS))
-    argv = ["ik", str(gen3), "--base", "base_link", "--tip", "end_effector_link", *_pose_argv(pose), "--psi", "1.5",
-            "--branch", "-++", "--json"]
+    _, _, argv = _two_solutions()
     assert main([*argv, "--every-solution"]) == 0
     first, second = (np.array(s["q"]) for s in json.loads(capsys.readouterr().out)["solutions"])
     for wanted in (first, second):

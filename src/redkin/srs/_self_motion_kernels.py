@@ -164,23 +164,24 @@ def inverse_bound(a, pivots, inverse):
         column[j] = 1.0
         solved(a, pivots, column)
         inverse[:, j] = column
-    power = np.empty((n, n))
+    power, squared = np.empty((n, n)), np.empty((n, n))
+    gram(inverse, power)
+    for _ in range(3):  # B^2, B^4, B^8: B is symmetric, so B B = B^T B
+        gram(power, squared)
+        power[:] = squared
+    return np.sqrt(np.sum(power * power)) ** (1.0 / 16.0)
+
+
+@kernel
+def gram(a, out):
+    """``a^T a`` (n, n) into ``out`` (symmetric: each entry computed once)."""
+    n = a.shape[1]
     for i in range(n):
         for j in range(i + 1):
             total = 0.0
-            for k in range(n):
-                total += inverse[k, i] * inverse[k, j]
-            power[i, j] = power[j, i] = total
-    squared = np.empty((n, n))
-    for _ in range(3):
-        for i in range(n):
-            for j in range(i + 1):
-                total = 0.0
-                for k in range(n):
-                    total += power[i, k] * power[k, j]
-                squared[i, j] = squared[j, i] = total
-        power[:] = squared
-    return np.sqrt(np.sum(power * power)) ** (1.0 / 16.0)
+            for k in range(a.shape[0]):
+                total += a[k, i] * a[k, j]
+            out[i, j] = out[j, i] = total
 
 
 # ------------------------------------------------------------------ the equations [C1]
