@@ -1,17 +1,9 @@
-"""One-dimensional searches over the arm angle of a nearly S-R-S arm, on its polished solutions.
+"""Solutions of a nearly S-R-S arm on a grid of arm angles, and the pose with one more equation on the real arm.
 
-A function of the joint values, ``F(q)``, becomes a function of the arm angle on one branch of one pose through the
-real arm's certified solution ``q(psi)`` (:func:`redkin.srs.nearly.ik`).  Its extrema are located by bisection on
-the sign of its derivative along the self-motion, ``dF/dpsi = grad F . t`` with ``t = dq/dpsi``
-(:func:`redkin.srs.nearly.self_motion_rates`; ``grad F`` by central differences in ``q``).  The
-derivative is smooth where ``F`` is, so the bisection locates a smooth extremum to :data:`_RESOLUTION` rad, which a
-search on the values of ``F`` alone (golden section) could not (its values flatten quadratically there); at a kink
-(``F`` the angle between two axes as they pass through alignment) the derivative changes sign and the bisection
-closes on the kink.
-
-:func:`polished` solves the pose and one more equation ``F(q) = c`` on the real arm (Levenberg-Marquardt): an
-aligned configuration (``F`` the angle between two axes), or a point of the self-motion at a given arm angle.
-Used by :mod:`redkin.srs.nearly_singular` and :mod:`redkin.srs.nearly_optimal`.
+:func:`solutions_at` gives a branch's certified solutions (:func:`redkin.srs.nearly.ik`) on a grid of arm angles,
+:func:`merged` adds arm angles to such a grid.  :func:`polished` solves the pose and one more equation ``F(q) = c``
+on the real arm (Levenberg-Marquardt): an aligned configuration (``F`` the angle between two axes), or a point of
+the self-motion at a given arm angle.  Used by :mod:`redkin.srs.nearly_singular`.
 """
 
 from __future__ import annotations
@@ -20,11 +12,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from redkin.srs.branches import Branch, branch_of_theta
-from redkin.srs.nearly import TOLERANCE, NearlySRS, arm_angle, ik, self_motion_rates
+from redkin.srs.branches import Branch
+from redkin.srs.nearly import TOLERANCE, NearlySRS, ik
 
-#: Width [rad] to which an extremum is bracketed.
-_RESOLUTION = 1e-10
 #: Arm angles closer than this [rad] are one sample (:func:`merged`).
 _DISTINCT = 1e-6
 #: Step [rad] of the central differences in ``q``.
@@ -40,70 +30,11 @@ def solutions_at(arm: NearlySRS, pose: np.ndarray, psi: np.ndarray, branch: Bran
 
 def merged(grid: np.ndarray, extra: np.ndarray) -> np.ndarray:
     """The sorted arm angles of ``grid`` and of ``extra`` (wrapped into ``(-pi, pi]``) that lie more than
-    :data:`_DISTINCT` rad from every grid value: two samples closer than that would hold one extremum between
-    them and the bracket of :func:`located_extremum` would shrink to nothing."""
+    :data:`_DISTINCT` rad from every grid value: two samples closer than that are one (a minimum between them
+    has no room)."""
     extra = np.angle(np.exp(1j * np.asarray(extra, dtype=float)))
     gap = np.abs(np.angle(np.exp(1j * (extra[:, None] - grid[None, :])))).min(axis=1) if grid.size else extra
     return np.sort(np.concatenate([grid, np.unique(extra[gap > _DISTINCT])]))
-
-
-def _derivative_along(arm: NearlySRS, q: np.ndarray, function: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
-    """``dF/dpsi`` (M,) at joint values ``q`` (M, 7) along the real arm's self-motion (module docstring)."""
-    return np.einsum("mj,mj->m", _gradient(q, function), self_motion_rates(arm, q))
-
-
-def located_extremum(arm: NearlySRS, pose: np.ndarray, branch: Branch, function: Callable[[np.ndarray], np.ndarray],
-                     start: tuple[float, np.ndarray], low: float, high: float,
-                     maximum: bool) -> tuple[float, np.ndarray]:
-    """The arm angle in ``[low, high]`` (``low <= psi_0 <= high``, read counter-clockwise, less than a turn) where
-    ``F`` has its maximum (or minimum) along the self-motion through the branch's solution ``q_0`` at ``psi_0``
-    (``start``), and the solution there (7,).
-
-    The side is chosen by the sign of ``dF/dpsi`` at ``q_0``; the self-motion is followed there
-    (:func:`polished` at each arm angle, from the nearest point already found, so that it stays on the sheet of
-    ``q_0`` where :func:`redkin.srs.nearly.ik` would jump to another or miss), the far end moved in while the
-    branch's signs change before it, and the zero of ``dF/dpsi`` bracketed to :data:`_RESOLUTION` by bisection.
-    Where ``F`` still improves at the far end, that end is returned.
-    """
-    sense = -1.0 if maximum else 1.0  # the derivative of sense * F rises through its zero
-    psi0, q0 = start
-    signs = np.array(arm.geometry.kernel_branch(branch)[0])
-
-    def slope(q: np.ndarray) -> float:
-        return float(sense * _derivative_along(arm, q[None], function)[0])
-
-    def followed(psi: float, near: np.ndarray) -> np.ndarray | None:
-        moved, certified = polished(arm, near[None], pose, lambda values: arm_angle(arm, values), psi)
-        theta = arm.geometry.theta_of_q(moved)
-        same = np.all(branch_of_theta(theta, arm.real_phase)[0] == signs)
-        return moved[0] if certified[0] and same else None
-
-    at_start = slope(q0)
-    if at_start == 0.0:
-        return float(np.angle(np.exp(1j * psi0))), q0
-    far = high if at_start < 0.0 else low  # where sense * F falls
-    q_far = followed(far, q0)
-    for _ in range(30):
-        if q_far is not None:
-            break
-        far = 0.5 * (far + psi0)
-        q_far = followed(far, q0)
-    if q_far is None:
-        return float(np.angle(np.exp(1j * psi0))), q0
-    if (slope(q_far) < 0.0) == (at_start < 0.0):  # still improving at the far end
-        return float(np.angle(np.exp(1j * far))), q_far
-    near, q_near = psi0, q0
-    while abs(far - near) > _RESOLUTION:
-        middle = 0.5 * (near + far)
-        q_middle = followed(middle, q_near)
-        if q_middle is None:  # off the branch: the extremum lies nearer
-            far = middle
-            continue
-        if (slope(q_middle) < 0.0) == (at_start < 0.0):
-            near, q_near = middle, q_middle
-        else:
-            far, q_far = middle, q_middle
-    return float(np.angle(np.exp(1j * near))), q_near
 
 
 def polished(arm: NearlySRS, q: np.ndarray, pose: np.ndarray, function: Callable[[np.ndarray], np.ndarray],
