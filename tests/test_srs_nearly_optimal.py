@@ -103,21 +103,22 @@ def _check(arm: NearlySRS, pose: np.ndarray, branch: str, curves, weights=(0.5, 
     values = np.where(exact, _objectives_here(arm, q, result.target, result.weights), -np.inf)
     inside = exact & arm.chain.within_limits(q, wrap=True) & np.asarray(feasible.contains(arm_angle(arm, q)), bool)
     compared = 0
-    for k, optimum in enumerate(optima):
-        if optimum.unclamped_q is None:
+    for k, (part, optimum) in enumerate(zip(PARTS, optima)):
+        unclamped_q, feasible_q = result.unclamped_q[part], result.feasible_q[part]
+        if unclamped_q is None:
             assert np.isnan(optimum.unclamped) and optimum.feasible is None and not exact.any()
             continue
-        _certified(arm, pose, optimum.unclamped_q, optimum.unclamped, row)
-        best = _objectives_here(arm, optimum.unclamped_q, result.target, result.weights)[k, 0]
+        _certified(arm, pose, unclamped_q, optimum.unclamped, row)
+        best = _objectives_here(arm, unclamped_q, result.target, result.weights)[k, 0]
         assert values[k].max(initial=-np.inf) <= best + ALLOWANCE
         if optimum.feasible is None:
             assert not inside.any()
             continue
-        _certified(arm, pose, optimum.feasible_q, optimum.feasible, row)
-        assert arm.chain.within_limits(optimum.feasible_q)
+        _certified(arm, pose, feasible_q, optimum.feasible, row)
+        assert arm.chain.within_limits(feasible_q)
         assert feasible.contains(optimum.feasible, 1e-9)
-        clamped = _objectives_here(arm, optimum.feasible_q, result.target, result.weights)[k, 0]
-        if arm.chain.within_limits(optimum.unclamped_q) and feasible.contains(optimum.unclamped):
+        clamped = _objectives_here(arm, feasible_q, result.target, result.weights)[k, 0]
+        if arm.chain.within_limits(unclamped_q) and feasible.contains(optimum.unclamped):
             assert clamped >= best - ALLOWANCE  # the unclamped one where that is within the limits
         if inside.any():
             assert values[k][inside].max() <= clamped + ALLOWANCE
@@ -163,14 +164,15 @@ def test_a_narrower_feasible_set_clamps_to_its_ends():
     assert result.feasible is narrow
     located = result.overall
     assert located.feasible is not None and narrow.contains(located.feasible, 1e-9)
-    _certified(arm, pose, located.feasible_q, located.feasible, BRANCHES.index(result.branch))
-    assert arm.chain.within_limits(located.feasible_q)
+    _certified(arm, pose, result.feasible_q["overall"], located.feasible, BRANCHES.index(result.branch))
+    assert arm.chain.within_limits(result.feasible_q["overall"])
     psi_dense = np.linspace(psi + 0.05, psi + 0.3, 2001)
     solved = ik(arm, np.broadcast_to(pose, psi_dense.shape + (4, 4)), np.angle(np.exp(1j * psi_dense)), branch)
     good = solved.exists[:, 0] & solved.within_limits[:, 0]
     assert good.any()
     values = _objectives_here(arm, solved.q[good, 0], result.target, result.weights)[2]
-    assert values.max() <= _objectives_here(arm, located.feasible_q, result.target, result.weights)[2, 0] + ALLOWANCE
+    clamped = _objectives_here(arm, result.feasible_q["overall"], result.target, result.weights)[2, 0]
+    assert values.max() <= clamped + ALLOWANCE
 
 
 def test_an_empty_feasible_set_has_no_clamped_optimum():
@@ -178,7 +180,7 @@ def test_an_empty_feasible_set_has_no_clamped_optimum():
     pose = arm.chain.fk(q)
     result = optimal_arm_angles_nearly(arm, pose, "+++", feasible=ArcSet.empty())
     assert all(getattr(result, part).feasible is None for part in PARTS)
-    assert all(getattr(result, part).feasible_q is None for part in PARTS)
+    assert all(result.feasible_q[part] is None for part in PARTS)
     assert all(np.isfinite(getattr(result, part).unclamped) for part in PARTS)
 
 
@@ -190,7 +192,7 @@ def test_a_pose_out_of_reach_has_no_optimum():
     assert result.feasible.is_empty and result.complete
     for part in PARTS:
         optimum = getattr(result, part)
-        assert np.isnan(optimum.unclamped) and optimum.feasible is None and optimum.unclamped_q is None
+        assert np.isnan(optimum.unclamped) and optimum.feasible is None and result.unclamped_q[part] is None
 
 
 def test_given_curves_give_the_same_optima_and_say_when_incomplete():

@@ -20,11 +20,11 @@ are joined by proven arcs of true solutions, each on a known branch and within t
   the feasible set (by default the set read off the same curves, [C6]), the runs' ends included, and where a
   given set is narrower, the arc's points at its ends (located likewise).
 
-Every optimum is a point of a certified arc: its configuration (``unclamped_q``, ``feasible_q``) reaches the pose,
-lies on the branch, and for the clamped one within the limits, so the clamped optimum lies in the certified
-feasible set.  Where the branch has two solutions at the optimum's arm angle, the configuration says which;
-:func:`redkin.srs.nearly.ik` there may return the other, :func:`redkin.srs.nearly_self_motion.branch_solutions`
-lists both.
+Every optimum is a point of a certified arc: its configuration (:attr:`NearlyOptimal.unclamped_q`,
+:attr:`NearlyOptimal.feasible_q`) reaches the pose, lies on the branch, and for the clamped one within the limits,
+so the clamped optimum lies in the certified feasible set.  Where the branch has two solutions at the optimum's
+arm angle, the configuration says which; :func:`redkin.srs.nearly.ik` there may return the other,
+:func:`redkin.srs.nearly_self_motion.branch_solutions` lists both.
 
 What is not claimed: a maximum on a curve of the self-motion that was not found (an island through none of the
 seeds, or past where a curve could not be followed: :attr:`NearlyOptimal.complete` false), and a second maximum
@@ -64,32 +64,15 @@ _REACHED = 1e-6
 
 
 @dataclass(frozen=True)
-class NearlyOptimalAngle(OptimalAngle):
-    """An optimal arm angle of a nearly S-R-S arm before and after clamping (``feasible`` ``None`` where there is no
-    certified solution of the branch within the limits in the feasible set; ``unclamped`` ``nan`` where the branch
-    has no solution on the curves), with the configurations that attain them.
-
-    Attributes
-    ----------
-    unclamped_q, feasible_q : numpy.ndarray, shape (7,), or None
-        The certified solution at the optimum, each joint shifted by whole turns into its range
-        (:meth:`redkin.chain.SerialChain.nearest_in_range`); where the branch has two solutions at that arm angle,
-        the one that attains it.
-    """
-
-    unclamped_q: np.ndarray | None = field(default=None, compare=False)
-    feasible_q: np.ndarray | None = field(default=None, compare=False)
-
-
-@dataclass(frozen=True)
 class NearlyOptimal:
     """The limit-avoiding arm angles of one pose and branch of a nearly S-R-S arm (module docstring).
 
     Attributes
     ----------
-    shoulder, wrist, overall : NearlyOptimalAngle
+    shoulder, wrist, overall : OptimalAngle
         The maxima of [000 eqs. 36, 38, 40] over the branch's certified solutions on the pose's self-motion:
-        ``unclamped`` over all of them, ``feasible`` over those within the limits at arm angles of ``feasible``.
+        ``unclamped`` over all of them (``nan`` where the branch has no solution on the curves), ``feasible`` over
+        those within the limits at arm angles of ``feasible`` (``None`` where there is none).
     branch : Branch
     weights : tuple of float
         ``(r_s, r_w)``.
@@ -104,17 +87,23 @@ class NearlyOptimal:
         Whether the self-motion was followed whole (:func:`redkin.srs.nearly_self_motion.whole_self_motion`; for
         curves given by the caller, whether each of them closed); where not, the optima are those of the curves
         followed and a better solution may lie on a curve that was not.
+    unclamped_q, feasible_q : dict of str to numpy.ndarray or None
+        For ``"shoulder"``, ``"wrist"`` and ``"overall"``: the certified solution (7,) at the optimum, each joint
+        shifted by whole turns into its range (:meth:`redkin.chain.SerialChain.nearest_in_range`), ``None`` where
+        there is no optimum; where the branch has two solutions at that arm angle, the one that attains it.
     """
 
-    shoulder: NearlyOptimalAngle
-    wrist: NearlyOptimalAngle
-    overall: NearlyOptimalAngle
+    shoulder: OptimalAngle
+    wrist: OptimalAngle
+    overall: OptimalAngle
     branch: Branch
     weights: tuple[float, float]
     target: np.ndarray
     feasible: ArcSet
     neighbour: OptimalArmAngles | None
     complete: bool
+    unclamped_q: dict[str, np.ndarray | None] = field(compare=False)
+    feasible_q: dict[str, np.ndarray | None] = field(compare=False)
 
 
 class _Steps:
@@ -204,9 +193,10 @@ def optimal_arm_angles_nearly(
     allowed = feasible_along(found, label) if feasible is None else feasible
     steps = _Steps(found, BRANCHES.index(label))
     candidates = _candidates(arm, pose, steps, allowed, q_target, chosen)
-    angles = [_chosen(arm, candidates, k, allowed) for k in range(len(_PARTS))]
+    angles, unclamped_q, feasible_q = zip(*(_chosen(arm, candidates, k, allowed) for k in range(len(_PARTS))))
     neighbour = _neighbour_optimal(arm, pose, label, q_target, chosen)
-    return NearlyOptimal(angles[0], angles[1], angles[2], label, chosen, q_target, allowed, neighbour, complete)
+    return NearlyOptimal(angles[0], angles[1], angles[2], label, chosen, q_target, allowed, neighbour, complete,
+                         dict(zip(_PARTS, unclamped_q)), dict(zip(_PARTS, feasible_q)))
 
 
 def _checked_curves(arm: NearlySRS, pose: np.ndarray, curves: Sequence[SelfMotion]) -> tuple[SelfMotion, ...]:
@@ -263,18 +253,18 @@ def _candidates(arm: NearlySRS, pose: np.ndarray, steps: _Steps, allowed: ArcSet
 
 
 def _chosen(arm: NearlySRS, candidates: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray], k: int,
-            allowed: ArcSet) -> NearlyOptimalAngle:
+            allowed: ArcSet) -> tuple[OptimalAngle, np.ndarray | None, np.ndarray | None]:
     """Objective ``k``'s optimum unclamped (the best candidate) and clamped (the best within the limits and in
-    ``allowed``)."""
+    ``allowed``), and the configurations there (each joint in its range)."""
     q, psi, values, inside, parts = candidates
     mine = parts[k]
     held = mine & inside & np.asarray(allowed.contains(psi, _AT_AN_END), dtype=bool).reshape(-1)
-    best = [None if not pick.any() else int(np.flatnonzero(pick)[np.argmax(values[k][pick])]) for pick in (mine, held)]
-    unclamped, clamped = best
-    return NearlyOptimalAngle(float(np.nan) if unclamped is None else float(wrap_angle(psi[unclamped])),
-                              None if clamped is None else float(wrap_angle(psi[clamped])),
-                              None if unclamped is None else arm.chain.nearest_in_range(q[unclamped]),
-                              None if clamped is None else arm.chain.nearest_in_range(q[clamped]))
+    unclamped, clamped = [None if not pick.any() else int(np.flatnonzero(pick)[np.argmax(values[k][pick])])
+                          for pick in (mine, held)]
+    return (OptimalAngle(float(np.nan) if unclamped is None else float(wrap_angle(psi[unclamped])),
+                         None if clamped is None else float(wrap_angle(psi[clamped]))),
+            None if unclamped is None else arm.chain.nearest_in_range(q[unclamped]),
+            None if clamped is None else arm.chain.nearest_in_range(q[clamped]))
 
 
 def _bisected(arm: NearlySRS, pose: np.ndarray, steps: _Steps, rows: np.ndarray,
