@@ -328,7 +328,7 @@ def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
     singular = singular_arm_angles_nearly(arm, pose, branch)
     optimal = optimal_arm_angles_nearly(arm, pose, branch, target=target,
                                         weights=(0.5, 0.5) if args.weights is None else args.weights,
-                                        feasible=result.feasible)
+                                        feasible=result.feasible, curves=result.curves)
     deg = args.deg
 
     def angle(value):

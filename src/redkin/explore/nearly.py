@@ -18,7 +18,7 @@ from dataclasses import replace
 import numpy as np
 
 from redkin.chain import SerialChain
-from redkin.circle import ArcSet, wrap_angle
+from redkin.circle import wrap_angle
 from redkin.errors import UnreachablePoseError
 from redkin.explore.arm_angle import ARM_ANGLE, on_circle
 from redkin.explore.curves import BranchCurves, Mark, Parameter, as_arcs, postures
@@ -31,6 +31,7 @@ from redkin.srs import (
     singular_arm_angles_nearly,
 )
 from redkin.srs.nearly import ik
+from redkin.srs.nearly_feasible import NearlyFeasible
 
 #: Arm angles closer than this [rad] are one mark (an optimum that needed no clamping).
 _SAME_ANGLE = 1e-12
@@ -63,8 +64,7 @@ def nearly_curves(chain: SerialChain, pose: np.ndarray, samples: int, target, we
                         method="the exact S-R-S neighbour's closed form polished on the real nearly S-R-S arm, "
                                "its feasible sets, singular and optimal arm angles located on the real arm")
     sets = feasible_arm_angles_nearly_all(arm, pose)
-    branches = tuple(_branch_curves(arm, pose, b, grid, target, weights, sets[k].feasible)
-                     for k, b in enumerate(BRANCHES))
+    branches = tuple(_branch_curves(arm, pose, b, grid, target, weights, sets[k]) for k, b in enumerate(BRANCHES))
     if not any(b.exists.any() for b in branches):
         raise UnreachablePoseError(f"{chain.name} cannot reach this pose: no branch has a certified solution at any "
                                    f"of {samples} arm angles")
@@ -72,9 +72,11 @@ def nearly_curves(chain: SerialChain, pose: np.ndarray, samples: int, target, we
 
 
 def _branch_curves(arm: NearlySRS, pose: np.ndarray, branch, grid: np.ndarray, target, weights,
-                   feasible: ArcSet) -> BranchCurves:
+                   result: NearlyFeasible) -> BranchCurves:
+    feasible = result.feasible
     singular = singular_arm_angles_nearly(arm, pose, branch)
-    optimal = optimal_arm_angles_nearly(arm, pose, branch, target=target, weights=weights, feasible=feasible)
+    optimal = optimal_arm_angles_nearly(arm, pose, branch, target=target, weights=weights, feasible=feasible,
+                                        curves=result.curves)
     special: list[tuple[str, str, float, str]] = []
     for k, (lo, hi) in enumerate([] if feasible.is_full else feasible.arcs):
         special += [("feasible", f"Ψ arc {k + 1} starts", lo, ""), ("feasible", f"Ψ arc {k + 1} ends", hi, "")]

@@ -57,9 +57,10 @@ _SAME_CURVE = 2e-3
 _REACHED = 1e-6
 #: Width [rad of arm angle] to which :func:`branch_solutions` locates a crossing.
 _RESOLUTION = 1e-11
-#: Solutions closer than this [rad] in every joint are one (a certified row of ``nearly.ik`` lies up to about 1e-6
-#: rad from the curve next to a fold, where the seven equations are nearly singular).
-_SAME_SOLUTION = 1e-5
+#: Solutions closer than this [rad] in every joint are one: a certified row of ``nearly.ik`` lies up to about 2e-5
+#: rad from the curve next to a fold, where the seven equations are nearly singular, and the branch's two solutions
+#: there are this close only within about 1e-8 rad of arm angle of the fold (they part as its square root).
+_SAME_SOLUTION = 1e-4
 
 
 class SelfMotion(NamedTuple):
