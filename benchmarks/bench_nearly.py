@@ -7,8 +7,9 @@ default), ``--quick`` (200 random, 50 near, 20 for the Python call).  Prints the
 issue's targets.  ``--feasible`` runs only the feasible-set check below (``--feasible-poses N`` random poses, 100
 by default; ``--feasible-near M`` poses of each near-singular draw, 0 by default; ``--feasible-samples S``, 10^4 by
 default; ``--feasible-arms``; ``--feasible-first K``; ``--feasible-no-ssik``).  At 10^5 arm angles the sampling
-takes about 5-8 s per pose, and 30-170 s on a pose near the stretched elbow of the Gen3 or Jaco2 (``nearly.ik``
-searching for the branches that do not exist there).
+takes about 7-13 s per pose on 2 shared cores, and 30-110 s on a pose near the stretched elbow (``nearly.ik``
+searching for the branches that do not exist there): ``--feasible-poses 16 --feasible-near 8 --feasible-samples
+100000`` on the three arms took 44-50 minutes (benchmarks/README.md, issue 38).
 
 The arms:
 
