@@ -32,7 +32,13 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from redkin.errors import RedkinError
-from redkin.srs import BRANCHES, branch_solutions, feasible_arm_angles_nearly, nearly_srs
+from redkin.srs import (
+    BRANCHES,
+    branch_solutions,
+    feasible_arm_angles_nearly,
+    feasible_arm_angles_nearly_all,
+    nearly_srs,
+)
 from redkin.srs.branches import parse_branch
 from redkin.srs.nearly import NearlySRS, arm_angle, branch_of, ik, self_motion_rates
 from tests.support.nearly_witness import exact, witnessed
@@ -229,6 +235,22 @@ def test_a_straight_wrists_gap_is_left_out(q, branch, gap):
     assert gap[1] - gap[0] < 2.0 * np.pi / 720.0  # narrower than the replaced method's grid
     for angle in psi[inside][::400]:  # no solution of the branch on the self-motion either
         assert len(branch_solutions(arm, pose, float(angle), branch)) == 0
+
+
+def test_a_self_motion_shorter_than_the_seeds_spacing_is_found():
+    """Near the stretched elbow the branches' self-motions span 0.25-0.28 rad of arm angle, between the eight seed arm
+    angles (benchmarks/README.md, issue 38: the sets were empty and said complete): the finer seeds find them."""
+    arm = _arm("gen3")
+    q = np.array([2.286892365207979, -0.22270510750923256, 0.028099114095957667, 0.0013676772875753976,
+                  1.392078981063007, 2.070530632846509, 1.690296486287782])
+    pose = arm.chain.fk(q)
+    results = feasible_arm_angles_nearly_all(arm, pose)
+    assert results[0].complete and results[0].curves
+    row = int(branch_of(arm, q))
+    assert results[row].feasible.contains(float(arm_angle(arm, q)))  # the configuration's own arm angle
+    psi = np.sort(np.random.default_rng(2).uniform(-np.pi, np.pi, 4000))
+    for branch in ("-++", "+-+"):
+        assert _disagreements(arm, pose, branch, psi).size == 0
 
 
 @settings(max_examples=20, deadline=None)

@@ -50,6 +50,12 @@ _MOST_POINTS = 150_000
 _BUDGET = 1_000_000
 #: The arm angles at which :func:`redkin.srs.nearly.ik`'s solutions of every branch seed :func:`self_motions`.
 SEEDS = np.linspace(-np.pi, np.pi, 8, endpoint=False)
+#: Where a branch has no solution at one of :data:`SEEDS` (its self-motion may span a short stretch of arm angle: a
+#: fold, near the stretched elbow), the seeds are these instead (0.1 rad apart).
+FINE_SEEDS = np.linspace(-np.pi, np.pi, 64, endpoint=False)
+#: Starts of the numerical solver (:func:`redkin.numerical.ik`) for seeds where no arm angle of :data:`FINE_SEEDS`
+#: gives one.
+_NUMERICAL_STARTS = 64
 #: Joint values closer than this [rad] to a curve's point at the same arm angle and branch lie on that curve (a
 #: seed already followed): two curves of one branch so close at one arm angle meet only at a singular pose.
 _SAME_CURVE = 2e-3
@@ -124,8 +130,9 @@ def self_motion(arm: NearlySRS, pose: ArrayLike, q: ArrayLike, step: float = _LO
 
 
 def self_motions(arm: NearlySRS, pose: ArrayLike) -> tuple[SelfMotion, ...]:
-    """Every curve of the self-motion of ``pose`` through :func:`redkin.srs.nearly.ik`'s solutions of every branch at
-    the arm angles :data:`SEEDS` (:func:`curves_through`).  A curve through none of them is not found.
+    """Every curve of the self-motion of ``pose`` through the seeds of :func:`whole_self_motion`
+    (:func:`curves_through`): :func:`redkin.srs.nearly.ik`'s solutions of every branch at a grid of arm angles.  A
+    curve through none of them is not found.
 
     Raises
     ------
@@ -137,7 +144,11 @@ def self_motions(arm: NearlySRS, pose: ArrayLike) -> tuple[SelfMotion, ...]:
 
 def whole_self_motion(arm: NearlySRS, pose: ArrayLike) -> tuple[tuple[SelfMotion, ...], bool]:
     """:func:`self_motions`, and whether it is whole: every curve closed, and every seed followed or on a curve
-    (not where :data:`_BUDGET` ran out first).
+    (not where :data:`_BUDGET` ran out first), and a curve found unless the pose is proven out of reach.
+
+    The seeds are :func:`redkin.srs.nearly.ik`'s solutions of every branch at :data:`SEEDS`, at :data:`FINE_SEEDS`
+    where a branch has no solution at one of those, and where none of those has one, certified solutions of the
+    numerical solver (:func:`redkin.numerical.ik`).
 
     Raises
     ------
@@ -147,10 +158,23 @@ def whole_self_motion(arm: NearlySRS, pose: ArrayLike) -> tuple[tuple[SelfMotion
     target = np.ascontiguousarray(check_pose(pose), dtype=float)
     if target.shape != (4, 4):
         raise RedkinError(f"pose must be one (4, 4) pose, got shape {target.shape}")
-    solved = ik(arm, np.broadcast_to(target, SEEDS.shape + (4, 4)), SEEDS)
+    grid = SEEDS
+    solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid)
+    if not solved.exists.all():
+        grid = FINE_SEEDS
+        solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid)
     found = np.nonzero(solved.exists)
-    curves, followed = _through(arm, target, solved.q[found], SEEDS[found[0]], found[1], len(solved.q) * len(BRANCHES))
-    return curves, followed and all(curve.closed for curve in curves)
+    seeds, angles, rows = solved.q[found], grid[found[0]], found[1]
+    if len(seeds) == 0:
+        from redkin.numerical import ik as numerical_ik
+
+        numerical = numerical_ik(arm.chain, target, count=8, restarts=_NUMERICAL_STARTS, rng=0)
+        if numerical.reach is not None and bool(np.all(numerical.reach.out)):
+            return (), True  # proven out of reach: no solution, nothing missed
+        seeds = numerical.q[numerical.found]
+        angles, rows = arm_angle(arm, seeds), branch_of(arm, seeds)
+    curves, followed = _through(arm, target, seeds, angles, rows, len(seeds))
+    return curves, followed and bool(curves) and all(curve.closed for curve in curves)
 
 
 def curves_through(arm: NearlySRS, pose: ArrayLike, solutions: ArrayLike, most: int = 16) -> tuple[SelfMotion, ...]:
