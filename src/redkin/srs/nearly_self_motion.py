@@ -52,8 +52,8 @@ _BUDGET = 1_000_000
 SEEDS = np.linspace(-np.pi, np.pi, 8, endpoint=False)
 #: Where a branch has no solution at one of :data:`SEEDS` (its self-motion may span a short stretch of arm angle: a
 #: fold, near the stretched elbow), the seeds are these instead (0.1 rad apart).
-FINE_SEEDS = np.linspace(-np.pi, np.pi, 64, endpoint=False)
-#: Starts of the numerical solver (:func:`redkin.numerical.ik`) for seeds where no arm angle of :data:`FINE_SEEDS`
+_FINE_SEEDS = np.linspace(-np.pi, np.pi, 64, endpoint=False)
+#: Starts of the numerical solver (:func:`redkin.numerical.ik`) for seeds where no arm angle of :data:`_FINE_SEEDS`
 #: gives one.
 _NUMERICAL_STARTS = 64
 #: Joint values closer than this [rad] to a curve's point at the same arm angle and branch lie on that curve (a
@@ -146,7 +146,7 @@ def whole_self_motion(arm: NearlySRS, pose: ArrayLike) -> tuple[tuple[SelfMotion
     """:func:`self_motions`, and whether it is whole: every curve closed, and every seed followed or on a curve
     (not where :data:`_BUDGET` ran out first), and a curve found unless the pose is proven out of reach.
 
-    The seeds are :func:`redkin.srs.nearly.ik`'s solutions of every branch at :data:`SEEDS`, at :data:`FINE_SEEDS`
+    The seeds are :func:`redkin.srs.nearly.ik`'s solutions of every branch at :data:`SEEDS`, at :data:`_FINE_SEEDS`
     where a branch has no solution at one of those, and where none of those has one, certified solutions of the
     numerical solver (:func:`redkin.numerical.ik`).
 
@@ -161,7 +161,7 @@ def whole_self_motion(arm: NearlySRS, pose: ArrayLike) -> tuple[tuple[SelfMotion
     grid = SEEDS
     solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid)
     if not solved.exists.all():
-        grid = FINE_SEEDS
+        grid = _FINE_SEEDS
         solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid)
     found = np.nonzero(solved.exists)
     seeds, angles, rows = solved.q[found], grid[found[0]], found[1]
