@@ -172,3 +172,38 @@ def test_too_many_values_for_one_call_are_refused():
 def test_no_target_is_one_line_and_exit_2(capsys):
     assert "the target needs --position X Y Z and --rotation R11 ... R33 (or --poses FILE.npy)" in \
         refused(capsys, ["ik", "kinova-gen3"])
+
+
+@pytest.mark.parametrize("robot", ["kuka-iiwa14", "franka-fr3", "kinova-gen3"])
+def test_numerical_solutions_carry_their_branch_and_parameter(capsys, robot):
+    """Each numerical solution's label names the closed form's row that is that solution: the branch's solution
+    at the labelled arm angle (or q7) is the numerical one (a nearly S-R-S branch's, one of its solutions there)."""
+    import redkin
+    from redkin.srs import BRANCHES
+
+    chain = get_robot(robot)
+    pose = chain.fk(Q)
+    code, out, _ = run(capsys, ["ik", robot, *pose_argv(pose), "--count", "3", "--json"])
+    data = json.loads(out)
+    parameter = "q7" if robot == "franka-fr3" else "psi"
+    assert code == 0 and len(data["branches"]) == len(data[parameter]) == len(data["solutions"]) >= 1
+    for q, branch, value in zip(np.array(data["solutions"]), data["branches"], data[parameter]):
+        if robot == "kinova-gen3":  # a branch may have two solutions at one arm angle: the label names the branch
+            from redkin.srs import nearly_srs
+            from redkin.srs.nearly import arm_angle, branch_of
+            arm = nearly_srs(chain)
+            assert abs(float(arm_angle(arm, q)) - value) < 1e-9
+            assert str(BRANCHES[int(branch_of(arm, q))]) == branch
+            continue
+        closed = redkin.ik(chain, pose, **{parameter: value}, branch=branch)
+        assert closed.exists[..., 0].all()
+        turns = np.angle(np.exp(1j * (closed.q[..., 0, :] - q)))
+        assert np.abs(turns).max() < 1e-6
+    code, out, _ = run(capsys, ["ik", robot, *pose_argv(pose)])
+    assert code == 0 and f"  branch {data['branches'][0]}, {parameter} " in out
+
+
+def test_a_general_chain_has_no_branch_labels(capsys):
+    chain = load_urdf(str(EXAMPLES / "sawyer.urdf"))
+    code, out, _ = run(capsys, ["ik", str(EXAMPLES / "sawyer.urdf"), *pose_argv(chain.fk(Q)), "--json"])
+    assert code == 0 and "branches" not in json.loads(out)

@@ -109,3 +109,33 @@ def test_plot_to_a_bad_place_is_one_line_and_exit_2_before_any_work(tmp_path, ca
                      "--plot", str(place)]) == 2
         captured = capsys.readouterr()
         assert captured.out == "" and "--plot" in captured.err and captured.err.count("\n") == 1
+
+
+def test_the_start_branch_is_said_with_its_reason(tmp_path, capsys):
+    """Without --q0 the path names the objective's choice; with --q0 it starts on --q0's own branch, whichever
+    branch that is (here one other than the objective's choice where one exists)."""
+    from redkin.srs import BRANCHES, arm_angle_of, ik
+
+    chain = get_robot("kuka-iiwa14")
+    file = tmp_path / "poses.npy"
+    np.save(file, chain.fk(_line()))
+    argv = ["path", "kuka-iiwa14", "--poses", str(file), "--max-step", "0.2"]
+    assert main(argv + ["--json"]) == 0
+    chosen = json.loads(capsys.readouterr().out)["start"]
+    assert chosen["why"] == "objective" and chosen["branch"] in [str(b) for b in BRANCHES]
+    assert main(argv) == 0
+    assert f"starts on branch {chosen['branch']}: no --q0" in capsys.readouterr().out
+    start = _line()[0]
+    state = arm_angle_of(chain, start)
+    for branch in BRANCHES:  # the first waypoint's solutions on the other branches, at the start's arm angle
+        q0 = ik(chain, chain.fk(start), float(state.psi), branch)
+        if str(branch) == chosen["branch"] or not chain.within_limits(q0):
+            continue
+        assert main(argv + ["--q0", *map(str, q0), "--json"]) == 0
+        report = json.loads(capsys.readouterr().out)
+        assert report["start"] == {"branch": str(branch), "why": "q0", "q0_branch": str(branch)}
+        assert report["branch"][0] == str(branch)
+        assert main(argv + ["--q0", *map(str, q0)]) == 0
+        assert f"starts on branch {branch}, within one step of --q0 (its own branch)" in capsys.readouterr().out
+        return
+    raise AssertionError("no branch other than the objective's reaches the first waypoint within the limits")

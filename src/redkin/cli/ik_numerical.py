@@ -60,16 +60,18 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
     if args.seed is not None:
         options["rng"] = args.seed
     try:
-        parameter = redundancy_parameter(chain)
+        parameter: str | None = redundancy_parameter(chain)
         why = (f"{chain.name} has a closed form in {parameter}; solved numerically as asked (--numerical)"
                if args.numerical else f"{chain.name} has a closed form in {parameter}, but no --{parameter} was "
                                       "given: solved numerically")
     except NotArmAngleClassError as error:
-        why = str(error)
+        parameter, why = None, str(error)
     result = ik(chain, poses, **options)
     reach = result.reach
     assert reach is not None  # ik always measures the poses' reach
-    entries = [_entry(result, k, args.deg) for k in range(len(poses))] if batch else [_entry(result, (), args.deg)]
+    label = None if parameter is None else _labeller(chain, parameter)
+    entries = ([_entry(result, k, args.deg, label) for k in range(len(poses))] if batch
+               else [_entry(result, (), args.deg, label)])
     if args.json:
         head = {"robot": chain.name, "method": "numerical", "why": why,
                 "units": {"q": angle_unit(args.deg), "position_error": "m", "rotation_error": "rad", "reach": "m"},
@@ -83,8 +85,10 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
             if entry["reason"]:
                 print(f"{label}no solution: {out_of_reach(reach, k if batch else ())}; not searched")
             elif entry["status"] == "found":
-                for q in entry["solutions"]:
-                    print(f"{label}{format_values(q)}  [{unit}]")
+                for j, q in enumerate(entry["solutions"]):
+                    where = "" if parameter is None else \
+                        f"  branch {entry['branches'][j]}, {parameter} {entry[parameter][j]:.6f} {unit}"
+                    print(f"{label}{format_values(q)}  [{unit}]{where}")
                 short = "" if len(entry["solutions"]) == args.count else f"; {len(entry['solutions'])} of the " \
                     f"{args.count} distinct solutions asked"
                 print(f"{label}error {entry['error']['position']:.2g} m, {entry['error']['rotation']:.2g} rad "
@@ -96,16 +100,40 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
     return 0 if bool(np.all(result.found[..., 0])) else 1
 
 
-def _entry(result, index, degrees: bool) -> dict:
-    """One pose's JSON entry: status, solutions, the closest joint values and their error, starts used, and the
-    reason where the pose is out of reach."""
+def _labeller(chain, parameter: str):
+    """A function of solutions ``(K, 7)`` [rad] giving each one's branch (three signs) and ``parameter`` value
+    [rad], read off the configuration by its class (:meth:`redkin.paths.family.Family.parameter_of`)."""
+    from redkin.paths.family import path_family
+    from redkin.srs import BRANCHES
+
+    family = path_family(chain)
+
+    def label(q: np.ndarray) -> tuple[list[str], np.ndarray]:
+        if len(q) == 0:
+            return [], np.zeros(0)
+        branch, value = family.parameter_of(np.ascontiguousarray(q, dtype=float))
+        return [str(BRANCHES[int(b)]) for b in branch], value
+
+    return parameter, label
+
+
+def _entry(result, index, degrees: bool, labeller=None) -> dict:
+    """One pose's JSON entry: status, solutions (with their branch and redundancy parameter where ``labeller``,
+    of :func:`_labeller`, is given), the closest joint values and their error, starts used, and the reason where
+    the pose is out of reach."""
     found = result.found[index]
+    labels: dict = {}
+    if labeller is not None:
+        parameter, label = labeller
+        branches, values = label(result.q[index][found])
+        labels = {"branches": branches, parameter: [float(angles_out(v, degrees)) for v in values]}
     entry = {
         "status": "found" if found[0] else "not-found",
         "solutions": [angles_out(q, degrees) for q in result.q[index][found]],
         "closest": angles_out(result.closest[index], degrees),
         "error": {"position": float(result.error[index][0]), "rotation": float(result.error[index][1])},
         "starts": int(result.starts[index]),
+        **labels,
         **reach_reason(result.reach, index),
     }
     if isinstance(index, int):

@@ -125,6 +125,30 @@ def _model_line(chain, srs_tolerance: float | None) -> str | None:
             "so no clearance is proved optimal")
 
 
+#: What the objective prefers, in words, by ``--objective``.
+_PREFERS = {"clearance": "the largest clearance from the limits, then the least motion",
+            "motion": "the least total motion, then the largest clearance"}
+
+
+def _start(chain, result, q0: np.ndarray | None, objective: str, srs_tolerance: float | None) -> dict:
+    """Which branch the path starts on and why: ``--q0``'s own (the first waypoint is within one step of it), or,
+    without ``--q0``, the objective's choice among every branch; with ``--q0``, its branch as well."""
+    from redkin.paths.family import path_family
+    from redkin.srs import BRANCHES
+
+    start: dict = {"branch": result.branch[0], "why": "objective" if q0 is None else "q0"}
+    if q0 is not None:
+        branch, _ = path_family(chain, srs_tolerance).parameter_of(q0[None])
+        start["q0_branch"] = str(BRANCHES[int(branch[0])])
+        start["text"] = (f"starts on branch {start['branch']}, within one step of --q0"
+                         + (" (its own branch)" if start["q0_branch"] == start["branch"] else
+                            f" (which is on branch {start['q0_branch']} at its own pose)"))
+    else:
+        start["text"] = (f"starts on branch {start['branch']}: no --q0, so the search chose among all "
+                         f"{len(BRANCHES)} branches by {_PREFERS[objective]}; --q0 Q starts from your configuration")
+    return start
+
+
 def _bound(args: argparse.Namespace, chain) -> tuple[np.ndarray, np.ndarray | None, str | None]:
     """The step bound of the options, and the joint speeds (rad/s) it is made of with where they come from
     (``"--speed"``, or with ``--dt`` alone ``"description"``: its velocity limits); no speeds for ``--max-step``."""
@@ -178,6 +202,8 @@ def _run_path(args: argparse.Namespace) -> int:
                                                                                                degrees),
                           motion=angles_out(result.motion, degrees), optimal=result.optimal,
                           bottleneck=result.bottleneck)
+            start = _start(chain, result, q0, args.objective, args.srs_tolerance)
+            report["start"] = {key: value for key, value in start.items() if key != "text"}
             report[result.parameter] = angles_out(result.psi, degrees)
         else:
             assert failure is not None
@@ -203,6 +229,7 @@ def _run_path(args: argparse.Namespace) -> int:
              else "not proved the largest possible")
     print(f"path of {len(poses)} waypoints on {chain.name}: clearance {clearance} {unit} ({proof}), total motion "
           f"{motion} {unit}")
+    print(_start(chain, result, q0, args.objective, args.srs_tolerance)["text"])
     print(f"{'k':>5}  branch  {result.parameter:>10}  q [{unit}]")
     for k in range(len(poses)):
         print(f"{k:>5}  {result.branch[k]:>6}  {fixed(float(angles_out(result.psi[k], degrees)), 6, ' '):>10}  "
