@@ -2,6 +2,7 @@
 serial and nogil) and how run_batch hands a batch out in chunks."""
 
 import ast
+import hashlib
 import os
 import threading
 from itertools import pairwise
@@ -37,31 +38,70 @@ def test_kernel_compiles_without_a_cache_where_none_is_writable(monkeypatch):
     assert type(compiled._cache).__name__ == "NullCache"
 
 
-def test_a_cache_filled_by_other_kernels_is_emptied(tmp_path, monkeypatch):
-    """numba checks a cached kernel against its own file only; redkin's stamp covers every kernel module."""
+def _kernel_module(folder: Path):
+    """A module with one function, ``triple``, loaded from ``folder/kernel_module.py``."""
     import importlib.util
 
-    from redkin import _compiled as compiled
-
-    source = tmp_path / "kernel_module.py"
+    source = folder / "kernel_module.py"
     source.write_text("def triple(x):\n    return 3.0 * x\n")
     spec = importlib.util.spec_from_file_location("kernel_module", source)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    monkeypatch.setattr(compiled, "_checked", set())
+    return module
+
+
+@pytest.fixture(params=["beside the source", "NUMBA_CACHE_DIR"])
+def cache_setting(request, tmp_path, monkeypatch):
+    """numba's cache folder as a process starting with ``NUMBA_CACHE_DIR`` unset or set sees it (numba reads it
+    when it loads; its locator reads ``config.CACHE_DIR`` when a function is decorated): the folder that should
+    hold the kernels of a module in ``tmp_path/source``, and the folder the notice should name."""
+    source = tmp_path / "source"
+    source.mkdir()
+    monkeypatch.setattr(_compiled, "_checked", set())  # as a new process would
+    if request.param == "NUMBA_CACHE_DIR":
+        root = tmp_path / "numba cache"
+        monkeypatch.setenv("NUMBA_CACHE_DIR", str(root))
+        monkeypatch.setattr(config, "CACHE_DIR", str(root))
+        return source, root / f"source_{hashlib.sha1(str(source).encode()).hexdigest()}", root  # numba's subfolder
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setattr(config, "CACHE_DIR", "")
+    return source, source / "__pycache__", source / "__pycache__"
+
+
+def test_a_cache_filled_by_other_kernels_is_emptied(cache_setting):
+    """numba checks a cached kernel against its own file only; redkin's stamp covers every kernel module, in the
+    folder where numba caches (NUMBA_CACHE_DIR set or not)."""
+    source, cache, _ = cache_setting
+    module = _kernel_module(source)
     first = kernel(module.triple)
     assert first(2.0) == 6.0
-    cache = tmp_path / "__pycache__"
-    assert (cache / compiled._STAMP_NAME).read_text() == compiled._core_digest()
+    assert Path(_compiled._cache_path(first)) == cache
+    assert (cache / _compiled._STAMP_NAME).read_text() == _compiled._core_digest()
     assert list(cache.glob("*.nbi")) and list(cache.glob("*.nbc"))
     kernel(module.triple)  # the same version in the same process: nothing is dropped
     assert list(cache.glob("*.nbi"))
-    (cache / compiled._STAMP_NAME).write_text("another version of the kernels")
-    monkeypatch.setattr(compiled, "_checked", set())  # as a new process would
+    (cache / _compiled._STAMP_NAME).write_text("another version of the kernels")
+    _compiled._checked.clear()  # as a new process would
     again = kernel(module.triple)
     assert not list(cache.glob("*.nbi")) and not list(cache.glob("*.nbc"))
-    assert (cache / compiled._STAMP_NAME).read_text() == compiled._core_digest()
+    assert (cache / _compiled._STAMP_NAME).read_text() == _compiled._core_digest()
     assert again(2.0) == 6.0
+
+
+def test_the_cache_named_is_where_numba_caches(cache_setting, tmp_path, monkeypatch):
+    """NUMBA_CACHE_DIR itself (not numba's subfolder of it), or the __pycache__ folder; and a NUMBA_CACHE_DIR numba
+    cannot write to, which numba passes over, is not named."""
+    source, _, named = cache_setting
+    assert _compiled.cache_directory() == "no cache"
+    kernel(_kernel_module(source).triple)
+    assert _compiled.cache_directory() == str(named)
+    blocked = tmp_path / "a file, not a folder"
+    blocked.write_text("")
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(blocked))
+    monkeypatch.setattr(config, "CACHE_DIR", str(blocked))
+    _compiled._checked.clear()
+    assert Path(_compiled._cache_path(kernel(_kernel_module(source).triple))) == source / "__pycache__"
+    assert _compiled.cache_directory() == str(source / "__pycache__")
 
 
 def recorder():

@@ -7,13 +7,18 @@ compiles it and writes the machine code to numba's cache; later processes
 load it from there in milliseconds.  numba looks for a writable cache
 directory in this order:
 
-1. ``NUMBA_CACHE_DIR``, if set;
+1. ``NUMBA_CACHE_DIR``, if set (and writable), in one subfolder per source
+   folder (``$NUMBA_CACHE_DIR/srs_<digest of the folder's path>``);
 2. ``__pycache__`` beside the source file (an editable install: ``src/redkin/__pycache__``);
-3. the user's cache directory (``~/.cache/numba`` on Linux), for a read-only install.
+3. the user's cache directory (``~/.cache/numba`` on Linux), for a read-only
+   install, in one subfolder per source folder as under 1.
 
 Where none is writable (a read-only install and a read-only home), numba
 refuses to cache; :func:`kernel` then compiles without a cache, so redkin
-still works and recompiles in every process.
+still works and recompiles in every process.  What redkin says about the
+cache (:func:`cache_directory`) is read from where numba put each kernel,
+never from the environment: a ``NUMBA_CACHE_DIR`` numba cannot write to is
+passed over by numba, and by redkin's word too.
 
 numba checks a cached function against its own source file only, so a
 kernel whose callee in another module changed would load stale machine code
@@ -135,15 +140,16 @@ def set_compile_notice(enabled: bool) -> None:
 
 
 def cache_directory() -> str:
-    """Where numba caches the kernels imported so far (see the module docstring): one folder, or the folder that
-    holds them all (each source folder's ``__pycache__`` in an editable install); ``"no cache"`` where none."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return os.environ["NUMBA_CACHE_DIR"]
-    if not _checked:
+    """Where numba caches the kernels imported so far (see the module docstring): the folder a user names
+    (``NUMBA_CACHE_DIR`` or the user's cache directory, whose subfolders numba makes per source folder; or one
+    ``__pycache__``), or the folder that holds them all (each source folder's ``__pycache__`` in an editable
+    install); ``"no cache"`` where none."""
+    roots = {path if os.path.basename(path) == "__pycache__" else os.path.dirname(path) for path in _checked}
+    if not roots:
         return "no cache"
-    if len(_checked) == 1:
-        return next(iter(_checked))
-    return f"the __pycache__ folders under {os.path.commonpath(sorted(_checked))}"
+    if len(roots) == 1:
+        return next(iter(roots))
+    return f"the __pycache__ folders under {os.path.commonpath(sorted(roots))}"
 
 
 class _CompileListener(numba.core.event.Listener):
@@ -215,9 +221,15 @@ def _core_digest() -> str:
 _digest: str | None = None
 
 
+def _cache_path(compiled) -> str | None:
+    """The folder where numba caches the compiled function ``compiled`` (the stamp is there too), or ``None`` where
+    it is not cached."""
+    return getattr(getattr(compiled, "_cache", None), "cache_path", None)
+
+
 def _drop_stale_cache(compiled) -> None:
     """Empty the numba cache directory of a cached kernel if another version of the kernels filled it."""
-    path = getattr(getattr(compiled, "_cache", None), "_cache_path", None)  # where numba caches this kernel
+    path = _cache_path(compiled)
     if path is None or path in _checked:
         return
     _checked.add(path)
