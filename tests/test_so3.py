@@ -10,7 +10,10 @@ from redkin._validation import check_rotation
 from redkin.so3 import (
     axis_angle_to_matrix,
     matrix_to_axis_angle,
+    matrix_to_quaternion,
     matrix_to_xyz_fixed,
+    nearest_rotation,
+    quaternion_to_matrix,
     rot_x,
     rot_y,
     rot_z,
@@ -95,3 +98,76 @@ def test_bad_rotations_are_rejected(bad, message):
 def test_zero_axis_is_rejected():
     with pytest.raises(ValueError, match="non-zero"):
         axis_angle_to_matrix([0, 0, 0], 1.0)
+
+
+# ------------------------------------------------------------------------------ quaternions, the nearest rotation
+
+quaternions = arrays(float, 4, elements=st.floats(-1, 1)).filter(lambda v: np.linalg.norm(v) > 0.1)
+
+
+@given(vectors.filter(lambda v: np.linalg.norm(v) > 1e-3), st.floats(-np.pi, np.pi))
+def test_quaternion_of_a_turn_is_half_angle_cosine_and_sine(axis, angle):
+    """``(cos(a/2), sin(a/2) u)`` is the turn by ``a`` about ``u`` (Hamilton), and matrix_to_quaternion gives it back
+    up to the sign, with its first non-zero entry positive."""
+    u = axis / np.linalg.norm(axis)
+    q = np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * u])
+    np.testing.assert_allclose(quaternion_to_matrix(q), axis_angle_to_matrix(axis, angle), atol=1e-12)
+    back = matrix_to_quaternion(axis_angle_to_matrix(axis, angle))
+    np.testing.assert_allclose(back, q if q[np.flatnonzero(q)[0]] > 0 else -q, atol=1e-12)
+
+
+@given(quaternions)
+def test_quaternion_round_trip_and_both_signs(quaternion):
+    q = quaternion / np.linalg.norm(quaternion)
+    r = quaternion_to_matrix(q)
+    np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-14)
+    assert abs(np.linalg.det(r) - 1) < 1e-14
+    np.testing.assert_allclose(quaternion_to_matrix(-q), r, atol=1e-15)
+    back = matrix_to_quaternion(r)
+    assert back[np.flatnonzero(back)[0]] > 0 and abs(np.linalg.norm(back) - 1) < 1e-15
+    np.testing.assert_allclose(back, q * np.sign(q @ back), atol=1e-12)
+
+
+def test_quaternions_batched_and_at_half_turns():
+    angles = np.random.default_rng(4).uniform(-np.pi, np.pi, (3, 5, 3))
+    r = xyz_fixed_to_matrix(angles)
+    q = matrix_to_quaternion(r)
+    assert q.shape == (3, 5, 4)
+    np.testing.assert_allclose(quaternion_to_matrix(q), r, atol=1e-14)
+    np.testing.assert_allclose(q[1, 2], matrix_to_quaternion(r[1, 2]))
+    half_turns = np.array([rot_x(np.pi), rot_y(np.pi), rot_z(np.pi), rot_z(np.pi) @ rot_x(np.pi / 2)])
+    np.testing.assert_allclose(matrix_to_quaternion(np.round(half_turns, 15)),
+                               [[0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0.5**0.5, 0.5**0.5]], atol=1e-15)
+
+
+@pytest.mark.parametrize("bad, message", [
+    ([1.1, 0, 0, 0], "norm 1"), ([0, 0, 0, 0], "norm 1"), ([np.nan, 0, 0, 1], "finite"), ([1, 0, 0], "shape"),
+])
+def test_bad_quaternions_are_rejected(bad, message):
+    with pytest.raises(ValueError, match=message):
+        quaternion_to_matrix(bad)
+
+
+@given(quaternions, arrays(float, (3, 3), elements=st.floats(-1e-3, 1e-3)))
+def test_nearest_rotation_is_the_polar_factor(quaternion, noise):
+    """``Q = nearest_rotation(M)`` is a proper rotation with ``Q^T M`` symmetric and positive semi-definite (the
+    polar decomposition ``M = Q P``), so no rotation is nearer in the Frobenius norm; a rotation is its own."""
+    rotation = quaternion_to_matrix(quaternion / np.linalg.norm(quaternion))
+    matrix = rotation + noise
+    q = nearest_rotation(matrix)
+    np.testing.assert_allclose(q @ q.T, np.eye(3), atol=1e-14)
+    assert abs(np.linalg.det(q) - 1) < 1e-14
+    p = q.T @ matrix
+    np.testing.assert_allclose(p, p.T, atol=1e-14)
+    assert np.linalg.eigvalsh((p + p.T) / 2).min() > 0
+    np.testing.assert_allclose(nearest_rotation(rotation), rotation, atol=1e-14)
+    assert np.abs(q - matrix).max() <= 4 * np.abs(noise).max() + 1e-14
+
+
+def test_nearest_rotation_is_proper_and_batched():
+    reflection = np.diag([1.0, 1.0, -1.0]) @ rot_z(0.3)
+    assert abs(np.linalg.det(nearest_rotation(reflection)) - 1) < 1e-14
+    batch = np.stack([rot_x(0.2) * 1.0001, reflection])[None]
+    np.testing.assert_allclose(nearest_rotation(batch)[0, 0], rot_x(0.2), atol=1e-14)
+    with pytest.raises(ValueError, match="finite"):
+        nearest_rotation(np.full((3, 3), np.inf))

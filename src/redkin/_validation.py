@@ -116,6 +116,24 @@ def _check_proper_orthonormal(rotation: np.ndarray, name: str, tolerance: float)
         )
 
 
+def check_quaternion(
+    value: ArrayLike, name: str = "quaternion", tolerance: float = ROTATION_TOLERANCE
+) -> np.ndarray:
+    """Return ``value`` as quaternions of shape ``(..., 4)``.
+
+    Raises ``ValueError`` unless every quaternion is finite and of unit norm
+    (``| |q| - 1 | <= tolerance``); the order of the entries is the caller's.
+    """
+    quaternion = check_vectors(value, 4, name)
+    if quaternion.size == 0:
+        return quaternion
+    norm = np.linalg.norm(quaternion, axis=-1)
+    farthest = int(np.argmax(np.abs(norm - 1.0)))
+    if abs(float(norm.flat[farthest]) - 1.0) > tolerance:
+        raise RedkinError(f"{name} must have norm 1 (within {tolerance:g}), got norm {float(norm.flat[farthest]):.6g}")
+    return quaternion
+
+
 def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION_TOLERANCE) -> np.ndarray:
     """Return ``value`` as homogeneous transforms of shape ``(..., 4, 4)``.
 
