@@ -15,6 +15,7 @@ from redkin.cli.common import (
     add_xacro_arguments,
     angle_unit,
     angles_out,
+    format_exact,
     format_matrix,
     format_values,
     joint_vector,
@@ -41,7 +42,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_output_flags(robots, degrees=True)
     robots.set_defaults(handler=_run_robots)
 
-    fk = subparsers.add_parser("fk", help="end pose of a robot at joint values")
+    fk = subparsers.add_parser(
+        "fk", help="end pose of a robot at joint values: the 4x4 pose rounded for reading, then two lines to paste "
+                   "into ik, arm-angles or explore, every number exact: --position and --rotation (row by row), "
+                   "--position and --quat (unit quaternion w x y z, w >= 0)"
+    )
     add_robot_argument(fk)
     fk.add_argument("q", nargs="+", type=float, metavar="Q", help="joint values (radians, or degrees with --deg)")
     add_output_flags(fk)
@@ -124,21 +129,30 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
 
 
 def _run_fk(args: argparse.Namespace) -> int:
+    from redkin.so3 import matrix_to_quaternion
+
     chain = load_robot(args)
     q = joint_vector(chain, args.q, args.deg)
     pose = chain.fk(q)
+    quaternion = matrix_to_quaternion(pose[:3, :3])
     if args.json:
         print_json({
             "robot": chain.name,
-            "units": {"q": angle_unit(args.deg), "position": "m", "pose": "m (translation column)"},
+            "units": {"q": angle_unit(args.deg), "position": "m", "pose": "m (translation column)",
+                      "quaternion": "w x y z (scalar first), norm 1"},
             "q": angles_out(q, args.deg),
             "position": pose[:3, 3],
             "rotation": pose[:3, :3],
+            "quaternion": quaternion,
             "pose": pose,
             "within_limits": bool(chain.within_limits(q)),
         })
     else:
+        position = f"--position {format_exact(pose[:3, 3])}"
+        print("pose (rounded to 6 decimals; the two lines below are exact, the quaternion is w x y z):")
         print(format_matrix(pose))
+        print(f"{position} --rotation {format_exact(pose[:3, :3])}")
+        print(f"{position} --quat {format_exact(quaternion)}")
         if not chain.within_limits(q):
             print("note: these joint values are outside the robot's limits")
     return 0

@@ -15,7 +15,15 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
-from redkin._validation import MAX_LENGTH, check_magnitude, check_output_directory, check_output_file, check_rotation
+from redkin._validation import (
+    MAX_LENGTH,
+    ROTATION_TOLERANCE,
+    check_magnitude,
+    check_output_directory,
+    check_output_file,
+    check_quaternion,
+    check_rotation,
+)
 
 if TYPE_CHECKING:  # the commands' parsers are built from this module: it imports no chain, models or kernels
     from redkin.chain import Reach, SerialChain
@@ -117,21 +125,73 @@ BRANCH_HELP = "signs of q2, q4, q6 in the robot's own joint senses, e.g. +-+ (de
 
 
 def add_target_arguments(parser: argparse.ArgumentParser, required: bool = True) -> None:
-    """``--position X Y Z --rotation R11 ... R33``: a target pose of the tool (optional where a command takes
-    ``--poses`` instead)."""
+    """``--position X Y Z`` and ``--rotation R11 ... R33`` or ``--quat W X Y Z``: a target pose of the tool
+    (optional where a command takes ``--poses`` instead)."""
     parser.add_argument("--position", nargs=3, type=float, required=required, metavar=("X", "Y", "Z"),
                         help="tool position [m]")
-    parser.add_argument(
-        "--rotation", nargs=9, type=float, required=required, metavar="R",
-        help="tool rotation R11 R12 R13 R21 ... R33 (row by row)"
-    )
+    add_rotation_arguments(parser.add_mutually_exclusive_group(required=required))
+
+
+#: How far a ``--rotation`` (largest entry of ``R R^T - I``, and ``|det R - 1|``) or a ``--quat`` (``| |q| - 1 |``)
+#: may be from a rotation and still be read, as the nearest rotation: it covers a matrix printed with 4 decimals
+#: (``fk``'s old 6 are 1e-6 off) and a quaternion printed with 3.  Farther, the input is refused.
+_ROTATION_INPUT_TOLERANCE = 1e-3
+
+
+def add_rotation_arguments(group: argparse._MutuallyExclusiveGroup, frame: str = "tool") -> None:
+    """``--rotation R11 ... R33`` and ``--quat W X Y Z`` in ``group`` (which makes them exclusive, and may hold
+    other ways to give the orientation); read them with :func:`given_rotation`."""
+    near = (f"a matrix up to {_ROTATION_INPUT_TOLERANCE:g} off orthonormal is taken as the nearest rotation, with a "
+            "note on stderr")
+    group.add_argument("--rotation", nargs=9, type=float, metavar="R",
+                       help=f"{frame} rotation matrix R11 R12 R13 R21 ... R33, row by row ({near})")
+    group.add_argument("--quat", nargs=4, type=float, metavar=("W", "X", "Y", "Z"),
+                       help=f"{frame} rotation as a unit quaternion, scalar first: w x y z (ROS writes x y z w); "
+                            f"a norm up to {_ROTATION_INPUT_TOLERANCE:g} off 1 is normalised")
+
+
+def given_rotation(args: argparse.Namespace) -> np.ndarray | None:
+    """The rotation of ``--rotation`` or ``--quat`` (``None`` where neither was given).
+
+    A matrix that is a rotation by the library's own standard (``R R^T = I`` and ``det R = 1`` within 1e-6,
+    :data:`redkin._validation.ROTATION_TOLERANCE`) is used as given, every digit of it.  One farther off, up to
+    :data:`_ROTATION_INPUT_TOLERANCE`, is replaced by the nearest rotation (:func:`redkin.so3.nearest_rotation`),
+    with one line on stderr that says so; a quaternion is normalised, with that line where its norm was more than
+    1e-6 off 1.  A reflection (``det R = -1``), NaN, or input farther off is a ValueError of one line.
+    """
+    from redkin.so3 import nearest_rotation, quaternion_to_matrix
+
+    if args.quat is not None:
+        quaternion = check_quaternion(args.quat, "--quat", _ROTATION_INPUT_TOLERANCE)
+        norm = float(np.linalg.norm(quaternion))
+        if abs(norm - 1.0) > ROTATION_TOLERANCE:
+            _note(f"--quat has norm {norm:.9g}: using it normalised to norm 1")
+        return quaternion_to_matrix(quaternion / norm)
+    if args.rotation is None:
+        return None
+    matrix = check_rotation(np.reshape(args.rotation, (3, 3)), "--rotation", _ROTATION_INPUT_TOLERANCE)
+    deviation = float(np.abs(matrix @ matrix.T - np.eye(3)).max())
+    if max(deviation, abs(float(np.linalg.det(matrix)) - 1.0)) <= ROTATION_TOLERANCE:
+        return matrix
+    rotation = nearest_rotation(matrix)
+    _note(f"--rotation is {deviation:#.3g} off orthonormal (largest entry of R R^T - I): using the nearest rotation, "
+          f"whose entries differ from it by at most {float(np.abs(rotation - matrix).max()):.3g}")
+    return rotation
+
+
+def _note(text: str) -> None:
+    """One line on stderr about how the input was read (stdout stays the result, JSON and all)."""
+    print(f"redkin: note: {text}", file=sys.stderr)
 
 
 def target_pose(args: argparse.Namespace) -> np.ndarray:
-    """The pose of ``--position`` and ``--rotation`` (ValueError for a non-finite position or a non-rotation)."""
+    """The pose of ``--position`` and ``--rotation`` or ``--quat`` (ValueError for a non-finite position or a
+    non-rotation, :func:`given_rotation`)."""
     from redkin.srs.geometry import pose_from
 
-    rotation = check_rotation(np.array(args.rotation, dtype=float).reshape(3, 3), "--rotation")
+    rotation = given_rotation(args)
+    if args.position is None or rotation is None:
+        raise UsageError("the target needs --position X Y Z and --rotation R11 ... R33 or --quat W X Y Z")
     return pose_from(checked_position(args.position), rotation)
 
 
@@ -298,6 +358,13 @@ def format_matrix(matrix: np.ndarray, digits: int = 6) -> str:
 def format_values(values: Any, digits: int = 6) -> str:
     """A vector as aligned text, one space and a sign slot per value."""
     return " ".join(fixed(v, digits, " ") for v in np.ravel(values))
+
+
+def format_exact(values: Any) -> str:
+    """Numbers as Python's ``repr``, separated by spaces: the shortest text that reads back as the same float
+    (``0.30700000000000005``, ``6.123233995736766e-17``), so that printed output pasted into an option is the
+    number that was printed; ``-0.0`` prints as ``0.0``."""
+    return " ".join(repr(float(v) + 0.0) for v in np.ravel(values))
 
 
 #: Off a terminal, a progress line at each tenth, and one at least this often (seconds) in between.

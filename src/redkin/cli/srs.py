@@ -47,7 +47,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_robot_argument(solve)
     add_target_arguments(solve, required=False)
     solve.add_argument("--poses", metavar="FILE.npy", help="solve every pose of an (N, 4, 4) array instead of "
-                                                          "--position and --rotation")
+                                                          "--position and --rotation or --quat")
     parameter = solve.add_mutually_exclusive_group()
     parameter.add_argument("--psi", type=float,
                            help="arm angle of an S-R-S, offset-elbow or nearly S-R-S arm (radians, or degrees with "
@@ -111,14 +111,16 @@ def _closed_form_class(chain, args: argparse.Namespace) -> str:
 
 
 def _ik_poses(args: argparse.Namespace) -> tuple[np.ndarray, bool]:
-    """The target of ``redkin ik``: ``--position`` and ``--rotation``, or the ``--poses`` file (then ``True``)."""
-    single = args.position is not None or args.rotation is not None
+    """The target of ``redkin ik``: ``--position`` and ``--rotation`` or ``--quat``, or the ``--poses`` file (then
+    ``True``)."""
+    oriented = args.rotation is not None or args.quat is not None
     if args.poses is not None:
-        if single:
-            raise UsageError("give --poses or --position and --rotation, not both")
+        if args.position is not None or oriented:
+            raise UsageError("give --poses or --position and --rotation, not both (--quat stands for --rotation)")
         return read_poses(args.poses), True
-    if args.position is None or args.rotation is None:
-        raise UsageError("the target needs --position X Y Z and --rotation R11 ... R33 (or --poses FILE.npy)")
+    if args.position is None or not oriented:
+        raise UsageError("the target needs --position X Y Z and --rotation R11 ... R33 (or --poses FILE.npy); "
+                         "--quat W X Y Z may stand for --rotation")
     return target_pose(args), False
 
 

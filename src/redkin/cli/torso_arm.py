@@ -17,11 +17,13 @@ from redkin.cli.common import (
     UsageError,
     add_force_flag,
     add_output_flags,
+    add_rotation_arguments,
     angle_unit,
     angles_in,
     angles_out,
     checked_position,
     fixed,
+    given_rotation,
     output_file,
     print_json,
 )
@@ -38,8 +40,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     orient = solve.add_mutually_exclusive_group()
     orient.add_argument("--angles", nargs=3, type=float, metavar=("A", "B", "G"),
                         help="hand orientation as X-Y-Z fixed angles alpha, beta, gamma (radians, or degrees with "
-                             "--deg; [001 eq. 4.4]); omit both this and --rotation for the wrist position only")
-    orient.add_argument("--rotation", nargs=9, type=float, metavar="R", help="hand rotation matrix, row by row")
+                             "--deg; [001 eq. 4.4]); omit it, --rotation and --quat for the wrist position only")
+    add_rotation_arguments(orient, "hand")
     solve.add_argument("--shoulder", type=float, required=True, metavar="PSI",
                        help="shoulder angle psi: turn of the neck-shoulder-wrist plane (radians, or degrees with "
                             "--deg)")
@@ -104,13 +106,13 @@ def run_ik(args: argparse.Namespace) -> int:
     reference = _reference(args.reference)
     branches: list[tuple[int, ...]]
     target = checked_position(args.position)
-    if args.angles is None and args.rotation is None:
+    rotation = given_rotation(args)
+    if args.angles is None and rotation is None:
         position = position_ik(arm, target, psi, phi, reference)
         q, limits, branches, singular = position.q, position.within_limits, [b[:2] for b in BRANCHES[::2]], [False] * 4
         code = position.status
     else:
-        kwargs = ({"angles": angles_in(args.angles, args.deg)} if args.angles
-                  else {"rotation": np.reshape(args.rotation, (3, 3))})
+        kwargs = {"angles": angles_in(args.angles, args.deg)} if args.angles else {"rotation": rotation}
         sol = ik(arm, target, psi, phi, reference=reference, **kwargs)
         q, limits, branches, singular = sol.q, sol.within_limits, list(BRANCHES), sol.wrist_singular.tolist()
         code = sol.status
