@@ -40,20 +40,3 @@ def test_the_summary_agrees_in_number(tmp_path):
                             Comparison("b [deg]", 1.0, 2.0, tolerance=0.1, note="a reason")])
     page = render_page([writer], "Report", {"date": "today", "version": "0", "commit": "abc"})
     assert "<strong>1 agrees</strong>" in page and "<strong>1 differs</strong>, for a reason given below" in page
-
-
-def test_the_progress_line_moves_while_kernels_compile(monkeypatch, capsys):
-    """On a terminal each kernel compile redraws reproduce's progress line with its name (issue 23: no silent
-    stretch while a fresh install compiles), at the section's last fraction."""
-    from redkin.cli import reproduce as command
-
-    monkeypatch.setattr(command.sys.stderr, "isatty", lambda: True)
-    monkeypatch.setitem(command._last_section, "noticed", False)
-    command._progress("000", 0.25, "Table 2")
-    command._compiling("redkin.srs._ik_kernels.solve_pose")
-    command._compiling("redkin.srs._ik_kernels.solve_poses")
-    err = capsys.readouterr().err
-    assert err.count("\r") == 3 and err.rstrip().endswith("compiling solve_poses")
-    assert " 25.0% compiling solve_pose " in err and "[   000]" in err.split("\r")[-1]
-    notices = [line for line in err.split("\r") if "redkin: compiling its kernels" in line]
-    assert len(notices) == 1 and "\nredkin: compiling its kernels" in notices[0]  # once, on a line of its own

@@ -27,17 +27,36 @@ directory, a digest of every redkin module that defines kernels, and empties
 that directory's numba files when the digest differs (after an edit or an
 upgrade): the compiled core is cached as a whole.
 
-Compiling is the one slow thing a new install does (about 25 s of CPU for
-every kernel, on the 2-core machine of ``benchmarks/cold_start.py``; a
-command compiles only the kernels it calls), so it is announced: the first
-time a process compiles a redkin kernel, one line goes to stderr
-(:data:`COMPILE_NOTICE`, naming the cache directory), and every kernel
-compile calls the listeners registered with :func:`on_compile` (the
-progress of ``redkin reproduce`` moves on them).  numba reports compiles
-through its event API (``numba.core.event``, ``"numba:compile"``); loading
-from the cache is not a compile and says nothing.  :func:`set_compile_notice`
-or ``REDKIN_COMPILE_NOTICE=0`` in the environment turns the line off (the
-tests do, for the processes they start too); ``redkin compile``
+Compiling is the one slow thing a new install does (a few minutes for
+every kernel on a 2-core machine, tens of seconds for the first run of one
+command, which compiles only the kernels it calls), so it is said as it
+happens, on stderr.  The first time a process compiles a redkin kernel, one
+line says so (:data:`COMPILE_NOTICE`, naming the cache directory); then a
+progress line (:data:`COMPILE_PROGRESS`) counts the redkin kernels compiled
+so far (a kernel's callees are kernels too, compiled inside it) and the
+seconds since the first began, and names the kernel compiling now:
+
+* each time the outermost compile (a kernel the program called, with every
+  callee it compiles) ends, its line is said with the count so far, so the
+  last line of a process gives the count of every kernel it compiled;
+* while one compiles, the line is said again every
+  :data:`PROGRESS_SECONDS` by a helper thread started at the first compile
+  (a large kernel takes 20 s with its callees, and several seconds in LLVM's
+  passes after its last callee), so no wait is longer than about 3 s
+  without a word;
+* on a terminal the line is redrawn in place (a carriage return, and
+  cleared to its end) as each kernel starts and ends, and ended by a new
+  line when the outermost compile ends; anywhere else (a log, a pipe) each
+  line is a whole line, without control characters.
+
+A process that finds every kernel in the cache says nothing and starts no
+thread: numba reports compiles through its event API
+(``numba.core.event``, ``"numba:compile"``), and loading from the cache is
+not a compile.  Every kernel compile also calls the listeners registered
+with :func:`on_compile` (``redkin compile`` counts on them).
+:func:`set_compile_notice` or ``REDKIN_COMPILE_NOTICE=0`` in the
+environment turns the notice and the progress off (the tests do, for the
+processes they start too); ``redkin compile``
 (:func:`redkin.warm_up.warm_up`) compiles everything ahead, for a Docker
 image or a cluster's workers.
 
@@ -120,10 +139,16 @@ _seconds_per_item: dict = {}  # kernel -> its last measured time per item (a run
 
 
 #: The line said on stderr the first time a process compiles a redkin kernel (``{cache}``: where it is cached).
-COMPILE_NOTICE = ("redkin: compiling its kernels for this machine, once per install (cached in {cache}; up to about "
-                  "30 s for all of them, 'redkin compile' does it ahead)...")
+COMPILE_NOTICE = ("redkin: compiling its kernels for this machine, once per install (cached in {cache}; "
+                  "'redkin compile' compiles them all ahead)...")
+#: The progress line while kernels compile: ``{count}`` kernels compiled so far, ``{seconds}`` since the first began;
+#: ``, compiling {kernel}`` is added while one compiles.
+COMPILE_PROGRESS = "redkin: {count} kernel{s} compiled in {seconds:.1f} s"
+#: While a kernel compiles, its progress line is said again (a new line in a log, redrawn on a terminal) once this
+#: many seconds passed since the last line or since the outermost compile began (checked every :data:`_TICK` s).
+PROGRESS_SECONDS = 2.0
+_TICK = 0.25
 
-_notice = {"enabled": os.environ.get("REDKIN_COMPILE_NOTICE", "1") != "0", "said": False}
 _compile_listeners: list[Callable[[str], None]] = []
 
 
@@ -135,8 +160,9 @@ def on_compile(listener: Callable[[str], None]) -> Callable[[], None]:
 
 
 def set_compile_notice(enabled: bool) -> None:
-    """Say (``True``, the default) or do not say :data:`COMPILE_NOTICE` when this process first compiles."""
-    _notice["enabled"] = bool(enabled)
+    """Say (``True``, the default) or do not say :data:`COMPILE_NOTICE` and the progress lines when this process
+    compiles."""
+    _progress.enabled = bool(enabled)
 
 
 def cache_directory() -> str:
@@ -152,23 +178,123 @@ def cache_directory() -> str:
     return f"the __pycache__ folders under {os.path.commonpath(sorted(roots))}"
 
 
+class _CompileProgress:
+    """The notice and the progress lines of this process's redkin kernel compiles on stderr (module docstring).
+
+    numba compiles one function at a time in the whole process (under its compiler lock), a callee inside its
+    caller, so the compiles form one stack whatever thread runs them; the helper thread only reads it.
+    """
+
+    def __init__(self) -> None:
+        self.enabled = os.environ.get("REDKIN_COMPILE_NOTICE", "1") != "0"
+        self.compiled = 0  # redkin kernels compiled so far
+        self.compiling: list[str] = []  # the redkin kernels compiling now, the outermost first
+        self.began: float | None = None  # time.perf_counter() when the first compile began
+        self.quiet_since = 0.0  # when the last line was said or the outermost compile began, the later
+        self.after_fork()
+
+    def after_fork(self) -> None:
+        """A new lock and no helper thread (a forked child has neither): the next compile starts the thread."""
+        self.lock = threading.Lock()
+        self.busy = threading.Event()  # set while a redkin kernel compiles: the helper thread waits for it
+        self.helper_process = 0  # the process id whose helper thread runs; 0: none
+
+    def start(self, name: str) -> None:
+        """The redkin kernel ``name`` begins to compile."""
+        with self.lock:
+            self.compiling.append(name)
+            if not self.enabled:
+                return
+            now = time.perf_counter()
+            if self.began is None:
+                self.began = now
+                self._say(COMPILE_NOTICE.format(cache=cache_directory()), whole=True)
+            if len(self.compiling) == 1:
+                self.quiet_since = now
+            if _terminal():
+                self._say(self._line(now), whole=False)
+            self.busy.set()
+            if self.helper_process != os.getpid():
+                self.helper_process = os.getpid()
+                threading.Thread(target=self._tick, name="redkin-compile-progress", daemon=True).start()
+
+    def end(self) -> None:
+        """The innermost redkin kernel compiling has compiled (or failed to)."""
+        with self.lock:
+            self.compiling.pop()
+            self.compiled += 1
+            if not self.compiling:
+                self.busy.clear()
+            if self.enabled and self.began is not None and (not self.compiling or _terminal()):
+                self._say(self._line(time.perf_counter()), whole=not self.compiling)
+
+    def _tick(self) -> None:
+        """The helper thread: while a kernel compiles, say the line again every :data:`PROGRESS_SECONDS`."""
+        while True:
+            self.busy.wait()
+            time.sleep(_TICK)
+            with self.lock:
+                now = time.perf_counter()
+                if self.compiling and self.enabled and self.began is not None and \
+                        now - self.quiet_since >= PROGRESS_SECONDS:
+                    self._say(self._line(now), whole=False)
+
+    def _line(self, now: float) -> str:
+        """The progress line at ``now``, naming the kernel compiling now if one is."""
+        line = COMPILE_PROGRESS.format(count=self.compiled, s="" if self.compiled == 1 else "s",
+                                       seconds=now - (self.began or now))
+        return f"{line}, compiling {self.compiling[-1].rsplit('.', 1)[-1]}" if self.compiling else line
+
+    def _say(self, text: str, whole: bool) -> None:
+        """Write ``text`` on stderr: on a terminal over the current line (ending it if ``whole``), else as a line."""
+        if _terminal():
+            text = "\r" + text + "\x1b[K" + ("\n" if whole else "")
+        else:
+            text += "\n"
+        try:
+            sys.stderr.write(text)
+            sys.stderr.flush()
+        except (AttributeError, OSError, ValueError):  # pragma: no cover - no stderr, or closed: compiling goes on
+            pass
+        self.quiet_since = time.perf_counter()
+
+
+def _terminal() -> bool:
+    """Whether stderr is a terminal (read at each line: a program or a test may replace ``sys.stderr``)."""
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):  # None, or closed
+        return False
+
+
+_progress = _CompileProgress()
+
+
 class _CompileListener(numba.core.event.Listener):
-    """numba's ``"numba:compile"`` events of redkin's kernels: the notice once, then the listeners."""
+    """numba's ``"numba:compile"`` events of redkin's kernels: the progress, and the listeners."""
 
     def on_start(self, event) -> None:
-        dispatcher = event.data.get("dispatcher") if isinstance(event.data, dict) else None
-        function = getattr(dispatcher, "py_func", None)
-        module = getattr(function, "__module__", "") or ""
-        if function is None or not module.startswith("redkin."):
+        name = _redkin_kernel(event)
+        if name is None:
             return
-        if _notice["enabled"] and not _notice["said"]:
-            _notice["said"] = True
-            print(COMPILE_NOTICE.format(cache=cache_directory()), file=sys.stderr, flush=True)
+        _progress.start(name)
         for listener in list(_compile_listeners):
-            listener(f"{module}.{function.__name__}")
+            listener(name)
 
     def on_end(self, event) -> None:
+        if _redkin_kernel(event) is not None:
+            _progress.end()
+
+
+def _redkin_kernel(event) -> str | None:
+    """The module and name of the redkin function a ``"numba:compile"`` event is about, or ``None`` (numba's own
+    functions compile too)."""
+    dispatcher = event.data.get("dispatcher") if isinstance(event.data, dict) else None
+    function = getattr(dispatcher, "py_func", None)
+    module = getattr(function, "__module__", "") or ""
+    if function is None or not module.startswith("redkin."):
         return None
+    return f"{module}.{function.__name__}"
 
 
 numba.core.event.register("numba:compile", _CompileListener())
@@ -312,6 +438,7 @@ def _after_fork_in_child() -> None:
     that does not exist here: start both afresh."""
     global _lock, _pool
     _lock, _pool = threading.Lock(), None
+    _progress.after_fork()
 
 
 if hasattr(os, "register_at_fork"):

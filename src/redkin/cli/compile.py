@@ -13,9 +13,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "compile",
         help="compile and cache every kernel now (once per install and machine; NUMBA_CACHE_DIR chooses where)",
         description="Call every compiled path once, so that later processes load the kernels from numba's cache "
-                    "instead of compiling them (about 30 s on a 2-core machine the first time, about 1 s when "
-                    "everything is cached already). Set NUMBA_CACHE_DIR to put the cache in one shared folder "
-                    "(a read-only install, Dask workers); see docs/layout.md.",
+                    "instead of compiling them (a few minutes on a 2-core machine the first time, the kernels counted "
+                    "on stderr as they compile; about 1 s when everything is cached already). Set NUMBA_CACHE_DIR to "
+                    "put the cache in one shared folder (a read-only install, Dask workers); see docs/chains.md.",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     parser.add_argument("--json", action="store_true", help="print the sections' seconds and the cache as JSON")
@@ -26,7 +26,8 @@ def run(args: argparse.Namespace) -> int:
     from redkin._compiled import cache_directory, on_compile, set_compile_notice
     from redkin.warm_up import warm_up
 
-    set_compile_notice(False)  # this command says what it does itself
+    if args.quiet:  # else the sections' lines, and redkin._compiled's count of the kernels within them
+        set_compile_notice(False)
     compiled: list[str] = []
     remove = on_compile(compiled.append)
 

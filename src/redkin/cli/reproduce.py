@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 from redkin import reproduce
 from redkin.cli.common import add_force_flag, output_directory, plural
@@ -24,8 +23,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _progress(key: str, fraction: float, message: str) -> None:
-    if not message.startswith("compiling "):
-        _last_section.update(key=key, fraction=fraction)
     if not sys.stderr.isatty():  # logs get one line at the start and end of a section
         if message in ("start", "done"):  # the two calls made by reproduce.run
             sys.stderr.write(f"[{key}] {message}\n")
@@ -38,23 +35,6 @@ def _progress(key: str, fraction: float, message: str) -> None:
     sys.stderr.flush()
 
 
-_last_section: dict[str, Any] = {"key": "", "fraction": 0.0}
-
-
-def _compiling(kernel: str) -> None:
-    """Progress while a kernel compiles (:func:`redkin._compiled.on_compile`): the notice once, on a line of its own
-    (not inside the bar), then the bar names each kernel as it compiles."""
-    from redkin._compiled import COMPILE_NOTICE, cache_directory
-
-    terminal = sys.stderr.isatty()
-    if not _last_section.get("noticed"):
-        _last_section["noticed"] = True
-        sys.stderr.write(("\n" if terminal and _last_section["key"] else "") + COMPILE_NOTICE.format(
-            cache=cache_directory()) + "\n")
-    if terminal:
-        _progress(_last_section["key"], _last_section["fraction"], f"compiling {kernel.rsplit('.', 1)[-1]}")
-
-
 #: The files of a report that mark a folder as holding one (``--force`` replaces them).
 _REPORT_FILES = ("index.html", "summary.json")
 
@@ -65,17 +45,11 @@ def run(args: argparse.Namespace) -> int:
     if unknown:  # before the folder is looked at: a misspelt section is the first thing to say
         raise ValueError(f"unknown section {unknown[0]!r}: expected one of {', '.join(known)}")
     output_directory(args.out, "--out", _REPORT_FILES, args.force)
-    from redkin._compiled import on_compile, set_compile_notice
+    if args.quiet:  # else redkin._compiled counts the kernels a fresh install compiles (for minutes) on stderr: on a
+        from redkin._compiled import set_compile_notice  # terminal over the progress bar, which goes on below
 
-    remove = None
-    set_compile_notice(False)  # said here instead, where it does not break the progress line
-    if not args.quiet:  # a fresh install compiles for tens of seconds inside a section: the progress names each kernel
-        remove = on_compile(_compiling)
-    try:
-        writers = reproduce.run(args.out, args.papers, progress=None if args.quiet else _progress)
-    finally:
-        if remove is not None:
-            remove()
+        set_compile_notice(False)
+    writers = reproduce.run(args.out, args.papers, progress=None if args.quiet else _progress)
     differing = sum(
         1
         for w in writers.values()
