@@ -149,7 +149,7 @@ from redkin.srs.nearly_search import polished
 from redkin.urdf import load_urdf
 
 BRANCH_NAMES = tuple(str(b) for b in BRANCHES)
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 #: The certificate: position [m], rotation angle [rad] and arm angle [rad].
 TOLERANCE = 1e-9
 #: A returned row "is" the joint vector that made the pose when every joint is this close (radians, modulo 2 pi).

@@ -64,7 +64,7 @@ from redkin.chain import SerialChain
 from redkin.numerical import ik
 from redkin.urdf import load_urdf
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 #: Position [m] and rotation [rad] tolerance of the certificate.
 TOLERANCE = 1e-9
 #: The seeded row: seeds this far (uniform, per joint, radians) from the joint vector that made the target.

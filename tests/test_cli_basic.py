@@ -95,10 +95,9 @@ def test_robots_show_prints_the_chain_and_why_it_is_of_its_class(capsys):
 
 
 def test_robots_show_names_the_franka_class_of_a_urdf_arm(capsys):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from pathlib import Path
 
-    path = Path(__file__).resolve().parents[1] / "examples" / "panda.urdf"
+    path = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / "panda.urdf"
     code, out, _ = run(capsys, "robots", "--show", str(path), "--json")
     data = json.loads(out)
     assert code == 0 and data["class"] == "Franka (q7)"

@@ -10,7 +10,7 @@ import pytest
 from redkin.cli.main import main
 
 POSE = ["--position", "0.65", "0", "0.5", "--rotation", "-1", "0", "0", "0", "1", "0", "0", "0", "-1"]
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 
 
 def test_writes_one_page_and_says_so(tmp_path, capsys):

@@ -11,7 +11,7 @@ from redkin import franka
 from redkin.cli.main import main
 from redkin.models import get_robot
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 #: A configuration of the Panda inside its limits (branch --+: q2 < 0, theta_4 below phi, cos q5 > 0).
 Q = np.array([0.3, -0.5, 0.2, -2.0, 0.4, 1.8, 0.5])
 
@@ -42,7 +42,6 @@ def test_ik_q7_gives_every_solution_and_the_configuration_itself(capsys, degrees
 
 
 def test_ik_q7_on_franka_description_with_and_without_the_hand(capsys):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     path = str(EXAMPLES / "fr3.urdf")
     for tip in ("fr3_link8", "fr3_hand_tcp"):
         chain = get_robot(path, tip=tip)

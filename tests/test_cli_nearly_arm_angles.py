@@ -19,7 +19,7 @@ from redkin.srs import (
     singular_arm_angles_nearly,
 )
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 POSITION, ROTATION = [0.3, 0.2, 0.5], [1, 0, 0, 0, -1, 0, 0, 0, -1]
 ARGV = ["--position", *map(str, POSITION), "--rotation", *map(str, ROTATION)]
 
@@ -80,7 +80,6 @@ def test_text_prints_every_part(capsys):
 
 
 def test_a_urdf_nearly_arm(capsys):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     data = _json(capsys, ["arm-angles", str(EXAMPLES / "jaco2.urdf"), "--position", "0.4", "0.1", "0.4",
                           "--rotation", *map(str, ROTATION)])
     assert data["class"] == "nearly S-R-S" and set(data["optimal"]) == {"shoulder", "wrist", "overall"}

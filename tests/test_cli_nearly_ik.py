@@ -20,7 +20,7 @@ from redkin.cli.main import main
 from redkin.models import get_robot
 from redkin.srs import pose_from
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 FAR = ["--position", "3", "0", "0.5", "--rotation", "1", "0", "0", "0", "-1", "0", "0", "0", "-1"]
 CLASSES = {  # robot, parameter option, a reachable pose's joint values
     "pa10-7c": ("--psi", [0.3, 0.6, -0.2, 1.1, 0.4, -0.7, 0.3]),
@@ -106,7 +106,6 @@ def _two_solutions() -> tuple[object, np.ndarray, list[str]]:
     """The Gen3 (examples/gen3.urdf to end_effector_link) whose branch ``-++`` has two solutions at psi 1.5 for the
     pose of ``tests.test_srs_nearly_self_motion.TWO_SOLUTIONS``: its chain, the pose and the ``redkin ik`` argv
     (JSON) of that branch at that arm angle."""
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from redkin.urdf import load_urdf
     from tests.test_srs_nearly_self_motion import TWO_SOLUTIONS
 

@@ -11,7 +11,7 @@ from redkin.cli.main import main
 from redkin.models import get_robot
 from redkin.urdf import load_urdf
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 Q = np.array([0.3, 0.5, -0.2, -1.1, 0.4, 0.9, -0.3])
 
 

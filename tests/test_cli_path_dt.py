@@ -4,12 +4,11 @@ import json
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from redkin.cli.main import main
 from redkin.models import get_robot
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 
 
 def _poses(tmp_path, count=8):
@@ -76,7 +75,6 @@ def test_a_robot_without_speed_limits_is_one_line_and_exit_2(tmp_path, capsys):
 
 
 def test_a_urdf_missing_some_speeds_names_those_joints(tmp_path, capsys):
-    pytest.importorskip("urdf_parser_py")
     text = (EXAMPLES / "iiwa14.urdf").read_text()
     for joint in ("lbr_iiwa_joint_2", "lbr_iiwa_joint_5"):
         start = text.index(f'name="{joint}"')
@@ -89,7 +87,6 @@ def test_a_urdf_missing_some_speeds_names_those_joints(tmp_path, capsys):
 
 
 def test_a_urdf_with_speeds_bounds_the_path_by_them(tmp_path, capsys):
-    pytest.importorskip("urdf_parser_py")
     file = _poses(tmp_path)
     assert main(["path", str(EXAMPLES / "iiwa14.urdf"), "--poses", str(file), "--dt", "0.05", "--json"]) == 0
     report = json.loads(capsys.readouterr().out)

@@ -16,7 +16,7 @@ import pytest
 from redkin.cli.main import _build_parser, main
 from redkin.models import get_robot
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 #: The issue's pose: 10 m out along x, the tool pointing down.
 FAR = ["--position", "10", "0", "0", "--rotation", "-1", "0", "0", "0", "1", "0", "0", "0", "-1"]
 #: One line: the verdict, the measure, the distance, the reach and the miss, in metres.
@@ -26,7 +26,6 @@ LINE = re.compile(r"the pose is out of reach \((?P<measure>.+) is (?P<distance>[
 
 
 def _urdf(name: str) -> str:
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     return str(EXAMPLES / name)
 
 

@@ -94,12 +94,11 @@ def test_every_branch_string_is_read_as_a_branch(capsys, command, written):
 
 
 def test_ik_and_arm_angles_on_a_urdf_in_the_makers_joint_values(capsys):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from pathlib import Path
 
     from redkin.models import get_robot
 
-    path = str(Path(__file__).resolve().parents[1] / "examples" / "iiwa14.urdf")
+    path = str(Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / "iiwa14.urdf")
     arm = get_robot(path)
     pose = arm.fk(np.array([0.3, 0.5, -0.2, -1.1, 0.4, 0.9, 0.1]))
     argv = ["--position", *map(str, pose[:3, 3]), "--rotation", *map(str, pose[:3, :3].ravel())]
@@ -112,10 +111,9 @@ def test_ik_and_arm_angles_on_a_urdf_in_the_makers_joint_values(capsys):
 
 
 def test_ik_refuses_an_arm_without_a_closed_form_and_the_wrong_parameter_in_one_line(capsys):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from pathlib import Path
 
-    examples = Path(__file__).resolve().parents[1] / "examples"
+    examples = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
     assert main(["ik", str(examples / "sawyer.urdf"), *POSE, "--psi", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "has no closed-form IK" in err[0] and "is not S-R-S" in err[0]

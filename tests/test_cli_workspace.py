@@ -128,7 +128,8 @@ def test_workspace_without_the_extra_says_how_to_install(tmp_path, capsys, monke
     monkeypatch.setitem(sys.modules, missing, None)  # importing it now raises ImportError
     assert main(_command(tmp_path / "out")) == 2
     err = capsys.readouterr().err
-    assert "pip install 'redkin[workspace]'" in err and err.count("\n") == 1
+    assert 'pip install "redkin[workspace]"' in err and 'pip install -e ".[workspace]"' in err
+    assert err.count("\n") == 1
     assert not (tmp_path / "out").exists()
 
 

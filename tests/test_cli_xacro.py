@@ -10,9 +10,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-pytest.importorskip("xacrodoc", reason="the xacro extra (xacrodoc) is not installed")
-
 import redkin.models
 from redkin.cli.main import _build_parser, main
 from tests.test_urdf_xacro import HAND, USES_PACKAGE, _package

@@ -60,7 +60,7 @@ def test_without_a_parameter_the_front_door_solves_numerically_and_says_so(robot
 
 
 def test_a_chain_without_a_closed_form_says_why():
-    sawyer = get_robot(str(Path(__file__).resolve().parents[1] / "examples" / "sawyer.urdf"))
+    sawyer = get_robot(str(Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / "sawyer.urdf"))
     with pytest.raises(NotArmAngleClassError, match=r"has no closed-form IK: .*axes 1 and 3 miss each other by "
                                                     r"0.1925 m"):
         ik(sawyer, np.eye(4), psi=0.0)

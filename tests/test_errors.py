@@ -70,7 +70,6 @@ def test_robot_files_name_the_file_and_the_key(tmp_path):
 
 
 def test_a_urdf_joint_redkin_cannot_model_is_named(tmp_path):
-    pytest.importorskip("urdf_parser_py")
     path = tmp_path / "slider.urdf"
     path.write_text(
         '<robot name="slider"><link name="a"/><link name="b"/>'

@@ -20,14 +20,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-
 from redkin.models import get_robot
 from redkin.so3 import matrix_to_axis_angle
 from redkin.urdf import load_urdf
 from tests.support.urdf_reference import reference_fk
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 # file, its tip link (the default: the only leaf), and the named model of the same arm in the same frames
 ARMS = {
     "gen3": (EXAMPLES / "gen3.urdf", "tool_frame", "kinova-gen3"),

@@ -23,7 +23,7 @@ from redkin.franka import BRANCHES, feasible_q7, ik, optimal_q7
 from redkin.models import get_robot
 from redkin.srs import pose_from
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 #: The Panda's "ready" configuration: shoulder -, elbow -, wrist + (branch --+), q7 = pi/4.
 READY = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
 PANDA = get_robot("franka-panda")

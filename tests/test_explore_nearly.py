@@ -38,7 +38,7 @@ from redkin.srs import (
 from redkin.srs.nearly import arm_angle
 from tests.test_report_browser import DECISION, MISSING, WIDTHS, Page, _explorer_state, browser  # noqa: F401
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 POSITION, ROTATION = [0.3, 0.2, 0.5], [1, 0, 0, 0, -1, 0, 0, 0, -1]
 
 
@@ -46,7 +46,6 @@ POSITION, ROTATION = [0.3, 0.2, 0.5], [1, 0, 0, 0, -1, 0, 0, 0, -1]
 def _chain(name: str):
     if name == "gen3":
         return redkin.get_robot("kinova-gen3").with_limits(np.full(7, -2.9), np.full(7, 2.9))
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from redkin.urdf import load_urdf
 
     return load_urdf(EXAMPLES / "jaco2.urdf")

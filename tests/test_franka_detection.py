@@ -22,7 +22,7 @@ from redkin.franka import FrankaGeometry, franka_geometry, ik
 from redkin.models import get_robot
 from tests.support.franka_arms import CONVENTIONS, MODELS, form_chain, other_conventions, random_arm, urdf_of
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 ROUND_TRIP = 1e-9
 #: The FER's and FR3's lengths in the solver's form: d1, a3, d3, a4, d5, a6, d6 (Franka's modified DH rows).
 FRANKA_FORM = (0.333, -0.0825, 0.316, 0.0825, 0.384, 0.088, 0.0)
@@ -65,7 +65,6 @@ def test_the_models_are_accepted(name):
 @pytest.mark.parametrize("file, tip", [("panda.urdf", None), ("fr3.urdf", "fr3_link8"), ("fr3.urdf", "fr3_hand_tcp"),
                                        ("fr3.urdf", None)])
 def test_franka_urdfs_are_accepted(file, tip):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     chain = get_robot(EXAMPLES / file, tip=tip)
     geometry = assert_form_is_the_chain(chain, np.random.default_rng(2))
     assert np.allclose(invariants(geometry), invariants(franka_geometry(get_robot("franka-panda"))), atol=1e-12)
@@ -97,7 +96,6 @@ def test_random_arms_of_the_class_in_every_convention(seed, zero_elbow, zero_d6)
 @settings(max_examples=8, deadline=None)
 @given(seed=st.integers(0, 2**31))
 def test_a_urdf_with_turned_frames_and_reversed_axes(seed, tmp_path_factory):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from tests.support.urdf_reference import reference_fk
 
     rng = np.random.default_rng(seed)

@@ -27,7 +27,7 @@ from hypothesis.extra.numpy import arrays
 from redkin.models import MODELS, franka_fr3, franka_panda, get_robot
 from tests.support.urdf_reference import reference_fk
 
-FR3_URDF = Path(__file__).resolve().parents[1] / "examples" / "fr3.urdf"
+FR3_URDF = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / "fr3.urdf"
 
 #: robots/{fer,fr3}/kinematics.yaml (identical for the two arms): joint -> (xyz, rpy), as printed.
 KINEMATICS = {
@@ -94,7 +94,6 @@ def _chain(case: str):
     """The chain under test: a model by name, or examples/fr3.urdf to a tip link."""
     if case.startswith("franka-"):
         return get_robot(case)
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     return get_robot(FR3_URDF, tip=case.split(":")[1]) if ":" in case else get_robot(FR3_URDF)
 
 

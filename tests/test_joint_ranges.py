@@ -19,7 +19,7 @@ from redkin.srs import BRANCHES, arm_angle_of, arm_angle_path, feasible_arm_angl
 from redkin.torso_arm.branches import wrap_to_limits
 from tests.support.urdf_reference import reference_fk
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 TURN = 2.0 * np.pi
 SHIFTS = np.arange(-8, 9)  # enough whole turns for any angle and range drawn below
 

@@ -24,14 +24,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-
 from redkin import ik
 from redkin.cli.main import main
 from redkin.urdf import load_urdf
 from tests.support.urdf_reference import reference_fk
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 #: file and its tip link (the default: the file's only leaf)
 ARMS = {
     "gen3": (EXAMPLES / "gen3.urdf", "tool_frame"),
@@ -175,7 +173,6 @@ def _user_xacro(tmp_path: Path) -> tuple[Path, Path]:
 
 
 def test_a_parametrised_xacro_with_a_package_loads_with_its_argument_and_is_solved_numerically(tmp_path, capsys):
-    pytest.importorskip("xacrodoc", reason="the xacro extra (xacrodoc) is not installed")
     robot, workspace = _user_xacro(tmp_path)
     options = ["--xacro-arg", "prefix:=right_", "--package-path", str(workspace)]
     plain = f'<robot name="tiny_arm">{_segments("right_")}</robot>'

@@ -5,10 +5,10 @@ MJCF defines them, each body's ``pos`` and orientation (``quat``, ``axisangle``,
 compiler's ``eulerseq``, ``xyaxes`` or ``zaxis``, in the compiler's ``angle`` unit) with the rotations
 of its hinges by ``qpos - ref`` about their ``axis`` through their ``pos``; ``<default>`` classes,
 nested classes and ``childclass`` supply what an element leaves out.  The files are a Menagerie-style
-iiwa14 and Panda written from the makers' numbers (the frames of ``examples/iiwa14.urdf``,
-``examples/panda.urdf`` and ``examples/fr3.urdf``), the iiwa14 again in degrees with every frame form,
-and random chains (hypothesis).  The chains must equal the reference, MuJoCo's own kinematics at the
-same ``qpos``, and our URDF models where the frames agree, to 1e-12.
+iiwa14 (the shipped ``examples/iiwa14.xml``) and Panda written from the makers' numbers (the frames of
+``examples/iiwa14.urdf``, ``examples/panda.urdf`` and ``examples/fr3.urdf``), the iiwa14 again in degrees
+with every frame form, and random chains (hypothesis).  The chains must equal the reference, MuJoCo's own
+kinematics at the same ``qpos``, and our URDF models where the frames agree, to 1e-12.
 """
 
 from __future__ import annotations
@@ -30,65 +30,13 @@ from redkin.errors import RedkinError, RobotDescriptionError
 from redkin.mjcf import load_mjcf
 from redkin.models import franka_panda, get_robot, kuka_iiwa14
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 
 # ----------------------------------------------------------------------------- the files
 #: The iiwa14 as MuJoCo Menagerie writes it (kuka_iiwa_14/iiwa14.xml: its classes, frames and numbers), without
 #: meshes, geoms and actuators; the attachment site is the flange, 0.045 m beyond link 7 (KUKA's data sheet).
-IIWA14 = """
-<mujoco model="iiwa14">
-  <compiler angle="radian" autolimits="true"/>
-  <default>
-    <default class="iiwa">
-      <joint axis="0 0 1"/>
-      <default class="joint1">
-        <joint range="-2.9670597283903604 2.9670597283903604"/>
-        <default class="joint2">
-          <joint range="-2.0943951023931953 2.0943951023931953"/>
-        </default>
-      </default>
-      <default class="joint3">
-        <joint range="-3.0543261909900763 3.0543261909900763"/>
-      </default>
-      <site size="0.001" rgba="1 0 0 1" group="4"/>
-    </default>
-  </default>
-  <worldbody>
-    <body name="base" childclass="iiwa">
-      <inertial mass="5" pos="-0.1 0 0.07" diaginertia="0.05 0.06 0.03"/>
-      <body name="link1" pos="0 0 0.1575">
-        <inertial mass="5.76" pos="0 -0.03 0.12" diaginertia="0.0333 0.033 0.0123"/>
-        <joint name="joint1" class="joint1"/>
-        <body name="link2" pos="0 0 0.2025" quat="0 0 1 1">
-          <inertial mass="6.35" pos="0.0003 0.059 0.042" diaginertia="0.0305 0.0304 0.011"/>
-          <joint name="joint2" class="joint2"/>
-          <body name="link3" pos="0 0.2045 0" quat="0 0 1 1">
-            <inertial mass="3.5" pos="0 0.03 0.13" diaginertia="0.025 0.0238 0.0076"/>
-            <joint name="joint3" class="joint1"/>
-            <body name="link4" pos="0 0 0.2155" quat="1 1 0 0">
-              <inertial mass="3.5" pos="0 0.067 0.034" diaginertia="0.017 0.0164 0.006"/>
-              <joint name="joint4" class="joint2"/>
-              <body name="link5" pos="0 0.1845 0" quat="0 0 1 1">
-                <inertial mass="3.5" pos="0.0001 0.021 0.076" diaginertia="0.01 0.0087 0.00449"/>
-                <joint name="joint5" class="joint1"/>
-                <body name="link6" pos="0 0 0.2155" quat="1 1 0 0">
-                  <inertial mass="1.8" pos="0 0.0006 0.0004" diaginertia="0.0049 0.0047 0.0036"/>
-                  <joint name="joint6" class="joint2"/>
-                  <body name="link7" pos="0 0.081 0" quat="0 0 1 1">
-                    <inertial mass="1.2" pos="0 0 0.02" diaginertia="0.001 0.001 0.001"/>
-                    <joint name="joint7" class="joint3"/>
-                    <site pos="0 0 0.045" name="attachment_site"/>
-                  </body>
-                </body>
-              </body>
-            </body>
-          </body>
-        </body>
-      </body>
-    </body>
-  </worldbody>
-</mujoco>
-"""
+#: Shipped as the example ``examples/iiwa14.xml``, which the README reads.
+IIWA14 = (EXAMPLES / "iiwa14.xml").read_text(encoding="utf-8")
 
 #: The same arm in degrees, each frame in another form (euler in the sequence z, y', x'', axisangle, quat,
 #: xyaxes, zaxis), the ranges in degrees (KUKA's data sheet) and the joint axes from the class.
@@ -664,5 +612,6 @@ def test_a_malformed_or_missing_file_is_one_line_with_mujocos_whole_reason(tmp_p
 
 def test_without_mujoco_the_extra_is_named(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco then raises ImportError
-    with pytest.raises(RedkinError, match=r"needs the mjcf extra: pip install 'redkin\[mjcf\]'"):
+    with pytest.raises(RedkinError, match=r'mjcf extra: pip install "redkin\[mjcf\]" \(in a checkout of redkin: '
+                                          r'pip install -e "\.\[mjcf\]"\)'):
         load_mjcf(_write(tmp_path, IIWA14))

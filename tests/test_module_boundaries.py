@@ -19,6 +19,7 @@ PACKAGE = ROOT / "src" / "redkin"
 PUBLIC = {
     "redkin.models": {"srs_chain", "kuka_iiwa7", "kuka_iiwa14_table1", "franka_panda", "franka_fr3", "kinova_gen3",
                       "ufactory_xarm7"},
+    "redkin.examples": {"FOLDER"},
     "redkin.so3": {"rot_x", "rot_y", "rot_z", "axis_angle_to_matrix", "matrix_to_axis_angle", "matrix_to_xyz_fixed"},
     "redkin.chain": {"Convention"},
     "redkin.closed_form": {"ClosedFormSolutions"},

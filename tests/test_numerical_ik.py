@@ -41,7 +41,7 @@ from redkin.numerical import NumericalSolutions, ik
 from redkin.urdf import load_urdf
 
 DEFAULT_TOLERANCE = 1e-9
-SAWYER = Path(__file__).resolve().parents[1] / "examples" / "sawyer.urdf"
+SAWYER = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / "sawyer.urdf"
 MODEL_NAMES = ("kuka-iiwa14", "franka-fr3", "kinova-gen3", "ufactory-xarm7", "pa10-7c", "barrett-wam7")
 
 

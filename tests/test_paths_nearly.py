@@ -32,12 +32,11 @@ from redkin.paths.family import NearlyFamily
 from redkin.srs import BRANCHES
 from redkin.srs.nearly import ik
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 
 
 @functools.cache
 def _chain(name: str):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from redkin.urdf import load_urdf
 
     if name == "gen3":

@@ -28,7 +28,7 @@ from redkin.numerical import ik as numerical_ik
 from redkin.srs.geometry import pose_from
 from redkin.srs.ik import reach as srs_reach
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 #: Arms of every description: standard DH (PA10, iiwa, Gen3, WAM, planar), modified DH (Panda, humanoid, xArm7),
 #: and URDFs with base and tool transforms (the Sawyer's tool is turned and offset).
 NAMES = ["pa10-7c", "kuka-iiwa14", "kinova-gen3", "barrett-wam", "planar-5", "franka-panda", "humanoid-right",
@@ -38,8 +38,6 @@ DOWN = np.diag([1.0, -1.0, -1.0])
 
 
 def _chain(name: str):
-    if name.endswith(".urdf"):
-        pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     return get_robot(name)
 
 

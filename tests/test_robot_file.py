@@ -9,7 +9,7 @@ import pytest
 from redkin.models import get_robot, pa10_7c
 from redkin.robot_file import _robot_from_dict, load_robot
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "pa10.toml"
+EXAMPLE = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / "pa10.toml"
 
 
 def test_example_file_equals_builtin_pa10():

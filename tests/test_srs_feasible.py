@@ -129,12 +129,11 @@ def test_paper_section_6_1_feasible_sets():
 @pytest.mark.parametrize("limits", ["maker's", "random", "narrow"])
 def test_urdf_arm_feasible_sets_equal_dense_sampling_in_its_own_joint_values(limits):
     """KUKA's URDF (joint 4 the other way from Table 1, other zero frames): sets in KUKA's q and limits."""
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from pathlib import Path
 
     from redkin.models import get_robot
 
-    arm = get_robot(Path(__file__).resolve().parents[1] / "examples" / "iiwa14.urdf")
+    arm = get_robot(Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / "iiwa14.urdf")
     rng = np.random.default_rng(21)
     for _ in range(3):
         q = rng.uniform(arm.lower, arm.upper) * 0.8

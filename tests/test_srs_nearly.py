@@ -61,7 +61,7 @@ from redkin.srs import (
 )
 from redkin.srs.conventions import departures
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
 ROSI = EXAMPLES / "iiwa14_rosi.urdf"
 JACO2 = EXAMPLES / "jaco2.urdf"
@@ -80,7 +80,6 @@ def _bench():
 
 
 def _load(path: Path) -> SerialChain:
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from redkin.urdf import load_urdf
 
     return load_urdf(path)
@@ -244,7 +243,6 @@ def test_cli_robots_show_states_the_offsets(capsys, robot, states):
     if robot.endswith(".urdf"):
         if not Path(robot).exists():
             pytest.skip(f"{robot} is not there")
-        pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     assert main(["robots", "--show", robot, "--json"]) == 0
     shown = json.loads(capsys.readouterr().out)
     assert shown["class"] == "nearly S-R-S"

@@ -43,7 +43,7 @@ from redkin.srs.branches import parse_branch
 from redkin.srs.nearly import NearlySRS, arm_angle, branch_of, ik, self_motion_rates
 from tests.support.nearly_witness import exact, witnessed
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 #: Sampled arm angles this close to an end [rad] may fall either side: ends are located to 1e-10 rad.
 AT_AN_END = 1e-8
 #: The limit given to the Gen3's and Jaco2's continuous joints [rad].
@@ -54,7 +54,6 @@ WITNESSED = 5
 
 @functools.cache
 def _arm(name: str) -> NearlySRS:
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from redkin.urdf import load_urdf
 
     if name == "gen3":
@@ -220,7 +219,6 @@ STRAIGHT_WRIST_GAPS = [
 
 @pytest.mark.parametrize(("q", "branch", "gap"), STRAIGHT_WRIST_GAPS)
 def test_a_straight_wrists_gap_is_left_out(q, branch, gap):
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from redkin.urdf import load_urdf
 
     arm = nearly_srs(load_urdf(EXAMPLES / "gen3.urdf"))

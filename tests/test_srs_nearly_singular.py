@@ -42,9 +42,7 @@ from redkin.srs.nearly_search import solutions_at
 from redkin.srs.nearly_singular import _local_minima, alignment_angles, singular_arm_angles_nearly
 from tests.support.urdf_reference import reference_fk
 
-pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 FILES = {"gen3": "gen3.urdf", "jaco2": "jaco2.urdf", "rosi": "iiwa14_rosi.urdf"}
 CERTIFICATE = 1e-9
 #: The pairs as joint indices (0-based) and the index of the branch sign that flips through their alignment.

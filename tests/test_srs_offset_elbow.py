@@ -186,7 +186,6 @@ def test_the_wam_in_other_descriptions_is_solved_in_its_own_joint_values(name):
 
 def test_a_wam_urdf_with_turned_frames_and_reversed_axes(tmp_path):
     """A URDF of the WAM whose joint frames are turned about their axes and whose axes point either way."""
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from tests.support.urdf_reference import reference_fk, urdf
 
     wam = barrett_wam()

@@ -58,11 +58,10 @@ def test_a_pair_on_one_line_in_the_users_joint_values_is_singular(name, joint, v
     iiwa's ``theta = 0``).  At ``q_2`` (``q_6``) = 0 or pi axes 1 and 3 (5 and 7) lie on one line, parallel or
     antiparallel, by the chain's own frames; [000 eqs. 31-34] with their ``theta = pi`` counterpart give the
     configuration's arm angle, and the solution at every singular arm angle has the pair on one line."""
-    pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
     from redkin.srs import nearly_srs
     from redkin.urdf import load_urdf
 
-    chain = nearly_srs(load_urdf(Path(__file__).resolve().parents[1] / "examples" / name)).neighbour
+    chain = nearly_srs(load_urdf(Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / name)).neighbour
     first, second = (0, 2) if joint == 1 else (4, 6)
 
     def off_line(q):  # the sine of the angle between the pair's axes (standard DH: joint k turns about z_(k-1))

@@ -17,14 +17,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-
 from redkin.cli.main import main
 from redkin.models import get_robot, kuka_iiwa14
 from redkin.urdf import load_urdf
 from tests.support.urdf_reference import reference_axes, reference_fk, urdf
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 HALF_PI = repr(np.pi / 2)  # written in full: 1.5707963 would make exactly parallel axes nearly parallel (see below)
 
 

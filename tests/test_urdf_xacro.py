@@ -9,9 +9,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("urdf_parser_py", reason="the urdf extra (urdfdom-py) is not installed")
-pytest.importorskip("xacrodoc", reason="the xacro extra (xacrodoc) is not installed")
-
 from redkin.cli.main import main
 from redkin.errors import RedkinError, RobotDescriptionError
 from redkin.models import get_robot

@@ -13,7 +13,6 @@ offsets ``c`` and joint senses ``s``: its joint values ``q`` are the reference's
 
 from __future__ import annotations
 
-import importlib.util
 import re
 import tempfile
 import warnings
@@ -43,9 +42,7 @@ from redkin.velocity import (
 from tests.support.srs_arms import offset_elbow_chain
 from tests.support.urdf_reference import axis_angle, reference_fk, urdf
 
-HAVE_URDF = importlib.util.find_spec("urdf_parser_py") is not None
-needs_urdf = pytest.mark.skipif(not HAVE_URDF, reason="the urdf extra (urdfdom-py) is not installed")
-KINDS = ("dh", "mdh", "urdf") if HAVE_URDF else ("dh", "mdh")
+KINDS = ("dh", "mdh", "urdf")
 WAM7 = barrett_wam7()
 
 angles = st.floats(-np.pi, np.pi)
@@ -223,7 +220,6 @@ def test_the_wam_in_any_description_gets_the_closed_form_and_it_factors_its_own_
     assert_rank_lost_where_index_vanishes(chain, found, index_zeros(found, q[keep]))
 
 
-@needs_urdf
 def test_the_jhu_lcsr_wam_urdf_is_barrett_wam7_with_turned_frames():
     """The import gives twists of +90 deg and offsets of pi (what the literal pattern refused); the factorisation is
     barrett-wam7's, in the same joint values."""
@@ -370,7 +366,6 @@ def test_an_srs_arm_in_any_description_keeps_the_sine_of_theta4(lengths, drawn, 
     assert_factors(chain, found, q)
 
 
-@needs_urdf
 def test_an_srs_arm_as_a_urdf_with_turned_frames():
     reference = srs_chain(0.34, 0.4, 0.4, 0.126)
     turns = np.random.default_rng(5).uniform(-np.pi, np.pi, (7, 3))
@@ -432,7 +427,6 @@ def _track(robot: str, capsys) -> tuple[list[float], list[float]]:
     return [float(v) for v in NUMBER.findall(final_q)], [float(v) for v in NUMBER.findall(index.split("_e", 1)[1])]
 
 
-@needs_urdf
 def test_cli_track_sc_on_a_wam_urdf_with_turned_frames(tmp_path, capsys):
     """jhu-lcsr's frames (+90 deg twists, pi offsets) and a randomly turned URDF: `redkin track --method sc` runs
     and ends where barrett-wam7 does."""

@@ -21,7 +21,7 @@ from redkin.models import get_robot, robot_names
 from redkin.paths import resolve_path, step_bound
 from redkin.paths.bounds import missing_speeds
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 URDFS = sorted(EXAMPLES.glob("*.urdf"))
 
 #: The makers' joint speed limits (rad/s), as their files write them.
@@ -109,13 +109,11 @@ def test_with_velocity_reads_back_and_names_the_unknown_joints(values):
 # ----------------------------------------------------------------------------- URDF
 @pytest.mark.parametrize("path", URDFS, ids=[p.name for p in URDFS])
 def test_urdf_speeds_are_the_files_own(path):
-    pytest.importorskip("urdf_parser_py")
     chain = get_robot(path)
     np.testing.assert_array_equal(chain.velocity, _urdf_speeds(path.read_text(), chain.joint_names))
 
 
 def test_missing_and_zero_urdf_speeds_are_unknown(tmp_path):
-    pytest.importorskip("urdf_parser_py")
     file = tmp_path / "two.urdf"
     cases = {
         "absent, continuous without limit": (_two_joint_urdf('<limit lower="-1" upper="1" effort="1"/>'),
@@ -136,7 +134,6 @@ def test_missing_and_zero_urdf_speeds_are_unknown(tmp_path):
 
 def test_a_urdf_without_speeds_is_the_same_chain_otherwise(tmp_path):
     """Writing the missing velocities in before parsing changes nothing else the chain reads."""
-    pytest.importorskip("urdf_parser_py")
     text = (EXAMPLES / "iiwa14.urdf").read_text()
     stripped = text.replace('velocity="1.5"', "")
     assert stripped.count("velocity=") == 0 and stripped != text
@@ -151,7 +148,6 @@ def test_a_urdf_without_speeds_is_the_same_chain_otherwise(tmp_path):
 
 @pytest.mark.parametrize("value", ["-1", "nan"])
 def test_a_negative_urdf_speed_is_refused_naming_the_joint(tmp_path, value):
-    pytest.importorskip("urdf_parser_py")
     file = tmp_path / "two.urdf"
     file.write_text(_two_joint_urdf(f'<limit lower="-1" upper="1" effort="1" velocity="{value}"/>'))
     with pytest.raises(RobotDescriptionError, match=r"'j1'.*velocity") as caught:
@@ -239,7 +235,6 @@ def test_resolve_path_with_dt_alone_keeps_each_joint_within_its_speed():
 
 
 def test_resolve_path_with_dt_alone_on_a_urdf_arm():
-    pytest.importorskip("urdf_parser_py")
     chain = get_robot(EXAMPLES / "iiwa14.urdf")  # 1.5 rad/s on every joint, as the file writes
     result = resolve_path(chain, chain.fk(_line()), dt=0.05)
     assert result.ok and np.all(np.abs(np.diff(result.q, axis=0)) <= 1.5 * 0.05)

@@ -26,7 +26,7 @@ from redkin.workspace import (  # noqa: E402
 from redkin.workspace.run import map_model  # noqa: E402
 from redkin.workspace.store import MODEL_EXACT, MODEL_NEARLY, arm_description, map_parameters  # noqa: E402
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 GEN3 = EXAMPLES / "gen3.urdf"
 EXTENT = [-0.6, 0.6, -0.6, 0.6, 0.0, 1.0]
 #: Poses of the law tests keep theta_2, theta_4 and theta_6 this far [rad] from 0 and pi: near the stretched elbow

@@ -1,8 +1,9 @@
 """MJCF import: the serial chain between two bodies of a MuJoCo model, as exact DH rows.
 
 The file is compiled by MuJoCo itself (the ``mujoco`` package, the optional
-extra ``redkin[mjcf]``): ``<default>`` classes, ``childclass``, ``<include>``,
-every frame form (``quat``, ``axisangle``, ``euler`` with ``eulerseq``,
+extra ``mjcf``: ``pip install "redkin[mjcf]"``, or ``pip install -e ".[mjcf]"``
+in a checkout): ``<default>`` classes, ``childclass``, ``<include>``, every
+frame form (``quat``, ``axisangle``, ``euler`` with ``eulerseq``,
 ``xyaxes``, ``zaxis``), ``<compiler angle="degree">`` and the rest of MJCF
 reach redkin as MuJoCo reads them, and nothing of MJCF is re-implemented here.
 
@@ -35,9 +36,11 @@ from pathlib import Path
 
 import numpy as np
 
+from redkin._extras import missing_extra
 from redkin._joint_lines import dh_rows_from_lines
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError, RobotDescriptionError
+from redkin.examples import resolve
 
 #: The mass [kg] and inertia given to a body without one, so that a kinematics-only file compiles.
 _LEAST_MASS = 1e-6
@@ -52,7 +55,9 @@ def load_mjcf(path: str | Path, base: str | None = None, tip: str | None = None)
     ----------
     path : str or Path
         An MJCF (MuJoCo XML) file; the files it includes and its assets
-        (meshes) are found as MuJoCo finds them, relative to it.
+        (meshes) are found as MuJoCo finds them, relative to it.  A path
+        that does not exist may name a shipped example
+        (:func:`redkin.examples.resolve`: ``examples/iiwa14.xml``).
     base : str, optional
         A body name; default ``"world"``, MuJoCo's world frame, so that poses
         are those MuJoCo reports (``data.xpos``).
@@ -77,7 +82,7 @@ def load_mjcf(path: str | Path, base: str | None = None, tip: str | None = None)
     RedkinError
         When the ``mjcf`` extra (the ``mujoco`` package) is not installed.
     """
-    path = Path(path)
+    path = resolve(path)
     mujoco, model = _compile(path)
     where = str(path)
     base_id = 0 if base is None else _body_id(mujoco, model, base, "base", where)
@@ -130,7 +135,7 @@ def _compile(path: Path):
     try:
         import mujoco
     except ImportError:
-        raise RedkinError("reading an MJCF file needs the mjcf extra: pip install 'redkin[mjcf]'") from None
+        raise RedkinError(missing_extra("reading an MJCF file needs mujoco", "mjcf")) from None
     try:
         path.open("rb").close()
     except OSError as exc:

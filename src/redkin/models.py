@@ -530,6 +530,8 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
     ----------
     name_or_path : str or Path
         A model name, a ``.toml``/``.json`` robot file, a ``.urdf`` or ``.xacro`` file, or an MJCF ``.xml`` file.
+        A file that does not exist, written ``NAME`` or ``examples/NAME``, reads redkin's shipped example ``NAME``
+        if there is one (``examples/iiwa14.urdf`` from any folder; see :mod:`redkin.examples`).
     base, tip : str, optional
         For a URDF, the links the chain runs between (see :func:`redkin.urdf.load_urdf`); for an MJCF file, the
         bodies (the tip may be a site) (see :func:`redkin.mjcf.load_mjcf`).

@@ -21,7 +21,7 @@ The format (TOML shown; JSON has the same keys)::
     translation = [0, 0, 0.1]
     xyz_fixed_angles = [0, 0, 0]   # optional: Rz(alpha) Ry(beta) Rx(gamma)
 
-``examples/pa10.toml`` in the repository is a complete example.
+``examples/pa10.toml`` (shipped with redkin, :mod:`redkin.examples`) is a complete example.
 """
 
 from __future__ import annotations
@@ -35,6 +35,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.errors import RobotDescriptionError
+from redkin.examples import resolve
 from redkin.so3 import xyz_fixed_to_matrix
 
 if sys.version_info >= (3, 11):
@@ -52,13 +53,19 @@ _LENGTH_SCALE = {"m": 1.0, "mm": 1e-3}
 def load_robot(path: str | Path) -> SerialChain:
     """Read a robot file (``.toml`` or ``.json``) into a :class:`SerialChain`.
 
+    Parameters
+    ----------
+    path : str or Path
+        The file; a path that does not exist may name a shipped example (:func:`redkin.examples.resolve`:
+        ``examples/pa10.toml``).
+
     Raises
     ------
     RobotDescriptionError
         If the file is missing, cannot be parsed, or does not follow the format;
         the message names the file and the offending key (also its ``path`` and ``key``).
     """
-    path = Path(path)
+    path = resolve(path)
     if not path.is_file():
         raise RobotDescriptionError(f"robot file {str(path)!r} does not exist", path=str(path))
     text = path.read_text(encoding="utf-8")

@@ -1,16 +1,16 @@
 """URDF import: the serial chain between two links of a URDF, as exact DH rows.
 
 The file is read with ROS's own pure-Python parser, ``urdfdom-py``
-(``urdf_parser_py``; the optional extra ``redkin[urdf]``).  It needs only
-lxml and PyYAML, where ``yourdfpy`` also pulls trimesh and its mesh stack,
-none of which a kinematic chain uses.  A ``.xacro`` file is expanded first
-with ``xacrodoc`` (ROS's xacro without a ROS install; the extra
-``redkin[xacro]``), with the caller's xacro arguments, includes relative to
-the file, and ``$(find PKG)`` looked up in the caller's package paths, the
-folders above the file, ``ROS_PACKAGE_PATH`` and (under ROS 2) the ament
-index.  A ``.xacro`` is code: it can read files and environment variables and
-evaluate Python expressions (``${...}``, ``$(eval ...)``; xacro restricts
-them, which is no sandbox), so it is trusted input.
+(``urdf_parser_py``, a dependency of redkin).  It needs only lxml and PyYAML,
+where ``yourdfpy`` also pulls trimesh and its mesh stack, none of which a
+kinematic chain uses.  A ``.xacro`` file is expanded first with ``xacrodoc``
+(ROS's xacro without a ROS install, also a dependency), with the caller's
+xacro arguments, includes relative to the file, and ``$(find PKG)`` looked
+up in the caller's package paths, the folders above the file,
+``ROS_PACKAGE_PATH`` and (under ROS 2) the ament index.  A ``.xacro`` is
+code: it can read files and environment variables and evaluate Python
+expressions (``${...}``, ``$(eval ...)``; xacro restricts them, which is no
+sandbox), so it is trusted input.
 
 Conversion.  Joint ``k`` of the chain turns the rest of the chain about a
 line: at ``q = 0`` that line passes through the origin of the joint's frame
@@ -53,6 +53,7 @@ import numpy as np
 from redkin._joint_lines import dh_rows_from_lines
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError, RobotDescriptionError
+from redkin.examples import resolve
 from redkin.so3 import xyz_fixed_to_matrix
 
 _UNSUPPORTED = {"prismatic", "floating", "planar"}
@@ -66,7 +67,9 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
     Parameters
     ----------
     path : str or Path
-        A ``.urdf`` file, or a ``.xacro`` file that expands to one.
+        A ``.urdf`` file, or a ``.xacro`` file that expands to one; a path
+        that does not exist may name a shipped example
+        (:func:`redkin.examples.resolve`: ``examples/iiwa14.urdf``).
     base, tip : str, optional
         Link names.  ``base`` defaults to the root link; ``tip`` to the one
         leaf below ``base`` (a tree with several leaves must name it).
@@ -97,15 +100,14 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         Also for xacro arguments or package paths given with a plain URDF,
         and a package path that is not a folder.
     RedkinError
-        When the ``urdf`` (or, for ``.xacro``, the ``xacro``) extra is not
-        installed, or ``xacro_args`` is not a mapping of names to values.
+        When ``xacro_args`` is not a mapping of names to values.
 
     Notes
     -----
     A ``.xacro`` is code: it can read any file and environment variable the
     process can, and evaluate Python expressions.  Load only files you trust.
     """
-    file = Path(path)
+    file = resolve(path)
     arguments = _xacro_arguments(xacro_args)
     places = _package_places(package_paths, file)
     if file.suffix.lower() != ".xacro":
@@ -176,10 +178,7 @@ def _package_places(package_paths: str | os.PathLike | Iterable[str | os.PathLik
 
 
 def _parse(path: Path, arguments: dict[str, str], places: list[Path]):
-    try:
-        from urdf_parser_py.urdf import URDF
-    except ImportError:
-        raise RedkinError("reading a URDF needs the urdf extra: pip install 'redkin[urdf]'") from None
+    from urdf_parser_py.urdf import URDF
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
@@ -260,11 +259,9 @@ def _expand_xacro(path: Path, arguments: dict[str, str], places: list[Path]) -> 
     this one: the places, first searched first, are ``places``, the folders above the file, ``ROS_PACKAGE_PATH``,
     and xacrodoc's default (the ament index under ROS 2, else ``ROS_PACKAGE_PATH`` again).
     """
-    try:
-        import xacro  # type: ignore[import-untyped]
-        from xacrodoc import XacroDoc, packages
-    except ImportError:
-        raise RedkinError("reading a .xacro file needs the xacro extra: pip install 'redkin[xacro]'") from None
+    import xacro  # type: ignore[import-untyped]
+    from xacrodoc import XacroDoc, packages
+
     given = _SeenArguments(arguments)
     environment = [place for place in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if place]
     noise = io.StringIO()

@@ -7,8 +7,8 @@
 * :func:`super_fibonacci_rotations` -- the deterministic near-uniform orientation set
 * :func:`workspace_grid` -- the box of positions and its chunks
 
-Dask, distributed, zarr and xarray come with ``pip install 'redkin[workspace]'``
-and are imported only when a map is computed or stored.
+Dask, distributed, zarr and xarray come with the ``workspace`` extra (``pip install "redkin[workspace]"``, or
+``pip install -e ".[workspace]"`` in a checkout) and are imported only when a map is computed or stored.
 """
 
 from redkin.workspace.grid import MAX_RESOLUTION, WorkspaceGrid, workspace_grid

@@ -1,12 +1,14 @@
-"""The optional packages of the workspace maps (``pip install 'redkin[workspace]'``), imported on first use."""
+"""The optional packages of the workspace maps (the ``workspace`` extra), imported on first use."""
 
 from __future__ import annotations
 
 import importlib
 from types import ModuleType
 
+from redkin._extras import missing_extra
+
 #: The one line a plain install prints when a workspace map is asked for.
-_INSTALL_HINT = "workspace maps need dask, distributed, zarr and xarray: pip install 'redkin[workspace]'"
+_INSTALL_HINT = missing_extra("workspace maps need dask, distributed, zarr and xarray", "workspace")
 
 
 def require(name: str) -> ModuleType:
