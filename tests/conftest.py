@@ -17,6 +17,8 @@ needs a cluster asks for one (``client``, ``own_client``) and passes it explicit
 from __future__ import annotations
 
 import contextlib
+import os
+import shlex
 import shutil
 import sys
 import tempfile
@@ -28,8 +30,8 @@ import pytest
 from hypothesis import HealthCheck, settings
 from hypothesis.database import DirectoryBasedExampleDatabase
 
-from redkin import reproduce
 from redkin.chain import SerialChain
+from redkin.cli.main import main
 from redkin.velocity import WamFactorisation
 from tests.support import velocity_wam
 
@@ -90,16 +92,27 @@ def wam_factor() -> WamFactorisation:
     return velocity_wam.FACTOR
 
 
+#: The README's command for the whole report, which :func:`full_report` runs as written (tests/test_readme_commands.py).
+FULL_REPORT_COMMAND = "redkin reproduce --out report"
+
+
 @pytest.fixture(scope="session")
 def full_report():
     """The folder of ``redkin reproduce`` with every section (index.html, summary.json, figures, explorers).
 
-    Built once per session, by the first test that asks (about a minute), and read by the section and browser
-    tests, which must not change it; removed when the session ends.
+    Built once per session, by the first test that asks (about a minute), with the README's command line
+    :data:`FULL_REPORT_COMMAND` run from an empty folder; read by the section, browser and README tests, which must
+    not change it; removed when the session ends.
     """
     folder = Path(tempfile.mkdtemp(prefix="redkin-report-"))
-    reproduce.run(folder)
-    yield folder
+    here = Path.cwd()
+    os.chdir(folder)
+    try:
+        code = main(shlex.split(FULL_REPORT_COMMAND)[1:])
+    finally:
+        os.chdir(here)
+    assert code == 0, f"{FULL_REPORT_COMMAND}: exit code {code}"
+    yield folder / "report"
     shutil.rmtree(folder, ignore_errors=True)
 
 

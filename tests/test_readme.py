@@ -1,9 +1,10 @@
 """The README as a newcomer reads it: every ```python block runs on its own, as a script, and the examples show
 what they say.
 
-Each block runs in a new Python process (``MPLBACKEND=Agg``) in an empty folder of its own, where ``examples``
-links to the repository's examples (the URDF block reads ``examples/iiwa14.urdf``) and any file a block writes
-(the explorer block's ``pa10.html``) lands.  Slow: nine fresh processes, each importing redkin and loading its
+Each block runs in a new Python process (``MPLBACKEND=Agg``) in an empty folder of its own, where any file a block
+writes (the explorer block's ``pa10.html``) lands; ``examples/iiwa14.urdf`` of the URDF block is the shipped
+example (:mod:`redkin.examples`), read from there because the folder has no such file.  The command lines are run
+by tests/test_readme_commands.py.  Slow: nine fresh processes, each importing redkin and loading its
 compiled kernels.
 """
 
@@ -30,10 +31,7 @@ BLOCKS = python_blocks(README.read_text(encoding="utf-8"))
 
 
 def run_script(code: str, folder: Path) -> subprocess.CompletedProcess:
-    """``code`` as a script in a new interpreter, in ``folder`` (with ``examples`` reachable there)."""
-    link = folder / "examples"
-    if not link.exists():
-        link.symlink_to(ROOT / "examples", target_is_directory=True)
+    """``code`` as a script in a new interpreter, in ``folder``."""
     script = folder / "block.py"
     script.write_text(code, encoding="utf-8")
     env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT / "src")}
