@@ -47,14 +47,15 @@ ARM_ANGLE = Parameter(
 
 
 def arm_angle_curves(chain: SerialChain, pose: np.ndarray, samples: int, target,
-                     weights) -> tuple[Parameter, tuple[BranchCurves, ...]]:
+                     weights, also: tuple[float, ...] = ()) -> tuple[Parameter, tuple[BranchCurves, ...]]:
     """The arm angle and every branch of ``chain`` at ``pose`` over a grid of ``samples`` arm angles in
     ``[-pi, pi]``.
 
     ``target`` and ``weights`` are those of the optimal arm angle [000 eq. 40] (default: the limit midpoints,
-    0.5 and 0.5).  Raises the ValueError of :mod:`redkin.srs` for an arm it does not serve or an unreachable pose.
+    0.5 and 0.5); the arm angles ``also`` join the grid.  Raises the ValueError of :mod:`redkin.srs` for an arm it
+    does not serve or an unreachable pose.
     """
-    grid = np.linspace(-np.pi, np.pi, samples)
+    grid = np.union1d(np.linspace(-np.pi, np.pi, samples), [on_circle(value) for value in also])
     weights = (0.5, 0.5) if weights is None else weights
     return ARM_ANGLE, tuple(_branch_curves(chain, pose, b, grid, target, weights) for b in BRANCHES)
 

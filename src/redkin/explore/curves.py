@@ -130,7 +130,8 @@ class BranchCurves:
 @dataclass(frozen=True)
 class ExplorerData:
     """The explorer's numbers for one arm and one pose: the parameter, every branch, the limits, the branch shown
-    first and sentences about the arm that the page states (a nearly S-R-S arm's neighbour and model error)."""
+    first, sentences about the arm that the page states (a nearly S-R-S arm's neighbour and model error) and the
+    sentence saying where the page opens and why."""
 
     robot: str
     joint_names: tuple[str, ...]
@@ -141,6 +142,7 @@ class ExplorerData:
     branches: tuple[BranchCurves, ...]
     initial: int
     remarks: tuple[str, ...] = ()
+    opening: str = ""
 
 
 def postures(chain: SerialChain, q: np.ndarray, exists: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

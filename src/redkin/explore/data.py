@@ -8,6 +8,8 @@ S-R-S and offset-elbow arms (:mod:`redkin.explore.arm_angle`) and of nearly S-R-
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -16,8 +18,9 @@ from redkin.chain import SerialChain
 from redkin.closed_form import redundancy_parameter
 from redkin.errors import RedkinError
 from redkin.explore.arm_angle import arm_angle_curves
-from redkin.explore.curves import ExplorerData
+from redkin.explore.curves import BranchCurves, ExplorerData
 from redkin.explore.q7 import q7_curves
+from redkin.so3 import matrix_to_axis_angle
 from redkin.srs import BRANCHES, parse_branch
 
 #: Values of the dense grid over the parameter's domain before the special ones are merged in (0.5 deg apart over
@@ -27,14 +30,19 @@ GRID_SAMPLES = 721
 MIN_SAMPLES, MAX_SAMPLES = 16, 20_000
 
 
+#: The largest pose error [m, rad] of a configuration ``q`` said to be at the explored pose.
+_REACHES = 1e-6
+
+
 def explorer_data(
     chain: SerialChain,
     pose: ArrayLike,
-    branch: str = "+++",
+    branch: str | None = None,
     target: ArrayLike | None = None,
     weights: ArrayLike | None = None,
     samples: int = GRID_SAMPLES,
     srs_tolerance: float | None = None,
+    q: ArrayLike | None = None,
 ) -> ExplorerData:
     """The numbers of an explorer page for ``chain`` at ``pose``, all eight branches over its redundancy parameter.
 
@@ -46,8 +54,11 @@ def explorer_data(
         error in ``remarks``) or a Franka-class arm (q7, :mod:`redkin.franka`), in any description.
     pose : array_like, shape (4, 4)
         The tool pose in the base frame.
-    branch : str
-        The branch shown first (three signs, e.g. ``"+-+"``).
+    branch : str, optional
+        The branch shown first (three signs, e.g. ``"+-+"``), at its optimal value within the limits (or its
+        unclamped optimum).  Default: the branch of ``q``, else the branch with a feasible set whose clamped optimum
+        keeps every joint farthest from its limits (the largest smallest distance, radians), else the first branch
+        with a solution.
     target : array_like, shape (7,), optional
         Joint values the optimal parameter value stays nearest to (default: the middle of each range), as
         :func:`redkin.srs.optimal_arm_angles` or :func:`redkin.franka.optimal_q7` takes them.
@@ -60,22 +71,27 @@ def explorer_data(
     srs_tolerance : float, optional
         The largest departure (metres, radians off perpendicular) of an arm drawn as nearly S-R-S through its exact
         neighbour (:func:`redkin.srs.arm_angle_class`; default :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
+    q : array_like, shape (7,), optional
+        A configuration at ``pose`` (within :data:`_REACHES`) to open the page at: its branch, at its own value of
+        the parameter (merged into the grid).
 
     Returns
     -------
     ExplorerData
+        With ``opening``, a sentence saying where the page opens and why.
 
     Raises
     ------
     ValueError
         For an arm without closed-form IK (within ``srs_tolerance`` of an S-R-S neighbour), a malformed or
-        unreachable pose, a malformed branch, target or weights (or weights for q7), ``samples`` out of range or a
-        tolerance that is not a finite number > 0.
+        unreachable pose, a malformed branch, target or weights (or weights for q7), ``samples`` out of range, a
+        tolerance that is not a finite number > 0, or a ``q`` that is malformed, not at ``pose`` or on another
+        branch than ``branch``.
     """
     if (isinstance(samples, bool) or not isinstance(samples, (int, np.integer))
             or not MIN_SAMPLES <= samples <= MAX_SAMPLES):
         raise RedkinError(f"samples must be an integer from {MIN_SAMPLES} to {MAX_SAMPLES}, got {samples!r}")
-    first = parse_branch(branch)
+    first = None if branch is None else parse_branch(branch)
     pose = check_pose(pose)
     if pose.shape != (4, 4):
         raise RedkinError(f"pose must be one 4x4 pose, got shape {pose.shape}")
@@ -83,16 +99,32 @@ def explorer_data(
     from redkin.srs.nearly import TOLERANCE_DEFAULT
 
     tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance)
+    own = None if q is None else _own_place(chain, pose, q, tolerance)
+    if own is not None and first is not None and own[0] != BRANCHES.index(first):
+        raise RedkinError(f"q is on branch {BRANCHES[own[0]]}, not on the branch {first} asked for: give one of them")
+    also = () if own is None else (own[1],)
     remarks: tuple[str, ...] = ()
     if arm_angle_class(chain, tolerance).kind == NEARLY_SRS:
         from redkin.explore.nearly import nearly_curves, remarks_of
         from redkin.srs import nearly_srs
 
-        parameter, branches = nearly_curves(chain, pose, int(samples), target, weights, tolerance)
+        parameter, branches = nearly_curves(chain, pose, int(samples), target, weights, tolerance, also)
         remarks = remarks_of(nearly_srs(chain, tolerance))
     else:
         curves = q7_curves if redundancy_parameter(chain, tolerance) == "q7" else arm_angle_curves
-        parameter, branches = curves(chain, pose, int(samples), target, weights)
+        parameter, branches = curves(chain, pose, int(samples), target, weights, also)
+    if own is not None:
+        initial = own[0]
+        shown = branches[initial]
+        place = int(np.argmin(np.abs(shown.values - own[1])))
+        branches = branches[:initial] + (replace(shown, start=place),) + branches[initial + 1:]
+        opening = f"Opened at the given configuration: branch {shown.branch}, {parameter.symbol} = {{value}}."
+    elif first is not None:
+        initial = BRANCHES.index(first)
+        opening = f"Opened on branch {first}, as asked, at its optimal {parameter.symbol} ({{value}})."
+    else:
+        initial, opening = _best_branch(branches, chain, parameter)
+    value = float(branches[initial].values[branches[initial].start])
     return ExplorerData(
         robot=chain.name,
         joint_names=tuple(chain.joint_names),
@@ -101,6 +133,45 @@ def explorer_data(
         upper=np.asarray(chain.upper, dtype=float),
         parameter=parameter,
         branches=branches,
-        initial=BRANCHES.index(first),
+        initial=initial,
         remarks=remarks,
+        opening=opening.format(value=f"{value:.6f} rad"),
     )
+
+
+def _own_place(chain: SerialChain, pose: np.ndarray, q: ArrayLike, tolerance: float) -> tuple[int, float]:
+    """The branch (index into :data:`BRANCHES`) and parameter value of a configuration ``q`` at ``pose``."""
+    from redkin.paths.family import path_family
+
+    q = np.asarray(q, dtype=float)
+    if q.shape != (chain.n,) or not np.all(np.isfinite(q)):
+        raise RedkinError(f"q must be {chain.n} finite joint values, got shape {q.shape}"
+                          + ("" if q.shape != (chain.n,) else " with a non-finite value"))
+    reached = chain.fk(q)
+    position = float(np.linalg.norm(reached[:3, 3] - pose[:3, 3]))
+    rotation = float(matrix_to_axis_angle(reached[:3, :3].T @ pose[:3, :3])[1])
+    if max(position, rotation) > _REACHES:
+        raise RedkinError(f"q is not at the pose: its tool is {position:.3g} m and {rotation:.3g} rad away "
+                          f"(at most {_REACHES:g} allowed)")
+    branch, value = path_family(chain, tolerance).parameter_of(q[None])
+    return int(branch[0]), float(value[0])
+
+
+def _best_branch(branches: tuple[BranchCurves, ...], chain: SerialChain, parameter) -> tuple[int, str]:
+    """The branch the page opens on without a branch or configuration asked for, and the sentence saying why:
+    among branches with a feasible set, the one whose configuration at its start (the clamped optimum) is farthest
+    from its limits; else the first branch with a solution."""
+    clearance = np.full(len(branches), -np.inf)
+    for k, curves in enumerate(branches):
+        if len(curves.arcs) and curves.exists[curves.start]:
+            q = curves.q[curves.start]
+            clearance[k] = float(np.min(np.minimum(q - chain.lower, chain.upper - q)))
+    feasible = int(np.count_nonzero(np.isfinite(clearance)))
+    if feasible:
+        best = int(np.argmax(clearance))
+        return best, (f"Opened on branch {branches[best].branch} at its optimal {parameter.symbol} within the limits "
+                      f"({{value}}): of the {feasible} branches with a feasible set, its joints are farthest from "
+                      f"their limits there ({clearance[best]:.4f} rad).")
+    best = next((k for k, curves in enumerate(branches) if curves.exists.any()), 0)
+    return best, (f"No branch has a feasible set at this pose: opened on branch {branches[best].branch}, the "
+                  f"first with a solution, at {{value}}.")

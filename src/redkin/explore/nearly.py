@@ -48,9 +48,10 @@ def remarks_of(arm: NearlySRS) -> tuple[str, ...]:
 
 
 def nearly_curves(chain: SerialChain, pose: np.ndarray, samples: int, target, weights,
-                  tolerance: float) -> tuple[Parameter, tuple[BranchCurves, ...]]:
+                  tolerance: float, also: tuple[float, ...] = ()) -> tuple[Parameter, tuple[BranchCurves, ...]]:
     """The arm angle and every branch of the nearly S-R-S ``chain`` (within ``tolerance`` of its neighbour) at
-    ``pose`` over a grid of ``samples`` arm angles in ``[-pi, pi]`` (module docstring).
+    ``pose`` over a grid of ``samples`` arm angles in ``[-pi, pi]`` and the arm angles ``also`` (module
+    docstring).
 
     Raises
     ------
@@ -58,7 +59,7 @@ def nearly_curves(chain: SerialChain, pose: np.ndarray, samples: int, target, we
         Where no branch has a certified solution at any arm angle of the grid.
     """
     arm = nearly_srs(chain, tolerance)
-    grid = np.linspace(-np.pi, np.pi, samples)
+    grid = np.union1d(np.linspace(-np.pi, np.pi, samples), [on_circle(value) for value in also])
     weights = (0.5, 0.5) if weights is None else weights
     parameter = replace(ARM_ANGLE, optimum="[000 eq. 40] on the real arm",
                         method="the exact S-R-S neighbour's closed form polished on the real nearly S-R-S arm, "

@@ -67,7 +67,8 @@ def _body(data: ExplorerData) -> str:
         legend.append(f'<span class="k singular"></span> singular {symbol}')
     legend.append(f'<span class="k optimal"></span> optimal {symbol} ({html.escape(p.optimum, quote=False)})')
     legend.append(f'<span class="k cursor"></span> the slider\'s {symbol}. Click a plot to move the slider there.')
-    remarks = "".join(f'\n<p class="note remark">{html.escape(text, quote=False)}</p>' for text in data.remarks)
+    remarks = "".join(f'\n<p class="note remark">{html.escape(text, quote=False)}</p>'
+                      for text in (*data.remarks, data.opening) if text)
     return f"""<div class="controls">
 <label>branch <select id="branch" aria-label="branch ({html.escape(p.branches)})"></select></label>
 <label class="slider">{symbol} <input id="parameter" type="range" min="0" max="1" step="1" value="0" \

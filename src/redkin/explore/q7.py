@@ -23,9 +23,9 @@ _SAME_VALUE = 1e-12
 
 
 def q7_curves(chain: SerialChain, pose: np.ndarray, samples: int, target,
-              weights) -> tuple[Parameter, tuple[BranchCurves, ...]]:
+              weights, also: tuple[float, ...] = ()) -> tuple[Parameter, tuple[BranchCurves, ...]]:
     """q7 and every branch of the Franka-class ``chain`` at ``pose`` over ``samples`` values of q7 spanning joint
-    7's range.
+    7's range, and the values ``also`` within it.
 
     ``target`` is that of :func:`redkin.franka.optimal_q7` (default: the middle of each range).  ``weights``
     (the shoulder and wrist weights of the optimal arm angle) has no meaning for q7 and must be ``None``.
@@ -42,7 +42,7 @@ def q7_curves(chain: SerialChain, pose: np.ndarray, samples: int, target,
                           f"{chain.name} is of the Franka class (parameter q7): leave them out")
     sets = feasible_q7(chain, pose)
     lo, hi = sets.domain
-    grid = np.linspace(lo, hi, samples)
+    grid = np.union1d(np.linspace(lo, hi, samples), [value for value in also if lo <= value <= hi])
     branches = tuple(_branch_curves(chain, pose, sets, k, grid, target) for k in range(len(sets.branches)))
     if not any(b.exists.any() for b in branches):
         raise UnreachablePoseError(f"{chain.name} cannot reach this pose: no branch has a solution at any of "
