@@ -70,7 +70,8 @@ def test_a_reachable_pose_prints_the_same_form_on_every_class(capsys, robot):
     argv, value = _reachable(robot)
     assert main(["ik", robot, *argv, option, value, "--all", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"robot", "parameter", "units", data["parameter"], "solutions", "missing", "reason"}
+    assert set(data) == {"robot", "parameter", "units", data["parameter"], "solutions", "missing", "reason",
+                         "branch_from"}
     assert data["reason"] is None
     assert data["solutions"] and {s["branch"] for s in data["solutions"]}.isdisjoint(data["missing"])
     chain = get_robot(robot)

@@ -55,7 +55,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parameter.add_argument("--q7", type=float, help="value of joint 7 of a Franka-class arm (radians, or degrees "
                                                      "with --deg)")
     group = solve.add_mutually_exclusive_group()
-    group.add_argument("--branch", default="+++", help=BRANCH_HELP)
+    group.add_argument("--branch", help=BRANCH_HELP.replace("default +++", "default: --q0's branch, else +++"))
     group.add_argument("--all", action="store_true", help="all eight branches")
     solve.add_argument("--every-solution", action="store_true",
                        help="with --psi on a nearly S-R-S arm: every solution of each asked branch, two where the arm "
@@ -150,18 +150,19 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     whose solution was not found; 0 when every pose has one.
     """
     from redkin.closed_form import ClosedFormSolutions, ik
-    from redkin.srs import BRANCHES, parse_branch
+    from redkin.srs import BRANCHES
 
     parameter = _closed_form_class(chain, args)
     value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
-    branch = None if args.all else parse_branch(args.branch)
-    result = ik(chain, poses, **{parameter: value}, branch=branch, srs_tolerance=args.srs_tolerance)
-    assert isinstance(result, ClosedFormSolutions)  # a parameter was given
+    q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
+    every = ik(chain, poses, **{parameter: value}, srs_tolerance=args.srs_tolerance)
+    assert isinstance(every, ClosedFormSolutions)  # a parameter was given
+    branch, why = _asked_branch(chain, args, q0)
+    result = every if branch is None else _one_branch(every, BRANCHES.index(branch))
     q, exists = result.q.reshape(-1, len(result.branches), 7), result.exists.reshape(-1, len(result.branches))
     within = result.within_limits.reshape(exists.shape)
     found = [[[(q[k, b], bool(within[k, b]))] if exists[k, b] else [] for b in range(len(result.branches))]
              for k in range(len(q))]
-    q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     reach = result.reach._replace(out=result.reach.out.reshape(-1), distance=result.reach.distance.reshape(-1))
     others = [[0] * len(result.branches) for _ in found]
     if parameter == "psi" and (args.every_solution or q0 is not None or not batch):
@@ -182,7 +183,7 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     unit = angle_unit(args.deg)
     if args.json:
         head = {"robot": chain.name, "parameter": parameter, "units": {parameter: unit, "q": unit, "reach": "m"},
-                parameter: angles_out(value, args.deg)}
+                parameter: angles_out(value, args.deg), "branch_from": why}
         single = {key: value for key, value in entries[0].items() if key != "index"}
         print_json({**head, "poses": entries} if batch else {**head, **single})
         return code
@@ -198,7 +199,36 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
                 note += (f"  ({plural(s['others'], 'other solution')} of {s['branch']} at this {parameter}: "
                          "--every-solution lists them)")
             print(f"{label}{s['branch']}  {format_values(s['q'])}  [{unit}]{note}")
+    if why == "default" and not batch:
+        inside = [str(label) for label, flag in zip(every.branches, every.within_limits.reshape(-1)) if flag]
+        if entries[0]["solutions"] and not entries[0]["solutions"][0]["within_limits"] and inside:
+            print(f"branch {branch} is the default: {', '.join(inside)} {'is' if len(inside) == 1 else 'are'} within "
+                  "the limits here (--branch B picks one, --all lists all eight, --q0 Q takes its branch)")
     return code
+
+
+def _asked_branch(chain, args: argparse.Namespace, q0: np.ndarray | None):
+    """The branch ``ik --psi|--q7`` answers and where it comes from: ``None`` with ``--all`` (``"all"``); else
+    ``--branch`` (``"--branch"``), or ``--q0``'s own branch (``"q0"``, read off the configuration by its class), or
+    ``+++`` (``"default"``)."""
+    from redkin.paths.family import path_family
+    from redkin.srs import BRANCHES, parse_branch
+
+    if args.all:
+        return None, "all"
+    if args.branch is not None:
+        return parse_branch(args.branch), "--branch"
+    if q0 is not None:
+        index, _ = path_family(chain, args.srs_tolerance).parameter_of(q0[None])
+        return BRANCHES[int(index[0])], "q0"
+    return BRANCHES[0], "default"
+
+
+def _one_branch(result, index: int):
+    """``result`` (a :class:`redkin.closed_form.ClosedFormSolutions` of every branch) narrowed to one branch."""
+    keep = slice(index, index + 1)
+    return result._replace(q=result.q[..., keep, :], exists=result.exists[..., keep],
+                           within_limits=result.within_limits[..., keep], branches=result.branches[keep])
 
 
 def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
