@@ -155,7 +155,7 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     parameter = _closed_form_class(chain, args)
     value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
-    every = ik(chain, poses, **{parameter: value}, srs_tolerance=args.srs_tolerance)
+    every = ik(chain, poses, **{parameter: value}, branch=None, srs_tolerance=args.srs_tolerance)
     assert isinstance(every, ClosedFormSolutions)  # a parameter was given
     branch, why = _asked_branch(chain, args, q0)
     result = every if branch is None else _one_branch(every, BRANCHES.index(branch))
