@@ -360,3 +360,38 @@ def test_nearly_feasible_run_reports_each_draw_and_ssik_beside_it():
         assert all(d.ssik_native.shape == (1,) and d.ssik_arcs.shape == (1,) for d in result.draws)
     table = bench_nearly.feasible_table([result])
     assert table[3].startswith("|---|") and [row.split(" | ")[1] for row in table[4:]] == list(bench_nearly.DRAWS)
+
+
+# docs_figures.py (issue 43): pytest's summary line read back, processes timed from outside
+
+
+def test_docs_figures_reads_pytest_summary_lines():
+    """parse_pytest_summary: the last summary line of the output, with -q or between '=' signs, its counts in pytest's
+    order (a singular warning or error counted under the plural, printed back as pytest prints it) and its seconds;
+    an output without a summary line is a ValueError."""
+    import docs_figures
+
+    quiet = "....s.\n[100%]\n1290 passed, 55 deselected, 3 skipped, 1 warning in 452.12s (0:07:32)\n"
+    summary = docs_figures.parse_pytest_summary(quiet)
+    assert summary.counts == {"passed": 1290, "deselected": 55, "skipped": 3, "warnings": 1}
+    assert summary.seconds == 452.12 and summary.text() == "1290 passed, 55 deselected, 3 skipped, 1 warning"
+    decorated = ("=== 3 passed in 0.10s ===\nFAILED tests/test_x.py::test_y\n"
+                 "==== 2 failed, 10 passed, 1 error in 3.01s ====")
+    assert docs_figures.parse_pytest_summary(decorated) == docs_figures.PytestSummary(
+        {"failed": 2, "passed": 10, "errors": 1}, 3.01)
+    with pytest.raises(ValueError, match="expected a pytest summary line"):
+        docs_figures.parse_pytest_summary("ERROR: file or directory not found: nowhere\n")
+
+
+def test_docs_figures_counts_a_process_cpu_seconds_and_stops_on_failure():
+    """run_process: the CPU seconds a child spends are counted (a child that spins 0.2 s of its own CPU time), its
+    output and exit code are kept; with check, a non-zero exit stops the script with the child's stderr."""
+    import docs_figures
+
+    spin = "import time\nwhile time.process_time() < 0.2: pass\nprint('spun')"
+    process = docs_figures.run_process([sys.executable, "-c", spin])
+    assert process.cpu >= 0.2 and process.wall > 0.0 and process.returncode == 0 and process.stdout == "spun\n"
+    fail = [sys.executable, "-c", "import sys; sys.exit('no such pose')"]
+    assert docs_figures.run_process(fail, check=False).returncode == 1
+    with pytest.raises(SystemExit, match="no such pose"):
+        docs_figures.run_process(fail)
