@@ -113,7 +113,8 @@ def test_the_command_line_names_q7(tmp_path, capsys):
     assert report["branch"][0] in [str(b) for b in BRANCHES]
     assert main(["path", "franka-fr3", "--poses", str(file), "--max-step", str(step)]) == 0
     out = capsys.readouterr().out
-    assert "q7" in out.splitlines()[1] and "clearance" in out
+    header = next(line for line in out.splitlines() if line.split()[:2] == ["k", "branch"])
+    assert "q7" in header and "clearance" in out and "starts on branch" in out
     assert main(["path", "franka-fr3", "--poses", str(file), "--max-step", str(step), "--plot",
                  str(tmp_path / "plane.png")]) == 0
     assert (tmp_path / "plane.png").stat().st_size > 0
