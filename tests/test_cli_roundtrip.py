@@ -261,3 +261,13 @@ def test_torso_arm_ik_reads_quat_as_rotation(capsys, angle):
     assert one["status"] == other["status"] and len(one["solutions"]) == len(other["solutions"])
     for a, b in zip(one["solutions"], other["solutions"]):
         assert a["branch"] == b["branch"] and np.abs(np.subtract(a["q"], b["q"])).max() < 1e-9
+
+
+def test_the_last_two_lines_of_fk_paste_even_outside_the_limits(capsys):
+    """The note on joint values outside the limits comes before the pose, so fk's last two lines are always the
+    ones to paste (the README says so)."""
+    code, out, _ = run(capsys, ["fk", "franka-fr3", "0", "30", "0", "60", "0", "45", "0", "--deg"])
+    lines = out.splitlines()
+    assert code == 0 and lines[0].startswith("note: these joint values are outside")
+    assert lines[-2].startswith("--position") and "--rotation" in lines[-2]
+    assert lines[-1].startswith("--position") and "--quat" in lines[-1]

@@ -149,12 +149,12 @@ def _run_fk(args: argparse.Namespace) -> int:
         })
     else:
         position = f"--position {format_exact(pose[:3, 3])}"
+        if not chain.within_limits(q):
+            print("note: these joint values are outside the robot's limits")
         print("pose (rounded to 6 decimals; the two lines below are exact, the quaternion is w x y z):")
         print(format_matrix(pose))
         print(f"{position} --rotation {format_exact(pose[:3, :3])}")
         print(f"{position} --quat {format_exact(quaternion)}")
-        if not chain.within_limits(q):
-            print("note: these joint values are outside the robot's limits")
     return 0
 
 
