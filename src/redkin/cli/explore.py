@@ -76,5 +76,5 @@ def run(args: argparse.Namespace) -> int:
         reachable = sum(bool(arcs) for arcs in feasible.values())
         print(f"wrote {out}: {chain.name}, feasible {parameter.plural} on {reachable} of {len(feasible)} branches; "
               "open it in a browser")
-        print(data.opening)
+        print(f"{data.opening} ({parameter.name} = {opens:.6f} {angle_unit(args.deg)})")
     return 0

@@ -118,13 +118,12 @@ def explorer_data(
         shown = branches[initial]
         place = int(np.argmin(np.abs(shown.values - own[1])))
         branches = branches[:initial] + (replace(shown, start=place),) + branches[initial + 1:]
-        opening = f"Opened at the given configuration: branch {shown.branch}, {parameter.symbol} = {{value}}."
+        opening = f"Opened at the given configuration: branch {shown.branch}, at its own {parameter.symbol}."
     elif first is not None:
         initial = BRANCHES.index(first)
-        opening = f"Opened on branch {first}, as asked, at its optimal {parameter.symbol} ({{value}})."
+        opening = f"Opened on branch {first}, as asked, at its optimal {parameter.symbol}."
     else:
         initial, opening = _best_branch(branches, chain, parameter)
-    value = float(branches[initial].values[branches[initial].start])
     return ExplorerData(
         robot=chain.name,
         joint_names=tuple(chain.joint_names),
@@ -135,7 +134,7 @@ def explorer_data(
         branches=branches,
         initial=initial,
         remarks=remarks,
-        opening=opening.format(value=f"{value:.6f} rad"),
+        opening=opening,
     )
 
 
@@ -169,9 +168,10 @@ def _best_branch(branches: tuple[BranchCurves, ...], chain: SerialChain, paramet
     feasible = int(np.count_nonzero(np.isfinite(clearance)))
     if feasible:
         best = int(np.argmax(clearance))
-        return best, (f"Opened on branch {branches[best].branch} at its optimal {parameter.symbol} within the limits "
-                      f"({{value}}): of the {feasible} branches with a feasible set, its joints are farthest from "
-                      f"their limits there ({clearance[best]:.4f} rad).")
+        among = ("the only branch with a feasible set" if feasible == 1 else
+                 f"of the {feasible} branches with a feasible set, its joints are farthest from their limits there")
+        return best, (f"Opened on branch {branches[best].branch} at its optimal {parameter.symbol} within the limits: "
+                      f"{among}.")
     best = next((k for k, curves in enumerate(branches) if curves.exists.any()), 0)
     return best, (f"No branch has a feasible set at this pose: opened on branch {branches[best].branch}, the "
-                  f"first with a solution, at {{value}}.")
+                  f"first with a solution, at its optimal {parameter.symbol}.")
