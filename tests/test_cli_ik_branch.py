@@ -65,3 +65,24 @@ def test_the_default_branch_says_which_branches_are_within_the_limits(capsys, ro
         assert not any(line.startswith("branch +++ is the default") for line in lines)
     # the cases meet both: +++ outside the limits with others inside (WAM, Panda), +++ inside (iiwa14, Gen3)
     assert any(line.startswith("branch +++ is the default") for line in lines) == (robot in NOTED)
+
+
+@pytest.mark.parametrize("robot, position, rotation", [
+    ("pa10-7c", [0.55, 0.0, 0.767], [0, 0, 1, 0, 1, 0, -1, 0, 0]),      # +++ empty, ++- not
+    ("pa10-7c", [0.65, 0.0, 0.5], [-1, 0, 0, 0, 1, 0, 0, 0, -1]),       # +++ feasible
+])
+def test_arm_angles_names_the_feasible_branches_where_the_default_has_none(capsys, robot, position, rotation):
+    from redkin.srs import BRANCHES, feasible_arm_angles, pose_from
+
+    chain = get_robot(robot)
+    pose = pose_from(np.array(position, dtype=float), np.reshape(np.array(rotation, dtype=float), (3, 3)))
+    have = [str(b) for b in BRANCHES if not feasible_arm_angles(chain, pose, b).feasible.is_empty]
+    argv = ["arm-angles", robot, "--position", *map(str, position), "--rotation", *map(str, rotation)]
+    assert main(argv) == 0
+    last = capsys.readouterr().out.splitlines()[-1]
+    if "+++" in have:
+        assert not last.startswith("branch +++ (the default)")
+    else:
+        assert last.startswith(f"branch +++ (the default) has no feasible psi; {', '.join(have)}")
+    assert main([*argv, "--branch", "+++"]) == 0  # asked for: no such line
+    assert not capsys.readouterr().out.splitlines()[-1].startswith("branch +++ (the default)")

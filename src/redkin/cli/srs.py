@@ -73,7 +73,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     add_robot_argument(angles)
     add_target_arguments(angles)
-    angles.add_argument("--branch", default="+++", help=BRANCH_HELP)
+    angles.add_argument("--branch", help=BRANCH_HELP + "; where +++ has no feasible set, the branches that have one "
+                                                      "are named")
     angles.add_argument("--target", nargs=7, type=float, metavar="Q",
                         help="joint values the optimal arm angles stay nearest to (radians, or degrees with --deg; "
                              "default: the middle of each joint's range)")
@@ -266,14 +267,48 @@ def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
-    from redkin.srs import feasible_arm_angles, optimal_arm_angles, parse_branch, singular_arm_angles, srs_geometry
+    """``redkin arm-angles``: the class's renderer, then, for the default branch (no ``--branch``) where its
+    feasible set is empty, one line naming the branches that have one."""
     from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
 
     chain = load_robot(args)
+    default = args.branch is None
+    if default:
+        args.branch = "+++"
     if _closed_form_class(chain, args) == "q7":
-        return _run_franka_arm_angles(chain, args)
-    if arm_angle_class(chain, args.srs_tolerance).kind == NEARLY_SRS:
-        return _run_nearly_arm_angles(chain, args)
+        code = _run_franka_arm_angles(chain, args)
+    elif arm_angle_class(chain, args.srs_tolerance).kind == NEARLY_SRS:
+        code = _run_nearly_arm_angles(chain, args)
+    else:
+        code = _run_exact_arm_angles(chain, args)
+    if default and not args.json and code == 0:
+        _name_feasible_branches(chain, target_pose(args), args.srs_tolerance)
+    return code
+
+
+def _name_feasible_branches(chain, pose: np.ndarray, tolerance: float | None) -> None:
+    """Where the default branch ``+++`` has no feasible set at ``pose``, one line naming the branches that have one
+    (their sets as the class computes them, :meth:`redkin.paths.family.Family.pieces`)."""
+    from redkin.paths.family import path_family
+    from redkin.srs import BRANCHES
+
+    family = path_family(chain, tolerance)
+    feasible = family.pieces(pose[None]).feasible[0].any(axis=-1)
+    if feasible[0]:
+        return
+    others = [str(BRANCHES[b]) for b in np.flatnonzero(feasible)]
+    symbol = "Psi" if family.parameter == "psi" else "Q7"
+    if others:
+        print(f"branch +++ (the default) has no feasible {family.parameter}; {', '.join(others)} "
+              f"{'has' if len(others) == 1 else 'have'} a {symbol}: --branch B shows one")
+    else:
+        print(f"no branch has a feasible {family.parameter} at this pose")
+
+
+def _run_exact_arm_angles(chain, args: argparse.Namespace) -> int:
+    """``redkin arm-angles`` on an S-R-S or offset-elbow arm: the branch's per-joint, feasible, singular and optimal
+    arm angles in closed form [000 eqs. 20-40]."""
+    from redkin.srs import feasible_arm_angles, optimal_arm_angles, parse_branch, singular_arm_angles, srs_geometry
     if args.weights is None:
         args.weights = (0.5, 0.5)
     geometry = srs_geometry(chain)
