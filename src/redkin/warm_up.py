@@ -100,7 +100,11 @@ def _paths(rng: np.random.Generator) -> None:
 
     arm = models.kuka_iiwa14()
     q = np.radians([10.0, 40.0, 0.0, -70.0, 0.0, 50.0, 0.0]) + np.linspace(0.0, 0.2, 8)[:, None]
-    paths.resolve_path(arm, arm.fk(q), 0.2, thorough=True)  # both stages
+    poses = arm.fk(q)
+    paths.resolve_path(arm, poses, 0.2, thorough=True)  # both stages
+    # the baselines beside it (redkin path --plot)
+    paths.fixed_psi_path(arm, poses, 0.2, 0.0), paths.clamped_optimum_path(arm, poses, 0.2)
+    paths.greedy_path(arm, poses, 0.2)
     franka = models.franka_fr3()
     q = np.array([0.3, -0.5, 0.2, -2.0, 0.4, 1.8, 0.5]) + np.linspace(0.0, 0.2, 8)[:, None]
     paths.resolve_path(franka, franka.fk(q), 0.2, thorough=True)
