@@ -183,12 +183,20 @@ def _run_path(args: argparse.Namespace) -> int:
     step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own
     poses = read_poses(args.poses)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
+    model = _model_line(chain, args.srs_tolerance)
+    degrees = args.deg
+    unit = angle_unit(degrees)
+    if not args.json:  # what the path rests on, before the search (seconds on a nearly S-R-S arm)
+        if model is not None:  # the certified sets cost 0.1-0.4 s a waypoint (docs/srs.md, "cost")
+            print(f"{model}; certifying the sets of {len(poses)} waypoints, typically 0.1-0.4 s each", flush=True)
+        if speed is not None:
+            source = "the description's velocity limits" if speed_source == "description" else "--speed"
+            print(f"step bound: speed x dt ({args.dt:g} s), speeds [{unit}/s] from {source}: "
+                  f"{format_values(angles_out(speed, degrees), 4)}", flush=True)
     result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough,
                           objective=args.objective, srs_tolerance=args.srs_tolerance)
-    model = _model_line(chain, args.srs_tolerance)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0, args.srs_tolerance)
-    degrees = args.deg
     failure = result.failure
     if args.json:
         report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
@@ -212,13 +220,6 @@ def _run_path(args: argparse.Namespace) -> int:
                                  "needed": None if failure.needed is None else angles_out(failure.needed, degrees)}
         print_json(report)
         return 0 if result.ok else 1
-    unit = angle_unit(degrees)
-    if model is not None:
-        print(model)
-    if speed is not None:
-        source = "the description's velocity limits" if speed_source == "description" else "--speed"
-        print(f"step bound: speed x dt ({args.dt:g} s), speeds [{unit}/s] from {source}: "
-              f"{format_values(angles_out(speed, degrees), 4)}")
     if not result.ok:
         assert failure is not None
         print(_failure_line(failure, degrees))

@@ -91,14 +91,8 @@ def _run_track(args: argparse.Namespace) -> int:
     run = simulate(chain, q0, twist, args.duration, method, dt=args.dt,
                    index=None if factorisation is None else factorisation.index)
     summary = _tracking_summary(run)
-    if args.plot:
-        import matplotlib.pyplot as plt
-
-        from redkin.plot.velocity import tracking_figure
-
-        fig = tracking_figure(run, args.eps, title=f"{chain.name}, method {args.method}")
-        fig.savefig(args.plot, dpi=100)
-        plt.close(fig)
+    if args.plot and args.json:  # the figure before the JSON; in text, after the result lines
+        _save_tracking_figure(args.plot, run, args.eps, f"{chain.name}, method {args.method}")
     deg = args.deg
     angle = angle_unit(deg)
     if args.json:
@@ -146,8 +140,20 @@ def _run_track(args: argparse.Namespace) -> int:
             print(f"D_e from {run.index[0]:.4g} to {run.index[-1]:.4g}, sign changes: {summary.crossings}"
                   + (f" (t = {times} s)" if times else ""))
         if args.plot:
+            _save_tracking_figure(args.plot, run, args.eps, f"{chain.name}, method {args.method}")
             print(f"wrote {args.plot}")
     return 0
+
+
+def _save_tracking_figure(file: str, run, eps: float, title: str) -> None:
+    """The six-panel figure of :func:`redkin.plot.velocity.tracking_figure` for ``run``, saved to ``file``."""
+    import matplotlib.pyplot as plt
+
+    from redkin.plot.velocity import tracking_figure
+
+    fig = tracking_figure(run, eps, title=title)
+    fig.savefig(file, dpi=100)
+    plt.close(fig)
 
 
 @dataclass(frozen=True)

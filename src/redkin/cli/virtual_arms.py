@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -177,7 +178,7 @@ def _run_virtual_arms(args: argparse.Namespace) -> int:
     alone = {int(k): _alone(chain, points[k], goals[k], probe.axes, run.final_theta, output, fixed, args.max_steps)
              for k in np.flatnonzero(~met)}
     note = _goals_note(run.status, points, errors, alone, fixed, output is not None)
-    if args.out:
+    if args.out and args.json:  # the file before the JSON that names it; in text, after the result lines
         _save_plot(args.out, chain, run, truth)
     q_final = angles_out(run.final_theta, args.deg)
     if args.json:
@@ -198,6 +199,7 @@ def _run_virtual_arms(args: argparse.Namespace) -> int:
     if note:
         print(note)
     if args.out:
+        _save_plot(args.out, chain, run, truth)
         print(f"wrote {args.out}")
     return 0
 
@@ -257,7 +259,7 @@ def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: n
 
     run = avoid_obstacles(chain, q0, goal, obstacles, output=output, fixed=_fixed(args.fix, chain.n),
                           period_steps=min(args.max_steps, 20))
-    if args.out:
+    if args.out and args.json:  # the file before the JSON that names it; in text, after the result lines
         _save_plot(args.out, chain, run, None, obstacles)
     q_final = angles_out(run.final_theta, args.deg)
     if args.json:
@@ -275,6 +277,7 @@ def _run_with_obstacles(args: argparse.Namespace, chain, q0: np.ndarray, goal: n
     print(f"q [{unit}]: " + format_values(q_final))
     print(f"  end error {run.end_error:.3e} m, minimum clearance {run.min_clearance:.4f} m")
     if args.out:
+        _save_plot(args.out, chain, run, None, obstacles)
         print(f"wrote {args.out}")
     return 0
 
@@ -293,6 +296,7 @@ def _save_plot(path: str, chain, run, truth: np.ndarray | None, obstacles: Seque
     if path.lower().endswith(".gif"):  # an animation of the run instead of the stroboscopic drawing
         from matplotlib.animation import PillowWriter
 
+        print(f"redkin: writing {path}: {len(run.theta)} frames, a few seconds", file=sys.stderr, flush=True)
         from redkin.plot.virtual_arms import animate_planar
 
         animate_planar(fig, ax, chain, run.theta, goals, title=title, obstacles=obstacles).save(
