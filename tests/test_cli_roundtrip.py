@@ -14,7 +14,7 @@ import json
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 from redkin.cli.main import _build_parser, main
@@ -152,6 +152,8 @@ def test_fk_json_carries_the_quaternion_of_its_text(capsys):
 
 @settings(max_examples=30, deadline=None, suppress_health_check=CAPSYS)
 @given(fraction=fractions, stretch=st.lists(st.floats(-5e-4, 5e-4), min_size=3, max_size=3))
+# found by the explore profile: orthonormal within 1e-3, det 0.9988 was refused as improper
+@example(fraction=[0.5] * 7, stretch=[-0.0005, -0.00047971119178984314, -0.00023513230751535545])
 def test_a_matrix_a_little_off_is_projected_onto_the_rotation_with_a_note(capsys, fraction, stretch):
     assume(max(map(abs, stretch)) > 1e-6)
     q = configuration("pa10-7c", fraction)
