@@ -77,8 +77,13 @@ def test_robots_lists_models_with_their_arm_angle_class(capsys):
                 assert entry["class"] == "Franka (q7)"
         else:
             assert entry["class"] not in ("general chain", "Franka (q7)")
+    from redkin import examples
+
+    assert json.loads(run(capsys, "robots", "--json")[1])["example_files"] == examples.names()
     code, out, _ = run(capsys, "robots")
-    assert code == 0 and len(out.splitlines()) == len(MODELS)
+    lines = out.splitlines()
+    assert code == 0 and len(lines) == len(MODELS) + 1  # a line per model, then the example files
+    assert lines[-1].startswith("example files") and all(name in lines[-1] for name in examples.names())
 
 
 def test_robots_show_prints_the_chain_and_why_it_is_of_its_class(capsys):

@@ -111,3 +111,13 @@ def test_a_missing_mjcf_extra_gives_the_command_for_either_install(monkeypatch, 
     assert main(["fk", "examples/iiwa14.xml", *["0"] * 7]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "in a checkout of redkin" in err
+
+
+def test_a_missing_examples_path_names_the_shipped_ones(tmp_path, monkeypatch, capsys):
+    """``examples/NAME`` that neither exists nor is shipped: one line listing what is shipped, exit 2."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(RobotDescriptionError, match=r"redkin ships no example 'iiwa15\.urdf' \(it ships fr3\.urdf"):
+        get_robot("examples/iiwa15.urdf")
+    assert main(["fk", "examples/iiwa15.urdf", *["0"] * 7]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and all(name in err for name in examples.names())

@@ -82,12 +82,17 @@ def _run_robots(args: argparse.Namespace) -> int:
             "lower": _finite(angles_out(chain.lower, args.deg)),
             "upper": _finite(angles_out(chain.upper, args.deg)),
         })
+    from redkin import examples
+
+    files = examples.names()
     if args.json:
-        print_json({"units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg)}, "robots": entries})
+        print_json({"units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg)}, "robots": entries,
+                    "example_files": files})
     else:
         width = max(len(e["name"]) for e in entries)
         for e in entries:
             print(f"{e['name']:<{width}}  {plural(e['joints'], 'joint')}  {e['class']:<19}  {e['source']}")
+        print(f"example files, read from any folder as NAME or examples/NAME: {', '.join(files)}")
     return 0
 
 

@@ -56,6 +56,11 @@ def resolve(file: str | Path) -> Path:
     Path
         ``file`` when it exists, is absolute, or is not ``NAME`` or ``examples/NAME`` for a shipped example
         ``NAME``; else the shipped file (see the module docstring).
+
+    Raises
+    ------
+    RobotDescriptionError
+        For ``examples/NAME`` that neither exists nor names a shipped example; the message lists them.
     """
     written = Path(file)
     if written.exists() or written.is_absolute():
@@ -64,4 +69,9 @@ def resolve(file: str | Path) -> Path:
     if len(parts) == 1 or (len(parts) == 2 and parts[0] == _WRITTEN_FOLDER):
         if parts[-1] in names():
             return FOLDER / parts[-1]
+        if len(parts) == 2:  # written as one of the examples, but none is called so
+            from redkin.errors import RobotDescriptionError
+
+            raise RobotDescriptionError(f"robot file {str(file)!r} does not exist, and redkin ships no example "
+                                        f"{parts[-1]!r} (it ships {', '.join(names())})", path=str(file))
     return written
