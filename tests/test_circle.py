@@ -87,3 +87,19 @@ def test_wrap_angle_of_a_float_equals_the_array_path_bit_for_bit(angle):
     assert type(scalar) is float
     assert scalar == float(wrap_angle(np.array([angle]))[0])
     assert -np.pi <= scalar < np.pi
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from([-np.pi, np.pi]), st.floats(-1e-12, 1e-12), st.floats(0.1, 2.0)),
+                min_size=1, max_size=2))
+def test_an_arc_shown_through_the_seam_holds_the_seam(ends):
+    """Ends within the seam tolerance of +-pi (as sets located numerically come out): wherever ``arcs`` shows an arc
+    through +-pi, the set holds +-pi; and each arc holds its ends and its middle."""
+    pieces = [(-np.pi + abs(off), -np.pi + abs(off) + width) if seam < 0 else (np.pi - abs(off) - width,
+              np.pi - abs(off)) for seam, off, width in ends]
+    s = ArcSet._from_intervals(pieces)
+    for lo, hi in s.arcs:
+        middle = wrap_angle(lo + ((hi - lo) % (2 * np.pi) if lo > hi else hi - lo) / 2)
+        assert s.contains(lo, 1e-12) and s.contains(hi, 1e-12) and s.contains(middle)  # wrapping rounds ends
+        if lo > hi:
+            assert s.contains(np.pi) and s.contains(-np.pi)

@@ -38,9 +38,17 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
     return np.mod(np.asarray(angle, dtype=float) + _PI, TWO_PI) - _PI
 
 
+def _seamed(lo: float, hi: float) -> tuple[float, float]:
+    """An interval of ``[-pi, pi]`` whose ends within :data:`_SEAM_TOLERANCE` of the seam are on it: the set then
+    holds +-pi wherever :attr:`ArcSet.arcs` shows an arc through it (an end 1e-13 short of pi was drawn through the
+    seam, yet did not hold pi)."""
+    return (-_PI if lo <= -_PI + _SEAM_TOLERANCE else lo), (_PI if hi >= _PI - _SEAM_TOLERANCE else hi)
+
+
 def _merge(intervals: Iterable[tuple[float, float]]) -> tuple[tuple[float, float], ...]:
-    """Sorted union of closed line intervals (touching ones, within :data:`_SEAM_TOLERANCE`, are merged)."""
-    ordered = sorted((float(lo), float(hi)) for lo, hi in intervals)
+    """Sorted union of closed line intervals (touching ones, within :data:`_SEAM_TOLERANCE`, are merged; ends that
+    near the seam are put on it, :func:`_seamed`)."""
+    ordered = sorted(_seamed(float(lo), float(hi)) for lo, hi in intervals)
     merged: list[list[float]] = []
     for lo, hi in ordered:
         if merged and lo <= merged[-1][1] + _SEAM_TOLERANCE:
@@ -83,7 +91,8 @@ class ArcSet:
             else:
                 pieces.append((start, _PI))
                 pieces.append((-_PI, end - TWO_PI))
-        self._intervals = tuple(pieces) if len(pieces) < 2 else _merge(pieces)  # one interval is merged already
+        # one interval is merged already, and needs only its ends put on the seam
+        self._intervals = (tuple(_seamed(*piece) for piece in pieces) if len(pieces) < 2 else _merge(pieces))
 
     # ----------------------------------------------------------- constructors
     @classmethod
