@@ -86,3 +86,20 @@ def test_arm_angles_names_the_feasible_branches_where_the_default_has_none(capsy
         assert last.startswith(f"branch +++ (the default) has no feasible psi; {', '.join(have)}")
     assert main([*argv, "--branch", "+++"]) == 0  # asked for: no such line
     assert not capsys.readouterr().out.splitlines()[-1].startswith("branch +++ (the default)")
+
+
+def test_arm_angles_on_a_nearly_srs_arm_names_the_branches_of_its_self_motion(capsys):
+    """The ROS-I iiwa (nearly S-R-S) at a pose whose +++ set is empty: the line names exactly the branches whose
+    certified sets are not (:func:`redkin.srs.feasible_arm_angles_nearly_all`)."""
+    from redkin.srs import feasible_arm_angles_nearly_all, nearly_srs
+
+    chain = get_robot("examples/iiwa14_rosi.urdf")
+    q = np.array([-0.0257005, -1.4120415, -0.1028156, -0.1366274, 1.4637855, -0.4008369, -2.6409391])
+    pose = chain.fk(q)
+    have = [str(s.branch) for s in feasible_arm_angles_nearly_all(nearly_srs(chain), pose) if not s.feasible.is_empty]
+    assert have and "+++" not in have
+    argv = ["arm-angles", "examples/iiwa14_rosi.urdf", "--position", *map(repr, pose[:3, 3].tolist()),
+            "--rotation", *map(repr, pose[:3, :3].ravel().tolist())]
+    assert main(argv) == 0
+    assert capsys.readouterr().out.splitlines()[-1].startswith(
+        f"branch +++ (the default) has no feasible psi; {', '.join(have)} have a Psi")

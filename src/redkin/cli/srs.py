@@ -4,6 +4,7 @@ S-R-S and offset-elbow arms (paper 000), q7 of the Franka class (docs/franka.md)
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -156,10 +157,13 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     parameter = _closed_form_class(chain, args)
     value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
-    every = ik(chain, poses, **{parameter: value}, branch=None, srs_tolerance=args.srs_tolerance)
-    assert isinstance(every, ClosedFormSolutions)  # a parameter was given
     branch, why = _asked_branch(chain, args, q0)
-    result = every if branch is None else _one_branch(every, BRANCHES.index(branch))
+    # every branch where it is asked for, or where the default's line names the others (one pose); else one
+    every_branch = branch is None or (why == "default" and not batch)
+    every = ik(chain, poses, **{parameter: value}, branch=None if every_branch else branch,
+               srs_tolerance=args.srs_tolerance)
+    assert isinstance(every, ClosedFormSolutions)  # a parameter was given
+    result = _one_branch(every, BRANCHES.index(branch)) if every_branch and branch is not None else every
     q, exists = result.q.reshape(-1, len(result.branches), 7), result.exists.reshape(-1, len(result.branches))
     within = result.within_limits.reshape(exists.shape)
     found = [[[(q[k, b], bool(within[k, b]))] if exists[k, b] else [] for b in range(len(result.branches))]
@@ -267,48 +271,48 @@ def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
-    """``redkin arm-angles``: the class's renderer, then, for the default branch (no ``--branch``) where its
-    feasible set is empty, one line naming the branches that have one."""
+    """``redkin arm-angles``: the class's renderer; without ``--branch`` it shows ``+++`` and, where that set is
+    empty, names the branches that have one (:func:`_name_feasible_branches`)."""
     from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
 
     chain = load_robot(args)
-    default = args.branch is None
-    if default:
+    args.default_branch = args.branch is None
+    if args.default_branch:
         args.branch = "+++"
     if _closed_form_class(chain, args) == "q7":
-        code = _run_franka_arm_angles(chain, args)
-    elif arm_angle_class(chain, args.srs_tolerance).kind == NEARLY_SRS:
-        code = _run_nearly_arm_angles(chain, args)
-    else:
-        code = _run_exact_arm_angles(chain, args)
-    if default and not args.json and code == 0:
-        _name_feasible_branches(chain, target_pose(args), args.srs_tolerance)
-    return code
+        return _run_franka_arm_angles(chain, args)
+    if arm_angle_class(chain, args.srs_tolerance).kind == NEARLY_SRS:
+        return _run_nearly_arm_angles(chain, args)
+    return _run_exact_arm_angles(chain, args)
 
 
-def _name_feasible_branches(chain, pose: np.ndarray, tolerance: float | None) -> None:
-    """Where the default branch ``+++`` has no feasible set at ``pose``, one line naming the branches that have one
-    (their sets as the class computes them, :meth:`redkin.paths.family.Family.pieces`)."""
-    from redkin.paths.family import path_family
-    from redkin.srs import BRANCHES
-
-    family = path_family(chain, tolerance)
-    feasible = family.pieces(pose[None]).feasible[0].any(axis=-1)
-    if feasible[0]:
+def _name_feasible_branches(args: argparse.Namespace, shown_empty: bool, feasible: Callable[[], list[str]],
+                            parameter: str) -> None:
+    """Where the default branch ``+++`` (no ``--branch``) has no feasible set, one line naming the branches that
+    ``feasible()`` says have one (each renderer from the sets it computed: the nearly S-R-S arm's from the same
+    self-motion)."""
+    if not (args.default_branch and shown_empty):
         return
-    others = [str(BRANCHES[b]) for b in np.flatnonzero(feasible)]
-    symbol = "Psi" if family.parameter == "psi" else "Q7"
+    others = feasible()
+    symbol = "Psi" if parameter == "psi" else "Q7"
     if others:
-        print(f"branch +++ (the default) has no feasible {family.parameter}; {', '.join(others)} "
+        print(f"branch +++ (the default) has no feasible {parameter}; {', '.join(others)} "
               f"{'has' if len(others) == 1 else 'have'} a {symbol}: --branch B shows one")
     else:
-        print(f"no branch has a feasible {family.parameter} at this pose")
+        print(f"no branch has a feasible {parameter} at this pose")
 
 
 def _run_exact_arm_angles(chain, args: argparse.Namespace) -> int:
     """``redkin arm-angles`` on an S-R-S or offset-elbow arm: the branch's per-joint, feasible, singular and optimal
     arm angles in closed form [000 eqs. 20-40]."""
-    from redkin.srs import feasible_arm_angles, optimal_arm_angles, parse_branch, singular_arm_angles, srs_geometry
+    from redkin.srs import (
+        BRANCHES,
+        feasible_arm_angles,
+        optimal_arm_angles,
+        parse_branch,
+        singular_arm_angles,
+        srs_geometry,
+    )
     if args.weights is None:
         args.weights = (0.5, 0.5)
     geometry = srs_geometry(chain)
@@ -358,6 +362,8 @@ def _run_exact_arm_angles(chain, args: argparse.Namespace) -> int:
         entry = result["optimal"][name]
         clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
         print(f"optimal {name}: {fixed(entry['unclamped'])} -> feasible {clamped}")
+    _name_feasible_branches(args, feasible.feasible.is_empty, lambda: [
+        str(b) for b in BRANCHES if not feasible_arm_angles(geometry, pose, b).feasible.is_empty], "psi")
     return 0
 
 
@@ -380,6 +386,8 @@ def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
     :func:`redkin.srs.optimal_arm_angles_nearly`) and what its neighbour drops; no per-joint sets (not computed on
     such arms)."""
     from redkin.srs import (
+        BRANCHES,
+        NearlyFeasible,
         feasible_arm_angles_nearly,
         nearly_srs,
         optimal_arm_angles_nearly,
@@ -454,6 +462,9 @@ def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
         unclamped = "none (no solution on this branch)" if entry["unclamped"] is None else fixed(entry["unclamped"])
         clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
         print(f"optimal {name}: {unclamped} -> feasible {clamped}")
+    _name_feasible_branches(args, result.feasible.is_empty, lambda: [  # the same self-motion, every branch
+        str(b) for b in BRANCHES if not NearlyFeasible(arm, pose, b, result.curves, result.complete)
+        .feasible.is_empty], "psi")
     return 0
 
 
@@ -500,6 +511,8 @@ def _run_franka_arm_angles(chain, args: argparse.Namespace) -> int:
     unclamped = "none (no solution at any q7)" if entry["unclamped"] is None else fixed(entry["unclamped"])
     clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
     print(f"optimal q7: {unclamped} -> feasible {clamped}")
+    _name_feasible_branches(args, not result["feasible"], lambda: [
+        label for label, pieces in result["branches"].items() if pieces], "q7")
     return 0
 
 
