@@ -36,7 +36,7 @@ from redkin.models import get_robot
 from tests.support.feasible_sampling import random_limits
 from tests.support.franka_arms import MODELS, branch_index, other_conventions, random_arm, random_pose
 
-#: The solver's slack at the limits (redkin.franka._kernels.MEMBERSHIP_TOLERANCE), given to the chain's own check.
+#: The solver's slack at the limits (redkin.srs._ik_kernels.MEMBERSHIP_TOLERANCE), given to the chain's own check.
 SLACK = 1e-12
 #: Sampling and the arcs may disagree only this near an arc end.
 MARGIN = 1e-7

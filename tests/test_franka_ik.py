@@ -42,7 +42,7 @@ def check_solutions(chain: SerialChain, solutions: Q7Solutions, poses: np.ndarra
     q, exists = solutions.q, solutions.exists
     assert not np.isnan(q).any()
     assert np.all(q[~exists] == 0.0)
-    # the chain's own check, but for a slack of 1e-12 rad at the limits (redkin.franka._kernels.MEMBERSHIP_TOLERANCE)
+    # the chain's own check, but for a slack of 1e-12 rad at the limits (redkin.srs._ik_kernels.MEMBERSHIP_TOLERANCE)
     assert np.all(solutions.within_limits <= exists & chain.within_limits(q, tolerance=1e-12))
     assert np.all(exists & chain.within_limits(q) <= solutions.within_limits)
     assert solutions.parameter == PARAMETER == "q7"

@@ -62,7 +62,8 @@ def test_results_do_not_depend_on_the_thread_count(monkeypatch):
 
 def test_a_chunk_of_a_batch_writes_its_rows_alone_and_counts_its_failures():
     """solve_poses computes poses start .. stop - 1 and returns how many of those failed; the chunks' counts add up
-    to the batch's."""
+    to the batch's.  Each pose's status is its own, a failed pose's rows are zeros and not within the limits, and
+    ``within`` is the chain's own check of the rows."""
     chain = pa10_7c()
     geometry = srs_geometry(chain)
     rng = np.random.default_rng(6)
@@ -72,15 +73,19 @@ def test_a_chunk_of_a_batch_writes_its_rows_alone_and_counts_its_failures():
     poses[[3, 50, 51]] = far
     psi = rng.uniform(-np.pi, np.pi, 100)
     whole, parts = np.empty((100, 8, 7)), np.full((100, 8, 7), np.nan)
+    within, status = np.empty((100, 8), bool), np.full(100, -1, np.int64)
     arguments = (poses, psi, geometry.kernel_branches, *geometry.kernel_tables)
-    assert _ik_kernels.solve_poses(0, 100, *arguments, whole) == 3
-    counts = [_ik_kernels.solve_poses(start, stop, *arguments, parts)
-              for start, stop in ((0, 4), (4, 4), (4, 51), (51, 100))]
+    assert _ik_kernels.solve_poses(0, 100, *arguments, whole, within, status) == 3
+    counts = [_ik_kernels.solve_poses(start, stop, *arguments, parts, np.empty((100, 8), bool),
+                                      np.empty(100, np.int64)) for start, stop in ((0, 4), (4, 4), (4, 51), (51, 100))]
     assert counts == [1, 0, 1, 1]
     ok = np.ones(100, bool)
     ok[[3, 50, 51]] = False
-    np.testing.assert_array_equal(parts[ok], whole[ok])
+    np.testing.assert_array_equal(status, np.where(ok, _ik_kernels.OK, _ik_kernels.UNREACHABLE))
+    np.testing.assert_array_equal(parts, whole)
+    assert not whole[~ok].any() and not within[~ok].any()
     np.testing.assert_array_equal(whole[ok], ik_all_branches(chain, poses[ok], psi[ok]))
+    np.testing.assert_array_equal(within[ok], chain.within_limits(whole[ok], tolerance=1e-12))
 
 
 POSE_DEFECTS = st.sampled_from(["nan", "inf", "last_row", "scale", "shear", "reflection", "tiny", "none"])

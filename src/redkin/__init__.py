@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # what type checkers and editors see; at run time :func:`__getattr__` loads them
     from redkin._compiled import set_threads, thread_count
+    from redkin.arms import Arm, arm
     from redkin.chain import SerialChain, yoshikawa
     from redkin.closed_form import ik
     from redkin.errors import (
@@ -26,6 +27,7 @@ if TYPE_CHECKING:  # what type checkers and editors see; at run time :func:`__ge
 __version__ = "0.1.0"
 
 __all__ = [
+    "Arm",
     "MapStoreError",
     "NotArmAngleClassError",
     "RedkinError",
@@ -33,6 +35,7 @@ __all__ = [
     "SerialChain",
     "SizeLimitError",
     "UnreachablePoseError",
+    "arm",
     "get_robot",
     "ik",
     "robot_names",
@@ -44,6 +47,8 @@ __all__ = [
 
 #: The module that defines each public name of :data:`__all__` (``__version__`` is defined here).
 _LAZY = {
+    "Arm": "redkin.arms",
+    "arm": "redkin.arms",
     "MapStoreError": "redkin.errors",
     "NotArmAngleClassError": "redkin.errors",
     "RedkinError": "redkin.errors",

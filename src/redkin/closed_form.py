@@ -33,11 +33,10 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._validation import as_float_array, check_finite, check_pose
 from redkin.chain import Reach, SerialChain
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.numerical.solve import NumericalSolutions
-from redkin.srs.branches import BRANCHES, Branch, parse_branch
+from redkin.srs.branches import Branch, parse_branch
 
 
 class ClosedFormSolutions(NamedTuple):
@@ -80,12 +79,12 @@ def redundancy_parameter(chain: SerialChain, srs_tolerance: float | None = None)
     NotArmAngleClassError
         For a chain with no closed form, naming the conditions it breaks.
     """
-    from redkin.srs.arm_class import FRANKA, GENERAL, arm_angle_class
+    from redkin.arms import arm
 
-    kind, reason = arm_angle_class(chain, srs_tolerance)
-    if kind == GENERAL:
-        raise NotArmAngleClassError(f"{chain.name!r} has no closed-form IK: {reason}", chain.name)
-    return "q7" if kind == FRANKA else "psi"
+    classified = arm(chain, srs_tolerance=srs_tolerance)
+    if classified.parameter is None:
+        raise NotArmAngleClassError(f"{chain.name!r} has no closed-form IK: {classified.reason}", chain.name)
+    return classified.parameter.name
 
 
 def ik(
@@ -133,9 +132,8 @@ def ik(
         ``srs_tolerance`` or numerical keywords mixed with the other kind of call, a malformed pose, parameter,
         branch or tolerance.
     """
-    from redkin import franka, numerical, srs
-    from redkin.franka.ik import reach as franka_reach
-    from redkin.srs.ik import reach as srs_reach
+    from redkin import numerical
+    from redkin.arms import arm
 
     if psi is None and q7 is None:
         for name, value in (("branch", branch), ("srs_tolerance", srs_tolerance)):
@@ -145,52 +143,18 @@ def ik(
     if solver:
         raise RedkinError(f"{', '.join(sorted(solver))}: keywords of the numerical solver, which runs without "
                           "psi and q7")
-
     parameter = redundancy_parameter(chain, srs_tolerance)
     given = [name for name, value in (("psi", psi), ("q7", q7)) if value is not None]
     if given != [parameter]:
         right = "the arm angle psi" if parameter == "psi" else "q7 (the value of joint 7)"
         raise RedkinError(f"{chain.name!r} takes {right} as its redundancy parameter; got {' and '.join(given)}")
-    if q7 is not None:
-        result = franka.ik(chain, pose, q7, branch)
-        return ClosedFormSolutions(result.q, result.exists, result.within_limits, result.branches, "q7",
-                                   _spread(franka_reach(chain, pose), result.exists.shape[:-1]))
-    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
-    from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
-    from redkin.srs.nearly import ik as nearly_ik
-    from redkin.srs.nearly import nearly_srs
-
-    nearly = arm_angle_class(chain, srs_tolerance).kind == NEARLY_SRS
-    if nearly:  # the links' bound, with the slack of the real arm's certificate
-        reach = chain.reach(check_pose(pose), tolerance=NEARLY_TOLERANCE)
-    else:
-        geometry = srs.srs_geometry(chain)
-        reach = srs_reach(geometry, pose)
-    chosen = BRANCHES if branch is None else (parse_branch(branch),)
-    assert psi is not None  # given == ["psi"]
-    psi = as_float_array(psi, "psi")
-    check_finite(psi, "psi")
-    try:
-        shape = np.broadcast_shapes(reach.out.shape, psi.shape)
-    except ValueError:
-        raise RedkinError(f"psi of shape {psi.shape} does not broadcast against the pose batch "
-                          f"{reach.out.shape}") from None
-    reach = _spread(reach, shape)
-    inside = ~reach.out
-    angles = np.broadcast_to(psi, shape)[inside]
-    poses = np.broadcast_to(np.asarray(pose, dtype=float), shape + (4, 4))[inside]
-    q = np.zeros(shape + (len(chosen), 7))
-    exists = np.zeros(shape + (len(chosen),), dtype=bool)
-    within = np.zeros(shape + (len(chosen),), dtype=bool)
-    if inside.any() and nearly:  # the real arm's solutions, searched only for poses within reach
-        arm = nearly_srs(chain) if srs_tolerance is None else nearly_srs(chain, srs_tolerance)
-        solutions = nearly_ik(arm, poses, angles, branch)
-        q[inside], exists[inside], within[inside] = solutions.q, solutions.exists, solutions.within_limits
-    elif inside.any():
-        q[inside] = np.stack([srs.ik(geometry, poses, angles, b) for b in chosen], axis=-2)
-        exists[inside] = True
-        within = exists & chain.within_limits(q, tolerance=1e-9, wrap=True)
-    return ClosedFormSolutions(q, exists, within, chosen, "psi", reach)
+    at = psi if q7 is None else q7
+    assert at is not None  # given == [parameter]
+    result = arm(chain, srs_tolerance=srs_tolerance).ik(
+        pose, at, branches=None if branch is None else str(parse_branch(branch)))
+    return ClosedFormSolutions(result.q, result.exists, result.within_limits,
+                               tuple(parse_branch(label) for label in result.branches), parameter,
+                               _spread(result.reach, result.exists.shape[:-1]))
 
 
 def _spread(reach: Reach, shape: tuple[int, ...]) -> Reach:

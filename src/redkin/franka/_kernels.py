@@ -22,12 +22,10 @@ import numpy as np
 from redkin._compiled import kernel
 from redkin._pose_kernels import BAD_POSE, OK, pose_defect
 from redkin.franka.geometry import A3, A4, A6, AMPLITUDE, D1, D3, D5, D6, MEAN, PHASE
-from redkin.srs._ik_kernels import chain_values
+from redkin.srs._ik_kernels import chain_values, in_limits
 
 #: Length of the work vector of :func:`solve_q7`.
 WORK = 24
-#: Slack (radians) when a joint value is compared with its limits, as for S-R-S arms.
-MEMBERSHIP_TOLERANCE = 1e-12
 #: How far past +-1 the cosine of [F3] or the sine of [F4] may be rounded back (a stretched elbow, a wrist at the
 #: edge of its reach): relative to the lengths, 1e-12 is rounding, not a miss.
 _REACH_TOLERANCE = 1e-12
@@ -444,15 +442,6 @@ def circle_roots(coefficients, largest, out):
             out[count] = np.angle(z)
             count += 1
     return count
-
-
-@kernel
-def in_limits(q, joints):
-    """Whether joint values ``q`` (7,) lie within the chain's limits (``joints`` rows 3 and 4), with the slack."""
-    for k in range(7):
-        if q[k] < joints[3, k] - MEMBERSHIP_TOLERANCE or q[k] > joints[4, k] + MEMBERSHIP_TOLERANCE:
-            return False
-    return True
 
 
 @kernel

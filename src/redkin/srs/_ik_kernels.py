@@ -55,6 +55,8 @@ REACH_TOLERANCE = 1e-9
 #: group is undefined and set to 0.  Rounding leaves ``x, y`` of about 1e-17 on an exactly singular
 #: pose, where ``atan2`` alone would return an arbitrary angle.
 UNDEFINED_TOLERANCE = 1e-12
+#: Slack (radians) when a joint value is compared with its limits (:func:`in_limits`).
+MEMBERSHIP_TOLERANCE = 1e-12
 #: Status of a pose in the batch kernels (:data:`OK` and :data:`BAD_POSE` are :func:`pose_defect`'s).
 BAD_PSI, UNREACHABLE = BAD_POSE + 1, BAD_POSE + 2
 
@@ -357,23 +359,46 @@ def _scratch():
 
 
 @kernel
-def solve_single(pose, psi, branches, arm, ends, joints, out):
-    """:func:`solve_pose` for one pose (4, 4) and arm angle (a 0-d array) into ``out`` (B, 7); returns the status."""
-    return solve_pose(pose, psi[()], branches, arm, ends, joints, out, _scratch())
+def in_limits(q, joints):
+    """Whether joint values ``q`` (7,) lie within the chain's limits (``joints`` rows :data:`LOWER`, :data:`UPPER`),
+    with the slack :data:`MEMBERSHIP_TOLERANCE`."""
+    for k in range(7):
+        if q[k] < joints[LOWER, k] - MEMBERSHIP_TOLERANCE or q[k] > joints[UPPER, k] + MEMBERSHIP_TOLERANCE:
+            return False
+    return True
 
 
 @kernel
-def solve_poses(start, stop, poses, psi, branches, arm, ends, joints, out):
-    """:func:`solve_pose` for poses ``start .. stop - 1`` of ``poses`` (N, 4, 4) and arm angles (N,) into ``out``
-    (N, B, 7).
+def solve_rows(pose, psi, branches, arm, ends, joints, out, within, scratch):
+    """:func:`solve_pose`, then whether each row lies within the limits into ``within`` (B,); the rows of a pose
+    whose status is not :data:`OK` are zeros, not within the limits.  Returns the status."""
+    status = solve_pose(pose, psi, branches, arm, ends, joints, out, scratch)
+    for b in range(branches.shape[0]):
+        if status != OK:
+            out[b, :] = 0.0
+        within[b] = status == OK and in_limits(out[b], joints)
+    return status
 
-    Returns the number of those poses whose status is not :data:`OK` (their
-    rows of ``out`` are meaningless; the caller words the error).
+
+@kernel
+def solve_single(pose, psi, branches, arm, ends, joints, out, within):
+    """:func:`solve_rows` for one pose (4, 4) and arm angle (a 0-d array) into ``out`` (B, 7) and ``within`` (B,);
+    returns the status."""
+    return solve_rows(pose, psi[()], branches, arm, ends, joints, out, within, _scratch())
+
+
+@kernel
+def solve_poses(start, stop, poses, psi, branches, arm, ends, joints, out, within, status):
+    """:func:`solve_rows` for poses ``start .. stop - 1`` of ``poses`` (N, 4, 4) and arm angles (N,) into ``out``
+    (N, B, 7), ``within`` (N, B) and ``status`` (N,).
+
+    Returns the number of those poses whose status is not :data:`OK` (their rows of ``out`` are zeros).
     """
     scratch = _scratch()
     failed = 0
     for n in range(start, stop):
-        if solve_pose(poses[n], psi[n], branches, arm, ends, joints, out[n], scratch) != OK:
+        status[n] = solve_rows(poses[n], psi[n], branches, arm, ends, joints, out[n], within[n], scratch)
+        if status[n] != OK:
             failed += 1
     return failed
 

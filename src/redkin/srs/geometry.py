@@ -24,6 +24,7 @@ from redkin.chain import SerialChain
 from redkin.circle import HALF_PI, TWO_PI
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.srs import _ik_kernels
+from redkin.srs._ik_kernels import MEMBERSHIP_TOLERANCE
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
 
@@ -31,8 +32,6 @@ from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membe
 TABLE1_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
 #: Tolerance on the DH parameters when recognising the Table 1 form.
 _GEOMETRY_TOLERANCE = 1e-9
-#: Slack (radians) when a joint value is compared with its limits (see :func:`redkin.srs.feasible.within`).
-MEMBERSHIP_TOLERANCE = 1e-12
 
 
 class ElbowEquation(NamedTuple):

@@ -100,22 +100,32 @@ def theta_at(coefficients: ArmAngleCoefficients, psi: ArrayLike, branch: Branch)
     return theta.reshape(shape + (7,))
 
 
-def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.ndarray) -> np.ndarray:
-    """Joint values ``(..., B, 7)`` of the chain for Table 1 branch signs ``branches`` (B, 3), validated.
+def solve_with_status(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike,
+                      branches: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Joint values ``(..., B, 7)`` of the chain for Table 1 branch signs ``branches`` (B, 3), whether each row lies
+    within the limits ``(..., B)``, each pose's status ``(...)`` (:data:`redkin.srs._ik_kernels.OK` or
+    :data:`~redkin.srs._ik_kernels.UNREACHABLE`: the rows of an unreachable pose are meaningless) and the validated
+    poses ``(..., 4, 4)``.
 
-    One compiled call per batch (:func:`redkin.srs._ik_kernels.solve_poses`):
-    the pose and psi checks, [000 eqs. 4-19] and the chain's joint values.  Only a
-    batch the kernel flags goes through the slower checks that word the error.
+    One compiled call per batch (:func:`redkin.srs._ik_kernels.solve_poses`): the pose and psi checks, [000 eqs.
+    4-19], the chain's joint values and their limits.  Only a batch the kernel flags goes through the slower checks
+    that word the error.
+
+    Raises
+    ------
+    RedkinError
+        For a malformed pose or psi (a ``ValueError``).
     """
     pose = as_poses(pose)
     psi_array = as_float_array(psi, "psi")
     shape = pose.shape[:-2]
     if not shape and not psi_array.shape:  # one pose: no batch to lay out
         pose, psi_array = kernel_array(pose), kernel_array(psi_array)
-        out = np.empty((branches.shape[0], 7))
-        if _ik_kernels.solve_single(pose, psi_array, branches, *geometry.kernel_tables, out) != _ik_kernels.OK:
+        out, within = np.empty((branches.shape[0], 7)), np.empty(branches.shape[0], dtype=np.bool_)
+        status = _ik_kernels.solve_single(pose, psi_array, branches, *geometry.kernel_tables, out, within)
+        if status != _ik_kernels.OK and status != _ik_kernels.UNREACHABLE:
             _raise_for(geometry, pose, psi_array)
-        return out
+        return out, within, np.array(status), pose
     if psi_array.shape != shape:
         try:
             shape = np.broadcast_shapes(shape, psi_array.shape)
@@ -129,9 +139,30 @@ def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.n
     angles = kernel_array(psi_array.reshape(-1))
     count = len(poses)  # not .shape[0]: numpy's stubs type this reshape's result as 0-d
     out = np.empty((count, branches.shape[0], 7))
-    if run_batch(_ik_kernels.solve_poses, count, poses, angles, branches, *geometry.kernel_tables, out):
+    within = np.empty((count, branches.shape[0]), dtype=np.bool_)
+    status = np.empty(count, dtype=np.int64)
+    if run_batch(_ik_kernels.solve_poses, count, poses, angles, branches, *geometry.kernel_tables, out, within,
+                 status) and np.any((status != _ik_kernels.OK) & (status != _ik_kernels.UNREACHABLE)):
         _raise_for(geometry, pose, psi_array)
-    return out.reshape(shape + branches.shape[:1] + (7,))
+    return (out.reshape(shape + branches.shape[:1] + (7,)), within.reshape(shape + branches.shape[:1]),
+            status.reshape(shape), pose)
+
+
+def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.ndarray) -> np.ndarray:
+    """Joint values ``(..., B, 7)`` of the chain for Table 1 branch signs ``branches`` (B, 3), validated
+    (:func:`solve_with_status`).
+
+    Raises
+    ------
+    RedkinError
+        For a malformed pose or psi (a ``ValueError``).
+    UnreachablePoseError
+        For a wrist position out of reach; its ``index`` names the first such pose of a batch.
+    """
+    out, _, status, pose = solve_with_status(geometry, pose, psi, branches)
+    if np.any(status != _ik_kernels.OK):
+        _raise_for(geometry, pose, np.asarray(psi, dtype=float))
+    return out
 
 
 def _raise_for(geometry: SRSGeometry, pose: np.ndarray, psi: np.ndarray) -> None:

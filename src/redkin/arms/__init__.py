@@ -1,0 +1,9 @@
+"""One arm, one API (:func:`arm`, :class:`Arm`): every class of arm asked the same questions, answered in the same
+shapes (:class:`Solutions`, :class:`FeasibleSets`)."""
+
+from redkin.arms.feasible_sets import Arcs, FeasibleSets
+from redkin.arms.front_door import Arm, Optimal, Singular, arm
+from redkin.arms.protocol import Parameter
+from redkin.arms.solutions import Solutions
+
+__all__ = ["Arcs", "Arm", "FeasibleSets", "Optimal", "Parameter", "Singular", "Solutions", "arm"]

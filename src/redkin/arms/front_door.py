@@ -1,0 +1,373 @@
+"""One arm, one API: a robot loaded and classified once, asked every question in the same shapes.
+
+:func:`arm` reads a model name, a robot file (URDF, xacro, MJCF, redkin's TOML) or takes a
+:class:`~redkin.chain.SerialChain`, names its class once (:func:`redkin.srs.arm_angle_class`) and converts it once to
+the form its kernels take (:mod:`redkin.arms.registry`); :class:`Arm` then answers at the speed of the class's own
+functions, with one result type per question for every class::
+
+    arm = redkin.arm("fr3.urdf")                 # arm.kind 'Franka (q7)', arm.parameter.name 'q7'
+    q = np.array([0.1, -0.4, 0.2, -2.0, 0.3, 1.6, 0.5])
+    t, branch = arm.parameter_of(q), arm.branch_of(q)
+    solutions = arm.ik(arm.fk(q), t)             # Solutions: q (8, 7), exists (8,), within_limits (8,) ...
+    solutions.q[arm.branches.index(branch)]      # q again
+    arm.feasible(arm.fk(q)).arcs(branch)         # the feasible q7 of that branch at that pose
+
+Without a value of the parameter, :meth:`Arm.ik` solves numerically on every class (and is the only IK of a general
+chain).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.arms.feasible_sets import FeasibleSets
+from redkin.arms.protocol import ArmKind, Parameter
+from redkin.arms.solutions import NUMERICAL, Solutions
+from redkin.chain import SerialChain
+from redkin.errors import RedkinError, UnreachablePoseError
+
+#: Where :func:`arm` keeps the arm of a chain per nearly S-R-S tolerance (the chain's arrays are read-only, so it
+#: never goes stale).
+_CACHE_KEY = "_redkin_arms"
+
+
+class Optimal(NamedTuple):
+    """The limit-avoiding values of the parameter (:meth:`Arm.optimal`).
+
+    Attributes
+    ----------
+    value : numpy.ndarray, shape (..., B)
+        Within the branch's feasible set (``nan`` where that is empty, or the pose out of reach).
+    unclamped : numpy.ndarray, shape (..., B)
+        Over every value at which the branch exists (``nan`` where none).
+    branches : tuple of str
+    """
+
+    value: np.ndarray
+    unclamped: np.ndarray
+    branches: tuple[str, ...]
+
+
+class Singular(NamedTuple):
+    """The values of the parameter at which the shoulder or the wrist is singular (:meth:`Arm.singular`).
+
+    Attributes
+    ----------
+    shoulder, wrist : numpy.ndarray of object, shape (..., B)
+        Each a sorted tuple of values (empty where none, or the pose out of reach).
+    branches : tuple of str
+    """
+
+    shoulder: np.ndarray
+    wrist: np.ndarray
+    branches: tuple[str, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class Arm:
+    """A robot arm classified and converted once (module docstring); build it with :func:`arm`.
+
+    Attributes
+    ----------
+    chain : SerialChain
+    kind : str
+        The class: :data:`redkin.srs.SRS`, ``OFFSET_ELBOW``, ``FRANKA``, ``NEARLY_SRS`` or ``GENERAL`` of
+        :mod:`redkin.srs.arm_class`.
+    reason : str
+        Why it is of that class, in one line.
+    parameter : Parameter or None
+        The redundancy parameter; ``None`` for a general chain.
+    branches : tuple of str
+        The branch labels of :meth:`ik`'s rows (``"+++"`` ... ``"---"``); empty for a general chain.
+    """
+
+    chain: SerialChain
+    kind: str
+    reason: str
+    parameter: Parameter | None
+    branches: tuple[str, ...]
+    _kind: ArmKind = field(repr=False)
+
+    # ------------------------------------------------------------- the chain
+    def fk(self, q: ArrayLike) -> np.ndarray:
+        """The tool's pose ``(..., 4, 4)`` of joint values ``(..., n)`` (:meth:`redkin.chain.SerialChain.fk`)."""
+        return self.chain.fk(q)
+
+    def jacobian(self, q: ArrayLike) -> np.ndarray:
+        """The geometric Jacobian ``(..., 6, n)`` (:meth:`redkin.chain.SerialChain.jacobian`)."""
+        return self.chain.jacobian(q)
+
+    def within_limits(self, q: ArrayLike, tolerance: float = 0.0) -> np.ndarray:
+        """Whether joint values lie within the limits (:meth:`redkin.chain.SerialChain.within_limits`)."""
+        return self.chain.within_limits(q, tolerance)
+
+    # ------------------------------------------------------------- IK
+    def ik(self, poses: ArrayLike, t: ArrayLike | str | None = None, *, branches: str | Sequence[str] | None = None,
+           q0: ArrayLike | None = None, **solver: Any) -> Solutions:
+        """Every branch's solution (or ``branches``') of target poses at values ``t`` of the redundancy parameter.
+
+        Parameters
+        ----------
+        poses : array_like, shape (..., 4, 4)
+            Target poses of the tool in the base frame.
+        t : array_like or "optimal", optional
+            The parameter's values, broadcast against the poses' batch shape: the arm angle psi [000 eq. 6] or q7
+            (:attr:`parameter`).  ``"optimal"``: each branch's limit-avoiding value (:meth:`optimal`).  Omitted:
+            the numerical solver (:func:`redkin.numerical.ik`, keywords ``solver``), its solutions put in the rows
+            of their branches, each with its own parameter value.
+        branches : str or sequence of str, optional
+            The rows wanted (labels of :attr:`branches`); default all.
+        q0 : array_like, shape (..., n), optional
+            Joint values to stay near: the numerical solver's seeds, and each joint of a closed form's row moved by
+            whole turns to its value nearest ``q0`` where the joint's range allows.
+
+        Returns
+        -------
+        Solutions
+            ``q`` ``(..., B, n)``; a pose out of reach is a row that does not exist, with its ``reason``.
+
+        Raises
+        ------
+        ValueError
+            For a malformed pose, value, branch or seed; ``t`` on a general chain.
+        """
+        rows = self._rows(branches)
+        if t is None:
+            return self._numerical(poses, rows, q0, solver)
+        if solver:
+            raise RedkinError(f"{', '.join(sorted(solver))}: keywords of the numerical solver, which runs without t")
+        self._need_parameter("solutions at a value of the redundancy parameter")
+        if isinstance(t, str):
+            if t != "optimal":
+                raise RedkinError(f"t must be values of {self._name()} or 'optimal', got {t!r}")
+            result = self._at_optimal(poses, rows)
+        else:
+            result = self._kind.solve(poses, np.asarray(t, dtype=float), rows)
+        if q0 is None:
+            return result
+        from redkin._validation import check_vectors
+
+        seeds = check_vectors(q0, self.chain.n, "q0")
+        moved = self.chain.nearest_in_range(result.q, near=np.broadcast_to(seeds[..., None, :], result.q.shape))
+        return _replace(result, q=np.where(result.exists[..., None], moved, result.q))
+
+    def _at_optimal(self, poses: ArrayLike, rows: np.ndarray | None) -> Solutions:
+        from redkin._validation import check_pose
+
+        poses = check_pose(poses)
+        best = self.optimal(poses, None if rows is None else [self.branches[r] for r in rows]).value
+        parts = [self._kind.solve(poses, np.nan_to_num(best[..., k]), np.array([r]))
+                 for k, r in enumerate(range(len(self.branches)) if rows is None else rows)]
+        exists = np.concatenate([part.exists for part in parts], axis=-1) & ~np.isnan(best)
+        first = parts[0]
+        return Solutions(np.concatenate([part.q for part in parts], axis=-2), exists,
+                         np.concatenate([part.within_limits for part in parts], axis=-1) & exists,
+                         tuple(part.branches[0] for part in parts), first.method, best, first._out, first._reach,
+                         "no feasible value of the parameter on this branch")
+
+    def _numerical(self, poses: ArrayLike, rows: np.ndarray | None, q0: ArrayLike | None,
+                   solver: dict[str, Any]) -> Solutions:
+        from redkin.numerical import ik as numerical_ik
+
+        found = numerical_ik(self.chain, poses, q0=q0, **solver)
+        reach = found.reach
+        assert reach is not None  # numerical.ik always sets it
+        if self.parameter is None:
+            if rows is not None:
+                raise RedkinError(f"{self.chain.name!r} has no branches ({self.reason})")
+            labels = tuple(str(k + 1) for k in range(found.found.shape[-1]))
+            return Solutions(found.q, found.found, found.found.copy(), labels, NUMERICAL,
+                             np.full(found.found.shape, np.nan), lambda: reach.out, lambda: reach,
+                             "no further solution found")
+        shape, n, count = found.found.shape[:-1], self.chain.n, len(self.branches)
+        q = np.zeros(shape + (count, n))
+        exists = np.zeros(shape + (count,), dtype=bool)
+        value = np.full(shape + (count,), np.nan)
+        if found.found.any():  # each solution into its branch's row, the first found (nearest the seed) kept
+            branch, parameter = self._read(found.q[found.found])
+            where = np.nonzero(found.found)
+            for k in range(len(branch) - 1, -1, -1):
+                at = tuple(int(w[k]) for w in where[:-1]) + (int(branch[k]),)
+                q[at], exists[at], value[at] = found.q[found.found][k], True, parameter[k]
+        result = Solutions(q, exists, exists.copy(), self.branches, NUMERICAL, value, lambda: reach.out,
+                           lambda: reach, "no solution of the branch found")
+        return result if rows is None else _rows_of(result, rows)
+
+    # ------------------------------------------------------------- the redundancy
+    def feasible(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> FeasibleSets:
+        """The feasible sets of every branch (or ``branches``) at each pose: the values of the parameter at which
+        the branch's solution exists and lies within every joint limit ([000 eq. 30] on S-R-S arms, [F8]-[F9] on
+        the Franka class; certified, not proved complete, on nearly S-R-S arms)."""
+        self._need_parameter("feasible sets")
+        assert self.parameter is not None
+        rows = self._rows(branches)
+        poses = np.asarray(poses, dtype=float)  # the class's own function checks them
+        if poses.ndim < 2 or poses.shape[-2:] != (4, 4):
+            from redkin._validation import check_pose
+
+            check_pose(poses)  # the words of a malformed shape
+        shape = poses.shape[:-2]
+        start, end, feasible = self._kind.pieces(poses.reshape(-1, 4, 4))
+        labels = self.branches
+        if rows is not None:
+            start, end, feasible = start[:, rows], end[:, rows], feasible[:, rows]
+            labels = tuple(self.branches[r] for r in rows)
+        if shape != (len(start),):
+            start, end, feasible = (part.reshape(shape + part.shape[1:]) for part in (start, end, feasible))
+        return FeasibleSets(start, end, feasible, labels, self.parameter.name, self.parameter.wraps,
+                            self._kind.exact)
+
+    def optimal(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> Optimal:
+        """The limit-avoiding value of the parameter of each pose and branch ([000 eqs. 36-40] on S-R-S and nearly
+        S-R-S arms, [F10] on the Franka class)."""
+        value, unclamped = self._per_pose("a limit-avoiding value", poses, branches, self._kind.optimal,
+                                          (np.nan, np.nan))
+        return Optimal(value.astype(float), unclamped.astype(float), self._labels(branches))
+
+    def singular(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> Singular:
+        """The singular values of the parameter of each pose and branch ([000 eqs. 31-34]; on nearly S-R-S arms
+        where the real arm's axes 1 and 3, 5 and 7 align).  The Franka class has none here: it refuses."""
+        shoulder, wrist = self._per_pose("singular values", poses, branches, self._kind.singular, ((), ()))
+        return Singular(shoulder, wrist, self._labels(branches))
+
+    def _per_pose(self, what: str, poses: ArrayLike, branches: str | Sequence[str] | None, answer: Any,
+                  unreachable: tuple[Any, Any]) -> tuple[np.ndarray, np.ndarray]:
+        from redkin._validation import check_pose
+
+        self._need_parameter(what)
+        rows = self._rows(branches)
+        poses = check_pose(poses)
+        picked = range(len(self.branches)) if rows is None else rows
+        first = np.empty(poses.shape[:-2] + (len(picked),), dtype=object)
+        second = np.empty_like(first)
+        for index in np.ndindex(poses.shape[:-2]):
+            for k, r in enumerate(picked):
+                try:
+                    first[index + (k,)], second[index + (k,)] = answer(poses[index], int(r))
+                except UnreachablePoseError:
+                    first[index + (k,)], second[index + (k,)] = unreachable
+        return first, second
+
+    def every_solution(self, pose: ArrayLike, t: float, branch: str) -> np.ndarray:
+        """Every solution ``(K, n)`` of one pose ``(4, 4)`` and branch at the parameter's value ``t``: at most one on
+        an exact class; on a nearly S-R-S arm near a stretched elbow or a straight shoulder, possibly two."""
+        from redkin._validation import check_pose
+
+        self._need_parameter("every solution at a value of the redundancy parameter")
+        pose = check_pose(pose)
+        if pose.shape != (4, 4):
+            raise RedkinError(f"pose must be one (4, 4) pose, got shape {pose.shape}")
+        rows = self._rows(branch)
+        assert rows is not None
+        return self._kind.every_solution(pose, float(t), int(rows[0]))
+
+    def parameter_of(self, q: ArrayLike) -> np.ndarray:
+        """The parameter's value of configurations ``q`` ``(..., n)``: the arm angle [000 eq. 6], or q7."""
+        return self._read_batch(q)[1]
+
+    def branch_of(self, q: ArrayLike) -> np.ndarray:
+        """The branch labels of configurations ``q`` ``(..., n)``, an array of str of shape ``(...)``."""
+        index = self._read_batch(q)[0]
+        return np.asarray(self.branches, dtype=object)[index]
+
+    def _read_batch(self, q: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        from redkin._validation import check_vectors
+
+        self._need_parameter("a configuration's branch and parameter")
+        q = check_vectors(q, self.chain.n, "q")
+        branch, value = self._read(np.ascontiguousarray(q.reshape(-1, self.chain.n)))
+        return branch.reshape(q.shape[:-1]), value.reshape(q.shape[:-1])
+
+    def _read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return self._kind.read(q)
+
+    # ------------------------------------------------------------- arguments
+    def _rows(self, branches: str | Sequence[str] | None) -> np.ndarray | None:
+        if branches is None:
+            return None
+        labels = [branches] if isinstance(branches, str) else list(branches)
+        if not self.branches:
+            raise RedkinError(f"{self.chain.name!r} has no branches ({self.reason})")
+        rows = []
+        for label in labels:
+            if str(label) not in self.branches:
+                raise RedkinError(f"branch must be one of {', '.join(self.branches)}, got {label!r}")
+            rows.append(self.branches.index(str(label)))
+        if not rows:
+            raise RedkinError("branches must name at least one branch")
+        return np.array(rows, dtype=np.int64)
+
+    def _labels(self, branches: str | Sequence[str] | None) -> tuple[str, ...]:
+        rows = self._rows(branches)
+        return self.branches if rows is None else tuple(self.branches[r] for r in rows)
+
+    def _name(self) -> str:
+        return "the redundancy parameter" if self.parameter is None else self.parameter.name
+
+    def _need_parameter(self, what: str) -> None:
+        if self.parameter is None:
+            raise RedkinError(f"{what} need a redundancy parameter: {self.chain.name!r} has none ({self.reason}); "
+                              f"ik without t solves it numerically")
+
+
+def _replace(result: Solutions, **fields: Any) -> Solutions:
+    from dataclasses import replace
+
+    return replace(result, **fields)
+
+
+def _rows_of(result: Solutions, rows: np.ndarray) -> Solutions:
+    value = result.parameter[..., rows]
+    return Solutions(result.q[..., rows, :], result.exists[..., rows], result.within_limits[..., rows],
+                     tuple(result.branches[r] for r in rows), result.method, value, result._out, result._reach,
+                     result._missing)
+
+
+def arm(source: str | SerialChain, *, base: str | None = None, tip: str | None = None,
+        srs_tolerance: float | None = None, xacro_args: dict[str, str] | None = None,
+        package_paths: Sequence[str] | None = None) -> Arm:
+    """An :class:`Arm` of a model name, a robot file or a chain, classified and converted once.
+
+    Parameters
+    ----------
+    source : str or SerialChain
+        A model name (``redkin robots``), a robot file (URDF, xacro, MJCF, redkin's TOML; a shipped example by its
+        name) or a chain.
+    base, tip : str, optional
+        The links (MJCF: bodies or sites) the chain runs between, in a file with several.
+    srs_tolerance : float, optional
+        The largest departure from an exact S-R-S neighbour of an arm solved as nearly S-R-S (metres, radians off
+        perpendicular; default :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
+    xacro_args, package_paths
+        For a xacro file: its arguments, and folders holding the ``package://`` packages it names.
+
+    Raises
+    ------
+    ValueError
+        For an unknown model, a malformed file, or a tolerance that is not a finite number > 0.
+    """
+    from redkin.arms.registry import kind_of
+    from redkin.srs.arm_class import check_tolerance
+    from redkin.srs.nearly import TOLERANCE_DEFAULT
+
+    if isinstance(source, SerialChain):
+        if base is not None or tip is not None or xacro_args is not None or package_paths is not None:
+            raise RedkinError("base, tip, xacro_args and package_paths read a file: a SerialChain takes none")
+        chain = source
+    elif isinstance(source, str):
+        from redkin.models import get_robot
+
+        chain = get_robot(source, base, tip, xacro_args=xacro_args, package_paths=tuple(package_paths or ()))
+    else:
+        raise RedkinError(f"source must be a model name, a robot file or a SerialChain, got {type(source).__name__}")
+    tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance)
+    cache = chain.__dict__.setdefault(_CACHE_KEY, {})
+    if tolerance not in cache:
+        kind, reason = kind_of(chain, tolerance)
+        cache[tolerance] = Arm(chain, kind.kind, reason, kind.parameter, kind.branches, kind)
+    return cache[tolerance]

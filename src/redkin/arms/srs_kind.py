@@ -1,0 +1,64 @@
+"""S-R-S and offset-elbow arms as :class:`redkin.arms.Arm` asks them (paper 000): the arm angle psi, the closed form
+[000 eqs. 11-19] on every branch, the exact feasible sets [000 eq. 30], the singular arm angles [000 eqs. 31-34] and
+the limit-avoiding arm angle [000 eqs. 36-40]."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.arms.protocol import ArmKind, Parameter
+from redkin.arms.solutions import CLOSED_FORM, Solutions
+from redkin.chain import Reach
+from redkin.paths.family import ArmAngleFamily
+from redkin.srs import _ik_kernels
+from redkin.srs.branches import BRANCHES
+from redkin.srs.feasible import feasible_pieces_all_branches
+from redkin.srs.geometry import SRSGeometry
+from redkin.srs.ik import reach, solve_with_status
+from redkin.srs.optimal import optimal_arm_angles
+from redkin.srs.singular import singular_arm_angles
+
+#: The arm angle: an angle on the circle [000 eq. 6].
+ARM_ANGLE = Parameter("psi", (-float(np.pi), float(np.pi)), True)
+#: The branch labels, in the order of :data:`redkin.srs.BRANCHES`.
+LABELS = tuple(str(branch) for branch in BRANCHES)
+
+
+class SRSKind(ArmKind):
+    """An S-R-S or offset-elbow arm converted once to paper 000's Table 1 form."""
+
+    parameter = ARM_ANGLE
+    branches = LABELS
+    exact = True
+
+    def __init__(self, kind: str, geometry: SRSGeometry) -> None:
+        self.kind, self.geometry, self.chain = kind, geometry, geometry.chain
+        self._family = ArmAngleFamily(geometry)
+
+    def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:
+        signs = self.geometry.kernel_branches if rows is None else self.geometry.kernel_branches[rows]
+        q, within, status, checked = solve_with_status(self.geometry, poses, t, signs)
+        out = status == _ik_kernels.UNREACHABLE
+        exists = np.broadcast_to(~out[..., None], within.shape)
+        labels = LABELS if rows is None else tuple(LABELS[r] for r in rows)
+
+        def measured() -> Reach:
+            return reach(self.geometry, checked)
+
+        return Solutions(q, exists, within, labels, CLOSED_FORM, t, lambda: out, measured)
+
+    def pieces(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        pieces = feasible_pieces_all_branches(self.geometry, poses)
+        return pieces.start, pieces.end, pieces.feasible
+
+    def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return self._family.parameter_of(q)
+
+    def optimal(self, pose: np.ndarray, row: int) -> tuple[float, float]:
+        overall = optimal_arm_angles(self.geometry, pose, BRANCHES[row]).overall
+        return (np.nan if overall.feasible is None else overall.feasible), overall.unclamped
+
+    def singular(self, pose: np.ndarray, row: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        angles = singular_arm_angles(self.geometry, pose, BRANCHES[row])
+        return angles.shoulder, angles.wrist
