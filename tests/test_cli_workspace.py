@@ -101,9 +101,9 @@ def test_workspace_bad_sizes_exit_2_with_one_line(tmp_path, capsys, change, mess
     assert not (tmp_path / "out").exists()
 
 
-def test_workspace_refuses_arm_without_arm_angle_ik_and_unwritable_out(tmp_path, capsys):
+def test_workspace_refuses_a_general_chain_and_unwritable_out(tmp_path, capsys):
     command = _command(tmp_path / "out")
-    command[1] = "franka-panda"
+    command[1] = "sawyer.urdf"
     assert main(command) == 2
     err = capsys.readouterr().err
     assert "not S-R-S" in err and err.count("\n") == 1

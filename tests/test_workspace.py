@@ -7,9 +7,12 @@ pytest.importorskip("dask")
 pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
+from redkin.arms import arm  # noqa: E402
+from redkin.franka import feasible_q7, franka_geometry  # noqa: E402
+from redkin.franka.feasible import q7_domain  # noqa: E402
 from redkin.models import get_robot  # noqa: E402
 from redkin.reproduce import printed  # noqa: E402
-from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable, srs_geometry  # noqa: E402
+from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable  # noqa: E402
 from redkin.workspace import (  # noqa: E402
     feasible_measures,
     reachability_index,
@@ -72,10 +75,37 @@ def test_grid_rejects_bad_sizes():
         workspace_grid([0, 1, 0, 1, 0, 1], 4, 10, chunk=5)
 
 
-def test_map_refuses_an_arm_without_arm_angle_ik(tmp_path):
-    with pytest.raises(ValueError, match="not S-R-S"):
-        workspace_map(get_robot("franka-panda"), tmp_path / "map.zarr", EXTENTS["pa10-7c"], 3, 2)
+def test_map_refuses_an_arm_without_a_redundancy_parameter(tmp_path):
+    with pytest.raises(ValueError, match=r"needs a redundancy parameter.*'sawyer' is not S-R-S"):
+        workspace_map(get_robot("sawyer.urdf"), tmp_path / "map.zarr", EXTENTS["pa10-7c"], 3, 2)
     assert not (tmp_path / "map.zarr").exists()
+
+
+@pytest.mark.parametrize("robot", ["fr3.urdf", "xarm7.urdf"])
+def test_a_franka_class_map_measures_the_exact_q7_sets(robot, tmp_path):
+    """The FR3 and the xArm7 (joint 7 over +-2 pi) are mapped with their exact q7 sets [F8]-[F9]: each entry is
+    the length of franka.feasible_q7's arcs, the redundancy index divided by joint 7's range, and the store names
+    the parameter."""
+    chain = get_robot(robot)
+    extent = [0.2, 0.5, -0.2, 0.2, 0.2, 0.6]
+    run = workspace_map(chain, tmp_path / "map.zarr", extent, 3, 4)
+    domain = q7_domain(franka_geometry(chain))
+    with xr.open_zarr(run.path, chunks=None) as dataset:
+        measure = dataset["measure"].values
+        x, y, z = (dataset[axis].values for axis in "xyz")
+        rotations = dataset["rotation"].values
+        assert dataset.attrs["parameter"] == "q7" and dataset.attrs["parameter_range"] == list(domain)
+        assert "q7" in dataset["measure"].attrs["long_name"]
+        np.testing.assert_allclose(dataset["redundancy"].values, redundancy_index(measure, domain[1] - domain[0]))
+    assert 0.0 < run.reachable_poses <= run.reachable_positions <= 1.0
+    assert 0.0 < np.count_nonzero(measure) < measure.size
+    for i, j, k, o in list(np.ndindex(3, 3, 3, 4))[::7]:
+        pose = pose_from(np.array([x[i], y[j], z[k]]), rotations[o])
+        sets = feasible_q7(chain, pose)
+        for column, arcs in enumerate(sets.arcs):
+            expected = float(np.sum(arcs[:, 1] - arcs[:, 0])) if len(arcs) else 0.0
+            assert measure[i, j, k, o, column] == pytest.approx(expected, abs=1e-9)
+    assert measure.max() <= domain[1] - domain[0]
 
 
 @pytest.mark.parametrize("robot", sorted(EXTENTS))
@@ -128,7 +158,7 @@ def test_gamma_experiment_of_paper_000_is_one_line_of_the_map():
     # [000 eq. 41] turned about z
     rotations[:, 0, 0], rotations[:, 0, 1], rotations[:, 1, 0], rotations[:, 1, 1] = -c, -s, -s, c
     rotations[:, 2, 2] = -1.0
-    line = feasible_measures(srs_geometry(get_robot("pa10-7c")), np.array([[0.65, 0.0, 0.5]]), rotations)[0, :, 0]
+    line = feasible_measures(arm("pa10-7c"), np.array([[0.65, 0.0, 0.5]]), rotations)[0, :, 0]
     np.testing.assert_array_equal(line > 0.0, np.abs(np.degrees(gamma)) < printed.SECTION_6_2_2_GAMMA)
 
 

@@ -11,10 +11,11 @@ pytest.importorskip("dask")
 pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
+import redkin  # noqa: E402
 from redkin.cli.main import main  # noqa: E402
 from redkin.errors import NotArmAngleClassError, RedkinError  # noqa: E402
 from redkin.models import get_robot  # noqa: E402
-from redkin.srs import BRANCHES, feasible_arm_angles_nearly, nearly_srs, reachable, srs_geometry  # noqa: E402
+from redkin.srs import BRANCHES, feasible_arm_angles_nearly, nearly_srs, reachable  # noqa: E402
 from redkin.workspace import (  # noqa: E402
     feasible_measures,
     reachability_index,
@@ -67,7 +68,8 @@ def _compare(arm, poses: np.ndarray):
     which poses the neighbour reaches, and the pose-branches where either lies outside the band of the neighbour's
     sets for the limits tightened and loosened by delta (``NearlyFeasible.inner``, ``.outer``)."""
     count = len(poses)
-    mapped = feasible_measures(arm.geometry, poses[:, :3, 3], poses[:, :3, :3])[np.arange(count), np.arange(count)]
+    mapped = feasible_measures(redkin.arm(arm.neighbour), poses[:, :3, 3], poses[:, :3, :3])
+    mapped = mapped[np.arange(count), np.arange(count)]
     real = np.zeros_like(mapped)
     outside = []
     for i, pose in enumerate(poses):
@@ -88,7 +90,7 @@ def test_the_gen3_map_is_its_neighbours_exact_map_and_says_so(tmp_path):
     rotations = super_fibonacci_rotations(4)
     grid = workspace_grid(EXTENT, 3, 4)
     positions = np.stack(np.meshgrid(*grid.axes, indexing="ij"), axis=-1).reshape(-1, 3)
-    expected = feasible_measures(arm.geometry, positions, rotations).reshape(3, 3, 3, 4, len(BRANCHES))
+    expected = feasible_measures(redkin.arm(arm.neighbour), positions, rotations).reshape(3, 3, 3, 4, len(BRANCHES))
     with xr.open_zarr(run.path, chunks=None) as dataset:
         measure = dataset["measure"].values
         assert np.array_equal(measure, expected)  # bit for bit: the same kernels at the same poses
@@ -112,7 +114,7 @@ def test_an_exact_arms_parameters_and_map_are_unchanged(tmp_path):
     assert map_parameters(chain, grid, 2) == json.dumps({
         "arm": arm_description(chain), "extent": list(grid.extent), "resolution": 2, "orientations": 2,
         "chunk": grid.chunk}, sort_keys=True)
-    assert map_model(chain, 1e-6) == (srs_geometry(chain), None)  # an exact arm does not use the tolerance
+    assert map_model(chain, 1e-6) == (redkin.arm(chain, srs_tolerance=1e-6), None)  # the exact arm's own sets
     run = workspace_map(chain, tmp_path / "map.zarr", EXTENT, 2, 2, srs_tolerance=0.05)
     assert (run.model, run.model_error) == (MODEL_EXACT, "")
     with xr.open_zarr(run.path, chunks=None) as dataset:
@@ -148,8 +150,8 @@ def test_arms_outside_the_class_and_bad_tolerances_are_refused(tmp_path):
     with pytest.raises(NotArmAngleClassError, match=r"axes 1 and 3 miss each other by 0\.01175 m \(beyond the "
                                                      r"nearly S-R-S tolerance of 0\.0001 m\)"):
         workspace_map(gen3, tmp_path / "map.zarr", EXTENT, 2, 2, srs_tolerance=1e-4)
-    with pytest.raises(NotArmAngleClassError, match="not S-R-S"):  # the Franka class: q7, not an arm angle
-        map_model(get_robot("franka-panda"))
+    with pytest.raises(NotArmAngleClassError, match=r"needs a redundancy parameter.*not S-R-S"):
+        map_model(get_robot("sawyer.urdf"))  # a general chain
     for tolerance in (0.0, -1.0, np.nan, np.inf):
         with pytest.raises(RedkinError, match="tolerance"):
             map_model(gen3, tolerance)
@@ -222,4 +224,4 @@ def test_cli_refuses_another_model_on_a_store_in_one_line(tmp_path, capsys):
     assert main(["workspace", "humanoid-right", "--out", str(tmp_path / "h"), "--extent", *map(str, EXTENT),
                  "--resolution", "2", "--srs-tolerance", "0.02"]) == 2
     err = capsys.readouterr().err
-    assert "--srs-tolerance is for arms with arm-angle IK" in err and err.count("\n") == 1
+    assert "--srs-tolerance is for nearly S-R-S arms" in err and err.count("\n") == 1

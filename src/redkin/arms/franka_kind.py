@@ -10,6 +10,7 @@ from redkin.arms.protocol import ArmKind, Parameter
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.arms.srs_kind import LABELS
 from redkin.chain import Reach
+from redkin.franka.feasible import q7_domain
 from redkin.franka.geometry import FrankaGeometry
 from redkin.franka.ik import ik, reach
 from redkin.franka.optimal import optimal_q7
@@ -26,7 +27,8 @@ class FrankaKind(ArmKind):
     def __init__(self, kind: str, geometry: FrankaGeometry) -> None:
         self.kind, self.geometry, self.chain = kind, geometry, geometry.chain
         self._family = Q7Family(geometry)
-        self.parameter = Parameter("q7", (float(self.chain.lower[6]), float(self.chain.upper[6])), False)
+        low, high = q7_domain(geometry)  # joint 7's range, [-pi, pi] where it covers the circle
+        self.parameter = Parameter("q7", (float(low), float(high)), False)
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:
         one = rows is not None and len(rows) == 1

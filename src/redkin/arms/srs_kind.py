@@ -10,12 +10,14 @@ from numpy.typing import ArrayLike
 from redkin.arms.protocol import ArmKind, Parameter
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.chain import Reach
+from redkin.errors import UnreachablePoseError
 from redkin.paths.family import ArmAngleFamily
 from redkin.srs import _ik_kernels
+from redkin.srs._feasible_kernels import PIECES
 from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.ik import reach, solve_with_status
+from redkin.srs.ik import reach, reachable, solve_with_status
 from redkin.srs.optimal import optimal_arm_angles
 from redkin.srs.singular import singular_arm_angles
 
@@ -49,8 +51,19 @@ class SRSKind(ArmKind):
         return Solutions(q, exists, within, labels, CLOSED_FORM, t, lambda: out, measured)
 
     def pieces(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        pieces = feasible_pieces_all_branches(self.geometry, poses)
-        return pieces.start, pieces.end, pieces.feasible
+        inside = None if len(poses) == 1 else reachable(self.geometry, poses)
+        if inside is None or inside.all():
+            try:
+                pieces = feasible_pieces_all_branches(self.geometry, poses)
+                return pieces.start, pieces.end, pieces.feasible
+            except UnreachablePoseError:
+                inside = np.zeros(1, dtype=bool)
+        start = np.full((len(poses), len(LABELS), PIECES), np.nan)
+        end, feasible = start.copy(), np.zeros(start.shape, dtype=bool)
+        if inside.any():  # a pose out of reach has no solution at any arm angle: empty sets
+            pieces = feasible_pieces_all_branches(self.geometry, poses[inside])
+            start[inside], end[inside], feasible[inside] = pieces.start, pieces.end, pieces.feasible
+        return start, end, feasible
 
     def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self._family.parameter_of(q)

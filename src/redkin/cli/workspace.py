@@ -23,8 +23,9 @@ SLICE_NAMES = ("reachability", "redundancy")
 def register(subparsers: argparse._SubParsersAction) -> None:
     command = subparsers.add_parser(
         "workspace",
-        help="exact reachability and redundancy map of an arm with arm-angle IK over a box (paper 000, on Dask; a "
-             "nearly S-R-S arm with its exact neighbour's sets)",
+        help="exact reachability and redundancy map of an arm over a box, from the exact feasible sets of its "
+             "redundancy parameter (the arm angle of paper 000, q7 of the Franka class; on Dask; a nearly S-R-S arm "
+             "with its exact neighbour's sets)",
     )
     add_robot_argument(command)
     command.add_argument("--out", required=True, metavar="DIR",
@@ -36,7 +37,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                          help=f"grid points per axis, ends included (2..{WORKSPACE_MAX_RESOLUTION})")
     command.add_argument("--orientations", type=int, metavar="N",
                          help="tool orientations per position, a super-Fibonacci set on SO(3) "
-                              f"(1..{WORKSPACE_MAX_ORIENTATIONS}); required for an arm with arm-angle IK")
+                              f"(1..{WORKSPACE_MAX_ORIENTATIONS}); required for an arm with a redundancy parameter")
     command.add_argument("--samples", type=int, nargs=2, metavar=("N1", "NPHI"),
                          help="the thesis 001 humanoid (humanoid-right, humanoid-left) instead: its best "
                               "manipulability over N1 x NPHI samples of theta_1 and phi (default 24 24)")
@@ -56,24 +57,25 @@ def run(args: argparse.Namespace) -> int:
     from redkin.cli.workspace_humanoid import run_humanoid
     from redkin.workspace.grid import workspace_grid
     from redkin.workspace.humanoid import humanoid_of
+    from redkin.workspace.measure import whole_range
     from redkin.workspace.run import map_model, workspace_map
     from redkin.workspace.store import no_space_errors
 
     chain = load_robot(args)
     if humanoid_of(chain) is not None:
         if args.srs_tolerance is not None:
-            raise UsageError("--srs-tolerance is for arms with arm-angle IK; the thesis 001 humanoid has none")
+            raise UsageError("--srs-tolerance is for nearly S-R-S arms; the thesis 001 humanoid is not one")
         return run_humanoid(args, chain)
     if args.samples is not None:
-        raise UsageError("--samples is for the thesis 001 humanoid; an arm with arm-angle IK takes --orientations N")
+        raise UsageError("--samples is for the thesis 001 humanoid; any other arm takes --orientations N")
+    mapped, _ = map_model(chain, args.srs_tolerance)  # the refusal of a general chain, before anything is written
     if args.orientations is None:
-        raise UsageError(f"{chain.name!r} has arm-angle IK: its map needs --orientations N (tool orientations per "
-                         f"position, 1..{WORKSPACE_MAX_ORIENTATIONS})")
+        raise UsageError(f"{chain.name!r}'s map needs --orientations N (tool orientations per position, "
+                         f"1..{WORKSPACE_MAX_ORIENTATIONS})")
     resolution = check_count(args.resolution, "--resolution", 2, WORKSPACE_MAX_RESOLUTION)
     orientations = check_count(args.orientations, "--orientations", 1, WORKSPACE_MAX_ORIENTATIONS)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     grid = workspace_grid(args.extent, resolution, orientations, chunk)
-    map_model(chain, args.srs_tolerance)  # the arm-angle refusal, before anything is written
     xr = require_map_libraries()
     client = open_client(args.scheduler)
     out = check_output_directory(args.out, "--out")
@@ -90,8 +92,10 @@ def run(args: argparse.Namespace) -> int:
     with xr.open_zarr(result.path, chunks=None) as dataset, no_space_errors(out, IMAGES_LEFT):
         for name, image in zip(SLICE_NAMES, images):
             save_mid_plane_slices(dataset, name, image)
+    assert mapped.parameter is not None  # map_model refuses an arm without one
     summary = run_summary(chain.name, result, images, args.scheduler,
-                          {"mean_redundancy": "1 (feasible arm-angle measure / 2 pi)"}, {
+                          {"mean_redundancy": f"1 (feasible {mapped.parameter.name} measure / its range, "
+                                              f"{whole_range(mapped):.6g} rad)"}, {
         "positions": result.positions, "orientations": result.orientations,
         "pose_branch_evaluations": result.pose_branch_evaluations,
         "reachable_positions": result.reachable_positions, "reachable_poses": result.reachable_poses,

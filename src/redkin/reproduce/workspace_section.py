@@ -13,6 +13,7 @@ from collections.abc import Callable
 import matplotlib.pyplot as plt
 import numpy as np
 
+from redkin.arms import arm
 from redkin.models import kuka_iiwa14, pa10_7c
 from redkin.plot.workspace import mid_plane_figure, plot_measure_line
 from redkin.references import REFERENCES
@@ -63,7 +64,7 @@ def _exact_map(geometry: SRSGeometry, resolution: int, orientations: int) -> dic
     grid = workspace_grid(_reach_box(geometry), resolution, orientations, chunk=resolution)
     rotations = super_fibonacci_rotations(orientations)
     positions = grid.chunk_positions((0, 0, 0))  # the whole grid is one chunk
-    measure = feasible_measures(geometry, positions.reshape(-1, 3), rotations)
+    measure = feasible_measures(arm(geometry.chain), positions.reshape(-1, 3), rotations)
     measure = measure.reshape(positions.shape[:3] + measure.shape[1:])
     x, y, z = grid.axes
     return {"x": x, "y": y, "z": z, "rotation": rotations, "measure": measure,
@@ -82,7 +83,8 @@ def _gamma_rotations(gamma: np.ndarray) -> np.ndarray:
 
 def _gamma_line(geometry: SRSGeometry, gamma: np.ndarray) -> np.ndarray:
     """One line of the map: the measure at :data:`_GAMMA_POSITION` for the orientations ``gamma``, shape ``(K, 8)``."""
-    return feasible_measures(geometry, _GAMMA_POSITION[None], _gamma_rotations(np.asarray(gamma, dtype=float)))[0]
+    return feasible_measures(arm(geometry.chain), _GAMMA_POSITION[None],
+                             _gamma_rotations(np.asarray(gamma, dtype=float)))[0]
 
 
 def _line_boundary(inside: Callable[[np.ndarray], np.ndarray], steps: int = 60) -> tuple[float, float]:

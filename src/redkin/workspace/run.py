@@ -36,15 +36,16 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import default_threads, set_threads
 from redkin._validation import check_count
+from redkin.arms import Arm
+from redkin.arms import arm as redkin_arm
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError
-from redkin.srs import BRANCHES, NearlySRS, arm_angle_class, nearly_srs, srs_geometry
+from redkin.srs import BRANCHES, NearlySRS, nearly_srs
 from redkin.srs.arm_class import NEARLY_SRS, check_tolerance
-from redkin.srs.geometry import SRSGeometry
 from redkin.srs.nearly import TOLERANCE_DEFAULT
 from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid, workspace_grid
-from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index
+from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index, whole_range
 from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
 from redkin.workspace.store import (
     MODEL_EXACT,
@@ -169,16 +170,16 @@ def match_worker_threads() -> int | None:
     return threads
 
 
-def _compute_chunk(geometry: SRSGeometry, grid: WorkspaceGrid, rotations: np.ndarray, path: Path,
-                  index: tuple[int, int, int]) -> tuple[int, int, int]:
+def _compute_chunk(arm: Arm, grid: WorkspaceGrid, rotations: np.ndarray, path: Path,
+                   index: tuple[int, int, int]) -> tuple[int, int, int]:
     """Compute chunk ``index`` of the map and write it into the store at ``path`` (one Dask task)."""
     restore_mmap_threshold()
     match_worker_threads()
     positions = grid.chunk_positions(index)
-    shape = positions.shape[:3] + (len(rotations), len(BRANCHES))
-    measure = feasible_measures(geometry, positions.reshape(-1, 3), rotations).reshape(shape)
+    shape = positions.shape[:3] + (len(rotations), len(arm.branches))
+    measure = feasible_measures(arm, positions.reshape(-1, 3), rotations).reshape(shape)
     write_chunk(path, grid, index, {"measure": measure, "reachability": reachability_index(measure),
-                                    "redundancy": redundancy_index(measure)})
+                                    "redundancy": redundancy_index(measure, whole_range(arm))})
     return index
 
 
@@ -358,12 +359,12 @@ def _drain(client: Any, futures: list) -> None:
             pass
 
 
-def map_model(arm: SerialChain, srs_tolerance: float | None = None) -> tuple[SRSGeometry, NearlySRS | None]:
-    """The geometry whose exact feasible sets make the map of ``arm``, and for a nearly S-R-S arm its neighbour.
+def map_model(arm: SerialChain, srs_tolerance: float | None = None) -> tuple[Arm, NearlySRS | None]:
+    """The arm whose exact feasible sets make the map of ``arm``, and for a nearly S-R-S arm its neighbour.
 
-    An S-R-S or offset-elbow arm (:func:`redkin.srs.srs_geometry`) is mapped with its own geometry (``None``
+    An S-R-S, offset-elbow or Franka-class arm is mapped with its own sets (:meth:`redkin.Arm.feasible`; ``None``
     second).  An arm within ``srs_tolerance`` of an exact neighbour (:func:`redkin.srs.arm_angle_class` says
-    nearly S-R-S) is mapped with the neighbour's (:attr:`redkin.srs.NearlySRS.geometry`): the same kernels at
+    nearly S-R-S) is mapped with the neighbour's (:attr:`redkin.srs.NearlySRS.neighbour`): the same kernels at
     the same poses, which is not the real arm's set (docs/workspace.md, "Nearly S-R-S arms").
 
     Parameters
@@ -376,23 +377,18 @@ def map_model(arm: SerialChain, srs_tolerance: float | None = None) -> tuple[SRS
     Raises
     ------
     NotArmAngleClassError
-        For an arm neither S-R-S, offset-elbow nor nearly S-R-S within the tolerance (a Franka-class arm
-        included: its parameter is q7, which these maps do not take).
+        For an arm of none of these classes within the tolerance, with the reasons.
     RedkinError
         For a tolerance that is not a finite number > 0.
     """
-    tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance)
-    try:
-        return srs_geometry(arm), None
-    except NotArmAngleClassError as exc:
-        kind = arm_angle_class(arm, tolerance).kind
-        if kind != NEARLY_SRS and arm.n == 7 and exc.distance is not None:
-            raise NotArmAngleClassError(f"{exc} (beyond the nearly S-R-S tolerance of {tolerance:g} m)",
-                                        exc.chain_name, exc.distance) from None
-        if kind != NEARLY_SRS:
-            raise
-    nearly = nearly_srs(arm, tolerance)
-    return nearly.geometry, nearly
+    mapped = redkin_arm(arm, srs_tolerance=srs_tolerance)
+    if mapped.parameter is None:
+        raise NotArmAngleClassError(f"a workspace map needs a redundancy parameter with exact feasible sets: "
+                                    f"{arm.name!r} has none ({mapped.reason})", arm.name)
+    if mapped.kind != NEARLY_SRS:
+        return mapped, None
+    nearly = nearly_srs(arm, TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance))
+    return redkin_arm(nearly.neighbour), nearly
 
 
 def workspace_map(
@@ -456,17 +452,17 @@ def workspace_map(
     started = time.perf_counter()
     require("dask")
     require("zarr")
-    geometry, nearly = map_model(arm, srs_tolerance)
+    mapped, nearly = map_model(arm, srs_tolerance)
     count = check_count(orientations, "orientations", 1, MAX_ORIENTATIONS)
     grid = workspace_grid(extent, resolution, count, chunk)
     rotations = super_fibonacci_rotations(count)
     store = Path(path)
     parameters = map_parameters(arm, grid, count, None if nearly is None else nearly.neighbour)
     with hold_store(store):
-        prepare_store(store, parameters, lambda folder: create_store(folder, arm, grid, rotations, nearly),
+        prepare_store(store, parameters, lambda folder: create_store(folder, arm, grid, rotations, mapped, nearly),
                       "orientations")
         # workers write the absolute path: a cluster's workers need not share this process's working directory
-        computed = run_chunks(_compute_chunk, (geometry, grid, rotations, store.absolute()), store, grid,
+        computed = run_chunks(_compute_chunk, (mapped, grid, rotations, store.absolute()), store, grid,
                               "workspace-chunk", parameters, client, progress)
     return _summary(store, grid, count, computed, time.perf_counter() - started, nearly)
 

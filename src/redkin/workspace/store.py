@@ -2,7 +2,8 @@
 
 Layout (zarr format 2, readable with ``xarray.open_zarr``):
 
-* ``measure`` (x, y, z, orientation, branch): radians, branches in the order of :data:`redkin.srs.BRANCHES`;
+* ``measure`` (x, y, z, orientation, branch): radians, branches in the order of :data:`redkin.srs.BRANCHES`
+  (the feasible set of the arm angle, or of q7 on a Franka-class arm: attributes ``parameter``, ``parameter_range``);
 * ``reachability``, ``redundancy`` (x, y, z): dimensionless, in ``[0, 1]``;
 * coordinates ``x``, ``y``, ``z`` (metres) and ``rotation`` (orientation, row, column);
 * ``chunk_complete`` (chunk_x, chunk_y, chunk_z): set once a chunk's values are written, after them.
@@ -64,9 +65,10 @@ import numpy as np
 
 from redkin import __version__
 from redkin._constants import WORKSPACE_MAP_NAME as MAP_NAME  # noqa: F401  (the map's file name; redkin.workspace)
+from redkin.arms import Arm
 from redkin.chain import SerialChain
 from redkin.errors import MapStoreError
-from redkin.srs import BRANCHES, NearlySRS
+from redkin.srs import NearlySRS
 from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid
 
@@ -116,35 +118,42 @@ def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int,
     return json.dumps(parameters, sort_keys=True)
 
 
-def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray,
+def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray, mapped: Arm,
                  nearly: NearlySRS | None = None) -> None:
     """Write the metadata and coordinates of an empty map at ``path`` (values NaN, no chunk complete).
 
-    ``nearly`` is given for a nearly S-R-S arm mapped with its exact neighbour's feasible sets: the attributes then
-    say so (``model``, ``model_error``, ``departures``, ``neighbour``, ``model_note``).
+    ``mapped`` is the arm whose feasible sets the map holds (:func:`redkin.workspace.run.map_model`): its parameter
+    names the measure (``parameter``, ``parameter_range`` attributes).  ``nearly`` is given for a nearly S-R-S arm
+    mapped with its exact neighbour's feasible sets: the attributes then say so (``model``, ``model_error``,
+    ``departures``, ``neighbour``, ``model_note``).
     """
     xr = require("xarray")
     da = require("dask.array")
     m, n, c = grid.resolution, len(rotations), grid.chunk
     x, y, z = grid.axes
     whose = "" if nearly is None else " of the exact S-R-S neighbour"
+    assert mapped.parameter is not None  # map_model refuses an arm without one
+    name = "arm-angle" if mapped.parameter.name == "psi" else mapped.parameter.name
+    low, high = mapped.parameter.domain
+    equation = "[000 eq. 30]" if mapped.parameter.name == "psi" else "[F8]-[F9], docs/franka.md"
     position = ("x", "y", "z")
     # lazy templates of one Dask chunk each (a graph of a few tasks, never computed); the store's chunks are set
     # by the encoding: one per map chunk (13 824 Dask chunks per array made the 1 cm map's metadata take 30 s)
     data = {
-        "measure": (position + ("orientation", "branch"), da.zeros((m, m, m, n, len(BRANCHES)), chunks=-1),
-                    {"units": "rad", "long_name": f"measure of the feasible arm-angle set{whose} ([000 eq. 30])",
-                     "branches": [str(b) for b in BRANCHES]}),
+        "measure": (position + ("orientation", "branch"), da.zeros((m, m, m, n, len(mapped.branches)), chunks=-1),
+                    {"units": "rad", "long_name": f"measure of the feasible {name} set{whose} ({equation})",
+                     "branches": list(mapped.branches)}),
         "reachability": (position, da.zeros((m, m, m), chunks=-1),
                          {"units": "1",
-                          "long_name": "fraction of orientations with a feasible arm angle on some branch"}),
+                          "long_name": f"fraction of orientations with a feasible {name} value on some branch"}),
         "redundancy": (position, da.zeros((m, m, m), chunks=-1),
                        {"units": "1",
-                        "long_name": "mean over reachable orientations of the largest branch measure / 2 pi"}),
+                        "long_name": "mean over reachable orientations of the largest branch measure / the "
+                                     f"parameter's range ({high - low:.6g} rad)"}),
         "chunk_complete": (("chunk_x", "chunk_y", "chunk_z"), da.zeros(grid.chunk_counts, dtype=bool, chunks=-1),
                            {"long_name": "whether the chunk's values are written"}),
     }
-    encoding = {"measure": {"chunks": (c, c, c, n, len(BRANCHES))}, "reachability": {"chunks": (c, c, c)},
+    encoding = {"measure": {"chunks": (c, c, c, n, len(mapped.branches))}, "reachability": {"chunks": (c, c, c)},
                 "redundancy": {"chunks": (c, c, c)}, "chunk_complete": {"chunks": (1, 1, 1)}}
     coords = {
         "x": ("x", x, {"units": "m"}), "y": ("y", y, {"units": "m"}), "z": ("z", z, {"units": "m"}),
@@ -152,8 +161,9 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
                      {"units": "1", "long_name": "tool orientation in the base frame", "set": _ORIENTATION_SET}),
     }
     attrs: dict[str, Any] = {
-        "title": f"workspace map of {chain.name}: exact feasible arm angles{whose} (paper 000)",
-        "robot": chain.name, "arm": arm_description(chain), "branches": [str(b) for b in BRANCHES],
+        "title": f"workspace map of {chain.name}: exact feasible {name} sets{whose}",
+        "robot": chain.name, "arm": arm_description(chain), "branches": list(mapped.branches),
+        "parameter": mapped.parameter.name, "parameter_range": [low, high],
         "parameters": map_parameters(chain, grid, len(rotations), None if nearly is None else nearly.neighbour),
         "redkin_version": __version__, "model": MODEL_EXACT,
     }
