@@ -278,3 +278,15 @@ def test_an_arm_is_built_once_per_chain_and_redkin_ik_goes_through_it():
     new = arm.ik(pose, 0.4, branches="+-+")
     np.testing.assert_array_equal(old.q, new.q)
     assert old.parameter == "q7" and str(old.branches[0]) == "+-+"
+
+
+def test_the_pages_example_runs_and_shows_what_it_says(capsys):
+    """docs/arm.md's example, as a newcomer pastes it: the round trip prints True and the q7 of q is feasible."""
+    import re
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[1] / "docs" / "arm.md").read_text(encoding="utf-8")
+    (block,) = re.findall(r"^```python\n(.*?)^```", page, flags=re.S | re.M)
+    exec(compile(block, "docs/arm.md", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "Franka (q7) q7 ('+++', '++-', '+-+')" and lines[1] == "True" and lines[-1].endswith("True")

@@ -28,8 +28,9 @@ from tests.conftest import FULL_REPORT_COMMAND
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 
-#: First words of the lines that set up (installs) or are this suite: not run here.
-SET_UP = ("pip install", "apt-get install", "python -m pytest")
+#: First words of the lines that set up (installs) or are this suite or CI's documentation build (.ci/run runs it):
+#: not run here.
+SET_UP = ("pip install", "apt-get install", "python -m pytest", "python -m mkdocs")
 
 
 def shell_blocks(text: str) -> list[str]:
