@@ -21,3 +21,6 @@ VELOCITY_METHOD_NAMES = ("sc", "pinv", "dls", "dls-adaptive")
 #: Largest step budget of one virtual-arms run, every accepted step being recorded (``redkin virtual-arms
 #: --max-steps``; :mod:`redkin.virtual_arms.generate`).
 VIRTUAL_ARMS_MAX_STEPS = 1_000_000
+#: The ending of a workspace map's file being written (renamed to its own name once whole; a run removes those it
+#: finds): :mod:`redkin.workspace._durable` writes them, :mod:`redkin.workspace.store` removes them.
+PARTIAL_SUFFIX = ".partial"

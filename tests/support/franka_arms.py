@@ -13,7 +13,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.franka import BRANCHES, FrankaGeometry
-from redkin.srs.geometry import TABLE1_ALPHA
+from redkin.srs.conventions import TABLE1_ALPHA
 from tests.support.urdf_reference import urdf
 
 #: The models of the class (``get_robot`` names).

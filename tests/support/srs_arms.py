@@ -4,7 +4,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.models import barrett_wam, kuka_iiwa14, pa10_7c, srs_chain
-from redkin.srs.geometry import TABLE1_ALPHA
+from redkin.srs.conventions import TABLE1_ALPHA
 
 #: ``pa10``, ``iiwa``, ``wam``: the models; ``srs``: random S-R-S lengths; ``offset``: a random offset elbow.
 ARM_KINDS = ("pa10", "iiwa", "wam", "srs", "offset")

@@ -69,9 +69,10 @@ def run(args: argparse.Namespace) -> int:
     if args.samples is not None:
         raise UsageError("--samples is for the thesis 001 humanoid; any other arm takes --orientations N")
     mapped, _ = map_model(chain, args.srs_tolerance)  # the refusal of a general chain, before anything is written
+    assert mapped.parameter is not None  # map_model refuses an arm without one
     if args.orientations is None:
-        raise UsageError(f"{chain.name!r}'s map needs --orientations N (tool orientations per position, "
-                         f"1..{WORKSPACE_MAX_ORIENTATIONS})")
+        raise UsageError(f"{chain.name!r} has a redundancy parameter ({mapped.parameter.name}): its map needs "
+                         f"--orientations N (tool orientations per position, 1..{WORKSPACE_MAX_ORIENTATIONS})")
     resolution = check_count(args.resolution, "--resolution", 2, WORKSPACE_MAX_RESOLUTION)
     orientations = check_count(args.orientations, "--orientations", 1, WORKSPACE_MAX_ORIENTATIONS)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
@@ -92,7 +93,6 @@ def run(args: argparse.Namespace) -> int:
     with xr.open_zarr(result.path, chunks=None) as dataset, no_space_errors(out, IMAGES_LEFT):
         for name, image in zip(SLICE_NAMES, images):
             save_mid_plane_slices(dataset, name, image)
-    assert mapped.parameter is not None  # map_model refuses an arm without one
     summary = run_summary(chain.name, result, images, args.scheduler,
                           {"mean_redundancy": f"1 (feasible {mapped.parameter.name} measure / its range, "
                                               f"{whole_range(mapped):.6g} rad)"}, {

@@ -37,7 +37,8 @@ from redkin._joint_lines import certify_same_poses, dh_rows_from_lines, meeting_
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
-from redkin.srs.geometry import TABLE1_ALPHA, elbow_equation
+from redkin.srs.conventions import TABLE1_ALPHA
+from redkin.srs.geometry import elbow_equation
 
 #: Largest distance (metres) between axes that must meet, and largest ``|cos|`` between axes that must be
 #: perpendicular.  Tight on purpose, as for S-R-S arms: an arm accepted here is solved as if it were exactly of the

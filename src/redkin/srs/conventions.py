@@ -40,8 +40,11 @@ import numpy as np
 
 from redkin._joint_lines import certify_same_poses, dh_rows_from_lines, meeting_point
 from redkin.chain import SerialChain
+from redkin.circle import HALF_PI
 from redkin.errors import NotArmAngleClassError
-from redkin.srs.geometry import TABLE1_ALPHA
+
+#: The link twists of paper 000 Table 1.
+TABLE1_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
 
 #: Largest distance (metres) of a joint axis from the point where its group meets, and largest
 #: ``|cos|`` between consecutive axes, for an S-R-S arm.  Tight on purpose: a chain accepted here is

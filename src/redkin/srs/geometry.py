@@ -21,15 +21,14 @@ from typing import NamedTuple
 import numpy as np
 
 from redkin.chain import SerialChain
-from redkin.circle import HALF_PI, TWO_PI
+from redkin.circle import TWO_PI
 from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.srs import _ik_kernels
 from redkin.srs._ik_kernels import MEMBERSHIP_TOLERANCE
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
+from redkin.srs.conventions import TABLE1_ALPHA, table1_form
 from redkin.srs.joints import PSI_JOINTS, limit_equation_table, limit_sign_membership
 
-#: The link twists of paper 000 Table 1.
-TABLE1_ALPHA = np.array([-HALF_PI, HALF_PI, -HALF_PI, HALF_PI, -HALF_PI, HALF_PI, 0.0])
 #: Tolerance on the DH parameters when recognising the Table 1 form.
 _GEOMETRY_TOLERANCE = 1e-9
 
@@ -360,8 +359,6 @@ def _derive_geometry(chain: SerialChain) -> SRSGeometry:
     if chain.n != 7:
         raise NotArmAngleClassError(f"an S-R-S arm has 7 joints, {chain.name!r} has {chain.n}", chain.name)
     if _table1_violation(chain) is not None or np.cos(chain.offset[2]) < 0.0:
-        from redkin.srs.conventions import table1_form
-
         chain = table1_form(chain)
         problem = _table1_violation(chain)
         if problem is not None:  # pragma: no cover - table1_form writes Table 1 rows

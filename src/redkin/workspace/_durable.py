@@ -24,7 +24,7 @@ from typing import Any
 
 from zarr.storage import LocalStore
 
-from redkin.workspace.store import PARTIAL_SUFFIX
+from redkin._constants import PARTIAL_SUFFIX
 
 
 def write_durably(path: Path, data: Any) -> None:

@@ -64,6 +64,7 @@ from typing import Any
 import numpy as np
 
 from redkin import __version__
+from redkin._constants import PARTIAL_SUFFIX
 from redkin._constants import WORKSPACE_MAP_NAME as MAP_NAME  # noqa: F401  (the map's file name; redkin.workspace)
 from redkin.arms import Arm
 from redkin.chain import SerialChain
@@ -73,8 +74,6 @@ from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid
 
 _ORIENTATION_SET = "super-Fibonacci spiral on SO(3) (Alexa, CVPR 2022), deterministic in the count"
-#: The ending of a file being written (renamed to its own name once whole); a run removes those it finds.
-PARTIAL_SUFFIX = ".partial"
 #: ``errno`` values of a full disk or an exhausted quota.
 _NO_SPACE = (errno.ENOSPC, errno.EDQUOT)
 #: The store's ``model``: the map holds the arm's own exact feasible sets, or those of a nearly S-R-S arm's exact
