@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from timing import best_time_short_rounds  # benchmarks/timing.py (the script's folder is on sys.path)
+from timing import best_time_short_rounds, machine_lines  # benchmarks/timing.py (the script's folder is on sys.path)
 
 import redkin
 from redkin import franka, srs
@@ -64,7 +64,9 @@ def rows() -> list[tuple[str, str, float, float, float]]:
 
 
 def main() -> None:
-    print(f"redkin {redkin.__version__}, {redkin.thread_count()} threads; one pose, microseconds per call")
+    for line in machine_lines(["numpy", "numba"]):
+        print(line)
+    print("one pose, microseconds per call")
     print(f"{'arm':<14} {'question':<26} {'class fn':>9} {'arm':>9} {'ratio':>6} {'goal':>6} {'redkin.ik':>10}")
     for file, question, base, ours, front in rows():
         goal = 1.2 * base + 2.0
