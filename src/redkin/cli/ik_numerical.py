@@ -102,17 +102,15 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
 
 def _labeller(chain, parameter: str):
     """A function of solutions ``(K, 7)`` [rad] giving each one's branch (three signs) and ``parameter`` value
-    [rad], read off the configuration by its class (:meth:`redkin.paths.family.Family.parameter_of`)."""
-    from redkin.paths.family import path_family
-    from redkin.srs import BRANCHES
+    [rad], read off the configuration by its class (:meth:`redkin.Arm.branch_of`, :meth:`redkin.Arm.parameter_of`)."""
+    from redkin.arms import arm
 
-    family = path_family(chain)
+    classified = arm(chain)
 
     def label(q: np.ndarray) -> tuple[list[str], np.ndarray]:
         if len(q) == 0:
             return [], np.zeros(0)
-        branch, value = family.parameter_of(np.ascontiguousarray(q, dtype=float))
-        return [str(BRANCHES[int(b)]) for b in branch], value
+        return [str(b) for b in classified.branch_of(q)], classified.parameter_of(q)
 
     return parameter, label
 

@@ -133,13 +133,12 @@ _PREFERS = {"clearance": "the largest clearance from the limits, then the least 
 def _start(chain, result, q0: np.ndarray | None, objective: str, srs_tolerance: float | None) -> dict:
     """Which branch the path starts on and why: ``--q0``'s own (the first waypoint is within one step of it), or,
     without ``--q0``, the objective's choice among every branch; with ``--q0``, its branch as well."""
-    from redkin.paths.family import path_family
+    from redkin.arms import arm
     from redkin.srs import BRANCHES
 
     start: dict = {"branch": result.branch[0], "why": "objective" if q0 is None else "q0"}
     if q0 is not None:
-        branch, _ = path_family(chain, srs_tolerance).parameter_of(q0[None])
-        start["q0_branch"] = str(BRANCHES[int(branch[0])])
+        start["q0_branch"] = str(arm(chain, srs_tolerance=srs_tolerance).branch_of(q0))
         start["text"] = (f"starts on branch {start['branch']}, within one step of --q0"
                          + (" (its own branch)" if start["q0_branch"] == start["branch"] else
                             f" (which is on branch {start['q0_branch']} at its own pose)"))

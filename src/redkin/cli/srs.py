@@ -216,7 +216,7 @@ def _asked_branch(chain, args: argparse.Namespace, q0: np.ndarray | None):
     """The branch ``ik --psi|--q7`` answers and where it comes from: ``None`` with ``--all`` (``"all"``); else
     ``--branch`` (``"--branch"``), or ``--q0``'s own branch (``"q0"``, read off the configuration by its class), or
     ``+++`` (``"default"``)."""
-    from redkin.paths.family import path_family
+    from redkin.arms import arm
     from redkin.srs import BRANCHES, parse_branch
 
     if args.all:
@@ -224,8 +224,7 @@ def _asked_branch(chain, args: argparse.Namespace, q0: np.ndarray | None):
     if args.branch is not None:
         return parse_branch(args.branch), "--branch"
     if q0 is not None:
-        index, _ = path_family(chain, args.srs_tolerance).parameter_of(q0[None])
-        return BRANCHES[int(index[0])], "q0"
+        return parse_branch(str(arm(chain, srs_tolerance=args.srs_tolerance).branch_of(q0))), "q0"
     return BRANCHES[0], "default"
 
 

@@ -140,7 +140,7 @@ def explorer_data(
 
 def _own_place(chain: SerialChain, pose: np.ndarray, q: ArrayLike, tolerance: float) -> tuple[int, float]:
     """The branch (index into :data:`BRANCHES`) and parameter value of a configuration ``q`` at ``pose``."""
-    from redkin.paths.family import path_family
+    from redkin.arms import arm
 
     q = np.asarray(q, dtype=float)
     if q.shape != (chain.n,) or not np.all(np.isfinite(q)):
@@ -152,8 +152,8 @@ def _own_place(chain: SerialChain, pose: np.ndarray, q: ArrayLike, tolerance: fl
     if max(position, rotation) > _REACHES:
         raise RedkinError(f"q is not at the pose: its tool is {position:.3g} m and {rotation:.3g} rad away "
                           f"(at most {_REACHES:g} allowed)")
-    branch, value = path_family(chain, tolerance).parameter_of(q[None])
-    return int(branch[0]), float(value[0])
+    classified = arm(chain, srs_tolerance=tolerance)
+    return classified.branches.index(str(classified.branch_of(q))), float(classified.parameter_of(q))
 
 
 def _best_branch(branches: tuple[BranchCurves, ...], chain: SerialChain, parameter) -> tuple[int, str]:
