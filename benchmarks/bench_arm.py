@@ -40,7 +40,7 @@ def rows() -> list[tuple[str, str, float, float, float]]:
         if name == "q7":
             geometry = franka.franka_geometry(arm.chain)
             kernel: Callable[[], object] = lambda: franka.ik(geometry, pose, value)  # noqa: E731
-        elif arm.kind == redkin.srs.arm_class.NEARLY_SRS:
+        elif arm.kind == redkin.arms.classify.NEARLY_SRS:
             neighbour = nearly.nearly_srs(arm.chain)
             kernel = lambda: nearly.ik(neighbour, pose, value)  # noqa: E731
         else:

@@ -46,7 +46,7 @@ def test_round_trip_through_the_front_door(source, fraction):
     degenerate = _aligned(arm, q)
     # a nearly S-R-S arm's polished solution may be missed at a degenerate configuration (issue 38): not elsewhere
     assert solutions.exists[arm.branches.index(branch)] or (degenerate
-                                                            and arm.kind == redkin.srs.arm_class.NEARLY_SRS)
+                                                            and arm.kind == redkin.arms.classify.NEARLY_SRS)
     tolerance = CLASS_ARMS[source]
     if solutions.exists.any():
         assert np.max(np.abs(arm.fk(solutions.q[solutions.exists]) - pose)) < max(tolerance, 1e-9)
@@ -77,7 +77,7 @@ def test_the_front_door_agrees_with_the_class_functions(source):
         np.testing.assert_array_equal(ours.q, theirs.q)
         np.testing.assert_array_equal(ours.exists, theirs.exists)
         np.testing.assert_array_equal(ours.within_limits, theirs.within_limits)
-    elif arm.kind == redkin.srs.arm_class.NEARLY_SRS:
+    elif arm.kind == redkin.arms.classify.NEARLY_SRS:
         theirs = nearly.ik(nearly.nearly_srs(arm.chain), poses, values)
         np.testing.assert_array_equal(ours.q, theirs.q)
         np.testing.assert_array_equal(ours.exists, theirs.exists)
@@ -181,7 +181,7 @@ def test_a_general_chain_answers_numerically_and_refuses_a_parameter_in_words():
     """The Sawyer (a shoulder offset: no closed form) has no parameter and no branches; ik without t is the
     numerical solver's, its rows the solutions found."""
     arm = redkin.arm("sawyer.urdf")
-    assert arm.parameter is None and arm.branches == () and arm.kind == redkin.srs.arm_class.GENERAL
+    assert arm.parameter is None and arm.branches == () and arm.kind == redkin.arms.classify.GENERAL
     q = _inside(arm, np.full(7, 0.45))
     pose = arm.fk(q)
     found = arm.ik(pose, q0=q + 0.05, count=2)

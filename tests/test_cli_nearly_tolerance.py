@@ -3,7 +3,7 @@
 Laws, on the Kinova Gen3 (departures 11.75, 12.75 and 0.35 mm):
 
 - a tolerance above its largest departure (13 mm) keeps it nearly S-R-S, one below (10 mm) makes it a general chain
-  whose reason names the tolerance; the same in :func:`redkin.srs.arm_angle_class`,
+  whose reason names the tolerance; the same in :func:`redkin.arms.classify.arm_angle_class`,
   :func:`redkin.closed_form.redundancy_parameter`, :func:`redkin.ik`, :func:`redkin.explore.explorer_data` and
   ``redkin robots [--show]``, ``ik --psi``, ``arm-angles`` and ``explore`` with ``--srs-tolerance``;
 - the answers at a tolerance that keeps the class equal those at the default (the neighbour does not depend on it);
@@ -20,12 +20,12 @@ import numpy as np
 import pytest
 
 import redkin
+from redkin.arms.classify import GENERAL, NEARLY_SRS, arm_angle_class
 from redkin.cli.main import main
 from redkin.closed_form import redundancy_parameter
 from redkin.errors import NotArmAngleClassError
 from redkin.explore import explorer_data
-from redkin.srs import arm_angle_class, pose_from
-from redkin.srs.arm_class import GENERAL, NEARLY_SRS
+from redkin.srs import pose_from
 
 POSITION, ROTATION = [0.3, 0.2, 0.5], [1, 0, 0, 0, -1, 0, 0, 0, -1]
 POSE_ARGV = ["--position", *map(str, POSITION), "--rotation", *map(str, ROTATION)]

@@ -167,7 +167,7 @@ def test_the_geometry_is_cached_on_the_chain():
 def test_a_franka_arm_off_by_rounding_is_snapped_and_says_how_far(offset):
     """A description whose axes miss the class by rounding (UFactory's xArm7 URDF prints pi/2 as 1.5708) is solved
     as the exact arm; its solutions reach the description's poses to about that rounding, and the class says so."""
-    from redkin.srs import arm_angle_class
+    from redkin.arms.classify import arm_angle_class
 
     chain = _panda_rows(a=(5, offset))
     geometry = franka_geometry(chain)

@@ -23,6 +23,7 @@ PUBLIC = {
     "redkin.so3": {"rot_x", "rot_y", "rot_z", "axis_angle_to_matrix", "matrix_to_axis_angle", "matrix_to_xyz_fixed"},
     "redkin.chain": {"Convention"},
     "redkin.arms.registry": {"KINDS"},
+    "redkin.arms.classify": {"ArmClass"},
     "redkin.arms.feasible_sets": {"CONTAINS_TOLERANCE"},
     "redkin.closed_form": {"ClosedFormSolutions"},
     "redkin.cli.main": {"main"},

@@ -1,6 +1,6 @@
 """One front door to pose IK: the closed forms at a value of the chain's redundancy parameter, or the numerical solver.
 
-The chain's class (:func:`redkin.srs.arm_angle_class`) picks the solver and
+The chain's class (:func:`redkin.arms.classify.arm_angle_class`) picks the solver and
 the parameter: the arm angle ``psi`` of S-R-S and offset-elbow arms
 (:mod:`redkin.srs`, paper 000) and of nearly S-R-S arms (their exact
 neighbour's closed form polished on the real arm, :mod:`redkin.srs.nearly`),
@@ -71,7 +71,7 @@ class ClosedFormSolutions(NamedTuple):
 def redundancy_parameter(chain: SerialChain, srs_tolerance: float | None = None) -> str:
     """``"psi"`` for an S-R-S, offset-elbow or nearly S-R-S arm, ``"q7"`` for a Franka-class arm.
 
-    ``srs_tolerance`` is the nearly S-R-S tolerance of :func:`redkin.srs.arm_angle_class` (default
+    ``srs_tolerance`` is the nearly S-R-S tolerance of :func:`redkin.arms.classify.arm_angle_class` (default
     :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
 
     Raises
@@ -113,7 +113,7 @@ def ik(
         One branch (three signs, e.g. ``"+-+"``); default all eight, in the order of :data:`redkin.srs.BRANCHES`.
     srs_tolerance : float, optional
         With ``psi`` or ``q7``: the largest departure (metres, radians off perpendicular) of an arm solved as nearly
-        S-R-S through its exact neighbour (:func:`redkin.srs.arm_angle_class`; default
+        S-R-S through its exact neighbour (:func:`redkin.arms.classify.arm_angle_class`; default
         :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
     **solver
         Without ``psi`` and ``q7``: the keyword arguments of :func:`redkin.numerical.ik` (``q0``, ``count``,

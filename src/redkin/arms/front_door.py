@@ -1,9 +1,9 @@
 """One arm, one API: a robot loaded and classified once, asked every question in the same shapes.
 
 :func:`arm` reads a model name, a robot file (URDF, xacro, MJCF, redkin's TOML) or takes a
-:class:`~redkin.chain.SerialChain`, names its class once (:func:`redkin.srs.arm_angle_class`) and converts it once to
-the form its kernels take (:mod:`redkin.arms.registry`); :class:`Arm` then answers at the speed of the class's own
-functions, with one result type per question for every class::
+:class:`~redkin.chain.SerialChain`, names its class once (:func:`redkin.arms.classify.arm_angle_class`) and
+converts it once to the form its kernels take (:mod:`redkin.arms.registry`); :class:`Arm` then answers at the speed
+of the class's own functions, with one result type per question for every class::
 
     arm = redkin.arm("fr3.urdf")                 # arm.kind 'Franka (q7)', arm.parameter.name 'q7'
     q = np.array([0.1, -0.4, 0.2, -2.0, 0.3, 1.6, 0.5])
@@ -76,8 +76,8 @@ class Arm:
     ----------
     chain : SerialChain
     kind : str
-        The class: :data:`redkin.srs.SRS`, ``OFFSET_ELBOW``, ``FRANKA``, ``NEARLY_SRS`` or ``GENERAL`` of
-        :mod:`redkin.srs.arm_class`.
+        The class: :data:`redkin.arms.classify.SRS`, ``OFFSET_ELBOW``, ``FRANKA``, ``NEARLY_SRS`` or ``GENERAL`` of
+        :mod:`redkin.arms.classify`.
     reason : str
         Why it is of that class, in one line.
     parameter : Parameter or None
@@ -351,8 +351,8 @@ def arm(source: str | SerialChain, *, base: str | None = None, tip: str | None =
     ValueError
         For an unknown model, a malformed file, or a tolerance that is not a finite number > 0.
     """
+    from redkin.arms.classify import check_tolerance
     from redkin.arms.registry import kind_of
-    from redkin.srs.arm_class import check_tolerance
     from redkin.srs.nearly import TOLERANCE_DEFAULT
 
     if isinstance(source, SerialChain):

@@ -47,7 +47,7 @@ class ArmKind:
     Attributes
     ----------
     kind : str
-        The class's name (:mod:`redkin.srs.arm_class`'s constants).
+        The class's name (:mod:`redkin.arms.classify`'s constants).
     chain : SerialChain
     parameter : Parameter or None
     branches : tuple of str

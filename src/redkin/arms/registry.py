@@ -1,16 +1,17 @@
 """The one place that knows the classes of arm: which :class:`~redkin.arms.protocol.ArmKind` answers for a chain.
 
-:func:`redkin.srs.arm_angle_class` names a chain's class once; :data:`KINDS` maps that name to the implementation,
-built from the chain converted once to the form its kernels take.  A new class is one module and one line here.
+:func:`redkin.arms.classify.arm_angle_class` names a chain's class once; :data:`KINDS` maps that name to the
+implementation, built from the chain converted once to the form its kernels take.  A new class is one module and
+one line here.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
+from redkin.arms.classify import FRANKA, GENERAL, NEARLY_SRS, OFFSET_ELBOW, SRS
 from redkin.arms.protocol import ArmKind
 from redkin.chain import SerialChain
-from redkin.srs.arm_class import FRANKA, GENERAL, NEARLY_SRS, OFFSET_ELBOW, SRS
 
 
 def _srs(chain: SerialChain, kind: str, tolerance: float) -> ArmKind:
@@ -40,7 +41,7 @@ def _general(chain: SerialChain, kind: str, tolerance: float) -> ArmKind:
     return general
 
 
-#: Per class name of :func:`redkin.srs.arm_angle_class`, how its implementation is built from the chain.
+#: Per class name of :func:`redkin.arms.classify.arm_angle_class`, how its implementation is built from the chain.
 KINDS: dict[str, Callable[[SerialChain, str, float], ArmKind]] = {
     SRS: _srs,
     OFFSET_ELBOW: _srs,
@@ -52,7 +53,7 @@ KINDS: dict[str, Callable[[SerialChain, str, float], ArmKind]] = {
 
 def kind_of(chain: SerialChain, tolerance: float) -> tuple[ArmKind, str]:
     """The implementation of ``chain``'s class and the reason it is of that class, in one line."""
-    from redkin.srs.arm_class import arm_angle_class
+    from redkin.arms.classify import arm_angle_class
 
     kind, reason = arm_angle_class(chain, tolerance)
     return KINDS[kind](chain, kind, tolerance), reason

@@ -61,8 +61,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run_robots(args: argparse.Namespace) -> int:
+    from redkin.arms.classify import arm_angle_class
     from redkin.models import MODELS
-    from redkin.srs import arm_angle_class
 
     if args.show is not None:
         return _show_robot(load_chain(args.show, args.base, args.tip, **xacro_options(args)), args)
@@ -98,7 +98,7 @@ def _run_robots(args: argparse.Namespace) -> int:
 
 def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
     """``redkin robots --show ROBOT``: joint names, limits, joint frames at q = 0, base, tool and class."""
-    from redkin.srs import arm_angle_class
+    from redkin.arms.classify import arm_angle_class
 
     kind, reason = arm_angle_class(chain, args.srs_tolerance)
     directions, points = chain.joint_axes(np.zeros(chain.n))

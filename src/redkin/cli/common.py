@@ -102,8 +102,9 @@ def xacro_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def add_srs_tolerance_argument(parser: argparse.ArgumentParser) -> None:
-    """``--srs-tolerance METRES``: the nearly S-R-S tolerance of :func:`redkin.srs.arm_angle_class` (issue 27), on the
-    commands whose work depends on the arm's class; ``args.srs_tolerance`` is ``None`` when not given."""
+    """``--srs-tolerance METRES``: the nearly S-R-S tolerance of :func:`redkin.arms.classify.arm_angle_class`
+    (issue 27), on the commands whose work depends on the arm's class; ``args.srs_tolerance`` is ``None`` when not
+    given."""
     parser.add_argument("--srs-tolerance", type=_srs_tolerance, metavar="METRES",
                         help="largest departure from S-R-S (metres between axes that must meet; radians for axes off "
                              "perpendicular) of an arm solved as nearly S-R-S through its exact neighbour (default "
@@ -112,7 +113,7 @@ def add_srs_tolerance_argument(parser: argparse.ArgumentParser) -> None:
 
 def _srs_tolerance(text: str) -> float:
     """The value of ``--srs-tolerance``: a finite number > 0 (argparse words a refusal as one usage line, exit 2)."""
-    from redkin.srs.arm_class import check_tolerance
+    from redkin.arms.classify import check_tolerance
 
     try:
         return check_tolerance(text)

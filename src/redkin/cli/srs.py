@@ -244,8 +244,8 @@ def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
     ``found[k][b]`` where ``every``, else the one nearest ``q0`` (without ``q0`` the closed form's), and how many
     others there are into ``others[k][b]``.  Nothing on an exact arm, which has one per branch, nor for a pose
     proven out of reach (``out``)."""
+    from redkin.arms.classify import NEARLY_SRS, arm_angle_class
     from redkin.srs import branch_solutions, nearly_srs, self_motions
-    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
 
     if arm_angle_class(chain, tolerance).kind != NEARLY_SRS:
         return
@@ -272,7 +272,7 @@ def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
 def _run_arm_angles(args: argparse.Namespace) -> int:
     """``redkin arm-angles``: the class's renderer; without ``--branch`` it shows ``+++`` and, where that set is
     empty, names the branches that have one (:func:`_name_feasible_branches`)."""
-    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class
+    from redkin.arms.classify import NEARLY_SRS, arm_angle_class
 
     chain = load_robot(args)
     args.default_branch = args.branch is None

@@ -70,7 +70,7 @@ def explorer_data(
         from 16 to 20000.
     srs_tolerance : float, optional
         The largest departure (metres, radians off perpendicular) of an arm drawn as nearly S-R-S through its exact
-        neighbour (:func:`redkin.srs.arm_angle_class`; default :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
+        neighbour (:func:`redkin.arms.classify.arm_angle_class`; default :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
     q : array_like, shape (7,), optional
         A configuration at ``pose`` (within :data:`_REACHES`) to open the page at: its branch, at its own value of
         the parameter (merged into the grid).
@@ -95,7 +95,7 @@ def explorer_data(
     pose = check_pose(pose)
     if pose.shape != (4, 4):
         raise RedkinError(f"pose must be one 4x4 pose, got shape {pose.shape}")
-    from redkin.srs.arm_class import NEARLY_SRS, arm_angle_class, check_tolerance
+    from redkin.arms.classify import NEARLY_SRS, arm_angle_class, check_tolerance
     from redkin.srs.nearly import TOLERANCE_DEFAULT
 
     tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance)

@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from redkin._compiled import run_batch
+from redkin.arms.classify import FRANKA, NEARLY_SRS, OFFSET_ELBOW, SRS, arm_angle_class
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, wrap_angle
 from redkin.errors import NotArmAngleClassError, RedkinError
@@ -36,7 +37,6 @@ from redkin.paths.failure import empty_blocker
 from redkin.paths.graph import _CLIP_TOLERANCE, Arm, joint_moves
 from redkin.srs import _ik_kernels
 from redkin.srs.arm_angle import arm_angle_of
-from redkin.srs.arm_class import FRANKA, NEARLY_SRS, OFFSET_ELBOW, SRS, arm_angle_class
 from redkin.srs.branches import BRANCHES, Branch
 from redkin.srs.coefficients import coefficient_arrays
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
@@ -363,8 +363,8 @@ def _as_pieces(sets: list[list]) -> FeasiblePieces:
 
 def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
                 srs_tolerance: float | None = None) -> Family:
-    """The class of ``arm`` as path resolution sees it, the one :func:`redkin.srs.arm_angle_class` names: S-R-S or
-    offset elbow, the Franka class, or nearly S-R-S within ``srs_tolerance`` (default
+    """The class of ``arm`` as path resolution sees it, the one :func:`redkin.arms.classify.arm_angle_class` names:
+    S-R-S or offset elbow, the Franka class, or nearly S-R-S within ``srs_tolerance`` (default
     :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
 
     Raises

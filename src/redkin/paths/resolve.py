@@ -130,7 +130,8 @@ def resolve_path(
         limits, then the least total motion (the default); ``"motion"``, the least total joint motion, then the
         largest clearance (both stages are searched, as with ``thorough``; no clearance is proved optimal).
     srs_tolerance : float, optional
-        The nearly S-R-S tolerance of :func:`redkin.srs.arm_angle_class` [m] for a chain of neither exact class.
+        The nearly S-R-S tolerance of :func:`redkin.arms.classify.arm_angle_class` [m] for a chain of neither exact
+        class.
 
     Returns
     -------

@@ -18,13 +18,11 @@
   angle turns back along the self-motion)
 * :func:`optimal_arm_angles` -- joint-limit-avoiding arm angles [000 eqs. 36-40]
 * :func:`arm_angle_path` -- arm-angle control along a path (section 6.2.2)
-* :func:`arm_angle_class` -- whether a chain is S-R-S, S-R-S with an offset elbow (the WAM), or neither
 
 Offset elbows (docs/srs.md) are served by every function above.
 """
 
 from redkin.srs.arm_angle import ArmAngleState, arm_angle_of
-from redkin.srs.arm_class import ArmClass, arm_angle_class
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.extrema import JointExtrema, Stationary, joint_extrema
 from redkin.srs.feasible import (
@@ -50,7 +48,6 @@ from redkin.srs.singular import SINGULAR_TOLERANCE, SingularArmAngles, singular_
 __all__ = [
     "Alignment",
     "ArmAnglePath",
-    "ArmClass",
     "ArmAngleState",
     "BRANCHES",
     "Branch",
@@ -71,7 +68,6 @@ __all__ = [
     "SingularArmAngles",
     "Stationary",
     "alignment_angles",
-    "arm_angle_class",
     "arm_angle_of",
     "arm_angle_path",
     "branch_solutions",

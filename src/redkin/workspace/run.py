@@ -38,10 +38,10 @@ from redkin._compiled import default_threads, set_threads
 from redkin._validation import check_count
 from redkin.arms import Arm
 from redkin.arms import arm as redkin_arm
+from redkin.arms.classify import NEARLY_SRS, check_tolerance
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError
 from redkin.srs import BRANCHES, NearlySRS, nearly_srs
-from redkin.srs.arm_class import NEARLY_SRS, check_tolerance
 from redkin.srs.nearly import TOLERANCE_DEFAULT
 from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid, workspace_grid
@@ -363,7 +363,7 @@ def map_model(arm: SerialChain, srs_tolerance: float | None = None) -> tuple[Arm
     """The arm whose exact feasible sets make the map of ``arm``, and for a nearly S-R-S arm its neighbour.
 
     An S-R-S, offset-elbow or Franka-class arm is mapped with its own sets (:meth:`redkin.Arm.feasible`; ``None``
-    second).  An arm within ``srs_tolerance`` of an exact neighbour (:func:`redkin.srs.arm_angle_class` says
+    second).  An arm within ``srs_tolerance`` of an exact neighbour (:func:`redkin.arms.classify.arm_angle_class` says
     nearly S-R-S) is mapped with the neighbour's (:attr:`redkin.srs.NearlySRS.neighbour`): the same kernels at
     the same poses, which is not the real arm's set (docs/workspace.md, "Nearly S-R-S arms").
 
