@@ -290,3 +290,43 @@ def test_the_pages_example_runs_and_shows_what_it_says(capsys):
     exec(compile(block, "docs/arm.md", "exec"), {})
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == "Franka (q7) q7 ('+++', '++-', '+-+')" and lines[1] == "True" and lines[-1].endswith("True")
+
+
+def test_optimal_takes_a_target_and_weights_as_the_class_functions_do():
+    arm = redkin.arm("iiwa14.urdf")
+    pose = arm.fk(_inside(arm, np.full(7, 0.35)))
+    target = _inside(arm, np.full(7, 0.6))
+    best = arm.optimal(pose, "+-+", target=target, weights=(0.2, 0.8))
+    expected = srs.optimal_arm_angles(arm.chain, pose, "+-+", target=target, weights=(0.2, 0.8)).overall
+    assert best.unclamped[0] == expected.unclamped
+    if expected.feasible is None:
+        assert np.isnan(best.value[0])
+    else:
+        assert best.value[0] == expected.feasible
+    panda = redkin.arm("panda.urdf")
+    hand = panda.fk(_inside(panda, np.full(7, 0.4)))
+    assert panda.optimal(hand, "+++", target=target).unclamped[0] == franka.optimal_q7(
+        panda.chain, hand, "+++", target=target).unclamped
+    with pytest.raises(ValueError, match="weights"):
+        panda.optimal(hand, weights=(0.5, 0.5))
+    with pytest.raises(ValueError, match="weights"):
+        arm.optimal(pose, weights=(-1.0, 0.5))
+
+
+def test_per_joint_sets_intersect_to_the_feasible_set():
+    """[000 eq. 30]: the feasible set is the intersection of the per-joint sets [000 eq. 29]; the Franka class has
+    no per-joint sets and says so."""
+    from redkin.circle import ArcSet
+
+    arm = redkin.arm("pa10.toml")
+    pose = arm.fk(_inside(arm, np.full(7, 0.3)))
+    for branch in arm.branches:
+        joints = arm.joint_sets(pose, branch)
+        assert sorted(joints) == list(range(1, 8))
+        together = ArcSet.full()
+        for arcs in joints.values():
+            together = together.intersection(ArcSet(arcs.tolist()))
+        expected = ArcSet(arm.feasible(pose).arcs(branch).bounds.tolist())
+        assert together.isclose(expected, 1e-9)
+    with pytest.raises(ValueError, match="per-joint"):
+        redkin.arm("panda.urdf").joint_sets(pose, "+++")

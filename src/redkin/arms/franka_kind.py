@@ -51,6 +51,12 @@ class FrankaKind(ArmKind):
     def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self._family.parameter_of(q)
 
-    def optimal(self, pose: np.ndarray, row: int) -> tuple[float, float]:
-        best = optimal_q7(self.geometry, pose, BRANCHES[row])
+    def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> tuple[float, float]:
+        if weights is not None:
+            from redkin.errors import RedkinError
+
+            raise RedkinError(f"weights weigh the shoulder against the wrist in the optimal arm angle of S-R-S arms; "
+                              f"{self.chain.name!r} is of the Franka class (parameter q7): leave them out")
+        best = optimal_q7(self.geometry, pose, BRANCHES[row], target=target)
         return tuple(np.nan if value is None else value for value in (best.feasible, best.unclamped))  # type: ignore[return-value]

@@ -222,12 +222,48 @@ class Arm:
         return FeasibleSets(start, end, feasible, labels, self.parameter.name, self.parameter.wraps,
                             self._kind.exact)
 
-    def optimal(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> Optimal:
+    def optimal(self, poses: ArrayLike, branches: str | Sequence[str] | None = None, *,
+                target: ArrayLike | None = None, weights: ArrayLike | None = None) -> Optimal:
         """The limit-avoiding value of the parameter of each pose and branch ([000 eqs. 36-40] on S-R-S and nearly
-        S-R-S arms, [F10] on the Franka class)."""
-        value, unclamped = self._per_pose("a limit-avoiding value", poses, branches, self._kind.optimal,
-                                          (np.nan, np.nan))
+        S-R-S arms, [F10] on the Franka class).
+
+        Parameters
+        ----------
+        poses : array_like, shape (..., 4, 4)
+        branches : str or sequence of str, optional
+        target : array_like, shape (7,), optional
+            The joint values to stay nearest (default: the middle of each range).
+        weights : array_like, shape (2,), optional
+            The shoulder's and the wrist's weight [000 eq. 40] (default 0.5, 0.5); arm-angle classes only.
+        """
+        from redkin._validation import check_vectors
+        from redkin.srs.optimal import check_weights
+
+        goal = None if target is None else check_vectors(target, self.chain.n, "target")
+        if goal is not None and goal.shape != (self.chain.n,):
+            raise RedkinError(f"target must be one vector of {self.chain.n} joint values, got shape {goal.shape}")
+        pair = None if weights is None else check_weights(weights)
+
+        def answer(pose: np.ndarray, row: int) -> tuple[float, float]:
+            return self._kind.optimal(pose, row, goal, pair)
+
+        value, unclamped = self._per_pose("a limit-avoiding value", poses, branches, answer, (np.nan, np.nan))
         return Optimal(value.astype(float), unclamped.astype(float), self._labels(branches))
+
+    def joint_sets(self, pose: ArrayLike, branch: str) -> dict[int, np.ndarray]:
+        """Per joint (1-based), the arcs ``(k, 2)`` of the parameter at which one pose's branch keeps that joint
+        within its limits ([000 eq. 29]); an arc with ``start > end`` passes through ``+-pi``.  S-R-S and
+        offset-elbow arms only: the other classes refuse in words."""
+        from redkin._validation import check_pose
+
+        self._need_parameter("per-joint feasible sets")
+        pose = check_pose(pose)
+        if pose.shape != (4, 4):
+            raise RedkinError(f"pose must be one (4, 4) pose, got shape {pose.shape}")
+        rows = self._rows(branch)
+        assert rows is not None
+        return {joint: np.array(arcs, dtype=float).reshape(-1, 2)
+                for joint, arcs in self._kind.joint_sets(pose, int(rows[0])).items()}
 
     def singular(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> Singular:
         """The singular values of the parameter of each pose and branch ([000 eqs. 31-34]; on nearly S-R-S arms

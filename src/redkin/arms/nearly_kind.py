@@ -56,8 +56,10 @@ class NearlyKind(ArmKind):
     def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self._family.parameter_of(q)
 
-    def optimal(self, pose: np.ndarray, row: int) -> tuple[float, float]:
-        overall = optimal_arm_angles_nearly(self.nearly, pose, BRANCHES[row]).overall
+    def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> tuple[float, float]:
+        overall = optimal_arm_angles_nearly(self.nearly, pose, BRANCHES[row], target=target,
+                                            weights=(0.5, 0.5) if weights is None else weights).overall
         return (np.nan if overall.feasible is None else overall.feasible), overall.unclamped
 
     def singular(self, pose: np.ndarray, row: int) -> tuple[tuple[float, ...], tuple[float, ...]]:

@@ -75,10 +75,18 @@ class ArmKind:
         """The branch indices ``(P,)`` and parameter values ``(P,)`` of configurations ``q`` ``(P, n)``."""
         raise self._refusal("a configuration's branch and parameter")
 
-    def optimal(self, pose: np.ndarray, row: int) -> tuple[float, float]:
-        """The limit-avoiding value of one pose ``(4, 4)`` and branch: within the feasible set (``nan`` where it is
-        empty) and over every value at which the branch exists (``nan`` where none)."""
+    def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> tuple[float, float]:
+        """The limit-avoiding value of one pose ``(4, 4)`` and branch, nearest ``target`` (joint values; ``None``: the
+        middle of each range), the shoulder and wrist weighed by ``weights`` where the class weighs them: within
+        the feasible set (``nan`` where it is empty) and over every value at which the branch exists (``nan`` where
+        none)."""
         raise self._refusal("a limit-avoiding value of the parameter")
+
+    def joint_sets(self, pose: np.ndarray, row: int) -> dict[int, list[tuple[float, float]]]:
+        """Per joint (1-based), the arcs of the parameter at which one pose and branch's joint lies within its
+        limits."""
+        raise self._refusal("per-joint feasible sets")
 
     def singular(self, pose: np.ndarray, row: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """The parameter's values at which one pose and branch's shoulder and wrist are singular."""

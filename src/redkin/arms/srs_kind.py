@@ -15,7 +15,7 @@ from redkin.paths.family import ArmAngleFamily
 from redkin.srs import _ik_kernels
 from redkin.srs._feasible_kernels import PIECES
 from redkin.srs.branches import BRANCHES
-from redkin.srs.feasible import feasible_pieces_all_branches
+from redkin.srs.feasible import feasible_arm_angles, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import reach, reachable, solve_with_status
 from redkin.srs.optimal import optimal_arm_angles
@@ -68,9 +68,16 @@ class SRSKind(ArmKind):
     def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self._family.parameter_of(q)
 
-    def optimal(self, pose: np.ndarray, row: int) -> tuple[float, float]:
-        overall = optimal_arm_angles(self.geometry, pose, BRANCHES[row]).overall
+    def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> tuple[float, float]:
+        overall = optimal_arm_angles(self.geometry, pose, BRANCHES[row], target=target,
+                                     weights=(0.5, 0.5) if weights is None else weights).overall
         return (np.nan if overall.feasible is None else overall.feasible), overall.unclamped
+
+    def joint_sets(self, pose: np.ndarray, row: int) -> dict[int, list[tuple[float, float]]]:
+        """[000 eq. 29]'s per-joint sets (joint 4 does not depend on psi: all or nothing)."""
+        return {joint: arcs.arcs for joint, arcs in feasible_arm_angles(self.geometry, pose, BRANCHES[row])
+                .per_joint.items()}
 
     def singular(self, pose: np.ndarray, row: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
         angles = singular_arm_angles(self.geometry, pose, BRANCHES[row])
