@@ -45,13 +45,13 @@ from hypothesis import strategies as st
 from scipy.optimize import least_squares
 
 import redkin
+from redkin.arms.classify import arm_angle_class
 from redkin.chain import SerialChain
 from redkin.cli.main import main
 from redkin.errors import NotArmAngleClassError
 from redkin.srs import (
     BRANCHES,
     _nearly_kernels,
-    arm_angle_class,
     arm_angle_of,
     feasible_arm_angles,
     ik_all_branches,

@@ -26,7 +26,7 @@ class FrankaKind(ArmKind):
 
     def __init__(self, kind: str, geometry: FrankaGeometry) -> None:
         self.kind, self.geometry, self.chain = kind, geometry, geometry.chain
-        self._family = Q7Family(geometry)
+        self.family = Q7Family(geometry)
         low, high = q7_domain(geometry)  # joint 7's range, [-pi, pi] where it covers the circle
         self.parameter = Parameter("q7", (float(low), float(high)), False)
 
@@ -45,11 +45,11 @@ class FrankaKind(ArmKind):
                          "no solution of the branch at this q7")
 
     def pieces(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        pieces = self._family.pieces(poses)
+        pieces = self.family.pieces(poses)
         return pieces.start, pieces.end, pieces.feasible
 
     def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self._family.parameter_of(q)
+        return self.family.parameter_of(q)
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> tuple[float, float]:

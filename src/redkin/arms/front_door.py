@@ -84,6 +84,9 @@ class Arm:
         The redundancy parameter; ``None`` for a general chain.
     branches : tuple of str
         The branch labels of :meth:`ik`'s rows (``"+++"`` ... ``"---"``); empty for a general chain.
+    implementation : ArmKind
+        The class's implementation (:mod:`redkin.arms.registry`), which the questions below ask; path resolution
+        reads its ``family``.
     """
 
     chain: SerialChain
@@ -91,7 +94,7 @@ class Arm:
     reason: str
     parameter: Parameter | None
     branches: tuple[str, ...]
-    _kind: ArmKind = field(repr=False)
+    implementation: ArmKind = field(repr=False)
 
     # ------------------------------------------------------------- the chain
     def fk(self, q: ArrayLike) -> np.ndarray:
@@ -147,7 +150,7 @@ class Arm:
                 raise RedkinError(f"t must be values of {self._name()} or 'optimal', got {t!r}")
             result = self._at_optimal(poses, rows)
         else:
-            result = self._kind.solve(poses, np.asarray(t, dtype=float), rows)
+            result = self.implementation.solve(poses, np.asarray(t, dtype=float), rows)
         if q0 is None:
             return result
         from redkin._validation import check_vectors
@@ -161,7 +164,7 @@ class Arm:
 
         poses = check_pose(poses)
         best = self.optimal(poses, None if rows is None else [self.branches[r] for r in rows]).value
-        parts = [self._kind.solve(poses, np.nan_to_num(best[..., k]), np.array([r]))
+        parts = [self.implementation.solve(poses, np.nan_to_num(best[..., k]), np.array([r]))
                  for k, r in enumerate(range(len(self.branches)) if rows is None else rows)]
         exists = np.concatenate([part.exists for part in parts], axis=-1) & ~np.isnan(best)
         first = parts[0]
@@ -212,7 +215,7 @@ class Arm:
 
             check_pose(poses)  # the words of a malformed shape
         shape = poses.shape[:-2]
-        start, end, feasible = self._kind.pieces(poses.reshape(-1, 4, 4))
+        start, end, feasible = self.implementation.pieces(poses.reshape(-1, 4, 4))
         labels = self.branches
         if rows is not None:
             start, end, feasible = start[:, rows], end[:, rows], feasible[:, rows]
@@ -220,7 +223,7 @@ class Arm:
         if shape != (len(start),):
             start, end, feasible = (part.reshape(shape + part.shape[1:]) for part in (start, end, feasible))
         return FeasibleSets(start, end, feasible, labels, self.parameter.name, self.parameter.wraps,
-                            self._kind.exact)
+                            self.implementation.exact)
 
     def optimal(self, poses: ArrayLike, branches: str | Sequence[str] | None = None, *,
                 target: ArrayLike | None = None, weights: ArrayLike | None = None) -> Optimal:
@@ -245,7 +248,7 @@ class Arm:
         pair = None if weights is None else check_weights(weights)
 
         def answer(pose: np.ndarray, row: int) -> tuple[float, float]:
-            return self._kind.optimal(pose, row, goal, pair)
+            return self.implementation.optimal(pose, row, goal, pair)
 
         value, unclamped = self._per_pose("a limit-avoiding value", poses, branches, answer, (np.nan, np.nan))
         return Optimal(value.astype(float), unclamped.astype(float), self._labels(branches))
@@ -263,12 +266,12 @@ class Arm:
         rows = self._rows(branch)
         assert rows is not None
         return {joint: np.array(arcs, dtype=float).reshape(-1, 2)
-                for joint, arcs in self._kind.joint_sets(pose, int(rows[0])).items()}
+                for joint, arcs in self.implementation.joint_sets(pose, int(rows[0])).items()}
 
     def singular(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> Singular:
         """The singular values of the parameter of each pose and branch ([000 eqs. 31-34]; on nearly S-R-S arms
         where the real arm's axes 1 and 3, 5 and 7 align).  The Franka class has none here: it refuses."""
-        shoulder, wrist = self._per_pose("singular values", poses, branches, self._kind.singular, ((), ()))
+        shoulder, wrist = self._per_pose("singular values", poses, branches, self.implementation.singular, ((), ()))
         return Singular(shoulder, wrist, self._labels(branches))
 
     def _per_pose(self, what: str, poses: ArrayLike, branches: str | Sequence[str] | None, answer: Any,
@@ -300,7 +303,7 @@ class Arm:
             raise RedkinError(f"pose must be one (4, 4) pose, got shape {pose.shape}")
         rows = self._rows(branch)
         assert rows is not None
-        return self._kind.every_solution(pose, float(t), int(rows[0]))
+        return self.implementation.every_solution(pose, float(t), int(rows[0]))
 
     def parameter_of(self, q: ArrayLike) -> np.ndarray:
         """The parameter's value of configurations ``q`` ``(..., n)``: the arm angle [000 eq. 6], or q7."""
@@ -320,7 +323,7 @@ class Arm:
         return branch.reshape(q.shape[:-1]), value.reshape(q.shape[:-1])
 
     def _read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self._kind.read(q)
+        return self.implementation.read(q)
 
     # ------------------------------------------------------------- arguments
     def _rows(self, branches: str | Sequence[str] | None) -> np.ndarray | None:

@@ -31,7 +31,7 @@ class NearlyKind(ArmKind):
 
     def __init__(self, kind: str, nearly: NearlySRS, tolerance: float) -> None:
         self.kind, self.nearly, self.chain = kind, nearly, nearly.chain
-        self._family = NearlyFamily(nearly, tolerance)
+        self.family = NearlyFamily(nearly, tolerance)
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:
         labels = LABELS if rows is None else tuple(LABELS[r] for r in rows)
@@ -50,11 +50,11 @@ class NearlyKind(ArmKind):
                          "no certified solution of the branch at this arm angle")
 
     def pieces(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        pieces = self._family.pieces(poses)
+        pieces = self.family.pieces(poses)
         return pieces.start, pieces.end, pieces.feasible
 
     def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self._family.parameter_of(q)
+        return self.family.parameter_of(q)
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> tuple[float, float]:

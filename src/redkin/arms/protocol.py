@@ -13,6 +13,7 @@ parameter, the Franka class no singular-value analysis); the shapes are the same
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -54,6 +55,9 @@ class ArmKind:
         The branch labels of the rows; empty on a class without branches.
     exact : bool
         Whether its feasible sets are proved complete.
+    family : redkin.paths.family.Family or None
+        The class as path resolution sees it (:func:`redkin.paths.family.path_family` returns it); ``None`` for a
+        class without a parameter.
     """
 
     kind: str
@@ -61,6 +65,7 @@ class ArmKind:
     parameter: Parameter | None = None
     branches: tuple[str, ...] = ()
     exact: bool = False
+    family: Any = None
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:
         """The rows ``rows`` (indices into :attr:`branches`; ``None`` all) of ``poses`` ``(..., 4, 4)`` at values

@@ -36,7 +36,7 @@ class SRSKind(ArmKind):
 
     def __init__(self, kind: str, geometry: SRSGeometry) -> None:
         self.kind, self.geometry, self.chain = kind, geometry, geometry.chain
-        self._family = ArmAngleFamily(geometry)
+        self.family = ArmAngleFamily(geometry)
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:
         signs = self.geometry.kernel_branches if rows is None else self.geometry.kernel_branches[rows]
@@ -66,7 +66,7 @@ class SRSKind(ArmKind):
         return start, end, feasible
 
     def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self._family.parameter_of(q)
+        return self.family.parameter_of(q)
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> tuple[float, float]:

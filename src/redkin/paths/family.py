@@ -19,11 +19,11 @@ proved complete, and the nodes are the polished solutions (:func:`redkin.srs.nea
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redkin._compiled import run_batch
-from redkin.arms.classify import FRANKA, NEARLY_SRS, OFFSET_ELBOW, SRS, arm_angle_class
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, wrap_angle
 from redkin.errors import NotArmAngleClassError, RedkinError
@@ -46,6 +46,9 @@ from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
 from redkin.srs.nearly import ik as nearly_ik
 from redkin.srs.nearly_feasible import feasible_arm_angles_nearly_all
+
+if TYPE_CHECKING:
+    from redkin.arms import Arm as ClassifiedArm
 
 #: The arm angle's name in results.
 PSI = "psi"
@@ -361,7 +364,7 @@ def _as_pieces(sets: list[list]) -> FeasiblePieces:
     return FeasiblePieces(start, end, feasible)
 
 
-def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
+def path_family(arm: ClassifiedArm | SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
                 srs_tolerance: float | None = None) -> Family:
     """The class of ``arm`` as path resolution sees it, the one :func:`redkin.arms.classify.arm_angle_class` names:
     S-R-S or offset elbow, the Franka class, or nearly S-R-S within ``srs_tolerance`` (default
@@ -372,21 +375,20 @@ def path_family(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
     NotArmAngleClassError
         For a chain of none of these classes, with the reasons.
     """
+    from redkin.arms import Arm as ClassifiedArm
+    from redkin.arms import arm as classified
+
     if isinstance(arm, SRSGeometry):
         return ArmAngleFamily(arm)
     if isinstance(arm, FrankaGeometry):
         return Q7Family(arm)
-    tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else srs_tolerance
     if isinstance(arm, NearlySRS):
-        return NearlyFamily(arm, tolerance)
-    if not isinstance(arm, SerialChain):
-        raise RedkinError(f"arm must be a SerialChain, got {type(arm).__name__}")
-    kind, reason = arm_angle_class(arm, tolerance)
-    if kind in (SRS, OFFSET_ELBOW):
-        return ArmAngleFamily(srs_geometry(arm))
-    if kind == FRANKA:
-        return Q7Family(franka_geometry(arm))
-    if kind == NEARLY_SRS:
-        return NearlyFamily(nearly_srs(arm, tolerance), tolerance)
-    raise NotArmAngleClassError(f"path resolution needs an arm-angle or q7 parameterisation: {arm.name!r} is a "
-                                f"general chain ({reason})", arm.name)
+        return NearlyFamily(arm, TOLERANCE_DEFAULT if srs_tolerance is None else srs_tolerance)
+    if not isinstance(arm, (SerialChain, ClassifiedArm)):
+        raise RedkinError(f"arm must be a SerialChain or an Arm, got {type(arm).__name__}")
+    chosen = arm if isinstance(arm, ClassifiedArm) else classified(arm, srs_tolerance=srs_tolerance)
+    family: Family | None = chosen.implementation.family
+    if family is None:
+        raise NotArmAngleClassError(f"path resolution needs an arm-angle or q7 parameterisation: {chosen.chain.name!r} "
+                                    f"is a general chain ({chosen.reason})", chosen.chain.name)
+    return family
