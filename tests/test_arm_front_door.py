@@ -330,3 +330,18 @@ def test_per_joint_sets_intersect_to_the_feasible_set():
         assert together.isclose(expected, 1e-9)
     with pytest.raises(ValueError, match="per-joint"):
         redkin.arm("panda.urdf").joint_sets(pose, "+++")
+
+
+def test_path_resolution_takes_an_arm_and_reads_its_class_from_it():
+    """resolve_path on an Arm is resolve_path on its chain; path_family is the family the arm was built with."""
+    from redkin.paths import path_family, resolve_path
+
+    arm = redkin.arm("iiwa14.urdf")
+    start, end = _inside(arm, np.full(7, 0.4)), _inside(arm, np.full(7, 0.55))
+    poses = arm.fk(start + np.linspace(0.0, 1.0, 6)[:, None] * (end - start))
+    ours, theirs = resolve_path(arm, poses, max_step=0.2), resolve_path(arm.chain, poses, max_step=0.2)
+    assert ours.ok and theirs.ok
+    np.testing.assert_array_equal(ours.q, theirs.q)
+    assert path_family(arm) is path_family(arm.chain) is arm.implementation.family
+    with pytest.raises(ValueError, match="general chain"):
+        path_family(redkin.arm("sawyer.urdf"))

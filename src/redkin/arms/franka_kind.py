@@ -44,13 +44,6 @@ class FrankaKind(ArmKind):
         return Solutions(q, exists, within, labels, CLOSED_FORM, t, lambda: measured().out, measured,
                          "no solution of the branch at this q7")
 
-    def pieces(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        pieces = self.family.pieces(poses)
-        return pieces.start, pieces.end, pieces.feasible
-
-    def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self.family.parameter_of(q)
-
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> tuple[float, float]:
         if weights is not None:

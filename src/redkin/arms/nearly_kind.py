@@ -49,13 +49,6 @@ class NearlyKind(ArmKind):
         return Solutions(q, exists, within, labels, CLOSED_FORM, t, lambda: measured().out, measured,
                          "no certified solution of the branch at this arm angle")
 
-    def pieces(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        pieces = self.family.pieces(poses)
-        return pieces.start, pieces.end, pieces.feasible
-
-    def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self.family.parameter_of(q)
-
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> tuple[float, float]:
         overall = optimal_arm_angles_nearly(self.nearly, pose, BRANCHES[row], target=target,

@@ -73,12 +73,20 @@ class ArmKind:
         raise self._refusal("solutions at a value of the redundancy parameter")
 
     def pieces(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``start, end, feasible`` ``(N, B, K)`` of poses ``(N, 4, 4)`` (:class:`redkin.arms.FeasibleSets`)."""
-        raise self._refusal("feasible sets")
+        """``start, end, feasible`` ``(N, B, K)`` of poses ``(N, 4, 4)`` (:class:`redkin.arms.FeasibleSets`): the
+        :attr:`family`'s pieces."""
+        if self.family is None:
+            raise self._refusal("feasible sets")
+        pieces = self.family.pieces(poses)
+        return pieces.start, pieces.end, pieces.feasible
 
     def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The branch indices ``(P,)`` and parameter values ``(P,)`` of configurations ``q`` ``(P, n)``."""
-        raise self._refusal("a configuration's branch and parameter")
+        """The branch indices ``(P,)`` and parameter values ``(P,)`` of configurations ``q`` ``(P, n)``: the
+        :attr:`family`'s reading."""
+        if self.family is None:
+            raise self._refusal("a configuration's branch and parameter")
+        branch, value = self.family.parameter_of(q)
+        return branch, value
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> tuple[float, float]:

@@ -65,9 +65,6 @@ class SRSKind(ArmKind):
             start[inside], end[inside], feasible[inside] = pieces.start, pieces.end, pieces.feasible
         return start, end, feasible
 
-    def read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self.family.parameter_of(q)
-
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> tuple[float, float]:
         overall = optimal_arm_angles(self.geometry, pose, BRANCHES[row], target=target,

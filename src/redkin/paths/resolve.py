@@ -95,9 +95,10 @@ def resolve_path(
     Parameters
     ----------
     arm : Arm, SerialChain, SRSGeometry, FrankaGeometry or NearlySRS
-        A :func:`redkin.arm` (classified once), or an S-R-S or offset-elbow arm (the redundancy is the arm angle psi), a Franka-class arm (joint 7's value
-        q7, :mod:`redkin.franka`) or a nearly S-R-S arm (the real arm's arm angle, :mod:`redkin.srs.nearly`; its
-        feasible sets are certified, not exact: no clearance is proved optimal), with its joint limits.
+        A :func:`redkin.arm` (classified once), or an S-R-S or offset-elbow arm (the redundancy is the arm angle
+        psi), a Franka-class arm (joint 7's value q7, :mod:`redkin.franka`) or a nearly S-R-S arm (the real arm's
+        arm angle, :mod:`redkin.srs.nearly`; its feasible sets are certified, not exact: no clearance is proved
+        optimal), with its joint limits.
     poses : array_like, shape (N, 4, 4)
         The waypoints.
     max_step : float or array_like of shape (7,), optional
