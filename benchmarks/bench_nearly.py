@@ -145,7 +145,7 @@ from redkin.srs import (
     srs_geometry,
 )
 from redkin.srs import ik as exact_ik
-from redkin.srs.nearly_search import polished
+from redkin.srs.nearly.search import polished
 from redkin.urdf import load_urdf
 
 BRANCH_NAMES = tuple(str(b) for b in BRANCHES)
@@ -793,7 +793,7 @@ FOLD_SLACK = 1e-4
 
 def exact_row(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int) -> bool:
     """Whether ``nearly.ik``'s row of ``branch`` at ``psi`` is an exact solution: Levenberg-Marquardt steps on the
-    seven equations (``redkin.srs.nearly_search.polished``) take it to :data:`EXACT` (our FK and arm angle) on the
+    seven equations (``redkin.srs.nearly.search.polished``) take it to :data:`EXACT` (our FK and arm angle) on the
     same branch.  Beyond a fold, where the branch has ceased to exist, the certificate (1e-9) still accepts rows up to
     about 1e-5 rad of arm angle away (the seven equations are nearly singular), which these steps cannot take to
     rounding."""

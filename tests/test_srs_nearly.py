@@ -51,7 +51,6 @@ from redkin.cli.main import main
 from redkin.errors import NotArmAngleClassError
 from redkin.srs import (
     BRANCHES,
-    _nearly_kernels,
     arm_angle_of,
     feasible_arm_angles,
     ik_all_branches,
@@ -60,6 +59,7 @@ from redkin.srs import (
     reachable,
 )
 from redkin.srs.conventions import departures
+from redkin.srs.nearly import _kernels as _nearly_kernels
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"
 BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"

@@ -1,4 +1,4 @@
-"""How far a nearly S-R-S arm's solution lies from its neighbour's (:mod:`redkin.srs.nearly_bound`).
+"""How far a nearly S-R-S arm's solution lies from its neighbour's (:mod:`redkin.srs.nearly.bound`).
 
 Laws, on the Kinova Gen3 and Jaco2 and the ROS-Industrial iiwa (as :mod:`tests.test_srs_nearly_feasible` loads
 them), at random poses and at the degenerate ones on purpose (the elbow near its stretch, ``q_2`` or ``q_6`` near
@@ -31,8 +31,8 @@ from redkin.srs import BRANCHES, feasible_arm_angles_nearly, neighbour_distance
 from redkin.srs.branches import parse_branch
 from redkin.srs.conventions import model_error
 from redkin.srs.nearly import NearlySRS, arm_angle
-from redkin.srs.nearly_bound import _equations
-from redkin.srs.nearly_feasible import _neighbour_sets
+from redkin.srs.nearly.bound import _equations
+from redkin.srs.nearly.feasible import _neighbour_sets
 from tests.test_srs_nearly_feasible import _arm, _far_from_ends
 
 ARMS = ["gen3", "jaco2", "iiwa14-rosi"]

@@ -1,4 +1,4 @@
-"""Feasible arm angles of nearly S-R-S arms on the real arm (:mod:`redkin.srs.nearly_feasible`).
+"""Feasible arm angles of nearly S-R-S arms on the real arm (:mod:`redkin.srs.nearly.feasible`).
 
 Laws, on the Kinova Gen3 and Jaco2 (their continuous joints limited to +-2.9 rad, so that every joint's limits cut
 the circle) and the ROS-Industrial iiwa:

@@ -1,5 +1,5 @@
 """The limit-avoiding arm angle of nearly S-R-S arms, read off the certified self-motion
-(:mod:`redkin.srs.nearly_optimal`).
+(:mod:`redkin.srs.nearly.optimal`).
 
 Laws, on the Kinova Gen3 (``examples/gen3.urdf``) and Jaco2 (continuous joints limited to +-2.9 rad) and the
 ROS-Industrial iiwa, at random poses and at poses within 1e-6..1e-3 rad of a straight wrist or shoulder (``q6`` or
@@ -36,8 +36,8 @@ from redkin.circle import ArcSet
 from redkin.srs import BRANCHES, branch_solutions
 from redkin.srs._rotations import group_rotations
 from redkin.srs.nearly import NearlySRS, arm_angle, branch_of, ik
-from redkin.srs.nearly_optimal import _objectives, optimal_arm_angles_nearly
-from redkin.srs.nearly_self_motion import whole_self_motion
+from redkin.srs.nearly.optimal import _objectives, optimal_arm_angles_nearly
+from redkin.srs.nearly.self_motion import whole_self_motion
 from tests.test_srs_nearly_feasible import _arm
 from tests.test_srs_nearly_self_motion import _configuration
 

@@ -1,4 +1,4 @@
-"""The certified self-motion of nearly S-R-S arms and what is read off it (:mod:`redkin.srs.nearly_self_motion`).
+"""The certified self-motion of nearly S-R-S arms and what is read off it (:mod:`redkin.srs.nearly.self_motion`).
 
 Laws, on the Kinova Gen3 and Jaco2 (continuous joints limited to +-2.9 rad) and the ROS-Industrial iiwa, at random
 poses and on purpose near a straight wrist (``q6`` near 0), a straight shoulder (``q2`` near 0) and the stretched

@@ -1,4 +1,4 @@
-"""Singular arm angles of nearly S-R-S arms on the real arm (:mod:`redkin.srs.nearly_singular`).
+"""Singular arm angles of nearly S-R-S arms on the real arm (:mod:`redkin.srs.nearly.singular`).
 
 Laws, on the Kinova Gen3, the Jaco2 and the ROS-Industrial iiwa as the examples' URDFs describe them, with
 configurations written in the user's joint values and every alignment judged here, independently of redkin, from
@@ -38,8 +38,8 @@ from hypothesis import strategies as st
 from redkin.srs import BRANCHES, nearly_srs
 from redkin.srs.branches import branch_of_theta
 from redkin.srs.nearly import NearlySRS, arm_angle
-from redkin.srs.nearly_search import solutions_at
-from redkin.srs.nearly_singular import _local_minima, alignment_angles, singular_arm_angles_nearly
+from redkin.srs.nearly.search import solutions_at
+from redkin.srs.nearly.singular import _local_minima, alignment_angles, singular_arm_angles_nearly
 from tests.support.urdf_reference import reference_fk
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples"

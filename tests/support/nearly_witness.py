@@ -1,6 +1,6 @@
 """A witness for an arm angle of a nearly S-R-S arm's feasible set: a certified solution of the branch within the
-limits, found along the pose's self-motion (tests of :mod:`redkin.srs.nearly_feasible` and
-:mod:`redkin.srs.nearly_self_motion`)."""
+limits, found along the pose's self-motion (tests of :mod:`redkin.srs.nearly.feasible` and
+:mod:`redkin.srs.nearly.self_motion`)."""
 
 from __future__ import annotations
 
@@ -74,10 +74,10 @@ EXACT = 1e-12
 
 
 def exact(arm, pose: np.ndarray, q: np.ndarray, psi: float) -> bool:
-    """Whether Levenberg-Marquardt steps (:func:`redkin.srs.nearly_search.polished`) from the certified solution
+    """Whether Levenberg-Marquardt steps (:func:`redkin.srs.nearly.search.polished`) from the certified solution
     ``q`` at the arm angle ``psi`` reach a solution to :data:`EXACT` (our FK and arm angle) on the same branch (next
     to the stretched elbow a certified row can lie across the branch boundary from the exact solution)."""
-    from redkin.srs.nearly_search import polished
+    from redkin.srs.nearly.search import polished
 
     polished_q = polished(arm, q[None], pose, lambda values: arm_angle(arm, values), psi)[0][0]
     return bool(np.abs(_pose_residual(arm, polished_q, pose)).max() <= EXACT

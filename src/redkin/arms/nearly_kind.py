@@ -17,9 +17,9 @@ from redkin.srs.branches import BRANCHES
 from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
 from redkin.srs.nearly import NearlySRS
 from redkin.srs.nearly import ik as nearly_ik
-from redkin.srs.nearly_optimal import optimal_arm_angles_nearly
-from redkin.srs.nearly_self_motion import branch_solutions
-from redkin.srs.nearly_singular import singular_arm_angles_nearly
+from redkin.srs.nearly.optimal import optimal_arm_angles_nearly
+from redkin.srs.nearly.self_motion import branch_solutions
+from redkin.srs.nearly.singular import singular_arm_angles_nearly
 
 
 class NearlyKind(ArmKind):

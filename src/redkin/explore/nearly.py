@@ -31,7 +31,7 @@ from redkin.srs import (
     singular_arm_angles_nearly,
 )
 from redkin.srs.nearly import ik
-from redkin.srs.nearly_feasible import NearlyFeasible
+from redkin.srs.nearly.feasible import NearlyFeasible
 
 #: Arm angles closer than this [rad] are one mark (an optimum that needed no clamping).
 _SAME_ANGLE = 1e-12

@@ -45,7 +45,7 @@ from redkin.srs.nearly import TOLERANCE_DEFAULT, NearlySRS, nearly_srs
 from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
 from redkin.srs.nearly import ik as nearly_ik
-from redkin.srs.nearly_feasible import feasible_arm_angles_nearly_all
+from redkin.srs.nearly.feasible import feasible_arm_angles_nearly_all
 
 if TYPE_CHECKING:
     from redkin.arms import Arm as ClassifiedArm

@@ -36,11 +36,11 @@ from redkin.srs.feasible import (
 from redkin.srs.geometry import SRSGeometry, pose_from, srs_geometry
 from redkin.srs.ik import ik, ik_all_branches, reachable
 from redkin.srs.nearly import NearlySolutions, NearlySRS, nearly_srs
-from redkin.srs.nearly_bound import NeighbourDistance, neighbour_distance
-from redkin.srs.nearly_feasible import NearlyFeasible, feasible_arm_angles_nearly, feasible_arm_angles_nearly_all
-from redkin.srs.nearly_optimal import NearlyOptimal, optimal_arm_angles_nearly
-from redkin.srs.nearly_self_motion import SelfMotion, branch_solutions, self_motion, self_motions
-from redkin.srs.nearly_singular import Alignment, NearlySingular, alignment_angles, singular_arm_angles_nearly
+from redkin.srs.nearly.bound import NeighbourDistance, neighbour_distance
+from redkin.srs.nearly.feasible import NearlyFeasible, feasible_arm_angles_nearly, feasible_arm_angles_nearly_all
+from redkin.srs.nearly.optimal import NearlyOptimal, optimal_arm_angles_nearly
+from redkin.srs.nearly.self_motion import SelfMotion, branch_solutions, self_motion, self_motions
+from redkin.srs.nearly.singular import Alignment, NearlySingular, alignment_angles, singular_arm_angles_nearly
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, optimal_arm_angles
 from redkin.srs.path import ArmAnglePath, arm_angle_path
 from redkin.srs.singular import SINGULAR_TOLERANCE, SingularArmAngles, singular_arm_angles

@@ -21,7 +21,7 @@ error.  A few corrections of the target, ``T' <- T G(T')^-1 T'``, bring it
 within a few per cent of the model error; damped Newton steps on the real
 arm for the 7 equations ``FK(q) = T``, ``psi(q) = psi`` (the arm angle's
 gradient in closed form) then take it to rounding.  All of it, for every
-branch of a pose, is one compiled call (:mod:`redkin.srs._nearly_kernels`).
+branch of a pose, is one compiled call (:mod:`redkin.srs.nearly._kernels`).
 
 A branch is named by the real arm's own signs, as an exact arm's are: those of
 ``theta_2``, of ``theta_4`` minus the real arm's stretched elbow
@@ -29,7 +29,7 @@ A branch is named by the real arm's own signs, as an exact arm's are: those of
 Table 1 angles at the same joint values.  A row holds at most one solution, of
 its own branch; where the real arm has two on one branch (near the stretched
 elbow, or near ``theta_2 = +-pi``), one is returned
-(:func:`redkin.srs.nearly_self_motion.branch_solutions` gives both).  Each returned solution
+(:func:`redkin.srs.nearly.self_motion.branch_solutions` gives both).  Each returned solution
 is certified on the real chain: its FK within :data:`TOLERANCE` of the
 target, and its arm angle within :data:`TOLERANCE` of ``psi``.  A branch
 whose solution is not found is reported missing, never returned inaccurate.
@@ -49,12 +49,12 @@ from redkin._compiled import kernel_array, run_batch
 from redkin.chain import SerialChain
 from redkin.circle import HALF_PI
 from redkin.errors import RedkinError
-from redkin.srs import _nearly_kernels
 from redkin.srs._ik_kernels import A4, BAD_POSE, D_EW
 from redkin.srs._targets import as_poses, check_psi, raise_for_bad_pose
 from redkin.srs.branches import BRANCHES, Branch, branch_of_theta, parse_branch
 from redkin.srs.conventions import departures, model_error, neighbour_form
 from redkin.srs.geometry import SRSGeometry, srs_geometry
+from redkin.srs.nearly import _kernels as _nearly_kernels
 
 #: Largest departure (metres between axes that must meet, radians off perpendicular) of a nearly S-R-S arm from
 #: its neighbour by default: the Kinova Gen3's 12.75 mm and Jaco2's 11.4 mm are inside, the Panda's 88 mm outside.
@@ -101,7 +101,7 @@ class NearlySRS:
 
     @cached_property
     def kernel_reach(self) -> np.ndarray:
-        """The neighbour's reach as :func:`redkin.srs._nearly_kernels.within_reach` takes it: the shortest and
+        """The neighbour's reach as :func:`redkin.srs.nearly._kernels.within_reach` takes it: the shortest and
         longest shoulder-wrist distance [000 eq. 11], moved inside by a relative 1e-9, ``d_7`` and the shoulder."""
         geometry = self.geometry
         base = geometry.chain.base
@@ -118,7 +118,7 @@ class NearlySRS:
 
     @cached_property
     def kernel_model(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """The neighbour as :func:`redkin.srs._nearly_kernels.arm_angle_one` takes it: its links and ends (standard
+        """The neighbour as :func:`redkin.srs.nearly._kernels.arm_angle_one` takes it: its links and ends (standard
         DH, Table 1 form) and its kernel arm and ends (:mod:`redkin.srs._ik_kernels`)."""
         neighbour = self.neighbour
         return neighbour._links, neighbour._ends, self.geometry.kernel_arm, self.geometry.kernel_ends
@@ -143,12 +143,12 @@ class NearlySRS:
 
     @cached_property
     def kernel_bounds(self) -> np.ndarray:
-        """The constants of the certified self-motion (:mod:`redkin.srs._self_motion_kernels`, docs/srs.md eqs. C3
-        and N6): the position rows' scale ``c`` (2 over the longest lever arm), the sum of the squares of the bounds
+        """The constants of the certified self-motion (:mod:`redkin.srs.nearly._self_motion_kernels`, docs/srs.md eqs.
+        C3 and N6): the position rows' scale ``c`` (2 over the longest lever arm), the sum of the squares of the bounds
         ``c rho_max(i, j, m)`` of their third derivatives (``rho_k`` the lengths of the links after joint ``k``, the
         tool's included: no point of the tool lies farther from joint ``k``'s axis), the sums over the rotation
         rows' 343 third derivatives of ``S``, ``S^2``, ``T``, ``T^2`` and ``S T``
-        (:func:`redkin.srs._self_motion_kernels.third_bound`), and for the arm angle's gradient the Lipschitz
+        (:func:`redkin.srs.nearly._self_motion_kernels.third_bound`), and for the arm angle's gradient the Lipschitz
         constant of the neighbour's wrist point, joints 1-4's lever arms to it (the lengths of the neighbour's links
         from the joint to the wrist) and the forearm's ``hypot(a_4, d_ew)``."""
         links, ends, standard = self.kernel_real
@@ -170,7 +170,7 @@ class NearlySRS:
 
     @cached_property
     def kernel_limits(self) -> np.ndarray:
-        """The real chain's limits as :func:`redkin.srs._nearly_kernels.within_limits` takes them, (3, 7): lower
+        """The real chain's limits as :func:`redkin.srs.nearly._kernels.within_limits` takes them, (3, 7): lower
         limits, widths and whether a joint covers the circle."""
         chain = self.chain
         anywhere = chain.covers_circle
@@ -232,7 +232,7 @@ def nearly_srs(chain: SerialChain, tolerance: float = TOLERANCE_DEFAULT) -> Near
 
 
 _CACHE_KEY = "_nearly_srs"
-#: The rows of :data:`BRANCHES` as :func:`redkin.srs._nearly_kernels.solve` takes them: all, or one.
+#: The rows of :data:`BRANCHES` as :func:`redkin.srs.nearly._kernels.solve` takes them: all, or one.
 _ALL_ROWS = np.arange(len(BRANCHES))
 _ROWS = tuple(np.array([row]) for row in range(len(BRANCHES)))
 
@@ -263,7 +263,7 @@ def arm_angle(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
 
 def _arm_angles(arm: NearlySRS, q: np.ndarray, with_gradient: bool) -> tuple[np.ndarray, np.ndarray]:
     """The arm angles (M,) of checked joint values ``q`` (..., 7) flattened to (M, 7), and with ``with_gradient``
-    their gradients (M, 7) (:func:`redkin.srs._nearly_kernels.arm_angles`)."""
+    their gradients (M, 7) (:func:`redkin.srs.nearly._kernels.arm_angles`)."""
     flat = np.ascontiguousarray(q, dtype=float).reshape(-1, 7)
     out, gradients = np.empty(len(flat)), np.empty((len(flat), 7))
     run_batch(_nearly_kernels.arm_angles, len(flat), flat, arm.kernel_model, out, gradients, with_gradient)
@@ -290,7 +290,7 @@ def self_motion_rates(arm: NearlySRS, q: ArrayLike) -> np.ndarray:
     moves in its self-motion, the pose held.
 
     The self-motion's direction is the null vector ``n`` of the real chain's Jacobian, scaled so that the arm
-    angle's gradient (in closed form, :func:`redkin.srs._nearly_kernels.arm_angle_one`) gives ``grad psi . n = 1``.
+    angle's gradient (in closed form, :func:`redkin.srs.nearly._kernels.arm_angle_one`) gives ``grad psi . n = 1``.
     Infinite where the arm angle stands still along the self-motion (``grad psi . n = 0``); at a singular
     configuration (a null space of two dimensions) one of its directions.
 

@@ -1,4 +1,4 @@
-"""The compiled core of :mod:`redkin.srs.nearly_self_motion`: the real arm's self-motion, followed with a certificate.
+"""The compiled core of :mod:`redkin.srs.nearly.self_motion`: the real arm's self-motion, followed with a certificate.
 
 For one pose ``T`` the real arm's solutions form curves in joint space (its
 self-motion): 6 equations ``F(q) = 0`` in 7 unknowns.  :func:`traced`
@@ -70,7 +70,7 @@ from redkin import _chain_kernels
 from redkin._compiled import kernel
 from redkin.circle import TWO_PI
 from redkin.srs._ik_kernels import AXIS_TOLERANCE, turns_removed, wrist_point
-from redkin.srs._nearly_kernels import arm_angle_one
+from redkin.srs.nearly._kernels import arm_angle_one
 
 #: Entries of an arm's ``bounds`` (:attr:`redkin.srs.nearly.NearlySRS.kernel_bounds`): the position rows' scale ``c``
 #: [1/m]; the squared Frobenius norm of the bounds of their third derivatives; the sums over the 343 third

@@ -2,11 +2,11 @@
 
 A pose's solutions on the real arm form closed curves in joint space (6 pose
 equations in 7 joints).  :func:`self_motion` follows one with certified
-steps (:mod:`redkin.srs._self_motion_kernels`; docs/srs.md, "The certified
+steps (:mod:`redkin.srs.nearly._self_motion_kernels`; docs/srs.md, "The certified
 self-motion"): between two consecutive points lies an arc of true solutions
 in a tube about the chord, on a known branch and inside or outside the
 limits, or not decided for a stretch of arm angle at most
-:data:`redkin.srs._self_motion_kernels.RESOLUTION` wide where a sign or a
+:data:`redkin.srs.nearly._self_motion_kernels.RESOLUTION` wide where a sign or a
 limit changes.  :func:`self_motions` finds every curve through
 :func:`redkin.srs.nearly.ik`'s solutions at :data:`SEEDS` arm angles.
 
@@ -34,10 +34,10 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_pose
 from redkin.circle import TWO_PI, ArcSet, wrap_angle
 from redkin.errors import RedkinError
-from redkin.srs import _self_motion_kernels
 from redkin.srs._targets import check_psi
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
-from redkin.srs.nearly import NearlySRS, arm_angle, branch_of, ik
+from redkin.srs.nearly import _self_motion_kernels
+from redkin.srs.nearly.arm import NearlySRS, arm_angle, branch_of, ik
 
 #: Longest step [rad of arc length in joint space] of the continuation (the certificate sets shorter ones).
 _LONGEST = 0.2
@@ -284,7 +284,7 @@ def _followed(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float
 
 
 def _traced(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, sense: float) -> SelfMotion:
-    """:func:`redkin.srs._self_motion_kernels.traced` one way from ``start``."""
+    """:func:`redkin.srs.nearly._self_motion_kernels.traced` one way from ``start``."""
     most = _MOST_POINTS
     points, tangents = np.empty((most, 7)), np.empty((most, 7))
     angles, rates, spread = np.empty(most), np.empty(most), np.empty(most)
@@ -324,7 +324,7 @@ def _crossings(curve: SelfMotion, angle: float, row: int) -> np.ndarray:
 
 def _located(arm: NearlySRS, target: np.ndarray, curve: SelfMotion, k: int, angle: float) -> np.ndarray | None:
     """The point of the arc of step ``k`` at the arm angle ``angle``: bisection on the arc's hyperplanes (the
-    corrector of :mod:`redkin.srs._self_motion_kernels`) until the bracket's arm angles are :data:`_RESOLUTION`
+    corrector of :mod:`redkin.srs.nearly._self_motion_kernels`) until the bracket's arm angles are :data:`_RESOLUTION`
     apart, then certified as :func:`redkin.srs.nearly.ik` certifies; ``None`` where the certificate fails."""
     start, direction = curve.q[k], curve.tangents[k]
     low, high = 0.0, float((curve.q[k + 1] - start) @ direction)

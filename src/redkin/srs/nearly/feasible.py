@@ -1,22 +1,22 @@
 """Feasible arm angles of a nearly S-R-S arm, read off its certified self-motion (docs/srs.md, "Feasible arm angles").
 
 No closed form gives the arm angles where a joint of the real arm meets a
-limit.  The pose's self-motion does: :func:`redkin.srs.nearly_self_motion.self_motions`
+limit.  The pose's self-motion does: :func:`redkin.srs.nearly.self_motion.self_motions`
 follows each of its curves with certified steps, each an arc of true
 solutions on a known branch, within the limits, outside them, or (for a
-stretch of arm angle at most :data:`redkin.srs._self_motion_kernels.RESOLUTION`
+stretch of arm angle at most :data:`redkin.srs.nearly._self_motion_kernels.RESOLUTION`
 wide, where a limit or a branch boundary is crossed) not decided.  A
 branch's feasible set is the union, over the runs of consecutive steps on
 the branch within the limits, of the arm angles between the smallest and the
-largest at the run's points (:func:`redkin.srs.nearly_self_motion.feasible_along`).
+largest at the run's points (:func:`redkin.srs.nearly.self_motion.feasible_along`).
 
 What is certified: every arm angle of the set has a solution of the branch
 within the limits (a run is a continuous arc of such solutions, and the arm
 angle takes every value between those at its points); an end of the set lies
-within :data:`redkin.srs._self_motion_kernels.RESOLUTION` (or, at a fold,
+within :data:`redkin.srs.nearly._self_motion_kernels.RESOLUTION` (or, at a fold,
 within the last step's arm-angle bound) of the true end; nothing is sampled
 in the arm angle, so no gap of the real arm is stepped over.  What is not: a
-curve of the self-motion through none of the seeds (:data:`redkin.srs.nearly_self_motion.SEEDS`)
+curve of the self-motion through none of the seeds (:data:`redkin.srs.nearly.self_motion.SEEDS`)
 is not found, and a curve that could not be followed whole
 (:attr:`NearlyFeasible.complete` false: a step at a singular configuration
 that the certificate cannot take) adds only the arcs followed.
@@ -48,8 +48,8 @@ from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.feasible import FeasibleArmAngles, feasible_arm_angles
 from redkin.srs.geometry import srs_geometry
 from redkin.srs.ik import reachable, solve
-from redkin.srs.nearly import NearlySRS
-from redkin.srs.nearly_self_motion import SelfMotion, feasible_along, whole_self_motion
+from redkin.srs.nearly.arm import NearlySRS
+from redkin.srs.nearly.self_motion import SelfMotion, feasible_along, whole_self_motion
 
 
 class NearlyFeasible:
@@ -61,9 +61,9 @@ class NearlyFeasible:
         Arm angles where a solution of the branch lies within the limits, each certified.
     branch : Branch
     curves : tuple of SelfMotion
-        The pose's self-motion it was read off (:func:`redkin.srs.nearly_self_motion.self_motions`).
+        The pose's self-motion it was read off (:func:`redkin.srs.nearly.self_motion.self_motions`).
     complete : bool
-        Whether that self-motion was followed whole (:func:`redkin.srs.nearly_self_motion.whole_self_motion`); where
+        Whether that self-motion was followed whole (:func:`redkin.srs.nearly.self_motion.whole_self_motion`); where
         not, ``feasible`` holds the arcs of the curves followed, each certified, and may miss others.
     """
 

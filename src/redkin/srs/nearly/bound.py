@@ -30,7 +30,7 @@ equations have a solution within ``(1 - sqrt(1 - 2 h)) / omega <= 2 |d_0|`` of `
 
 Where both arms solve a branch at every arm angle and differ by at most ``d`` in every joint, the real feasible set
 lies between the neighbour's exact sets [000 eqs. 20-30] for the limits tightened and loosened by ``d``
-(:mod:`redkin.srs.nearly_feasible`, "How far the real set lies from the neighbour's"), and an end of joint ``i``'s
+(:mod:`redkin.srs.nearly.feasible`, "How far the real set lies from the neighbour's"), and an end of joint ``i``'s
 arc moves by about ``d / |dq_i/dpsi|`` (:func:`redkin.srs.nearly.self_motion_rates`).
 """
 
@@ -45,11 +45,11 @@ from redkin._compiled import run_batch
 from redkin._validation import check_pose
 from redkin.circle import wrap_angle
 from redkin.errors import RedkinError
-from redkin.srs import _nearly_kernels
 from redkin.srs._targets import check_psi
 from redkin.srs.branches import Branch, parse_branch
 from redkin.srs.ik import reachable, solve
-from redkin.srs.nearly import NearlySRS
+from redkin.srs.nearly import _kernels as _nearly_kernels
+from redkin.srs.nearly.arm import NearlySRS
 
 #: Where along Newton's first step ``omega`` is estimated: at ``q_N + t d_0`` for each ``t`` (module docstring).
 _ALONG = (0.25, 0.5, 1.0)
@@ -128,7 +128,7 @@ def neighbour_distance(arm: NearlySRS, pose: ArrayLike, psi: ArrayLike, branch: 
 
 def _equations(arm: NearlySRS, q: np.ndarray, targets: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The residual (M, 7) and Jacobian (M, 7, 7) of the 7 equations at ``q`` (M, 7)
-    (:func:`redkin.srs._nearly_kernels.equations`)."""
+    (:func:`redkin.srs.nearly._kernels.equations`)."""
     count = len(q)
     residual, jacobian = np.empty((count, 7)), np.empty((count, 7, 7))
     run_batch(_nearly_kernels.equations, count, np.ascontiguousarray(q), targets, psi, arm.kernel_real,

@@ -21,11 +21,11 @@ another sheet (docs/srs.md).  So the search runs along the self-motion itself, n
 
 1. the branch's solutions on a grid of arm angles, with the neighbour's nearest approaches to ``theta = 0`` and
    ``pi`` (the largest and smallest ``cos theta_2`` [000 eq. 14] and ``cos theta_6`` [000 eq. 18]) merged in;
-2. the curves of the self-motion (:func:`redkin.srs.nearly_self_motion.curves_through`) through those where
+2. the curves of the self-motion (:func:`redkin.srs.nearly.self_motion.curves_through`) through those where
    ``|sigma|`` of either pair has a local minimum on the grid, unless it is below :data:`_SINGULAR_START`;
 3. along each curve, every local minimum of ``|sigma|`` over its points with the branch's other two signs, and over
    its points on the branch, located between the neighbouring points by sampling the curve (the solutions with the
-   tangent's largest joint at given values, :func:`redkin.srs.nearly_search.polished`) and shrinking the bracket
+   tangent's largest joint at given values, :func:`redkin.srs.nearly.search.polished`) and shrinking the bracket
    to :data:`_ZOOM_END` rad of arc length;
 4. the **singular arm angles**: from each located minimum of the first kind, and each of the grid's minima, below
    :data:`_START`, Newton's method on the seven equations ``FK(q) = T``, ``sigma(q) = 0``; each result is certified
@@ -53,9 +53,9 @@ from redkin._validation import check_pose
 from redkin.circle import wrap_angle
 from redkin.errors import RedkinError
 from redkin.srs.branches import Branch, branch_of_theta, parse_branch
-from redkin.srs.nearly import NearlySRS, arm_angle
-from redkin.srs.nearly_search import merged, polished, solutions_at
-from redkin.srs.nearly_self_motion import SelfMotion, curves_through
+from redkin.srs.nearly.arm import NearlySRS, arm_angle
+from redkin.srs.nearly.search import merged, polished, solutions_at
+from redkin.srs.nearly.self_motion import SelfMotion, curves_through
 from redkin.srs.singular import SingularArmAngles, singular_arm_angles
 
 #: The joints (0-based) of the shoulder's and the wrist's pair, the joint between them, and the branch signs that
@@ -262,7 +262,7 @@ def _along(arm: NearlySRS, pose: np.ndarray, start: np.ndarray, tangent: np.ndar
     curves through ``start`` (K, 7) between the distances ``low`` and ``high`` along their ``tangent`` (K, 7): the
     curve sampled at :data:`_ZOOM` points, the bracket shrunk to one spacing either side of the best point so far
     until the spacing is below :data:`_ZOOM_END`.  The point at distance ``d`` is the solution with the tangent's
-    largest joint ``j`` at ``start_j + d t_j``, polished (:func:`redkin.srs.nearly_search.polished`) from
+    largest joint ``j`` at ``start_j + d t_j``, polished (:func:`redkin.srs.nearly.search.polished`) from
     ``start + d t``."""
     best, best_size = start.copy(), np.abs(sigma(start))
     rows = np.arange(len(start))

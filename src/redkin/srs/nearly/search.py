@@ -3,7 +3,7 @@
 :func:`solutions_at` gives a branch's certified solutions (:func:`redkin.srs.nearly.ik`) on a grid of arm angles,
 :func:`merged` adds arm angles to such a grid.  :func:`polished` solves the pose and one more equation ``F(q) = c``
 on the real arm (Levenberg-Marquardt): an aligned configuration (``F`` the angle between two axes), or a point of
-the self-motion at a given arm angle.  Used by :mod:`redkin.srs.nearly_singular`.
+the self-motion at a given arm angle.  Used by :mod:`redkin.srs.nearly.singular`.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from collections.abc import Callable
 import numpy as np
 
 from redkin.srs.branches import Branch
-from redkin.srs.nearly import TOLERANCE, NearlySRS, ik
+from redkin.srs.nearly.arm import TOLERANCE, NearlySRS, ik
 
 #: Arm angles closer than this [rad] are one sample (:func:`merged`).
 _DISTINCT = 1e-6

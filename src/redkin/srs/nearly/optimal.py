@@ -7,14 +7,14 @@ joint values.  On an exact arm they are sinusoids of the arm angle, maximised in
 and clamped to the nearest feasible arm angle.  On a nearly S-R-S arm they are functions of the real arm's
 solutions, read through the neighbour's shoulder and wrist frames at the same joint values, and a branch can have two
 solutions at one arm angle (the self-motion folds).  So :func:`optimal_arm_angles_nearly` maximises them over the
-pose's certified self-motion (:func:`redkin.srs.nearly_self_motion.whole_self_motion`), whose consecutive points
+pose's certified self-motion (:func:`redkin.srs.nearly.self_motion.whole_self_motion`), whose consecutive points
 are joined by proven arcs of true solutions, each on a known branch and within the limits or not [C2]-[C4]:
 
 * each objective ``f`` and its derivative along the curve ``df/ds = grad f . t`` (``t`` the unit tangent, ``s``
   the arc length in joint space; :func:`_objectives`) at the ends of every step on the branch;
 * where ``df/ds`` falls through zero between a step's ends, the maximum on the step's arc, located by bisection
-  on the step's hyperplanes (the corrector of :mod:`redkin.srs._self_motion_kernels` [C2], as
-  :func:`redkin.srs.nearly_self_motion.branch_solutions` locates an arm angle) to :data:`_RESOLUTION` rad of arc;
+  on the step's hyperplanes (the corrector of :mod:`redkin.srs.nearly._self_motion_kernels` [C2], as
+  :func:`redkin.srs.nearly.self_motion.branch_solutions` locates an arm angle) to :data:`_RESOLUTION` rad of arc;
 * the **unclamped** optimum: the best of these points over the branch's steps;
 * the **clamped** optimum: the best over the steps on the branch and within the limits [C4] whose arm angles lie in
   the feasible set (by default the set read off the same curves, [C6]), the runs' ends included, and where a
@@ -24,7 +24,7 @@ Every optimum is a point of a certified arc: its configuration (:attr:`NearlyOpt
 :attr:`NearlyOptimal.feasible_q`) reaches the pose, lies on the branch, and for the clamped one within the limits,
 so the clamped optimum lies in the certified feasible set.  Where the branch has two solutions at the optimum's
 arm angle, the configuration says which; :func:`redkin.srs.nearly.ik` there may return the other,
-:func:`redkin.srs.nearly_self_motion.branch_solutions` lists both.
+:func:`redkin.srs.nearly.self_motion.branch_solutions` lists both.
 
 What is not claimed: a maximum on a curve of the self-motion that was not found (an island through none of the
 seeds, or past where a curve could not be followed: :attr:`NearlyOptimal.complete` false), and a second maximum
@@ -43,11 +43,11 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_pose, check_vectors
 from redkin.circle import ArcSet, wrap_angle
 from redkin.errors import RedkinError
-from redkin.srs import _self_motion_kernels
 from redkin.srs._rotations import group_rotations
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
-from redkin.srs.nearly import NearlySRS, arm_angle
-from redkin.srs.nearly_self_motion import SelfMotion, feasible_along, whole_self_motion
+from redkin.srs.nearly import _self_motion_kernels
+from redkin.srs.nearly.arm import NearlySRS, arm_angle
+from redkin.srs.nearly.self_motion import SelfMotion, feasible_along, whole_self_motion
 from redkin.srs.optimal import OptimalAngle, OptimalArmAngles, check_weights, optimal_arm_angles, weighted_objective
 
 #: The objectives, in the order :func:`_objectives` returns them.
@@ -84,7 +84,7 @@ class NearlyOptimal:
         The exact neighbour's optima [000 eqs. 37, 39, 40], clamped to the neighbour's own feasible set; ``None``
         where the neighbour cannot reach the pose.
     complete : bool
-        Whether the self-motion was followed whole (:func:`redkin.srs.nearly_self_motion.whole_self_motion`; for
+        Whether the self-motion was followed whole (:func:`redkin.srs.nearly.self_motion.whole_self_motion`; for
         curves given by the caller, whether each of them closed); where not, the optima are those of the curves
         followed and a better solution may lie on a curve that was not.
     unclamped_q, feasible_q : dict of str to numpy.ndarray or None
@@ -158,12 +158,12 @@ def optimal_arm_angles_nearly(
         Weights of [000 eq. 40].
     feasible : ArcSet, optional
         The arm angles the clamped optimum may take; default the branch's certified feasible set read off the
-        curves (:func:`redkin.srs.nearly_self_motion.feasible_along`, as
+        curves (:func:`redkin.srs.nearly.self_motion.feasible_along`, as
         :func:`redkin.srs.feasible_arm_angles_nearly` gives it).  Either way the clamped optimum is a solution
         within the limits.
     curves : sequence of SelfMotion, optional
-        The pose's self-motion (:func:`redkin.srs.nearly_self_motion.self_motions`, or
-        :attr:`redkin.srs.nearly_feasible.NearlyFeasible.curves`); followed here when not given.
+        The pose's self-motion (:func:`redkin.srs.nearly.self_motion.self_motions`, or
+        :attr:`redkin.srs.nearly.feasible.NearlyFeasible.curves`); followed here when not given.
 
     Returns
     -------
