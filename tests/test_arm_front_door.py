@@ -345,3 +345,29 @@ def test_path_resolution_takes_an_arm_and_reads_its_class_from_it():
     assert path_family(arm) is path_family(arm.chain) is arm.implementation.family
     with pytest.raises(ValueError, match="general chain"):
         path_family(redkin.arm("sawyer.urdf"))
+
+
+def test_numerical_rows_of_a_batch_are_the_solvers_solutions_by_branch():
+    """Several solutions per pose (count=3) over a batch of two, the arm given as a path: each solution the solver
+    found lands in its own branch's row (the first found where two share one, the seed's own in the seed's
+    branch), with its own parameter, and no row holds anything else."""
+    from pathlib import Path
+
+    from redkin.examples import resolve
+    from redkin.numerical import ik as numerical_ik
+
+    arm = redkin.arm(Path(resolve("iiwa14.urdf")))  # a path, as pathlib gives it
+    q = np.stack([_inside(arm, np.full(7, 0.6)), _inside(arm, np.full(7, 0.35))])
+    poses = arm.fk(q)
+    batch = arm.ik(poses, q0=q, count=3)
+    solver = numerical_ik(arm.chain, poses, q0=q, count=3)
+    assert batch.q.shape == (2, 8, 7) and batch.method == "numerical"
+    for k in range(2):
+        found = solver.q[k][solver.found[k]]
+        labels = [str(b) for b in arm.branch_of(found)]
+        expected = {label: found[labels.index(label)] for label in labels}  # the first of each branch
+        assert sorted(expected) == [arm.branches[r] for r in np.flatnonzero(batch.exists[k])]
+        for label, solution in expected.items():
+            np.testing.assert_array_equal(batch.q[k, arm.branches.index(label)], solution)
+        assert np.max(np.abs(batch.q[k, arm.branches.index(arm.branch_of(q[k]))] - q[k])) < 1e-6
+        np.testing.assert_allclose(batch.parameter[k][batch.exists[k]], arm.parameter_of(batch.q[k][batch.exists[k]]))

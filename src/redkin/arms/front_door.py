@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -192,11 +193,14 @@ class Arm:
         exists = np.zeros(shape + (count,), dtype=bool)
         value = np.full(shape + (count,), np.nan)
         if found.found.any():  # each solution into its branch's row, the first found (nearest the seed) kept
-            branch, parameter = self._read(found.q[found.found])
-            where = np.nonzero(found.found)
-            for k in range(len(branch) - 1, -1, -1):
-                at = tuple(int(w[k]) for w in where[:-1]) + (int(branch[k]),)
-                q[at], exists[at], value[at] = found.q[found.found][k], True, parameter[k]
+            solutions = found.q[found.found]  # in C order: pose by pose, each pose's in the order found
+            branch, parameter = self.implementation.read(np.ascontiguousarray(solutions))
+            pose = np.ravel_multi_index(np.nonzero(found.found)[:-1], shape) if shape else np.zeros(len(branch), int)
+            slot = pose * count + branch
+            _, first = np.unique(slot, return_index=True)
+            q.reshape(-1, n)[slot[first]] = solutions[first]
+            exists.reshape(-1)[slot[first]] = True
+            value.reshape(-1)[slot[first]] = parameter[first]
         result = Solutions(q, exists, exists.copy(), self.branches, NUMERICAL, value, lambda: reach.out,
                            lambda: reach, "no solution of the branch found")
         return result if rows is None else _rows_of(result, rows)
@@ -319,11 +323,8 @@ class Arm:
 
         self._need_parameter("a configuration's branch and parameter")
         q = check_vectors(q, self.chain.n, "q")
-        branch, value = self._read(np.ascontiguousarray(q.reshape(-1, self.chain.n)))
+        branch, value = self.implementation.read(np.ascontiguousarray(q.reshape(-1, self.chain.n)))
         return branch.reshape(q.shape[:-1]), value.reshape(q.shape[:-1])
-
-    def _read(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self.implementation.read(q)
 
     # ------------------------------------------------------------- arguments
     def _rows(self, branches: str | Sequence[str] | None) -> np.ndarray | None:
@@ -367,14 +368,14 @@ def _rows_of(result: Solutions, rows: np.ndarray) -> Solutions:
                      result._missing)
 
 
-def arm(source: str | SerialChain, *, base: str | None = None, tip: str | None = None,
+def arm(source: str | Path | SerialChain, *, base: str | None = None, tip: str | None = None,
         srs_tolerance: float | None = None, xacro_args: dict[str, str] | None = None,
         package_paths: Sequence[str] | None = None) -> Arm:
     """An :class:`Arm` of a model name, a robot file or a chain, classified and converted once.
 
     Parameters
     ----------
-    source : str or SerialChain
+    source : str, path or SerialChain
         A model name (``redkin robots``), a robot file (URDF, xacro, MJCF, redkin's TOML; a shipped example by its
         name) or a chain.
     base, tip : str, optional
@@ -398,7 +399,7 @@ def arm(source: str | SerialChain, *, base: str | None = None, tip: str | None =
         if base is not None or tip is not None or xacro_args is not None or package_paths is not None:
             raise RedkinError("base, tip, xacro_args and package_paths read a file: a SerialChain takes none")
         chain = source
-    elif isinstance(source, str):
+    elif isinstance(source, (str, Path)):
         from redkin.models import get_robot
 
         chain = get_robot(source, base, tip, xacro_args=xacro_args, package_paths=tuple(package_paths or ()))
