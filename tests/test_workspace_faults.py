@@ -45,7 +45,7 @@ TIMEOUT = 120
 #: a run of 27 chunks going long enough to be hit while it runs (the values written are the same).
 PRELUDE = """
 import os, signal, sys, threading, time, types
-import redkin.workspace._durable as durable
+import redkin._files as files
 import redkin.workspace.run as run
 from redkin.models import get_robot
 from redkin.workspace import workspace_map
@@ -60,7 +60,8 @@ if SLOW:
 
 #: Kills the process (SIGKILL, itself) in the middle of the store's own writing of a chunk: its ``NTH`` chunk file in
 #: ``FOLDER`` half written (``MODE`` "write"), or whole but not yet renamed into place ("rename").  The store's calls
-#: of ``os`` are patched (``redkin.workspace._durable.os``), nothing else; the path hit is printed first.
+#: of ``os`` are patched (``redkin._files.os``, where the store's durable writes live), nothing else; the path hit is
+#: printed first.
 KILL_IN_WRITE = """
 FOLDER, MODE, NTH = {folder!r}, {mode!r}, {nth!r}
 real, opened, seen, lock = os, {{}}, [0], threading.Lock()
@@ -87,8 +88,8 @@ def patched_replace(source, target):
     if MODE == "rename" and hit(target):
         kill(target)
     return real.replace(source, target)
-durable.os = types.ModuleType("os")
-durable.os.__dict__.update(vars(real), open=patched_open, write=patched_write, replace=patched_replace)
+files.os = types.ModuleType("os")
+files.os.__dict__.update(vars(real), open=patched_open, write=patched_write, replace=patched_replace)
 """
 
 
@@ -210,7 +211,7 @@ def test_a_cluster_worker_killed_mid_write_costs_nothing(pa10, small_map, own_cl
         import signal
         import types
 
-        import redkin.workspace._durable as worker_durable
+        import redkin._files as worker_files
 
         seen = [0]
 
@@ -222,16 +223,16 @@ def test_a_cluster_worker_killed_mid_write_costs_nothing(pa10, small_map, own_cl
                     real.kill(real.getpid(), signal.SIGKILL)
             return real.write(descriptor, data)
 
-        worker_durable.os = types.ModuleType("os")
-        worker_durable.os.__dict__.update(vars(real), write=write)
+        worker_files.os = types.ModuleType("os")
+        worker_files.os.__dict__.update(vars(real), write=write)
         return real.getpid()
 
     def heal():
         import os as real
 
-        import redkin.workspace._durable as worker_durable
+        import redkin._files as worker_files
 
-        worker_durable.os = real
+        worker_files.os = real
 
     _two_live_workers(client)
     patched = set(client.run(die_in_third_values_write).values())

@@ -223,7 +223,7 @@ def write_chunk(path: Path, grid: WorkspaceGrid, index: tuple[int, int, int], va
     Notes
     -----
     zarr encodes the values and hands each chunk file to the store, which
-    writes it durably (:func:`redkin.workspace._durable.write_durably`); the
+    writes it durably (:func:`redkin._files.write_durably`); the
     arrays are written one after the other and the marker last, so the marker
     exists only where every value file is whole on the disk.
     """
