@@ -36,6 +36,8 @@ from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
 
 Convention = Literal["dh", "mdh"]
+#: The limits of motion a chain carries, and their units.
+_MOTION_UNITS = {"velocity": "rad/s", "acceleration": "rad/s^2", "jerk": "rad/s^3"}
 _NO_OFFSET = np.zeros((1, 3))
 #: Slack of the reach bound, relative to the chain's size (``|c| + r`` of :attr:`SerialChain.reach_bound`): rounding
 #: in FK is about 1e-15 of it, so a distance beyond the bound by more than this is no rounding.
@@ -115,7 +117,11 @@ class SerialChain:
     velocity : array_like, shape (n,), optional
         Joint speed limits ``|dq_i/dt| <= velocity_i`` in rad/s, each finite and positive, or ``inf`` where
         unknown; default all unknown.  Kinematics never read them; a path's default step bound does
-        (:func:`redkin.paths.step_bound`).
+        (:func:`redkin.paths.step_bound`), and so does its timing (:func:`redkin.paths.time_path`).
+    acceleration, jerk : array_like, shape (n,), optional
+        Joint acceleration limits ``|d2q_i/dt2| <= acceleration_i`` (rad/s^2) and jerk limits (rad/s^3), as
+        ``velocity``: finite and positive, or ``inf`` where unknown (the default).  A URDF carries neither; a
+        limits file (:func:`redkin.motion_limits.read_motion_limits`) or a maker's data sheet does.
     """
 
     # The fields are what the constructor stores (read-only float arrays, 4x4 matrices, a tuple of names); it takes
@@ -134,6 +140,8 @@ class SerialChain:
     source: str
     joint_names: tuple[str, ...]
     velocity: np.ndarray
+    acceleration: np.ndarray
+    jerk: np.ndarray
     _standard: bool = field(init=False, repr=False)
     _links: np.ndarray = field(init=False, repr=False)
     _ends: np.ndarray = field(init=False, repr=False)
@@ -155,6 +163,8 @@ class SerialChain:
         source: str = "",
         joint_names: Sequence[str] = (),
         velocity: ArrayLike | None = None,
+        acceleration: ArrayLike | None = None,
+        jerk: ArrayLike | None = None,
     ) -> None:
         if convention not in ("dh", "mdh"):
             raise ValueError(f"convention must be 'dh' or 'mdh', got {convention!r}")
@@ -174,6 +184,8 @@ class SerialChain:
             "lower": _frozen(lower, n, "lower", -np.inf),
             "upper": _frozen(upper, n, "upper", np.inf),
             "velocity": _frozen(velocity, n, "velocity", np.inf),
+            "acceleration": _frozen(acceleration, n, "acceleration", np.inf),
+            "jerk": _frozen(jerk, n, "jerk", np.inf),
         }
         for key in ("a", "alpha", "d", "offset", "sign"):
             check_finite(values[key], key)
@@ -189,9 +201,9 @@ class SerialChain:
             raise ValueError(
                 f"joint {i + 1}: lower limit {values['lower'][i]:g} exceeds upper limit {values['upper'][i]:g}"
             )
-        if not np.all(values["velocity"] > 0.0):  # NaN fails too
-            raise ValueError(f"velocity limits must be > 0 rad/s, or inf where unknown, got "
-                             f"{values['velocity'].tolist()}")
+        for key, unit in _MOTION_UNITS.items():
+            if not np.all(values[key] > 0.0):  # NaN fails too
+                raise ValueError(f"{key} limits must be > 0 {unit}, or inf where unknown, got {values[key].tolist()}")
         for key, given in (("base", base), ("tool", tool)):
             matrix = np.eye(4) if given is None else check_pose(given, key)
             if matrix.shape != (4, 4):
@@ -251,6 +263,19 @@ class SerialChain:
     def with_velocity(self, velocity: ArrayLike | None) -> SerialChain:
         """A copy of this chain with other joint speed limits (rad/s, ``inf`` where unknown; ``None``: none known)."""
         return self._replaced(velocity=velocity)
+
+    def with_motion_limits(self, **limits: ArrayLike | None) -> SerialChain:
+        """A copy of this chain with other limits of motion: any of ``velocity`` (rad/s), ``acceleration``
+        (rad/s^2) and ``jerk`` (rad/s^3), each ``inf`` where unknown (``None``: none known); the others kept."""
+        unknown = sorted(set(limits) - set(_MOTION_UNITS))
+        if unknown:
+            raise ValueError(f"limits of motion are {', '.join(_MOTION_UNITS)}; got {', '.join(unknown)}")
+        return self._replaced(**limits)
+
+    @property
+    def motion_limits(self) -> dict[str, np.ndarray]:
+        """The limits of motion by name (``velocity``, ``acceleration``, ``jerk``), ``inf`` where unknown."""
+        return {key: getattr(self, key) for key in _MOTION_UNITS}
 
     @property
     def velocity_known(self) -> np.ndarray:

@@ -226,7 +226,12 @@ def franka_panda() -> SerialChain:
     ======  ==========  =======  =====  ===================  ===========
 
     The speeds are the URDF's velocity limits (``robots/fer/joint_limits.yaml``
-    at franka_description commit b299b39), kept as the chain's ``velocity``.
+    at franka_description commit b299b39), kept as the chain's ``velocity``;
+    the acceleration limits 15, 7.5, 10, 12.5, 15, 20, 20 rad/s^2 and jerk
+    limits 7500, 3750, 5000, 6250, 7500, 10000, 10000 rad/s^3 are the Panda's
+    in the Franka Control Interface documentation ("Limits for Panda"; the
+    same in libfranka's ``rate_limiting.h``, ``kMaxJointAcceleration`` and
+    ``kMaxJointJerk``, less its 1e-3 margin).
     The tool frame is the flange (``panda_link8``), without
     the hand; Franka's hand frame is the flange turned by -pi/4 about z, and
     its TCP 0.1034 m along the hand's z (as on the FR3, whose
@@ -239,6 +244,8 @@ def franka_panda() -> SerialChain:
         lower=[-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973],
         upper=[2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973],
         velocity=[2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61],
+        acceleration=[15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0],
+        jerk=[7500.0, 3750.0, 5000.0, 6250.0, 7500.0, 10000.0, 10000.0],
         name="franka-panda",
         source="Franka Control Interface docs: modified DH table and joint limits (as franka_description, fer)",
     )
@@ -269,7 +276,11 @@ def franka_fr3() -> SerialChain:
 
     The speeds are the URDF's velocity limits (``robots/fr3/joint_limits.yaml``
     at franka_description commit b299b39), kept as the chain's ``velocity``
-    (the FR3's controller further lowers them near the position limits).
+    (the FR3's controller further lowers them near the position limits);
+    the acceleration limit 10 rad/s^2 and jerk limit 5000 rad/s^3 on every
+    joint are the FR3's in the Franka Control Interface documentation
+    ("Limits for Franka Research 3"; libfranka's ``rate_limiting.h`` for the
+    FR3).
     The older franka_ros package (2024) carried narrower FR3 ranges
     (``franka_description/robots/fr3/joint_limits.yaml``: +-2.3093, +-1.5133,
     ...); these are the current ones.  The tool frame is the flange
@@ -284,13 +295,15 @@ def franka_fr3() -> SerialChain:
         lower=[-2.7437, -1.7837, -2.9007, -3.0421, -2.8065, 0.5445, -3.0159],
         upper=[2.7437, 1.7837, 2.9007, -0.1518, 2.8065, 4.5169, 3.0159],
         velocity=[2.62, 2.62, 2.62, 2.62, 5.26, 4.18, 5.26],
+        acceleration=[10.0] * 7,
+        jerk=[5000.0] * 7,
         name="franka-fr3",
         source="franka_description (2025): robots/fr3 kinematics and joint limits, in Franka's modified DH",
     )
 
 
-def _franka_arm(lower: Sequence[float], upper: Sequence[float], velocity: Sequence[float], name: str,
-                source: str) -> SerialChain:
+def _franka_arm(lower: Sequence[float], upper: Sequence[float], velocity: Sequence[float],
+                acceleration: Sequence[float], jerk: Sequence[float], name: str, source: str) -> SerialChain:
     """Franka's modified DH rows to the flange (the same for the FER and the FR3), with the given limits."""
     return SerialChain(
         a=[0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088],
@@ -300,6 +313,8 @@ def _franka_arm(lower: Sequence[float], upper: Sequence[float], velocity: Sequen
         lower=lower,
         upper=upper,
         velocity=velocity,
+        acceleration=acceleration,
+        jerk=jerk,
         tool=_translation_z(0.107),
         name=name,
         source=source,

@@ -230,7 +230,7 @@ def _convert(chain: SerialChain, snap: bool) -> FrankaGeometry:
     a = np.array([0.0, 0.0, a3, a4, 0.0, rows[5, 0], 0.0])
     d = np.array([rows[0, 2], 0.0, d3, 0.0, d5, rows[5, 2], 0.0])
     form = SerialChain(
-        a=a, alpha=TABLE1_ALPHA, d=d, offset=rows[:, 3], lower=chain.lower, upper=chain.upper, velocity=chain.velocity,
+        a=a, alpha=TABLE1_ALPHA, d=d, offset=rows[:, 3], lower=chain.lower, upper=chain.upper, **chain.motion_limits,
         base=frame0,
         tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
         source=f"{chain.source} (in the Franka-class DH form)", joint_names=chain.joint_names,

@@ -296,7 +296,7 @@ def _convert(chain: SerialChain, tolerance: float) -> SerialChain:
     d[[1, 3, 5]] = 0.0  # the groups meet (d_4: checked above); their computed values are rounding
     converted = SerialChain(  # the twists are Table 1's by construction: rows[:, 1] only rounds them
         a=a, alpha=TABLE1_ALPHA, d=d,
-        offset=rows[:, 3], sign=sign, lower=chain.lower, upper=chain.upper, velocity=chain.velocity, base=frame0,
+        offset=rows[:, 3], sign=sign, lower=chain.lower, upper=chain.upper, **chain.motion_limits, base=frame0,
         tool=np.linalg.inv(frame7) @ chain.fk(np.zeros(7)), convention="dh", name=chain.name,
         source=f"{chain.source} (as paper 000 Table 1)", joint_names=chain.joint_names,
     )
