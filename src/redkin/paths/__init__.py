@@ -4,6 +4,8 @@
   allows and within a bound on each joint's move per waypoint, or the first waypoint where none exist and why
 * :func:`step_bound` -- the bound from a maximum step, or from joint speeds and a time step
 * :class:`PathResult`, :class:`PathFailure` -- what they return
+* :func:`time_path` -- a path's joint values timed within the joints' velocity and acceleration limits and sampled
+  at a control rate (TOPP-RA, the ``timing`` extra): a :class:`Trajectory`
 * the baselines it is measured against: :func:`fixed_psi_path` (paper 000's ``Gamma_0``),
   :func:`clamped_optimum_path` (``Gamma``), :func:`greedy_path` (seeded tracking), :func:`sampled_path`
   (dynamic programming on a uniform grid), the first three returning a :class:`BaselinePath`, as
@@ -38,6 +40,7 @@ from redkin.paths.resolve import (
     resolve_paths,
 )
 from redkin.paths.result import REASONS, PathFailure, PathResult
+from redkin.paths.timing import Trajectory, time_path
 
 __all__ = [
     "ArmAngleFamily",
@@ -66,4 +69,6 @@ __all__ = [
     "resolve_paths",
     "sampled_path",
     "step_bound",
+    "Trajectory",
+    "time_path",
 ]

@@ -30,6 +30,7 @@ from redkin.paths.family import Family, path_family
 from redkin.paths.graph import Arm, Graph
 from redkin.paths.polish import raised
 from redkin.paths.result import PathFailure, PathResult
+from redkin.paths.timing import DEFAULT_RATE, check_timing, timed
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.feasible import FeasiblePieces
 from redkin.srs.geometry import SRSGeometry
@@ -62,8 +63,9 @@ _LEVEL_ROUNDS = 6
 _LEVEL_GAP = 1e-7
 #: Bisections of :func:`_ceiling` at most.
 _CEILING_STEPS = 6
-#: What :func:`resolve_path` can make best: the clearance (then the motion), or the motion (then the clearance).
-OBJECTIVES = ("clearance", "motion")
+#: What :func:`resolve_path` can make best: the clearance (then the motion), the motion (then the clearance), or
+#: the duration of the timed trajectory (the faster of the other two's).
+OBJECTIVES = ("clearance", "motion", "time")
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
 OPTIMALITY_MARGIN = 1e-7
 
@@ -84,6 +86,7 @@ def resolve_path(
     thorough: bool = False,
     objective: str = "clearance",
     srs_tolerance: float | None = None,
+    timing: float | None = None,
 ) -> PathResult:
     """Joint values along a path of poses, as far from the joint limits as the path allows, or where none exist.
 
@@ -129,10 +132,17 @@ def resolve_path(
     objective : str
         What "best" means (:data:`OBJECTIVES`): ``"clearance"``, the largest smallest distance of a joint to its
         limits, then the least total motion (the default); ``"motion"``, the least total joint motion, then the
-        largest clearance (both stages are searched, as with ``thorough``; no clearance is proved optimal).
+        largest clearance (both stages are searched, as with ``thorough``; no clearance is proved optimal);
+        ``"time"``, the shortest timed trajectory (:func:`redkin.paths.time_path`) of the two paths the other
+        objectives choose, so never slower than either (it needs the chain's velocity and acceleration limits).
     srs_tolerance : float, optional
         The nearly S-R-S tolerance of :func:`redkin.arms.classify.arm_angle_class` [m] for a chain of neither exact
         class.
+    timing : float, optional
+        Time the path found: the time-optimal trajectory through its joint values within the chain's velocity and
+        acceleration limits (:func:`redkin.paths.time_path`, the ``timing`` extra), sampled at this rate (Hz), in
+        :attr:`PathResult.trajectory`.  ``objective="time"`` times at :data:`redkin.paths.timing.DEFAULT_RATE`
+        without it.
 
     Returns
     -------
@@ -150,7 +160,7 @@ def resolve_path(
                           "resolve_paths")
     return resolve_paths(arm, poses[None], max_step, speed=speed, dt=dt, q0=q0, q_end=q_end, end_branch=end_branch,
                          spacing=spacing, connect=connect, refinements=refinements, thorough=thorough,
-                         objective=objective, srs_tolerance=srs_tolerance)[0]
+                         objective=objective, srs_tolerance=srs_tolerance, timing=timing)[0]
 
 
 def resolve_paths(
@@ -169,6 +179,7 @@ def resolve_paths(
     thorough: bool = False,
     objective: str = "clearance",
     srs_tolerance: float | None = None,
+    timing: float | None = None,
 ) -> list[PathResult]:
     """:func:`resolve_path` for ``P`` paths of ``N`` poses each, ``paths`` of shape ``(P, N, 4, 4)``: one
     batch of feasible sets and IK, one sweep.  ``q0`` and ``q_end`` are ``(7,)`` (the same for every path) or
@@ -193,9 +204,28 @@ def resolve_paths(
         raise RedkinError(f"refinements must be an integer >= 0, got {refinements!r}")
     if objective not in OBJECTIVES:
         raise RedkinError(f"objective must be one of {', '.join(OBJECTIVES)}, got {objective!r}")
-    return search_paths(family, poses, step, starts, ends, last_branch,
-                        lambda pieces: graphs.piece_samples(pieces, spacing, family.sample_groups()), connect,
-                        int(refinements), thorough, objective=objective, levels=True)
+    if objective == "time" and timing is None:
+        timing = DEFAULT_RATE
+    if timing is not None:  # refused before the search, not after it
+        check_timing(chain, timing)
+
+    def search(by: str) -> list[PathResult]:
+        return search_paths(family, poses, step, starts, ends, last_branch,
+                            lambda pieces: graphs.piece_samples(pieces, spacing, family.sample_groups()), connect,
+                            int(refinements), thorough, objective=by, levels=True)
+
+    if timing is None:
+        return search(objective)
+    rate = float(timing)
+    if objective != "time":
+        return [timed(chain, result, rate) for result in search(objective)]
+    return [min((timed(chain, result, rate) for result in candidates), key=_duration)
+            for candidates in zip(search("clearance"), search("motion"))]
+
+
+def _duration(result: PathResult) -> float:
+    """A timed result's duration; ``inf`` for no path."""
+    return result.trajectory.duration if result.trajectory is not None else np.inf
 
 
 def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np.ndarray | None,

@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from redkin.paths.timing import Trajectory
 
 #: Why no path exists, by :attr:`PathFailure.reason`.
 REASONS = {
@@ -95,6 +99,9 @@ class PathResult:
     parameter : str
         What ``psi`` holds: ``"psi"``, the arm angle (S-R-S and offset-elbow arms), or ``"q7"``, joint 7's value
         (the Franka class).
+    trajectory : Trajectory or None
+        The timed trajectory through ``q`` (:func:`redkin.paths.time_path`), where the path was resolved with
+        ``timing``; ``None`` otherwise.
     """
 
     status: str
@@ -109,6 +116,7 @@ class PathResult:
     optimal: bool = False
     bottleneck: int | None = None
     parameter: str = "psi"
+    trajectory: Trajectory | None = None
 
     @property
     def ok(self) -> bool:

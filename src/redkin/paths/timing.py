@@ -1,0 +1,343 @@
+"""A timed trajectory through a path's joint values, within each joint's velocity and acceleration limits.
+
+The joint path interpolates the waypoints' joint values over their cumulative joint-space distance ``s`` (radians;
+a waypoint that repeats the one before it is passed once): the cubic spline (not-a-knot ends, continuous in its
+second derivative), unless it bends past a joint limit that the waypoints come close to; then the piecewise cubic
+Hermite interpolant (PCHIP, Fritsch and Carlson 1980), which moves each joint monotonically where its values do and
+never past the larger or smaller of two neighbouring values, so it keeps every limit the waypoints keep (its second
+derivative steps at the waypoints, which makes it slower to run).  :attr:`Trajectory.interpolation` says which.
+
+Along it, TOPP-RA (Pham and Pham, "A new approach to time-optimal path parameterization based on reachability
+analysis", IEEE T-RO 2018; the ``toppra`` package, the ``timing`` extra) finds the fastest speed profile ``sd(s)``
+that keeps every joint's ``|qd_i| = |q_i'(s) sd|`` and ``|qdd_i| = |q_i'(s) sdd + q_i''(s) sd^2|`` within its limits
+at a grid of ``s``, starting and ending at rest.  Between the grid's points the path acceleration ``sdd`` is
+constant.
+
+TOPP-RA constrains the grid's points only; between them a joint's acceleration can exceed its limit where the
+path bends.  :func:`time_path` therefore checks the trajectory at every sample of the control rate, refines the
+grid where a sample exceeds a limit, and returns only a trajectory whose samples all keep ``|qd| <= velocity`` and
+``|qdd| <= acceleration`` (its derivatives evaluated exactly, not by differences); the solver runs with limits
+0.1 % (``_MARGIN``) inside the given ones, so that the check passes without many rounds.  The jerk is not limited
+(the profile's acceleration steps at the grid's points); :attr:`Trajectory.jerk` reports it at the control rate for
+controllers that filter it (libfranka's ``limitRate``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._extras import missing_extra
+from redkin._validation import as_float_array, check_finite
+from redkin.chain import SerialChain
+from redkin.errors import RedkinError, SizeLimitError
+
+if TYPE_CHECKING:
+    from redkin.paths.result import PathResult
+
+#: The solver keeps each velocity and acceleration this fraction inside its limit, so that the samples between its
+#: grid points (where it imposes nothing) stay within the limits themselves.
+_MARGIN = 1e-3
+#: The default control rate of the samples (Hz), as a robot's joint-position interface runs (Franka, KUKA FRI).
+DEFAULT_RATE = 1000.0
+#: Rounds of grid refinement (each halves the grid's intervals where a sample exceeded a limit) before giving up.
+_REFINEMENTS = 8
+#: A grid point this fraction of the interval before each inner knot, where PCHIP's acceleration steps (much
+#: closer, and the solver's rounding in ``sd^2`` divided by the tiny interval swamps the acceleration).
+_BEFORE_KNOT = 1e-3
+#: Waypoints closer than this in joint space (radians) are one point of the path.
+_REPEAT = 1e-12
+#: At most this many samples in a trajectory (1 kHz for almost three hours).
+MAX_SAMPLES = 10_000_000
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """Joint values, velocities and accelerations against time, sampled at a control rate.
+
+    Attributes
+    ----------
+    t : numpy.ndarray, shape (M,)
+        Seconds from the start: ``0, 1/rate, 2/rate, ...`` and the duration as the last sample.
+    q, qd, qdd : numpy.ndarray, shape (M, n)
+        Joint values (rad), velocities (rad/s) and accelerations (rad/s^2) at ``t``; at rest at both ends.
+    duration : float
+        Seconds.
+    waypoint_times : numpy.ndarray, shape (N,)
+        When the trajectory passes each waypoint of the path (there ``q`` is the waypoint's, exactly); use
+        :meth:`at` to evaluate it there.
+    rate : float
+        Samples per second (Hz).
+    joint_names : tuple of str
+    velocity, acceleration : numpy.ndarray, shape (n,)
+        The limits it keeps.
+    interpolation : str
+        The joint path between waypoints: ``"cubic"`` (the cubic spline) or ``"pchip"`` (where the spline would
+        leave a joint's range; see the module's docstring); ``"rest"`` for a path of one configuration.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    duration: float
+    waypoint_times: np.ndarray
+    rate: float
+    joint_names: tuple[str, ...]
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    interpolation: str
+    _profile: _Profile
+
+    def at(self, times: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(q, qd, qdd)`` at any ``times`` in ``[0, duration]`` (seconds), each of shape ``times.shape + (n,)``."""
+        seconds = as_float_array(times, "times")
+        check_finite(seconds, "times")
+        if np.any(seconds < 0.0) or np.any(seconds > self.duration):
+            raise RedkinError(f"times must lie in [0, {self.duration:g}] s")
+        return self._profile.evaluate(seconds)
+
+    @property
+    def jerk(self) -> np.ndarray:
+        """The joint jerk (rad/s^3) between consecutive samples, ``(M - 1, n)``: finite differences of ``qdd``
+        (not limited: see the module's docstring)."""
+        return np.diff(self.qdd, axis=0) / np.diff(self.t)[:, None]
+
+    def joint_trajectory(self) -> dict:
+        """The trajectory as a ROS ``trajectory_msgs/JointTrajectory`` message in JSON form: ``joint_names`` and
+        ``points``, each with ``positions``, ``velocities``, ``accelerations`` and ``time_from_start``
+        (``{"sec": ..., "nanosec": ...}``)."""
+        seconds = np.floor(self.t).astype(int)
+        nanoseconds = np.minimum(np.round((self.t - seconds) * 1e9).astype(int), 999_999_999)
+        return {"joint_names": list(self.joint_names),
+                "points": [{"positions": q, "velocities": qd, "accelerations": qdd,
+                            "time_from_start": {"sec": sec, "nanosec": nsec}}
+                           for q, qd, qdd, sec, nsec in zip(self.q.tolist(), self.qd.tolist(), self.qdd.tolist(),
+                                                            seconds.tolist(), nanoseconds.tolist())]}
+
+
+def time_path(chain: SerialChain, q: ArrayLike, *, rate: float = DEFAULT_RATE,
+              velocity: ArrayLike | None = None, acceleration: ArrayLike | None = None) -> Trajectory:
+    """The time-optimal trajectory along the joint path through ``q`` (the module's docstring) within the joints'
+    velocity and acceleration limits, sampled at ``rate``.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        The arm: its joint names, its position limits (kept along the path) and, unless given, its limits
+        of motion (:attr:`~redkin.chain.SerialChain.velocity`, :attr:`~redkin.chain.SerialChain.acceleration`).
+    q : array_like, shape (N, n)
+        The path's joint values per waypoint (a :class:`~redkin.paths.PathResult`'s ``q``).
+    rate : float
+        Samples per second (Hz).
+    velocity, acceleration : array_like, shape (n,) or scalar, optional
+        Limits in rad/s and rad/s^2 instead of the chain's.
+
+    Returns
+    -------
+    Trajectory
+
+    Raises
+    ------
+    RedkinError
+        For malformed joint values or a waypoint outside a joint's range, a limit unknown (``inf``) or not
+        positive, a rate not positive, or a trajectory of more than :data:`MAX_SAMPLES` samples; without the
+        ``toppra`` package (the ``timing`` extra), one line saying how to install it.
+    """
+    values = as_float_array(q, "q")
+    if values.ndim != 2 or values.shape[1] != chain.n or values.shape[0] == 0:
+        raise RedkinError(f"q must have shape (N, {chain.n}) with N >= 1, got shape {values.shape}")
+    check_finite(values, "q")
+    outside = np.argwhere((values < chain.lower) | (values > chain.upper))
+    if outside.size:
+        waypoint, joint = outside[0].tolist()
+        raise RedkinError(f"waypoint {waypoint}: joint {joint + 1} at {values[waypoint, joint]:.6g} rad is outside its "
+                          f"range [{chain.lower[joint]:.6g}, {chain.upper[joint]:.6g}]")
+    _check_rate(rate)
+    limits = {key: _limit(chain, key, given) for key, given in (("velocity", velocity),
+                                                                 ("acceleration", acceleration))}
+    distinct = np.r_[True, np.linalg.norm(np.diff(values, axis=0), axis=1) > _REPEAT]
+    points = values[distinct]
+    order = np.cumsum(distinct) - 1  # each waypoint's point of the path
+    if len(points) == 1:  # nothing to move: the arm rests at the one configuration
+        profile = _Profile.resting(points[0])
+        return _sampled(chain, profile, rate, limits, order)
+    try:
+        return _sampled(chain, _fastest(points, "cubic", limits, rate), rate, limits, order)
+    except _LeavesRange:  # the spline bends past a limit the waypoints come close to: PCHIP does not
+        return _sampled(chain, _fastest(points, "pchip", limits, rate), rate, limits, order)
+
+
+class _LeavesRange(RedkinError):
+    """A joint path that leaves a joint's range between two waypoints."""
+
+
+def _sampled(chain: SerialChain, profile: _Profile, rate: float, limits: dict[str, np.ndarray],
+             order: np.ndarray) -> Trajectory:
+    """The trajectory of ``profile`` sampled at ``rate``; :class:`_LeavesRange` where a sample leaves a joint's
+    range (naming the joint and the waypoints)."""
+    samples = _sample_count(profile.duration, rate)
+    t = np.minimum(np.arange(samples) / rate, profile.duration)
+    t[-1] = profile.duration
+    positions, speeds, accelerations = profile.evaluate(t)
+    waypoint_times = profile.knot_times[order]
+    outside = (positions < chain.lower) | (positions > chain.upper)
+    if outside.any():
+        sample, joint = np.argwhere(outside)[0]
+        after = int(np.searchsorted(waypoint_times, t[sample], side="right"))
+        raise _LeavesRange(f"the joint path leaves joint {joint + 1}'s range between waypoints {after - 1} and "
+                           f"{after} (at {positions[sample, joint]:.6g} rad, t = {t[sample]:.6g} s)")
+    return Trajectory(t=t, q=positions, qd=speeds, qdd=accelerations, duration=profile.duration,
+                      waypoint_times=waypoint_times, rate=float(rate), joint_names=chain.joint_names,
+                      velocity=limits["velocity"], acceleration=limits["acceleration"],
+                      interpolation="rest" if profile.path is None else profile.path.kind, _profile=profile)
+
+
+def check_timing(chain: SerialChain, rate: float) -> None:
+    """Refuse, before a path is searched, what :func:`time_path` would refuse after: a rate not positive, an
+    unknown velocity or acceleration limit."""
+    _check_rate(rate)
+    for key in ("velocity", "acceleration"):
+        _limit(chain, key, None)
+
+
+def timed(chain: SerialChain, result: PathResult, rate: float) -> PathResult:
+    """``result`` with its :attr:`~redkin.paths.PathResult.trajectory` (:func:`time_path` of its joint values at
+    ``rate``); a result without a path as it is."""
+    return replace(result, trajectory=time_path(chain, result.q, rate=rate)) if result.ok else result
+
+
+def _check_rate(rate: float) -> None:
+    if not (np.isfinite(rate) and rate > 0.0):
+        raise RedkinError(f"rate must be a positive number of samples per second, got {rate!r}")
+
+
+def _limit(chain: SerialChain, key: str, given: ArrayLike | None) -> np.ndarray:
+    values = getattr(chain, key) if given is None else np.broadcast_to(as_float_array(given, key), (chain.n,))
+    unknown = np.flatnonzero(~np.isfinite(values))
+    if unknown.size:
+        joints = ", ".join(f"{i + 1} ({chain.joint_names[i]})" for i in unknown.tolist())
+        raise RedkinError(f"{chain.name} has no {key} limit on joint{'s' if unknown.size > 1 else ''} {joints}: "
+                          f"give them (a limits file, redkin.motion_limits) to time the path")
+    if not np.all(values > 0.0):
+        raise RedkinError(f"{key} limits must be > 0, got {np.asarray(values).tolist()}")
+    return np.array(values, dtype=float)
+
+
+def _sample_count(duration: float, rate: float) -> int:
+    samples = int(np.floor(duration * rate + 1e-9)) + 1
+    samples += not np.isclose((samples - 1) / rate, duration, rtol=0.0, atol=1e-12)
+    if samples > MAX_SAMPLES:
+        raise SizeLimitError(f"the trajectory lasts {duration:.6g} s: {samples} samples at {rate:g} Hz, more than "
+                             f"{MAX_SAMPLES}; lower the rate", "samples", samples, MAX_SAMPLES)
+    return samples
+
+
+@dataclass(frozen=True)
+class _Profile:
+    """A path ``q(s)`` and a speed profile along it, constant path acceleration between grid points ``s_k``:
+    ``sd(s)^2`` linear in ``s`` on each interval, so the interval takes ``2 ds / (sd_k + sd_k+1)`` seconds."""
+
+    path: _JointPath | None  # None at rest
+    grid: np.ndarray
+    speed: np.ndarray
+    times: np.ndarray
+    knot_times: np.ndarray
+    rest: np.ndarray | None = None
+
+    @classmethod
+    def resting(cls, q: np.ndarray) -> _Profile:
+        zero = np.zeros(1)
+        return cls(path=None, grid=zero, speed=zero, times=zero, knot_times=zero, rest=q)
+
+    @classmethod
+    def along(cls, path, grid: np.ndarray, speed: np.ndarray, knots: np.ndarray) -> _Profile:
+        times = np.r_[0.0, np.cumsum(2.0 * np.diff(grid) / (speed[:-1] + speed[1:]))]
+        return cls(path=path, grid=grid, speed=speed, times=times, knot_times=times[np.searchsorted(grid, knots)])
+
+    @property
+    def duration(self) -> float:
+        return float(self.times[-1])
+
+    def evaluate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if self.path is None:
+            assert self.rest is not None
+            shape = t.shape + self.rest.shape
+            return np.broadcast_to(self.rest, shape).copy(), np.zeros(shape), np.zeros(shape)
+        k = np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.grid) - 2)
+        ds = np.diff(self.grid)[k]
+        sdd = (self.speed[k + 1] ** 2 - self.speed[k] ** 2) / (2.0 * ds)
+        dt = t - self.times[k]
+        sd = self.speed[k] + sdd * dt
+        s = np.minimum(self.grid[k] + self.speed[k] * dt + 0.5 * sdd * dt**2, self.grid[k + 1])
+        end = t >= self.times[k + 1]  # the last sample: the grid's end exactly (at rest), not its rounded value
+        sd, s = np.where(end, self.speed[k + 1], sd), np.where(end, self.grid[k + 1], s)
+        flat = s.reshape(-1)
+        first, second = self.path(flat, 1), self.path(flat, 2)
+        sd, sdd = sd.reshape(-1, 1), sdd.reshape(-1, 1)
+        shape = t.shape + (first.shape[-1],)
+        acceleration = first * sdd + second * sd**2
+        return self.path(flat).reshape(shape), (first * sd).reshape(shape), acceleration.reshape(shape)
+
+
+class _JointPath:
+    """The joint path ``q(s)`` through ``points`` at ``knots``, ``kind`` ``"cubic"`` or ``"pchip"``, in the form
+    TOPP-RA reads a geometric path (``path(s, order)``, ``path_interval``, ``dof``, ``waypoints``)."""
+
+    def __init__(self, knots: np.ndarray, points: np.ndarray, kind: str) -> None:
+        from scipy.interpolate import CubicSpline, PchipInterpolator
+
+        self._curve = CubicSpline(knots, points, axis=0) if kind == "cubic" else PchipInterpolator(knots, points,
+                                                                                                    axis=0)
+        self.kind = kind
+        self.path_interval = np.array([knots[0], knots[-1]])
+        self.dof = points.shape[1]
+        self.waypoints = (knots, points)
+
+    def __call__(self, s: ArrayLike, order: int = 0) -> np.ndarray:
+        return self._curve(s, order) if order else self._curve(s)
+
+
+def _fastest(points: np.ndarray, kind: str, limits: dict[str, np.ndarray], rate: float) -> _Profile:
+    """TOPP-RA's profile along the ``kind`` path through ``points``, its grid refined until every sample at
+    ``rate`` keeps the limits."""
+    try:
+        import toppra
+        import toppra.constraint as constraint
+    except ImportError:
+        raise RedkinError(missing_extra("timing a path needs toppra", "timing")) from None
+    velocity, acceleration = limits["velocity"], limits["acceleration"]
+    knots = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))]
+    path = _JointPath(knots, points, kind)
+    inner = 1.0 - _MARGIN
+    constraints = [constraint.JointVelocityConstraint(np.c_[-velocity, velocity] * inner),
+                   constraint.JointAccelerationConstraint(np.c_[-acceleration, acceleration] * inner)]
+    grid = np.union1d(knots, toppra.interpolator.propose_gridpoints(path))
+    if kind == "pchip":  # its second derivative steps at each inner knot: a grid point just before holds that side
+        grid = np.union1d(grid, knots[1:-1] - _BEFORE_KNOT * np.diff(knots)[:-1])
+    for _ in range(_REFINEMENTS + 1):
+        solver = toppra.algorithm.TOPPRA(constraints, path, gridpoints=grid)
+        _, speed, _ = solver.compute_parameterization(0.0, 0.0)
+        if speed is None:
+            raise RedkinError("the time parametrisation found no profile that starts and ends at rest; the joint path "
+                              "may turn back on itself: check the waypoints")
+        profile = _Profile.along(path, grid, np.maximum(speed, 0.0), knots)
+        over = _exceeding(profile, velocity, acceleration, rate)
+        if not over.size:
+            return profile
+        grid = np.union1d(grid, 0.5 * (grid[over] + grid[over + 1]))
+    raise RedkinError(f"the timed trajectory still exceeds a joint's limits between its grid points after "
+                      f"{_REFINEMENTS} refinements; add waypoints where the path bends")
+
+
+def _exceeding(profile: _Profile, velocity: np.ndarray, acceleration: np.ndarray, rate: float) -> np.ndarray:
+    """The grid intervals in which a sample at ``rate`` (or an interval's ends) exceeds a limit."""
+    t = np.union1d(np.arange(_sample_count(profile.duration, rate)) / rate, profile.times)
+    t = t[t <= profile.duration]
+    _, speeds, accelerations = profile.evaluate(t)
+    bad = (np.abs(speeds) > velocity).any(axis=1) | (np.abs(accelerations) > acceleration).any(axis=1)
+    intervals = np.clip(np.searchsorted(profile.times, t[bad], side="right") - 1, 0, len(profile.grid) - 2)
+    return np.unique(intervals)
