@@ -146,11 +146,11 @@ def test_mistakes_are_one_line_and_exit_2(capsys, tmp_path, extra, fragment):
 
 
 @pytest.mark.parametrize("content, fragment", [
-    (np.zeros((3, 4)), "--poses must hold an (N, 4, 4) array with N >= 1, got shape (3, 4)"),
-    (np.zeros((0, 4, 4)), "got shape (0, 4, 4)"),
-    (np.full((1, 4, 4), np.nan), "pose must be finite"),
-    (np.array(["a"] * 16).reshape(1, 4, 4), "--poses must hold numbers"),
-    (None, "cannot read it as a .npy array"),
+    (np.zeros((3, 4)), "holds an array of shape (3, 4), expected (N, 4, 4)"),
+    (np.zeros((0, 4, 4)), "holds no poses"),
+    (np.full((1, 4, 4), np.nan), "pose 0 must be finite"),
+    (np.array(["a"] * 16).reshape(1, 4, 4), "holds values of type <U1, expected numbers"),
+    (None, "is not a .npy file"),
 ])
 def test_a_bad_poses_file_is_one_line_and_exit_2(capsys, tmp_path, content, fragment):
     file = tmp_path / "poses.npy"

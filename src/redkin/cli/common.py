@@ -197,17 +197,14 @@ def target_pose(args: argparse.Namespace) -> np.ndarray:
 
 
 def read_poses(file: str, option: str = "--poses") -> np.ndarray:
-    """The ``(N, 4, 4)`` array of a ``--poses`` file (a ValueError with one line for a missing or malformed file;
-    the poses themselves are checked by the method that takes them)."""
+    """The ``(N, 4, 4)`` poses of a ``--poses`` file: ``.npy``, ``.csv`` or ``.json``
+    (:func:`redkin.paths.waypoints.read_poses`), refused in one line that names the option, the file and the fault."""
+    from redkin.paths.waypoints import read_poses as read
+
     try:
-        poses = np.load(file, allow_pickle=False)
-    except (OSError, ValueError) as exc:
-        raise UsageError(f"{option} {file!r}: cannot read it as a .npy array ({exc})") from None
-    if poses.ndim != 3 or poses.shape[1:] != (4, 4) or poses.shape[0] == 0:
-        raise UsageError(f"{option} must hold an (N, 4, 4) array with N >= 1, got shape {poses.shape}")
-    if poses.dtype.kind not in "biuf":
-        raise UsageError(f"{option} must hold numbers, got an array of {poses.dtype}")
-    return poses.astype(float)
+        return read(file)
+    except ValueError as exc:
+        raise UsageError(f"{option}: {exc}") from None
 
 
 def checked_position(values: Sequence[float], name: str = "--position") -> np.ndarray:

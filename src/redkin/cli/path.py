@@ -33,7 +33,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "path", help="joint values along a path of poses, as far from the limits as the path allows within a step "
                      "bound, or the waypoint and joint that make it impossible (exit 1)")
     add_robot_argument(path)
-    path.add_argument("--poses", required=True, metavar="FILE.npy", help="the waypoints: an (N, 4, 4) array of poses")
+    waypoints = path.add_mutually_exclusive_group(required=True)
+    waypoints.add_argument("--poses", metavar="FILE",
+                           help="the waypoints: .npy (an (N, 4, 4) array of poses), .csv (a header naming the columns "
+                                "x,y,z,qx,qy,qz,qw; other columns ignored) or .json (a list of geometry_msgs/Pose "
+                                "objects, or {\"poses\": [...]}); docs/paths.md")
+    waypoints.add_argument("--through", metavar="FILE",
+                           help="key poses (any --poses format) joined by straight lines and slerp at --step and "
+                                "--angle-step: the waypoints in between are made")
+    path.add_argument("--step", type=float, default=0.005, metavar="M",
+                      help="with --through: the largest distance between waypoints (m, default 0.005)")
+    path.add_argument("--angle-step", type=float, default=0.05, metavar="A",
+                      help="with --through: the largest rotation between waypoints (radians, or degrees with --deg; "
+                           "default 0.05 rad)")
     bound = path.add_mutually_exclusive_group()
     bound.add_argument("--max-step", nargs="+", type=float, metavar="A",
                        help="largest move of each joint between waypoints: one value or 7 (radians, or degrees "
@@ -46,9 +58,23 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "speed being the description's velocity limit (or --speed); give --dt or --max-step")
     path.add_argument("--q0", nargs=7, type=float, metavar="Q", help="the configuration before the first waypoint")
     path.add_argument("--end-branch", metavar="BRANCH", help="branch of the last waypoint: " + BRANCH_HELP)
-    path.add_argument("--objective", choices=("clearance", "motion"), default="clearance",
+    path.add_argument("--objective", choices=("clearance", "motion", "time"), default="clearance",
                       help="clearance: as far from the limits as the path allows, then the least motion (default); "
-                           "motion: the least total joint motion, then the largest clearance")
+                           "motion: the least total joint motion, then the largest clearance; time: the shorter timed "
+                           "trajectory of those two (implies --timed)")
+    path.add_argument("--limits", metavar="FILE",
+                      help="joint velocity, acceleration and jerk limits (YAML or JSON: velocity: [...], "
+                           "acceleration: [...], in rad/s and rad/s^2, or deg with --deg; or MoveIt's "
+                           "joint_limits.yaml) instead of the description's or the model's")
+    path.add_argument("--timed", action="store_true",
+                      help="time the path: the fastest trajectory within the joints' velocity and acceleration "
+                           "limits (TOPP-RA, the timing extra), sampled at --rate")
+    path.add_argument("--rate", type=float, default=1000.0, metavar="HZ",
+                      help="with --timed: samples per second (default 1000)")
+    path.add_argument("--trajectory", metavar="FILE",
+                      help="write the timed trajectory here (implies --timed): .json as a "
+                           "trajectory_msgs/JointTrajectory (radians, seconds), or .csv (t, then each joint's q, qd "
+                           "and qdd)")
     path.add_argument("--thorough", action="store_true",
                       help="search the subdivided graph too where the first search already proved its clearance "
                            "optimal: the least motion among such paths on a finer graph (slower)")
@@ -175,12 +201,65 @@ def _bound(args: argparse.Namespace, chain) -> tuple[np.ndarray, np.ndarray | No
     return step_bound(chain, dt=args.dt), chain.velocity, "description"
 
 
+def _waypoints(args: argparse.Namespace) -> np.ndarray:
+    """The poses of ``--poses``, or the line through the key poses of ``--through`` (one line for a bad file)."""
+    from redkin.paths.waypoints import through
+
+    if args.poses is not None:
+        return read_poses(args.poses)
+    return through(read_poses(args.through, "--through"), step=args.step,
+                   angle_step=float(angles_in([args.angle_step], args.deg)[0]))
+
+
+def _write_trajectory(file, trajectory) -> None:
+    """The trajectory into ``file``, whole or not at all: a ``trajectory_msgs/JointTrajectory`` in JSON, or CSV."""
+    import io
+    import json
+
+    from redkin._files import write_durably
+
+    if file.suffix.lower() == ".json":
+        text = json.dumps(trajectory.joint_trajectory(), allow_nan=False)
+    else:
+        names = trajectory.joint_names
+        header = ["t"] + [f"{kind}_{name}".replace(" ", "_") for kind in ("q", "qd", "qdd") for name in names]
+        buffer = io.StringIO()
+        np.savetxt(buffer, np.column_stack([trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd]),
+                   delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+        text = buffer.getvalue()
+    write_durably(file, text.encode())
+
+
+def _timing_lines(trajectory, source: str, file) -> list[str]:
+    """What the timing found, in words."""
+    lines = [f"timed: {trajectory.duration:.6g} s at {trajectory.rate:g} Hz ({len(trajectory.t)} samples), every "
+             f"joint within its velocity and acceleration limits ({source}); joint path: "
+             + ("the cubic spline through the waypoints" if trajectory.interpolation == "cubic" else
+                "the shape-keeping PCHIP interpolant (the cubic spline would leave a joint's range)"
+                if trajectory.interpolation == "pchip" else "one configuration, at rest")]
+    if file is not None:
+        lines.append(f"trajectory written to {file}")
+    return lines
+
+
 def _run_path(args: argparse.Namespace) -> int:
     from redkin.paths import resolve_path
     plot = None if args.plot is None else output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
+    trajectory_file = (None if args.trajectory is None else
+                       output_file(args.trajectory, "--trajectory", (".json", ".csv"), args.force))
+    timed = args.timed or trajectory_file is not None or args.objective == "time"
+    if args.poses is not None and (args.step != 0.005 or args.angle_step != 0.05):
+        raise UsageError("--step and --angle-step go with --through (the key poses joined by lines); --poses are "
+                         "the waypoints themselves")
     chain = load_robot(args)
+    limits_source = "the description's"
+    if args.limits is not None:
+        from redkin.motion_limits import read_motion_limits
+
+        chain = read_motion_limits(args.limits, chain, args.deg)
+        limits_source = f"--limits {args.limits}"
     step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own
-    poses = read_poses(args.poses)
+    poses = _waypoints(args)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     model = _model_line(chain, args.srs_tolerance)
     degrees = args.deg
@@ -193,9 +272,13 @@ def _run_path(args: argparse.Namespace) -> int:
             print(f"step bound: speed x dt ({args.dt:g} s), speeds [{unit}/s] from {source}: "
                   f"{format_values(angles_out(speed, degrees), 4)}", flush=True)
     result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough,
-                          objective=args.objective, srs_tolerance=args.srs_tolerance)
+                          objective=args.objective, srs_tolerance=args.srs_tolerance,
+                          timing=args.rate if timed else None)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0, args.srs_tolerance)
+    trajectory = result.trajectory
+    if trajectory is not None and trajectory_file is not None:
+        _write_trajectory(trajectory_file, trajectory)
     failure = result.failure
     if args.json:
         report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
@@ -212,6 +295,12 @@ def _run_path(args: argparse.Namespace) -> int:
             start = _start(chain, result, q0, args.objective, args.srs_tolerance)
             report["start"] = {key: value for key, value in start.items() if key != "text"}
             report[result.parameter] = angles_out(result.psi, degrees)
+            if trajectory is not None:
+                report["trajectory"] = {
+                    "duration": trajectory.duration, "rate": trajectory.rate, "samples": len(trajectory.t),
+                    "interpolation": trajectory.interpolation, "waypoint_times": trajectory.waypoint_times,
+                    "limits_source": limits_source, "file": None if trajectory_file is None else str(trajectory_file),
+                    "joint_trajectory": trajectory.joint_trajectory() if trajectory_file is None else None}
         else:
             assert failure is not None
             report["failure"] = {"waypoint": failure.waypoint, "reason": failure.reason, "joint": failure.joint,
@@ -230,8 +319,11 @@ def _run_path(args: argparse.Namespace) -> int:
     print(f"path of {len(poses)} waypoints on {chain.name}: clearance {clearance} {unit} ({proof}), total motion "
           f"{motion} {unit}")
     print(_start(chain, result, q0, args.objective, args.srs_tolerance)["text"])
-    print(f"{'k':>5}  branch  {result.parameter:>10}  q [{unit}]")
+    if trajectory is not None:
+        print("\n".join(_timing_lines(trajectory, f"{limits_source} limits", trajectory_file)))
+    print(f"{'k':>5}  branch  {result.parameter:>10}  q [{unit}]" + ("      t [s]" if trajectory is not None else ""))
     for k in range(len(poses)):
+        when = "" if trajectory is None else f"  {trajectory.waypoint_times[k]:9.4f}"
         print(f"{k:>5}  {result.branch[k]:>6}  {fixed(float(angles_out(result.psi[k], degrees)), 6, ' '):>10}  "
-              f"{format_values(angles_out(result.q[k], degrees))}")
+              f"{format_values(angles_out(result.q[k], degrees))}{when}")
     return 0

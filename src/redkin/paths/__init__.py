@@ -4,6 +4,8 @@
   allows and within a bound on each joint's move per waypoint, or the first waypoint where none exist and why
 * :func:`step_bound` -- the bound from a maximum step, or from joint speeds and a time step
 * :class:`PathResult`, :class:`PathFailure` -- what they return
+* :func:`line`, :func:`through`, :func:`read_poses` -- the waypoints from what users have: a straight line (and
+  slerp) between poses, key poses joined by lines, a ``.npy``, CSV or JSON file (:mod:`redkin.paths.waypoints`)
 * :func:`time_path` -- a path's joint values timed within the joints' velocity and acceleration limits and sampled
   at a control rate (TOPP-RA, the ``timing`` extra): a :class:`Trajectory`
 * the baselines it is measured against: :func:`fixed_psi_path` (paper 000's ``Gamma_0``),
@@ -41,6 +43,15 @@ from redkin.paths.resolve import (
 )
 from redkin.paths.result import REASONS, PathFailure, PathResult
 from redkin.paths.timing import Trajectory, time_path
+from redkin.paths.waypoints import (
+    MAX_POSES,
+    QUATERNION_TOLERANCE,
+    line,
+    read_poses,
+    through,
+    write_poses_csv,
+    write_poses_json,
+)
 
 __all__ = [
     "ArmAngleFamily",
@@ -71,4 +82,11 @@ __all__ = [
     "step_bound",
     "Trajectory",
     "time_path",
+    "MAX_POSES",
+    "QUATERNION_TOLERANCE",
+    "line",
+    "read_poses",
+    "through",
+    "write_poses_csv",
+    "write_poses_json",
 ]
