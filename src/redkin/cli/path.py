@@ -23,6 +23,7 @@ from redkin.cli.common import (
     joint_vector,
     load_robot,
     output_file,
+    plural,
     print_json,
     read_poses,
 )
@@ -75,6 +76,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                       help="write the timed trajectory here (implies --timed): .json as a "
                            "trajectory_msgs/JointTrajectory (radians, seconds), or .csv (t, then each joint's q, qd "
                            "and qdd)")
+    path.add_argument("--allow-stops", action="store_true",
+                      help="where no continuous path exists, split it into the fewest continuous segments joined by "
+                           "reconfiguration stops (the tool at rest at a waypoint while the arm changes branch or "
+                           "swings its elbow), and say where and why")
     path.add_argument("--thorough", action="store_true",
                       help="search the subdivided graph too where the first search already proved its clearance "
                            "optimal: the least motion among such paths on a finer graph (slower)")
@@ -230,6 +235,15 @@ def _write_trajectory(file, trajectory) -> None:
     write_durably(file, text.encode())
 
 
+def _stop_report(stop, degrees: bool) -> dict:
+    """A reconfiguration stop in JSON, angles in the command's unit."""
+    return {"waypoint": stop.waypoint, "reason": stop.reason, "branch_before": stop.branch_before,
+            "branch_after": stop.branch_after, "parameter_before": angles_out(stop.parameter_before, degrees),
+            "parameter_after": angles_out(stop.parameter_after, degrees), "joint": stop.joint,
+            "move": angles_out(stop.move, degrees), "motion": stop.motion,
+            "q_after": angles_out(stop.path[-1], degrees), "message": stop.message}
+
+
 def _timing_lines(trajectory, source: str, file) -> list[str]:
     """What the timing found, in words."""
     lines = [f"timed: {trajectory.duration:.6g} s at {trajectory.rate:g} Hz ({len(trajectory.t)} samples), every "
@@ -273,7 +287,7 @@ def _run_path(args: argparse.Namespace) -> int:
                   f"{format_values(angles_out(speed, degrees), 4)}", flush=True)
     result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough,
                           objective=args.objective, srs_tolerance=args.srs_tolerance,
-                          timing=args.rate if timed else None)
+                          timing=args.rate if timed else None, allow_stops=args.allow_stops)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0, args.srs_tolerance)
     trajectory = result.trajectory
@@ -295,6 +309,7 @@ def _run_path(args: argparse.Namespace) -> int:
             start = _start(chain, result, q0, args.objective, args.srs_tolerance)
             report["start"] = {key: value for key, value in start.items() if key != "text"}
             report[result.parameter] = angles_out(result.psi, degrees)
+            report["stops"] = [_stop_report(stop, degrees) for stop in result.stops]
             if trajectory is not None:
                 report["trajectory"] = {
                     "duration": trajectory.duration, "rate": trajectory.rate, "samples": len(trajectory.t),
@@ -319,6 +334,9 @@ def _run_path(args: argparse.Namespace) -> int:
     print(f"path of {len(poses)} waypoints on {chain.name}: clearance {clearance} {unit} ({proof}), total motion "
           f"{motion} {unit}")
     print(_start(chain, result, q0, args.objective, args.srs_tolerance)["text"])
+    if args.allow_stops:
+        print(f"{plural(len(result.stops), 'reconfiguration stop')} (the fewest the searched graph allows)"
+              + "".join(f"\n  {stop.message}" for stop in result.stops))
     if trajectory is not None:
         print("\n".join(_timing_lines(trajectory, f"{limits_source} limits", trajectory_file)))
     print(f"{'k':>5}  branch  {result.parameter:>10}  q [{unit}]" + ("      t [s]" if trajectory is not None else ""))

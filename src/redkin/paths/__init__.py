@@ -6,6 +6,8 @@
 * :class:`PathResult`, :class:`PathFailure` -- what they return
 * :func:`line`, :func:`through`, :func:`read_poses` -- the waypoints from what users have: a straight line (and
   slerp) between poses, key poses joined by lines, a ``.npy``, CSV or JSON file (:mod:`redkin.paths.waypoints`)
+* :class:`Stop`, :data:`STOP_REASONS` -- the reconfiguration stops of ``resolve_path(..., allow_stops=True)``: the
+  fewest that join continuous segments where no continuous path exists (:mod:`redkin.paths.stops`)
 * :func:`time_path` -- a path's joint values timed within the joints' velocity and acceleration limits and sampled
   at a control rate (TOPP-RA, the ``timing`` extra): a :class:`Trajectory`
 * the baselines it is measured against: :func:`fixed_psi_path` (paper 000's ``Gamma_0``),
@@ -42,6 +44,7 @@ from redkin.paths.resolve import (
     resolve_paths,
 )
 from redkin.paths.result import REASONS, PathFailure, PathResult
+from redkin.paths.stops import STOP_REASONS, Stop
 from redkin.paths.timing import Trajectory, time_path
 from redkin.paths.waypoints import (
     MAX_POSES,
@@ -80,6 +83,8 @@ __all__ = [
     "resolve_paths",
     "sampled_path",
     "step_bound",
+    "STOP_REASONS",
+    "Stop",
     "Trajectory",
     "time_path",
     "MAX_POSES",

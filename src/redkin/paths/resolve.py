@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -30,6 +31,7 @@ from redkin.paths.family import Family, path_family
 from redkin.paths.graph import Arm, Graph
 from redkin.paths.polish import raised
 from redkin.paths.result import PathFailure, PathResult
+from redkin.paths.stops import with_stops
 from redkin.paths.timing import DEFAULT_RATE, check_timing, timed
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.feasible import FeasiblePieces
@@ -87,6 +89,7 @@ def resolve_path(
     objective: str = "clearance",
     srs_tolerance: float | None = None,
     timing: float | None = None,
+    allow_stops: bool = False,
 ) -> PathResult:
     """Joint values along a path of poses, as far from the joint limits as the path allows, or where none exist.
 
@@ -143,6 +146,10 @@ def resolve_path(
         acceleration limits (:func:`redkin.paths.time_path`, the ``timing`` extra), sampled at this rate (Hz), in
         :attr:`PathResult.trajectory`.  ``objective="time"`` times at :data:`redkin.paths.timing.DEFAULT_RATE`
         without it.
+    allow_stops : bool
+        Where no continuous path exists, split it into the fewest continuous segments joined by reconfiguration
+        stops (:mod:`redkin.paths.stops`, :attr:`PathResult.stops`); a waypoint with no feasible configuration
+        still fails the path.
 
     Returns
     -------
@@ -158,9 +165,25 @@ def resolve_path(
     if poses.ndim != 3:
         raise RedkinError(f"poses must have shape (N, 4, 4), got shape {poses.shape}; for many paths use "
                           "resolve_paths")
-    return resolve_paths(arm, poses[None], max_step, speed=speed, dt=dt, q0=q0, q_end=q_end, end_branch=end_branch,
-                         spacing=spacing, connect=connect, refinements=refinements, thorough=thorough,
-                         objective=objective, srs_tolerance=srs_tolerance, timing=timing)[0]
+    options: dict[str, Any] = {"speed": speed, "dt": dt, "spacing": spacing, "connect": connect,
+                               "refinements": refinements, "thorough": thorough, "objective": objective,
+                               "srs_tolerance": srs_tolerance}
+    if not allow_stops:
+        return resolve_paths(arm, poses[None], max_step, q0=q0, q_end=q_end, end_branch=end_branch, timing=timing,
+                             **options)[0]
+    family = path_family(arm, srs_tolerance)
+    if objective == "time" and timing is None:
+        timing = DEFAULT_RATE
+    if timing is not None:
+        check_timing(family.chain, timing)
+
+    def segment(first: int, last: int, with_start: bool, with_end: bool) -> PathResult:
+        return resolve_paths(arm, poses[None, first : last + 1], max_step, q0=q0 if with_start else None,
+                             q_end=q_end if with_end else None, end_branch=end_branch if with_end else None,
+                             **options)[0]
+
+    result = with_stops(family, poses, step_bound(family.chain, max_step, speed, dt), segment)
+    return result if timing is None else timed(family.chain, result, float(timing))
 
 
 def resolve_paths(

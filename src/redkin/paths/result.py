@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from redkin.paths.stops import Stop
     from redkin.paths.timing import Trajectory
 
 #: Why no path exists, by :attr:`PathFailure.reason`.
@@ -102,6 +103,9 @@ class PathResult:
     trajectory : Trajectory or None
         The timed trajectory through ``q`` (:func:`redkin.paths.time_path`), where the path was resolved with
         ``timing``; ``None`` otherwise.
+    stops : tuple of Stop
+        Where the path was resolved with ``allow_stops``: the reconfiguration stops that join its continuous
+        segments, fewest first (:mod:`redkin.paths.stops`); empty for a continuous path.
     """
 
     status: str
@@ -117,6 +121,7 @@ class PathResult:
     bottleneck: int | None = None
     parameter: str = "psi"
     trajectory: Trajectory | None = None
+    stops: tuple[Stop, ...] = ()
 
     @property
     def ok(self) -> bool:

@@ -24,7 +24,9 @@ controllers that filter it (libfranka's ``limitRate``).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from itertools import pairwise
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -76,7 +78,8 @@ class Trajectory:
         The limits it keeps.
     interpolation : str
         The joint path between waypoints: ``"cubic"`` (the cubic spline) or ``"pchip"`` (where the spline would
-        leave a joint's range; see the module's docstring); ``"rest"`` for a path of one configuration.
+        leave a joint's range; see the module's docstring), ``"cubic+pchip"`` where pieces between rests differ;
+        ``"rest"`` for a path of one configuration.
     """
 
     t: np.ndarray
@@ -90,7 +93,7 @@ class Trajectory:
     velocity: np.ndarray
     acceleration: np.ndarray
     interpolation: str
-    _profile: _Profile
+    _profile: _Sequence
 
     def at(self, times: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(q, qd, qdd)`` at any ``times`` in ``[0, duration]`` (seconds), each of shape ``times.shape + (n,)``."""
@@ -120,7 +123,8 @@ class Trajectory:
 
 
 def time_path(chain: SerialChain, q: ArrayLike, *, rate: float = DEFAULT_RATE,
-              velocity: ArrayLike | None = None, acceleration: ArrayLike | None = None) -> Trajectory:
+              velocity: ArrayLike | None = None, acceleration: ArrayLike | None = None,
+              rests: Sequence[int] = ()) -> Trajectory:
     """The time-optimal trajectory along the joint path through ``q`` (the module's docstring) within the joints'
     velocity and acceleration limits, sampled at ``rate``.
 
@@ -135,6 +139,10 @@ def time_path(chain: SerialChain, q: ArrayLike, *, rate: float = DEFAULT_RATE,
         Samples per second (Hz).
     velocity, acceleration : array_like, shape (n,) or scalar, optional
         Limits in rad/s and rad/s^2 instead of the chain's.
+    rests : sequence of int
+        Rows of ``q`` where the arm comes to rest (besides the first and last): the path is timed as separate
+        pieces between them, each from rest to rest and padded with a rest to a whole number of samples, so that
+        every sample lies on the one grid of ``rate`` (a path's reconfiguration stops).
 
     Returns
     -------
@@ -159,41 +167,49 @@ def time_path(chain: SerialChain, q: ArrayLike, *, rate: float = DEFAULT_RATE,
     _check_rate(rate)
     limits = {key: _limit(chain, key, given) for key, given in (("velocity", velocity),
                                                                  ("acceleration", acceleration))}
-    distinct = np.r_[True, np.linalg.norm(np.diff(values, axis=0), axis=1) > _REPEAT]
-    points = values[distinct]
-    order = np.cumsum(distinct) - 1  # each waypoint's point of the path
+    cuts = sorted({0, len(values) - 1, *(int(row) for row in rests)})
+    if cuts[0] < 0 or cuts[-1] >= len(values):
+        raise RedkinError(f"rests must be rows of q (0..{len(values) - 1}), got {list(rests)}")
+    profiles: list[_Profile] = []
+    times: list[np.ndarray] = []
+    for first, last in pairwise(cuts) if len(cuts) > 1 else [(0, 0)]:
+        rows = values[first : last + 1]
+        distinct = np.r_[True, np.linalg.norm(np.diff(rows, axis=0), axis=1) > _REPEAT]
+        profile = _piece(rows[distinct], limits, rate, chain)
+        profiles.append(profile)
+        times.append(profile.knot_times[np.cumsum(distinct) - 1][int(bool(times)):])  # a rest row once
+    sequence = _Sequence.of(profiles, rate)
+    waypoint_times = np.concatenate([piece + offset for piece, offset in zip(times, sequence.offsets)])
+    return _sampled(chain, sequence, rate, limits, waypoint_times)
+
+
+def _piece(points: np.ndarray, limits: dict[str, np.ndarray], rate: float, chain: SerialChain) -> _Profile:
+    """The profile from rest to rest through ``points``: along the cubic spline, or PCHIP where the spline leaves a
+    joint's range."""
     if len(points) == 1:  # nothing to move: the arm rests at the one configuration
-        profile = _Profile.resting(points[0])
-        return _sampled(chain, profile, rate, limits, order)
+        return _Profile.resting(points[0])
     try:
-        return _sampled(chain, _fastest(points, "cubic", limits, rate), rate, limits, order)
+        return _fastest(points, "cubic", limits, rate, chain)
     except _LeavesRange:  # the spline bends past a limit the waypoints come close to: PCHIP does not
-        return _sampled(chain, _fastest(points, "pchip", limits, rate), rate, limits, order)
+        return _fastest(points, "pchip", limits, rate, chain)
 
 
 class _LeavesRange(RedkinError):
     """A joint path that leaves a joint's range between two waypoints."""
 
 
-def _sampled(chain: SerialChain, profile: _Profile, rate: float, limits: dict[str, np.ndarray],
-             order: np.ndarray) -> Trajectory:
-    """The trajectory of ``profile`` sampled at ``rate``; :class:`_LeavesRange` where a sample leaves a joint's
-    range (naming the joint and the waypoints)."""
-    samples = _sample_count(profile.duration, rate)
-    t = np.minimum(np.arange(samples) / rate, profile.duration)
-    t[-1] = profile.duration
-    positions, speeds, accelerations = profile.evaluate(t)
-    waypoint_times = profile.knot_times[order]
-    outside = (positions < chain.lower) | (positions > chain.upper)
-    if outside.any():
-        sample, joint = np.argwhere(outside)[0]
-        after = int(np.searchsorted(waypoint_times, t[sample], side="right"))
-        raise _LeavesRange(f"the joint path leaves joint {joint + 1}'s range between waypoints {after - 1} and "
-                           f"{after} (at {positions[sample, joint]:.6g} rad, t = {t[sample]:.6g} s)")
-    return Trajectory(t=t, q=positions, qd=speeds, qdd=accelerations, duration=profile.duration,
+def _sampled(chain: SerialChain, sequence: _Sequence, rate: float, limits: dict[str, np.ndarray],
+             waypoint_times: np.ndarray) -> Trajectory:
+    """The trajectory of ``sequence`` sampled at ``rate``."""
+    samples = _sample_count(sequence.duration, rate)
+    t = np.minimum(np.arange(samples) / rate, sequence.duration)
+    t[-1] = sequence.duration
+    positions, speeds, accelerations = sequence.evaluate(t)
+    kinds = sorted({profile.path.kind for profile in sequence.profiles if profile.path is not None})
+    return Trajectory(t=t, q=positions, qd=speeds, qdd=accelerations, duration=sequence.duration,
                       waypoint_times=waypoint_times, rate=float(rate), joint_names=chain.joint_names,
                       velocity=limits["velocity"], acceleration=limits["acceleration"],
-                      interpolation="rest" if profile.path is None else profile.path.kind, _profile=profile)
+                      interpolation="+".join(kinds) or "rest", _profile=sequence)
 
 
 def check_timing(chain: SerialChain, rate: float) -> None:
@@ -206,8 +222,14 @@ def check_timing(chain: SerialChain, rate: float) -> None:
 
 def timed(chain: SerialChain, result: PathResult, rate: float) -> PathResult:
     """``result`` with its :attr:`~redkin.paths.PathResult.trajectory` (:func:`time_path` of its joint values at
-    ``rate``); a result without a path as it is."""
-    return replace(result, trajectory=time_path(chain, result.q, rate=rate)) if result.ok else result
+    ``rate``, at rest at each stop and through its reconfiguration); a result without a path as it is."""
+    from redkin.paths.stops import stopped_rows
+
+    if not result.ok:
+        return result
+    rows, waypoint_rows, rests = stopped_rows(result)
+    trajectory = time_path(chain, rows, rate=rate, rests=rests)
+    return replace(result, trajectory=replace(trajectory, waypoint_times=trajectory.waypoint_times[waypoint_rows]))
 
 
 def _check_rate(rate: float) -> None:
@@ -283,6 +305,35 @@ class _Profile:
         return self.path(flat).reshape(shape), (first * sd).reshape(shape), acceleration.reshape(shape)
 
 
+@dataclass(frozen=True)
+class _Sequence:
+    """Profiles one after another, each but the last padded with a rest to a whole number of samples at the rate
+    (so that every piece starts on the rate's grid); ``offsets`` are their start times."""
+
+    profiles: tuple[_Profile, ...]
+    offsets: np.ndarray
+    duration: float
+
+    @classmethod
+    def of(cls, profiles: list[_Profile], rate: float) -> _Sequence:
+        padded = [np.ceil(profile.duration * rate - 1e-9) / rate for profile in profiles[:-1]]
+        offsets = np.r_[0.0, np.cumsum(padded)]
+        return cls(tuple(profiles), offsets, float(offsets[-1] + profiles[-1].duration))
+
+    def evaluate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        piece = np.clip(np.searchsorted(self.offsets, t, side="right") - 1, 0, len(self.profiles) - 1)
+        n = len(self.profiles[0].evaluate(np.zeros(1))[0][0])
+        q, qd, qdd = (np.zeros(t.shape + (n,)) for _ in range(3))
+        for index, profile in enumerate(self.profiles):
+            mask = piece == index
+            local = np.minimum(t[mask] - self.offsets[index], profile.duration)
+            q[mask], qd[mask], qdd[mask] = profile.evaluate(local)
+            resting = t[mask] - self.offsets[index] > profile.duration  # the padding: at rest at the piece's end
+            rows = np.flatnonzero(mask)[resting]
+            qd[rows], qdd[rows] = 0.0, 0.0
+        return q, qd, qdd
+
+
 class _JointPath:
     """The joint path ``q(s)`` through ``points`` at ``knots``, ``kind`` ``"cubic"`` or ``"pchip"``, in the form
     TOPP-RA reads a geometric path (``path(s, order)``, ``path_interval``, ``dof``, ``waypoints``)."""
@@ -301,9 +352,10 @@ class _JointPath:
         return self._curve(s, order) if order else self._curve(s)
 
 
-def _fastest(points: np.ndarray, kind: str, limits: dict[str, np.ndarray], rate: float) -> _Profile:
+def _fastest(points: np.ndarray, kind: str, limits: dict[str, np.ndarray], rate: float,
+             chain: SerialChain) -> _Profile:
     """TOPP-RA's profile along the ``kind`` path through ``points``, its grid refined until every sample at
-    ``rate`` keeps the limits."""
+    ``rate`` keeps the limits; :class:`_LeavesRange` where a sample leaves a joint's range."""
     try:
         import toppra
         import toppra.constraint as constraint
@@ -325,7 +377,7 @@ def _fastest(points: np.ndarray, kind: str, limits: dict[str, np.ndarray], rate:
             raise RedkinError("the time parametrisation found no profile that starts and ends at rest; the joint path "
                               "may turn back on itself: check the waypoints")
         profile = _Profile.along(path, grid, np.maximum(speed, 0.0), knots)
-        over = _exceeding(profile, velocity, acceleration, rate)
+        over = _exceeding(profile, velocity, acceleration, rate, chain)
         if not over.size:
             return profile
         grid = np.union1d(grid, 0.5 * (grid[over] + grid[over + 1]))
@@ -333,11 +385,17 @@ def _fastest(points: np.ndarray, kind: str, limits: dict[str, np.ndarray], rate:
                       f"{_REFINEMENTS} refinements; add waypoints where the path bends")
 
 
-def _exceeding(profile: _Profile, velocity: np.ndarray, acceleration: np.ndarray, rate: float) -> np.ndarray:
-    """The grid intervals in which a sample at ``rate`` (or an interval's ends) exceeds a limit."""
+def _exceeding(profile: _Profile, velocity: np.ndarray, acceleration: np.ndarray, rate: float,
+               chain: SerialChain) -> np.ndarray:
+    """The grid intervals in which a sample at ``rate`` (or an interval's ends) exceeds a limit of motion;
+    :class:`_LeavesRange` where one leaves a joint's range."""
     t = np.union1d(np.arange(_sample_count(profile.duration, rate)) / rate, profile.times)
     t = t[t <= profile.duration]
-    _, speeds, accelerations = profile.evaluate(t)
+    positions, speeds, accelerations = profile.evaluate(t)
+    outside = (positions < chain.lower) | (positions > chain.upper)
+    if outside.any():
+        sample, joint = np.argwhere(outside)[0]
+        raise _LeavesRange(f"the joint path leaves joint {joint + 1}'s range (at {positions[sample, joint]:.6g} rad)")
     bad = (np.abs(speeds) > velocity).any(axis=1) | (np.abs(accelerations) > acceleration).any(axis=1)
     intervals = np.clip(np.searchsorted(profile.times, t[bad], side="right") - 1, 0, len(profile.grid) - 2)
     return np.unique(intervals)
