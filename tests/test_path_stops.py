@@ -139,3 +139,26 @@ def _write_narrow_robot(file) -> None:
     tool = NARROW.tool[:3, 3].tolist()
     file.write_text(f'name = "iiwa14-narrow"\nconvention = "dh"\nangle_unit = "rad"\n\n{rows}'
                     f"[tool]\ntranslation = {tool!r}\n")
+
+
+def test_a_reconfiguration_inside_one_feasible_piece_is_a_self_motion_that_keeps_the_tool_still():
+    from redkin.paths.family import path_family
+    from redkin.paths.stops import _self_motion
+
+    family = path_family(_BASE)
+    arm = redkin.arm(_BASE)
+    q = np.array([0.3, 0.7, -0.2, -1.3, 0.4, 0.9, 0.1])
+    pose = _BASE.fk(q)
+    branch, psi = arm.branch_of(q), float(arm.parameter_of(q))
+    sets = arm.feasible(pose)
+    b = sets.index(str(branch))
+    lo, hi = next((lo, hi) for lo, hi, keep in zip(sets.start[b], sets.end[b], sets.feasible[b])
+                  if keep and lo <= psi <= hi)
+    other = lo + 0.8 * (hi - lo) if psi < 0.5 * (lo + hi) else lo + 0.2 * (hi - lo)
+    q_other = arm.ik(pose, other, branches=[str(branch)]).q[0]
+    path = _self_motion(family, pose, np.full(7, 0.05), str(branch), psi, other, q, q_other)
+    assert path is not None and path[0].tolist() == q.tolist() and path[-1].tolist() == q_other.tolist()
+    np.testing.assert_allclose(_BASE.fk(path), np.broadcast_to(pose, path.shape[:1] + (4, 4)), atol=1e-9)
+    assert np.abs(np.diff(path, axis=0)).max() <= 0.05 and _BASE.within_limits(path).all()
+    assert _self_motion(family, pose, np.full(7, 0.05), str(branch), psi, other + 10.0, q,
+                        q_other) is None  # a value no feasible piece holds
