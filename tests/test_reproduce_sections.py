@@ -89,6 +89,26 @@ def test_paper_000_6_2_2_walked_as_paths_beside_the_global_path(full_report):
         assert (full_report / f"000_{name}.png").exists() and f"000_{name}.png" in page
 
 
+def test_paper_000_paths_timed_within_their_limits_and_the_seam_with_one_stop(full_report):
+    """Issue 41's case: the sweep, the line and the seam timed within the stated assumed limits (every sample at
+    most the limit), the seam failing without stops and passing with the one stop the text names."""
+    from redkin.paths import resolve_path
+    from redkin.reproduce import paper_000
+
+    rows = {row["path"]: row for row in _rows(_tables(full_report, "000")["s6_2_2_timed"])}
+    assert sorted(rows) == ["constructed line", "seam, with stops", "sweep"]
+    for row in rows.values():
+        assert 0.9 < row["max |qd| / limit"] <= 1.0 and 0.9 < row["max |qdd| / limit"] <= 1.0
+        assert row["duration [s]"] > 0 and row["samples"] == int(np.ceil(row["duration [s]"] * 1000.0 - 1e-9)) + 1
+    assert rows["seam, with stops"]["stops"] == 1 and rows["sweep"]["stops"] == rows["constructed line"]["stops"] == 0
+    chain = get_robot("pa10-7c")
+    q = np.tile(np.radians(paper_000._SEAM_POSTURE_DEG), (paper_000._SEAM_WAYPOINTS, 1))
+    q[:, 0] = np.linspace(*paper_000._SEAM_JOINT1, paper_000._SEAM_WAYPOINTS)
+    (stop,) = resolve_path(chain, chain.fk(q), np.radians(paper_000._SEAM_STEP_DEG), allow_stops=True).stops
+    page = (full_report / "index.html").read_text()
+    assert "Without stops: no path: waypoint" in page and stop.message in page and "assumed" in page
+
+
 def test_differences_are_ours_minus_the_paper(full_report):
     for section in _summary(full_report)["sections"].values():
         for table in section["tables"].values():

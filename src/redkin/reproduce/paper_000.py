@@ -50,6 +50,15 @@ _LINE_START_DEG = (47.0, 5.0, -79.0, 106.0, 51.0, 36.0, 52.0)
 _LINE_END_DEG = (-7.0, 11.0, 111.0, 123.0, -51.0, 22.0, 82.0)
 _LINE_WAYPOINTS = 40
 _LINE_STEP_DEG = 5.0
+#: Limits of motion assumed to time the paths (the paper gives none, and we hold no maker's figure of the PA10's):
+#: rad/s and rad/s^2 on every joint.
+_ASSUMED_SPEED, _ASSUMED_ACCELERATION = 1.0, 5.0
+#: The seam that needs one reconfiguration: the tool swept about the base as joint 1 turns from and to these values
+#: (radians) with the rest of the arm at _SEAM_POSTURE_DEG, past joint 1's +-90 deg; waypoints, bound (deg).
+_SEAM_JOINT1 = (-1.4, 2.6)
+_SEAM_POSTURE_DEG = (0.0, 30.0, 0.0, 90.0, 0.0, 40.0, 0.0)
+_SEAM_WAYPOINTS = 66
+_SEAM_STEP_DEG = 5.0
 
 
 def _deg(value):
@@ -341,6 +350,7 @@ def _section_6_2_2_paths(writer: SectionWriter, chain, target: np.ndarray, gamma
                "over the bound (step), the joint and by how much.")
     writer.text(_walk_words("sweep", sweep_result, sweep_paths) + " "
                 + _walk_words(f"constructed line (its own clearance {own:.3f} deg)", line_result, line_paths))
+    _timed_paths(writer, chain, [("sweep", sweep_result), ("constructed line", line_result)])
     for name, poses, result, paths, caption in (
             ("paths_sweep", sweep, sweep_result, sweep_paths,
              f"The sweep of section 6.2.2 as a path (waypoint k is gamma = {-limit} + k deg)"),
@@ -350,6 +360,60 @@ def _section_6_2_2_paths(writer: SectionWriter, chain, target: np.ndarray, gamma
                       "Green: the exact feasible arm angles of each waypoint and branch; black: the global path "
                       "(redkin.paths.resolve_path), a diamond where it changes branch; dashed: Gamma_0, Gamma and "
                       "greedy tracking, a cross where each first breaks a limit or the bound.")
+
+
+def _timed_paths(writer: SectionWriter, chain, paths: list[tuple[str, PathResult]]) -> None:
+    """The paths above timed within assumed limits of motion, and a seam that needs one reconfiguration stop."""
+    from redkin.errors import RedkinError
+    from redkin.paths.timing import DEFAULT_RATE, timed
+
+    writer.heading("§6.2.2 extended: timed, and the fewest reconfigurations (redkin)")
+    limited = chain.with_motion_limits(velocity=np.full(7, _ASSUMED_SPEED),
+                                       acceleration=np.full(7, _ASSUMED_ACCELERATION))
+    a, b = _SEAM_JOINT1
+    q_seam = np.tile(np.radians(_SEAM_POSTURE_DEG), (_SEAM_WAYPOINTS, 1))
+    q_seam[:, 0] = np.linspace(a, b, _SEAM_WAYPOINTS)
+    seam = chain.fk(q_seam)
+    step = np.radians(_SEAM_STEP_DEG)
+    plain = resolve_path(limited, seam, step)
+    stopped = resolve_path(limited, seam, step, allow_stops=True)
+    assumed = (f"{_ASSUMED_SPEED:g} rad/s and {_ASSUMED_ACCELERATION:g} rad/s^2 on every joint, assumed: the paper "
+               "gives no limits of motion, and we hold no maker's figure for the PA10's")
+    seam_words = (f"The seam: the tool swept about the base as joint 1 would turn from {np.degrees(a):.1f} to "
+                  f"{np.degrees(b):.1f} deg, past its +-90 deg ({_SEAM_WAYPOINTS} waypoints, a bound of "
+                  f"{_SEAM_STEP_DEG:g} deg). Without stops: ")
+    seam_words += "a continuous path exists. " if plain.failure is None else f"{plain.failure.message}. "
+    if stopped.failure is None:
+        count = len(stopped.stops)
+        seam_words += (f"With stops allowed: {count} stop{'' if count == 1 else 's'}: "
+                       + "; ".join(stop.message for stop in stopped.stops) + ".")
+    else:
+        seam_words += f"With stops allowed too, {stopped.failure.message}."
+    rows = []
+    try:
+        for name, result in paths + [("seam, with stops", stopped)]:
+            trajectory = timed(limited, result, DEFAULT_RATE).trajectory
+            if trajectory is None:
+                continue
+            rows.append([name, len(result.q), len(result.stops), trajectory.duration, len(trajectory.t),
+                         float(np.abs(trajectory.qd / limited.velocity).max()),
+                         float(np.abs(trajectory.qdd / limited.acceleration).max()), trajectory.interpolation])
+    except RedkinError as exc:  # the timing extra (toppra) is not installed
+        writer.text(f"Timing: {exc}. {seam_words}")
+        return
+    writer.text(
+        "A robot runs a trajectory, not joint values per waypoint. redkin.paths.time_path (redkin path --timed) "
+        "times each path with TOPP-RA along the cubic spline through its waypoints (PCHIP where the spline would "
+        f"leave a joint's range), within {assumed}, sampled at {DEFAULT_RATE:g} Hz; every sample is checked against "
+        "the limits (docs/paths.md). Where no continuous path exists, resolve_path(allow_stops=True) returns the "
+        "fewest continuous segments joined by reconfiguration stops, where the arm rests and reconfigures. "
+        + seam_words)
+    writer.table("s6_2_2_timed", ["path", "waypoints", "stops", "duration [s]", "samples", "max |qd| / limit",
+                                  "max |qdd| / limit", "joint path"], rows,
+                 caption="The paths timed within the assumed limits of motion",
+                 detail=f"Limits: {assumed}. The largest |qd| and |qdd| over every sample, relative to the limit "
+                        "(at most 1; the solver works 0.1 % inside). Joint path: the cubic spline, or PCHIP where the "
+                        "spline would leave a joint's range.")
 
 
 def build(writer: SectionWriter) -> None:
