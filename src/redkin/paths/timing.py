@@ -25,7 +25,7 @@ controllers that filter it (libfranka's ``limitRate``).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from itertools import pairwise
 from typing import TYPE_CHECKING
 
@@ -50,6 +50,9 @@ _REFINEMENTS = 8
 #: A grid point this fraction of the interval before each inner knot, where PCHIP's acceleration steps (much
 #: closer, and the solver's rounding in ``sd^2`` divided by the tiny interval swamps the acceleration).
 _BEFORE_KNOT = 1e-3
+#: A joint path this far past a limit (radians) is within it: PCHIP between two values at a limit computes the
+#: limit to within a few units in the last place; the samples are clipped onto it.
+_RANGE_ROUNDING = 1e-12
 #: Waypoints closer than this in joint space (radians) are one point of the path.
 _REPEAT = 1e-12
 #: At most this many samples in a trajectory (1 kHz for almost three hours).
@@ -80,6 +83,9 @@ class Trajectory:
         The joint path between waypoints: ``"cubic"`` (the cubic spline) or ``"pchip"`` (where the spline would
         leave a joint's range; see the module's docstring), ``"cubic+pchip"`` where pieces between rests differ;
         ``"rest"`` for a path of one configuration.
+    stop_spans : numpy.ndarray, shape (S, 2)
+        Of a path with reconfiguration stops (:func:`redkin.paths.resolve_path` with ``allow_stops``): when the
+        arm arrives at each stop and when it leaves it reconfigured (seconds).
     """
 
     t: np.ndarray
@@ -94,6 +100,7 @@ class Trajectory:
     acceleration: np.ndarray
     interpolation: str
     _profile: _Sequence
+    stop_spans: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
 
     def at(self, times: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(q, qd, qdd)`` at any ``times`` in ``[0, duration]`` (seconds), each of shape ``times.shape + (n,)``."""
@@ -178,7 +185,7 @@ def time_path(chain: SerialChain, q: ArrayLike, *, rate: float = DEFAULT_RATE,
         profile = _piece(rows[distinct], limits, rate, chain)
         profiles.append(profile)
         times.append(profile.knot_times[np.cumsum(distinct) - 1][int(bool(times)):])  # a rest row once
-    sequence = _Sequence.of(profiles, rate)
+    sequence = _Sequence.of(profiles, rate, chain)
     waypoint_times = np.concatenate([piece + offset for piece, offset in zip(times, sequence.offsets)])
     return _sampled(chain, sequence, rate, limits, waypoint_times)
 
@@ -229,7 +236,9 @@ def timed(chain: SerialChain, result: PathResult, rate: float) -> PathResult:
         return result
     rows, waypoint_rows, rests = stopped_rows(result)
     trajectory = time_path(chain, rows, rate=rate, rests=rests)
-    return replace(result, trajectory=replace(trajectory, waypoint_times=trajectory.waypoint_times[waypoint_rows]))
+    times = trajectory.waypoint_times
+    spans = np.stack([times[rests[0::2]], times[rests[1::2]]], axis=-1).reshape(-1, 2)
+    return replace(result, trajectory=replace(trajectory, waypoint_times=times[waypoint_rows], stop_spans=spans))
 
 
 def _check_rate(rate: float) -> None:
@@ -313,12 +322,14 @@ class _Sequence:
     profiles: tuple[_Profile, ...]
     offsets: np.ndarray
     duration: float
+    lower: np.ndarray
+    upper: np.ndarray
 
     @classmethod
-    def of(cls, profiles: list[_Profile], rate: float) -> _Sequence:
+    def of(cls, profiles: list[_Profile], rate: float, chain: SerialChain) -> _Sequence:
         padded = [np.ceil(profile.duration * rate - 1e-9) / rate for profile in profiles[:-1]]
         offsets = np.r_[0.0, np.cumsum(padded)]
-        return cls(tuple(profiles), offsets, float(offsets[-1] + profiles[-1].duration))
+        return cls(tuple(profiles), offsets, float(offsets[-1] + profiles[-1].duration), chain.lower, chain.upper)
 
     def evaluate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         piece = np.clip(np.searchsorted(self.offsets, t, side="right") - 1, 0, len(self.profiles) - 1)
@@ -331,7 +342,8 @@ class _Sequence:
             resting = t[mask] - self.offsets[index] > profile.duration  # the padding: at rest at the piece's end
             rows = np.flatnonzero(mask)[resting]
             qd[rows], qdd[rows] = 0.0, 0.0
-        return q, qd, qdd
+        # within the range: a sample is at most _RANGE_ROUNDING past a limit (_exceeding), which is rounding
+        return np.clip(q, self.lower, self.upper), qd, qdd
 
 
 class _JointPath:
@@ -392,7 +404,7 @@ def _exceeding(profile: _Profile, velocity: np.ndarray, acceleration: np.ndarray
     t = np.union1d(np.arange(_sample_count(profile.duration, rate)) / rate, profile.times)
     t = t[t <= profile.duration]
     positions, speeds, accelerations = profile.evaluate(t)
-    outside = (positions < chain.lower) | (positions > chain.upper)
+    outside = (positions < chain.lower - _RANGE_ROUNDING) | (positions > chain.upper + _RANGE_ROUNDING)
     if outside.any():
         sample, joint = np.argwhere(outside)[0]
         raise _LeavesRange(f"the joint path leaves joint {joint + 1}'s range (at {positions[sample, joint]:.6g} rad)")
