@@ -226,3 +226,45 @@ def test_cli_explorer_of_the_panda_slides_over_q7(browser, tmp_path):
     assert page.locator("#arm").count() == 1 and "Q7" in page.text_content("#status")
     assert view.sideways() <= 0 and not view.errors
 
+
+
+@browser_test
+@pytest.mark.slow
+@pytest.mark.parametrize("width", WIDTHS)
+def test_path_playback_moves_the_arm_along_the_trajectory_and_marks_the_stop(browser, width, tmp_path):
+    """``redkin path --playback``: the time slider moves the arm and the joint table to the trajectory's numbers,
+    play runs the time forward, and the stop is shaded on every joint's curve and named while the arm rests."""
+    import numpy as np
+
+    from tests.test_path_stops import STEP, _sweep, _write_narrow_robot
+
+    robot, poses, limits, out = (tmp_path / name for name in ("narrow.toml", "sweep.npy", "limits.yaml", "p.html"))
+    _write_narrow_robot(robot)
+    np.save(poses, _sweep(3.0, 22))
+    limits.write_text("velocity: 1.5\nacceleration: 10\n")
+    subprocess.run([sys.executable, "-m", "redkin.cli.main", "path", str(robot), "--poses", str(poses), "--max-step",
+                    str(STEP), "--allow-stops", "--limits", str(limits), "--playback", str(out)],
+                   check=True, capture_output=True)
+    view = Page(browser, out.as_uri(), width)
+    page = view.page
+    data = json.loads(page.text_content("#playback-data"))
+    assert len(data["stops"]) == 1 and page.locator("#curves svg").count() == 7
+    assert page.locator("#curves rect.stop").count() == 7
+    arm = page.get_attribute("#arm", "points")
+    last = len(data["t"]) - 1
+    page.fill("#time", str(last))
+    page.dispatch_event("#time", "input")
+    assert page.get_attribute("#arm", "points") != arm
+    values = page.evaluate("() => Array.from(document.querySelectorAll('#joints td.value')).map(c => c.textContent)")
+    assert values[0::2] == [f"{data['q'][j][last]:.3f}" for j in range(7)]
+    stop = data["stops"][0]
+    inside = next(k for k, t in enumerate(data["t"]) if stop["start"] < t < stop["end"])
+    page.fill("#time", str(inside))
+    page.dispatch_event("#time", "input")
+    assert page.text_content("#status").startswith("Stopped: stop at waypoint")
+    page.fill("#time", "0")
+    page.dispatch_event("#time", "input")
+    page.click("#play")
+    page.wait_for_function("() => Number(document.getElementById('time').value) > 3")
+    page.click("#play")
+    assert page.text_content("#play") == "Play" and view.sideways() <= 0 and not view.errors

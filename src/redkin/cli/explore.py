@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import argparse
 
+import numpy as np
+
 from redkin.cli.common import (
     BRANCH_HELP,
     UsageError,
@@ -38,6 +40,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="open the page at this configuration (one value per joint; radians, or degrees with "
                              "--deg): its branch and its own arm angle or q7; without --position and a rotation the "
                              "pose is its forward kinematics")
+    parser.add_argument("--path", metavar="RESULT.json",
+                        help="instead of a pose: play a timed path back (a `redkin path --trajectory FILE.json` "
+                             "JointTrajectory, or the `redkin path --timed --json` report with its stops)")
     parser.add_argument("--out", required=True, metavar="FILE.html", help="the page to write")
     add_force_flag(parser)
     add_srs_tolerance_argument(parser)
@@ -50,6 +55,8 @@ def run(args: argparse.Namespace) -> int:
 
     out = output_file(args.out, "--out", {".html", ".htm"}, args.force)
     chain = load_robot(args)
+    if args.path is not None:
+        return _playback(args, chain, out)
     q = None if args.q is None else joint_vector(chain, args.q, args.deg, "--q values")
     if args.position is not None or args.rotation is not None or args.quat is not None:
         pose = target_pose(args)
@@ -78,3 +85,62 @@ def run(args: argparse.Namespace) -> int:
               "open it in a browser")
         print(f"{data.opening} ({parameter.name} = {opens:.6f} {angle_unit(args.deg)})")
     return 0
+
+
+def _playback(args: argparse.Namespace, chain, out) -> int:
+    """``--path``: the playback page of a timed path (:mod:`redkin.explore.playback`)."""
+    from redkin._files import write_durably
+    from redkin.explore.playback import StopSpan, playback_html
+
+    if args.position is not None or args.rotation is not None or args.quat is not None or args.q is not None:
+        raise UsageError("--path plays a timed path back: give it without a pose or --q")
+    message, report = _read_path_file(args.path)
+    names = message.get("joint_names")
+    points = message.get("points")
+    if not isinstance(names, list) or not isinstance(points, list) or not points:
+        raise UsageError(f"--path {args.path!r}: no JointTrajectory in it (joint_names and points); time the path "
+                         "with redkin path --timed --json, or --trajectory FILE.json")
+    if len(names) != chain.n:
+        raise UsageError(f"--path {args.path!r}: the trajectory has {len(names)} joints, {chain.name} has {chain.n}")
+    try:
+        t = np.array([p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"] for p in points],
+                     dtype=float)
+        q = np.array([p["positions"] for p in points], dtype=float)
+        qd = np.array([p.get("velocities") or [0.0] * chain.n for p in points], dtype=float)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise UsageError(f"--path {args.path!r}: a point is malformed ({exc!r}); each needs positions, velocities "
+                         "and time_from_start {sec, nanosec}") from None
+    timing = report.get("trajectory") or {}
+    stops = [StopSpan(float(a), float(b), str(stop.get("message", ""))) for (a, b), stop in
+             zip(timing.get("stop_spans") or [], report.get("stops") or [])]
+    write_durably(out, playback_html(chain, t, q, qd, stops).encode("utf-8"))
+    print(f"wrote {out}: {chain.name}, a trajectory of {t[-1] - t[0]:.3f} s"
+          + (f" with {len(stops)} stop{'' if len(stops) == 1 else 's'}" if stops else "") + "; open it in a browser")
+    return 0
+
+
+def _read_path_file(file: str) -> tuple[dict, dict]:
+    """The JointTrajectory message of ``file`` and the report around it (empty for a bare message): the message is
+    the file itself, the report's ``trajectory.joint_trajectory``, or the file its ``trajectory.file`` names."""
+    import json
+    from pathlib import Path
+
+    def load(path: str) -> dict:
+        try:
+            data = json.loads(Path(path).read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, ValueError) as exc:
+            raise UsageError(f"--path {path!r}: cannot read it as JSON ({exc})") from None
+        if not isinstance(data, dict):
+            raise UsageError(f"--path {path!r}: expected a JSON object")
+        return data
+
+    data = load(file)
+    if "points" in data:
+        return data, {}
+    timing: dict = data["trajectory"] if isinstance(data.get("trajectory"), dict) else {}
+    if timing.get("joint_trajectory"):
+        return timing["joint_trajectory"], data
+    if timing.get("file"):
+        named = Path(timing["file"])
+        return load(str(named if named.is_absolute() else Path(file).parent / named)), data
+    return {}, data

@@ -72,6 +72,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "limits (TOPP-RA, the timing extra), sampled at --rate")
     path.add_argument("--rate", type=float, default=1000.0, metavar="HZ",
                       help="with --timed: samples per second (default 1000)")
+    path.add_argument("--playback", metavar="FILE.html",
+                      help="write a page that plays the timed path back in a browser (implies --timed): the arm "
+                           "moving, a time slider, each joint's value and speed with their limits, the stops marked")
     path.add_argument("--trajectory", metavar="FILE",
                       help="write the timed trajectory here (implies --timed): .json as a "
                            "trajectory_msgs/JointTrajectory (radians, seconds), or .csv (t, then each joint's q, qd "
@@ -256,12 +259,23 @@ def _timing_lines(trajectory, source: str, file) -> list[str]:
     return lines
 
 
+def stop_spans(result) -> list:
+    """The stops of a timed result as spans of its time axis, with their words (for the playback page)."""
+    from redkin.explore.playback import StopSpan
+
+    assert result.trajectory is not None
+    return [StopSpan(float(start), float(end), stop.message)
+            for (start, end), stop in zip(result.trajectory.stop_spans, result.stops)]
+
+
 def _run_path(args: argparse.Namespace) -> int:
     from redkin.paths import resolve_path
     plot = None if args.plot is None else output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
     trajectory_file = (None if args.trajectory is None else
                        output_file(args.trajectory, "--trajectory", (".json", ".csv"), args.force))
-    timed = args.timed or trajectory_file is not None or args.objective == "time"
+    playback = None if args.playback is None else output_file(args.playback, "--playback", {".html", ".htm"},
+                                                              args.force)
+    timed = args.timed or trajectory_file is not None or playback is not None or args.objective == "time"
     if args.poses is not None and (args.step != 0.005 or args.angle_step != 0.05):
         raise UsageError("--step and --angle-step go with --through (the key poses joined by lines); --poses are "
                          "the waypoints themselves")
@@ -293,6 +307,12 @@ def _run_path(args: argparse.Namespace) -> int:
     trajectory = result.trajectory
     if trajectory is not None and trajectory_file is not None:
         _write_trajectory(trajectory_file, trajectory)
+    if trajectory is not None and playback is not None:
+        from redkin._files import write_durably
+        from redkin.explore.playback import playback_html
+
+        write_durably(playback, playback_html(chain, trajectory.t, trajectory.q, trajectory.qd,
+                                              stop_spans(result)).encode("utf-8"))
     failure = result.failure
     if args.json:
         report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
@@ -315,6 +335,7 @@ def _run_path(args: argparse.Namespace) -> int:
                     "duration": trajectory.duration, "rate": trajectory.rate, "samples": len(trajectory.t),
                     "interpolation": trajectory.interpolation, "waypoint_times": trajectory.waypoint_times,
                     "limits_source": limits_source, "file": None if trajectory_file is None else str(trajectory_file),
+                    "stop_spans": trajectory.stop_spans, "playback": None if playback is None else str(playback),
                     "joint_trajectory": trajectory.joint_trajectory() if trajectory_file is None else None}
         else:
             assert failure is not None
@@ -339,6 +360,8 @@ def _run_path(args: argparse.Namespace) -> int:
               + "".join(f"\n  {stop.message}" for stop in result.stops))
     if trajectory is not None:
         print("\n".join(_timing_lines(trajectory, f"{limits_source} limits", trajectory_file)))
+        if playback is not None:
+            print(f"playback page written to {playback}: open it in a browser")
     print(f"{'k':>5}  branch  {result.parameter:>10}  q [{unit}]" + ("      t [s]" if trajectory is not None else ""))
     for k in range(len(poses)):
         when = "" if trajectory is None else f"  {trajectory.waypoint_times[k]:9.4f}"

@@ -1,0 +1,269 @@
+"""A timed path played back in the browser: one self-contained HTML page (``redkin path --playback``,
+``redkin explore ROBOT --path RESULT.json``).
+
+The page draws the arm moving along the trajectory (an orthographic view of its frame origins, turned by
+dragging, with the tool's path traced), a time slider and a play button, and each joint's value and speed
+against time with its position limits and speed limits, the reconfiguration stops shaded.  As the explorer
+(:mod:`redkin.explore.page`), it loads nothing: the numbers are JSON inside it, and the script computes nothing but
+screen coordinates.  The trajectory is shown at :data:`FRAME_RATE` frames per second of its time (the samples in
+between are the controller's, not the eye's), at most :data:`MAX_FRAMES` frames.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.errors import RedkinError
+
+#: Frames of the page per second of the trajectory's time.
+FRAME_RATE = 50.0
+#: The most frames a page holds (a longer trajectory is shown at a lower frame rate).
+MAX_FRAMES = 5000
+#: Decimals of the stored positions [m], angles [rad] and times [s].
+_DECIMALS = 5
+
+
+@dataclass(frozen=True)
+class StopSpan:
+    """A reconfiguration stop on the time axis: from ``start`` to ``end`` seconds, and what it is in words."""
+
+    start: float
+    end: float
+    text: str
+
+
+def playback_html(chain: SerialChain, t: np.ndarray, q: np.ndarray, qd: np.ndarray,
+                  stops: Sequence[StopSpan] = (), title: str = "") -> str:
+    """The playback page of a trajectory of ``chain``.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        The arm (its frames, joint names, position and speed limits).
+    t : numpy.ndarray, shape (M,)
+        Seconds, increasing.
+    q, qd : numpy.ndarray, shape (M, n)
+        Joint values (rad) and speeds (rad/s) at ``t``.
+    stops : sequence of StopSpan
+        Spans to shade and name (the reconfiguration stops).
+    title : str
+        The page's heading (default: the robot's name and the duration).
+
+    Returns
+    -------
+    str
+        A complete HTML document.
+
+    Raises
+    ------
+    RedkinError
+        For arrays of the wrong shape, not finite, or times not increasing.
+    """
+    t, q, qd = (np.asarray(v, dtype=float) for v in (t, q, qd))
+    if t.ndim != 1 or len(t) == 0 or q.shape != (len(t), chain.n) or qd.shape != q.shape:
+        raise RedkinError(f"a trajectory needs t (M,), q and qd (M, {chain.n}); got {t.shape}, {q.shape}, {qd.shape}")
+    if not (np.isfinite(t).all() and np.isfinite(q).all() and np.isfinite(qd).all()):
+        raise RedkinError("the trajectory's times, joint values and speeds must be finite")
+    if np.any(np.diff(t) <= 0.0):
+        raise RedkinError("the trajectory's times must increase")
+    duration = float(t[-1] - t[0])
+    frames = int(min(MAX_FRAMES, max(2, np.ceil(duration * FRAME_RATE) + 1)))
+    shown = np.unique(np.r_[np.searchsorted(t, np.linspace(t[0], t[-1], frames)).clip(0, len(t) - 1), len(t) - 1])
+    origins = chain.frames(q[shown])[..., :3, 3]
+    heading = title or f"{chain.name}: a trajectory of {duration:.3f} s"
+    payload = json.dumps(_payload(chain, t[shown], q[shown], qd[shown], origins, stops), separators=(",", ":"),
+                         allow_nan=False).replace("</", "<\\/")
+    return (
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
+        f"<title>{html.escape(heading)}</title><style>{_STYLE}</style></head><body>\n"
+        f"<header><h1>{html.escape(heading)}</h1></header>\n{_BODY}\n"
+        f"<script id=\"playback-data\" type=\"application/json\">{payload}</script>\n"
+        f"<script>{_SCRIPT}</script>\n</body></html>\n"
+    )
+
+
+def _payload(chain: SerialChain, t: np.ndarray, q: np.ndarray, qd: np.ndarray, origins: np.ndarray,
+             stops: Sequence[StopSpan]) -> dict[str, Any]:
+    def rounded(values: Any) -> Any:
+        return (np.round(np.asarray(values, dtype=float), _DECIMALS) + 0.0).tolist()
+
+    def finite(values: np.ndarray) -> list:
+        return [None if not np.isfinite(v) else round(float(v), _DECIMALS) for v in values]
+
+    return {"robot": chain.name, "joints": list(chain.joint_names), "t": rounded(t - t[0]), "q": rounded(q.T),
+            "qd": rounded(qd.T), "origins": rounded(origins), "tool": rounded(origins[:, -1]),
+            "lower": finite(chain.lower), "upper": finite(chain.upper), "speed": finite(chain.velocity),
+            "stops": [{"start": round(s.start - float(t[0]), _DECIMALS), "end": round(s.end - float(t[0]), _DECIMALS),
+                       "text": s.text} for s in stops]}
+
+
+_BODY = """<div class="controls">
+<button id="play" type="button">Play</button>
+<label class="slider">t <input id="time" type="range" min="0" value="0" step="1" aria-label="time"></label>
+<output id="time-value"></output></div>
+<p id="status" class="status"></p>
+<div class="views"><figure class="view3d"><svg id="arm-view" viewBox="-1 -1 2 2"></svg>
+<figcaption>The arm at the slider's time (drag to turn the view); grey: the tool's path.</figcaption></figure>
+<div class="joints"><table id="joints"><thead><tr><th>joint</th><th>q [rad]</th><th>qd [rad/s]</th></tr></thead>
+<tbody></tbody></table></div></div>
+<section class="curves" id="curves"></section>
+<p class="legend"><span class="k curve"></span>q(t) <span class="k speed"></span>qd(t)
+<span class="k limit"></span>limits (position; speed dashed thin) <span class="k stop"></span>reconfiguration stop
+<span class="k cursor"></span>the slider's time</p>"""
+
+_STYLE = """
+*, *::before, *::after { box-sizing: border-box; }
+body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; max-width: 68em; margin: 0 auto;
+       padding: 0.5em clamp(0.6em, 3vw, 2em) 2em; color: #1d1d1d; line-height: 1.45; }
+h1 { font-size: 1.35em; margin: 0.3em 0 0.1em; }
+figcaption, p.legend { font-size: 0.86em; color: #444; }
+.controls { display: flex; flex-wrap: wrap; align-items: center; gap: 0.4em 1em; margin: 0.6em 0 0.2em; }
+label.slider { display: flex; align-items: center; gap: 0.5em; flex: 1 1 16em; }
+label.slider input { flex: 1 1 auto; min-width: 8em; }
+output { font-variant-numeric: tabular-nums; font-weight: 600; min-width: 7em; }
+.status { margin: 0.2em 0; font-size: 0.92em; min-height: 1.4em; }
+.views { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
+figure.view3d { margin: 0; flex: 1 1 18em; max-width: 30em; }
+figure.view3d svg { width: 100%; height: auto; border: 1px solid #ccc; background: #fcfcfc; touch-action: none;
+                    cursor: grab; display: block; }
+.joints { flex: 1 1 16em; overflow-x: auto; }
+table { border-collapse: collapse; font-size: 0.9em; }
+th, td { border: 1px solid #bbb; padding: 0.2em 0.5em; text-align: left; }
+thead th { background: #eee; }
+td.value { text-align: right; font-variant-numeric: tabular-nums; }
+.curves svg { width: 100%; height: auto; display: block; margin: 0.15em 0; }
+.k { display: inline-block; width: 1.4em; height: 0.7em; margin: 0 0.2em 0 0.6em; vertical-align: middle; }
+.k.curve { border-top: 2px solid #111; height: 0; }
+.k.speed { border-top: 2px solid #2864b4; height: 0; }
+.k.limit { border-top: 2px dashed #c03030; height: 0; }
+.k.stop { background: rgba(208, 112, 0, 0.25); }
+.k.cursor { border-top: 2px solid #888; height: 0; }
+"""
+
+_SCRIPT = r"""
+"use strict";
+(function () {
+  const D = JSON.parse(document.getElementById("playback-data").textContent);
+  const NS = "http://www.w3.org/2000/svg";
+  const W = 640, H = 110, LEFT = 56, RIGHT = 10, TOP = 8, BOTTOM = 20;
+  const slider = document.getElementById("time"), play = document.getElementById("play");
+  const view3d = document.getElementById("arm-view");
+  const last = D.t.length - 1, duration = D.t[last];
+  const view = { az: 0.8, el: 0.45 };
+  let index = 0, timer = null, cursors = [];
+  slider.max = String(last);
+
+  function node(name, attrs, parent) {
+    const e = document.createElementNS(NS, name);
+    for (const key in attrs) e.setAttribute(key, attrs[key]);
+    if (parent) parent.appendChild(e);
+    return e;
+  }
+  const all = D.origins.flat();
+  const centre = [0, 1, 2].map(i => 0.5 * (Math.min(...all.map(p => p[i])) + Math.max(...all.map(p => p[i]))));
+  function project(p) {  // orthographic, about the centre of everything the arm sweeps
+    const ca = Math.cos(view.az), sa = Math.sin(view.az), ce = Math.cos(view.el), se = Math.sin(view.el);
+    const px = p[0] - centre[0], py = p[1] - centre[1], pz = p[2] - centre[2];
+    const x = ca * px - sa * py, y = sa * px + ca * py;
+    return [x, -(ce * pz - se * y)];
+  }
+  const reach = Math.max(1e-3, ...all.map(p => Math.hypot(p[0] - centre[0], p[1] - centre[1], p[2] - centre[2])));
+  view3d.setAttribute("viewBox", [-1.15 * reach, -1.15 * reach, 2.3 * reach, 2.3 * reach].join(" "));
+  const stroke = (reach / 120).toFixed(5);
+
+  function drawArm() {
+    view3d.textContent = "";
+    node("polyline", { points: D.tool.map(p => project(p).join(",")).join(" "), fill: "none", stroke: "#aaa",
+                       "stroke-width": stroke, id: "tool-path" }, view3d);
+    const pts = D.origins[index].map(project);
+    node("polyline", { id: "arm", points: pts.map(p => p.join(",")).join(" "), fill: "none", stroke: "#1d1d1d",
+                       "stroke-width": 3 * stroke, "stroke-linejoin": "round" }, view3d);
+    for (const p of pts) node("circle", { cx: p[0], cy: p[1], r: 2.5 * stroke, fill: "#2864b4" }, view3d);
+  }
+  function stopAt(t) { return D.stops.find(s => t >= s.start - 1e-9 && t <= s.end + 1e-9); }
+  function update() {
+    const t = D.t[index];
+    document.getElementById("time-value").textContent = t.toFixed(3) + " / " + duration.toFixed(3) + " s";
+    const stop = stopAt(t);
+    document.getElementById("status").textContent = stop ? "Stopped: " + stop.text : "";
+    const rows = document.querySelectorAll("#joints tbody tr");
+    rows.forEach((row, j) => {
+      row.children[1].textContent = D.q[j][index].toFixed(3);
+      row.children[2].textContent = D.qd[j][index].toFixed(3);
+    });
+    const x = LEFT + (W - LEFT - RIGHT) * (duration > 0 ? t / duration : 0);
+    for (const c of cursors) { c.setAttribute("x1", x); c.setAttribute("x2", x); }
+    drawArm();
+  }
+  function curves() {
+    const host = document.getElementById("curves"), body = document.querySelector("#joints tbody");
+    D.joints.forEach((name, j) => {
+      const tr = document.createElement("tr");
+      tr.innerHTML = "<td></td><td class='value'></td><td class='value'></td>";
+      tr.children[0].textContent = name;
+      body.appendChild(tr);
+      const values = D.q[j].concat(D.qd[j]);
+      for (const v of [D.lower[j], D.upper[j], D.speed[j], D.speed[j] === null ? null : -D.speed[j]])
+        if (v !== null) values.push(v);
+      const lo = Math.min(...values), hi = Math.max(...values), span = hi - lo || 1;
+      const sx = t => LEFT + (W - LEFT - RIGHT) * (duration > 0 ? t / duration : 0);
+      const sy = v => TOP + (H - TOP - BOTTOM) * (hi - v) / span;
+      const svg = node("svg", { viewBox: `0 0 ${W} ${H}`, role: "img", "aria-label": name + " against time" }, host);
+      for (const s of D.stops)
+        node("rect", { x: sx(s.start), y: TOP, width: Math.max(1, sx(s.end) - sx(s.start)), height: H - TOP - BOTTOM,
+                       fill: "rgba(208,112,0,0.25)", class: "stop" }, svg);
+      for (const [v, width] of [[D.lower[j], 1.5], [D.upper[j], 1.5], [D.speed[j], 0.8],
+                                [D.speed[j] === null ? null : -D.speed[j], 0.8]])
+        if (v !== null) node("line", { x1: LEFT, x2: W - RIGHT, y1: sy(v), y2: sy(v), stroke: "#c03030",
+                                       "stroke-dasharray": "5 3", "stroke-width": width }, svg);
+      for (const [series, color] of [[D.q[j], "#111"], [D.qd[j], "#2864b4"]])
+        node("polyline", { points: series.map((v, k) => sx(D.t[k]) + "," + sy(v)).join(" "), fill: "none",
+                           stroke: color, "stroke-width": 1.5 }, svg);
+      const label = node("text", { x: 4, y: TOP + 12, "font-size": 12 }, svg);
+      label.textContent = name;
+      for (const [v, y] of [[hi, TOP + 26], [lo, H - BOTTOM - 2]]) {
+        const tick = node("text", { x: 4, y: y, "font-size": 10, fill: "#555" }, svg);
+        tick.textContent = v.toFixed(2);
+      }
+      cursors.push(node("line", { y1: TOP, y2: H - BOTTOM, stroke: "#888", "stroke-width": 1.5 }, svg));
+    });
+  }
+  function step() {
+    if (index >= last) { stopPlaying(); return; }
+    index += 1;
+    slider.value = String(index);
+    update();
+  }
+  function stopPlaying() { if (timer !== null) clearInterval(timer); timer = null; play.textContent = "Play"; }
+  play.addEventListener("click", () => {
+    if (timer !== null) { stopPlaying(); return; }
+    if (index >= last) index = 0;
+    play.textContent = "Pause";
+    timer = setInterval(step, 1000 * (duration > 0 ? duration / Math.max(1, last) : 0.02));
+  });
+  slider.addEventListener("input", () => { index = Number(slider.value); update(); });
+  let drag = null;
+  view3d.addEventListener("pointerdown", e => {
+    drag = [e.clientX, e.clientY];
+    view3d.setPointerCapture(e.pointerId);
+  });
+  view3d.addEventListener("pointermove", e => {
+    if (!drag) return;
+    view.az += (e.clientX - drag[0]) * 0.01;
+    view.el = Math.max(-1.5, Math.min(1.5, view.el + (e.clientY - drag[1]) * 0.01));
+    drag = [e.clientX, e.clientY];
+    drawArm();
+  });
+  view3d.addEventListener("pointerup", () => { drag = null; });
+  curves();
+  update();
+})();
+"""
