@@ -100,3 +100,19 @@ def test_a_bad_limits_file_is_one_line_naming_the_entry(tmp_path, text, expected
     assert expected in message and str(file) in message and "\n" not in message
     with pytest.raises(RobotDescriptionError, match="cannot read it"):
         read_motion_limits(tmp_path / "missing.yaml", pa10_7c())
+
+
+def test_robots_show_prints_the_limits_of_motion(capsys):
+    from redkin.cli.main import main
+
+    assert main(["robots", "--show", "franka-fr3", "--json"]) == 0
+    joints = json.loads(capsys.readouterr().out)["joints"]
+    assert [(j["velocity"], j["acceleration"], j["jerk"]) for j in joints] == list(
+        zip(franka_fr3().velocity.tolist(), franka_fr3().acceleration.tolist(), franka_fr3().jerk.tolist()))
+    assert main(["robots", "--show", "kuka-iiwa14", "--deg"]) == 0
+    text = capsys.readouterr().out
+    assert "limits of motion (deg/s, deg/s^2, deg/s^3" in text and "velocity 85" in text and "acceleration" not in text
+    assert main(["robots", "--show", "pa10-7c", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["joints"][0]["acceleration"] is None
+    assert main(["robots", "--show", "pa10-7c"]) == 0
+    assert "limits of motion: none known" in capsys.readouterr().out

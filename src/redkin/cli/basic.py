@@ -110,9 +110,10 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
             "class_reason": reason,
             "units": {"lower": angle_unit(args.deg), "upper": angle_unit(args.deg), "point": "m", "base": "m",
                       "tool": "m"},
-            "joints": [{"name": name, "lower": low, "upper": high, "point": point, "axis": axis}
-                       for name, low, high, point, axis in zip(chain.joint_names, _finite(lower), _finite(upper),
-                                                                points, directions)],
+            "joints": [{"name": name, "lower": low, "upper": high, "point": point, "axis": axis, **motion}
+                       for name, low, high, point, axis, motion in zip(chain.joint_names, _finite(lower),
+                                                                        _finite(upper), points, directions,
+                                                                        _motion_limits(chain, args.deg))],
             "base": chain.base, "tool": chain.tool,
         })
         return 0
@@ -126,11 +127,27 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
         point = format_values(points[k], 4)
         axis = format_values(directions[k], 4)
         print(f"  {k + 1}  {name:<{width}}  point {point}  axis {axis}  {limits}")
+    known = [key for key in chain.motion_limits if np.isfinite(chain.motion_limits[key]).any()]
+    if known:
+        print(f"limits of motion ({unit}/s, {unit}/s^2, {unit}/s^3; - where unknown):")
+        for k, name in enumerate(chain.joint_names):
+            values = _motion_limits(chain, args.deg)[k]
+            print(f"  {k + 1}  {name:<{width}}  " + "  ".join(
+                f"{key} {'-' if values[key] is None else f'{values[key]:.6g}'}" for key in known))
+    else:
+        print("limits of motion: none known (a limits file gives them: redkin path --limits)")
     print("base:")
     print(format_matrix(chain.base))
     print("tool:")
     print(format_matrix(chain.tool))
     return 0
+
+
+def _motion_limits(chain: SerialChain, degrees: bool) -> list[dict]:
+    """Per joint, its velocity, acceleration and jerk limits in the command's angle unit (``None`` where
+    unknown)."""
+    limits = {key: _finite(angles_out(values, degrees)) for key, values in chain.motion_limits.items()}
+    return [{key: limits[key][k] for key in limits} for k in range(chain.n)]
 
 
 def _run_fk(args: argparse.Namespace) -> int:
