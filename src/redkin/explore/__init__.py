@@ -8,11 +8,18 @@
   posture in 3-D, a branch selector and the joint values; it works offline, from a file; it reads the parameter's
   name, domain and marks from the data and never asks which class it holds
 
-``redkin explore ROBOT --position X Y Z --rotation R... --out FILE.html`` writes one.
+* :func:`playback_html` -- a timed path played back: the arm moving, a time slider, every joint's value and speed
+  against its limits, the reconfiguration stops (:class:`StopSpan`) shaded; :data:`FRAME_RATE` frames per second of
+  the trajectory's time, at most :data:`MAX_FRAMES`
+
+``redkin explore ROBOT --position X Y Z --rotation R... --out FILE.html`` writes one; ``redkin explore ROBOT --path
+RESULT.json`` and ``redkin path --playback`` write the playback page.
 """
 
 from redkin.explore.curves import BranchCurves, ExplorerData, Mark, Parameter
 from redkin.explore.data import GRID_SAMPLES, explorer_data
 from redkin.explore.page import explorer_html
+from redkin.explore.playback import FRAME_RATE, MAX_FRAMES, StopSpan, playback_html
 
-__all__ = ["GRID_SAMPLES", "BranchCurves", "ExplorerData", "Mark", "Parameter", "explorer_data", "explorer_html"]
+__all__ = ["GRID_SAMPLES", "BranchCurves", "ExplorerData", "Mark", "Parameter", "explorer_data", "explorer_html",
+           "FRAME_RATE", "MAX_FRAMES", "StopSpan", "playback_html"]
