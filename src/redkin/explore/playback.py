@@ -21,6 +21,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
+from redkin.explore.script import PAGE_STYLE
 
 #: Frames of the page per second of the trajectory's time.
 FRAME_RATE = 50.0
@@ -119,33 +120,10 @@ _BODY = """<div class="controls">
 <span class="k limit"></span>limits (position; speed dashed thin) <span class="k stop"></span>reconfiguration stop
 <span class="k cursor"></span>the slider's time</p>"""
 
-_STYLE = """
-*, *::before, *::after { box-sizing: border-box; }
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; max-width: 68em; margin: 0 auto;
-       padding: 0.5em clamp(0.6em, 3vw, 2em) 2em; color: #1d1d1d; line-height: 1.45; }
-h1 { font-size: 1.35em; margin: 0.3em 0 0.1em; }
-figcaption, p.legend { font-size: 0.86em; color: #444; }
-.controls { display: flex; flex-wrap: wrap; align-items: center; gap: 0.4em 1em; margin: 0.6em 0 0.2em; }
-label.slider { display: flex; align-items: center; gap: 0.5em; flex: 1 1 16em; }
-label.slider input { flex: 1 1 auto; min-width: 8em; }
-output { font-variant-numeric: tabular-nums; font-weight: 600; min-width: 7em; }
-.status { margin: 0.2em 0; font-size: 0.92em; min-height: 1.4em; }
-.views { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
-figure.view3d { margin: 0; flex: 1 1 18em; max-width: 30em; }
-figure.view3d svg { width: 100%; height: auto; border: 1px solid #ccc; background: #fcfcfc; touch-action: none;
-                    cursor: grab; display: block; }
-.joints { flex: 1 1 16em; overflow-x: auto; }
-table { border-collapse: collapse; font-size: 0.9em; }
-th, td { border: 1px solid #bbb; padding: 0.2em 0.5em; text-align: left; }
-thead th { background: #eee; }
-td.value { text-align: right; font-variant-numeric: tabular-nums; }
-.curves svg { width: 100%; height: auto; display: block; margin: 0.15em 0; }
-.k { display: inline-block; width: 1.4em; height: 0.7em; margin: 0 0.2em 0 0.6em; vertical-align: middle; }
-.k.curve { border-top: 2px solid #111; height: 0; }
+_STYLE = PAGE_STYLE + """
+.status { min-height: 1.4em; }
 .k.speed { border-top: 2px solid #2864b4; height: 0; }
-.k.limit { border-top: 2px dashed #c03030; height: 0; }
 .k.stop { background: rgba(208, 112, 0, 0.25); }
-.k.cursor { border-top: 2px solid #888; height: 0; }
 """
 
 _SCRIPT = r"""
@@ -207,7 +185,7 @@ _SCRIPT = r"""
     const host = document.getElementById("curves"), body = document.querySelector("#joints tbody");
     D.joints.forEach((name, j) => {
       const tr = document.createElement("tr");
-      tr.innerHTML = "<td></td><td class='value'></td><td class='value'></td>";
+      tr.innerHTML = "<td></td><td class='num value'></td><td class='num value'></td>";
       tr.children[0].textContent = name;
       body.appendChild(tr);
       const values = D.q[j].concat(D.qd[j]);

@@ -9,7 +9,9 @@ script draws the arm angle psi and q7.  Where a branch has no solution (its
 joint values are ``null``) the curves break, and no posture is drawn.
 """
 
-STYLE = """
+#: The layout the explorer shares with the playback page (:mod:`redkin.explore.playback`): the page, its controls,
+#: the 3-D view, the joint table, the curves and the legend's keys.
+PAGE_STYLE = """
 *, *::before, *::after { box-sizing: border-box; }
 html { -webkit-text-size-adjust: 100%; }
 body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; max-width: 68em; margin: 0 auto;
@@ -24,12 +26,6 @@ label.slider input { flex: 1 1 auto; min-width: 8em; }
 output { font-variant-numeric: tabular-nums; font-weight: 600; min-width: 9em; }
 .status { margin: 0.2em 0; font-size: 0.92em; }
 .status .bad { color: #8a0000; font-weight: 600; }
-.marks { display: flex; flex-wrap: wrap; gap: 0.3em; margin: 0.3em 0 0.6em; }
-.marks button { font-size: 0.8em; padding: 0.15em 0.5em; border: 1px solid #999; background: #f6f6f6;
-                border-radius: 3px; cursor: pointer; }
-.marks button.optimal { border-color: #d07000; }
-.marks button.singular { border-color: #7a3db8; }
-.marks button.feasible { border-color: #2864b4; }
 .views { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
 figure.view3d { margin: 0; flex: 1 1 18em; max-width: 30em; }
 figure.view3d svg { width: 100%; height: auto; border: 1px solid #ccc; background: #fcfcfc; touch-action: none;
@@ -40,16 +36,25 @@ th, td { border: 1px solid #bbb; padding: 0.2em 0.5em; text-align: left; }
 thead th { background: #eee; }
 .num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 td:first-child { white-space: nowrap; }
-td.out { color: #8a0000; font-weight: 600; }
 .curves svg { width: 100%; height: auto; display: block; margin: 0.15em 0; }
 .k { display: inline-block; width: 1.4em; height: 0.7em; margin: 0 0.2em 0 0.6em; vertical-align: middle; }
 .k.curve { border-top: 2px solid #111; height: 0; }
 .k.limit { border-top: 2px dashed #c03030; height: 0; }
+.k.cursor { border-top: 2px solid #888; height: 0; }
+"""
+
+STYLE = PAGE_STYLE + """
+.marks { display: flex; flex-wrap: wrap; gap: 0.3em; margin: 0.3em 0 0.6em; }
+.marks button { font-size: 0.8em; padding: 0.15em 0.5em; border: 1px solid #999; background: #f6f6f6;
+                border-radius: 3px; cursor: pointer; }
+.marks button.optimal { border-color: #d07000; }
+.marks button.singular { border-color: #7a3db8; }
+.marks button.feasible { border-color: #2864b4; }
+td.out { color: #8a0000; font-weight: 600; }
 .k.set-i { background: rgba(40, 160, 60, 0.25); }
 .k.set { background: rgba(40, 100, 180, 0.25); }
 .k.singular { border-top: 2px dashed #7a3db8; height: 0; }
 .k.optimal { border-top: 2px solid #d07000; height: 0; }
-.k.cursor { border-top: 2px solid #888; height: 0; }
 """
 
 SCRIPT = r"""
