@@ -37,6 +37,10 @@ def test_a_csv_seam_gives_a_timed_joint_trajectory_within_the_limits(tmp_path, c
     report = json.loads(capsys.readouterr().out)
     timing = report["trajectory"]
     assert timing["file"] == str(out) and timing["joint_trajectory"] is None and timing["rate"] == 1000.0
+    jerk = np.diff([p["accelerations"] for p in json.loads(out.read_text())["points"]], axis=0) / np.diff(
+        [p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"] for p in
+         json.loads(out.read_text())["points"]])[:, None]
+    assert timing["jerk_ratio"] == pytest.approx(np.abs(jerk / PANDA.jerk).max(), rel=1e-6)
     message = json.loads(out.read_text())
     assert message["joint_names"] == list(PANDA.joint_names)
     points = message["points"]
@@ -67,6 +71,7 @@ def test_key_poses_in_json_joined_at_a_step_and_a_csv_trajectory(tmp_path, capsy
     text = capsys.readouterr().out
     expected = through(keys, step=0.01)
     assert f"path of {len(expected)} waypoints" in text and "timed: " in text and str(out) in text
+    assert "jerk not limited: the largest between samples is" in text
     with out.open() as handle:
         rows = list(csv.reader(handle))
     assert rows[0][:2] == ["t", "q_" + PANDA.joint_names[0].replace(" ", "_")] and len(rows[0]) == 1 + 3 * 7

@@ -247,13 +247,26 @@ def _stop_report(stop, degrees: bool) -> dict:
             "q_after": angles_out(stop.path[-1], degrees), "message": stop.message}
 
 
-def _timing_lines(trajectory, source: str, file) -> list[str]:
+def _jerk_ratio(trajectory, chain) -> float | None:
+    """The largest joint jerk between samples relative to the joint's jerk limit (``None`` where no limit is
+    known, or for fewer than two samples): the timing does not limit it."""
+    known = np.isfinite(chain.jerk)
+    if not known.any() or len(trajectory.t) < 2:
+        return None
+    return float(np.abs(trajectory.jerk[:, known] / chain.jerk[known]).max())
+
+
+def _timing_lines(trajectory, source: str, file, jerk: float | None) -> list[str]:
     """What the timing found, in words."""
     lines = [f"timed: {trajectory.duration:.6g} s at {trajectory.rate:g} Hz ({len(trajectory.t)} samples), every "
              f"joint within its velocity and acceleration limits ({source}); joint path: "
              + ("the cubic spline through the waypoints" if trajectory.interpolation == "cubic" else
                 "the shape-keeping PCHIP interpolant (the cubic spline would leave a joint's range)"
                 if trajectory.interpolation == "pchip" else "one configuration, at rest")]
+    if jerk is not None:
+        lines.append(f"jerk not limited: the largest between samples is {jerk:.3g} x the joint's jerk limit"
+                     + (" (a controller with a jerk limit must filter it, as libfranka's rate limiter does)"
+                        if jerk > 1.0 else ""))
     if file is not None:
         lines.append(f"trajectory written to {file}")
     return lines
@@ -336,6 +349,7 @@ def _run_path(args: argparse.Namespace) -> int:
                     "interpolation": trajectory.interpolation, "waypoint_times": trajectory.waypoint_times,
                     "limits_source": limits_source, "file": None if trajectory_file is None else str(trajectory_file),
                     "stop_spans": trajectory.stop_spans, "playback": None if playback is None else str(playback),
+                    "jerk_ratio": _jerk_ratio(trajectory, chain),
                     "joint_trajectory": trajectory.joint_trajectory() if trajectory_file is None else None}
         else:
             assert failure is not None
@@ -359,7 +373,8 @@ def _run_path(args: argparse.Namespace) -> int:
         print(f"{plural(len(result.stops), 'reconfiguration stop')} (the fewest the searched graph allows)"
               + "".join(f"\n  {stop.message}" for stop in result.stops))
     if trajectory is not None:
-        print("\n".join(_timing_lines(trajectory, f"{limits_source} limits", trajectory_file)))
+        print("\n".join(_timing_lines(trajectory, f"{limits_source} limits", trajectory_file,
+                                       _jerk_ratio(trajectory, chain))))
         if playback is not None:
             print(f"playback page written to {playback}: open it in a browser")
     print(f"{'k':>5}  branch  {result.parameter:>10}  q [{unit}]" + ("      t [s]" if trajectory is not None else ""))
