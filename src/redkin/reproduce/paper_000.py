@@ -405,7 +405,7 @@ def _timed_paths(writer: SectionWriter, chain, paths: list[tuple[str, PathResult
         "A robot runs a trajectory, not joint values per waypoint. redkin.paths.time_path (redkin path --timed) "
         "times each path with TOPP-RA along the cubic spline through its waypoints (PCHIP where the spline would "
         f"leave a joint's range), within {assumed}, sampled at {DEFAULT_RATE:g} Hz; every sample is checked against "
-        "the limits (docs/paths.md). Where no continuous path exists, resolve_path(allow_stops=True) returns the "
+        "the limits (docs/paths.md). Where no continuous path exists, redkin path --allow-stops returns the "
         "fewest continuous segments joined by reconfiguration stops, where the arm rests and reconfigures. "
         + seam_words)
     writer.table("s6_2_2_timed", ["path", "waypoints", "stops", "duration [s]", "samples", "max |qd| / limit",
