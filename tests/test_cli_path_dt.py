@@ -78,8 +78,9 @@ def test_a_urdf_missing_some_speeds_names_those_joints(tmp_path, capsys):
     text = (EXAMPLES / "iiwa14.urdf").read_text()
     for joint in ("lbr_iiwa_joint_2", "lbr_iiwa_joint_5"):
         start = text.index(f'name="{joint}"')
-        at = text.index('velocity="1.5"', start)
-        text = text[:at] + 'velocity="0"' + text[at + len('velocity="1.5"'):]
+        at = text.index('velocity="', start)
+        end = text.index('"', at + len('velocity="'))
+        text = text[:at] + 'velocity="0"' + text[end + 1:]
     robot = tmp_path / "iiwa14.urdf"
     robot.write_text(text)
     err = _one_line_exit_2(["path", str(robot), "--poses", str(_poses(tmp_path)), "--dt", "0.05"], capsys)
@@ -90,8 +91,9 @@ def test_a_urdf_with_speeds_bounds_the_path_by_them(tmp_path, capsys):
     file = _poses(tmp_path)
     assert main(["path", str(EXAMPLES / "iiwa14.urdf"), "--poses", str(file), "--dt", "0.05", "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    np.testing.assert_array_equal(report["speed"], 1.5)  # what the file writes on every joint
-    assert np.all(np.abs(np.diff(report["q"], axis=0)) <= 1.5 * 0.05)
+    speeds = np.radians([85, 85, 100, 75, 130, 135, 135])  # KUKA's, as the file writes them in rad/s
+    np.testing.assert_allclose(report["speed"], speeds, rtol=1e-15)
+    assert np.all(np.abs(np.diff(report["q"], axis=0)) <= speeds * 0.05)
 
 
 def test_the_bound_options_must_make_one_bound(tmp_path, capsys):
