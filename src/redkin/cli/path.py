@@ -293,7 +293,7 @@ def _run_path(args: argparse.Namespace) -> int:
         raise UsageError("--step and --angle-step go with --through (the key poses joined by lines); --poses are "
                          "the waypoints themselves")
     chain = load_robot(args)
-    limits_source = "the description's"
+    limits_source = f"{chain.name}'s own"
     if args.limits is not None:
         from redkin.motion_limits import read_motion_limits
 
@@ -366,8 +366,8 @@ def _run_path(args: argparse.Namespace) -> int:
     motion = fixed(float(angles_out(result.motion, degrees)))
     proof = (f"proved the largest any path keeps, at waypoint {result.bottleneck}" if result.optimal
              else "not proved the largest possible")
-    print(f"path of {len(poses)} waypoints on {chain.name}: clearance {clearance} {unit} ({proof}), total motion "
-          f"{motion} {unit}")
+    print(f"path of {plural(len(poses), 'waypoint')} on {chain.name}: clearance {clearance} {unit} ({proof}), "
+          f"total motion {motion} {unit}")
     print(_start(chain, result, q0, args.objective, args.srs_tolerance)["text"])
     if args.allow_stops:
         print(f"{plural(len(result.stops), 'reconfiguration stop')} (the fewest the searched graph allows)"
