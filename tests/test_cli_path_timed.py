@@ -95,6 +95,22 @@ def test_a_limits_file_sets_the_speeds_the_trajectory_keeps(tmp_path, capsys):
     assert report["trajectory"]["limits_source"] == f"--limits {limits}"
 
 
+def test_the_time_objective_in_words_and_in_json(tmp_path, capsys):
+    poses = tmp_path / "poses.npy"
+    np.save(poses, PANDA.fk(Q))
+    argv = ["path", "franka-panda", "--poses", str(poses), "--max-step", "0.1", "--objective", "time"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "by the shorter timed trajectory of the paths of those two objectives" in text and "timed: " in text
+    assert main(argv + ["--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    durations = []
+    for objective in ("clearance", "motion"):
+        assert main(argv[:-1] + [objective, "--timed", "--json"]) == 0
+        durations.append(json.loads(capsys.readouterr().out)["trajectory"]["duration"])
+    assert report["objective"] == "time" and report["trajectory"]["duration"] == min(durations)
+
+
 def test_mistakes_are_one_line_and_exit_2(tmp_path, capsys):
     poses = tmp_path / "poses.npy"
     np.save(poses, PANDA.fk(Q))

@@ -123,14 +123,13 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
     import matplotlib.pyplot as plt
 
     from redkin.paths import clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path
-    from redkin.paths.family import ArmAngleFamily, path_family
+    from redkin.paths.family import path_family
     from redkin.plot.paths import path_plane_figure
     from redkin.srs import arm_angle_of, reachable
 
     baselines = []
     family = path_family(chain, srs_tolerance)
-    exact_psi = isinstance(family, ArmAngleFamily)
-    if exact_psi and reachable(chain, poses).all():  # the baselines choose arm angles in closed form
+    if family.baselines and reachable(chain, poses).all():  # the baselines choose arm angles in closed form
         start = None
         if result.ok:
             start = (float(result.psi[0]), result.branch[0])
@@ -150,18 +149,15 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
 def _model_line(chain, srs_tolerance: float | None) -> str | None:
     """What a nearly S-R-S arm's path rests on, in one line (its neighbour and model error); ``None`` for an arm of
     an exact class."""
-    from redkin.paths.family import NearlyFamily, path_family
+    from redkin.paths.family import path_family
 
-    family = path_family(chain, srs_tolerance)
-    if not isinstance(family, NearlyFamily):
-        return None
-    return (f"nearly S-R-S: {family.nearly.describe()}; the feasible sets are certified on the real arm, not exact, "
-            "so no clearance is proved optimal")
+    return path_family(chain, srs_tolerance).model()
 
 
 #: What the objective prefers, in words, by ``--objective``.
 _PREFERS = {"clearance": "the largest clearance from the limits, then the least motion",
-            "motion": "the least total motion, then the largest clearance"}
+            "motion": "the least total motion, then the largest clearance",
+            "time": "the shorter timed trajectory of the paths of those two objectives"}
 
 
 def _start(chain, result, q0: np.ndarray | None, objective: str, srs_tolerance: float | None) -> dict:

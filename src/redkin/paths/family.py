@@ -35,12 +35,13 @@ from redkin.franka.ik import ik as franka_ik
 from redkin.paths import _dp_kernels
 from redkin.paths.failure import empty_blocker
 from redkin.paths.graph import _CLIP_TOLERANCE, Arm, joint_moves
-from redkin.srs import _ik_kernels
+from redkin.srs import _feasible_kernels, _ik_kernels
 from redkin.srs.arm_angle import arm_angle_of
 from redkin.srs.branches import BRANCHES, Branch
 from redkin.srs.coefficients import coefficient_arrays
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry, srs_geometry
+from redkin.srs.ik import reachable
 from redkin.srs.nearly import TOLERANCE_DEFAULT, NearlySRS, nearly_srs
 from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
@@ -141,11 +142,15 @@ class Family:
     exact : bool
         Whether the feasible sets are a closed form's, exact enough to prove a clearance optimal or a pose
         infeasible.
+    baselines : bool
+        Whether the per-pose baselines of :mod:`redkin.paths.baselines` (the fixed arm angle, the clamped optimum,
+        greedy tracking; each the closed form of an exact arm angle) apply to the class.
     """
 
     parameter: str = PSI
     wraps: bool = True
     exact: bool = True
+    baselines: bool = False
 
     @property
     def chain(self) -> SerialChain:
@@ -190,6 +195,10 @@ class Family:
     def _with(self, chain: SerialChain) -> Family:
         raise NotImplementedError
 
+    def model(self) -> str | None:
+        """What the feasible sets rest on where they are not exact, in one line (``None`` for an exact class)."""
+        return None
+
     def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
         """Why a pose within reach has no feasible sample: the joint that empties its feasible set on most branches
         (``None`` where not known), the blocking joint per branch, and whether the exact sets prove it empty."""
@@ -201,6 +210,7 @@ class ArmAngleFamily(Family):
     """S-R-S and offset-elbow arms: the arm angle psi (paper 000)."""
 
     geometry: SRSGeometry
+    baselines: bool = True
 
     @property
     def chain(self) -> SerialChain:
@@ -215,7 +225,14 @@ class ArmAngleFamily(Family):
                                   coefficients.theta4)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
-        return feasible_pieces_all_branches(self.geometry, poses)
+        """[000 eq. 30] per branch; a pose out of reach has no feasible piece (``feasible`` false, NaN ends)."""
+        shape = (len(poses), len(BRANCHES), _feasible_kernels.PIECES)
+        start, end, feasible = np.full(shape, np.nan), np.full(shape, np.nan), np.zeros(shape, dtype=bool)
+        inside = reachable(self.geometry, poses)
+        if inside.any():
+            found = feasible_pieces_all_branches(self.geometry, poses[inside])
+            start[inside], end[inside], feasible[inside] = found.start, found.end, found.feasible
+        return FeasiblePieces(start, end, feasible)
 
     def sample_groups(self) -> np.ndarray:
         """The elbow sign: the four branches of one share its cuts [000 eqs. 20-28] and, at one arm angle, the
@@ -344,6 +361,10 @@ class NearlyFamily(Family):
 
     def _with(self, chain: SerialChain) -> Family:
         return NearlyFamily(nearly_srs(chain, self.tolerance), self.tolerance)
+
+    def model(self) -> str:
+        return (f"nearly S-R-S: {self.nearly.describe()}; the feasible sets are certified on the real arm, not "
+                "exact, so no clearance is proved optimal")
 
     def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
         return None, {}, False

@@ -4,18 +4,15 @@ where a path can go."""
 
 from __future__ import annotations
 
-import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
 from redkin.franka.geometry import FrankaGeometry
-from redkin.paths.family import ArmAngleFamily, path_family
-from redkin.srs import _feasible_kernels
-from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
+from redkin.paths.family import path_family
+from redkin.srs.feasible import FeasiblePieces
 from redkin.srs.geometry import SRSGeometry
-from redkin.srs.ik import reachable
 from redkin.srs.nearly import NearlySRS
 
 
@@ -45,14 +42,4 @@ def feasible_along_path(arm: SerialChain | SRSGeometry | FrankaGeometry | Nearly
     poses = check_pose(poses, "poses")
     if poses.ndim != 3 or poses.shape[0] == 0:
         raise RedkinError(f"poses must have shape (N, 4, 4) with N >= 1, got shape {poses.shape}")
-    if not isinstance(family, ArmAngleFamily):
-        return family.pieces(poses)  # a pose out of reach has no solution at any parameter: no feasible piece
-    geometry = family.geometry
-    shape = (poses.shape[0], 8, _feasible_kernels.PIECES)
-    start, end = np.full(shape, np.nan), np.full(shape, np.nan)
-    feasible = np.zeros(shape, dtype=bool)
-    inside = reachable(geometry, poses)
-    if inside.any():
-        pieces = feasible_pieces_all_branches(geometry, poses[inside])
-        start[inside], end[inside], feasible[inside] = pieces.start, pieces.end, pieces.feasible
-    return FeasiblePieces(start, end, feasible)
+    return family.pieces(poses)  # a pose out of reach has no solution at any parameter: no feasible piece
