@@ -267,4 +267,11 @@ def test_path_playback_moves_the_arm_along_the_trajectory_and_marks_the_stop(bro
     page.click("#play")
     page.wait_for_function("() => Number(document.getElementById('time').value) > 3")
     page.click("#play")
+    posture = page.get_attribute("#arm", "points")
+    box = page.locator("#arm-view").bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.mouse.down()
+    page.mouse.move(box["x"] + box["width"] / 2 + 60, box["y"] + box["height"] / 2 + 20, steps=4)
+    page.mouse.up()
+    assert page.get_attribute("#arm", "points") != posture  # the view turns (the explorer's own drag handler)
     assert page.text_content("#play") == "Play" and view.sideways() <= 0 and not view.errors

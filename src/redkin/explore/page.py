@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from redkin.explore.curves import BranchCurves, ExplorerData, Parameter
-from redkin.explore.script import SCRIPT, STYLE
+from redkin.explore.script import DRAG_SCRIPT, SCRIPT, STYLE
 
 #: Decimals of the printed angles in each unit (0.001 deg is about 2e-5 rad).
 _DECIMALS = {"deg": 3, "rad": 5}
@@ -51,7 +51,7 @@ def explorer_html(data: ExplorerData, degrees: bool = False) -> str:
         f"<title>{html.escape(title)}</title><style>{STYLE}</style></head><body>\n"
         f"<header><h1>{html.escape(title)}</h1><p class=\"pose\">{html.escape(_pose_text(data.pose))}</p></header>\n"
         f"{_body(data)}\n<script id=\"explorer-data\" type=\"application/json\">{payload}</script>\n"
-        f"<script>{SCRIPT}</script>\n</body></html>\n"
+        f"<script>{DRAG_SCRIPT}</script>\n<script>{SCRIPT}</script>\n</body></html>\n"
     )
 
 

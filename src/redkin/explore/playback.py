@@ -21,7 +21,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
-from redkin.explore.script import PAGE_STYLE
+from redkin.explore.script import DRAG_SCRIPT, PAGE_STYLE
 
 #: Frames of the page per second of the trajectory's time.
 FRAME_RATE = 50.0
@@ -87,7 +87,7 @@ def playback_html(chain: SerialChain, t: np.ndarray, q: np.ndarray, qd: np.ndarr
         f"<title>{html.escape(heading)}</title><style>{_STYLE}</style></head><body>\n"
         f"<header><h1>{html.escape(heading)}</h1></header>\n{_BODY}\n"
         f"<script id=\"playback-data\" type=\"application/json\">{payload}</script>\n"
-        f"<script>{_SCRIPT}</script>\n</body></html>\n"
+        f"<script>{DRAG_SCRIPT}</script>\n<script>{_SCRIPT}</script>\n</body></html>\n"
     )
 
 
@@ -228,19 +228,7 @@ _SCRIPT = r"""
     timer = setInterval(step, 1000 * (duration > 0 ? duration / Math.max(1, last) : 0.02));
   });
   slider.addEventListener("input", () => { index = Number(slider.value); update(); });
-  let drag = null;
-  view3d.addEventListener("pointerdown", e => {
-    drag = [e.clientX, e.clientY];
-    view3d.setPointerCapture(e.pointerId);
-  });
-  view3d.addEventListener("pointermove", e => {
-    if (!drag) return;
-    view.az += (e.clientX - drag[0]) * 0.01;
-    view.el = Math.max(-1.5, Math.min(1.5, view.el + (e.clientY - drag[1]) * 0.01));
-    drag = [e.clientX, e.clientY];
-    drawArm();
-  });
-  view3d.addEventListener("pointerup", () => { drag = null; });
+  turnByDragging(view3d, view, drawArm);
   curves();
   update();
 })();

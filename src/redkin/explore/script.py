@@ -57,6 +57,29 @@ td.out { color: #8a0000; font-weight: 600; }
 .k.optimal { border-top: 2px solid #d07000; height: 0; }
 """
 
+#: How both pages (the explorer, and the playback page of :mod:`redkin.explore.playback`) turn their 3-D view: a drag
+#: across turns it about the vertical, a drag up or down tilts it; the page's script calls ``turnByDragging``.
+DRAG_SCRIPT = r"""
+"use strict";
+function turnByDragging(svg, view, redraw) {
+  let drag = null;
+  svg.addEventListener("pointerdown", e => {
+    drag = [e.clientX, e.clientY];
+    svg.setPointerCapture(e.pointerId);
+  });
+  svg.addEventListener("pointermove", e => {
+    if (!drag) return;
+    view.az -= 0.01 * (e.clientX - drag[0]);
+    view.el = Math.max(-1.5, Math.min(1.5, view.el + 0.01 * (e.clientY - drag[1])));
+    drag = [e.clientX, e.clientY];
+    redraw();
+  });
+  const stop = () => { drag = null; };
+  svg.addEventListener("pointerup", stop);
+  svg.addEventListener("pointercancel", stop);
+}
+"""
+
 SCRIPT = r"""
 "use strict";
 (function () {
@@ -150,21 +173,7 @@ SCRIPT = r"""
                        "stroke-width": 0.01 }, g);
     }
   }
-  let drag = null;
-  view3d.addEventListener("pointerdown", e => {
-    drag = [e.clientX, e.clientY];
-    view3d.setPointerCapture(e.pointerId);
-  });
-  view3d.addEventListener("pointermove", e => {
-    if (!drag) return;
-    view.az -= 0.01 * (e.clientX - drag[0]);
-    view.el = Math.max(-1.5, Math.min(1.5, view.el + 0.01 * (e.clientY - drag[1])));
-    drag = [e.clientX, e.clientY];
-    drawView();
-  });
-  const stop = () => { drag = null; };
-  view3d.addEventListener("pointerup", stop);
-  view3d.addEventListener("pointercancel", stop);
+  turnByDragging(view3d, view, drawView);
 
   // ---- the curves of every joint over the parameter
   function niceStep(span) {
