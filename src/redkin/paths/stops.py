@@ -162,18 +162,17 @@ def stopped_rows(result: PathResult) -> tuple[np.ndarray, np.ndarray, list[int]]
     """The whole joint path of a result with stops, for timing it: its rows (each waypoint's, with each stop's
     reconfiguration inserted after its arrival), the row of each waypoint, and the rows where the arm rests (each
     stop's arrival and departure)."""
-    rows: list[np.ndarray] = []
-    waypoint_rows: list[int] = []
-    rests: list[int] = []
-    stops = {stop.waypoint: stop for stop in result.stops}
-    for k, q in enumerate(result.q):
-        waypoint_rows.append(len(rows))
-        rows.append(q)
-        if k in stops:
-            rests.append(len(rows) - 1)
-            rows.extend(stops[k].path[1:])
-            rests.append(len(rows) - 1)
-    return np.array(rows), np.array(waypoint_rows), rests
+    inserted = [len(stop.path) - 1 for stop in result.stops]  # rows of each reconfiguration after its arrival
+    waypoints = np.array([stop.waypoint for stop in result.stops], dtype=np.int64)
+    shift = np.zeros(len(result.q) + 1, dtype=np.int64)
+    np.add.at(shift, waypoints + 1, inserted)  # the waypoints after a stop come that many rows later
+    waypoint_rows = np.arange(len(result.q)) + np.cumsum(shift)[:-1]
+    rows = np.insert(result.q, np.repeat(waypoints + 1, inserted),
+                     np.concatenate([stop.path[1:] for stop in result.stops] or [np.empty((0, result.q.shape[1]))]),
+                     axis=0)
+    arrivals = waypoint_rows[waypoints]
+    rests = np.stack([arrivals, arrivals + np.array(inserted, dtype=np.int64)], axis=-1).reshape(-1).tolist()
+    return rows, waypoint_rows, rests
 
 
 def _joined(pieces: list[PathResult], stops: list[Stop]) -> PathResult:

@@ -333,8 +333,7 @@ class _Sequence:
 
     def evaluate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         piece = np.clip(np.searchsorted(self.offsets, t, side="right") - 1, 0, len(self.profiles) - 1)
-        n = len(self.profiles[0].evaluate(np.zeros(1))[0][0])
-        q, qd, qdd = (np.zeros(t.shape + (n,)) for _ in range(3))
+        q, qd, qdd = (np.zeros(t.shape + self.lower.shape) for _ in range(3))
         for index, profile in enumerate(self.profiles):
             mask = piece == index
             local = np.minimum(t[mask] - self.offsets[index], profile.duration)
