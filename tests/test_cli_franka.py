@@ -75,7 +75,8 @@ def test_arm_angles_prints_the_library_q7_sets_and_optimum(capsys):
     np.testing.assert_array_equal(np.array(data["feasible"]).reshape(-1, 2), sets.arcs[index])
     assert any(lo <= Q[6] <= hi for lo, hi in data["feasible"])
     assert set(data["branches"]) == {str(b) for b in franka.BRANCHES}
-    optimal = data["optimal"]["feasible"]
+    assert set(data["optimal"]) == {"overall"} and "singular" not in data and "per_joint" not in data
+    optimal = data["optimal"]["overall"]["feasible"]
     assert any(lo <= optimal <= hi for lo, hi in data["feasible"])
     assert main(["arm-angles", "franka-panda", *pose_argv(pose), "--branch", "--+"]) == 0
     assert "the redundancy parameter is q7" in capsys.readouterr().out
@@ -85,10 +86,10 @@ def test_arm_angles_prints_the_library_q7_sets_and_optimum(capsys):
     "argv, fragment",
     [
         (["ik", "franka-panda", "--psi", "0"], "its redundancy parameter is q7 (--q7), not psi"),
-        (["ik", "pa10-7c", "--q7", "0"], "its redundancy parameter is the arm angle (--psi), not q7"),
+        (["ik", "pa10-7c", "--q7", "0"], "its redundancy parameter is arm angle (--psi), not q7"),
         (["ik", str(EXAMPLES / "sawyer.urdf"), "--q7", "0"], "has no closed-form IK"),
-        (["ik", "kinova-gen3", "--q7", "0"], "its redundancy parameter is the arm angle (--psi), not q7"),
-        (["arm-angles", "franka-panda", "--weights", "1", "0"], "--weights"),
+        (["ik", "kinova-gen3", "--q7", "0"], "its redundancy parameter is arm angle (--psi), not q7"),
+        (["arm-angles", "franka-panda", "--weights", "1", "0"], "weights weigh the shoulder against the wrist"),
         (["ik", "franka-panda", "--q7", "0", "--branch", "+x+"], "branch must be three signs"),
     ],
 )

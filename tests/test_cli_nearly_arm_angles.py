@@ -12,6 +12,7 @@ import pytest
 from redkin.cli.main import main
 from redkin.models import get_robot
 from redkin.srs import (
+    BRANCHES,
     feasible_arm_angles_nearly,
     nearly_srs,
     optimal_arm_angles_nearly,
@@ -49,7 +50,7 @@ def test_json_equals_the_api_in_degrees(capsys):
     singular = singular_arm_angles_nearly(arm, _pose(), "+-+")
     optimal = optimal_arm_angles_nearly(arm, _pose(), "+-+", target=np.radians([10, 20, 30, 40, 50, 60, 70]),
                                         weights=(1.0, 0.5), feasible=feasible.feasible)
-    assert data["class"] == "nearly S-R-S" and "11.75 mm" in data["neighbour"] and data["branch"] == "+-+"
+    assert data["class"] == "nearly S-R-S" and "11.75 mm" in data["remarks"][0] and data["branch"] == "+-+"
     assert data["units"]["angles"].startswith("deg")
     np.testing.assert_allclose(np.radians(data["feasible"]).reshape(-1, 2),
                                np.array(feasible.feasible.arcs).reshape(-1, 2), atol=1e-12)
@@ -70,10 +71,13 @@ def test_json_equals_the_api_in_degrees(capsys):
 def test_text_prints_every_part(capsys):
     assert main(["arm-angles", "kinova-gen3", *ARGV]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0] == "kinova-gen3, branch +++; angles in rad"
-    assert lines[1].startswith("nearly S-R-S: its exact S-R-S neighbour drops")
-    assert lines[2].startswith("Psi (feasible, on the real arm): [")
-    assert lines[3].startswith("singular shoulder: [") and "wrist: [" in lines[3]
+    assert lines[0] == "kinova-gen3, branch +++; the redundancy parameter is psi, angles in rad"
+    assert lines[1].startswith("kinova-gen3 is nearly S-R-S: its exact S-R-S neighbour drops")
+    assert lines[2] == "The per-joint sets are not computed on nearly S-R-S arms."
+    assert lines[3].startswith("Psi (feasible): [")
+    assert lines[4] == "Psi (feasible) of every branch:"
+    assert [line.split(":")[0] for line in lines[5:13]] == [f"  branch {b}" for b in BRANCHES]
+    assert lines[13].startswith("singular shoulder: [") and "wrist: [" in lines[13]
     assert any(line.startswith("nearest wrist alignment: ") for line in lines)
     for part in ("shoulder", "wrist", "overall"):
         assert any(line.startswith(f"optimal {part}: ") and "-> feasible" in line for line in lines)

@@ -33,8 +33,8 @@ def test_ik_degrees_single_branch(capsys):
 
 def test_arm_angles_json_keys_and_paper_numbers(capsys):
     data = run_json(capsys, ["arm-angles", "pa10-7c", *POSE, "--deg"])
-    assert set(data) >= {"elbow", "per_joint", "feasible", "singular", "optimal"}
-    assert data["elbow"] == pytest.approx(printed.SECTION_6_1_THETA_AT_ZERO[3], abs=5e-4)
+    assert set(data) >= {"fixed", "per_joint", "feasible", "singular", "optimal", "branches"}
+    assert data["fixed"]["4"] == pytest.approx(printed.SECTION_6_1_THETA_AT_ZERO[3], abs=5e-4)
     bound, sixth = printed.SECTION_6_1_PSI_BOUND, printed.SECTION_6_1_JOINT_BOUNDS[6]
     assert np.allclose(data["feasible"], [[-bound, bound]], atol=5e-4)
     assert np.allclose(data["per_joint"]["6"], [[-sixth, sixth]], atol=5e-4)

@@ -253,7 +253,7 @@ def test_cli_ik_and_arm_angles_on_the_wam(capsys):
     state = arm_angle_of(wam, q)
     assert main(["arm-angles", "barrett-wam", *argv, "--branch", str(state.branch_strings()), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["elbow"] == pytest.approx(0.9, abs=1e-9)
+    assert data["fixed"]["4"] == pytest.approx(0.9, abs=1e-9)
     model = get_robot("barrett-wam")
     expected = feasible_arm_angles(model, pose, str(state.branch_strings())).feasible.intervals
     assert np.allclose(np.array(data["feasible"]).reshape(-1, 2), np.array(expected).reshape(-1, 2), atol=1e-12)

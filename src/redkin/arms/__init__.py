@@ -3,7 +3,7 @@ shapes (:class:`Solutions`, :class:`FeasibleSets`)."""
 
 from redkin.arms.feasible_sets import Arcs, FeasibleSets
 from redkin.arms.front_door import Arm, Optimal, Singular, arm
-from redkin.arms.protocol import Parameter
+from redkin.arms.parameter import Parameter
 from redkin.arms.solutions import Solutions
 
 __all__ = ["Arcs", "Arm", "FeasibleSets", "Optimal", "Parameter", "Singular", "Solutions", "arm"]

@@ -6,11 +6,14 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.arms.protocol import ArmKind, Parameter
+from redkin.arms.analysis import Analysis, BranchAnalysis, as_arcs, value
+from redkin.arms.parameter import Parameter
+from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.arms.srs_kind import LABELS
 from redkin.chain import Reach
-from redkin.franka.feasible import q7_domain
+from redkin.errors import RedkinError
+from redkin.franka.feasible import feasible_q7, q7_domain
 from redkin.franka.geometry import FrankaGeometry
 from redkin.franka.ik import ik, reach
 from redkin.franka.optimal import optimal_q7
@@ -23,12 +26,18 @@ class FrankaKind(ArmKind):
 
     branches = LABELS
     exact = True
+    method = "the Franka class's closed-form IK at a given q7 and its exact feasible q7 sets, docs/franka.md"
 
     def __init__(self, kind: str, geometry: FrankaGeometry) -> None:
         self.kind, self.geometry, self.chain = kind, geometry, geometry.chain
         self.family = Q7Family(geometry)
         low, high = q7_domain(geometry)  # joint 7's range, [-pi, pi] where it covers the circle
-        self.parameter = Parameter("q7", (float(low), float(high)), False)
+        self.parameter: Parameter = Parameter(
+            name="q7", domain=(float(low), float(high)), wraps=False, noun="q7", plural="values of q7", symbol="q7",
+            set_symbol="Q7", set_ascii="Q7", prefix="q7", joint_symbol="q",
+            branch_signs="signs of the shoulder (q2), the elbow (either side of the longest reach) and the wrist "
+                         "(cos q5)",
+            equation="[F8]-[F9], docs/franka.md", optimum="[F10]")
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:
         one = rows is not None and len(rows) == 1
@@ -46,10 +55,28 @@ class FrankaKind(ArmKind):
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> tuple[float, float]:
-        if weights is not None:
-            from redkin.errors import RedkinError
+        self._no_weights(weights)
+        best = optimal_q7(self.geometry, pose, BRANCHES[row], target=target)
+        return value(best.feasible), value(best.unclamped)
 
+    def analyse(self, pose: np.ndarray, rows: np.ndarray, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> Analysis:
+        """[F8]-[F10] at one pose: the feasible q7 of every branch and the limit-avoiding q7; no per-joint sets and no
+        singular values (where q2 passes through 0 a branch's q1 and q3 may jump)."""
+        self._no_weights(weights)
+        sets = feasible_q7(self.geometry, pose)
+        arcs = tuple(as_arcs(pieces) for pieces in sets.arcs)
+        low, high = self.parameter.domain
+
+        def branch(row: int) -> BranchAnalysis:
+            best = optimal_q7(self.geometry, pose, BRANCHES[row], target=target, feasible=sets)
+            full = len(arcs[row]) == 1 and arcs[row][0, 0] <= low and arcs[row][0, 1] >= high
+            return BranchAnalysis(LABELS[row], arcs[row], bool(full),
+                                  {"overall": (value(best.unclamped), value(best.feasible))})
+
+        return Analysis(self.parameter, self.method, arcs, tuple(branch(int(row)) for row in rows))
+
+    def _no_weights(self, weights: tuple[float, float] | None) -> None:
+        if weights is not None:
             raise RedkinError(f"weights weigh the shoulder against the wrist in the optimal arm angle of S-R-S arms; "
                               f"{self.chain.name!r} is of the Franka class (parameter q7): leave them out")
-        best = optimal_q7(self.geometry, pose, BRANCHES[row], target=target)
-        return tuple(np.nan if value is None else value for value in (best.feasible, best.unclamped))  # type: ignore[return-value]

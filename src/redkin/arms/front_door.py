@@ -26,8 +26,10 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin.arms.analysis import Analysis
 from redkin.arms.feasible_sets import FeasibleSets
-from redkin.arms.protocol import ArmKind, Parameter
+from redkin.arms.parameter import Parameter
+from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import NUMERICAL, Solutions
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError, UnreachablePoseError
@@ -243,13 +245,7 @@ class Arm:
         weights : array_like, shape (2,), optional
             The shoulder's and the wrist's weight [000 eq. 40] (default 0.5, 0.5); arm-angle classes only.
         """
-        from redkin._validation import check_vectors
-        from redkin.srs.optimal import check_weights
-
-        goal = None if target is None else check_vectors(target, self.chain.n, "target")
-        if goal is not None and goal.shape != (self.chain.n,):
-            raise RedkinError(f"target must be one vector of {self.chain.n} joint values, got shape {goal.shape}")
-        pair = None if weights is None else check_weights(weights)
+        goal, pair = self._goal(target, weights)
 
         def answer(pose: np.ndarray, row: int) -> tuple[float, float]:
             return self.implementation.optimal(pose, row, goal, pair)
@@ -296,6 +292,29 @@ class Arm:
                     first[index + (k,)], second[index + (k,)] = unreachable
         return first, second
 
+    def analyse(self, pose: ArrayLike, branches: str | Sequence[str] | None = None, *,
+                target: ArrayLike | None = None, weights: ArrayLike | None = None) -> Analysis:
+        """Everything one pose's redundancy holds (:class:`redkin.arms.analysis.Analysis`): the feasible set of every
+        branch and, for each branch asked (default all), the per-joint sets and singular values where the class has
+        them and the limit-avoiding values (``target`` and ``weights`` as :meth:`optimal` takes them); what
+        ``redkin arm-angles`` prints and ``redkin explore`` draws.
+
+        Raises
+        ------
+        ValueError
+            For a malformed pose (one ``(4, 4)``), branch, target or weights (weights on the Franka class), a pose
+            out of reach where the class proves it so, or a general chain.
+        """
+        from redkin._validation import check_pose
+
+        self._need_parameter("an analysis of the redundancy at a pose")
+        pose = check_pose(pose)
+        if pose.shape != (4, 4):
+            raise RedkinError(f"pose must be one (4, 4) pose, got shape {pose.shape}")
+        goal, pair = self._goal(target, weights)
+        rows = self._rows(branches)
+        return self.implementation.analyse(pose, np.arange(len(self.branches)) if rows is None else rows, goal, pair)
+
     def every_solution(self, pose: ArrayLike, t: float, branch: str) -> np.ndarray:
         """Every solution ``(K, n)`` of one pose ``(4, 4)`` and branch at the parameter's value ``t``: at most one on
         an exact class; on a nearly S-R-S arm near a stretched elbow or a straight shoulder, possibly two."""
@@ -307,7 +326,7 @@ class Arm:
             raise RedkinError(f"pose must be one (4, 4) pose, got shape {pose.shape}")
         rows = self._rows(branch)
         assert rows is not None
-        return self.implementation.every_solution(pose, float(t), int(rows[0]))
+        return self.implementation.every_solutions(pose, float(t), rows)[0]
 
     def parameter_of(self, q: ArrayLike) -> np.ndarray:
         """The parameter's value of configurations ``q`` ``(..., n)``: the arm angle [000 eq. 6], or q7."""
@@ -327,6 +346,17 @@ class Arm:
         return branch.reshape(q.shape[:-1]), value.reshape(q.shape[:-1])
 
     # ------------------------------------------------------------- arguments
+    def _goal(self, target: ArrayLike | None,
+              weights: ArrayLike | None) -> tuple[np.ndarray | None, tuple[float, float] | None]:
+        """The target joint values and the weights of a limit-avoiding value, checked."""
+        from redkin._validation import check_vectors
+        from redkin.srs.optimal import check_weights
+
+        goal = None if target is None else check_vectors(target, self.chain.n, "target")
+        if goal is not None and goal.shape != (self.chain.n,):
+            raise RedkinError(f"target must be one vector of {self.chain.n} joint values, got shape {goal.shape}")
+        return goal, None if weights is None else check_weights(weights)
+
     def _rows(self, branches: str | Sequence[str] | None) -> np.ndarray | None:
         if branches is None:
             return None

@@ -5,9 +5,12 @@ solution at an arm angle (near a stretched elbow or a straight shoulder, a branc
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, value
 from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.arms.srs_kind import ARM_ANGLE, LABELS
@@ -17,17 +20,21 @@ from redkin.srs.branches import BRANCHES
 from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
 from redkin.srs.nearly import NearlySRS
 from redkin.srs.nearly import ik as nearly_ik
+from redkin.srs.nearly.feasible import NearlyFeasible, feasible_arm_angles_nearly_all
 from redkin.srs.nearly.optimal import optimal_arm_angles_nearly
-from redkin.srs.nearly.self_motion import branch_solutions
+from redkin.srs.nearly.self_motion import branch_solutions, self_motions
 from redkin.srs.nearly.singular import singular_arm_angles_nearly
 
 
 class NearlyKind(ArmKind):
     """A nearly S-R-S arm and its exact neighbour, built once."""
 
-    parameter = ARM_ANGLE
+    parameter = replace(ARM_ANGLE, optimum="[000 eq. 40] on the real arm")
     branches = LABELS
     exact = False
+    one_per_branch = False
+    method = ("the exact S-R-S neighbour's closed form polished on the real nearly S-R-S arm, its feasible sets, "
+              "singular and optimal arm angles located on the real arm")
 
     def __init__(self, kind: str, nearly: NearlySRS, tolerance: float) -> None:
         self.kind, self.nearly, self.chain = kind, nearly, nearly.chain
@@ -59,5 +66,40 @@ class NearlyKind(ArmKind):
         angles = singular_arm_angles_nearly(self.nearly, pose, BRANCHES[row])
         return angles.shoulder, angles.wrist
 
-    def every_solution(self, pose: np.ndarray, t: float, row: int) -> np.ndarray:
-        return branch_solutions(self.nearly, pose, t, BRANCHES[row])
+    def every_solutions(self, pose: np.ndarray, t: float, rows: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Along the pose's certified self-motion, traced once for every branch of ``rows``."""
+        curves = self_motions(self.nearly, pose)
+        return tuple(branch_solutions(self.nearly, pose, t, BRANCHES[row], curves) for row in rows)
+
+    def analyse(self, pose: np.ndarray, rows: np.ndarray, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> Analysis:
+        """The real arm's feasible sets of every branch from one self-motion, and its singular and limit-avoiding
+        arm angles; no per-joint sets (not computed on such arms)."""
+        every = feasible_arm_angles_nearly_all(self.nearly, pose)
+        remarks = (f"{self.chain.name} is nearly S-R-S: {self.nearly.describe()}.",
+                   "The per-joint sets are not computed on nearly S-R-S arms.")
+        return Analysis(self.parameter, self.method, tuple(as_arcs(result.feasible.arcs) for result in every),
+                        tuple(self._branch(pose, int(row), every[row], target, weights) for row in rows),
+                        all(result.complete for result in every), every[0].samples, remarks, "certified solution")
+
+    def _branch(self, pose: np.ndarray, row: int, result: NearlyFeasible, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> BranchAnalysis:
+        singular = singular_arm_angles_nearly(self.nearly, pose, BRANCHES[row])
+        optimal = optimal_arm_angles_nearly(self.nearly, pose, BRANCHES[row], target=target,
+                                            weights=(0.5, 0.5) if weights is None else weights,
+                                            feasible=result.feasible, curves=result.curves)
+        parts = {part: SingularPart(getattr(singular, part), False, f"axes {axes[0]}, {axes[1]} on one line",
+                                    _ALIGNED.format(*axes), np.asarray(getattr(singular, f"{part}_q")),
+                                    None if (near := getattr(singular, f"{part}_nearest")) is None
+                                    else (float(near.psi), float(near.angle)))
+                 for part, axes in (("shoulder", (1, 3, "θ2")), ("wrist", (5, 7, "θ6")))}
+        return BranchAnalysis(
+            LABELS[row], as_arcs(result.feasible.arcs), result.feasible.is_full,
+            {name: (float(part.unclamped), value(part.feasible)) for name, part in
+             (("shoulder", optimal.shoulder), ("wrist", optimal.wrist), ("overall", optimal.overall))},
+            None, parts)
+
+
+#: What a singular arm angle of the real arm means for the values shown there.
+_ALIGNED = ("axes {0} and {1} of the real arm are parallel or antiparallel here: the branch's sign of {2} changes, "
+            "and the values shown are the aligned configuration")

@@ -7,39 +7,23 @@ parameter, the Franka class no singular-value analysis); the shapes are the same
 * :meth:`ArmKind.solve` -- the rows of every requested branch at values of the parameter (:class:`Solutions`);
 * :meth:`ArmKind.pieces` -- the feasible sets as pieces ``(N, B, K)``;
 * :meth:`ArmKind.read` -- the branch index and parameter of configurations ``(P, n)``;
-* :meth:`ArmKind.optimal`, :meth:`ArmKind.singular`, :meth:`ArmKind.every_solution` -- one pose and branch.
+* :meth:`ArmKind.optimal`, :meth:`ArmKind.singular` -- one pose and branch, :meth:`ArmKind.every_solutions` one
+  pose and value;
+* :meth:`ArmKind.analyse` -- everything one pose's redundancy holds (:class:`redkin.arms.analysis.Analysis`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin.arms.analysis import Analysis
+from redkin.arms.parameter import Parameter
 from redkin.arms.solutions import Solutions
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """The redundancy parameter of a class of arm.
-
-    Attributes
-    ----------
-    name : str
-        ``"psi"`` (the arm angle, [000 eq. 6]) or ``"q7"`` (the value of joint 7, docs/franka.md).
-    domain : tuple of float
-        The values it takes, radians: ``(-pi, pi)`` for the arm angle, joint 7's range for q7.
-    wraps : bool
-        Whether it is an angle on the circle (``domain``'s ends are one value).
-    """
-
-    name: str
-    domain: tuple[float, float]
-    wraps: bool
 
 
 class ArmKind:
@@ -55,6 +39,11 @@ class ArmKind:
         The branch labels of the rows; empty on a class without branches.
     exact : bool
         Whether its feasible sets are proved complete.
+    method : str
+        What computes its answers, in words (:attr:`redkin.arms.analysis.Analysis.method`).
+    one_per_branch : bool
+        Whether a branch has at most one solution at each value of the parameter (else
+        :meth:`every_solutions` may find more).
     family : redkin.paths.family.Family or None
         The class as path resolution sees it (:func:`redkin.paths.family.path_family` returns it); ``None`` for a
         class without a parameter.
@@ -65,6 +54,8 @@ class ArmKind:
     parameter: Parameter | None = None
     branches: tuple[str, ...] = ()
     exact: bool = False
+    method: str = "the numerical pose IK"
+    one_per_branch: bool = True
     family: Any = None
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:
@@ -105,11 +96,17 @@ class ArmKind:
         """The parameter's values at which one pose and branch's shoulder and wrist are singular."""
         raise self._refusal("singular values of the parameter")
 
-    def every_solution(self, pose: np.ndarray, t: float, row: int) -> np.ndarray:
-        """Every solution ``(K, n)`` of one pose ``(4, 4)`` and branch at ``t``: the branch's row where it exists, on
-        a class with one solution per branch and value."""
-        result = self.solve(pose, np.asarray(t, dtype=float), np.array([row]))
-        return result.q[result.exists]
+    def analyse(self, pose: np.ndarray, rows: np.ndarray, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> Analysis:
+        """One pose ``(4, 4)``: the feasible sets of every branch, and of the branches ``rows`` the per-joint sets,
+        singular and limit-avoiding values (``target`` and ``weights`` as :meth:`optimal` takes them)."""
+        raise self._refusal("an analysis of the redundancy at a pose")
+
+    def every_solutions(self, pose: np.ndarray, t: float, rows: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Per branch of ``rows``, every solution ``(K, n)`` of one pose ``(4, 4)`` at ``t``: on a class with
+        :attr:`one_per_branch`, the branch's row where it exists."""
+        result = self.solve(pose, np.asarray(t, dtype=float), rows)
+        return tuple(result.q[k][None] if result.exists[k] else result.q[k][:0] for k in range(len(rows)))
 
     def _refusal(self, what: str) -> RedkinError:
         return RedkinError(f"{what}: {self.chain.name!r} has no such answer as {self.kind}")

@@ -7,7 +7,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.arms.protocol import ArmKind, Parameter
+from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, value
+from redkin.arms.parameter import Parameter
+from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.chain import Reach
 from redkin.errors import UnreachablePoseError
@@ -15,14 +17,17 @@ from redkin.paths.family import ArmAngleFamily
 from redkin.srs import _ik_kernels
 from redkin.srs._feasible_kernels import PIECES
 from redkin.srs.branches import BRANCHES
-from redkin.srs.feasible import feasible_arm_angles, feasible_pieces_all_branches
+from redkin.srs.feasible import FeasibleArmAngles, feasible_arm_angles, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.ik import reach, reachable, solve_with_status
 from redkin.srs.optimal import optimal_arm_angles
 from redkin.srs.singular import singular_arm_angles
 
 #: The arm angle: an angle on the circle [000 eq. 6].
-ARM_ANGLE = Parameter("psi", (-float(np.pi), float(np.pi)), True)
+ARM_ANGLE = Parameter(
+    name="psi", domain=(-float(np.pi), float(np.pi)), wraps=True, noun="arm angle", plural="arm angles", symbol="ψ",
+    set_symbol="Ψ", set_ascii="Psi", prefix="arm-angle", joint_symbol="θ", branch_signs="signs of theta 2, 4, 6",
+    equation="[000 eq. 30]", optimum="[000 eq. 40]")
 #: The branch labels, in the order of :data:`redkin.srs.BRANCHES`.
 LABELS = tuple(str(branch) for branch in BRANCHES)
 
@@ -33,6 +38,7 @@ class SRSKind(ArmKind):
     parameter = ARM_ANGLE
     branches = LABELS
     exact = True
+    method = "paper 000's closed-form arm-angle IK and exact feasible sets"
 
     def __init__(self, kind: str, geometry: SRSGeometry) -> None:
         self.kind, self.geometry, self.chain = kind, geometry, geometry.chain
@@ -79,3 +85,32 @@ class SRSKind(ArmKind):
     def singular(self, pose: np.ndarray, row: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
         angles = singular_arm_angles(self.geometry, pose, BRANCHES[row])
         return angles.shoulder, angles.wrist
+
+    def analyse(self, pose: np.ndarray, rows: np.ndarray, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> Analysis:
+        """[000 eqs. 20-40] at one pose; raises :class:`redkin.errors.UnreachablePoseError` out of reach."""
+        every = [feasible_arm_angles(self.geometry, pose, branch) for branch in BRANCHES]
+        sets = tuple(as_arcs(result.feasible.arcs) for result in every)
+        return Analysis(self.parameter, self.method, sets,
+                        tuple(self._branch(pose, int(row), every[row], target, weights) for row in rows))
+
+    def _branch(self, pose: np.ndarray, row: int, result: FeasibleArmAngles, target: np.ndarray | None,
+                weights: tuple[float, float] | None) -> BranchAnalysis:
+        singular = singular_arm_angles(self.geometry, pose, BRANCHES[row])
+        optimal = optimal_arm_angles(self.geometry, pose, BRANCHES[row], target=target,
+                                     weights=(0.5, 0.5) if weights is None else weights, feasible=result.feasible)
+        elbow = self.geometry.q_of_theta(np.r_[np.zeros(3), result.theta4, np.zeros(3)])[3]
+        parts = {"shoulder": SingularPart(singular.shoulder, singular.shoulder_everywhere, "θ2 = 0 or π",
+                                          _SPLIT.format(1, 3)),
+                 "wrist": SingularPart(singular.wrist, singular.wrist_everywhere, "θ6 = 0 or π", _SPLIT.format(5, 7))}
+        parts_optimal = (("shoulder", optimal.shoulder), ("wrist", optimal.wrist), ("overall", optimal.overall))
+        return BranchAnalysis(
+            LABELS[row], as_arcs(result.feasible.arcs), result.feasible.is_full,
+            {name: (float(part.unclamped), value(part.feasible))
+             for name, part in parts_optimal},
+            {joint: as_arcs(arcs.arcs) for joint, arcs in result.per_joint.items()}, parts, {4: float(elbow)})
+
+
+#: What a singular arm angle means for the joint values shown there.
+_SPLIT = ("joints {0} and {1} turn about one axis here: only their combination is fixed, the values shown are one "
+          "split")

@@ -4,7 +4,6 @@ S-R-S and offset-elbow arms (paper 000), q7 of the Franka class (docs/franka.md)
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -88,28 +87,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     angles.set_defaults(handler=_run_arm_angles)
 
 
-def _arcs(arc_set, degrees: bool) -> list:
-    """The arcs as ``[start, end]`` pairs, read counter-clockwise from start to end."""
-    return [[float(v) for v in angles_out(arc, degrees)] for arc in arc_set.arcs]
+def _closed_form_arm(chain, args: argparse.Namespace):
+    """The chain as a :class:`redkin.arms.Arm` of a class with a redundancy parameter; a ValueError naming the right
+    option where the command line gave the other one, or where the chain has no closed form."""
+    from redkin.arms import arm
+    from redkin.errors import NotArmAngleClassError
 
-
-def _wraps(arc_set) -> list[bool]:
-    """Per arc of :func:`_arcs`: whether it passes through +-pi (then its start is larger than its end)."""
-    return [bool(lo > hi) for lo, hi in arc_set.arcs]
-
-
-def _closed_form_class(chain, args: argparse.Namespace) -> str:
-    """``"psi"`` or ``"q7"``: the redundancy parameter of the chain's class
-    (:func:`redkin.closed_form.redundancy_parameter`); a ValueError naming the right option where the command line
-    gave the other one."""
-    from redkin.closed_form import redundancy_parameter
-
-    parameter = redundancy_parameter(chain, args.srs_tolerance)
-    given = "q7" if getattr(args, "q7", None) is not None else "psi" if getattr(args, "psi", None) is not None else None
-    if given is not None and given != parameter:
-        right = "q7 (--q7)" if parameter == "q7" else "the arm angle (--psi)"
-        raise ValueError(f"{chain.name}: its redundancy parameter is {right}, not {given}")
-    return parameter
+    classified = arm(chain, srs_tolerance=args.srs_tolerance)
+    if classified.parameter is None:
+        raise NotArmAngleClassError(f"{chain.name!r} has no closed-form IK: {classified.reason}", chain.name)
+    name = classified.parameter.name
+    given = [option for option in ("psi", "q7") if getattr(args, option, None) is not None]
+    if given and given[0] != name:
+        raise ValueError(f"{chain.name}: its redundancy parameter is {classified.parameter.noun} (--{name}), not "
+                         f"{given[0]}")
+    return classified
 
 
 def _ik_poses(args: argparse.Namespace) -> tuple[np.ndarray, bool]:
@@ -154,8 +146,9 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     from redkin.closed_form import ClosedFormSolutions, ik
     from redkin.srs import BRANCHES
 
-    parameter = _closed_form_class(chain, args)
-    value = float(angles_in(args.psi if parameter == "psi" else args.q7, args.deg))
+    classified = _closed_form_arm(chain, args)
+    parameter = classified.parameter.name
+    value = float(angles_in(getattr(args, parameter), args.deg))
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     branch, why = _asked_branch(chain, args, q0)
     # every branch where it is asked for, or where the default's line names the others (one pose); else one
@@ -170,9 +163,9 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
              for k in range(len(q))]
     reach = result.reach._replace(out=result.reach.out.reshape(-1), distance=result.reach.distance.reshape(-1))
     others = [[0] * len(result.branches) for _ in found]
-    if parameter == "psi" and (args.every_solution or q0 is not None or not batch):
-        _add_every_solution(chain, poses.reshape(-1, 4, 4), value, result.branches, found, others, reach.out,
-                            args.srs_tolerance, q0, args.every_solution)
+    if not classified.implementation.one_per_branch and (args.every_solution or q0 is not None or not batch):
+        _add_every_solution(classified, poses.reshape(-1, 4, 4), value, result.branches, found, others, reach.out,
+                            q0, args.every_solution)
     if q0 is not None:  # each solution's joint values nearest q0 modulo whole turns
         found = [[[(chain.nearest_in_range(one, near=q0), inside) for one, inside in row] for row in pose_rows]
                  for pose_rows in found]
@@ -235,27 +228,21 @@ def _one_branch(result, index: int):
                            within_limits=result.within_limits[..., keep], branches=result.branches[keep])
 
 
-def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
+def _add_every_solution(classified, poses: np.ndarray, value: float, branches: tuple,
                         found: list[list[list[tuple[np.ndarray, bool]]]], others: list[list[int]],
-                        out: np.ndarray, tolerance: float | None, q0: np.ndarray | None, every: bool) -> None:
-    """On a nearly S-R-S arm, every solution of each branch ``b`` at ``psi`` for pose ``k``
-    (:func:`redkin.srs.branch_solutions` on the pose's certified self-motion, the closed form's first, each joint
-    shifted by whole turns into its range where it can be, nearest ``q0`` where given): all of them into
-    ``found[k][b]`` where ``every``, else the one nearest ``q0`` (without ``q0`` the closed form's), and how many
-    others there are into ``others[k][b]``.  Nothing on an exact arm, which has one per branch, nor for a pose
+                        out: np.ndarray, q0: np.ndarray | None, every: bool) -> None:
+    """On an arm whose branch may have several solutions at one value (a nearly S-R-S arm:
+    :func:`redkin.srs.branch_solutions` on the pose's certified self-motion, the closed form's first), every solution
+    of each branch ``b`` at ``value`` for pose ``k``, each joint shifted by whole turns into its range where it can
+    be, nearest ``q0`` where given: all of them into ``found[k][b]`` where ``every``, else the one nearest ``q0``
+    (without ``q0`` the closed form's), and how many others there are into ``others[k][b]``.  Nothing for a pose
     proven out of reach (``out``)."""
-    from redkin.arms.classify import NEARLY_SRS, arm_angle_class
-    from redkin.srs import branch_solutions, nearly_srs, self_motions
-
-    if arm_angle_class(chain, tolerance).kind != NEARLY_SRS:
-        return
-    arm = nearly_srs(chain) if tolerance is None else nearly_srs(chain, tolerance)
+    chain = classified.chain
+    rows = np.array([classified.branches.index(str(label)) for label in branches])
     for k, (pose, row) in enumerate(zip(poses, found)):
         if out[k]:
             continue
-        curves = self_motions(arm, pose)
-        for b, label in enumerate(branches):
-            solutions = branch_solutions(arm, pose, psi, label, curves)
+        for b, solutions in enumerate(classified.implementation.every_solutions(pose, value, rows)):
             solutions = chain.nearest_in_range(solutions, near=None if q0 is None else np.broadcast_to(
                 q0, solutions.shape))
             listed = [(q, bool(chain.within_limits(q, tolerance=1e-9, wrap=True))) for q in solutions]
@@ -270,105 +257,123 @@ def _add_every_solution(chain, poses: np.ndarray, psi: float, branches: tuple,
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
-    """``redkin arm-angles``: the class's renderer; without ``--branch`` it shows ``+++`` and, where that set is
-    empty, names the branches that have one (:func:`_name_feasible_branches`)."""
-    from redkin.arms.classify import NEARLY_SRS, arm_angle_class
+    """``redkin arm-angles``: what one pose's redundancy holds on the asked branch (:meth:`redkin.arms.Arm.analyse`),
+    whatever the arm's class: the feasible set of that branch and of every branch, the per-joint sets, the joints
+    the pose fixes and the singular values where the class has them, and the limit-avoiding values.  Without
+    ``--branch`` it shows ``+++`` and, where that set is empty, names the branches that have one."""
+    from redkin.srs import parse_branch
 
     chain = load_robot(args)
-    args.default_branch = args.branch is None
-    if args.default_branch:
-        args.branch = "+++"
-    if _closed_form_class(chain, args) == "q7":
-        return _run_franka_arm_angles(chain, args)
-    if arm_angle_class(chain, args.srs_tolerance).kind == NEARLY_SRS:
-        return _run_nearly_arm_angles(chain, args)
-    return _run_exact_arm_angles(chain, args)
-
-
-def _name_feasible_branches(args: argparse.Namespace, shown_empty: bool, feasible: Callable[[], list[str]],
-                            parameter: str) -> None:
-    """Where the default branch ``+++`` (no ``--branch``) has no feasible set, one line naming the branches that
-    ``feasible()`` says have one (each renderer from the sets it computed: the nearly S-R-S arm's from the same
-    self-motion)."""
-    if not (args.default_branch and shown_empty):
-        return
-    others = feasible()
-    symbol = "Psi" if parameter == "psi" else "Q7"
-    if others:
-        print(f"branch +++ (the default) has no feasible {parameter}; {', '.join(others)} "
-              f"{'has' if len(others) == 1 else 'have'} a {symbol}: --branch B shows one")
-    else:
-        print(f"no branch has a feasible {parameter} at this pose")
-
-
-def _run_exact_arm_angles(chain, args: argparse.Namespace) -> int:
-    """``redkin arm-angles`` on an S-R-S or offset-elbow arm: the branch's per-joint, feasible, singular and optimal
-    arm angles in closed form [000 eqs. 20-40]."""
-    from redkin.srs import (
-        BRANCHES,
-        feasible_arm_angles,
-        optimal_arm_angles,
-        parse_branch,
-        singular_arm_angles,
-        srs_geometry,
-    )
-    if args.weights is None:
-        args.weights = (0.5, 0.5)
-    geometry = srs_geometry(chain)
-    pose = target_pose(args)
-    branch = parse_branch(args.branch)
+    classified = _closed_form_arm(chain, args)
+    branch = str(parse_branch("+++" if args.branch is None else args.branch))
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
-    feasible = feasible_arm_angles(geometry, pose, branch)
-    singular = singular_arm_angles(geometry, pose, branch)
-    optimal = optimal_arm_angles(geometry, pose, branch, target=target, weights=args.weights,
-                                 feasible=feasible.feasible)
-    deg = args.deg
-
-    def pair(angle):
-        return {"unclamped": angles_out(angle.unclamped, deg), "feasible": angles_out(angle.feasible, deg)}
-
-    result = {
-        "robot": chain.name,
-        "units": {"angles": f"{angle_unit(deg)} (every arm angle and joint value below)"},
-        "arcs": "[start, end] read counter-clockwise from start to end; the parallel *_wraps entry is true for an arc "
-                "through +-180 deg (+-pi rad), whose start is larger than its end",
-        "branch": str(branch),
-        "elbow": angles_out(geometry.q_of_theta(np.r_[np.zeros(3), feasible.theta4, np.zeros(3)])[3], deg),
-        "per_joint": {str(j): _arcs(s, deg) for j, s in feasible.per_joint.items()},
-        "per_joint_wraps": {str(j): _wraps(s) for j, s in feasible.per_joint.items()},
-        "feasible": _arcs(feasible.feasible, deg),
-        "feasible_wraps": _wraps(feasible.feasible),
-        "singular": {
-            "shoulder": [float(angles_out(a, deg)) for a in singular.shoulder],
-            "wrist": [float(angles_out(a, deg)) for a in singular.wrist],
-            "shoulder_everywhere": singular.shoulder_everywhere,
-            "wrist_everywhere": singular.wrist_everywhere,
-        },
-        "optimal": {"shoulder": pair(optimal.shoulder), "wrist": pair(optimal.wrist), "overall": pair(optimal.overall)},
-    }
+    analysis = classified.analyse(target_pose(args), branch, target=target, weights=args.weights)
+    report = _arm_angles_report(classified, analysis, args.deg)
     if args.json:
-        print_json(result)
+        print_json(report)
         return 0
-    unit = "deg" if deg else "rad"
-    print(f"{chain.name}, branch {branch}; angles in {unit}")
-    print(f"elbow (joint 4): {fixed(result['elbow'])}")
-    for joint, arcs in result["per_joint"].items():
-        print(f"Psi_{joint}: {_format_arcs(arcs, deg)}")
-    print(f"Psi (feasible): {_format_arcs(result['feasible'], deg)}")
-    singular = result["singular"]
-    print(f"singular shoulder: {_format_list(singular['shoulder'])}  wrist: {_format_list(singular['wrist'])}")
-    for name in ("shoulder", "wrist", "overall"):
-        entry = result["optimal"][name]
-        clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
-        print(f"optimal {name}: {fixed(entry['unclamped'])} -> feasible {clamped}")
-    _name_feasible_branches(args, feasible.feasible.is_empty, lambda: [
-        str(b) for b in BRANCHES if not feasible_arm_angles(geometry, pose, b).feasible.is_empty], "psi")
+    _print_arm_angles(report, analysis, args.deg)
+    if args.branch is None and not report["feasible"]:
+        others = [label for label, arcs in report["branches"].items() if arcs]
+        symbol, name = analysis.parameter.set_ascii, analysis.parameter.name
+        print(f"branch +++ (the default) has no feasible {name}; {', '.join(others)} "
+              f"{'has' if len(others) == 1 else 'have'} a {symbol}: --branch B shows one" if others else
+              f"no branch has a feasible {name} at this pose")
     return 0
 
 
+def _arm_angles_report(classified, analysis, deg: bool) -> dict[str, Any]:
+    """The JSON of ``redkin arm-angles`` (angles in degrees where ``deg``): the fields the analysis holds."""
+    parameter, shown = analysis.parameter, analysis.branches[0]
+
+    def angle(value: float):
+        return None if not np.isfinite(value) else angles_out(value, deg)
+
+    def arcs(bounds: np.ndarray) -> list:
+        return [[float(v) for v in angles_out(arc, deg)] for arc in bounds]
+
+    def wraps(bounds: np.ndarray) -> list[bool]:
+        return [bool(lo > hi) for lo, hi in bounds]
+
+    report: dict[str, Any] = {
+        "robot": classified.chain.name,
+        "class": classified.kind,
+        "parameter": parameter.name,
+        "units": {"angles": f"{angle_unit(deg)} (every {parameter.noun} and joint value below)"},
+        "arcs": ("[start, end] read counter-clockwise from start to end; the parallel *_wraps entry is true for an arc "
+                 "through +-180 deg (+-pi rad), whose start is larger than its end" if parameter.wraps else
+                 f"[start, end] intervals of {parameter.name}, increasing, within its domain"),
+        "domain": [float(v) for v in angles_out(np.array(parameter.domain), deg)],
+        "branch": shown.branch,
+        "feasible": arcs(shown.arcs),
+        "feasible_wraps": wraps(shown.arcs),
+        "complete": analysis.complete,
+        "branches": {label: arcs(bounds) for label, bounds in zip(classified.branches, analysis.sets)},
+    }
+    if analysis.samples is not None:
+        report["samples"] = analysis.samples
+    if analysis.remarks:
+        report["remarks"] = list(analysis.remarks)
+    if shown.fixed:
+        report["fixed"] = {str(joint): angle(value) for joint, value in shown.fixed.items()}
+    if shown.per_joint is not None:
+        report["per_joint"] = {str(joint): arcs(bounds) for joint, bounds in shown.per_joint.items()}
+        report["per_joint_wraps"] = {str(joint): wraps(bounds) for joint, bounds in shown.per_joint.items()}
+    if shown.singular is not None:
+        report["alignment"] = ("a *_nearest angle is the signed angle between the pair's axes' lines: 0 where they "
+                               "are parallel or antiparallel")
+        report["singular"] = {}
+        for name, part in shown.singular.items():
+            report["singular"][name] = [float(angles_out(value, deg)) for value in part.values]
+            report["singular"][f"{name}_everywhere"] = part.everywhere
+            report["singular"][f"{name}_nearest"] = None if part.nearest is None else {
+                parameter.name: angle(part.nearest[0]), "angle": angle(part.nearest[1])}
+    report["optimal"] = {name: {"unclamped": angle(unclamped), "feasible": angle(feasible)}
+                         for name, (unclamped, feasible) in shown.optimal.items()}
+    return report
+
+
+def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
+    """``redkin arm-angles`` in text: the report's fields, a line each."""
+    parameter, unit = analysis.parameter, angle_unit(deg)
+    symbol, name = parameter.set_ascii, parameter.name
+    print(f"{report['robot']}, branch {report['branch']}; the redundancy parameter is {name}, angles in {unit}")
+    for remark in analysis.remarks:
+        print(remark)
+    for joint, value in report.get("fixed", {}).items():
+        print(f"joint {joint}: {fixed(value)} at every {name} (the pose fixes it)")
+    for joint, arcs in report.get("per_joint", {}).items():
+        print(f"{symbol}_{joint}: {_format_arcs(arcs, deg)}")
+    print(f"{symbol} (feasible): {_format_arcs(report['feasible'], deg)}")
+    if not analysis.complete:
+        print("  (certified arcs of the self-motion followed; it could not be followed whole within the work budget, "
+              "near a stretched elbow or a straight wrist or shoulder, so the set may miss arcs)")
+    print(f"{symbol} (feasible) of every branch:")
+    for label, arcs in report["branches"].items():
+        print(f"  branch {label}: {_format_arcs(arcs, deg)}")
+    singular = report.get("singular")
+    if singular is not None:
+        print(f"singular shoulder: {_format_list(singular['shoulder'])}  wrist: {_format_list(singular['wrist'])}")
+        for part in ("shoulder", "wrist"):
+            if singular[f"{part}_everywhere"]:
+                print(f"the {part} is singular at every {name} for this pose")
+            nearest = singular[f"{part}_nearest"]
+            if nearest is None:
+                continue
+            if abs(nearest["angle"]) <= angles_out(_ALIGNED, deg):
+                print(f"nearest {part} alignment: on one line at {name} {fixed(nearest[name])}")
+            else:
+                print(f"nearest {part} alignment: {abs(nearest['angle']):.3g} {unit} from one line at {name} "
+                      f"{fixed(nearest[name])}")
+    for part, entry in report["optimal"].items():
+        unclamped = "none (no solution on this branch)" if entry["unclamped"] is None else fixed(entry["unclamped"])
+        clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
+        print(f"optimal {part}: {unclamped} -> feasible {clamped}")
+
+
 def _format_arcs(arcs: list, degrees: bool) -> str:
-    """Arcs ``[start, end]`` (counter-clockwise) as text; an arc through +-pi says so, in the printed unit:
-    ``[-61.589003, -99.990472] (through ±180)``."""
+    """Arcs ``[start, end]`` as text; an arc through +-pi (``start > end``, counter-clockwise) says so, in the printed
+    unit: ``[-61.589003, -99.990472] (through ±180)``."""
     if not arcs:
         return "empty"
     seam = f"{plus_minus()}{'180' if degrees else 'pi'}"
@@ -377,143 +382,3 @@ def _format_arcs(arcs: list, degrees: bool) -> str:
 
 def _format_list(values: list) -> str:
     return "[" + ", ".join(fixed(v) for v in values) + "]"
-
-
-def _run_nearly_arm_angles(chain, args: argparse.Namespace) -> int:
-    """``redkin arm-angles`` on a nearly S-R-S arm: the branch's feasible, singular and optimal arm angles on the real
-    arm (:func:`redkin.srs.feasible_arm_angles_nearly`, :func:`redkin.srs.singular_arm_angles_nearly`,
-    :func:`redkin.srs.optimal_arm_angles_nearly`) and what its neighbour drops; no per-joint sets (not computed on
-    such arms)."""
-    from redkin.srs import (
-        BRANCHES,
-        NearlyFeasible,
-        feasible_arm_angles_nearly,
-        nearly_srs,
-        optimal_arm_angles_nearly,
-        parse_branch,
-        singular_arm_angles_nearly,
-    )
-
-    arm = nearly_srs(chain) if args.srs_tolerance is None else nearly_srs(chain, args.srs_tolerance)
-    pose = target_pose(args)
-    branch = parse_branch(args.branch)
-    target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
-    result = feasible_arm_angles_nearly(arm, pose, branch)
-    singular = singular_arm_angles_nearly(arm, pose, branch)
-    optimal = optimal_arm_angles_nearly(arm, pose, branch, target=target,
-                                        weights=(0.5, 0.5) if args.weights is None else args.weights,
-                                        feasible=result.feasible, curves=result.curves)
-    deg = args.deg
-
-    def angle(value):
-        return None if value is None or not np.isfinite(value) else angles_out(value, deg)
-
-    def nearest(alignment):
-        return None if alignment is None else {"psi": angle(alignment.psi), "angle": angle(alignment.angle)}
-
-    report = {
-        "robot": chain.name,
-        "class": "nearly S-R-S",
-        "neighbour": arm.describe(),
-        "units": {"angles": f"{angle_unit(deg)} (every arm angle and angle below)"},
-        "arcs": "[start, end] read counter-clockwise from start to end; the parallel *_wraps entry is true for an arc "
-                "through +-180 deg (+-pi rad), whose start is larger than its end",
-        "alignment": "a *_nearest angle is the signed angle between the pair's axes' lines: 0 where they are parallel "
-                     "or antiparallel",
-        "branch": str(result.branch),
-        "feasible": _arcs(result.feasible, deg),
-        "feasible_wraps": _wraps(result.feasible),
-        "complete": result.complete,
-        "samples": result.samples,
-        "singular": {
-            "shoulder": [float(angles_out(a, deg)) for a in singular.shoulder],
-            "wrist": [float(angles_out(a, deg)) for a in singular.wrist],
-            "shoulder_nearest": nearest(singular.shoulder_nearest),
-            "wrist_nearest": nearest(singular.wrist_nearest),
-        },
-        "optimal": {name: {"unclamped": angle(part.unclamped), "feasible": angle(part.feasible)}
-                    for name, part in (("shoulder", optimal.shoulder), ("wrist", optimal.wrist),
-                                       ("overall", optimal.overall))},
-    }
-    if args.json:
-        print_json(report)
-        return 0
-    print(f"{chain.name}, branch {result.branch}; angles in {angle_unit(deg)}")
-    print(f"nearly S-R-S: {arm.describe()}")
-    print(f"Psi (feasible, on the real arm): {_format_arcs(report['feasible'], deg)}")
-    if not result.complete:
-        print("  (certified arcs of the self-motion followed; it could not be followed whole within the work budget, "
-              "near a stretched elbow or a straight wrist or shoulder, so the set may miss arcs)")
-    singular_report = report["singular"]
-    print(f"singular shoulder: {_format_list(singular_report['shoulder'])}  wrist: "
-          f"{_format_list(singular_report['wrist'])}  (axes 1 and 3, 5 and 7 parallel or antiparallel)")
-    for part, axes in (("shoulder", "1 and 3"), ("wrist", "5 and 7")):
-        entry = singular_report[f"{part}_nearest"]
-        if entry is None:
-            continue
-        if abs(entry["angle"]) <= angles_out(_ALIGNED, deg):
-            print(f"nearest {part} alignment: axes {axes} on one line at psi {fixed(entry['psi'])}")
-        else:
-            print(f"nearest {part} alignment: axes {axes} are {abs(entry['angle']):.3g} {angle_unit(deg)} from one "
-                  f"line at psi {fixed(entry['psi'])}")
-    for name in ("shoulder", "wrist", "overall"):
-        entry = report["optimal"][name]
-        unclamped = "none (no solution on this branch)" if entry["unclamped"] is None else fixed(entry["unclamped"])
-        clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
-        print(f"optimal {name}: {unclamped} -> feasible {clamped}")
-    _name_feasible_branches(args, result.feasible.is_empty, lambda: [  # the same self-motion, every branch
-        str(b) for b in BRANCHES if not NearlyFeasible(arm, pose, b, result.curves, result.complete)
-        .feasible.is_empty], "psi")
-    return 0
-
-
-def _run_franka_arm_angles(chain, args: argparse.Namespace) -> int:
-    """``redkin arm-angles`` on a Franka-class arm: the feasible q7 arcs of the branch (and of every branch), and the
-    limit-avoiding q7."""
-    from redkin.franka import BRANCHES, feasible_q7, optimal_q7
-    from redkin.srs import parse_branch
-
-    if args.weights is not None:
-        raise ValueError(f"--weights weighs the shoulder against the wrist in the optimal arm angle of S-R-S arms; "
-                         f"{chain.name} is of the Franka class (parameter q7): leave it out")
-    pose = target_pose(args)
-    branch = parse_branch(args.branch)
-    target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
-    sets = feasible_q7(chain, pose)
-    index = BRANCHES.index(branch)
-    optimal = optimal_q7(chain, pose, branch, target=target, feasible=sets)
-    deg = args.deg
-
-    def arcs(pieces) -> list:
-        return [[float(v) for v in angles_out(arc, deg)] for arc in pieces]
-
-    result = {
-        "robot": chain.name,
-        "parameter": "q7",
-        "units": {"angles": f"{angle_unit(deg)} (every q7 below)"},
-        "arcs": "[start, end] intervals of q7, increasing, within joint 7's range (domain)",
-        "branch": str(branch),
-        "domain": [float(v) for v in angles_out(sets.domain, deg)],
-        "feasible": arcs(sets.arcs[index]),
-        "branches": {str(label): arcs(sets.arcs[k]) for k, label in enumerate(BRANCHES)},
-        "optimal": {"unclamped": angles_out(optimal.unclamped, deg), "feasible": angles_out(optimal.feasible, deg)},
-    }
-    if args.json:
-        print_json(result)
-        return 0
-    unit = "deg" if deg else "rad"
-    print(f"{chain.name}, branch {branch}; the redundancy parameter is q7, in {unit}")
-    print(f"q7 (feasible): {_format_q7_arcs(result['feasible'])}")
-    for label, pieces in result["branches"].items():
-        print(f"  branch {label}: {_format_q7_arcs(pieces)}")
-    entry = result["optimal"]
-    unclamped = "none (no solution at any q7)" if entry["unclamped"] is None else fixed(entry["unclamped"])
-    clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
-    print(f"optimal q7: {unclamped} -> feasible {clamped}")
-    _name_feasible_branches(args, not result["feasible"], lambda: [
-        label for label, pieces in result["branches"].items() if pieces], "q7")
-    return 0
-
-
-def _format_q7_arcs(arcs: list) -> str:
-    return " U ".join(f"[{fixed(lo)}, {fixed(hi)}]" for lo, hi in arcs) if arcs else "empty"
