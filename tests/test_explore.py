@@ -30,7 +30,7 @@ def case(request):
 def test_every_branch_holds_the_exact_set_ends_and_marks(case):
     chain, pose, data = case
     assert [b.branch for b in data.branches] == [str(b) for b in BRANCHES] and data.initial == 2
-    assert data.parameter.name == "psi" and data.parameter.domain == (-np.pi, np.pi) and data.parameter.circular
+    assert data.parameter.name == "psi" and data.parameter.domain == (-np.pi, np.pi) and data.parameter.wraps
     for curves in data.branches:
         psi = curves.values
         result = feasible_arm_angles(chain, pose, curves.branch)

@@ -39,7 +39,7 @@ def _check_laws(chain, pose, data, samples):
     """Every law of the module docstring, for one arm and pose."""
     sets = feasible_q7(chain, pose)
     low, high = sets.domain
-    assert data.parameter.name == "q7" and data.parameter.domain == sets.domain and not data.parameter.circular
+    assert data.parameter.name == "q7" and data.parameter.domain == sets.domain and not data.parameter.wraps
     assert [b.branch for b in data.branches] == [str(b) for b in BRANCHES]
     for index, curves in enumerate(data.branches):
         values = curves.values

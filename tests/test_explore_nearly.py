@@ -1,4 +1,4 @@
-"""The explorer of nearly S-R-S arms (:mod:`redkin.explore.nearly`): its numbers are the real arm's, and its page
+"""The explorer of nearly S-R-S arms (:mod:`redkin.explore.grid` over :meth:`redkin.arms.Arm.analyse`): its numbers are the real arm's, and its page
 states the model error and what it cannot draw.
 
 Laws, on the Kinova Gen3 (joints limited to +-2.9 rad so that sets have ends) and the Jaco2:
@@ -71,7 +71,7 @@ def _pose_errors(reached: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, n
 def test_postures_are_certified_solutions_of_the_real_arm(case):
     chain, pose, data = case
     arm = nearly_srs(chain)
-    assert data.parameter.name == "psi" and data.parameter.circular and "real" in data.parameter.method
+    assert data.parameter.name == "psi" and data.parameter.wraps and "real" in data.method
     for curves in data.branches:
         shown = curves.exists
         assert shown.mean() > 0.9
@@ -100,7 +100,7 @@ def test_sets_flags_and_marks_are_the_real_arms(case):
         np.testing.assert_array_equal(curves.feasible_at[clear], curves.within[clear].all(axis=1))
         optimal = optimal_arm_angles_nearly(arm, pose, branch, feasible=feasible).overall
         marks = {m.label: curves.values[m.index] for m in curves.marks if m.kind == "optimal"}
-        assert abs(marks["optimal ψ ([000 eq. 40], real arm)"] - np.angle(np.exp(1j * optimal.unclamped))) < 1e-15
+        assert abs(marks["optimal ψ ([000 eq. 40] on the real arm)"] - np.angle(np.exp(1j * optimal.unclamped))) < 1e-15
         if optimal.feasible is not None and "optimal ψ clamped to Ψ" in marks:
             assert abs(marks["optimal ψ clamped to Ψ"] - np.angle(np.exp(1j * optimal.feasible))) < 1e-15
 

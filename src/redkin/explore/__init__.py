@@ -2,8 +2,8 @@
 
 * :func:`explorer_data` -- every number the page shows, for all eight branches, over the arm's redundancy
   parameter (the arm angle psi of S-R-S, offset-elbow and nearly S-R-S arms, q7 of the Franka class): a dense grid
-  with the exact ends of the feasible sets, the singular (psi) and optimal values merged in, joint values and
-  postures, computed with the public :mod:`redkin.srs` or :mod:`redkin.franka` functions
+  with the exact ends of the feasible sets, the singular and optimal values merged in, joint values and
+  postures, from what :meth:`redkin.arms.Arm.analyse` answers for every class
 * :func:`explorer_html` -- the page: a slider over the parameter, the joint curves with limits and sets, the
   posture in 3-D, a branch selector and the joint values; it works offline, from a file; it reads the parameter's
   name, domain and marks from the data and never asks which class it holds
@@ -16,10 +16,10 @@
 RESULT.json`` and ``redkin path --playback`` write the playback page.
 """
 
-from redkin.explore.curves import BranchCurves, ExplorerData, Mark, Parameter
+from redkin.explore.curves import BranchCurves, ExplorerData, Mark
 from redkin.explore.data import GRID_SAMPLES, explorer_data
 from redkin.explore.page import explorer_html
 from redkin.explore.playback import FRAME_RATE, MAX_FRAMES, StopSpan, playback_html
 
-__all__ = ["GRID_SAMPLES", "BranchCurves", "ExplorerData", "Mark", "Parameter", "explorer_data", "explorer_html",
+__all__ = ["GRID_SAMPLES", "BranchCurves", "ExplorerData", "Mark", "explorer_data", "explorer_html",
            "FRAME_RATE", "MAX_FRAMES", "StopSpan", "playback_html"]

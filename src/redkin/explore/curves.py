@@ -1,11 +1,8 @@
 """What the explorer page draws, in one form for every arm class: a redundancy parameter and each branch over it.
 
-The page reads a :class:`Parameter` (its name, symbols, domain and words)
-and, per branch, a grid of parameter values with the joint values, postures,
-limit flags, feasible arcs and marked values on it (:class:`BranchCurves`).
-It never asks which arm class it holds: the arm angle psi of S-R-S and
-offset-elbow arms (:mod:`redkin.explore.arm_angle`) and q7 of the Franka class
-(:mod:`redkin.explore.q7`) fill the same fields.
+The page reads the arm's :class:`redkin.arms.Parameter` (its name, symbols, domain and words) and, per branch, a
+grid of parameter values with the joint values, postures, limit flags, feasible arcs and marked values on it
+(:class:`BranchCurves`, filled by :mod:`redkin.explore.grid`).  It never asks which arm class it holds.
 """
 
 from __future__ import annotations
@@ -14,55 +11,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from redkin.arms import Parameter
 from redkin.chain import SerialChain
 
 #: A joint value this far [rad] beyond a limit counts as within it (the value at a set's end, rounded).
 _LIMIT_TOLERANCE = 1e-9
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """The redundancy parameter of an arm class, as the page names and draws it.
-
-    Attributes
-    ----------
-    name : str
-        As the command line and JSON name it: ``"psi"`` or ``"q7"``.
-    symbol, set_symbol : str
-        As the page prints the parameter and its feasible set: ``"ψ"`` and ``"Ψ"``, ``"q7"`` and ``"Q7"``.
-    noun, plural : str
-        The parameter in words: ``"arm angle"``, ``"arm angles"``; ``"q7"``, ``"values of q7"``.
-    title : str
-        The page's title, before the robot's name.
-    joint_symbol : str
-        The symbol of the joint values on the curves (``"θ"``, ``"q"``).
-    branches : str
-        What a branch's three signs are.
-    optimum : str
-        Where the optimal value is defined (a citation).
-    method : str
-        What computed the numbers, for the page's note.
-    domain : tuple of float
-        The range of the parameter [rad]: ``(-pi, pi)`` for an angle on the circle, a joint's limits for q7.
-    circular : bool
-        Whether the domain is the whole circle, so that an arc may pass through its ends.
-    kinds : tuple of str
-        The kinds of marks the class sets (``feasible``, ``singular``, ``optimal``).
-    """
-
-    name: str
-    symbol: str
-    set_symbol: str
-    noun: str
-    plural: str
-    title: str
-    joint_symbol: str
-    branches: str
-    optimum: str
-    method: str
-    domain: tuple[float, float]
-    circular: bool
-    kinds: tuple[str, ...]
 
 
 @dataclass(frozen=True)
@@ -97,7 +50,7 @@ class BranchCurves:
     feasible_at : numpy.ndarray of bool, shape (G,)
         Whether each value lies in the exact feasible set ``arcs``.
     arcs : numpy.ndarray, shape (K, 2)
-        The feasible set as ``[start, end]`` arcs; ``start > end`` only on a circular domain, for an arc through
+        The feasible set as ``[start, end]`` arcs; ``start > end`` only on a parameter that wraps, for an arc through
         its ends.
     full : bool
         Whether the feasible set is the whole domain.
@@ -129,7 +82,8 @@ class BranchCurves:
 
 @dataclass(frozen=True)
 class ExplorerData:
-    """The explorer's numbers for one arm and one pose: the parameter, every branch, the limits, the branch shown
+    """The explorer's numbers for one arm and one pose: the parameter, what computed the numbers (``method``) and
+    the kinds of marks they set (``feasible``, ``singular``, ``optimal``), every branch, the limits, the branch shown
     first, sentences about the arm that the page states (a nearly S-R-S arm's neighbour and model error) and the
     sentence saying where the page opens and why."""
 
@@ -139,6 +93,8 @@ class ExplorerData:
     lower: np.ndarray
     upper: np.ndarray
     parameter: Parameter
+    method: str
+    kinds: tuple[str, ...]
     branches: tuple[BranchCurves, ...]
     initial: int
     remarks: tuple[str, ...] = ()
@@ -152,8 +108,3 @@ def postures(chain: SerialChain, q: np.ndarray, exists: np.ndarray) -> tuple[np.
     origins[~exists] = np.nan
     within = exists[:, None] & (q >= chain.lower - _LIMIT_TOLERANCE) & (q <= chain.upper + _LIMIT_TOLERANCE)
     return origins, within
-
-
-def as_arcs(pairs) -> np.ndarray:
-    """``[start, end]`` pairs as a float array of shape ``(K, 2)`` (``(0, 2)`` for none)."""
-    return np.asarray(pairs, dtype=float).reshape(-1, 2)

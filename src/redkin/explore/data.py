@@ -1,9 +1,10 @@
-"""Every number the explorer page shows, from the public functions of the arm's class.
+"""Every number the explorer page shows, from what the arm answers about one pose.
 
-:func:`explorer_data` classifies the chain once (:func:`redkin.closed_form.redundancy_parameter`) and fills
-the page's one form (:mod:`redkin.explore.curves`) over the class's redundancy parameter: the arm angle psi of
-S-R-S and offset-elbow arms (:mod:`redkin.explore.arm_angle`) and of nearly S-R-S arms, on the real arm
-(:mod:`redkin.explore.nearly`), q7 of the Franka class (:mod:`redkin.explore.q7`).
+:func:`explorer_data` takes the chain as an arm (:func:`redkin.arms.arm`, classified once), asks it what the
+pose's redundancy holds (:meth:`redkin.arms.Arm.analyse`) and fills the page's one form
+(:mod:`redkin.explore.curves`) branch by branch over the arm's redundancy parameter (:mod:`redkin.explore.grid`):
+the arm angle psi of S-R-S, offset-elbow and nearly S-R-S arms (on the real arm), q7 of the Franka class.  It never
+asks which class the arm is.
 """
 
 from __future__ import annotations
@@ -15,11 +16,8 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
 from redkin.chain import SerialChain
-from redkin.closed_form import redundancy_parameter
-from redkin.errors import RedkinError
-from redkin.explore.arm_angle import arm_angle_curves
+from redkin.errors import RedkinError, UnreachablePoseError
 from redkin.explore.curves import BranchCurves, ExplorerData
-from redkin.explore.q7 import q7_curves
 from redkin.so3 import matrix_to_axis_angle
 from redkin.srs import BRANCHES, parse_branch
 
@@ -95,24 +93,27 @@ def explorer_data(
     pose = check_pose(pose)
     if pose.shape != (4, 4):
         raise RedkinError(f"pose must be one 4x4 pose, got shape {pose.shape}")
-    from redkin.arms.classify import NEARLY_SRS, arm_angle_class, check_tolerance
-    from redkin.srs.nearly import TOLERANCE_DEFAULT
+    from redkin.arms import arm
+    from redkin.errors import NotArmAngleClassError
+    from redkin.explore.grid import branch_curves
 
-    tolerance = TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance)
-    own = None if q is None else _own_place(chain, pose, q, tolerance)
+    classified = arm(chain, srs_tolerance=srs_tolerance)
+    if classified.parameter is None:
+        raise NotArmAngleClassError(f"{chain.name!r} has no closed-form IK: {classified.reason}", chain.name)
+    own = None if q is None else _own_place(classified, pose, q)
     if own is not None and first is not None and own[0] != BRANCHES.index(first):
         raise RedkinError(f"q is on branch {BRANCHES[own[0]]}, not on the branch {first} asked for: give one of them")
-    also = () if own is None else (own[1],)
-    remarks: tuple[str, ...] = ()
-    if arm_angle_class(chain, tolerance).kind == NEARLY_SRS:
-        from redkin.explore.nearly import nearly_curves, remarks_of
-        from redkin.srs import nearly_srs
-
-        parameter, branches = nearly_curves(chain, pose, int(samples), target, weights, tolerance, also)
-        remarks = remarks_of(nearly_srs(chain, tolerance))
-    else:
-        curves = q7_curves if redundancy_parameter(chain, tolerance) == "q7" else arm_angle_curves
-        parameter, branches = curves(chain, pose, int(samples), target, weights, also)
+    analysis = classified.analyse(pose, target=target, weights=weights)
+    parameter = analysis.parameter
+    low, high = parameter.domain
+    grid = np.union1d(np.linspace(low, high, int(samples)), [value for value in (own[1:] if own else ())
+                                                             if low <= value <= high])
+    branches = tuple(branch_curves(classified, pose, analysis, branch, grid) for branch in analysis.branches)
+    if not any(curves.exists.any() for curves in branches):
+        raise UnreachablePoseError(f"{chain.name} cannot reach this pose: no branch has a {analysis.solution} at any "
+                                   f"of {samples} {parameter.plural}")
+    kinds = ("feasible", "singular", "optimal") if any(b.singular is not None for b in analysis.branches) else (
+        "feasible", "optimal")
     if own is not None:
         initial = own[0]
         shown = branches[initial]
@@ -131,17 +132,18 @@ def explorer_data(
         lower=np.asarray(chain.lower, dtype=float),
         upper=np.asarray(chain.upper, dtype=float),
         parameter=parameter,
+        method=analysis.method,
+        kinds=kinds,
         branches=branches,
         initial=initial,
-        remarks=remarks,
+        remarks=analysis.remarks,
         opening=opening,
     )
 
 
-def _own_place(chain: SerialChain, pose: np.ndarray, q: ArrayLike, tolerance: float) -> tuple[int, float]:
+def _own_place(classified, pose: np.ndarray, q: ArrayLike) -> tuple[int, float]:
     """The branch (index into :data:`BRANCHES`) and parameter value of a configuration ``q`` at ``pose``."""
-    from redkin.arms import arm
-
+    chain = classified.chain
     q = np.asarray(q, dtype=float)
     if q.shape != (chain.n,) or not np.all(np.isfinite(q)):
         raise RedkinError(f"q must be {chain.n} finite joint values, got shape {q.shape}"
@@ -152,7 +154,6 @@ def _own_place(chain: SerialChain, pose: np.ndarray, q: ArrayLike, tolerance: fl
     if max(position, rotation) > _REACHES:
         raise RedkinError(f"q is not at the pose: its tool is {position:.3g} m and {rotation:.3g} rad away "
                           f"(at most {_REACHES:g} allowed)")
-    classified = arm(chain, srs_tolerance=tolerance)
     return classified.branches.index(str(classified.branch_of(q))), float(classified.parameter_of(q))
 
 

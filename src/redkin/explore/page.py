@@ -16,7 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from redkin.explore.curves import BranchCurves, ExplorerData, Parameter
+from redkin.arms import Parameter
+from redkin.explore.curves import BranchCurves, ExplorerData
 from redkin.explore.script import DRAG_SCRIPT, SCRIPT, STYLE
 
 #: Decimals of the printed angles in each unit (0.001 deg is about 2e-5 rad).
@@ -44,7 +45,7 @@ def explorer_html(data: ExplorerData, degrees: bool = False) -> str:
     """
     unit = "deg" if degrees else "rad"
     payload = json.dumps(_payload(data, unit), separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
-    title = f"{data.parameter.title}: {data.robot}"
+    title = f"{data.parameter.prefix} explorer: {data.robot}"
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
@@ -63,14 +64,14 @@ def _body(data: ExplorerData) -> str:
     if data.branches[0].per_joint is not None:
         legend.append(f'<span class="k set-i"></span> {sets}<sub>i</sub>: joint i within its limits')
     legend.append(f'<span class="k set"></span> {sets}: all joints within')
-    if "singular" in p.kinds:
+    if "singular" in data.kinds:
         legend.append(f'<span class="k singular"></span> singular {symbol}')
     legend.append(f'<span class="k optimal"></span> optimal {symbol} ({html.escape(p.optimum, quote=False)})')
     legend.append(f'<span class="k cursor"></span> the slider\'s {symbol}. Click a plot to move the slider there.')
     remarks = "".join(f'\n<p class="note remark">{html.escape(text, quote=False)}</p>'
                       for text in (*data.remarks, data.opening) if text)
     return f"""<div class="controls">
-<label>branch <select id="branch" aria-label="branch ({html.escape(p.branches)})"></select></label>
+<label>branch <select id="branch" aria-label="branch ({html.escape(p.branch_signs)})"></select></label>
 <label class="slider">{symbol} <input id="parameter" type="range" min="0" max="1" step="1" value="0" \
 aria-label="{html.escape(p.noun)}"></label>
 <output id="parameter-value" for="parameter"></output>
@@ -86,7 +87,7 @@ x red, y green, z blue; the target frame at the tool.</figcaption></figure>
 </div>
 <div id="curves" class="curves"></div>
 <p class="legend">{chr(10).join(legend)}</p>
-<p class="note">Computed by redkin ({html.escape(p.method, quote=False)}); this page only draws
+<p class="note">Computed by redkin ({html.escape(data.method, quote=False)}); this page only draws
 the numbers it holds: a dense grid of {html.escape(p.plural, quote=False)} with the exact ends of every set merged
 in.</p>{remarks}"""
 
