@@ -37,7 +37,7 @@ class NearlyKind(ArmKind):
               "singular and optimal arm angles located on the real arm")
 
     def __init__(self, kind: str, nearly: NearlySRS, tolerance: float) -> None:
-        self.kind, self.nearly, self.chain = kind, nearly, nearly.chain
+        self.kind, self.nearly, self.chain = kind, nearly, nearly.chain  # nearly: the protocol's exact neighbour
         self.family = NearlyFamily(nearly, tolerance)
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:

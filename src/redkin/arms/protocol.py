@@ -41,6 +41,9 @@ class ArmKind:
         Whether its feasible sets are proved complete.
     method : str
         What computes its answers, in words (:attr:`redkin.arms.analysis.Analysis.method`).
+    nearly : redkin.srs.NearlySRS or None
+        The exact neighbour a class that is not exact stands on (a nearly S-R-S arm's, with what it drops:
+        ``describe()``, ``departures``, ``neighbour``); ``None`` on an exact class.
     one_per_branch : bool
         Whether a branch has at most one solution at each value of the parameter (else
         :meth:`every_solutions` may find more).
@@ -56,6 +59,7 @@ class ArmKind:
     exact: bool = False
     method: str = "the numerical pose IK"
     one_per_branch: bool = True
+    nearly: Any = None
     family: Any = None
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:

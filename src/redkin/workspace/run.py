@@ -38,11 +38,9 @@ from redkin._compiled import default_threads, set_threads
 from redkin._validation import check_count
 from redkin.arms import Arm
 from redkin.arms import arm as redkin_arm
-from redkin.arms.classify import NEARLY_SRS, check_tolerance
 from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError
-from redkin.srs import BRANCHES, NearlySRS, nearly_srs
-from redkin.srs.nearly import TOLERANCE_DEFAULT
+from redkin.srs import BRANCHES, NearlySRS
 from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid, workspace_grid
 from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index, whole_range
@@ -385,10 +383,8 @@ def map_model(arm: SerialChain, srs_tolerance: float | None = None) -> tuple[Arm
     if mapped.parameter is None:
         raise NotArmAngleClassError(f"a workspace map needs a redundancy parameter with exact feasible sets: "
                                     f"{arm.name!r} has none ({mapped.reason})", arm.name)
-    if mapped.kind != NEARLY_SRS:
-        return mapped, None
-    nearly = nearly_srs(arm, TOLERANCE_DEFAULT if srs_tolerance is None else check_tolerance(srs_tolerance))
-    return redkin_arm(nearly.neighbour), nearly
+    nearly = mapped.implementation.nearly
+    return (mapped, None) if nearly is None else (redkin_arm(nearly.neighbour), nearly)
 
 
 def workspace_map(

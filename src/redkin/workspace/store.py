@@ -132,9 +132,8 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     x, y, z = grid.axes
     whose = "" if nearly is None else " of the exact S-R-S neighbour"
     assert mapped.parameter is not None  # map_model refuses an arm without one
-    name = "arm-angle" if mapped.parameter.name == "psi" else mapped.parameter.name
+    name, equation = mapped.parameter.prefix, mapped.parameter.equation
     low, high = mapped.parameter.domain
-    equation = "[000 eq. 30]" if mapped.parameter.name == "psi" else "[F8]-[F9], docs/franka.md"
     position = ("x", "y", "z")
     # lazy templates of one Dask chunk each (a graph of a few tasks, never computed); the store's chunks are set
     # by the encoding: one per map chunk (13 824 Dask chunks per array made the 1 cm map's metadata take 30 s)
