@@ -39,8 +39,8 @@ def test_an_srs_pose_out_of_reach_has_no_solution_rather_than_an_error():
 
 
 @pytest.mark.parametrize("robot, arguments, fragment", [
-    ("franka-fr3", {"psi": 0.1}, "takes q7 (the value of joint 7) as its redundancy parameter; got psi"),
-    ("kuka-iiwa14", {"q7": 0.1}, "takes the arm angle psi as its redundancy parameter; got q7"),
+    ("franka-fr3", {"psi": 0.1}, "takes q7 as its redundancy parameter; got psi"),
+    ("kuka-iiwa14", {"q7": 0.1}, "takes psi as its redundancy parameter; got q7"),
     ("kuka-iiwa14", {"psi": 0.1, "q0": np.zeros(7)}, "q0: keywords of the numerical solver"),
     ("kinova-gen3", {"branch": "+++"}, "branch applies to the closed forms"),
     ("franka-fr3", {"psi": 0.1, "q7": 0.1}, "got psi and q7"),

@@ -146,8 +146,7 @@ def ik(
     parameter = redundancy_parameter(chain, srs_tolerance)
     given = [name for name, value in (("psi", psi), ("q7", q7)) if value is not None]
     if given != [parameter]:
-        right = "the arm angle psi" if parameter == "psi" else "q7 (the value of joint 7)"
-        raise RedkinError(f"{chain.name!r} takes {right} as its redundancy parameter; got {' and '.join(given)}")
+        raise RedkinError(f"{chain.name!r} takes {parameter} as its redundancy parameter; got {' and '.join(given)}")
     at = psi if q7 is None else q7
     assert at is not None  # given == [parameter]
     result = arm(chain, srs_tolerance=srs_tolerance).ik(
