@@ -25,7 +25,7 @@ NOTED = {"barrett-wam7", "franka-panda"}
 
 
 def _argv(robot: str, q: np.ndarray) -> list[str]:
-    from redkin.paths.family import path_family
+    from redkin.paths.arm_family import path_family
 
     chain = get_robot(robot)
     pose = chain.fk(q)

@@ -1,5 +1,5 @@
-"""The explorer of nearly S-R-S arms (:mod:`redkin.explore.grid` over :meth:`redkin.arms.Arm.analyse`): its numbers are the real arm's, and its page
-states the model error and what it cannot draw.
+"""The explorer of nearly S-R-S arms (:mod:`redkin.explore.grid` over :meth:`redkin.arms.Arm.analyse`): its numbers
+are the real arm's, and its page states the model error and what it cannot draw.
 
 Laws, on the Kinova Gen3 (joints limited to +-2.9 rad so that sets have ends) and the Jaco2:
 

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from redkin.cli.main import main
 from redkin.explore import explorer_data
 from redkin.models import get_robot
-from redkin.paths.family import path_family
+from redkin.paths.arm_family import path_family
 from redkin.srs import BRANCHES
 
 #: One arm of each class: S-R-S, offset elbow, the Franka class, nearly S-R-S.

@@ -142,7 +142,7 @@ def _write_narrow_robot(file) -> None:
 
 
 def test_a_reconfiguration_inside_one_feasible_piece_is_a_self_motion_that_keeps_the_tool_still():
-    from redkin.paths.family import path_family
+    from redkin.paths.arm_family import path_family
     from redkin.paths.stops import _self_motion
 
     family = path_family(_BASE)

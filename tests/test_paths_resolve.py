@@ -344,7 +344,7 @@ def test_the_thorough_search_is_never_worse_and_cannot_beat_a_proved_clearance(s
 @given(st.integers(0, 2**31), st.sampled_from(ROBOTS + ["franka-fr3"]), st.floats(1.05, 1.6))
 def test_the_linear_programs_never_lower_a_clearance_nor_break_a_law(seed, robot, slack):
     from redkin.paths import graph as graphs
-    from redkin.paths.family import path_family
+    from redkin.paths.arm_family import path_family
     from redkin.paths.resolve import DEFAULT_CONNECT, DEFAULT_REFINEMENTS, DEFAULT_SPACING, search_paths
 
     chain = get_robot(robot)

@@ -123,7 +123,7 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
     import matplotlib.pyplot as plt
 
     from redkin.paths import clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path
-    from redkin.paths.family import path_family
+    from redkin.paths.arm_family import path_family
     from redkin.plot.paths import path_plane_figure
     from redkin.srs import arm_angle_of, reachable
 
@@ -149,7 +149,7 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
 def _model_line(chain, srs_tolerance: float | None) -> str | None:
     """What a nearly S-R-S arm's path rests on, in one line (its neighbour and model error); ``None`` for an arm of
     an exact class."""
-    from redkin.paths.family import path_family
+    from redkin.paths.arm_family import path_family
 
     return path_family(chain, srs_tolerance).model()
 

@@ -19,6 +19,7 @@
   offset-elbow arms, the arm angle psi) or :class:`Q7Family` (the Franka class, q7)
 """
 
+from redkin.paths.arm_family import path_family
 from redkin.paths.baselines import (
     BASELINE_REASONS,
     GREEDY_SPACING,
@@ -31,7 +32,7 @@ from redkin.paths.baselines import (
     sampled_path,
 )
 from redkin.paths.bounds import step_bound
-from redkin.paths.family import ArmAngleFamily, Family, Q7Family, path_family
+from redkin.paths.family import ArmAngleFamily, Family, Q7Family
 from redkin.paths.plane import feasible_along_path
 from redkin.paths.resolve import (
     DEFAULT_CONNECT,
@@ -43,8 +44,7 @@ from redkin.paths.resolve import (
     resolve_path,
     resolve_paths,
 )
-from redkin.paths.result import REASONS, PathFailure, PathResult
-from redkin.paths.stops import STOP_REASONS, Stop
+from redkin.paths.result import REASONS, STOP_REASONS, PathFailure, PathResult, Stop
 from redkin.paths.timing import Trajectory, time_path
 from redkin.paths.waypoints import (
     MAX_POSES,

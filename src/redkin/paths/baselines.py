@@ -25,8 +25,8 @@ from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
 from redkin.franka.geometry import FrankaGeometry
+from redkin.paths.arm_family import path_family
 from redkin.paths.bounds import step_bound
-from redkin.paths.family import path_family
 from redkin.paths.resolve import FK_TOLERANCE, search_paths
 from redkin.paths.result import PathResult
 from redkin.srs.branches import BRANCHES, Branch, parse_branch

@@ -19,14 +19,13 @@ proved complete, and the nodes are the polished solutions (:func:`redkin.srs.nea
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redkin._compiled import run_batch
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, wrap_angle
-from redkin.errors import NotArmAngleClassError, RedkinError
+from redkin.errors import RedkinError
 from redkin.franka.feasible import feasible_q7_batch
 from redkin.franka.geometry import FrankaGeometry, franka_geometry
 from redkin.franka.ik import PARAMETER as Q7
@@ -42,14 +41,11 @@ from redkin.srs.coefficients import coefficient_arrays
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.srs.ik import reachable
-from redkin.srs.nearly import TOLERANCE_DEFAULT, NearlySRS, nearly_srs
+from redkin.srs.nearly import NearlySRS, nearly_srs
 from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
 from redkin.srs.nearly import ik as nearly_ik
 from redkin.srs.nearly.feasible import feasible_arm_angles_nearly_all
-
-if TYPE_CHECKING:
-    from redkin.arms import Arm as ClassifiedArm
 
 #: The arm angle's name in results.
 PSI = "psi"
@@ -383,33 +379,3 @@ def _as_pieces(sets: list[list]) -> FeasiblePieces:
                 start[w, b, : len(arcs)], end[w, b, : len(arcs)] = arcs[:, 0], arcs[:, 1]
                 feasible[w, b, : len(arcs)] = True
     return FeasiblePieces(start, end, feasible)
-
-
-def path_family(arm: ClassifiedArm | SerialChain | SRSGeometry | FrankaGeometry | NearlySRS,
-                srs_tolerance: float | None = None) -> Family:
-    """The class of ``arm`` as path resolution sees it, the one :func:`redkin.arms.classify.arm_angle_class` names:
-    S-R-S or offset elbow, the Franka class, or nearly S-R-S within ``srs_tolerance`` (default
-    :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
-
-    Raises
-    ------
-    NotArmAngleClassError
-        For a chain of none of these classes, with the reasons.
-    """
-    from redkin.arms import Arm as ClassifiedArm
-    from redkin.arms import arm as classified
-
-    if isinstance(arm, SRSGeometry):
-        return ArmAngleFamily(arm)
-    if isinstance(arm, FrankaGeometry):
-        return Q7Family(arm)
-    if isinstance(arm, NearlySRS):
-        return NearlyFamily(arm, TOLERANCE_DEFAULT if srs_tolerance is None else srs_tolerance)
-    if not isinstance(arm, (SerialChain, ClassifiedArm)):
-        raise RedkinError(f"arm must be a SerialChain or an Arm, got {type(arm).__name__}")
-    chosen = arm if isinstance(arm, ClassifiedArm) else classified(arm, srs_tolerance=srs_tolerance)
-    family: Family | None = chosen.implementation.family
-    if family is None:
-        raise NotArmAngleClassError(f"path resolution needs an arm-angle or q7 parameterisation: {chosen.chain.name!r} "
-                                    f"is a general chain ({chosen.reason})", chosen.chain.name)
-    return family

@@ -10,7 +10,7 @@ from redkin._validation import check_pose
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
 from redkin.franka.geometry import FrankaGeometry
-from redkin.paths.family import path_family
+from redkin.paths.arm_family import path_family
 from redkin.srs.feasible import FeasiblePieces
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.nearly import NearlySRS

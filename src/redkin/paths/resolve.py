@@ -25,14 +25,15 @@ from redkin.errors import RedkinError
 from redkin.franka.geometry import FrankaGeometry
 from redkin.paths import graph as graphs
 from redkin.paths import search
+from redkin.paths.arm_family import path_family
 from redkin.paths.bounds import step_bound
 from redkin.paths.failure import step_blocker
-from redkin.paths.family import Family, path_family
+from redkin.paths.family import Family
 from redkin.paths.graph import Arm, Graph
 from redkin.paths.polish import raised
 from redkin.paths.result import PathFailure, PathResult
-from redkin.paths.stops import with_stops
-from redkin.paths.timing import DEFAULT_RATE, check_timing, timed
+from redkin.paths.stops import timed, with_stops
+from redkin.paths.timing import DEFAULT_RATE, check_timing
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.feasible import FeasiblePieces
 from redkin.srs.geometry import SRSGeometry

@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from redkin.paths.stops import Stop
     from redkin.paths.timing import Trajectory
 
 #: Why no path exists, by :attr:`PathFailure.reason`.
@@ -127,3 +126,49 @@ class PathResult:
     def ok(self) -> bool:
         """Whether a path was found."""
         return self.status == "ok"
+
+
+#: Why the arm stops, by :attr:`Stop.reason`.
+STOP_REASONS = {"branch": "the arm changes branch", "jump": "the redundancy parameter jumps on one branch"}
+
+
+@dataclass(frozen=True)
+class Stop:
+    """A reconfiguration at one waypoint: the tool at rest, the arm moving from one configuration to another.
+
+    Attributes
+    ----------
+    waypoint : int
+    reason : str
+        ``"branch"`` (the branch changes) or ``"jump"`` (the same branch, the parameter jumps).
+    branch_before, branch_after : str
+    parameter_before, parameter_after : float
+        The redundancy parameter (arm angle or q7, :attr:`PathResult.parameter`) on arrival and departure.
+    joint : int
+        The joint (1-based) that moves most between the two configurations.
+    move : float
+        How far it moves (radians).
+    motion : str
+        ``"self-motion"`` (the tool stays at the pose; see the module's docstring) or ``"free-space"``.
+    path : numpy.ndarray, shape (M, n)
+        The joint values of the reconfiguration, from the arrival configuration (first row) to the departure one.
+    """
+
+    waypoint: int
+    reason: str
+    branch_before: str
+    branch_after: str
+    parameter_before: float
+    parameter_after: float
+    joint: int
+    move: float
+    motion: str
+    path: np.ndarray
+
+    @property
+    def message(self) -> str:
+        """One line: where, why, and how the arm reconfigures."""
+        change = (f"from branch {self.branch_before} to {self.branch_after}" if self.reason == "branch" else
+                  f"on branch {self.branch_before}, {self.parameter_before:.6g} -> {self.parameter_after:.6g}")
+        return (f"stop at waypoint {self.waypoint}: {STOP_REASONS[self.reason]} ({change}; joint {self.joint} moves "
+                f"{self.move:.6g} rad, {self.motion})")

@@ -18,70 +18,29 @@ Between the arrival and departure configurations of a stop (one pose), the arm m
 both lie on one branch in one feasible piece of that pose (the tool stays still; the joint path is the closed form
 along the parameter between them); otherwise the move is named a *free-space* move (a straight joint-space motion,
 during which the tool leaves the path).
+
+:func:`timed` gives a result its trajectory (:func:`redkin.paths.time_path`), at rest at each stop and through its
+reconfiguration.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from itertools import pairwise
 
 import numpy as np
 
+from redkin.chain import SerialChain
 from redkin.paths.family import Family
-from redkin.paths.result import PathResult
+from redkin.paths.result import PathResult, Stop
+from redkin.paths.timing import time_path
 from redkin.srs.branches import BRANCHES, parse_branch
 
 #: Parameter samples of a self-motion at most this far apart (radians).
 _SELF_MOTION_SPACING = 0.01
 #: The self-motion's joint values meet the stop's two configurations to within this (radians).
 _MEETS = 1e-6
-#: Why the arm stops, by :attr:`Stop.reason`.
-STOP_REASONS = {"branch": "the arm changes branch", "jump": "the redundancy parameter jumps on one branch"}
-
-
-@dataclass(frozen=True)
-class Stop:
-    """A reconfiguration at one waypoint: the tool at rest, the arm moving from one configuration to another.
-
-    Attributes
-    ----------
-    waypoint : int
-    reason : str
-        ``"branch"`` (the branch changes) or ``"jump"`` (the same branch, the parameter jumps).
-    branch_before, branch_after : str
-    parameter_before, parameter_after : float
-        The redundancy parameter (arm angle or q7, :attr:`PathResult.parameter`) on arrival and departure.
-    joint : int
-        The joint (1-based) that moves most between the two configurations.
-    move : float
-        How far it moves (radians).
-    motion : str
-        ``"self-motion"`` (the tool stays at the pose; see the module's docstring) or ``"free-space"``.
-    path : numpy.ndarray, shape (M, n)
-        The joint values of the reconfiguration, from the arrival configuration (first row) to the departure one.
-    """
-
-    waypoint: int
-    reason: str
-    branch_before: str
-    branch_after: str
-    parameter_before: float
-    parameter_after: float
-    joint: int
-    move: float
-    motion: str
-    path: np.ndarray
-
-    @property
-    def message(self) -> str:
-        """One line: where, why, and how the arm reconfigures."""
-        change = (f"from branch {self.branch_before} to {self.branch_after}" if self.reason == "branch" else
-                  f"on branch {self.branch_before}, {self.parameter_before:.6g} -> {self.parameter_after:.6g}")
-        return (f"stop at waypoint {self.waypoint}: {STOP_REASONS[self.reason]} ({change}; joint {self.joint} moves "
-                f"{self.move:.6g} rad, {self.motion})")
-
-
 #: ``segment(first, last, with_start, with_end)``: :func:`resolve_path` on waypoints ``first..last``, with the
 #: caller's start configuration (``with_start``) and end conditions (``with_end``) or without them.
 _Segment = Callable[[int, int, bool, bool], PathResult]
@@ -158,7 +117,7 @@ def _self_motion(family: Family, pose: np.ndarray, step: np.ndarray, branch: str
     return None
 
 
-def stopped_rows(result: PathResult) -> tuple[np.ndarray, np.ndarray, list[int]]:
+def _stopped_rows(result: PathResult) -> tuple[np.ndarray, np.ndarray, list[int]]:
     """The whole joint path of a result with stops, for timing it: its rows (each waypoint's, with each stop's
     reconfiguration inserted after its arrival), the row of each waypoint, and the rows where the arm rests (each
     stop's arrival and departure)."""
@@ -185,3 +144,15 @@ def _joined(pieces: list[PathResult], stops: list[Stop]) -> PathResult:
     return replace(pieces[0], q=np.concatenate(rows), branch=branch, psi=psi,
                    clearance=min(p.clearance for p in pieces), motion=motion, nodes=sum(p.nodes for p in pieces),
                    optimal=False, bottleneck=None, stops=tuple(stops))
+
+
+def timed(chain: SerialChain, result: PathResult, rate: float) -> PathResult:
+    """``result`` with its :attr:`~redkin.paths.PathResult.trajectory` (:func:`time_path` of its joint values at
+    ``rate``, at rest at each stop and through its reconfiguration); a result without a path as it is."""
+    if not result.ok:
+        return result
+    rows, waypoint_rows, rests = _stopped_rows(result)
+    trajectory = time_path(chain, rows, rate=rate, rests=rests)
+    times = trajectory.waypoint_times
+    spans = np.stack([times[rests[0::2]], times[rests[1::2]]], axis=-1).reshape(-1, 2)
+    return replace(result, trajectory=replace(trajectory, waypoint_times=times[waypoint_rows], stop_spans=spans))

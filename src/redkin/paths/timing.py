@@ -25,9 +25,8 @@ controllers that filter it (libfranka's ``limitRate``).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from itertools import pairwise
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -36,9 +35,6 @@ from redkin._extras import missing_extra
 from redkin._validation import as_float_array, check_finite
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError, SizeLimitError
-
-if TYPE_CHECKING:
-    from redkin.paths.result import PathResult
 
 #: The solver keeps each velocity and acceleration this fraction inside its limit, so that the samples between its
 #: grid points (where it imposes nothing) stay within the limits themselves.
@@ -225,20 +221,6 @@ def check_timing(chain: SerialChain, rate: float) -> None:
     _check_rate(rate)
     for key in ("velocity", "acceleration"):
         _limit(chain, key, None)
-
-
-def timed(chain: SerialChain, result: PathResult, rate: float) -> PathResult:
-    """``result`` with its :attr:`~redkin.paths.PathResult.trajectory` (:func:`time_path` of its joint values at
-    ``rate``, at rest at each stop and through its reconfiguration); a result without a path as it is."""
-    from redkin.paths.stops import stopped_rows
-
-    if not result.ok:
-        return result
-    rows, waypoint_rows, rests = stopped_rows(result)
-    trajectory = time_path(chain, rows, rate=rate, rests=rests)
-    times = trajectory.waypoint_times
-    spans = np.stack([times[rests[0::2]], times[rests[1::2]]], axis=-1).reshape(-1, 2)
-    return replace(result, trajectory=replace(trajectory, waypoint_times=times[waypoint_rows], stop_spans=spans))
 
 
 def _check_rate(rate: float) -> None:

@@ -365,7 +365,8 @@ def _section_6_2_2_paths(writer: SectionWriter, chain, target: np.ndarray, gamma
 def _timed_paths(writer: SectionWriter, chain, paths: list[tuple[str, PathResult]]) -> None:
     """The paths above timed within assumed limits of motion, and a seam that needs one reconfiguration stop."""
     from redkin.errors import RedkinError
-    from redkin.paths.timing import DEFAULT_RATE, timed
+    from redkin.paths.stops import timed
+    from redkin.paths.timing import DEFAULT_RATE
 
     writer.heading("§6.2.2 extended: timed, and the fewest reconfigurations (redkin)")
     limited = chain.with_motion_limits(velocity=np.full(7, _ASSUMED_SPEED),
