@@ -28,8 +28,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
+from redkin._yaml_files import read_yaml
 from redkin.chain import SerialChain
 from redkin.errors import RobotDescriptionError
 
@@ -63,14 +63,7 @@ def read_motion_limits(file: str | os.PathLike, chain: SerialChain, degrees: boo
         length, or a value that is not a positive number (one line naming the file and the entry).
     """
     path = Path(file)
-    try:
-        data = yaml.safe_load(path.read_text())
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RobotDescriptionError(f"limits file {str(path)!r}: cannot read it ({exc})", str(path)) from None
-    except yaml.YAMLError as exc:
-        where = getattr(exc, "problem_mark", None)
-        line = "" if where is None else f" at line {where.line + 1}"
-        raise RobotDescriptionError(f"limits file {str(path)!r}: not YAML or JSON{line}", str(path)) from None
+    data = read_yaml(path, "limits file")
     if not isinstance(data, dict) or not data:
         raise RobotDescriptionError(f"limits file {str(path)!r}: expected a mapping with velocity, acceleration or "
                                     "jerk (or MoveIt's joint_limits)", str(path))
