@@ -281,15 +281,20 @@ def test_an_arm_is_built_once_per_chain_and_redkin_ik_goes_through_it():
 
 
 def test_the_pages_example_runs_and_shows_what_it_says(capsys):
-    """docs/arm.md's example, as a newcomer pastes it: the round trip prints True and the q7 of q is feasible."""
+    """docs/arm.md's examples, as a newcomer pastes them one after the other: the round trip prints True, the q7
+    of q is feasible, and its analysis holds the same set and no singular values."""
     import re
     from pathlib import Path
 
     page = (Path(__file__).resolve().parents[1] / "docs" / "arm.md").read_text(encoding="utf-8")
-    (block,) = re.findall(r"^```python\n(.*?)^```", page, flags=re.S | re.M)
-    exec(compile(block, "docs/arm.md", "exec"), {})
+    first, second = re.findall(r"^```python\n(.*?)^```", page, flags=re.S | re.M)
+    names: dict = {}
+    exec(compile(first, "docs/arm.md", "exec"), names)
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == "Franka (q7) q7 ('+++', '++-', '+-+')" and lines[1] == "True" and lines[-1].endswith("True")
+    exec(compile(second, "docs/arm.md", "exec"), names)
+    assert capsys.readouterr().out.rstrip().endswith("None")
+    np.testing.assert_array_equal(names["shown"].arcs, names["sets"].arcs(names["branch"]).bounds)
 
 
 def test_optimal_takes_a_target_and_weights_as_the_class_functions_do():
