@@ -4,7 +4,8 @@ A kernel compiles on its first call in a fresh install and is cached (:mod:`redk
 calls everything once, section by section, leaves a cache from which every later process loads in milliseconds.
 :func:`warm_up` is that process's work: each public function that runs a compiled kernel, called once on one item
 and once on a batch past :data:`redkin._compiled.PARALLEL_BATCH`, with standard and modified DH, every arm class
-(S-R-S, offset elbow, Franka, nearly S-R-S), the numerical IK, a short path, and both torso arms.
+(S-R-S, offset elbow, Franka, nearly S-R-S), the numerical IK, a short path, both torso arms and the distances
+between shapes.
 ``benchmarks/cold_start.py`` times it on a fresh cache.
 
 To share the cache, point ``NUMBA_CACHE_DIR`` at one folder before the first ``import redkin`` in every process
@@ -161,6 +162,18 @@ def _virtual_arms(rng: np.random.Generator) -> None:
     virtual_arms.generate_trajectory(planar, np.radians([30.0] * 5), [[0.6, 1.2]])
 
 
+def _collision(rng: np.random.Generator) -> None:
+    from redkin import collision
+
+    bodies = [collision.sphere(rng.uniform(-1, 1, 3), 0.1), collision.capsule([0, 0, 0], [0, 0, 0.4], 0.05)]
+    obstacles = [collision.box([0.5, 0, 0], [0.2, 0.3, 0.4]), collision.plane([0, 0, -1], [0, 0, 1]),
+                 collision.sphere([0, 0.5, 0], 0.1), collision.capsule([1, 0, 0], [1, 1, 0], 0.02)]
+    pairs = np.array([[body, obstacle] for body in bodies for obstacle in obstacles])
+    collision.signed_distance(pairs[0, 0], pairs[0, 1])
+    many = np.resize(pairs, (_BATCH, 2, collision.WIDTH))
+    collision.signed_distance(many[:, 0], many[:, 1])
+
+
 #: The sections of :func:`warm_up`, in order: name and the calls that compile its kernels.
 _SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("chain", _chain),
@@ -173,6 +186,7 @@ _SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("torso arm", _torso_arm),
     ("velocity", _velocity),
     ("virtual arms", _virtual_arms),
+    ("collision", _collision),
 )
 
 
