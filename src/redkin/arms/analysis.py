@@ -142,6 +142,13 @@ def as_arcs(pairs) -> np.ndarray:
     return np.asarray(pairs, dtype=float).reshape(-1, 2)
 
 
+def optimal_parts(optimal) -> dict[str, tuple[float, float]]:
+    """The ``shoulder``, ``wrist`` and ``overall`` limit-avoiding arm angles [000 eq. 40] of an S-R-S or nearly S-R-S
+    arm's result (each with ``unclamped`` and ``feasible``) as :attr:`BranchAnalysis.optimal` holds them."""
+    return {name: (float(getattr(optimal, name).unclamped), value(getattr(optimal, name).feasible))
+            for name in ("shoulder", "wrist", "overall")}
+
+
 def value(optional: float | None) -> float:
     """A value that may be missing (``None``) as a float, ``nan`` where missing."""
     return np.nan if optional is None else float(optional)

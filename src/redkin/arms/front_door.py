@@ -26,7 +26,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.arms.analysis import Analysis
+from redkin.arms.analysis import Analysis, as_arcs
 from redkin.arms.feasible_sets import FeasibleSets
 from redkin.arms.parameter import Parameter
 from redkin.arms.protocol import ArmKind
@@ -265,7 +265,7 @@ class Arm:
             raise RedkinError(f"pose must be one (4, 4) pose, got shape {pose.shape}")
         rows = self._rows(branch)
         assert rows is not None
-        return {joint: np.array(arcs, dtype=float).reshape(-1, 2)
+        return {joint: as_arcs(arcs)
                 for joint, arcs in self.implementation.joint_sets(pose, int(rows[0])).items()}
 
     def singular(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> Singular:

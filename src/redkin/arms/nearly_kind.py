@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, value
+from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, optimal_parts
 from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.arms.srs_kind import ARM_ANGLE, LABELS
@@ -78,12 +78,13 @@ class NearlyKind(ArmKind):
         every = feasible_arm_angles_nearly_all(self.nearly, pose)
         remarks = (f"{self.chain.name} is nearly S-R-S: {self.nearly.describe()}.",
                    "The per-joint sets are not computed on nearly S-R-S arms.")
-        return Analysis(self.parameter, self.method, tuple(as_arcs(result.feasible.arcs) for result in every),
-                        tuple(self._branch(pose, int(row), every[row], target, weights) for row in rows),
+        sets = tuple(as_arcs(result.feasible.arcs) for result in every)
+        return Analysis(self.parameter, self.method, sets,
+                        tuple(self._branch(pose, int(row), every[row], sets[row], target, weights) for row in rows),
                         all(result.complete for result in every), every[0].samples, remarks, "certified solution")
 
-    def _branch(self, pose: np.ndarray, row: int, result: NearlyFeasible, target: np.ndarray | None,
-                weights: tuple[float, float] | None) -> BranchAnalysis:
+    def _branch(self, pose: np.ndarray, row: int, result: NearlyFeasible, arcs: np.ndarray,
+                target: np.ndarray | None, weights: tuple[float, float] | None) -> BranchAnalysis:
         singular = singular_arm_angles_nearly(self.nearly, pose, BRANCHES[row])
         optimal = optimal_arm_angles_nearly(self.nearly, pose, BRANCHES[row], target=target,
                                             weights=(0.5, 0.5) if weights is None else weights,
@@ -93,11 +94,7 @@ class NearlyKind(ArmKind):
                                     None if (near := getattr(singular, f"{part}_nearest")) is None
                                     else (float(near.psi), float(near.angle)))
                  for part, axes in (("shoulder", (1, 3, "θ2")), ("wrist", (5, 7, "θ6")))}
-        return BranchAnalysis(
-            LABELS[row], as_arcs(result.feasible.arcs), result.feasible.is_full,
-            {name: (float(part.unclamped), value(part.feasible)) for name, part in
-             (("shoulder", optimal.shoulder), ("wrist", optimal.wrist), ("overall", optimal.overall))},
-            None, parts)
+        return BranchAnalysis(LABELS[row], arcs, result.feasible.is_full, optimal_parts(optimal), None, parts)
 
 
 #: What a singular arm angle of the real arm means for the values shown there.

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, value
+from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, optimal_parts
 from redkin.arms.parameter import Parameter
 from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
@@ -92,10 +92,10 @@ class SRSKind(ArmKind):
         every = [feasible_arm_angles(self.geometry, pose, branch) for branch in BRANCHES]
         sets = tuple(as_arcs(result.feasible.arcs) for result in every)
         return Analysis(self.parameter, self.method, sets,
-                        tuple(self._branch(pose, int(row), every[row], target, weights) for row in rows))
+                        tuple(self._branch(pose, int(row), every[row], sets[row], target, weights) for row in rows))
 
-    def _branch(self, pose: np.ndarray, row: int, result: FeasibleArmAngles, target: np.ndarray | None,
-                weights: tuple[float, float] | None) -> BranchAnalysis:
+    def _branch(self, pose: np.ndarray, row: int, result: FeasibleArmAngles, arcs: np.ndarray,
+                target: np.ndarray | None, weights: tuple[float, float] | None) -> BranchAnalysis:
         singular = singular_arm_angles(self.geometry, pose, BRANCHES[row])
         optimal = optimal_arm_angles(self.geometry, pose, BRANCHES[row], target=target,
                                      weights=(0.5, 0.5) if weights is None else weights, feasible=result.feasible)
@@ -103,12 +103,9 @@ class SRSKind(ArmKind):
         parts = {"shoulder": SingularPart(singular.shoulder, singular.shoulder_everywhere, "θ2 = 0 or π",
                                           _SPLIT.format(1, 3)),
                  "wrist": SingularPart(singular.wrist, singular.wrist_everywhere, "θ6 = 0 or π", _SPLIT.format(5, 7))}
-        parts_optimal = (("shoulder", optimal.shoulder), ("wrist", optimal.wrist), ("overall", optimal.overall))
-        return BranchAnalysis(
-            LABELS[row], as_arcs(result.feasible.arcs), result.feasible.is_full,
-            {name: (float(part.unclamped), value(part.feasible))
-             for name, part in parts_optimal},
-            {joint: as_arcs(arcs.arcs) for joint, arcs in result.per_joint.items()}, parts, {4: float(elbow)})
+        return BranchAnalysis(LABELS[row], arcs, result.feasible.is_full, optimal_parts(optimal),
+                              {joint: as_arcs(arcs.arcs) for joint, arcs in result.per_joint.items()}, parts,
+                              {4: float(elbow)})
 
 
 #: What a singular arm angle means for the joint values shown there.
