@@ -1,0 +1,160 @@
+"""An arm's body from a URDF's ``<collision>`` elements (issue 40), and the link pairs an SRDF disables.
+
+Each ``<collision>`` of a link :func:`redkin.collision.link_frames.urdf_link_frames` maps (the chain's path and what
+is fixed below it) becomes one capsule, placed by its ``<origin>`` in the link's frame and carried into the chain
+frame the link is fixed in:
+
+* a sphere: exactly, a capsule of length 0;
+* a cylinder (centred on its frame's origin, its axis the frame's z): the capsule of the same radius around its axis
+  segment, of the cylinder's length, which reaches up to ``radius`` beyond each flat end;
+* a box: the capsule around the segment through its centre along its longest edge, as long as that edge, whose radius
+  is half the diagonal of the other two edges: it contains the box, and reaches up to that radius beyond it (past the
+  two end faces; less elsewhere);
+* a mesh: not read in this step, and left out.
+
+The body's notes say, one line each, which cylinder and box were made larger and by how much, which mesh is not
+covered (give a body file, :func:`redkin.collision.body_file.read_body`, for those links), and which links with
+``<collision>`` elements are not fixed in the chain's frames (a gripper's fingers) and so left out.
+
+An SRDF (MoveIt's semantic description) names link pairs that never need checking against each other,
+``<disable_collisions link1="..." link2="..." reason="..."/>``; they become the body's ignored pairs
+(:func:`srdf_ignored_pairs`).
+"""
+
+from __future__ import annotations
+
+import os
+import xml.etree.ElementTree as ET
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.collision.body import Body, BodyCapsule, body_of
+from redkin.collision.link_frames import _urdf_links
+from redkin.collision.primitives import _radius
+from redkin.errors import RedkinError, RobotDescriptionError
+from redkin.urdf import _origin
+
+#: How many link names the note on the links left out lists.
+_NAMES_SHOWN = 6
+
+
+def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None, *,
+              srdf: str | os.PathLike | None = None, xacro_args: Mapping[str, str | int | float | bool] | None = None,
+              package_paths: str | os.PathLike | Iterable[str | os.PathLike] = ()) -> tuple[SerialChain, Body]:
+    """The chain from link ``base`` to link ``tip`` of a URDF, and the body of its ``<collision>`` elements (module
+    docstring).
+
+    Parameters
+    ----------
+    path, base, tip, xacro_args, package_paths
+        As :func:`redkin.urdf.load_urdf` takes them, with the same defaults.
+    srdf : str or path, optional
+        An SRDF whose ``<disable_collisions>`` link pairs the body never checks against each other.
+
+    Returns
+    -------
+    chain : SerialChain
+        :func:`redkin.urdf.load_urdf`'s chain.
+    body : Body
+        On that chain, with notes on what its capsules over-approximate or leave out.
+
+    Raises
+    ------
+    RobotDescriptionError
+        As :func:`redkin.urdf.load_urdf` raises it; for a collision's sizes that are not finite lengths >= 0; for an
+        SRDF that cannot be read, or whose ``<disable_collisions>`` lacks a link or names one the URDF does not
+        have: one line naming the file, and the link or entry.
+    """
+    from urdf_parser_py.urdf import Mesh
+
+    chain, robot, links = _urdf_links(path, base, tip, xacro_args, package_paths)
+    ignore = [] if srdf is None else srdf_ignored_pairs(srdf)
+    known = {link.name for link in robot.links}
+    for pair in ignore:
+        for name in pair:
+            if name not in known:
+                raise RobotDescriptionError(f"SRDF {str(srdf)!r}: <disable_collisions> names link {name!r}, which the "
+                                            f"URDF {str(path)!r} does not have", str(srdf), name)
+    capsules, notes = [], []
+    for link in robot.links:
+        if link.name not in links:
+            continue
+        frame, pose = links[link.name]
+        for index, collision in enumerate(link.collisions, start=1):
+            label = f"link {link.name!r} collision {index}"
+            if isinstance(collision.geometry, Mesh):
+                notes.append(f"{label}: mesh {collision.geometry.filename!r} not covered; give a body file")
+                continue
+            try:
+                ends, radius, note = _covering(collision.geometry, label)
+            except RedkinError as exc:
+                raise RobotDescriptionError(f"{path}: {exc}", str(path), link.name) from None
+            place = pose @ _origin(collision)
+            a, b = (place[:3, :3] @ end + place[:3, 3] for end in ends)
+            capsules.append(BodyCapsule(link.name, frame, a, b, radius))
+            if note:
+                notes.append(note)
+    left_out = [link.name for link in robot.links if link.collisions and link.name not in links]
+    if left_out:
+        shown = ", ".join(left_out[:_NAMES_SHOWN]) + (f" and {len(left_out) - _NAMES_SHOWN} more"
+                                                      if len(left_out) > _NAMES_SHOWN else "")
+        notes.append(f"link{'s' if len(left_out) > 1 else ''} {shown} not covered: not fixed in the chain's frames "
+                     "(above its base, or below a joint off the chain)")
+    source = str(path) + (f" (SRDF {srdf})" if srdf is not None else "")
+    try:
+        return chain, body_of(capsules, chain, ignore, notes=notes, source=source)
+    except RedkinError as exc:  # a collision <origin> that is not finite
+        raise RobotDescriptionError(f"{path}: {exc}", str(path)) from None
+
+
+def srdf_ignored_pairs(path: str | os.PathLike) -> list[tuple[str, str]]:
+    """The link pairs of an SRDF's ``<disable_collisions link1="..." link2="..."/>`` elements, in the file's order.
+
+    Raises
+    ------
+    RobotDescriptionError
+        For a missing or unreadable file, one that is not XML or whose root element is not ``<robot>``, and a
+        ``<disable_collisions>`` without both links: one line naming the file (and the entry).
+    """
+    where = f"SRDF {str(path)!r}"
+    try:
+        root = ET.parse(path).getroot()
+    except OSError as exc:
+        raise RobotDescriptionError(f"{where}: cannot read it ({exc.strerror or exc})", str(path)) from None
+    except ET.ParseError as exc:
+        raise RobotDescriptionError(f"{where}: not XML (line {exc.position[0]})", str(path)) from None
+    if root.tag != "robot":
+        raise RobotDescriptionError(f"{where}: its root element is <{root.tag}>, not <robot>", str(path))
+    pairs = []
+    for index, element in enumerate(root.findall("disable_collisions"), start=1):
+        first, second = element.get("link1"), element.get("link2")
+        if not first or not second:
+            raise RobotDescriptionError(f"{where}: <disable_collisions> {index} needs both link1 and link2",
+                                        str(path), "disable_collisions")
+        pairs.append((first, second))
+    return pairs
+
+
+def _covering(geometry: Any, label: str) -> tuple[tuple[np.ndarray, np.ndarray], float, str]:
+    """The capsule covering a sphere, cylinder or box of ``urdf_parser_py`` in its own frame: its segment's ends, its
+    radius, and the note on what it adds ('' for a sphere, which it equals)."""
+    from urdf_parser_py.urdf import Cylinder, Sphere
+
+    if isinstance(geometry, Sphere):
+        return (np.zeros(3), np.zeros(3)), _radius(geometry.radius, f"{label}: sphere radius"), ""
+    if isinstance(geometry, Cylinder):
+        radius = _radius(geometry.radius, f"{label}: cylinder radius")
+        half = np.array([0.0, 0.0, _radius(geometry.length, f"{label}: cylinder length") / 2.0])
+        return (-half, half), radius, (f"{label}: cylinder covered by a capsule reaching up to {radius:.4g} m beyond "
+                                       "each flat end")
+    sizes = np.array([_radius(size, f"{label}: box size") for size in geometry.size])  # a Box
+    longest = int(np.argmax(sizes))
+    radius = float(np.hypot(*np.delete(sizes, longest))) / 2.0
+    half = np.zeros(3)
+    half[longest] = sizes[longest] / 2.0
+    return (-half, half), radius, (f"{label}: box {' x '.join(f'{size:.4g}' for size in sizes)} m covered by a "
+                                   f"capsule along its longest edge, reaching up to {radius:.4g} m beyond the box")
