@@ -1,0 +1,427 @@
+"""Certified collision-free arm angles of S-R-S and offset-elbow arms (issue 40, item 4).
+
+For one pose and each branch, the arm angles psi [000 eq. 6] at which the branch's solution [000 eqs. 11-19] lies
+within the joint limits [000 eq. 30] *and* every checked pair of shapes -- each capsule of the arm's body against
+each obstacle, and the body's self-collision pairs (:mod:`redkin.collision.body`) -- is at least the scene's
+margin apart.
+
+What is proved.  The clearance of a pair, ``c(psi) = signed distance - margin``, is evaluated at the middle ``m`` of
+an interval ``[m - h, m + h]`` and bounded over the whole interval by ``|c(psi) - c(m)| <= v h``, ``v`` an upper
+bound of the two shapes' speeds over the interval (the signed distances of :func:`redkin.collision.signed_distance`
+move no faster than the points of either shape).  The speeds come from the structure of an S-R-S arm at a fixed
+pose, with ``S`` the shoulder centre (on axes 1-3), ``W`` the wrist centre (on axes 5-7) and ``u`` the unit vector
+from ``S`` to ``W``:
+
+* the base (frame 0) and the last link (frame 7, the tool's) do not move;
+* links 3 and 4 turn rigidly about the line ``S``-``W`` at unit rate: ``0R3(psi) = R_u(psi) 0R3o`` [000 eq. 12],
+  so a point at distance ``rho`` from that line moves at ``rho`` per radian, exactly;
+* link 1 turns about axis 1 at ``|dtheta_1/dpsi|``, link 2 about ``S`` at no more than ``|dtheta_1/dpsi| +
+  |dtheta_2/dpsi|``; from the tip, link 6 turns about axis 7 at ``|dtheta_7/dpsi|`` and link 5 about ``W`` at no
+  more than ``|dtheta_6/dpsi| + |dtheta_7/dpsi|``.
+
+The joint rates are bounded over the interval from [000 eqs. 13-14, 18-19]: each entry ``e(psi) = a sin psi + b cos
+psi + c`` of ``0R3`` and ``4R7`` [000 eqs. 12, 16] and its derivative move by at most ``hypot(a, b) h`` from their
+values at ``m``, and ``theta_1 = atan2(y, x)``, ``theta_2 = acos z`` (with ``x^2 + y^2 = 1 - z^2``) give
+``|theta_1'| <= (|x| |y'| + |y| |x'|) / (x^2 + y^2)`` and ``|theta_2'| <= |z'| / sqrt(1 - z^2)``, each factor replaced
+by its bound over the interval (the denominator by the larger of its two lower bounds, from ``|z|`` and from ``|x|,
+|y|``); the same for ``theta_6, theta_7`` (``theta_7 = atan2(t, -r_2)``, ``t^2 + r_2^2 = 1 - z^2``).  These
+bounds grow without limit near a singular arm angle [000 eqs. 31-34], where the branch's shoulder or wrist turns half
+a turn.
+
+An interval is **free** where every pair's ``c(m) - v h > 0``, **blocked** by a pair where ``c(m) + v h < 0`` (that
+pair is its cause), and otherwise halved; an interval no wider than half the resolution that is still undecided is
+reported as such and left out of the free set, and a run of undecided intervals wider than the resolution is halved
+further until it is not.  So every point of a free arc is collision-free; two certified intervals of opposite kinds
+cannot touch, so every end of a free arc is located to within the resolution; and a free
+stretch is missed only where some pair's clearance is within ``v h`` of the margin on all of it (a stretch that only
+grazes the margin, or one narrower than the resolution).  The stretches the joint limits remove are named by the
+joints that leave their range there ([000 eq. 29]).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._validation import check_pose
+from redkin.arms.feasible_sets import Arcs
+from redkin.arms.front_door import Arm
+from redkin.arms.srs_kind import SRSKind
+from redkin.circle import TWO_PI, ArcSet
+from redkin.collision.body import Body, posed
+from redkin.collision.distances import signed_distance
+from redkin.collision.scene import Scene
+from redkin.errors import RedkinError
+from redkin.srs.coefficients import coefficient_arrays
+from redkin.srs.geometry import SRSGeometry
+from redkin.srs.ik import solve_with_status
+
+#: The widest interval a limit-feasible arc is cut into before the first evaluation [rad].
+_FIRST_WIDTH = 0.25
+#: The causes of a removed stretch.
+COLLISION, LIMIT, UNDECIDED = "collision", "limit", "undecided"
+#: The least lower bound of ``sin^2`` of a group's middle angle that a rate bound is computed from: below it the
+#: group may be at a singular arm angle, where the kernels set the first angle to 0 (``|sin| <= 1e-12``,
+#: :data:`redkin.srs._ik_kernels.UNDEFINED_TOLERANCE`) and the bounds do not hold; far above rounding.
+_LEAST_ROOM = 1e-12
+#: Entry columns (:data:`redkin.srs._ik_kernels.ENTRY_LAYOUT`) of ``x, y, z`` and ``r_2, t`` per group.
+_SHOULDER, _WRIST = (0, 1, 2, 5, 6), (7, 8, 9, 12, 13)
+
+
+class Stretch(NamedTuple):
+    """A stretch ``[start, end]`` of arm angles removed from a branch's free set, and why.
+
+    ``cause`` is :data:`COLLISION` (``link`` meets ``against``: an obstacle's name, or another link of the body),
+    :data:`LIMIT` (``against`` names the joints out of range, ``"joint 2, joint 6"``) or :data:`UNDECIDED` (no wider
+    than the resolution, next to a singular arm angle or where a clearance grazes the margin).  A stretch through
+    ``+-pi`` has ``start > end``.
+    """
+
+    start: float
+    end: float
+    cause: str
+    link: str
+    against: str
+
+
+@dataclass(frozen=True, eq=False)
+class FreeArmAngles:
+    """The certified collision-free arm angles of one pose (module docstring).
+
+    Attributes
+    ----------
+    branches : tuple of str
+    free : tuple of Arcs
+        Per branch, the arm angles within the limits and clear of every checked pair by the margin.
+    limits : tuple of Arcs
+        Per branch, the arm angles within the limits [000 eq. 30].
+    blocked : tuple of tuple of Stretch
+        Per branch, every stretch removed from the circle, with its cause, in order of ``start``.
+    resolution : float
+        The width [rad] below which an undecided interval is no longer halved.
+    evaluations : int
+        How many configurations were posed and measured.
+    complete : bool
+        False where the budget of evaluations ran out first, or a run of undecided intervals stayed wider than the
+        resolution: those are then undecided stretches wider than it (a degenerate pose, such as a stretched elbow
+        with the wrist on axis 1, where every arm angle is singular; or a clearance that equals the margin over a
+        stretch).
+    """
+
+    branches: tuple[str, ...]
+    free: tuple[Arcs, ...]
+    limits: tuple[Arcs, ...]
+    blocked: tuple[tuple[Stretch, ...], ...]
+    resolution: float
+    evaluations: int
+    complete: bool
+
+    def arcs(self, branch: str) -> Arcs:
+        """The free arcs of ``branch``."""
+        if branch not in self.branches:
+            raise RedkinError(f"no branch {branch!r} here (branches: {', '.join(self.branches)})")
+        return self.free[self.branches.index(branch)]
+
+
+def collision_free_arm_angles(arm: Arm, pose: ArrayLike, body: Body, scene: Scene,
+                              branches: str | tuple[str, ...] | list[str] | None = None, *,
+                              resolution: float = 1e-6, budget: int = 100_000) -> FreeArmAngles:
+    """The certified collision-free arm angles of one pose on each branch (module docstring).
+
+    Parameters
+    ----------
+    arm : Arm
+        An S-R-S or offset-elbow arm (:func:`redkin.arm`).
+    pose : array_like, shape (4, 4)
+        The tool's target pose in the base frame.
+    body : Body
+        The arm's capsules, on ``arm.chain``'s frames.
+    scene : Scene
+        The obstacles and the margin (also kept between the body's self-collision pairs).
+    branches : str or sequence of str, optional
+        Default all eight.
+    resolution : float
+        Ends are located to this width [rad], > 0.
+    budget : int
+        The most configurations to evaluate; beyond it the open intervals are left undecided (``complete`` false).
+
+    Raises
+    ------
+    RedkinError
+        For an arm of another class (named), a body on another number of joints, a malformed pose or a resolution
+        that is not > 0; :class:`redkin.errors.UnreachablePoseError` for a pose out of reach.
+    """
+    if not isinstance(arm.implementation, SRSKind):
+        raise RedkinError(f"certified collision-free sets are computed on S-R-S and offset-elbow arms so far; "
+                          f"{arm.chain.name} is {arm.kind} (the other classes are a later step of issue 40)")
+    if len(body) and int(body.frame.max()) > arm.chain.n:
+        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {arm.chain.name} has {arm.chain.n} joints")
+    if not (np.isfinite(resolution) and resolution > 0.0):
+        raise RedkinError(f"resolution must be a number > 0 (radians), got {resolution!r}")
+    pose = check_pose(pose)
+    if pose.shape != (4, 4):
+        raise RedkinError(f"pose must be one 4x4 transform, got shape {pose.shape}")
+    limits = arm.feasible(pose, branches)
+    geometry = arm.implementation.geometry
+    rows = np.array([arm.branches.index(label) for label in limits.branches])
+    signs = geometry.kernel_branches[rows]
+    elbow = np.where(signs[:, 1] > 0.0, 0, 1)  # the Table 1 elbow sign of each branch, as coefficients' row
+    coefficients, _, _ = coefficient_arrays(geometry, pose, np.array([1.0, -1.0]))
+    entries = coefficients.entries  # (2, 3, 14): elbow sign +1, -1
+    limit_arcs = tuple(limits.arcs(label) for label in limits.branches)
+    measure = _Measure(arm, pose, body, scene, signs, geometry)
+
+    def rates(owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
+        return measure.speeds(_joint_rates(entries[elbow[owner]], middle, half))
+
+    parts, complete = _decide(*_first_intervals(limit_arcs), resolution / 2.0, measure, rates, budget)
+    finest = resolution / 4.0
+    while complete:  # runs of undecided intervals wider than the resolution, halved further
+        wide = _wide_undecided(parts, resolution)
+        if not wide.any():
+            break
+        if finest < resolution * 1e-6:  # a clearance that grazes the margin over a stretch: left undecided
+            complete = False
+            break
+        again, complete = _decide(parts[0][wide], parts[1][wide], parts[2][wide], finest, measure, rates, budget)
+        parts = tuple(np.concatenate([part[~wide], more]) for part, more in zip(parts, again, strict=True))
+        finest /= 2.0
+    free_sets, blocked = [], []
+    for b, label in enumerate(limits.branches):
+        mine = parts[2] == b
+        free_sets.append(_as_arcs(parts[0][mine & (parts[3] == 0)], parts[1][mine & (parts[3] == 0)]))
+        stretches = _collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
+                                         measure.names)
+        stretches += _limit_stretches(arm, pose, label, limit_arcs[b])
+        blocked.append(tuple(sorted(stretches, key=lambda stretch: stretch.start)))
+    return FreeArmAngles(limits.branches, tuple(free_sets), limit_arcs, tuple(blocked), float(resolution),
+                         measure.evaluations, complete)
+
+
+def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, measure: _Measure, rates: Callable,
+            budget: int) -> tuple[tuple[np.ndarray, ...], bool]:
+    """Halve the intervals ``[lo, hi]`` of the branches ``owner`` until each is free, blocked, or undecided and no
+    wider than ``finest`` (module docstring); ``rates(owner, middle, half)`` bounds each pair's speed.
+
+    Returns ``(lo, hi, owner, kind, pair)`` of the decided intervals (kind 0 free, 1 blocked by ``pair``, 2
+    undecided), and whether they were all decided within the budget (else the open ones are undecided).
+    """
+    decided: list[tuple[np.ndarray, ...]] = [(lo[:0], hi[:0], owner[:0], owner[:0], owner[:0])]
+    while len(lo):
+        if measure.evaluations + len(lo) > budget:
+            decided.append((lo, hi, owner, np.full(len(lo), 2), np.zeros(len(lo), dtype=np.int64)))
+            break
+        middle, half = (lo + hi) / 2.0, (hi - lo) / 2.0
+        clearance, cause = measure(middle, owner)
+        speed = rates(owner, middle, half)
+        low, high = clearance - speed * half[:, None], clearance + speed * half[:, None]
+        free = np.all(low > 0.0, axis=1)
+        blocked = ~free & np.any(high < 0.0, axis=1)
+        small = ~free & ~blocked & (2.0 * half <= finest)
+        kind = np.where(free, 0, np.where(blocked, 1, 2))
+        which = cause[np.arange(len(lo)), np.argmin(high, axis=1)] if high.shape[1] else np.zeros(len(lo), np.int64)
+        done = free | blocked | small
+        decided.append((lo[done], hi[done], owner[done], kind[done], which[done]))
+        split = ~done
+        lo, hi, owner = (np.concatenate([lo[split], middle[split]]), np.concatenate([middle[split], hi[split]]),
+                         np.concatenate([owner[split], owner[split]]))
+    parts = tuple(np.concatenate(column) for column in zip(*decided, strict=True))
+    return parts, not len(lo)
+
+
+def _wide_undecided(parts: tuple[np.ndarray, ...], resolution: float) -> np.ndarray:
+    """Which decided intervals are undecided ones in a run of touching undecided intervals of one branch wider than
+    ``resolution``."""
+    lo, hi, owner, kind = parts[:4]
+    order = np.lexsort((lo, owner))
+    undecided = kind[order] == 2
+    joined = np.zeros(len(order), dtype=bool)
+    joined[1:] = (undecided[1:] & undecided[:-1] & (owner[order][1:] == owner[order][:-1])
+                  & (lo[order][1:] <= hi[order][:-1]))
+    run = np.cumsum(~joined)
+    first, last = np.full(run.max(initial=0) + 1, np.inf), np.full(run.max(initial=0) + 1, -np.inf)
+    np.minimum.at(first, run, lo[order])
+    np.maximum.at(last, run, hi[order])
+    wide = np.zeros(len(order), dtype=bool)
+    wide[order] = undecided & (last[run] - first[run] > resolution)
+    return wide
+
+
+def _first_intervals(arcs: tuple[Arcs, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each branch's limit-feasible arcs cut into intervals no wider than :data:`_FIRST_WIDTH`, unrolled so that
+    ``lo < hi`` (an arc through the seam ends beyond pi)."""
+    lo: list[float] = []
+    hi: list[float] = []
+    owner: list[int] = []
+    for b, arc in enumerate(arcs):
+        for (start, end), wraps in zip(arc.bounds.tolist(), arc.wraps.tolist(), strict=True):
+            end = end + TWO_PI if wraps else end
+            cuts = np.linspace(start, end, max(1, int(np.ceil((end - start) / _FIRST_WIDTH))) + 1)
+            lo.extend(cuts[:-1])
+            hi.extend(cuts[1:])
+            owner.extend([b] * (len(cuts) - 1))
+    return np.array(lo, dtype=float), np.array(hi, dtype=float), np.array(owner, dtype=np.int64)
+
+
+def _joint_rates(entries: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Upper bounds ``(N, 4)`` of ``|theta_1'|, |theta_2'|, |theta_6'|, |theta_7'|`` over ``[middle - half, middle +
+    half]`` from the entry coefficients ``(N, 3, 14)`` of each interval's elbow sign (module docstring)."""
+    s, c = np.sin(middle)[:, None], np.cos(middle)[:, None]
+    value = entries[:, 0] * s + entries[:, 1] * c + entries[:, 2]
+    slope = entries[:, 0] * c - entries[:, 1] * s
+    swing = np.hypot(entries[:, 0], entries[:, 1]) * half[:, None]
+    size, change = np.abs(value) + swing, np.abs(slope) + swing  # bounds of |e| and |e'| over the interval
+    least = np.maximum(np.abs(value) - swing, 0.0) ** 2  # lower bounds of e^2
+    rates = np.empty((len(middle), 4))
+    for column, (x, y, z, r2, t) in ((0, _SHOULDER), (2, _WRIST)):
+        # sin^2 of the group's middle angle: 1 - z^2 = x^2 + y^2 = r_2^2 + t^2, bounded below three ways
+        room = np.maximum(1.0 - np.minimum(size[:, z], 1.0) ** 2,
+                          np.maximum(least[:, x] + least[:, y], least[:, r2] + least[:, t]))
+        fine = room > _LEAST_ROOM
+        with np.errstate(divide="ignore", invalid="ignore"):
+            first = np.where(fine, (size[:, x] * change[:, y] + size[:, y] * change[:, x]) / room, np.inf)
+            second = np.where(fine, change[:, z] / np.sqrt(room), np.inf)
+            third = np.where(fine, (size[:, t] * change[:, r2] + size[:, r2] * change[:, t]) / room, np.inf)
+        if column == 0:
+            rates[:, 0], rates[:, 1] = first, second
+        else:
+            rates[:, 2], rates[:, 3] = second, third
+    return rates
+
+
+class _Measure:
+    """The clearances of every checked pair at arm angles of one pose, and the speed bounds of the body's capsules
+    (module docstring)."""
+
+    def __init__(self, arm: Arm, pose: np.ndarray, body: Body, scene: Scene, signs: np.ndarray,
+                 geometry: SRSGeometry) -> None:
+        self.arm, self.pose, self.body, self.scene, self.signs, self.geometry = arm, pose, body, scene, signs, geometry
+        self.evaluations = 0
+        obstacles, pairs = len(scene), len(body.pairs)
+        self.names = ([(link, name) for link in body.link for name in scene.names]
+                      + [(body.link[i], body.link[j]) for i, j in body.pairs.tolist()])
+        self.capsule = np.concatenate([np.repeat(np.arange(len(body)), obstacles), body.pairs[:, 0]])
+        self.other = np.concatenate([np.full(len(body) * obstacles, -1), body.pairs[:, 1]])
+        self.count = len(body) * obstacles + pairs
+        self.reach: np.ndarray | None = None  # per capsule: its distance from what it turns about
+
+    def __call__(self, middle: np.ndarray, owner: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Clearances ``(N, P)`` (distance minus margin) at arm angles ``middle`` of the branches ``owner``, and
+        the pair index of each column."""
+        q, _, _, _ = solve_with_status(self.geometry, self.pose, middle, self.signs)
+        q = q[np.arange(len(middle)), owner]
+        frames = self.arm.chain.frames(q)
+        shapes = posed(self.body, frames)
+        if self.reach is None:
+            self.reach = self._reach(frames[0], shapes[0])
+        self.evaluations += len(middle)
+        parts = [np.empty((len(middle), 0))]
+        if len(self.scene) and len(self.body):
+            near = signed_distance(shapes[:, :, None, :], self.scene.shapes[None, None, :, :]).distance
+            parts.append(near.reshape(len(middle), -1))
+        if len(self.body.pairs):
+            parts.append(signed_distance(shapes[:, self.body.pairs[:, 0]], shapes[:, self.body.pairs[:, 1]]).distance)
+        clearance = np.concatenate(parts, axis=1) - self.scene.margin
+        return clearance, np.broadcast_to(np.arange(self.count), clearance.shape)
+
+    def speeds(self, rates: np.ndarray) -> np.ndarray:
+        """Per interval and pair ``(N, P)``, a bound of how fast the pair's distance changes per radian of psi,
+        from the joint-rate bounds ``(N, 4)`` of :func:`_joint_rates`."""
+        assert self.reach is not None
+        one, two, six, seven = rates.T
+        per_frame = np.stack([np.zeros_like(one), one, one + two, np.ones_like(one), np.ones_like(one), six + seven,
+                              seven, np.zeros_like(one)], axis=1)  # (N, 8): how fast each frame turns
+        turning = per_frame[:, np.minimum(self.body.frame, 7)]
+        with np.errstate(invalid="ignore"):
+            speed = np.where(self.reach > 0.0, self.reach * turning, 0.0)  # 0 * inf: a shape on its own axis
+        total = speed[:, self.capsule]
+        has_other = self.other >= 0
+        total[:, has_other] += speed[:, self.other[has_other]]
+        return total
+
+    def _reach(self, frames: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+        """Per capsule, the largest distance of its segment from what its frame turns about (module docstring):
+        axis 1, the shoulder centre, the shoulder-wrist line, the wrist centre or axis 7."""
+        directions, points = self.arm.chain.joint_axes_in(frames)
+        shoulder = _meeting_point(points[0], directions[0], points[1], directions[1])
+        wrist = _meeting_point(points[5], directions[5], points[6], directions[6])
+        arm_line = (wrist - shoulder) / np.linalg.norm(wrist - shoulder)
+        ends = np.stack([shapes[:, 2:5], shapes[:, 5:8]], axis=1)  # (M, 2, 3)
+        reach = np.zeros(len(shapes))
+        for index, frame in enumerate(self.body.frame.tolist()):
+            if frame in (1, 6):
+                axis = 0 if frame == 1 else 6
+                reach[index] = _line_distance(ends[index], points[axis], directions[axis]).max()
+            elif frame in (3, 4):
+                reach[index] = _line_distance(ends[index], shoulder, arm_line).max()
+            elif frame in (2, 5):
+                centre = shoulder if frame == 2 else wrist
+                reach[index] = np.linalg.norm(ends[index] - centre, axis=-1).max()
+        return reach
+
+
+def _meeting_point(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> np.ndarray:
+    """The midpoint of the closest points of two lines (their intersection on an S-R-S arm's shoulder or wrist)."""
+    w, b = p1 - p2, float(u1 @ u2)
+    denominator = 1.0 - b * b
+    s = (b * float(u2 @ w) - float(u1 @ w)) / denominator
+    t = (float(u2 @ w) - b * float(u1 @ w)) / denominator
+    return (p1 + s * u1 + p2 + t * u2) / 2.0
+
+
+def _line_distance(points: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    offset = points - origin
+    return np.linalg.norm(offset - np.outer(offset @ direction, direction), axis=-1)
+
+
+def _as_arcs(lo: np.ndarray, hi: np.ndarray) -> Arcs:
+    """Free intervals as disjoint, merged arcs on the circle."""
+    arcs = ArcSet(np.stack([lo, hi], axis=-1).tolist()).arcs
+    bounds = np.array(arcs, dtype=float).reshape(-1, 2)
+    return Arcs(bounds, bounds[:, 0] > bounds[:, 1])
+
+
+def _wrapped(angle: float) -> float:
+    return float((angle + np.pi) % TWO_PI - np.pi)
+
+
+def _collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which: np.ndarray,
+                         names: list[tuple[str, str]]) -> list[Stretch]:
+    """The blocked and undecided intervals of one branch merged into stretches of one cause."""
+    order = np.argsort(lo, kind="stable")
+    stretches: list[Stretch] = []
+    last: tuple[float, float, str, str, str] | None = None
+    for start, end, k, w in zip(lo[order].tolist(), hi[order].tolist(), kind[order].tolist(), which[order].tolist(),
+                                strict=True):
+        if k == 0:
+            continue
+        cause, (link, against) = (COLLISION, names[w]) if k == 1 else (UNDECIDED, ("", ""))
+        if last is not None and last[2:] == (cause, link, against) and start <= last[1]:
+            last = (last[0], end, cause, link, against)
+            continue
+        if last is not None:
+            stretches.append(Stretch(_wrapped(last[0]), _wrapped(last[1]), *last[2:]))
+        last = (start, end, cause, link, against)
+    if last is not None:
+        stretches.append(Stretch(_wrapped(last[0]), _wrapped(last[1]), *last[2:]))
+    return stretches
+
+
+def _limit_stretches(arm: Arm, pose: np.ndarray, branch: str, limits: Arcs) -> list[Stretch]:
+    """The stretches between the limit-feasible arcs, each named by the joints out of range in its middle."""
+    feasible = ArcSet([[lo, hi] for lo, hi in limits.bounds.tolist()])
+    gaps = feasible.complement().arcs
+    if not gaps:
+        return []
+    joints = arm.joint_sets(pose, branch)
+    stretches = []
+    for start, end in gaps:
+        middle = _wrapped(start + ((end - start) % TWO_PI) / 2.0)
+        out = [joint for joint, arcs in sorted(joints.items())
+               if not ArcSet(np.asarray(arcs).reshape(-1, 2).tolist()).contains(middle)]
+        stretches.append(Stretch(start, end, LIMIT, "", ", ".join(f"joint {joint}" for joint in out)))
+    return stretches

@@ -1,0 +1,199 @@
+"""Certified collision-free arm angles (issue 40, item 4) on S-R-S arms: laws that hold for every pose.
+
+* every arm angle of a reported free arc is collision-free and within the limits, on a dense sample of the circle,
+  and where the computation is complete no free stretch of the sample (clear by a millimetre) is left out;
+* the free set, its blocked and undecided stretches and the limit stretches cover the circle without overlap;
+* the speed bounds the certificate rests on hold: links 3 and 4 turn rigidly about the shoulder-wrist line at unit
+  rate, and the joint-rate bounds hold over random intervals;
+* an empty scene leaves the limit sets as they are; each removed stretch names the pair that blocks it;
+* bad input is refused in words.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import redkin
+from redkin.circle import ArcSet
+from redkin.collision import primitives
+from redkin.collision.arm_angle_free import COLLISION, LIMIT, UNDECIDED, _joint_rates, collision_free_arm_angles
+from redkin.collision.body import BodyCapsule, body_of, posed
+from redkin.collision.distances import signed_distance
+from redkin.collision.scene import Scene
+from redkin.errors import RedkinError
+from redkin.srs.coefficients import coefficient_arrays
+from redkin.srs.ik import theta_at
+
+#: Points of the circle the laws sample.
+SAMPLES = 8001
+
+
+@pytest.fixture(scope="module")
+def iiwa():
+    return redkin.arm("kuka-iiwa14")
+
+
+def _body(chain):
+    """A covering of the iiwa14's links, in its DH frames (not a maker's: enough links for every kind of speed)."""
+    capsules = [
+        BodyCapsule("base", 0, [0, 0, 0.07], [0, 0, 0.15], 0.06),
+        BodyCapsule("link 1", 1, [0, 0, -0.2], [0, 0, 0], 0.06),
+        BodyCapsule("link 2", 2, [0, 0, 0], [0, 0, 0.05], 0.07),
+        BodyCapsule("link 3", 3, [0, 0, -0.2], [0, 0, 0], 0.06),
+        BodyCapsule("link 4", 4, [0, 0, 0], [0, 0.2, 0], 0.06),
+        BodyCapsule("link 5", 5, [0, 0, -0.2], [0, 0, 0], 0.05),
+        BodyCapsule("link 6", 6, [0, 0, 0], [0, 0.05, 0], 0.05),
+        BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.1], 0.05),
+    ]
+    return body_of(capsules, chain)
+
+
+def _scene(margin: float = 0.01) -> Scene:
+    return Scene(("post", "table", "lamp"), np.stack([
+        primitives.capsule([0.4, 0.3, 0.0], [0.4, 0.3, 1.2], 0.05),
+        primitives.box([0.6, 0.0, -0.06], [1.2, 1.0, 0.1]),
+        primitives.sphere([0.2, -0.3, 0.8], 0.1),
+    ]), margin)
+
+
+def _clearance(arm, body, scene, pose, psi, label):
+    """The least clearance (distance minus margin) over every checked pair, and whether the joints are within their
+    limits, at each arm angle: computed pair by pair from the posed capsules."""
+    solutions = arm.ik(pose, psi, branches=label)
+    q = solutions.q[:, 0]
+    shapes = posed(body, arm.chain.frames(q))
+    apart = [signed_distance(shapes[:, :, None], scene.shapes[None, None]).distance.reshape(len(psi), -1),
+             signed_distance(shapes[:, body.pairs[:, 0]], shapes[:, body.pairs[:, 1]]).distance]
+    return np.concatenate(apart, axis=1).min(axis=1) - scene.margin, solutions.within_limits[:, 0]
+
+
+def _inside(arcs, psi):
+    inside = np.zeros(psi.shape, dtype=bool)
+    for (lo, hi), wraps in zip(arcs.bounds, arcs.wraps, strict=True):
+        inside |= ((psi >= lo) | (psi <= hi)) if wraps else ((psi >= lo) & (psi <= hi))
+    return inside
+
+
+@settings(max_examples=5)
+@given(st.lists(st.floats(-0.8, 0.8), min_size=7, max_size=7))
+def test_free_arcs_are_free_and_nothing_clear_is_missed(iiwa, fractions):
+    chain = iiwa.chain
+    q = np.where(np.asarray(fractions) >= 0, np.asarray(fractions) * chain.upper, -np.asarray(fractions) * chain.lower)
+    pose = chain.fk(q)
+    body, scene = _body(chain), _scene()
+    result = collision_free_arm_angles(iiwa, pose, body, scene)
+    psi = np.linspace(-np.pi, np.pi, SAMPLES)
+    for b, label in enumerate(result.branches):
+        clearance, within = _clearance(iiwa, body, scene, pose, psi, label)
+        inside = _inside(result.free[b], psi)
+        assert np.all(clearance[inside] >= -1e-12), label
+        assert np.all(within[inside]), label
+        if not result.complete:  # a degenerate pose (every arm angle singular): sound, not complete
+            continue
+        clear = within & (clearance > 1e-3)
+        ends = np.concatenate([result.free[b].bounds.ravel(), result.limits[b].bounds.ravel()])
+        near_end = np.min(np.abs(psi[:, None] - ends[None, :]), axis=1, initial=np.inf) < 1e-5
+        assert not np.any(clear & ~inside & ~near_end), label
+
+
+@settings(max_examples=5)
+@given(st.lists(st.floats(-0.8, 0.8), min_size=7, max_size=7))
+def test_free_blocked_and_limit_stretches_cover_the_circle(iiwa, fractions):
+    chain = iiwa.chain
+    q = np.where(np.asarray(fractions) >= 0, np.asarray(fractions) * chain.upper, -np.asarray(fractions) * chain.lower)
+    result = collision_free_arm_angles(iiwa, chain.fk(q), _body(chain), _scene())
+    for b in range(len(result.branches)):
+        free = ArcSet(result.free[b].bounds.tolist())
+        removed = ArcSet([[s.start, s.end] for s in result.blocked[b]])
+        assert free.union(removed).is_full
+        assert free.intersection(removed).length < 1e-9  # they share ends only
+        for stretch in result.blocked[b]:
+            assert stretch.cause in (COLLISION, LIMIT, UNDECIDED)
+            if stretch.cause == UNDECIDED and result.complete:
+                assert (stretch.end - stretch.start) % (2 * np.pi) <= result.resolution
+        limits = ArcSet(result.limits[b].bounds.tolist())
+        assert limits.union(free).isclose(limits)  # free within the limits
+
+
+def test_the_elbow_turns_rigidly_about_the_shoulder_wrist_line(iiwa):
+    chain = iiwa.chain
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        pose = chain.fk(rng.uniform(chain.lower * 0.7, chain.upper * 0.7))
+        psi, step = rng.uniform(-np.pi, np.pi), 1e-6
+        q = iiwa.ik(pose, np.array([psi - step, psi + step]), branches="+++").q[:, 0]
+        frames = chain.frames(q)
+        _, points = chain.joint_axes_in(frames[0])
+        wrist = frames[0][6, :3, 3] if chain.convention == "dh" else frames[0][7, :3, 3]
+        point = np.array([0.03, -0.05, 0.12, 1.0])  # a point fixed in link 3, and one in link 4
+        for frame in (3, 4):
+            a, b = (frames[:, frame] @ point)[:, :3]
+            speed = np.linalg.norm(b - a) / (2 * step)
+            shoulder = points[1]
+            axis = (wrist - shoulder) / np.linalg.norm(wrist - shoulder)
+            offset = (a + b) / 2 - shoulder
+            radius = np.linalg.norm(offset - (offset @ axis) * axis)
+            assert speed == pytest.approx(radius, rel=1e-6, abs=1e-9)
+
+
+@settings(max_examples=30)
+@given(st.lists(st.floats(-0.9, 0.9), min_size=7, max_size=7), st.floats(-np.pi, np.pi), st.floats(1e-4, 0.3),
+       st.sampled_from([1.0, -1.0]))
+def test_joint_rate_bounds_hold_over_the_interval(iiwa, fractions, middle, half, elbow):
+    chain = iiwa.chain
+    q = np.asarray(fractions) * np.where(np.asarray(fractions) >= 0, chain.upper, -chain.lower)
+    geometry = iiwa.implementation.geometry
+    coefficients, _, _ = coefficient_arrays(geometry, chain.fk(q), elbow)
+    rates = _joint_rates(coefficients.entries[None], np.array([middle]), np.array([half]))[0]
+    psi = np.linspace(middle - half, middle + half, 401)
+    branch = redkin.srs.branches.Branch(1, int(elbow), 1)
+    theta = np.unwrap(theta_at(coefficients, psi, branch), axis=0)
+    slopes = np.abs(np.diff(theta, axis=0)) / np.diff(psi)[:, None]
+    observed = slopes.max(axis=0)[[0, 1, 5, 6]]
+    assert np.all(observed <= rates * (1 + 1e-6) + 1e-9)
+
+
+def test_an_empty_scene_keeps_the_limit_sets(iiwa):
+    chain = iiwa.chain
+    pose = chain.fk(np.array([0.2, 0.5, -0.3, -1.1, 0.6, 0.9, -0.4]))
+    empty = body_of([], chain)
+    result = collision_free_arm_angles(iiwa, pose, empty, Scene((), np.empty((0, primitives.WIDTH))))
+    for b in range(8):
+        assert ArcSet(result.free[b].bounds.tolist()).isclose(ArcSet(result.limits[b].bounds.tolist()))
+        assert all(stretch.cause == LIMIT for stretch in result.blocked[b])
+    assert result.evaluations > 0
+
+
+def test_an_obstacle_on_the_elbow_circle_is_named(iiwa):
+    chain = iiwa.chain
+    q = np.array([0.1, 0.7, 0.0, -1.3, 0.0, 0.6, 0.0])
+    pose = chain.fk(q)
+    elbow = chain.frames(q)[3, :3, 3]
+    ball = Scene(("ball",), primitives.sphere(elbow, 0.05)[None], 0.0)
+    body = body_of([BodyCapsule("forearm", 4, [0, 0, 0], [0, 0, 0.01], 0.05)], chain)
+    label = str(iiwa.branch_of(q))
+    psi = float(iiwa.parameter_of(q))
+    result = collision_free_arm_angles(iiwa, pose, body, ball, label)
+    assert not _inside(result.free[0], np.array([psi]))[0]
+    blocking = [s for s in result.blocked[0] if _inside(type(result.free[0])(np.array([[s.start, s.end]]),
+                                                                              np.array([s.start > s.end])),
+                                                          np.array([psi]))[0]]
+    assert [(s.cause, s.link, s.against) for s in blocking] == [(COLLISION, "forearm", "ball")]
+
+
+def test_bad_input_is_refused_in_words(iiwa):
+    chain = iiwa.chain
+    pose = chain.fk(np.zeros(7) + 0.3)
+    body, scene = _body(chain), _scene()
+    with pytest.raises(RedkinError, match="resolution"):
+        collision_free_arm_angles(iiwa, pose, body, scene, resolution=0.0)
+    with pytest.raises(RedkinError, match="one 4x4"):
+        collision_free_arm_angles(iiwa, np.stack([pose, pose]), body, scene)
+    with pytest.raises(RedkinError, match="Franka"):
+        franka = redkin.arm("franka-panda")
+        collision_free_arm_angles(franka, franka.fk(np.zeros(7) + 0.3), body_of([], franka.chain), scene)
+    with pytest.raises(ValueError):
+        collision_free_arm_angles(iiwa, pose, body, scene, "+?+")
