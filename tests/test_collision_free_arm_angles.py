@@ -11,6 +11,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -197,3 +199,13 @@ def test_bad_input_is_refused_in_words(iiwa):
         collision_free_arm_angles(franka, franka.fk(np.zeros(7) + 0.3), body_of([], franka.chain), scene)
     with pytest.raises(ValueError):
         collision_free_arm_angles(iiwa, pose, body, scene, "+?+")
+
+
+def test_the_readme_example_runs(capsys):
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    section = readme[readme.index("### Obstacles: the collision-free arm angles"):]
+    start = section.index("```python\n") + len("```python\n")
+    code = section[start:section.index("```\n", start)]
+    exec(compile(code, "README.md", "exec"), {})
+    printed = capsys.readouterr().out
+    assert "Stretch(" in printed and "[[" in printed
