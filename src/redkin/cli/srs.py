@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from redkin.cli.cell import add_cell_arguments, free_report, load_cell
 from redkin.cli.common import (
     BRANCH_HELP,
     UsageError,
@@ -83,6 +84,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "optimal arm angle, two numbers >= 0, not both 0 (default 0.5 0.5; [000 eq. 40]; "
                              "S-R-S, offset-elbow and nearly S-R-S arms)")
     add_srs_tolerance_argument(angles)
+    add_cell_arguments(angles)
     add_output_flags(angles)
     angles.set_defaults(handler=_run_arm_angles)
 
@@ -265,10 +267,18 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
 
     chain = load_robot(args)
     classified = _closed_form_arm(chain, args)
+    cell = load_cell(args, chain)
     branch = str(parse_branch("+++" if args.branch is None else args.branch))
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
-    analysis = classified.analyse(target_pose(args), branch, target=target, weights=args.weights)
+    pose = target_pose(args)
+    analysis = classified.analyse(pose, branch, target=target, weights=args.weights)
     report = _arm_angles_report(classified, analysis, args.deg)
+    if cell is not None:
+        from redkin.collision import collision_free_arm_angles
+
+        body, scene = cell
+        free_report(report, collision_free_arm_angles(classified, pose, body, scene), scene, body, args.deg, branch,
+                    analysis.branches[0].optimal)
     if args.json:
         print_json(report)
         return 0
@@ -344,11 +354,28 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
         print(f"joint {joint}: {fixed(value)} at every {name} (the pose fixes it)")
     for joint, arcs in report.get("per_joint", {}).items():
         print(f"{symbol}_{joint}: {_format_arcs(arcs, deg)}")
-    print(f"{symbol} (feasible): {_format_arcs(report['feasible'], deg)}")
+    cell = report.get("collision")
+    if cell is not None:
+        print(f"{symbol} (within the limits): {_format_arcs(report['limits_feasible'], deg)}")
+        print(f"{symbol} (collision-free, {plural(len(cell['obstacles']), 'obstacle')} and "
+              f"{plural(cell['self_pairs'], 'link pair')} at margin {cell['margin']:g} m): "
+              f"{_format_arcs(report['feasible'], deg)}")
+        for stretch in report["blocked"]:
+            what = (f"{stretch['link']} meets {stretch['obstacle']}" if stretch["cause"] == "collision" else
+                    f"{stretch['obstacle']} out of range" if stretch["cause"] == "limit" else
+                    "undecided (next to a singular arm angle, or the clearance grazes the margin)")
+            print(f"  removed {_format_arcs([stretch['arc']], deg)}: {what}")
+        for note in cell["notes"]:
+            print(f"  body: {note}")
+        if not cell["complete"]:
+            print("  (the work budget ran out: undecided stretches wider than the resolution remain; what is shown "
+                  "free is free)")
+    else:
+        print(f"{symbol} (feasible): {_format_arcs(report['feasible'], deg)}")
     if not analysis.complete:
         print("  (certified arcs of the self-motion followed; it could not be followed whole within the work budget, "
               "near a stretched elbow or a straight wrist or shoulder, so the set may miss arcs)")
-    print(f"{symbol} (feasible) of every branch:")
+    print(f"{symbol} ({'collision-free' if cell is not None else 'feasible'}) of every branch:")
     for label, arcs in report["branches"].items():
         print(f"  branch {label}: {_format_arcs(arcs, deg)}")
     singular = report.get("singular")
@@ -368,7 +395,9 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
     for part, entry in report["optimal"].items():
         unclamped = "none (no solution on this branch)" if entry["unclamped"] is None else fixed(entry["unclamped"])
         clamped = "none (empty feasible set)" if entry["feasible"] is None else fixed(entry["feasible"])
-        print(f"optimal {part}: {unclamped} -> feasible {clamped}")
+        free = "" if "collision_free" not in entry else " -> collision-free " + (
+            "none (empty free set)" if entry["collision_free"] is None else fixed(entry["collision_free"]))
+        print(f"optimal {part}: {unclamped} -> feasible {clamped}{free}")
 
 
 def _format_arcs(arcs: list, degrees: bool) -> str:

@@ -17,7 +17,7 @@ used is one line naming the file, the link and entry, and the field.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from redkin._yaml_files import read_yaml
@@ -33,7 +33,8 @@ _SHAPES = {"spheres": ("sphere", ("center", "radius")), "capsules": ("capsule", 
 _NAMES_SHOWN = 6
 
 
-def read_body(file: str | os.PathLike, chain: SerialChain, links: Mapping[str, LinkFrame]) -> Body:
+def read_body(file: str | os.PathLike, chain: SerialChain, links: Mapping[str, LinkFrame], *,
+              ignore: Iterable[Sequence[str]] = ()) -> Body:
     """The body of a YAML or JSON body file (module docstring) on ``chain``.
 
     Parameters
@@ -43,6 +44,8 @@ def read_body(file: str | os.PathLike, chain: SerialChain, links: Mapping[str, L
     links : mapping of str to LinkFrame
         Where each link the file may name sits in the chain's frames (:mod:`redkin.collision.link_frames`:
         ``urdf_link_frames``, ``numbered_link_frames``).
+    ignore : iterable of (str, str)
+        More link pairs to skip beside the file's (an SRDF's, :func:`redkin.collision.srdf_ignored_pairs`).
 
     Returns
     -------
@@ -57,12 +60,14 @@ def read_body(file: str | os.PathLike, chain: SerialChain, links: Mapping[str, L
         finite number >= 0), or an ``ignore`` entry that is not two known link names: one line naming the file, the
         link and entry, and the field.
     """
-    return body_data(read_yaml(file, "body file"), chain, links, str(file))
+    return body_data(read_yaml(file, "body file"), chain, links, str(file), ignore=ignore)
 
 
-def body_data(data: Any, chain: SerialChain, links: Mapping[str, LinkFrame], source: str = "") -> Body:
+def body_data(data: Any, chain: SerialChain, links: Mapping[str, LinkFrame], source: str = "", *,
+              ignore: Iterable[Sequence[str]] = ()) -> Body:
     """The body of the data of a body file (a mapping with ``spheres``, ``capsules`` and ``ignore``, each optional),
-    as :func:`read_body` reads it; ``source`` names it in errors and becomes the body's."""
+    as :func:`read_body` reads it, with the pairs ``ignore`` skipped too; ``source`` names it in errors and becomes
+    the body's."""
     where = f"body file {source!r}" if source else "body"
     if not isinstance(data, dict):
         raise RobotDescriptionError(f"{where}: expected a mapping with spheres, capsules or ignore", source)
@@ -71,9 +76,9 @@ def body_data(data: Any, chain: SerialChain, links: Mapping[str, LinkFrame], sou
         raise RobotDescriptionError(f"{where}: unknown key {unknown[0]!r} (a body file has spheres, capsules and "
                                     "ignore)", source, unknown[0])
     capsules = [capsule for key in _SHAPES for capsule in _shapes(data.get(key, {}), key, links, where, source)]
-    ignore = _ignored(data.get("ignore", []), links, where, source)
+    skipped = _ignored(data.get("ignore", []), links, where, source) + [tuple(pair) for pair in ignore]
     try:
-        return body_of(capsules, chain, ignore, source=source)
+        return body_of(capsules, chain, skipped, source=source)
     except RedkinError as exc:  # links whose frames are not the chain's
         raise RobotDescriptionError(f"{where}: {exc}", source) from None
 

@@ -1,0 +1,106 @@
+"""The cell on the command line (issue 40): ``--scene``, ``--body``, ``--srdf`` and ``--margin``, read into the arm's
+body and the scene's obstacles, and the collision-free sets in a command's JSON."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.cli.common import angles_out, xacro_options
+
+#: Robot files whose links are named: the body's links come from them.
+_NAMED_LINKS = (".urdf", ".xacro")
+
+
+def add_cell_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--scene``, ``--body``, ``--srdf`` and ``--margin``."""
+    parser.add_argument("--scene", metavar="FILE", help="a scene file (YAML or JSON: obstacles in the base frame and a "
+                                                       "margin, docs/collisions.md): the sets become the arm angles "
+                                                       "clear of every obstacle and of the arm's own links")
+    parser.add_argument("--body", metavar="FILE", help="with --scene: the arm's capsules and spheres per link (YAML or "
+                                                      "JSON, keyed by the URDF's link names; link_0 .. link_n, the "
+                                                      "chain's frames, for a named model or another file); default: "
+                                                      "a URDF's <collision> elements")
+    parser.add_argument("--srdf", metavar="FILE", help="with --scene: an SRDF whose disable_collisions link pairs are "
+                                                      "not checked against each other")
+    parser.add_argument("--margin", type=float, metavar="M",
+                        help="with --scene: the clearance to keep in metres (default: the scene file's)")
+
+
+def load_cell(args: argparse.Namespace, chain: SerialChain):
+    """The body and the scene the arguments name, or ``None`` without ``--scene`` (a ValueError in one line for a
+    bad file, a body option without a scene, or a robot with no body to read)."""
+    from dataclasses import replace
+
+    from redkin.collision import (
+        numbered_link_frames,
+        read_body,
+        read_scene,
+        srdf_ignored_pairs,
+        urdf_body,
+        urdf_link_frames,
+    )
+    from redkin.examples import resolve
+
+    if args.scene is None:
+        given = [option for option in ("body", "srdf", "margin") if getattr(args, option) is not None]
+        if given:
+            raise ValueError(f"--{given[0]} applies with --scene FILE")
+        return None
+    scene = read_scene(args.scene)
+    if args.margin is not None:
+        if not (np.isfinite(args.margin) and args.margin >= 0.0):
+            raise ValueError(f"--margin must be a finite number >= 0 (metres), got {args.margin}")
+        scene = replace(scene, margin=float(args.margin))
+    named = resolve(args.robot).suffix.lower() in _NAMED_LINKS and resolve(args.robot).is_file()
+    options = xacro_options(args)
+    if args.body is not None:
+        if args.srdf is not None and not named:
+            raise ValueError("--srdf names URDF links: it applies to a URDF or xacro robot")
+        links = (urdf_link_frames(args.robot, args.base, args.tip, **options)[1] if named
+                 else numbered_link_frames(chain))
+        ignore = [] if args.srdf is None else srdf_ignored_pairs(args.srdf)
+        return read_body(args.body, chain, links, ignore=ignore), scene
+    if not named:
+        raise ValueError(f"{args.robot} has no collision elements to read: give --body FILE (its links are "
+                         f"link_0 .. link_{chain.n}, the chain's frames)")
+    _, body = urdf_body(args.robot, args.base, args.tip, srdf=args.srdf, **options)
+    if not len(body):
+        raise ValueError(f"{args.robot}: no <collision> element on the chain's links is a sphere, cylinder or box "
+                         "(meshes are not read yet): give --body FILE")
+    return body, scene
+
+
+def free_report(report: dict[str, Any], free, scene, body, deg: bool, shown: str,
+                optimal: dict[str, tuple[float, float]]) -> None:
+    """Put the collision-free sets into a command's JSON ``report``: ``feasible`` becomes the shown branch's free set
+    and ``limits_feasible`` the joint-limit set, ``branches`` every branch's free set (``limits_branches`` the limit
+    sets), ``blocked`` each removed stretch of the shown branch, each entry of ``optimal`` (its unclamped and
+    limit-feasible values, radians) gains ``collision_free``, the free set's value nearest the unclamped one, and
+    ``collision`` says what was checked."""
+    from redkin.circle import ArcSet
+
+    def arcs(bounds: np.ndarray) -> list:
+        return [[float(v) for v in angles_out(arc, deg)] for arc in bounds]
+
+    index = free.branches.index(shown)
+    report["limits_feasible"], report["limits_feasible_wraps"] = report["feasible"], report["feasible_wraps"]
+    report["feasible"] = arcs(free.free[index].bounds)
+    report["feasible_wraps"] = [bool(w) for w in free.free[index].wraps]
+    report["limits_branches"] = report["branches"]
+    report["branches"] = {label: arcs(free.free[b].bounds) for b, label in enumerate(free.branches)}
+    report["blocked"] = [{"arc": [float(v) for v in angles_out(np.array([s.start, s.end]), deg)], "cause": s.cause,
+                          "link": s.link or None, "obstacle": s.against or None} for s in free.blocked[index]]
+    nearest = ArcSet(free.free[index].bounds.tolist())
+    for name, (unclamped, _) in optimal.items():
+        value = nearest.nearest(unclamped) if np.isfinite(unclamped) else None
+        report["optimal"][name]["collision_free"] = None if value is None else float(angles_out(value, deg))
+    report["collision"] = {
+        "scene": scene.source, "obstacles": list(scene.names), "margin": scene.margin, "body": body.source,
+        "capsules": len(body), "self_pairs": len(body.pairs), "notes": list(body.notes),
+        "resolution": float(angles_out(free.resolution, deg)), "complete": free.complete,
+        "evaluations": free.evaluations,
+    }

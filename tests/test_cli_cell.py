@@ -1,0 +1,116 @@
+"""``redkin arm-angles --scene`` (issue 40): the collision-free sets on the command line agree with the API, the body
+comes from a body file or a URDF's collision elements, and a mistake is one line with exit 2."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import redkin
+from redkin.circle import ArcSet
+from redkin.cli.main import main
+from redkin.collision import collision_free_arm_angles, numbered_link_frames, read_body, read_scene
+from redkin.examples import resolve
+
+Q = [0.3, 0.6, 0.2, -1.2, 0.4, 0.8, 0.1]
+SCENE = """margin: 0.01
+obstacles:
+  - {name: post, type: capsule, a: [0.4, 0.3, 0], b: [0.4, 0.3, 1.2], radius: 0.05}
+  - {name: table, type: box, center: [0.6, 0, -0.06], size: [1.2, 1.0, 0.1]}
+"""
+BODY = """capsules:
+  link_3: [{a: [0, 0, -0.2], b: [0, 0, 0], radius: 0.06}]
+  link_4: [{a: [0, 0, 0], b: [0, 0.2, 0], radius: 0.06}]
+spheres:
+  link_7: [{center: [0, 0, 0.05], radius: 0.06}]
+"""
+
+
+def run(capsys, argv: list[str]) -> tuple[int, str, str]:
+    try:
+        code = main(argv)
+    except SystemExit as stop:
+        code = int(stop.code or 0)
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def _pose_arguments(chain) -> list[str]:
+    pose = chain.fk(np.array(Q))
+    return ["--position", *map(repr, pose[:3, 3].tolist()), "--rotation", *map(repr, pose[:3, :3].ravel().tolist())]
+
+
+@pytest.fixture
+def cell(tmp_path: Path) -> tuple[Path, Path]:
+    scene, body = tmp_path / "cell.yaml", tmp_path / "body.yaml"
+    scene.write_text(SCENE)
+    body.write_text(BODY)
+    return scene, body
+
+
+def test_the_json_sets_are_the_api_sets(capsys, cell):
+    scene_file, body_file = cell
+    arm = redkin.arm("kuka-iiwa14")
+    code, out, _ = run(capsys, ["arm-angles", "kuka-iiwa14", *_pose_arguments(arm.chain), "--scene", str(scene_file),
+                                "--body", str(body_file), "--branch", "++-", "--json"])
+    assert code == 0
+    report = json.loads(out)
+    body = read_body(body_file, arm.chain, numbered_link_frames(arm.chain))
+    expected = collision_free_arm_angles(arm, arm.fk(np.array(Q)), body, read_scene(scene_file))
+    b = expected.branches.index("++-")
+    assert np.allclose(report["feasible"], expected.free[b].bounds.reshape(-1, 2), atol=1e-12)
+    assert np.allclose(report["branches"]["+++"], expected.free[0].bounds.reshape(-1, 2), atol=1e-12)
+    free, limits = ArcSet(report["feasible"]), ArcSet(report["limits_feasible"])
+    assert limits.union(free).isclose(limits)
+    causes = {(stretch["cause"], stretch["link"], stretch["obstacle"]) for stretch in report["blocked"]}
+    assert ("collision", "link_4", "post") in causes or ("collision", "link_3", "post") in causes
+    assert report["collision"]["obstacles"] == ["post", "table"] and report["collision"]["capsules"] == 3
+    for entry in report["optimal"].values():
+        assert entry["collision_free"] is None or free.contains(entry["collision_free"], 1e-9)
+
+
+def test_a_urdf_body_comes_from_its_collision_elements(capsys, cell, tmp_path):
+    scene_file, _ = cell
+    text = resolve("iiwa14.urdf").read_text()
+    for link in ("lbr_iiwa_link_3", "lbr_iiwa_link_4"):  # a cylinder on each, along the link's z
+        text = text.replace(f'<link name="{link}"/>', f'<link name="{link}"><collision><geometry>'
+                            '<cylinder radius="0.06" length="0.2"/></geometry></collision></link>')
+    urdf = tmp_path / "iiwa.urdf"
+    urdf.write_text(text)
+    chain = redkin.get_robot(str(urdf))
+    code, out, _ = run(capsys, ["arm-angles", str(urdf), *_pose_arguments(chain), "--scene", str(scene_file),
+                                "--json"])
+    assert code == 0
+    report = json.loads(out)
+    assert report["collision"]["capsules"] == 2 and report["collision"]["self_pairs"] == 0
+    assert any("cylinder" in note for note in report["collision"]["notes"])
+    code, out, _ = run(capsys, ["arm-angles", str(urdf), *_pose_arguments(chain), "--scene", str(scene_file)])
+    assert code == 0 and "collision-free" in out and "meets" in out
+
+
+@pytest.mark.parametrize(("extra", "words"), [
+    (["--body", "{body}"], "--body applies with --scene"),
+    (["--scene", "{scene}"], "give --body FILE"),
+    (["--scene", "{scene}", "--body", "{body}", "--margin", "-1"], "--margin must be"),
+    (["--scene", "missing.yaml", "--body", "{body}"], "cannot read it"),
+    (["--scene", "{scene}", "--body", "{body}", "--srdf", "{body}"], "--srdf names URDF links"),
+])
+def test_mistakes_are_one_line(capsys, cell, extra, words):
+    scene_file, body_file = cell
+    chain = redkin.get_robot("kuka-iiwa14")
+    argv = ["arm-angles", "kuka-iiwa14", *_pose_arguments(chain),
+            *[part.format(scene=scene_file, body=body_file) for part in extra]]
+    code, out, err = run(capsys, argv)
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and words in err
+
+
+def test_another_class_is_refused_in_words(capsys, cell):
+    scene_file, body_file = cell
+    chain = redkin.get_robot("franka-fr3")
+    code, _, err = run(capsys, ["arm-angles", "franka-fr3", *_pose_arguments(chain), "--scene", str(scene_file),
+                                "--body", str(body_file)])
+    assert code == 2 and err.count("\n") == 1 and "S-R-S" in err
