@@ -53,7 +53,7 @@ from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.circle import TWO_PI, ArcSet
 from redkin.collision.body import Body, posed
-from redkin.collision.distances import signed_distance
+from redkin.collision.distances import trusted_distances
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.srs.coefficients import coefficient_arrays
@@ -76,9 +76,9 @@ class Stretch(NamedTuple):
     """A stretch ``[start, end]`` of arm angles removed from a branch's free set, and why.
 
     ``cause`` is :data:`COLLISION` (``link`` meets ``against``: an obstacle's name, or another link of the body),
-    :data:`LIMIT` (``against`` names the joints out of range, ``"joint 2, joint 6"``) or :data:`UNDECIDED` (no wider
-    than the resolution, next to a singular arm angle or where a clearance grazes the margin).  A stretch through
-    ``+-pi`` has ``start > end``.
+    :data:`LIMIT` (``against`` names the joints out of range, ``"joint 2, joint 6"``, or says ``"no solution"``) or
+    :data:`UNDECIDED` (no wider than the resolution, next to a singular arm angle or where a clearance grazes the
+    margin).  A stretch through ``+-pi`` has ``start > end``.
     """
 
     start: float
@@ -191,12 +191,13 @@ def collision_free_arm_angles(arm: Arm, pose: ArrayLike, body: Body, scene: Scen
         parts = tuple(np.concatenate([part[~wide], more]) for part, more in zip(parts, again, strict=True))
         finest /= 2.0
     free_sets, blocked = [], []
-    for b, label in enumerate(limits.branches):
+    at_limits = _limit_stretches(arm, pose, limits.branches, limit_arcs)
+    for b in range(len(limits.branches)):
         mine = parts[2] == b
         free_sets.append(_as_arcs(parts[0][mine & (parts[3] == 0)], parts[1][mine & (parts[3] == 0)]))
         stretches = _collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
                                          measure.names)
-        stretches += _limit_stretches(arm, pose, label, limit_arcs[b])
+        stretches += at_limits[b]
         blocked.append(tuple(sorted(stretches, key=lambda stretch: stretch.start)))
     return FreeArmAngles(limits.branches, tuple(free_sets), limit_arcs, tuple(blocked), float(resolution),
                          measure.evaluations, complete)
@@ -211,24 +212,29 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, me
     undecided), and whether they were all decided within the budget (else the open ones are undecided).
     """
     decided: list[tuple[np.ndarray, ...]] = [(lo[:0], hi[:0], owner[:0], owner[:0], owner[:0])]
+    active = np.ones((len(lo), measure.count), dtype=bool)  # the pairs not yet proved clear on each interval
     while len(lo):
         if measure.evaluations + len(lo) > budget:
             decided.append((lo, hi, owner, np.full(len(lo), 2), np.zeros(len(lo), dtype=np.int64)))
             break
         middle, half = (lo + hi) / 2.0, (hi - lo) / 2.0
-        clearance, cause = measure(middle, owner)
+        clearance = measure(middle, owner, active)
         speed = rates(owner, middle, half)
-        low, high = clearance - speed * half[:, None], clearance + speed * half[:, None]
-        free = np.all(low > 0.0, axis=1)
+        with np.errstate(invalid="ignore"):  # inf - inf: a pair already clear, at an unbounded speed
+            low = np.where(active, clearance - speed * half[:, None], np.inf)
+            high = np.where(active, clearance + speed * half[:, None], np.inf)
+        active &= ~(low > 0.0)
+        free = ~active.any(axis=1)
         blocked = ~free & np.any(high < 0.0, axis=1)
         small = ~free & ~blocked & (2.0 * half <= finest)
         kind = np.where(free, 0, np.where(blocked, 1, 2))
-        which = cause[np.arange(len(lo)), np.argmin(high, axis=1)] if high.shape[1] else np.zeros(len(lo), np.int64)
+        which = np.argmin(high, axis=1) if high.shape[1] else np.zeros(len(lo), np.int64)
         done = free | blocked | small
         decided.append((lo[done], hi[done], owner[done], kind[done], which[done]))
         split = ~done
         lo, hi, owner = (np.concatenate([lo[split], middle[split]]), np.concatenate([middle[split], hi[split]]),
                          np.concatenate([owner[split], owner[split]]))
+        active = np.concatenate([active[split], active[split]])
     parts = tuple(np.concatenate(column) for column in zip(*decided, strict=True))
     return parts, not len(lo)
 
@@ -306,12 +312,13 @@ class _Measure:
                       + [(body.link[i], body.link[j]) for i, j in body.pairs.tolist()])
         self.capsule = np.concatenate([np.repeat(np.arange(len(body)), obstacles), body.pairs[:, 0]])
         self.other = np.concatenate([np.full(len(body) * obstacles, -1), body.pairs[:, 1]])
+        self.obstacle = np.concatenate([np.tile(np.arange(obstacles), len(body)), np.full(pairs, -1)])
         self.count = len(body) * obstacles + pairs
         self.reach: np.ndarray | None = None  # per capsule: its distance from what it turns about
 
-    def __call__(self, middle: np.ndarray, owner: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Clearances ``(N, P)`` (distance minus margin) at arm angles ``middle`` of the branches ``owner``, and
-        the pair index of each column."""
+    def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
+        """Clearances ``(N, P)`` (distance minus margin) at arm angles ``middle`` of the branches ``owner``, of the
+        pairs ``active`` ``(N, P)`` (``inf`` for the others: already proved clear on a wider interval)."""
         q, _, _, _ = solve_with_status(self.geometry, self.pose, middle, self.signs)
         q = q[np.arange(len(middle)), owner]
         frames = self.arm.chain.frames(q)
@@ -319,14 +326,13 @@ class _Measure:
         if self.reach is None:
             self.reach = self._reach(frames[0], shapes[0])
         self.evaluations += len(middle)
-        parts = [np.empty((len(middle), 0))]
-        if len(self.scene) and len(self.body):
-            near = signed_distance(shapes[:, :, None, :], self.scene.shapes[None, None, :, :]).distance
-            parts.append(near.reshape(len(middle), -1))
-        if len(self.body.pairs):
-            parts.append(signed_distance(shapes[:, self.body.pairs[:, 0]], shapes[:, self.body.pairs[:, 1]]).distance)
-        clearance = np.concatenate(parts, axis=1) - self.scene.margin
-        return clearance, np.broadcast_to(np.arange(self.count), clearance.shape)
+        at, pair = np.nonzero(active)
+        obstacle = self.obstacle[pair]
+        against = np.where(obstacle[:, None] >= 0, self.scene.shapes[np.maximum(obstacle, 0)],
+                           shapes[at, np.maximum(self.other[pair], 0)])
+        clearance = np.full(active.shape, np.inf)
+        clearance[at, pair] = trusted_distances(shapes[at, self.capsule[pair]], against) - self.scene.margin
+        return clearance
 
     def speeds(self, rates: np.ndarray) -> np.ndarray:
         """Per interval and pair ``(N, P)``, a bound of how fast the pair's distance changes per radian of psi,
@@ -411,17 +417,21 @@ def _collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which
     return stretches
 
 
-def _limit_stretches(arm: Arm, pose: np.ndarray, branch: str, limits: Arcs) -> list[Stretch]:
-    """The stretches between the limit-feasible arcs, each named by the joints out of range in its middle."""
-    feasible = ArcSet([[lo, hi] for lo, hi in limits.bounds.tolist()])
-    gaps = feasible.complement().arcs
-    if not gaps:
-        return []
-    joints = arm.joint_sets(pose, branch)
-    stretches = []
-    for start, end in gaps:
-        middle = _wrapped(start + ((end - start) % TWO_PI) / 2.0)
-        out = [joint for joint, arcs in sorted(joints.items())
-               if not ArcSet(np.asarray(arcs).reshape(-1, 2).tolist()).contains(middle)]
-        stretches.append(Stretch(start, end, LIMIT, "", ", ".join(f"joint {joint}" for joint in out)))
+def _limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...],
+                     limits: tuple[Arcs, ...]) -> list[list[Stretch]]:
+    """Per branch, the stretches between its limit-feasible arcs, each named by the joints out of range in its middle
+    (where the branch has a solution there; "no solution" where it has none)."""
+    gaps = [ArcSet(arcs.bounds.tolist()).complement().arcs for arcs in limits]
+    middles = np.array([_wrapped(start + ((end - start) % TWO_PI) / 2.0) for arcs in gaps for start, end in arcs])
+    owner = np.array([b for b, arcs in enumerate(gaps) for _ in arcs], dtype=np.int64)
+    stretches: list[list[Stretch]] = [[] for _ in labels]
+    if not len(middles):
+        return stretches
+    solutions = arm.ik(pose, middles, branches=labels)
+    q, exists = solutions.q[np.arange(len(owner)), owner], solutions.exists[np.arange(len(owner)), owner]
+    inside = arm.chain.joints_within_limits(q, wrap=True)
+    starts_ends = [arc for arcs in gaps for arc in arcs]
+    for (start, end), b, there, within in zip(starts_ends, owner.tolist(), exists.tolist(), inside, strict=True):
+        out = ", ".join(f"joint {joint + 1}" for joint in np.flatnonzero(~within)) if there else "no solution"
+        stretches[b].append(Stretch(start, end, LIMIT, "", out))
     return stretches

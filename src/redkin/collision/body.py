@@ -168,7 +168,7 @@ def posed(body: Body, frames: np.ndarray) -> np.ndarray:
     rows = np.zeros(frames.shape[:-3] + (len(body), primitives.WIDTH))
     rows[..., 0] = primitives.CAPSULE
     rows[..., 1] = body.radius
-    rows[..., 2:5] = np.einsum("...ij,...j->...i", turn, body.a) + shift
-    rows[..., 5:8] = np.einsum("...ij,...j->...i", turn, body.b) + shift
+    rows[..., 2:5] = (turn @ body.a[:, :, None])[..., 0] + shift
+    rows[..., 5:8] = (turn @ body.b[:, :, None])[..., 0] + shift
     rows[..., 8:17] = np.eye(3).ravel()
     return rows

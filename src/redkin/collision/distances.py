@@ -61,7 +61,7 @@ from redkin.collision import _distance_kernels
 from redkin.collision.primitives import BOX, CAPSULE, KIND_NAMES, PLANE, SPHERE, WIDTH
 from redkin.errors import RedkinError
 
-__all__ = ["Distance", "signed_distance"]
+__all__ = ["Distance", "signed_distance", "trusted_distances"]
 
 #: A plane's normal shorter than this [m] gives no direction (the kernel makes the normal a unit vector).
 _SHORTEST_NORMAL = 1e-9
@@ -119,10 +119,23 @@ def signed_distance(a: ArrayLike, b: ArrayLike) -> Distance:
     size = prod(shape)
     flat_a = kernel_array(rows_a, shape + (WIDTH,)).reshape(size, WIDTH)
     flat_b = kernel_array(rows_b, shape + (WIDTH,)).reshape(size, WIDTH)
-    out = np.empty((size, _distance_kernels.OUT))
-    if run_batch(_distance_kernels.distances, size, flat_a, flat_b, out):
+    out, unsupported = _measured(flat_a, flat_b)
+    if unsupported:
         _refuse_pair(flat_a[:, 0], flat_b[:, 0], shape)
     return Distance(out[:, 0].reshape(shape), out[:, 1:4].reshape(shape + (3,)), out[:, 4:7].reshape(shape + (3,)))
+
+
+def trusted_distances(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The signed distances ``(N,)`` of rows a caller made itself, without :func:`signed_distance`'s checks: ``a`` and
+    ``b`` are ``(N, WIDTH)`` float64 rows of valid primitives, each pair with a sphere or a capsule (a posed body
+    against a :class:`~redkin.collision.scene.Scene`'s obstacles).  An unsupported pair is ``nan``."""
+    return _measured(kernel_array(a), kernel_array(b))[0][:, 0]
+
+
+def _measured(flat_a: np.ndarray, flat_b: np.ndarray) -> tuple[np.ndarray, int]:
+    """The kernels' rows ``(N, 7)`` (distance, then the two witness points) and how many pairs were unsupported."""
+    out = np.empty((len(flat_a), _distance_kernels.OUT))
+    return out, run_batch(_distance_kernels.distances, len(flat_a), flat_a, flat_b, out)
 
 
 def _rows(value: ArrayLike, name: str) -> np.ndarray:
