@@ -16,6 +16,8 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
   covered by capsules, meshes left out with a note), with an SRDF's disabled pairs (:func:`srdf_ignored_pairs`)
 * :func:`body_of` -- a body from capsules fixed in the chain's frames (:class:`BodyCapsule`), with its
   self-collision pairs; :func:`posed` its capsules in the base frame at given frames
+* :func:`clearance` -- at joint values of any arm, the least distance between the body and the obstacles or itself,
+  and the pair that has it (:class:`Clearance`)
 * :func:`collision_free_arm_angles` -- per branch of one pose, the certified arm angles within the limits and clear of
   every obstacle and of the body itself by the margin, and each removed stretch's cause (:class:`FreeArmAngles`,
   :class:`Stretch`)
@@ -24,6 +26,7 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
 from redkin.collision.arm_angle_free import FreeArmAngles, Stretch, collision_free_arm_angles
 from redkin.collision.body import Body, BodyCapsule, body_of, posed
 from redkin.collision.body_file import body_data, read_body
+from redkin.collision.clearance import Clearance, clearance
 from redkin.collision.distances import Distance, signed_distance
 from redkin.collision.link_frames import LinkFrame, numbered_link_frames, urdf_link_frames
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE, WIDTH, box, capsule, plane, sphere
@@ -34,4 +37,4 @@ __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "b
            "scene_of", "signed_distance", "sphere",
            "LinkFrame", "urdf_link_frames", "numbered_link_frames", "read_body", "body_data", "urdf_body",
            "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed", "FreeArmAngles", "Stretch",
-           "collision_free_arm_angles"]
+           "collision_free_arm_angles", "Clearance", "clearance"]

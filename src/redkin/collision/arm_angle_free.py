@@ -53,7 +53,7 @@ from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.circle import TWO_PI, ArcSet
 from redkin.collision.body import Body, posed
-from redkin.collision.distances import trusted_distances
+from redkin.collision.clearance import checked_pairs, pair_distances
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.srs.coefficients import coefficient_arrays
@@ -307,13 +307,8 @@ class _Measure:
                  geometry: SRSGeometry) -> None:
         self.arm, self.pose, self.body, self.scene, self.signs, self.geometry = arm, pose, body, scene, signs, geometry
         self.evaluations = 0
-        obstacles, pairs = len(scene), len(body.pairs)
-        self.names = ([(link, name) for link in body.link for name in scene.names]
-                      + [(body.link[i], body.link[j]) for i, j in body.pairs.tolist()])
-        self.capsule = np.concatenate([np.repeat(np.arange(len(body)), obstacles), body.pairs[:, 0]])
-        self.other = np.concatenate([np.full(len(body) * obstacles, -1), body.pairs[:, 1]])
-        self.obstacle = np.concatenate([np.tile(np.arange(obstacles), len(body)), np.full(pairs, -1)])
-        self.count = len(body) * obstacles + pairs
+        self.pairs = checked_pairs(body, scene)
+        self.names, self.count = self.pairs.names, len(self.pairs.names)
         self.reach: np.ndarray | None = None  # per capsule: its distance from what it turns about
 
     def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
@@ -327,11 +322,8 @@ class _Measure:
             self.reach = self._reach(frames[0], shapes[0])
         self.evaluations += len(middle)
         at, pair = np.nonzero(active)
-        obstacle = self.obstacle[pair]
-        against = np.where(obstacle[:, None] >= 0, self.scene.shapes[np.maximum(obstacle, 0)],
-                           shapes[at, np.maximum(self.other[pair], 0)])
         clearance = np.full(active.shape, np.inf)
-        clearance[at, pair] = trusted_distances(shapes[at, self.capsule[pair]], against) - self.scene.margin
+        clearance[at, pair] = pair_distances(shapes, self.scene, self.pairs, at, pair) - self.scene.margin
         return clearance
 
     def speeds(self, rates: np.ndarray) -> np.ndarray:
@@ -344,9 +336,9 @@ class _Measure:
         turning = per_frame[:, np.minimum(self.body.frame, 7)]
         with np.errstate(invalid="ignore"):
             speed = np.where(self.reach > 0.0, self.reach * turning, 0.0)  # 0 * inf: a shape on its own axis
-        total = speed[:, self.capsule]
-        has_other = self.other >= 0
-        total[:, has_other] += speed[:, self.other[has_other]]
+        total = speed[:, self.pairs.capsule]
+        has_other = self.pairs.other >= 0
+        total[:, has_other] += speed[:, self.pairs.other[has_other]]
         return total
 
     def _reach(self, frames: np.ndarray, shapes: np.ndarray) -> np.ndarray:

@@ -1,0 +1,117 @@
+"""How far an arm's body is from a scene's obstacles and from itself, at joint values (issue 40).
+
+The pairs checked are every capsule of the body against every obstacle, then the body's self-collision pairs
+(:class:`redkin.collision.body.Body`); :func:`checked_pairs` lists them once, in that order, for every caller.
+:func:`clearance` gives, per configuration, the least signed distance over those pairs and the pair that has it:
+where it is at least the scene's margin, the configuration is collision-free.
+
+Example
+-------
+>>> import numpy as np
+>>> from redkin.collision import BodyCapsule, body_of, primitives, Scene
+>>> from redkin.collision.clearance import clearance
+>>> from redkin.models import kuka_iiwa14
+>>> chain = kuka_iiwa14()
+>>> body = body_of([BodyCapsule("forearm", 4, [0, 0, 0], [0, 0.2, 0], 0.06)], chain)
+>>> post = Scene(("post",), primitives.capsule([0.4, 0.3, 0], [0.4, 0.3, 1.2], 0.05)[None])
+>>> result = clearance(chain, body, post, np.zeros(7))
+>>> round(float(result.distance), 6), result.link.item(), result.against.item()
+(0.302311, 'forearm', 'post')
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.chain import SerialChain
+from redkin.collision.body import Body, posed
+from redkin.collision.distances import trusted_distances
+from redkin.collision.scene import Scene
+from redkin.errors import RedkinError
+
+
+class _Pairs(NamedTuple):
+    """The pairs a body and a scene check, in order: each capsule against each obstacle, then the self pairs.
+
+    Attributes
+    ----------
+    capsule : numpy.ndarray of int, shape (P,)
+        The body capsule of each pair.
+    obstacle : numpy.ndarray of int, shape (P,)
+        The obstacle of an arm-obstacle pair, ``-1`` for a self pair.
+    other : numpy.ndarray of int, shape (P,)
+        The other capsule of a self pair, ``-1`` for an arm-obstacle pair.
+    names : list of (str, str)
+        The link and the obstacle (or the other link) of each pair.
+    """
+
+    capsule: np.ndarray
+    obstacle: np.ndarray
+    other: np.ndarray
+    names: list[tuple[str, str]]
+
+
+class Clearance(NamedTuple):
+    """The least distance between the checked pairs of each configuration (:func:`clearance`).
+
+    Attributes
+    ----------
+    distance : numpy.ndarray, shape (...)
+        The least signed distance [m] (negative: penetrating); ``inf`` where nothing is checked.
+    link, against : numpy.ndarray of str, shape (...)
+        The pair that has it: a link of the body, and an obstacle or another link (``""`` where nothing is checked).
+    """
+
+    distance: np.ndarray
+    link: np.ndarray
+    against: np.ndarray
+
+
+def checked_pairs(body: Body, scene: Scene) -> _Pairs:
+    """The pairs of ``body`` and ``scene`` (the class docstring of :class:`_Pairs`)."""
+    count, obstacles = len(body), len(scene)
+    return _Pairs(
+        capsule=np.concatenate([np.repeat(np.arange(count), obstacles), body.pairs[:, 0]]).astype(np.int64),
+        obstacle=np.concatenate([np.tile(np.arange(obstacles), count), np.full(len(body.pairs), -1)]).astype(np.int64),
+        other=np.concatenate([np.full(count * obstacles, -1), body.pairs[:, 1]]).astype(np.int64),
+        names=([(link, name) for link in body.link for name in scene.names]
+               + [(body.link[i], body.link[j]) for i, j in body.pairs.tolist()]),
+    )
+
+
+def pair_distances(shapes: np.ndarray, scene: Scene, pairs: _Pairs, at: np.ndarray, pair: np.ndarray) -> np.ndarray:
+    """The signed distances of the pairs ``pair`` in the posed bodies ``shapes[at]`` (``shapes``: (N, M, WIDTH) of
+    :func:`redkin.collision.body.posed`; ``at``, ``pair``: one entry per distance wanted)."""
+    obstacle = pairs.obstacle[pair]
+    against = np.where(obstacle[:, None] >= 0, scene.shapes[np.maximum(obstacle, 0)],
+                       shapes[at, np.maximum(pairs.other[pair], 0)])
+    return trusted_distances(shapes[at, pairs.capsule[pair]], against)
+
+
+def clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> Clearance:
+    """The least signed distance over every checked pair (each body capsule against each obstacle, and the body's
+    self pairs) at joint values ``q`` ``(..., n)``, and the pair that has it.
+
+    Raises
+    ------
+    RedkinError
+        For joint values of the wrong shape or not finite, or a body on frames the chain does not have.
+    """
+    q = chain.check_q(q)
+    if len(body) and int(body.frame.max()) > chain.n:
+        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {chain.name} has {chain.n} joints")
+    shape = q.shape[:-1]
+    shapes = posed(body, chain.frames(q.reshape(-1, chain.n)))
+    pairs = checked_pairs(body, scene)
+    count = len(pairs.names)
+    if not count:
+        return Clearance(np.full(shape, np.inf), np.full(shape, "", dtype=object), np.full(shape, "", dtype=object))
+    at, pair = np.divmod(np.arange(len(shapes) * count), count)
+    apart = pair_distances(shapes, scene, pairs, at, pair).reshape(len(shapes), count)
+    least = np.argmin(apart, axis=1)
+    names = np.array(pairs.names, dtype=object)[least]
+    return Clearance(apart[np.arange(len(shapes)), least].reshape(shape), names[:, 0].reshape(shape),
+                     names[:, 1].reshape(shape))

@@ -1,0 +1,58 @@
+"""The clearance of a body at joint values (issue 40): the least signed distance over every checked pair, each pair
+measured here on its own with the public signed distance; batched equals looped; nothing to check is ``inf``."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import redkin
+from redkin.collision import BodyCapsule, Scene, body_of, clearance, posed, primitives, signed_distance
+from redkin.errors import RedkinError
+
+
+@pytest.fixture(scope="module")
+def cell():
+    chain = redkin.get_robot("franka-panda")  # any class: clearance needs only the chain's frames
+    body = body_of([BodyCapsule("link 1", 1, [0, 0, -0.1], [0, 0, 0], 0.07),
+                    BodyCapsule("link 3", 3, [0, 0, -0.1], [0, 0, 0.05], 0.06),
+                    BodyCapsule("link 5", 5, [0, 0, -0.2], [0, 0, 0], 0.05),
+                    BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.1], 0.05)], chain)
+    scene = Scene(("shelf", "post", "ball", "floor"), np.stack([
+        primitives.box([0.5, 0.0, 0.4], [0.3, 0.6, 0.02]), primitives.capsule([0.3, -0.4, 0], [0.3, -0.4, 1], 0.04),
+        primitives.sphere([0.0, 0.4, 0.6], 0.1), primitives.plane([0, 0, -0.05], [0, 0, 1])]), 0.01)
+    return chain, body, scene
+
+
+@settings(max_examples=40)
+@given(st.lists(st.floats(0.0, 1.0), min_size=7, max_size=7))
+def test_the_least_pair_is_the_clearance(cell, fractions):
+    chain, body, scene = cell
+    q = chain.lower + np.asarray(fractions) * (chain.upper - chain.lower)
+    result = clearance(chain, body, scene, q)
+    shapes = posed(body, chain.frames(q))
+    measured = {}
+    for i, link in enumerate(body.link):
+        for o, name in enumerate(scene.names):
+            measured[(link, name)] = float(signed_distance(shapes[i], scene.shapes[o]).distance)
+    for i, j in body.pairs.tolist():
+        measured[(body.link[i], body.link[j])] = float(signed_distance(shapes[i], shapes[j]).distance)
+    least = min(measured.values())
+    assert float(result.distance) == least
+    assert measured[(result.link.item(), result.against.item())] == least
+
+
+def test_batched_equals_looped_and_empty_is_infinite(cell):
+    chain, body, scene = cell
+    q = np.random.default_rng(5).uniform(chain.lower, chain.upper, (3, 4, 7))
+    batch = clearance(chain, body, scene, q)
+    assert batch.distance.shape == (3, 4)
+    for index in np.ndindex(3, 4):
+        one = clearance(chain, body, scene, q[index])
+        assert one.distance == batch.distance[index] and one.link.item() == batch.link[index]
+    nothing = clearance(chain, body_of([], chain), Scene((), np.empty((0, primitives.WIDTH))), q)
+    assert np.all(nothing.distance == np.inf) and np.all(nothing.link == "")
+    with pytest.raises(RedkinError):
+        clearance(chain, body, scene, np.zeros(6))
