@@ -114,3 +114,29 @@ def test_another_class_is_refused_in_words(capsys, cell):
     code, _, err = run(capsys, ["arm-angles", "franka-fr3", *_pose_arguments(chain), "--scene", str(scene_file),
                                 "--body", str(body_file)])
     assert code == 2 and err.count("\n") == 1 and "S-R-S" in err
+
+
+@pytest.mark.parametrize("psi", [-2.0, 0.2, 1.0])
+def test_ik_marks_each_solution_with_its_clearance(capsys, cell, psi):
+    scene_file, body_file = cell
+    arm = redkin.arm("kuka-iiwa14")
+    code, out, _ = run(capsys, ["ik", "kuka-iiwa14", *_pose_arguments(arm.chain), "--psi", str(psi), "--all",
+                                "--scene", str(scene_file), "--body", str(body_file), "--json"])
+    assert code == 0
+    body = read_body(body_file, arm.chain, numbered_link_frames(arm.chain))
+    scene = read_scene(scene_file)
+    solutions = json.loads(out)["solutions"]
+    assert len(solutions) == 8
+    for entry in solutions:
+        expected = redkin.collision.clearance(arm.chain, body, scene, np.array(entry["q"]))
+        assert entry["clearance"] == pytest.approx(float(expected.distance), abs=1e-12)
+        assert entry["closest"] == [expected.link.item(), expected.against.item()]
+        assert entry["collision_free"] == (float(expected.distance) >= scene.margin)
+
+
+def test_ik_with_a_scene_needs_a_parameter(capsys, cell):
+    scene_file, body_file = cell
+    chain = redkin.get_robot("kuka-iiwa14")
+    code, _, err = run(capsys, ["ik", "kuka-iiwa14", *_pose_arguments(chain), "--scene", str(scene_file),
+                                "--body", str(body_file)])
+    assert code == 2 and err.count("\n") == 1 and "numerical solver" in err

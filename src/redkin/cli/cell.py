@@ -104,3 +104,18 @@ def free_report(report: dict[str, Any], free, scene, body, deg: bool, shown: str
         "resolution": float(angles_out(free.resolution, deg)), "complete": free.complete,
         "evaluations": free.evaluations,
     }
+
+
+def clearance_entry(chain: SerialChain, cell, q: np.ndarray) -> dict[str, Any]:
+    """A solution's JSON fields with a scene (none without): ``clearance`` (the least distance, metres),
+    ``closest`` (the link and the obstacle or link that have it) and ``collision_free`` (at least the margin)."""
+    if cell is None:
+        return {}
+    from redkin.collision import clearance
+
+    body, scene = cell
+    result = clearance(chain, body, scene, q)
+    distance = float(result.distance)
+    return {"clearance": distance if np.isfinite(distance) else None,
+            "closest": [str(result.link.item()), str(result.against.item())],
+            "collision_free": bool(distance >= scene.margin)}

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from redkin.cli.cell import add_cell_arguments, free_report, load_cell
+from redkin.cli.cell import add_cell_arguments, clearance_entry, free_report, load_cell
 from redkin.cli.common import (
     BRANCH_HELP,
     UsageError,
@@ -64,6 +64,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                             "about 0.1-1 s per pose); an exact arm has one per branch")
     add_srs_tolerance_argument(solve)
     add_numerical_arguments(solve)
+    add_cell_arguments(solve)
     add_output_flags(solve)
     solve.set_defaults(handler=run_ik)
 
@@ -131,6 +132,9 @@ def run_ik(args: argparse.Namespace) -> int:
         if args.srs_tolerance is not None:
             raise UsageError("--srs-tolerance chooses the closed form of --psi or --q7; the numerical solver (without "
                              "them) does not use it")
+        if args.scene is not None:
+            raise UsageError("--scene marks the solutions at --psi or --q7; the numerical solver does not take a "
+                             "scene yet")
         return run_numerical(chain, poses, args, batch)
     return _run_closed_form(chain, poses, args, batch)
 
@@ -149,6 +153,7 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     from redkin.srs import BRANCHES
 
     classified = _closed_form_arm(chain, args)
+    cell = load_cell(args, chain)
     parameter = classified.parameter.name
     value = float(angles_in(getattr(args, parameter), args.deg))
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
@@ -174,7 +179,7 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     entries: list[dict[str, Any]] = [{
         "index": k,
         "solutions": [{"branch": str(label), "q": angles_out(one, args.deg), "within_limits": inside,
-                       "others": others[k][b]}
+                       "others": others[k][b], **clearance_entry(chain, cell, one)}
                       for b, label in enumerate(result.branches) for one, inside in found[k][b]],
         "missing": [str(label) for b, label in enumerate(result.branches) if not found[k][b]],
         **reach_reason(reach, k),
@@ -195,6 +200,10 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
             print(f"{label}no solution of {asked} at {parameter} = {fixed(angles_out(value, args.deg))} {unit}{why}")
         for s in entry["solutions"]:
             note = "" if s["within_limits"] else "  (outside limits)"
+            if "clearance" in s:
+                near = f"{s['closest'][0]} and {s['closest'][1]}"
+                note += (f"  (collision-free: {near} {s['clearance']:.4g} m apart)" if s["collision_free"] else
+                         f"  (collides: {near} {s['clearance']:.4g} m apart, margin {cell[1].margin:g} m)")
             if s["others"]:
                 note += (f"  ({plural(s['others'], 'other solution')} of {s['branch']} at this {parameter}: "
                          "--every-solution lists them)")
