@@ -140,3 +140,30 @@ def test_ik_with_a_scene_needs_a_parameter(capsys, cell):
     code, _, err = run(capsys, ["ik", "kuka-iiwa14", *_pose_arguments(chain), "--scene", str(scene_file),
                                 "--body", str(body_file)])
     assert code == 2 and err.count("\n") == 1 and "numerical solver" in err
+
+
+def test_path_in_a_cell_and_its_failure(capsys, cell, tmp_path):
+    scene_file, body_file = cell
+    chain = redkin.get_robot("kuka-iiwa14")
+    qs = np.linspace([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1], [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9], 12)
+    poses = tmp_path / "poses.npy"
+    np.save(poses, chain.fk(qs))
+    code, out, _ = run(capsys, ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--scene",
+                                str(scene_file), "--body", str(body_file), "--json"])
+    assert code == 0
+    report = json.loads(out)
+    body = read_body(body_file, chain, numbered_link_frames(chain))
+    apart = redkin.collision.clearance(chain, body, read_scene(scene_file), np.array(report["q"]))
+    assert report["collision"]["least"] == pytest.approx(float(apart.distance.min()), abs=1e-12)
+    assert apart.distance.min() >= 0.01 - 1e-12
+    hand = chain.frames(qs[5])[7, :3, 3]
+    blocked = tmp_path / "blocked.yaml"
+    blocked.write_text("obstacles:\n  - {name: ball, type: sphere, center: %s, radius: 0.03}\n" % hand.tolist())
+    code, out, _ = run(capsys, ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--scene",
+                                str(blocked), "--body", str(body_file), "--json"])
+    assert code == 1
+    failure = json.loads(out)["failure"]
+    assert failure["reason"] == "collision" and failure["pair"] == ["link_7", "ball"]
+    code, out, _ = run(capsys, ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--scene",
+                                str(blocked), "--body", str(body_file)])
+    assert code == 1 and "link_7 meets ball" in out

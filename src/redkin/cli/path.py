@@ -7,6 +7,7 @@ import argparse
 
 import numpy as np
 
+from redkin.cli.cell import add_cell_arguments, load_cell
 from redkin.cli.common import (
     BRANCH_HELP,
     IMAGE_SUFFIXES,
@@ -93,9 +94,23 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "q7) plane without baselines on a Franka-class arm, and without them on a nearly S-R-S "
                            "arm)")
     add_srs_tolerance_argument(path)
+    add_cell_arguments(path)
     add_force_flag(path)
     add_output_flags(path)
     path.set_defaults(handler=_run_path)
+
+
+def _cell_report(chain, cell, q: np.ndarray) -> dict:
+    """What the path keeps from the cell's obstacles and from itself: the least distance over its waypoints and
+    where."""
+    from redkin.collision import clearance
+
+    body, scene = cell
+    apart = clearance(chain, body, scene, q)
+    worst = int(np.argmin(apart.distance))
+    return {"scene": scene.source, "margin": scene.margin, "least": float(apart.distance[worst]),
+            "closest": [str(apart.link[worst]), str(apart.against[worst])], "waypoint": worst,
+            "between_waypoints": "not checked"}
 
 
 def _failure_line(failure, degrees: bool) -> str:
@@ -103,6 +118,8 @@ def _failure_line(failure, degrees: bool) -> str:
     from redkin.paths import REASONS
 
     text = f"no path: waypoint {failure.waypoint}: {REASONS[failure.reason]}"
+    if failure.pair is not None:
+        text += f" ({failure.pair[0]} meets {failure.pair[1]} on most of them)"
     if failure.joint is not None and failure.needed is not None:
         needed = fixed(float(angles_out(failure.needed, degrees)))
         text += f" (joint {failure.joint} must move {needed} {angle_unit(degrees)})"
@@ -295,6 +312,9 @@ def _run_path(args: argparse.Namespace) -> int:
 
         chain = read_motion_limits(args.limits, chain, args.deg)
         limits_source = f"--limits {args.limits}"
+    cell = load_cell(args, chain)
+    if cell is not None and plot is not None:
+        raise UsageError("--plot draws the limit sets; with --scene it is not drawn yet: drop one of them")
     step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own
     poses = _waypoints(args)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
@@ -310,7 +330,9 @@ def _run_path(args: argparse.Namespace) -> int:
                   f"{format_values(angles_out(speed, degrees), 4)}", flush=True)
     result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough,
                           objective=args.objective, srs_tolerance=args.srs_tolerance,
-                          timing=args.rate if timed else None, allow_stops=args.allow_stops)
+                          timing=args.rate if timed else None, allow_stops=args.allow_stops,
+                          body=None if cell is None else cell[0], scene=None if cell is None else cell[1])
+    in_cell = None if cell is None or not result.ok else _cell_report(chain, cell, result.q)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0, args.srs_tolerance)
     trajectory = result.trajectory
@@ -339,6 +361,8 @@ def _run_path(args: argparse.Namespace) -> int:
             report["start"] = {key: value for key, value in start.items() if key != "text"}
             report[result.parameter] = angles_out(result.psi, degrees)
             report["stops"] = [_stop_report(stop, degrees) for stop in result.stops]
+            if in_cell is not None:
+                report["collision"] = in_cell
             if trajectory is not None:
                 report["trajectory"] = {
                     "duration": trajectory.duration, "rate": trajectory.rate, "samples": len(trajectory.t),
@@ -351,7 +375,8 @@ def _run_path(args: argparse.Namespace) -> int:
             assert failure is not None
             report["failure"] = {"waypoint": failure.waypoint, "reason": failure.reason, "joint": failure.joint,
                                  "exact": failure.exact, "message": failure.message,
-                                 "needed": None if failure.needed is None else angles_out(failure.needed, degrees)}
+                                 "needed": None if failure.needed is None else angles_out(failure.needed, degrees),
+                                 "pair": None if failure.pair is None else list(failure.pair)}
         print_json(report)
         return 0 if result.ok else 1
     if not result.ok:
@@ -365,6 +390,10 @@ def _run_path(args: argparse.Namespace) -> int:
     print(f"path of {plural(len(poses), 'waypoint')} on {chain.name}: clearance {clearance} {unit} ({proof}), "
           f"total motion {motion} {unit}")
     print(_start(chain, result, q0, args.objective, args.srs_tolerance)["text"])
+    if in_cell is not None:
+        print(f"in the cell: every waypoint keeps the margin {in_cell['margin']:g} m; the least distance is "
+              f"{in_cell['least']:.4g} m ({in_cell['closest'][0]} and {in_cell['closest'][1]}, waypoint "
+              f"{in_cell['waypoint']}); the steps between waypoints are not checked")
     if args.allow_stops:
         print(f"{plural(len(result.stops), 'reconfiguration stop')} (the fewest the searched graph allows)"
               + "".join(f"\n  {stop.message}" for stop in result.stops))

@@ -200,6 +200,11 @@ class Family:
         (``None`` where not known), the blocking joint per branch, and whether the exact sets prove it empty."""
         raise NotImplementedError
 
+    def emptied(self, pose: np.ndarray) -> tuple[str, tuple[str, str] | None]:
+        """What empties the sets of a pose within reach: the reason of :data:`redkin.paths.result.REASONS`
+        (``"empty"``: the joint limits) and the body's link and the obstacle that block it (``None`` here)."""
+        return "empty", None
+
 
 @dataclass(frozen=True)
 class ArmAngleFamily(Family):
@@ -270,7 +275,7 @@ class Q7Family(Family):
                                                       frames)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
-        return _as_pieces([list(result.arcs) for result in feasible_q7_batch(self.geometry, poses).reshape(-1)])
+        return as_pieces([list(result.arcs) for result in feasible_q7_batch(self.geometry, poses).reshape(-1)])
 
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """q7 is the configuration's own joint 7; its branch is the one whose solution at that q7 is nearest."""
@@ -348,7 +353,7 @@ class NearlyFamily(Family):
         ``+-pi`` cut in two."""
         sets = [[result.feasible.intervals for result in feasible_arm_angles_nearly_all(self.nearly, pose)]
                 for pose in poses]
-        return _as_pieces(sets)
+        return as_pieces(sets)
 
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The real arm's arm angle (:func:`redkin.srs.nearly.arm_angle`) and its own branch signs."""
@@ -366,7 +371,7 @@ class NearlyFamily(Family):
         return None, {}, False
 
 
-def _as_pieces(sets: list[list]) -> FeasiblePieces:
+def as_pieces(sets: list[list]) -> FeasiblePieces:
     """:class:`FeasiblePieces` ``(W, 8, K)`` of each waypoint's and branch's sorted intervals ``[(start, end),
     ...]``."""
     most = max([1] + [len(intervals) for per_pose in sets for intervals in per_pose])

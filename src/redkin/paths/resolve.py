@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -27,6 +27,7 @@ from redkin.paths import graph as graphs
 from redkin.paths import search
 from redkin.paths.arm_family import path_family
 from redkin.paths.bounds import step_bound
+from redkin.paths.collision_family import collision_free_family
 from redkin.paths.failure import step_blocker
 from redkin.paths.family import Family
 from redkin.paths.graph import Arm, Graph
@@ -38,6 +39,10 @@ from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.feasible import FeasiblePieces
 from redkin.srs.geometry import SRSGeometry
 from redkin.srs.nearly import NearlySRS
+
+if TYPE_CHECKING:
+    from redkin.collision.body import Body
+    from redkin.collision.scene import Scene
 
 #: Every waypoint of a returned path reaches its pose within this (largest entry of the 4x4 difference).
 FK_TOLERANCE = 1e-9
@@ -91,6 +96,8 @@ def resolve_path(
     srs_tolerance: float | None = None,
     timing: float | None = None,
     allow_stops: bool = False,
+    body: Body | None = None,
+    scene: Scene | None = None,
 ) -> PathResult:
     """Joint values along a path of poses, as far from the joint limits as the path allows, or where none exist.
 
@@ -151,6 +158,11 @@ def resolve_path(
         Where no continuous path exists, split it into the fewest continuous segments joined by reconfiguration
         stops (:mod:`redkin.paths.stops`, :attr:`PathResult.stops`); a waypoint with no feasible configuration
         still fails the path.
+    body, scene : Body and Scene, optional
+        A cell (issue 40; S-R-S and offset-elbow arms): every waypoint's configuration keeps every capsule of
+        ``body`` the scene's margin away from each obstacle and from the body's other links, inside the certified
+        collision-free arm angles (:mod:`redkin.paths.collision_family`; the steps between waypoints are not
+        checked).  A waypoint the obstacles block on every branch fails with reason ``"collision"`` and the pair.
 
     Returns
     -------
@@ -168,11 +180,11 @@ def resolve_path(
                           "resolve_paths")
     options: dict[str, Any] = {"speed": speed, "dt": dt, "spacing": spacing, "connect": connect,
                                "refinements": refinements, "thorough": thorough, "objective": objective,
-                               "srs_tolerance": srs_tolerance}
+                               "srs_tolerance": srs_tolerance, "body": body, "scene": scene}
     if not allow_stops:
         return resolve_paths(arm, poses[None], max_step, q0=q0, q_end=q_end, end_branch=end_branch, timing=timing,
                              **options)[0]
-    family = path_family(arm, srs_tolerance)
+    family = _family(arm, srs_tolerance, body, scene)
     if objective == "time" and timing is None:
         timing = DEFAULT_RATE
     if timing is not None:
@@ -185,6 +197,16 @@ def resolve_path(
 
     result = with_stops(family, poses, step_bound(family.chain, max_step, speed, dt), segment)
     return result if timing is None else timed(family.chain, result, float(timing))
+
+
+def _family(arm: Any, srs_tolerance: float | None, body: Body | None, scene: Scene | None) -> Family:
+    """The arm's family for path resolution, in the cell of ``body`` and ``scene`` where one is given."""
+    family = path_family(arm, srs_tolerance)
+    if scene is None and body is None:
+        return family
+    if scene is None or body is None:
+        raise RedkinError("a cell needs both the arm's body and the scene")
+    return collision_free_family(family, body, scene)
 
 
 def resolve_paths(
@@ -204,11 +226,13 @@ def resolve_paths(
     objective: str = "clearance",
     srs_tolerance: float | None = None,
     timing: float | None = None,
+    body: Body | None = None,
+    scene: Scene | None = None,
 ) -> list[PathResult]:
     """:func:`resolve_path` for ``P`` paths of ``N`` poses each, ``paths`` of shape ``(P, N, 4, 4)``: one
     batch of feasible sets and IK, one sweep.  ``q0`` and ``q_end`` are ``(7,)`` (the same for every path) or
     ``(P, 7)``."""
-    family = path_family(arm, srs_tolerance)
+    family = _family(arm, srs_tolerance, body, scene)
     chain = family.chain
     poses = check_pose(paths, "paths")
     if poses.ndim != 4 or poses.shape[1] == 0:
@@ -596,7 +620,8 @@ def _failure(family: Family, arm: Arm, graph: Graph, sweep: search.Sweep, poses:
     after = graph.q[graph.offsets[w]:graph.offsets[w + 1]]
     if after.shape[0] == 0:
         joint, per_branch, proved = family.blocker(poses[w])
-        return PathFailure(dead, "empty", joint, proved, None, per_branch)
+        reason, pair = family.emptied(poses[w])
+        return PathFailure(dead, reason, joint, proved, None, per_branch, pair)
     if dead == 0:  # nodes exist, none within a step of q0
         assert starts is not None
         joint, needed = step_blocker(arm, starts[p][None], after)

@@ -14,6 +14,7 @@ if TYPE_CHECKING:
 REASONS = {
     "out-of-reach": "the wrist position is out of the arm's reach",
     "empty": "no arm angle (or q7) satisfies every joint limit on any branch",
+    "collision": "no arm angle within the joint limits keeps the body clear of the obstacles on any branch",
     "step": "no feasible configuration lies within the step bound of one reachable from the start",
     "start": "no feasible configuration lies within the step bound of the start configuration",
     "end": "no configuration reachable from the start meets the end condition",
@@ -46,6 +47,9 @@ class PathFailure:
     per_branch : dict
         For ``"empty"``: the blocking joint of each branch (``"+++"`` -> joint, ``None`` where the branch is
         blocked by rounding alone).
+    pair : tuple of str or None
+        For ``"collision"``: the body's link and the obstacle (or other link) that remove the most arm angles over
+        the branches.
     """
 
     waypoint: int
@@ -54,11 +58,14 @@ class PathFailure:
     exact: bool
     needed: float | None = None
     per_branch: dict[str, int | None] = field(default_factory=dict)
+    pair: tuple[str, str] | None = None
 
     @property
     def message(self) -> str:
-        """One line: the waypoint, the reason and the joint."""
+        """One line: the waypoint, the reason and the joint (or the link and the obstacle)."""
         text = f"no path: waypoint {self.waypoint}: {REASONS[self.reason]}"
+        if self.pair is not None:
+            text += f" ({self.pair[0]} meets {self.pair[1]} on most of them)"
         if self.joint is not None:
             text += f" (joint {self.joint}"
             text += f" must move {self.needed:.6g} rad)" if self.needed is not None else " blocks it)"

@@ -1,0 +1,128 @@
+"""Path resolution in a cell (issue 40): an arm's class whose pieces are the certified collision-free arm angles
+(:func:`redkin.collision.collision_free_arm_angles`) inside its exact feasible pieces, so that every waypoint of a
+resolved path keeps every link of the body the scene's margin away from every obstacle and from the body's other
+links.
+
+Each exact piece (an interval of psi on which the branch exists, keeps every limit and is continuous) is cut to the
+free arcs within it, so the path search, its polish and its clearance levels (the limits moved in) all stay inside
+the free sets.  Between waypoints nothing is certified here: the joint values interpolate between two collision-free
+configurations, and a link may sweep through a thin obstacle on a long step (docs/paths.md).  The sets are
+certified, not exact (undecided slivers of at most the resolution are left out), so no clearance is claimed optimal.
+S-R-S and offset-elbow arms only, as the free sets.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from redkin.chain import SerialChain
+from redkin.circle import TWO_PI
+from redkin.errors import RedkinError
+from redkin.paths.family import ArmAngleFamily, Family, as_pieces
+from redkin.paths.graph import Arm
+from redkin.srs.branches import BRANCHES
+from redkin.srs.feasible import FeasiblePieces
+
+if TYPE_CHECKING:  # redkin.collision's free sets use the arms, whose classes use these families: read when called
+    from redkin.collision.body import Body
+    from redkin.collision.scene import Scene
+
+
+@dataclass(frozen=True)
+class _CollisionFreeFamily(Family):
+    """An S-R-S or offset-elbow arm's family (:class:`redkin.paths.family.ArmAngleFamily`) whose pieces are cut to
+    the collision-free arm angles of ``body`` in ``scene`` (module docstring)."""
+
+    base: ArmAngleFamily
+    body: Body
+    scene: Scene
+    exact: bool = False
+    baselines: bool = False
+
+    @property
+    def chain(self) -> SerialChain:
+        return self.base.chain
+
+    def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
+        return self.base.arm(poses, step)
+
+    def pieces(self, poses: np.ndarray) -> FeasiblePieces:
+        """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free arcs."""
+        from redkin.arms.front_door import arm
+        from redkin.collision.arm_angle_free import collision_free_arm_angles
+
+        exact = self.base.pieces(poses)
+        classified = arm(self.chain)
+        sets: list[list[list[tuple[float, float]]]] = []
+        for w, pose in enumerate(poses):
+            if not exact.feasible[w].any():
+                sets.append([[] for _ in BRANCHES])
+                continue
+            free = collision_free_arm_angles(classified, pose, self.body, self.scene)
+            sets.append([_cut(exact.start[w, b][exact.feasible[w, b]], exact.end[w, b][exact.feasible[w, b]],
+                              free.free[b].bounds, free.free[b].wraps) for b in range(len(BRANCHES))])
+        return as_pieces(sets)
+
+    def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return self.base.parameter_of(q)
+
+    def inner(self, level: float) -> Family | None:
+        inner = self.base.inner(level)
+        if inner is None:
+            return None
+        assert isinstance(inner, ArmAngleFamily)
+        return _CollisionFreeFamily(inner, self.body, self.scene)
+
+    def model(self) -> str:
+        return (f"in a cell: {len(self.scene)} obstacles at margin {self.scene.margin:g} m, {len(self.body)} body "
+                "capsules; the waypoints' sets are the certified collision-free arm angles, so no clearance is proved "
+                "optimal")
+
+    def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
+        """The base family's answer where the limits alone leave nothing; else no joint: the obstacles do
+        (:meth:`emptied` names them)."""
+        if not self.base.pieces(pose[None]).feasible.any():
+            return self.base.blocker(pose)
+        return None, {}, False
+
+    def emptied(self, pose: np.ndarray) -> tuple[str, tuple[str, str] | None]:
+        """``("collision", (link, obstacle))`` where the limits leave arm angles and the obstacles take them all, the
+        pair that blocks the most of them over the branches; else the base family's ``("empty", None)``."""
+        from redkin.arms.front_door import arm
+        from redkin.collision.arm_angle_free import COLLISION, collision_free_arm_angles
+
+        if not self.base.pieces(pose[None]).feasible.any():
+            return self.base.emptied(pose)
+        free = collision_free_arm_angles(arm(self.chain), pose, self.body, self.scene)
+        blocked: dict[tuple[str, str], float] = {}
+        for stretches in free.blocked:
+            for stretch in stretches:
+                if stretch.cause == COLLISION:
+                    pair = (stretch.link, stretch.against)
+                    blocked[pair] = blocked.get(pair, 0.0) + (stretch.end - stretch.start) % TWO_PI
+        return "collision", (max(blocked, key=lambda pair: blocked[pair]) if blocked else None)
+
+
+def collision_free_family(family: Family, body: Body, scene: Scene) -> _CollisionFreeFamily:
+    """``family`` in the cell ``scene`` with the arm's ``body`` (S-R-S and offset-elbow arms)."""
+    if not isinstance(family, ArmAngleFamily):
+        raise RedkinError(f"paths in a cell are resolved on S-R-S and offset-elbow arms so far; {family.chain.name} "
+                          "is of another class (a later step of issue 40)")
+    return _CollisionFreeFamily(family, body, scene)
+
+
+def _cut(start: np.ndarray, end: np.ndarray, bounds: np.ndarray, wraps: np.ndarray) -> list[tuple[float, float]]:
+    """The intervals ``[start_k, end_k]`` (``end`` may pass pi) cut to the free arcs ``bounds`` (through the seam
+    where ``wraps``), sorted."""
+    free = [(lo, hi + TWO_PI if w else hi) for (lo, hi), w in zip(bounds.tolist(), wraps.tolist(), strict=True)]
+    cut = []
+    for s, e in zip(start.tolist(), end.tolist(), strict=True):
+        for lo, hi in free:
+            for turn in (-TWO_PI, 0.0, TWO_PI):
+                a, b = max(s, lo + turn), min(e, hi + turn)
+                if b > a:
+                    cut.append((a, b))
+    return sorted(cut)

@@ -1,0 +1,61 @@
+"""Paths in a cell (issue 40): with a body and a scene, every waypoint of a resolved path keeps the margin from every
+obstacle (measured here with the clearance of the joint values returned), the path swings the elbow around an
+obstacle the plain path runs into, and a waypoint the obstacles block on every branch fails with reason
+``"collision"`` and the pair that blocks it."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import redkin
+from redkin.collision import BodyCapsule, Scene, body_of, clearance, primitives
+from redkin.errors import RedkinError
+from redkin.paths import resolve_path
+
+START = [0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1]
+END = [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9]
+
+
+@pytest.fixture(scope="module")
+def setting():
+    chain = redkin.get_robot("kuka-iiwa14")
+    poses = chain.fk(np.linspace(START, END, 25))
+    body = body_of([BodyCapsule("upper arm", 3, [0, 0, -0.2], [0, 0, 0], 0.05),
+                    BodyCapsule("forearm", 4, [0, 0, 0], [0, 0.2, 0], 0.05),
+                    BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.08], 0.04)], chain)
+    return chain, poses, body, resolve_path(chain, poses, 0.15)
+
+
+def test_the_path_swings_the_elbow_around_what_the_plain_path_hits(setting):
+    chain, poses, body, plain = setting
+    assert plain.status == "ok"
+    elbow = chain.frames(plain.q[12])[3, :3, 3]
+    scene = Scene(("ball",), primitives.sphere(elbow, 0.06)[None], 0.01)
+    assert clearance(chain, body, scene, plain.q).distance.min() < scene.margin  # the plain path runs into it
+    result = resolve_path(chain, poses, 0.15, body=body, scene=scene)
+    assert result.status == "ok"
+    assert np.all(clearance(chain, body, scene, result.q).distance >= scene.margin - 1e-12)
+    assert np.allclose(chain.fk(result.q), poses, atol=1e-9)
+
+
+def test_a_waypoint_blocked_on_every_branch_names_the_pair(setting):
+    chain, poses, body, plain = setting
+    hand = chain.frames(plain.q[10])[7, :3, 3]  # the hand does not move with the arm angle: every branch meets it
+    scene = Scene(("ball",), primitives.sphere(hand + [0.0, 0.0, 0.0], 0.03)[None], 0.0)
+    result = resolve_path(chain, poses, 0.15, body=body, scene=scene)
+    assert result.status == "no-path"
+    failure = result.failure
+    assert failure.reason == "collision" and failure.pair == ("hand", "ball")
+    assert failure.waypoint <= 10
+    assert "hand meets ball" in failure.message
+
+
+def test_a_cell_needs_both_parts_and_an_arm_angle_class(setting):
+    chain, poses, body, _ = setting
+    with pytest.raises(RedkinError, match="both"):
+        resolve_path(chain, poses, 0.15, body=body)
+    franka = redkin.get_robot("franka-panda")
+    with pytest.raises(RedkinError, match="S-R-S"):
+        resolve_path(franka, franka.fk(np.zeros((3, 7)) + 0.2), 0.15, body=body_of([], franka),
+                     scene=Scene((), np.empty((0, primitives.WIDTH))))
