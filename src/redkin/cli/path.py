@@ -103,14 +103,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _cell_report(chain, cell, q: np.ndarray) -> dict:
     """What the path keeps from the cell's obstacles and from itself: the least distance over its waypoints and
     where."""
-    from redkin.collision import clearance
+    from redkin.collision import clearance, step_clearance
 
     body, scene = cell
     apart = clearance(chain, body, scene, q)
     worst = int(np.argmin(apart.distance))
+    steps = step_clearance(chain, body, scene, q)
     return {"scene": scene.source, "margin": scene.margin, "least": float(apart.distance[worst]),
             "closest": [str(apart.link[worst]), str(apart.against[worst])], "waypoint": worst,
-            "between_waypoints": "not checked"}
+            "steps": {"certified": int(steps.certified.sum()), "of": len(steps.certified),
+                      "blocked": np.flatnonzero(steps.blocked).tolist(),
+                      "unproved": np.flatnonzero(~steps.certified & ~steps.blocked).tolist()}}
 
 
 def _failure_line(failure, degrees: bool) -> str:
@@ -391,9 +394,13 @@ def _run_path(args: argparse.Namespace) -> int:
           f"total motion {motion} {unit}")
     print(_start(chain, result, q0, args.objective, args.srs_tolerance)["text"])
     if in_cell is not None:
+        steps = in_cell["steps"]
         print(f"in the cell: every waypoint keeps the margin {in_cell['margin']:g} m; the least distance is "
               f"{in_cell['least']:.4g} m ({in_cell['closest'][0]} and {in_cell['closest'][1]}, waypoint "
-              f"{in_cell['waypoint']}); the steps between waypoints are not checked")
+              f"{in_cell['waypoint']}); {steps['certified']} of {steps['of']} steps between waypoints proved clear"
+              + (f"; steps {', '.join(map(str, steps['blocked']))} (from that waypoint) run into an obstacle: give "
+                 "more waypoints" if steps["blocked"] else "")
+              + (f"; steps {', '.join(map(str, steps['unproved']))} not proved" if steps["unproved"] else ""))
     if args.allow_stops:
         print(f"{plural(len(result.stops), 'reconfiguration stop')} (the fewest the searched graph allows)"
               + "".join(f"\n  {stop.message}" for stop in result.stops))

@@ -18,6 +18,8 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
   self-collision pairs; :func:`posed` its capsules in the base frame at given frames
 * :func:`clearance` -- at joint values of any arm, the least distance between the body and the obstacles or itself,
   and the pair that has it (:class:`Clearance`)
+* :func:`step_clearance` -- whether each step between configurations (the joints moving linearly) keeps the
+  margin, proved by a bound on how far the body can move (:class:`StepClearance`)
 * :func:`collision_free_arm_angles` -- per branch of one pose, the certified arm angles within the limits and clear of
   every obstacle and of the body itself by the margin, and each removed stretch's cause (:class:`FreeArmAngles`,
   :class:`Stretch`)
@@ -31,10 +33,11 @@ from redkin.collision.distances import Distance, signed_distance
 from redkin.collision.link_frames import LinkFrame, numbered_link_frames, urdf_link_frames
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE, WIDTH, box, capsule, plane, sphere
 from redkin.collision.scene import Scene, read_scene, scene_of
+from redkin.collision.steps import StepClearance, step_clearance
 from redkin.collision.urdf_body import srdf_ignored_pairs, urdf_body
 
 __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "box", "capsule", "plane", "read_scene",
            "scene_of", "signed_distance", "sphere",
            "LinkFrame", "urdf_link_frames", "numbered_link_frames", "read_body", "body_data", "urdf_body",
            "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed", "FreeArmAngles", "Stretch",
-           "collision_free_arm_angles", "Clearance", "clearance"]
+           "collision_free_arm_angles", "Clearance", "clearance", "StepClearance", "step_clearance"]

@@ -5,8 +5,9 @@ links.
 
 Each exact piece (an interval of psi on which the branch exists, keeps every limit and is continuous) is cut to the
 free arcs within it, so the path search, its polish and its clearance levels (the limits moved in) all stay inside
-the free sets.  Between waypoints nothing is certified here: the joint values interpolate between two collision-free
-configurations, and a link may sweep through a thin obstacle on a long step (docs/paths.md).  The sets are
+the free sets.  Between waypoints nothing is searched here: the joint values interpolate between two collision-free
+configurations, and a link may sweep through a thin obstacle on a long step; :func:`redkin.collision.step_clearance`
+checks the steps of the path found (docs/paths.md).  The sets are
 certified, not exact (undecided slivers of at most the resolution are left out), so no clearance is claimed optimal.
 S-R-S and offset-elbow arms only, as the free sets.
 """

@@ -162,7 +162,8 @@ def resolve_path(
         A cell (issue 40; S-R-S and offset-elbow arms): every waypoint's configuration keeps every capsule of
         ``body`` the scene's margin away from each obstacle and from the body's other links, inside the certified
         collision-free arm angles (:mod:`redkin.paths.collision_family`; the steps between waypoints are not
-        checked).  A waypoint the obstacles block on every branch fails with reason ``"collision"`` and the pair.
+        searched: :func:`redkin.collision.step_clearance` checks them).  A waypoint the obstacles block on every
+        branch fails with reason ``"collision"`` and the pair.
 
     Returns
     -------
