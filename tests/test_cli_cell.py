@@ -162,7 +162,7 @@ def test_path_in_a_cell_and_its_failure(capsys, cell, tmp_path):
                                             "unproved": np.flatnonzero(~steps.certified & ~steps.blocked).tolist()}
     hand = chain.frames(qs[5])[7, :3, 3]
     blocked = tmp_path / "blocked.yaml"
-    blocked.write_text("obstacles:\n  - {name: ball, type: sphere, center: %s, radius: 0.03}\n" % hand.tolist())
+    blocked.write_text(f"obstacles:\n  - {{name: ball, type: sphere, center: {hand.tolist()}, radius: 0.03}}\n")
     code, out, _ = run(capsys, ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--scene",
                                 str(blocked), "--body", str(body_file), "--json"])
     assert code == 1
