@@ -209,3 +209,19 @@ def test_the_readme_example_runs(capsys):
     exec(compile(code, "README.md", "exec"), {})
     printed = capsys.readouterr().out
     assert "Stretch(" in printed and "[[" in printed
+
+
+def test_the_arm_answers_the_free_sets_in_its_own_shapes(iiwa):
+    chain = iiwa.chain
+    rng = np.random.default_rng(11)
+    poses = chain.fk(rng.uniform(chain.lower * 0.7, chain.upper * 0.7, (2, 3, 7)))
+    body, scene = _body(chain), _scene()
+    sets = iiwa.feasible(poses, ["+++", "-+-"], body=body, scene=scene)
+    assert sets.shape == (2, 3) and sets.branches == ("+++", "-+-") and not sets.exact
+    for index in np.ndindex(2, 3):
+        direct = collision_free_arm_angles(iiwa, poses[index], body, scene, ["+++", "-+-"])
+        for b, label in enumerate(("+++", "-+-")):
+            assert ArcSet(sets.arcs(label, index).bounds.tolist()).isclose(
+                ArcSet(direct.free[b].bounds.tolist()), 1e-12)
+    with pytest.raises(RedkinError, match="both"):
+        iiwa.feasible(poses, body=body)

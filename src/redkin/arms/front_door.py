@@ -21,10 +21,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from redkin.collision.body import Body
+    from redkin.collision.scene import Scene
 
 from redkin.arms.analysis import Analysis, as_arcs
 from redkin.arms.feasible_sets import FeasibleSets
@@ -32,6 +36,7 @@ from redkin.arms.parameter import Parameter
 from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import NUMERICAL, Solutions
 from redkin.chain import SerialChain
+from redkin.circle import TWO_PI
 from redkin.errors import RedkinError, UnreachablePoseError
 
 #: Where :func:`arm` keeps the arm of a chain per nearly S-R-S tolerance (the chain's arrays are read-only, so it
@@ -208,12 +213,20 @@ class Arm:
         return result if rows is None else _rows_of(result, rows)
 
     # ------------------------------------------------------------- the redundancy
-    def feasible(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> FeasibleSets:
+    def feasible(self, poses: ArrayLike, branches: str | Sequence[str] | None = None, *, body: Body | None = None,
+                 scene: Scene | None = None) -> FeasibleSets:
         """The feasible sets of every branch (or ``branches``) at each pose: the values of the parameter at which
         the branch's solution exists and lies within every joint limit ([000 eq. 30] on S-R-S arms, [F8]-[F9] on
-        the Franka class; certified, not proved complete, on nearly S-R-S arms)."""
+        the Franka class; certified, not proved complete, on nearly S-R-S arms).
+
+        With ``body`` and ``scene`` (S-R-S and offset-elbow arms): the certified collision-free sets of
+        :func:`redkin.collision.collision_free_arm_angles` instead, within the limits and clear of every obstacle
+        and between the body's links by the scene's margin (``exact`` false: ends located to 1e-6 rad).
+        """
         self._need_parameter("feasible sets")
         assert self.parameter is not None
+        if body is not None or scene is not None:
+            return self._free(poses, branches, body, scene)
         rows = self._rows(branches)
         poses = np.asarray(poses, dtype=float)  # the class's own function checks them
         if poses.ndim < 2 or poses.shape[-2:] != (4, 4):
@@ -230,6 +243,28 @@ class Arm:
             start, end, feasible = (part.reshape(shape + part.shape[1:]) for part in (start, end, feasible))
         return FeasibleSets(start, end, feasible, labels, self.parameter.name, self.parameter.wraps,
                             self.implementation.exact)
+
+    def _free(self, poses: ArrayLike, branches: str | Sequence[str] | None, body: Body | None,
+              scene: Scene | None) -> FeasibleSets:
+        """:meth:`feasible` in a cell: each pose's certified collision-free arcs as pieces."""
+        from redkin._validation import check_pose
+        from redkin.collision.arm_angle_free import collision_free_arm_angles
+        from redkin.paths.family import as_pieces
+
+        if body is None or scene is None:
+            raise RedkinError("collision-free sets need both the arm's body and the scene")
+        checked = check_pose(poses)
+        labels = self._labels(branches)
+        sets = []
+        for pose in checked.reshape(-1, 4, 4):
+            free = collision_free_arm_angles(self, pose, body, scene, labels)
+            sets.append([[(lo, hi + TWO_PI if wraps else hi) for (lo, hi), wraps
+                          in zip(arcs.bounds.tolist(), arcs.wraps.tolist(), strict=True)] for arcs in free.free])
+        pieces = as_pieces(sets, len(labels))
+        shape = checked.shape[:-2] + pieces.start.shape[1:]
+        assert self.parameter is not None
+        return FeasibleSets(pieces.start.reshape(shape), pieces.end.reshape(shape), pieces.feasible.reshape(shape),
+                            labels, self.parameter.name, self.parameter.wraps, False)
 
     def optimal(self, poses: ArrayLike, branches: str | Sequence[str] | None = None, *,
                 target: ArrayLike | None = None, weights: ArrayLike | None = None) -> Optimal:

@@ -371,11 +371,11 @@ class NearlyFamily(Family):
         return None, {}, False
 
 
-def as_pieces(sets: list[list]) -> FeasiblePieces:
-    """:class:`FeasiblePieces` ``(W, 8, K)`` of each waypoint's and branch's sorted intervals ``[(start, end),
+def as_pieces(sets: list[list], branches: int = len(BRANCHES)) -> FeasiblePieces:
+    """:class:`FeasiblePieces` ``(W, branches, K)`` of each waypoint's and branch's sorted intervals ``[(start, end),
     ...]``."""
     most = max([1] + [len(intervals) for per_pose in sets for intervals in per_pose])
-    shape = (len(sets), len(BRANCHES), most)
+    shape = (len(sets), branches, most)
     start, end, feasible = np.full(shape, np.nan), np.full(shape, np.nan), np.zeros(shape, dtype=bool)
     for w, per_pose in enumerate(sets):
         for b, intervals in enumerate(per_pose):
