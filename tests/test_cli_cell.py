@@ -171,3 +171,16 @@ def test_path_in_a_cell_and_its_failure(capsys, cell, tmp_path):
     code, out, _ = run(capsys, ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--scene",
                                 str(blocked), "--body", str(body_file)])
     assert code == 1 and "link_7 meets ball" in out
+
+
+@pytest.mark.parametrize("robot", ["kuka-iiwa14", "examples/panda.urdf"])
+def test_robots_show_names_the_links_a_body_file_may_use(capsys, robot):
+    chain = redkin.get_robot(robot)
+    code, out, _ = run(capsys, ["robots", "--show", robot, "--json"])
+    assert code == 0
+    links = json.loads(out)["body_links"]
+    if robot.endswith(".urdf"):
+        expected = {name: place.frame for name, place in redkin.collision.urdf_link_frames(robot)[1].items()}
+    else:
+        expected = {f"link_{k}": k for k in range(chain.n + 1)}
+    assert links == expected

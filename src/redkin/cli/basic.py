@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from redkin.cli.cell import body_links
 from redkin.cli.common import (
     add_base_tip_arguments,
     add_output_flags,
@@ -101,6 +102,7 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
     from redkin.arms.classify import arm_angle_class
 
     kind, reason = arm_angle_class(chain, args.srs_tolerance)
+    links = {name: place.frame for name, place in body_links(args, args.show, chain).items()}
     directions, points = chain.joint_axes(np.zeros(chain.n))
     directions = directions * chain.sign[:, None]  # the sense in which q turns
     lower, upper = angles_out(chain.lower, args.deg), angles_out(chain.upper, args.deg)
@@ -114,7 +116,7 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
                        for name, low, high, point, axis, motion in zip(chain.joint_names, _finite(lower),
                                                                         _finite(upper), points, directions,
                                                                         _motion_limits(chain, args.deg))],
-            "base": chain.base, "tool": chain.tool,
+            "base": chain.base, "tool": chain.tool, "body_links": links,
         })
         return 0
     unit = angle_unit(args.deg)
@@ -136,6 +138,12 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
                 f"{key} {'-' if values[key] is None else f'{values[key]:.6g}'}" for key in known))
     else:
         print("limits of motion: none known (a limits file gives them: redkin path --limits)")
+    by_frame: dict[int, list[str]] = {}
+    for name, frame in links.items():
+        by_frame.setdefault(frame, []).append(name)
+    print("links a body file names (--body), by the chain frame they move with (frame k turns with joint k):")
+    for frame in sorted(by_frame):
+        print(f"  frame {frame}: {', '.join(by_frame[frame])}")
     print("base:")
     print(format_matrix(chain.base))
     print("tool:")

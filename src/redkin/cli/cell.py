@@ -35,15 +35,7 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
     bad file, a body option without a scene, or a robot with no body to read)."""
     from dataclasses import replace
 
-    from redkin.collision import (
-        numbered_link_frames,
-        read_body,
-        read_scene,
-        srdf_ignored_pairs,
-        urdf_body,
-        urdf_link_frames,
-    )
-    from redkin.examples import resolve
+    from redkin.collision import read_body, read_scene, srdf_ignored_pairs, urdf_body
 
     if args.scene is None:
         given = [option for option in ("body", "srdf", "margin") if getattr(args, option) is not None]
@@ -55,15 +47,13 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
         if not (np.isfinite(args.margin) and args.margin >= 0.0):
             raise ValueError(f"--margin must be a finite number >= 0 (metres), got {args.margin}")
         scene = replace(scene, margin=float(args.margin))
-    named = resolve(args.robot).suffix.lower() in _NAMED_LINKS and resolve(args.robot).is_file()
+    named = _named_links(args.robot)
     options = xacro_options(args)
     if args.body is not None:
         if args.srdf is not None and not named:
             raise ValueError("--srdf names URDF links: it applies to a URDF or xacro robot")
-        links = (urdf_link_frames(args.robot, args.base, args.tip, **options)[1] if named
-                 else numbered_link_frames(chain))
         ignore = [] if args.srdf is None else srdf_ignored_pairs(args.srdf)
-        return read_body(args.body, chain, links, ignore=ignore), scene
+        return read_body(args.body, chain, body_links(args, args.robot, chain), ignore=ignore), scene
     if not named:
         raise ValueError(f"{args.robot} has no collision elements to read: give --body FILE (its links are "
                          f"link_0 .. link_{chain.n}, the chain's frames)")
@@ -72,6 +62,24 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
         raise ValueError(f"{args.robot}: no <collision> element on the chain's links is a sphere, cylinder or box "
                          "(meshes are not read yet): give --body FILE")
     return body, scene
+
+
+def _named_links(robot: str) -> bool:
+    """Whether the robot is a URDF or xacro file, whose links a body file names."""
+    from redkin.examples import resolve
+
+    file = resolve(robot)
+    return file.suffix.lower() in _NAMED_LINKS and file.is_file()
+
+
+def body_links(args: argparse.Namespace, robot: str, chain: SerialChain) -> dict:
+    """The links a body file may name (:class:`redkin.collision.LinkFrame` by name): a URDF's own, or ``link_0 ..
+    link_n`` (the chain's frames) for another robot."""
+    from redkin.collision import numbered_link_frames, urdf_link_frames
+
+    if _named_links(robot):
+        return urdf_link_frames(robot, args.base, args.tip, **xacro_options(args))[1]
+    return numbered_link_frames(chain)
 
 
 def free_report(report: dict[str, Any], free, scene, body, deg: bool, shown: str,
