@@ -11,9 +11,9 @@ import pytest
 
 import redkin
 from redkin.circle import ArcSet
-from redkin.cli.main import main
 from redkin.collision import collision_free_arm_angles, numbered_link_frames, read_body, read_scene
 from redkin.examples import resolve
+from tests.support.cli import run
 
 Q = [0.3, 0.6, 0.2, -1.2, 0.4, 0.8, 0.1]
 SCENE = """margin: 0.01
@@ -27,15 +27,6 @@ BODY = """capsules:
 spheres:
   link_7: [{center: [0, 0, 0.05], radius: 0.06}]
 """
-
-
-def run(capsys, argv: list[str]) -> tuple[int, str, str]:
-    try:
-        code = main(argv)
-    except SystemExit as stop:
-        code = int(stop.code or 0)
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def _pose_arguments(chain) -> list[str]:

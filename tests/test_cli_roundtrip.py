@@ -17,10 +17,11 @@ import pytest
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
-from redkin.cli.main import _build_parser, main
+from redkin.cli.main import _build_parser
 from redkin.models import get_robot
 from redkin.so3 import axis_angle_to_matrix, matrix_to_quaternion, quaternion_to_matrix
 from redkin.srs import arm_angle_of
+from tests.support.cli import run
 
 #: Arms with a closed form whose parameter the test can read off a configuration: the arm angle of an S-R-S or
 #: offset-elbow arm, q7 of a Franka-class arm.
@@ -32,16 +33,6 @@ INPUT_TOLERANCE = 1e-3
 CAPSYS = [HealthCheck.function_scoped_fixture]
 
 fractions = st.lists(st.floats(0.05, 0.95), min_size=7, max_size=7)
-
-
-def run(capsys, argv: list[str]) -> tuple[int, str, str]:
-    """Exit code, stdout and stderr of ``redkin ARGV`` in this process (argparse's exit 2 included)."""
-    try:
-        code = main(argv)
-    except SystemExit as stop:
-        code = int(stop.code or 0)
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def configuration(robot: str, fraction: list[float]) -> np.ndarray:
