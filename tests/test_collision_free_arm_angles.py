@@ -225,3 +225,35 @@ def test_the_arm_answers_the_free_sets_in_its_own_shapes(iiwa):
                 ArcSet(direct.free[b].bounds.tolist()), 1e-12)
     with pytest.raises(RedkinError, match="both"):
         iiwa.feasible(poses, body=body)
+
+
+@pytest.mark.parametrize("width", [1e-4, 1e-5])
+def test_a_narrow_gap_between_two_obstacles_on_the_elbow_circle_is_found(iiwa, width):
+    """Two balls on the circle the elbow turns on leave free only the arm angles between them, an arc ``width`` wide
+    whose ends are known in closed form: the elbow's distance to a ball at arm angle ``psi_k`` is the chord
+    ``2 rho sin(|psi - psi_k| / 2)``, ``rho`` the elbow's distance from the shoulder-wrist line."""
+    chain = iiwa.chain
+    q = np.array([0.2, 0.7, -0.3, -1.4, 0.3, 0.6, 0.1])
+    pose, label = chain.fk(q), str(iiwa.branch_of(q))
+    psi0 = float(iiwa.parameter_of(q))
+
+    def elbow_at(psi):
+        return chain.frames(iiwa.ik(pose, np.atleast_1d(psi), branches=label).q[:, 0])[:, 3, :3, 3]
+
+    frames = chain.frames(q)
+    shoulder, wrist = frames[1, :3, 3], frames[5, :3, 3]
+    axis = (wrist - shoulder) / np.linalg.norm(wrist - shoulder)
+    offset = elbow_at(psi0)[0] - shoulder
+    rho = np.linalg.norm(offset - (offset @ axis) * axis)
+    ball, margin, ball_radius = 0.03, 0.01, 0.04
+    reach = 2.0 * np.arcsin((ball + ball_radius + margin) / (2.0 * rho))
+    first, second = psi0 - reach - width / 2, psi0 + reach + width / 2
+    centres = elbow_at(np.array([first, second]))
+    scene = Scene(("left", "right"), np.stack([primitives.sphere(c, ball_radius) for c in centres]), margin)
+    body = body_of([BodyCapsule("elbow", 3, [0, 0, 0], [0, 0, 0], ball)], chain)
+    result = collision_free_arm_angles(iiwa, pose, body, scene, label)
+    lo, hi = psi0 - width / 2, psi0 + width / 2
+    found = [(a, b) for a, b in result.free[0].bounds.tolist() if a <= psi0 <= b]
+    assert len(found) == 1
+    assert found[0][0] == pytest.approx(lo, abs=result.resolution)
+    assert found[0][1] == pytest.approx(hi, abs=result.resolution)
