@@ -4,12 +4,14 @@ body and the scene's obstacles, and the collision-free sets in a command's JSON.
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from redkin.chain import SerialChain
 from redkin.cli.common import angles_out, xacro_options
+
+if TYPE_CHECKING:  # the chain's module loads the compiled kernels: not before a command runs
+    from redkin.chain import SerialChain
 
 #: Robot files whose links are named: the body's links come from them.
 _NAMED_LINKS = (".urdf", ".xacro")
