@@ -120,6 +120,20 @@ def test_fk_imports_the_chain_kernels_and_nothing_of_the_other_methods():
     assert set(_forbidden(modules, ("scipy",))) <= set(numba_alone)
 
 
+def test_closed_form_ik_imports_no_scipy_module_of_its_own():
+    """``redkin ik`` at an arm angle (S-R-S) or a q7 (the Franka class) adds no scipy module to numba's own: the
+    optimisers and sparse matrices of the optimal arm angle and the path polish load when those run (issue 42:
+    scipy.optimize was about 0.15-0.3 s of every warm command's start)."""
+    pose = ["--position", "0.4", "0.1", "0.5", "--rotation", "1", "0", "0", "0", "-1", "0", "0", "0", "-1"]
+    runs = _modules_after([["ik", "kuka-iiwa14", *pose, "--psi", "0.3"], ["ik", "franka-panda", *pose, "--q7", "0.3"]])
+    [numba_alone] = _run("import sys, numba\nnumba.njit(lambda x: x + 1)(1)\nprint(tuple(sorted(sys.modules)))")
+    for argv, code, modules in runs:
+        assert code == 0, argv
+        assert {"redkin.srs._ik_kernels", "redkin.franka"} & modules, argv  # it did solve
+        assert set(_forbidden(modules, ("scipy",))) <= set(numba_alone), (argv, sorted(
+            set(_forbidden(modules, ("scipy",))) - set(numba_alone))[:5])
+
+
 def test_import_redkin_is_light_and_its_names_load_on_first_use():
     code = "\n".join([
         "import sys, redkin",

@@ -20,8 +20,6 @@ returned is never worse than the path given, and never breaks a law it kept.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sparse
-from scipy.optimize import linprog
 
 from redkin.circle import wrap_angle
 from redkin.paths.graph import _CLIP_TOLERANCE, Arm
@@ -90,6 +88,9 @@ def _step(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndar
           margin: float) -> np.ndarray | None:
     """One linear program of the module docstring: the move of every waypoint's parameter, or ``None`` where it has
     no solution (a step nearer its bound than ``margin`` that the trust region cannot shorten)."""
+    import scipy.sparse as sparse  # here, not at the top: every command that classifies an arm imports this package
+    from scipy.optimize import linprog  # through redkin.paths, and scipy.optimize costs about 0.3 s of each start
+
     count = len(parameter)
     chain = arm.chain
     below = np.clip(parameter - _DIFFERENCE, piece[:, 0], piece[:, 1])
