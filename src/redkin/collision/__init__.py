@@ -20,6 +20,8 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
   and the pair that has it (:class:`Clearance`)
 * :func:`step_clearance` -- whether each step between configurations (the joints moving linearly) keeps the
   margin, proved by a bound on how far the body can move (:class:`StepClearance`)
+* :func:`collision_free_ik` -- on any arm, the numerical solver's certified solutions of a pose that keep the margin,
+  and the candidates refused (:class:`FreeSolutions`)
 * :func:`collision_free_arm_angles` -- per branch of one pose, the certified arm angles within the limits and clear of
   every obstacle and of the body itself by the margin, and each removed stretch's cause (:class:`FreeArmAngles`,
   :class:`Stretch`)
@@ -30,6 +32,7 @@ from redkin.collision.body import Body, BodyCapsule, body_of, posed
 from redkin.collision.body_file import body_data, read_body
 from redkin.collision.clearance import Clearance, clearance
 from redkin.collision.distances import Distance, signed_distance
+from redkin.collision.free_ik import FreeSolutions, collision_free_ik
 from redkin.collision.link_frames import LinkFrame, numbered_link_frames, urdf_link_frames
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE, WIDTH, box, capsule, plane, sphere
 from redkin.collision.scene import Scene, read_scene, scene_of
@@ -40,4 +43,5 @@ __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "b
            "scene_of", "signed_distance", "sphere",
            "LinkFrame", "urdf_link_frames", "numbered_link_frames", "read_body", "body_data", "urdf_body",
            "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed", "FreeArmAngles", "Stretch",
-           "collision_free_arm_angles", "Clearance", "clearance", "StepClearance", "step_clearance"]
+           "collision_free_arm_angles", "FreeSolutions", "collision_free_ik", "Clearance", "clearance", "StepClearance",
+           "step_clearance"]

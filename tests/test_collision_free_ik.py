@@ -1,0 +1,144 @@
+"""Collision-free numerical IK (issue 40) on the Sawyer, an arm with no closed form: every solution returned reaches
+the pose by our own FK, lies within the limits and keeps the margin by distances measured here pair by pair; the
+solutions are the solver's clear candidates in its order; a scene that blocks every candidate returns none and says
+how near the best came; a batch is filtered pose by pose."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import redkin
+from redkin.collision import BodyCapsule, Scene, body_of, clearance, posed, primitives, signed_distance
+from redkin.collision.free_ik import collision_free_ik
+from redkin.errors import RedkinError
+from redkin.numerical import ik
+
+MARGIN = 0.02
+
+
+@pytest.fixture(scope="module")
+def arm():
+    chain = redkin.get_robot("sawyer.urdf")
+    # the capsules on the wrist's frames 5 and 7 overlap by 1.4 cm wherever we looked: ignored, as an SRDF would
+    body = body_of([BodyCapsule(f"link {k}", k, [0, 0, 0], [0, 0, 0.05], 0.05) for k in range(2, chain.n + 1)],
+                   chain, ignore=[("link 5", "link 7")])
+    return chain, body
+
+
+def _pair_distances(chain, body, scene, q) -> float:
+    """The least distance over the body's capsules and the obstacles and its self pairs, each pair measured alone."""
+    shapes = posed(body, chain.frames(q))
+    least = np.inf
+    for i in range(len(body.link)):
+        for o in range(len(scene.names)):
+            least = min(least, float(signed_distance(shapes[i], scene.shapes[o]).distance))
+    for i, j in body.pairs.tolist():
+        least = min(least, float(signed_distance(shapes[i], shapes[j]).distance))
+    return least
+
+
+def _blocking_scene(chain, q: np.ndarray) -> Scene:
+    """A ball on the origin of frame 4 of ``q`` (the elbow): ``q`` itself collides."""
+    elbow = chain.frames(q)[4][:3, 3]
+    return Scene(("ball",), primitives.sphere(elbow, 0.06)[None], MARGIN)
+
+
+@settings(max_examples=6)
+@given(st.lists(st.floats(0.1, 0.9), min_size=7, max_size=7))
+def test_every_solution_reaches_the_pose_within_the_limits_and_keeps_the_margin(arm, fractions):
+    chain, body = arm
+    q = chain.lower + np.asarray(fractions) * (chain.upper - chain.lower)
+    pose = chain.fk(q)
+    plain = ik(chain, pose)
+    scene = _blocking_scene(chain, plain.q[0])
+    result = collision_free_ik(chain, body, scene, pose, count=3)
+    assert result.found.shape == (3,) and result.q.shape == (3, 7)
+    for k in np.flatnonzero(result.found):
+        solution = result.q[k]
+        reached = chain.fk(solution)
+        assert np.abs(reached[:3, 3] - pose[:3, 3]).max() < 1e-8
+        assert np.abs(reached[:3, :3] - pose[:3, :3]).max() < 1e-8
+        assert np.all(solution >= chain.lower - 1e-12) and np.all(solution <= chain.upper + 1e-12)
+        measured = _pair_distances(chain, body, scene, solution)
+        assert measured >= MARGIN and abs(measured - result.clearance[k]) < 1e-12
+    assert not np.any(np.all(np.abs(result.q[result.found] - plain.q[0]) < 1e-9, axis=-1))  # it collides
+    assert 0 <= result.blocked <= result.candidates and result.found.sum() <= result.candidates - result.blocked
+
+
+def test_the_solutions_are_the_solvers_clear_candidates_in_its_order(arm):
+    chain, body = arm
+    q = np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1])
+    pose = chain.fk(q)
+    seed = q + 0.3
+    scene = _blocking_scene(chain, q)
+    result = collision_free_ik(chain, body, scene, pose, q0=seed, count=2, candidates=4)
+    asked = result.solver.found.shape[-1]
+    candidates = ik(chain, pose, q0=seed, count=asked)
+    found = candidates.q[candidates.found]
+    clear = found[clearance(chain, body, scene, found).distance >= MARGIN]
+    assert result.candidates == len(found) and result.blocked == len(found) - len(clear)
+    assert np.array_equal(result.q[result.found], clear[:2])
+    assert len(clear) >= 2 and result.found.all()  # this pose has clear solutions: the law above is not empty
+
+
+def test_a_far_scene_changes_nothing(arm):
+    chain, _ = arm
+    pose = chain.fk(np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1]))
+    far = Scene(("far",), primitives.sphere([10.0, 0.0, 0.0], 0.1)[None], MARGIN)
+    hand = body_of([BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.05], 0.05)], chain)  # no self pair to block
+    result = collision_free_ik(chain, hand, far, pose, count=2, candidates=2)
+    plain = ik(chain, pose, count=2)
+    ids = np.flatnonzero(result.found)
+    assert len(ids) == plain.found.sum() and np.array_equal(result.q[ids], plain.q[plain.found])
+    assert result.blocked == 0 and result.blocked_clearance == -np.inf and result.blocked_link == ""
+
+
+def test_a_scene_that_blocks_every_candidate_returns_none_and_the_clearest(arm):
+    chain, body = arm
+    pose = chain.fk(np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1]))
+    walls = Scene(("ball",), primitives.sphere(pose[:3, 3], 0.05)[None], MARGIN)  # around the tool point
+    result = collision_free_ik(chain, body, walls, pose, restarts=40)
+    assert not result.found.any() and result.candidates > 0 and result.blocked == result.candidates
+    solver = result.solver
+    candidates = solver.q[solver.found]
+    measured = clearance(chain, body, walls, candidates)
+    assert result.blocked_clearance == measured.distance.max() < MARGIN
+    best = int(np.argmax(measured.distance))
+    assert (result.blocked_link, result.blocked_against) == (measured.link[best], measured.against[best])
+    assert np.all(result.q == 0.0) and np.all(result.clearance == 0.0)
+
+
+def test_a_batch_is_filtered_pose_by_pose_and_out_of_reach_is_not_searched(arm):
+    """Pose ``i`` of a batch starts from the solver's stream ``i`` (redkin.numerical.ik), so a batch is not its poses
+    solved alone; each pose's solutions are still its own clear candidates in the solver's order, and every pose of
+    the batch is asked as many candidates."""
+    chain, body = arm
+    poses = chain.fk(np.array([[0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1], [-0.4, 0.2, 0.5, 0.9, -0.3, 1.1, 0.6]]))
+    far = poses[1].copy()
+    far[:3, 3] = [5.0, 0.0, 0.0]
+    batch = np.stack([poses[0], poses[1], far])
+    scene = _blocking_scene(chain, np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1]))
+    together = collision_free_ik(chain, body, scene, batch, count=2)
+    candidates = ik(chain, batch, count=together.solver.found.shape[-1])
+    for k in range(3):
+        found = candidates.q[k][candidates.found[k]]
+        clear = found[clearance(chain, body, scene, found).distance >= MARGIN] if len(found) else found
+        assert np.array_equal(together.q[k][together.found[k]], clear[:2])
+        assert together.candidates[k] == len(found) and together.blocked[k] == len(found) - len(clear)
+    assert together.solver.reach.out.tolist() == [False, False, True]
+    assert not together.found[2].any() and together.candidates[2] == 0
+    assert together.found[:2].all()
+
+
+def test_bad_input_is_a_value_error(arm):
+    chain, body = arm
+    pose = chain.fk(np.zeros(7))
+    scene = _blocking_scene(chain, np.zeros(7))
+    for options in ({"count": 0}, {"candidates": 1001}, {"count": 1.5}, {"restarts": 0}):
+        with pytest.raises(RedkinError):
+            collision_free_ik(chain, body, scene, pose, **options)
+    with pytest.raises(RedkinError):
+        collision_free_ik(chain, body, scene, np.eye(3))
