@@ -11,7 +11,7 @@ import pytest
 
 import redkin
 from redkin.circle import ArcSet
-from redkin.collision import collision_free_arm_angles, numbered_link_frames, read_body, read_scene
+from redkin.collision import collision_free_arm_angles, numbered_link_frames, read_body, read_scene, urdf_link_frames
 from redkin.examples import resolve
 from tests.support.cli import run
 
@@ -125,12 +125,46 @@ def test_ik_marks_each_solution_with_its_clearance(capsys, cell, psi):
         assert entry["collision_free"] == (float(expected.distance) >= scene.margin)
 
 
-def test_ik_with_a_scene_needs_a_parameter(capsys, cell):
-    scene_file, body_file = cell
-    chain = redkin.get_robot("kuka-iiwa14")
-    code, _, err = run(capsys, ["ik", "kuka-iiwa14", *_pose_arguments(chain), "--scene", str(scene_file),
-                                "--body", str(body_file)])
-    assert code == 2 and err.count("\n") == 1 and "numerical solver" in err
+SAWYER_BODY = """spheres:
+  right_l1: [{center: [0, 0, 0], radius: 0.07}]
+  right_l2: [{center: [0, 0, 0], radius: 0.06}]
+  right_l3: [{center: [0, 0, 0], radius: 0.06}]
+  right_l4: [{center: [0, 0, 0], radius: 0.06}]
+  right_l5: [{center: [0, 0, 0], radius: 0.05}]
+  right_l6: [{center: [0, 0, 0], radius: 0.05}]
+ignore: [[right_l4, right_l6]]
+"""
+
+
+def test_numerical_ik_in_a_cell_returns_collision_free_solutions(capsys, tmp_path):
+    """The Sawyer has no closed form: without --psi the numerical solver's solutions are the clear ones, each with
+    the clearance the API measures, and a margin nothing meets gives exit 1 and one line saying how near it came."""
+    chain = redkin.get_robot("sawyer.urdf")
+    pose_arguments = _pose_arguments(chain)
+    plain = redkin.numerical.ik(chain, chain.fk(np.array(Q))).q[0]
+    elbow = chain.frames(plain)[4][:3, 3]
+    scene_file, body_file = tmp_path / "cell.yaml", tmp_path / "body.yaml"
+    scene_file.write_text("margin: 0.02\nobstacles:\n  - {name: ball, type: sphere, center: "
+                          f"{elbow.tolist()}, radius: 0.05}}\n")
+    body_file.write_text(SAWYER_BODY)
+    argv = ["ik", "sawyer.urdf", *pose_arguments, "--scene", str(scene_file), "--body", str(body_file)]
+    code, out, _ = run(capsys, [*argv, "--count", "3", "--json"])
+    assert code == 0
+    report = json.loads(out)
+    body = read_body(body_file, chain, urdf_link_frames(resolve("sawyer.urdf"))[1])
+    scene = read_scene(scene_file)
+    assert report["margin"] == 0.02 and len(report["solutions"]) == 3
+    assert report["collision"]["candidates"] >= 3 + report["collision"]["blocked"] >= 4  # the plain one collides
+    for q, distance, pair in zip(report["solutions"], report["clearance"], report["closest_pairs"]):
+        expected = redkin.collision.clearance(chain, body, scene, np.array(q))
+        assert distance == pytest.approx(float(expected.distance), abs=1e-12) and distance >= 0.02
+        assert pair == [expected.link.item(), expected.against.item()]
+        assert np.allclose(chain.fk(np.array(q)), chain.fk(np.array(Q)), atol=1e-9)
+        assert not np.allclose(q, plain, atol=1e-9)
+    code, out, _ = run(capsys, [*argv, "--margin", "0.5"])
+    assert code == 1
+    [line] = [text for text in out.splitlines() if "no collision-free solution" in text]
+    assert "collide (the clearest of them:" in line
 
 
 def test_path_in_a_cell_and_its_failure(capsys, cell, tmp_path):

@@ -17,11 +17,11 @@ if TYPE_CHECKING:  # the chain's module loads the compiled kernels: not before a
 _NAMED_LINKS = (".urdf", ".xacro")
 
 
-def add_cell_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--scene``, ``--body``, ``--srdf`` and ``--margin``."""
+def add_cell_arguments(parser: argparse.ArgumentParser, effect: str) -> None:
+    """``--scene`` (whose help ends with what it does to the command, ``effect``), ``--body``, ``--srdf`` and
+    ``--margin``."""
     parser.add_argument("--scene", metavar="FILE", help="a scene file (YAML or JSON: obstacles in the base frame and a "
-                                                       "margin, docs/collisions.md): the sets become the arm angles "
-                                                       "clear of every obstacle and of the arm's own links")
+                                                       f"margin, docs/collisions.md): {effect}")
     parser.add_argument("--body", metavar="FILE", help="with --scene: the arm's capsules and spheres per link (YAML or "
                                                       "JSON, keyed by the URDF's link names; link_0 .. link_n, the "
                                                       "chain's frames, for a named model or another file); default: "

@@ -41,9 +41,10 @@ def add_numerical_arguments(parser: argparse.ArgumentParser) -> None:
                             "--q7)")
 
 
-def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: bool) -> int:
+def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: bool, cell=None) -> int:
     """Solve ``poses`` ((4, 4), or (N, 4, 4) from ``--poses`` where ``batch``) and print them; 0 when every pose
-    has a solution, else 1."""
+    has a solution, else 1.  With a ``cell`` (the body and the scene of ``--scene``) the solutions are the
+    collision-free ones (:func:`redkin.collision.free_ik.collision_free_ik`), each with its clearance."""
     from redkin.closed_form import redundancy_parameter
     from redkin.errors import NotArmAngleClassError
     from redkin.numerical import ik
@@ -66,20 +67,30 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
                                       "given: solved numerically")
     except NotArmAngleClassError as error:
         parameter, why = None, str(error)
-    result = ik(chain, poses, **options)
+    free = None
+    if cell is None:
+        result = ik(chain, poses, **options)
+    else:
+        from redkin.collision.free_ik import collision_free_ik
+
+        body, scene = cell
+        free = collision_free_ik(chain, body, scene, poses, **options)
+        result = free.solver._replace(q=free.q, found=free.found)
     reach = result.reach
     assert reach is not None  # ik always measures the poses' reach
     label = None if parameter is None else _labeller(chain, parameter)
-    entries = ([_entry(result, k, args.deg, label) for k in range(len(poses))] if batch
-               else [_entry(result, (), args.deg, label)])
+    entries = ([_entry(result, k, args.deg, label, free) for k in range(len(poses))] if batch
+               else [_entry(result, (), args.deg, label, free)])
     if args.json:
         head = {"robot": chain.name, "method": "numerical", "why": why,
+                **({} if cell is None else {"margin": cell[1].margin}),
                 "units": {"q": angle_unit(args.deg), "position_error": "m", "rotation_error": "rad", "reach": "m"},
                 "tolerance": {"position": position, "rotation": rotation}}
         print_json({**head, "poses": entries} if batch else {**head, **entries[0]})
     else:
         unit = angle_unit(args.deg)
-        print(f"numerical IK, certified to {position:g} m and {rotation:g} rad: {why}")
+        kept = "" if cell is None else f", collision-free by {cell[1].margin:g} m"
+        print(f"numerical IK, certified to {position:g} m and {rotation:g} rad{kept}: {why}")
         for k, entry in enumerate(entries):
             label = f"pose {k}: " if batch else ""
             if entry["reason"]:
@@ -88,11 +99,17 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
                 for j, q in enumerate(entry["solutions"]):
                     where = "" if parameter is None else \
                         f"  branch {entry['branches'][j]}, {parameter} {entry[parameter][j]:.6f} {unit}"
-                    print(f"{label}{format_values(q)}  [{unit}]{where}")
+                    clear = "" if cell is None else f"  clearance {entry['clearance'][j]:.4g} m " \
+                        f"({' / '.join(entry['closest_pairs'][j])})"
+                    print(f"{label}{format_values(q)}  [{unit}]{where}{clear}")
                 short = "" if len(entry["solutions"]) == args.count else f"; {len(entry['solutions'])} of the " \
                     f"{args.count} distinct solutions asked"
                 print(f"{label}error {entry['error']['position']:.2g} m, {entry['error']['rotation']:.2g} rad "
                       f"({entry['starts']} start{'s' if entry['starts'] != 1 else ''}{short})")
+                if cell is not None:
+                    print(f"{label}{_refused(entry['collision'])}")
+            elif cell is not None and entry["collision"]["candidates"]:
+                print(f"{label}no collision-free solution: {_refused(entry['collision'])}")
             else:
                 print(f"{label}no solution found in {entry['starts']} starts; the closest joint values miss by "
                       f"{entry['error']['position']:.3g} m and {entry['error']['rotation']:.3g} rad: "
@@ -115,10 +132,35 @@ def _labeller(chain, parameter: str):
     return parameter, label
 
 
-def _entry(result, index, degrees: bool, labeller=None) -> dict:
+def _refused(collision: dict) -> str:
+    """One line on the candidates a scene refused: how many, and how near the clearest of them came."""
+    found, blocked = collision["candidates"], collision["blocked"]
+    line = f"{blocked} of the {found} distinct solution{'s' if found != 1 else ''} found collide"
+    if blocked:
+        clearest = collision["clearest_blocked"]
+        line += f" (the clearest of them: {clearest['clearance']:.4g} m, {' / '.join(clearest['pair'])})"
+    return line
+
+
+def _collision_entry(free, index) -> dict:
+    """A pose's JSON fields with a scene: each solution's clearance and closest pair, and the candidates refused."""
+    found = free.found[index]
+    pairs = zip(free.link[index][found], free.against[index][found])
+    entry: dict = {"clearance": [float(d) for d in free.clearance[index][found]],
+                   "closest_pairs": [[str(a), str(b)] for a, b in pairs],
+                   "collision": {"candidates": int(free.candidates[index]), "blocked": int(free.blocked[index])}}
+    if free.blocked[index]:
+        entry["collision"]["clearest_blocked"] = {
+            "clearance": float(free.blocked_clearance[index]),
+            "pair": [str(free.blocked_link[index]), str(free.blocked_against[index])]}
+    return entry
+
+
+def _entry(result, index, degrees: bool, labeller=None, free=None) -> dict:
     """One pose's JSON entry: status, solutions (with their branch and redundancy parameter where ``labeller``,
     of :func:`_labeller`, is given), the closest joint values and their error, starts used, and the reason where
-    the pose is out of reach."""
+    the pose is out of reach; with a scene (``free``, of :func:`redkin.collision.free_ik.collision_free_ik`) each
+    solution's clearance and the candidates refused."""
     found = result.found[index]
     labels: dict = {}
     if labeller is not None:
@@ -132,6 +174,7 @@ def _entry(result, index, degrees: bool, labeller=None) -> dict:
         "error": {"position": float(result.error[index][0]), "rotation": float(result.error[index][1])},
         "starts": int(result.starts[index]),
         **labels,
+        **({} if free is None else _collision_entry(free, index)),
         **reach_reason(result.reach, index),
     }
     if isinstance(index, int):

@@ -94,7 +94,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "q7) plane without baselines on a Franka-class arm, and without them on a nearly S-R-S "
                            "arm)")
     add_srs_tolerance_argument(path)
-    add_cell_arguments(path)
+    add_cell_arguments(path, "every waypoint's redundancy is chosen among the arm angles clear of every obstacle and "
+                             "of the arm's own links, and the steps between waypoints are checked")
     add_force_flag(path)
     add_output_flags(path)
     path.set_defaults(handler=_run_path)

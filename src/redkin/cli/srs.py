@@ -64,7 +64,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                             "about 0.1-1 s per pose); an exact arm has one per branch")
     add_srs_tolerance_argument(solve)
     add_numerical_arguments(solve)
-    add_cell_arguments(solve)
+    add_cell_arguments(solve, "at --psi or --q7 each solution is marked with its clearance from every obstacle and "
+                              "between the arm's own links; without them the numerical solver returns only "
+                              "solutions clear by the margin")
     add_output_flags(solve)
     solve.set_defaults(handler=run_ik)
 
@@ -85,7 +87,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "optimal arm angle, two numbers >= 0, not both 0 (default 0.5 0.5; [000 eq. 40]; "
                              "S-R-S, offset-elbow and nearly S-R-S arms)")
     add_srs_tolerance_argument(angles)
-    add_cell_arguments(angles)
+    add_cell_arguments(angles, "the sets become the arm angles clear of every obstacle and of the arm's own links")
     add_output_flags(angles)
     angles.set_defaults(handler=_run_arm_angles)
 
@@ -132,10 +134,7 @@ def run_ik(args: argparse.Namespace) -> int:
         if args.srs_tolerance is not None:
             raise UsageError("--srs-tolerance chooses the closed form of --psi or --q7; the numerical solver (without "
                              "them) does not use it")
-        if args.scene is not None:
-            raise UsageError("--scene marks the solutions at --psi or --q7; the numerical solver does not take a "
-                             "scene yet")
-        return run_numerical(chain, poses, args, batch)
+        return run_numerical(chain, poses, args, batch, load_cell(args, chain))
     return _run_closed_form(chain, poses, args, batch)
 
 
