@@ -15,6 +15,28 @@ the CPU time is the steadier measure of the compile bill); the last line,
 the total from before ``import redkin`` to the end.  With ``--repeat N`` the
 cold run is made N times (a fresh directory each time) and each run's times
 are listed.
+
+Run:  python benchmarks/cold_start.py --commands [--repeat N]
+
+Issue 42's targets, per command: ``redkin fk``, ``redkin ik`` (at an arm
+angle, ``--psi``; ``--q7`` on the Panda), ``redkin arm-angles`` and
+``redkin path`` (a 0.1 m line of 21 waypoints between two key poses, the
+same rotation, ``--max-step 0.1``) on the KUKA iiwa14 and the Franka Panda
+(``ik`` and ``arm-angles`` on the branch of the pose's joint values), each
+run once cold, in its own new process with a fresh, empty
+``NUMBA_CACHE_DIR``, then once warm on the cache it filled.  The commands
+run through the ``redkin`` console script installed beside this Python (no
+shell shim), with ``REDKIN_COMPILE_NOTICE`` unset, so the compile notice is
+said: the last progress line on stderr (``redkin: 34 kernels compiled in
+8.5 s``) gives the kernels the run compiled and redkin's own seconds spent
+compiling (``+K warm``: a warm run that compiled K kernels too).  Wall
+seconds are the parent's clock around the process; CPU seconds, user +
+system of the process from ``getrusage(RUSAGE_CHILDREN)``.  In the same loop
+``python -c "import numpy"`` is timed (warm, best of 5).  Targets: the cold
+run of each command <= 5 s wall; the warm ``redkin fk`` <= 3 x the numpy
+import.  With ``--repeat N`` the whole loop is run N times (fresh caches
+each time), each run's figures are listed, and a target is met only where
+every run meets it (``met k/N`` says how many did otherwise).
 """
 
 from __future__ import annotations
@@ -22,9 +44,13 @@ from __future__ import annotations
 import json
 import os
 import platform
+import re
+import resource
 import subprocess
 import sys
 import tempfile
+import time
+from pathlib import Path
 
 FIRST_CALLS = r"""
 import json, time
@@ -60,5 +86,152 @@ def main() -> None:
         print(f"{name:<14} {wall:>14} {cpu:>13} {seconds:>14.2f}")
 
 
+#: One pose per robot that its arm reaches (the FK of the joint values in the comment), as ``redkin fk`` prints it:
+#: position, then the rotation matrix row by row.
+POSES = {
+    # redkin fk kuka-iiwa14 0.3 0.6 0.1 -1.2 0.2 0.8 0.1
+    "kuka-iiwa14": ((0.6381709826119824, 0.2669762474599886, 0.5119319922031215),
+                    (-0.8807776534506888, -0.2330330642808526, 0.41222119806455193,
+                     -0.07165378667210072, 0.9260924975255713, 0.3704300485684159,
+                     -0.4680774081681869, 0.2967292991578789, -0.8323792783243865)),
+    # redkin fk franka-panda 0.3 -0.4 0.2 -2.0 0.1 1.8 0.7 (branch --+)
+    "franka-panda": ((0.38233526759649805, 0.2373543867249343, 0.6356972449498293),
+                     (0.9649746194587141, -0.20807926597837778, 0.15977172112238652,
+                      -0.22664507493838287, -0.9679410592381081, 0.10826872053914952,
+                      0.13212113308129403, -0.14068804110836533, -0.9811986961275511)),
+}
+#: The joint values of each pose of :data:`POSES` (``redkin fk`` takes them).
+JOINTS = {"kuka-iiwa14": (0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1), "franka-panda": (0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.7)}
+#: The redundancy parameter ``ik`` is given on each robot; the branch ``ik`` and ``arm-angles`` are given (the Panda's
+#: joint values are on --+, where its default +++ has no feasible q7 at this pose).
+PARAMETER = {"kuka-iiwa14": ["--psi", "0.5"], "franka-panda": ["--q7", "0.7"]}
+BRANCH = {"kuka-iiwa14": [], "franka-panda": ["--branch=--+"]}
+#: How far the path's second key pose lies from the first along -y (m), the rotation kept; ``--step`` 0.005 m.
+PATH_LENGTH = 0.1
+COMMANDS = ("fk", "ik", "arm-angles", "path")
+#: Issue 42's targets: the first call of a command on a fresh cache, wall seconds; warm fk over the numpy import.
+COLD_TARGET = 5.0
+FK_RATIO_TARGET = 3.0
+PROGRESS = re.compile(r"redkin: (\d+) kernels? compiled in ([0-9.]+) s")
+
+
+def redkin_command() -> list[str]:
+    """The ``redkin`` console script installed beside this Python (no shell shim in between), else the same entry
+    point through ``python -c``."""
+    script = Path(sys.executable).with_name("redkin")
+    if script.exists():
+        return [str(script)]
+    return [sys.executable, "-c", "from redkin.cli.main import main; raise SystemExit(main())"]
+
+
+def command_args(command: str, robot: str, keys: str) -> list[str]:
+    """The arguments of ``redkin COMMAND`` on ``robot``; ``keys``: the JSON file of the path's two key poses."""
+    position, rotation = POSES[robot]
+    pose = ["--position", *map(repr, position), "--rotation", *map(repr, rotation)]
+    if command == "fk":
+        return ["fk", robot, *map(repr, JOINTS[robot])]
+    if command == "ik":
+        return ["ik", robot, *pose, *PARAMETER[robot], *BRANCH[robot]]
+    if command == "arm-angles":
+        return ["arm-angles", robot, *pose, *BRANCH[robot]]
+    return ["path", robot, "--through", keys, "--step", "0.005", "--max-step", "0.1"]
+
+
+def write_keys(robot: str, path: str) -> None:
+    """The path's two key poses as 4x4 lists in a JSON file: :data:`POSES`, then moved by :data:`PATH_LENGTH`."""
+    position, rotation = POSES[robot]
+    first = [[*rotation[3 * i:3 * i + 3], position[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+    second = [row[:] for row in first]
+    second[1][3] -= PATH_LENGTH
+    Path(path).write_text(json.dumps([first, second]))
+
+
+def timed(argv: list[str], cache: str | None = None) -> tuple[float, float, str]:
+    """Run ``argv`` to its end (``NUMBA_CACHE_DIR=cache``, ``REDKIN_COMPILE_NOTICE`` unset): wall seconds, CPU
+    seconds (user + system, ``getrusage(RUSAGE_CHILDREN)``) and its stderr; stop with the stderr if it fails."""
+    env = {k: v for k, v in os.environ.items() if k != "REDKIN_COMPILE_NOTICE"}
+    if cache is not None:
+        env["NUMBA_CACHE_DIR"] = cache
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    result = subprocess.run(argv, env=env, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if result.returncode != 0:
+        raise SystemExit(f"{' '.join(argv)} exited with {result.returncode}:\n{result.stderr}")
+    return wall, after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime, result.stderr
+
+
+def kernels(stderr: str) -> tuple[int, float]:
+    """The kernels compiled and redkin's compile seconds, from the last progress line on ``stderr`` (0, 0.0: none)."""
+    matches = PROGRESS.findall(stderr)
+    return (int(matches[-1][0]), float(matches[-1][1])) if matches else (0, 0.0)
+
+
+def run_commands() -> dict:
+    """One pass of every command on every robot, cold on a fresh cache each, then warm on it; and the numpy import.
+
+    Returns ``{"numpy": seconds, (command, robot): {"cold": (wall, cpu), "kernels": (count, seconds),
+    "warm": wall, "warm_kernels": count}}``.
+    """
+    figures: dict = {}
+    with tempfile.TemporaryDirectory() as work:
+        for robot in POSES:
+            keys = os.path.join(work, f"{robot}-keys.json")
+            write_keys(robot, keys)
+            for command in COMMANDS:
+                argv = redkin_command() + command_args(command, robot, keys)
+                with tempfile.TemporaryDirectory() as cache:
+                    wall, cpu, stderr = timed(argv, cache)
+                    warm, _, warm_stderr = timed(argv, cache)
+                figures[command, robot] = {"cold": (wall, cpu), "kernels": kernels(stderr), "warm": warm,
+                                           "warm_kernels": kernels(warm_stderr)[0]}
+                print(f"  {command} {robot}: cold {wall:.1f} s, {kernels(stderr)[0]} kernels, warm {warm:.2f} s",
+                      file=sys.stderr, flush=True)
+    figures["numpy"] = min(timed([sys.executable, "-c", "import numpy"])[0] for _ in range(5))
+    return figures
+
+
+def verdict(passed: list[bool]) -> str:
+    """``met`` where every run passed, ``missed`` where none did, else how many did."""
+    return "met" if all(passed) else "missed" if not any(passed) else f"met {sum(passed)}/{len(passed)}"
+
+
+def main_commands(repeat: int) -> None:
+    """``--commands``: the table of issue 42's per-command cold and warm starts (module docstring)."""
+    import numba
+
+    print(f"# cold start per command -- {platform.machine()}, {os.cpu_count()} cores, "
+          f"python {platform.python_version()}, numba {numba.__version__}, "
+          f"load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    print(f"# {' '.join(redkin_command())}; each command cold in a fresh NUMBA_CACHE_DIR, then warm on it")
+    runs = [run_commands() for _ in range(repeat)]
+    print(f"# load average at the end {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    numpy = " ".join(f"{r['numpy']:.3f}" for r in runs)
+    print(f"python -c 'import numpy' (warm, best of 5): {numpy} s")
+    print()
+    print("| command | robot | cold wall (s) | cold CPU (s) | kernels compiled (compile s) | warm wall (s) "
+          "| cold <= 5 s | warm fk <= 3 x numpy import |")
+    print("|---|---|---|---|---|---|---|---|")
+    for command in COMMANDS:
+        for robot in POSES:
+            rows = [r[command, robot] for r in runs]
+            cold = " ".join(f"{row['cold'][0]:.1f}" for row in rows)
+            cpu = " ".join(f"{row['cold'][1]:.1f}" for row in rows)
+            count = " ".join(f"{row['kernels'][0]} ({row['kernels'][1]:.1f})" +
+                             (f" +{row['warm_kernels']} warm" if row["warm_kernels"] else "") for row in rows)
+            warm = " ".join(f"{row['warm']:.2f}" for row in rows)
+            cold_ok = verdict([row["cold"][0] <= COLD_TARGET for row in rows])
+            if command == "fk":
+                ratios = [row["warm"] / r["numpy"] for row, r in zip(rows, runs)]
+                fk = f"{' '.join(f'{x:.1f} x' for x in ratios)}: {verdict([x <= FK_RATIO_TARGET for x in ratios])}"
+            else:
+                fk = ""
+            print(f"| `{command}` | {robot} | {cold} | {cpu} | {count} | {warm} | {cold_ok} | {fk} |")
+
+
 if __name__ == "__main__":
-    main()
+    if "--commands" in sys.argv:
+        main_commands(int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 1)
+    else:
+        main()
