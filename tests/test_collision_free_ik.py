@@ -142,3 +142,29 @@ def test_bad_input_is_a_value_error(arm):
             collision_free_ik(chain, body, scene, pose, **options)
     with pytest.raises(RedkinError):
         collision_free_ik(chain, body, scene, np.eye(3))
+
+
+def test_the_arm_answers_the_same_in_its_rows(arm):
+    """``redkin.arm(...).ik(pose, body=, scene=)``: on the Sawyer (no branches) the rows are the solutions in order;
+    on the iiwa14 each clear solution sits in its branch's row, and every row that exists keeps the margin."""
+    chain, body = arm
+    q = np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1])
+    scene = _blocking_scene(chain, q)
+    sawyer = redkin.arm(chain)
+    rows = sawyer.ik(chain.fk(q), body=body, scene=scene, count=3)
+    direct = collision_free_ik(chain, body, scene, chain.fk(q), count=3)
+    assert np.array_equal(rows.q, direct.q) and np.array_equal(rows.exists, direct.found)
+    iiwa = redkin.arm("kuka-iiwa14")
+    forearm = body_of([BodyCapsule("forearm", 4, [0, 0, 0], [0, 0.2, 0], 0.06)], iiwa.chain)
+    pose = iiwa.fk(np.array([0.3, 0.6, 0.2, -1.2, 0.4, 0.8, 0.1]))
+    elbow = iiwa.chain.frames(np.array([0.3, 0.6, 0.2, -1.2, 0.4, 0.8, 0.1]))[4][:3, 3]
+    ball = Scene(("ball",), primitives.sphere(elbow, 0.05)[None], MARGIN)
+    solutions = iiwa.ik(pose, body=forearm, scene=ball, count=4)
+    assert solutions.exists.any()
+    assert np.all(clearance(iiwa.chain, forearm, ball, solutions.q[solutions.exists]).distance >= MARGIN)
+    labels = [iiwa.branches[k] for k in np.flatnonzero(solutions.exists)]
+    assert iiwa.branch_of(solutions.q[solutions.exists]).tolist() == labels  # each in its own branch's row
+    with pytest.raises(RedkinError, match="both"):
+        iiwa.ik(pose, body=forearm)
+    with pytest.raises(RedkinError, match="feasible"):
+        iiwa.ik(pose, 0.3, body=forearm, scene=ball)

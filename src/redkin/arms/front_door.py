@@ -119,7 +119,8 @@ class Arm:
 
     # ------------------------------------------------------------- IK
     def ik(self, poses: ArrayLike, t: ArrayLike | str | None = None, *, branches: str | Sequence[str] | None = None,
-           q0: ArrayLike | None = None, **solver: Any) -> Solutions:
+           q0: ArrayLike | None = None, body: Body | None = None, scene: Scene | None = None,
+           **solver: Any) -> Solutions:
         """Every branch's solution (or ``branches``') of target poses at values ``t`` of the redundancy parameter.
 
         Parameters
@@ -136,6 +137,10 @@ class Arm:
         q0 : array_like, shape (..., n), optional
             Joint values to stay near: the numerical solver's seeds, and each joint of a closed form's row moved by
             whole turns to its value nearest ``q0`` where the joint's range allows.
+        body, scene : Body and Scene, optional
+            Without ``t``: only solutions that keep the scene's margin from every obstacle and between the body's
+            links (:func:`redkin.collision.collision_free_ik`, keywords ``solver`` too).  At values of ``t`` the
+            collision-free values come from :meth:`feasible` with the same two.
 
         Returns
         -------
@@ -145,11 +150,17 @@ class Arm:
         Raises
         ------
         ValueError
-            For a malformed pose, value, branch or seed; ``t`` on a general chain.
+            For a malformed pose, value, branch or seed; ``t`` on a general chain; a body without a scene or the
+            reverse, or either with ``t``.
         """
         rows = self._rows(branches)
+        if (body is None) != (scene is None):
+            raise RedkinError("collision-free solutions need both the arm's body and the scene")
         if t is None:
-            return self._numerical(poses, rows, q0, solver)
+            return self._numerical(poses, rows, q0, solver, None if body is None or scene is None else (body, scene))
+        if body is not None:
+            raise RedkinError("body and scene apply to the numerical solver (without t); at values of t the "
+                              "collision-free values are feasible(poses, body=body, scene=scene)")
         if solver:
             raise RedkinError(f"{', '.join(sorted(solver))}: keywords of the numerical solver, which runs without t")
         self._need_parameter("solutions at a value of the redundancy parameter")
@@ -182,10 +193,17 @@ class Arm:
                          "no feasible value of the parameter on this branch")
 
     def _numerical(self, poses: ArrayLike, rows: np.ndarray | None, q0: ArrayLike | None,
-                   solver: dict[str, Any]) -> Solutions:
-        from redkin.numerical import ik as numerical_ik
+                   solver: dict[str, Any], cell: tuple[Body, Scene] | None = None) -> Solutions:
+        if cell is None:
+            from redkin.numerical import ik as numerical_ik
 
-        found = numerical_ik(self.chain, poses, q0=q0, **solver)
+            found = numerical_ik(self.chain, poses, q0=q0, **solver)
+        else:
+            from redkin.collision.free_ik import collision_free_ik
+
+            free = collision_free_ik(self.chain, *cell, poses, q0=q0, **solver)
+            found = free.solver._replace(q=free.q, found=free.found)
+        clear = "" if cell is None else "collision-free "
         reach = found.reach
         assert reach is not None  # numerical.ik always sets it
         if self.parameter is None:
@@ -194,7 +212,7 @@ class Arm:
             labels = tuple(str(k + 1) for k in range(found.found.shape[-1]))
             return Solutions(found.q, found.found, found.found.copy(), labels, NUMERICAL,
                              np.full(found.found.shape, np.nan), lambda: reach.out, lambda: reach,
-                             "no further solution found")
+                             f"no further {clear}solution found")
         shape, n, count = found.found.shape[:-1], self.chain.n, len(self.branches)
         q = np.zeros(shape + (count, n))
         exists = np.zeros(shape + (count,), dtype=bool)
@@ -209,7 +227,7 @@ class Arm:
             exists.reshape(-1)[slot[first]] = True
             value.reshape(-1)[slot[first]] = parameter[first]
         result = Solutions(q, exists, exists.copy(), self.branches, NUMERICAL, value, lambda: reach.out,
-                           lambda: reach, "no solution of the branch found")
+                           lambda: reach, f"no {clear}solution of the branch found")
         return result if rows is None else _rows_of(result, rows)
 
     # ------------------------------------------------------------- the redundancy
