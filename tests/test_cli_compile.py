@@ -23,3 +23,56 @@ def test_compile_runs_every_section_and_names_the_cache(capsys):
     assert len(lines) == len(_SECTIONS) + 1 and "cache:" in lines[-1]
     assert captured.err.count("compiling: ") == len(_SECTIONS)  # progress on stderr, one line per section
     assert main(["compile", "--quiet"]) == 0 and capsys.readouterr().err == ""
+
+
+#: In a fresh process: every compiled path called once (what ``redkin compile`` runs), then each redkin kernel's
+#: compiled signatures, as (kernel, [argument types as text], [literal argument positions], key without mutability).
+_SIGNATURES = r"""
+import sys
+import numba
+from numba.core import types
+from redkin.warm_up import warm_up
+from redkin._compiled import set_compile_notice
+set_compile_notice(False)
+warm_up()
+seen = set()
+for name, module in sorted(sys.modules.items()):
+    if not name.startswith("redkin"):
+        continue
+    for value in vars(module).values():
+        if isinstance(value, numba.core.registry.CPUDispatcher) and id(value) not in seen:
+            seen.add(id(value))
+            kernel = value.py_func.__module__ + "." + value.py_func.__qualname__
+            for signature in value.signatures:
+                literal = [k for k, t in enumerate(signature) if isinstance(t, types.Literal)]
+                plain = tuple(str(t.copy(readonly=False)) if isinstance(t, types.Array) else str(t) for t in signature)
+                print(repr((kernel, [str(t) for t in signature], literal, plain)))
+"""
+
+
+@pytest.mark.slow
+def test_every_kernel_compiles_once_per_argument_type(tmp_path):
+    """Issue 42: a constant passed from one kernel to another is a literal type to numba (``f(x, 0)`` compiles ``f``
+    for ``Literal[int](0)``, again for ``4``, and again for ``int64``), and a read-only array is another type than a
+    writeable one; each costs a whole compile of the callee and its callees.  After every compiled path has run,
+    no kernel has a literal argument type, and no two of a kernel's signatures differ only in an array's
+    mutability (the Franka kernels' float and complex twins are two argument types, on purpose).
+
+    The process compiles every kernel into an empty cache (about 2 minutes on 2 cores): a kernel loaded from a
+    filled cache brings its callees' code along without compiling them, and their signatures would not be seen.
+    """
+    import ast
+    import os
+    import subprocess
+    import sys
+
+    environment = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    result = subprocess.run([sys.executable, "-c", _SIGNATURES], capture_output=True, text=True, check=True,
+                            env=environment)
+    rows = [ast.literal_eval(line) for line in result.stdout.splitlines() if line.startswith("(")]
+    assert len({kernel for kernel, *_ in rows}) > 200  # every kernel, callees too, was compiled here and seen
+    assert [(kernel, types) for kernel, types, literal, _ in rows if literal] == []
+    kept: dict = {}
+    for kernel, types, _, plain in rows:
+        kept.setdefault((kernel, plain), []).append(types)
+    assert {key: found for key, found in kept.items() if len(found) > 1} == {}

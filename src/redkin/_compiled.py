@@ -60,6 +60,23 @@ processes they start too); ``redkin compile``
 (:func:`redkin.warm_up.warm_up`) compiles everything ahead, for a Docker
 image or a cluster's workers.
 
+One compile per argument type
+-----------------------------
+numba compiles a kernel once for each tuple of argument types it is called
+with, callees included.  Two kinds of type come apart without need:
+
+* a constant written in a kernel's call to another kernel is a *literal*
+  type (``f(x, 0)`` compiles ``f`` for ``Literal[int](0)``, ``f(x, 4)`` once
+  more, and a counter started at ``0`` and passed on compiles it for the
+  literal first and again for ``int64``): kernels pass ``np.int64(0)``,
+  ``np.bool_(True)`` and start counters at ``np.int64(0)`` instead;
+* a read-only array is another type than a writeable one: arrays reach a
+  kernel through :func:`kernel_array`.
+
+``tests/test_cli_compile.py`` checks both over every kernel.  The float and
+complex versions of the Franka class's kernels are two argument types on
+purpose (one implementation of each equation, evaluated on both).
+
 Batches
 -------
 A batch kernel takes the half-open range of items it computes as its first

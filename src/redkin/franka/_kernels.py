@@ -476,7 +476,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     angles = np.empty(total * (1 + 2 * branches.shape[0]))
     sources = np.empty(total, dtype=np.int64)
     roots = np.empty(2 * 8)
-    found = 0
+    found = np.int64(0)
     for f in range(FUNCTIONS):
         if f < 12:
             joint = f // 2
@@ -522,7 +522,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                 status[i, b] = exists[b] and in_limits(q[b], joints)
     for b in range(branches.shape[0]):
         counts[b] = 0
-        previous = -1  # the last interval of positive width, and its status
+        previous = np.int64(-1)  # the last interval of positive width, and its status
         for i in range(count):
             if points[i + 1] <= points[i]:
                 continue

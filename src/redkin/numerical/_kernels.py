@@ -352,7 +352,7 @@ def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, setti
     target = goal
     state[0] = stream
     best_error[0], best_error[1] = np.inf, np.inf
-    found = 0
+    found = np.int64(0)
     used = 0
     q_out[:] = 0.0
     found_out[:] = False

@@ -86,8 +86,8 @@ def node_rows(start, stop, sample, angles, waypoint, branch, theta4, table, join
         b = branch[k]
         theta[:] = angles[sample[k]]
         theta[3] = theta4[waypoint[k], 1 if table[b, 1] < 0.0 else 0]
-        apply_sign(theta, 0, table[b, 0])
-        apply_sign(theta, 4, table[b, 2])
+        apply_sign(theta, np.int64(0), table[b, 0])
+        apply_sign(theta, np.int64(4), table[b, 2])
         chain_values(theta, joints, q[k])
         clearance[k] = _clipped(q[k], lower, upper, circle)
 

@@ -272,8 +272,8 @@ def branch_angles(entries, theta4, psi, sigma2, sigma6, theta):
     :func:`groups_angles`, then the branch's signs (:func:`apply_sign`)."""
     groups_angles(entries, psi, theta)
     theta[3] = theta4
-    apply_sign(theta, 0, sigma2)
-    apply_sign(theta, 4, sigma6)
+    apply_sign(theta, np.int64(0), sigma2)
+    apply_sign(theta, np.int64(4), sigma6)
 
 
 @kernel
@@ -336,8 +336,8 @@ def solve_pose(pose, psi, branches, arm, ends, joints, out, scratch):
         # the branches of this elbow sign differ by the group signs: the chain's values of both, per joint
         branch_angles(entries, theta4, psi, 1.0, 1.0, theta)
         chain_values(theta, joints, values[e, 0])
-        apply_sign(theta, 0, -1.0)
-        apply_sign(theta, 4, -1.0)
+        apply_sign(theta, np.int64(0), -1.0)
+        apply_sign(theta, np.int64(4), -1.0)
         chain_values(theta, joints, values[e, 1])
     for b in range(branches.shape[0]):
         e = 0 if branches[b, 1] > 0 else 1

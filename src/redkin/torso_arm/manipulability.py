@@ -83,7 +83,7 @@ def _det3(g):
 @kernel
 def gram_one(jacobian):
     """``sqrt(max(det(J J^T), 0))`` of one Jacobian ``(3, k)`` [001 eq. 5.3], by the explicit 3 x 3 determinant."""
-    return sqrt(max(_det3(_gram3(jacobian, 0)), 0.0))
+    return sqrt(max(_det3(_gram3(jacobian, np.int64(0))), 0.0))
 
 
 @kernel
@@ -106,7 +106,7 @@ def dual_one(right, left):
     ``det(J J^T) = d_R d_L + d_L a_R^T adj(D_R) a_R + d_R a_L^T adj(D_L) a_L``,
     ``d = det(D)``; returns its square root (0 where rounding makes it negative).
     """
-    g_right, g_left = _gram3(right, 1), _gram3(left, 1)
+    g_right, g_left = _gram3(right, np.int64(1)), _gram3(left, np.int64(1))
     d_right, d_left = _det3(g_right), _det3(g_left)
     a_right = (right[0, 0], right[1, 0], right[2, 0])
     a_left = (left[0, 0], left[1, 0], left[2, 0])

@@ -139,7 +139,7 @@ def arm_angle_one(q, neighbour, neighbour_ends, arm, ends, work, gradient, with_
     ``v`` with ``theta_4``.  Joints 5-7 do not move it.
     """
     frames, trig, target, u, reference, elbow = work
-    _chain_kernels.frames_one(q, neighbour, neighbour_ends, True, trig, frames)
+    _chain_kernels.frames_one(q, neighbour, neighbour_ends, np.bool_(True), trig, frames)
     table1_target(frames[8], ends, target)
     shared, _, _ = wrist_point(target, arm, u)
     theta4 = neighbour[3, _chain_kernels.OFFSET] + neighbour[3, _chain_kernels.SIGN] * q[3]
@@ -225,7 +225,7 @@ def newton(q, target, psi, real, model, work, best, side, real_phase):
     smallest = (np.inf, np.inf, np.inf)
     checkpoint = np.inf
     for iteration in range(NEWTON_ITERATIONS):
-        position, angle, turn = measured(q, target, psi, real, model, work, gradient, True, e)
+        position, angle, turn = measured(q, target, psi, real, model, work, gradient, np.bool_(True), e)
         size = position + angle + turn
         if size < smallest[0] + smallest[1] + smallest[2]:
             smallest = (position, angle, turn)
@@ -236,7 +236,7 @@ def newton(q, target, psi, real, model, work, best, side, real_phase):
             if size > 0.5 * checkpoint:
                 break
             checkpoint = size
-        _chain_kernels.jacobian_one(q, links, ends, standard, 7, True, origin, trig, jac)
+        _chain_kernels.jacobian_one(q, links, ends, standard, np.int64(7), np.bool_(True), origin, trig, jac)
         for c in range(7):
             jac[6, c] = gradient[c]
         damping = DAMPING_FLOOR + DAMPING * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3] + e[4] * e[4]
@@ -390,7 +390,7 @@ def certified_branch(q, target, psi, side, signs, geometry, real, model, real_ph
         else:
             moved = True
     if moved:  # the certificate is of the joint values returned
-        position, angle, turn = measured(q, target, psi, real, model, newton_work, gradient, False, e)
+        position, angle, turn = measured(q, target, psi, real, model, newton_work, gradient, np.bool_(False), e)
         if position > TOLERANCE or angle > TOLERANCE or turn > TOLERANCE:
             return -1
     branch_signs(q, neighbour, real_phase, label)
@@ -599,8 +599,9 @@ def equations(start, stop, q, targets, psi, real, model, e, jac):
     work = scratch()[0]
     gradient = work[4]
     for n in range(start, stop):
-        measured(q[n], targets[n], psi[n], real, model, work, gradient, True, e[n])
-        _chain_kernels.jacobian_one(q[n], links, ends, standard, 7, True, work[9], work[0], jac[n])
+        measured(q[n], targets[n], psi[n], real, model, work, gradient, np.bool_(True), e[n])
+        _chain_kernels.jacobian_one(q[n], links, ends, standard, np.int64(7), np.bool_(True), work[9], work[0],
+                                    jac[n])
         for c in range(7):
             jac[n, 6, c] = gradient[c]
 

@@ -193,7 +193,7 @@ def residual(q, target, real, scale, work):
     trig, pose, origin, system, f, axes, m = work[0], work[1], work[2], work[3], work[4], work[11], work[12]
     links, ends, standard = real
     _chain_kernels.frames_one(q, links, ends, standard, trig, pose)
-    _chain_kernels.jacobian_one(q, links, ends, standard, 7, True, origin, trig, system)
+    _chain_kernels.jacobian_one(q, links, ends, standard, np.int64(7), np.bool_(True), origin, trig, system)
     end = pose[0]
     for r in range(3):
         f[r] = scale * (end[r, 3] - target[r, 3])
@@ -302,7 +302,7 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
     system[6, :] = tangent
     if not factored(system, pivots):
         return False
-    psi = arm_angle_one(q, model[0], model[1], model[2], model[3], model_work, gradient, True)
+    psi = arm_angle_one(q, model[0], model[1], model[2], model[3], model_work, gradient, np.bool_(True))
     shared = wrist_point(model_work[2], model[2], u)[0]
     state[0], state[1], state[2] = size, rotation, sqrt(delta)
     state[3] = inverse_bound(system, pivots, inverse)

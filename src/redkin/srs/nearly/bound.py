@@ -41,7 +41,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._compiled import run_batch
+from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_pose
 from redkin.circle import wrap_angle
 from redkin.errors import RedkinError
@@ -109,7 +109,7 @@ def neighbour_distance(arm: NearlySRS, pose: ArrayLike, psi: ArrayLike, branch: 
         nothing = np.full(count, np.inf)
         return NeighbourDistance(np.full((count, 7), np.nan), nothing, nothing.copy(), nothing.copy())
     start = np.ascontiguousarray(solve(arm.geometry, target, angles, arm.geometry.kernel_branch(label))[:, 0])
-    targets = np.ascontiguousarray(np.broadcast_to(target, (count, 4, 4)))
+    targets = kernel_array(target, (count, 4, 4))  # writeable, as every caller's: one compile of the kernel
     residual, jacobian = _equations(arm, start, targets, angles)
     first = _solved(jacobian, residual)
     step = np.where(np.isfinite(first), first, 0.0)
