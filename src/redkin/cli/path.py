@@ -95,26 +95,26 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "arm)")
     add_srs_tolerance_argument(path)
     add_cell_arguments(path, "every waypoint's redundancy is chosen among the arm angles clear of every obstacle and "
-                             "of the arm's own links, and the steps between waypoints are checked")
+                             "of the arm's own links, and every step between waypoints is proved clear (the search "
+                             "leaves out the steps that are not)")
     add_force_flag(path)
     add_output_flags(path)
     path.set_defaults(handler=_run_path)
 
 
-def _cell_report(chain, cell, q: np.ndarray) -> dict:
+def _cell_report(chain, cell, result) -> dict:
     """What the path keeps from the cell's obstacles and from itself: the least distance over its waypoints and
-    where."""
-    from redkin.collision import clearance, step_clearance
+    where, and over the steps between them (each proved clear, :mod:`redkin.paths.clear_steps`)."""
+    from redkin.collision import clearance
 
     body, scene = cell
-    apart = clearance(chain, body, scene, q)
+    apart = clearance(chain, body, scene, result.q)
     worst = int(np.argmin(apart.distance))
-    steps = step_clearance(chain, body, scene, q)
+    steps = result.steps
     return {"scene": scene.source, "margin": scene.margin, "least": float(apart.distance[worst]),
             "closest": [str(apart.link[worst]), str(apart.against[worst])], "waypoint": worst,
             "steps": {"certified": int(steps.certified.sum()), "of": len(steps.certified),
-                      "blocked": np.flatnonzero(steps.blocked).tolist(),
-                      "unproved": np.flatnonzero(~steps.certified & ~steps.blocked).tolist()}}
+                      "least": float(steps.least.min(initial=np.inf))}}
 
 
 def _failure_line(failure, degrees: bool) -> str:
@@ -336,7 +336,7 @@ def _run_path(args: argparse.Namespace) -> int:
                           objective=args.objective, srs_tolerance=args.srs_tolerance,
                           timing=args.rate if timed else None, allow_stops=args.allow_stops,
                           body=None if cell is None else cell[0], scene=None if cell is None else cell[1])
-    in_cell = None if cell is None or not result.ok else _cell_report(chain, cell, result.q)
+    in_cell = None if cell is None or not result.ok else _cell_report(chain, cell, result)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0, args.srs_tolerance)
     trajectory = result.trajectory
@@ -398,10 +398,8 @@ def _run_path(args: argparse.Namespace) -> int:
         steps = in_cell["steps"]
         print(f"in the cell: every waypoint keeps the margin {in_cell['margin']:g} m; the least distance is "
               f"{in_cell['least']:.4g} m ({in_cell['closest'][0]} and {in_cell['closest'][1]}, waypoint "
-              f"{in_cell['waypoint']}); {steps['certified']} of {steps['of']} steps between waypoints proved clear"
-              + (f"; steps {', '.join(map(str, steps['blocked']))} (from that waypoint) run into an obstacle: give "
-                 "more waypoints" if steps["blocked"] else "")
-              + (f"; steps {', '.join(map(str, steps['unproved']))} not proved" if steps["unproved"] else ""))
+              f"{in_cell['waypoint']}); all {steps['of']} steps between waypoints proved clear"
+              + (f" (at least {steps['least']:.4g} m)" if steps["of"] else ""))
     if args.allow_stops:
         print(f"{plural(len(result.stops), 'reconfiguration stop')} (the fewest the searched graph allows)"
               + "".join(f"\n  {stop.message}" for stop in result.stops))

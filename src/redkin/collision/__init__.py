@@ -19,7 +19,8 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
 * :func:`clearance` -- at joint values of any arm, the least distance between the body and the obstacles or itself,
   and the pair that has it (:class:`Clearance`)
 * :func:`step_clearance` -- whether each step between configurations (the joints moving linearly) keeps the
-  margin, proved by a bound on how far the body can move (:class:`StepClearance`)
+  margin, proved by a bound on how far the body can move (:class:`StepClearance`); :func:`steps_between` the same
+  of steps given by their two ends
 * :func:`collision_free_ik` -- on any arm, the numerical solver's certified solutions of a pose that keep the margin,
   and the candidates refused (:class:`FreeSolutions`)
 * :func:`collision_free_arm_angles` -- per branch of one pose, the certified arm angles within the limits and clear of
@@ -36,7 +37,7 @@ from redkin.collision.free_ik import FreeSolutions, collision_free_ik
 from redkin.collision.link_frames import LinkFrame, numbered_link_frames, urdf_link_frames
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE, WIDTH, box, capsule, plane, sphere
 from redkin.collision.scene import Scene, read_scene, scene_of
-from redkin.collision.steps import StepClearance, step_clearance
+from redkin.collision.steps import StepClearance, step_clearance, steps_between
 from redkin.collision.urdf_body import srdf_ignored_pairs, urdf_body
 
 __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "box", "capsule", "plane", "read_scene",
@@ -44,4 +45,4 @@ __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "b
            "LinkFrame", "urdf_link_frames", "numbered_link_frames", "read_body", "body_data", "urdf_body",
            "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed", "FreeArmAngles", "Stretch",
            "collision_free_arm_angles", "FreeSolutions", "collision_free_ik", "Clearance", "clearance", "StepClearance",
-           "step_clearance"]
+           "step_clearance", "steps_between"]

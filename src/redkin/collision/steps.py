@@ -53,11 +53,16 @@ class StepClearance(NamedTuple):
         A configuration measured on the step does not keep the margin.
     least : numpy.ndarray, shape (N - 1,)
         On a certified step, the least clearance proved (>= the margin); otherwise the least measured.
+    link, against : numpy.ndarray of str, shape (N - 1,)
+        On a blocked step, the pair found closer than the margin: the body's link and the obstacle (or the other
+        link); ``""`` on the other steps.
     """
 
     certified: np.ndarray
     blocked: np.ndarray
     least: np.ndarray
+    link: np.ndarray
+    against: np.ndarray
 
 
 def step_clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> StepClearance:
@@ -72,11 +77,33 @@ def step_clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -
     q = chain.check_q(q)
     if q.ndim != 2:
         raise RedkinError(f"q must be configurations of shape (N, {chain.n}), got shape {q.shape}")
+    return _steps(chain, body, scene, q[:-1], q[1:])
+
+
+def steps_between(chain: SerialChain, body: Body, scene: Scene, start: ArrayLike, end: ArrayLike) -> StepClearance:
+    """:func:`step_clearance` of the steps from each configuration of ``start`` ``(N, n)`` to the same row of
+    ``end``, each step on its own (the joints moving linearly, as given: a joint on the circle is not taken the
+    shorter way round).
+
+    Raises
+    ------
+    RedkinError
+        For joint values that are not ``(N, n)`` and finite, or of two shapes.
+    """
+    start, end = chain.check_q(start), chain.check_q(end)
+    if start.ndim != 2 or start.shape != end.shape:
+        raise RedkinError(f"start and end must be configurations of one shape (N, {chain.n}), got shapes "
+                          f"{start.shape} and {end.shape}")
+    return _steps(chain, body, scene, start, end)
+
+
+def _steps(chain: SerialChain, body: Body, scene: Scene, start: np.ndarray, end: np.ndarray) -> StepClearance:
+    """The steps from ``start`` to ``end`` (validated, ``(N, n)`` each; module docstring)."""
     pairs = checked_pairs(body, scene)
-    steps = len(q) - 1
+    steps = len(start)
+    link, against = np.full(steps, "", dtype=object), np.full(steps, "", dtype=object)
     if steps < 1 or not len(pairs.names):
-        return StepClearance(np.ones(max(steps, 0), bool), np.zeros(max(steps, 0), bool),
-                             np.full(max(steps, 0), np.inf))
+        return StepClearance(np.ones(steps, bool), np.zeros(steps, bool), np.full(steps, np.inf), link, against)
     reach = _reach(chain, body)  # (n, M)
     along = reach[:, pairs.capsule] + np.where(pairs.other >= 0, reach[:, np.maximum(pairs.other, 0)], 0.0)
 
@@ -85,9 +112,9 @@ def step_clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -
         at, pair = np.divmod(np.arange(len(configurations) * len(pairs.names)), len(pairs.names))
         return pair_distances(shapes, scene, pairs, at, pair).reshape(len(configurations), -1) - scene.margin
 
-    ends = measured(q)
+    ends = measured(np.concatenate([start, end]))
     owner = np.arange(steps)
-    qa, qb, ca, cb = q[:-1], q[1:], ends[:-1], ends[1:]
+    qa, qb, ca, cb = start, end, ends[:steps], ends[steps:]
     certified, blocked = np.ones(steps, bool), np.zeros(steps, bool)
     least = np.minimum(ca, cb).min(axis=1) + scene.margin
     proved = np.full(steps, np.inf)
@@ -98,6 +125,8 @@ def step_clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -
         bound = (ca + cb - sweep) / 2.0  # a lower bound of each pair's clearance on the part
         hit = np.any(np.minimum(ca, cb) < 0.0, axis=1)
         blocked[owner[hit]] = True
+        for k, pair in zip(owner[hit].tolist(), np.argmin(np.minimum(ca, cb)[hit], axis=1).tolist(), strict=True):
+            link[k], against[k] = pairs.names[pair]
         keep = np.any(bound < 0.0, axis=1) & ~hit
         done = ~keep & ~hit
         np.minimum.at(proved, owner[done], bound[done].min(axis=1) + scene.margin)
@@ -113,7 +142,7 @@ def step_clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -
         ca, cb = np.concatenate([ca, cm]), np.concatenate([cm, cb])
     certified[np.unique(owner)] = False  # still open after the deepest halving
     certified &= ~blocked
-    return StepClearance(certified, blocked, np.where(certified, proved, least))
+    return StepClearance(certified, blocked, np.where(certified, proved, least), link, against)
 
 
 def _reach(chain: SerialChain, body: Body) -> np.ndarray:

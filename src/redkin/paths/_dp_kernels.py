@@ -14,6 +14,10 @@ of each waypoint are sorted by that joint's value (``sorted_key``,
 ``order``), so those within its bound form one run (two on the circle),
 found by bisection; only they are checked joint by joint.  The window is a
 necessary condition of an edge, so nothing is lost by it.
+
+Edges may also be *forbidden* (``forbidden``: the sorted keys ``i * K + j`` of
+the edges from node ``i`` to node ``j`` of ``K`` nodes): path resolution in a
+cell forbids the steps that run into an obstacle (:mod:`redkin.paths.clear_steps`).
 """
 
 from __future__ import annotations
@@ -183,8 +187,16 @@ def _first_above(keys, first, last, x):
 
 
 @kernel
-def _scan(first, last, order, node, q, step, circle, value, motion, clear, best, motion_first):
-    """Relax ``node`` from the candidates ``order[first .. last - 1]``; ``best`` (3,) holds (value, motion,
+def _forbids(forbidden, edge):
+    """Whether the sorted keys ``forbidden`` hold ``edge``."""
+    at = _first_at_least(forbidden, np.int64(0), forbidden.shape[0], edge)
+    return at < forbidden.shape[0] and forbidden[at] == edge
+
+
+@kernel
+def _scan(first, last, order, node, q, step, circle, value, motion, clear, best, motion_first, forbidden):
+    """Relax ``node`` from the candidates ``order[first .. last - 1]`` but the edges ``forbidden`` (module
+    docstring); ``best`` (3,) holds (value, motion,
     parent) and is updated in place; ``motion_first``: the least motion first, then the largest value.  Exact ties
     go to the lower node index, so that the result does not depend on the order of the candidates (the window's
     key joint, :func:`redkin.paths.search.key_joint`)."""
@@ -201,7 +213,7 @@ def _scan(first, last, order, node, q, step, circle, value, motion, clear, best,
                 fits = False
                 break
             total += d
-        if not fits:
+        if not fits or (forbidden.shape[0] > 0 and _forbids(forbidden, i * q.shape[0] + node)):
             continue
         v = min(reached, clear)
         m = motion[i] + total
@@ -215,7 +227,7 @@ def _scan(first, last, order, node, q, step, circle, value, motion, clear, best,
 
 @kernel
 def _relax_waypoint(before, after, kept_offsets, q, clearance, sorted_key, order, key_joint, step, circle, value,
-                    motion, parent, best, motion_first):
+                    motion, parent, best, motion_first, forbidden):
     """Relax every kept node of waypoint ``after`` from the kept nodes of waypoint ``before`` (:func:`sweep`);
     returns whether any node was reached.  The nodes are taken in the order of their key joint's value, so the
     window's ends only move forward (one pass over the waypoint before, no bisection but for a circle's wrapped
@@ -230,20 +242,24 @@ def _relax_waypoint(before, after, kept_offsets, q, clearance, sorted_key, order
         best[0], best[1], best[2] = -inf, inf, -1.0
         key = q[node, key_joint]
         if wrap and s >= pi:
-            _scan(a0, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
+            _scan(a0, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first,
+                  forbidden)
         else:
             while lo < a1 and sorted_key[lo] < key - s:
                 lo += 1
             hi = max(hi, lo)
             while hi < a1 and sorted_key[hi] <= key + s:
                 hi += 1
-            _scan(lo, hi, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
+            _scan(lo, hi, order, node, q, step, circle, value, motion, clearance[node], best, motion_first,
+                  forbidden)
             if wrap and key - s < -pi:  # the window's part beyond -pi, seen from +pi
                 first = _first_at_least(sorted_key, a0, a1, key - s + TWO_PI)
-                _scan(first, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
+                _scan(first, a1, order, node, q, step, circle, value, motion, clearance[node], best, motion_first,
+                      forbidden)
             if wrap and key + s > pi:
                 last = _first_above(sorted_key, a0, a1, key + s - TWO_PI)
-                _scan(a0, last, order, node, q, step, circle, value, motion, clearance[node], best, motion_first)
+                _scan(a0, last, order, node, q, step, circle, value, motion, clearance[node], best, motion_first,
+                      forbidden)
         value[node], motion[node], parent[node] = best[0], best[1], int(best[2])
         alive = alive or best[2] >= 0.0
     return alive
@@ -282,7 +298,7 @@ def sort_by_key(start, stop, offsets, kept, kept_offsets, key, order, sorted_key
 
 @kernel
 def sweep(path_starts, offsets, kept_offsets, q, clearance, sorted_key, order, key_joint, step, circle, value, motion,
-          parent, dead, motion_first):
+          parent, dead, motion_first, forbidden):
     """Dynamic programming over every path: ``value``, ``motion`` and ``parent`` of each node (K,).
 
     ``path_starts`` (P + 1,): the waypoints of path ``p`` are ``path_starts[p] .. path_starts[p + 1] - 1``;
@@ -291,7 +307,8 @@ def sweep(path_starts, offsets, kept_offsets, q, clearance, sorted_key, order, k
     waypoint ``w`` are ``order[kept_offsets[w] .. kept_offsets[w + 1] - 1]``, sorted by their key joint's values
     ``sorted_key`` (:func:`sort_by_key`).  The caller sets ``value`` and ``motion`` of each path's first waypoint
     (``-inf`` where a node is not allowed to start, or not kept) and ``value`` of the others to ``-inf``.
-    ``motion_first``: the objective's order is (least motion, largest value) instead of the other way.  Writes
+    ``motion_first``: the objective's order is (least motion, largest value) instead of the other way;
+    ``forbidden``: edges left out (module docstring).  Writes
     ``dead[p]``: the first waypoint of path ``p`` (counted from its start) that no node reaches, ``-1`` if
     its last one is reached.
     """
@@ -311,7 +328,7 @@ def sweep(path_starts, offsets, kept_offsets, q, clearance, sorted_key, order, k
             continue
         for w in range(first + 1, path_starts[p + 1]):
             if not _relax_waypoint(w - 1, w, kept_offsets, q, clearance, sorted_key, order, key_joint, step, circle,
-                                   value, motion, parent, best, motion_first):
+                                   value, motion, parent, best, motion_first, forbidden):
                 dead[p] = w - first
                 break
 

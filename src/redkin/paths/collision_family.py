@@ -30,6 +30,7 @@ from redkin.srs.feasible import FeasiblePieces
 if TYPE_CHECKING:  # redkin.collision's free sets use the arms, whose classes use these families: read when called
     from redkin.collision.body import Body
     from redkin.collision.scene import Scene
+    from redkin.collision.steps import StepClearance
 
 
 @dataclass(frozen=True)
@@ -105,6 +106,12 @@ class _CollisionFreeFamily(Family):
                     pair = (stretch.link, stretch.against)
                     blocked[pair] = blocked.get(pair, 0.0) + (stretch.end - stretch.start) % TWO_PI
         return "collision", (max(blocked, key=lambda pair: blocked[pair]) if blocked else None)
+
+    def steps(self, start: np.ndarray, end: np.ndarray) -> StepClearance:
+        """What :func:`redkin.collision.steps_between` proves of the steps from ``start`` to ``end``."""
+        from redkin.collision.steps import steps_between
+
+        return steps_between(self.chain, self.body, self.scene, start, end)
 
 
 def collision_free_family(family: Family, body: Body, scene: Scene) -> _CollisionFreeFamily:

@@ -19,6 +19,7 @@ proved complete, and the nodes are the polished solutions (:func:`redkin.srs.nea
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -46,6 +47,9 @@ from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
 from redkin.srs.nearly import ik as nearly_ik
 from redkin.srs.nearly.feasible import feasible_arm_angles_nearly_all
+
+if TYPE_CHECKING:  # for the type alone: only a family in a cell (paths.collision_family) checks steps
+    from redkin.collision.steps import StepClearance
 
 #: The arm angle's name in results.
 PSI = "psi"
@@ -204,6 +208,11 @@ class Family:
         """What empties the sets of a pose within reach: the reason of :data:`redkin.paths.result.REASONS`
         (``"empty"``: the joint limits) and the body's link and the obstacle that block it (``None`` here)."""
         return "empty", None
+
+    def steps(self, start: np.ndarray, end: np.ndarray) -> StepClearance | None:
+        """What is proved of the steps from each configuration of ``start`` (N, 7) to the same row of ``end`` in the
+        family's cell (:func:`redkin.collision.steps_between`); ``None`` without a cell: every step is allowed."""
+        return None
 
 
 @dataclass(frozen=True)

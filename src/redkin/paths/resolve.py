@@ -27,6 +27,7 @@ from redkin.paths import graph as graphs
 from redkin.paths import search
 from redkin.paths.arm_family import path_family
 from redkin.paths.bounds import step_bound
+from redkin.paths.clear_steps import with_clear_steps
 from redkin.paths.collision_family import collision_free_family
 from redkin.paths.failure import step_blocker
 from redkin.paths.family import Family
@@ -431,14 +432,17 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
     graph = graphs.build(arm_data, waypoint, branch, piece, psi, len(rows), ordered=not extra, shared=shared)
     if connect is not None:
         graph = graphs.connect(arm_data, graph, connect)
+    samples = graph
 
     key = search.key_joint(graph, arm_data.step, arm_data.circle)  # the refinements' graphs lie in the same pieces
 
-    def searched(graph: Graph, floor: np.ndarray | None = None) -> tuple[search.Sweep, dict[int, np.ndarray]]:
-        """The sweep of ``graph`` (each path on its nodes of clearance at least ``floor``) and the best path of each
-        path that has one."""
+    def searched(graph: Graph, floor: np.ndarray | None = None,
+                 forbidden: np.ndarray | None = None) -> tuple[search.Sweep, dict[int, np.ndarray]]:
+        """The sweep of ``graph`` (each path on its nodes of clearance at least ``floor``, without the edges
+        ``forbidden``) and the best path of each path that has one."""
         first_value, first_motion = _first_values(arm_data, graph, path_starts, starts)
-        sweep = search.run(arm_data, graph, path_starts, first_value, first_motion, motion_first, key, floor)
+        sweep = search.run(arm_data, graph, path_starts, first_value, first_motion, motion_first, key, floor,
+                           forbidden)
         chosen = {}
         for p in np.flatnonzero((prefix > 0) & (sweep.dead < 0)).tolist():
             last = search.best_end(sweep, _end_nodes(arm_data, graph, path_starts[p + 1] - 1, ends, p, last_branch),
@@ -446,6 +450,17 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
             if last >= 0:
                 chosen[p] = search.trace(sweep, last, int(prefix[p]))
         return sweep, chosen
+
+    def checked(graph: Graph, path: np.ndarray, p: int, size: int) -> PathResult:
+        """Path ``p``'s ``path`` of ``graph`` checked (:func:`_checked_path`; ``size`` nodes searched)."""
+        return _checked_path(family, arm_data, graph, path, poses[p], starts, p, size, not motion_first)
+
+    def polished(graph: Graph, path: np.ndarray, p: int, result: PathResult) -> PathResult | None:
+        """``result`` (path ``p``'s ``path`` of ``graph``) polished where that gains clearance, else ``None``."""
+        if not (polish and not motion_first and result.ok and not result.optimal):
+            return None
+        better = _polished(family, arm_data, graph, path, pieces, poses[p], path_starts[p], starts, ends, p, result)
+        return None if better is result else better
 
     sweep, chosen = _floored(graph, path_starts, searched, motion_first)
     failures = {p: _failure(family, arm_data, graph, sweep, flat[rows], path_starts, p, starts, ends, last_branch,
@@ -473,12 +488,12 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
             results.append(PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"),
                                       step, failure, nodes))
             continue
-        result = _checked_path(family, arm_data, graph, chosen[p], poses[p], starts, p, nodes, not motion_first)
-        if polish and not motion_first and result.ok and not result.optimal:
-            result = _polished(family, arm_data, graph, chosen[p], pieces, poses[p], path_starts[p], starts, ends, p,
-                               result)
-        results.append(result)
-    return results
+        result = checked(graph, chosen[p], p, nodes)
+        better = polished(graph, chosen[p], p, result) if result.ok else None
+        results.append(result if better is None else better)
+    return with_clear_steps(family, arm_data, results, samples, path_starts,
+                            lambda graph, edges: searched(graph, None, edges),
+                            lambda graph, path, p: checked(graph, path, p, len(graph.psi)), polished)
 
 
 def _polished(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, pieces: FeasiblePieces, poses: np.ndarray,

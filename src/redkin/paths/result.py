@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from redkin.collision.steps import StepClearance
     from redkin.paths.timing import Trajectory
 
 #: Why no path exists, by :attr:`PathFailure.reason`.
@@ -19,6 +20,7 @@ REASONS = {
     "start": "no feasible configuration lies within the step bound of the start configuration",
     "end": "no configuration reachable from the start meets the end condition",
     "winding": "a joint whose range exceeds 2 pi would have to turn past its range",
+    "steps": "no step into this waypoint that the searched graph allows is proved clear of the obstacles",
 }
 
 
@@ -31,8 +33,9 @@ class PathFailure:
     waypoint : int
         Index of the waypoint (0-based).
     reason : str
-        One of :data:`REASONS`: ``"out-of-reach"``, ``"empty"``, ``"step"``, ``"start"``, ``"end"`` or
-        ``"winding"``.
+        One of :data:`REASONS`: ``"out-of-reach"``, ``"empty"``, ``"collision"``, ``"step"``, ``"start"``,
+        ``"end"``, ``"winding"`` or ``"steps"`` (in a cell: every step into the waypoint that the sampled graph
+        allows runs into an obstacle or is not proved clear, :mod:`redkin.paths.clear_steps`).
     joint : int or None
         The blocking joint (1-based): for ``"empty"`` the joint whose own feasible set is empty, or whose set
         empties the intersection of the joints before it, on the most branches; for ``"step"``, ``"start"`` and
@@ -49,7 +52,8 @@ class PathFailure:
         blocked by rounding alone).
     pair : tuple of str or None
         For ``"collision"``: the body's link and the obstacle (or other link) that remove the most arm angles over
-        the branches.
+        the branches; for ``"steps"``: the pair found too close on the most of the steps left out into the
+        waypoint.
     """
 
     waypoint: int
@@ -112,6 +116,10 @@ class PathResult:
     stops : tuple of Stop
         Where the path was resolved with ``allow_stops``: the reconfiguration stops that join its continuous
         segments, fewest first (:mod:`redkin.paths.stops`); empty for a continuous path.
+    steps : StepClearance or None
+        In a cell: what is proved of each step between waypoints (:func:`redkin.collision.step_clearance`; after a
+        stop, from its departure configuration); every step of a path returned is certified clear.  ``None``
+        without a cell.
     """
 
     status: str
@@ -128,6 +136,7 @@ class PathResult:
     parameter: str = "psi"
     trajectory: Trajectory | None = None
     stops: tuple[Stop, ...] = ()
+    steps: StepClearance | None = None
 
     @property
     def ok(self) -> bool:

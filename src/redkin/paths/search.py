@@ -16,6 +16,7 @@ from redkin._compiled import run_batch
 from redkin.paths import _dp_kernels
 from redkin.paths.graph import Arm, Graph
 
+_NO_EDGES = np.empty(0, dtype=np.int64)
 #: Waypoint pairs, and nodes of each waypoint at most, on which :func:`key_joint` counts candidates.
 _KEY_PAIRS, _KEY_NODES = 4, 2048
 
@@ -41,12 +42,14 @@ class Sweep:
 
 
 def run(arm: Arm, graph: Graph, path_starts: np.ndarray, first_value: np.ndarray, first_motion: np.ndarray,
-        motion_first: bool = False, key: int | None = None, floor: np.ndarray | None = None) -> Sweep:
+        motion_first: bool = False, key: int | None = None, floor: np.ndarray | None = None,
+        forbidden: np.ndarray | None = None) -> Sweep:
     """Sweep every path; ``first_value``, ``first_motion`` (K,) are read on each path's first waypoint only;
     ``motion_first``: the least motion first, then the largest clearance; ``key``: the joint that keys the window
     of candidates (:func:`key_joint` of ``graph`` where ``None``, or where it is a joint compared on the circle
     whose values leave ``[-pi, pi]`` in ``graph``); ``floor`` (P,): each path uses only the nodes whose clearance
-    is at least this (``None``: every node)."""
+    is at least this (``None``: every node); ``forbidden``: the edges left out, sorted keys ``i * K + j`` of the
+    edges from node ``i`` to node ``j`` of ``graph``'s ``K`` (:mod:`redkin.paths._dp_kernels`)."""
     waypoint = graph.waypoint
     if key is None or not _keys_circle(graph, arm.circle, key):
         key = key_joint(graph, arm.step, arm.circle)
@@ -68,7 +71,7 @@ def run(arm: Arm, graph: Graph, path_starts: np.ndarray, first_value: np.ndarray
     _dp_kernels.sweep(np.ascontiguousarray(path_starts, dtype=np.int64), offsets, kept_offsets,
                       np.ascontiguousarray(graph.q), np.ascontiguousarray(graph.clearance), sorted_key, order, key,
                       np.ascontiguousarray(arm.step), np.ascontiguousarray(arm.circle), value, motion, parent, dead,
-                      motion_first)
+                      motion_first, _NO_EDGES if forbidden is None else np.ascontiguousarray(forbidden, dtype=np.int64))
     return Sweep(value, motion, parent, dead)
 
 

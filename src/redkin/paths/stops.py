@@ -141,9 +141,12 @@ def _joined(pieces: list[PathResult], stops: list[Stop]) -> PathResult:
     branch = pieces[0].branch + [b for p in pieces[1:] for b in p.branch[1:]]
     psi = np.concatenate([pieces[0].psi] + [p.psi[1:] for p in pieces[1:]])
     motion = sum(p.motion for p in pieces) + sum(float(np.abs(np.diff(s.path, axis=0)).sum()) for s in stops)
+    steps = pieces[0].steps
+    if steps is not None:  # in a cell: each segment's steps, in order (a stop's waypoint ends one, begins the next)
+        steps = type(steps)(*(np.concatenate([getattr(p.steps, name) for p in pieces]) for name in steps._fields))
     return replace(pieces[0], q=np.concatenate(rows), branch=branch, psi=psi,
                    clearance=min(p.clearance for p in pieces), motion=motion, nodes=sum(p.nodes for p in pieces),
-                   optimal=False, bottleneck=None, stops=tuple(stops))
+                   optimal=False, bottleneck=None, stops=tuple(stops), steps=steps)
 
 
 def timed(chain: SerialChain, result: PathResult, rate: float) -> PathResult:
