@@ -60,10 +60,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "speed being the description's velocity limit (or --speed); give --dt or --max-step")
     path.add_argument("--q0", nargs=7, type=float, metavar="Q", help="the configuration before the first waypoint")
     path.add_argument("--end-branch", metavar="BRANCH", help="branch of the last waypoint: " + BRANCH_HELP)
-    path.add_argument("--objective", choices=("clearance", "motion", "time"), default="clearance",
+    path.add_argument("--objective", choices=("clearance", "motion", "time", "obstacle-clearance"),
+                      default="clearance",
                       help="clearance: as far from the limits as the path allows, then the least motion (default); "
                            "motion: the least total joint motion, then the largest clearance; time: the shorter timed "
-                           "trajectory of those two (implies --timed)")
+                           "trajectory of those two (implies --timed); obstacle-clearance (with --scene): as far from "
+                           "the obstacles and the arm's own links as the path allows, then the least motion")
     path.add_argument("--limits", metavar="FILE",
                       help="joint velocity, acceleration and jerk limits (YAML or JSON: velocity: [...], "
                            "acceleration: [...], in rad/s and rad/s^2, or deg with --deg; or MoveIt's "
@@ -178,7 +180,9 @@ def _model_line(chain, srs_tolerance: float | None) -> str | None:
 #: What the objective prefers, in words, by ``--objective``.
 _PREFERS = {"clearance": "the largest clearance from the limits, then the least motion",
             "motion": "the least total motion, then the largest clearance",
-            "time": "the shorter timed trajectory of the paths of those two objectives"}
+            "time": "the shorter timed trajectory of the paths of those two objectives",
+            "obstacle-clearance": "the largest least distance from the obstacles and the arm's own links, then the "
+                                  "least motion"}
 
 
 def _start(chain, result, q0: np.ndarray | None, objective: str, srs_tolerance: float | None) -> dict:
@@ -317,6 +321,8 @@ def _run_path(args: argparse.Namespace) -> int:
         chain = read_motion_limits(args.limits, chain, args.deg)
         limits_source = f"--limits {args.limits}"
     cell = load_cell(args, chain)
+    if cell is None and args.objective == "obstacle-clearance":
+        raise UsageError("--objective obstacle-clearance needs the cell: give --scene FILE (and --body FILE)")
     if cell is not None and plot is not None:
         raise UsageError("--plot draws the limit sets; with --scene it is not drawn yet: drop one of them")
     step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own

@@ -107,6 +107,12 @@ class _CollisionFreeFamily(Family):
                     blocked[pair] = blocked.get(pair, 0.0) + (stretch.end - stretch.start) % TWO_PI
         return "collision", (max(blocked, key=lambda pair: blocked[pair]) if blocked else None)
 
+    def distances(self, q: np.ndarray) -> np.ndarray:
+        """The least signed distance of each configuration of ``q`` in the cell (:func:`redkin.collision.clearance`)."""
+        from redkin.collision.clearance import clearance
+
+        return clearance(self.chain, self.body, self.scene, q).distance
+
     def steps(self, start: np.ndarray, end: np.ndarray) -> StepClearance:
         """What :func:`redkin.collision.steps_between` proves of the steps from ``start`` to ``end``."""
         from redkin.collision.steps import steps_between

@@ -209,6 +209,12 @@ class Family:
         (``"empty"``: the joint limits) and the body's link and the obstacle that block it (``None`` here)."""
         return "empty", None
 
+    def distances(self, q: np.ndarray) -> np.ndarray | None:
+        """In the family's cell, the least signed distance of each configuration of ``q`` (N, 7) between the body
+        and the obstacles or its own checked links (:func:`redkin.collision.clearance`); ``None`` without a
+        cell."""
+        return None
+
     def steps(self, start: np.ndarray, end: np.ndarray) -> StepClearance | None:
         """What is proved of the steps from each configuration of ``start`` (N, 7) to the same row of ``end`` in the
         family's cell (:func:`redkin.collision.steps_between`); ``None`` without a cell: every step is allowed."""

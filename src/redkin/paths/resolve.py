@@ -72,9 +72,12 @@ _LEVEL_ROUNDS = 6
 _LEVEL_GAP = 1e-7
 #: Bisections of :func:`_ceiling` at most.
 _CEILING_STEPS = 6
-#: What :func:`resolve_path` can make best: the clearance (then the motion), the motion (then the clearance), or
-#: the duration of the timed trajectory (the faster of the other two's).
-OBJECTIVES = ("clearance", "motion", "time")
+#: What :func:`resolve_path` can make best: the clearance (then the motion), the motion (then the clearance), the
+#: duration of the timed trajectory (the faster of the other two's), or in a cell the least distance of the body to
+#: the obstacles and itself (then the motion).
+OBJECTIVES = ("clearance", "motion", "time", "obstacle-clearance")
+#: The objective that needs a cell.
+_OBSTACLES = "obstacle-clearance"
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
 OPTIMALITY_MARGIN = 1e-7
 
@@ -146,7 +149,11 @@ def resolve_path(
         limits, then the least total motion (the default); ``"motion"``, the least total joint motion, then the
         largest clearance (both stages are searched, as with ``thorough``; no clearance is proved optimal);
         ``"time"``, the shortest timed trajectory (:func:`redkin.paths.time_path`) of the two paths the other
-        objectives choose, so never slower than either (it needs the chain's velocity and acceleration limits).
+        objectives choose, so never slower than either (it needs the chain's velocity and acceleration limits);
+        ``"obstacle-clearance"`` (in a cell, ``body`` and ``scene``), the largest least distance over the waypoints
+        between the body and the obstacles or its own checked links (:attr:`PathResult.cell_clearance`), then the
+        least motion: every node of the graph is valued by its distance instead of its clearance from the limits
+        (both stages are searched; the graph's best, not proved optimal).
     srs_tolerance : float, optional
         The nearly S-R-S tolerance of :func:`redkin.arms.classify.arm_angle_class` [m] for a chain of neither exact
         class.
@@ -254,6 +261,8 @@ def resolve_paths(
         raise RedkinError(f"refinements must be an integer >= 0, got {refinements!r}")
     if objective not in OBJECTIVES:
         raise RedkinError(f"objective must be one of {', '.join(OBJECTIVES)}, got {objective!r}")
+    if objective == _OBSTACLES and scene is None:
+        raise RedkinError("the objective obstacle-clearance needs a cell: the arm's body and the scene")
     if objective == "time" and timing is None:
         timing = DEFAULT_RATE
     if timing is not None:  # refused before the search, not after it
@@ -305,7 +314,10 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
     start[reach], end[reach], feasible[reach] = found.start, found.end, found.feasible
     along = _Along(reach.reshape(count, length), arm_along, FeasiblePieces(start, end, feasible))
     motion = objective == "motion"
-    results = _search(family, poses, along, starts, ends, last_branch, sampler, None, refinements, polish, motion)
+    value = family.distances if objective == _OBSTACLES else None
+    polish = polish and value is None  # the polish raises the clearance from the limits
+    results = _search(family, poses, along, starts, ends, last_branch, sampler, None, refinements, polish, motion,
+                      value)
     if connect is None:
         return results
     again = [p for p, result in enumerate(results) if (result.ok and (thorough or motion or not result.optimal))
@@ -314,9 +326,9 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
         rows = np.array(again)
         finer = _search(family, poses[rows], along.paths(rows), None if starts is None else starts[rows],
                         None if ends is None else ends[rows], last_branch, sampler, connect, refinements, polish,
-                        motion)
+                        motion, value)
         for p, result in zip(again, finer):
-            results[p] = _better(results[p], result, motion)
+            results[p] = _better(results[p], result, objective)
     if levels and not motion and family.exact:
         for p, result in enumerate(results):
             if result.ok and not result.optimal:
@@ -377,11 +389,15 @@ def _ceiling(family: Family, poses: np.ndarray, least: float) -> float:
     return high
 
 
-def _better(coarse: PathResult, fine: PathResult, motion_first: bool) -> PathResult:
-    """Of two answers for one path, the found one, or the larger clearance then the lesser motion (``motion_first``:
-    the other way round); ``nodes`` counts both searches."""
+def _better(coarse: PathResult, fine: PathResult, objective: str) -> PathResult:
+    """Of two answers for one path, the found one, or the larger clearance then the lesser motion (``"motion"``:
+    the other way round; ``"obstacle-clearance"``: the larger least distance in the cell, then the lesser motion);
+    ``nodes`` counts both searches."""
     def key(result: PathResult) -> tuple[float, float]:
-        return (-result.motion, result.clearance) if motion_first else (result.clearance, -result.motion)
+        if objective == "motion":
+            return -result.motion, result.clearance
+        first = result.cell_clearance if objective == _OBSTACLES else result.clearance
+        return float("nan" if first is None else first), -result.motion
 
     best = fine
     if coarse.ok and (not fine.ok or key(coarse) > key(fine)):
@@ -410,9 +426,16 @@ class _Along:
 
 def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray | None,
             ends: np.ndarray | None, last_branch: int | None, sampler: Callable, connect: float | None,
-            refinements: int, polish: bool, motion_first: bool) -> list[PathResult]:
+            refinements: int, polish: bool, motion_first: bool,
+            value: Callable[[np.ndarray], np.ndarray | None] | None = None) -> list[PathResult]:
     """One search of :func:`search_paths`: the graph of the samples (subdivided by ``connect`` unless ``None``),
-    swept, refined around the paths found, each path checked and its optimality tried."""
+    swept, refined around the paths found, each path checked and its optimality tried; ``value(q)``: each node's
+    value for the sweep instead of its clearance from the limits (the objective ``"obstacle-clearance"``)."""
+
+    def valued(graph: Graph) -> Graph:
+        values = None if value is None else value(graph.q)
+        return graph if values is None else replace(graph, clearance=values)
+
     count, length = poses.shape[:2]
     flat = np.ascontiguousarray(poses.reshape(-1, 4, 4))
     reach = along.reach
@@ -432,7 +455,7 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
     graph = graphs.build(arm_data, waypoint, branch, piece, psi, len(rows), ordered=not extra, shared=shared)
     if connect is not None:
         graph = graphs.connect(arm_data, graph, connect)
-    samples = graph
+    graph = samples = valued(graph)
 
     key = search.key_joint(graph, arm_data.step, arm_data.circle)  # the refinements' graphs lie in the same pieces
 
@@ -474,7 +497,7 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
             break
         path_nodes = np.concatenate([chosen[p] for p in sorted(chosen)])
         frozen = np.concatenate([np.full(len(chosen[p]), rounds[p] <= done) for p in sorted(chosen)])
-        graph = graphs.window(arm_data, graph, path_nodes, width, bounds, len(rows), frozen)
+        graph = valued(graphs.window(arm_data, graph, path_nodes, width, bounds, len(rows), frozen))
         nodes += len(graph.psi)
         _, chosen = searched(graph)
         width *= 0.5
@@ -689,8 +712,10 @@ def _checked_path(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, pos
     parameter = np.asarray(wrap_angle(graph.psi[nodes])) if family.wraps else q[:, 6].copy()
     clearance = arm.clearance(q)
     bottleneck = _bottleneck(family, poses, clearance) if prove else None
+    distances = family.distances(q)
     return PathResult("ok", q, [str(BRANCHES[b]) for b in graph.branch[nodes]], parameter, float(clearance.min()),
-                      motion, arm.step, None, size, bottleneck is not None, bottleneck, family.parameter)
+                      motion, arm.step, None, size, bottleneck is not None, bottleneck, family.parameter,
+                      cell_clearance=None if distances is None else float(distances.min()))
 
 
 def _proved(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, poses: np.ndarray) -> bool:

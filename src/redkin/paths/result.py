@@ -120,6 +120,10 @@ class PathResult:
         In a cell: what is proved of each step between waypoints (:func:`redkin.collision.step_clearance`; after a
         stop, from its departure configuration); every step of a path returned is certified clear.  ``None``
         without a cell.
+    cell_clearance : float or None
+        In a cell: the least signed distance over the waypoints between the body and the obstacles or its own
+        checked links (metres, at least the scene's margin); what the objective ``"obstacle-clearance"`` makes
+        largest.  ``None`` without a cell.
     """
 
     status: str
@@ -137,6 +141,7 @@ class PathResult:
     trajectory: Trajectory | None = None
     stops: tuple[Stop, ...] = ()
     steps: StepClearance | None = None
+    cell_clearance: float | None = None
 
     @property
     def ok(self) -> bool:

@@ -146,7 +146,8 @@ def _joined(pieces: list[PathResult], stops: list[Stop]) -> PathResult:
         steps = type(steps)(*(np.concatenate([getattr(p.steps, name) for p in pieces]) for name in steps._fields))
     return replace(pieces[0], q=np.concatenate(rows), branch=branch, psi=psi,
                    clearance=min(p.clearance for p in pieces), motion=motion, nodes=sum(p.nodes for p in pieces),
-                   optimal=False, bottleneck=None, stops=tuple(stops), steps=steps)
+                   optimal=False, bottleneck=None, stops=tuple(stops), steps=steps,
+                   cell_clearance=min((p.cell_clearance for p in pieces if p.cell_clearance is not None), default=None))
 
 
 def timed(chain: SerialChain, result: PathResult, rate: float) -> PathResult:
