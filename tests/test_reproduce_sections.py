@@ -254,3 +254,34 @@ def test_models_section_has_the_franka_case_over_q7(full_report):
     assert "extension beyond paper 000" in page and 'href="models_franka_explore.html"' in page
     assert (full_report / "models_franka_q7_curves.png").exists()
     assert '"name":"q7"' in (full_report / "models_franka_explore.html").read_text()
+
+
+def test_models_section_has_the_worked_cell(full_report):
+    """The iiwa14 in a cell: each branch's widths are those of collision_free_arm_angles at the middle waypoint
+    (independently summed here), the path of the limits alone runs into the post, and the path in the cell keeps the
+    margin at every waypoint, measured here, with every step proved clear."""
+    from redkin.arms import arm
+    from redkin.collision import clearance, collision_free_arm_angles, step_clearance
+    from redkin.paths import resolve_path
+    from redkin.reproduce.cell_case import _MAX_STEP, cell
+
+    chain, body, scene, poses = cell()
+    free = collision_free_arm_angles(arm(chain), poses[len(poses) // 2], body, scene)
+    rows = _rows(_tables(full_report, "models")["cell_sets"])
+    assert [row["branch"] for row in rows] == list(free.branches)
+    for row, limits, clear in zip(rows, free.limits, free.free):
+        for arcs, column in ((limits, "width [deg]"), (clear, "free width [deg]")):
+            width = sum((hi - lo) % (2 * np.pi) for lo, hi in arcs.bounds.tolist())
+            assert row[column] == pytest.approx(np.degrees(width), abs=1e-9)
+    assert any(row["free width [deg]"] < row["width [deg]"] - 1.0 for row in rows)  # the post removes arm angles
+    plain, inside = _rows(_tables(full_report, "models")["cell_paths"])
+    expected = resolve_path(chain, poses, _MAX_STEP, body=body, scene=scene)
+    assert plain["least distance [m]"] < 0.0 and "post" in plain["closest pair"]
+    measured = clearance(chain, body, scene, expected.q).distance
+    assert inside["least distance [m]"] == pytest.approx(float(measured.min()), abs=1e-12)
+    assert measured.min() >= scene.margin - 1e-12
+    assert step_clearance(chain, body, scene, expected.q).certified.all()
+    assert inside["steps proved clear"] == f"{len(poses) - 1} of {len(poses) - 1}"
+    page = (full_report / "index.html").read_text()
+    assert "the elbow swings around the post" in page
+    assert (full_report / "models_cell_sets.png").exists() and (full_report / "models_cell_arm.png").exists()

@@ -1,4 +1,5 @@
-"""Report section: the robot models, drawn, with their parameter tables, and a Franka case over q7."""
+"""Report section: the robot models, drawn, with their parameter tables, a Franka case over q7 and a worked cell
+(:mod:`redkin.reproduce.cell_case`)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from redkin.models import MODELS, franka_fr3
 from redkin.plot.arm import draw_arm_2d, draw_arm_3d, set_equal_3d
 from redkin.plot.franka import plot_q7_curves
 from redkin.reproduce import Section, section_key
+from redkin.reproduce.cell_case import cell_case
 from redkin.reproduce.report import SectionWriter
 from redkin.srs import parse_branch
 
@@ -72,7 +74,9 @@ def build(writer: SectionWriter) -> None:
                       f"Sample q = {np.round(np.degrees(q_sample), 1).tolist()} deg.")
         writer.progress((index + 1) / (len(MODELS) + 1), name)
     _franka_case(writer)
-    writer.progress(1.0, "franka-fr3 over q7")
+    writer.progress((len(MODELS) + 0.5) / (len(MODELS) + 1), "franka-fr3 over q7")
+    cell_case(writer)
+    writer.progress(1.0, "kuka-iiwa14 in a cell")
 
 
 def _franka_case(writer: SectionWriter) -> None:
@@ -129,6 +133,6 @@ SECTION = Section(
     title="Robot models",
     reference="Models of paper 000 (PA10-7C), paper 003 (Barrett WAM), thesis 001 (dual-arm humanoid), "
     "paper 004 (planar arm), the KUKA LBR iiwa 14 R820 data sheet and Franka's franka_description; the Franka "
-    "case over q7 is redkin's own (docs/franka.md).",
+    "case over q7 (docs/franka.md) and the worked cell (docs/collisions.md) are redkin's own.",
     build=build,
 )
