@@ -21,7 +21,14 @@ from hypothesis import strategies as st
 import redkin
 from redkin.circle import ArcSet
 from redkin.collision import primitives
-from redkin.collision.arm_angle_free import COLLISION, LIMIT, UNDECIDED, _joint_rates, collision_free_arm_angles
+from redkin.collision.arm_angle_free import (
+    COLLISION,
+    LIMIT,
+    UNDECIDED,
+    _joint_rates,
+    collision_free_arm_angles,
+    free_arm_angles_of,
+)
 from redkin.collision.body import BodyCapsule, body_of, posed
 from redkin.collision.distances import signed_distance
 from redkin.collision.scene import Scene
@@ -225,6 +232,26 @@ def test_the_arm_answers_the_free_sets_in_its_own_shapes(iiwa):
                 ArcSet(direct.free[b].bounds.tolist()), 1e-12)
     with pytest.raises(RedkinError, match="both"):
         iiwa.feasible(poses, body=body)
+
+
+def test_poses_decided_together_equal_each_pose_alone(iiwa):
+    """Batched equals looped: each pose's intervals are halved on their own, whatever the others in the batch."""
+    chain = iiwa.chain
+    rng = np.random.default_rng(5)
+    q = rng.uniform(chain.lower * 0.8, chain.upper * 0.8, (6, 7))
+    q[1] = [0.3, 0.6, 0.2, -1.2, 0.4, 0.8, 0.1]
+    poses = chain.fk(q)
+    body, scene = _body(chain), _scene()
+    together = free_arm_angles_of(iiwa, poses, body, scene, ["+++", "--+", "-+-"])
+    assert any(any(len(arcs.bounds) for arcs in free.free) for free in together)
+    for pose, free in zip(poses, together, strict=True):
+        alone = collision_free_arm_angles(iiwa, pose, body, scene, ["+++", "--+", "-+-"])
+        assert free.branches == alone.branches and free.blocked == alone.blocked
+        assert (free.evaluations, free.complete) == (alone.evaluations, alone.complete)
+        for mine, theirs in zip(free.free + free.limits, alone.free + alone.limits, strict=True):
+            assert np.array_equal(mine.bounds, theirs.bounds) and np.array_equal(mine.wraps, theirs.wraps)
+    with pytest.raises(RedkinError, match=r"\(P, 4, 4\)"):
+        free_arm_angles_of(iiwa, poses[0], body, scene)
 
 
 @pytest.mark.parametrize("width", [1e-4, 1e-5])

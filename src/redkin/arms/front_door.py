@@ -266,18 +266,16 @@ class Arm:
               scene: Scene | None) -> FeasibleSets:
         """:meth:`feasible` in a cell: each pose's certified collision-free arcs as pieces."""
         from redkin._validation import check_pose
-        from redkin.collision.arm_angle_free import collision_free_arm_angles
+        from redkin.collision.arm_angle_free import free_arm_angles_of
         from redkin.paths.family import as_pieces
 
         if body is None or scene is None:
             raise RedkinError("collision-free sets need both the arm's body and the scene")
         checked = check_pose(poses)
         labels = self._labels(branches)
-        sets = []
-        for pose in checked.reshape(-1, 4, 4):
-            free = collision_free_arm_angles(self, pose, body, scene, labels)
-            sets.append([[(lo, hi + TWO_PI if wraps else hi) for (lo, hi), wraps
-                          in zip(arcs.bounds.tolist(), arcs.wraps.tolist(), strict=True)] for arcs in free.free])
+        sets = [[[(lo, hi + TWO_PI if wraps else hi) for (lo, hi), wraps
+                  in zip(arcs.bounds.tolist(), arcs.wraps.tolist(), strict=True)] for arcs in free.free]
+                for free in free_arm_angles_of(self, checked.reshape(-1, 4, 4), body, scene, labels)]
         pieces = as_pieces(sets, len(labels))
         shape = checked.shape[:-2] + pieces.start.shape[1:]
         assert self.parameter is not None

@@ -155,6 +155,17 @@ def collision_free_arm_angles(arm: Arm, pose: ArrayLike, body: Body, scene: Scen
         For an arm of another class (named), a body on another number of joints, a malformed pose or a resolution
         that is not > 0; :class:`redkin.errors.UnreachablePoseError` for a pose out of reach.
     """
+    checked = check_pose(pose)
+    if checked.shape != (4, 4):
+        raise RedkinError(f"pose must be one 4x4 transform, got shape {checked.shape}")
+    return free_arm_angles_of(arm, checked[None], body, scene, branches, resolution=resolution, budget=budget)[0]
+
+
+def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
+                       branches: str | tuple[str, ...] | list[str] | None = None, *, resolution: float = 1e-6,
+                       budget: int = 100_000) -> list[FreeArmAngles]:
+    """:func:`collision_free_arm_angles` of each pose of ``poses`` ``(P, 4, 4)``, decided together: the intervals
+    of every pose and branch are halved in one batch, so the work per level is shared (``budget`` per pose)."""
     if not isinstance(arm.implementation, SRSKind):
         raise RedkinError(f"certified collision-free sets are computed on S-R-S and offset-elbow arms so far; "
                           f"{arm.chain.name} is {arm.kind} (the other classes are a later step of issue 40)")
@@ -162,59 +173,70 @@ def collision_free_arm_angles(arm: Arm, pose: ArrayLike, body: Body, scene: Scen
         raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {arm.chain.name} has {arm.chain.n} joints")
     if not (np.isfinite(resolution) and resolution > 0.0):
         raise RedkinError(f"resolution must be a number > 0 (radians), got {resolution!r}")
-    pose = check_pose(pose)
-    if pose.shape != (4, 4):
-        raise RedkinError(f"pose must be one 4x4 transform, got shape {pose.shape}")
-    limits = arm.feasible(pose, branches)
+    poses = check_pose(poses)
+    if poses.ndim != 3:
+        raise RedkinError(f"poses must have shape (P, 4, 4), got shape {poses.shape}")
+    limits = arm.feasible(poses, branches)
     geometry = arm.implementation.geometry
-    rows = np.array([arm.branches.index(label) for label in limits.branches])
+    labels = limits.branches
+    count = len(labels)
+    rows = np.array([arm.branches.index(label) for label in labels])
     signs = geometry.kernel_branches[rows]
     elbow = np.where(signs[:, 1] > 0.0, 0, 1)  # the Table 1 elbow sign of each branch, as coefficients' row
-    coefficients, _, _ = coefficient_arrays(geometry, pose, np.array([1.0, -1.0]))
-    entries = coefficients.entries  # (2, 3, 14): elbow sign +1, -1
-    limit_arcs = tuple(limits.arcs(label) for label in limits.branches)
-    measure = _Measure(arm, pose, body, scene, signs, geometry)
+    coefficients, _, _ = coefficient_arrays(geometry, poses[:, None], np.array([1.0, -1.0]))
+    entries = coefficients.entries  # (P, 2, 3, 14): elbow sign +1, -1
+    limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
+    measure = _Measure(arm, poses, body, scene, signs, geometry)
 
     def rates(owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
-        return measure.speeds(_joint_rates(entries[elbow[owner]], middle, half))
+        return measure.speeds(owner // count, _joint_rates(entries[owner // count, elbow[owner % count]], middle,
+                                                           half))
 
-    parts, complete = _decide(*_first_intervals(limit_arcs), resolution / 2.0, measure, rates, budget)
+    parts, undone = _decide(*_first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]),
+                            resolution / 2.0, measure, rates, budget * len(poses))
+    complete = np.ones(len(poses), dtype=bool)
+    complete[undone // count] = False
     finest = resolution / 4.0
-    while complete:  # runs of undecided intervals wider than the resolution, halved further
-        wide = _wide_undecided(parts, resolution)
+    while True:  # runs of undecided intervals wider than the resolution, halved further
+        wide = _wide_undecided(parts, resolution) & complete[parts[2] // count]
         if not wide.any():
             break
         if finest < resolution * 1e-6:  # a clearance that grazes the margin over a stretch: left undecided
-            complete = False
+            complete[parts[2][wide] // count] = False
             break
-        again, complete = _decide(parts[0][wide], parts[1][wide], parts[2][wide], finest, measure, rates, budget)
+        again, undone = _decide(parts[0][wide], parts[1][wide], parts[2][wide], finest, measure, rates,
+                                budget * len(poses))
+        complete[undone // count] = False
         parts = tuple(np.concatenate([part[~wide], more]) for part, more in zip(parts, again, strict=True))
         finest /= 2.0
-    free_sets, blocked = [], []
-    at_limits = _limit_stretches(arm, pose, limits.branches, limit_arcs)
-    for b in range(len(limits.branches)):
-        mine = parts[2] == b
-        free_sets.append(_as_arcs(parts[0][mine & (parts[3] == 0)], parts[1][mine & (parts[3] == 0)]))
-        stretches = _collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
-                                         measure.names)
-        stretches += at_limits[b]
-        blocked.append(tuple(sorted(stretches, key=lambda stretch: stretch.start)))
-    return FreeArmAngles(limits.branches, tuple(free_sets), limit_arcs, tuple(blocked), float(resolution),
-                         measure.evaluations, complete)
+    results = []
+    for p, pose in enumerate(poses):
+        free_sets, blocked = [], []
+        at_limits = _limit_stretches(arm, pose, labels, limit_arcs[p])
+        for b in range(count):
+            mine = parts[2] == p * count + b
+            free_sets.append(_as_arcs(parts[0][mine & (parts[3] == 0)], parts[1][mine & (parts[3] == 0)]))
+            stretches = _collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
+                                             measure.names)
+            stretches += at_limits[b]
+            blocked.append(tuple(sorted(stretches, key=lambda stretch: stretch.start)))
+        results.append(FreeArmAngles(labels, tuple(free_sets), limit_arcs[p], tuple(blocked), float(resolution),
+                                     int(measure.evaluations[p]), bool(complete[p])))
+    return results
 
 
 def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, measure: _Measure, rates: Callable,
-            budget: int) -> tuple[tuple[np.ndarray, ...], bool]:
+            budget: int) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
     """Halve the intervals ``[lo, hi]`` of the branches ``owner`` until each is free, blocked, or undecided and no
     wider than ``finest`` (module docstring); ``rates(owner, middle, half)`` bounds each pair's speed.
 
     Returns ``(lo, hi, owner, kind, pair)`` of the decided intervals (kind 0 free, 1 blocked by ``pair``, 2
-    undecided), and whether they were all decided within the budget (else the open ones are undecided).
+    undecided), and the owners of the intervals still open when the budget ran out (left undecided).
     """
     decided: list[tuple[np.ndarray, ...]] = [(lo[:0], hi[:0], owner[:0], owner[:0], owner[:0])]
     active = np.ones((len(lo), measure.count), dtype=bool)  # the pairs not yet proved clear on each interval
     while len(lo):
-        if measure.evaluations + len(lo) > budget:
+        if measure.evaluations.sum() + len(lo) > budget:
             decided.append((lo, hi, owner, np.full(len(lo), 2), np.zeros(len(lo), dtype=np.int64)))
             break
         middle, half = (lo + hi) / 2.0, (hi - lo) / 2.0
@@ -236,7 +258,7 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, me
                          np.concatenate([owner[split], owner[split]]))
         active = np.concatenate([active[split], active[split]])
     parts = tuple(np.concatenate(column) for column in zip(*decided, strict=True))
-    return parts, not len(lo)
+    return parts, owner
 
 
 def _wide_undecided(parts: tuple[np.ndarray, ...], resolution: float) -> np.ndarray:
@@ -257,9 +279,9 @@ def _wide_undecided(parts: tuple[np.ndarray, ...], resolution: float) -> np.ndar
     return wide
 
 
-def _first_intervals(arcs: tuple[Arcs, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Each branch's limit-feasible arcs cut into intervals no wider than :data:`_FIRST_WIDTH`, unrolled so that
-    ``lo < hi`` (an arc through the seam ends beyond pi)."""
+def _first_intervals(arcs: list[Arcs]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each owner's limit-feasible arcs (a pose's branch) cut into intervals no wider than :data:`_FIRST_WIDTH`,
+    unrolled so that ``lo < hi`` (an arc through the seam ends beyond pi)."""
     lo: list[float] = []
     hi: list[float] = []
     owner: list[int] = []
@@ -300,42 +322,48 @@ def _joint_rates(entries: np.ndarray, middle: np.ndarray, half: np.ndarray) -> n
 
 
 class _Measure:
-    """The clearances of every checked pair at arm angles of one pose, and the speed bounds of the body's capsules
-    (module docstring)."""
+    """The clearances of every checked pair at arm angles of the poses, and the speed bounds of the body's capsules
+    (module docstring); an interval's owner is ``pose * B + branch`` over the ``B`` branches of ``signs``."""
 
-    def __init__(self, arm: Arm, pose: np.ndarray, body: Body, scene: Scene, signs: np.ndarray,
+    def __init__(self, arm: Arm, poses: np.ndarray, body: Body, scene: Scene, signs: np.ndarray,
                  geometry: SRSGeometry) -> None:
-        self.arm, self.pose, self.body, self.scene, self.signs, self.geometry = arm, pose, body, scene, signs, geometry
-        self.evaluations = 0
+        self.arm, self.poses, self.body, self.scene = arm, poses, body, scene
+        self.signs, self.geometry = signs, geometry
+        self.evaluations = np.zeros(len(poses), dtype=np.int64)  # per pose
         self.pairs = checked_pairs(body, scene)
         self.names, self.count = self.pairs.names, len(self.pairs.names)
-        self.reach: np.ndarray | None = None  # per capsule: its distance from what it turns about
+        self.reach = np.full((len(poses), len(body)), np.nan)  # per pose and capsule: its distance from what it turns
+        # about, read from the pose's first configuration measured (it is the same at every arm angle)
 
     def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
-        """Clearances ``(N, P)`` (distance minus margin) at arm angles ``middle`` of the branches ``owner``, of the
+        """Clearances ``(N, P)`` (distance minus margin) at arm angles ``middle`` of the owners ``owner``, of the
         pairs ``active`` ``(N, P)`` (``inf`` for the others: already proved clear on a wider interval)."""
-        q, _, _, _ = solve_with_status(self.geometry, self.pose, middle, self.signs)
-        q = q[np.arange(len(middle)), owner]
+        branches = len(self.signs)
+        pose = owner // branches
+        q, _, _, _ = solve_with_status(self.geometry, self.poses[pose], middle, self.signs)
+        q = q[np.arange(len(middle)), owner % branches]
         frames = self.arm.chain.frames(q)
         shapes = posed(self.body, frames)
-        if self.reach is None:
-            self.reach = self._reach(frames[0], shapes[0])
-        self.evaluations += len(middle)
+        new, first = np.unique(pose, return_index=True)
+        fresh = np.isnan(self.reach[new, 0]) if len(self.body) else np.zeros(len(new), dtype=bool)
+        for p, at in zip(new[fresh].tolist(), first[fresh].tolist(), strict=True):
+            self.reach[p] = self._reach(frames[at], shapes[at])
+        np.add.at(self.evaluations, pose, 1)
         at, pair = np.nonzero(active)
         clearance = np.full(active.shape, np.inf)
         clearance[at, pair] = pair_distances(shapes, self.scene, self.pairs, at, pair) - self.scene.margin
         return clearance
 
-    def speeds(self, rates: np.ndarray) -> np.ndarray:
+    def speeds(self, pose: np.ndarray, rates: np.ndarray) -> np.ndarray:
         """Per interval and pair ``(N, P)``, a bound of how fast the pair's distance changes per radian of psi,
-        from the joint-rate bounds ``(N, 4)`` of :func:`_joint_rates`."""
-        assert self.reach is not None
+        from the joint-rate bounds ``(N, 4)`` of :func:`_joint_rates` and the interval's pose ``pose`` (N,)."""
         one, two, six, seven = rates.T
         per_frame = np.stack([np.zeros_like(one), one, one + two, np.ones_like(one), np.ones_like(one), six + seven,
                               seven, np.zeros_like(one)], axis=1)  # (N, 8): how fast each frame turns
         turning = per_frame[:, np.minimum(self.body.frame, 7)]
+        reach = self.reach[pose]
         with np.errstate(invalid="ignore"):
-            speed = np.where(self.reach > 0.0, self.reach * turning, 0.0)  # 0 * inf: a shape on its own axis
+            speed = np.where(reach > 0.0, reach * turning, 0.0)  # 0 * inf: a shape on its own axis
         total = speed[:, self.pairs.capsule]
         has_other = self.pairs.other >= 0
         total[:, has_other] += speed[:, self.pairs.other[has_other]]

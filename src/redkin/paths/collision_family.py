@@ -54,18 +54,18 @@ class _CollisionFreeFamily(Family):
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free arcs."""
         from redkin.arms.front_door import arm
-        from redkin.collision.arm_angle_free import collision_free_arm_angles
+        from redkin.collision.arm_angle_free import free_arm_angles_of
 
         exact = self.base.pieces(poses)
-        classified = arm(self.chain)
+        some = np.flatnonzero(exact.feasible.any(axis=(1, 2)))  # the waypoints the limits leave arm angles at
+        free = dict(zip(some.tolist(), free_arm_angles_of(arm(self.chain), poses[some], self.body, self.scene)))
         sets: list[list[list[tuple[float, float]]]] = []
-        for w, pose in enumerate(poses):
-            if not exact.feasible[w].any():
+        for w in range(len(poses)):
+            if w not in free:
                 sets.append([[] for _ in BRANCHES])
                 continue
-            free = collision_free_arm_angles(classified, pose, self.body, self.scene)
             sets.append([_cut(exact.start[w, b][exact.feasible[w, b]], exact.end[w, b][exact.feasible[w, b]],
-                              free.free[b].bounds, free.free[b].wraps) for b in range(len(BRANCHES))])
+                              free[w].free[b].bounds, free[w].free[b].wraps) for b in range(len(BRANCHES))])
         return as_pieces(sets)
 
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
