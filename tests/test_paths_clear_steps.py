@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import redkin
+from redkin.cli.path import _stop_report
 from redkin.collision import BodyCapsule, Scene, body_of, clearance, primitives, step_clearance, steps_between
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path, search
@@ -165,3 +166,30 @@ def test_a_path_with_stops_in_a_cell_holds_the_steps_of_every_segment(iiwa):
     after = np.concatenate([result.q[: stop + 1], result.stops[0].path[-1:], result.q[stop + 1 :]])
     assert _dense_clearance(NARROW, body, post, after[: stop + 1]) >= post.margin - 1e-12
     assert _dense_clearance(NARROW, body, post, after[stop + 1 :]) >= post.margin - 1e-12
+    (reconfiguration,) = result.stops  # checked, not searched: its own proof, and its message says which
+    assert reconfiguration.steps is not None
+    assert reconfiguration.steps.certified.shape == (len(reconfiguration.path) - 1,)
+    if reconfiguration.steps.certified.all():
+        assert "; proved clear of the obstacles" in reconfiguration.message
+        assert _dense_clearance(NARROW, body, post, reconfiguration.path) >= post.margin - 1e-12
+    else:
+        assert "NOT proved clear" in reconfiguration.message
+    assert resolve_path(NARROW, poses, STEP, allow_stops=True).stops[0].steps is None
+
+
+def test_a_reconfiguration_through_an_obstacle_is_named(iiwa):
+    """A stop's free-space move is checked, not searched: a ball where the plain path's move passes is reported."""
+    _, body = iiwa
+    poses = _sweep(3.0, 22)
+    (plain,) = resolve_path(NARROW, poses, STEP, allow_stops=True).stops
+    assert plain.motion == "free-space"
+    middle = NARROW.frames((plain.path[0] + plain.path[-1]) / 2)[3, :3, 3]  # the elbow halfway through the move
+    ball = Scene(("ball",), primitives.sphere(middle, 0.05)[None], 0.01)
+    result = resolve_path(NARROW, poses, STEP, allow_stops=True, body=body, scene=ball)
+    assert result.ok and result.steps.certified.all()
+    (stop,) = result.stops
+    assert stop.steps.blocked.any() and "NOT proved clear of the obstacles: " in stop.message
+    assert _dense_clearance(NARROW, body, ball, stop.path) < ball.margin
+    report = _stop_report(stop, False)  # redkin path --json's entry of the stop
+    assert report["clear"] is False and [stop.steps.link[stop.steps.blocked][0], "ball"] in report["blocked_by"]
+    assert "clear" not in _stop_report(plain, False)

@@ -265,7 +265,16 @@ def _stop_report(stop, degrees: bool) -> dict:
             "branch_after": stop.branch_after, "parameter_before": angles_out(stop.parameter_before, degrees),
             "parameter_after": angles_out(stop.parameter_after, degrees), "joint": stop.joint,
             "move": angles_out(stop.move, degrees), "motion": stop.motion,
-            "q_after": angles_out(stop.path[-1], degrees), "message": stop.message}
+            "q_after": angles_out(stop.path[-1], degrees), "message": stop.message, **_stop_in_cell(stop)}
+
+
+def _stop_in_cell(stop) -> dict:
+    """In a cell, whether a stop's reconfiguration is proved clear and the pairs found blocking it; else nothing."""
+    steps = stop.steps
+    if steps is None:
+        return {}
+    pairs = zip(steps.link[steps.blocked].tolist(), steps.against[steps.blocked].tolist(), strict=True)
+    return {"clear": bool(steps.certified.all()), "blocked_by": [list(pair) for pair in sorted(set(pairs))]}
 
 
 def _jerk_ratio(trajectory, chain) -> float | None:

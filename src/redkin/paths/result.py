@@ -173,6 +173,10 @@ class Stop:
         ``"self-motion"`` (the tool stays at the pose; see the module's docstring) or ``"free-space"``.
     path : numpy.ndarray, shape (M, n)
         The joint values of the reconfiguration, from the arrival configuration (first row) to the departure one.
+    steps : StepClearance or None
+        In a cell: what is proved of the steps along :attr:`path` (the joints moving linearly between its rows); a
+        reconfiguration is not searched around the obstacles, so a step may be blocked (:attr:`message` says so).
+        ``None`` without a cell.
     """
 
     waypoint: int
@@ -185,11 +189,18 @@ class Stop:
     move: float
     motion: str
     path: np.ndarray
+    steps: StepClearance | None = None
 
     @property
     def message(self) -> str:
-        """One line: where, why, and how the arm reconfigures."""
+        """One line: where, why, and how the arm reconfigures (in a cell, whether its motion is proved clear)."""
         change = (f"from branch {self.branch_before} to {self.branch_after}" if self.reason == "branch" else
                   f"on branch {self.branch_before}, {self.parameter_before:.6g} -> {self.parameter_after:.6g}")
+        cell = ""
+        if self.steps is not None:
+            cell = ("; proved clear of the obstacles" if self.steps.certified.all() else
+                    "; NOT proved clear of the obstacles" + (f": {self.steps.link[self.steps.blocked][0]} meets "
+                                                              f"{self.steps.against[self.steps.blocked][0]}"
+                                                              if self.steps.blocked.any() else ""))
         return (f"stop at waypoint {self.waypoint}: {STOP_REASONS[self.reason]} ({change}; joint {self.joint} moves "
-                f"{self.move:.6g} rad, {self.motion})")
+                f"{self.move:.6g} rad, {self.motion}{cell})")

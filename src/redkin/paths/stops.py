@@ -17,7 +17,9 @@ number of stops, and the path fails there as without stops.
 Between the arrival and departure configurations of a stop (one pose), the arm moves along its *self-motion* where
 both lie on one branch in one feasible piece of that pose (the tool stays still; the joint path is the closed form
 along the parameter between them); otherwise the move is named a *free-space* move (a straight joint-space motion,
-during which the tool leaves the path).
+during which the tool leaves the path).  In a cell the reconfiguration's steps are checked, not searched: a
+self-motion stays inside one collision-free piece, but a free-space move may cross an obstacle, and
+:attr:`redkin.paths.Stop.steps` (and its message) says whether it is proved clear.
 
 :func:`timed` gives a result its trajectory (:func:`redkin.paths.time_path`), at rest at each stop and through its
 reconfiguration.
@@ -84,11 +86,12 @@ def _stop(family: Family, poses: np.ndarray, step: np.ndarray, before: PathResul
     path = None if branch_before != branch_after else _self_motion(family, poses[waypoint], step, branch_before,
                                                                      psi_before, psi_after, q_before, q_after)
     moves = np.abs(q_after - q_before)
+    rows = np.stack([q_before, q_after]) if path is None else path
     return Stop(waypoint=waypoint, reason="branch" if branch_before != branch_after else "jump",
                 branch_before=branch_before, branch_after=branch_after, parameter_before=psi_before,
                 parameter_after=psi_after, joint=int(np.argmax(moves)) + 1, move=float(moves.max()),
-                motion="free-space" if path is None else "self-motion",
-                path=np.stack([q_before, q_after]) if path is None else path)
+                motion="free-space" if path is None else "self-motion", path=rows,
+                steps=family.steps(rows[:-1], rows[1:]))
 
 
 def _self_motion(family: Family, pose: np.ndarray, step: np.ndarray, branch: str, start: float, end: float,
