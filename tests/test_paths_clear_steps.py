@@ -19,22 +19,18 @@ import pytest
 
 import redkin
 from redkin.cli.path import _stop_report
-from redkin.collision import BodyCapsule, Scene, body_of, clearance, primitives, step_clearance, steps_between
+from redkin.collision import Scene, clearance, primitives, step_clearance, steps_between
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path, search
 from redkin.paths.graph import Graph
+from tests.support.iiwa_cell import END, START, three_capsules
 from tests.test_path_stops import NARROW, STEP, _sweep
-
-START = [0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1]
-END = [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9]
 
 
 @pytest.fixture(scope="module")
 def iiwa():
     chain = redkin.get_robot("kuka-iiwa14")
-    body = body_of([BodyCapsule("upper arm", 3, [0, 0, -0.2], [0, 0, 0], 0.05),
-                    BodyCapsule("forearm", 4, [0, 0, 0], [0, 0.2, 0], 0.05),
-                    BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.08], 0.04)], chain)
+    body = three_capsules(chain)
     return chain, body
 
 

@@ -9,21 +9,17 @@ import numpy as np
 import pytest
 
 import redkin
-from redkin.collision import BodyCapsule, Scene, body_of, clearance, primitives
+from redkin.collision import Scene, body_of, clearance, primitives
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path
-
-START = [0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1]
-END = [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9]
+from tests.support.iiwa_cell import END, START, three_capsules
 
 
 @pytest.fixture(scope="module")
 def setting():
     chain = redkin.get_robot("kuka-iiwa14")
     poses = chain.fk(np.linspace(START, END, 25))
-    body = body_of([BodyCapsule("upper arm", 3, [0, 0, -0.2], [0, 0, 0], 0.05),
-                    BodyCapsule("forearm", 4, [0, 0, 0], [0, 0.2, 0], 0.05),
-                    BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.08], 0.04)], chain)
+    body = three_capsules(chain)
     return chain, poses, body, resolve_path(chain, poses, 0.15)
 
 

@@ -15,13 +15,12 @@ import numpy as np
 import pytest
 
 import redkin
-from redkin.collision import BodyCapsule, Scene, body_of, clearance, primitives
+from redkin.collision import Scene, clearance, primitives
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path
 from tests.support.cli import run
+from tests.support.iiwa_cell import END, START, three_capsules
 
-START = [0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1]
-END = [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9]
 #: Dense arm angles per branch for the waypoints' largest distance, and what a distance can change between two of
 #: them (a body point moves at most about 1 m per radian of arm angle on the iiwa14).
 _DENSE = 720
@@ -31,9 +30,7 @@ _BETWEEN = 2 * np.pi / _DENSE
 @pytest.fixture(scope="module")
 def setting():
     chain = redkin.get_robot("kuka-iiwa14")
-    body = body_of([BodyCapsule("upper arm", 3, [0, 0, -0.2], [0, 0, 0], 0.05),
-                    BodyCapsule("forearm", 4, [0, 0, 0], [0, 0.2, 0], 0.05),
-                    BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.08], 0.04)], chain)
+    body = three_capsules(chain)
     poses = chain.fk(np.linspace(START, END, 12))
     return chain, body, poses, resolve_path(chain, poses, 0.3)
 
