@@ -15,11 +15,15 @@ import numpy as np
 import pytest
 
 import redkin
-from redkin.collision import Scene, clearance, primitives
+from redkin.collision import BodyCapsule, Scene, body_of, clearance, primitives
+from redkin.collision.arm_angle_free import moved_pairs
+from redkin.collision.clearance import pair_table
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path
+from redkin.paths.arm_family import path_family
+from redkin.paths.collision_family import collision_free_family
 from tests.support.cli import run
-from tests.support.iiwa_cell import END, START, three_capsules
+from tests.support.iiwa_cell import CAPSULES, END, START, three_capsules
 
 #: Dense arm angles per branch for the waypoints' largest distance, and what a distance can change between two of
 #: them (a body point moves at most about 1 m per radian of arm angle on the iiwa14).
@@ -49,6 +53,8 @@ def test_the_path_keeps_as_far_from_the_obstacles_as_the_waypoints_allow(setting
     assert default.cell_clearance == pytest.approx(float(clearance(chain, body, scene, default.q).distance.min()),
                                                    abs=1e-12)
     assert result.cell_clearance >= default.cell_clearance
+    family = collision_free_family(path_family(chain, None), body, scene)
+    assert family.moving_distances(result.q).min() >= family.moving_distances(default.q).min()
     assert measured.min() >= scene.margin - 1e-12 and result.steps.certified.all()
     assert np.allclose(chain.fk(result.q), poses, atol=1e-9) and np.all(chain.joints_within_limits(result.q))
     assert np.abs(np.diff(result.q, axis=0)).max() <= 0.3 + 1e-12
@@ -58,6 +64,27 @@ def test_the_path_keeps_as_far_from_the_obstacles_as_the_waypoints_allow(setting
     distance = clearance(chain, body, scene, solutions.q).distance
     ceiling = np.where(usable, distance, -np.inf).max(axis=(1, 2)).min()
     assert result.cell_clearance <= ceiling + _BETWEEN
+
+
+def test_the_pairs_left_out_keep_their_distance_at_every_arm_angle(setting):
+    """moved_pairs: a pair said not to move keeps its distance over 24 arm angles of the branch at the pose (the
+    hand and the obstacles, the upper arm and a ball at the wrist centre), and the others do change."""
+    chain, _, poses, plain = setting
+    body = body_of([*CAPSULES, BodyCapsule("wrist ball", 5, [0, 0, 0], [0, 0, 0], 0.06)], chain)
+    scene = Scene(("post", "lamp"), np.stack([primitives.capsule([0.4, 0.3, 0.0], [0.4, 0.3, 1.2], 0.05),
+                                              primitives.sphere([0.2, -0.3, 0.8], 0.1)]), 0.0)
+    arm = redkin.arm(chain)
+    psi = np.linspace(-np.pi, np.pi, 24, endpoint=False)
+    for k in (0, 6):
+        solutions = arm.ik(np.repeat(poses[k : k + 1], len(psi), axis=0), psi, branches=plain.branch[k])
+        q = solutions.q[:, 0][solutions.exists[:, 0]]
+        moves = moved_pairs(arm, body, scene, q)
+        assert np.all(moves == moves[0])  # a property of the pose, not of the arm angle
+        table, pairs = pair_table(chain, body, scene, q)
+        spread = np.ptp(table, axis=0)
+        still = [pairs.names[i] for i in np.flatnonzero(~moves[0])]
+        assert ("hand", "post") in still and ("upper arm", "wrist ball") in still and ("forearm", "post") not in still
+        assert np.all(spread[~moves[0]] < 1e-9) and np.all(spread[moves[0]] > 1e-6)
 
 
 def test_the_objective_needs_a_cell(setting, capsys, tmp_path):

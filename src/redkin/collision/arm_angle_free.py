@@ -51,6 +51,7 @@ from redkin._validation import check_pose
 from redkin.arms.feasible_sets import Arcs
 from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
+from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, ArcSet
 from redkin.collision.body import Body, posed
 from redkin.collision.clearance import checked_pairs, pair_distances
@@ -68,6 +69,9 @@ COLLISION, LIMIT, UNDECIDED = "collision", "limit", "undecided"
 #: group may be at a singular arm angle, where the kernels set the first angle to 0 (``|sin| <= 1e-12``,
 #: :data:`redkin.srs._ik_kernels.UNDEFINED_TOLERANCE`) and the bounds do not hold; far above rounding.
 _LEAST_ROOM = 1e-12
+#: A capsule this close to what its frame turns about, or to the shoulder-wrist line, is on it [m]
+#: (:func:`moved_pairs`).
+_STILL = 1e-9
 #: Entry columns (:data:`redkin.srs._ik_kernels.ENTRY_LAYOUT`) of ``x, y, z`` and ``r_2, t`` per group.
 _SHOULDER, _WRIST = (0, 1, 2, 5, 6), (7, 8, 9, 12, 13)
 
@@ -347,7 +351,7 @@ class _Measure:
         new, first = np.unique(pose, return_index=True)
         fresh = np.isnan(self.reach[new, 0]) if len(self.body) else np.zeros(len(new), dtype=bool)
         for p, at in zip(new[fresh].tolist(), first[fresh].tolist(), strict=True):
-            self.reach[p] = self._reach(frames[at], shapes[at])
+            self.reach[p] = _turning_reach(self.arm.chain, self.body, frames[at : at + 1], shapes[at : at + 1])[0]
         np.add.at(self.evaluations, pose, 1)
         at, pair = np.nonzero(active)
         clearance = np.full(active.shape, np.inf)
@@ -369,39 +373,91 @@ class _Measure:
         total[:, has_other] += speed[:, self.pairs.other[has_other]]
         return total
 
-    def _reach(self, frames: np.ndarray, shapes: np.ndarray) -> np.ndarray:
-        """Per capsule, the largest distance of its segment from what its frame turns about (module docstring):
-        axis 1, the shoulder centre, the shoulder-wrist line, the wrist centre or axis 7."""
-        directions, points = self.arm.chain.joint_axes_in(frames)
-        shoulder = _meeting_point(points[0], directions[0], points[1], directions[1])
-        wrist = _meeting_point(points[5], directions[5], points[6], directions[6])
-        arm_line = (wrist - shoulder) / np.linalg.norm(wrist - shoulder)
-        ends = np.stack([shapes[:, 2:5], shapes[:, 5:8]], axis=1)  # (M, 2, 3)
-        reach = np.zeros(len(shapes))
-        for index, frame in enumerate(self.body.frame.tolist()):
-            if frame in (1, 6):
-                axis = 0 if frame == 1 else 6
-                reach[index] = _line_distance(ends[index], points[axis], directions[axis]).max()
-            elif frame in (3, 4):
-                reach[index] = _line_distance(ends[index], shoulder, arm_line).max()
-            elif frame in (2, 5):
-                centre = shoulder if frame == 2 else wrist
-                reach[index] = np.linalg.norm(ends[index] - centre, axis=-1).max()
-        return reach
+
+def _turning_reach(chain: SerialChain, body: Body, frames: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+    """Per configuration and capsule ``(N, M)``, the largest distance of the capsule's segment from what its frame
+    turns about as the arm angle changes at the configuration's pose (module docstring): axis 1 (frame 1), the
+    shoulder centre (frame 2), the shoulder-wrist line (frames 3 and 4), the wrist centre (frame 5) or axis 7
+    (frame 6); 0 on frames 0 and 7, which do not move.  ``frames`` ``(N, n + 2, 4, 4)`` of :meth:`SerialChain.frames`
+    and ``shapes`` ``(N, M, WIDTH)`` of :func:`redkin.collision.body.posed` at those frames."""
+    directions, points, shoulder, wrist = _centres(chain, frames)
+    ends = _ends(shapes)
+    reach = np.zeros(shapes.shape[:2])
+    for index, frame in enumerate(body.frame.tolist()):
+        if frame in (1, 6):
+            axis = 0 if frame == 1 else 6
+            reach[:, index] = _line_distance(ends[:, index], points[:, axis], directions[:, axis]).max(axis=-1)
+        elif frame in (3, 4):
+            reach[:, index] = _line_distance(ends[:, index], shoulder, _unit(wrist - shoulder)).max(axis=-1)
+        elif frame in (2, 5):
+            centre = shoulder if frame == 2 else wrist
+            reach[:, index] = np.linalg.norm(ends[:, index] - centre[:, None], axis=-1).max(axis=-1)
+    return reach
+
+
+def moved_pairs(arm: Arm, body: Body, scene: Scene, q: ArrayLike) -> np.ndarray:
+    """Per configuration ``q`` ``(N, 7)`` of an S-R-S or offset-elbow arm and checked pair of ``body`` and ``scene``
+    (:func:`redkin.collision.clearance.checked_pairs`), whether the pair's distance can change with the arm angle at
+    the configuration's pose ``(N, P)``.  It cannot where both shapes stay where the pose puts them (the base, the
+    tool's link, a ball at the shoulder or wrist centre, a capsule along axis 1 or 7: :func:`_turning_reach` at most
+    :data:`_STILL`), or where one is on links 3-4, which turn rigidly about the shoulder-wrist line [000 eq. 12], and
+    the other is on those links too or lies on that line (a ball at the wrist centre: the elbow's distance to it is
+    fixed by the pose)."""
+    chain = arm.chain
+    q = chain.check_q(q).reshape(-1, chain.n)
+    frames = chain.frames(q)
+    shapes = posed(body, frames)
+    _, _, shoulder, wrist = _centres(chain, frames)
+    still = _turning_reach(chain, body, frames, shapes) <= _STILL  # (N, M)
+    on_line = _line_distance(_ends(shapes).reshape(len(q), -1, 3), shoulder, _unit(wrist - shoulder)).reshape(
+        len(q), len(body), 2).max(axis=-1) <= _STILL
+    about_line = np.isin(body.frame, (3, 4))[None]
+    pairs = checked_pairs(body, scene)
+    other = np.maximum(pairs.other, 0)
+    has_other = pairs.other >= 0  # else an obstacle: still, off the line (a pair with one moves unless the capsule
+    # stays still)
+    mine_still, mine_line, mine_about = still[:, pairs.capsule], on_line[:, pairs.capsule], about_line[:, pairs.capsule]
+    fixed = mine_still & (~has_other | still[:, other])
+    rigid = has_other & ((mine_about & (about_line[:, other] | on_line[:, other]))
+                         | (about_line[:, other] & mine_line))
+    return ~(fixed | rigid)
+
+
+def _centres(chain: SerialChain, frames: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The joint axes ``(N, n, 3)`` (directions, points) of configurations' frames, and their shoulder and wrist
+    centres ``(N, 3)``."""
+    directions, points = chain.joint_axes_in(frames)
+    shoulder = _meeting_point(points[:, 0], directions[:, 0], points[:, 1], directions[:, 1])
+    wrist = _meeting_point(points[:, 5], directions[:, 5], points[:, 6], directions[:, 6])
+    return directions, points, shoulder, wrist
+
+
+def _ends(shapes: np.ndarray) -> np.ndarray:
+    """The two ends ``(N, M, 2, 3)`` of posed capsules (a ball's twice)."""
+    return np.stack([shapes[..., 2:5], shapes[..., 5:8]], axis=-2)
+
+
+def _unit(vectors: np.ndarray) -> np.ndarray:
+    return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
 
 
 def _meeting_point(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> np.ndarray:
-    """The midpoint of the closest points of two lines (their intersection on an S-R-S arm's shoulder or wrist)."""
-    w, b = p1 - p2, float(u1 @ u2)
+    """The midpoint of the closest points of two lines ``(N, 3)`` each (their intersection on an S-R-S arm's shoulder
+    or wrist)."""
+    w = p1 - p2
+    b = np.sum(u1 * u2, axis=-1, keepdims=True)
+    u2w, u1w = np.sum(u2 * w, axis=-1, keepdims=True), np.sum(u1 * w, axis=-1, keepdims=True)
     denominator = 1.0 - b * b
-    s = (b * float(u2 @ w) - float(u1 @ w)) / denominator
-    t = (float(u2 @ w) - b * float(u1 @ w)) / denominator
+    s = (b * u2w - u1w) / denominator
+    t = (u2w - b * u1w) / denominator
     return (p1 + s * u1 + p2 + t * u2) / 2.0
 
 
 def _line_distance(points: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    offset = points - origin
-    return np.linalg.norm(offset - np.outer(offset @ direction, direction), axis=-1)
+    """Distances of ``points`` ``(N, K, 3)`` from the lines through ``origin`` along ``direction`` ``(N, 3)``."""
+    offset = points - origin[:, None]
+    along = np.sum(offset * direction[:, None], axis=-1, keepdims=True)
+    return np.linalg.norm(offset - along * direction[:, None], axis=-1)
 
 
 def _as_arcs(lo: np.ndarray, hi: np.ndarray) -> Arcs:

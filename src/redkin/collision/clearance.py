@@ -101,17 +101,23 @@ def clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> Cle
         For joint values of the wrong shape or not finite, or a body on frames the chain does not have.
     """
     q = chain.check_q(q)
-    if len(body) and int(body.frame.max()) > chain.n:
-        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {chain.name} has {chain.n} joints")
     shape = q.shape[:-1]
-    shapes = posed(body, chain.frames(q.reshape(-1, chain.n)))
-    pairs = checked_pairs(body, scene)
-    count = len(pairs.names)
-    if not count:
+    apart, pairs = pair_table(chain, body, scene, q.reshape(-1, chain.n))
+    if not len(pairs.names):
         return Clearance(np.full(shape, np.inf), np.full(shape, "", dtype=object), np.full(shape, "", dtype=object))
-    at, pair = np.divmod(np.arange(len(shapes) * count), count)
-    apart = pair_distances(shapes, scene, pairs, at, pair).reshape(len(shapes), count)
     least = np.argmin(apart, axis=1)
     names = np.array(pairs.names, dtype=object)[least]
-    return Clearance(apart[np.arange(len(shapes)), least].reshape(shape), names[:, 0].reshape(shape),
+    return Clearance(apart[np.arange(len(apart)), least].reshape(shape), names[:, 0].reshape(shape),
                      names[:, 1].reshape(shape))
+
+
+def pair_table(chain: SerialChain, body: Body, scene: Scene, q: np.ndarray) -> tuple[np.ndarray, _Pairs]:
+    """The signed distance of every checked pair at each configuration of ``q`` ``(N, n)`` (checked), ``(N, P)``,
+    and the pairs (:func:`checked_pairs`)."""
+    if len(body) and int(body.frame.max()) > chain.n:
+        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {chain.name} has {chain.n} joints")
+    shapes = posed(body, chain.frames(q))
+    pairs = checked_pairs(body, scene)
+    count = len(pairs.names)
+    at, pair = np.divmod(np.arange(len(shapes) * count), count)
+    return pair_distances(shapes, scene, pairs, at, pair).reshape(len(shapes), count), pairs

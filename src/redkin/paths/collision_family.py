@@ -113,6 +113,19 @@ class _CollisionFreeFamily(Family):
 
         return clearance(self.chain, self.body, self.scene, q).distance
 
+    def moving_distances(self, q: np.ndarray) -> np.ndarray:
+        """The least signed distance of each configuration of ``q`` over the pairs whose distance the arm angle can
+        change at its pose (:func:`redkin.collision.arm_angle_free.moved_pairs`): a pair the pose fixes (the tool's
+        link and a shelf, the elbow and a ball at the wrist centre) is as close on every arm angle, so it is left
+        out of what the objective ``"obstacle-clearance"`` compares."""
+        from redkin.arms.front_door import arm
+        from redkin.collision.arm_angle_free import moved_pairs
+        from redkin.collision.clearance import pair_table
+
+        table, _ = pair_table(self.chain, self.body, self.scene, q)
+        moves = moved_pairs(arm(self.chain), self.body, self.scene, q)
+        return np.where(moves, table, np.inf).min(axis=1, initial=np.inf)
+
     def steps(self, start: np.ndarray, end: np.ndarray) -> StepClearance:
         """What :func:`redkin.collision.steps_between` proves of the steps from ``start`` to ``end``."""
         from redkin.collision.steps import steps_between

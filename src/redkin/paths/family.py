@@ -215,6 +215,12 @@ class Family:
         cell."""
         return None
 
+    def moving_distances(self, q: np.ndarray) -> np.ndarray | None:
+        """:meth:`distances` over the pairs with a capsule that the redundancy moves at the configuration's pose
+        (``inf`` where none does): what the objective ``"obstacle-clearance"`` makes largest; ``None`` without a
+        cell."""
+        return None
+
     def steps(self, start: np.ndarray, end: np.ndarray) -> StepClearance | None:
         """What is proved of the steps from each configuration of ``start`` (N, 7) to the same row of ``end`` in the
         family's cell (:func:`redkin.collision.steps_between`); ``None`` without a cell: every step is allowed."""

@@ -151,9 +151,11 @@ def resolve_path(
         ``"time"``, the shortest timed trajectory (:func:`redkin.paths.time_path`) of the two paths the other
         objectives choose, so never slower than either (it needs the chain's velocity and acceleration limits);
         ``"obstacle-clearance"`` (in a cell, ``body`` and ``scene``), the largest least distance over the waypoints
-        between the body and the obstacles or its own checked links (:attr:`PathResult.cell_clearance`), then the
-        least motion: every node of the graph is valued by its distance instead of its clearance from the limits
-        (both stages are searched; the graph's best, not proved optimal).
+        between the parts of the body that the redundancy moves and the obstacles or the body's other links, then
+        the least motion: every node of the graph is valued by that distance instead of its clearance from the
+        limits (both stages are searched; the graph's best, not proved optimal).  A part the pose fixes (the tool's
+        link, a ball at the wrist centre) is as close on every branch and arm angle, so it is left out of the
+        comparison; it still keeps the margin, and :attr:`PathResult.cell_clearance` counts it.
     srs_tolerance : float, optional
         The nearly S-R-S tolerance of :func:`redkin.arms.classify.arm_angle_class` [m] for a chain of neither exact
         class.
@@ -314,7 +316,7 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
     start[reach], end[reach], feasible[reach] = found.start, found.end, found.feasible
     along = _Along(reach.reshape(count, length), arm_along, FeasiblePieces(start, end, feasible))
     motion = objective == "motion"
-    value = family.distances if objective == _OBSTACLES else None
+    value = family.moving_distances if objective == _OBSTACLES else None
     polish = polish and value is None  # the polish raises the clearance from the limits
     results = _search(family, poses, along, starts, ends, last_branch, sampler, None, refinements, polish, motion,
                       value)
@@ -328,7 +330,7 @@ def search_paths(family: Family, poses: np.ndarray, step: np.ndarray, starts: np
                         None if ends is None else ends[rows], last_branch, sampler, connect, refinements, polish,
                         motion, value)
         for p, result in zip(again, finer):
-            results[p] = _better(results[p], result, objective)
+            results[p] = _better(results[p], result, objective, family)
     if levels and not motion and family.exact:
         for p, result in enumerate(results):
             if result.ok and not result.optimal:
@@ -389,15 +391,18 @@ def _ceiling(family: Family, poses: np.ndarray, least: float) -> float:
     return high
 
 
-def _better(coarse: PathResult, fine: PathResult, objective: str) -> PathResult:
+def _better(coarse: PathResult, fine: PathResult, objective: str, family: Family) -> PathResult:
     """Of two answers for one path, the found one, or the larger clearance then the lesser motion (``"motion"``:
-    the other way round; ``"obstacle-clearance"``: the larger least distance in the cell, then the lesser motion);
-    ``nodes`` counts both searches."""
+    the other way round; ``"obstacle-clearance"``: the larger least distance of the parts the redundancy moves,
+    :meth:`Family.moving_distances`, then the lesser motion); ``nodes`` counts both searches."""
     def key(result: PathResult) -> tuple[float, float]:
         if objective == "motion":
             return -result.motion, result.clearance
-        first = result.cell_clearance if objective == _OBSTACLES else result.clearance
-        return float("nan" if first is None else first), -result.motion
+        if objective == _OBSTACLES:
+            distances = family.moving_distances(result.q)
+            assert distances is not None  # the objective needs a cell
+            return float(distances.min(initial=np.inf)), -result.motion
+        return result.clearance, -result.motion
 
     best = fine
     if coarse.ok and (not fine.ok or key(coarse) > key(fine)):
