@@ -202,6 +202,42 @@ def test_cli_explorer_of_the_iiwa_switches_branches(browser, tmp_path):
 
 @browser_test
 @pytest.mark.slow
+def test_cli_explorer_in_a_cell_draws_the_obstacles_and_names_the_pair(browser, tmp_path):
+    """In a cell the page draws the obstacles and the body, opens where the arm is clear, and says which pair meets
+    at an arm angle the obstacles remove."""
+    from redkin.reproduce.cell_case import cell
+
+    _, _, _, poses = cell()
+    pose = poses[len(poses) // 2]
+    scene, body, out = tmp_path / "cell.yaml", tmp_path / "body.yaml", tmp_path / "cell.html"
+    scene.write_text("margin: 0.01\nobstacles:\n"
+                     "  - {name: post, type: capsule, a: [0.33, -0.26, 0], b: [0.33, -0.26, 1.1], radius: 0.04}\n"
+                     "  - {name: board, type: box, center: [0.95, 0.2, 0.36], size: [0.3, 0.5, 0.02]}\n")
+    body.write_text("capsules:\n  link_3: [{a: [0, 0, -0.2], b: [0, 0, 0], radius: 0.07}]\n"
+                    "  link_4: [{a: [0, 0, 0], b: [0, 0.2, 0], radius: 0.07}]\n")
+    subprocess.run([sys.executable, "-m", "redkin.cli.main", "explore", "kuka-iiwa14", "--position",
+                    *map(repr, pose[:3, 3].tolist()), "--rotation", *map(repr, pose[:3, :3].ravel().tolist()),
+                    "--scene", str(scene), "--body", str(body), "--out", str(out)], check=True, capture_output=True)
+    view = Page(browser, out.as_uri(), 420)
+    page = view.page
+    assert page.locator("#arm-view .obstacle").count() == 1 + 12  # the post, the board's twelve edges
+    assert page.locator("#arm-view .body").count() == 2 and page.locator("#arm-view .hit").count() == 0
+    assert "Clear of the obstacles" in page.text_content("#status")
+    assert page.locator(".curves rect.blocked").count() > 0
+    data = json.loads(page.text_content("#explorer-data"))
+    branch = data["branches"][data["initial"]]
+    lo, hi, cause = next(b for b in branch["cell"]["blocked"] if "meets post" in b[2] and b[1] - b[0] > 1e-3)
+    inside = next(i for i, v in enumerate(branch["values"]) if lo < v < hi)
+    page.fill("#parameter", str(inside))
+    page.dispatch_event("#parameter", "input")
+    status = page.text_content("#status")
+    assert " meets post" in status and f"Removed: {cause}." in status
+    assert page.locator("#arm-view .hit").count() >= 1
+    assert view.sideways() <= 0 and not view.errors
+
+
+@browser_test
+@pytest.mark.slow
 def test_cli_explorer_of_the_panda_slides_over_q7(browser, tmp_path):
     """The Franka class's page: a q7 slider over joint 7's range; where a branch has no solution, no arm and a
     status that says so."""

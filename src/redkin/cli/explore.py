@@ -7,6 +7,7 @@ import argparse
 
 import numpy as np
 
+from redkin.cli.cell import add_cell_arguments, load_cell
 from redkin.cli.common import (
     BRANCH_HELP,
     UsageError,
@@ -46,6 +47,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", required=True, metavar="FILE.html", help="the page to write")
     add_force_flag(parser)
     add_srs_tolerance_argument(parser)
+    add_cell_arguments(parser, "the page draws the obstacles and the arm's capsules, shades the arm angles they "
+                               "remove by cause, and says how far the arm is from them at the slider's value "
+                               "(S-R-S and offset-elbow arms)")
     add_output_flags(parser)
     parser.set_defaults(handler=run)
 
@@ -56,6 +60,9 @@ def run(args: argparse.Namespace) -> int:
     out = output_file(args.out, "--out", {".html", ".htm"}, args.force)
     chain = load_robot(args)
     if args.path is not None:
+        if args.scene is not None:
+            raise UsageError("--scene draws a cell on the explorer of a pose; the playback of --path does not draw "
+                             "one yet: drop one of them")
         return _playback(args, chain, out)
     q = None if args.q is None else joint_vector(chain, args.q, args.deg, "--q values")
     if args.position is not None or args.rotation is not None or args.quat is not None:
@@ -65,7 +72,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         raise UsageError("give the pose (--position and --rotation or --quat), or a configuration --q to explore "
                          "at its pose")
-    data = explorer_data(chain, pose, args.branch, srs_tolerance=args.srs_tolerance, q=q)
+    cell = load_cell(args, chain)
+    data = explorer_data(chain, pose, args.branch, srs_tolerance=args.srs_tolerance, q=q,
+                         body=None if cell is None else cell[0], scene=None if cell is None else cell[1])
     out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
     parameter = data.parameter
     shown = data.branches[data.initial]
@@ -78,13 +87,23 @@ def run(args: argparse.Namespace) -> int:
                     "units": {"feasible": angle_unit(args.deg), "domain": angle_unit(args.deg)},
                     "grid_points": {b.branch: len(b.values) for b in data.branches}, "feasible": feasible,
                     "feasible_wraps": wraps, "opens": {"branch": shown.branch, parameter.name: opens,
-                                                       "why": data.opening}})
+                                                       "why": data.opening},
+                    **({} if data.cell is None else {"collision_free": _cell_sets(data, args.deg)})})
     else:
         reachable = sum(bool(arcs) for arcs in feasible.values())
         print(f"wrote {out}: {chain.name}, feasible {parameter.plural} on {reachable} of {len(feasible)} branches; "
               "open it in a browser")
         print(f"{data.opening} ({parameter.name} = {opens:.6f} {angle_unit(args.deg)})")
     return 0
+
+
+def _cell_sets(data, degrees: bool) -> dict:
+    """Per branch, the collision-free arcs and every stretch the cell removes with its cause, in the command's unit."""
+    assert data.cell is not None
+    return {curves.branch: {"feasible": [angles_out(arc, degrees).tolist() for arc in cell.free],
+                            "blocked": [{"arc": angles_out(np.array([lo, hi]), degrees).tolist(), "cause": text}
+                                        for lo, hi, text in cell.blocked]}
+            for curves, cell in zip(data.branches, data.cell.branches, strict=True)}
 
 
 def _playback(args: argparse.Namespace, chain, out) -> int:

@@ -53,7 +53,7 @@ from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, ArcSet
-from redkin.collision.body import Body, posed
+from redkin.collision.body import Body, capsule_ends, posed
 from redkin.collision.clearance import checked_pairs, pair_distances
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
@@ -381,7 +381,7 @@ def _turning_reach(chain: SerialChain, body: Body, frames: np.ndarray, shapes: n
     (frame 6); 0 on frames 0 and 7, which do not move.  ``frames`` ``(N, n + 2, 4, 4)`` of :meth:`SerialChain.frames`
     and ``shapes`` ``(N, M, WIDTH)`` of :func:`redkin.collision.body.posed` at those frames."""
     directions, points, shoulder, wrist = _centres(chain, frames)
-    ends = _ends(shapes)
+    ends = capsule_ends(shapes)
     reach = np.zeros(shapes.shape[:2])
     for index, frame in enumerate(body.frame.tolist()):
         if frame in (1, 6):
@@ -409,7 +409,7 @@ def moved_pairs(arm: Arm, body: Body, scene: Scene, q: ArrayLike) -> np.ndarray:
     shapes = posed(body, frames)
     _, _, shoulder, wrist = _centres(chain, frames)
     still = _turning_reach(chain, body, frames, shapes) <= _STILL  # (N, M)
-    on_line = _line_distance(_ends(shapes).reshape(len(q), -1, 3), shoulder, _unit(wrist - shoulder)).reshape(
+    on_line = _line_distance(capsule_ends(shapes).reshape(len(q), -1, 3), shoulder, _unit(wrist - shoulder)).reshape(
         len(q), len(body), 2).max(axis=-1) <= _STILL
     about_line = np.isin(body.frame, (3, 4))[None]
     pairs = checked_pairs(body, scene)
@@ -430,11 +430,6 @@ def _centres(chain: SerialChain, frames: np.ndarray) -> tuple[np.ndarray, ...]:
     shoulder = _meeting_point(points[:, 0], directions[:, 0], points[:, 1], directions[:, 1])
     wrist = _meeting_point(points[:, 5], directions[:, 5], points[:, 6], directions[:, 6])
     return directions, points, shoulder, wrist
-
-
-def _ends(shapes: np.ndarray) -> np.ndarray:
-    """The two ends ``(N, M, 2, 3)`` of posed capsules (a ball's twice)."""
-    return np.stack([shapes[..., 2:5], shapes[..., 5:8]], axis=-2)
 
 
 def _unit(vectors: np.ndarray) -> np.ndarray:

@@ -172,3 +172,8 @@ def posed(body: Body, frames: np.ndarray) -> np.ndarray:
     rows[..., 5:8] = (turn @ body.b[:, :, None])[..., 0] + shift
     rows[..., 8:17] = np.eye(3).ravel()
     return rows
+
+
+def capsule_ends(shapes: np.ndarray) -> np.ndarray:
+    """The two ends ``(..., M, 2, 3)`` of capsule rows ``(..., M, WIDTH)`` (:func:`posed`; a ball's centre twice)."""
+    return np.stack([shapes[..., 2:5], shapes[..., 5:8]], axis=-2)

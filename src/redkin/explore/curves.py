@@ -8,11 +8,15 @@ grid of parameter values with the joint values, postures, limit flags, feasible 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redkin.arms import Parameter
 from redkin.chain import SerialChain
+
+if TYPE_CHECKING:  # a page in a cell only: the collision package is read where one is given
+    from redkin.explore.cell import CellView
 
 #: A joint value this far [rad] beyond a limit counts as within it (the value at a set's end, rounded).
 _LIMIT_TOLERANCE = 1e-9
@@ -84,8 +88,9 @@ class BranchCurves:
 class ExplorerData:
     """The explorer's numbers for one arm and one pose: the parameter, what computed the numbers (``method``) and
     the kinds of marks they set (``feasible``, ``singular``, ``optimal``), every branch, the limits, the branch shown
-    first, sentences about the arm that the page states (a nearly S-R-S arm's neighbour and model error) and the
-    sentence saying where the page opens and why."""
+    first, sentences about the arm that the page states (a nearly S-R-S arm's neighbour and model error), the
+    sentence saying where the page opens and why, and in a cell the obstacles, the body and the collision-free sets
+    (:class:`redkin.explore.cell.CellView`)."""
 
     robot: str
     joint_names: tuple[str, ...]
@@ -99,6 +104,7 @@ class ExplorerData:
     initial: int
     remarks: tuple[str, ...] = ()
     opening: str = ""
+    cell: CellView | None = None
 
 
 def postures(chain: SerialChain, q: np.ndarray, exists: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -10,6 +10,7 @@ asks which class the arm is.
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -20,6 +21,10 @@ from redkin.errors import RedkinError, UnreachablePoseError
 from redkin.explore.curves import BranchCurves, ExplorerData
 from redkin.so3 import matrix_to_axis_angle
 from redkin.srs import BRANCHES, parse_branch
+
+if TYPE_CHECKING:  # a cell's types: the collision package is read where one is given
+    from redkin.collision.body import Body
+    from redkin.collision.scene import Scene
 
 #: Values of the dense grid over the parameter's domain before the special ones are merged in (0.5 deg apart over
 #: a full turn).
@@ -41,6 +46,8 @@ def explorer_data(
     samples: int = GRID_SAMPLES,
     srs_tolerance: float | None = None,
     q: ArrayLike | None = None,
+    body: Body | None = None,
+    scene: Scene | None = None,
 ) -> ExplorerData:
     """The numbers of an explorer page for ``chain`` at ``pose``, all eight branches over its redundancy parameter.
 
@@ -72,6 +79,10 @@ def explorer_data(
     q : array_like, shape (7,), optional
         A configuration at ``pose`` (within :data:`_REACHES`) to open the page at: its branch, at its own value of
         the parameter (merged into the grid).
+    body, scene : Body and Scene, optional
+        A cell (S-R-S and offset-elbow arms): the page draws the obstacles and the body, shades the arm angles the
+        obstacles remove by cause, and says at each value how far the body is from them
+        (:func:`redkin.explore.cell.cell_view`).
 
     Returns
     -------
@@ -83,8 +94,8 @@ def explorer_data(
     ValueError
         For an arm without closed-form IK (within ``srs_tolerance`` of an S-R-S neighbour), a malformed or
         unreachable pose, a malformed branch, target or weights (or weights for q7), ``samples`` out of range, a
-        tolerance that is not a finite number > 0, or a ``q`` that is malformed, not at ``pose`` or on another
-        branch than ``branch``.
+        tolerance that is not a finite number > 0, a ``q`` that is malformed, not at ``pose`` or on another
+        branch than ``branch``, a body without a scene (or the reverse), or a cell on an arm of another class.
     """
     if (isinstance(samples, bool) or not isinstance(samples, (int, np.integer))
             or not MIN_SAMPLES <= samples <= MAX_SAMPLES):
@@ -125,6 +136,16 @@ def explorer_data(
         opening = f"Opened on branch {first}, as asked, at its optimal {parameter.symbol}."
     else:
         initial, opening = _best_branch(branches, chain, parameter)
+    if (body is None) != (scene is None):
+        raise RedkinError("a cell needs both the arm's body and the scene")
+    cell = None
+    if body is not None and scene is not None:
+        from redkin.explore.cell import cell_view, clearest
+
+        cell = cell_view(classified, pose, body, scene, branches)
+        if own is None and first is None:  # the default opening: where the arm keeps farthest from the obstacles
+            initial, place, opening = clearest(cell, branches, parameter, initial, opening)
+            branches = branches[:initial] + (replace(branches[initial], start=place),) + branches[initial + 1:]
     return ExplorerData(
         robot=chain.name,
         joint_names=tuple(chain.joint_names),
@@ -138,6 +159,7 @@ def explorer_data(
         initial=initial,
         remarks=analysis.remarks,
         opening=opening,
+        cell=cell,
     )
 
 

@@ -12,12 +12,15 @@ from __future__ import annotations
 import html
 import json
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from redkin.arms import Parameter
 from redkin.explore.curves import BranchCurves, ExplorerData
+
+if TYPE_CHECKING:
+    from redkin.explore.cell import BranchCell, CellView
 from redkin.explore.script import DRAG_SCRIPT, SCRIPT, STYLE
 
 #: Decimals of the printed angles in each unit (0.001 deg is about 2e-5 rad).
@@ -67,6 +70,9 @@ def _body(data: ExplorerData) -> str:
     if "singular" in data.kinds:
         legend.append(f'<span class="k singular"></span> singular {symbol}')
     legend.append(f'<span class="k optimal"></span> optimal {symbol} ({html.escape(p.optimum, quote=False)})')
+    if data.cell is not None:
+        legend.append(f'<span class="k blocked"></span> {symbol} removed by an obstacle or the arm\'s own links '
+                      f'(margin {data.cell.margin:g} m)')
     legend.append(f'<span class="k cursor"></span> the slider\'s {symbol}. Click a plot to move the slider there.')
     remarks = "".join(f'\n<p class="note remark">{html.escape(text, quote=False)}</p>'
                       for text in (*data.remarks, data.opening) if text)
@@ -81,7 +87,7 @@ aria-label="{html.escape(p.noun)}"></label>
 <div class="views">
 <figure class="view3d"><svg id="arm-view" viewBox="-1.1 -1.1 2.2 2.2" role="img" aria-label="posture in 3-D"></svg>
 <figcaption>Posture at the slider's {symbol} (drag to rotate). Grey: paths of the moving joints over {symbol};
-x red, y green, z blue; the target frame at the tool.</figcaption></figure>
+x red, y green, z blue; the target frame at the tool.{_cell_caption(data)}</figcaption></figure>
 <div class="joints"><table id="joints"><thead><tr><th>joint</th><th class="num">value</th><th class="num">lower</th>
 <th class="num">upper</th><th>in limits</th></tr></thead><tbody></tbody></table></div>
 </div>
@@ -90,6 +96,15 @@ x red, y green, z blue; the target frame at the tool.</figcaption></figure>
 <p class="note">Computed by redkin ({html.escape(data.method, quote=False)}); this page only draws
 the numbers it holds: a dense grid of {html.escape(p.plural, quote=False)} with the exact ends of every set merged
 in.</p>{remarks}"""
+
+
+def _cell_caption(data: ExplorerData) -> str:
+    """The 3-D view's words for the cell, if any."""
+    if data.cell is None:
+        return ""
+    source = f" ({html.escape(data.cell.source, quote=False)})" if data.cell.source else ""
+    return (f" Grey: the obstacles{source}; translucent blue: the arm's capsules, red where a pair is closer than "
+            "the margin.")
 
 
 def _pose_text(pose: np.ndarray) -> str:
@@ -123,8 +138,35 @@ def _payload(data: ExplorerData, unit: str) -> dict[str, Any]:
         "target": {"position": _positions(data.pose[:3, 3]), "axes": _positions(data.pose[:3, :3].T)},
         "base": _positions(next(b.origins[b.exists][0, 0] for b in data.branches if b.exists.any())),
         "initial": data.initial,
-        "branches": [_branch(b, p, angle, decimals) for b in data.branches],
+        "branches": [_branch(b, p, angle, decimals) | ({} if data.cell is None else
+                                                        {"cell": _branch_cell(data.cell.branches[k], p, angle)})
+                     for k, b in enumerate(data.branches)],
+        "cell": None if data.cell is None else _cell(data.cell),
     }
+
+
+def _cell(cell: CellView) -> dict[str, Any]:
+    """The cell's obstacles, links, radii, pairs and margin, positions rounded to the page's digits."""
+    obstacles = []
+    for obstacle in cell.obstacles:
+        shown = dict(obstacle)
+        for key in ("ends", "corners", "point", "normal"):
+            if key in shown:
+                shown[key] = _positions(np.asarray(shown[key], dtype=float))
+        obstacles.append(shown)
+    return {"obstacles": obstacles, "links": list(cell.links), "radii": _positions(cell.radii),
+            "pairs": [list(pair) for pair in cell.pairs], "margin": cell.margin, "source": cell.source}
+
+
+def _branch_cell(cell: BranchCell, parameter: Parameter, angle) -> dict[str, Any]:
+    """One branch in the cell: its free and blocked intervals of the domain (each blocked one with its cause), the
+    body's capsule ends at every grid value (``null`` where no solution), the least distance and the pair."""
+    domain = parameter.domain
+    blocked = [[*angle(piece), text] for lo, hi, text in cell.blocked
+               for piece in _intervals(np.array([[lo, hi]]), domain)]
+    return {"free": angle(_intervals(cell.free, domain)), "blocked": blocked,
+            "capsules": _positions(cell.capsules.ravel()), "distance": _positions(cell.distance),
+            "closest": cell.closest.tolist()}
 
 
 def _branch(curves: BranchCurves, parameter: Parameter, angle, decimals: int) -> dict[str, Any]:

@@ -55,6 +55,7 @@ td.out { color: #8a0000; font-weight: 600; }
 .k.set { background: rgba(40, 100, 180, 0.25); }
 .k.singular { border-top: 2px dashed #7a3db8; height: 0; }
 .k.optimal { border-top: 2px solid #d07000; height: 0; }
+.k.blocked { background: rgba(200, 60, 40, 0.3); }
 """
 
 #: How both pages (the explorer, and the playback page of :mod:`redkin.explore.playback`) turn their 3-D view: a drag
@@ -125,6 +126,10 @@ SCRIPT = r"""
       else for (let i = 0; i < o.path.length; i += 3) if (o.path[i] !== null) add(o.path.slice(i, i + 3));
     }
     add(D.target.position);
+    if (D.cell) for (const o of D.cell.obstacles) {
+      if (o.kind === "capsule") o.ends.forEach(add);
+      else if (o.kind === "box") o.corners.forEach(add);
+    }
     const centre = lo.map((v, k) => (v + hi[k]) / 2);
     const radius = Math.max(0.05, 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
     return { centre: centre, radius: radius };
@@ -164,7 +169,9 @@ SCRIPT = r"""
       flush();
     }
     drawAxes(g, D.target.position, D.target.axes, 0.18 * bounds.radius, 0.014);
+    if (D.cell) drawObstacles(g);
     if (!solved(branch, index)) return;
+    if (D.cell) drawBody(g);
     const frames = branch.origins.map(o => pointAt(o, index));
     node("polyline", { id: "arm", points: points(frames), stroke: "#1f4e9a", "stroke-width": 0.03, fill: "none" }, g);
     for (const p of frames) {
@@ -172,6 +179,56 @@ SCRIPT = r"""
       node("circle", { cx: s[0].toFixed(4), cy: s[1].toFixed(4), r: 0.022, fill: "#fff", stroke: "#1f4e9a",
                        "stroke-width": 0.01 }, g);
     }
+  }
+  // ---- the cell: obstacles in grey, the arm's capsules at the slider's value (red where a pair is too close)
+  const BOX_EDGES = [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]];
+  function capsule(g, a, b, radius, colour, cls) {
+    const width = Math.max(2 * radius / bounds.radius, 0.004);
+    node("polyline", { class: cls, points: points([a, b]), stroke: colour, "stroke-width": width, fill: "none",
+                       "stroke-linecap": "round" }, g);
+  }
+  function drawObstacles(g) {
+    for (const o of D.cell.obstacles) {
+      if (o.kind === "capsule") capsule(g, o.ends[0], o.ends[1], o.radius, "rgba(110,110,110,0.45)", "obstacle");
+      else if (o.kind === "box") {
+        for (const [i, j] of BOX_EDGES) {
+          node("polyline", { class: "obstacle", points: points([o.corners[i], o.corners[j]]), stroke: "#777",
+                             "stroke-width": 0.006, fill: "none" }, g);
+        }
+      }
+    }
+  }
+  function tooClose() {
+    const d = branch.cell.distance[index];
+    return d !== null && d < D.cell.margin ? D.cell.pairs[branch.cell.closest[index]] : null;
+  }
+  function drawBody(g) {
+    const count = D.cell.links.length, c = branch.cell.capsules, close = tooClose();
+    for (let m = 0; m < count; m++) {
+      const at = 6 * (index * count + m);
+      if (c[at] === null) continue;
+      const hit = close !== null && close.indexOf(D.cell.links[m]) >= 0;
+      capsule(g, c.slice(at, at + 3), c.slice(at + 3, at + 6), D.cell.radii[m],
+              hit ? "rgba(200,40,40,0.6)" : "rgba(31,78,154,0.3)", hit ? "body hit" : "body");
+    }
+  }
+  function cellStatus() {
+    if (!D.cell || !solved(branch, index)) return null;
+    const value = branch.values[index];
+    const d = branch.cell.distance[index], pair = D.cell.pairs[branch.cell.closest[index]] || ["", ""];
+    const free = branch.cell.free.some(([lo, hi]) => lo <= value && value <= hi);
+    const cause = branch.cell.blocked.find(([lo, hi]) => lo <= value && value <= hi);
+    const span = document.createElement("span");
+    span.className = "cell" + (d < D.cell.margin ? " bad" : "");
+    const where = free ? " " + P.symbol + " is in the collision-free set." : cause ? " Removed: " + cause[2] + "."
+      : "";
+    if (d === null) span.textContent = " No pair to check.";
+    else if (d < 0) span.textContent = " " + pair[0] + " meets " + pair[1] + " (" + d.toFixed(4) + " m)." + where;
+    else if (d < D.cell.margin) span.textContent = " " + pair[0] + " is within the margin of " + pair[1] + " ("
+      + d.toFixed(4) + " m)." + where;
+    else span.textContent = " Clear of the obstacles: the least distance is " + d.toFixed(4) + " m (" + pair[0]
+      + " and " + pair[1] + ")." + where;
+    return span;
   }
   turnByDragging(view3d, view, drawView);
 
@@ -199,14 +256,17 @@ SCRIPT = r"""
       const svg = node("svg", { viewBox: "0 0 " + W + " " + H, class: "curve", "data-joint": j + 1,
                                 role: "img", "aria-label": "joint " + (j + 1) + " over the " + P.noun }, box);
       const plotTop = TOP, plotHeight = H - TOP - BOTTOM;
-      function band(intervals, colour) {
+      function band(intervals, colour, cls) {
         for (const [lo, hi] of intervals) {
-          node("rect", { x: xOf(lo), y: plotTop, width: Math.max(xOf(hi) - xOf(lo), 0.8), height: plotHeight,
-                         fill: colour }, svg);
+          const attrs = { x: xOf(lo), y: plotTop, width: Math.max(xOf(hi) - xOf(lo), 0.8), height: plotHeight,
+                          fill: colour };
+          if (cls) attrs.class = cls;
+          node("rect", attrs, svg);
         }
       }
       if (branch.per_joint !== null) band(branch.per_joint[j], "rgba(40,160,60,0.22)");
       band(branch.feasible, "rgba(40,100,180,0.22)");
+      if (branch.cell) band(branch.cell.blocked.map(b => [b[0], b[1]]), "rgba(200,60,40,0.3)", "blocked");
       node("rect", { x: LEFT, y: plotTop, width: W - LEFT - RIGHT, height: plotHeight, fill: "none",
                      stroke: "#999" }, svg);
       const step = niceStep(ymax - ymin);
@@ -312,6 +372,8 @@ SCRIPT = r"""
       joints.className = "bad";
     }
     status.appendChild(joints);
+    const cell = cellStatus();
+    if (cell) status.appendChild(cell);
     const notes = branch.marks.filter(m => m.index === index && m.note).map(m => " " + m.label + ": " + m.note + ".");
     for (const note of branch.notes) notes.push(" " + note);
     for (const note of notes) status.appendChild(document.createTextNode(note));
