@@ -25,10 +25,10 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
   and the candidates refused (:class:`FreeSolutions`)
 * :func:`collision_free_arm_angles` -- per branch of one pose, the certified arm angles within the limits and clear of
   every obstacle and of the body itself by the margin, and each removed stretch's cause (:class:`FreeArmAngles`,
-  :class:`Stretch`)
+  :class:`Stretch`); :func:`free_arm_angles_of` the same of many poses, decided together
 """
 
-from redkin.collision.arm_angle_free import FreeArmAngles, Stretch, collision_free_arm_angles
+from redkin.collision.arm_angle_free import FreeArmAngles, Stretch, collision_free_arm_angles, free_arm_angles_of
 from redkin.collision.body import Body, BodyCapsule, body_of, posed
 from redkin.collision.body_file import body_data, read_body
 from redkin.collision.clearance import Clearance, clearance
@@ -41,8 +41,7 @@ from redkin.collision.steps import StepClearance, step_clearance, steps_between
 from redkin.collision.urdf_body import srdf_ignored_pairs, urdf_body
 
 __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "box", "capsule", "plane", "read_scene",
-           "scene_of", "signed_distance", "sphere",
-           "LinkFrame", "urdf_link_frames", "numbered_link_frames", "read_body", "body_data", "urdf_body",
-           "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed", "FreeArmAngles", "Stretch",
-           "collision_free_arm_angles", "FreeSolutions", "collision_free_ik", "Clearance", "clearance", "StepClearance",
-           "step_clearance", "steps_between"]
+           "scene_of", "signed_distance", "sphere", "LinkFrame", "urdf_link_frames", "numbered_link_frames",
+           "read_body", "body_data", "urdf_body", "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed",
+           "FreeArmAngles", "Stretch", "collision_free_arm_angles", "free_arm_angles_of", "FreeSolutions",
+           "collision_free_ik", "Clearance", "clearance", "StepClearance", "step_clearance", "steps_between"]
