@@ -189,3 +189,51 @@ def test_a_reconfiguration_through_an_obstacle_is_named(iiwa):
     report = _stop_report(stop, False)  # redkin path --json's entry of the stop
     assert report["clear"] is False and [stop.steps.link[stop.steps.blocked][0], "ball"] in report["blocked_by"]
     assert "clear" not in _stop_report(plain, False)
+
+
+@pytest.mark.parametrize(("waypoints", "step", "seed"), [(8, 0.5, 11), (12, 0.3, 9)])
+def test_a_timed_path_in_a_cell_says_whether_its_spline_keeps_the_margin(iiwa, waypoints, step, seed):
+    """The timed trajectory is a spline through the waypoints, not the linear steps proved clear: its own steps are
+    checked (PathResult.trajectory_steps). Where they are proved clear every sample keeps the margin; where one is
+    blocked a sample does not (on one of each of these scenes' three balls, the spline cuts the ball)."""
+    chain, body = iiwa
+    chain = chain.with_motion_limits(acceleration=[10.0] * 7)
+    poses = chain.fk(np.linspace(START, END, waypoints))
+    plain = resolve_path(chain, poses, step)
+    rng = np.random.default_rng(seed)
+    verdicts = []
+    for _ in range(3):
+        centre = chain.frames(plain.q[rng.integers(waypoints)])[3, :3, 3] + rng.normal(0.0, 0.05, 3)
+        scene = Scene(("ball",), primitives.sphere(centre, rng.uniform(0.02, 0.1))[None], 0.01)
+        result = resolve_path(chain, poses, step, body=body, scene=scene, timing=200.0)
+        assert result.ok and result.steps.certified.all()
+        samples = result.trajectory.q
+        steps = result.trajectory_steps
+        assert steps.certified.shape == (len(samples) - 1,)
+        least = _dense_clearance(chain, body, scene, samples, 5)  # the samples and three points between each two
+        if steps.certified.all():
+            assert least >= scene.margin - 1e-12
+        if steps.blocked.any():
+            assert least < scene.margin and set(steps.link[steps.blocked]) <= {"upper arm", "forearm", "hand"}
+        verdicts.append(bool(steps.certified.all()))
+    assert True in verdicts and False in verdicts
+    assert resolve_path(chain, poses, step, timing=200.0).trajectory_steps is None
+
+
+def test_the_command_line_says_whether_the_timed_trajectory_is_clear(iiwa, capsys, tmp_path):
+    from tests.support.cli import run
+
+    chain, _ = iiwa
+    poses, scene, body, limits = (tmp_path / name for name in ("poses.npy", "cell.yaml", "body.yaml", "limits.json"))
+    np.save(poses, chain.fk(np.linspace(START, END, 12)))
+    scene.write_text("margin: 0.01\nobstacles:\n  - {name: far, type: sphere, center: [2, 2, 2], radius: 0.1}\n")
+    body.write_text("capsules:\n  link_4: [{a: [0, 0, 0], b: [0, 0.2, 0], radius: 0.05}]\n")
+    limits.write_text('{"acceleration": 10}')
+    argv = ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.3", "--timed", "--rate", "200",
+            "--limits", str(limits), "--scene", str(scene), "--body", str(body)]
+    code, out, _ = run(capsys, [*argv, "--json"])
+    assert code == 0
+    trajectory = __import__("json").loads(out)["trajectory"]
+    assert trajectory["clear"] is True and trajectory["blocked_at"] is None
+    code, out, _ = run(capsys, argv)
+    assert code == 0 and "the timed trajectory's" in out and "proved clear of the obstacles" in out

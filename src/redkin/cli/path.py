@@ -268,6 +268,26 @@ def _stop_report(stop, degrees: bool) -> dict:
             "q_after": angles_out(stop.path[-1], degrees), "message": stop.message, **_stop_in_cell(stop)}
 
 
+def _trajectory_in_cell(result) -> tuple[dict, str | None]:
+    """In a cell, whether the timed trajectory's samples and the steps between them are proved clear (JSON
+    ``clear``, and ``blocked_at``: the first step not proved, in seconds, with the pair found), and the line
+    printed; else nothing."""
+    steps, trajectory = result.trajectory_steps, result.trajectory
+    if steps is None or trajectory is None:
+        return {}, None
+    clear = bool(steps.certified.all())
+    if clear:
+        text = (f"in the cell: the timed trajectory's {len(trajectory.t)} samples and the steps between them are "
+                f"proved clear of the obstacles (at least {float(steps.least.min(initial=np.inf)):.4g} m)")
+        return {"clear": True, "blocked_at": None}, text
+    first = int(np.flatnonzero(~steps.certified)[0])
+    pair = [str(steps.link[first]), str(steps.against[first])] if steps.blocked[first] else None
+    text = (f"in the cell: the timed trajectory is NOT proved clear of the obstacles from t = {trajectory.t[first]:.4f}"
+            f" s" + (f" ({pair[0]} meets {pair[1]})" if pair else " (a step not proved)")
+            + ": the spline swings wide of the steps proved between waypoints; give more waypoints")
+    return {"clear": False, "blocked_at": {"t": float(trajectory.t[first]), "pair": pair}}, text
+
+
 def _stop_in_cell(stop) -> dict:
     """In a cell, whether a stop's reconfiguration is proved clear and the pairs found blocking it; else nothing."""
     steps = stop.steps
@@ -388,7 +408,7 @@ def _run_path(args: argparse.Namespace) -> int:
                     "interpolation": trajectory.interpolation, "waypoint_times": trajectory.waypoint_times,
                     "limits_source": limits_source, "file": None if trajectory_file is None else str(trajectory_file),
                     "stop_spans": trajectory.stop_spans, "playback": None if playback is None else str(playback),
-                    "jerk_ratio": _jerk_ratio(trajectory, chain),
+                    "jerk_ratio": _jerk_ratio(trajectory, chain), **_trajectory_in_cell(result)[0],
                     "joint_trajectory": trajectory.joint_trajectory() if trajectory_file is None else None}
         else:
             assert failure is not None
@@ -421,6 +441,9 @@ def _run_path(args: argparse.Namespace) -> int:
     if trajectory is not None:
         print("\n".join(_timing_lines(trajectory, f"{limits_source} limits", trajectory_file,
                                        _jerk_ratio(trajectory, chain))))
+        cell_line = _trajectory_in_cell(result)[1]
+        if cell_line is not None:
+            print(cell_line)
         if playback is not None:
             print(f"playback page written to {playback}: open it in a browser")
     print(f"{'k':>5}  branch  {result.parameter:>10}  q [{unit}]" + ("      t [s]" if trajectory is not None else ""))

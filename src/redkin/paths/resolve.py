@@ -207,7 +207,7 @@ def resolve_path(
                              **options)[0]
 
     result = with_stops(family, poses, step_bound(family.chain, max_step, speed, dt), segment)
-    return result if timing is None else timed(family.chain, result, float(timing))
+    return result if timing is None else _timed(family, result, float(timing))
 
 
 def _family(arm: Any, srs_tolerance: float | None, body: Body | None, scene: Scene | None) -> Family:
@@ -279,9 +279,20 @@ def resolve_paths(
         return search(objective)
     rate = float(timing)
     if objective != "time":
-        return [timed(chain, result, rate) for result in search(objective)]
-    return [min((timed(chain, result, rate) for result in candidates), key=_duration)
+        return [_timed(family, result, rate) for result in search(objective)]
+    return [min((_timed(family, result, rate) for result in candidates), key=_duration)
             for candidates in zip(search("clearance"), search("motion"))]
+
+
+def _timed(family: Family, result: PathResult, rate: float) -> PathResult:
+    """``result`` timed at ``rate`` (:func:`redkin.paths.stops.timed`), and in a cell with what is proved of the
+    steps between its trajectory's samples (:attr:`PathResult.trajectory_steps`): the spline through the waypoints
+    is not the linear interpolation whose steps the search proved clear."""
+    result = timed(family.chain, result, rate)
+    if result.trajectory is None:
+        return result
+    samples = result.trajectory.q
+    return replace(result, trajectory_steps=family.steps(samples[:-1], samples[1:]))
 
 
 def _duration(result: PathResult) -> float:

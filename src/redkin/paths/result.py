@@ -120,6 +120,10 @@ class PathResult:
         In a cell: what is proved of each step between waypoints (:func:`redkin.collision.step_clearance`; after a
         stop, from its departure configuration); every step of a path returned is certified clear.  ``None``
         without a cell.
+    trajectory_steps : StepClearance or None
+        In a cell, for a timed path: what is proved of the steps between the :attr:`trajectory`'s samples (the
+        controller's commands at its rate, the spline through the waypoints, not the linear steps of
+        :attr:`steps`); a step may be blocked where the spline swings wide of the chord.  ``None`` otherwise.
     cell_clearance : float or None
         In a cell: the least signed distance over the waypoints between the body and the obstacles or its own
         checked links (metres, at least the scene's margin); what the objective ``"obstacle-clearance"`` makes
@@ -142,6 +146,7 @@ class PathResult:
     stops: tuple[Stop, ...] = ()
     steps: StepClearance | None = None
     cell_clearance: float | None = None
+    trajectory_steps: StepClearance | None = None
 
     @property
     def ok(self) -> bool:
