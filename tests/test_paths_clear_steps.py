@@ -12,6 +12,7 @@ steps not proved clear in 9 of these 12 scenes, most of them cutting through the
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -23,6 +24,7 @@ from redkin.collision import Scene, clearance, primitives, step_clearance, steps
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path, search
 from redkin.paths.graph import Graph
+from redkin.paths.stops import timed
 from tests.support.iiwa_cell import END, START, three_capsules
 from tests.test_path_stops import NARROW, STEP, _sweep
 
@@ -192,31 +194,32 @@ def test_a_reconfiguration_through_an_obstacle_is_named(iiwa):
 
 
 @pytest.mark.parametrize(("waypoints", "step", "seed"), [(8, 0.5, 11), (12, 0.3, 9)])
-def test_a_timed_path_in_a_cell_says_whether_its_spline_keeps_the_margin(iiwa, waypoints, step, seed):
-    """The timed trajectory is a spline through the waypoints, not the linear steps proved clear: its own steps are
-    checked (PathResult.trajectory_steps). Where they are proved clear every sample keeps the margin; where one is
-    blocked a sample does not (on one of each of these scenes' three balls, the spline cuts the ball)."""
+def test_a_timed_path_in_a_cell_keeps_the_margin_between_waypoints_too(iiwa, waypoints, step, seed):
+    """The timed trajectory is a spline through the waypoints, not the linear steps proved clear, and on one of each
+    of these scenes' three balls the spline through the waypoints alone cuts the ball.  Its own steps are checked
+    (PathResult.trajectory_steps), and where they are not proved clear it is timed again through more points of the
+    linear steps: every trajectory returned here is proved clear, and every sample (and three points between each
+    two) keeps the margin."""
     chain, body = iiwa
     chain = chain.with_motion_limits(acceleration=[10.0] * 7)
     poses = chain.fk(np.linspace(START, END, waypoints))
     plain = resolve_path(chain, poses, step)
     rng = np.random.default_rng(seed)
-    verdicts = []
+    through_waypoints = []
     for _ in range(3):
         centre = chain.frames(plain.q[rng.integers(waypoints)])[3, :3, 3] + rng.normal(0.0, 0.05, 3)
         scene = Scene(("ball",), primitives.sphere(centre, rng.uniform(0.02, 0.1))[None], 0.01)
         result = resolve_path(chain, poses, step, body=body, scene=scene, timing=200.0)
         assert result.ok and result.steps.certified.all()
         samples = result.trajectory.q
-        steps = result.trajectory_steps
-        assert steps.certified.shape == (len(samples) - 1,)
-        least = _dense_clearance(chain, body, scene, samples, 5)  # the samples and three points between each two
-        if steps.certified.all():
-            assert least >= scene.margin - 1e-12
-        if steps.blocked.any():
-            assert least < scene.margin and set(steps.link[steps.blocked]) <= {"upper arm", "forearm", "hand"}
-        verdicts.append(bool(steps.certified.all()))
-    assert True in verdicts and False in verdicts
+        assert result.trajectory_steps.certified.shape == (len(samples) - 1,)
+        assert result.trajectory_steps.certified.all()
+        assert _dense_clearance(chain, body, scene, samples, 5) >= scene.margin - 1e-12
+        at_waypoints, _, _ = result.trajectory.at(result.trajectory.waypoint_times)
+        assert np.allclose(chain.fk(at_waypoints), poses, atol=1e-9)  # the waypoints are still on the spline
+        alone = timed(chain, replace(result, trajectory=None), 200.0).trajectory.q  # the waypoints alone
+        through_waypoints.append(bool(steps_between(chain, body, scene, alone[:-1], alone[1:]).certified.all()))
+    assert False in through_waypoints
     assert resolve_path(chain, poses, step, timing=200.0).trajectory_steps is None
 
 

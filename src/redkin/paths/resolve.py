@@ -78,6 +78,9 @@ _CEILING_STEPS = 6
 OBJECTIVES = ("clearance", "motion", "time", "obstacle-clearance")
 #: The objective that needs a cell.
 _OBSTACLES = "obstacle-clearance"
+#: In a cell, a timed path whose spline is not proved clear is timed again through this many points per straight
+#: step between waypoints (the waypoints alone first; :func:`_timed`).
+_DENSITIES = (1, 2, 4, 8)
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
 OPTIMALITY_MARGIN = 1e-7
 
@@ -287,12 +290,19 @@ def resolve_paths(
 def _timed(family: Family, result: PathResult, rate: float) -> PathResult:
     """``result`` timed at ``rate`` (:func:`redkin.paths.stops.timed`), and in a cell with what is proved of the
     steps between its trajectory's samples (:attr:`PathResult.trajectory_steps`): the spline through the waypoints
-    is not the linear interpolation whose steps the search proved clear."""
-    result = timed(family.chain, result, rate)
-    if result.trajectory is None:
-        return result
-    samples = result.trajectory.q
-    return replace(result, trajectory_steps=family.steps(samples[:-1], samples[1:]))
+    is not the linear interpolation whose steps the search proved clear, so where its steps are not proved clear it
+    is timed again through more points of those linear steps (:data:`_DENSITIES`), until they are or none is left."""
+    for density in _DENSITIES:
+        timed_result = timed(family.chain, result, rate, density)
+        if timed_result.trajectory is None:
+            return timed_result
+        samples = timed_result.trajectory.q
+        steps = family.steps(samples[:-1], samples[1:])
+        if steps is None:
+            return timed_result
+        if steps.certified.all():
+            break
+    return replace(timed_result, trajectory_steps=steps)
 
 
 def _duration(result: PathResult) -> float:

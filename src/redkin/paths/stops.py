@@ -153,12 +153,20 @@ def _joined(pieces: list[PathResult], stops: list[Stop]) -> PathResult:
                    cell_clearance=min((p.cell_clearance for p in pieces if p.cell_clearance is not None), default=None))
 
 
-def timed(chain: SerialChain, result: PathResult, rate: float) -> PathResult:
+def timed(chain: SerialChain, result: PathResult, rate: float, density: int = 1) -> PathResult:
     """``result`` with its :attr:`~redkin.paths.PathResult.trajectory` (:func:`time_path` of its joint values at
-    ``rate``, at rest at each stop and through its reconfiguration); a result without a path as it is."""
+    ``rate``, at rest at each stop and through its reconfiguration); a result without a path as it is.
+    ``density``: the spline passes through ``density - 1`` more points evenly spaced on each straight joint-space
+    step between consecutive rows, so that it stays nearer those steps (a path in a cell proves them clear)."""
     if not result.ok:
         return result
     rows, waypoint_rows, rests = _stopped_rows(result)
+    if density > 1:
+        fractions = np.arange(density)[:, None, None] / density  # (density, 1, 1)
+        between = (1.0 - fractions) * rows[None, :-1] + fractions * rows[None, 1:]  # (density, R - 1, n)
+        rows = np.concatenate([between.transpose(1, 0, 2).reshape(-1, rows.shape[1]), rows[-1:]])
+        waypoint_rows = waypoint_rows * density
+        rests = [row * density for row in rests]
     trajectory = time_path(chain, rows, rate=rate, rests=rests)
     times = trajectory.waypoint_times
     spans = np.stack([times[rests[0::2]], times[rests[1::2]]], axis=-1).reshape(-1, 2)
