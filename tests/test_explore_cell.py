@@ -75,6 +75,20 @@ def test_the_page_holds_the_obstacles_and_the_body(shelf):
     assert "removed by an obstacle" in page
 
 
+def test_a_cell_with_no_pair_to_check_draws_a_page():
+    """No obstacle and no self pair: every distance is infinite, written as null (no pair to check)."""
+    chain = redkin.get_robot("kuka-iiwa14")
+    body = redkin.collision.body_of([redkin.collision.BodyCapsule("forearm", 4, [0, 0, 0], [0, 0.2, 0], 0.05)],
+                                    chain)
+    empty = redkin.collision.Scene((), np.empty((0, redkin.collision.WIDTH)), 0.01)
+    data = explorer_data(chain, chain.fk(np.zeros(7) + 0.3), body=body, scene=empty, samples=64)
+    assert all(np.isinf(b.distance[curves.exists]).all() for b, curves in zip(data.cell.branches, data.branches))
+    page = explorer_html(data)
+    payload = json.loads(re.search(r'<script id="explorer-data" type="application/json">(.*?)</script>', page,
+                                   re.S).group(1))
+    assert all(d is None for b in payload["branches"] for d in b["cell"]["distance"])
+
+
 def test_a_cell_on_another_class_or_half_a_cell_is_refused(shelf):
     chain, body, scene, pose, _ = shelf
     with pytest.raises(RedkinError, match="both"):

@@ -160,12 +160,14 @@ def _cell(cell: CellView) -> dict[str, Any]:
 
 def _branch_cell(cell: BranchCell, parameter: Parameter, angle) -> dict[str, Any]:
     """One branch in the cell: its free and blocked intervals of the domain (each blocked one with its cause), the
-    body's capsule ends at every grid value (``null`` where no solution), the least distance and the pair."""
+    body's capsule ends at every grid value (``null`` where no solution), the least distance (``null`` where no
+    solution or no pair to check) and the pair."""
     domain = parameter.domain
     blocked = [[*angle(piece), text] for lo, hi, text in cell.blocked
                for piece in _intervals(np.array([[lo, hi]]), domain)]
+    distance = np.where(np.isfinite(cell.distance), cell.distance, np.nan)  # inf: no pair to check (null, as none)
     return {"free": angle(_intervals(cell.free, domain)), "blocked": blocked,
-            "capsules": _positions(cell.capsules.ravel()), "distance": _positions(cell.distance),
+            "capsules": _positions(cell.capsules.ravel()), "distance": _positions(distance),
             "closest": cell.closest.tolist()}
 
 

@@ -219,7 +219,7 @@ SCRIPT = r"""
     const free = branch.cell.free.some(([lo, hi]) => lo <= value && value <= hi);
     const cause = branch.cell.blocked.find(([lo, hi]) => lo <= value && value <= hi);
     const span = document.createElement("span");
-    span.className = "cell" + (d < D.cell.margin ? " bad" : "");
+    span.className = "cell" + (d !== null && d < D.cell.margin ? " bad" : "");
     const where = free ? " " + P.symbol + " is in the collision-free set." : cause ? " Removed: " + cause[2] + "."
       : "";
     if (d === null) span.textContent = " No pair to check.";
