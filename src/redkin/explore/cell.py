@@ -15,7 +15,7 @@ import numpy as np
 from redkin.arms.front_door import Arm
 from redkin.collision.arm_angle_free import COLLISION, LIMIT, collision_free_arm_angles
 from redkin.collision.body import Body, capsule_ends, posed
-from redkin.collision.clearance import pair_table
+from redkin.collision.clearance import checked_pairs, pair_table
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE
 from redkin.collision.scene import Scene
 from redkin.explore.curves import BranchCurves
@@ -74,7 +74,7 @@ def cell_view(arm: Arm, pose: np.ndarray, body: Body, scene: Scene, curves: tupl
     cells = []
     for b, branch in enumerate(curves):
         q = np.where(branch.exists[:, None], branch.q, 0.0)
-        table, pairs = pair_table(arm.chain, body, scene, q)
+        table, _ = pair_table(arm.chain, body, scene, q)
         capsules = capsule_ends(posed(body, arm.chain.frames(q)))
         capsules[~branch.exists] = np.nan
         if table.shape[1]:
@@ -87,7 +87,7 @@ def cell_view(arm: Arm, pose: np.ndarray, body: Body, scene: Scene, curves: tupl
         arcs = free.free[b]
         cells.append(BranchCell(arcs.bounds.copy(), blocked, capsules, distance, closest))
     return CellView(tuple(_obstacle(name, row) for name, row in zip(scene.names, scene.shapes, strict=True)),
-                    tuple(body.link), np.asarray(body.radius, dtype=float), tuple(pairs.names) if len(curves) else (),
+                    tuple(body.link), np.asarray(body.radius, dtype=float), tuple(checked_pairs(body, scene).names),
                     float(scene.margin), tuple(cells), scene.source)
 
 

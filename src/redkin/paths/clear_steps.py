@@ -30,7 +30,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from redkin.circle import TWO_PI
+from redkin.circle import wrap_angle
 from redkin.paths.family import Family
 from redkin.paths.graph import Arm, Graph
 from redkin.paths.result import PathFailure, PathResult
@@ -99,7 +99,7 @@ def _unclear_edges(family: Family, arm: Arm, graph: Graph, w: int) -> dict[int, 
     i, j = before[np.nonzero(fits)[0]], after[np.nonzero(fits)[1]]
     start = graph.q[i]
     turn = graph.q[j] - start
-    end = start + np.where(arm.circle, turn - np.round(turn / TWO_PI) * TWO_PI, turn)  # the shorter way round
+    end = start + np.where(arm.circle, wrap_angle(turn), turn)  # the shorter way round
     steps = family.steps(start, end)
     assert steps is not None
     unclear = np.flatnonzero(~steps.certified)
