@@ -38,7 +38,7 @@ from tests.support.urdf_reference import reference_fk
 #: The links of the written URDFs and the kinds of their collisions, in the file's order.
 LINKS = {
     "world": ["box"], "base_link": ["box", "sphere"], "base_plate": ["box"], "l1": ["cylinder", "sphere"],
-    "l2": ["box"], "l2_cover": ["sphere"], "l3": ["mesh", "cylinder"], "l4": ["sphere"], "hand": ["box", "cylinder"],
+    "l2": ["box"], "l2_cover": ["sphere"], "l3": ["box", "cylinder"], "l4": ["sphere"], "hand": ["box", "cylinder"],
     "tcp": [], "finger": ["box"], "l5": ["sphere"],
 }
 #: Its joints: name, type, parent, child.  The chain runs from base_link to l4.
@@ -65,19 +65,17 @@ def _robot(seed: int) -> str:
     def origin() -> str:
         return f'<origin xyz="{_words(rng.uniform(-0.3, 0.3, 3))}" rpy="{_words(rng.uniform(-np.pi, np.pi, 3))}"/>'
 
-    def geometry(kind: str, link: str) -> str:
+    def geometry(kind: str) -> str:
         if kind == "sphere":
             return f'<sphere radius="{rng.uniform(0.01, 0.2)!r}"/>'
         if kind == "cylinder":
             return f'<cylinder radius="{rng.uniform(0.01, 0.2)!r}" length="{rng.uniform(0.0, 0.5)!r}"/>'
-        if kind == "box":
-            return f'<box size="{_words(rng.uniform(0.01, 0.5, 3))}"/>'
-        return f'<mesh filename="package://arm/meshes/{link}.stl" scale="1 1 1"/>'
+        return f'<box size="{_words(rng.uniform(0.01, 0.5, 3))}"/>'
 
     links = ""
     for link, kinds in LINKS.items():
         collisions = "".join(f"<collision>{'' if link == 'base_plate' else origin()}"  # one without an origin
-                             f"<geometry>{geometry(kind, link)}</geometry></collision>" for kind in kinds)
+                             f"<geometry>{geometry(kind)}</geometry></collision>" for kind in kinds)
         links += f'<link name="{link}">{collisions}</link>'
     joints = ""
     for name, kind, parent, child in JOINTS:
@@ -110,7 +108,7 @@ def _link_pose(text: str, q: np.ndarray, link: str) -> np.ndarray:
 
 
 def _collisions(text: str, q: np.ndarray) -> list[tuple[str, str, np.ndarray, np.ndarray]]:
-    """Per collision of a covered link but meshes, in the file's order: its link, kind, pose in base_link's
+    """Per collision of a covered link, in the file's order: its link, kind, pose in base_link's
     coordinates at ``q``, and sizes (a sphere's radius; a cylinder's radius and length; a box's edges)."""
     found = []
     for link in ET.fromstring(text).findall("link"):
@@ -120,10 +118,9 @@ def _collisions(text: str, q: np.ndarray) -> list[tuple[str, str, np.ndarray, np
         for collision in link.findall("collision"):
             shape = collision.find("geometry")[0]
             sizes = {"sphere": lambda s: [s.get("radius")], "cylinder": lambda s: [s.get("radius"), s.get("length")],
-                     "box": lambda s: s.get("size").split(), "mesh": lambda s: []}[shape.tag](shape)
-            if shape.tag != "mesh":
-                found.append((link.get("name"), shape.tag, pose @ _transform(collision.find("origin")),
-                              np.array(sizes, dtype=float)))
+                     "box": lambda s: s.get("size").split()}[shape.tag](shape)
+            found.append((link.get("name"), shape.tag, pose @ _transform(collision.find("origin")),
+                          np.array(sizes, dtype=float)))
     return found
 
 
@@ -194,7 +191,7 @@ def test_a_chain_without_link_names_has_numbered_links_at_its_frames():
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_posed_capsules_are_the_urdf_collisions_covered_as_documented(tmp_path_factory, seed):
-    """Spheres exactly, cylinders and boxes by the documented capsules, at random joint values; meshes, the finger,
+    """Spheres exactly, cylinders and boxes by the documented capsules, at random joint values; the finger,
     the link past the tip and the root above the base left out."""
     path, text = _write(tmp_path_factory.mktemp("urdf"), seed)
     chain, body = urdf_body(path, "base_link", "l4")
@@ -248,8 +245,6 @@ def test_the_notes_name_what_is_over_approximated_and_what_is_left_out(tmp_path)
     path, _ = _write(tmp_path, 3)
     _, body = urdf_body(path, "base_link", "l4")
     assert all("\n" not in note for note in body.notes)
-    meshes = [note for note in body.notes if "mesh" in note]
-    assert meshes == ["link 'l3' collision 1: mesh 'package://arm/meshes/l3.stl' not covered; give a body file"]
     kinds = [kind for link in FRAMES for kind in LINKS[link]]
     assert sum("cylinder covered by a capsule" in note for note in body.notes) == kinds.count("cylinder")
     assert sum("box" in note and "beyond the box" in note for note in body.notes) == kinds.count("box")
@@ -284,7 +279,7 @@ def test_srdf_pairs_drop_out_of_the_checked_pairs(tmp_path):
     _, every = urdf_body(path, "base_link", "l4")
     _, fewer = urdf_body(path, "base_link", "l4", srdf=srdf)
     named = {tuple(pair) for pair in every.pairs.tolist() if {every.link[pair[0]], every.link[pair[1]]} == {"l1", "l3"}}
-    assert len(named) == LINKS["l1"].count("sphere") + LINKS["l1"].count("cylinder")  # l3's cylinder against l1's
+    assert len(named) == len(LINKS["l1"]) * len(LINKS["l3"])  # each of l3's capsules against each of l1's
     assert {tuple(pair) for pair in fewer.pairs.tolist()} == {tuple(pair) for pair in every.pairs.tolist()} - named
     assert fewer.link == every.link and str(srdf) in fewer.source
 

@@ -174,8 +174,9 @@ def test_xacro_arguments_and_package_paths_are_for_xacro_files_only(tmp_path: Pa
     urdf.write_text(_urdf_by_hand())
     with pytest.raises(RobotDescriptionError, match=r"xacro arguments apply to \.xacro files only"):
         get_robot(urdf, xacro_args={"hand": "false"})
-    with pytest.raises(RobotDescriptionError, match=r"package paths apply to \.xacro files only"):
-        get_robot(urdf, package_paths=[tmp_path])
+    # a plain URDF takes package paths, for its package:// meshes (redkin.collision.urdf_body); its chain is the same
+    with_paths, plain = get_robot(urdf, package_paths=[tmp_path]), get_robot(urdf)
+    assert all(np.array_equal(getattr(with_paths, k), getattr(plain, k)) for k in ("a", "alpha", "d", "offset", "tool"))
     for robot in ("kuka-iiwa14", tmp_path / "arm.toml"):
         with pytest.raises(ValueError, match=r"apply to \.xacro files only, not to"):
             get_robot(robot, xacro_args={"hand": "false"})

@@ -79,10 +79,13 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         written as text, ``True`` as ``true``).  An argument the file neither
         declares nor reads is ignored, as by xacro, with a ``UserWarning``.
     package_paths : path or iterable of paths, optional
-        For a ``.xacro``: folders searched first for the ROS packages of its
+        Folders searched first for the ROS packages of a ``.xacro``'s
         ``$(find PKG)`` (a folder that is a package, or holds packages, each
         a folder with a ``package.xml`` naming it).  Then come the folders
         above the file, ``ROS_PACKAGE_PATH`` and, under ROS 2, the ament index.
+        The chain reads no ``package://`` mesh file; the body of the
+        collision elements does (:func:`redkin.collision.urdf_body`), from the
+        same places, so a plain URDF takes them too.
 
     Returns
     -------
@@ -97,8 +100,8 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         missing ROS package (named), an unknown link, a tree without a single
         tip, links not on one path, and prismatic, floating, planar or mimic
         joints (named); its ``path`` and ``key`` (the joint or link) say where.
-        Also for xacro arguments or package paths given with a plain URDF,
-        and a package path that is not a folder.
+        Also for xacro arguments given with a plain URDF, and a package path
+        that is not a folder.
     RedkinError
         When ``xacro_args`` is not a mapping of names to values.
 
@@ -114,9 +117,6 @@ def load_urdf(path: str | Path, base: str | None = None, tip: str | None = None,
         if arguments:
             raise RobotDescriptionError(f"{path}: xacro arguments apply to .xacro files only; a URDF is read as it "
                                         "is written", path=str(path))
-        if places:
-            raise RobotDescriptionError(f"{path}: package paths apply to .xacro files only (for their $(find PKG)); "
-                                        "a URDF's package:// mesh files are not read", path=str(path))
     robot = _parse(file, arguments, places)
     links = {link.name for link in robot.links}
     if not links:

@@ -172,6 +172,9 @@ def _collision(rng: np.random.Generator) -> None:
     collision.signed_distance(pairs[0, 0], pairs[0, 1])
     many = np.resize(pairs, (_BATCH, 2, collision.WIDTH))
     collision.signed_distance(many[:, 0], many[:, 1])
+    from redkin.collision.mesh_cover import _along  # the mesh fit's kernel, without the mesh extra's reach
+
+    _along(rng.normal(size=(20, 3)), np.array([0.0, 0.0, 1.0]))
 
 
 #: The sections of :func:`warm_up`, in order: name and the calls that compile its kernels.

@@ -61,8 +61,7 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
                          f"link_0 .. link_{chain.n}, the chain's frames)")
     _, body = urdf_body(args.robot, args.base, args.tip, srdf=args.srdf, **options)
     if not len(body):
-        raise ValueError(f"{args.robot}: no <collision> element on the chain's links is a sphere, cylinder or box "
-                         "(meshes are not read yet): give --body FILE")
+        raise ValueError(f"{args.robot}: the chain's links have no <collision> elements: give --body FILE")
     return body, scene
 
 

@@ -84,8 +84,9 @@ def add_xacro_arguments(parser: argparse.ArgumentParser) -> None:
                         help=".xacro: the value of one of its <xacro:arg> arguments (repeatable; the last of a name "
                              "counts)")
     parser.add_argument("--package-path", dest="package_paths", action="append", default=[], metavar="DIR",
-                        help=".xacro: a folder holding ROS packages (or one package) for its $(find PKG), searched "
-                             "before the folders above the file and ROS_PACKAGE_PATH (repeatable)")
+                        help="a folder holding ROS packages (or one package), searched before the folders above the "
+                             "file and ROS_PACKAGE_PATH: for a .xacro's $(find PKG), and for the package:// mesh "
+                             "files of a URDF's collision shapes (--scene) (repeatable)")
 
 
 def _xacro_argument(text: str) -> tuple[str, str]:

@@ -12,8 +12,11 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
   (:class:`LinkFrame`); :func:`numbered_link_frames` the links ``link_0 .. link_n`` of a chain without link names
 * :func:`read_body` -- the arm's body from a YAML or JSON body file of spheres and capsules per link, and the link
   pairs to skip; :func:`body_data` the same from data already read
-* :func:`urdf_body` -- a URDF's chain and the body of its ``<collision>`` elements (spheres exact, cylinders and boxes
-  covered by capsules, meshes left out with a note), with an SRDF's disabled pairs (:func:`srdf_ignored_pairs`)
+* :func:`urdf_body` -- a URDF's chain and the body of its ``<collision>`` elements (spheres exact, cylinders, boxes
+  and mesh files covered by capsules, each note saying by how much), with an SRDF's disabled pairs
+  (:func:`srdf_ignored_pairs`)
+* :func:`covering_capsules` -- one to three capsules that contain a mesh, and how far each reaches beyond it
+  (:class:`MeshCapsule`; the ``mesh`` extra)
 * :func:`body_of` -- a body from capsules fixed in the chain's frames (:class:`BodyCapsule`), with its
   self-collision pairs; :func:`posed` its capsules in the base frame at given frames
 * :func:`clearance` -- at joint values of any arm, the least distance between the body and the obstacles or itself,
@@ -35,6 +38,7 @@ from redkin.collision.clearance import Clearance, clearance
 from redkin.collision.distances import Distance, signed_distance
 from redkin.collision.free_ik import FreeSolutions, collision_free_ik
 from redkin.collision.link_frames import LinkFrame, numbered_link_frames, urdf_link_frames
+from redkin.collision.mesh_cover import MeshCapsule, covering_capsules
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE, WIDTH, box, capsule, plane, sphere
 from redkin.collision.scene import Scene, read_scene, scene_of
 from redkin.collision.steps import StepClearance, step_clearance, steps_between
@@ -44,4 +48,5 @@ __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "b
            "scene_of", "signed_distance", "sphere", "LinkFrame", "urdf_link_frames", "numbered_link_frames",
            "read_body", "body_data", "urdf_body", "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed",
            "FreeArmAngles", "Stretch", "collision_free_arm_angles", "free_arm_angles_of", "FreeSolutions",
-           "collision_free_ik", "Clearance", "clearance", "StepClearance", "step_clearance", "steps_between"]
+           "collision_free_ik", "Clearance", "clearance", "StepClearance", "step_clearance", "steps_between",
+           "MeshCapsule", "covering_capsules"]

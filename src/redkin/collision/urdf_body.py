@@ -10,11 +10,13 @@ frame the link is fixed in:
 * a box: the capsule around the segment through its centre along its longest edge, as long as that edge, whose radius
   is half the diagonal of the other two edges: it contains the box, and reaches up to that radius beyond it (past the
   two end faces; less elsewhere);
-* a mesh: not read in this step, and left out.
+* a mesh: read from its file (:mod:`redkin.collision.mesh_files`: ``package://`` names found from the caller's
+  package paths, the folders above the URDF and ``ROS_PACKAGE_PATH``; the ``mesh`` extra reads the file), scaled by
+  its ``scale``, and covered by one to three capsules that contain it (:mod:`redkin.collision.mesh_cover`).
 
-The body's notes say, one line each, which cylinder and box were made larger and by how much, which mesh is not
-covered (give a body file, :func:`redkin.collision.body_file.read_body`, for those links), and which links with
-``<collision>`` elements are not fixed in the chain's frames (a gripper's fingers) and so left out.
+The body's notes say, one line each, which cylinder, box and mesh were made larger and by how much (for a mesh: how
+far its capsules reach beyond the convex hull of what each covers), and which links with ``<collision>`` elements
+are not fixed in the chain's frames (a gripper's fingers) and so left out.
 
 An SRDF (MoveIt's semantic description) names link pairs that never need checking against each other,
 ``<disable_collisions link1="..." link2="..." reason="..."/>``; they become the body's ignored pairs
@@ -34,9 +36,12 @@ import numpy as np
 from redkin.chain import SerialChain
 from redkin.collision.body import Body, BodyCapsule, body_of
 from redkin.collision.link_frames import _urdf_links
+from redkin.collision.mesh_cover import covering_capsules
+from redkin.collision.mesh_files import mesh_path, read_mesh
 from redkin.collision.primitives import _radius
 from redkin.errors import RedkinError, RobotDescriptionError
-from redkin.urdf import _origin
+from redkin.examples import resolve
+from redkin.urdf import _origin, _package_places
 
 #: How many link names the note on the links left out lists.
 _NAMES_SHOWN = 6
@@ -51,7 +56,8 @@ def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None,
     Parameters
     ----------
     path, base, tip, xacro_args, package_paths
-        As :func:`redkin.urdf.load_urdf` takes them, with the same defaults.
+        As :func:`redkin.urdf.load_urdf` takes them, with the same defaults; the package paths are searched for the
+        packages of ``package://`` mesh files too.
     srdf : str or path, optional
         An SRDF whose ``<disable_collisions>`` link pairs the body never checks against each other.
 
@@ -65,13 +71,15 @@ def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None,
     Raises
     ------
     RobotDescriptionError
-        As :func:`redkin.urdf.load_urdf` raises it; for a collision's sizes that are not finite lengths >= 0; for an
-        SRDF that cannot be read, or whose ``<disable_collisions>`` lacks a link or names one the URDF does not
-        have: one line naming the file, and the link or entry.
+        As :func:`redkin.urdf.load_urdf` raises it; for a collision's sizes that are not finite lengths >= 0; for a
+        mesh file that is not found or not read; for an SRDF that cannot be read, or whose ``<disable_collisions>``
+        lacks a link or names one the URDF does not have: one line naming the file, and the link or entry.
+    RedkinError
+        For a mesh where the ``mesh`` extra (trimesh) is not installed, with the command that installs it.
     """
-    from urdf_parser_py.urdf import Mesh
-
     chain, robot, links = _urdf_links(path, base, tip, xacro_args, package_paths)
+    file = resolve(path)
+    places = _package_places(package_paths, file)
     ignore = [] if srdf is None else srdf_ignored_pairs(srdf)
     known = {link.name for link in robot.links}
     for pair in ignore:
@@ -86,16 +94,16 @@ def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None,
         frame, pose = links[link.name]
         for index, collision in enumerate(link.collisions, start=1):
             label = f"link {link.name!r} collision {index}"
-            if isinstance(collision.geometry, Mesh):
-                notes.append(f"{label}: mesh {collision.geometry.filename!r} not covered; give a body file")
-                continue
             try:
-                ends, radius, note = _covering(collision.geometry, label)
-            except RedkinError as exc:
+                covering, note = _covering(collision.geometry, label, file, places)
+            except RobotDescriptionError:
+                raise
+            except RedkinError as exc:  # a size refused by _radius, or the mesh extra missing
                 raise RobotDescriptionError(f"{path}: {exc}", str(path), link.name) from None
             place = pose @ _origin(collision)
-            a, b = (place[:3, :3] @ end + place[:3, 3] for end in ends)
-            capsules.append(BodyCapsule(link.name, frame, a, b, radius))
+            for ends, radius in covering:
+                a, b = (place[:3, :3] @ end + place[:3, 3] for end in ends)
+                capsules.append(BodyCapsule(link.name, frame, a, b, radius))
             if note:
                 notes.append(note)
     left_out = [link.name for link in robot.links if link.collisions and link.name not in links]
@@ -139,22 +147,32 @@ def srdf_ignored_pairs(path: str | os.PathLike) -> list[tuple[str, str]]:
     return pairs
 
 
-def _covering(geometry: Any, label: str) -> tuple[tuple[np.ndarray, np.ndarray], float, str]:
-    """The capsule covering a sphere, cylinder or box of ``urdf_parser_py`` in its own frame: its segment's ends, its
-    radius, and the note on what it adds ('' for a sphere, which it equals)."""
-    from urdf_parser_py.urdf import Cylinder, Sphere
+def _covering(geometry: Any, label: str, file: Path,
+              places: list[Path]) -> tuple[list[tuple[tuple[np.ndarray, np.ndarray], float]], str]:
+    """The capsules covering a sphere, cylinder, box or mesh of ``urdf_parser_py`` in its own frame (each its
+    segment's ends and its radius), and the note on what they add ('' for a sphere, which one equals)."""
+    from urdf_parser_py.urdf import Cylinder, Mesh, Sphere
 
     if isinstance(geometry, Sphere):
-        return (np.zeros(3), np.zeros(3)), _radius(geometry.radius, f"{label}: sphere radius"), ""
+        return [((np.zeros(3), np.zeros(3)), _radius(geometry.radius, f"{label}: sphere radius"))], ""
     if isinstance(geometry, Cylinder):
         radius = _radius(geometry.radius, f"{label}: cylinder radius")
         half = np.array([0.0, 0.0, _radius(geometry.length, f"{label}: cylinder length") / 2.0])
-        return (-half, half), radius, (f"{label}: cylinder covered by a capsule reaching up to {radius:.4g} m beyond "
-                                       "each flat end")
+        return [((-half, half), radius)], (f"{label}: cylinder covered by a capsule reaching up to {radius:.4g} m "
+                                           "beyond each flat end")
+    if isinstance(geometry, Mesh):
+        vertices, faces = read_mesh(mesh_path(geometry.filename, file, places), geometry.scale)
+        covering = covering_capsules(vertices, faces)
+        reach = max(capsule.reach for capsule in covering)
+        parts = ("its convex hull" if len(covering) == 1
+                 else f"the convex hull of the part each covers (cut in {len(covering)} by planes)")
+        return ([((capsule.a, capsule.b), capsule.radius) for capsule in covering],
+                f"{label}: mesh {geometry.filename!r} covered by {len(covering)} capsule"
+                f"{'s' if len(covering) > 1 else ''} reaching up to {reach:.3g} m beyond {parts}")
     sizes = np.array([_radius(size, f"{label}: box size") for size in geometry.size])  # a Box
     longest = int(np.argmax(sizes))
     radius = float(np.hypot(*np.delete(sizes, longest))) / 2.0
     half = np.zeros(3)
     half[longest] = sizes[longest] / 2.0
-    return (-half, half), radius, (f"{label}: box {' x '.join(f'{size:.4g}' for size in sizes)} m covered by a "
-                                   f"capsule along its longest edge, reaching up to {radius:.4g} m beyond the box")
+    return [((-half, half), radius)], (f"{label}: box {' x '.join(f'{size:.4g}' for size in sizes)} m covered by a "
+                                       f"capsule along its longest edge, reaching up to {radius:.4g} m beyond the box")
