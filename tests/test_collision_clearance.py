@@ -56,3 +56,18 @@ def test_batched_equals_looped_and_empty_is_infinite(cell):
     assert np.all(nothing.distance == np.inf) and np.all(nothing.link == "")
     with pytest.raises(RedkinError):
         clearance(chain, body, scene, np.zeros(6))
+
+
+def test_a_scene_without_obstacles_still_checks_the_body_against_itself(cell):
+    """An empty scene (only the arm's own links to keep apart) measures the self pairs; it once indexed the empty
+    obstacle array and raised."""
+    chain, body, _ = cell
+    empty = Scene((), np.empty((0, primitives.WIDTH)), 0.0)
+    q = np.random.default_rng(9).uniform(chain.lower, chain.upper, (5, 7))
+    result = clearance(chain, body, empty, q)
+    shapes = posed(body, chain.frames(q))
+    for k in range(len(q)):
+        measured = {(body.link[i], body.link[j]): float(signed_distance(shapes[k, i], shapes[k, j]).distance)
+                    for i, j in body.pairs.tolist()}
+        assert float(result.distance[k]) == min(measured.values())
+        assert measured[(result.link[k], result.against[k])] == min(measured.values())

@@ -86,6 +86,8 @@ def pair_distances(shapes: np.ndarray, scene: Scene, pairs: _Pairs, at: np.ndarr
     """The signed distances of the pairs ``pair`` in the posed bodies ``shapes[at]`` (``shapes``: (N, M, WIDTH) of
     :func:`redkin.collision.body.posed`; ``at``, ``pair``: one entry per distance wanted)."""
     obstacle = pairs.obstacle[pair]
+    if not len(scene):  # only the body's own pairs (np.where below would index an empty scene)
+        return trusted_distances(shapes[at, pairs.capsule[pair]], shapes[at, pairs.other[pair]])
     against = np.where(obstacle[:, None] >= 0, scene.shapes[np.maximum(obstacle, 0)],
                        shapes[at, np.maximum(pairs.other[pair], 0)])
     return trusted_distances(shapes[at, pairs.capsule[pair]], against)
