@@ -10,6 +10,7 @@ the vertices summing to one, by ``scipy.optimize.nnls``).  The URDF's meshes are
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -264,7 +265,7 @@ def test_a_bad_scale_and_a_missing_mesh_extra_are_one_line(tmp_path, monkeypatch
     from redkin.errors import RedkinError
 
     path, text, _ = _arm_package(tmp_path, scale="1 0 1")
-    with pytest.raises(RobotDescriptionError, match=r"mesh scale \[1\.0, 0\.0, 1\.0\] must be"):
+    with pytest.raises(RobotDescriptionError, match=r"mesh scale \[1\.0, 0\.0, 1\.0\] must be one or three"):
         urdf_body(path, "base", "l3")
     path.write_text(text.replace('scale="1 0 1"', 'scale="1 2"'))
     with pytest.raises(RobotDescriptionError, match="Invalid vector length"):  # the URDF parser's own word
@@ -313,3 +314,110 @@ def test_arm_angles_in_a_cell_reads_a_urdf_whose_links_are_meshes(capsys, tmp_pa
     assert sum("mesh" in note and "reaching up to" in note for note in report["collision"]["notes"]) == 2
     expected = collision_free_arm_angles(arm, pose, body, read_scene(scene))
     assert np.allclose(report["branches"]["+++"], expected.free[0].bounds.reshape(-1, 2), atol=1e-12)
+
+
+# ----------------------------------------------------------------------------- mesh obstacles
+def _inside_boxes(points: np.ndarray, boxes) -> np.ndarray:
+    """Per point, whether some box holds it (in the box's own axes, within rounding)."""
+    inside = np.zeros(len(points), dtype=bool)
+    for box in boxes:
+        local = (points - box.center) @ box.rotation
+        inside |= np.all(np.abs(local) <= box.size / 2 + 1e-12, axis=1)
+    return inside
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), kind=st.sampled_from([*sorted(MESHES), "bent"]), most=st.integers(1, 3))
+def test_the_boxes_contain_the_mesh_and_their_reach_is_their_farthest_corner(seed, kind, most):
+    from redkin.collision import covering_boxes
+
+    rng = np.random.default_rng(seed)
+    mesh = _bent_link(rng)[0] if kind == "bent" else _placed(MESHES[kind](rng), rng)
+    boxes = covering_boxes(mesh.vertices, mesh.faces, most=most)
+    assert 1 <= len(boxes) <= most
+    assert np.all(_inside_boxes(_surface_points(mesh, rng, 2000), boxes))
+    if kind != "bent":  # convex: points of the solid
+        assert np.all(_inside_boxes(rng.dirichlet(np.ones(len(mesh.vertices)) * 0.2, 500) @ mesh.vertices, boxes))
+    if len(boxes) == 1:  # the reach of the one box: the farthest of its corners from the mesh's hull, exactly
+        (box,) = boxes
+        hull = mesh.vertices[ConvexHull(mesh.vertices).vertices]
+        corners = box.center + (np.array(np.meshgrid(*[[-0.5, 0.5]] * 3)).reshape(3, -1).T * box.size) @ box.rotation.T
+        assert box.reach == pytest.approx(max(_distance_to_hull(c, hull) for c in corners), abs=1e-7)
+        assert np.allclose(box.rotation.T @ box.rotation, np.eye(3)) and np.linalg.det(box.rotation) > 0
+
+
+def _fixture(folder: Path) -> tuple[Path, object]:
+    """A bent fixture's STL beside a scene file."""
+    mesh = _bent_link(np.random.default_rng(4))[0]
+    mesh.export(folder / "fixture.stl")
+    return folder / "fixture.stl", trimesh.load(folder / "fixture.stl", force="mesh")
+
+
+def test_a_mesh_obstacle_becomes_boxes_holding_it_where_the_pose_puts_it(tmp_path):
+    from redkin.collision import read_scene
+
+    _, mesh = _fixture(tmp_path)
+    turn = trimesh.transformations.rotation_matrix(0.7, [0.3, -0.2, 0.9])
+    turn[:3, 3] = [0.5, -0.1, 0.2]
+    rows = "[" + ", ".join("[" + ", ".join(repr(float(v)) for v in row) + "]" for row in turn) + "]"
+    (tmp_path / "cell.yaml").write_text(
+        "margin: 0.02\nobstacles:\n"
+        f"  - {{name: fixture, type: mesh, file: fixture.stl, pose: {rows}, scale: [2, 1, 1]}}\n"
+        "  - {name: post, type: capsule, a: [0, 0, 0], b: [0, 0, 1], radius: 0.05}\n")
+    scene = read_scene(tmp_path / "cell.yaml")
+    parts = [name for name in scene.names if name.startswith("fixture")]
+    assert scene.names[-1] == "post" and (parts == ["fixture"] or parts == [f"fixture [{k}/{len(parts)}]"
+                                                                            for k in range(1, len(parts) + 1)])
+    placed = (mesh.vertices * [2, 1, 1]) @ turn[:3, :3].T + turn[:3, 3]
+    from redkin.collision import signed_distance
+    from redkin.collision.primitives import sphere
+
+    points = np.stack([sphere(point, 0.0) for point in placed])
+    depth = np.min([signed_distance(points, np.broadcast_to(scene.shape(name), points.shape)).distance
+                    for name in parts], axis=0)
+    assert np.all(depth <= 1e-9)  # every vertex of the placed, scaled mesh is in some box
+    assert len(scene.notes) == 1 and "'fixture'" in scene.notes[0] and "reaching up to" in scene.notes[0]
+
+
+@pytest.mark.parametrize(("field", "fragment"), [
+    ("file: missing.stl", "mesh file 'missing.stl' not found"),
+    ("file: fixture.stl, pose: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "pose must be a 4x4"),
+    ("file: fixture.stl, pose: [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]", "pose rotation"),
+    ("file: fixture.stl, scale: [1, 1]", "mesh scale"),
+    ("file: 3", "file must be a mesh file's path"),
+])
+def test_a_bad_mesh_obstacle_is_one_line_naming_it(tmp_path, field, fragment):
+    from redkin.collision import read_scene
+
+    _fixture(tmp_path)
+    (tmp_path / "cell.yaml").write_text(f"obstacles:\n  - {{name: jig, type: mesh, {field}}}\n")
+    with pytest.raises(RobotDescriptionError, match=re.escape(fragment)) as caught:
+        read_scene(tmp_path / "cell.yaml")
+    assert "\n" not in str(caught.value) and "'jig'" in str(caught.value)
+
+
+def test_arm_angles_names_the_mesh_obstacle_that_blocks_the_elbow(capsys, tmp_path):
+    """A mesh ball round the iiwa14's elbow: the elbow's arm angles are removed by the mesh's box, which the
+    text and JSON name, and the scene's note is printed."""
+    import json
+
+    import redkin
+    from tests.support.cli import run
+
+    arm = redkin.arm("kuka-iiwa14")
+    q = np.array([0.3, 0.6, 0.2, -1.2, 0.4, 0.8, 0.1])
+    elbow = arm.chain.frames(q)[4][:3, 3]
+    trimesh.creation.icosphere(subdivisions=2, radius=0.05).apply_translation(elbow).export(tmp_path / "ball.stl")
+    (tmp_path / "cell.yaml").write_text("margin: 0.01\nobstacles:\n  - {name: ball, type: mesh, file: ball.stl}\n")
+    (tmp_path / "body.yaml").write_text("capsules:\n  link_4: [{a: [0, 0, 0], b: [0, 0, 0], radius: 0.06}]\n")
+    pose = arm.fk(q)
+    argv = ["arm-angles", "kuka-iiwa14", "--position", *map(repr, pose[:3, 3].tolist()),
+            "--rotation", *map(repr, pose[:3, :3].ravel().tolist()), "--scene", str(tmp_path / "cell.yaml"),
+            "--body", str(tmp_path / "body.yaml")]
+    code, out, _ = run(capsys, [*argv, "--json"])
+    assert code == 0
+    report = json.loads(out)
+    assert any(s["cause"] == "collision" and s["obstacle"] == "ball" for s in report["blocked"])
+    assert report["collision"]["scene_notes"][0].startswith("obstacle 'ball': mesh 'ball.stl' covered by 1 box")
+    code, out, _ = run(capsys, argv)
+    assert code == 0 and "meets ball" in out and "scene: obstacle 'ball'" in out

@@ -95,7 +95,8 @@ def test_unnamed_obstacles_are_called_by_type_and_place_and_the_margin_defaults_
     ({"obstacles": [{"type": "box", "center": [0, 0, 0], "size": [1, 1, 1],
                      "rotation": [[1, 0, 0], [0, 1, 0], [0, 0, -1]]}]}, "box rotation"),  # a reflection
     ({"obstacles": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}]}, "plane normal must be a non-zero"),
-    ({"obstacles": [{"type": "mesh", "file": "fixture.stl"}]}, "mesh obstacles are not read yet"),
+    ({"obstacles": [{"type": "mesh", "file": "fixture.stl"}]}, "mesh file 'fixture.stl' not found"),
+    ({"obstacles": [{"type": "mesh"}]}, "missing field 'file'"),
     ({"obstacles": [{"name": "a", "type": "sphere", "center": [0, 0, 0], "radius": 1}] * 2}, "'a' repeated"),
 ])
 def test_a_bad_scene_is_one_line_naming_the_file_the_obstacle_and_the_field(data, fragment):

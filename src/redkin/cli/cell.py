@@ -110,6 +110,7 @@ def free_report(report: dict[str, Any], free, scene, body, deg: bool, shown: str
     report["collision"] = {
         "scene": scene.source, "obstacles": list(scene.names), "margin": scene.margin, "body": body.source,
         "capsules": len(body), "self_pairs": len(body.pairs), "notes": list(body.notes),
+        "scene_notes": list(scene.notes),
         "resolution": float(angles_out(free.resolution, deg)), "complete": free.complete,
         "evaluations": free.evaluations,
     }

@@ -375,6 +375,8 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
             print(f"  removed {_format_arcs([stretch['arc']], deg)}: {what}")
         for note in cell["notes"]:
             print(f"  body: {note}")
+        for note in cell["scene_notes"]:
+            print(f"  scene: {note}")
         if not cell["complete"]:
             print("  (the work budget ran out: undecided stretches wider than the resolution remain; what is shown "
                   "free is free)")

@@ -4,7 +4,8 @@ between shapes (:func:`signed_distance`), the arm's body (:class:`Body`) and the
 of S-R-S arms (:func:`collision_free_arm_angles`).
 
 * :func:`read_scene` -- the obstacles of a YAML or JSON scene file in the arm's base frame (boxes, capsules,
-  spheres, planes) and the margin to keep from them; :func:`scene_of` the same from data already read
+  spheres, planes, meshes covered by boxes) and the margin to keep from them; :func:`scene_of` the same from data
+  already read
 * :func:`sphere`, :func:`capsule`, :func:`box`, :func:`plane` -- one shape as a row of :data:`WIDTH` numbers
 * :func:`signed_distance` -- per pair of rows (batched, broadcast), the signed distance (negative: penetrating)
   and a witness point on each shape, for a sphere or capsule against any shape, compiled closed forms
@@ -16,7 +17,8 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
   and mesh files covered by capsules, each note saying by how much), with an SRDF's disabled pairs
   (:func:`srdf_ignored_pairs`)
 * :func:`covering_capsules` -- one to three capsules that contain a mesh, and how far each reaches beyond it
-  (:class:`MeshCapsule`; the ``mesh`` extra)
+  (:class:`MeshCapsule`; the ``mesh`` extra); :func:`covering_boxes` the same with oriented boxes (:class:`MeshBox`),
+  which a scene's mesh obstacles become
 * :func:`body_of` -- a body from capsules fixed in the chain's frames (:class:`BodyCapsule`), with its
   self-collision pairs; :func:`posed` its capsules in the base frame at given frames
 * :func:`clearance` -- at joint values of any arm, the least distance between the body and the obstacles or itself,
@@ -38,7 +40,7 @@ from redkin.collision.clearance import Clearance, clearance
 from redkin.collision.distances import Distance, signed_distance
 from redkin.collision.free_ik import FreeSolutions, collision_free_ik
 from redkin.collision.link_frames import LinkFrame, numbered_link_frames, urdf_link_frames
-from redkin.collision.mesh_cover import MeshCapsule, covering_capsules
+from redkin.collision.mesh_cover import MeshBox, MeshCapsule, covering_boxes, covering_capsules
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE, WIDTH, box, capsule, plane, sphere
 from redkin.collision.scene import Scene, read_scene, scene_of
 from redkin.collision.steps import StepClearance, step_clearance, steps_between
@@ -49,4 +51,4 @@ __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "b
            "read_body", "body_data", "urdf_body", "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed",
            "FreeArmAngles", "Stretch", "collision_free_arm_angles", "free_arm_angles_of", "FreeSolutions",
            "collision_free_ik", "Clearance", "clearance", "StepClearance", "step_clearance", "steps_between",
-           "MeshCapsule", "covering_capsules"]
+           "MeshCapsule", "covering_capsules", "MeshBox", "covering_boxes"]

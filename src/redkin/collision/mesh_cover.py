@@ -38,7 +38,8 @@ hull's distances needs ``trimesh`` (the ``mesh`` extra).
 from __future__ import annotations
 
 import functools
-from typing import Any, NamedTuple
+from collections.abc import Callable
+from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -47,6 +48,8 @@ from redkin._extras import missing_extra
 from redkin.collision._mesh_kernels import capsule_along
 from redkin.errors import RedkinError
 
+#: The least edge of a box round a flat part [m] (a box has edges > 0).
+_THINNEST = 1e-9
 #: A further capsule is used where it cuts the covered volume to at most this fraction of the fewer capsules' one.
 _WORTH_ANOTHER = 0.75
 #: Heights of the cutting planes tried, as fractions of the mesh's extent along the cut's normal.
@@ -79,6 +82,27 @@ class MeshCapsule(NamedTuple):
     reach: float
 
 
+class MeshBox(NamedTuple):
+    """An oriented box that covers (part of) a mesh, in the mesh's frame.
+
+    Attributes
+    ----------
+    center : numpy.ndarray, shape (3,)
+        [m]
+    size : numpy.ndarray, shape (3,)
+        Its edge lengths along its axes [m].
+    rotation : numpy.ndarray, shape (3, 3)
+        Its axes as columns.
+    reach : float
+        The greatest distance from a point of the box to the convex hull of the part of the mesh it covers [m].
+    """
+
+    center: np.ndarray
+    size: np.ndarray
+    rotation: np.ndarray
+    reach: float
+
+
 def covering_capsules(vertices: ArrayLike, faces: ArrayLike, most: int = 3) -> list[MeshCapsule]:
     """One to ``most`` capsules that together contain a mesh's surface (and its solid, for a closed mesh).
 
@@ -102,6 +126,23 @@ def covering_capsules(vertices: ArrayLike, faces: ArrayLike, most: int = 3) -> l
         For vertices that are not finite or not an ``(V, 3)`` array, faces that index no vertex, or no faces; and
         where the ``mesh`` extra (trimesh, which measures the reach) is not installed.
     """
+    used, edges = _surface(vertices, faces, most)
+    return _covers(used, edges, most, _capsule, _capsule_volume, _quick_capsule_volume)
+
+
+def covering_boxes(vertices: ArrayLike, faces: ArrayLike, most: int = 3) -> list[MeshBox]:
+    """One to ``most`` oriented boxes that together contain a mesh's surface (and its solid, for a closed mesh): an
+    obstacle given as a mesh (module docstring).
+
+    Parameters and errors as :func:`covering_capsules`; each box is the least-volume one trimesh finds round its
+    part, and its reach is exact (a box's farthest point from a convex set is one of its corners).
+    """
+    used, edges = _surface(vertices, faces, most)
+    return _covers(used, edges, most, _box, _box_volume, _quick_box_volume)
+
+
+def _surface(vertices: ArrayLike, faces: ArrayLike, most: int) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh's vertices that some face uses, and its edges as ``(E, 2, 3)`` end points (checked)."""
     points = np.asarray(vertices, dtype=float)
     triangles = np.asarray(faces)
     if points.ndim != 2 or points.shape[1] != 3 or not np.all(np.isfinite(points)):
@@ -111,22 +152,32 @@ def covering_capsules(vertices: ArrayLike, faces: ArrayLike, most: int = 3) -> l
             or triangles.min() < 0 or triangles.max() >= len(points)):
         raise RedkinError("mesh faces must be a non-empty (F, 3) array of vertex indices")
     if most not in (1, 2, 3):
-        raise RedkinError(f"most must be 1, 2 or 3 capsules, got {most!r}")
-    used = points[np.unique(triangles)]
-    edges = points[np.unique(np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]],
-                                                     triangles[:, [2, 0]]]), axis=1), axis=0)]
-    capsules = [_capsule(used)]
+        raise RedkinError(f"most must be 1, 2 or 3 pieces, got {most!r}")
+    edges = np.unique(np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]),
+                              axis=1), axis=0)
+    return points[np.unique(triangles)], points[edges]
+
+
+_Cover = TypeVar("_Cover")
+
+
+def _covers(used: np.ndarray, edges: np.ndarray, most: int, cover: Callable[[np.ndarray], _Cover],
+            volume: Callable[[_Cover], float], quick: Callable[[np.ndarray], float]) -> list[_Cover]:
+    """One to ``most`` shapes ``cover`` makes round the mesh's parts (module docstring, "Several capsules"): the
+    cuts ranked by ``quick`` (a fast volume of one part's cover), a further part kept where the shapes' summed
+    ``volume`` drops to :data:`_WORTH_ANOTHER` of the fewer's."""
+    covers = [cover(used)]
     axes = _cut_axes(used)
     for count in range(2, most + 1):
-        cut = _best_slabs(edges, used, axes, count)
+        cut = _best_slabs(edges, used, axes, count, quick)
         if cut is None:
             break
-        more = [_capsule(slab) for slab in cut[0]]
-        if _total_volume(more) > _WORTH_ANOTHER * _total_volume(capsules):
+        more = [cover(slab) for slab in cut[0]]
+        if sum(map(volume, more)) > _WORTH_ANOTHER * sum(map(volume, covers)):
             break
-        capsules = more
-        axes = cut[1][None]  # a third capsule: cuts parallel to the second's (every axis again is dear)
-    return capsules
+        covers = more
+        axes = cut[1][None]  # a third part: cuts parallel to the second's (every axis again is dear)
+    return covers
 
 
 def _capsule(points: np.ndarray) -> MeshCapsule:
@@ -135,15 +186,50 @@ def _capsule(points: np.ndarray) -> MeshCapsule:
     return MeshCapsule(a, b, radius, _reach(a, b, radius, points))
 
 
-def _total_volume(capsules: list[MeshCapsule]) -> float:
-    """The capsules' volumes, summed (overlaps counted twice)."""
-    return sum(_volume(c.radius, float(np.linalg.norm(c.b - c.a))) for c in capsules)
+def _capsule_volume(capsule: MeshCapsule) -> float:
+    return _volume(capsule.radius, float(np.linalg.norm(capsule.b - capsule.a)))
 
 
-def _best_slabs(edges: np.ndarray, points: np.ndarray, axes: np.ndarray,
-                count: int) -> tuple[list[np.ndarray], np.ndarray] | None:
-    """The cut into ``count`` slabs (across one of ``axes``, at :data:`_CUT_HEIGHTS`) whose capsules, unrefined, have
-    the least total volume: the slabs' points and the cut's axis (``None`` where no cut leaves every slab points)."""
+def _quick_capsule_volume(points: np.ndarray) -> float:
+    """The volume of the unrefined capsule round the points."""
+    a, b, radius = _fit(points, refine=False)
+    return _volume(radius, float(np.linalg.norm(b - a)))
+
+
+def _box(points: np.ndarray) -> MeshBox:
+    """The least-volume oriented box trimesh finds round the points, made to hold them exactly, with its reach: the
+    farthest of its corners from the points' hull."""
+    trimesh = _trimesh()
+    try:
+        to_box, _ = trimesh.bounds.oriented_bounds(points)
+        rotation = np.linalg.inv(to_box)[:3, :3]
+    except Exception:  # a flat or straight part, where trimesh's hull fails: the frame's axes
+        rotation = np.eye(3)
+    if np.linalg.det(rotation) < 0.0:
+        rotation[:, 2] *= -1.0
+    local = points @ rotation
+    low, high = local.min(axis=0), local.max(axis=0)
+    size = np.maximum(high - low, _THINNEST)
+    center = rotation @ ((low + high) / 2.0)
+    corners = center + (np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+                        * size) @ rotation.T
+    return MeshBox(center, size, rotation, float(np.max(_hull_distances(corners, _hull(points)))))
+
+
+def _box_volume(box: MeshBox) -> float:
+    return float(np.prod(box.size))
+
+
+def _quick_box_volume(points: np.ndarray) -> float:
+    """The volume of the box round the points along their principal axes."""
+    local = points @ _candidate_axes(points)[:3].T
+    return float(np.prod(np.maximum(local.max(axis=0) - local.min(axis=0), _THINNEST)))
+
+
+def _best_slabs(edges: np.ndarray, points: np.ndarray, axes: np.ndarray, count: int,
+                quick: Callable[[np.ndarray], float]) -> tuple[list[np.ndarray], np.ndarray] | None:
+    """The cut into ``count`` slabs (across one of ``axes``, at :data:`_CUT_HEIGHTS`) whose covers have the least
+    total ``quick`` volume: the slabs' points and the cut's axis (``None`` where no cut leaves every slab points)."""
     best: tuple[list[np.ndarray], np.ndarray, float] | None = None
     for axis in axes:
         heights = points @ axis
@@ -155,10 +241,7 @@ def _best_slabs(edges: np.ndarray, points: np.ndarray, axes: np.ndarray,
             slabs = _slabs(edges, points, axis, cuts[list(chosen)])
             if any(len(slab) < 2 for slab in slabs):
                 continue
-            total = 0.0
-            for slab in slabs:
-                a, b, radius = _fit(slab, refine=False)
-                total += _volume(radius, float(np.linalg.norm(b - a)))
+            total = sum(quick(slab) for slab in slabs)
             if best is None or total < best[2]:
                 best = (slabs, axis, total)
     return None if best is None else best[:2]
@@ -270,14 +353,19 @@ def _reach(a: np.ndarray, b: np.ndarray, radius: float, points: np.ndarray) -> f
     """An upper bound, within :data:`_REACH_TOLERANCE`, of the greatest distance from a point of the capsule to the
     points' convex hull (module docstring): over each end sphere, branch and bound on the faces of a subdivided
     icosahedron."""
+    hull = _hull(points)
+    directions, faces = _icosphere()
+    return max(_sphere_reach(centre, radius, hull, directions, faces) for centre in (a, b))
+
+
+def _hull(points: np.ndarray) -> Any:
+    """scipy's convex hull of the points (of its joggled points where they are flat or on a line)."""
     from scipy.spatial import ConvexHull, QhullError
 
     try:
-        hull = ConvexHull(points)
-    except QhullError:  # a flat or straight piece: its hull is measured through its joggled one
-        hull = ConvexHull(points, qhull_options="QJ")
-    directions, faces = _icosphere()
-    return max(_sphere_reach(centre, radius, hull, directions, faces) for centre in (a, b))
+        return ConvexHull(points)
+    except QhullError:
+        return ConvexHull(points, qhull_options="QJ")
 
 
 def _sphere_reach(centre: np.ndarray, radius: float, hull, directions: np.ndarray, faces: np.ndarray) -> float:

@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from redkin._extras import missing_extra
 from redkin.errors import RedkinError, RobotDescriptionError
@@ -54,7 +55,7 @@ def mesh_path(filename: str, description: Path, places: Sequence[Path] = ()) -> 
     return found
 
 
-def read_mesh(path: Path, scale: Sequence[float] | None = None) -> tuple[np.ndarray, np.ndarray]:
+def read_mesh(path: Path, scale: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The vertices (``(V, 3)``, [m] once scaled) and triangles (``(F, 3)`` indices) of a mesh file.
 
     Raises
@@ -69,10 +70,13 @@ def read_mesh(path: Path, scale: Sequence[float] | None = None) -> tuple[np.ndar
         import trimesh
     except ImportError:
         raise RedkinError(missing_extra(f"reading the mesh {str(path)!r} needs trimesh", "mesh")) from None
-    factors = np.ones(3) if scale is None else np.asarray(scale, dtype=float).reshape(-1)
+    try:
+        factors = np.ones(3) if scale is None else np.asarray(scale, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        factors = np.full(2, np.nan)  # refused below, in the same words
     if factors.shape not in ((1,), (3,)) or not np.all(np.isfinite(factors)) or np.any(factors == 0.0):
-        raise RobotDescriptionError(f"{path}: mesh scale {factors.tolist()} must be one or three finite numbers, "
-                                    "none zero", str(path))
+        raise RobotDescriptionError(f"{path}: mesh scale {scale!r} must be one or three finite numbers, none zero",
+                                    str(path))
     try:
         mesh = trimesh.load(str(path), force="mesh")
     except ImportError as exc:  # a format whose reader is missing (DAE: pycollada)

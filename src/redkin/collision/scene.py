@@ -8,11 +8,18 @@ A scene file is YAML (JSON is YAML too), in the arm's base frame, metres::
       - {name: post, type: capsule, a: [0.4, 0.3, 0], b: [0.4, 0.3, 1.0], radius: 0.04}
       - {name: lamp, type: sphere, center: [0.3, -0.4, 0.9], radius: 0.1}
       - {name: floor, type: plane, point: [0, 0, 0], normal: [0, 0, 1]}            # solid below
+      - {name: fixture, type: mesh, file: fixture.stl, pose: [[1,0,0,0.5],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}
 
 Each obstacle becomes one row of :mod:`redkin.collision.primitives`.  A box's ``rotation`` is given by rows, as a
 matrix is written; its columns are the box's axes.  Names must be unique (an unnamed obstacle is called by its
 type and place in the list, ``box 1``).  A file that cannot be used is one line naming the file, the entry and the
-field.  Mesh obstacles (``type: mesh``) are refused in words: reading meshes is a later step of issue 40.
+field.
+
+A mesh obstacle is a mesh file (STL, OBJ, PLY, DAE: :func:`redkin.collision.mesh_files.read_mesh`, the ``mesh``
+extra; a relative ``file`` is read from the scene file's folder), placed by ``pose`` (a 4x4 given by rows; default
+the identity) after its optional ``scale`` (one number or three).  It becomes one to three oriented boxes that
+contain it (:func:`redkin.collision.mesh_cover.covering_boxes`), named ``fixture`` where one box covers it and
+``fixture [1/2]``, ``fixture [2/2]`` where more do; :attr:`Scene.notes` says how far the boxes reach beyond the mesh.
 """
 
 from __future__ import annotations
@@ -24,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from redkin._validation import as_float_array
+from redkin._validation import as_float_array, check_rotation
 from redkin._yaml_files import read_yaml
 from redkin.collision import primitives
 from redkin.errors import RedkinError, RobotDescriptionError
@@ -35,8 +42,9 @@ _FIELDS = {
     "capsule": ("a", "b", "radius"),
     "sphere": ("center", "radius"),
     "plane": ("point", "normal"),
+    "mesh": ("file", "pose", "scale"),
 }
-_OPTIONAL = {"rotation"}
+_OPTIONAL = {"rotation", "pose", "scale"}
 #: Per obstacle type, the primitive that makes its row from those fields.
 _MAKERS: dict[str, Callable[..., np.ndarray]] = {"box": primitives.box, "capsule": primitives.capsule,
                                                  "sphere": primitives.sphere, "plane": primitives.plane}
@@ -56,12 +64,15 @@ class Scene:
         The clearance [m] >= 0 every link keeps from every obstacle.
     source : str
         Where the scene comes from (its file), for messages.
+    notes : tuple of str
+        What the shapes over-approximate (a mesh obstacle's boxes) and by how much, one line each.
     """
 
     names: tuple[str, ...]
     shapes: np.ndarray
     margin: float = 0.0
     source: str = ""
+    notes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         shapes = as_float_array(self.shapes, "shapes")
@@ -79,6 +90,7 @@ class Scene:
         if repeated:
             raise RedkinError(f"obstacle names must be unique: {', '.join(map(repr, repeated))} repeated")
         margin = _number(self.margin, "margin")
+        object.__setattr__(self, "notes", tuple(str(note) for note in self.notes))
         shapes.flags.writeable = False
         object.__setattr__(self, "names", names)
         object.__setattr__(self, "shapes", shapes)
@@ -126,27 +138,29 @@ def scene_of(data: Any, source: str = "") -> Scene:
         margin = _number(data.get("margin", 0.0), "margin")
     except RedkinError as exc:
         raise RobotDescriptionError(f"{where}: {exc}", source, "margin") from None
-    names, rows = [], []
+    names: list[str] = []
+    rows: list[np.ndarray] = []
+    notes: list[str] = []
     for index, entry in enumerate(entries, start=1):
-        name, row = _obstacle(entry, index, where, source)
-        names.append(name)
-        rows.append(row)
+        shapes, note = _obstacle(entry, index, where, source)
+        names.extend(name for name, _ in shapes)
+        rows.extend(row for _, row in shapes)
+        if note:
+            notes.append(note)
     try:
-        return Scene(tuple(names), np.array(rows).reshape(-1, primitives.WIDTH), margin, source)
+        return Scene(tuple(names), np.array(rows).reshape(-1, primitives.WIDTH), margin, source, tuple(notes))
     except RedkinError as exc:
         raise RobotDescriptionError(f"{where}: {exc}", source) from None
 
 
-def _obstacle(entry: Any, index: int, where: str, source: str) -> tuple[str, np.ndarray]:
-    """The name and row of the ``index``-th obstacle of a scene file."""
+def _obstacle(entry: Any, index: int, where: str, source: str) -> tuple[list[tuple[str, np.ndarray]], str]:
+    """The names and rows of the ``index``-th obstacle of a scene file (one, or a mesh's boxes), and a note on
+    what they over-approximate ('' for a primitive, which its row is)."""
     if not isinstance(entry, dict):
         raise RobotDescriptionError(f"{where}: obstacle {index} must be a mapping with a type and its fields",
                                     source, str(index))
     kind = entry.get("type")
     label = f"obstacle {index}" + (f" ({entry['name']!r})" if "name" in entry else "")
-    if kind == "mesh":
-        raise RobotDescriptionError(f"{where}: {label}: mesh obstacles are not read yet (issue 40's meshes, through "
-                                    "trimesh and coal); give boxes, capsules, spheres or planes", source, "type")
     if kind not in _FIELDS:
         raise RobotDescriptionError(f"{where}: {label}: type must be one of {', '.join(_FIELDS)}, got {kind!r}",
                                     source, "type")
@@ -158,11 +172,47 @@ def _obstacle(entry: Any, index: int, where: str, source: str) -> tuple[str, np.
     missing = [field for field in fields if field not in entry and field not in _OPTIONAL]
     if missing:
         raise RobotDescriptionError(f"{where}: {label}: missing field {missing[0]!r}", source, missing[0])
+    name = str(entry.get("name", f"{kind} {index}"))
+    if kind == "mesh":
+        return _mesh_obstacle(entry, name, f"{where}: {label}", source)
     try:
         row = _MAKERS[kind](**{field: entry[field] for field in fields if field in entry})
     except (RedkinError, TypeError) as exc:
         raise RobotDescriptionError(f"{where}: {label}: {exc}", source, str(index)) from None
-    return str(entry.get("name", f"{kind} {index}")), row
+    return [(name, row)], ""
+
+
+def _mesh_obstacle(entry: dict, name: str, label: str, source: str) -> tuple[list[tuple[str, np.ndarray]], str]:
+    """The boxes of a mesh obstacle (module docstring), named, and the note on how far they reach beyond it."""
+    from pathlib import Path
+
+    from redkin.collision.mesh_cover import covering_boxes
+    from redkin.collision.mesh_files import read_mesh
+
+    given = entry["file"]
+    if not isinstance(given, str) or not given:
+        raise RobotDescriptionError(f"{label}: file must be a mesh file's path, got {given!r}", source, "file")
+    file = Path(given) if Path(given).is_absolute() or not source else Path(source).parent / given
+    if not file.is_file():
+        raise RobotDescriptionError(f"{label}: mesh file {given!r} not found (looked for {str(file)!r})", source,
+                                    "file")
+    try:
+        pose = np.eye(4) if "pose" not in entry else as_float_array(entry["pose"], "pose")
+        if pose.shape != (4, 4) or not np.array_equal(pose[3], [0.0, 0.0, 0.0, 1.0]):
+            raise RedkinError(f"pose must be a 4x4 transform given by rows, last row 0 0 0 1, got shape {pose.shape}")
+        rotation = check_rotation(pose[:3, :3], "pose rotation")
+        vertices, faces = read_mesh(file, entry.get("scale"))
+        boxes = covering_boxes(vertices @ rotation.T + pose[:3, 3], faces)
+    except RobotDescriptionError as exc:  # the mesh file's own: it names the file
+        raise RobotDescriptionError(f"{label}: {exc}", source, "scale" if "scale" in str(exc) else "file") from None
+    except (RedkinError, ValueError) as exc:
+        raise RobotDescriptionError(f"{label}: {exc}", source, "pose" if "pose" in str(exc) else "file") from None
+    names = [name] if len(boxes) == 1 else [f"{name} [{k}/{len(boxes)}]" for k in range(1, len(boxes) + 1)]
+    rows = [(part, primitives.box(box.center, box.size, box.rotation)) for part, box in zip(names, boxes)]
+    reach = max(box.reach for box in boxes)
+    beyond = "its convex hull" if len(boxes) == 1 else "the convex hull of the part each covers"
+    return rows, (f"obstacle {name!r}: mesh {given!r} covered by {len(boxes)} box{'es' if len(boxes) > 1 else ''} "
+                  f"reaching up to {reach:.3g} m beyond {beyond}")
 
 
 def _number(value: Any, name: str) -> float:
