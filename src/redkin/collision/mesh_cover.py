@@ -1,7 +1,10 @@
-"""Capsules that cover a mesh (issue 40): the body of a link whose description gives its collision shape as a mesh.
+"""Capsules and boxes that cover a mesh (issue 40): the body of a link whose description gives its collision shape as
+a mesh, and a scene's mesh obstacles.
 
-The compiled distances and the certified sets read spheres and capsules only, so a mesh is covered by one to three
-capsules that contain it, and the body says how much larger they are.
+The compiled distances and the certified sets read primitives only, so a link's mesh is covered by one to three
+capsules that contain it (:func:`covering_capsules`; the body's capsules), and an obstacle's by one to three oriented
+boxes (:func:`covering_boxes`; a box fits a fixture's flat faces, and a box against a capsule is a compiled
+distance), each with how much larger it is.
 
 The fit.
     A capsule around the segment ``a``-``b`` with radius ``r`` contains a convex set when it contains its vertices.
@@ -13,7 +16,7 @@ The fit.
     refined by Nelder-Mead over its tilt.  The radius is then the greatest distance of a vertex from the segment,
     so the capsule contains every vertex whatever the rounding of the steps before.
 
-Several capsules.
+Several capsules (or boxes).
     A bent part (an L- or V-shaped casting, a hand with its fingers) is covered badly by one capsule.  The
     mesh is cut by parallel planes into slabs; each slab's part of the surface has for vertices the mesh vertices
     inside the slab and the points where the mesh's edges cross the planes, so the capsule containing those points
