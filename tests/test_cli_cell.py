@@ -84,7 +84,6 @@ def test_a_urdf_body_comes_from_its_collision_elements(capsys, cell, tmp_path):
 
 @pytest.mark.parametrize(("extra", "words"), [
     (["--body", "{body}"], "--body applies with --scene"),
-    (["--scene", "{scene}"], "give --body FILE"),
     (["--scene", "{scene}", "--body", "{body}", "--margin", "-1"], "--margin must be"),
     (["--scene", "missing.yaml", "--body", "{body}"], "cannot read it"),
     (["--scene", "{scene}", "--body", "{body}", "--srdf", "{body}"], "--srdf names URDF links"),

@@ -358,7 +358,7 @@ _GOOD_SPHERE = {"center": [0, 0, 0.1], "radius": 0.05}
 
 
 @pytest.mark.parametrize("data, field, fragment", [
-    ([], "", "expected a mapping with spheres, capsules or ignore"),
+    ([], "", "expected a mapping with spheres, capsules, ignore or notes"),
     ({"sphere": {}}, "sphere", "unknown key 'sphere'"),
     ({"spheres": [_GOOD_SPHERE]}, "spheres", "spheres must be a mapping of link names to lists of spheres"),
     ({"spheres": {"link_9": [_GOOD_SPHERE]}}, "link_9", "spheres: unknown link 'link_9' (links: link_0, link_1,"),
@@ -379,6 +379,8 @@ _GOOD_SPHERE = {"center": [0, 0, 0.1], "radius": 0.05}
     ({"ignore": "link_1 link_3"}, "ignore", "ignore must be a list of link pairs"),
     ({"ignore": [["link_1", "link_3", "link_5"]]}, "ignore", "ignore: entry 1 must be two link names"),
     ({"ignore": [["link_1", "link_3"], ["link_1", "hand"]]}, "hand", "ignore: entry 2: unknown link 'hand'"),
+    ({"notes": "measured"}, "notes", "notes must be a list of lines of text"),
+    ({"notes": ["measured", 3]}, "notes", "notes must be a list of lines of text"),
 ])
 def test_a_bad_body_file_is_one_line_naming_the_file_the_entry_and_the_field(data, field, fragment):
     chain = pa10_7c()
@@ -387,6 +389,13 @@ def test_a_bad_body_file_is_one_line_naming_the_file_the_entry_and_the_field(dat
     message = str(caught.value)
     assert message.startswith("body file 'arm.yaml': ") and fragment in message and "\n" not in message
     assert caught.value.key == field and field in message and caught.value.path == "arm.yaml"
+
+
+def test_a_body_files_notes_become_the_bodys():
+    chain = pa10_7c()
+    body = body_data({"spheres": {"link_7": [_GOOD_SPHERE]}, "notes": ["measured off the arm", "hand left out"]},
+                     chain, numbered_link_frames(chain), "arm.yaml")
+    assert body.notes == ("measured off the arm", "hand left out")
 
 
 def test_a_body_file_that_is_missing_or_not_yaml_is_one_line(tmp_path):

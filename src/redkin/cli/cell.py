@@ -25,7 +25,8 @@ def add_cell_arguments(parser: argparse.ArgumentParser, effect: str) -> None:
     parser.add_argument("--body", metavar="FILE", help="with --scene: the arm's capsules and spheres per link (YAML or "
                                                       "JSON, keyed by the URDF's link names; link_0 .. link_n, the "
                                                       "chain's frames, for a named model or another file); default: "
-                                                      "a URDF's <collision> elements")
+                                                      "a URDF's <collision> elements, or a named model's built-in "
+                                                      "body (capsules fitted to its maker's meshes)")
     parser.add_argument("--srdf", metavar="FILE", help="with --scene: an SRDF whose disable_collisions link pairs are "
                                                       "not checked against each other")
     parser.add_argument("--margin", type=float, metavar="M",
@@ -57,8 +58,16 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
         ignore = [] if args.srdf is None else srdf_ignored_pairs(args.srdf)
         return read_body(args.body, chain, body_links(args, args.robot, chain), ignore=ignore), scene
     if not named:
-        raise ValueError(f"{args.robot} has no collision elements to read: give --body FILE (its links are "
-                         f"link_0 .. link_{chain.n}, the chain's frames)")
+        from redkin.collision import builtin_body, builtin_models
+        from redkin.models import MODELS
+
+        if args.robot.lower() in MODELS and args.robot.lower() in builtin_models():
+            if args.srdf is not None:
+                raise ValueError("--srdf names URDF links: it applies to a URDF or xacro robot")
+            return builtin_body(args.robot, chain), scene
+        raise ValueError(f"{args.robot} has no collision elements to read nor a built-in body: give --body FILE (its "
+                         f"links are link_0 .. link_{chain.n}, the chain's frames; built-in bodies: "
+                         f"{', '.join(builtin_models())})")
     _, body = urdf_body(args.robot, args.base, args.tip, srdf=args.srdf, **options)
     if not len(body):
         raise ValueError(f"{args.robot}: the chain's links have no <collision> elements: give --body FILE")

@@ -19,6 +19,8 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
 * :func:`covering_capsules` -- one to three capsules that contain a mesh, and how far each reaches beyond it
   (:class:`MeshCapsule`; the ``mesh`` extra); :func:`covering_boxes` the same with oriented boxes (:class:`MeshBox`),
   which a scene's mesh obstacles become
+* :func:`builtin_body` -- a named model's built-in body, capsules fitted to its maker's collision meshes
+  (:func:`builtin_models` lists the models that have one)
 * :func:`body_of` -- a body from capsules fixed in the chain's frames (:class:`BodyCapsule`), with its
   self-collision pairs; :func:`posed` its capsules in the base frame at given frames
 * :func:`clearance` -- at joint values of any arm, the least distance between the body and the obstacles or itself,
@@ -36,6 +38,7 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
 from redkin.collision.arm_angle_free import FreeArmAngles, Stretch, collision_free_arm_angles, free_arm_angles_of
 from redkin.collision.body import Body, BodyCapsule, body_of, posed
 from redkin.collision.body_file import body_data, read_body
+from redkin.collision.builtin import builtin_body, builtin_models
 from redkin.collision.clearance import Clearance, clearance
 from redkin.collision.distances import Distance, signed_distance
 from redkin.collision.free_ik import FreeSolutions, collision_free_ik
@@ -51,4 +54,4 @@ __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "b
            "read_body", "body_data", "urdf_body", "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed",
            "FreeArmAngles", "Stretch", "collision_free_arm_angles", "free_arm_angles_of", "FreeSolutions",
            "collision_free_ik", "Clearance", "clearance", "StepClearance", "step_clearance", "steps_between",
-           "MeshCapsule", "covering_capsules", "MeshBox", "covering_boxes"]
+           "MeshCapsule", "covering_capsules", "MeshBox", "covering_boxes", "builtin_body", "builtin_models"]

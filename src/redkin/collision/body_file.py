@@ -7,11 +7,13 @@ A body file is YAML (JSON is YAML too), metres, each shape given in the frame of
     capsules:                             # per link, a list of capsules: the points within radius of segment a-b
       iiwa_link_3: [{a: [0, 0, 0], b: [0, 0, 0.2], radius: 0.06}]
     ignore: [[iiwa_link_5, iiwa_link_7]]  # link pairs never checked against each other, beside the adjacent ones
+    notes: ["capsules measured off the arm"]   # what the shapes approximate, for the user to read
 
-All three keys are optional.  The links are those a description names (:mod:`redkin.collision.link_frames`: a URDF's
-links, or ``link_0 .. link_n`` of a chain without link names); each shape is carried into the chain frame its link is
-fixed in, and the body keeps the spheres first, then the capsules, in the order of the file.  A file that cannot be
-used is one line naming the file, the link and entry, and the field.
+All four keys are optional; the notes become the body's (:attr:`redkin.collision.Body.notes`). The links are those a
+description names (:mod:`redkin.collision.link_frames`: a URDF's links, or ``link_0 .. link_n`` of a chain without
+link names); each shape is carried into the chain frame its link is fixed in, and the body keeps the spheres first,
+then the capsules, in the order of the file. A file that cannot be used is one line naming the file, the link and
+entry, and the field.
 """
 
 from __future__ import annotations
@@ -65,20 +67,24 @@ def read_body(file: str | os.PathLike, chain: SerialChain, links: Mapping[str, L
 
 def body_data(data: Any, chain: SerialChain, links: Mapping[str, LinkFrame], source: str = "", *,
               ignore: Iterable[Sequence[str]] = ()) -> Body:
-    """The body of the data of a body file (a mapping with ``spheres``, ``capsules`` and ``ignore``, each optional),
+    """The body of the data of a body file (a mapping with ``spheres``, ``capsules``, ``ignore`` and ``notes``, each
+    optional),
     as :func:`read_body` reads it, with the pairs ``ignore`` skipped too; ``source`` names it in errors and becomes
     the body's."""
     where = f"body file {source!r}" if source else "body"
     if not isinstance(data, dict):
-        raise RobotDescriptionError(f"{where}: expected a mapping with spheres, capsules or ignore", source)
-    unknown = sorted(set(map(str, data)) - {*_SHAPES, "ignore"})
+        raise RobotDescriptionError(f"{where}: expected a mapping with spheres, capsules, ignore or notes", source)
+    unknown = sorted(set(map(str, data)) - {*_SHAPES, "ignore", "notes"})
     if unknown:
-        raise RobotDescriptionError(f"{where}: unknown key {unknown[0]!r} (a body file has spheres, capsules and "
-                                    "ignore)", source, unknown[0])
+        raise RobotDescriptionError(f"{where}: unknown key {unknown[0]!r} (a body file has spheres, capsules, "
+                                    "ignore and notes)", source, unknown[0])
+    notes = data.get("notes", [])
+    if not (isinstance(notes, list) and all(isinstance(note, str) for note in notes)):
+        raise RobotDescriptionError(f"{where}: notes must be a list of lines of text", source, "notes")
     capsules = [capsule for key in _SHAPES for capsule in _shapes(data.get(key, {}), key, links, where, source)]
     skipped = _ignored(data.get("ignore", []), links, where, source) + [tuple(pair) for pair in ignore]
     try:
-        return body_of(capsules, chain, skipped, source=source)
+        return body_of(capsules, chain, skipped, notes=notes, source=source)
     except RedkinError as exc:  # links whose frames are not the chain's
         raise RobotDescriptionError(f"{where}: {exc}", source) from None
 

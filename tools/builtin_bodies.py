@@ -1,0 +1,185 @@
+"""Write the built-in bodies of the named models (src/redkin/collision/bodies/*.yaml) from the makers' descriptions.
+
+Each body is redkin's own covering of the maker's collision meshes (:func:`redkin.collision.urdf_body`: one to three
+capsules per mesh), carried from the maker's link frames into the named model's chain frames ``link_0 .. link_7``.
+A named model turns its frames exactly as the maker's URDF turns its links (the same joint values, zero and
+directions), so each frame differs from the URDF chain's by a constant transform; the script measures it at random
+joint values and refuses to write a body where it is not constant.
+
+The link pairs whose meshes never meet, or always meet, at :data:`SAMPLES` random configurations within the limits
+(measured with coal on the maker's meshes) are ignored, as MoveIt's setup assistant disables "never in collision"
+and "always in collision" pairs; the file's header lists every pair with how often its meshes and its capsules
+meet, and every other pair is checked.
+
+Usage (the makers' repositories checked out, each below one folder)::
+
+    python tools/builtin_bodies.py MAKERS_FOLDER
+
+MAKERS_FOLDER holds franka_description (github.com/frankaemika/franka_description), iiwa_description (from
+github.com/IFL-CAMP/iiwa_stack) and kortex_description (github.com/Kinovarobotics/ros_kortex).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+import redkin
+from redkin.collision import body_data, numbered_link_frames, scene_of, urdf_body
+from redkin.collision.clearance import pair_table
+
+#: How far from constant the transforms between the maker's frames and the named model's may be (entries of 4x4s,
+#: metres for the translations): a named model's lengths are its source's, which may round the maker's URDF.
+SPREAD = 1e-4
+#: Random configurations within the limits over which a pair must overlap to be ignored.
+SAMPLES = 20_000
+
+#: A pair whose capsules overlap in more of the samples than its meshes by this share is named in the body's notes.
+WORTH_SAYING = 0.05
+#: Per named model: the maker's description below MAKERS_FOLDER, its xacro arguments, base and tip links, and where
+#: the description comes from.
+SOURCES = {
+    "franka-panda": ("franka_description/robots/fer/fer.urdf.xacro", {"hand": "false"}, None, None,
+                     "franka_description (github.com/frankaemika/franka_description), robots/fer, without a hand"),
+    "franka-fr3": ("franka_description/robots/fr3/fr3.urdf.xacro", {"hand": "false"}, None, None,
+                   "franka_description (github.com/frankaemika/franka_description), robots/fr3, without a hand"),
+    "kuka-iiwa14": ("iiwa_description/urdf/iiwa14.urdf.xacro", {}, "iiwa_link_0", "iiwa_link_ee",
+                    "iiwa_description of iiwa_stack (github.com/IFL-CAMP/iiwa_stack), iiwa14"),
+    "kuka-iiwa7": ("iiwa_description/urdf/iiwa7.urdf.xacro", {}, "iiwa_link_0", "iiwa_link_ee",
+                   "iiwa_description of iiwa_stack (github.com/IFL-CAMP/iiwa_stack), iiwa7"),
+    "kinova-gen3": ("kortex_description/arms/gen3/7dof/urdf/GEN3-7DOF-NOVISION_FOR_URDF_ARM_V12.urdf", {},
+                    "base_link", "end_effector_link",
+                    "kortex_description of ros_kortex (github.com/Kinovarobotics/ros_kortex), gen3 7dof without "
+                    "vision"),
+}
+
+
+def constant_transforms(maker: redkin.SerialChain, named: redkin.SerialChain,
+                        rng: np.random.Generator) -> tuple[np.ndarray, float]:
+    """Per frame k, the transform T_k with named.frames(q)[k] = maker.frames(q)[k] @ T_k for every q, and how far
+    from constant it is over random q (the named model's lengths rounded as its source prints them)."""
+    samples = _within_limits(named, rng, 8)
+    transforms = np.array([[np.linalg.inv(a) @ b for a, b in zip(maker.frames(q), named.frames(q))] for q in samples])
+    spread = float(np.max(np.abs(transforms - transforms[0])))
+    if spread > SPREAD:
+        raise SystemExit(f"{named.name}: the maker's frames and the named model's differ by {spread:.3g}: not the "
+                         "same joint conventions")
+    return transforms[0], spread
+
+
+def _within_limits(chain: redkin.SerialChain, rng: np.random.Generator, count: int) -> np.ndarray:
+    """Random configurations within the limits (a joint without limits: within a turn)."""
+    return rng.uniform(np.maximum(chain.lower, -np.pi), np.minimum(chain.upper, np.pi), (count, chain.n))
+
+
+def body_yaml(model: str, folder: Path) -> str:
+    """The body file of one named model (module docstring)."""
+    path, xacro_args, base, tip, source = SOURCES[model]
+    named = redkin.get_robot(model)
+    maker, body = urdf_body(folder / path, base, tip, xacro_args=xacro_args)
+    if maker.n != named.n:
+        raise SystemExit(f"{model}: the maker's chain has {maker.n} joints, the named model {named.n}")
+    transforms, spread = constant_transforms(maker, named, np.random.default_rng(0))
+    capsules: dict[str, list] = {}
+    for frame, a, b, radius in zip(body.frame, body.a, body.b, body.radius):
+        inverse = np.linalg.inv(transforms[frame])
+        ends = [inverse[:3, :3] @ end + inverse[:3, 3] for end in (a, b)]
+        capsules.setdefault(f"link_{frame}", []).append(
+            {"a": [round(float(v), 6) + 0.0 for v in ends[0]], "b": [round(float(v), 6) + 0.0 for v in ends[1]],
+             "radius": round(float(radius) + 1e-6, 6)})  # rounded outward: the capsule still contains the mesh
+    data = {"capsules": capsules}
+    numbered = body_data(data, named, numbered_link_frames(named))
+    q = _within_limits(named, np.random.default_rng(1), SAMPLES)
+    apart, pairs = pair_table(named, numbered, scene_of({"obstacles": []}), q)
+    meshes = _frame_meshes(folder / path, base, tip, xacro_args)
+    capsule_share, mesh_share = {}, {}
+    for k, names in enumerate(pairs.names):
+        pair = tuple(sorted(names))
+        first, second = (int(name.split("_")[1]) for name in pair)
+        capsule_share[pair] = float(np.mean(apart[:, k] < 0.0))
+        mesh_share[pair] = _mesh_collisions(maker, meshes[first], meshes[second], first, second, q)
+    never = sorted(pair for pair, share in mesh_share.items() if share == 0.0)
+    always = sorted(pair for pair, share in mesh_share.items() if share == 1.0)
+    data["ignore"] = [list(pair) for pair in never + always]
+    reach = max(float(note.split("reaching up to ")[1].split(" m")[0]) for note in body.notes if "reaching" in note)
+    data["notes"] = [f"built-in body of {model}: capsules fitted by redkin to the collision meshes of {source}, "
+                     f"reaching up to {reach:.3g} m beyond them; link pairs whose meshes never or always meet in "
+                     f"{SAMPLES} random configurations are not checked, as MoveIt's setup assistant disables them"]
+    checked = [pair for pair in capsule_share if pair not in never + always]
+    worst = max(checked, key=lambda pair: capsule_share[pair] - mesh_share[pair], default=None)
+    if worst is not None and capsule_share[worst] - mesh_share[worst] > WORTH_SAYING:
+        data["notes"].append(f"the capsules of {worst[0]} and {worst[1]} overlap in {100 * capsule_share[worst]:.1f} "
+                             f"% of random configurations, their meshes in {100 * mesh_share[worst]:.1f} %: where "
+                             "that pair blocks, a body file with finer shapes for them may free it")
+    header = [f"# Built-in body of {model}, written by tools/builtin_bodies.py from {source}.",
+              f"# The maker's link frames agree with this model's to {spread:.1g} (4x4 entries, metres) at random "
+              "joint values.",
+              "# Per mesh (the maker's link frames, carried into this model's frames link_0 .. link_7):"]
+    header += [f"#   {note}" for note in body.notes]
+    header += [f"# Per link pair (beside the adjacent ones), the share of {SAMPLES} random configurations within the "
+               "limits in which the meshes meet (coal) and the capsules overlap:"]
+    header += [f"#   {a} - {b}: meshes {100 * mesh_share[(a, b)]:.2f} %, capsules {100 * share:.2f} %"
+               + ("  (ignored: the meshes never meet)" if (a, b) in never else
+                  "  (ignored: the meshes always meet)" if (a, b) in always else "")
+               for (a, b), share in sorted(capsule_share.items())]
+    return "\n".join(header) + "\n" + yaml.safe_dump(data, sort_keys=False, width=120, default_flow_style=None)
+
+
+def _frame_meshes(path: Path, base: str | None, tip: str | None, xacro_args: dict) -> dict[int, list]:
+    """Per chain frame of the maker's URDF, its collision meshes as coal BVH models in that frame's coordinates."""
+    import coal
+    from urdf_parser_py.urdf import Mesh
+
+    from redkin.collision.link_frames import _urdf_links
+    from redkin.collision.mesh_files import mesh_path, read_mesh
+    from redkin.urdf import _origin
+
+    _, robot, links = _urdf_links(path, base, tip, xacro_args, ())
+    meshes: dict[int, list] = {}
+    for link in robot.links:
+        if link.name not in links:
+            continue
+        frame, pose = links[link.name]
+        for collision in link.collisions:
+            if not isinstance(collision.geometry, Mesh):
+                raise SystemExit(f"{path}: link {link.name} has a collision that is not a mesh")
+            vertices, faces = read_mesh(mesh_path(collision.geometry.filename, path), collision.geometry.scale)
+            place = pose @ _origin(collision)
+            vertices = vertices @ place[:3, :3].T + place[:3, 3]
+            model = coal.BVHModelOBBRSS()
+            model.beginModel(len(faces), len(vertices))
+            for triangle in faces:
+                model.addTriangle(*(np.array(vertices[i], dtype=float) for i in triangle))
+            model.endModel()
+            meshes.setdefault(frame, []).append(model)
+    return meshes
+
+
+def _mesh_collisions(chain: redkin.SerialChain, first: list, second: list, i: int, j: int, q: np.ndarray) -> float:
+    """The share of the configurations ``q`` at which a mesh of frame ``i`` meets one of frame ``j`` (coal)."""
+    import coal
+
+    frames = chain.frames(q)
+    hits = 0
+    for at in frames:
+        place_i = coal.Transform3s(at[i][:3, :3].copy(), at[i][:3, 3].copy())
+        place_j = coal.Transform3s(at[j][:3, :3].copy(), at[j][:3, 3].copy())
+        hits += any(coal.collide(a, place_i, b, place_j, coal.CollisionRequest(), coal.CollisionResult())
+                    for a in first for b in second)
+    return hits / len(q)
+
+
+def main() -> None:
+    folder = Path(sys.argv[1])
+    out = Path(__file__).resolve().parents[1] / "src" / "redkin" / "collision" / "bodies"
+    out.mkdir(exist_ok=True)
+    for model in SOURCES:
+        (out / f"{model}.yaml").write_text(body_yaml(model, folder))
+        print(f"wrote {out / (model + '.yaml')}")
+
+
+if __name__ == "__main__":
+    main()
