@@ -97,7 +97,8 @@ def test_a_model_without_one_is_refused_naming_those_with_one():
 def test_a_scene_on_a_named_model_uses_its_built_in_body(capsys, tmp_path):
     scene = tmp_path / "cell.yaml"
     scene.write_text("margin: 0.01\nobstacles:\n"
-                     "  - {name: post, type: capsule, a: [0.4, 0.3, 0], b: [0.4, 0.3, 1.2], radius: 0.05}\n")
+                     "  - {name: post, type: capsule, a: [0.4, 0.3, 0], b: [0.4, 0.3, 1.2], radius: 0.05}\n"
+                     "  - {name: table, type: box, center: [0.6, 0, -0.06], size: [1.2, 1.0, 0.1]}\n")
     arm = redkin.arm("kuka-iiwa14")
     pose = arm.fk(np.array([0.3, 0.6, 0.2, -1.2, 0.4, 0.8, 0.1]))
     argv = ["--position", *map(repr, pose[:3, 3].tolist()), "--rotation", *map(repr, pose[:3, :3].ravel().tolist()),
@@ -108,6 +109,11 @@ def test_a_scene_on_a_named_model_uses_its_built_in_body(capsys, tmp_path):
     body = builtin_body("kuka-iiwa14", arm.chain)
     assert cell["body"] == body.source and cell["capsules"] == len(body) and cell["notes"] == list(body.notes)
     assert cell["self_pairs"] == len(body.pairs)
+    # the base's capsule reaches into the table it stands on: named, not checked, and the arm is free above it
+    assert [(c["link"], c["obstacle"]) for c in cell["base_contacts"]] == [("link_0", "table")]
+    assert json.loads(out)["feasible"]
+    code, out, _ = run(capsys, ["arm-angles", "kuka-iiwa14", *argv])
+    assert code == 0 and "base: link_0 is" in out and "from table, inside the margin; not checked" in out
     code, _, err = run(capsys, ["arm-angles", "pa10-7c", *argv])
     assert code == 2 and err.count("\n") == 1 and "built-in bodies: franka-fr3" in err
 

@@ -71,3 +71,25 @@ def test_a_scene_without_obstacles_still_checks_the_body_against_itself(cell):
                     for i, j in body.pairs.tolist()}
         assert float(result.distance[k]) == min(measured.values())
         assert measured[(result.link[k], result.against[k])] == min(measured.values())
+
+
+def test_the_base_is_kept_apart_from_the_arm_but_not_checked_against_obstacles(cell):
+    """A capsule of frame 0 never moves: against the obstacles it would decide every configuration alike (a base
+    standing on the table would block them all), so it is not checked there, and base_contacts names the contact;
+    against the moving links it is checked."""
+    from redkin.collision.clearance import base_contacts, checked_pairs
+
+    chain, body, scene = cell
+    base = BodyCapsule("base", 0, [0, 0, -0.2], [0, 0, 0.1], 0.12)
+    with_base = body_of([base, *(BodyCapsule(link, int(frame), a, b, float(r)) for link, frame, a, b, r in
+                                 zip(body.link, body.frame, body.a, body.b, body.radius))], chain)
+    names = checked_pairs(with_base, scene).names
+    assert not any(link == "base" and other in scene.names for link, other in names)
+    assert any(link == "base" and other == "link 3" for link, other in names)  # two joints apart: checked
+    q = np.random.default_rng(2).uniform(chain.lower, chain.upper, (50, 7))
+    plain = clearance(chain, body, scene, q)
+    found = clearance(chain, with_base, scene, q)
+    assert np.all(found.distance <= plain.distance)  # only the base's self pairs are added
+    contacts = base_contacts(chain, with_base, scene)
+    assert [(link, obstacle) for link, obstacle, _ in contacts] == [("base", "floor")]  # 0.2 m below the base
+    assert contacts[0][2] == pytest.approx(-(0.2 + 0.12 - 0.05), abs=1e-12)  # the floor's plane at z = -0.05

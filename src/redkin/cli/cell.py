@@ -92,7 +92,7 @@ def body_links(args: argparse.Namespace, robot: str, chain: SerialChain) -> dict
     return numbered_link_frames(chain)
 
 
-def free_report(report: dict[str, Any], free, scene, body, deg: bool, shown: str,
+def free_report(report: dict[str, Any], chain: SerialChain, free, scene, body, deg: bool, shown: str,
                 optimal: dict[str, tuple[float, float]]) -> None:
     """Put the collision-free sets into a command's JSON ``report``: ``feasible`` becomes the shown branch's free set
     and ``limits_feasible`` the joint-limit set, ``branches`` every branch's free set (``limits_branches`` the limit
@@ -100,6 +100,7 @@ def free_report(report: dict[str, Any], free, scene, body, deg: bool, shown: str
     limit-feasible values, radians) gains ``collision_free``, the free set's value nearest the unclamped one, and
     ``collision`` says what was checked."""
     from redkin.circle import ArcSet
+    from redkin.collision.clearance import base_contacts
 
     def arcs(bounds: np.ndarray) -> list:
         return [[float(v) for v in angles_out(arc, deg)] for arc in bounds]
@@ -120,6 +121,8 @@ def free_report(report: dict[str, Any], free, scene, body, deg: bool, shown: str
         "scene": scene.source, "obstacles": list(scene.names), "margin": scene.margin, "body": body.source,
         "capsules": len(body), "self_pairs": len(body.pairs), "notes": list(body.notes),
         "scene_notes": list(scene.notes),
+        "base_contacts": [{"link": link, "obstacle": obstacle, "distance": distance}
+                          for link, obstacle, distance in base_contacts(chain, body, scene)],
         "resolution": float(angles_out(free.resolution, deg)), "complete": free.complete,
         "evaluations": free.evaluations,
     }

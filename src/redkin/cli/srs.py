@@ -285,8 +285,8 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
         from redkin.collision import collision_free_arm_angles
 
         body, scene = cell
-        free_report(report, collision_free_arm_angles(classified, pose, body, scene), scene, body, args.deg, branch,
-                    analysis.branches[0].optimal)
+        free_report(report, chain, collision_free_arm_angles(classified, pose, body, scene), scene, body, args.deg,
+                    branch, analysis.branches[0].optimal)
     if args.json:
         print_json(report)
         return 0
@@ -377,6 +377,9 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
             print(f"  body: {note}")
         for note in cell["scene_notes"]:
             print(f"  scene: {note}")
+        for contact in cell["base_contacts"]:
+            print(f"  base: {contact['link']} is {contact['distance']:.3g} m from {contact['obstacle']}, inside the "
+                  "margin; not checked: it never moves")
         if not cell["complete"]:
             print("  (the work budget ran out: undecided stretches wider than the resolution remain; what is shown "
                   "free is free)")

@@ -2,6 +2,10 @@
 
 The pairs checked are every capsule of the body against every obstacle, then the body's self-collision pairs
 (:class:`redkin.collision.body.Body`); :func:`checked_pairs` lists them once, in that order, for every caller.
+Capsules fixed in frame 0 (the base, which no joint moves) are checked against the arm's other links but not against
+the obstacles: their distance from an obstacle is the same in every configuration, so it can decide nothing about
+the redundancy, and where it is short of the margin (the base standing on the table, a capsule round the base
+reaching below the floor) it would block every configuration.  :func:`base_contacts` says where that happens.
 :func:`clearance` gives, per configuration, the least signed distance over those pairs and the pair that has it:
 where it is at least the scene's margin, the configuration is collision-free.
 
@@ -34,7 +38,8 @@ from redkin.errors import RedkinError
 
 
 class _Pairs(NamedTuple):
-    """The pairs a body and a scene check, in order: each capsule against each obstacle, then the self pairs.
+    """The pairs a body and a scene check, in order: each capsule that moves (frame > 0) against each obstacle, then
+    the self pairs.
 
     Attributes
     ----------
@@ -72,14 +77,29 @@ class Clearance(NamedTuple):
 
 def checked_pairs(body: Body, scene: Scene) -> _Pairs:
     """The pairs of ``body`` and ``scene`` (the class docstring of :class:`_Pairs`)."""
-    count, obstacles = len(body), len(scene)
+    moving = np.flatnonzero(np.asarray(body.frame) > 0)
+    obstacles = len(scene)
     return _Pairs(
-        capsule=np.concatenate([np.repeat(np.arange(count), obstacles), body.pairs[:, 0]]).astype(np.int64),
-        obstacle=np.concatenate([np.tile(np.arange(obstacles), count), np.full(len(body.pairs), -1)]).astype(np.int64),
-        other=np.concatenate([np.full(count * obstacles, -1), body.pairs[:, 1]]).astype(np.int64),
-        names=([(link, name) for link in body.link for name in scene.names]
+        capsule=np.concatenate([np.repeat(moving, obstacles), body.pairs[:, 0]]).astype(np.int64),
+        obstacle=np.concatenate([np.tile(np.arange(obstacles), len(moving)),
+                                 np.full(len(body.pairs), -1)]).astype(np.int64),
+        other=np.concatenate([np.full(len(moving) * obstacles, -1), body.pairs[:, 1]]).astype(np.int64),
+        names=([(body.link[i], name) for i in moving.tolist() for name in scene.names]
                + [(body.link[i], body.link[j]) for i, j in body.pairs.tolist()]),
     )
+
+
+def base_contacts(chain: SerialChain, body: Body, scene: Scene) -> list[tuple[str, str, float]]:
+    """The base's capsules (frame 0) closer than the margin to an obstacle, which :func:`checked_pairs` does not
+    check (module docstring): ``(link, obstacle, distance)`` each, nearest first."""
+    base = np.flatnonzero(np.asarray(body.frame) == 0)
+    if not len(base) or not len(scene):
+        return []
+    shapes = posed(body, chain.frames(np.zeros(chain.n)))[base]
+    pairs = [(i, o) for i in range(len(base)) for o in range(len(scene))]
+    apart = trusted_distances(shapes[[i for i, _ in pairs]], scene.shapes[[o for _, o in pairs]])
+    found = [(body.link[base[i]], scene.names[o], float(d)) for (i, o), d in zip(pairs, apart) if d < scene.margin]
+    return sorted(found, key=lambda contact: contact[2])
 
 
 def pair_distances(shapes: np.ndarray, scene: Scene, pairs: _Pairs, at: np.ndarray, pair: np.ndarray) -> np.ndarray:
