@@ -6,6 +6,7 @@ import argparse
 
 from redkin._constants import WORKSPACE_MAP_NAME, WORKSPACE_MAX_ORIENTATIONS, WORKSPACE_MAX_RESOLUTION
 from redkin._validation import check_count, check_output_directory
+from redkin.cli.cell import add_cell_arguments, load_cell
 from redkin.cli.common import (
     UsageError,
     add_output_flags,
@@ -49,6 +50,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     command.add_argument("--quiet", action="store_true",
                          help="no progress on stderr (by default a bar on a terminal, plain lines elsewhere)")
     add_srs_tolerance_argument(command)
+    add_cell_arguments(command, "the map holds the certified collision-free sets instead, reachability inside the "
+                                "cell (S-R-S and offset-elbow arms; chunks of about 4096 poses by default)")
     add_output_flags(command, degrees=False)
     command.set_defaults(handler=run)
 
@@ -58,13 +61,15 @@ def run(args: argparse.Namespace) -> int:
     from redkin.workspace.grid import workspace_grid
     from redkin.workspace.humanoid import humanoid_of
     from redkin.workspace.measure import whole_range
-    from redkin.workspace.run import map_model, workspace_map
+    from redkin.workspace.run import cell_chunk, map_model, workspace_map
     from redkin.workspace.store import no_space_errors
 
     chain = load_robot(args)
     if humanoid_of(chain) is not None:
         if args.srs_tolerance is not None:
             raise UsageError("--srs-tolerance is for nearly S-R-S arms; the thesis 001 humanoid is not one")
+        if args.scene is not None:
+            raise UsageError("--scene maps an arm with collision-free arm angles; the thesis 001 humanoid has none")
         return run_humanoid(args, chain)
     if args.samples is not None:
         raise UsageError("--samples is for the thesis 001 humanoid; any other arm takes --orientations N")
@@ -76,13 +81,17 @@ def run(args: argparse.Namespace) -> int:
     resolution = check_count(args.resolution, "--resolution", 2, WORKSPACE_MAX_RESOLUTION)
     orientations = check_count(args.orientations, "--orientations", 1, WORKSPACE_MAX_ORIENTATIONS)
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
+    cell = load_cell(args, chain)
+    if cell is not None and chunk is None:
+        chunk = cell_chunk(resolution, orientations)
     grid = workspace_grid(args.extent, resolution, orientations, chunk)
     xr = require_map_libraries()
     client = open_client(args.scheduler)
     out = check_output_directory(args.out, "--out")
     result = run_on(client, len(grid.chunk_indices()), lambda client, progress: workspace_map(
         chain, out / WORKSPACE_MAP_NAME, args.extent, resolution, orientations, chunk=grid.chunk, client=client,
-        progress=progress, srs_tolerance=args.srs_tolerance), args.quiet)
+        progress=progress, srs_tolerance=args.srs_tolerance, body=None if cell is None else cell[0],
+        scene=None if cell is None else cell[1]), args.quiet)
     import matplotlib
 
     matplotlib.use("Agg")  # files only: no display needed
@@ -100,6 +109,9 @@ def run(args: argparse.Namespace) -> int:
         "pose_branch_evaluations": result.pose_branch_evaluations,
         "reachable_positions": result.reachable_positions, "reachable_poses": result.reachable_poses,
         "mean_redundancy": result.mean_redundancy, "model": result.model, "model_error": result.model_error or None,
+        "cell": None if cell is None else {"scene": cell[1].source, "obstacles": list(cell[1].names),
+                                           "margin": cell[1].margin, "body": cell[0].source, "capsules": len(cell[0]),
+                                           "self_pairs": len(cell[0].pairs)},
     })
     if args.json:
         print_json(summary)
@@ -107,6 +119,10 @@ def run(args: argparse.Namespace) -> int:
         whose = "" if not result.model_error else " of its exact S-R-S neighbour"
         print(f"{chain.name}: {result.positions} positions x {result.orientations} orientations x 8 branches "
               f"= {result.pose_branch_evaluations} exact feasible sets{whose}")
+        if cell is not None:
+            print(f"in the cell {cell[1].source}: {len(cell[1])} obstacles and {len(cell[0].pairs)} link pairs at "
+                  f"margin {cell[1].margin:g} m ({len(cell[0])} capsules, {cell[0].source}): the certified "
+                  "collision-free sets")
         if result.model_error:
             print(f"nearly S-R-S: {result.model_error}")
             print("the map holds the neighbour's exact feasible sets, not the real arm's (they differ near the sets' "

@@ -14,6 +14,8 @@ one position over a set of orientations:
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from redkin.arms import Arm
@@ -21,12 +23,18 @@ from redkin.circle import TWO_PI
 from redkin.srs import pose_from
 from redkin.srs.feasible import PIECE_TOLERANCE
 
+if TYPE_CHECKING:
+    from redkin.collision import Body, Scene
+
+    #: The arm's body and a scene.
+    Cell = tuple[Body, Scene]
+
 #: Poses per call of the feasible-set kernel, built per call: bounds the work arrays to tens of megabytes
 #: however many poses a chunk holds.
 _BATCH_POSES = 8192
 
 
-def feasible_measures(arm: Arm, positions: np.ndarray, rotations: np.ndarray) -> np.ndarray:
+def feasible_measures(arm: Arm, positions: np.ndarray, rotations: np.ndarray, cell: Cell | None = None) -> np.ndarray:
     """Measure of the feasible set of the redundancy parameter of every position-orientation pair on every branch.
 
     Parameters
@@ -37,6 +45,10 @@ def feasible_measures(arm: Arm, positions: np.ndarray, rotations: np.ndarray) ->
         Tool positions, metres.
     rotations : numpy.ndarray, shape (N, 3, 3)
         Tool orientations.
+    cell : (Body, Scene), optional
+        The arm's body and a scene: the measure is then of the certified collision-free sets (S-R-S and offset-elbow
+        arms; :meth:`redkin.Arm.feasible` with ``body`` and ``scene``), within the limits and the scene's margin
+        from every obstacle and between the body's links.
 
     Returns
     -------
@@ -48,7 +60,8 @@ def feasible_measures(arm: Arm, positions: np.ndarray, rotations: np.ndarray) ->
     measure = np.zeros((count, len(arm.branches)))
     for start in range(0, count, _BATCH_POSES):
         pair = np.arange(start, min(start + _BATCH_POSES, count))  # position-major, as the result
-        sets = arm.feasible(pose_from(positions[pair // len(rotations)], rotations[pair % len(rotations)]))
+        poses = pose_from(positions[pair // len(rotations)], rotations[pair % len(rotations)])
+        sets = arm.feasible(poses) if cell is None else arm.feasible(poses, body=cell[0], scene=cell[1])
         lengths = np.where(sets.feasible, sets.end - sets.start, 0.0).sum(axis=-1)
         measure[pair] = np.where(lengths > PIECE_TOLERANCE, lengths, 0.0)
     return measure.reshape(len(positions), len(rotations), len(arm.branches))

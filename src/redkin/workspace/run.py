@@ -29,7 +29,7 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -42,7 +42,7 @@ from redkin.chain import SerialChain
 from redkin.errors import NotArmAngleClassError
 from redkin.srs import BRANCHES, NearlySRS
 from redkin.workspace._optional import require
-from redkin.workspace.grid import WorkspaceGrid, workspace_grid
+from redkin.workspace.grid import MAX_RESOLUTION, WorkspaceGrid, workspace_grid
 from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index, whole_range
 from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
 from redkin.workspace.store import (
@@ -58,10 +58,17 @@ from redkin.workspace.store import (
     write_chunk,
 )
 
+if TYPE_CHECKING:
+    from redkin.collision import Body, Scene
+    from redkin.workspace.measure import Cell
+
 #: glibc's ``mallopt`` parameter number of the mmap threshold, and the threshold's dynamic maximum on 64-bit Linux.
 M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 32 * 1024 * 1024
 #: Grid points per axis of one Dask task of the summary (a map of 1000^3 positions reads in 512 of them).
 _SUMMARY_SPAN = 128
+#: Poses per chunk of a map in a cell by default: a pose's certified collision-free sets take milliseconds (0.5-2 s
+#: per thousand poses on the worked cell, most of a box being out of reach), so a chunk is seconds of work.
+_CELL_CHUNK_POSES = 4096
 #: Seconds a failed run on a cluster waits for the chunks its workers hold to be written.
 _DRAIN_SECONDS = 300
 #: ``progress(done, total)`` after each chunk of a run (``total`` counts the chunks this run computes).
@@ -168,14 +175,15 @@ def match_worker_threads() -> int | None:
     return threads
 
 
-def _compute_chunk(arm: Arm, grid: WorkspaceGrid, rotations: np.ndarray, path: Path,
+def _compute_chunk(arm: Arm, grid: WorkspaceGrid, rotations: np.ndarray, cell: Cell | None, path: Path,
                    index: tuple[int, int, int]) -> tuple[int, int, int]:
-    """Compute chunk ``index`` of the map and write it into the store at ``path`` (one Dask task)."""
+    """Compute chunk ``index`` of the map (in the ``cell``, where given) and write it into the store at ``path`` (one
+    Dask task)."""
     restore_mmap_threshold()
     match_worker_threads()
     positions = grid.chunk_positions(index)
     shape = positions.shape[:3] + (len(rotations), len(arm.branches))
-    measure = feasible_measures(arm, positions.reshape(-1, 3), rotations).reshape(shape)
+    measure = feasible_measures(arm, positions.reshape(-1, 3), rotations, cell).reshape(shape)
     write_chunk(path, grid, index, {"measure": measure, "reachability": reachability_index(measure),
                                     "redundancy": redundancy_index(measure, whole_range(arm))})
     return index
@@ -398,8 +406,14 @@ def workspace_map(
     client: Any = None,
     progress: Progress | None = None,
     srs_tolerance: float | None = None,
+    body: Body | None = None,
+    scene: Scene | None = None,
 ) -> WorkspaceRun:
     """Exact reachability and redundancy map of an arm with arm-angle IK over a box, into a Zarr store.
+
+    With ``body`` and ``scene`` (S-R-S and offset-elbow arms), the map of the certified collision-free sets instead:
+    reachability inside the cell (:func:`redkin.collision.collision_free_arm_angles`; docs/workspace.md, "In a
+    cell").  A chunk then holds about :data:`_CELL_CHUNK_POSES` poses by default, since a pose takes milliseconds.
 
     A nearly S-R-S arm (the Kinova Gen3, the Jaco2, the ROS-Industrial iiwa) is mapped with the exact feasible
     sets of its exact S-R-S neighbour at the same poses (:func:`map_model`); the run's ``model`` and
@@ -429,6 +443,9 @@ def workspace_map(
         The largest departure of an arm mapped as nearly S-R-S through its exact neighbour (metres between axes
         that must meet, radians off perpendicular; default :data:`redkin.srs.nearly.TOLERANCE_DEFAULT`).
         Unused by an exact arm.  A store resumes only a map of the same model and neighbour.
+    body, scene : Body and Scene, optional
+        Together: the arm's body and the cell's obstacles (:mod:`redkin.collision`).  A store resumes only a map of
+        the same cell.
 
     Returns
     -------
@@ -437,8 +454,10 @@ def workspace_map(
     Raises
     ------
     ValueError
-        For an arm without arm-angle IK (within ``srs_tolerance``), a malformed size, extent or tolerance, or a
-        path that holds something else (another map included: another arm, grid, model or neighbour).
+        For an arm without arm-angle IK (within ``srs_tolerance``), a malformed size, extent or tolerance, a path
+        that holds something else (another map included: another arm, grid, model, neighbour or cell), a body
+        without a scene or a scene without a body, and a cell on an arm whose collision-free sets are not exact (the
+        Franka class, nearly S-R-S arms).
     MapStoreError
         A ``ValueError`` too: another run holds the store (``reason="in use"``), or the disk filled
         (``reason="no space"``; the chunks complete so far are kept, and the same call resumes).
@@ -449,18 +468,40 @@ def workspace_map(
     require("dask")
     require("zarr")
     mapped, nearly = map_model(arm, srs_tolerance)
+    cell = _cell(mapped, nearly, body, scene)
     count = check_count(orientations, "orientations", 1, MAX_ORIENTATIONS)
+    if chunk is None and cell is not None:
+        chunk = cell_chunk(check_count(resolution, "resolution", 2, MAX_RESOLUTION), count)
     grid = workspace_grid(extent, resolution, count, chunk)
     rotations = super_fibonacci_rotations(count)
     store = Path(path)
-    parameters = map_parameters(arm, grid, count, None if nearly is None else nearly.neighbour)
+    parameters = map_parameters(arm, grid, count, None if nearly is None else nearly.neighbour, cell)
     with hold_store(store):
-        prepare_store(store, parameters, lambda folder: create_store(folder, arm, grid, rotations, mapped, nearly),
-                      "orientations")
+        prepare_store(store, parameters,
+                      lambda folder: create_store(folder, arm, grid, rotations, mapped, nearly, cell), "orientations")
         # workers write the absolute path: a cluster's workers need not share this process's working directory
-        computed = run_chunks(_compute_chunk, (mapped, grid, rotations, store.absolute()), store, grid,
+        computed = run_chunks(_compute_chunk, (mapped, grid, rotations, cell, store.absolute()), store, grid,
                               "workspace-chunk", parameters, client, progress)
     return _summary(store, grid, count, computed, time.perf_counter() - started, nearly)
+
+
+def cell_chunk(resolution: int, orientations: int) -> int:
+    """Grid points per axis of a chunk of a map in a cell: about :data:`_CELL_CHUNK_POSES` poses."""
+    return max(1, min(int(round((_CELL_CHUNK_POSES / orientations) ** (1.0 / 3.0))), resolution))
+
+
+def _cell(mapped: Arm, nearly: NearlySRS | None, body: Body | None, scene: Scene | None) -> Cell | None:
+    """The body and the scene of a map in a cell, checked (:func:`workspace_map`'s errors), or ``None``."""
+    if body is None and scene is None:
+        return None
+    if body is None or scene is None:
+        raise ValueError("a map in a cell needs both the arm's body and the scene")
+    assert mapped.parameter is not None  # map_model refuses an arm without one
+    if nearly is not None or mapped.parameter.name != "psi":
+        raise ValueError(f"a map in a cell needs certified collision-free arm angles, which S-R-S and offset-elbow "
+                         f"arms have; {mapped.chain.name!r} is "
+                         f"{'nearly S-R-S' if nearly is not None else 'of the Franka class'}")
+    return body, scene
 
 
 def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int, seconds: float,

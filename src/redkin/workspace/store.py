@@ -59,7 +59,7 @@ import socket
 import time
 from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -72,6 +72,10 @@ from redkin.errors import MapStoreError
 from redkin.srs import NearlySRS
 from redkin.workspace._optional import require
 from redkin.workspace.grid import WorkspaceGrid
+
+if TYPE_CHECKING:
+    from redkin.collision import Body, Scene
+    from redkin.workspace.measure import Cell
 
 _ORIENTATION_SET = "super-Fibonacci spiral on SO(3) (Alexa, CVPR 2022), deterministic in the count"
 #: ``errno`` values of a full disk or an exhausted quota.
@@ -99,14 +103,16 @@ def arm_description(chain: SerialChain) -> dict[str, Any]:
 
 
 def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int,
-                   neighbour: SerialChain | None = None) -> str:
+                   neighbour: SerialChain | None = None, cell: Cell | None = None) -> str:
     """What makes two maps the same map, as canonical JSON (compared when a run resumes).
 
     ``neighbour`` is the exact S-R-S neighbour whose feasible sets make the map of a nearly S-R-S arm
     (:attr:`redkin.srs.NearlySRS.neighbour`), ``None`` for an arm mapped with its own.  An exact arm's
     parameters have no ``model`` entry (as before nearly S-R-S maps existed, so its stores still resume); a
     nearly S-R-S arm's name the model and the neighbour, so a store of one model, or of another neighbour
-    (another tolerance that changes it), is not resumed by the other.
+    (another tolerance that changes it), is not resumed by the other.  A map in a ``cell`` (the arm's body and a
+    scene) names the body's capsules and checked pairs and the scene's obstacles and margin; a map without one has
+    no ``cell`` entry.
     """
     parameters: dict[str, Any] = {
         "arm": arm_description(chain), "extent": list(grid.extent), "resolution": grid.resolution,
@@ -114,23 +120,39 @@ def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int,
     }
     if neighbour is not None:
         parameters["model"] = {"kind": MODEL_NEARLY, "neighbour": arm_description(neighbour)}
+    if cell is not None:
+        parameters["cell"] = _cell_description(*cell)
     return json.dumps(parameters, sort_keys=True)
 
 
+def _cell_description(body: Body, scene: Scene) -> dict[str, Any]:
+    """The body and the scene of a map in a cell, as JSON data: what the map's values depend on, and where they
+    come from."""
+    return {
+        "body": {"source": body.source, "links": list(body.link), "frames": body.frame.tolist(),
+                 "a": body.a.tolist(), "b": body.b.tolist(), "radius": body.radius.tolist(),
+                 "pairs": body.pairs.tolist()},
+        "scene": {"source": scene.source, "obstacles": list(scene.names), "shapes": scene.shapes.tolist(),
+                  "margin": scene.margin},
+    }
+
+
 def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray, mapped: Arm,
-                 nearly: NearlySRS | None = None) -> None:
+                 nearly: NearlySRS | None = None, cell: Cell | None = None) -> None:
     """Write the metadata and coordinates of an empty map at ``path`` (values NaN, no chunk complete).
 
     ``mapped`` is the arm whose feasible sets the map holds (:func:`redkin.workspace.run.map_model`): its parameter
     names the measure (``parameter``, ``parameter_range`` attributes).  ``nearly`` is given for a nearly S-R-S arm
     mapped with its exact neighbour's feasible sets: the attributes then say so (``model``, ``model_error``,
-    ``departures``, ``neighbour``, ``model_note``).
+    ``departures``, ``neighbour``, ``model_note``).  ``cell`` (the arm's body and a scene) makes it the map of the
+    collision-free sets, and the attribute ``cell`` says which (:func:`_cell_description`).
     """
     xr = require("xarray")
     da = require("dask.array")
     m, n, c = grid.resolution, len(rotations), grid.chunk
     x, y, z = grid.axes
-    whose = "" if nearly is None else " of the exact S-R-S neighbour"
+    whose = ("" if nearly is None else " of the exact S-R-S neighbour") + ("" if cell is None else
+                                                                           ", collision-free in the cell")
     assert mapped.parameter is not None  # map_model refuses an arm without one
     name, equation = mapped.parameter.prefix, mapped.parameter.equation
     low, high = mapped.parameter.domain
@@ -162,9 +184,11 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
         "title": f"workspace map of {chain.name}: exact feasible {name} sets{whose}",
         "robot": chain.name, "arm": arm_description(chain), "branches": list(mapped.branches),
         "parameter": mapped.parameter.name, "parameter_range": [low, high],
-        "parameters": map_parameters(chain, grid, len(rotations), None if nearly is None else nearly.neighbour),
+        "parameters": map_parameters(chain, grid, len(rotations), None if nearly is None else nearly.neighbour, cell),
         "redkin_version": __version__, "model": MODEL_EXACT,
     }
+    if cell is not None:
+        attrs["cell"] = _cell_description(*cell)
     if nearly is not None:
         attrs.update({
             "model": MODEL_NEARLY, "model_error": nearly.describe(), "model_note": _NEARLY_NOTE,
