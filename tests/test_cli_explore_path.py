@@ -66,3 +66,40 @@ def test_a_file_it_cannot_play_is_one_line(tmp_path, capsys):
     assert main(["explore", "franka-panda", "--path", str(untimed), "--q", *["0.1"] * 7, "--out",
                  str(tmp_path / "q.html")]) == 2
     assert "without a pose or --q" in capsys.readouterr().err
+
+
+def test_the_playback_in_a_cell_draws_the_cell_and_the_distance_at_each_frame(tmp_path, capsys):
+    """``path --playback --scene`` and ``explore --path --scene``: the page holds the obstacles, the body's capsules
+    at each frame where the body's own FK puts them, and the least distance and its pair at each frame, equal to
+    ``clearance`` at the frame's joint values."""
+    from redkin.collision import builtin_body, clearance, read_scene
+    from redkin.collision.body import capsule_ends, posed
+
+    chain = get_robot("kuka-iiwa14")
+    qs = np.linspace([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1], [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9], 10)
+    poses, scene = tmp_path / "poses.npy", tmp_path / "cell.yaml"
+    np.save(poses, chain.fk(qs))
+    scene.write_text("margin: 0.01\nobstacles:\n"
+                     "  - {name: post, type: capsule, a: [0.4, 0.3, 0], b: [0.4, 0.3, 1.2], radius: 0.05}\n"
+                     "  - {name: table, type: box, center: [0.6, 0, -0.06], size: [1.2, 1.0, 0.1]}\n")
+    page, trajectory, limits = tmp_path / "cell.html", tmp_path / "trajectory.json", tmp_path / "limits.yaml"
+    limits.write_text("acceleration: 10\n")  # the iiwa's data sheet gives speeds, not accelerations
+    assert main(["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--scene", str(scene),
+                 "--limits", str(limits), "--playback", str(page), "--trajectory", str(trajectory)]) == 0
+    capsys.readouterr()
+    again = tmp_path / "again.html"
+    assert main(["explore", "kuka-iiwa14", "--path", str(trajectory), "--scene", str(scene), "--out",
+                 str(again)]) == 0
+    body = builtin_body("kuka-iiwa14", chain)
+    for file in (page, again):
+        data = _page_data(file)
+        cell = data["cell"]
+        assert [o["name"] for o in cell["obstacles"]] == ["post", "table"] and cell["margin"] == 0.01
+        assert cell["links"] == list(body.link)
+        q = np.array(data["q"]).T
+        expected = clearance(chain, body, read_scene(scene), q)
+        np.testing.assert_allclose(cell["distance"], expected.distance, atol=1e-4)  # q rounded to 1e-5 rad
+        names = [tuple(cell["pairs"][k]) for k in cell["closest"]]
+        assert sum(name == (a, b) for name, a, b in zip(names, expected.link, expected.against)) >= 0.9 * len(names)
+        ends = np.array(cell["capsules"]).reshape(len(q), len(body.link), 2, 3)
+        np.testing.assert_allclose(ends, capsule_ends(posed(body, chain.frames(q))), atol=1e-5)

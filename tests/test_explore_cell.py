@@ -120,6 +120,6 @@ def test_the_command_line_writes_the_cell_s_page(capsys, tmp_path):
                            rtol=0, atol=1e-12)
     assert any(stretch["cause"] == "link_3 meets post" for sets in report["collision_free"].values()
                for stretch in sets["blocked"])
-    code, _, err = run(capsys, ["explore", "kuka-iiwa14", "--path", str(out), "--scene", str(scene), "--out",
-                                str(tmp_path / "again.html")])
-    assert code == 2 and "--scene draws a cell" in err
+    code, _, err = run(capsys, ["explore", "kuka-iiwa14", "--path", str(out), "--scene", str(scene), "--body",
+                                str(body), "--out", str(tmp_path / "again.html")])
+    assert code == 2 and err.count("\n") == 1 and "cannot read it as JSON" in err  # a page is not a path to play

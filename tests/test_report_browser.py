@@ -238,6 +238,43 @@ def test_cli_explorer_in_a_cell_draws_the_obstacles_and_names_the_pair(browser, 
 
 @browser_test
 @pytest.mark.slow
+def test_path_playback_in_a_cell_draws_the_obstacles_the_capsules_and_the_distance(browser, tmp_path):
+    """``redkin path --playback --scene``: the page draws the post, the board's edges and the arm's capsules, they
+    move with the time slider, and the status says the least distance at the slider's time, the page's own number."""
+    import numpy as np
+
+    from redkin.models import get_robot
+
+    chain = get_robot("kuka-iiwa14")
+    qs = np.linspace([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1], [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9], 10)
+    poses, scene, limits, out = (tmp_path / name for name in ("poses.npy", "cell.yaml", "limits.yaml", "p.html"))
+    np.save(poses, chain.fk(qs))
+    scene.write_text("margin: 0.01\nobstacles:\n"
+                     "  - {name: post, type: capsule, a: [0.4, 0.3, 0], b: [0.4, 0.3, 1.2], radius: 0.05}\n"
+                     "  - {name: board, type: box, center: [0.95, 0.2, 0.36], size: [0.3, 0.5, 0.02]}\n")
+    limits.write_text("acceleration: 10\n")
+    subprocess.run([sys.executable, "-m", "redkin.cli.main", "path", "kuka-iiwa14", "--poses", str(poses),
+                    "--max-step", "0.2", "--scene", str(scene), "--limits", str(limits), "--playback", str(out)],
+                   check=True, capture_output=True)
+    view = Page(browser, out.as_uri(), 420)
+    page = view.page
+    data = json.loads(page.text_content("#playback-data"))
+    assert page.locator("#arm-view .obstacle").count() == 1 + 12  # the post, the board's twelve edges
+    assert page.locator("#arm-view .body").count() == len(data["cell"]["links"])
+    hand = page.locator("#arm-view .body").last.get_attribute("points")  # link_7: it moves (link_0 does not)
+    status = page.text_content("#status")
+    pair = data["cell"]["pairs"][data["cell"]["closest"][0]]
+    assert f"the least distance is {data['cell']['distance'][0]:.4f} m ({pair[0]} and {pair[1]})" in status
+    last = len(data["t"]) - 1
+    page.fill("#time", str(last))
+    page.dispatch_event("#time", "input")
+    assert page.locator("#arm-view .body").last.get_attribute("points") != hand
+    assert f"{data['cell']['distance'][last]:.4f} m" in page.text_content("#status")
+    assert view.sideways() <= 0 and not view.errors
+
+
+@browser_test
+@pytest.mark.slow
 def test_cli_explorer_of_the_panda_slides_over_q7(browser, tmp_path):
     """The Franka class's page: a q7 slider over joint 7's range; where a branch has no solution, no arm and a
     status that says so."""

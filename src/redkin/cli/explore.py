@@ -49,7 +49,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_srs_tolerance_argument(parser)
     add_cell_arguments(parser, "the page draws the obstacles and the arm's capsules, shades the arm angles they "
                                "remove by cause, and says how far the arm is from them at the slider's value "
-                               "(S-R-S and offset-elbow arms)")
+                               "(S-R-S and offset-elbow arms); with --path, the playback draws them at each frame "
+                               "and says the least distance at the slider's time (any arm)")
     add_output_flags(parser)
     parser.set_defaults(handler=run)
 
@@ -60,10 +61,7 @@ def run(args: argparse.Namespace) -> int:
     out = output_file(args.out, "--out", {".html", ".htm"}, args.force)
     chain = load_robot(args)
     if args.path is not None:
-        if args.scene is not None:
-            raise UsageError("--scene draws a cell on the explorer of a pose; the playback of --path does not draw "
-                             "one yet: drop one of them")
-        return _playback(args, chain, out)
+        return _playback(args, chain, out, load_cell(args, chain))
     q = None if args.q is None else joint_vector(chain, args.q, args.deg, "--q values")
     if args.position is not None or args.rotation is not None or args.quat is not None:
         pose = target_pose(args)
@@ -106,8 +104,8 @@ def _cell_sets(data, degrees: bool) -> dict:
             for curves, cell in zip(data.branches, data.cell.branches, strict=True)}
 
 
-def _playback(args: argparse.Namespace, chain, out) -> int:
-    """``--path``: the playback page of a timed path (:mod:`redkin.explore.playback`)."""
+def _playback(args: argparse.Namespace, chain, out, cell) -> int:
+    """``--path``: the playback page of a timed path (:mod:`redkin.explore.playback`), in the ``cell`` where given."""
     from redkin._files import write_durably
     from redkin.explore.playback import StopSpan, playback_html
 
@@ -132,7 +130,7 @@ def _playback(args: argparse.Namespace, chain, out) -> int:
     timing = report.get("trajectory") or {}
     stops = [StopSpan(float(a), float(b), str(stop.get("message", ""))) for (a, b), stop in
              zip(timing.get("stop_spans") or [], report.get("stops") or [])]
-    write_durably(out, playback_html(chain, t, q, qd, stops).encode("utf-8"))
+    write_durably(out, playback_html(chain, t, q, qd, stops, cell=cell).encode("utf-8"))
     print(f"wrote {out}: {chain.name}, a trajectory of {t[-1] - t[0]:.3f} s"
           + (f" with {len(stops)} stop{'' if len(stops) == 1 else 's'}" if stops else "") + "; open it in a browser")
     return 0

@@ -381,8 +381,8 @@ def _run_path(args: argparse.Namespace) -> int:
         from redkin._files import write_durably
         from redkin.explore.playback import playback_html
 
-        write_durably(playback, playback_html(chain, trajectory.t, trajectory.q, trajectory.qd,
-                                              stop_spans(result)).encode("utf-8"))
+        write_durably(playback, playback_html(chain, trajectory.t, trajectory.q, trajectory.qd, stop_spans(result),
+                                              cell=cell).encode("utf-8"))
     failure = result.failure
     if args.json:
         report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),

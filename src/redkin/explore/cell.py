@@ -86,7 +86,7 @@ def cell_view(arm: Arm, pose: np.ndarray, body: Body, scene: Scene, curves: tupl
                         if stretch.cause != LIMIT)
         arcs = free.free[b]
         cells.append(BranchCell(arcs.bounds.copy(), blocked, capsules, distance, closest))
-    return CellView(tuple(_obstacle(name, row) for name, row in zip(scene.names, scene.shapes, strict=True)),
+    return CellView(tuple(obstacle_drawing(name, row) for name, row in zip(scene.names, scene.shapes, strict=True)),
                     tuple(body.link), np.asarray(body.radius, dtype=float), tuple(checked_pairs(body, scene).names),
                     float(scene.margin), tuple(cells), scene.source)
 
@@ -128,9 +128,9 @@ def _cause(stretch) -> str:
     return "undecided (next to a singular value, or a distance grazing the margin)"
 
 
-def _obstacle(name: str, row: np.ndarray) -> dict:
-    """What the page draws of one obstacle: a ball's centre, a capsule's ends, a box's eight corners, a plane's
-    point and normal, with the radius."""
+def obstacle_drawing(name: str, row: np.ndarray) -> dict:
+    """What a page (the explorer, the playback) draws of one obstacle: a ball's centre, a capsule's ends, a box's
+    eight corners, a plane's point and normal, with the radius."""
     kind = int(row[0])
     if kind in (SPHERE, CAPSULE):
         return {"name": name, "kind": "capsule", "ends": [row[2:5].tolist(), row[5:8].tolist()],

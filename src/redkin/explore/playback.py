@@ -1,9 +1,10 @@
 """A timed path played back in the browser: one self-contained HTML page (``redkin path --playback``,
 ``redkin explore ROBOT --path RESULT.json``).
 
-The page draws the arm moving along the trajectory (an orthographic view of its frame origins, turned by
-dragging, with the tool's path traced), a time slider and a play button, and each joint's value and speed
-against time with its position limits and speed limits, the reconfiguration stops shaded.  As the explorer
+The page draws the arm moving along the trajectory (an orthographic view of its frame origins, turned by dragging,
+with the tool's path traced), a time slider and a play button, and each joint's value and speed against time with
+its position limits and speed limits, the reconfiguration stops shaded.  In a cell (issue 40) it draws the obstacles
+and the arm's capsules too, and says how far the arm is from them at the slider's time.  As the explorer
 (:mod:`redkin.explore.page`), it loads nothing: the numbers are JSON inside it, and the script computes nothing but
 screen coordinates.  The trajectory is shown at :data:`FRAME_RATE` frames per second of its time (the samples in
 between are the controller's, not the eye's), at most :data:`MAX_FRAMES` frames.
@@ -20,6 +21,8 @@ from typing import Any
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.collision.body import Body
+from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.explore.script import DRAG_SCRIPT, PAGE_STYLE
 
@@ -41,7 +44,7 @@ class StopSpan:
 
 
 def playback_html(chain: SerialChain, t: np.ndarray, q: np.ndarray, qd: np.ndarray,
-                  stops: Sequence[StopSpan] = (), title: str = "") -> str:
+                  stops: Sequence[StopSpan] = (), title: str = "", cell: tuple[Body, Scene] | None = None) -> str:
     """The playback page of a trajectory of ``chain``.
 
     Parameters
@@ -56,6 +59,9 @@ def playback_html(chain: SerialChain, t: np.ndarray, q: np.ndarray, qd: np.ndarr
         Spans to shade and name (the reconfiguration stops).
     title : str
         The page's heading (default: the robot's name and the duration).
+    cell : (Body, Scene), optional
+        The arm's body and a scene: the page draws the obstacles and the arm's capsules at each frame (red where a
+        pair is within the margin) and says the least distance and its pair at the slider's time.
 
     Returns
     -------
@@ -79,8 +85,10 @@ def playback_html(chain: SerialChain, t: np.ndarray, q: np.ndarray, qd: np.ndarr
     shown = np.unique(np.r_[np.searchsorted(t, np.linspace(t[0], t[-1], frames)).clip(0, len(t) - 1), len(t) - 1])
     origins = chain.frames(q[shown])[..., :3, 3]
     heading = title or f"{chain.name}: a trajectory of {duration:.3f} s"
-    payload = json.dumps(_payload(chain, t[shown], q[shown], qd[shown], origins, stops), separators=(",", ":"),
-                         allow_nan=False).replace("</", "<\\/")
+    data = _payload(chain, t[shown], q[shown], qd[shown], origins, stops)
+    if cell is not None:
+        data["cell"] = _cell(chain, q[shown], *cell)
+    payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
@@ -106,13 +114,33 @@ def _payload(chain: SerialChain, t: np.ndarray, q: np.ndarray, qd: np.ndarray, o
                        "text": s.text} for s in stops]}
 
 
+def _cell(chain: SerialChain, q: np.ndarray, body: Body, scene: Scene) -> dict[str, Any]:
+    """The cell at the page's frames ``q``: the obstacles to draw, the body's capsules at each frame (their ends, flat
+    ``(F * M * 6)``), and the least distance over the checked pairs with the pair that has it."""
+    from redkin.collision.body import capsule_ends, posed
+    from redkin.collision.clearance import pair_table
+    from redkin.explore.cell import obstacle_drawing
+
+    table, pairs = pair_table(chain, body, scene, q)
+    ends = capsule_ends(posed(body, chain.frames(q)))
+    closest = np.argmin(table, axis=1) if table.shape[1] else np.full(len(q), -1)
+    least = table[np.arange(len(q)), closest] if table.shape[1] else np.full(len(q), np.nan)
+    return {"obstacles": [obstacle_drawing(name, row) for name, row in zip(scene.names, scene.shapes, strict=True)],
+            "links": list(body.link), "radii": [float(r) for r in body.radius], "margin": float(scene.margin),
+            "pairs": [list(pair) for pair in pairs.names],
+            "capsules": (np.round(ends.ravel(), _DECIMALS) + 0.0).tolist(),
+            "distance": [None if not np.isfinite(d) else round(float(d), _DECIMALS) for d in least],
+            "closest": [int(k) for k in closest]}
+
+
 _BODY = """<div class="controls">
 <button id="play" type="button">Play</button>
 <label class="slider">t <input id="time" type="range" min="0" value="0" step="1" aria-label="time"></label>
 <output id="time-value"></output></div>
 <p id="status" class="status"></p>
 <div class="views"><figure class="view3d"><svg id="arm-view" viewBox="-1 -1 2 2"></svg>
-<figcaption>The arm at the slider's time (drag to turn the view); grey: the tool's path.</figcaption></figure>
+<figcaption>The arm at the slider's time (drag to turn the view); grey: the tool's path; in a cell, the obstacles
+in grey and the arm's capsules in blue (red: within the margin).</figcaption></figure>
 <div class="joints"><table id="joints"><thead><tr><th>joint</th><th>q [rad]</th><th>qd [rad/s]</th></tr></thead>
 <tbody></tbody></table></div></div>
 <section class="curves" id="curves"></section>
@@ -146,6 +174,10 @@ _SCRIPT = r"""
     return e;
   }
   const all = D.origins.flat();
+  if (D.cell) for (const o of D.cell.obstacles) {
+    if (o.kind === "capsule") all.push(...o.ends);
+    else if (o.kind === "box") all.push(...o.corners);
+  }
   const centre = [0, 1, 2].map(i => 0.5 * (Math.min(...all.map(p => p[i])) + Math.max(...all.map(p => p[i]))));
   function project(p) {  // orthographic, about the centre of everything the arm sweeps
     const ca = Math.cos(view.az), sa = Math.sin(view.az), ce = Math.cos(view.el), se = Math.sin(view.el);
@@ -156,11 +188,36 @@ _SCRIPT = r"""
   const reach = Math.max(1e-3, ...all.map(p => Math.hypot(p[0] - centre[0], p[1] - centre[1], p[2] - centre[2])));
   view3d.setAttribute("viewBox", [-1.15 * reach, -1.15 * reach, 2.3 * reach, 2.3 * reach].join(" "));
   const stroke = (reach / 120).toFixed(5);
+  const points = list => list.map(p => project(p).join(",")).join(" ");
+  const draw = cellDrawing(node, points, radius => Math.max(2 * radius, reach / 200), reach / 200);
+  function tooClose() {
+    const d = D.cell.distance[index];
+    return d !== null && d < D.cell.margin ? D.cell.pairs[D.cell.closest[index]] : null;
+  }
+  function drawCell() {
+    const g = node("g", { id: "cell" }, view3d), count = D.cell.links.length, c = D.cell.capsules;
+    draw.obstacles(g, D.cell.obstacles);
+    const close = tooClose();
+    for (let m = 0; m < count; m++) {
+      const at = 6 * (index * count + m), hit = close !== null && close.indexOf(D.cell.links[m]) >= 0;
+      draw.capsule(g, c.slice(at, at + 3), c.slice(at + 3, at + 6), D.cell.radii[m],
+                   hit ? "rgba(200,40,40,0.6)" : "rgba(31,78,154,0.3)", hit ? "body hit" : "body");
+    }
+  }
+  function cellStatus() {
+    const d = D.cell.distance[index], pair = D.cell.pairs[D.cell.closest[index]] || ["", ""];
+    if (d === null) return " No pair to check.";
+    if (d < 0) return " " + pair[0] + " meets " + pair[1] + " (" + d.toFixed(4) + " m).";
+    if (d < D.cell.margin) return " " + pair[0] + " is within the margin of " + pair[1] + " (" + d.toFixed(4) + " m).";
+    return " Clear of the obstacles: the least distance is " + d.toFixed(4) + " m (" + pair[0] + " and " + pair[1]
+      + ").";
+  }
 
   function drawArm() {
     view3d.textContent = "";
-    node("polyline", { points: D.tool.map(p => project(p).join(",")).join(" "), fill: "none", stroke: "#aaa",
-                       "stroke-width": stroke, id: "tool-path" }, view3d);
+    if (D.cell) drawCell();
+    node("polyline", { points: points(D.tool), fill: "none", stroke: "#aaa", "stroke-width": stroke,
+                       id: "tool-path" }, view3d);
     const pts = D.origins[index].map(project);
     node("polyline", { id: "arm", points: pts.map(p => p.join(",")).join(" "), fill: "none", stroke: "#1d1d1d",
                        "stroke-width": 3 * stroke, "stroke-linejoin": "round" }, view3d);
@@ -170,8 +227,9 @@ _SCRIPT = r"""
   function update() {
     const t = D.t[index];
     document.getElementById("time-value").textContent = t.toFixed(3) + " / " + duration.toFixed(3) + " s";
-    const stop = stopAt(t);
-    document.getElementById("status").textContent = stop ? "Stopped: " + stop.text : "";
+    const stop = stopAt(t), status = document.getElementById("status");
+    status.textContent = (stop ? "Stopped: " + stop.text : "") + (D.cell ? cellStatus() : "");
+    status.classList.toggle("bad", Boolean(D.cell) && tooClose() !== null);
     const rows = document.querySelectorAll("#joints tbody tr");
     rows.forEach((row, j) => {
       row.children[1].textContent = D.q[j][index].toFixed(3);

@@ -58,8 +58,9 @@ td.out { color: #8a0000; font-weight: 600; }
 .k.blocked { background: rgba(200, 60, 40, 0.3); }
 """
 
-#: How both pages (the explorer, and the playback page of :mod:`redkin.explore.playback`) turn their 3-D view: a drag
-#: across turns it about the vertical, a drag up or down tilts it; the page's script calls ``turnByDragging``.
+#: How both pages (the explorer, and the playback page of :mod:`redkin.explore.playback`) turn their 3-D view (a drag
+#: across turns it about the vertical, a drag up or down tilts it; the page's script calls ``turnByDragging``) and
+#: draw a cell's obstacles and the arm's capsules (``cellDrawing``).
 DRAG_SCRIPT = r"""
 "use strict";
 function turnByDragging(svg, view, redraw) {
@@ -78,6 +79,29 @@ function turnByDragging(svg, view, redraw) {
   const stop = () => { drag = null; };
   svg.addEventListener("pointerup", stop);
   svg.addEventListener("pointercancel", stop);
+}
+
+// How both pages draw a cell (issue 40): a capsule as a thick round-capped segment, an obstacle as a grey capsule
+// or a box's twelve edges.  node(name, attrs, parent) makes an SVG element, points(list) projects 3-D points to an
+// SVG points attribute, widthOf(radius) is a capsule's stroke width and edge a box edge's.
+function cellDrawing(node, points, widthOf, edge) {
+  const BOX_EDGES = [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]];
+  function capsule(g, a, b, radius, colour, cls) {
+    node("polyline", { class: cls, points: points([a, b]), stroke: colour, "stroke-width": widthOf(radius),
+                       fill: "none", "stroke-linecap": "round" }, g);
+  }
+  function obstacles(g, list) {
+    for (const o of list) {
+      if (o.kind === "capsule") capsule(g, o.ends[0], o.ends[1], o.radius, "rgba(110,110,110,0.45)", "obstacle");
+      else if (o.kind === "box") {
+        for (const [i, j] of BOX_EDGES) {
+          node("polyline", { class: "obstacle", points: points([o.corners[i], o.corners[j]]), stroke: "#777",
+                             "stroke-width": edge, fill: "none" }, g);
+        }
+      }
+    }
+  }
+  return { capsule: capsule, obstacles: obstacles };
 }
 """
 
@@ -181,23 +205,8 @@ SCRIPT = r"""
     }
   }
   // ---- the cell: obstacles in grey, the arm's capsules at the slider's value (red where a pair is too close)
-  const BOX_EDGES = [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]];
-  function capsule(g, a, b, radius, colour, cls) {
-    const width = Math.max(2 * radius / bounds.radius, 0.004);
-    node("polyline", { class: cls, points: points([a, b]), stroke: colour, "stroke-width": width, fill: "none",
-                       "stroke-linecap": "round" }, g);
-  }
-  function drawObstacles(g) {
-    for (const o of D.cell.obstacles) {
-      if (o.kind === "capsule") capsule(g, o.ends[0], o.ends[1], o.radius, "rgba(110,110,110,0.45)", "obstacle");
-      else if (o.kind === "box") {
-        for (const [i, j] of BOX_EDGES) {
-          node("polyline", { class: "obstacle", points: points([o.corners[i], o.corners[j]]), stroke: "#777",
-                             "stroke-width": 0.006, fill: "none" }, g);
-        }
-      }
-    }
-  }
+  const draw = cellDrawing(node, points, radius => Math.max(2 * radius / bounds.radius, 0.004), 0.006);
+  function drawObstacles(g) { draw.obstacles(g, D.cell.obstacles); }
   function tooClose() {
     const d = branch.cell.distance[index];
     return d !== null && d < D.cell.margin ? D.cell.pairs[branch.cell.closest[index]] : null;
@@ -208,8 +217,8 @@ SCRIPT = r"""
       const at = 6 * (index * count + m);
       if (c[at] === null) continue;
       const hit = close !== null && close.indexOf(D.cell.links[m]) >= 0;
-      capsule(g, c.slice(at, at + 3), c.slice(at + 3, at + 6), D.cell.radii[m],
-              hit ? "rgba(200,40,40,0.6)" : "rgba(31,78,154,0.3)", hit ? "body hit" : "body");
+      draw.capsule(g, c.slice(at, at + 3), c.slice(at + 3, at + 6), D.cell.radii[m],
+                   hit ? "rgba(200,40,40,0.6)" : "rgba(31,78,154,0.3)", hit ? "body hit" : "body");
     }
   }
   function cellStatus() {
