@@ -406,3 +406,27 @@ def test_a_body_file_that_is_missing_or_not_yaml_is_one_line(tmp_path):
     broken.write_text("spheres: {link_1: [\n")
     with pytest.raises(RobotDescriptionError, match=r"body file .*not YAML or JSON at line"):
         read_body(broken, chain, numbered_link_frames(chain))
+
+
+def test_a_urdf_pair_whose_capsules_always_overlap_is_not_checked_and_is_named(tmp_path):
+    """Two balls round a shared axis always overlap, whatever the joints: checked, they would remove every
+    configuration, so the pair is left out with a note (MoveIt's 'always in collision'); the others stay."""
+    from redkin.collision.clearance import pair_table
+    from redkin.collision.scene import scene_of
+
+    joints = "".join(f'<joint name="j{k}" type="revolute"><parent link="l{k - 1}"/><child link="l{k}"/>'
+                     f'<origin xyz="0 0 0.1"/><axis xyz="{"0 0 1" if k % 2 else "0 1 0"}"/>'
+                     '<limit lower="-2" upper="2" effort="1" velocity="1"/></joint>' for k in range(1, 5))
+    ball = '<collision><origin xyz="{x} 0 0"/><geometry><sphere radius="{r}"/></geometry></collision>'
+    links = {"l0": "", "l1": ball.format(x=0, r=0.4), "l2": "", "l3": ball.format(x=0, r=0.4),
+             "l4": ball.format(x=1.0, r=0.05)}
+    path = tmp_path / "balls.urdf"
+    elements = "".join(f'<link name="{name}">{collision}</link>' for name, collision in links.items())
+    path.write_text(f'<robot name="balls">{elements}{joints}</robot>')
+    chain, body = urdf_body(path, "l0", "l4")
+    names = {(body.link[i], body.link[j]) for i, j in body.pairs.tolist()}
+    assert ("l1", "l3") not in names and ("l1", "l4") in names
+    assert any(note.startswith("link pair l1 - l3: the capsules overlap in every one of 1000") for note in body.notes)
+    q = np.random.default_rng(4).uniform(-2, 2, (500, chain.n))
+    apart, _ = pair_table(chain, body, scene_of({"obstacles": []}), q)
+    assert np.all(apart.max(axis=0) >= 0.0)  # every pair still checked is apart somewhere

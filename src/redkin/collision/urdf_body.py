@@ -14,6 +14,11 @@ frame the link is fixed in:
   package paths, the folders above the URDF and ``ROS_PACKAGE_PATH``; the ``mesh`` extra reads the file), scaled by
   its ``scale``, and covered by one to three capsules that contain it (:mod:`redkin.collision.mesh_cover`).
 
+Link pairs whose capsules overlap at every one of 1000 random configurations within the limits (a wrist's two
+housings, covered by capsules larger than the castings) are not checked against each other, and a note names them:
+checked, they would remove every configuration, as MoveIt's setup assistant finds such pairs "always in collision"
+and disables them.
+
 The body's notes say, one line each, which cylinder, box and mesh were made larger and by how much (for a mesh: how
 far its capsules reach beyond the convex hull of what each covers), and which links with ``<collision>`` elements
 are not fixed in the chain's frames (a gripper's fingers) and so left out.
@@ -38,13 +43,15 @@ from redkin.collision.body import Body, BodyCapsule, body_of
 from redkin.collision.link_frames import _urdf_links
 from redkin.collision.mesh_cover import covering_capsules
 from redkin.collision.mesh_files import mesh_path, read_mesh
-from redkin.collision.primitives import _radius
+from redkin.collision.primitives import WIDTH, _radius
 from redkin.errors import RedkinError, RobotDescriptionError
 from redkin.examples import resolve
 from redkin.urdf import _origin, _package_places
 
 #: How many link names the note on the links left out lists.
 _NAMES_SHOWN = 6
+#: Random configurations within the limits over which a link pair must always overlap to be left unchecked.
+_SAMPLES = 1000
 
 
 def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None, *,
@@ -114,9 +121,35 @@ def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None,
                      "(above its base, or below a joint off the chain)")
     source = str(path) + (f" (SRDF {srdf})" if srdf is not None else "")
     try:
-        return chain, body_of(capsules, chain, ignore, notes=notes, source=source)
+        body = body_of(capsules, chain, ignore, notes=notes, source=source)
     except RedkinError as exc:  # a collision <origin> that is not finite
         raise RobotDescriptionError(f"{path}: {exc}", str(path)) from None
+    always = _always_overlapping(chain, body)
+    if not always:
+        return chain, body
+    notes.append(f"link pair{'s' if len(always) > 1 else ''} {', '.join(f'{a} - {b}' for a, b in always)}: the "
+                 f"capsules overlap in every one of {_SAMPLES} random configurations within the limits, so "
+                 f"{'they are' if len(always) > 1 else 'it is'} not checked (as MoveIt's setup assistant disables "
+                 "pairs always in collision; an SRDF or a body file decides otherwise)")
+    return chain, body_of(capsules, chain, ignore + always, notes=notes, source=source)
+
+
+def _always_overlapping(chain: SerialChain, body: Body) -> list[tuple[str, str]]:
+    """The link pairs whose capsules overlap at every one of :data:`_SAMPLES` random configurations within the limits
+    (a joint without limits: within a turn; a fixed seed): checked, they would remove every configuration."""
+    from redkin.collision.clearance import pair_table
+    from redkin.collision.scene import Scene
+
+    if not len(body.pairs):
+        return []
+    rng = np.random.default_rng(0)
+    q = rng.uniform(np.maximum(chain.lower, -np.pi), np.minimum(chain.upper, np.pi), (_SAMPLES, chain.n))
+    apart, pairs = pair_table(chain, body, Scene((), np.empty((0, WIDTH))), q)
+    found = set()
+    for k in np.flatnonzero(np.all(apart < 0.0, axis=0)):
+        first, second = sorted(pairs.names[k])
+        found.add((first, second))
+    return sorted(found)
 
 
 def srdf_ignored_pairs(path: str | os.PathLike) -> list[tuple[str, str]]:
