@@ -51,8 +51,8 @@ from redkin._extras import missing_extra
 from redkin.collision._mesh_kernels import capsule_along
 from redkin.errors import RedkinError
 
-#: Above this many points, a capsule is fitted to their convex hull's vertices (the same capsule, fewer points).
-_FEW_POINTS = 200
+#: The most points of a piece the cuts are ranked by (a fixed choice among a big mesh's thousands).
+_RANKING_POINTS = 400
 #: The least edge of a box round a flat part [m] (a box has edges > 0).
 _THINNEST = 1e-9
 #: A further capsule is used where it cuts the covered volume to at most this fraction of the fewer capsules' one.
@@ -246,10 +246,18 @@ def _best_slabs(edges: np.ndarray, points: np.ndarray, axes: np.ndarray, count: 
             slabs = _slabs(edges, points, axis, cuts[list(chosen)])
             if any(len(slab) < 2 for slab in slabs):
                 continue
-            total = sum(quick(slab) for slab in slabs)
+            total = sum(quick(_thinned(slab)) for slab in slabs)
             if best is None or total < best[2]:
                 best = (slabs, axis, total)
     return None if best is None else best[:2]
+
+
+def _thinned(points: np.ndarray) -> np.ndarray:
+    """At most :data:`_RANKING_POINTS` of the points, a fixed choice, to rank the cuts by (each cut's pieces are then
+    covered whole)."""
+    if len(points) <= _RANKING_POINTS:
+        return points
+    return points[np.random.default_rng(0).choice(len(points), _RANKING_POINTS, replace=False)]
 
 
 def _increasing(size: int, count: int) -> list[tuple[int, ...]]:
@@ -300,8 +308,6 @@ def _fit(points: np.ndarray, refine: bool) -> tuple[np.ndarray, np.ndarray, floa
     """The least-volume capsule containing the points over the candidate axes (refined by Nelder-Mead over the best
     one's tilt when ``refine``): its ends and radius (module docstring)."""
     points = np.ascontiguousarray(points)
-    if refine and len(points) > _FEW_POINTS:  # the capsule of the hull's vertices holds every point
-        points = np.ascontiguousarray(points[_hull(points).vertices])
     best = min((_along(points, axis) for axis in _candidate_axes(points)), key=lambda fit: fit[3])
     if refine:
         from scipy.optimize import minimize
@@ -413,27 +419,15 @@ def _circumradii(corners: np.ndarray) -> np.ndarray:
 
 
 def _hull_distances(samples: np.ndarray, hull) -> np.ndarray:
-    """Each sample's distance to the hull: 0 inside; outside, to the nearest point of its facets, measured only on
-    the facets whose bounding ball comes as near as the nearest vertex (no other facet can hold the nearest
-    point)."""
-    from scipy.spatial import cKDTree
-    from scipy.spatial.distance import cdist
-
+    """Each sample's distance to the hull (0 inside): outside, the nearest point of a facet it lies above."""
     trimesh = _trimesh()
     gaps = np.zeros(len(samples))
-    outside = np.max(samples @ hull.equations[:, :3].T + hull.equations[:, 3], axis=1) > 0.0
-    if not np.any(outside):
-        return gaps
-    points = samples[outside]
-    corners = hull.points[hull.simplices]
-    centres = corners.mean(axis=1)
-    spread = np.linalg.norm(corners - centres[:, None], axis=2).max(axis=1)
-    vertex, _ = cKDTree(hull.points[hull.vertices]).query(points)  # an upper bound of each distance
-    sample, facet = np.nonzero(cdist(points, centres) - spread <= vertex[:, None] + 1e-12)
-    nearest = trimesh.triangles.closest_point(corners[facet], points[sample])
-    found = vertex.copy()
-    np.minimum.at(found, sample, np.linalg.norm(nearest - points[sample], axis=1))
-    gaps[outside] = found
+    sample, facet = np.nonzero(samples @ hull.equations[:, :3].T + hull.equations[:, 3] > 0.0)
+    if len(sample):
+        nearest = trimesh.triangles.closest_point(hull.points[hull.simplices[facet]], samples[sample])
+        found = np.full(len(samples), np.inf)
+        np.minimum.at(found, sample, np.linalg.norm(nearest - samples[sample], axis=1))
+        gaps = np.where(np.isfinite(found), found, 0.0)
     return gaps
 
 
