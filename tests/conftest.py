@@ -169,6 +169,14 @@ def default_dask_scheduler() -> list[str]:
 
 
 @pytest.fixture(autouse=True)
+def _own_mesh_cache(tmp_path_factory, monkeypatch):
+    """Each test keeps its mesh covers (redkin.collision.mesh_cache) in a folder of its own: a cover another test
+    left must not stand in for the work a test means to do (reading the file, failing without trimesh), and the
+    suite writes nothing under the user's home."""
+    monkeypatch.setenv("REDKIN_CACHE_DIR", str(tmp_path_factory.mktemp("redkin-cache")))
+
+
+@pytest.fixture(autouse=True)
 def _no_default_dask_scheduler(request):
     """Fail the test that leaves a default Dask client or scheduler set, which would take every later test's Dask
     work (CI hung twice on a store read sent to a cluster whose workers a test had restarted)."""

@@ -421,3 +421,39 @@ def test_arm_angles_names_the_mesh_obstacle_that_blocks_the_elbow(capsys, tmp_pa
     assert report["collision"]["scene_notes"][0].startswith("obstacle 'ball': mesh 'ball.stl' covered by 1 box")
     code, out, _ = run(capsys, argv)
     assert code == 0 and "meets ball" in out and "scene: obstacle 'ball'" in out
+
+
+def test_a_mesh_file_is_covered_once_and_read_back_exactly(tmp_path, monkeypatch):
+    """The second reading of a URDF takes its covers from the cache: the same capsules, bit for bit, without fitting;
+    an edited mesh, a cover file that does not read back, or a folder that cannot be written costs only the time."""
+    import redkin.collision.mesh_cache as mesh_cache
+
+    path, _, _ = _arm_package(tmp_path)
+    _, first = urdf_body(path, "base", "l3")
+    kept = sorted(mesh_cache.cache_folder().glob("*.json"))
+    assert len(kept) == 3  # one cover per mesh file
+
+    def refuse(*_args, **_kwargs):
+        raise AssertionError("fitted again")
+
+    monkeypatch.setattr(mesh_cache, "covering_capsules", refuse)
+    _, again = urdf_body(path, "base", "l3")
+    for field in ("a", "b", "radius"):
+        np.testing.assert_array_equal(getattr(again, field), getattr(first, field))
+    assert again.notes == first.notes
+    kept[0].write_text("{not json")  # read back: no; fitted again
+    with pytest.raises(AssertionError, match="fitted again"):
+        urdf_body(path, "base", "l3")
+    monkeypatch.undo()
+    monkeypatch.setenv("REDKIN_CACHE_DIR", str(tmp_path / "arm" / "package.xml"))  # a file: no folder there
+    _, unwritable = urdf_body(path, "base", "l3")
+    np.testing.assert_array_equal(unwritable.radius, first.radius)
+    monkeypatch.setenv("REDKIN_CACHE_DIR", str(tmp_path / "cache"))
+    urdf_body(path, "base", "l3")  # the three covers kept again, in a folder that can be written
+    mesh = trimesh.load(tmp_path / "arm" / "meshes" / "l3.stl", force="mesh")
+    mesh.apply_scale(1.5).export(tmp_path / "arm" / "meshes" / "l3.stl")  # an edited mesh: its own cover
+    fitted = []
+    real = mesh_cache.covering_capsules
+    monkeypatch.setattr(mesh_cache, "covering_capsules", lambda *args: fitted.append(1) or real(*args))
+    urdf_body(path, "base", "l3")
+    assert len(fitted) == 1 and len(list(mesh_cache.cache_folder().glob("*.json"))) == 4

@@ -186,8 +186,7 @@ def _mesh_obstacle(entry: dict, name: str, label: str, source: str) -> tuple[lis
     """The boxes of a mesh obstacle (module docstring), named, and the note on how far they reach beyond it."""
     from pathlib import Path
 
-    from redkin.collision.mesh_cover import covering_boxes
-    from redkin.collision.mesh_files import read_mesh
+    from redkin.collision.mesh_cache import covered_boxes
 
     given = entry["file"]
     if not isinstance(given, str) or not given:
@@ -201,14 +200,14 @@ def _mesh_obstacle(entry: dict, name: str, label: str, source: str) -> tuple[lis
         if pose.shape != (4, 4) or not np.array_equal(pose[3], [0.0, 0.0, 0.0, 1.0]):
             raise RedkinError(f"pose must be a 4x4 transform given by rows, last row 0 0 0 1, got shape {pose.shape}")
         rotation = check_rotation(pose[:3, :3], "pose rotation")
-        vertices, faces = read_mesh(file, entry.get("scale"))
-        boxes = covering_boxes(vertices @ rotation.T + pose[:3, 3], faces)
+        boxes = covered_boxes(file, entry.get("scale"))  # in the mesh's frame, then placed by the pose
     except RobotDescriptionError as exc:  # the mesh file's own: it names the file
         raise RobotDescriptionError(f"{label}: {exc}", source, "scale" if "scale" in str(exc) else "file") from None
     except (RedkinError, ValueError) as exc:
         raise RobotDescriptionError(f"{label}: {exc}", source, "pose" if "pose" in str(exc) else "file") from None
     names = [name] if len(boxes) == 1 else [f"{name} [{k}/{len(boxes)}]" for k in range(1, len(boxes) + 1)]
-    rows = [(part, primitives.box(box.center, box.size, box.rotation)) for part, box in zip(names, boxes)]
+    rows = [(part, primitives.box(rotation @ box.center + pose[:3, 3], box.size, rotation @ box.rotation))
+            for part, box in zip(names, boxes)]
     reach = max(box.reach for box in boxes)
     beyond = "its convex hull" if len(boxes) == 1 else "the convex hull of the part each covers"
     return rows, (f"obstacle {name!r}: mesh {given!r} covered by {len(boxes)} box{'es' if len(boxes) > 1 else ''} "

@@ -12,7 +12,8 @@ frame the link is fixed in:
   two end faces; less elsewhere);
 * a mesh: read from its file (:mod:`redkin.collision.mesh_files`: ``package://`` names found from the caller's
   package paths, the folders above the URDF and ``ROS_PACKAGE_PATH``; the ``mesh`` extra reads the file), scaled by
-  its ``scale``, and covered by one to three capsules that contain it (:mod:`redkin.collision.mesh_cover`).
+  its ``scale``, and covered by one to three capsules that contain it (:mod:`redkin.collision.mesh_cover`; kept on
+  disk per file by :mod:`redkin.collision.mesh_cache`, so a file is covered once).
 
 Link pairs whose capsules overlap at every one of 1000 random configurations within the limits (a wrist's two
 housings, covered by capsules larger than the castings) are not checked against each other, and a note names them:
@@ -41,8 +42,8 @@ import numpy as np
 from redkin.chain import SerialChain
 from redkin.collision.body import Body, BodyCapsule, body_of
 from redkin.collision.link_frames import _urdf_links
-from redkin.collision.mesh_cover import covering_capsules
-from redkin.collision.mesh_files import mesh_path, read_mesh
+from redkin.collision.mesh_cache import covered_capsules
+from redkin.collision.mesh_files import mesh_path
 from redkin.collision.primitives import WIDTH, _radius
 from redkin.errors import RedkinError, RobotDescriptionError
 from redkin.examples import resolve
@@ -194,8 +195,7 @@ def _covering(geometry: Any, label: str, file: Path,
         return [((-half, half), radius)], (f"{label}: cylinder covered by a capsule reaching up to {radius:.4g} m "
                                            "beyond each flat end")
     if isinstance(geometry, Mesh):
-        vertices, faces = read_mesh(mesh_path(geometry.filename, file, places), geometry.scale)
-        covering = covering_capsules(vertices, faces)
+        covering = covered_capsules(mesh_path(geometry.filename, file, places), geometry.scale)
         reach = max(capsule.reach for capsule in covering)
         parts = ("its convex hull" if len(covering) == 1
                  else f"the convex hull of the part each covers (cut in {len(covering)} by planes)")

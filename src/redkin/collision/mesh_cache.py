@@ -1,0 +1,112 @@
+"""The covers of mesh files kept on disk (issue 40): a maker's URDF names its meshes in every command, and covering
+them takes seconds (:mod:`redkin.collision.mesh_cover`), so each cover is computed once per file.
+
+A cover is found by a digest of the file's bytes, its scale, the kind (capsules for the arm's links, boxes for a
+scene's obstacles) and the source of the covering modules, so that an edited mesh, another scale or another version
+of the fit is computed afresh.  It is kept as JSON (numbers as Python writes them, so read back exactly) in
+``$REDKIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/redkin``, else ``~/.cache/redkin``, under ``mesh-covers``.  A folder
+that cannot be written, or a file that cannot be read back, only costs the time: the cover is computed again.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin.collision import _mesh_kernels, mesh_cover
+from redkin.collision.mesh_cover import MeshBox, MeshCapsule, covering_boxes, covering_capsules
+from redkin.collision.mesh_files import read_mesh
+
+
+def covered_capsules(path: Path, scale: ArrayLike | None = None) -> list[MeshCapsule]:
+    """:func:`redkin.collision.mesh_cover.covering_capsules` of the mesh file (scaled), from the cache where it is
+    there (module docstring)."""
+    found = _cached(path, scale, "capsules")
+    if found is not None:
+        return [MeshCapsule(np.array(c["a"]), np.array(c["b"]), c["radius"], c["reach"]) for c in found]
+    capsules = covering_capsules(*read_mesh(path, scale))
+    _keep(path, scale, "capsules", [{"a": c.a.tolist(), "b": c.b.tolist(), "radius": float(c.radius),
+                                     "reach": float(c.reach)} for c in capsules])
+    return capsules
+
+
+def covered_boxes(path: Path, scale: ArrayLike | None = None) -> list[MeshBox]:
+    """:func:`redkin.collision.mesh_cover.covering_boxes` of the mesh file (scaled), from the cache where it is
+    there (module docstring)."""
+    found = _cached(path, scale, "boxes")
+    if found is not None:
+        return [MeshBox(np.array(b["center"]), np.array(b["size"]), np.array(b["rotation"]), b["reach"])
+                for b in found]
+    boxes = covering_boxes(*read_mesh(path, scale))
+    _keep(path, scale, "boxes", [{"center": b.center.tolist(), "size": b.size.tolist(),
+                                  "rotation": b.rotation.tolist(), "reach": float(b.reach)} for b in boxes])
+    return boxes
+
+
+def cache_folder() -> Path:
+    """Where the covers are kept (module docstring)."""
+    if os.environ.get("REDKIN_CACHE_DIR"):
+        root = Path(os.environ["REDKIN_CACHE_DIR"])
+    elif os.environ.get("XDG_CACHE_HOME"):
+        root = Path(os.environ["XDG_CACHE_HOME"]) / "redkin"
+    else:
+        root = Path.home() / ".cache" / "redkin"
+    return root / "mesh-covers"
+
+
+def _key(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxes"]) -> str | None:
+    """The cover's name: the digest of what it depends on (``None`` for a file that cannot be read)."""
+    try:
+        content = path.read_bytes()
+    except OSError:
+        return None
+    factors = np.ones(3) if scale is None else np.asarray(scale, dtype=float).reshape(-1)
+    digest = hashlib.sha256(content)
+    digest.update(f"{kind} {factors.tolist()} {_code_digest()}".encode())
+    return digest.hexdigest()
+
+
+@functools.cache
+def _code_digest() -> str:
+    """A digest of the covering modules' source: another fit is another cover."""
+    digest = hashlib.sha256()
+    for module in (mesh_cover, _mesh_kernels):
+        digest.update(Path(str(module.__file__)).read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def _cached(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxes"]) -> list[dict] | None:
+    """The kept cover of the file, or ``None`` where there is none that reads back."""
+    key = _key(path, scale, kind)
+    if key is None:
+        return None
+    try:
+        found = json.loads((cache_folder() / f"{key}.json").read_text())
+    except (OSError, ValueError):
+        return None
+    return found if isinstance(found, list) and found else None
+
+
+def _keep(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxes"], cover: list[dict]) -> None:
+    """Keep the cover (written whole, then renamed into place); nothing where the folder cannot be written."""
+    key = _key(path, scale, kind)
+    if key is None:
+        return
+    folder = cache_folder()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile("w", dir=folder, suffix=".part", delete=False) as file:
+            part = Path(file.name)
+            json.dump(cover, file)
+        os.replace(part, folder / f"{key}.json")
+    except OSError:
+        if "part" in locals():
+            part.unlink(missing_ok=True)
