@@ -430,7 +430,7 @@ def test_a_mesh_file_is_covered_once_and_read_back_exactly(tmp_path, monkeypatch
 
     path, _, _ = _arm_package(tmp_path)
     _, first = urdf_body(path, "base", "l3")
-    kept = sorted(mesh_cache.cache_folder().glob("*.json"))
+    kept = sorted(mesh_cache._cache_folder().glob("*.json"))
     assert len(kept) == 3  # one cover per mesh file
 
     def refuse(*_args, **_kwargs):
@@ -456,4 +456,4 @@ def test_a_mesh_file_is_covered_once_and_read_back_exactly(tmp_path, monkeypatch
     real = mesh_cache.covering_capsules
     monkeypatch.setattr(mesh_cache, "covering_capsules", lambda *args: fitted.append(1) or real(*args))
     urdf_body(path, "base", "l3")
-    assert len(fitted) == 1 and len(list(mesh_cache.cache_folder().glob("*.json"))) == 4
+    assert len(fitted) == 1 and len(list(mesh_cache._cache_folder().glob("*.json"))) == 4

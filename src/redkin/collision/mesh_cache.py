@@ -51,7 +51,7 @@ def covered_boxes(path: Path, scale: ArrayLike | None = None) -> list[MeshBox]:
     return boxes
 
 
-def cache_folder() -> Path:
+def _cache_folder() -> Path:
     """Where the covers are kept (module docstring)."""
     if os.environ.get("REDKIN_CACHE_DIR"):
         root = Path(os.environ["REDKIN_CACHE_DIR"])
@@ -89,7 +89,7 @@ def _cached(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxe
     if key is None:
         return None
     try:
-        found = json.loads((cache_folder() / f"{key}.json").read_text())
+        found = json.loads((_cache_folder() / f"{key}.json").read_text())
     except (OSError, ValueError):
         return None
     return found if isinstance(found, list) and found else None
@@ -100,7 +100,7 @@ def _keep(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxes"
     key = _key(path, scale, kind)
     if key is None:
         return
-    folder = cache_folder()
+    folder = _cache_folder()
     try:
         folder.mkdir(parents=True, exist_ok=True)
         with tempfile.NamedTemporaryFile("w", dir=folder, suffix=".part", delete=False) as file:
