@@ -79,9 +79,11 @@ def test_an_interrupted_run_on_a_client_not_the_default_resumes_to_the_same_map(
     with pytest.raises(KeyboardInterrupt):
         workspace_map(pa10, path, EXTENT, client=client, progress=interrupt, **SIZES)
     marked = int(completed_chunks(path).sum())
-    assert 3 <= marked < 27
+    # at least the three reported; on a loaded machine the workers may have finished every chunk before the
+    # interrupt was seen (a CI pass once found 27 of 27), so how many remain is not a law: that the rest resumes is
+    assert 3 <= marked <= 27
     run = workspace_map(pa10, path, EXTENT, **SIZES)
-    assert 0 < run.computed <= 27 - marked
+    assert run.computed == 27 - marked
     _assert_same_map(path, small_map)
 
 
