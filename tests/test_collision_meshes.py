@@ -384,6 +384,7 @@ def test_a_mesh_obstacle_becomes_boxes_holding_it_where_the_pose_puts_it(tmp_pat
     ("file: fixture.stl, pose: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "pose must be a 4x4"),
     ("file: fixture.stl, pose: [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]", "pose rotation"),
     ("file: fixture.stl, scale: [1, 1]", "mesh scale"),
+    ("file: fixture.stl, pose: [[1, 0, 0, .nan], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]", "pose must be finite"),
     ("file: 3", "file must be a mesh file's path"),
 ])
 def test_a_bad_mesh_obstacle_is_one_line_naming_it(tmp_path, field, fragment):

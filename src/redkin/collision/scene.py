@@ -199,6 +199,8 @@ def _mesh_obstacle(entry: dict, name: str, label: str, source: str) -> tuple[lis
         pose = np.eye(4) if "pose" not in entry else as_float_array(entry["pose"], "pose")
         if pose.shape != (4, 4) or not np.array_equal(pose[3], [0.0, 0.0, 0.0, 1.0]):
             raise RedkinError(f"pose must be a 4x4 transform given by rows, last row 0 0 0 1, got shape {pose.shape}")
+        if not np.all(np.isfinite(pose)):
+            raise RedkinError("pose must be finite")
         rotation = check_rotation(pose[:3, :3], "pose rotation")
         boxes = covered_boxes(file, entry.get("scale"))  # in the mesh's frame, then placed by the pose
     except RobotDescriptionError as exc:  # the mesh file's own: it names the file
