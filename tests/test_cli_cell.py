@@ -207,3 +207,7 @@ def test_robots_show_names_the_links_a_body_file_may_use(capsys, robot):
     else:
         expected = {f"link_{k}": k for k in range(chain.n + 1)}
     assert links == expected
+    assert json.loads(out)["builtin_body"] == (robot == "kuka-iiwa14")  # a named model with one; a file has none
+    code, out, _ = run(capsys, ["robots", "--show", robot])
+    assert code == 0 and ("built-in body: capsules fitted to the maker's collision meshes" in out) == (
+        robot == "kuka-iiwa14")

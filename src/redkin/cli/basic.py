@@ -100,9 +100,11 @@ def _run_robots(args: argparse.Namespace) -> int:
 def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
     """``redkin robots --show ROBOT``: joint names, limits, joint frames at q = 0, base, tool and class."""
     from redkin.arms.classify import arm_angle_class
+    from redkin.collision import builtin_models
 
     kind, reason = arm_angle_class(chain, args.srs_tolerance)
     links = {name: place.frame for name, place in body_links(args, args.show, chain).items()}
+    builtin = args.show.lower() in builtin_models()
     directions, points = chain.joint_axes(np.zeros(chain.n))
     directions = directions * chain.sign[:, None]  # the sense in which q turns
     lower, upper = angles_out(chain.lower, args.deg), angles_out(chain.upper, args.deg)
@@ -116,7 +118,7 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
                        for name, low, high, point, axis, motion in zip(chain.joint_names, _finite(lower),
                                                                         _finite(upper), points, directions,
                                                                         _motion_limits(chain, args.deg))],
-            "base": chain.base, "tool": chain.tool, "body_links": links,
+            "base": chain.base, "tool": chain.tool, "body_links": links, "builtin_body": builtin,
         })
         return 0
     unit = angle_unit(args.deg)
@@ -144,6 +146,9 @@ def _show_robot(chain: SerialChain, args: argparse.Namespace) -> int:
     print("links a body file names (--body), by the chain frame they move with (frame k turns with joint k):")
     for frame in sorted(by_frame):
         print(f"  frame {frame}: {', '.join(by_frame[frame])}")
+    if builtin:
+        print("built-in body: capsules fitted to the maker's collision meshes, used by --scene without --body "
+              "(docs/collisions.md, 'Built-in bodies of the named models')")
     print("base:")
     print(format_matrix(chain.base))
     print("tool:")
