@@ -59,9 +59,8 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
         return read_body(args.body, chain, body_links(args, args.robot, chain), ignore=ignore), scene
     if not named:
         from redkin.collision import builtin_body, builtin_models
-        from redkin.models import MODELS
 
-        if args.robot.lower() in MODELS and args.robot.lower() in builtin_models():
+        if args.robot.lower() in builtin_models():  # a named model's: a robot file is named with its suffix
             if args.srdf is not None:
                 raise ValueError("--srdf names URDF links: it applies to a URDF or xacro robot")
             return builtin_body(args.robot, chain), scene

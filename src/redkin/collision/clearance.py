@@ -125,12 +125,18 @@ def clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> Cle
     q = chain.check_q(q)
     shape = q.shape[:-1]
     apart, pairs = pair_table(chain, body, scene, q.reshape(-1, chain.n))
-    if not len(pairs.names):
-        return Clearance(np.full(shape, np.inf), np.full(shape, "", dtype=object), np.full(shape, "", dtype=object))
-    least = np.argmin(apart, axis=1)
-    names = np.array(pairs.names, dtype=object)[least]
-    return Clearance(apart[np.arange(len(apart)), least].reshape(shape), names[:, 0].reshape(shape),
-                     names[:, 1].reshape(shape))
+    distance, closest = least_pair(apart)
+    names = np.array([("", ""), *pairs.names], dtype=object)[closest + 1]  # "" where nothing is checked
+    return Clearance(distance.reshape(shape), names[:, 0].reshape(shape), names[:, 1].reshape(shape))
+
+
+def least_pair(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per row of a :func:`pair_table` ``(N, P)``, the least distance and the column of the pair that has it:
+    ``inf`` and ``-1`` where no pair is checked (``P = 0``)."""
+    if not table.shape[1]:
+        return np.full(len(table), np.inf), np.full(len(table), -1)
+    closest = np.argmin(table, axis=1)
+    return table[np.arange(len(table)), closest], closest
 
 
 def pair_table(chain: SerialChain, body: Body, scene: Scene, q: np.ndarray) -> tuple[np.ndarray, _Pairs]:

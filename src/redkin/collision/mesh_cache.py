@@ -29,25 +29,27 @@ from redkin.collision.mesh_files import read_mesh
 def covered_capsules(path: Path, scale: ArrayLike | None = None) -> list[MeshCapsule]:
     """:func:`redkin.collision.mesh_cover.covering_capsules` of the mesh file (scaled), from the cache where it is
     there (module docstring)."""
-    found = _cached(path, scale, "capsules")
+    key = _key(path, scale, "capsules")
+    found = _cached(key)
     if found is not None:
         return [MeshCapsule(np.array(c["a"]), np.array(c["b"]), c["radius"], c["reach"]) for c in found]
     capsules = covering_capsules(*read_mesh(path, scale))
-    _keep(path, scale, "capsules", [{"a": c.a.tolist(), "b": c.b.tolist(), "radius": float(c.radius),
-                                     "reach": float(c.reach)} for c in capsules])
+    _keep(key, [{"a": c.a.tolist(), "b": c.b.tolist(), "radius": float(c.radius), "reach": float(c.reach)}
+                for c in capsules])
     return capsules
 
 
 def covered_boxes(path: Path, scale: ArrayLike | None = None) -> list[MeshBox]:
     """:func:`redkin.collision.mesh_cover.covering_boxes` of the mesh file (scaled), from the cache where it is
     there (module docstring)."""
-    found = _cached(path, scale, "boxes")
+    key = _key(path, scale, "boxes")
+    found = _cached(key)
     if found is not None:
         return [MeshBox(np.array(b["center"]), np.array(b["size"]), np.array(b["rotation"]), b["reach"])
                 for b in found]
     boxes = covering_boxes(*read_mesh(path, scale))
-    _keep(path, scale, "boxes", [{"center": b.center.tolist(), "size": b.size.tolist(),
-                                  "rotation": b.rotation.tolist(), "reach": float(b.reach)} for b in boxes])
+    _keep(key, [{"center": b.center.tolist(), "size": b.size.tolist(), "rotation": b.rotation.tolist(),
+                 "reach": float(b.reach)} for b in boxes])
     return boxes
 
 
@@ -83,9 +85,8 @@ def _code_digest() -> str:
     return digest.hexdigest()[:16]
 
 
-def _cached(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxes"]) -> list[dict] | None:
-    """The kept cover of the file, or ``None`` where there is none that reads back."""
-    key = _key(path, scale, kind)
+def _cached(key: str | None) -> list[dict] | None:
+    """The kept cover named ``key`` (:func:`_key`), or ``None`` where there is none that reads back."""
     if key is None:
         return None
     try:
@@ -95,9 +96,9 @@ def _cached(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxe
     return found if isinstance(found, list) and found else None
 
 
-def _keep(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxes"], cover: list[dict]) -> None:
-    """Keep the cover (written whole, then renamed into place); nothing where the folder cannot be written."""
-    key = _key(path, scale, kind)
+def _keep(key: str | None, cover: list[dict]) -> None:
+    """Keep the cover as ``key`` (written whole, then renamed into place); nothing where the folder cannot be
+    written."""
     if key is None:
         return
     folder = _cache_folder()

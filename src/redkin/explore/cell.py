@@ -15,7 +15,7 @@ import numpy as np
 from redkin.arms.front_door import Arm
 from redkin.collision.arm_angle_free import COLLISION, LIMIT, collision_free_arm_angles
 from redkin.collision.body import Body, capsule_ends, posed
-from redkin.collision.clearance import checked_pairs, pair_table
+from redkin.collision.clearance import checked_pairs, least_pair, pair_table
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE
 from redkin.collision.scene import Scene
 from redkin.explore.curves import BranchCurves
@@ -77,11 +77,8 @@ def cell_view(arm: Arm, pose: np.ndarray, body: Body, scene: Scene, curves: tupl
         table, _ = pair_table(arm.chain, body, scene, q)
         capsules = capsule_ends(posed(body, arm.chain.frames(q)))
         capsules[~branch.exists] = np.nan
-        if table.shape[1]:
-            closest = np.where(branch.exists, np.argmin(table, axis=1), -1)
-            distance = np.where(branch.exists, table.min(axis=1), np.nan)
-        else:
-            closest, distance = np.full(len(q), -1), np.where(branch.exists, np.inf, np.nan)
+        least, nearest = least_pair(table)
+        distance, closest = np.where(branch.exists, least, np.nan), np.where(branch.exists, nearest, -1)
         blocked = tuple((stretch.start, stretch.end, _cause(stretch)) for stretch in free.blocked[b]
                         if stretch.cause != LIMIT)
         arcs = free.free[b]

@@ -118,13 +118,12 @@ def _cell(chain: SerialChain, q: np.ndarray, body: Body, scene: Scene) -> dict[s
     """The cell at the page's frames ``q``: the obstacles to draw, the body's capsules at each frame (their ends, flat
     ``(F * M * 6)``), and the least distance over the checked pairs with the pair that has it."""
     from redkin.collision.body import capsule_ends, posed
-    from redkin.collision.clearance import pair_table
+    from redkin.collision.clearance import least_pair, pair_table
     from redkin.explore.cell import obstacle_drawing
 
     table, pairs = pair_table(chain, body, scene, q)
     ends = capsule_ends(posed(body, chain.frames(q)))
-    closest = np.argmin(table, axis=1) if table.shape[1] else np.full(len(q), -1)
-    least = table[np.arange(len(q)), closest] if table.shape[1] else np.full(len(q), np.nan)
+    least, closest = least_pair(table)
     return {"obstacles": [obstacle_drawing(name, row) for name, row in zip(scene.names, scene.shapes, strict=True)],
             "links": list(body.link), "radii": [float(r) for r in body.radius], "margin": float(scene.margin),
             "pairs": [list(pair) for pair in pairs.names],
@@ -205,12 +204,7 @@ _SCRIPT = r"""
     }
   }
   function cellStatus() {
-    const d = D.cell.distance[index], pair = D.cell.pairs[D.cell.closest[index]] || ["", ""];
-    if (d === null) return " No pair to check.";
-    if (d < 0) return " " + pair[0] + " meets " + pair[1] + " (" + d.toFixed(4) + " m).";
-    if (d < D.cell.margin) return " " + pair[0] + " is within the margin of " + pair[1] + " (" + d.toFixed(4) + " m).";
-    return " Clear of the obstacles: the least distance is " + d.toFixed(4) + " m (" + pair[0] + " and " + pair[1]
-      + ").";
+    return distanceWords(D.cell.distance[index], D.cell.pairs[D.cell.closest[index]] || ["", ""], D.cell.margin);
   }
 
   function drawArm() {

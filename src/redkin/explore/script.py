@@ -60,7 +60,7 @@ td.out { color: #8a0000; font-weight: 600; }
 
 #: How both pages (the explorer, and the playback page of :mod:`redkin.explore.playback`) turn their 3-D view (a drag
 #: across turns it about the vertical, a drag up or down tilts it; the page's script calls ``turnByDragging``) and
-#: draw a cell's obstacles and the arm's capsules (``cellDrawing``).
+#: draw a cell's obstacles and the arm's capsules (``cellDrawing``) and word the least distance (``distanceWords``).
 DRAG_SCRIPT = r"""
 "use strict";
 function turnByDragging(svg, view, redraw) {
@@ -81,9 +81,9 @@ function turnByDragging(svg, view, redraw) {
   svg.addEventListener("pointercancel", stop);
 }
 
-// How both pages draw a cell (issue 40): a capsule as a thick round-capped segment, an obstacle as a grey capsule
-// or a box's twelve edges.  node(name, attrs, parent) makes an SVG element, points(list) projects 3-D points to an
-// SVG points attribute, widthOf(radius) is a capsule's stroke width and edge a box edge's.
+// How both pages draw a cell (issue 40): a capsule as a thick round-capped segment, an obstacle as a grey
+// capsule or a box's twelve edges.  node(name, attrs, parent) makes an SVG element, points(list) projects 3-D points
+// to an SVG points attribute, widthOf(radius) is a capsule's stroke width and edge a box edge's.
 function cellDrawing(node, points, widthOf, edge) {
   const BOX_EDGES = [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]];
   function capsule(g, a, b, radius, colour, cls) {
@@ -102,6 +102,15 @@ function cellDrawing(node, points, widthOf, edge) {
     }
   }
   return { capsule: capsule, obstacles: obstacles };
+}
+
+// The status words of the least distance d (metres; null: no pair to check) and its pair, against the margin.
+function distanceWords(d, pair, margin) {
+  if (d === null) return " No pair to check.";
+  if (d < 0) return " " + pair[0] + " meets " + pair[1] + " (" + d.toFixed(4) + " m).";
+  if (d < margin) return " " + pair[0] + " is within the margin of " + pair[1] + " (" + d.toFixed(4) + " m).";
+  return " Clear of the obstacles: the least distance is " + d.toFixed(4) + " m (" + pair[0] + " and " + pair[1]
+    + ").";
 }
 """
 
@@ -231,12 +240,7 @@ SCRIPT = r"""
     span.className = "cell" + (d !== null && d < D.cell.margin ? " bad" : "");
     const where = free ? " " + P.symbol + " is in the collision-free set." : cause ? " Removed: " + cause[2] + "."
       : "";
-    if (d === null) span.textContent = " No pair to check.";
-    else if (d < 0) span.textContent = " " + pair[0] + " meets " + pair[1] + " (" + d.toFixed(4) + " m)." + where;
-    else if (d < D.cell.margin) span.textContent = " " + pair[0] + " is within the margin of " + pair[1] + " ("
-      + d.toFixed(4) + " m)." + where;
-    else span.textContent = " Clear of the obstacles: the least distance is " + d.toFixed(4) + " m (" + pair[0]
-      + " and " + pair[1] + ")." + where;
+    span.textContent = distanceWords(d, pair, D.cell.margin) + (d === null ? "" : where);
     return span;
   }
   turnByDragging(view3d, view, drawView);

@@ -126,8 +126,8 @@ def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int,
 
 
 def _cell_description(body: Body, scene: Scene) -> dict[str, Any]:
-    """The body and the scene of a map in a cell, as JSON data: what the map's values depend on, and where they
-    come from."""
+    """The body and the scene of a map in a cell, as JSON data: everything the map's values depend on (a store
+    resumes only the same), and where they come from."""
     return {
         "body": {"source": body.source, "links": list(body.link), "frames": body.frame.tolist(),
                  "a": body.a.tolist(), "b": body.b.tolist(), "radius": body.radius.tolist(),
@@ -145,7 +145,8 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     names the measure (``parameter``, ``parameter_range`` attributes).  ``nearly`` is given for a nearly S-R-S arm
     mapped with its exact neighbour's feasible sets: the attributes then say so (``model``, ``model_error``,
     ``departures``, ``neighbour``, ``model_note``).  ``cell`` (the arm's body and a scene) makes it the map of the
-    collision-free sets, and the attribute ``cell`` says which (:func:`_cell_description`).
+    collision-free sets, and the attribute ``cell`` says which (its sources, obstacles, margin and links; all of it
+    is in the ``parameters``).
     """
     xr = require("xarray")
     da = require("dask.array")
@@ -187,8 +188,10 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
         "parameters": map_parameters(chain, grid, len(rotations), None if nearly is None else nearly.neighbour, cell),
         "redkin_version": __version__, "model": MODEL_EXACT,
     }
-    if cell is not None:
-        attrs["cell"] = _cell_description(*cell)
+    if cell is not None:  # what the map is of, to read (all of the cell is in the parameters)
+        body, scene = cell
+        attrs["cell"] = {"scene": {"source": scene.source, "obstacles": list(scene.names), "margin": scene.margin},
+                         "body": {"source": body.source, "links": list(body.link), "self_pairs": len(body.pairs)}}
     if nearly is not None:
         attrs.update({
             "model": MODEL_NEARLY, "model_error": nearly.describe(), "model_note": _NEARLY_NOTE,
