@@ -1,7 +1,8 @@
 """The command line imports only what it uses (issue 23: a command line that starts fast).
 
 ``redkin --help``, each command's ``--help`` and an argument error import none of numba, scipy, matplotlib, the Dask
-stack or the compiled kernels; ``redkin fk`` imports the chain and its kernels, and nothing of the other methods.
+stack or the compiled kernels; ``redkin fk`` and ``redkin jacobian`` import the chain and its kernels, run them as
+Python and load neither numba nor scipy, and nothing of the other methods.
 These tests check what a fresh process imports, never how long it takes: timings belong in benchmarks/.
 """
 
@@ -107,17 +108,18 @@ def test_the_kernel_modules_are_found():
     assert {"redkin._chain_kernels", "redkin.chain", "redkin.srs._ik_kernels"} <= KERNEL_MODULES
 
 
-def test_fk_imports_the_chain_kernels_and_nothing_of_the_other_methods():
-    [(_, code, modules)] = _modules_after([["fk", "pa10-7c", "0", "0", "0", "0", "0", "0", "0"]])
-    assert code == 0
-    assert {"numba", "redkin.chain", "redkin._chain_kernels", "redkin.models"} <= modules  # it did compute the pose
-    assert _forbidden(modules, ("matplotlib", "dask", "distributed", "zarr", "xarray")) == []
-    assert _forbidden(modules, OTHER_METHODS) == []
-    assert _forbidden(modules, KERNEL_MODULES - {"redkin._compiled", "redkin._chain_kernels", "redkin.chain"}) == []
-    # numba itself imports scipy (its version check, and scipy.linalg's BLAS the first time it loads any compiled
-    # function, cached or not): fk adds no scipy module of its own
-    [numba_alone] = _run("import sys, numba\nnumba.njit(lambda x: x + 1)(1)\nprint(tuple(sorted(sys.modules)))")
-    assert set(_forbidden(modules, ("scipy",))) <= set(numba_alone)
+def test_fk_and_jacobian_run_the_chain_kernels_without_numba():
+    """One configuration's pose or Jacobian runs the chain's kernels as Python (redkin._compiled.interpreted):
+    numba, llvmlite and scipy are not loaded (issue 42: numba's import was most of a warm ``redkin fk``)."""
+    q = ["0.3", "0.6", "0.1", "-1.2", "0.2", "0.8", "0.1"]
+    runs = _modules_after([["fk", "pa10-7c", *q], ["jacobian", "franka-panda", *q, "--manipulability"],
+                           ["fk", "kuka-iiwa14", *q, "--json"]])
+    for argv, code, modules in runs:
+        assert code == 0, argv
+        assert {"redkin.chain", "redkin._chain_kernels", "redkin.models"} <= modules, argv  # it did compute
+        assert _forbidden(modules, HEAVY) == [], (argv, _forbidden(modules, HEAVY)[:5])
+        assert _forbidden(modules, OTHER_METHODS) == [], argv
+        assert _forbidden(modules, KERNEL_MODULES - {"redkin._compiled", "redkin._chain_kernels", "redkin.chain"}) == []
 
 
 def test_closed_form_ik_imports_no_scipy_module_of_its_own():

@@ -10,7 +10,7 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # what type checkers and editors see; at run time :func:`__getattr__` loads them
-    from redkin._compiled import set_threads, thread_count
+    from redkin._compiled import interpreted, set_threads, thread_count
     from redkin.arms import Arm, arm
     from redkin.chain import SerialChain, yoshikawa
     from redkin.closed_form import ik
@@ -38,6 +38,7 @@ __all__ = [
     "arm",
     "get_robot",
     "ik",
+    "interpreted",
     "robot_names",
     "set_threads",
     "thread_count",
@@ -58,6 +59,7 @@ _LAZY = {
     "UnreachablePoseError": "redkin.errors",
     "get_robot": "redkin.models",
     "ik": "redkin.closed_form",
+    "interpreted": "redkin._compiled",
     "robot_names": "redkin.models",
     "set_threads": "redkin._compiled",
     "thread_count": "redkin._compiled",

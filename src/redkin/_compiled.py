@@ -60,6 +60,34 @@ processes they start too); ``redkin compile``
 (:func:`redkin.warm_up.warm_up`) compiles everything ahead, for a Docker
 image or a cluster's workers.
 
+Lazy kernels
+------------
+numba itself is loaded only when a kernel first runs compiled: importing
+it (and the scipy BLAS it loads with the first compiled function) takes
+about 0.4 s, most of a warm ``redkin fk``.  Until then :func:`kernel`
+returns a :class:`Kernel`, which holds the Python function.  Its first call
+loads numba for all of them at once: every kernel made so far gets its
+numba dispatcher, and the dispatcher replaces the :class:`Kernel` in the
+globals of every loaded redkin module, so that numba finds compiled callees
+when it compiles a caller, and so that calls from then on go straight to
+numba (a :class:`Kernel` kept elsewhere, in a test's namespace, passes its
+calls on).  Kernels made after that are dispatchers from the start.
+
+Within :func:`interpreted`, kernels not compiled yet run as their Python
+functions, callees included, and numba is not loaded: one implementation
+of each equation, run by the interpreter.  The command line does so for
+small work, where loading numba (and compiling, on a fresh install) costs
+more than the arithmetic: ``redkin fk`` and ``jacobian``, and ``ik`` and
+``arm-angles`` on one pose of an exact closed form.  A command that finds
+its work large after all (a batch, a nearly S-R-S arm's self-motion, the
+numerical solver, a cell) calls :func:`use_compiled`, and every kernel
+runs compiled from there.  A batch within :func:`interpreted` runs in the
+calling thread (the pool's threads are not inside the caller's context).
+Both ways give the same numbers, bit for bit: the kernels do plain float
+arithmetic and ``math`` functions, which numba compiles to the same
+operations in the same order (``tests/test_interpreted.py`` holds them
+equal on five arms of three classes, degenerate configurations included).
+
 One compile per argument type
 -----------------------------
 numba compiles a kernel once for each tuple of argument types it is called
@@ -133,12 +161,11 @@ import os
 import sys
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from pathlib import Path
 
-import numba
-import numba.core.event
 import numpy as np
 
 #: Batches of fewer items run in the calling thread (handing out chunks costs more than the cores save).
@@ -287,22 +314,6 @@ def _terminal() -> bool:
 _progress = _CompileProgress()
 
 
-class _CompileListener(numba.core.event.Listener):
-    """numba's ``"numba:compile"`` events of redkin's kernels: the progress, and the listeners."""
-
-    def on_start(self, event) -> None:
-        name = _redkin_kernel(event)
-        if name is None:
-            return
-        _progress.start(name)
-        for listener in list(_compile_listeners):
-            listener(name)
-
-    def on_end(self, event) -> None:
-        if _redkin_kernel(event) is not None:
-            _progress.end()
-
-
 def _redkin_kernel(event) -> str | None:
     """The module and name of the redkin function a ``"numba:compile"`` event is about, or ``None`` (numba's own
     functions compile too)."""
@@ -314,17 +325,150 @@ def _redkin_kernel(event) -> str | None:
     return f"{module}.{function.__name__}"
 
 
-numba.core.event.register("numba:compile", _CompileListener())
+class Kernel:
+    """A redkin kernel before numba is loaded: its Python function, compiled on the first call (module docstring,
+    "Lazy kernels").
+
+    Calling it loads numba (:func:`_load_numba`), which turns every kernel into its numba dispatcher and puts the
+    dispatcher in place of this object in every redkin module; a call through an object kept elsewhere goes to the
+    dispatcher too.  Within :func:`interpreted` (and before numba is loaded) a call runs the Python function itself.
+    Attributes other than ``py_func`` are the dispatcher's.
+    """
+
+    def __init__(self, function: Callable) -> None:
+        self.py_func = function
+        self.dispatcher: Callable | None = None  # numba's, once it is loaded
+        self.__name__ = function.__name__
+        self.__qualname__ = function.__qualname__
+        self.__module__ = function.__module__
+        self.__doc__ = function.__doc__
+        self.__wrapped__ = function
+
+    def __call__(self, *args):
+        dispatcher = self.dispatcher
+        if dispatcher is None:
+            if _interpreting.depth:
+                return self.py_func(*args)
+            _load_numba()
+            dispatcher = self.dispatcher
+            assert dispatcher is not None
+        return dispatcher(*args)
+
+    def __getattr__(self, name: str):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        if self.dispatcher is None:
+            _load_numba()
+        return getattr(self.dispatcher, name)
+
+    def __repr__(self) -> str:
+        return f"<redkin kernel {self.__module__}.{self.__qualname__}, not compiled yet>"
 
 
-def kernel(function: Callable):
-    """``numba.njit(cache=True, nogil=True)``, or without the cache where numba finds no writable cache directory."""
+_waiting: list[Kernel] = []  # the kernels made before numba was loaded
+_numba_lock = threading.RLock()
+_numba_loaded = False
+
+
+class _Interpreting(threading.local):
+    depth = 0
+
+
+_interpreting = _Interpreting()
+
+
+@contextmanager
+def interpreted() -> Iterator[None]:
+    """Within this context, in this thread, kernels not compiled yet run as Python functions and numba is not
+    loaded (module docstring, "Lazy kernels"); once numba is loaded the kernels run compiled whatever the context.
+    For a command's one small computation, where loading numba would cost more than the arithmetic."""
+    _interpreting.depth += 1
+    try:
+        yield
+    finally:
+        _interpreting.depth -= 1
+
+
+def numba_loaded() -> bool:
+    """Whether this process has loaded numba for redkin's kernels (the first compiled call does)."""
+    return _numba_loaded
+
+
+def use_compiled() -> None:
+    """From now on every kernel runs compiled, within :func:`interpreted` too: numba is loaded here (a computation
+    too large to run as Python, inside a context that chose Python for a small one)."""
+    _load_numba()
+
+
+def _njit(function: Callable):
+    """``numba.njit(cache=True, nogil=True)`` of ``function``, or without the cache where numba finds no writable
+    cache directory; a stale cache emptied (:func:`_drop_stale_cache`)."""
+    import numba
+
     try:
         compiled = numba.njit(cache=True, nogil=True)(function)
     except RuntimeError:  # "cannot cache function ...: no locator available for file ..."
         return numba.njit(cache=False, nogil=True)(function)
     _drop_stale_cache(compiled)
     return compiled
+
+
+def _load_numba() -> None:
+    """Import numba, listen to its compiles, make every waiting kernel's dispatcher and put it in place of the
+    :class:`Kernel` in every redkin module (numba reads a kernel's callees from its module's globals when it
+    compiles it), once per process."""
+    global _numba_loaded
+    with _numba_lock:
+        if _numba_loaded:
+            return
+        import numba.core.event
+
+        class _CompileListener(numba.core.event.Listener):
+            """numba's ``"numba:compile"`` events of redkin's kernels: the progress, and the listeners."""
+
+            def on_start(self, event) -> None:
+                name = _redkin_kernel(event)
+                if name is None:
+                    return
+                _progress.start(name)
+                for listener in list(_compile_listeners):
+                    listener(name)
+
+            def on_end(self, event) -> None:
+                if _redkin_kernel(event) is not None:
+                    _progress.end()
+
+        numba.core.event.register("numba:compile", _CompileListener())
+        made = {id(waiting): _njit(waiting.py_func) for waiting in _waiting}
+        _bind_dispatchers(made)
+        for waiting in _waiting:  # only now: a thread that finds its dispatcher set finds its callees bound
+            waiting.dispatcher = made[id(waiting)]
+        _waiting.clear()
+        _numba_loaded = True
+
+
+def _bind_dispatchers(made: dict[int, Callable]) -> None:
+    """Put each kernel's dispatcher (``made``, by the id of its :class:`Kernel`) in place of its :class:`Kernel` in
+    the globals of every loaded redkin module and of every module that defines a kernel."""
+    namespaces = {id(vars(module)): vars(module) for name, module in list(sys.modules.items())
+                  if module is not None and (name == "redkin" or name.startswith("redkin."))}
+    namespaces.update({id(waiting.py_func.__globals__): waiting.py_func.__globals__ for waiting in _waiting})
+    for names in namespaces.values():
+        for key, value in list(names.items()):
+            if isinstance(value, Kernel) and id(value) in made:
+                names[key] = made[id(value)]
+
+
+def kernel(function: Callable):
+    """A redkin kernel: ``numba.njit(cache=True, nogil=True)`` of ``function`` (without the cache where numba finds
+    no writable cache directory), made when numba is loaded; before then a :class:`Kernel` that loads it on its
+    first call."""
+    with _numba_lock:
+        if _numba_loaded:
+            return _njit(function)
+        waiting = Kernel(function)
+        _waiting.append(waiting)
+        return waiting
 
 
 def kernel_array(array: np.ndarray, shape: tuple[int, ...] | None = None) -> np.ndarray:
@@ -469,7 +613,7 @@ def run_batch(kernel: Callable, count: int, *args):
 
     When this returns or raises, no chunk is running (a chunk's exception is raised once the others are done).
     """
-    if count < PARALLEL_BATCH:  # the path of one item: nothing else on it
+    if count < PARALLEL_BATCH or (_interpreting.depth and not _numba_loaded):  # one item, or Python: one thread
         return kernel(0, count, *args)
     threads = thread_count()
     chunks = min(CHUNKS_PER_THREAD * threads, count // MIN_CHUNK)

@@ -51,14 +51,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_robot_argument(fk)
     fk.add_argument("q", nargs="+", type=float, metavar="Q", help="joint values (radians, or degrees with --deg)")
     add_output_flags(fk)
-    fk.set_defaults(handler=_run_fk)
+    fk.set_defaults(handler=_run_fk, in_python=True)
 
     jac = subparsers.add_parser("jacobian", help="geometric Jacobian (6 x n, base frame, linear rows first)")
     add_robot_argument(jac)
     jac.add_argument("q", nargs="+", type=float, metavar="Q", help="joint values (radians, or degrees with --deg)")
     jac.add_argument("--manipulability", action="store_true", help="also print sqrt(det(J J^T))")
     add_output_flags(jac)
-    jac.set_defaults(handler=_run_jacobian)
+    jac.set_defaults(handler=_run_jacobian, in_python=True)
 
 
 def _run_robots(args: argparse.Namespace) -> int:
@@ -169,6 +169,7 @@ def _run_fk(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     q = joint_vector(chain, args.q, args.deg)
     pose = chain.fk(q)
+    within = bool(chain.within_limits(q))
     quaternion = matrix_to_quaternion(pose[:3, :3])
     if args.json:
         print_json({
@@ -180,11 +181,11 @@ def _run_fk(args: argparse.Namespace) -> int:
             "rotation": pose[:3, :3],
             "quaternion": quaternion,
             "pose": pose,
-            "within_limits": bool(chain.within_limits(q)),
+            "within_limits": within,
         })
     else:
         position = f"--position {format_exact(pose[:3, 3])}"
-        if not chain.within_limits(q):
+        if not within:
             print("note: these joint values are outside the robot's limits")
         print("pose (rounded to 6 decimals; the two lines below are exact, the quaternion is w x y z):")
         print(format_matrix(pose))

@@ -224,6 +224,17 @@ def add_output_flags(parser: argparse.ArgumentParser, degrees: bool = True) -> N
         parser.add_argument("--deg", action="store_true", help="read and print angles in degrees")
 
 
+def small_work(small: bool) -> None:
+    """A command whose kernels run as Python (``in_python``, :func:`redkin.cli.main._kernels_for`) says here
+    whether its work is small: one pose of a closed form without a cell.  Where it is not (a batch, a nearly S-R-S
+    arm's self-motion, the numerical solver, a cell's certified sets), numba is loaded and every kernel from here
+    on runs compiled (:func:`redkin._compiled.use_compiled`)."""
+    if not small:
+        from redkin._compiled import use_compiled
+
+        use_compiled()
+
+
 def load_robot(args: argparse.Namespace) -> SerialChain:
     """The chain for the ROBOT, ``--base``, ``--tip``, ``--xacro-arg`` and ``--package-path`` arguments
     (ValueError for an unknown name or a bad file)."""

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import argparse
 import gc
 import importlib
 import os
 import sys
 import warnings
 from collections.abc import Sequence
+from contextlib import AbstractContextManager, nullcontext
 
 from redkin import __version__
 from redkin.cli.common import Parser
@@ -77,7 +79,7 @@ def _main(argv: list[str]) -> int:
         return 2
     # Warnings (numpy's "overflow encountered in matmul" with its source line) are held back: after a user
     # mistake the one line of the error says what went wrong; after a run each is printed once, as one line.
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(record=True) as caught, _kernels_for(args):
         try:
             code = int(args.handler(args) or 0)
         except ValueError as exc:  # user mistakes: one line, exit code 2
@@ -92,6 +94,17 @@ def _main(argv: list[str]) -> int:
             return 1
     _print_warnings(caught)
     return code
+
+
+def _kernels_for(args: argparse.Namespace) -> AbstractContextManager:
+    """How the command's kernels run: as Python for the commands that set ``in_python`` (one configuration or one
+    pose of a closed form, :func:`redkin.cli.common.small_work`), where loading numba would take longer than the
+    arithmetic; compiled otherwise."""
+    if not getattr(args, "in_python", False):
+        return nullcontext()
+    from redkin._compiled import interpreted
+
+    return interpreted()
 
 
 def _print_warnings(caught: Sequence[warnings.WarningMessage]) -> None:

@@ -29,6 +29,7 @@ from redkin.cli.common import (
     print_json,
     reach_reason,
     read_poses,
+    small_work,
     target_pose,
 )
 from redkin.cli.ik_numerical import add_numerical_arguments, run_numerical
@@ -68,7 +69,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                               "between the arm's own links; without them the numerical solver returns only "
                               "solutions clear by the margin")
     add_output_flags(solve)
-    solve.set_defaults(handler=run_ik)
+    solve.set_defaults(handler=run_ik, in_python=True)
 
     angles = subparsers.add_parser(
         "arm-angles",
@@ -89,7 +90,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_srs_tolerance_argument(angles)
     add_cell_arguments(angles, "the sets become the arm angles clear of every obstacle and of the arm's own links")
     add_output_flags(angles)
-    angles.set_defaults(handler=_run_arm_angles)
+    angles.set_defaults(handler=_run_arm_angles, in_python=True)
 
 
 def _closed_form_arm(chain, args: argparse.Namespace):
@@ -134,6 +135,7 @@ def run_ik(args: argparse.Namespace) -> int:
         if args.srs_tolerance is not None:
             raise UsageError("--srs-tolerance chooses the closed form of --psi or --q7; the numerical solver (without "
                              "them) does not use it")
+        small_work(False)
         return run_numerical(chain, poses, args, batch, load_cell(args, chain))
     return _run_closed_form(chain, poses, args, batch)
 
@@ -153,6 +155,7 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
 
     classified = _closed_form_arm(chain, args)
     cell = load_cell(args, chain)
+    small_work(not batch and cell is None and classified.implementation.one_per_branch)
     parameter = classified.parameter.name
     value = float(angles_in(getattr(args, parameter), args.deg))
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
@@ -276,6 +279,7 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     classified = _closed_form_arm(chain, args)
     cell = load_cell(args, chain)
+    small_work(cell is None and classified.implementation.one_per_branch)
     branch = str(parse_branch("+++" if args.branch is None else args.branch))
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
     pose = target_pose(args)

@@ -1,0 +1,132 @@
+"""Kernels run as Python (redkin._compiled.interpreted) give what they give compiled, bit for bit (issue 42).
+
+``redkin fk``, ``jacobian``, and ``ik``/``arm-angles`` on one pose of an exact closed form run the kernels' Python
+functions instead of loading numba (0.4 s of every warm command, and tens of seconds of compiling on a fresh
+install).  The law: in a fresh process, before numba is loaded, the chain's FK and Jacobian, ``Arm.ik`` at several
+values of the parameter and ``Arm.analyse`` of every branch give results that equal, number for number, what the
+same calls give once numba is loaded (:func:`redkin._compiled.use_compiled`).  The configurations are random
+within the limits and, on purpose, degenerate: all zeros (a straight shoulder and wrist), the stretched elbow, every
+joint at a limit, and a pose moved out of reach.  A fresh process is needed: once numba is loaded in a process
+(the suite's own has it), kernels run compiled whatever the context.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+#: Each call in the child: the arm, its configurations, and what is compared.  The child prints one literal line:
+#: whether numba was loaded before the compiled pass, how many values were compared, and the mismatches.
+CHILD = r'''
+import dataclasses, sys
+import numpy as np
+from redkin import models
+from redkin.arms import arm
+from redkin._compiled import interpreted, numba_loaded, use_compiled
+
+NAME, RANDOM, ANALYSED, SEED = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+chain = getattr(models, NAME.replace("-", "_"))()
+rng = np.random.default_rng(SEED)
+lower, upper = np.maximum(chain.lower, -np.pi), np.minimum(chain.upper, np.pi)  # a joint without limits: a turn
+straight = np.zeros(chain.n)
+stretched = rng.uniform(lower, upper)
+stretched[3] = np.clip(0.0, lower[3], upper[3])
+configurations = [straight, stretched, lower.copy(), upper.copy(), *rng.uniform(lower, upper, (RANDOM, chain.n))]
+values = np.array([-2.5, -0.4, 0.3, 1.7])
+
+
+def flat(value, path=""):
+    """(path, value) pairs of everything an answer holds, arrays and numbers alike."""
+    if dataclasses.is_dataclass(value):
+        names = [field.name for field in dataclasses.fields(value) if not field.name.startswith("_")]
+        names += [name for name in ("parameter", "reach", "reason") if hasattr(type(value), name)]  # computed
+        for name in names:
+            yield from flat(getattr(value, name), f"{path}.{name}")
+    elif isinstance(value, dict):
+        for key in sorted(value, key=str):
+            yield from flat(value[key], f"{path}[{key!r}]")
+    elif isinstance(value, (tuple, list)) and not (value and isinstance(value[0], (int, float, bool, str))):
+        for k, item in enumerate(value):
+            yield from flat(item, f"{path}[{k}]")
+    elif hasattr(value, "_asdict"):
+        yield from flat(value._asdict(), path)
+    else:
+        yield path, value
+
+
+def answers():
+    classified = arm(chain)  # classifying runs kernels too
+    out = []
+    for k, q in enumerate(configurations):
+        pose = chain.fk(q)
+        out += [(f"fk {k}", pose), (f"jacobian {k}", chain.jacobian(q)), (f"limits {k}", chain.within_limits(q))]
+        far = pose.copy()
+        far[:3, 3] += 5.0
+        for label, target in (("pose", pose), ("far", far)):
+            out += list(flat(classified.ik(target, values), f"ik {label} {k}"))
+        if k < ANALYSED:
+            out += list(flat(classified.analyse(pose), f"analyse {k}"))
+    return out
+
+
+with interpreted():
+    python = answers()
+loaded = numba_loaded() or "numba" in sys.modules
+use_compiled()
+compiled = answers()
+mismatches = []
+for (path, a), (other, b) in zip(python, compiled):
+    same = path == other
+    if same and isinstance(a, np.ndarray):
+        same = a.shape == b.shape and (np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"))
+    elif same:
+        same = (a == b) or (a != a and b != b)
+    if not same:
+        mismatches.append(path)
+print((loaded, len(python), len(compiled), mismatches[:10]))
+'''
+
+ARMS = [  # (model, random configurations, configurations analysed): the Franka class's analysis is ~0.6 s as Python
+    ("kuka-iiwa14", 16, 8),
+    ("pa10-7c", 8, 4),
+    ("barrett-wam", 8, 4),
+    ("franka-panda", 8, 2),
+    ("ufactory-xarm7", 4, 1),
+]
+
+
+@pytest.mark.parametrize(("name", "random", "analysed"), ARMS)
+def test_kernels_as_python_equal_the_compiled_kernels(name, random, analysed):
+    result = subprocess.run([sys.executable, "-c", CHILD, name, str(random), str(analysed), "42"],
+                            capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stderr[-3000:]
+    loaded, count, compiled_count, mismatches = ast.literal_eval(result.stdout.strip().splitlines()[-1])
+    assert not loaded  # the first pass ran without numba
+    assert count == compiled_count and count > 10 * (random + 4)
+    assert mismatches == []
+
+
+def test_a_batch_within_interpreted_runs_in_the_calling_thread():
+    """The pool's helper threads are not inside the caller's context: as Python, a batch is not split (a helper
+    would have loaded numba)."""
+    from redkin import _compiled
+
+    calls = []
+
+    def chunk(start, stop, out):
+        calls.append((start, stop))
+        out[start:stop] = 1.0
+
+    out = np.zeros(4 * _compiled.PARALLEL_BATCH)
+    loaded = _compiled._numba_loaded
+    try:
+        _compiled._numba_loaded = False  # as in a process that has not loaded numba
+        with _compiled.interpreted():
+            _compiled.run_batch(chunk, len(out), out)
+    finally:
+        _compiled._numba_loaded = loaded
+    assert calls == [(0, len(out))] and out.all()
