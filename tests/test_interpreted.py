@@ -1,13 +1,14 @@
 """Kernels run as Python (redkin._compiled.interpreted) give what they give compiled, bit for bit (issue 42).
 
-``redkin fk``, ``jacobian``, and ``ik``/``arm-angles`` on one pose of an exact closed form run the kernels' Python
-functions instead of loading numba (0.4 s of every warm command, and tens of seconds of compiling on a fresh
-install).  The law: in a fresh process, before numba is loaded, the chain's FK and Jacobian, ``Arm.ik`` at several
-values of the parameter and ``Arm.analyse`` of every branch give results that equal, number for number, what the
-same calls give once numba is loaded (:func:`redkin._compiled.use_compiled`).  The configurations are random
-within the limits and, on purpose, degenerate: all zeros (a straight shoulder and wrist), the stretched elbow, every
-joint at a limit, and a pose moved out of reach.  A fresh process is needed: once numba is loaded in a process
-(the suite's own has it), kernels run compiled whatever the context.
+``redkin fk``, ``jacobian``, ``ik``/``arm-angles`` on one pose of an exact closed form and ``path`` on a short path
+of an S-R-S arm run the kernels' Python functions instead of loading numba (0.4 s of every warm command, and tens
+of seconds of compiling on a fresh install).  The law: in a fresh process, before numba is loaded, the chain's FK
+and Jacobian, ``Arm.ik`` at several values of the parameter, ``Arm.analyse`` of every branch and short paths
+(S-R-S and offset elbow) give results that equal, number for number, what the same calls give once numba is loaded
+(:func:`redkin._compiled.use_compiled`).  The configurations are random within the limits and, on purpose,
+degenerate: all zeros (a straight shoulder and wrist), the stretched elbow, every joint at a limit, and a pose
+moved out of reach.  A fresh process is needed: once numba is loaded in a process (the suite's own has it),
+kernels run compiled whatever the context.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from redkin import models
 from redkin.arms import arm
 from redkin._compiled import interpreted, numba_loaded, use_compiled
 
-NAME, RANDOM, ANALYSED, SEED = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+NAME, RANDOM, ANALYSED, PATHS, SEED = sys.argv[1], *map(int, sys.argv[2:6])
 chain = getattr(models, NAME.replace("-", "_"))()
 rng = np.random.default_rng(SEED)
 lower, upper = np.maximum(chain.lower, -np.pi), np.minimum(chain.upper, np.pi)  # a joint without limits: a turn
@@ -59,6 +60,8 @@ def flat(value, path=""):
 
 
 def answers():
+    global rng_path
+    rng_path = np.random.default_rng(SEED + 1)
     classified = arm(chain)  # classifying runs kernels too
     out = []
     for k, q in enumerate(configurations):
@@ -70,6 +73,12 @@ def answers():
             out += list(flat(classified.ik(target, values), f"ik {label} {k}"))
         if k < ANALYSED:
             out += list(flat(classified.analyse(pose), f"analyse {k}"))
+    if PATHS:  # redkin path runs as Python on short paths of these arms: a path through 12 waypoints
+        from redkin.paths import resolve_path
+
+        for k, q in enumerate(configurations[4:4 + PATHS]):
+            along = q + np.linspace(0.0, 1.0, 12)[:, None] * rng_path.uniform(-0.3, 0.3, chain.n)
+            out += list(flat(resolve_path(chain, chain.fk(along), 0.1), f"path {k}"))
     return out
 
 
@@ -90,18 +99,18 @@ for (path, a), (other, b) in zip(python, compiled):
 print((loaded, len(python), len(compiled), mismatches[:10]))
 '''
 
-ARMS = [  # (model, random configurations, configurations analysed): the Franka class's analysis is ~0.6 s as Python
-    ("kuka-iiwa14", 16, 8),
-    ("pa10-7c", 8, 4),
-    ("barrett-wam", 8, 4),
-    ("franka-panda", 8, 2),
-    ("ufactory-xarm7", 4, 1),
+ARMS = [  # (model, random configurations, configurations analysed, paths): the Franka class's analysis is ~0.6 s
+    ("kuka-iiwa14", 16, 8, 2),
+    ("pa10-7c", 8, 4, 1),
+    ("barrett-wam", 8, 4, 1),
+    ("franka-panda", 8, 2, 0),
+    ("ufactory-xarm7", 4, 1, 0),
 ]
 
 
-@pytest.mark.parametrize(("name", "random", "analysed"), ARMS)
-def test_kernels_as_python_equal_the_compiled_kernels(name, random, analysed):
-    result = subprocess.run([sys.executable, "-c", CHILD, name, str(random), str(analysed), "42"],
+@pytest.mark.parametrize(("name", "random", "analysed", "paths"), ARMS)
+def test_kernels_as_python_equal_the_compiled_kernels(name, random, analysed, paths):
+    result = subprocess.run([sys.executable, "-c", CHILD, name, str(random), str(analysed), str(paths), "42"],
                             capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]
     loaded, count, compiled_count, mismatches = ast.literal_eval(result.stdout.strip().splitlines()[-1])

@@ -27,6 +27,7 @@ from redkin.cli.common import (
     plural,
     print_json,
     read_poses,
+    small_work,
 )
 
 
@@ -101,7 +102,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "leaves out the steps that are not)")
     add_force_flag(path)
     add_output_flags(path)
-    path.set_defaults(handler=_run_path)
+    path.set_defaults(handler=_run_path, in_python=True)
 
 
 def _cell_report(chain, cell, result) -> dict:
@@ -167,6 +168,20 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
                             title=f"{chain.name}: {len(poses)} waypoints")
     fig.savefig(file, dpi=120, bbox_inches="tight")
     plt.close(fig)
+
+
+#: Waypoints of a path on an S-R-S or offset-elbow arm that ``redkin path`` resolves with the kernels run as Python
+#: (:func:`redkin.cli.common.small_work`): about 40 ms a waypoint (0.8 s for 21 on the iiwa14, against about 20 s
+#: of compiling on a fresh install and 0.9 s compiled from the cache).  The Franka class's exact q7 sets cost about
+#: 0.2 s a waypoint as Python, so its paths run compiled.
+_SMALL_PATH = 32
+
+
+def _parameter(chain, srs_tolerance: float | None) -> str:
+    """The redundancy parameter path resolution uses on the chain: ``"psi"`` or ``"q7"``."""
+    from redkin.paths.arm_family import path_family
+
+    return path_family(chain, srs_tolerance).parameter
 
 
 def _model_line(chain, srs_tolerance: float | None) -> str | None:
@@ -358,6 +373,8 @@ def _run_path(args: argparse.Namespace) -> int:
     poses = _waypoints(args)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     model = _model_line(chain, args.srs_tolerance)
+    small_work(cell is None and model is None and not timed and not args.thorough and len(poses) <= _SMALL_PATH
+               and _parameter(chain, args.srs_tolerance) == "psi")
     degrees = args.deg
     unit = angle_unit(degrees)
     if not args.json:  # what the path rests on, before the search (seconds on a nearly S-R-S arm)
