@@ -211,3 +211,39 @@ def test_robots_show_names_the_links_a_body_file_may_use(capsys, robot):
     code, out, _ = run(capsys, ["robots", "--show", robot])
     assert code == 0 and ("built-in body: capsules fitted to the maker's collision meshes" in out) == (
         robot == "kuka-iiwa14")
+
+
+def test_ik_and_path_say_what_the_cell_says_of_itself(capsys, cell, tmp_path):
+    """The body's notes and the base's contacts (not checked: the base never moves) are said by ``ik`` (closed
+    form and numerical) and ``path``, as by ``arm-angles``: a line each, and in JSON the fields the API gives."""
+    from redkin.collision.clearance import base_contacts
+
+    scene_file, _ = cell
+    body_file = tmp_path / "based.yaml"
+    base = "capsules:\n  link_0: [{a: [0, 0, -0.1], b: [0, 0, 0.1], radius: 0.1}]\n"
+    note = "notes: [the base is a capsule round the pedestal's bolts]\n"
+    body_file.write_text(BODY.replace("capsules:\n", base) + note)
+    chain = redkin.get_robot("kuka-iiwa14")
+    body = read_body(body_file, chain, numbered_link_frames(chain))
+    scene = read_scene(scene_file)
+    expected = {"notes": ["the base is a capsule round the pedestal's bolts"], "scene_notes": [],
+                "base_contacts": [{"link": link, "obstacle": obstacle, "distance": distance}
+                                  for link, obstacle, distance in base_contacts(chain, body, scene)]}
+    assert [c["obstacle"] for c in expected["base_contacts"]] == ["table"]  # 0.1 m below the base, the table top
+    cell_arguments = ["--scene", str(scene_file), "--body", str(body_file)]
+    qs = np.linspace([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1], [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9], 6)
+    poses = tmp_path / "poses.npy"
+    np.save(poses, chain.fk(qs))
+    commands = {"ik": ["ik", "kuka-iiwa14", *_pose_arguments(chain), "--psi", "0.2", *cell_arguments],
+                "numerical": ["ik", "kuka-iiwa14", *_pose_arguments(chain), "--count", "1", *cell_arguments],
+                "path": ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", *cell_arguments]}
+    for name, argv in commands.items():
+        code, out, _ = run(capsys, [*argv, "--json"])
+        said = json.loads(out)["collision" if name == "path" else "cell"]
+        assert code == 0 and said | expected == said, name
+        code, out, _ = run(capsys, argv)
+        lines = out.splitlines()
+        assert code == 0, name
+        assert "body: the base is a capsule round the pedestal's bolts" in lines, name
+        assert any(line.startswith("base: link_0 is ") and "from table, inside the margin; not checked" in line
+                   for line in lines), name

@@ -91,6 +91,28 @@ def body_links(args: argparse.Namespace, robot: str, chain: SerialChain) -> dict
     return numbered_link_frames(chain)
 
 
+def cell_notes(chain: SerialChain, cell) -> dict[str, Any]:
+    """What a cell (its body and scene) says of itself, as a command's JSON fields: ``notes``, the body's (where its
+    shapes stand for the links' meshes, and how far beyond them they reach); ``scene_notes``, the scene's (how far a
+    mesh obstacle's boxes reach beyond it); ``base_contacts``, the obstacles within the margin of the base (frame
+    0), which is not checked since it never moves."""
+    from redkin.collision.clearance import base_contacts
+
+    body, scene = cell
+    return {"notes": list(body.notes), "scene_notes": list(scene.notes),
+            "base_contacts": [{"link": link, "obstacle": obstacle, "distance": distance}
+                              for link, obstacle, distance in base_contacts(chain, body, scene)]}
+
+
+def cell_note_lines(notes: dict[str, Any] | None) -> list[str]:
+    """:func:`cell_notes` in words, a line each (none without a cell)."""
+    if notes is None:
+        return []
+    return ([f"body: {note}" for note in notes["notes"]] + [f"scene: {note}" for note in notes["scene_notes"]]
+            + [f"base: {contact['link']} is {contact['distance']:.3g} m from {contact['obstacle']}, inside the "
+               "margin; not checked: it never moves" for contact in notes["base_contacts"]])
+
+
 def free_report(report: dict[str, Any], chain: SerialChain, free, scene, body, deg: bool, shown: str,
                 optimal: dict[str, tuple[float, float]]) -> None:
     """Put the collision-free sets into a command's JSON ``report``: ``feasible`` becomes the shown branch's free set
@@ -99,7 +121,6 @@ def free_report(report: dict[str, Any], chain: SerialChain, free, scene, body, d
     limit-feasible values, radians) gains ``collision_free``, the free set's value nearest the unclamped one, and
     ``collision`` says what was checked."""
     from redkin.circle import ArcSet
-    from redkin.collision.clearance import base_contacts
 
     def arcs(bounds: np.ndarray) -> list:
         return [[float(v) for v in angles_out(arc, deg)] for arc in bounds]
@@ -118,10 +139,7 @@ def free_report(report: dict[str, Any], chain: SerialChain, free, scene, body, d
         report["optimal"][name]["collision_free"] = None if value is None else float(angles_out(value, deg))
     report["collision"] = {
         "scene": scene.source, "obstacles": list(scene.names), "margin": scene.margin, "body": body.source,
-        "capsules": len(body), "self_pairs": len(body.pairs), "notes": list(body.notes),
-        "scene_notes": list(scene.notes),
-        "base_contacts": [{"link": link, "obstacle": obstacle, "distance": distance}
-                          for link, obstacle, distance in base_contacts(chain, body, scene)],
+        "capsules": len(body), "self_pairs": len(body.pairs), **cell_notes(chain, (body, scene)),
         "resolution": float(angles_out(free.resolution, deg)), "complete": free.complete,
         "evaluations": free.evaluations,
     }

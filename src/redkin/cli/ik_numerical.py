@@ -7,6 +7,7 @@ import argparse
 
 import numpy as np
 
+from redkin.cli.cell import cell_note_lines, cell_notes
 from redkin.cli.common import (
     UsageError,
     angle_unit,
@@ -83,7 +84,7 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
                else [_entry(result, (), args.deg, label, free)])
     if args.json:
         head = {"robot": chain.name, "method": "numerical", "why": why,
-                **({} if cell is None else {"margin": cell[1].margin}),
+                **({} if cell is None else {"margin": cell[1].margin, "cell": cell_notes(chain, cell)}),
                 "units": {"q": angle_unit(args.deg), "position_error": "m", "rotation_error": "rad", "reach": "m"},
                 "tolerance": {"position": position, "rotation": rotation}}
         print_json({**head, "poses": entries} if batch else {**head, **entries[0]})
@@ -114,6 +115,8 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
                 print(f"{label}no solution found in {entry['starts']} starts; the closest joint values miss by "
                       f"{entry['error']['position']:.3g} m and {entry['error']['rotation']:.3g} rad: "
                       f"{format_values(entry['closest']).lstrip()} [{unit}]")
+        for line in cell_note_lines(None if cell is None else cell_notes(chain, cell)):
+            print(line)
     return 0 if bool(np.all(result.found[..., 0])) else 1
 
 

@@ -7,7 +7,7 @@ import argparse
 
 import numpy as np
 
-from redkin.cli.cell import add_cell_arguments, load_cell
+from redkin.cli.cell import add_cell_arguments, cell_note_lines, cell_notes, load_cell
 from redkin.cli.common import (
     BRANCH_HELP,
     IMAGE_SUFFIXES,
@@ -389,6 +389,7 @@ def _run_path(args: argparse.Namespace) -> int:
                           timing=args.rate if timed else None, allow_stops=args.allow_stops,
                           body=None if cell is None else cell[0], scene=None if cell is None else cell[1])
     in_cell = None if cell is None or not result.ok else _cell_report(chain, cell, result)
+    notes = None if cell is None else cell_notes(chain, cell)
     if plot is not None:
         _save_plot(plot, chain, poses, result, q0, args.srs_tolerance)
     trajectory = result.trajectory
@@ -418,7 +419,7 @@ def _run_path(args: argparse.Namespace) -> int:
             report[result.parameter] = angles_out(result.psi, degrees)
             report["stops"] = [_stop_report(stop, degrees) for stop in result.stops]
             if in_cell is not None:
-                report["collision"] = in_cell
+                report["collision"] = {**in_cell, **(notes or {})}
             if trajectory is not None:
                 report["trajectory"] = {
                     "duration": trajectory.duration, "rate": trajectory.rate, "samples": len(trajectory.t),
@@ -433,11 +434,15 @@ def _run_path(args: argparse.Namespace) -> int:
                                  "exact": failure.exact, "message": failure.message,
                                  "needed": None if failure.needed is None else angles_out(failure.needed, degrees),
                                  "pair": None if failure.pair is None else list(failure.pair)}
+            if notes is not None:
+                report["collision"] = notes
         print_json(report)
         return 0 if result.ok else 1
     if not result.ok:
         assert failure is not None
         print(_failure_line(failure, degrees))
+        for line in cell_note_lines(notes):
+            print(line)
         return 1
     clearance = fixed(float(angles_out(result.clearance, degrees)))
     motion = fixed(float(angles_out(result.motion, degrees)))
@@ -452,6 +457,8 @@ def _run_path(args: argparse.Namespace) -> int:
               f"{in_cell['least']:.4g} m ({in_cell['closest'][0]} and {in_cell['closest'][1]}, waypoint "
               f"{in_cell['waypoint']}); all {steps['of']} steps between waypoints proved clear"
               + (f" (at least {steps['least']:.4g} m)" if steps["of"] else ""))
+        for line in cell_note_lines(notes):
+            print(line)
     if args.allow_stops:
         print(f"{plural(len(result.stops), 'reconfiguration stop')} (the fewest the searched graph allows)"
               + "".join(f"\n  {stop.message}" for stop in result.stops))

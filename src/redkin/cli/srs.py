@@ -8,7 +8,14 @@ from typing import Any
 
 import numpy as np
 
-from redkin.cli.cell import add_cell_arguments, clearance_entry, free_report, load_cell
+from redkin.cli.cell import (
+    add_cell_arguments,
+    cell_note_lines,
+    cell_notes,
+    clearance_entry,
+    free_report,
+    load_cell,
+)
 from redkin.cli.common import (
     BRANCH_HELP,
     UsageError,
@@ -190,7 +197,8 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     unit = angle_unit(args.deg)
     if args.json:
         head = {"robot": chain.name, "parameter": parameter, "units": {parameter: unit, "q": unit, "reach": "m"},
-                parameter: angles_out(value, args.deg), "branch_from": why}
+                parameter: angles_out(value, args.deg), "branch_from": why,
+                **({} if cell is None else {"cell": cell_notes(chain, cell)})}
         single = {key: value for key, value in entries[0].items() if key != "index"}
         print_json({**head, "poses": entries} if batch else {**head, **single})
         return code
@@ -210,6 +218,8 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
                 note += (f"  ({plural(s['others'], 'other solution')} of {s['branch']} at this {parameter}: "
                          "--every-solution lists them)")
             print(f"{label}{s['branch']}  {format_values(s['q'])}  [{unit}]{note}")
+    for line in cell_note_lines(None if cell is None else cell_notes(chain, cell)):
+        print(line)
     if why == "default" and not batch:
         inside = [str(label) for label, flag in zip(every.branches, every.within_limits.reshape(-1)) if flag]
         if entries[0]["solutions"] and not entries[0]["solutions"][0]["within_limits"] and inside:
@@ -377,13 +387,8 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
                     f"{stretch['obstacle']} out of range" if stretch["cause"] == "limit" else
                     "undecided (next to a singular arm angle, or the clearance grazes the margin)")
             print(f"  removed {_format_arcs([stretch['arc']], deg)}: {what}")
-        for note in cell["notes"]:
-            print(f"  body: {note}")
-        for note in cell["scene_notes"]:
-            print(f"  scene: {note}")
-        for contact in cell["base_contacts"]:
-            print(f"  base: {contact['link']} is {contact['distance']:.3g} m from {contact['obstacle']}, inside the "
-                  "margin; not checked: it never moves")
+        for line in cell_note_lines(cell):
+            print(f"  {line}")
         if not cell["complete"]:
             print("  (the work budget ran out: undecided stretches wider than the resolution remain; what is shown "
                   "free is free)")
