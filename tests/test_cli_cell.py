@@ -231,7 +231,7 @@ def test_ik_and_path_say_what_the_cell_says_of_itself(capsys, cell, tmp_path):
                                   for link, obstacle, distance in base_contacts(chain, body, scene)]}
     assert [c["obstacle"] for c in expected["base_contacts"]] == ["table"]  # 0.1 m below the base, the table top
     cell_arguments = ["--scene", str(scene_file), "--body", str(body_file)]
-    qs = np.linspace([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1], [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9], 6)
+    qs = np.linspace([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1], [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9], 12)
     poses = tmp_path / "poses.npy"
     np.save(poses, chain.fk(qs))
     commands = {"ik": ["ik", "kuka-iiwa14", *_pose_arguments(chain), "--psi", "0.2", *cell_arguments],
