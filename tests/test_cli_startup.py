@@ -148,6 +148,13 @@ def test_small_work_of_a_closed_form_loads_neither_numba_nor_scipy(tmp_path):
             assert _forbidden(modules, ("scipy",)) == [], (argv, _forbidden(modules, ("scipy",))[:5])
 
 
+def test_robots_classifies_without_numba():
+    """``redkin robots --show`` classifies the robot with the kernels run as Python."""
+    [(_, code, modules)] = _modules_after([["robots", "--show", "kuka-iiwa14"]])
+    assert code == 0 and "redkin.arms.classify" in modules
+    assert _forbidden(modules, ("numba", "llvmlite", "scipy")) == [], _forbidden(modules, HEAVY)[:5]
+
+
 def test_large_work_runs_compiled(tmp_path):
     """A batch of poses, and a nearly S-R-S arm (its certified self-motion), load numba: Python would be slow."""
     pose = ["--position", "0.4", "0.1", "0.5", "--rotation", "1", "0", "0", "0", "-1", "0", "0", "0", "-1"]

@@ -139,3 +139,40 @@ def test_a_batch_within_interpreted_runs_in_the_calling_thread():
     finally:
         _compiled._numba_loaded = loaded
     assert calls == [(0, len(out))] and out.all()
+
+
+#: ``redkin robots`` (every model classified) and ``robots --show`` of example files of every class, first as Python,
+#: then compiled, in one fresh process: the printed JSON is the same, character for character.
+ROBOTS = r"""
+import contextlib, io, sys
+from redkin._compiled import interpreted, numba_loaded, use_compiled
+from redkin.cli.main import main
+
+COMMANDS = [["robots", "--json"]] + [["robots", "--show", name, "--json"] for name in sys.argv[1:]]
+
+
+def printed():
+    out = []
+    for argv in COMMANDS:
+        text = io.StringIO()
+        with contextlib.redirect_stdout(text):
+            assert main(argv) == 0
+        out.append(text.getvalue())
+    return out
+
+
+with interpreted():
+    python = printed()
+loaded = numba_loaded() or "numba" in sys.modules
+use_compiled()
+print((loaded, [k for k, (a, b) in enumerate(zip(python, printed())) if a != b], len(python)))
+"""
+
+
+def test_robots_as_python_prints_what_it_prints_compiled():
+    """``redkin robots`` runs as Python (the classification of every model, nearly S-R-S arms included)."""
+    files = ["gen3.urdf", "jaco2.urdf", "iiwa14_rosi.urdf", "sawyer.urdf", "fr3.urdf", "xarm7.urdf", "iiwa14.urdf"]
+    result = subprocess.run([sys.executable, "-c", ROBOTS, *files], capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stderr[-3000:]
+    loaded, differing, count = ast.literal_eval(result.stdout.strip().splitlines()[-1])
+    assert not loaded and differing == [] and count == len(files) + 1

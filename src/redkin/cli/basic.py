@@ -41,7 +41,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_xacro_arguments(robots)
     add_srs_tolerance_argument(robots)
     add_output_flags(robots, degrees=True)
-    robots.set_defaults(handler=_run_robots)
+    robots.set_defaults(handler=_run_robots, in_python=True)
 
     fk = subparsers.add_parser(
         "fk", help="end pose of a robot at joint values: the 4x4 pose rounded for reading, then two lines to paste "
