@@ -77,8 +77,9 @@ Within :func:`interpreted`, kernels not compiled yet run as their Python
 functions, callees included, and numba is not loaded: one implementation
 of each equation, run by the interpreter.  The command line does so for
 small work, where loading numba (and compiling, on a fresh install) costs
-more than the arithmetic: ``redkin fk`` and ``jacobian``, and ``ik`` and
-``arm-angles`` on one pose of an exact closed form.  A command that finds
+more than the arithmetic: ``redkin robots``, ``fk`` and ``jacobian``,
+``ik`` and ``arm-angles`` on one pose of an exact closed form, and ``path``
+on a short path of an S-R-S arm.  A command that finds
 its work large after all (a batch, a nearly S-R-S arm's self-motion, the
 numerical solver, a cell) calls :func:`use_compiled`, and every kernel
 runs compiled from there.  A batch within :func:`interpreted` runs in the
