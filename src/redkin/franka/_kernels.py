@@ -17,6 +17,8 @@ polynomial, without divisions.
 
 from __future__ import annotations
 
+from math import atan2, cos, sin
+
 import numpy as np
 
 from redkin._compiled import kernel
@@ -68,7 +70,7 @@ def wrist_and_frame_six(t07, theta7, arm):
     ``R_06 = R_07 Rz(-theta_7)``; the origin of frame 6 is that of frame 7,
     and W lies ``-a_6`` along ``x_6`` and ``-d_6`` along ``y_6`` from it.
     """
-    c, s = np.cos(theta7), np.sin(theta7)
+    c, s = cos(theta7), sin(theta7)
     x6 = (c * t07[0, 0] - s * t07[0, 1], c * t07[1, 0] - s * t07[1, 1], c * t07[2, 0] - s * t07[2, 1])
     y6 = (s * t07[0, 0] + c * t07[0, 1], s * t07[1, 0] + c * t07[1, 1], s * t07[2, 0] + c * t07[2, 1])
     z6 = (t07[0, 2], t07[1, 2], t07[2, 2])
@@ -87,7 +89,7 @@ def elbow_cosine(w, arm):
 @kernel
 def elbow_trig(kappa, root, arm):
     """``cos theta_4, sin theta_4`` from ``cos(theta_4 - phi) = kappa`` and ``sin(theta_4 - phi) = root`` [F3]."""
-    cp, sp = np.cos(arm[PHASE]), np.sin(arm[PHASE])
+    cp, sp = cos(arm[PHASE]), sin(arm[PHASE])
     return kappa * cp - root * sp, root * cp + kappa * sp
 
 
@@ -150,10 +152,10 @@ def shoulder_angles(m, sigma):
     """``theta_1, theta_2, theta_3`` of ``M = Rz(theta_1) Ry(theta_2) Rz(theta_3)`` with ``sign(sin theta_2) =
     sigma`` [F7]; ``theta_2`` and ``theta_3`` are read after turning back by ``theta_1``, so that FK holds also at
     ``theta_2 = 0`` (where ``theta_1`` is arbitrary)."""
-    theta1 = np.arctan2(sigma * m[1, 2], sigma * m[0, 2])
-    c1, s1 = np.cos(theta1), np.sin(theta1)
-    theta2 = np.arctan2(c1 * m[0, 2] + s1 * m[1, 2], m[2, 2])
-    theta3 = np.arctan2(-s1 * m[0, 0] + c1 * m[1, 0], -s1 * m[0, 1] + c1 * m[1, 1])
+    theta1 = atan2(sigma * m[1, 2], sigma * m[0, 2])
+    c1, s1 = cos(theta1), sin(theta1)
+    theta2 = atan2(c1 * m[0, 2] + s1 * m[1, 2], m[2, 2])
+    theta3 = atan2(-s1 * m[0, 0] + c1 * m[1, 0], -s1 * m[0, 1] + c1 * m[1, 1])
     return theta1, theta2, theta3
 
 
@@ -198,12 +200,12 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch, work):
             s5 = 0.0 if s4x == 0.0 else min(1.0, max(-1.0, -vz / s4x))
             c5 = branches[b, 2] * np.sqrt(1.0 - s5 * s5)
             c6, s6 = wrist_six_trig(c5, s5, 1.0, s4x, s4z, vx, vy, arm)
-            theta6 = np.arctan2(s6, c6)
+            theta6 = atan2(s6, c6)
             link_rotation(c4, s4, 1.0, 1.0, r34)
             link_rotation(c5, s5, 1.0, -1.0, r45)
-            link_rotation(np.cos(theta6), np.sin(theta6), 1.0, 1.0, r56)
+            link_rotation(cos(theta6), sin(theta6), 1.0, 1.0, r56)
             shoulder_matrix(x6, y6, z6, r34, r45, r56, scratch[4 + pair])
-            angles[pair, 0], angles[pair, 1], angles[pair, 2] = np.arctan2(s4, c4), np.arctan2(s5, c5), theta6
+            angles[pair, 0], angles[pair, 1], angles[pair, 2] = atan2(s4, c4), atan2(s5, c5), theta6
             state[pair] = 1.0
         if state[pair] != 1.0:
             continue
@@ -248,7 +250,7 @@ def limit_values(t07, theta7, arm, limits, out, scratch):
         sigma *= s4x
         for k in range(2):  # joint 4: one factor per elbow root
             lower_or_upper = limits[k, 3]
-            products[6 + k] *= np.cos(lower_or_upper) * s4 - np.sin(lower_or_upper) * c4
+            products[6 + k] *= cos(lower_or_upper) * s4 - sin(lower_or_upper) * c4
         tau = np.sqrt(s4x * s4x - vz * vz)
         for sign5 in (1.0, -1.0):
             c5, s5, scale5 = sign5 * tau, -vz + 0.0j, s4x
@@ -261,14 +263,14 @@ def limit_values(t07, theta7, arm, limits, out, scratch):
             scale = scale5 * scale6
             for k in range(2):
                 lo_hi = limits[k, 0]
-                products[k] *= np.cos(lo_hi) * m[1, 2] - np.sin(lo_hi) * m[0, 2]
-                products[2 + k] *= m[2, 2] - np.cos(limits[k, 1]) * scale
+                products[k] *= cos(lo_hi) * m[1, 2] - sin(lo_hi) * m[0, 2]
+                products[2 + k] *= m[2, 2] - cos(limits[k, 1]) * scale
                 lo_hi = limits[k, 2]
-                products[4 + k] *= np.cos(lo_hi) * m[2, 1] + np.sin(lo_hi) * m[2, 0]
+                products[4 + k] *= cos(lo_hi) * m[2, 1] + sin(lo_hi) * m[2, 0]
                 lo_hi = limits[k, 4]
-                products[8 + k] *= np.cos(lo_hi) * s5 - np.sin(lo_hi) * c5
+                products[8 + k] *= cos(lo_hi) * s5 - sin(lo_hi) * c5
                 lo_hi = limits[k, 5]
-                products[10 + k] *= np.cos(lo_hi) * s6 - np.sin(lo_hi) * c6
+                products[10 + k] *= cos(lo_hi) * s6 - sin(lo_hi) * c6
     divisor = sigma.real * sigma.real * vxy2 * vxy2
     for f in range(12):
         out[f] = products[f].real / divisor if f < 6 or f >= 10 else products[f].real
@@ -297,7 +299,7 @@ def candidate_angles(values, degree, phase, out):
         total = 0.0 + 0.0j
         for j in range(n):
             total += values[j] * _TWIDDLES[k, j]
-        total *= np.exp(-1j * k * phase) / n
+        total *= complex(cos(k * phase), -sin(k * phase)) / n
         coefficients[degree + k] = total
         coefficients[degree - k] = np.conj(total)  # a real function: g_-k is the conjugate of g_k
         largest = max(largest, abs(total))
@@ -311,16 +313,17 @@ def candidate_angles(values, degree, phase, out):
 
 @kernel
 def trig_value(half, theta):
-    """``G(theta) = g_0 + 2 Re sum_k g_k e^(i k theta)`` and its first two derivatives, from ``half = (g_0, ...,
+    """``G(theta) = g_0 + 2 Re sum_k g_k e^(i k theta)`` and its first three derivatives, from ``half = (g_0, ...,
     g_D)``."""
-    z = np.exp(1j * theta)
-    value, slope, curve = 0.0j, 0.0j, 0.0j
-    for k in range(half.shape[0] - 1, -1, -1):  # sum_k c_k (i k)^n z^k for n = 0, 1, 2; c_0 = g_0, c_k = 2 g_k
+    z = complex(cos(theta), sin(theta))
+    value, slope, curve, third = 0.0j, 0.0j, 0.0j, 0.0j
+    for k in range(half.shape[0] - 1, -1, -1):  # sum_k c_k (i k)^n z^k for n = 0 .. 3; c_0 = g_0, c_k = 2 g_k
         term = half[k] * (2.0 if k > 0 else 1.0)
         value = value * z + term
         slope = slope * z + 1j * k * term
         curve = curve * z - k * k * term
-    return value.real, slope.real, curve.real
+        third = third * z - 1j * k * k * k * term
+    return value.real, slope.real, curve.real, third.real
 
 
 @kernel
@@ -329,20 +332,23 @@ def isolated_roots(half, out):
     many, or -1 where :data:`_CELL_BUDGET` cells did not settle them or more candidates than ``out`` holds came up.
 
     A cell ``[m - r, m + r]`` holds no root where ``|G(m)| > r |G1(m)| +
-    r^2 B2 / 2`` (plus :data:`_NEAR_ZERO` of ``G``'s largest possible value,
-    so that a double root, which rounding may lift off zero, is kept), and
-    at most one where ``|G1(m)| > r |G2(m)| + r^2 B3 /
-    2`` (``G`` is then monotone), with ``G1``, ``G2`` the first two
-    derivatives and ``Bn = 2 sum k^n |g_k|`` a bound of the n-th.  A
+    r^2 |G2(m)| / 2 + r^3 B3 / 6`` (plus :data:`_NEAR_ZERO` of ``G``'s
+    largest possible value, so that a double root, which rounding may lift
+    off zero, is kept), and at most one where ``|G1(m)| > r |G2(m)| + r^2
+    |G3(m)| / 2 + r^3 B4 / 6`` (``G`` is then monotone), with ``Gn`` the
+    n-th derivative and ``Bn = 2 sum k^n |g_k|`` a bound of it on the whole
+    circle (Taylor's theorem: only the last term takes the global bound, so
+    a pair of complex roots near the circle is passed at cells about as wide
+    as its distance from it).  A
     monotone cell whose ends differ in sign holds exactly one, found by
     safeguarded Newton steps; other cells are halved, down to a half width
     of :data:`_SMALLEST_CELL`, where a cell that may hold a root (a double
     root: a joint touching its limit) gives its middle.
     """
-    bound2, bound3, floor = 0.0, 0.0, abs(half[0])
+    bound3, bound4, floor = 0.0, 0.0, abs(half[0])
     for k in range(1, half.shape[0]):
-        bound2 += 2.0 * k * k * abs(half[k])
         bound3 += 2.0 * k * k * k * abs(half[k])
+        bound4 += 2.0 * k * k * k * k * abs(half[k])
         floor += 2.0 * abs(half[k])
     floor *= _NEAR_ZERO
     cells = 4 * half.shape[0]
@@ -361,10 +367,11 @@ def isolated_roots(half, out):
         if visited > _CELL_BUDGET:
             return -1
         middle, radius = 0.5 * (low + high), 0.5 * (high - low)
-        value, slope, curve = trig_value(half, middle)
-        if abs(value) > radius * abs(slope) + 0.5 * radius * radius * bound2 + floor:
+        value, slope, curve, third = trig_value(half, middle)
+        square, cube = radius * radius / 2.0, radius * radius * radius / 6.0
+        if abs(value) > radius * abs(slope) + square * abs(curve) + cube * bound3 + floor:
             continue
-        if abs(slope) > radius * abs(curve) + 0.5 * radius * radius * bound3:  # monotone: at most one root
+        if abs(slope) > radius * abs(curve) + square * abs(third) + cube * bound4:  # monotone: at most one root
             left = trig_value(half, low)[0]
             right = trig_value(half, high)[0]
             if left == 0.0 or right == 0.0 or (left < 0.0) != (right < 0.0):
@@ -393,7 +400,7 @@ def monotone_root(half, low, high, left):
     ``G(high)``: Newton steps kept inside a shrinking bracket (bisection where a step leaves it)."""
     theta = 0.5 * (low + high)
     for _ in range(100):
-        value, slope, _ = trig_value(half, theta)
+        value, slope, _, _ = trig_value(half, theta)
         if value == 0.0 or high - low <= 4e-16 * max(1.0, abs(theta)):
             return theta
         if (value < 0.0) == (left < 0.0):
@@ -439,7 +446,7 @@ def circle_roots(coefficients, largest, out):
                 break
             z -= step
         if abs(abs(z) - 1.0) <= _CIRCLE_TOLERANCE:
-            out[count] = np.angle(z)
+            out[count] = atan2(z.imag, z.real)
             count += 1
     return count
 

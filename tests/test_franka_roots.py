@@ -1,0 +1,82 @@
+"""The real roots of the Franka class's limit polynomials ([F8]): subdivision finds every one, and settles
+polynomials with complex roots near the unit circle without the eigenvalue route.
+
+Each polynomial is a product of factors ``cos(theta - a) - c`` of known roots: real ones (``|c| < 1``, roots
+``a +- arccos c``) and pairs of complex ones at distance ``eps`` from the real axis (``c = +-cosh eps``), the case
+that needed thousands of cells before the subdivision's bounds took the derivatives at the cell's middle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from redkin.franka._kernels import SAMPLES, candidate_angles, isolated_roots
+
+#: A factor: ``(a, kind, size)``; kind 0 a real pair of roots ``a +- arccos(size)``, kind 1 a complex pair
+#: ``a +- i eps`` (``cos(theta - a) - cosh(eps)``), kind 2 the same below (``cos(theta - a) + cosh(eps)``).
+_FACTOR = st.tuples(st.floats(-np.pi, np.pi), st.integers(0, 2), st.floats(0.0, 1.0))
+
+
+def _roots_and_samples(factors, smallest_eps: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The real roots of the product of ``factors``, its values at the :data:`SAMPLES` angles ``2 pi j / n``, and
+    the real parts and distances ``(K, 2)`` of its complex pairs;
+    the examples where two roots, or a root and a complex pair's real part, lie closer than 0.01 are passed over
+    (clusters of roots are the eigenvalue route's case, and a multiple root is found only to a root of the
+    rounding)."""
+    theta = 2.0 * np.pi * np.arange(SAMPLES) / SAMPLES
+    values = np.ones(SAMPLES)
+    roots, centres, pairs = [], [], []
+    for a, kind, size in factors:
+        if kind == 0:
+            c = 0.98 * (2.0 * size - 1.0)
+            half_width = np.arccos(c)
+            roots += [a - half_width, a + half_width]
+            centres += [a - half_width, a + half_width]
+        else:
+            centres.append(a if kind == 1 else a + np.pi)
+            eps = smallest_eps * (0.3 / smallest_eps) ** size  # log-uniform in [smallest_eps, 0.3]
+            c = np.cosh(eps) if kind == 1 else -np.cosh(eps)
+            pairs.append((a if kind == 1 else a + np.pi, eps))
+        values *= np.cos(theta - a) - c
+    centres_wrapped = np.sort(np.mod(np.array(centres), 2.0 * np.pi))
+    gaps = np.diff(np.append(centres_wrapped, centres_wrapped[0] + 2.0 * np.pi))
+    assume(len(centres) == 1 or gaps.min() >= 0.01)
+    return np.mod(np.array(roots) + np.pi, 2.0 * np.pi) - np.pi, values, np.array(pairs).reshape(-1, 2)
+
+
+def _half(values: np.ndarray, degree: int) -> np.ndarray:
+    """``(g_0, ..., g_D)`` of the trigonometric polynomial sampled at ``2 pi j / n``."""
+    return np.ascontiguousarray(np.fft.fft(values)[: degree + 1] / len(values))
+
+
+def _distance_on_circle(found: np.ndarray, root: float) -> float:
+    return float(np.min(np.abs(np.mod(found - root + np.pi, 2.0 * np.pi) - np.pi))) if len(found) else np.inf
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(_FACTOR, min_size=1, max_size=8))
+def test_subdivision_settles_complex_roots_near_the_circle_and_finds_every_real_root(factors):
+    roots, values, pairs = _roots_and_samples(factors, smallest_eps=1e-4)
+    out = np.empty(2 * len(factors) + 8)
+    count = isolated_roots(_half(values, len(factors)), out)
+    assert count >= 0  # settled by subdivision: the eigenvalue route is not needed
+    found = out[:count]
+    for root in roots:
+        assert _distance_on_circle(found, root) <= 1e-8
+    for candidate in found:  # a real root, or where a complex pair nearly touches the circle (a near-double root)
+        near_pair = any(_distance_on_circle(np.array([centre]), candidate) <= 3.0 * eps for centre, eps in pairs)
+        assert near_pair or _distance_on_circle(roots, candidate) <= 1e-8
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(_FACTOR, min_size=1, max_size=8), st.floats(0.0, np.pi / SAMPLES))
+def test_every_real_root_is_a_candidate_however_close_the_complex_ones(factors, phase):
+    """Complex pairs down to 1e-7 from the circle, where the subdivision may hand over to the eigenvalues."""
+    roots = _roots_and_samples(factors, smallest_eps=1e-7)[0]
+    shifted = _roots_and_samples([(a - phase, kind, size) for a, kind, size in factors], 1e-7)[1]
+    out = np.empty(2 * 8)
+    count = candidate_angles(shifted, len(factors), phase, out)  # the samples taken from phase on
+    for root in roots:
+        assert _distance_on_circle(out[:count], root) <= 1e-8
