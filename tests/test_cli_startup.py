@@ -9,6 +9,7 @@ These tests check what a fresh process imports, never how long it takes: timings
 from __future__ import annotations
 
 import ast
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -181,3 +182,62 @@ def test_import_redkin_is_light_and_its_names_load_on_first_use():
     assert _forbidden(set(modules), HEAVY) == [] and _forbidden(set(modules), KERNEL_MODULES) == []
     assert names[:3] == ("redkin.chain", "redkin.models", "redkin.errors") and isinstance(names[3], str)
     assert missing == ([], False)
+
+
+def _cached_then_run(argv: list[str], environment: dict[str, str]) -> tuple[bool, int, set[str], str]:
+    """In one fresh process: whether the Franka class's path kernels are cached before it runs, then ``main(argv)``'s
+    exit code, the modules loaded and its stderr."""
+    code = "\n".join([
+        "import contextlib, io, sys",
+        "from redkin.cli.path import _franka_kernels_cached",
+        "cached = _franka_kernels_cached()",
+        "from redkin.cli.main import main",
+        "err = io.StringIO()",
+        "with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):",
+        "    code = main(" + repr(argv) + ")",
+        "print((cached, code, sorted(sys.modules), err.getvalue()))",
+    ])
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                            env={**os.environ, **environment})
+    cached, code, modules, err = ast.literal_eval(result.stdout.splitlines()[-1])
+    return cached, code, set(modules), err
+
+
+def test_a_short_franka_path_runs_as_python_until_its_kernels_are_cached(tmp_path):
+    """``path`` on at most 32 waypoints of the Franka class runs as Python (and says so) while its kernels are not in
+    numba's cache, and compiled once they are: on a fresh NUMBA_CACHE_DIR, then on the ambient cache (either way)."""
+    keys = tmp_path / "keys.npy"
+    target = np.eye(4)
+    target[:3, 3] = [0.4, 0.1, 0.5]
+    target[:3, :3] = np.diag([1.0, -1.0, -1.0])
+    moved = target.copy()
+    moved[1, 3] += 0.03
+    np.save(keys, np.stack([target, moved]))
+    argv = ["path", "franka-panda", "--through", str(keys), "--step", "0.01", "--max-step", "0.2"]
+    cached, code, modules, err = _cached_then_run(argv, {"NUMBA_CACHE_DIR": str(tmp_path / "fresh")})
+    assert (cached, code) == (False, 0)
+    assert _forbidden(modules, ("numba", "llvmlite")) == [] and "redkin.franka" in modules
+    assert "runs as Python" in err and "redkin compile" in err
+    cached, code, modules, err = _cached_then_run(argv, {})
+    assert code == 0 and ("numba" in modules) == cached and ("runs as Python" in err) == (not cached)
+
+
+def test_kernels_cached_tells_a_compiled_kernel_from_one_not_compiled(tmp_path):
+    """:func:`redkin._compiled.kernels_cached` reads numba's index file and redkin's stamp without loading numba: a
+    kernel is cached once a process has compiled it into the folder, and not after the stamp changes (the next
+    compiled call would empty the folder)."""
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    ask = ("import sys\nfrom redkin._compiled import kernels_cached\nfrom redkin._pose_kernels import pose_defect\n"
+           "print((kernels_cached(pose_defect), 'numba' in sys.modules))\n")
+    compile_it = ask + "import numpy as np\npose_defect(np.eye(4))\n"
+
+    def run(code: str) -> tuple[bool, bool]:
+        result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                                env=environment)
+        return ast.literal_eval(result.stdout.splitlines()[-1])
+
+    assert run(compile_it) == (False, False)
+    assert run(ask) == (True, False)
+    for stamp in tmp_path.rglob("redkin-kernels.stamp"):
+        stamp.write_text("another version")
+    assert run(ask) == (False, False)

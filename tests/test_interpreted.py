@@ -1,10 +1,10 @@
 """Kernels run as Python (redkin._compiled.interpreted) give what they give compiled, bit for bit (issue 42).
 
 ``redkin fk``, ``jacobian``, ``ik``/``arm-angles`` on one pose of an exact closed form and ``path`` on a short path
-of an S-R-S arm run the kernels' Python functions instead of loading numba (0.4 s of every warm command, and tens
+of an exact class run the kernels' Python functions instead of loading numba (0.4 s of every warm command, and tens
 of seconds of compiling on a fresh install).  The law: in a fresh process, before numba is loaded, the chain's FK
 and Jacobian, ``Arm.ik`` at several values of the parameter, ``Arm.analyse`` of every branch and short paths
-(S-R-S and offset elbow) give results that equal, number for number, what the same calls give once numba is loaded
+(S-R-S, offset elbow and the Franka class) give results that equal, number for number, what the same calls give once numba is loaded
 (:func:`redkin._compiled.use_compiled`).  The configurations are random within the limits and, on purpose,
 degenerate: all zeros (a straight shoulder and wrist), the stretched elbow, every joint at a limit, and a pose
 moved out of reach.  A fresh process is needed: once numba is loaded in a process (the suite's own has it),
@@ -73,7 +73,7 @@ def answers():
             out += list(flat(classified.ik(target, values), f"ik {label} {k}"))
         if k < ANALYSED:
             out += list(flat(classified.analyse(pose), f"analyse {k}"))
-    if PATHS:  # redkin path runs as Python on short paths of these arms: a path through 12 waypoints
+    if PATHS:  # redkin path runs as Python on short paths (the Franka class: until compiled): 12 waypoints
         from redkin.paths import resolve_path
 
         for k, q in enumerate(configurations[4:4 + PATHS]):
@@ -103,7 +103,7 @@ ARMS = [  # (model, random configurations, configurations analysed, paths): the 
     ("kuka-iiwa14", 16, 8, 2),
     ("pa10-7c", 8, 4, 1),
     ("barrett-wam", 8, 4, 1),
-    ("franka-panda", 8, 2, 0),
+    ("franka-panda", 8, 2, 1),
     ("ufactory-xarm7", 4, 1, 0),
 ]
 

@@ -88,6 +88,12 @@ Both ways give the same numbers, bit for bit: the kernels do plain float
 arithmetic and ``math`` functions, which numba compiles to the same
 operations in the same order (``tests/test_interpreted.py`` holds them
 equal on five arms of three classes, degenerate configurations included).
+numpy's own functions on a scalar are not libm's everywhere: on a machine
+with AVX-512, ``np.arctan2`` and ``np.exp`` differ from libm in the last bit
+on a few per cent of arguments, so kernels call ``math``'s.  Where the
+kernels a command needs are already in numba's cache
+(:func:`kernels_cached`), loading them costs less than running them as
+Python; ``path`` on the Franka class asks.
 
 One compile per argument type
 -----------------------------
@@ -399,6 +405,48 @@ def use_compiled() -> None:
     """From now on every kernel runs compiled, within :func:`interpreted` too: numba is loaded here (a computation
     too large to run as Python, inside a context that chose Python for a small one)."""
     _load_numba()
+
+
+def kernels_cached(*kernels: Callable) -> bool:
+    """Whether numba's on-disk cache holds each of ``kernels`` for the current sources, so that running them
+    compiled costs a load from the cache, not a compile; told without importing numba (``True`` once it is loaded:
+    the kernels run compiled anyway).
+
+    The folder is the one numba would choose (module docstring, items 1-3: ``NUMBA_CACHE_DIR``'s subfolder for the
+    source folder, else a writable ``__pycache__`` beside the source, else the user's cache directory's subfolder),
+    the index file numba names after the kernel's module, name, first line and Python version, and the folder's
+    stamp must be the current sources' digest (else the first compiled call empties it).  Anything else, or a
+    folder numba would find in a way not mirrored here, reads as not cached: the caller then runs the work as
+    Python, which costs time but never a wrong answer.
+    """
+    if _numba_loaded:
+        return True
+    for each in kernels:
+        function = getattr(each, "py_func", each)
+        source = Path(function.__code__.co_filename).resolve()
+        index = (f"{source.stem}.{function.__qualname__.replace('<', '').replace('>', '')}-"
+                 f"{function.__code__.co_firstlineno}.py{sys.version_info[0]}{sys.version_info[1]}"
+                 f"{getattr(sys, 'abiflags', '')}.nbi")
+        folder = _numba_cache_folder(source)
+        stamp = folder / _STAMP_NAME
+        try:
+            if not (folder / index).is_file() or not stamp.is_file() or stamp.read_text() != _core_digest():
+                return False
+        except OSError:
+            return False
+    return True
+
+
+def _numba_cache_folder(source: Path) -> Path:
+    """The folder where numba caches the kernels of the file ``source`` (:func:`kernels_cached`)."""
+    subfolder = f"{source.parent.name}_{hashlib.sha1(str(source.parent).encode()).hexdigest()}"
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return Path(os.environ["NUMBA_CACHE_DIR"]) / subfolder
+    in_tree = source.parent / "__pycache__"
+    if os.access(in_tree if in_tree.is_dir() else source.parent, os.W_OK):
+        return in_tree
+    user = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return user / "numba" / subfolder
 
 
 def _njit(function: Callable):

@@ -4,6 +4,7 @@ inside the exact feasible sets (the certified ones of the real arm on a nearly S
 from __future__ import annotations
 
 import argparse
+import sys
 
 import numpy as np
 
@@ -170,11 +171,22 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
     plt.close(fig)
 
 
-#: Waypoints of a path on an S-R-S or offset-elbow arm that ``redkin path`` resolves with the kernels run as Python
-#: (:func:`redkin.cli.common.small_work`): about 40 ms a waypoint (0.8 s for 21 on the iiwa14, against about 20 s
-#: of compiling on a fresh install and 0.9 s compiled from the cache).  The Franka class's exact q7 sets cost about
-#: 0.2 s a waypoint as Python, so its paths run compiled.
+#: Waypoints of a path that ``redkin path`` resolves with the kernels run as Python
+#: (:func:`redkin.cli.common.small_work`): on an S-R-S or offset-elbow arm about 40 ms a waypoint (0.8 s for 21 on
+#: the iiwa14, against about 20 s of compiling on a fresh install and 0.9 s compiled from the cache).  The Franka
+#: class's exact q7 sets make its paths about 0.14 s a waypoint as Python (2.9 s for 21 on the Panda, against 23 s
+#: of compiling and 1.3 s from the cache), so they run as Python only while its kernels are not compiled
+#: (:func:`_franka_kernels_cached`).
 _SMALL_PATH = 32
+
+
+def _franka_kernels_cached() -> bool:
+    """Whether the kernels of a Franka-class path (its q7 sets and the path graph's rows) are in numba's cache."""
+    from redkin._compiled import kernels_cached
+    from redkin.franka import _kernels
+    from redkin.paths import _dp_kernels
+
+    return kernels_cached(_kernels.feasible_poses, _dp_kernels.q7_node_rows)
 
 
 def _parameter(chain, srs_tolerance: float | None) -> str:
@@ -373,8 +385,13 @@ def _run_path(args: argparse.Namespace) -> int:
     poses = _waypoints(args)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     model = _model_line(chain, args.srs_tolerance)
-    small_work(cell is None and model is None and not timed and not args.thorough and len(poses) <= _SMALL_PATH
-               and _parameter(chain, args.srs_tolerance) == "psi")
+    small = cell is None and model is None and not timed and not args.thorough and len(poses) <= _SMALL_PATH
+    franka_as_python = small and _parameter(chain, args.srs_tolerance) != "psi" and not _franka_kernels_cached()
+    small_work(small and (franka_as_python or _parameter(chain, args.srs_tolerance) == "psi"))
+    if franka_as_python:
+        print("redkin: note: the Franka class's path kernels are not compiled yet, so this path runs as Python "
+              "(about 0.14 s a waypoint); 'redkin compile' compiles them once (minutes), and later paths run "
+              "compiled, about twice as fast", file=sys.stderr)
     degrees = args.deg
     unit = angle_unit(degrees)
     if not args.json:  # what the path rests on, before the search (seconds on a nearly S-R-S arm)
