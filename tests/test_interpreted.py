@@ -4,11 +4,11 @@
 of an exact class run the kernels' Python functions instead of loading numba (0.4 s of every warm command, and tens
 of seconds of compiling on a fresh install).  The law: in a fresh process, before numba is loaded, the chain's FK
 and Jacobian, ``Arm.ik`` at several values of the parameter, ``Arm.analyse`` of every branch and short paths
-(S-R-S, offset elbow and the Franka class) give results that equal, number for number, what the same calls give once numba is loaded
-(:func:`redkin._compiled.use_compiled`).  The configurations are random within the limits and, on purpose,
-degenerate: all zeros (a straight shoulder and wrist), the stretched elbow, every joint at a limit, and a pose
-moved out of reach.  A fresh process is needed: once numba is loaded in a process (the suite's own has it),
-kernels run compiled whatever the context.
+(S-R-S, offset elbow and the Franka class) give results that equal, number for number, what the same calls give
+once numba is loaded (:func:`redkin._compiled.use_compiled`).  The configurations are random within the limits
+and, on purpose, degenerate: all zeros (a straight shoulder and wrist), the stretched elbow, every joint at a
+limit, and a pose moved out of reach.  A fresh process is needed: once numba is loaded in a process (the suite's
+own has it), kernels run compiled whatever the context.
 """
 
 from __future__ import annotations
