@@ -25,7 +25,9 @@ models.pa10_7c().fk(np.zeros(7))
 print('compiled', len(names), 0)
 """
 
-PROGRESS = re.compile(r"redkin: (\d+) kernels? compiled in (\d+\.\d) s(, compiling \w+)?$")
+PROGRESS = re.compile(r"redkin: (\d+) kernels? compiled in (\d+\.\d) s(, compiling \w+(, about \d+ s left)?)?$")
+#: The wait of a kernel the program called, after the notice (``: ``) or on a line of its own.
+PLAN = re.compile(r"(\w+) and (\d+) kernels? it calls, about (\d+) s")
 
 
 def _run(cache: str, **env: str) -> subprocess.CompletedProcess:
@@ -49,6 +51,10 @@ def test_a_cold_command_counts_its_kernels_and_a_warm_one_is_silent(tmp_path):
     compiled = _compiled_count(cold)
     notice, *lines = cold.stderr.splitlines()
     assert notice.startswith("redkin: compiling its kernels for this machine") and str(tmp_path) in notice
+    plan = PLAN.search(notice)  # the first kernel called, and the kernels it calls that it compiles
+    assert plan and notice.endswith(plan[0] + "...")
+    assert 0 < int(plan[2]) + 1 <= compiled and int(plan[3]) >= 0.4 * (int(plan[2]) + 1)
+    lines = [line for line in lines if not (line.startswith("redkin: compiling ") and PLAN.fullmatch(line[18:]))]
     assert lines and all(PROGRESS.match(line) for line in lines), cold.stderr
     counts = [int(PROGRESS.match(line)[1]) for line in lines]
     seconds = [float(PROGRESS.match(line)[2]) for line in lines]
@@ -115,3 +121,28 @@ def test_turned_off_it_says_nothing_and_starts_no_thread(progress, capsys):
     progress.start("redkin.module.outer")
     progress.end()
     assert capsys.readouterr().err == "" and progress.helper_process == 0 and progress.compiled == 1
+
+
+def test_the_wait_counts_the_kernels_a_kernel_calls_that_are_not_compiled(progress, capsys):
+    """The plan of an outermost compile names the kernels the called kernel reaches (:func:`_kernels_called`: by
+    name, directly or through a module, across modules), less those this process compiled, at SECONDS_PER_KERNEL or
+    this process's slower mean; a later outermost compile of 2 s or more says its own."""
+    from redkin.franka import _kernels
+
+    reached = {function.__name__ for function in _compiled._kernels_called(_kernels.feasible_poses.py_func)}
+    assert {"feasible_poses", "feasible_q7", "solve_q7", "trig_value", "monotone_root", "chain_values",
+            "in_limits"} <= reached  # chain_values and in_limits: from redkin.srs._ik_kernels
+    assert not reached & {"frames_seven", "as_franka", "run_batch"}  # Python functions, not kernels
+    progress.done = {f"redkin.franka._kernels.{name}" for name in ("solve_q7", "trig_value")}
+    to_compile = progress._to_compile(_kernels.feasible_poses.py_func)
+    uncached = [f for f in to_compile[1:] if f.__name__ not in ("solve_q7", "trig_value")]
+    assert to_compile[0].__name__ == "feasible_poses" and len(to_compile) - 1 == len(uncached)
+    assert {f.__name__ for f in to_compile} <= reached - {"solve_q7", "trig_value"}
+    progress.start("redkin.franka._kernels.feasible_poses", _kernels.feasible_poses.py_func)
+    progress.end()
+    notice = capsys.readouterr().err.splitlines()[0]
+    callees = len(to_compile) - 1
+    wait = round(len(to_compile) * _compiled.SECONDS_PER_KERNEL)
+    assert notice.endswith(f": feasible_poses and {callees} kernel{'' if callees == 1 else 's'} it calls, "
+                           f"about {wait:.0f} s...")
+    assert progress.rate() >= _compiled.SECONDS_PER_KERNEL

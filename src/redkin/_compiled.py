@@ -34,7 +34,11 @@ happens, on stderr.  The first time a process compiles a redkin kernel, one
 line says so (:data:`COMPILE_NOTICE`, naming the cache directory); then a
 progress line (:data:`COMPILE_PROGRESS`) counts the redkin kernels compiled
 so far (a kernel's callees are kernels too, compiled inside it) and the
-seconds since the first began, and names the kernel compiling now:
+seconds since the first began, and names the kernel compiling now.  Each
+kernel the program calls is announced with its wait (:data:`COMPILE_PLAN`:
+the kernels it reaches that are not compiled yet, at
+:data:`SECONDS_PER_KERNEL`), after the notice or on a line of its own, and
+the progress line says about how long is left of it:
 
 * each time the outermost compile (a kernel the program called, with every
   callee it compiles) ends, its line is said with the count so far, so the
@@ -168,6 +172,7 @@ import os
 import sys
 import threading
 import time
+import types
 from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
@@ -192,9 +197,20 @@ _seconds_per_item: dict = {}  # kernel -> its last measured time per item (a run
 #: The line said on stderr the first time a process compiles a redkin kernel (``{cache}``: where it is cached).
 COMPILE_NOTICE = ("redkin: compiling its kernels for this machine, once per install (cached in {cache}; "
                   "'redkin compile' compiles them all ahead)...")
+#: The wait of a kernel the program called: how many kernels it calls that are neither in the cache nor compiled in
+#: this process (:func:`_kernels_called`; a kernel compiled for two argument types counts once, so this is a
+#: floor), and the seconds they take at :meth:`_CompileProgress.rate`.  Said after the notice, ``: `` between, when
+#: the first compile begins, and as ``redkin: compiling ...`` when a later one begins that takes
+#: :data:`PROGRESS_SECONDS` or more.
+COMPILE_PLAN = "{kernel} and {callees} kernel{s} it calls, about {wait:.0f} s"
 #: The progress line while kernels compile: ``{count}`` kernels compiled so far, ``{seconds}`` since the first began;
-#: ``, compiling {kernel}`` is added while one compiles.
+#: ``, compiling {kernel}`` is added while one compiles, and ``, about {wait} s left`` while the estimate of the
+#: kernel the program called (:data:`COMPILE_PLAN`) is not used up.
 COMPILE_PROGRESS = "redkin: {count} kernel{s} compiled in {seconds:.1f} s"
+#: Seconds a kernel takes to compile, at least, for the waits said (this process's own mean where it is longer):
+#: ``redkin compile`` compiled 234 in 105 s on a 2-core machine (benchmarks/README.md, issue 42).  A kernel's
+#: callees compile first and fast, the kernel itself last and slowly, so a mean taken part way is too short.
+SECONDS_PER_KERNEL = 0.45
 #: While a kernel compiles, its progress line is said again (a new line in a log, redrawn on a terminal) once this
 #: many seconds passed since the last line or since the outermost compile began (checked every :data:`_TICK` s).
 PROGRESS_SECONDS = 2.0
@@ -242,6 +258,10 @@ class _CompileProgress:
         self.compiling: list[str] = []  # the redkin kernels compiling now, the outermost first
         self.began: float | None = None  # time.perf_counter() when the first compile began
         self.quiet_since = 0.0  # when the last line was said or the outermost compile began, the later
+        self.seconds = 0.0  # seconds spent compiling, outermost compiles ended so far
+        self.outer_began = 0.0  # when the outermost compile running now began
+        self.expected = 0  # the count of kernels compiled when the outermost compile now running should end
+        self.done: set[str] = set()  # the kernels compiled in this process
         self.after_fork()
 
     def after_fork(self) -> None:
@@ -250,16 +270,27 @@ class _CompileProgress:
         self.busy = threading.Event()  # set while a redkin kernel compiles: the helper thread waits for it
         self.helper_process = 0  # the process id whose helper thread runs; 0: none
 
-    def start(self, name: str) -> None:
-        """The redkin kernel ``name`` begins to compile."""
+    def start(self, name: str, function: Callable | None = None) -> None:
+        """The redkin kernel ``name`` (its Python function, if known) begins to compile."""
         with self.lock:
             self.compiling.append(name)
             if not self.enabled:
                 return
             now = time.perf_counter()
+            plan, wait = "", 0.0
+            if len(self.compiling) == 1:
+                self.outer_began = now
+                callees = 0 if function is None else len(self._to_compile(function)) - 1
+                self.expected = self.compiled + 1 + callees
+                wait = (callees + 1) * self.rate()
+                plan = COMPILE_PLAN.format(kernel=name.rsplit(".", 1)[-1], callees=callees,
+                                           s="" if callees == 1 else "s", wait=wait)
             if self.began is None:
                 self.began = now
-                self._say(COMPILE_NOTICE.format(cache=cache_directory()), whole=True)
+                notice = COMPILE_NOTICE.format(cache=cache_directory())
+                self._say(notice.removesuffix("...") + ": " + plan + "..." if plan else notice, whole=True)
+            elif plan and wait >= PROGRESS_SECONDS:
+                self._say("redkin: compiling " + plan, whole=True)
             if len(self.compiling) == 1:
                 self.quiet_since = now
             if _terminal():
@@ -272,10 +303,11 @@ class _CompileProgress:
     def end(self) -> None:
         """The innermost redkin kernel compiling has compiled (or failed to)."""
         with self.lock:
-            self.compiling.pop()
+            self.done.add(self.compiling.pop())
             self.compiled += 1
             if not self.compiling:
                 self.busy.clear()
+                self.seconds += time.perf_counter() - self.outer_began
             if self.enabled and self.began is not None and (not self.compiling or _terminal()):
                 self._say(self._line(time.perf_counter()), whole=not self.compiling)
 
@@ -291,10 +323,28 @@ class _CompileProgress:
                     self._say(self._line(now), whole=False)
 
     def _line(self, now: float) -> str:
-        """The progress line at ``now``, naming the kernel compiling now if one is."""
+        """The progress line at ``now``, naming the kernel compiling now if one is, and the wait left."""
         line = COMPILE_PROGRESS.format(count=self.compiled, s="" if self.compiled == 1 else "s",
                                        seconds=now - (self.began or now))
-        return f"{line}, compiling {self.compiling[-1].rsplit('.', 1)[-1]}" if self.compiling else line
+        if not self.compiling:
+            return line
+        line += f", compiling {self.compiling[-1].rsplit('.', 1)[-1]}"
+        left = (self.expected - self.compiled) * self.rate(now)
+        return line + f", about {left:.0f} s left" if left >= 1.0 else line
+
+    def rate(self, now: float | None = None) -> float:
+        """Seconds per kernel for the waits said: this process's mean so far (the outermost compile running at
+        ``now`` included), or :data:`SECONDS_PER_KERNEL` where that is longer."""
+        running = 0.0 if now is None or not self.compiling else now - self.outer_began
+        mean = (self.seconds + running) / self.compiled if self.compiled else 0.0
+        return max(SECONDS_PER_KERNEL, mean)
+
+    def _to_compile(self, function: Callable) -> list[Callable]:
+        """``function`` and the redkin kernels it calls, transitively (:func:`_kernels_called`), less those compiled
+        in this process or in numba's cache: what compiling it will compile."""
+        return [function] + [callee for callee in _kernels_called(function)[1:]
+                             if f"{callee.__module__}.{callee.__name__}" not in self.done
+                             and not _in_cache(callee)]
 
     def _say(self, text: str, whole: bool) -> None:
         """Write ``text`` on stderr: on a terminal over the current line (ending it if ``whole``), else as a line."""
@@ -419,22 +469,49 @@ def kernels_cached(*kernels: Callable) -> bool:
     folder numba would find in a way not mirrored here, reads as not cached: the caller then runs the work as
     Python, which costs time but never a wrong answer.
     """
-    if _numba_loaded:
-        return True
-    for each in kernels:
-        function = getattr(each, "py_func", each)
-        source = Path(function.__code__.co_filename).resolve()
-        index = (f"{source.stem}.{function.__qualname__.replace('<', '').replace('>', '')}-"
-                 f"{function.__code__.co_firstlineno}.py{sys.version_info[0]}{sys.version_info[1]}"
-                 f"{getattr(sys, 'abiflags', '')}.nbi")
-        folder = _numba_cache_folder(source)
-        stamp = folder / _STAMP_NAME
-        try:
-            if not (folder / index).is_file() or not stamp.is_file() or stamp.read_text() != _core_digest():
-                return False
-        except OSError:
-            return False
-    return True
+    return _numba_loaded or all(_in_cache(getattr(each, "py_func", each)) for each in kernels)
+
+
+def _in_cache(function: Callable) -> bool:
+    """Whether numba's cache folder for the Python function of a kernel holds its index file and the current
+    sources' stamp (:func:`kernels_cached`)."""
+    source = Path(function.__code__.co_filename).resolve()
+    index = (f"{source.stem}.{function.__qualname__.replace('<', '').replace('>', '')}-"
+             f"{function.__code__.co_firstlineno}.py{sys.version_info[0]}{sys.version_info[1]}"
+             f"{getattr(sys, 'abiflags', '')}.nbi")
+    folder = _numba_cache_folder(source)
+    stamp = folder / _STAMP_NAME
+    try:
+        return (folder / index).is_file() and stamp.is_file() and stamp.read_text() == _core_digest()
+    except OSError:
+        return False
+
+
+def _kernels_called(function: Callable) -> list[Callable]:
+    """``function`` and the Python functions of every redkin kernel it calls, transitively, first seen first: the
+    names its code reads from its module's globals (directly, or as an attribute of a module it imported) that are
+    kernels (a :class:`Kernel` or a numba dispatcher of a redkin function)."""
+    found: dict[int, Callable] = {}
+    waiting = [function]
+    while waiting:
+        current = waiting.pop(0)
+        if id(current) in found:
+            continue
+        found[id(current)] = current
+        names: set[str] = set()
+        codes = [current.__code__]
+        while codes:
+            code = codes.pop()
+            names.update(code.co_names)
+            codes += [constant for constant in code.co_consts if isinstance(constant, types.CodeType)]
+        for name in sorted(names):
+            value = current.__globals__.get(name)
+            for candidate in ([getattr(value, other, None) for other in sorted(names)]
+                              if isinstance(value, types.ModuleType) else [value]):
+                callee = getattr(candidate, "py_func", None)
+                if callable(callee) and (getattr(callee, "__module__", "") or "").startswith("redkin."):
+                    waiting.append(callee)
+    return list(found.values())
 
 
 def _numba_cache_folder(source: Path) -> Path:
@@ -479,7 +556,7 @@ def _load_numba() -> None:
                 name = _redkin_kernel(event)
                 if name is None:
                     return
-                _progress.start(name)
+                _progress.start(name, getattr(event.data.get("dispatcher"), "py_func", None))
                 for listener in list(_compile_listeners):
                     listener(name)
 
