@@ -382,11 +382,20 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
         print(f"{symbol} (collision-free, {plural(len(cell['obstacles']), 'obstacle')} and "
               f"{plural(cell['self_pairs'], 'link pair')} at margin {cell['margin']:g} m): "
               f"{_format_arcs(report['feasible'], deg)}")
+        slivers = []
         for stretch in report["blocked"]:
+            start, end = stretch["arc"]
+            if stretch["cause"] not in ("collision", "limit") and fixed(start) == fixed(end):
+                slivers.append(start)  # narrower than the digits printed: said together below
+                continue
             what = (f"{stretch['link']} meets {stretch['obstacle']}" if stretch["cause"] == "collision" else
                     f"{stretch['obstacle']} out of range" if stretch["cause"] == "limit" else
                     "undecided (next to a singular arm angle, or the clearance grazes the margin)")
             print(f"  removed {_format_arcs([stretch['arc']], deg)}: {what}")
+        if slivers:
+            print(f"  removed {plural(len(slivers), 'undecided sliver')} of at most {cell['resolution']:g} {unit} at "
+                  f"{', '.join(fixed(v) for v in slivers)} (next to a singular arm angle, or the clearance grazes "
+                  "the margin)")
         for line in cell_note_lines(cell):
             print(f"  {line}")
         if not cell["complete"]:
