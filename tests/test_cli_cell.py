@@ -213,9 +213,10 @@ def test_robots_show_names_the_links_a_body_file_may_use(capsys, robot):
         robot == "kuka-iiwa14")
 
 
-def test_ik_and_path_say_what_the_cell_says_of_itself(capsys, cell, tmp_path):
+def test_ik_path_and_explore_say_what_the_cell_says_of_itself(capsys, cell, tmp_path):
     """The body's notes and the base's contacts (not checked: the base never moves) are said by ``ik`` (closed
-    form and numerical) and ``path``, as by ``arm-angles``: a line each, and in JSON the fields the API gives."""
+    form and numerical), ``path`` and ``explore``, as by ``arm-angles``: a line each, and in JSON the fields the API
+    gives."""
     from redkin.collision.clearance import base_contacts
 
     scene_file, _ = cell
@@ -236,7 +237,9 @@ def test_ik_and_path_say_what_the_cell_says_of_itself(capsys, cell, tmp_path):
     np.save(poses, chain.fk(qs))
     commands = {"ik": ["ik", "kuka-iiwa14", *_pose_arguments(chain), "--psi", "0.2", *cell_arguments],
                 "numerical": ["ik", "kuka-iiwa14", *_pose_arguments(chain), "--count", "1", *cell_arguments],
-                "path": ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", *cell_arguments]}
+                "path": ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", *cell_arguments],
+                "explore": ["explore", "kuka-iiwa14", *_pose_arguments(chain), *cell_arguments, "--force", "--out",
+                            str(tmp_path / "page.html")]}
     for name, argv in commands.items():
         code, out, _ = run(capsys, [*argv, "--json"])
         said = json.loads(out)["collision" if name == "path" else "cell"]

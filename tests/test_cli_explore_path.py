@@ -91,6 +91,10 @@ def test_the_playback_in_a_cell_draws_the_cell_and_the_distance_at_each_frame(tm
     assert main(["explore", "kuka-iiwa14", "--path", str(trajectory), "--scene", str(scene), "--out",
                  str(again)]) == 0
     body = builtin_body("kuka-iiwa14", chain)
+    from redkin.cli.cell import cell_note_lines, cell_notes
+
+    said = cell_note_lines(cell_notes(chain, (body, read_scene(scene))))
+    assert said and capsys.readouterr().out.splitlines()[1:] == said  # the page's line, then the cell's notes
     for file in (page, again):
         data = _page_data(file)
         cell = data["cell"]

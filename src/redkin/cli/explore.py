@@ -7,7 +7,7 @@ import argparse
 
 import numpy as np
 
-from redkin.cli.cell import add_cell_arguments, load_cell
+from redkin.cli.cell import add_cell_arguments, cell_note_lines, cell_notes, load_cell
 from redkin.cli.common import (
     BRANCH_HELP,
     UsageError,
@@ -78,6 +78,7 @@ def run(args: argparse.Namespace) -> int:
     shown = data.branches[data.initial]
     opens = float(angles_out(shown.values[shown.start], args.deg))
     feasible = {b.branch: [angles_out(arc, args.deg).tolist() for arc in b.arcs] for b in data.branches}
+    notes = None if cell is None else cell_notes(chain, cell)
     if args.json:
         wraps = {b.branch: [bool(lo > hi) for lo, hi in b.arcs] for b in data.branches}
         print_json({"robot": chain.name, "out": str(out), "parameter": parameter.name,
@@ -86,12 +87,14 @@ def run(args: argparse.Namespace) -> int:
                     "grid_points": {b.branch: len(b.values) for b in data.branches}, "feasible": feasible,
                     "feasible_wraps": wraps, "opens": {"branch": shown.branch, parameter.name: opens,
                                                        "why": data.opening},
-                    **({} if data.cell is None else {"collision_free": _cell_sets(data, args.deg)})})
+                    **({} if data.cell is None else {"collision_free": _cell_sets(data, args.deg), "cell": notes})})
     else:
         reachable = sum(bool(arcs) for arcs in feasible.values())
         print(f"wrote {out}: {chain.name}, feasible {parameter.plural} on {reachable} of {len(feasible)} branches; "
               "open it in a browser")
         print(f"{data.opening} ({parameter.name} = {opens:.6f} {angle_unit(args.deg)})")
+        for line in cell_note_lines(notes):
+            print(line)
     return 0
 
 
@@ -133,6 +136,8 @@ def _playback(args: argparse.Namespace, chain, out, cell) -> int:
     write_durably(out, playback_html(chain, t, q, qd, stops, cell=cell).encode("utf-8"))
     print(f"wrote {out}: {chain.name}, a trajectory of {t[-1] - t[0]:.3f} s"
           + (f" with {len(stops)} stop{'' if len(stops) == 1 else 's'}" if stops else "") + "; open it in a browser")
+    for line in cell_note_lines(None if cell is None else cell_notes(chain, cell)):
+        print(line)
     return 0
 
 
