@@ -125,19 +125,26 @@ def test_fk_and_jacobian_run_the_chain_kernels_without_numba():
         assert _forbidden(modules, KERNEL_MODULES - {"redkin._compiled", "redkin._chain_kernels", "redkin.chain"}) == []
 
 
+def _key_poses(folder, length: float):
+    """A path's two key poses in ``folder/keys.npy``: the tool pointing down at (0.4, 0.1, 0.5), then moved
+    ``length`` along y."""
+    keys = folder / "keys.npy"
+    target = np.eye(4)
+    target[:3, 3] = [0.4, 0.1, 0.5]
+    target[:3, :3] = np.diag([1.0, -1.0, -1.0])
+    moved = target.copy()
+    moved[1, 3] += length
+    np.save(keys, np.stack([target, moved]))
+    return keys
+
+
 def test_small_work_of_a_closed_form_loads_neither_numba_nor_scipy(tmp_path):
     """``redkin ik`` at an arm angle (S-R-S) or a q7 (the Franka class), ``arm-angles`` on one pose and ``path`` on
     a short path of an S-R-S arm run the kernels as Python: numba is not loaded, nor scipy by ``ik`` and ``path``
     (issue 42; the Franka class's optimal q7 uses scipy's optimiser)."""
 
     pose = ["--position", "0.4", "0.1", "0.5", "--rotation", "1", "0", "0", "0", "-1", "0", "0", "0", "-1"]
-    keys = tmp_path / "keys.npy"
-    target = np.eye(4)
-    target[:3, 3] = [0.4, 0.1, 0.5]
-    target[:3, :3] = np.diag([1.0, -1.0, -1.0])
-    moved = target.copy()
-    moved[1, 3] += 0.05
-    np.save(keys, np.stack([target, moved]))
+    keys = _key_poses(tmp_path, 0.05)
     runs = _modules_after([["ik", "kuka-iiwa14", *pose, "--psi", "0.3"], ["ik", "franka-panda", *pose, "--q7", "0.3"],
                            ["path", "kuka-iiwa14", "--through", str(keys), "--step", "0.01", "--max-step", "0.1"],
                            ["arm-angles", "barrett-wam", *pose], ["arm-angles", "franka-fr3", *pose]])
@@ -206,13 +213,7 @@ def _cached_then_run(argv: list[str], environment: dict[str, str]) -> tuple[bool
 def test_a_short_franka_path_runs_as_python_until_its_kernels_are_cached(tmp_path):
     """``path`` on at most 32 waypoints of the Franka class runs as Python (and says so) while its kernels are not in
     numba's cache, and compiled once they are: on a fresh NUMBA_CACHE_DIR, then on the ambient cache (either way)."""
-    keys = tmp_path / "keys.npy"
-    target = np.eye(4)
-    target[:3, 3] = [0.4, 0.1, 0.5]
-    target[:3, :3] = np.diag([1.0, -1.0, -1.0])
-    moved = target.copy()
-    moved[1, 3] += 0.03
-    np.save(keys, np.stack([target, moved]))
+    keys = _key_poses(tmp_path, 0.03)
     argv = ["path", "franka-panda", "--through", str(keys), "--step", "0.01", "--max-step", "0.2"]
     cached, code, modules, err = _cached_then_run(argv, {"NUMBA_CACHE_DIR": str(tmp_path / "fresh")})
     assert (cached, code) == (False, 0)
