@@ -15,8 +15,12 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
+from redkin import get_robot
+from redkin.cli.explore import _PAGE_KERNELS as PAGE_KERNELS
 from redkin.cli.main import _COMMANDS
+from redkin.cli.path import _FRANKA_PATH_KERNELS as FRANKA_PATH_KERNELS
 
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "redkin"
 
@@ -191,13 +195,15 @@ def test_import_redkin_is_light_and_its_names_load_on_first_use():
     assert missing == ([], False)
 
 
-def _cached_then_run(argv: list[str], environment: dict[str, str]) -> tuple[bool, int, set[str], str]:
-    """In one fresh process: whether the Franka class's path kernels are cached before it runs, then ``main(argv)``'s
-    exit code, the modules loaded and its stderr."""
+def _cached_then_run(argv: list[str], environment: dict[str, str],
+                     kernels: tuple[str, ...] = FRANKA_PATH_KERNELS) -> tuple[bool, int, set[str], str]:
+    """In one fresh process: whether ``kernels`` (``module.function`` names) are cached before it runs, then
+    ``main(argv)``'s exit code, the modules loaded and its stderr."""
     code = "\n".join([
         "import contextlib, io, sys",
-        "from redkin.cli.path import _franka_kernels_cached",
-        "cached = _franka_kernels_cached()",
+        "from redkin._compiled import kernels_cached",
+        "from redkin.cli.common import _kernels_named",
+        f"cached = kernels_cached(*_kernels_named({kernels!r}))",
         "from redkin.cli.main import main",
         "err = io.StringIO()",
         "with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):",
@@ -242,3 +248,25 @@ def test_kernels_cached_tells_a_compiled_kernel_from_one_not_compiled(tmp_path):
     for stamp in tmp_path.rglob("redkin-kernels.stamp"):
         stamp.write_text("another version")
     assert run(ask) == (False, False)
+
+
+@pytest.mark.parametrize(("robot", "q"), [("kuka-iiwa14", [0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1]),
+                                          ("franka-panda", [0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.7])])
+def test_an_explorer_page_runs_as_python_until_its_kernels_are_cached_and_is_the_same_page(tmp_path, robot, q):
+    """``explore`` at a pose of an exact class runs as Python (and says so) on a fresh NUMBA_CACHE_DIR and writes the
+    page this process writes with the kernels compiled, byte for byte; on the ambient cache it runs compiled
+    exactly when the page's kernels are cached."""
+    from redkin.explore import explorer_data, explorer_html
+
+    page = tmp_path / "page.html"
+    argv = ["explore", robot, "--q", *map(str, q), "--out", str(page)]
+    cached, code, modules, err = _cached_then_run(argv, {"NUMBA_CACHE_DIR": str(tmp_path / "fresh")},
+                                                  PAGE_KERNELS["q7" if robot.startswith("franka") else "psi"])
+    assert (cached, code) == (False, 0)
+    assert _forbidden(modules, ("numba", "llvmlite")) == [] and "runs as Python" in err
+    chain = get_robot(robot)
+    compiled = explorer_html(explorer_data(chain, chain.fk(np.array(q)), None, q=np.array(q)), degrees=False)
+    assert page.read_text(encoding="utf-8") == compiled
+    cached, code, modules, err = _cached_then_run([*argv[:-1], str(tmp_path / "again.html")], {},
+                                                  PAGE_KERNELS["q7" if robot.startswith("franka") else "psi"])
+    assert code == 0 and ("numba" in modules) == cached and ("runs as Python" in err) == (not cached)

@@ -235,6 +235,27 @@ def small_work(small: bool) -> None:
         use_compiled()
 
 
+def _kernels_named(names: Sequence[str]) -> list:
+    """The kernels named ``module.function`` in ``names`` (their modules imported here)."""
+    import importlib
+
+    return [getattr(importlib.import_module(name.rpartition(".")[0]), name.rpartition(".")[2]) for name in names]
+
+
+def python_until_compiled(kernels: Sequence[str], work: str) -> bool:
+    """Whether small work that compiled code does faster than Python runs as Python after all, because the
+    ``kernels`` it calls (``module.function`` names), or kernels they call, are not in numba's cache yet
+    (:func:`redkin._compiled.kernels_cached`): compiling them would cost far more than running them as Python once.
+    Where so, a note on stderr says it of ``work`` and names ``redkin compile``."""
+    from redkin._compiled import kernels_cached
+
+    if kernels_cached(*_kernels_named(kernels)):
+        return False
+    print(f"redkin: note: the kernels of {work} are not compiled yet, so it runs as Python; 'redkin compile' "
+          "compiles them once (minutes), and later runs are compiled, two to three times faster", file=sys.stderr)
+    return True
+
+
 def load_robot(args: argparse.Namespace) -> SerialChain:
     """The chain for the ROBOT, ``--base``, ``--tip``, ``--xacro-arg`` and ``--package-path`` arguments
     (ValueError for an unknown name or a bad file)."""

@@ -22,6 +22,8 @@ from redkin.cli.common import (
     load_robot,
     output_file,
     print_json,
+    python_until_compiled,
+    small_work,
     target_pose,
 )
 
@@ -52,7 +54,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                "(S-R-S and offset-elbow arms); with --path, the playback draws them at each frame "
                                "and says the least distance at the slider's time (any arm)")
     add_output_flags(parser)
-    parser.set_defaults(handler=run)
+    parser.set_defaults(handler=run, in_python=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -61,6 +63,7 @@ def run(args: argparse.Namespace) -> int:
     out = output_file(args.out, "--out", {".html", ".htm"}, args.force)
     chain = load_robot(args)
     if args.path is not None:
+        small_work(False)
         return _playback(args, chain, out, load_cell(args, chain))
     q = None if args.q is None else joint_vector(chain, args.q, args.deg, "--q values")
     if args.position is not None or args.rotation is not None or args.quat is not None:
@@ -71,6 +74,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("give the pose (--position and --rotation or --quat), or a configuration --q to explore "
                          "at its pose")
     cell = load_cell(args, chain)
+    kernels = None if cell is not None else _page_kernels(chain, args.srs_tolerance)
+    small_work(kernels is not None and python_until_compiled(kernels, "this explorer page"))
     data = explorer_data(chain, pose, args.branch, srs_tolerance=args.srs_tolerance, q=q,
                          body=None if cell is None else cell[0], scene=None if cell is None else cell[1])
     out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
@@ -96,6 +101,31 @@ def run(args: argparse.Namespace) -> int:
         for line in cell_note_lines(notes):
             print(line)
     return 0
+
+
+#: The kernels an explorer page calls (with theirs) on an S-R-S or offset-elbow arm, and on the Franka class: a page
+#: of either runs them as Python while they are not compiled (about 2 and 3 s, against 17-25 s of compiling on a
+#: fresh install and about 1.2 s from the cache).
+_PAGE_KERNELS = {
+    "psi": ("redkin.srs._feasible_kernels.poses_feasible", "redkin.srs._feasible_kernels.batch_arc_runs",
+            "redkin.srs._ik_kernels.solve_poses"),
+    "q7": ("redkin.franka._kernels.feasible_poses", "redkin.franka._kernels.solve_poses",
+           "redkin.franka._kernels.solve_single"),
+}
+
+
+def _page_kernels(chain, srs_tolerance: float | None) -> tuple[str, ...] | None:
+    """The kernels of :data:`_PAGE_KERNELS` for the chain's class; ``None`` for a nearly S-R-S arm (its certified
+    self-motion takes a minute as Python) or a chain of no arm-angle class (the page refuses it)."""
+    from redkin.errors import NotArmAngleClassError
+    from redkin.paths.arm_family import path_family
+    from redkin.paths.family import NearlyFamily
+
+    try:
+        family = path_family(chain, srs_tolerance)
+    except NotArmAngleClassError:
+        return None
+    return None if isinstance(family, NearlyFamily) else _PAGE_KERNELS[family.parameter]
 
 
 def _cell_sets(data, degrees: bool) -> dict:

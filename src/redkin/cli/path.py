@@ -4,7 +4,6 @@ inside the exact feasible sets (the certified ones of the real arm on a nearly S
 from __future__ import annotations
 
 import argparse
-import sys
 
 import numpy as np
 
@@ -27,6 +26,7 @@ from redkin.cli.common import (
     output_file,
     plural,
     print_json,
+    python_until_compiled,
     read_poses,
     small_work,
 )
@@ -176,17 +176,11 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
 #: the iiwa14, against about 20 s of compiling on a fresh install and 0.9 s compiled from the cache).  The Franka
 #: class's exact q7 sets make its paths about 0.14 s a waypoint as Python (2.9 s for 21 on the Panda, against 23 s
 #: of compiling and 1.3 s from the cache), so they run as Python only while its kernels are not compiled
-#: (:func:`_franka_kernels_cached`).
+#: (:func:`redkin.cli.common.python_until_compiled`).
 _SMALL_PATH = 32
-
-
-def _franka_kernels_cached() -> bool:
-    """Whether the kernels of a Franka-class path (its q7 sets and the path graph's rows) are in numba's cache."""
-    from redkin._compiled import kernels_cached
-    from redkin.franka import _kernels
-    from redkin.paths import _dp_kernels
-
-    return kernels_cached(_kernels.feasible_poses, _dp_kernels.q7_node_rows)
+#: The kernels a path of the Franka class calls (with theirs): its q7 sets, and the path graph's rows and sweep.
+_FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.paths._dp_kernels.q7_node_rows",
+                        "redkin.paths._dp_kernels.sweep")
 
 
 def _parameter(chain, srs_tolerance: float | None) -> str:
@@ -386,12 +380,9 @@ def _run_path(args: argparse.Namespace) -> int:
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     model = _model_line(chain, args.srs_tolerance)
     small = cell is None and model is None and not timed and not args.thorough and len(poses) <= _SMALL_PATH
-    franka_as_python = small and _parameter(chain, args.srs_tolerance) != "psi" and not _franka_kernels_cached()
-    small_work(small and (franka_as_python or _parameter(chain, args.srs_tolerance) == "psi"))
-    if franka_as_python:
-        print("redkin: note: the Franka class's path kernels are not compiled yet, so this path runs as Python "
-              "(about 0.14 s a waypoint); 'redkin compile' compiles them once (minutes), and later paths run "
-              "compiled, about twice as fast", file=sys.stderr)
+    if small and _parameter(chain, args.srs_tolerance) != "psi":
+        small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class")
+    small_work(small)
     degrees = args.deg
     unit = angle_unit(degrees)
     if not args.json:  # what the path rests on, before the search (seconds on a nearly S-R-S arm)
