@@ -121,6 +121,7 @@ def test_turned_off_it_says_nothing_and_starts_no_thread(progress, capsys):
     progress.start("redkin.module.outer")
     progress.end()
     assert capsys.readouterr().err == "" and progress.helper_process == 0 and progress.compiled == 1
+    assert 0.0 <= progress.seconds < 1.0  # its compile seconds are counted from its start, so a later wait is right
 
 
 def test_the_wait_counts_the_kernels_a_kernel_calls_that_are_not_compiled(progress, capsys):

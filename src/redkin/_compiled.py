@@ -82,8 +82,10 @@ functions, callees included, and numba is not loaded: one implementation
 of each equation, run by the interpreter.  The command line does so for
 small work, where loading numba (and compiling, on a fresh install) costs
 more than the arithmetic: ``redkin robots``, ``fk`` and ``jacobian``,
-``ik`` and ``arm-angles`` on one pose of an exact closed form, and ``path``
-on a short path of an S-R-S arm.  A command that finds
+``ik`` and ``arm-angles`` on one pose of an exact closed form, ``path`` on
+a short path of an S-R-S arm, and ``path`` on a short path of the Franka
+class and ``explore`` at a pose while their kernels are not in numba's
+cache (:func:`kernels_cached`).  A command that finds
 its work large after all (a batch, a nearly S-R-S arm's self-motion, the
 numerical solver, a cell) calls :func:`use_compiled`, and every kernel
 runs compiled from there.  A batch within :func:`interpreted` runs in the
@@ -94,10 +96,7 @@ operations in the same order (``tests/test_interpreted.py`` holds them
 equal on five arms of three classes, degenerate configurations included).
 numpy's own functions on a scalar are not libm's everywhere: on a machine
 with AVX-512, ``np.arctan2`` and ``np.exp`` differ from libm in the last bit
-on a few per cent of arguments, so kernels call ``math``'s.  Where the
-kernels a command needs are already in numba's cache
-(:func:`kernels_cached`), loading them costs less than running them as
-Python; ``path`` on the Franka class asks.
+on a few per cent of arguments, so kernels call ``math``'s.
 
 One compile per argument type
 -----------------------------
@@ -274,12 +273,13 @@ class _CompileProgress:
         """The redkin kernel ``name`` (its Python function, if known) begins to compile."""
         with self.lock:
             self.compiling.append(name)
+            now = time.perf_counter()
+            if len(self.compiling) == 1:
+                self.outer_began = now  # kept while the notice is off too: the compile seconds stay right
             if not self.enabled:
                 return
-            now = time.perf_counter()
             plan, wait = "", 0.0
             if len(self.compiling) == 1:
-                self.outer_began = now
                 callees = 0 if function is None else len(self._to_compile(function)) - 1
                 self.expected = self.compiled + 1 + callees
                 wait = (callees + 1) * self.rate()
