@@ -25,13 +25,14 @@ from redkin.collision.body import posed
 from redkin.errors import RedkinError
 from tests.support.cli import run
 
-MODELS = ["barrett-wam7", "franka-fr3", "franka-panda", "kinova-gen3", "kuka-iiwa14", "kuka-iiwa7"]
+MODELS = ["barrett-wam7", "franka-fr3", "franka-panda", "kinova-gen3", "kuka-iiwa14", "kuka-iiwa7", "ufactory-xarm7"]
 #: A ready pose of each (the makers' own: Franka's, and the others' elbow bent), clipped into the limits.
 READY = {"barrett-wam7": [0, 0.5, 0, 1.5, 0, 0.6, 0],
          "franka-fr3": [0, -np.pi / 4, 0, -3 * np.pi / 4, 0, np.pi / 2, np.pi / 4],
          "franka-panda": [0, -np.pi / 4, 0, -3 * np.pi / 4, 0, np.pi / 2, np.pi / 4],
          "kinova-gen3": [0, 0.26, 3.14, -2.27, 0, 0.96, 1.57],
-         "kuka-iiwa14": [0, 0.5, 0, -1.2, 0, 0.6, 0], "kuka-iiwa7": [0, 0.5, 0, -1.2, 0, 0.6, 0]}
+         "kuka-iiwa14": [0, 0.5, 0, -1.2, 0, 0.6, 0], "kuka-iiwa7": [0, 0.5, 0, -1.2, 0, 0.6, 0],
+         "ufactory-xarm7": [0, 0, 0, 1.2, 0, 1.2, 0]}
 
 #: How far below the named model's base frame the maker's base link lies [m]: the WAM's named model (Barrett's DH
 #: table) has its base frame at the shoulder, barrett_model's base_link is on the floor, the shoulder 0.346 m above

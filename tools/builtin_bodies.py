@@ -18,14 +18,17 @@ Usage (the makers' repositories checked out, each below one folder)::
     python tools/builtin_bodies.py MAKERS_FOLDER MODEL ...   # only these
 
 MAKERS_FOLDER holds franka_description (github.com/frankaemika/franka_description), iiwa_description (from
-github.com/IFL-CAMP/iiwa_stack), kortex_description (github.com/Kinovarobotics/ros_kortex) and barrett_model
+github.com/IFL-CAMP/iiwa_stack), kortex_description (github.com/Kinovarobotics/ros_kortex), barrett_model
 (github.com/jhu-lcsr/barrett_model: the WAM description of RE2 and JHU LCSR, from Barrett's CAD; its ``models``
-folder and ``package.xml``).  barrett_model has macros only: the script expands its own file calling them
-(:data:`CALLERS`), with MAKERS_FOLDER as the package path.
+folder and ``package.xml``) and xarm_description (from github.com/xArm-Developer/xarm_ros2, whose xArm7 collision
+meshes are its visual STLs; xarm_ros's are not in its repository).  barrett_model and xarm_description's xarm7
+have macros only: the script expands its own file calling them (:data:`CALLERS`), with MAKERS_FOLDER as the
+package path.
 """
 
 from __future__ import annotations
 
+import re
 import sys
 import tempfile
 from pathlib import Path
@@ -63,6 +66,8 @@ SOURCES = {
     "barrett-wam7": ("barrett-wam7.urdf.xacro", {}, "wam/base_link", "wam/wrist_palm_stump_link",
                      "barrett_model (github.com/jhu-lcsr/barrett_model, RE2's WAM URDF from Barrett's CAD), "
                      "wam_7dof without a hand"),
+    "ufactory-xarm7": ("ufactory-xarm7.urdf.xacro", {}, "link_base", "link_eef",
+                       "xarm_description of xarm_ros2 (github.com/xArm-Developer/xarm_ros2), xarm7 without a gripper"),
 }
 #: Per named model whose maker's description has macros only: the file that calls them (SOURCES names it), written
 #: into a folder of its own.
@@ -72,6 +77,12 @@ CALLERS = {
   <xacro:include filename="$(find barrett_model)/models/arm.urdf.xacro"/>
   <link name="world"/>
   <xacro:wam_7dof prefix="wam" parent_link="world" xyz="0 0 0" rpy="0 0 0"/>
+</robot>
+""",
+    "ufactory-xarm7": """<?xml version="1.0"?>
+<robot name="xarm7" xmlns:xacro="http://ros.org/wiki/xacro">
+  <xacro:include filename="$(find xarm_description)/urdf/xarm7/xarm7.urdf.xacro"/>
+  <xacro:xarm7_urdf prefix=""/>
 </robot>
 """,
 }
@@ -161,7 +172,7 @@ def _body_yaml(model: str, path: Path, folder: Path, xacro_args: dict, base: str
               f"# The maker's link frames agree with this model's to {spread:.1g} (4x4 entries, metres) at random "
               "joint values.",
               "# Per mesh (the maker's link frames, carried into this model's frames link_0 .. link_7):"]
-    header += [f"#   {note}" for note in body.notes]
+    header += [f"#   {_found_in(note, folder)}" for note in body.notes]
     header += [f"# Per link pair (beside the adjacent ones), the share of {SAMPLES} random configurations within the "
                "limits in which the meshes meet (coal) and the capsules overlap:"]
     header += [f"#   {a} - {b}: meshes {100 * mesh_share[(a, b)]:.2f} %, capsules {100 * share:.2f} %"
@@ -170,6 +181,11 @@ def _body_yaml(model: str, path: Path, folder: Path, xacro_args: dict, base: str
                   "  (ignored: the capsules always overlap)" if (a, b) in unresolved else "")
                for (a, b), share in sorted(capsule_share.items())]
     return "\n".join(header) + "\n" + yaml.safe_dump(data, sort_keys=False, width=120, default_flow_style=None)
+
+
+def _found_in(note: str, folder: Path) -> str:
+    """A note with this machine's path to a package below MAKERS_FOLDER written as ``$(find PKG)``."""
+    return re.sub(re.escape(str(folder.resolve())) + r"/([^/]+)", r"$(find \1)", note)
 
 
 def _frame_meshes(path: Path, base: str | None, tip: str | None, xacro_args: dict,
