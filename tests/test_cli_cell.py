@@ -100,8 +100,8 @@ def test_mistakes_are_one_line(capsys, cell, extra, words):
 
 def test_another_class_is_refused_in_words(capsys, cell):
     scene_file, body_file = cell
-    chain = redkin.get_robot("franka-fr3")
-    code, _, err = run(capsys, ["arm-angles", "franka-fr3", *_pose_arguments(chain), "--scene", str(scene_file),
+    chain = redkin.get_robot("kinova-gen3")
+    code, _, err = run(capsys, ["arm-angles", "kinova-gen3", *_pose_arguments(chain), "--scene", str(scene_file),
                                 "--body", str(body_file)])
     assert code == 2 and err.count("\n") == 1 and "S-R-S" in err
 

@@ -72,6 +72,10 @@ def _franka(rng: np.random.Generator) -> None:
     franka.ik(arm, poses[0], q[0, 6]), franka.ik(arm, poses, q[:, 6]), franka.ik(arm, poses[0], q[0, 6], "+-+")
     franka.feasible_q7(arm, poses[0]), franka.feasible_q7_batch(arm, poses[:20])
     franka.optimal_q7(arm, poses[0], "+-+")
+    from redkin import arms, collision  # the certified collision-free q7 sets' level test
+
+    body = collision.body_of([collision.BodyCapsule("forearm", 4, [0, 0, 0], [0, 0, 0.2], 0.05)], arm)
+    collision.collision_free_q7(arms.arm(arm), poses[0], body, collision.scene_of({"obstacles": []}))  # q[0]: a set
 
 
 def _nearly_srs(rng: np.random.Generator) -> None:

@@ -237,9 +237,10 @@ class Arm:
         the branch's solution exists and lies within every joint limit ([000 eq. 30] on S-R-S arms, [F8]-[F9] on
         the Franka class; certified, not proved complete, on nearly S-R-S arms).
 
-        With ``body`` and ``scene`` (S-R-S and offset-elbow arms): the certified collision-free sets of
-        :func:`redkin.collision.collision_free_arm_angles` instead, within the limits and clear of every obstacle
-        and between the body's links by the scene's margin (``exact`` false: ends located to 1e-6 rad).
+        With ``body`` and ``scene`` (S-R-S, offset-elbow and Franka-class arms): the certified collision-free sets
+        of :func:`redkin.collision.collision_free_arm_angles` (:func:`redkin.collision.collision_free_q7` on the
+        Franka class) instead, within the limits and clear of every obstacle and between the body's links by the
+        scene's margin (``exact`` false: ends located to 1e-6 rad).
         """
         self._need_parameter("feasible sets")
         assert self.parameter is not None
@@ -267,18 +268,20 @@ class Arm:
         """:meth:`feasible` in a cell: each pose's certified collision-free arcs as pieces."""
         from redkin._validation import check_pose
         from redkin.collision.arm_angle_free import free_arm_angles_of
+        from redkin.collision.q7_free import free_q7_of
         from redkin.paths.family import as_pieces
 
         if body is None or scene is None:
             raise RedkinError("collision-free sets need both the arm's body and the scene")
+        assert self.parameter is not None
         checked = check_pose(poses)
         labels = self._labels(branches)
         sets = [[[(lo, hi + TWO_PI if wraps else hi) for (lo, hi), wraps
                   in zip(arcs.bounds.tolist(), arcs.wraps.tolist(), strict=True)] for arcs in free.free]
-                for free in free_arm_angles_of(self, checked.reshape(-1, 4, 4), body, scene, labels)]
+                for free in (free_q7_of if self.parameter.name == "q7" else free_arm_angles_of)(
+                    self, checked.reshape(-1, 4, 4), body, scene, labels)]
         pieces = as_pieces(sets, len(labels))
         shape = checked.shape[:-2] + pieces.start.shape[1:]
-        assert self.parameter is not None
         return FeasibleSets(pieces.start.reshape(shape), pieces.end.reshape(shape), pieces.feasible.reshape(shape),
                             labels, self.parameter.name, self.parameter.wraps, False)
 

@@ -136,9 +136,14 @@ def free_report(report: dict[str, Any], chain: SerialChain, free, scene, body, d
     report["branches"] = {label: arcs(free.free[b].bounds) for b, label in enumerate(free.branches)}
     report["blocked"] = [{"arc": [float(v) for v in angles_out(np.array([s.start, s.end]), deg)], "cause": s.cause,
                           "link": s.link or None, "obstacle": s.against or None} for s in free.blocked[index]]
-    nearest = ArcSet(free.free[index].bounds.tolist())
+    on_circle = ArcSet(free.free[index].bounds.tolist()) if free.parameter == "psi" else None
     for name, (unclamped, _) in optimal.items():
-        value = nearest.nearest(unclamped) if np.isfinite(unclamped) else None
+        value = None
+        if np.isfinite(unclamped) and on_circle is not None:
+            value = on_circle.nearest(unclamped)
+        elif np.isfinite(unclamped) and len(free.free[index].bounds):  # q7: the nearest point of the intervals
+            value = min((float(np.clip(unclamped, lo, hi)) for lo, hi in free.free[index].bounds),
+                        key=lambda point: abs(point - unclamped))
         report["optimal"][name]["collision_free"] = None if value is None else float(angles_out(value, deg))
     report["collision"] = {
         "scene": scene.source, "obstacles": list(scene.names), "margin": scene.margin, "body": body.source,

@@ -296,11 +296,12 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     analysis = classified.analyse(pose, branch, target=target, weights=args.weights)
     report = _arm_angles_report(classified, analysis, args.deg)
     if cell is not None:
-        from redkin.collision import collision_free_arm_angles
+        from redkin.collision import collision_free_arm_angles, collision_free_q7
 
         body, scene = cell
-        free_report(report, chain, collision_free_arm_angles(classified, pose, body, scene), scene, body, args.deg,
-                    branch, analysis.branches[0].optimal)
+        free = (collision_free_q7 if analysis.parameter.name == "q7" else collision_free_arm_angles)(
+            classified, pose, body, scene)
+        free_report(report, chain, free, scene, body, args.deg, branch, analysis.branches[0].optimal)
     if args.json:
         print_json(report)
         return 0
@@ -382,6 +383,8 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
         print(f"{symbol} (collision-free, {plural(len(cell['obstacles']), 'obstacle')} and "
               f"{plural(cell['self_pairs'], 'link pair')} at margin {cell['margin']:g} m): "
               f"{_format_arcs(report['feasible'], deg)}")
+        undecided = ("next to a singular arm angle, or the clearance grazes the margin" if name == "psi" else
+                     "next to a singular configuration or where the branch ends, or the clearance grazes the margin")
         slivers = []
         for stretch in report["blocked"]:
             start, end = stretch["arc"]
@@ -389,13 +392,13 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
                 slivers.append(start)  # narrower than the digits printed: said together below
                 continue
             what = (f"{stretch['link']} meets {stretch['obstacle']}" if stretch["cause"] == "collision" else
+                    "no solution" if stretch["obstacle"] == "no solution" else
                     f"{stretch['obstacle']} out of range" if stretch["cause"] == "limit" else
-                    "undecided (next to a singular arm angle, or the clearance grazes the margin)")
+                    f"undecided ({undecided})")
             print(f"  removed {_format_arcs([stretch['arc']], deg)}: {what}")
         if slivers:
             print(f"  removed {plural(len(slivers), 'undecided sliver')} of at most {cell['resolution']:g} {unit} at "
-                  f"{', '.join(fixed(v) for v in slivers)} (next to a singular arm angle, or the clearance grazes "
-                  "the margin)")
+                  f"{', '.join(fixed(v) for v in slivers)} ({undecided})")
         for line in cell_note_lines(cell):
             print(f"  {line}")
         if not cell["complete"]:

@@ -33,6 +33,7 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
 * :func:`collision_free_arm_angles` -- per branch of one pose, the certified arm angles within the limits and clear of
   every obstacle and of the body itself by the margin, and each removed stretch's cause (:class:`FreeArmAngles`,
   :class:`Stretch`); :func:`free_arm_angles_of` the same of many poses, decided together
+* :func:`collision_free_q7` -- the same on Franka-class arms, over q7 (:func:`free_q7_of` for many poses)
 """
 
 from redkin.collision.arm_angle_free import FreeArmAngles, Stretch, collision_free_arm_angles, free_arm_angles_of
@@ -45,6 +46,7 @@ from redkin.collision.free_ik import FreeSolutions, collision_free_ik
 from redkin.collision.link_frames import LinkFrame, numbered_link_frames, urdf_link_frames
 from redkin.collision.mesh_cover import MeshBox, MeshCapsule, covering_boxes, covering_capsules
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE, WIDTH, box, capsule, plane, sphere
+from redkin.collision.q7_free import collision_free_q7, free_q7_of
 from redkin.collision.scene import Scene, read_scene, scene_of
 from redkin.collision.steps import StepClearance, step_clearance, steps_between
 from redkin.collision.urdf_body import srdf_ignored_pairs, urdf_body
@@ -52,6 +54,7 @@ from redkin.collision.urdf_body import srdf_ignored_pairs, urdf_body
 __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "box", "capsule", "plane", "read_scene",
            "scene_of", "signed_distance", "sphere", "LinkFrame", "urdf_link_frames", "numbered_link_frames",
            "read_body", "body_data", "urdf_body", "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed",
-           "FreeArmAngles", "Stretch", "collision_free_arm_angles", "free_arm_angles_of", "FreeSolutions",
+           "FreeArmAngles", "Stretch", "collision_free_arm_angles", "free_arm_angles_of", "collision_free_q7",
+           "free_q7_of", "FreeSolutions",
            "collision_free_ik", "Clearance", "clearance", "StepClearance", "step_clearance", "steps_between",
            "MeshCapsule", "covering_capsules", "MeshBox", "covering_boxes", "builtin_body", "builtin_models"]

@@ -42,7 +42,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import NamedTuple, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -94,15 +94,16 @@ class Stretch(NamedTuple):
 
 @dataclass(frozen=True, eq=False)
 class FreeArmAngles:
-    """The certified collision-free arm angles of one pose (module docstring).
+    """The certified collision-free values of the redundancy parameter of one pose: arm angles (module docstring),
+    or q7 on the Franka class (:func:`redkin.collision.collision_free_q7`).
 
     Attributes
     ----------
     branches : tuple of str
     free : tuple of Arcs
-        Per branch, the arm angles within the limits and clear of every checked pair by the margin.
+        Per branch, the values within the limits and clear of every checked pair by the margin.
     limits : tuple of Arcs
-        Per branch, the arm angles within the limits [000 eq. 30].
+        Per branch, the values within the limits ([000 eq. 30]; [F8]-[F9] for q7).
     blocked : tuple of tuple of Stretch
         Per branch, every stretch removed from the circle, with its cause, in order of ``start``.
     resolution : float
@@ -114,6 +115,8 @@ class FreeArmAngles:
         resolution: those are then undecided stretches wider than it (a degenerate pose, such as a stretched elbow
         with the wrist on axis 1, where every arm angle is singular; or a clearance that equals the margin over a
         stretch).
+    parameter : str
+        ``"psi"``, or ``"q7"`` on the Franka class.
     """
 
     branches: tuple[str, ...]
@@ -123,6 +126,7 @@ class FreeArmAngles:
     resolution: float
     evaluations: int
     complete: bool
+    parameter: str = "psi"
 
     def arcs(self, branch: str) -> Arcs:
         """The free arcs of ``branch``."""
@@ -171,8 +175,10 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     """:func:`collision_free_arm_angles` of each pose of ``poses`` ``(P, 4, 4)``, decided together: the intervals
     of every pose and branch are halved in one batch, so the work per level is shared (``budget`` per pose)."""
     if not isinstance(arm.implementation, SRSKind):
-        raise RedkinError(f"certified collision-free sets are computed on S-R-S and offset-elbow arms so far; "
-                          f"{arm.chain.name} is {arm.kind} (the other classes are a later step of issue 40)")
+        elsewhere = ("its q7 sets are redkin.collision.collision_free_q7's" if arm.parameter is not None
+                     and arm.parameter.name == "q7" else "a later step of issue 40")
+        raise RedkinError(f"certified collision-free arm angles are computed on S-R-S and offset-elbow arms; "
+                          f"{arm.chain.name} is {arm.kind} ({elsewhere})")
     if len(body) and int(body.frame.max()) > arm.chain.n:
         raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {arm.chain.name} has {arm.chain.n} joints")
     if not (np.isfinite(resolution) and resolution > 0.0):
@@ -196,9 +202,43 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
         return measure.speeds(owner // count, _joint_rates(entries[owner // count, elbow[owner % count]], middle,
                                                            half))
 
-    parts, undone = _decide(*_first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]),
-                            resolution / 2.0, measure, rates, budget * len(poses))
-    complete = np.ones(len(poses), dtype=bool)
+    parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]), count,
+                              len(poses), resolution, measure, rates, budget)
+    results = []
+    for p, pose in enumerate(poses):
+        free_sets, blocked = [], []
+        at_limits = _limit_stretches(arm, pose, labels, limit_arcs[p])
+        for b in range(count):
+            mine = parts[2] == p * count + b
+            free_sets.append(_as_arcs(parts[0][mine & (parts[3] == 0)], parts[1][mine & (parts[3] == 0)]))
+            stretches = collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
+                                            measure.names, _wrapped)
+            stretches += at_limits[b]
+            blocked.append(tuple(sorted(stretches, key=lambda stretch: stretch.start)))
+        results.append(FreeArmAngles(labels, tuple(free_sets), limit_arcs[p], tuple(blocked), float(resolution),
+                                     int(measure.evaluations[p]), bool(complete[p])))
+    return results
+
+
+class _PairMeasure(Protocol):
+    """What :func:`certify` measures with: the checked pairs' clearances at values of the parameter."""
+
+    evaluations: np.ndarray  # configurations posed so far, per pose
+    count: int  # checked pairs
+
+    def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray: ...
+
+
+def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, poses: int, resolution: float,
+            measure: _PairMeasure, rates: Callable, budget: int) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+    """Decide the intervals ``(lo, hi, owner)`` (an owner is ``pose * count + branch``) as free, blocked or
+    undecided to ``resolution`` (module docstring), then halve further each run of undecided intervals wider than
+    it; ``measure(middle, owner, active)`` gives the pairs' clearances, ``rates(owner, middle, half)`` bounds how
+    fast each pair's clearance changes over the interval.  Returns the decided intervals ``(lo, hi, owner, kind,
+    pair)`` (:func:`_decide`) and per pose whether it was decided completely (the budget, ``budget`` evaluations
+    per pose, sufficed and no undecided run is wider than the resolution)."""
+    parts, undone = _decide(*intervals, resolution / 2.0, measure, rates, budget * poses)
+    complete = np.ones(poses, dtype=bool)
     complete[undone // count] = False
     finest = resolution / 4.0
     while True:  # runs of undecided intervals wider than the resolution, halved further
@@ -209,27 +249,14 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
             complete[parts[2][wide] // count] = False
             break
         again, undone = _decide(parts[0][wide], parts[1][wide], parts[2][wide], finest, measure, rates,
-                                budget * len(poses))
+                                budget * poses)
         complete[undone // count] = False
         parts = tuple(np.concatenate([part[~wide], more]) for part, more in zip(parts, again, strict=True))
         finest /= 2.0
-    results = []
-    for p, pose in enumerate(poses):
-        free_sets, blocked = [], []
-        at_limits = _limit_stretches(arm, pose, labels, limit_arcs[p])
-        for b in range(count):
-            mine = parts[2] == p * count + b
-            free_sets.append(_as_arcs(parts[0][mine & (parts[3] == 0)], parts[1][mine & (parts[3] == 0)]))
-            stretches = _collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
-                                             measure.names)
-            stretches += at_limits[b]
-            blocked.append(tuple(sorted(stretches, key=lambda stretch: stretch.start)))
-        results.append(FreeArmAngles(labels, tuple(free_sets), limit_arcs[p], tuple(blocked), float(resolution),
-                                     int(measure.evaluations[p]), bool(complete[p])))
-    return results
+    return parts, complete
 
 
-def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, measure: _Measure, rates: Callable,
+def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, measure: _PairMeasure, rates: Callable,
             budget: int) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
     """Halve the intervals ``[lo, hi]`` of the branches ``owner`` until each is free, blocked, or undecided and no
     wider than ``finest`` (module docstring); ``rates(owner, middle, half)`` bounds each pair's speed.
@@ -283,7 +310,7 @@ def _wide_undecided(parts: tuple[np.ndarray, ...], resolution: float) -> np.ndar
     return wide
 
 
-def _first_intervals(arcs: list[Arcs]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def first_intervals(arcs: list[Arcs]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Each owner's limit-feasible arcs (a pose's branch) cut into intervals no wider than :data:`_FIRST_WIDTH`,
     unrolled so that ``lo < hi`` (an arc through the seam ends beyond pi)."""
     lo: list[float] = []
@@ -466,9 +493,10 @@ def _wrapped(angle: float) -> float:
     return float((angle + np.pi) % TWO_PI - np.pi)
 
 
-def _collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which: np.ndarray,
-                         names: list[tuple[str, str]]) -> list[Stretch]:
-    """The blocked and undecided intervals of one branch merged into stretches of one cause."""
+def collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which: np.ndarray,
+                        names: list[tuple[str, str]], wrapped: Callable[[float], float]) -> list[Stretch]:
+    """The blocked and undecided intervals of one branch merged into stretches of one cause, each end written by
+    ``wrapped`` (into ``[-pi, pi)`` for an arm angle)."""
     order = np.argsort(lo, kind="stable")
     stretches: list[Stretch] = []
     last: tuple[float, float, str, str, str] | None = None
@@ -481,10 +509,10 @@ def _collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which
             last = (last[0], end, cause, link, against)
             continue
         if last is not None:
-            stretches.append(Stretch(_wrapped(last[0]), _wrapped(last[1]), *last[2:]))
+            stretches.append(Stretch(wrapped(last[0]), wrapped(last[1]), *last[2:]))
         last = (start, end, cause, link, against)
     if last is not None:
-        stretches.append(Stretch(_wrapped(last[0]), _wrapped(last[1]), *last[2:]))
+        stretches.append(Stretch(wrapped(last[0]), wrapped(last[1]), *last[2:]))
     return stretches
 
 

@@ -56,6 +56,9 @@ _NEAR_ZERO = 1e-12
 _POLISH_REACH = 1e-4
 #: Half width of the bracket about a breakpoint in which an arc's end is first sought (:func:`crossing`).
 _ROOT_BRACKET = 1e-12
+#: How far outside an interval a root of a level polynomial still counts as in it (:func:`levels_crossed`): above
+#: the roots' error from the polynomial's rounded coefficients [rad].
+LEVEL_SLACK = 1e-9
 #: ``exp(-i k 2 pi j / SAMPLES)`` for ``k = 0 .. 16``: the discrete Fourier transform of the samples.
 _TWIDDLES = np.exp(-2j * np.pi * np.outer(np.arange(9), np.arange(SAMPLES)) / SAMPLES)
 #: A sample grid on which a divisor of [F8] comes this close to zero (relative to its largest sample) is shifted by
@@ -452,6 +455,89 @@ def circle_roots(coefficients, largest, out):
 
 
 @kernel
+def sampled_limits(t07, arm, limits, samples):
+    """The limit functions [F8]-[F9] (:func:`limit_values`) at :data:`SAMPLES` equal steps of ``theta_7`` into
+    ``samples`` (SAMPLES, OUTPUTS); returns the grid's phase: 0, or half a step where a divisor nearly vanishes on
+    the grid at 0."""
+    scratch = np.empty((4, 3, 3), dtype=np.complex128)
+    phase = 0.0
+    for _ in range(2):  # the grid, and once more moved by half a step if a divisor nearly vanishes on it
+        for j in range(SAMPLES):
+            limit_values(t07, phase + 2.0 * np.pi * j / SAMPLES, arm, limits, samples[j], scratch)
+        small = False
+        for column in (FUNCTIONS, FUNCTIONS + 1):
+            largest = np.abs(samples[:, column]).max()
+            small = small or np.abs(samples[:, column]).min() <= _SMALL_DIVISOR * largest
+        if not small:
+            break
+        phase = np.pi / SAMPLES
+    return phase
+
+
+@kernel
+def levels_crossed(t07, arm, levels, lo, hi, signs, joints, out):
+    """For each interval ``[lo[i], hi[i]]`` of q7 (the chain's value) at the pose ``t07[i]``, whether the branch of
+    solver signs ``signs[i]`` may leave the band its levels ``levels[i]`` (3, 7) set (two DH angles per joint, laid
+    out as the limits of :func:`limit_values`, and whether to test the joint) for a joint 1-6 somewhere in the
+    interval, into ``out`` (N,) (docs/collisions.md, "The Franka class").
+
+    It may not where (i) the bands keep the branch away from its jumps [F5]-[F7]: ``sin theta_2`` away from 0 over
+    joint 2's band, ``S_4x`` [F4] away from 0 over joint 4's, and ``|V_xy|`` [F6] above what it can lose over the
+    interval (``V`` turns with ``theta_7`` about an axis through ``O_6``, at most ``|S - O_6|`` per radian); and (ii)
+    every root within :data:`LEVEL_SLACK` of the interval of each level polynomial [F8] (isolated as
+    :func:`candidate_angles` isolates the limits') belongs to another of the four conjugate solutions: the branch
+    exists there and its joint lies more than half the band's width from that level.  Then each joint of the branch,
+    continuous on the interval (where the branch exists on all of it), stays inside its band if it is inside at one
+    q7 of it.
+    """
+    offset7 = joints[0, 6]
+    samples = np.empty((SAMPLES, OUTPUTS))
+    roots = np.empty(2 * 8)
+    q = np.empty((1, 7))
+    exists = np.empty(1, dtype=np.bool_)
+    scratch = np.empty((8, 3, 3))
+    work = np.empty(WORK)
+    for i in range(lo.shape[0]):
+        out[i] = True
+        middle = offset7 + 0.5 * (lo[i] + hi[i])
+        width2 = 0.5 * abs(levels[i, 1, 1] - levels[i, 0, 1])
+        if abs(sin(0.5 * (levels[i, 0, 1] + levels[i, 1, 1]))) <= width2:
+            continue  # theta_2 may reach 0 or pi, where theta_1 and theta_3 jump
+        middle4 = 0.5 * (levels[i, 0, 3] + levels[i, 1, 3])
+        s4x, _ = shoulder_in_frame_four(cos(middle4), sin(middle4), arm)
+        if abs(s4x) <= np.hypot(arm[A3], arm[D3]) * 0.5 * abs(levels[i, 1, 3] - levels[i, 0, 3]):
+            continue  # S_4x may vanish, where theta_5 is free
+        x6, y6, z6, _w = wrist_and_frame_six(t07[i], middle, arm)
+        vx, vy, _vz = shoulder_seen_from_six(x6, y6, z6, t07[i], arm)
+        lever = np.sqrt(t07[i, 0, 3] ** 2 + t07[i, 1, 3] ** 2 + (arm[D1] - t07[i, 2, 3]) ** 2)
+        if np.hypot(vx, vy) <= lever * 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK:
+            continue  # V_xy may vanish, where theta_6 is free
+        phase = sampled_limits(t07[i], arm, levels[i], samples)
+        crossed = False
+        for f in range(12):
+            joint = f // 2
+            if levels[i, 2, joint] == 0.0:
+                continue
+            level = levels[i, f % 2, joint]
+            width = 0.5 * abs(levels[i, 1, joint] - levels[i, 0, joint])
+            count = candidate_angles(np.ascontiguousarray(samples[:, f]), DEGREES[f], phase, roots)
+            for r in range(count):
+                q7 = roots[r] - offset7
+                value = q7 + 2.0 * np.pi * np.ceil((lo[i] - LEVEL_SLACK - q7) / (2.0 * np.pi))
+                if value > hi[i] + LEVEL_SLACK:
+                    continue
+                solve_q7(t07[i], value + offset7, arm, signs[i:i + 1], joints, q, exists, scratch, work)
+                theta = joints[0, joint] + joints[1, joint] * q[0, joint]
+                gap = abs((theta - level + np.pi) % (2.0 * np.pi) - np.pi)
+                if not exists[0] or gap <= 0.5 * width:
+                    crossed = True
+                    break
+            if crossed:
+                break
+        out[i] = crossed
+
+
+@kernel
 def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     """The exact feasible q7 set of every branch of one pose: arcs ``[start, end]`` of q7 (the chain's value)
     into ``arcs`` (B, K, 2) and their number into ``counts`` (B,).  Returns the number of breakpoints used.
@@ -464,19 +550,8 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     each interval; adjacent feasible intervals are merged.
     """
     offset7 = joints[0, 6]
-    scratch = np.empty((4, 3, 3), dtype=np.complex128)
     samples = np.empty((SAMPLES, OUTPUTS))
-    phase = 0.0
-    for _ in range(2):  # the grid, and once more moved by half a step if a divisor nearly vanishes on it
-        for j in range(SAMPLES):
-            limit_values(t07, phase + 2.0 * np.pi * j / SAMPLES, arm, limits, samples[j], scratch)
-        small = False
-        for column in (FUNCTIONS, FUNCTIONS + 1):
-            largest = np.abs(samples[:, column]).max()
-            small = small or np.abs(samples[:, column]).min() <= _SMALL_DIVISOR * largest
-        if not small:
-            break
-        phase = np.pi / SAMPLES
+    phase = sampled_limits(t07, arm, limits, samples)
     total = 0
     for f in range(FUNCTIONS):
         total += 2 * DEGREES[f]

@@ -1,0 +1,279 @@
+"""Certified collision-free values of q7 of Franka-class arms (issue 40, item 4; docs/collisions.md, "The Franka
+class").
+
+For one pose and each branch, the values of q7 at which the branch's solution [F1]-[F7] lies within the joint limits
+[F8]-[F9] *and* every checked pair of shapes (each capsule of the arm's body against each obstacle, and the body's
+self-collision pairs) is at least the scene's margin apart: the Franka class's counterpart of
+:func:`redkin.collision.collision_free_arm_angles`, decided by the same subdivision
+(:func:`redkin.collision.arm_angle_free.certify`), with another bound of how far the shapes move.
+
+What is proved.  On an interval ``I = [m - h, m + h]`` inside one of the branch's limit-feasible arcs (where the
+branch exists and turns continuously), let ``delta_j`` bound ``|q_j(t) - q_j(m)|`` over ``I`` for each joint
+(``delta_7 = h``).  A point of link ``k`` then moves, relative to the base, by at most ``sum_{j <= k} delta_j
+L_j``, ``L_j`` a bound of its distance from axis ``j`` in every configuration: the length of the path from it
+through the joints' axis points ``k, k - 1, .., j``, each leg fixed on one link (turning a point by ``d`` about an
+axis at distance ``r`` moves it by at most ``r d``).  Relative to the tool, which the pose holds still, it moves by
+at most ``sum_{j > k} delta_j L'_j`` (the path through axes ``k + 1 .. j``); the smaller bound is kept.  Two links
+``k1 < k2`` move relative to each other only through joints ``k1 + 1 .. k2``.  A pair's signed distance changes by
+no more than the two shapes' displacements, so ``c(t) - c(m)`` is bounded over ``I``, and the interval is free,
+blocked or halved as :mod:`redkin.collision.arm_angle_free` says.
+
+The bounds ``delta_j`` are proposed from the joints' values at ``m`` and just beyond the ends of ``I`` (twice the
+larger change, a little more) and then proved: with the levels ``q_j(m) -+ delta_j`` in place of the limits, no level
+polynomial of [F8] has a root in ``I`` (:func:`redkin.franka._kernels.levels_crossed`, the isolation the exact
+feasible sets use), so no joint of any of the four conjugate solutions reaches its levels in ``I``, and each joint of
+the branch stays strictly between them.  Where a level is crossed, the branch does not exist at the middle or an end,
+or a bound reaches a quarter turn, the interval's bound is infinite and it is halved.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._validation import check_pose
+from redkin.arms.feasible_sets import Arcs
+from redkin.arms.franka_kind import FrankaKind
+from redkin.arms.front_door import Arm
+from redkin.circle import TWO_PI
+from redkin.collision.arm_angle_free import (
+    LIMIT,
+    FreeArmAngles,
+    Stretch,
+    certify,
+    collision_stretches,
+    first_intervals,
+)
+from redkin.collision.body import Body, capsule_ends, posed
+from redkin.collision.clearance import checked_pairs, pair_distances
+from redkin.collision.scene import Scene
+from redkin.errors import RedkinError
+from redkin.franka import _kernels
+from redkin.franka.feasible import q7_domain
+from redkin.franka.geometry import FrankaGeometry
+from redkin.franka.ik import frames_seven, ik
+
+#: A joint's proposed bound is this many times its larger change from the middle to an end of the interval.
+_PROPOSAL = 2.0
+#: Added to each proposed bound [rad], so that a joint that does not move at the interval's ends still has room.
+_ROOM = 1e-12
+#: The largest bound proved by levels: beyond a quarter turn a level and its opposite (``L + pi``, which the level
+#: polynomials share) would both lie within reach.
+_WIDEST = np.pi / 2.0
+
+
+def collision_free_q7(arm: Arm, pose: ArrayLike, body: Body, scene: Scene,
+                      branches: str | tuple[str, ...] | list[str] | None = None, *,
+                      resolution: float = 1e-6, budget: int = 100_000) -> FreeArmAngles:
+    """The certified collision-free values of q7 of one pose on each branch of a Franka-class arm (module docstring).
+
+    Parameters
+    ----------
+    arm : Arm
+        A Franka-class arm (:func:`redkin.arm`).
+    pose : array_like, shape (4, 4)
+        The tool's target pose in the base frame.
+    body : Body
+        The arm's capsules, on ``arm.chain``'s frames.
+    scene : Scene
+        The obstacles and the margin (also kept between the body's self-collision pairs).
+    branches : str or sequence of str, optional
+        Default all eight.
+    resolution : float
+        Ends are located to this width [rad], > 0.
+    budget : int
+        The most configurations to evaluate; beyond it the open intervals are left undecided (``complete`` false).
+
+    Returns
+    -------
+    FreeArmAngles
+        With ``parameter`` ``"q7"``: its arcs never wrap.
+
+    Raises
+    ------
+    RedkinError
+        For an arm of another class (named), a body on another number of joints, a malformed pose or a resolution
+        that is not > 0.
+    """
+    checked = check_pose(pose)
+    if checked.shape != (4, 4):
+        raise RedkinError(f"pose must be one 4x4 transform, got shape {checked.shape}")
+    return free_q7_of(arm, checked[None], body, scene, branches, resolution=resolution, budget=budget)[0]
+
+
+def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
+               branches: str | tuple[str, ...] | list[str] | None = None, *, resolution: float = 1e-6,
+               budget: int = 100_000) -> list[FreeArmAngles]:
+    """:func:`collision_free_q7` of each pose of ``poses`` ``(P, 4, 4)``, decided together (``budget`` per pose)."""
+    if not isinstance(arm.implementation, FrankaKind):
+        raise RedkinError(f"certified collision-free q7 sets are computed on Franka-class arms; {arm.chain.name} is "
+                          f"{arm.kind}")
+    if len(body) and int(body.frame.max()) > arm.chain.n:
+        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {arm.chain.name} has {arm.chain.n} joints")
+    if not (np.isfinite(resolution) and resolution > 0.0):
+        raise RedkinError(f"resolution must be a number > 0 (radians), got {resolution!r}")
+    poses = check_pose(poses)
+    if poses.ndim != 3:
+        raise RedkinError(f"poses must have shape (P, 4, 4), got shape {poses.shape}")
+    limits = arm.feasible(poses, branches)
+    labels = limits.branches
+    count = len(labels)
+    limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
+    measure = _Q7Measure(arm, poses, body, scene, np.array([arm.branches.index(label) for label in labels]))
+    parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]), count,
+                              len(poses), resolution, measure, measure.rates, budget)
+    domain = q7_domain(measure.geometry)
+    results = []
+    for p, pose in enumerate(poses):
+        free_sets, blocked = [], []
+        at_limits = _limit_stretches(arm, pose, labels, limit_arcs[p], domain)
+        for b in range(count):
+            mine = parts[2] == p * count + b
+            free = mine & (parts[3] == 0)
+            free_sets.append(_as_intervals(parts[0][free], parts[1][free]))
+            stretches = collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
+                                            measure.names, float)
+            blocked.append(tuple(sorted(stretches + at_limits[b], key=lambda stretch: stretch.start)))
+        results.append(FreeArmAngles(labels, tuple(free_sets), limit_arcs[p], tuple(blocked), float(resolution),
+                                     int(measure.evaluations[p]), bool(complete[p]), "q7"))
+    return results
+
+
+class _Q7Measure:
+    """The clearances of every checked pair at values of q7 of the poses, and the bounds of how far the pairs' shapes
+    move over an interval (module docstring); an interval's owner is ``pose * B + branch`` over the ``B`` branches
+    of ``rows`` (indices into the class's eight)."""
+
+    def __init__(self, arm: Arm, poses: np.ndarray, body: Body, scene: Scene, rows: np.ndarray) -> None:
+        assert isinstance(arm.implementation, FrankaKind)
+        self.geometry: FrankaGeometry = arm.implementation.geometry
+        self.chain, self.poses, self.body, self.scene, self.rows = arm.chain, poses, body, scene, rows
+        self.frames_seven = frames_seven(self.geometry, poses)
+        self.evaluations = np.zeros(len(poses), dtype=np.int64)  # per pose
+        self.pairs = checked_pairs(body, scene)
+        self.names, self.count = self.pairs.names, len(self.pairs.names)
+        self.base_levers, self.tip_levers = _levers(arm.chain, body)
+
+    def joints(self, q7: np.ndarray, owner: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The owners' branch solutions ``(N, 7)`` at ``q7`` ``(N,)``, and whether each exists."""
+        solutions = ik(self.geometry, self.poses[owner // len(self.rows)], q7)
+        pick = np.arange(len(q7)), self.rows[owner % len(self.rows)]
+        return solutions.q[pick], solutions.exists[pick]
+
+    def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
+        """Clearances ``(N, P)`` (distance minus margin) at ``middle`` of the owners ``owner``, of the pairs
+        ``active`` (``inf`` for the others: already proved clear on a wider interval)."""
+        q, _ = self.joints(middle, owner)
+        shapes = posed(self.body, self.chain.frames(q))
+        np.add.at(self.evaluations, owner // len(self.rows), 1)
+        at, pair = np.nonzero(active)
+        clearance = np.full(active.shape, np.inf)
+        clearance[at, pair] = pair_distances(shapes, self.scene, self.pairs, at, pair) - self.scene.margin
+        return clearance
+
+    def rates(self, owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
+        """Per interval and pair ``(N, P)``, the bound of the pair's displacement over the interval (module
+        docstring) divided by ``half``: the rate that :func:`redkin.collision.arm_angle_free.certify` multiplies by
+        ``half``; infinite where the bounds are not proved."""
+        at_middle, here = self.joints(middle, owner)
+        moved = np.zeros_like(at_middle)
+        reach = half + 2.0 * _kernels.LEVEL_SLACK  # the roots the test counts lie within the slack of the interval
+        for end in (middle - reach, middle + reach):
+            at_end, there = self.joints(end, owner)
+            here &= there
+            moved = np.maximum(moved, np.abs((at_end - at_middle + np.pi) % TWO_PI - np.pi))
+        delta = _PROPOSAL * moved + _ROOM
+        delta[:, 6] = half
+        proved = here & (delta[:, :6].max(axis=1) < _WIDEST)
+        which = np.flatnonzero(proved)
+        crossed = np.ones(len(which), dtype=bool)
+        if len(which):
+            joints = self.geometry.kernel_joints
+            levels = np.zeros((len(which), 3, 7))
+            for row, sign in ((0, -1.0), (1, 1.0)):  # theta = offset + sign q (chain_values inverted)
+                levels[:, row] = joints[0] + joints[1] * (at_middle[which] + sign * delta[which])
+            levels[:, 2, :6] = 1.0
+            signs = self.geometry.kernel_branches[self.rows[owner[which] % len(self.rows)]]
+            for table in (levels, signs):  # read-only as the limits and branches of the feasible sets: one compile
+                table.flags.writeable = False
+            _kernels.levels_crossed(self.frames_seven[owner[which] // len(self.rows)], self.geometry.kernel_arm,
+                                    levels, middle[which] - half[which], middle[which] + half[which], signs, joints,
+                                    crossed)
+        proved[which[crossed]] = False
+        base = (delta[:, None, :] * self.base_levers).sum(axis=2)  # (N, M): per capsule
+        tip = (delta[:, None, :] * self.tip_levers).sum(axis=2)
+        shift = np.minimum(base, tip)
+        pairs = self.pairs
+        total = shift[:, pairs.capsule].copy()
+        own = np.flatnonzero(pairs.other >= 0)
+        if len(own):
+            first, second = pairs.capsule[own], pairs.other[own]
+            k1, k2 = self.body.frame[first], self.body.frame[second]
+            low = np.minimum(k1, k2)[None, :, None]
+            between = (np.arange(1, 8)[None, None, :] > low) & (np.arange(1, 8)[None, None, :]
+                                                                 <= np.maximum(k1, k2)[None, :, None])
+            outer = np.where((k1 >= k2)[:, None], self.base_levers[first], self.base_levers[second])
+            inner = np.where((k1 >= k2)[:, None], self.tip_levers[second], self.tip_levers[first])
+            relative = np.minimum((delta[:, None, :] * outer[None] * between).sum(axis=2),
+                                  (delta[:, None, :] * inner[None] * between).sum(axis=2))
+            total[:, own] = relative
+        rate = total / half[:, None]
+        rate[~proved] = np.inf
+        return rate
+
+
+def _levers(chain, body: Body) -> tuple[np.ndarray, np.ndarray]:
+    """Per capsule and joint ``(M, 7)``: bounds of the distance of the capsule's segment from the joint's axis in
+    every configuration, along the path through the axes from the capsule's link down to the joint (base side, joints
+    ``j <= k`` of a capsule on frame ``k``; 0 for the others) and up to it (tip side, joints ``j > k``)."""
+    frames = chain.frames(np.zeros(chain.n))
+    _, points = chain.joint_axes_in(frames)  # (7, 3): a point on each axis, fixed on the links on both its sides
+    legs = np.linalg.norm(np.diff(points, axis=0), axis=1)  # legs[i]: axis i + 1 to axis i + 2 (on link i + 1)
+    ends = capsule_ends(posed(body, frames))  # (M, 2, 3)
+    base = np.zeros((len(body), chain.n))
+    tip = np.zeros((len(body), chain.n))
+    for c, k in enumerate(body.frame.tolist()):
+        for j in range(1, chain.n + 1):
+            if 1 <= j <= k:  # from the capsule to axis k (on link k), then down the legs to axis j
+                own = np.linalg.norm(ends[c] - points[k - 1], axis=1).max()
+                base[c, j - 1] = own + legs[j - 1 : k - 1].sum()
+            elif j > k:  # from the capsule to axis k + 1 (on link k), then up the legs to axis j
+                own = np.linalg.norm(ends[c] - points[k], axis=1).max()
+                tip[c, j - 1] = own + legs[k : j - 1].sum()
+    return base, tip
+
+
+def _as_intervals(lo: np.ndarray, hi: np.ndarray) -> Arcs:
+    """Free intervals of q7 as disjoint, merged, sorted intervals (never wrapping)."""
+    order = np.argsort(lo)
+    merged: list[list[float]] = []
+    for start, end in zip(lo[order].tolist(), hi[order].tolist(), strict=True):
+        if merged and start <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], end)
+        else:
+            merged.append([start, end])
+    bounds = np.array(merged, dtype=float).reshape(-1, 2)
+    return Arcs(bounds, np.zeros(len(bounds), dtype=bool))
+
+
+def _limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...], limits: tuple[Arcs, ...],
+                     domain: np.ndarray) -> list[list[Stretch]]:
+    """Per branch, the stretches of joint 7's range between its limit-feasible intervals, each named by the joints
+    out of range in its middle (where the branch has a solution there; "no solution" where it has none)."""
+    gaps: list[list[tuple[float, float]]] = []
+    for arcs in limits:
+        edges = [float(domain[0]), *arcs.bounds.ravel().tolist(), float(domain[1])]
+        gaps.append([(a, b) for a, b in zip(edges[::2], edges[1::2], strict=True) if b > a])
+    stretches: list[list[Stretch]] = [[] for _ in labels]
+    owner = np.array([b for b, spans in enumerate(gaps) for _ in spans], dtype=np.int64)
+    if not len(owner):
+        return stretches
+    spans = [span for spans in gaps for span in spans]
+    middles = np.array([(a + b) / 2.0 for a, b in spans])
+    solutions = arm.ik(pose, middles, branches=labels)
+    q, exists = solutions.q[np.arange(len(owner)), owner], solutions.exists[np.arange(len(owner)), owner]
+    inside = arm.chain.joints_within_limits(q, wrap=True)
+    for (start, end), b, there, within in zip(spans, owner.tolist(), exists.tolist(), inside, strict=True):
+        out = ", ".join(f"joint {joint + 1}" for joint in np.flatnonzero(~within)) if there else "no solution"
+        stretches[b].append(Stretch(start, end, LIMIT, "", out))
+    return stretches

@@ -1,0 +1,182 @@
+"""Certified collision-free q7 sets of Franka-class arms (issue 40, item 4): laws that hold for every pose.
+
+* every q7 of a reported free interval is collision-free and within the limits, on a dense sample of the branch's
+  range, and where the computation is complete no clear stretch of the sample is left out (beyond the resolution
+  about a reported end or undecided stretch); each collision stretch is blocked by the pair it names;
+* the bounds the certificate rests on hold: over random intervals the joints stay inside the bands the level test
+  proves, and every pair's clearance moves by no more than the displacement bound;
+* ``Arm.feasible(body=, scene=)`` and ``redkin arm-angles --scene`` give the same sets; an arm of another class and
+  bad input are refused in words.
+
+The arms are the Panda, the FR3 and the xArm7 (joint 7 over two turns) with their built-in bodies in a cell.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+import redkin
+from redkin.collision import builtin_body, clearance, collision_free_q7, scene_of
+from redkin.collision.arm_angle_free import COLLISION, UNDECIDED
+from redkin.collision.clearance import pair_table
+from redkin.collision.q7_free import _Q7Measure
+from redkin.errors import RedkinError
+from tests.support.cli import run
+
+#: Values of q7 the laws sample across a branch's range.
+SAMPLES = 3001
+#: The cell: a post beside the arm, a table under its reach and a lamp above it.
+CELL = {"margin": 0.01, "obstacles": [
+    {"name": "post", "type": "capsule", "a": [0.45, 0.25, -0.2], "b": [0.45, 0.25, 1.2], "radius": 0.05},
+    {"name": "table", "type": "box", "center": [0.6, 0, -0.06], "size": [1.2, 1.0, 0.1]},
+    {"name": "lamp", "type": "sphere", "center": [0.2, -0.4, 0.8], "radius": 0.12}]}
+ARMS = ["franka-panda", "franka-fr3", "ufactory-xarm7"]
+#: How far inside a joint's range the limit sets' own ends may put a joint (their ends are exact to rounding).
+ROUNDING = 1e-9
+
+fractions = st.lists(st.floats(0.0, 1.0), min_size=7, max_size=7)
+#: Configurations whose poses have free intervals, collision stretches and limit stretches on every arm here.
+RICH = ([0.5, 0.4, 0.6, 0.3, 0.5, 0.7, 0.5], [0.3, 0.6, 0.4, 0.5, 0.7, 0.4, 0.2])
+
+
+@pytest.fixture(scope="module", params=ARMS)
+def setup(request):
+    arm = redkin.arm(request.param)
+    return arm, builtin_body(request.param, arm.chain), scene_of(CELL)
+
+
+def _configuration(chain, fraction) -> np.ndarray:
+    low, high = np.maximum(chain.lower, -np.pi), np.minimum(chain.upper, np.pi)
+    return low + np.asarray(fraction) * (high - low)
+
+
+def _sampled(arm, body, scene, pose, branch, limits):
+    """q7 across the branch's limit range, whether each is in the limits, and its clearance minus the margin."""
+    q7 = np.linspace(limits.bounds[0, 0], limits.bounds[-1, 1], SAMPLES)
+    solutions = arm.ik(pose, q7, branches=[branch])
+    q = solutions.q[:, 0]
+    within = solutions.exists[:, 0] & arm.chain.joints_within_limits(q, tolerance=ROUNDING, wrap=True).all(axis=1)
+    return q7, q, within, clearance(arm.chain, body, scene, q).distance - scene.margin
+
+
+def _inside(bounds: np.ndarray, values: np.ndarray) -> np.ndarray:
+    found = np.zeros(len(values), dtype=bool)
+    for low, high in bounds:
+        found |= (values >= low) & (values <= high)
+    return found
+
+
+@settings(max_examples=3, deadline=None)
+@given(fraction=fractions)
+@example(fraction=RICH[0])
+@example(fraction=RICH[1])
+def test_free_sets_are_clear_and_leave_nothing_clear_out(setup, fraction):
+    arm, body, scene = setup
+    pose = arm.fk(_configuration(arm.chain, fraction))
+    free = collision_free_q7(arm, pose, body, scene)
+    assert free.parameter == "q7" and free.complete
+    low, high = arm.parameter.domain
+    for b, branch in enumerate(free.branches):
+        bounds = free.free[b].bounds
+        assert not free.free[b].wraps.any() and np.all(bounds[:, 0] <= bounds[:, 1])
+        assert np.all(bounds >= low) and np.all(bounds <= high)
+        if not len(free.limits[b].bounds):
+            assert not len(bounds)
+            continue
+        q7, _, within, margin = _sampled(arm, body, scene, pose, branch, free.limits[b])
+        inside = _inside(bounds, q7)
+        assert np.all(within[inside]) and np.all(margin[inside] >= -1e-12)
+        edges = [value for stretch in free.blocked[b] for value in (stretch.start, stretch.end)]
+        undecided = np.array([[s.start, s.end] for s in free.blocked[b] if s.cause == UNDECIDED]).reshape(-1, 2)
+        left_out = ~inside & within & (margin > 0.0) & ~_inside(undecided, q7)
+        near = np.array([min((abs(value - edge) for edge in edges), default=np.inf) for value in q7[left_out]])
+        assert np.all(near <= 2.0 * free.resolution), q7[left_out][near > 2.0 * free.resolution]
+
+
+@settings(max_examples=2, deadline=None)
+@given(fraction=fractions)
+@example(fraction=RICH[0])
+def test_each_collision_stretch_is_blocked_by_the_pair_it_names(setup, fraction):
+    arm, body, scene = setup
+    pose = arm.fk(_configuration(arm.chain, fraction))
+    free = collision_free_q7(arm, pose, body, scene)
+    for b, branch in enumerate(free.branches):
+        stretches = [s for s in free.blocked[b] if s.cause == COLLISION and s.end - s.start > 1e-4]
+        for stretch in stretches:
+            q7 = np.linspace(stretch.start, stretch.end, 9)[1:-1]
+            q = arm.ik(pose, q7, branches=[branch]).q[:, 0]
+            table, pairs = pair_table(arm.chain, body, scene, q)
+            column = pairs.names.index((stretch.link, stretch.against))
+            assert np.all(table[:, column] - scene.margin <= 1e-12), (branch, stretch)
+
+
+@settings(max_examples=3, deadline=None)
+@given(fraction=fractions, width=st.sampled_from([0.2, 0.02, 1e-3, 1e-6]), where=st.floats(0.05, 0.95))
+@example(fraction=RICH[1], width=0.02, where=0.5)
+@example(fraction=RICH[0], width=0.2, where=0.3)
+def test_the_bounds_the_certificate_rests_on_hold(setup, fraction, width, where):
+    """Over an interval where the bounds are proved, every pair's clearance stays within the displacement bound of
+    its value at the middle, on a dense sample of the interval."""
+    arm, body, scene = setup
+    pose = arm.fk(_configuration(arm.chain, fraction))
+    limits = arm.feasible(pose)
+    measure = _Q7Measure(arm, pose[None], body, scene, np.arange(8))
+    checked = 0
+    for b, branch in enumerate(limits.branches):
+        for low, high in limits.arcs(branch).bounds:
+            half = min(width, (high - low) / 2.0) / 2.0
+            if half <= 0.0:
+                continue
+            middle = low + half + where * (high - low - 2.0 * half)
+            owner = np.array([b])
+            bound = measure.rates(owner, np.array([middle]), np.array([half]))[0] * half
+            if not np.all(np.isfinite(bound)):
+                continue
+            q7 = np.linspace(middle - half, middle + half, 201)
+            q = arm.ik(pose, q7, branches=[branch]).q[:, 0]
+            table, _ = pair_table(arm.chain, body, scene, q)
+            assert np.all(np.abs(table - table[100]) <= bound + 1e-12)
+            checked += 1
+    if checked == 0:
+        pytest.skip("no interval with proved bounds at this pose")
+
+
+def test_arm_feasible_and_the_command_line_give_the_same_sets(capsys, tmp_path):
+    arm = redkin.arm("franka-panda")
+    body, scene = builtin_body("franka-panda", arm.chain), scene_of(CELL)
+    q = np.array([0.2, -0.4, 0.3, -2.2, 0.3, 1.9, 0.4])
+    pose = arm.fk(q)
+    free = collision_free_q7(arm, pose, body, scene)
+    sets = arm.feasible(pose, body=body, scene=scene)
+    assert sets.parameter == "q7" and not sets.exact
+    for b, branch in enumerate(free.branches):
+        assert np.array_equal(sets.arcs(branch).bounds.reshape(-1, 2), free.free[b].bounds.reshape(-1, 2))
+    cell = tmp_path / "cell.yaml"
+    cell.write_text(json.dumps(CELL))
+    argv = ["--position", *map(repr, pose[:3, 3].tolist()), "--rotation", *map(repr, pose[:3, :3].ravel().tolist()),
+            "--scene", str(cell)]
+    code, out, _ = run(capsys, ["arm-angles", "franka-panda", *argv, "--json"])
+    assert code == 0
+    report = json.loads(out)
+    assert report["branches"] == {label: free.free[b].bounds.tolist() for b, label in enumerate(free.branches)}
+    assert report["collision"]["complete"] is True
+    code, out, _ = run(capsys, ["arm-angles", "franka-panda", *argv])
+    assert code == 0 and "Q7 (collision-free, 3 obstacles and" in out and "no solution out of range" not in out
+
+
+def test_another_class_and_bad_input_are_refused_in_words():
+    panda = redkin.arm("franka-panda")
+    pose = panda.fk(np.zeros(7) + 0.3)
+    body, scene = builtin_body("franka-panda", panda.chain), scene_of(CELL)
+    with pytest.raises(RedkinError, match="resolution"):
+        collision_free_q7(panda, pose, body, scene, resolution=0.0)
+    with pytest.raises(RedkinError, match="one 4x4"):
+        collision_free_q7(panda, np.stack([pose, pose]), body, scene)
+    iiwa = redkin.arm("kuka-iiwa14")
+    with pytest.raises(RedkinError, match="Franka-class arms; kuka-iiwa14 is S-R-S"):
+        collision_free_q7(iiwa, iiwa.fk(np.zeros(7) + 0.3), builtin_body("kuka-iiwa14", iiwa.chain), scene)
