@@ -106,16 +106,7 @@ class FeasibleSets:
             arcs = ArcSet(np.stack([start, end], axis=-1).tolist()).arcs
             bounds = np.array(arcs, dtype=float).reshape(-1, 2)
             return Arcs(bounds, bounds[:, 0] > bounds[:, 1])
-        order = np.argsort(start, kind="stable")
-        bounds = np.stack([start[order], end[order]], axis=-1).reshape(-1, 2)
-        merged: list[list[float]] = []
-        for lo, hi in bounds.tolist():
-            if merged and lo <= merged[-1][1]:
-                merged[-1][1] = max(merged[-1][1], hi)
-            else:
-                merged.append([lo, hi])
-        bounds = np.array(merged, dtype=float).reshape(-1, 2)
-        return Arcs(bounds, np.zeros(len(bounds), dtype=bool))
+        return merged_intervals(start, end)
 
     def contains(self, t: ArrayLike, branch: str | int) -> np.ndarray:
         """Whether values ``t`` (broadcast against the poses' batch shape) lie in ``branch``'s feasible sets, ends
@@ -143,3 +134,18 @@ class FeasibleSets:
     def nonempty(self) -> np.ndarray:
         """Whether each pose and branch has a feasible value, shape ``(..., B)``."""
         return np.any(self.feasible, axis=-1)
+
+
+def merged_intervals(start: np.ndarray, end: np.ndarray) -> Arcs:
+    """Intervals ``[start, end]`` of a parameter that is not an angle on the circle (q7) as disjoint, sorted,
+    merged arcs that never wrap."""
+    order = np.argsort(start, kind="stable")
+    bounds = np.stack([start[order], end[order]], axis=-1).reshape(-1, 2)
+    merged: list[list[float]] = []
+    for lo, hi in bounds.tolist():
+        if merged and lo <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], hi)
+        else:
+            merged.append([lo, hi])
+    bounds = np.array(merged, dtype=float).reshape(-1, 2)
+    return Arcs(bounds, np.zeros(len(bounds), dtype=bool))

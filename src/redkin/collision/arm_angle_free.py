@@ -179,13 +179,7 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
                      and arm.parameter.name == "q7" else "a later step of issue 40")
         raise RedkinError(f"certified collision-free arm angles are computed on S-R-S and offset-elbow arms; "
                           f"{arm.chain.name} is {arm.kind} ({elsewhere})")
-    if len(body) and int(body.frame.max()) > arm.chain.n:
-        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {arm.chain.name} has {arm.chain.n} joints")
-    if not (np.isfinite(resolution) and resolution > 0.0):
-        raise RedkinError(f"resolution must be a number > 0 (radians), got {resolution!r}")
-    poses = check_pose(poses)
-    if poses.ndim != 3:
-        raise RedkinError(f"poses must have shape (P, 4, 4), got shape {poses.shape}")
+    poses = checked_inputs(arm, poses, body, resolution)
     limits = arm.feasible(poses, branches)
     geometry = arm.implementation.geometry
     labels = limits.branches
@@ -227,6 +221,24 @@ class _PairMeasure(Protocol):
     count: int  # checked pairs
 
     def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray: ...
+
+
+def checked_inputs(arm: Arm, poses: ArrayLike, body: Body, resolution: float) -> np.ndarray:
+    """The poses ``(P, 4, 4)`` of a batch of free sets, checked with the body and the resolution.
+
+    Raises
+    ------
+    RedkinError
+        For a body on another number of joints, a resolution that is not > 0 or malformed poses.
+    """
+    if len(body) and int(body.frame.max()) > arm.chain.n:
+        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {arm.chain.name} has {arm.chain.n} joints")
+    if not (np.isfinite(resolution) and resolution > 0.0):
+        raise RedkinError(f"resolution must be a number > 0 (radians), got {resolution!r}")
+    checked = check_pose(poses)
+    if checked.ndim != 3:
+        raise RedkinError(f"poses must have shape (P, 4, 4), got shape {checked.shape}")
+    return checked
 
 
 def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, poses: int, resolution: float,
@@ -518,19 +530,26 @@ def collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which:
 
 def _limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...],
                      limits: tuple[Arcs, ...]) -> list[list[Stretch]]:
-    """Per branch, the stretches between its limit-feasible arcs, each named by the joints out of range in its middle
-    (where the branch has a solution there; "no solution" where it has none)."""
+    """Per branch, the stretches of the circle between its limit-feasible arcs, named by their causes."""
     gaps = [ArcSet(arcs.bounds.tolist()).complement().arcs for arcs in limits]
-    middles = np.array([_wrapped(start + ((end - start) % TWO_PI) / 2.0) for arcs in gaps for start, end in arcs])
-    owner = np.array([b for b, arcs in enumerate(gaps) for _ in arcs], dtype=np.int64)
+    middles = [_wrapped(start + ((end - start) % TWO_PI) / 2.0) for arcs in gaps for start, end in arcs]
+    return limit_stretches(arm, pose, labels, gaps, middles)
+
+
+def limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...], gaps: list, middles: list[float]
+                    ) -> list[list[Stretch]]:
+    """Per branch, the stretches ``gaps`` (per branch, ``(start, end)`` each) removed by the joint limits, each named
+    by the joints out of range at its middle (``middles``, in the order of the stretches; "no solution" where the
+    branch has none there)."""
+    owner = np.array([b for b, spans in enumerate(gaps) for _ in spans], dtype=np.int64)
     stretches: list[list[Stretch]] = [[] for _ in labels]
     if not len(middles):
         return stretches
-    solutions = arm.ik(pose, middles, branches=labels)
+    solutions = arm.ik(pose, np.array(middles), branches=labels)
     q, exists = solutions.q[np.arange(len(owner)), owner], solutions.exists[np.arange(len(owner)), owner]
     inside = arm.chain.joints_within_limits(q, wrap=True)
-    starts_ends = [arc for arcs in gaps for arc in arcs]
-    for (start, end), b, there, within in zip(starts_ends, owner.tolist(), exists.tolist(), inside, strict=True):
+    spans = [span for branch_spans in gaps for span in branch_spans]
+    for (start, end), b, there, within in zip(spans, owner.tolist(), exists.tolist(), inside, strict=True):
         out = ", ".join(f"joint {joint + 1}" for joint in np.flatnonzero(~within)) if there else "no solution"
         stretches[b].append(Stretch(start, end, LIMIT, "", out))
     return stretches

@@ -32,17 +32,18 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
-from redkin.arms.feasible_sets import Arcs
+from redkin.arms.feasible_sets import Arcs, merged_intervals
 from redkin.arms.franka_kind import FrankaKind
 from redkin.arms.front_door import Arm
 from redkin.circle import TWO_PI
 from redkin.collision.arm_angle_free import (
-    LIMIT,
     FreeArmAngles,
     Stretch,
     certify,
+    checked_inputs,
     collision_stretches,
     first_intervals,
+    limit_stretches,
 )
 from redkin.collision.body import Body, capsule_ends, posed
 from redkin.collision.clearance import checked_pairs, pair_distances
@@ -67,27 +68,9 @@ def collision_free_q7(arm: Arm, pose: ArrayLike, body: Body, scene: Scene,
                       resolution: float = 1e-6, budget: int = 100_000) -> FreeArmAngles:
     """The certified collision-free values of q7 of one pose on each branch of a Franka-class arm (module docstring).
 
-    Parameters
-    ----------
-    arm : Arm
-        A Franka-class arm (:func:`redkin.arm`).
-    pose : array_like, shape (4, 4)
-        The tool's target pose in the base frame.
-    body : Body
-        The arm's capsules, on ``arm.chain``'s frames.
-    scene : Scene
-        The obstacles and the margin (also kept between the body's self-collision pairs).
-    branches : str or sequence of str, optional
-        Default all eight.
-    resolution : float
-        Ends are located to this width [rad], > 0.
-    budget : int
-        The most configurations to evaluate; beyond it the open intervals are left undecided (``complete`` false).
-
-    Returns
-    -------
-    FreeArmAngles
-        With ``parameter`` ``"q7"``: its arcs never wrap.
+    ``arm`` is a Franka-class arm (:func:`redkin.arm`); ``pose``, ``body``, ``scene``, ``branches``, ``resolution``
+    and ``budget`` are those of :func:`redkin.collision.collision_free_arm_angles`.  Returns its
+    :class:`~redkin.collision.FreeArmAngles` with ``parameter`` ``"q7"``, whose intervals never wrap.
 
     Raises
     ------
@@ -108,13 +91,7 @@ def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     if not isinstance(arm.implementation, FrankaKind):
         raise RedkinError(f"certified collision-free q7 sets are computed on Franka-class arms; {arm.chain.name} is "
                           f"{arm.kind}")
-    if len(body) and int(body.frame.max()) > arm.chain.n:
-        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {arm.chain.name} has {arm.chain.n} joints")
-    if not (np.isfinite(resolution) and resolution > 0.0):
-        raise RedkinError(f"resolution must be a number > 0 (radians), got {resolution!r}")
-    poses = check_pose(poses)
-    if poses.ndim != 3:
-        raise RedkinError(f"poses must have shape (P, 4, 4), got shape {poses.shape}")
+    poses = checked_inputs(arm, poses, body, resolution)
     limits = arm.feasible(poses, branches)
     labels = limits.branches
     count = len(labels)
@@ -130,7 +107,7 @@ def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
         for b in range(count):
             mine = parts[2] == p * count + b
             free = mine & (parts[3] == 0)
-            free_sets.append(_as_intervals(parts[0][free], parts[1][free]))
+            free_sets.append(merged_intervals(parts[0][free], parts[1][free]))
             stretches = collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
                                             measure.names, float)
             blocked.append(tuple(sorted(stretches + at_limits[b], key=lambda stretch: stretch.start)))
@@ -243,37 +220,11 @@ def _levers(chain, body: Body) -> tuple[np.ndarray, np.ndarray]:
     return base, tip
 
 
-def _as_intervals(lo: np.ndarray, hi: np.ndarray) -> Arcs:
-    """Free intervals of q7 as disjoint, merged, sorted intervals (never wrapping)."""
-    order = np.argsort(lo)
-    merged: list[list[float]] = []
-    for start, end in zip(lo[order].tolist(), hi[order].tolist(), strict=True):
-        if merged and start <= merged[-1][1]:
-            merged[-1][1] = max(merged[-1][1], end)
-        else:
-            merged.append([start, end])
-    bounds = np.array(merged, dtype=float).reshape(-1, 2)
-    return Arcs(bounds, np.zeros(len(bounds), dtype=bool))
-
-
 def _limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...], limits: tuple[Arcs, ...],
                      domain: np.ndarray) -> list[list[Stretch]]:
-    """Per branch, the stretches of joint 7's range between its limit-feasible intervals, each named by the joints
-    out of range in its middle (where the branch has a solution there; "no solution" where it has none)."""
+    """Per branch, the stretches of joint 7's range between its limit-feasible intervals, named by their causes."""
     gaps: list[list[tuple[float, float]]] = []
     for arcs in limits:
         edges = [float(domain[0]), *arcs.bounds.ravel().tolist(), float(domain[1])]
         gaps.append([(a, b) for a, b in zip(edges[::2], edges[1::2], strict=True) if b > a])
-    stretches: list[list[Stretch]] = [[] for _ in labels]
-    owner = np.array([b for b, spans in enumerate(gaps) for _ in spans], dtype=np.int64)
-    if not len(owner):
-        return stretches
-    spans = [span for spans in gaps for span in spans]
-    middles = np.array([(a + b) / 2.0 for a, b in spans])
-    solutions = arm.ik(pose, middles, branches=labels)
-    q, exists = solutions.q[np.arange(len(owner)), owner], solutions.exists[np.arange(len(owner)), owner]
-    inside = arm.chain.joints_within_limits(q, wrap=True)
-    for (start, end), b, there, within in zip(spans, owner.tolist(), exists.tolist(), inside, strict=True):
-        out = ", ".join(f"joint {joint + 1}" for joint in np.flatnonzero(~within)) if there else "no solution"
-        stretches[b].append(Stretch(start, end, LIMIT, "", out))
-    return stretches
+    return limit_stretches(arm, pose, labels, gaps, [(a + b) / 2.0 for spans in gaps for a, b in spans])
