@@ -95,7 +95,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "optimal arm angle, two numbers >= 0, not both 0 (default 0.5 0.5; [000 eq. 40]; "
                              "S-R-S, offset-elbow and nearly S-R-S arms)")
     add_srs_tolerance_argument(angles)
-    add_cell_arguments(angles, "the sets become the arm angles clear of every obstacle and of the arm's own links")
+    add_cell_arguments(angles, "the sets become the values of the parameter (psi, or q7 on the Franka class) clear "
+                               "of every obstacle and of the arm's own links")
     add_output_flags(angles)
     angles.set_defaults(handler=_run_arm_angles, in_python=True)
 
