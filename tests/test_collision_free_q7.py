@@ -21,7 +21,14 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import redkin
-from redkin.collision import builtin_body, clearance, collision_free_q7, scene_of
+from redkin.collision import (
+    builtin_body,
+    clearance,
+    collision_free_arm_angles,
+    collision_free_q7,
+    collision_free_set,
+    scene_of,
+)
 from redkin.collision.arm_angle_free import COLLISION, UNDECIDED
 from redkin.collision.clearance import pair_table
 from redkin.collision.q7_free import _Q7Measure
@@ -180,3 +187,19 @@ def test_another_class_and_bad_input_are_refused_in_words():
     iiwa = redkin.arm("kuka-iiwa14")
     with pytest.raises(RedkinError, match="Franka-class arms; kuka-iiwa14 is S-R-S"):
         collision_free_q7(iiwa, iiwa.fk(np.zeros(7) + 0.3), builtin_body("kuka-iiwa14", iiwa.chain), scene)
+
+
+def test_the_class_door_gives_each_class_s_own_sets_and_refuses_the_others():
+    """collision_free_set is collision_free_q7 on the Franka class and collision_free_arm_angles on S-R-S arms; a
+    nearly S-R-S arm, which has no certified sets yet, is refused naming its class."""
+    scene = scene_of(CELL)
+    for robot, own in (("franka-panda", collision_free_q7), ("kuka-iiwa14", collision_free_arm_angles)):
+        arm = redkin.arm(robot)
+        body, pose = builtin_body(robot, arm.chain), arm.fk(np.array(RICH[0]) - 0.2)
+        door, direct = collision_free_set(arm, pose, body, scene, "+-+"), own(arm, pose, body, scene, "+-+")
+        assert door.parameter == direct.parameter and door.branches == direct.branches
+        assert np.array_equal(door.free[0].bounds, direct.free[0].bounds)
+        assert door.blocked == direct.blocked
+    gen3 = redkin.arm("kinova-gen3")
+    with pytest.raises(RedkinError, match="Franka-class arms; kinova-gen3 is nearly S-R-S"):
+        collision_free_set(gen3, gen3.fk(np.zeros(7) + 0.3), builtin_body("kinova-gen3", gen3.chain), scene)

@@ -267,8 +267,7 @@ class Arm:
               scene: Scene | None) -> FeasibleSets:
         """:meth:`feasible` in a cell: each pose's certified collision-free arcs as pieces."""
         from redkin._validation import check_pose
-        from redkin.collision.arm_angle_free import free_arm_angles_of
-        from redkin.collision.q7_free import free_q7_of
+        from redkin.collision.free_sets import free_sets_of
         from redkin.paths.family import as_pieces
 
         if body is None or scene is None:
@@ -278,8 +277,7 @@ class Arm:
         labels = self._labels(branches)
         sets = [[[(lo, hi + TWO_PI if wraps else hi) for (lo, hi), wraps
                   in zip(arcs.bounds.tolist(), arcs.wraps.tolist(), strict=True)] for arcs in free.free]
-                for free in (free_q7_of if self.parameter.name == "q7" else free_arm_angles_of)(
-                    self, checked.reshape(-1, 4, 4), body, scene, labels)]
+                for free in free_sets_of(self, checked.reshape(-1, 4, 4), body, scene, labels)]
         pieces = as_pieces(sets, len(labels))
         shape = checked.shape[:-2] + pieces.start.shape[1:]
         return FeasibleSets(pieces.start.reshape(shape), pieces.end.reshape(shape), pieces.feasible.reshape(shape),

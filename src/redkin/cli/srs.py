@@ -297,11 +297,10 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     analysis = classified.analyse(pose, branch, target=target, weights=args.weights)
     report = _arm_angles_report(classified, analysis, args.deg)
     if cell is not None:
-        from redkin.collision import collision_free_arm_angles, collision_free_q7
+        from redkin.collision import collision_free_set
 
         body, scene = cell
-        free = (collision_free_q7 if analysis.parameter.name == "q7" else collision_free_arm_angles)(
-            classified, pose, body, scene)
+        free = collision_free_set(classified, pose, body, scene)
         free_report(report, chain, free, scene, body, args.deg, branch, analysis.branches[0].optimal)
     if args.json:
         print_json(report)

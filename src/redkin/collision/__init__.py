@@ -34,6 +34,7 @@ of S-R-S arms (:func:`collision_free_arm_angles`).
   every obstacle and of the body itself by the margin, and each removed stretch's cause (:class:`FreeArmAngles`,
   :class:`Stretch`); :func:`free_arm_angles_of` the same of many poses, decided together
 * :func:`collision_free_q7` -- the same on Franka-class arms, over q7 (:func:`free_q7_of` for many poses)
+* :func:`collision_free_set` -- whichever of the two the arm's class has (:func:`free_sets_of` for many poses)
 """
 
 from redkin.collision.arm_angle_free import FreeArmAngles, Stretch, collision_free_arm_angles, free_arm_angles_of
@@ -43,6 +44,7 @@ from redkin.collision.builtin import builtin_body, builtin_models
 from redkin.collision.clearance import Clearance, clearance
 from redkin.collision.distances import Distance, signed_distance
 from redkin.collision.free_ik import FreeSolutions, collision_free_ik
+from redkin.collision.free_sets import collision_free_set, free_sets_of
 from redkin.collision.link_frames import LinkFrame, numbered_link_frames, urdf_link_frames
 from redkin.collision.mesh_cover import MeshBox, MeshCapsule, covering_boxes, covering_capsules
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE, WIDTH, box, capsule, plane, sphere
@@ -55,6 +57,6 @@ __all__ = ["BOX", "CAPSULE", "PLANE", "SPHERE", "WIDTH", "Distance", "Scene", "b
            "scene_of", "signed_distance", "sphere", "LinkFrame", "urdf_link_frames", "numbered_link_frames",
            "read_body", "body_data", "urdf_body", "srdf_ignored_pairs", "Body", "BodyCapsule", "body_of", "posed",
            "FreeArmAngles", "Stretch", "collision_free_arm_angles", "free_arm_angles_of", "collision_free_q7",
-           "free_q7_of", "FreeSolutions",
+           "free_q7_of", "collision_free_set", "free_sets_of", "FreeSolutions",
            "collision_free_ik", "Clearance", "clearance", "StepClearance", "step_clearance", "steps_between",
            "MeshCapsule", "covering_capsules", "MeshBox", "covering_boxes", "builtin_body", "builtin_models"]

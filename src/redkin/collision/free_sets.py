@@ -1,0 +1,75 @@
+"""The certified collision-free sets of an arm's redundancy parameter, whichever class the arm is (issue 40, items 4
+and 5): the one door through which the path search, the explorer and the command line take them.
+
+* S-R-S and offset-elbow arms: the arm angles of :func:`redkin.collision.arm_angle_free.free_arm_angles_of`;
+* the Franka class: the values of q7 of :func:`redkin.collision.q7_free.free_q7_of`.
+
+Both return :class:`redkin.collision.FreeArmAngles` (its ``parameter`` says which), so what uses the sets is
+written once.  Other classes (nearly S-R-S arms, chains solved numerically) have no certified sets yet and are
+refused in words.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from redkin._validation import check_pose
+from redkin.arms.classify import FRANKA, OFFSET_ELBOW, SRS
+from redkin.arms.front_door import Arm
+from redkin.collision.arm_angle_free import FreeArmAngles, free_arm_angles_of, moved_pairs
+from redkin.collision.body import Body
+from redkin.collision.clearance import checked_pairs
+from redkin.collision.q7_free import free_q7_of
+from redkin.collision.scene import Scene
+from redkin.errors import RedkinError
+
+Branches = str | tuple[str, ...] | list[str] | None
+
+
+def free_sets_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, branches: Branches = None, *,
+                 resolution: float = 1e-6, budget: int = 100_000) -> list[FreeArmAngles]:
+    """The certified collision-free sets of each pose of ``poses`` ``(P, 4, 4)`` on each branch (or ``branches``),
+    over the arm's redundancy parameter: :func:`redkin.collision.free_arm_angles_of` or
+    :func:`redkin.collision.free_q7_of` as the arm's class has it (same arguments).
+
+    Raises
+    ------
+    RedkinError
+        For an arm of a class without certified sets (named), and whatever the class's function refuses.
+    """
+    if arm.kind == FRANKA:
+        return free_q7_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
+    if arm.kind in (SRS, OFFSET_ELBOW):
+        return free_arm_angles_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
+    raise RedkinError(f"certified collision-free sets are computed on S-R-S, offset-elbow and Franka-class arms; "
+                      f"{arm.chain.name} is {arm.kind} (a later step of issue 40)")
+
+
+def collision_free_set(arm: Arm, pose: ArrayLike, body: Body, scene: Scene, branches: Branches = None, *,
+                       resolution: float = 1e-6, budget: int = 100_000) -> FreeArmAngles:
+    """:func:`free_sets_of` of one pose ``(4, 4)``."""
+    checked = check_pose(pose)
+    if checked.shape != (4, 4):
+        raise RedkinError(f"pose must be one 4x4 transform, got shape {checked.shape}")
+    return free_sets_of(arm, checked[None], body, scene, branches, resolution=resolution, budget=budget)[0]
+
+
+def redundancy_moves(arm: Arm, body: Body, scene: Scene, q: ArrayLike) -> np.ndarray:
+    """Per configuration ``q`` ``(N, 7)`` and checked pair of ``body`` and ``scene``
+    (:func:`redkin.collision.clearance.checked_pairs`), whether the pair's distance can change with the redundancy
+    parameter at the configuration's pose ``(N, P)``.
+
+    On S-R-S and offset-elbow arms, :func:`redkin.collision.arm_angle_free.moved_pairs`.  On the Franka class, a
+    pair stays put only where both shapes do: on the base (frame 0) or on the last link, which the pose holds (an
+    obstacle never moves); every other pair is counted as moving, which may count a pair whose distance happens not
+    to change (a capsule along axis 1), never the reverse.
+    """
+    if arm.kind != FRANKA:
+        return moved_pairs(arm, body, scene, q)
+    chain = arm.chain
+    count = len(chain.check_q(q).reshape(-1, chain.n))
+    still = (body.frame == 0) | (body.frame >= chain.n)  # (M,)
+    pairs = checked_pairs(body, scene)
+    fixed = still[pairs.capsule] & ((pairs.other < 0) | still[np.maximum(pairs.other, 0)])
+    return np.broadcast_to(~fixed, (count, len(fixed))).copy()
