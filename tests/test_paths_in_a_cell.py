@@ -47,11 +47,11 @@ def test_a_waypoint_blocked_on_every_branch_names_the_pair(setting):
     assert "hand meets ball" in failure.message
 
 
-def test_a_cell_needs_both_parts_and_an_arm_angle_class(setting):
+def test_a_cell_needs_both_parts_and_a_class_with_free_sets(setting):
     chain, poses, body, _ = setting
     with pytest.raises(RedkinError, match="both"):
         resolve_path(chain, poses, 0.15, body=body)
-    franka = redkin.get_robot("franka-panda")
-    with pytest.raises(RedkinError, match="S-R-S"):
-        resolve_path(franka, franka.fk(np.zeros((3, 7)) + 0.2), 0.15, body=body_of([], franka),
+    gen3 = redkin.get_robot("kinova-gen3")  # nearly S-R-S: no certified collision-free sets yet
+    with pytest.raises(RedkinError, match="Franka-class arms so far; kinova-gen3"):
+        resolve_path(gen3, gen3.fk(np.zeros((3, 7)) + 0.2), 0.15, body=body_of([], gen3),
                      scene=Scene((), np.empty((0, primitives.WIDTH))))

@@ -1,15 +1,15 @@
-"""Path resolution in a cell (issue 40): an arm's class whose pieces are the certified collision-free arm angles
-(:func:`redkin.collision.collision_free_arm_angles`) inside its exact feasible pieces, so that every waypoint of a
-resolved path keeps every link of the body the scene's margin away from every obstacle and from the body's other
-links.
+"""Path resolution in a cell (issue 40): an arm's class whose pieces are the certified collision-free sets of its
+redundancy parameter (:func:`redkin.collision.free_sets_of`: the arm angles of S-R-S and offset-elbow arms, q7 on the
+Franka class) inside its exact feasible pieces, so that every waypoint of a resolved path keeps every link of the
+body the scene's margin away from every obstacle and from the body's other links.
 
-Each exact piece (an interval of psi on which the branch exists, keeps every limit and is continuous) is cut to the
-free arcs within it, so the path search, its polish and its clearance levels (the limits moved in) all stay inside
-the free sets.  Between waypoints nothing is searched here: the joint values interpolate between two collision-free
-configurations, and a link may sweep through a thin obstacle on a long step; :func:`redkin.collision.step_clearance`
-checks the steps of the path found (docs/paths.md).  The sets are
-certified, not exact (undecided slivers of at most the resolution are left out), so no clearance is claimed optimal.
-S-R-S and offset-elbow arms only, as the free sets.
+Each exact piece (an interval of the parameter on which the branch exists, keeps every limit and is continuous) is
+cut to the free intervals within it, so the path search, its polish and its clearance levels (the limits moved in)
+all stay inside the free sets.  Between waypoints nothing is searched here: the joint values interpolate between
+two collision-free configurations, and a link may sweep through a thin obstacle on a long step;
+:func:`redkin.collision.step_clearance` checks the steps of the path found (docs/paths.md).  The sets are certified,
+not exact (undecided slivers of at most the resolution are left out), so no clearance is claimed optimal.
+S-R-S, offset-elbow and Franka-class arms, as the free sets.
 """
 
 from __future__ import annotations
@@ -22,7 +22,8 @@ import numpy as np
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
-from redkin.paths.family import ArmAngleFamily, Family, as_pieces
+from redkin.franka.ik import PARAMETER as Q7
+from redkin.paths.family import PSI, ArmAngleFamily, Family, Q7Family, as_pieces
 from redkin.paths.graph import Arm
 from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import FeasiblePieces
@@ -35,12 +36,15 @@ if TYPE_CHECKING:  # redkin.collision's free sets use the arms, whose classes us
 
 @dataclass(frozen=True)
 class _CollisionFreeFamily(Family):
-    """An S-R-S or offset-elbow arm's family (:class:`redkin.paths.family.ArmAngleFamily`) whose pieces are cut to
-    the collision-free arm angles of ``body`` in ``scene`` (module docstring)."""
+    """An S-R-S or offset-elbow arm's family (:class:`redkin.paths.family.ArmAngleFamily`), or a Franka-class arm's
+    (:class:`redkin.paths.family.Q7Family`), whose pieces are cut to the collision-free sets of ``body`` in ``scene``
+    (module docstring)."""
 
-    base: ArmAngleFamily
+    base: ArmAngleFamily | Q7Family
     body: Body
     scene: Scene
+    parameter: str = PSI
+    wraps: bool = True
     exact: bool = False
     baselines: bool = False
 
@@ -52,20 +56,21 @@ class _CollisionFreeFamily(Family):
         return self.base.arm(poses, step)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
-        """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free arcs."""
+        """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free intervals."""
         from redkin.arms.front_door import arm
-        from redkin.collision.arm_angle_free import free_arm_angles_of
+        from redkin.collision.free_sets import free_sets_of
 
         exact = self.base.pieces(poses)
-        some = np.flatnonzero(exact.feasible.any(axis=(1, 2)))  # the waypoints the limits leave arm angles at
-        free = dict(zip(some.tolist(), free_arm_angles_of(arm(self.chain), poses[some], self.body, self.scene)))
+        some = np.flatnonzero(exact.feasible.any(axis=(1, 2)))  # the waypoints the limits leave values at
+        free = dict(zip(some.tolist(), free_sets_of(arm(self.chain), poses[some], self.body, self.scene)))
         sets: list[list[list[tuple[float, float]]]] = []
         for w in range(len(poses)):
             if w not in free:
                 sets.append([[] for _ in BRANCHES])
                 continue
             sets.append([_cut(exact.start[w, b][exact.feasible[w, b]], exact.end[w, b][exact.feasible[w, b]],
-                              free[w].free[b].bounds, free[w].free[b].wraps) for b in range(len(BRANCHES))])
+                              free[w].free[b].bounds, free[w].free[b].wraps, self.wraps)
+                         for b in range(len(BRANCHES))])
         return as_pieces(sets)
 
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -75,13 +80,13 @@ class _CollisionFreeFamily(Family):
         inner = self.base.inner(level)
         if inner is None:
             return None
-        assert isinstance(inner, ArmAngleFamily)
-        return _CollisionFreeFamily(inner, self.body, self.scene)
+        assert isinstance(inner, ArmAngleFamily | Q7Family)
+        return _CollisionFreeFamily(inner, self.body, self.scene, self.parameter, self.wraps)
 
     def model(self) -> str:
         return (f"in a cell: {len(self.scene)} obstacles at margin {self.scene.margin:g} m, {len(self.body)} body "
-                "capsules; the waypoints' sets are the certified collision-free arm angles, so no clearance is proved "
-                "optimal")
+                f"capsules; the waypoints' sets are the certified collision-free {_NAMES[self.parameter]}, so no "
+                "clearance is proved optimal")
 
     def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
         """The base family's answer where the limits alone leave nothing; else no joint: the obstacles do
@@ -94,17 +99,19 @@ class _CollisionFreeFamily(Family):
         """``("collision", (link, obstacle))`` where the limits leave arm angles and the obstacles take them all, the
         pair that blocks the most of them over the branches; else the base family's ``("empty", None)``."""
         from redkin.arms.front_door import arm
-        from redkin.collision.arm_angle_free import COLLISION, collision_free_arm_angles
+        from redkin.collision.arm_angle_free import COLLISION
+        from redkin.collision.free_sets import collision_free_set
 
         if not self.base.pieces(pose[None]).feasible.any():
             return self.base.emptied(pose)
-        free = collision_free_arm_angles(arm(self.chain), pose, self.body, self.scene)
+        free = collision_free_set(arm(self.chain), pose, self.body, self.scene)
         blocked: dict[tuple[str, str], float] = {}
         for stretches in free.blocked:
             for stretch in stretches:
                 if stretch.cause == COLLISION:
                     pair = (stretch.link, stretch.against)
-                    blocked[pair] = blocked.get(pair, 0.0) + (stretch.end - stretch.start) % TWO_PI
+                    width = stretch.end - stretch.start
+                    blocked[pair] = blocked.get(pair, 0.0) + (width % TWO_PI if self.wraps else width)
         return "collision", (max(blocked, key=lambda pair: blocked[pair]) if blocked else None)
 
     def distances(self, q: np.ndarray) -> np.ndarray:
@@ -114,16 +121,16 @@ class _CollisionFreeFamily(Family):
         return clearance(self.chain, self.body, self.scene, q).distance
 
     def moving_distances(self, q: np.ndarray) -> np.ndarray:
-        """The least signed distance of each configuration of ``q`` over the pairs whose distance the arm angle can
-        change at its pose (:func:`redkin.collision.arm_angle_free.moved_pairs`): a pair the pose fixes (the tool's
-        link and a shelf, the elbow and a ball at the wrist centre) is as close on every arm angle, so it is left
-        out of what the objective ``"obstacle-clearance"`` compares."""
+        """The least signed distance of each configuration of ``q`` over the pairs whose distance the redundancy can
+        change at its pose (:func:`redkin.collision.free_sets.redundancy_moves`): a pair the pose fixes (the tool's
+        link and a shelf; on S-R-S arms the elbow and a ball at the wrist centre) is as close on every value of the
+        parameter, so it is left out of what the objective ``"obstacle-clearance"`` compares."""
         from redkin.arms.front_door import arm
-        from redkin.collision.arm_angle_free import moved_pairs
         from redkin.collision.clearance import pair_table
+        from redkin.collision.free_sets import redundancy_moves
 
         table, _ = pair_table(self.chain, self.body, self.scene, q)
-        moves = moved_pairs(arm(self.chain), self.body, self.scene, q)
+        moves = redundancy_moves(arm(self.chain), self.body, self.scene, q)
         return np.where(moves, table, np.inf).min(axis=1, initial=np.inf)
 
     def steps(self, start: np.ndarray, end: np.ndarray) -> StepClearance:
@@ -134,21 +141,27 @@ class _CollisionFreeFamily(Family):
 
 
 def collision_free_family(family: Family, body: Body, scene: Scene) -> _CollisionFreeFamily:
-    """``family`` in the cell ``scene`` with the arm's ``body`` (S-R-S and offset-elbow arms)."""
-    if not isinstance(family, ArmAngleFamily):
-        raise RedkinError(f"paths in a cell are resolved on S-R-S and offset-elbow arms so far; {family.chain.name} "
-                          "is of another class (a later step of issue 40)")
-    return _CollisionFreeFamily(family, body, scene)
+    """``family`` in the cell ``scene`` with the arm's ``body`` (S-R-S, offset-elbow and Franka-class arms)."""
+    if not isinstance(family, ArmAngleFamily | Q7Family):
+        raise RedkinError(f"paths in a cell are resolved on S-R-S, offset-elbow and Franka-class arms so far; "
+                          f"{family.chain.name} is of another class (a later step of issue 40)")
+    return _CollisionFreeFamily(family, body, scene, family.parameter, family.wraps)
 
 
-def _cut(start: np.ndarray, end: np.ndarray, bounds: np.ndarray, wraps: np.ndarray) -> list[tuple[float, float]]:
-    """The intervals ``[start_k, end_k]`` (``end`` may pass pi) cut to the free arcs ``bounds`` (through the seam
-    where ``wraps``), sorted."""
+#: The parameter's values in words, by its name in results.
+_NAMES = {PSI: "arm angles", Q7: "values of q7"}
+
+
+def _cut(start: np.ndarray, end: np.ndarray, bounds: np.ndarray, wraps: np.ndarray,
+         circle: bool) -> list[tuple[float, float]]:
+    """The intervals ``[start_k, end_k]`` cut to the free intervals ``bounds`` (through the seam where ``wraps``),
+    sorted.  On the ``circle`` (the arm angle), ``end`` may pass pi and the free arcs are met a turn either way."""
     free = [(lo, hi + TWO_PI if w else hi) for (lo, hi), w in zip(bounds.tolist(), wraps.tolist(), strict=True)]
+    turns = (-TWO_PI, 0.0, TWO_PI) if circle else (0.0,)
     cut = []
     for s, e in zip(start.tolist(), end.tolist(), strict=True):
         for lo, hi in free:
-            for turn in (-TWO_PI, 0.0, TWO_PI):
+            for turn in turns:
                 a, b = max(s, lo + turn), min(e, hi + turn)
                 if b > a:
                     cut.append((a, b))
