@@ -49,10 +49,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", required=True, metavar="FILE.html", help="the page to write")
     add_force_flag(parser)
     add_srs_tolerance_argument(parser)
-    add_cell_arguments(parser, "the page draws the obstacles and the arm's capsules, shades the arm angles they "
-                               "remove by cause, and says how far the arm is from them at the slider's value "
-                               "(S-R-S and offset-elbow arms); with --path, the playback draws them at each frame "
-                               "and says the least distance at the slider's time (any arm)")
+    add_cell_arguments(parser, "the page draws the obstacles and the arm's capsules, shades the arm angles (q7 on "
+                               "the Franka class) they remove by cause, and says how far the arm is from them at the "
+                               "slider's value (S-R-S, offset-elbow and Franka-class arms); with --path, the "
+                               "playback draws them at each frame and says the least distance at the slider's time "
+                               "(any arm)")
     add_output_flags(parser)
     parser.set_defaults(handler=run, in_python=True)
 

@@ -1,9 +1,10 @@
 """The explorer in a cell (issue 40): the obstacles, the arm's body at every grid value, its least distance and the
 certified collision-free arm angles, for the page to draw beside the limit sets.
 
-The numbers come from :func:`redkin.collision.collision_free_arm_angles` (the free arcs and the cause of every
-stretch removed) and :func:`redkin.collision.clearance.pair_table` (the distances at the grid's joint values); the
-page computes none of its own.  S-R-S and offset-elbow arms, as the free sets.
+The numbers come from :func:`redkin.collision.collision_free_set` (the free intervals of the arm angle, or of q7 on
+the Franka class, and the cause of every stretch removed) and :func:`redkin.collision.clearance.pair_table` (the
+distances at the grid's joint values); the page computes none of its own.  S-R-S, offset-elbow and Franka-class
+arms, as the free sets.
 """
 
 from __future__ import annotations
@@ -13,9 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from redkin.arms.front_door import Arm
-from redkin.collision.arm_angle_free import COLLISION, LIMIT, collision_free_arm_angles
+from redkin.collision.arm_angle_free import COLLISION, LIMIT
 from redkin.collision.body import Body, capsule_ends, posed
 from redkin.collision.clearance import checked_pairs, least_pair, pair_table
+from redkin.collision.free_sets import collision_free_set
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE
 from redkin.collision.scene import Scene
 from redkin.explore.curves import BranchCurves
@@ -67,10 +69,10 @@ def cell_view(arm: Arm, pose: np.ndarray, body: Body, scene: Scene, curves: tupl
     Raises
     ------
     RedkinError
-        For an arm of another class than S-R-S or offset-elbow (named), or a body on frames the chain does not
+        For an arm of a class without certified collision-free sets (named), or a body on frames the chain does not
         have.
     """
-    free = collision_free_arm_angles(arm, pose, body, scene, [c.branch for c in curves])
+    free = collision_free_set(arm, pose, body, scene, [c.branch for c in curves])
     cells = []
     for b, branch in enumerate(curves):
         q = np.where(branch.exists[:, None], branch.q, 0.0)
