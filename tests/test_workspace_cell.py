@@ -1,7 +1,9 @@
-"""Workspace maps in a cell (issue 40): reachability inside the cell, from the certified collision-free arm angles.
+"""Workspace maps in a cell (issue 40): reachability inside the cell, from the certified collision-free arm angles
+(q7 on the Franka class).
 
-Laws: every entry equals the measure of :func:`redkin.collision.collision_free_arm_angles` at that pose and branch,
-and is at most the limits-only map's; the local scheduler equals a cluster; a store resumes only the same cell.
+Laws: every entry equals the measure of :func:`redkin.collision.collision_free_arm_angles` (or
+:func:`redkin.collision.collision_free_q7`) at that pose and branch, and is at most the limits-only map's; the local
+scheduler equals a cluster; a store resumes only the same cell.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
 import redkin  # noqa: E402
-from redkin.collision import builtin_body, collision_free_arm_angles, scene_of  # noqa: E402
+from redkin.collision import builtin_body, collision_free_arm_angles, collision_free_q7, scene_of  # noqa: E402
 from redkin.srs import pose_from  # noqa: E402
 from redkin.workspace import workspace_map  # noqa: E402
 from tests.support.cli import run  # noqa: E402
@@ -80,9 +82,31 @@ def test_a_cell_needs_both_and_an_arm_with_certified_free_sets(cell, tmp_path):
     arm, _, scene = cell
     with pytest.raises(ValueError, match="needs both the arm's body and the scene"):
         workspace_map(arm, tmp_path / "m.zarr", EXTENT, 3, 4, scene=scene)
-    fr3 = redkin.get_robot("franka-fr3")
-    with pytest.raises(ValueError, match="of the Franka class"):
-        workspace_map(fr3, tmp_path / "m.zarr", EXTENT, 3, 4, body=builtin_body("franka-fr3", fr3), scene=scene)
+    gen3 = redkin.get_robot("kinova-gen3")
+    with pytest.raises(ValueError, match="'kinova-gen3' is nearly S-R-S"):
+        workspace_map(gen3, tmp_path / "m.zarr", EXTENT, 3, 4, body=builtin_body("kinova-gen3", gen3), scene=scene)
+
+
+def test_the_franka_class_maps_its_certified_q7_sets(tmp_path):
+    """On the FR3 each entry is the measure of collision_free_q7's intervals at that pose and branch, at most the
+    limits-only map's; the default chunk of the class is small (its poses take a good part of a second)."""
+    arm = redkin.get_robot("franka-fr3")
+    body, scene = builtin_body("franka-fr3", arm), scene_of(SCENE, "cell.yaml")
+    free = workspace_map(arm, tmp_path / "free.zarr", EXTENT, 2, 2, body=body, scene=scene)
+    plain = workspace_map(arm, tmp_path / "plain.zarr", EXTENT, 2, 2)
+    assert free.chunks == 1 and free.reachable_poses > 0
+    with xr.open_zarr(free.path, chunks=None) as dataset, xr.open_zarr(plain.path, chunks=None) as limits:
+        measure, bound = dataset["measure"].values, limits["measure"].values
+        x, y, z = (dataset[axis].values for axis in "xyz")
+        rotations = dataset["rotation"].values
+        assert dataset.attrs["parameter"] == "q7"
+    assert np.all(measure <= bound + 1e-9)
+    classified = redkin.arm(arm)
+    for i, j, k, o in np.argwhere(bound.max(axis=-1) > 0)[:3]:
+        expected = collision_free_q7(classified, pose_from(np.array([x[i], y[j], z[k]]), rotations[o]), body, scene)
+        for column, arcs in enumerate(expected.free):
+            length = float(np.sum(arcs.bounds[:, 1] - arcs.bounds[:, 0]))
+            assert measure[i, j, k, o, column] == pytest.approx(length if length > 1e-12 else 0.0, abs=1e-9)
 
 
 @pytest.mark.slow

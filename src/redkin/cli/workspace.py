@@ -51,7 +51,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                          help="no progress on stderr (by default a bar on a terminal, plain lines elsewhere)")
     add_srs_tolerance_argument(command)
     add_cell_arguments(command, "the map holds the certified collision-free sets instead, reachability inside the "
-                                "cell (S-R-S and offset-elbow arms; chunks of about 4096 poses by default)")
+                                "cell (S-R-S and offset-elbow arms, chunks of about 4096 poses by default; "
+                                "the Franka class over q7, chunks of about 64 poses)")
     add_output_flags(command, degrees=False)
     command.set_defaults(handler=run)
 
@@ -69,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
         if args.srs_tolerance is not None:
             raise UsageError("--srs-tolerance is for nearly S-R-S arms; the thesis 001 humanoid is not one")
         if args.scene is not None:
-            raise UsageError("--scene maps an arm with collision-free arm angles; the thesis 001 humanoid has none")
+            raise UsageError("--scene maps an arm with certified collision-free sets; the thesis 001 humanoid has none")
         return run_humanoid(args, chain)
     if args.samples is not None:
         raise UsageError("--samples is for the thesis 001 humanoid; any other arm takes --orientations N")
@@ -83,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     cell = load_cell(args, chain)
     if cell is not None and chunk is None:
-        chunk = cell_chunk(resolution, orientations)
+        chunk = cell_chunk(resolution, orientations, mapped.parameter.name)
     grid = workspace_grid(args.extent, resolution, orientations, chunk)
     xr = require_map_libraries()
     client = open_client(args.scheduler)

@@ -66,9 +66,10 @@ if TYPE_CHECKING:
 M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 32 * 1024 * 1024
 #: Grid points per axis of one Dask task of the summary (a map of 1000^3 positions reads in 512 of them).
 _SUMMARY_SPAN = 128
-#: Poses per chunk of a map in a cell by default: a pose's certified collision-free sets take milliseconds (0.5-2 s
-#: per thousand poses on the worked cell, most of a box being out of reach), so a chunk is seconds of work.
-_CELL_CHUNK_POSES = 4096
+#: Poses per chunk of a map in a cell by default, by the redundancy parameter's name, so that a chunk is seconds to a
+#: minute of work: a pose's certified collision-free arm angles take milliseconds (0.5-2 s per thousand poses on the
+#: worked cell, most of a box being out of reach), its q7 sets on the Franka class 0.2-0.9 s (benchmarks/README.md).
+_CELL_CHUNK_POSES = {"psi": 4096, "q7": 64}
 #: Seconds a failed run on a cluster waits for the chunks its workers hold to be written.
 _DRAIN_SECONDS = 300
 #: ``progress(done, total)`` after each chunk of a run (``total`` counts the chunks this run computes).
@@ -411,9 +412,10 @@ def workspace_map(
 ) -> WorkspaceRun:
     """Exact reachability and redundancy map of an arm with arm-angle IK over a box, into a Zarr store.
 
-    With ``body`` and ``scene`` (S-R-S and offset-elbow arms), the map of the certified collision-free sets instead:
-    reachability inside the cell (:func:`redkin.collision.collision_free_arm_angles`; docs/workspace.md, "In a
-    cell").  A chunk then holds about :data:`_CELL_CHUNK_POSES` poses by default, since a pose takes milliseconds.
+    With ``body`` and ``scene`` (S-R-S, offset-elbow and Franka-class arms), the map of the certified collision-free
+    sets instead: reachability inside the cell (:func:`redkin.collision.free_sets_of`; docs/workspace.md, "In a
+    cell").  A chunk then holds about :data:`_CELL_CHUNK_POSES` poses by default (4096 arm angles' poses, 64 of the
+    Franka class's), since a pose takes milliseconds to a second.
 
     A nearly S-R-S arm (the Kinova Gen3, the Jaco2, the ROS-Industrial iiwa) is mapped with the exact feasible
     sets of its exact S-R-S neighbour at the same poses (:func:`map_model`); the run's ``model`` and
@@ -456,8 +458,8 @@ def workspace_map(
     ValueError
         For an arm without arm-angle IK (within ``srs_tolerance``), a malformed size, extent or tolerance, a path
         that holds something else (another map included: another arm, grid, model, neighbour or cell), a body
-        without a scene or a scene without a body, and a cell on an arm whose collision-free sets are not exact (the
-        Franka class, nearly S-R-S arms).
+        without a scene or a scene without a body, and a cell on a nearly S-R-S arm (no certified collision-free
+        sets yet).
     MapStoreError
         A ``ValueError`` too: another run holds the store (``reason="in use"``), or the disk filled
         (``reason="no space"``; the chunks complete so far are kept, and the same call resumes).
@@ -471,7 +473,8 @@ def workspace_map(
     cell = _cell(mapped, nearly, body, scene)
     count = check_count(orientations, "orientations", 1, MAX_ORIENTATIONS)
     if chunk is None and cell is not None:
-        chunk = cell_chunk(check_count(resolution, "resolution", 2, MAX_RESOLUTION), count)
+        assert mapped.parameter is not None  # map_model refuses an arm without one
+        chunk = cell_chunk(check_count(resolution, "resolution", 2, MAX_RESOLUTION), count, mapped.parameter.name)
     grid = workspace_grid(extent, resolution, count, chunk)
     rotations = super_fibonacci_rotations(count)
     store = Path(path)
@@ -485,9 +488,11 @@ def workspace_map(
     return _summary(store, grid, count, computed, time.perf_counter() - started, nearly)
 
 
-def cell_chunk(resolution: int, orientations: int) -> int:
-    """Grid points per axis of a chunk of a map in a cell: about :data:`_CELL_CHUNK_POSES` poses."""
-    return max(1, min(int(round((_CELL_CHUNK_POSES / orientations) ** (1.0 / 3.0))), resolution))
+def cell_chunk(resolution: int, orientations: int, parameter: str) -> int:
+    """Grid points per axis of a chunk of a map in a cell of an arm whose redundancy parameter is named
+    ``parameter``: about :data:`_CELL_CHUNK_POSES` poses."""
+    return max(1, min(int(round((_CELL_CHUNK_POSES[parameter] / orientations) ** (1.0 / 3.0))), resolution))
+
 
 
 def _cell(mapped: Arm, nearly: NearlySRS | None, body: Body | None, scene: Scene | None) -> Cell | None:
@@ -496,11 +501,9 @@ def _cell(mapped: Arm, nearly: NearlySRS | None, body: Body | None, scene: Scene
         return None
     if body is None or scene is None:
         raise ValueError("a map in a cell needs both the arm's body and the scene")
-    assert mapped.parameter is not None  # map_model refuses an arm without one
-    if nearly is not None or mapped.parameter.name != "psi":
-        raise ValueError(f"a map in a cell needs certified collision-free arm angles, which S-R-S and offset-elbow "
-                         f"arms have; {mapped.chain.name!r} is "
-                         f"{'nearly S-R-S' if nearly is not None else 'of the Franka class'}")
+    if nearly is not None:
+        raise ValueError(f"a map in a cell needs certified collision-free sets, which S-R-S, offset-elbow and "
+                         f"Franka-class arms have; {mapped.chain.name!r} is nearly S-R-S")
     return body, scene
 
 
