@@ -166,5 +166,4 @@ def test_the_arm_answers_the_same_in_its_rows(arm):
     assert iiwa.branch_of(solutions.q[solutions.exists]).tolist() == labels  # each in its own branch's row
     with pytest.raises(RedkinError, match="both"):
         iiwa.ik(pose, body=forearm)
-    with pytest.raises(RedkinError, match="feasible"):
-        iiwa.ik(pose, 0.3, body=forearm, scene=ball)
+    assert solutions.collision_free is not None and np.array_equal(solutions.collision_free, solutions.exists)

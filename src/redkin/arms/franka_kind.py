@@ -7,13 +7,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.arms.analysis import Analysis, BranchAnalysis, as_arcs, value
+from redkin.arms.feasible_sets import Arcs
 from redkin.arms.parameter import Parameter
 from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.arms.srs_kind import LABELS
 from redkin.chain import Reach
 from redkin.errors import RedkinError
-from redkin.franka.feasible import feasible_q7, q7_domain
+from redkin.franka.feasible import FeasibleQ7, feasible_q7, q7_domain
 from redkin.franka.geometry import FrankaGeometry
 from redkin.franka.ik import ik, reach
 from redkin.franka.optimal import optimal_q7
@@ -54,9 +55,16 @@ class FrankaKind(ArmKind):
                          "no solution of the branch at this q7")
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
-                weights: tuple[float, float] | None) -> tuple[float, float]:
+                weights: tuple[float, float] | None, within: Arcs | None = None) -> tuple[float, float]:
+        """[F10]'s minimiser over the feasible set (or over the intervals ``within`` it) and over every q7."""
         self._no_weights(weights)
-        best = optimal_q7(self.geometry, pose, BRANCHES[row], target=target)
+        sets = None
+        if within is not None:  # the branch's intervals in place of its feasible set; the others' are not read
+            empty = np.empty((0, 2))
+            low, high = q7_domain(self.geometry)
+            sets = FeasibleQ7(tuple(within.bounds if b == row else empty for b in range(len(BRANCHES))),
+                              (float(low), float(high)), BRANCHES)
+        best = optimal_q7(self.geometry, pose, BRANCHES[row], target=target, feasible=sets)
         return value(best.feasible), value(best.unclamped)
 
     def analyse(self, pose: np.ndarray, rows: np.ndarray, target: np.ndarray | None,

@@ -138,9 +138,13 @@ class Arm:
             Joint values to stay near: the numerical solver's seeds, and each joint of a closed form's row moved by
             whole turns to its value nearest ``q0`` where the joint's range allows.
         body, scene : Body and Scene, optional
-            Without ``t``: only solutions that keep the scene's margin from every obstacle and between the body's
-            links (:func:`redkin.collision.collision_free_ik`, keywords ``solver`` too).  At values of ``t`` the
-            collision-free values come from :meth:`feasible` with the same two.
+            A cell: every row is marked with its clearance and closest pair, and whether it keeps the scene's margin
+            from every obstacle and between the body's links (:attr:`Solutions.clearance`,
+            :attr:`Solutions.collision_free`).  Without ``t``, only such solutions are returned
+            (:func:`redkin.collision.collision_free_ik`, keywords ``solver`` too); with ``"optimal"``, each branch's
+            row is at its limit-avoiding value inside the certified collision-free set (:meth:`optimal` in the
+            cell); at values of ``t`` the rows are marked, and :meth:`feasible` with the same two gives the
+            collision-free values.
 
         Returns
         -------
@@ -151,38 +155,52 @@ class Arm:
         ------
         ValueError
             For a malformed pose, value, branch or seed; ``t`` on a general chain; a body without a scene or the
-            reverse, or either with ``t``.
+            reverse.
         """
         rows = self._rows(branches)
         if (body is None) != (scene is None):
             raise RedkinError("collision-free solutions need both the arm's body and the scene")
+        cell = None if body is None or scene is None else (body, scene)
         if t is None:
-            return self._numerical(poses, rows, q0, solver, None if body is None or scene is None else (body, scene))
-        if body is not None:
-            raise RedkinError("body and scene apply to the numerical solver (without t); at values of t the "
-                              "collision-free values are feasible(poses, body=body, scene=scene)")
+            return self._marked(self._numerical(poses, rows, q0, solver, cell), cell)
         if solver:
             raise RedkinError(f"{', '.join(sorted(solver))}: keywords of the numerical solver, which runs without t")
         self._need_parameter("solutions at a value of the redundancy parameter")
         if isinstance(t, str):
             if t != "optimal":
                 raise RedkinError(f"t must be values of {self._name()} or 'optimal', got {t!r}")
-            result = self._at_optimal(poses, rows)
+            result = self._at_optimal(poses, rows, body, scene)
         else:
             result = self.implementation.solve(poses, np.asarray(t, dtype=float), rows)
-        if q0 is None:
+        if q0 is not None:
+            from redkin._validation import check_vectors
+
+            seeds = check_vectors(q0, self.chain.n, "q0")
+            moved = self.chain.nearest_in_range(result.q, near=np.broadcast_to(seeds[..., None, :], result.q.shape))
+            result = _replace(result, q=np.where(result.exists[..., None], moved, result.q))
+        return self._marked(result, cell)
+
+    def _marked(self, result: Solutions, cell: tuple[Body, Scene] | None) -> Solutions:
+        """``result`` with each row's clearance, closest pair and collision-free mark in the ``cell`` (unchanged
+        without one)."""
+        if cell is None:
             return result
-        from redkin._validation import check_vectors
+        from redkin.collision.clearance import Clearance, clearance
 
-        seeds = check_vectors(q0, self.chain.n, "q0")
-        moved = self.chain.nearest_in_range(result.q, near=np.broadcast_to(seeds[..., None, :], result.q.shape))
-        return _replace(result, q=np.where(result.exists[..., None], moved, result.q))
+        body, scene = cell
+        measured = clearance(self.chain, body, scene, np.where(result.exists[..., None], result.q, 0.0))
+        distance = np.where(result.exists, measured.distance, np.nan)
+        return _replace(result, clearance=Clearance(distance, np.where(result.exists, measured.link, ""),
+                                                    np.where(result.exists, measured.against, "")),
+                        collision_free=result.exists & (distance >= scene.margin))
 
-    def _at_optimal(self, poses: ArrayLike, rows: np.ndarray | None) -> Solutions:
+    def _at_optimal(self, poses: ArrayLike, rows: np.ndarray | None, body: Body | None = None,
+                    scene: Scene | None = None) -> Solutions:
         from redkin._validation import check_pose
 
         poses = check_pose(poses)
-        best = self.optimal(poses, None if rows is None else [self.branches[r] for r in rows]).value
+        best = self.optimal(poses, None if rows is None else [self.branches[r] for r in rows], body=body,
+                            scene=scene).value
         parts = [self.implementation.solve(poses, np.nan_to_num(best[..., k]), np.array([r]))
                  for k, r in enumerate(range(len(self.branches)) if rows is None else rows)]
         exists = np.concatenate([part.exists for part in parts], axis=-1) & ~np.isnan(best)
@@ -266,25 +284,22 @@ class Arm:
     def _free(self, poses: ArrayLike, branches: str | Sequence[str] | None, body: Body | None,
               scene: Scene | None) -> FeasibleSets:
         """:meth:`feasible` in a cell: each pose's certified collision-free arcs as pieces."""
-        from redkin._validation import check_pose
-        from redkin.collision.free_sets import free_sets_of
         from redkin.paths.family import as_pieces
 
-        if body is None or scene is None:
-            raise RedkinError("collision-free sets need both the arm's body and the scene")
+        free = self._free_per_pose(poses, branches, body, scene)
         assert self.parameter is not None
-        checked = check_pose(poses)
         labels = self._labels(branches)
         sets = [[[(lo, hi + TWO_PI if wraps else hi) for (lo, hi), wraps
-                  in zip(arcs.bounds.tolist(), arcs.wraps.tolist(), strict=True)] for arcs in free.free]
-                for free in free_sets_of(self, checked.reshape(-1, 4, 4), body, scene, labels)]
+                  in zip(arcs.bounds.tolist(), arcs.wraps.tolist(), strict=True)] for arcs in one.free]
+                for one in free.values()]
         pieces = as_pieces(sets, len(labels))
-        shape = checked.shape[:-2] + pieces.start.shape[1:]
+        shape = np.asarray(poses).shape[:-2] + pieces.start.shape[1:]
         return FeasibleSets(pieces.start.reshape(shape), pieces.end.reshape(shape), pieces.feasible.reshape(shape),
                             labels, self.parameter.name, self.parameter.wraps, False)
 
     def optimal(self, poses: ArrayLike, branches: str | Sequence[str] | None = None, *,
-                target: ArrayLike | None = None, weights: ArrayLike | None = None) -> Optimal:
+                target: ArrayLike | None = None, weights: ArrayLike | None = None, body: Body | None = None,
+                scene: Scene | None = None) -> Optimal:
         """The limit-avoiding value of the parameter of each pose and branch ([000 eqs. 36-40] on S-R-S and nearly
         S-R-S arms, [F10] on the Franka class).
 
@@ -296,14 +311,38 @@ class Arm:
             The joint values to stay nearest (default: the middle of each range).
         weights : array_like, shape (2,), optional
             The shoulder's and the wrist's weight [000 eq. 40] (default 0.5, 0.5); arm-angle classes only.
+        body, scene : Body and Scene, optional
+            Together (S-R-S, offset-elbow and Franka-class arms): ``value`` is taken within the certified
+            collision-free set of :meth:`feasible` with them instead of the feasible set -- the arm angle of that set
+            nearest the unclamped optimum, as [000] clamps into the feasible set; on the Franka class [F10]'s
+            minimiser over the free intervals.  ``unclamped`` is the same minimiser over every value (on q7 the
+            better of the whole range's search and the free intervals', so it may move by the search's tolerance).
         """
         goal, pair = self._goal(target, weights)
+        free: dict[tuple[int, ...], Any] = {}
+        if body is not None or scene is not None:
+            free = self._free_per_pose(poses, branches, body, scene)
 
-        def answer(pose: np.ndarray, row: int) -> tuple[float, float]:
-            return self.implementation.optimal(pose, row, goal, pair)
+        def answer(pose: np.ndarray, row: int, place: tuple[int, ...]) -> tuple[float, float]:
+            within = free[place[:-1]].free[place[-1]] if free else None
+            return self.implementation.optimal(pose, row, goal, pair, within)
 
         value, unclamped = self._per_pose("a limit-avoiding value", poses, branches, answer, (np.nan, np.nan))
         return Optimal(value.astype(float), unclamped.astype(float), self._labels(branches))
+
+    def _free_per_pose(self, poses: ArrayLike, branches: str | Sequence[str] | None, body: Body | None,
+                       scene: Scene | None) -> dict[tuple[int, ...], Any]:
+        """Each pose's certified collision-free sets (:func:`redkin.collision.free_sets_of`), by the pose's index (in
+        C order)."""
+        from redkin._validation import check_pose
+        from redkin.collision.free_sets import free_sets_of
+
+        if body is None or scene is None:
+            raise RedkinError("collision-free sets need both the arm's body and the scene")
+        self._need_parameter("collision-free sets")
+        checked = check_pose(poses)
+        sets = free_sets_of(self, checked.reshape(-1, 4, 4), body, scene, self._labels(branches))
+        return dict(zip(np.ndindex(checked.shape[:-2]), sets, strict=True))
 
     def joint_sets(self, pose: ArrayLike, branch: str) -> dict[int, np.ndarray]:
         """Per joint (1-based), the arcs ``(k, 2)`` of the parameter at which one pose's branch keeps that joint
@@ -323,11 +362,14 @@ class Arm:
     def singular(self, poses: ArrayLike, branches: str | Sequence[str] | None = None) -> Singular:
         """The singular values of the parameter of each pose and branch ([000 eqs. 31-34]; on nearly S-R-S arms
         where the real arm's axes 1 and 3, 5 and 7 align).  The Franka class has none here: it refuses."""
-        shoulder, wrist = self._per_pose("singular values", poses, branches, self.implementation.singular, ((), ()))
+        shoulder, wrist = self._per_pose("singular values", poses, branches,
+                                         lambda pose, row, _: self.implementation.singular(pose, row), ((), ()))
         return Singular(shoulder, wrist, self._labels(branches))
 
     def _per_pose(self, what: str, poses: ArrayLike, branches: str | Sequence[str] | None, answer: Any,
                   unreachable: tuple[Any, Any]) -> tuple[np.ndarray, np.ndarray]:
+        """``answer(pose, row, place)`` of each pose and branch (``place``: the pose's index and the branch's column
+        in the result), and ``unreachable`` where it raises :class:`redkin.errors.UnreachablePoseError`."""
         from redkin._validation import check_pose
 
         self._need_parameter(what)
@@ -339,7 +381,7 @@ class Arm:
         for index in np.ndindex(poses.shape[:-2]):
             for k, r in enumerate(picked):
                 try:
-                    first[index + (k,)], second[index + (k,)] = answer(poses[index], int(r))
+                    first[index + (k,)], second[index + (k,)] = answer(poses[index], int(r), index + (k,))
                 except UnreachablePoseError:
                     first[index + (k,)], second[index + (k,)] = unreachable
         return first, second

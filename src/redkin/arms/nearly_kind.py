@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, optimal_parts
+from redkin.arms.feasible_sets import Arcs
 from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.arms.srs_kind import ARM_ANGLE, LABELS
@@ -57,7 +58,10 @@ class NearlyKind(ArmKind):
                          "no certified solution of the branch at this arm angle")
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
-                weights: tuple[float, float] | None) -> tuple[float, float]:
+                weights: tuple[float, float] | None, within: Arcs | None = None) -> tuple[float, float]:
+        """[000 eq. 40]'s optimum on the real arm ([000 eqs. 36-40] through the neighbour); ``within`` is refused
+        before it reaches here (no certified collision-free sets)."""
+        assert within is None
         overall = optimal_arm_angles_nearly(self.nearly, pose, BRANCHES[row], target=target,
                                             weights=(0.5, 0.5) if weights is None else weights).overall
         return (np.nan if overall.feasible is None else overall.feasible), overall.unclamped

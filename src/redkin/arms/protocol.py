@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.arms.analysis import Analysis
+from redkin.arms.feasible_sets import Arcs
 from redkin.arms.parameter import Parameter
 from redkin.arms.solutions import Solutions
 from redkin.chain import SerialChain
@@ -84,11 +85,11 @@ class ArmKind:
         return branch, value
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
-                weights: tuple[float, float] | None) -> tuple[float, float]:
+                weights: tuple[float, float] | None, within: Arcs | None = None) -> tuple[float, float]:
         """The limit-avoiding value of one pose ``(4, 4)`` and branch, nearest ``target`` (joint values; ``None``: the
         middle of each range), the shoulder and wrist weighed by ``weights`` where the class weighs them: within
-        the feasible set (``nan`` where it is empty) and over every value at which the branch exists (``nan`` where
-        none)."""
+        the feasible set, or the subset ``within`` of it (a collision-free set; ``nan`` where it is empty), and over
+        every value at which the branch exists (``nan`` where none)."""
         raise self._refusal("a limit-avoiding value of the parameter")
 
     def joint_sets(self, pose: np.ndarray, row: int) -> dict[int, list[tuple[float, float]]]:

@@ -6,10 +6,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from redkin.chain import Reach
+
+if TYPE_CHECKING:  # the type alone: the collision package reads the arms, and is read only in a cell
+    from redkin.collision.clearance import Clearance
 
 #: ``method`` of a closed form's rows and of the numerical solver's.
 CLOSED_FORM, NUMERICAL = "closed form", "numerical"
@@ -36,6 +40,12 @@ class Solutions:
     reach : Reach
         The poses against the arm's reach, shape ``(...)``: where ``reach.out``, no row exists at any value of the
         parameter (computed when first read).
+    clearance : Clearance or None
+        In a cell (``body`` and ``scene`` given), each row's least signed distance [m] over the checked pairs and
+        the pair that has it (:func:`redkin.collision.clearance`), shape ``(..., B)``: ``nan`` and ``""`` where the
+        row does not exist; ``None`` without a cell.
+    collision_free : numpy.ndarray of bool or None
+        In a cell, whether each row exists and keeps the scene's margin, shape ``(..., B)``; ``None`` without one.
     """
 
     q: np.ndarray
@@ -47,6 +57,8 @@ class Solutions:
     _out: Callable[[], np.ndarray] = field(repr=False)
     _reach: Callable[[], Reach] = field(repr=False)
     _missing: str = field(repr=False, default="no solution of the branch at this value of the parameter")
+    clearance: Clearance | None = None
+    collision_free: np.ndarray | None = None
 
     @cached_property
     def parameter(self) -> np.ndarray:

@@ -8,10 +8,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, optimal_parts
+from redkin.arms.feasible_sets import Arcs
 from redkin.arms.parameter import Parameter
 from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.chain import Reach
+from redkin.circle import ArcSet
 from redkin.errors import UnreachablePoseError
 from redkin.paths.family import ArmAngleFamily
 from redkin.srs import _ik_kernels
@@ -72,9 +74,11 @@ class SRSKind(ArmKind):
         return start, end, feasible
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
-                weights: tuple[float, float] | None) -> tuple[float, float]:
+                weights: tuple[float, float] | None, within: Arcs | None = None) -> tuple[float, float]:
+        """[000 eq. 40]'s optimum, clamped to the nearest arm angle of the feasible set (or of ``within``)."""
         overall = optimal_arm_angles(self.geometry, pose, BRANCHES[row], target=target,
-                                     weights=(0.5, 0.5) if weights is None else weights).overall
+                                     weights=(0.5, 0.5) if weights is None else weights,
+                                     feasible=None if within is None else ArcSet(within.bounds.tolist())).overall
         return (np.nan if overall.feasible is None else overall.feasible), overall.unclamped
 
     def joint_sets(self, pose: np.ndarray, row: int) -> dict[int, list[tuple[float, float]]]:

@@ -4,6 +4,7 @@ body and the scene's obstacles, and the collision-free sets in a command's JSON.
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -117,12 +118,14 @@ def cell_note_lines(notes: dict[str, Any] | None) -> list[str]:
 
 
 def free_report(report: dict[str, Any], chain: SerialChain, free, scene, body, deg: bool, shown: str,
-                optimal: dict[str, tuple[float, float]]) -> None:
+                optimal: dict[str, tuple[float, float]], minimiser: Callable[[Any], float]) -> None:
     """Put the collision-free sets into a command's JSON ``report``: ``feasible`` becomes the shown branch's free set
     and ``limits_feasible`` the joint-limit set, ``branches`` every branch's free set (``limits_branches`` the limit
     sets), ``blocked`` each removed stretch of the shown branch, each entry of ``optimal`` (its unclamped and
-    limit-feasible values, radians) gains ``collision_free``, the free set's value nearest the unclamped one, and
-    ``collision`` says what was checked."""
+    limit-feasible values, radians) gains ``collision_free``: on the arm angle the free set's value nearest the
+    unclamped one ([000]'s clamping, as :meth:`redkin.Arm.optimal` in a cell), on q7 ``minimiser(arcs)`` of the
+    shown branch's free intervals ([F10] over them, :meth:`redkin.Arm.optimal` in a cell); ``collision`` says what
+    was checked."""
     from redkin.circle import ArcSet
 
     def arcs(bounds: np.ndarray) -> list:
@@ -141,9 +144,9 @@ def free_report(report: dict[str, Any], chain: SerialChain, free, scene, body, d
         value = None
         if np.isfinite(unclamped) and on_circle is not None:
             value = on_circle.nearest(unclamped)
-        elif np.isfinite(unclamped) and len(free.free[index].bounds):  # q7: the nearest point of the intervals
-            value = min((float(np.clip(unclamped, lo, hi)) for lo, hi in free.free[index].bounds),
-                        key=lambda point: abs(point - unclamped))
+        elif on_circle is None and len(free.free[index].bounds):  # q7: [F10]'s minimiser over the free intervals
+            found = minimiser(free.free[index])
+            value = found if np.isfinite(found) else None
         report["optimal"][name]["collision_free"] = None if value is None else float(angles_out(value, deg))
     report["collision"] = {
         "scene": scene.source, "obstacles": list(scene.names), "margin": scene.margin, "body": body.source,

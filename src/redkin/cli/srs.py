@@ -301,7 +301,12 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
 
         body, scene = cell
         free = collision_free_set(classified, pose, body, scene)
-        free_report(report, chain, free, scene, body, args.deg, branch, analysis.branches[0].optimal)
+        row = classified.branches.index(branch)
+
+        def minimiser(arcs) -> float:  # the class's own optimum over the free intervals (Arm.optimal in a cell)
+            return classified.implementation.optimal(pose, row, target, None, arcs)[0]
+
+        free_report(report, chain, free, scene, body, args.deg, branch, analysis.branches[0].optimal, minimiser)
     if args.json:
         print_json(report)
         return 0
