@@ -86,25 +86,29 @@ def _placed(mesh, rng: np.random.Generator):
 
 # ----------------------------------------------------------------------------- the capsules contain the mesh
 @settings(max_examples=30, deadline=None)
-@given(seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(sorted(MESHES)), most=st.integers(1, 3))
-def test_the_capsules_contain_every_point_of_a_convex_mesh_and_its_solid(seed, kind, most):
+@given(seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(sorted(MESHES)), most=st.integers(1, 3),
+       least=st.integers(1, 3))
+def test_the_capsules_contain_every_point_of_a_convex_mesh_and_its_solid(seed, kind, most, least):
     rng = np.random.default_rng(seed)
     mesh = _placed(MESHES[kind](rng), rng)
-    capsules = covering_capsules(mesh.vertices, mesh.faces, most=most)
-    assert 1 <= len(capsules) <= most
+    least = min(least, most)
+    capsules = covering_capsules(mesh.vertices, mesh.faces, most=most, least=least)
+    assert least <= len(capsules) <= most  # every mesh here can be cut in three
     assert np.all(_covered(_surface_points(mesh, rng, 2000), capsules) <= 1e-12)
     inside = rng.dirichlet(np.ones(len(mesh.vertices)) * 0.2, 500) @ mesh.vertices  # points of the solid
     assert np.all(_covered(inside, capsules) <= 1e-12)
 
 
 @settings(max_examples=15, deadline=None)
-@given(seed=st.integers(0, 2**32 - 1), most=st.integers(1, 3))
-def test_the_capsules_contain_a_bent_link_and_its_solid(seed, most):
+@given(seed=st.integers(0, 2**32 - 1), most=st.integers(1, 3), least=st.integers(1, 3))
+def test_the_capsules_contain_a_bent_link_and_its_solid(seed, most, least):
     """Cut into slabs, the capsules still hold the surface and the solid (points inside either box), the corner
-    where the cut passes included."""
+    where the cut passes included; also where more pieces are asked for than the volume calls for."""
     rng = np.random.default_rng(seed)
     mesh, parts = _bent_link(rng)
-    capsules = covering_capsules(mesh.vertices, mesh.faces, most=most)
+    least = min(least, most)
+    capsules = covering_capsules(mesh.vertices, mesh.faces, most=most, least=least)
+    assert least <= len(capsules) <= most
     assert np.all(_covered(_surface_points(mesh, rng, 3000), capsules) <= 1e-12)
     for part in parts:
         inside = rng.dirichlet(np.ones(8) * 0.3, 1000) @ part.vertices
@@ -173,6 +177,15 @@ def test_a_malformed_mesh_is_refused(vertices, faces, fragment):
         covering_capsules(vertices, faces)
 
 
+def test_least_outside_one_to_most_is_refused():
+    from redkin.errors import RedkinError
+
+    mesh = trimesh.creation.box(extents=[0.1, 0.2, 0.3])
+    for most, least in ((2, 3), (3, 0)):
+        with pytest.raises(RedkinError, match="least must be 1 to most"):
+            covering_capsules(mesh.vertices, mesh.faces, most=most, least=least)
+
+
 # ----------------------------------------------------------------------------- a URDF with mesh files
 def _arm_package(folder: Path, scale: str = "1 1 1", extension: str = "stl") -> tuple[Path, str, dict]:
     """A ROS package ``arm`` with a three-joint URDF whose links' collisions are mesh files (one by a relative path,
@@ -228,6 +241,29 @@ def test_a_urdf_with_mesh_files_gives_capsules_holding_each_mesh_where_the_urdf_
             assert np.all(gap <= 1e-9), name
     notes = [note for note in body.notes if "mesh" in note]
     assert len(notes) == 3 and all("reaching up to" in note and "beyond" in note for note in notes)
+
+
+def test_pieces_asks_a_link_for_more_capsules_that_still_hold_its_mesh(tmp_path):
+    """``pieces``: a link's mesh covered by at least that many capsules, which still hold it where the URDF puts it;
+    an unknown link or a count outside 1-3 is one line naming it."""
+    path, text, meshes = _arm_package(tmp_path)
+    chain, plain = urdf_body(path, "base", "l3")
+    _, finer = urdf_body(path, "base", "l3", pieces={"l1": 3, "l3": 2})
+    for name, least in (("l1", 3), ("l3", 2)):
+        assert list(finer.link).count(name) >= max(least, list(plain.link).count(name))
+    assert list(finer.link).count("l2") == list(plain.link).count("l2")
+    q = np.random.default_rng(1).uniform(-2, 2, chain.n)
+    rows = posed(finer, chain.frames(q))
+    for name, mesh in meshes.items():
+        place = reference_fk(text, q, name) @ _origin_pose()
+        world = mesh.vertices @ place[:3, :3].T + place[:3, 3]
+        mine = [row for row, link in zip(rows, finer.link) if link == name]
+        assert np.all(np.min([_distance_to_segment(world, row[2:5], row[5:8]) - row[1] for row in mine], axis=0)
+                      <= 1e-9), name
+    for pieces, fragment in (({"nowhere": 2}, "'nowhere'"), ({"l1": 4}, "4 capsules on link 'l1'")):
+        with pytest.raises(RobotDescriptionError, match=fragment) as caught:
+            urdf_body(path, "base", "l3", pieces=pieces)
+        assert "\n" not in str(caught.value)
 
 
 def test_a_missing_mesh_or_package_is_one_line_naming_it(tmp_path):
@@ -455,6 +491,6 @@ def test_a_mesh_file_is_covered_once_and_read_back_exactly(tmp_path, monkeypatch
     mesh.apply_scale(1.5).export(tmp_path / "arm" / "meshes" / "l3.stl")  # an edited mesh: its own cover
     fitted = []
     real = mesh_cache.covering_capsules
-    monkeypatch.setattr(mesh_cache, "covering_capsules", lambda *args: fitted.append(1) or real(*args))
+    monkeypatch.setattr(mesh_cache, "covering_capsules", lambda *args, **kw: fitted.append(1) or real(*args, **kw))
     urdf_body(path, "base", "l3")
     assert len(fitted) == 1 and len(list(mesh_cache._cache_folder().glob("*.json"))) == 4

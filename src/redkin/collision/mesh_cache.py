@@ -16,7 +16,6 @@ import json
 import os
 import tempfile
 from pathlib import Path
-from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,14 +25,14 @@ from redkin.collision.mesh_cover import MeshBox, MeshCapsule, covering_boxes, co
 from redkin.collision.mesh_files import read_mesh
 
 
-def covered_capsules(path: Path, scale: ArrayLike | None = None) -> list[MeshCapsule]:
-    """:func:`redkin.collision.mesh_cover.covering_capsules` of the mesh file (scaled), from the cache where it is
-    there (module docstring)."""
-    key = _key(path, scale, "capsules")
+def covered_capsules(path: Path, scale: ArrayLike | None = None, least: int = 1) -> list[MeshCapsule]:
+    """:func:`redkin.collision.mesh_cover.covering_capsules` of the mesh file (scaled; at least ``least`` capsules
+    where the mesh can be cut so), from the cache where it is there (module docstring)."""
+    key = _key(path, scale, "capsules" if least == 1 else f"capsules, at least {least}")
     found = _cached(key)
     if found is not None:
         return [MeshCapsule(np.array(c["a"]), np.array(c["b"]), c["radius"], c["reach"]) for c in found]
-    capsules = covering_capsules(*read_mesh(path, scale))
+    capsules = covering_capsules(*read_mesh(path, scale), least=least)
     _keep(key, [{"a": c.a.tolist(), "b": c.b.tolist(), "radius": float(c.radius), "reach": float(c.reach)}
                 for c in capsules])
     return capsules
@@ -64,7 +63,7 @@ def _cache_folder() -> Path:
     return root / "mesh-covers"
 
 
-def _key(path: Path, scale: ArrayLike | None, kind: Literal["capsules", "boxes"]) -> str | None:
+def _key(path: Path, scale: ArrayLike | None, kind: str) -> str | None:
     """The cover's name: the digest of what it depends on (``None`` for a file that cannot be read)."""
     try:
         content = path.read_bytes()

@@ -23,7 +23,8 @@ Several capsules (or boxes).
     contains that part, and the capsules together contain the whole surface (and the solid it bounds, when the
     mesh is closed: each slab's cap lies in the hull of its rim).  Cuts across the principal axes and the frame's axes
     at several heights are tried; a second and a third capsule are used where each cuts the capsules' summed volume
-    by at least a quarter (:data:`_WORTH_ANOTHER`).
+    by at least a quarter (:data:`_WORTH_ANOTHER`), or where the caller asks for at least that many (``least``: two
+    links that nearly touch over a bend may overlap as capsules far more often than as meshes).
 
 What the capsules add.
     :attr:`MeshCapsule.reach` bounds the greatest distance from a point of the capsule to the convex hull of the
@@ -108,7 +109,7 @@ class MeshBox(NamedTuple):
     reach: float
 
 
-def covering_capsules(vertices: ArrayLike, faces: ArrayLike, most: int = 3) -> list[MeshCapsule]:
+def covering_capsules(vertices: ArrayLike, faces: ArrayLike, most: int = 3, *, least: int = 1) -> list[MeshCapsule]:
     """One to ``most`` capsules that together contain a mesh's surface (and its solid, for a closed mesh).
 
     Parameters
@@ -119,6 +120,9 @@ def covering_capsules(vertices: ArrayLike, faces: ArrayLike, most: int = 3) -> l
         Triangles as indices into ``vertices``.
     most : int
         The most capsules to use (1 to 3).
+    least : int
+        The fewest capsules to use where the mesh can be cut into that many parts (1 to ``most``): more pieces are
+        kept even where they do not save a quarter of the volume.
 
     Returns
     -------
@@ -132,7 +136,9 @@ def covering_capsules(vertices: ArrayLike, faces: ArrayLike, most: int = 3) -> l
         where the ``mesh`` extra (trimesh, which measures the reach) is not installed.
     """
     used, edges = _surface(vertices, faces, most)
-    return _covers(used, edges, most, _capsule, _capsule_volume, _quick_capsule_volume)
+    if not 1 <= least <= most:
+        raise RedkinError(f"least must be 1 to most ({most}) pieces, got {least!r}")
+    return _covers(used, edges, most, _capsule, _capsule_volume, _quick_capsule_volume, least)
 
 
 def covering_boxes(vertices: ArrayLike, faces: ArrayLike, most: int = 3) -> list[MeshBox]:
@@ -167,10 +173,10 @@ _Cover = TypeVar("_Cover")
 
 
 def _covers(used: np.ndarray, edges: np.ndarray, most: int, cover: Callable[[np.ndarray], _Cover],
-            volume: Callable[[_Cover], float], quick: Callable[[np.ndarray], float]) -> list[_Cover]:
+            volume: Callable[[_Cover], float], quick: Callable[[np.ndarray], float], least: int = 1) -> list[_Cover]:
     """One to ``most`` shapes ``cover`` makes round the mesh's parts (module docstring, "Several capsules"): the
-    cuts ranked by ``quick`` (a fast volume of one part's cover), a further part kept where the shapes' summed
-    ``volume`` drops to :data:`_WORTH_ANOTHER` of the fewer's."""
+    cuts ranked by ``quick`` (a fast volume of one part's cover), a further part kept up to ``least`` parts, and
+    beyond where the shapes' summed ``volume`` drops to :data:`_WORTH_ANOTHER` of the fewer's."""
     covers = [cover(used)]
     axes = _cut_axes(used)
     for count in range(2, most + 1):
@@ -178,7 +184,7 @@ def _covers(used: np.ndarray, edges: np.ndarray, most: int, cover: Callable[[np.
         if cut is None:
             break
         more = [cover(slab) for slab in cut[0]]
-        if sum(map(volume, more)) > _WORTH_ANOTHER * sum(map(volume, covers)):
+        if count > least and sum(map(volume, more)) > _WORTH_ANOTHER * sum(map(volume, covers)):
             break
         covers = more
         axes = cut[1][None]  # a third part: cuts parallel to the second's (every axis again is dear)

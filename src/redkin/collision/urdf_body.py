@@ -13,7 +13,8 @@ frame the link is fixed in:
 * a mesh: read from its file (:mod:`redkin.collision.mesh_files`: ``package://`` names found from the caller's
   package paths, the folders above the URDF and ``ROS_PACKAGE_PATH``; the ``mesh`` extra reads the file), scaled by
   its ``scale``, and covered by one to three capsules that contain it (:mod:`redkin.collision.mesh_cover`; kept on
-  disk per file by :mod:`redkin.collision.mesh_cache`, so a file is covered once).
+  disk per file by :mod:`redkin.collision.mesh_cache`, so a file is covered once); ``pieces`` asks for at least two
+  or three on a link whose meshes one capsule covers too coarsely.
 
 Link pairs whose capsules overlap at every one of 1000 random configurations within the limits (a wrist's two
 housings, covered by capsules larger than the castings) are not checked against each other, and a note names them:
@@ -57,7 +58,8 @@ _SAMPLES = 1000
 
 def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None, *,
               srdf: str | os.PathLike | None = None, xacro_args: Mapping[str, str | int | float | bool] | None = None,
-              package_paths: str | os.PathLike | Iterable[str | os.PathLike] = ()) -> tuple[SerialChain, Body]:
+              package_paths: str | os.PathLike | Iterable[str | os.PathLike] = (),
+              pieces: Mapping[str, int] | None = None) -> tuple[SerialChain, Body]:
     """The chain from link ``base`` to link ``tip`` of a URDF, and the body of its ``<collision>`` elements (module
     docstring).
 
@@ -68,6 +70,10 @@ def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None,
         packages of ``package://`` mesh files too.
     srdf : str or path, optional
         An SRDF whose ``<disable_collisions>`` link pairs the body never checks against each other.
+    pieces : mapping of str to int, optional
+        Per URDF link name, the fewest capsules (1 to 3) each of its meshes is covered by where the mesh can be cut
+        so (:func:`redkin.collision.covering_capsules`' ``least``); by default a second or third capsule only where
+        it saves a quarter of the volume.
 
     Returns
     -------
@@ -81,11 +87,17 @@ def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None,
     RobotDescriptionError
         As :func:`redkin.urdf.load_urdf` raises it; for a collision's sizes that are not finite lengths >= 0; for a
         mesh file that is not found or not read; for an SRDF that cannot be read, or whose ``<disable_collisions>``
-        lacks a link or names one the URDF does not have: one line naming the file, and the link or entry.
+        lacks a link or names one the URDF does not have: one line naming the file, and the link or entry; for
+        ``pieces`` naming a link the URDF does not have, or a count that is not 1 to 3.
     RedkinError
         For a mesh where the ``mesh`` extra (trimesh) is not installed, with the command that installs it.
     """
     chain, robot, links = _urdf_links(path, base, tip, xacro_args, package_paths)
+    least = dict(pieces or {})
+    for name, count in least.items():
+        if name not in {link.name for link in robot.links} or count not in (1, 2, 3):
+            raise RobotDescriptionError(f"{path}: pieces asks for {count!r} capsules on link {name!r}; give a link of "
+                                        "the URDF and 1, 2 or 3", str(path), name)
     file = resolve(path)
     places = _package_places(package_paths, file)
     ignore = [] if srdf is None else srdf_ignored_pairs(srdf)
@@ -103,7 +115,7 @@ def urdf_body(path: str | Path, base: str | None = None, tip: str | None = None,
         for index, collision in enumerate(link.collisions, start=1):
             label = f"link {link.name!r} collision {index}"
             try:
-                covering, note = _covering(collision.geometry, label, file, places)
+                covering, note = _covering(collision.geometry, label, file, places, least.get(link.name, 1))
             except RobotDescriptionError:
                 raise
             except RedkinError as exc:  # a size refused by _radius, or the mesh extra missing
@@ -181,10 +193,11 @@ def srdf_ignored_pairs(path: str | os.PathLike) -> list[tuple[str, str]]:
     return pairs
 
 
-def _covering(geometry: Any, label: str, file: Path,
-              places: list[Path]) -> tuple[list[tuple[tuple[np.ndarray, np.ndarray], float]], str]:
+def _covering(geometry: Any, label: str, file: Path, places: list[Path],
+              least: int = 1) -> tuple[list[tuple[tuple[np.ndarray, np.ndarray], float]], str]:
     """The capsules covering a sphere, cylinder, box or mesh of ``urdf_parser_py`` in its own frame (each its
-    segment's ends and its radius), and the note on what they add ('' for a sphere, which one equals)."""
+    segment's ends and its radius; a mesh by at least ``least`` where it can be cut so), and the note on what they
+    add ('' for a sphere, which one equals)."""
     from urdf_parser_py.urdf import Cylinder, Mesh, Sphere
 
     if isinstance(geometry, Sphere):
@@ -195,7 +208,7 @@ def _covering(geometry: Any, label: str, file: Path,
         return [((-half, half), radius)], (f"{label}: cylinder covered by a capsule reaching up to {radius:.4g} m "
                                            "beyond each flat end")
     if isinstance(geometry, Mesh):
-        covering = covered_capsules(mesh_path(geometry.filename, file, places), geometry.scale)
+        covering = covered_capsules(mesh_path(geometry.filename, file, places), geometry.scale, least)
         reach = max(capsule.reach for capsule in covering)
         parts = ("its convex hull" if len(covering) == 1
                  else f"the convex hull of the part each covers (cut in {len(covering)} by planes)")
