@@ -5,6 +5,7 @@ import ast
 import hashlib
 import os
 import threading
+import time
 from itertools import pairwise
 from pathlib import Path
 
@@ -166,6 +167,45 @@ def test_a_batch_too_short_for_the_pool_runs_in_the_calling_thread(monkeypatch):
     finally:
         set_threads(None)
     np.testing.assert_array_equal(out, np.arange(1001))
+
+
+def test_a_small_batch_of_long_items_goes_to_the_pool(monkeypatch):
+    """A kernel measured at a millisecond an item hands even ten items out, in chunks as small as one item."""
+    chunk, calls = recorder()
+    out = np.full(10, -1.0)
+    monkeypatch.setitem(_compiled._seconds_per_item, chunk, 1e-3)
+    try:
+        set_threads(2)
+        run_batch(chunk, 10, out)
+    finally:
+        set_threads(None)
+    bounds = sorted((start, stop) for start, stop, _ in calls)
+    assert len(bounds) > 1 and bounds[0][0] == 0 and bounds[-1][1] == 10
+    assert all(a[1] == b[0] for a, b in pairwise(bounds))
+    np.testing.assert_array_equal(out, np.arange(10))
+
+
+def test_a_small_batch_is_timed_only_where_its_items_are_long(monkeypatch):
+    """Under PARALLEL_BATCH items the call's own cost would make cheap items look dear: only long items are timed,
+    and a batch under TIMED_BATCH never is (nor handed out)."""
+    cheap, _ = recorder()
+    clock = iter(np.arange(0.0, 1.0, 1e-6))  # a microsecond a reading, whatever the machine's load
+    with monkeypatch.context() as patched:
+        patched.setattr(_compiled.time, "perf_counter", lambda: next(clock))
+        run_batch(cheap, 20, np.empty(20))
+    assert cheap not in _compiled._seconds_per_item
+
+    def slow(start, stop, out):
+        time.sleep(2.0 * _compiled.LONG_ITEM * (stop - start))
+        out[start:stop] = 1.0
+
+    try:
+        run_batch(slow, _compiled.TIMED_BATCH - 1, np.empty(_compiled.TIMED_BATCH - 1))
+        assert slow not in _compiled._seconds_per_item
+        run_batch(slow, 20, np.empty(20))
+        assert _compiled._seconds_per_item[slow] >= 2.0 * _compiled.LONG_ITEM
+    finally:
+        _compiled._seconds_per_item.pop(slow, None)
 
 
 def test_a_failing_chunk_raises_after_every_chunk_is_done():

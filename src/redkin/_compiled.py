@@ -179,16 +179,22 @@ from pathlib import Path
 
 import numpy as np
 
-#: Batches of fewer items run in the calling thread (handing out chunks costs more than the cores save).
+#: Batches of fewer items run in the calling thread (handing out chunks costs more than the cores save), unless the
+#: kernel's measured time per item says they are long enough for the pool (an item of a hundred microseconds).
 PARALLEL_BATCH = 256
 #: A batch is split into at most this many chunks per thread (each taken by whichever thread is free).
 CHUNKS_PER_THREAD = 4
-#: Items per chunk at least.
+#: Items per chunk at least; fewer where the kernel's measured time per item fills :data:`POOL_SECONDS` with fewer.
 MIN_CHUNK = 128
 #: Batches whose kernel, at its last measured time per item, would take less than this (seconds) run in the
 #: calling thread: waking a helper and being woken by it cost tens of microseconds (about 20-30 us each on a
 #: 2-core virtual machine), so a batch of FK shorter than this is faster alone.
 POOL_SECONDS = 2e-4
+#: Batches of fewer items always run in the calling thread, untimed.
+TIMED_BATCH = 8
+#: A batch under :data:`PARALLEL_BATCH` items is timed only where its items take longer than this (seconds) each:
+#: the call's own cost, a few microseconds, would make cheap items look dearer.
+LONG_ITEM = POOL_SECONDS / TIMED_BATCH
 
 _seconds_per_item: dict = {}  # kernel -> its last measured time per item (a run in one call, or the caller's chunks)
 
@@ -740,15 +746,21 @@ def run_batch(kernel: Callable, count: int, *args):
 
     When this returns or raises, no chunk is running (a chunk's exception is raised once the others are done).
     """
-    if count < PARALLEL_BATCH or (_interpreting.depth and not _numba_loaded):  # one item, or Python: one thread
+    per_item = _seconds_per_item.get(kernel)
+    if count < TIMED_BATCH or (_interpreting.depth and not _numba_loaded):  # a few items, or Python: one thread
         return kernel(0, count, *args)
     threads = thread_count()
-    chunks = min(CHUNKS_PER_THREAD * threads, count // MIN_CHUNK)
-    if threads > 1 and chunks > 1 and _seconds_per_item.get(kernel, POOL_SECONDS) * count >= POOL_SECONDS:
+    smallest = MIN_CHUNK if per_item is None else max(1, min(MIN_CHUNK, int(POOL_SECONDS / max(per_item, 1e-12))))
+    chunks = min(CHUNKS_PER_THREAD * threads, count // smallest)
+    known = per_item is not None and smallest < MIN_CHUNK  # a small batch of long items goes to the pool too
+    if (threads > 1 and chunks > 1 and (count >= PARALLEL_BATCH or known)
+            and (POOL_SECONDS if per_item is None else per_item) * count >= POOL_SECONDS):
         return _run_chunks(kernel, count, chunks, threads, args)
     start = time.perf_counter()
     result = kernel(0, count, *args)
-    _seconds_per_item[kernel] = (time.perf_counter() - start) / count
+    measured = (time.perf_counter() - start) / count
+    if count >= PARALLEL_BATCH or measured >= LONG_ITEM:
+        _seconds_per_item[kernel] = measured
     return result
 
 

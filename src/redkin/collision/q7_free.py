@@ -31,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import run_batch
 from redkin._validation import check_pose
 from redkin.arms.feasible_sets import Arcs, merged_intervals
 from redkin.arms.franka_kind import FrankaKind
@@ -173,9 +174,9 @@ class _Q7Measure:
             signs = self.geometry.kernel_branches[self.rows[owner[which] % len(self.rows)]]
             for table in (levels, signs):  # read-only as the limits and branches of the feasible sets: one compile
                 table.flags.writeable = False
-            _kernels.levels_crossed(self.frames_seven[owner[which] // len(self.rows)], self.geometry.kernel_arm,
-                                    levels, middle[which] - half[which], middle[which] + half[which], signs, joints,
-                                    crossed)
+            run_batch(_kernels.levels_crossed, len(which), self.frames_seven[owner[which] // len(self.rows)],
+                      self.geometry.kernel_arm, levels, middle[which] - half[which], middle[which] + half[which], signs,
+                      joints, crossed)
         proved[which[crossed]] = False
         base = (delta[:, None, :] * self.base_levers).sum(axis=2)  # (N, M): per capsule
         tip = (delta[:, None, :] * self.tip_levers).sum(axis=2)

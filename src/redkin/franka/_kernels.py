@@ -475,11 +475,12 @@ def sampled_limits(t07, arm, limits, samples):
 
 
 @kernel
-def levels_crossed(t07, arm, levels, lo, hi, signs, joints, out):
-    """For each interval ``[lo[i], hi[i]]`` of q7 (the chain's value) at the pose ``t07[i]``, whether the branch of
-    solver signs ``signs[i]`` may leave the band its levels ``levels[i]`` (3, 7) set (two DH angles per joint, laid
-    out as the limits of :func:`limit_values`, and whether to test the joint) for a joint 1-6 somewhere in the
-    interval, into ``out`` (N,) (docs/collisions.md, "The Franka class").
+def levels_crossed(start, stop, t07, arm, levels, lo, hi, signs, joints, out):
+    """For each interval ``[lo[i], hi[i]]`` of q7 (the chain's value) at the pose ``t07[i]``, ``i`` in ``start ..
+    stop - 1`` (a batch of :func:`redkin._compiled.run_batch`), whether the branch of solver signs ``signs[i]`` may
+    leave the band its levels ``levels[i]`` (3, 7) set (two DH angles per joint, laid out as the limits of
+    :func:`limit_values`, and whether to test the joint) for a joint 1-6 somewhere in the interval, into ``out``
+    (N,) (docs/collisions.md, "The Franka class").
 
     It may not where (i) the bands keep the branch away from its jumps [F5]-[F7]: ``sin theta_2`` away from 0 over
     joint 2's band, ``S_4x`` [F4] away from 0 over joint 4's, and ``|V_xy|`` [F6] above what it can lose over the
@@ -497,7 +498,7 @@ def levels_crossed(t07, arm, levels, lo, hi, signs, joints, out):
     exists = np.empty(1, dtype=np.bool_)
     scratch = np.empty((8, 3, 3))
     work = np.empty(WORK)
-    for i in range(lo.shape[0]):
+    for i in range(start, stop):
         out[i] = True
         middle = offset7 + 0.5 * (lo[i] + hi[i])
         width2 = 0.5 * abs(levels[i, 1, 1] - levels[i, 0, 1])
