@@ -68,7 +68,7 @@ M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 32 * 1024 * 1024
 _SUMMARY_SPAN = 128
 #: Poses per chunk of a map in a cell by default, by the redundancy parameter's name, so that a chunk is seconds to a
 #: minute of work: a pose's certified collision-free arm angles take milliseconds (0.5-2 s per thousand poses on the
-#: worked cell, most of a box being out of reach), its q7 sets on the Franka class 0.2-0.9 s (benchmarks/README.md).
+#: worked cell, most of a box being out of reach), its q7 sets on the Franka class 0.2-0.8 s (benchmarks/README.md).
 _CELL_CHUNK_POSES = {"psi": 4096, "q7": 64}
 #: Seconds a failed run on a cluster waits for the chunks its workers hold to be written.
 _DRAIN_SECONDS = 300
