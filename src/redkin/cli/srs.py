@@ -386,7 +386,7 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
     if cell is not None:
         print(f"{symbol} (within the limits): {_format_arcs(report['limits_feasible'], deg)}")
         print(f"{symbol} (collision-free, {plural(len(cell['obstacles']), 'obstacle')} and "
-              f"{plural(cell['self_pairs'], 'link pair')} at margin {cell['margin']:g} m): "
+              f"{plural(cell['self_pairs'], 'pair')} of the arm's own capsules at margin {cell['margin']:g} m): "
               f"{_format_arcs(report['feasible'], deg)}")
         undecided = ("next to a singular arm angle, or the clearance grazes the margin" if name == "psi" else
                      "next to a singular configuration or where the branch ends, or the clearance grazes the margin")

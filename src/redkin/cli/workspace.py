@@ -121,7 +121,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"{chain.name}: {result.positions} positions x {result.orientations} orientations x 8 branches "
               f"= {result.pose_branch_evaluations} exact feasible sets{whose}")
         if cell is not None:
-            print(f"in the cell {cell[1].source}: {len(cell[1])} obstacles and {len(cell[0].pairs)} link pairs at "
+            print(f"in the cell {cell[1].source}: {len(cell[1])} obstacles and {len(cell[0].pairs)} pairs of the "
+                  "arm's own capsules at "
                   f"margin {cell[1].margin:g} m ({len(cell[0])} capsules, {cell[0].source}): the certified "
                   "collision-free sets")
         if result.model_error:
