@@ -37,7 +37,7 @@ from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 
 
-class _Pairs(NamedTuple):
+class CheckedPairs(NamedTuple):
     """The pairs a body and a scene check, in order: each capsule that moves (frame > 0) against each obstacle, then
     the self pairs.
 
@@ -75,11 +75,11 @@ class Clearance(NamedTuple):
     against: np.ndarray
 
 
-def checked_pairs(body: Body, scene: Scene) -> _Pairs:
-    """The pairs of ``body`` and ``scene`` (the class docstring of :class:`_Pairs`)."""
+def checked_pairs(body: Body, scene: Scene) -> CheckedPairs:
+    """The pairs of ``body`` and ``scene`` (the class docstring of :class:`CheckedPairs`)."""
     moving = np.flatnonzero(np.asarray(body.frame) > 0)
     obstacles = len(scene)
-    return _Pairs(
+    return CheckedPairs(
         capsule=np.concatenate([np.repeat(moving, obstacles), body.pairs[:, 0]]).astype(np.int64),
         obstacle=np.concatenate([np.tile(np.arange(obstacles), len(moving)),
                                  np.full(len(body.pairs), -1)]).astype(np.int64),
@@ -102,7 +102,8 @@ def base_contacts(chain: SerialChain, body: Body, scene: Scene) -> list[tuple[st
     return sorted(found, key=lambda contact: contact[2])
 
 
-def pair_distances(shapes: np.ndarray, scene: Scene, pairs: _Pairs, at: np.ndarray, pair: np.ndarray) -> np.ndarray:
+def pair_distances(shapes: np.ndarray, scene: Scene, pairs: CheckedPairs, at: np.ndarray,
+                   pair: np.ndarray) -> np.ndarray:
     """The signed distances of the pairs ``pair`` in the posed bodies ``shapes[at]`` (``shapes``: (N, M, WIDTH) of
     :func:`redkin.collision.body.posed`; ``at``, ``pair``: one entry per distance wanted)."""
     obstacle = pairs.obstacle[pair]
@@ -139,7 +140,7 @@ def least_pair(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return table[np.arange(len(table)), closest], closest
 
 
-def pair_table(chain: SerialChain, body: Body, scene: Scene, q: np.ndarray) -> tuple[np.ndarray, _Pairs]:
+def pair_table(chain: SerialChain, body: Body, scene: Scene, q: np.ndarray) -> tuple[np.ndarray, CheckedPairs]:
     """The signed distance of every checked pair at each configuration of ``q`` ``(N, n)`` (checked), ``(N, P)``,
     and the pairs (:func:`checked_pairs`)."""
     if len(body) and int(body.frame.max()) > chain.n:

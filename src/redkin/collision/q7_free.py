@@ -9,14 +9,10 @@ self-collision pairs) is at least the scene's margin apart: the Franka class's c
 
 What is proved.  On an interval ``I = [m - h, m + h]`` inside one of the branch's limit-feasible arcs (where the
 branch exists and turns continuously), let ``delta_j`` bound ``|q_j(t) - q_j(m)|`` over ``I`` for each joint
-(``delta_7 = h``).  A point of link ``k`` then moves, relative to the base, by at most ``sum_{j <= k} delta_j
-L_j``, ``L_j`` a bound of its distance from axis ``j`` in every configuration: the length of the path from it
-through the joints' axis points ``k, k - 1, .., j``, each leg fixed on one link (turning a point by ``d`` about an
-axis at distance ``r`` moves it by at most ``r d``).  Relative to the tool, which the pose holds still, it moves by
-at most ``sum_{j > k} delta_j L'_j`` (the path through axes ``k + 1 .. j``); the smaller bound is kept.  Two links
-``k1 < k2`` move relative to each other only through joints ``k1 + 1 .. k2``.  A pair's signed distance changes by
-no more than the two shapes' displacements, so ``c(t) - c(m)`` is bounded over ``I``, and the interval is free,
-blocked or halved as :mod:`redkin.collision.arm_angle_free` says.
+(``delta_7 = h``).  Each pair's signed distance then changes over ``I`` by at most the bound of
+:mod:`redkin.collision.joint_motion` (levers along the joints' axes, from the base or from the tool, which the pose
+holds still), so ``c(t) - c(m)`` is bounded over ``I``, and the interval is free, blocked or halved as
+:mod:`redkin.collision.arm_angle_free` says.
 
 The bounds ``delta_j`` are proposed from the joints' values at ``m`` and just beyond the ends of ``I`` (twice the
 larger change, a little more) and then proved: with the levels ``q_j(m) -+ delta_j`` in place of the limits, no level
@@ -46,8 +42,9 @@ from redkin.collision.arm_angle_free import (
     first_intervals,
     limit_stretches,
 )
-from redkin.collision.body import Body, capsule_ends, posed
+from redkin.collision.body import Body, posed
 from redkin.collision.clearance import checked_pairs, pair_distances
+from redkin.collision.joint_motion import joint_levers, pair_displacements
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.franka import _kernels
@@ -130,7 +127,7 @@ class _Q7Measure:
         self.evaluations = np.zeros(len(poses), dtype=np.int64)  # per pose
         self.pairs = checked_pairs(body, scene)
         self.names, self.count = self.pairs.names, len(self.pairs.names)
-        self.base_levers, self.tip_levers = _levers(arm.chain, body)
+        self.levers = joint_levers(arm.chain, body)
 
     def joints(self, q7: np.ndarray, owner: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The owners' branch solutions ``(N, 7)`` at ``q7`` ``(N,)``, and whether each exists."""
@@ -178,47 +175,10 @@ class _Q7Measure:
                       self.geometry.kernel_arm, levels, middle[which] - half[which], middle[which] + half[which], signs,
                       joints, crossed)
         proved[which[crossed]] = False
-        base = (delta[:, None, :] * self.base_levers).sum(axis=2)  # (N, M): per capsule
-        tip = (delta[:, None, :] * self.tip_levers).sum(axis=2)
-        shift = np.minimum(base, tip)
-        pairs = self.pairs
-        total = shift[:, pairs.capsule].copy()
-        own = np.flatnonzero(pairs.other >= 0)
-        if len(own):
-            first, second = pairs.capsule[own], pairs.other[own]
-            k1, k2 = self.body.frame[first], self.body.frame[second]
-            low = np.minimum(k1, k2)[None, :, None]
-            between = (np.arange(1, 8)[None, None, :] > low) & (np.arange(1, 8)[None, None, :]
-                                                                 <= np.maximum(k1, k2)[None, :, None])
-            outer = np.where((k1 >= k2)[:, None], self.base_levers[first], self.base_levers[second])
-            inner = np.where((k1 >= k2)[:, None], self.tip_levers[second], self.tip_levers[first])
-            relative = np.minimum((delta[:, None, :] * outer[None] * between).sum(axis=2),
-                                  (delta[:, None, :] * inner[None] * between).sum(axis=2))
-            total[:, own] = relative
+        total = pair_displacements(delta, self.levers, self.body, self.pairs)
         rate = total / half[:, None]
         rate[~proved] = np.inf
         return rate
-
-
-def _levers(chain, body: Body) -> tuple[np.ndarray, np.ndarray]:
-    """Per capsule and joint ``(M, 7)``: bounds of the distance of the capsule's segment from the joint's axis in
-    every configuration, along the path through the axes from the capsule's link down to the joint (base side, joints
-    ``j <= k`` of a capsule on frame ``k``; 0 for the others) and up to it (tip side, joints ``j > k``)."""
-    frames = chain.frames(np.zeros(chain.n))
-    _, points = chain.joint_axes_in(frames)  # (7, 3): a point on each axis, fixed on the links on both its sides
-    legs = np.linalg.norm(np.diff(points, axis=0), axis=1)  # legs[i]: axis i + 1 to axis i + 2 (on link i + 1)
-    ends = capsule_ends(posed(body, frames))  # (M, 2, 3)
-    base = np.zeros((len(body), chain.n))
-    tip = np.zeros((len(body), chain.n))
-    for c, k in enumerate(body.frame.tolist()):
-        for j in range(1, chain.n + 1):
-            if 1 <= j <= k:  # from the capsule to axis k (on link k), then down the legs to axis j
-                own = np.linalg.norm(ends[c] - points[k - 1], axis=1).max()
-                base[c, j - 1] = own + legs[j - 1 : k - 1].sum()
-            elif j > k:  # from the capsule to axis k + 1 (on link k), then up the legs to axis j
-                own = np.linalg.norm(ends[c] - points[k], axis=1).max()
-                tip[c, j - 1] = own + legs[k : j - 1].sum()
-    return base, tip
 
 
 def _limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...], limits: tuple[Arcs, ...],

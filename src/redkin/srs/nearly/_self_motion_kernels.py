@@ -487,7 +487,7 @@ def longest_step(state, bounds, longest):
 
 @kernel
 def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense, most, points, tangents, angles,
-           rates, signs, inside, spreads):
+           rates, signs, inside, spreads, tubes):
     """Follow the self-motion of ``target`` (4, 4) on the real chain from the solution ``seed`` (7,) with certified
     steps (module docstring) of at most ``longest`` [rad of arc length], the arm angle first increasing (``sense``
     +1) or decreasing (-1).
@@ -495,7 +495,9 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
     Writes up to ``most`` points (continuous joint values, not wrapped) into ``points`` (most, 7), their unit
     tangents into ``tangents``, arm angles into ``angles`` and ``d psi / ds`` into ``rates``; for the step from
     point ``k`` to ``k + 1``, its branch signs into ``signs[k]`` (3,) and its limited joints' state into
-    ``inside[k]`` (:func:`classified`), and the bound of its arm-angle change into ``spreads[k]``.  Where the curve
+    ``inside[k]`` (:func:`classified`), the bound of its arm-angle change into ``spreads[k]`` and its tube into
+    ``tubes[k]`` (2,): the length ``H`` it is certified for (its overlap included) and the radius ``r*`` (every point
+    of its arc lies within ``r*`` of ``points[k] + s tangents[k]`` for some ``s`` in ``[0, H]``).  Where the curve
     closes, its last point is its first (modulo whole turns).  Returns the number of points and :data:`CLOSED`,
     :data:`FULL` or :data:`STUCK` (where a step cannot be certified, or the certificate allows no step longer than
     :data:`SINGULAR_STEP`).
@@ -572,6 +574,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
         signs[count - 1] = step_signs
         inside[count - 1] = state_of_limits
         spreads[count - 1] = spread
+        tubes[count - 1, 0], tubes[count - 1, 1] = reach, radius
         if closing and apart <= 1e-18:  # landed on the first point (to 1e-9 rad)
             points[count] = moved
             tangents[count] = following

@@ -90,6 +90,13 @@ class SelfMotion(NamedTuple):
         Whether that arc lies within the limits: 1 everywhere, 0 outside them somewhere, -1 not decided.
     spread : numpy.ndarray, shape (M - 1,)
         A bound of the arm angle's change along that arc [rad].
+    tubes : numpy.ndarray, shape (M - 1, 2)
+        The certificate of that arc [C2]: the length ``H`` [rad] of its chord and the radius ``r*`` [rad] of the
+        tube about it that holds the arc; the chord starts at point ``anchors[k]`` along its tangent (either way).
+    anchors : numpy.ndarray of int, shape (M - 1,)
+        The point each arc's tube is about: ``k`` where the arc was followed from point ``k``, ``k + 1`` where it
+        was followed backwards from point ``k + 1``.  So every point of the arc lies within ``H |t_j| + r*`` of the
+        anchor's ``q_j`` in each joint ``j`` (``t`` the anchor's tangent).
     closed : bool
         Whether the curve came back to its first point; where not, it stopped where a step could not be
         certified (a singular configuration, the wrist on joint 1's axis) or after :data:`_MOST_POINTS` points.
@@ -102,6 +109,8 @@ class SelfMotion(NamedTuple):
     branches: np.ndarray
     inside: np.ndarray
     spread: np.ndarray
+    tubes: np.ndarray
+    anchors: np.ndarray
     closed: bool
 
 
@@ -274,31 +283,66 @@ def _followed(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float
     backward = _traced(arm, target, start, step, -1.0)
     if len(backward.psi) == 0:
         return forward
+    joined = len(backward.psi) - 1  # backward's point k is the joined curve's point joined - k
     return SelfMotion(np.concatenate([backward.q[:0:-1], forward.q]),
                       np.concatenate([-backward.tangents[:0:-1], forward.tangents]),
                       np.concatenate([backward.psi[:0:-1], forward.psi]),
                       np.concatenate([-backward.rates[:0:-1], forward.rates]),
                       np.concatenate([backward.branches[::-1], forward.branches]),
                       np.concatenate([backward.inside[::-1], forward.inside]),
-                      np.concatenate([backward.spread[::-1], forward.spread]), False)
+                      np.concatenate([backward.spread[::-1], forward.spread]),
+                      np.concatenate([backward.tubes[::-1], forward.tubes]),
+                      np.concatenate([joined - backward.anchors[::-1], joined + forward.anchors]), False)
 
 
-def _traced(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, sense: float) -> SelfMotion:
-    """:func:`redkin.srs.nearly._self_motion_kernels.traced` one way from ``start``."""
-    most = _MOST_POINTS
+def _traced(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, sense: float,
+            most: int = _MOST_POINTS) -> SelfMotion:
+    """:func:`redkin.srs.nearly._self_motion_kernels.traced` one way from ``start``, ``most`` points at most."""
     points, tangents = np.empty((most, 7)), np.empty((most, 7))
     angles, rates, spread = np.empty(most), np.empty(most), np.empty(most)
     signs, inside = np.empty((most, 3), dtype=np.int64), np.empty(most, dtype=np.int64)
+    tubes = np.empty((most, 2))
     count, status = _self_motion_kernels.traced(
         np.ascontiguousarray(start, dtype=float), target, arm.kernel_real, arm.kernel_model, arm.kernel_bounds,
-        arm.real_phase, arm.kernel_limits, step, sense, most, points, tangents, angles, rates, signs, inside, spread)
+        arm.real_phase, arm.kernel_limits, float(step), float(sense), most, points, tangents, angles, rates, signs,
+        inside, spread, tubes)
     steps = max(count - 1, 0)
     table = arm.geometry.kernel_branches
     matches = np.all(signs[:steps, None, :] == table, axis=-1)
     branches = np.where(matches.any(axis=-1), np.argmax(matches, axis=-1), -1)
     return SelfMotion(points[:count].copy(), tangents[:count].copy(), angles[:count].copy(), rates[:count].copy(),
-                      branches, inside[:steps].copy(), spread[:steps].copy(),
-                      status == _self_motion_kernels.CLOSED)
+                      branches, inside[:steps].copy(), spread[:steps].copy(), tubes[:steps].copy(),
+                      np.arange(steps), status == _self_motion_kernels.CLOSED)
+
+
+def finer_steps(arm: NearlySRS, pose: np.ndarray, curve: SelfMotion, k: int, longest: float,
+                most: int = 64) -> SelfMotion | None:
+    """The arc of ``curve``'s step ``k`` followed again with certified steps of at most ``longest`` [rad], from the
+    step's anchor (:attr:`SelfMotion.anchors`) the way the step runs from it, until past the step's other end: a
+    piece of the same curve (the step's tube holds one arc of solutions, so no other), whose steps together cover
+    the step's arc, with its points ordered from the anchor.  ``None`` where it could not be followed that far in
+    ``most`` points (a step that cannot be certified)."""
+    anchor = int(curve.anchors[k])
+    other = k + 1 if anchor == k else k
+    forward = 1.0 if anchor == k else -1.0
+    direction = forward * curve.tangents[anchor]
+    length = float((curve.q[other] - curve.q[anchor]) @ direction)
+    rate = forward * curve.rates[anchor]
+    for sense in ((1.0, -1.0) if rate >= 0.0 else (-1.0, 1.0)):  # the arm angle's sense along the step
+        piece = _traced(arm, pose, curve.q[anchor], longest, sense, most)
+        if len(piece.psi) < 2 or float(piece.tangents[0] @ direction) <= 0.0:
+            continue
+        along = (piece.q[:-1] - curve.q[anchor]) @ direction  # each step's start on the step's chord
+        past = np.flatnonzero((piece.q[1:] - curve.q[anchor]) @ direction >= length)
+        if not len(past):
+            return None
+        keep = int(past[0]) + 1  # the steps up to the first that ends past the other end
+        if np.any(along[:keep] > length):
+            return None
+        return SelfMotion(piece.q[: keep + 1], piece.tangents[: keep + 1], piece.psi[: keep + 1],
+                          piece.rates[: keep + 1], piece.branches[:keep], piece.inside[:keep], piece.spread[:keep],
+                          piece.tubes[:keep], piece.anchors[:keep], False)
+    return None
 
 
 def _runs(good: np.ndarray, closed: bool) -> list[np.ndarray]:
