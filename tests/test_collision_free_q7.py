@@ -192,7 +192,7 @@ def test_another_class_and_bad_input_are_refused_in_words():
 
 def test_the_class_door_gives_each_class_s_own_sets_and_refuses_the_others():
     """collision_free_set is collision_free_q7 on the Franka class and collision_free_arm_angles on S-R-S arms; a
-    nearly S-R-S arm, which has no certified sets yet, is refused naming its class."""
+    chain solved numerically, which has no redundancy parameter, is refused naming its class."""
     scene = scene_of(CELL)
     for robot, own in (("franka-panda", collision_free_q7), ("kuka-iiwa14", collision_free_arm_angles)):
         arm = redkin.arm(robot)
@@ -201,6 +201,6 @@ def test_the_class_door_gives_each_class_s_own_sets_and_refuses_the_others():
         assert door.parameter == direct.parameter and door.branches == direct.branches
         assert np.array_equal(door.free[0].bounds, direct.free[0].bounds)
         assert door.blocked == direct.blocked
-    gen3 = redkin.arm("kinova-gen3")
-    with pytest.raises(RedkinError, match="Franka-class arms; kinova-gen3 is nearly S-R-S"):
-        collision_free_set(gen3, gen3.fk(np.zeros(7) + 0.3), builtin_body("kinova-gen3", gen3.chain), scene)
+    sawyer = redkin.arm("sawyer.urdf")
+    with pytest.raises(RedkinError, match="sawyer is general chain, solved numerically"):
+        collision_free_set(sawyer, sawyer.fk(np.zeros(7) + 0.3), redkin.collision.body_of([], sawyer.chain), scene)

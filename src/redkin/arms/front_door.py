@@ -255,9 +255,10 @@ class Arm:
         the branch's solution exists and lies within every joint limit ([000 eq. 30] on S-R-S arms, [F8]-[F9] on
         the Franka class; certified, not proved complete, on nearly S-R-S arms).
 
-        With ``body`` and ``scene`` (S-R-S, offset-elbow and Franka-class arms): the certified collision-free sets
-        of :func:`redkin.collision.collision_free_arm_angles` (:func:`redkin.collision.collision_free_q7` on the
-        Franka class) instead, within the limits and clear of every obstacle and between the body's links by the
+        With ``body`` and ``scene``: the certified collision-free sets of :func:`redkin.collision.free_sets_of`
+        (:func:`redkin.collision.collision_free_arm_angles` on S-R-S and offset-elbow arms,
+        :func:`redkin.collision.collision_free_q7` on the Franka class, read off the certified self-motion on nearly
+        S-R-S arms) instead, within the limits and clear of every obstacle and between the body's links by the
         scene's margin (``exact`` false: ends located to 1e-6 rad).
         """
         self._need_parameter("feasible sets")
@@ -288,7 +289,7 @@ class Arm:
 
         free = self._free_per_pose(poses, branches, body, scene)
         assert self.parameter is not None
-        labels = self._labels(branches)
+        labels = self.labels(branches)
         sets = [[[(lo, hi + TWO_PI if wraps else hi) for (lo, hi), wraps
                   in zip(arcs.bounds.tolist(), arcs.wraps.tolist(), strict=True)] for arcs in one.free]
                 for one in free.values()]
@@ -312,7 +313,7 @@ class Arm:
         weights : array_like, shape (2,), optional
             The shoulder's and the wrist's weight [000 eq. 40] (default 0.5, 0.5); arm-angle classes only.
         body, scene : Body and Scene, optional
-            Together (S-R-S, offset-elbow and Franka-class arms): ``value`` is taken within the certified
+            Together: ``value`` is taken within the certified
             collision-free set of :meth:`feasible` with them instead of the feasible set -- the arm angle of that set
             nearest the unclamped optimum, as [000] clamps into the feasible set; on the Franka class [F10]'s
             minimiser over the free intervals.  ``unclamped`` is the same minimiser over every value (on q7 the
@@ -328,7 +329,7 @@ class Arm:
             return self.implementation.optimal(pose, row, goal, pair, within)
 
         value, unclamped = self._per_pose("a limit-avoiding value", poses, branches, answer, (np.nan, np.nan))
-        return Optimal(value.astype(float), unclamped.astype(float), self._labels(branches))
+        return Optimal(value.astype(float), unclamped.astype(float), self.labels(branches))
 
     def _free_per_pose(self, poses: ArrayLike, branches: str | Sequence[str] | None, body: Body | None,
                        scene: Scene | None) -> dict[tuple[int, ...], Any]:
@@ -341,7 +342,7 @@ class Arm:
             raise RedkinError("collision-free sets need both the arm's body and the scene")
         self._need_parameter("collision-free sets")
         checked = check_pose(poses)
-        sets = free_sets_of(self, checked.reshape(-1, 4, 4), body, scene, self._labels(branches))
+        sets = free_sets_of(self, checked.reshape(-1, 4, 4), body, scene, self.labels(branches))
         return dict(zip(np.ndindex(checked.shape[:-2]), sets, strict=True))
 
     def joint_sets(self, pose: ArrayLike, branch: str) -> dict[int, np.ndarray]:
@@ -364,7 +365,7 @@ class Arm:
         where the real arm's axes 1 and 3, 5 and 7 align).  The Franka class has none here: it refuses."""
         shoulder, wrist = self._per_pose("singular values", poses, branches,
                                          lambda pose, row, _: self.implementation.singular(pose, row), ((), ()))
-        return Singular(shoulder, wrist, self._labels(branches))
+        return Singular(shoulder, wrist, self.labels(branches))
 
     def _per_pose(self, what: str, poses: ArrayLike, branches: str | Sequence[str] | None, answer: Any,
                   unreachable: tuple[Any, Any]) -> tuple[np.ndarray, np.ndarray]:
@@ -466,7 +467,14 @@ class Arm:
             raise RedkinError("branches must name at least one branch")
         return np.array(rows, dtype=np.int64)
 
-    def _labels(self, branches: str | Sequence[str] | None) -> tuple[str, ...]:
+    def labels(self, branches: str | Sequence[str] | None = None) -> tuple[str, ...]:
+        """The labels of ``branches`` (default every branch of the arm), each checked to be one of the arm's.
+
+        Raises
+        ------
+        RedkinError
+            For an unknown branch, none named, or an arm without branches.
+        """
         rows = self._rows(branches)
         return self.branches if rows is None else tuple(self.branches[r] for r in rows)
 

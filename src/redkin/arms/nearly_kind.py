@@ -16,6 +16,7 @@ from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
 from redkin.arms.srs_kind import ARM_ANGLE, LABELS
 from redkin.chain import Reach
+from redkin.circle import ArcSet
 from redkin.paths.family import NearlyFamily
 from redkin.srs.branches import BRANCHES
 from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
@@ -59,11 +60,12 @@ class NearlyKind(ArmKind):
 
     def optimal(self, pose: np.ndarray, row: int, target: np.ndarray | None,
                 weights: tuple[float, float] | None, within: Arcs | None = None) -> tuple[float, float]:
-        """[000 eq. 40]'s optimum on the real arm ([000 eqs. 36-40] through the neighbour); ``within`` is refused
-        before it reaches here (no certified collision-free sets)."""
-        assert within is None
+        """[000 eq. 40]'s optimum on the real arm ([000 eqs. 36-40] through the neighbour), clamped to the feasible
+        set or to ``within`` (the collision-free arcs: the best point of the branch's certified steps in them)."""
+        allowed = None if within is None else ArcSet(within.bounds.tolist())
         overall = optimal_arm_angles_nearly(self.nearly, pose, BRANCHES[row], target=target,
-                                            weights=(0.5, 0.5) if weights is None else weights).overall
+                                            weights=(0.5, 0.5) if weights is None else weights,
+                                            feasible=allowed).overall
         return (np.nan if overall.feasible is None else overall.feasible), overall.unclamped
 
     def singular(self, pose: np.ndarray, row: int) -> tuple[tuple[float, ...], tuple[float, ...]]:

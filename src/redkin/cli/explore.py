@@ -51,7 +51,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_srs_tolerance_argument(parser)
     add_cell_arguments(parser, "the page draws the obstacles and the arm's capsules, shades the arm angles (q7 on "
                                "the Franka class) they remove by cause, and says how far the arm is from them at the "
-                               "slider's value (S-R-S, offset-elbow and Franka-class arms); with --path, the "
+                               "slider's value; with --path, the "
                                "playback draws them at each frame and says the least distance at the slider's time "
                                "(any arm)")
     add_output_flags(parser)

@@ -176,7 +176,7 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     of every pose and branch are halved in one batch, so the work per level is shared (``budget`` per pose)."""
     if not isinstance(arm.implementation, SRSKind):
         elsewhere = ("its q7 sets are redkin.collision.collision_free_q7's" if arm.parameter is not None
-                     and arm.parameter.name == "q7" else "a later step of issue 40")
+                     and arm.parameter.name == "q7" else "redkin.collision.free_sets_of takes every class")
         raise RedkinError(f"certified collision-free arm angles are computed on S-R-S and offset-elbow arms; "
                           f"{arm.chain.name} is {arm.kind} ({elsewhere})")
     poses = checked_inputs(arm, poses, body, resolution)
@@ -201,10 +201,11 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     results = []
     for p, pose in enumerate(poses):
         free_sets, blocked = [], []
-        at_limits = _limit_stretches(arm, pose, labels, limit_arcs[p])
+        at_limits = circle_limit_stretches(arm, pose, labels, limit_arcs[p])
         for b in range(count):
             mine = parts[2] == p * count + b
-            free_sets.append(_as_arcs(parts[0][mine & (parts[3] == 0)], parts[1][mine & (parts[3] == 0)]))
+            clear = mine & (parts[3] == 0)
+            free_sets.append(arcs_of(ArcSet(np.stack([parts[0][clear], parts[1][clear]], axis=-1).tolist())))
             stretches = collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
                                             measure.names, _wrapped)
             stretches += at_limits[b]
@@ -494,10 +495,9 @@ def _line_distance(points: np.ndarray, origin: np.ndarray, direction: np.ndarray
     return np.linalg.norm(offset - along * direction[:, None], axis=-1)
 
 
-def _as_arcs(lo: np.ndarray, hi: np.ndarray) -> Arcs:
-    """Free intervals as disjoint, merged arcs on the circle."""
-    arcs = ArcSet(np.stack([lo, hi], axis=-1).tolist()).arcs
-    bounds = np.array(arcs, dtype=float).reshape(-1, 2)
+def arcs_of(arcs: ArcSet) -> Arcs:
+    """A set of arm angles as disjoint, merged arcs (``start > end`` through ``+-pi``)."""
+    bounds = np.array(arcs.arcs, dtype=float).reshape(-1, 2)
     return Arcs(bounds, bounds[:, 0] > bounds[:, 1])
 
 
@@ -528,9 +528,10 @@ def collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which:
     return stretches
 
 
-def _limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...],
-                     limits: tuple[Arcs, ...]) -> list[list[Stretch]]:
-    """Per branch, the stretches of the circle between its limit-feasible arcs, named by their causes."""
+def circle_limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...],
+                           limits: tuple[Arcs, ...]) -> list[list[Stretch]]:
+    """Per branch, the stretches of the circle between its limit-feasible arcs of arm angles, named by their
+    causes."""
     gaps = [ArcSet(arcs.bounds.tolist()).complement().arcs for arcs in limits]
     middles = [_wrapped(start + ((end - start) % TWO_PI) / 2.0) for arcs in gaps for start, end in arcs]
     return limit_stretches(arm, pose, labels, gaps, middles)

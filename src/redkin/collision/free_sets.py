@@ -2,11 +2,12 @@
 and 5): the one door through which the path search, the explorer and the command line take them.
 
 * S-R-S and offset-elbow arms: the arm angles of :func:`redkin.collision.arm_angle_free.free_arm_angles_of`;
+* nearly S-R-S arms: the arm angles of :func:`redkin.collision.nearly_free.free_nearly_of`, read off the pose's
+  certified self-motion;
 * the Franka class: the values of q7 of :func:`redkin.collision.q7_free.free_q7_of`.
 
-Both return :class:`redkin.collision.FreeArmAngles` (its ``parameter`` says which), so what uses the sets is
-written once.  Other classes (nearly S-R-S arms, chains solved numerically) have no certified sets yet and are
-refused in words.
+All return :class:`redkin.collision.FreeArmAngles` (its ``parameter`` says which), so what uses the sets is
+written once.  Chains solved numerically have no redundancy parameter, so no such sets, and are refused in words.
 """
 
 from __future__ import annotations
@@ -15,11 +16,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
-from redkin.arms.classify import FRANKA, OFFSET_ELBOW, SRS
+from redkin.arms.classify import FRANKA, NEARLY_SRS, OFFSET_ELBOW, SRS
 from redkin.arms.front_door import Arm
 from redkin.collision.arm_angle_free import FreeArmAngles, free_arm_angles_of, moved_pairs
 from redkin.collision.body import Body
 from redkin.collision.clearance import checked_pairs
+from redkin.collision.nearly_free import free_nearly_of
 from redkin.collision.q7_free import free_q7_of
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
@@ -31,7 +33,8 @@ def free_sets_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, branches:
                  resolution: float = 1e-6, budget: int = 100_000) -> list[FreeArmAngles]:
     """The certified collision-free sets of each pose of ``poses`` ``(P, 4, 4)`` on each branch (or ``branches``),
     over the arm's redundancy parameter: :func:`redkin.collision.free_arm_angles_of` or
-    :func:`redkin.collision.free_q7_of` as the arm's class has it (same arguments).
+    :func:`redkin.collision.free_q7_of` or :func:`redkin.collision.nearly_free.free_nearly_of` as the arm's class has
+    it (same arguments).
 
     Raises
     ------
@@ -42,8 +45,10 @@ def free_sets_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, branches:
         return free_q7_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
     if arm.kind in (SRS, OFFSET_ELBOW):
         return free_arm_angles_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
-    raise RedkinError(f"certified collision-free sets are computed on S-R-S, offset-elbow and Franka-class arms; "
-                      f"{arm.chain.name} is {arm.kind} (a later step of issue 40)")
+    if arm.kind == NEARLY_SRS:
+        return free_nearly_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
+    raise RedkinError(f"certified collision-free sets are computed over a redundancy parameter (S-R-S, offset-elbow, "
+                      f"nearly S-R-S and Franka-class arms); {arm.chain.name} is {arm.kind}, solved numerically")
 
 
 def collision_free_set(arm: Arm, pose: ArrayLike, body: Body, scene: Scene, branches: Branches = None, *,
@@ -60,12 +65,12 @@ def redundancy_moves(arm: Arm, body: Body, scene: Scene, q: ArrayLike) -> np.nda
     (:func:`redkin.collision.clearance.checked_pairs`), whether the pair's distance can change with the redundancy
     parameter at the configuration's pose ``(N, P)``.
 
-    On S-R-S and offset-elbow arms, :func:`redkin.collision.arm_angle_free.moved_pairs`.  On the Franka class, a
-    pair stays put only where both shapes do: on the base (frame 0) or on the last link, which the pose holds (an
-    obstacle never moves); every other pair is counted as moving, which may count a pair whose distance happens not
-    to change (a capsule along axis 1), never the reverse.
+    On S-R-S and offset-elbow arms, :func:`redkin.collision.arm_angle_free.moved_pairs`.  On the other classes (the
+    Franka class, nearly S-R-S arms), a pair stays put only where both shapes do: on the base (frame 0) or on the
+    last link, which the pose holds (an obstacle never moves); every other pair is counted as moving, which may count
+    a pair whose distance happens not to change (a capsule along axis 1), never the reverse.
     """
-    if arm.kind != FRANKA:
+    if arm.kind in (SRS, OFFSET_ELBOW):
         return moved_pairs(arm, body, scene, q)
     chain = arm.chain
     count = len(chain.check_q(q).reshape(-1, chain.n))

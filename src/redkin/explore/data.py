@@ -80,7 +80,7 @@ def explorer_data(
         A configuration at ``pose`` (within :data:`_REACHES`) to open the page at: its branch, at its own value of
         the parameter (merged into the grid).
     body, scene : Body and Scene, optional
-        A cell (S-R-S, offset-elbow and Franka-class arms): the page draws the obstacles and the body, shades the
+        A cell (every class above): the page draws the obstacles and the body, shades the
         values of the parameter the obstacles remove by cause, and says at each value how far the body is from them
         (:func:`redkin.explore.cell.cell_view`).
 

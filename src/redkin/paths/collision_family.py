@@ -1,15 +1,17 @@
 """Path resolution in a cell (issue 40): an arm's class whose pieces are the certified collision-free sets of its
-redundancy parameter (:func:`redkin.collision.free_sets_of`: the arm angles of S-R-S and offset-elbow arms, q7 on the
-Franka class) inside its exact feasible pieces, so that every waypoint of a resolved path keeps every link of the
-body the scene's margin away from every obstacle and from the body's other links.
+redundancy parameter (:func:`redkin.collision.free_sets_of`: the arm angles of S-R-S, offset-elbow and nearly S-R-S
+arms, q7 on the Franka class) inside its exact feasible pieces, so that every waypoint of a resolved path keeps every
+link of the body the scene's margin away from every obstacle and from the body's other links.
 
 Each exact piece (an interval of the parameter on which the branch exists, keeps every limit and is continuous) is
 cut to the free intervals within it, so the path search, its polish and its clearance levels (the limits moved in)
 all stay inside the free sets.  Between waypoints nothing is searched here: the joint values interpolate between
 two collision-free configurations, and a link may sweep through a thin obstacle on a long step;
 :func:`redkin.collision.step_clearance` checks the steps of the path found (docs/paths.md).  The sets are certified,
-not exact (undecided slivers of at most the resolution are left out), so no clearance is claimed optimal.
-S-R-S, offset-elbow and Franka-class arms, as the free sets.
+not exact (undecided slivers of at most the resolution are left out), so no clearance is claimed optimal.  Every
+class with a redundancy parameter, as the free sets.  On a nearly S-R-S arm a waypoint's arm angle is free where
+some solution of its branch is; next to a fold (a stretched elbow, a straight shoulder), where a branch has two
+solutions at one arm angle, the solver's may be the other, so the waypoints' clearances are measured again.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
 from redkin.franka.ik import PARAMETER as Q7
-from redkin.paths.family import PSI, ArmAngleFamily, Family, Q7Family, as_pieces
+from redkin.paths.family import PSI, ArmAngleFamily, Family, NearlyFamily, Q7Family, as_pieces
 from redkin.paths.graph import Arm
 from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import FeasiblePieces
@@ -36,11 +38,12 @@ if TYPE_CHECKING:  # redkin.collision's free sets use the arms, whose classes us
 
 @dataclass(frozen=True)
 class _CollisionFreeFamily(Family):
-    """An S-R-S or offset-elbow arm's family (:class:`redkin.paths.family.ArmAngleFamily`), or a Franka-class arm's
-    (:class:`redkin.paths.family.Q7Family`), whose pieces are cut to the collision-free sets of ``body`` in ``scene``
+    """An S-R-S or offset-elbow arm's family (:class:`redkin.paths.family.ArmAngleFamily`), a nearly S-R-S arm's
+    (:class:`redkin.paths.family.NearlyFamily`) or a Franka-class arm's (:class:`redkin.paths.family.Q7Family`),
+    whose pieces are cut to the collision-free sets of ``body`` in ``scene``
     (module docstring)."""
 
-    base: ArmAngleFamily | Q7Family
+    base: ArmAngleFamily | NearlyFamily | Q7Family
     body: Body
     scene: Scene
     parameter: str = PSI
@@ -80,7 +83,7 @@ class _CollisionFreeFamily(Family):
         inner = self.base.inner(level)
         if inner is None:
             return None
-        assert isinstance(inner, ArmAngleFamily | Q7Family)
+        assert isinstance(inner, ArmAngleFamily | NearlyFamily | Q7Family)
         return _CollisionFreeFamily(inner, self.body, self.scene, self.parameter, self.wraps)
 
     def model(self) -> str:
@@ -141,10 +144,10 @@ class _CollisionFreeFamily(Family):
 
 
 def collision_free_family(family: Family, body: Body, scene: Scene) -> _CollisionFreeFamily:
-    """``family`` in the cell ``scene`` with the arm's ``body`` (S-R-S, offset-elbow and Franka-class arms)."""
-    if not isinstance(family, ArmAngleFamily | Q7Family):
-        raise RedkinError(f"paths in a cell are resolved on S-R-S, offset-elbow and Franka-class arms so far; "
-                          f"{family.chain.name} is of another class (a later step of issue 40)")
+    """``family`` in the cell ``scene`` with the arm's ``body`` (every class with a redundancy parameter)."""
+    if not isinstance(family, ArmAngleFamily | NearlyFamily | Q7Family):
+        raise RedkinError(f"paths in a cell are resolved over a redundancy parameter; {family.chain.name} has none "
+                          "(a chain solved numerically)")
     return _CollisionFreeFamily(family, body, scene, family.parameter, family.wraps)
 
 

@@ -502,8 +502,10 @@ def _cell(mapped: Arm, nearly: NearlySRS | None, body: Body | None, scene: Scene
     if body is None or scene is None:
         raise ValueError("a map in a cell needs both the arm's body and the scene")
     if nearly is not None:
-        raise ValueError(f"a map in a cell needs certified collision-free sets, which S-R-S, offset-elbow and "
-                         f"Franka-class arms have; {mapped.chain.name!r} is nearly S-R-S")
+        raise ValueError(f"a map in a cell is computed on S-R-S, offset-elbow and Franka-class arms; "
+                         f"{mapped.chain.name!r} is nearly S-R-S, whose maps are its exact neighbour's and whose "
+                         f"collision-free sets are read off its self-motion (about a second a pose): give "
+                         f"redkin.collision.free_sets_of the poses")
     return body, scene
 
 
