@@ -176,6 +176,13 @@ def _collision(rng: np.random.Generator) -> None:
     collision.signed_distance(pairs[0, 0], pairs[0, 1])
     many = np.resize(pairs, (_BATCH, 2, collision.WIDTH))
     collision.signed_distance(many[:, 0], many[:, 1])
+    from redkin import models  # the clearance of a body in a scene: its listed pairs in one pass
+
+    chain = models.pa10_7c()
+    body = collision.body_of([collision.BodyCapsule("forearm", 4, [0, 0, 0], [0, 0, 0.2], 0.05),
+                              collision.BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.1], 0.05)], chain)
+    scene = collision.Scene(("box", "ball"), np.stack([obstacles[0], obstacles[2]]), 0.01)
+    collision.clearance(chain, body, scene, rng.uniform(-1, 1, (4, 7)))
     from redkin.collision.mesh_cover import _along  # the mesh fit's kernel, without the mesh extra's reach
 
     _along(rng.normal(size=(20, 3)), np.array([0.0, 0.0, 1.0]))

@@ -30,7 +30,9 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import kernel_array, run_batch
 from redkin.chain import SerialChain
+from redkin.collision import _distance_kernels
 from redkin.collision.body import Body, posed
 from redkin.collision.distances import trusted_distances
 from redkin.collision.scene import Scene
@@ -105,13 +107,19 @@ def base_contacts(chain: SerialChain, body: Body, scene: Scene) -> list[tuple[st
 def pair_distances(shapes: np.ndarray, scene: Scene, pairs: CheckedPairs, at: np.ndarray,
                    pair: np.ndarray) -> np.ndarray:
     """The signed distances of the pairs ``pair`` in the posed bodies ``shapes[at]`` (``shapes``: (N, M, WIDTH) of
-    :func:`redkin.collision.body.posed`; ``at``, ``pair``: one entry per distance wanted)."""
-    obstacle = pairs.obstacle[pair]
-    if not len(scene):  # only the body's own pairs (np.where below would index an empty scene)
-        return trusted_distances(shapes[at, pairs.capsule[pair]], shapes[at, pairs.other[pair]])
-    against = np.where(obstacle[:, None] >= 0, scene.shapes[np.maximum(obstacle, 0)],
-                       shapes[at, np.maximum(pairs.other[pair], 0)])
-    return trusted_distances(shapes[at, pairs.capsule[pair]], against)
+    :func:`redkin.collision.body.posed`; ``at``, ``pair``: one entry per distance wanted), in one compiled pass
+    (:func:`redkin.collision._distance_kernels.listed_distances`)."""
+    out = np.empty(len(at))
+    if len(at):
+        run_batch(_distance_kernels.listed_distances, len(at), kernel_array(shapes), kernel_array(scene.shapes),
+                  _indices(at), _indices(pairs.capsule[pair]), _indices(pairs.obstacle[pair]),
+                  _indices(pairs.other[pair]), out)
+    return out
+
+
+def _indices(values: np.ndarray) -> np.ndarray:
+    """Indices as the kernels take them: C-contiguous, writeable int64 (one compiled signature)."""
+    return kernel_array(np.asarray(values, dtype=np.int64))
 
 
 def clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> Clearance:
