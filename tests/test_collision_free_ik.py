@@ -15,6 +15,7 @@ from redkin.collision import BodyCapsule, Scene, body_of, clearance, posed, prim
 from redkin.collision.free_ik import collision_free_ik
 from redkin.errors import RedkinError
 from redkin.numerical import ik
+from redkin.numerical.solve import start_streams
 
 MARGIN = 0.02
 
@@ -113,8 +114,8 @@ def test_a_scene_that_blocks_every_candidate_returns_none_and_the_clearest(arm):
 
 def test_a_batch_is_filtered_pose_by_pose_and_out_of_reach_is_not_searched(arm):
     """Pose ``i`` of a batch starts from the solver's stream ``i`` (redkin.numerical.ik), so a batch is not its poses
-    solved alone; each pose's solutions are still its own clear candidates in the solver's order, and every pose of
-    the batch is asked as many candidates."""
+    solved alone; each pose's solutions are still its own clear candidates in the solver's order, from the round that
+    last asked it (only the poses short of clear solutions go on to the next round)."""
     chain, body = arm
     poses = chain.fk(np.array([[0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1], [-0.4, 0.2, 0.5, 0.9, -0.3, 1.1, 0.6]]))
     far = poses[1].copy()
@@ -122,9 +123,10 @@ def test_a_batch_is_filtered_pose_by_pose_and_out_of_reach_is_not_searched(arm):
     batch = np.stack([poses[0], poses[1], far])
     scene = _blocking_scene(chain, np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1]))
     together = collision_free_ik(chain, body, scene, batch, count=2)
-    candidates = ik(chain, batch, count=together.solver.found.shape[-1])
+    streams = start_streams(None, 3)
     for k in range(3):
-        found = candidates.q[k][candidates.found[k]]
+        candidates = ik(chain, batch[k : k + 1], count=int(together.asked[k]), rng=streams[k : k + 1])
+        found = candidates.q[0][candidates.found[0]]
         clear = found[clearance(chain, body, scene, found).distance >= MARGIN] if len(found) else found
         assert np.array_equal(together.q[k][together.found[k]], clear[:2])
         assert together.candidates[k] == len(found) and together.blocked[k] == len(found) - len(clear)
@@ -167,3 +169,22 @@ def test_the_arm_answers_the_same_in_its_rows(arm):
     with pytest.raises(RedkinError, match="both"):
         iiwa.ik(pose, body=forearm)
     assert solutions.collision_free is not None and np.array_equal(solutions.collision_free, solutions.exists)
+
+
+def test_only_the_poses_short_of_clear_solutions_are_asked_again(arm):
+    """The first round asks ``count`` candidates of every pose; a pose whose candidate is clear is not asked again, one
+    whose candidates all collide is asked four times as many, from its own starts (stream ``i``)."""
+    chain, body = arm
+    q = np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1])
+    blocked_pose = chain.fk(q)
+    scene = _blocking_scene(chain, q)
+    clear_q = np.array([-0.4, 0.2, 0.5, 0.9, -0.3, 1.1, 0.6])
+    batch = np.stack([chain.fk(clear_q), blocked_pose])
+    first = ik(chain, batch, count=1)
+    first_clear = clearance(chain, body, scene, first.q[:, 0]).distance >= MARGIN
+    result = collision_free_ik(chain, body, scene, batch, count=1)
+    assert first_clear.tolist() == [True, False]  # one pose of each kind: the law below is not empty
+    assert result.asked[0] == 1 and np.array_equal(result.q[0, 0], first.q[0, 0])
+    assert result.asked[1] in (4, 16, 64, 256, 1000)
+    again = ik(chain, batch[1:], count=int(result.asked[1]), rng=start_streams(None, 2)[1:])
+    assert np.array_equal(again.found[0], result.solver.found[1, : result.asked[1]])

@@ -648,3 +648,22 @@ def test_the_front_door_with_a_parameter_is_still_the_closed_form():
     iiwa, fr3 = ARMS["kuka-iiwa14"], ARMS["franka-fr3"]
     assert redkin.ik(iiwa, iiwa.fk(np.full(7, 0.3)), psi=0.2).parameter == "psi"
     assert redkin.ik(fr3, fr3.fk(np.full(7, 0.3) + np.array([0, 0, 0, -1.0, 0, 1.0, 0])), q7=0.5).parameter == "q7"
+
+
+def test_the_start_integers_solve_a_pose_of_a_batch_again_as_in_the_batch():
+    """``rng`` as an array of start integers (``start_streams``) reproduces a pose of a batch alone; a wrong array is
+    refused in words."""
+    from redkin.numerical.solve import start_streams
+
+    chain = get_robot("sawyer.urdf")
+    poses = chain.fk(np.array([[0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1], [-0.4, 0.2, 0.5, 0.9, -0.3, 1.1, 0.6],
+                               [0.1, 0.3, -0.2, 0.7, 0.2, -0.5, 0.3]]))
+    batch = ik(chain, poses, count=3, rng=5)
+    streams = start_streams(5, 3)
+    for k in range(3):
+        alone = ik(chain, poses[k : k + 1], count=3, rng=streams[k : k + 1])
+        assert np.array_equal(alone.found[0], batch.found[k]) and np.array_equal(alone.q[0], batch.q[k])
+    assert batch.found.any()
+    for wrong in (streams[:2], streams.astype(float), -np.ones(3, dtype=np.int64)):
+        with pytest.raises(RedkinError, match="rng as an array"):
+            ik(chain, poses, rng=wrong)

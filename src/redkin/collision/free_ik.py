@@ -1,15 +1,15 @@
 """Collision-free numerical IK on any chain (issue 40): certified solutions of a pose that keep a scene's margin.
 
 The numerical solver (:func:`redkin.numerical.ik`, [N1]-[N5]) finds distinct certified solutions of a pose from
-its seed and random starts.  :func:`collision_free_ik` asks it for more candidates than wanted, measures each
-candidate's clearance (:func:`redkin.collision.clearance`: every body capsule against every obstacle and the body's
-self pairs, exact distances between capsules and shapes) and keeps those at least the scene's margin clear, in the
-solver's order (with a seed, nearest the seed first).  Where fewer than wanted are clear and the solver found every
-candidate it was asked for, it is asked again for four times as many (the same starts first, so the candidates of
-the last round include the earlier ones), until enough are clear, the solver runs out of starts (its ``restarts``
-budget, per round) or 1000 are asked.  A batch of poses goes round by round together: every pose
-is asked as many candidates as the pose that needs the most rounds (and pose ``i`` starts from the solver's stream
-``i``, as in :func:`redkin.numerical.ik`).
+its seed and random starts.  :func:`collision_free_ik` asks it for as many candidates as wanted (or ``candidates``),
+measures each candidate's clearance (:func:`redkin.collision.clearance`: every body capsule against every obstacle
+and the body's self pairs, exact distances between capsules and shapes) and keeps those at least the scene's margin
+clear, in the solver's order (with a seed, nearest the seed first).  Where fewer than wanted are clear and the solver
+found every candidate it was asked for, that pose is asked again for four times as many (from its own starts, so the
+candidates of its last round include the earlier ones), until enough are clear, the solver runs out of starts (its
+``restarts`` budget, per round) or 1000 are asked.  In a batch only the poses still short of clear solutions go on to
+the next round, together; pose ``i`` always starts from the solver's stream ``i``, as in
+:func:`redkin.numerical.ik` (:func:`redkin.numerical.solve.start_streams`).
 
 What is certified: each returned solution reaches the pose within the tolerance (the solver's certificate) and is
 clear by the margin (its clearance, computed at that configuration).  What is not: that a pose with no clear
@@ -20,6 +20,7 @@ exact collision-free sets instead.
 
 from __future__ import annotations
 
+import copy
 from typing import NamedTuple
 
 import numpy as np
@@ -30,10 +31,8 @@ from redkin.chain import SerialChain
 from redkin.collision.body import Body
 from redkin.collision.clearance import Clearance, clearance
 from redkin.collision.scene import Scene
-from redkin.numerical.solve import RESTARTS, SEPARATION, TOLERANCE, NumericalSolutions, ik
+from redkin.numerical.solve import RESTARTS, SEPARATION, TOLERANCE, NumericalSolutions, ik, start_streams
 
-#: Candidates asked of the solver per solution wanted, in the first round.
-_CANDIDATES_PER_SOLUTION = 8
 #: Most candidates asked per pose (the solver's own limit of distinct solutions).
 _MAX_CANDIDATES = 1000
 
@@ -59,9 +58,11 @@ class FreeSolutions(NamedTuple):
         The largest clearance of a blocked candidate [m] (``-inf`` where none is blocked), with its pair in
         ``blocked_link`` and ``blocked_against``: how near the best refused solution came.
     blocked_link, blocked_against : numpy.ndarray of str (object), shape (...)
+    asked : numpy.ndarray of int, shape (...)
+        How many candidates the solver was asked for each pose in the last round that asked it.
     solver : NumericalSolutions
-        The solver's result of the last round (its ``closest``, ``error``, ``starts`` and ``reach``: a pose out of
-        reach is not searched).
+        The solver's result of each pose's last round (its ``closest``, ``error``, ``starts`` and ``reach``: a pose
+        out of reach is not searched), its candidates padded to the most asked of a pose.
     """
 
     q: np.ndarray
@@ -74,6 +75,7 @@ class FreeSolutions(NamedTuple):
     blocked_clearance: np.ndarray
     blocked_link: np.ndarray
     blocked_against: np.ndarray
+    asked: np.ndarray
     solver: NumericalSolutions
 
 
@@ -108,8 +110,7 @@ def collision_free_ik(
     count : int
         Collision-free solutions wanted per pose (distinct by ``separation``).
     candidates : int, optional
-        Solutions asked of the solver in the first round (default ``8 * count``, at least ``count``; at most
-        1000).
+        Solutions asked of the solver in the first round (default and at least ``count``; at most 1000).
     tolerance, restarts, separation, rng
         As :func:`redkin.numerical.ik` takes them; ``restarts`` is the budget of starts of each round.
 
@@ -124,31 +125,83 @@ def collision_free_ik(
         1000, or a body on frames the chain does not have.
     """
     count = check_count(count, "count", 1, _MAX_CANDIDATES)
-    asked = max(count, check_count(_CANDIDATES_PER_SOLUTION * count if candidates is None else candidates,
-                                   "candidates", 1, _MAX_CANDIDATES))
+    first = max(count, check_count(count if candidates is None else candidates, "candidates", 1, _MAX_CANDIDATES))
+    source = copy.deepcopy(rng) if isinstance(rng, np.random.Generator) else rng  # the streams the first round draws
+    solver = ik(chain, pose, q0=q0, count=first, tolerance=tolerance, restarts=restarts, separation=separation,
+                rng=rng)
+    assert solver.reach is not None  # the solver always measures the poses' reach
+    shape = solver.found.shape[:-1]
+    size = int(np.prod(shape, dtype=np.int64))
+    poses = np.broadcast_to(np.asarray(pose, dtype=float), shape + (4, 4)).reshape(size, 4, 4)
+    seeds = None if q0 is None else np.broadcast_to(np.asarray(q0, dtype=float), shape + (chain.n,)).reshape(size, -1)
+    streams = start_streams(source, size)
+    rounds = _Rounds(chain.n, size, solver)
+    todo, asked = np.arange(size), first
     while True:
-        solver = ik(chain, pose, q0=q0, count=asked, tolerance=tolerance, restarts=restarts, separation=separation,
-                    rng=rng)
-        assert solver.reach is not None  # the solver always measures the poses' reach
-        shape = solver.found.shape[:-1]
-        found = solver.found.reshape(-1, asked)
         measured = clearance(chain, body, scene, solver.q)
+        found = solver.found.reshape(-1, asked)
         clear = found & (measured.distance.reshape(-1, asked) >= scene.margin)
-        done = (clear.sum(axis=1) >= count) | (found.sum(axis=1) < asked) | solver.reach.out.reshape(-1)
-        if done.all() or asked == _MAX_CANDIDATES:
+        rounds.record(todo, solver, measured, clear)
+        done = (clear.sum(axis=1) >= count) | (found.sum(axis=1) < asked) | rounds.out[todo]
+        todo = todo[~done]
+        if not len(todo) or asked == _MAX_CANDIDATES:
             break
         asked = min(4 * asked, _MAX_CANDIDATES)
-    return _kept(chain.n, solver, measured, clear, count, shape)
+        solver = ik(chain, poses[todo], q0=None if seeds is None else seeds[todo], count=asked, tolerance=tolerance,
+                    restarts=restarts, separation=separation, rng=streams[todo])
+    merged, measured, clear = rounds.merged(shape)
+    return _kept(chain.n, merged, measured, clear, count, shape, rounds.asked.reshape(shape))
+
+
+class _Rounds:
+    """Each pose's candidates from the last round that asked it (:func:`collision_free_ik`), padded to the most asked
+    of any pose, and its solver's other answers from that round."""
+
+    def __init__(self, n: int, size: int, first: NumericalSolutions) -> None:
+        assert first.reach is not None
+        self.reach, self.out = first.reach, np.asarray(first.reach.out).reshape(-1)
+        self.asked = np.zeros(size, dtype=np.int64)
+        self.parts: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Clearance]] = []
+        self.closest, self.error = np.zeros((size, n)), np.zeros((size, 2))
+        self.starts = np.zeros(size, dtype=np.int64)
+
+    def record(self, which: np.ndarray, solver: NumericalSolutions, measured: Clearance, clear: np.ndarray) -> None:
+        """The round's answers for the poses ``which``."""
+        asked = clear.shape[1]
+        self.asked[which] = asked
+        self.closest[which] = solver.closest.reshape(len(which), -1)
+        self.error[which] = solver.error.reshape(len(which), 2)
+        self.starts[which] = np.reshape(solver.starts, -1)
+        self.parts.append((which, solver.q.reshape(len(which), asked, -1), solver.found.reshape(len(which), asked),
+                           clear, Clearance(*(np.reshape(part, (len(which), asked)) for part in measured))))
+
+    def merged(self, shape: tuple[int, ...]) -> tuple[NumericalSolutions, Clearance, np.ndarray]:
+        """One solver result of every pose's last round, its candidates' clearances and which are clear, padded
+        (``found`` and ``clear`` false) to the most candidates asked of a pose."""
+        size, width, n = len(self.asked), int(self.asked.max()), self.closest.shape[1]
+        q, found, clear = np.zeros((size, width, n)), np.zeros((size, width), dtype=bool), np.zeros((size, width),
+                                                                                                       dtype=bool)
+        distance = np.full((size, width), np.inf)
+        link, against = np.full((size, width), "", dtype=object), np.full((size, width), "", dtype=object)
+        for which, part_q, part_found, part_clear, measured in self.parts:  # later rounds overwrite
+            asked = part_q.shape[1]
+            q[which], found[which], clear[which] = 0.0, False, False
+            q[which, :asked], found[which, :asked], clear[which, :asked] = part_q, part_found, part_clear
+            distance[which, :asked], link[which, :asked], against[which, :asked] = measured
+        solver = NumericalSolutions(q.reshape(shape + (width, n)), found.reshape(shape + (width,)),
+                                    self.closest.reshape(shape + (n,)), self.error.reshape(shape + (2,)),
+                                    self.starts.reshape(shape), reach=self.reach)
+        return solver, Clearance(distance, link, against), clear
 
 
 def _kept(n: int, solver: NumericalSolutions, measured: Clearance, clear: np.ndarray, count: int,
-          shape: tuple[int, ...]) -> FreeSolutions:
-    """The first ``count`` clear candidates of each pose (``clear`` (P, asked)) and the clearest blocked one, from the
-    solver's candidates and their clearance ``measured``."""
-    poses, asked = clear.shape
-    candidates_q = solver.q.reshape(poses, asked, n)
-    found_all = solver.found.reshape(poses, asked)
-    distances, links, others = (np.reshape(a, (poses, asked)) for a in measured)
+          shape: tuple[int, ...], asked: np.ndarray) -> FreeSolutions:
+    """The first ``count`` clear candidates of each pose (``clear`` (P, width)) and the clearest blocked one, from the
+    solver's candidates and their clearance ``measured``; ``asked`` per pose is kept in the result."""
+    poses, width = clear.shape
+    candidates_q = solver.q.reshape(poses, width, n)
+    found_all = solver.found.reshape(poses, width)
+    distances, links, others = (np.reshape(a, (poses, width)) for a in measured)
     order = np.argsort(~clear, axis=1, kind="stable")[:, :count]  # clear candidates first, in the solver's order
     rows = np.arange(poses)[:, None]
     found = clear[rows, order]
@@ -167,4 +220,4 @@ def _kept(n: int, solver: NumericalSolutions, measured: Clearance, clear: np.nda
         q.reshape(shape + (count, n)), found.reshape(shape + (count,)), distance.reshape(shape + (count,)),
         link.reshape(shape + (count,)).astype(object), against.reshape(shape + (count,)).astype(object),
         found_all.sum(axis=1).reshape(shape), refused.sum(axis=1).reshape(shape), best_distance.reshape(shape),
-        blocked_link.reshape(shape).astype(object), blocked_against.reshape(shape).astype(object), solver)
+        blocked_link.reshape(shape).astype(object), blocked_against.reshape(shape).astype(object), asked, solver)

@@ -90,7 +90,7 @@ def ik(
     tolerance: float | tuple[float, float] = TOLERANCE,
     restarts: int = RESTARTS,
     separation: float = SEPARATION,
-    rng: int | np.random.Generator | None = None,
+    rng: int | np.random.Generator | np.ndarray | None = None,
 ) -> NumericalSolutions:
     """Joint values within the limits that put the chain's tool at target poses [N1]-[N5].
 
@@ -115,9 +115,11 @@ def ik(
         The budget of starts per pose; one for a pose beyond the links' reach (``reach.out`` of the result).
     separation : float
         Radians; see ``count``.
-    rng : int or numpy.random.Generator, optional
-        Where the random starts come from (one integer drawn per pose); ``None`` is seed 0, so that a call is
-        reproducible: pose ``i`` of the batch (in C order) then starts from stream ``i``.
+    rng : int or numpy.random.Generator or numpy.ndarray, optional
+        Where the random starts come from (one integer drawn per pose, :func:`start_streams`); ``None`` is seed 0,
+        so that a call is reproducible: pose ``i`` of the batch (in C order) then starts from stream ``i``.  An
+        integer array of the batch's size gives those integers themselves (to solve some poses of a batch again
+        from their own starts).
 
     Returns
     -------
@@ -159,11 +161,7 @@ def ik(
                              name="pose", value=size * count * n, maximum=_MAX_VALUES)
     poses = kernel_array(pose, shape + (4, 4)).reshape(size, 4, 4)
     seeds = kernel_array(np.zeros(n) if q0 is None else seeds, shape + (n,)).reshape(size, n)
-    if rng is None:
-        streams = np.arange(size, dtype=np.uint64)
-    else:
-        generator = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
-        streams = generator.integers(0, np.iinfo(np.int64).max, size=size, dtype=np.int64).astype(np.uint64)
+    streams = start_streams(rng, size)
     q = np.empty((size, count, n))
     found = np.empty((size, count), dtype=bool)
     closest = np.empty((size, n))
@@ -183,6 +181,25 @@ def ik(
     return NumericalSolutions(q.reshape(shape + (count, n)), found.reshape(shape + (count,)),
                               closest.reshape(shape + (n,)), error.reshape(shape + (2,)), used.reshape(shape),
                               reach=Reach(distances, 0.0, radius, distances > limit, measure))
+
+
+def start_streams(rng: int | np.random.Generator | np.ndarray | None, size: int) -> np.ndarray:
+    """The integer ``(size,)`` each of ``size`` poses draws its starts from (:func:`ik`'s ``rng``).
+
+    Raises
+    ------
+    ValueError
+        For an array of integers of another size, or of negative values.
+    """
+    if rng is None:
+        return np.arange(size, dtype=np.uint64)
+    if isinstance(rng, np.ndarray):
+        if rng.shape != (size,) or not np.issubdtype(rng.dtype, np.integer) or (rng < 0).any():
+            raise RedkinError(f"rng as an array must hold one integer >= 0 per pose ({size}), got {rng.dtype} of "
+                              f"shape {rng.shape}")
+        return rng.astype(np.uint64)
+    generator = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+    return generator.integers(0, np.iinfo(np.int64).max, size=size, dtype=np.int64).astype(np.uint64)
 
 
 #: ``q0`` not given (a placeholder: the kernel reads no seed then).
