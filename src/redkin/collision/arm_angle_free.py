@@ -163,10 +163,7 @@ def collision_free_arm_angles(arm: Arm, pose: ArrayLike, body: Body, scene: Scen
         For an arm of another class (named), a body on another number of joints, a malformed pose or a resolution
         that is not > 0; :class:`redkin.errors.UnreachablePoseError` for a pose out of reach.
     """
-    checked = check_pose(pose)
-    if checked.shape != (4, 4):
-        raise RedkinError(f"pose must be one 4x4 transform, got shape {checked.shape}")
-    return free_arm_angles_of(arm, checked[None], body, scene, branches, resolution=resolution, budget=budget)[0]
+    return free_arm_angles_of(arm, one_pose(pose), body, scene, branches, resolution=resolution, budget=budget)[0]
 
 
 def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
@@ -222,6 +219,20 @@ class _PairMeasure(Protocol):
     count: int  # checked pairs
 
     def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray: ...
+
+
+def one_pose(pose: ArrayLike) -> np.ndarray:
+    """One pose ``(4, 4)``, checked, as a batch of one ``(1, 4, 4)`` (the one-pose forms of the free sets).
+
+    Raises
+    ------
+    RedkinError
+        For a malformed pose or another shape.
+    """
+    checked = check_pose(pose)
+    if checked.shape != (4, 4):
+        raise RedkinError(f"pose must be one 4x4 transform, got shape {checked.shape}")
+    return checked[None]
 
 
 def checked_inputs(arm: Arm, poses: ArrayLike, body: Body, resolution: float) -> np.ndarray:

@@ -15,10 +15,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._validation import check_pose
 from redkin.arms.classify import FRANKA, NEARLY_SRS, OFFSET_ELBOW, SRS
 from redkin.arms.front_door import Arm
-from redkin.collision.arm_angle_free import FreeArmAngles, free_arm_angles_of, moved_pairs
+from redkin.collision.arm_angle_free import FreeArmAngles, free_arm_angles_of, moved_pairs, one_pose
 from redkin.collision.body import Body
 from redkin.collision.clearance import checked_pairs
 from redkin.collision.nearly_free import free_nearly_of
@@ -54,10 +53,7 @@ def free_sets_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, branches:
 def collision_free_set(arm: Arm, pose: ArrayLike, body: Body, scene: Scene, branches: Branches = None, *,
                        resolution: float = 1e-6, budget: int = 100_000) -> FreeArmAngles:
     """:func:`free_sets_of` of one pose ``(4, 4)``."""
-    checked = check_pose(pose)
-    if checked.shape != (4, 4):
-        raise RedkinError(f"pose must be one 4x4 transform, got shape {checked.shape}")
-    return free_sets_of(arm, checked[None], body, scene, branches, resolution=resolution, budget=budget)[0]
+    return free_sets_of(arm, one_pose(pose), body, scene, branches, resolution=resolution, budget=budget)[0]
 
 
 def redundancy_moves(arm: Arm, body: Body, scene: Scene, q: ArrayLike) -> np.ndarray:

@@ -28,7 +28,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import run_batch
-from redkin._validation import check_pose
 from redkin.arms.feasible_sets import Arcs, merged_intervals
 from redkin.arms.franka_kind import FrankaKind
 from redkin.arms.front_door import Arm
@@ -41,6 +40,7 @@ from redkin.collision.arm_angle_free import (
     collision_stretches,
     first_intervals,
     limit_stretches,
+    one_pose,
 )
 from redkin.collision.body import Body, posed
 from redkin.collision.clearance import checked_pairs, pair_distances
@@ -76,10 +76,7 @@ def collision_free_q7(arm: Arm, pose: ArrayLike, body: Body, scene: Scene,
         For an arm of another class (named), a body on another number of joints, a malformed pose or a resolution
         that is not > 0.
     """
-    checked = check_pose(pose)
-    if checked.shape != (4, 4):
-        raise RedkinError(f"pose must be one 4x4 transform, got shape {checked.shape}")
-    return free_q7_of(arm, checked[None], body, scene, branches, resolution=resolution, budget=budget)[0]
+    return free_q7_of(arm, one_pose(pose), body, scene, branches, resolution=resolution, budget=budget)[0]
 
 
 def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
