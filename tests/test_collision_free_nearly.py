@@ -21,7 +21,16 @@ from hypothesis import strategies as st
 
 import redkin
 from redkin.circle import ArcSet
-from redkin.collision import builtin_body, clearance, collision_free_set, scene_of
+from redkin.collision import (
+    BodyCapsule,
+    Scene,
+    body_of,
+    builtin_body,
+    clearance,
+    collision_free_set,
+    primitives,
+    scene_of,
+)
 from redkin.collision.arm_angle_free import COLLISION, UNDECIDED
 from redkin.collision.clearance import pair_table
 from redkin.collision.nearly_free import _StepMeasure
@@ -171,3 +180,40 @@ def test_the_api_and_the_command_line_give_the_same_sets(setup, capsys, tmp_path
     for b, label in enumerate(free.branches):
         assert np.allclose(np.array(report["branches"][label]).reshape(-1, 2), free.free[b].bounds, atol=1e-12)
     assert report["collision"]["complete"] is True
+
+
+@pytest.mark.parametrize("width", [1e-4, 1e-5])
+def test_a_narrow_gap_between_two_obstacles_near_the_elbow_is_found(width):
+    """Two balls beside the path the Gen3's elbow takes, each placed (by bisection on the branch's own solutions) so
+    that the elbow's ball touches it, at the margin, exactly at ``psi0 -+ width / 2``: the free arc through ``psi0``
+    is that gap, to the resolution."""
+    arm = redkin.arm("kinova-gen3")
+    chain = arm.chain
+    q = np.array([0.2, 0.7, -0.3, 1.4, 0.3, 0.6, 0.1])
+    pose, label = chain.fk(q), str(arm.branch_of(q))
+    psi0 = float(arm.parameter_of(q))
+
+    def elbow_at(psi):
+        return chain.frames(arm.ik(pose, np.atleast_1d(psi), branches=label).q[:, 0])[:, 4, :3, 3]
+
+    ball, margin, ball_radius = 0.03, 0.01, 0.04
+    apart = ball + ball_radius + margin
+    speed = np.linalg.norm(elbow_at(psi0 + 1e-6)[0] - elbow_at(psi0 - 1e-6)[0]) / 2e-6  # m per rad of psi
+    ends, centres = (psi0 - width / 2, psi0 + width / 2), []
+    for side, end in zip((-1.0, 1.0), ends, strict=True):
+        touch = elbow_at(end)[0]
+        low, high = 0.0, 3.0 * apart / speed  # how far beyond the end the ball's centre lies on the elbow's path
+        for _ in range(80):
+            middle = (low + high) / 2
+            if np.linalg.norm(elbow_at(end + side * middle)[0] - touch) < apart:
+                low = middle
+            else:
+                high = middle
+        centres.append(elbow_at(end + side * high)[0])
+    scene = Scene(("left", "right"), np.stack([primitives.sphere(c, ball_radius) for c in centres]), margin)
+    body = body_of([BodyCapsule("elbow", 4, [0, 0, 0], [0, 0, 0], ball)], chain)
+    result = collision_free_set(arm, pose, body, scene, label)
+    found = [(a, b) for a, b in result.free[0].bounds.tolist() if a <= psi0 <= b]
+    assert len(found) == 1
+    assert found[0][0] == pytest.approx(ends[0], abs=result.resolution + 1e-9)
+    assert found[0][1] == pytest.approx(ends[1], abs=result.resolution + 1e-9)
