@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     from redkin.workspace.humanoid import humanoid_of
     from redkin.workspace.measure import whole_range
     from redkin.workspace.run import cell_chunk, map_model, workspace_map
-    from redkin.workspace.store import no_space_errors
+    from redkin.workspace.store import MODEL_CERTIFIED, no_space_errors
 
     chain = load_robot(args)
     if humanoid_of(chain) is not None:
@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         return run_humanoid(args, chain)
     if args.samples is not None:
         raise UsageError("--samples is for the thesis 001 humanoid; any other arm takes --orientations N")
-    mapped, _ = map_model(chain, args.srs_tolerance)  # the refusal of a general chain, before anything is written
+    mapped, nearly = map_model(chain, args.srs_tolerance)  # the refusal of a general chain, before anything is written
     assert mapped.parameter is not None  # map_model refuses an arm without one
     if args.orientations is None:
         raise UsageError(f"{chain.name!r} has a redundancy parameter ({mapped.parameter.name}): its map needs "
@@ -84,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
     chunk = None if args.chunk is None else check_count(args.chunk, "--chunk", 1, resolution)
     cell = load_cell(args, chain)
     if cell is not None and chunk is None:
-        chunk = cell_chunk(resolution, orientations, mapped.parameter.name)
+        chunk = cell_chunk(resolution, orientations, mapped, nearly)
     grid = workspace_grid(args.extent, resolution, orientations, chunk)
     xr = require_map_libraries()
     client = open_client(args.scheduler)
@@ -117,9 +117,11 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(summary)
     else:
-        whose = "" if not result.model_error else " of its exact S-R-S neighbour"
+        whose = (" of its exact S-R-S neighbour" if result.model_error else
+                 " of the real nearly S-R-S arm, certified" if result.model == MODEL_CERTIFIED else "")
         print(f"{chain.name}: {result.positions} positions x {result.orientations} orientations x 8 branches "
-              f"= {result.pose_branch_evaluations} exact feasible sets{whose}")
+              f"= {result.pose_branch_evaluations} {'feasible' if whose.endswith('certified') else 'exact feasible'} "
+              f"sets{whose}")
         if cell is not None:
             print(f"in the cell {cell[1].source}: {len(cell[1])} obstacles and {len(cell[0].pairs)} pairs of the "
                   "arm's own capsules at "

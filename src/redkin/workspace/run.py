@@ -46,6 +46,7 @@ from redkin.workspace.grid import MAX_RESOLUTION, WorkspaceGrid, workspace_grid
 from redkin.workspace.measure import feasible_measures, reachability_index, redundancy_index, whole_range
 from redkin.workspace.orientations import MAX_ORIENTATIONS, super_fibonacci_rotations
 from redkin.workspace.store import (
+    MODEL_CERTIFIED,
     MODEL_EXACT,
     MODEL_NEARLY,
     completed_chunks,
@@ -66,10 +67,11 @@ if TYPE_CHECKING:
 M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 32 * 1024 * 1024
 #: Grid points per axis of one Dask task of the summary (a map of 1000^3 positions reads in 512 of them).
 _SUMMARY_SPAN = 128
-#: Poses per chunk of a map in a cell by default, by the redundancy parameter's name, so that a chunk is seconds to a
-#: minute of work: a pose's certified collision-free arm angles take milliseconds (0.5-2 s per thousand poses on the
-#: worked cell, most of a box being out of reach), its q7 sets on the Franka class 0.2-0.8 s (benchmarks/README.md).
-_CELL_CHUNK_POSES = {"psi": 4096, "q7": 64}
+#: Poses per chunk of a map in a cell by default, by the redundancy parameter's name (``"nearly"`` for a nearly S-R-S
+#: arm's arm angles), so that a chunk is seconds to a minute of work: a pose's certified collision-free arm angles
+#: take milliseconds (0.5-2 s per thousand poses on the worked cell, most of a box being out of reach), its q7 sets
+#: on the Franka class 0.2-0.8 s, a nearly S-R-S arm's 0.1-0.2 s and up to seconds (benchmarks/README.md).
+_CELL_CHUNK_POSES = {"psi": 4096, "q7": 64, "nearly": 64}
 #: Seconds a failed run on a cluster waits for the chunks its workers hold to be written.
 _DRAIN_SECONDS = 300
 #: ``progress(done, total)`` after each chunk of a run (``total`` counts the chunks this run computes).
@@ -97,8 +99,9 @@ class WorkspaceRun:
     seconds : float
         Wall time of the run.
     model : str
-        Whose feasible sets the map holds: ``"exact"`` (the arm's own) or ``"nearly S-R-S neighbour"`` (a nearly
-        S-R-S arm's exact neighbour; :data:`redkin.workspace.store.MODEL_EXACT`, ``MODEL_NEARLY``).
+        Whose feasible sets the map holds: ``"exact"`` (the arm's own), ``"nearly S-R-S neighbour"`` (a nearly
+        S-R-S arm's exact neighbour) or ``"certified, the real arm"`` (a nearly S-R-S arm's own certified sets, in a
+        cell; :data:`redkin.workspace.store.MODEL_EXACT`, ``MODEL_NEARLY``, ``MODEL_CERTIFIED``).
     model_error : str
         For a nearly S-R-S arm, what its neighbour drops and how far their poses differ
         (:meth:`redkin.srs.NearlySRS.describe`); empty for an exact arm.
@@ -412,14 +415,15 @@ def workspace_map(
 ) -> WorkspaceRun:
     """Exact reachability and redundancy map of an arm with arm-angle IK over a box, into a Zarr store.
 
-    With ``body`` and ``scene`` (S-R-S, offset-elbow and Franka-class arms), the map of the certified collision-free
-    sets instead: reachability inside the cell (:func:`redkin.collision.free_sets_of`; docs/workspace.md, "In a
-    cell").  A chunk then holds about :data:`_CELL_CHUNK_POSES` poses by default (4096 arm angles' poses, 64 of the
-    Franka class's), since a pose takes milliseconds to a second.
+    With ``body`` and ``scene``, the map of the certified collision-free sets instead: reachability inside the cell
+    (:func:`redkin.collision.free_sets_of`; docs/workspace.md, "In a cell").  A chunk then holds about
+    :data:`_CELL_CHUNK_POSES` poses by default (4096 arm angles' poses, 64 of the Franka class's or of a nearly
+    S-R-S arm's), since a pose takes milliseconds to a second.
 
     A nearly S-R-S arm (the Kinova Gen3, the Jaco2, the ROS-Industrial iiwa) is mapped with the exact feasible
     sets of its exact S-R-S neighbour at the same poses (:func:`map_model`); the run's ``model`` and
-    ``model_error`` and the store's attributes say so.
+    ``model_error`` and the store's attributes say so.  In a cell it is mapped with its own certified
+    collision-free sets (read off the real arm's self-motion; model ``"certified, the real arm"``).
 
     Parameters
     ----------
@@ -458,8 +462,7 @@ def workspace_map(
     ValueError
         For an arm without arm-angle IK (within ``srs_tolerance``), a malformed size, extent or tolerance, a path
         that holds something else (another map included: another arm, grid, model, neighbour or cell), a body
-        without a scene or a scene without a body, and a cell on a nearly S-R-S arm (no certified collision-free
-        sets yet).
+        without a scene or a scene without a body.
     MapStoreError
         A ``ValueError`` too: another run holds the store (``reason="in use"``), or the disk filled
         (``reason="no space"``; the chunks complete so far are kept, and the same call resumes).
@@ -470,47 +473,47 @@ def workspace_map(
     require("dask")
     require("zarr")
     mapped, nearly = map_model(arm, srs_tolerance)
-    cell = _cell(mapped, nearly, body, scene)
+    cell = _cell(body, scene)
     count = check_count(orientations, "orientations", 1, MAX_ORIENTATIONS)
     if chunk is None and cell is not None:
-        assert mapped.parameter is not None  # map_model refuses an arm without one
-        chunk = cell_chunk(check_count(resolution, "resolution", 2, MAX_RESOLUTION), count, mapped.parameter.name)
+        chunk = cell_chunk(check_count(resolution, "resolution", 2, MAX_RESOLUTION), count, mapped, nearly)
+    certified = cell is not None and nearly is not None
+    if certified:  # in a cell a nearly S-R-S arm is mapped with its own certified collision-free sets
+        mapped, nearly = redkin_arm(arm, srs_tolerance=srs_tolerance), None
     grid = workspace_grid(extent, resolution, count, chunk)
     rotations = super_fibonacci_rotations(count)
     store = Path(path)
-    parameters = map_parameters(arm, grid, count, None if nearly is None else nearly.neighbour, cell)
+    parameters = map_parameters(arm, grid, count, None if nearly is None else nearly.neighbour, cell, certified)
     with hold_store(store):
         prepare_store(store, parameters,
-                      lambda folder: create_store(folder, arm, grid, rotations, mapped, nearly, cell), "orientations")
+                      lambda folder: create_store(folder, arm, grid, rotations, mapped, nearly, cell, certified),
+                      "orientations")
         # workers write the absolute path: a cluster's workers need not share this process's working directory
         computed = run_chunks(_compute_chunk, (mapped, grid, rotations, cell, store.absolute()), store, grid,
                               "workspace-chunk", parameters, client, progress)
-    return _summary(store, grid, count, computed, time.perf_counter() - started, nearly)
+    return _summary(store, grid, count, computed, time.perf_counter() - started, nearly, certified)
 
 
-def cell_chunk(resolution: int, orientations: int, parameter: str) -> int:
-    """Grid points per axis of a chunk of a map in a cell of an arm whose redundancy parameter is named
-    ``parameter``: about :data:`_CELL_CHUNK_POSES` poses."""
-    return max(1, min(int(round((_CELL_CHUNK_POSES[parameter] / orientations) ** (1.0 / 3.0))), resolution))
+def cell_chunk(resolution: int, orientations: int, mapped: Arm, nearly: NearlySRS | None) -> int:
+    """Grid points per axis of a chunk of a map in a cell of the arm ``mapped, nearly`` of :func:`map_model`: about
+    :data:`_CELL_CHUNK_POSES` poses."""
+    assert mapped.parameter is not None  # map_model refuses an arm without one
+    poses = _CELL_CHUNK_POSES["nearly" if nearly is not None else mapped.parameter.name]
+    return max(1, min(int(round((poses / orientations) ** (1.0 / 3.0))), resolution))
 
 
 
-def _cell(mapped: Arm, nearly: NearlySRS | None, body: Body | None, scene: Scene | None) -> Cell | None:
+def _cell(body: Body | None, scene: Scene | None) -> Cell | None:
     """The body and the scene of a map in a cell, checked (:func:`workspace_map`'s errors), or ``None``."""
     if body is None and scene is None:
         return None
     if body is None or scene is None:
         raise ValueError("a map in a cell needs both the arm's body and the scene")
-    if nearly is not None:
-        raise ValueError(f"a map in a cell is computed on S-R-S, offset-elbow and Franka-class arms; "
-                         f"{mapped.chain.name!r} is nearly S-R-S, whose maps are its exact neighbour's and whose "
-                         f"collision-free sets are read off its self-motion (about a second a pose): give "
-                         f"redkin.collision.free_sets_of the poses")
     return body, scene
 
 
 def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int, seconds: float,
-             nearly: NearlySRS | None) -> WorkspaceRun:
+             nearly: NearlySRS | None, certified: bool) -> WorkspaceRun:
     """Read the map's indices back (chunked) into a :class:`WorkspaceRun`."""
     xr = require("xarray")
     span = grid.chunk * max(1, _SUMMARY_SPAN // grid.chunk)  # whole store chunks, few Dask tasks
@@ -524,5 +527,6 @@ def _summary(store: Path, grid: WorkspaceGrid, orientations: int, computed: int,
         path=store, positions=grid.resolution ** 3, orientations=orientations, chunks=len(grid.chunk_indices()),
         computed=computed, reachable_positions=fractions[0], reachable_poses=fractions[1],
         mean_redundancy=fractions[3] / fractions[2] if fractions[2] else 0.0, seconds=seconds,
-        model=MODEL_EXACT if nearly is None else MODEL_NEARLY, model_error="" if nearly is None else nearly.describe(),
+        model=MODEL_CERTIFIED if certified else MODEL_EXACT if nearly is None else MODEL_NEARLY,
+        model_error="" if nearly is None else nearly.describe(),
     )

@@ -13,9 +13,10 @@ grid, orientations, chunk, and for a nearly S-R-S arm the exact neighbour whose
 sets the map holds) are stored as attributes; a run on an existing store with
 the same parameters resumes it, one with others is refused.  The attribute
 ``model`` says whose feasible sets the map holds: :data:`MODEL_EXACT` (the
-arm's own), or :data:`MODEL_NEARLY` (a nearly S-R-S arm's exact neighbour,
-with ``model_error``, ``departures`` and ``neighbour`` beside it).  A store
-written before ``model`` existed is an exact arm's.
+arm's own), :data:`MODEL_NEARLY` (a nearly S-R-S arm's exact neighbour,
+with ``model_error``, ``departures`` and ``neighbour`` beside it) or
+:data:`MODEL_CERTIFIED` (a nearly S-R-S arm's own certified collision-free
+sets, in a cell).  A store written before ``model`` existed is an exact arm's.
 
 What a crash leaves
 -------------------
@@ -82,7 +83,7 @@ _ORIENTATION_SET = "super-Fibonacci spiral on SO(3) (Alexa, CVPR 2022), determin
 _NO_SPACE = (errno.ENOSPC, errno.EDQUOT)
 #: The store's ``model``: the map holds the arm's own exact feasible sets, or those of a nearly S-R-S arm's exact
 #: neighbour (:func:`redkin.srs.nearly_srs`).
-MODEL_EXACT, MODEL_NEARLY = "exact", "nearly S-R-S neighbour"
+MODEL_EXACT, MODEL_NEARLY, MODEL_CERTIFIED = "exact", "nearly S-R-S neighbour", "certified, the real arm"
 _NEARLY_NOTE = ("the measures are the exact feasible arm-angle sets of the arm's exact S-R-S neighbour (attribute "
                 "neighbour) at the same poses, not the real arm's; the real sets differ near their ends and near "
                 "singular wrists (docs/workspace.md, Nearly S-R-S arms)")
@@ -103,7 +104,7 @@ def arm_description(chain: SerialChain) -> dict[str, Any]:
 
 
 def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int,
-                   neighbour: SerialChain | None = None, cell: Cell | None = None) -> str:
+                   neighbour: SerialChain | None = None, cell: Cell | None = None, certified: bool = False) -> str:
     """What makes two maps the same map, as canonical JSON (compared when a run resumes).
 
     ``neighbour`` is the exact S-R-S neighbour whose feasible sets make the map of a nearly S-R-S arm
@@ -112,7 +113,8 @@ def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int,
     nearly S-R-S arm's name the model and the neighbour, so a store of one model, or of another neighbour
     (another tolerance that changes it), is not resumed by the other.  A map in a ``cell`` (the arm's body and a
     scene) names the body's capsules and checked pairs and the scene's obstacles and margin; a map without one has
-    no ``cell`` entry.
+    no ``cell`` entry.  A nearly S-R-S arm's map in a cell is of the real arm's ``certified`` collision-free sets
+    (model :data:`MODEL_CERTIFIED`).
     """
     parameters: dict[str, Any] = {
         "arm": arm_description(chain), "extent": list(grid.extent), "resolution": grid.resolution,
@@ -120,6 +122,8 @@ def map_parameters(chain: SerialChain, grid: WorkspaceGrid, orientations: int,
     }
     if neighbour is not None:
         parameters["model"] = {"kind": MODEL_NEARLY, "neighbour": arm_description(neighbour)}
+    if certified:
+        parameters["model"] = {"kind": MODEL_CERTIFIED}
     if cell is not None:
         parameters["cell"] = _cell_description(*cell)
     return json.dumps(parameters, sort_keys=True)
@@ -138,7 +142,7 @@ def _cell_description(body: Body, scene: Scene) -> dict[str, Any]:
 
 
 def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations: np.ndarray, mapped: Arm,
-                 nearly: NearlySRS | None = None, cell: Cell | None = None) -> None:
+                 nearly: NearlySRS | None = None, cell: Cell | None = None, certified: bool = False) -> None:
     """Write the metadata and coordinates of an empty map at ``path`` (values NaN, no chunk complete).
 
     ``mapped`` is the arm whose feasible sets the map holds (:func:`redkin.workspace.run.map_model`): its parameter
@@ -146,7 +150,8 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     mapped with its exact neighbour's feasible sets: the attributes then say so (``model``, ``model_error``,
     ``departures``, ``neighbour``, ``model_note``).  ``cell`` (the arm's body and a scene) makes it the map of the
     collision-free sets, and the attribute ``cell`` says which (its sources, obstacles, margin and links; all of it
-    is in the ``parameters``).
+    is in the ``parameters``).  ``certified``: a nearly S-R-S arm's map in a cell, of its own certified sets (model
+    :data:`MODEL_CERTIFIED`).
     """
     xr = require("xarray")
     da = require("dask.array")
@@ -154,6 +159,7 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     x, y, z = grid.axes
     whose = ("" if nearly is None else " of the exact S-R-S neighbour") + ("" if cell is None else
                                                                            ", collision-free in the cell")
+    kind = "certified" if certified else "exact"
     assert mapped.parameter is not None  # map_model refuses an arm without one
     name, equation = mapped.parameter.prefix, mapped.parameter.equation
     low, high = mapped.parameter.domain
@@ -182,11 +188,12 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
                      {"units": "1", "long_name": "tool orientation in the base frame", "set": _ORIENTATION_SET}),
     }
     attrs: dict[str, Any] = {
-        "title": f"workspace map of {chain.name}: exact feasible {name} sets{whose}",
+        "title": f"workspace map of {chain.name}: {kind} feasible {name} sets{whose}",
         "robot": chain.name, "arm": arm_description(chain), "branches": list(mapped.branches),
         "parameter": mapped.parameter.name, "parameter_range": [low, high],
-        "parameters": map_parameters(chain, grid, len(rotations), None if nearly is None else nearly.neighbour, cell),
-        "redkin_version": __version__, "model": MODEL_EXACT,
+        "parameters": map_parameters(chain, grid, len(rotations), None if nearly is None else nearly.neighbour, cell,
+                                     certified),
+        "redkin_version": __version__, "model": MODEL_CERTIFIED if certified else MODEL_EXACT,
     }
     if cell is not None:  # what the map is of, to read (all of the cell is in the parameters)
         body, scene = cell
