@@ -183,9 +183,8 @@ class _Rounds:
                                                                                                        dtype=bool)
         distance = np.full((size, width), np.inf)
         link, against = np.full((size, width), "", dtype=object), np.full((size, width), "", dtype=object)
-        for which, part_q, part_found, part_clear, measured in self.parts:  # later rounds overwrite
+        for which, part_q, part_found, part_clear, measured in self.parts:  # later rounds, wider, overwrite
             asked = part_q.shape[1]
-            q[which], found[which], clear[which] = 0.0, False, False
             q[which, :asked], found[which, :asked], clear[which, :asked] = part_q, part_found, part_clear
             distance[which, :asked], link[which, :asked], against[which, :asked] = measured
         solver = NumericalSolutions(q.reshape(shape + (width, n)), found.reshape(shape + (width,)),

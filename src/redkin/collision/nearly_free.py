@@ -205,8 +205,8 @@ class _Decision:
     def __init__(self, arm: Arm, measure: _StepMeasure, pose: np.ndarray, rows: list[int], budget: int) -> None:
         assert isinstance(arm.implementation, NearlyKind)
         self.nearly, self.measure, self.pose, self.budget = arm.implementation.nearly, measure, pose, budget
-        self.free: dict[int, list] = {row: [] for row in rows}
-        self.blocked: dict[tuple[int, int], list] = {}
+        self.free: dict[int, list[np.ndarray]] = {row: [] for row in rows}  # per branch row, arm angles (K, 2) each
+        self.blocked: dict[tuple[int, int], list[np.ndarray]] = {}  # per branch row and pair
         self.undecided: list[tuple[SelfMotion, int, int, np.ndarray]] = []  # curve, step, branch row, arm angles
         self.evaluations = 0
         self.complete = True
@@ -230,14 +230,14 @@ class _Decision:
             is_free = np.all(low > 0.0, axis=1)
             is_blocked = ~is_free & np.any(high < 0.0, axis=1)
             which = np.argmin(high, axis=1) if high.shape[1] else np.zeros(len(anchor), dtype=np.int64)
+            for r in np.unique(row[is_free]).tolist():
+                self.free[r].append(arcs[is_free & (row == r)])
+            for r, pair in set(zip(row[is_blocked].tolist(), which[is_blocked].tolist(), strict=True)):
+                self.blocked.setdefault((r, pair), []).append(arcs[is_blocked & (row == r) & (which == pair)])
             finer = _Steps()
-            for n in range(len(anchor)):
+            for n in np.flatnonzero(~is_free & ~is_blocked).tolist():  # few: next to the sets' ends
                 r, curve, k = int(row[n]), steps.curves[owner[n]], int(index[n])
-                if is_free[n]:
-                    self.free[r].append(arcs[n])
-                elif is_blocked[n]:
-                    self.blocked.setdefault((r, int(which[n])), []).append(arcs[n])
-                elif spread[n] <= finest or not self._followed(finer, curve, k, r):
+                if spread[n] <= finest or not self._followed(finer, curve, k, r):
                     self.undecided.append((curve, k, r, arcs[n]))
             steps = finer
 
@@ -263,7 +263,7 @@ class _Decision:
     def sets(self, row: int, within: ArcSet) -> tuple[ArcSet, list[Stretch], ArcSet]:
         """The free set of branch ``row`` within its feasible set ``within``, the stretches the obstacles remove
         from it (named by pair, or undecided), and the undecided set."""
-        clear = ArcSet([tuple(arc) for arc in self.free[row]]).intersection(within)
+        clear = _arc_set(self.free[row]).intersection(within)
         removed = ArcSet([arc for arc in within.intersection(clear.complement()).arcs
                           if (arc[1] - arc[0]) % TWO_PI > _ROUNDING])  # not the points where two sets' ends meet
         named: list[Stretch] = []
@@ -271,10 +271,15 @@ class _Decision:
         for (r, pair), found in sorted(self.blocked.items()):
             if r != row:
                 continue
-            cut = ArcSet([tuple(arc) for arc in found]).intersection(removed)
+            cut = _arc_set(found).intersection(removed)
             covered = covered.union(cut)
             link, against = self.measure.pairs.names[pair]
             named += [Stretch(start, end, COLLISION, link, against) for start, end in cut.arcs]
         undecided = removed.intersection(covered.complement())
         named += [Stretch(start, end, UNDECIDED, "", "") for start, end in undecided.arcs]
         return clear, named, undecided
+
+
+def _arc_set(parts: list[np.ndarray]) -> ArcSet:
+    """The union of the arm angles' arcs ``(K, 2)`` of each part (unrolled, ``lo <= hi``)."""
+    return ArcSet(np.concatenate([np.empty((0, 2)), *parts]).tolist())
