@@ -136,7 +136,10 @@ class Arm:
             The rows wanted (labels of :attr:`branches`); default all.
         q0 : array_like, shape (..., n), optional
             Joint values to stay near: the numerical solver's seeds, and each joint of a closed form's row moved by
-            whole turns to its value nearest ``q0`` where the joint's range allows.
+            whole turns to its value nearest ``q0`` where the joint's range allows.  Where a branch can have two
+            solutions at one value (a nearly S-R-S arm next to a stretched elbow or a straight shoulder), the row
+            is the one nearest ``q0`` of :meth:`every_solution`'s (which follows each pose's self-motion: 0.1-1 s a
+            pose).
         body, scene : Body and Scene, optional
             A cell: every row is marked with its clearance and closest pair, and whether it keeps the scene's margin
             from every obstacle and between the body's links (:attr:`Solutions.clearance`,
@@ -144,7 +147,10 @@ class Arm:
             (:func:`redkin.collision.collision_free_ik`, keywords ``solver`` too); with ``"optimal"``, each branch's
             row is at its limit-avoiding value inside the certified collision-free set (:meth:`optimal` in the
             cell); at values of ``t`` the rows are marked, and :meth:`feasible` with the same two gives the
-            collision-free values.
+            collision-free values.  Where a branch can have two solutions at one value, a row that is not clear
+            within the limits is replaced by one of :meth:`every_solution`'s that is, where there is one (so an arm
+            angle of a certified collision-free set gets its free solution; rule:
+            :func:`redkin.arms.branch_choice.preferred`).
 
         Returns
         -------
@@ -172,13 +178,14 @@ class Arm:
             result = self._at_optimal(poses, rows, body, scene)
         else:
             result = self.implementation.solve(poses, np.asarray(t, dtype=float), rows)
+        seeds = None
         if q0 is not None:
             from redkin._validation import check_vectors
 
-            seeds = check_vectors(q0, self.chain.n, "q0")
+            seeds = np.broadcast_to(check_vectors(q0, self.chain.n, "q0"), result.q.shape[:-2] + (self.chain.n,))
             moved = self.chain.nearest_in_range(result.q, near=np.broadcast_to(seeds[..., None, :], result.q.shape))
             result = _replace(result, q=np.where(result.exists[..., None], moved, result.q))
-        return self._marked(result, cell)
+        return self._preferred(poses, self._marked(result, cell), seeds, cell)
 
     def _marked(self, result: Solutions, cell: tuple[Body, Scene] | None) -> Solutions:
         """``result`` with each row's clearance, closest pair and collision-free mark in the ``cell`` (unchanged
@@ -193,6 +200,51 @@ class Arm:
         return _replace(result, clearance=Clearance(distance, np.where(result.exists, measured.link, ""),
                                                     np.where(result.exists, measured.against, "")),
                         collision_free=result.exists & (distance >= scene.margin))
+
+    def _preferred(self, poses: ArrayLike, result: Solutions, q0: np.ndarray | None,
+                   cell: tuple[Body, Scene] | None) -> Solutions:
+        """``result`` (marked in the ``cell``) with each row the branch's solution that
+        :func:`redkin.arms.branch_choice.preferred` picks among :meth:`every_solution`'s, on a class whose branch may
+        have several at one value (a nearly S-R-S arm; the others return ``result``): every row of a pose in reach
+        where ``q0`` is given, else the rows that are not clear of the cell within the limits.  It follows the
+        pose's self-motion, once for each value of the parameter asked (0.1-1 s a pose)."""
+        if self.implementation.one_per_branch or (q0 is None and cell is None):
+            return result
+        from redkin._validation import check_pose
+        from redkin.arms.branch_choice import candidates, preferred
+        from redkin.collision.clearance import clearance
+
+        batch = result.exists.shape[:-1]
+        flat_poses = np.broadcast_to(check_pose(poses), batch + (4, 4)).reshape(-1, 4, 4)
+        need = ~np.broadcast_to(np.asarray(result.reach.out, dtype=bool), batch)[..., None] & np.ones_like(
+            result.exists)
+        if q0 is None:
+            assert result.collision_free is not None
+            need &= ~(result.collision_free & result.within_limits)
+        if not need.any():
+            return result
+        count, n = len(result.branches), self.chain.n
+        q, exists = result.q.reshape(-1, count, n).copy(), result.exists.reshape(-1, count).copy()
+        within = result.within_limits.reshape(-1, count).copy()
+        values = result.parameter.reshape(-1, count)
+        seeds = None if q0 is None else q0.reshape(-1, n)
+        rows = np.array([self.branches.index(label) for label in result.branches])
+        flat_need = need.reshape(-1, count) & ~np.isnan(values)
+        for k in np.flatnonzero(flat_need.any(axis=1)):
+            near = None if seeds is None else seeds[k]
+            for value in np.unique(values[k, flat_need[k]]):  # one self-motion for the rows at one value
+                asked = np.flatnonzero(flat_need[k] & (values[k] == value))
+                for b, found in zip(asked, self.implementation.every_solutions(flat_poses[k], float(value),
+                                                                               rows[asked])):
+                    if not len(found):
+                        continue
+                    moved, inside = candidates(self.chain, found, near)
+                    clear = None if cell is None else clearance(self.chain, *cell, moved).distance >= cell[1].margin
+                    pick = preferred(moved, inside, clear, near)
+                    q[k, b], exists[k, b], within[k, b] = moved[pick], True, inside[pick]
+        chosen = _replace(result, q=q.reshape(result.q.shape), exists=exists.reshape(batch + (count,)),
+                          within_limits=within.reshape(batch + (count,)))
+        return self._marked(chosen, cell)
 
     def _at_optimal(self, poses: ArrayLike, rows: np.ndarray | None, body: Body | None = None,
                     scene: Scene | None = None) -> Solutions:

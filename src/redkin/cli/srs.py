@@ -182,7 +182,7 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     others = [[0] * len(result.branches) for _ in found]
     if not classified.implementation.one_per_branch and (args.every_solution or q0 is not None or not batch):
         _add_every_solution(classified, poses.reshape(-1, 4, 4), value, result.branches, found, others, reach.out,
-                            q0, args.every_solution)
+                            q0, args.every_solution, cell)
     if q0 is not None:  # each solution's joint values nearest q0 modulo whole turns
         found = [[[(chain.nearest_in_range(one, near=q0), inside) for one, inside in row] for row in pose_rows]
                  for pose_rows in found]
@@ -254,30 +254,36 @@ def _one_branch(result, index: int):
 
 def _add_every_solution(classified, poses: np.ndarray, value: float, branches: tuple,
                         found: list[list[list[tuple[np.ndarray, bool]]]], others: list[list[int]],
-                        out: np.ndarray, q0: np.ndarray | None, every: bool) -> None:
+                        out: np.ndarray, q0: np.ndarray | None, every: bool, cell) -> None:
     """On an arm whose branch may have several solutions at one value (a nearly S-R-S arm:
     :func:`redkin.srs.branch_solutions` on the pose's certified self-motion, the closed form's first), every solution
     of each branch ``b`` at ``value`` for pose ``k``, each joint shifted by whole turns into its range where it can
-    be, nearest ``q0`` where given: all of them into ``found[k][b]`` where ``every``, else the one nearest ``q0``
-    (without ``q0`` the closed form's), and how many others there are into ``others[k][b]``.  Nothing for a pose
-    proven out of reach (``out``)."""
+    be, nearest ``q0`` where given: all of them into ``found[k][b]`` where ``every``, else the one
+    :func:`redkin.arms.branch_choice.preferred` picks (within the limits and clear of the ``cell`` first, then
+    nearest ``q0``, else the closed form's), and how many others there are into ``others[k][b]``.  Nothing for a
+    pose proven out of reach (``out``)."""
+    from redkin.arms.branch_choice import candidates, preferred
+    from redkin.collision import clearance
+
     chain = classified.chain
     rows = np.array([classified.branches.index(str(label)) for label in branches])
     for k, (pose, row) in enumerate(zip(poses, found)):
         if out[k]:
             continue
         for b, solutions in enumerate(classified.implementation.every_solutions(pose, value, rows)):
-            solutions = chain.nearest_in_range(solutions, near=None if q0 is None else np.broadcast_to(
-                q0, solutions.shape))
-            listed = [(q, bool(chain.within_limits(q, tolerance=1e-9, wrap=True))) for q in solutions]
-            if not listed:
+            if not len(solutions):
                 continue
+            solutions, inside = candidates(chain, solutions, q0)
+            listed = [(q, bool(flag)) for q, flag in zip(solutions, inside)]
             others[k][b] = 0 if every else len(listed) - 1
             if every:
                 row[b] = listed
             else:
-                nearest = 0 if q0 is None else int(np.argmin(np.linalg.norm(solutions - q0, axis=-1)))
-                row[b] = [listed[nearest]]
+                clear = None
+                if cell is not None:
+                    body, scene = cell
+                    clear = clearance(chain, body, scene, solutions).distance >= scene.margin
+                row[b] = [listed[preferred(solutions, inside, clear, q0)]]
 
 
 def _run_arm_angles(args: argparse.Namespace) -> int:
