@@ -154,6 +154,43 @@ def test_the_bounds_the_certificate_rests_on_hold(setup, fraction, width, where)
         pytest.skip("no interval with proved bounds at this pose")
 
 
+@settings(max_examples=4, deadline=None)
+@given(fraction=fractions, width=st.sampled_from([0.3, 0.05, 1e-3]), where=st.floats(0.05, 0.95),
+       squeeze=st.floats(0.3, 3.0))
+@example(fraction=RICH[0], width=0.3, where=0.5, squeeze=0.6)
+@example(fraction=RICH[1], width=0.05, where=0.3, squeeze=0.9)
+@example(fraction=RICH[0], width=0.3, where=0.7, squeeze=2.0)
+def test_the_level_test_says_a_joint_may_leave_its_band_wherever_one_does(setup, fraction, width, where, squeeze):
+    """The proof the joint bounds rest on (``_Q7Measure.leaves_band``, the level test): over an interval, a band
+    about each joint's value at the middle, ``squeeze`` times its largest change over a dense sample of the interval
+    (narrower than the change where ``squeeze < 1``); wherever a joint leaves its band on the sample, the test must
+    not say it stays inside."""
+    arm, body, scene = setup
+    pose = arm.fk(_configuration(arm.chain, fraction))
+    limits = arm.feasible(pose)
+    measure = _Q7Measure(arm, pose[None], body, scene, np.arange(8))
+    left = 0
+    for b, branch in enumerate(limits.branches):
+        for low, high in limits.arcs(branch).bounds:
+            half = min(width, (high - low) / 2.0) / 2.0
+            if half <= 0.0:
+                continue
+            middle = low + half + where * (high - low - 2.0 * half)
+            q = arm.ik(pose, np.linspace(middle - half, middle + half, 401), branches=[branch]).q[:, 0]
+            change = np.abs((q - q[200] + np.pi) % (2.0 * np.pi) - np.pi)
+            delta = squeeze * change.max(axis=0) + 1e-12
+            delta[6] = half
+            if delta[:6].max() >= np.pi / 2.0:
+                continue
+            leaves = bool(np.any(change[:, :6] > delta[:6]))
+            said = measure.leaves_band(np.array([b]), np.array([middle]), np.array([half]), q[200][None],
+                                       delta[None])[0]
+            assert said or not leaves, (branch, middle, half)
+            left += leaves
+    if squeeze < 0.95 and left == 0:
+        pytest.skip("no joint moved on these intervals")
+
+
 def test_arm_feasible_and_the_command_line_give_the_same_sets(capsys, tmp_path):
     arm = redkin.arm("franka-panda")
     body, scene = builtin_body("franka-panda", arm.chain), scene_of(CELL)

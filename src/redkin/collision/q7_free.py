@@ -158,24 +158,32 @@ class _Q7Measure:
         delta[:, 6] = half
         proved = here & (delta[:, :6].max(axis=1) < _WIDEST)
         which = np.flatnonzero(proved)
-        crossed = np.ones(len(which), dtype=bool)
-        if len(which):
-            joints = self.geometry.kernel_joints
-            levels = np.zeros((len(which), 3, 7))
-            for row, sign in ((0, -1.0), (1, 1.0)):  # theta = offset + sign q (chain_values inverted)
-                levels[:, row] = joints[0] + joints[1] * (at_middle[which] + sign * delta[which])
-            levels[:, 2, :6] = 1.0
-            signs = self.geometry.kernel_branches[self.rows[owner[which] % len(self.rows)]]
-            for table in (levels, signs):  # read-only as the limits and branches of the feasible sets: one compile
-                table.flags.writeable = False
-            run_batch(_kernels.levels_crossed, len(which), self.frames_seven[owner[which] // len(self.rows)],
-                      self.geometry.kernel_arm, levels, middle[which] - half[which], middle[which] + half[which], signs,
-                      joints, crossed)
-        proved[which[crossed]] = False
+        proved[which[self.leaves_band(owner[which], middle[which], half[which], at_middle[which],
+                                      delta[which])]] = False
         total = pair_displacements(delta, self.levers, self.body, self.pairs)
         rate = total / half[:, None]
         rate[~proved] = np.inf
         return rate
+
+
+    def leaves_band(self, owner: np.ndarray, middle: np.ndarray, half: np.ndarray, at_middle: np.ndarray,
+                    delta: np.ndarray) -> np.ndarray:
+        """Per interval ``[middle - half, middle + half]`` of the owners ``owner`` (N,), whether a joint 1-6 of the
+        branch may leave its band ``at_middle -+ delta`` ``(N, 7)`` somewhere in it (each ``delta`` under a quarter
+        turn; :func:`redkin.franka._kernels.levels_crossed`, module docstring): false proves it stays inside."""
+        crossed = np.ones(len(owner), dtype=bool)
+        if len(owner):
+            joints = self.geometry.kernel_joints
+            levels = np.zeros((len(owner), 3, 7))
+            for row, sign in ((0, -1.0), (1, 1.0)):  # theta = offset + sign q (chain_values inverted)
+                levels[:, row] = joints[0] + joints[1] * (at_middle + sign * delta)
+            levels[:, 2, :6] = 1.0
+            signs = self.geometry.kernel_branches[self.rows[owner % len(self.rows)]]
+            for table in (levels, signs):  # read-only as the limits and branches of the feasible sets: one compile
+                table.flags.writeable = False
+            run_batch(_kernels.levels_crossed, len(owner), self.frames_seven[owner // len(self.rows)],
+                      self.geometry.kernel_arm, levels, middle - half, middle + half, signs, joints, crossed)
+        return crossed
 
 
 def _limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...], limits: tuple[Arcs, ...],

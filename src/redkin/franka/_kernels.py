@@ -295,8 +295,16 @@ def candidate_angles(values, degree, phase, out):
     cluster of nearly coincident roots), they are the roots of ``sum_k g_k
     z^(k + degree)`` near the unit circle (:func:`circle_roots`).
     """
-    n = values.shape[0]
     coefficients = np.zeros(2 * degree + 1, dtype=np.complex128)
+    return coefficient_roots(coefficients, trig_coefficients(values, degree, phase, coefficients), out)
+
+
+@kernel
+def trig_coefficients(values, degree, phase, coefficients):
+    """The coefficients ``g_k`` (``|k| <= degree``) of a trigonometric polynomial sampled at :data:`SAMPLES` equal
+    steps from ``phase`` (``values``), by the samples' discrete Fourier transform, into ``coefficients``
+    (2 degree + 1,) (``g_-degree .. g_degree``); returns the largest ``|g_k|``."""
+    n = values.shape[0]
     largest = 0.0
     for k in range(degree + 1):
         total = 0.0 + 0.0j
@@ -306,12 +314,41 @@ def candidate_angles(values, degree, phase, out):
         coefficients[degree + k] = total
         coefficients[degree - k] = np.conj(total)  # a real function: g_-k is the conjugate of g_k
         largest = max(largest, abs(total))
+    return largest
+
+
+@kernel
+def coefficient_roots(coefficients, largest, out):
+    """The real roots ``theta_7`` of the trigonometric polynomial of ``coefficients`` (:func:`trig_coefficients`,
+    whose largest size is ``largest``) into ``out``; returns how many (:func:`candidate_angles`)."""
     if largest == 0.0:
         return 0
-    count = isolated_roots(coefficients[degree:], out)
+    count = isolated_roots(coefficients[coefficients.shape[0] // 2:], out)
     if count >= 0:
         return count
     return circle_roots(coefficients, largest, out)
+
+
+@kernel
+def global_bounds(half):
+    """From ``half = (g_0, ..., g_D)``: ``B3`` and ``B4``, bounds of the third and fourth derivatives of ``G`` on
+    the whole circle (``Bn = 2 sum k^n |g_k|``), and the floor below which a value of ``G`` counts as zero
+    (:data:`_NEAR_ZERO` of ``G``'s largest possible value)."""
+    bound3, bound4, floor = 0.0, 0.0, abs(half[0])
+    for k in range(1, half.shape[0]):
+        bound3 += 2.0 * k * k * k * abs(half[k])
+        bound4 += 2.0 * k * k * k * k * abs(half[k])
+        floor += 2.0 * abs(half[k])
+    return bound3, bound4, floor * _NEAR_ZERO
+
+
+@kernel
+def rootless_cell(value, slope, curve, radius, bound3, floor):
+    """Whether ``G`` has no root in ``[m - radius, m + radius]``, from its value, slope and curvature at ``m`` and
+    ``bound3`` and ``floor`` of :func:`global_bounds`: ``|G(m)| > r |G1(m)| + r^2 |G2(m)| / 2 + r^3 B3 / 6 + floor``
+    (Taylor's theorem, :func:`isolated_roots`)."""
+    return abs(value) > (radius * abs(slope) + radius * radius / 2.0 * abs(curve)
+                         + radius * radius * radius / 6.0 * bound3 + floor)
 
 
 @kernel
@@ -348,12 +385,7 @@ def isolated_roots(half, out):
     of :data:`_SMALLEST_CELL`, where a cell that may hold a root (a double
     root: a joint touching its limit) gives its middle.
     """
-    bound3, bound4, floor = 0.0, 0.0, abs(half[0])
-    for k in range(1, half.shape[0]):
-        bound3 += 2.0 * k * k * k * abs(half[k])
-        bound4 += 2.0 * k * k * k * k * abs(half[k])
-        floor += 2.0 * abs(half[k])
-    floor *= _NEAR_ZERO
+    bound3, bound4, floor = global_bounds(half)
     cells = 4 * half.shape[0]
     stack = np.empty((_CELL_BUDGET + 64, 2))
     size = 0
@@ -371,9 +403,9 @@ def isolated_roots(half, out):
             return -1
         middle, radius = 0.5 * (low + high), 0.5 * (high - low)
         value, slope, curve, third = trig_value(half, middle)
-        square, cube = radius * radius / 2.0, radius * radius * radius / 6.0
-        if abs(value) > radius * abs(slope) + square * abs(curve) + cube * bound3 + floor:
+        if rootless_cell(value, slope, curve, radius, bound3, floor):
             continue
+        square, cube = radius * radius / 2.0, radius * radius * radius / 6.0
         if abs(slope) > radius * abs(curve) + square * abs(third) + cube * bound4:  # monotone: at most one root
             left = trig_value(half, low)[0]
             right = trig_value(half, high)[0]
@@ -485,7 +517,8 @@ def levels_crossed(start, stop, t07, arm, levels, lo, hi, signs, joints, out):
     It may not where (i) the bands keep the branch away from its jumps [F5]-[F7]: ``sin theta_2`` away from 0 over
     joint 2's band, ``S_4x`` [F4] away from 0 over joint 4's, and ``|V_xy|`` [F6] above what it can lose over the
     interval (``V`` turns with ``theta_7`` about an axis through ``O_6``, at most ``|S - O_6|`` per radian); and (ii)
-    every root within :data:`LEVEL_SLACK` of the interval of each level polynomial [F8] (isolated as
+    each level polynomial [F8] has no root within :data:`LEVEL_SLACK` of the interval (first by the cell test of
+    :func:`isolated_roots` on the whole interval, :func:`rootless_cell`), or every such root (isolated as
     :func:`candidate_angles` isolates the limits') belongs to another of the four conjugate solutions: the branch
     exists there and its joint lies more than half the band's width from that level.  Then each joint of the branch,
     continuous on the interval (where the branch exists on all of it), stays inside its band if it is inside at one
@@ -494,6 +527,7 @@ def levels_crossed(start, stop, t07, arm, levels, lo, hi, signs, joints, out):
     offset7 = joints[0, 6]
     samples = np.empty((SAMPLES, OUTPUTS))
     roots = np.empty(2 * 8)
+    coefficients = np.empty(2 * 8 + 1, dtype=np.complex128)
     q = np.empty((1, 7))
     exists = np.empty(1, dtype=np.bool_)
     scratch = np.empty((8, 3, 3))
@@ -521,7 +555,15 @@ def levels_crossed(start, stop, t07, arm, levels, lo, hi, signs, joints, out):
                 continue
             level = levels[i, f % 2, joint]
             width = 0.5 * abs(levels[i, 1, joint] - levels[i, 0, joint])
-            count = candidate_angles(np.ascontiguousarray(samples[:, f]), DEGREES[f], phase, roots)
+            degree = DEGREES[f]
+            polynomial = coefficients[:2 * degree + 1]
+            largest = trig_coefficients(np.ascontiguousarray(samples[:, f]), degree, phase, polynomial)
+            half = polynomial[degree:]
+            value, slope, curve, _ = trig_value(half, middle)
+            bound3, _, floor = global_bounds(half)
+            if rootless_cell(value, slope, curve, 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK, bound3, floor):
+                continue  # no conjugate solution's joint meets this level near the interval
+            count = coefficient_roots(polynomial, largest, roots)
             for r in range(count):
                 q7 = roots[r] - offset7
                 value = q7 + 2.0 * np.pi * np.ceil((lo[i] - LEVEL_SLACK - q7) / (2.0 * np.pi))
