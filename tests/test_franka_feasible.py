@@ -256,22 +256,36 @@ def test_a_batch_of_poses_gives_an_object_array_of_the_single_results():
 
 
 # ----------------------------------------------------------------------------- the degree law
-def limit_function_samples(chain: SerialChain, pose: np.ndarray, count: int = 128) -> np.ndarray:
-    """The fourteen limit functions ([F8], [F9]) at ``count`` equally spaced theta_7, (count, 14) (the kernel also
-    writes the two divisors, dropped here)."""
+def limit_function_samples(chain: SerialChain, pose: np.ndarray, count: int = 128) -> tuple[np.ndarray, ...]:
+    """At ``count`` equally spaced theta_7: the expanded limit functions of joints 1-6 ``(count, 6, 5)``
+    (``_kernels.expanded_limits``), the factors they come from ``(count, 6, 4, 3)`` and the other outputs of
+    ``_kernels.limit_factors`` ``(count, EXTRA)`` (the divisor, then the elbow's and the wrist's existence)."""
     geometry = franka_geometry(chain)
     t07 = np.ascontiguousarray(frames_seven(geometry, pose))
-    out = np.empty((count, _kernels.FUNCTIONS + 2))
+    expanded, extra = np.empty((count, 6, 5)), np.empty((count, _kernels.EXTRA))
+    factors = np.empty((count, 6, 4, 3), dtype=np.complex128)
     scratch = np.empty((4, 3, 3), dtype=np.complex128)
     for j in range(count):
-        _kernels.limit_values(t07, TURN * j / count, geometry.kernel_arm, geometry.kernel_limits, out[j], scratch)
-    return out[:, : _kernels.FUNCTIONS]
+        _kernels.limit_factors(t07, TURN * j / count, geometry.kernel_arm, factors[j], extra[j], scratch)
+        _kernels.expanded_limits(factors[j], extra[j], expanded[j])
+    return expanded, factors, extra
+
+
+def _at_most_degree(samples: np.ndarray, degree: int) -> None:
+    """No Fourier coefficient of the columns of ``samples`` ``(count, K)`` above ``degree``, relative to their
+    largest (a column that vanishes but for rounding is held to the others' scale)."""
+    coefficients = np.abs(np.fft.rfft(samples, axis=0))
+    largest = coefficients.max()
+    assert largest > 0.0
+    assert coefficients[degree + 1:].max() <= 1e-9 * largest, (degree, coefficients / largest)
 
 
 @settings(max_examples=15, deadline=None)
 @given(seed=st.integers(0, 2**31), reachable=st.booleans(), model=st.sampled_from((None, *MODELS)))
 def test_the_limit_functions_have_the_stated_degrees(seed, reachable, model):
-    """No Fourier coefficient of a limit function above its degree in ``_kernels.DEGREES`` (128 samples: up to 64)."""
+    """No Fourier coefficient above its degree in ``_kernels.DEGREES`` (128 samples: up to 64) of each expanded
+    limit function of joints 1-6 (each coefficient of the basis of the limits separately: ``limit_spectra`` takes
+    them apart) and of the two existence functions."""
     rng = np.random.default_rng(seed)
     if model is None:
         arm = random_arm(rng, zero_elbow=bool(rng.integers(2)), zero_d6=bool(rng.integers(2)))
@@ -279,12 +293,36 @@ def test_the_limit_functions_have_the_stated_degrees(seed, reachable, model):
     else:
         chain = get_robot(model)
     pose = chain.fk(rng.uniform(-np.pi, np.pi, 7)) if reachable else random_pose(rng)
-    coefficients = np.abs(np.fft.rfft(limit_function_samples(chain, pose), axis=0))
+    expanded, _, extra = limit_function_samples(chain, pose)
     assert len(_kernels.DEGREES) == _kernels.FUNCTIONS and _kernels.SAMPLES >= 2 * _kernels.DEGREES.max() + 1
-    for f, degree in enumerate(_kernels.DEGREES):
-        largest = coefficients[:, f].max()
-        assert largest > 0.0
-        assert coefficients[degree + 1:, f].max() <= 1e-9 * largest, (f, degree, coefficients[:, f] / largest)
+    for joint in range(6):
+        _at_most_degree(expanded[:, joint, : 5 if joint != 3 else 3], _kernels.DEGREES[2 * joint])
+    for k in range(2):
+        _at_most_degree(extra[:, 1 + k], _kernels.DEGREES[12 + k])
+
+
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 2**31), model=st.sampled_from(MODELS))
+def test_the_expansion_in_the_limits_is_the_product_of_the_factors(seed, model):
+    """At random limits, each joint's expanded limit function times the basis of its limit
+    (``_kernels.level_basis``) is the real part of the product of its four factors (two for joint 4) at that limit,
+    divided by the divisor for joints 1-3 and 6 ([F8], the form ``limit_spectra`` samples)."""
+    rng = np.random.default_rng(seed)
+    chain = get_robot(model)
+    expanded, factors, extra = limit_function_samples(chain, chain.fk(rng.uniform(-np.pi, np.pi, 7)), count=16)
+    limits = np.zeros((3, 7))
+    limits[:2] = rng.uniform(-np.pi, np.pi, (2, 7))
+    basis = np.empty((2, 6, 5))
+    _kernels.level_basis(limits, basis)
+    for k in range(2):
+        for joint in range(6):
+            level = limits[k, joint]
+            alpha, beta, gamma = (factors[:, joint, :, m] for m in range(3))
+            product = np.prod(alpha * np.cos(level) + beta * np.sin(level) + gamma, axis=-1).real
+            if joint in (0, 1, 2, 5):
+                product = product / extra[:, 0]
+            combined = expanded[:, joint] @ basis[k, joint]
+            np.testing.assert_allclose(combined, product, rtol=1e-9, atol=1e-12 * np.abs(product).max())
 
 
 # ----------------------------------------------------------------------------- the limit-avoiding q7

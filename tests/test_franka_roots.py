@@ -12,7 +12,7 @@ import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from redkin.franka._kernels import SAMPLES, candidate_angles, isolated_roots
+from redkin.franka._kernels import SAMPLES, coefficient_roots, isolated_roots, trig_coefficients
 
 #: A factor: ``(a, kind, size)``; kind 0 a real pair of roots ``a +- arccos(size)``, kind 1 a complex pair
 #: ``a +- i eps`` (``cos(theta - a) - cosh(eps)``), kind 2 the same below (``cos(theta - a) + cosh(eps)``).
@@ -60,7 +60,8 @@ def _distance_on_circle(found: np.ndarray, root: float) -> float:
 def test_subdivision_settles_complex_roots_near_the_circle_and_finds_every_real_root(factors):
     roots, values, pairs = _roots_and_samples(factors, smallest_eps=1e-4)
     out = np.empty(2 * len(factors) + 8)
-    count = isolated_roots(_half(values, len(factors)), out)
+    half = _half(values, len(factors))
+    count = isolated_roots(half, -np.pi, np.pi, 4 * len(half), out)
     assert count >= 0  # settled by subdivision: the eigenvalue route is not needed
     found = out[:count]
     for root in roots:
@@ -77,6 +78,8 @@ def test_every_real_root_is_a_candidate_however_close_the_complex_ones(factors, 
     roots = _roots_and_samples(factors, smallest_eps=1e-7)[0]
     shifted = _roots_and_samples([(a - phase, kind, size) for a, kind, size in factors], 1e-7)[1]
     out = np.empty(2 * 8)
-    count = candidate_angles(shifted, len(factors), phase, out)  # the samples taken from phase on
+    coefficients = np.empty(2 * len(factors) + 1, dtype=np.complex128)
+    largest = trig_coefficients(shifted, len(factors), phase, coefficients)  # the samples taken from phase on
+    count = coefficient_roots(coefficients, largest, out)
     for root in roots:
         assert _distance_on_circle(out[:count], root) <= 1e-8

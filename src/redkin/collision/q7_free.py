@@ -120,7 +120,11 @@ class _Q7Measure:
         assert isinstance(arm.implementation, FrankaKind)
         self.geometry: FrankaGeometry = arm.implementation.geometry
         self.chain, self.poses, self.body, self.scene, self.rows = arm.chain, poses, body, scene, rows
-        self.frames_seven = frames_seven(self.geometry, poses)
+        self.frames_seven = np.ascontiguousarray(frames_seven(self.geometry, poses))
+        # per pose, the level polynomials' Fourier coefficients at any levels (the level test's)
+        self.spectra = np.empty((len(poses), 6, 5, 9), dtype=np.complex128)
+        run_batch(_kernels.limit_spectra_of, len(poses), self.frames_seven, self.geometry.kernel_arm, self.spectra,
+                  np.empty((len(poses), 2, 17), dtype=np.complex128))
         self.evaluations = np.zeros(len(poses), dtype=np.int64)  # per pose
         self.pairs = checked_pairs(body, scene)
         self.names, self.count = self.pairs.names, len(self.pairs.names)
@@ -181,7 +185,7 @@ class _Q7Measure:
             signs = self.geometry.kernel_branches[self.rows[owner % len(self.rows)]]
             for table in (levels, signs):  # read-only as the limits and branches of the feasible sets: one compile
                 table.flags.writeable = False
-            run_batch(_kernels.levels_crossed, len(owner), self.frames_seven[owner // len(self.rows)],
+            run_batch(_kernels.levels_crossed, len(owner), owner // len(self.rows), self.frames_seven, self.spectra,
                       self.geometry.kernel_arm, levels, middle - half, middle + half, signs, joints, crossed)
         return crossed
 

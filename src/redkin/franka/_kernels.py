@@ -36,8 +36,9 @@ _REACH_TOLERANCE = 1e-12
 DEGREES = np.array([8, 8, 8, 8, 8, 8, 2, 2, 4, 4, 4, 4, 2, 4])
 #: Number of limit functions: two limits of joints 1-6, then the existence of the elbow and of the wrist.
 FUNCTIONS = 14
-#: Length of :func:`limit_values`' output: the limit functions, then the two divisors ``Sigma`` and ``|V_xy|^2``.
-OUTPUTS = FUNCTIONS + 2
+#: Length of :func:`limit_factors`' ``extra``: the divisor of [F8], the elbow's and the wrist's existence [F9],
+#: ``Sigma`` and ``|V_xy|^2``.
+EXTRA = 5
 #: Samples of q7 of each limit function: enough for the largest degree (``2 D + 1``), and a few more.
 SAMPLES = 20
 #: How far from the unit circle a root ``z = exp(i theta_7)`` of a limit polynomial may lie and still be taken as
@@ -221,82 +222,118 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch, work):
 
 
 @kernel
-def limit_values(t07, theta7, arm, limits, out, scratch):
-    """The limit functions [F8] at one ``theta_7`` into ``out`` (:data:`OUTPUTS`,), real parts.
+def limit_factors(t07, theta7, arm, factors, extra, scratch):
+    """The parts of the limit functions [F8]-[F9] at one ``theta_7`` that do not depend on the limits, into
+    ``factors`` (6, 4, 3) complex and ``extra`` (:data:`EXTRA`,) (:func:`expanded_limits` expands them).
 
-    For joint ``j`` (1-6) and its limit ``L`` (``limits`` (3, 7): lower and
-    upper DH limits and whether the joint is limited), function ``2 (j - 1)``
-    (lower) or ``2 j - 1`` (upper) is the product over the four conjugate
-    solutions (both roots of [F3], both of [F5]; complex where a root's
-    argument is negative) of a polynomial that vanishes exactly where that
-    solution has ``theta_j = L`` or ``L + pi`` (``theta_2 = +-L`` for joint 2);
-    the elbow's and the wrist's existence follow ([F9]).  The products of
-    joints 1-3 and 6 hold the square of the scales' product, ``Sigma^2
-    |V_xy|^4`` with ``Sigma = prod S_4x`` over the two elbows, which is
-    divided out.  Each is then a trigonometric polynomial in ``theta_7`` of
-    degree :data:`DEGREES`.  The last two entries are ``Sigma`` and
-    ``|V_xy|^2``.  ``scratch`` (4, 3, 3) complex.
+    For joint ``j`` (1-6) and each of the four conjugate solutions (both roots of [F3], both of [F5]; complex where
+    a root's argument is negative), ``factors[j - 1, s]`` holds ``(alpha, beta, gamma)`` such that ``alpha cos L +
+    beta sin L + gamma`` vanishes exactly where that solution has ``theta_j = L`` or ``L + pi`` (``theta_2 = +-L``
+    for joint 2); joint 4 has one per elbow root, then two factors 1.  ``extra``: the divisor ``Sigma^2 |V_xy|^4``
+    (``Sigma = prod S_4x`` over the two elbows), then [F9]'s ``1 - kappa^2`` (the elbow's existence) and the wrist's
+    existence, then ``Sigma`` and ``|V_xy|^2``.  ``scratch`` (4, 3, 3) complex.
     """
     x6, y6, z6, w = wrist_and_frame_six(t07, theta7, arm)
     kappa = elbow_cosine(w, arm)
     vx, vy, vz = shoulder_seen_from_six(x6, y6, z6, t07, arm)
     vxy2 = vx * vx + vy * vy
-    products = np.ones(12, dtype=np.complex128)
     wrist_existence = 1.0 + 0.0j
     sigma = 1.0 + 0.0j
     root4 = np.sqrt(complex(1.0 - kappa * kappa))
     r34, r45, r56, m = scratch[0], scratch[1], scratch[2], scratch[3]
-    for sign4 in (1.0, -1.0):
-        c4, s4 = elbow_trig(kappa, sign4 * root4, arm)
+    for elbow in range(2):
+        c4, s4 = elbow_trig(kappa, (1.0 - 2.0 * elbow) * root4, arm)
         s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
         wrist_existence *= s4x * s4x - vz * vz
         sigma *= s4x
-        for k in range(2):  # joint 4: one factor per elbow root
-            lower_or_upper = limits[k, 3]
-            products[6 + k] *= cos(lower_or_upper) * s4 - sin(lower_or_upper) * c4
+        factors[3, elbow, 0], factors[3, elbow, 1], factors[3, elbow, 2] = s4, -c4, 0.0
+        factors[3, 2 + elbow, 0], factors[3, 2 + elbow, 1], factors[3, 2 + elbow, 2] = 0.0, 0.0, 1.0
         tau = np.sqrt(s4x * s4x - vz * vz)
-        for sign5 in (1.0, -1.0):
-            c5, s5, scale5 = sign5 * tau, -vz + 0.0j, s4x
+        for wrist in range(2):
+            c5, s5, scale5 = (1.0 - 2.0 * wrist) * tau, -vz + 0.0j, s4x
             c6, s6 = wrist_six_trig(c5, s5, scale5, s4x, s4z, vx, vy, arm)
             scale6 = scale5 * vxy2
             link_rotation(c4, s4, 1.0, 1.0, r34)
             link_rotation(c5, s5, scale5, -1.0, r45)
             link_rotation(c6, s6, scale6, 1.0, r56)
             shoulder_matrix(x6, y6, z6, r34, r45, r56, m)
-            scale = scale5 * scale6
-            for k in range(2):
-                lo_hi = limits[k, 0]
-                products[k] *= cos(lo_hi) * m[1, 2] - sin(lo_hi) * m[0, 2]
-                products[2 + k] *= m[2, 2] - cos(limits[k, 1]) * scale
-                lo_hi = limits[k, 2]
-                products[4 + k] *= cos(lo_hi) * m[2, 1] + sin(lo_hi) * m[2, 0]
-                lo_hi = limits[k, 4]
-                products[8 + k] *= cos(lo_hi) * s5 - sin(lo_hi) * c5
-                lo_hi = limits[k, 5]
-                products[10 + k] *= cos(lo_hi) * s6 - sin(lo_hi) * c6
-    divisor = sigma.real * sigma.real * vxy2 * vxy2
-    for f in range(12):
-        out[f] = products[f].real / divisor if f < 6 or f >= 10 else products[f].real
-    out[12] = 1.0 - kappa * kappa
-    out[13] = wrist_existence.real
-    out[14] = sigma.real
-    out[15] = vxy2
+            solution = 2 * elbow + wrist
+            factors[0, solution, 0], factors[0, solution, 1], factors[0, solution, 2] = m[1, 2], -m[0, 2], 0.0
+            factors[1, solution, 0], factors[1, solution, 1] = -scale5 * scale6, 0.0
+            factors[1, solution, 2] = m[2, 2]
+            factors[2, solution, 0], factors[2, solution, 1], factors[2, solution, 2] = m[2, 1], m[2, 0], 0.0
+            factors[4, solution, 0], factors[4, solution, 1], factors[4, solution, 2] = s5, -c5, 0.0
+            factors[5, solution, 0], factors[5, solution, 1], factors[5, solution, 2] = s6, -c6, 0.0
+    extra[0] = sigma.real * sigma.real * vxy2 * vxy2
+    extra[1] = 1.0 - kappa * kappa
+    extra[2] = wrist_existence.real
+    extra[3] = sigma.real
+    extra[4] = vxy2
 
 
 @kernel
-def candidate_angles(values, degree, phase, out):
-    """The real roots ``theta_7`` of one limit polynomial of ``degree`` sampled at :data:`SAMPLES` equal steps from
-    ``phase`` (``values``), into ``out``; returns how many ([F8]).
+def expanded_limits(factors, extra, expanded):
+    """One sample's limit functions of joints 1-6 [F8] as combinations of their limits' basis (:func:`level_basis`),
+    from its :func:`limit_factors`: ``expanded`` (6, 5), real.
 
-    The coefficients ``g_k`` (``|k| <= degree``) come from the samples'
-    discrete Fourier transform (exact for a trigonometric polynomial of that
-    degree).  The real roots are isolated by subdivision
-    (:func:`isolated_roots`); where that needs more cells than it may use (a
-    cluster of nearly coincident roots), they are the roots of ``sum_k g_k
-    z^(k + degree)`` near the unit circle (:func:`circle_roots`).
+    The product of a joint's factors is a polynomial in ``cos L`` and ``sin L``: homogeneous of degree 4 in both for
+    joints 1, 3, 5 and 6 (coefficients of ``cos^(4 - i) L sin^i L``), of degree 2 for joint 4 (``cos^(2 - i) L
+    sin^i L``, then zeros), and in ``cos L`` alone for joint 2 (``cos^i L``).  Its real part, divided by the divisor
+    for joints 1-3 and 6, gives ``expanded[j - 1, i]``: each a trigonometric polynomial in ``theta_7`` of the
+    joint's degree (:data:`DEGREES`), since the products are, whatever ``L``, and the basis functions of ``L`` are
+    independent.
     """
-    coefficients = np.zeros(2 * degree + 1, dtype=np.complex128)
-    return coefficient_roots(coefficients, trig_coefficients(values, degree, phase, coefficients), out)
+    product = np.empty(5, dtype=np.complex128)
+    for joint in range(6):
+        count = 2 if joint == 3 else 4
+        product[0] = 1.0
+        for i in range(1, 5):
+            product[i] = 0.0
+        for solution in range(count):  # times (a + b x): the new coefficient of x^i is a P_i + b P_(i - 1)
+            if joint == 1:  # gamma + alpha cos L, in powers of cos L
+                a, b = factors[joint, solution, 2], factors[joint, solution, 0]
+            else:  # alpha cos L + beta sin L, in powers of sin L (over cos L)
+                a, b = factors[joint, solution, 0], factors[joint, solution, 1]
+            for i in range(solution + 1, 0, -1):
+                product[i] = a * product[i] + b * product[i - 1]
+            product[0] = a * product[0]
+        scale = extra[0] if joint < 3 or joint == 5 else 1.0
+        for i in range(5):
+            expanded[joint, i] = product[i].real / scale
+
+
+@kernel
+def level_basis(limits, basis):
+    """The values at each joint's lower and upper limit (``limits`` (3, 7): lower and upper DH limits and whether
+    the joint is limited) that :func:`expanded_limits`' coefficients multiply: ``basis`` (2, 6, 5)."""
+    for k in range(2):
+        for joint in range(6):
+            c, s = cos(limits[k, joint]), sin(limits[k, joint])
+            count = 2 if joint == 3 else 4
+            for i in range(5):
+                if joint == 1:
+                    basis[k, joint, i] = c ** i
+                elif i <= count:
+                    basis[k, joint, i] = c ** (count - i) * s ** i
+                else:
+                    basis[k, joint, i] = 0.0
+
+
+@kernel
+def level_polynomial(spectra, basis, f, polynomial):
+    """The coefficients of limit function ``f`` (< 12: joint ``f // 2 + 1``, its lower or upper limit) into
+    ``polynomial`` (2 D + 1,) (``g_-D .. g_D``, :func:`trig_coefficients`' layout, ``D = DEGREES[f]``), from the
+    pose's :func:`limit_spectra` and the limits' :func:`level_basis`; returns the largest ``|g_k|``."""
+    joint, degree = f // 2, DEGREES[f]
+    largest = 0.0
+    for k in range(degree + 1):
+        total = 0.0 + 0.0j
+        for i in range(5):
+            total += spectra[joint, i, k] * basis[f % 2, joint, i]
+        polynomial[degree + k] = total
+        polynomial[degree - k] = np.conj(total)
+        largest = max(largest, abs(total))
+    return largest
 
 
 @kernel
@@ -319,11 +356,16 @@ def trig_coefficients(values, degree, phase, coefficients):
 
 @kernel
 def coefficient_roots(coefficients, largest, out):
-    """The real roots ``theta_7`` of the trigonometric polynomial of ``coefficients`` (:func:`trig_coefficients`,
-    whose largest size is ``largest``) into ``out``; returns how many (:func:`candidate_angles`)."""
+    """The real roots ``theta_7`` of the trigonometric polynomial of ``coefficients`` (``g_-D .. g_D``,
+    :func:`trig_coefficients`' layout, whose largest size is ``largest``) into ``out``; returns how many ([F8]).
+
+    The real roots are isolated by subdivision (:func:`isolated_roots`); where that needs more cells than it may
+    use (a cluster of nearly coincident roots), they are the roots of ``sum_k g_k z^(k + D)`` near the unit circle
+    (:func:`circle_roots`)."""
     if largest == 0.0:
         return 0
-    count = isolated_roots(coefficients[coefficients.shape[0] // 2:], out)
+    half = coefficients[coefficients.shape[0] // 2:]
+    count = isolated_roots(half, -np.pi, np.pi, 4 * half.shape[0], out)
     if count >= 0:
         return count
     return circle_roots(coefficients, largest, out)
@@ -367,9 +409,10 @@ def trig_value(half, theta):
 
 
 @kernel
-def isolated_roots(half, out):
-    """The real roots of ``G`` on the circle (``half = (g_0, ..., g_D)``) by subdivision, into ``out``; returns how
-    many, or -1 where :data:`_CELL_BUDGET` cells did not settle them or more candidates than ``out`` holds came up.
+def isolated_roots(half, low, high, cells, out):
+    """The real roots of ``G`` in ``[low, high]`` (``half = (g_0, ..., g_D)``; the circle from ``-pi`` to ``pi``, or
+    a stretch of it) by subdivision from ``cells`` equal cells, into ``out``; returns how many, or -1 where
+    :data:`_CELL_BUDGET` cells did not settle them or more candidates than ``out`` holds came up.
 
     A cell ``[m - r, m + r]`` holds no root where ``|G(m)| > r |G1(m)| +
     r^2 |G2(m)| / 2 + r^3 B3 / 6`` (plus :data:`_NEAR_ZERO` of ``G``'s
@@ -386,12 +429,11 @@ def isolated_roots(half, out):
     root: a joint touching its limit) gives its middle.
     """
     bound3, bound4, floor = global_bounds(half)
-    cells = 4 * half.shape[0]
     stack = np.empty((_CELL_BUDGET + 64, 2))
     size = 0
     for c in range(cells):
-        stack[size, 0] = 2.0 * np.pi * c / cells - np.pi
-        stack[size, 1] = 2.0 * np.pi * (c + 1) / cells - np.pi
+        stack[size, 0] = low + (high - low) * c / cells
+        stack[size, 1] = low + (high - low) * (c + 1) / cells
         size += 1
     count = 0
     visited = 0
@@ -487,53 +529,84 @@ def circle_roots(coefficients, largest, out):
 
 
 @kernel
-def sampled_limits(t07, arm, limits, samples):
-    """The limit functions [F8]-[F9] (:func:`limit_values`) at :data:`SAMPLES` equal steps of ``theta_7`` into
-    ``samples`` (SAMPLES, OUTPUTS); returns the grid's phase: 0, or half a step where a divisor nearly vanishes on
-    the grid at 0."""
+def limit_spectra(t07, arm, spectra, existence):
+    """The limit functions [F8]-[F9] of one pose as Fourier coefficients: ``spectra`` (6, 5, 9) complex, the
+    coefficients ``g_0 .. g_D`` of each column of :func:`expanded_limits` (joint ``j``'s degree ``D``), and
+    ``existence`` (2, 17) complex, those of [F9]'s elbow and wrist existence functions (``g_-D .. g_D``,
+    :func:`trig_coefficients`' layout).
+
+    From :func:`limit_factors` at :data:`SAMPLES` equal steps of ``theta_7`` (from 0, or from half a step where a
+    divisor, ``Sigma`` or ``|V_xy|^2``, nearly vanishes on that grid) by :func:`trig_coefficients` (exact for a
+    trigonometric polynomial of that degree).  A limit function at any limits is then :func:`level_polynomial`.
+    """
     scratch = np.empty((4, 3, 3), dtype=np.complex128)
+    factors = np.empty((6, 4, 3), dtype=np.complex128)
+    expanded = np.empty((SAMPLES, 6, 5))
+    extra = np.empty((SAMPLES, EXTRA))
     phase = 0.0
     for _ in range(2):  # the grid, and once more moved by half a step if a divisor nearly vanishes on it
         for j in range(SAMPLES):
-            limit_values(t07, phase + 2.0 * np.pi * j / SAMPLES, arm, limits, samples[j], scratch)
+            limit_factors(t07, phase + 2.0 * np.pi * j / SAMPLES, arm, factors, extra[j], scratch)
+            expanded_limits(factors, extra[j], expanded[j])
         small = False
-        for column in (FUNCTIONS, FUNCTIONS + 1):
-            largest = np.abs(samples[:, column]).max()
-            small = small or np.abs(samples[:, column]).min() <= _SMALL_DIVISOR * largest
+        for column in (3, 4):  # Sigma and |V_xy|^2
+            largest = np.abs(extra[:, column]).max()
+            small = small or np.abs(extra[:, column]).min() <= _SMALL_DIVISOR * largest
         if not small:
             break
         phase = np.pi / SAMPLES
-    return phase
+    column = np.empty(SAMPLES)
+    full = np.empty(2 * 8 + 1, dtype=np.complex128)
+    for joint in range(6):
+        degree = DEGREES[2 * joint]
+        for i in range(5):
+            column[:] = expanded[:, joint, i]
+            trig_coefficients(column, degree, phase, full[:2 * degree + 1])
+            spectra[joint, i, :degree + 1] = full[degree:2 * degree + 1]
+    for k in range(2):
+        column[:] = extra[:, 1 + k]
+        trig_coefficients(column, DEGREES[12 + k], phase, existence[k, :2 * DEGREES[12 + k] + 1])
 
 
 @kernel
-def levels_crossed(start, stop, t07, arm, levels, lo, hi, signs, joints, out):
-    """For each interval ``[lo[i], hi[i]]`` of q7 (the chain's value) at the pose ``t07[i]``, ``i`` in ``start ..
-    stop - 1`` (a batch of :func:`redkin._compiled.run_batch`), whether the branch of solver signs ``signs[i]`` may
+def limit_spectra_of(start, stop, t07, arm, spectra, existence):
+    """:func:`limit_spectra` of the poses ``start .. stop - 1`` of ``t07`` (P, 4, 4) into ``spectra`` (P, 6, 5, 9)
+    and ``existence`` (P, 2, 17): what :func:`levels_crossed` reads."""
+    for p in range(start, stop):
+        limit_spectra(t07[p], arm, spectra[p], existence[p])
+
+
+@kernel
+def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, joints, out):
+    """For each interval ``[lo[i], hi[i]]`` of q7 (the chain's value) at the pose ``t07[pose[i]]``, ``i`` in ``start
+    .. stop - 1`` (a batch of :func:`redkin._compiled.run_batch`; the poses' :func:`limit_spectra` in ``spectra``),
+    whether the branch of solver signs ``signs[i]`` may
     leave the band its levels ``levels[i]`` (3, 7) set (two DH angles per joint, laid out as the limits of
-    :func:`limit_values`, and whether to test the joint) for a joint 1-6 somewhere in the interval, into ``out``
+    :func:`level_basis`, and whether to test the joint) for a joint 1-6 somewhere in the interval, into ``out``
     (N,) (docs/collisions.md, "The Franka class").
 
     It may not where (i) the bands keep the branch away from its jumps [F5]-[F7]: ``sin theta_2`` away from 0 over
     joint 2's band, ``S_4x`` [F4] away from 0 over joint 4's, and ``|V_xy|`` [F6] above what it can lose over the
     interval (``V`` turns with ``theta_7`` about an axis through ``O_6``, at most ``|S - O_6|`` per radian); and (ii)
     each level polynomial [F8] has no root within :data:`LEVEL_SLACK` of the interval (first by the cell test of
-    :func:`isolated_roots` on the whole interval, :func:`rootless_cell`), or every such root (isolated as
-    :func:`candidate_angles` isolates the limits') belongs to another of the four conjugate solutions: the branch
-    exists there and its joint lies more than half the band's width from that level.  Then each joint of the branch,
+    :func:`isolated_roots` on the whole interval, :func:`rootless_cell`), or every such root (isolated by
+    :func:`isolated_roots` on that stretch, or as :func:`coefficient_roots` isolates the limits where that does not
+    settle) belongs to another of the four conjugate solutions: the branch exists there and its joint lies more than
+    half the band's width from that level.  Then each joint of the branch,
     continuous on the interval (where the branch exists on all of it), stays inside its band if it is inside at one
     q7 of it.
     """
     offset7 = joints[0, 6]
-    samples = np.empty((SAMPLES, OUTPUTS))
     roots = np.empty(2 * 8)
     coefficients = np.empty(2 * 8 + 1, dtype=np.complex128)
+    basis = np.empty((2, 6, 5))
     q = np.empty((1, 7))
     exists = np.empty(1, dtype=np.bool_)
     scratch = np.empty((8, 3, 3))
     work = np.empty(WORK)
     for i in range(start, stop):
         out[i] = True
+        p = pose[i]
         middle = offset7 + 0.5 * (lo[i] + hi[i])
         width2 = 0.5 * abs(levels[i, 1, 1] - levels[i, 0, 1])
         if abs(sin(0.5 * (levels[i, 0, 1] + levels[i, 1, 1]))) <= width2:
@@ -542,12 +615,12 @@ def levels_crossed(start, stop, t07, arm, levels, lo, hi, signs, joints, out):
         s4x, _ = shoulder_in_frame_four(cos(middle4), sin(middle4), arm)
         if abs(s4x) <= np.hypot(arm[A3], arm[D3]) * 0.5 * abs(levels[i, 1, 3] - levels[i, 0, 3]):
             continue  # S_4x may vanish, where theta_5 is free
-        x6, y6, z6, _w = wrist_and_frame_six(t07[i], middle, arm)
-        vx, vy, _vz = shoulder_seen_from_six(x6, y6, z6, t07[i], arm)
-        lever = np.sqrt(t07[i, 0, 3] ** 2 + t07[i, 1, 3] ** 2 + (arm[D1] - t07[i, 2, 3]) ** 2)
+        x6, y6, z6, _w = wrist_and_frame_six(t07[p], middle, arm)
+        vx, vy, _vz = shoulder_seen_from_six(x6, y6, z6, t07[p], arm)
+        lever = np.sqrt(t07[p, 0, 3] ** 2 + t07[p, 1, 3] ** 2 + (arm[D1] - t07[p, 2, 3]) ** 2)
         if np.hypot(vx, vy) <= lever * 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK:
             continue  # V_xy may vanish, where theta_6 is free
-        phase = sampled_limits(t07[i], arm, levels[i], samples)
+        level_basis(levels[i], basis)
         crossed = False
         for f in range(12):
             joint = f // 2
@@ -557,19 +630,21 @@ def levels_crossed(start, stop, t07, arm, levels, lo, hi, signs, joints, out):
             width = 0.5 * abs(levels[i, 1, joint] - levels[i, 0, joint])
             degree = DEGREES[f]
             polynomial = coefficients[:2 * degree + 1]
-            largest = trig_coefficients(np.ascontiguousarray(samples[:, f]), degree, phase, polynomial)
-            half = polynomial[degree:]
+            largest = level_polynomial(spectra[p], basis, f, polynomial)
+            half, reach = polynomial[degree:], 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK
             value, slope, curve, _ = trig_value(half, middle)
             bound3, _, floor = global_bounds(half)
-            if rootless_cell(value, slope, curve, 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK, bound3, floor):
+            if rootless_cell(value, slope, curve, reach, bound3, floor):
                 continue  # no conjugate solution's joint meets this level near the interval
-            count = coefficient_roots(polynomial, largest, roots)
+            count = isolated_roots(half, middle - reach, middle + reach, np.int64(2), roots)  # the roots near it
+            if count < 0:
+                count = coefficient_roots(polynomial, largest, roots)
             for r in range(count):
                 q7 = roots[r] - offset7
                 value = q7 + 2.0 * np.pi * np.ceil((lo[i] - LEVEL_SLACK - q7) / (2.0 * np.pi))
                 if value > hi[i] + LEVEL_SLACK:
                     continue
-                solve_q7(t07[i], value + offset7, arm, signs[i:i + 1], joints, q, exists, scratch, work)
+                solve_q7(t07[p], value + offset7, arm, signs[i:i + 1], joints, q, exists, scratch, work)
                 theta = joints[0, joint] + joints[1, joint] * q[0, joint]
                 gap = abs((theta - level + np.pi) % (2.0 * np.pi) - np.pi)
                 if not exists[0] or gap <= 0.5 * width:
@@ -593,8 +668,12 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     each interval; adjacent feasible intervals are merged.
     """
     offset7 = joints[0, 6]
-    samples = np.empty((SAMPLES, OUTPUTS))
-    phase = sampled_limits(t07, arm, limits, samples)
+    spectra = np.empty((6, 5, 9), dtype=np.complex128)
+    existence = np.empty((2, 2 * 8 + 1), dtype=np.complex128)
+    limit_spectra(t07, arm, spectra, existence)
+    basis = np.empty((2, 6, 5))
+    level_basis(limits, basis)
+    polynomial = np.empty(2 * 8 + 1, dtype=np.complex128)
     total = 0
     for f in range(FUNCTIONS):
         total += 2 * DEGREES[f]
@@ -609,7 +688,13 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                 continue
             if f % 2 == 1 and (joint == 1 or joint == 4) and limits[0, joint] == -limits[1, joint]:
                 continue  # cos(theta_2), and theta_5 up to its sign, give the same polynomial for L and -L
-        count = candidate_angles(np.ascontiguousarray(samples[:, f]), DEGREES[f], phase, roots)
+        degree = DEGREES[f]
+        if f < 12:
+            count = coefficient_roots(polynomial[:2 * degree + 1],
+                                      level_polynomial(spectra, basis, f, polynomial), roots)
+        else:  # the elbow's and the wrist's existence
+            own = existence[f - 12, :2 * degree + 1]
+            count = coefficient_roots(own, np.abs(own).max(), roots)
         for r in range(count):
             angles[found] = roots[r]
             sources[found] = f
