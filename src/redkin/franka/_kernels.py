@@ -555,17 +555,17 @@ def limit_spectra(t07, arm, spectra, existence):
         if not small:
             break
         phase = np.pi / SAMPLES
-    column = np.empty(SAMPLES)
+    values = np.empty(SAMPLES)
     full = np.empty(2 * 8 + 1, dtype=np.complex128)
     for joint in range(6):
         degree = DEGREES[2 * joint]
         for i in range(5):
-            column[:] = expanded[:, joint, i]
-            trig_coefficients(column, degree, phase, full[:2 * degree + 1])
+            values[:] = expanded[:, joint, i]
+            trig_coefficients(values, degree, phase, full[:2 * degree + 1])
             spectra[joint, i, :degree + 1] = full[degree:2 * degree + 1]
     for k in range(2):
-        column[:] = extra[:, 1 + k]
-        trig_coefficients(column, DEGREES[12 + k], phase, existence[k, :2 * DEGREES[12 + k] + 1])
+        values[:] = extra[:, 1 + k]
+        trig_coefficients(values, DEGREES[12 + k], phase, existence[k, :2 * DEGREES[12 + k] + 1])
 
 
 @kernel
