@@ -51,6 +51,7 @@ from redkin.franka import _kernels
 from redkin.franka.feasible import q7_domain
 from redkin.franka.geometry import FrankaGeometry
 from redkin.franka.ik import frames_seven, ik
+from redkin.srs.branches import BRANCHES
 
 #: A joint's proposed bound is this many times its larger change from the middle to an end of the interval.
 _PROPOSAL = 2.0
@@ -129,12 +130,21 @@ class _Q7Measure:
         self.pairs = checked_pairs(body, scene)
         self.names, self.count = self.pairs.names, len(self.pairs.names)
         self.levers = joint_levers(arm.chain, body)
+        self._last: tuple[np.ndarray, ...] | None = None  # joints' last arguments and answer
 
     def joints(self, q7: np.ndarray, owner: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The owners' branch solutions ``(N, 7)`` at ``q7`` ``(N,)``, and whether each exists."""
-        solutions = ik(self.geometry, self.poses[owner // len(self.rows)], q7)
-        pick = np.arange(len(q7)), self.rows[owner % len(self.rows)]
-        return solutions.q[pick], solutions.exists[pick]
+        """The owners' branch solutions ``(N, 7)`` at ``q7`` ``(N,)``, and whether each exists: each branch solved
+        for its own intervals only.  The last call's answer is kept, for the rates at the same middles."""
+        if self._last is not None and self._last[0] is q7 and self._last[1] is owner:
+            return self._last[2], self._last[3]
+        q, exists = np.zeros((len(q7), 7)), np.zeros(len(q7), dtype=bool)
+        row = self.rows[owner % len(self.rows)]
+        for branch in np.unique(row).tolist():
+            mine = row == branch
+            solutions = ik(self.geometry, self.poses[owner[mine] // len(self.rows)], q7[mine], BRANCHES[branch])
+            q[mine], exists[mine] = solutions.q[:, 0], solutions.exists[:, 0]
+        self._last = (q7, owner, q, exists)
+        return q, exists
 
     def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
         """Clearances ``(N, P)`` (distance minus margin) at ``middle`` of the owners ``owner``, of the pairs
