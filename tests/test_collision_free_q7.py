@@ -132,26 +132,29 @@ def test_the_bounds_the_certificate_rests_on_hold(setup, fraction, width, where)
     its value at the middle, on a dense sample of the interval."""
     arm, body, scene = setup
     pose = arm.fk(_configuration(arm.chain, fraction))
-    limits = arm.feasible(pose)
     measure = _Q7Measure(arm, pose[None], body, scene, np.arange(8))
     checked = 0
+    for b, branch, middle, half in _intervals(arm, pose, width, where):
+        bound = measure.rates(np.array([b]), np.array([middle]), np.array([half]))[0] * half
+        if not np.all(np.isfinite(bound)):
+            continue
+        q = arm.ik(pose, np.linspace(middle - half, middle + half, 201), branches=[branch]).q[:, 0]
+        table, _ = pair_table(arm.chain, body, scene, q)
+        assert np.all(np.abs(table - table[100]) <= bound + 1e-12)
+        checked += 1
+    if checked == 0:
+        pytest.skip("no interval with proved bounds at this pose")
+
+
+def _intervals(arm, pose: np.ndarray, width: float, where: float):
+    """An interval of q7 in each limit-feasible arc of each branch of ``pose``: ``(row, branch, middle, half)``, at
+    most ``width`` wide (less in a narrower arc), its middle a fraction ``where`` along the arc's room for it."""
+    limits = arm.feasible(pose)
     for b, branch in enumerate(limits.branches):
         for low, high in limits.arcs(branch).bounds:
             half = min(width, (high - low) / 2.0) / 2.0
-            if half <= 0.0:
-                continue
-            middle = low + half + where * (high - low - 2.0 * half)
-            owner = np.array([b])
-            bound = measure.rates(owner, np.array([middle]), np.array([half]))[0] * half
-            if not np.all(np.isfinite(bound)):
-                continue
-            q7 = np.linspace(middle - half, middle + half, 201)
-            q = arm.ik(pose, q7, branches=[branch]).q[:, 0]
-            table, _ = pair_table(arm.chain, body, scene, q)
-            assert np.all(np.abs(table - table[100]) <= bound + 1e-12)
-            checked += 1
-    if checked == 0:
-        pytest.skip("no interval with proved bounds at this pose")
+            if half > 0.0:
+                yield b, branch, low + half + where * (high - low - 2.0 * half), half
 
 
 @settings(max_examples=4, deadline=None)
@@ -167,26 +170,20 @@ def test_the_level_test_says_a_joint_may_leave_its_band_wherever_one_does(setup,
     not say it stays inside."""
     arm, body, scene = setup
     pose = arm.fk(_configuration(arm.chain, fraction))
-    limits = arm.feasible(pose)
     measure = _Q7Measure(arm, pose[None], body, scene, np.arange(8))
     left = 0
-    for b, branch in enumerate(limits.branches):
-        for low, high in limits.arcs(branch).bounds:
-            half = min(width, (high - low) / 2.0) / 2.0
-            if half <= 0.0:
-                continue
-            middle = low + half + where * (high - low - 2.0 * half)
-            q = arm.ik(pose, np.linspace(middle - half, middle + half, 401), branches=[branch]).q[:, 0]
-            change = np.abs((q - q[200] + np.pi) % (2.0 * np.pi) - np.pi)
-            delta = squeeze * change.max(axis=0) + 1e-12
-            delta[6] = half
-            if delta[:6].max() >= np.pi / 2.0:
-                continue
-            leaves = bool(np.any(change[:, :6] > delta[:6]))
-            said = measure.leaves_band(np.array([b]), np.array([middle]), np.array([half]), q[200][None],
-                                       delta[None])[0]
-            assert said or not leaves, (branch, middle, half)
-            left += leaves
+    for b, branch, middle, half in _intervals(arm, pose, width, where):
+        q = arm.ik(pose, np.linspace(middle - half, middle + half, 401), branches=[branch]).q[:, 0]
+        change = np.abs((q - q[200] + np.pi) % (2.0 * np.pi) - np.pi)
+        delta = squeeze * change.max(axis=0) + 1e-12
+        delta[6] = half
+        if delta[:6].max() >= np.pi / 2.0:
+            continue
+        leaves = bool(np.any(change[:, :6] > delta[:6]))
+        said = measure.leaves_band(np.array([b]), np.array([middle]), np.array([half]), q[200][None],
+                                   delta[None])[0]
+        assert said or not leaves, (branch, middle, half)
+        left += leaves
     if squeeze < 0.95 and left == 0:
         pytest.skip("no joint moved on these intervals")
 
