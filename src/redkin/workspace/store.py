@@ -159,7 +159,7 @@ def create_store(path: Path, chain: SerialChain, grid: WorkspaceGrid, rotations:
     x, y, z = grid.axes
     whose = ("" if nearly is None else " of the exact S-R-S neighbour") + ("" if cell is None else
                                                                            ", collision-free in the cell")
-    kind = "certified" if certified else "exact"
+    kind = "certified" if certified or cell is not None else "exact"  # a cell's sets: ends to the resolution
     assert mapped.parameter is not None  # map_model refuses an arm without one
     name, equation = mapped.parameter.prefix, mapped.parameter.equation
     low, high = mapped.parameter.domain
