@@ -140,12 +140,11 @@ def merged_intervals(start: np.ndarray, end: np.ndarray) -> Arcs:
     """Intervals ``[start, end]`` of a parameter that is not an angle on the circle (q7) as disjoint, sorted,
     merged arcs that never wrap."""
     order = np.argsort(start, kind="stable")
-    bounds = np.stack([start[order], end[order]], axis=-1).reshape(-1, 2)
-    merged: list[list[float]] = []
-    for lo, hi in bounds.tolist():
-        if merged and lo <= merged[-1][1]:
-            merged[-1][1] = max(merged[-1][1], hi)
-        else:
-            merged.append([lo, hi])
-    bounds = np.array(merged, dtype=float).reshape(-1, 2)
+    lo, hi = np.asarray(start, dtype=float)[order], np.asarray(end, dtype=float)[order]
+    reach = np.maximum.accumulate(hi) if len(hi) else hi  # the furthest end so far
+    first = np.ones(len(lo), dtype=bool)
+    first[1:] = lo[1:] > reach[:-1]  # a new arc where an interval starts beyond every earlier one's end
+    starts = np.flatnonzero(first)
+    ends = np.append(starts[1:] - 1, len(lo) - 1) if len(lo) else starts  # each run's last interval
+    bounds = np.stack([lo[starts], reach[ends]], axis=-1).reshape(-1, 2)
     return Arcs(bounds, np.zeros(len(bounds), dtype=bool))

@@ -48,7 +48,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose
-from redkin.arms.feasible_sets import Arcs
+from redkin.arms.feasible_sets import Arcs, merged_intervals
 from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.chain import SerialChain
@@ -196,15 +196,15 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]), count,
                               len(poses), resolution, measure, rates, budget)
     results = []
+    owned = by_owner(parts, len(poses) * count)
     for p, pose in enumerate(poses):
         free_sets, blocked = [], []
         at_limits = circle_limit_stretches(arm, pose, labels, limit_arcs[p])
         for b in range(count):
-            mine = parts[2] == p * count + b
-            clear = mine & (parts[3] == 0)
-            free_sets.append(arcs_of(ArcSet(np.stack([parts[0][clear], parts[1][clear]], axis=-1).tolist())))
-            stretches = collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
-                                            measure.names, _wrapped)
+            lo, hi, kind, which = owned(p * count + b)
+            clear = kind == 0
+            free_sets.append(arcs_of(ArcSet(merged_intervals(lo[clear], hi[clear]).bounds.tolist())))
+            stretches = collision_stretches(lo, hi, kind, which, measure.names, _wrapped)
             stretches += at_limits[b]
             blocked.append(tuple(sorted(stretches, key=lambda stretch: stretch.start)))
         results.append(FreeArmAngles(labels, tuple(free_sets), limit_arcs[p], tuple(blocked), float(resolution),
@@ -516,26 +516,39 @@ def _wrapped(angle: float) -> float:
     return float((angle + np.pi) % TWO_PI - np.pi)
 
 
+def by_owner(parts: tuple[np.ndarray, ...], owners: int) -> Callable[[int], tuple[np.ndarray, ...]]:
+    """The decided intervals ``(lo, hi, owner, kind, pair)`` of :func:`certify` sorted once by owner and start: a
+    function giving one owner's ``(lo, hi, kind, pair)``, sorted by ``lo``."""
+    order = np.lexsort((parts[0], parts[2]))
+    lo, hi, owner, kind, pair = (part[order] for part in parts)
+    edges = np.searchsorted(owner, np.arange(owners + 1))
+
+    def of(which: int) -> tuple[np.ndarray, ...]:
+        mine = slice(edges[which], edges[which + 1])
+        return lo[mine], hi[mine], kind[mine], pair[mine]
+
+    return of
+
+
 def collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which: np.ndarray,
                         names: list[tuple[str, str]], wrapped: Callable[[float], float]) -> list[Stretch]:
-    """The blocked and undecided intervals of one branch merged into stretches of one cause, each end written by
-    ``wrapped`` (into ``[-pi, pi)`` for an arm angle)."""
-    order = np.argsort(lo, kind="stable")
-    stretches: list[Stretch] = []
-    last: tuple[float, float, str, str, str] | None = None
-    for start, end, k, w in zip(lo[order].tolist(), hi[order].tolist(), kind[order].tolist(), which[order].tolist(),
-                                strict=True):
-        if k == 0:
-            continue
-        cause, (link, against) = (COLLISION, names[w]) if k == 1 else (UNDECIDED, ("", ""))
-        if last is not None and last[2:] == (cause, link, against) and start <= last[1]:
-            last = (last[0], end, cause, link, against)
-            continue
-        if last is not None:
-            stretches.append(Stretch(wrapped(last[0]), wrapped(last[1]), *last[2:]))
-        last = (start, end, cause, link, against)
-    if last is not None:
-        stretches.append(Stretch(wrapped(last[0]), wrapped(last[1]), *last[2:]))
+    """The blocked and undecided intervals of one branch (its decided intervals, disjoint) merged into stretches of
+    one cause (touching intervals blocked by one pair, or undecided), each end written by ``wrapped`` (into
+    ``[-pi, pi)`` for an arm angle)."""
+    removed = kind != 0
+    order = np.argsort(lo[removed], kind="stable")
+    lo, hi, kind, which = lo[removed][order], hi[removed][order], kind[removed][order], which[removed][order]
+    named = {pair: k for k, pair in enumerate(dict.fromkeys(names))}  # pairs of shapes named alike are one cause
+    same_name = np.array([named[pair] for pair in names], dtype=np.int64)
+    cause = np.where(kind == 1, same_name[which] if len(names) else -1, -1)  # the names that block, or -1: undecided
+    first = np.ones(len(lo), dtype=bool)
+    first[1:] = (cause[1:] != cause[:-1]) | (lo[1:] > hi[:-1])
+    starts = np.flatnonzero(first)
+    ends = np.append(starts[1:] - 1, len(lo) - 1) if len(lo) else starts  # each run's last interval
+    stretches = []
+    for start, end, first_of in zip(lo[starts].tolist(), hi[ends].tolist(), starts.tolist(), strict=True):
+        reason, (link, against) = (COLLISION, names[which[first_of]]) if kind[first_of] == 1 else (UNDECIDED, ("", ""))
+        stretches.append(Stretch(wrapped(start), wrapped(end), reason, link, against))
     return stretches
 
 

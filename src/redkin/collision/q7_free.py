@@ -35,6 +35,7 @@ from redkin.circle import TWO_PI
 from redkin.collision.arm_angle_free import (
     FreeArmAngles,
     Stretch,
+    by_owner,
     certify,
     checked_inputs,
     collision_stretches,
@@ -97,15 +98,14 @@ def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
                               len(poses), resolution, measure, measure.rates, budget)
     domain = q7_domain(measure.geometry)
     results = []
+    owned = by_owner(parts, len(poses) * count)
     for p, pose in enumerate(poses):
         free_sets, blocked = [], []
         at_limits = _limit_stretches(arm, pose, labels, limit_arcs[p], domain)
         for b in range(count):
-            mine = parts[2] == p * count + b
-            free = mine & (parts[3] == 0)
-            free_sets.append(merged_intervals(parts[0][free], parts[1][free]))
-            stretches = collision_stretches(parts[0][mine], parts[1][mine], parts[3][mine], parts[4][mine],
-                                            measure.names, float)
+            lo, hi, kind, which = owned(p * count + b)
+            free_sets.append(merged_intervals(lo[kind == 0], hi[kind == 0]))
+            stretches = collision_stretches(lo, hi, kind, which, measure.names, float)
             blocked.append(tuple(sorted(stretches + at_limits[b], key=lambda stretch: stretch.start)))
         results.append(FreeArmAngles(labels, tuple(free_sets), limit_arcs[p], tuple(blocked), float(resolution),
                                      int(measure.evaluations[p]), bool(complete[p]), "q7"))
