@@ -38,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin.arms.feasible_sets import merged_intervals
 from redkin.arms.front_door import Arm
 from redkin.arms.nearly_kind import NearlyKind
 from redkin.circle import TWO_PI, ArcSet, wrap_angle
@@ -281,5 +282,7 @@ class _Decision:
 
 
 def _arc_set(parts: list[np.ndarray]) -> ArcSet:
-    """The union of the arm angles' arcs ``(K, 2)`` of each part (unrolled, ``lo <= hi``)."""
-    return ArcSet(np.concatenate([np.empty((0, 2)), *parts]).tolist())
+    """The union of the arm angles' arcs ``(K, 2)`` of each part (unrolled, ``lo <= hi``), merged as line intervals
+    first (thousands of steps' arcs become a few)."""
+    arcs = np.concatenate([np.empty((0, 2)), *parts])
+    return ArcSet(merged_intervals(arcs[:, 0], arcs[:, 1]).bounds.tolist())
