@@ -533,8 +533,8 @@ def by_owner(parts: tuple[np.ndarray, ...], owners: int) -> Callable[[int], tupl
 def collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which: np.ndarray,
                         names: list[tuple[str, str]], wrapped: Callable[[float], float]) -> list[Stretch]:
     """The blocked and undecided intervals of one branch (its decided intervals, disjoint) merged into stretches of
-    one cause (touching intervals blocked by one pair, or undecided), each end written by ``wrapped`` (into
-    ``[-pi, pi)`` for an arm angle)."""
+    one cause (touching intervals blocked by pairs of the same names, such as two capsules of one link against one
+    obstacle, or undecided), each end written by ``wrapped`` (into ``[-pi, pi)`` for an arm angle)."""
     removed = kind != 0
     order = np.argsort(lo[removed], kind="stable")
     lo, hi, kind, which = lo[removed][order], hi[removed][order], kind[removed][order], which[removed][order]
