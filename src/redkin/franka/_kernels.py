@@ -310,13 +310,19 @@ def level_basis(limits, basis):
         for joint in range(6):
             c, s = cos(limits[k, joint]), sin(limits[k, joint])
             count = 2 if joint == 3 else 4
-            for i in range(5):
+            for i in range(5):  # powers as products in one order: the same bits compiled and as Python
+                value = 1.0
                 if joint == 1:
-                    basis[k, joint, i] = c ** i
+                    for _ in range(i):
+                        value *= c
                 elif i <= count:
-                    basis[k, joint, i] = c ** (count - i) * s ** i
+                    for _ in range(count - i):
+                        value *= c
+                    for _ in range(i):
+                        value *= s
                 else:
-                    basis[k, joint, i] = 0.0
+                    value = 0.0
+                basis[k, joint, i] = value
 
 
 @kernel
@@ -694,7 +700,10 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                                       level_polynomial(spectra, basis, f, polynomial), roots)
         else:  # the elbow's and the wrist's existence
             own = existence[f - 12, :2 * degree + 1]
-            count = coefficient_roots(own, np.abs(own).max(), roots)
+            largest = 0.0
+            for k in range(degree + 1):
+                largest = max(largest, abs(own[degree + k]))
+            count = coefficient_roots(own, largest, roots)
         for r in range(count):
             angles[found] = roots[r]
             sources[found] = f
