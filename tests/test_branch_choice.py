@@ -64,6 +64,13 @@ def test_in_a_cell_the_branch_solution_clear_of_it_is_returned(fold, tmp_path, c
     code, out, _ = run(capsys, [*_argv(pose), "--scene", str(cell), "--every-solution"])
     listed = json.loads(out)["solutions"]
     assert code == 0 and [s["collision_free"] for s in listed] == [False, True]
+    batch = tmp_path / "poses.npy"  # a batch in the cell chooses as one pose does
+    np.save(batch, np.stack([pose, pose]))
+    code, out, _ = run(capsys, ["ik", "kinova-gen3", "--poses", str(batch), "--psi", repr(PSI), f"--branch={BRANCH}",
+                                "--json", "--scene", str(cell)])
+    entries = json.loads(out)["poses"]
+    assert code == 0 and all(entry["solutions"][0]["collision_free"] for entry in entries)
+    np.testing.assert_allclose([entry["solutions"][0]["q"] for entry in entries], [second, second], atol=1e-9)
 
 
 def test_q0_picks_the_branch_solution_nearest_it_in_the_api_as_on_the_command_line(fold, capsys):

@@ -26,8 +26,8 @@ def add_numerical_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--q0", nargs="+", type=float, metavar="Q",
                        help="a configuration to be near (one value per joint; radians, or degrees with --deg): the "
                             "numerical solver's seed, whose nearest solution is preferred; with --psi or --q7 each "
-                            "branch's solution nearest it (joint values modulo whole turns; on a nearly S-R-S arm the "
-                            "nearest of a branch's solutions where it has two)")
+                            "branch's solution nearest it (joint values modulo whole turns; on a nearly S-R-S arm, "
+                            "where a branch has two, the nearest of those within the limits)")
     group.add_argument("--count", type=int, default=1, metavar="K", help="distinct solutions wanted per pose "
                                                                           "(default 1)")
     group.add_argument("--tolerance", nargs="+", type=float, metavar="T",

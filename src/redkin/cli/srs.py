@@ -73,8 +73,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_srs_tolerance_argument(solve)
     add_numerical_arguments(solve)
     add_cell_arguments(solve, "at --psi or --q7 each solution is marked with its clearance from every obstacle and "
-                              "between the arm's own links; without them the numerical solver returns only "
-                              "solutions clear by the margin")
+                              "between the arm's own links (on a nearly S-R-S arm, where a branch has two "
+                              "solutions, the one clear within the limits); without them the numerical solver "
+                              "returns only solutions clear by the margin")
     add_output_flags(solve)
     solve.set_defaults(handler=run_ik, in_python=True)
 
@@ -180,7 +181,8 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
              for k in range(len(q))]
     reach = result.reach._replace(out=result.reach.out.reshape(-1), distance=result.reach.distance.reshape(-1))
     others = [[0] * len(result.branches) for _ in found]
-    if not classified.implementation.one_per_branch and (args.every_solution or q0 is not None or not batch):
+    if not classified.implementation.one_per_branch and (args.every_solution or q0 is not None or not batch
+                                                         or cell is not None):  # a batch in a cell chooses too
         _add_every_solution(classified, poses.reshape(-1, 4, 4), value, result.branches, found, others, reach.out,
                             q0, args.every_solution, cell)
     if q0 is not None:  # each solution's joint values nearest q0 modulo whole turns

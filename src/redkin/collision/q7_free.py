@@ -179,7 +179,6 @@ class _Q7Measure:
         rate[~proved] = np.inf
         return rate
 
-
     def leaves_band(self, owner: np.ndarray, middle: np.ndarray, half: np.ndarray, at_middle: np.ndarray,
                     delta: np.ndarray) -> np.ndarray:
         """Per interval ``[middle - half, middle + half]`` of the owners ``owner`` (N,), whether a joint 1-6 of the
