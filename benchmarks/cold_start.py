@@ -21,8 +21,10 @@ Run:  python benchmarks/cold_start.py --commands [--repeat N]
 Issue 42's targets, per command: ``redkin fk``, ``redkin ik`` (at an arm
 angle, ``--psi``; ``--q7`` on the Panda), ``redkin arm-angles`` and
 ``redkin path`` (a 0.1 m line of 21 waypoints between two key poses, the
-same rotation, ``--max-step 0.1``) on the KUKA iiwa14 and the Franka Panda
-(``ik`` and ``arm-angles`` on the branch of the pose's joint values), each
+same rotation, ``--max-step 0.1``) on the KUKA iiwa14, the Franka Panda
+and the Kinova Gen3 (nearly S-R-S), and ``fk`` and ``ik`` (numerical, no
+redundancy parameter) on the example Sawyer URDF (``ik`` and
+``arm-angles`` on the branch of the pose's joint values), each
 run once cold, in its own new process with a fresh, empty
 ``NUMBA_CACHE_DIR``, then once warm on the cache it filled.  The commands
 run through the ``redkin`` console script installed beside this Python (no
@@ -99,16 +101,33 @@ POSES = {
                      (0.9649746194587141, -0.20807926597837778, 0.15977172112238652,
                       -0.22664507493838287, -0.9679410592381081, 0.10826872053914952,
                       0.13212113308129403, -0.14068804110836533, -0.9811986961275511)),
+    # redkin fk kinova-gen3 0.3 0.6 0.1 -1.2 0.2 0.8 0.1 (nearly S-R-S: its closed form polished on the real arm)
+    "kinova-gen3": ((0.08199414787611689, -0.038629829126462185, 1.0553268325600618),
+                    (0.7870320078140184, 0.601142727432298, 0.13859307317284392,
+                     -0.5833013577253026, 0.7982721858147811, -0.15007012837440406,
+                     -0.20084856173757853, 0.03726846669437255, 0.9789131302818432)),
+    # redkin fk src/redkin/examples/sawyer.urdf 0.3 0.6 0.1 -1.2 0.2 0.8 0.1 (no closed form: the numerical solver)
+    "sawyer": ((0.7770231936358508, 0.3799276753970007, 0.3111209882907043),
+               (0.3586897366819385, -0.22902409034358126, 0.9049252117392558,
+                -0.9173318358368944, 0.09292797177634121, 0.38712620038128226,
+                -0.17275409042669532, -0.9689749006573032, -0.17675877951890984)),
 }
+#: What each robot of :data:`POSES` is called on the command line (the Sawyer: the example URDF).
+ROBOT_ARGUMENT = {"sawyer": str(Path(__file__).resolve().parents[1] / "src" / "redkin" / "examples" / "sawyer.urdf")}
 #: The joint values of each pose of :data:`POSES` (``redkin fk`` takes them).
-JOINTS = {"kuka-iiwa14": (0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1), "franka-panda": (0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.7)}
-#: The redundancy parameter ``ik`` is given on each robot; the branch ``ik`` and ``arm-angles`` are given (the Panda's
-#: joint values are on --+, where its default +++ has no feasible q7 at this pose).
-PARAMETER = {"kuka-iiwa14": ["--psi", "0.5"], "franka-panda": ["--q7", "0.7"]}
-BRANCH = {"kuka-iiwa14": [], "franka-panda": ["--branch=--+"]}
+JOINTS = {"kuka-iiwa14": (0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1), "franka-panda": (0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.7),
+          "kinova-gen3": (0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1), "sawyer": (0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1)}
+#: The redundancy parameter ``ik`` is given on each robot (none on the Sawyer: ``ik`` solves it numerically); the
+#: branch ``ik`` and ``arm-angles`` are given (the Panda's joint values are on --+, where its default +++ has no
+#: feasible q7 at this pose).
+PARAMETER = {"kuka-iiwa14": ["--psi", "0.5"], "franka-panda": ["--q7", "0.7"], "kinova-gen3": ["--psi", "0.5"],
+             "sawyer": []}
+BRANCH = {"kuka-iiwa14": [], "franka-panda": ["--branch=--+"], "kinova-gen3": [], "sawyer": []}
 #: How far the path's second key pose lies from the first along -y (m), the rotation kept; ``--step`` 0.005 m.
 PATH_LENGTH = 0.1
 COMMANDS = ("fk", "ik", "arm-angles", "path")
+#: The commands each robot runs (the Sawyer has no redundancy parameter: no arm-angles, and its path is not timed).
+ROBOT_COMMANDS = {"sawyer": ("fk", "ik")}
 #: Issue 42's targets: the first call of a command on a fresh cache, wall seconds; warm fk over the numpy import.
 COLD_TARGET = 5.0
 FK_RATIO_TARGET = 3.0
@@ -128,13 +147,14 @@ def command_args(command: str, robot: str, keys: str) -> list[str]:
     """The arguments of ``redkin COMMAND`` on ``robot``; ``keys``: the JSON file of the path's two key poses."""
     position, rotation = POSES[robot]
     pose = ["--position", *map(repr, position), "--rotation", *map(repr, rotation)]
+    name = ROBOT_ARGUMENT.get(robot, robot)
     if command == "fk":
-        return ["fk", robot, *map(repr, JOINTS[robot])]
+        return ["fk", name, *map(repr, JOINTS[robot])]
     if command == "ik":
-        return ["ik", robot, *pose, *PARAMETER[robot], *BRANCH[robot]]
+        return ["ik", name, *pose, *PARAMETER[robot], *BRANCH[robot]]
     if command == "arm-angles":
-        return ["arm-angles", robot, *pose, *BRANCH[robot]]
-    return ["path", robot, "--through", keys, "--step", "0.005", "--max-step", "0.1"]
+        return ["arm-angles", name, *pose, *BRANCH[robot]]
+    return ["path", name, "--through", keys, "--step", "0.005", "--max-step", "0.1"]
 
 
 def write_keys(robot: str, path: str) -> None:
@@ -179,7 +199,7 @@ def run_commands() -> dict:
         for robot in POSES:
             keys = os.path.join(work, f"{robot}-keys.json")
             write_keys(robot, keys)
-            for command in COMMANDS:
+            for command in ROBOT_COMMANDS.get(robot, COMMANDS):
                 argv = redkin_command() + command_args(command, robot, keys)
                 with tempfile.TemporaryDirectory() as cache:
                     wall, cpu, stderr = timed(argv, cache)
@@ -215,6 +235,8 @@ def main_commands(repeat: int) -> None:
     print("|---|---|---|---|---|---|---|---|")
     for command in COMMANDS:
         for robot in POSES:
+            if command not in ROBOT_COMMANDS.get(robot, COMMANDS):
+                continue
             rows = [r[command, robot] for r in runs]
             cold = " ".join(f"{row['cold'][0]:.1f}" for row in rows)
             cpu = " ".join(f"{row['cold'][1]:.1f}" for row in rows)

@@ -9,6 +9,7 @@ These tests check what a fresh process imports, never how long it takes: timings
 from __future__ import annotations
 
 import ast
+import json
 import os
 import subprocess
 import sys
@@ -18,11 +19,14 @@ import numpy as np
 import pytest
 
 from redkin import get_robot
+from redkin._compiled import use_compiled
 from redkin.cli.explore import _PAGE_KERNELS as PAGE_KERNELS
 from redkin.cli.main import _COMMANDS
 from redkin.cli.path import _FRANKA_PATH_KERNELS as FRANKA_PATH_KERNELS
+from tests.support.cli import run
 
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "redkin"
+EXAMPLES = PACKAGE / "examples"
 
 #: Libraries a parser must not need (llvmlite comes only with numba).
 HEAVY = ("numba", "llvmlite", "scipy", "matplotlib", "dask", "distributed", "zarr", "xarray")
@@ -168,7 +172,8 @@ def test_robots_classifies_without_numba():
 
 
 def test_large_work_runs_compiled(tmp_path):
-    """A batch of poses, and a nearly S-R-S arm (its certified self-motion), load numba: Python would be slow."""
+    """A batch of poses, a nearly S-R-S arm's self-motion (asked with --every-solution) and the numerical solver on
+    a batch or with more than the default starts load numba: Python would be slow."""
     pose = ["--position", "0.4", "0.1", "0.5", "--rotation", "1", "0", "0", "0", "-1", "0", "0", "0", "-1"]
     poses = tmp_path / "poses.npy"
     target = np.eye(4)
@@ -176,7 +181,8 @@ def test_large_work_runs_compiled(tmp_path):
     target[:3, :3] = np.diag([1.0, -1.0, -1.0])
     np.save(poses, np.stack([target, target]))
     for argv in (["ik", "kuka-iiwa14", "--poses", str(poses), "--psi", "0.3"],
-                 ["ik", "kinova-gen3", *pose, "--psi", "0.3"]):
+                 ["ik", "kinova-gen3", *pose, "--psi", "0.3", "--every-solution"],
+                 ["ik", "kuka-iiwa14", "--poses", str(poses)], ["ik", "kuka-iiwa14", *pose, "--restarts", "1000"]):
         [(_, code, modules)] = _modules_after([argv])
         assert code in (0, 1) and "numba" in modules, argv
 
@@ -195,25 +201,24 @@ def test_import_redkin_is_light_and_its_names_load_on_first_use():
     assert missing == ([], False)
 
 
-def _cached_then_run(argv: list[str], environment: dict[str, str],
-                     kernels: tuple[str, ...] = FRANKA_PATH_KERNELS) -> tuple[bool, int, set[str], str]:
+def _cached_then_run(argv: list[str], environment: dict[str, str], kernels: tuple[str, ...] = FRANKA_PATH_KERNELS,
+                     output: bool = False) -> tuple:
     """In one fresh process: whether ``kernels`` (``module.function`` names) are cached before it runs, then
-    ``main(argv)``'s exit code, the modules loaded and its stderr."""
+    ``main(argv)``'s exit code, the modules loaded and its stderr (and its stdout where ``output``)."""
     code = "\n".join([
         "import contextlib, io, sys",
-        "from redkin._compiled import kernels_cached",
-        "from redkin.cli.common import _kernels_named",
-        f"cached = kernels_cached(*_kernels_named({kernels!r}))",
+        "from redkin.cli.common import kernels_compiled",
+        f"cached = kernels_compiled({kernels!r})",
         "from redkin.cli.main import main",
-        "err = io.StringIO()",
-        "with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):",
+        "out, err = io.StringIO(), io.StringIO()",
+        "with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):",
         "    code = main(" + repr(argv) + ")",
-        "print((cached, code, sorted(sys.modules), err.getvalue()))",
+        "print((cached, code, sorted(sys.modules), err.getvalue(), out.getvalue()))",
     ])
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                             env={**os.environ, **environment})
-    cached, code, modules, err = ast.literal_eval(result.stdout.splitlines()[-1])
-    return cached, code, set(modules), err
+    cached, code, modules, err, out = ast.literal_eval(result.stdout.splitlines()[-1])
+    return (cached, code, set(modules), err, out) if output else (cached, code, set(modules), err)
 
 
 def test_a_short_franka_path_runs_as_python_until_its_kernels_are_cached(tmp_path):
@@ -227,6 +232,36 @@ def test_a_short_franka_path_runs_as_python_until_its_kernels_are_cached(tmp_pat
     assert "runs as Python" in err and "redkin compile" in err
     cached, code, modules, err = _cached_then_run(argv, {})
     assert code == 0 and ("numba" in modules) == cached and ("runs as Python" in err) == (not cached)
+
+
+def test_one_pose_of_a_nearly_arm_or_the_numerical_solver_runs_as_python_on_a_fresh_cache(tmp_path, capsys):
+    """``ik`` on one pose of a nearly S-R-S arm at an arm angle runs its closed form as Python while the self-motion's
+    kernels are not cached (about a minute of compiling), says on stderr that a second solution of the branch was
+    not looked for, and gives ``others: null``; the numerical solver on one pose runs as Python whatever the cache.
+    Each answer is the compiled one, number for number (this process runs compiled)."""
+    from redkin.cli.srs import _SELF_MOTION_KERNELS
+    from redkin.closed_form import ik
+
+    q = np.array([0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1])
+    fresh = {"NUMBA_CACHE_DIR": str(tmp_path / "fresh")}
+    for robot, extra in (("kinova-gen3", ["--psi", "0.5", "--all"]), (str(EXAMPLES / "sawyer.urdf"), [])):
+        pose = get_robot(robot).fk(q)
+        argv = ["ik", robot, "--position", *map(repr, pose[:3, 3].tolist()), "--rotation",
+                *map(repr, pose[:3, :3].ravel().tolist()), *extra, "--json"]
+        cached, code, modules, err, out = _cached_then_run(argv, fresh, _SELF_MOTION_KERNELS, output=True)
+        assert (cached, code) == (False, 0) and _forbidden(modules, ("numba", "llvmlite")) == [], robot
+        python = json.loads(out)
+        use_compiled()
+        if extra:  # the nearly arm: the closed form's solutions, a second one of a branch not looked for
+            assert "not checked whether a branch has a second solution at this psi" in err
+            assert [s["others"] for s in python["solutions"]] == [None] * 8
+            compiled = ik(get_robot(robot), pose, psi=0.5)
+            assert np.all(compiled.exists) and [s["within_limits"] for s in python["solutions"]] == \
+                compiled.within_limits.tolist()
+            assert np.array_equal([s["q"] for s in python["solutions"]], compiled.q)
+        else:
+            compiled_code, compiled_out, _ = run(capsys, argv)
+            assert compiled_code == 0 and err == "" and python == json.loads(compiled_out)
 
 
 def test_kernels_cached_tells_a_compiled_kernel_from_one_not_compiled(tmp_path):

@@ -1,14 +1,15 @@
 """Kernels run as Python (redkin._compiled.interpreted) give what they give compiled, bit for bit (issue 42).
 
-``redkin fk``, ``jacobian``, ``ik``/``arm-angles`` on one pose of an exact closed form and ``path`` on a short path
-of an exact class run the kernels' Python functions instead of loading numba (0.4 s of every warm command, and tens
-of seconds of compiling on a fresh install).  The law: in a fresh process, before numba is loaded, the chain's FK
-and Jacobian, ``Arm.ik`` at several values of the parameter, ``Arm.analyse`` of every branch and short paths
-(S-R-S, offset elbow and the Franka class) give results that equal, number for number, what the same calls give
-once numba is loaded (:func:`redkin._compiled.use_compiled`).  The configurations are random within the limits
-and, on purpose, degenerate: all zeros (a straight shoulder and wrist), the stretched elbow, every joint at a
-limit, and a pose moved out of reach.  A fresh process is needed: once numba is loaded in a process (the suite's
-own has it), kernels run compiled whatever the context.
+``redkin fk``, ``jacobian``, ``ik``/``arm-angles`` on one pose of an exact closed form, ``ik`` on one pose of a
+nearly S-R-S arm (until its self-motion is compiled) or of the numerical solver, and ``path`` on a short path of an
+exact class run the kernels' Python functions instead of loading numba (0.4 s of every warm command, and tens of
+seconds of compiling on a fresh install).  The law: in a fresh process, before numba is loaded, the chain's FK and
+Jacobian, ``Arm.ik`` at several values of the parameter (a nearly S-R-S arm's too), the numerical solver,
+``Arm.analyse`` of every branch and short paths (S-R-S, offset elbow and the Franka class) give results that equal,
+number for number, what the same calls give once numba is loaded (:func:`redkin._compiled.use_compiled`).  The
+configurations are random within the limits and, on purpose, degenerate: all zeros (a straight shoulder and wrist),
+the stretched elbow, every joint at a limit, and a pose moved out of reach.  A fresh process is needed: once numba is
+loaded in a process (the suite's own has it), kernels run compiled whatever the context.
 """
 
 from __future__ import annotations
@@ -28,8 +29,9 @@ import numpy as np
 from redkin import models
 from redkin.arms import arm
 from redkin._compiled import interpreted, numba_loaded, use_compiled
+from redkin.numerical import ik
 
-NAME, RANDOM, ANALYSED, PATHS, SEED = sys.argv[1], *map(int, sys.argv[2:6])
+NAME, RANDOM, ANALYSED, PATHS, NUMERICAL, SEED = sys.argv[1], *map(int, sys.argv[2:7])
 chain = getattr(models, NAME.replace("-", "_"))()
 rng = np.random.default_rng(SEED)
 lower, upper = np.maximum(chain.lower, -np.pi), np.minimum(chain.upper, np.pi)  # a joint without limits: a turn
@@ -71,6 +73,8 @@ def answers():
         far[:3, 3] += 5.0
         for label, target in (("pose", pose), ("far", far)):
             out += list(flat(classified.ik(target, values), f"ik {label} {k}"))
+            if k < NUMERICAL:  # redkin ik without a parameter runs the numerical solver as Python on one pose
+                out += list(flat(ik(chain, target, rng=k), f"numerical {label} {k}"))
         if k < ANALYSED:
             out += list(flat(classified.analyse(pose), f"analyse {k}"))
     if PATHS:  # redkin path runs as Python on short paths (the Franka class: until compiled): 12 waypoints
@@ -99,19 +103,22 @@ for (path, a), (other, b) in zip(python, compiled):
 print((loaded, len(python), len(compiled), mismatches[:10]))
 '''
 
-ARMS = [  # (model, random configurations, configurations analysed, paths): the Franka class's analysis is ~0.6 s
-    ("kuka-iiwa14", 16, 8, 2),
-    ("pa10-7c", 8, 4, 1),
-    ("barrett-wam", 8, 4, 1),
-    ("franka-panda", 8, 2, 1),
-    ("ufactory-xarm7", 4, 1, 0),
+ARMS = [  # (model, random configurations, configurations analysed, paths, configurations solved numerically):
+    # the Franka class's analysis is ~0.6 s; a nearly S-R-S arm's analysis follows its self-motion (compiled only),
+    # its closed form at one value runs as Python where redkin ik does not follow it (one pose)
+    ("kuka-iiwa14", 16, 8, 2, 6),
+    ("pa10-7c", 8, 4, 1, 2),
+    ("barrett-wam", 8, 4, 1, 2),
+    ("franka-panda", 8, 2, 1, 2),
+    ("ufactory-xarm7", 4, 1, 0, 2),
+    ("kinova-gen3", 0, 0, 0, 2),
 ]
 
 
-@pytest.mark.parametrize(("name", "random", "analysed", "paths"), ARMS)
-def test_kernels_as_python_equal_the_compiled_kernels(name, random, analysed, paths):
-    result = subprocess.run([sys.executable, "-c", CHILD, name, str(random), str(analysed), str(paths), "42"],
-                            capture_output=True, text=True, timeout=900)
+@pytest.mark.parametrize(("name", "random", "analysed", "paths", "numerical"), ARMS)
+def test_kernels_as_python_equal_the_compiled_kernels(name, random, analysed, paths, numerical):
+    result = subprocess.run([sys.executable, "-c", CHILD, name, str(random), str(analysed), str(paths),
+                             str(numerical), "42"], capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]
     loaded, count, compiled_count, mismatches = ast.literal_eval(result.stdout.strip().splitlines()[-1])
     assert not loaded  # the first pass ran without numba
@@ -146,6 +153,7 @@ def test_a_batch_within_interpreted_runs_in_the_calling_thread():
 ROBOTS = r"""
 import contextlib, io, sys
 from redkin._compiled import interpreted, numba_loaded, use_compiled
+from redkin.numerical import ik
 from redkin.cli.main import main
 
 COMMANDS = [["robots", "--json"]] + [["robots", "--show", name, "--json"] for name in sys.argv[1:]]

@@ -242,14 +242,20 @@ def _kernels_named(names: Sequence[str]) -> list:
     return [getattr(importlib.import_module(name.rpartition(".")[0]), name.rpartition(".")[2]) for name in names]
 
 
+def kernels_compiled(kernels: Sequence[str]) -> bool:
+    """Whether the ``kernels`` (``module.function`` names), and every kernel they call, are in numba's cache, or
+    numba is loaded (:func:`redkin._compiled.kernels_cached`), told without importing numba."""
+    from redkin._compiled import kernels_cached
+
+    return kernels_cached(*_kernels_named(kernels))
+
+
 def python_until_compiled(kernels: Sequence[str], work: str) -> bool:
     """Whether small work that compiled code does faster than Python runs as Python after all, because the
     ``kernels`` it calls (``module.function`` names), or kernels they call, are not in numba's cache yet
     (:func:`redkin._compiled.kernels_cached`): compiling them would cost far more than running them as Python once.
     Where so, a note on stderr says it of ``work`` and names ``redkin compile``."""
-    from redkin._compiled import kernels_cached
-
-    if kernels_cached(*_kernels_named(kernels)):
+    if kernels_compiled(kernels):
         return False
     print(f"redkin: note: the kernels of {work} are not compiled yet, so it runs as Python; 'redkin compile' "
           "compiles them once (minutes), and later runs are compiled, two to three times faster", file=sys.stderr)

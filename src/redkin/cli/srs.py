@@ -4,6 +4,7 @@ S-R-S and offset-elbow arms (paper 000), q7 of the Franka class (docs/franka.md)
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import Any
 
 import numpy as np
@@ -29,6 +30,7 @@ from redkin.cli.common import (
     fixed,
     format_values,
     joint_vector,
+    kernels_compiled,
     load_robot,
     out_of_reach,
     plural,
@@ -40,6 +42,13 @@ from redkin.cli.common import (
     target_pose,
 )
 from redkin.cli.ik_numerical import add_numerical_arguments, run_numerical
+
+#: The kernels that follow a nearly S-R-S pose's certified self-motion for every solution of a branch at one arm
+#: angle (:meth:`redkin.arms.nearly_kind.NearlyKind.every_solutions`), ``module.function``.
+_SELF_MOTION_KERNELS = ("redkin.srs.nearly._kernels.solve", "redkin.srs.nearly._kernels.arm_angles",
+                        "redkin.srs.nearly._self_motion_kernels.traced",
+                        "redkin.srs.nearly._self_motion_kernels.corrected",
+                        "redkin.srs.nearly._self_motion_kernels.scratch")
 
 #: The angle [rad] between two axes' lines at or below which they are aligned: the certificate of a singular arm
 #: angle (:func:`redkin.srs.singular_arm_angles_nearly`).
@@ -144,7 +153,11 @@ def run_ik(args: argparse.Namespace) -> int:
         if args.srs_tolerance is not None:
             raise UsageError("--srs-tolerance chooses the closed form of --psi or --q7; the numerical solver (without "
                              "them) does not use it")
-        small_work(False)
+        from redkin.numerical.solve import RESTARTS
+
+        # one pose, at most the default starts: as Python (10-30 ms found, about 1 s for 200 starts) rather than
+        # loading numba (about 0.6 s warm; 20 s of compiling on a fresh cache)
+        small_work(not batch and (args.restarts is None or args.restarts <= RESTARTS))
         return run_numerical(chain, poses, args, batch, load_cell(args, chain))
     return _run_closed_form(chain, poses, args, batch)
 
@@ -164,10 +177,11 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
 
     classified = _closed_form_arm(chain, args)
     cell = load_cell(args, chain)
-    small_work(not batch and cell is None and classified.implementation.one_per_branch)
     parameter = classified.parameter.name
     value = float(angles_in(getattr(args, parameter), args.deg))
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
+    traced = _traced(classified, args, batch, q0, cell)
+    small_work(not batch and cell is None and not traced)
     branch, why = _asked_branch(chain, args, q0)
     # every branch where it is asked for, or where the default's line names the others (one pose); else one
     every_branch = branch is None or (why == "default" and not batch)
@@ -180,9 +194,11 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     found = [[[(q[k, b], bool(within[k, b]))] if exists[k, b] else [] for b in range(len(result.branches))]
              for k in range(len(q))]
     reach = result.reach._replace(out=result.reach.out.reshape(-1), distance=result.reach.distance.reshape(-1))
-    others = [[0] * len(result.branches) for _ in found]
-    if not classified.implementation.one_per_branch and (args.every_solution or q0 is not None or not batch
-                                                         or cell is not None):  # a batch in a cell chooses too
+    # how many other solutions each branch has at the value: none on a closed form, unknown (None) where the
+    # self-motion is not followed
+    others: list[list[int | None]] = [[0 if classified.implementation.one_per_branch else None] * len(result.branches)
+                                      for _ in found]
+    if traced:
         _add_every_solution(classified, poses.reshape(-1, 4, 4), value, result.branches, found, others, reach.out,
                             q0, args.every_solution, cell)
     if q0 is not None:  # each solution's joint values nearest q0 modulo whole turns
@@ -198,6 +214,11 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     } for k in range(len(q))]
     code = 0 if all(entry["solutions"] for entry in entries) else 1
     unit = angle_unit(args.deg)
+    if not batch and not traced and not classified.implementation.one_per_branch and entries[0]["solutions"]:
+        print(f"redkin: note: not checked whether a branch has a second solution at this {parameter} (a nearly "
+              "S-R-S arm can have two next to a fold): that follows the pose's self-motion, whose kernels are not "
+              "compiled yet; --every-solution follows it now, and after 'redkin compile' (minutes, once) every run "
+              "does", file=sys.stderr)
     if args.json:
         head = {"robot": chain.name, "parameter": parameter, "units": {parameter: unit, "q": unit, "reach": "m"},
                 parameter: angles_out(value, args.deg), "branch_from": why,
@@ -231,6 +252,22 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     return code
 
 
+def _traced(classified, args: argparse.Namespace, batch: bool, q0: np.ndarray | None, cell) -> bool:
+    """Whether ``ik --psi`` follows the pose's certified self-motion for every solution of each branch at that arm
+    angle: on a nearly S-R-S arm (a branch may have two near a fold), where ``--every-solution``, ``--q0`` or a
+    cell ask which one (a batch too), and on one pose to say whether a branch has another solution, unless the
+    self-motion's kernels are not compiled yet: compiling them takes about a minute, which that remark is not worth
+    (the solution then comes from the closed form as Python, in about a second, and a note says what was not
+    checked)."""
+    if classified.implementation.one_per_branch:
+        return False
+    if args.every_solution or q0 is not None or cell is not None:
+        return True
+    if batch:
+        return False
+    return kernels_compiled(_SELF_MOTION_KERNELS)
+
+
 def _asked_branch(chain, args: argparse.Namespace, q0: np.ndarray | None):
     """The branch ``ik --psi|--q7`` answers and where it comes from: ``None`` with ``--all`` (``"all"``); else
     ``--branch`` (``"--branch"``), or ``--q0``'s own branch (``"q0"``, read off the configuration by its class), or
@@ -255,7 +292,7 @@ def _one_branch(result, index: int):
 
 
 def _add_every_solution(classified, poses: np.ndarray, value: float, branches: tuple,
-                        found: list[list[list[tuple[np.ndarray, bool]]]], others: list[list[int]],
+                        found: list[list[list[tuple[np.ndarray, bool]]]], others: list[list[int | None]],
                         out: np.ndarray, q0: np.ndarray | None, every: bool, cell) -> None:
     """On an arm whose branch may have several solutions at one value (a nearly S-R-S arm:
     :func:`redkin.srs.branch_solutions` on the pose's certified self-motion, the closed form's first), every solution

@@ -171,8 +171,11 @@ def ik(
     centre, radius, slack, measure = chain._reach_table  # the bound of SerialChain.reach, tested in the kernel
     limit = radius + slack + float(settings[_kernels.POSITION_TOLERANCE])
     reach = np.array([centre[0], centre[1], centre[2], limit])
-    if run_batch(_kernels.solve, size, poses, seeds, q0 is not None, streams, chain._links, chain._ends,
-                 chain._standard, chain._bounds, settings, restarts, reach, q, found, closest, error, used, distance):
+    with np.errstate(over="ignore"):  # SplitMix64 wraps by design: run as Python, numpy's integers would warn
+        failed = run_batch(_kernels.solve, size, poses, seeds, q0 is not None, streams, chain._links, chain._ends,
+                           chain._standard, chain._bounds, settings, restarts, reach, q, found, closest, error, used,
+                           distance)
+    if failed:
         if q0 is not None:
             check_finite(seeds, "q0")  # words the error the kernel found: the seeds, then the poses
         check_pose(pose)
