@@ -23,6 +23,7 @@ from redkin._compiled import use_compiled
 from redkin.cli.explore import _PAGE_KERNELS as PAGE_KERNELS
 from redkin.cli.main import _COMMANDS
 from redkin.cli.path import _FRANKA_PATH_KERNELS as FRANKA_PATH_KERNELS
+from redkin.cli.srs import _SMALL_BATCH as SMALL_BATCH
 from tests.support.cli import run
 
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "redkin"
@@ -147,13 +148,16 @@ def _key_poses(folder, length: float):
 
 
 def test_small_work_of_a_closed_form_loads_neither_numba_nor_scipy(tmp_path):
-    """``redkin ik`` at an arm angle (S-R-S) or a q7 (the Franka class), ``arm-angles`` on one pose and ``path`` on
-    a short path of an S-R-S arm run the kernels as Python: numba is not loaded, nor scipy by ``ik`` and ``path``
-    (issue 42; the Franka class's optimal q7 uses scipy's optimiser)."""
+    """``redkin ik`` at an arm angle (S-R-S) or a q7 (the Franka class) on one pose or a batch of at most 256,
+    ``arm-angles`` on one pose and ``path`` on a short path of an S-R-S arm run the kernels as Python: numba is not
+    loaded, nor scipy by ``ik`` and ``path`` (issue 42; the Franka class's optimal q7 uses scipy's optimiser)."""
 
     pose = ["--position", "0.4", "0.1", "0.5", "--rotation", "1", "0", "0", "0", "-1", "0", "0", "0", "-1"]
     keys = _key_poses(tmp_path, 0.05)
+    poses = tmp_path / "poses.npy"
+    np.save(poses, np.stack([get_robot("kuka-iiwa14").fk(np.full(7, 0.3))] * SMALL_BATCH))
     runs = _modules_after([["ik", "kuka-iiwa14", *pose, "--psi", "0.3"], ["ik", "franka-panda", *pose, "--q7", "0.3"],
+                           ["ik", "kuka-iiwa14", "--poses", str(poses), "--psi", "0.3"],
                            ["path", "kuka-iiwa14", "--through", str(keys), "--step", "0.01", "--max-step", "0.1"],
                            ["arm-angles", "barrett-wam", *pose], ["arm-angles", "franka-fr3", *pose]])
     for argv, code, modules in runs:
@@ -172,14 +176,14 @@ def test_robots_classifies_without_numba():
 
 
 def test_large_work_runs_compiled(tmp_path):
-    """A batch of poses, a nearly S-R-S arm's self-motion (asked with --every-solution) and the numerical solver on
-    a batch or with more than the default starts load numba: Python would be slow."""
+    """A batch of more than 256 poses, a nearly S-R-S arm's self-motion (asked with --every-solution) and the
+    numerical solver on a batch or with more than the default starts load numba: Python would be slow."""
     pose = ["--position", "0.4", "0.1", "0.5", "--rotation", "1", "0", "0", "0", "-1", "0", "0", "0", "-1"]
     poses = tmp_path / "poses.npy"
     target = np.eye(4)
     target[:3, 3] = [0.4, 0.1, 0.5]
     target[:3, :3] = np.diag([1.0, -1.0, -1.0])
-    np.save(poses, np.stack([target, target]))
+    np.save(poses, np.stack([target] * (SMALL_BATCH + 1)))
     for argv in (["ik", "kuka-iiwa14", "--poses", str(poses), "--psi", "0.3"],
                  ["ik", "kinova-gen3", *pose, "--psi", "0.3", "--every-solution"],
                  ["ik", "kuka-iiwa14", "--poses", str(poses)], ["ik", "kuka-iiwa14", *pose, "--restarts", "1000"]):
