@@ -25,6 +25,36 @@ def test_compile_runs_every_section_and_names_the_cache(capsys):
     assert main(["compile", "--quiet"]) == 0 and capsys.readouterr().err == ""
 
 
+@pytest.mark.slow
+def test_compiling_in_several_processes_leaves_every_kernel_in_the_cache():
+    """``redkin compile --processes 2`` hands the sections to two new processes, which write one cache: a process
+    that then calls every compiled path compiles nothing (a lost index entry, or a cache one process emptied under
+    the other, would be compiled again here).  On the suite's cache, filled or not."""
+    import os
+    import subprocess
+    import sys
+
+    def compile_json(processes: int) -> dict:
+        result = subprocess.run([sys.executable, "-m", "redkin.cli.main", "compile", "--quiet", "--json",
+                                 "--processes", str(processes)], capture_output=True, text=True, check=True,
+                                env=dict(os.environ))
+        return json.loads(result.stdout)
+
+    parallel = compile_json(2)
+    assert parallel["processes"] == 2 and [section["name"] for section in parallel["sections"]] == \
+        [name for name, _ in _SECTIONS]
+    again = compile_json(1)
+    assert again["processes"] == 1 and again["kernels_compiled"] == 0 and again["cache"] == parallel["cache"]
+
+
+@pytest.mark.parametrize("processes", ["0", "-1"])
+def test_compile_refuses_fewer_than_one_process(capsys, processes):
+    with pytest.raises(SystemExit) as stop:
+        raise SystemExit(main(["compile", "--processes", processes]))
+    assert stop.value.code == 2
+    assert capsys.readouterr().err.strip() == f"redkin: error: --processes must be at least 1, got {processes}"
+
+
 #: In a fresh process: every compiled path called once (what ``redkin compile`` runs), then each redkin kernel's
 #: compiled signatures, as (kernel, [argument types as text], [literal argument positions], key without mutability).
 _SIGNATURES = r"""

@@ -166,6 +166,7 @@ Why the pool is safe, and why results do not depend on it:
 from __future__ import annotations
 
 import hashlib
+import importlib
 import operator
 import os
 import sys
@@ -624,16 +625,30 @@ _STAMP_NAME = "redkin-kernels.stamp"
 _checked: set[str] = set()  # cache directories whose stamp this process has checked
 
 
+def _kernel_sources() -> list[Path]:
+    """Every redkin source file that defines kernels (``@kernel``), sorted."""
+    return [path for path in sorted(Path(__file__).parent.rglob("*.py")) if b"@kernel" in path.read_bytes()]
+
+
+def prepare_cache() -> None:
+    """Import every module that defines kernels and load numba, so that each cache folder's stamp is checked now
+    (a stale folder emptied, :func:`_drop_stale_cache`): before several processes compile into one cache, which
+    they must not empty under each other."""
+    package = Path(__file__).parent
+    for path in _kernel_sources():
+        parts = path.relative_to(package.parent).with_suffix("").parts
+        importlib.import_module(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
+    _load_numba()
+
+
 def _core_digest() -> str:
     """A digest of the source of every redkin module that defines kernels (read once per process)."""
     global _digest
     if _digest is None:
         package = Path(__file__).parent
         digest = hashlib.sha256()
-        for path in sorted(package.rglob("*.py")):
-            text = path.read_bytes()
-            if b"@kernel" in text:
-                digest.update(str(path.relative_to(package)).encode() + b"\0" + text)
+        for path in _kernel_sources():
+            digest.update(str(path.relative_to(package)).encode() + b"\0" + path.read_bytes())
         _digest = digest.hexdigest()
     return _digest
 
