@@ -1,6 +1,6 @@
 """Cold start: the first call of every compiled path of redkin in a new process with an empty numba cache, in seconds.
 
-Run:  python benchmarks/cold_start.py [--repeat N]
+Run:  python benchmarks/cold_start.py [--repeat N] [--processes P]
 
 A new process with a fresh ``NUMBA_CACHE_DIR`` imports redkin and runs
 :func:`redkin.warm_up.warm_up` (what ``redkin compile`` runs): each public
@@ -14,7 +14,9 @@ time (compiling is serial: on an idle machine the two agree, on a busy one
 the CPU time is the steadier measure of the compile bill); the last line,
 the total from before ``import redkin`` to the end.  With ``--repeat N`` the
 cold run is made N times (a fresh directory each time) and each run's times
-are listed.
+are listed.  With ``--processes P`` the sections run in P processes at once
+(what ``redkin compile`` does, one per core): each section's times are then
+its own process's, and the total's CPU time the first process's alone.
 
 Run:  python benchmarks/cold_start.py --commands [--repeat N]
 
@@ -55,18 +57,21 @@ import time
 from pathlib import Path
 
 FIRST_CALLS = r"""
-import json, time
+import json, sys, time
 wall, cpu = time.perf_counter(), time.process_time()
 import redkin.warm_up
-sections = [("import", time.perf_counter() - wall, time.process_time() - cpu)] + redkin.warm_up.warm_up()
+sections = [("import", time.perf_counter() - wall, time.process_time() - cpu)]
+sections += redkin.warm_up.warm_up(processes=int(sys.argv[1]))
 print(json.dumps(sections + [("total", time.perf_counter() - wall, time.process_time() - cpu)]))
 """
 
 
-def run(cache: str) -> list[tuple[str, float, float]]:
-    """The sections' seconds (wall, CPU) of one run of :data:`FIRST_CALLS` with ``NUMBA_CACHE_DIR=cache``."""
+def run(cache: str, processes: int = 1) -> list[tuple[str, float, float]]:
+    """The sections' seconds (wall, CPU) of one run of :data:`FIRST_CALLS` with ``NUMBA_CACHE_DIR=cache``, in
+    ``processes`` processes (``redkin compile --processes``; the total's CPU is then the first process's only)."""
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-    result = subprocess.run([sys.executable, "-c", FIRST_CALLS], env=env, capture_output=True, text=True)
+    result = subprocess.run([sys.executable, "-c", FIRST_CALLS, str(processes)], env=env, capture_output=True,
+                            text=True)
     if result.returncode != 0:
         raise SystemExit(result.stderr)
     return [tuple(pair) for pair in json.loads(result.stdout.strip().splitlines()[-1])]
@@ -74,13 +79,14 @@ def run(cache: str) -> list[tuple[str, float, float]]:
 
 def main() -> None:
     repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 1
+    processes = int(sys.argv[sys.argv.index("--processes") + 1]) if "--processes" in sys.argv else 1
     print(f"# cold start -- {platform.machine()}, {os.cpu_count()} cores, python {platform.python_version()}, "
-          f"load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+          f"load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}; {processes} compiling process(es)")
     colds = []
     for _ in range(repeat):
         with tempfile.TemporaryDirectory() as cache:
-            colds.append(run(cache))
-            warm = run(cache)
+            colds.append(run(cache, processes))
+            warm = run(cache, processes)
     print(f"{'section':<14} {'cold wall (s)':>14} {'cold CPU (s)':>13} {'warm wall (s)':>14}")
     for k, (name, seconds, _) in enumerate(warm):
         wall = " ".join(f"{c[k][1]:.1f}" for c in colds)
