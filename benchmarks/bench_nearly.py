@@ -93,7 +93,10 @@ sign).  Per pose:
   is not a solution the set misses but the certificate's slack beyond a fold, and is counted apart), runs of
   infeasible samples inside it (false, with the depth: distance from the set's nearest end; a run where the branch
   has a second solution within the limits, :func:`second_solution`, from ``branch_solutions`` on the pose's own
-  curves, is counted apart), and the ends of the computed arcs (agreeing when the sample just inside is feasible
+  curves, is counted apart, and so is a one-sample run at a set's end next to which, 1e-7 rad away, the branch has
+  a solution within the limits, :func:`boundary_solution`: its solutions there run into a singular configuration
+  exactly at that arm angle and the sample's own sign rounds to the other branch), and the ends
+  of the computed arcs (agreeing when the sample just inside is feasible
   and the one just outside is not, i.e. the sampled boundary within one spacing).
 * ssik 8.2 on the same poses, each call right after ours (:func:`load_ssik_feasible`; the Gen3 and the Jaco2,
   whose frames ssik ships): its native C++ solver as in the IK part (``Solver.solve(T, respect_limits=0)``), and
@@ -822,6 +825,21 @@ def second_solution(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int,
     return bool(good.any())
 
 
+#: How far in arm angle [rad] from a one-sample false run :func:`boundary_solution` looks for a solution of the
+#: branch within the limits: far below the issue's resolution of 1e-6 rad.
+BOUNDARY_REACH = 1e-7
+
+
+def boundary_solution(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int,
+                      curves: Sequence[SelfMotion] | None = None) -> bool:
+    """Whether the branch has a solution within the limits that passes our certificate at ``psi -+``
+    :data:`BOUNDARY_REACH` (:func:`second_solution` there): a one-sample false run at the end of a set where the
+    branch's solutions within the limits run into a singular configuration exactly at ``psi`` (the shoulder's
+    ``theta_2 = 0`` lies at ``psi = 0`` or ``pi``), whose own branch sign rounds to the neighbouring branch: the
+    set's closed end, not an arc it claims without a solution."""
+    return any(second_solution(arm, pose, psi + side * BOUNDARY_REACH, branch, curves) for side in (-1.0, 1.0))
+
+
 def cyclic_runs(mask: np.ndarray) -> list[np.ndarray]:
     """The maximal runs of consecutive True entries of ``mask`` (M,), read cyclically, as index arrays."""
     if not mask.any():
@@ -909,6 +927,7 @@ class DrawResult(NamedTuple):
     beyond: list[Flag]  # runs outside the set whose row Newton's steps cannot take to rounding (exact_row)
     false: list[Flag]  # infeasible samples inside the set, no second solution there
     second: list[Flag]  # runs inside the set held by a second solution within the limits
+    boundary: list[Flag]  # one-sample false runs at a set's end next to a solution within the limits (1e-7 rad)
     ends_agreeing: int
     ends_checked: int
     narrow: int
@@ -1050,7 +1069,9 @@ def measure_feasible(name: str, count: int, samples: int, first: int = 0, near: 
     missed = [f for f in flags if f.kind == "missed" and f not in beyond]
     second = [f for f in flags
               if f.kind == "false" and second_solution(arm, pose_of(f), f.psi, f.branch, curves_of(f))]
-    false = [f for f in flags if f.kind == "false" and f not in second]
+    boundary = [f for f in flags if f.kind == "false" and f not in second and f.samples == 1 and f.distance == 0.0
+                and boundary_solution(arm, pose_of(f), f.psi, f.branch, curves_of(f))]
+    false = [f for f in flags if f.kind == "false" and f not in second and f not in boundary]
     results = []
     for kind in DRAWS:
         if kind not in tallies:
@@ -1061,8 +1082,8 @@ def measure_feasible(name: str, count: int, samples: int, first: int = 0, near: 
             return [f for f in values if f.draw == kind]
 
         results.append(DrawResult(kind, t["poses"], 8 * t["poses"], t["nonempty"], t["incomplete"], mine(missed),
-                                  mine(beyond), mine(false), mine(second), t["agreeing"], t["checked"], t["narrow"],
-                                  t["differ"], np.array(t["seconds"]), t["sampling"],
+                                  mine(beyond), mine(false), mine(second), mine(boundary), t["agreeing"],
+                                  t["checked"], t["narrow"], t["differ"], np.array(t["seconds"]), t["sampling"],
                                   np.array(t["native"]) if t["native"] else None,
                                   np.array(t["arcs"]) if t["arcs"] else None, t["ssik_nonempty"]))
     near_text = ""
@@ -1084,7 +1105,8 @@ def measure_feasible(name: str, count: int, samples: int, first: int = 0, near: 
              f"- ssik: {peer if isinstance(peer, str) else peer.describe}", ""]
     lines += draw_table(results, spacing)
     counted = {**{f: "a missed run" for f in missed}, **{f: "beyond a fold (row not exact)" for f in beyond},
-               **{f: "**a false run**" for f in false}, **{f: "held by a second solution" for f in second}}
+               **{f: "**a false run**" for f in false}, **{f: "held by a second solution" for f in second},
+               **{f: "at the set's closed end (boundary_solution)" for f in boundary}}
     lines += classify(arm, draws, poses, where, flags, sets, spacing, counted)
     lines.append("")
     return FeasibleResult(name, lines, sum(r.pose_branches for r in results), missed, false, tuple(results),
@@ -1137,6 +1159,8 @@ def draw_table(results: list[DrawResult], spacing: float) -> list[str]:
         lambda r: f"{len(r.false)} ({sum(f.samples for f in r.false)}, {_farthest(r.false)})")
     row("runs inside the set held by a second solution within the limits (`second_solution`; runs, samples)",
         lambda r: f"{len(r.second)}, {sum(f.samples for f in r.second)}")
+    row(f"one-sample false runs at a set's end with a solution within the limits {BOUNDARY_REACH:g} rad away "
+        "(`boundary_solution`; not counted above)", lambda r: str(len(r.boundary)))
     row("ends of computed arcs within one spacing of the sampled boundary (arcs holding no sample)",
         lambda r: f"{r.ends_agreeing}/{r.ends_checked} ({r.narrow})")
     row("samples where our check and `nearly.ik`'s `within_limits` differ", lambda r: str(r.differ))
@@ -1169,7 +1193,8 @@ def classify(arm: NearlySRS, draws: list[Draw], poses: np.ndarray, where: dict[t
     distance to the branch's nearest singular arm angle (``singular_arm_angles_nearly``)."""
     if not flags:
         return []
-    order = ["**a false run**", "a missed run", "beyond a fold (row not exact)", "held by a second solution"]
+    order = ["**a false run**", "a missed run", "beyond a fold (row not exact)", "held by a second solution",
+             "at the set's closed end (boundary_solution)"]
     chosen = sorted(flags, key=lambda f: (order.index(counted[f]) + 0.5 * (counted[f] == "a missed run"
                                                                            and not f.complete),
                                           -f.distance))[:CLASSIFIED]
