@@ -90,7 +90,8 @@ sign).  Per pose:
 * compared: runs of consecutive feasible samples outside the computed set (missed; 2 samples or more are an arc
   wider than the spacing, and any sample farther than 1e-6 rad from the set breaks the issue's target; a run
   within :data:`FOLD_SLACK` of the set's end whose row Newton's steps cannot take to rounding, :func:`exact_row`,
-  is not a solution the set misses but the certificate's slack beyond a fold, and is counted apart), runs of
+  is not a solution the set misses but the certificate's slack beyond a fold, and is counted apart, as is a run
+  at any distance whose row :func:`row_leaves_branch` shows is no solution of its branch), runs of
   infeasible samples inside it (false, with the depth: distance from the set's nearest end; a run where the branch
   has a second solution within the limits, :func:`second_solution`, from ``branch_solutions`` on the pose's own
   curves, is counted apart, and so is a one-sample run at a set's end next to which, 1e-7 rad away, the branch has
@@ -809,6 +810,31 @@ def exact_row(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int) -> bool
                 and abs(wrapped(nearly.arm_angle(arm, q) - psi)) <= EXACT and nearly.branch_of(arm, q) == branch)
 
 
+def row_leaves_branch(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int,
+                      ends: np.ndarray) -> bool:
+    """Whether ``nearly.ik``'s row of ``branch`` at ``psi`` is shown not to be a solution of that branch there, at
+    any distance from the set: the steps of :func:`exact_row` take it to rounding on another branch (next to a
+    stretched elbow the row's elbow sign is a near-solution's), or they stall and the pose's self-motion, entered
+    from where they stopped (``_self_motion_kernels.started``: the curve's nearest point, the arm angle free), is met
+    within :data:`MISSED` (1e-6 rad) of an end of the branch's set, ``ends``: the row lies beyond the fold there,
+    accepted by the certificate's 1e-9 slack."""
+    row = nearly.ik(arm, pose, psi, BRANCH_NAMES[branch])
+    if not row.exists[0]:
+        return False
+    q = polished(arm, row.q, pose, lambda values: nearly.arm_angle(arm, values), psi)[0][0]
+    errors = pose_errors(arm.chain, q[None], pose[None])
+    exact = max(errors[0][0], errors[1][0]) <= EXACT and abs(wrapped(nearly.arm_angle(arm, q) - psi)) <= EXACT
+    if exact:
+        return bool(nearly.branch_of(arm, q) != branch)
+    from redkin.srs.nearly import _self_motion_kernels as kernels
+
+    point, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(9)
+    if not kernels.started(np.ascontiguousarray(q), np.ascontiguousarray(pose), arm.kernel_real, arm.kernel_model,
+                           arm.kernel_bounds, kernels.scratch(), point, tangent, gradient, state):
+        return False
+    return bool(len(ends) and np.min(np.abs(wrapped(ends - state[4]))) <= MISSED)
+
+
 def second_solution(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int,
                     curves: Sequence[SelfMotion] | None = None) -> bool:
     """Whether the branch has a solution at ``psi`` within the limits that passes our certificate (FK 1e-9 m and
@@ -1064,8 +1090,10 @@ def measure_feasible(name: str, count: int, samples: int, first: int = 0, near: 
     def pose_of(flag: Flag) -> np.ndarray:
         return poses[where[flag.draw, flag.pose]]
 
-    beyond = [f for f in flags if f.kind == "missed" and f.distance <= FOLD_SLACK
-              and not exact_row(arm, pose_of(f), f.psi, f.branch)]
+    beyond = [f for f in flags if f.kind == "missed" and (
+        (f.distance <= FOLD_SLACK and not exact_row(arm, pose_of(f), f.psi, f.branch))
+        or row_leaves_branch(arm, pose_of(f), f.psi, f.branch,
+                             np.asarray(sets[f.draw, f.pose][f.branch].feasible.arcs, dtype=float).ravel()))]
     missed = [f for f in flags if f.kind == "missed" and f not in beyond]
     second = [f for f in flags
               if f.kind == "false" and second_solution(arm, pose_of(f), f.psi, f.branch, curves_of(f))]
