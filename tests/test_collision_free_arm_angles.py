@@ -21,11 +21,11 @@ from hypothesis import strategies as st
 import redkin
 from redkin.circle import ArcSet
 from redkin.collision import primitives
+from redkin.collision._arm_angle_kernels import joint_rates
 from redkin.collision.arm_angle_free import (
     COLLISION,
     LIMIT,
     UNDECIDED,
-    _joint_rates,
     collision_free_arm_angles,
     free_arm_angles_of,
 )
@@ -156,7 +156,8 @@ def test_joint_rate_bounds_hold_over_the_interval(iiwa, fractions, middle, half,
     q = np.asarray(fractions) * np.where(np.asarray(fractions) >= 0, chain.upper, -chain.lower)
     geometry = iiwa.implementation.geometry
     coefficients, _, _ = coefficient_arrays(geometry, chain.fk(q), elbow)
-    rates = _joint_rates(coefficients.entries[None], np.array([middle]), np.array([half]))[0]
+    rates = np.empty(4)
+    joint_rates(coefficients.entries, middle, half, rates)
     psi = np.linspace(middle - half, middle + half, 401)
     branch = redkin.srs.branches.Branch(1, int(elbow), 1)
     theta = np.unwrap(theta_at(coefficients, psi, branch), axis=0)

@@ -186,6 +186,10 @@ def _collision(rng: np.random.Generator) -> None:
                               collision.BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.1], 0.05)], chain)
     scene = collision.Scene(("box", "ball"), np.stack([obstacles[0], obstacles[2]]), 0.01)
     collision.clearance(chain, body, scene, rng.uniform(-1, 1, (4, 7)))
+    from redkin import arms  # the certified collision-free arm angles' compiled steps
+
+    pose = chain.fk(np.array([0.1, 0.5, 0.0, 1.3, 0.0, 0.6, 0.0]))  # within its limits: arcs to decide
+    collision.collision_free_arm_angles(arms.arm(chain), pose, body, scene, "+++")
     from redkin.collision.mesh_cover import _along  # the mesh fit's kernel, without the mesh extra's reach
 
     _along(rng.normal(size=(20, 3)), np.array([0.0, 0.0, 1.0]))

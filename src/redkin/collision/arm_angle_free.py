@@ -47,14 +47,16 @@ from typing import NamedTuple, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_pose
 from redkin.arms.feasible_sets import Arcs, merged_intervals
 from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, ArcSet
+from redkin.collision import _arm_angle_kernels
 from redkin.collision.body import Body, capsule_ends, posed
-from redkin.collision.clearance import checked_pairs, pair_distances
+from redkin.collision.clearance import checked_pairs
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.srs.coefficients import coefficient_arrays
@@ -65,15 +67,9 @@ from redkin.srs.ik import solve_with_status
 _FIRST_WIDTH = 0.25
 #: The causes of a removed stretch.
 COLLISION, LIMIT, UNDECIDED = "collision", "limit", "undecided"
-#: The least lower bound of ``sin^2`` of a group's middle angle that a rate bound is computed from: below it the
-#: group may be at a singular arm angle, where the kernels set the first angle to 0 (``|sin| <= 1e-12``,
-#: :data:`redkin.srs._ik_kernels.UNDEFINED_TOLERANCE`) and the bounds do not hold; far above rounding.
-_LEAST_ROOM = 1e-12
 #: A capsule this close to what its frame turns about, or to the shoulder-wrist line, is on it [m]
 #: (:func:`moved_pairs`).
 _STILL = 1e-9
-#: Entry columns (:data:`redkin.srs._ik_kernels.ENTRY_LAYOUT`) of ``x, y, z`` and ``r_2, t`` per group.
-_SHOULDER, _WRIST = (0, 1, 2, 5, 6), (7, 8, 9, 12, 13)
 
 
 class Stretch(NamedTuple):
@@ -182,19 +178,10 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     labels = limits.branches
     count = len(labels)
     rows = np.array([arm.branches.index(label) for label in labels])
-    signs = geometry.kernel_branches[rows]
-    elbow = np.where(signs[:, 1] > 0.0, 0, 1)  # the Table 1 elbow sign of each branch, as coefficients' row
-    coefficients, _, _ = coefficient_arrays(geometry, poses[:, None], np.array([1.0, -1.0]))
-    entries = coefficients.entries  # (P, 2, 3, 14): elbow sign +1, -1
     limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
-    measure = _Measure(arm, poses, body, scene, signs, geometry)
-
-    def rates(owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
-        return measure.speeds(owner // count, _joint_rates(entries[owner // count, elbow[owner % count]], middle,
-                                                           half))
-
+    measure = _Measure(arm, poses, body, scene, geometry.kernel_branches[rows], geometry)
     parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]), count,
-                              len(poses), resolution, measure, rates, budget)
+                              len(poses), resolution, measure, measure.speeds, budget)
     results = []
     owned = by_owner(parts, len(poses) * count)
     for p, pose in enumerate(poses):
@@ -350,79 +337,62 @@ def first_intervals(arcs: list[Arcs]) -> tuple[np.ndarray, np.ndarray, np.ndarra
     return np.array(lo, dtype=float), np.array(hi, dtype=float), np.array(owner, dtype=np.int64)
 
 
-def _joint_rates(entries: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
-    """Upper bounds ``(N, 4)`` of ``|theta_1'|, |theta_2'|, |theta_6'|, |theta_7'|`` over ``[middle - half, middle +
-    half]`` from the entry coefficients ``(N, 3, 14)`` of each interval's elbow sign (module docstring)."""
-    s, c = np.sin(middle)[:, None], np.cos(middle)[:, None]
-    value = entries[:, 0] * s + entries[:, 1] * c + entries[:, 2]
-    slope = entries[:, 0] * c - entries[:, 1] * s
-    swing = np.hypot(entries[:, 0], entries[:, 1]) * half[:, None]
-    size, change = np.abs(value) + swing, np.abs(slope) + swing  # bounds of |e| and |e'| over the interval
-    least = np.maximum(np.abs(value) - swing, 0.0) ** 2  # lower bounds of e^2
-    rates = np.empty((len(middle), 4))
-    for column, (x, y, z, r2, t) in ((0, _SHOULDER), (2, _WRIST)):
-        # sin^2 of the group's middle angle: 1 - z^2 = x^2 + y^2 = r_2^2 + t^2, bounded below three ways
-        room = np.maximum(1.0 - np.minimum(size[:, z], 1.0) ** 2,
-                          np.maximum(least[:, x] + least[:, y], least[:, r2] + least[:, t]))
-        fine = room > _LEAST_ROOM
-        with np.errstate(divide="ignore", invalid="ignore"):
-            first = np.where(fine, (size[:, x] * change[:, y] + size[:, y] * change[:, x]) / room, np.inf)
-            second = np.where(fine, change[:, z] / np.sqrt(room), np.inf)
-            third = np.where(fine, (size[:, t] * change[:, r2] + size[:, r2] * change[:, t]) / room, np.inf)
-        if column == 0:
-            rates[:, 0], rates[:, 1] = first, second
-        else:
-            rates[:, 2], rates[:, 3] = second, third
-    return rates
-
-
 class _Measure:
     """The clearances of every checked pair at arm angles of the poses, and the speed bounds of the body's capsules
-    (module docstring); an interval's owner is ``pose * B + branch`` over the ``B`` branches of ``signs``."""
+    (module docstring), each in one compiled pass (:mod:`redkin.collision._arm_angle_kernels`); an interval's owner
+    is ``pose * B + branch`` over the ``B`` branches of ``signs``."""
 
     def __init__(self, arm: Arm, poses: np.ndarray, body: Body, scene: Scene, signs: np.ndarray,
                  geometry: SRSGeometry) -> None:
         self.arm, self.poses, self.body, self.scene = arm, poses, body, scene
-        self.signs, self.geometry = signs, geometry
+        self.signs, self.geometry = kernel_array(signs), geometry
+        self.elbow = np.where(signs[:, 1] > 0.0, 0, 1)  # the Table 1 elbow sign of each branch, as coefficients' row
+        coefficients, _, _ = coefficient_arrays(geometry, poses[:, None], np.array([1.0, -1.0]))
+        self.entries, self.theta4 = kernel_array(coefficients.entries), kernel_array(coefficients.theta4)  # (P, 2, ...)
         self.evaluations = np.zeros(len(poses), dtype=np.int64)  # per pose
         self.pairs = checked_pairs(body, scene)
         self.names, self.count = self.pairs.names, len(self.pairs.names)
         self.reach = np.full((len(poses), len(body)), np.nan)  # per pose and capsule: its distance from what it turns
         # about, read from the pose's first configuration measured (it is the same at every arm angle)
+        self.body_arrays = tuple(kernel_array(np.asarray(array)) for array in (body.frame, body.a, body.b,
+                                                                                 body.radius))
+        self.pair_arrays = tuple(kernel_array(np.asarray(array, dtype=np.int64)) for array in (
+            self.pairs.capsule, self.pairs.obstacle, self.pairs.other))
 
     def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
         """Clearances ``(N, P)`` (distance minus margin) at arm angles ``middle`` of the owners ``owner``, of the
         pairs ``active`` ``(N, P)`` (``inf`` for the others: already proved clear on a wider interval)."""
-        branches = len(self.signs)
-        pose = owner // branches
-        q, _, _, _ = solve_with_status(self.geometry, self.poses[pose], middle, self.signs)
-        q = q[np.arange(len(middle)), owner % branches]
-        frames = self.arm.chain.frames(q)
-        shapes = posed(self.body, frames)
+        pose, branch = np.divmod(owner, len(self.signs))
         new, first = np.unique(pose, return_index=True)
         fresh = np.isnan(self.reach[new, 0]) if len(self.body) else np.zeros(len(new), dtype=bool)
-        for p, at in zip(new[fresh].tolist(), first[fresh].tolist(), strict=True):
-            self.reach[p] = _turning_reach(self.arm.chain, self.body, frames[at : at + 1], shapes[at : at + 1])[0]
+        if fresh.any():
+            self._measure_reach(new[fresh], middle[first[fresh]], branch[first[fresh]])
         np.add.at(self.evaluations, pose, 1)
-        at, pair = np.nonzero(active)
-        clearance = np.full(active.shape, np.inf)
-        clearance[at, pair] = pair_distances(shapes, self.scene, self.pairs, at, pair) - self.scene.margin
+        clearance = np.empty(active.shape)
+        chain = self.arm.chain
+        run_batch(_arm_angle_kernels.clearances, len(middle), kernel_array(middle), kernel_array(pose),
+                  kernel_array(branch), self.entries, self.theta4, self.elbow, self.signs,
+                  self.geometry.kernel_joints, chain._links, chain._ends, chain._standard, *self.body_arrays,
+                  kernel_array(self.scene.shapes), *self.pair_arrays, float(self.scene.margin),
+                  kernel_array(active), clearance)
         return clearance
 
-    def speeds(self, pose: np.ndarray, rates: np.ndarray) -> np.ndarray:
-        """Per interval and pair ``(N, P)``, a bound of how fast the pair's distance changes per radian of psi,
-        from the joint-rate bounds ``(N, 4)`` of :func:`_joint_rates` and the interval's pose ``pose`` (N,)."""
-        one, two, six, seven = rates.T
-        per_frame = np.stack([np.zeros_like(one), one, one + two, np.ones_like(one), np.ones_like(one), six + seven,
-                              seven, np.zeros_like(one)], axis=1)  # (N, 8): how fast each frame turns
-        turning = per_frame[:, np.minimum(self.body.frame, 7)]
-        reach = self.reach[pose]
-        with np.errstate(invalid="ignore"):
-            speed = np.where(reach > 0.0, reach * turning, 0.0)  # 0 * inf: a shape on its own axis
-        total = speed[:, self.pairs.capsule]
-        has_other = self.pairs.other >= 0
-        total[:, has_other] += speed[:, self.pairs.other[has_other]]
-        return total
+    def _measure_reach(self, poses: np.ndarray, middle: np.ndarray, branch: np.ndarray) -> None:
+        """Each capsule's distance from what it turns about (:func:`_turning_reach`) at poses ``poses``, from the
+        configuration of branch ``branch`` at arm angle ``middle`` of each."""
+        q, _, _, _ = solve_with_status(self.geometry, self.poses[poses], middle, self.signs)
+        frames = self.arm.chain.frames(q[np.arange(len(poses)), branch])
+        self.reach[poses] = _turning_reach(self.arm.chain, self.body, frames, posed(self.body, frames))
+
+    def speeds(self, owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
+        """Per interval and pair ``(N, P)``, a bound of how fast the pair's distance changes per radian of psi over
+        ``[middle - half, middle + half]`` (:func:`redkin.collision._arm_angle_kernels.speeds`)."""
+        pose, branch = np.divmod(owner, len(self.signs))
+        out = np.empty((len(middle), self.count))
+        run_batch(_arm_angle_kernels.speeds, len(middle), kernel_array(middle), kernel_array(half),
+                  kernel_array(pose), kernel_array(branch), self.entries, self.elbow, self.body_arrays[0],
+                  kernel_array(self.reach), self.pair_arrays[0], self.pair_arrays[2], out)
+        return out
 
 
 def _turning_reach(chain: SerialChain, body: Body, frames: np.ndarray, shapes: np.ndarray) -> np.ndarray:

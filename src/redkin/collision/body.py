@@ -32,8 +32,9 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import kernel_array, run_batch
 from redkin.chain import SerialChain
-from redkin.collision import primitives
+from redkin.collision import _body_kernels, primitives
 from redkin.errors import RedkinError
 
 
@@ -163,17 +164,12 @@ def posed(body: Body, frames: np.ndarray) -> np.ndarray:
     if len(body) and int(body.frame.max()) >= frames.shape[-3]:
         raise RedkinError(f"the body uses frame {int(body.frame.max())}, but only {frames.shape[-3]} frames were "
                           "given")
-    held = frames[..., body.frame, :, :]  # (..., M, 4, 4)
-    turn, shift = held[..., :3, :3], held[..., :3, 3]
-    rows = np.zeros(frames.shape[:-3] + (len(body), primitives.WIDTH))
-    rows[..., 0] = primitives.CAPSULE
-    rows[..., 1] = body.radius
-    for column, ends in ((2, body.a), (5, body.b)):  # the frame's columns weighted by the end's coordinates: 2x
-        # faster than a batched 3x3 matmul on these small arrays
-        rows[..., column : column + 3] = (turn[..., 0] * ends[:, 0:1] + turn[..., 1] * ends[:, 1:2]
-                                          + turn[..., 2] * ends[:, 2:3] + shift)
-    rows[..., 8:17] = np.eye(3).ravel()
-    return rows
+    lead = frames.shape[:-3]
+    flat = kernel_array(frames.reshape((-1,) + frames.shape[-3:]))
+    rows = np.empty((len(flat), len(body), primitives.WIDTH))
+    run_batch(_body_kernels.posed_rows, len(flat), flat, kernel_array(body.frame), kernel_array(body.a),
+              kernel_array(body.b), kernel_array(body.radius), rows)
+    return rows.reshape(lead + (len(body), primitives.WIDTH))
 
 
 def capsule_ends(shapes: np.ndarray) -> np.ndarray:
