@@ -13,11 +13,8 @@ from math import cos, hypot, inf, sin, sqrt
 
 import numpy as np
 
-from redkin._chain_kernels import frames_one
 from redkin._compiled import kernel
-from redkin.collision._body_kernels import posed_one
-from redkin.collision._distance_kernels import OUT, pair_distance
-from redkin.collision.primitives import WIDTH
+from redkin.collision._clearance_kernels import clearances_one, scratch
 from redkin.srs._ik_kernels import GROUP, branch_angles, chain_values
 
 #: The least lower bound of ``sin^2`` of a group's middle angle that a rate bound is computed from: below it the
@@ -69,31 +66,17 @@ def joint_rates(entries, middle, half, rates):
 @kernel
 def clearances(start, stop, middle, pose, branch, entries, theta4, elbow, signs, joints, links, ends, standard,
                frame, a, b, radius, obstacles, capsule, obstacle, other, margin, active, out):
-    """For intervals ``start .. stop - 1``: the branch's configuration at arm angle ``middle[n]`` [000 eqs. 11-19],
-    its frames, the body's capsules there (``frame``, ``a``, ``b``, ``radius``: :class:`redkin.collision.Body`'s),
-    and the signed distance minus ``margin`` of each checked pair ``k`` (capsule ``capsule[k]`` against obstacle
-    ``obstacle[k]`` of ``obstacles`` (O, WIDTH), or against capsule ``other[k]`` where that is -1) that is
-    ``active[n, k]``, into ``out`` (N, K); ``inf`` for the others."""
+    """For intervals ``start .. stop - 1``: the branch's configuration at arm angle ``middle[n]`` [000 eqs. 11-19]
+    and there the active pairs' clearances into ``out`` (N, K) (:func:`redkin.collision._clearance_kernels.
+    clearances_one`, whose arguments these are)."""
     theta, q = np.empty(7), np.empty(7)
-    trig = np.empty((links.shape[0], 2))
-    held = np.empty((links.shape[0] + 2, 4, 4))
-    rows = np.empty((frame.shape[0], WIDTH))
-    work = np.empty(OUT)
+    work = scratch(links, frame)
     for n in range(start, stop):
         p, e = pose[n], elbow[branch[n]]
         branch_angles(entries[p, e], theta4[p, e], middle[n], signs[branch[n], 0], signs[branch[n], 2], theta)
         chain_values(theta, joints, q)
-        frames_one(q, links, ends, standard, trig, held)
-        posed_one(held, frame, a, b, radius, rows)
-        for k in range(capsule.shape[0]):
-            if not active[n, k]:
-                out[n, k] = inf
-                continue
-            if obstacle[k] >= 0:
-                pair_distance(rows[capsule[k]], obstacles[obstacle[k]], work)
-            else:
-                pair_distance(rows[capsule[k]], rows[other[k]], work)
-            out[n, k] = work[0] - margin
+        clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
+                       active[n], out[n], work)
 
 
 @kernel

@@ -47,8 +47,6 @@ from __future__ import annotations
 
 from math import inf, isfinite, nan, sqrt
 
-import numpy as np
-
 from redkin._compiled import kernel
 from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE
 
@@ -354,22 +352,4 @@ def distances(start, stop, a, b, out):
     unsupported = 0
     for n in range(start, stop):
         unsupported += pair_distance(a[n], b[n], out[n])
-    return unsupported
-
-
-@kernel
-def listed_distances(start, stop, shapes, obstacles, at, capsule, obstacle, other, out):
-    """Signed distances of listed pairs ``start .. stop - 1`` into ``out`` (K,): capsule ``capsule[n]`` of the posed
-    body ``shapes[at[n]]`` (``shapes`` (N, M, WIDTH)) against obstacle ``obstacle[n]`` of ``obstacles`` (O, WIDTH),
-    or, where that is -1, against capsule ``other[n]`` of the same body (:func:`pair_distance`, without copying the
-    rows out); returns how many of those pairs are unsupported (their distance NaN)."""
-    unsupported = 0
-    work = np.empty(OUT)
-    for n in range(start, stop):
-        mine = shapes[at[n], capsule[n]]
-        if obstacle[n] >= 0:
-            unsupported += pair_distance(mine, obstacles[obstacle[n]], work)
-        else:
-            unsupported += pair_distance(mine, shapes[at[n], other[n]], work)
-        out[n] = work[0]
     return unsupported

@@ -56,7 +56,7 @@ from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, ArcSet
 from redkin.collision import _arm_angle_kernels
 from redkin.collision.body import Body, capsule_ends, posed
-from redkin.collision.clearance import checked_pairs
+from redkin.collision.clearance import checked_pairs, clearance_inputs
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.srs.coefficients import coefficient_arrays
@@ -354,10 +354,7 @@ class _Measure:
         self.names, self.count = self.pairs.names, len(self.pairs.names)
         self.reach = np.full((len(poses), len(body)), np.nan)  # per pose and capsule: its distance from what it turns
         # about, read from the pose's first configuration measured (it is the same at every arm angle)
-        self.body_arrays = tuple(kernel_array(np.asarray(array)) for array in (body.frame, body.a, body.b,
-                                                                                 body.radius))
-        self.pair_arrays = tuple(kernel_array(np.asarray(array, dtype=np.int64)) for array in (
-            self.pairs.capsule, self.pairs.obstacle, self.pairs.other))
+        self.inputs = clearance_inputs(body, scene, self.pairs)
 
     def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
         """Clearances ``(N, P)`` (distance minus margin) at arm angles ``middle`` of the owners ``owner``, of the
@@ -372,9 +369,9 @@ class _Measure:
         chain = self.arm.chain
         run_batch(_arm_angle_kernels.clearances, len(middle), kernel_array(middle), kernel_array(pose),
                   kernel_array(branch), self.entries, self.theta4, self.elbow, self.signs,
-                  self.geometry.kernel_joints, chain._links, chain._ends, chain._standard, *self.body_arrays,
-                  kernel_array(self.scene.shapes), *self.pair_arrays, float(self.scene.margin),
-                  kernel_array(active), clearance)
+                  self.geometry.kernel_joints, chain._links, chain._ends, chain._standard, *self.inputs.body,
+                  self.inputs.obstacles, *self.inputs.pairs, float(self.scene.margin), kernel_array(active),
+                  clearance)
         return clearance
 
     def _measure_reach(self, poses: np.ndarray, middle: np.ndarray, branch: np.ndarray) -> None:
@@ -390,8 +387,8 @@ class _Measure:
         pose, branch = np.divmod(owner, len(self.signs))
         out = np.empty((len(middle), self.count))
         run_batch(_arm_angle_kernels.speeds, len(middle), kernel_array(middle), kernel_array(half),
-                  kernel_array(pose), kernel_array(branch), self.entries, self.elbow, self.body_arrays[0],
-                  kernel_array(self.reach), self.pair_arrays[0], self.pair_arrays[2], out)
+                  kernel_array(pose), kernel_array(branch), self.entries, self.elbow, self.inputs.body[0],
+                  kernel_array(self.reach), self.inputs.pairs[0], self.inputs.pairs[2], out)
         return out
 
 

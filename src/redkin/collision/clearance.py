@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin.chain import SerialChain
-from redkin.collision import _distance_kernels
+from redkin.collision import _clearance_kernels
 from redkin.collision.body import Body, posed
 from redkin.collision.distances import trusted_distances
 from redkin.collision.scene import Scene
@@ -104,16 +104,40 @@ def base_contacts(chain: SerialChain, body: Body, scene: Scene) -> list[tuple[st
     return sorted(found, key=lambda contact: contact[2])
 
 
-def pair_distances(shapes: np.ndarray, scene: Scene, pairs: CheckedPairs, at: np.ndarray,
-                   pair: np.ndarray) -> np.ndarray:
-    """The signed distances of the pairs ``pair`` in the posed bodies ``shapes[at]`` (``shapes``: (N, M, WIDTH) of
-    :func:`redkin.collision.body.posed`; ``at``, ``pair``: one entry per distance wanted), in one compiled pass
-    (:func:`redkin.collision._distance_kernels.listed_distances`)."""
-    out = np.empty(len(at))
-    if len(at):
-        run_batch(_distance_kernels.listed_distances, len(at), kernel_array(shapes), kernel_array(scene.shapes),
-                  _indices(at), _indices(pairs.capsule[pair]), _indices(pairs.obstacle[pair]),
-                  _indices(pairs.other[pair]), out)
+class _ClearanceInputs(NamedTuple):
+    """A body, a scene and their checked pairs as the clearance kernels take them
+    (:mod:`redkin.collision._clearance_kernels`): one conversion for many calls."""
+
+    body: tuple[np.ndarray, ...]  # frame, a, b, radius
+    obstacles: np.ndarray
+    pairs: tuple[np.ndarray, ...]  # capsule, obstacle, other
+
+    @property
+    def checked(self) -> int:
+        """How many pairs are checked."""
+        return len(self.pairs[0])
+
+
+def clearance_inputs(body: Body, scene: Scene, pairs: CheckedPairs | None = None) -> _ClearanceInputs:
+    """``body``, ``scene`` and their checked pairs (:func:`checked_pairs` unless given) as the kernels take them."""
+    pairs = checked_pairs(body, scene) if pairs is None else pairs
+    arrays = (body.frame, body.a, body.b, body.radius)
+    return _ClearanceInputs(tuple(kernel_array(np.asarray(array)) for array in arrays), kernel_array(scene.shapes),
+                           tuple(_indices(array) for array in pairs[:3]))
+
+
+def pair_clearances(chain: SerialChain, inputs: _ClearanceInputs, q: np.ndarray, active: np.ndarray | None = None,
+                    margin: float = 0.0) -> np.ndarray:
+    """Per configuration of ``q`` ``(N, n)`` (trusted) and checked pair of ``inputs``, its signed distance minus
+    ``margin`` ``(N, P)``, in one compiled pass (:func:`redkin.collision._clearance_kernels.clearances`); with
+    ``active`` ``(N, P)``, only the active pairs are measured (``inf`` for the others, and a configuration without
+    one is not posed)."""
+    q = kernel_array(np.asarray(q, dtype=float))
+    active = np.ones((len(q), inputs.checked), dtype=bool) if active is None else kernel_array(active)
+    out = np.empty((len(q), inputs.checked))
+    if len(q):
+        run_batch(_clearance_kernels.clearances, len(q), q, chain._links, chain._ends, chain._standard, *inputs.body,
+                  inputs.obstacles, *inputs.pairs, float(margin), active, out)
     return out
 
 
@@ -153,8 +177,5 @@ def pair_table(chain: SerialChain, body: Body, scene: Scene, q: np.ndarray) -> t
     and the pairs (:func:`checked_pairs`)."""
     if len(body) and int(body.frame.max()) > chain.n:
         raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {chain.name} has {chain.n} joints")
-    shapes = posed(body, chain.frames(q))
     pairs = checked_pairs(body, scene)
-    count = len(pairs.names)
-    at, pair = np.divmod(np.arange(len(shapes) * count), count)
-    return pair_distances(shapes, scene, pairs, at, pair).reshape(len(shapes), count), pairs
+    return pair_clearances(chain, clearance_inputs(body, scene, pairs), q), pairs

@@ -51,8 +51,8 @@ from redkin.collision.arm_angle_free import (
     checked_inputs,
     circle_limit_stretches,
 )
-from redkin.collision.body import Body, posed
-from redkin.collision.clearance import checked_pairs, pair_distances
+from redkin.collision.body import Body
+from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_clearances
 from redkin.collision.joint_motion import joint_levers, pair_displacements
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
@@ -64,8 +64,6 @@ from redkin.srs.nearly.self_motion import SelfMotion, feasible_along, finer_step
 _ROUNDING = 1e-12
 #: Consecutive steps of a curve first proved clear of a pair together (the pairs far from all of them).
 _BLOCK = 32
-#: Pair distances measured at once at most (memory).
-_CHUNK = 1 << 18
 #: How much shorter [times] the steps of an undecided step are when it is followed again.
 _FINER = 4.0
 
@@ -98,21 +96,17 @@ class _StepMeasure:
     def __init__(self, arm: Arm, body: Body, scene: Scene) -> None:
         self.chain, self.body, self.scene = arm.chain, body, scene
         self.pairs = checked_pairs(body, scene)
+        self.inputs = clearance_inputs(body, scene, self.pairs)
         self.levers = joint_levers(arm.chain, body)
 
     def bounds(self, q: np.ndarray, delta: np.ndarray, active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds ``(N, P)`` of each pair's clearance over arcs within ``delta`` ``(N, 7)`` of the
         solutions ``q`` ``(N, 7)`` in each joint, for the pairs ``active`` ``(N, P)`` (``inf`` for the others: proved
         clear already); rows without an active pair are not posed."""
-        low, high = np.full(active.shape, np.inf), np.full(active.shape, np.inf)
-        rows = np.flatnonzero(active.any(axis=1))
-        for chunk in np.array_split(rows, max(1, int(active[rows].sum()) // _CHUNK)):
-            shapes = posed(self.body, self.chain.frames(q[chunk]))
-            at, pair = np.nonzero(active[chunk])
-            clearance = pair_distances(shapes, self.scene, self.pairs, at, pair) - self.scene.margin
-            moved = pair_displacements(delta[chunk], self.levers, self.body, self.pairs)[at, pair]
-            low[chunk[at], pair], high[chunk[at], pair] = clearance - moved, clearance + moved
-        return low, high
+        clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin)
+        moved = pair_displacements(delta, self.levers, self.body, self.pairs)
+        with np.errstate(invalid="ignore"):  # inf - inf: a pair not measured, at an unbounded displacement
+            return np.where(active, clearance - moved, np.inf), np.where(active, clearance + moved, np.inf)
 
 
 class _Steps:

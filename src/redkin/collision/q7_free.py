@@ -43,8 +43,8 @@ from redkin.collision.arm_angle_free import (
     limit_stretches,
     one_pose,
 )
-from redkin.collision.body import Body, posed
-from redkin.collision.clearance import checked_pairs, pair_distances
+from redkin.collision.body import Body
+from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_clearances
 from redkin.collision.joint_motion import joint_levers, pair_displacements
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
@@ -129,6 +129,7 @@ class _Q7Measure:
         self.evaluations = np.zeros(len(poses), dtype=np.int64)  # per pose
         self.pairs = checked_pairs(body, scene)
         self.names, self.count = self.pairs.names, len(self.pairs.names)
+        self.inputs = clearance_inputs(body, scene, self.pairs)
         self.levers = joint_levers(arm.chain, body)
         self._last: tuple[np.ndarray, ...] | None = None  # joints' last arguments and answer
 
@@ -150,12 +151,8 @@ class _Q7Measure:
         """Clearances ``(N, P)`` (distance minus margin) at ``middle`` of the owners ``owner``, of the pairs
         ``active`` (``inf`` for the others: already proved clear on a wider interval)."""
         q, _ = self.joints(middle, owner)
-        shapes = posed(self.body, self.chain.frames(q))
         np.add.at(self.evaluations, owner // len(self.rows), 1)
-        at, pair = np.nonzero(active)
-        clearance = np.full(active.shape, np.inf)
-        clearance[at, pair] = pair_distances(shapes, self.scene, self.pairs, at, pair) - self.scene.margin
-        return clearance
+        return pair_clearances(self.chain, self.inputs, q, active, self.scene.margin)
 
     def rates(self, owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
         """Per interval and pair ``(N, P)``, the bound of the pair's displacement over the interval (module

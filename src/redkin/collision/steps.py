@@ -33,8 +33,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
-from redkin.collision.body import Body, posed
-from redkin.collision.clearance import checked_pairs, pair_distances
+from redkin.collision.body import Body
+from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_clearances
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 
@@ -107,10 +107,10 @@ def _steps(chain: SerialChain, body: Body, scene: Scene, start: np.ndarray, end:
     reach = _reach(chain, body)  # (n, M)
     along = reach[:, pairs.capsule] + np.where(pairs.other >= 0, reach[:, np.maximum(pairs.other, 0)], 0.0)
 
+    inputs = clearance_inputs(body, scene, pairs)
+
     def measured(configurations: np.ndarray) -> np.ndarray:
-        shapes = posed(body, chain.frames(configurations))
-        at, pair = np.divmod(np.arange(len(configurations) * len(pairs.names)), len(pairs.names))
-        return pair_distances(shapes, scene, pairs, at, pair).reshape(len(configurations), -1) - scene.margin
+        return pair_clearances(chain, inputs, configurations, margin=scene.margin)
 
     ends = measured(np.concatenate([start, end]))
     owner = np.arange(steps)
