@@ -26,6 +26,7 @@ from redkin.collision.arm_angle_free import (
     COLLISION,
     LIMIT,
     UNDECIDED,
+    _carved,
     collision_free_arm_angles,
     free_arm_angles_of,
 )
@@ -285,3 +286,28 @@ def test_a_narrow_gap_between_two_obstacles_on_the_elbow_circle_is_found(iiwa, w
     assert len(found) == 1
     assert found[0][0] == pytest.approx(lo, abs=result.resolution)
     assert found[0][1] == pytest.approx(hi, abs=result.resolution)
+
+
+@settings(max_examples=60)
+@given(st.integers(1, 6), st.integers(1, 5), st.integers(0, 2**32 - 1))
+def test_a_carved_stretch_is_proved_by_its_own_clearances(rows, pairs, seed):
+    """Where an interval is cut around its middle (:func:`_carved`), every open pair stays on its side of the margin
+    over the stretch by its speed bound: ``c - v r >= 0`` for all where it is free, ``c + v r <= 0`` for the cause
+    where it is blocked; the stretch never leaves the interval, and pairs already proved clear do not matter."""
+    rng = np.random.default_rng(seed)
+    clearance = rng.uniform(-0.2, 0.2, (rows, pairs))
+    speed = rng.choice([0.0, 0.5, 3.0, np.inf], (rows, pairs)) * rng.uniform(0.5, 1.5, (rows, pairs))
+    active = rng.random((rows, pairs)) < 0.7
+    clearance[~active] = np.inf  # as the measure gives them
+    half = rng.uniform(1e-6, 0.2, rows)
+    radius, cause, kind = _carved(clearance, speed, active, half)
+    assert np.all((radius >= 0.0) & (radius <= half))
+    with np.errstate(invalid="ignore"):
+        reach = np.where(active, clearance - speed * radius[:, None], np.inf)
+    for row in np.flatnonzero(radius > 0.0):
+        if kind[row] == 0:
+            assert np.all(reach[row] >= 0.0)
+        else:
+            assert active[row, cause[row]] and clearance[row, cause[row]] + speed[row, cause[row]] * radius[row] <= 0.0
+    clear = np.all(~active | ((clearance > 0.0) & np.isfinite(speed)), axis=1) & active.any(axis=1)
+    assert np.all(radius[clear] > 0.0) and np.all(kind[clear] == 0)

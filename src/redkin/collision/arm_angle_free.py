@@ -29,12 +29,18 @@ bounds grow without limit near a singular arm angle [000 eqs. 31-34], where the 
 a turn.
 
 An interval is **free** where every pair's ``c(m) - v h > 0``, **blocked** by a pair where ``c(m) + v h < 0`` (that
-pair is its cause), and otherwise halved; an interval no wider than half the resolution that is still undecided is
-reported as such and left out of the free set, and a run of undecided intervals wider than the resolution is halved
-further until it is not.  So every point of a free arc is collision-free; two certified intervals of opposite kinds
-cannot touch, so every end of a free arc is located to within the resolution; and a free
-stretch is missed only where some pair's clearance is within ``v h`` of the margin on all of it (a stretch that only
-grazes the margin, or one narrower than the resolution).  The stretches the joint limits remove are named by the
+pair is its cause), and otherwise cut around its middle: since ``v`` bounds the speeds over the whole interval,
+``c(psi) >= c(m) - v |psi - m|`` on it, so ``[m - r, m + r]`` is free with ``r`` the least ``c(m) / v`` of the pairs
+still open where all are positive, and blocked by the pair of the largest ``-c(m) / v`` where one is negative (each
+radius a hair smaller, for rounding); the pieces on either side (the halves, where ``r`` is 0) are decided in turn.
+Near an end of a free arc this takes about half the evaluations of halving alone.  An interval no wider than half
+the resolution that is still undecided is reported as such and left out of the free set; a run of undecided
+intervals wider than the resolution is cut further until it is not, and so is a run between two intervals of one kind
+(a sliver inside a free arc or a blocked stretch, where no end need lie), down to a thousandth of the resolution.
+So every point of a free arc is collision-free; two certified intervals of opposite kinds cannot touch, so every end
+of a free arc is located to within the resolution; and a free stretch is missed only where some pair's clearance is
+within ``v h`` of the margin on all of it (a stretch that only grazes the margin, or one narrower than the
+resolution).  The stretches the joint limits remove are named by the
 joints that leave their range there ([000 eq. 29]).
 """
 
@@ -181,7 +187,7 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
     measure = _Measure(arm, poses, body, scene, geometry.kernel_branches[rows], geometry)
     parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]), count,
-                              len(poses), resolution, measure, measure.speeds, budget)
+                              len(poses), resolution, measure, measure.speeds, budget, carve=True)
     results = []
     owned = by_owner(parts, len(poses) * count)
     for p, pose in enumerate(poses):
@@ -241,26 +247,30 @@ def checked_inputs(arm: Arm, poses: ArrayLike, body: Body, resolution: float) ->
 
 
 def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, poses: int, resolution: float,
-            measure: _PairMeasure, rates: Callable, budget: int) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+            measure: _PairMeasure, rates: Callable, budget: int, *, carve: bool = False
+            ) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
     """Decide the intervals ``(lo, hi, owner)`` (an owner is ``pose * count + branch``) as free, blocked or
     undecided to ``resolution`` (module docstring), then halve further each run of undecided intervals wider than
     it; ``measure(middle, owner, active)`` gives the pairs' clearances, ``rates(owner, middle, half)`` bounds how
-    fast each pair's clearance changes over the interval.  Returns the decided intervals ``(lo, hi, owner, kind,
-    pair)`` (:func:`_decide`) and per pose whether it was decided completely (the budget, ``budget`` evaluations
-    per pose, sufficed and no undecided run is wider than the resolution)."""
-    parts, undone = _decide(*intervals, resolution / 2.0, measure, rates, budget * poses)
+    fast each pair's clearance changes over the interval (with ``carve``, a bound of its derivative there: then each
+    evaluation also decides the stretch around the middle its own clearances prove, :func:`_decide`).  Returns the
+    decided intervals ``(lo, hi, owner, kind, pair)`` and per pose whether it was decided completely (the budget,
+    ``budget`` evaluations per pose, sufficed and no undecided run is wider than the resolution)."""
+    parts, undone = _decide(*intervals, resolution / 2.0, measure, rates, budget * poses, carve)
     complete = np.ones(poses, dtype=bool)
     complete[undone // count] = False
     finest = resolution / 4.0
-    while True:  # runs of undecided intervals wider than the resolution, halved further
-        wide = _wide_undecided(parts, resolution) & complete[parts[2] // count]
-        if not wide.any():
-            break
+    while True:  # runs of undecided intervals wider than the resolution (and slivers inside free arcs), halved further
+        wide, inner = _undecided_runs(parts, resolution)
+        wide &= complete[parts[2] // count]
         if finest < resolution * 1e-6:  # a clearance that grazes the margin over a stretch: left undecided
             complete[parts[2][wide] // count] = False
             break
+        wide |= inner & complete[parts[2] // count] & (finest >= resolution * _INNER_FLOOR)
+        if not wide.any():
+            break
         again, undone = _decide(parts[0][wide], parts[1][wide], parts[2][wide], finest, measure, rates,
-                                budget * poses)
+                                budget * poses, carve)
         complete[undone // count] = False
         parts = tuple(np.concatenate([part[~wide], more]) for part, more in zip(parts, again, strict=True))
         finest /= 2.0
@@ -268,9 +278,14 @@ def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, po
 
 
 def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, measure: _PairMeasure, rates: Callable,
-            budget: int) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+            budget: int, carve: bool) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
     """Halve the intervals ``[lo, hi]`` of the branches ``owner`` until each is free, blocked, or undecided and no
     wider than ``finest`` (module docstring); ``rates(owner, middle, half)`` bounds each pair's speed.
+
+    With ``carve`` (the rates bound each clearance's derivative over the interval: ``|c(psi) - c(m)| <= v |psi -
+    m|``), an interval left open is not halved but cut around its middle ``m``: where every open pair's clearance
+    is positive, ``[m - r, m + r]`` with ``r`` the least ``c / v`` of them is free; where one is negative, the
+    largest ``-c / v`` gives a stretch it blocks; the two pieces beside it stay open (halves where ``r`` is 0).
 
     Returns ``(lo, hi, owner, kind, pair)`` of the decided intervals (kind 0 free, 1 blocked by ``pair``, 2
     undecided), and the owners of the intervals still open when the budget ran out (left undecided).
@@ -296,29 +311,65 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, me
         done = free | blocked | small
         decided.append((lo[done], hi[done], owner[done], kind[done], which[done]))
         split = ~done
-        lo, hi, owner = (np.concatenate([lo[split], middle[split]]), np.concatenate([middle[split], hi[split]]),
-                         np.concatenate([owner[split], owner[split]]))
-        active = np.concatenate([active[split], active[split]])
+        lo, hi, owner, middle, active = lo[split], hi[split], owner[split], middle[split], active[split]
+        cut = np.zeros(len(lo))
+        if carve and len(lo):
+            cut, cause, kind = _carved(clearance[split], speed[split], active, half[split])
+            kept = cut > 0.0
+            decided.append((middle[kept] - cut[kept], middle[kept] + cut[kept], owner[kept], kind[kept], cause[kept]))
+        left, right = middle - cut > lo, middle + cut < hi  # the open pieces beside the middle (or its stretch)
+        lo, hi, owner = (np.concatenate([lo[left], (middle + cut)[right]]),
+                         np.concatenate([(middle - cut)[left], hi[right]]),
+                         np.concatenate([owner[left], owner[right]]))
+        active = np.concatenate([active[left], active[right]])
     parts = tuple(np.concatenate(column) for column in zip(*decided, strict=True))
     return parts, owner
 
 
-def _wide_undecided(parts: tuple[np.ndarray, ...], resolution: float) -> np.ndarray:
-    """Which decided intervals are undecided ones in a run of touching undecided intervals of one branch wider than
-    ``resolution``."""
-    lo, hi, owner, kind = parts[:4]
-    order = np.lexsort((lo, owner))
-    undecided = kind[order] == 2
-    joined = np.zeros(len(order), dtype=bool)
-    joined[1:] = (undecided[1:] & undecided[:-1] & (owner[order][1:] == owner[order][:-1])
-                  & (lo[order][1:] <= hi[order][:-1]))
-    run = np.cumsum(~joined)
-    first, last = np.full(run.max(initial=0) + 1, np.inf), np.full(run.max(initial=0) + 1, -np.inf)
-    np.minimum.at(first, run, lo[order])
-    np.maximum.at(last, run, hi[order])
-    wide = np.zeros(len(order), dtype=bool)
-    wide[order] = undecided & (last[run] - first[run] > resolution)
-    return wide
+#: Slivers left undecided inside free arcs are halved down to this fraction of the resolution, then left undecided
+#: (they lie within the resolution of nothing the set has to locate).
+_INNER_FLOOR = 1e-3
+#: The radius of a carved stretch is this much less than its clearance over its speed bound (rounding of the
+#: division; :func:`_carved`).
+_CARVE_SHRINK = 1.0 - 1e-9
+
+
+def _carved(clearance: np.ndarray, speed: np.ndarray, active: np.ndarray, half: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per open interval (its clearances and speed bounds ``(N, P)`` at the middle, its open pairs, its half width),
+    the radius of the stretch around the middle that the clearances decide (:func:`_decide`; 0 where none), the
+    pair that blocks it, and its kind (0 free, 1 blocked)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        reach = np.nan_to_num(np.where(active, clearance / speed, np.inf), nan=0.0, posinf=np.inf, neginf=-np.inf)
+    clear = np.minimum(np.maximum(reach.min(axis=1), 0.0), half)  # every open pair positive out to here
+    cause = np.argmin(reach, axis=1)  # the most negative pair
+    blocking = np.minimum(np.maximum(-reach[np.arange(len(reach)), cause], 0.0), half)
+    kind = np.where(clear > 0.0, 0, 1)
+    return np.where(clear > 0.0, clear, blocking) * _CARVE_SHRINK, cause, kind
+
+
+def _undecided_runs(parts: tuple[np.ndarray, ...], resolution: float) -> tuple[np.ndarray, np.ndarray]:
+    """Which decided intervals are undecided ones in a run of touching undecided intervals of one branch (a) wider
+    than ``resolution``, (b) with a free interval touching it on both sides (a sliver inside a free arc, which cut
+    around a middle near an end of it leaves: no end of the free set need lie there)."""
+    order = np.lexsort((parts[0], parts[2]))
+    lo, hi, owner, kind = (part[order] for part in parts[:4])
+    undecided = kind == 2
+    touching = np.zeros(len(lo), dtype=bool)  # each interval touches the one before it, of the same branch
+    touching[1:] = (owner[1:] == owner[:-1]) & (lo[1:] <= hi[:-1])
+    joined = np.zeros(len(lo), dtype=bool)
+    joined[1:] = undecided[1:] & undecided[:-1] & touching[1:]
+    run = np.cumsum(~joined) - 1
+    starts = np.flatnonzero(~joined)
+    ends = np.append(starts[1:] - 1, len(lo) - 1) if len(lo) else starts
+    wide, inner = np.zeros(len(lo), dtype=bool), np.zeros(len(lo), dtype=bool)
+    if len(lo):
+        before_index, after_index = np.maximum(starts - 1, 0), np.minimum(ends + 1, len(lo) - 1)
+        before = np.where((starts > 0) & touching[starts], kind[before_index], -1)  # the kind touching it, or -1
+        after = np.where((ends + 1 < len(lo)) & touching[after_index], kind[after_index], -1)
+        wide[order] = undecided & (hi[ends][run] - lo[starts][run] > resolution)
+        inner[order] = undecided & ((before >= 0) & (before == after))[run]
+    return wide, inner
 
 
 def first_intervals(arcs: list[Arcs]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
