@@ -260,7 +260,8 @@ def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, po
     complete = np.ones(poses, dtype=bool)
     complete[undone // count] = False
     finest = resolution / 4.0
-    while True:  # runs of undecided intervals wider than the resolution (and slivers inside free arcs), halved further
+    settled: list[tuple[np.ndarray, ...]] = []  # the intervals of owners with nothing left to cut
+    while True:  # runs of undecided intervals wider than the resolution (and slivers inside free arcs), cut further
         wide, inner = _undecided_runs(parts, resolution)
         wide &= complete[parts[2] // count]
         if finest < resolution * 1e-6:  # a clearance that grazes the margin over a stretch: left undecided
@@ -272,9 +273,12 @@ def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, po
         again, undone = _decide(parts[0][wide], parts[1][wide], parts[2][wide], finest, measure, rates,
                                 budget * poses, carve)
         complete[undone // count] = False
-        parts = tuple(np.concatenate([part[~wide], more]) for part, more in zip(parts, again, strict=True))
+        open_owners = np.isin(parts[2], parts[2][wide])  # the others' intervals do not change any more
+        settled.append(tuple(part[~open_owners] for part in parts))
+        parts = tuple(np.concatenate([part[open_owners & ~wide], more]) for part, more in zip(parts, again,
+                                                                                              strict=True))
         finest /= 2.0
-    return parts, complete
+    return tuple(np.concatenate(column) for column in zip(*settled, parts, strict=True)), complete
 
 
 def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, measure: _PairMeasure, rates: Callable,
