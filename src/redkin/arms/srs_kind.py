@@ -47,7 +47,10 @@ class SRSKind(ArmKind):
         self.family = ArmAngleFamily(geometry)
 
     def solve(self, poses: ArrayLike, t: np.ndarray, rows: np.ndarray | None) -> Solutions:
-        signs = self.geometry.kernel_branches if rows is None else self.geometry.kernel_branches[rows]
+        signs = self.geometry.kernel_branches
+        if rows is not None:
+            signs = signs[rows]
+            signs.flags.writeable = False  # read-only as the whole table: one compile of the IK's kernels
         q, within, status, checked = solve_with_status(self.geometry, poses, t, signs)
         out = status == _ik_kernels.UNREACHABLE
         exists = np.broadcast_to(~out[..., None], within.shape)

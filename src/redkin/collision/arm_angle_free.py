@@ -400,7 +400,8 @@ class _Measure:
     def __init__(self, arm: Arm, poses: np.ndarray, body: Body, scene: Scene, signs: np.ndarray,
                  geometry: SRSGeometry) -> None:
         self.arm, self.poses, self.body, self.scene = arm, poses, body, scene
-        self.signs, self.geometry = kernel_array(signs), geometry
+        self.signs, self.geometry = np.array(signs, dtype=float), geometry
+        self.signs.flags.writeable = False  # read-only as the IK's branch tables: one compile of its kernels
         self.elbow = np.where(signs[:, 1] > 0.0, 0, 1)  # the Table 1 elbow sign of each branch, as coefficients' row
         coefficients, _, _ = coefficient_arrays(geometry, poses[:, None], np.array([1.0, -1.0]))
         self.entries, self.theta4 = kernel_array(coefficients.entries), kernel_array(coefficients.theta4)  # (P, 2, ...)
