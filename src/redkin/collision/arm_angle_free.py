@@ -249,19 +249,20 @@ def checked_inputs(arm: Arm, poses: ArrayLike, body: Body, resolution: float) ->
 def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, poses: int, resolution: float,
             measure: _PairMeasure, rates: Callable, budget: int, *, carve: bool = False
             ) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
-    """Decide the intervals ``(lo, hi, owner)`` (an owner is ``pose * count + branch``) as free, blocked or
-    undecided to ``resolution`` (module docstring), then halve further each run of undecided intervals wider than
-    it; ``measure(middle, owner, active)`` gives the pairs' clearances, ``rates(owner, middle, half)`` bounds how
-    fast each pair's clearance changes over the interval (with ``carve``, a bound of its derivative there: then each
-    evaluation also decides the stretch around the middle its own clearances prove, :func:`_decide`).  Returns the
-    decided intervals ``(lo, hi, owner, kind, pair)`` and per pose whether it was decided completely (the budget,
-    ``budget`` evaluations per pose, sufficed and no undecided run is wider than the resolution)."""
+    """Decide the intervals ``(lo, hi, owner)`` (an owner is ``pose * count + branch``) as free, blocked or undecided to
+    ``resolution`` (module docstring), then decide further each run of undecided intervals wider than it, and each
+    sliver between two intervals of one kind (:func:`_undecided_runs`); ``measure(middle, owner, active)`` gives the
+    pairs' clearances, ``rates(owner, middle, half)`` bounds how fast each pair's clearance changes over the interval
+    (with ``carve``, a bound of its derivative there: then each evaluation also decides the stretch around the middle
+    its own clearances prove, :func:`_decide`). Returns the decided intervals ``(lo, hi, owner, kind, pair)`` and per
+    pose whether it was decided completely (the budget, ``budget`` evaluations per pose, sufficed and no undecided
+    run is wider than the resolution)."""
     parts, undone = _decide(*intervals, resolution / 2.0, measure, rates, budget * poses, carve)
     complete = np.ones(poses, dtype=bool)
     complete[undone // count] = False
     finest = resolution / 4.0
     settled: list[tuple[np.ndarray, ...]] = []  # the intervals of owners with nothing left to cut
-    while True:  # runs of undecided intervals wider than the resolution (and slivers inside free arcs), cut further
+    while True:  # runs of undecided intervals wider than the resolution (and slivers between one kind), cut further
         wide, inner = _undecided_runs(parts, resolution)
         wide &= complete[parts[2] // count]
         if finest < resolution * 1e-6:  # a clearance that grazes the margin over a stretch: left undecided
@@ -330,8 +331,8 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, me
     return parts, owner
 
 
-#: Slivers left undecided inside free arcs are halved down to this fraction of the resolution, then left undecided
-#: (they lie within the resolution of nothing the set has to locate).
+#: Slivers left undecided between two intervals of one kind (:func:`_undecided_runs`) are cut down to this fraction
+#: of the resolution, then left undecided (no end of the free set need lie there).
 _INNER_FLOOR = 1e-3
 #: The radius of a carved stretch is this much less than its clearance over its speed bound (rounding of the
 #: division; :func:`_carved`).
@@ -354,8 +355,8 @@ def _carved(clearance: np.ndarray, speed: np.ndarray, active: np.ndarray, half: 
 
 def _undecided_runs(parts: tuple[np.ndarray, ...], resolution: float) -> tuple[np.ndarray, np.ndarray]:
     """Which decided intervals are undecided ones in a run of touching undecided intervals of one branch (a) wider
-    than ``resolution``, (b) with a free interval touching it on both sides (a sliver inside a free arc, which cut
-    around a middle near an end of it leaves: no end of the free set need lie there)."""
+    than ``resolution``, (b) touched on both sides by intervals of one kind, both free or both blocked (a sliver that
+    cuts around a middle leave inside a free arc or a blocked stretch: no end of the free set need lie there)."""
     order = np.lexsort((parts[0], parts[2]))
     lo, hi, owner, kind = (part[order] for part in parts[:4])
     undecided = kind == 2
