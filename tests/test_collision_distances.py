@@ -36,7 +36,7 @@ from scipy.spatial.transform import Rotation
 
 from redkin import _compiled
 from redkin._compiled import PARALLEL_BATCH
-from redkin.collision import primitives
+from redkin.collision import _distance_kernels, primitives
 from redkin.collision.distances import Distance, signed_distance
 from redkin.collision.primitives import BOX, CAPSULE, KIND_NAMES, PLANE, SPHERE, WIDTH
 
@@ -387,6 +387,29 @@ def test_random_pairs_hold_both_signs():
         a, b = random_pairs(kinds, 400, 11)
         share = float(np.mean(signed_distance(a, b).distance < 0.0))
         assert 0.15 <= share <= 0.85, (kinds, share)
+
+
+@pytest.mark.parametrize("kinds", [kinds for kinds in PAIRS if kinds[1] != PLANE],
+                         ids=[name for kinds, name in zip(PAIRS, PAIR_IDS, strict=True) if kinds[1] != PLANE])
+@settings(max_examples=10)
+@given(seed=seeds, spread=st.sampled_from([1.0, 3.0]))
+def test_the_cheap_lower_bounds_stay_below_the_distance(kinds, seed, spread):
+    """The bounds that let the certified sets skip a distance (``round_box_gap``, ``round_round_gap``) never exceed
+    the signed distance: the box's wherever it is positive (the only place it is used), the round pair's everywhere;
+    the box's is the distance itself where one face's slab separates them, and both grow with the gap."""
+    a, b = random_pairs(kinds, BATCH, seed)
+    a[:, 2:8] *= spread  # farther apart: more pairs where the bound is positive
+    exact = signed_distance(a, b).distance
+    box = kinds[1] == BOX
+    bound = np.array([(_distance_kernels.round_box_gap if box else _distance_kernels.round_round_gap)(x, y)
+                      for x, y in zip(a, b, strict=True)])
+    held = bound > 0.0 if box else np.ones(len(bound), dtype=bool)
+    assert np.all(bound[held] <= exact[held] + 1e-12)
+    if box:  # a sphere beyond one face only (inside the other two slabs): the bound is the distance
+        centre = np.array([0.1, -0.2, 0.0])
+        row = primitives.box(centre, [0.4, 0.6, 0.2], np.eye(3))
+        sphere = primitives.sphere(centre + [0.05, 0.1, 0.9], 0.3)
+        assert _distance_kernels.round_box_gap(sphere, row) == pytest.approx(0.9 - 0.1 - 0.3, abs=1e-15)
 
 
 # ----------------------------------------------------------------------------------------- degenerate cases

@@ -20,15 +20,15 @@ from hypothesis import strategies as st
 
 import redkin
 from redkin.circle import ArcSet
-from redkin.collision import primitives
+from redkin.collision import _decision_kernels, primitives
 from redkin.collision._arm_angle_kernels import joint_rates
 from redkin.collision.arm_angle_free import (
     COLLISION,
     LIMIT,
     UNDECIDED,
-    _carved,
     collision_free_arm_angles,
     free_arm_angles_of,
+    settled,
 )
 from redkin.collision.body import BodyCapsule, body_of, posed
 from redkin.collision.distances import signed_distance
@@ -289,25 +289,40 @@ def test_a_narrow_gap_between_two_obstacles_on_the_elbow_circle_is_found(iiwa, w
 
 
 @settings(max_examples=60)
-@given(st.integers(1, 6), st.integers(1, 5), st.integers(0, 2**32 - 1))
-def test_a_carved_stretch_is_proved_by_its_own_clearances(rows, pairs, seed):
-    """Where an interval is cut around its middle (:func:`_carved`), every open pair stays on its side of the margin
-    over the stretch by its speed bound: ``c - v r >= 0`` for all where it is free, ``c + v r <= 0`` for the cause
-    where it is blocked; the stretch never leaves the interval, and pairs already proved clear do not matter."""
+@given(st.integers(1, 6), st.integers(1, 5), st.integers(0, 2**32 - 1), st.sampled_from([0.0, 0.05]))
+def test_an_interval_is_decided_by_its_own_clearances(rows, pairs, seed, finest):
+    """Each interval's decision (:func:`settled`, the compiled step of every level) follows from its clearances and
+    speed bounds: a pair left open has ``c - v h <= 0``; free where none is; blocked only by a pair with
+    ``c + v h < 0`` (the pair it names); undecided only when no wider than ``finest``.  Where an open interval is
+    cut around its middle, every open pair stays on its side of the margin over the stretch by its speed bound:
+    ``c - v r >= 0`` for all where it is free, ``c + v r <= 0`` for the cause where it is blocked; the stretch never
+    leaves the interval, and pairs already proved clear do not matter."""
     rng = np.random.default_rng(seed)
     clearance = rng.uniform(-0.2, 0.2, (rows, pairs))
     speed = rng.choice([0.0, 0.5, 3.0, np.inf], (rows, pairs)) * rng.uniform(0.5, 1.5, (rows, pairs))
-    active = rng.random((rows, pairs)) < 0.7
-    clearance[~active] = np.inf  # as the measure gives them
+    given_active = rng.random((rows, pairs)) < 0.7
+    clearance[~given_active] = np.inf  # as the measure gives them
     half = rng.uniform(1e-6, 0.2, rows)
-    radius, cause, kind = _carved(clearance, speed, active, half)
-    assert np.all((radius >= 0.0) & (radius <= half))
+    active = given_active.copy()
+    kind, pair, radius, carved, cause = settled(half, clearance, speed, active, finest, True)
+    with np.errstate(invalid="ignore"):
+        low = np.where(given_active, clearance - speed * half[:, None], np.inf)
+        high = np.where(given_active, clearance + speed * half[:, None], np.inf)
+    assert np.array_equal(active, given_active & ~(low > 0.0))
+    assert np.array_equal(kind == _decision_kernels.FREE, ~active.any(axis=1))
+    blocked = kind == _decision_kernels.BLOCKED
+    assert np.all(high[blocked, pair[blocked]] < 0.0) and np.all(active[blocked, pair[blocked]])
+    assert np.all(np.any(high < 0.0, axis=1)[active.any(axis=1)] == blocked[active.any(axis=1)])
+    assert np.all(2.0 * half[kind == _decision_kernels.UNDECIDED] <= finest)
+    opened = kind == _decision_kernels.OPEN
+    assert np.all(2.0 * half[opened] > finest)
+    assert np.all((radius >= 0.0) & (radius <= half)) and np.all(radius[~opened] == 0.0)
     with np.errstate(invalid="ignore"):
         reach = np.where(active, clearance - speed * radius[:, None], np.inf)
     for row in np.flatnonzero(radius > 0.0):
-        if kind[row] == 0:
+        if carved[row] == _decision_kernels.FREE:
             assert np.all(reach[row] >= 0.0)
         else:
             assert active[row, cause[row]] and clearance[row, cause[row]] + speed[row, cause[row]] * radius[row] <= 0.0
-    clear = np.all(~active | ((clearance > 0.0) & np.isfinite(speed)), axis=1) & active.any(axis=1)
-    assert np.all(radius[clear] > 0.0) and np.all(kind[clear] == 0)
+    clear = np.all(~active | ((clearance > 0.0) & np.isfinite(speed)), axis=1) & opened
+    assert np.all(radius[clear] > 0.0) and np.all(carved[clear] == _decision_kernels.FREE)

@@ -1,5 +1,6 @@
-"""Compiled steps of the certified collision-free arm angles (:mod:`redkin.collision.arm_angle_free`): the checked
-pairs' clearances at an interval's middle, and the bound of how fast each can change over the interval.
+"""Compiled levels of the certified collision-free arm angles (:mod:`redkin.collision.arm_angle_free`): per
+interval, the checked pairs' clearances at its middle, the bound of how fast each can change over it, and the
+interval decided from both.
 
 An interval ``n`` belongs to pose ``pose[n]`` and branch ``branch[n]``; the pose's entry coefficients ``entries``
 (P, 2, 3, 14) and ``theta4`` (P, 2) are those of both elbow signs (:func:`redkin.srs.coefficients.coefficient_arrays`
@@ -15,6 +16,7 @@ import numpy as np
 
 from redkin._compiled import kernel
 from redkin.collision._clearance_kernels import clearances_one, scratch
+from redkin.collision._decision_kernels import decided_one
 from redkin.srs._ik_kernels import GROUP, branch_angles, chain_values
 
 #: The least lower bound of ``sin^2`` of a group's middle angle that a rate bound is computed from: below it the
@@ -64,39 +66,47 @@ def joint_rates(entries, middle, half, rates):
 
 
 @kernel
-def clearances(start, stop, middle, pose, branch, entries, theta4, elbow, signs, joints, links, ends, standard,
-               frame, a, b, radius, obstacles, capsule, obstacle, other, margin, active, out):
-    """For intervals ``start .. stop - 1``: the branch's configuration at arm angle ``middle[n]`` [000 eqs. 11-19]
-    and there the active pairs' clearances into ``out`` (N, K) (:func:`redkin.collision._clearance_kernels.
-    clearances_one`, whose arguments these are)."""
+def speeds_one(entries, middle, half, frame, reach, capsule, other, rates, turning, moving, out):
+    """Over ``[middle - half, middle + half]`` of one branch (its entry coefficients ``entries`` (3, 14)), per
+    checked pair ``k`` a bound of how fast its distance changes per radian of psi into ``out[k]``, the sum of its two
+    shapes' speeds (an obstacle's is 0).  A capsule on frame ``f`` at distance ``reach[m]`` from what its frame turns
+    about moves at that distance times the frame's turning rate: 0 for frames 0 and 7 and beyond, ``|theta_1'|`` for
+    frame 1, ``|theta_1'| + |theta_2'|`` for 2, 1 for frames 3 and 4 (about the shoulder-wrist line),
+    ``|theta_6'| + |theta_7'|`` for 5 and ``|theta_7'|`` for 6 (:func:`joint_rates`; the module docstring of
+    :mod:`redkin.collision.arm_angle_free`).  ``rates`` (4,), ``turning`` (8,, zeros) and ``moving`` (M,) are
+    scratch."""
+    joint_rates(entries, middle, half, rates)
+    turning[1], turning[2], turning[3], turning[4] = rates[0], rates[0] + rates[1], 1.0, 1.0
+    turning[5], turning[6] = rates[2] + rates[3], rates[3]
+    for m in range(frame.shape[0]):
+        distance = reach[m]
+        moving[m] = distance * turning[min(frame[m], 7)] if distance > 0.0 else 0.0  # 0 * inf: on its axis
+    for k in range(capsule.shape[0]):
+        out[k] = moving[capsule[k]] + (moving[other[k]] if other[k] >= 0 else 0.0)
+
+
+@kernel
+def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs, joints, links, ends, standard,
+          frame, a, b, radius, obstacles, capsule, obstacle, other, margin, reach, finest, carve, active, kind, pair,
+          cut, carved, cause):
+    """One level of the subdivision for intervals ``start .. stop - 1``: the branch's configuration at arm angle
+    ``middle[n]`` [000 eqs. 11-19], there the active pairs' clearances (:func:`redkin.collision._clearance_kernels.
+    clearances_one`, whose arguments ``links .. margin`` are), their speed bounds over the interval of half width
+    ``half[n]`` (:func:`speeds_one`, from ``reach`` (P, M)), and the interval decided
+    (:func:`redkin.collision._decision_kernels.decided_one`: ``active[n]`` updated, the rest into ``kind``,
+    ``pair``, ``cut``, ``carved`` and ``cause``)."""
     theta, q = np.empty(7), np.empty(7)
     work = scratch(links, frame)
+    clearance, speed, floor = np.empty(capsule.shape[0]), np.empty(capsule.shape[0]), np.empty(capsule.shape[0])
+    rates, turning, moving = np.empty(4), np.zeros(8), np.empty(frame.shape[0])
     for n in range(start, stop):
         p, e = pose[n], elbow[branch[n]]
         branch_angles(entries[p, e], theta4[p, e], middle[n], signs[branch[n], 0], signs[branch[n], 2], theta)
         chain_values(theta, joints, q)
+        speeds_one(entries[p, e], middle[n], half[n], frame, reach[p], capsule, other, rates, turning, moving, speed)
+        for k in range(capsule.shape[0]):  # a pair whose clearance exceeds this is clear on the whole interval
+            floor[k] = speed[k] * half[n]
         clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
-                       active[n], out[n], work)
-
-
-@kernel
-def speeds(start, stop, middle, half, pose, branch, entries, elbow, frame, reach, capsule, other, out):
-    """For intervals ``start .. stop - 1``: per checked pair ``k``, a bound of how fast its distance changes per
-    radian of psi over ``[middle - half, middle + half]`` into ``out`` (N, K), the sum of its two shapes' speeds
-    (an obstacle's is 0).  A capsule on frame ``f`` at distance ``reach[pose, m]`` from what its frame turns about
-    moves at that distance times the frame's turning rate: 0 for frames 0 and 7 and beyond, ``|theta_1'|`` for
-    frame 1, ``|theta_1'| + |theta_2'|`` for 2, 1 for frames 3 and 4 (about the shoulder-wrist line),
-    ``|theta_6'| + |theta_7'|`` for 5 and ``|theta_7'|`` for 6 (:func:`joint_rates`; the module docstring of
-    :mod:`redkin.collision.arm_angle_free`)."""
-    rates = np.empty(4)
-    turning = np.zeros(8)
-    moving = np.empty(frame.shape[0])
-    for n in range(start, stop):
-        joint_rates(entries[pose[n], elbow[branch[n]]], middle[n], half[n], rates)
-        turning[1], turning[2], turning[3], turning[4] = rates[0], rates[0] + rates[1], 1.0, 1.0
-        turning[5], turning[6] = rates[2] + rates[3], rates[3]
-        for m in range(frame.shape[0]):
-            distance = reach[pose[n], m]
-            moving[m] = distance * turning[min(frame[m], 7)] if distance > 0.0 else 0.0  # 0 * inf: on its axis
-        for k in range(capsule.shape[0]):
-            out[n, k] = moving[capsule[k]] + (moving[other[k]] if other[k] >= 0 else 0.0)
+                       active[n], floor, clearance, work)
+        kind[n], pair[n], cut[n], carved[n], cause[n] = decided_one(half[n], clearance, speed, active[n], finest,
+                                                                    carve)

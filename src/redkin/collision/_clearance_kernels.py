@@ -10,8 +10,8 @@ import numpy as np
 from redkin._chain_kernels import frames_one
 from redkin._compiled import kernel
 from redkin.collision._body_kernels import posed_one
-from redkin.collision._distance_kernels import OUT, pair_distance
-from redkin.collision.primitives import WIDTH
+from redkin.collision._distance_kernels import OUT, pair_distance, round_box_gap, round_round_gap
+from redkin.collision.primitives import BOX, PLANE, WIDTH
 
 
 @kernel
@@ -24,13 +24,16 @@ def scratch(links, frame):
 
 @kernel
 def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin, active,
-                   out, work):
+                   floor, out, work):
     """At joint values ``q`` (n,) of the chain (``links``, ``ends``, ``standard``: :mod:`redkin._chain_kernels`'),
     the signed distance minus ``margin`` of each checked pair ``k`` that is ``active[k]`` into ``out[k]`` (``inf``
     for the others): capsule ``capsule[k]`` of the body (``frame``, ``a``, ``b``, ``radius``:
     :class:`redkin.collision.Body`'s) against obstacle ``obstacle[k]`` of ``obstacles`` (O, WIDTH), or against
-    capsule ``other[k]`` where that is -1.  A configuration with no active pair is not posed.  ``work`` is
-    :func:`scratch`'s."""
+    capsule ``other[k]`` where that is -1.  Where a cheap lower bound of the pair's distance minus the margin
+    exceeds ``floor[k]`` (:func:`redkin.collision._distance_kernels.round_box_gap` against a box,
+    :func:`~redkin.collision._distance_kernels.round_round_gap` against a sphere or capsule; none against a
+    plane), that bound is written instead of the distance (``floor`` ``inf``: every distance exact).  A
+    configuration with no active pair is not posed.  ``work`` is :func:`scratch`'s."""
     trig, held, rows, found = work
     posed = False
     for k in range(capsule.shape[0]):
@@ -41,10 +44,14 @@ def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, cap
             frames_one(q, links, ends, standard, trig, held)
             posed_one(held, frame, a, b, radius, rows)
             posed = True
-        if obstacle[k] >= 0:
-            pair_distance(rows[capsule[k]], obstacles[obstacle[k]], found)
-        else:
-            pair_distance(rows[capsule[k]], rows[other[k]], found)
+        shape = obstacles[obstacle[k]] if obstacle[k] >= 0 else rows[other[k]]
+        if floor[k] < inf and shape[0] != PLANE:  # a plane's distance is as cheap as a bound
+            bound = (round_box_gap(rows[capsule[k]], shape) if shape[0] == BOX
+                     else round_round_gap(rows[capsule[k]], shape)) - margin
+            if bound > floor[k]:
+                out[k] = bound
+                continue
+        pair_distance(rows[capsule[k]], shape, found)
         out[k] = found[0] - margin
 
 
@@ -52,8 +59,9 @@ def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, cap
 def clearances(start, stop, q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
                active, out):
     """:func:`clearances_one` for configurations ``start .. stop - 1`` of ``q`` (N, n), ``active`` (N, K) and
-    ``out`` (N, K)."""
+    ``out`` (N, K), every distance exact."""
     work = scratch(links, frame)
+    exact = np.full(capsule.shape[0], inf)
     for n in range(start, stop):
         clearances_one(q[n], links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
-                       active[n], out[n], work)
+                       active[n], exact, out[n], work)

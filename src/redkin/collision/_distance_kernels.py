@@ -270,19 +270,60 @@ def segment_box(l0, dl, h):
 
 
 @kernel
-def round_box(a, b, out):
-    """Signed distance of a round shape ``a`` and the box ``b``: the least of the box's SDF along a's segment
-    (:func:`segment_box`) minus a's radius.  At the segment's point ``x`` of that least value, ``pb`` is the
-    box's closest surface point (``x`` outside) or ``x``'s projection on the nearest face (inside; the first of
-    equally near faces), ``u`` the box's inward normal there (``-`` outward), and ``pa = x + r u``."""
-    cx, cy, cz = b[2], b[3], b[4]
-    ex, ey, ez = a[2] - cx, a[3] - cy, a[4] - cz
+def round_round_gap(a, b):
+    """A lower bound of the signed distance of two round shapes ``a`` and ``b`` (:func:`round_round`'s), cheap beside
+    it: the distance of their segments' middles minus both half lengths and both radii (each segment lies within
+    its half length of its middle)."""
+    gap2 = 0.0
+    for i in range(3):
+        across = (a[2 + i] + a[5 + i] - b[2 + i] - b[5 + i]) / 2.0
+        gap2 += across * across
+    return sqrt(gap2) - _half_length(a) - _half_length(b) - a[1] - b[1]
+
+
+@kernel
+def _half_length(a):
+    """Half the length of a round shape's segment."""
+    dx, dy, dz = a[5] - a[2], a[6] - a[3], a[7] - a[4]
+    return sqrt(dx * dx + dy * dy + dz * dz) / 2.0
+
+
+@kernel
+def _in_box_frame(a, b):
+    """The segment of the round shape ``a`` in the frame of the box ``b``: its first end ``l0`` and ``dl``, the
+    second end minus the first (3-tuples)."""
+    ex, ey, ez = a[2] - b[2], a[3] - b[3], a[4] - b[4]
     fx, fy, fz = a[5] - a[2], a[6] - a[3], a[7] - a[4]
     # local = R^T world: column j of R (entries b[8 + 3 i + j]) is box axis j
     l0 = (b[8] * ex + b[11] * ey + b[14] * ez, b[9] * ex + b[12] * ey + b[15] * ez,
           b[10] * ex + b[13] * ey + b[16] * ez)
     dl = (b[8] * fx + b[11] * fy + b[14] * fz, b[9] * fx + b[12] * fy + b[15] * fz,
           b[10] * fx + b[13] * fy + b[16] * fz)
+    return l0, dl
+
+
+@kernel
+def round_box_gap(a, b):
+    """A lower bound of the signed distance of a round shape ``a`` and the box ``b`` (:func:`round_box`'s), cheap
+    beside it: the widest gap between the projections of a's segment and of the box on one of the box's axes,
+    minus a's radius.  Every point of the box and of the segment is that far apart along that axis, so no two are
+    closer; where the projections overlap on all three axes the bound is minus the radius, which is not a bound of
+    a depth inside the box: use it only where it is positive."""
+    l0, dl = _in_box_frame(a, b)
+    gap = 0.0
+    for i in range(3):
+        low, high = min(l0[i], l0[i] + dl[i]), max(l0[i], l0[i] + dl[i])
+        gap = max(gap, low - b[5 + i], -b[5 + i] - high)
+    return gap - a[1]
+
+
+@kernel
+def round_box(a, b, out):
+    """Signed distance of a round shape ``a`` and the box ``b``: the least of the box's SDF along a's segment
+    (:func:`segment_box`) minus a's radius.  At the segment's point ``x`` of that least value, ``pb`` is the
+    box's closest surface point (``x`` outside) or ``x``'s projection on the nearest face (inside; the first of
+    equally near faces), ``u`` the box's inward normal there (``-`` outward), and ``pa = x + r u``."""
+    l0, dl = _in_box_frame(a, b)
     h = (b[5], b[6], b[7])
     t, value = segment_box(l0, dl, h)
     lx, ly, lz = l0[0] + t * dl[0], l0[1] + t * dl[1], l0[2] + t * dl[2]

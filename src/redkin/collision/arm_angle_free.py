@@ -55,12 +55,13 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_pose
-from redkin.arms.feasible_sets import Arcs, merged_intervals
+from redkin.arms.feasible_sets import Arcs
 from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, ArcSet
-from redkin.collision import _arm_angle_kernels
+from redkin.collision import _arm_angle_kernels, _decision_kernels
+from redkin.collision._decision_kernels import OPEN
 from redkin.collision.body import Body, capsule_ends, posed
 from redkin.collision.clearance import checked_pairs, clearance_inputs
 from redkin.collision.scene import Scene
@@ -187,31 +188,31 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
     measure = _Measure(arm, poses, body, scene, geometry.kernel_branches[rows], geometry)
     parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]), count,
-                              len(poses), resolution, measure, measure.speeds, budget, carve=True)
+                              len(poses), resolution, measure, budget, carve=True)
+    decided = Decided.of(parts)
+    runs = decided.free_runs(len(poses) * count)
+    removed = decided.stretches(len(poses) * count, measure.names, _wrapped)
+    at_limits = _circle_limit_stretches_of(arm, poses, labels, limit_arcs)
     results = []
-    owned = by_owner(parts, len(poses) * count)
-    for p, pose in enumerate(poses):
-        free_sets, blocked = [], []
-        at_limits = circle_limit_stretches(arm, pose, labels, limit_arcs[p])
-        for b in range(count):
-            lo, hi, kind, which = owned(p * count + b)
-            clear = kind == 0
-            free_sets.append(arcs_of(ArcSet(merged_intervals(lo[clear], hi[clear]).bounds.tolist())))
-            stretches = collision_stretches(lo, hi, kind, which, measure.names, _wrapped)
-            stretches += at_limits[b]
-            blocked.append(tuple(sorted(stretches, key=lambda stretch: stretch.start)))
-        results.append(FreeArmAngles(labels, tuple(free_sets), limit_arcs[p], tuple(blocked), float(resolution),
+    for p in range(len(poses)):
+        mine = range(p * count, (p + 1) * count)
+        free_sets = tuple(arcs_of(ArcSet(runs[owner])) for owner in mine)
+        blocked = tuple(tuple(sorted(removed[owner] + theirs, key=lambda stretch: stretch.start))
+                        for owner, theirs in zip(mine, at_limits[p], strict=True))
+        results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked, float(resolution),
                                      int(measure.evaluations[p]), bool(complete[p])))
     return results
 
 
-class _PairMeasure(Protocol):
-    """What :func:`certify` measures with: the checked pairs' clearances at values of the parameter."""
+class _Settle(Protocol):
+    """What :func:`certify` decides intervals with: the checked pairs' clearances at the intervals' middles and the
+    bounds of how fast each changes over them, decided (:func:`redkin.collision._decision_kernels.decided_one`)."""
 
     evaluations: np.ndarray  # configurations posed so far, per pose
     count: int  # checked pairs
 
-    def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray: ...
+    def __call__(self, middle: np.ndarray, half: np.ndarray, owner: np.ndarray, active: np.ndarray, finest: float,
+                 carve: bool) -> tuple[np.ndarray, ...]: ...
 
 
 def one_pose(pose: ArrayLike) -> np.ndarray:
@@ -247,17 +248,16 @@ def checked_inputs(arm: Arm, poses: ArrayLike, body: Body, resolution: float) ->
 
 
 def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, poses: int, resolution: float,
-            measure: _PairMeasure, rates: Callable, budget: int, *, carve: bool = False
-            ) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+            settle: _Settle, budget: int, *, carve: bool = False) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
     """Decide the intervals ``(lo, hi, owner)`` (an owner is ``pose * count + branch``) as free, blocked or undecided to
     ``resolution`` (module docstring), then decide further each run of undecided intervals wider than it, and each
-    sliver between two intervals of one kind (:func:`_undecided_runs`); ``measure(middle, owner, active)`` gives the
-    pairs' clearances, ``rates(owner, middle, half)`` bounds how fast each pair's clearance changes over the interval
-    (with ``carve``, a bound of its derivative there: then each evaluation also decides the stretch around the middle
-    its own clearances prove, :func:`_decide`). Returns the decided intervals ``(lo, hi, owner, kind, pair)`` and per
-    pose whether it was decided completely (the budget, ``budget`` evaluations per pose, sufficed and no undecided
-    run is wider than the resolution)."""
-    parts, undone = _decide(*intervals, resolution / 2.0, measure, rates, budget * poses, carve)
+    sliver between two intervals of one kind (:func:`_undecided_runs`); ``settle(middle, half, owner, active, finest,
+    carve)`` decides intervals from the pairs' clearances at their middles and the bounds of how fast they change
+    over them (:func:`redkin.collision._decision_kernels.decided_one`; with ``carve``, bounds of the derivative: then
+    each evaluation also decides the stretch around the middle its own clearances prove, :func:`_decide`). Returns
+    the decided intervals ``(lo, hi, owner, kind, pair)`` and per pose whether it was decided completely (the budget,
+    ``budget`` evaluations per pose, sufficed and no undecided run is wider than the resolution)."""
+    parts, undone = _decide(*intervals, resolution / 2.0, settle, budget * poses, carve)
     complete = np.ones(poses, dtype=bool)
     complete[undone // count] = False
     finest = resolution / 4.0
@@ -271,8 +271,7 @@ def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, po
         wide |= inner & complete[parts[2] // count] & (finest >= resolution * _INNER_FLOOR)
         if not wide.any():
             break
-        again, undone = _decide(parts[0][wide], parts[1][wide], parts[2][wide], finest, measure, rates,
-                                budget * poses, carve)
+        again, undone = _decide(parts[0][wide], parts[1][wide], parts[2][wide], finest, settle, budget * poses, carve)
         complete[undone // count] = False
         open_owners = np.isin(parts[2], parts[2][wide])  # the others' intervals do not change any more
         settled.append(tuple(part[~open_owners] for part in parts))
@@ -282,12 +281,12 @@ def certify(intervals: tuple[np.ndarray, np.ndarray, np.ndarray], count: int, po
     return tuple(np.concatenate(column) for column in zip(*settled, parts, strict=True)), complete
 
 
-def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, measure: _PairMeasure, rates: Callable,
-            budget: int, carve: bool) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, settle: _Settle, budget: int,
+            carve: bool) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
     """Halve the intervals ``[lo, hi]`` of the branches ``owner`` until each is free, blocked, or undecided and no
-    wider than ``finest`` (module docstring); ``rates(owner, middle, half)`` bounds each pair's speed.
+    wider than ``finest`` (module docstring), each level decided by ``settle``.
 
-    With ``carve`` (the rates bound each clearance's derivative over the interval: ``|c(psi) - c(m)| <= v |psi -
+    With ``carve`` (the speeds bound each clearance's derivative over the interval: ``|c(psi) - c(m)| <= v |psi -
     m|``), an interval left open is not halved but cut around its middle ``m``: where every open pair's clearance
     is positive, ``[m - r, m + r]`` with ``r`` the least ``c / v`` of them is free; where one is negative, the
     largest ``-c / v`` gives a stretch it blocks; the two pieces beside it stay open (halves where ``r`` is 0).
@@ -296,32 +295,21 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, me
     undecided), and the owners of the intervals still open when the budget ran out (left undecided).
     """
     decided: list[tuple[np.ndarray, ...]] = [(lo[:0], hi[:0], owner[:0], owner[:0], owner[:0])]
-    active = np.ones((len(lo), measure.count), dtype=bool)  # the pairs not yet proved clear on each interval
+    active = np.ones((len(lo), settle.count), dtype=bool)  # the pairs not yet proved clear on each interval
     while len(lo):
-        if measure.evaluations.sum() + len(lo) > budget:
-            decided.append((lo, hi, owner, np.full(len(lo), 2), np.zeros(len(lo), dtype=np.int64)))
+        if settle.evaluations.sum() + len(lo) > budget:
+            undecided = np.full(len(lo), _decision_kernels.UNDECIDED)
+            decided.append((lo, hi, owner, undecided, np.zeros(len(lo), dtype=np.int64)))
             break
         middle, half = (lo + hi) / 2.0, (hi - lo) / 2.0
-        clearance = measure(middle, owner, active)
-        speed = rates(owner, middle, half)
-        with np.errstate(invalid="ignore"):  # inf - inf: a pair already clear, at an unbounded speed
-            low = np.where(active, clearance - speed * half[:, None], np.inf)
-            high = np.where(active, clearance + speed * half[:, None], np.inf)
-        active &= ~(low > 0.0)
-        free = ~active.any(axis=1)
-        blocked = ~free & np.any(high < 0.0, axis=1)
-        small = ~free & ~blocked & (2.0 * half <= finest)
-        kind = np.where(free, 0, np.where(blocked, 1, 2))
-        which = np.argmin(high, axis=1) if high.shape[1] else np.zeros(len(lo), np.int64)
-        done = free | blocked | small
+        kind, which, cut, carved, cause = settle(middle, half, owner, active, finest, carve)  # active updated
+        done = kind != OPEN
         decided.append((lo[done], hi[done], owner[done], kind[done], which[done]))
         split = ~done
         lo, hi, owner, middle, active = lo[split], hi[split], owner[split], middle[split], active[split]
-        cut = np.zeros(len(lo))
-        if carve and len(lo):
-            cut, cause, kind = _carved(clearance[split], speed[split], active, half[split])
-            kept = cut > 0.0
-            decided.append((middle[kept] - cut[kept], middle[kept] + cut[kept], owner[kept], kind[kept], cause[kept]))
+        cut, carved, cause = cut[split], carved[split], cause[split]
+        kept = cut > 0.0
+        decided.append((middle[kept] - cut[kept], middle[kept] + cut[kept], owner[kept], carved[kept], cause[kept]))
         left, right = middle - cut > lo, middle + cut < hi  # the open pieces beside the middle (or its stretch)
         lo, hi, owner = (np.concatenate([lo[left], (middle + cut)[right]]),
                          np.concatenate([(middle - cut)[left], hi[right]]),
@@ -331,26 +319,23 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, me
     return parts, owner
 
 
+def settled(half: np.ndarray, clearance: np.ndarray, speed: np.ndarray, active: np.ndarray, finest: float,
+            carve: bool) -> tuple[np.ndarray, ...]:
+    """Intervals of half widths ``half`` (N,) decided from their pairs' clearances at the middles and speed bounds
+    ``(N, P)`` (:func:`redkin.collision._decision_kernels.decided_one`, in one compiled pass; ``active`` ``(N, P)``
+    updated in place): ``(kind, pair, radius, carved, cause)``, each (N,).  For a measure whose clearances and bounds
+    are computed apart (the Franka class's q7)."""
+    count = len(half)
+    kind, pair, carved, cause = (np.empty(count, dtype=np.int64) for _ in range(4))
+    radius = np.empty(count)
+    run_batch(_decision_kernels.decided, count, kernel_array(half), kernel_array(clearance), kernel_array(speed),
+              active, float(finest), bool(carve), kind, pair, radius, carved, cause)
+    return kind, pair, radius, carved, cause
+
+
 #: Slivers left undecided between two intervals of one kind (:func:`_undecided_runs`) are cut down to this fraction
 #: of the resolution, then left undecided (no end of the free set need lie there).
 _INNER_FLOOR = 1e-3
-#: The radius of a carved stretch is this much less than its clearance over its speed bound (rounding of the
-#: division; :func:`_carved`).
-_CARVE_SHRINK = 1.0 - 1e-9
-
-
-def _carved(clearance: np.ndarray, speed: np.ndarray, active: np.ndarray, half: np.ndarray
-            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per open interval (its clearances and speed bounds ``(N, P)`` at the middle, its open pairs, its half width),
-    the radius of the stretch around the middle that the clearances decide (:func:`_decide`; 0 where none), the
-    pair that blocks it, and its kind (0 free, 1 blocked)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        reach = np.nan_to_num(np.where(active, clearance / speed, np.inf), nan=0.0, posinf=np.inf, neginf=-np.inf)
-    clear = np.minimum(np.maximum(reach.min(axis=1), 0.0), half)  # every open pair positive out to here
-    cause = np.argmin(reach, axis=1)  # the most negative pair
-    blocking = np.minimum(np.maximum(-reach[np.arange(len(reach)), cause], 0.0), half)
-    kind = np.where(clear > 0.0, 0, 1)
-    return np.where(clear > 0.0, clear, blocking) * _CARVE_SHRINK, cause, kind
 
 
 def _undecided_runs(parts: tuple[np.ndarray, ...], resolution: float) -> tuple[np.ndarray, np.ndarray]:
@@ -379,24 +364,29 @@ def _undecided_runs(parts: tuple[np.ndarray, ...], resolution: float) -> tuple[n
 
 def first_intervals(arcs: list[Arcs]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Each owner's limit-feasible arcs (a pose's branch) cut into intervals no wider than :data:`_FIRST_WIDTH`,
-    unrolled so that ``lo < hi`` (an arc through the seam ends beyond pi)."""
-    lo: list[float] = []
-    hi: list[float] = []
-    owner: list[int] = []
-    for b, arc in enumerate(arcs):
-        for (start, end), wraps in zip(arc.bounds.tolist(), arc.wraps.tolist(), strict=True):
-            end = end + TWO_PI if wraps else end
-            cuts = np.linspace(start, end, max(1, int(np.ceil((end - start) / _FIRST_WIDTH))) + 1)
-            lo.extend(cuts[:-1])
-            hi.extend(cuts[1:])
-            owner.extend([b] * (len(cuts) - 1))
-    return np.array(lo, dtype=float), np.array(hi, dtype=float), np.array(owner, dtype=np.int64)
+    unrolled so that ``lo < hi`` (an arc through the seam ends beyond pi): ``(lo, hi, owner)``, the cuts of each
+    arc evenly spaced as :func:`numpy.linspace` spaces them."""
+    sizes = [len(arc.bounds) for arc in arcs]
+    if not sum(sizes):
+        return np.empty(0), np.empty(0), np.empty(0, dtype=np.int64)
+    bounds = np.concatenate([arc.bounds.reshape(-1, 2) for arc in arcs])
+    wraps = np.concatenate([arc.wraps for arc in arcs])
+    owner = np.repeat(np.arange(len(arcs)), sizes)
+    start, end = bounds[:, 0], np.where(wraps, bounds[:, 1] + TWO_PI, bounds[:, 1])
+    pieces = np.maximum(1, np.ceil((end - start) / _FIRST_WIDTH)).astype(np.int64)
+    arc = np.repeat(np.arange(len(start)), pieces)
+    k = np.arange(len(arc)) - np.repeat(np.cumsum(pieces) - pieces, pieces)  # each piece's index in its arc
+    step = ((end - start) / pieces)[arc]
+    lo = k * step + start[arc]
+    hi = np.where(k + 1 == pieces[arc], end[arc], (k + 1) * step + start[arc])  # the last cut is the arc's end
+    return lo, hi, owner[arc]
 
 
 class _Measure:
-    """The clearances of every checked pair at arm angles of the poses, and the speed bounds of the body's capsules
-    (module docstring), each in one compiled pass (:mod:`redkin.collision._arm_angle_kernels`); an interval's owner
-    is ``pose * B + branch`` over the ``B`` branches of ``signs``."""
+    """The intervals of arm angles of the poses decided from every checked pair's clearance at their middles and the
+    speed bounds of the body's capsules (module docstring), one level in one compiled pass
+    (:mod:`redkin.collision._arm_angle_kernels`); an interval's owner is ``pose * B + branch`` over the ``B``
+    branches of ``signs``."""
 
     def __init__(self, arm: Arm, poses: np.ndarray, body: Body, scene: Scene, signs: np.ndarray,
                  geometry: SRSGeometry) -> None:
@@ -413,23 +403,28 @@ class _Measure:
         # about, read from the pose's first configuration measured (it is the same at every arm angle)
         self.inputs = clearance_inputs(body, scene, self.pairs)
 
-    def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
-        """Clearances ``(N, P)`` (distance minus margin) at arm angles ``middle`` of the owners ``owner``, of the
-        pairs ``active`` ``(N, P)`` (``inf`` for the others: already proved clear on a wider interval)."""
+    def __call__(self, middle: np.ndarray, half: np.ndarray, owner: np.ndarray, active: np.ndarray, finest: float,
+                 carve: bool) -> tuple[np.ndarray, ...]:
+        """The intervals of half widths ``half`` around arm angles ``middle`` of the owners ``owner`` decided from
+        their active pairs' clearances ``active`` ``(N, P)`` (updated in place) and speed bounds, in one compiled
+        pass (:func:`redkin.collision._arm_angle_kernels.level`): ``(kind, pair, radius, carved, cause)``, each
+        (N,)."""
         pose, branch = np.divmod(owner, len(self.signs))
         new, first = np.unique(pose, return_index=True)
         fresh = np.isnan(self.reach[new, 0]) if len(self.body) else np.zeros(len(new), dtype=bool)
         if fresh.any():
             self._measure_reach(new[fresh], middle[first[fresh]], branch[first[fresh]])
         np.add.at(self.evaluations, pose, 1)
-        clearance = np.empty(active.shape)
+        count = len(middle)
+        kind, pair, carved, cause = (np.empty(count, dtype=np.int64) for _ in range(4))
+        cut = np.empty(count)
         chain = self.arm.chain
-        run_batch(_arm_angle_kernels.clearances, len(middle), kernel_array(middle), kernel_array(pose),
+        run_batch(_arm_angle_kernels.level, count, kernel_array(middle), kernel_array(half), kernel_array(pose),
                   kernel_array(branch), self.entries, self.theta4, self.elbow, self.signs,
                   self.geometry.kernel_joints, chain._links, chain._ends, chain._standard, *self.inputs.body,
-                  self.inputs.obstacles, *self.inputs.pairs, float(self.scene.margin), kernel_array(active),
-                  clearance)
-        return clearance
+                  self.inputs.obstacles, *self.inputs.pairs, float(self.scene.margin), kernel_array(self.reach),
+                  float(finest), bool(carve), active, kind, pair, cut, carved, cause)
+        return kind, pair, cut, carved, cause
 
     def _measure_reach(self, poses: np.ndarray, middle: np.ndarray, branch: np.ndarray) -> None:
         """Each capsule's distance from what it turns about (:func:`_turning_reach`) at poses ``poses``, from the
@@ -437,16 +432,6 @@ class _Measure:
         q, _, _, _ = solve_with_status(self.geometry, self.poses[poses], middle, self.signs)
         frames = self.arm.chain.frames(q[np.arange(len(poses)), branch])
         self.reach[poses] = _turning_reach(self.arm.chain, self.body, frames, posed(self.body, frames))
-
-    def speeds(self, owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
-        """Per interval and pair ``(N, P)``, a bound of how fast the pair's distance changes per radian of psi over
-        ``[middle - half, middle + half]`` (:func:`redkin.collision._arm_angle_kernels.speeds`)."""
-        pose, branch = np.divmod(owner, len(self.signs))
-        out = np.empty((len(middle), self.count))
-        run_batch(_arm_angle_kernels.speeds, len(middle), kernel_array(middle), kernel_array(half),
-                  kernel_array(pose), kernel_array(branch), self.entries, self.elbow, self.inputs.body[0],
-                  kernel_array(self.reach), self.inputs.pairs[0], self.inputs.pairs[2], out)
-        return out
 
 
 def _turning_reach(chain: SerialChain, body: Body, frames: np.ndarray, shapes: np.ndarray) -> np.ndarray:
@@ -540,65 +525,92 @@ def _wrapped(angle: float) -> float:
     return float((angle + np.pi) % TWO_PI - np.pi)
 
 
-def by_owner(parts: tuple[np.ndarray, ...], owners: int) -> Callable[[int], tuple[np.ndarray, ...]]:
-    """The decided intervals ``(lo, hi, owner, kind, pair)`` of :func:`certify` sorted once by owner and start: a
-    function giving one owner's ``(lo, hi, kind, pair)``, sorted by ``lo``."""
-    order = np.lexsort((parts[0], parts[2]))
-    lo, hi, owner, kind, pair = (part[order] for part in parts)
-    edges = np.searchsorted(owner, np.arange(owners + 1))
+class Decided(NamedTuple):
+    """The intervals :func:`certify` decided (``kind`` 0 free, 1 blocked by ``pair``, 2 undecided), sorted by owner
+    and start: disjoint within an owner, so each one's end is at most the next one's start."""
 
-    def of(which: int) -> tuple[np.ndarray, ...]:
-        mine = slice(edges[which], edges[which + 1])
-        return lo[mine], hi[mine], kind[mine], pair[mine]
+    lo: np.ndarray
+    hi: np.ndarray
+    owner: np.ndarray
+    kind: np.ndarray
+    pair: np.ndarray
 
-    return of
+    @classmethod
+    def of(cls, parts: tuple[np.ndarray, ...]) -> Decided:
+        """:func:`certify`'s ``(lo, hi, owner, kind, pair)``, sorted."""
+        order = np.lexsort((parts[0], parts[2]))
+        return cls(*(part[order] for part in parts))
 
+    def _runs(self, which: np.ndarray, cause: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The first and last of each run of the intervals ``which`` that touch, of one owner and one ``cause``."""
+        owner, lo, hi = self.owner[which], self.lo[which], self.hi[which]
+        first = np.ones(len(lo), dtype=bool)
+        first[1:] = (owner[1:] != owner[:-1]) | (cause[1:] != cause[:-1]) | (lo[1:] > hi[:-1])
+        starts = np.flatnonzero(first)
+        return starts, (np.append(starts[1:] - 1, len(lo) - 1) if len(lo) else starts)
 
-def collision_stretches(lo: np.ndarray, hi: np.ndarray, kind: np.ndarray, which: np.ndarray,
-                        names: list[tuple[str, str]], wrapped: Callable[[float], float]) -> list[Stretch]:
-    """The blocked and undecided intervals of one branch (its decided intervals, disjoint) merged into stretches of
-    one cause (touching intervals blocked by pairs of the same names, such as two capsules of one link against one
-    obstacle, or undecided), each end written by ``wrapped`` (into ``[-pi, pi)`` for an arm angle)."""
-    removed = kind != 0
-    order = np.argsort(lo[removed], kind="stable")
-    lo, hi, kind, which = lo[removed][order], hi[removed][order], kind[removed][order], which[removed][order]
-    named = {pair: k for k, pair in enumerate(dict.fromkeys(names))}  # pairs of shapes named alike are one cause
-    same_name = np.array([named[pair] for pair in names], dtype=np.int64)
-    cause = np.where(kind == 1, same_name[which] if len(names) else -1, -1)  # the names that block, or -1: undecided
-    first = np.ones(len(lo), dtype=bool)
-    first[1:] = (cause[1:] != cause[:-1]) | (lo[1:] > hi[:-1])
-    starts = np.flatnonzero(first)
-    ends = np.append(starts[1:] - 1, len(lo) - 1) if len(lo) else starts  # each run's last interval
-    stretches = []
-    for start, end, first_of in zip(lo[starts].tolist(), hi[ends].tolist(), starts.tolist(), strict=True):
-        reason, (link, against) = (COLLISION, names[which[first_of]]) if kind[first_of] == 1 else (UNDECIDED, ("", ""))
-        stretches.append(Stretch(wrapped(start), wrapped(end), reason, link, against))
-    return stretches
+    def free_runs(self, owners: int) -> list[list[tuple[float, float]]]:
+        """Per owner ``0 .. owners - 1``, its free intervals merged where they touch, as sorted ``(start, end)``."""
+        clear = np.flatnonzero(self.kind == 0)
+        starts, ends = self._runs(clear, np.zeros(len(clear), dtype=np.int64))
+        runs: list[list[tuple[float, float]]] = [[] for _ in range(owners)]
+        for owner, start, end in zip(self.owner[clear][starts].tolist(), self.lo[clear][starts].tolist(),
+                                     self.hi[clear][ends].tolist(), strict=True):
+            runs[owner].append((start, end))
+        return runs
+
+    def stretches(self, owners: int, names: list[tuple[str, str]],
+                  wrapped: Callable[[float], float]) -> list[list[Stretch]]:
+        """Per owner, its blocked and undecided intervals merged into stretches of one cause (touching intervals
+        blocked by pairs of the same names, such as two capsules of one link against one obstacle, or undecided),
+        each end written by ``wrapped`` (into ``[-pi, pi)`` for an arm angle)."""
+        removed = np.flatnonzero(self.kind != 0)
+        kind, which = self.kind[removed], self.pair[removed]
+        named = {pair: k for k, pair in enumerate(dict.fromkeys(names))}  # pairs of shapes named alike are one cause
+        same_name = np.array([named[pair] for pair in names], dtype=np.int64)
+        cause = np.where(kind == 1, same_name[which] if len(names) else -1, -1)  # the names that block, or -1
+        starts, ends = self._runs(removed, cause)
+        stretches: list[list[Stretch]] = [[] for _ in range(owners)]
+        for owner, start, end, blocked, pair in zip(
+                self.owner[removed][starts].tolist(), self.lo[removed][starts].tolist(),
+                self.hi[removed][ends].tolist(), (kind[starts] == 1).tolist(), which[starts].tolist(), strict=True):
+            reason, (link, against) = (COLLISION, names[pair]) if blocked else (UNDECIDED, ("", ""))
+            stretches[owner].append(Stretch(wrapped(start), wrapped(end), reason, link, against))
+        return stretches
 
 
 def circle_limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...],
                            limits: tuple[Arcs, ...]) -> list[list[Stretch]]:
     """Per branch, the stretches of the circle between its limit-feasible arcs of arm angles, named by their
     causes."""
-    gaps = [ArcSet(arcs.bounds.tolist()).complement().arcs for arcs in limits]
-    middles = [_wrapped(start + ((end - start) % TWO_PI) / 2.0) for arcs in gaps for start, end in arcs]
-    return limit_stretches(arm, pose, labels, gaps, middles)
+    return _circle_limit_stretches_of(arm, pose[None], labels, [limits])[0]
 
 
-def limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...], gaps: list, middles: list[float]
-                    ) -> list[list[Stretch]]:
-    """Per branch, the stretches ``gaps`` (per branch, ``(start, end)`` each) removed by the joint limits, each named
-    by the joints out of range at its middle (``middles``, in the order of the stretches; "no solution" where the
-    branch has none there)."""
-    owner = np.array([b for b, spans in enumerate(gaps) for _ in spans], dtype=np.int64)
-    stretches: list[list[Stretch]] = [[] for _ in labels]
-    if not len(middles):
+def _circle_limit_stretches_of(arm: Arm, poses: np.ndarray, labels: tuple[str, ...],
+                              limits: list[tuple[Arcs, ...]]) -> list[list[list[Stretch]]]:
+    """:func:`circle_limit_stretches` of each pose of ``poses`` (P, 4, 4), its arcs ``limits[p]``."""
+    gaps = [[ArcSet(arcs.bounds.tolist()).complement().arcs for arcs in pose_limits] for pose_limits in limits]
+    middles = [[_wrapped(start + ((end - start) % TWO_PI) / 2.0) for arcs in pose_gaps for start, end in arcs]
+               for pose_gaps in gaps]
+    return limit_stretches_of(arm, poses, labels, gaps, middles)
+
+
+def limit_stretches_of(arm: Arm, poses: np.ndarray, labels: tuple[str, ...], gaps: list[list],
+                       middles: list[list[float]]) -> list[list[list[Stretch]]]:
+    """Per pose of ``poses`` (P, 4, 4) and branch, the stretches ``gaps[p]`` (per branch, ``(start, end)`` each)
+    removed by the joint limits, each named by the joints out of range at its middle (``middles[p]``, in the order
+    of the pose's stretches; "no solution" where the branch has none there), all solved in one batch."""
+    stretches: list[list[list[Stretch]]] = [[[] for _ in labels] for _ in poses]
+    where = [(p, b) for p, pose_gaps in enumerate(gaps) for b, spans in enumerate(pose_gaps) for _ in spans]
+    if not where:
         return stretches
-    solutions = arm.ik(pose, np.array(middles), branches=labels)
-    q, exists = solutions.q[np.arange(len(owner)), owner], solutions.exists[np.arange(len(owner)), owner]
+    pose, owner = np.array(where, dtype=np.int64).T
+    solutions = arm.ik(poses[pose], np.array([m for pose_middles in middles for m in pose_middles]), branches=labels)
+    rows = np.arange(len(owner))
+    q, exists = solutions.q[rows, owner], solutions.exists[rows, owner]
     inside = arm.chain.joints_within_limits(q, wrap=True)
-    spans = [span for branch_spans in gaps for span in branch_spans]
-    for (start, end), b, there, within in zip(spans, owner.tolist(), exists.tolist(), inside, strict=True):
+    spans = [span for pose_gaps in gaps for branch_spans in pose_gaps for span in branch_spans]
+    for (start, end), (p, b), there, within in zip(spans, where, exists.tolist(), inside, strict=True):
         out = ", ".join(f"joint {joint + 1}" for joint in np.flatnonzero(~within)) if there else "no solution"
-        stretches[b].append(Stretch(start, end, LIMIT, "", out))
+        stretches[p][b].append(Stretch(start, end, LIMIT, "", out))
     return stretches

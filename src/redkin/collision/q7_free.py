@@ -28,20 +28,20 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import run_batch
-from redkin.arms.feasible_sets import Arcs, merged_intervals
+from redkin.arms.feasible_sets import Arcs
 from redkin.arms.franka_kind import FrankaKind
 from redkin.arms.front_door import Arm
 from redkin.circle import TWO_PI
 from redkin.collision.arm_angle_free import (
+    Decided,
     FreeArmAngles,
     Stretch,
-    by_owner,
     certify,
     checked_inputs,
-    collision_stretches,
     first_intervals,
-    limit_stretches,
+    limit_stretches_of,
     one_pose,
+    settled,
 )
 from redkin.collision.body import Body
 from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_clearances
@@ -95,19 +95,20 @@ def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
     measure = _Q7Measure(arm, poses, body, scene, np.array([arm.branches.index(label) for label in labels]))
     parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]), count,
-                              len(poses), resolution, measure, measure.rates, budget)
+                              len(poses), resolution, measure, budget)
     domain = q7_domain(measure.geometry)
+    decided = Decided.of(parts)
+    runs = decided.free_runs(len(poses) * count)
+    removed = decided.stretches(len(poses) * count, measure.names, float)
+    at_limits = _limit_stretches(arm, poses, labels, limit_arcs, domain)
     results = []
-    owned = by_owner(parts, len(poses) * count)
-    for p, pose in enumerate(poses):
-        free_sets, blocked = [], []
-        at_limits = _limit_stretches(arm, pose, labels, limit_arcs[p], domain)
-        for b in range(count):
-            lo, hi, kind, which = owned(p * count + b)
-            free_sets.append(merged_intervals(lo[kind == 0], hi[kind == 0]))
-            stretches = collision_stretches(lo, hi, kind, which, measure.names, float)
-            blocked.append(tuple(sorted(stretches + at_limits[b], key=lambda stretch: stretch.start)))
-        results.append(FreeArmAngles(labels, tuple(free_sets), limit_arcs[p], tuple(blocked), float(resolution),
+    for p in range(len(poses)):
+        mine = range(p * count, (p + 1) * count)
+        free_sets = tuple(Arcs(np.array(runs[owner], dtype=float).reshape(-1, 2), np.zeros(len(runs[owner]), bool))
+                          for owner in mine)
+        blocked = tuple(tuple(sorted(removed[owner] + theirs, key=lambda stretch: stretch.start))
+                        for owner, theirs in zip(mine, at_limits[p], strict=True))
+        results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked, float(resolution),
                                      int(measure.evaluations[p]), bool(complete[p]), "q7"))
     return results
 
@@ -147,12 +148,15 @@ class _Q7Measure:
         self._last = (q7, owner, q, exists)
         return q, exists
 
-    def __call__(self, middle: np.ndarray, owner: np.ndarray, active: np.ndarray) -> np.ndarray:
-        """Clearances ``(N, P)`` (distance minus margin) at ``middle`` of the owners ``owner``, of the pairs
-        ``active`` (``inf`` for the others: already proved clear on a wider interval)."""
+    def __call__(self, middle: np.ndarray, half: np.ndarray, owner: np.ndarray, active: np.ndarray, finest: float,
+                 carve: bool) -> tuple[np.ndarray, ...]:
+        """The intervals of half widths ``half`` around ``middle`` of the owners ``owner`` decided from their active
+        pairs' clearances ``active`` ``(N, P)`` (updated in place) and :meth:`rates`
+        (:func:`redkin.collision.arm_angle_free.settled`): ``(kind, pair, radius, carved, cause)``, each (N,)."""
         q, _ = self.joints(middle, owner)
         np.add.at(self.evaluations, owner // len(self.rows), 1)
-        return pair_clearances(self.chain, self.inputs, q, active, self.scene.margin)
+        clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin)
+        return settled(half, clearance, self.rates(owner, middle, half), active, finest, carve)
 
     def rates(self, owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
         """Per interval and pair ``(N, P)``, the bound of the pair's displacement over the interval (module
@@ -196,11 +200,15 @@ class _Q7Measure:
         return crossed
 
 
-def _limit_stretches(arm: Arm, pose: np.ndarray, labels: tuple[str, ...], limits: tuple[Arcs, ...],
-                     domain: np.ndarray) -> list[list[Stretch]]:
-    """Per branch, the stretches of joint 7's range between its limit-feasible intervals, named by their causes."""
-    gaps: list[list[tuple[float, float]]] = []
-    for arcs in limits:
-        edges = [float(domain[0]), *arcs.bounds.ravel().tolist(), float(domain[1])]
-        gaps.append([(a, b) for a, b in zip(edges[::2], edges[1::2], strict=True) if b > a])
-    return limit_stretches(arm, pose, labels, gaps, [(a + b) / 2.0 for spans in gaps for a, b in spans])
+def _limit_stretches(arm: Arm, poses: np.ndarray, labels: tuple[str, ...], limits: list[tuple[Arcs, ...]],
+                     domain: np.ndarray) -> list[list[list[Stretch]]]:
+    """Per pose and branch, the stretches of joint 7's range between its limit-feasible intervals, named by their
+    causes."""
+    gaps: list[list[list[tuple[float, float]]]] = []
+    for pose_limits in limits:
+        gaps.append([])
+        for arcs in pose_limits:
+            edges = [float(domain[0]), *arcs.bounds.ravel().tolist(), float(domain[1])]
+            gaps[-1].append([(a, b) for a, b in zip(edges[::2], edges[1::2], strict=True) if b > a])
+    middles = [[(a + b) / 2.0 for spans in pose_gaps for a, b in spans] for pose_gaps in gaps]
+    return limit_stretches_of(arm, poses, labels, gaps, middles)

@@ -1,0 +1,86 @@
+"""Compiled decision of one interval of the certified subdivision (:func:`redkin.collision.arm_angle_free.certify`,
+whose module docstring states the argument): from the checked pairs' clearances at the interval's middle and the
+bounds of how fast each changes over it, whether the interval is free, blocked, narrow enough to leave undecided, or
+still open, and, where it is open, the stretch around its middle that its own clearances decide.
+"""
+
+from __future__ import annotations
+
+from math import inf
+
+from redkin._compiled import kernel
+
+#: The kinds of a decided interval, and of one still open.
+FREE, BLOCKED, UNDECIDED, OPEN = 0, 1, 2, 3
+#: The radius of a carved stretch is this much less than its clearance over its speed bound (rounding of the
+#: division).
+CARVE_SHRINK = 1.0 - 1e-9
+
+
+@kernel
+def _reach(clearance, speed):
+    """``clearance / speed`` as numpy divides (``+-inf`` where the speed is 0), with ``0 / 0`` read as 0."""
+    if speed == 0.0:
+        return inf if clearance > 0.0 else (-inf if clearance < 0.0 else 0.0)
+    ratio = clearance / speed
+    return 0.0 if ratio != ratio else ratio
+
+
+@kernel
+def decided_one(half, clearance, speed, active, finest, carve):
+    """One interval of half width ``half``: ``clearance[k]`` (distance minus margin) of each checked pair ``k`` at its
+    middle and ``speed[k]``, a bound of how fast it changes over the interval, for the pairs ``active[k]`` not yet
+    proved clear on a wider interval.  A pair whose clearance stays positive over the interval, ``c - v h > 0``, is
+    proved clear: ``active[k]`` is set false.  Returns ``(kind, pair, radius, carved, cause)``:
+
+    * ``kind``: :data:`FREE` (no pair left open), :data:`BLOCKED` (a pair's ``c + v h < 0``: it collides on the whole
+      interval), :data:`UNDECIDED` (neither, and no wider than ``finest``) or :data:`OPEN`;
+    * ``pair``: the pair of the least ``c + v h`` (the first of equals; a NaN first), the cause where blocked;
+    * with ``carve`` (the speeds bound each clearance's derivative: ``|c(psi) - c(m)| <= v |psi - m|``) and an open
+      interval, the stretch ``[m - radius, m + radius]`` that the clearances at its middle decide (radius 0 where
+      none): free (``carved`` :data:`FREE`) out to the least ``c / v`` of the open pairs where all are positive,
+      else blocked (``carved`` :data:`BLOCKED`) by the pair ``cause`` of the largest ``-c / v``; at most ``half``,
+      shrunk by :data:`CARVE_SHRINK`.  Without ``carve``, or on a decided interval, radius 0.
+    """
+    pair, least = 0, inf
+    still_open, blocked = False, False
+    for k in range(clearance.shape[0]):
+        high = inf
+        if active[k]:
+            low = clearance[k] - speed[k] * half
+            high = clearance[k] + speed[k] * half
+            if low > 0.0:
+                active[k] = False
+            else:
+                still_open = True
+            if high < 0.0:
+                blocked = True
+        if least == least and (high != high or high < least):  # numpy's argmin: the first NaN, else the first least
+            pair, least = k, high
+    if not still_open:
+        return FREE, pair, 0.0, FREE, 0
+    if blocked:
+        return BLOCKED, pair, 0.0, FREE, 0
+    if 2.0 * half <= finest:
+        return UNDECIDED, pair, 0.0, FREE, 0
+    if not carve:
+        return OPEN, pair, 0.0, FREE, 0
+    nearest, cause = inf, 0
+    for k in range(clearance.shape[0]):
+        if active[k]:
+            reach = _reach(clearance[k], speed[k])
+            if reach < nearest:
+                nearest, cause = reach, k
+    clear = min(max(nearest, 0.0), half)
+    if clear > 0.0:
+        return OPEN, pair, clear * CARVE_SHRINK, FREE, cause
+    return OPEN, pair, min(max(-nearest, 0.0), half) * CARVE_SHRINK, BLOCKED, cause
+
+
+@kernel
+def decided(start, stop, half, clearance, speed, active, finest, carve, kind, pair, radius, carved, cause):
+    """:func:`decided_one` of intervals ``start .. stop - 1`` (``half`` (N,), ``clearance``, ``speed`` and
+    ``active`` (N, K)), into ``kind``, ``pair``, ``radius``, ``carved`` and ``cause`` (N,)."""
+    for n in range(start, stop):
+        kind[n], pair[n], radius[n], carved[n], cause[n] = decided_one(half[n], clearance[n], speed[n], active[n],
+                                                                       finest, carve)
