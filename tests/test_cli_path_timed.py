@@ -56,7 +56,7 @@ def test_a_csv_seam_gives_a_timed_joint_trajectory_within_the_limits(tmp_path, c
     resolved = np.array(report["q"])
     np.testing.assert_allclose(PANDA.fk(resolved), poses, atol=1e-9)
     nearest = np.searchsorted(t, timing["waypoint_times"])
-    exact = np.isclose(t[np.minimum(nearest, len(t) - 1)], timing["waypoint_times"], atol=1e-12)
+    exact = np.isclose(t[np.minimum(nearest, len(t) - 1)], timing["waypoint_times"], rtol=0.0, atol=1e-12)
     np.testing.assert_allclose(q[nearest[exact]], resolved[exact], atol=1e-9)
 
 

@@ -109,6 +109,30 @@ def test_the_timed_trajectory_rests_through_each_reconfiguration():
     np.testing.assert_allclose(np.diff(trajectory.t)[:-1], 1e-3, rtol=1e-9)  # one grid through the stop
 
 
+def test_a_trajectory_at_rest_at_every_waypoint_runs_along_the_straight_steps():
+    """The last resort of a path in a cell whose spline cannot be proved clear (``timed(..., at_rest=True)``): the
+    arm rests at every row, so every sample lies on the straight joint-space step between the two rows around it,
+    at rest at each waypoint, through a stop's reconfiguration too, within the limits of motion."""
+    pytest.importorskip("toppra")
+    from dataclasses import replace
+
+    from redkin.paths.stops import timed
+
+    result = resolve_path(NARROW, _sweep(3.0, 22), STEP, allow_stops=True)
+    trajectory = timed(NARROW, replace(result, trajectory=None), 500.0, at_rest=True).trajectory
+    assert np.all(np.abs(trajectory.qd) <= NARROW.velocity) and np.all(np.abs(trajectory.qdd) <= NARROW.acceleration)
+    q, qd, _ = trajectory.at(trajectory.waypoint_times)
+    np.testing.assert_allclose(q, result.q, atol=1e-12)
+    np.testing.assert_allclose(qd, 0.0, atol=1e-9)
+    rows = np.concatenate([result.q[: result.stops[0].waypoint + 1], result.stops[0].path[1:],
+                           result.q[result.stops[0].waypoint + 1:]])  # the joint path, the reconfiguration inside
+    for sample in trajectory.q:  # on some straight step: its distance from the nearest step's line is rounding
+        first, line = rows[:-1], np.diff(rows, axis=0)
+        length = np.maximum(np.einsum("ij,ij->i", line, line), 1e-300)
+        along = np.clip(np.einsum("ij,ij->i", sample - first, line) / length, 0.0, 1.0)
+        assert np.linalg.norm(first + along[:, None] * line - sample, axis=1).min() <= 1e-9
+
+
 def test_the_command_line_names_each_stop(tmp_path, capsys):
     robot = tmp_path / "narrow.toml"
     poses = tmp_path / "sweep.npy"

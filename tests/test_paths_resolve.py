@@ -423,3 +423,83 @@ def test_per_pose_baselines_fail_where_the_global_path_succeeds():
         assert not baseline.ok
         assert baseline.first_failure is not None
     assert greedy.jump.max() > 1.0  # greedy jumps: a step over the bound
+
+
+class _SmoothArm:
+    """A stand-in arm for the polish's linear program: joint ``j`` at waypoint ``i`` is ``base[i, j] + size[i, j] *
+    sin(parameter + phase[i, j])``, limits at ``+-1.5`` (joint 7 on the circle); ``step`` is set by the test."""
+
+    def __init__(self, rng: np.random.Generator, count: int) -> None:
+        from types import SimpleNamespace
+
+        self.base = np.cumsum(rng.normal(0.0, 0.05, (count, 7)), axis=0)
+        self.size = rng.uniform(0.0, 1.0, (count, 7)) * rng.choice([0.3, 3.0], (count, 7))
+        self.phase = rng.uniform(-np.pi, np.pi, (count, 7))
+        self.chain = SimpleNamespace(lower=np.full(7, -1.5), upper=np.full(7, 1.5))
+        self.circle = np.arange(7) == 6
+        self.step = np.full(7, 0.3)
+
+    def rows(self, waypoint, branch, parameter):
+        q = self.base[waypoint] + self.size[waypoint] * np.sin(parameter[:, None] + self.phase[waypoint])
+        return q, np.minimum(q[:, :6] + 1.5, 1.5 - q[:, :6]).min(axis=1)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**31), st.integers(2, 40), st.sampled_from([1e-3, 1e-2, 0.1, 0.4]),
+       st.sampled_from([0.0, 1e-3]))
+def test_the_polish_program_keeps_the_whole_programs_optimum(seed, count, trust, margin):
+    """The polish's linear program leaves out the rows that cannot bind and the waypoints in no row it keeps
+    (:func:`redkin.paths.polish._step`); its answer must be feasible and optimal for the whole program, every
+    waypoint's clearance rows and every step's rows, solved here apart."""
+    from scipy.optimize import linprog
+
+    from redkin.paths.polish import _step
+
+    rng = np.random.default_rng(seed)
+    arm = _SmoothArm(rng, count)
+    waypoint, branch = np.arange(count), np.zeros(count, dtype=np.int64)
+    parameter = rng.uniform(-1.0, 1.0, count)
+    piece = np.stack([parameter - rng.uniform(0.0, 0.5, count), parameter + rng.uniform(0.0, 0.5, count)], axis=1)
+    q = arm.rows(waypoint, branch, parameter)[0]
+    moves = np.abs(np.diff(q, axis=0))
+    moves[:, 6] = np.abs((moves[:, 6] + np.pi) % (2 * np.pi) - np.pi)
+    arm.step = moves.max(axis=0, initial=0.0) * rng.uniform(1.0, 1.3) + margin  # the bound binds somewhere
+    delta = _step(arm, waypoint, branch, parameter, piece, q, None, None, trust, margin)
+    low = np.minimum(np.maximum(piece[:, 0] - parameter, -trust), 0.0)
+    high = np.maximum(np.minimum(piece[:, 1] - parameter, trust), 0.0)
+    h = 1e-7  # the same central differences as the program's
+    below, above = np.clip(parameter - h, piece[:, 0], piece[:, 1]), np.clip(parameter + h, piece[:, 0], piece[:, 1])
+    slope = (arm.rows(waypoint, branch, above)[0] - arm.rows(waypoint, branch, below)[0]) / np.where(
+        above > below, above - below, 1.0)[:, None]
+    # the whole program: x = (delta, t); t <= clearance + slope delta; |step + slope' delta' - slope delta| <= room
+    rows, bound = [], []
+    for i in range(count):
+        for j in range(6):
+            for sign, room in ((-1.0, q[i, j] + 1.5), (1.0, 1.5 - q[i, j])):
+                row = np.zeros(count + 1)
+                row[i], row[count] = sign * slope[i, j], 1.0
+                rows.append(row)
+                bound.append(room)
+    for i in range(count - 1):
+        for j in range(7):
+            moved = q[i + 1, j] - q[i, j]
+            moved = (moved + np.pi) % (2 * np.pi) - np.pi if j == 6 else moved
+            for sign in (1.0, -1.0):
+                row = np.zeros(count + 1)
+                row[i + 1], row[i] = sign * slope[i + 1, j], -sign * slope[i, j]
+                rows.append(row)
+                bound.append(arm.step[j] - margin - sign * moved)
+    cost = np.zeros(count + 1)
+    cost[count] = -1.0
+    whole = linprog(cost, A_ub=np.array(rows), b_ub=np.array(bound), bounds=list(zip(low, high)) + [(None, None)],
+                    method="highs")
+    assert (delta is None) == (whole.status != 0)
+    if delta is None:
+        return
+    assert np.all((delta >= low - 1e-12) & (delta <= high + 1e-12))
+    x = np.append(delta, 0.0)
+    matrix = np.array(rows)
+    steps = slice(count * 12, None)
+    assert np.all(matrix[steps] @ x <= np.array(bound)[steps] + 1e-9)  # every step's rows kept
+    reached = (np.array(bound)[:count * 12] - matrix[:count * 12, :count] @ delta).min()  # the least clearance row
+    assert reached >= -whole.fun - 1e-9  # as high as the whole program's optimum

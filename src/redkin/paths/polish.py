@@ -97,6 +97,9 @@ def _step(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndar
     above = np.clip(parameter + _DIFFERENCE, piece[:, 0], piece[:, 1])
     width = np.where(above > below, above - below, 1.0)
     gradient = (arm.rows(waypoint, branch, above)[0] - arm.rows(waypoint, branch, below)[0]) / width[:, None]
+    lowest = np.minimum(np.maximum(piece[:, 0] - parameter, -trust), 0.0)  # 0: a parameter at its piece's end
+    highest = np.maximum(np.minimum(piece[:, 1] - parameter, trust), 0.0)
+    reach = np.maximum(-lowest, highest)  # the largest move of each waypoint's parameter
     limited = np.flatnonzero(~arm.circle)
     rows: list[np.ndarray] = []
     columns: list[np.ndarray] = []
@@ -117,14 +120,21 @@ def _step(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndar
             values.append(np.full(len(bound), t))
         bounds.append(bound)
 
-    if limited.size:  # t <= clearance of every limited joint, linearised
+    if limited.size:  # t <= clearance of every limited joint, linearised; rows that cannot bind left out
         i, j = np.repeat(np.arange(count), limited.size), np.tile(limited, count)
-        add([(i, -gradient[i, j])], 1.0, q[i, j] - chain.lower[j])
-        add([(i, gradient[i, j])], 1.0, chain.upper[j] - q[i, j])
-    if count > 1:  # every step within the bound, linearised
+        slope = gradient[i, j]
+        below_room, above_room = q[i, j] - chain.lower[j], chain.upper[j] - q[i, j]
+        swing = np.abs(slope) * reach[i]
+        ceiling = min((below_room + swing).min(), (above_room + swing).min())  # no t beyond the least row's best
+        for room, sign in ((below_room, -1.0), (above_room, 1.0)):
+            binds = room - swing <= ceiling  # a row above the ceiling wherever its waypoint moves never binds
+            add([(i[binds], sign * slope[binds])], 1.0, room[binds])
+    if count > 1:  # every step within the bound, linearised; steps the trust region cannot break left out
         i, j = np.repeat(np.arange(count - 1), 7), np.tile(np.arange(7), count - 1)
         moved = _turn(arm, q[i + 1, j] - q[i, j], j)
         room = arm.step[j] - margin
+        tight = np.abs(moved) + np.abs(gradient[i + 1, j]) * reach[i + 1] + np.abs(gradient[i, j]) * reach[i] > room
+        i, j, moved, room = i[tight], j[tight], moved[tight], room[tight]
         add([(i + 1, gradient[i + 1, j]), (i, -gradient[i, j])], 0.0, room - moved)
         add([(i + 1, -gradient[i + 1, j]), (i, gradient[i, j])], 0.0, room + moved)
     for fixed, k in ((start, 0), (end, count - 1)):
@@ -136,10 +146,11 @@ def _step(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndar
             add([(i, gradient[k])], 0.0, room - moved)
             add([(i, -gradient[k])], 0.0, room + moved)
     bound = np.concatenate(bounds)
+    used = np.zeros(count + 1, dtype=bool)
+    used[np.concatenate(columns)] = True
+    lowest, highest = np.where(used[:count], lowest, 0.0), np.where(used[:count], highest, 0.0)  # in no row: stays
     matrix = sparse.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(columns))),
                                shape=(len(bound), count + 1))
-    lowest = np.minimum(np.maximum(piece[:, 0] - parameter, -trust), 0.0)  # 0: a parameter at its piece's end
-    highest = np.maximum(np.minimum(piece[:, 1] - parameter, trust), 0.0)
     limits = [(float(a), float(b)) for a, b in zip(lowest, highest)] + [(None, None)]
     cost = np.zeros(count + 1)
     cost[count] = -1.0

@@ -291,9 +291,11 @@ def _timed(family: Family, result: PathResult, rate: float) -> PathResult:
     """``result`` timed at ``rate`` (:func:`redkin.paths.stops.timed`), and in a cell with what is proved of the
     steps between its trajectory's samples (:attr:`PathResult.trajectory_steps`): the spline through the waypoints
     is not the linear interpolation whose steps the search proved clear, so where its steps are not proved clear it
-    is timed again through more points of those linear steps (:data:`_DENSITIES`), until they are or none is left."""
-    for density in _DENSITIES:
-        timed_result = timed(family.chain, result, rate, density)
+    is timed again through more points of those linear steps (:data:`_DENSITIES`), until they are; where none
+    suffices (a path whose steps graze the margin, which no curve beside them keeps), at rest at every waypoint, so
+    that the trajectory runs along the proved steps themselves."""
+    for density, at_rest in [(density, False) for density in _DENSITIES] + [(1, True)]:
+        timed_result = timed(family.chain, result, rate, density, at_rest=at_rest)
         if timed_result.trajectory is None:
             return timed_result
         samples = timed_result.trajectory.q

@@ -153,11 +153,14 @@ def _joined(pieces: list[PathResult], stops: list[Stop]) -> PathResult:
                    cell_clearance=min((p.cell_clearance for p in pieces if p.cell_clearance is not None), default=None))
 
 
-def timed(chain: SerialChain, result: PathResult, rate: float, density: int = 1) -> PathResult:
+def timed(chain: SerialChain, result: PathResult, rate: float, density: int = 1, *, at_rest: bool = False
+          ) -> PathResult:
     """``result`` with its :attr:`~redkin.paths.PathResult.trajectory` (:func:`time_path` of its joint values at
     ``rate``, at rest at each stop and through its reconfiguration); a result without a path as it is.
     ``density``: the spline passes through ``density - 1`` more points evenly spaced on each straight joint-space
-    step between consecutive rows, so that it stays nearer those steps (a path in a cell proves them clear)."""
+    step between consecutive rows, so that it stays nearer those steps (a path in a cell proves them clear).
+    ``at_rest``: the arm rests at every row, so that the joint path between two rows is their straight step itself
+    (a spline through two points is the line), at the cost of stopping at each."""
     if not result.ok:
         return result
     rows, waypoint_rows, rests = _stopped_rows(result)
@@ -167,7 +170,8 @@ def timed(chain: SerialChain, result: PathResult, rate: float, density: int = 1)
         rows = np.concatenate([between.transpose(1, 0, 2).reshape(-1, rows.shape[1]), rows[-1:]])
         waypoint_rows = waypoint_rows * density
         rests = [row * density for row in rests]
-    trajectory = time_path(chain, rows, rate=rate, rests=rests)
+    resting = sorted(set(rests) | set(range(1, len(rows) - 1))) if at_rest else rests
+    trajectory = time_path(chain, rows, rate=rate, rests=resting)
     times = trajectory.waypoint_times
     spans = np.stack([times[rests[0::2]], times[rests[1::2]]], axis=-1).reshape(-1, 2)
     return replace(result, trajectory=replace(trajectory, waypoint_times=times[waypoint_rows], stop_spans=spans))
