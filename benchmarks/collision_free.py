@@ -2,9 +2,10 @@
 would write without them: sample the arm angle densely and check each configuration with coal.
 
 Run: ``python benchmarks/collision_free.py`` (about 2 minutes on 2 cores); ``--quick`` (about 30 s: 6 poses, one of
-them sampled and timed, 4 checked); ``--poses N`` (20), ``--sampled K`` (3: poses timed with sampling, the first
-K), ``--samples M`` (10^4 arm angles per pose), ``--checked J`` (20: poses whose samples are checked against our
-sets, the first J; the timed ones are among them).
+them sampled and timed, 4 checked, a 100-waypoint path); ``--poses N`` (20), ``--sampled K`` (3: poses timed with
+sampling, the first K), ``--samples M`` (10^4 arm angles per pose), ``--checked J`` (20: poses whose samples are
+checked against our sets, the first J; the timed ones are among them), ``--path W`` (1000: waypoints of the path
+timed in the cell, :func:`time_path`; 0 for none).
 
 The setup.  ``redkin.arm("kuka-iiwa14")`` (DH frames: the shoulder at frame 1 and 2's origin, 0.36 m up; the
 elbow at frame 3 and 4's, 0.42 m further; the wrist at frame 5 and 6's, 0.40 m further; the flange 0.126 m beyond
@@ -48,7 +49,11 @@ the resolution, 1e-6 rad; a stretch narrower than the resolution or one whose cl
 be left out) or farther (should be 0).  Each flagged sample is printed with coal's distance again at
 ``gjk_tolerance`` 1e-12 and redkin's own signed distance.
 
-Targets (issue 40): ours <= 0.5 ms per pose for all eight branches, and >= 100 x faster than sampling.  Times are
+A path in the cell (:func:`time_path`): ``resolve_path`` with the same body and scene along ``W`` poses of a
+straight joint-space line whose configurations all clear the cell (:func:`clear_line`), step bound 0.2 rad.
+
+Targets (issue 40): ours <= 0.5 ms per pose for all eight branches, >= 100 x faster than sampling, and a
+1000-waypoint path in <= 0.5 s.  Times are
 per call on a possibly shared machine: the load average is printed at the start and the end.
 """
 
@@ -80,9 +85,10 @@ from redkin.collision import (
     primitives,
     signed_distance,
 )
+from redkin.paths import resolve_path
 
-#: Issue 40's targets: ours per pose, all 8 branches [s]; sampled / ours at least.
-TARGET_SECONDS, TARGET_RATIO = 0.5e-3, 100.0
+#: Issue 40's targets: ours per pose, all 8 branches [s]; sampled / ours at least; a 1000-waypoint path [s].
+TARGET_SECONDS, TARGET_RATIO, TARGET_PATH_SECONDS = 0.5e-3, 100.0, 0.5
 #: The agreement thresholds [m] and the distance from our arc ends within which a left-out clear sample is expected.
 INSIDE_SLACK, CLEAR_BY, NEAR_END = 1e-9, 1e-6, 1e-5
 MARGIN = 0.01
@@ -144,6 +150,32 @@ def draw_poses(arm: Arm, body: Body, scene: Scene, count: int, seed: int = 40) -
         if signed_distance(shapes[:, None], scene.shapes[None]).distance.min() >= scene.margin:
             kept.append(q)
     return chain.fk(np.array(kept))
+
+
+def clear_line(arm: Arm, body: Body, scene: Scene, count: int, seed: int = 3) -> np.ndarray:
+    """``count`` poses along a straight line in joint space between two configurations drawn within 0.8 of each
+    joint's limits, redrawn until every configuration of the line clears the scene by the margin plus 0.02 m."""
+    chain, rng = arm.chain, np.random.default_rng(seed)
+    while True:
+        first, last = rng.uniform(chain.lower * 0.8, chain.upper * 0.8, size=(2, chain.n))
+        q = first + np.linspace(0.0, 1.0, count)[:, None] * (last - first)
+        shapes = posed(body, chain.frames(q))
+        least = signed_distance(shapes[:, :, None], scene.shapes[None, None]).distance.min(axis=(1, 2))
+        if np.all(least >= scene.margin + 0.02):
+            return chain.fk(q)
+
+
+def time_path(arm: Arm, body: Body, scene: Scene, count: int) -> float:
+    """Seconds of one ``resolve_path`` in the cell along :func:`clear_line`'s ``count`` poses (step 0.2 rad; after a
+    50-waypoint warm-up), printed."""
+    poses = clear_line(arm, body, scene, count)
+    resolve_path(arm, poses[:50], 0.2, body=body, scene=scene)
+    start = time.perf_counter()
+    found = resolve_path(arm, poses, 0.2, body=body, scene=scene)
+    seconds = time.perf_counter() - start
+    print(f"   a path of {count} waypoints in the cell (resolve_path, step 0.2 rad, along a joint-space line whose "
+          f"configurations clear the cell by 2 cm more than the margin): {seconds:.2f} s, {found.status}")
+    return seconds
 
 
 # ------------------------------------------------------------------------------------------------------------ coal
@@ -356,10 +388,13 @@ def main() -> None:
     parser.add_argument("--samples", type=int, default=10_000, help="arm angles per sampled pose (default 10^4)")
     parser.add_argument("--checked", type=int, default=20,
                         help="poses whose samples are checked against our sets (default 20, >= --sampled)")
-    parser.add_argument("--quick", action="store_true", help="6 poses, 1 sampled, 4 checked (about 30 s)")
+    parser.add_argument("--path", type=int, default=1000,
+                        help="waypoints of the path timed in the cell (default 1000; 0: no path)")
+    parser.add_argument("--quick", action="store_true", help="6 poses, 1 sampled, 4 checked, a 100-waypoint path "
+                        "(about 30 s)")
     args = parser.parse_args()
     if args.quick:
-        args.poses, args.sampled, args.checked = 6, 1, 4
+        args.poses, args.sampled, args.checked, args.path = 6, 1, 4, min(args.path, 100)
     args.sampled = min(args.sampled, args.poses)
     args.checked = min(max(args.checked, args.sampled), args.poses)
     for line in machine_lines(["numpy", "numba", "coal"]):
@@ -406,6 +441,7 @@ def main() -> None:
     print(f"   the {len(poses)} poses decided together (free_arm_angles_of, as Arm.feasible(poses, body=, scene=) and "
           f"paths in a cell call it): {together * 1e3:.1f} ms per pose, {q2 / (together * 1e3):.1f} x faster than "
           f"the median alone; the same arcs as one by one: {same}")
+    path_seconds = time_path(arm, body, scene, args.path) if args.path else None
     if coal is None:
         print(f"\ntarget: ours <= {TARGET_SECONDS * 1e3:.1f} ms per pose: "
               f"{'met' if q2 * 1e-3 <= TARGET_SECONDS else 'MISSED'} (median {q2:.1f} ms)")
@@ -491,6 +527,10 @@ def main() -> None:
           f"{'met' if totals[4] == 0 else 'MISSED'}")
     print(f"{'coal-clear samples left out, > 1e-5 rad from our ends':<58} {totals[6]:>12} {'0':>10} "
           f"{'met' if totals[6] == 0 else 'MISSED'}")
+    if path_seconds is not None:
+        print(f"{f'a path of {args.path} waypoints in the cell, s':<58} {path_seconds:>12.2f} "
+              f"{'<= 0.5' if args.path == 1000 else '':>10} "
+              f"{('met' if path_seconds <= TARGET_PATH_SECONDS else 'MISSED') if args.path == 1000 else ''}")
     print(f"- load average at the end (1, 5, 15 min): {load_average()}")
 
 
