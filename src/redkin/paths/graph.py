@@ -188,36 +188,60 @@ def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
     """Subdivide each interval between neighbouring nodes of a piece across which some joint moves more than
     ``fraction`` of its bound, evenly into as many parts as that move needs, until none does (or an interval is
     :data:`_MIN_SPACING` wide): rounds of :func:`redkin.paths._dp_kernels.split_counts`, the new nodes' joint values
-    (:meth:`Arm.rows`), and each new node put in its place between the ends of its interval (no sort).  A new node
-    more than :data:`_CLIP_TOLERANCE` outside a limit, or where its branch does not exist, is dropped."""
-    count = len(graph.offsets) - 1
+    (:meth:`Arm.rows`), and each new node put in its place between the ends of its interval.  A new node more than
+    :data:`_CLIP_TOLERANCE` outside a limit, or where its branch does not exist, is dropped.
+
+    A round after the first looks only at the intervals the last one cut (an interval not cut is not cut again):
+    each cut interval's nodes, its ends and the new nodes kept, form a run of its own (its own number in place of
+    the piece, so that no interval spans two runs), and the new nodes of every round are put in the graph once, at
+    the end."""
+    size = len(graph.psi)
+    waypoint = graph.waypoint
+    # the runs of the current round: nodes (parameter, joint values, run number) and, per node, the graph's node
+    # at the start of the interval it lies in
+    psi, q, run, origin = graph.psi, graph.q, graph.piece, np.arange(size)
+    added: list[tuple[np.ndarray, ...]] = []  # per round: origin, parameter, joint values, clearance of new nodes
     for _ in range(rounds):
-        size = len(graph.psi)
-        parts = np.ones(max(size - 1, 0), dtype=np.int64)
-        _dp_kernels.split_counts(graph.psi, graph.piece, graph.q, arm.step, arm.circle, fraction, _MIN_SPACING, parts)
+        parts = np.ones(max(len(psi) - 1, 0), dtype=np.int64)
+        _dp_kernels.split_counts(psi, run, q, arm.step, arm.circle, fraction, _MIN_SPACING, parts)
         extra = parts - 1
-        added = int(extra.sum())
-        if added == 0:
+        count = int(extra.sum())
+        if count == 0:
             break
-        left = np.repeat(np.arange(size - 1), extra)  # the interval each new node cuts
-        j = np.arange(added) - np.repeat(np.cumsum(extra) - extra, extra) + 1  # 1 .. parts - 1 within it
-        psi = graph.psi[left] + (graph.psi[left + 1] - graph.psi[left]) * (j / parts[left])
-        waypoint = graph.waypoint
-        q, clearance = arm.rows(waypoint[left], graph.branch[left], psi)
-        old = np.arange(size) + np.concatenate([[0], np.cumsum(extra)])  # where each node goes
-        new = old[left] + j
-        kept = np.ones(size + added, dtype=bool)
-        kept[new[clearance < -_CLIP_TOLERANCE]] = False
-        merged = []
-        for before, after in ((waypoint, waypoint[left]), (graph.piece, graph.piece[left]),
-                              (graph.branch, graph.branch[left]), (graph.psi, psi), (graph.q, q),
-                              (graph.clearance, np.maximum(clearance, 0.0))):
-            out = np.empty((size + added,) + before.shape[1:], dtype=before.dtype)
-            out[old], out[new] = before, after
-            merged.append(out[kept])
-        offsets = np.searchsorted(merged[0], np.arange(count + 1))
-        graph = Graph(offsets, *merged[1:])
-    return graph
+        left = np.repeat(np.arange(len(psi) - 1), extra)  # the interval each new node cuts
+        j = np.arange(count) - np.repeat(np.cumsum(extra) - extra, extra) + 1  # 1 .. parts - 1 within it
+        new_psi = psi[left] + (psi[left + 1] - psi[left]) * (j / parts[left])
+        owner = origin[left]
+        new_q, clearance = arm.rows(waypoint[owner], graph.branch[owner], new_psi)
+        kept = ~(clearance < -_CLIP_TOLERANCE)
+        added.append((owner[kept], new_psi[kept], new_q[kept], np.maximum(clearance[kept], 0.0)))
+        # the next round's runs: each cut interval's two ends and the new nodes kept between them, in order
+        cut = np.flatnonzero(extra)
+        which = np.searchsorted(cut, left[kept])  # the run of each new node kept
+        inside = np.bincount(which, minlength=len(cut))
+        lengths = 2 + inside
+        starts = np.cumsum(lengths) - lengths
+        rank = np.arange(len(which)) - np.repeat(np.cumsum(inside) - inside, inside)  # its place among them
+        place = np.concatenate([starts, starts + lengths - 1, starts[which] + 1 + rank])
+        total = int(lengths.sum())
+        next_psi, next_q = np.empty(total), np.empty((total, q.shape[1]))
+        next_origin = np.empty(total, dtype=np.int64)
+        next_psi[place] = np.concatenate([psi[cut], psi[cut + 1], new_psi[kept]])
+        next_q[place] = np.concatenate([q[cut], q[cut + 1], new_q[kept]])
+        next_origin[place] = np.concatenate([origin[cut], origin[cut], owner[kept]])  # the left end's interval
+        psi, q, origin = next_psi, next_q, next_origin
+        run = np.repeat(np.arange(len(cut)), lengths)
+    if not added:
+        return graph
+    owner, new_psi, new_q, clearance = (np.concatenate(column) for column in zip(*added, strict=True))
+    order = np.lexsort((np.concatenate([np.full(size, -np.inf), new_psi]),
+                        np.concatenate([np.arange(size), owner])))  # each new node after its interval's start
+    every_waypoint = np.concatenate([waypoint, waypoint[owner]])[order]
+    return Graph(np.searchsorted(every_waypoint, np.arange(len(graph.offsets))),
+                 np.concatenate([graph.piece, graph.piece[owner]])[order],
+                 np.concatenate([graph.branch, graph.branch[owner]])[order],
+                 np.concatenate([graph.psi, new_psi])[order], np.concatenate([graph.q, new_q])[order],
+                 np.concatenate([graph.clearance, clearance])[order])
 
 
 def window(arm: Arm, graph: Graph, chosen: np.ndarray, width: float, bounds: np.ndarray, count: int,
