@@ -29,10 +29,8 @@ def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, cap
     the signed distance minus ``margin`` of each checked pair ``k`` that is ``active[k]`` into ``out[k]`` (``inf``
     for the others): capsule ``capsule[k]`` of the body (``frame``, ``a``, ``b``, ``radius``:
     :class:`redkin.collision.Body`'s) against obstacle ``obstacle[k]`` of ``obstacles`` (O, WIDTH), or against
-    capsule ``other[k]`` where that is -1.  Where a cheap lower bound of the pair's distance minus the margin
-    exceeds ``floor[k]`` (:func:`redkin.collision._distance_kernels.round_box_gap` against a box,
-    :func:`~redkin.collision._distance_kernels.round_round_gap` against a sphere or capsule; none against a
-    plane), that bound is written instead of the distance (``floor`` ``inf``: every distance exact).  A
+    capsule ``other[k]`` where that is -1.  Where the pair's :func:`lower_bound` minus the margin exceeds
+    ``floor[k]`` (>= 0), that bound is written instead of the distance (``floor`` ``inf``: every distance exact).  A
     configuration with no active pair is not posed.  ``work`` is :func:`scratch`'s."""
     trig, held, rows, found = work
     posed = False
@@ -45,14 +43,57 @@ def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, cap
             posed_one(held, frame, a, b, radius, rows)
             posed = True
         shape = obstacles[obstacle[k]] if obstacle[k] >= 0 else rows[other[k]]
-        if floor[k] < inf and shape[0] != PLANE:  # a plane's distance is as cheap as a bound
-            bound = (round_box_gap(rows[capsule[k]], shape) if shape[0] == BOX
-                     else round_round_gap(rows[capsule[k]], shape)) - margin
+        if floor[k] < inf:
+            bound = lower_bound(rows[capsule[k]], shape) - margin
             if bound > floor[k]:
                 out[k] = bound
                 continue
         pair_distance(rows[capsule[k]], shape, found)
         out[k] = found[0] - margin
+
+
+@kernel
+def lower_bound(round_row, shape):
+    """A lower bound, cheap beside the distance, of the signed distance of a body capsule ``round_row`` and
+    ``shape`` (a row of :mod:`redkin.collision.primitives`) wherever it is positive
+    (:func:`redkin.collision._distance_kernels.round_box_gap` against a box,
+    :func:`~redkin.collision._distance_kernels.round_round_gap` against a sphere or capsule); ``-inf`` against a
+    plane, whose distance is as cheap."""
+    if shape[0] == PLANE:
+        return -inf
+    return round_box_gap(round_row, shape) if shape[0] == BOX else round_round_gap(round_row, shape)
+
+
+@kernel
+def least_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, work):
+    """At joint values ``q`` (n,) (the arguments of :func:`clearances_one`), the least signed distance over the
+    checked pairs and the first pair that has it (``inf`` and -1 with no pair).  A pair whose positive
+    :func:`lower_bound` is at least the least distance so far cannot be less, and is not measured."""
+    trig, held, rows, found = work
+    best, closest = inf, -1
+    if capsule.shape[0]:
+        frames_one(q, links, ends, standard, trig, held)
+        posed_one(held, frame, a, b, radius, rows)
+    for k in range(capsule.shape[0]):
+        shape = obstacles[obstacle[k]] if obstacle[k] >= 0 else rows[other[k]]
+        bound = lower_bound(rows[capsule[k]], shape)
+        if bound > 0.0 and bound >= best:
+            continue
+        pair_distance(rows[capsule[k]], shape, found)
+        if found[0] < best or closest < 0:
+            best, closest = found[0], k
+    return best, closest
+
+
+@kernel
+def least(start, stop, q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, distance,
+          pair):
+    """:func:`least_one` for configurations ``start .. stop - 1`` of ``q`` (N, n), into ``distance`` and ``pair``
+    (N,)."""
+    work = scratch(links, frame)
+    for n in range(start, stop):
+        distance[n], pair[n] = least_one(q[n], links, ends, standard, frame, a, b, radius, obstacles, capsule,
+                                         obstacle, other, work)
 
 
 @kernel

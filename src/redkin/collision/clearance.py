@@ -148,7 +148,9 @@ def _indices(values: np.ndarray) -> np.ndarray:
 
 def clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> Clearance:
     """The least signed distance over every checked pair (each body capsule against each obstacle, and the body's
-    self pairs) at joint values ``q`` ``(..., n)``, and the pair that has it.
+    self pairs) at joint values ``q`` ``(..., n)``, and the pair that has it, in one compiled pass
+    (:func:`redkin.collision._clearance_kernels.least`: a pair whose cheap lower bound is no less than the least so
+    far is not measured).
 
     Raises
     ------
@@ -157,8 +159,14 @@ def clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> Cle
     """
     q = chain.check_q(q)
     shape = q.shape[:-1]
-    apart, pairs = pair_table(chain, body, scene, q.reshape(-1, chain.n))
-    distance, closest = least_pair(apart)
+    _check_frames(chain, body)
+    pairs = checked_pairs(body, scene)
+    inputs = clearance_inputs(body, scene, pairs)
+    rows = kernel_array(q.reshape(-1, chain.n))
+    distance, closest = np.empty(len(rows)), np.empty(len(rows), dtype=np.int64)
+    if len(rows):
+        run_batch(_clearance_kernels.least, len(rows), rows, chain._links, chain._ends, chain._standard,
+                  *inputs.body, inputs.obstacles, *inputs.pairs, distance, closest)
     names = np.array([("", ""), *pairs.names], dtype=object)[closest + 1]  # "" where nothing is checked
     return Clearance(distance.reshape(shape), names[:, 0].reshape(shape), names[:, 1].reshape(shape))
 
@@ -175,7 +183,12 @@ def least_pair(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def pair_table(chain: SerialChain, body: Body, scene: Scene, q: np.ndarray) -> tuple[np.ndarray, CheckedPairs]:
     """The signed distance of every checked pair at each configuration of ``q`` ``(N, n)`` (checked), ``(N, P)``,
     and the pairs (:func:`checked_pairs`)."""
-    if len(body) and int(body.frame.max()) > chain.n:
-        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {chain.name} has {chain.n} joints")
+    _check_frames(chain, body)
     pairs = checked_pairs(body, scene)
     return pair_clearances(chain, clearance_inputs(body, scene, pairs), q), pairs
+
+
+def _check_frames(chain: SerialChain, body: Body) -> None:
+    """Refuse a body on frames the chain does not have."""
+    if len(body) and int(body.frame.max()) > chain.n:
+        raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {chain.name} has {chain.n} joints")
