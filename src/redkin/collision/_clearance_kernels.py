@@ -98,11 +98,10 @@ def least(start, stop, q, links, ends, standard, frame, a, b, radius, obstacles,
 
 @kernel
 def clearances(start, stop, q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
-               active, out):
-    """:func:`clearances_one` for configurations ``start .. stop - 1`` of ``q`` (N, n), ``active`` (N, K) and
-    ``out`` (N, K), every distance exact."""
+               active, floor, out):
+    """:func:`clearances_one` for configurations ``start .. stop - 1`` of ``q`` (N, n), ``active``, ``floor`` and
+    ``out`` (N, K)."""
     work = scratch(links, frame)
-    exact = np.full(capsule.shape[0], inf)
     for n in range(start, stop):
         clearances_one(q[n], links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
-                       active[n], exact, out[n], work)
+                       active[n], floor[n], out[n], work)

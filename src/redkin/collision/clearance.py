@@ -127,17 +127,20 @@ def clearance_inputs(body: Body, scene: Scene, pairs: CheckedPairs | None = None
 
 
 def pair_clearances(chain: SerialChain, inputs: _ClearanceInputs, q: np.ndarray, active: np.ndarray | None = None,
-                    margin: float = 0.0) -> np.ndarray:
+                    margin: float = 0.0, floor: np.ndarray | None = None) -> np.ndarray:
     """Per configuration of ``q`` ``(N, n)`` (trusted) and checked pair of ``inputs``, its signed distance minus
     ``margin`` ``(N, P)``, in one compiled pass (:func:`redkin.collision._clearance_kernels.clearances`); with
     ``active`` ``(N, P)``, only the active pairs are measured (``inf`` for the others, and a configuration without
-    one is not posed)."""
+    one is not posed); with ``floor`` ``(N, P)`` (>= 0), a pair whose cheap lower bound minus the margin exceeds its
+    floor gets that bound instead of its distance (a pair that a bound proves clear by more than the floor)."""
     q = kernel_array(np.asarray(q, dtype=float))
-    active = np.ones((len(q), inputs.checked), dtype=bool) if active is None else kernel_array(active)
-    out = np.empty((len(q), inputs.checked))
+    shape = (len(q), inputs.checked)
+    active = np.ones(shape, dtype=bool) if active is None else kernel_array(active)
+    floor = np.full(shape, np.inf) if floor is None else kernel_array(np.asarray(floor, dtype=float), shape)
+    out = np.empty(shape)
     if len(q):
         run_batch(_clearance_kernels.clearances, len(q), q, chain._links, chain._ends, chain._standard, *inputs.body,
-                  inputs.obstacles, *inputs.pairs, float(margin), active, out)
+                  inputs.obstacles, *inputs.pairs, float(margin), active, floor, out)
     return out
 
 

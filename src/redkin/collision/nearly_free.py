@@ -102,11 +102,16 @@ class _StepMeasure:
     def bounds(self, q: np.ndarray, delta: np.ndarray, active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds ``(N, P)`` of each pair's clearance over arcs within ``delta`` ``(N, 7)`` of the
         solutions ``q`` ``(N, 7)`` in each joint, for the pairs ``active`` ``(N, P)`` (``inf`` for the others: proved
-        clear already); rows without an active pair are not posed."""
-        clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin)
+        clear already); rows without an active pair are not posed.  Where the lower bound is positive (the pair is
+        clear over the arc) the upper bound is ``inf``: a cheap lower bound of the distance that proves it is used
+        in place of the distance (:func:`redkin.collision.clearance.pair_clearances`' ``floor``)."""
         moved = pair_displacements(delta, self.levers, self.body, self.pairs)
+        with np.errstate(invalid="ignore"):  # a pair a lower bound proves clear by more than it moves: not measured
+            floor = np.nan_to_num(moved, nan=np.inf)
+        clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin, floor)
         with np.errstate(invalid="ignore"):  # inf - inf: a pair not measured, at an unbounded displacement
-            return np.where(active, clearance - moved, np.inf), np.where(active, clearance + moved, np.inf)
+            low = np.where(active, clearance - moved, np.inf)
+            return low, np.where(active & ~(low > 0.0), clearance + moved, np.inf)
 
 
 class _Steps:

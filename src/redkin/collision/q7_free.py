@@ -155,8 +155,11 @@ class _Q7Measure:
         (:func:`redkin.collision.arm_angle_free.settled`): ``(kind, pair, radius, carved, cause)``, each (N,)."""
         q, _ = self.joints(middle, owner)
         np.add.at(self.evaluations, owner // len(self.rows), 1)
-        clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin)
-        return settled(half, clearance, self.rates(owner, middle, half), active, finest, carve)
+        rate = self.rates(owner, middle, half)
+        with np.errstate(invalid="ignore"):  # inf * 0: no bound; a pair a lower bound proves clear is not measured
+            floor = np.nan_to_num(rate * half[:, None], nan=np.inf)
+        clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin, floor)
+        return settled(half, clearance, rate, active, finest, carve)
 
     def rates(self, owner: np.ndarray, middle: np.ndarray, half: np.ndarray) -> np.ndarray:
         """Per interval and pair ``(N, P)``, the bound of the pair's displacement over the interval (module
