@@ -410,11 +410,11 @@ class _Measure:
         pass (:func:`redkin.collision._arm_angle_kernels.level`): ``(kind, pair, radius, carved, cause)``, each
         (N,)."""
         pose, branch = np.divmod(owner, len(self.signs))
-        new, first = np.unique(pose, return_index=True)
-        fresh = np.isnan(self.reach[new, 0]) if len(self.body) else np.zeros(len(new), dtype=bool)
-        if fresh.any():
+        if len(self.body) and np.isnan(self.reach[pose, 0]).any():
+            new, first = np.unique(pose, return_index=True)
+            fresh = np.isnan(self.reach[new, 0])
             self._measure_reach(new[fresh], middle[first[fresh]], branch[first[fresh]])
-        np.add.at(self.evaluations, pose, 1)
+        self.evaluations += np.bincount(pose, minlength=len(self.evaluations))
         count = len(middle)
         kind, pair, carved, cause = (np.empty(count, dtype=np.int64) for _ in range(4))
         cut = np.empty(count)

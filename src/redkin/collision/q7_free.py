@@ -154,7 +154,7 @@ class _Q7Measure:
         pairs' clearances ``active`` ``(N, P)`` (updated in place) and :meth:`rates`
         (:func:`redkin.collision.arm_angle_free.settled`): ``(kind, pair, radius, carved, cause)``, each (N,)."""
         q, _ = self.joints(middle, owner)
-        np.add.at(self.evaluations, owner // len(self.rows), 1)
+        self.evaluations += np.bincount(owner // len(self.rows), minlength=len(self.evaluations))
         rate = self.rates(owner, middle, half)
         with np.errstate(invalid="ignore"):  # inf * 0: no bound; a pair a lower bound proves clear is not measured
             floor = np.nan_to_num(rate * half[:, None], nan=np.inf)
