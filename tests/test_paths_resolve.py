@@ -425,6 +425,10 @@ def test_per_pose_baselines_fail_where_the_global_path_succeeds():
     assert greedy.jump.max() > 1.0  # greedy jumps: a step over the bound
 
 
+#: HiGHS's default primal and dual feasibility tolerance: how far either program's answer may be off.
+_HIGHS_SLACK = 1e-7
+
+
 class _SmoothArm:
     """A stand-in arm for the polish's linear program: joint ``j`` at waypoint ``i`` is ``base[i, j] + size[i, j] *
     sin(parameter + phase[i, j])``, limits at ``+-1.5`` (joint 7 on the circle); ``step`` is set by the test."""
@@ -500,6 +504,6 @@ def test_the_polish_program_keeps_the_whole_programs_optimum(seed, count, trust,
     x = np.append(delta, 0.0)
     matrix = np.array(rows)
     steps = slice(count * 12, None)
-    assert np.all(matrix[steps] @ x <= np.array(bound)[steps] + 1e-9)  # every step's rows kept
+    assert np.all(matrix[steps] @ x <= np.array(bound)[steps] + _HIGHS_SLACK)  # every step's rows kept
     reached = (np.array(bound)[:count * 12] - matrix[:count * 12, :count] @ delta).min()  # the least clearance row
-    assert reached >= -whole.fun - 1e-9  # as high as the whole program's optimum
+    assert reached >= -whole.fun - _HIGHS_SLACK  # as high as the whole program's optimum
