@@ -133,6 +133,28 @@ def test_a_trajectory_at_rest_at_every_waypoint_runs_along_the_straight_steps():
         assert np.linalg.norm(first + along[:, None] * line - sample, axis=1).min() <= 1e-9
 
 
+def test_the_command_line_says_when_a_trajectory_in_a_cell_rests_at_every_waypoint():
+    """``redkin path --timed --scene`` reports a trajectory at rest at every waypoint (the last resort for steps that
+    graze the margin) in its line and in JSON, and not a spline that passes through them."""
+    pytest.importorskip("toppra")
+    from dataclasses import replace
+
+    from redkin.cli.path import _trajectory_in_cell
+    from redkin.collision import BodyCapsule, Scene, body_of, primitives
+    from redkin.paths.stops import timed
+
+    body = body_of([BodyCapsule("forearm", 4, [0, 0, 0], [0, 0, 0.2], 0.05)], NARROW)
+    far = Scene(("ball",), primitives.sphere([3.0, 0.0, 0.0], 0.1)[None], 0.01)
+    poses = _sweep(1.5, 14)
+    smooth = resolve_path(NARROW, poses, STEP, body=body, scene=far, timing=500.0)
+    report, line = _trajectory_in_cell(smooth)
+    assert report["clear"] and not report["at_rest_at_waypoints"] and "rest" not in line
+    stopping = replace(smooth, trajectory=timed(NARROW, replace(smooth, trajectory=None), 500.0,
+                                                at_rest=True).trajectory)
+    report, line = _trajectory_in_cell(stopping)
+    assert report["at_rest_at_waypoints"] and "comes to rest at every waypoint" in line
+
+
 def test_the_command_line_names_each_stop(tmp_path, capsys):
     robot = tmp_path / "narrow.toml"
     poses = tmp_path / "sweep.npy"

@@ -289,24 +289,34 @@ def _stop_report(stop, degrees: bool) -> dict:
             "q_after": angles_out(stop.path[-1], degrees), "message": stop.message, **_stop_in_cell(stop)}
 
 
+#: A joint speed at most this [rad/s] is at rest (the timing's rest is 0 up to rounding).
+_AT_REST = 1e-9
+
+
 def _trajectory_in_cell(result) -> tuple[dict, str | None]:
     """In a cell, whether the timed trajectory's samples and the steps between them are proved clear (JSON
-    ``clear``, and ``blocked_at``: the first step not proved, in seconds, with the pair found), and the line
-    printed; else nothing."""
+    ``clear``, and ``blocked_at``: the first step not proved, in seconds, with the pair found; ``at_rest_at_waypoints``:
+    it stops at every waypoint, the timing's last resort for steps that graze the margin), and the line printed;
+    else nothing."""
     steps, trajectory = result.trajectory_steps, result.trajectory
     if steps is None or trajectory is None:
         return {}, None
     clear = bool(steps.certified.all())
+    inner = trajectory.waypoint_times[1:-1]
+    resting = bool(len(inner)) and bool(np.all(np.abs(trajectory.at(inner)[1]) <= _AT_REST))
     if clear:
         text = (f"in the cell: the timed trajectory's {len(trajectory.t)} samples and the steps between them are "
-                f"proved clear of the obstacles (at least {float(steps.least.min(initial=np.inf)):.4g} m)")
-        return {"clear": True, "blocked_at": None}, text
+                f"proved clear of the obstacles (at least {float(steps.least.min(initial=np.inf)):.4g} m)"
+                + ("; it comes to rest at every waypoint: the path's steps graze the margin, and no spline beside "
+                   "them keeps it" if resting else ""))
+        return {"clear": True, "blocked_at": None, "at_rest_at_waypoints": resting}, text
     first = int(np.flatnonzero(~steps.certified)[0])
     pair = [str(steps.link[first]), str(steps.against[first])] if steps.blocked[first] else None
     text = (f"in the cell: the timed trajectory is NOT proved clear of the obstacles from t = {trajectory.t[first]:.4f}"
             f" s" + (f" ({pair[0]} meets {pair[1]})" if pair else " (a step not proved)")
             + ": the spline swings wide of the steps proved between waypoints; give more waypoints")
-    return {"clear": False, "blocked_at": {"t": float(trajectory.t[first]), "pair": pair}}, text
+    return {"clear": False, "blocked_at": {"t": float(trajectory.t[first]), "pair": pair},
+            "at_rest_at_waypoints": resting}, text
 
 
 def _stop_in_cell(stop) -> dict:

@@ -106,8 +106,7 @@ class _StepMeasure:
         clear over the arc) the upper bound is ``inf``: a cheap lower bound of the distance that proves it is used
         in place of the distance (:func:`redkin.collision.clearance.pair_clearances`' ``floor``)."""
         moved = pair_displacements(delta, self.levers, self.body, self.pairs)
-        with np.errstate(invalid="ignore"):  # a pair a lower bound proves clear by more than it moves: not measured
-            floor = np.nan_to_num(moved, nan=np.inf)
+        floor = np.nan_to_num(moved, nan=np.inf)  # a pair a bound proves clear by more than it moves: not measured
         clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin, floor)
         with np.errstate(invalid="ignore"):  # inf - inf: a pair not measured, at an unbounded displacement
             low = np.where(active, clearance - moved, np.inf)

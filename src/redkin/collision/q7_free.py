@@ -156,8 +156,7 @@ class _Q7Measure:
         q, _ = self.joints(middle, owner)
         self.evaluations += np.bincount(owner // len(self.rows), minlength=len(self.evaluations))
         rate = self.rates(owner, middle, half)
-        with np.errstate(invalid="ignore"):  # inf * 0: no bound; a pair a lower bound proves clear is not measured
-            floor = np.nan_to_num(rate * half[:, None], nan=np.inf)
+        floor = np.nan_to_num(rate * half[:, None], nan=np.inf)  # a pair a bound proves clear: not measured
         clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin, floor)
         return settled(half, clearance, rate, active, finest, carve)
 
