@@ -91,8 +91,8 @@ def main() -> None:
     print(f"without the scene: {plain_seconds * 1e3:8.1f} ms ({plain_seconds / count * 1e6:.0f} us a target), "
           f"{plain.found[:, 0].mean() * 100:.1f} % found")
     print(f"with the scene:    {free_seconds * 1e3:8.1f} ms ({free_seconds / count * 1e6:.0f} us a target); "
-          f"the first candidate clear on {int((free.asked == 1).sum())} of {count} targets, the others asked "
-          f"up to {int(free.asked.max())}")
+          f"the first candidate clear on {int((free.candidates == 1).sum())} of {count} targets, the others "
+          f"examined up to {int(free.candidates.max())} ({int(free.candidates.sum())} in all)")
     print(f"{'measurement':52} {'value':>9} {'target':>9}")
     print(f"{'targets certified collision-free':52} {share * 100:8.1f}% {'>= 99 %':>9} "
           f"{'met' if share >= TARGET_SHARE else 'MISSED'}")

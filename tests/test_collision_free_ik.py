@@ -66,23 +66,30 @@ def test_every_solution_reaches_the_pose_within_the_limits_and_keeps_the_margin(
         measured = _pair_distances(chain, body, scene, solution)
         assert measured >= MARGIN and abs(measured - result.clearance[k]) < 1e-12
     assert not np.any(np.all(np.abs(result.q[result.found] - plain.q[0]) < 1e-9, axis=-1))  # it collides
+    again = ik(chain, pose, count=int(result.candidates))  # the candidates examined: the solver's first ones
+    assert np.array_equal(again.q[again.found], result.solver.q[result.solver.found])
     assert 0 <= result.blocked <= result.candidates and result.found.sum() <= result.candidates - result.blocked
 
 
 def test_the_solutions_are_the_solvers_clear_candidates_in_its_order(arm):
+    """The candidates examined are the solver's first ones from the same stream, in its order (with a seed, sorted
+    by the distance to it), and the search stops once ``count`` of them are clear."""
     chain, body = arm
     q = np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1])
     pose = chain.fk(q)
-    seed = q + 0.3
     scene = _blocking_scene(chain, q)
-    result = collision_free_ik(chain, body, scene, pose, q0=seed, count=2, candidates=4)
-    asked = result.solver.found.shape[-1]
-    candidates = ik(chain, pose, q0=seed, count=asked)
-    found = candidates.q[candidates.found]
-    clear = found[clearance(chain, body, scene, found).distance >= MARGIN]
-    assert result.candidates == len(found) and result.blocked == len(found) - len(clear)
-    assert np.array_equal(result.q[result.found], clear[:2])
-    assert len(clear) >= 2 and result.found.all()  # this pose has clear solutions: the law above is not empty
+    for seed in (None, q + 0.3):
+        result = collision_free_ik(chain, body, scene, pose, q0=seed, count=2, candidates=4)
+        examined = int(result.candidates)
+        candidates = ik(chain, pose, q0=seed, count=examined)
+        assert candidates.found.all()  # the solver finds them all again
+        found = candidates.q[candidates.found]
+        clear = found[clearance(chain, body, scene, found).distance >= MARGIN]
+        assert result.blocked == len(found) - len(clear)
+        assert np.array_equal(result.q[result.found], clear[:2])
+        assert len(clear) == 2 and result.found.all()  # it stopped at the second clear one
+        if seed is None:  # in the order found, the last examined is the one that made two
+            assert clearance(chain, body, scene, found[-1]).distance >= MARGIN
 
 
 def test_a_far_scene_changes_nothing(arm):
@@ -124,12 +131,13 @@ def test_a_batch_is_filtered_pose_by_pose_and_out_of_reach_is_not_searched(arm):
     scene = _blocking_scene(chain, np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1]))
     together = collision_free_ik(chain, body, scene, batch, count=2)
     streams = start_streams(None, 3)
-    for k in range(3):
-        candidates = ik(chain, batch[k : k + 1], count=int(together.asked[k]), rng=streams[k : k + 1])
-        found = candidates.q[0][candidates.found[0]]
-        clear = found[clearance(chain, body, scene, found).distance >= MARGIN] if len(found) else found
+    for k in range(2):
+        candidates = ik(chain, batch[k : k + 1], count=int(together.candidates[k]), rng=streams[k : k + 1])
+        assert candidates.found.all()
+        found = candidates.q[0]
+        clear = found[clearance(chain, body, scene, found).distance >= MARGIN]
         assert np.array_equal(together.q[k][together.found[k]], clear[:2])
-        assert together.candidates[k] == len(found) and together.blocked[k] == len(found) - len(clear)
+        assert together.blocked[k] == len(found) - len(clear)
     assert together.solver.reach.out.tolist() == [False, False, True]
     assert not together.found[2].any() and together.candidates[2] == 0
     assert together.found[:2].all()
@@ -172,8 +180,9 @@ def test_the_arm_answers_the_same_in_its_rows(arm):
 
 
 def test_only_the_poses_short_of_clear_solutions_are_asked_again(arm):
-    """The first round asks ``count`` candidates of every pose; a pose whose candidate is clear is not asked again, one
-    whose candidates all collide is asked four times as many, from its own starts (stream ``i``)."""
+    """With ``candidates=1`` the first round examines one candidate of every pose; a pose whose candidate is clear is
+    not searched again, one whose candidate collides is searched for four times as many, from its own starts (stream
+    ``i``), and stops at its first clear one."""
     chain, body = arm
     q = np.array([0.3, -0.5, 0.2, 1.2, 0.4, 0.8, 0.1])
     blocked_pose = chain.fk(q)
@@ -182,9 +191,13 @@ def test_only_the_poses_short_of_clear_solutions_are_asked_again(arm):
     batch = np.stack([chain.fk(clear_q), blocked_pose])
     first = ik(chain, batch, count=1)
     first_clear = clearance(chain, body, scene, first.q[:, 0]).distance >= MARGIN
-    result = collision_free_ik(chain, body, scene, batch, count=1)
+    result = collision_free_ik(chain, body, scene, batch, count=1, candidates=1)
     assert first_clear.tolist() == [True, False]  # one pose of each kind: the law below is not empty
-    assert result.asked[0] == 1 and np.array_equal(result.q[0, 0], first.q[0, 0])
-    assert result.asked[1] in (4, 16, 64, 256, 1000)
-    again = ik(chain, batch[1:], count=int(result.asked[1]), rng=start_streams(None, 2)[1:])
-    assert np.array_equal(again.found[0], result.solver.found[1, : result.asked[1]])
+    assert result.asked[0] == 1 and result.candidates[0] == 1 and np.array_equal(result.q[0, 0], first.q[0, 0])
+    assert result.asked[1] in (4, 16, 64, 256, 1000) and result.found[1, 0]
+    examined = int(result.candidates[1])
+    again = ik(chain, batch[1:], count=examined, rng=start_streams(None, 2)[1:])
+    assert np.array_equal(again.q[0], result.solver.q[1, :examined]) and not result.solver.found[1, examined:].any()
+    measured = clearance(chain, body, scene, again.q[0]).distance >= MARGIN
+    assert measured.tolist() == [False] * (examined - 1) + [True]  # stopped at the first clear one
+    assert np.array_equal(result.q[1, 0], again.q[0, -1])

@@ -190,6 +190,7 @@ def _collision(rng: np.random.Generator) -> None:
 
     pose = chain.fk(np.array([0.1, 0.5, 0.0, 1.3, 0.0, 0.6, 0.0]))  # within its limits: arcs to decide
     collision.collision_free_arm_angles(arms.arm(chain), pose, body, scene, "+++")
+    collision.collision_free_ik(chain, body, scene, pose)  # the numerical search that measures its candidates
     from redkin.collision.mesh_cover import _along  # the mesh fit's kernel, without the mesh extra's reach
 
     _along(rng.normal(size=(20, 3)), np.array([0.0, 0.0, 1.0]))

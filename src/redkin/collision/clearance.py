@@ -104,7 +104,7 @@ def base_contacts(chain: SerialChain, body: Body, scene: Scene) -> list[tuple[st
     return sorted(found, key=lambda contact: contact[2])
 
 
-class _ClearanceInputs(NamedTuple):
+class ClearanceInputs(NamedTuple):
     """A body, a scene and their checked pairs as the clearance kernels take them
     (:mod:`redkin.collision._clearance_kernels`): one conversion for many calls."""
 
@@ -118,15 +118,15 @@ class _ClearanceInputs(NamedTuple):
         return len(self.pairs[0])
 
 
-def clearance_inputs(body: Body, scene: Scene, pairs: CheckedPairs | None = None) -> _ClearanceInputs:
+def clearance_inputs(body: Body, scene: Scene, pairs: CheckedPairs | None = None) -> ClearanceInputs:
     """``body``, ``scene`` and their checked pairs (:func:`checked_pairs` unless given) as the kernels take them."""
     pairs = checked_pairs(body, scene) if pairs is None else pairs
     arrays = (body.frame, body.a, body.b, body.radius)
-    return _ClearanceInputs(tuple(kernel_array(np.asarray(array)) for array in arrays), kernel_array(scene.shapes),
+    return ClearanceInputs(tuple(kernel_array(np.asarray(array)) for array in arrays), kernel_array(scene.shapes),
                            tuple(_indices(array) for array in pairs[:3]))
 
 
-def pair_clearances(chain: SerialChain, inputs: _ClearanceInputs, q: np.ndarray, active: np.ndarray | None = None,
+def pair_clearances(chain: SerialChain, inputs: ClearanceInputs, q: np.ndarray, active: np.ndarray | None = None,
                     margin: float = 0.0, floor: np.ndarray | None = None) -> np.ndarray:
     """Per configuration of ``q`` ``(N, n)`` (trusted) and checked pair of ``inputs``, its signed distance minus
     ``margin`` ``(N, P)``, in one compiled pass (:func:`redkin.collision._clearance_kernels.clearances`); with
@@ -162,7 +162,7 @@ def clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> Cle
     """
     q = chain.check_q(q)
     shape = q.shape[:-1]
-    _check_frames(chain, body)
+    check_frames(chain, body)
     pairs = checked_pairs(body, scene)
     inputs = clearance_inputs(body, scene, pairs)
     rows = kernel_array(q.reshape(-1, chain.n))
@@ -170,8 +170,14 @@ def clearance(chain: SerialChain, body: Body, scene: Scene, q: ArrayLike) -> Cle
     if len(rows):
         run_batch(_clearance_kernels.least, len(rows), rows, chain._links, chain._ends, chain._standard,
                   *inputs.body, inputs.obstacles, *inputs.pairs, distance, closest)
-    names = np.array([("", ""), *pairs.names], dtype=object)[closest + 1]  # "" where nothing is checked
-    return Clearance(distance.reshape(shape), names[:, 0].reshape(shape), names[:, 1].reshape(shape))
+    return named_clearance(distance.reshape(shape), closest.reshape(shape), pairs)
+
+
+def named_clearance(distance: np.ndarray, closest: np.ndarray, pairs: CheckedPairs) -> Clearance:
+    """Least distances and the index of the pair of ``pairs`` that has each (-1: none checked, its names "") as a
+    :class:`Clearance`."""
+    names = np.array([("", ""), *pairs.names], dtype=object)[closest + 1]
+    return Clearance(distance, names[..., 0], names[..., 1])
 
 
 def least_pair(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -186,12 +192,12 @@ def least_pair(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def pair_table(chain: SerialChain, body: Body, scene: Scene, q: np.ndarray) -> tuple[np.ndarray, CheckedPairs]:
     """The signed distance of every checked pair at each configuration of ``q`` ``(N, n)`` (checked), ``(N, P)``,
     and the pairs (:func:`checked_pairs`)."""
-    _check_frames(chain, body)
+    check_frames(chain, body)
     pairs = checked_pairs(body, scene)
     return pair_clearances(chain, clearance_inputs(body, scene, pairs), q), pairs
 
 
-def _check_frames(chain: SerialChain, body: Body) -> None:
+def check_frames(chain: SerialChain, body: Body) -> None:
     """Refuse a body on frames the chain does not have."""
     if len(body) and int(body.frame.max()) > chain.n:
         raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {chain.name} has {chain.n} joints")

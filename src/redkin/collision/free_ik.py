@@ -1,15 +1,17 @@
 """Collision-free numerical IK on any chain (issue 40): certified solutions of a pose that keep a scene's margin.
 
-The numerical solver (:func:`redkin.numerical.ik`, [N1]-[N5]) finds distinct certified solutions of a pose from
-its seed and random starts.  :func:`collision_free_ik` asks it for as many candidates as wanted (or ``candidates``),
-measures each candidate's clearance (:func:`redkin.collision.clearance`: every body capsule against every obstacle
-and the body's self pairs, exact distances between capsules and shapes) and keeps those at least the scene's margin
-clear, in the solver's order (with a seed, nearest the seed first).  Where fewer than wanted are clear and the solver
-found every candidate it was asked for, that pose is asked again for four times as many (from its own starts, so the
-candidates of its last round include the earlier ones), until enough are clear, the solver runs out of starts (its
-``restarts`` budget, per round) or 1000 are asked.  In a batch only the poses still short of clear solutions go on to
-the next round, together; pose ``i`` always starts from the solver's stream ``i``, as in
-:func:`redkin.numerical.ik` (:func:`redkin.numerical.solve.start_streams`).
+The numerical solver's search ([N1]-[N5], :func:`redkin.numerical.ik`: the seed, then random starts, each descent
+certified by our FK and kept where distinct) runs with the clearance measured in its kernel
+(:mod:`redkin.collision._free_ik_kernels`): each new certified solution's least distance over the checked pairs (every
+body capsule against every obstacle and the body's self pairs, exact distances between capsules and shapes,
+:func:`redkin.collision.clearance`'s), and the search of a pose stops once ``count`` of its candidates keep the
+margin.  A pose's candidates are therefore the solver's own, in its order (with a seed, nearest the seed first): the
+first ``candidates`` of ``redkin.numerical.ik(..., count=candidates)`` from the same stream.  The first round
+examines up to ``candidates`` of each pose (default ``max(count, 16)``); a pose that found that many with too few
+clear is searched again for four times as many (from its own starts: the same candidates first), until enough are
+clear, the solver runs out of starts (its ``restarts`` budget, per round) or 1000 are examined.  In a batch only the
+poses still short of clear solutions go on to the next round, together; pose ``i`` always starts from the solver's
+stream ``i``, as in :func:`redkin.numerical.ik` (:func:`redkin.numerical.solve.start_streams`).
 
 What is certified: each returned solution reaches the pose within the tolerance (the solver's certificate) and is
 clear by the margin (its clearance, computed at that configuration).  What is not: that a pose with no clear
@@ -20,21 +22,31 @@ exact collision-free sets instead.
 
 from __future__ import annotations
 
-import copy
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import run_batch
 from redkin._validation import check_count
 from redkin.chain import SerialChain
+from redkin.collision import _free_ik_kernels
 from redkin.collision.body import Body
-from redkin.collision.clearance import Clearance, clearance
+from redkin.collision.clearance import (
+    Clearance,
+    ClearanceInputs,
+    check_frames,
+    checked_pairs,
+    clearance_inputs,
+    named_clearance,
+)
 from redkin.collision.scene import Scene
-from redkin.numerical.solve import RESTARTS, SEPARATION, TOLERANCE, NumericalSolutions, ik, start_streams
+from redkin.numerical.solve import RESTARTS, SEPARATION, TOLERANCE, Batch, NumericalSolutions, Outputs, batch
 
-#: Most candidates asked per pose (the solver's own limit of distinct solutions).
+#: Most candidates examined per pose (the solver's own limit of distinct solutions).
 _MAX_CANDIDATES = 1000
+#: Candidates examined per pose in the first round, unless more are wanted.
+_FIRST_CANDIDATES = 16
 
 
 class FreeSolutions(NamedTuple):
@@ -51,7 +63,8 @@ class FreeSolutions(NamedTuple):
     link, against : numpy.ndarray of str (object), shape (..., count)
         The body link and the obstacle (or other link) that have that least distance ("" where not found).
     candidates : numpy.ndarray of int, shape (...)
-        How many distinct certified solutions the solver found, clear or not.
+        How many distinct certified solutions the solver found and measured, clear or not (the search of a pose stops
+        once ``count`` are clear).
     blocked : numpy.ndarray of int, shape (...)
         How many of those do not keep the margin.
     blocked_clearance : numpy.ndarray, shape (...)
@@ -59,7 +72,7 @@ class FreeSolutions(NamedTuple):
         ``blocked_link`` and ``blocked_against``: how near the best refused solution came.
     blocked_link, blocked_against : numpy.ndarray of str (object), shape (...)
     asked : numpy.ndarray of int, shape (...)
-        How many candidates the solver was asked for each pose in the last round that asked it.
+        The most candidates the last round that searched a pose could examine.
     solver : NumericalSolutions
         The solver's result of each pose's last round (its ``closest``, ``error``, ``starts`` and ``reach``: a pose
         out of reach is not searched), its candidates padded to the most asked of a pose.
@@ -110,7 +123,7 @@ def collision_free_ik(
     count : int
         Collision-free solutions wanted per pose (distinct by ``separation``).
     candidates : int, optional
-        Solutions asked of the solver in the first round (default and at least ``count``; at most 1000).
+        The most candidates examined per pose in the first round (default 16; at least ``count``, at most 1000).
     tolerance, restarts, separation, rng
         As :func:`redkin.numerical.ik` takes them; ``restarts`` is the budget of starts of each round.
 
@@ -125,20 +138,21 @@ def collision_free_ik(
         1000, or a body on frames the chain does not have.
     """
     count = check_count(count, "count", 1, _MAX_CANDIDATES)
-    first = max(count, check_count(count if candidates is None else candidates, "candidates", 1, _MAX_CANDIDATES))
-    source = copy.deepcopy(rng) if isinstance(rng, np.random.Generator) else rng  # the streams the first round draws
-    solver = ik(chain, pose, q0=q0, count=first, tolerance=tolerance, restarts=restarts, separation=separation,
-                rng=rng)
-    assert solver.reach is not None  # the solver always measures the poses' reach
-    shape = solver.found.shape[:-1]
-    size = int(np.prod(shape, dtype=np.int64))
-    poses = np.broadcast_to(np.asarray(pose, dtype=float), shape + (4, 4)).reshape(size, 4, 4)
-    seeds = None if q0 is None else np.broadcast_to(np.asarray(q0, dtype=float), shape + (chain.n,)).reshape(size, -1)
-    streams = start_streams(source, size)
-    rounds = _Rounds(chain.n, size, solver)
-    todo, asked = np.arange(size), first
+    first = max(count, check_count(_FIRST_CANDIDATES if candidates is None else candidates, "candidates", 1,
+                                   _MAX_CANDIDATES))
+    check_frames(chain, body)
+    pairs = checked_pairs(body, scene)
+    inputs = clearance_inputs(body, scene, pairs)
+    every = batch(chain, pose, q0, first, tolerance, restarts, separation, rng)
+    shape, size = every.shape, every.size
+    todo, asked, rounds = np.arange(size), first, None
     while True:
-        measured = clearance(chain, body, scene, solver.q)
+        part = every if rounds is None else every._replace(shape=(len(todo),), asked=asked, poses=every.poses[todo],
+                                                              seeds=every.seeds[todo], streams=every.streams[todo])
+        solver, (distance, closest) = _search(chain, part, inputs, float(scene.margin), count)
+        measured = named_clearance(distance, closest, pairs)
+        if rounds is None:
+            rounds = _Rounds(chain.n, size, solver)
         found = solver.found.reshape(-1, asked)
         clear = found & (measured.distance.reshape(-1, asked) >= scene.margin)
         rounds.record(todo, solver, measured, clear)
@@ -147,10 +161,22 @@ def collision_free_ik(
         if not len(todo) or asked == _MAX_CANDIDATES:
             break
         asked = min(4 * asked, _MAX_CANDIDATES)
-        solver = ik(chain, poses[todo], q0=None if seeds is None else seeds[todo], count=asked, tolerance=tolerance,
-                    restarts=restarts, separation=separation, rng=streams[todo])
     merged, measured, clear = rounds.merged(shape)
     return _kept(chain.n, merged, measured, clear, count, shape, rounds.asked.reshape(shape))
+
+
+def _search(chain: SerialChain, part: Batch, inputs: ClearanceInputs, margin: float,
+            want: int) -> tuple[NumericalSolutions, tuple[np.ndarray, np.ndarray]]:
+    """The solver's search of the poses of ``part``, each stopped once ``want`` candidates keep ``margin``
+    (:func:`redkin.collision._free_ik_kernels.solve`): its solutions, and each candidate's least distance and the index
+    of its closest pair (``inf`` and -1 where none was found)."""
+    out = Outputs.of(part, chain.n)
+    distance = np.full((part.size, part.asked), np.inf)
+    closest = np.full((part.size, part.asked), -1, dtype=np.int64)
+    with np.errstate(over="ignore"):  # SplitMix64 wraps by design (as in redkin.numerical.ik)
+        failed = run_batch(_free_ik_kernels.solve, part.size, *part.inputs(chain), *inputs.body, inputs.obstacles,
+                           *inputs.pairs, margin, want, *out, distance, closest)
+    return part.solutions(failed, out), (distance, closest)
 
 
 class _Rounds:

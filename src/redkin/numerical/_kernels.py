@@ -326,53 +326,50 @@ def scratch(n):
 
 
 @kernel
-def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, settings, starts, q_out, found_out, closest,
-              error, work, local):
-    """Up to ``count = q_out.shape[0]`` distinct certified solutions of one pose ``target`` (4, 4) into ``q_out``
-    (count, n) and ``found_out`` (count,), with at most ``starts`` starts; returns the starts used.
-
-    ``closest`` (n,) receives the first solution, or without one the joint vector of the smallest error met, and
-    ``error`` (2,) its position and rotation error.  ``bounds`` (2, n) holds the lower and the upper limits.  With
-    a seed the solutions are sorted by their largest joint distance to it.  ``work`` and ``local`` are the scratch
-    arrays of :func:`scratch`.  A target that is not a pose (:func:`~redkin._pose_kernels.pose_defect`), or a seed
-    that is not finite, returns -1.
-    """
-    lower, upper = bounds[0], bounds[1]
-    n = lower.shape[0]
-    count = q_out.shape[0]
+def begin(target, seed, seeded, stream, q_out, found_out, local):
+    """Ready the search of one pose (:func:`solve_one`): the target's nearest pose into ``local``'s goal, the random
+    stream ``stream``, no error met yet, no solution yet; returns ``OK``, or -1 for a target that is not a pose
+    (:func:`~redkin._pose_kernels.pose_defect`) or a seed that is not finite.  ``local`` is :func:`scratch`'s."""
     if pose_defect(target) != OK:
         return -1
-    for j in range(n):
+    for j in range(seed.shape[0]):
         if seeded and not isfinite(seed[j]):
             return -1
-    tolerance = settings[POSITION_TOLERANCE:ROTATION_TOLERANCE + 1]
-    goal, state, vectors, best_error = local
-    q, best = vectors[0], vectors[1]
+    goal, state, _, best_error = local
     nearest_pose(target, goal)
-    target = goal
     state[0] = stream
     best_error[0], best_error[1] = np.inf, np.inf
-    found = np.int64(0)
-    used = 0
     q_out[:] = 0.0
     found_out[:] = False
-    while found < count and used < starts:
-        if used == 0 and seeded:
-            q[:] = np.minimum(np.maximum(seed, lower), upper)
-        else:
-            random_start(lower, upper, state, q)
-        used += 1
-        if not descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolerance, work, best,
-                       best_error):
-            continue
-        normalise(q, seed, seeded, lower, upper)
-        position, angle = measure(q, target, links, ends, standard, work[0], work[1], work[2])
-        if position > tolerance[0] or angle > tolerance[1]:  # the certificate is of the q returned
-            continue
-        if distinct(q, q_out, found, settings[SEPARATION]):
-            q_out[found] = q
-            found_out[found] = True
-            found += 1
+    return OK
+
+
+@kernel
+def candidate(start, seed, seeded, links, ends, standard, lower, upper, settings, q_out, found, work, local):
+    """Start number ``start`` (from 0) of a search :func:`begin` readied: the seed first (with one, clipped to the
+    limits), then random joint vectors; returns whether it ends in a certified solution, distinct from the
+    ``found`` rows of ``q_out`` by ``settings``' separation, left in ``local``'s first joint vector."""
+    goal, state, vectors, best_error = local
+    q, best = vectors[0], vectors[1]
+    if start == 0 and seeded:
+        q[:] = np.minimum(np.maximum(seed, lower), upper)
+    else:
+        random_start(lower, upper, state, q)
+    tolerance = settings[POSITION_TOLERANCE:ROTATION_TOLERANCE + 1]
+    if not descend(q, goal, seed, seeded, links, ends, standard, lower, upper, tolerance, work, best, best_error):
+        return False
+    normalise(q, seed, seeded, lower, upper)
+    position, angle = measure(q, goal, links, ends, standard, work[0], work[1], work[2])
+    if position > tolerance[0] or angle > tolerance[1]:  # the certificate is of the q returned
+        return False
+    return distinct(q, q_out, found, settings[SEPARATION])
+
+
+@kernel
+def finish(seed, seeded, links, ends, standard, q_out, found, closest, error, work, local):
+    """End a search with ``found`` solutions in ``q_out``: with a seed, sorted by their largest joint distance to it
+    (stably); ``closest`` and ``error`` as :func:`solve_one` gives them."""
+    goal, _, vectors, best_error = local
     if seeded:  # insertion sort by the largest joint distance to the seed
         for k in range(1, found):
             row = q_out[k].copy()
@@ -384,12 +381,48 @@ def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, setti
             q_out[i] = row
     if found:
         closest[:] = q_out[0]
-        position, angle = measure(closest, target, links, ends, standard, work[0], work[1], work[2])
+        position, angle = measure(closest, goal, links, ends, standard, work[0], work[1], work[2])
         error[0], error[1] = position, angle
     else:
-        closest[:] = best
+        closest[:] = vectors[1]
         error[:] = best_error
+
+
+@kernel
+def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, settings, starts, q_out, found_out, closest,
+              error, work, local):
+    """Up to ``count = q_out.shape[0]`` distinct certified solutions of one pose ``target`` (4, 4) into ``q_out``
+    (count, n) and ``found_out`` (count,), with at most ``starts`` starts; returns the starts used.
+
+    ``closest`` (n,) receives the first solution, or without one the joint vector of the smallest error met, and
+    ``error`` (2,) its position and rotation error.  ``bounds`` (2, n) holds the lower and the upper limits.  With
+    a seed the solutions are sorted by their largest joint distance to it.  ``work`` and ``local`` are the scratch
+    arrays of :func:`scratch`.  A target that is not a pose (:func:`~redkin._pose_kernels.pose_defect`), or a seed
+    that is not finite, returns -1.
+    """
+    if begin(target, seed, seeded, stream, q_out, found_out, local) != OK:
+        return -1
+    found = np.int64(0)
+    used = np.int64(0)
+    while found < q_out.shape[0] and used < starts:
+        if candidate(used, seed, seeded, links, ends, standard, bounds[0], bounds[1], settings, q_out, found, work,
+                     local):
+            q_out[found] = local[2][0]
+            found_out[found] = True
+            found += 1
+        used += 1
+    finish(seed, seeded, links, ends, standard, q_out, found, closest, error, work, local)
     return used
+
+
+@kernel
+def reach_budget(target, reach, starts, distance):
+    """The starts a search of ``target`` may use: ``starts``, or one where the tool point lies farther than
+    ``reach[3]`` from the centre ``reach[:3]`` of the chain's reach bound (no solution: only ``closest`` is wanted);
+    that distance into ``distance[0]``."""
+    x, y, z = target[0, 3] - reach[0], target[1, 3] - reach[1], target[2, 3] - reach[2]
+    distance[0] = sqrt(x * x + y * y + z * z)
+    return 1 if distance[0] > reach[3] else starts
 
 
 @kernel
@@ -406,9 +439,7 @@ def solve(start, stop, targets, seeds, seeded, streams, links, ends, standard, b
     bad = 0
     work, local = scratch(bounds.shape[1])
     for b in range(start, stop):
-        x, y, z = targets[b, 0, 3] - reach[0], targets[b, 1, 3] - reach[1], targets[b, 2, 3] - reach[2]
-        distance[b] = sqrt(x * x + y * y + z * z)
-        budget = 1 if distance[b] > reach[3] else starts
+        budget = reach_budget(targets[b], reach, starts, distance[b:b + 1])
         used[b] = solve_one(targets[b], seeds[b], seeded, streams[b], links, ends, standard, bounds, settings,
                             budget, q_out[b], found_out[b], closest[b], error[b], work, local)
         bad += used[b] < 0

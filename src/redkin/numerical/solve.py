@@ -133,6 +133,82 @@ def ik(
         finite number; :class:`~redkin.errors.SizeLimitError` for more than 10^8 joint values of solutions in one
         call.
     """
+    prepared = batch(chain, pose, q0, count, tolerance, restarts, separation, rng)
+    out = Outputs.of(prepared, chain.n)
+    with np.errstate(over="ignore"):  # SplitMix64 wraps by design: run as Python, numpy's integers would warn
+        failed = run_batch(_kernels.solve, prepared.size, *prepared.inputs(chain), *out)
+    return prepared.solutions(failed, out)
+
+
+class Batch(NamedTuple):
+    """Poses to solve, validated and laid out as the kernels take them (:func:`batch`): the batch ``shape`` and
+    ``size`` poses, solutions ``asked`` per pose and the budget of ``restarts``; the checked ``pose`` and ``q0`` as
+    given (to word an error the kernel finds); the kernels' ``poses`` (size, 4, 4), ``seeds`` (size, n),
+    ``streams`` (size,) and ``settings``; ``reach`` (4,): the centre of the chain's reach bound and the largest
+    distance from it that may hold a solution, whose ``radius`` and ``measure`` the result's :class:`Reach` keeps."""
+
+    shape: tuple[int, ...]
+    asked: int
+    restarts: int
+    pose: np.ndarray
+    q0: np.ndarray | None
+    poses: np.ndarray
+    seeds: np.ndarray
+    streams: np.ndarray
+    settings: np.ndarray
+    reach: np.ndarray
+    radius: float
+    measure: str
+
+    @property
+    def size(self) -> int:
+        """How many poses."""
+        return len(self.poses)
+
+    def inputs(self, chain: SerialChain) -> tuple:
+        """The arguments of :func:`redkin.numerical._kernels.solve` before its outputs."""
+        return (self.poses, self.seeds, self.q0 is not None, self.streams, chain._links, chain._ends, chain._standard,
+                chain._bounds, self.settings, self.restarts, self.reach)
+
+    def solutions(self, failed: int, out: Outputs) -> NumericalSolutions:
+        """The kernels' answers ``out`` as :class:`NumericalSolutions`, or the error of a pose or seed they refused
+        (``failed`` of them)."""
+        if failed:
+            if self.q0 is not None:
+                check_finite(self.q0, "q0")  # words the error the kernel found: the seeds, then the poses
+            check_pose(self.pose)
+            raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
+        shape, n = self.shape, out.q.shape[-1]
+        distances = out.distance.reshape(shape)
+        limit = float(self.reach[3])
+        return NumericalSolutions(out.q.reshape(shape + (self.asked, n)), out.found.reshape(shape + (self.asked,)),
+                                  out.closest.reshape(shape + (n,)), out.error.reshape(shape + (2,)),
+                                  out.used.reshape(shape),
+                                  reach=Reach(distances, 0.0, self.radius, distances > limit, self.measure))
+
+
+class Outputs(NamedTuple):
+    """The arrays :func:`redkin.numerical._kernels.solve` writes, in its order."""
+
+    q: np.ndarray
+    found: np.ndarray
+    closest: np.ndarray
+    error: np.ndarray
+    used: np.ndarray
+    distance: np.ndarray
+
+    @classmethod
+    def of(cls, prepared: Batch, n: int) -> Outputs:
+        """Empty outputs for the poses of ``prepared`` on a chain of ``n`` joints."""
+        size, count = prepared.size, prepared.asked
+        return cls(np.empty((size, count, n)), np.empty((size, count), dtype=bool), np.empty((size, n)),
+                   np.empty((size, 2)), np.empty(size, dtype=np.int64), np.empty(size))
+
+
+def batch(chain: SerialChain, pose: ArrayLike, q0: ArrayLike | None, count: int,
+          tolerance: float | tuple[float, float], restarts: int, separation: float,
+          rng: int | np.random.Generator | np.ndarray | None) -> Batch:
+    """The arguments of :func:`ik`, validated (its Raises) and laid out as the kernels take them."""
     n = chain.n
     pose = as_float_array(pose, "pose")
     if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
@@ -160,30 +236,12 @@ def ik(
                              f"most {_MAX_VALUES:.0e} are computed in one call: split the batch",
                              name="pose", value=size * count * n, maximum=_MAX_VALUES)
     poses = kernel_array(pose, shape + (4, 4)).reshape(size, 4, 4)
-    seeds = kernel_array(np.zeros(n) if q0 is None else seeds, shape + (n,)).reshape(size, n)
-    streams = start_streams(rng, size)
-    q = np.empty((size, count, n))
-    found = np.empty((size, count), dtype=bool)
-    closest = np.empty((size, n))
-    error = np.empty((size, 2))
-    used = np.empty(size, dtype=np.int64)
-    distance = np.empty(size)
     centre, radius, slack, measure = chain._reach_table  # the bound of SerialChain.reach, tested in the kernel
     limit = radius + slack + float(settings[_kernels.POSITION_TOLERANCE])
-    reach = np.array([centre[0], centre[1], centre[2], limit])
-    with np.errstate(over="ignore"):  # SplitMix64 wraps by design: run as Python, numpy's integers would warn
-        failed = run_batch(_kernels.solve, size, poses, seeds, q0 is not None, streams, chain._links, chain._ends,
-                           chain._standard, chain._bounds, settings, restarts, reach, q, found, closest, error, used,
-                           distance)
-    if failed:
-        if q0 is not None:
-            check_finite(seeds, "q0")  # words the error the kernel found: the seeds, then the poses
-        check_pose(pose)
-        raise RedkinError("pose must be finite with a proper rotation block and last row [0, 0, 0, 1]")
-    distances = distance.reshape(shape)
-    return NumericalSolutions(q.reshape(shape + (count, n)), found.reshape(shape + (count,)),
-                              closest.reshape(shape + (n,)), error.reshape(shape + (2,)), used.reshape(shape),
-                              reach=Reach(distances, 0.0, radius, distances > limit, measure))
+    return Batch(shape, count, restarts, pose, None if q0 is None else seeds, poses,
+                 kernel_array(np.zeros(n) if q0 is None else seeds, shape + (n,)).reshape(size, n),
+                 start_streams(rng, size), settings, np.array([centre[0], centre[1], centre[2], limit]), radius,
+                 measure)
 
 
 def start_streams(rng: int | np.random.Generator | np.ndarray | None, size: int) -> np.ndarray:
