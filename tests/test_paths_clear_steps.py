@@ -24,6 +24,7 @@ from redkin.collision import Scene, clearance, primitives, step_clearance, steps
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path, search
 from redkin.paths.graph import Graph
+from redkin.paths.resolve import SPLINE_ROOM
 from redkin.paths.stops import timed
 from tests.support.iiwa_cell import END, START, three_capsules
 from tests.test_path_stops import NARROW, STEP, _sweep
@@ -193,7 +194,7 @@ def test_a_reconfiguration_through_an_obstacle_is_named(iiwa):
     assert "clear" not in _stop_report(plain, False)
 
 
-@pytest.mark.parametrize(("waypoints", "step", "seed"), [(8, 0.5, 11), (12, 0.3, 9)])
+@pytest.mark.parametrize(("waypoints", "step", "seed"), [(8, 0.5, 11), (12, 0.3, 14)])
 def test_a_timed_path_in_a_cell_keeps_the_margin_between_waypoints_too(iiwa, waypoints, step, seed):
     """The timed trajectory is a spline through the waypoints, not the linear steps proved clear, and the spline
     through the waypoints alone can cut an obstacle the steps clear: balls are drawn near the arm's elbow until one
@@ -223,6 +224,27 @@ def test_a_timed_path_in_a_cell_keeps_the_margin_between_waypoints_too(iiwa, way
         through_waypoints.append(bool(steps_between(chain, body, scene, alone[:-1], alone[1:]).certified.all()))
     assert False in through_waypoints
     assert resolve_path(chain, poses, step, timing=200.0).trajectory_steps is None
+
+
+def test_a_path_whose_steps_graze_the_margin_is_searched_again_with_room_for_the_spline(iiwa):
+    """Where the path's steps graze the margin (a ball this path passes at the margin to within 1e-6 m), no spline
+    beside them is proved clear; the timed path is the one searched with SPLINE_ROOM more margin: smooth through the
+    waypoints (not at rest at each), every trajectory step proved clear at the scene's margin, and its own steps
+    proved clear at the larger margin."""
+    chain, body = iiwa
+    chain = chain.with_motion_limits(acceleration=[10.0] * 7)
+    poses = chain.fk(np.linspace(START, END, 12))
+    scene = Scene(("ball",), primitives.sphere([0.2917682949959651, -0.08077390464114814, 0.6676242827174278],
+                                               0.06513700059442006)[None], 0.01)
+    grazing = resolve_path(chain, poses, 0.3, body=body, scene=scene)
+    assert grazing.ok and grazing.steps.least.min() < scene.margin + 1e-6  # the case the search again is for
+    result = resolve_path(chain, poses, 0.3, body=body, scene=scene, timing=200.0)
+    assert result.ok and result.steps.certified.all() and result.steps.least.min() >= scene.margin + SPLINE_ROOM
+    assert result.trajectory_steps.certified.all()
+    assert _dense_clearance(chain, body, scene, result.trajectory.q, 5) >= scene.margin - 1e-12
+    at_waypoints, velocity, _ = result.trajectory.at(result.trajectory.waypoint_times)
+    assert np.abs(velocity[1:-1]).max() > 1e-3  # it moves through the waypoints
+    assert np.allclose(chain.fk(at_waypoints), poses, atol=1e-9)
 
 
 def test_the_command_line_says_whether_the_timed_trajectory_is_clear(iiwa, capsys, tmp_path):

@@ -44,6 +44,7 @@ from redkin.srs.nearly import NearlySRS
 if TYPE_CHECKING:
     from redkin.collision.body import Body
     from redkin.collision.scene import Scene
+    from redkin.collision.steps import StepClearance
 
 #: Every waypoint of a returned path reaches its pose within this (largest entry of the 4x4 difference).
 FK_TOLERANCE = 1e-9
@@ -81,6 +82,10 @@ _OBSTACLES = "obstacle-clearance"
 #: In a cell, a timed path whose spline is not proved clear is timed again through this many points per straight
 #: step between waypoints (the waypoints alone first; :func:`_timed`).
 _DENSITIES = (1, 2, 4, 8)
+#: In a cell, a timed path whose spline no density of :data:`_DENSITIES` proves clear (its steps graze the margin) is
+#: searched again with the scene's margin this much larger (metres), which leaves the spline room beside the steps;
+#: only where that fails too does the trajectory rest at every waypoint (:func:`_timed`).
+SPLINE_ROOM = 1e-3
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
 OPTIMALITY_MARGIN = 1e-7
 
@@ -204,13 +209,20 @@ def resolve_path(
     if timing is not None:
         check_timing(family.chain, timing)
 
-    def segment(first: int, last: int, with_start: bool, with_end: bool) -> PathResult:
-        return resolve_paths(arm, poses[None, first : last + 1], max_step, q0=q0 if with_start else None,
-                             q_end=q_end if with_end else None, end_branch=end_branch if with_end else None,
-                             **options)[0]
+    step = step_bound(family.chain, max_step, speed, dt)
 
-    result = with_stops(family, poses, step_bound(family.chain, max_step, speed, dt), segment)
-    return result if timing is None else _timed(family, result, float(timing))
+    def in_cell(cell: Scene | None) -> PathResult:
+        def segment(first: int, last: int, with_start: bool, with_end: bool) -> PathResult:
+            return resolve_paths(arm, poses[None, first : last + 1], max_step, q0=q0 if with_start else None,
+                                 q_end=q_end if with_end else None, end_branch=end_branch if with_end else None,
+                                 **{**options, "scene": cell})[0]
+
+        return with_stops(family if cell is scene else _family(arm, srs_tolerance, body, cell), poses, step, segment)
+
+    result = in_cell(scene)
+    if timing is None:
+        return result
+    return _timed(family, result, float(timing), None if scene is None else lambda: in_cell(_roomier(scene)))
 
 
 def _family(arm: Any, srs_tolerance: float | None, body: Body | None, scene: Scene | None) -> Family:
@@ -273,38 +285,74 @@ def resolve_paths(
     if timing is not None:  # refused before the search, not after it
         check_timing(chain, timing)
 
-    def search(by: str) -> list[PathResult]:
-        return search_paths(family, poses, step, starts, ends, last_branch,
-                            lambda pieces: graphs.piece_samples(pieces, spacing, family.sample_groups()), connect,
+    def search(by: str, path: int | None = None, cell: Family = family) -> list[PathResult]:
+        which = slice(None) if path is None else slice(path, path + 1)
+        return search_paths(cell, poses[which], step, None if starts is None else starts[which],
+                            None if ends is None else ends[which], last_branch,
+                            lambda pieces: graphs.piece_samples(pieces, spacing, cell.sample_groups()), connect,
                             int(refinements), thorough, objective=by, levels=True)
 
     if timing is None:
         return search(objective)
     rate = float(timing)
+
+    def again(by: str, path: int) -> Callable[[], PathResult] | None:
+        if scene is None:
+            return None
+        return lambda: search(by, path, _family(arm, srs_tolerance, body, _roomier(scene)))[0]
+
     if objective != "time":
-        return [_timed(family, result, rate) for result in search(objective)]
-    return [min((_timed(family, result, rate) for result in candidates), key=_duration)
-            for candidates in zip(search("clearance"), search("motion"))]
+        return [_timed(family, result, rate, again(objective, p)) for p, result in enumerate(search(objective))]
+    return [min((_timed(family, result, rate, again(by, p)) for by, result in zip(("clearance", "motion"), pair)),
+                key=_duration) for p, pair in enumerate(zip(search("clearance"), search("motion")))]
 
 
-def _timed(family: Family, result: PathResult, rate: float) -> PathResult:
+def _roomier(scene: Scene) -> Scene:
+    """``scene`` with its margin :data:`SPLINE_ROOM` larger."""
+    return replace(scene, margin=scene.margin + SPLINE_ROOM)
+
+
+def _timed(family: Family, result: PathResult, rate: float,
+           again: Callable[[], PathResult] | None = None) -> PathResult:
     """``result`` timed at ``rate`` (:func:`redkin.paths.stops.timed`), and in a cell with what is proved of the
     steps between its trajectory's samples (:attr:`PathResult.trajectory_steps`): the spline through the waypoints
     is not the linear interpolation whose steps the search proved clear, so where its steps are not proved clear it
-    is timed again through more points of those linear steps (:data:`_DENSITIES`), until they are; where none
-    suffices (a path whose steps graze the margin, which no curve beside them keeps), at rest at every waypoint, so
-    that the trajectory runs along the proved steps themselves."""
-    for density, at_rest in [(density, False) for density in _DENSITIES] + [(1, True)]:
-        timed_result = timed(family.chain, result, rate, density, at_rest=at_rest)
+    is timed again through more points of those linear steps (:data:`_DENSITIES`), until they are.  Where none
+    suffices (a path whose steps graze the margin, which no curve beside them keeps), the path ``again()`` gives
+    (the same search with :data:`SPLINE_ROOM` more margin) is timed the same way and taken where its trajectory is
+    proved clear; otherwise ``result`` is timed at rest at every waypoint, so that the trajectory runs along the
+    proved steps themselves."""
+    timed_result, steps = _spline(family, result, rate)
+    if steps is None or steps.certified.all():
+        return timed_result
+    if again is not None:
+        roomier = again()
+        if roomier.ok:
+            smooth, smooth_steps = _spline(family, roomier, rate)
+            if smooth_steps is not None and smooth_steps.certified.all():
+                return smooth
+    timed_result = timed(family.chain, result, rate, at_rest=True)
+    assert timed_result.trajectory is not None  # timed through the same waypoints above
+    samples = timed_result.trajectory.q
+    return replace(timed_result, trajectory_steps=family.steps(samples[:-1], samples[1:]))
+
+
+def _spline(family: Family, result: PathResult, rate: float) -> tuple[PathResult, StepClearance | None]:
+    """``result`` timed at ``rate`` through the fewest points per step of :data:`_DENSITIES` whose trajectory's
+    steps are proved clear (the most where none is), with what is proved of them (``None`` without a cell or a
+    trajectory) in the result's :attr:`PathResult.trajectory_steps` too."""
+    for density in _DENSITIES:
+        timed_result = timed(family.chain, result, rate, density)
         if timed_result.trajectory is None:
-            return timed_result
+            return timed_result, None
         samples = timed_result.trajectory.q
         steps = family.steps(samples[:-1], samples[1:])
         if steps is None:
-            return timed_result
+            return timed_result, None
+        timed_result = replace(timed_result, trajectory_steps=steps)
         if steps.certified.all():
             break
-    return replace(timed_result, trajectory_steps=steps)
+    return timed_result, steps
 
 
 def _duration(result: PathResult) -> float:
