@@ -24,7 +24,7 @@ from redkin.collision import Scene, clearance, primitives, step_clearance, steps
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path, search
 from redkin.paths.graph import Graph
-from redkin.paths.resolve import SPLINE_ROOM
+from redkin.paths.resolve import _SPLINE_ROOM
 from redkin.paths.stops import timed
 from tests.support.iiwa_cell import END, START, three_capsules
 from tests.test_path_stops import NARROW, STEP, _sweep
@@ -228,7 +228,7 @@ def test_a_timed_path_in_a_cell_keeps_the_margin_between_waypoints_too(iiwa, way
 
 def test_a_path_whose_steps_graze_the_margin_is_searched_again_with_room_for_the_spline(iiwa):
     """Where the path's steps graze the margin (a ball this path passes at the margin to within 1e-6 m), no spline
-    beside them is proved clear; the timed path is the one searched with SPLINE_ROOM more margin: smooth through the
+    beside them is proved clear; the timed path is the one searched with _SPLINE_ROOM more margin: smooth through the
     waypoints (not at rest at each), every trajectory step proved clear at the scene's margin, and its own steps
     proved clear at the larger margin."""
     chain, body = iiwa
@@ -239,7 +239,7 @@ def test_a_path_whose_steps_graze_the_margin_is_searched_again_with_room_for_the
     grazing = resolve_path(chain, poses, 0.3, body=body, scene=scene)
     assert grazing.ok and grazing.steps.least.min() < scene.margin + 1e-6  # the case the search again is for
     result = resolve_path(chain, poses, 0.3, body=body, scene=scene, timing=200.0)
-    assert result.ok and result.steps.certified.all() and result.steps.least.min() >= scene.margin + SPLINE_ROOM
+    assert result.ok and result.steps.certified.all() and result.steps.least.min() >= scene.margin + _SPLINE_ROOM
     assert result.trajectory_steps.certified.all()
     assert _dense_clearance(chain, body, scene, result.trajectory.q, 5) >= scene.margin - 1e-12
     at_waypoints, velocity, _ = result.trajectory.at(result.trajectory.waypoint_times)

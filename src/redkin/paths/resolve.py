@@ -85,7 +85,7 @@ _DENSITIES = (1, 2, 4, 8)
 #: In a cell, a timed path whose spline no density of :data:`_DENSITIES` proves clear (its steps graze the margin) is
 #: searched again with the scene's margin this much larger (metres), which leaves the spline room beside the steps;
 #: only where that fails too does the trajectory rest at every waypoint (:func:`_timed`).
-SPLINE_ROOM = 1e-3
+_SPLINE_ROOM = 1e-3
 #: A path's clearance is proved optimal when no path can keep this much more (radians; :func:`_bottleneck`).
 OPTIMALITY_MARGIN = 1e-7
 
@@ -308,8 +308,8 @@ def resolve_paths(
 
 
 def _roomier(scene: Scene) -> Scene:
-    """``scene`` with its margin :data:`SPLINE_ROOM` larger."""
-    return replace(scene, margin=scene.margin + SPLINE_ROOM)
+    """``scene`` with its margin :data:`_SPLINE_ROOM` larger."""
+    return replace(scene, margin=scene.margin + _SPLINE_ROOM)
 
 
 def _timed(family: Family, result: PathResult, rate: float,
@@ -319,7 +319,7 @@ def _timed(family: Family, result: PathResult, rate: float,
     is not the linear interpolation whose steps the search proved clear, so where its steps are not proved clear it
     is timed again through more points of those linear steps (:data:`_DENSITIES`), until they are.  Where none
     suffices (a path whose steps graze the margin, which no curve beside them keeps), the path ``again()`` gives
-    (the same search with :data:`SPLINE_ROOM` more margin) is timed the same way and taken where its trajectory is
+    (the same search with :data:`_SPLINE_ROOM` more margin) is timed the same way and taken where its trajectory is
     proved clear; otherwise ``result`` is timed at rest at every waypoint, so that the trajectory runs along the
     proved steps themselves."""
     timed_result, steps = _spline(family, result, rate)
