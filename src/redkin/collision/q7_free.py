@@ -51,8 +51,7 @@ from redkin.errors import RedkinError
 from redkin.franka import _kernels
 from redkin.franka.feasible import q7_domain
 from redkin.franka.geometry import FrankaGeometry
-from redkin.franka.ik import frames_seven, ik
-from redkin.srs.branches import BRANCHES
+from redkin.franka.ik import frames_seven
 
 #: A joint's proposed bound is this many times its larger change from the middle to an end of the interval.
 _PROPOSAL = 2.0
@@ -139,12 +138,11 @@ class _Q7Measure:
         for its own intervals only.  The last call's answer is kept, for the rates at the same middles."""
         if self._last is not None and self._last[0] is q7 and self._last[1] is owner:
             return self._last[2], self._last[3]
-        q, exists = np.zeros((len(q7), 7)), np.zeros(len(q7), dtype=bool)
-        row = self.rows[owner % len(self.rows)]
-        for branch in np.unique(row).tolist():
-            mine = row == branch
-            solutions = ik(self.geometry, self.poses[owner[mine] // len(self.rows)], q7[mine], BRANCHES[branch])
-            q[mine], exists[mine] = solutions.q[:, 0], solutions.exists[:, 0]
+        q, exists = np.empty((len(q7), 7)), np.empty(len(q7), dtype=bool)
+        geometry = self.geometry
+        run_batch(_kernels.solve_branch_rows, len(q7), self.poses, owner // len(self.rows),
+                  np.ascontiguousarray(q7, dtype=float), self.rows[owner % len(self.rows)], geometry.kernel_arm,
+                  geometry.kernel_ends, geometry.kernel_branches, geometry.kernel_joints, q, exists)
         self._last = (q7, owner, q, exists)
         return q, exists
 
@@ -165,12 +163,12 @@ class _Q7Measure:
         docstring) divided by ``half``: the rate that :func:`redkin.collision.arm_angle_free.certify` multiplies by
         ``half``; infinite where the bounds are not proved."""
         at_middle, here = self.joints(middle, owner)
-        moved = np.zeros_like(at_middle)
         reach = half + 2.0 * _kernels.LEVEL_SLACK  # the roots the test counts lie within the slack of the interval
-        for end in (middle - reach, middle + reach):
-            at_end, there = self.joints(end, owner)
-            here &= there
-            moved = np.maximum(moved, np.abs((at_end - at_middle + np.pi) % TWO_PI - np.pi))
+        at_ends, there = self.joints(np.concatenate([middle - reach, middle + reach]), np.concatenate([owner, owner]))
+        count = len(middle)
+        here = here & there[:count] & there[count:]
+        moved = np.maximum(np.abs((at_ends[:count] - at_middle + np.pi) % TWO_PI - np.pi),
+                           np.abs((at_ends[count:] - at_middle + np.pi) % TWO_PI - np.pi))
         delta = _PROPOSAL * moved + _ROOM
         delta[:, 6] = half
         proved = here & (delta[:, :6].max(axis=1) < _WIDEST)

@@ -852,14 +852,10 @@ def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch, wo
 # ----------------------------------------------------------------- batches
 # A batch kernel computes items start..stop - 1 (redkin._compiled.run_batch hands out the chunks).
 @kernel
-def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, scratch, work):
-    """One target pose (4, 4) of the chain at one value of q7: its checks, then :func:`solve_q7` into ``q`` (B, 7),
-    ``exists`` and ``within`` (B,) (exists and lies within the limits).  Returns :data:`OK`, or :data:`BAD_POSE`
-    for a pose that is not finite or not a proper rigid transform, or a q7 that is not finite (the caller words
-    the error).  ``frame`` (4, 4), ``scratch`` (8, 3, 3) and ``work`` (:data:`WORK`,) are work space."""
-    if pose_defect(pose) != OK or not np.isfinite(q7):
-        return BAD_POSE
-    for r in range(4):  # frame 7 in frame 0: base^-1 pose tool^-1
+def seventh_frame(pose, ends, frame):
+    """Frame 7 of the solver's form in its frame 0 for a target ``pose`` (4, 4) of the chain's tool: ``base^-1 pose
+    tool^-1`` (``ends`` (2, 4, 4)), into ``frame`` (4, 4)."""
+    for r in range(4):
         for c in range(4):
             total = 0.0
             for k in range(4):
@@ -868,6 +864,17 @@ def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, 
                     inner += pose[k, m] * ends[1, m, c]
                 total += ends[0, r, k] * inner
             frame[r, c] = total
+
+
+@kernel
+def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, scratch, work):
+    """One target pose (4, 4) of the chain at one value of q7: its checks, then :func:`solve_q7` into ``q`` (B, 7),
+    ``exists`` and ``within`` (B,) (exists and lies within the limits).  Returns :data:`OK`, or :data:`BAD_POSE`
+    for a pose that is not finite or not a proper rigid transform, or a q7 that is not finite (the caller words
+    the error).  ``frame`` (4, 4), ``scratch`` (8, 3, 3) and ``work`` (:data:`WORK`,) are work space."""
+    if pose_defect(pose) != OK or not np.isfinite(q7):
+        return BAD_POSE
+    seventh_frame(pose, ends, frame)
     solve_q7(frame, q7 + joints[0, 6], arm, branches, joints, q, exists, scratch, work)
     for b in range(branches.shape[0]):
         within[b] = exists[b] and in_limits(q[b], joints)
@@ -894,6 +901,21 @@ def solve_poses(start, stop, poses, q7, arm, ends, branches, joints, q, exists, 
                       scratch, work) != OK:
             failed += 1
     return failed
+
+
+@kernel
+def solve_branch_rows(start, stop, poses, pose_of, q7, rows, arm, ends, branches, joints, q, exists):
+    """One branch per item, for items ``start .. stop - 1``: item ``k`` is pose ``poses[pose_of[k]]`` (trusted) at
+    q7 ``q7[k]`` on the branch of row ``rows[k]`` of ``branches`` (8, 3), its solution [F1]-[F7] into ``q[k]`` (7,)
+    and whether it exists into ``exists[k]``: what :func:`solve_pose` gives for that branch alone."""
+    frame = np.empty((4, 4))
+    scratch = np.empty((8, 3, 3))
+    work = np.empty(WORK)
+    for k in range(start, stop):
+        row = rows[k]
+        seventh_frame(poses[pose_of[k]], ends, frame)
+        solve_q7(frame, q7[k] + joints[0, 6], arm, branches[row:row + 1], joints, q[k:k + 1], exists[k:k + 1],
+                 scratch, work)
 
 
 @kernel
