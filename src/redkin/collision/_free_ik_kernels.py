@@ -2,9 +2,10 @@
 search of a pose ([N1]-[N5], :mod:`redkin.numerical._kernels`) that measures each new certified solution's clearance
 as it is found (:func:`redkin.collision._clearance_kernels.least_one`) and stops once enough keep the margin.
 
-The starts, descents, certificates and distinctness are the solver's own kernels (:func:`~redkin.numerical._kernels.
-begin`, :func:`~redkin.numerical._kernels.candidate`, :func:`~redkin.numerical._kernels.finish`), so a pose's
-candidates are the solver's, in its order: the search stops early, it does not search otherwise.
+The starts, descents, certificates and distinctness are the solver's own kernels
+(:func:`~redkin.numerical._kernels.begin`, :func:`~redkin.numerical._kernels.candidate`,
+:func:`~redkin.numerical._kernels.finish`), so a pose's candidates are the solver's, in its order: the search stops
+early, it does not search otherwise.
 """
 
 from __future__ import annotations
