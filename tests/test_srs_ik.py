@@ -1,5 +1,7 @@
 """Arm-angle IK ([000 eqs. 11-19]): FK(IK(x)) = x on every branch, batched equals looped, inverse arm angle."""
 
+import re
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -90,6 +92,40 @@ def test_batched_equals_looped_and_single_branch_equals_all_branches():
         looped = np.array([[ik(chain, poses[i, j], psi[i, j], branch) for j in range(10)] for i in range(5)])
         assert np.allclose(np.cos(looped - one), 1.0, atol=1e-12)
 
+
+
+@settings(max_examples=20, deadline=None)
+@given(shape=st.sampled_from([(), (1,), (7,), (3, 4)]), seed=st.integers(0, 2**32 - 1), broadcast_psi=st.booleans())
+def test_ik_all_branches_into_out_equals_a_fresh_result_and_is_out(shape, seed, broadcast_psi):
+    """Written into a reused buffer (the stale values of the previous call in it) the joint values are those of a
+    fresh call, bit for bit, and the array returned is the buffer."""
+    chain = kuka_iiwa14()
+    rng = np.random.default_rng(seed)
+    count = int(np.prod(shape))
+    poses = random_poses(chain, count, rng).reshape(shape + (4, 4))
+    psi = rng.uniform(-np.pi, np.pi, () if broadcast_psi else shape)
+    buffer = np.full(shape + (8, 7), np.nan)
+    for _ in range(2):
+        fresh = ik_all_branches(chain, poses, psi)
+        written = ik_all_branches(chain, poses, psi, out=buffer)
+        assert written is buffer
+        assert np.array_equal(buffer, fresh)
+        psi = psi + 0.5  # the second call overwrites the first's values
+
+
+@pytest.mark.parametrize("out, words", [
+    (np.empty((4, 8, 6)), "of shape (4, 8, 7)"),
+    (np.empty((3, 8, 7)), "of shape (4, 8, 7)"),
+    (np.empty((4, 8, 7), dtype=np.float32), "float64"),
+    (np.empty((4, 7, 8)).transpose(0, 2, 1), "C-contiguous"),
+    (np.broadcast_to(np.empty((8, 7)), (4, 8, 7)), "writeable"),
+    ([[0.0] * 7] * 8, "numpy array"),
+])
+def test_ik_all_branches_refuses_an_out_it_cannot_write_into(out, words):
+    chain = kuka_iiwa14()
+    poses = random_poses(chain, 4, np.random.default_rng(0))
+    with pytest.raises(ValueError, match=re.escape(words)):
+        ik_all_branches(chain, poses, 0.3, out=out)
 
 def test_arm_angle_of_inverts_ik_on_every_branch():
     chain = kuka_iiwa14()
