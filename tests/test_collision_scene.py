@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 import yaml
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -56,6 +56,7 @@ def _expected_row(entry: dict) -> np.ndarray:
 
 @settings(max_examples=40, deadline=None)
 @given(entries=st.lists(_obstacle(), max_size=6), margin=st.floats(0.0, 0.1), as_json=st.booleans())
+@example(entries=[], margin=1e-9, as_json=True)  # a fresh draw: json.dumps writes "1e-09", once read as a string
 def test_a_written_scene_reads_back(tmp_path_factory, entries, margin, as_json):
     named = [{"name": f"thing {k}", **entry} for k, entry in enumerate(entries)]
     folder = tmp_path_factory.mktemp("scene")

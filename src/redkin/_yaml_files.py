@@ -4,12 +4,26 @@ cannot be read."""
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 from typing import Any
 
 import yaml
 
 from redkin.errors import RobotDescriptionError
+
+
+class _Loader(yaml.SafeLoader):
+    """PyYAML's safe loader, reading numbers as YAML 1.2 and JSON do: ``1e-09`` and ``5E3`` are floats.
+
+    PyYAML follows YAML 1.1, whose floats need a dot (``1.0e-09``), and reads ``1e-09`` as a string; but that is
+    how ``json.dumps`` writes 1e-9, and how people write small margins and radii by hand.
+    """
+
+
+_Loader.add_implicit_resolver("tag:yaml.org,2002:float",
+                              re.compile(r"^[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?$"),
+                              list("-+0123456789."))
 
 
 def read_yaml(file: str | os.PathLike, what: str) -> Any:
@@ -22,7 +36,7 @@ def read_yaml(file: str | os.PathLike, what: str) -> Any:
     """
     path = Path(file)
     try:
-        return yaml.safe_load(path.read_text())
+        return yaml.load(path.read_text(), Loader=_Loader)
     except (OSError, UnicodeDecodeError) as exc:
         raise RobotDescriptionError(f"{what} {str(path)!r}: cannot read it ({exc})", str(path)) from None
     except yaml.YAMLError as exc:
