@@ -18,7 +18,7 @@ workers the same variable.  The cache holds machine code for this CPU: copy it o
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -211,9 +211,13 @@ _SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("collision", _collision),
 )
 
+#: The sections' names, in their order: ``redkin compile --section NAME`` compiles one of them.
+SECTION_NAMES: tuple[str, ...] = tuple(name for name, _ in _SECTIONS)
+
 
 def warm_up(progress: Callable[[str], None] | None = None, processes: int = 1,
-            compiled: Callable[[str], None] | None = None) -> list[tuple[str, float, float]]:
+            compiled: Callable[[str], None] | None = None,
+            sections: Sequence[str] | None = None) -> list[tuple[str, float, float]]:
     """Call every compiled path once (compiling and caching what is not cached yet); return each section's seconds.
 
     Parameters
@@ -230,6 +234,8 @@ def warm_up(progress: Callable[[str], None] | None = None, processes: int = 1,
         wall time; the processes' own compile notices are not said.
     compiled : callable, optional
         ``compiled(kernel)`` for each kernel compiled (its module and function), in whichever process.
+    sections : sequence of str, optional
+        Only these sections (names of :data:`SECTION_NAMES`), in their order there; default all.
 
     Returns
     -------
@@ -240,12 +246,16 @@ def warm_up(progress: Callable[[str], None] | None = None, processes: int = 1,
     Raises
     ------
     ValueError
-        For ``processes`` < 1.
+        For ``processes`` < 1 or an unknown section.
     """
     if processes < 1:
         raise RedkinError(f"processes must be at least 1, got {processes}")
+    unknown = sorted(set(sections or ()) - set(SECTION_NAMES))
+    if unknown:
+        raise RedkinError(f"unknown section {unknown[0]!r}; the sections are {', '.join(SECTION_NAMES)}")
+    chosen = [k for k, name in enumerate(SECTION_NAMES) if sections is None or name in sections]
     if processes == 1:
-        sections = [_section_seconds(name, progress) for name, _ in _SECTIONS]
+        results = [_section_seconds(SECTION_NAMES[k], progress) for k in chosen]
     else:
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
@@ -253,26 +263,32 @@ def warm_up(progress: Callable[[str], None] | None = None, processes: int = 1,
         from redkin._compiled import prepare_cache
 
         prepare_cache()  # every cache folder's stamp checked here, before the processes write to it
-        order = sorted(range(len(_SECTIONS)), key=lambda k: -_EXPECTED.get(_SECTIONS[k][0], 0.0))
+        order = sorted(chosen, key=lambda k: -_EXPECTED.get(SECTION_NAMES[k], 0.0))
         with ProcessPoolExecutor(processes, mp_context=multiprocessing.get_context("spawn"),
                                  initializer=_quiet) as pool:
             futures = {}
             for k in order:
                 if progress is not None:
-                    progress(_SECTIONS[k][0])
-                futures[k] = pool.submit(_section_seconds, _SECTIONS[k][0])
-            sections = [futures[k].result() for k in range(len(_SECTIONS))]
+                    progress(SECTION_NAMES[k])
+                futures[k] = pool.submit(_section_seconds, SECTION_NAMES[k])
+            results = [futures[k].result() for k in chosen]
     if compiled is not None:
-        for *_, kernels in sections:
+        for *_, kernels in results:
             for kernel in kernels:
                 compiled(kernel)
-    return [(name, wall, cpu) for name, wall, cpu, _ in sections]
+    return [(name, wall, cpu) for name, wall, cpu, _ in results]
 
 
 #: Each section's CPU seconds on a fresh cache after the sections before it (``redkin compile --json``, 2 cores,
 #: 2026-12-04): only the order in which several processes take them, the longest first (a section not listed last).
 _EXPECTED = {"chain": 5.2, "srs ik": 9.4, "srs sets": 5.2, "franka": 25.9, "nearly S-R-S": 47.1, "numerical ik": 10.1,
              "paths": 6.6, "torso arm": 7.7, "velocity": 8.9, "virtual arms": 2.1, "collision": 6.8}
+
+
+def expected_seconds(sections: Sequence[str]) -> float:
+    """About how many seconds compiling ``sections`` takes on a fresh cache (:data:`_EXPECTED`; a floor where
+    another section compiled some of their kernels first)."""
+    return sum(_EXPECTED.get(name, 0.0) for name in sections)
 
 
 def _quiet() -> None:

@@ -250,16 +250,41 @@ def kernels_compiled(kernels: Sequence[str]) -> bool:
     return kernels_cached(*_kernels_named(kernels))
 
 
-def python_until_compiled(kernels: Sequence[str], work: str) -> bool:
+def python_until_compiled(kernels: Sequence[str], work: str, sections: Sequence[str]) -> bool:
     """Whether small work that compiled code does faster than Python runs as Python after all, because the
     ``kernels`` it calls (``module.function`` names), or kernels they call, are not in numba's cache yet
     (:func:`redkin._compiled.kernels_cached`): compiling them would cost far more than running them as Python once.
-    Where so, a note on stderr says it of ``work`` and names ``redkin compile``."""
+    Where so, the ``sections`` of :mod:`redkin.warm_up` that compile them start compiling in the background
+    (:mod:`redkin.cli.background_compile`), and a note on stderr says both of ``work``
+    (:func:`compiling_later`)."""
     if kernels_compiled(kernels):
         return False
-    print(f"redkin: note: the kernels of {work} are not compiled yet, so it runs as Python; 'redkin compile' "
-          "compiles them once (minutes), and later runs are compiled, two to three times faster", file=sys.stderr)
+    print(f"redkin: note: the kernels of {work} are not compiled yet, so it runs as Python (compiled it runs two "
+          f"to three times faster); {compiling_later(sections)}", file=sys.stderr)
     return True
+
+
+def compiling_later(sections: Sequence[str]) -> str:
+    """Start compiling the ``sections`` of :mod:`redkin.warm_up` in the background where that is on and no compile of
+    the cache runs yet (:func:`redkin.cli.background_compile.start`), and say in words what will make later runs
+    compiled."""
+    from redkin.cli.background_compile import compile_running, start
+    from redkin.warm_up import expected_seconds
+
+    command = "redkin compile " + " ".join(f"--section {section!r}" for section in sections)
+    seconds = f"about {expected_seconds(sections):.0f} s"
+    if compile_running():
+        return ("a 'redkin compile' of this cache is running already (in the background, or yours), and runs after "
+                "it ends are compiled")
+    try:
+        pid = start(sections)
+    except OSError as exc:
+        return f"starting '{command}' in the background failed ({exc}); run it once ({seconds}) to make later runs " \
+               "compiled"
+    if pid is None:  # background compiles are off
+        return f"'{command}' ({seconds}, once) makes later runs compiled"
+    return (f"they are compiling in the background now (process {pid}, '{command} --background', {seconds}), "
+            "and later runs are compiled")
 
 
 def load_robot(args: argparse.Namespace) -> SerialChain:

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 
 from redkin.cli.common import print_json
+from redkin.warm_up import SECTION_NAMES
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -24,16 +26,38 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "(default: one per core this process may use; 1: this process, with its compile "
                              "progress)")
     parser.add_argument("--json", action="store_true", help="print the sections' seconds and the cache as JSON")
+    parser.add_argument("--section", action="append", choices=SECTION_NAMES, metavar="NAME",
+                        help="compile only this section (repeat for more): " + ", ".join(SECTION_NAMES))
+    parser.add_argument("--background", action="store_true",
+                        help="what a command that ran as Python starts so that later runs are compiled: quiet, in "
+                             "one process at a low priority, and nothing at all while another 'redkin compile' of "
+                             "the same cache runs (docs/chains.md); REDKIN_BACKGROUND_COMPILE=0 stops commands "
+                             "from starting it")
     parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    from redkin.cli.background_compile import NICENESS, compile_lock
+
+    processes = 1 if args.background else args.processes
+    if processes is not None and processes < 1:
+        raise ValueError(f"--processes must be at least 1, got {processes}")
+    with compile_lock() as held:
+        if args.background:
+            if not held:  # another compile of this cache runs (or the lock cannot be taken): leave it the work
+                return 0
+            if hasattr(os, "nice"):
+                os.nice(NICENESS)
+            args.quiet = True
+        return _compile(args, processes)
+
+
+def _compile(args: argparse.Namespace, processes: int | None) -> int:
+    """Compile the sections ``args`` name (all by default) in ``processes`` processes, saying what it did."""
     from redkin._compiled import cache_directory, default_threads, set_compile_notice
     from redkin.warm_up import warm_up
 
-    processes = default_threads() if args.processes is None else args.processes
-    if processes < 1:
-        raise ValueError(f"--processes must be at least 1, got {processes}")
+    processes = default_threads() if processes is None else processes
     if args.quiet:  # else the sections' lines, and redkin._compiled's count of the kernels within them
         set_compile_notice(False)
     compiled: list[str] = []
@@ -43,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"compiling: {section}...", file=sys.stderr, flush=True)
 
     start = time.perf_counter()
-    times = warm_up(progress, processes, compiled.append)
+    times = warm_up(progress, processes, compiled.append, args.section)
     cache = cache_directory()
     if args.json:
         print_json({"sections": [{"name": name, "wall_s": wall, "cpu_s": cpu} for name, wall, cpu in times],

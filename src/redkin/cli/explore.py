@@ -75,8 +75,9 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("give the pose (--position and --rotation or --quat), or a configuration --q to explore "
                          "at its pose")
     cell = load_cell(args, chain)
-    kernels = None if cell is not None else _page_kernels(chain, args.srs_tolerance)
-    small_work(kernels is not None and python_until_compiled(kernels, "this explorer page"))
+    page = None if cell is not None else _page_parameter(chain, args.srs_tolerance)
+    small_work(page is not None and python_until_compiled(_PAGE_KERNELS[page], "this explorer page",
+                                                          _PAGE_SECTIONS[page]))
     data = explorer_data(chain, pose, args.branch, srs_tolerance=args.srs_tolerance, q=q,
                          body=None if cell is None else cell[0], scene=None if cell is None else cell[1])
     out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
@@ -113,11 +114,14 @@ _PAGE_KERNELS = {
     "q7": ("redkin.franka._kernels.feasible_poses", "redkin.franka._kernels.solve_poses",
            "redkin.franka._kernels.solve_single"),
 }
+#: The sections of :mod:`redkin.warm_up` that compile :data:`_PAGE_KERNELS` (in the background, on a fresh cache).
+_PAGE_SECTIONS = {"psi": ("srs ik", "srs sets"), "q7": ("franka",)}
 
 
-def _page_kernels(chain, srs_tolerance: float | None) -> tuple[str, ...] | None:
-    """The kernels of :data:`_PAGE_KERNELS` for the chain's class; ``None`` for a nearly S-R-S arm (its certified
-    self-motion takes a minute as Python) or a chain of no arm-angle class (the page refuses it)."""
+def _page_parameter(chain, srs_tolerance: float | None) -> str | None:
+    """The key of :data:`_PAGE_KERNELS` for the chain's class (its redundancy parameter); ``None`` for a nearly S-R-S
+    arm (its certified self-motion takes a minute as Python) or a chain of no arm-angle class (the page refuses
+    it)."""
     from redkin.errors import NotArmAngleClassError
     from redkin.paths.arm_family import path_family
     from redkin.paths.family import NearlyFamily
@@ -126,7 +130,7 @@ def _page_kernels(chain, srs_tolerance: float | None) -> tuple[str, ...] | None:
         family = path_family(chain, srs_tolerance)
     except NotArmAngleClassError:
         return None
-    return None if isinstance(family, NearlyFamily) else _PAGE_KERNELS[family.parameter]
+    return None if isinstance(family, NearlyFamily) else family.parameter
 
 
 def _cell_sets(data, degrees: bool) -> dict:

@@ -391,7 +391,7 @@ def _run_path(args: argparse.Namespace) -> int:
     model = _model_line(chain, args.srs_tolerance)
     small = cell is None and model is None and not timed and not args.thorough and len(poses) <= _SMALL_PATH
     if small and _parameter(chain, args.srs_tolerance) != "psi":
-        small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class")
+        small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class", ("franka", "paths"))
     small_work(small)
     degrees = args.deg
     unit = angle_unit(degrees)

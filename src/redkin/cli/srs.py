@@ -27,6 +27,7 @@ from redkin.cli.common import (
     angle_unit,
     angles_in,
     angles_out,
+    compiling_later,
     fixed,
     format_values,
     joint_vector,
@@ -49,6 +50,9 @@ _SELF_MOTION_KERNELS = ("redkin.srs.nearly._kernels.solve", "redkin.srs.nearly._
                         "redkin.srs.nearly._self_motion_kernels.traced",
                         "redkin.srs.nearly._self_motion_kernels.corrected",
                         "redkin.srs.nearly._self_motion_kernels.scratch")
+#: The sections of :mod:`redkin.warm_up` that compile them, and the chain's kernel that moves joints by whole turns
+#: (in the background, on a fresh cache).
+_SELF_MOTION_SECTIONS = ("chain", "nearly S-R-S")
 
 #: A batch of at most this many poses of an exact closed form runs as Python (``redkin ik --poses``): about 2 ms a
 #: pose on the iiwa14, under 1 ms on the Panda, against about 9 s of compiling on a fresh cache (0.6 s of loading
@@ -223,8 +227,8 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     if not batch and not traced and not classified.implementation.one_per_branch and entries[0]["solutions"]:
         print(f"redkin: note: not checked whether a branch has a second solution at this {parameter} (a nearly "
               "S-R-S arm can have two next to a fold): that follows the pose's self-motion, whose kernels are not "
-              "compiled yet; --every-solution follows it now, and after 'redkin compile' (minutes, once) every run "
-              "does", file=sys.stderr)
+              f"compiled yet, and --every-solution follows it now; {compiling_later(_SELF_MOTION_SECTIONS)}",
+              file=sys.stderr)
     if args.json:
         head = {"robot": chain.name, "parameter": parameter, "units": {parameter: unit, "q": unit, "reach": "m"},
                 parameter: angles_out(value, args.deg), "branch_from": why,

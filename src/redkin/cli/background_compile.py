@@ -1,0 +1,113 @@
+"""Compiling in the background: a command that ran as Python because its kernels were not in numba's cache yet
+starts ``redkin compile --background --section ...`` in a process of its own, so that later runs are compiled.
+
+A first run on a fresh install answers as Python where that is quicker than compiling (one pose of a closed form,
+a short Franka path, an explorer page: :func:`redkin.cli.common.python_until_compiled`).  Without more, every later
+run would do the same until the user ran ``redkin compile``.  Instead the run starts the sections of
+:mod:`redkin.warm_up` that call its kernels in a new session (it outlives the command, at a low priority, its
+output discarded), and says so on stderr.  The command does not wait for it.
+
+Only one such compile runs per numba cache: ``redkin compile`` holds an advisory lock (``fcntl.flock``) on a file
+named after the cache (:func:`_lock_path`, in the temporary folder) while it compiles, and a background compile
+is neither started nor run while another holds it.  ``REDKIN_BACKGROUND_COMPILE=0`` in the environment turns
+this off (the test suite does, for the processes it starts too); where the platform has no ``flock`` or
+``posix_spawn`` it is off.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+import tempfile
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from pathlib import Path
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX: no background compile
+    fcntl = None  # type: ignore[assignment]
+
+#: The environment variable that turns background compiles off where it is ``0``.
+_ENVIRONMENT = "REDKIN_BACKGROUND_COMPILE"
+#: How much lower than the command's a background compile's scheduling priority is (``os.nice``).
+NICENESS = 10
+
+
+def _enabled() -> bool:
+    """Whether a command that ran as Python starts a background compile: not where ``REDKIN_BACKGROUND_COMPILE``
+    is ``0``, nor where the platform lacks ``fcntl.flock`` or ``os.posix_spawn``."""
+    return os.environ.get(_ENVIRONMENT, "1").strip() != "0" and fcntl is not None and hasattr(os, "posix_spawn")
+
+
+def _lock_path() -> Path:
+    """The lock file of the numba cache this process compiles into: named after ``NUMBA_CACHE_DIR`` where set, else
+    after redkin's own folder (numba then caches beside the sources, or in the user's cache), and the user, in the
+    temporary folder."""
+    cache = os.environ.get("NUMBA_CACHE_DIR") or str(Path(__file__).resolve().parents[1])
+    name = hashlib.sha256(f"{os.getuid() if hasattr(os, 'getuid') else 0}:{cache}".encode()).hexdigest()[:16]
+    return Path(tempfile.gettempdir()) / f"redkin-compile-{name}.lock"
+
+
+@contextmanager
+def compile_lock() -> Iterator[bool]:
+    """Hold the cache's compile lock for the block if no other process holds it; yields whether this one does
+    (``False`` also where the lock file cannot be made or locked: the compile goes on without it)."""
+    if fcntl is None:  # pragma: no cover - not POSIX
+        yield False
+        return
+    try:
+        handle = open(_lock_path(), "a")
+    except OSError:
+        yield False
+        return
+    with handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:  # held by another process (or locks unsupported there)
+            yield False
+            return
+        try:
+            yield True
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+def compile_running() -> bool:
+    """Whether another process holds the cache's compile lock (a ``redkin compile`` of this cache is running);
+    ``False`` where the lock file cannot be opened (nor can a compile hold it then)."""
+    if fcntl is None:  # pragma: no cover - not POSIX
+        return False
+    try:
+        handle = open(_lock_path(), "a")
+    except OSError:
+        return False
+    with handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            return True
+        fcntl.flock(handle, fcntl.LOCK_UN)
+        return False
+
+
+def start(sections: Sequence[str]) -> int | None:
+    """Start ``redkin compile --background`` of ``sections`` (names of :data:`redkin.warm_up.SECTION_NAMES`) in a new
+    session, its input and output ``/dev/null``; return its process id, or ``None`` where background compiles are
+    off (:func:`_enabled`) or one is running already (:func:`compile_running`).
+
+    Raises
+    ------
+    OSError
+        Where the process cannot be started (the caller says so and goes on).
+    """
+    if not _enabled() or compile_running():
+        return None
+    argv = [sys.executable, "-m", "redkin.cli.main", "compile", "--background"]
+    for section in sections:
+        argv += ["--section", section]
+    null = os.devnull
+    actions = [(os.POSIX_SPAWN_OPEN, 0, null, os.O_RDONLY, 0), (os.POSIX_SPAWN_OPEN, 1, null, os.O_WRONLY, 0),
+               (os.POSIX_SPAWN_OPEN, 2, null, os.O_WRONLY, 0)]
+    return os.posix_spawn(sys.executable, argv, dict(os.environ), file_actions=actions, setsid=True)
