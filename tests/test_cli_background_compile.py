@@ -11,10 +11,23 @@ from pathlib import Path
 
 import pytest
 
-from redkin.cli.background_compile import _ENVIRONMENT, _lock_path, compile_lock, compile_running, start
+from redkin.cli.background_compile import (
+    _ENVIRONMENT,
+    OverTime,
+    _lock_path,
+    compile_lock,
+    compile_running,
+    start,
+    within_seconds,
+)
 from redkin.cli.explore import _PAGE_KERNELS, _PAGE_SECTIONS
 from redkin.cli.path import _FRANKA_PATH_KERNELS
-from redkin.cli.srs import _SELF_MOTION_KERNELS, _SELF_MOTION_SECTIONS
+from redkin.cli.srs import (
+    _NEARLY_SETS_KERNELS,
+    _NEARLY_SETS_SECTIONS,
+    _SELF_MOTION_KERNELS,
+    _SELF_MOTION_SECTIONS,
+)
 from redkin.warm_up import SECTION_NAMES
 from tests.support.cli import run
 
@@ -24,6 +37,7 @@ CALL_SITES = {
     "explorer page, Franka class": (_PAGE_KERNELS["q7"], _PAGE_SECTIONS["q7"]),
     "path of the Franka class": (_FRANKA_PATH_KERNELS, ("franka", "paths")),
     "ik at an arm angle, nearly S-R-S": (_SELF_MOTION_KERNELS, _SELF_MOTION_SECTIONS),
+    "arm-angles, nearly S-R-S": (_NEARLY_SETS_KERNELS, _NEARLY_SETS_SECTIONS),
 }
 
 
@@ -135,3 +149,65 @@ def _wait_for_other(pid: int, seconds: float) -> None:
         time.sleep(0.2)
     os.kill(pid, 9)
     pytest.fail(f"the background compile {pid} did not end in {seconds} s")
+
+
+def test_within_seconds_stops_python_work_in_time_and_puts_the_handler_back():
+    """A Python loop is stopped by :class:`OverTime` after the time, not before; work that ends in time is not; the
+    previous ``SIGALRM`` handler and a quiet timer are back after either."""
+    import signal
+
+    before = signal.getsignal(signal.SIGALRM)
+    start_time = time.monotonic()
+    with pytest.raises(OverTime), within_seconds(0.3):
+        while True:
+            pass
+    assert time.monotonic() - start_time >= 0.3
+    with within_seconds(5.0):
+        total = sum(range(1000))
+    assert total == 499500 and signal.getsignal(signal.SIGALRM) is before
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
+def _nearly_arm_angles(seconds: float, capsys) -> tuple[str, str, bool, str]:
+    """``arm-angles --json`` of one Gen3 pose in a fresh process on the ambient cache, with its kernels taken as not
+    cached (the fresh-cache case, without the minute of compiling) and a compile running in the background taken as
+    started: run as Python for at most ``seconds``.  Returns that process's JSON and stderr, whether it ended with
+    numba loaded (the compiled run), and the JSON of the same command in this process (compiled)."""
+    pose = ["--position", "0.08199414787611689", "-0.038629829126462185", "1.0553268325600618", "--quat",
+            "0.943956742111449", "0.04961524895985603", "0.08989862028824464", "-0.31369130393311984"]
+    argv = ["arm-angles", "kinova-gen3", *pose, "--json"]
+    code = "\n".join([
+        "import contextlib, io, sys",
+        "import redkin.cli.srs as srs",
+        "srs.kernels_compiled = lambda kernels: False",
+        "srs.background_compiles = lambda: True",
+        "srs.compiling_later = lambda sections: 'compiling in the background (stand-in)'",
+        f"srs._PYTHON_SECONDS = {seconds!r}",
+        "from redkin.cli.main import main",
+        "out, err = io.StringIO(), io.StringIO()",
+        "with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):",
+        f"    status = main({argv!r})",
+        "print((status, out.getvalue(), err.getvalue(), 'numba' in sys.modules))",
+    ])
+    status, out, err, compiled = _python(code, {})
+    assert status == 0
+    here_status, here, _ = run(capsys, argv)
+    assert here_status == 0
+    return out, err, compiled, here
+
+
+@pytest.mark.slow
+def test_a_nearly_pose_runs_as_python_while_its_kernels_compile_and_gives_the_compiled_answer(capsys):
+    """``arm-angles`` on a Gen3 pose whose kernels are not cached runs as Python (10-15 s), says so, and prints the
+    JSON the compiled command prints, number for number."""
+    out, err, compiled, here = _nearly_arm_angles(300.0, capsys)
+    assert not compiled and "so it runs as Python for up to 300 s" in err and "stand-in" in err
+    assert json.loads(out) == json.loads(here)
+
+
+def test_a_nearly_pose_over_its_python_time_waits_for_the_compile_and_runs_compiled(capsys):
+    """Past its time as Python, ``arm-angles`` says so, waits for the compile (none runs here) and answers compiled,
+    as the compiled command does."""
+    out, err, compiled, here = _nearly_arm_angles(0.3, capsys)
+    assert compiled and "still running as Python after 0 s" in err
+    assert json.loads(out) == json.loads(here)

@@ -12,14 +12,22 @@ named after the cache (:func:`_lock_path`, in the temporary folder) while it com
 is neither started nor run while another holds it.  ``REDKIN_BACKGROUND_COMPILE=0`` in the environment turns
 this off (the test suite does, for the processes it starts too); where the platform has no ``flock`` or
 ``posix_spawn`` it is off.
+
+Work that is usually quick as Python but may not be (a nearly S-R-S arm's sets: 10-15 s on most poses, half a
+minute and more next to a singular configuration) runs as Python within a time limit while the compile runs
+(:func:`within_seconds`); past it the command waits for the compile to end (:func:`wait_for_compile`) and runs
+compiled, which costs little more than compiling in the foreground from the start.
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import signal
 import sys
 import tempfile
+import threading
+import time
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -35,7 +43,7 @@ _ENVIRONMENT = "REDKIN_BACKGROUND_COMPILE"
 NICENESS = 10
 
 
-def _enabled() -> bool:
+def background_compiles() -> bool:
     """Whether a command that ran as Python starts a background compile: not where ``REDKIN_BACKGROUND_COMPILE``
     is ``0``, nor where the platform lacks ``fcntl.flock`` or ``os.posix_spawn``."""
     return os.environ.get(_ENVIRONMENT, "1").strip() != "0" and fcntl is not None and hasattr(os, "posix_spawn")
@@ -95,14 +103,14 @@ def compile_running() -> bool:
 def start(sections: Sequence[str]) -> int | None:
     """Start ``redkin compile --background`` of ``sections`` (names of :data:`redkin.warm_up.SECTION_NAMES`) in a new
     session, its input and output ``/dev/null``; return its process id, or ``None`` where background compiles are
-    off (:func:`_enabled`) or one is running already (:func:`compile_running`).
+    off (:func:`background_compiles`) or one is running already (:func:`compile_running`).
 
     Raises
     ------
     OSError
         Where the process cannot be started (the caller says so and goes on).
     """
-    if not _enabled() or compile_running():
+    if not background_compiles() or compile_running():
         return None
     argv = [sys.executable, "-m", "redkin.cli.main", "compile", "--background"]
     for section in sections:
@@ -111,3 +119,43 @@ def start(sections: Sequence[str]) -> int | None:
     actions = [(os.POSIX_SPAWN_OPEN, 0, null, os.O_RDONLY, 0), (os.POSIX_SPAWN_OPEN, 1, null, os.O_WRONLY, 0),
                (os.POSIX_SPAWN_OPEN, 2, null, os.O_WRONLY, 0)]
     return os.posix_spawn(sys.executable, argv, dict(os.environ), file_actions=actions, setsid=True)
+
+
+class OverTime(Exception):
+    """Raised in the main thread when the time of :func:`within_seconds` is up."""
+
+
+def time_limit_available() -> bool:
+    """Whether :func:`within_seconds` can stop work in this thread (the main thread, with ``SIGALRM``)."""
+    return hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+
+
+@contextmanager
+def within_seconds(seconds: float) -> Iterator[None]:
+    """Raise :class:`OverTime` in the block once ``seconds`` have passed (a real-time timer's ``SIGALRM``; the
+    previous handler and timer are put back after).  Work run as Python stops at its next bytecode.
+
+    Raises
+    ------
+    RuntimeError
+        Outside the main thread or where the platform has no ``setitimer`` (:func:`time_limit_available`).
+    """
+    if not time_limit_available():
+        raise RuntimeError("a time limit needs the main thread and setitimer")
+
+    def over(signum: int, frame: object) -> None:
+        raise OverTime
+
+    previous = signal.signal(signal.SIGALRM, over)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def wait_for_compile(poll: float = 0.5) -> None:
+    """Return once no ``redkin compile`` of this cache holds its lock (:func:`compile_running`)."""
+    while compile_running():
+        time.sleep(poll)

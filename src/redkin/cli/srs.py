@@ -9,6 +9,13 @@ from typing import Any
 
 import numpy as np
 
+from redkin.cli.background_compile import (
+    OverTime,
+    background_compiles,
+    time_limit_available,
+    wait_for_compile,
+    within_seconds,
+)
 from redkin.cli.cell import (
     add_cell_arguments,
     cell_note_lines,
@@ -53,6 +60,30 @@ _SELF_MOTION_KERNELS = ("redkin.srs.nearly._kernels.solve", "redkin.srs.nearly._
 #: The sections of :mod:`redkin.warm_up` that compile them, and the chain's kernel that moves joints by whole turns
 #: (in the background, on a fresh cache).
 _SELF_MOTION_SECTIONS = ("chain", "nearly S-R-S")
+#: The kernels a nearly S-R-S pose's sets call (``arm-angles``: :meth:`redkin.arms.Arm.analyse`), ``module.function``,
+#: and the sections of :mod:`redkin.warm_up` that compile them.
+_NEARLY_SETS_KERNELS = ("redkin._chain_kernels.frames", "redkin._chain_kernels.jacobian",
+                        "redkin._chain_kernels.representatives", "redkin.srs._feasible_kernels.batch_arc_runs",
+                        "redkin.srs._feasible_kernels.branches", "redkin.srs._ik_kernels.coefficients",
+                        "redkin.srs.nearly._kernels.arm_angles", "redkin.srs.nearly._kernels.solve",
+                        "redkin.srs.nearly._self_motion_kernels.traced")
+_NEARLY_SETS_SECTIONS = ("chain", "srs ik", "srs sets", "nearly S-R-S")
+#: How long ``arm-angles`` on a nearly S-R-S arm runs as Python while its kernels compile in the background, before
+#: it waits for them: most poses take 10-15 s as Python on a 2-core machine, against about a minute of compiling;
+#: next to a singular configuration 30 s and more.
+_PYTHON_SECONDS = 20.0
+
+
+def _nearly_sets_as_python() -> bool:
+    """Whether ``arm-angles`` on a nearly S-R-S arm runs as Python first (:data:`_PYTHON_SECONDS`): where its kernels
+    are not cached and a compile of them runs in the background (started here, or running already), and the
+    command can stop the Python work in time (:func:`redkin.cli.background_compile.time_limit_available`).  It
+    says so on stderr.  Elsewhere it runs compiled, compiling in the foreground what is not cached."""
+    if kernels_compiled(_NEARLY_SETS_KERNELS) or not time_limit_available() or not background_compiles():
+        return False
+    print(f"redkin: note: the kernels of a nearly S-R-S arm's sets are not compiled yet, so it runs as Python for "
+          f"up to {_PYTHON_SECONDS:.0f} s; {compiling_later(_NEARLY_SETS_SECTIONS)}", file=sys.stderr)
+    return True
 
 #: A batch of at most this many poses of an exact closed form runs as Python (``redkin ik --poses``): about 2 ms a
 #: pose on the iiwa14, under 1 ms on the Panda, against about 9 s of compiling on a fresh cache (0.6 s of loading
@@ -345,11 +376,24 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     chain = load_robot(args)
     classified = _closed_form_arm(chain, args)
     cell = load_cell(args, chain)
-    small_work(cell is None and classified.implementation.one_per_branch)
+    exact = classified.implementation.one_per_branch
+    python_first = cell is None and not exact and _nearly_sets_as_python()
+    small_work((cell is None and exact) or python_first)
     branch = str(parse_branch("+++" if args.branch is None else args.branch))
     target = None if args.target is None else joint_vector(chain, args.target, args.deg, "--target values")
     pose = target_pose(args)
-    analysis = classified.analyse(pose, branch, target=target, weights=args.weights)
+    analysis = None
+    if python_first:
+        try:
+            with within_seconds(_PYTHON_SECONDS):
+                analysis = classified.analyse(pose, branch, target=target, weights=args.weights)
+        except OverTime:
+            print(f"redkin: note: still running as Python after {_PYTHON_SECONDS:.0f} s (a pose next to a singular "
+                  "configuration takes longer): waiting for the compile, then running compiled", file=sys.stderr)
+            wait_for_compile()
+            small_work(False)
+    if analysis is None:
+        analysis = classified.analyse(pose, branch, target=target, weights=args.weights)
     report = _arm_angles_report(classified, analysis, args.deg)
     if cell is not None:
         from redkin.collision import collision_free_set
