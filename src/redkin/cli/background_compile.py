@@ -121,8 +121,9 @@ def start(sections: Sequence[str]) -> int | None:
     return os.posix_spawn(sys.executable, argv, dict(os.environ), file_actions=actions, setsid=True)
 
 
-class OverTime(Exception):
-    """Raised in the main thread when the time of :func:`within_seconds` is up."""
+class OverTime(BaseException):
+    """Raised in the main thread when the time of :func:`within_seconds` is up; a ``BaseException``, as
+    ``KeyboardInterrupt`` is, so that no ``except Exception`` on the way turns it into an answer or an error."""
 
 
 def time_limit_available() -> bool:
