@@ -8,10 +8,10 @@ run would do the same until the user ran ``redkin compile``.  Instead the run st
 output discarded), and says so on stderr.  The command does not wait for it.
 
 Only one such compile runs per numba cache: ``redkin compile`` holds an advisory lock (``fcntl.flock``) on a file
-named after the cache (:func:`_lock_path`, in the temporary folder) while it compiles, and a background compile
-is neither started nor run while another holds it.  ``REDKIN_BACKGROUND_COMPILE=0`` in the environment turns
-this off (the test suite does, for the processes it starts too); where the platform has no ``flock`` or
-``posix_spawn`` it is off.
+of the cache (:func:`_lock_path`: in ``NUMBA_CACHE_DIR``, else in the temporary folder) while it compiles, and a
+background compile is neither started nor run while another holds it.  ``REDKIN_BACKGROUND_COMPILE=0`` in the
+environment turns this off (the test suite does, for the processes it starts too); where the platform has no
+``flock`` or ``posix_spawn`` it is off.
 
 Work that is usually quick as Python but may not be (a nearly S-R-S arm's sets: 10-15 s on most poses, half a
 minute and more next to a singular configuration) runs as Python within a time limit while the compile runs
@@ -50,11 +50,18 @@ def background_compiles() -> bool:
 
 
 def _lock_path() -> Path:
-    """The lock file of the numba cache this process compiles into: named after ``NUMBA_CACHE_DIR`` where set, else
-    after redkin's own folder (numba then caches beside the sources, or in the user's cache), and the user, in the
-    temporary folder."""
-    cache = os.environ.get("NUMBA_CACHE_DIR") or str(Path(__file__).resolve().parents[1])
-    name = hashlib.sha256(f"{os.getuid() if hasattr(os, 'getuid') else 0}:{cache}".encode()).hexdigest()[:16]
+    """The lock file of the numba cache this process compiles into: ``redkin-compile.lock`` in ``NUMBA_CACHE_DIR``
+    where set (made if missing); else, numba caching beside the sources or in the user's cache, a file in the
+    temporary folder named after redkin's own folder and the user."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        folder = Path(os.environ["NUMBA_CACHE_DIR"])
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError:  # the lock file cannot be opened then: no lock (compile_lock, compile_running)
+            pass
+        return folder / "redkin-compile.lock"
+    source = str(Path(__file__).resolve().parents[1])
+    name = hashlib.sha256(f"{os.getuid() if hasattr(os, 'getuid') else 0}:{source}".encode()).hexdigest()[:16]
     return Path(tempfile.gettempdir()) / f"redkin-compile-{name}.lock"
 
 
