@@ -14,14 +14,14 @@ import pytest
 from redkin.cli.background_compile import (
     _ENVIRONMENT,
     OverTime,
+    _compile_running,
     _lock_path,
     compile_lock,
-    compile_running,
     start,
     within_seconds,
 )
 from redkin.cli.explore import _PAGE_KERNELS, _PAGE_SECTIONS
-from redkin.cli.path import _FRANKA_PATH_KERNELS
+from redkin.cli.path import _FRANKA_PATH_KERNELS, _FRANKA_PATH_SECTIONS
 from redkin.cli.srs import (
     _NEARLY_SETS_KERNELS,
     _NEARLY_SETS_SECTIONS,
@@ -35,7 +35,7 @@ from tests.support.cli import run
 CALL_SITES = {
     "explorer page, S-R-S": (_PAGE_KERNELS["psi"], _PAGE_SECTIONS["psi"]),
     "explorer page, Franka class": (_PAGE_KERNELS["q7"], _PAGE_SECTIONS["q7"]),
-    "path of the Franka class": (_FRANKA_PATH_KERNELS, ("franka", "paths")),
+    "path of the Franka class": (_FRANKA_PATH_KERNELS, _FRANKA_PATH_SECTIONS),
     "ik at an arm angle, nearly S-R-S": (_SELF_MOTION_KERNELS, _SELF_MOTION_SECTIONS),
     "arm-angles, nearly S-R-S": (_NEARLY_SETS_KERNELS, _NEARLY_SETS_SECTIONS),
 }
@@ -96,14 +96,14 @@ def test_one_compile_per_cache(tmp_path, monkeypatch, capsys):
     again by the test when it looks)."""
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "fresh"))
     monkeypatch.setenv(_ENVIRONMENT, "1")
-    assert not compile_running()
+    assert not _compile_running()
     with compile_lock() as held:
-        assert held and compile_running()
+        assert held and _compile_running()
         assert start(["chain"]) is None
         code, out, err = run(capsys, ["compile", "--background", "--section", "chain"])
         assert (code, out, err) == (0, "", "")
         assert [path.name for path in (tmp_path / "fresh").rglob("*")] == ["redkin-compile.lock"]  # compiled nothing
-    assert not compile_running() and _lock_path().exists()
+    assert not _compile_running() and _lock_path().exists()
     monkeypatch.setenv(_ENVIRONMENT, "0")
     assert start(["chain"]) is None
 

@@ -57,7 +57,7 @@ def _lock_path() -> Path:
         folder = Path(os.environ["NUMBA_CACHE_DIR"])
         try:
             folder.mkdir(parents=True, exist_ok=True)
-        except OSError:  # the lock file cannot be opened then: no lock (compile_lock, compile_running)
+        except OSError:  # the lock file cannot be opened then: no lock (compile_lock, _compile_running)
             pass
         return folder / "redkin-compile.lock"
     source = str(Path(__file__).resolve().parents[1])
@@ -66,21 +66,21 @@ def _lock_path() -> Path:
 
 
 @contextmanager
-def compile_lock() -> Iterator[bool]:
-    """Hold the cache's compile lock for the block if no other process holds it; yields whether this one does
-    (``False`` also where the lock file cannot be made or locked: the compile goes on without it)."""
+def _tried_lock() -> Iterator[bool | None]:
+    """Try the cache's compile lock once, without waiting: yields ``True`` (held by this process for the block),
+    ``False`` (another process holds it) or ``None`` (the lock file cannot be opened, or there is no ``flock``)."""
     if fcntl is None:  # pragma: no cover - not POSIX
-        yield False
+        yield None
         return
     try:
         handle = open(_lock_path(), "a")
     except OSError:
-        yield False
+        yield None
         return
     with handle:
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:  # held by another process (or locks unsupported there)
+        except OSError:
             yield False
             return
         try:
@@ -89,35 +89,32 @@ def compile_lock() -> Iterator[bool]:
             fcntl.flock(handle, fcntl.LOCK_UN)
 
 
-def compile_running() -> bool:
+@contextmanager
+def compile_lock() -> Iterator[bool]:
+    """Hold the cache's compile lock for the block if no other process holds it; yields whether this one does
+    (``False`` also where the lock file cannot be made or locked: the compile goes on without it)."""
+    with _tried_lock() as held:
+        yield held is True
+
+
+def _compile_running() -> bool:
     """Whether another process holds the cache's compile lock (a ``redkin compile`` of this cache is running);
     ``False`` where the lock file cannot be opened (nor can a compile hold it then)."""
-    if fcntl is None:  # pragma: no cover - not POSIX
-        return False
-    try:
-        handle = open(_lock_path(), "a")
-    except OSError:
-        return False
-    with handle:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            return True
-        fcntl.flock(handle, fcntl.LOCK_UN)
-        return False
+    with _tried_lock() as held:
+        return held is False
 
 
 def start(sections: Sequence[str]) -> int | None:
     """Start ``redkin compile --background`` of ``sections`` (names of :data:`redkin.warm_up.SECTION_NAMES`) in a new
     session, its input and output ``/dev/null``; return its process id, or ``None`` where background compiles are
-    off (:func:`background_compiles`) or one is running already (:func:`compile_running`).
+    off (:func:`background_compiles`) or one is running already (:func:`_compile_running`).
 
     Raises
     ------
     OSError
         Where the process cannot be started (the caller says so and goes on).
     """
-    if not background_compiles() or compile_running():
+    if not background_compiles() or _compile_running():
         return None
     argv = [sys.executable, "-m", "redkin.cli.main", "compile", "--background"]
     for section in sections:
@@ -164,6 +161,6 @@ def within_seconds(seconds: float) -> Iterator[None]:
 
 
 def wait_for_compile(poll: float = 0.5) -> None:
-    """Return once no ``redkin compile`` of this cache holds its lock (:func:`compile_running`)."""
-    while compile_running():
+    """Return once no ``redkin compile`` of this cache holds its lock (:func:`_compile_running`)."""
+    while _compile_running():
         time.sleep(poll)

@@ -268,20 +268,20 @@ def compiling_later(sections: Sequence[str]) -> str:
     """Start compiling the ``sections`` of :mod:`redkin.warm_up` in the background where that is on and no compile of
     the cache runs yet (:func:`redkin.cli.background_compile.start`), and say in words what will make later runs
     compiled."""
-    from redkin.cli.background_compile import compile_running, start
+    from redkin.cli.background_compile import background_compiles, start
     from redkin.warm_up import expected_seconds
 
     command = "redkin compile " + " ".join(f"--section {section!r}" for section in sections)
     seconds = f"about {expected_seconds(sections):.0f} s"
-    if compile_running():
-        return ("a 'redkin compile' of this cache is running already (in the background, or yours), and runs after "
-                "it ends are compiled")
     try:
         pid = start(sections)
     except OSError as exc:
         return f"starting '{command}' in the background failed ({exc}); run it once ({seconds}) to make later runs " \
                "compiled"
-    if pid is None:  # background compiles are off
+    if pid is None and background_compiles():  # start found a compile of this cache running
+        return ("a 'redkin compile' of this cache is running already (in the background, or yours), and runs after "
+                "it ends are compiled")
+    if pid is None:
         return f"'{command}' ({seconds}, once) makes later runs compiled"
     return (f"they are compiling in the background now (process {pid}, '{command} --background', {seconds}), "
             "and later runs are compiled")

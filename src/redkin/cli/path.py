@@ -181,6 +181,8 @@ _SMALL_PATH = 32
 #: The kernels a path of the Franka class calls (with theirs): its q7 sets, and the path graph's rows and sweep.
 _FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.paths._dp_kernels.q7_node_rows",
                         "redkin.paths._dp_kernels.sweep")
+#: The sections of :mod:`redkin.warm_up` that compile them (in the background, on a fresh cache).
+_FRANKA_PATH_SECTIONS = ("franka", "paths")
 
 
 def _parameter(chain, srs_tolerance: float | None) -> str:
@@ -391,7 +393,7 @@ def _run_path(args: argparse.Namespace) -> int:
     model = _model_line(chain, args.srs_tolerance)
     small = cell is None and model is None and not timed and not args.thorough and len(poses) <= _SMALL_PATH
     if small and _parameter(chain, args.srs_tolerance) != "psi":
-        small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class", ("franka", "paths"))
+        small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class", _FRANKA_PATH_SECTIONS)
     small_work(small)
     degrees = args.deg
     unit = angle_unit(degrees)
