@@ -34,6 +34,7 @@ def _inside(arm: redkin.Arm, fraction: np.ndarray) -> np.ndarray:
 @given(fraction=st.lists(st.floats(0.0, 1.0) | st.just(0.5), min_size=7, max_size=7))
 @example(fraction=[0.5, 0.49609375, 0.5, 0.0, 0.5, 0.0, 0.5])  # fresh draws: the xArm7 at q2 = 3.1e-3
 @example(fraction=[0.5, 0.5, 0.5, 0.5, 0.5, 1.0, 0.5])  # and at q2 = 0.0177
+@example(fraction=[0.5, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0])  # the Gen3 at q4 = 0, on the elbow's branch boundary
 def test_round_trip_through_the_front_door(source, fraction):
     """The issue's script, unchanged for every class: the solution at a configuration's own parameter and branch is
     the configuration (up to whole turns, and the snapped description's error).  At a singular configuration (the
@@ -57,10 +58,19 @@ def test_round_trip_through_the_front_door(source, fraction):
         # of axes 1 and 3 (3.1e-3 rad at q2 = 3.1e-3, 1.3e-3 at q2 = 0.0177: fresh draws)
         allowed = max(tolerance * 10, 1e-7) / _conditioning(arm, q)
         if arm.kind == redkin.arms.classify.NEARLY_SRS and np.max(np.abs(wrap_angle(row - q))) >= allowed:
-            # next to a fold a nearly S-R-S branch has two solutions at one value (issue 38): q is the other one
-            rows = arm.every_solution(pose, float(t), str(branch))
+            # next to a fold a nearly S-R-S branch has two solutions at one value (issue 38): q is the other one;
+            # and q on a branch's boundary (the Gen3 at q4 = 0, its real stretched elbow: a fresh draw) is a
+            # solution of the branch on either side, which the solver's rounding picks
+            rows = np.concatenate([arm.every_solution(pose, float(t), str(tied)) for tied in _tied_branches(arm, q)])
             row = rows[np.argmin(np.abs(wrap_angle(rows - q)).max(axis=1))]
         assert np.max(np.abs(wrap_angle(row - q))) < allowed
+
+
+def _tied_branches(arm: redkin.Arm, q: np.ndarray) -> list[str]:
+    """The branches of the configurations within 1e-9 rad of ``q`` along joints 2, 4 and 6: ``q``'s own, and where
+    ``q`` lies on a branch's boundary (within rounding) the branch across it."""
+    nearby = q + np.concatenate([np.zeros((1, 7)), 1e-9 * np.eye(7)[[1, 3, 5]], -1e-9 * np.eye(7)[[1, 3, 5]]])
+    return sorted({str(arm.branch_of(each)) for each in nearby})
 
 
 def _conditioning(arm: redkin.Arm, q: np.ndarray) -> float:
