@@ -26,7 +26,10 @@ filled; then ``redkin reproduce 000`` on another fresh cache (the first section
 a newcomer runs).  The command-line rows time whole processes, best of five,
 each beside ``python -c "import numpy"`` timed in the same loop.  The steady
 batch row makes five consecutive calls of 2x10^5 iiwa poses x 8 branches in
-one process and gives each call's rate.
+one process and gives each call's rate.  The batch FK and Jacobian rows (issue 42) do the same for 10^6 iiwa
+configurations, fresh and into one ``out=`` buffer, beside the two limits measured in the same run: the arithmetic
+(one thread's CPU time per configuration, doubled for two cores) and the memory (the bytes each configuration
+reads and writes at the bandwidth of a numpy copy).
 """
 
 from __future__ import annotations
@@ -98,6 +101,59 @@ def serial_cpu_rows(arm, q: np.ndarray, poses: np.ndarray) -> list[tuple[str, st
          f"2 free cores: {2 / eight / 1e6:.2f} M/s", ""),
         ("  serial CPU per configuration, FK", f"{fk * 1e9:.0f} ns", f"2 free cores: {2 / fk / 1e6:.1f} M/s", ""),
     ]
+
+
+def copy_bandwidth() -> float:
+    """The machine's memory bandwidth as numpy's copy of 256 MB into another 256 MB sees it, best of five [GB/s,
+    bytes read plus bytes written]: the physical limit of a batch that only streams its inputs and outputs."""
+    source = np.ones(32_000_000)
+    target = np.empty_like(source)
+    seconds = best_time(lambda: np.copyto(target, source), repeat=5)
+    return 2.0 * source.nbytes / seconds / 1e9
+
+
+def fk_jacobian_rows(chain, bandwidth: float, count: int = 1_000_000) -> list[tuple[str, str, str, str]]:
+    """Batch FK and Jacobians of ``count`` configurations of ``chain``, five calls in a row each way (a fresh result,
+    and into one ``out=`` buffer), against the two physical limits measured in the same run: the arithmetic (one
+    thread's CPU time per configuration, serial, so two free cores do twice its inverse) and the memory (the bytes
+    each configuration reads and writes, 7 joint values and the 4x4 pose or the 6x7 Jacobian, at the copy
+    bandwidth of :func:`copy_bandwidth`)."""
+    from redkin import _compiled as compiled
+
+    q = np.random.default_rng(1).uniform(-2.0, 2.0, (count, chain.n))
+    rows = [("memory bandwidth, numpy copy of 256 MB (read + write)", f"{bandwidth:.1f} GB/s", "", "")]
+    for label, call, shape in (("FK", chain.fk, (4, 4)), ("Jacobian", chain.jacobian, (6, chain.n))):
+        threshold = compiled.PARALLEL_BATCH
+        compiled.PARALLEL_BATCH = count + 1  # one thread: the arithmetic's time per configuration
+        try:
+            serial = q[:max(1, count // 10)]
+            call(serial)
+            cpu = min(_cpu_seconds(lambda: call(serial)) for _ in range(3)) / len(serial)
+        finally:
+            compiled.PARALLEL_BATCH = threshold
+        arithmetic = 2.0 / cpu / 1e6  # M/s on two free cores
+        bytes_each = 8 * (chain.n + int(np.prod(shape)))
+        memory = bandwidth * 1e9 / bytes_each / 1e6
+        buffer = np.empty((count, *shape))
+        for way, out in (("a fresh result each call", None), ("into one out= buffer", buffer)):
+            rates = []
+            for _ in range(5):
+                start = time.perf_counter()
+                call(q, out=out)
+                rates.append(count / (time.perf_counter() - start) / 1e6)
+            rows.append((f"batch {label}, {count:.0e} configurations, 5 calls, {way}",
+                         " ".join(f"{r:.1f}" for r in rates) + " M/s",
+                         f"slowest {min(rates) / arithmetic:.2f} x arithmetic", ""))
+        rows.append((f"  {label} limits: arithmetic on 2 cores ({cpu * 1e9:.0f} ns a configuration on one)",
+                     f"{arithmetic:.1f} M/s", f"memory ({bytes_each} B each) {memory:.0f} M/s",
+                     f"{memory / arithmetic:.0f} x above the arithmetic"))
+    return rows
+
+
+def _cpu_seconds(function) -> float:
+    start = time.process_time()
+    function()
+    return time.process_time() - start
 
 
 def _process_seconds(command: list[str], env: dict | None = None) -> float:
@@ -224,6 +280,7 @@ def main() -> None:
                      " ".join(f"{r:.1f}" for r in rates) + " M/s",
                      f"slowest {per_solution / (ssik8 / 8.0):.3f} x ssik per solution", "<= 0.02 every call"))
 
+    rows.extend(fk_jacobian_rows(iiwa, copy_bandwidth()))
     rows.extend(command_line_rows())
     if "--skip-cold" not in sys.argv:
         rows.extend(cold_rows())

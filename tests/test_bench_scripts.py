@@ -395,3 +395,18 @@ def test_docs_figures_counts_a_process_cpu_seconds_and_stops_on_failure():
     assert docs_figures.run_process(fail, check=False).returncode == 1
     with pytest.raises(SystemExit, match="no such pose"):
         docs_figures.run_process(fail)
+
+
+def test_core_fk_and_jacobian_rows_give_every_call_and_both_limits():
+    """bench_core.py's batch FK and Jacobian rows (issue 42): five rates a way, fresh and into one buffer, and the
+    arithmetic's and the memory's limits, each a positive number."""
+    import bench_core
+
+    rows = bench_core.fk_jacobian_rows(pa10_7c(), bandwidth=10.0, count=2000)
+    assert len(rows) == 7 and rows[0][1] == "10.0 GB/s"
+    for label in ("FK", "Jacobian"):
+        calls = [row for row in rows if row[0].startswith(f"batch {label},")]
+        assert [row[0].rsplit(", ", 1)[1] for row in calls] == ["a fresh result each call", "into one out= buffer"]
+        assert all(len(row[1].split()) == 6 and min(float(v) for v in row[1].split()[:5]) > 0.0 for row in calls)
+        limits = next(row for row in rows if row[0].startswith(f"  {label} limits"))
+        assert float(limits[1].split()[0]) > 0.0 and "memory (" in limits[2]

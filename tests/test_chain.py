@@ -281,3 +281,48 @@ def test_absurd_lengths_are_refused_before_they_overflow(key):
         arguments = {**values, key: far}
     with pytest.raises(ValueError, match="at most 1e\\+06 m"):
         SerialChain(**arguments)
+
+
+@settings(max_examples=20, deadline=None)
+@given(shape=st.sampled_from([(), (1,), (7,), (3, 4), (40, 30)]), seed=st.integers(0, 2**32 - 1),
+       frame=st.sampled_from([None, 0, 3, 7]), offset=st.booleans())
+def test_fk_and_jacobian_into_out_equal_a_fresh_result_and_are_out(shape, seed, frame, offset):
+    """Written into reused buffers (holding the previous call's values) FK and the Jacobian are those of a fresh
+    call, bit for bit, whatever the batch shape (1200 configurations run in chunks on the pool), frame and offset,
+    and the arrays returned are the buffers; the front door (redkin.arm) passes them through."""
+    import redkin
+
+    arm = redkin.arm("kuka-iiwa14")
+    rng = np.random.default_rng(seed)
+    point = rng.normal(size=3) if offset else None
+    poses, jacobians = np.full(shape + (4, 4), np.nan), np.full(shape + (6, 7), np.nan)
+    for _ in range(2):
+        q = rng.uniform(-np.pi, np.pi, shape + (7,))
+        assert arm.fk(q, out=poses) is poses
+        assert np.array_equal(poses, arm.chain.fk(q))
+        assert arm.chain.jacobian(q, frame, point, out=jacobians) is jacobians
+        assert np.array_equal(jacobians, arm.chain.jacobian(q, frame, point))
+        assert arm.jacobian(q, out=jacobians) is jacobians
+        assert np.array_equal(jacobians, arm.chain.jacobian(q))
+
+
+@pytest.mark.parametrize("which", ["fk", "jacobian"])
+@pytest.mark.parametrize("out, words", [
+    (np.empty((4, 6, 6)), "of shape"),
+    (np.empty((3, 4, 4)), "of shape"),
+    (np.empty((4, 4, 4), dtype=np.float32), "float64"),
+    ([[0.0] * 4] * 4, "numpy array"),
+])
+def test_fk_and_jacobian_refuse_an_out_they_cannot_write_into(which, out, words):
+    """A buffer of the wrong type, shape or dtype is a ValueError in words; so is a strided or read-only one of
+    the right shape."""
+    chain = pa10_7c()
+    q = np.zeros((4, 7))
+    with pytest.raises(ValueError, match=words):
+        getattr(chain, which)(q, out=out)
+    right = (4, 4, 4) if which == "fk" else (4, 6, 7)
+    strided = np.empty(right[:1] + right[:0:-1]).transpose(0, 2, 1)
+    with pytest.raises(ValueError, match="C-contiguous"):
+        getattr(chain, which)(q, out=strided)
+    with pytest.raises(ValueError, match="writeable"):
+        getattr(chain, which)(q, out=np.broadcast_to(np.empty(right[1:]), right))

@@ -133,6 +133,24 @@ def check_quaternion(
     return quaternion
 
 
+def check_output_array(out: object, shape: tuple[int, ...], name: str = "out") -> np.ndarray:
+    """``out`` where a kernel can write float64 results of shape ``shape`` into it in place (a buffer the caller
+    reuses across calls, so that a batch pays no fresh allocation and page faults).
+
+    Raises
+    ------
+    RedkinError
+        For anything else: another type, shape or dtype, a strided or read-only array.
+    """
+    if not isinstance(out, np.ndarray):
+        raise RedkinError(f"{name} must be a numpy array, not {type(out).__name__}")
+    if out.shape != shape or out.dtype != np.float64:
+        raise RedkinError(f"{name} must be a float64 array of shape {shape}, not {out.dtype} of shape {out.shape}")
+    if not (out.flags.c_contiguous and out.flags.writeable):
+        raise RedkinError(f"{name} must be C-contiguous and writeable (np.empty(shape) is)")
+    return out
+
+
 def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION_TOLERANCE) -> np.ndarray:
     """Return ``value`` as homogeneous transforms of shape ``(..., 4, 4)``.
 

@@ -31,7 +31,15 @@ from numpy.typing import ArrayLike
 
 from redkin import _chain_kernels as kernels
 from redkin._compiled import kernel_array, run_batch
-from redkin._validation import MAX_LENGTH, as_float_array, check_finite, check_magnitude, check_pose, check_vectors
+from redkin._validation import (
+    MAX_LENGTH,
+    as_float_array,
+    check_finite,
+    check_magnitude,
+    check_output_array,
+    check_pose,
+    check_vectors,
+)
 from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
 
@@ -382,22 +390,33 @@ class SerialChain:
         return self.offset + self.sign * q
 
     # ------------------------------------------------------------- public API
-    def fk(self, q: ArrayLike) -> np.ndarray:
+    def fk(self, q: ArrayLike, *, out: np.ndarray | None = None) -> np.ndarray:
         """End pose ``base @ A_1(q_1) ... A_n(q_n) @ tool``.
 
         Parameters
         ----------
         q : array_like, shape (..., n)
             Joint angles in radians.
+        out : numpy.ndarray, shape (..., 4, 4), optional
+            A C-contiguous float64 array to write the poses into, returned: a loop over batches of one size into
+            one buffer skips a fresh output's allocation and page faults every call.
 
         Returns
         -------
         numpy.ndarray, shape (..., 4, 4)
+
+        Raises
+        ------
+        RedkinError
+            For joint values of the wrong length or not finite, or an ``out`` that cannot hold the poses (a
+            ``ValueError``).
         """
         flat, lead = self._flat(q)
-        out = np.empty((flat.shape[0], 1, 4, 4))  # the tool frame alone
-        run_batch(kernels.frames, flat.shape[0], flat, self._links, self._ends, self._standard, out)
-        return out.reshape(lead + (4, 4))
+        shape = lead + (4, 4)
+        result = np.empty(shape) if out is None else check_output_array(out, shape)
+        tool = result.reshape(flat.shape[0], 1, 4, 4)  # the tool frame alone, a view of the result
+        run_batch(kernels.frames, flat.shape[0], flat, self._links, self._ends, self._standard, tool)
+        return result
 
     def frames(self, q: ArrayLike) -> np.ndarray:
         """Poses of frames ``0..n`` and the tool frame.
@@ -444,6 +463,8 @@ class SerialChain:
         q: ArrayLike,
         frame: int | None = None,
         offset: ArrayLike | None = None,
+        *,
+        out: np.ndarray | None = None,
     ) -> np.ndarray:
         """Geometric Jacobian in the base (world) frame, linear rows first ([001 eq. 5.1], [003 eq. 1]).
 
@@ -457,11 +478,19 @@ class SerialChain:
         offset : array_like, shape (3,) or (..., 3), optional
             A point fixed in that frame, in that frame's coordinates; the
             linear rows are then the velocity of that point.
+        out : numpy.ndarray, shape (..., 6, n), optional
+            A C-contiguous float64 array to write the Jacobians into, returned (as in :meth:`fk`).
 
         Returns
         -------
         numpy.ndarray, shape (..., 6, n)
             ``[v; omega] = J q_dot``.
+
+        Raises
+        ------
+        RedkinError
+            For joint values of the wrong length or not finite, a frame that is not ``None`` or in ``0..n``, an
+            offset that is not 3-vectors, or an ``out`` that cannot hold the Jacobians (a ``ValueError``).
         """
         flat, lead = self._flat(q)
         if frame is not None and (int(frame) != frame or not 0 <= frame <= self.n):
@@ -472,10 +501,11 @@ class SerialChain:
             offsets = local.reshape(1, 3) if local.ndim == 1 else np.broadcast_to(local, lead + (3,)).reshape(-1, 3)
             offsets = np.ascontiguousarray(offsets)
         active = self.n if frame is None else int(frame)
-        out = np.empty((flat.shape[0], 6, self.n))
+        shape = lead + (6, self.n)
+        result = np.empty(shape) if out is None else check_output_array(out, shape)
         run_batch(kernels.jacobian, flat.shape[0], flat, self._links, self._ends, self._standard, active, frame is None,
-                  offsets, out)
-        return out.reshape(lead + (6, self.n))
+                  offsets, result.reshape(flat.shape[0], 6, self.n))
+        return result
 
     def manipulability(
         self,

@@ -105,13 +105,15 @@ class Arm:
     implementation: ArmKind = field(repr=False)
 
     # ------------------------------------------------------------- the chain
-    def fk(self, q: ArrayLike) -> np.ndarray:
-        """The tool's pose ``(..., 4, 4)`` of joint values ``(..., n)`` (:meth:`redkin.chain.SerialChain.fk`)."""
-        return self.chain.fk(q)
+    def fk(self, q: ArrayLike, *, out: np.ndarray | None = None) -> np.ndarray:
+        """The tool's pose ``(..., 4, 4)`` of joint values ``(..., n)``, into ``out`` where given
+        (:meth:`redkin.chain.SerialChain.fk`)."""
+        return self.chain.fk(q, out=out)
 
-    def jacobian(self, q: ArrayLike) -> np.ndarray:
-        """The geometric Jacobian ``(..., 6, n)`` (:meth:`redkin.chain.SerialChain.jacobian`)."""
-        return self.chain.jacobian(q)
+    def jacobian(self, q: ArrayLike, *, out: np.ndarray | None = None) -> np.ndarray:
+        """The geometric Jacobian ``(..., 6, n)``, into ``out`` where given
+        (:meth:`redkin.chain.SerialChain.jacobian`)."""
+        return self.chain.jacobian(q, out=out)
 
     def within_limits(self, q: ArrayLike, tolerance: float = 0.0) -> np.ndarray:
         """Whether joint values lie within the limits (:meth:`redkin.chain.SerialChain.within_limits`)."""

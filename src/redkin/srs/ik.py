@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
-from redkin._validation import as_float_array
+from redkin._validation import as_float_array, check_output_array
 from redkin.chain import Reach, SerialChain
 from redkin.errors import RedkinError
 from redkin.srs import _ik_kernels
@@ -126,7 +126,8 @@ def solve_with_status(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, br
         except ValueError:
             raise RedkinError(f"psi of shape {psi_array.shape} does not broadcast against the pose batch "
                              f"{pose.shape[:-2]}") from None
-    q = np.empty(shape + (branches.shape[0], 7)) if out is None else _checked_out(out, shape + (branches.shape[0], 7))
+    rows = shape + (branches.shape[0], 7)
+    q = np.empty(rows) if out is None else check_output_array(out, rows)
     if not shape:  # one pose: no batch to lay out
         pose, psi_array = kernel_array(pose), kernel_array(psi_array)
         within = np.empty(branches.shape[0], dtype=np.bool_)
@@ -147,17 +148,6 @@ def solve_with_status(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, br
             and np.any((status != _ik_kernels.OK) & (status != _ik_kernels.UNREACHABLE)):
         _raise_for(geometry, pose, psi_array)
     return q, within.reshape(shape + branches.shape[:1]), status.reshape(shape), pose
-
-
-def _checked_out(out: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
-    """``out`` where the kernels can write joint values of shape ``shape`` into it in place, else a ``RedkinError``."""
-    if not isinstance(out, np.ndarray):
-        raise RedkinError(f"out must be a numpy array, not {type(out).__name__}")
-    if out.shape != shape or out.dtype != np.float64:
-        raise RedkinError(f"out must be a float64 array of shape {shape}, not {out.dtype} of shape {out.shape}")
-    if not (out.flags.c_contiguous and out.flags.writeable):
-        raise RedkinError("out must be C-contiguous and writeable (np.empty(shape) is)")
-    return out
 
 
 def solve(geometry: SRSGeometry, pose: ArrayLike, psi: ArrayLike, branches: np.ndarray,
