@@ -166,14 +166,19 @@ def quaternion_to_matrix(quaternion: ArrayLike) -> np.ndarray:
     return np.eye(3) + 2.0 * w * cross + 2.0 * cross @ cross
 
 
+#: An entry of a unit quaternion at most this far from zero is rounding (a rotation's matrix holds its entries to
+#: about 1e-16): it does not choose between ``q`` and ``-q`` (:func:`matrix_to_quaternion`).
+_QUATERNION_ROUNDING = 1e-14
+
+
 def matrix_to_quaternion(rotation: ArrayLike) -> np.ndarray:
     """Unit quaternions ``(w, x, y, z)`` of rotation matrices, the inverse of :func:`quaternion_to_matrix`.
 
     Each entry times the quaternion is a row of sums of ``R``'s entries (``4 w q = (1 + tr R, R32 - R23, R13 - R31,
     R21 - R12)`` and three more); the row of the largest entry is used, which keeps every digit where ``w`` is
-    small (Shepperd's method).  Of the two quaternions ``q`` and ``-q`` of a rotation, the one whose first non-zero
-    entry is positive is returned: ``w > 0``, except for a half turn (``w = 0``), where ``x`` (or ``y``, then ``z``)
-    is positive.
+    small (Shepperd's method).  Of the two quaternions ``q`` and ``-q`` of a rotation, the one whose first entry
+    beyond rounding (:data:`_QUATERNION_ROUNDING`) is positive is returned: ``w > 0``, except for a half turn
+    (``w = 0`` up to rounding), where ``x`` (or ``y``, then ``z``) is positive, whatever sign the rounding gave ``w``.
 
     Parameters
     ----------
@@ -197,7 +202,7 @@ def matrix_to_quaternion(rotation: ArrayLike) -> np.ndarray:
     index = np.arange(len(m))
     row = rows[index, np.argmax(rows[:, [0, 1, 2, 3], [0, 1, 2, 3]], axis=1)]
     q = row / np.linalg.norm(row, axis=-1, keepdims=True)
-    lead = q[index, np.argmax(q != 0.0, axis=1)]
+    lead = q[index, np.argmax(np.abs(q) > _QUATERNION_ROUNDING, axis=1)]
     q *= np.where(lead < 0.0, -1.0, 1.0)[:, None]
     return q.reshape(r.shape[:-2] + (4,))
 
