@@ -179,8 +179,8 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
 #: (:func:`redkin.cli.common.python_until_compiled`).
 _SMALL_PATH = 32
 #: The kernels a path of the Franka class calls (with theirs): its q7 sets, and the path graph's rows and sweep.
-_FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.paths._dp_kernels.q7_node_rows",
-                        "redkin.paths._dp_kernels.sweep")
+_FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.franka._kernels.seventh_frames",
+                        "redkin.paths._dp_kernels.q7_node_rows", "redkin.paths._dp_kernels.sweep")
 #: The sections of :mod:`redkin.warm_up` that compile them (in the background, on a fresh cache).
 _FRANKA_PATH_SECTIONS = ("franka", "paths")
 

@@ -164,19 +164,24 @@ def shoulder_angles(m, sigma):
 
 
 @kernel
-def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch, work):
-    """Every requested branch at one ``theta_7`` [F1]-[F7]: joint values into ``q`` (B, 7), ``exists`` (B,).
+def solve_q7(t07, q7, arm, branches, joints, q, exists, scratch, work):
+    """Every requested branch at one value ``q7`` of the chain's joint 7 [F1]-[F7]: joint values into ``q`` (B, 7),
+    ``exists`` (B,).
 
     ``branches`` (B, 3) holds the signs (shoulder, elbow, wrist) in the
     solver's senses; ``joints`` maps DH angles to the chain's values
     (:func:`redkin.srs._ik_kernels.chain_values`), except q7, which is
-    returned as given; ``scratch`` (8, 3, 3) and ``work`` (:data:`WORK`,) are
+    returned as given, to the last bit (``theta_7 = q7 + offset``, here
+    alone: so every caller evaluates a branch at ``q7`` alike, and a q7 at
+    the end of a feasible arc, where a branch's existence turns on rounding,
+    is one where it exists); ``scratch`` (8, 3, 3) and ``work`` (:data:`WORK`,) are
     work space (no allocation per call).  The elbow and wrist of each
     pair of signs (and the shoulder's matrix ``M``) are computed once and
     shared by its two shoulder branches.  A branch that does not exist (the
     elbow cannot span ``|W - S|``, or the wrist cannot turn S onto ``V``)
     gets zeros and ``exists = False``.
     """
+    theta7 = q7 + joints[0, 6]
     x6, y6, z6, w = wrist_and_frame_six(t07, theta7, arm)
     kappa = elbow_cosine(w, arm)
     vx, vy, vz = shoulder_seen_from_six(x6, y6, z6, t07, arm)
@@ -217,7 +222,7 @@ def solve_q7(t07, theta7, arm, branches, joints, q, exists, scratch, work):
         theta[3], theta[4], theta[5] = angles[pair, 0], angles[pair, 1], angles[pair, 2]
         theta[6] = theta7
         chain_values(theta, joints, q[b])
-        q[b, 6] = theta7 - joints[0, 6]  # the parameter as given (a range wider than 2 pi holds it twice)
+        q[b, 6] = q7  # the parameter as given (a range wider than 2 pi holds it twice)
         exists[b] = True
 
 
@@ -650,7 +655,7 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
                 value = q7 + 2.0 * np.pi * np.ceil((lo[i] - LEVEL_SLACK - q7) / (2.0 * np.pi))
                 if value > hi[i] + LEVEL_SLACK:
                     continue
-                solve_q7(t07[p], value + offset7, arm, signs[i:i + 1], joints, q, exists, scratch, work)
+                solve_q7(t07[p], value, arm, signs[i:i + 1], joints, q, exists, scratch, work)
                 theta = joints[0, joint] + joints[1, joint] * q[0, joint]
                 gap = abs((theta - level + np.pi) % (2.0 * np.pi) - np.pi)
                 if not exists[0] or gap <= 0.5 * width:
@@ -735,7 +740,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     work = np.empty(WORK)
     for i in range(count):
         if points[i + 1] > points[i]:
-            solve_q7(t07, offset7 + 0.5 * (points[i] + points[i + 1]), arm, branches, joints, q, exists, real_scratch,
+            solve_q7(t07, 0.5 * (points[i] + points[i + 1]), arm, branches, joints, q, exists, real_scratch,
                      work)
             for b in range(branches.shape[0]):
                 status[i, b] = exists[b] and in_limits(q[b], joints)
@@ -747,10 +752,10 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                 continue
             if status[i, b] and (previous < 0 or not status[previous, b]):
                 arcs[b, counts[b], 0] = points[i] if previous < 0 else crossing(
-                    t07, arm, branches[b:b + 1], joints, offset7, points, previous, i, real_scratch, work)
+                    t07, arm, branches[b:b + 1], joints, points, previous, i, real_scratch, work)
                 counts[b] += 1
             if not status[i, b] and previous >= 0 and status[previous, b]:
-                arcs[b, counts[b] - 1, 1] = crossing(t07, arm, branches[b:b + 1], joints, offset7, points, previous, i,
+                arcs[b, counts[b] - 1, 1] = crossing(t07, arm, branches[b:b + 1], joints, points, previous, i,
                                                      real_scratch, work)
             previous = i
         if previous >= 0 and status[previous, b]:
@@ -781,7 +786,7 @@ def polished_crossings(t07, arm, branches, joints, angles, sources, found):
         if sources[r] >= 12:
             continue
         joint = sources[r] // 2
-        start = angles[r]
+        start = angles[r] - joints[0, 6]  # the candidate's q7 (the angles are theta_7)
         solve_q7(t07, start, arm, branches, joints, q, exists, scratch, work)
         for b in range(branches.shape[0]):
             if not exists[b]:
@@ -806,13 +811,13 @@ def polished_crossings(t07, arm, branches, joints, angles, sources, found):
                     solve_q7(t07, x1, arm, branches[b : b + 1], joints, one, one_exists, scratch, work)
                     g1 = np.mod(one[0, joint] - limit + np.pi, 2.0 * np.pi) - np.pi
                 if one_exists[0] and abs(g1) <= 1e-12 and abs(x1 - start) <= _POLISH_REACH:
-                    angles[total] = x1
+                    angles[total] = x1 + joints[0, 6]
                     total += 1
     return total
 
 
 @kernel
-def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch, work):
+def crossing(t07, arm, branch, joints, points, left, right, scratch, work):
     """Where one branch's status (exists and within the limits) changes between the midpoints of intervals
     ``left`` and ``right`` of ``points``, by bisection to the rounding of q7.
 
@@ -828,20 +833,20 @@ def crossing(t07, arm, branch, joints, offset7, points, left, right, scratch, wo
     high = 0.5 * (points[right] + points[right + 1])
     q = np.empty((1, 7))
     exists = np.empty(1, dtype=np.bool_)
-    solve_q7(t07, offset7 + low, arm, branch, joints, q, exists, scratch, work)
+    solve_q7(t07, low, arm, branch, joints, q, exists, scratch, work)
     status_low = exists[0] and in_limits(q[0], joints)
     near_low = max(low, points[right] - _ROOT_BRACKET)
     near_high = min(high, points[right] + _ROOT_BRACKET)
-    solve_q7(t07, offset7 + near_low, arm, branch, joints, q, exists, scratch, work)
+    solve_q7(t07, near_low, arm, branch, joints, q, exists, scratch, work)
     if (exists[0] and in_limits(q[0], joints)) == status_low:
-        solve_q7(t07, offset7 + near_high, arm, branch, joints, q, exists, scratch, work)
+        solve_q7(t07, near_high, arm, branch, joints, q, exists, scratch, work)
         if (exists[0] and in_limits(q[0], joints)) != status_low:
             return near_low if status_low else near_high
     while high - low > 4e-16 * max(1.0, abs(low)):
         middle = 0.5 * (low + high)
         if middle <= low or middle >= high:
             break
-        solve_q7(t07, offset7 + middle, arm, branch, joints, q, exists, scratch, work)
+        solve_q7(t07, middle, arm, branch, joints, q, exists, scratch, work)
         if (exists[0] and in_limits(q[0], joints)) == status_low:
             low = middle
         else:
@@ -867,6 +872,15 @@ def seventh_frame(pose, ends, frame):
 
 
 @kernel
+def seventh_frames(start, stop, poses, ends, frames):
+    """:func:`seventh_frame` of the poses ``start .. stop - 1`` of ``poses`` (N, 4, 4) into ``frames`` (N, 4, 4): the
+    one form of ``base^-1 pose tool^-1`` the feasible sets, the paths and the solver all read, so that they agree to
+    the last bit where a branch's existence turns on rounding (the end of an arc)."""
+    for n in range(start, stop):
+        seventh_frame(poses[n], ends, frames[n])
+
+
+@kernel
 def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, scratch, work):
     """One target pose (4, 4) of the chain at one value of q7: its checks, then :func:`solve_q7` into ``q`` (B, 7),
     ``exists`` and ``within`` (B,) (exists and lies within the limits).  Returns :data:`OK`, or :data:`BAD_POSE`
@@ -875,7 +889,7 @@ def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, 
     if pose_defect(pose) != OK or not np.isfinite(q7):
         return BAD_POSE
     seventh_frame(pose, ends, frame)
-    solve_q7(frame, q7 + joints[0, 6], arm, branches, joints, q, exists, scratch, work)
+    solve_q7(frame, q7, arm, branches, joints, q, exists, scratch, work)
     for b in range(branches.shape[0]):
         within[b] = exists[b] and in_limits(q[b], joints)
     return OK
@@ -914,7 +928,7 @@ def solve_branch_rows(start, stop, poses, pose_of, q7, rows, arm, ends, branches
     for k in range(start, stop):
         row = rows[k]
         seventh_frame(poses[pose_of[k]], ends, frame)
-        solve_q7(frame, q7[k] + joints[0, 6], arm, branches[row:row + 1], joints, q[k:k + 1], exists[k:k + 1],
+        solve_q7(frame, q7[k], arm, branches[row:row + 1], joints, q[k:k + 1], exists[k:k + 1],
                  scratch, work)
 
 

@@ -78,10 +78,13 @@ def as_franka(arm: SerialChain | FrankaGeometry) -> FrankaGeometry:
 
 def frames_seven(geometry: FrankaGeometry, pose: ArrayLike) -> np.ndarray:
     """Validated target poses ``(..., 4, 4)`` as frame 7 of the solver's form in its frame 0 (``base^-1 pose
-    tool^-1``)."""
+    tool^-1``), computed as the solver computes it (:func:`redkin.franka._kernels.seventh_frames`): a q7 at the end
+    of a feasible arc, where the branch's existence turns on rounding, then has the solution the sets found."""
     pose = check_pose(pose)
-    ends = geometry.kernel_ends
-    return ends[0] @ pose @ ends[1]
+    flat = np.ascontiguousarray(pose.reshape(-1, 4, 4), dtype=float)
+    frames = np.empty_like(flat)
+    run_batch(_kernels.seventh_frames, len(flat), flat, geometry.kernel_ends, frames)
+    return frames.reshape(pose.shape)
 
 
 def ik(

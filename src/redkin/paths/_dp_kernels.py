@@ -57,7 +57,7 @@ def q7_node_rows(start, stop, waypoint, branch, frames, q7, arm, table, joints, 
     exists = np.empty(1, dtype=np.bool_)
     for k in range(start, stop):
         b = branch[k]
-        solve_q7(frames[waypoint[k]], q7[k] + joints[0, 6], arm, table[b : b + 1], joints, q[k : k + 1], exists,
+        solve_q7(frames[waypoint[k]], q7[k], arm, table[b : b + 1], joints, q[k : k + 1], exists,
                  scratch, work)
         clearance[k] = _clipped(q[k], lower, upper, circle) if exists[0] else -inf
 

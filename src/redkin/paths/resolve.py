@@ -756,9 +756,8 @@ def _unwound(arm: Arm, q: np.ndarray, origin: np.ndarray | None) -> np.ndarray:
     chain = arm.chain
     reference = q[0, circle] if origin is None else origin[circle]
     turned = np.diff(np.concatenate([reference[None], q[:, circle]]), axis=0)
-    turned -= np.round(turned / TWO_PI) * TWO_PI
-    out = q.copy()
-    out[:, circle] = reference + np.cumsum(turned, axis=0)
+    out = q.copy()  # whole turns added to each value, never a sum of steps: a value left where it is keeps every bit
+    out[:, circle] -= np.cumsum(np.round(turned / TWO_PI), axis=0) * TWO_PI  # (the Franka class's q7 is the node's)
     if origin is None:
         middle = chain.middle[circle]
         centre = 0.5 * (out[:, circle].min(axis=0) + out[:, circle].max(axis=0))
