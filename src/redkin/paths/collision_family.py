@@ -8,7 +8,8 @@ cut to the free intervals within it, so the path search, its polish and its clea
 all stay inside the free sets.  Between waypoints nothing is searched here: the joint values interpolate between
 two collision-free configurations, and a link may sweep through a thin obstacle on a long step;
 :func:`redkin.collision.step_clearance` checks the steps of the path found (docs/paths.md).  The sets are certified,
-not exact (undecided slivers of at most the resolution are left out), so no clearance is claimed optimal.  Every
+not exact (undecided slivers of at most the resolution are left out): a clearance is proved optimal among them (on
+an exact class, where the sets at the bottleneck are complete), not against a path through such a sliver.  Every
 class with a redundancy parameter, as the free sets.  On a nearly S-R-S arm a waypoint's arm angle is free where
 some solution of its branch is; next to a fold (a stretched elbow, a straight shoulder), where a branch has two
 solutions at one arm angle, the solver's may be the other, so the waypoints' clearances are measured again.
@@ -79,6 +80,24 @@ class _CollisionFreeFamily(Family):
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self.base.parameter_of(q)
 
+    @property
+    def proves_optimal(self) -> bool:
+        """On an exact class (S-R-S, offset elbow, Franka): a clearance optimal among the certified sets."""
+        return self.base.exact
+
+    def proved_empty(self, poses: np.ndarray) -> np.ndarray:
+        """Per pose, whether the limits leave nothing, or the certified collision-free sets are empty on every
+        branch and complete (every value decided, but for undecided slivers no wider than the resolution)."""
+        from redkin.arms.front_door import arm
+        from redkin.collision.free_sets import free_sets_of
+
+        empty = ~self.base.pieces(poses).feasible.any(axis=(-2, -1))
+        some = np.flatnonzero(~empty)
+        if len(some):
+            free = free_sets_of(arm(self.chain), poses[some], self.body, self.scene)
+            empty[some] = [sets.complete and not any(len(arcs.bounds) for arcs in sets.free) for sets in free]
+        return empty
+
     def inner(self, level: float) -> Family | None:
         inner = self.base.inner(level)
         if inner is None:
@@ -88,8 +107,9 @@ class _CollisionFreeFamily(Family):
 
     def model(self) -> str:
         return (f"in a cell: {len(self.scene)} obstacles at margin {self.scene.margin:g} m, {len(self.body)} body "
-                f"capsules; the waypoints' sets are the certified collision-free {_NAMES[self.parameter]}, so no "
-                "clearance is proved optimal")
+                f"capsules; the waypoints' sets are the certified collision-free {_NAMES[self.parameter]}, so "
+                + ("a clearance is proved optimal among them, to their resolution" if self.proves_optimal else
+                   "no clearance is proved optimal"))
 
     def blocker(self, pose: np.ndarray) -> tuple[int | None, dict[str, int | None], bool]:
         """The base family's answer where the limits alone leave nothing; else no joint: the obstacles do

@@ -167,6 +167,17 @@ class Family:
         """
         raise NotImplementedError
 
+    @property
+    def proves_optimal(self) -> bool:
+        """Whether a clearance can be proved optimal from these sets (:func:`redkin.paths.resolve._bottleneck`):
+        where they are :attr:`exact` (or, in a cell, certified on an exact class: among the certified sets)."""
+        return self.exact
+
+    def proved_empty(self, poses: np.ndarray) -> np.ndarray:
+        """Per pose ``(W, 4, 4)``, whether its sets are empty on every branch, as far as they prove it: the exact
+        pieces' emptiness (a cell's certified sets add that they are complete)."""
+        return ~self.pieces(poses).feasible.any(axis=(-2, -1))
+
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         """The exact feasible pieces ``(W, 8, K)`` of poses within reach, per branch of :data:`BRANCHES`: intervals
         of the parameter on which the branch exists, lies within every limit and is continuous."""

@@ -806,8 +806,10 @@ def _bottleneck(family: Family, poses: np.ndarray, clearance: np.ndarray) -> int
     limit is moved :data:`OPTIMALITY_MARGIN` past ``c`` inwards, cannot be passed by any path more than ``c +``
     :data:`OPTIMALITY_MARGIN` from the limits: no other choice of branches and parameters does better.
     A chain with no joint of a range under ``2 pi`` has clearance ``inf`` everywhere: waypoint 0 proves it.  A
-    family whose sets are not exact (:attr:`redkin.paths.family.Family.exact`) proves nothing."""
-    if not family.exact:
+    family whose sets prove nothing (:attr:`redkin.paths.family.Family.proves_optimal`: a nearly S-R-S arm's) proves
+    nothing; in a cell the sets are the certified collision-free ones, complete, so the proof is among them
+    (:meth:`redkin.paths.family.Family.proved_empty`)."""
+    if not family.proves_optimal:
         return None
     least = float(clearance.min())
     if least == np.inf:
@@ -817,5 +819,5 @@ def _bottleneck(family: Family, poses: np.ndarray, clearance: np.ndarray) -> int
     inner = family.inner(level)
     if inner is None:  # no configuration at all is that far
         return int(tight[0])
-    empty = ~inner.pieces(poses[tight]).feasible.any(axis=(-2, -1))
+    empty = inner.proved_empty(poses[tight])
     return int(tight[np.argmax(empty)]) if empty.any() else None
