@@ -91,7 +91,7 @@ class _CollisionFreeFamily(Family):
         from redkin.arms.front_door import arm
         from redkin.collision.free_sets import free_sets_of
 
-        empty = ~self.base.pieces(poses).feasible.any(axis=(-2, -1))
+        empty = np.asarray(~self.base.pieces(poses).feasible.any(axis=(-2, -1)))
         some = np.flatnonzero(~empty)
         if len(some):
             free = free_sets_of(arm(self.chain), poses[some], self.body, self.scene)

@@ -176,7 +176,7 @@ class Family:
     def proved_empty(self, poses: np.ndarray) -> np.ndarray:
         """Per pose ``(W, 4, 4)``, whether its sets are empty on every branch, as far as they prove it: the exact
         pieces' emptiness (a cell's certified sets add that they are complete)."""
-        return ~self.pieces(poses).feasible.any(axis=(-2, -1))
+        return np.asarray(~self.pieces(poses).feasible.any(axis=(-2, -1)))
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         """The exact feasible pieces ``(W, 8, K)`` of poses within reach, per branch of :data:`BRANCHES`: intervals
