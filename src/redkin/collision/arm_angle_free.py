@@ -108,7 +108,8 @@ class FreeArmAngles:
     limits : tuple of Arcs
         Per branch, the values within the limits ([000 eq. 30]; [F8]-[F9] for q7).
     blocked : tuple of tuple of Stretch
-        Per branch, every stretch removed from the circle, with its cause, in order of ``start``.
+        Per branch, every stretch removed from the circle, with its cause, in order of ``start`` (empty where the
+        sets were computed without their causes: ``free_sets_of(..., causes=False)``, what path resolution reads).
     resolution : float
         The width [rad] below which an undecided interval is no longer halved.
     evaluations : int
@@ -171,9 +172,10 @@ def collision_free_arm_angles(arm: Arm, pose: ArrayLike, body: Body, scene: Scen
 
 def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
                        branches: str | tuple[str, ...] | list[str] | None = None, *, resolution: float = 1e-6,
-                       budget: int = 100_000) -> list[FreeArmAngles]:
+                       budget: int = 100_000, causes: bool = True) -> list[FreeArmAngles]:
     """:func:`collision_free_arm_angles` of each pose of ``poses`` ``(P, 4, 4)``, decided together: the intervals
-    of every pose and branch are halved in one batch, so the work per level is shared (``budget`` per pose)."""
+    of every pose and branch are halved in one batch, so the work per level is shared (``budget`` per pose).
+    Without ``causes`` the removed stretches are neither named nor solved for (``blocked`` empty)."""
     if not isinstance(arm.implementation, SRSKind):
         elsewhere = ("its q7 sets are redkin.collision.collision_free_q7's" if arm.parameter is not None
                      and arm.parameter.name == "q7" else "redkin.collision.free_sets_of takes every class")
@@ -191,17 +193,23 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
                               len(poses), resolution, measure, budget, carve=True)
     decided = Decided.of(parts)
     runs = decided.free_runs(len(poses) * count)
-    removed = decided.stretches(len(poses) * count, measure.names, _wrapped)
-    at_limits = _circle_limit_stretches_of(arm, poses, labels, limit_arcs)
+    blocked = merged_stretches(decided.stretches(len(poses) * count, measure.names, _wrapped),
+                               _circle_limit_stretches_of(arm, poses, labels, limit_arcs), count) if causes else \
+        [tuple(() for _ in labels)] * len(poses)
     results = []
     for p in range(len(poses)):
-        mine = range(p * count, (p + 1) * count)
-        free_sets = tuple(arcs_of(ArcSet(runs[owner])) for owner in mine)
-        blocked = tuple(tuple(sorted(removed[owner] + theirs, key=lambda stretch: stretch.start))
-                        for owner, theirs in zip(mine, at_limits[p], strict=True))
-        results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked, float(resolution),
+        free_sets = tuple(arcs_of(ArcSet(runs[owner])) for owner in range(p * count, (p + 1) * count))
+        results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked[p], float(resolution),
                                      int(measure.evaluations[p]), bool(complete[p])))
     return results
+
+
+def merged_stretches(removed: list[list[Stretch]], at_limits: list[list[list[Stretch]]],
+                     count: int) -> list[tuple[tuple[Stretch, ...], ...]]:
+    """Per pose and branch (``count`` a pose), the stretches the decision removed (``removed``, per owner ``pose *
+    count + branch``) and those the limits remove (``at_limits``, per pose and branch), in order of ``start``."""
+    return [tuple(tuple(sorted(removed[p * count + b] + theirs, key=lambda stretch: stretch.start))
+                  for b, theirs in enumerate(pose_limits)) for p, pose_limits in enumerate(at_limits)]
 
 
 class _Settle(Protocol):

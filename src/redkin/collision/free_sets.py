@@ -29,11 +29,11 @@ Branches = str | tuple[str, ...] | list[str] | None
 
 
 def free_sets_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, branches: Branches = None, *,
-                 resolution: float = 1e-6, budget: int = 100_000) -> list[FreeArmAngles]:
+                 resolution: float = 1e-6, budget: int = 100_000, causes: bool = True) -> list[FreeArmAngles]:
     """The certified collision-free sets of each pose of ``poses`` ``(P, 4, 4)`` on each branch (or ``branches``),
     over the arm's redundancy parameter: :func:`redkin.collision.free_arm_angles_of` or
     :func:`redkin.collision.free_q7_of` or :func:`redkin.collision.nearly_free.free_nearly_of` as the arm's class has
-    it (same arguments).
+    it (same arguments; without ``causes`` the removed stretches are not named: ``blocked`` is empty).
 
     Raises
     ------
@@ -41,11 +41,12 @@ def free_sets_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, branches:
         For an arm of a class without certified sets (named), and whatever the class's function refuses.
     """
     if arm.kind == FRANKA:
-        return free_q7_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
+        return free_q7_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget, causes=causes)
     if arm.kind in (SRS, OFFSET_ELBOW):
-        return free_arm_angles_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
+        return free_arm_angles_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget,
+                                  causes=causes)
     if arm.kind == NEARLY_SRS:
-        return free_nearly_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
+        return free_nearly_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget, causes=causes)
     raise RedkinError(f"certified collision-free sets are computed over a redundancy parameter (S-R-S, offset-elbow, "
                       f"nearly S-R-S and Franka-class arms); {arm.chain.name} is {arm.kind}, solved numerically")
 

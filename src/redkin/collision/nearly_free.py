@@ -70,10 +70,11 @@ _FINER = 4.0
 
 def free_nearly_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
                    branches: str | tuple[str, ...] | list[str] | None = None, *, resolution: float = 1e-6,
-                   budget: int = 100_000) -> list[FreeArmAngles]:
+                   budget: int = 100_000, causes: bool = True) -> list[FreeArmAngles]:
     """The certified collision-free arm angles (module docstring) of each pose of ``poses`` ``(P, 4, 4)`` on each
     branch (or ``branches``) of a nearly S-R-S arm; the arguments are those of
-    :func:`redkin.collision.collision_free_arm_angles` (``budget`` evaluations per pose).
+    :func:`redkin.collision.collision_free_arm_angles` (``budget`` evaluations per pose); without ``causes`` the
+    removed stretches are neither named nor solved for (``blocked`` empty).
 
     Raises
     ------
@@ -87,7 +88,7 @@ def free_nearly_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     poses = checked_inputs(arm, poses, body, resolution)
     labels = arm.labels(branches)
     measure = _StepMeasure(arm, body, scene)
-    return [_one_pose(arm, measure, pose, labels, float(resolution), budget) for pose in poses]
+    return [_one_pose(arm, measure, pose, labels, float(resolution), budget, causes) for pose in poses]
 
 
 class _StepMeasure:
@@ -160,7 +161,7 @@ def _step_arcs(curve: SelfMotion, index: np.ndarray) -> np.ndarray:
 
 
 def _one_pose(arm: Arm, measure: _StepMeasure, pose: np.ndarray, labels: tuple[str, ...], resolution: float,
-              budget: int) -> FreeArmAngles:
+              budget: int, causes: bool) -> FreeArmAngles:
     """The free sets of one pose (module docstring): the steps decided down to the resolution, then each run of
     undecided steps wider than the resolution followed again more finely, as
     :func:`redkin.collision.arm_angle_free.certify` halves such runs."""
@@ -190,9 +191,11 @@ def _one_pose(arm: Arm, measure: _StepMeasure, pose: np.ndarray, labels: tuple[s
         free_sets.append(arcs_of(clear))
         stretches.append(named)
     limit_arcs = tuple(arcs_of(limits[row]) for row in rows)
-    at_limits = circle_limit_stretches(arm, pose, labels, limit_arcs)
-    blocked = tuple(tuple(sorted(mine + theirs, key=lambda stretch: stretch.start))
-                    for mine, theirs in zip(stretches, at_limits, strict=True))
+    blocked: tuple[tuple[Stretch, ...], ...] = tuple(() for _ in labels)
+    if causes:
+        at_limits = circle_limit_stretches(arm, pose, labels, limit_arcs)
+        blocked = tuple(tuple(sorted(mine + theirs, key=lambda stretch: stretch.start))
+                        for mine, theirs in zip(stretches, at_limits, strict=True))
     return FreeArmAngles(labels, tuple(free_sets), limit_arcs, blocked, resolution, decision.evaluations,
                          whole and decision.complete)
 

@@ -44,6 +44,7 @@ from redkin.collision.arm_angle_free import (
     checked_inputs,
     first_intervals,
     limit_stretches_of,
+    merged_stretches,
     one_pose,
     settled,
 )
@@ -87,8 +88,9 @@ def collision_free_q7(arm: Arm, pose: ArrayLike, body: Body, scene: Scene,
 
 def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
                branches: str | tuple[str, ...] | list[str] | None = None, *, resolution: float = 1e-6,
-               budget: int = 100_000) -> list[FreeArmAngles]:
-    """:func:`collision_free_q7` of each pose of ``poses`` ``(P, 4, 4)``, decided together (``budget`` per pose)."""
+               budget: int = 100_000, causes: bool = True) -> list[FreeArmAngles]:
+    """:func:`collision_free_q7` of each pose of ``poses`` ``(P, 4, 4)``, decided together (``budget`` per pose);
+    without ``causes`` the removed stretches are neither named nor solved for (``blocked`` empty)."""
     if not isinstance(arm.implementation, FrankaKind):
         raise RedkinError(f"certified collision-free q7 sets are computed on Franka-class arms; {arm.chain.name} is "
                           f"{arm.kind}")
@@ -103,16 +105,14 @@ def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     domain = q7_domain(measure.geometry)
     decided = Decided.of(parts)
     runs = decided.free_runs(len(poses) * count)
-    removed = decided.stretches(len(poses) * count, measure.names, float)
-    at_limits = _limit_stretches(arm, poses, labels, limit_arcs, domain)
+    blocked = merged_stretches(decided.stretches(len(poses) * count, measure.names, float),
+                               _limit_stretches(arm, poses, labels, limit_arcs, domain), count) if causes else \
+        [tuple(() for _ in labels)] * len(poses)
     results = []
     for p in range(len(poses)):
-        mine = range(p * count, (p + 1) * count)
         free_sets = tuple(Arcs(np.array(runs[owner], dtype=float).reshape(-1, 2), np.zeros(len(runs[owner]), bool))
-                          for owner in mine)
-        blocked = tuple(tuple(sorted(removed[owner] + theirs, key=lambda stretch: stretch.start))
-                        for owner, theirs in zip(mine, at_limits[p], strict=True))
-        results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked, float(resolution),
+                          for owner in range(p * count, (p + 1) * count))
+        results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked[p], float(resolution),
                                      int(measure.evaluations[p]), bool(complete[p]), "q7"))
     return results
 

@@ -26,7 +26,7 @@ from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
 from redkin.errors import RedkinError
 from redkin.franka.ik import PARAMETER as Q7
-from redkin.paths.family import PSI, ArmAngleFamily, Family, NearlyFamily, Q7Family, as_pieces
+from redkin.paths.family import PSI, ArmAngleFamily, Family, NearlyFamily, Q7Family
 from redkin.paths.graph import Arm
 from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import FeasiblePieces
@@ -66,16 +66,17 @@ class _CollisionFreeFamily(Family):
 
         exact = self.base.pieces(poses)
         some = np.flatnonzero(exact.feasible.any(axis=(1, 2)))  # the waypoints the limits leave values at
-        free = dict(zip(some.tolist(), free_sets_of(arm(self.chain), poses[some], self.body, self.scene)))
-        sets: list[list[list[tuple[float, float]]]] = []
-        for w in range(len(poses)):
-            if w not in free:
-                sets.append([[] for _ in BRANCHES])
-                continue
-            sets.append([_cut(exact.start[w, b][exact.feasible[w, b]], exact.end[w, b][exact.feasible[w, b]],
-                              free[w].free[b].bounds, free[w].free[b].wraps, self.wraps)
-                         for b in range(len(BRANCHES))])
-        return as_pieces(sets)
+        free = free_sets_of(arm(self.chain), poses[some], self.body, self.scene, causes=False)
+        owners = len(poses) * len(BRANCHES)  # an owner is waypoint * 8 + branch
+        arcs = [(w * len(BRANCHES) + b, sets.free[b]) for w, sets in zip(some.tolist(), free, strict=True)
+                for b in range(len(BRANCHES))]
+        bounds = np.concatenate([arcs_.bounds.reshape(-1, 2) for _, arcs_ in arcs] + [np.empty((0, 2))])
+        wraps = np.concatenate([arcs_.wraps for _, arcs_ in arcs] + [np.empty(0, dtype=bool)])
+        arc_owner = np.repeat([owner for owner, _ in arcs], [len(arcs_.bounds) for _, arcs_ in arcs]).astype(np.int64)
+        piece_owner = np.flatnonzero(exact.feasible.reshape(-1)) // exact.feasible.shape[-1]  # in C order, sorted
+        cut = _cut(piece_owner, exact.start[exact.feasible], exact.end[exact.feasible], arc_owner, bounds[:, 0],
+                   np.where(wraps, bounds[:, 1] + TWO_PI, bounds[:, 1]), owners, self.wraps)
+        return FeasiblePieces(*(part.reshape(len(poses), len(BRANCHES), -1) for part in cut))
 
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self.base.parameter_of(q)
@@ -94,7 +95,7 @@ class _CollisionFreeFamily(Family):
         empty = np.asarray(~self.base.pieces(poses).feasible.any(axis=(-2, -1)))
         some = np.flatnonzero(~empty)
         if len(some):
-            free = free_sets_of(arm(self.chain), poses[some], self.body, self.scene)
+            free = free_sets_of(arm(self.chain), poses[some], self.body, self.scene, causes=False)
             empty[some] = [sets.complete and not any(len(arcs.bounds) for arcs in sets.free) for sets in free]
         return empty
 
@@ -175,17 +176,27 @@ def collision_free_family(family: Family, body: Body, scene: Scene) -> _Collisio
 _NAMES = {PSI: "arm angles", Q7: "values of q7"}
 
 
-def _cut(start: np.ndarray, end: np.ndarray, bounds: np.ndarray, wraps: np.ndarray,
-         circle: bool) -> list[tuple[float, float]]:
-    """The intervals ``[start_k, end_k]`` cut to the free intervals ``bounds`` (through the seam where ``wraps``),
-    sorted.  On the ``circle`` (the arm angle), ``end`` may pass pi and the free arcs are met a turn either way."""
-    free = [(lo, hi + TWO_PI if w else hi) for (lo, hi), w in zip(bounds.tolist(), wraps.tolist(), strict=True)]
-    turns = (-TWO_PI, 0.0, TWO_PI) if circle else (0.0,)
-    cut = []
-    for s, e in zip(start.tolist(), end.tolist(), strict=True):
-        for lo, hi in free:
-            for turn in turns:
-                a, b = max(s, lo + turn), min(e, hi + turn)
-                if b > a:
-                    cut.append((a, b))
-    return sorted(cut)
+def _cut(piece_owner: np.ndarray, start: np.ndarray, end: np.ndarray, arc_owner: np.ndarray, lo: np.ndarray,
+         hi: np.ndarray, owners: int, circle: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each owner's pieces ``[start_k, end_k]`` (owners ``piece_owner``, sorted) cut to its free intervals ``[lo_j,
+    hi_j]`` (owners ``arc_owner``, sorted; ``hi`` past pi through the seam): ``(start, end, feasible)`` of shape
+    ``(owners, K)``, each owner's intersections sorted in its first slots.  On the ``circle`` (the arm angle) a
+    piece's ``end`` may pass pi and the free arcs are met a turn either way."""
+    first = np.searchsorted(arc_owner, piece_owner)  # each piece's owner's arcs: first .. first + count - 1
+    count = np.searchsorted(arc_owner, piece_owner, side="right") - first
+    piece = np.repeat(np.arange(len(piece_owner)), count)
+    arc = np.repeat(first, count) + np.arange(len(piece)) - np.repeat(np.cumsum(count) - count, count)
+    turns = np.array([-TWO_PI, 0.0, TWO_PI] if circle else [0.0])
+    a = np.maximum(start[piece][:, None], lo[arc][:, None] + turns).ravel()
+    b = np.minimum(end[piece][:, None], hi[arc][:, None] + turns).ravel()
+    owner = np.repeat(piece_owner[piece], len(turns))
+    keep = b > a
+    owner, a, b = owner[keep], a[keep], b[keep]
+    order = np.lexsort((b, a, owner))
+    owner, a, b = owner[order], a[order], b[order]
+    slot = np.arange(len(owner)) - np.searchsorted(owner, owner)  # its place among its owner's
+    width = max(1, int(slot.max(initial=-1)) + 1)
+    out_start, out_end = np.full((owners, width), np.nan), np.full((owners, width), np.nan)
+    feasible = np.zeros((owners, width), dtype=bool)
+    out_start[owner, slot], out_end[owner, slot], feasible[owner, slot] = a, b, True
+    return out_start, out_end, feasible
