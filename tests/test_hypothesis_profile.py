@@ -28,7 +28,7 @@ def _profile_option(request) -> str | None:
 
 def test_the_suite_runs_the_reproducible_profile(request):
     if _profile_option(request) not in (None, "redkin"):
-        pytest.skip(f"run with --hypothesis-profile={_profile_option(request)}")
+        pytest.skip(f"a law of the reproducible profile, not of --hypothesis-profile={_profile_option(request)}")
     assert settings.get_current_profile_name().startswith("redkin")  # "redkin-with-verbose-verbosity" with that option
     current = settings()
     assert current.derandomize is True and current.database is None and current.deadline is None
@@ -44,7 +44,7 @@ def test_the_explore_profile_draws_fresh_examples_and_keeps_failures():
 def test_a_test_draws_the_same_examples_on_every_run(request):
     """The law the profile gives: two runs of one test draw the same examples (with no database to replay)."""
     if _profile_option(request) not in (None, "redkin"):
-        pytest.skip(f"run with --hypothesis-profile={_profile_option(request)}")
+        pytest.skip(f"a law of the reproducible profile, not of --hypothesis-profile={_profile_option(request)}")
     runs: list[list] = []
 
     @settings(max_examples=20)
@@ -63,7 +63,7 @@ def test_the_draws_do_not_depend_on_the_numbers_in_our_modules(request, tmp_path
     derandomized profile hypothesis's pool of constants from local source is kept empty (tests/conftest.py), so an
     edit anywhere in src/ or tests/ does not change what an unrelated test draws."""
     if _profile_option(request) not in (None, "redkin"):
-        pytest.skip(f"run with --hypothesis-profile={_profile_option(request)}")
+        pytest.skip(f"a law of the reproducible profile, not of --hypothesis-profile={_profile_option(request)}")
     runs: list[list] = []
 
     @settings(max_examples=300)
