@@ -196,6 +196,22 @@ def test_path_in_a_cell_and_its_failure(capsys, cell, tmp_path):
     assert code == 1 and "link_7 meets ball" in out
 
 
+def test_a_path_proved_optimal_in_a_cell_says_among_what(capsys, tmp_path):
+    """A clearance proved in a cell is proved among the certified collision-free sets, and the line says so (a far
+    ball: the elbow joint, which the pose fixes, is the bottleneck); JSON's ``optimal`` is the same proof."""
+    chain = redkin.get_robot("kuka-iiwa14")
+    poses = tmp_path / "poses.npy"
+    np.save(poses, chain.fk(np.linspace([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1], [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9],
+                                        12)))
+    far = tmp_path / "far.yaml"
+    far.write_text("margin: 0.01\nobstacles:\n  - {name: ball, type: sphere, center: [1.5, 1.5, 1.5], radius: 0.1}\n")
+    argv = ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.5", "--scene", str(far)]
+    code, out, _ = run(capsys, argv)
+    assert code == 0 and "proved the largest any path through the certified collision-free sets keeps" in out
+    code, out, _ = run(capsys, [*argv, "--json"])
+    assert code == 0 and json.loads(out)["optimal"] is True
+
+
 @pytest.mark.parametrize("robot", ["kuka-iiwa14", "examples/panda.urdf"])
 def test_robots_show_names_the_links_a_body_file_may_use(capsys, robot):
     chain = redkin.get_robot(robot)

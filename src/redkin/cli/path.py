@@ -466,7 +466,8 @@ def _run_path(args: argparse.Namespace) -> int:
         return 1
     clearance = fixed(float(angles_out(result.clearance, degrees)))
     motion = fixed(float(angles_out(result.motion, degrees)))
-    proof = (f"proved the largest any path keeps, at waypoint {result.bottleneck}" if result.optimal
+    among = " through the certified collision-free sets" if in_cell is not None else ""
+    proof = (f"proved the largest any path{among} keeps, at waypoint {result.bottleneck}" if result.optimal
              else "not proved the largest possible")
     print(f"path of {plural(len(poses), 'waypoint')} on {chain.name}: clearance {clearance} {unit} ({proof}), "
           f"total motion {motion} {unit}")
