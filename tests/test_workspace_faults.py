@@ -187,7 +187,10 @@ def test_a_process_killed_in_a_chunk_write_keeps_no_unfinished_chunk(pa10, small
     assert hit.parent == path / folder
     chunk = tuple(int(part) for part in hit.name.lstrip(".").split(".")[:3])
     marked = _assert_marked_chunks_are_right(path, small_map)
-    assert not completed_chunks(path)[chunk] and 0 < marked < CHUNKS
+    # the map's chunks are written by a pool's threads at once, so how many are marked when the kill comes is not
+    # fixed (CI dry run #26: none, the first marker's rename not yet done when another thread's second one was
+    # hit): the laws below hold for any number of them short of all
+    assert not completed_chunks(path)[chunk] and 0 <= marked < CHUNKS
     if mode == "write":  # killed mid-write: only the temporary file is torn, and nothing reads it
         assert hit.name.endswith(".partial") and hit.exists()
     else:  # killed between the values and the marker: the values are in place, the chunk is still not complete
