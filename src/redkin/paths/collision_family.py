@@ -32,6 +32,7 @@ from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import FeasiblePieces
 
 if TYPE_CHECKING:  # redkin.collision's free sets use the arms, whose classes use these families: read when called
+    from redkin.collision.arm_angle_free import FreeArmAngles
     from redkin.collision.body import Body
     from redkin.collision.scene import Scene
     from redkin.collision.steps import StepClearance
@@ -59,20 +60,25 @@ class _CollisionFreeFamily(Family):
     def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
         return self.base.arm(poses, step)
 
-    def pieces(self, poses: np.ndarray) -> FeasiblePieces:
-        """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free intervals."""
+    def _free_sets(self, poses: np.ndarray) -> tuple[FeasiblePieces, np.ndarray, list[FreeArmAngles]]:
+        """The base family's exact pieces of ``poses``, the waypoints they leave values at, and those waypoints'
+        certified collision-free sets (without their causes: :func:`redkin.collision.free_sets_of`)."""
         from redkin.arms.front_door import arm
         from redkin.collision.free_sets import free_sets_of
 
         exact = self.base.pieces(poses)
-        some = np.flatnonzero(exact.feasible.any(axis=(1, 2)))  # the waypoints the limits leave values at
-        free = free_sets_of(arm(self.chain), poses[some], self.body, self.scene, causes=False)
+        some = np.flatnonzero(exact.feasible.any(axis=(-2, -1)))
+        return exact, some, free_sets_of(arm(self.chain), poses[some], self.body, self.scene, causes=False)
+
+    def pieces(self, poses: np.ndarray) -> FeasiblePieces:
+        """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free intervals."""
+        exact, some, free = self._free_sets(poses)
         owners = len(poses) * len(BRANCHES)  # an owner is waypoint * 8 + branch
-        arcs = [(w * len(BRANCHES) + b, sets.free[b]) for w, sets in zip(some.tolist(), free, strict=True)
+        sets = [(w * len(BRANCHES) + b, found.free[b]) for w, found in zip(some.tolist(), free, strict=True)
                 for b in range(len(BRANCHES))]
-        bounds = np.concatenate([arcs_.bounds.reshape(-1, 2) for _, arcs_ in arcs] + [np.empty((0, 2))])
-        wraps = np.concatenate([arcs_.wraps for _, arcs_ in arcs] + [np.empty(0, dtype=bool)])
-        arc_owner = np.repeat([owner for owner, _ in arcs], [len(arcs_.bounds) for _, arcs_ in arcs]).astype(np.int64)
+        bounds = np.concatenate([arcs.bounds.reshape(-1, 2) for _, arcs in sets] + [np.empty((0, 2))])
+        wraps = np.concatenate([arcs.wraps for _, arcs in sets] + [np.empty(0, dtype=bool)])
+        arc_owner = np.repeat([owner for owner, _ in sets], [len(arcs.bounds) for _, arcs in sets]).astype(np.int64)
         piece_owner = np.flatnonzero(exact.feasible.reshape(-1)) // exact.feasible.shape[-1]  # in C order, sorted
         cut = _cut(piece_owner, exact.start[exact.feasible], exact.end[exact.feasible], arc_owner, bounds[:, 0],
                    np.where(wraps, bounds[:, 1] + TWO_PI, bounds[:, 1]), owners, self.wraps)
@@ -89,14 +95,9 @@ class _CollisionFreeFamily(Family):
     def proved_empty(self, poses: np.ndarray) -> np.ndarray:
         """Per pose, whether the limits leave nothing, or the certified collision-free sets are empty on every
         branch and complete (every value decided, but for undecided slivers no wider than the resolution)."""
-        from redkin.arms.front_door import arm
-        from redkin.collision.free_sets import free_sets_of
-
-        empty = np.asarray(~self.base.pieces(poses).feasible.any(axis=(-2, -1)))
-        some = np.flatnonzero(~empty)
-        if len(some):
-            free = free_sets_of(arm(self.chain), poses[some], self.body, self.scene, causes=False)
-            empty[some] = [sets.complete and not any(len(arcs.bounds) for arcs in sets.free) for sets in free]
+        _, some, free = self._free_sets(poses)
+        empty = np.ones(len(poses), dtype=bool)
+        empty[some] = [sets.complete and not any(len(arcs.bounds) for arcs in sets.free) for sets in free]
         return empty
 
     def inner(self, level: float) -> Family | None:
