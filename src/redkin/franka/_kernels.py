@@ -24,7 +24,7 @@ import numpy as np
 from redkin._compiled import kernel
 from redkin._pose_kernels import BAD_POSE, OK, pose_defect
 from redkin.franka.geometry import A3, A4, A6, AMPLITUDE, D1, D3, D5, D6, MEAN, PHASE
-from redkin.srs._ik_kernels import chain_values, in_limits
+from redkin.srs._ik_kernels import MEMBERSHIP_TOLERANCE, chain_values, in_limits
 
 #: Length of the work vector of :func:`solve_q7`.
 WORK = 24
@@ -49,12 +49,17 @@ _CIRCLE_TOLERANCE = 1e-3
 #: below which a cell that may hold a root is taken as one (two roots closer than this are one candidate).
 _CELL_BUDGET = 2000
 _SMALLEST_CELL = 1e-9
+#: The rounding of a value of a trigonometric polynomial, relative to the largest it can take (a few units of the
+#: last place of its terms): :func:`monotone_root` stops there.
+_VALUE_ROUNDING = 1e-15
 #: Values of a limit polynomial this small, relative to the largest it can take, count as zero: a double root
 #: (on arms whose elbow has no offsets the elbow's two roots give squared factors) rounds to a near miss.
 _NEAR_ZERO = 1e-12
 #: How close to a limit a real branch's joint must be at a polynomial's root to be polished on (radians of the
 #: joint, and of q7 for the polish's reach).
 _POLISH_REACH = 1e-4
+#: A secant step this small [rad] ends :func:`secant_crossing`.
+_SETTLED_STEP = 1e-9
 #: Half width of the bracket about a breakpoint in which an arc's end is first sought (:func:`crossing`).
 _ROOT_BRACKET = 1e-12
 #: How far outside an interval a root of a level polynomial still counts as in it (:func:`levels_crossed`): above
@@ -164,6 +169,30 @@ def shoulder_angles(m, sigma):
 
 
 @kernel
+def elbow_excess(kappa):
+    """How far ``|kappa|`` [F2] lies beyond what [F3] admits (with the rounding slack :data:`_REACH_TOLERANCE`):
+    positive exactly where the elbow cannot span ``|W - S|``."""
+    return abs(kappa) - (1.0 + _REACH_TOLERANCE)
+
+
+@kernel
+def elbow_of(kappa, sign, arm):
+    """The elbow root of ``sign`` [F3] (``kappa`` rounded back into ``[-1, 1]``): ``cos theta_4, sin theta_4`` and
+    the shoulder in frame four ``S_4x, S_4z`` [F4]."""
+    kappa_b = min(1.0, max(-1.0, kappa))
+    c4, s4 = elbow_trig(kappa_b, sign * np.sqrt(1.0 - kappa_b * kappa_b), arm)
+    s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
+    return c4, s4, s4x, s4z
+
+
+@kernel
+def wrist_excess(vz, s4x, arm):
+    """How far ``|V_z|`` lies beyond ``|S_4x|`` in [F5] ``-S_4x sin theta_5 = V_z`` (with the rounding slack):
+    positive exactly where the wrist cannot turn S onto ``V``."""
+    return abs(vz) - (abs(s4x) * (1.0 + _REACH_TOLERANCE) + _REACH_TOLERANCE * arm[D5])
+
+
+@kernel
 def solve_q7(t07, q7, arm, branches, joints, q, exists, scratch, work):
     """Every requested branch at one value ``q7`` of the chain's joint 7 [F1]-[F7]: joint values into ``q`` (B, 7),
     ``exists`` (B,).
@@ -197,14 +226,10 @@ def solve_q7(t07, q7, arm, branches, joints, q, exists, scratch, work):
         pair = (0 if branches[b, 1] > 0.0 else 2) + (0 if branches[b, 2] > 0.0 else 1)
         if state[pair] == 0.0:
             state[pair] = 2.0
-            if abs(kappa) > 1.0 + _REACH_TOLERANCE:
+            if elbow_excess(kappa) > 0.0:
                 continue
-            kappa_b = min(1.0, max(-1.0, kappa))
-            root4 = branches[b, 1] * np.sqrt(1.0 - kappa_b * kappa_b)
-            c4, s4 = elbow_trig(kappa_b, root4, arm)
-            s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
-            # [F5]: -S_4x sin theta_5 = V_z
-            if abs(vz) > abs(s4x) * (1.0 + _REACH_TOLERANCE) + _REACH_TOLERANCE * arm[D5]:
+            c4, s4, s4x, s4z = elbow_of(kappa, branches[b, 1], arm)
+            if wrist_excess(vz, s4x, arm) > 0.0:
                 continue
             s5 = 0.0 if s4x == 0.0 else min(1.0, max(-1.0, -vz / s4x))
             c5 = branches[b, 2] * np.sqrt(1.0 - s5 * s5)
@@ -407,16 +432,21 @@ def rootless_cell(value, slope, curve, radius, bound3, floor):
 @kernel
 def trig_value(half, theta):
     """``G(theta) = g_0 + 2 Re sum_k g_k e^(i k theta)`` and its first three derivatives, from ``half = (g_0, ...,
-    g_D)``."""
-    z = complex(cos(theta), sin(theta))
-    value, slope, curve, third = 0.0j, 0.0j, 0.0j, 0.0j
-    for k in range(half.shape[0] - 1, -1, -1):  # sum_k c_k (i k)^n z^k for n = 0 .. 3; c_0 = g_0, c_k = 2 g_k
-        term = half[k] * (2.0 if k > 0 else 1.0)
-        value = value * z + term
-        slope = slope * z + 1j * k * term
-        curve = curve * z - k * k * term
-        third = third * z - 1j * k * k * k * term
-    return value.real, slope.real, curve.real, third.real
+    g_D)``, in real arithmetic: with ``2 g_k = a_k + i b_k``, ``P_k = a_k cos k theta - b_k sin k theta`` and
+    ``Q_k = a_k sin k theta + b_k cos k theta``, ``G = g_0 + sum P_k``, ``G1 = -sum k Q_k``, ``G2 = -sum k^2 P_k``
+    and ``G3 = sum k^3 Q_k`` (``cos k theta``, ``sin k theta`` by a rotation from ``k - 1``'s)."""
+    c, s = cos(theta), sin(theta)
+    ck, sk = 1.0, 0.0
+    value, slope, curve, third = half[0].real, 0.0, 0.0, 0.0
+    for k in range(1, half.shape[0]):
+        ck, sk = c * ck - s * sk, s * ck + c * sk
+        a, b = 2.0 * half[k].real, 2.0 * half[k].imag
+        p, r = a * ck - b * sk, a * sk + b * ck
+        value += p
+        slope -= k * r
+        curve -= k * k * p
+        third += k * k * k * r
+    return value, slope, curve, third
 
 
 @kernel
@@ -460,8 +490,13 @@ def isolated_roots(half, low, high, cells, out):
             continue
         square, cube = radius * radius / 2.0, radius * radius * radius / 6.0
         if abs(slope) > radius * abs(curve) + square * abs(third) + cube * bound4:  # monotone: at most one root
-            left = trig_value(half, low)[0]
-            right = trig_value(half, high)[0]
+            # G at the ends, by Taylor's theorem where that settles its sign, else evaluated
+            left = value - radius * slope + square * curve
+            if abs(left) <= cube * bound3 + floor:
+                left = trig_value(half, low)[0]
+            right = value + radius * slope + square * curve
+            if abs(right) <= cube * bound3 + floor:
+                right = trig_value(half, high)[0]
             if left == 0.0 or right == 0.0 or (left < 0.0) != (right < 0.0):
                 if count == out.shape[0]:
                     return -1
@@ -485,11 +520,17 @@ def isolated_roots(half, low, high, cells, out):
 @kernel
 def monotone_root(half, low, high, left):
     """The root of ``G`` in ``[low, high]``, where ``G`` is monotone and ``G(low) = left`` differs in sign from
-    ``G(high)``: Newton steps kept inside a shrinking bracket (bisection where a step leaves it)."""
+    ``G(high)``: Newton steps kept inside a shrinking bracket (bisection where a step leaves it), until ``G`` is as
+    small as its rounding (:data:`_VALUE_ROUNDING` of the largest value it can take) or the bracket as small as
+    ``theta``'s."""
+    noise = abs(half[0])
+    for k in range(1, half.shape[0]):
+        noise += 2.0 * abs(half[k])
+    noise *= _VALUE_ROUNDING
     theta = 0.5 * (low + high)
     for _ in range(100):
         value, slope, _, _ = trig_value(half, theta)
-        if value == 0.0 or high - low <= 4e-16 * max(1.0, abs(theta)):
+        if abs(value) <= noise or high - low <= 4e-16 * max(1.0, abs(theta)):
             return theta
         if (value < 0.0) == (left < 0.0):
             low = theta
@@ -764,16 +805,70 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
 
 
 @kernel
+def status_gap(t07, q7, arm, branch, joints, kind, target, q, exists, scratch, work):
+    """The quantity whose sign change at ``q7`` is a change of the status of ``branch`` (1, 3) that :func:`crossing`
+    looks for: for ``kind`` < 6, joint ``kind``'s value minus ``target`` (a limit widened by ``in_limits``' slack,
+    modulo 2 pi); 6, the elbow's :func:`elbow_excess`; 7, the wrist's :func:`wrist_excess` on the branch's elbow.
+    NaN where it is not defined (the branch, or for 7 its elbow, does not exist).  ``q``, ``exists``, ``scratch``
+    and ``work`` are :func:`solve_q7`'s for one branch."""
+    if kind < 6:
+        solve_q7(t07, q7, arm, branch, joints, q, exists, scratch, work)
+        if not exists[0]:
+            return np.nan
+        return np.mod(q[0, kind] - target + np.pi, 2.0 * np.pi) - np.pi
+    x6, y6, z6, w = wrist_and_frame_six(t07, q7 + joints[0, 6], arm)
+    kappa = elbow_cosine(w, arm)
+    if kind == 6:
+        return elbow_excess(kappa)
+    if elbow_excess(kappa) > 0.0:
+        return np.nan
+    s4x = elbow_of(kappa, branch[0, 1], arm)[2]
+    vz = shoulder_seen_from_six(x6, y6, z6, t07, arm)[2]
+    return wrist_excess(vz, s4x, arm)
+
+
+@kernel
+def secant_crossing(t07, start, gap, arm, branch, joints, kind, target, q, exists, scratch, work):
+    """Where :func:`status_gap` (``kind``, ``target``) of ``branch`` vanishes near ``start`` (where it is ``gap``), by
+    secant steps from ``start`` and ``start + 1e-10``; NaN where they leave :data:`_POLISH_REACH` of ``start`` or
+    meet a q7 where the gap is not defined.
+
+    The steps stop after one of at most :data:`_SETTLED_STEP`, whose point is not evaluated: the secant's error is
+    then about the product of the last two errors (1e-18 rad from a start 1e-9 off), below the rounding.  The
+    result is a breakpoint, which only splits an interval: where it is wrong (a gap not smooth there),
+    :func:`crossing` bisects, and the set is the same.
+    """
+    x0, g0 = start, gap
+    x1 = start + 1e-10
+    g1 = status_gap(t07, x1, arm, branch, joints, kind, target, q, exists, scratch, work)
+    for _ in range(12):
+        if np.isnan(g1) or g1 == g0:
+            return np.nan
+        x2 = x1 - g1 * (x1 - x0) / (g1 - g0)
+        if abs(x2 - start) > _POLISH_REACH:
+            return np.nan
+        if abs(x2 - x1) <= _SETTLED_STEP:
+            return x2
+        x0, g0 = x1, g1
+        x1 = x2
+        g1 = status_gap(t07, x1, arm, branch, joints, kind, target, q, exists, scratch, work)
+    return np.nan
+
+
+@kernel
 def polished_crossings(t07, arm, branches, joints, angles, sources, found):
-    """Add to the candidates ``angles[:found]`` (from the limit polynomials ``sources``) the crossings of the real
-    branches themselves: where a branch has its joint within :data:`_POLISH_REACH` of a limit at a candidate,
-    secant steps on that joint's value minus the limit, evaluated by :func:`solve_q7`.  Returns the new count.
+    """Add to the candidates ``angles[:found]`` (from the limit polynomials ``sources``) the status changes of the
+    real branches themselves (:func:`secant_crossing`): where a branch has its joint within :data:`_POLISH_REACH`
+    of a limit (widened by ``in_limits``' slack) at a candidate of that joint's polynomial, and where the elbow, or
+    the wrist of either elbow, stops existing near a candidate of [F9]'s existence polynomials.  Returns the new
+    count.
 
     A polynomial's root is only as accurate as its coefficients, which can
     be 1e-8 in q7 where the product's other factors are small; an arc
     narrower than that could lie between two candidates and never be
-    sampled.  The branch's own joint value is exact to rounding, and so is
-    the crossing found on it.
+    sampled.  The branch's own joint value, and the existence tests of
+    :func:`solve_q7`, are exact to rounding, and so is the change found on
+    them: :func:`crossing` then finds it within :data:`_ROOT_BRACKET`.
     """
     scratch = np.empty((8, 3, 3))
     work = np.empty(WORK)
@@ -783,35 +878,40 @@ def polished_crossings(t07, arm, branches, joints, angles, sources, found):
     one_exists = np.empty(1, dtype=np.bool_)
     total = found
     for r in range(found):
-        if sources[r] >= 12:
+        start = angles[r] - joints[0, 6]  # the candidate's q7 (the angles are theta_7)
+        if sources[r] >= 12:  # the elbow's existence (one test), or the wrist's on either elbow
+            kind = 6 + sources[r] - 12
+            for b in range(branches.shape[0] if kind == 7 else 1):
+                earlier = False  # the wrist's test depends on the elbow alone: the first branch of each elbow
+                for e in range(b):
+                    earlier = earlier or branches[e, 1] == branches[b, 1]
+                if earlier:
+                    continue
+                gap = status_gap(t07, start, arm, branches[b:b + 1], joints, kind, 0.0, one, one_exists, scratch,
+                                 work)
+                if np.isnan(gap) or abs(gap) > _POLISH_REACH:
+                    continue
+                x = secant_crossing(t07, start, gap, arm, branches[b:b + 1], joints, kind, 0.0, one, one_exists,
+                                    scratch, work)
+                if not np.isnan(x):
+                    angles[total] = x + joints[0, 6]
+                    total += 1
             continue
         joint = sources[r] // 2
-        start = angles[r] - joints[0, 6]  # the candidate's q7 (the angles are theta_7)
         solve_q7(t07, start, arm, branches, joints, q, exists, scratch, work)
         for b in range(branches.shape[0]):
             if not exists[b]:
                 continue
             for row in (3, 4):  # the joint's lower and upper limit (joint 2's polynomial serves both)
-                limit = joints[row, joint]
+                # where the status changes: the limit widened by in_limits' slack
+                limit = joints[row, joint] + (MEMBERSHIP_TOLERANCE if row == 4 else -MEMBERSHIP_TOLERANCE)
                 gap = np.mod(q[b, joint] - limit + np.pi, 2.0 * np.pi) - np.pi
                 if abs(gap) > _POLISH_REACH:
                     continue
-                x0, g0 = start, gap
-                x1 = start + 1e-10
-                solve_q7(t07, x1, arm, branches[b : b + 1], joints, one, one_exists, scratch, work)
-                g1 = np.mod(one[0, joint] - limit + np.pi, 2.0 * np.pi) - np.pi
-                for _ in range(12):
-                    if not one_exists[0] or g1 == g0 or abs(g1) <= 1e-15:
-                        break
-                    x2 = x1 - g1 * (x1 - x0) / (g1 - g0)
-                    if abs(x2 - start) > _POLISH_REACH:
-                        break
-                    x0, g0 = x1, g1
-                    x1 = x2
-                    solve_q7(t07, x1, arm, branches[b : b + 1], joints, one, one_exists, scratch, work)
-                    g1 = np.mod(one[0, joint] - limit + np.pi, 2.0 * np.pi) - np.pi
-                if one_exists[0] and abs(g1) <= 1e-12 and abs(x1 - start) <= _POLISH_REACH:
-                    angles[total] = x1 + joints[0, 6]
+                x = secant_crossing(t07, start, gap, arm, branches[b:b + 1], joints, joint, limit, one, one_exists,
+                                    scratch, work)
+                if not np.isnan(x):
+                    angles[total] = x + joints[0, 6]
                     total += 1
     return total
 
