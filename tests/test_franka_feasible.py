@@ -27,6 +27,7 @@ from redkin.franka import (
     _kernels,
     feasible_q7,
     feasible_q7_batch,
+    feasible_q7_pieces,
     franka_geometry,
     ik,
     optimal_q7,
@@ -253,6 +254,32 @@ def test_a_batch_of_poses_gives_an_object_array_of_the_single_results():
         feasible_q7(chain, np.eye(3))
     with pytest.raises(ValueError, match="not of the Franka class"):
         feasible_q7(get_robot("kuka-iiwa14"), np.eye(4))
+
+
+
+@pytest.mark.parametrize("room", [16, 1])  # 1: every pose with two arcs on a branch is computed again, alone
+def test_the_pieces_of_a_batch_are_its_sets_as_arrays(monkeypatch, room):
+    import redkin.franka.feasible as feasible_module
+
+    chain = get_robot("ufactory-xarm7")  # joint 7's range of two turns gives branches of several arcs
+    rng = np.random.default_rng(25)
+    poses = chain.fk(rng.uniform(chain.lower, chain.upper, (3, 4, 7)))
+    poses[2, 3, :3, 3] = [2.0, 0.0, 0.0]  # one unreachable
+    singles = [feasible_q7(chain, poses[index]) for index in np.ndindex(3, 4)]
+    monkeypatch.setattr(feasible_module, "_ARCS", room)
+    start, end, feasible = feasible_q7_pieces(chain, poses)
+    most = max(len(arcs) for one in singles for arcs in one.arcs)
+    assert most >= 2 and start.shape == end.shape == feasible.shape == (3, 4, len(BRANCHES), most)
+    for n, index in enumerate(np.ndindex(3, 4)):
+        for b, arcs in enumerate(singles[n].arcs):
+            assert feasible[index][b].sum() == len(arcs) and feasible[index][b, : len(arcs)].all()
+            assert np.array_equal(start[index][b, : len(arcs)], arcs[:, 0])
+            assert np.array_equal(end[index][b, : len(arcs)], arcs[:, 1])
+            assert np.isnan(start[index][b, len(arcs):]).all() and np.isnan(end[index][b, len(arcs):]).all()
+    assert not feasible[2, 3].any()
+    batch = feasible_q7_batch(chain, poses)
+    assert all(np.array_equal(a, b) for n, index in enumerate(np.ndindex(3, 4))
+               for a, b in zip(batch[index].arcs, singles[n].arcs))
 
 
 # ----------------------------------------------------------------------------- the degree law

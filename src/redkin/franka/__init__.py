@@ -8,11 +8,11 @@ eight solutions in closed form.
 * :func:`franka_geometry` -- detection in any description, and the solver's form of the arm
 * :func:`ik` -- every solution (or one branch's) of poses at values of q7 [F1]-[F7]
 * :func:`feasible_q7` -- the exact feasible q7 set of every branch under the joint limits [F8]-[F9];
-  :func:`feasible_q7_batch` for a batch of poses
+  :func:`feasible_q7_batch` for a batch of poses, :func:`feasible_q7_pieces` the same as arrays
 * :func:`optimal_q7` -- the q7 that keeps the joints farthest from their limits, within the feasible set
 """
 
-from redkin.franka.feasible import FeasibleQ7, feasible_q7, feasible_q7_batch
+from redkin.franka.feasible import FeasibleQ7, feasible_q7, feasible_q7_batch, feasible_q7_pieces
 from redkin.franka.geometry import FrankaGeometry, franka_geometry
 from redkin.franka.ik import PARAMETER, Q7Solutions, ik
 from redkin.franka.optimal import OptimalQ7, optimal_q7
@@ -27,6 +27,7 @@ __all__ = [
     "Q7Solutions",
     "feasible_q7",
     "feasible_q7_batch",
+    "feasible_q7_pieces",
     "franka_geometry",
     "ik",
     "optimal_q7",

@@ -105,6 +105,31 @@ def feasible_q7_batch(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> np.
         For a chain not of the Franka class or a malformed pose.
     """
     geometry = as_franka(arm)
+    start, end, feasible = feasible_q7_pieces(geometry, pose)
+    domain = q7_domain(geometry)
+    flat_start, flat_end = start.reshape((-1,) + start.shape[-2:]), end.reshape((-1,) + end.shape[-2:])
+    counts = feasible.reshape((-1,) + feasible.shape[-2:]).sum(axis=-1)
+    results = np.empty(len(counts), dtype=object)
+    for n in range(len(counts)):
+        pieces = tuple(np.stack([flat_start[n, b, : counts[n, b]], flat_end[n, b, : counts[n, b]]], axis=-1)
+                       for b in range(len(BRANCHES)))
+        results[n] = FeasibleQ7(pieces, (float(domain[0]), float(domain[1])), BRANCHES)
+    return results.reshape(start.shape[:-2])
+
+
+def feasible_q7_pieces(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> tuple[np.ndarray, np.ndarray,
+                                                                                    np.ndarray]:
+    """The feasible q7 sets of a batch of poses ``(..., 4, 4)`` as arrays, as :class:`redkin.arms.FeasibleSets`
+    stores them: ``start, end`` ``(..., 8, K)`` (NaN past a branch's last arc) and ``feasible`` (``True`` on the
+    first ``n`` pieces of a branch with ``n`` arcs), ``K`` the most arcs of any branch and pose (at least 1); the
+    branches in :data:`BRANCHES`' order.  The sets of :func:`feasible_q7_batch`, without a Python object per pose.
+
+    Raises
+    ------
+    ValueError
+        For a chain not of the Franka class or a malformed pose.
+    """
+    geometry = as_franka(arm)
     t07 = frames_seven(geometry, pose)
     shape = t07.shape[:-2]
     flat = np.ascontiguousarray(t07.reshape(-1, 4, 4))
@@ -112,17 +137,25 @@ def feasible_q7_batch(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> np.
     domain = q7_domain(geometry)
     arcs = np.empty((count, len(BRANCHES), _ARCS, 2))
     counts = np.empty((count, len(BRANCHES)), dtype=np.int64)
-    run_batch(_kernels.feasible_poses, count, flat, geometry.kernel_arm, geometry.kernel_limits,
-              geometry.kernel_joints, geometry.kernel_branches, domain, arcs, counts)
-    results = np.empty(count, dtype=object)
-    for n in range(count):
-        if counts[n, 0] < 0:  # more arcs than the batch kept room for: this pose alone, with room for all
-            room = np.empty((len(BRANCHES), _ROOM, 2))
-            one = np.empty((1, len(BRANCHES)), dtype=np.int64)
-            _kernels.feasible_poses(0, 1, flat[n : n + 1], geometry.kernel_arm, geometry.kernel_limits,
-                                    geometry.kernel_joints, geometry.kernel_branches, domain, room[None], one)
-            pieces = tuple(room[b, : one[0, b]].copy() for b in range(len(BRANCHES)))
-        else:
-            pieces = tuple(arcs[n, b, : counts[n, b]].copy() for b in range(len(BRANCHES)))
-        results[n] = FeasibleQ7(pieces, (float(domain[0]), float(domain[1])), BRANCHES)
-    return results.reshape(shape)
+    kernel_arguments = (geometry.kernel_arm, geometry.kernel_limits, geometry.kernel_joints, geometry.kernel_branches,
+                        domain)
+    run_batch(_kernels.feasible_poses, count, flat, *kernel_arguments, arcs, counts)
+    crowded = np.flatnonzero(counts[:, 0] < 0)  # more arcs than the batch kept room for: alone, with room for all
+    room = np.empty((len(crowded), len(BRANCHES), _ROOM, 2))
+    room_counts = np.empty((len(crowded), len(BRANCHES)), dtype=np.int64)
+    if len(crowded):
+        _kernels.feasible_poses(0, len(crowded), np.ascontiguousarray(flat[crowded]), *kernel_arguments, room,
+                                room_counts)
+        counts[crowded] = room_counts
+    most = max(1, int(counts.max(initial=0)))
+    start, end = np.full((count, len(BRANCHES), most), np.nan), np.full((count, len(BRANCHES), most), np.nan)
+    feasible = np.arange(most) < counts[..., None]
+    kept = min(most, _ARCS)
+    start[..., :kept] = np.where(feasible[..., :kept], arcs[:, :, :kept, 0], np.nan)
+    end[..., :kept] = np.where(feasible[..., :kept], arcs[:, :, :kept, 1], np.nan)
+    if len(crowded):
+        crowded_feasible = feasible[crowded]
+        start[crowded] = np.where(crowded_feasible, room[:, :, :most, 0], np.nan)
+        end[crowded] = np.where(crowded_feasible, room[:, :, :most, 1], np.nan)
+    pieces_shape = shape + (len(BRANCHES), most)
+    return start.reshape(pieces_shape), end.reshape(pieces_shape), feasible.reshape(pieces_shape)

@@ -6,7 +6,7 @@ Two classes have exact feasible sets of their redundancy parameter, and so take 
 * S-R-S and offset-elbow arms (paper 000): the arm angle psi, whose pieces are [000 eq. 30]'s
   (:func:`redkin.srs.feasible_pieces_all_branches`), the nodes the closed form [000 eqs. 11-19];
 * the Franka class (docs/franka.md): the value q7 of joint 7, whose arcs are [F8]-[F9]'s
-  (:func:`redkin.franka.feasible_q7_batch`), the nodes the closed form at q7 [F1]-[F7].
+  (:func:`redkin.franka.feasible_q7_pieces`), the nodes the closed form at q7 [F1]-[F7].
 
 Nearly S-R-S arms (docs/srs.md, "Nearly S-R-S arms") take part too, with the real arm's arm angle: their feasible
 sets are located on the polished solutions (:func:`redkin.srs.feasible_arm_angles_nearly`), certified but not
@@ -27,7 +27,7 @@ from redkin._compiled import run_batch
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, wrap_angle
 from redkin.errors import RedkinError
-from redkin.franka.feasible import feasible_q7_batch
+from redkin.franka.feasible import feasible_q7_pieces
 from redkin.franka.geometry import FrankaGeometry, franka_geometry
 from redkin.franka.ik import PARAMETER as Q7
 from redkin.franka.ik import frames_seven
@@ -307,7 +307,7 @@ class Q7Family(Family):
                                                       frames)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
-        return as_pieces([list(result.arcs) for result in feasible_q7_batch(self.geometry, poses).reshape(-1)])
+        return FeasiblePieces(*feasible_q7_pieces(self.geometry, poses))
 
     def parameter_of(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """q7 is the configuration's own joint 7; its branch is the one whose solution at that q7 is nearest."""
