@@ -730,7 +730,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     for f in range(FUNCTIONS):
         total += 2 * DEGREES[f]
     angles = np.empty(total * (1 + 2 * branches.shape[0]))
-    sources = np.empty(total, dtype=np.int64)
+    sources = np.empty(angles.shape[0], dtype=np.int64)
     roots = np.empty(2 * 8)
     found = np.int64(0)
     for f in range(FUNCTIONS):
@@ -754,12 +754,15 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
             angles[found] = roots[r]
             sources[found] = f
             found += 1
-    found = polished_crossings(t07, arm, branches, joints, angles, sources, found)
+    crowded = np.empty(found, dtype=np.bool_)
+    crowded_roots(angles, found, 2.0 * _POLISH_REACH, crowded)
+    found = polished_crossings(t07, arm, branches, joints, angles, sources, found, crowded)
     lower, upper = domain[0], domain[1]
     turns = int(np.ceil((upper - lower) / (2.0 * np.pi))) + 1
-    points = np.empty(found * (turns + 1) + 2)
+    unsorted = np.empty(found * (turns + 1) + 2)
+    named = np.full(unsorted.shape[0], -1, dtype=np.int64)  # each breakpoint's source (-1: exact)
     size = 0
-    points[size] = lower
+    unsorted[size] = lower
     size += 1
     for r in range(found):
         q7 = angles[r] - offset7
@@ -767,12 +770,13 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
         value = q7 + 2.0 * np.pi * k
         while value < upper:
             if value > lower:
-                points[size] = value
+                unsorted[size], named[size] = value, sources[r]
                 size += 1
             value += 2.0 * np.pi
-    points[size] = upper
+    unsorted[size] = upper
     size += 1
-    points[:size].sort()
+    order = np.argsort(unsorted[:size], kind="mergesort")
+    points, point_sources = unsorted[order], named[order]
     count = size - 1
     status = np.zeros((count, branches.shape[0]), dtype=np.bool_)
     q = np.empty((branches.shape[0], 7))
@@ -793,11 +797,12 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                 continue
             if status[i, b] and (previous < 0 or not status[previous, b]):
                 arcs[b, counts[b], 0] = points[i] if previous < 0 else crossing(
-                    t07, arm, branches[b:b + 1], joints, points, previous, i, real_scratch, work)
+                    t07, arm, branches[b:b + 1], joints, points, point_sources, previous, i, False, real_scratch,
+                    work)
                 counts[b] += 1
             if not status[i, b] and previous >= 0 and status[previous, b]:
-                arcs[b, counts[b] - 1, 1] = crossing(t07, arm, branches[b:b + 1], joints, points, previous, i,
-                                                     real_scratch, work)
+                arcs[b, counts[b] - 1, 1] = crossing(t07, arm, branches[b:b + 1], joints, points, point_sources,
+                                                     previous, i, True, real_scratch, work)
             previous = i
         if previous >= 0 and status[previous, b]:
             arcs[b, counts[b] - 1, 1] = points[count]
@@ -856,19 +861,21 @@ def secant_crossing(t07, start, gap, arm, branch, joints, kind, target, q, exist
 
 
 @kernel
-def polished_crossings(t07, arm, branches, joints, angles, sources, found):
-    """Add to the candidates ``angles[:found]`` (from the limit polynomials ``sources``) the status changes of the
-    real branches themselves (:func:`secant_crossing`): where a branch has its joint within :data:`_POLISH_REACH`
-    of a limit (widened by ``in_limits``' slack) at a candidate of that joint's polynomial, and where the elbow, or
-    the wrist of either elbow, stops existing near a candidate of [F9]'s existence polynomials.  Returns the new
-    count.
+def polished_crossings(t07, arm, branches, joints, angles, sources, found, crowded):
+    """Add to the candidates ``angles[:found]`` (from the limit polynomials ``sources``), at each one marked
+    ``crowded`` (:func:`crowded_roots`), the status changes of the real branches themselves
+    (:func:`secant_crossing`), with source -1: where a branch has its joint within :data:`_POLISH_REACH` of a
+    limit (widened by ``in_limits``' slack) at a candidate of that joint's polynomial, and where the elbow, or the
+    wrist of either elbow, stops existing near a candidate of [F9]'s existence polynomials.  Returns the new count.
 
     A polynomial's root is only as accurate as its coefficients, which can
     be 1e-8 in q7 where the product's other factors are small; an arc
-    narrower than that could lie between two candidates and never be
-    sampled.  The branch's own joint value, and the existence tests of
+    narrower than that could lie between two crowded candidates and never
+    be sampled.  The branch's own joint value, and the existence tests of
     :func:`solve_q7`, are exact to rounding, and so is the change found on
-    them: :func:`crossing` then finds it within :data:`_ROOT_BRACKET`.
+    them.  A candidate with no other within twice the reach needs none:
+    the midpoints on either side lie beyond the reach, so the one change
+    near it lies between them, where :func:`crossing` finds it.
     """
     scratch = np.empty((8, 3, 3))
     work = np.empty(WORK)
@@ -878,6 +885,8 @@ def polished_crossings(t07, arm, branches, joints, angles, sources, found):
     one_exists = np.empty(1, dtype=np.bool_)
     total = found
     for r in range(found):
+        if not crowded[r]:
+            continue
         start = angles[r] - joints[0, 6]  # the candidate's q7 (the angles are theta_7)
         if sources[r] >= 12:  # the elbow's existence (one test), or the wrist's on either elbow
             kind = 6 + sources[r] - 12
@@ -894,7 +903,7 @@ def polished_crossings(t07, arm, branches, joints, angles, sources, found):
                 x = secant_crossing(t07, start, gap, arm, branches[b:b + 1], joints, kind, 0.0, one, one_exists,
                                     scratch, work)
                 if not np.isnan(x):
-                    angles[total] = x + joints[0, 6]
+                    angles[total], sources[total] = x + joints[0, 6], -1
                     total += 1
             continue
         joint = sources[r] // 2
@@ -911,37 +920,80 @@ def polished_crossings(t07, arm, branches, joints, angles, sources, found):
                 x = secant_crossing(t07, start, gap, arm, branches[b:b + 1], joints, joint, limit, one, one_exists,
                                     scratch, work)
                 if not np.isnan(x):
-                    angles[total] = x + joints[0, 6]
+                    angles[total], sources[total] = x + joints[0, 6], -1
                     total += 1
     return total
 
 
 @kernel
-def crossing(t07, arm, branch, joints, points, left, right, scratch, work):
-    """Where one branch's status (exists and within the limits) changes between the midpoints of intervals
-    ``left`` and ``right`` of ``points``, by bisection to the rounding of q7.
+def crowded_roots(angles, found, width, crowded):
+    """Whether each of the candidates ``angles[:found]`` (``theta_7``, on the circle) has another within ``width``,
+    into ``crowded`` (found,)."""
+    order = np.argsort(angles[:found])
+    crowded[:found] = False
+    for k in range(found - 1 if found > 1 else 0):
+        a, b = order[k], order[k + 1]
+        if angles[b] - angles[a] <= width:
+            crowded[a], crowded[b] = True, True
+    if found > 1 and angles[order[0]] + 2.0 * np.pi - angles[order[found - 1]] <= width:
+        crowded[order[0]], crowded[order[found - 1]] = True, True
 
-    The change is at the breakpoint between them (``points[right]``, a
-    polished root) unless that root is inaccurate (a cluster of roots, the
-    eigenvalue route): where the status differs at
-    ``points[right] +- _ROOT_BRACKET`` the answer is the one of those two on
-    the feasible side, otherwise the whole span between the midpoints is
-    bisected down to the rounding, and again the feasible side's end is
-    returned: an arc's ends are themselves feasible.
+
+@kernel
+def changed_near(t07, arm, branch, joints, centre, low, high, status_low, q, exists, scratch, work):
+    """Where one branch's status changes within :data:`_ROOT_BRACKET` of ``centre`` (clipped to ``[low, high]``): the
+    end of the bracket on the feasible side (an arc's ends are themselves feasible) where the status is
+    ``status_low`` at its lower end and not at its upper one; NaN otherwise."""
+    near_low = max(low, centre - _ROOT_BRACKET)
+    near_high = min(high, centre + _ROOT_BRACKET)
+    solve_q7(t07, near_low, arm, branch, joints, q, exists, scratch, work)
+    if (exists[0] and in_limits(q[0], joints)) != status_low:
+        return np.nan
+    solve_q7(t07, near_high, arm, branch, joints, q, exists, scratch, work)
+    if (exists[0] and in_limits(q[0], joints)) == status_low:
+        return np.nan
+    return near_low if status_low else near_high
+
+
+@kernel
+def crossing(t07, arm, branch, joints, points, sources, left, right, status_low, scratch, work):
+    """Where one branch's status (exists and within the limits) changes between the midpoints of intervals
+    ``left`` (where it is ``status_low``) and ``right`` of ``points``: the end on the feasible side, to the rounding
+    of q7 (an arc's ends are themselves feasible).
+
+    The change is at the breakpoint between them (``points[right]``) or
+    near it: first sought within :data:`_ROOT_BRACKET` of it (a polished
+    root, ``sources`` -1, is exact), then of the zero of the status gap its
+    polynomial ``sources[right]`` names (:func:`status_gap`: the joint's
+    nearer limit, or the elbow's or the wrist's existence) that secant steps
+    from it find; where neither holds a change (a cluster of roots, the
+    eigenvalue route), the span between the midpoints is bisected.
     """
     low = 0.5 * (points[left] + points[left + 1])
     high = 0.5 * (points[right] + points[right + 1])
     q = np.empty((1, 7))
     exists = np.empty(1, dtype=np.bool_)
-    solve_q7(t07, low, arm, branch, joints, q, exists, scratch, work)
-    status_low = exists[0] and in_limits(q[0], joints)
-    near_low = max(low, points[right] - _ROOT_BRACKET)
-    near_high = min(high, points[right] + _ROOT_BRACKET)
-    solve_q7(t07, near_low, arm, branch, joints, q, exists, scratch, work)
-    if (exists[0] and in_limits(q[0], joints)) == status_low:
-        solve_q7(t07, near_high, arm, branch, joints, q, exists, scratch, work)
-        if (exists[0] and in_limits(q[0], joints)) != status_low:
-            return near_low if status_low else near_high
+    centre = points[right]
+    end = changed_near(t07, arm, branch, joints, centre, low, high, status_low, q, exists, scratch, work)
+    if not np.isnan(end):
+        return end
+    source = sources[right]
+    if source >= 0:
+        kind, target = 6 + source - 12, 0.0
+        if source < 12:  # the joint's nearer limit, widened by in_limits' slack
+            kind = source // 2
+            solve_q7(t07, centre, arm, branch, joints, q, exists, scratch, work)
+            below = abs(np.mod(q[0, kind] - joints[3, kind] + np.pi, 2.0 * np.pi) - np.pi)
+            above = abs(np.mod(q[0, kind] - joints[4, kind] + np.pi, 2.0 * np.pi) - np.pi)
+            target = joints[3, kind] - MEMBERSHIP_TOLERANCE if below <= above else (
+                joints[4, kind] + MEMBERSHIP_TOLERANCE)
+        gap = status_gap(t07, centre, arm, branch, joints, kind, target, q, exists, scratch, work)
+        if not np.isnan(gap):
+            zero = secant_crossing(t07, centre, gap, arm, branch, joints, kind, target, q, exists, scratch, work)
+            if low < zero < high:
+                end = changed_near(t07, arm, branch, joints, zero, low, high, status_low, q, exists, scratch, work)
+                if not np.isnan(end):
+                    return end
     while high - low > 4e-16 * max(1.0, abs(low)):
         middle = 0.5 * (low + high)
         if middle <= low or middle >= high:
