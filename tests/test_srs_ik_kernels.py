@@ -4,7 +4,7 @@ group rotations equal the definitional DH products of [000 eq. 3]."""
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from redkin import _compiled
@@ -88,11 +88,12 @@ def test_a_chunk_of_a_batch_writes_its_rows_alone_and_counts_its_failures():
     np.testing.assert_array_equal(within[ok], chain.within_limits(whole[ok], tolerance=1e-12))
 
 
-POSE_DEFECTS = st.sampled_from(["nan", "inf", "last_row", "scale", "shear", "reflection", "tiny", "none"])
+POSE_DEFECTS = st.sampled_from(["nan", "inf", "last_row", "scale", "uniform", "shear", "reflection", "tiny", "none"])
 
 
 @settings(max_examples=80, deadline=None)
 @given(st.integers(0, 2**32 - 1), POSE_DEFECTS, st.floats(1e-8, 1e-3))
+@example(0, "uniform", 9.8e-7)  # R R^T = I within 9.8e-7 (accepted), det R = 1 + 1.47e-6: only its sign counts
 def test_in_kernel_pose_check_agrees_with_check_pose(seed, defect, size):
     """pose_defect flags a pose exactly when redkin._validation.check_pose raises (sizes around the tolerance)."""
     rng = np.random.default_rng(seed)
@@ -106,6 +107,8 @@ def test_in_kernel_pose_check_agrees_with_check_pose(seed, defect, size):
         pose[3, rng.integers(0, 4)] += size
     elif defect == "scale":
         pose[:3, rng.integers(0, 3)] *= 1.0 + size
+    elif defect == "uniform":  # R R^T - I = (2 e + e^2) I: e = size / 2
+        pose[:3, :3] *= 1.0 + size / 2.0
     elif defect == "shear":
         pose[entry] += size
     elif defect == "reflection":

@@ -33,7 +33,9 @@ def pose_defect(pose):
             dot = pose[r, 0] * pose[c, 0] + pose[r, 1] * pose[c, 1] + pose[r, 2] * pose[c, 2]
             if abs(dot - (1.0 if r == c else 0.0)) > POSE_TOLERANCE:
                 return BAD_POSE
+    # orthonormal within the tolerance, |det| is 1 within about 4.5 times it: its sign alone tells a rotation from a
+    # reflection (as check_pose tests it; |det - 1| <= tolerance refused rotations check_pose accepts)
     det = (pose[0, 0] * (pose[1, 1] * pose[2, 2] - pose[1, 2] * pose[2, 1])
            - pose[0, 1] * (pose[1, 0] * pose[2, 2] - pose[1, 2] * pose[2, 0])
            + pose[0, 2] * (pose[1, 0] * pose[2, 1] - pose[1, 1] * pose[2, 0]))
-    return OK if abs(det - 1.0) <= POSE_TOLERANCE else BAD_POSE
+    return OK if det > 0.0 else BAD_POSE
