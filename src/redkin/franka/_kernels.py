@@ -1027,9 +1027,13 @@ def seventh_frame(pose, ends, frame):
 def seventh_frames(start, stop, poses, ends, frames):
     """:func:`seventh_frame` of the poses ``start .. stop - 1`` of ``poses`` (N, 4, 4) into ``frames`` (N, 4, 4): the
     one form of ``base^-1 pose tool^-1`` the feasible sets, the paths and the solver all read, so that they agree to
-    the last bit where a branch's existence turns on rounding (the end of an arc)."""
+    the last bit where a branch's existence turns on rounding (the end of an arc).  Returns how many of them are
+    not poses (:func:`redkin._pose_kernels.pose_defect`; the caller words the error)."""
+    bad = 0
     for n in range(start, stop):
+        bad += pose_defect(poses[n]) != OK
         seventh_frame(poses[n], ends, frames[n])
+    return bad
 
 
 @kernel

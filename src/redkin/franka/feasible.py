@@ -105,16 +105,15 @@ def feasible_q7_batch(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> np.
         For a chain not of the Franka class or a malformed pose.
     """
     geometry = as_franka(arm)
-    start, end, feasible = feasible_q7_pieces(geometry, pose)
+    arcs, counts = _feasible_arcs(geometry, pose)
     domain = q7_domain(geometry)
-    flat_start, flat_end = start.reshape((-1,) + start.shape[-2:]), end.reshape((-1,) + end.shape[-2:])
-    counts = feasible.reshape((-1,) + feasible.shape[-2:]).sum(axis=-1)
-    results = np.empty(len(counts), dtype=object)
-    for n in range(len(counts)):
-        pieces = tuple(np.stack([flat_start[n, b, : counts[n, b]], flat_end[n, b, : counts[n, b]]], axis=-1)
-                       for b in range(len(BRANCHES)))
-        results[n] = FeasibleQ7(pieces, (float(domain[0]), float(domain[1])), BRANCHES)
-    return results.reshape(start.shape[:-2])
+    ends = (float(domain[0]), float(domain[1]))
+    flat_arcs, flat_counts = arcs.reshape((-1,) + arcs.shape[-3:]), counts.reshape(-1, len(BRANCHES)).tolist()
+    results = np.empty(len(flat_counts), dtype=object)
+    for n, per_branch in enumerate(flat_counts):
+        results[n] = FeasibleQ7(tuple(flat_arcs[n, b, :count].copy() for b, count in enumerate(per_branch)), ends,
+                                BRANCHES)
+    return results.reshape(counts.shape[:-1])
 
 
 def feasible_q7_pieces(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> tuple[np.ndarray, np.ndarray,
@@ -129,33 +128,31 @@ def feasible_q7_pieces(arm: SerialChain | FrankaGeometry, pose: ArrayLike) -> tu
     ValueError
         For a chain not of the Franka class or a malformed pose.
     """
-    geometry = as_franka(arm)
+    arcs, counts = _feasible_arcs(as_franka(arm), pose)
+    return arcs[..., 0], arcs[..., 1], np.arange(arcs.shape[-2]) < counts[..., None]
+
+
+def _feasible_arcs(geometry: FrankaGeometry, pose: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel's answer for poses ``(..., 4, 4)``: ``arcs`` ``(..., 8, K, 2)`` (NaN past a branch's last arc; ``K``
+    the most arcs of any branch and pose, at least 1) and their numbers ``counts`` ``(..., 8)``."""
     t07 = frames_seven(geometry, pose)
     shape = t07.shape[:-2]
     flat = np.ascontiguousarray(t07.reshape(-1, 4, 4))
     count = len(flat)
-    domain = q7_domain(geometry)
-    arcs = np.empty((count, len(BRANCHES), _ARCS, 2))
+    arcs = np.full((count, len(BRANCHES), _ARCS, 2), np.nan)
     counts = np.empty((count, len(BRANCHES)), dtype=np.int64)
     kernel_arguments = (geometry.kernel_arm, geometry.kernel_limits, geometry.kernel_joints, geometry.kernel_branches,
-                        domain)
+                        q7_domain(geometry))
     run_batch(_kernels.feasible_poses, count, flat, *kernel_arguments, arcs, counts)
     crowded = np.flatnonzero(counts[:, 0] < 0)  # more arcs than the batch kept room for: alone, with room for all
-    room = np.empty((len(crowded), len(BRANCHES), _ROOM, 2))
-    room_counts = np.empty((len(crowded), len(BRANCHES)), dtype=np.int64)
     if len(crowded):
+        room = np.full((len(crowded), len(BRANCHES), _ROOM, 2), np.nan)
+        room_counts = np.empty((len(crowded), len(BRANCHES)), dtype=np.int64)
         _kernels.feasible_poses(0, len(crowded), np.ascontiguousarray(flat[crowded]), *kernel_arguments, room,
                                 room_counts)
         counts[crowded] = room_counts
+        most = int(counts.max())
+        arcs = np.concatenate([arcs, np.full((count, len(BRANCHES), max(most - _ARCS, 0), 2), np.nan)], axis=2)
+        arcs[crowded] = room[:, :, : arcs.shape[2]]
     most = max(1, int(counts.max(initial=0)))
-    start, end = np.full((count, len(BRANCHES), most), np.nan), np.full((count, len(BRANCHES), most), np.nan)
-    feasible = np.arange(most) < counts[..., None]
-    kept = min(most, _ARCS)
-    start[..., :kept] = np.where(feasible[..., :kept], arcs[:, :, :kept, 0], np.nan)
-    end[..., :kept] = np.where(feasible[..., :kept], arcs[:, :, :kept, 1], np.nan)
-    if len(crowded):
-        crowded_feasible = feasible[crowded]
-        start[crowded] = np.where(crowded_feasible, room[:, :, :most, 0], np.nan)
-        end[crowded] = np.where(crowded_feasible, room[:, :, :most, 1], np.nan)
-    pieces_shape = shape + (len(BRANCHES), most)
-    return start.reshape(pieces_shape), end.reshape(pieces_shape), feasible.reshape(pieces_shape)
+    return arcs[:, :, :most].reshape(shape + (len(BRANCHES), most, 2)), counts.reshape(shape + (len(BRANCHES),))

@@ -79,11 +79,18 @@ def as_franka(arm: SerialChain | FrankaGeometry) -> FrankaGeometry:
 def frames_seven(geometry: FrankaGeometry, pose: ArrayLike) -> np.ndarray:
     """Validated target poses ``(..., 4, 4)`` as frame 7 of the solver's form in its frame 0 (``base^-1 pose
     tool^-1``), computed as the solver computes it (:func:`redkin.franka._kernels.seventh_frames`): a q7 at the end
-    of a feasible arc, where the branch's existence turns on rounding, then has the solution the sets found."""
-    pose = check_pose(pose)
-    flat = np.ascontiguousarray(pose.reshape(-1, 4, 4), dtype=float)
+    of a feasible arc, where the branch's existence turns on rounding, then has the solution the sets found.
+
+    The poses are checked in the kernel (:func:`redkin._pose_kernels.pose_defect`); where it refuses one,
+    :func:`redkin._validation.check_pose` words the error (and passes a pose it refuses only by rounding at the
+    tolerance)."""
+    pose = as_float_array(pose, "pose")
+    if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
+        check_pose(pose)  # the words of a malformed shape
+    flat = np.ascontiguousarray(pose.reshape(-1, 4, 4))
     frames = np.empty_like(flat)
-    run_batch(_kernels.seventh_frames, len(flat), flat, geometry.kernel_ends, frames)
+    if run_batch(_kernels.seventh_frames, len(flat), flat, geometry.kernel_ends, frames):
+        check_pose(pose)
     return frames.reshape(pose.shape)
 
 
