@@ -23,7 +23,22 @@ import numpy as np
 
 from redkin._compiled import kernel
 from redkin._pose_kernels import BAD_POSE, OK, pose_defect
-from redkin.franka.geometry import A3, A4, A6, AMPLITUDE, D1, D3, D5, D6, MEAN, PHASE
+from redkin.franka.geometry import (
+    A3,
+    A4,
+    A6,
+    AMPLITUDE,
+    D1,
+    D3,
+    D5,
+    D6,
+    MEAN,
+    PHASE,
+    TABLE_BRANCHES,
+    TABLE_ENDS,
+    TABLE_JOINTS,
+    TABLE_SIZE,
+)
 from redkin.srs._ik_kernels import MEMBERSHIP_TOLERANCE, chain_values, in_limits
 
 #: Length of the work vector of :func:`solve_q7`.
@@ -1052,10 +1067,22 @@ def solve_pose(pose, q7, arm, ends, branches, joints, q, exists, within, frame, 
 
 
 @kernel
-def solve_single(pose, q7, arm, ends, branches, joints, q, exists, within):
-    """:func:`solve_pose` for one pose and one q7 (a 0-d array); returns the status."""
-    return solve_pose(pose, q7[()], arm, ends, branches, joints, q, exists, within, np.empty((4, 4)),
-                      np.empty((8, 3, 3)), np.empty(WORK))
+def unpacked(table):
+    """The tables :func:`solve_pose` reads, as views of the one array ``table``
+    (:attr:`redkin.franka.geometry.FrankaGeometry.kernel_table`): ``arm`` (10,), ``ends`` (2, 4, 4), ``branches``
+    (8, 3) and ``joints`` (5, 7)."""
+    return (table[:TABLE_ENDS], table[TABLE_ENDS:TABLE_BRANCHES].reshape((2, 4, 4)),
+            table[TABLE_BRANCHES:TABLE_JOINTS].reshape((8, 3)), table[TABLE_JOINTS:TABLE_SIZE].reshape((5, 7)))
+
+
+@kernel
+def solve_single(pose, q7, table, first, count, q, flags):
+    """:func:`solve_pose` for one pose and one q7 (a float) on the ``count`` branches from row ``first`` of the
+    branches in ``table`` (:func:`unpacked`) into ``q`` (count, 7) and ``flags`` (2, count): whether each exists,
+    and whether it lies within the limits.  Returns the status."""
+    arm, ends, branches, joints = unpacked(table)
+    return solve_pose(pose, q7, arm, ends, branches[first:first + count], joints, q, flags[0], flags[1],
+                      np.empty((4, 4)), np.empty((8, 3, 3)), np.empty(WORK))
 
 
 @kernel

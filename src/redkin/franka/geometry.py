@@ -49,6 +49,9 @@ _SNAP_POSE = 1e-4
 _CACHE_KEY = "_franka_geometry"
 # Columns of :attr:`FrankaGeometry.kernel_arm`.
 D1, A3, D3, A4, D5, A6, D6, MEAN, AMPLITUDE, PHASE = range(10)
+#: Where :attr:`FrankaGeometry.kernel_table` holds each table, one after another: ``kernel_arm`` (10,), then
+#: ``kernel_ends`` (2, 4, 4), ``kernel_branches`` (8, 3) and ``kernel_joints`` (5, 7), each flattened.
+TABLE_ENDS, TABLE_BRANCHES, TABLE_JOINTS, TABLE_SIZE = 10, 42, 66, 101
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,6 +123,14 @@ class FrankaGeometry:
     def kernel_branches(self) -> np.ndarray:
         """The solver's signs ``(shoulder, elbow, wrist)`` of each branch of :data:`BRANCHES`, (8, 3)."""
         return _read_only(np.array(BRANCHES, dtype=float) * self.branch_senses)
+
+    @cached_property
+    def kernel_table(self) -> np.ndarray:
+        """:attr:`kernel_arm`, :attr:`kernel_ends`, :attr:`kernel_branches` and :attr:`kernel_joints` in one array
+        (:data:`TABLE_SIZE`,), each from its ``TABLE_`` offset: what a one-pose call passes as one argument (numba
+        unboxes each argument of a call: one array instead of four takes about 0.75 us less)."""
+        return _read_only(np.concatenate([self.kernel_arm, self.kernel_ends.ravel(), self.kernel_branches.ravel(),
+                                          self.kernel_joints.ravel()]))
 
     def branch_index(self, branch: str | Branch | tuple[int, int, int]) -> int:
         """Index into :data:`BRANCHES` of a branch given as ``"+-+"`` or three signs.

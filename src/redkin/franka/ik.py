@@ -127,22 +127,23 @@ def ik(
     """
     geometry = as_franka(arm)
     if branch is None:
-        chosen, signs = BRANCHES, geometry.kernel_branches
+        chosen, first = BRANCHES, 0
     else:
-        index = geometry.branch_index(branch)
-        chosen, signs = (BRANCHES[index],), geometry.kernel_branches[index : index + 1]
+        first = geometry.branch_index(branch)
+        chosen = (BRANCHES[first],)
     pose = as_float_array(pose, "pose")
     if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
         raise RedkinError(f"pose must have shape (..., 4, 4), got shape {pose.shape}")
     q7 = as_float_array(q7, "q7")
-    tables = (geometry.kernel_arm, geometry.kernel_ends, signs, geometry.kernel_joints)
-    if pose.ndim == 2 and q7.ndim == 0:  # one pose: no batch to lay out
+    if pose.ndim == 2 and q7.ndim == 0:  # one pose: no batch to lay out, the tables in one argument
         q = np.empty((len(chosen), 7))
-        exists = np.empty(len(chosen), dtype=bool)
-        within = np.empty(len(chosen), dtype=bool)
-        if _kernels.solve_single(kernel_array(pose), kernel_array(q7), *tables, q, exists, within) != _kernels.OK:
+        flags = np.empty((2, len(chosen)), dtype=bool)
+        if _kernels.solve_single(kernel_array(pose), float(q7), geometry.kernel_table, first, len(chosen), q,
+                                 flags) != _kernels.OK:
             _raise_for(pose, q7)
-        return Q7Solutions(q, exists, within, chosen)
+        return Q7Solutions(q, flags[0], flags[1], chosen)
+    tables = (geometry.kernel_arm, geometry.kernel_ends, geometry.kernel_branches[first:first + len(chosen)],
+              geometry.kernel_joints)
     try:
         shape = np.broadcast_shapes(pose.shape[:-2], q7.shape)
     except ValueError:
