@@ -85,14 +85,16 @@ def test_subdivision_settles_complex_roots_near_the_circle_and_finds_every_real_
     out = np.empty(2 * len(factors) + 8)
     half = _half(values, len(factors))
     _, _, floor = global_bounds(half)
-    count = isolated_roots(half, -np.pi, np.pi, 4 * len(half), out)
+    simple = np.empty(len(out), dtype=bool)
+    count = isolated_roots(half, -np.pi, np.pi, 4 * len(half), out, simple)
     if count < 0:  # handed over: only where G is flat below the floor away from the roots
         grid = np.linspace(-np.pi, np.pi, 20001)
         flat = grid[np.abs([trig_value(half, t)[0] for t in grid]) <= floor]
         assert any(_distance_on_circle(roots, t) > 1e-3 for t in flat)
         coefficients = np.empty(2 * len(factors) + 1, dtype=np.complex128)
         largest = trig_coefficients(values, len(factors), 0.0, coefficients)
-        count = coefficient_roots(coefficients, largest, out)
+        count = coefficient_roots(coefficients, largest, out, simple)
+        assert not simple[:count].any()  # the eigenvalue route's candidates are not taken as simple roots
     found = out[:count]
     for root in roots:
         assert _distance_on_circle(found, root) <= _allowed(half, root)
@@ -115,6 +117,6 @@ def test_every_real_root_is_a_candidate_however_close_the_complex_ones(factors, 
     out = np.empty(2 * 8)
     coefficients = np.empty(2 * len(factors) + 1, dtype=np.complex128)
     largest = trig_coefficients(shifted, len(factors), phase, coefficients)  # the samples taken from phase on
-    count = coefficient_roots(coefficients, largest, out)
+    count = coefficient_roots(coefficients, largest, out, np.empty(len(out), dtype=bool))
     for root in roots:
         assert _distance_on_circle(out[:count], root) <= _allowed(half, root)

@@ -406,9 +406,11 @@ def trig_coefficients(values, degree, phase, coefficients):
 
 
 @kernel
-def coefficient_roots(coefficients, largest, out):
+def coefficient_roots(coefficients, largest, out, simple):
     """The real roots ``theta_7`` of the trigonometric polynomial of ``coefficients`` (``g_-D .. g_D``,
-    :func:`trig_coefficients`' layout, whose largest size is ``largest``) into ``out``; returns how many ([F8]).
+    :func:`trig_coefficients`' layout, whose largest size is ``largest``) into ``out``, and whether each is a simple
+    root alone in its cell into ``simple`` (:func:`isolated_roots`; the eigenvalue route's are not); returns how many
+    ([F8]).
 
     The real roots are isolated by subdivision (:func:`isolated_roots`); where that needs more cells than it may
     use (a cluster of nearly coincident roots), they are the roots of ``sum_k g_k z^(k + D)`` near the unit circle
@@ -416,10 +418,12 @@ def coefficient_roots(coefficients, largest, out):
     if largest == 0.0:
         return 0
     half = coefficients[coefficients.shape[0] // 2:]
-    count = isolated_roots(half, -np.pi, np.pi, 4 * half.shape[0], out)
+    count = isolated_roots(half, -np.pi, np.pi, 4 * half.shape[0], out, simple)
     if count >= 0:
         return count
-    return circle_roots(coefficients, largest, out)
+    count = circle_roots(coefficients, largest, out)
+    simple[:count] = False
+    return count
 
 
 @kernel
@@ -465,10 +469,11 @@ def trig_value(half, theta):
 
 
 @kernel
-def isolated_roots(half, low, high, cells, out):
+def isolated_roots(half, low, high, cells, out, simple):
     """The real roots of ``G`` in ``[low, high]`` (``half = (g_0, ..., g_D)``; the circle from ``-pi`` to ``pi``, or
-    a stretch of it) by subdivision from ``cells`` equal cells, into ``out``; returns how many, or -1 where
-    :data:`_CELL_BUDGET` cells did not settle them or more candidates than ``out`` holds came up.
+    a stretch of it) by subdivision from ``cells`` equal cells, into ``out``, and into ``simple`` whether each is
+    the one root of a monotone cell (rather than the middle of a cell that may hold several); returns how many, or
+    -1 where :data:`_CELL_BUDGET` cells did not settle them or more candidates than ``out`` holds came up.
 
     A cell ``[m - r, m + r]`` holds no root where ``|G(m)| > r |G1(m)| +
     r^2 |G2(m)| / 2 + r^3 B3 / 6`` (plus :data:`_NEAR_ZERO` of ``G``'s
@@ -515,13 +520,13 @@ def isolated_roots(half, low, high, cells, out):
             if left == 0.0 or right == 0.0 or (left < 0.0) != (right < 0.0):
                 if count == out.shape[0]:
                     return -1
-                out[count] = monotone_root(half, low, high, left)
+                out[count], simple[count] = monotone_root(half, low, high, left), True
                 count += 1
             continue
         if radius < _SMALLEST_CELL:
             if count == out.shape[0]:
                 return -1
-            out[count] = middle
+            out[count], simple[count] = middle, False
             count += 1
             continue
         if size + 2 > stack.shape[0]:
@@ -665,6 +670,7 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
     """
     offset7 = joints[0, 6]
     roots = np.empty(2 * 8)
+    simple = np.empty(2 * 8, dtype=np.bool_)
     coefficients = np.empty(2 * 8 + 1, dtype=np.complex128)
     basis = np.empty((2, 6, 5))
     q = np.empty((1, 7))
@@ -703,9 +709,9 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
             bound3, _, floor = global_bounds(half)
             if rootless_cell(value, slope, curve, reach, bound3, floor):
                 continue  # no conjugate solution's joint meets this level near the interval
-            count = isolated_roots(half, middle - reach, middle + reach, np.int64(2), roots)  # the roots near it
+            count = isolated_roots(half, middle - reach, middle + reach, np.int64(2), roots, simple)  # near it
             if count < 0:
-                count = coefficient_roots(polynomial, largest, roots)
+                count = coefficient_roots(polynomial, largest, roots, simple)
             for r in range(count):
                 q7 = roots[r] - offset7
                 value = q7 + 2.0 * np.pi * np.ceil((lo[i] - LEVEL_SLACK - q7) / (2.0 * np.pi))
@@ -741,12 +747,12 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     basis = np.empty((2, 6, 5))
     level_basis(limits, basis)
     polynomial = np.empty(2 * 8 + 1, dtype=np.complex128)
-    total = 0
-    for f in range(FUNCTIONS):
-        total += 2 * DEGREES[f]
-    angles = np.empty(total * (1 + 2 * branches.shape[0]))
+    roots = np.empty(2 * 8)  # a polynomial's candidates: at most its 2 D roots, or cell middles up to this room
+    simple = np.empty(roots.shape[0], dtype=np.bool_)
+    most = FUNCTIONS * roots.shape[0]
+    angles = np.empty(most * (1 + 2 * branches.shape[0]))  # the candidates, then at most 2 B polished at each
     sources = np.empty(angles.shape[0], dtype=np.int64)
-    roots = np.empty(2 * 8)
+    crowded = np.empty(most, dtype=np.bool_)  # each candidate's: to be polished (a cluster, or a neighbour near)
     found = np.int64(0)
     for f in range(FUNCTIONS):
         if f < 12:
@@ -758,19 +764,17 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
         degree = DEGREES[f]
         if f < 12:
             count = coefficient_roots(polynomial[:2 * degree + 1],
-                                      level_polynomial(spectra, basis, f, polynomial), roots)
+                                      level_polynomial(spectra, basis, f, polynomial), roots, simple)
         else:  # the elbow's and the wrist's existence
             own = existence[f - 12, :2 * degree + 1]
             largest = 0.0
             for k in range(degree + 1):
                 largest = max(largest, abs(own[degree + k]))
-            count = coefficient_roots(own, largest, roots)
+            count = coefficient_roots(own, largest, roots, simple)
         for r in range(count):
-            angles[found] = roots[r]
-            sources[found] = f
+            angles[found], sources[found], crowded[found] = roots[r], f, not simple[r]
             found += 1
-    crowded = np.empty(found, dtype=np.bool_)
-    crowded_roots(angles, found, 2.0 * _POLISH_REACH, crowded)
+    crowded_roots(angles, found, 2.0 * _POLISH_REACH, domain + offset7, crowded)
     found = polished_crossings(t07, arm, branches, joints, angles, sources, found, crowded)
     lower, upper = domain[0], domain[1]
     turns = int(np.ceil((upper - lower) / (2.0 * np.pi))) + 1
@@ -878,19 +882,21 @@ def secant_crossing(t07, start, gap, arm, branch, joints, kind, target, q, exist
 @kernel
 def polished_crossings(t07, arm, branches, joints, angles, sources, found, crowded):
     """Add to the candidates ``angles[:found]`` (from the limit polynomials ``sources``), at each one marked
-    ``crowded`` (:func:`crowded_roots`), the status changes of the real branches themselves
-    (:func:`secant_crossing`), with source -1: where a branch has its joint within :data:`_POLISH_REACH` of a
-    limit (widened by ``in_limits``' slack) at a candidate of that joint's polynomial, and where the elbow, or the
-    wrist of either elbow, stops existing near a candidate of [F9]'s existence polynomials.  Returns the new count.
+    ``crowded`` (not a simple root alone in its cell, or near another: :func:`crowded_roots`), the status changes
+    of the real branches themselves (:func:`secant_crossing`), with source -1: where a branch has its joint within
+    :data:`_POLISH_REACH` of a limit (widened by ``in_limits``' slack) at a candidate of that joint's polynomial,
+    and where the elbow, or the wrist of either elbow, stops existing near a candidate of [F9]'s existence
+    polynomials.  Returns the new count.
 
     A polynomial's root is only as accurate as its coefficients, which can
     be 1e-8 in q7 where the product's other factors are small; an arc
     narrower than that could lie between two crowded candidates and never
     be sampled.  The branch's own joint value, and the existence tests of
     :func:`solve_q7`, are exact to rounding, and so is the change found on
-    them.  A candidate with no other within twice the reach needs none:
-    the midpoints on either side lie beyond the reach, so the one change
-    near it lies between them, where :func:`crossing` finds it.
+    them.  A simple root with no other candidate, and no end of the q7
+    range, within twice the reach needs none: the midpoints on either side lie beyond the
+    reach, so the one change near it lies between them, where
+    :func:`crossing` finds it.
     """
     scratch = np.empty((8, 3, 3))
     work = np.empty(WORK)
@@ -941,11 +947,14 @@ def polished_crossings(t07, arm, branches, joints, angles, sources, found, crowd
 
 
 @kernel
-def crowded_roots(angles, found, width, crowded):
-    """Whether each of the candidates ``angles[:found]`` (``theta_7``, on the circle) has another within ``width``,
-    into ``crowded`` (found,)."""
+def crowded_roots(angles, found, width, ends, crowded):
+    """Mark in ``crowded`` (found,) each of the candidates ``angles[:found]`` (``theta_7``, on the circle) that has
+    another, or one of the other breakpoints ``ends`` (the ends of the q7 range, as ``theta_7``), within ``width``
+    (the others keep their marks)."""
     order = np.argsort(angles[:found])
-    crowded[:found] = False
+    for r in range(found):
+        for end in ends:
+            crowded[r] = crowded[r] or abs(np.mod(angles[r] - end + np.pi, 2.0 * np.pi) - np.pi) <= width
     for k in range(found - 1 if found > 1 else 0):
         a, b = order[k], order[k + 1]
         if angles[b] - angles[a] <= width:
