@@ -816,12 +816,12 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                 continue
             if status[i, b] and (previous < 0 or not status[previous, b]):
                 arcs[b, counts[b], 0] = points[i] if previous < 0 else crossing(
-                    t07, arm, branches[b:b + 1], joints, points, point_sources, previous, i, False, real_scratch,
-                    work)
+                    t07, arm, branches[b:b + 1], joints, points, point_sources, previous, i, status[previous, b],
+                    real_scratch, work)
                 counts[b] += 1
             if not status[i, b] and previous >= 0 and status[previous, b]:
                 arcs[b, counts[b] - 1, 1] = crossing(t07, arm, branches[b:b + 1], joints, points, point_sources,
-                                                     previous, i, True, real_scratch, work)
+                                                     previous, i, status[previous, b], real_scratch, work)
             previous = i
         if previous >= 0 and status[previous, b]:
             arcs[b, counts[b] - 1, 1] = points[count]
