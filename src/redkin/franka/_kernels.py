@@ -731,7 +731,8 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
 @kernel
 def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     """The exact feasible q7 set of every branch of one pose: arcs ``[start, end]`` of q7 (the chain's value)
-    into ``arcs`` (B, K, 2) and their number into ``counts`` (B,).  Returns the number of breakpoints used.
+    into ``arcs`` (B, K, 2) and their number into ``counts`` (B,); a branch with more than K arcs has its first K
+    written and all counted.  Returns the number of breakpoints used.
 
     The breakpoints are the ends of ``domain`` (the q7 range) and every
     root in it of the limit polynomials ([F8], [F9]; every value of q7 at
@@ -815,15 +816,16 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
             if points[i + 1] <= points[i]:
                 continue
             if status[i, b] and (previous < 0 or not status[previous, b]):
-                arcs[b, counts[b], 0] = points[i] if previous < 0 else crossing(
-                    t07, arm, branches[b:b + 1], joints, points, point_sources, previous, i, status[previous, b],
-                    real_scratch, work)
+                if counts[b] < arcs.shape[1]:  # an arc past the room is counted, not located
+                    arcs[b, counts[b], 0] = points[i] if previous < 0 else crossing(
+                        t07, arm, branches[b:b + 1], joints, points, point_sources, previous, i, status[previous, b],
+                        real_scratch, work)
                 counts[b] += 1
-            if not status[i, b] and previous >= 0 and status[previous, b]:
+            if not status[i, b] and previous >= 0 and status[previous, b] and counts[b] <= arcs.shape[1]:
                 arcs[b, counts[b] - 1, 1] = crossing(t07, arm, branches[b:b + 1], joints, points, point_sources,
                                                      previous, i, status[previous, b], real_scratch, work)
             previous = i
-        if previous >= 0 and status[previous, b]:
+        if previous >= 0 and status[previous, b] and counts[b] <= arcs.shape[1]:
             arcs[b, counts[b] - 1, 1] = points[count]
     return size
 
@@ -1127,19 +1129,12 @@ def solve_branch_rows(start, stop, poses, pose_of, q7, rows, arm, ends, branches
 @kernel
 def feasible_poses(start, stop, t07, arm, limits, joints, branches, domain, arcs, counts):
     """:func:`feasible_q7` for items ``start .. stop - 1``: ``t07`` (N, 4, 4) into ``arcs`` (N, B, K, 2) and
-    ``counts`` (N, B).  An item with more than K arcs on a branch is left with its counts set to -1 (the caller
-    computes it again with room for them)."""
-    size = 2 * int(DEGREES.sum()) * (int(np.ceil((domain[1] - domain[0]) / (2.0 * np.pi))) + 2) + 2
-    room = np.empty((branches.shape[0], size, 2))
+    ``counts`` (N, B).  An item with more than K arcs on a branch is left with every count set to minus the most
+    arcs of its branches (the caller computes it again with that room)."""
     for n in range(start, stop):
-        feasible_q7(t07[n], arm, limits, joints, branches, domain, room, counts[n])
-        fits = True
+        feasible_q7(t07[n], arm, limits, joints, branches, domain, arcs[n], counts[n])
+        most = 0
         for b in range(branches.shape[0]):
-            fits = fits and counts[n, b] <= arcs.shape[2]
-        for b in range(branches.shape[0]):
-            if not fits:
-                counts[n, b] = -1
-                continue
-            for k in range(counts[n, b]):
-                arcs[n, b, k, 0] = room[b, k, 0]
-                arcs[n, b, k, 1] = room[b, k, 1]
+            most = max(most, counts[n, b])
+        if most > arcs.shape[2]:
+            counts[n, :] = -most

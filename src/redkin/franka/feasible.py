@@ -35,9 +35,6 @@ from redkin.srs.branches import BRANCHES, Branch
 
 #: Arcs per branch and pose kept in the batch's arrays; a pose with more is computed again with room for all.
 _ARCS = 16
-#: Room for every arc a branch can have: one per two candidates of the fourteen polynomials over a q7 range of
-#: up to two turns (the xArm7's +-2 pi), and then some.
-_ROOM = 2048
 
 
 class FeasibleQ7(NamedTuple):
@@ -144,15 +141,15 @@ def _feasible_arcs(geometry: FrankaGeometry, pose: ArrayLike) -> tuple[np.ndarra
     kernel_arguments = (geometry.kernel_arm, geometry.kernel_limits, geometry.kernel_joints, geometry.kernel_branches,
                         q7_domain(geometry))
     run_batch(_kernels.feasible_poses, count, flat, *kernel_arguments, arcs, counts)
-    crowded = np.flatnonzero(counts[:, 0] < 0)  # more arcs than the batch kept room for: alone, with room for all
+    crowded = np.flatnonzero(counts[:, 0] < 0)  # more arcs than the batch kept room for: again, with room for all
     if len(crowded):
-        room = np.full((len(crowded), len(BRANCHES), _ROOM, 2), np.nan)
+        most = int(-counts[crowded, 0].min())
+        room = np.full((len(crowded), len(BRANCHES), most, 2), np.nan)
         room_counts = np.empty((len(crowded), len(BRANCHES)), dtype=np.int64)
         _kernels.feasible_poses(0, len(crowded), np.ascontiguousarray(flat[crowded]), *kernel_arguments, room,
                                 room_counts)
         counts[crowded] = room_counts
-        most = int(counts.max())
-        arcs = np.concatenate([arcs, np.full((count, len(BRANCHES), max(most - _ARCS, 0), 2), np.nan)], axis=2)
-        arcs[crowded] = room[:, :, : arcs.shape[2]]
+        arcs = np.concatenate([arcs, np.full((count, len(BRANCHES), most - _ARCS, 2), np.nan)], axis=2)
+        arcs[crowded] = room
     most = max(1, int(counts.max(initial=0)))
     return arcs[:, :, :most].reshape(shape + (len(BRANCHES), most, 2)), counts.reshape(shape + (len(BRANCHES),))
