@@ -65,7 +65,7 @@ _CIRCLE_TOLERANCE = 1e-3
 _CELL_BUDGET = 2000
 _SMALLEST_CELL = 1e-9
 #: The rounding of a value of a trigonometric polynomial, relative to the largest it can take (a few units of the
-#: last place of its terms): :func:`monotone_root` stops there.
+#: last place of its terms): :func:`monotone_root` stops there (as :func:`isolated_roots` gives it).
 _VALUE_ROUNDING = 1e-15
 #: Values of a limit polynomial this small, relative to the largest it can take, count as zero: a double root
 #: (on arms whose elbow has no offsets the elbow's two roots give squared factors) rounds to a near miss.
@@ -490,6 +490,7 @@ def isolated_roots(half, low, high, cells, out, simple):
     root: a joint touching its limit) gives its middle.
     """
     bound3, bound4, floor = global_bounds(half)
+    noise = floor / _NEAR_ZERO * _VALUE_ROUNDING  # G's rounding: _VALUE_ROUNDING of the largest value it can take
     stack = np.empty((_CELL_BUDGET + 64, 2))
     size = 0
     for c in range(cells):
@@ -520,7 +521,7 @@ def isolated_roots(half, low, high, cells, out, simple):
             if left == 0.0 or right == 0.0 or (left < 0.0) != (right < 0.0):
                 if count == out.shape[0]:
                     return -1
-                out[count], simple[count] = monotone_root(half, low, high, left), True
+                out[count], simple[count] = monotone_root(half, low, high, left, noise), True
                 count += 1
             continue
         if radius < _SMALLEST_CELL:
@@ -538,15 +539,10 @@ def isolated_roots(half, low, high, cells, out, simple):
 
 
 @kernel
-def monotone_root(half, low, high, left):
-    """The root of ``G`` in ``[low, high]``, where ``G`` is monotone and ``G(low) = left`` differs in sign from
-    ``G(high)``: Newton steps kept inside a shrinking bracket (bisection where a step leaves it), until ``G`` is as
-    small as its rounding (:data:`_VALUE_ROUNDING` of the largest value it can take) or the bracket as small as
-    ``theta``'s."""
-    noise = abs(half[0])
-    for k in range(1, half.shape[0]):
-        noise += 2.0 * abs(half[k])
-    noise *= _VALUE_ROUNDING
+def monotone_root(half, low, high, left, noise):
+    """The root of ``G`` in ``[low, high]``, where ``G`` is monotone and ``G(low)``, of the sign of ``left``, differs
+    in sign from ``G(high)``: Newton steps kept inside a shrinking bracket (bisection where a step leaves it), until
+    ``|G|`` is at most ``noise`` (its rounding) or the bracket as small as ``theta``'s."""
     theta = 0.5 * (low + high)
     for _ in range(100):
         value, slope, _, _ = trig_value(half, theta)
