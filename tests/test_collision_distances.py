@@ -344,6 +344,36 @@ def test_witness_points_and_dense_sampling(kinds, seed):
 
 
 @pytest.mark.parametrize("kinds", PAIRS, ids=PAIR_IDS)
+@settings(max_examples=4)
+@given(seed=seeds)
+def test_the_kernel_writes_the_unit_normal_from_a_to_b(kinds, seed):
+    """The kernels' rows end with the normal ``u``: a unit vector with ``pb - pa = d u``, and where the cores are
+    apart the cores' closest points ``pa - r_a u`` and ``pb + r_b u`` lie on the cores, ``d`` plus both radii
+    apart (what the certified arm angles' turning bound reads); both orders give one normal, reversed."""
+    a, b = random_pairs(kinds, BATCH, seed)
+    for first, second, sign in ((a, b, 1.0), (b, a, -1.0)):
+        out = np.empty((len(a), _distance_kernels.OUT))
+        assert _distance_kernels.distances(0, len(a), first, second, out) == 0
+        u = out[:, 7:10] * sign
+        np.testing.assert_allclose(np.linalg.norm(u, axis=1), 1.0, atol=1e-12)
+        pa, pb = (out[:, 1:4], out[:, 4:7]) if sign > 0 else (out[:, 4:7], out[:, 1:4])
+        np.testing.assert_allclose(pb - pa, out[:, :1] * u, atol=1e-12)
+        for n in range(len(a)):
+            core_a, core_b = pa[n] - a[n, 1] * u[n], pb[n] + b[n, 1] * u[n]
+            gap = out[n, 0] + a[n, 1] + b[n, 1]
+            if gap <= 1e-9:
+                continue
+            assert np.linalg.norm(core_a - segment_points(a[n], core_a[None])[0]) <= TOLERANCE
+            assert np.linalg.norm(core_b - core_a) == pytest.approx(gap, abs=1e-12)
+            if kinds[1] in (SPHERE, CAPSULE):
+                assert np.linalg.norm(core_b - segment_points(b[n], core_b[None])[0]) <= TOLERANCE
+            elif kinds[1] == BOX:
+                assert abs(box_sdf(b[n], core_b[None])[0]) <= TOLERANCE
+            else:
+                assert abs((core_b - b[n, 2:5]) @ b[n, 5:8]) <= TOLERANCE
+
+
+@pytest.mark.parametrize("kinds", PAIRS, ids=PAIR_IDS)
 @settings(max_examples=10)
 @given(seed=seeds)
 def test_symmetric_and_rigid(kinds, seed):

@@ -4,7 +4,8 @@
   and where the computation is complete no free stretch of the sample (clear by a millimetre) is left out;
 * the free set, its blocked and undecided stretches and the limit stretches cover the circle without overlap;
 * the speed bounds the certificate rests on hold: links 3 and 4 turn rigidly about the shoulder-wrist line at unit
-  rate, and the joint-rate bounds hold over random intervals;
+  rate, the joint-rate bounds hold over random intervals, and so does the bound of how fast a pair's distance
+  changes as a capsule turns about a line past a still shape of each kind;
 * an empty scene leaves the limit sets as they are; each removed stretch names the pair that blocks it;
 * bad input is refused in words.
 """
@@ -17,11 +18,13 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
 
 import redkin
 from redkin.circle import ArcSet
 from redkin.collision import _decision_kernels, primitives
-from redkin.collision._arm_angle_kernels import joint_rates
+from redkin.collision._arm_angle_kernels import joint_rates, turning_speed
+from redkin.collision._distance_kernels import OUT, distances
 from redkin.collision.arm_angle_free import (
     COLLISION,
     LIMIT,
@@ -165,6 +168,48 @@ def test_joint_rate_bounds_hold_over_the_interval(iiwa, fractions, middle, half,
     slopes = np.abs(np.diff(theta, axis=0)) / np.diff(psi)[:, None]
     observed = slopes.max(axis=0)[[0, 1, 5, 6]]
     assert np.all(observed <= rates * (1 + 1e-6) + 1e-9)
+
+
+def _still_shape(kind, rng):
+    if kind == "sphere":
+        return primitives.sphere(rng.uniform(-0.6, 0.6, 3), rng.uniform(0.0, 0.2))
+    if kind == "capsule":
+        return primitives.capsule(rng.uniform(-0.6, 0.6, 3), rng.uniform(-0.6, 0.6, 3), rng.uniform(0.0, 0.1))
+    if kind == "box":
+        return primitives.box(rng.uniform(-0.6, 0.6, 3), rng.uniform(0.05, 0.6, 3),
+                              Rotation.random(random_state=rng).as_matrix())
+    normal = Rotation.random(random_state=rng).as_matrix()[:, 2]
+    return primitives.plane(-rng.uniform(0.3, 0.8) * normal, normal)
+
+
+@settings(max_examples=40)
+@given(st.integers(0, 2**32 - 1), st.sampled_from(["sphere", "capsule", "box", "plane"]), st.floats(1e-4, 1.5),
+       st.booleans())
+def test_the_turning_bound_holds_as_a_capsule_turns_about_a_line(seed, kind, half, flip):
+    """:func:`turning_speed`, the bound of how fast a pair's distance changes as a capsule of links 3-4 turns about the
+    shoulder-wrist line past a still shape, holds at 401 angles across the interval: ``|d(delta) - d(0)| <= v
+    |delta|``, whichever of the two the distance was measured from."""
+    rng = np.random.default_rng(seed)
+    axis = Rotation.random(random_state=rng).as_matrix()[:, 0]
+    line = np.concatenate([rng.uniform(-0.3, 0.3, 3), axis])
+    ends = rng.uniform(-0.7, 0.7, (2, 3))
+    still = _still_shape(kind, rng)
+    radius = rng.uniform(0.0, 0.08)
+    delta = np.linspace(-half, half, 401)
+    turned = Rotation.from_rotvec(delta[:, None] * axis).apply
+    rows = np.stack([primitives.capsule(turned(ends[0] - line[:3])[n] + line[:3],
+                                        turned(ends[1] - line[:3])[n] + line[:3], radius) for n in range(len(delta))])
+    apart = signed_distance(rows, still[None]).distance
+    middle = rows[len(delta) // 2]
+    witness = np.empty((1, OUT))
+    pair = (still[None], middle[None]) if flip else (middle[None], still[None])
+    distances(0, 1, *pair, witness)
+    speed = turning_speed(middle, witness[0], flip, still[1], line, half)
+    if apart[len(delta) // 2] + radius + still[1] <= 1e-6:
+        return  # the cores touch or overlap: no direction of their own (inf, the first-order bound stays)
+    assert np.isfinite(speed)
+    change = np.abs(apart - apart[len(delta) // 2])
+    assert np.all(change <= speed * np.abs(delta) * (1 + 1e-9) + 1e-12)
 
 
 def test_an_empty_scene_keeps_the_limit_sets(iiwa):

@@ -24,7 +24,7 @@ from redkin.collision import Scene, clearance, primitives, step_clearance, steps
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path, search
 from redkin.paths.graph import Graph
-from redkin.paths.resolve import _SPLINE_ROOM
+from redkin.paths.resolve import _SPLINE_ROOM, _family, _spline
 from redkin.paths.stops import timed
 from tests.support.iiwa_cell import END, START, three_capsules
 from tests.test_path_stops import NARROW, STEP, _sweep
@@ -227,17 +227,25 @@ def test_a_timed_path_in_a_cell_keeps_the_margin_between_waypoints_too(iiwa, way
 
 
 def test_a_path_whose_steps_graze_the_margin_is_searched_again_with_room_for_the_spline(iiwa):
-    """Where the path's steps graze the margin (a ball this path passes at the margin to within 1e-6 m), no spline
-    beside them is proved clear; the timed path is the one searched with _SPLINE_ROOM more margin: smooth through the
-    waypoints (not at rest at each), every trajectory step proved clear at the scene's margin, and its own steps
-    proved clear at the larger margin."""
+    """Where the path's steps graze the margin so that no spline beside them is proved clear, the timed path is the
+    one searched with _SPLINE_ROOM more margin: smooth through the waypoints (not at rest at each), every trajectory
+    step proved clear at the scene's margin, and its own steps proved clear at the larger margin.  The ball grows by
+    0.2 mm from one this path passes at the margin (to within 1e-8 m) until the spline through the grazing path's
+    points is not proved clear at any density (whether a spline beside a graze of 1e-9 m is proved depends on the
+    graze's last digits, so a fixed ball would test the case only by luck)."""
     chain, body = iiwa
     chain = chain.with_motion_limits(acceleration=[10.0] * 7)
     poses = chain.fk(np.linspace(START, END, 12))
-    scene = Scene(("ball",), primitives.sphere([0.2917682949959651, -0.08077390464114814, 0.6676242827174278],
-                                               0.06513700059442006)[None], 0.01)
-    grazing = resolve_path(chain, poses, 0.3, body=body, scene=scene)
-    assert grazing.ok and grazing.steps.least.min() < scene.margin + 1e-6  # the case the search again is for
+    centre = np.array([0.2917682949959651, -0.08077390464114814, 0.6676242827174278])
+    for grow in range(24):
+        scene = Scene(("ball",), primitives.sphere(centre, 0.06513700059442006 + 2e-4 * grow)[None], 0.01)
+        grazing = resolve_path(chain, poses, 0.3, body=body, scene=scene)
+        assert grazing.ok
+        _, steps = _spline(_family(chain, None, body, scene), grazing, 200.0)
+        if not steps.certified.all():
+            break
+    assert not steps.certified.all(), "a ball whose grazing path has no spline proved clear"
+    assert grazing.steps.least.min() < scene.margin + 1e-6  # the case the search again is for
     result = resolve_path(chain, poses, 0.3, body=body, scene=scene, timing=200.0)
     assert result.ok and result.steps.certified.all() and result.steps.least.min() >= scene.margin + _SPLINE_ROOM
     assert result.trajectory_steps.certified.all()

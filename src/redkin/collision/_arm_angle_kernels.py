@@ -23,6 +23,9 @@ from redkin.srs._ik_kernels import GROUP, branch_angles, chain_values
 #: group may be at a singular arm angle, where the kernels set the first angle to 0 (``|sin| <= 1e-12``,
 #: :data:`redkin.srs._ik_kernels.UNDEFINED_TOLERANCE`) and the bounds do not hold; far above rounding.
 LEAST_ROOM = 1e-12
+#: The least distance [m] between the two cores of a pair (its distance plus both radii) from which
+#: :func:`turning_speed` bounds it: below it the pair's normal is not a direction of its own.
+LEAST_CORE_GAP = 1e-9
 #: Entry columns (:data:`redkin.srs._ik_kernels.ENTRY_LAYOUT`) of ``x, y, z`` and ``r_2, t`` of a group, from its
 #: first entry.
 _X, _Y, _Z, _R2, _T = 0, 1, 2, 5, 6
@@ -82,21 +85,94 @@ def speeds_one(entries, middle, half, frame, reach, capsule, other, rates, turni
         distance = reach[m]
         moving[m] = distance * turning[min(frame[m], 7)] if distance > 0.0 else 0.0  # 0 * inf: on its axis
     for k in range(capsule.shape[0]):
-        out[k] = moving[capsule[k]] + (moving[other[k]] if other[k] >= 0 else 0.0)
+        if other[k] >= 0 and _turns_about_line(frame[capsule[k]]) and _turns_about_line(frame[other[k]]):
+            out[k] = 0.0  # both on links 3-4: they turn together, and their distance stays
+        else:
+            out[k] = moving[capsule[k]] + (moving[other[k]] if other[k] >= 0 else 0.0)
+
+
+@kernel
+def _turns_about_line(frame):
+    """Whether a shape on ``frame`` turns rigidly about the shoulder-wrist line (links 3 and 4)."""
+    return frame == 3 or frame == 4
+
+
+@kernel
+def _still(frame):
+    """Whether a shape on ``frame`` stays where the pose puts it (the base, and the tool's link and beyond)."""
+    return frame == 0 or frame >= 7
+
+
+@kernel
+def _turned(line, point):
+    """For ``point`` (3,) turned by ``delta`` about the shoulder-wrist line ``line`` (its point, then its unit
+    direction ``e``), the coefficients of ``n . turned(delta) = alpha + beta cos delta + gamma sin delta`` for a
+    vector ``n`` given later: returned as the two vectors ``w_perp`` and ``e x w`` (``w = point - line point``,
+    ``w_perp`` its part across the line), so ``beta = n . w_perp`` and ``gamma = n . (e x w)``."""
+    wx, wy, wz = point[0] - line[0], point[1] - line[1], point[2] - line[2]
+    ex, ey, ez = line[3], line[4], line[5]
+    along = wx * ex + wy * ey + wz * ez
+    return ((wx - along * ex, wy - along * ey, wz - along * ez),
+            (ey * wz - ez * wy, ez * wx - ex * wz, ex * wy - ey * wx))
+
+
+@kernel
+def _dot(u, v):
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+@kernel
+def turning_speed(row, witness, flip, other_radius, line, half):
+    """A bound of how fast the distance of a pair changes per radian of psi over ``[m - half, m + half]`` where one
+    shape, ``row`` (a capsule on links 3-4), turns rigidly about the shoulder-wrist line ``line`` (its point, its
+    unit direction) and the other (radius ``other_radius``) stays still; ``inf`` where the pair was not measured
+    or its cores touch.  ``witness`` is the pair's :func:`redkin.collision._distance_kernels.pair_distance` output
+    at ``m`` with ``row`` first, or second where ``flip``.  With ``u`` the unit normal from the turning core to
+    the still one, ``c_a, c_b`` their closest points and ``g = |c_b - c_a|`` (the module docstring of
+    :mod:`redkin.collision.arm_angle_free` states the argument):
+
+    * the distance is at least ``u . c_b - max_e u . e(psi)`` minus both radii (the gap of the projections on
+      ``u``; ``e`` the segment's two ends), and each ``u . e`` is ``alpha + beta cos delta + gamma sin delta``
+      in ``delta = psi - m``, which rises by at most ``(|gamma| + max(0, -beta) half / 2) |delta|``;
+    * it is at most ``|c_a(psi) - c_b|`` minus both radii, whose square is ``A + B cos delta + C sin delta``, so
+      it rises by at most ``(|C| + max(0, -B) half / 2) |delta| / (2 g)``.
+
+    Both equal the distance at ``m``, so the larger of the two rates bounds ``|c(psi) - c(m)| / |delta|``."""
+    distance = witness[0]
+    gap = distance + row[1] + other_radius
+    if distance != distance or not gap > LEAST_CORE_GAP or not half > 0.0:
+        return inf
+    sign, a, b = (-1.0, 4, 1) if flip else (1.0, 1, 4)  # the turning shape's witness point first
+    u = (sign * witness[7], sign * witness[8], sign * witness[9])
+    core_a = (witness[a] - row[1] * u[0], witness[a + 1] - row[1] * u[1], witness[a + 2] - row[1] * u[2])
+    core_b = (witness[b] + other_radius * u[0], witness[b + 1] + other_radius * u[1],
+              witness[b + 2] + other_radius * u[2])
+    top = max(_dot(u, row[2:5]), _dot(u, row[5:8]))
+    rate = 0.0
+    for end in range(2):
+        across, swept = _turned(line, row[2 + 3 * end:5 + 3 * end])
+        lag = min(_dot(u, row[2 + 3 * end:5 + 3 * end]) - top, 0.0)  # this end's projection below the top
+        rate = max(rate, abs(_dot(u, swept)) + max(0.0, -_dot(u, across)) * half / 2.0 + lag / half)
+    across, swept = _turned(line, core_a)
+    z = (line[0] - core_b[0], line[1] - core_b[1], line[2] - core_b[2])
+    rise = 2.0 * abs(_dot(z, swept)) + max(0.0, -2.0 * _dot(z, across)) * half / 2.0
+    return max(rate, rise / (2.0 * gap))
 
 
 @kernel
 def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs, joints, links, ends, standard,
-          frame, a, b, radius, obstacles, capsule, obstacle, other, margin, reach, finest, carve, active, kind, pair,
-          cut, carved, cause):
+          frame, a, b, radius, obstacles, capsule, obstacle, other, margin, reach, line, finest, carve, active, kind,
+          pair, cut, carved, cause):
     """One level of the subdivision for intervals ``start .. stop - 1``: the branch's configuration at arm angle
     ``middle[n]`` [000 eqs. 11-19], there the active pairs' clearances (:func:`redkin.collision._clearance_kernels.
     clearances_one`, whose arguments ``links .. margin`` are), their speed bounds over the interval of half width
-    ``half[n]`` (:func:`speeds_one`, from ``reach`` (P, M)), and the interval decided
+    ``half[n]`` (:func:`speeds_one`, from ``reach`` (P, M); a pair of a shape on links 3-4 and a still one by
+    :func:`turning_speed` where that is less, from the shoulder-wrist ``line`` (P, 6)), and the interval decided
     (:func:`redkin.collision._decision_kernels.decided_one`: ``active[n]`` updated, the rest into ``kind``,
     ``pair``, ``cut``, ``carved`` and ``cause``)."""
     theta, q = np.empty(7), np.empty(7)
-    work = scratch(links, frame)
+    work = scratch(links, frame, capsule)
+    rows, found = work[2], work[3]
     clearance, speed, floor = np.empty(capsule.shape[0]), np.empty(capsule.shape[0]), np.empty(capsule.shape[0])
     rates, turning, moving = np.empty(4), np.zeros(8), np.empty(frame.shape[0])
     for n in range(start, stop):
@@ -108,5 +184,16 @@ def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs
             floor[k] = speed[k] * half[n]
         clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
                        active[n], floor, clearance, work)
+        for k in range(capsule.shape[0]):
+            if not abs(clearance[k]) <= floor[k]:
+                continue  # decided by the bound above (or not measured): no tighter one needed
+            if other[k] < 0:
+                mine, still, flip, radius_b = capsule[k], True, False, obstacles[obstacle[k], 1]
+            elif _turns_about_line(frame[capsule[k]]):
+                mine, still, flip, radius_b = capsule[k], _still(frame[other[k]]), False, rows[other[k], 1]
+            else:
+                mine, still, flip, radius_b = other[k], _still(frame[capsule[k]]), True, rows[capsule[k], 1]
+            if still and _turns_about_line(frame[mine]):
+                speed[k] = min(speed[k], turning_speed(rows[mine], found[k], flip, radius_b, line[p], half[n]))
         kind[n], pair[n], cut[n], carved[n], cause[n] = decided_one(half[n], clearance, speed, active[n], finest,
                                                                     carve)

@@ -3,7 +3,7 @@ capsules there and the signed distance of each checked pair, in one pass per con
 
 from __future__ import annotations
 
-from math import inf
+from math import inf, nan
 
 import numpy as np
 
@@ -15,11 +15,12 @@ from redkin.collision.primitives import BOX, PLANE, WIDTH
 
 
 @kernel
-def scratch(links, frame):
-    """The work arrays of :func:`clearances_one` for a chain of ``links`` (n, ...) and a body of ``frame`` (M,):
-    the joints' sines and cosines, the frames, the posed capsules and a distance's output."""
+def scratch(links, frame, capsule):
+    """The work arrays of :func:`clearances_one` for a chain of ``links`` (n, ...), a body of ``frame`` (M,) and
+    the checked pairs ``capsule`` (K,): the joints' sines and cosines, the frames, the posed capsules and each
+    pair's distance output (K, OUT) (at least one row)."""
     return (np.empty((links.shape[0], 2)), np.empty((links.shape[0] + 2, 4, 4)), np.empty((frame.shape[0], WIDTH)),
-            np.empty(OUT))
+            np.empty((max(capsule.shape[0], 1), OUT)))
 
 
 @kernel
@@ -31,10 +32,13 @@ def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, cap
     :class:`redkin.collision.Body`'s) against obstacle ``obstacle[k]`` of ``obstacles`` (O, WIDTH), or against
     capsule ``other[k]`` where that is -1.  Where the pair's :func:`lower_bound` minus the margin exceeds
     ``floor[k]`` (>= 0), that bound is written instead of the distance (``floor`` ``inf``: every distance exact).  A
-    configuration with no active pair is not posed.  ``work`` is :func:`scratch`'s."""
+    configuration with no active pair is not posed.  ``work`` is :func:`scratch`'s; its last array holds each
+    measured pair's distance, witness points and normal (:func:`redkin.collision._distance_kernels.pair_distance`),
+    and NaN for the others."""
     trig, held, rows, found = work
     posed = False
     for k in range(capsule.shape[0]):
+        found[k, 0] = nan
         if not active[k]:
             out[k] = inf
             continue
@@ -48,8 +52,8 @@ def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, cap
             if bound > floor[k]:
                 out[k] = bound
                 continue
-        pair_distance(rows[capsule[k]], shape, found)
-        out[k] = found[0] - margin
+        pair_distance(rows[capsule[k]], shape, found[k])
+        out[k] = found[k, 0] - margin
 
 
 @kernel
@@ -79,9 +83,9 @@ def least_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule,
         bound = lower_bound(rows[capsule[k]], shape)
         if bound > 0.0 and bound >= best:
             continue
-        pair_distance(rows[capsule[k]], shape, found)
-        if found[0] < best or closest < 0:
-            best, closest = found[0], k
+        pair_distance(rows[capsule[k]], shape, found[0])
+        if found[0, 0] < best or closest < 0:
+            best, closest = found[0, 0], k
     return best, closest
 
 
@@ -90,7 +94,7 @@ def least(start, stop, q, links, ends, standard, frame, a, b, radius, obstacles,
           pair):
     """:func:`least_one` for configurations ``start .. stop - 1`` of ``q`` (N, n), into ``distance`` and ``pair``
     (N,)."""
-    work = scratch(links, frame)
+    work = scratch(links, frame, capsule)
     for n in range(start, stop):
         distance[n], pair[n] = least_one(q[n], links, ends, standard, frame, a, b, radius, obstacles, capsule,
                                          obstacle, other, work)
@@ -101,7 +105,7 @@ def clearances(start, stop, q, links, ends, standard, frame, a, b, radius, obsta
                active, floor, out):
     """:func:`clearances_one` for configurations ``start .. stop - 1`` of ``q`` (N, n), ``active``, ``floor`` and
     ``out`` (N, K)."""
-    work = scratch(links, frame)
+    work = scratch(links, frame, capsule)
     for n in range(start, stop):
         clearances_one(q[n], links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
                        active[n], floor[n], out[n], work)

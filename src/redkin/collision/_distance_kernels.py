@@ -27,7 +27,8 @@ balls of its radius about its segment's points, it is the signed distance of the
 sphere the least separating translation again, for a capsule whose segment enters a box possibly less than that
 (coal's EPA depth).
 
-Witness points: ``pa = c_a + r_a u`` and ``pb = c_b - r_b u`` (a box's and a plane's radius is 0), where
+Witness points: ``pa = c_a + r_a u`` and ``pb = c_b - r_b u`` (a box's and a plane's radius is 0, and ``u`` is
+written beside them), where
 ``c_a, c_b`` are the points of the two cores (segment, box, plane) that realise the distance and ``u`` the unit
 normal from a to b, so that ``pb - pa = d u``.  Separated, they are the closest points of the two surfaces.
 Penetrating, moving a by ``pb - pa`` brings the two into contact for round pairs and planes; against a box it
@@ -52,8 +53,8 @@ from redkin.collision.primitives import BOX, CAPSULE, PLANE, SPHERE
 
 #: What :func:`pair_distance` returns.
 OK, UNSUPPORTED = 0, 1
-#: Length of one output row: the signed distance, then ``pa`` (3) and ``pb`` (3).
-OUT = 7
+#: Length of one output row: the signed distance, then ``pa`` (3), ``pb`` (3) and the unit normal ``u`` (3).
+OUT = 10
 #: A gap [m] at most this gives no direction (a unit vector divided out of it would be rounding).
 _NO_DIRECTION = 1e-100
 #: Two segments whose angle has a sine at most this are parallel for the witness normal of segments that meet
@@ -161,8 +162,15 @@ def round_round(a, b, out):
         _round_round_ordered(a, b, out)
     else:
         _round_round_ordered(b, a, out)
-        for k in range(3):
-            out[1 + k], out[4 + k] = out[4 + k], out[1 + k]
+        _swapped(out)
+
+
+@kernel
+def _swapped(out):
+    """The witness points of ``out`` swapped and its normal reversed: the pair's output in the other order."""
+    for k in range(3):
+        out[1 + k], out[4 + k] = out[4 + k], out[1 + k]
+        out[7 + k] = -out[7 + k]
 
 
 @kernel
@@ -191,6 +199,7 @@ def _round_round_ordered(a, b, out):
     out[0] = gap - ra - rb
     out[1], out[2], out[3] = cax + ra * ux, cay + ra * uy, caz + ra * uz
     out[4], out[5], out[6] = cbx - rb * ux, cby - rb * uy, cbz - rb * uz
+    out[7], out[8], out[9] = ux, uy, uz
 
 
 @kernel
@@ -210,6 +219,7 @@ def round_plane(a, b, out):
     out[0] = low - radius
     out[1], out[2], out[3] = a[end] - radius * nx, a[end + 1] - radius * ny, a[end + 2] - radius * nz
     out[4], out[5], out[6] = a[end] - low * nx, a[end + 1] - low * ny, a[end + 2] - low * nz
+    out[7], out[8], out[9] = -nx, -ny, -nz
 
 
 @kernel
@@ -354,14 +364,15 @@ def round_box(a, b, out):
         normal = b[8 + 3 * k] * wx + b[9 + 3 * k] * wy + b[10 + 3 * k] * wz
         out[1 + k] = a[2 + k] + t * (a[5 + k] - a[2 + k]) - radius * normal
         out[4 + k] = b[2 + k] + b[8 + 3 * k] * px + b[9 + 3 * k] * py + b[10 + 3 * k] * pz
+        out[7 + k] = -normal
     out[0] = value - radius
 
 
 @kernel
 def pair_distance(a, b, out):
-    """Signed distance of the primitives ``a`` and ``b`` (rows of WIDTH) into ``out`` (7,): the distance, then
-    ``pa`` on a and ``pb`` on b (module docstring).  Returns :data:`OK`, or :data:`UNSUPPORTED` for a pair without
-    a sphere or a capsule (or an unknown kind), with ``out`` NaN."""
+    """Signed distance of the primitives ``a`` and ``b`` (rows of WIDTH) into ``out`` (:data:`OUT`,): the distance,
+    then ``pa`` on a, ``pb`` on b and the unit normal ``u`` from a to b (module docstring).  Returns :data:`OK`, or
+    :data:`UNSUPPORTED` for a pair without a sphere or a capsule (or an unknown kind), with ``out`` NaN."""
     kind_a, kind_b = a[0], b[0]
     if _round(kind_a):
         if _round(kind_b):
@@ -378,8 +389,7 @@ def pair_distance(a, b, out):
             round_box(b, a, out)
         else:
             round_plane(b, a, out)
-        for k in range(3):
-            out[1 + k], out[4 + k] = out[4 + k], out[1 + k]
+        _swapped(out)
         return OK
     for k in range(OUT):
         out[k] = nan
@@ -389,7 +399,7 @@ def pair_distance(a, b, out):
 @kernel
 def distances(start, stop, a, b, out):
     """:func:`pair_distance` of rows ``start .. stop - 1`` of ``a`` (N, WIDTH) and ``b`` (N, WIDTH) into ``out``
-    (N, 7); returns how many of those pairs are unsupported."""
+    (N, OUT); returns how many of those pairs are unsupported."""
     unsupported = 0
     for n in range(start, stop):
         unsupported += pair_distance(a[n], b[n], out[n])

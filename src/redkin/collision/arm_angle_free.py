@@ -19,6 +19,14 @@ from ``S`` to ``W``:
   |dtheta_2/dpsi|``; from the tip, link 6 turns about axis 7 at ``|dtheta_7/dpsi|`` and link 5 about ``W`` at no
   more than ``|dtheta_6/dpsi| + |dtheta_7/dpsi|``.
 
+A pair of a capsule on links 3-4 and a still shape (an obstacle, the base, the tool's link) is bounded more tightly
+from the pair's normal and closest points at ``m``
+(:func:`redkin.collision._arm_angle_kernels.turning_speed`): the distance lies between the gap of the two cores'
+projections on the normal and the distance of the two closest points, both exact at ``m``, and under the rigid
+turn each is a sinusoid in ``psi - m`` whose rise over the interval is bounded in closed form; so ``v`` is the speed
+of the distance itself to first order, and the stretch cut around a middle (below) reaches nearly to a free arc's
+end.  Two shapes both on links 3-4 turn together: their distance does not change.
+
 The joint rates are bounded over the interval from [000 eqs. 13-14, 18-19]: each entry ``e(psi) = a sin psi + b cos
 psi + c`` of ``0R3`` and ``4R7`` [000 eqs. 12, 16] and its derivative move by at most ``hypot(a, b) h`` from their
 values at ``m``, and ``theta_1 = atan2(y, x)``, ``theta_2 = acos z`` (with ``x^2 + y^2 = 1 - z^2``) give
@@ -409,6 +417,8 @@ class _Measure:
         self.names, self.count = self.pairs.names, len(self.pairs.names)
         self.reach = np.full((len(poses), len(body)), np.nan)  # per pose and capsule: its distance from what it turns
         # about, read from the pose's first configuration measured (it is the same at every arm angle)
+        self.line = np.full((len(poses), 6), np.nan)  # per pose: the shoulder centre and the unit direction to the
+        # wrist centre, read with the reach
         self.inputs = clearance_inputs(body, scene, self.pairs)
 
     def __call__(self, middle: np.ndarray, half: np.ndarray, owner: np.ndarray, active: np.ndarray, finest: float,
@@ -431,7 +441,7 @@ class _Measure:
                   kernel_array(branch), self.entries, self.theta4, self.elbow, self.signs,
                   self.geometry.kernel_joints, chain._links, chain._ends, chain._standard, *self.inputs.body,
                   self.inputs.obstacles, *self.inputs.pairs, float(self.scene.margin), kernel_array(self.reach),
-                  float(finest), bool(carve), active, kind, pair, cut, carved, cause)
+                  kernel_array(self.line), float(finest), bool(carve), active, kind, pair, cut, carved, cause)
         return kind, pair, cut, carved, cause
 
     def _measure_reach(self, poses: np.ndarray, middle: np.ndarray, branch: np.ndarray) -> None:
@@ -440,6 +450,8 @@ class _Measure:
         q, _, _, _ = solve_with_status(self.geometry, self.poses[poses], middle, self.signs)
         frames = self.arm.chain.frames(q[np.arange(len(poses)), branch])
         self.reach[poses] = _turning_reach(self.arm.chain, self.body, frames, posed(self.body, frames))
+        _, _, shoulder, wrist = _centres(self.arm.chain, frames)
+        self.line[poses] = np.concatenate([shoulder, _unit(wrist - shoulder)], axis=-1)
 
 
 def _turning_reach(chain: SerialChain, body: Body, frames: np.ndarray, shapes: np.ndarray) -> np.ndarray:
