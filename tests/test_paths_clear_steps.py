@@ -194,7 +194,7 @@ def test_a_reconfiguration_through_an_obstacle_is_named(iiwa):
     assert "clear" not in _stop_report(plain, False)
 
 
-@pytest.mark.parametrize(("waypoints", "step", "seed"), [(8, 0.5, 11), (12, 0.3, 14)])
+@pytest.mark.parametrize(("waypoints", "step", "seed"), [(8, 0.5, 11), (12, 0.3, 18)])
 def test_a_timed_path_in_a_cell_keeps_the_margin_between_waypoints_too(iiwa, waypoints, step, seed):
     """The timed trajectory is a spline through the waypoints, not the linear steps proved clear, and the spline
     through the waypoints alone can cut an obstacle the steps clear: balls are drawn near the arm's elbow until one

@@ -58,6 +58,9 @@ from redkin.franka.feasible import q7_domain
 from redkin.franka.geometry import FrankaGeometry
 from redkin.franka.ik import frames_seven
 
+#: The widest interval a limit-feasible q7 arc is cut into before the first evaluation [rad]: the intervals are
+#: halved (the joints' displacement bounds prove nothing wide), so the first ones are narrow.
+_FIRST_WIDTH = 0.25
 #: A joint's proposed bound is this many times its larger change from the middle to an end of the interval (widened
 #: by the level test's slack).
 _PROPOSAL = 1.5
@@ -100,8 +103,8 @@ def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     count = len(labels)
     limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
     measure = _Q7Measure(arm, poses, body, scene, np.array([arm.branches.index(label) for label in labels]))
-    parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs]), count,
-                              len(poses), resolution, measure, budget)
+    parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs], _FIRST_WIDTH),
+                              count, len(poses), resolution, measure, budget)
     domain = q7_domain(measure.geometry)
     decided = Decided.of(parts)
     runs = decided.free_runs(len(poses) * count)
