@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.circle import ArcSet, _intersect_all, wrap_angle
+from redkin.circle import ArcSet, _intersect_all, circle_arcs, owner_runs, wrap_angle
 
 GRID = np.linspace(-np.pi, np.pi, 4001, endpoint=False)
 MARGIN = 1e-9
@@ -103,3 +103,48 @@ def test_an_arc_shown_through_the_seam_holds_the_seam(ends):
         assert s.contains(lo, 1e-12) and s.contains(hi, 1e-12) and s.contains(middle)  # wrapping rounds ends
         if lo > hi:
             assert s.contains(np.pi) and s.contains(-np.pi)
+
+
+seam_starts = st.sampled_from([-np.pi, np.pi, np.pi - 1e-13, -np.pi + 5e-13, 0.0, 3 * np.pi])
+owned_arcs = st.lists(st.tuples(st.integers(0, 3), st.floats(-7.0, 7.0) | seam_starts,
+                                st.floats(0.0, 7.0) | st.sampled_from([0.0, 1e-13, 2 * np.pi, 1.0])), max_size=12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(owned_arcs)
+def test_many_owners_arcs_at_once_equal_each_owners_arc_set(arcs):
+    """circle_arcs, the arcs of many owners merged in one numpy pass, gives each owner exactly ArcSet(...).arcs
+    (the same floats, the arc through the seam last), seam ends, whole turns and touching arcs included; with
+    owner_runs it is the one merge of FeasibleSets.arcs and the collision-free sets."""
+    owner = np.array([o for o, _, _ in arcs], dtype=np.int64)
+    lo = np.array([start for _, start, _ in arcs])
+    hi = lo + np.array([length for _, _, length in arcs])
+    bounds, wraps, arc_owner = circle_arcs(lo, hi, owner)
+    for k in range(4):
+        expected = ArcSet(list(zip(lo[owner == k].tolist(), hi[owner == k].tolist(), strict=True))).arcs
+        assert bounds[arc_owner == k].tolist() == [list(map(float, arc)) for arc in expected]
+        assert wraps[arc_owner == k].tolist() == [arc[0] > arc[1] for arc in expected]
+
+
+@settings(max_examples=100, deadline=None)
+@given(owned_arcs)
+def test_runs_of_many_owners_are_each_owners_union(arcs):
+    """owner_runs (no tolerance): each owner's runs are disjoint, sorted, and cover exactly its intervals."""
+    owner = np.array([o for o, _, _ in arcs], dtype=np.int64)
+    lo = np.array([start for _, start, _ in arcs])
+    hi = lo + np.array([length for _, _, length in arcs])
+    run_lo, run_hi, run_owner = owner_runs(lo, hi, owner)
+    assert np.all(np.diff(run_owner) >= 0)
+    for k in range(4):
+        mine = np.stack([run_lo[run_owner == k], run_hi[run_owner == k]], axis=-1)
+        assert np.all(mine[1:, 0] > mine[:-1, 1])  # disjoint and sorted
+        points = np.concatenate([lo[owner == k], hi[owner == k], (lo[owner == k] + hi[owner == k]) / 2])
+        for x in points:  # every point of an interval lies in a run, and each run's ends are intervals' ends
+            assert np.any((mine[:, 0] <= x) & (x <= mine[:, 1]))
+        assert set(mine[:, 0].tolist()) <= set(lo[owner == k].tolist())
+        assert set(mine[:, 1].tolist()) <= set(hi[owner == k].tolist())
+        for start, end in mine:  # and no run bridges a gap: its intervals, in order, each start within the reach
+            inside = (lo[owner == k] >= start) & (hi[owner == k] <= end)
+            order = np.argsort(lo[owner == k][inside])
+            starts, ends = lo[owner == k][inside][order], hi[owner == k][inside][order]
+            assert starts[0] == start and np.all(starts[1:] <= np.maximum.accumulate(ends)[:-1])

@@ -58,9 +58,11 @@ def test_stretches_and_free_runs_join_touching_intervals_of_one_cause(steps):
              np.array(kind, dtype=np.int64), np.array(which, dtype=np.int64))
     order = np.random.default_rng(0).permutation(len(lo))  # any order in
     decided = Decided.of(tuple(part[order] for part in parts))
-    every_stretch, every_run = decided.stretches(3, names, float), decided.free_runs(3)
+    every_stretch, (run_lo, run_hi, run_owner) = decided.stretches(3, names, float), decided.free_runs()
+    assert np.all(np.diff(run_owner) >= 0)  # sorted by owner
     for branch in range(3):
-        stretches, runs = every_stretch[branch], every_run[branch]
+        stretches = every_stretch[branch]
+        runs = list(zip(run_lo[run_owner == branch].tolist(), run_hi[run_owner == branch].tolist(), strict=True))
         assert all(a.end < b.start or (a.end == b.start and (a.cause, a.link, a.against)
                                        != (b.cause, b.link, b.against))
                    for a, b in pairwise(stretches))  # sorted, and touching ones differ in cause

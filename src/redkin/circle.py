@@ -240,3 +240,59 @@ def _intersect_all(sets: Iterable[ArcSet]) -> ArcSet:
     for arc_set in sets:
         result = result.intersection(arc_set)
     return result
+
+
+def owner_runs(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray,
+               tolerance: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The union of closed line intervals ``[lo, hi]`` of each owner, as its disjoint runs ``(lo, hi, owner)``
+    sorted by owner and start: two intervals of one owner join where the later starts at most ``tolerance`` beyond
+    the furthest end so far (as :class:`ArcSet` merges, one owner at a time, in numpy)."""
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    owner = np.asarray(owner, dtype=np.int64)
+    order = np.lexsort((hi, lo, owner))
+    lo, hi, owner = lo[order], hi[order], owner[order]
+    count = len(lo)
+    if not count:
+        return lo, hi, owner
+    rank = np.empty(count, dtype=np.int64)  # hi's rank: the furthest end so far of one owner, exactly, as integers
+    by_end = np.argsort(hi, kind="stable")
+    rank[by_end] = np.arange(count)
+    furthest = np.maximum.accumulate(owner * count + rank) - owner * count  # an owner's keys exceed every earlier's
+    reach = hi[by_end][furthest]
+    first = np.ones(count, dtype=bool)
+    first[1:] = (owner[1:] != owner[:-1]) | (lo[1:] > reach[:-1] + tolerance)
+    starts = np.flatnonzero(first)
+    ends = np.append(starts[1:] - 1, count - 1)
+    return lo[starts], reach[ends], owner[starts]
+
+
+def circle_arcs(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each owner's arcs ``[lo, hi]`` (read counter-clockwise, any real values) as :attr:`ArcSet.arcs` gives them,
+    for many owners in numpy: ``(bounds (A, 2), wraps (A,), arc_owner (A,))``, sorted by owner and, within one,
+    as :attr:`ArcSet.arcs` orders them (an arc through ``+-pi``, ``start > end`` and ``wraps``, last)."""
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    owner = np.asarray(owner, dtype=np.int64)
+    full = hi - lo >= TWO_PI
+    start = np.mod(lo + _PI, TWO_PI) - _PI
+    end = start + np.where(hi != lo, np.mod(hi - lo, TWO_PI), 0.0)
+    split = ~full & (end > _PI)  # through the seam: cut in two there
+    piece_lo = np.concatenate([np.where(full, -_PI, start), np.full(int(split.sum()), -_PI)])
+    piece_hi = np.concatenate([np.where(full | split, _PI, end), end[split] - TWO_PI])
+    piece_lo = np.where(piece_lo <= -_PI + _SEAM_TOLERANCE, -_PI, piece_lo)  # ends this near the seam are on it
+    piece_hi = np.where(piece_hi >= _PI - _SEAM_TOLERANCE, _PI, piece_hi)
+    run_lo, run_hi, run_owner = owner_runs(piece_lo, piece_hi, np.concatenate([owner, owner[split]]), _SEAM_TOLERANCE)
+    first = np.ones(len(run_lo), dtype=bool)
+    first[1:] = run_owner[1:] != run_owner[:-1]
+    last = np.ones(len(run_lo), dtype=bool)
+    last[:-1] = first[1:]
+    first_of, last_of = np.flatnonzero(first), np.flatnonzero(last)  # each owner's first and last run
+    joined = (first_of != last_of) & (run_lo[first_of] <= -_PI + _SEAM_TOLERANCE) & \
+        (run_hi[last_of] >= _PI - _SEAM_TOLERANCE)  # the two pieces of an arc through the seam
+    keep = np.ones(len(run_lo), dtype=bool)
+    keep[first_of[joined]] = keep[last_of[joined]] = False
+    bounds = np.concatenate([np.stack([run_lo[keep], run_hi[keep]], axis=-1),
+                             np.stack([run_lo[last_of[joined]], run_hi[first_of[joined]]], axis=-1)]).reshape(-1, 2)
+    arc_owner = np.concatenate([run_owner[keep], run_owner[first_of[joined]]])
+    through = np.concatenate([np.zeros(int(keep.sum()), dtype=bool), np.ones(int(joined.sum()), dtype=bool)])
+    order = np.lexsort((bounds[:, 0], through, arc_owner))
+    return bounds[order], through[order], arc_owner[order]

@@ -9,7 +9,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.circle import TWO_PI, ArcSet
+from redkin.circle import TWO_PI, circle_arcs, owner_runs
 from redkin.errors import RedkinError
 
 #: Slack (radians) of :meth:`FeasibleSets.contains` at the ends of an arc: the solvers' own rounding at a limit.
@@ -102,11 +102,20 @@ class FeasibleSets:
         return self._arcs(self.start[at][keep], self.end[at][keep])
 
     def _arcs(self, start: np.ndarray, end: np.ndarray) -> Arcs:
-        if self.wraps:
-            arcs = ArcSet(np.stack([start, end], axis=-1).tolist()).arcs
-            bounds = np.array(arcs, dtype=float).reshape(-1, 2)
-            return Arcs(bounds, bounds[:, 0] > bounds[:, 1])
-        return merged_intervals(start, end)
+        return arcs_of_owners(start, end, np.zeros(len(start), dtype=np.int64), 1, self.wraps)[0]
+
+    def every_arcs(self) -> list[tuple[Arcs, ...]]:
+        """:meth:`arcs` of every branch at every pose, in one pass: per pose (the batch flattened in C order), the
+        arcs of each branch of :attr:`branches`."""
+        branches = len(self.branches)
+        owners = int(np.prod(self.shape, dtype=np.int64)) * branches
+        if not owners:
+            return []
+        keep = self.feasible.reshape(owners, -1)
+        owner = np.repeat(np.arange(owners), keep.sum(axis=1))
+        arcs = arcs_of_owners(self.start.reshape(owners, -1)[keep], self.end.reshape(owners, -1)[keep], owner, owners,
+                              self.wraps)
+        return [tuple(arcs[p * branches:(p + 1) * branches]) for p in range(owners // branches)]
 
     def contains(self, t: ArrayLike, branch: str | int) -> np.ndarray:
         """Whether values ``t`` (broadcast against the poses' batch shape) lie in ``branch``'s feasible sets, ends
@@ -139,12 +148,18 @@ class FeasibleSets:
 def merged_intervals(start: np.ndarray, end: np.ndarray) -> Arcs:
     """Intervals ``[start, end]`` of a parameter that is not an angle on the circle (q7) as disjoint, sorted,
     merged arcs that never wrap."""
-    order = np.argsort(start, kind="stable")
-    lo, hi = np.asarray(start, dtype=float)[order], np.asarray(end, dtype=float)[order]
-    reach = np.maximum.accumulate(hi) if len(hi) else hi  # the furthest end so far
-    first = np.ones(len(lo), dtype=bool)
-    first[1:] = lo[1:] > reach[:-1]  # a new arc where an interval starts beyond every earlier one's end
-    starts = np.flatnonzero(first)
-    ends = np.append(starts[1:] - 1, len(lo) - 1) if len(lo) else starts  # each run's last interval
-    bounds = np.stack([lo[starts], reach[ends]], axis=-1).reshape(-1, 2)
-    return Arcs(bounds, np.zeros(len(bounds), dtype=bool))
+    return arcs_of_owners(start, end, np.zeros(len(start), dtype=np.int64), 1, False)[0]
+
+
+def arcs_of_owners(start: ArrayLike, end: ArrayLike, owner: ArrayLike, owners: int, wraps: bool) -> list[Arcs]:
+    """The intervals ``[start, end]`` of each owner ``0 .. owners - 1`` as its disjoint, sorted arcs: on a parameter
+    that ``wraps`` (an angle) merged on the circle as :class:`redkin.circle.ArcSet` merges
+    (:func:`redkin.circle.circle_arcs`), else merged where they touch and never wrapping."""
+    start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    if wraps:
+        bounds, through, arc_owner = circle_arcs(start, end, np.asarray(owner, dtype=np.int64))
+    else:
+        lo, hi, arc_owner = owner_runs(start, end, np.asarray(owner, dtype=np.int64))
+        bounds, through = np.stack([lo, hi], axis=-1).reshape(-1, 2), np.zeros(len(lo), dtype=bool)
+    cuts = np.cumsum(np.bincount(arc_owner, minlength=owners))[:-1]
+    return [Arcs(b, w) for b, w in zip(np.split(bounds, cuts), np.split(through, cuts), strict=True)]

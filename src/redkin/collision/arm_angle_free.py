@@ -63,7 +63,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_pose
-from redkin.arms.feasible_sets import Arcs
+from redkin.arms.feasible_sets import Arcs, arcs_of_owners
 from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.chain import SerialChain
@@ -198,18 +198,18 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     labels = limits.branches
     count = len(labels)
     rows = np.array([arm.branches.index(label) for label in labels])
-    limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
+    limit_arcs = limits.every_arcs()
     measure = _Measure(arm, poses, body, scene, geometry.kernel_branches[rows], geometry)
     parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs], _FIRST_WIDTH),
                               count, len(poses), resolution, measure, budget, carve=True)
     decided = Decided.of(parts)
-    runs = decided.free_runs(len(poses) * count)
+    free = arcs_of_owners(*decided.free_runs(), len(poses) * count, True)
     blocked = merged_stretches(decided.stretches(len(poses) * count, measure.names, _wrapped),
                                _circle_limit_stretches_of(arm, poses, labels, limit_arcs), count) if causes else \
         [tuple(() for _ in labels)] * len(poses)
     results = []
     for p in range(len(poses)):
-        free_sets = tuple(arcs_of(ArcSet(runs[owner])) for owner in range(p * count, (p + 1) * count))
+        free_sets = tuple(free[p * count:(p + 1) * count])
         results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked[p], float(resolution),
                                      int(measure.evaluations[p]), bool(complete[p])))
     return results
@@ -572,15 +572,11 @@ class Decided(NamedTuple):
         starts = np.flatnonzero(first)
         return starts, (np.append(starts[1:] - 1, len(lo) - 1) if len(lo) else starts)
 
-    def free_runs(self, owners: int) -> list[list[tuple[float, float]]]:
-        """Per owner ``0 .. owners - 1``, its free intervals merged where they touch, as sorted ``(start, end)``."""
+    def free_runs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The free intervals merged where they touch, as ``(start, end, owner)`` sorted by owner and start."""
         clear = np.flatnonzero(self.kind == 0)
         starts, ends = self._runs(clear, np.zeros(len(clear), dtype=np.int64))
-        runs: list[list[tuple[float, float]]] = [[] for _ in range(owners)]
-        for owner, start, end in zip(self.owner[clear][starts].tolist(), self.lo[clear][starts].tolist(),
-                                     self.hi[clear][ends].tolist(), strict=True):
-            runs[owner].append((start, end))
-        return runs
+        return self.lo[clear][starts], self.hi[clear][ends], self.owner[clear][starts]
 
     def stretches(self, owners: int, names: list[tuple[str, str]],
                   wrapped: Callable[[float], float]) -> list[list[Stretch]]:

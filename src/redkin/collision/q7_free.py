@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import run_batch
-from redkin.arms.feasible_sets import Arcs
+from redkin.arms.feasible_sets import Arcs, arcs_of_owners
 from redkin.arms.franka_kind import FrankaKind
 from redkin.arms.front_door import Arm
 from redkin.circle import TWO_PI
@@ -101,20 +101,19 @@ def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     limits = arm.feasible(poses, branches)
     labels = limits.branches
     count = len(labels)
-    limit_arcs = [tuple(limits.arcs(label, p) for label in labels) for p in range(len(poses))]
+    limit_arcs = limits.every_arcs()
     measure = _Q7Measure(arm, poses, body, scene, np.array([arm.branches.index(label) for label in labels]))
     parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs], _FIRST_WIDTH),
                               count, len(poses), resolution, measure, budget)
     domain = q7_domain(measure.geometry)
     decided = Decided.of(parts)
-    runs = decided.free_runs(len(poses) * count)
+    free = arcs_of_owners(*decided.free_runs(), len(poses) * count, False)
     blocked = merged_stretches(decided.stretches(len(poses) * count, measure.names, float),
                                _limit_stretches(arm, poses, labels, limit_arcs, domain), count) if causes else \
         [tuple(() for _ in labels)] * len(poses)
     results = []
     for p in range(len(poses)):
-        free_sets = tuple(Arcs(np.array(runs[owner], dtype=float).reshape(-1, 2), np.zeros(len(runs[owner]), bool))
-                          for owner in range(p * count, (p + 1) * count))
+        free_sets = tuple(free[p * count:(p + 1) * count])
         results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked[p], float(resolution),
                                      int(measure.evaluations[p]), bool(complete[p]), "q7"))
     return results
