@@ -23,7 +23,7 @@ from scipy.spatial.transform import Rotation
 import redkin
 from redkin.circle import ArcSet
 from redkin.collision import _decision_kernels, primitives
-from redkin.collision._arm_angle_kernels import joint_rates, turning_speed
+from redkin.collision._arm_angle_kernels import interval_rates, joint_rates, turning_speed
 from redkin.collision._distance_kernels import OUT, distances
 from redkin.collision.arm_angle_free import (
     COLLISION,
@@ -153,21 +153,23 @@ def test_the_elbow_turns_rigidly_about_the_shoulder_wrist_line(iiwa):
 
 
 @settings(max_examples=30)
-@given(st.lists(st.floats(-0.9, 0.9), min_size=7, max_size=7), st.floats(-np.pi, np.pi), st.floats(1e-4, 0.3),
+@given(st.lists(st.floats(-0.9, 0.9), min_size=7, max_size=7), st.floats(-np.pi, np.pi), st.floats(1e-4, 1.0),
        st.sampled_from([1.0, -1.0]))
 def test_joint_rate_bounds_hold_over_the_interval(iiwa, fractions, middle, half, elbow):
     chain = iiwa.chain
     q = np.asarray(fractions) * np.where(np.asarray(fractions) >= 0, chain.upper, -chain.lower)
     geometry = iiwa.implementation.geometry
     coefficients, _, _ = coefficient_arrays(geometry, chain.fk(q), elbow)
-    rates = np.empty(4)
+    rates, pieced = np.empty(4), np.empty(4)
     joint_rates(coefficients.entries, middle, half, rates)
+    interval_rates(coefficients.entries, middle, half, pieced, np.empty(4))  # the largest bound over its pieces
     psi = np.linspace(middle - half, middle + half, 401)
     branch = redkin.srs.branches.Branch(1, int(elbow), 1)
     theta = np.unwrap(theta_at(coefficients, psi, branch), axis=0)
     slopes = np.abs(np.diff(theta, axis=0)) / np.diff(psi)[:, None]
     observed = slopes.max(axis=0)[[0, 1, 5, 6]]
     assert np.all(observed <= rates * (1 + 1e-6) + 1e-9)
+    assert np.all(observed <= pieced * (1 + 1e-6) + 1e-9) and np.all(pieced <= rates * (1 + 1e-12))
 
 
 def _still_shape(kind, rng):
