@@ -161,5 +161,5 @@ def arcs_of_owners(start: ArrayLike, end: ArrayLike, owner: ArrayLike, owners: i
     else:
         lo, hi, arc_owner = owner_runs(start, end, np.asarray(owner, dtype=np.int64))
         bounds, through = np.stack([lo, hi], axis=-1).reshape(-1, 2), np.zeros(len(lo), dtype=bool)
-    cuts = np.cumsum(np.bincount(arc_owner, minlength=owners))[:-1]
-    return [Arcs(b, w) for b, w in zip(np.split(bounds, cuts), np.split(through, cuts), strict=True)]
+    ends = np.cumsum(np.bincount(arc_owner, minlength=owners)).tolist()
+    return [Arcs(bounds[start:end], through[start:end]) for start, end in zip([0] + ends[:-1], ends, strict=True)]
