@@ -32,7 +32,8 @@ psi + c`` of ``0R3`` and ``4R7`` [000 eqs. 12, 16] and its derivative move by at
 values at ``m``, and ``theta_1 = atan2(y, x)``, ``theta_2 = acos z`` (with ``x^2 + y^2 = 1 - z^2``) give
 ``|theta_1'| <= (|x| |y'| + |y| |x'|) / (x^2 + y^2)`` and ``|theta_2'| <= |z'| / sqrt(1 - z^2)``, each factor replaced
 by its bound over the interval (the denominator by the larger of its two lower bounds, from ``|z|`` and from ``|x|,
-|y|``); the same for ``theta_6, theta_7`` (``theta_7 = atan2(t, -r_2)``, ``t^2 + r_2^2 = 1 - z^2``).  These
+|y|``); the same for ``theta_6, theta_7`` (``theta_7 = atan2(t, -r_2)``, ``t^2 + r_2^2 = 1 - z^2``).  Over an
+interval wider than 0.2 rad they are the largest of the bounds over its pieces (each holds on its piece).  These
 bounds grow without limit near a singular arm angle [000 eqs. 31-34], where the branch's shoulder or wrist turns half
 a turn.
 
