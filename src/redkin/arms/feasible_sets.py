@@ -162,4 +162,4 @@ def arcs_of_owners(start: ArrayLike, end: ArrayLike, owner: ArrayLike, owners: i
         lo, hi, arc_owner = owner_runs(start, end, np.asarray(owner, dtype=np.int64))
         bounds, through = np.stack([lo, hi], axis=-1).reshape(-1, 2), np.zeros(len(lo), dtype=bool)
     ends = np.cumsum(np.bincount(arc_owner, minlength=owners)).tolist()
-    return [Arcs(bounds[start:end], through[start:end]) for start, end in zip([0] + ends[:-1], ends, strict=True)]
+    return [Arcs(bounds[start:end], through[start:end]) for start, end in zip(([0] + ends)[:-1], ends, strict=True)]
