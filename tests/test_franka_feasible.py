@@ -17,7 +17,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from redkin.chain import SerialChain
@@ -150,6 +150,8 @@ def test_feasible_sets_of_the_models_equal_dense_sampling(seed, name):
 
 @settings(max_examples=12, deadline=None)
 @given(seed=st.integers(0, 2**31), crossing=st.booleans(), zero_elbow=st.booleans())
+@example(seed=26508, crossing=False, zero_elbow=True)  # fresh draws: joint 2's crossings, double roots of its square
+@example(seed=9633, crossing=False, zero_elbow=True)  # (all four conjugates), were lifted off zero by rounding
 def test_feasible_sets_of_random_arms_with_random_limits_equal_dense_sampling(seed, crossing, zero_elbow):
     """Random arms in a random convention, with random limits round a solution (crossing +-pi or not)."""
     rng = np.random.default_rng(seed)
@@ -162,17 +164,6 @@ def test_feasible_sets_of_random_arms_with_random_limits_equal_dense_sampling(se
     result = assert_exact(chain, pose, count=10001)
     assert result.contains(chain.nearest_in_range(q)[6], int(branch_index(franka_geometry(chain), q))) \
         or not chain.within_limits(q, wrap=True)
-
-
-@pytest.mark.xfail(strict=True, reason="known bug, found by fresh draws on 2026-12-05 and not yet fixed: a limit "
-                   "crossing is missed on zero-elbow arms (issue 42's q7 sets; present before the ninth session too)")
-@pytest.mark.parametrize("seed", [26508, 9633])
-def test_a_random_zero_elbow_arm_whose_joint_leaves_its_limit(seed):
-    """Fresh draws (crossing=False, zero_elbow=True) of the random-arm law above that fail: for seed 26508, on branch
-    +-+, q2 falls below its lower limit at q7 = -1.72667 and stays below it (by up to 0.011 rad) to the end of q7's
-    range, yet the set is the whole range [-1.91089, -1.66342]; seed 9633 misses a stretch of branch --- near q7 =
-    0.0963. Strict: when the bug is fixed this fails, and the seeds become @examples of the law."""
-    test_feasible_sets_of_random_arms_with_random_limits_equal_dense_sampling.hypothesis.inner_test(seed, False, True)
 
 
 def test_every_interior_end_has_its_reason():
@@ -305,7 +296,7 @@ def limit_function_samples(chain: SerialChain, pose: np.ndarray, count: int = 12
     scratch = np.empty((4, 3, 3), dtype=np.complex128)
     for j in range(count):
         _kernels.limit_factors(t07, TURN * j / count, geometry.kernel_arm, factors[j], extra[j], scratch)
-        _kernels.expanded_limits(factors[j], extra[j], expanded[j])
+        _kernels.expanded_limits(factors[j], extra[j], geometry.kernel_arm, expanded[j])
     return expanded, factors, extra
 
 
@@ -321,9 +312,10 @@ def _at_most_degree(samples: np.ndarray, degree: int) -> None:
 @settings(max_examples=15, deadline=None)
 @given(seed=st.integers(0, 2**31), reachable=st.booleans(), model=st.sampled_from((None, *MODELS)))
 def test_the_limit_functions_have_the_stated_degrees(seed, reachable, model):
-    """No Fourier coefficient above its degree in ``_kernels.DEGREES`` (128 samples: up to 64) of each expanded
-    limit function of joints 1-6 (each coefficient of the basis of the limits separately: ``limit_spectra`` takes
-    them apart) and of the two existence functions."""
+    """No Fourier coefficient above its degree (``_kernels.degree_of``: ``DEGREES``, halved for the squares of an
+    arm without elbow offsets) (128 samples: up to 64) of each expanded limit function of joints 1-6 (each
+    coefficient of the basis of the limits separately: ``limit_spectra`` takes them apart) and of the two existence
+    functions."""
     rng = np.random.default_rng(seed)
     if model is None:
         arm = random_arm(rng, zero_elbow=bool(rng.integers(2)), zero_d6=bool(rng.integers(2)))
@@ -333,34 +325,51 @@ def test_the_limit_functions_have_the_stated_degrees(seed, reachable, model):
     pose = chain.fk(rng.uniform(-np.pi, np.pi, 7)) if reachable else random_pose(rng)
     expanded, _, extra = limit_function_samples(chain, pose)
     assert len(_kernels.DEGREES) == _kernels.FUNCTIONS and _kernels.SAMPLES >= 2 * _kernels.DEGREES.max() + 1
+    arm = franka_geometry(chain).kernel_arm
     for joint in range(6):
-        _at_most_degree(expanded[:, joint, : 5 if joint != 3 else 3], _kernels.DEGREES[2 * joint])
+        count = _kernels.factor_count(arm, joint)
+        _at_most_degree(expanded[:, joint, :count + 1], _kernels.degree_of(arm, 2 * joint))
     for k in range(2):
-        _at_most_degree(extra[:, 1 + k], _kernels.DEGREES[12 + k])
+        _at_most_degree(extra[:, 1 + k], _kernels.degree_of(arm, 12 + k))
 
 
 @settings(max_examples=10, deadline=None)
-@given(seed=st.integers(0, 2**31), model=st.sampled_from(MODELS))
+@given(seed=st.integers(0, 2**31), model=st.sampled_from((None, *MODELS)))
 def test_the_expansion_in_the_limits_is_the_product_of_the_factors(seed, model):
     """At random limits, each joint's expanded limit function times the basis of its limit
     (``_kernels.level_basis``) is the real part of the product of its four factors (two for joint 4) at that limit,
-    divided by the divisor for joints 1-3 and 6 ([F8], the form ``limit_spectra`` samples)."""
+    divided by the divisor for joints 1-3 and 6 ([F8], the form ``limit_spectra`` samples).  On an arm without elbow
+    offsets (``model`` None) the functions ``_kernels.halved`` takes over the first elbow root's two factors, and
+    their square is that quotient of all four (the wrist's existence likewise)."""
     rng = np.random.default_rng(seed)
-    chain = get_robot(model)
+    chain = random_arm(rng, zero_elbow=True) if model is None else get_robot(model)
+    arm = franka_geometry(chain).kernel_arm
     expanded, factors, extra = limit_function_samples(chain, chain.fk(rng.uniform(-np.pi, np.pi, 7)), count=16)
     limits = np.zeros((3, 7))
     limits[:2] = rng.uniform(-np.pi, np.pi, (2, 7))
     basis = np.empty((2, 6, 5))
-    _kernels.level_basis(limits, basis)
+    _kernels.level_basis(limits, arm, basis)
     for k in range(2):
         for joint in range(6):
             level = limits[k, joint]
             alpha, beta, gamma = (factors[:, joint, :, m] for m in range(3))
-            product = np.prod(alpha * np.cos(level) + beta * np.sin(level) + gamma, axis=-1).real
+            values = alpha * np.cos(level) + beta * np.sin(level) + gamma
+            product = np.prod(values, axis=-1).real
             if joint in (0, 1, 2, 5):
                 product = product / extra[:, 0]
             combined = expanded[:, joint] @ basis[k, joint]
+            if _kernels.halved(arm, 2 * joint):
+                assert model is None and joint != 3
+                own = np.prod(values[:, :2], axis=-1).real / (extra[:, 3] * extra[:, 4] if joint != 4 else 1.0)
+                np.testing.assert_allclose(combined, own, rtol=1e-9, atol=1e-12 * np.abs(own).max())
+                combined = combined * combined
             np.testing.assert_allclose(combined, product, rtol=1e-9, atol=1e-12 * np.abs(product).max())
+    # the wrist's existence: S_4x^2 - V_z^2 = lambda_5^2 cos^2 theta_5 per elbow root (joint 5's beta, -c_5)
+    per_elbow = factors[:, 4, ::2, 1] ** 2
+    wrist = per_elbow[:, 0] if _kernels.halved(arm, 13) else per_elbow[:, 0] * per_elbow[:, 1]
+    np.testing.assert_allclose(extra[:, 2], wrist.real, rtol=1e-9, atol=1e-12 * np.abs(wrist).max())
+    both = (wrist * wrist if _kernels.halved(arm, 13) else wrist).real  # over both roots: the square where halved
+    np.testing.assert_allclose(np.prod(per_elbow, axis=-1).real, both, rtol=1e-9, atol=1e-12 * np.abs(both).max())
 
 
 # ----------------------------------------------------------------------------- the limit-avoiding q7

@@ -1,5 +1,7 @@
 """The real roots of the Franka class's limit polynomials ([F8]): subdivision finds every one, and settles
-polynomials with complex roots near the unit circle without the eigenvalue route.
+polynomials with complex roots near the unit circle without the eigenvalue route; the double roots of a square whose
+coefficients were summed from terms that cancel (an arm without elbow offsets) are candidates, however their
+rounding lifts them.
 
 Each polynomial is a product of factors ``cos(theta - a) - c`` of known roots: real ones (``|c| < 1``, roots
 ``a +- arccos c``) and pairs of complex ones at distance ``eps`` from the real axis (``c = +-cosh eps``), the case
@@ -14,6 +16,7 @@ from hypothesis import strategies as st
 
 from redkin.franka._kernels import (
     _NEAR_ZERO,
+    _TERM_ROUNDING,
     SAMPLES,
     coefficient_roots,
     global_bounds,
@@ -62,7 +65,7 @@ def _half(values: np.ndarray, degree: int) -> np.ndarray:
 def _allowed(half: np.ndarray, root: float) -> float:
     """How far a found root may lie from the true one: 1e-8, or where the polynomial is flat there what the
     coefficients' rounding (1e-15 of the largest value ``G`` can take) allows at its slope."""
-    _, _, floor = global_bounds(half)
+    _, _, floor = global_bounds(half, 0.0)
     return max(1e-8, 1e-15 * floor / _NEAR_ZERO / abs(trig_value(half, root)[1]))
 
 
@@ -84,16 +87,16 @@ def test_subdivision_settles_complex_roots_near_the_circle_and_finds_every_real_
     roots, values, pairs = _roots_and_samples(factors, smallest_eps=1e-4)
     out = np.empty(2 * len(factors) + 8)
     half = _half(values, len(factors))
-    _, _, floor = global_bounds(half)
+    _, _, floor = global_bounds(half, 0.0)
     simple = np.empty(len(out), dtype=bool)
-    count = isolated_roots(half, -np.pi, np.pi, 4 * len(half), out, simple)
+    count = isolated_roots(half, 0.0, -np.pi, np.pi, 4 * len(half), out, simple)
     if count < 0:  # handed over: only where G is flat below the floor away from the roots
         grid = np.linspace(-np.pi, np.pi, 20001)
         flat = grid[np.abs([trig_value(half, t)[0] for t in grid]) <= floor]
         assert any(_distance_on_circle(roots, t) > 1e-3 for t in flat)
         coefficients = np.empty(2 * len(factors) + 1, dtype=np.complex128)
         largest = trig_coefficients(values, len(factors), 0.0, coefficients)
-        count = coefficient_roots(coefficients, largest, out, simple)
+        count = coefficient_roots(coefficients, largest, 0.0, out, simple)
         assert not simple[:count].any()  # the eigenvalue route's candidates are not taken as simple roots
     found = out[:count]
     for root in roots:
@@ -117,6 +120,32 @@ def test_every_real_root_is_a_candidate_however_close_the_complex_ones(factors, 
     out = np.empty(2 * 8)
     coefficients = np.empty(2 * len(factors) + 1, dtype=np.complex128)
     largest = trig_coefficients(shifted, len(factors), phase, coefficients)  # the samples taken from phase on
-    count = coefficient_roots(coefficients, largest, out, np.empty(len(out), dtype=bool))
+    count = coefficient_roots(coefficients, largest, 0.0, out, np.empty(len(out), dtype=bool))
     for root in roots:
         assert _distance_on_circle(out[:count], root) <= _allowed(half, root)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(st.floats(-np.pi, np.pi), st.floats(0.0, 1.0)), min_size=1, max_size=4),
+       st.integers(0, 2**32 - 1))
+def test_the_double_roots_of_a_square_summed_from_cancelling_terms_are_candidates(factors, seed):
+    """``G = P^2`` with ``P`` of real roots only, each coefficient perturbed by the rounding of terms 1e4 times its
+    size (four units of their last place, either sign; the Panda's level polynomials cancel up to 5e3-fold, random
+    arms' 1e4-fold): where the subdivision settles, each root of ``P``, a double root of ``G`` that the rounding
+    lifts off zero or splits, has a candidate joined to it by a stretch on which ``|G| <= 2 floor`` (what rounding
+    of the floor's size cannot tell from a root).  With a floor from ``G``'s own size alone, such roots had none."""
+    roots, values, _ = _roots_and_samples([(a, 0, size) for a, size in factors], smallest_eps=1e-4)
+    square = _half(values * values, 2 * len(factors))
+    terms = 1e4 * (abs(square[0]) + 2.0 * np.abs(square[1:]).sum())
+    rounding = np.random.default_rng(seed).uniform(-1.0, 1.0, (2, len(square))) * 4.0 * np.finfo(float).eps * 1e4
+    half = np.ascontiguousarray(square + np.abs(square) * (rounding[0] + 1j * np.r_[0.0, rounding[1, 1:]]))
+    out = np.empty(2 * 8)
+    count = isolated_roots(half, terms, -np.pi, np.pi, 4 * len(half), out, np.empty(len(out), dtype=bool))
+    assume(count >= 0)  # handed to the eigenvalue route: the laws above
+    floor = 2.0 * _TERM_ROUNDING * terms
+    for root in roots:
+        assert count > 0
+        step = np.mod(out[:count] - root + np.pi, 2.0 * np.pi) - np.pi
+        nearest = root + step[np.argmin(np.abs(step))]
+        stretch = np.linspace(root, nearest, 2001)
+        assert max(abs(trig_value(square, t)[0]) for t in stretch) <= floor, (root, out[:count])

@@ -47,7 +47,8 @@ WORK = 24
 #: edge of its reach): relative to the lengths, 1e-12 is rounding, not a miss.
 _REACH_TOLERANCE = 1e-12
 #: Degree in q7 of the limit polynomial of each joint (1..6) and of the existence polynomials ([F8]); the
-#: tests check them against a higher-degree fit on random arms and poses.
+#: tests check them against a higher-degree fit on random arms and poses.  Half of it for the functions that are
+#: squares on an arm without elbow offsets (:func:`halved`, :func:`degree_of`).
 DEGREES = np.array([8, 8, 8, 8, 8, 8, 2, 2, 4, 4, 4, 4, 2, 4])
 #: Number of limit functions: two limits of joints 1-6, then the existence of the elbow and of the wrist.
 FUNCTIONS = 14
@@ -70,6 +71,12 @@ _VALUE_ROUNDING = 1e-15
 #: Values of a limit polynomial this small, relative to the largest it can take, count as zero: a double root
 #: (on arms whose elbow has no offsets the elbow's two roots give squared factors) rounds to a near miss.
 _NEAR_ZERO = 1e-12
+#: The rounding of a level polynomial's coefficients relative to the size of the terms they sum
+#: (:func:`level_polynomial`'s ``terms``, about 100 units of the last place): values below it count as zero too.
+#: Where the terms cancel, a double root is lifted off zero by their rounding, not by the polynomial's: on arms
+#: without elbow offsets the limit functions of joints 1-3, 5 and 6 are squares and their terms cancel 1e4-fold,
+#: so every crossing of those joints is a double root lifted by up to 1e-11 of the polynomial's size.
+_TERM_ROUNDING = 1e-14
 #: How close to a limit a real branch's joint must be at a polynomial's root to be polished on (radians of the
 #: joint, and of q7 for the polish's reach).
 _POLISH_REACH = 1e-4
@@ -85,6 +92,22 @@ _TWIDDLES = np.exp(-2j * np.pi * np.outer(np.arange(9), np.arange(SAMPLES)) / SA
 #: A sample grid on which a divisor of [F8] comes this close to zero (relative to its largest sample) is shifted by
 #: half a step, so that the division stays well conditioned.
 _SMALL_DIVISOR = 1e-6
+
+
+@kernel
+def halved(arm, f):
+    """Whether limit function ``f`` (:data:`DEGREES`' order) is taken over the conjugate solutions of one elbow
+    root only: on an arm without elbow offsets (``a_3 = a_4 = 0``) the other root, ``-theta_4`` [F3], gives the same
+    ``theta_1``, ``theta_2`` and ``theta_6``, and ``theta_3``, ``theta_5`` plus ``pi`` (each factor of [F8] times
+    +-1), and the same wrist existence [F9]: the product over all four is the square of the product over two, whose
+    double roots rounding lifts off zero or splits.  Joint 4 (``+-theta_4``) and the elbow's existence are not."""
+    return arm[A3] == 0.0 and arm[A4] == 0.0 and f != 6 and f != 7 and f != 12
+
+
+@kernel
+def degree_of(arm, f):
+    """The degree in q7 of limit function ``f`` on this arm: :data:`DEGREES`, or half of it where :func:`halved`."""
+    return DEGREES[f] // 2 if halved(arm, f) else DEGREES[f]
 
 
 @kernel
@@ -276,7 +299,8 @@ def limit_factors(t07, theta7, arm, factors, extra, scratch):
     beta sin L + gamma`` vanishes exactly where that solution has ``theta_j = L`` or ``L + pi`` (``theta_2 = +-L``
     for joint 2); joint 4 has one per elbow root, then two factors 1.  ``extra``: the divisor ``Sigma^2 |V_xy|^4``
     (``Sigma = prod S_4x`` over the two elbows), then [F9]'s ``1 - kappa^2`` (the elbow's existence) and the wrist's
-    existence, then ``Sigma`` and ``|V_xy|^2``.  ``scratch`` (4, 3, 3) complex.
+    existence (over the first elbow root alone where :func:`halved`), then ``Sigma`` and ``|V_xy|^2``.  ``scratch``
+    (4, 3, 3) complex.
     """
     x6, y6, z6, w = wrist_and_frame_six(t07, theta7, arm)
     kappa = elbow_cosine(w, arm)
@@ -289,7 +313,8 @@ def limit_factors(t07, theta7, arm, factors, extra, scratch):
     for elbow in range(2):
         c4, s4 = elbow_trig(kappa, (1.0 - 2.0 * elbow) * root4, arm)
         s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
-        wrist_existence *= s4x * s4x - vz * vz
+        if elbow == 0 or not halved(arm, 13):
+            wrist_existence *= s4x * s4x - vz * vz
         sigma *= s4x
         factors[3, elbow, 0], factors[3, elbow, 1], factors[3, elbow, 2] = s4, -c4, 0.0
         factors[3, 2 + elbow, 0], factors[3, 2 + elbow, 1], factors[3, 2 + elbow, 2] = 0.0, 0.0, 1.0
@@ -317,7 +342,14 @@ def limit_factors(t07, theta7, arm, factors, extra, scratch):
 
 
 @kernel
-def expanded_limits(factors, extra, expanded):
+def factor_count(arm, joint):
+    """How many factors of [F8] the limit function of ``joint`` (0-5) multiplies: four conjugate solutions, two for
+    joint 4 (one per elbow root) and where :func:`halved` (the first elbow root's two)."""
+    return 2 if joint == 3 or halved(arm, 2 * joint) else 4
+
+
+@kernel
+def expanded_limits(factors, extra, arm, expanded):
     """One sample's limit functions of joints 1-6 [F8] as combinations of their limits' basis (:func:`level_basis`),
     from its :func:`limit_factors`: ``expanded`` (6, 5), real.
 
@@ -326,11 +358,13 @@ def expanded_limits(factors, extra, expanded):
     sin^i L``, then zeros), and in ``cos L`` alone for joint 2 (``cos^i L``).  Its real part, divided by the divisor
     for joints 1-3 and 6, gives ``expanded[j - 1, i]``: each a trigonometric polynomial in ``theta_7`` of the
     joint's degree (:data:`DEGREES`), since the products are, whatever ``L``, and the basis functions of ``L`` are
-    independent.
+    independent.  Where :func:`halved`, the product over the first elbow root's two solutions, of degree 2 in
+    ``cos L`` and ``sin L``, divided by ``Sigma |V_xy|^2`` for joints 1-3 and 6: its square is the product over all
+    four divided by the divisor, and its degree in ``theta_7`` half the joint's.
     """
     product = np.empty(5, dtype=np.complex128)
     for joint in range(6):
-        count = 2 if joint == 3 else 4
+        count = factor_count(arm, joint)
         product[0] = 1.0
         for i in range(1, 5):
             product[i] = 0.0
@@ -342,19 +376,21 @@ def expanded_limits(factors, extra, expanded):
             for i in range(solution + 1, 0, -1):
                 product[i] = a * product[i] + b * product[i - 1]
             product[0] = a * product[0]
-        scale = extra[0] if joint < 3 or joint == 5 else 1.0
+        scale = 1.0
+        if joint < 3 or joint == 5:
+            scale = extra[3] * extra[4] if halved(arm, 2 * joint) else extra[0]
         for i in range(5):
             expanded[joint, i] = product[i].real / scale
 
 
 @kernel
-def level_basis(limits, basis):
+def level_basis(limits, arm, basis):
     """The values at each joint's lower and upper limit (``limits`` (3, 7): lower and upper DH limits and whether
     the joint is limited) that :func:`expanded_limits`' coefficients multiply: ``basis`` (2, 6, 5)."""
     for k in range(2):
         for joint in range(6):
             c, s = cos(limits[k, joint]), sin(limits[k, joint])
-            count = 2 if joint == 3 else 4
+            count = factor_count(arm, joint)
             for i in range(5):  # powers as products in one order: the same bits compiled and as Python
                 value = 1.0
                 if joint == 1:
@@ -371,20 +407,25 @@ def level_basis(limits, basis):
 
 
 @kernel
-def level_polynomial(spectra, basis, f, polynomial):
+def level_polynomial(spectra, basis, arm, f, polynomial):
     """The coefficients of limit function ``f`` (< 12: joint ``f // 2 + 1``, its lower or upper limit) into
-    ``polynomial`` (2 D + 1,) (``g_-D .. g_D``, :func:`trig_coefficients`' layout, ``D = DEGREES[f]``), from the
-    pose's :func:`limit_spectra` and the limits' :func:`level_basis`; returns the largest ``|g_k|``."""
-    joint, degree = f // 2, DEGREES[f]
-    largest = 0.0
+    ``polynomial`` (2 D + 1,) (``g_-D .. g_D``, :func:`trig_coefficients`' layout, ``D``: :func:`degree_of`), from the
+    pose's :func:`limit_spectra` and the limits' :func:`level_basis`; returns the largest ``|g_k|`` and ``terms``,
+    the largest value the summed terms can give (``|g_0| + 2 sum_k |g_k|`` before they cancel), which bounds the
+    coefficients' rounding (:data:`_TERM_ROUNDING`)."""
+    joint, degree = f // 2, degree_of(arm, f)
+    largest, terms = 0.0, 0.0
     for k in range(degree + 1):
-        total = 0.0 + 0.0j
+        total, size = 0.0 + 0.0j, 0.0
         for i in range(5):
-            total += spectra[joint, i, k] * basis[f % 2, joint, i]
+            term = spectra[joint, i, k] * basis[f % 2, joint, i]
+            total += term
+            size += abs(term)
         polynomial[degree + k] = total
         polynomial[degree - k] = np.conj(total)
         largest = max(largest, abs(total))
-    return largest
+        terms += size if k == 0 else 2.0 * size
+    return largest, terms
 
 
 @kernel
@@ -406,9 +447,10 @@ def trig_coefficients(values, degree, phase, coefficients):
 
 
 @kernel
-def coefficient_roots(coefficients, largest, out, simple):
+def coefficient_roots(coefficients, largest, terms, out, simple):
     """The real roots ``theta_7`` of the trigonometric polynomial of ``coefficients`` (``g_-D .. g_D``,
-    :func:`trig_coefficients`' layout, whose largest size is ``largest``) into ``out``, and whether each is a simple
+    :func:`trig_coefficients`' layout, whose largest size is ``largest``, summed from terms of size ``terms``:
+    :func:`global_bounds`) into ``out``, and whether each is a simple
     root alone in its cell into ``simple`` (:func:`isolated_roots`; the eigenvalue route's are not); returns how many
     ([F8]).
 
@@ -418,7 +460,7 @@ def coefficient_roots(coefficients, largest, out, simple):
     if largest == 0.0:
         return 0
     half = coefficients[coefficients.shape[0] // 2:]
-    count = isolated_roots(half, -np.pi, np.pi, 4 * half.shape[0], out, simple)
+    count = isolated_roots(half, terms, -np.pi, np.pi, 4 * half.shape[0], out, simple)
     if count >= 0:
         return count
     count = circle_roots(coefficients, largest, out)
@@ -427,16 +469,18 @@ def coefficient_roots(coefficients, largest, out, simple):
 
 
 @kernel
-def global_bounds(half):
+def global_bounds(half, terms):
     """From ``half = (g_0, ..., g_D)``: ``B3`` and ``B4``, bounds of the third and fourth derivatives of ``G`` on
-    the whole circle (``Bn = 2 sum k^n |g_k|``), and the floor below which a value of ``G`` counts as zero
-    (:data:`_NEAR_ZERO` of ``G``'s largest possible value)."""
-    bound3, bound4, floor = 0.0, 0.0, abs(half[0])
+    the whole circle (``Bn = 2 sum k^n |g_k|``), and the floor below which a value of ``G`` counts as zero:
+    :data:`_NEAR_ZERO` of ``G``'s largest possible value, or :data:`_TERM_ROUNDING` of ``terms``, the size of the
+    terms its coefficients were summed from (:func:`level_polynomial`; 0 for coefficients computed directly),
+    whichever is larger."""
+    bound3, bound4, size = 0.0, 0.0, abs(half[0])
     for k in range(1, half.shape[0]):
         bound3 += 2.0 * k * k * k * abs(half[k])
         bound4 += 2.0 * k * k * k * k * abs(half[k])
-        floor += 2.0 * abs(half[k])
-    return bound3, bound4, floor * _NEAR_ZERO
+        size += 2.0 * abs(half[k])
+    return bound3, bound4, max(size * _NEAR_ZERO, terms * _TERM_ROUNDING)
 
 
 @kernel
@@ -469,16 +513,16 @@ def trig_value(half, theta):
 
 
 @kernel
-def isolated_roots(half, low, high, cells, out, simple):
-    """The real roots of ``G`` in ``[low, high]`` (``half = (g_0, ..., g_D)``; the circle from ``-pi`` to ``pi``, or
-    a stretch of it) by subdivision from ``cells`` equal cells, into ``out``, and into ``simple`` whether each is
-    the one root of a monotone cell (rather than the middle of a cell that may hold several); returns how many, or
-    -1 where :data:`_CELL_BUDGET` cells did not settle them or more candidates than ``out`` holds came up.
+def isolated_roots(half, terms, low, high, cells, out, simple):
+    """The real roots of ``G`` in ``[low, high]`` (``half = (g_0, ..., g_D)``, summed from terms of size ``terms``:
+    :func:`global_bounds`; the circle from ``-pi`` to ``pi``, or a stretch of it) by subdivision from ``cells``
+    equal cells, into ``out``, and into ``simple`` whether each is the one root of a monotone cell (rather than the
+    middle of a cell that may hold several); returns how many, or -1 where :data:`_CELL_BUDGET` cells did not
+    settle them or more candidates than ``out`` holds came up.
 
     A cell ``[m - r, m + r]`` holds no root where ``|G(m)| > r |G1(m)| +
-    r^2 |G2(m)| / 2 + r^3 B3 / 6`` (plus :data:`_NEAR_ZERO` of ``G``'s
-    largest possible value, so that a double root, which rounding may lift
-    off zero, is kept), and at most one where ``|G1(m)| > r |G2(m)| + r^2
+    r^2 |G2(m)| / 2 + r^3 B3 / 6`` (plus :func:`global_bounds`' floor,
+    so that a double root, which rounding may lift off zero, is kept), and at most one where ``|G1(m)| > r |G2(m)| + r^2
     |G3(m)| / 2 + r^3 B4 / 6`` (``G`` is then monotone), with ``Gn`` the
     n-th derivative and ``Bn = 2 sum k^n |g_k|`` a bound of it on the whole
     circle (Taylor's theorem: only the last term takes the global bound, so
@@ -489,8 +533,8 @@ def isolated_roots(half, low, high, cells, out, simple):
     of :data:`_SMALLEST_CELL`, where a cell that may hold a root (a double
     root: a joint touching its limit) gives its middle.
     """
-    bound3, bound4, floor = global_bounds(half)
-    noise = floor / _NEAR_ZERO * _VALUE_ROUNDING  # G's rounding: _VALUE_ROUNDING of the largest value it can take
+    bound3, bound4, floor = global_bounds(half, terms)
+    noise = floor * (_VALUE_ROUNDING / _NEAR_ZERO)  # G's rounding: a thousandth of the floor
     stack = np.empty((_CELL_BUDGET + 64, 2))
     size = 0
     for c in range(cells):
@@ -615,7 +659,7 @@ def limit_spectra(t07, arm, spectra, existence):
     for _ in range(2):  # the grid, and once more moved by half a step if a divisor nearly vanishes on it
         for j in range(SAMPLES):
             limit_factors(t07, phase + 2.0 * np.pi * j / SAMPLES, arm, factors, extra[j], scratch)
-            expanded_limits(factors, extra[j], expanded[j])
+            expanded_limits(factors, extra[j], arm, expanded[j])
         small = False
         for column in (3, 4):  # Sigma and |V_xy|^2
             largest = np.abs(extra[:, column]).max()
@@ -626,14 +670,15 @@ def limit_spectra(t07, arm, spectra, existence):
     values = np.empty(SAMPLES)
     full = np.empty(2 * 8 + 1, dtype=np.complex128)
     for joint in range(6):
-        degree = DEGREES[2 * joint]
+        degree = degree_of(arm, 2 * joint)
         for i in range(5):
             values[:] = expanded[:, joint, i]
             trig_coefficients(values, degree, phase, full[:2 * degree + 1])
             spectra[joint, i, :degree + 1] = full[degree:2 * degree + 1]
     for k in range(2):
         values[:] = extra[:, 1 + k]
-        trig_coefficients(values, DEGREES[12 + k], phase, existence[k, :2 * DEGREES[12 + k] + 1])
+        degree = degree_of(arm, 12 + k)
+        trig_coefficients(values, degree, phase, existence[k, :2 * degree + 1])
 
 
 @kernel
@@ -689,7 +734,7 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
         lever = np.sqrt(t07[p, 0, 3] ** 2 + t07[p, 1, 3] ** 2 + (arm[D1] - t07[p, 2, 3]) ** 2)
         if np.hypot(vx, vy) <= lever * 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK:
             continue  # V_xy may vanish, where theta_6 is free
-        level_basis(levels[i], basis)
+        level_basis(levels[i], arm, basis)
         crossed = False
         for f in range(12):
             joint = f // 2
@@ -697,17 +742,17 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
                 continue
             level = levels[i, f % 2, joint]
             width = 0.5 * abs(levels[i, 1, joint] - levels[i, 0, joint])
-            degree = DEGREES[f]
+            degree = degree_of(arm, f)
             polynomial = coefficients[:2 * degree + 1]
-            largest = level_polynomial(spectra[p], basis, f, polynomial)
+            largest, terms = level_polynomial(spectra[p], basis, arm, f, polynomial)
             half, reach = polynomial[degree:], 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK
             value, slope, curve, _ = trig_value(half, middle)
-            bound3, _, floor = global_bounds(half)
+            bound3, _, floor = global_bounds(half, terms)
             if rootless_cell(value, slope, curve, reach, bound3, floor):
                 continue  # no conjugate solution's joint meets this level near the interval
-            count = isolated_roots(half, middle - reach, middle + reach, np.int64(2), roots, simple)  # near it
+            count = isolated_roots(half, terms, middle - reach, middle + reach, np.int64(2), roots, simple)
             if count < 0:
-                count = coefficient_roots(polynomial, largest, roots, simple)
+                count = coefficient_roots(polynomial, largest, terms, roots, simple)
             for r in range(count):
                 q7 = roots[r] - offset7
                 value = q7 + 2.0 * np.pi * np.ceil((lo[i] - LEVEL_SLACK - q7) / (2.0 * np.pi))
@@ -742,7 +787,7 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
     existence = np.empty((2, 2 * 8 + 1), dtype=np.complex128)
     limit_spectra(t07, arm, spectra, existence)
     basis = np.empty((2, 6, 5))
-    level_basis(limits, basis)
+    level_basis(limits, arm, basis)
     polynomial = np.empty(2 * 8 + 1, dtype=np.complex128)
     roots = np.empty(2 * 8)  # a polynomial's candidates: at most its 2 D roots, or cell middles up to this room
     simple = np.empty(roots.shape[0], dtype=np.bool_)
@@ -758,16 +803,16 @@ def feasible_q7(t07, arm, limits, joints, branches, domain, arcs, counts):
                 continue
             if f % 2 == 1 and (joint == 1 or joint == 4) and limits[0, joint] == -limits[1, joint]:
                 continue  # cos(theta_2), and theta_5 up to its sign, give the same polynomial for L and -L
-        degree = DEGREES[f]
+        degree = degree_of(arm, f)
         if f < 12:
-            count = coefficient_roots(polynomial[:2 * degree + 1],
-                                      level_polynomial(spectra, basis, f, polynomial), roots, simple)
+            largest, terms = level_polynomial(spectra, basis, arm, f, polynomial)
+            count = coefficient_roots(polynomial[:2 * degree + 1], largest, terms, roots, simple)
         else:  # the elbow's and the wrist's existence
             own = existence[f - 12, :2 * degree + 1]
             largest = 0.0
             for k in range(degree + 1):
                 largest = max(largest, abs(own[degree + k]))
-            count = coefficient_roots(own, largest, roots, simple)
+            count = coefficient_roots(own, largest, 0.0, roots, simple)
         for r in range(count):
             angles[found], sources[found], crowded[found] = roots[r], f, not simple[r]
             found += 1

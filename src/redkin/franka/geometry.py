@@ -236,6 +236,9 @@ def _convert(chain: SerialChain, snap: bool) -> FrankaGeometry:
         raise _refuse(chain, f"its elbow is offset {abs(rows[3, 2]):.6g} m along axis 4 (only offsets across axis 4, "
                              "as on the WAM and the Panda, are solved)", abs(rows[3, 2]))
     a3, a4, d3, d5 = rows[2, 0], rows[3, 0], rows[2, 2], rows[4, 2]
+    # elbow offsets within the tolerance are the rounding of an arm without them: zero, so that the limit functions
+    # that are squares on such an arm are taken as such (redkin.franka._kernels.halved)
+    a3, a4 = (0.0 if abs(a3) <= distance else a3), (0.0 if abs(a4) <= distance else a4)
     if elbow_equation(a3, a4, d3, d5).amplitude <= _CLASS_TOLERANCE:
         raise _refuse(chain, "axis 4 passes through the shoulder or the wrist point, so |W - S| does not fix q4", 0.0)
     a = np.array([0.0, 0.0, a3, a4, 0.0, rows[5, 0], 0.0])
