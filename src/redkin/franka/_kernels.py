@@ -349,6 +349,24 @@ def factor_count(arm, joint):
 
 
 @kernel
+def factor_product(factors, joint, count, product):
+    """The product of the first ``count`` factors of ``joint`` (:func:`limit_factors`) as a polynomial in ``cos L``
+    (joint 2, ``gamma + alpha cos L``) or in ``sin L`` over ``cos L`` (``alpha cos L + beta sin L``): its coefficients
+    into ``product`` (5,), zeros past ``count``."""
+    product[0] = 1.0
+    for i in range(1, 5):
+        product[i] = 0.0
+    for solution in range(count):  # times (a + b x): the new coefficient of x^i is a P_i + b P_(i - 1)
+        if joint == 1:
+            a, b = factors[joint, solution, 2], factors[joint, solution, 0]
+        else:
+            a, b = factors[joint, solution, 0], factors[joint, solution, 1]
+        for i in range(solution + 1, 0, -1):
+            product[i] = a * product[i] + b * product[i - 1]
+        product[0] = a * product[0]
+
+
+@kernel
 def expanded_limits(factors, extra, arm, expanded):
     """One sample's limit functions of joints 1-6 [F8] as combinations of their limits' basis (:func:`level_basis`),
     from its :func:`limit_factors`: ``expanded`` (6, 5), real.
@@ -364,18 +382,10 @@ def expanded_limits(factors, extra, arm, expanded):
     """
     product = np.empty(5, dtype=np.complex128)
     for joint in range(6):
-        count = factor_count(arm, joint)
-        product[0] = 1.0
-        for i in range(1, 5):
-            product[i] = 0.0
-        for solution in range(count):  # times (a + b x): the new coefficient of x^i is a P_i + b P_(i - 1)
-            if joint == 1:  # gamma + alpha cos L, in powers of cos L
-                a, b = factors[joint, solution, 2], factors[joint, solution, 0]
-            else:  # alpha cos L + beta sin L, in powers of sin L (over cos L)
-                a, b = factors[joint, solution, 0], factors[joint, solution, 1]
-            for i in range(solution + 1, 0, -1):
-                product[i] = a * product[i] + b * product[i - 1]
-            product[0] = a * product[0]
+        if factor_count(arm, joint) == 2:  # each count a constant where the product is inlined (its loops unrolled)
+            factor_product(factors, joint, 2, product)
+        else:
+            factor_product(factors, joint, 4, product)
         scale = 1.0
         if joint < 3 or joint == 5:
             scale = extra[3] * extra[4] if halved(arm, 2 * joint) else extra[0]
@@ -390,20 +400,29 @@ def level_basis(limits, arm, basis):
     for k in range(2):
         for joint in range(6):
             c, s = cos(limits[k, joint]), sin(limits[k, joint])
-            count = factor_count(arm, joint)
-            for i in range(5):  # powers as products in one order: the same bits compiled and as Python
-                value = 1.0
-                if joint == 1:
-                    for _ in range(i):
-                        value *= c
-                elif i <= count:
-                    for _ in range(count - i):
-                        value *= c
-                    for _ in range(i):
-                        value *= s
-                else:
-                    value = 0.0
-                basis[k, joint, i] = value
+            if factor_count(arm, joint) == 2:  # each count a constant where the row is inlined, as in expanded_limits
+                basis_row(c, s, joint, 2, basis, k)
+            else:
+                basis_row(c, s, joint, 4, basis, k)
+
+
+@kernel
+def basis_row(c, s, joint, count, basis, k):
+    """One joint's row of :func:`level_basis` at a limit of cosine ``c`` and sine ``s``: ``c^i`` for joint 2 (index
+    1), else ``c^(count - i) s^i`` (zeros past ``count``), into ``basis[k, joint]`` (5,)."""
+    for i in range(5):  # powers as products in one order: the same bits compiled and as Python
+        value = 1.0
+        if joint == 1:
+            for _ in range(i):
+                value *= c
+        elif i <= count:
+            for _ in range(count - i):
+                value *= c
+            for _ in range(i):
+                value *= s
+        else:
+            value = 0.0
+        basis[k, joint, i] = value
 
 
 @kernel
@@ -420,7 +439,7 @@ def level_polynomial(spectra, basis, arm, f, polynomial):
         for i in range(5):
             term = spectra[joint, i, k] * basis[f % 2, joint, i]
             total += term
-            size += abs(term)
+            size += abs(term.real) + abs(term.imag)  # within sqrt(2) of |term|, without a square root
         polynomial[degree + k] = total
         polynomial[degree - k] = np.conj(total)
         largest = max(largest, abs(total))
