@@ -1,6 +1,6 @@
-"""``free_sets_of(..., causes=False)`` (what path resolution reads): on every class with certified collision-free
-sets, the same free sets, limit sets, evaluations and completeness as with the causes, and no removed stretch
-named (none solved for)."""
+"""``free_sets_of(..., causes=False)``: on every class with certified collision-free sets, the same free sets, limit
+sets, evaluations and completeness as with the causes, and no removed stretch named (none solved for); and
+``free_arcs_of`` (what path resolution reads) the same free sets and completeness as arrays."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 import redkin
 from redkin.collision import builtin_body, scene_of
-from redkin.collision.free_sets import free_sets_of
+from redkin.collision.free_sets import free_arcs_of, free_sets_of
 
 #: A post beside the arm, a table under its reach and a lamp above it (tests/test_collision_free_q7.py's cell).
 CELL = {"margin": 0.01, "obstacles": [
@@ -35,3 +35,9 @@ def test_without_causes_the_sets_are_the_same_and_nothing_is_named(model, seed):
         for ours, theirs in ((without.free, with_causes.free), (without.limits, with_causes.limits)):
             for a, b in zip(ours, theirs, strict=True):
                 assert np.array_equal(a.bounds, b.bounds) and np.array_equal(a.wraps, b.wraps)
+    arrays = free_arcs_of(arm, poses, body, scene)
+    assert arrays.complete.tolist() == [sets.complete for sets in named]
+    every = arrays.arcs.split(len(poses) * len(arm.branches))
+    for owner, arcs in enumerate(every):
+        theirs = named[owner // len(arm.branches)].free[owner % len(arm.branches)]
+        assert np.array_equal(arcs.bounds, theirs.bounds) and np.array_equal(arcs.wraps, theirs.wraps), owner

@@ -32,6 +32,28 @@ class Arcs(NamedTuple):
     wraps: np.ndarray
 
 
+class ArcArrays(NamedTuple):
+    """The arcs of many owners (a pose's branch, ``owner = pose * B + branch``) in three arrays, as :class:`Arcs`
+    holds one owner's, sorted by owner and, within one, as :class:`Arcs` orders them.
+
+    Attributes
+    ----------
+    bounds : numpy.ndarray, shape (A, 2)
+    wraps : numpy.ndarray of bool, shape (A,)
+    owner : numpy.ndarray of int, shape (A,)
+    """
+
+    bounds: np.ndarray
+    wraps: np.ndarray
+    owner: np.ndarray
+
+    def split(self, owners: int) -> list[Arcs]:
+        """The :class:`Arcs` of each owner ``0 .. owners - 1``."""
+        ends = np.cumsum(np.bincount(self.owner, minlength=owners)).tolist()
+        return [Arcs(self.bounds[start:end], self.wraps[start:end])
+                for start, end in zip(([0] + ends)[:-1], ends, strict=True)]
+
+
 @dataclass(frozen=True, eq=False)
 class FeasibleSets:
     """Feasible sets of poses ``(...)`` and branches ``B``, stored as pieces ``(..., B, K)``.
@@ -109,13 +131,17 @@ class FeasibleSets:
         arcs of each branch of :attr:`branches`."""
         branches = len(self.branches)
         owners = int(np.prod(self.shape, dtype=np.int64)) * branches
+        arcs = self.arc_arrays().split(owners)
+        return [tuple(arcs[p * branches:(p + 1) * branches]) for p in range(owners // branches)]
+
+    def arc_arrays(self) -> ArcArrays:
+        """:meth:`every_arcs` as arrays: the arcs of owner ``pose * B + branch`` (the batch flattened in C order)."""
+        owners = int(np.prod(self.shape, dtype=np.int64)) * len(self.branches)
         if not owners:
-            return []
+            return ArcArrays(np.empty((0, 2)), np.empty(0, dtype=bool), np.empty(0, dtype=np.int64))
         keep = self.feasible.reshape(owners, -1)
         owner = np.repeat(np.arange(owners), keep.sum(axis=1))
-        arcs = arcs_of_owners(self.start.reshape(owners, -1)[keep], self.end.reshape(owners, -1)[keep], owner, owners,
-                              self.wraps)
-        return [tuple(arcs[p * branches:(p + 1) * branches]) for p in range(owners // branches)]
+        return owner_arcs(self.start.reshape(owners, -1)[keep], self.end.reshape(owners, -1)[keep], owner, self.wraps)
 
     def contains(self, t: ArrayLike, branch: str | int) -> np.ndarray:
         """Whether values ``t`` (broadcast against the poses' batch shape) lie in ``branch``'s feasible sets, ends
@@ -152,14 +178,17 @@ def merged_intervals(start: np.ndarray, end: np.ndarray) -> Arcs:
 
 
 def arcs_of_owners(start: ArrayLike, end: ArrayLike, owner: ArrayLike, owners: int, wraps: bool) -> list[Arcs]:
-    """The intervals ``[start, end]`` of each owner ``0 .. owners - 1`` as its disjoint, sorted arcs: on a parameter
-    that ``wraps`` (an angle) merged on the circle as :class:`redkin.circle.ArcSet` merges
+    """The intervals ``[start, end]`` of each owner ``0 .. owners - 1`` as its disjoint, sorted arcs
+    (:func:`owner_arcs`)."""
+    return owner_arcs(start, end, owner, wraps).split(owners)
+
+
+def owner_arcs(start: ArrayLike, end: ArrayLike, owner: ArrayLike, wraps: bool) -> ArcArrays:
+    """The intervals ``[start, end]`` of each owner as its disjoint, sorted arcs, in arrays: on a parameter that
+    ``wraps`` (an angle) merged on the circle as :class:`redkin.circle.ArcSet` merges
     (:func:`redkin.circle.circle_arcs`), else merged where they touch and never wrapping."""
     start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     if wraps:
-        bounds, through, arc_owner = circle_arcs(start, end, np.asarray(owner, dtype=np.int64))
-    else:
-        lo, hi, arc_owner = owner_runs(start, end, np.asarray(owner, dtype=np.int64))
-        bounds, through = np.stack([lo, hi], axis=-1).reshape(-1, 2), np.zeros(len(lo), dtype=bool)
-    ends = np.cumsum(np.bincount(arc_owner, minlength=owners)).tolist()
-    return [Arcs(bounds[start:end], through[start:end]) for start, end in zip(([0] + ends)[:-1], ends, strict=True)]
+        return ArcArrays(*circle_arcs(start, end, np.asarray(owner, dtype=np.int64)))
+    lo, hi, arc_owner = owner_runs(start, end, np.asarray(owner, dtype=np.int64))
+    return ArcArrays(np.stack([lo, hi], axis=-1).reshape(-1, 2), np.zeros(len(lo), dtype=bool), arc_owner)

@@ -64,7 +64,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_pose
-from redkin.arms.feasible_sets import Arcs, arcs_of_owners
+from redkin.arms.feasible_sets import ArcArrays, Arcs, owner_arcs
 from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.chain import SerialChain
@@ -188,6 +188,19 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     """:func:`collision_free_arm_angles` of each pose of ``poses`` ``(P, 4, 4)``, decided together: the intervals
     of every pose and branch are halved in one batch, so the work per level is shared (``budget`` per pose).
     Without ``causes`` the removed stretches are neither named nor solved for (``blocked`` empty)."""
+    poses, certified = certified_arm_angles(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
+    limits, labels = certified.limits_per_pose(), certified.labels
+    blocked = merged_stretches(certified.decided.stretches(certified.owners, certified.names, _wrapped),
+                               _circle_limit_stretches_of(arm, poses, labels, limits), len(labels)) \
+        if causes else certified.no_causes()
+    return certified.results(limits, blocked, resolution, "psi")
+
+
+def certified_arm_angles(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
+                         branches: str | tuple[str, ...] | list[str] | None = None, *, resolution: float = 1e-6,
+                         budget: int = 100_000) -> tuple[np.ndarray, Certified]:
+    """:func:`free_arm_angles_of`'s decision, before it is read per pose: the poses checked ``(P, 4, 4)`` and what
+    :func:`certify` decided (:class:`Certified`)."""
     if not isinstance(arm.implementation, SRSKind):
         elsewhere = ("its q7 sets are redkin.collision.collision_free_q7's" if arm.parameter is not None
                      and arm.parameter.name == "q7" else "redkin.collision.free_sets_of takes every class")
@@ -196,24 +209,57 @@ def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     poses = checked_inputs(arm, poses, body, resolution)
     limits = arm.feasible(poses, branches)
     geometry = arm.implementation.geometry
-    labels = limits.branches
-    count = len(labels)
-    rows = np.array([arm.branches.index(label) for label in labels])
-    limit_arcs = limits.every_arcs()
+    rows = np.array([arm.branches.index(label) for label in limits.branches])
+    limit_arcs = limits.arc_arrays()
     measure = _Measure(arm, poses, body, scene, geometry.kernel_branches[rows], geometry)
-    parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs], _FIRST_WIDTH),
-                              count, len(poses), resolution, measure, budget, carve=True)
-    decided = Decided.of(parts)
-    free = arcs_of_owners(*decided.free_runs(), len(poses) * count, True)
-    blocked = merged_stretches(decided.stretches(len(poses) * count, measure.names, _wrapped),
-                               _circle_limit_stretches_of(arm, poses, labels, limit_arcs), count) if causes else \
-        [tuple(() for _ in labels)] * len(poses)
-    results = []
-    for p in range(len(poses)):
-        free_sets = tuple(free[p * count:(p + 1) * count])
-        results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked[p], float(resolution),
-                                     int(measure.evaluations[p]), bool(complete[p])))
-    return results
+    parts, complete = certify(first_intervals(limit_arcs, _FIRST_WIDTH), len(limits.branches), len(poses), resolution,
+                              measure, budget, carve=True)
+    return poses, Certified(limits.branches, limit_arcs, Decided.of(parts), complete, measure.evaluations,
+                            measure.names, True)
+
+
+class Certified(NamedTuple):
+    """What :func:`certify` decided for a batch of poses, each interval's owner ``pose * B + branch``: the branches'
+    labels ``(B,)``, their limit-feasible arcs, the decided intervals, per pose whether it was decided completely and
+    how many configurations were posed, the checked pairs' names, and whether the parameter wraps (an arm angle)."""
+
+    labels: tuple[str, ...]
+    limits: ArcArrays
+    decided: Decided
+    complete: np.ndarray
+    evaluations: np.ndarray
+    names: list[tuple[str, str]]
+    wraps: bool
+
+    @property
+    def owners(self) -> int:
+        return len(self.complete) * len(self.labels)
+
+    def free(self) -> ArcArrays:
+        """The free arcs of every owner: the free intervals merged."""
+        return owner_arcs(*self.decided.free_runs(), self.wraps)
+
+    def limits_per_pose(self) -> list[tuple[Arcs, ...]]:
+        """Per pose, the limit-feasible arcs of each branch."""
+        return self._per_pose(self.limits)
+
+    def no_causes(self) -> list[tuple[tuple[Stretch, ...], ...]]:
+        """Per pose, no removed stretch named on any branch (sets computed without their causes)."""
+        return [tuple(() for _ in self.labels)] * len(self.complete)
+
+    def results(self, limits: list[tuple[Arcs, ...]], blocked: list[tuple[tuple[Stretch, ...], ...]],
+                resolution: float, parameter: str) -> list[FreeArmAngles]:
+        """Per pose, its :class:`FreeArmAngles` with the limit arcs ``limits`` and the removed stretches ``blocked``
+        (per pose and branch)."""
+        free = self._per_pose(self.free())
+        return [FreeArmAngles(self.labels, free[p], limits[p], blocked[p], float(resolution),
+                              int(self.evaluations[p]), bool(self.complete[p]), parameter)
+                for p in range(len(self.complete))]
+
+    def _per_pose(self, arcs: ArcArrays) -> list[tuple[Arcs, ...]]:
+        count = len(self.labels)
+        every = arcs.split(self.owners)
+        return [tuple(every[p * count:(p + 1) * count]) for p in range(len(self.complete))]
 
 
 def merged_stretches(removed: list[list[Stretch]], at_limits: list[list[list[Stretch]]],
@@ -382,16 +428,13 @@ def _undecided_runs(parts: tuple[np.ndarray, ...], resolution: float) -> tuple[n
     return wide, inner
 
 
-def first_intervals(arcs: list[Arcs], widest: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def first_intervals(arcs: ArcArrays, widest: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Each owner's limit-feasible arcs (a pose's branch) cut into intervals no wider than ``widest``,
     unrolled so that ``lo < hi`` (an arc through the seam ends beyond pi): ``(lo, hi, owner)``, the cuts of each
     arc evenly spaced as :func:`numpy.linspace` spaces them."""
-    sizes = [len(arc.bounds) for arc in arcs]
-    if not sum(sizes):
+    bounds, wraps, owner = arcs
+    if not len(bounds):
         return np.empty(0), np.empty(0), np.empty(0, dtype=np.int64)
-    bounds = np.concatenate([arc.bounds.reshape(-1, 2) for arc in arcs])
-    wraps = np.concatenate([arc.wraps for arc in arcs])
-    owner = np.repeat(np.arange(len(arcs)), sizes)
     start, end = bounds[:, 0], np.where(wraps, bounds[:, 1] + TWO_PI, bounds[:, 1])
     pieces = np.maximum(1, np.ceil((end - start) / widest)).astype(np.int64)
     arc = np.repeat(np.arange(len(start)), pieces)

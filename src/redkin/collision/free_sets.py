@@ -7,21 +7,32 @@ and 5): the one door through which the path search, the explorer and the command
 * the Franka class: the values of q7 of :func:`redkin.collision.q7_free.free_q7_of`.
 
 All return :class:`redkin.collision.FreeArmAngles` (its ``parameter`` says which), so what uses the sets is
-written once.  Chains solved numerically have no redundancy parameter, so no such sets, and are refused in words.
+written once; :func:`free_arcs_of` gives the same sets of many poses as arrays (:class:`FreeArcs`), without a Python
+object per pose and branch, for the path search.  Chains solved numerically have no redundancy parameter, so no such
+sets, and are refused in words.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.arms.classify import FRANKA, NEARLY_SRS, OFFSET_ELBOW, SRS
+from redkin.arms.feasible_sets import ArcArrays
 from redkin.arms.front_door import Arm
-from redkin.collision.arm_angle_free import FreeArmAngles, free_arm_angles_of, moved_pairs, one_pose
+from redkin.collision.arm_angle_free import (
+    FreeArmAngles,
+    certified_arm_angles,
+    free_arm_angles_of,
+    moved_pairs,
+    one_pose,
+)
 from redkin.collision.body import Body
 from redkin.collision.clearance import checked_pairs
 from redkin.collision.nearly_free import free_nearly_of
-from redkin.collision.q7_free import free_q7_of
+from redkin.collision.q7_free import certified_q7, free_q7_of
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 
@@ -49,6 +60,42 @@ def free_sets_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, branches:
         return free_nearly_of(arm, poses, body, scene, branches, resolution=resolution, budget=budget, causes=causes)
     raise RedkinError(f"certified collision-free sets are computed over a redundancy parameter (S-R-S, offset-elbow, "
                       f"nearly S-R-S and Franka-class arms); {arm.chain.name} is {arm.kind}, solved numerically")
+
+
+class FreeArcs(NamedTuple):
+    """The certified collision-free sets of many poses on every branch of the arm, as arrays.
+
+    Attributes
+    ----------
+    arcs : redkin.arms.feasible_sets.ArcArrays
+        The free arcs, each owned by ``pose * B + branch`` over the arm's ``B`` branches.
+    complete : numpy.ndarray of bool, shape (P,)
+        Per pose, :attr:`redkin.collision.FreeArmAngles.complete`.
+    """
+
+    arcs: ArcArrays
+    complete: np.ndarray
+
+
+def free_arcs_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, *, resolution: float = 1e-6,
+                 budget: int = 100_000) -> FreeArcs:
+    """:func:`free_sets_of` of ``poses`` ``(P, 4, 4)`` on every branch, without causes, as arrays: the same arcs.
+
+    Raises
+    ------
+    RedkinError
+        As :func:`free_sets_of`.
+    """
+    if arm.kind in (SRS, OFFSET_ELBOW, FRANKA):
+        certify = certified_q7 if arm.kind == FRANKA else certified_arm_angles
+        _, certified = certify(arm, poses, body, scene, resolution=resolution, budget=budget)
+        return FreeArcs(certified.free(), certified.complete)
+    found = free_sets_of(arm, poses, body, scene, resolution=resolution, budget=budget, causes=False)
+    every = [arcs for sets in found for arcs in sets.free]
+    return FreeArcs(ArcArrays(np.concatenate([arcs.bounds.reshape(-1, 2) for arcs in every] + [np.empty((0, 2))]),
+                              np.concatenate([arcs.wraps for arcs in every] + [np.empty(0, dtype=bool)]),
+                              np.repeat(np.arange(len(every)), [len(arcs.bounds) for arcs in every]).astype(np.int64)),
+                    np.array([sets.complete for sets in found], dtype=bool))
 
 
 def collision_free_set(arm: Arm, pose: ArrayLike, body: Body, scene: Scene, branches: Branches = None, *,

@@ -32,11 +32,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import run_batch
-from redkin.arms.feasible_sets import Arcs, arcs_of_owners
+from redkin.arms.feasible_sets import Arcs
 from redkin.arms.franka_kind import FrankaKind
 from redkin.arms.front_door import Arm
 from redkin.circle import TWO_PI
 from redkin.collision.arm_angle_free import (
+    Certified,
     Decided,
     FreeArmAngles,
     Stretch,
@@ -94,29 +95,32 @@ def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
                budget: int = 100_000, causes: bool = True) -> list[FreeArmAngles]:
     """:func:`collision_free_q7` of each pose of ``poses`` ``(P, 4, 4)``, decided together (``budget`` per pose);
     without ``causes`` the removed stretches are neither named nor solved for (``blocked`` empty)."""
+    poses, certified = certified_q7(arm, poses, body, scene, branches, resolution=resolution, budget=budget)
+    assert isinstance(arm.implementation, FrankaKind)  # certified_q7 refuses any other class
+    limits = certified.limits_per_pose()
+    domain = q7_domain(arm.implementation.geometry)
+    blocked = merged_stretches(certified.decided.stretches(certified.owners, certified.names, float),
+                               _limit_stretches(arm, poses, certified.labels, limits, domain), len(certified.labels)) \
+        if causes else certified.no_causes()
+    return certified.results(limits, blocked, resolution, "q7")
+
+
+def certified_q7(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
+                 branches: str | tuple[str, ...] | list[str] | None = None, *, resolution: float = 1e-6,
+                 budget: int = 100_000) -> tuple[np.ndarray, Certified]:
+    """:func:`free_q7_of`'s decision, before it is read per pose: the poses checked ``(P, 4, 4)`` and what
+    :func:`redkin.collision.arm_angle_free.certify` decided."""
     if not isinstance(arm.implementation, FrankaKind):
         raise RedkinError(f"certified collision-free q7 sets are computed on Franka-class arms; {arm.chain.name} is "
                           f"{arm.kind}")
     poses = checked_inputs(arm, poses, body, resolution)
     limits = arm.feasible(poses, branches)
-    labels = limits.branches
-    count = len(labels)
-    limit_arcs = limits.every_arcs()
-    measure = _Q7Measure(arm, poses, body, scene, np.array([arm.branches.index(label) for label in labels]))
-    parts, complete = certify(first_intervals([arcs for pose_arcs in limit_arcs for arcs in pose_arcs], _FIRST_WIDTH),
-                              count, len(poses), resolution, measure, budget)
-    domain = q7_domain(measure.geometry)
-    decided = Decided.of(parts)
-    free = arcs_of_owners(*decided.free_runs(), len(poses) * count, False)
-    blocked = merged_stretches(decided.stretches(len(poses) * count, measure.names, float),
-                               _limit_stretches(arm, poses, labels, limit_arcs, domain), count) if causes else \
-        [tuple(() for _ in labels)] * len(poses)
-    results = []
-    for p in range(len(poses)):
-        free_sets = tuple(free[p * count:(p + 1) * count])
-        results.append(FreeArmAngles(labels, free_sets, limit_arcs[p], blocked[p], float(resolution),
-                                     int(measure.evaluations[p]), bool(complete[p]), "q7"))
-    return results
+    limit_arcs = limits.arc_arrays()
+    measure = _Q7Measure(arm, poses, body, scene, np.array([arm.branches.index(label) for label in limits.branches]))
+    parts, complete = certify(first_intervals(limit_arcs, _FIRST_WIDTH), len(limits.branches), len(poses), resolution,
+                              measure, budget)
+    return poses, Certified(limits.branches, limit_arcs, Decided.of(parts), complete, measure.evaluations,
+                            measure.names, False)
 
 
 class _Q7Measure:

@@ -32,8 +32,8 @@ from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import FeasiblePieces
 
 if TYPE_CHECKING:  # redkin.collision's free sets use the arms, whose classes use these families: read when called
-    from redkin.collision.arm_angle_free import FreeArmAngles
     from redkin.collision.body import Body
+    from redkin.collision.free_sets import FreeArcs
     from redkin.collision.scene import Scene
     from redkin.collision.steps import StepClearance
 
@@ -60,25 +60,22 @@ class _CollisionFreeFamily(Family):
     def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
         return self.base.arm(poses, step)
 
-    def _free_sets(self, poses: np.ndarray) -> tuple[FeasiblePieces, np.ndarray, list[FreeArmAngles]]:
+    def _free_sets(self, poses: np.ndarray) -> tuple[FeasiblePieces, np.ndarray, FreeArcs]:
         """The base family's exact pieces of ``poses``, the waypoints they leave values at, and those waypoints'
-        certified collision-free sets (without their causes: :func:`redkin.collision.free_sets_of`)."""
+        certified collision-free sets (without their causes: :func:`redkin.collision.free_sets.free_arcs_of`)."""
         from redkin.arms.front_door import arm
-        from redkin.collision.free_sets import free_sets_of
+        from redkin.collision.free_sets import free_arcs_of
 
         exact = self.base.pieces(poses)
         some = np.flatnonzero(exact.feasible.any(axis=(-2, -1)))
-        return exact, some, free_sets_of(arm(self.chain), poses[some], self.body, self.scene, causes=False)
+        return exact, some, free_arcs_of(arm(self.chain), poses[some], self.body, self.scene)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free intervals."""
         exact, some, free = self._free_sets(poses)
         owners = len(poses) * len(BRANCHES)  # an owner is waypoint * 8 + branch
-        sets = [(w * len(BRANCHES) + b, found.free[b]) for w, found in zip(some.tolist(), free, strict=True)
-                for b in range(len(BRANCHES))]
-        bounds = np.concatenate([arcs.bounds.reshape(-1, 2) for _, arcs in sets] + [np.empty((0, 2))])
-        wraps = np.concatenate([arcs.wraps for _, arcs in sets] + [np.empty(0, dtype=bool)])
-        arc_owner = np.repeat([owner for owner, _ in sets], [len(arcs.bounds) for _, arcs in sets]).astype(np.int64)
+        bounds, wraps, owner = free.arcs
+        arc_owner = some[owner // len(BRANCHES)] * len(BRANCHES) + owner % len(BRANCHES)
         piece_owner = np.flatnonzero(exact.feasible.reshape(-1)) // exact.feasible.shape[-1]  # in C order, sorted
         cut = _cut(piece_owner, exact.start[exact.feasible], exact.end[exact.feasible], arc_owner, bounds[:, 0],
                    np.where(wraps, bounds[:, 1] + TWO_PI, bounds[:, 1]), owners, self.wraps)
@@ -97,7 +94,7 @@ class _CollisionFreeFamily(Family):
         branch and complete (every value decided, but for undecided slivers no wider than the resolution)."""
         _, some, free = self._free_sets(poses)
         empty = np.ones(len(poses), dtype=bool)
-        empty[some] = [sets.complete and not any(len(arcs.bounds) for arcs in sets.free) for sets in free]
+        empty[some] = free.complete & (np.bincount(free.arcs.owner // len(BRANCHES), minlength=len(some)) == 0)
         return empty
 
     def inner(self, level: float) -> Family | None:
