@@ -23,7 +23,7 @@ from scipy.spatial.transform import Rotation
 import redkin
 from redkin.circle import ArcSet
 from redkin.collision import _decision_kernels, primitives
-from redkin.collision._arm_angle_kernels import interval_rates, joint_rates, turning_speed
+from redkin.collision._arm_angle_kernels import interval_rates, joint_rates, turning_bounds
 from redkin.collision._distance_kernels import OUT, distances
 from redkin.collision.arm_angle_free import (
     COLLISION,
@@ -188,9 +188,10 @@ def _still_shape(kind, rng):
 @given(st.integers(0, 2**32 - 1), st.sampled_from(["sphere", "capsule", "box", "plane"]), st.floats(1e-4, 1.5),
        st.booleans())
 def test_the_turning_bound_holds_as_a_capsule_turns_about_a_line(seed, kind, half, flip):
-    """:func:`turning_speed`, the bound of how fast a pair's distance changes as a capsule of links 3-4 turns about the
-    shoulder-wrist line past a still shape, holds at 401 angles across the interval: ``|d(delta) - d(0)| <= v
-    |delta|``, whichever of the two the distance was measured from."""
+    """:func:`turning_bounds`, the bounds of a pair's distance as a capsule of links 3-4 turns about the shoulder-wrist
+    line past a still shape, hold at 401 angles across the interval, whichever of the two the distance was measured
+    from: ``|d(delta) - d(0)| <= v |delta|``; and at a margin drawn between the least and the largest distance there,
+    the clearance keeps its sign within the extent (one-sided quadratic bounds) wherever the samples reach."""
     rng = np.random.default_rng(seed)
     axis = Rotation.random(random_state=rng).as_matrix()[:, 0]
     line = np.concatenate([rng.uniform(-0.3, 0.3, 3), axis])
@@ -206,12 +207,16 @@ def test_the_turning_bound_holds_as_a_capsule_turns_about_a_line(seed, kind, hal
     witness = np.empty((1, OUT))
     pair = (still[None], middle[None]) if flip else (middle[None], still[None])
     distances(0, 1, *pair, witness)
-    speed = turning_speed(middle, witness[0], flip, still[1], line, half)
+    margin = rng.uniform(apart.min(), apart.max())
+    clearance = apart[len(delta) // 2] - margin
+    speed, extent = turning_bounds(middle, witness[0], flip, still, line, half, clearance)
     if apart[len(delta) // 2] + radius + still[1] <= 1e-6:
         return  # the cores touch or overlap: no direction of their own (inf, the first-order bound stays)
-    assert np.isfinite(speed)
+    assert np.isfinite(speed) and (extent >= 0.0) == (clearance > 0.0)
     change = np.abs(apart - apart[len(delta) // 2])
     assert np.all(change <= speed * np.abs(delta) * (1 + 1e-9) + 1e-12)
+    within = np.abs(delta) <= abs(extent) * (1 - 1e-9)
+    assert not np.any((apart[within] - margin) * np.sign(clearance) < -1e-12), (extent, clearance)
 
 
 def test_an_empty_scene_keeps_the_limit_sets(iiwa):

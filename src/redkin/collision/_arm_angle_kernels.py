@@ -16,7 +16,7 @@ import numpy as np
 
 from redkin._compiled import kernel
 from redkin.collision._clearance_kernels import clearances_one, scratch
-from redkin.collision._decision_kernels import decided_one
+from redkin.collision._decision_kernels import decided_one, linear_extent
 from redkin.srs._ik_kernels import GROUP, branch_angles, chain_values
 
 #: The least lower bound of ``sin^2`` of a group's middle angle that a rate bound is computed from: below it the
@@ -30,7 +30,7 @@ LEAST_ROOM = 1e-12
 RATE_PIECE = 0.2
 RATE_PIECES = 8
 #: The least distance [m] between the two cores of a pair (its distance plus both radii) from which
-#: :func:`turning_speed` bounds it: below it the pair's normal is not a direction of its own.
+#: :func:`turning_bounds` bounds it: below it the pair's normal is not a direction of its own.
 LEAST_CORE_GAP = 1e-9
 #: Entry columns (:data:`redkin.srs._ik_kernels.ENTRY_LAYOUT`) of ``x, y, z`` and ``r_2, t`` of a group, from its
 #: first entry.
@@ -142,45 +142,108 @@ def _turned(line, point):
 
 @kernel
 def _dot(u, v):
+    """The dot product of two 3-tuples (or arrays of 3)."""
     return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
 @kernel
-def turning_speed(row, witness, flip, other_radius, line, half):
-    """A bound of how fast the distance of a pair changes per radian of psi over ``[m - half, m + half]`` where one
-    shape, ``row`` (a capsule on links 3-4), turns rigidly about the shoulder-wrist line ``line`` (its point, its
-    unit direction) and the other (radius ``other_radius``) stays still; ``inf`` where the pair was not measured
-    or its cores touch.  ``witness`` is the pair's :func:`redkin.collision._distance_kernels.pair_distance` output
-    at ``m`` with ``row`` first, or second where ``flip``.  With ``u`` the unit normal from the turning core to
-    the still one, ``c_a, c_b`` their closest points and ``g = |c_b - c_a|`` (the module docstring of
-    :mod:`redkin.collision.arm_angle_free` states the argument):
+def _quadratic_root(a, b, k):
+    """The ``t >= 0`` at which ``a t^2 + b t`` reaches ``k`` (``a, b, k >= 0``; ``inf`` where it never does), in the
+    form that does not cancel: ``2 k / (b + sqrt(b^2 + 4 a k))``."""
+    denominator = b + sqrt(b * b + 4.0 * a * k)
+    return 2.0 * k / denominator if denominator > 0.0 else inf
 
-    * the distance is at least ``u . c_b - max_e u . e(psi)`` minus both radii (the gap of the projections on
-      ``u``; ``e`` the segment's two ends), and each ``u . e`` is ``alpha + beta cos delta + gamma sin delta``
-      in ``delta = psi - m``, which rises by at most ``(|gamma| + max(0, -beta) half / 2) |delta|``;
-    * it is at most ``|c_a(psi) - c_b|`` minus both radii, whose square is ``A + B cos delta + C sin delta``, so
-      it rises by at most ``(|C| + max(0, -B) half / 2) |delta| / (2 g)``.
 
-    Both equal the distance at ``m``, so the larger of the two rates bounds ``|c(psi) - c(m)| / |delta|``."""
-    distance = witness[0]
+@kernel
+def turning_bounds(row, witness, flip, still, line, half, clearance):
+    """Bounds of a pair's distance over ``[m - half, m + half]`` where one shape, ``row`` (a capsule on links 3-4),
+    turns rigidly about the shoulder-wrist line ``line`` (its point, its unit direction) and the other, ``still`` (a
+    row of :mod:`redkin.collision.primitives`), stays still: ``(rate, extent)``, a bound of how fast the distance
+    changes per radian of psi over the interval, and how far from ``m`` the pair's ``clearance`` there keeps its sign
+    (positive: clear within ``extent``; negative: colliding within ``-extent``); ``(inf, 0)`` where the pair was not
+    measured or its cores touch.  ``witness`` is the pair's
+    :func:`redkin.collision._distance_kernels.pair_distance` output at ``m`` with ``row`` first, or second where
+    ``flip``.  With ``u`` the unit normal from the turning core to the still one, ``c_a, c_b`` their closest points,
+    ``g = |c_b - c_a|`` and ``R`` the turn by ``delta = psi - m`` (the module docstring of
+    :mod:`redkin.collision.arm_angle_free` states the argument), the distance is
+
+    * at least ``u . c_b - max_e u . e(psi)`` minus both radii (the gap of the projections on ``u``; ``e`` the
+      segment's two ends), and each ``u . e`` is ``alpha + beta cos delta + gamma sin delta``, which rises by at
+      most ``|gamma| |delta| + max(0, -beta) delta^2 / 2``;
+    * at least ``min_b (R u) . (b - P) - u . (c_a - P)`` minus both radii (the gap of the projections on the normal
+      turned with the capsule, ``P`` a point of the line, ``b`` the corners of the still shape's core: a sphere's
+      centre, a capsule's ends, a box's eight corners; none for a plane), each ``(R u) . (b - P)`` a sinusoid that
+      falls by at most ``|gamma| |delta| + max(0, beta) delta^2 / 2``: its fall is the distance's own to first
+      order where the closest point is inside the capsule's segment, whose ends the first bound follows;
+    * at most ``|c_a(psi) - c_b|`` minus both radii, whose square is ``A + B cos delta + C sin delta``, so it
+      rises by at most ``(|C| |delta| + max(0, -B) delta^2 / 2) / (2 g)``.
+
+    All equal the distance at ``m``.  So the larger of the falls' lesser rate and the rise's (each at ``|delta| =
+    half``) bounds ``|c(psi) - c(m)| / |delta|``; a positive clearance stays positive while either lower bound falls
+    by less than it, a negative one negative while the upper bound rises by less than its size: each a quadratic in
+    ``|delta|``, whose root is the extent (where the interval's own rate would give only ``clearance / rate``)."""
+    distance, other_radius = witness[0], still[1]
     gap = distance + row[1] + other_radius
     if distance != distance or not gap > LEAST_CORE_GAP or not half > 0.0:
-        return inf
+        return inf, 0.0
     sign, a, b = (-1.0, 4, 1) if flip else (1.0, 1, 4)  # the turning shape's witness point first
     u = (sign * witness[7], sign * witness[8], sign * witness[9])
     core_a = (witness[a] - row[1] * u[0], witness[a + 1] - row[1] * u[1], witness[a + 2] - row[1] * u[2])
     core_b = (witness[b] + other_radius * u[0], witness[b + 1] + other_radius * u[1],
               witness[b + 2] + other_radius * u[2])
     top = max(_dot(u, row[2:5]), _dot(u, row[5:8]))
-    rate = 0.0
+    fall, extent = 0.0, inf
     for end in range(2):
         across, swept = _turned(line, row[2 + 3 * end:5 + 3 * end])
         lag = min(_dot(u, row[2 + 3 * end:5 + 3 * end]) - top, 0.0)  # this end's projection below the top
-        rate = max(rate, abs(_dot(u, swept)) + max(0.0, -_dot(u, across)) * half / 2.0 + lag / half)
+        slope, bend = abs(_dot(u, swept)), max(0.0, -_dot(u, across)) / 2.0
+        fall = max(fall, slope + bend * half + lag / half)
+        if clearance > 0.0:  # this end's projection rises by less than the clearance (and its lag) within the root
+            extent = min(extent, _quadratic_root(bend, slope, clearance - lag))
+    turned_fall, turned_extent = _turned_normal_fall(still, u, core_b, line, half, clearance)
+    fall = min(fall, turned_fall)
     across, swept = _turned(line, core_a)
     z = (line[0] - core_b[0], line[1] - core_b[1], line[2] - core_b[2])
-    rise = 2.0 * abs(_dot(z, swept)) + max(0.0, -2.0 * _dot(z, across)) * half / 2.0
-    return max(rate, rise / (2.0 * gap))
+    slope, bend = 2.0 * abs(_dot(z, swept)), max(0.0, -2.0 * _dot(z, across)) / 2.0
+    rate = max(fall, (slope + bend * half) / (2.0 * gap))
+    if not clearance > 0.0:
+        return rate, -_quadratic_root(bend, slope, -2.0 * gap * clearance)
+    return rate, max(extent, turned_extent)
+
+
+@kernel
+def _turned_normal_fall(still, u, core_b, line, half, clearance):
+    """The second lower bound of :func:`turning_bounds`: ``min_b (R u) . (b - P)`` over the corners ``b`` of the still
+    shape's core, its fall's rate over the interval of half width ``half`` and, for a positive ``clearance``, how
+    far it stays less than the clearance: ``(rate, extent)`` (``(inf, 0)`` for a plane, which has no corners).  Each
+    corner's ``(R u) . (b - P)`` lies ``lag = u . (b - c_b) >= 0`` above the least at ``m``, and ``(R u) . w =
+    (u . e)(e . w) + (u_perp . w) cos delta + ((e x u) . w) sin delta``."""
+    kind = still[0]
+    if kind == 3.0:  # a plane: min_b is unbounded once the normal turns
+        return inf, 0.0
+    ex, ey, ez = line[3], line[4], line[5]
+    along = u[0] * ex + u[1] * ey + u[2] * ez
+    u_perp = (u[0] - along * ex, u[1] - along * ey, u[2] - along * ez)
+    e_u = (ey * u[2] - ez * u[1], ez * u[0] - ex * u[2], ex * u[1] - ey * u[0])
+    rate, extent = 0.0, inf
+    corners = 8 if kind == 2.0 else 2
+    for corner in range(corners):
+        if kind == 2.0:  # a box: centre plus or minus each half size along its axes (the rotation's columns)
+            bx, by, bz = still[2], still[3], still[4]
+            for axis in range(3):
+                size = still[5 + axis] if (corner >> axis) & 1 else -still[5 + axis]
+                bx += size * still[8 + axis]
+                by += size * still[11 + axis]
+                bz += size * still[14 + axis]
+        else:  # a sphere's centre (twice), a capsule's ends
+            bx, by, bz = still[2 + 3 * corner], still[3 + 3 * corner], still[4 + 3 * corner]
+        w = (bx - line[0], by - line[1], bz - line[2])
+        lag = max(u[0] * (bx - core_b[0]) + u[1] * (by - core_b[1]) + u[2] * (bz - core_b[2]), 0.0)
+        slope, bend = abs(_dot(e_u, w)), max(0.0, _dot(u_perp, w)) / 2.0
+        rate = max(rate, slope + bend * half - lag / half)
+        if clearance > 0.0:
+            extent = min(extent, _quadratic_root(bend, slope, clearance + lag))
+    return rate, (extent if clearance > 0.0 else 0.0)
 
 
 @kernel
@@ -191,13 +254,14 @@ def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs
     ``middle[n]`` [000 eqs. 11-19], there the active pairs' clearances (:func:`redkin.collision._clearance_kernels.
     clearances_one`, whose arguments ``links .. margin`` are), their speed bounds over the interval of half width
     ``half[n]`` (:func:`speeds_one`, from ``reach`` (P, M); a pair of a shape on links 3-4 and a still one by
-    :func:`turning_speed` where that is less, from the shoulder-wrist ``line`` (P, 6)), and the interval decided
+    :func:`turning_bounds` where that is less, from the shoulder-wrist ``line`` (P, 6)), and the interval decided
     (:func:`redkin.collision._decision_kernels.decided_one`: ``active[n]`` updated, the rest into ``kind``,
     ``pair``, ``cut``, ``carved`` and ``cause``)."""
     theta, q = np.empty(7), np.empty(7)
     work = scratch(links, frame, capsule)
     rows, found = work[2], work[3]
     clearance, speed, floor = np.empty(capsule.shape[0]), np.empty(capsule.shape[0]), np.empty(capsule.shape[0])
+    extent = np.empty(capsule.shape[0])
     rates, turning, moving = np.empty(8), np.zeros(8), np.empty(frame.shape[0])
     for n in range(start, stop):
         p, e = pose[n], elbow[branch[n]]
@@ -209,15 +273,20 @@ def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs
         clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
                        active[n], floor, clearance, work)
         for k in range(capsule.shape[0]):
+            extent[k] = 0.0
             if not abs(clearance[k]) <= floor[k]:
                 continue  # decided by the bound above (or not measured): no tighter one needed
             if other[k] < 0:
-                mine, still, flip, radius_b = capsule[k], True, False, obstacles[obstacle[k], 1]
+                mine, still, flip, still_row = capsule[k], True, False, obstacles[obstacle[k]]
             elif _turns_about_line(frame[capsule[k]]):
-                mine, still, flip, radius_b = capsule[k], _still(frame[other[k]]), False, rows[other[k], 1]
+                mine, still, flip, still_row = capsule[k], _still(frame[other[k]]), False, rows[other[k]]
             else:
-                mine, still, flip, radius_b = other[k], _still(frame[capsule[k]]), True, rows[capsule[k], 1]
+                mine, still, flip, still_row = other[k], _still(frame[capsule[k]]), True, rows[capsule[k]]
             if still and _turns_about_line(frame[mine]):
-                speed[k] = min(speed[k], turning_speed(rows[mine], found[k], flip, radius_b, line[p], half[n]))
-        kind[n], pair[n], cut[n], carved[n], cause[n] = decided_one(half[n], clearance, speed, active[n], finest,
-                                                                    carve)
+                rate, extent[k] = turning_bounds(rows[mine], found[k], flip, still_row, line[p], half[n], clearance[k])
+                speed[k] = min(speed[k], rate)
+        for k in range(capsule.shape[0]):  # how far each clearance keeps its sign: the farther of the two proofs
+            linear = linear_extent(clearance[k], speed[k])
+            extent[k] = max(linear, extent[k]) if clearance[k] > 0.0 else min(linear, extent[k])
+        kind[n], pair[n], cut[n], carved[n], cause[n] = decided_one(half[n], clearance, speed, extent, active[n],
+                                                                    finest, carve)

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from math import inf
 
+import numpy as np
+
 from redkin._compiled import kernel
 
 #: The kinds of a decided interval, and of one still open.
@@ -18,7 +20,7 @@ CARVE_SHRINK = 1.0 - 1e-9
 
 
 @kernel
-def _reach(clearance, speed):
+def linear_extent(clearance, speed):
     """``clearance / speed`` as numpy divides (``+-inf`` where the speed is 0), with ``0 / 0`` read as 0."""
     if speed == 0.0:
         return inf if clearance > 0.0 else (-inf if clearance < 0.0 else 0.0)
@@ -27,19 +29,21 @@ def _reach(clearance, speed):
 
 
 @kernel
-def decided_one(half, clearance, speed, active, finest, carve):
+def decided_one(half, clearance, speed, extent, active, finest, carve):
     """One interval of half width ``half``: ``clearance[k]`` (distance minus margin) of each checked pair ``k`` at its
     middle and ``speed[k]``, a bound of how fast it changes over the interval, for the pairs ``active[k]`` not yet
-    proved clear on a wider interval.  A pair whose clearance stays positive over the interval, ``c - v h > 0``, is
-    proved clear: ``active[k]`` is set false.  Returns ``(kind, pair, radius, carved, cause)``:
+    proved clear on a wider interval; ``extent[k]``, how far from the middle the clearance is proved to keep its
+    sign (at least ``clearance / speed``: :func:`linear_extent`; negative where it is negative).  A pair whose
+    clearance stays positive over the interval, ``c - v h > 0``, is proved clear: ``active[k]`` is set false.
+    Returns ``(kind, pair, radius, carved, cause)``:
 
     * ``kind``: :data:`FREE` (no pair left open), :data:`BLOCKED` (a pair's ``c + v h < 0``: it collides on the whole
       interval), :data:`UNDECIDED` (neither, and no wider than ``finest``) or :data:`OPEN`;
     * ``pair``: the pair of the least ``c + v h`` (the first of equals; a NaN first), the cause where blocked;
     * with ``carve`` (the speeds bound each clearance's derivative: ``|c(psi) - c(m)| <= v |psi - m|``) and an open
       interval, the stretch ``[m - radius, m + radius]`` that the clearances at its middle decide (radius 0 where
-      none): free (``carved`` :data:`FREE`) out to the least ``c / v`` of the open pairs where all are positive,
-      else blocked (``carved`` :data:`BLOCKED`) by the pair ``cause`` of the largest ``-c / v``; at most ``half``,
+      none): free (``carved`` :data:`FREE`) out to the least extent of the open pairs where all are positive, else
+      blocked (``carved`` :data:`BLOCKED`) by the pair ``cause`` of the largest negative one; at most ``half``,
       shrunk by :data:`CARVE_SHRINK`.  Without ``carve``, or on a decided interval, radius 0.
     """
     pair, least = 0, inf
@@ -68,9 +72,8 @@ def decided_one(half, clearance, speed, active, finest, carve):
     nearest, cause = inf, 0
     for k in range(clearance.shape[0]):
         if active[k]:
-            reach = _reach(clearance[k], speed[k])
-            if reach < nearest:
-                nearest, cause = reach, k
+            if extent[k] < nearest:
+                nearest, cause = extent[k], k
     clear = min(max(nearest, 0.0), half)
     if clear > 0.0:
         return OPEN, pair, clear * CARVE_SHRINK, FREE, cause
@@ -80,7 +83,11 @@ def decided_one(half, clearance, speed, active, finest, carve):
 @kernel
 def decided(start, stop, half, clearance, speed, active, finest, carve, kind, pair, radius, carved, cause):
     """:func:`decided_one` of intervals ``start .. stop - 1`` (``half`` (N,), ``clearance``, ``speed`` and
-    ``active`` (N, K)), into ``kind``, ``pair``, ``radius``, ``carved`` and ``cause`` (N,)."""
+    ``active`` (N, K)), into ``kind``, ``pair``, ``radius``, ``carved`` and ``cause`` (N,); each clearance's extent
+    is ``clearance / speed`` (:func:`linear_extent`)."""
+    extent = np.empty(clearance.shape[1])
     for n in range(start, stop):
-        kind[n], pair[n], radius[n], carved[n], cause[n] = decided_one(half[n], clearance[n], speed[n], active[n],
-                                                                       finest, carve)
+        for k in range(clearance.shape[1]):
+            extent[k] = linear_extent(clearance[n, k], speed[n, k])
+        kind[n], pair[n], radius[n], carved[n], cause[n] = decided_one(half[n], clearance[n], speed[n], extent,
+                                                                       active[n], finest, carve)

@@ -21,11 +21,16 @@ from ``S`` to ``W``:
 
 A pair of a capsule on links 3-4 and a still shape (an obstacle, the base, the tool's link) is bounded more tightly
 from the pair's normal and closest points at ``m``
-(:func:`redkin.collision._arm_angle_kernels.turning_speed`): the distance lies between the gap of the two cores'
+(:func:`redkin.collision._arm_angle_kernels.turning_bounds`): the distance lies between the gap of the two cores'
 projections on the normal and the distance of the two closest points, both exact at ``m``, and under the rigid
 turn each is a sinusoid in ``psi - m`` whose rise over the interval is bounded in closed form; so ``v`` is the speed
-of the distance itself to first order, and the stretch cut around a middle (below) reaches nearly to a free arc's
-end.  Two shapes both on links 3-4 turn together: their distance does not change.
+of the distance itself to first order.  For the stretch cut around a middle (below) the two bounds are read one-sided
+and as quadratics in ``|psi - m|`` (a rise at distance ``t`` of at most ``s t + b t^2``, not the interval's rate
+times ``t``): a clear pair stays clear while the projections' bound falls by less than its clearance, a colliding one
+colliding while the closest points' bound rises by less than its depth, so the cut reaches to within second order of
+a free arc's end however wide the interval (where ``c(m) / v`` reached a fraction of the way: the benchmark cell's
+ends took about one evaluation in four of all).  Two shapes both on links 3-4 turn together: their distance does not
+change.
 
 The joint rates are bounded over the interval from [000 eqs. 13-14, 18-19]: each entry ``e(psi) = a sin psi + b cos
 psi + c`` of ``0R3`` and ``4R7`` [000 eqs. 12, 16] and its derivative move by at most ``hypot(a, b) h`` from their
@@ -40,9 +45,10 @@ a turn.
 An interval is **free** where every pair's ``c(m) - v h > 0``, **blocked** by a pair where ``c(m) + v h < 0`` (that
 pair is its cause), and otherwise cut around its middle: since ``v`` bounds the speeds over the whole interval,
 ``c(psi) >= c(m) - v |psi - m|`` on it, so ``[m - r, m + r]`` is free with ``r`` the least ``c(m) / v`` of the pairs
-still open where all are positive, and blocked by the pair of the largest ``-c(m) / v`` where one is negative (each
-radius a hair smaller, for rounding); the pieces on either side (the halves, where ``r`` is 0) are decided in turn.
-Near an end of a free arc this takes about half the evaluations of halving alone.  An interval no wider than half
+still open where all are positive (or the quadratic bound's root where it is larger, above), and blocked by the pair
+of the largest ``-c(m) / v`` (or root) where one is negative (each radius a hair smaller, for rounding); the pieces
+on either side (the halves, where ``r`` is 0) are decided in turn.  Near an end of a free arc this takes about half
+the evaluations of halving alone.  An interval no wider than half
 the resolution that is still undecided is reported as such and left out of the free set; a run of undecided
 intervals wider than the resolution is cut further until it is not, and so is a run between two intervals of one kind
 (a sliver inside a free arc or a blocked stretch, where no end need lie), down to a thousandth of the resolution.
