@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.arms.feasible_sets import arcs_of_owners
+from redkin.arms.feasible_sets import owner_arcs
 from redkin.circle import ArcSet, _intersect_all, circle_arcs, owner_runs, wrap_angle
 
 GRID = np.linspace(-np.pi, np.pi, 4001, endpoint=False)
@@ -153,17 +153,17 @@ def test_runs_of_many_owners_are_each_owners_union(arcs):
 
 @settings(max_examples=100, deadline=None)
 @given(owned_arcs, st.integers(0, 2), st.booleans())
-def test_arcs_of_owners_gives_every_owner_its_own(arcs, spare, wraps):
-    """arcs_of_owners returns one Arcs per owner, ``owners`` of them (none for no owner, empty ones for owners
-    without intervals), each the owner's merged arcs alone."""
+def test_owner_arcs_split_gives_every_owner_its_own(arcs, spare, wraps):
+    """owner_arcs(...).split(owners) returns one Arcs per owner, ``owners`` of them (none for no owner, empty ones
+    for owners without intervals), each the owner's merged arcs alone."""
     owner = np.array([o for o, _, _ in arcs], dtype=np.int64)
     lo = np.array([start for _, start, _ in arcs])
     hi = lo + np.array([length for _, _, length in arcs])
     owners = (int(owner.max()) + 1 if len(owner) else 0) + spare
-    every = arcs_of_owners(lo, hi, owner, owners, wraps)
+    every = owner_arcs(lo, hi, owner, wraps).split(owners)
     assert len(every) == owners
     for k, arcs_k in enumerate(every):
-        alone = arcs_of_owners(lo[owner == k], hi[owner == k], np.zeros(int(np.sum(owner == k)), dtype=np.int64), 1,
-                               wraps)[0]
+        alone = owner_arcs(lo[owner == k], hi[owner == k], np.zeros(int(np.sum(owner == k)), dtype=np.int64),
+                           wraps).split(1)[0]
         assert np.array_equal(arcs_k.bounds, alone.bounds) and np.array_equal(arcs_k.wraps, alone.wraps)
         assert arcs_k.bounds.shape[1:] == (2,)

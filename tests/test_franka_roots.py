@@ -11,6 +11,7 @@ that needed thousands of cells before the subdivision's bounds took the derivati
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
@@ -63,10 +64,11 @@ def _half(values: np.ndarray, degree: int) -> np.ndarray:
 
 
 def _allowed(half: np.ndarray, root: float) -> float:
-    """How far a found root may lie from the true one: 1e-8, or where the polynomial is flat there what the
-    coefficients' rounding (1e-15 of the largest value ``G`` can take) allows at its slope."""
+    """How far a found root may lie from the true one: 1e-8, or where the polynomial is flat there what rounding
+    allows at its slope: the Newton steps stop where ``|G|`` is at most 1e-15 of the largest value ``G`` can take,
+    and ``G``'s own rounding there is as large again (fresh draws found roots 1.01 and 1.17 times the first alone)."""
     _, _, floor = global_bounds(half, 0.0)
-    return max(1e-8, 1e-15 * floor / _NEAR_ZERO / abs(trig_value(half, root)[1]))
+    return max(1e-8, 2e-15 * floor / _NEAR_ZERO / abs(trig_value(half, root)[1]))
 
 
 def _distance_on_circle(found: np.ndarray, root: float) -> float:
@@ -78,6 +80,8 @@ def _distance_on_circle(found: np.ndarray, root: float) -> float:
 @example([(0.0, 1, 0.0), (3.0, 0, 0.0), (2.75, 0, 0.0), (-0.5, 0, 1.0), (-0.25, 1, 0.0)])  # fresh draws: flat
 @example([(-1.0, 0, 0.0), (-2.0, 0, 0.0), (-1.6640625, 2, 0.0), (-1.6484375, 2, 0.0)])  # below the floor between
 @example([(0.0, 1, 0.0), (-0.25, 1, 0.0), (0.0, 0, 1.0), (3.0, 0, 0.0)])  # a root of slope 9e-8
+@example([(0.0, 0, 0.0), (0.0, 0, 1.0), (0.0, 0, 0.25), (0.0, 0, 0.125), (0.0, 2, 0.0), (2.0, 0, 0.8125),
+          (0.25, 0, 0.0), (-0.25, 0, 0.0)])  # a fresh draw: a flat root found 1.01 times the stop's allowance off
 def test_subdivision_settles_complex_roots_near_the_circle_and_finds_every_real_root(factors):
     """Every real root is found, to 1e-8 or to what the coefficients' rounding allows at its slope; every candidate
     is a root, within 3 eps of a complex pair, or a point where ``|G|`` is below the kernel's floor (a cell that may
@@ -107,9 +111,23 @@ def test_subdivision_settles_complex_roots_near_the_circle_and_finds_every_real_
             or abs(trig_value(half, candidate)[0]) <= floor
 
 
+@pytest.mark.xfail(strict=True, reason="known, found by fresh draws on 2026-12-05 and not yet fixed (present on "
+                   "416bab2 too): five real roots within 0.1 rad and a complex pair 1e-4 off the circle exhaust the "
+                   "subdivision's budget, and the eigenvalue route drops two of the five and places a third 1e-3 off")
+def test_a_cluster_of_five_roots_the_eigenvalue_route_loses():
+    """A fresh draw of the law above that fails: the root at 2.9116 (and 2.899) has no candidate within 0.03 rad.
+    Strict: when the eigenvalue route keeps every root of such a cluster this fails, and the draw becomes an
+    @example of the law."""
+    test_subdivision_settles_complex_roots_near_the_circle_and_finds_every_real_root.hypothesis.inner_test(
+        [(0.0, 0, 0.0), (0.0, 0, 0.25), (0.0, 2, 0.0), (2.0, 0, 1.0), (2.0, 0, 0.8125), (0.546875, 0, 0.140625),
+         (-0.5, 0, 0.0), (-0.0625, 0, 0.0)])
+
+
 @settings(max_examples=100, deadline=None)
 @given(st.lists(_FACTOR, min_size=1, max_size=8), st.floats(0.0, np.pi / SAMPLES))
 @example([(0.0, 0, 0.0), (0.0, 0, 0.001953125), (3.0, 1, 0.0), (0.25, 0, 0.0)], 0.0)  # a fresh draw: 1.2e-8 off
+@example([(0.0, 0, 0.0), (0.0, 0, 1.0), (0.0, 1, 0.0), (1.0, 0, 1.0), (1.0, 1, 0.0), (3.0, 0, 0.0), (2.5, 0, 0.0),
+          (-1.0, 0, 0.0)], 0.0)  # a fresh draw: 1.17 times the stop's allowance off
 def test_every_real_root_is_a_candidate_however_close_the_complex_ones(factors, phase):
     """Complex pairs down to 1e-7 from the circle, where the subdivision may hand over to the eigenvalues: every
     real root is a candidate, to 1e-8 or to what rounding allows at its slope (a root next to a near-double complex
@@ -128,12 +146,15 @@ def test_every_real_root_is_a_candidate_however_close_the_complex_ones(factors, 
 @settings(max_examples=100, deadline=None)
 @given(st.lists(st.tuples(st.floats(-np.pi, np.pi), st.floats(0.0, 1.0)), min_size=1, max_size=4),
        st.integers(0, 2**32 - 1))
+@example([(0.0, 0.8658923849495466), (2.417292637137211, 0.0), (-3.1152546389095273, 0.5), (3.0, 0.71875)], 1)
 def test_the_double_roots_of_a_square_summed_from_cancelling_terms_are_candidates(factors, seed):
     """``G = P^2`` with ``P`` of real roots only, each coefficient perturbed by the rounding of terms 1e4 times its
     size (four units of their last place, either sign; the Panda's level polynomials cancel up to 5e3-fold, random
     arms' 1e4-fold): where the subdivision settles, each root of ``P``, a double root of ``G`` that the rounding
     lifts off zero or splits, has a candidate joined to it by a stretch on which ``|G| <= 2 floor`` (what rounding
-    of the floor's size cannot tell from a root).  With a floor from ``G``'s own size alone, such roots had none."""
+    of the floor's size cannot tell from a root).  With a floor from ``G``'s own size alone, such roots had none;
+    the example's, whose least value fell on the edge of a cell, had none while the monotone test left out the
+    rounding of ``G1`` (a fresh draw)."""
     roots, values, _ = _roots_and_samples([(a, 0, size) for a, size in factors], smallest_eps=1e-4)
     square = _half(values * values, 2 * len(factors))
     terms = 1e4 * (abs(square[0]) + 2.0 * np.abs(square[1:]).sum())

@@ -124,7 +124,7 @@ class FeasibleSets:
         return self._arcs(self.start[at][keep], self.end[at][keep])
 
     def _arcs(self, start: np.ndarray, end: np.ndarray) -> Arcs:
-        return arcs_of_owners(start, end, np.zeros(len(start), dtype=np.int64), 1, self.wraps)[0]
+        return owner_arcs(start, end, np.zeros(len(start), dtype=np.int64), self.wraps).split(1)[0]
 
     def every_arcs(self) -> list[tuple[Arcs, ...]]:
         """:meth:`arcs` of every branch at every pose, in one pass: per pose (the batch flattened in C order), the
@@ -174,13 +174,7 @@ class FeasibleSets:
 def merged_intervals(start: np.ndarray, end: np.ndarray) -> Arcs:
     """Intervals ``[start, end]`` of a parameter that is not an angle on the circle (q7) as disjoint, sorted,
     merged arcs that never wrap."""
-    return arcs_of_owners(start, end, np.zeros(len(start), dtype=np.int64), 1, False)[0]
-
-
-def arcs_of_owners(start: ArrayLike, end: ArrayLike, owner: ArrayLike, owners: int, wraps: bool) -> list[Arcs]:
-    """The intervals ``[start, end]`` of each owner ``0 .. owners - 1`` as its disjoint, sorted arcs
-    (:func:`owner_arcs`)."""
-    return owner_arcs(start, end, owner, wraps).split(owners)
+    return owner_arcs(start, end, np.zeros(len(start), dtype=np.int64), False).split(1)[0]
 
 
 def owner_arcs(start: ArrayLike, end: ArrayLike, owner: ArrayLike, wraps: bool) -> ArcArrays:

@@ -313,7 +313,7 @@ def limit_factors(t07, theta7, arm, factors, extra, scratch):
     for elbow in range(2):
         c4, s4 = elbow_trig(kappa, (1.0 - 2.0 * elbow) * root4, arm)
         s4x, s4z = shoulder_in_frame_four(c4, s4, arm)
-        if elbow == 0 or not halved(arm, 13):
+        if elbow == 0 or not halved(arm, np.int64(13)):
             wrist_existence *= s4x * s4x - vz * vz
         sigma *= s4x
         factors[3, elbow, 0], factors[3, elbow, 1], factors[3, elbow, 2] = s4, -c4, 0.0
@@ -383,9 +383,9 @@ def expanded_limits(factors, extra, arm, expanded):
     product = np.empty(5, dtype=np.complex128)
     for joint in range(6):
         if factor_count(arm, joint) == 2:  # each count a constant where the product is inlined (its loops unrolled)
-            factor_product(factors, joint, 2, product)
+            factor_product(factors, joint, np.int64(2), product)
         else:
-            factor_product(factors, joint, 4, product)
+            factor_product(factors, joint, np.int64(4), product)
         scale = 1.0
         if joint < 3 or joint == 5:
             scale = extra[3] * extra[4] if halved(arm, 2 * joint) else extra[0]
@@ -401,9 +401,9 @@ def level_basis(limits, arm, basis):
         for joint in range(6):
             c, s = cos(limits[k, joint]), sin(limits[k, joint])
             if factor_count(arm, joint) == 2:  # each count a constant where the row is inlined, as in expanded_limits
-                basis_row(c, s, joint, 2, basis, k)
+                basis_row(c, s, joint, np.int64(2), basis, k)
             else:
-                basis_row(c, s, joint, 4, basis, k)
+                basis_row(c, s, joint, np.int64(4), basis, k)
 
 
 @kernel
@@ -542,7 +542,9 @@ def isolated_roots(half, terms, low, high, cells, out, simple):
     A cell ``[m - r, m + r]`` holds no root where ``|G(m)| > r |G1(m)| +
     r^2 |G2(m)| / 2 + r^3 B3 / 6`` (plus :func:`global_bounds`' floor,
     so that a double root, which rounding may lift off zero, is kept), and at most one where ``|G1(m)| > r |G2(m)| + r^2
-    |G3(m)| / 2 + r^3 B4 / 6`` (``G`` is then monotone), with ``Gn`` the
+    |G3(m)| / 2 + r^3 B4 / 6`` plus ``G1``'s rounding (``G`` is then monotone:
+    near a double root lifted off zero, whose least value may lie at a cell's end, the slopes are small enough for
+    their rounding to decide), with ``Gn`` the
     n-th derivative and ``Bn = 2 sum k^n |g_k|`` a bound of it on the whole
     circle (Taylor's theorem: only the last term takes the global bound, so
     a pair of complex roots near the circle is passed at cells about as wide
@@ -554,6 +556,10 @@ def isolated_roots(half, terms, low, high, cells, out, simple):
     """
     bound3, bound4, floor = global_bounds(half, terms)
     noise = floor * (_VALUE_ROUNDING / _NEAR_ZERO)  # G's rounding: a thousandth of the floor
+    slope_noise = 0.0  # G1's rounding: _VALUE_ROUNDING of the largest value it can take
+    for k in range(1, half.shape[0]):
+        slope_noise += 2.0 * k * abs(half[k])
+    slope_noise *= _VALUE_ROUNDING
     stack = np.empty((_CELL_BUDGET + 64, 2))
     size = 0
     for c in range(cells):
@@ -573,7 +579,7 @@ def isolated_roots(half, terms, low, high, cells, out, simple):
         if rootless_cell(value, slope, curve, radius, bound3, floor):
             continue
         square, cube = radius * radius / 2.0, radius * radius * radius / 6.0
-        if abs(slope) > radius * abs(curve) + square * abs(third) + cube * bound4:  # monotone: at most one root
+        if abs(slope) > radius * abs(curve) + square * abs(third) + cube * bound4 + slope_noise:  # monotone
             # G at the ends, by Taylor's theorem where that settles its sign, else evaluated
             left = value - radius * slope + square * curve
             if abs(left) <= cube * bound3 + floor:
