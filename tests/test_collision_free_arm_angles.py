@@ -378,3 +378,19 @@ def test_an_interval_is_decided_by_its_own_clearances(rows, pairs, seed, finest)
             assert active[row, cause[row]] and clearance[row, cause[row]] + speed[row, cause[row]] * radius[row] <= 0.0
     clear = np.all(~active | ((clearance > 0.0) & np.isfinite(speed)), axis=1) & opened
     assert np.all(radius[clear] > 0.0) and np.all(carved[clear] == _decision_kernels.FREE)
+
+
+@pytest.mark.parametrize(("a", "b", "k"), [(0.0, 0.0, 0.0), (0.0, 0.0, 1.0), (2.0, 0.0, 0.5), (0.0, 3.0, 0.3),
+                                           (1e-12, 0.4, 1e-9), (5.0, 1e-9, 2.0)])
+def test_the_quadratic_root_reaches_k_and_keeps_no_sign_at_zero(a, b, k):
+    """``_quadratic_root``, the extent of a clearance under a bound ``a t^2 + b t``: the bound reaches ``k`` at the
+    root (``inf`` where it never rises); a clearance of exactly 0 has extent 0, so that it carves nothing (it was
+    ``inf``, which carved a whole interval as colliding)."""
+    from redkin.collision._arm_angle_kernels import _quadratic_root
+    root = _quadratic_root(a, b, k)
+    if k == 0.0:
+        assert root == 0.0
+    elif a == 0.0 and b == 0.0:
+        assert root == np.inf
+    else:
+        assert a * root * root + b * root == pytest.approx(k, rel=1e-12)

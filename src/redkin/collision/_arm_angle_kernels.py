@@ -148,8 +148,11 @@ def _dot(u, v):
 
 @kernel
 def _quadratic_root(a, b, k):
-    """The ``t >= 0`` at which ``a t^2 + b t`` reaches ``k`` (``a, b, k >= 0``; ``inf`` where it never does), in the
-    form that does not cancel: ``2 k / (b + sqrt(b^2 + 4 a k))``."""
+    """The ``t >= 0`` at which ``a t^2 + b t`` reaches ``k`` (``a, b, k >= 0``; ``inf`` where it never does, 0 for
+    ``k = 0``: a clearance of exactly 0 keeps no sign), in the form that does not cancel: ``2 k / (b + sqrt(b^2 +
+    4 a k))``."""
+    if not k > 0.0:
+        return 0.0
     denominator = b + sqrt(b * b + 4.0 * a * k)
     return 2.0 * k / denominator if denominator > 0.0 else inf
 
