@@ -44,7 +44,8 @@ implicit function theorem at each ``x*(s)``) a continuous arc of true
 solutions.  Consecutive steps share a point: each is certified a little past
 its end (:data:`OVERLAP`) and the next step's start lies within its
 uniqueness ball.  Every joint therefore stays, over the arc, within ``r*`` of
-the chord from ``x`` to ``y_H``; a step is classified by that tube [C4]: each
+the chord from ``x`` to ``y_H`` (and nearer the start within ``R(s)``, :func:`tube_range`); a step is classified
+by that tube [C4]: each
 branch sign (the neighbour's ``theta_2``, ``theta_4 - phi_real`` and
 ``theta_6`` away from 0 and pi) and each limited joint (within its limits
 modulo whole turns, outside them, or not decided).  The arm angle changes
@@ -53,8 +54,8 @@ the ball [C5] from the wrist's distances to joint 1's axis and to the
 shoulder; a step is kept only where that is at most :data:`ARM_ANGLE_STEP`,
 so the arc's arm angles cover the short arc between its ends [C6].  Where a
 step is not decided (a sign or a limit crossed, or a fold: ``d psi / ds``
-changes sign) it is halved until its arm-angle bound is at most
-:data:`RESOLUTION`.
+changes sign) it is shortened (:func:`_shorter`) until its arm-angle bound is at
+most :data:`RESOLUTION`.
 
 Floating-point rounding of the bounds themselves is covered by the margin of
 0.45 against Kantorovich's 1/2 and by :data:`OVERLAP`.  Inputs are trusted.
@@ -90,6 +91,9 @@ OVERLAP = 1e-12
 REGION = 1e-6
 #: A step's arm-angle change at most [rad], so that the arm angle covers the short arc between its ends.
 ARM_ANGLE_STEP = 0.5
+#: ``(1 - sqrt(1 - 2 h)) / h`` at ``h`` = :data:`KANTOROVICH` (1.5195) at least: Kantorovich's radius is at most this
+#: many first Newton steps ``alpha`` wherever ``h_K`` is at most that [C4].
+RADIUS_FACTOR = 1.52
 #: The arm-angle bound [rad] down to which a step that is not decided is halved.
 RESOLUTION = 1e-10
 #: Newton's steps of the corrector at most; the residual ``|F|`` at which it stops, and at most which it has settled
@@ -365,25 +369,37 @@ def third_bound(rotation, bounds, radius):
 @kernel
 def certified(state, bounds, reach, overlap):
     """The certificate of a step of length ``reach`` (``H``, the ``overlap`` past its end included) from a point
-    with ``state`` (:func:`described`) [C2]-[C3]: the radius ``r*`` of the tube about the chord that holds the arc, or
+    with ``state`` (:func:`described`) [C2]-[C4]: the radius ``r*`` of the tube about the chord that holds the arc, or
     -1 where the theorem's conditions fail (the uniqueness radius must exceed ``r*`` by twice the overlap, so that
-    the next step's start, within the overlap of this step's end, is this step's arc's point)."""
+    the next step's start, within the overlap of this step's end, is this step's arc's point); and the radii ``R(0)``
+    and ``R(H)`` of the narrower tube [C4] (:func:`tube_range`): the arc's point at ``s`` lies within ``R(s)`` of
+    ``x + s t``, ``R`` convex in ``s``."""
     size, delta, beta, local = state[0], state[2], state[3], state[8]
     ball = 2.0 * reach + REGION
     omega = local + beta * third_bound(state[1], bounds, ball) * ball
     shrink = 1.0 - omega * reach
     if shrink <= 0.0:
-        return -1.0
+        return -1.0, -1.0, -1.0
     omega_s = omega / shrink
     alpha = (beta * (size + reach * delta) + 0.5 * omega * reach * reach) / shrink
     h = omega_s * alpha
     if h > KANTOROVICH:
-        return -1.0
+        return -1.0, -1.0, -1.0
     root = sqrt(1.0 - 2.0 * h)
     radius = (1.0 - root) / omega_s
     if min((1.0 + root) / omega_s, reach + REGION) <= radius + 2.0 * overlap:
-        return -1.0
-    return radius
+        return -1.0, -1.0, -1.0
+    return radius, RADIUS_FACTOR * beta * size / shrink, RADIUS_FACTOR * alpha
+
+
+@kernel
+def tube_range(a, d, radius, near, far):
+    """The interval [C4] holding a joint (or an affine function of one) over a step's arc, its chord running from
+    ``a`` to ``a + d``: within ``radius`` (``r*``) of the chord, and within ``R(s)`` of its point at ``s``, ``R`` convex
+    from ``near`` (``R(0)``) to ``far`` (``R(H)``), so that ``s d / H + R(s)`` is largest at an end of the step."""
+    high = a + min(max(d, 0.0) + radius, max(near, d + far))
+    low = a - min(max(-d, 0.0) + radius, max(near, far - d))
+    return low, high
 
 
 @kernel
@@ -406,22 +422,30 @@ def arm_angle_bound(state, bounds, reach):
 
 
 @kernel
-def classified(start, direction, reach, radius, model, real_phase, limits, signs):
+def classified(start, direction, reach, radius, near, far, model, real_phase, limits, signs):
     """The branch signs [C4] (+1, -1, or 0 where the tube crosses a boundary) into ``signs`` (3,), and the state of
     the limited joints (:data:`INSIDE`, :data:`OUTSIDE` or :data:`UNDECIDED`; ``limits`` as
-    :attr:`redkin.srs.nearly.NearlySRS.kernel_limits`, modulo whole turns), over the tube of ``radius`` about the
-    chord from ``start`` along ``direction`` for ``reach``."""
+    :attr:`redkin.srs.nearly.NearlySRS.kernel_limits`, modulo whole turns), over the tube of the step from ``start``
+    along ``direction`` for ``reach`` (:func:`tube_range` with ``radius``, ``near`` and ``far``).  Also the arc
+    length along the chord [rad] at which it first meets a boundary the tube crosses (0 where its start is within
+    ``near`` of it, ``inf`` where none), and the rate [rad / rad] at which the chord approaches that boundary: what
+    :func:`traced` needs to choose a step that ends short of it."""
     neighbour = model[0]
+    meets, rate = np.inf, 0.0
     for k in range(3):
         j = 2 * k + 1
         sign, offset = neighbour[j, _chain_kernels.SIGN], neighbour[j, _chain_kernels.OFFSET]
         centre = real_phase if j == 3 else 0.0
         a = offset + sign * start[j] - centre
-        b = offset + sign * (start[j] + reach * direction[j]) - centre
-        low, high = min(a, b) - radius, max(a, b) + radius
+        d = sign * reach * direction[j]
+        low, high = tube_range(a, d, radius, near, far)
         turn = floor(low / pi)
         if high >= (turn + 1.0) * pi:
             signs[k] = 0
+            below = pi * floor(a / pi)
+            length = _meeting(a, d, reach, below, below + pi, near)
+            if length < meets:
+                meets, rate = length, abs(d) / reach
         else:
             signs[k] = 1 if turn % 2.0 == 0.0 else -1
     state = INSIDE
@@ -429,20 +453,69 @@ def classified(start, direction, reach, radius, model, real_phase, limits, signs
         if limits[2, j] > 0.5:  # covers the circle
             continue
         lower, width = limits[0, j], limits[1, j]
-        a, b = start[j], start[j] + reach * direction[j]
-        low, high = min(a, b) - radius, max(a, b) + radius
+        a, d = start[j], reach * direction[j]
+        low, high = tube_range(a, d, radius, near, far)
         base = lower + TWO_PI * floor((low - lower) / TWO_PI)  # the turn of the range at or below low
         if low - base <= width:
-            if high > base + width:
-                state = UNDECIDED
-        elif high >= base + TWO_PI:
-            state = UNDECIDED
-        else:
-            return OUTSIDE
-    return state
+            if high <= base + width:
+                continue
+        elif high < base + TWO_PI:
+            return OUTSIDE, meets, rate
+        state = UNDECIDED
+        length = _limit_meeting(a, d, reach, lower, width, near)
+        if length < meets:
+            meets, rate = length, abs(d) / reach
+    return state, meets, rate
+
+
+@kernel
+def _limit_meeting(a, d, reach, lower, width, near):
+    """:func:`_meeting` for a joint at ``a`` and its range from ``lower`` over ``width``, modulo whole turns: between
+    the range's ends about ``a`` (inside the range or outside it)."""
+    base = lower + TWO_PI * floor((a - lower) / TWO_PI)
+    if a - base <= width:
+        return _meeting(a, d, reach, base, base + width, near)
+    return _meeting(a, d, reach, base + width, base + TWO_PI, near)
+
+
+@kernel
+def _meeting(a, d, reach, low, high, near):
+    """Where the chord from ``a`` (changing by ``d`` over ``reach``) first leaves ``(low, high)``, as arc length
+    [rad]; 0 where its start is within ``near`` of either end (at the boundary already), ``inf`` where it stays."""
+    if a - low <= near or high - a <= near:
+        return 0.0
+    if d > 0.0:
+        return reach * (high - a) / d
+    if d < 0.0:
+        return reach * (a - low) / -d
+    return np.inf
 
 
 # ------------------------------------------------------------------ the curve
+@kernel
+def _shorter(h, reach, radius, spread, meets, rate):
+    """The next, shorter step to try after a step of ``h`` (its ``reach``, tube ``radius`` and arm-angle bound
+    ``spread``) was not decided, the chord meeting a boundary the tube crosses at arc length ``meets`` while
+    approaching it at ``rate`` (:func:`classified`).  Only the length is chosen here; the step is certified and
+    classified again.
+
+    * at the boundary (within the resolution's arm angle of it), or at a fold (``meets`` infinite), the step must
+      be narrow: one whose arm-angle bound is within :data:`RESOLUTION` where the boundary is that near, half
+      otherwise (a fold's place is not predicted);
+    * short of it, the step that ends there with its tube's radius (about ``radius (h / reach)^2``) to spare: the
+      next start is then closer by the square of the distance (Newton-like), where halving gains a factor of 2.
+    """
+    per_length = spread / (reach + radius)  # the arm angle's bound per arc length
+    if meets * per_length <= 0.5 * RESOLUTION:
+        return min(0.5 * h, 0.45 * RESOLUTION / per_length)
+    if not meets < np.inf or rate <= 0.0:
+        return 0.5 * h
+    curving = radius / (reach * reach)
+    room = 0.9 * meets * rate
+    predicted = 2.0 * room / (rate + sqrt(rate * rate + 4.0 * curving * room))
+    return predicted if predicted < 0.95 * h else 0.5 * h
+
+
 @kernel
 def started(seed, target, real, model, bounds, work, q, tangent, gradient, state):
     """The curve's point nearest the solution ``seed`` (7,) into ``q`` (7,): Newton's steps on the hyperplane
@@ -477,7 +550,7 @@ def longest_step(state, bounds, longest):
         linear = local + k * REGION
         h = min(h, 2.0 * 0.48 / (linear + sqrt(linear * linear + 8.0 * k * 0.48)))
     for _ in range(60):
-        radius = certified(state, bounds, h + OVERLAP, OVERLAP)
+        radius = certified(state, bounds, h + OVERLAP, OVERLAP)[0]
         if radius >= 0.0 and arm_angle_bound(state, bounds, h + OVERLAP + radius) * (h + OVERLAP + radius) \
                 <= ARM_ANGLE_STEP:
             return h
@@ -516,6 +589,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
     gap = np.empty(7)
     count = 0
     h = longest
+    event = False
     while True:
         points[count] = q
         tangents[count] = tangent
@@ -527,7 +601,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
         allowed = longest_step(state, bounds, longest)
         if allowed < SINGULAR_STEP:
             return count, STUCK
-        h = min(2.0 * h, allowed)
+        h = allowed if event else min(2.0 * h, allowed)  # past a boundary the tube [C4] clears it at once
         closing = False
         if count > 2:  # within a step of the first point, heading on: the last step is the one onto it
             for j in range(7):
@@ -554,7 +628,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
                     apart += (turns_removed(moved[j] - points[0, j] + pi) - pi) ** 2
                 overlap = max(overlap, 2.02 * first + sqrt(apart) + 1e-14)
             reach = h + overlap
-            radius = certified(state, bounds, reach, overlap)
+            radius, near, far = certified(state, bounds, reach, overlap)
             spread = arm_angle_bound(state, bounds, reach + radius) * (reach + radius)
             off = 0.0
             for j in range(7):
@@ -563,14 +637,16 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
                 h *= 0.5
                 closing = False
                 continue
-            state_of_limits = classified(q, tangent, reach, radius, model, real_phase, limits, step_signs)
+            state_of_limits, meets, rate = classified(q, tangent, reach, radius, near, far, model, real_phase, limits,
+                                                      step_signs)
             undecided = (step_signs[0] == 0 or step_signs[1] == 0 or step_signs[2] == 0 or state_of_limits == UNDECIDED
                          or state[5] * following_state[5] < 0.0)
             if undecided and spread > RESOLUTION and h > 4.0 * overlap:
-                h *= 0.5
+                h = _shorter(h, reach, radius, spread, meets, rate)
                 closing = False
                 continue
             break
+        event = undecided
         signs[count - 1] = step_signs
         inside[count - 1] = state_of_limits
         spreads[count - 1] = spread
