@@ -193,19 +193,21 @@ def test_bad_input():
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.floats(-3.0, 3.0), st.floats(-0.2, 0.2), st.floats(0.0, 0.01), st.floats(0.0, 1e-3), st.floats(0.0, 0.02),
-       st.floats(0.0, 1.0), st.floats(0.0, 1.0))
-def test_the_narrower_tube_holds_every_arc_the_certificate_allows(a, d, radius, near, extra, bend, share):
-    """:func:`tube_range` [C4]: an arc whose point at ``s`` lies within ``r(s)`` of the chord's, ``r(s)`` at most
-    ``radius`` and at most a convex ``R(s)`` from ``near`` to ``far``, stays inside the interval it gives; and where
-    the chord moves away from a boundary its start side is padded by ``near`` alone, not by ``radius``."""
+@given(st.floats(-3.0, 3.0), st.floats(-0.2, 0.2), st.floats(-0.01, 0.01), st.floats(0.0, 0.01), st.floats(0.0, 1e-3),
+       st.floats(0.0, 0.02), st.floats(0.0, 1.0), st.floats(0.0, 1.0))
+def test_the_narrower_tube_holds_every_arc_the_certificate_allows(a, d, e, radius, near, extra, bend, share):
+    """:func:`tube_range` [C4]: an arc whose point at ``s`` lies within ``r(s)`` of the predictor's ``a + s d + s^2
+    e`` (``s`` in [0, 1]), ``r(s)`` at most ``radius`` and at most a convex ``R(s)`` from ``near`` to ``far``, stays
+    inside the interval it gives; and where the predictor moves away from a boundary its start side is padded by
+    ``near`` alone, not by ``radius``."""
     from redkin.srs.nearly._self_motion_kernels import tube_range
 
     far = near + extra
     s = np.linspace(0.0, 1.0, 201)
     convex = near + (far - near) * (bend * s**2 + (1.0 - bend) * s)  # convex, from near to far
     allowed = np.minimum(radius, convex) * share
-    low, high = tube_range(a, d, radius, near, far)
-    assert np.all(a + s * d + allowed <= high + 1e-15) and np.all(a + s * d - allowed >= low - 1e-15)
-    if d > far:  # moving up, away from what lies below the start
+    predictor = a + s * d + s**2 * e
+    low, high = tube_range(a, d, e, radius, near, far)
+    assert np.all(predictor + allowed <= high + 1e-15) and np.all(predictor - allowed >= low - 1e-15)
+    if d > far + 2.0 * abs(e):  # moving up, away from what lies below the start
         assert low >= a - min(near, radius) - 1e-15

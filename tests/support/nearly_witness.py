@@ -12,6 +12,9 @@ from redkin.srs.nearly import arm_angle, branch_of, ik
 
 #: The self-motion's step [rad] (``self_motion``'s default).
 STEP = 0.05
+#: Starts of the walk to an arm angle lie at least this far apart [rad]: the points of a curve cluster where it
+#: meets a limit, and the nearest in arm angle may all lie on one side of a fold.
+APART = 1e-3
 
 
 def _wrapped(angles):
@@ -46,9 +49,9 @@ def _along_to(arm, pose: np.ndarray, q: np.ndarray, psi: float) -> np.ndarray:
 
 def witnessed(arm, pose: np.ndarray, branch: str, psi: float) -> bool:
     """Whether a certified solution of the branch within the limits at the arm angle ``psi`` is found from the pose's
-    self-motion: from each point of the curves through ``nearly.ik``'s solutions on 72 arm angles that lies on the
-    branch and within the limits, nearest in arm angle first, :func:`_along_to` ``psi``, checked with our FK, arm
-    angle, branch and limits."""
+    self-motion: from points of the curves through ``nearly.ik``'s solutions on 72 arm angles that lie on the branch
+    and within the limits, nearest in arm angle first and farther than :data:`APART` from each other (twelve),
+    :func:`_along_to` ``psi``, checked with our FK, arm angle, branch and limits."""
     row = BRANCHES.index(parse_branch(branch))
     grid = np.linspace(-np.pi, np.pi, 72, endpoint=False)
     solved = ik(arm, np.broadcast_to(pose, grid.shape + (4, 4)), grid, branch)
@@ -58,8 +61,14 @@ def witnessed(arm, pose: np.ndarray, branch: str, psi: float) -> bool:
             curves.append(self_motion(arm, pose, q, step=0.01))
     points = np.concatenate([curve.q for curve in curves])
     good = (branch_of(arm, points) == row) & arm.chain.within_limits(points, wrap=True)
-    nearest = np.argsort(np.abs(_wrapped(arm_angle(arm, points) - psi)) + np.where(good, 0.0, np.inf))[:6]
-    for start in points[nearest[good[nearest]]]:
+    order = np.argsort(np.abs(_wrapped(arm_angle(arm, points) - psi)))
+    starts: list[np.ndarray] = []
+    for k in order[good[order]]:  # nearest in arm angle first, one per place on the curves (points cluster at events)
+        if all(np.linalg.norm(_wrapped(points[k] - start)) > APART for start in starts):
+            starts.append(points[k])
+            if len(starts) == 12:
+                break
+    for start in starts:
         q = _along_to(arm, pose, start, psi)
         if (np.abs(arm.chain.fk(q) - pose).max() < 1e-9 and abs(_wrapped(arm_angle(arm, q) - psi)) < 1e-9
                 and branch_of(arm, q) == row and arm.chain.within_limits(q, wrap=True)):

@@ -20,22 +20,27 @@ M) w_i + N(M) (w_j x w_i)`` (the last term for ``j < i`` only).
 A step from a point ``x`` with unit tangent ``t`` (``F'(x) t = 0``) covers
 ``s`` in ``[0, H]``: the curve's point on the hyperplane ``t . (q - x) = s``
 solves ``G_s(q) = [F(q); t . (q - x) - s] = 0``, whose Jacobian is ``A(q) =
-[F'(q); t^T]``.  The affine-covariant Newton-Kantorovich theorem [C2]
-(Deuflhard, *Newton Methods for Nonlinear Problems*, thm. 2.1) from ``y_s =
-x + s t`` needs
+[F'(q); t^T]``.  The predictor is the curve's second-order expansion ``y_s =
+x + s t + s^2 kappa / 2``, ``kappa = -A(x)^-1 [F''(x)[t, t]; 0]`` (on the
+hyperplane: ``t . kappa = 0``).  The affine-covariant Newton-Kantorovich
+theorem [C2] (Deuflhard, *Newton Methods for Nonlinear Problems*, thm. 2.1)
+from ``y_s`` needs
 
-* ``omega``, a Lipschitz constant of ``A(x)^-1 F'`` over the ball ``D`` of
-  radius ``2 H`` (plus :data:`REGION`) about ``x`` [C3]: ``omega = Omega +
-  beta K |D|``, ``Omega`` bounding ``|A(x)^-1 F''(x)|`` (the 28 second
-  derivatives at ``x`` mapped by ``A(x)^-1``, their norms' spectral norm
-  bounded by its Frobenius norm and its largest row sum), ``beta >=
-  |A(x)^-1|`` (:func:`inverse_bound`) and ``K`` a bound of the third
+* ``omega``, a Lipschitz constant of ``A(x)^-1 F'`` over a ball ``D`` about
+  ``x`` holding every ``y_s`` and room about it (:data:`BALL_ROOM`) [C3]:
+  ``omega = Omega + beta K |D|``, ``Omega`` bounding ``|A(x)^-1 F''(x)|``
+  (the 28 second derivatives at ``x`` mapped by ``A(x)^-1``, their norms'
+  spectral norm bounded by its Frobenius norm and its largest row sum),
+  ``beta >= |A(x)^-1|`` (:func:`inverse_bound`) and ``K`` a bound of the third
   derivatives (:func:`third_bound`: every derivative of a turning vector is a
   cross product with a unit axis, lever arms no longer than the links that
   follow the joint, ``|r|`` bounded over the ball from its value at ``x``);
-* relative to ``A(y_s)``: ``omega_s = omega / (1 - omega s)``, and the first
-  Newton step ``alpha_s <= (beta eps + beta s delta + omega s^2 / 2) / (1 -
-  omega s)`` (``eps = |F(x)|``, ``delta = |F'(x) t|``: rounding).
+* relative to ``A(y_s)``, with ``d = |y_s - x| <= s + s^2 |kappa| / 2``:
+  ``omega_s = omega / (1 - omega d)``, and by Taylor's theorem the first
+  Newton step ``alpha_s <= (beta (eps + s delta + s^2 e / 2) + Omega (s^3
+  |kappa| / 2 + s^4 |kappa|^2 / 8) + beta K d^3 / 6) / (1 - omega d)``
+  (``eps = |F(x)|``, ``delta = |F'(x) t|``, ``e`` the residual of
+  ``kappa``'s equations: rounding).
 
 Where ``h_K = omega_s alpha_s <= 0.45`` for ``s = H``, it gives one solution
 ``x*(s)`` within ``r* = (1 - sqrt(1 - 2 h_K)) / omega_s`` of ``y_s`` for every
@@ -44,18 +49,19 @@ implicit function theorem at each ``x*(s)``) a continuous arc of true
 solutions.  Consecutive steps share a point: each is certified a little past
 its end (:data:`OVERLAP`) and the next step's start lies within its
 uniqueness ball.  Every joint therefore stays, over the arc, within ``r*`` of
-the chord from ``x`` to ``y_H`` (and nearer the start within ``R(s)``, :func:`tube_range`); a step is classified
-by that tube [C4]: each
-branch sign (the neighbour's ``theta_2``, ``theta_4 - phi_real`` and
-``theta_6`` away from 0 and pi) and each limited joint (within its limits
-modulo whole turns, outside them, or not decided).  The arm angle changes
-over the arc by at most ``G (H + r*)``, ``G`` a bound of its gradient over
-the ball [C5] from the wrist's distances to joint 1's axis and to the
-shoulder; a step is kept only where that is at most :data:`ARM_ANGLE_STEP`,
-so the arc's arm angles cover the short arc between its ends [C6].  Where a
-step is not decided (a sign or a limit crossed, or a fold: ``d psi / ds``
-changes sign) it is shortened (:func:`_shorter`) until its arm-angle bound is at
-most :data:`RESOLUTION`.
+the predictor (and nearer the start within ``R(s)``, :func:`tube_range`), and
+within ``r* + H^2 |kappa| / 2`` of the tangent ``x + s t``; a step is
+classified by that tube [C4]: each branch sign (the neighbour's ``theta_2``,
+``theta_4 - phi_real`` and ``theta_6`` away from 0 and pi) and each limited
+joint (within its limits modulo whole turns, outside them, or not decided).
+The arm angle changes over the arc by at most ``G (H + r*)`` (``r*`` about
+the tangent), ``G`` a bound of its gradient over the ball [C5] from the
+wrist's distances to joint 1's axis and to the shoulder; a step is kept only
+where that is at most :data:`ARM_ANGLE_STEP`, less than pi, so the arc's arm
+angles cover the short arc between its ends [C6].  Where a step is not
+decided (a sign or a limit crossed, or a fold: ``d psi / ds`` changes sign)
+it is shortened (:func:`_shorter`) until its arm-angle bound is at most
+:data:`RESOLUTION`.
 
 Floating-point rounding of the bounds themselves is covered by the margin of
 0.45 against Kantorovich's 1/2 and by :data:`OVERLAP`.  Inputs are trusted.
@@ -80,17 +86,25 @@ from redkin.srs.nearly._kernels import arm_angle_one
 #: the forearm's length [m].
 SCALE, POSITION_THIRD, SUM_S, SUM_S2, SUM_T, SUM_T2, SUM_ST, WRIST_LIPSCHITZ, LEVER = range(9)
 FOREARM = LEVER + 4
+#: Entries of a point's ``state`` (:func:`described`) beyond its first nine: the curve's second derivative ``kappa``
+#: (7), ``|kappa|`` and the rounding of its equations; and the state's length.
+BEND, BEND_SIZE, BEND_ROUNDING, STATE = 9, 16, 17, 18
 #: Kantorovich's ``h_K`` at most (1/2 in the theorem; the margin covers the rounding of the bounds).
 KANTOROVICH = 0.45
 #: How far past its end [rad of arc length] a step is certified at least, so that it meets the next (module
 #: docstring); more where the next point's existence radius ``2 beta |F|`` (and, for the step that closes a curve,
 #: the first point's and the distance between the two) is larger.
 OVERLAP = 1e-12
+#: The ball ``D`` about a step's start over which ``omega`` holds [C3] reaches this many times the step's length
+#: beyond it (plus :data:`REGION`), the first that certifies: little room makes ``omega`` smaller, and is enough
+#: where the tube is narrow (Kantorovich's uniqueness ball about ``y_s`` must lie inside ``D``).
+BALL_ROOM = (0.25, 1.0)
 #: Added to the radius [rad] of the ball about a step's start over which ``L`` holds, so that a short step's
 #: uniqueness ball still reaches well past its tube.
 REGION = 1e-6
-#: A step's arm-angle change at most [rad], so that the arm angle covers the short arc between its ends.
-ARM_ANGLE_STEP = 0.5
+#: A step's arm-angle change at most [rad], less than pi, so that the arm angle covers the short arc between its
+#: ends [C6] (the bound of C5 is loose: the change itself is some 50 times smaller on a typical step).
+ARM_ANGLE_STEP = 2.0
 #: ``(1 - sqrt(1 - 2 h)) / h`` at ``h`` = :data:`KANTOROVICH` (1.5195) at least: Kantorovich's radius is at most this
 #: many first Newton steps ``alpha`` wherever ``h_K`` is at most that [C4].
 RADIUS_FACTOR = 1.52
@@ -218,15 +232,17 @@ def residual(q, target, real, scale, work):
 
 
 @kernel
-def curvature(work, inverse):
+def curvature(work, inverse, tangent, along):
     """``Omega`` [C3]: a bound of ``|A^-1 F''|`` (a bilinear map) at the point last passed to :func:`residual`
     (``F'`` copied to ``work``'s ``jacobian`` by :func:`described`), ``inverse`` (7, 7) being ``A^-1``: the spectral
     norm of the matrix of the norms ``|A^-1 [F''_ij; 0]|`` bounded by the smaller of its Frobenius norm and its
-    largest row sum (module docstring's second derivatives)."""
+    largest row sum (module docstring's second derivatives).  Also ``F''[t, t]`` into ``along`` (6,), ``t`` the
+    ``tangent``."""
     jacobian, axes, m = work[10], work[11], work[12]
     norms = np.empty((7, 7))
     h = np.empty(6)
     mw = np.empty(3)
+    along[:] = 0.0
     for i in range(7):
         w0, w1, w2 = axes[0, i], axes[1, i], axes[2, i]
         mw[0] = m[0, 0] * w0 + m[0, 1] * w1 + m[0, 2] * w2
@@ -246,6 +262,9 @@ def curvature(work, inverse):
                 h[3] += 0.5 * (trace * c0 - m[0, 0] * c0 - m[0, 1] * c1 - m[0, 2] * c2)
                 h[4] += 0.5 * (trace * c1 - m[1, 0] * c0 - m[1, 1] * c1 - m[1, 2] * c2)
                 h[5] += 0.5 * (trace * c2 - m[2, 0] * c0 - m[2, 1] * c1 - m[2, 2] * c2)
+            weight = tangent[i] * tangent[j] * (2.0 if j < i else 1.0)
+            for r in range(6):
+                along[r] += weight * h[r]
             total = 0.0
             for r in range(7):
                 value = 0.0
@@ -280,10 +299,11 @@ def scratch():
 def described(q, size, rotation, previous, model, work, tangent, gradient, state):
     """Everything a step from ``q`` (7,) needs, ``F`` and ``F'`` being in ``work`` (:func:`residual`, whose two
     norms are ``size`` and ``rotation``): into ``tangent`` (7,) the unit null vector of ``F'`` with ``previous .
-    tangent > 0``, into ``gradient`` (7,) ``d psi / dq``, and into ``state`` (9,) ``|F|``, ``|r|``, ``delta = |F'
-    t|``, ``beta`` (bounds ``|A^-1|``, ``A = [F'; t^T]``), ``psi``, ``d psi / ds``, the wrist's distance ``w`` from
-    joint 1's axis, ``|x_sw|`` and ``Omega`` (:func:`curvature`) (module docstring).  Returns ``False`` at a
-    singular configuration."""
+    tangent > 0``, into ``gradient`` (7,) ``d psi / dq``, and into ``state`` (:data:`STATE`,) ``|F|``, ``|r|``,
+    ``delta = |F' t|``, ``beta`` (bounds ``|A^-1|``, ``A = [F'; t^T]``), ``psi``, ``d psi / ds``, the wrist's distance
+    ``w`` from joint 1's axis, ``|x_sw|``, ``Omega`` (:func:`curvature`) (module docstring), and from :data:`BEND` on
+    the curve's second derivative ``kappa = -A^-1 [F''[t, t]; 0]`` [C2], ``|kappa|`` and the residual ``|[F' kappa +
+    F''[t, t]; t . kappa]|`` of its equations (rounding).  Returns ``False`` at a singular configuration."""
     system, pivots, inverse, model_work, u, jacobian = work[3], work[5], work[6], work[8], work[9], work[10]
     jacobian[:] = system[:6]
     system[6, :] = previous
@@ -312,8 +332,23 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
     state[3] = inverse_bound(system, pivots, inverse)
     state[4], state[5] = psi, np.sum(gradient * tangent)
     state[6], state[7] = shared[0], sqrt(shared[0] * shared[0] + shared[3] * shared[3])
-    state[8] = curvature(work, inverse)
-    return bool(np.isfinite(state[3]) and np.isfinite(state[8]))
+    along = np.empty(6)
+    state[8] = curvature(work, inverse, tangent, along)
+    for r in range(7):
+        value = 0.0
+        for k in range(6):
+            value -= inverse[r, k] * along[k]
+        state[BEND + r] = value
+    bend = state[BEND:BEND + 7]
+    rounding = 0.0
+    for k in range(6):
+        value = along[k]
+        for j in range(7):
+            value += jacobian[k, j] * bend[j]
+        rounding += value * value
+    state[BEND_SIZE] = sqrt(np.sum(bend * bend))
+    state[BEND_ROUNDING] = sqrt(rounding + np.sum(bend * tangent) ** 2)
+    return bool(np.isfinite(state[3]) and np.isfinite(state[8]) and np.isfinite(state[BEND_SIZE]))
 
 
 @kernel
@@ -369,36 +404,59 @@ def third_bound(rotation, bounds, radius):
 @kernel
 def certified(state, bounds, reach, overlap):
     """The certificate of a step of length ``reach`` (``H``, the ``overlap`` past its end included) from a point
-    with ``state`` (:func:`described`) [C2]-[C4]: the radius ``r*`` of the tube about the chord that holds the arc, or
-    -1 where the theorem's conditions fail (the uniqueness radius must exceed ``r*`` by twice the overlap, so that
-    the next step's start, within the overlap of this step's end, is this step's arc's point); and the radii ``R(0)``
-    and ``R(H)`` of the narrower tube [C4] (:func:`tube_range`): the arc's point at ``s`` lies within ``R(s)`` of
-    ``x + s t``, ``R`` convex in ``s``."""
+    with ``state`` (:func:`described`) [C2]-[C4], from the predictor ``y_s = x + s t + s^2 kappa / 2``: the radius
+    ``r*`` of the tube about ``y_s`` that holds the arc, or -1 where the theorem's conditions fail (the uniqueness
+    radius must exceed ``r*`` by twice the overlap, so that the next step's start, within the overlap of this step's
+    end, is this step's arc's point); the radius ``r* + H^2 |kappa| / 2`` of the tube about the tangent ``x + s t``
+    that holds it; and the radii ``R(0)`` and ``R(H)`` of the narrower tube about ``y_s`` [C4] (:func:`tube_range`):
+    the arc's point at ``s`` lies within ``R(s)`` of ``y_s``, ``R`` convex in ``s``."""
     size, delta, beta, local = state[0], state[2], state[3], state[8]
-    ball = 2.0 * reach + REGION
-    omega = local + beta * third_bound(state[1], bounds, ball) * ball
-    shrink = 1.0 - omega * reach
-    if shrink <= 0.0:
-        return -1.0, -1.0, -1.0
-    omega_s = omega / shrink
-    alpha = (beta * (size + reach * delta) + 0.5 * omega * reach * reach) / shrink
-    h = omega_s * alpha
-    if h > KANTOROVICH:
-        return -1.0, -1.0, -1.0
-    root = sqrt(1.0 - 2.0 * h)
-    radius = (1.0 - root) / omega_s
-    if min((1.0 + root) / omega_s, reach + REGION) <= radius + 2.0 * overlap:
-        return -1.0, -1.0, -1.0
-    return radius, RADIUS_FACTOR * beta * size / shrink, RADIUS_FACTOR * alpha
+    bend, rounding = state[BEND_SIZE], state[BEND_ROUNDING]
+    bow = 0.5 * bend * reach * reach  # |y_H - x - H t|
+    span = reach + bow  # |y_s - x| at most
+    for room in BALL_ROOM:  # the ball D about x: every y_s, and room about it for Kantorovich's balls
+        ball = (1.0 + room) * span + REGION
+        third = beta * third_bound(state[1], bounds, ball)
+        omega = local + third * ball
+        shrink = 1.0 - omega * span
+        if shrink <= 0.0:
+            continue
+        omega_s = omega / shrink
+        alpha = (beta * (size + reach * (delta + 0.5 * reach * rounding))
+                 + local * reach * bow * (1.0 + 0.25 * reach * bend) + third * span * span * span / 6.0) / shrink
+        h = omega_s * alpha
+        if h > KANTOROVICH:
+            continue
+        root = sqrt(1.0 - 2.0 * h)
+        radius = (1.0 - root) / omega_s
+        if min((1.0 + root) / omega_s, room * span + REGION) <= radius + 2.0 * overlap:
+            continue
+        return radius, radius + bow, RADIUS_FACTOR * beta * size / shrink, RADIUS_FACTOR * alpha
+    return -1.0, -1.0, -1.0, -1.0
 
 
 @kernel
-def tube_range(a, d, radius, near, far):
-    """The interval [C4] holding a joint (or an affine function of one) over a step's arc, its chord running from
-    ``a`` to ``a + d``: within ``radius`` (``r*``) of the chord, and within ``R(s)`` of its point at ``s``, ``R`` convex
-    from ``near`` (``R(0)``) to ``far`` (``R(H)``), so that ``s d / H + R(s)`` is largest at an end of the step."""
-    high = a + min(max(d, 0.0) + radius, max(near, d + far))
-    low = a - min(max(-d, 0.0) + radius, max(near, far - d))
+def tube_range(a, d, e, radius, near, far):
+    """The interval [C4] holding a joint (or an affine function of one) over a step's arc, its predictor running
+    from ``a`` through ``a + sigma d + sigma^2 e`` (``sigma = s / H`` in [0, 1]): within ``radius`` (``r*``) of the
+    predictor's point, and within ``R(s)`` of it, ``R`` convex from ``near`` (``R(0)``) to ``far`` (``R(H)``), so at
+    most the line between them."""
+    low, high = _quadratic_range(a, d, e)
+    above = _quadratic_range(a + near, d + far - near, e)[1]
+    below = _quadratic_range(a - near, d - far + near, e)[0]
+    return max(low - radius, below), min(high + radius, above)
+
+
+@kernel
+def _quadratic_range(a, b, c):
+    """The least and the largest value of ``a + b x + c x^2`` for ``x`` in [0, 1]."""
+    end = a + b + c
+    low, high = min(a, end), max(a, end)
+    if c != 0.0:
+        vertex = -0.5 * b / c
+        if 0.0 < vertex < 1.0:
+            value = a + 0.5 * b * vertex
+            low, high = min(low, value), max(high, value)
     return low, high
 
 
@@ -422,11 +480,12 @@ def arm_angle_bound(state, bounds, reach):
 
 
 @kernel
-def classified(start, direction, reach, radius, near, far, model, real_phase, limits, signs):
+def classified(start, direction, bend, reach, radius, near, far, model, real_phase, limits, signs):
     """The branch signs [C4] (+1, -1, or 0 where the tube crosses a boundary) into ``signs`` (3,), and the state of
     the limited joints (:data:`INSIDE`, :data:`OUTSIDE` or :data:`UNDECIDED`; ``limits`` as
     :attr:`redkin.srs.nearly.NearlySRS.kernel_limits`, modulo whole turns), over the tube of the step from ``start``
-    along ``direction`` for ``reach`` (:func:`tube_range` with ``radius``, ``near`` and ``far``).  Also the arc
+    along ``direction``, bending by ``bend`` (``kappa``), for ``reach`` (:func:`tube_range` with ``radius``, ``near``
+    and ``far``).  Also the arc
     length along the chord [rad] at which it first meets a boundary the tube crosses (0 where its start is within
     ``near`` of it, ``inf`` where none), and the rate [rad / rad] at which the chord approaches that boundary: what
     :func:`traced` needs to choose a step that ends short of it."""
@@ -438,7 +497,7 @@ def classified(start, direction, reach, radius, near, far, model, real_phase, li
         centre = real_phase if j == 3 else 0.0
         a = offset + sign * start[j] - centre
         d = sign * reach * direction[j]
-        low, high = tube_range(a, d, radius, near, far)
+        low, high = tube_range(a, d, 0.5 * sign * reach * reach * bend[j], radius, near, far)
         turn = floor(low / pi)
         if high >= (turn + 1.0) * pi:
             signs[k] = 0
@@ -454,7 +513,7 @@ def classified(start, direction, reach, radius, near, far, model, real_phase, li
             continue
         lower, width = limits[0, j], limits[1, j]
         a, d = start[j], reach * direction[j]
-        low, high = tube_range(a, d, radius, near, far)
+        low, high = tube_range(a, d, 0.5 * reach * reach * bend[j], radius, near, far)
         base = lower + TWO_PI * floor((low - lower) / TWO_PI)  # the turn of the range at or below low
         if low - base <= width:
             if high <= base + width:
@@ -541,20 +600,20 @@ def started(seed, target, real, model, bounds, work, q, tangent, gradient, state
 @kernel
 def longest_step(state, bounds, longest):
     """The longest step [rad] up to ``longest`` that :func:`certified` and :data:`ARM_ANGLE_STEP` admit from a point
-    with ``state``, to a few per cent: ``omega H`` at most 0.48 (where ``h_K`` is 0.45 for a negligible ``|F|``),
-    and then shortened until both hold."""
+    with ``state``, to a few per cent: from twice the length at which ``omega H`` is 0.48 (where a straight predictor's
+    ``h_K`` would be 0.45 for a negligible ``|F|``), shortened until both hold (both only tighten as ``H`` grows)."""
     h = longest
     beta, local = state[3], state[8]
     for _ in range(2):  # omega(h) = Omega + beta K (2 h + REGION) and omega h = 0.48, K at the last h
         k = beta * third_bound(state[1], bounds, 2.0 * h + REGION)
         linear = local + k * REGION
         h = min(h, 2.0 * 0.48 / (linear + sqrt(linear * linear + 8.0 * k * 0.48)))
-    for _ in range(60):
-        radius = certified(state, bounds, h + OVERLAP, OVERLAP)[0]
-        if radius >= 0.0 and arm_angle_bound(state, bounds, h + OVERLAP + radius) * (h + OVERLAP + radius) \
-                <= ARM_ANGLE_STEP:
+    h = min(2.0 * h, longest)
+    for _ in range(80):
+        tube = certified(state, bounds, h + OVERLAP, OVERLAP)[1]
+        if tube >= 0.0 and arm_angle_bound(state, bounds, h + OVERLAP + tube) * (h + OVERLAP + tube) <= ARM_ANGLE_STEP:
             return h
-        h *= 0.8
+        h *= 0.9
     return 0.0
 
 
@@ -576,7 +635,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
     :data:`SINGULAR_STEP`).
     """
     work = scratch()
-    q, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(9)
+    q, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(STATE)
     if not started(seed, target, real, model, bounds, work, q, tangent, gradient, state):
         return 0, STUCK
     if state[5] * sense < 0.0:
@@ -584,7 +643,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
         state[5] = -state[5]
     first = state[3] * state[0]  # beta |F| at the first point
     apart = np.inf
-    moved, following, following_gradient, following_state = np.empty(7), np.empty(7), np.empty(7), np.empty(9)
+    moved, following, following_gradient, following_state = np.empty(7), np.empty(7), np.empty(7), np.empty(STATE)
     step_signs = np.empty(3, np.int64)
     gap = np.empty(7)
     count = 0
@@ -614,7 +673,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
             if h < SMALLEST_STEP:
                 return count, STUCK
             for j in range(7):
-                moved[j] = q[j] + h * tangent[j]
+                moved[j] = q[j] + h * (tangent[j] + 0.5 * h * state[BEND + j])
             settled, size, rotation = corrected(moved, q, tangent, h, target, real, bounds, work)
             if not settled or not described(moved, size, rotation, tangent, model, work, following,
                                             following_gradient, following_state):
@@ -628,21 +687,21 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
                     apart += (turns_removed(moved[j] - points[0, j] + pi) - pi) ** 2
                 overlap = max(overlap, 2.02 * first + sqrt(apart) + 1e-14)
             reach = h + overlap
-            radius, near, far = certified(state, bounds, reach, overlap)
-            spread = arm_angle_bound(state, bounds, reach + radius) * (reach + radius)
+            radius, tube, near, far = certified(state, bounds, reach, overlap)
+            spread = arm_angle_bound(state, bounds, reach + tube) * (reach + tube)
             off = 0.0
             for j in range(7):
-                off += (moved[j] - q[j] - h * tangent[j]) ** 2
+                off += (moved[j] - q[j] - h * (tangent[j] + 0.5 * h * state[BEND + j])) ** 2
             if radius < 0.0 or not spread <= ARM_ANGLE_STEP or sqrt(off) > radius + overlap:
                 h *= 0.5
                 closing = False
                 continue
-            state_of_limits, meets, rate = classified(q, tangent, reach, radius, near, far, model, real_phase, limits,
-                                                      step_signs)
+            state_of_limits, meets, rate = classified(q, tangent, state[BEND:BEND + 7], reach, radius, near, far, model,
+                                                      real_phase, limits, step_signs)
             undecided = (step_signs[0] == 0 or step_signs[1] == 0 or step_signs[2] == 0 or state_of_limits == UNDECIDED
                          or state[5] * following_state[5] < 0.0)
             if undecided and spread > RESOLUTION and h > 4.0 * overlap:
-                h = _shorter(h, reach, radius, spread, meets, rate)
+                h = _shorter(h, reach, tube, spread, meets, rate)
                 closing = False
                 continue
             break
@@ -650,7 +709,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
         signs[count - 1] = step_signs
         inside[count - 1] = state_of_limits
         spreads[count - 1] = spread
-        tubes[count - 1, 0], tubes[count - 1, 1] = reach, radius
+        tubes[count - 1, 0], tubes[count - 1, 1] = reach, tube
         if closing and apart <= 1e-18:  # landed on the first point (to 1e-9 rad)
             points[count] = moved
             tangents[count] = following
