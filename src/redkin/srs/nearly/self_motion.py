@@ -209,12 +209,15 @@ def _through(arm: NearlySRS, target: np.ndarray, seeds: np.ndarray, angles: np.n
     followed unless a curve found before passes through it (:func:`_passes`), ``most`` curves and :data:`_BUDGET`
     points at most; and whether every seed was followed or lies on a curve."""
     curves: list[SelfMotion] = []
+    branches: list[set[int]] = []  # the branches each curve's steps lie on: only those can pass through a seed
     for seed, angle, row in zip(seeds, angles, rows):
-        if any(_passes(curve, float(angle), int(row), seed) for curve in curves):
+        if any(int(row) in on and _passes(curve, float(angle), int(row), seed)
+               for curve, on in zip(curves, branches, strict=True)):
             continue
         if len(curves) == most or sum(len(curve.psi) for curve in curves) >= _BUDGET:
             return tuple(curves), False
         curves.append(_followed(arm, target, np.array(seed, dtype=float), _LONGEST))
+        branches.append(set(np.unique(curves[-1].branches).tolist()))
     return tuple(curves), True
 
 
