@@ -35,12 +35,15 @@ from ``y_s`` needs
   derivatives (:func:`third_bound`: every derivative of a turning vector is a
   cross product with a unit axis, lever arms no longer than the links that
   follow the joint, ``|r|`` bounded over the ball from its value at ``x``);
-* relative to ``A(y_s)``, with ``d = |y_s - x| <= s + s^2 |kappa| / 2``:
-  ``omega_s = omega / (1 - omega d)``, and by Taylor's theorem the first
-  Newton step ``alpha_s <= (beta (eps + s delta + s^2 e / 2) + Omega (s^3
-  |kappa| / 2 + s^4 |kappa|^2 / 8) + beta K d^3 / 6) / (1 - omega d)``
-  (``eps = |F(x)|``, ``delta = |F'(x) t|``, ``e`` the residual of
-  ``kappa``'s equations: rounding).
+* relative to ``A(y_s)``, with ``d = |y_s - x| <= s + s^2 |kappa| / 2`` and
+  ``c`` a bound of ``|A(x)^-1 (A(y_s) - A(x))|``, the smaller of ``omega d``
+  and (Taylor's theorem along the step) ``s Omega_t + s^2 |kappa| Omega / 2 +
+  beta K d^2 / 2``, ``Omega_t`` bounding ``|A(x)^-1 F''(x)[t, .]|``:
+  ``omega_s = omega / (1 - c)``, and by Taylor's theorem the first Newton
+  step ``alpha_s <= (beta (eps + s delta + s^2 e / 2) + Omega (s^3 |kappa| /
+  2 + s^4 |kappa|^2 / 8) + beta K d^3 / 6) / (1 - c)`` (``eps = |F(x)|``,
+  ``delta = |F'(x) t|``, ``e`` the residual of ``kappa``'s equations:
+  rounding).
 
 Where ``h_K = omega_s alpha_s <= 0.45`` for ``s = H``, it gives one solution
 ``x*(s)`` within ``r* = (1 - sqrt(1 - 2 h_K)) / omega_s`` of ``y_s`` for every
@@ -87,8 +90,9 @@ from redkin.srs.nearly._kernels import arm_angle_one
 SCALE, POSITION_THIRD, SUM_S, SUM_S2, SUM_T, SUM_T2, SUM_ST, WRIST_LIPSCHITZ, LEVER = range(9)
 FOREARM = LEVER + 4
 #: Entries of a point's ``state`` (:func:`described`) beyond its first nine: the curve's second derivative ``kappa``
-#: (7), ``|kappa|`` and the rounding of its equations; and the state's length.
-BEND, BEND_SIZE, BEND_ROUNDING, STATE = 9, 16, 17, 18
+#: (7), ``|kappa|``, the rounding of its equations and ``Omega_t`` (a bound of ``|A^-1 F''[t, .]|``); and the state's
+#: length.
+BEND, BEND_SIZE, BEND_ROUNDING, TURNING, STATE = 9, 16, 17, 18, 19
 #: Kantorovich's ``h_K`` at most (1/2 in the theorem; the margin covers the rounding of the bounds).
 KANTOROVICH = 0.45
 #: How far past its end [rad of arc length] a step is certified at least, so that it meets the next (module
@@ -232,17 +236,17 @@ def residual(q, target, real, scale, work):
 
 
 @kernel
-def curvature(work, inverse, tangent, along):
+def curvature(work, inverse, tangent, turned):
     """``Omega`` [C3]: a bound of ``|A^-1 F''|`` (a bilinear map) at the point last passed to :func:`residual`
     (``F'`` copied to ``work``'s ``jacobian`` by :func:`described`), ``inverse`` (7, 7) being ``A^-1``: the spectral
     norm of the matrix of the norms ``|A^-1 [F''_ij; 0]|`` bounded by the smaller of its Frobenius norm and its
-    largest row sum (module docstring's second derivatives).  Also ``F''[t, t]`` into ``along`` (6,), ``t`` the
-    ``tangent``."""
+    largest row sum (module docstring's second derivatives).  Also ``F''[t, e_j]`` into column ``j`` of ``turned``
+    (6, 7), ``t`` the ``tangent``."""
     jacobian, axes, m = work[10], work[11], work[12]
     norms = np.empty((7, 7))
     h = np.empty(6)
     mw = np.empty(3)
-    along[:] = 0.0
+    turned[:] = 0.0
     for i in range(7):
         w0, w1, w2 = axes[0, i], axes[1, i], axes[2, i]
         mw[0] = m[0, 0] * w0 + m[0, 1] * w1 + m[0, 2] * w2
@@ -262,9 +266,10 @@ def curvature(work, inverse, tangent, along):
                 h[3] += 0.5 * (trace * c0 - m[0, 0] * c0 - m[0, 1] * c1 - m[0, 2] * c2)
                 h[4] += 0.5 * (trace * c1 - m[1, 0] * c0 - m[1, 1] * c1 - m[1, 2] * c2)
                 h[5] += 0.5 * (trace * c2 - m[2, 0] * c0 - m[2, 1] * c1 - m[2, 2] * c2)
-            weight = tangent[i] * tangent[j] * (2.0 if j < i else 1.0)
-            for r in range(6):
-                along[r] += weight * h[r]
+            for r in range(6):  # F''_ij = F''_ji
+                turned[r, j] += tangent[i] * h[r]
+                if j < i:
+                    turned[r, i] += tangent[j] * h[r]
             total = 0.0
             for r in range(7):
                 value = 0.0
@@ -302,8 +307,9 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
     tangent > 0``, into ``gradient`` (7,) ``d psi / dq``, and into ``state`` (:data:`STATE`,) ``|F|``, ``|r|``,
     ``delta = |F' t|``, ``beta`` (bounds ``|A^-1|``, ``A = [F'; t^T]``), ``psi``, ``d psi / ds``, the wrist's distance
     ``w`` from joint 1's axis, ``|x_sw|``, ``Omega`` (:func:`curvature`) (module docstring), and from :data:`BEND` on
-    the curve's second derivative ``kappa = -A^-1 [F''[t, t]; 0]`` [C2], ``|kappa|`` and the residual ``|[F' kappa +
-    F''[t, t]; t . kappa]|`` of its equations (rounding).  Returns ``False`` at a singular configuration."""
+    the curve's second derivative ``kappa = -A^-1 [F''[t, t]; 0]`` [C2], ``|kappa|``, the residual ``|[F' kappa +
+    F''[t, t]; t . kappa]|`` of its equations (rounding) and ``Omega_t`` [C3].  Returns ``False`` at a singular
+    configuration."""
     system, pivots, inverse, model_work, u, jacobian = work[3], work[5], work[6], work[8], work[9], work[10]
     jacobian[:] = system[:6]
     system[6, :] = previous
@@ -332,8 +338,19 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
     state[3] = inverse_bound(system, pivots, inverse)
     state[4], state[5] = psi, np.sum(gradient * tangent)
     state[6], state[7] = shared[0], sqrt(shared[0] * shared[0] + shared[3] * shared[3])
-    along = np.empty(6)
-    state[8] = curvature(work, inverse, tangent, along)
+    turned, along = np.empty((6, 7)), np.zeros(6)
+    state[8] = curvature(work, inverse, tangent, turned)
+    squares = 0.0
+    for r in range(7):  # Omega_t: the Frobenius norm of A^-1 [F''[t, .]; 0]
+        for j in range(7):
+            value = 0.0
+            for k in range(6):
+                value += inverse[r, k] * turned[k, j]
+            squares += value * value
+    state[TURNING] = sqrt(squares)
+    for k in range(6):
+        for j in range(7):
+            along[k] += turned[k, j] * tangent[j]
     for r in range(7):
         value = 0.0
         for k in range(6):
@@ -348,7 +365,8 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
         rounding += value * value
     state[BEND_SIZE] = sqrt(np.sum(bend * bend))
     state[BEND_ROUNDING] = sqrt(rounding + np.sum(bend * tangent) ** 2)
-    return bool(np.isfinite(state[3]) and np.isfinite(state[8]) and np.isfinite(state[BEND_SIZE]))
+    return bool(np.isfinite(state[3]) and np.isfinite(state[8]) and np.isfinite(state[BEND_SIZE])
+                and np.isfinite(state[TURNING]))
 
 
 @kernel
@@ -418,7 +436,9 @@ def certified(state, bounds, reach, overlap):
         ball = (1.0 + room) * span + REGION
         third = beta * third_bound(state[1], bounds, ball)
         omega = local + third * ball
-        shrink = 1.0 - omega * span
+        # |A(x)^-1 (A(y_s) - A(x))| <= s Omega_t + s^2 |kappa| Omega / 2 + beta K |y_s - x|^2 / 2 (Taylor), and at
+        # most omega |y_s - x| (the Lipschitz bound): the step moves along the curve, where A changes least
+        shrink = 1.0 - min(omega * span, reach * state[TURNING] + local * bow + 0.5 * third * span * span)
         if shrink <= 0.0:
             continue
         omega_s = omega / shrink
@@ -601,7 +621,8 @@ def started(seed, target, real, model, bounds, work, q, tangent, gradient, state
 def longest_step(state, bounds, longest):
     """The longest step [rad] up to ``longest`` that :func:`certified` and :data:`ARM_ANGLE_STEP` admit from a point
     with ``state``, to a few per cent: from twice the length at which ``omega H`` is 0.48 (where a straight predictor's
-    ``h_K`` would be 0.45 for a negligible ``|F|``), shortened until both hold (both only tighten as ``H`` grows)."""
+    ``h_K`` would be 0.45 for a negligible ``|F|``), shortened until both hold (both only tighten as ``H`` grows),
+    then lengthened while they still do (the curve's own bend and ``Omega_t`` may allow several times more)."""
     h = longest
     beta, local = state[3], state[8]
     for _ in range(2):  # omega(h) = Omega + beta K (2 h + REGION) and omega h = 0.48, K at the last h
@@ -609,12 +630,27 @@ def longest_step(state, bounds, longest):
         linear = local + k * REGION
         h = min(h, 2.0 * 0.48 / (linear + sqrt(linear * linear + 8.0 * k * 0.48)))
     h = min(2.0 * h, longest)
-    for _ in range(80):
-        tube = certified(state, bounds, h + OVERLAP, OVERLAP)[1]
-        if tube >= 0.0 and arm_angle_bound(state, bounds, h + OVERLAP + tube) * (h + OVERLAP + tube) <= ARM_ANGLE_STEP:
-            return h
-        h *= 0.9
-    return 0.0
+    shortened = 0
+    while not _admitted(state, bounds, h):
+        h *= 0.8
+        shortened += 1
+        if shortened == 80:
+            return 0.0
+    if shortened == 0:
+        for _ in range(12):
+            longer = min(1.25 * h, longest)
+            if longer <= h or not _admitted(state, bounds, longer):
+                break
+            h = longer
+    return h
+
+
+@kernel
+def _admitted(state, bounds, h):
+    """Whether a step of ``h`` (and :data:`OVERLAP`) from a point with ``state`` is certified with an arm-angle bound
+    of at most :data:`ARM_ANGLE_STEP`."""
+    tube = certified(state, bounds, h + OVERLAP, OVERLAP)[1]
+    return tube >= 0.0 and arm_angle_bound(state, bounds, h + OVERLAP + tube) * (h + OVERLAP + tube) <= ARM_ANGLE_STEP
 
 
 @kernel
