@@ -828,7 +828,7 @@ def row_leaves_branch(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int,
         return bool(nearly.branch_of(arm, q) != branch)
     from redkin.srs.nearly import _self_motion_kernels as kernels
 
-    point, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(9)
+    point, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(kernels.STATE)
     if not kernels.started(np.ascontiguousarray(q), np.ascontiguousarray(pose), arm.kernel_real, arm.kernel_model,
                            arm.kernel_bounds, kernels.scratch(), point, tangent, gradient, state):
         return False
