@@ -211,3 +211,35 @@ def test_the_narrower_tube_holds_every_arc_the_certificate_allows(a, d, e, radiu
     assert np.all(predictor + allowed <= high + 1e-15) and np.all(predictor - allowed >= low - 1e-15)
     if d > far + 2.0 * abs(e):  # moving up, away from what lies below the start
         assert low >= a - min(near, radius) - 1e-15
+
+
+@settings(max_examples=6, deadline=None)
+@given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
+       near=st.sampled_from(NEAR))
+def test_the_bend_and_the_turning_are_the_curves(name, seed, near):
+    """C2-C3: ``kappa`` of a point's state is the curve's second derivative in arc length (the curve's points on the
+    hyperplanes ``t . (q - x) = +-eps``, found by the test's own Newton steps, central differences), and ``Omega_t``
+    bounds how ``A^-1 F'`` changes along the tangent (``F'`` at ``x +- eps t``, ``A^-1`` by numpy)."""
+    from redkin.srs.nearly import _self_motion_kernels as kernels
+
+    arm, q = _configuration(name, seed, near)
+    pose = arm.chain.fk(q)
+    point, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(kernels.STATE)
+    work = kernels.scratch()
+    target = np.ascontiguousarray(pose)
+    assert kernels.started(q.copy(), target, arm.kernel_real, arm.kernel_model, arm.kernel_bounds, work, point,
+                           tangent, gradient, state)
+    bend = state[kernels.BEND:kernels.BEND + 7]
+    epsilon = 1e-4
+    ahead, behind = (_newton(arm, pose, point + s * tangent, tangent, tangent @ point + s) for s in (epsilon, -epsilon))
+    second = (ahead + behind - 2.0 * point) / epsilon**2
+    assert np.abs(second - bend).max() <= 1e-3 * (1.0 + np.abs(bend).max()) + 1e-2 * epsilon * state[8] ** 2
+    scale = arm.kernel_bounds[kernels.SCALE]
+
+    def derivative(at: np.ndarray) -> np.ndarray:
+        kernels.residual(np.ascontiguousarray(at), target, arm.kernel_real, scale, work)
+        return work[3][:6].copy()
+
+    inverse = np.linalg.inv(np.vstack([derivative(point), tangent]))
+    change = (derivative(point + 1e-6 * tangent) - derivative(point - 1e-6 * tangent)) / 2e-6
+    assert np.linalg.norm(inverse[:, :6] @ change, 2) <= state[kernels.TURNING] * (1.0 + 1e-4) + 1e-6
