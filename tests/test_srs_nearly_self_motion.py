@@ -9,7 +9,10 @@ elbow:
   whole turns), and ``rates`` is the derivative of the arm angle along the tangent (central differences);
 - **every step is what it says**: points of the true arc inside a step, found in the test by Newton's steps on
   independently written equations (our FK and Jacobian in numpy, the step's hyperplanes), lie on the step's branch,
-  within the limits where the step says so, and within the step's arm-angle bound of its first point;
+  within the limits where the step says so, and within the step's arm-angle bound of the point its certificate
+  starts from (C5);
+- **joint 1 does not move the arm angle** (C5 rests on it): turning joint 1 by any angle leaves the arm angle as it
+  was, and the certificate's ``beta`` bounds ``|A^-1|`` (numpy's inverse) to within ``7^(1/16)``;
 - **every arm angle of the feasible set has a solution**: at arm angles drawn inside every arc of every branch's set
   (ends included, to 1e-9), :func:`branch_solutions` gives a solution of the branch within the limits, checked with
   our FK, arm angle, branch and limits;
@@ -124,7 +127,7 @@ def test_every_step_is_what_it_says(name, seed, near):
             assert np.all(branch_of(arm, inner) == curve.branches[k])
         if curve.inside[k] == 1:
             assert np.all(arm.chain.within_limits(inner, wrap=True))
-        assert np.all(np.abs(_wrapped(arm_angle(arm, inner) - curve.psi[k])) <= curve.spread[k] + 1e-12)
+        assert np.all(np.abs(_wrapped(arm_angle(arm, inner) - curve.psi[curve.anchors[k]])) <= curve.spread[k] + 1e-12)
 
 
 @settings(max_examples=8, deadline=None)
@@ -213,6 +216,19 @@ def test_the_narrower_tube_holds_every_arc_the_certificate_allows(a, d, e, radiu
         assert low >= a - min(near, radius) - 1e-15
 
 
+@settings(max_examples=20, deadline=None)
+@given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
+       near=st.sampled_from(NEAR), turn=st.floats(-3.0, 3.0))
+def test_joint_one_does_not_move_the_arm_angle(name, seed, near, turn):
+    """C5 bounds the arm angle's change by joints 2-4 alone: turning the whole arm about joint 1's axis turns the
+    reference plane with it (and joints 5-7 do not move the wrist)."""
+    arm, q = _configuration(name, seed, near)
+    moved = q.copy()
+    moved[0] += turn
+    moved[4:] = np.random.default_rng(seed).uniform(-3.0, 3.0, 3)
+    assert abs(_wrapped(arm_angle(arm, moved) - arm_angle(arm, q))) <= 1e-11
+
+
 @settings(max_examples=6, deadline=None)
 @given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
        near=st.sampled_from(NEAR))
@@ -241,5 +257,7 @@ def test_the_bend_and_the_turning_are_the_curves(name, seed, near):
         return work[3][:6].copy()
 
     inverse = np.linalg.inv(np.vstack([derivative(point), tangent]))
+    largest = np.linalg.norm(inverse, 2)
+    assert largest * (1.0 - 1e-9) <= state[3] <= largest * 7.0 ** (1.0 / 16.0) * (1.0 + 1e-9)
     change = (derivative(point + 1e-6 * tangent) - derivative(point - 1e-6 * tangent)) / 2e-6
     assert np.linalg.norm(inverse[:, :6] @ change, 2) <= state[kernels.TURNING] * (1.0 + 1e-4) + 1e-6

@@ -57,11 +57,14 @@ within ``r* + H^2 |kappa| / 2`` of the tangent ``x + s t``; a step is
 classified by that tube [C4]: each branch sign (the neighbour's ``theta_2``,
 ``theta_4 - phi_real`` and ``theta_6`` away from 0 and pi) and each limited
 joint (within its limits modulo whole turns, outside them, or not decided).
-The arm angle changes over the arc by at most ``G (H + r*)`` (``r*`` about
-the tangent), ``G`` a bound of its gradient over the ball [C5] from the
-wrist's distances to joint 1's axis and to the shoulder; a step is kept only
-where that is at most :data:`ARM_ANGLE_STEP`, less than pi, so the arc's arm
-angles cover the short arc between its ends [C6].  Where a step is not
+The arm angle stays over the arc within ``sum_j G_j e_j`` of its value at
+the start [C5] (:func:`arm_angle_spread`): ``G_j`` bounds ``|d psi / d q_j|``
+over the ball from the wrist's distances to joint 1's axis and to the
+shoulder, ``e_j`` is how far joint ``j`` gets within the tube, for joints 2-4
+(joint 1 turns the reference plane with the arm, joints 5-7 do not move the
+wrist); a step is kept only where that is at most :data:`ARM_ANGLE_STEP`,
+less than pi, so the arc's arm angles cover the short arc between its ends
+[C6].  Where a step is not
 decided (a sign or a limit crossed, or a fold: ``d psi / ds`` changes sign)
 it is shortened (:func:`_shorter`) until its arm-angle bound is at most
 :data:`RESOLUTION`.
@@ -135,7 +138,7 @@ CLOSED, FULL, STUCK = 0, 1, 2
 def factored(a, pivots):
     """LU factorisation with partial pivoting of ``a`` (7, 7) in place (LAPACK's layout); returns ``False`` where a
     pivot is zero."""
-    n = a.shape[0]
+    n = 7
     for k in range(n):
         row, big = k, abs(a[k, k])
         for i in range(k + 1, n):
@@ -159,7 +162,7 @@ def factored(a, pivots):
 @kernel
 def solved(a, pivots, b):
     """``b`` (7,) in place by the factors of :func:`factored`."""
-    n = a.shape[0]
+    n = 7
     for k in range(n):
         row = pivots[k]
         if row != k:
@@ -175,35 +178,52 @@ def solved(a, pivots, b):
 
 
 @kernel
-def inverse_bound(a, pivots, inverse):
-    """``A^-1`` into ``inverse`` (7, 7) from the factors of :func:`factored`, and an upper bound of ``|A^-1|_2``:
-    with ``B = A^-T A^-1``, ``|A^-1|_2^2 = lambda_max(B) <= |B^8|_F^(1/8)``, at most ``7^(1/16)`` times too large
-    (the Frobenius norm of ``A^-1`` alone can be ``sqrt(7)`` times too large)."""
-    n = a.shape[0]
-    column = np.empty(n)
-    for j in range(n):
-        column[:] = 0.0
-        column[j] = 1.0
-        solved(a, pivots, column)
-        inverse[:, j] = column
-    power, squared = np.empty((n, n)), np.empty((n, n))
+def inverse_bound(a, pivots, inverse, power, squared):
+    """``A^-1`` into ``inverse`` (7, 7) from the factors of :func:`factored` (all seven columns at once: the
+    permuted identity through both triangles), and an upper bound of ``|A^-1|_2``: with ``B = A^-T A^-1``,
+    ``|A^-1|_2^2 = lambda_max(B) <= |B^8|_F^(1/8)``, at most ``7^(1/16)`` times too large (the Frobenius norm of
+    ``A^-1`` alone can be ``sqrt(7)`` times too large).  ``power`` and ``squared`` (7, 7) are scratch."""
+    inverse[:] = 0.0
+    for k in range(7):
+        inverse[k, k] = 1.0
+    for k in range(7):
+        row = pivots[k]
+        if row != k:
+            for j in range(7):
+                inverse[k, j], inverse[row, j] = inverse[row, j], inverse[k, j]
+    for k in range(7):
+        for i in range(k + 1, 7):
+            factor = a[i, k]
+            for j in range(7):
+                inverse[i, j] -= factor * inverse[k, j]
+    for k in range(6, -1, -1):
+        for m in range(k + 1, 7):
+            factor = a[k, m]
+            for j in range(7):
+                inverse[k, j] -= factor * inverse[m, j]
+        for j in range(7):
+            inverse[k, j] /= a[k, k]
     gram(inverse, power)
     for _ in range(3):  # B^2, B^4, B^8: B is symmetric, so B B = B^T B
         gram(power, squared)
-        power[:] = squared
-    return np.sqrt(np.sum(power * power)) ** (1.0 / 16.0)
+        power, squared = squared, power
+    total = 0.0
+    for i in range(7):
+        for j in range(7):
+            total += power[i, j] * power[i, j]
+    return sqrt(total) ** (1.0 / 16.0)
 
 
 @kernel
 def gram(a, out):
-    """``a^T a`` (n, n) into ``out`` (symmetric: each entry computed once)."""
-    n = a.shape[1]
-    for i in range(n):
+    """``a^T a`` (7, 7) into ``out`` (symmetric: each entry computed once)."""
+    for i in range(7):
         for j in range(i + 1):
             total = 0.0
-            for k in range(a.shape[0]):
+            for k in range(7):
                 total += a[k, i] * a[k, j]
-            out[i, j] = out[j, i] = total
+            out[i, j] = total
+            out[j, i] = total
 
 
 # ------------------------------------------------------------------ the equations [C1]
@@ -242,10 +262,7 @@ def curvature(work, inverse, tangent, turned):
     norm of the matrix of the norms ``|A^-1 [F''_ij; 0]|`` bounded by the smaller of its Frobenius norm and its
     largest row sum (module docstring's second derivatives).  Also ``F''[t, e_j]`` into column ``j`` of ``turned``
     (6, 7), ``t`` the ``tangent``."""
-    jacobian, axes, m = work[10], work[11], work[12]
-    norms = np.empty((7, 7))
-    h = np.empty(6)
-    mw = np.empty(3)
+    jacobian, axes, m, norms, h, mw = work[10], work[11], work[12], work[15], work[18], work[19]
     turned[:] = 0.0
     for i in range(7):
         w0, w1, w2 = axes[0, i], axes[1, i], axes[2, i]
@@ -290,14 +307,15 @@ def curvature(work, inverse, tangent, turned):
 # ------------------------------------------------------------------ one point of the curve
 @kernel
 def scratch():
-    """The scratch arrays of :func:`residual`, :func:`described` and :func:`corrected`: ``F`` (6,), the system (7, 7)
-    whose first six rows hold ``F'`` at the point last evaluated, the axes (3, 7) and ``M`` (3, 3) there, and the
-    rest."""
+    """The scratch arrays of :func:`residual`, :func:`described` (with :func:`inverse_bound` and :func:`curvature`)
+    and :func:`corrected`: ``F`` (6,), the system (7, 7) whose first six rows hold ``F'`` at the point last
+    evaluated, the axes (3, 7) and ``M`` (3, 3) there, and the rest."""
     model_work = (np.empty((9, 4, 4)), np.empty((7, 2)), np.empty((3, 4)), np.empty(3), np.empty((3, 3)),
                   np.empty((3, 3)))
     return (np.empty((7, 2)), np.empty((1, 4, 4)), np.zeros(3), np.empty((7, 7)), np.empty(6), np.empty(7, np.int64),
             np.empty((7, 7)), np.empty(7), model_work, np.empty(3), np.empty((6, 7)), np.empty((3, 7)),
-            np.empty((3, 3)))
+            np.empty((3, 3)), np.empty((7, 7)), np.empty((7, 7)), np.empty((7, 7)), np.empty((6, 7)), np.empty(6),
+            np.empty(6), np.empty(3))
 
 
 @kernel
@@ -335,10 +353,11 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
     psi = arm_angle_one(q, model[0], model[1], model[2], model[3], model_work, gradient, np.bool_(True))
     shared = wrist_point(model_work[2], model[2], u)[0]
     state[0], state[1], state[2] = size, rotation, sqrt(delta)
-    state[3] = inverse_bound(system, pivots, inverse)
+    state[3] = inverse_bound(system, pivots, inverse, work[13], work[14])
     state[4], state[5] = psi, np.sum(gradient * tangent)
     state[6], state[7] = shared[0], sqrt(shared[0] * shared[0] + shared[3] * shared[3])
-    turned, along = np.empty((6, 7)), np.zeros(6)
+    turned, along = work[16], work[17]
+    along[:] = 0.0
     state[8] = curvature(work, inverse, tangent, turned)
     squares = 0.0
     for r in range(7):  # Omega_t: the Frobenius norm of A^-1 [F''[t, .]; 0]
@@ -481,22 +500,27 @@ def _quadratic_range(a, b, c):
 
 
 @kernel
-def arm_angle_bound(state, bounds, reach):
-    """A bound [C5] of ``|grad psi|`` over the ball of radius ``reach`` about a point with ``state``
-    (:func:`described`), from the wrist's distances to joint 1's axis and to the shoulder there; infinite where the
-    ball may hold the wrist on the axis (where the arm angle is not continuous) or at the shoulder."""
-    moved = bounds[WRIST_LIPSCHITZ] * reach
+def arm_angle_spread(state, bounds, direction, bend, reach, radius, tube):
+    """A bound [C5] of how far the arm angle gets from its value at a step's start over the step's arc: ``sum_j G_j
+    e_j`` over joints 2-4, ``G_j`` bounding ``|d psi / d q_j|`` over the ball of radius ``reach + tube`` about the
+    start (:func:`certified`: it holds the arc) from the wrist's distances to joint 1's axis and to the shoulder
+    there, and ``e_j`` how far joint ``j`` gets from the start within the tube (the range of the predictor ``s t_j +
+    s^2 kappa_j / 2`` over the step, ``t`` the ``direction`` and ``kappa`` the ``bend``, widened by ``radius``).
+    Joint 1 does not move the arm angle: turning the whole arm about joint 1's axis turns the reference plane with
+    it.  Infinite where the ball may hold the wrist on the axis (where the arm angle is not continuous) or at the
+    shoulder."""
+    moved = bounds[WRIST_LIPSCHITZ] * (reach + tube)
     off_axis, apart = state[6] - moved, state[7] - moved
     if off_axis <= AXIS_TOLERANCE * 10.0 or apart <= 0.0:
         return np.inf
     total = 0.0
-    for j in range(4):
-        lever = bounds[LEVER + j]
-        term = 1.0 + lever * (1.0 / off_axis + 1.0 / apart)
+    for j in range(1, 4):
+        rate = 1.0 + bounds[LEVER + j] * (1.0 / off_axis + 1.0 / apart)
         if j == 3:
-            term += bounds[FOREARM] / apart
-        total += term * term
-    return sqrt(total)
+            rate += bounds[FOREARM] / apart
+        low, high = _quadratic_range(0.0, reach * direction[j], 0.5 * reach * reach * bend[j])
+        total += rate * (max(-low, high) + radius)
+    return total
 
 
 @kernel
@@ -618,11 +642,12 @@ def started(seed, target, real, model, bounds, work, q, tangent, gradient, state
 
 
 @kernel
-def longest_step(state, bounds, longest):
+def longest_step(state, tangent, bounds, longest):
     """The longest step [rad] up to ``longest`` that :func:`certified` and :data:`ARM_ANGLE_STEP` admit from a point
-    with ``state``, to a few per cent: from twice the length at which ``omega H`` is 0.48 (where a straight predictor's
-    ``h_K`` would be 0.45 for a negligible ``|F|``), shortened until both hold (both only tighten as ``H`` grows),
-    then lengthened while they still do (the curve's own bend and ``Omega_t`` may allow several times more)."""
+    with ``state`` along ``tangent``, to 3 %: from twice the length at which ``omega H`` is 0.48 (where a straight
+    predictor's ``h_K`` would be 0.45 for a negligible ``|F|``), shortened until both hold (both only tighten as ``H``
+    grows), or lengthened while they still do (the curve's own bend and ``Omega_t`` may allow several times more),
+    then bisected between the last length that holds and the first that does not."""
     h = longest
     beta, local = state[3], state[8]
     for _ in range(2):  # omega(h) = Omega + beta K (2 h + REGION) and omega h = 0.48, K at the last h
@@ -631,26 +656,36 @@ def longest_step(state, bounds, longest):
         h = min(h, 2.0 * 0.48 / (linear + sqrt(linear * linear + 8.0 * k * 0.48)))
     h = min(2.0 * h, longest)
     shortened = 0
-    while not _admitted(state, bounds, h):
+    while not _admitted(state, tangent, bounds, h):
         h *= 0.8
         shortened += 1
         if shortened == 80:
             return 0.0
+    too_long = h / 0.8
     if shortened == 0:
         for _ in range(12):
-            longer = min(1.25 * h, longest)
-            if longer <= h or not _admitted(state, bounds, longer):
+            too_long = min(1.25 * h, longest)
+            if too_long <= h:
+                return h
+            if not _admitted(state, tangent, bounds, too_long):
                 break
-            h = longer
+            h = too_long
+    for _ in range(3):  # to within 3 %
+        middle = 0.5 * (h + too_long)
+        if _admitted(state, tangent, bounds, middle):
+            h = middle
+        else:
+            too_long = middle
     return h
 
 
 @kernel
-def _admitted(state, bounds, h):
-    """Whether a step of ``h`` (and :data:`OVERLAP`) from a point with ``state`` is certified with an arm-angle bound
-    of at most :data:`ARM_ANGLE_STEP`."""
-    tube = certified(state, bounds, h + OVERLAP, OVERLAP)[1]
-    return tube >= 0.0 and arm_angle_bound(state, bounds, h + OVERLAP + tube) * (h + OVERLAP + tube) <= ARM_ANGLE_STEP
+def _admitted(state, tangent, bounds, h):
+    """Whether a step of ``h`` (and :data:`OVERLAP`) from a point with ``state`` along ``tangent`` is certified with
+    an arm-angle bound of at most :data:`ARM_ANGLE_STEP`."""
+    radius, tube = certified(state, bounds, h + OVERLAP, OVERLAP)[:2]
+    return tube >= 0.0 and arm_angle_spread(state, bounds, tangent, state[BEND:BEND + 7], h + OVERLAP, radius,
+                                            tube) <= ARM_ANGLE_STEP
 
 
 @kernel
@@ -693,7 +728,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
         count += 1
         if count == most:
             return count, FULL
-        allowed = longest_step(state, bounds, longest)
+        allowed = longest_step(state, tangent, bounds, longest)
         if allowed < SINGULAR_STEP:
             return count, STUCK
         h = allowed if event else min(2.0 * h, allowed)  # past a boundary the tube [C4] clears it at once
@@ -724,7 +759,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
                 overlap = max(overlap, 2.02 * first + sqrt(apart) + 1e-14)
             reach = h + overlap
             radius, tube, near, far = certified(state, bounds, reach, overlap)
-            spread = arm_angle_bound(state, bounds, reach + tube) * (reach + tube)
+            spread = arm_angle_spread(state, bounds, tangent, state[BEND:BEND + 7], reach, radius, tube)
             off = 0.0
             for j in range(7):
                 off += (moved[j] - q[j] - h * (tangent[j] + 0.5 * h * state[BEND + j])) ** 2
