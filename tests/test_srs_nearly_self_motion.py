@@ -11,6 +11,8 @@ elbow:
   independently written equations (our FK and Jacobian in numpy, the step's hyperplanes), lie on the step's branch,
   within the limits where the step says so, and within the step's arm-angle bound of the point its certificate
   starts from (C5);
+- **the third derivatives are within ``K``** (C3): each rotation row's at most 1, each position row's within the
+  lever arm, all 343 within ``K``, on the self-motion and away from it;
 - **joint 1 does not move the arm angle** (C5 rests on it): turning joint 1 by any angle leaves the arm angle as it
   was, and the certificate's ``beta`` bounds ``|A^-1|`` (numpy's inverse) to within ``7^(1/16)``;
 - **every arm angle of the feasible set has a solution**: at arm angles drawn inside every arc of every branch's set
@@ -214,6 +216,46 @@ def test_the_narrower_tube_holds_every_arc_the_certificate_allows(a, d, e, radiu
     assert np.all(predictor + allowed <= high + 1e-15) and np.all(predictor - allowed >= low - 1e-15)
     if d > far + 2.0 * abs(e):  # moving up, away from what lies below the start
         assert low >= a - min(near, radius) - 1e-15
+
+
+@settings(max_examples=6, deadline=None)
+@given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
+       away=st.sampled_from([0.0, 0.3, 2.0]))
+def test_the_third_derivatives_are_within_their_bound(name, seed, away):
+    """C3's ``K``: along joints ``i <= j <= m`` each rotation row's third derivative is at most 1 in norm and each
+    position row's at most ``c`` times the end point's distance from joint ``m``'s axis, and the Frobenius norm of
+    all 343 is at most ``K``; by the test's own ``F`` (our FK in numpy) and mixed central differences, on the
+    self-motion (``M = I``) and ``away`` from it."""
+    from itertools import permutations, product
+
+    from redkin.srs.nearly import _self_motion_kernels as kernels
+
+    arm, q = _configuration(name, seed, "anywhere")
+    pose = arm.chain.fk(q)
+    point = q + away * np.random.default_rng(seed).normal(size=7)
+    scale, step = arm.kernel_bounds[kernels.SCALE], 1e-3
+    triples = [(i, j, m) for i in range(7) for j in range(i, 7) for m in range(j, 7)]
+    signs = np.array(list(product([1.0, -1.0], repeat=3)))
+    identity = np.eye(7)
+    moves = np.array([[a * identity[i] + b * identity[j] + c * identity[m] for a, b, c in signs] for i, j, m in triples])
+    frames = arm.chain.fk(point + step * moves)
+    turn = frames[..., :3, :3] @ pose[:3, :3].T
+    equations = np.concatenate([scale * (frames[..., :3, 3] - pose[:3, 3]),
+                                0.5 * np.stack([turn[..., 2, 1] - turn[..., 1, 2], turn[..., 0, 2] - turn[..., 2, 0],
+                                                turn[..., 1, 0] - turn[..., 0, 1]], axis=-1)], axis=-1)
+    third = np.einsum("s,tsk->tk", signs.prod(axis=1), equations) / (8.0 * step**3)
+    joints = arm.chain.frames(point)  # joint m's axis: frame m - 1's z (standard DH) or frame m's (modified)
+    first = 0 if arm.chain._standard else 1
+    end = arm.chain.fk(point)[:3, 3]
+    reach = []
+    for m in range(7):
+        axis, origin = joints[m + first, :3, 2], joints[m + first, :3, 3]
+        offset = end - origin
+        reach.append(np.linalg.norm(offset - (offset @ axis) * axis))
+    assert np.all(np.linalg.norm(third[:, 3:], axis=1) <= 1.0 + 1e-5)
+    assert np.all(np.linalg.norm(third[:, :3], axis=1) <= scale * np.array([reach[m] for _, _, m in triples]) + 1e-5)
+    copies = np.array([len(set(permutations(triple))) for triple in triples])
+    assert np.sqrt(np.sum(copies * np.sum(third * third, axis=1))) <= arm.kernel_bounds[kernels.THIRD]
 
 
 @settings(max_examples=20, deadline=None)

@@ -32,9 +32,10 @@ from ``y_s`` needs
   (the 28 second derivatives at ``x`` mapped by ``A(x)^-1``, their norms'
   spectral norm bounded by its Frobenius norm and its largest row sum),
   ``beta >= |A(x)^-1|`` (:func:`inverse_bound`) and ``K`` a bound of the third
-  derivatives (:func:`third_bound`: every derivative of a turning vector is a
-  cross product with a unit axis, lever arms no longer than the links that
-  follow the joint, ``|r|`` bounded over the ball from its value at ``x``);
+  derivatives everywhere (the Frobenius norm of bounds of their 343 entries:
+  along joints ``i <= j <= m`` the end point's is ``w_i x (w_j x (w_m x (p -
+  o_m)))``, no longer than the links after joint ``m``, and ``M``'s is
+  ``[w_i]x [w_j]x [w_m]x M``, so the rotation rows' is at most 1);
 * relative to ``A(y_s)``, with ``d = |y_s - x| <= s + s^2 |kappa| / 2`` and
   ``c`` a bound of ``|A(x)^-1 (A(y_s) - A(x))|``, the smaller of ``omega d``
   and (Taylor's theorem along the step) ``s Omega_t + s^2 |kappa| Omega / 2 +
@@ -86,11 +87,9 @@ from redkin.srs._ik_kernels import AXIS_TOLERANCE, turns_removed, wrist_point
 from redkin.srs.nearly._kernels import arm_angle_one
 
 #: Entries of an arm's ``bounds`` (:attr:`redkin.srs.nearly.NearlySRS.kernel_bounds`): the position rows' scale ``c``
-#: [1/m]; the squared Frobenius norm of the bounds of their third derivatives; the sums over the 343 third
-#: derivatives of the rotation rows of ``S``, ``S^2``, ``T``, ``T^2`` and ``S T`` (:func:`third_bound`); the
-#: Lipschitz constant of the neighbour's wrist point in ``q`` [m], each of joints 1-4's lever arm to it [m] (4) and
-#: the forearm's length [m].
-SCALE, POSITION_THIRD, SUM_S, SUM_S2, SUM_T, SUM_T2, SUM_ST, WRIST_LIPSCHITZ, LEVER = range(9)
+#: [1/m]; ``K``, a bound of the third derivatives of ``F`` everywhere [C3] (module docstring); the Lipschitz constant of the neighbour's
+#: wrist point in ``q`` [m], each of joints 1-4's lever arm to it [m] (4) and the forearm's length [m].
+SCALE, THIRD, WRIST_LIPSCHITZ, LEVER = range(4)
 FOREARM = LEVER + 4
 #: Entries of a point's ``state`` (:func:`described`) beyond its first nine: the curve's second derivative ``kappa``
 #: (7), ``|kappa|``, the rounding of its equations and ``Omega_t`` (a bound of ``|A^-1 F''[t, .]|``); and the state's
@@ -420,25 +419,6 @@ def corrected(q, anchor, direction, distance, target, real, bounds, work):
 
 # ------------------------------------------------------------------ the certificate of a step [C2]-[C5]
 @kernel
-def third_bound(rotation, bounds, radius):
-    """``K`` [C3]: a bound of the third derivatives of ``F`` (a trilinear map) over the ball of ``radius`` about a
-    point whose rotation rows are ``rotation`` (``|r|``), by the Frobenius norm of bounds of its 343 entries.
-
-    Position rows: ``c rho_max(i, j, m)`` (``bounds[POSITION_THIRD]`` holds their squares' sum).  Rotation rows, for
-    column ``i`` differentiated by ``j`` and ``m``: ``a + b S + T`` with ``S = [m < j] + [m < i] + [j < i]``, ``T =
-    ([m < j] + [m < i]) [j < i]``, ``b = 1/2 + |r|`` and ``a = 3/2 + (e + e^2) / 2``, ``e = |M - I|`` (from
-    ``|N(X)| <= (|tr X| + |X|) / 2``, ``|N(M)| <= 1``, ``|tr([a]x M)| = 2 |a . r|`` and ``|tr([u]x [v]x M)| <= 2 + e
-    + e^2``); ``|r|`` and ``e`` over the ball from the rotation angle there plus ``sqrt(7) radius``."""
-    angle = np.arcsin(min(rotation, 1.0)) + sqrt(7.0) * radius
-    b = 0.5 + np.sin(min(angle, 0.5 * pi))
-    e = 2.0 * np.sin(0.5 * min(angle, pi))
-    a = 1.5 + 0.5 * (e + e * e)
-    turning = (343.0 * a * a + b * b * bounds[SUM_S2] + bounds[SUM_T2] + 2.0 * a * b * bounds[SUM_S]
-               + 2.0 * a * bounds[SUM_T] + 2.0 * b * bounds[SUM_ST])
-    return sqrt(bounds[POSITION_THIRD] + turning)
-
-
-@kernel
 def certified(state, bounds, reach, overlap):
     """The certificate of a step of length ``reach`` (``H``, the ``overlap`` past its end included) from a point
     with ``state`` (:func:`described`) [C2]-[C4], from the predictor ``y_s = x + s t + s^2 kappa / 2``: the radius
@@ -453,7 +433,7 @@ def certified(state, bounds, reach, overlap):
     span = reach + bow  # |y_s - x| at most
     for room in BALL_ROOM:  # the ball D about x: every y_s, and room about it for Kantorovich's balls
         ball = (1.0 + room) * span + REGION
-        third = beta * third_bound(state[1], bounds, ball)
+        third = beta * bounds[THIRD]
         omega = local + third * ball
         # |A(x)^-1 (A(y_s) - A(x))| <= s Omega_t + s^2 |kappa| Omega / 2 + beta K |y_s - x|^2 / 2 (Taylor), and at
         # most omega |y_s - x| (the Lipschitz bound): the step moves along the curve, where A changes least
@@ -649,11 +629,9 @@ def longest_step(state, tangent, bounds, longest):
     grows), or lengthened while they still do (the curve's own bend and ``Omega_t`` may allow several times more),
     then bisected between the last length that holds and the first that does not."""
     h = longest
-    beta, local = state[3], state[8]
-    for _ in range(2):  # omega(h) = Omega + beta K (2 h + REGION) and omega h = 0.48, K at the last h
-        k = beta * third_bound(state[1], bounds, 2.0 * h + REGION)
-        linear = local + k * REGION
-        h = min(h, 2.0 * 0.48 / (linear + sqrt(linear * linear + 8.0 * k * 0.48)))
+    k = state[3] * bounds[THIRD]  # omega(h) = Omega + beta K (2 h + REGION) and omega h = 0.48
+    linear = state[8] + k * REGION
+    h = min(h, 2.0 * 0.48 / (linear + sqrt(linear * linear + 8.0 * k * 0.48)))
     h = min(2.0 * h, longest)
     shortened = 0
     while not _admitted(state, tangent, bounds, h):

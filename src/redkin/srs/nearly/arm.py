@@ -144,13 +144,12 @@ class NearlySRS:
     @cached_property
     def kernel_bounds(self) -> np.ndarray:
         """The constants of the certified self-motion (:mod:`redkin.srs.nearly._self_motion_kernels`, docs/srs.md eqs.
-        C3 and N6): the position rows' scale ``c`` (2 over the longest lever arm), the sum of the squares of the bounds
-        ``c rho_max(i, j, m)`` of their third derivatives (``rho_k`` the lengths of the links after joint ``k``, the
-        tool's included: no point of the tool lies farther from joint ``k``'s axis), the sums over the rotation
-        rows' 343 third derivatives of ``S``, ``S^2``, ``T``, ``T^2`` and ``S T``
-        (:func:`redkin.srs.nearly._self_motion_kernels.third_bound`), and for the arm angle's gradient the Lipschitz
-        constant of the neighbour's wrist point, joints 1-4's lever arms to it (the lengths of the neighbour's links
-        from the joint to the wrist) and the forearm's ``hypot(a_4, d_ew)``."""
+        C3 and C5): the position rows' scale ``c`` (2 over the longest lever arm); ``K``, the Frobenius norm of bounds
+        of the 343 third derivatives of ``F``: ``c rho_max(i, j, m)`` for the position rows (``rho_k`` the lengths of
+        the links after joint ``k``, the tool's included: no point of the tool lies farther from joint ``k``'s axis)
+        and 1 for the rotation rows (the module docstring of :mod:`redkin.srs.nearly._self_motion_kernels`); and for
+        the arm angle's gradient the Lipschitz constant of the neighbour's wrist point, joints 1-4's lever arms to it
+        (the lengths of the neighbour's links from the joint to the wrist) and the forearm's ``hypot(a_4, d_ew)``."""
         links, ends, standard = self.kernel_real
         lengths = np.hypot(links[:, _chain_kernels.A], links[:, _chain_kernels.D])
         tool = float(np.linalg.norm(ends[1][:3, 3]))
@@ -159,14 +158,12 @@ class NearlySRS:
         scale = 2.0 / levers[0]
         i, j, m = np.meshgrid(np.arange(7), np.arange(7), np.arange(7), indexing="ij")
         position = np.sum((scale * levers[np.maximum(np.maximum(i, j), m)]) ** 2)
-        s = (m < j).astype(float) + (m < i) + (j < i)
-        t = ((m < j).astype(float) + (m < i)) * (j < i)
         neighbour = self.neighbour._links
         reaching = np.hypot(neighbour[:, _chain_kernels.A], neighbour[:, _chain_kernels.D])
         wrist = np.array([reaching[k:5].sum() for k in range(4)])
         arm = self.geometry.kernel_arm
-        return np.concatenate([[scale, position, s.sum(), (s * s).sum(), t.sum(), (t * t).sum(), (s * t).sum(),
-                                np.sqrt(np.sum(wrist * wrist))], wrist, [np.hypot(arm[A4], arm[D_EW])]])
+        return np.concatenate([[scale, np.sqrt(position + 343.0), np.sqrt(np.sum(wrist * wrist))], wrist,
+                               [np.hypot(arm[A4], arm[D_EW])]])
 
     @cached_property
     def kernel_limits(self) -> np.ndarray:
