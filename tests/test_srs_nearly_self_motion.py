@@ -237,7 +237,8 @@ def test_the_third_derivatives_are_within_their_bound(name, seed, away):
     triples = [(i, j, m) for i in range(7) for j in range(i, 7) for m in range(j, 7)]
     signs = np.array(list(product([1.0, -1.0], repeat=3)))
     identity = np.eye(7)
-    moves = np.array([[a * identity[i] + b * identity[j] + c * identity[m] for a, b, c in signs] for i, j, m in triples])
+    moves = np.array([[a * identity[i] + b * identity[j] + c * identity[m] for a, b, c in signs]
+                      for i, j, m in triples])
     frames = arm.chain.fk(point + step * moves)
     turn = frames[..., :3, :3] @ pose[:3, :3].T
     equations = np.concatenate([scale * (frames[..., :3, 3] - pose[:3, 3]),

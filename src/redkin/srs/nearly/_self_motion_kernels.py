@@ -87,8 +87,9 @@ from redkin.srs._ik_kernels import AXIS_TOLERANCE, turns_removed, wrist_point
 from redkin.srs.nearly._kernels import arm_angle_one
 
 #: Entries of an arm's ``bounds`` (:attr:`redkin.srs.nearly.NearlySRS.kernel_bounds`): the position rows' scale ``c``
-#: [1/m]; ``K``, a bound of the third derivatives of ``F`` everywhere [C3] (module docstring); the Lipschitz constant of the neighbour's
-#: wrist point in ``q`` [m], each of joints 1-4's lever arm to it [m] (4) and the forearm's length [m].
+#: [1/m]; ``K``, a bound of the third derivatives of ``F`` everywhere [C3] (module docstring); the Lipschitz constant
+#: of the neighbour's wrist point in ``q`` [m], each of joints 1-4's lever arm to it [m] (4) and the forearm's
+#: length [m].
 SCALE, THIRD, WRIST_LIPSCHITZ, LEVER = range(4)
 FOREARM = LEVER + 4
 #: Entries of a point's ``state`` (:func:`described`) beyond its first nine: the curve's second derivative ``kappa``
