@@ -56,9 +56,8 @@ from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_cle
 from redkin.collision.joint_motion import joint_levers, pair_displacements
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
-from redkin.srs.branches import BRANCHES
 from redkin.srs.nearly import _self_motion_kernels
-from redkin.srs.nearly.self_motion import SelfMotion, feasible_along, finer_steps, whole_self_motion
+from redkin.srs.nearly.self_motion import SelfMotion, feasible_along_all, finer_steps, whole_self_motion
 
 #: Removed stretches no wider than this [rad] are where the free set's and the limits' ends meet, not stretches.
 _ROUNDING = 1e-12
@@ -172,7 +171,8 @@ def _one_pose(arm: Arm, measure: _StepMeasure, pose: np.ndarray, labels: tuple[s
     steps = _Steps()
     for curve in curves:
         steps.add(curve, np.array(rows))
-    limits = {row: feasible_along(curves, BRANCHES[row]) for row in rows}
+    every = feasible_along_all(curves)
+    limits = {row: every[row] for row in rows}
     finest = resolution
     while True:
         decision.run(steps, finest)

@@ -49,7 +49,7 @@ from redkin.srs.feasible import FeasibleArmAngles, feasible_arm_angles
 from redkin.srs.geometry import srs_geometry
 from redkin.srs.ik import reachable, solve
 from redkin.srs.nearly.arm import NearlySRS
-from redkin.srs.nearly.self_motion import SelfMotion, feasible_along, whole_self_motion
+from redkin.srs.nearly.self_motion import SelfMotion, feasible_along, feasible_along_all, whole_self_motion
 
 
 class NearlyFeasible:
@@ -68,12 +68,12 @@ class NearlyFeasible:
     """
 
     def __init__(self, arm: NearlySRS, pose: np.ndarray, branch: Branch, curves: tuple[SelfMotion, ...],
-                 complete: bool) -> None:
+                 complete: bool, feasible: ArcSet | None = None) -> None:
         self._arm, self._pose = arm, pose
         self.branch = branch
         self.curves = curves
         self.complete = complete
-        self.feasible = feasible_along(curves, branch)
+        self.feasible = feasible_along(curves, branch) if feasible is None else feasible
 
     def __repr__(self) -> str:
         return f"NearlyFeasible(branch={self.branch}, feasible={self.feasible!r}, complete={self.complete})"
@@ -137,7 +137,8 @@ def feasible_arm_angles_nearly_all(arm: NearlySRS, pose: ArrayLike) -> tuple[Nea
     """
     target = _one_pose(pose)
     curves, complete = whole_self_motion(arm, target)
-    return tuple(NearlyFeasible(arm, target, branch, curves, complete) for branch in BRANCHES)
+    return tuple(NearlyFeasible(arm, target, branch, curves, complete, feasible)
+                 for branch, feasible in zip(BRANCHES, feasible_along_all(curves), strict=True))
 
 
 def _one_pose(pose: ArrayLike) -> np.ndarray:

@@ -135,7 +135,7 @@ def self_motion(arm: NearlySRS, pose: ArrayLike, q: ArrayLike, step: float = _LO
     if np.abs(arm.chain.fk(start) - target).max() > _REACHED:
         raise RedkinError(f"q does not reach the pose (to {_REACHED:g} m and in each entry of the rotation): a "
                           "self-motion starts from a solution")
-    return _followed(arm, target, start, step)
+    return _followed(arm, target, start, step, _Room(_MOST_POINTS))
 
 
 def self_motions(arm: NearlySRS, pose: ArrayLike) -> tuple[SelfMotion, ...]:
@@ -210,13 +210,14 @@ def _through(arm: NearlySRS, target: np.ndarray, seeds: np.ndarray, angles: np.n
     points at most; and whether every seed was followed or lies on a curve."""
     curves: list[SelfMotion] = []
     branches: list[set[int]] = []  # the branches each curve's steps lie on: only those can pass through a seed
+    room = _Room(_MOST_POINTS)
     for seed, angle, row in zip(seeds, angles, rows):
         if any(int(row) in on and _passes(curve, float(angle), int(row), seed)
                for curve, on in zip(curves, branches, strict=True)):
             continue
         if len(curves) == most or sum(len(curve.psi) for curve in curves) >= _BUDGET:
             return tuple(curves), False
-        curves.append(_followed(arm, target, np.array(seed, dtype=float), _LONGEST))
+        curves.append(_followed(arm, target, np.array(seed, dtype=float), _LONGEST, room))
         branches.append(set(np.unique(curves[-1].branches).tolist()))
     return tuple(curves), True
 
@@ -226,16 +227,46 @@ def feasible_along(curves: tuple[SelfMotion, ...] | list[SelfMotion], branch: st
     docstring) [C6]: each run of such steps gives the arc from the smallest to the largest arm angle at its points
     (from the arm angle unwrapped along the run, each step's change less than pi by its certificate; the whole circle
     where it turns a whole turn)."""
-    row = BRANCHES.index(parse_branch(branch))
-    arcs = []
+    return feasible_along_all(curves)[BRANCHES.index(parse_branch(branch))]
+
+
+def feasible_along_all(curves: tuple[SelfMotion, ...] | list[SelfMotion]) -> tuple[ArcSet, ...]:
+    """:func:`feasible_along` of every branch, in the order of :data:`redkin.srs.BRANCHES`, in one pass over each
+    curve."""
+    arcs: list[list[tuple[float, float]]] = [[] for _ in BRANCHES]
     for curve in curves:
-        good = (curve.branches == row) & (curve.inside == _self_motion_kernels.INSIDE)
-        steps = np.diff(curve.psi)
-        steps = steps - TWO_PI * np.round(steps / TWO_PI)  # each step turns less than pi (the certificate)
-        for run in _runs(good, curve.closed):
-            psi = curve.psi[run[0]] + np.concatenate([[0.0], np.cumsum(steps[run])])
-            arcs.append((float(psi.min()), float(psi.max())))
-    return ArcSet(arcs)
+        for row, low, high in _branch_runs(curve):
+            arcs[row].append((low, high))
+    return tuple(ArcSet(found) for found in arcs)
+
+
+def _branch_runs(curve: SelfMotion) -> list[tuple[int, float, float]]:
+    """Each maximal run of steps of ``curve`` on one branch and within the limits (read cyclically where the curve
+    is closed), as its branch row and the smallest and largest arm angle at its points, the arm angle unwrapped
+    along the run from its first point."""
+    label = np.where(curve.inside == _self_motion_kernels.INSIDE, curve.branches, -1)
+    count = len(label)
+    if count == 0:
+        return []
+    steps = np.diff(curve.psi)
+    steps = steps - TWO_PI * np.round(steps / TWO_PI)  # each step turns less than pi (the certificate)
+    order = np.arange(count)
+    if curve.closed:
+        changes = np.flatnonzero(label != np.roll(label, 1))
+        if len(changes) == 0:  # one run all the way round
+            psi = curve.psi[0] + np.concatenate([[0.0], np.cumsum(steps)])
+            return [(int(label[0]), float(psi.min()), float(psi.max()))] if label[0] >= 0 else []
+        order = np.roll(order, -int(changes[0]))
+    labels = label[order]
+    starts = np.flatnonzero(np.concatenate([[True], labels[1:] != labels[:-1]]))
+    ends = np.append(starts[1:], count)  # a run's last point: the step after its last step starts there
+    turned = np.concatenate([[0.0], np.cumsum(steps[order])])  # from point order[0], along order
+    lows = np.minimum(np.minimum.reduceat(turned[:-1], starts), turned[ends]) - turned[starts]
+    highs = np.maximum(np.maximum.reduceat(turned[:-1], starts), turned[ends]) - turned[starts]
+    first = curve.psi[order[starts]]
+    keep = labels[starts] >= 0
+    return list(zip(labels[starts][keep].tolist(), (first + lows)[keep].tolist(), (first + highs)[keep].tolist(),
+                    strict=True))
 
 
 def branch_solutions(arm: NearlySRS, pose: ArrayLike, psi: float, branch: str | Branch,
@@ -277,13 +308,13 @@ def branch_solutions(arm: NearlySRS, pose: ArrayLike, psi: float, branch: str | 
     return np.array(found).reshape(-1, 7)
 
 
-def _followed(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float) -> SelfMotion:
+def _followed(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, room: _Room) -> SelfMotion:
     """The curve through ``start``: one way with the arm angle increasing, and where it does not close, the other
     way too, joined at ``start``."""
-    forward = _traced(arm, target, start, step, 1.0)
+    forward = _traced(arm, target, start, step, 1.0, room)
     if forward.closed or len(forward.psi) == 0:
         return forward
-    backward = _traced(arm, target, start, step, -1.0)
+    backward = _traced(arm, target, start, step, -1.0, room)
     if len(backward.psi) == 0:
         return forward
     joined = len(backward.psi) - 1  # backward's point k is the joined curve's point joined - k
@@ -298,17 +329,30 @@ def _followed(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float
                       np.concatenate([joined - backward.anchors[::-1], joined + forward.anchors]), False)
 
 
+class _Room:
+    """The output arrays of :func:`redkin.srs.nearly._self_motion_kernels.traced` for pieces of ``most`` points at
+    most, written by one piece after another (:func:`_traced` copies what it keeps): arrays this large are mapped
+    fresh by the system on each allocation, and the first write to each page costs more than tracing a short
+    curve."""
+
+    def __init__(self, most: int) -> None:
+        self.most = most
+        self.points, self.tangents = np.empty((most, 7)), np.empty((most, 7))
+        self.angles, self.rates, self.spread = np.empty(most), np.empty(most), np.empty(most)
+        self.signs, self.inside = np.empty((most, 3), dtype=np.int64), np.empty(most, dtype=np.int64)
+        self.tubes = np.empty((most, 2))
+
+
 def _traced(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, sense: float,
-            most: int = _MOST_POINTS) -> SelfMotion:
-    """:func:`redkin.srs.nearly._self_motion_kernels.traced` one way from ``start``, ``most`` points at most."""
-    points, tangents = np.empty((most, 7)), np.empty((most, 7))
-    angles, rates, spread = np.empty(most), np.empty(most), np.empty(most)
-    signs, inside = np.empty((most, 3), dtype=np.int64), np.empty(most, dtype=np.int64)
-    tubes = np.empty((most, 2))
+            room: _Room) -> SelfMotion:
+    """:func:`redkin.srs.nearly._self_motion_kernels.traced` one way from ``start``, ``room.most`` points at
+    most."""
+    points, tangents, angles, rates = room.points, room.tangents, room.angles, room.rates
+    signs, inside, spread, tubes = room.signs, room.inside, room.spread, room.tubes
     count, status = _self_motion_kernels.traced(
         np.ascontiguousarray(start, dtype=float), target, arm.kernel_real, arm.kernel_model, arm.kernel_bounds,
-        arm.real_phase, arm.kernel_limits, float(step), float(sense), most, points, tangents, angles, rates, signs,
-        inside, spread, tubes)
+        arm.real_phase, arm.kernel_limits, float(step), float(sense), room.most, points, tangents, angles, rates,
+        signs, inside, spread, tubes)
     steps = max(count - 1, 0)
     table = arm.geometry.kernel_branches
     matches = np.all(signs[:steps, None, :] == table, axis=-1)
@@ -331,8 +375,9 @@ def finer_steps(arm: NearlySRS, pose: np.ndarray, curve: SelfMotion, k: int, lon
     direction = forward * curve.tangents[anchor]
     length = float((curve.q[other] - curve.q[anchor]) @ direction)
     rate = forward * curve.rates[anchor]
+    room = _Room(most)
     for sense in ((1.0, -1.0) if rate >= 0.0 else (-1.0, 1.0)):  # the arm angle's sense along the step
-        piece = _traced(arm, pose, curve.q[anchor], longest, sense, most)
+        piece = _traced(arm, pose, curve.q[anchor], longest, sense, room)
         if len(piece.psi) < 2 or float(piece.tangents[0] @ direction) <= 0.0:
             continue
         along = (piece.q[:-1] - curve.q[anchor]) @ direction  # each step's start on the step's chord
@@ -346,19 +391,6 @@ def finer_steps(arm: NearlySRS, pose: np.ndarray, curve: SelfMotion, k: int, lon
                           piece.rates[: keep + 1], piece.branches[:keep], piece.inside[:keep], piece.spread[:keep],
                           piece.tubes[:keep], piece.anchors[:keep], False)
     return None
-
-
-def _runs(good: np.ndarray, closed: bool) -> list[np.ndarray]:
-    """The maximal runs of True in ``good`` (one per step) as arrays of step indices, read cyclically where
-    ``closed``."""
-    count = len(good)
-    if count == 0:
-        return []
-    if closed and good.all():
-        return [np.arange(count)]
-    order = np.roll(np.arange(count), -int(np.argmin(good))) if closed else np.arange(count)
-    edges = np.diff(np.concatenate([[0], good[order].astype(int), [0]]))
-    return [order[low:high] for low, high in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1))]
 
 
 def _crossings(curve: SelfMotion, angle: float, row: int) -> np.ndarray:
