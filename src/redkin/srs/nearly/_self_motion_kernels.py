@@ -87,10 +87,9 @@ from redkin.srs._ik_kernels import AXIS_TOLERANCE, turns_removed, wrist_point
 from redkin.srs.nearly._kernels import arm_angle_one
 
 #: Entries of an arm's ``bounds`` (:attr:`redkin.srs.nearly.NearlySRS.kernel_bounds`): the position rows' scale ``c``
-#: [1/m]; ``K``, a bound of the third derivatives of ``F`` everywhere [C3] (module docstring); the Lipschitz constant
-#: of the neighbour's wrist point in ``q`` [m], each of joints 1-4's lever arm to it [m] (4) and the forearm's
-#: length [m].
-SCALE, THIRD, WRIST_LIPSCHITZ, LEVER = range(4)
+#: [1/m]; ``K``, a bound of the third derivatives of ``F`` everywhere [C3] (module docstring); each of joints 1-4's
+#: lever arm to the neighbour's wrist point [m] (4) and the forearm's length [m].
+SCALE, THIRD, LEVER = range(3)
 FOREARM = LEVER + 4
 #: Entries of a point's ``state`` (:func:`described`) beyond its first nine: the curve's second derivative ``kappa``
 #: (7), ``|kappa|``, the rounding of its equations and ``Omega_t`` (a bound of ``|A^-1 F''[t, .]|``); and the state's
@@ -481,16 +480,21 @@ def _quadratic_range(a, b, c):
 
 
 @kernel
-def arm_angle_spread(state, bounds, direction, bend, reach, radius, tube):
+def arm_angle_spread(state, bounds, direction, bend, reach, radius):
     """A bound [C5] of how far the arm angle gets from its value at a step's start over the step's arc: ``sum_j G_j
-    e_j`` over joints 2-4, ``G_j`` bounding ``|d psi / d q_j|`` over the ball of radius ``reach + tube`` about the
-    start (:func:`certified`: it holds the arc) from the wrist's distances to joint 1's axis and to the shoulder
-    there, and ``e_j`` how far joint ``j`` gets from the start within the tube (the range of the predictor ``s t_j +
-    s^2 kappa_j / 2`` over the step, ``t`` the ``direction`` and ``kappa`` the ``bend``, widened by ``radius``).
-    Joint 1 does not move the arm angle: turning the whole arm about joint 1's axis turns the reference plane with
-    it.  Infinite where the ball may hold the wrist on the axis (where the arm angle is not continuous) or at the
-    shoulder."""
-    moved = bounds[WRIST_LIPSCHITZ] * (reach + tube)
+    e_j`` over joints 2-4, ``e_j`` how far joint ``j`` gets from the start within the tube (the range of the
+    predictor ``s t_j + s^2 kappa_j / 2`` over the step of length ``reach``, ``t`` the ``direction`` and ``kappa``
+    the ``bend``, widened by ``radius``), and ``G_j`` bounding ``|d psi / d q_j|`` there from the wrist's distances
+    to joint 1's axis and to the shoulder, each less at most ``sum_j L_j e_j`` than at the start (``L_j`` joint
+    ``j``'s lever arm to the wrist).  Joint 1 moves neither the arm angle (turning the whole arm about joint 1's
+    axis turns the reference plane with it) nor those distances; joints 5-7 do not move the wrist.  Infinite where
+    the wrist may come to the axis (where the arm angle is not continuous) or to the shoulder."""
+    extents = np.empty(3)
+    moved = 0.0
+    for j in range(1, 4):
+        low, high = _quadratic_range(0.0, reach * direction[j], 0.5 * reach * reach * bend[j])
+        extents[j - 1] = max(-low, high) + radius
+        moved += bounds[LEVER + j] * extents[j - 1]
     off_axis, apart = state[6] - moved, state[7] - moved
     if off_axis <= AXIS_TOLERANCE * 10.0 or apart <= 0.0:
         return np.inf
@@ -499,8 +503,7 @@ def arm_angle_spread(state, bounds, direction, bend, reach, radius, tube):
         rate = 1.0 + bounds[LEVER + j] * (1.0 / off_axis + 1.0 / apart)
         if j == 3:
             rate += bounds[FOREARM] / apart
-        low, high = _quadratic_range(0.0, reach * direction[j], 0.5 * reach * reach * bend[j])
-        total += rate * (max(-low, high) + radius)
+        total += rate * extents[j - 1]
     return total
 
 
@@ -663,8 +666,8 @@ def _admitted(state, tangent, bounds, h):
     """Whether a step of ``h`` (and :data:`OVERLAP`) from a point with ``state`` along ``tangent`` is certified with
     an arm-angle bound of at most :data:`ARM_ANGLE_STEP`."""
     radius, tube = certified(state, bounds, h + OVERLAP, OVERLAP)[:2]
-    return tube >= 0.0 and arm_angle_spread(state, bounds, tangent, state[BEND:BEND + 7], h + OVERLAP, radius,
-                                            tube) <= ARM_ANGLE_STEP
+    return tube >= 0.0 and arm_angle_spread(state, bounds, tangent, state[BEND:BEND + 7], h + OVERLAP,
+                                            radius) <= ARM_ANGLE_STEP
 
 
 @kernel
@@ -738,7 +741,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
                 overlap = max(overlap, 2.02 * first + sqrt(apart) + 1e-14)
             reach = h + overlap
             radius, tube, near, far = certified(state, bounds, reach, overlap)
-            spread = arm_angle_spread(state, bounds, tangent, state[BEND:BEND + 7], reach, radius, tube)
+            spread = arm_angle_spread(state, bounds, tangent, state[BEND:BEND + 7], reach, radius)
             off = 0.0
             for j in range(7):
                 off += (moved[j] - q[j] - h * (tangent[j] + 0.5 * h * state[BEND + j])) ** 2
