@@ -489,22 +489,24 @@ def arm_angle_spread(state, bounds, direction, bend, reach, radius):
     ``j``'s lever arm to the wrist).  Joint 1 moves neither the arm angle (turning the whole arm about joint 1's
     axis turns the reference plane with it) nor those distances; joints 5-7 do not move the wrist.  Infinite where
     the wrist may come to the axis (where the arm angle is not continuous) or to the shoulder."""
-    extents = np.empty(3)
-    moved = 0.0
-    for j in range(1, 4):
-        low, high = _quadratic_range(0.0, reach * direction[j], 0.5 * reach * reach * bend[j])
-        extents[j - 1] = max(-low, high) + radius
-        moved += bounds[LEVER + j] * extents[j - 1]
+    curving = 0.5 * reach * reach
+    second = _extent(reach * direction[1], curving * bend[1]) + radius
+    third = _extent(reach * direction[2], curving * bend[2]) + radius
+    fourth = _extent(reach * direction[3], curving * bend[3]) + radius
+    moved = bounds[LEVER + 1] * second + bounds[LEVER + 2] * third + bounds[LEVER + 3] * fourth
     off_axis, apart = state[6] - moved, state[7] - moved
     if off_axis <= AXIS_TOLERANCE * 10.0 or apart <= 0.0:
         return np.inf
-    total = 0.0
-    for j in range(1, 4):
-        rate = 1.0 + bounds[LEVER + j] * (1.0 / off_axis + 1.0 / apart)
-        if j == 3:
-            rate += bounds[FOREARM] / apart
-        total += rate * extents[j - 1]
-    return total
+    turning = 1.0 / off_axis + 1.0 / apart
+    return ((1.0 + bounds[LEVER + 1] * turning) * second + (1.0 + bounds[LEVER + 2] * turning) * third
+            + (1.0 + bounds[LEVER + 3] * turning + bounds[FOREARM] / apart) * fourth)
+
+
+@kernel
+def _extent(b, c):
+    """The largest ``|b x + c x^2|`` for ``x`` in [0, 1]."""
+    low, high = _quadratic_range(0.0, b, c)
+    return max(-low, high)
 
 
 @kernel
