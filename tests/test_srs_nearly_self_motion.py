@@ -12,7 +12,8 @@ elbow:
   within the limits where the step says so, and within the step's arm-angle bound of the point its certificate
   starts from (C5);
 - **the third derivatives are within ``K``** (C3): each rotation row's at most 1, each position row's within the
-  lever arm, all 343 within ``K``, on the self-motion and away from it;
+  lever arm, all 343 within ``K``, and along a predictor within C2's directional bounds, on the self-motion and away
+  from it;
 - **joint 1 does not move the arm angle** (C5 rests on it): turning joint 1 by any angle leaves the arm angle as it
   was, and the certificate's ``beta`` bounds ``|A^-1|`` (numpy's inverse) to within ``7^(1/16)``;
 - **every arm angle of the feasible set has a solution**: at arm angles drawn inside every arc of every branch's set
@@ -224,7 +225,8 @@ def test_the_narrower_tube_holds_every_arc_the_certificate_allows(a, d, e, radiu
 def test_the_third_derivatives_are_within_their_bound(name, seed, away):
     """C3's ``K``: along joints ``i <= j <= m`` each rotation row's third derivative is at most 1 in norm and each
     position row's at most ``c`` times the end point's distance from joint ``m``'s axis, and the Frobenius norm of
-    all 343 is at most ``K``; by the test's own ``F`` (our FK in numpy) and mixed central differences, on the
+    all 343 is at most ``K``; C2's bounds of ``F'''[d, d, d]`` and ``F'''[d, d, .]`` along a predictor
+    (``third_along``) hold; by the test's own ``F`` (our FK in numpy) and mixed central differences, on the
     self-motion (``M = I``) and ``away`` from it."""
     from itertools import permutations, product
 
@@ -257,6 +259,25 @@ def test_the_third_derivatives_are_within_their_bound(name, seed, away):
     assert np.all(np.linalg.norm(third[:, :3], axis=1) <= scale * np.array([reach[m] for _, _, m in triples]) + 1e-5)
     copies = np.array([len(set(permutations(triple))) for triple in triples])
     assert np.sqrt(np.sum(copies * np.sum(third * third, axis=1))) <= arm.kernel_bounds[kernels.THIRD]
+    tensor = np.zeros((6, 7, 7, 7))
+    for entry, triple in zip(third, triples, strict=True):
+        for order in set(permutations(triple)):
+            tensor[(slice(None), *order)] = entry
+    rng = np.random.default_rng(seed)
+    for n in range(27):  # C2's bounds along a predictor: d = s t + s^2 kappa / 2, s up to the reach
+        if n < 7:  # along one joint, straight: the rotation rows' bound is reached on the self-motion
+            tangent, bend = identity[n], np.zeros(7)
+        else:
+            tangent = rng.normal(size=7) * rng.uniform(0.0, 1.0, 7) ** 2
+            tangent /= np.linalg.norm(tangent)
+            bend = rng.normal(size=7) * rng.uniform(0.0, 2.0)
+        reach = rng.uniform(0.01, 0.3)
+        along, across = kernels.third_along(arm.kernel_bounds, tangent, bend, reach)
+        for fraction in (0.5, 1.0):
+            d = fraction * reach * tangent + 0.5 * (fraction * reach) ** 2 * bend
+            mapped = np.einsum("rijm,i,j->rm", tensor, d, d)
+            assert np.linalg.norm(mapped @ d) <= along * (1.0 + 1e-6) + 1e-12
+            assert np.linalg.norm(mapped, 2) <= across * (1.0 + 1e-6) + 1e-12
 
 
 @settings(max_examples=20, deadline=None)

@@ -39,12 +39,15 @@ from ``y_s`` needs
 * relative to ``A(y_s)``, with ``d = |y_s - x| <= s + s^2 |kappa| / 2`` and
   ``c`` a bound of ``|A(x)^-1 (A(y_s) - A(x))|``, the smaller of ``omega d``
   and (Taylor's theorem along the step) ``s Omega_t + s^2 |kappa| Omega / 2 +
-  beta K d^2 / 2``, ``Omega_t`` bounding ``|A(x)^-1 F''(x)[t, .]|``:
+  beta T_2 / 2``, ``Omega_t`` bounding ``|A(x)^-1 F''(x)[t, .]|``:
   ``omega_s = omega / (1 - c)``, and by Taylor's theorem the first Newton
   step ``alpha_s <= (beta (eps + s delta + s^2 e / 2) + Omega (s^3 |kappa| /
-  2 + s^4 |kappa|^2 / 8) + beta K d^3 / 6) / (1 - c)`` (``eps = |F(x)|``,
+  2 + s^4 |kappa|^2 / 8) + beta T_3 / 6) / (1 - c)`` (``eps = |F(x)|``,
   ``delta = |F'(x) t|``, ``e`` the residual of ``kappa``'s equations:
-  rounding).
+  rounding), ``T_3`` and ``T_2`` bounding ``|F'''(z)[y_s - x]^3|`` and
+  ``|F'''(z)[y_s - x, y_s - x, .]|`` everywhere from the same entry bounds as
+  ``K``, summed along the step's own direction (:func:`third_along`: several
+  times less than ``K d^3`` and ``K d^2``).
 
 Where ``h_K = omega_s alpha_s <= 0.45`` for ``s = H``, it gives one solution
 ``x*(s)`` within ``r* = (1 - sqrt(1 - 2 h_K)) / omega_s`` of ``y_s`` for every
@@ -88,9 +91,11 @@ from redkin.srs.nearly._kernels import arm_angle_one
 
 #: Entries of an arm's ``bounds`` (:attr:`redkin.srs.nearly.NearlySRS.kernel_bounds`): the position rows' scale ``c``
 #: [1/m]; ``K``, a bound of the third derivatives of ``F`` everywhere [C3] (module docstring); each of joints 1-4's
-#: lever arm to the neighbour's wrist point [m] (4) and the forearm's length [m].
+#: lever arm to the neighbour's wrist point [m] (4); the forearm's length [m]; and for each joint ``k`` the bound
+#: ``c rho_k`` of the position rows' third derivatives whose last joint is ``k`` (7, :func:`third_along`).
 SCALE, THIRD, LEVER = range(3)
 FOREARM = LEVER + 4
+REACHES = FOREARM + 1
 #: Entries of a point's ``state`` (:func:`described`) beyond its first nine: the curve's second derivative ``kappa``
 #: (7), ``|kappa|``, the rounding of its equations and ``Omega_t`` (a bound of ``|A^-1 F''[t, .]|``); and the state's
 #: length.
@@ -419,9 +424,10 @@ def corrected(q, anchor, direction, distance, target, real, bounds, work):
 
 # ------------------------------------------------------------------ the certificate of a step [C2]-[C5]
 @kernel
-def certified(state, bounds, reach, overlap):
+def certified(state, tangent, bounds, reach, overlap):
     """The certificate of a step of length ``reach`` (``H``, the ``overlap`` past its end included) from a point
-    with ``state`` (:func:`described`) [C2]-[C4], from the predictor ``y_s = x + s t + s^2 kappa / 2``: the radius
+    with ``state`` (:func:`described`) along its ``tangent`` ``t`` [C2]-[C4], from the predictor ``y_s = x + s t + s^2
+    kappa / 2``: the radius
     ``r*`` of the tube about ``y_s`` that holds the arc, or -1 where the theorem's conditions fail (the uniqueness
     radius must exceed ``r*`` by twice the overlap, so that the next step's start, within the overlap of this step's
     end, is this step's arc's point); the radius ``r* + H^2 |kappa| / 2`` of the tube about the tangent ``x + s t``
@@ -431,18 +437,20 @@ def certified(state, bounds, reach, overlap):
     bend, rounding = state[BEND_SIZE], state[BEND_ROUNDING]
     bow = 0.5 * bend * reach * reach  # |y_H - x - H t|
     span = reach + bow  # |y_s - x| at most
+    along, across = third_along(bounds, tangent, state[BEND:BEND + 7], reach)
     for room in BALL_ROOM:  # the ball D about x: every y_s, and room about it for Kantorovich's balls
         ball = (1.0 + room) * span + REGION
         third = beta * bounds[THIRD]
         omega = local + third * ball
-        # |A(x)^-1 (A(y_s) - A(x))| <= s Omega_t + s^2 |kappa| Omega / 2 + beta K |y_s - x|^2 / 2 (Taylor), and at
-        # most omega |y_s - x| (the Lipschitz bound): the step moves along the curve, where A changes least
-        shrink = 1.0 - min(omega * span, reach * state[TURNING] + local * bow + 0.5 * third * span * span)
+        # |A(x)^-1 (A(y_s) - A(x))| <= s Omega_t + s^2 |kappa| Omega / 2 + beta |F'''[d, d, .]| / 2 (Taylor,
+        # d = y_s - x), and at most omega |y_s - x| (the Lipschitz bound): the step moves along the curve, where A
+        # changes least
+        shrink = 1.0 - min(omega * span, reach * state[TURNING] + local * bow + 0.5 * beta * across)
         if shrink <= 0.0:
             continue
         omega_s = omega / shrink
         alpha = (beta * (size + reach * (delta + 0.5 * reach * rounding))
-                 + local * reach * bow * (1.0 + 0.25 * reach * bend) + third * span * span * span / 6.0) / shrink
+                 + local * reach * bow * (1.0 + 0.25 * reach * bend) + beta * along / 6.0) / shrink
         h = omega_s * alpha
         if h > KANTOROVICH:
             continue
@@ -452,6 +460,34 @@ def certified(state, bounds, reach, overlap):
             continue
         return radius, radius + bow, RADIUS_FACTOR * beta * size / shrink, RADIUS_FACTOR * alpha
     return -1.0, -1.0, -1.0, -1.0
+
+
+@kernel
+def third_along(bounds, tangent, bend, reach):
+    """Bounds [C2] of ``|F'''(z)[d, d, d]|`` and of ``|F'''(z)[d, d, .]|`` (a linear map), at every ``z``, for the
+    steps ``d = s t + s^2 kappa / 2`` of the predictor up to ``s = reach`` (``t`` the ``tangent``, ``kappa`` the
+    ``bend``): from the bounds of the entries along joints ``i, j, m`` (``c rho_max(i, j, m)`` in the position rows,
+    1 in the rotation rows: the module docstring) summed with ``a_i a_j a_m`` (and ``a_i a_j |v_m|``), ``a_i = reach
+    |t_i| + reach^2 |kappa_i| / 2 >= |d_i|``.  With ``A_k = a_1 + ... + a_k``, the triples whose last joint is
+    ``k`` weigh ``A_k^3 - A_(k-1)^3`` (so the position rows' sum is ``sum_k c rho_k (A_k^3 - A_(k-1)^3)``, the
+    rotation rows' ``A_7^3``), and the map's column ``m`` is ``c rho_m A_m^2 + sum_(k > m) c rho_k (A_k^2 -
+    A_(k-1)^2)`` in the position rows, ``A_7^2`` in the rotation rows.  Along one direction these are several times
+    smaller than ``K |d|^3`` and ``K |d|^2``, ``K`` the Frobenius norm over all 343 entries."""
+    curving = 0.5 * reach * reach
+    total, cube = 0.0, 0.0
+    for k in range(7):
+        below = total
+        total += reach * abs(tangent[k]) + curving * abs(bend[k])
+        cube += bounds[REACHES + k] * (total * total * total - below * below * below)
+    along = sqrt(cube * cube + total ** 6)
+    squares, later, upto = 0.0, 0.0, total
+    for m in range(6, -1, -1):
+        column = bounds[REACHES + m] * upto * upto + later
+        squares += column * column
+        below = upto - (reach * abs(tangent[m]) + curving * abs(bend[m]))
+        later += bounds[REACHES + m] * (upto * upto - below * below)
+        upto = below
+    return along, sqrt(squares + 7.0 * total ** 4)
 
 
 @kernel
@@ -667,7 +703,7 @@ def longest_step(state, tangent, bounds, longest):
 def _admitted(state, tangent, bounds, h):
     """Whether a step of ``h`` (and :data:`OVERLAP`) from a point with ``state`` along ``tangent`` is certified with
     an arm-angle bound of at most :data:`ARM_ANGLE_STEP`."""
-    radius, tube = certified(state, bounds, h + OVERLAP, OVERLAP)[:2]
+    radius, tube = certified(state, tangent, bounds, h + OVERLAP, OVERLAP)[:2]
     return tube >= 0.0 and arm_angle_spread(state, bounds, tangent, state[BEND:BEND + 7], h + OVERLAP,
                                             radius) <= ARM_ANGLE_STEP
 
@@ -742,7 +778,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
                     apart += (turns_removed(moved[j] - points[0, j] + pi) - pi) ** 2
                 overlap = max(overlap, 2.02 * first + sqrt(apart) + 1e-14)
             reach = h + overlap
-            radius, tube, near, far = certified(state, bounds, reach, overlap)
+            radius, tube, near, far = certified(state, tangent, bounds, reach, overlap)
             spread = arm_angle_spread(state, bounds, tangent, state[BEND:BEND + 7], reach, radius)
             off = 0.0
             for j in range(7):

@@ -149,7 +149,8 @@ class NearlySRS:
         the links after joint ``k``, the tool's included: no point of the tool lies farther from joint ``k``'s axis)
         and 1 for the rotation rows (the module docstring of :mod:`redkin.srs.nearly._self_motion_kernels`); and for
         the arm angle's gradient joints 1-4's lever arms to the neighbour's wrist point (the lengths of the
-        neighbour's links from the joint to the wrist) and the forearm's ``hypot(a_4, d_ew)``."""
+        neighbour's links from the joint to the wrist) and the forearm's ``hypot(a_4, d_ew)``; last, ``c rho_k`` for
+        each joint (:func:`redkin.srs.nearly._self_motion_kernels.third_along`)."""
         links, ends, standard = self.kernel_real
         lengths = np.hypot(links[:, _chain_kernels.A], links[:, _chain_kernels.D])
         tool = float(np.linalg.norm(ends[1][:3, 3]))
@@ -162,7 +163,8 @@ class NearlySRS:
         reaching = np.hypot(neighbour[:, _chain_kernels.A], neighbour[:, _chain_kernels.D])
         wrist = np.array([reaching[k:5].sum() for k in range(4)])
         arm = self.geometry.kernel_arm
-        return np.concatenate([[scale, np.sqrt(position + 343.0)], wrist, [np.hypot(arm[A4], arm[D_EW])]])
+        return np.concatenate([[scale, np.sqrt(position + 343.0)], wrist, [np.hypot(arm[A4], arm[D_EW])],
+                               scale * levers])
 
     @cached_property
     def kernel_limits(self) -> np.ndarray:
