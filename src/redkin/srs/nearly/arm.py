@@ -144,13 +144,14 @@ class NearlySRS:
     @cached_property
     def kernel_bounds(self) -> np.ndarray:
         """The constants of the certified self-motion (:mod:`redkin.srs.nearly._self_motion_kernels`, docs/srs.md eqs.
-        C3 and C5): the position rows' scale ``c`` (2 over the longest lever arm); ``K``, the Frobenius norm of bounds
-        of the 343 third derivatives of ``F``: ``c rho_max(i, j, m)`` for the position rows (``rho_k`` the lengths of
-        the links after joint ``k``, the tool's included: no point of the tool lies farther from joint ``k``'s axis)
-        and 1 for the rotation rows (the module docstring of :mod:`redkin.srs.nearly._self_motion_kernels`); and for
-        the arm angle's gradient joints 1-4's lever arms to the neighbour's wrist point (the lengths of the
-        neighbour's links from the joint to the wrist) and the forearm's ``hypot(a_4, d_ew)``; last, ``c rho_k`` for
-        each joint (:func:`redkin.srs.nearly._self_motion_kernels.third_along`)."""
+        [C3] and [C5]): the position rows' scale ``c`` (2 over the longest lever arm); ``K``, the Frobenius norm of
+        bounds of the 343 third derivatives of ``F``: ``c rho_max(i, j, m)`` for the position rows (``rho_k`` the
+        lengths of the links after joint ``k``, the tool's included: no point of the tool lies farther from joint
+        ``k``'s axis) and 1 for the rotation rows (the module docstring of
+        :mod:`redkin.srs.nearly._self_motion_kernels`); for the arm angle's gradient joints 1-4's lever arms to the
+        neighbour's wrist point (the lengths of the neighbour's links from the joint to the wrist) and the forearm's
+        ``hypot(a_4, d_ew)``; last, ``c rho_k`` for each joint
+        (:func:`redkin.srs.nearly._self_motion_kernels.third_along`)."""
         links, ends, standard = self.kernel_real
         lengths = np.hypot(links[:, _chain_kernels.A], links[:, _chain_kernels.D])
         tool = float(np.linalg.norm(ends[1][:3, 3]))
