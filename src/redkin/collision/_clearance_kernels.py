@@ -13,14 +13,17 @@ from redkin.collision._body_kernels import posed_one
 from redkin.collision._distance_kernels import OUT, pair_distance, round_box_gap, round_round_gap
 from redkin.collision.primitives import BOX, PLANE, WIDTH
 
+#: A lower bound within this of the least distance so far [m] may still tie with it (:func:`least_one`).
+TIE = 1e-12
+
 
 @kernel
 def scratch(links, frame, capsule):
     """The work arrays of :func:`clearances_one` for a chain of ``links`` (n, ...), a body of ``frame`` (M,) and
     the checked pairs ``capsule`` (K,): the joints' sines and cosines, the frames, the posed capsules and each
-    pair's distance output (K, OUT) (at least one row)."""
+    pair's distance output (K, OUT) (at least one row) and each pair's lower bound (K,)."""
     return (np.empty((links.shape[0], 2)), np.empty((links.shape[0] + 2, 4, 4)), np.empty((frame.shape[0], WIDTH)),
-            np.empty((max(capsule.shape[0], 1), OUT)))
+            np.empty((max(capsule.shape[0], 1), OUT)), np.empty(capsule.shape[0]))
 
 
 @kernel
@@ -35,7 +38,7 @@ def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, cap
     configuration with no active pair is not posed.  ``work`` is :func:`scratch`'s; its last array holds each
     measured pair's distance, witness points and normal (:func:`redkin.collision._distance_kernels.pair_distance`),
     and NaN for the others."""
-    trig, held, rows, found = work
+    trig, held, rows, found, _ = work
     posed = False
     for k in range(capsule.shape[0]):
         found[k, 0] = nan
@@ -71,21 +74,41 @@ def lower_bound(round_row, shape):
 @kernel
 def least_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, work):
     """At joint values ``q`` (n,) (the arguments of :func:`clearances_one`), the least signed distance over the
-    checked pairs and the first pair that has it (``inf`` and -1 with no pair).  A pair whose positive
-    :func:`lower_bound` is at least the least distance so far cannot be less, and is not measured."""
-    trig, held, rows, found = work
-    best, closest = inf, -1
-    if capsule.shape[0]:
-        frames_one(q, links, ends, standard, trig, held)
-        posed_one(held, frame, a, b, radius, rows)
-    for k in range(capsule.shape[0]):
+    checked pairs and the first pair that has it (``inf`` and -1 with no pair).
+
+    A first pass bounds every pair from below (:func:`lower_bound`; against a plane its distance itself, as cheap),
+    and the pair with the lowest bound is measured first; then a pair whose positive bound exceeds the least distance
+    so far by more than :data:`TIE` cannot be less, and is not measured (one within it may tie, computed otherwise:
+    it is measured, so that the first pair with the least distance is the one named)."""
+    trig, held, rows, found, bounds = work
+    pairs = capsule.shape[0]
+    if not pairs:
+        return inf, -1
+    frames_one(q, links, ends, standard, trig, held)
+    posed_one(held, frame, a, b, radius, rows)
+    first = 0
+    for k in range(pairs):
         shape = obstacles[obstacle[k]] if obstacle[k] >= 0 else rows[other[k]]
-        bound = lower_bound(rows[capsule[k]], shape)
-        if bound > 0.0 and bound >= best:
+        if shape[0] == PLANE:
+            pair_distance(rows[capsule[k]], shape, found[0])
+            bounds[k] = found[0, 0]
+        else:
+            bounds[k] = lower_bound(rows[capsule[k]], shape)
+        if bounds[k] < bounds[first]:
+            first = k
+    best, closest = inf, -1
+    for step in range(pairs + 1):
+        k = first if step == 0 else step - 1
+        if step and (k == first or (bounds[k] > 0.0 and bounds[k] > best + TIE)):
             continue
-        pair_distance(rows[capsule[k]], shape, found[0])
-        if found[0, 0] < best or closest < 0:
-            best, closest = found[0, 0], k
+        shape = obstacles[obstacle[k]] if obstacle[k] >= 0 else rows[other[k]]
+        if shape[0] == PLANE:
+            distance = bounds[k]
+        else:
+            pair_distance(rows[capsule[k]], shape, found[0])
+            distance = found[0, 0]
+        if distance < best or closest < 0 or (distance == best and k < closest):
+            best, closest = distance, k
     return best, closest
 
 

@@ -282,20 +282,31 @@ def segment_box(l0, dl, h):
 @kernel
 def round_round_gap(a, b):
     """A lower bound of the signed distance of two round shapes ``a`` and ``b`` (:func:`round_round`'s), cheap beside
-    it: the distance of their segments' middles minus both half lengths and both radii (each segment lies within
-    its half length of its middle)."""
-    gap2 = 0.0
-    for i in range(3):
-        across = (a[2 + i] + a[5 + i] - b[2 + i] - b[5 + i]) / 2.0
-        gap2 += across * across
-    return sqrt(gap2) - _half_length(a) - _half_length(b) - a[1] - b[1]
+    it: the distance from the middle of the shorter segment to the longer segment, minus the shorter's half length
+    and both radii (every point of the shorter segment lies within its half length of its middle), so that a short
+    link's capsule beside a long post is bounded by its own length, not the post's."""
+    ax, ay, az = a[5] - a[2], a[6] - a[3], a[7] - a[4]
+    bx, by, bz = b[5] - b[2], b[6] - b[3], b[7] - b[4]
+    if ax * ax + ay * ay + az * az <= bx * bx + by * by + bz * bz:
+        return _middle_to_segment(a, b) - a[1] - b[1]
+    return _middle_to_segment(b, a) - a[1] - b[1]
 
 
 @kernel
-def _half_length(a):
-    """Half the length of a round shape's segment."""
-    dx, dy, dz = a[5] - a[2], a[6] - a[3], a[7] - a[4]
-    return sqrt(dx * dx + dy * dy + dz * dz) / 2.0
+def _middle_to_segment(a, b):
+    """The distance from the middle of round shape ``a``'s segment to ``b``'s segment, minus ``a``'s half length."""
+    ax, ay, az = a[5] - a[2], a[6] - a[3], a[7] - a[4]
+    bx, by, bz = b[5] - b[2], b[6] - b[3], b[7] - b[4]
+    rx, ry, rz = a[2] + 0.5 * ax - b[2], a[3] + 0.5 * ay - b[3], a[4] + 0.5 * az - b[4]
+    along, length2 = rx * bx + ry * by + rz * bz, bx * bx + by * by + bz * bz
+    if along <= 0.0:  # the nearest point of b's segment: its first end, its second, or between
+        t = 0.0
+    elif along >= length2:
+        t = 1.0
+    else:
+        t = along / length2
+    ex, ey, ez = rx - t * bx, ry - t * by, rz - t * bz
+    return sqrt(ex * ex + ey * ey + ez * ez) - 0.5 * sqrt(ax * ax + ay * ay + az * az)
 
 
 @kernel
