@@ -1,5 +1,6 @@
 """The clearance of a body at joint values (issue 40): the least signed distance over every checked pair, each pair
-measured here on its own with the public signed distance; batched equals looped; nothing to check is ``inf``."""
+measured here on its own with the public signed distance; batched equals looped; nothing to check is ``inf``; each
+pair's gradient over the joints equals central differences of its distance."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ from hypothesis import strategies as st
 
 import redkin
 from redkin.collision import BodyCapsule, Scene, body_of, clearance, posed, primitives, signed_distance
+from redkin.collision import _clearance_kernels as clearance_kernels
+from redkin.collision.clearance import checked_pairs, clearance_inputs
 from redkin.errors import RedkinError
 
 
@@ -93,3 +96,32 @@ def test_the_base_is_kept_apart_from_the_arm_but_not_checked_against_obstacles(c
     contacts = base_contacts(chain, with_base, scene)
     assert [(link, obstacle) for link, obstacle, _ in contacts] == [("base", "floor")]  # 0.2 m below the base
     assert contacts[0][2] == pytest.approx(-(0.2 + 0.12 - 0.05), abs=1e-12)  # the floor's plane at z = -0.05
+
+
+@settings(max_examples=40)
+@given(st.lists(st.floats(0.0, 1.0), min_size=7, max_size=7))
+def test_each_pairs_gradient_is_its_distances_derivative(cell, fractions):
+    """``pair_gradient`` (from the witness points and the normal) against central differences of the pair's own
+    distance, on every checked pair that is apart (obstacles of each kind and the body's self pairs)."""
+    chain, body, scene = cell
+    q = chain.lower + np.asarray(fractions) * (chain.upper - chain.lower)
+    inputs = clearance_inputs(body, scene, checked_pairs(body, scene))
+    kinematics = (chain._links, chain._ends, chain._standard)
+    cell_arrays = (*inputs.body, inputs.obstacles, *inputs.pairs)
+    work = clearance_kernels.scratch(chain._links, inputs.body[0], inputs.pairs[0])
+    gradient, jac, scratch_gradient = np.zeros(7), np.zeros((6, 7)), np.zeros(7)
+    step = 1e-6
+    for k in range(len(inputs.pairs[0])):
+        distance = clearance_kernels.pair_gradient(q, *kinematics, *cell_arrays, k, work, jac, gradient)
+        if distance < 1e-3:
+            continue  # touching or penetrating: a depth may have kinks
+        differences = np.empty(7)
+        for j in range(7):
+            ahead, behind = q.copy(), q.copy()
+            ahead[j] += step
+            behind[j] -= step
+            differences[j] = (clearance_kernels.pair_gradient(ahead, *kinematics, *cell_arrays, k, work, jac,
+                                                              scratch_gradient)
+                              - clearance_kernels.pair_gradient(behind, *kinematics, *cell_arrays, k, work, jac,
+                                                                scratch_gradient)) / (2 * step)
+        assert np.abs(gradient - differences).max() < 1e-6, k

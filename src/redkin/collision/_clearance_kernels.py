@@ -1,5 +1,6 @@
 """Compiled clearances of an arm's body at joint values (:mod:`redkin.collision.clearance`): the frames, the body's
-capsules there and the signed distance of each checked pair, in one pass per configuration."""
+capsules there and the signed distance of each checked pair, in one pass per configuration; and a pair's distance's
+gradient over the joints (:func:`pair_gradient`)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from math import inf, nan
 
 import numpy as np
 
-from redkin._chain_kernels import frames_one
+from redkin._chain_kernels import frames_one, jacobian_one
 from redkin._compiled import kernel
 from redkin.collision._body_kernels import posed_one
 from redkin.collision._distance_kernels import OUT, pair_distance, round_box_gap, round_round_gap
@@ -110,6 +111,49 @@ def least_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule,
         if distance < best or closest < 0 or (distance == best and k < closest):
             best, closest = distance, k
     return best, closest
+
+
+@kernel
+def pair_gradient(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, k, work, jac,
+                  gradient):
+    """The gradient over the joints of checked pair ``k``'s signed distance at ``q`` (n,) (the arguments of
+    :func:`clearances_one`) into ``gradient`` (n,); returns the distance.
+
+    With the pair's witness points ``pa`` (on capsule ``capsule[k]``) and ``pb`` and the unit normal ``u`` from a to
+    b (:func:`redkin.collision._distance_kernels.pair_distance`, ``pb - pa = d u``), moving the two solids changes
+    the distance by ``u . (dpb - dpa)`` to first order, so the gradient is ``u^T (J_b(pb) - J_a(pa))`` with ``J``
+    the linear rows of the Jacobian of a point fixed in the capsule's frame (``J_b = 0`` for an obstacle).  It is
+    the distance's derivative wherever the witness points are unique (not where two features of a pair are equally
+    near, nor for a capsule's core inside a box, where the depth may have a kink).  ``jac`` (6, n) is scratch;
+    ``work`` is :func:`scratch`'s."""
+    trig, held, rows, found, _ = work
+    frames_one(q, links, ends, standard, trig, held)
+    posed_one(held, frame, a, b, radius, rows)
+    shape = obstacles[obstacle[k]] if obstacle[k] >= 0 else rows[other[k]]
+    out = found[0]
+    pair_distance(rows[capsule[k]], shape, out)
+    gradient[:] = 0.0
+    _point_motion(q, links, ends, standard, held, frame[capsule[k]], out[1:4], out[7:10], -1.0, trig, jac, gradient)
+    if obstacle[k] < 0:
+        _point_motion(q, links, ends, standard, held, frame[other[k]], out[4:7], out[7:10], 1.0, trig, jac,
+                      gradient)
+    return out[0]
+
+
+@kernel
+def _point_motion(q, links, ends, standard, held, which, point, direction, sign, trig, jac, gradient):
+    """Add ``sign direction^T J(point)`` to ``gradient`` (n,), ``J`` the linear rows of the Jacobian of ``point``
+    (world) held fixed in frame ``which`` of ``held`` (:func:`redkin._chain_kernels.frames_one`'s: the base, the
+    frames after each joint, the tool)."""
+    n = links.shape[0]
+    frame = held[which]
+    offset = np.empty(3)
+    for c in range(3):
+        offset[c] = (frame[0, c] * (point[0] - frame[0, 3]) + frame[1, c] * (point[1] - frame[1, 3])
+                     + frame[2, c] * (point[2] - frame[2, 3]))
+    jacobian_one(q, links, ends, standard, min(which, n), which > n, offset, trig, jac)
+    for j in range(n):
+        gradient[j] += sign * (direction[0] * jac[0, j] + direction[1] * jac[1, j] + direction[2] * jac[2, j])
 
 
 @kernel

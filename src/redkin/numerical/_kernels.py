@@ -349,14 +349,24 @@ def candidate(start, seed, seeded, links, ends, standard, lower, upper, settings
     """Start number ``start`` (from 0) of a search :func:`begin` readied: the seed first (with one, clipped to the
     limits), then random joint vectors; returns whether it ends in a certified solution, distinct from the
     ``found`` rows of ``q_out`` by ``settings``' separation, left in ``local``'s first joint vector."""
-    goal, state, vectors, best_error = local
-    q, best = vectors[0], vectors[1]
+    q = local[2][0]
     if start == 0 and seeded:
         q[:] = np.minimum(np.maximum(seed, lower), upper)
     else:
-        random_start(lower, upper, state, q)
+        random_start(lower, upper, local[1], q)
+    return settle(seed, seeded, seeded, links, ends, standard, lower, upper, settings, q_out, found, work, local)
+
+
+@kernel
+def settle(seed, seeded, pulled, links, ends, standard, lower, upper, settings, q_out, found, work, local):
+    """Descend from the start in ``local``'s first joint vector (:func:`descend`, pulled towards the seed once
+    certified where ``pulled``); returns whether it ends in a certified solution there, distinct from the ``found``
+    rows of ``q_out`` by ``settings``' separation (each joint's turn nearest the seed, with one)."""
+    goal, _, vectors, best_error = local
+    q, best = vectors[0], vectors[1]
     tolerance = settings[POSITION_TOLERANCE:ROTATION_TOLERANCE + 1]
-    if not descend(q, goal, seed, seeded, links, ends, standard, lower, upper, tolerance, work, best, best_error):
+    if not descend(q, goal, seed, seeded and pulled, links, ends, standard, lower, upper, tolerance, work, best,
+                   best_error):
         return False
     normalise(q, seed, seeded, lower, upper)
     position, angle = measure(q, goal, links, ends, standard, work[0], work[1], work[2])
