@@ -108,7 +108,7 @@ def test_each_pairs_gradient_is_its_distances_derivative(cell, fractions):
     inputs = clearance_inputs(body, scene, checked_pairs(body, scene))
     kinematics = (chain._links, chain._ends, chain._standard)
     cell_arrays = (*inputs.body, inputs.obstacles, *inputs.pairs)
-    work = clearance_kernels.scratch(chain._links, inputs.body[0], inputs.pairs[0])
+    work = clearance_kernels.scratch(chain._links, inputs.body[0], inputs.pairs[0], inputs.obstacles)
     gradient, jac, scratch_gradient = np.zeros(7), np.zeros((6, 7)), np.zeros(7)
     step = 1e-6
     for k in range(len(inputs.pairs[0])):

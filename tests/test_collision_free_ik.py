@@ -232,7 +232,7 @@ def test_a_walk_step_moves_along_the_self_motion_away_from_the_closest_pair(arm,
     scene = _blocking_scene(chain, q)
     kinematics, cell = _kernel_inputs(chain, body, scene)
     work, _ = numerical_kernels.scratch(chain.n)
-    spare = clearance_kernels.scratch(kinematics[0], cell[0], cell[5])
+    spare = clearance_kernels.scratch(kinematics[0], cell[0], cell[5], cell[4])
     distance, pair = clearance_kernels.least_one(q, *kinematics, *cell, spare)
     assert distance < MARGIN  # the ball sits on the elbow
     gradient, jac = np.zeros(chain.n), np.zeros((6, chain.n))

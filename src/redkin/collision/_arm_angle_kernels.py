@@ -261,7 +261,7 @@ def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs
     (:func:`redkin.collision._decision_kernels.decided_one`: ``active[n]`` updated, the rest into ``kind``,
     ``pair``, ``cut``, ``carved`` and ``cause``)."""
     theta, q = np.empty(7), np.empty(7)
-    work = scratch(links, frame, capsule)
+    work = scratch(links, frame, capsule, obstacles)
     rows, found = work[2], work[3]
     clearance, speed, floor = np.empty(capsule.shape[0]), np.empty(capsule.shape[0]), np.empty(capsule.shape[0])
     extent = np.empty(capsule.shape[0])

@@ -19,12 +19,14 @@ TIE = 1e-12
 
 
 @kernel
-def scratch(links, frame, capsule):
-    """The work arrays of :func:`clearances_one` for a chain of ``links`` (n, ...), a body of ``frame`` (M,) and
-    the checked pairs ``capsule`` (K,): the joints' sines and cosines, the frames, the posed capsules and each
-    pair's distance output (K, OUT) (at least one row) and each pair's lower bound (K,)."""
+def scratch(links, frame, capsule, obstacles):
+    """The work arrays of :func:`clearances_one` and :func:`least_one` for a chain of ``links`` (n, ...), a body of
+    ``frame`` (M,), the checked pairs ``capsule`` (K,) and the ``obstacles`` (O, WIDTH): the joints' sines and
+    cosines, the frames, the posed capsules and each pair's distance output (K, OUT) (at least one row), each pair's
+    lower bound (K,), and the axis-aligned boxes of the posed capsules (M, 6) and of the obstacles (O, 6)."""
     return (np.empty((links.shape[0], 2)), np.empty((links.shape[0] + 2, 4, 4)), np.empty((frame.shape[0], WIDTH)),
-            np.empty((max(capsule.shape[0], 1), OUT)), np.empty(capsule.shape[0]))
+            np.empty((max(capsule.shape[0], 1), OUT)), np.empty(capsule.shape[0]), np.empty((frame.shape[0], 6)),
+            np.empty((obstacles.shape[0], 6)))
 
 
 @kernel
@@ -39,7 +41,7 @@ def clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, cap
     configuration with no active pair is not posed.  ``work`` is :func:`scratch`'s; its last array holds each
     measured pair's distance, witness points and normal (:func:`redkin.collision._distance_kernels.pair_distance`),
     and NaN for the others."""
-    trig, held, rows, found, _ = work
+    trig, held, rows, found = work[:4]
     posed = False
     for k in range(capsule.shape[0]):
         found[k, 0] = nan
@@ -77,24 +79,29 @@ def least_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule,
     """At joint values ``q`` (n,) (the arguments of :func:`clearances_one`), the least signed distance over the
     checked pairs and the first pair that has it (``inf`` and -1 with no pair).
 
-    A first pass bounds every pair from below (:func:`lower_bound`; against a plane its distance itself, as cheap),
-    and the pair with the lowest bound is measured first; then a pair whose positive bound exceeds the least distance
-    so far by more than :data:`TIE` cannot be less, and is not measured (one within it may tie, computed otherwise:
-    it is measured, so that the first pair with the least distance is the one named)."""
-    trig, held, rows, found, bounds = work
+    A first pass bounds every pair from below by the gap between the two shapes' axis-aligned boxes
+    (:func:`_aligned_box`; against a plane its distance itself, as cheap), and the pair with the lowest is measured
+    first.  Then a pair whose positive bound (that gap, then :func:`lower_bound`) exceeds the least distance so far
+    by more than :data:`TIE` cannot be less, and is not measured (one within it may tie, computed otherwise: it is
+    measured, so that the first pair with the least distance is the one named)."""
+    trig, held, rows, found, bounds, boxes, obstacle_boxes = work
     pairs = capsule.shape[0]
     if not pairs:
         return inf, -1
     frames_one(q, links, ends, standard, trig, held)
     posed_one(held, frame, a, b, radius, rows)
+    for m in range(rows.shape[0]):
+        _aligned_box(rows[m], boxes[m])
+    for o in range(obstacles.shape[0]):
+        _aligned_box(obstacles[o], obstacle_boxes[o])
     first = 0
     for k in range(pairs):
-        shape = obstacles[obstacle[k]] if obstacle[k] >= 0 else rows[other[k]]
-        if shape[0] == PLANE:
-            pair_distance(rows[capsule[k]], shape, found[0])
+        if obstacle[k] >= 0 and obstacles[obstacle[k], 0] == PLANE:
+            pair_distance(rows[capsule[k]], obstacles[obstacle[k]], found[0])
             bounds[k] = found[0, 0]
         else:
-            bounds[k] = lower_bound(rows[capsule[k]], shape)
+            bounds[k] = _box_gap(boxes[capsule[k]], obstacle_boxes[obstacle[k]] if obstacle[k] >= 0
+                                 else boxes[other[k]])
         if bounds[k] < bounds[first]:
             first = k
     best, closest = inf, -1
@@ -106,11 +113,40 @@ def least_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule,
         if shape[0] == PLANE:
             distance = bounds[k]
         else:
+            finer = lower_bound(rows[capsule[k]], shape)
+            if step and finer > 0.0 and finer > best + TIE:
+                continue
             pair_distance(rows[capsule[k]], shape, found[0])
             distance = found[0, 0]
         if distance < best or closest < 0 or (distance == best and k < closest):
             best, closest = distance, k
     return best, closest
+
+
+@kernel
+def _aligned_box(row, out):
+    """The box along the frame's axes around the shape ``row`` into ``out`` (6,): its lowest and highest corners
+    (everywhere for a plane)."""
+    for i in range(3):
+        if row[0] == PLANE:
+            out[i], out[3 + i] = -inf, inf
+        elif row[0] == BOX:  # the centre plus or minus |R| times the half sizes
+            extent = abs(row[8 + 3 * i]) * row[5] + abs(row[9 + 3 * i]) * row[6] + abs(row[10 + 3 * i]) * row[7]
+            out[i], out[3 + i] = row[2 + i] - extent, row[2 + i] + extent
+        else:  # a segment's ends, widened by the radius
+            out[i] = min(row[2 + i], row[5 + i]) - row[1]
+            out[3 + i] = max(row[2 + i], row[5 + i]) + row[1]
+
+
+@kernel
+def _box_gap(first, second):
+    """The widest gap between two axis-aligned boxes ``first`` and ``second`` (6,) along one axis: a lower bound of
+    the distance of any two shapes inside them where it is positive (every point of one is that far from every point
+    of the other along that axis)."""
+    gap = -inf
+    for i in range(3):
+        gap = max(gap, second[i] - first[3 + i], first[i] - second[3 + i])
+    return gap
 
 
 @kernel
@@ -126,7 +162,7 @@ def pair_gradient(q, links, ends, standard, frame, a, b, radius, obstacles, caps
     the distance's derivative wherever the witness points are unique (not where two features of a pair are equally
     near, nor for a capsule's core inside a box, where the depth may have a kink).  ``jac`` (6, n) is scratch;
     ``work`` is :func:`scratch`'s."""
-    trig, held, rows, found, _ = work
+    trig, held, rows, found = work[:4]
     frames_one(q, links, ends, standard, trig, held)
     posed_one(held, frame, a, b, radius, rows)
     shape = obstacles[obstacle[k]] if obstacle[k] >= 0 else rows[other[k]]
@@ -161,7 +197,7 @@ def least(start, stop, q, links, ends, standard, frame, a, b, radius, obstacles,
           pair):
     """:func:`least_one` for configurations ``start .. stop - 1`` of ``q`` (N, n), into ``distance`` and ``pair``
     (N,)."""
-    work = scratch(links, frame, capsule)
+    work = scratch(links, frame, capsule, obstacles)
     for n in range(start, stop):
         distance[n], pair[n] = least_one(q[n], links, ends, standard, frame, a, b, radius, obstacles, capsule,
                                          obstacle, other, work)
@@ -172,7 +208,7 @@ def clearances(start, stop, q, links, ends, standard, frame, a, b, radius, obsta
                active, floor, out):
     """:func:`clearances_one` for configurations ``start .. stop - 1`` of ``q`` (N, n), ``active``, ``floor`` and
     ``out`` (N, K)."""
-    work = scratch(links, frame, capsule)
+    work = scratch(links, frame, capsule, obstacles)
     for n in range(start, stop):
         clearances_one(q[n], links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
                        active[n], floor[n], out[n], work)

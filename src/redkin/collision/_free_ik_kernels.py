@@ -139,7 +139,7 @@ def solve(start, stop, targets, seeds, seeded, streams, links, ends, standard, b
     are not poses."""
     bad = 0
     work, local = scratch(bounds.shape[1])
-    spare = _clearance_kernels.scratch(links, frame, capsule)
+    spare = _clearance_kernels.scratch(links, frame, capsule, obstacles)
     for n in range(start, stop):
         budget = reach_budget(targets[n], reach, starts, distance[n:n + 1])
         used[n] = solve_one(targets[n], seeds[n], seeded, streams[n], links, ends, standard, bounds, settings, budget,
