@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from redkin.cli.common import angles_out, small_work, xacro_options
+from redkin.cli.common import angles_out, xacro_options
 
 if TYPE_CHECKING:  # the chain's module loads the compiled kernels: not before a command runs
     from redkin.chain import SerialChain
@@ -36,9 +36,11 @@ def add_cell_arguments(parser: argparse.ArgumentParser, effect: str) -> None:
 
 def load_cell(args: argparse.Namespace, chain: SerialChain):
     """The body and the scene the arguments name, or ``None`` without ``--scene`` (a ValueError in one line for a
-    bad file, a body option without a scene, or a robot with no body to read).  With a scene the command's kernels
-    run compiled from here (:func:`redkin.cli.common.small_work`): covering a maker's mesh takes seconds compiled
-    and minutes as Python, and every command's work in a cell is large."""
+    bad file, a body option without a scene, or a robot with no body to read).  Covering a mesh (a maker's link, a
+    scene's fixture) runs compiled wherever it is asked (:mod:`redkin.collision.mesh_cover`); whether the rest of
+    the command's work in the cell is small enough to run as Python is the command's to say
+    (:func:`redkin.cli.common.small_work`: one pose's numerical or closed-form IK is, certified sets and paths are
+    not)."""
     from dataclasses import replace
 
     from redkin.collision import read_body, read_scene, srdf_ignored_pairs, urdf_body
@@ -48,7 +50,6 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
         if given:
             raise ValueError(f"--{given[0]} applies with --scene FILE")
         return None
-    small_work(False)
     scene = read_scene(args.scene)
     if args.margin is not None:
         if not (np.isfinite(args.margin) and args.margin >= 0.0):

@@ -222,7 +222,8 @@ def _run_closed_form(chain, poses: np.ndarray, args: argparse.Namespace, batch: 
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     traced = _traced(classified, args, batch, q0, cell)
     exact = classified.implementation.one_per_branch
-    small_work(cell is None and not traced and (not batch or (exact and poses[..., 0, 0].size <= _SMALL_BATCH)))
+    # one pose (in a cell too: its solutions' clearances), or a small batch of an exact class without a cell
+    small_work(not traced and (not batch or (cell is None and exact and poses[..., 0, 0].size <= _SMALL_BATCH)))
     branch, why = _asked_branch(chain, args, q0)
     # every branch where it is asked for, or where the default's line names the others (one pose); else one
     every_branch = branch is None or (why == "default" and not batch)

@@ -48,6 +48,7 @@ from typing import Any, NamedTuple, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import use_compiled
 from redkin._extras import missing_extra
 from redkin.collision._mesh_kernels import capsule_along
 from redkin.errors import RedkinError
@@ -176,7 +177,10 @@ def _covers(used: np.ndarray, edges: np.ndarray, most: int, cover: Callable[[np.
             volume: Callable[[_Cover], float], quick: Callable[[np.ndarray], float], least: int = 1) -> list[_Cover]:
     """One to ``most`` shapes ``cover`` makes round the mesh's parts (module docstring, "Several capsules"): the
     cuts ranked by ``quick`` (a fast volume of one part's cover), a further part kept up to ``least`` parts, and
-    beyond where the shapes' summed ``volume`` drops to :data:`_WORTH_ANOTHER` of the fewer's."""
+    beyond where the shapes' summed ``volume`` drops to :data:`_WORTH_ANOTHER` of the fewer's.  Its kernels run
+    compiled, in a command that runs small work as Python too (:func:`redkin._compiled.use_compiled`): covering a
+    maker's mesh takes seconds compiled and minutes as Python."""
+    use_compiled()
     covers = [cover(used)]
     axes = _cut_axes(used)
     for count in range(2, most + 1):
