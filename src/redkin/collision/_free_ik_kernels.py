@@ -56,12 +56,13 @@ def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, setti
     clear = np.int64(0)
     left = 0
     lower, upper = bounds[0], bounds[1]
+    unpulled = bool(False)  # noqa: UP018 - not a literal: settle compiled once, for a bool
     while clear < want and found < q_out.shape[0] and used < starts:
         if left > 0:
             ok = escape(q, links, ends, standard, lower, upper, frame, a, b, radius, obstacles, capsule, obstacle,
                         other, pair_out[found - 1], margin - clearance_out[found - 1], settings[SEPARATION], work,
-                        spare) and settle(seed, seeded, False, links, ends, standard, lower, upper, settings, q_out,
-                                          found, work, local)
+                        spare) and settle(seed, seeded, unpulled, links, ends, standard, lower, upper, settings,
+                                          q_out, found, work, local)
         else:
             ok = candidate(used, seed, seeded, links, ends, standard, lower, upper, settings, q_out, found, work,
                            local)
@@ -105,7 +106,8 @@ def escape(q, links, ends, standard, lower, upper, frame, a, b, radius, obstacle
     trig, _, e, jac, free, gradient, a6, y, v, _ = work
     _clearance_kernels.pair_gradient(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle,
                                      other, pair, spare, jac, gradient)
-    jacobian_one(q, links, ends, standard, n, True, np.zeros(3), trig, jac)
+    tool = bool(True)  # noqa: UP018 - not a literal: the chain's compiled jacobian_one (a bool) serves
+    jacobian_one(q, links, ends, standard, n, tool, np.zeros(3), trig, jac)
     e[:] = 0.0
     free[:] = 1.0
     damped_step(jac, e, free, gradient, DAMPING_FLOOR, a6, y, v)

@@ -6,7 +6,7 @@ certified by our FK and kept where distinct) runs with the clearance measured in
 body capsule against every obstacle and the body's self pairs, exact distances between capsules and shapes,
 :func:`redkin.collision.clearance`'s), and the search of a pose stops once ``count`` of its candidates keep the
 margin.  A candidate that collides is walked along its self-motion before the next random start: up to ``walk``
-steps (default :data:`WALK`), each from the last candidate along the gradient of its closest pair's distance
+steps (default 3), each from the last candidate along the gradient of its closest pair's distance
 projected on the null space of the tool's Jacobian, sized to lift that pair to the margin plus 5 cm to first order
 (at most 1 rad in a joint, within the limits), and certified by the solver's own descent; the walk ends at a clear
 candidate, at one the descent does not certify or that is not distinct, or where a limit blocks the self-motion.
@@ -55,7 +55,7 @@ _MAX_CANDIDATES = 1000
 _FIRST_CANDIDATES = 16
 #: Steps along a colliding candidate's self-motion before the next random start (module docstring): on the Sawyer in
 #: a dense cell (benchmarks/collision_free_ik.py) 3 cut the search's time by about a sixth; more steps rarely clear.
-WALK = 3
+_WALK = 3
 #: Most steps of a walk a caller may ask.
 _MAX_WALK = 100
 
@@ -116,7 +116,7 @@ def collision_free_ik(
     restarts: int = RESTARTS,
     separation: float = SEPARATION,
     rng: int | np.random.Generator | None = None,
-    walk: int = WALK,
+    walk: int = _WALK,
 ) -> FreeSolutions:
     """Certified solutions of target poses within the limits whose body keeps the scene's margin (module docstring).
 
