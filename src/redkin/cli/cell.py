@@ -18,6 +18,21 @@ if TYPE_CHECKING:  # the chain's module loads the compiled kernels: not before a
 _NAMED_LINKS = (".urdf", ".xacro")
 
 
+#: The kernels of an exact class's collision-free sets (``arm-angles --scene``, and a short path of an S-R-S or
+#: offset-elbow arm in a cell), by its parameter: one pose's sets run as Python while these are not cached (0.2-0.7 s;
+#: compiling them took 19 s on the iiwa14), compiled once they are, and the :data:`CELL_SETS_SECTIONS` of
+#: :mod:`redkin.warm_up` compile them in the background.
+CELL_SETS_KERNELS = {
+    "psi": ("redkin.collision._arm_angle_kernels.level", "redkin.collision._clearance_kernels.clearances",
+            "redkin.collision._body_kernels.posed_rows", "redkin.srs._feasible_kernels.poses_feasible",
+            "redkin.srs._feasible_kernels.batch_arc_runs", "redkin.srs._ik_kernels.solve_poses"),
+    "q7": ("redkin.franka._kernels.limit_spectra_of", "redkin.franka._kernels.solve_branch_rows",
+           "redkin.franka._kernels.levels_crossed", "redkin.franka._kernels.feasible_poses",
+           "redkin.collision._clearance_kernels.clearances", "redkin.collision._decision_kernels.decided",
+           "redkin.collision._body_kernels.posed_rows"),
+}
+CELL_SETS_SECTIONS = {"psi": ("srs ik", "srs sets", "collision"), "q7": ("franka", "collision")}
+
 def add_cell_arguments(parser: argparse.ArgumentParser, effect: str) -> None:
     """``--scene`` (whose help ends with what it does to the command, ``effect``), ``--body``, ``--srdf`` and
     ``--margin``."""

@@ -7,7 +7,14 @@ import argparse
 
 import numpy as np
 
-from redkin.cli.cell import add_cell_arguments, cell_note_lines, cell_notes, load_cell
+from redkin.cli.cell import (
+    CELL_SETS_KERNELS,
+    CELL_SETS_SECTIONS,
+    add_cell_arguments,
+    cell_note_lines,
+    cell_notes,
+    load_cell,
+)
 from redkin.cli.common import (
     BRANCH_HELP,
     IMAGE_SUFFIXES,
@@ -183,6 +190,13 @@ _FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.franka.
                         "redkin.paths._dp_kernels.q7_node_rows", "redkin.paths._dp_kernels.sweep")
 #: The sections of :mod:`redkin.warm_up` that compile them (in the background, on a fresh cache).
 _FRANKA_PATH_SECTIONS = ("franka", "paths")
+#: A path of at most this many waypoints of an S-R-S or offset-elbow arm in a cell runs as Python while the kernels
+#: of its collision-free sets and steps are not cached: about 0.2 s a waypoint (2.5 s for 11 on the iiwa14, against
+#: 28.6 s of compiling), compiled once they are.
+_SMALL_CELL_PATH = 16
+#: The kernels of a path in a cell beside its sets' (:data:`redkin.cli.cell.CELL_SETS_KERNELS`, whose clearances
+#: also measure the steps between waypoints): the path graph's sweep.
+_CELL_PATH_KERNELS = ("redkin.paths._dp_kernels.sweep",)
 
 
 def _parameter(chain, srs_tolerance: float | None) -> str:
@@ -391,9 +405,14 @@ def _run_path(args: argparse.Namespace) -> int:
     poses = _waypoints(args)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     model = _model_line(chain, args.srs_tolerance)
-    small = cell is None and model is None and not timed and not args.thorough and len(poses) <= _SMALL_PATH
+    plain = model is None and not timed and not args.thorough
+    small = cell is None and plain and len(poses) <= _SMALL_PATH
     if small and _parameter(chain, args.srs_tolerance) != "psi":
         small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class", _FRANKA_PATH_SECTIONS)
+    elif cell is not None and plain and len(poses) <= _SMALL_CELL_PATH and _parameter(chain, args.srs_tolerance) == \
+            "psi":
+        small = python_until_compiled((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), "this path in a cell",
+                                      (*CELL_SETS_SECTIONS["psi"], "paths"))
     small_work(small)
     degrees = args.deg
     unit = angle_unit(degrees)

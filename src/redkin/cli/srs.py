@@ -17,6 +17,8 @@ from redkin.cli.background_compile import (
     within_seconds,
 )
 from redkin.cli.cell import (
+    CELL_SETS_KERNELS,
+    CELL_SETS_SECTIONS,
     add_cell_arguments,
     cell_note_lines,
     cell_notes,
@@ -69,19 +71,6 @@ _NEARLY_SETS_KERNELS = ("redkin._chain_kernels.frames", "redkin._chain_kernels.j
                         "redkin.srs.nearly._kernels.arm_angles", "redkin.srs.nearly._kernels.solve",
                         "redkin.srs.nearly._self_motion_kernels.traced")
 _NEARLY_SETS_SECTIONS = ("chain", "srs ik", "srs sets", "nearly S-R-S")
-#: The kernels of an exact class's collision-free sets (``arm-angles --scene``), by its parameter: one pose's runs as
-#: Python while these are not cached (0.2-0.7 s; compiling them took 19 s on the iiwa14), compiled once they are, and
-#: the :data:`_CELL_SETS_SECTIONS` of :mod:`redkin.warm_up` compile them in the background.
-_CELL_SETS_KERNELS = {
-    "psi": ("redkin.collision._arm_angle_kernels.level", "redkin.collision._clearance_kernels.clearances",
-            "redkin.collision._body_kernels.posed_rows", "redkin.srs._feasible_kernels.poses_feasible",
-            "redkin.srs._feasible_kernels.batch_arc_runs", "redkin.srs._ik_kernels.solve_poses"),
-    "q7": ("redkin.franka._kernels.limit_spectra_of", "redkin.franka._kernels.solve_branch_rows",
-           "redkin.franka._kernels.levels_crossed", "redkin.franka._kernels.feasible_poses",
-           "redkin.collision._clearance_kernels.clearances", "redkin.collision._decision_kernels.decided",
-           "redkin.collision._body_kernels.posed_rows"),
-}
-_CELL_SETS_SECTIONS = {"psi": ("srs ik", "srs sets", "collision"), "q7": ("franka", "collision")}
 #: How long ``arm-angles`` on a nearly S-R-S arm runs as Python while its kernels compile in the background, before
 #: it waits for them: most poses take 10-15 s as Python on a 2-core machine, against about a minute of compiling;
 #: next to a singular configuration 30 s and more.
@@ -395,8 +384,8 @@ def _run_arm_angles(args: argparse.Namespace) -> int:
     python_first = cell is None and not exact and _nearly_sets_as_python()
     if cell is not None and exact:  # one pose's collision-free sets: as Python until their kernels are cached
         parameter = classified.parameter.name
-        small_work(python_until_compiled(_CELL_SETS_KERNELS[parameter], "these collision-free sets",
-                                         _CELL_SETS_SECTIONS[parameter]))
+        small_work(python_until_compiled(CELL_SETS_KERNELS[parameter], "these collision-free sets",
+                                         CELL_SETS_SECTIONS[parameter]))
     else:
         small_work((cell is None and exact) or python_first)
     branch = str(parse_branch("+++" if args.branch is None else args.branch))
