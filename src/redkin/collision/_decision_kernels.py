@@ -91,3 +91,43 @@ def decided(start, stop, half, clearance, speed, active, finest, carve, kind, pa
             extent[k] = linear_extent(clearance[n, k], speed[n, k])
         kind[n], pair[n], radius[n], carved[n], cause[n] = decided_one(half[n], clearance[n], speed[n], extent,
                                                                        active[n], finest, carve)
+
+
+
+@kernel
+def next_level(lo, hi, owner, active, kind, pair, cut, carved, cause, bounds, labels, open_bounds, open_owner,
+               open_active):
+    """Split one level of intervals ``[lo, hi]`` of owners ``owner`` (N,), each decided as :func:`decided_one` gives
+    (``kind``, ``pair``, ``cut``, ``carved``, ``cause``, (N,); ``active`` (N, K), the pairs still open on each),
+    into what is decided and what stays open (:func:`redkin.collision.arm_angle_free.certify`'s subdivision).
+
+    Decided, into the columns of ``bounds`` (2, 2N) ``(lo, hi)`` and ``labels`` (3, 2N) ``(owner, kind, pair)``:
+    each interval not :data:`OPEN`, and of an open one the stretch ``[m - cut, m + cut]`` around its middle ``m``
+    that its own clearances decide, where ``cut > 0`` (of kind ``carved``, by pair ``cause``).  Open, into the
+    columns of ``open_bounds`` (2, 2N), ``open_owner`` (2N,) and the rows of ``open_active`` (2N, K): the pieces of
+    each open interval beside that stretch (its halves where ``cut`` is 0), each with its interval's active pairs.
+    Returns how many of each were written.
+    """
+    done = 0
+    left = 0
+    for n in range(lo.shape[0]):
+        if kind[n] != OPEN:
+            bounds[0, done], bounds[1, done] = lo[n], hi[n]
+            labels[0, done], labels[1, done], labels[2, done] = owner[n], kind[n], pair[n]
+            done += 1
+            continue
+        middle = (lo[n] + hi[n]) / 2.0
+        start, end = middle - cut[n], middle + cut[n]
+        if cut[n] > 0.0:
+            bounds[0, done], bounds[1, done] = start, end
+            labels[0, done], labels[1, done], labels[2, done] = owner[n], carved[n], cause[n]
+            done += 1
+        if start > lo[n]:
+            open_bounds[0, left], open_bounds[1, left], open_owner[left] = lo[n], start, owner[n]
+            open_active[left] = active[n]
+            left += 1
+        if end < hi[n]:
+            open_bounds[0, left], open_bounds[1, left], open_owner[left] = end, hi[n], owner[n]
+            open_active[left] = active[n]
+            left += 1
+    return done, left

@@ -76,7 +76,6 @@ from redkin.arms.srs_kind import SRSKind
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, ArcSet
 from redkin.collision import _arm_angle_kernels, _decision_kernels
-from redkin.collision._decision_kernels import OPEN
 from redkin.collision.body import Body, capsule_ends, posed
 from redkin.collision.clearance import checked_pairs, clearance_inputs
 from redkin.collision.scene import Scene
@@ -366,29 +365,24 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, se
     Returns ``(lo, hi, owner, kind, pair)`` of the decided intervals (kind 0 free, 1 blocked by ``pair``, 2
     undecided), and the owners of the intervals still open when the budget ran out (left undecided).
     """
-    decided: list[tuple[np.ndarray, ...]] = [(lo[:0], hi[:0], owner[:0], owner[:0], owner[:0])]
+    decided: list[tuple[np.ndarray, np.ndarray]] = [(np.empty((2, 0)), np.empty((3, 0), dtype=np.int64))]
     active = np.ones((len(lo), settle.count), dtype=bool)  # the pairs not yet proved clear on each interval
     while len(lo):
         if settle.evaluations.sum() + len(lo) > budget:
             undecided = np.full(len(lo), _decision_kernels.UNDECIDED)
-            decided.append((lo, hi, owner, undecided, np.zeros(len(lo), dtype=np.int64)))
+            decided.append((np.stack([lo, hi]), np.stack([owner, undecided, np.zeros(len(lo), dtype=np.int64)])))
             break
-        middle, half = (lo + hi) / 2.0, (hi - lo) / 2.0
-        kind, which, cut, carved, cause = settle(middle, half, owner, active, finest, carve)  # active updated
-        done = kind != OPEN
-        decided.append((lo[done], hi[done], owner[done], kind[done], which[done]))
-        split = ~done
-        lo, hi, owner, middle, active = lo[split], hi[split], owner[split], middle[split], active[split]
-        cut, carved, cause = cut[split], carved[split], cause[split]
-        kept = cut > 0.0
-        decided.append((middle[kept] - cut[kept], middle[kept] + cut[kept], owner[kept], carved[kept], cause[kept]))
-        left, right = middle - cut > lo, middle + cut < hi  # the open pieces beside the middle (or its stretch)
-        lo, hi, owner = (np.concatenate([lo[left], (middle + cut)[right]]),
-                         np.concatenate([(middle - cut)[left], hi[right]]),
-                         np.concatenate([owner[left], owner[right]]))
-        active = np.concatenate([active[left], active[right]])
-    parts = tuple(np.concatenate(column) for column in zip(*decided, strict=True))
-    return parts, owner
+        kind, which, cut, carved, cause = settle((lo + hi) / 2.0, (hi - lo) / 2.0, owner, active, finest, carve)
+        room = 2 * len(lo)  # an interval leaves at most two decided pieces, and at most two open ones
+        bounds, labels = np.empty((2, room)), np.empty((3, room), dtype=np.int64)
+        open_bounds, open_owner = np.empty((2, room)), np.empty(room, dtype=np.int64)
+        open_active = np.empty((room, settle.count), dtype=bool)
+        done, left = _decision_kernels.next_level(lo, hi, owner, active, kind, which, cut, carved, cause, bounds,
+                                                  labels, open_bounds, open_owner, open_active)
+        decided.append((bounds[:, :done], labels[:, :done]))
+        lo, hi, owner, active = open_bounds[0, :left], open_bounds[1, :left], open_owner[:left], open_active[:left]
+    bounds, labels = (np.concatenate(column, axis=1) for column in zip(*decided, strict=True))
+    return (bounds[0], bounds[1], labels[0], labels[1], labels[2]), owner
 
 
 def settled(half: np.ndarray, clearance: np.ndarray, speed: np.ndarray, active: np.ndarray, finest: float,
