@@ -25,11 +25,12 @@ _NAMED_LINKS = (".urdf", ".xacro")
 CELL_SETS_KERNELS = {
     "psi": ("redkin.collision._arm_angle_kernels.level", "redkin.collision._clearance_kernels.clearances",
             "redkin.collision._body_kernels.posed_rows", "redkin.srs._feasible_kernels.poses_feasible",
-            "redkin.srs._feasible_kernels.batch_arc_runs", "redkin.srs._ik_kernels.solve_poses"),
+            "redkin.srs._feasible_kernels.batch_arc_runs", "redkin.srs._ik_kernels.solve_poses",
+            "redkin.collision._decision_kernels.next_level"),
     "q7": ("redkin.franka._kernels.limit_spectra_of", "redkin.franka._kernels.solve_branch_rows",
            "redkin.franka._kernels.levels_crossed", "redkin.franka._kernels.feasible_poses",
            "redkin.collision._clearance_kernels.clearances", "redkin.collision._decision_kernels.decided",
-           "redkin.collision._body_kernels.posed_rows"),
+           "redkin.collision._body_kernels.posed_rows", "redkin.collision._decision_kernels.next_level"),
 }
 CELL_SETS_SECTIONS = {"psi": ("srs ik", "srs sets", "collision"), "q7": ("franka", "collision")}
 
