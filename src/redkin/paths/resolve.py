@@ -28,7 +28,6 @@ from redkin.paths import search
 from redkin.paths.arm_family import path_family
 from redkin.paths.bounds import step_bound
 from redkin.paths.clear_steps import with_clear_steps
-from redkin.paths.collision_family import collision_free_family
 from redkin.paths.failure import step_blocker
 from redkin.paths.family import Family
 from redkin.paths.graph import Arm, Graph
@@ -203,7 +202,7 @@ def resolve_path(
     if not allow_stops:
         return resolve_paths(arm, poses[None], max_step, q0=q0, q_end=q_end, end_branch=end_branch, timing=timing,
                              **options)[0]
-    family = _family(arm, srs_tolerance, body, scene)
+    family = path_family(arm, srs_tolerance, body, scene)
     if objective == "time" and timing is None:
         timing = DEFAULT_RATE
     if timing is not None:
@@ -217,22 +216,13 @@ def resolve_path(
                                  q_end=q_end if with_end else None, end_branch=end_branch if with_end else None,
                                  **{**options, "scene": cell})[0]
 
-        return with_stops(family if cell is scene else _family(arm, srs_tolerance, body, cell), poses, step, segment)
+        return with_stops(family if cell is scene else path_family(arm, srs_tolerance, body, cell), poses, step,
+                          segment)
 
     result = in_cell(scene)
     if timing is None:
         return result
     return _timed(family, result, float(timing), None if scene is None else lambda: in_cell(_roomier(scene)))
-
-
-def _family(arm: Any, srs_tolerance: float | None, body: Body | None, scene: Scene | None) -> Family:
-    """The arm's family for path resolution, in the cell of ``body`` and ``scene`` where one is given."""
-    family = path_family(arm, srs_tolerance)
-    if scene is None and body is None:
-        return family
-    if scene is None or body is None:
-        raise RedkinError("a cell needs both the arm's body and the scene")
-    return collision_free_family(family, body, scene)
 
 
 def resolve_paths(
@@ -258,7 +248,7 @@ def resolve_paths(
     """:func:`resolve_path` for ``P`` paths of ``N`` poses each, ``paths`` of shape ``(P, N, 4, 4)``: one
     batch of feasible sets and IK, one sweep.  ``q0`` and ``q_end`` are ``(7,)`` (the same for every path) or
     ``(P, 7)``."""
-    family = _family(arm, srs_tolerance, body, scene)
+    family = path_family(arm, srs_tolerance, body, scene)
     chain = family.chain
     poses = check_pose(paths, "paths")
     if poses.ndim != 4 or poses.shape[1] == 0:
@@ -299,7 +289,7 @@ def resolve_paths(
     def again(by: str, path: int) -> Callable[[], PathResult] | None:
         if scene is None:
             return None
-        return lambda: search(by, path, _family(arm, srs_tolerance, body, _roomier(scene)))[0]
+        return lambda: search(by, path, path_family(arm, srs_tolerance, body, _roomier(scene)))[0]
 
     if objective != "time":
         return [_timed(family, result, rate, again(objective, p)) for p, result in enumerate(search(objective))]
