@@ -191,9 +191,11 @@ def test_path_in_a_cell_and_its_failure(capsys, cell, tmp_path):
     assert code == 1
     failure = json.loads(out)["failure"]
     assert failure["reason"] == "collision" and failure["pair"] == ["link_7", "ball"]
+    figure = tmp_path / "why.png"
     code, out, _ = run(capsys, ["path", "kuka-iiwa14", "--poses", str(poses), "--max-step", "0.2", "--scene",
-                                str(blocked), "--body", str(body_file)])
+                                str(blocked), "--body", str(body_file), "--plot", str(figure)])
     assert code == 1 and "link_7 meets ball" in out
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"  # the picture of why (tests/test_plot_paths.py)
 
 
 def test_a_path_proved_optimal_in_a_cell_says_among_what(capsys, tmp_path):

@@ -9,7 +9,14 @@ import numpy as np
 import pytest
 
 from redkin.models import get_robot
-from redkin.paths import clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path, resolve_path
+from redkin.paths import (
+    clamped_optimum_path,
+    feasible_along_path,
+    fixed_psi_path,
+    greedy_path,
+    removed_along_path,
+    resolve_path,
+)
 from redkin.plot.paths import path_plane_figure
 from redkin.srs import BRANCHES
 
@@ -137,3 +144,90 @@ def test_too_many_baselines_are_refused(iiwa_case):
     chain, poses, result, baselines = iiwa_case
     with pytest.raises(ValueError, match="at most 5 baselines"):
         path_plane_figure(feasible_along_path(chain, poses), result, baselines * 2)
+
+
+
+@pytest.fixture(scope="module")
+def cell_case():
+    """Twelve iiwa14 waypoints past a post, with a ball at the hand of waypoint 5: every arm angle of waypoints
+    4-6 collides (the hand's link meets the ball on every branch), so no path exists."""
+    from redkin.collision import BodyCapsule, body_of, scene_of
+
+    chain = get_robot("kuka-iiwa14")
+    qs = np.linspace([0.3, 0.6, -0.2, -1.2, 0.4, 0.8, 0.1], [-0.5, 0.9, 0.4, -0.7, -0.3, -0.6, 0.9], 12)
+    poses = chain.fk(qs)
+    body = body_of([BodyCapsule("link_3", 3, (0, 0, -0.2), (0, 0, 0), 0.06),
+                    BodyCapsule("link_4", 4, (0, 0, 0), (0, 0.2, 0), 0.06),
+                    BodyCapsule("link_7", 7, (0, 0, 0.05), (0, 0, 0.05), 0.06)], chain)
+    hand = chain.frames(qs[5])[7, :3, 3]
+    scene = scene_of({"margin": 0.01, "obstacles": [
+        {"name": "post", "type": "capsule", "a": [0.4, 0.3, 0], "b": [0.4, 0.3, 1.2], "radius": 0.05},
+        {"name": "ball", "type": "sphere", "center": hand.tolist(), "radius": 0.03}]})
+    return chain, poses, body, scene, resolve_path(chain, poses, 0.2, body=body, scene=scene)
+
+
+def _heights(ax, gid, count):
+    """Per waypoint, the total height (degrees) of the rectangles of the collection ``gid`` on ``ax``."""
+    height = np.zeros(count)
+    for collection in _artists(ax, gid):
+        for path in collection.get_paths():
+            corners = path.vertices[:4]
+            height[int(round(corners[:, 0].mean()))] += np.ptp(corners[:, 1])
+    return height
+
+
+def test_in_a_cell_the_free_and_removed_stretches_fill_the_limit_sets(cell_case):
+    """Each panel's collision-free shading and the stretches drawn as removed by the cell together cover exactly the
+    waypoint's limit-feasible arm angles (to the sets' resolution), and every branch whose limits leave arm angles
+    somewhere is drawn."""
+    chain, poses, body, scene, result = cell_case
+    limits = feasible_along_path(chain, poses)
+    removed = removed_along_path(chain, poses, body, scene)
+    fig = path_plane_figure(feasible_along_path(chain, poses, body=body, scene=scene), result, removed=removed)
+    panels = _panels(fig)
+    assert set(panels) == {name for b, name in enumerate(NAMES) if limits.feasible[:, b].any()}
+    for name, ax in panels.items():
+        b = NAMES.index(name)
+        causes = {stretch.cause for row in removed for stretch in row[b]}
+        drawn = sum(_heights(ax, f"removed: {cause}", len(poses)) for cause in causes)
+        expected = [np.degrees(limits.arc_set((k, b)).length) for k in range(len(poses))]
+        np.testing.assert_allclose(_heights(ax, "feasible", len(poses)) + drawn, expected, rtol=0, atol=1e-3)
+    plt.close(fig)
+
+
+def test_a_removed_stretch_collides_where_it_says(cell_case):
+    """At the middle of each stretch named ``"<link> meets <obstacle>"``, that pair is closer than the margin; at
+    the failing waypoint the ball takes every arm angle the limits leave, and the figure names the pair."""
+    import redkin
+    from redkin.collision.clearance import pair_table
+
+    chain, poses, body, scene, result = cell_case
+    removed = removed_along_path(chain, poses, body, scene)
+    arm = redkin.arm(chain)
+    checked = 0
+    for k, row in enumerate(removed):
+        for b, stretches in enumerate(row):
+            for start, end, cause in stretches:
+                if cause == "undecided":
+                    continue
+                middle = start + ((end - start) % (2 * np.pi)) / 2.0
+                solution = arm.ik(poses[k], middle, branches=NAMES[b])
+                assert solution.exists.all()
+                table, pairs = pair_table(chain, body, scene, solution.q.reshape(1, 7))
+                link, obstacle = cause.split(" meets ")
+                distance = table[0, [i for i, pair in enumerate(pairs.names) if pair == (link, obstacle)]].min()
+                assert distance < scene.margin
+                checked += 1
+    assert checked > 20
+    assert not result.ok and result.failure.reason == "collision" and result.failure.pair == ("link_7", "ball")
+    failing = result.failure.waypoint
+    limits = feasible_along_path(chain, poses)
+    for b in range(len(NAMES)):
+        ball = [s for s in removed[failing][b] if s.cause == "link_7 meets ball"]
+        assert sum((end - start) % (2 * np.pi) for start, end, _ in ball) == pytest.approx(
+            limits.arc_set((failing, b)).length, abs=1e-5)
+    fig = path_plane_figure(feasible_along_path(chain, poses, body=body, scene=scene), result, removed=removed)
+    labels = [text.get_text() for legend in fig.legends for text in legend.get_texts()]
+    assert f"no path: waypoint {failing}, collision, link_7 meets ball" in labels
+    assert "removed: link_7 meets ball" in labels and "removed: link_4 meets post" in labels
+    plt.close(fig)

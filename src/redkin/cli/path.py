@@ -103,7 +103,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            "the path (or the failing waypoint), and beside it the fixed arm angle, the clamped "
                            "per-pose optimum and greedy seeded tracking with their first failures (the (waypoint, "
                            "q7) plane without baselines on a Franka-class arm, and without them on a nearly S-R-S "
-                           "arm)")
+                           "arm); with --scene, the collision-free sets, and the stretches the cell removes in a "
+                           "colour per link and obstacle (no baselines: they do not see the cell)")
     add_srs_tolerance_argument(path)
     add_cell_arguments(path, "every waypoint's redundancy is chosen among the arm angles clear of every obstacle and "
                              "of the arm's own links, and every step between waypoints is proved clear (the search "
@@ -143,25 +144,27 @@ def _failure_line(failure, degrees: bool) -> str:
     return text + (" [proved by the exact feasible sets]" if failure.exact else " [on the searched graph]")
 
 
-def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, srs_tolerance: float | None) -> None:
+def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, srs_tolerance: float | None,
+               cell=None) -> None:
     """The figure of :func:`redkin.plot.paths.path_plane_figure`: the path (or its failure) beside the baselines
     that start where it starts (the fixed arm angle and the clamped optimum on its first branch, or on ``q0``'s
     without a path; greedy tracking from ``q0``), drawn where every pose is within reach; a Franka-class arm's
     (waypoint, q7) plane has no baselines (they choose arm angles), nor a nearly S-R-S arm's (they use the exact
-    closed form)."""
+    closed form).  In the ``cell`` (body, scene): the collision-free sets and the stretches the cell removes
+    (:func:`redkin.paths.removed_along_path`), without baselines (they do not see the cell)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from redkin.paths import clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path
+    from redkin.paths import clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path, removed_along_path
     from redkin.paths.arm_family import path_family
     from redkin.plot.paths import path_plane_figure
     from redkin.srs import arm_angle_of, reachable
 
     baselines = []
     family = path_family(chain, srs_tolerance)
-    if family.baselines and reachable(chain, poses).all():  # the baselines choose arm angles in closed form
+    if cell is None and family.baselines and reachable(chain, poses).all():  # they choose arm angles in closed form
         start = None
         if result.ok:
             start = (float(result.psi[0]), result.branch[0])
@@ -172,8 +175,14 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
             baselines += [fixed_psi_path(chain, poses, result.step, *start),
                           clamped_optimum_path(chain, poses, result.step, start[1])]
         baselines.append(greedy_path(chain, poses, result.step, q0=q0))
-    fig = path_plane_figure(feasible_along_path(chain, poses, srs_tolerance), result, baselines, exact=family.exact,
-                            title=f"{chain.name}: {len(poses)} waypoints")
+    if cell is None:
+        fig = path_plane_figure(feasible_along_path(chain, poses, srs_tolerance), result, baselines,
+                                exact=family.exact, title=f"{chain.name}: {len(poses)} waypoints")
+    else:
+        body, scene = cell
+        fig = path_plane_figure(feasible_along_path(chain, poses, srs_tolerance, body, scene), result,
+                                exact=family.exact, title=f"{chain.name}: {len(poses)} waypoints in a cell",
+                                removed=removed_along_path(chain, poses, body, scene, srs_tolerance))
     fig.savefig(file, dpi=120, bbox_inches="tight")
     plt.close(fig)
 
@@ -399,8 +408,6 @@ def _run_path(args: argparse.Namespace) -> int:
     cell = load_cell(args, chain)
     if cell is None and args.objective == "obstacle-clearance":
         raise UsageError("--objective obstacle-clearance needs the cell: give --scene FILE (and --body FILE)")
-    if cell is not None and plot is not None:
-        raise UsageError("--plot draws the limit sets; with --scene it is not drawn yet: drop one of them")
     step, speed, speed_source = _bound(args, chain)  # from the chain as loaded, whose velocity limits are its own
     poses = _waypoints(args)
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
@@ -430,7 +437,7 @@ def _run_path(args: argparse.Namespace) -> int:
     in_cell = None if cell is None or not result.ok else _cell_report(chain, cell, result)
     notes = None if cell is None else cell_notes(chain, cell)
     if plot is not None:
-        _save_plot(plot, chain, poses, result, q0, args.srs_tolerance)
+        _save_plot(plot, chain, poses, result, q0, args.srs_tolerance, cell)
     trajectory = result.trajectory
     if trajectory is not None and trajectory_file is not None:
         _write_trajectory(trajectory_file, trajectory)
