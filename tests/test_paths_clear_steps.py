@@ -23,8 +23,9 @@ from redkin.cli.path import _stop_report
 from redkin.collision import Scene, clearance, primitives, step_clearance, steps_between
 from redkin.errors import RedkinError
 from redkin.paths import resolve_path, search
+from redkin.paths.arm_family import path_family
 from redkin.paths.graph import Graph
-from redkin.paths.resolve import _SPLINE_ROOM, _family, _spline
+from redkin.paths.resolve import _SPLINE_ROOM, _spline
 from redkin.paths.stops import timed
 from tests.support.iiwa_cell import END, START, three_capsules
 from tests.test_path_stops import NARROW, STEP, _sweep
@@ -242,7 +243,7 @@ def test_a_path_whose_steps_graze_the_margin_is_searched_again_with_room_for_the
         scene = Scene(("ball",), primitives.sphere(centre, 0.06513700059442006 + 2e-4 * grow)[None], 0.01)
         grazing = resolve_path(chain, poses, 0.3, body=body, scene=scene)
         assert grazing.ok
-        _, steps = _spline(_family(chain, None, body, scene), grazing, 200.0)
+        _, steps = _spline(path_family(chain, None, body, scene), grazing, 200.0)
         if not steps.certified.all():
             break
     assert not steps.certified.all(), "a ball whose grazing path has no spline proved clear"
