@@ -26,7 +26,11 @@ angle, ``--psi``; ``--q7`` on the Panda), ``redkin arm-angles`` and
 same rotation, ``--max-step 0.1``) on the KUKA iiwa14, the Franka Panda
 and the Kinova Gen3 (nearly S-R-S), and ``fk`` and ``ik`` (numerical, no
 redundancy parameter) on the example Sawyer URDF (``ik`` and
-``arm-angles`` on the branch of the pose's joint values), each
+``arm-angles`` on the branch of the pose's joint values); and in a cell
+(:data:`CELL`: a table, a post and a lamp, each named model with its
+built-in body, the Sawyer with :data:`SAWYER_BODY`) ``ik --scene``,
+``arm-angles --scene`` and ``path --scene`` on the iiwa14 and the Panda and
+``ik --scene`` on the Sawyer (its numerical collision-free search), each
 run once cold, in its own new process with a fresh, empty
 ``NUMBA_CACHE_DIR``, then once warm on the cache it filled.  A cold run that
 ran as Python starts ``redkin compile --background`` into its cache (its
@@ -135,9 +139,25 @@ PARAMETER = {"kuka-iiwa14": ["--psi", "0.5"], "franka-panda": ["--q7", "0.7"], "
 BRANCH = {"kuka-iiwa14": [], "franka-panda": ["--branch=--+"], "kinova-gen3": [], "sawyer": []}
 #: How far the path's second key pose lies from the first along -y (m), the rotation kept; ``--step`` 0.005 m.
 PATH_LENGTH = 0.1
-COMMANDS = ("fk", "ik", "arm-angles", "path")
-#: The commands each robot runs (the Sawyer has no redundancy parameter: no arm-angles, and its path is not timed).
-ROBOT_COMMANDS = {"sawyer": ("fk", "ik")}
+COMMANDS = ("fk", "ik", "arm-angles", "path", "ik --scene", "arm-angles --scene", "path --scene")
+#: The commands each robot runs (the Sawyer has no redundancy parameter: no arm-angles, and its path is not timed;
+#: the Gen3 is not run in the cell).
+ROBOT_COMMANDS = {"sawyer": ("fk", "ik", "ik --scene"), "kinova-gen3": ("fk", "ik", "arm-angles", "path")}
+#: The cell of the ``--scene`` commands (:data:`CELL_COMMANDS`): a table under the workspace, a post and a lamp;
+#: the named models use their built-in bodies, the Sawyer the capsules of :data:`SAWYER_BODY`.
+CELL = """margin: 0.01
+obstacles:
+  - {name: table, type: box, center: [0.6, 0, -0.05], size: [1.2, 1.0, 0.1]}
+  - {name: post, type: capsule, a: [0.5, -0.35, 0], b: [0.5, -0.35, 1.0], radius: 0.04}
+  - {name: lamp, type: sphere, center: [0.3, -0.4, 0.9], radius: 0.1}
+"""
+SAWYER_BODY = """capsules:
+  right_l1: [{a: [0, 0, 0], b: [0, 0, 0.15], radius: 0.06}]
+  right_l2: [{a: [0, 0, 0], b: [0, 0, 0.3], radius: 0.06}]
+  right_l3: [{a: [0, 0, 0], b: [0, 0, 0.15], radius: 0.06}]
+  right_l4: [{a: [0, 0, 0], b: [0, 0, 0.3], radius: 0.05}]
+  right_l5: [{a: [0, 0, 0], b: [0, 0, 0.1], radius: 0.05}]
+"""
 #: Issue 42's targets: the first call of a command on a fresh cache, wall seconds; warm fk over the numpy import.
 COLD_TARGET = 5.0
 FK_RATIO_TARGET = 3.0
@@ -157,8 +177,14 @@ def redkin_command() -> list[str]:
     return [sys.executable, "-c", "from redkin.cli.main import main; raise SystemExit(main())"]
 
 
-def command_args(command: str, robot: str, keys: str) -> list[str]:
-    """The arguments of ``redkin COMMAND`` on ``robot``; ``keys``: the JSON file of the path's two key poses."""
+def command_args(command: str, robot: str, keys: str, work: str = "") -> list[str]:
+    """The arguments of ``redkin COMMAND`` on ``robot``; ``keys``: the JSON file of the path's two key poses; a
+    command ending in ``--scene`` is the command in the cell of :func:`write_cell`'s files in ``work``."""
+    if command.endswith(" --scene"):
+        cell = ["--scene", os.path.join(work, "cell.yaml")]
+        if robot == "sawyer":
+            cell += ["--body", os.path.join(work, "sawyer-body.yaml")]
+        return command_args(command.removesuffix(" --scene"), robot, keys) + cell
     position, rotation = POSES[robot]
     pose = ["--position", *map(repr, position), "--rotation", *map(repr, rotation)]
     name = ROBOT_ARGUMENT.get(robot, robot)
@@ -178,6 +204,12 @@ def write_keys(robot: str, path: str) -> None:
     second = [row[:] for row in first]
     second[1][3] -= PATH_LENGTH
     Path(path).write_text(json.dumps([first, second]))
+
+
+def write_cell(work: str) -> None:
+    """The files of the ``--scene`` commands in ``work``: ``cell.yaml`` (:data:`CELL`) and ``sawyer-body.yaml``."""
+    Path(work, "cell.yaml").write_text(CELL)
+    Path(work, "sawyer-body.yaml").write_text(SAWYER_BODY)
 
 
 def timed(argv: list[str], cache: str | None = None) -> tuple[float, float, str]:
@@ -230,11 +262,12 @@ def run_commands() -> dict:
     """
     figures: dict = {}
     with tempfile.TemporaryDirectory() as work:
+        write_cell(work)
         for robot in POSES:
             keys = os.path.join(work, f"{robot}-keys.json")
             write_keys(robot, keys)
             for command in ROBOT_COMMANDS.get(robot, COMMANDS):
-                argv = redkin_command() + command_args(command, robot, keys)
+                argv = redkin_command() + command_args(command, robot, keys, work)
                 with tempfile.TemporaryDirectory() as cache:
                     wall, cpu, stderr = timed(argv, cache)
                     waited = background_waited(stderr)
