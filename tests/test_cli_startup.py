@@ -271,7 +271,7 @@ def test_one_pose_of_a_nearly_arm_or_the_numerical_solver_runs_as_python_on_a_fr
 def test_one_pose_in_a_cell_runs_as_python_and_gives_the_compiled_answer(tmp_path, capsys):
     """``ik`` on one pose with ``--scene`` (the numerical solver's collision-free search on the Sawyer with a body
     file; the iiwa14's closed form at an arm angle with its built-in body), ``arm-angles --scene`` on one pose of an
-    exact class (the iiwa14's and the Panda's collision-free sets) and ``path --scene`` on 11 waypoints of the iiwa14,
+    exact class (the iiwa14's and the Panda's collision-free sets) and ``path --scene`` on 21 waypoints of the iiwa14,
     while their kernels are not cached, run as Python on a fresh cache: numba is not loaded (they compiled for 12-30
     s before), and the answer is the compiled one, number for number."""
     scene = tmp_path / "cell.yaml"
@@ -291,7 +291,7 @@ def test_one_pose_in_a_cell_runs_as_python_and_gives_the_compiled_answer(tmp_pat
                  ["ik", "kuka-iiwa14", *down, "--psi", "0.3", "--scene", str(scene), "--all", "--json"],
                  ["arm-angles", "kuka-iiwa14", *down, "--scene", str(scene), "--json"],
                  ["arm-angles", "franka-panda", *down, "--scene", str(scene), "--json"],
-                 ["path", "kuka-iiwa14", "--through", str(_key_poses(tmp_path, 0.1)), "--step", "0.01", "--max-step",
+                 ["path", "kuka-iiwa14", "--through", str(_key_poses(tmp_path, 0.1)), "--step", "0.005", "--max-step",
                   "0.1", "--scene", str(scene), "--json"]):
         _, code, modules, _, out = _cached_then_run(argv, fresh, output=True)
         assert code in (0, 1) and _forbidden(modules, ("numba", "llvmlite")) == [], argv[1]

@@ -192,17 +192,16 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
 #: the iiwa14, against about 20 s of compiling on a fresh install and 0.9 s compiled from the cache).  The Franka
 #: class's exact q7 sets make its paths about 0.14 s a waypoint as Python (2.9 s for 21 on the Panda, against 23 s
 #: of compiling and 1.3 s from the cache), so they run as Python only while its kernels are not compiled
-#: (:func:`redkin.cli.common.python_until_compiled`).
+#: (:func:`redkin.cli.common.python_until_compiled`).  In a cell, a path of an S-R-S or offset-elbow arm runs as
+#: Python while the kernels of its collision-free sets and steps are not cached: about 0.6 s and 40 ms a waypoint
+#: (1.3 s for 21 iiwa14 waypoints in a cell of a table, a post and a lamp, 2.2 s for 41; against 28.6 s of
+#: compiling), compiled once they are.  The Franka class's paths in a cell stay compiled (161 s as Python for 21).
 _SMALL_PATH = 32
 #: The kernels a path of the Franka class calls (with theirs): its q7 sets, and the path graph's rows and sweep.
 _FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.franka._kernels.seventh_frames",
                         "redkin.paths._dp_kernels.q7_node_rows", "redkin.paths._dp_kernels.sweep")
 #: The sections of :mod:`redkin.warm_up` that compile them (in the background, on a fresh cache).
 _FRANKA_PATH_SECTIONS = ("franka", "paths")
-#: A path of at most this many waypoints of an S-R-S or offset-elbow arm in a cell runs as Python while the kernels
-#: of its collision-free sets and steps are not cached: about 0.2 s a waypoint (2.5 s for 11 on the iiwa14, against
-#: 28.6 s of compiling), compiled once they are.
-_SMALL_CELL_PATH = 16
 #: The kernels of a path in a cell beside its sets' (:data:`redkin.cli.cell.CELL_SETS_KERNELS`, whose clearances
 #: also measure the steps between waypoints): the path graph's sweep.
 _CELL_PATH_KERNELS = ("redkin.paths._dp_kernels.sweep",)
@@ -416,8 +415,7 @@ def _run_path(args: argparse.Namespace) -> int:
     small = cell is None and plain and len(poses) <= _SMALL_PATH
     if small and _parameter(chain, args.srs_tolerance) != "psi":
         small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class", _FRANKA_PATH_SECTIONS)
-    elif cell is not None and plain and len(poses) <= _SMALL_CELL_PATH and _parameter(chain, args.srs_tolerance) == \
-            "psi":
+    elif cell is not None and plain and len(poses) <= _SMALL_PATH and _parameter(chain, args.srs_tolerance) == "psi":
         small = python_until_compiled((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), "this path in a cell",
                                       (*CELL_SETS_SECTIONS["psi"], "paths"))
     small_work(small)
