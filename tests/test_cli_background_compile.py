@@ -20,8 +20,9 @@ from redkin.cli.background_compile import (
     start,
     within_seconds,
 )
+from redkin.cli.cell import CELL_SETS_KERNELS, CELL_SETS_SECTIONS
 from redkin.cli.explore import _PAGE_KERNELS, _PAGE_SECTIONS
-from redkin.cli.path import _FRANKA_PATH_KERNELS, _FRANKA_PATH_SECTIONS
+from redkin.cli.path import _CELL_PATH_KERNELS, _FRANKA_PATH_KERNELS, _FRANKA_PATH_SECTIONS
 from redkin.cli.srs import (
     _NEARLY_SETS_KERNELS,
     _NEARLY_SETS_SECTIONS,
@@ -38,6 +39,9 @@ CALL_SITES = {
     "path of the Franka class": (_FRANKA_PATH_KERNELS, _FRANKA_PATH_SECTIONS),
     "ik at an arm angle, nearly S-R-S": (_SELF_MOTION_KERNELS, _SELF_MOTION_SECTIONS),
     "arm-angles, nearly S-R-S": (_NEARLY_SETS_KERNELS, _NEARLY_SETS_SECTIONS),
+    "collision-free sets, S-R-S": (CELL_SETS_KERNELS["psi"], CELL_SETS_SECTIONS["psi"]),
+    "collision-free sets, Franka class": (CELL_SETS_KERNELS["q7"], CELL_SETS_SECTIONS["q7"]),
+    "path in a cell": ((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), (*CELL_SETS_SECTIONS["psi"], "paths")),
 }
 
 

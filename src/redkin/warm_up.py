@@ -186,6 +186,9 @@ def _collision(rng: np.random.Generator) -> None:
                               collision.BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.1], 0.05)], chain)
     scene = collision.Scene(("box", "ball"), np.stack([obstacles[0], obstacles[2]]), 0.01)
     collision.clearance(chain, body, scene, rng.uniform(-1, 1, (4, 7)))
+    from redkin.collision.clearance import pair_table  # every pair's distance (a path's steps in a cell)
+
+    pair_table(chain, body, scene, rng.uniform(-1, 1, (4, 7)))
     from redkin import arms  # the certified collision-free arm angles' compiled steps
 
     pose = chain.fk(np.array([0.1, 0.5, 0.0, 1.3, 0.0, 0.6, 0.0]))  # within its limits: arcs to decide
