@@ -307,6 +307,32 @@ def test_an_arm_is_built_once_per_chain_and_redkin_ik_goes_through_it():
     assert old.parameter == "q7" and str(old.branches[0]) == "+-+"
 
 
+@pytest.mark.parametrize("source", sorted(CLASS_ARMS) + ["sawyer.urdf"])
+def test_the_reason_is_worded_when_asked_and_the_arm_pickles(source, monkeypatch):
+    """Classifying does not measure how far a nearly S-R-S or snapped arm's poses move (a search over the joint
+    values that most questions never print); the reason, asked, is the classifier's, and an arm (the function
+    that words it included) goes through pickle, as a process pool sends it."""
+    import pickle
+
+    from redkin.arms.classify import arm_angle_class
+    from redkin.srs import conventions
+    from redkin.srs.nearly import arm as nearly_arm
+
+    chain = redkin.get_robot(source)
+    searched = []
+    measure = conventions.model_error
+    for module in (conventions, nearly_arm):
+        monkeypatch.setattr(module, "model_error", lambda *a: searched.append(1) or measure(*a))
+    arm = redkin.arm(chain)
+    assert searched == [] and "reason" not in vars(arm)
+    assert arm.reason == arm_angle_class(chain).reason
+    worded = arm.reason
+    if arm.kind == redkin.arms.classify.NEARLY_SRS or "snapped" in worded:
+        assert searched and "poses differ by up to" in worded
+    copy = pickle.loads(pickle.dumps(arm))
+    assert copy.kind == arm.kind and copy.reason == worded
+
+
 def test_the_pages_example_runs_and_shows_what_it_says(capsys):
     """docs/arm.md's examples, as a newcomer pastes them one after the other: the round trip prints True, the q7
     of q is feasible, and its analysis holds the same set and no singular values."""

@@ -11,13 +11,19 @@ numerical pose IK, velocity IK and virtual arms, but no closed form.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from collections.abc import Callable
+from functools import partial
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.errors import RedkinError
-from redkin.srs.geometry import srs_geometry
+from redkin.srs.geometry import SRSGeometry, srs_geometry
+
+if TYPE_CHECKING:
+    from redkin.franka.geometry import FrankaGeometry
+    from redkin.srs.nearly import NearlySRS
 
 #: The classes, in the words ``redkin robots`` prints.
 SRS, OFFSET_ELBOW, FRANKA, NEARLY_SRS, GENERAL = ("S-R-S", "S-R-S, offset elbow", "Franka (q7)", "nearly S-R-S",
@@ -45,6 +51,18 @@ def arm_angle_class(chain: SerialChain, tolerance: float | None = None) -> ArmCl
     what its neighbour drops and how far their poses differ; that of an S-R-S arm snapped from rounded numbers
     (:func:`redkin.srs.conventions.table1_form`) how far it was snapped.
     """
+    kind, reason = class_and_reason(chain, tolerance)
+    return ArmClass(kind, reason())
+
+
+def class_and_reason(chain: SerialChain, tolerance: float | None = None) -> tuple[str, Callable[[], str]]:
+    """The class of :func:`arm_angle_class` now, and its reason later: a function that words it.
+
+    Words that say how far a nearly S-R-S or snapped arm's poses move (:func:`redkin.srs.conventions.model_error`)
+    cost a search over the joint values (about 1 s before numba is loaded), which most commands never print: a warm
+    ``redkin ik`` on the Gen3 took 1.6 s with it, 1.1 s without.  The function is picklable (a
+    :func:`functools.partial`).
+    """
     from redkin.franka.geometry import franka_geometry
     from redkin.srs.conventions import departures
     from redkin.srs.nearly import TOLERANCE_DEFAULT, nearly_srs
@@ -57,23 +75,35 @@ def arm_angle_class(chain: SerialChain, tolerance: float | None = None) -> ArmCl
             franka = franka_geometry(chain)
         except ValueError as other:
             if chain.n != 7:
-                return ArmClass(GENERAL, str(exc))
+                return GENERAL, partial(str, exc)
             try:
                 nearly = nearly_srs(chain, tolerance)
             except ValueError:
-                return ArmClass(GENERAL, f"{exc} (beyond the nearly S-R-S tolerance of {tolerance:g} m); {other}")
-            return ArmClass(NEARLY_SRS, f"{nearly.describe()}, and solutions are polished on the real arm")
-        snapped = _snapped(chain, franka.form, False) if franka.snapped else ""
-        return ArmClass(FRANKA, f"spherical shoulder, axes 5 and 6 meet, axis 7 offset a_6 {abs(franka.a6):.6g} m "
-                                f"from axis 6, elbow offsets {abs(franka.a3):.6g} m and {abs(franka.a4):.6g} m: the "
-                                f"redundancy parameter is q7{snapped}")
+                return GENERAL, partial(str, f"{exc} (beyond the nearly S-R-S tolerance of {tolerance:g} m); {other}")
+            return NEARLY_SRS, partial(_nearly_reason, nearly)
+        return FRANKA, partial(_franka_reason, chain, franka)
+    kind = OFFSET_ELBOW if geometry.offset_elbow else SRS
+    return kind, partial(_srs_reason, chain, geometry, bool(departures(chain)))
+
+
+def _nearly_reason(nearly: NearlySRS) -> str:
+    return f"{nearly.describe()}, and solutions are polished on the real arm"
+
+
+def _franka_reason(chain: SerialChain, franka: FrankaGeometry) -> str:
+    snapped = _snapped(chain, franka.form, False) if franka.snapped else ""
+    return (f"spherical shoulder, axes 5 and 6 meet, axis 7 offset a_6 {abs(franka.a6):.6g} m from axis 6, elbow "
+            f"offsets {abs(franka.a3):.6g} m and {abs(franka.a4):.6g} m: the redundancy parameter is q7{snapped}")
+
+
+def _srs_reason(chain: SerialChain, geometry: SRSGeometry, snapped: bool) -> str:
     lengths = f"d_se {geometry.d_se:.6g} m, d_ew {geometry.d_ew:.6g} m"
-    if departures(chain):  # snapped: its departures are the description's rounding
+    if snapped:  # its departures are the description's rounding
         lengths += _snapped(chain, geometry.chain, True)
     if geometry.offset_elbow:
-        return ArmClass(OFFSET_ELBOW, f"joints 1-3 and 5-7 meet in points, joints 3-5 do not: {lengths}, elbow offsets "
-                                      f"a_3 {geometry.a3:.6g} m, a_4 {geometry.a4:.6g} m")
-    return ArmClass(SRS, f"joints 1-3, 3-5 and 5-7 meet in points: {lengths}")
+        return (f"joints 1-3 and 5-7 meet in points, joints 3-5 do not: {lengths}, elbow offsets a_3 "
+                f"{geometry.a3:.6g} m, a_4 {geometry.a4:.6g} m")
+    return f"joints 1-3, 3-5 and 5-7 meet in points: {lengths}"
 
 
 def check_tolerance(tolerance: float | str) -> float:

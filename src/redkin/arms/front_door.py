@@ -18,8 +18,9 @@ chain).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -86,8 +87,6 @@ class Arm:
     kind : str
         The class: :data:`redkin.arms.classify.SRS`, ``OFFSET_ELBOW``, ``FRANKA``, ``NEARLY_SRS`` or ``GENERAL`` of
         :mod:`redkin.arms.classify`.
-    reason : str
-        Why it is of that class, in one line.
     parameter : Parameter or None
         The redundancy parameter; ``None`` for a general chain.
     branches : tuple of str
@@ -95,14 +94,23 @@ class Arm:
     implementation : ArmKind
         The class's implementation (:mod:`redkin.arms.registry`), which the questions below ask; path resolution
         reads its ``family``.
+    words : callable
+        Words :attr:`reason` on first use (:func:`redkin.arms.classify.class_and_reason`).
     """
 
     chain: SerialChain
     kind: str
-    reason: str
     parameter: Parameter | None
     branches: tuple[str, ...]
     implementation: ArmKind = field(repr=False)
+    words: Callable[[], str] = field(repr=False)
+
+    @cached_property
+    def reason(self) -> str:
+        """Why it is of that class, in one line, worded on first use: the words of a nearly S-R-S arm measure how
+        far its poses differ from its neighbour's (:func:`redkin.srs.conventions.model_error`), a search that
+        most questions do not need."""
+        return self.words()
 
     # ------------------------------------------------------------- the chain
     def fk(self, q: ArrayLike, *, out: np.ndarray | None = None) -> np.ndarray:
@@ -595,5 +603,5 @@ def arm(source: str | Path | SerialChain, *, base: str | None = None, tip: str |
     cache = chain.__dict__.setdefault(_CACHE_KEY, {})
     if tolerance not in cache:
         kind, reason = kind_of(chain, tolerance)
-        cache[tolerance] = Arm(chain, kind.kind, reason, kind.parameter, kind.branches, kind)
+        cache[tolerance] = Arm(chain, kind.kind, kind.parameter, kind.branches, kind, reason)
     return cache[tolerance]

@@ -51,9 +51,10 @@ KINDS: dict[str, Callable[[SerialChain, str, float], ArmKind]] = {
 }
 
 
-def kind_of(chain: SerialChain, tolerance: float) -> tuple[ArmKind, str]:
-    """The implementation of ``chain``'s class and the reason it is of that class, in one line."""
-    from redkin.arms.classify import arm_angle_class
+def kind_of(chain: SerialChain, tolerance: float) -> tuple[ArmKind, Callable[[], str]]:
+    """The implementation of ``chain``'s class, and a function that words the reason it is of that class in one
+    line (:func:`redkin.arms.classify.class_and_reason`)."""
+    from redkin.arms.classify import class_and_reason
 
-    kind, reason = arm_angle_class(chain, tolerance)
+    kind, reason = class_and_reason(chain, tolerance)
     return KINDS[kind](chain, kind, tolerance), reason
