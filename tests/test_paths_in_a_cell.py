@@ -82,3 +82,34 @@ def test_a_clearance_proved_optimal_in_a_cell_is_not_beaten_at_its_bottleneck(se
     q = q[clearance(chain, body, scene, q).distance >= scene.margin + 1e-5]
     from_limits = np.minimum(q - chain.lower, chain.upper - q)[:, ~chain.covers_circle].min(axis=1)
     assert from_limits.max(initial=-np.inf) <= result.clearance + OPTIMALITY_MARGIN
+
+
+def test_a_tolerance_above_the_default_reaches_the_cell():
+    """The YuMi's right arm is nearly S-R-S only within a tolerance above the default (axes about 4 cm apart): with
+    ``srs_tolerance`` 0.05 the path in a cell, its collision-free pieces and the stretches the cell removes are all
+    of that class (the cell's sets were asked of the arm classified at the default, a general chain, and refused),
+    and per waypoint and branch the free set and the removed stretches fill the limit-feasible set."""
+    from redkin.collision import BodyCapsule, scene_of
+    from redkin.paths import feasible_along_path, removed_along_path
+
+    chain = redkin.get_robot("yumi_right.urdf")
+    assert redkin.arm(chain).kind == "general chain" and redkin.arm(chain, srs_tolerance=0.05).kind == "nearly S-R-S"
+    qs = np.linspace([0.3, -0.6, 0.2, 0.4, 0.4, 0.8, 0.1], [-0.4, -1.2, 0.8, 0.9, -0.6, 0.3, 0.6], 3)
+    poses = chain.fk(qs)
+    body = body_of([BodyCapsule("hand", 7, (0, 0, 0), (0, 0, 0.02), 0.03)], chain)
+    hand = chain.frames(qs[2])[7, :3, 3]  # the hand does not move with the arm angle: every branch meets it
+    scene = scene_of({"margin": 0.01, "obstacles": [{"name": "ball", "type": "sphere", "center": hand.tolist(),
+                                                      "radius": 0.03}]})
+    result = resolve_path(chain, poses, 1.0, srs_tolerance=0.05, body=body, scene=scene)
+    assert not result.ok and result.failure.waypoint == 2 and result.failure.pair == ("hand", "ball")
+    limits = feasible_along_path(chain, poses, 0.05)
+    free = feasible_along_path(chain, poses, 0.05, body, scene)
+    removed = removed_along_path(chain, poses, body, scene, srs_tolerance=0.05)
+    assert limits.feasible.any(axis=-1).sum() >= 6
+    for k in range(len(poses)):
+        for b in range(8):
+            taken = sum((end - start) % (2 * np.pi) for start, end, _ in removed[k][b])
+            assert free.arc_set((k, b)).length + taken == pytest.approx(limits.arc_set((k, b)).length, abs=1e-3)
+            if k == 2:
+                assert free.arc_set((k, b)).is_empty and all(cause in ("hand meets ball", "undecided")
+                                                               for _, _, cause in removed[k][b])

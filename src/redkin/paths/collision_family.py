@@ -32,6 +32,7 @@ from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import FeasiblePieces
 
 if TYPE_CHECKING:  # redkin.collision's free sets use the arms, whose classes use these families: read when called
+    from redkin.arms.front_door import Arm as ClassifiedArm
     from redkin.collision.body import Body
     from redkin.collision.free_sets import FreeArcs
     from redkin.collision.scene import Scene
@@ -63,12 +64,18 @@ class _CollisionFreeFamily(Family):
     def _free_sets(self, poses: np.ndarray) -> tuple[FeasiblePieces, np.ndarray, FreeArcs]:
         """The base family's exact pieces of ``poses``, the waypoints they leave values at, and those waypoints'
         certified collision-free sets (without their causes: :func:`redkin.collision.free_sets.free_arcs_of`)."""
-        from redkin.arms.front_door import arm
         from redkin.collision.free_sets import free_arcs_of
 
         exact = self.base.pieces(poses)
         some = np.flatnonzero(exact.feasible.any(axis=(-2, -1)))
-        return exact, some, free_arcs_of(arm(self.chain), poses[some], self.body, self.scene)
+        return exact, some, free_arcs_of(self._arm(), poses[some], self.body, self.scene)
+
+    def _arm(self) -> ClassifiedArm:
+        """The :class:`redkin.arms.Arm` of the chain, classified as the base family was: with a nearly S-R-S
+        family's tolerance (an arm nearly S-R-S only within a tolerance above the default)."""
+        from redkin.arms.front_door import arm
+
+        return arm(self.chain, srs_tolerance=self.base.tolerance if isinstance(self.base, NearlyFamily) else None)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free intervals."""
@@ -120,13 +127,12 @@ class _CollisionFreeFamily(Family):
     def emptied(self, pose: np.ndarray) -> tuple[str, tuple[str, str] | None]:
         """``("collision", (link, obstacle))`` where the limits leave arm angles and the obstacles take them all, the
         pair that blocks the most of them over the branches; else the base family's ``("empty", None)``."""
-        from redkin.arms.front_door import arm
         from redkin.collision.arm_angle_free import COLLISION
         from redkin.collision.free_sets import collision_free_set
 
         if not self.base.pieces(pose[None]).feasible.any():
             return self.base.emptied(pose)
-        free = collision_free_set(arm(self.chain), pose, self.body, self.scene)
+        free = collision_free_set(self._arm(), pose, self.body, self.scene)
         blocked: dict[tuple[str, str], float] = {}
         for stretches in free.blocked:
             for stretch in stretches:
@@ -147,12 +153,11 @@ class _CollisionFreeFamily(Family):
         change at its pose (:func:`redkin.collision.free_sets.redundancy_moves`): a pair the pose fixes (the tool's
         link and a shelf; on S-R-S arms the elbow and a ball at the wrist centre) is as close on every value of the
         parameter, so it is left out of what the objective ``"obstacle-clearance"`` compares."""
-        from redkin.arms.front_door import arm
         from redkin.collision.clearance import pair_table
         from redkin.collision.free_sets import redundancy_moves
 
         table, _ = pair_table(self.chain, self.body, self.scene, q)
-        moves = redundancy_moves(arm(self.chain), self.body, self.scene, q)
+        moves = redundancy_moves(self._arm(), self.body, self.scene, q)
         return np.where(moves, table, np.inf).min(axis=1, initial=np.inf)
 
     def steps(self, start: np.ndarray, end: np.ndarray) -> StepClearance:

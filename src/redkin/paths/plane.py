@@ -88,9 +88,11 @@ def removed_along_path(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlyS
     some = np.flatnonzero(family.pieces(poses).feasible.any(axis=(-2, -1)))
     if not len(some):
         return removed
-    for k, sets in zip(some.tolist(), free_sets_of(classified(family.chain), poses[some], body, scene), strict=True):
+    rows = {str(branch): row for row, branch in enumerate(BRANCHES)}
+    arm_of_family = classified(family.chain, srs_tolerance=srs_tolerance)
+    for k, sets in zip(some.tolist(), free_sets_of(arm_of_family, poses[some], body, scene), strict=True):
         for label, stretches in zip(sets.branches, sets.blocked, strict=True):
-            removed[k][[str(b) for b in BRANCHES].index(label)] = [
+            removed[k][rows[label]] = [
                 Removed(stretch.start, stretch.end,
                         f"{stretch.link} meets {stretch.against}" if stretch.cause == COLLISION else "undecided")
                 for stretch in stretches if stretch.cause != LIMIT]

@@ -340,21 +340,23 @@ def pose_feasible(pose, branches, arm, ends, equations_table, membership, elbow,
 
 @kernel
 def arc_runs(start, end, keep, out):
-    """The arcs of the runs of consecutive kept pieces (each piece ends where the next starts) into ``out`` (12, 2).
+    """The arcs of the runs of kept pieces, each piece starting where the previous one ends, into ``out`` (K, 2).
 
-    ``keep`` (24,) is one row of :func:`classify`.  Runs not longer than
-    :data:`PIECE_TOLERANCE` are dropped; returns how many arcs were written.
+    ``keep`` (K,) is one row of :func:`classify` (K = 24: each piece ends where the next starts), or of sorted,
+    disjoint pieces (a nearly S-R-S or Franka-class arm's sets, a cell's: a gap between two kept pieces ends a
+    run).  Runs not longer than :data:`PIECE_TOLERANCE` are dropped; returns how many arcs were written.
     """
     count = 0
     previous = False
-    for j in range(PIECES):
-        if keep[j] and previous:
+    for j in range(keep.shape[0]):
+        joined = keep[j] and previous and start[j] <= out[count - 1, 1]
+        if previous and not joined and out[count - 1, 1] - out[count - 1, 0] <= PIECE_TOLERANCE:
+            count -= 1  # the run before ended, too short
+        if joined:
             out[count - 1, 1] = end[j]
         elif keep[j]:
             out[count, 0], out[count, 1] = start[j], end[j]
             count += 1
-        elif previous and out[count - 1, 1] - out[count - 1, 0] <= PIECE_TOLERANCE:
-            count -= 1
         previous = keep[j]
     if previous and out[count - 1, 1] - out[count - 1, 0] <= PIECE_TOLERANCE:
         count -= 1
@@ -381,8 +383,8 @@ def branches(entries, theta4, n2, n6, equations_table, membership, elbow, start,
 
 @kernel
 def batch_arc_runs(start, end, keep, out, counts):
-    """:func:`arc_runs` of every row of ``keep`` (N, R, 24), packed: the arcs of pose ``b`` row after row from
-    ``out[b, 0]`` (``out`` (N, 12 R, 2)), how many per row in ``counts`` (N, R).
+    """:func:`arc_runs` of every row of ``keep`` (N, R, K), packed: the arcs of pose ``b`` row after row from
+    ``out[b, 0]`` (``out`` (N, K R, 2)), how many per row in ``counts`` (N, R).
 
     Serial only: it feeds a Python loop that builds one :class:`~redkin.circle.ArcSet` per row.
     """

@@ -138,9 +138,10 @@ class FeasiblePieces:
 
     def arc_set(self, index: tuple[int, ...] = ()) -> ArcSet:
         """The :class:`ArcSet` of one pose (``index`` into the batch shape)."""
-        start = np.ascontiguousarray(self.start[index], dtype=float).reshape(1, kernels.PIECES)
-        end = np.ascontiguousarray(self.end[index], dtype=float).reshape(1, kernels.PIECES)
-        keep = np.ascontiguousarray(self.feasible[index], dtype=bool).reshape(1, 1, kernels.PIECES)
+        pieces = self.start.shape[-1]
+        start = np.ascontiguousarray(self.start[index], dtype=float).reshape(1, pieces)
+        end = np.ascontiguousarray(self.end[index], dtype=float).reshape(1, pieces)
+        keep = np.ascontiguousarray(self.feasible[index], dtype=bool).reshape(1, 1, pieces)
         return _arc_sets(start, end, keep)[0][0]
 
     @property
@@ -150,9 +151,9 @@ class FeasiblePieces:
 
 
 def _arc_sets(start: np.ndarray, end: np.ndarray, keep: np.ndarray) -> list[list[ArcSet]]:
-    """The :class:`ArcSet` of each row of ``keep`` (N, R, 24) on the pieces ``start``, ``end`` (N, 24)
+    """The :class:`ArcSet` of each row of ``keep`` (N, R, K) on the pieces ``start``, ``end`` (N, K)
     (:func:`redkin.srs._feasible_kernels.batch_arc_runs`)."""
-    arcs = np.empty((keep.shape[0], keep.shape[1] * kernels.PIECES // 2, 2))
+    arcs = np.empty((keep.shape[0], keep.shape[1] * keep.shape[2], 2))
     counts: np.ndarray = np.empty(keep.shape[:2], dtype=np.int64)
     kernels.batch_arc_runs(start, end, keep, arcs, counts)
     sets = []
