@@ -182,6 +182,29 @@ def test_the_api_and_the_command_line_give_the_same_sets(setup, capsys, tmp_path
     assert report["collision"]["complete"] is True
 
 
+def test_the_removed_stretches_have_width_and_a_whole_circle_is_named(setup):
+    """No removed stretch is a point (the ends where a named stretch meets the limits' or another's were listed as
+    undecided stretches of no width), and where a ball at the hand takes every arm angle of branches whose limits
+    leave the whole circle, each branch's whole circle is one stretch named by the hand and the ball (it was
+    dropped as of no width, so no pair was named)."""
+    arm, body, scene = setup
+    for fraction in RICH:
+        for stretches in collision_free_set(arm, _pose(arm, fraction), body, scene).blocked:
+            assert all((end - start) % (2 * np.pi) > 1e-12 or end - start > np.pi
+                       for start, end, *_ in stretches)
+    q = np.array([0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1])
+    hand = body_of([BodyCapsule("hand", 7, (0, 0, 0), (0, 0, 0.02), 0.03)], arm.chain)
+    ball = Scene(("ball",), primitives.sphere(arm.chain.frames(q)[7, :3, 3], 0.03)[None], 0.01)
+    sets = collision_free_set(arm, arm.fk(q), hand, ball)
+    whole = [b for b, limits in enumerate(sets.limits) if ArcSet(limits.bounds.tolist()).is_full]
+    assert len(whole) >= 2
+    for b in whole:
+        assert not len(sets.free[b].bounds)
+        assert [(stretch.cause, stretch.link, stretch.against) for stretch in sets.blocked[b]] == [
+            (COLLISION, "hand", "ball")]
+        assert ArcSet([(stretch.start, stretch.end) for stretch in sets.blocked[b]]).is_full
+
+
 @pytest.mark.parametrize("width", [1e-4, 1e-5])
 def test_a_narrow_gap_between_two_obstacles_near_the_elbow_is_found(width):
     """Two balls beside the path the Gen3's elbow takes, each placed (by bisection on the branch's own solutions) so

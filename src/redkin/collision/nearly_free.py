@@ -266,8 +266,7 @@ class _Decision:
         """The free set of branch ``row`` within its feasible set ``within``, the stretches the obstacles remove
         from it (named by pair, or undecided), and the undecided set."""
         clear = _arc_set(self.free[row]).intersection(within)
-        removed = ArcSet([arc for arc in within.intersection(clear.complement()).arcs
-                          if (arc[1] - arc[0]) % TWO_PI > _ROUNDING])  # not the points where two sets' ends meet
+        removed = _wider(within.intersection(clear.complement()))  # not the points where two sets' ends meet
         named: list[Stretch] = []
         covered = ArcSet.empty()
         for (r, pair), found in sorted(self.blocked.items()):
@@ -277,9 +276,15 @@ class _Decision:
             covered = covered.union(cut)
             link, against = self.measure.pairs.names[pair]
             named += [Stretch(start, end, COLLISION, link, against) for start, end in cut.arcs]
-        undecided = removed.intersection(covered.complement())
+        undecided = _wider(removed.intersection(covered.complement()))  # not the ends of the named stretches
         named += [Stretch(start, end, UNDECIDED, "", "") for start, end in undecided.arcs]
         return clear, named, undecided
+
+
+def _wider(arcs: ArcSet) -> ArcSet:
+    """The arcs of ``arcs`` wider than :data:`_ROUNDING` (the whole circle among them)."""
+    return ArcSet([(start, end) for start, end in arcs.arcs
+                   if (end - start if end >= start else end - start + TWO_PI) > _ROUNDING])
 
 
 def _arc_set(parts: list[np.ndarray]) -> ArcSet:
