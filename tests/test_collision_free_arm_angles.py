@@ -380,6 +380,24 @@ def test_an_interval_is_decided_by_its_own_clearances(rows, pairs, seed, finest)
     assert np.all(radius[clear] > 0.0) and np.all(carved[clear] == _decision_kernels.FREE)
 
 
+def test_the_linear_extent_divides_as_numpy_and_run_as_python_warns_of_nothing():
+    """``linear_extent`` is numpy's ``clearance / speed`` (speed >= 0) with what it makes NaN read as 0, compiled
+    and run as Python alike, and as Python it warns of nothing (a Franka arm's sets in a cell, run as Python on a
+    fresh install, printed "invalid value encountered in scalar divide" from an ``inf / inf``)."""
+    import warnings
+
+    clearances = [0.0, -0.0, 1.5, -2.0, 1e-300, np.inf, -np.inf, np.nan]
+    for clearance in clearances:
+        for speed in [0.0, 1.5, 1e-300, np.inf, np.nan]:  # a bound of a rate: not negative
+            with np.errstate(divide="ignore", invalid="ignore"):
+                expected = np.divide(np.float64(clearance), np.float64(speed))
+            expected = 0.0 if np.isnan(expected) else float(expected)
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")
+                as_python = _decision_kernels.linear_extent.py_func(np.float64(clearance), np.float64(speed))
+            assert as_python == expected and _decision_kernels.linear_extent(clearance, speed) == expected
+
+
 @pytest.mark.parametrize(("a", "b", "k"), [(0.0, 0.0, 0.0), (0.0, 0.0, 1.0), (2.0, 0.0, 0.5), (0.0, 3.0, 0.3),
                                            (1e-12, 0.4, 1e-9), (5.0, 1e-9, 2.0)])
 def test_the_quadratic_root_reaches_k_and_keeps_no_sign_at_zero(a, b, k):

@@ -21,11 +21,13 @@ CARVE_SHRINK = 1.0 - 1e-9
 
 @kernel
 def linear_extent(clearance, speed):
-    """``clearance / speed`` as numpy divides (``+-inf`` where the speed is 0), with ``0 / 0`` read as 0."""
+    """``clearance / speed`` as numpy divides (``+-inf`` where the speed is 0), with what numpy makes NaN (``0 / 0``,
+    ``inf / inf``, a NaN) read as 0, without dividing there: run as Python, numpy would warn of it."""
     if speed == 0.0:
         return inf if clearance > 0.0 else (-inf if clearance < 0.0 else 0.0)
-    ratio = clearance / speed
-    return 0.0 if ratio != ratio else ratio
+    if clearance != clearance or speed != speed or (abs(clearance) == inf and abs(speed) == inf):
+        return 0.0
+    return clearance / speed
 
 
 @kernel
