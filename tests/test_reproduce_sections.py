@@ -285,3 +285,5 @@ def test_models_section_has_the_worked_cell(full_report):
     page = (full_report / "index.html").read_text()
     assert "the elbow swings around the post" in page
     assert (full_report / "models_cell_sets.png").exists() and (full_report / "models_cell_arm.png").exists()
+    assert (full_report / "models_cell_path_plane.png").exists()
+    assert "collision-free arm angles along the line" in page
