@@ -1195,13 +1195,15 @@ def solve_poses(start, stop, poses, q7, arm, ends, branches, joints, q, exists, 
 def solve_branch_rows(start, stop, poses, pose_of, q7, rows, arm, ends, branches, joints, q, exists):
     """One branch per item, for items ``start .. stop - 1``: item ``k`` is pose ``poses[pose_of[k]]`` (trusted) at
     q7 ``q7[k]`` on the branch of row ``rows[k]`` of ``branches`` (8, 3), its solution [F1]-[F7] into ``q[k]`` (7,)
-    and whether it exists into ``exists[k]``: what :func:`solve_pose` gives for that branch alone."""
+    and whether it exists into ``exists[k]``: what :func:`solve_pose` gives for that branch alone.  A run of items
+    of one pose (a pose's sets ask hundreds) reads its :func:`seventh_frame` once."""
     frame = np.empty((4, 4))
     scratch = np.empty((8, 3, 3))
     work = np.empty(WORK)
     for k in range(start, stop):
         row = rows[k]
-        seventh_frame(poses[pose_of[k]], ends, frame)
+        if k == start or pose_of[k] != pose_of[k - 1]:
+            seventh_frame(poses[pose_of[k]], ends, frame)
         solve_q7(frame, q7[k], arm, branches[row:row + 1], joints, q[k:k + 1], exists[k:k + 1],
                  scratch, work)
 
