@@ -75,7 +75,7 @@ def class_and_reason(chain: SerialChain, tolerance: float | None = None) -> tupl
             franka = franka_geometry(chain)
         except ValueError as other:
             if chain.n != 7:
-                return GENERAL, partial(str, exc)
+                return GENERAL, partial(str, str(exc))  # the text, not the exception and its frames
             try:
                 nearly = nearly_srs(chain, tolerance)
             except ValueError:
