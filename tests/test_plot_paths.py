@@ -10,6 +10,7 @@ import pytest
 
 from redkin.models import get_robot
 from redkin.paths import (
+    cell_along_path,
     clamped_optimum_path,
     feasible_along_path,
     fixed_psi_path,
@@ -231,3 +232,24 @@ def test_a_removed_stretch_collides_where_it_says(cell_case):
     assert f"no path: waypoint {failing}, collision, link_7 meets ball" in labels
     assert "removed: link_7 meets ball" in labels and "removed: link_4 meets post" in labels
     plt.close(fig)
+
+
+def test_cell_along_path_is_both_functions_from_one_computation(cell_case):
+    """``cell_along_path`` gives exactly the collision-free pieces of ``feasible_along_path`` in the cell and the
+    stretches of ``removed_along_path`` (which it now computes), from one computation of the sets; the same on
+    the Franka class (q7, the Panda's built-in body, its pieces not of the 24 of the arm angle)."""
+    from redkin.collision import builtin_body, scene_of
+
+    chain, poses, body, scene, _ = cell_case
+    panda = get_robot("franka-panda")
+    q = np.linspace([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.7], [0.0, -0.2, 0.4, -1.7, 0.3, 1.6, 0.9], 4)
+    ball = scene_of({"margin": 0.01, "obstacles": [{"name": "ball", "type": "sphere", "center": [0.5, -0.3, 0.3],
+                                                     "radius": 0.1}]})
+    for arm, waypoints, shapes, cell in ((chain, poses, body, scene),
+                                         (panda, panda.fk(q), builtin_body("franka-panda", panda), ball)):
+        both = cell_along_path(arm, waypoints, shapes, cell)
+        alone = feasible_along_path(arm, waypoints, body=shapes, scene=cell)
+        for field in ("start", "end", "feasible"):
+            np.testing.assert_array_equal(getattr(both.free, field), getattr(alone, field))
+        assert both.removed == removed_along_path(arm, waypoints, shapes, cell)
+        assert both.free.feasible.any() and any(row for per_pose in both.removed for row in per_pose)

@@ -157,7 +157,7 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from redkin.paths import clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path, removed_along_path
+    from redkin.paths import cell_along_path, clamped_optimum_path, feasible_along_path, fixed_psi_path, greedy_path
     from redkin.paths.arm_family import path_family
     from redkin.plot.paths import path_plane_figure
     from redkin.srs import arm_angle_of, reachable
@@ -180,9 +180,9 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
                                 exact=family.exact, title=f"{chain.name}: {len(poses)} waypoints")
     else:
         body, scene = cell
-        fig = path_plane_figure(feasible_along_path(chain, poses, srs_tolerance, body, scene), result,
-                                exact=family.exact, title=f"{chain.name}: {len(poses)} waypoints in a cell",
-                                removed=removed_along_path(chain, poses, body, scene, srs_tolerance))
+        in_cell = cell_along_path(chain, poses, body, scene, srs_tolerance)
+        fig = path_plane_figure(in_cell.free, result, exact=family.exact,
+                                title=f"{chain.name}: {len(poses)} waypoints in a cell", removed=in_cell.removed)
     fig.savefig(file, dpi=120, bbox_inches="tight")
     plt.close(fig)
 

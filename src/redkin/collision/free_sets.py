@@ -90,7 +90,12 @@ def free_arcs_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene, *, resolu
         certify = certified_q7 if arm.kind == FRANKA else certified_arm_angles
         _, certified = certify(arm, poses, body, scene, resolution=resolution, budget=budget)
         return FreeArcs(certified.free(), certified.complete)
-    found = free_sets_of(arm, poses, body, scene, resolution=resolution, budget=budget, causes=False)
+    return free_arcs_from(free_sets_of(arm, poses, body, scene, resolution=resolution, budget=budget, causes=False))
+
+
+def free_arcs_from(found: list[FreeArmAngles]) -> FreeArcs:
+    """The sets of :func:`free_sets_of` on every branch, one per pose, as :class:`FreeArcs` (an arc of pose ``p`` and
+    branch ``b`` owned by ``p * B + b``)."""
     every = [arcs for sets in found for arcs in sets.free]
     return FreeArcs(ArcArrays(np.concatenate([arcs.bounds.reshape(-1, 2) for arcs in every] + [np.empty((0, 2))]),
                               np.concatenate([arcs.wraps for arcs in every] + [np.empty(0, dtype=bool)]),

@@ -15,7 +15,8 @@
   (dynamic programming on a uniform grid), the first three returning a :class:`BaselinePath`, as
   :func:`judge_path` returns it for joint values from anywhere
 * :func:`feasible_along_path` -- the exact feasible pieces of every waypoint and branch (the figures' plane), in a
-  cell the collision-free ones; :func:`removed_along_path` -- the stretches a cell removes, each named by its cause
+  cell the collision-free ones; :func:`removed_along_path` -- the stretches a cell removes, each named by its cause;
+  :func:`cell_along_path` -- both from one computation of the cell's sets (:class:`InCell`)
 * :func:`path_family` -- the arm's class as path resolution sees it: :class:`ArmAngleFamily` (S-R-S and
   offset-elbow arms, the arm angle psi) or :class:`Q7Family` (the Franka class, q7)
 """
@@ -34,7 +35,7 @@ from redkin.paths.baselines import (
 )
 from redkin.paths.bounds import step_bound
 from redkin.paths.family import ArmAngleFamily, Family, Q7Family
-from redkin.paths.plane import Removed, feasible_along_path, removed_along_path
+from redkin.paths.plane import InCell, Removed, cell_along_path, feasible_along_path, removed_along_path
 from redkin.paths.resolve import (
     DEFAULT_CONNECT,
     DEFAULT_REFINEMENTS,
@@ -78,6 +79,8 @@ __all__ = [
     "feasible_along_path",
     "removed_along_path",
     "Removed",
+    "cell_along_path",
+    "InCell",
     "fixed_psi_path",
     "greedy_path",
     "judge_path",

@@ -33,6 +33,7 @@ from redkin.srs.feasible import FeasiblePieces
 
 if TYPE_CHECKING:  # redkin.collision's free sets use the arms, whose classes use these families: read when called
     from redkin.arms.front_door import Arm as ClassifiedArm
+    from redkin.collision.arm_angle_free import FreeArmAngles
     from redkin.collision.body import Body
     from redkin.collision.free_sets import FreeArcs
     from redkin.collision.scene import Scene
@@ -79,7 +80,21 @@ class _CollisionFreeFamily(Family):
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         """The base family's pieces ``(W, 8, K)`` cut to each waypoint's free intervals."""
-        exact, some, free = self._free_sets(poses)
+        return self._cut_to(poses, *self._free_sets(poses))
+
+    def pieces_with_causes(self, poses: np.ndarray) -> tuple[FeasiblePieces, np.ndarray, list[FreeArmAngles]]:
+        """:meth:`pieces`, the waypoints the limits leave values at, and those waypoints' certified sets with the
+        stretches the cell removes named (:func:`redkin.collision.free_sets_of`): the sets computed once for both
+        (what the picture of a path in a cell draws)."""
+        from redkin.collision.free_sets import free_arcs_from, free_sets_of
+
+        exact = self.base.pieces(poses)
+        some = np.flatnonzero(exact.feasible.any(axis=(-2, -1)))
+        found = free_sets_of(self._arm(), poses[some], self.body, self.scene) if len(some) else []
+        return self._cut_to(poses, exact, some, free_arcs_from(found)), some, found
+
+    def _cut_to(self, poses: np.ndarray, exact: FeasiblePieces, some: np.ndarray, free: FreeArcs) -> FeasiblePieces:
+        """The base family's pieces ``exact`` of ``poses`` cut to the free arcs ``free`` of the waypoints ``some``."""
         owners = len(poses) * len(BRANCHES)  # an owner is waypoint * 8 + branch
         bounds, wraps, owner = free.arcs
         arc_owner = some[owner // len(BRANCHES)] * len(BRANCHES) + owner % len(BRANCHES)

@@ -14,6 +14,7 @@ from redkin.chain import SerialChain
 from redkin.errors import RedkinError
 from redkin.franka.geometry import FrankaGeometry
 from redkin.paths.arm_family import path_family
+from redkin.paths.collision_family import collision_free_family
 from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import FeasiblePieces
 from redkin.srs.geometry import SRSGeometry
@@ -71,32 +72,48 @@ def removed_along_path(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlyS
     """Per waypoint of ``poses`` ``(N, 4, 4)`` and branch (in the order of :data:`redkin.srs.BRANCHES`), the stretches
     of the redundancy parameter that the cell of ``body`` and ``scene`` removes from the limit-feasible set, each
     named by the pair that blocks it (:func:`redkin.collision.free_sets_of`'s ``blocked``, without the stretches the
-    limits remove); empty where the limits leave nothing (a pose out of reach among them).
+    limits remove); empty where the limits leave nothing (a pose out of reach among them).  :func:`cell_along_path`
+    gives them with the collision-free pieces, from one computation of the sets.
 
     Raises
     ------
     RedkinError
         For malformed poses, and what :func:`redkin.collision.free_sets_of` refuses (a body on another chain).
     """
-    from redkin.arms.front_door import arm as classified
-    from redkin.collision.arm_angle_free import COLLISION, LIMIT
-    from redkin.collision.free_sets import free_sets_of
+    return cell_along_path(arm, poses, body, scene, srs_tolerance).removed
 
-    family = path_family(arm, srs_tolerance)
+
+class InCell(NamedTuple):
+    """A path's waypoints in a cell (:func:`cell_along_path`): the collision-free pieces ``free`` (what
+    :func:`feasible_along_path` gives with the cell) and the stretches the cell removes (:func:`removed_along_path`)."""
+
+    free: FeasiblePieces
+    removed: list[list[list[Removed]]]
+
+
+def cell_along_path(arm: SerialChain | SRSGeometry | FrankaGeometry | NearlySRS, poses: ArrayLike, body: Body,
+                    scene: Scene, srs_tolerance: float | None = None) -> InCell:
+    """:func:`feasible_along_path` in the cell of ``body`` and ``scene`` and :func:`removed_along_path`, from one
+    computation of each waypoint's certified sets (what ``redkin path --scene --plot`` draws).
+
+    Raises
+    ------
+    RedkinError
+        As :func:`removed_along_path`.
+    """
+    from redkin.collision.arm_angle_free import COLLISION, LIMIT
+
     poses = _checked(poses)
+    free, some, found = collision_free_family(path_family(arm, srs_tolerance), body, scene).pieces_with_causes(poses)
     removed: list[list[list[Removed]]] = [[[] for _ in BRANCHES] for _ in poses]
-    some = np.flatnonzero(family.pieces(poses).feasible.any(axis=(-2, -1)))
-    if not len(some):
-        return removed
     rows = {str(branch): row for row, branch in enumerate(BRANCHES)}
-    arm_of_family = classified(family.chain, srs_tolerance=srs_tolerance)
-    for k, sets in zip(some.tolist(), free_sets_of(arm_of_family, poses[some], body, scene), strict=True):
+    for k, sets in zip(some.tolist(), found, strict=True):
         for label, stretches in zip(sets.branches, sets.blocked, strict=True):
             removed[k][rows[label]] = [
                 Removed(stretch.start, stretch.end,
                         f"{stretch.link} meets {stretch.against}" if stretch.cause == COLLISION else "undecided")
                 for stretch in stretches if stretch.cause != LIMIT]
-    return removed
+    return InCell(free, removed)
 
 
 def _checked(poses: ArrayLike) -> np.ndarray:

@@ -15,7 +15,7 @@ import numpy as np
 from redkin.arms import arm
 from redkin.collision import BodyCapsule, Scene, body_of, clearance, collision_free_arm_angles, primitives
 from redkin.models import kuka_iiwa14
-from redkin.paths import PathResult, feasible_along_path, line, removed_along_path, resolve_path
+from redkin.paths import PathResult, cell_along_path, line, resolve_path
 from redkin.plot.arm import draw_arm_3d, set_equal_3d
 from redkin.plot.paths import path_plane_figure
 from redkin.reproduce.report import SectionWriter
@@ -103,14 +103,14 @@ def cell_case(writer: SectionWriter) -> None:
     writer.figure(_scene_figure(chain, poses, paths, middle), "cell_arm",
                   f"kuka-iiwa14 in the cell at waypoint {middle}: the path of the joint limits alone and the path "
                   "in the cell", "The post is drawn as its axis, the boards as their outlines; the table is left out.")
-    writer.figure(path_plane_figure(feasible_along_path(chain, poses, body=body, scene=scene), paths["in the cell"],
-                                    exact=False, title=f"kuka-iiwa14: {len(poses)} waypoints in the cell",
-                                    removed=removed_along_path(chain, poses, body, scene)),
+    in_cell = cell_along_path(chain, poses, body, scene)
+    writer.figure(path_plane_figure(in_cell.free, paths["in the cell"], exact=False,
+                                    title=f"kuka-iiwa14: {len(poses)} waypoints in the cell", removed=in_cell.removed),
                   "cell_path_plane", "kuka-iiwa14 in the cell: the path through each branch's collision-free arm "
                                      "angles along the line",
                   "What redkin path --scene --plot draws: per branch, the certified collision-free arm angles of "
                   "every waypoint shaded, each stretch the cell removes from the limit-feasible ones coloured by the "
-                  "pair that blocks it (redkin.paths.removed_along_path), and the path in the cell through them.")
+                  "pair that blocks it (redkin.paths.cell_along_path), and the path in the cell through them.")
 
 
 def _arcs_text(arcs) -> str:
