@@ -108,3 +108,27 @@ def test_sinusoid_roots_are_roots_in_range(p, q, r):
     for psi in (first, second):
         assert -np.pi <= psi <= np.pi
         assert abs(p * np.sin(psi) + q * np.cos(psi) + r) <= 1e-9 * max(1.0, rho)
+
+
+@settings(max_examples=60, deadline=None)
+@given(widths=st.lists(st.tuples(st.floats(1e-3, 0.3), st.floats(0.0, 0.2), st.booleans()), min_size=1,
+                       max_size=30),
+       start=st.floats(-np.pi, 0.0))
+def test_an_arc_set_of_pieces_with_gaps_keeps_the_gaps(widths, start):
+    """``FeasiblePieces.arc_set`` on any number of sorted pieces, touching or with gaps between them (a nearly S-R-S,
+    Franka-class or cell family's pieces; it read exactly 24 touching ones): the union of the kept pieces, a gap
+    ending a run (it was joined over), each piece wider than the runs' tolerance."""
+    from redkin.circle import ArcSet
+    from redkin.srs.feasible import FeasiblePieces
+
+    lo, hi, kept, at = [], [], [], start
+    for width, gap, keep in widths:
+        lo.append(at)
+        hi.append(at + width)
+        kept.append(keep)
+        at += width + gap
+    if at - start > 2 * np.pi - 1e-3:
+        return  # the pieces must fit on the circle once
+    pieces = FeasiblePieces(np.array(lo), np.array(hi), np.array(kept))
+    expected = ArcSet([(a, b) for a, b, keep in zip(lo, hi, kept) if keep])
+    assert pieces.arc_set().isclose(expected, 1e-12)
