@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from redkin.arms.feasible_sets import owner_arcs
-from redkin.circle import ArcSet, _intersect_all, circle_arcs, owner_runs, wrap_angle
+from redkin.circle import ArcSet, _intersect_all, arc_length, circle_arcs, owner_runs, wrap_angle
 
 GRID = np.linspace(-np.pi, np.pi, 4001, endpoint=False)
 MARGIN = 1e-9
@@ -167,3 +167,12 @@ def test_owner_arcs_split_gives_every_owner_its_own(arcs, spare, wraps):
                            wraps).split(1)[0]
         assert np.array_equal(arcs_k.bounds, alone.bounds) and np.array_equal(arcs_k.wraps, alone.wraps)
         assert arcs_k.bounds.shape[1:] == (2,)
+
+
+@given(st.floats(-np.pi, np.pi), st.floats(-np.pi, np.pi))
+def test_arc_length_is_the_length_of_the_arc_from_start_up_to_end(start, end):
+    """``arc_length`` of ends as redkin writes them (through +-pi where ``start > end``) is the length of that arc's
+    ArcSet, and the whole circle ``(-pi, pi)`` is 2 pi where ``(end - start) mod 2 pi`` made it 0."""
+    assert arc_length(start, end) == pytest.approx(ArcSet([(start, end if end >= start else end + 2 * np.pi)]).length,
+                                                   abs=1e-12)
+    assert arc_length(-np.pi, np.pi) == 2 * np.pi and arc_length(start, start) == 0.0

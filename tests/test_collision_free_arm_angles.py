@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 import redkin
-from redkin.circle import ArcSet
+from redkin.circle import ArcSet, arc_length
 from redkin.collision import _decision_kernels, primitives
 from redkin.collision._arm_angle_kernels import interval_rates, joint_rates, turning_bounds
 from redkin.collision._distance_kernels import OUT, distances
@@ -126,7 +126,7 @@ def test_free_blocked_and_limit_stretches_cover_the_circle(iiwa, fractions):
         for stretch in result.blocked[b]:
             assert stretch.cause in (COLLISION, LIMIT, UNDECIDED)
             if stretch.cause == UNDECIDED and result.complete:
-                assert (stretch.end - stretch.start) % (2 * np.pi) <= result.resolution
+                assert arc_length(stretch.start, stretch.end) <= result.resolution
         limits = ArcSet(result.limits[b].bounds.tolist())
         assert limits.union(free).isclose(limits)  # free within the limits
 
@@ -412,3 +412,25 @@ def test_the_quadratic_root_reaches_k_and_keeps_no_sign_at_zero(a, b, k):
         assert root == np.inf
     else:
         assert a * root * root + b * root == pytest.approx(k, rel=1e-12)
+
+
+def test_a_stretch_around_the_whole_circle_is_written_whole():
+    """On an S-R-S arm whose joints are not limited every branch's limit set is the whole circle; with a ball at the
+    hand the cell takes all of it: one stretch per branch, ``(-pi, pi)``, named by the pair (its ends wrapped were
+    one point, ``(-pi, -pi)``, which the picture drew as nothing and the JSON as an empty arc); the path's failure
+    and the removed stretches say the same."""
+    import dataclasses
+
+    from redkin.paths import removed_along_path
+
+    chain = dataclasses.replace(redkin.get_robot("kuka-iiwa14"), lower=np.full(7, -np.inf),
+                                upper=np.full(7, np.inf))
+    q = np.array([0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1])
+    body = body_of([BodyCapsule("hand", 7, (0, 0, 0), (0, 0, 0.02), 0.03)], chain)
+    scene = Scene(("ball",), primitives.sphere(chain.frames(q)[7, :3, 3], 0.03)[None], 0.01)
+    sets = collision_free_arm_angles(redkin.arm(chain), chain.fk(q), body, scene)
+    for limits, free, blocked in zip(sets.limits, sets.free, sets.blocked, strict=True):
+        assert ArcSet(limits.bounds.tolist()).is_full and not len(free.bounds)
+        assert [tuple(stretch) for stretch in blocked] == [(-np.pi, np.pi, COLLISION, "hand", "ball")]
+    removed = removed_along_path(chain, chain.fk(q)[None], body, scene)
+    assert all(row == [(-np.pi, np.pi, "hand meets ball")] for row in removed[0])

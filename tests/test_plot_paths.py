@@ -8,6 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
+from redkin.circle import arc_length
 from redkin.models import get_robot
 from redkin.paths import (
     cell_along_path,
@@ -211,7 +212,7 @@ def test_a_removed_stretch_collides_where_it_says(cell_case):
             for start, end, cause in stretches:
                 if cause == "undecided":
                     continue
-                middle = start + ((end - start) % (2 * np.pi)) / 2.0
+                middle = start + arc_length(start, end) / 2.0
                 solution = arm.ik(poses[k], middle, branches=NAMES[b])
                 assert solution.exists.all()
                 table, pairs = pair_table(chain, body, scene, solution.q.reshape(1, 7))
@@ -225,7 +226,7 @@ def test_a_removed_stretch_collides_where_it_says(cell_case):
     limits = feasible_along_path(chain, poses)
     for b in range(len(NAMES)):
         ball = [s for s in removed[failing][b] if s.cause == "link_7 meets ball"]
-        assert sum((end - start) % (2 * np.pi) for start, end, _ in ball) == pytest.approx(
+        assert sum(arc_length(start, end) for start, end, _ in ball) == pytest.approx(
             limits.arc_set((failing, b)).length, abs=1e-5)
     fig = path_plane_figure(feasible_along_path(chain, poses, body=body, scene=scene), result, removed=removed)
     labels = [text.get_text() for legend in fig.legends for text in legend.get_texts()]

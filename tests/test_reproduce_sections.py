@@ -9,6 +9,7 @@ import json
 import numpy as np
 import pytest
 
+from redkin.circle import arc_length
 from redkin.models import get_robot
 from redkin.srs import BRANCHES, feasible_arm_angles, pose_from, reachable
 from redkin.workspace import super_fibonacci_rotations
@@ -271,7 +272,7 @@ def test_models_section_has_the_worked_cell(full_report):
     assert [row["branch"] for row in rows] == list(free.branches)
     for row, limits, clear in zip(rows, free.limits, free.free):
         for arcs, column in ((limits, "width [deg]"), (clear, "free width [deg]")):
-            width = sum((hi - lo) % (2 * np.pi) for lo, hi in arcs.bounds.tolist())
+            width = sum(arc_length(lo, hi) for lo, hi in arcs.bounds.tolist())
             assert row[column] == pytest.approx(np.degrees(width), abs=1e-9)
     assert any(row["free width [deg]"] < row["width [deg]"] - 1.0 for row in rows)  # the post removes arm angles
     plain, inside = _rows(_tables(full_report, "models")["cell_paths"])

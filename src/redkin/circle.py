@@ -38,6 +38,13 @@ def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
     return np.mod(np.asarray(angle, dtype=float) + _PI, TWO_PI) - _PI
 
 
+def arc_length(start: float, end: float) -> float:
+    """The length [rad] of the arc from ``start`` up to ``end``, through +-pi where ``start > end``, as redkin writes
+    an arc's or a removed stretch's ends: ``(-pi, pi)`` is the whole circle (2 pi), ``start == end`` a point (0).
+    (``(end - start) mod 2 pi`` reads the whole circle as 0.)"""
+    return end - start if end >= start else end - start + TWO_PI
+
+
 def _seamed(lo: float, hi: float) -> tuple[float, float]:
     """An interval of ``[-pi, pi]`` whose ends within :data:`_SEAM_TOLERANCE` of the seam are on it: the set then
     holds +-pi wherever :attr:`ArcSet.arcs` shows an arc through it (an end 1e-13 short of pi was drawn through the

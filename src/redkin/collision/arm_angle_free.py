@@ -102,7 +102,8 @@ class Stretch(NamedTuple):
     ``cause`` is :data:`COLLISION` (``link`` meets ``against``: an obstacle's name, or another link of the body),
     :data:`LIMIT` (``against`` names the joints out of range, ``"joint 2, joint 6"``, or says ``"no solution"``) or
     :data:`UNDECIDED` (no wider than the resolution, next to a singular arm angle or where a clearance grazes the
-    margin).  A stretch through ``+-pi`` has ``start > end``.
+    margin).  A stretch through ``+-pi`` has ``start > end``; the whole circle is ``(-pi, pi)``
+    (:func:`redkin.circle.arc_length`).
     """
 
     start: float
@@ -626,7 +627,8 @@ class Decided(NamedTuple):
                   wrapped: Callable[[float], float]) -> list[list[Stretch]]:
         """Per owner, its blocked and undecided intervals merged into stretches of one cause (touching intervals
         blocked by pairs of the same names, such as two capsules of one link against one obstacle, or undecided),
-        each end written by ``wrapped`` (into ``[-pi, pi)`` for an arm angle)."""
+        each end written by ``wrapped`` (into ``[-pi, pi)`` for an arm angle; a run around the whole circle as
+        ``(-pi, pi)``, which wrapping would write as a point)."""
         removed = np.flatnonzero(self.kind != 0)
         kind, which = self.kind[removed], self.pair[removed]
         named = {pair: k for k, pair in enumerate(dict.fromkeys(names))}  # pairs of shapes named alike are one cause
@@ -638,7 +640,9 @@ class Decided(NamedTuple):
                 self.owner[removed][starts].tolist(), self.lo[removed][starts].tolist(),
                 self.hi[removed][ends].tolist(), (kind[starts] == 1).tolist(), which[starts].tolist(), strict=True):
             reason, (link, against) = (COLLISION, names[pair]) if blocked else (UNDECIDED, ("", ""))
-            stretches[owner].append(Stretch(wrapped(start), wrapped(end), reason, link, against))
+            whole = end - start >= TWO_PI  # written (-pi, pi): wrapped, its ends would be one point
+            stretches[owner].append(Stretch(-np.pi if whole else wrapped(start), np.pi if whole else wrapped(end),
+                                            reason, link, against))
         return stretches
 
 

@@ -41,7 +41,7 @@ from numpy.typing import ArrayLike
 from redkin.arms.feasible_sets import merged_intervals
 from redkin.arms.front_door import Arm
 from redkin.arms.nearly_kind import NearlyKind
-from redkin.circle import TWO_PI, ArcSet, wrap_angle
+from redkin.circle import ArcSet, arc_length, wrap_angle
 from redkin.collision.arm_angle_free import (
     COLLISION,
     UNDECIDED,
@@ -177,7 +177,7 @@ def _one_pose(arm: Arm, measure: _StepMeasure, pose: np.ndarray, labels: tuple[s
     while True:
         decision.run(steps, finest)
         wide = {row: ArcSet([arc for arc in decision.sets(row, limits[row])[2].arcs
-                             if (arc[1] - arc[0]) % TWO_PI > resolution]) for row in rows}
+                             if arc_length(*arc) > resolution]) for row in rows}
         if not any(not part.is_empty for part in wide.values()) or not decision.complete:
             break
         finest /= _FINER
@@ -283,8 +283,7 @@ class _Decision:
 
 def _wider(arcs: ArcSet) -> ArcSet:
     """The arcs of ``arcs`` wider than :data:`_ROUNDING` (the whole circle among them)."""
-    return ArcSet([(start, end) for start, end in arcs.arcs
-                   if (end - start if end >= start else end - start + TWO_PI) > _ROUNDING])
+    return ArcSet([arc for arc in arcs.arcs if arc_length(*arc) > _ROUNDING])
 
 
 def _arc_set(parts: list[np.ndarray]) -> ArcSet:

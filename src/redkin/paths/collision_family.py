@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from redkin.chain import SerialChain
-from redkin.circle import TWO_PI
+from redkin.circle import TWO_PI, arc_length
 from redkin.errors import RedkinError
 from redkin.franka.ik import PARAMETER as Q7
 from redkin.paths.family import PSI, ArmAngleFamily, Family, NearlyFamily, Q7Family
@@ -67,9 +67,13 @@ class _CollisionFreeFamily(Family):
         certified collision-free sets (without their causes: :func:`redkin.collision.free_sets.free_arcs_of`)."""
         from redkin.collision.free_sets import free_arcs_of
 
-        exact = self.base.pieces(poses)
-        some = np.flatnonzero(exact.feasible.any(axis=(-2, -1)))
+        exact, some = self._limited(poses)
         return exact, some, free_arcs_of(self._arm(), poses[some], self.body, self.scene)
+
+    def _limited(self, poses: np.ndarray) -> tuple[FeasiblePieces, np.ndarray]:
+        """The base family's exact pieces of ``poses``, and the waypoints they leave values at."""
+        exact = self.base.pieces(poses)
+        return exact, np.flatnonzero(exact.feasible.any(axis=(-2, -1)))
 
     def _arm(self) -> ClassifiedArm:
         """The :class:`redkin.arms.Arm` of the chain, classified as the base family was: with a nearly S-R-S
@@ -88,8 +92,7 @@ class _CollisionFreeFamily(Family):
         (what the picture of a path in a cell draws)."""
         from redkin.collision.free_sets import free_arcs_from, free_sets_of
 
-        exact = self.base.pieces(poses)
-        some = np.flatnonzero(exact.feasible.any(axis=(-2, -1)))
+        exact, some = self._limited(poses)
         found = free_sets_of(self._arm(), poses[some], self.body, self.scene) if len(some) else []
         return self._cut_to(poses, exact, some, free_arcs_from(found)), some, found
 
@@ -153,8 +156,8 @@ class _CollisionFreeFamily(Family):
             for stretch in stretches:
                 if stretch.cause == COLLISION:
                     pair = (stretch.link, stretch.against)
-                    width = stretch.end - stretch.start
-                    blocked[pair] = blocked.get(pair, 0.0) + (width % TWO_PI if self.wraps else width)
+                    width = arc_length(stretch.start, stretch.end) if self.wraps else stretch.end - stretch.start
+                    blocked[pair] = blocked.get(pair, 0.0) + width
         return "collision", (max(blocked, key=lambda pair: blocked[pair]) if blocked else None)
 
     def distances(self, q: np.ndarray) -> np.ndarray:

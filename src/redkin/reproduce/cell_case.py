@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from redkin.arms import arm
+from redkin.circle import arc_length
 from redkin.collision import BodyCapsule, Scene, body_of, clearance, collision_free_arm_angles, primitives
 from redkin.models import kuka_iiwa14
 from redkin.paths import PathResult, cell_along_path, line, resolve_path
@@ -122,8 +123,7 @@ def _arcs_text(arcs) -> str:
 
 def _width(arcs) -> float:
     """The total width of arcs [deg]."""
-    widths = np.mod(arcs.bounds[:, 1] - arcs.bounds[:, 0], 2 * np.pi) if len(arcs.bounds) else np.zeros(0)
-    return float(np.degrees(widths.sum()))
+    return float(np.degrees(sum(arc_length(start, end) for start, end in arcs.bounds.tolist())))
 
 
 def _failure(result: PathResult) -> str:
