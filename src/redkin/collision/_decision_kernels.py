@@ -10,6 +10,7 @@ from math import inf
 
 import numpy as np
 
+from redkin import _array_copy
 from redkin._compiled import kernel
 
 #: The kinds of a decided interval, and of one still open.
@@ -126,10 +127,10 @@ def next_level(lo, hi, owner, active, kind, pair, cut, carved, cause, bounds, la
             done += 1
         if start > lo[n]:
             open_bounds[0, left], open_bounds[1, left], open_owner[left] = lo[n], start, owner[n]
-            open_active[left] = active[n]
+            _array_copy.copy_into(open_active[left], active[n])
             left += 1
         if end < hi[n]:
             open_bounds[0, left], open_bounds[1, left], open_owner[left] = end, hi[n], owner[n]
-            open_active[left] = active[n]
+            _array_copy.copy_into(open_active[left], active[n])
             left += 1
     return done, left

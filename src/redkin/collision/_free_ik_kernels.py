@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from redkin import _array_copy
 from redkin._chain_kernels import jacobian_one
 from redkin._compiled import kernel
 from redkin._pose_kernels import OK
@@ -70,7 +71,7 @@ def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, setti
         if not ok:
             left = 0
             continue
-        q_out[found] = q
+        _array_copy.copy_into(q_out[found], q)
         found_out[found] = True
         clearance_out[found], pair_out[found] = _clearance_kernels.least_one(
             q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, spare)

@@ -21,6 +21,7 @@ from math import atan2, cos, sin
 
 import numpy as np
 
+from redkin import _array_copy
 from redkin._compiled import kernel
 from redkin._pose_kernels import BAD_POSE, OK, pose_defect
 from redkin.franka.geometry import (
@@ -711,11 +712,11 @@ def limit_spectra(t07, arm, spectra, existence):
     for joint in range(6):
         degree = degree_of(arm, 2 * joint)
         for i in range(5):
-            values[:] = expanded[:, joint, i]
+            _array_copy.copy_into(values, expanded[:, joint, i])
             trig_coefficients(values, degree, phase, full[:2 * degree + 1])
-            spectra[joint, i, :degree + 1] = full[degree:2 * degree + 1]
+            _array_copy.copy_into(spectra[joint, i, :degree + 1], full[degree:2 * degree + 1])
     for k in range(2):
-        values[:] = extra[:, 1 + k]
+        _array_copy.copy_into(values, extra[:, 1 + k])
         degree = degree_of(arm, 12 + k)
         trig_coefficients(values, degree, phase, existence[k, :2 * degree + 1])
 

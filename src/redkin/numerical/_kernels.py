@@ -21,7 +21,7 @@ from math import atan2, isfinite, pi, sqrt
 
 import numpy as np
 
-from redkin import _chain_kernels
+from redkin import _array_copy, _chain_kernels
 from redkin._compiled import kernel
 from redkin._pose_kernels import OK, pose_defect
 
@@ -237,7 +237,7 @@ def descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolera
         position, angle = measure(q, target, links, ends, standard, trig, pose, e)
         if position + angle < best_error[0] + best_error[1]:
             best_error[0], best_error[1] = position, angle
-            best[:] = q
+            _array_copy.copy_into(best, q)
         within = position <= tolerance[0] and angle <= tolerance[1]
         if phase == DESCENT:
             if within:
@@ -250,12 +250,12 @@ def descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolera
                 checkpoint = position + angle
         if phase != DESCENT:
             if not within:  # a pull step left the tolerance: polish from the last certified q
-                q[:] = certified
+                _array_copy.copy_into(q, certified)
                 if phase == FINAL:
                     return True
                 phase, left = FINAL, POLISH
                 continue
-            certified[:] = q
+            _array_copy.copy_into(certified, q)
             if left == 0 or (phase == FINAL and position + angle <= ROUNDING):
                 if phase == FINAL:
                     return True
@@ -265,7 +265,7 @@ def descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolera
         moved = limited_step(q, jac, e, seed, phase == PULL, lower, upper, free, pull, a, y, dq)
         if phase == PULL and moved <= SETTLED:
             phase, left = FINAL, POLISH
-    q[:] = certified
+    _array_copy.copy_into(q, certified)
     return phase != DESCENT
 
 
@@ -278,7 +278,7 @@ def nearest_pose(target, out):
     solution can match only a rotation, so the target is the nearest one.  Newton-Schulz iterations
     ``X <- X (3 I - X^T X) / 2`` converge quadratically from there (three reach rounding from ``1e-6``).
     """
-    out[:] = target
+    _array_copy.copy_rows_into(out, target)
     gram = np.empty((3, 3))
     for _ in range(4):
         for r in range(3):
@@ -351,7 +351,8 @@ def candidate(start, seed, seeded, links, ends, standard, lower, upper, settings
     ``found`` rows of ``q_out`` by ``settings``' separation, left in ``local``'s first joint vector."""
     q = local[2][0]
     if start == 0 and seeded:
-        q[:] = np.minimum(np.maximum(seed, lower), upper)
+        for j in range(q.shape[0]):
+            q[j] = min(max(seed[j], lower[j]), upper[j])
     else:
         random_start(lower, upper, local[1], q)
     return settle(seed, seeded, seeded, links, ends, standard, lower, upper, settings, q_out, found, work, local)
@@ -386,16 +387,16 @@ def finish(seed, seeded, links, ends, standard, q_out, found, closest, error, wo
             key = np.max(np.abs(row - seed))
             i = k
             while i > 0 and np.max(np.abs(q_out[i - 1] - seed)) > key:
-                q_out[i] = q_out[i - 1]
+                _array_copy.copy_into(q_out[i], q_out[i - 1])
                 i -= 1
-            q_out[i] = row
+            _array_copy.copy_into(q_out[i], row)
     if found:
-        closest[:] = q_out[0]
+        _array_copy.copy_into(closest, q_out[0])
         position, angle = measure(closest, goal, links, ends, standard, work[0], work[1], work[2])
         error[0], error[1] = position, angle
     else:
-        closest[:] = vectors[1]
-        error[:] = best_error
+        _array_copy.copy_into(closest, vectors[1])
+        _array_copy.copy_into(error, best_error)
 
 
 @kernel
@@ -417,7 +418,7 @@ def solve_one(target, seed, seeded, stream, links, ends, standard, bounds, setti
     while found < q_out.shape[0] and used < starts:
         if candidate(used, seed, seeded, links, ends, standard, bounds[0], bounds[1], settings, q_out, found, work,
                      local):
-            q_out[found] = local[2][0]
+            _array_copy.copy_into(q_out[found], local[2][0])
             found_out[found] = True
             found += 1
         used += 1

@@ -26,6 +26,7 @@ from math import inf, pi
 
 import numpy as np
 
+from redkin import _array_copy
 from redkin._compiled import kernel
 from redkin.circle import TWO_PI
 from redkin.franka._kernels import WORK, solve_q7
@@ -88,7 +89,7 @@ def node_rows(start, stop, sample, angles, waypoint, branch, theta4, table, join
     theta = np.empty(7)
     for k in range(start, stop):
         b = branch[k]
-        theta[:] = angles[sample[k]]
+        _array_copy.copy_into(theta, angles[sample[k]])
         theta[3] = theta4[waypoint[k], 1 if table[b, 1] < 0.0 else 0]
         apply_sign(theta, np.int64(0), table[b, 0])
         apply_sign(theta, np.int64(4), table[b, 2])

@@ -29,7 +29,7 @@ from math import atan2, isfinite, pi, sqrt
 
 import numpy as np
 
-from redkin import _chain_kernels
+from redkin import _array_copy, _chain_kernels
 from redkin._compiled import kernel
 from redkin._pose_kernels import pose_defect
 from redkin.circle import HALF_PI, TWO_PI
@@ -229,7 +229,7 @@ def newton(q, target, psi, real, model, work, best, side, real_phase):
         size = position + angle + turn
         if size < smallest[0] + smallest[1] + smallest[2]:
             smallest = (position, angle, turn)
-            best[:] = q
+            _array_copy.copy_into(best, q)
         if size <= FINE or not isfinite(size):
             break
         if iteration % STALL == 0:
@@ -319,7 +319,7 @@ def opened(q, neighbour, phase, sense, start):
     """``q`` (7,) with the neighbour's ``theta_4`` at least :data:`OPENED` rad from ``phase`` on the side
     ``sense`` (+-1), into ``start`` (7,): near the stretch the arm angle's gradient vanishes, a start from which
     Newton's steps go nowhere."""
-    start[:] = q
+    _array_copy.copy_into(start, q)
     sign, offset = neighbour[3, _chain_kernels.SIGN], neighbour[3, _chain_kernels.OFFSET]
     theta = turns_removed(offset + sign * q[3] - phase + pi) - pi
     theta = phase + sense * max(abs(theta), OPENED)
@@ -349,7 +349,7 @@ def corrections(target, psi, signs, geometry, real, tool_inverse, reach, q, work
     arm, model_ends, joints = geometry
     links, chain_ends, standard = real
     closed, moved, trial, trig, reached, e, product = work
-    moved[:] = target
+    _array_copy.copy_rows_into(moved, target)
     best = np.inf
     for _ in range(CORRECTIONS):
         within_reach(moved, tool_inverse, reach)
@@ -358,7 +358,7 @@ def corrections(target, psi, signs, geometry, real, tool_inverse, reach, q, work
         _chain_kernels.frames_one(trial[0], links, chain_ends, standard, trig, reached)
         position, angle = pose_error(target, reached[0], e)
         if position + angle < best:
-            q[:] = trial[0]
+            _array_copy.copy_into(q, trial[0])
             best = position + angle
         else:
             break
@@ -413,16 +413,16 @@ def primary(b, target, psi, signs, geometry, real, model, tool_inverse, reach, r
         return -1
     for attempt in range(2):
         if attempt == 0:
-            start[:] = seed
+            _array_copy.copy_into(start, seed)
         else:
             opened(seed, model[0], geometry[0][PHASE], signs[b, 1], start)
         label = certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work)
         if label >= 0 and labels[b] < 0:
             labels[b] = label
-            found[b] = start
+            _array_copy.copy_into(found[b], start)
         if label == b:
             labels[b] = b
-            found[b] = start
+            _array_copy.copy_into(found[b], start)
             break
     return labels[b]
 
@@ -455,7 +455,7 @@ def turned(q, neighbour, group, angle, start):
     singular direction (:data:`TURNED`), into ``start`` (7,): for the shoulder ``theta_1 + angle`` and ``theta_3 -
     angle`` where ``cos theta_2 >= 0`` (their sum, which the pose fixes at ``theta_2 = 0``, stays), ``theta_3 +
     angle`` otherwise (their difference stays); for the wrist likewise ``theta_5``, ``theta_6``, ``theta_7``."""
-    start[:] = q
+    _array_copy.copy_into(start, q)
     first = 4 * group
     middle = neighbour[first + 1, _chain_kernels.OFFSET] + neighbour[first + 1, _chain_kernels.SIGN] * q[first + 1]
     start[first] += neighbour[first, _chain_kernels.SIGN] * angle
@@ -482,7 +482,7 @@ def turned_solution(base, target, psi, b, signs, geometry, real, model, real_pha
         for k in range(1, TURNED):
             turned(base, model[0], group, ((k + 1) // 2) * (TWO_PI / TURNED) * (1.0 if k % 2 == 1 else -1.0), start)
             if certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work) == b:
-                q[:] = start
+                _array_copy.copy_into(q, start)
                 return True
     return False
 
@@ -513,7 +513,7 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
             primary(b, target, psi, signs, geometry, real, model, tool_inverse, reach, real_phase, work)
             done[b] = True
         if labels[b] == b:
-            q[r, :] = found[b]
+            _array_copy.copy_into(q[r], found[b])
             exists[r] = True
     for r in range(rows.shape[0]):
         if exists[r]:
@@ -525,7 +525,7 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
                 done[o] = True
         for o in range(signs.shape[0]):
             if o != b and labels[o] == b:
-                q[r, :] = found[o]
+                _array_copy.copy_into(q[r], found[o])
                 exists[r] = True
                 break
         for o in range(signs.shape[0]):  # the branches that differ from it in one sign
@@ -538,7 +538,7 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
                 continue
             flipped(found[o], model[0], real_phase, signs[b], signs[o], start)
             if certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work) == b:
-                q[r, :] = start
+                _array_copy.copy_into(q[r], start)
                 exists[r] = True
         for k in range(2 * SWEEP):
             if exists[r]:
@@ -547,7 +547,7 @@ def solve_one(target, psi, rows, signs, geometry, real, model, tool_inverse, rea
             if not corrections(target, moved, signs[b:b + 1], geometry, real, tool_inverse, reach, start, work[1]):
                 break
             if certified_branch(start, target, psi, signs[b], signs, geometry, real, model, real_phase, work) == b:
-                q[r, :] = start
+                _array_copy.copy_into(q[r], start)
                 exists[r] = True
         if exists[r] or not corrections(target, psi, signs[b:b + 1], geometry, real, tool_inverse, reach, seed,
                                         work[1]):

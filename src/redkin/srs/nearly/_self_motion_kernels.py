@@ -83,7 +83,7 @@ from math import floor, pi, sqrt
 
 import numpy as np
 
-from redkin import _chain_kernels
+from redkin import _array_copy, _chain_kernels
 from redkin._compiled import kernel
 from redkin.circle import TWO_PI
 from redkin.srs._ik_kernels import AXIS_TOLERANCE, turns_removed, wrist_point
@@ -333,8 +333,8 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
     F''[t, t]; t . kappa]|`` of its equations (rounding) and ``Omega_t`` [C3].  Returns ``False`` at a singular
     configuration."""
     system, pivots, inverse, model_work, u, jacobian = work[3], work[5], work[6], work[8], work[9], work[10]
-    jacobian[:] = system[:6]
-    system[6, :] = previous
+    _array_copy.copy_rows_into(jacobian, system[:6])
+    _array_copy.copy_into(system[6], previous)
     if not factored(system, pivots):
         return False
     tangent[:] = 0.0
@@ -350,8 +350,8 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
         for j in range(7):
             value += jacobian[r, j] * tangent[j]
         delta += value * value
-    system[:6] = jacobian
-    system[6, :] = tangent
+    _array_copy.copy_rows_into(system[:6], jacobian)
+    _array_copy.copy_into(system[6], tangent)
     if not factored(system, pivots):
         return False
     psi = arm_angle_one(q, model[0], model[1], model[2], model[3], model_work, gradient, np.bool_(True))
@@ -407,7 +407,7 @@ def corrected(q, anchor, direction, distance, target, real, bounds, work):
         if size <= FINE or size >= 0.5 * best:
             return size <= SETTLED, size, rotation
         best = size
-        system[6, :] = direction
+        _array_copy.copy_into(system[6], direction)
         if not factored(system, pivots):
             return False, size, rotation
         for r in range(6):
@@ -646,7 +646,7 @@ def started(seed, target, real, model, bounds, work, q, tangent, gradient, state
     """The curve's point nearest the solution ``seed`` (7,) into ``q`` (7,): Newton's steps on the hyperplane
     through ``seed`` normal to the tangent there; returns whether it settled, with the point's tangent and state
     (:func:`described`)."""
-    q[:] = seed
+    _array_copy.copy_into(q, seed)
     trial = np.zeros(7)
     size, rotation = residual(q, target, real, bounds[SCALE], work)
     found = False
@@ -659,7 +659,7 @@ def started(seed, target, real, model, bounds, work, q, tangent, gradient, state
     if not found:
         return False
     settled, size, rotation = corrected(q, seed, tangent, 0.0, target, real, bounds, work)
-    trial[:] = tangent
+    _array_copy.copy_into(trial, tangent)
     return settled and described(q, size, rotation, trial, model, work, tangent, gradient, state)
 
 
@@ -741,8 +741,8 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
     h = longest
     event = False
     while True:
-        points[count] = q
-        tangents[count] = tangent
+        _array_copy.copy_into(points[count], q)
+        _array_copy.copy_into(tangents[count], tangent)
         angles[count] = state[4]
         rates[count] = state[5]
         count += 1
@@ -797,17 +797,17 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
                 continue
             break
         event = undecided
-        signs[count - 1] = step_signs
+        _array_copy.copy_into(signs[count - 1], step_signs)
         inside[count - 1] = state_of_limits
         spreads[count - 1] = spread
         tubes[count - 1, 0], tubes[count - 1, 1] = reach, tube
         if closing and apart <= 1e-18:  # landed on the first point (to 1e-9 rad)
-            points[count] = moved
-            tangents[count] = following
+            _array_copy.copy_into(points[count], moved)
+            _array_copy.copy_into(tangents[count], following)
             angles[count] = following_state[4]
             rates[count] = following_state[5]
             return count + 1, CLOSED
-        q[:] = moved
-        tangent[:] = following
-        gradient[:] = following_gradient
-        state[:] = following_state
+        _array_copy.copy_into(q, moved)
+        _array_copy.copy_into(tangent, following)
+        _array_copy.copy_into(gradient, following_gradient)
+        _array_copy.copy_into(state, following_state)
