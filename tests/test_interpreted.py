@@ -184,3 +184,44 @@ def test_robots_as_python_prints_what_it_prints_compiled():
     assert result.returncode == 0, result.stderr[-3000:]
     loaded, differing, count = ast.literal_eval(result.stdout.strip().splitlines()[-1])
     assert not loaded and differing == [] and count == len(files) + 1
+
+
+#: One pose's S-R-S IK and a Franka-class arm's q7 sets as Python, counting the calls that pass through a kernel's
+#: :class:`redkin._compiled.Kernel` wrapper: only the calls from Python code outside the kernels do.
+TWINS = r"""
+import numpy as np
+from redkin import models, srs, franka
+from redkin._compiled import Kernel, interpreted, numba_loaded
+
+calls = []
+wrapped = Kernel.__call__
+
+
+def counted(self, *args):
+    calls.append(self.__qualname__)
+    return wrapped(self, *args)
+
+
+Kernel.__call__ = counted
+iiwa, fr3 = models.kuka_iiwa14(), models.franka_fr3()
+q = np.array([0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1])
+with interpreted():
+    entries = [len(calls)]
+    solutions = srs.ik_all_branches(iiwa, iiwa.fk(q), 0.4)
+    entries.append(len(calls))
+    sets = franka.feasible_q7(fr3, fr3.fk(q))
+    entries.append(len(calls))
+print((numba_loaded(), entries, bool(np.isfinite(solutions).all(axis=1).any()), len(sets.branches)))
+"""
+
+
+def test_a_kernel_run_as_python_calls_its_callees_without_the_wrapper():
+    """Within interpreted(), a kernel's Python run calls its callees' Python functions directly (their twins, whose
+    globals hold twins), not through each callee's Kernel wrapper (0.15 us a call, millions of calls in a nearly
+    S-R-S arm's sets): the wrapper sees only the few calls from Python code outside the kernels."""
+    result = subprocess.run([sys.executable, "-c", TWINS], capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stderr[-3000:]
+    loaded, entries, solved, branches = ast.literal_eval(result.stdout.strip().splitlines()[-1])
+    assert not loaded and solved and branches == 8
+    ik_calls, sets_calls = entries[1] - entries[0], entries[2] - entries[1]
+    assert 1 <= ik_calls <= 5 and 1 <= sets_calls <= 40, entries  # before the twins: thousands
