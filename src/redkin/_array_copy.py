@@ -2,7 +2,7 @@
 
 ``out[:] = source`` (or ``out[k] = row``, any assignment of an array) compiles numba's general setitem with its
 broadcasting and its error message for mismatched shapes: about 2 s the first time a process compiles one, then
-0.15-0.2 s for each kernel that holds one, against 0.06 s for a kernel with a loop (numba 0.6x on this 2-core
+0.15-0.2 s for each kernel that holds one, against 0.06 s for a kernel with a loop (numba 0.68 on this 2-core
 machine, ``benchmarks/README.md``, "Array copies without slice assignment").  The kernels call these instead; the
 shapes are the caller's to match, as they are for the loops around them.
 """

@@ -79,7 +79,9 @@ calls on).  Kernels made after that are dispatchers from the start.
 
 Within :func:`interpreted`, kernels not compiled yet run as their Python
 functions, callees included, and numba is not loaded: one implementation
-of each equation, run by the interpreter.  The command line does so for
+of each equation, run by the interpreter.  Each runs as its twin
+(:func:`_python_twin`), whose globals hold its callees' twins, so that a
+call between kernels does not pass through the :class:`Kernel` wrapper.  The command line does so for
 small work, where loading numba (and compiling, on a fresh install) costs
 more than the arithmetic: ``redkin robots``, ``fk`` and ``jacobian``,
 ``ik`` and ``arm-angles`` on one pose of an exact closed form, ``path`` on
@@ -431,6 +433,16 @@ class Kernel:
 
 
 _waiting: list[Kernel] = []  # the kernels made before numba was loaded
+_numba_lock = threading.RLock()
+_numba_loaded = False
+
+
+class _Interpreting(threading.local):
+    depth = 0
+
+
+_interpreting = _Interpreting()
+
 _twin_modules: dict[str, types.ModuleType] = {}  # module name -> its twin (_twin_module)
 
 
@@ -474,15 +486,6 @@ def _defines_kernels(module: types.ModuleType) -> bool:
     name = module.__name__
     return (name == "redkin" or name.startswith("redkin.")) and any(
         isinstance(value, Kernel) and value.__module__ == name for value in list(vars(module).values()))
-_numba_lock = threading.RLock()
-_numba_loaded = False
-
-
-class _Interpreting(threading.local):
-    depth = 0
-
-
-_interpreting = _Interpreting()
 
 
 @contextmanager
