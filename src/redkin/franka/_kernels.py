@@ -453,6 +453,63 @@ def level_polynomial(spectra, basis, arm, f, polynomial):
 
 
 @kernel
+def component_bounds(spectra, arm, bounds):
+    """What each component of one pose's :func:`limit_spectra` (``spectra`` (6, 5, 9): joint, basis index ``i``,
+    ``s_0 .. s_D``) adds to the bounds of a level polynomial built from it (:func:`level_polynomial`, whose
+    coefficients are ``g_k = sum_i s_ik b_i`` with every basis entry ``|b_i| <= 1``), into ``bounds`` (6, 5, 3):
+    ``|s_0| + 2 sum_k |s_k|`` (of the largest value, :func:`zero_floor`), ``sum_k (|Re s_k| + |Im s_k|)``, twice for
+    ``k > 0`` (of the terms, :func:`level_polynomial`) and ``2 sum_k k^3 |s_k|`` (of ``B3``, :func:`global_bounds`).
+    A level polynomial's are at most ``sum_i |b_i|`` times these (the triangle inequality); the components past
+    :func:`factor_count` (zeros: :func:`expanded_limits`) are skipped."""
+    for joint in range(6):
+        degree = degree_of(arm, 2 * joint)
+        for i in range(factor_count(arm, joint) + 1):
+            s = spectra[joint, i, 0]
+            size, terms, bound3 = abs(s), abs(s.real) + abs(s.imag), 0.0
+            for k in range(1, degree + 1):
+                s = spectra[joint, i, k]
+                size += 2.0 * abs(s)
+                terms += 2.0 * (abs(s.real) + abs(s.imag))
+                bound3 += 2.0 * k * k * k * abs(s)
+            bounds[joint, i, 0], bounds[joint, i, 1], bounds[joint, i, 2] = size, terms, bound3
+
+
+@kernel
+def component_values(spectra, arm, theta, values):
+    """Each component of one pose's :func:`limit_spectra` (``spectra`` (6, 5, 9)) as a trigonometric polynomial in
+    ``theta_7`` (:func:`trig_value`) at ``theta``: its value, slope and curvature into ``values`` (6, 5, 3); those
+    of a level polynomial are ``sum_i b_i`` times these (:func:`level_polynomial`: ``g_k = sum_i s_ik b_i``), whatever
+    its level.  Components past :func:`factor_count` (zeros) are skipped, here and in :func:`level_rootless`."""
+    for joint in range(6):
+        degree = degree_of(arm, 2 * joint)
+        for i in range(factor_count(arm, joint) + 1):
+            value, slope, curve, _ = trig_value(spectra[joint, i, :degree + 1], theta)
+            values[joint, i, 0], values[joint, i, 1], values[joint, i, 2] = value, slope, curve
+
+
+@kernel
+def level_rootless(basis, f, arm, values, bounds, radius):
+    """Whether the level polynomial of limit function ``f`` (:func:`level_polynomial`, from the limits' ``basis``)
+    has no root within ``radius`` of ``theta``, from its components' :func:`component_values` at ``theta`` and
+    :func:`component_bounds`, without building it: :func:`rootless_cell` with ``B3`` and the floor's sizes bounded
+    by the components' (the triangle inequality: at least the polynomial's own, so the test is as sound and a
+    little stricter).  The value is ``sum_i b_i S_i(theta)`` where :func:`trig_value` of the polynomial sums the
+    same terms in another order: both round by a few units of the last place of ``terms``, a tenth of the floor or
+    less."""
+    joint, side = f // 2, f % 2
+    value, slope, curve, size, terms, bound3 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    for i in range(factor_count(arm, joint) + 1):
+        b = basis[side, joint, i]
+        value += b * values[joint, i, 0]
+        slope += b * values[joint, i, 1]
+        curve += b * values[joint, i, 2]
+        size += abs(b) * bounds[joint, i, 0]
+        terms += abs(b) * bounds[joint, i, 1]
+        bound3 += abs(b) * bounds[joint, i, 2]
+    return rootless_cell(value, slope, curve, radius, bound3, zero_floor(size, terms))
+
+
+@kernel
 def trig_coefficients(values, degree, phase, coefficients):
     """The coefficients ``g_k`` (``|k| <= degree``) of a trigonometric polynomial sampled at :data:`SAMPLES` equal
     steps from ``phase`` (``values``), by the samples' discrete Fourier transform, into ``coefficients``
@@ -504,7 +561,15 @@ def global_bounds(half, terms):
         bound3 += 2.0 * k * k * k * abs(half[k])
         bound4 += 2.0 * k * k * k * k * abs(half[k])
         size += 2.0 * abs(half[k])
-    return bound3, bound4, max(size * _NEAR_ZERO, terms * _TERM_ROUNDING)
+    return bound3, bound4, zero_floor(size, terms)
+
+
+@kernel
+def zero_floor(size, terms):
+    """The floor below which a value of ``G`` counts as zero, from ``size``, the largest value ``G`` can take
+    (``|g_0| + 2 sum_k |g_k|``), and ``terms``, the size of the terms its coefficients were summed from:
+    :data:`_NEAR_ZERO` of the one or :data:`_TERM_ROUNDING` of the other, whichever is larger."""
+    return max(size * _NEAR_ZERO, terms * _TERM_ROUNDING)
 
 
 @kernel
@@ -742,7 +807,8 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
     joint 2's band, ``S_4x`` [F4] away from 0 over joint 4's, and ``|V_xy|`` [F6] above what it can lose over the
     interval (``V`` turns with ``theta_7`` about an axis through ``O_6``, at most ``|S - O_6|`` per radian); and (ii)
     each level polynomial [F8] has no root within :data:`LEVEL_SLACK` of the interval (first by the cell test of
-    :func:`isolated_roots` on the whole interval, :func:`rootless_cell`), or every such root (isolated by
+    :func:`isolated_roots` on the whole interval, from the pose's components without building the polynomial:
+    :func:`level_rootless`), or every such root (isolated by
     :func:`isolated_roots` on that stretch, or as :func:`coefficient_roots` isolates the limits where that does not
     settle) belongs to another of the four conjugate solutions: the branch exists there and its joint lies more than
     half the band's width from that level.  Then each joint of the branch,
@@ -758,6 +824,9 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
     exists = np.empty(1, dtype=np.bool_)
     scratch = np.empty((8, 3, 3))
     work = np.empty(WORK)
+    bounds = np.empty((6, 5, 3))
+    values = np.empty((6, 5, 3))
+    bounded = -1  # the pose whose component_bounds are in bounds
     for i in range(start, stop):
         out[i] = True
         p = pose[i]
@@ -775,21 +844,24 @@ def levels_crossed(start, stop, pose, t07, spectra, arm, levels, lo, hi, signs, 
         if np.hypot(vx, vy) <= lever * 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK:
             continue  # V_xy may vanish, where theta_6 is free
         level_basis(levels[i], arm, basis)
+        if p != bounded:
+            component_bounds(spectra[p], arm, bounds)
+            bounded = p
+        component_values(spectra[p], arm, middle, values)
+        reach = 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK
         crossed = False
         for f in range(12):
             joint = f // 2
             if levels[i, 2, joint] == 0.0:
                 continue
+            if level_rootless(basis, f, arm, values, bounds, reach):
+                continue  # no conjugate solution's joint meets this level near the interval
             level = levels[i, f % 2, joint]
             width = 0.5 * abs(levels[i, 1, joint] - levels[i, 0, joint])
             degree = degree_of(arm, f)
             polynomial = coefficients[:2 * degree + 1]
             largest, terms = level_polynomial(spectra[p], basis, arm, f, polynomial)
-            half, reach = polynomial[degree:], 0.5 * (hi[i] - lo[i]) + LEVEL_SLACK
-            value, slope, curve, _ = trig_value(half, middle)
-            bound3, _, floor = global_bounds(half, terms)
-            if rootless_cell(value, slope, curve, reach, bound3, floor):
-                continue  # no conjugate solution's joint meets this level near the interval
+            half = polynomial[degree:]
             count = isolated_roots(half, terms, middle - reach, middle + reach, np.int64(2), roots, simple)
             if count < 0:
                 count = coefficient_roots(polynomial, largest, terms, roots, simple)
