@@ -16,6 +16,8 @@ base frame; the smaller is kept.  A pair's signed distance changes by no more th
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from redkin.chain import SerialChain
@@ -44,26 +46,48 @@ def joint_levers(chain: SerialChain, body: Body) -> tuple[np.ndarray, np.ndarray
     return base, tip
 
 
-def pair_displacements(delta: np.ndarray, levers: tuple[np.ndarray, np.ndarray], body: Body,
-                       pairs: CheckedPairs) -> np.ndarray:
+@dataclass(frozen=True)
+class PairLevers:
+    """The levers of a body's checked pairs (:func:`pair_levers`): per capsule and joint ``(M, n)`` the base-side and
+    tip-side levers of :func:`joint_levers`; per checked pair its capsule ``capsule`` ``(P,)``; the self pairs
+    ``own`` (indices into the pairs), their two capsules ``first`` and ``second``, and per self pair and joint the
+    levers of their relative motion ``outer`` and ``inner`` ``(S, n)`` (base side from the outer link, tip side from
+    the inner one), zero outside the joints between the two links."""
+
+    base: np.ndarray
+    tip: np.ndarray
+    capsule: np.ndarray
+    own: np.ndarray
+    first: np.ndarray
+    second: np.ndarray
+    outer: np.ndarray
+    inner: np.ndarray
+
+
+def pair_levers(chain: SerialChain, body: Body, pairs: CheckedPairs) -> PairLevers:
+    """The levers :func:`pair_displacements` weighs the joints' bounds by, for ``body``'s checked ``pairs`` on
+    ``chain``: computed once per body and scene."""
+    base, tip = joint_levers(chain, body)
+    own = np.flatnonzero(pairs.other >= 0)
+    first, second = pairs.capsule[own], pairs.other[own]
+    k1, k2 = body.frame[first], body.frame[second]
+    joints = np.arange(1, chain.n + 1)[None, :]
+    between = (joints > np.minimum(k1, k2)[:, None]) & (joints <= np.maximum(k1, k2)[:, None])
+    outer = np.where((k1 >= k2)[:, None], base[first], base[second]) * between
+    inner = np.where((k1 >= k2)[:, None], tip[second], tip[first]) * between
+    return PairLevers(base, tip, pairs.capsule, own, first, second, outer, inner)
+
+
+def pair_displacements(delta: np.ndarray, levers: PairLevers) -> np.ndarray:
     """Per row of joint bounds ``delta`` ``(N, n)`` and checked pair ``(N, P)``, a bound of how much the pair's
     signed distance changes between two configurations of one pose whose joints differ by at most ``delta``
-    (module docstring); ``levers`` from :func:`joint_levers`."""
-    base_levers, tip_levers = levers
-    n = base_levers.shape[1]
-    base = (delta[:, None, :] * base_levers).sum(axis=2)  # (N, M): per capsule
-    tip = (delta[:, None, :] * tip_levers).sum(axis=2)
-    shift = np.minimum(base, tip)  # each capsule's displacement in the base frame
-    total = shift[:, pairs.capsule].copy()
-    own = np.flatnonzero(pairs.other >= 0)
-    if len(own):
-        first, second = pairs.capsule[own], pairs.other[own]
-        k1, k2 = body.frame[first], body.frame[second]
-        joints = np.arange(1, n + 1)[None, None, :]
-        between = (joints > np.minimum(k1, k2)[None, :, None]) & (joints <= np.maximum(k1, k2)[None, :, None])
-        outer = np.where((k1 >= k2)[:, None], base_levers[first], base_levers[second])
-        inner = np.where((k1 >= k2)[:, None], tip_levers[second], tip_levers[first])
-        relative = np.minimum((delta[:, None, :] * outer[None] * between).sum(axis=2),
-                              (delta[:, None, :] * inner[None] * between).sum(axis=2))
-        total[:, own] = np.minimum(relative, shift[:, first] + shift[:, second])
+    (module docstring): each sum of levers times joint bounds as one ``einsum`` (its own loops, the same sums
+    whatever ``N``; a ``delta`` of ``inf`` gives ``nan`` where its lever is 0)."""
+    shift = np.minimum(np.einsum("nj,mj->nm", delta, levers.base),  # each capsule's displacement in the base frame
+                       np.einsum("nj,mj->nm", delta, levers.tip))
+    total = shift[:, levers.capsule]
+    if len(levers.own):
+        relative = np.minimum(np.einsum("nj,sj->ns", delta, levers.outer),
+                              np.einsum("nj,sj->ns", delta, levers.inner))
+        total[:, levers.own] = np.minimum(relative, shift[:, levers.first] + shift[:, levers.second])
     return total

@@ -53,7 +53,7 @@ from redkin.collision.arm_angle_free import (
 )
 from redkin.collision.body import Body
 from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_clearances
-from redkin.collision.joint_motion import joint_levers, pair_displacements
+from redkin.collision.joint_motion import pair_displacements, pair_levers
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.srs.nearly import _self_motion_kernels
@@ -97,7 +97,7 @@ class _StepMeasure:
         self.chain, self.body, self.scene = arm.chain, body, scene
         self.pairs = checked_pairs(body, scene)
         self.inputs = clearance_inputs(body, scene, self.pairs)
-        self.levers = joint_levers(arm.chain, body)
+        self.levers = pair_levers(arm.chain, body, self.pairs)
 
     def bounds(self, q: np.ndarray, delta: np.ndarray, active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds ``(N, P)`` of each pair's clearance over arcs within ``delta`` ``(N, 7)`` of the
@@ -105,7 +105,7 @@ class _StepMeasure:
         clear already); rows without an active pair are not posed.  Where the lower bound is positive (the pair is
         clear over the arc) the upper bound is ``inf``: a cheap lower bound of the distance that proves it is used
         in place of the distance (:func:`redkin.collision.clearance.pair_clearances`' ``floor``)."""
-        moved = pair_displacements(delta, self.levers, self.body, self.pairs)
+        moved = pair_displacements(delta, self.levers)
         floor = np.nan_to_num(moved, nan=np.inf)  # a pair a bound proves clear by more than it moves: not measured
         clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin, floor)
         with np.errstate(invalid="ignore"):  # inf - inf: a pair not measured, at an unbounded displacement

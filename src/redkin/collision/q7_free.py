@@ -51,7 +51,7 @@ from redkin.collision.arm_angle_free import (
 )
 from redkin.collision.body import Body
 from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_clearances
-from redkin.collision.joint_motion import joint_levers, pair_displacements
+from redkin.collision.joint_motion import pair_displacements, pair_levers
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.franka import _kernels
@@ -141,7 +141,7 @@ class _Q7Measure:
         self.pairs = checked_pairs(body, scene)
         self.names, self.count = self.pairs.names, len(self.pairs.names)
         self.inputs = clearance_inputs(body, scene, self.pairs)
-        self.levers = joint_levers(arm.chain, body)
+        self.levers = pair_levers(arm.chain, body, self.pairs)
         self._last: tuple[np.ndarray, ...] | None = None  # joints' last arguments and answer
 
     def joints(self, q7: np.ndarray, owner: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -186,7 +186,7 @@ class _Q7Measure:
         which = np.flatnonzero(proved)
         proved[which[self.leaves_band(owner[which], middle[which], half[which], at_middle[which],
                                       delta[which])]] = False
-        total = pair_displacements(delta, self.levers, self.body, self.pairs)
+        total = pair_displacements(delta, self.levers)
         rate = total / half[:, None]
         rate[~proved] = np.inf
         return rate
