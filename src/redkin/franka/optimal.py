@@ -11,9 +11,10 @@ over its feasible set (``feasible``, ``None`` where that is empty) and over
 every q7 at which the branch exists (``unclamped``).  ``f`` has no
 closed-form minimiser, so it is sampled densely over each feasible arc and
 over joint 7's range, and the best sample refined by a bounded scalar
-search (Brent's method) between its neighbours; the unclamped optimum is the
-better of that and the feasible one, so that it is never worse than it
-(a branch may exist only on arcs narrower than the samples' spacing).
+search (Brent's method, :func:`redkin.bounded_minimum.bounded_minimum`)
+between its neighbours; the unclamped optimum is the better of that and
+the feasible one, so that it is never worse than it (a branch may exist
+only on arcs narrower than the samples' spacing).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_vectors
+from redkin.bounded_minimum import bounded_minimum
 from redkin.chain import SerialChain
 from redkin.franka.feasible import FeasibleQ7, feasible_q7, q7_domain
 from redkin.franka.geometry import FrankaGeometry
@@ -119,9 +121,6 @@ def _minimise(objective, pieces: list[tuple[float, float]]) -> tuple[float | Non
     branch's solution jumps (``q_2`` through 0 turns ``q_1`` and ``q_3`` by pi) ``f`` jumps too, and its infimum
     can sit at the jump, next to a sample no lower than others far away.
     """
-    from scipy.optimize import minimize_scalar  # here, not at the top: every command that classifies an arm imports
-    # this package, and scipy.optimize costs about 0.15 s of each one's start (issue 42)
-
     best_q7, best_value = None, np.inf
     for low, high in pieces:
         grid = np.linspace(low, high, _SAMPLES if high > low else 1)
@@ -137,10 +136,13 @@ def _minimise(objective, pieces: list[tuple[float, float]]) -> tuple[float | Non
             if high > low:
                 left, right = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
                 ceiling = value + 1e6  # in place of inf where the branch does not exist (Brent needs numbers)
-                refined = minimize_scalar(lambda x, top=ceiling: min(float(objective(np.array(x))), top),
-                                          bounds=(left, right), method="bounded", options={"xatol": 1e-10})
-                if refined.fun < value:
-                    candidate, value = float(refined.x), float(refined.fun)
+
+                def capped(x: float, top: float = ceiling) -> float:
+                    return min(float(objective(np.array(x))), top)
+
+                x, refined = bounded_minimum(capped, float(left), float(right), xatol=1e-10)
+                if refined < value:
+                    candidate, value = x, refined
             if value < best_value:
                 best_q7, best_value = candidate, value
     return (best_q7, best_value) if best_q7 is not None else (None, None)
