@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 import redkin
 from redkin.collision import builtin_body, scene_of
 from redkin.collision.clearance import checked_pairs
-from redkin.collision.joint_motion import joint_levers, pair_displacements, pair_levers
+from redkin.collision.joint_motion import _joint_levers, pair_displacements, pair_levers
 
 CELL = {"margin": 0.01, "obstacles": [
     {"name": "post", "type": "capsule", "a": [0.45, 0.25, -0.2], "b": [0.45, 0.25, 1.2], "radius": 0.05},
@@ -34,7 +34,7 @@ def _looped(delta: np.ndarray, chain, body, pairs) -> np.ndarray:
     smaller of ``sum_{j <= k} delta_j L_j`` and ``sum_{j > k} delta_j L'_j``; two capsules on frames ``k1``, ``k2`` by
     at most the smaller of the sum of their moves and the levers of joints ``min(k1, k2) + 1 .. max(k1, k2)`` from
     either link (base side from the outer, tip side from the inner)."""
-    base, tip = joint_levers(chain, body)
+    base, tip = _joint_levers(chain, body)
     shift = np.empty(len(body))
     for c in range(len(body)):
         below = above = 0.0

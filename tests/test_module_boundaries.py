@@ -26,6 +26,7 @@ PUBLIC = {
     "redkin.arms.classify": {"ArmClass"},
     "redkin.arms.feasible_sets": {"CONTAINS_TOLERANCE"},
     "redkin.closed_form": {"ClosedFormSolutions"},
+    "redkin.collision.joint_motion": {"PairLevers"},
     "redkin.cli.main": {"main"},
     "redkin.reproduce": {"SECTION_MODULES"},
     "redkin.srs.feasible": {"LimitTables"},

@@ -25,7 +25,7 @@ from redkin.collision.body import Body, capsule_ends, posed
 from redkin.collision.clearance import CheckedPairs
 
 
-def joint_levers(chain: SerialChain, body: Body) -> tuple[np.ndarray, np.ndarray]:
+def _joint_levers(chain: SerialChain, body: Body) -> tuple[np.ndarray, np.ndarray]:
     """Per capsule and joint ``(M, n)``: bounds of the distance of the capsule's segment from the joint's axis in
     every configuration, along the path through the axes from the capsule's link down to the joint (base side, joints
     ``j <= k`` of a capsule on frame ``k``; 0 for the others) and up to it (tip side, joints ``j > k``)."""
@@ -49,7 +49,7 @@ def joint_levers(chain: SerialChain, body: Body) -> tuple[np.ndarray, np.ndarray
 @dataclass(frozen=True)
 class PairLevers:
     """The levers of a body's checked pairs (:func:`pair_levers`): per capsule and joint ``(M, n)`` the base-side and
-    tip-side levers of :func:`joint_levers`; per checked pair its capsule ``capsule`` ``(P,)``; the self pairs
+    tip-side levers of :func:`_joint_levers`; per checked pair its capsule ``capsule`` ``(P,)``; the self pairs
     ``own`` (indices into the pairs), their two capsules ``first`` and ``second``, and per self pair and joint the
     levers of their relative motion ``outer`` and ``inner`` ``(S, n)`` (base side from the outer link, tip side from
     the inner one), zero outside the joints between the two links."""
@@ -67,7 +67,7 @@ class PairLevers:
 def pair_levers(chain: SerialChain, body: Body, pairs: CheckedPairs) -> PairLevers:
     """The levers :func:`pair_displacements` weighs the joints' bounds by, for ``body``'s checked ``pairs`` on
     ``chain``: computed once per body and scene."""
-    base, tip = joint_levers(chain, body)
+    base, tip = _joint_levers(chain, body)
     own = np.flatnonzero(pairs.other >= 0)
     first, second = pairs.capsule[own], pairs.other[own]
     k1, k2 = body.frame[first], body.frame[second]
