@@ -372,7 +372,6 @@ def test_the_expansion_in_the_limits_is_the_product_of_the_factors(seed, model):
     np.testing.assert_allclose(np.prod(per_elbow, axis=-1).real, both, rtol=1e-9, atol=1e-12 * np.abs(both).max())
 
 
-
 def _level_setting(seed: int, model: str | None, width: float):
     """A pose's :func:`_kernels.limit_spectra`, the basis of random bands (``levels`` (3, 7): lower, upper, tested;
     each band at most ``2 width`` wide, as ``levels_crossed`` receives them) and a random ``theta_7``: ``(arm,
