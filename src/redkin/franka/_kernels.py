@@ -457,20 +457,15 @@ def component_bounds(spectra, arm, bounds):
     """What each component of one pose's :func:`limit_spectra` (``spectra`` (6, 5, 9): joint, basis index ``i``,
     ``s_0 .. s_D``) adds to the bounds of a level polynomial built from it (:func:`level_polynomial`, whose
     coefficients are ``g_k = sum_i s_ik b_i`` with every basis entry ``|b_i| <= 1``), into ``bounds`` (6, 5, 3):
-    ``|s_0| + 2 sum_k |s_k|`` (of the largest value, :func:`zero_floor`), ``sum_k (|Re s_k| + |Im s_k|)``, twice for
-    ``k > 0`` (of the terms, :func:`level_polynomial`) and ``2 sum_k k^3 |s_k|`` (of ``B3``, :func:`global_bounds`).
+    the first three of :func:`row_bounds` of the component's row: ``|s_0| + 2 sum_k |s_k|`` (of the largest value,
+    :func:`zero_floor`), ``sum_k (|Re s_k| + |Im s_k|)``, twice for ``k > 0`` (of the terms,
+    :func:`level_polynomial`) and ``2 sum_k k^3 |s_k|`` (of ``B3``, :func:`global_bounds`).
     A level polynomial's are at most ``sum_i |b_i|`` times these (the triangle inequality); the components past
     :func:`factor_count` (zeros: :func:`expanded_limits`) are skipped."""
     for joint in range(6):
         degree = degree_of(arm, 2 * joint)
         for i in range(factor_count(arm, joint) + 1):
-            s = spectra[joint, i, 0]
-            size, terms, bound3 = abs(s), abs(s.real) + abs(s.imag), 0.0
-            for k in range(1, degree + 1):
-                s = spectra[joint, i, k]
-                size += 2.0 * abs(s)
-                terms += 2.0 * (abs(s.real) + abs(s.imag))
-                bound3 += 2.0 * k * k * k * abs(s)
+            size, terms, bound3, _ = row_bounds(spectra[joint, i, :degree + 1])
             bounds[joint, i, 0], bounds[joint, i, 1], bounds[joint, i, 2] = size, terms, bound3
 
 
@@ -556,12 +551,24 @@ def global_bounds(half, terms):
     :data:`_NEAR_ZERO` of ``G``'s largest possible value, or :data:`_TERM_ROUNDING` of ``terms``, the size of the
     terms its coefficients were summed from (:func:`level_polynomial`; 0 for coefficients computed directly),
     whichever is larger."""
-    bound3, bound4, size = 0.0, 0.0, abs(half[0])
+    size, _, bound3, bound4 = row_bounds(half)
+    return bound3, bound4, zero_floor(size, terms)
+
+
+@kernel
+def row_bounds(half):
+    """The sizes of a trigonometric polynomial's ``half = (g_0, ..., g_D)``: its largest possible value ``|g_0| + 2
+    sum_k |g_k|``, the same with ``|Re g_k| + |Im g_k|`` for ``|g_k|`` (the size of the terms a polynomial summed
+    from it rounds by, :func:`component_bounds`), and ``B3`` and ``B4``, bounds of its third and fourth derivatives
+    on the whole circle (``Bn = 2 sum_k k^n |g_k|``)."""
+    size, terms = abs(half[0]), abs(half[0].real) + abs(half[0].imag)
+    bound3, bound4 = 0.0, 0.0
     for k in range(1, half.shape[0]):
         bound3 += 2.0 * k * k * k * abs(half[k])
         bound4 += 2.0 * k * k * k * k * abs(half[k])
         size += 2.0 * abs(half[k])
-    return bound3, bound4, zero_floor(size, terms)
+        terms += 2.0 * (abs(half[k].real) + abs(half[k].imag))
+    return size, terms, bound3, bound4
 
 
 @kernel
