@@ -206,19 +206,20 @@ def curves_through(arm: NearlySRS, pose: ArrayLike, solutions: ArrayLike, most: 
 def _through(arm: NearlySRS, target: np.ndarray, seeds: np.ndarray, angles: np.ndarray, rows: np.ndarray,
              most: int) -> tuple[tuple[SelfMotion, ...], bool]:
     """The curves through the solutions ``seeds`` (M, 7) at arm angles ``angles`` on branches ``rows``: each seed
-    followed unless a curve found before passes through it (:func:`_passes`), ``most`` curves and :data:`_BUDGET`
-    points at most; and whether every seed was followed or lies on a curve."""
+    followed unless a curve followed from an earlier seed passes through it (:func:`_passes`, asked of the later
+    seeds once a curve is followed), ``most`` curves and :data:`_BUDGET` points at most; and whether every seed was
+    followed or lies on a curve."""
     curves: list[SelfMotion] = []
-    branches: list[set[int]] = []  # the branches each curve's steps lie on: only those can pass through a seed
+    covered = np.zeros(len(seeds), dtype=bool)  # on a curve followed from an earlier seed
     room = _Room(_MOST_POINTS)
-    for seed, angle, row in zip(seeds, angles, rows):
-        if any(int(row) in on and _passes(curve, float(angle), int(row), seed)
-               for curve, on in zip(curves, branches, strict=True)):
+    for n, seed in enumerate(seeds):
+        if covered[n]:
             continue
         if len(curves) == most or sum(len(curve.psi) for curve in curves) >= _BUDGET:
             return tuple(curves), False
         curves.append(_followed(arm, target, np.array(seed, dtype=float), _LONGEST, room))
-        branches.append(set(np.unique(curves[-1].branches).tolist()))
+        later = n + 1 + np.flatnonzero(~covered[n + 1:])
+        covered[later] = _passes(curves[-1], angles[later], rows[later], seeds[later])
     return tuple(curves), True
 
 
@@ -396,9 +397,20 @@ def finer_steps(arm: NearlySRS, pose: np.ndarray, curve: SelfMotion, k: int, lon
 def _crossings(curve: SelfMotion, angle: float, row: int) -> np.ndarray:
     """The steps of ``curve`` on branch ``row`` whose ends lie on either side of the arm angle ``angle`` (or at
     it)."""
-    before = np.asarray(wrap_angle(curve.psi[:-1] - angle))
-    after = before + np.asarray(wrap_angle(curve.psi[1:] - curve.psi[:-1]))
-    return np.flatnonzero((curve.branches == row) & (before * after <= 0.0) & ((before != 0.0) | (after != 0.0)))
+    return _crossing_steps(curve, np.array([angle]), np.array([row]))[1]
+
+
+def _crossing_steps(curve: SelfMotion, angles: np.ndarray, rows: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_crossings` of each arm angle ``angles`` (S,) on its branch ``rows`` (S,) at once: the pairs (index
+    into ``angles``, step) in row-major order, and at each the step's start less its angle and the step's change of
+    arm angle (both wrapped)."""
+    width = np.asarray(wrap_angle(curve.psi[1:] - curve.psi[:-1]))
+    before = np.asarray(wrap_angle(curve.psi[:-1] - angles[:, None]))
+    after = before + width
+    which, k = np.nonzero((curve.branches == rows[:, None]) & (before * after <= 0.0)
+                          & ((before != 0.0) | (after != 0.0)))
+    return which, k, before[which, k], width[k]
 
 
 def _located(arm: NearlySRS, target: np.ndarray, curve: SelfMotion, k: int, angle: float) -> np.ndarray | None:
@@ -441,15 +453,14 @@ def _point(arm: NearlySRS, target: np.ndarray, start: np.ndarray, direction: np.
     return point, float(wrap_angle(arm_angle(arm, point) - angle))
 
 
-def _passes(curve: SelfMotion, angle: float, row: int, q: np.ndarray) -> bool:
-    """Whether ``curve`` passes through the solution ``q`` (7,) of branch ``row`` at the arm angle ``angle``: a step
-    of the branch crossing ``angle`` whose chord there (by the arm angle's share) lies within :data:`_SAME_CURVE`
-    of ``q``, modulo whole turns."""
-    for k in _crossings(curve, angle, row):
-        before = float(wrap_angle(curve.psi[k] - angle))
-        width = float(wrap_angle(curve.psi[k + 1] - curve.psi[k]))
-        share = -before / width if width != 0.0 else 0.0
-        chord = curve.q[k] + share * (curve.q[k + 1] - curve.q[k])
-        if np.max(np.abs(wrap_angle(chord - q))) <= _SAME_CURVE:
-            return True
-    return False
+def _passes(curve: SelfMotion, angles: np.ndarray, rows: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Whether ``curve`` passes through each solution ``q`` (S, 7) of branch ``rows`` (S,) at the arm angle
+    ``angles`` (S,): a step of the branch crossing the angle whose chord there (by the arm angle's share) lies within
+    :data:`_SAME_CURVE` of the solution, modulo whole turns."""
+    which, k, before, width = _crossing_steps(curve, angles, rows)
+    share = np.divide(-before, width, out=np.zeros_like(before), where=width != 0.0)
+    chord = curve.q[k] + share[:, None] * (curve.q[k + 1] - curve.q[k])
+    near = np.max(np.abs(np.asarray(wrap_angle(chord - q[which]))), axis=1, initial=0.0) <= _SAME_CURVE
+    passes = np.zeros(len(angles), dtype=bool)
+    passes[which[near]] = True
+    return passes
