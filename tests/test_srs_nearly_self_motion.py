@@ -21,6 +21,8 @@ elbow:
   our FK, arm angle, branch and limits;
 - **a straight wrist's gap is kept** (issue 38): on Gen3 poses where the wrist is within 1e-4 rad of straight, the
   branch has no solution in a gap narrower than a grid of 2880 arm angles resolves; the set leaves it out;
+- **a seed on a followed curve is known at once**: the curve passes through each of its own points (so
+  :func:`whole_self_motion` follows no curve twice), and asking many solutions together answers as asking each alone;
 - ``branch_solutions`` on the pose with two solutions on one branch returns both, certified, each once, nearly.ik's
   row first;
 - bad input raises ValueError.
@@ -36,6 +38,7 @@ from hypothesis import strategies as st
 from redkin.srs import BRANCHES, branch_solutions, feasible_arm_angles_nearly_all, self_motion, self_motions
 from redkin.srs.branches import parse_branch
 from redkin.srs.nearly import arm_angle, branch_of, ik
+from redkin.srs.nearly.self_motion import _passes
 from tests.test_srs_nearly_feasible import _arm
 
 #: The Gen3 pose with two solutions on one branch (benchmarks/README.md, issue 27, pose 643 of the sequence).
@@ -158,6 +161,25 @@ def test_every_arm_angle_of_the_feasible_set_has_a_solution(name, seed, near):
                     & (np.abs(_wrapped(arm_angle(arm, solutions) - angle)) < 1e-9)
                     & (branch_of(arm, solutions) == row) & arm.chain.within_limits(solutions, wrap=True))
             assert good.any(), f"no solution of {BRANCHES[row]} within the limits at psi = {angle!r}"
+
+
+@settings(max_examples=6, deadline=None)
+@given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
+       near=st.sampled_from(NEAR))
+def test_a_curve_passes_through_its_own_points_asked_together_or_alone(name, seed, near):
+    arm, q = _configuration(name, seed, near)
+    curve = self_motions(arm, arm.chain.fk(q))[0]
+    rng = np.random.default_rng(seed)
+    steps = np.flatnonzero(curve.branches >= 0)
+    own = rng.choice(steps, min(40, len(steps)), replace=False)
+    assert _passes(curve, curve.psi[own], curve.branches[own], curve.q[own]).all()
+    moved = curve.q[own].copy()
+    moved[1::2] += 0.05 * rng.choice([-1.0, 1.0], (len(own) // 2, 7))  # every other one off the curve
+    together = _passes(curve, curve.psi[own], curve.branches[own], moved)
+    alone = [_passes(curve, curve.psi[own[n:n + 1]], curve.branches[own[n:n + 1]], moved[n:n + 1])[0]
+             for n in range(len(own))]
+    assert together.tolist() == alone
+    assert together[::2].all() and not together.all()
 
 
 def test_two_solutions_on_one_branch():
