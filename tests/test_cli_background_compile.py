@@ -1,5 +1,7 @@
 """A command that ran as Python on a fresh cache compiles its kernels in the background (redkin.cli.background_compile):
-``redkin compile --section``, the lock that keeps one compile per cache, and the sections each such command names."""
+``redkin compile --section``, the lock that keeps one compile per cache, and the sections each such command names;
+and a nearly S-R-S arm's path, compiled from its first call, compiles in two processes at once
+(``redkin.cli.common.compiled_beside``)."""
 
 import ast
 import json
@@ -9,6 +11,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from redkin.cli.background_compile import (
@@ -22,7 +25,13 @@ from redkin.cli.background_compile import (
 )
 from redkin.cli.cell import CELL_SETS_KERNELS, CELL_SETS_SECTIONS
 from redkin.cli.explore import _PAGE_KERNELS, _PAGE_SECTIONS
-from redkin.cli.path import _CELL_PATH_KERNELS, _FRANKA_PATH_KERNELS, _FRANKA_PATH_SECTIONS
+from redkin.cli.path import (
+    _CELL_PATH_KERNELS,
+    _FRANKA_PATH_KERNELS,
+    _FRANKA_PATH_SECTIONS,
+    _NEARLY_PATH_KERNELS,
+    _NEARLY_PATH_SECTIONS,
+)
 from redkin.cli.srs import (
     _NEARLY_SETS_KERNELS,
     _NEARLY_SETS_SECTIONS,
@@ -42,6 +51,7 @@ CALL_SITES = {
     "collision-free sets, S-R-S": (CELL_SETS_KERNELS["psi"], CELL_SETS_SECTIONS["psi"]),
     "collision-free sets, Franka class": (CELL_SETS_KERNELS["q7"], CELL_SETS_SECTIONS["q7"]),
     "path in a cell": ((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), (*CELL_SETS_SECTIONS["psi"], "paths")),
+    "path of a nearly S-R-S arm, beside it": (_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS),
 }
 
 
@@ -215,3 +225,81 @@ def test_a_nearly_pose_over_its_python_time_waits_for_the_compile_and_runs_compi
     out, err, compiled, here = _nearly_arm_angles(0.3, capsys)
     assert compiled and "still running as Python after 0 s" in err
     assert json.loads(out) == json.loads(here)
+
+
+def _spawned(seconds: float) -> int:
+    """The process id of a child of this process that sleeps ``seconds``."""
+    return os.posix_spawn("/bin/sleep", ["sleep", str(seconds)], dict(os.environ))
+
+
+def _ended(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    return False
+
+
+def test_compiled_beside_compiles_here_while_the_other_process_runs_then_waits_for_it(monkeypatch, capsys):
+    """Where the kernels are not on disk, :func:`compiled_beside` starts the sections' compile, says so naming the
+    process, runs ``first`` while that process runs, and returns once it has ended (reaped); where they are on disk,
+    or no compile could be started, it does nothing of this (everything then compiles in this process)."""
+    import redkin._compiled
+    import redkin.cli.background_compile as background
+    from redkin.cli.common import compiled_beside
+
+    started: list[tuple[str, ...]] = []
+    children: list[int] = []
+
+    def start(sections):
+        started.append(tuple(sections))
+        children.append(_spawned(0.5))
+        return children[-1]
+
+    monkeypatch.setattr(background, "start", start)
+    monkeypatch.setattr(redkin._compiled, "kernels_on_disk", lambda *kernels: False)
+    seen: list[bool] = []
+    compiled_beside(_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS, "the test's kernels",
+                    lambda: seen.append(_ended(children[-1])))
+    err = capsys.readouterr().err
+    assert started == [_NEARLY_PATH_SECTIONS] and seen == [False]  # first ran while the other process did
+    assert f"compiling the test's kernels in a second process beside this one (process {children[-1]}," in err
+    assert _ended(children[-1])  # waited for and reaped, not a zombie
+    monkeypatch.setattr(background, "start", lambda sections: None)
+    compiled_beside(_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS, "the test's kernels", lambda: seen.append(True))
+    monkeypatch.setattr(redkin._compiled, "kernels_on_disk", lambda *kernels: True)
+    monkeypatch.setattr(background, "start", start)
+    compiled_beside(_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS, "the test's kernels", lambda: seen.append(True))
+    assert seen == [False] and len(started) == 1 and capsys.readouterr().err == ""
+
+
+@pytest.mark.slow
+def test_a_first_nearly_path_compiles_the_self_motion_in_a_second_process(tmp_path):
+    """On a fresh cache with background compiles on, ``path kinova-gen3`` compiles the certified self-motion's and
+    the search's kernels in a second process while it compiles the IK's: it says so, compiles neither ``traced`` nor
+    ``sweep`` itself (the sections' calls compile them with the path's own types, so it loads them from the cache),
+    and prints the path the command prints on the ambient cache."""
+    keys = [np.eye(4), np.eye(4)]
+    keys[0][:3, 3] = keys[1][:3, 3] = [0.3, 0.0, 0.6]
+    keys[1][1, 3] = -0.05
+    rotation = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]])
+    for key in keys:
+        key[:3, :3] = rotation
+    (tmp_path / "keys.json").write_text(json.dumps([key.tolist() for key in keys]))
+    argv = ["path", "kinova-gen3", "--through", str(tmp_path / "keys.json"), "--step", "0.01", "--max-step", "0.1",
+            "--json"]
+    code = "\n".join([
+        "import contextlib, io",
+        "from redkin.cli.main import main",
+        "out, err = io.StringIO(), io.StringIO()",
+        "with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):",
+        f"    status = main({argv!r})",
+        "print((status, out.getvalue(), err.getvalue()))",
+    ])
+    status, out, err = _python(code, {"NUMBA_CACHE_DIR": str(tmp_path / "fresh"), _ENVIRONMENT: "1",
+                                      "REDKIN_COMPILE_NOTICE": "1"})
+    assert status == 0 and "in a second process beside this one (process " in err
+    assert "compiling solve" in err  # this process compiled the IK, with its notices on
+    assert "compiling traced" not in err and "compiling sweep" not in err
+    here_status, here, _ = _python(code, {})
+    assert here_status == 0 and json.loads(out) == json.loads(here)

@@ -512,9 +512,15 @@ def use_compiled() -> None:
 
 
 def kernels_cached(*kernels: Callable) -> bool:
+    """Whether running ``kernels`` compiled costs a load from numba's cache, not a compile
+    (:func:`kernels_on_disk`), told without importing numba; ``True`` once it is loaded (the kernels run compiled
+    anyway)."""
+    return _numba_loaded or kernels_on_disk(*kernels)
+
+
+def kernels_on_disk(*kernels: Callable) -> bool:
     """Whether numba's on-disk cache holds each of ``kernels``, and every kernel they call
-    (:func:`_kernels_called`), for the current sources, so that running them compiled costs a load from the cache,
-    not a compile; told without importing numba (``True`` once it is loaded: the kernels run compiled anyway).
+    (:func:`_kernels_called`), for the current sources, whether or not numba is loaded.
 
     The folder is the one numba would choose (module docstring, items 1-3: ``NUMBA_CACHE_DIR``'s subfolder for the
     source folder, else a writable ``__pycache__`` beside the source, else the user's cache directory's subfolder),
@@ -523,8 +529,7 @@ def kernels_cached(*kernels: Callable) -> bool:
     folder numba would find in a way not mirrored here, reads as not cached: the caller then runs the work as
     Python, which costs time but never a wrong answer.
     """
-    return _numba_loaded or all(_in_cache(function) for each in kernels
-                                for function in _kernels_called(getattr(each, "py_func", each)))
+    return all(_in_cache(function) for each in kernels for function in _kernels_called(getattr(each, "py_func", each)))
 
 
 def _in_cache(function: Callable) -> bool:

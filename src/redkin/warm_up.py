@@ -91,7 +91,17 @@ def _nearly_srs(rng: np.random.Generator) -> None:
     nearly.ik(arm, poses[0], psi[0]), nearly.ik(arm, poses, psi, "+-+")
     srs.neighbour_distance(arm, poses[0], psi[0], "+-+"), srs.neighbour_distance(arm, poses[0], psi, "+-+")
     srs.feasible_arm_angles_nearly(arm, poses[0], "+-+")
-    srs.self_motion(arm, poses[0], q[0]), srs.branch_solutions(arm, poses[0], float(psi[0]), "+-+")
+    srs.branch_solutions(arm, poses[0], float(psi[0]), "+-+")
+
+
+def _nearly_self_motion(rng: np.random.Generator) -> None:
+    """The certified self-motion from a solution, alone: its kernels without :func:`_nearly_srs`'s IK, so that a
+    second process compiles them while the first compiles the IK (``redkin path`` on a nearly S-R-S arm)."""
+    from redkin import models, srs
+
+    arm = srs.nearly_srs(models.kinova_gen3())
+    q = rng.uniform(-1, 1, 7)
+    srs.self_motion(arm, arm.chain.fk(q), q)
 
 
 def _numerical(rng: np.random.Generator) -> None:
@@ -116,6 +126,21 @@ def _paths(rng: np.random.Generator) -> None:
     franka = models.franka_fr3()
     q = np.array([0.3, -0.5, 0.2, -2.0, 0.4, 1.8, 0.5]) + np.linspace(0.0, 0.2, 8)[:, None]
     paths.resolve_path(franka, franka.fk(q), 0.2, thorough=True)
+
+
+def _path_search(rng: np.random.Generator) -> None:
+    """The path graph's dynamic programming alone (:func:`redkin.paths.search.run`), on a small graph of random
+    nodes: what a second process compiles beside a nearly S-R-S arm's path (:func:`_nearly_self_motion`)."""
+    from redkin import models
+    from redkin.paths.graph import Arm, Graph
+    from redkin.paths.search import run
+
+    nodes = 12
+    q = rng.uniform(-1, 1, (nodes, 7))
+    graph = Graph(np.arange(0, nodes + 1, 4), np.zeros(nodes, dtype=np.int64), np.zeros(nodes, dtype=np.int64),
+                  np.zeros(nodes), q, np.ones(nodes))
+    arm = Arm(models.kinova_gen3(), np.full(7, 2.0), np.zeros(7, dtype=bool))
+    run(arm, graph, np.array([0, 3]), np.ones(nodes), np.zeros(nodes))
 
 
 def _torso_arm(rng: np.random.Generator) -> None:
@@ -205,9 +230,11 @@ _SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("srs ik", _srs_ik),
     ("srs sets", _srs_sets),
     ("franka", _franka),
+    ("nearly self-motion", _nearly_self_motion),
     ("nearly S-R-S", _nearly_srs),
     ("numerical ik", _numerical),
     ("paths", _paths),
+    ("path search", _path_search),
     ("torso arm", _torso_arm),
     ("velocity", _velocity),
     ("virtual arms", _virtual_arms),
@@ -283,9 +310,11 @@ def warm_up(progress: Callable[[str], None] | None = None, processes: int = 1,
 
 
 #: Each section's CPU seconds on a fresh cache after the sections before it (``redkin compile --json``, 2 cores,
-#: 2026-12-04): only the order in which several processes take them, the longest first (a section not listed last).
-_EXPECTED = {"chain": 5.2, "srs ik": 9.4, "srs sets": 5.2, "franka": 25.9, "nearly S-R-S": 47.1, "numerical ik": 10.1,
-             "paths": 6.6, "torso arm": 7.7, "velocity": 8.9, "virtual arms": 2.1, "collision": 6.8}
+#: 2026-12-04; the nearly S-R-S sections and the path search 2026-12-07, the search alone): only the order in which
+#: several processes take them, the longest first (a section not listed last).
+_EXPECTED = {"chain": 5.2, "srs ik": 9.4, "srs sets": 5.2, "franka": 25.9, "nearly self-motion": 18.7,
+             "nearly S-R-S": 23.2, "numerical ik": 10.1, "paths": 6.6, "path search": 3.2, "torso arm": 7.7,
+             "velocity": 8.9, "virtual arms": 2.1, "collision": 6.8}
 
 
 def expected_seconds(sections: Sequence[str]) -> float:

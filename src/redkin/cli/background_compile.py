@@ -17,6 +17,11 @@ Work that is usually quick as Python but may not be (a nearly S-R-S arm's sets: 
 minute and more next to a singular configuration) runs as Python within a time limit while the compile runs
 (:func:`within_seconds`); past it the command waits for the compile to end (:func:`wait_for_compile`) and runs
 compiled, which costs little more than compiling in the foreground from the start.
+
+Work that runs compiled from its first call because Python would take longer than compiling (a nearly S-R-S arm's
+path: its sets of every waypoint) uses the same process to compile in two at once: the background compile takes the
+sections of one part of its kernels while the command compiles the other part, then waits for it to end
+(:func:`wait_for_process`; :func:`redkin.cli.common.compiled_beside`).
 """
 
 from __future__ import annotations
@@ -164,3 +169,11 @@ def wait_for_compile(poll: float = 0.5) -> None:
     """Return once no ``redkin compile`` of this cache holds its lock (:func:`_compile_running`)."""
     while _compile_running():
         time.sleep(poll)
+
+
+def wait_for_process(pid: int) -> None:
+    """Return once the process ``pid`` this one started (:func:`start`) has ended, and reap it."""
+    try:
+        os.waitpid(pid, 0)
+    except ChildProcessError:  # reaped already, or not this process's child
+        pass

@@ -9,7 +9,7 @@ import re
 import sys
 import time
 import warnings
-from collections.abc import Collection, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
@@ -262,6 +262,32 @@ def python_until_compiled(kernels: Sequence[str], work: str, sections: Sequence[
     print(f"redkin: note: the kernels of {work} are not compiled yet, so it runs as Python (compiled it runs two "
           f"to three times faster); {compiling_later(sections)}", file=sys.stderr)
     return True
+
+
+def compiled_beside(kernels: Sequence[str], sections: Sequence[str], work: str, first: Callable[[], object]) -> None:
+    """Compile large work's kernels in two processes at once: where the ``kernels`` (``module.function`` names) or
+    kernels they call are not in numba's cache, start ``redkin compile --background`` of the ``sections`` of
+    :mod:`redkin.warm_up` that compile them (:func:`redkin.cli.background_compile.start`), compile here what
+    ``first`` calls meanwhile, then wait for that process to end; the work that follows loads what it compiled from
+    the cache.  numba compiles serially within a process, so on two free cores the wait is the longer of the two
+    compiles, not their sum.  Says so on stderr, naming ``work``.  Where background compiles are off, or one of this
+    cache runs already, everything compiles here as it is called."""
+    from redkin._compiled import kernels_on_disk
+    from redkin.cli.background_compile import start, wait_for_process
+
+    if kernels_on_disk(*_kernels_named(kernels)):
+        return
+
+    try:
+        pid = start(sections)
+    except OSError:
+        pid = None
+    if pid is None:
+        return
+    print(f"redkin: note: compiling {work} in a second process beside this one (process {pid}, 'redkin compile "
+          + " ".join(f"--section {section!r}" for section in sections) + " --background')", file=sys.stderr)
+    first()
+    wait_for_process(pid)
 
 
 def compiling_later(sections: Sequence[str]) -> str:

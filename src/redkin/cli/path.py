@@ -26,6 +26,7 @@ from redkin.cli.common import (
     angle_unit,
     angles_in,
     angles_out,
+    compiled_beside,
     fixed,
     format_values,
     joint_vector,
@@ -202,6 +203,11 @@ _FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.franka.
                         "redkin.paths._dp_kernels.q7_node_rows", "redkin.paths._dp_kernels.sweep")
 #: The sections of :mod:`redkin.warm_up` that compile them (in the background, on a fresh cache).
 _FRANKA_PATH_SECTIONS = ("franka", "paths")
+#: The kernels of a nearly S-R-S arm's path that a second process compiles while the command compiles its IK's
+#: (:func:`redkin.cli.common.compiled_beside`): the certified self-motion's and the path graph's search, by the
+#: sections of :mod:`redkin.warm_up` that call each alone.
+_NEARLY_PATH_KERNELS = ("redkin.srs.nearly._self_motion_kernels.traced", "redkin.paths._dp_kernels.sweep")
+_NEARLY_PATH_SECTIONS = ("nearly self-motion", "path search")
 #: The kernels of a path in a cell beside its sets' (:data:`redkin.cli.cell.CELL_SETS_KERNELS`, whose clearances
 #: also measure the steps between waypoints): the path graph's sweep.
 _CELL_PATH_KERNELS = ("redkin.paths._dp_kernels.sweep",)
@@ -212,6 +218,22 @@ def _parameter(chain, srs_tolerance: float | None) -> str:
     from redkin.paths.arm_family import path_family
 
     return path_family(chain, srs_tolerance).parameter
+
+
+def _compile_nearly_in_two(chain, srs_tolerance: float | None) -> None:
+    """On a fresh cache, the kernels of a nearly S-R-S arm's path compiled in two processes: the self-motion's in
+    the background (:data:`_NEARLY_PATH_KERNELS`) while this one compiles the IK's, by the self-motion's seeds at a
+    pose of the arm's own (:func:`redkin.srs.nearly.self_motion.seed_solutions`)."""
+    from redkin.paths.arm_family import path_family
+    from redkin.paths.family import NearlyFamily
+    from redkin.srs.nearly.self_motion import seed_solutions
+
+    family = path_family(chain, srs_tolerance)
+    if not isinstance(family, NearlyFamily):
+        return
+    pose = chain.fk(np.clip(np.zeros_like(chain.lower), chain.lower, chain.upper))
+    compiled_beside(_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS, "the certified self-motion's and the search's kernels",
+                    lambda: seed_solutions(family.nearly, pose))
 
 
 def _model_line(chain, srs_tolerance: float | None) -> str | None:
@@ -419,6 +441,8 @@ def _run_path(args: argparse.Namespace) -> int:
         small = python_until_compiled((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), "this path in a cell",
                                       (*CELL_SETS_SECTIONS["psi"], "paths"))
     small_work(small)
+    if model is not None:
+        _compile_nearly_in_two(chain, args.srs_tolerance)
     degrees = args.deg
     unit = angle_unit(degrees)
     if not args.json:  # what the path rests on, before the search (seconds on a nearly S-R-S arm)

@@ -37,7 +37,7 @@ from redkin.errors import RedkinError
 from redkin.srs._targets import check_psi
 from redkin.srs.branches import BRANCHES, Branch, parse_branch
 from redkin.srs.nearly import _self_motion_kernels
-from redkin.srs.nearly.arm import NearlySRS, arm_angle, branch_of, ik
+from redkin.srs.nearly.arm import NearlySolutions, NearlySRS, arm_angle, branch_of, ik
 
 #: Longest step [rad of arc length in joint space] of the continuation (the certificate sets shorter ones).
 _LONGEST = 0.2
@@ -167,11 +167,7 @@ def whole_self_motion(arm: NearlySRS, pose: ArrayLike) -> tuple[tuple[SelfMotion
     target = np.ascontiguousarray(check_pose(pose), dtype=float)
     if target.shape != (4, 4):
         raise RedkinError(f"pose must be one (4, 4) pose, got shape {target.shape}")
-    grid = SEEDS
-    solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid)
-    if not solved.exists.all():
-        grid = _FINE_SEEDS
-        solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid)
+    grid, solved = seed_solutions(arm, target)
     found = np.nonzero(solved.exists)
     seeds, angles, rows = solved.q[found], grid[found[0]], found[1]
     if len(seeds) == 0:
@@ -184,6 +180,19 @@ def whole_self_motion(arm: NearlySRS, pose: ArrayLike) -> tuple[tuple[SelfMotion
         angles, rows = arm_angle(arm, seeds), branch_of(arm, seeds)
     curves, followed = _through(arm, target, seeds, angles, rows, len(seeds))
     return curves, followed and bool(curves) and all(curve.closed for curve in curves)
+
+
+def seed_solutions(arm: NearlySRS, target: np.ndarray) -> tuple[np.ndarray, NearlySolutions]:
+    """The seeds of :func:`whole_self_motion` at one pose (4, 4) (validated): the arm angles and
+    :func:`redkin.srs.nearly.ik`'s solutions of every branch there, at :data:`SEEDS`, or at :data:`_FINE_SEEDS`
+    where a branch has no solution at one of those.  (The call whose kernels ``redkin path`` on a nearly S-R-S arm
+    compiles while a second process compiles the self-motion's.)"""
+    grid = SEEDS
+    solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid)
+    if not solved.exists.all():
+        grid = _FINE_SEEDS
+        solved = ik(arm, np.broadcast_to(target, grid.shape + (4, 4)), grid)
+    return grid, solved
 
 
 def curves_through(arm: NearlySRS, pose: ArrayLike, solutions: ArrayLike, most: int = 16) -> tuple[SelfMotion, ...]:
