@@ -26,11 +26,11 @@ from redkin.cli.background_compile import (
 from redkin.cli.cell import CELL_SETS_KERNELS, CELL_SETS_SECTIONS
 from redkin.cli.explore import _PAGE_KERNELS, _PAGE_SECTIONS
 from redkin.cli.path import (
+    _BESIDE_KERNELS,
+    _BESIDE_SECTIONS,
     _CELL_PATH_KERNELS,
     _FRANKA_PATH_KERNELS,
     _FRANKA_PATH_SECTIONS,
-    _NEARLY_PATH_KERNELS,
-    _NEARLY_PATH_SECTIONS,
 )
 from redkin.cli.srs import (
     _NEARLY_SETS_KERNELS,
@@ -51,7 +51,9 @@ CALL_SITES = {
     "collision-free sets, S-R-S": (CELL_SETS_KERNELS["psi"], CELL_SETS_SECTIONS["psi"]),
     "collision-free sets, Franka class": (CELL_SETS_KERNELS["q7"], CELL_SETS_SECTIONS["q7"]),
     "path in a cell": ((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), (*CELL_SETS_SECTIONS["psi"], "paths")),
-    "path of a nearly S-R-S arm, beside it": (_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS),
+    "path of a nearly S-R-S arm, beside it": (_BESIDE_KERNELS["nearly"], _BESIDE_SECTIONS["nearly"]),
+    "path of the Franka class in a cell, beside it": (_BESIDE_KERNELS["q7 in a cell"],
+                                                      _BESIDE_SECTIONS["q7 in a cell"]),
 }
 
 
@@ -259,35 +261,47 @@ def test_compiled_beside_compiles_here_while_the_other_process_runs_then_waits_f
     monkeypatch.setattr(background, "start", start)
     monkeypatch.setattr(redkin._compiled, "kernels_on_disk", lambda *kernels: False)
     seen: list[bool] = []
-    compiled_beside(_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS, "the test's kernels",
-                    lambda: seen.append(_ended(children[-1])))
+    kernels, sections = _BESIDE_KERNELS["nearly"], _BESIDE_SECTIONS["nearly"]
+    compiled_beside(kernels, sections, "the test's kernels", lambda: seen.append(_ended(children[-1])))
     err = capsys.readouterr().err
-    assert started == [_NEARLY_PATH_SECTIONS] and seen == [False]  # first ran while the other process did
+    assert started == [sections] and seen == [False]  # first ran while the other process did
     assert f"compiling the test's kernels in a second process beside this one (process {children[-1]}," in err
     assert _ended(children[-1])  # waited for and reaped, not a zombie
     monkeypatch.setattr(background, "start", lambda sections: None)
-    compiled_beside(_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS, "the test's kernels", lambda: seen.append(True))
+    compiled_beside(kernels, sections, "the test's kernels", lambda: seen.append(True))
     monkeypatch.setattr(redkin._compiled, "kernels_on_disk", lambda *kernels: True)
     monkeypatch.setattr(background, "start", start)
-    compiled_beside(_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS, "the test's kernels", lambda: seen.append(True))
+    compiled_beside(kernels, sections, "the test's kernels", lambda: seen.append(True))
     assert seen == [False] and len(started) == 1 and capsys.readouterr().err == ""
 
 
+#: Each path that compiles from its first call in two processes: its robot, key poses' tool position, the extra
+#: arguments, and the kernels its own process must not compile (the second process's).
+BESIDE = {
+    "nearly S-R-S": ("kinova-gen3", [0.3, 0.0, 0.6], [], ("traced", "sweep")),
+    "Franka class in a cell": ("franka-panda", [0.45, 0.0, 0.4], ["--scene", "{cell}"], ("clearances", "sweep")),
+}
+
+
 @pytest.mark.slow
-def test_a_first_nearly_path_compiles_the_self_motion_in_a_second_process(tmp_path):
-    """On a fresh cache with background compiles on, ``path kinova-gen3`` compiles the certified self-motion's and
-    the search's kernels in a second process while it compiles the IK's: it says so, compiles neither ``traced`` nor
-    ``sweep`` itself (the sections' calls compile them with the path's own types, so it loads them from the cache),
-    and prints the path the command prints on the ambient cache."""
+@pytest.mark.parametrize("case", sorted(BESIDE))
+def test_a_first_path_compiles_in_two_processes(tmp_path, case):
+    """On a fresh cache with background compiles on, a first ``path`` on a nearly S-R-S arm (or of the Franka class
+    in a cell) compiles the certified self-motion's (the distances') and the search's kernels in a second process
+    while it compiles the IK's (the q7 sets'): it says so, compiles none of the second process's kernels itself (the
+    sections' calls compile them with the path's own types, so it loads them from the cache), and prints the path
+    the command prints on the ambient cache."""
+    robot, position, extra, elsewhere = BESIDE[case]
     keys = [np.eye(4), np.eye(4)]
-    keys[0][:3, 3] = keys[1][:3, 3] = [0.3, 0.0, 0.6]
-    keys[1][1, 3] = -0.05
-    rotation = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]])
     for key in keys:
-        key[:3, :3] = rotation
+        key[:3, :3] = [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]]
+        key[:3, 3] = position
+    keys[1][1, 3] -= 0.05
     (tmp_path / "keys.json").write_text(json.dumps([key.tolist() for key in keys]))
-    argv = ["path", "kinova-gen3", "--through", str(tmp_path / "keys.json"), "--step", "0.01", "--max-step", "0.1",
-            "--json"]
+    (tmp_path / "cell.yaml").write_text("margin: 0.01\nobstacles:\n  - {name: table, type: box, center: [0.5, 0, "
+                                        "-0.05], size: [0.6, 0.8, 0.1]}\n")
+    argv = ["path", robot, "--through", str(tmp_path / "keys.json"), "--step", "0.01", "--max-step", "0.1", "--json",
+            *(argument.format(cell=tmp_path / "cell.yaml") for argument in extra)]
     code = "\n".join([
         "import contextlib, io",
         "from redkin.cli.main import main",
@@ -299,7 +313,8 @@ def test_a_first_nearly_path_compiles_the_self_motion_in_a_second_process(tmp_pa
     status, out, err = _python(code, {"NUMBA_CACHE_DIR": str(tmp_path / "fresh"), _ENVIRONMENT: "1",
                                       "REDKIN_COMPILE_NOTICE": "1"})
     assert status == 0 and "in a second process beside this one (process " in err
-    assert "compiling solve" in err  # this process compiled the IK, with its notices on
-    assert "compiling traced" not in err and "compiling sweep" not in err
+    assert "kernels compiled in" in err  # this process compiled the rest, with its notices on
+    for kernel in elsewhere:
+        assert f"compiling {kernel}" not in err
     here_status, here, _ = _python(code, {})
     assert here_status == 0 and json.loads(out) == json.loads(here)

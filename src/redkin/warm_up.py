@@ -194,8 +194,24 @@ def _virtual_arms(rng: np.random.Generator) -> None:
     virtual_arms.generate_trajectory(planar, np.radians([30.0] * 5), [[0.6, 1.2]])
 
 
-def _collision(rng: np.random.Generator) -> None:
+def _pa10_cell():
+    """The PA10 with a forearm and a hand capsule, in a scene of a box and a ball (:func:`_collision_distances`,
+    :func:`_collision`)."""
+    from redkin import collision, models
+
+    chain = models.pa10_7c()
+    body = collision.body_of([collision.BodyCapsule("forearm", 4, [0, 0, 0], [0, 0, 0.2], 0.05),
+                              collision.BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.1], 0.05)], chain)
+    scene = collision.Scene(("box", "ball"), np.stack([collision.box([0.5, 0, 0], [0.2, 0.3, 0.4]),
+                                                       collision.sphere([0, 0.5, 0], 0.1)]), 0.01)
+    return chain, body, scene
+
+
+def _collision_distances(rng: np.random.Generator) -> None:
+    """The distances between shapes and a body's clearance in a scene, without an arm class's sets: what a second
+    process compiles beside a Franka-class arm's path in a cell (:func:`_path_search` too)."""
     from redkin import collision
+    from redkin.collision.clearance import pair_table
 
     bodies = [collision.sphere(rng.uniform(-1, 1, 3), 0.1), collision.capsule([0, 0, 0], [0, 0, 0.4], 0.05)]
     obstacles = [collision.box([0.5, 0, 0], [0.2, 0.3, 0.4]), collision.plane([0, 0, -1], [0, 0, 1]),
@@ -204,18 +220,16 @@ def _collision(rng: np.random.Generator) -> None:
     collision.signed_distance(pairs[0, 0], pairs[0, 1])
     many = np.resize(pairs, (_BATCH, 2, collision.WIDTH))
     collision.signed_distance(many[:, 0], many[:, 1])
-    from redkin import models  # the clearance of a body in a scene: its listed pairs in one pass
-
-    chain = models.pa10_7c()
-    body = collision.body_of([collision.BodyCapsule("forearm", 4, [0, 0, 0], [0, 0, 0.2], 0.05),
-                              collision.BodyCapsule("hand", 7, [0, 0, 0], [0, 0, 0.1], 0.05)], chain)
-    scene = collision.Scene(("box", "ball"), np.stack([obstacles[0], obstacles[2]]), 0.01)
+    chain, body, scene = _pa10_cell()  # the clearance of a body in a scene: its listed pairs in one pass
     collision.clearance(chain, body, scene, rng.uniform(-1, 1, (4, 7)))
-    from redkin.collision.clearance import pair_table  # every pair's distance (a path's steps in a cell)
+    pair_table(chain, body, scene, rng.uniform(-1, 1, (4, 7)))  # every pair's distance (a path's steps in a cell)
 
-    pair_table(chain, body, scene, rng.uniform(-1, 1, (4, 7)))
-    from redkin import arms  # the certified collision-free arm angles' compiled steps
 
+def _collision(rng: np.random.Generator) -> None:
+    from redkin import arms, collision
+
+    _collision_distances(rng)
+    chain, body, scene = _pa10_cell()  # the certified collision-free arm angles' compiled steps
     pose = chain.fk(np.array([0.1, 0.5, 0.0, 1.3, 0.0, 0.6, 0.0]))  # within its limits: arcs to decide
     collision.collision_free_arm_angles(arms.arm(chain), pose, body, scene, "+++")
     collision.collision_free_ik(chain, body, scene, pose)  # the numerical search that measures its candidates
@@ -238,6 +252,7 @@ _SECTIONS: tuple[tuple[str, Callable[[np.random.Generator], None]], ...] = (
     ("torso arm", _torso_arm),
     ("velocity", _velocity),
     ("virtual arms", _virtual_arms),
+    ("collision distances", _collision_distances),
     ("collision", _collision),
 )
 
@@ -314,7 +329,7 @@ def warm_up(progress: Callable[[str], None] | None = None, processes: int = 1,
 #: several processes take them, the longest first (a section not listed last).
 _EXPECTED = {"chain": 5.2, "srs ik": 9.4, "srs sets": 5.2, "franka": 25.9, "nearly self-motion": 18.7,
              "nearly S-R-S": 23.2, "numerical ik": 10.1, "paths": 6.6, "path search": 3.2, "torso arm": 7.7,
-             "velocity": 8.9, "virtual arms": 2.1, "collision": 6.8}
+             "velocity": 8.9, "virtual arms": 2.1, "collision distances": 6.8, "collision": 6.8}
 
 
 def expected_seconds(sections: Sequence[str]) -> float:

@@ -203,11 +203,14 @@ _FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.franka.
                         "redkin.paths._dp_kernels.q7_node_rows", "redkin.paths._dp_kernels.sweep")
 #: The sections of :mod:`redkin.warm_up` that compile them (in the background, on a fresh cache).
 _FRANKA_PATH_SECTIONS = ("franka", "paths")
-#: The kernels of a nearly S-R-S arm's path that a second process compiles while the command compiles its IK's
-#: (:func:`redkin.cli.common.compiled_beside`): the certified self-motion's and the path graph's search, by the
-#: sections of :mod:`redkin.warm_up` that call each alone.
-_NEARLY_PATH_KERNELS = ("redkin.srs.nearly._self_motion_kernels.traced", "redkin.paths._dp_kernels.sweep")
-_NEARLY_PATH_SECTIONS = ("nearly self-motion", "path search")
+#: The kernels of a path that compiles from its first call which a second process compiles while the command
+#: compiles the rest (:func:`redkin.cli.common.compiled_beside`), and the sections of :mod:`redkin.warm_up` that call
+#: them alone: on a nearly S-R-S arm the certified self-motion's and the path graph's search (the command compiles
+#: the IK's), on a Franka-class arm in a cell the distances' and the search (the command compiles the q7 sets').
+_BESIDE_KERNELS = {"nearly": ("redkin.srs.nearly._self_motion_kernels.traced", "redkin.paths._dp_kernels.sweep"),
+                   "q7 in a cell": ("redkin.collision._clearance_kernels.clearances", "redkin.paths._dp_kernels.sweep")}
+_BESIDE_SECTIONS = {"nearly": ("nearly self-motion", "path search"),
+                    "q7 in a cell": ("collision distances", "path search")}
 #: The kernels of a path in a cell beside its sets' (:data:`redkin.cli.cell.CELL_SETS_KERNELS`, whose clearances
 #: also measure the steps between waypoints): the path graph's sweep.
 _CELL_PATH_KERNELS = ("redkin.paths._dp_kernels.sweep",)
@@ -220,20 +223,27 @@ def _parameter(chain, srs_tolerance: float | None) -> str:
     return path_family(chain, srs_tolerance).parameter
 
 
-def _compile_nearly_in_two(chain, srs_tolerance: float | None) -> None:
-    """On a fresh cache, the kernels of a nearly S-R-S arm's path compiled in two processes: the self-motion's in
-    the background (:data:`_NEARLY_PATH_KERNELS`) while this one compiles the IK's, by the self-motion's seeds at a
-    pose of the arm's own (:func:`redkin.srs.nearly.self_motion.seed_solutions`)."""
+def _compile_in_two(chain, srs_tolerance: float | None, in_cell: bool) -> None:
+    """On a fresh cache, the kernels of a path that compiles from its first call compiled in two processes
+    (:data:`_BESIDE_KERNELS`): on a nearly S-R-S arm this one compiles the IK's, by the self-motion's seeds
+    (:func:`redkin.srs.nearly.self_motion.seed_solutions`), on a Franka-class arm in a cell the q7 sets' (its
+    :func:`redkin.franka.feasible_q7_pieces`), each at a pose of the arm's own; elsewhere nothing."""
     from redkin.paths.arm_family import path_family
     from redkin.paths.family import NearlyFamily
-    from redkin.srs.nearly.self_motion import seed_solutions
 
     family = path_family(chain, srs_tolerance)
-    if not isinstance(family, NearlyFamily):
-        return
-    pose = chain.fk(np.clip(np.zeros_like(chain.lower), chain.lower, chain.upper))
-    compiled_beside(_NEARLY_PATH_KERNELS, _NEARLY_PATH_SECTIONS, "the certified self-motion's and the search's kernels",
-                    lambda: seed_solutions(family.nearly, pose))
+    pose = chain.fk(np.clip(np.zeros_like(chain.lower), chain.lower, chain.upper))  # the chain's frames compile here
+    if isinstance(family, NearlyFamily):
+        from redkin.srs.nearly.self_motion import seed_solutions
+
+        compiled_beside(_BESIDE_KERNELS["nearly"], _BESIDE_SECTIONS["nearly"],
+                        "the certified self-motion's and the search's kernels",
+                        lambda: seed_solutions(family.nearly, pose))
+    elif in_cell and family.parameter == "q7":
+        from redkin.franka import feasible_q7_pieces
+
+        compiled_beside(_BESIDE_KERNELS["q7 in a cell"], _BESIDE_SECTIONS["q7 in a cell"],
+                        "the distances' and the search's kernels", lambda: feasible_q7_pieces(chain, pose))
 
 
 def _model_line(chain, srs_tolerance: float | None) -> str | None:
@@ -441,8 +451,8 @@ def _run_path(args: argparse.Namespace) -> int:
         small = python_until_compiled((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), "this path in a cell",
                                       (*CELL_SETS_SECTIONS["psi"], "paths"))
     small_work(small)
-    if model is not None:
-        _compile_nearly_in_two(chain, args.srs_tolerance)
+    if not small:
+        _compile_in_two(chain, args.srs_tolerance, cell is not None)
     degrees = args.deg
     unit = angle_unit(degrees)
     if not args.json:  # what the path rests on, before the search (seconds on a nearly S-R-S arm)
