@@ -47,6 +47,17 @@ def test_compiling_in_several_processes_leaves_every_kernel_in_the_cache():
     assert again["processes"] == 1 and again["kernels_compiled"] == 0 and again["cache"] == parallel["cache"]
 
 
+def test_a_section_another_calls_again_is_handed_out_just_before_it():
+    """With several processes, a section whose kernels a longer section calls again on the way goes to a process
+    just before that one (the longer one then loads them, instead of a second process compiling them at once):
+    in the order :func:`redkin.warm_up.warm_up` hands sections out, each such pair is adjacent, the called first."""
+    from redkin.warm_up import _CALLED_AGAIN_BY, SECTION_NAMES, _handed_out_by
+
+    order = sorted(SECTION_NAMES, key=lambda name: (-_handed_out_by(name), SECTION_NAMES.index(name)))
+    for called, caller in _CALLED_AGAIN_BY.items():
+        assert order.index(caller) == order.index(called) + 1, order
+
+
 @pytest.mark.parametrize("processes", ["0", "-1"])
 def test_compile_refuses_fewer_than_one_process(capsys, processes):
     with pytest.raises(SystemExit) as stop:
