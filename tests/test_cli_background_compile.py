@@ -52,8 +52,7 @@ CALL_SITES = {
     "collision-free sets, Franka class": (CELL_SETS_KERNELS["q7"], CELL_SETS_SECTIONS["q7"]),
     "path in a cell": ((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), (*CELL_SETS_SECTIONS["psi"], "paths")),
     "path of a nearly S-R-S arm, beside it": (_BESIDE_KERNELS["nearly"], _BESIDE_SECTIONS["nearly"]),
-    "path of the Franka class in a cell, beside it": (_BESIDE_KERNELS["q7 in a cell"],
-                                                      _BESIDE_SECTIONS["q7 in a cell"]),
+    "path in a cell, beside it": (_BESIDE_KERNELS["in a cell"], _BESIDE_SECTIONS["in a cell"]),
 }
 
 
@@ -276,21 +275,25 @@ def test_compiled_beside_compiles_here_while_the_other_process_runs_then_waits_f
 
 
 #: Each path that compiles from its first call in two processes: its robot, key poses' tool position, the extra
-#: arguments, and the kernels its own process must not compile (the second process's).
+#: arguments, and the kernels its own process must not compile (the second process's).  An S-R-S arm's path in a
+#: cell runs as Python up to 32 waypoints (the key poses 0.05 m apart: 51 at --step 0.001).
 BESIDE = {
-    "nearly S-R-S": ("kinova-gen3", [0.3, 0.0, 0.6], [], ("traced", "sweep")),
-    "Franka class in a cell": ("franka-panda", [0.45, 0.0, 0.4], ["--scene", "{cell}"], ("clearances", "sweep")),
+    "nearly S-R-S": ("kinova-gen3", [0.3, 0.0, 0.6], ["--step", "0.01"], ("traced", "sweep")),
+    "Franka class in a cell": ("franka-panda", [0.45, 0.0, 0.4], ["--step", "0.01", "--scene", "{cell}"],
+                               ("clearances", "sweep")),
+    "S-R-S in a cell": ("kuka-iiwa14", [0.5, 0.0, 0.4], ["--step", "0.001", "--scene", "{cell}"],
+                        ("clearances", "sweep")),
 }
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("case", sorted(BESIDE))
 def test_a_first_path_compiles_in_two_processes(tmp_path, case):
-    """On a fresh cache with background compiles on, a first ``path`` on a nearly S-R-S arm (or of the Franka class
-    in a cell) compiles the certified self-motion's (the distances') and the search's kernels in a second process
-    while it compiles the IK's (the q7 sets'): it says so, compiles none of the second process's kernels itself (the
-    sections' calls compile them with the path's own types, so it loads them from the cache), and prints the path
-    the command prints on the ambient cache."""
+    """On a fresh cache with background compiles on, a first ``path`` on a nearly S-R-S arm (or in a cell, of the
+    Franka class or an S-R-S arm) compiles the certified self-motion's (the distances') and the search's kernels in a
+    second process while it compiles the IK's (the q7 sets', the limit sets'): it says so, compiles none of the
+    second process's kernels itself (the sections' calls compile them with the path's own types, so it loads them
+    from the cache), and prints the path the command prints on the ambient cache."""
     robot, position, extra, elsewhere = BESIDE[case]
     keys = [np.eye(4), np.eye(4)]
     for key in keys:
@@ -300,7 +303,7 @@ def test_a_first_path_compiles_in_two_processes(tmp_path, case):
     (tmp_path / "keys.json").write_text(json.dumps([key.tolist() for key in keys]))
     (tmp_path / "cell.yaml").write_text("margin: 0.01\nobstacles:\n  - {name: table, type: box, center: [0.5, 0, "
                                         "-0.05], size: [0.6, 0.8, 0.1]}\n")
-    argv = ["path", robot, "--through", str(tmp_path / "keys.json"), "--step", "0.01", "--max-step", "0.1", "--json",
+    argv = ["path", robot, "--through", str(tmp_path / "keys.json"), "--max-step", "0.1", "--json",
             *(argument.format(cell=tmp_path / "cell.yaml") for argument in extra)]
     code = "\n".join([
         "import contextlib, io",

@@ -205,12 +205,15 @@ _FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.franka.
 _FRANKA_PATH_SECTIONS = ("franka", "paths")
 #: The kernels of a path that compiles from its first call which a second process compiles while the command
 #: compiles the rest (:func:`redkin.cli.common.compiled_beside`), and the sections of :mod:`redkin.warm_up` that call
-#: them alone: on a nearly S-R-S arm the certified self-motion's and the path graph's search (the command compiles
-#: the IK's), on a Franka-class arm in a cell the distances' and the search (the command compiles the q7 sets').
+#: them alone: the path graph's search, and on a nearly S-R-S arm the certified self-motion (the command compiles the
+#: IK's), in a cell the distances (the command compiles the limit sets', and then the collision-free sets' own steps
+#: once the other process ends).  Elsewhere one tree of kernels takes most of the time (the q7 sets, or the limit
+#: sets and the IK): splitting off the search alone saved nothing measurable on 51 waypoints of the Panda and the
+#: iiwa14.
 _BESIDE_KERNELS = {"nearly": ("redkin.srs.nearly._self_motion_kernels.traced", "redkin.paths._dp_kernels.sweep"),
-                   "q7 in a cell": ("redkin.collision._clearance_kernels.clearances", "redkin.paths._dp_kernels.sweep")}
+                   "in a cell": ("redkin.collision._clearance_kernels.clearances", "redkin.paths._dp_kernels.sweep")}
 _BESIDE_SECTIONS = {"nearly": ("nearly self-motion", "path search"),
-                    "q7 in a cell": ("collision distances", "path search")}
+                    "in a cell": ("collision distances", "path search")}
 #: The kernels of a path in a cell beside its sets' (:data:`redkin.cli.cell.CELL_SETS_KERNELS`, whose clearances
 #: also measure the steps between waypoints): the path graph's sweep.
 _CELL_PATH_KERNELS = ("redkin.paths._dp_kernels.sweep",)
@@ -225,25 +228,38 @@ def _parameter(chain, srs_tolerance: float | None) -> str:
 
 def _compile_in_two(chain, srs_tolerance: float | None, in_cell: bool) -> None:
     """On a fresh cache, the kernels of a path that compiles from its first call compiled in two processes
-    (:data:`_BESIDE_KERNELS`): on a nearly S-R-S arm this one compiles the IK's, by the self-motion's seeds
-    (:func:`redkin.srs.nearly.self_motion.seed_solutions`), on a Franka-class arm in a cell the q7 sets' (its
-    :func:`redkin.franka.feasible_q7_pieces`), each at a pose of the arm's own; elsewhere nothing."""
+    (:data:`_BESIDE_KERNELS`): this one compiles the IK's, at a pose of the arm's own, on a nearly S-R-S arm by the
+    self-motion's seeds (:func:`redkin.srs.nearly.self_motion.seed_solutions`); in a cell, of the Franka class its q7
+    sets' (:func:`redkin.franka.feasible_q7_pieces`), of an S-R-S or offset-elbow arm its limit sets' and
+    configurations' (:meth:`redkin.paths.family.ArmAngleFamily.pieces`, :func:`redkin.srs.ik_all_branches`);
+    elsewhere nothing."""
     from redkin.paths.arm_family import path_family
-    from redkin.paths.family import NearlyFamily
+    from redkin.paths.family import ArmAngleFamily, NearlyFamily
 
     family = path_family(chain, srs_tolerance)
-    pose = chain.fk(np.clip(np.zeros_like(chain.lower), chain.lower, chain.upper))  # the chain's frames compile here
-    if isinstance(family, NearlyFamily):
-        from redkin.srs.nearly.self_motion import seed_solutions
+    nearly = isinstance(family, NearlyFamily)
+    if not (nearly or in_cell):
+        return
 
-        compiled_beside(_BESIDE_KERNELS["nearly"], _BESIDE_SECTIONS["nearly"],
-                        "the certified self-motion's and the search's kernels",
-                        lambda: seed_solutions(family.nearly, pose))
-    elif in_cell and family.parameter == "q7":
-        from redkin.franka import feasible_q7_pieces
+    def first() -> None:
+        pose = chain.fk(np.clip(np.zeros_like(chain.lower), chain.lower, chain.upper))  # the frames compile here
+        if isinstance(family, NearlyFamily):
+            from redkin.srs.nearly.self_motion import seed_solutions
 
-        compiled_beside(_BESIDE_KERNELS["q7 in a cell"], _BESIDE_SECTIONS["q7 in a cell"],
-                        "the distances' and the search's kernels", lambda: feasible_q7_pieces(chain, pose))
+            seed_solutions(family.nearly, pose)
+        elif isinstance(family, ArmAngleFamily):
+            from redkin.srs import ik_all_branches
+
+            family.pieces(pose[None])
+            ik_all_branches(family.geometry, pose[None], np.zeros(1))
+        else:
+            from redkin.franka import feasible_q7_pieces
+
+            feasible_q7_pieces(chain, pose)
+
+    key = "nearly" if nearly else "in a cell"
+    compiled_beside(_BESIDE_KERNELS[key], _BESIDE_SECTIONS[key], "the certified self-motion's and the search's kernels"
+                    if nearly else "the distances' and the search's kernels", first)
 
 
 def _model_line(chain, srs_tolerance: float | None) -> str | None:
