@@ -29,6 +29,18 @@ def test_kernel_caches_where_a_cache_directory_is_writable():
     assert compiled.targetoptions["nogil"] and not compiled.targetoptions.get("parallel", False)
 
 
+def test_kernels_are_compiled_without_a_c_callable_wrapper():
+    """numba's ``cfunc`` wrapper (one more function per kernel to build and optimise) is not made; the wrapper
+    Python calls a kernel through is."""
+    compiled = kernel(twice)
+    assert compiled(1.5) == 3.0 and compiled.targetoptions["no_cfunc_wrapper"]
+    fresh = numba.njit(**_compiled._NJIT_OPTIONS)(lambda x: 2.0 * x)  # not cached: its LLVM IR is at hand
+    assert fresh(1.5) == 3.0
+    result = fresh.overloads[fresh.signatures[0]]
+    ir = result.library.get_llvm_str()
+    assert result.fndesc.llvm_cpython_wrapper_name in ir and result.fndesc.llvm_cfunc_wrapper_name not in ir
+
+
 def test_kernel_compiles_without_a_cache_where_none_is_writable(monkeypatch):
     """IPython's locator alone finds nothing for a file: what numba sees with a read-only install and home."""
     monkeypatch.setattr(config, "CACHE_LOCATOR_CLASSES", "IPythonCacheLocator")
