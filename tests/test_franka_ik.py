@@ -153,6 +153,22 @@ def test_a_batch_equals_its_items_and_q7_broadcasts(name):
     assert np.array_equal(nested.q.reshape(6, 8, 7), ik(chain, poses, q[:, 6]).q)
 
 
+def test_one_pose_answers_alike_however_its_pose_and_q7_are_given():
+    """One pose takes a float64 array and a float q7 as they are, and converts anything else first: a list, a
+    read-only or strided array, an integer, a numpy scalar or a 0-d array give the same rows."""
+    chain = get_robot("franka-panda")
+    pose = chain.fk(np.array([0.1, 0.3, 0.2, -1.5, 0.1, 1.5, 1.0]))
+    expected = ik(chain, pose, 1.0)
+    frozen = pose.copy()
+    frozen.flags.writeable = False
+    strided = np.asfortranarray(pose)
+    for target, q7 in ((pose.tolist(), 1.0), (frozen, 1.0), (strided, 1.0), (pose, 1), (pose, np.float64(1.0)),
+                      (pose, np.array(1.0)), (pose, np.float32(1.0)), (pose, True)):
+        one = ik(chain, target, q7)
+        assert np.array_equal(one.q, expected.q) and np.array_equal(one.exists, expected.exists)
+        assert np.array_equal(one.within_limits, expected.within_limits)
+
+
 @pytest.mark.parametrize("name", MODELS)
 def test_a_branch_gives_its_row(name):
     chain = get_robot(name)
