@@ -222,6 +222,7 @@ def _with_nan() -> np.ndarray:
     (np.eye(4), np.inf, None, "q7"),
     (np.eye(4), [0.0, np.nan], None, "q7"),
     (np.eye(4), "a", None, "q7"),
+    (np.eye(4), [[0.0], [0.0, 1.0]], None, "q7 must be numeric"),  # ragged: one pose, converted first
     (np.stack([np.eye(4)] * 2), np.zeros(3), None, "broadcast"),  # shapes that do not broadcast
     (np.eye(4), 0.0, "++", "branch"),
     (np.eye(4), 0.0, "+x+", "branch"),

@@ -135,16 +135,18 @@ def ik(
         pose = as_float_array(pose, "pose")
     if pose.ndim < 2 or pose.shape[-2:] != (4, 4):
         raise RedkinError(f"pose must have shape (..., 4, 4), got shape {pose.shape}")
-    if pose.ndim == 2 and (isinstance(q7, float) or np.ndim(q7) == 0):  # one pose: no batch to lay out, the
-        # tables in one argument, a float q7 passed as it is (a third of the call's time went to the conversions)
-        value = q7 if isinstance(q7, float) else float(as_float_array(q7, "q7"))
+    # a float q7 is passed as it is, anything else converted once (on one pose the conversions took a third of the
+    # call's time)
+    q7 = q7 if isinstance(q7, float) else as_float_array(q7, "q7")
+    if pose.ndim == 2 and (isinstance(q7, float) or q7.ndim == 0):  # one pose: no batch to lay out, the tables in
+        # one argument
         q = np.empty((len(chosen), 7))
         flags = np.empty((2, len(chosen)), dtype=bool)
-        if _kernels.solve_single(kernel_array(pose), value, geometry.kernel_table, first, len(chosen), q,
+        if _kernels.solve_single(kernel_array(pose), float(q7), geometry.kernel_table, first, len(chosen), q,
                                  flags) != _kernels.OK:
-            _raise_for(pose, np.asarray(value))
+            _raise_for(pose, np.asarray(q7))
         return Q7Solutions(q, flags[0], flags[1], chosen)
-    q7 = as_float_array(q7, "q7")
+    q7 = np.asarray(q7)  # a float, for the batch's broadcasting
     tables = (geometry.kernel_arm, geometry.kernel_ends, geometry.kernel_branches[first:first + len(chosen)],
               geometry.kernel_joints)
     try:
