@@ -35,9 +35,11 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from redkin._compiled import set_threads
 from redkin.srs import BRANCHES, branch_solutions, feasible_arm_angles_nearly_all, self_motion, self_motions
 from redkin.srs.branches import parse_branch
 from redkin.srs.nearly import arm_angle, branch_of, ik
+from redkin.srs.nearly import self_motion as self_motion_module
 from redkin.srs.nearly.self_motion import _passes
 from tests.test_srs_nearly_feasible import _arm
 
@@ -180,6 +182,43 @@ def test_a_curve_passes_through_its_own_points_asked_together_or_alone(name, see
              for n in range(len(own))]
     assert together.tolist() == alone
     assert together[::2].all() and not together.all()
+
+
+@settings(max_examples=6, deadline=None)
+@given(name=st.sampled_from(["gen3", "jaco2", "iiwa14-rosi"]), seed=st.integers(0, 2**32 - 1),
+       near=st.sampled_from(NEAR))
+@example(name="gen3", seed=3, near="anywhere")
+def test_curves_followed_ahead_together_are_the_curves_followed_one_after_another(name, seed, near):
+    arm, q = _configuration(name, seed, near)
+    pose = arm.chain.fk(q)
+    found = {}
+    try:
+        for threads in (1, 2, 2):  # the second run on two threads after the first timed the batch: on the pool
+            set_threads(threads)
+            found[threads] = self_motion_module.whole_self_motion(arm, pose)
+    finally:
+        set_threads(None)
+    with pytest.MonkeyPatch.context() as patch:  # every seed followed alone, where the one before it left off
+        patch.setattr(self_motion_module, "_traced_ahead", lambda *args: {})
+        alone = self_motion_module.whole_self_motion(arm, pose)
+    for curves, complete in found.values():
+        assert complete == alone[1] and len(curves) == len(alone[0])
+        for curve, reference in zip(curves, alone[0], strict=True):
+            for field, value in curve._asdict().items():
+                np.testing.assert_array_equal(value, getattr(reference, field), err_msg=field)
+
+
+def test_a_curve_longer_than_the_pieces_followed_ahead_is_followed_whole(monkeypatch):
+    arm, q = _configuration("gen3", 3, "anywhere")
+    pose = arm.chain.fk(q)
+    curves, complete = self_motion_module.whole_self_motion(arm, pose)
+    assert complete and min(len(curve.psi) for curve in curves) > 20
+    monkeypatch.setattr(self_motion_module, "_AHEAD_POINTS", 20)  # every piece ahead full: each followed again
+    again, complete_again = self_motion_module.whole_self_motion(arm, pose)
+    assert complete_again and len(again) == len(curves)
+    for curve, reference in zip(again, curves, strict=True):
+        np.testing.assert_array_equal(curve.q, reference.q)
+        assert curve.closed == reference.closed
 
 
 def test_two_solutions_on_one_branch():

@@ -31,6 +31,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._compiled import run_batch, thread_count
 from redkin._validation import check_pose
 from redkin.circle import TWO_PI, ArcSet, wrap_angle
 from redkin.errors import RedkinError
@@ -217,16 +218,29 @@ def _through(arm: NearlySRS, target: np.ndarray, seeds: np.ndarray, angles: np.n
     """The curves through the solutions ``seeds`` (M, 7) at arm angles ``angles`` on branches ``rows``: each seed
     followed unless a curve followed from an earlier seed passes through it (:func:`_passes`, asked of the later
     seeds once a curve is followed), ``most`` curves and :data:`_BUDGET` points at most; and whether every seed was
-    followed or lies on a curve."""
+    followed or lies on a curve.
+
+    The seeds not yet on a curve at one arm angle (a pose's branches there: distinct points, on distinct curves
+    unless a curve changes branch) are followed ahead together, one way, on the threads of
+    :func:`redkin._compiled.run_batch` where it has more than one (:func:`_traced_ahead`); a seed's curve is then
+    taken from there only where the seed is still to be followed, so the curves are the same, point for point, as
+    one after another."""
     curves: list[SelfMotion] = []
     covered = np.zeros(len(seeds), dtype=bool)  # on a curve followed from an earlier seed
     room = _Room(_MOST_POINTS)
+    ahead: dict[int, SelfMotion] = {}  # seeds followed ahead, one way, by index
+    tried = np.zeros(len(seeds), dtype=bool)  # followed ahead (a piece that filled its room is not in ``ahead``)
     for n, seed in enumerate(seeds):
         if covered[n]:
             continue
         if len(curves) == most or sum(len(curve.psi) for curve in curves) >= _BUDGET:
             return tuple(curves), False
-        curves.append(_followed(arm, target, np.array(seed, dtype=float), _LONGEST, room))
+        if not tried[n]:
+            together = n + np.flatnonzero(~covered[n:] & (angles[n:] == angles[n]))[: most - len(curves)]
+            tried[together] = True
+            ahead = (_traced_ahead(arm, target, seeds[together], _LONGEST, together)
+                     if len(together) > 1 and thread_count() > 1 else {})
+        curves.append(_followed(arm, target, np.array(seed, dtype=float), _LONGEST, room, ahead.pop(n, None)))
         later = n + 1 + np.flatnonzero(~covered[n + 1:])
         covered[later] = _passes(curves[-1], angles[later], rows[later], seeds[later])
     return tuple(curves), True
@@ -318,10 +332,12 @@ def branch_solutions(arm: NearlySRS, pose: ArrayLike, psi: float, branch: str | 
     return np.array(found).reshape(-1, 7)
 
 
-def _followed(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, room: _Room) -> SelfMotion:
-    """The curve through ``start``: one way with the arm angle increasing, and where it does not close, the other
-    way too, joined at ``start``."""
-    forward = _traced(arm, target, start, step, 1.0, room)
+def _followed(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, room: _Room,
+              forward: SelfMotion | None = None) -> SelfMotion:
+    """The curve through ``start``: one way with the arm angle increasing (``forward``, where followed already), and
+    where it does not close, the other way too, joined at ``start``."""
+    if forward is None:
+        forward = _traced(arm, target, start, step, 1.0, room)
     if forward.closed or len(forward.psi) == 0:
         return forward
     backward = _traced(arm, target, start, step, -1.0, room)
@@ -340,36 +356,67 @@ def _followed(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float
 
 
 class _Room:
-    """The output arrays of :func:`redkin.srs.nearly._self_motion_kernels.traced` for pieces of ``most`` points at
-    most, written by one piece after another (:func:`_traced` copies what it keeps): arrays this large are mapped
-    fresh by the system on each allocation, and the first write to each page costs more than tracing a short
-    curve."""
+    """The output arrays of :func:`redkin.srs.nearly._self_motion_kernels.traced` for ``count`` pieces (the first
+    axis) of ``most`` points at most, each written by one piece after another (:func:`_motion` copies what it keeps):
+    arrays this large are mapped fresh by the system on each allocation, and the first write to each page costs
+    more than tracing a short curve."""
 
-    def __init__(self, most: int) -> None:
+    def __init__(self, most: int, count: int = 1) -> None:
         self.most = most
-        self.points, self.tangents = np.empty((most, 7)), np.empty((most, 7))
-        self.angles, self.rates, self.spread = np.empty(most), np.empty(most), np.empty(most)
-        self.signs, self.inside = np.empty((most, 3), dtype=np.int64), np.empty(most, dtype=np.int64)
-        self.tubes = np.empty((most, 2))
+        self.points, self.tangents = np.empty((count, most, 7)), np.empty((count, most, 7))
+        self.angles, self.rates, self.spread = np.empty((count, most)), np.empty((count, most)), np.empty((count, most))
+        self.signs, self.inside = np.empty((count, most, 3), dtype=np.int64), np.empty((count, most), dtype=np.int64)
+        self.tubes = np.empty((count, most, 2))
+        self.counts, self.statuses = np.zeros(count, dtype=np.int64), np.zeros(count, dtype=np.int64)
+
+
+#: Points of one curve at most when seeds are followed ahead together (:func:`_traced_ahead`): a curve that is longer
+#: (next to a singular configuration) is followed again alone, in a room of :data:`_MOST_POINTS`.
+_AHEAD_POINTS = 8192
 
 
 def _traced(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, sense: float,
             room: _Room) -> SelfMotion:
     """:func:`redkin.srs.nearly._self_motion_kernels.traced` one way from ``start``, ``room.most`` points at
     most."""
-    points, tangents, angles, rates = room.points, room.tangents, room.angles, room.rates
-    signs, inside, spread, tubes = room.signs, room.inside, room.spread, room.tubes
-    count, status = _self_motion_kernels.traced(
-        np.ascontiguousarray(start, dtype=float), target, arm.kernel_real, arm.kernel_model, arm.kernel_bounds,
-        arm.real_phase, arm.kernel_limits, float(step), float(sense), room.most, points, tangents, angles, rates,
-        signs, inside, spread, tubes)
+    _trace_each(0, 1, np.ascontiguousarray(start, dtype=float)[None], target, arm, float(step), float(sense), room)
+    return _motion(arm, room, 0)
+
+
+def _traced_ahead(arm: NearlySRS, target: np.ndarray, starts: np.ndarray, step: float,
+                  indices: np.ndarray) -> dict[int, SelfMotion]:
+    """:func:`_traced` with the arm angle increasing from each of ``starts`` (S, 7), on the threads of
+    :func:`redkin._compiled.run_batch`, :data:`_AHEAD_POINTS` points at most: by ``indices`` (S,), each piece that
+    ended before that (closed, or stuck)."""
+    room = _Room(_AHEAD_POINTS, len(starts))
+    run_batch(_trace_each, len(starts), np.ascontiguousarray(starts, dtype=float), target, arm, float(step), 1.0,
+              room)
+    return {int(index): _motion(arm, room, k) for k, index in enumerate(indices.tolist())
+            if room.statuses[k] != _self_motion_kernels.FULL}
+
+
+def _trace_each(start: int, stop: int, starts: np.ndarray, target: np.ndarray, arm: NearlySRS, step: float,
+                sense: float, room: _Room) -> None:
+    """The batch of :func:`_traced_ahead`: :func:`redkin.srs.nearly._self_motion_kernels.traced` from ``starts[k]``
+    into the room's piece ``k``, for ``k`` in ``[start, stop)`` (the kernel runs without the interpreter's lock)."""
+    for k in range(start, stop):
+        room.counts[k], room.statuses[k] = _self_motion_kernels.traced(
+            starts[k], target, arm.kernel_real, arm.kernel_model, arm.kernel_bounds, arm.real_phase,
+            arm.kernel_limits, step, sense, room.most, room.points[k], room.tangents[k], room.angles[k],
+            room.rates[k], room.signs[k], room.inside[k], room.spread[k], room.tubes[k])
+
+
+def _motion(arm: NearlySRS, room: _Room, k: int) -> SelfMotion:
+    """The piece ``k`` of ``room`` as a :class:`SelfMotion` (copied)."""
+    count, status = int(room.counts[k]), int(room.statuses[k])
     steps = max(count - 1, 0)
     table = arm.geometry.kernel_branches
-    matches = np.all(signs[:steps, None, :] == table, axis=-1)
+    matches = np.all(room.signs[k, :steps, None, :] == table, axis=-1)
     branches = np.where(matches.any(axis=-1), np.argmax(matches, axis=-1), -1)
-    return SelfMotion(points[:count].copy(), tangents[:count].copy(), angles[:count].copy(), rates[:count].copy(),
-                      branches, inside[:steps].copy(), spread[:steps].copy(), tubes[:steps].copy(),
-                      np.arange(steps), status == _self_motion_kernels.CLOSED)
+    return SelfMotion(room.points[k, :count].copy(), room.tangents[k, :count].copy(), room.angles[k, :count].copy(),
+                      room.rates[k, :count].copy(), branches, room.inside[k, :steps].copy(),
+                      room.spread[k, :steps].copy(), room.tubes[k, :steps].copy(), np.arange(steps),
+                      status == _self_motion_kernels.CLOSED)
 
 
 def finer_steps(arm: NearlySRS, pose: np.ndarray, curve: SelfMotion, k: int, longest: float,
