@@ -462,11 +462,14 @@ def _crossing_steps(curve: SelfMotion, angles: np.ndarray, rows: np.ndarray
     into ``angles``, step) in row-major order, and at each the step's start less its angle and the step's change of
     arm angle (both wrapped)."""
     width = np.asarray(wrap_angle(curve.psi[1:] - curve.psi[:-1]))
-    before = np.asarray(wrap_angle(curve.psi[:-1] - angles[:, None]))
+    on_curve = np.zeros(len(BRANCHES) + 1, dtype=bool)  # the branches of the curve's steps (-1, none, last)
+    on_curve[curve.branches] = True
+    asked = np.flatnonzero(on_curve[rows])  # only these can cross it
+    before = np.asarray(wrap_angle(curve.psi[:-1] - angles[asked, None]))
     after = before + width
-    which, k = np.nonzero((curve.branches == rows[:, None]) & (before * after <= 0.0)
+    which, k = np.nonzero((curve.branches == rows[asked, None]) & (before * after <= 0.0)
                           & ((before != 0.0) | (after != 0.0)))
-    return which, k, before[which, k], width[k]
+    return asked[which], k, before[which, k], width[k]
 
 
 def _located(arm: NearlySRS, target: np.ndarray, curve: SelfMotion, k: int, angle: float) -> np.ndarray | None:
