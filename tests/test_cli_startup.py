@@ -268,6 +268,26 @@ def test_one_pose_of_a_nearly_arm_or_the_numerical_solver_runs_as_python_on_a_fr
             assert compiled_code == 0 and err == "" and python == json.loads(compiled_out)
 
 
+def test_a_path_of_up_to_200_waypoints_runs_as_python_until_its_kernels_are_cached(tmp_path, capsys):
+    """``path`` on 33-200 waypoints of an S-R-S arm, and on up to 200 of the Franka class, runs as Python (and says
+    so) while its kernels are not in numba's cache, and gives the compiled answer number for number; a longer path
+    runs compiled whatever the cache holds."""
+    fresh = {"NUMBA_CACHE_DIR": str(tmp_path / "fresh"), "REDKIN_BACKGROUND_COMPILE": "0"}
+    for robot, length in (("kuka-iiwa14", 0.1), ("franka-panda", 0.05)):
+        keys = _key_poses(tmp_path, length)
+        argv = ["path", robot, "--through", str(keys), "--step", "0.001", "--max-step", "0.1", "--json"]
+        cached, code, modules, err, out = _cached_then_run(argv, fresh, output=True)
+        assert (cached, code) == (False, 0) and 32 < len(json.loads(out)["q"]) <= 200, robot
+        assert _forbidden(modules, ("numba", "llvmlite")) == [] and "runs as Python" in err, robot
+        use_compiled()
+        compiled_code, compiled_out, _ = run(capsys, argv)
+        assert compiled_code == code and json.loads(out) == json.loads(compiled_out), robot
+    longer = ["path", "kuka-iiwa14", "--through", str(_key_poses(tmp_path, 0.201)), "--step", "0.001", "--max-step",
+              "0.1"]
+    [(_, code, modules)] = _modules_after([longer])
+    assert code == 0 and "numba" in modules
+
+
 def test_one_pose_in_a_cell_runs_as_python_and_gives_the_compiled_answer(tmp_path, capsys):
     """``ik`` on one pose with ``--scene`` (the numerical solver's collision-free search on the Sawyer with a body
     file; the iiwa14's closed form at an arm angle with its built-in body), ``arm-angles --scene`` on one pose of an

@@ -188,16 +188,25 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
     plt.close(fig)
 
 
-#: Waypoints of a path that ``redkin path`` resolves with the kernels run as Python
-#: (:func:`redkin.cli.common.small_work`): on an S-R-S or offset-elbow arm about 40 ms a waypoint (0.8 s for 21 on
-#: the iiwa14, against about 20 s of compiling on a fresh install and 0.9 s compiled from the cache).  The Franka
-#: class's exact q7 sets make its paths about 0.14 s a waypoint as Python (2.9 s for 21 on the Panda, against 23 s
-#: of compiling and 1.3 s from the cache), so they run as Python only while its kernels are not compiled
-#: (:func:`redkin.cli.common.python_until_compiled`).  In a cell, a path of an S-R-S or offset-elbow arm runs as
-#: Python while the kernels of its collision-free sets and steps are not cached: about 0.6 s and 40 ms a waypoint
-#: (1.3 s for 21 iiwa14 waypoints in a cell of a table, a post and a lamp, 2.2 s for 41; against 28.6 s of
-#: compiling), compiled once they are.  The Franka class's paths in a cell stay compiled (161 s as Python for 21).
+#: Waypoints of a path that ``redkin path`` resolves with the kernels run as Python, cached or not
+#: (:func:`redkin.cli.common.small_work`): on an S-R-S or offset-elbow arm without a cell, whose paths take about 10 ms
+#: a waypoint as Python (0.5 s for 21 on the iiwa14, with the start) against 0.9 s compiled from the cache, most of it
+#: loading numba.
 _SMALL_PATH = 32
+#: Waypoints of a path that runs as Python while the kernels it calls are not compiled yet (compiling them in the
+#: background meanwhile, :func:`redkin.cli.common.python_until_compiled`), at most: as Python, from a fresh cache,
+#: 21/51/101/201 iiwa14 waypoints took 0.5/0.7/1.3/2.1 s, in a cell of a table, a post and a lamp 51/101/201 took
+#: 3.2/6.0/11.5 s, and 21/51/101 Panda waypoints 1.5/2.7/4.7 s, against 13.5 s, 18-28 s and 24-27 s of compiling
+#: (with the compile in the background beside it, 2 cores, 2026-12-07).  The Franka class's paths in a cell stay
+#: compiled (161 s as Python for 21), and so do longer paths, timed ones and ``--thorough``.
+_PYTHON_PATH = 200
+#: The kernels a path of an S-R-S or offset-elbow arm without a cell calls (with theirs): the limit sets, the IK's
+#: coefficients, and the path graph's samples, rows and sweep; and the sections of :mod:`redkin.warm_up` that compile
+#: them.
+_SRS_PATH_KERNELS = ("redkin.srs._feasible_kernels.poses_feasible", "redkin.srs._ik_kernels.coefficients",
+                     "redkin.paths._dp_kernels.sample_angles", "redkin.paths._dp_kernels.node_rows",
+                     "redkin.paths._dp_kernels.sweep")
+_SRS_PATH_SECTIONS = ("srs ik", "srs sets", "paths")
 #: The kernels a path of the Franka class calls (with theirs): its q7 sets, and the path graph's rows and sweep.
 _FRANKA_PATH_KERNELS = ("redkin.franka._kernels.feasible_poses", "redkin.franka._kernels.seventh_frames",
                         "redkin.paths._dp_kernels.q7_node_rows", "redkin.paths._dp_kernels.sweep")
@@ -460,12 +469,18 @@ def _run_path(args: argparse.Namespace) -> int:
     q0 = None if args.q0 is None else joint_vector(chain, args.q0, args.deg, "--q0 values")
     model = _model_line(chain, args.srs_tolerance)
     plain = model is None and not timed and not args.thorough
-    small = cell is None and plain and len(poses) <= _SMALL_PATH
-    if small and _parameter(chain, args.srs_tolerance) != "psi":
-        small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class", _FRANKA_PATH_SECTIONS)
-    elif cell is not None and plain and len(poses) <= _SMALL_PATH and _parameter(chain, args.srs_tolerance) == "psi":
-        small = python_until_compiled((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), "this path in a cell",
-                                      (*CELL_SETS_SECTIONS["psi"], "paths"))
+    small = False
+    if plain and len(poses) <= _PYTHON_PATH:
+        exact_angle = _parameter(chain, args.srs_tolerance) == "psi"
+        if cell is None and exact_angle:
+            small = len(poses) <= _SMALL_PATH or python_until_compiled(_SRS_PATH_KERNELS, "this path",
+                                                                         _SRS_PATH_SECTIONS)
+        elif cell is None:
+            small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class",
+                                          _FRANKA_PATH_SECTIONS)
+        elif exact_angle:
+            small = python_until_compiled((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), "this path in a cell",
+                                          (*CELL_SETS_SECTIONS["psi"], "paths"))
     small_work(small)
     if not small:
         _compile_in_two(chain, args.srs_tolerance, cell is not None)
