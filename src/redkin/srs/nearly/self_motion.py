@@ -379,7 +379,8 @@ def _traced(arm: NearlySRS, target: np.ndarray, start: np.ndarray, step: float, 
             room: _Room) -> SelfMotion:
     """:func:`redkin.srs.nearly._self_motion_kernels.traced` one way from ``start``, ``room.most`` points at
     most."""
-    _trace_each(0, 1, np.ascontiguousarray(start, dtype=float)[None], target, arm, float(step), float(sense), room)
+    _trace_each(0, 1, np.ascontiguousarray(start, dtype=float)[None], target, _kernel_arm(arm), float(step),
+                float(sense), room)
     return _motion(arm, room, 0)
 
 
@@ -389,20 +390,26 @@ def _traced_ahead(arm: NearlySRS, target: np.ndarray, starts: np.ndarray, step: 
     :func:`redkin._compiled.run_batch`, :data:`_AHEAD_POINTS` points at most: by ``indices`` (S,), each piece that
     ended before that (closed, or stuck)."""
     room = _Room(_AHEAD_POINTS, len(starts))
-    run_batch(_trace_each, len(starts), np.ascontiguousarray(starts, dtype=float), target, arm, float(step), 1.0,
-              room)
+    run_batch(_trace_each, len(starts), np.ascontiguousarray(starts, dtype=float), target, _kernel_arm(arm),
+              float(step), 1.0, room)
     return {int(index): _motion(arm, room, k) for k, index in enumerate(indices.tolist())
             if room.statuses[k] != _self_motion_kernels.FULL}
 
 
-def _trace_each(start: int, stop: int, starts: np.ndarray, target: np.ndarray, arm: NearlySRS, step: float,
+def _kernel_arm(arm: NearlySRS) -> tuple:
+    """The arm's arguments of :func:`redkin.srs.nearly._self_motion_kernels.traced`, read once (before any thread
+    of :func:`_traced_ahead` reads them)."""
+    return arm.kernel_real, arm.kernel_model, arm.kernel_bounds, arm.real_phase, arm.kernel_limits
+
+
+def _trace_each(start: int, stop: int, starts: np.ndarray, target: np.ndarray, kernel_arm: tuple, step: float,
                 sense: float, room: _Room) -> None:
     """The batch of :func:`_traced_ahead`: :func:`redkin.srs.nearly._self_motion_kernels.traced` from ``starts[k]``
-    into the room's piece ``k``, for ``k`` in ``[start, stop)`` (the kernel runs without the interpreter's lock)."""
+    into the room's piece ``k``, for ``k`` in ``[start, stop)``, on the arm's arguments ``kernel_arm``
+    (:func:`_kernel_arm`; the kernel runs without the interpreter's lock)."""
     for k in range(start, stop):
         room.counts[k], room.statuses[k] = _self_motion_kernels.traced(
-            starts[k], target, arm.kernel_real, arm.kernel_model, arm.kernel_bounds, arm.real_phase,
-            arm.kernel_limits, step, sense, room.most, room.points[k], room.tangents[k], room.angles[k],
+            starts[k], target, *kernel_arm, step, sense, room.most, room.points[k], room.tangents[k], room.angles[k],
             room.rates[k], room.signs[k], room.inside[k], room.spread[k], room.tubes[k])
 
 
