@@ -413,13 +413,18 @@ def _trace_each(start: int, stop: int, starts: np.ndarray, target: np.ndarray, k
             room.rates[k], room.signs[k], room.inside[k], room.spread[k], room.tubes[k])
 
 
+#: The digits' weights of three signs read as a number in base 3 (each sign plus one).
+_BASE_THREE = np.array([9, 3, 1], dtype=np.int64)
+
+
 def _motion(arm: NearlySRS, room: _Room, k: int) -> SelfMotion:
-    """The piece ``k`` of ``room`` as a :class:`SelfMotion` (copied)."""
+    """The piece ``k`` of ``room`` as a :class:`SelfMotion` (copied): each step's branch the row of
+    :data:`redkin.srs.BRANCHES` whose Table 1 signs its signs are, -1 where one is 0 (undecided)."""
     count, status = int(room.counts[k]), int(room.statuses[k])
     steps = max(count - 1, 0)
-    table = arm.geometry.kernel_branches
-    matches = np.all(room.signs[k, :steps, None, :] == table, axis=-1)
-    branches = np.where(matches.any(axis=-1), np.argmax(matches, axis=-1), -1)
+    row_of = np.full(27, -1, dtype=np.int64)  # each step's three signs (-1, 0 or 1) as a base-3 number -> its row
+    row_of[(arm.geometry.kernel_branches.astype(np.int64) + 1) @ _BASE_THREE] = np.arange(len(BRANCHES))
+    branches = row_of[(room.signs[k, :steps] + 1) @ _BASE_THREE]
     return SelfMotion(room.points[k, :count].copy(), room.tangents[k, :count].copy(), room.angles[k, :count].copy(),
                       room.rates[k, :count].copy(), branches, room.inside[k, :steps].copy(),
                       room.spread[k, :steps].copy(), room.tubes[k, :steps].copy(), np.arange(steps),
