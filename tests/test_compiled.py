@@ -258,25 +258,30 @@ def test_thread_count_is_the_cores_capped_by_numba_num_threads(monkeypatch):
 
 def test_every_batch_kernel_computes_its_chunk_and_nothing_has_a_parallel_twin():
     """Read from the source: no prange, no parallel=True; every kernel handed to run_batch takes ``start, stop``
-    first and loops ``range(start, stop)`` (so a chunk writes its rows alone); every run_batch call passes one
-    kernel, then the count."""
+    first and loops ``range(start, stop)`` (so a chunk writes its rows alone), and so does a Python function of the
+    caller's module handed to it (a loop that calls a kernel per item, which runs without the interpreter's lock:
+    the nearly S-R-S self-motion's seeds); every run_batch call passes one kernel or such a function, then the
+    count."""
     package = Path(_compiled.__file__).parent
-    kernels, launched = {}, []
+    kernels, functions, launched = {}, {}, []
     for path in package.rglob("*.py"):
         text = path.read_text(encoding="utf-8")
         assert "prange" not in text or path.name == "_compiled.py", path
         assert "parallel=True" not in text, path
         for node in ast.walk(ast.parse(text)):
-            if isinstance(node, ast.FunctionDef) and any(
-                    isinstance(d, ast.Name) and d.id == "kernel" for d in node.decorator_list):
-                kernels[node.name] = (path.name, [a.arg for a in node.args.args[:2]], ast.unparse(node))
+            if isinstance(node, ast.FunctionDef):
+                found = (path.name, [a.arg for a in node.args.args[:2]], ast.unparse(node))
+                if any(isinstance(d, ast.Name) and d.id == "kernel" for d in node.decorator_list):
+                    kernels[node.name] = found
+                else:
+                    functions[path.name, node.name] = found
             elif isinstance(node, ast.Call) and getattr(node.func, "id", None) == "run_batch":
                 first = node.args[0]
                 launched.append((path.name, first.attr if isinstance(first, ast.Attribute) else first.id))
     assert len(launched) >= 25
     for module, name in launched:
-        assert name in kernels, (module, name)
-        _, arguments, source = kernels[name]
+        assert name in kernels or (module, name) in functions, (module, name)
+        _, arguments, source = kernels[name] if name in kernels else functions[module, name]
         assert arguments == ["start", "stop"] and "in range(start, stop)" in source, (module, name)
 
 

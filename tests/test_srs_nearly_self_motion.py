@@ -35,6 +35,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from redkin import _compiled
 from redkin._compiled import set_threads
 from redkin.srs import BRANCHES, branch_solutions, feasible_arm_angles_nearly_all, self_motion, self_motions
 from redkin.srs.branches import parse_branch
@@ -206,6 +207,26 @@ def test_curves_followed_ahead_together_are_the_curves_followed_one_after_anothe
         for curve, reference in zip(curves, alone[0], strict=True):
             for field, value in curve._asdict().items():
                 np.testing.assert_array_equal(value, getattr(reference, field), err_msg=field)
+
+
+def test_no_seed_is_followed_ahead_where_the_kernels_run_as_python(monkeypatch):
+    """As Python every batch runs in the calling thread, so a seed followed ahead that an earlier curve covers would
+    be work lost: none is followed ahead (the kernels still run compiled here, numba being loaded)."""
+    arm, q = _configuration("gen3", 3, "anywhere")
+    pose = arm.chain.fk(q)
+    curves, complete = self_motion_module.whole_self_motion(arm, pose)
+
+    def refused(*args):
+        raise AssertionError("a seed was followed ahead while the kernels run as Python")
+
+    monkeypatch.setattr(self_motion_module, "_traced_ahead", refused)
+    monkeypatch.setattr(_compiled, "_numba_loaded", False)
+    with _compiled.interpreted():
+        assert _compiled.running_as_python()
+        again, complete_again = self_motion_module.whole_self_motion(arm, pose)
+    assert complete_again == complete and len(again) == len(curves)
+    for curve, reference in zip(again, curves, strict=True):
+        np.testing.assert_array_equal(curve.q, reference.q)
 
 
 def test_a_curve_longer_than_the_pieces_followed_ahead_is_followed_whole(monkeypatch):

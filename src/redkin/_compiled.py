@@ -506,6 +506,12 @@ def numba_loaded() -> bool:
     return _numba_loaded
 
 
+def running_as_python() -> bool:
+    """Whether kernels called now, in this thread, run as Python functions (within :func:`interpreted`, numba not
+    loaded): then :func:`run_batch` runs every batch in the calling thread."""
+    return bool(_interpreting.depth) and not _numba_loaded
+
+
 def use_compiled() -> None:
     """From now on every kernel runs compiled, within :func:`interpreted` too: numba is loaded here (a computation
     too large to run as Python, inside a context that chose Python for a small one)."""
@@ -822,7 +828,7 @@ def run_batch(kernel: Callable, count: int, *args):
     When this returns or raises, no chunk is running (a chunk's exception is raised once the others are done).
     """
     per_item = _seconds_per_item.get(kernel)
-    if count < TIMED_BATCH or (_interpreting.depth and not _numba_loaded):  # a few items, or Python: one thread
+    if count < TIMED_BATCH or running_as_python():  # a few items, or Python: one thread
         return kernel(0, count, *args)
     threads = thread_count()
     smallest = MIN_CHUNK if per_item is None else max(1, min(MIN_CHUNK, int(POOL_SECONDS / max(per_item, 1e-12))))

@@ -31,7 +31,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin._compiled import run_batch, thread_count
+from redkin._compiled import run_batch, running_as_python, thread_count
 from redkin._validation import check_pose
 from redkin.circle import TWO_PI, ArcSet, wrap_angle
 from redkin.errors import RedkinError
@@ -222,9 +222,9 @@ def _through(arm: NearlySRS, target: np.ndarray, seeds: np.ndarray, angles: np.n
 
     The seeds not yet on a curve at one arm angle (a pose's branches there: distinct points, on distinct curves
     unless a curve changes branch) are followed ahead together, one way, on the threads of
-    :func:`redkin._compiled.run_batch` where it has more than one (:func:`_traced_ahead`); a seed's curve is then
-    taken from there only where the seed is still to be followed, so the curves are the same, point for point, as
-    one after another."""
+    :func:`redkin._compiled.run_batch` where it has more than one and the kernels run compiled
+    (:func:`_traced_ahead`); a seed's curve is then taken from there only where the seed is still to be followed, so
+    the curves are the same, point for point, as one after another."""
     curves: list[SelfMotion] = []
     covered = np.zeros(len(seeds), dtype=bool)  # on a curve followed from an earlier seed
     room = _Room(_MOST_POINTS)
@@ -239,7 +239,7 @@ def _through(arm: NearlySRS, target: np.ndarray, seeds: np.ndarray, angles: np.n
             together = n + np.flatnonzero(~covered[n:] & (angles[n:] == angles[n]))[: most - len(curves)]
             tried[together] = True
             ahead = (_traced_ahead(arm, target, seeds[together], _LONGEST, together)
-                     if len(together) > 1 and thread_count() > 1 else {})
+                     if len(together) > 1 and thread_count() > 1 and not running_as_python() else {})
         curves.append(_followed(arm, target, np.array(seed, dtype=float), _LONGEST, room, ahead.pop(n, None)))
         later = n + 1 + np.flatnonzero(~covered[n + 1:])
         covered[later] = _passes(curves[-1], angles[later], rows[later], seeds[later])
