@@ -29,6 +29,7 @@ from redkin.collision.arm_angle_free import (
     COLLISION,
     LIMIT,
     UNDECIDED,
+    _turning_reach,
     collision_free_arm_angles,
     free_arm_angles_of,
     settled,
@@ -150,6 +151,43 @@ def test_the_elbow_turns_rigidly_about_the_shoulder_wrist_line(iiwa):
             offset = (a + b) / 2 - shoulder
             radius = np.linalg.norm(offset - (offset @ axis) * axis)
             assert speed == pytest.approx(radius, rel=1e-6, abs=1e-9)
+
+
+def test_each_capsule_reaches_as_far_as_its_ends_from_what_its_frame_turns_about(iiwa):
+    """A capsule of frame 1 or 6 from axis 1 or 7, of frame 2 or 5 from the shoulder or wrist centre, of frame 3 or 4
+    from the shoulder-wrist line, of frames 0 and 7 nothing: its ends' largest distance, measured here by cross
+    products and by the closest points of two axes solved as least squares."""
+    chain = iiwa.chain
+    rng = np.random.default_rng(5)
+    capsules = [BodyCapsule(f"link_{frame}_{k}", frame, rng.uniform(-0.2, 0.2, 3), rng.uniform(-0.2, 0.2, 3), 0.05)
+                for frame in range(8) for k in range(2)]
+    body = body_of(capsules, chain)
+    q = rng.uniform(chain.lower * 0.9, chain.upper * 0.9, (6, 7))
+    frames = chain.frames(q)
+    shapes = posed(body, frames)
+    reach = _turning_reach(chain, body, frames, shapes)
+
+    def meeting(p1, u1, p2, u2):  # the midpoint of the closest points of two lines
+        (s, t), *_ = np.linalg.lstsq(np.stack([u1, -u2], axis=1), p2 - p1, rcond=None)
+        return (p1 + s * u1 + p2 + t * u2) / 2
+
+    for n in range(len(q)):
+        directions, points = chain.joint_axes_in(frames[n])
+        shoulder = meeting(points[0], directions[0], points[1], directions[1])
+        wrist = meeting(points[5], directions[5], points[6], directions[6])
+        along = (wrist - shoulder) / np.linalg.norm(wrist - shoulder)
+        for m, capsule in enumerate(capsules):
+            ends = [shapes[n, m, 2:5], shapes[n, m, 5:8]]
+            if capsule.frame in (1, 6):
+                axis = 0 if capsule.frame == 1 else 6
+                far = max(np.linalg.norm(np.cross(end - points[axis], directions[axis])) for end in ends)
+            elif capsule.frame in (3, 4):
+                far = max(np.linalg.norm(np.cross(end - shoulder, along)) for end in ends)
+            elif capsule.frame in (2, 5):
+                far = max(np.linalg.norm(end - (shoulder if capsule.frame == 2 else wrist)) for end in ends)
+            else:
+                far = 0.0
+            assert reach[n, m] == pytest.approx(far, rel=1e-9, abs=1e-12), (n, capsule.link)
 
 
 @settings(max_examples=30)

@@ -507,20 +507,24 @@ def _turning_reach(chain: SerialChain, body: Body, frames: np.ndarray, shapes: n
     turns about as the arm angle changes at the configuration's pose (module docstring): axis 1 (frame 1), the
     shoulder centre (frame 2), the shoulder-wrist line (frames 3 and 4), the wrist centre (frame 5) or axis 7
     (frame 6); 0 on frames 0 and 7, which do not move.  ``frames`` ``(N, n + 2, 4, 4)`` of :meth:`SerialChain.frames`
-    and ``shapes`` ``(N, M, WIDTH)`` of :func:`redkin.collision.body.posed` at those frames."""
+    and ``shapes`` ``(N, M, WIDTH)`` of :func:`redkin.collision.body.posed` at those frames.  Every capsule at once:
+    a centre is a line of direction 0."""
     directions, points, shoulder, wrist = _centres(chain, frames)
-    ends = capsule_ends(shapes)
-    reach = np.zeros(shapes.shape[:2])
-    for index, frame in enumerate(body.frame.tolist()):
-        if frame in (1, 6):
-            axis = 0 if frame == 1 else 6
-            reach[:, index] = _line_distance(ends[:, index], points[:, axis], directions[:, axis]).max(axis=-1)
-        elif frame in (3, 4):
-            reach[:, index] = _line_distance(ends[:, index], shoulder, _unit(wrist - shoulder)).max(axis=-1)
-        elif frame in (2, 5):
-            centre = shoulder if frame == 2 else wrist
-            reach[:, index] = np.linalg.norm(ends[:, index] - centre[:, None], axis=-1).max(axis=-1)
-    return reach
+    origins = np.stack([points[:, 0], points[:, 6], shoulder, wrist], axis=1)  # (N, 4, 3)
+    lines = np.stack([directions[:, 0], directions[:, 6], _unit(wrist - shoulder), np.zeros_like(shoulder)], axis=1)
+    frame = np.asarray(body.frame, dtype=np.int64)
+    origin_of, line_of = _TURNING_ORIGIN[frame], _TURNING_LINE[frame]
+    offset = capsule_ends(shapes) - origins[:, origin_of, None]  # (N, M, 2, 3)
+    line = lines[:, line_of, None]
+    along = np.sum(offset * line, axis=-1, keepdims=True)
+    reach = np.linalg.norm(offset - along * line, axis=-1).max(axis=-1)
+    return np.where((frame >= 1) & (frame <= 6), reach, 0.0)
+
+
+#: Per frame 0-7, what :func:`_turning_reach` measures its capsules from: the origin (axis 1's point, axis 7's, the
+#: shoulder centre, the wrist centre) and the line through it (axis 1, axis 7, the shoulder-wrist line, none).
+_TURNING_ORIGIN = np.array([0, 0, 2, 2, 2, 3, 1, 0])
+_TURNING_LINE = np.array([3, 0, 3, 2, 2, 3, 1, 3])
 
 
 def moved_pairs(arm: Arm, body: Body, scene: Scene, q: ArrayLike) -> np.ndarray:
