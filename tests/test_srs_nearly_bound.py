@@ -29,7 +29,7 @@ from redkin.circle import ArcSet
 from redkin.errors import RedkinError
 from redkin.srs import BRANCHES, feasible_arm_angles_nearly, neighbour_distance
 from redkin.srs.branches import parse_branch
-from redkin.srs.conventions import model_error
+from redkin.srs.conventions import ROUNDING_ROTATION, model_error
 from redkin.srs.nearly import NearlySRS, arm_angle
 from redkin.srs.nearly.bound import _equations
 from redkin.srs.nearly.feasible import _neighbour_sets
@@ -175,6 +175,27 @@ def test_the_model_error_is_the_largest_pose_difference(name, seed):
     relative = np.einsum("nji,njk->nik", mine[:, :3, :3], theirs[:, :3, :3])
     assert np.linalg.norm(Rotation.from_matrix(relative).as_rotvec(), axis=-1).max() <= arm.rotation_error + 1e-12
     assert model_error(arm.chain, arm.neighbour) == (arm.position_error, arm.rotation_error)
+
+
+def test_a_neighbour_that_keeps_the_axes_turns_the_tool_by_rounding_only_and_says_so():
+    """The Gen3 of the User Guide's DH form and the Jaco2 URDF differ from their neighbours in offsets only: every
+    sampled rotation difference is rounding (below ROUNDING_ROTATION) and the line says "not in orientation"; the
+    Gen3 URDF's axes are rounded (pi/2 written 1.5708), so its tool turns, and the line gives the angle."""
+    from redkin.models import kinova_gen3
+    from redkin.srs import nearly_srs
+
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (500, 7))
+    seen = []
+    for arm in (nearly_srs(kinova_gen3()), _arm("jaco2"), _arm("gen3")):
+        mine, theirs = arm.chain.fk(q), arm.neighbour.fk(q)
+        relative = np.einsum("nji,njk->nik", mine[:, :3, :3], theirs[:, :3, :3])
+        turned = np.linalg.norm(Rotation.from_matrix(relative).as_rotvec(), axis=-1).max()
+        rounding = turned < ROUNDING_ROTATION
+        assert (arm.rotation_error < ROUNDING_ROTATION) == rounding, arm.chain.name
+        assert ("not in orientation (to rounding)" in arm.describe()) == rounding
+        assert (f"{np.degrees(arm.rotation_error):.3g} deg" in arm.describe()) == (not rounding)
+        seen.append(rounding)
+    assert seen == [True, True, False]
 
 
 def test_a_pose_the_neighbour_cannot_reach_has_no_bound():

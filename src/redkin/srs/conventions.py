@@ -188,7 +188,8 @@ def model_error(chain: SerialChain, neighbour: SerialChain) -> tuple[float, floa
     Each is the largest over :data:`_MODEL_SAMPLES` fixed configurations (uniform in ``[-pi, pi]^n``, the same every
     call), raised by a local search (BFGS, :func:`scipy.optimize.minimize`; the position's gradient from the
     two chains' Jacobians) from the :data:`_MODEL_STARTS` largest: a local maximum, the global one wherever the
-    samples find its basin.
+    samples find its basin.  A rotation difference whose samples all lie below :data:`ROUNDING_ROTATION` is the
+    rounding of the two FKs (axes of the same directions: the chains differ in offsets only) and is not searched.
     """
     from scipy.optimize import minimize
 
@@ -209,6 +210,9 @@ def model_error(chain: SerialChain, neighbour: SerialChain) -> tuple[float, floa
     for values, negated, gradient, unit in ((position, position_and_gradient, True, scale[0]),
                                             (rotation, rotation_only, False, scale[1])):
         found = float(values.max())
+        if not gradient and found < ROUNDING_ROTATION:
+            largest.append(found)
+            continue
         for start in q[np.argsort(values)[-_MODEL_STARTS:]]:
             found = max(found, -unit * float(minimize(negated, start, jac=gradient, method="BFGS").fun))
         largest.append(found)
@@ -217,6 +221,9 @@ def model_error(chain: SerialChain, neighbour: SerialChain) -> tuple[float, floa
 
 #: :func:`model_error`'s sample configurations, and how many of the largest start its local search.
 _MODEL_SAMPLES, _MODEL_STARTS = 4096, 4
+#: A rotation difference [rad] of two chains' poses below this is the rounding of their FK (about 1e-15 for axes of
+#: the same directions), not a difference of the chains: :func:`model_error` does not search it, and words say so.
+ROUNDING_ROTATION = 1e-12
 
 
 def _pose_differences(chain: SerialChain, neighbour: SerialChain, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

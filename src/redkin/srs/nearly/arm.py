@@ -52,7 +52,7 @@ from redkin.errors import RedkinError
 from redkin.srs._ik_kernels import A4, BAD_POSE, D_EW
 from redkin.srs._targets import as_poses, check_psi, raise_for_bad_pose
 from redkin.srs.branches import BRANCHES, Branch, branch_of_theta, parse_branch
-from redkin.srs.conventions import departures, model_error, neighbour_form
+from redkin.srs.conventions import ROUNDING_ROTATION, departures, model_error, neighbour_form
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.srs.nearly import _kernels as _nearly_kernels
 
@@ -185,8 +185,10 @@ class NearlySRS:
         """The neighbour and the model error in one line, in millimetres as users give offsets."""
         dropped = ", ".join(f"{what} {value * 1e3:.4g} mm" if unit == "m" else f"{what} {np.degrees(value):.3g} deg"
                             for what, value, unit in self.departures)
+        turned = (f"{np.degrees(self.rotation_error):.3g} deg" if self.rotation_error >= ROUNDING_ROTATION
+                  else "not in orientation (to rounding)")
         return (f"its exact S-R-S neighbour drops: {dropped}; poses differ by up to {self.position_error * 1e3:.3g} mm "
-                f"and {np.degrees(self.rotation_error):.3g} deg")
+                f"and {turned}")
 
 
 class NearlySolutions(NamedTuple):
