@@ -514,10 +514,7 @@ def _turning_reach(chain: SerialChain, body: Body, frames: np.ndarray, shapes: n
     lines = np.stack([directions[:, 0], directions[:, 6], _unit(wrist - shoulder), np.zeros_like(shoulder)], axis=1)
     frame = np.asarray(body.frame, dtype=np.int64)
     origin_of, line_of = _TURNING_ORIGIN[frame], _TURNING_LINE[frame]
-    offset = capsule_ends(shapes) - origins[:, origin_of, None]  # (N, M, 2, 3)
-    line = lines[:, line_of, None]
-    along = np.sum(offset * line, axis=-1, keepdims=True)
-    reach = np.linalg.norm(offset - along * line, axis=-1).max(axis=-1)
+    reach = _line_distance(capsule_ends(shapes), origins[:, origin_of, None], lines[:, line_of, None]).max(axis=-1)
     return np.where((frame >= 1) & (frame <= 6), reach, 0.0)
 
 
@@ -541,8 +538,8 @@ def moved_pairs(arm: Arm, body: Body, scene: Scene, q: ArrayLike) -> np.ndarray:
     shapes = posed(body, frames)
     _, _, shoulder, wrist = _centres(chain, frames)
     still = _turning_reach(chain, body, frames, shapes) <= _STILL  # (N, M)
-    on_line = _line_distance(capsule_ends(shapes).reshape(len(q), -1, 3), shoulder, _unit(wrist - shoulder)).reshape(
-        len(q), len(body), 2).max(axis=-1) <= _STILL
+    on_line = _line_distance(capsule_ends(shapes), shoulder[:, None, None],
+                             _unit(wrist - shoulder)[:, None, None]).max(axis=-1) <= _STILL
     about_line = np.isin(body.frame, (3, 4))[None]
     pairs = checked_pairs(body, scene)
     other = np.maximum(pairs.other, 0)
@@ -581,10 +578,11 @@ def _meeting_point(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarra
 
 
 def _line_distance(points: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """Distances of ``points`` ``(N, K, 3)`` from the lines through ``origin`` along ``direction`` ``(N, 3)``."""
-    offset = points - origin[:, None]
-    along = np.sum(offset * direction[:, None], axis=-1, keepdims=True)
-    return np.linalg.norm(offset - along * direction[:, None], axis=-1)
+    """Distances of ``points`` ``(..., 3)`` from the lines through ``origin`` along the unit ``direction`` (each
+    ``(..., 3)``, broadcast against them; a direction 0 gives the distance from ``origin``)."""
+    offset = points - origin
+    along = np.sum(offset * direction, axis=-1, keepdims=True)
+    return np.linalg.norm(offset - along * direction, axis=-1)
 
 
 def arcs_of(arcs: ArcSet) -> Arcs:
