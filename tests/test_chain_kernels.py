@@ -123,6 +123,27 @@ def test_jacobian_equals_finite_differences(case, data):
     np.testing.assert_array_equal(chain.jacobian(q), chain.jacobian(q, frame=None, offset=np.zeros(3)))
 
 
+@given(chains_and_q(), st.data())
+@settings(max_examples=100, deadline=None)
+def test_jacobian_from_the_sines_frames_one_left_is_jacobian_one(case, data):
+    """The pose and the Jacobian of one q share one set of sines and cosines: the Jacobian from those frames_one
+    leaves equals the one that takes its own, bit for bit, on every frame and point."""
+    chain, q = case
+    links, ends, standard = chain._links, chain._ends, chain._standard
+    active = data.draw(st.integers(0, chain.n))
+    tool = data.draw(st.booleans()) if active == chain.n else False
+    offset = np.array(data.draw(st.tuples(lengths, lengths, lengths)))
+    trig, own = np.empty((chain.n, 2)), np.empty((6, chain.n))
+    _chain_kernels.jacobian_one(q, links, ends, standard, active, tool, offset, trig, own)
+    trig[:] = np.nan  # whatever jacobian_one left: the sines and cosines below are frames_one's
+    _chain_kernels.frames_one(q, links, ends, standard, trig, np.empty((1, 4, 4)))
+    shared = np.full((6, chain.n), np.nan)
+    _chain_kernels.jacobian_from_trig(links, ends, standard, active, tool, offset, trig, shared)
+    np.testing.assert_array_equal(shared, own)
+    np.testing.assert_allclose(own, finite_difference_jacobian(chain, q, active if not tool else None, offset),
+                               rtol=0, atol=1e-7)
+
+
 @given(chains(), st.integers(0, 2**32 - 1))
 @settings(max_examples=30, deadline=None)
 def test_batches_equal_single_calls(chain, seed):

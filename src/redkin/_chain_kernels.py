@@ -151,10 +151,18 @@ def jacobian_one(q, links, ends, standard, active, tool, offset, trig, out):
     that frame's origin ``o_i``: column ``i`` is ``sign_i [z_i x (point - o_i);
     z_i]``; columns from ``active`` on are zero.  The point's frame is frame
     ``active``, followed by the tool transform if ``tool``; the point is
-    ``offset`` (3,) in that frame's coordinates.
+    ``offset`` (3,) in that frame's coordinates.  ``trig`` (n, 2) is scratch.
     """
-    n = links.shape[0]
     angles(q, links, trig)
+    jacobian_from_trig(links, ends, standard, active, tool, offset, trig, out)
+
+
+@kernel
+def jacobian_from_trig(links, ends, standard, active, tool, offset, trig, out):
+    """:func:`jacobian_one` from the joints' ``cos theta_i, sin theta_i`` in ``trig`` (n, 2) (:func:`angles`), for a
+    caller that has them already: :func:`frames_one` leaves those of its ``q`` in its ``trig``, so the pose and the
+    Jacobian of one ``q`` take one set of sines and cosines."""
+    n = links.shape[0]
     x, y, z, p = columns(ends[0])
     for i in range(active):
         if standard:  # the axis before the link

@@ -8,7 +8,7 @@ from math import inf, nan
 
 import numpy as np
 
-from redkin._chain_kernels import frames_one, jacobian_one
+from redkin._chain_kernels import frames_one, jacobian_from_trig
 from redkin._compiled import kernel
 from redkin.collision._body_kernels import posed_one
 from redkin.collision._distance_kernels import OUT, pair_distance, round_box_gap, round_round_gap
@@ -169,25 +169,25 @@ def pair_gradient(q, links, ends, standard, frame, a, b, radius, obstacles, caps
     out = found[0]
     pair_distance(rows[capsule[k]], shape, out)
     gradient[:] = 0.0
-    _point_motion(q, links, ends, standard, held, frame[capsule[k]], out[1:4], out[7:10], -1.0, trig, jac, gradient)
+    _point_motion(links, ends, standard, held, frame[capsule[k]], out[1:4], out[7:10], -1.0, trig, jac, gradient)
     if obstacle[k] < 0:
-        _point_motion(q, links, ends, standard, held, frame[other[k]], out[4:7], out[7:10], 1.0, trig, jac,
+        _point_motion(links, ends, standard, held, frame[other[k]], out[4:7], out[7:10], 1.0, trig, jac,
                       gradient)
     return out[0]
 
 
 @kernel
-def _point_motion(q, links, ends, standard, held, which, point, direction, sign, trig, jac, gradient):
+def _point_motion(links, ends, standard, held, which, point, direction, sign, trig, jac, gradient):
     """Add ``sign direction^T J(point)`` to ``gradient`` (n,), ``J`` the linear rows of the Jacobian of ``point``
     (world) held fixed in frame ``which`` of ``held`` (:func:`redkin._chain_kernels.frames_one`'s: the base, the
-    frames after each joint, the tool)."""
+    frames after each joint, the tool), ``trig`` the sines and cosines that call left."""
     n = links.shape[0]
     frame = held[which]
     offset = np.empty(3)
     for c in range(3):
         offset[c] = (frame[0, c] * (point[0] - frame[0, 3]) + frame[1, c] * (point[1] - frame[1, 3])
                      + frame[2, c] * (point[2] - frame[2, 3]))
-    jacobian_one(q, links, ends, standard, min(which, n), which > n, offset, trig, jac)
+    jacobian_from_trig(links, ends, standard, min(which, n), which > n, offset, trig, jac)
     for j in range(n):
         gradient[j] += sign * (direction[0] * jac[0, j] + direction[1] * jac[1, j] + direction[2] * jac[2, j])
 

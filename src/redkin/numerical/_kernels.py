@@ -261,7 +261,8 @@ def descend(q, target, seed, seeded, links, ends, standard, lower, upper, tolera
                     return True
                 phase, left = FINAL, POLISH
             left -= 1
-        _chain_kernels.jacobian_one(q, links, ends, standard, n, tool, origin, trig, jac)
+        # q as measured: its sines and cosines are in trig
+        _chain_kernels.jacobian_from_trig(links, ends, standard, n, tool, origin, trig, jac)
         moved = limited_step(q, jac, e, seed, phase == PULL, lower, upper, free, pull, a, y, dq)
         if phase == PULL and moved <= SETTLED:
             phase, left = FINAL, POLISH

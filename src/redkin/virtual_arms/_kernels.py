@@ -47,7 +47,7 @@ def virtual_points_one(theta, links, ends, standard, frames, local, axes, trig, 
             r = axes[c]
             positions[k, c] = pose[r, 3] + (pose[r, 0] * local[k, 0] + pose[r, 1] * local[k, 1]
                                             + pose[r, 2] * local[k, 2])
-        _chain_kernels.jacobian_one(theta, links, ends, standard, min(frames[k], n), frames[k] > n, local[k], trig, jac)
+        _chain_kernels.jacobian_from_trig(links, ends, standard, min(frames[k], n), frames[k] > n, local[k], trig, jac)
         for c in range(axes.shape[0]):
             for j in range(n):
                 jacobians[k, c, j] = jac[axes[c], j]

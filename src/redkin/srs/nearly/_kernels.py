@@ -236,7 +236,8 @@ def newton(q, target, psi, real, model, work, best, side, real_phase):
             if size > 0.5 * checkpoint:
                 break
             checkpoint = size
-        _chain_kernels.jacobian_one(q, links, ends, standard, np.int64(7), np.bool_(True), origin, trig, jac)
+        # q as measured: its sines and cosines are in trig
+        _chain_kernels.jacobian_from_trig(links, ends, standard, np.int64(7), np.bool_(True), origin, trig, jac)
         for c in range(7):
             jac[6, c] = gradient[c]
         damping = DAMPING_FLOOR + DAMPING * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3] + e[4] * e[4]
@@ -600,8 +601,8 @@ def equations(start, stop, q, targets, psi, real, model, e, jac):
     gradient = work[4]
     for n in range(start, stop):
         measured(q[n], targets[n], psi[n], real, model, work, gradient, np.bool_(True), e[n])
-        _chain_kernels.jacobian_one(q[n], links, ends, standard, np.int64(7), np.bool_(True), work[9], work[0],
-                                    jac[n])
+        _chain_kernels.jacobian_from_trig(links, ends, standard, np.int64(7), np.bool_(True), work[9], work[0],
+                                          jac[n])  # q[n]'s sines and cosines, as measured
         for c in range(7):
             jac[n, 6, c] = gradient[c]
 

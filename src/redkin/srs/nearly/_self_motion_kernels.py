@@ -239,7 +239,7 @@ def residual(q, target, real, scale, work):
     trig, pose, origin, system, f, axes, m = work[0], work[1], work[2], work[3], work[4], work[11], work[12]
     links, ends, standard = real
     _chain_kernels.frames_one(q, links, ends, standard, trig, pose)
-    _chain_kernels.jacobian_one(q, links, ends, standard, np.int64(7), np.bool_(True), origin, trig, system)
+    _chain_kernels.jacobian_from_trig(links, ends, standard, np.int64(7), np.bool_(True), origin, trig, system)
     end = pose[0]
     for r in range(3):
         f[r] = scale * (end[r, 3] - target[r, 3])
