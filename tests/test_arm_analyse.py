@@ -115,9 +115,24 @@ def test_a_general_chain_and_weights_on_q7_refuse_in_words():
         panda.analyse(panda.fk(Q), weights=(1.0, 0.5))
 
 
-def test_a_pose_out_of_reach_is_an_unreachable_pose_error():
-    arm = redkin.arm("iiwa14.urdf")
+@pytest.mark.parametrize("source, measure", [
+    ("iiwa14.urdf", "shoulder-wrist distance"),
+    ("panda.urdf", "shoulder-wrist distance at the most favourable q7"),
+    ("gen3.urdf", "on joint 1's axis"),
+])
+def test_a_pose_out_of_reach_is_an_unreachable_pose_error_on_every_class(source, measure, capsys):
+    """Every class refuses a pose its reach proves out of reach, before any search, in one line with the distance:
+    ``redkin arm-angles`` exits 2 with that line, as for any bad input (the Franka class and nearly S-R-S arms
+    printed empty sets with exit 0 before)."""
+    arm = redkin.arm(source)
     far = np.eye(4)
     far[:3, 3] = [5.0, 0.0, 0.0]
-    with pytest.raises(redkin.errors.UnreachablePoseError):
+    with pytest.raises(redkin.errors.UnreachablePoseError, match=measure):
         arm.analyse(far)
+    near = arm.fk(_inside(arm))  # in reach: an analysis, whatever its sets
+    assert len(arm.analyse(near).branches) == 8
+    from redkin.cli.main import main
+
+    assert main(["arm-angles", source, "--position", "5", "0", "0", "--quat", "1", "0", "0", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "unreachable pos" in err[0] and measure in err[0]

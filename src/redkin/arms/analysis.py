@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from redkin.arms.parameter import Parameter
+from redkin.chain import Reach
+from redkin.errors import UnreachablePoseError
 
 #: Values of the parameter closer than this [rad] are one (an optimum that needed no clamping, a value at the end
 #: of a set computed from the per-joint ends it came from).
@@ -152,3 +154,18 @@ def optimal_parts(optimal) -> dict[str, tuple[float, float]]:
 def value(optional: float | None) -> float:
     """A value that may be missing (``None``) as a float, ``nan`` where missing."""
     return np.nan if optional is None else float(optional)
+
+
+def check_in_reach(reach: Reach) -> None:
+    """Raise where ``reach`` (of one pose) proves the pose out of the arm's reach: the analysis of every class refuses
+    such a pose in one line with the distances, before any search (the S-R-S closed form from [000 eq. 11], the
+    other classes from their own reach).
+
+    Raises
+    ------
+    UnreachablePoseError
+        Where ``reach.out``.
+    """
+    if bool(reach.out):
+        raise UnreachablePoseError(f"unreachable pose: {reach.measure} is {float(reach.distance):.6g} m, outside "
+                                   f"[{reach.lower:.6g}, {reach.upper:.6g}] m")

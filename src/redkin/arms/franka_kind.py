@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.arms.analysis import Analysis, BranchAnalysis, as_arcs, value
+from redkin.arms.analysis import Analysis, BranchAnalysis, as_arcs, check_in_reach, value
 from redkin.arms.feasible_sets import Arcs
 from redkin.arms.parameter import Parameter
 from redkin.arms.protocol import ArmKind
@@ -70,8 +70,10 @@ class FrankaKind(ArmKind):
     def analyse(self, pose: np.ndarray, rows: np.ndarray, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> Analysis:
         """[F8]-[F10] at one pose: the feasible q7 of every branch and the limit-avoiding q7; no per-joint sets and no
-        singular values (where q2 passes through 0 a branch's q1 and q3 may jump)."""
+        singular values (where q2 passes through 0 a branch's q1 and q3 may jump); raises
+        :class:`redkin.errors.UnreachablePoseError` where no q7 reaches the pose (:func:`redkin.franka.ik.reach`)."""
         self._no_weights(weights)
+        check_in_reach(reach(self.geometry, pose))
         sets = feasible_q7(self.geometry, pose)
         arcs = tuple(as_arcs(pieces) for pieces in sets.arcs)
         low, high = self.parameter.domain

@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, optimal_parts
+from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, check_in_reach, optimal_parts
 from redkin.arms.feasible_sets import Arcs
 from redkin.arms.protocol import ArmKind
 from redkin.arms.solutions import CLOSED_FORM, Solutions
@@ -50,8 +50,8 @@ class NearlyKind(ArmKind):
         if rows is not None and not one:
             q, exists, within = q[..., rows, :], exists[..., rows], within[..., rows]
 
-        def measured() -> Reach:  # the links' bound, with the slack of the real arm's certificate
-            bound = self.chain.reach(poses, tolerance=NEARLY_TOLERANCE)
+        def measured() -> Reach:
+            bound = self._reach(poses)
             return bound._replace(distance=np.broadcast_to(bound.distance, exists.shape[:-1]),
                                   out=np.broadcast_to(bound.out, exists.shape[:-1]))
 
@@ -80,7 +80,9 @@ class NearlyKind(ArmKind):
     def analyse(self, pose: np.ndarray, rows: np.ndarray, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> Analysis:
         """The real arm's feasible sets of every branch from one self-motion, and its singular and limit-avoiding
-        arm angles; no per-joint sets (not computed on such arms)."""
+        arm angles; no per-joint sets (not computed on such arms); raises :class:`redkin.errors.UnreachablePoseError`
+        where the links' reach proves the pose out of reach."""
+        check_in_reach(self._reach(pose))
         every = feasible_arm_angles_nearly_all(self.nearly, pose)
         remarks = (f"{self.chain.name} is nearly S-R-S: {self.nearly.describe()}.",
                    "The per-joint sets are not computed on nearly S-R-S arms.")
@@ -88,6 +90,10 @@ class NearlyKind(ArmKind):
         return Analysis(self.parameter, self.method, sets,
                         tuple(self._branch(pose, int(row), every[row], sets[row], target, weights) for row in rows),
                         all(result.complete for result in every), every[0].samples, remarks, "certified solution")
+
+    def _reach(self, poses: ArrayLike) -> Reach:
+        """The poses against the links' reach, with the slack of the real arm's certificate."""
+        return self.chain.reach(poses, tolerance=NEARLY_TOLERANCE)
 
     def _branch(self, pose: np.ndarray, row: int, result: NearlyFeasible, arcs: np.ndarray,
                 target: np.ndarray | None, weights: tuple[float, float] | None) -> BranchAnalysis:
