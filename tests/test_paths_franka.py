@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 from redkin import franka
 from redkin.cli.main import main
+from redkin.franka.ik import reach as franka_reach
 from redkin.models import get_robot
 from redkin.paths import FK_TOLERANCE, OPTIMALITY_MARGIN, Q7Family, path_family, resolve_path, resolve_paths
 from redkin.srs import BRANCHES
@@ -93,16 +94,17 @@ def test_the_start_configuration_and_many_paths_at_once():
         np.testing.assert_array_equal(alone.q, result.q)
 
 
-def test_a_pose_out_of_reach_is_an_empty_set_proved_at_its_waypoint():
+def test_a_pose_out_of_reach_is_a_failure_proved_at_its_waypoint():
     chain = get_robot("franka-fr3")
     _, poses = _joint_line(chain, np.random.default_rng(2), 6)
     poses = poses.copy()
     poses[3, :3, 3] = [2.0, 0.0, 0.5]  # two metres away
     result = resolve_path(chain, poses, 0.5)
     assert not result.ok
-    assert (result.failure.waypoint, result.failure.reason, result.failure.exact) == (3, "empty", True)
-    family = Q7Family(franka.franka_geometry(chain))
+    assert (result.failure.waypoint, result.failure.reason, result.failure.exact) == (3, "out-of-reach", True)
+    family = Q7Family(franka.franka_geometry(chain))  # the reach agrees with the exact sets: empty there
     assert not family.pieces(poses[3:4]).feasible.any()
+    assert franka_reach(chain, poses).out.tolist() == [False, False, False, True, False, False]
 
 
 def test_the_command_line_names_q7(tmp_path, capsys):

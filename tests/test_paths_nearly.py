@@ -89,7 +89,8 @@ def test_a_pose_out_of_reach_is_a_failure_at_its_waypoint():
     poses[2, :3, 3] = [3.0, 0.0, 0.5]  # far beyond the arm's reach
     result = resolve_path(chain, poses, 0.5)
     assert not result.ok
-    assert result.failure.waypoint == 2 and result.failure.reason == "empty" and not result.failure.exact
+    assert (result.failure.waypoint, result.failure.reason, result.failure.exact) == (2, "out-of-reach", True)
+    assert chain.reach(poses).out.tolist() == [False, False, True, False, False]  # proved by the links' reach
 
 
 def test_the_command_line(tmp_path, capsys):

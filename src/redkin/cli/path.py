@@ -142,7 +142,8 @@ def _failure_line(failure, degrees: bool) -> str:
         text += f" (joint {failure.joint} must move {needed} {angle_unit(degrees)})"
     elif failure.joint is not None:
         text += f" (joint {failure.joint} blocks it)"
-    return text + (" [proved by the exact feasible sets]" if failure.exact else " [on the searched graph]")
+    proof = "the arm's reach" if failure.reason == "out-of-reach" else "the exact feasible sets"
+    return text + (f" [proved by {proof}]" if failure.exact else " [on the searched graph]")
 
 
 def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, srs_tolerance: float | None,

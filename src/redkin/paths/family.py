@@ -32,6 +32,7 @@ from redkin.franka.geometry import FrankaGeometry, franka_geometry
 from redkin.franka.ik import PARAMETER as Q7
 from redkin.franka.ik import frames_seven
 from redkin.franka.ik import ik as franka_ik
+from redkin.franka.ik import reach as q7_reach
 from redkin.paths import _dp_kernels
 from redkin.paths.failure import empty_blocker
 from redkin.paths.graph import _CLIP_TOLERANCE, Arm, joint_moves
@@ -42,6 +43,7 @@ from redkin.srs.coefficients import coefficient_arrays
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.srs.ik import reachable
+from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
 from redkin.srs.nearly import NearlySRS, nearly_srs
 from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
@@ -302,9 +304,9 @@ class Q7Family(Family):
             frames = np.ascontiguousarray(frames_seven(self.geometry, poses))
         except ValueError as exc:
             raise RedkinError(f"paths: {exc}") from exc
-        # a pose out of reach has no branch at any q7: an empty feasible set, proved by [F8]-[F9]
-        return np.ones(len(poses), dtype=bool), _Q7Arm(self.chain, step, self.chain.covers_circle, self.geometry,
-                                                      frames)
+        # a pose out of reach (the shoulder-wrist distance over every q7 against the elbow's range) has no branch
+        return ~q7_reach(self.geometry, poses).out, _Q7Arm(self.chain, step, self.chain.covers_circle, self.geometry,
+                                                          frames)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         return FeasiblePieces(*feasible_q7_pieces(self.geometry, poses))
@@ -376,9 +378,9 @@ class NearlyFamily(Family):
         return self.nearly.chain
 
     def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
-        # a pose out of reach has no certified solution at any arm angle: an empty feasible set
-        return np.ones(len(poses), dtype=bool), _NearlyArm(self.chain, step, self.chain.covers_circle, self.nearly,
-                                                           poses)
+        # a pose beyond the links' reach (with the certificate's slack) has no solution at any arm angle
+        inside = ~self.chain.reach(poses, tolerance=NEARLY_TOLERANCE).out
+        return inside, _NearlyArm(self.chain, step, self.chain.covers_circle, self.nearly, poses)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:
         """The real feasible sets of every branch (:func:`redkin.srs.feasible_arm_angles_nearly_all`), an arc through

@@ -13,7 +13,7 @@ if TYPE_CHECKING:
 
 #: Why no path exists, by :attr:`PathFailure.reason`.
 REASONS = {
-    "out-of-reach": "the wrist position is out of the arm's reach",
+    "out-of-reach": "the pose is out of the arm's reach",
     "empty": "no arm angle (or q7) satisfies every joint limit on any branch",
     "collision": "no arm angle within the joint limits keeps the body clear of the obstacles on any branch",
     "step": "no feasible configuration lies within the step bound of one reachable from the start",
@@ -42,8 +42,8 @@ class PathFailure:
         ``"end"`` the joint that must move most (relative to its bound) on the closest pair of configurations.
         ``None`` for ``"out-of-reach"``.
     exact : bool
-        True where the failure is proved by the exact feasible sets (``"out-of-reach"``, ``"empty"``); False
-        where it is a statement about the sampled graph (see docs/paths.md).
+        True where the failure is proved: by the arm's reach (``"out-of-reach"``, on every class) or by the exact
+        feasible sets (``"empty"``); False where it is a statement about the sampled graph (see docs/paths.md).
     needed : float or None
         For a step failure: how far ``joint`` must move at least on the closest pair (radians); its bound is
         :attr:`PathResult.step` of that joint.
