@@ -276,13 +276,13 @@ def test_compiled_beside_compiles_here_while_the_other_process_runs_then_waits_f
 
 #: Each path that compiles from its first call in two processes: its robot, key poses' tool position, the extra
 #: arguments, and the kernels its own process must not compile (the second process's).  An S-R-S arm's path in a
-#: cell runs as Python up to 200 waypoints while its kernels are not cached (the key poses 0.05 m apart: 251 at
-#: --step 0.0002).
+#: cell runs as Python up to 400 waypoints while its kernels are not cached (the key poses 0.05 m apart: 501 at
+#: --step 0.0001).
 BESIDE = {
     "nearly S-R-S": ("kinova-gen3", [0.3, 0.0, 0.6], ["--step", "0.01"], ("traced", "sweep")),
     "Franka class in a cell": ("franka-panda", [0.45, 0.0, 0.4], ["--step", "0.01", "--scene", "{cell}"],
                                ("clearances", "sweep")),
-    "S-R-S in a cell": ("kuka-iiwa14", [0.5, 0.0, 0.4], ["--step", "0.0002", "--scene", "{cell}"],
+    "S-R-S in a cell": ("kuka-iiwa14", [0.5, 0.0, 0.4], ["--step", "0.0001", "--scene", "{cell}"],
                         ("clearances", "sweep")),
 }
 

@@ -195,12 +195,15 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
 #: loading numba.
 _SMALL_PATH = 32
 #: Waypoints of a path that runs as Python while the kernels it calls are not compiled yet (compiling them in the
-#: background meanwhile, :func:`redkin.cli.common.python_until_compiled`), at most: as Python, from a fresh cache,
-#: 21/51/101/201 iiwa14 waypoints took 0.5/0.7/1.3/2.1 s, in a cell of a table, a post and a lamp 51/101/201 took
-#: 3.2/6.0/11.5 s, and 21/51/101 Panda waypoints 1.5/2.7/4.7 s, against 13.5 s, 18-28 s and 24-27 s of compiling
-#: (with the compile in the background beside it, 2 cores, 2026-12-07).  The Franka class's paths in a cell stay
-#: compiled (161 s as Python for 21), and so do longer paths, timed ones and ``--thorough``.
-_PYTHON_PATH = 200
+#: background meanwhile, :func:`redkin.cli.common.python_until_compiled`), at most, where that is quicker than
+#: compiling first: an S-R-S or offset-elbow arm's path without a cell, one in a cell, and the Franka class's without
+#: one.  From a fresh cache, the compile in the background beside it, 2 cores (2026-12-07), as Python against compiled
+#: first: 501 iiwa14 waypoints 6.0 against 14.2 s, 1001 10.9 against 13.6 s; in a cell of a table, a post and a lamp
+#: 301 took 10.5 against 16.8 s; 501 Panda waypoints 22.5 against 26.1 s (earlier: 21/51/101/201 iiwa14 waypoints
+#: 0.5/0.7/1.3/2.1 s, in the cell 51/101/201 3.2/6.0/11.5 s, 21/51/101 Panda waypoints 1.5/2.7/4.7 s).  The Franka
+#: class's paths in a cell stay compiled (161 s as Python for 21), and so do longer paths, timed ones and
+#: ``--thorough``.
+_PYTHON_PATH, _PYTHON_CELL_PATH, _PYTHON_FRANKA_PATH = 1000, 400, 500
 #: The kernels a path of an S-R-S or offset-elbow arm without a cell calls (with theirs): the limit sets, the IK's
 #: coefficients, and the path graph's samples, rows and sweep; and the sections of :mod:`redkin.warm_up` that compile
 #: them.
@@ -471,15 +474,15 @@ def _run_path(args: argparse.Namespace) -> int:
     model = _model_line(chain, args.srs_tolerance)
     plain = model is None and not timed and not args.thorough
     small = False
-    if plain and len(poses) <= _PYTHON_PATH:
+    if plain:
         exact_angle = _parameter(chain, args.srs_tolerance) == "psi"
-        if cell is None and exact_angle:
-            small = len(poses) <= _SMALL_PATH or python_until_compiled(_SRS_PATH_KERNELS, "this path",
-                                                                         _SRS_PATH_SECTIONS)
-        elif cell is None:
+        count = len(poses)
+        if cell is None and exact_angle and count <= _PYTHON_PATH:
+            small = count <= _SMALL_PATH or python_until_compiled(_SRS_PATH_KERNELS, "this path", _SRS_PATH_SECTIONS)
+        elif cell is None and not exact_angle and count <= _PYTHON_FRANKA_PATH:
             small = python_until_compiled(_FRANKA_PATH_KERNELS, "this path of the Franka class",
                                           _FRANKA_PATH_SECTIONS)
-        elif exact_angle:
+        elif cell is not None and exact_angle and count <= _PYTHON_CELL_PATH:
             small = python_until_compiled((*CELL_SETS_KERNELS["psi"], *_CELL_PATH_KERNELS), "this path in a cell",
                                           (*CELL_SETS_SECTIONS["psi"], "paths"))
     small_work(small)
