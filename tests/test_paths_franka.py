@@ -102,6 +102,7 @@ def test_a_pose_out_of_reach_is_a_failure_proved_at_its_waypoint():
     result = resolve_path(chain, poses, 0.5)
     assert not result.ok
     assert (result.failure.waypoint, result.failure.reason, result.failure.exact) == (3, "out-of-reach", True)
+    assert result.parameter == "q7"  # a failed path names its parameter too (it said psi)
     family = Q7Family(franka.franka_geometry(chain))  # the reach agrees with the exact sets: empty there
     assert not family.pieces(poses[3:4]).feasible.any()
     assert franka_reach(chain, poses).out.tolist() == [False, False, False, True, False, False]
