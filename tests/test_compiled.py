@@ -149,7 +149,7 @@ def test_chunks_cover_the_batch_once_on_the_calling_thread_and_the_pool(threads,
     np.testing.assert_array_equal(out, np.arange(count))
 
 
-def test_small_batches_and_one_thread_run_in_the_calling_thread():
+def test_small_batches_and_one_thread_run_in_the_calling_thread(monkeypatch):
     for threads, count in ((None, _compiled.PARALLEL_BATCH - 1), (1, 100_000)):
         chunk, calls = recorder()
         try:
@@ -158,6 +158,14 @@ def test_small_batches_and_one_thread_run_in_the_calling_thread():
         finally:
             set_threads(None)
         assert calls == [(0, count, threading.current_thread().name)]
+
+    def asked() -> int:
+        raise AssertionError("a batch too small for the pool asked for the cores (a system call, 2.4 us)")
+
+    monkeypatch.setattr(_compiled, "thread_count", asked)
+    chunk, calls = recorder()
+    run_batch(chunk, _compiled.PARALLEL_BATCH - 1, np.empty(_compiled.PARALLEL_BATCH - 1))
+    assert len(calls) == 1
 
 
 def test_a_batch_too_short_for_the_pool_runs_in_the_calling_thread(monkeypatch):

@@ -830,13 +830,13 @@ def run_batch(kernel: Callable, count: int, *args):
     per_item = _seconds_per_item.get(kernel)
     if count < TIMED_BATCH or running_as_python():  # a few items, or Python: one thread
         return kernel(0, count, *args)
-    threads = thread_count()
     smallest = MIN_CHUNK if per_item is None else max(1, min(MIN_CHUNK, int(POOL_SECONDS / max(per_item, 1e-12))))
-    chunks = min(CHUNKS_PER_THREAD * threads, count // smallest)
     known = per_item is not None and smallest < MIN_CHUNK  # a small batch of long items goes to the pool too
-    if (threads > 1 and chunks > 1 and (count >= PARALLEL_BATCH or known)
-            and (POOL_SECONDS if per_item is None else per_item) * count >= POOL_SECONDS):
-        return _run_chunks(kernel, count, chunks, threads, args)
+    if ((count >= PARALLEL_BATCH or known) and (POOL_SECONDS if per_item is None else per_item) * count >= POOL_SECONDS
+            and (threads := thread_count()) > 1):  # the cores asked only of a batch that may go to the pool
+        chunks = min(CHUNKS_PER_THREAD * threads, count // smallest)
+        if chunks > 1:
+            return _run_chunks(kernel, count, chunks, threads, args)
     start = time.perf_counter()
     result = kernel(0, count, *args)
     measured = (time.perf_counter() - start) / count
