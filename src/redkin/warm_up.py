@@ -89,6 +89,7 @@ def _nearly_srs(rng: np.random.Generator) -> None:
     q = rng.uniform(-1, 1, (_BATCH, 7))
     poses, psi = arm.chain.fk(q), nearly.arm_angle(arm, q)
     nearly.ik(arm, poses[0], psi[0]), nearly.ik(arm, poses, psi, "+-+")
+    nearly.ik_continued(arm, poses, psi, np.full(len(psi), 2), np.zeros(len(psi), dtype=np.int64))  # a path's nodes
     srs.neighbour_distance(arm, poses[0], psi[0], "+-+"), srs.neighbour_distance(arm, poses[0], psi, "+-+")
     srs.feasible_arm_angles_nearly(arm, poses[0], "+-+")
     srs.branch_solutions(arm, poses[0], float(psi[0]), "+-+")

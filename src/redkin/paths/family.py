@@ -44,10 +44,9 @@ from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.srs.ik import reachable
 from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
-from redkin.srs.nearly import NearlySRS, nearly_srs
+from redkin.srs.nearly import NearlySRS, ik_continued, nearly_srs
 from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
-from redkin.srs.nearly import ik as nearly_ik
 from redkin.srs.nearly.feasible import feasible_arm_angles_nearly_all
 
 if TYPE_CHECKING:  # for the type alone: only a family in a cell (paths.collision_family) checks steps
@@ -341,15 +340,13 @@ class _NearlyArm(Arm):
     def rows(self, waypoint: np.ndarray, branch: np.ndarray, parameter: np.ndarray,
              shared: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`Arm.rows` at the real arm's arm angles ``parameter`` (``shared`` is not used): the certified
-        solutions of :func:`redkin.srs.nearly.ik`, each limited joint moved by whole turns to just above its lower
-        limit (the solver's values are right modulo whole turns) and the others into ``[-pi, pi)``, then clipped as
-        :func:`redkin.paths._dp_kernels._clipped` clips; a joint outside its range is as far out as the nearer limit,
-        either way round."""
-        q, exists = np.zeros((len(parameter), 7)), np.zeros(len(parameter), dtype=bool)
-        for b in np.unique(branch):
-            mine = np.flatnonzero(branch == b)
-            solutions = nearly_ik(self.nearly, self.poses[waypoint[mine]], parameter[mine], BRANCHES[b])
-            q[mine], exists[mine] = solutions.q[:, 0], solutions.exists[:, 0]
+        solutions of :func:`redkin.srs.nearly.ik`, each node of a waypoint and branch continued from the one before
+        it in arm angle (:func:`redkin.srs.nearly.arm.ik_continued`), each limited joint moved by whole turns to
+        just above its lower limit (the solver's values are right modulo whole turns) and the others into ``[-pi,
+        pi)``, then clipped as :func:`redkin.paths._dp_kernels._clipped` clips; a joint outside its range is as far
+        out as the nearer limit, either way round."""
+        q, exists = ik_continued(self.nearly, self.poses[waypoint], parameter, branch,
+                                 waypoint * len(BRANCHES) + branch)
         q[:, self.circle] = wrap_angle(q[:, self.circle])  # as the closed forms' nodes, in [-pi, pi)
         limited = ~self.circle
         if not limited.any():

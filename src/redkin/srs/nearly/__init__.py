@@ -20,9 +20,10 @@ from redkin.srs.nearly.arm import (
     arm_angle,
     branch_of,
     ik,
+    ik_continued,
     nearly_srs,
     self_motion_rates,
 )
 
 __all__ = ["TOLERANCE", "TOLERANCE_DEFAULT", "NearlySRS", "NearlySolutions", "arm_angle", "branch_of", "ik",
-           "nearly_srs", "self_motion_rates"]
+           "ik_continued", "nearly_srs", "self_motion_rates"]

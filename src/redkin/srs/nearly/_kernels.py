@@ -61,6 +61,9 @@ CORRECTIONS = 3
 #: Newton's steps per start at most; a start is given up when its error has not halved over ``STALL`` steps, and
 #: ends at ``FINE`` (position plus rotation plus arm angle: rounding).
 NEWTON_ITERATIONS, STALL, FINE = 30, 6, 1e-12
+#: How far apart in arm angle [rad] two items of one pose and branch may be for :func:`solve_continued` to start the
+#: later one's Newton steps from the earlier one's solution.
+CONTINUED = 0.25
 #: Slack [rad] of :func:`within_limits`.
 LIMIT_SLACK = 1e-9
 #: How far from its stretch [rad] the second start's elbow is opened (:func:`opened`).
@@ -588,6 +591,47 @@ def solve(start, stop, targets, psi, rows, signs, geometry, real, model, tool_in
         for r in range(rows.shape[0]):
             inside[n, r] = exists[n, r] and within_limits(q[n, r], limits)
     return bad
+
+
+@kernel
+def solve_continued(start, stop, firsts, order, targets, psi, branch, signs, geometry, real, model, tool_inverse,
+                    reach, real_phase, q, exists):
+    """One branch's certified solution of each item, groups ``start .. stop - 1`` of ``firsts`` (G + 1,): group ``g``
+    is the items ``order[firsts[g]:firsts[g + 1]]``, one pose and branch, arm angles increasing.  Item ``n`` is pose
+    ``targets[n]`` (N, 4, 4) (validated) at ``psi[n]`` on the row ``branch[n]`` of ``signs`` (8, 3); its solution
+    goes into ``q[n]`` (N, 7) and ``exists[n]``.
+
+    Where the item before it in its group has a solution within :data:`CONTINUED` of arm angle, Newton's steps
+    start from that solution (:func:`certified_branch`: certified, normalised and on the branch as
+    :func:`solve_one`'s rows are), a continuation along the self-motion that takes two or three steps where
+    :func:`solve_one`'s first starts take five to eight; where they are not certified on the branch, and for the
+    first item, :func:`solve_one` solves it.  A group's answers do not depend on the other groups, so not on how
+    a batch is split."""
+    work = scratch()
+    trial = np.empty(7)
+    row = np.empty(1, dtype=np.int64)
+    one_q = np.empty((1, 7))
+    one_exists = np.empty(1, dtype=np.bool_)
+    for g in range(start, stop):
+        previous = np.int64(-1)
+        for k in range(firsts[g], firsts[g + 1]):
+            n = order[k]
+            b = branch[n]
+            found = False
+            if previous >= 0 and exists[previous] and abs(psi[n] - psi[previous]) <= CONTINUED:
+                _array_copy.copy_into(trial, q[previous])
+                if certified_branch(trial, targets[n], psi[n], signs[b], signs, geometry, real, model, real_phase,
+                                    work) == b:
+                    _array_copy.copy_into(q[n], trial)
+                    exists[n] = True
+                    found = True
+            if not found:
+                row[0] = b
+                solve_one(targets[n], psi[n], row, signs, geometry, real, model, tool_inverse, reach, real_phase,
+                          one_q, one_exists, work)
+                _array_copy.copy_into(q[n], one_q[0])
+                exists[n] = one_exists[0]
+            previous = n
 
 
 @kernel

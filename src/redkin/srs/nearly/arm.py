@@ -46,6 +46,7 @@ from numpy.typing import ArrayLike
 
 from redkin import _chain_kernels
 from redkin._compiled import kernel_array, run_batch
+from redkin._validation import check_pose
 from redkin.chain import SerialChain
 from redkin.circle import HALF_PI
 from redkin.errors import RedkinError
@@ -358,3 +359,46 @@ def ik(
         raise_for_bad_pose(poses, np.asarray(BAD_POSE))
     return NearlySolutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + exists.shape[1:]),
                            within.reshape(shape + within.shape[1:]), tuple(chosen))
+
+
+def ik_continued(arm: NearlySRS, poses: ArrayLike, psi: ArrayLike, rows: ArrayLike,
+                 groups: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """One branch's certified solution per item, item ``k`` being pose ``poses[k]`` at ``psi[k]`` on the branch
+    ``BRANCHES[rows[k]]``, items of one ``groups`` value sharing their pose and branch: :func:`ik`'s row, except
+    that an item within :data:`redkin.srs.nearly._kernels.CONTINUED` of arm angle of the one before it in its
+    group (arm angles increasing) starts Newton's steps from that one's solution
+    (:func:`redkin.srs.nearly._kernels.solve_continued`), a continuation along the self-motion several times
+    cheaper than the neighbour's starts; where its steps are not certified on the branch, :func:`ik` solves it.
+    Where the branch has one solution at that arm angle both give it; where it has two (next to a stretched elbow or
+    a straight shoulder), the continuation keeps to the sheet of the item before.  The path graph's nodes
+    (:mod:`redkin.paths.family`) are such items.
+
+    Returns
+    -------
+    q : numpy.ndarray, shape (K, 7)
+        Zeros where the branch has no certified solution there.
+    exists : numpy.ndarray of bool, shape (K,)
+
+    Raises
+    ------
+    ValueError
+        For malformed poses or arm angles, or rows that are not branch rows 0-7.
+    """
+    targets = kernel_array(check_pose(poses))
+    angles = kernel_array(check_psi(psi))
+    branch = np.asarray(rows, dtype=np.int64)
+    group = np.asarray(groups, dtype=np.int64)
+    count = len(targets)
+    if targets.ndim != 3 or angles.shape != (count,) or branch.shape != (count,) or group.shape != (count,):
+        raise RedkinError(f"ik_continued takes K poses (K, 4, 4) and K arm angles, rows and groups, got shapes "
+                          f"{targets.shape}, {angles.shape}, {branch.shape}, {group.shape}")
+    if count and (branch.min() < 0 or branch.max() >= len(BRANCHES)):
+        raise RedkinError(f"rows must be branch rows 0-{len(BRANCHES) - 1}")
+    order = np.lexsort((angles, group))
+    ordered = group[order]
+    firsts = np.append(np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]]), count).astype(np.int64)
+    q, exists = np.zeros((count, 7)), np.zeros(count, dtype=bool)
+    run_batch(_nearly_kernels.solve_continued, len(firsts) - 1, firsts, order, targets, angles, branch,
+              arm.geometry.kernel_branches, arm.geometry.kernel_tables, arm.kernel_real, arm.kernel_model,
+              arm.kernel_tool_inverse, arm.kernel_reach, arm.real_phase, q, exists)
+    return q, exists
