@@ -603,9 +603,9 @@ def solve_continued(start, stop, firsts, order, targets, psi, branch, signs, geo
 
     Where the item before it in its group has a solution within :data:`CONTINUED` of arm angle, Newton's steps
     start from that solution (:func:`certified_branch`: certified, normalised and on the branch as
-    :func:`solve_one`'s rows are), a continuation along the self-motion that takes two or three steps where
-    :func:`solve_one`'s first starts take five to eight; where they are not certified on the branch, and for the
-    first item, :func:`solve_one` solves it.  A group's answers do not depend on the other groups, so not on how
+    :func:`solve_one`'s rows are), a continuation along the self-motion that skips :func:`solve_one`'s corrections
+    of the neighbour's target and starts nearer; where they are not certified on the branch, and for the first
+    item, :func:`solve_one` solves it.  A group's answers do not depend on the other groups, so not on how
     a batch is split."""
     work = scratch()
     trial = np.empty(7)
