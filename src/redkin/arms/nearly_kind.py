@@ -19,9 +19,9 @@ from redkin.chain import Reach
 from redkin.circle import ArcSet
 from redkin.paths.family import NearlyFamily
 from redkin.srs.branches import BRANCHES
-from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
 from redkin.srs.nearly import NearlySRS
 from redkin.srs.nearly import ik as nearly_ik
+from redkin.srs.nearly import reach as nearly_reach
 from redkin.srs.nearly.feasible import NearlyFeasible, feasible_arm_angles_nearly_all
 from redkin.srs.nearly.optimal import optimal_arm_angles_nearly
 from redkin.srs.nearly.self_motion import branch_solutions, self_motions
@@ -51,7 +51,7 @@ class NearlyKind(ArmKind):
             q, exists, within = q[..., rows, :], exists[..., rows], within[..., rows]
 
         def measured() -> Reach:
-            bound = self._reach(poses)
+            bound = nearly_reach(self.nearly, poses)
             return bound._replace(distance=np.broadcast_to(bound.distance, exists.shape[:-1]),
                                   out=np.broadcast_to(bound.out, exists.shape[:-1]))
 
@@ -82,7 +82,7 @@ class NearlyKind(ArmKind):
         """The real arm's feasible sets of every branch from one self-motion, and its singular and limit-avoiding
         arm angles; no per-joint sets (not computed on such arms); raises :class:`redkin.errors.UnreachablePoseError`
         where the links' reach proves the pose out of reach."""
-        check_in_reach(self._reach(pose))
+        check_in_reach(nearly_reach(self.nearly, pose))
         every = feasible_arm_angles_nearly_all(self.nearly, pose)
         remarks = (f"{self.chain.name} is nearly S-R-S: {self.nearly.describe()}.",
                    "The per-joint sets are not computed on nearly S-R-S arms.")
@@ -90,10 +90,6 @@ class NearlyKind(ArmKind):
         return Analysis(self.parameter, self.method, sets,
                         tuple(self._branch(pose, int(row), every[row], sets[row], target, weights) for row in rows),
                         all(result.complete for result in every), every[0].samples, remarks, "certified solution")
-
-    def _reach(self, poses: ArrayLike) -> Reach:
-        """The poses against the links' reach, with the slack of the real arm's certificate."""
-        return self.chain.reach(poses, tolerance=NEARLY_TOLERANCE)
 
     def _branch(self, pose: np.ndarray, row: int, result: NearlyFeasible, arcs: np.ndarray,
                 target: np.ndarray | None, weights: tuple[float, float] | None) -> BranchAnalysis:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, optimal_parts
+from redkin.arms.analysis import Analysis, BranchAnalysis, SingularPart, as_arcs, check_in_reach, optimal_parts
 from redkin.arms.feasible_sets import Arcs
 from redkin.arms.parameter import Parameter
 from redkin.arms.protocol import ArmKind
@@ -95,7 +95,9 @@ class SRSKind(ArmKind):
 
     def analyse(self, pose: np.ndarray, rows: np.ndarray, target: np.ndarray | None,
                 weights: tuple[float, float] | None) -> Analysis:
-        """[000 eqs. 20-40] at one pose; raises :class:`redkin.errors.UnreachablePoseError` out of reach."""
+        """[000 eqs. 20-40] at one pose; raises :class:`redkin.errors.UnreachablePoseError` out of reach ([000 eq.
+        11], :func:`redkin.srs.ik.reach`)."""
+        check_in_reach(reach(self.geometry, pose))
         every = [feasible_arm_angles(self.geometry, pose, branch) for branch in BRANCHES]
         sets = tuple(as_arcs(result.feasible.arcs) for result in every)
         return Analysis(self.parameter, self.method, sets,

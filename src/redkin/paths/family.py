@@ -43,10 +43,10 @@ from redkin.srs.coefficients import coefficient_arrays
 from redkin.srs.feasible import FeasiblePieces, feasible_pieces_all_branches
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.srs.ik import reachable
-from redkin.srs.nearly import TOLERANCE as NEARLY_TOLERANCE
 from redkin.srs.nearly import NearlySRS, ik_continued, nearly_srs
 from redkin.srs.nearly import arm_angle as nearly_arm_angle
 from redkin.srs.nearly import branch_of as nearly_branch_of
+from redkin.srs.nearly import reach as nearly_reach
 from redkin.srs.nearly.feasible import feasible_arm_angles_nearly_all
 
 if TYPE_CHECKING:  # for the type alone: only a family in a cell (paths.collision_family) checks steps
@@ -376,7 +376,7 @@ class NearlyFamily(Family):
 
     def arm(self, poses: np.ndarray, step: np.ndarray) -> tuple[np.ndarray, Arm]:
         # a pose beyond the links' reach (with the certificate's slack) has no solution at any arm angle
-        inside = ~self.chain.reach(poses, tolerance=NEARLY_TOLERANCE).out
+        inside = ~nearly_reach(self.nearly, poses).out
         return inside, _NearlyArm(self.chain, step, self.chain.covers_circle, self.nearly, poses)
 
     def pieces(self, poses: np.ndarray) -> FeasiblePieces:

@@ -22,8 +22,9 @@ from redkin.srs.nearly.arm import (
     ik,
     ik_continued,
     nearly_srs,
+    reach,
     self_motion_rates,
 )
 
 __all__ = ["TOLERANCE", "TOLERANCE_DEFAULT", "NearlySRS", "NearlySolutions", "arm_angle", "branch_of", "ik",
-           "ik_continued", "nearly_srs", "self_motion_rates"]
+           "ik_continued", "nearly_srs", "reach", "self_motion_rates"]

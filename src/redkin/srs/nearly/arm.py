@@ -47,7 +47,7 @@ from numpy.typing import ArrayLike
 from redkin import _chain_kernels
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_pose
-from redkin.chain import SerialChain
+from redkin.chain import Reach, SerialChain
 from redkin.circle import HALF_PI
 from redkin.errors import RedkinError
 from redkin.srs._ik_kernels import A4, BAD_POSE, D_EW
@@ -359,6 +359,18 @@ def ik(
         raise_for_bad_pose(poses, np.asarray(BAD_POSE))
     return NearlySolutions(q.reshape(shape + q.shape[1:]), exists.reshape(shape + exists.shape[1:]),
                            within.reshape(shape + within.shape[1:]), tuple(chosen))
+
+
+def reach(arm: NearlySRS, pose: ArrayLike) -> Reach:
+    """Target poses against the real arm's reach: the links' bound (:meth:`redkin.chain.SerialChain.reach`), with the
+    slack of the certificate (:data:`TOLERANCE`); a pose ``out`` of it has no solution at any arm angle.
+
+    Raises
+    ------
+    ValueError
+        For poses that are not ``(..., 4, 4)`` arrays with finite positions.
+    """
+    return arm.chain.reach(pose, tolerance=TOLERANCE)
 
 
 def ik_continued(arm: NearlySRS, poses: ArrayLike, psi: ArrayLike, rows: ArrayLike,
