@@ -156,7 +156,9 @@ def test_the_bounds_the_certificate_rests_on_hold(setup, fraction, width, where)
     measure = _Q7Measure(arm, pose[None], body, scene, np.arange(8))
     checked = 0
     for b, branch, middle, half in _intervals(arm, pose, width, where):
-        bound = measure.rates(np.array([b]), np.array([middle]), np.array([half]))[0] * half
+        owner, middles, halves = np.array([b]), np.array([middle]), np.array([half])
+        rate, at_middle, delta = measure.proposals(owner, middles, halves)
+        bound = measure.proved(owner, middles, halves, at_middle, delta, rate, np.array([True]))[0] * half
         if not np.all(np.isfinite(bound)):
             continue
         q = arm.ik(pose, np.linspace(middle - half, middle + half, 201), branches=[branch]).q[:, 0]
@@ -259,3 +261,27 @@ def test_the_class_door_gives_each_class_s_own_sets_and_refuses_the_others():
     sawyer = redkin.arm("sawyer.urdf")
     with pytest.raises(RedkinError, match="sawyer is general chain, solved numerically"):
         collision_free_set(sawyer, sawyer.fk(np.zeros(7) + 0.3), redkin.collision.body_of([], sawyer.chain), scene)
+
+
+@settings(max_examples=2, deadline=None)
+@given(fraction=fractions)
+@example(fraction=RICH[0])
+def test_proving_only_the_deciding_intervals_changes_nothing(setup, fraction):
+    """The decision proves the joints' bands only on the intervals its proposed rates would settle or narrow
+    (``_Q7Measure.__call__``): the sets, their causes and the evaluations equal those of proving every interval."""
+    arm, body, scene = setup
+    pose = arm.fk(_configuration(arm.chain, fraction))
+    skipped = collision_free_q7(arm, pose, body, scene)
+    proved = _Q7Measure.proved
+    calls = []
+
+    def every_interval(self, owner, middle, half, at_middle, delta, rate, needed):
+        calls.append(int(needed.sum()))
+        return proved(self, owner, middle, half, at_middle, delta, rate, np.ones_like(needed))
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(_Q7Measure, "proved", every_interval)
+        every = collision_free_q7(arm, pose, body, scene)
+    assert calls, "the decision no longer goes through _Q7Measure.proved"
+    for field in ("branches", "free", "limits", "blocked", "evaluations", "complete"):
+        assert repr(getattr(skipped, field)) == repr(getattr(every, field)), field
