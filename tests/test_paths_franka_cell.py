@@ -66,6 +66,7 @@ def test_a_waypoint_blocked_on_every_branch_names_the_pair(setting):
     assert result.status == "no-path"
     assert result.failure.reason == "collision" and result.failure.pair == ("hand", "ball")
     assert result.failure.waypoint <= 4 and "hand meets ball" in result.failure.message
+    assert result.failure.parameter == "q7" and "no value of q7 within the joint limits" in result.failure.message
 
 
 def test_obstacle_clearance_keeps_at_least_as_far_as_the_default(setting):

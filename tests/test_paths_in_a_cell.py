@@ -46,6 +46,7 @@ def test_a_waypoint_blocked_on_every_branch_names_the_pair(setting):
     assert failure.reason == "collision" and failure.pair == ("hand", "ball")
     assert failure.waypoint <= 10
     assert "hand meets ball" in failure.message
+    assert failure.parameter == "psi" and "no arm angle within the joint limits" in failure.message
 
 
 def test_a_cell_needs_both_parts_and_a_class_with_free_sets(setting):

@@ -148,6 +148,7 @@ def test_an_elbow_beyond_its_limit_is_reported_at_its_waypoint_and_joint():
     assert (failure.waypoint, failure.reason, failure.joint, failure.exact) == (6, "empty", 4, True)
     assert set(failure.per_branch.values()) == {4}
     assert "waypoint 6" in failure.message and "joint 4" in failure.message
+    assert "no arm angle satisfies every joint limit" in failure.message
 
 
 def test_a_pose_out_of_reach_is_reported():

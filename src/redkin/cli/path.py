@@ -132,9 +132,7 @@ def _cell_report(chain, cell, result) -> dict:
 
 def _failure_line(failure, degrees: bool) -> str:
     """The failure in one line, its angle in the command's unit, and whether the exact sets prove it."""
-    from redkin.paths import REASONS
-
-    text = f"no path: waypoint {failure.waypoint}: {REASONS[failure.reason]}"
+    text = f"no path: waypoint {failure.waypoint}: {failure.reason_text}"
     if failure.pair is not None:
         text += f" ({failure.pair[0]} meets {failure.pair[1]} on most of them)"
     if failure.joint is not None and failure.needed is not None:

@@ -130,5 +130,6 @@ def _failure(graph: Graph, path_starts: np.ndarray, p: int, waypoint: int,
                     if w == waypoint and pair is not None)
     pair = pairs.most_common(1)[0][0] if pairs else None
     return PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"), found.step,
-                      PathFailure(int(waypoint), "steps", None, False, pair=pair), found.nodes,
+                      PathFailure(int(waypoint), "steps", None, False, pair=pair, parameter=found.parameter),
+                      found.nodes,
                       parameter=found.parameter)

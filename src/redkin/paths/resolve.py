@@ -575,7 +575,8 @@ def _search(family: Family, poses: np.ndarray, along: _Along, starts: np.ndarray
             failure = PathFailure(int(prefix[p]), "out-of-reach", None, True)
         if failure is not None:
             results.append(PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"),
-                                      step, failure, nodes, parameter=family.parameter))
+                                      step, replace(failure, parameter=family.parameter), nodes,
+                                      parameter=family.parameter))
             continue
         result = checked(graph, chosen[p], p, nodes)
         better = polished(graph, chosen[p], p, result) if result.ok else None
@@ -767,7 +768,8 @@ def _checked_path(family: Family, arm: Arm, graph: Graph, nodes: np.ndarray, pos
     if not inside.all():
         waypoint, joint = (int(i) for i in np.argwhere(~inside)[0])
         return PathResult("no-path", np.empty((0, 7)), [], np.empty(0), float("nan"), float("nan"), arm.step,
-                          PathFailure(waypoint, "winding", joint + 1, False), size, parameter=family.parameter)
+                          PathFailure(waypoint, "winding", joint + 1, False, parameter=family.parameter), size,
+                          parameter=family.parameter)
     error = float(np.abs(chain.fk(q) - poses).max())
     moves = arm.moves(q[1:], q[:-1])
     if error > FK_TOLERANCE or np.any(moves > arm.step):

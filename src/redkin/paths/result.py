@@ -11,17 +11,20 @@ if TYPE_CHECKING:
     from redkin.collision.steps import StepClearance
     from redkin.paths.timing import Trajectory
 
-#: Why no path exists, by :attr:`PathFailure.reason`.
+#: Why no path exists, by :attr:`PathFailure.reason`; ``{parameter}`` is the redundancy parameter in words
+#: (:data:`PARAMETER_WORDS`, :meth:`PathFailure.reason_text`).
 REASONS = {
     "out-of-reach": "the pose is out of the arm's reach",
-    "empty": "no arm angle (or q7) satisfies every joint limit on any branch",
-    "collision": "no arm angle within the joint limits keeps the body clear of the obstacles on any branch",
+    "empty": "no {parameter} satisfies every joint limit on any branch",
+    "collision": "no {parameter} within the joint limits keeps the body clear of the obstacles on any branch",
     "step": "no feasible configuration lies within the step bound of one reachable from the start",
     "start": "no feasible configuration lies within the step bound of the start configuration",
     "end": "no configuration reachable from the start meets the end condition",
     "winding": "a joint whose range exceeds 2 pi would have to turn past its range",
     "steps": "no step into this waypoint that the searched graph allows is proved clear of the obstacles",
 }
+#: The redundancy parameter of :attr:`PathResult.parameter` in words.
+PARAMETER_WORDS = {"psi": "arm angle", "q7": "value of q7"}
 
 
 @dataclass(frozen=True)
@@ -54,6 +57,8 @@ class PathFailure:
         For ``"collision"``: the body's link and the obstacle (or other link) that remove the most arm angles over
         the branches; for ``"steps"``: the pair found too close on the most of the steps left out into the
         waypoint.
+    parameter : str
+        The arm's redundancy parameter, as :attr:`PathResult.parameter`: ``"psi"`` or ``"q7"``.
     """
 
     waypoint: int
@@ -63,11 +68,17 @@ class PathFailure:
     needed: float | None = None
     per_branch: dict[str, int | None] = field(default_factory=dict)
     pair: tuple[str, str] | None = None
+    parameter: str = "psi"
+
+    @property
+    def reason_text(self) -> str:
+        """:data:`REASONS`' words for the reason, with the arm's parameter named (:data:`PARAMETER_WORDS`)."""
+        return REASONS[self.reason].format(parameter=PARAMETER_WORDS[self.parameter])
 
     @property
     def message(self) -> str:
         """One line: the waypoint, the reason and the joint (or the link and the obstacle)."""
-        text = f"no path: waypoint {self.waypoint}: {REASONS[self.reason]}"
+        text = f"no path: waypoint {self.waypoint}: {self.reason_text}"
         if self.pair is not None:
             text += f" ({self.pair[0]} meets {self.pair[1]} on most of them)"
         if self.joint is not None:
