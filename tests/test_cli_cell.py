@@ -270,19 +270,22 @@ def test_ik_path_and_explore_say_what_the_cell_says_of_itself(capsys, cell, tmp_
                    for line in lines), name
 
 
-def test_undecided_slivers_narrower_than_the_printed_digits_are_said_together(capsys):
-    """A removed stretch that six decimals would print as ``[x, x]`` (an undecided sliver, at most the resolution
-    wide) is not printed as an empty interval: the slivers get one line with their number, bound and places; wider
-    stretches and every collision or limit stretch keep their own line."""
+def test_undecided_slivers_no_wider_than_the_resolution_are_said_together(capsys):
+    """An undecided stretch no wider than the resolution (where a located end may lie; six decimals may print it as
+    ``[x, x]`` or as two neighbouring values) is not printed on a line of its own: the slivers get one line with
+    their number, bound and places; wider stretches, one through +-pi included, and every collision or limit
+    stretch keep their own line."""
     from types import SimpleNamespace
 
+    from redkin.cli.common import plus_minus
     from redkin.cli.srs import _print_arm_angles
 
     cell = {"obstacles": ["post"], "self_pairs": 0, "margin": 0.01, "notes": [], "scene_notes": [],
             "base_contacts": [], "complete": True, "resolution": 1e-6}
     report = {
         "robot": "kuka-iiwa14", "branch": "+++", "collision": cell, "limits_feasible": [[-1.0, 2.0]],
-        "feasible": [[-1.0, 0.4], [0.6, 1.2000002], [1.2000004, 1.5], [1.5001, 1.7000001], [1.7000003, 2.0]],
+        "feasible": [[-1.0, 0.4], [0.6, 1.2000002], [1.2000004, 1.5], [1.5001, 1.7000001], [1.7000003, 1.8000004],
+                     [1.8000013, 2.0]],
         "branches": {"+++": [[-1.0, 2.0]]},
         "optimal": {},
         "blocked": [
@@ -290,14 +293,19 @@ def test_undecided_slivers_narrower_than_the_printed_digits_are_said_together(ca
             {"arc": [1.2000002, 1.2000004], "cause": "undecided", "link": None, "obstacle": None},
             {"arc": [1.5, 1.5001], "cause": "undecided", "link": None, "obstacle": None},
             {"arc": [1.7000001, 1.7000003], "cause": "undecided", "link": None, "obstacle": None},
+            {"arc": [1.8000004, 1.8000013], "cause": "undecided", "link": None, "obstacle": None},
+            {"arc": [3.1415, -3.1415], "cause": "undecided", "link": None, "obstacle": None},
         ],
     }
     analysis = SimpleNamespace(parameter=SimpleNamespace(set_ascii="psi", name="psi"), remarks=(), complete=True)
     _print_arm_angles(report, analysis, deg=False)
+    seam = plus_minus()  # the stream's own (as the command wrote it)
     removed = [line.strip() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("removed")]
     assert removed == [
         "removed [0.400000, 0.600000]: link_4 meets post",
         "removed [1.500000, 1.500100]: undecided (next to a singular arm angle, or the clearance grazes the margin)",
-        "removed 2 undecided slivers of at most 1e-06 rad at 1.200000, 1.700000 (next to a singular arm angle, or "
-        "the clearance grazes the margin)",
+        f"removed [3.141500, -3.141500] (through {seam}pi): undecided (next to a singular arm angle, or the "
+        "clearance grazes the margin)",
+        "removed 3 undecided slivers of at most 1e-06 rad at 1.200000, 1.700000, 1.800000 (next to a singular arm "
+        "angle, or the clearance grazes the margin)",
     ]

@@ -501,8 +501,9 @@ def _print_arm_angles(report: dict[str, Any], analysis, deg: bool) -> None:
         slivers = []
         for stretch in report["blocked"]:
             start, end = stretch["arc"]
-            if stretch["cause"] not in ("collision", "limit") and fixed(start) == fixed(end):
-                slivers.append(start)  # narrower than the digits printed: said together below
+            width = end - start if end >= start else end - start + (360.0 if deg else 2.0 * np.pi)  # through +-pi
+            if stretch["cause"] not in ("collision", "limit") and width <= cell["resolution"]:
+                slivers.append(start)  # where a located end may lie, no wider than the resolution: said together
                 continue
             what = (f"{stretch['link']} meets {stretch['obstacle']}" if stretch["cause"] == "collision" else
                     "no solution" if stretch["obstacle"] == "no solution" else
