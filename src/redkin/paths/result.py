@@ -12,7 +12,7 @@ if TYPE_CHECKING:
     from redkin.paths.timing import Trajectory
 
 #: Why no path exists, by :attr:`PathFailure.reason`; ``{parameter}`` is the redundancy parameter in words
-#: (:data:`PARAMETER_WORDS`, :meth:`PathFailure.reason_text`).
+#: (:data:`_PARAMETER_WORDS`, :meth:`PathFailure.reason_text`).
 REASONS = {
     "out-of-reach": "the pose is out of the arm's reach",
     "empty": "no {parameter} satisfies every joint limit on any branch",
@@ -24,7 +24,7 @@ REASONS = {
     "steps": "no step into this waypoint that the searched graph allows is proved clear of the obstacles",
 }
 #: The redundancy parameter of :attr:`PathResult.parameter` in words.
-PARAMETER_WORDS = {"psi": "arm angle", "q7": "value of q7"}
+_PARAMETER_WORDS = {"psi": "arm angle", "q7": "value of q7"}
 
 
 @dataclass(frozen=True)
@@ -72,8 +72,8 @@ class PathFailure:
 
     @property
     def reason_text(self) -> str:
-        """:data:`REASONS`' words for the reason, with the arm's parameter named (:data:`PARAMETER_WORDS`)."""
-        return REASONS[self.reason].format(parameter=PARAMETER_WORDS[self.parameter])
+        """:data:`REASONS`' words for the reason, with the arm's parameter named (:data:`_PARAMETER_WORDS`)."""
+        return REASONS[self.reason].format(parameter=_PARAMETER_WORDS[self.parameter])
 
     @property
     def message(self) -> str:
