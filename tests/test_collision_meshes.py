@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from scipy.optimize import nnls
 from scipy.spatial import ConvexHull
 
+from redkin._disk_cache import cache_folder
 from redkin.collision import urdf_body
 from redkin.collision.body import posed
 from redkin.collision.mesh_cover import covering_capsules
@@ -467,7 +468,7 @@ def test_a_mesh_file_is_covered_once_and_read_back_exactly(tmp_path, monkeypatch
 
     path, _, _ = _arm_package(tmp_path)
     _, first = urdf_body(path, "base", "l3")
-    kept = sorted(mesh_cache._cache_folder().glob("*.json"))
+    kept = sorted(cache_folder("mesh-covers").glob("*.json"))
     assert len(kept) == 3  # one cover per mesh file
 
     def refuse(*_args, **_kwargs):
@@ -493,4 +494,4 @@ def test_a_mesh_file_is_covered_once_and_read_back_exactly(tmp_path, monkeypatch
     real = mesh_cache.covering_capsules
     monkeypatch.setattr(mesh_cache, "covering_capsules", lambda *args, **kw: fitted.append(1) or real(*args, **kw))
     urdf_body(path, "base", "l3")
-    assert len(fitted) == 1 and len(list(mesh_cache._cache_folder().glob("*.json"))) == 4
+    assert len(fitted) == 1 and len(list(cache_folder("mesh-covers").glob("*.json"))) == 4

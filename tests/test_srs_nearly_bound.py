@@ -220,3 +220,27 @@ def test_bad_input_raises_value_error(pose, psi, branch):
 def test_a_chain_that_is_not_a_nearly_srs_arm_is_refused():
     with pytest.raises(RedkinError, match="NearlySRS"):
         neighbour_distance(_arm("gen3").chain, np.eye(4), 0.0, "+++")  # type: ignore[arg-type]
+
+
+def test_the_model_error_is_kept_on_disk_and_read_back_exactly(tmp_path, monkeypatch):
+    """``model_error`` searches once per pair of chains and reads its result back after, bit for bit, without the
+    search; another pair of chains (the Jaco2's), a kept file that does not read back, or a cache folder that cannot
+    be written costs only the search again (redkin._disk_cache)."""
+    import redkin.srs.conventions as conventions
+    from redkin._disk_cache import cache_folder
+
+    monkeypatch.setenv("REDKIN_CACHE_DIR", str(tmp_path / "cache"))
+    gen3, jaco2 = _arm("gen3"), _arm("jaco2")
+    first = model_error(gen3.chain, gen3.neighbour)
+    kept = list(cache_folder("model-errors").glob("*.json"))
+    assert len(kept) == 1
+    searches = []
+    search = conventions._searched_model_error
+    monkeypatch.setattr(conventions, "_searched_model_error", lambda *chains: searches.append(1) or search(*chains))
+    assert model_error(gen3.chain, gen3.neighbour) == first and not searches  # read back, not searched
+    assert model_error(jaco2.chain, jaco2.neighbour) != first and len(searches) == 1  # its own search
+    kept[0].write_text("[0.5")  # does not read back: searched again, the same numbers
+    assert model_error(gen3.chain, gen3.neighbour) == first and len(searches) == 2
+    (tmp_path / "file").write_text("")
+    monkeypatch.setenv("REDKIN_CACHE_DIR", str(tmp_path / "file"))  # a file: no folder can be made there
+    assert model_error(gen3.chain, gen3.neighbour) == first and len(searches) == 3

@@ -3,26 +3,27 @@ them takes seconds (:mod:`redkin.collision.mesh_cover`), so each cover is comput
 
 A cover is found by a digest of the file's bytes, its scale, the kind (capsules for the arm's links, boxes for a
 scene's obstacles) and the source of the covering modules, so that an edited mesh, another scale or another version
-of the fit is computed afresh.  It is kept as JSON (numbers as Python writes them, so read back exactly) in
-``$REDKIN_CACHE_DIR``, else ``$XDG_CACHE_HOME/redkin``, else ``~/.cache/redkin``, under ``mesh-covers``.  A folder
-that cannot be written, or a file that cannot be read back, only costs the time: the cover is computed again.
+of the fit is computed afresh.  It is kept as JSON under ``mesh-covers`` in redkin's cache folder
+(:mod:`redkin._disk_cache`: a folder that cannot be written, or a file that cannot be read back, only costs the
+time).
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
-import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._disk_cache import keep, kept
 from redkin.collision import _mesh_kernels, mesh_cover
 from redkin.collision.mesh_cover import MeshBox, MeshCapsule, covering_boxes, covering_capsules
 from redkin.collision.mesh_files import read_mesh
+
+#: The folder of the covers in redkin's cache (:mod:`redkin._disk_cache`).
+_KIND = "mesh-covers"
 
 
 def covered_capsules(path: Path, scale: ArrayLike | None = None, least: int = 1) -> list[MeshCapsule]:
@@ -52,17 +53,6 @@ def covered_boxes(path: Path, scale: ArrayLike | None = None) -> list[MeshBox]:
     return boxes
 
 
-def _cache_folder() -> Path:
-    """Where the covers are kept (module docstring)."""
-    if os.environ.get("REDKIN_CACHE_DIR"):
-        root = Path(os.environ["REDKIN_CACHE_DIR"])
-    elif os.environ.get("XDG_CACHE_HOME"):
-        root = Path(os.environ["XDG_CACHE_HOME"]) / "redkin"
-    else:
-        root = Path.home() / ".cache" / "redkin"
-    return root / "mesh-covers"
-
-
 def _key(path: Path, scale: ArrayLike | None, kind: str) -> str | None:
     """The cover's name: the digest of what it depends on (``None`` for a file that cannot be read)."""
     try:
@@ -86,27 +76,10 @@ def _code_digest() -> str:
 
 def _cached(key: str | None) -> list[dict] | None:
     """The kept cover named ``key`` (:func:`_key`), or ``None`` where there is none that reads back."""
-    if key is None:
-        return None
-    try:
-        found = json.loads((_cache_folder() / f"{key}.json").read_text())
-    except (OSError, ValueError):
-        return None
+    found = kept(_KIND, key)
     return found if isinstance(found, list) and found else None
 
 
 def _keep(key: str | None, cover: list[dict]) -> None:
-    """Keep the cover as ``key`` (written whole, then renamed into place); nothing where the folder cannot be
-    written."""
-    if key is None:
-        return
-    folder = _cache_folder()
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile("w", dir=folder, suffix=".part", delete=False) as file:
-            part = Path(file.name)
-            json.dump(cover, file)
-        os.replace(part, folder / f"{key}.json")
-    except OSError:
-        if "part" in locals():
-            part.unlink(missing_ok=True)
+    """Keep the cover as ``key``."""
+    keep(_KIND, key, cover)

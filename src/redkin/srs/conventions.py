@@ -33,11 +33,14 @@ own joint values.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import replace
+from pathlib import Path
 from weakref import WeakKeyDictionary
 
 import numpy as np
 
+from redkin._disk_cache import keep, kept
 from redkin._joint_lines import certify_same_poses, dh_rows_from_lines, meeting_point
 from redkin.chain import SerialChain
 from redkin.circle import HALF_PI
@@ -190,7 +193,35 @@ def model_error(chain: SerialChain, neighbour: SerialChain) -> tuple[float, floa
     two chains' Jacobians) from the :data:`_MODEL_STARTS` largest: a local maximum, the global one wherever the
     samples find its basin.  A rotation difference whose samples all lie below :data:`ROUNDING_ROTATION` is the
     rounding of the two FKs (axes of the same directions: the chains differ in offsets only) and is not searched.
+
+    The search costs a command on a nearly S-R-S arm about 0.7 s as Python, so its result is kept on disk
+    (:mod:`redkin._disk_cache`, under ``model-errors``), named by a digest of the two chains' kinematics and of this
+    module's source: the same two chains read it back, bit for bit.
     """
+    key = _model_key(chain, neighbour)
+    found = kept(_MODEL_KIND, key)
+    if isinstance(found, list) and len(found) == 2 and all(isinstance(value, float) for value in found):
+        return found[0], found[1]
+    errors = _searched_model_error(chain, neighbour)
+    keep(_MODEL_KIND, key, list(errors))
+    return errors
+
+
+#: The folder of the kept model errors in redkin's cache (:mod:`redkin._disk_cache`).
+_MODEL_KIND = "model-errors"
+
+
+def _model_key(chain: SerialChain, neighbour: SerialChain) -> str:
+    """The digest :func:`model_error`'s result is kept by: both chains' FK data (links, base and tool, convention)
+    and the source of this module (another search is another result)."""
+    digest = hashlib.sha256(Path(__file__).read_bytes())
+    for each in (chain, neighbour):
+        digest.update(each._links.tobytes() + each._ends.tobytes() + bytes([each._standard]))
+    return digest.hexdigest()
+
+
+def _searched_model_error(chain: SerialChain, neighbour: SerialChain) -> tuple[float, float]:
+    """:func:`model_error`'s search."""
     from scipy.optimize import minimize
 
     q = np.random.default_rng(0).uniform(-np.pi, np.pi, (_MODEL_SAMPLES, chain.n))

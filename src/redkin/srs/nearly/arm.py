@@ -92,7 +92,7 @@ class NearlySRS:
     @property
     def position_error(self) -> float:
         """The largest position difference [m] of the two chains' tool poses over all joint values
-        (:func:`redkin.srs.conventions.model_error`, found on first use: about 50 ms)."""
+        (:func:`redkin.srs.conventions.model_error`, found on first use and kept on disk)."""
         return self._model_error[0]
 
     @property
