@@ -78,7 +78,10 @@ def _franka(rng: np.random.Generator) -> None:
     from redkin import arms, collision  # the certified collision-free q7 sets' level test
 
     body = collision.body_of([collision.BodyCapsule("forearm", 4, [0, 0, 0], [0, 0, 0.2], 0.05)], arm)
-    collision.collision_free_q7(arms.arm(arm), poses[0], body, collision.scene_of({"obstacles": []}))  # q[0]: a set
+    ball = {"name": "ball", "type": "sphere", "center": [0.0, 0.0, 2.0], "radius": 0.05}  # out of reach: clear
+    # q[0]: a set; a pair to check, so that intervals are decided by the proved bounds (without one every interval
+    # is free unproved)
+    collision.collision_free_q7(arms.arm(arm), poses[0], body, collision.scene_of({"obstacles": [ball]}))
 
 
 def _nearly_srs(rng: np.random.Generator) -> None:
