@@ -34,8 +34,8 @@ def covered_capsules(path: Path, scale: ArrayLike | None = None, least: int = 1)
     if found is not None:
         return [MeshCapsule(np.array(c["a"]), np.array(c["b"]), c["radius"], c["reach"]) for c in found]
     capsules = covering_capsules(*read_mesh(path, scale), least=least)
-    _keep(key, [{"a": c.a.tolist(), "b": c.b.tolist(), "radius": float(c.radius), "reach": float(c.reach)}
-                for c in capsules])
+    keep(_KIND, key, [{"a": c.a.tolist(), "b": c.b.tolist(), "radius": float(c.radius), "reach": float(c.reach)}
+                      for c in capsules])
     return capsules
 
 
@@ -48,8 +48,8 @@ def covered_boxes(path: Path, scale: ArrayLike | None = None) -> list[MeshBox]:
         return [MeshBox(np.array(b["center"]), np.array(b["size"]), np.array(b["rotation"]), b["reach"])
                 for b in found]
     boxes = covering_boxes(*read_mesh(path, scale))
-    _keep(key, [{"center": b.center.tolist(), "size": b.size.tolist(), "rotation": b.rotation.tolist(),
-                 "reach": float(b.reach)} for b in boxes])
+    keep(_KIND, key, [{"center": b.center.tolist(), "size": b.size.tolist(), "rotation": b.rotation.tolist(),
+                       "reach": float(b.reach)} for b in boxes])
     return boxes
 
 
@@ -79,7 +79,3 @@ def _cached(key: str | None) -> list[dict] | None:
     found = kept(_KIND, key)
     return found if isinstance(found, list) and found else None
 
-
-def _keep(key: str | None, cover: list[dict]) -> None:
-    """Keep the cover as ``key``."""
-    keep(_KIND, key, cover)
