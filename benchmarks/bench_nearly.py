@@ -832,7 +832,7 @@ def row_leaves_branch(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int,
     if not kernels.started(np.ascontiguousarray(q), np.ascontiguousarray(pose), arm.kernel_real, arm.kernel_model,
                            arm.kernel_bounds, kernels.scratch(), point, tangent, gradient, state):
         return False
-    return bool(len(ends) and np.min(np.abs(wrapped(ends - state[4]))) <= MISSED)
+    return bool(len(ends) and np.min(np.abs(wrapped(ends - state[kernels.PSI]))) <= MISSED)
 
 
 def second_solution(arm: NearlySRS, pose: np.ndarray, psi: float, branch: int,

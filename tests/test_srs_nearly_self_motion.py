@@ -395,7 +395,7 @@ def test_the_bend_and_the_turning_are_the_curves(name, seed, near):
     epsilon = 1e-4
     ahead, behind = (_newton(arm, pose, point + s * tangent, tangent, tangent @ point + s) for s in (epsilon, -epsilon))
     second = (ahead + behind - 2.0 * point) / epsilon**2
-    assert np.abs(second - bend).max() <= 1e-3 * (1.0 + np.abs(bend).max()) + 1e-2 * epsilon * state[8] ** 2
+    assert np.abs(second - bend).max() <= 1e-3 * (1.0 + np.abs(bend).max()) + 1e-2 * epsilon * state[kernels.OMEGA] ** 2
     scale = arm.kernel_bounds[kernels.SCALE]
 
     def derivative(at: np.ndarray) -> np.ndarray:
@@ -404,6 +404,6 @@ def test_the_bend_and_the_turning_are_the_curves(name, seed, near):
 
     inverse = np.linalg.inv(np.vstack([derivative(point), tangent]))
     largest = np.linalg.norm(inverse, 2)
-    assert largest * (1.0 - 1e-9) <= state[3] <= largest * 7.0 ** (1.0 / 16.0) * (1.0 + 1e-9)
+    assert largest * (1.0 - 1e-9) <= state[kernels.BETA] <= largest * 7.0 ** (1.0 / 16.0) * (1.0 + 1e-9)
     change = (derivative(point + 1e-6 * tangent) - derivative(point - 1e-6 * tangent)) / 2e-6
     assert np.linalg.norm(inverse[:, :6] @ change, 2) <= state[kernels.TURNING] * (1.0 + 1e-4) + 1e-6

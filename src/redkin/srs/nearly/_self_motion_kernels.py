@@ -96,10 +96,12 @@ from redkin.srs.nearly._kernels import arm_angle_one
 SCALE, THIRD, LEVER = range(3)
 FOREARM = LEVER + 4
 REACHES = FOREARM + 1
-#: Entries of a point's ``state`` (:func:`described`) beyond its first nine: the curve's second derivative ``kappa``
-#: (7), ``|kappa|``, the rounding of its equations and ``Omega_t`` (a bound of ``|A^-1 F''[t, .]|``); and the state's
-#: length.
-BEND, BEND_SIZE, BEND_ROUNDING, TURNING, STATE = 9, 16, 17, 18, 19
+#: Entries of a point's ``state`` (:func:`described`): ``|F|``, ``delta = |F' t|``, ``beta``, ``psi``, ``d psi /
+#: ds``, the wrist's distance ``w`` from joint 1's axis, ``|x_sw|``, ``Omega``; from ``BEND`` the curve's second
+#: derivative ``kappa`` (7), then ``|kappa|``, the rounding of its equations and ``Omega_t`` (a bound of ``|A^-1
+#: F''[t, .]|``); and the state's length.
+SIZE, DELTA, BETA, PSI, PSI_RATE, OFF_AXIS, APART, OMEGA, BEND = range(9)
+BEND_SIZE, BEND_ROUNDING, TURNING, STATE = BEND + 7, BEND + 8, BEND + 9, BEND + 10
 #: Kantorovich's ``h_K`` at most (1/2 in the theorem; the margin covers the rounding of the bounds).
 KANTOROVICH = 0.45
 #: How far past its end [rad of arc length] a step is certified at least, so that it meets the next (module
@@ -235,7 +237,7 @@ def gram(a, out):
 def residual(q, target, real, scale, work):
     """``F(q)`` [C1] of the real chain ``real`` against ``target`` (4, 4) into ``work``'s ``f`` (6,), its Jacobian
     into ``system[:6]`` (7, 7), the signed axes ``w_i`` into ``axes`` (3, 7) and ``M`` into ``m`` (3, 3)
-    (:func:`scratch`); returns ``|F|`` and ``|r|`` (the rotation rows)."""
+    (:func:`scratch`); returns ``|F|``."""
     trig, pose, origin, system, f, axes, m = work[0], work[1], work[2], work[3], work[4], work[11], work[12]
     links, ends, standard = real
     _chain_kernels.frames_one(q, links, ends, standard, trig, pose)
@@ -256,7 +258,7 @@ def residual(q, target, real, scale, work):
     size = 0.0
     for r in range(6):
         size += f[r] * f[r]
-    return sqrt(size), sqrt(f[3] * f[3] + f[4] * f[4] + f[5] * f[5])
+    return sqrt(size)
 
 
 @kernel
@@ -323,10 +325,10 @@ def scratch():
 
 
 @kernel
-def described(q, size, rotation, previous, model, work, tangent, gradient, state):
-    """Everything a step from ``q`` (7,) needs, ``F`` and ``F'`` being in ``work`` (:func:`residual`, whose two
-    norms are ``size`` and ``rotation``): into ``tangent`` (7,) the unit null vector of ``F'`` with ``previous .
-    tangent > 0``, into ``gradient`` (7,) ``d psi / dq``, and into ``state`` (:data:`STATE`,) ``|F|``, ``|r|``,
+def described(q, size, previous, model, work, tangent, gradient, state):
+    """Everything a step from ``q`` (7,) needs, ``F`` and ``F'`` being in ``work`` (:func:`residual`, whose norm
+    is ``size``): into ``tangent`` (7,) the unit null vector of ``F'`` with ``previous . tangent > 0``, into
+    ``gradient`` (7,) ``d psi / dq``, and into ``state`` (:data:`STATE`,) ``|F|``,
     ``delta = |F' t|``, ``beta`` (bounds ``|A^-1|``, ``A = [F'; t^T]``), ``psi``, ``d psi / ds``, the wrist's distance
     ``w`` from joint 1's axis, ``|x_sw|``, ``Omega`` (:func:`curvature`) (module docstring), and from :data:`BEND` on
     the curve's second derivative ``kappa = -A^-1 [F''[t, t]; 0]`` [C2], ``|kappa|``, the residual ``|[F' kappa +
@@ -356,13 +358,13 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
         return False
     psi = arm_angle_one(q, model[0], model[1], model[2], model[3], model_work, gradient, np.bool_(True))
     shared = wrist_point(model_work[2], model[2], u)[0]
-    state[0], state[1], state[2] = size, rotation, sqrt(delta)
-    state[3] = inverse_bound(system, pivots, inverse, work[13], work[14])
-    state[4], state[5] = psi, np.sum(gradient * tangent)
-    state[6], state[7] = shared[0], sqrt(shared[0] * shared[0] + shared[3] * shared[3])
+    state[SIZE], state[DELTA] = size, sqrt(delta)
+    state[BETA] = inverse_bound(system, pivots, inverse, work[13], work[14])
+    state[PSI], state[PSI_RATE] = psi, np.sum(gradient * tangent)
+    state[OFF_AXIS], state[APART] = shared[0], sqrt(shared[0] * shared[0] + shared[3] * shared[3])
     turned, along = work[16], work[17]
     along[:] = 0.0
-    state[8] = curvature(work, inverse, tangent, turned)
+    state[OMEGA] = curvature(work, inverse, tangent, turned)
     squares = 0.0
     for r in range(7):  # Omega_t: the Frobenius norm of A^-1 [F''[t, .]; 0]
         for j in range(7):
@@ -388,7 +390,7 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
         rounding += value * value
     state[BEND_SIZE] = sqrt(np.sum(bend * bend))
     state[BEND_ROUNDING] = sqrt(rounding + np.sum(bend * tangent) ** 2)
-    return bool(np.isfinite(state[3]) and np.isfinite(state[8]) and np.isfinite(state[BEND_SIZE])
+    return bool(np.isfinite(state[BETA]) and np.isfinite(state[OMEGA]) and np.isfinite(state[BEND_SIZE])
                 and np.isfinite(state[TURNING]))
 
 
@@ -396,20 +398,20 @@ def described(q, size, rotation, previous, model, work, tangent, gradient, state
 def corrected(q, anchor, direction, distance, target, real, bounds, work):
     """Newton's steps from ``q`` (7,) in place onto ``G_s(q) = 0`` (module docstring) for the hyperplane
     ``direction . (q - anchor) = distance``; returns whether ``|F|`` settled (:data:`FINE`, or :data:`SETTLED` where
-    rounding stops Newton's steps halving it) and ``|F|`` and ``|r|`` there, ``F`` and ``F'`` at the settled ``q``
+    rounding stops Newton's steps halving it) and ``|F|`` there, ``F`` and ``F'`` at the settled ``q``
     being left in ``work``."""
     system, f, pivots, right = work[3], work[4], work[5], work[7]
     best = np.inf
     for _ in range(CORRECTOR_STEPS):
-        size, rotation = residual(q, target, real, bounds[SCALE], work)
+        size = residual(q, target, real, bounds[SCALE], work)
         if not np.isfinite(size):
-            return False, size, rotation
+            return False, size
         if size <= FINE or size >= 0.5 * best:
-            return size <= SETTLED, size, rotation
+            return size <= SETTLED, size
         best = size
         _array_copy.copy_into(system[6], direction)
         if not factored(system, pivots):
-            return False, size, rotation
+            return False, size
         for r in range(6):
             right[r] = -f[r]
         along = 0.0
@@ -418,8 +420,8 @@ def corrected(q, anchor, direction, distance, target, real, bounds, work):
         right[6] = distance - along
         solved(system, pivots, right)
         q += right
-    size, rotation = residual(q, target, real, bounds[SCALE], work)
-    return size <= SETTLED, size, rotation
+    size = residual(q, target, real, bounds[SCALE], work)
+    return size <= SETTLED, size
 
 
 # ------------------------------------------------------------------ the certificate of a step [C2]-[C5]
@@ -433,7 +435,7 @@ def certified(state, tangent, bounds, reach, overlap):
     end, is this step's arc's point); the radius ``r* + H^2 |kappa| / 2`` of the tube about the tangent ``x + s t``
     that holds it; and the radii ``R(0)`` and ``R(H)`` of the narrower tube about ``y_s`` [C4] (:func:`tube_range`):
     the arc's point at ``s`` lies within ``R(s)`` of ``y_s``, ``R`` convex in ``s``."""
-    size, delta, beta, local = state[0], state[2], state[3], state[8]
+    size, delta, beta, local = state[SIZE], state[DELTA], state[BETA], state[OMEGA]
     bend, rounding = state[BEND_SIZE], state[BEND_ROUNDING]
     bow = 0.5 * bend * reach * reach  # |y_H - x - H t|
     span = reach + bow  # |y_s - x| at most
@@ -530,7 +532,7 @@ def arm_angle_spread(state, bounds, direction, bend, reach, radius):
     third = _extent(reach * direction[2], curving * bend[2]) + radius
     fourth = _extent(reach * direction[3], curving * bend[3]) + radius
     moved = bounds[LEVER + 1] * second + bounds[LEVER + 2] * third + bounds[LEVER + 3] * fourth
-    off_axis, apart = state[6] - moved, state[7] - moved
+    off_axis, apart = state[OFF_AXIS] - moved, state[APART] - moved
     if off_axis <= AXIS_TOLERANCE * 10.0 or apart <= 0.0:
         return np.inf
     turning = 1.0 / off_axis + 1.0 / apart
@@ -648,19 +650,19 @@ def started(seed, target, real, model, bounds, work, q, tangent, gradient, state
     (:func:`described`)."""
     _array_copy.copy_into(q, seed)
     trial = np.zeros(7)
-    size, rotation = residual(q, target, real, bounds[SCALE], work)
+    size = residual(q, target, real, bounds[SCALE], work)
     found = False
     for k in range(7):  # a first sense for the tangent: any unit vector not nearly in F''s row space
         trial[:] = 0.0
         trial[k] = 1.0
-        if described(q, size, rotation, trial, model, work, tangent, gradient, state):
+        if described(q, size, trial, model, work, tangent, gradient, state):
             found = True
             break
     if not found:
         return False
-    settled, size, rotation = corrected(q, seed, tangent, 0.0, target, real, bounds, work)
+    settled, size = corrected(q, seed, tangent, 0.0, target, real, bounds, work)
     _array_copy.copy_into(trial, tangent)
-    return settled and described(q, size, rotation, trial, model, work, tangent, gradient, state)
+    return settled and described(q, size, trial, model, work, tangent, gradient, state)
 
 
 @kernel
@@ -671,8 +673,8 @@ def longest_step(state, tangent, bounds, longest):
     grows), or lengthened while they still do (the curve's own bend and ``Omega_t`` may allow several times more),
     then bisected between the last length that holds and the first that does not."""
     h = longest
-    k = state[3] * bounds[THIRD]  # omega(h) = Omega + beta K (2 h + REGION) and omega h = 0.48
-    linear = state[8] + k * REGION
+    k = state[BETA] * bounds[THIRD]  # omega(h) = Omega + beta K (2 h + REGION) and omega h = 0.48
+    linear = state[OMEGA] + k * REGION
     h = min(h, 2.0 * 0.48 / (linear + sqrt(linear * linear + 8.0 * k * 0.48)))
     h = min(2.0 * h, longest)
     shortened = 0
@@ -729,10 +731,10 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
     q, tangent, gradient, state = np.empty(7), np.empty(7), np.empty(7), np.empty(STATE)
     if not started(seed, target, real, model, bounds, work, q, tangent, gradient, state):
         return 0, STUCK
-    if state[5] * sense < 0.0:
+    if state[PSI_RATE] * sense < 0.0:
         tangent = -tangent
-        state[5] = -state[5]
-    first = state[3] * state[0]  # beta |F| at the first point
+        state[PSI_RATE] = -state[PSI_RATE]
+    first = state[BETA] * state[SIZE]  # beta |F| at the first point
     apart = np.inf
     moved, following, following_gradient, following_state = np.empty(7), np.empty(7), np.empty(7), np.empty(STATE)
     step_signs = np.empty(3, np.int64)
@@ -743,8 +745,8 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
     while True:
         _array_copy.copy_into(points[count], q)
         _array_copy.copy_into(tangents[count], tangent)
-        angles[count] = state[4]
-        rates[count] = state[5]
+        angles[count] = state[PSI]
+        rates[count] = state[PSI_RATE]
         count += 1
         if count == most:
             return count, FULL
@@ -765,13 +767,13 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
                 return count, STUCK
             for j in range(7):
                 moved[j] = q[j] + h * (tangent[j] + 0.5 * h * state[BEND + j])
-            settled, size, rotation = corrected(moved, q, tangent, h, target, real, bounds, work)
-            if not settled or not described(moved, size, rotation, tangent, model, work, following,
+            settled, size = corrected(moved, q, tangent, h, target, real, bounds, work)
+            if not settled or not described(moved, size, tangent, model, work, following,
                                             following_gradient, following_state):
                 h *= 0.5
                 closing = False
                 continue
-            overlap = max(OVERLAP, 2.02 * following_state[3] * following_state[0] + 1e-14)
+            overlap = max(OVERLAP, 2.02 * following_state[BETA] * following_state[SIZE] + 1e-14)
             if closing:  # the first point's own curve point, and the distance to it, within the overlap too
                 apart = 0.0
                 for j in range(7):
@@ -790,7 +792,7 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
             state_of_limits, meets, rate = classified(q, tangent, state[BEND:BEND + 7], reach, radius, near, far, model,
                                                       real_phase, limits, step_signs)
             undecided = (step_signs[0] == 0 or step_signs[1] == 0 or step_signs[2] == 0 or state_of_limits == UNDECIDED
-                         or state[5] * following_state[5] < 0.0)
+                         or state[PSI_RATE] * following_state[PSI_RATE] < 0.0)
             if undecided and spread > RESOLUTION and h > 4.0 * overlap:
                 h = _shorter(h, reach, tube, spread, meets, rate)
                 closing = False
@@ -804,8 +806,8 @@ def traced(seed, target, real, model, bounds, real_phase, limits, longest, sense
         if closing and apart <= 1e-18:  # landed on the first point (to 1e-9 rad)
             _array_copy.copy_into(points[count], moved)
             _array_copy.copy_into(tangents[count], following)
-            angles[count] = following_state[4]
-            rates[count] = following_state[5]
+            angles[count] = following_state[PSI]
+            rates[count] = following_state[PSI_RATE]
             return count + 1, CLOSED
         _array_copy.copy_into(q, moved)
         _array_copy.copy_into(tangent, following)
