@@ -298,6 +298,32 @@ def test_bad_input_is_refused_in_words(iiwa):
         collision_free_arm_angles(franka, franka.fk(np.zeros(7) + 0.3), body_of([], franka.chain), scene)
     with pytest.raises(ValueError):
         collision_free_arm_angles(iiwa, pose, body, scene, "+?+")
+    for budget in (0, -1, 2.5, True):
+        with pytest.raises(RedkinError, match="budget must be an integer >= 1"):
+            collision_free_arm_angles(iiwa, pose, body, scene, budget=budget)
+
+
+@pytest.mark.parametrize("name", ["kuka-iiwa14", "franka-panda", "kinova-gen3"])
+def test_a_pose_out_of_reach_is_refused_with_its_distance_by_the_one_pose_forms(name):
+    """The one-pose sets refuse a pose their class proves out of reach, in one line with the distance and the range
+    (as the docstrings say and ``Arm.analyse`` does); a batch answers it with no free set, each branch's whole circle
+    removed as "no solution", beside the other poses' sets."""
+    from redkin.collision import builtin_body, collision_free_set, free_sets_of, scene_of
+    from redkin.errors import UnreachablePoseError
+
+    arm = redkin.arm(name)
+    body, scene = builtin_body(name, arm.chain), scene_of({"margin": 0.01, "obstacles": []})
+    far = np.eye(4)
+    far[:3, 3] = (3.0, 0.0, 0.5)
+    with pytest.raises(UnreachablePoseError, match=r"unreachable pose: .* is \d+(\.\d+)? m, outside \["):
+        collision_free_set(arm, far, body, scene)
+    if name == "kuka-iiwa14":  # the batch form, on a class that decides it quickly
+        near = arm.chain.fk(np.array([0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1]))
+        sets = free_sets_of(arm, np.stack([far, near]), body, scene)
+        assert all(not len(arcs.bounds) for arcs in sets[0].free)
+        assert all([tuple(s) for s in stretches] == [(-np.pi, np.pi, LIMIT, "", "no solution")]
+                   for stretches in sets[0].blocked)
+        assert any(len(arcs.bounds) for arcs in sets[1].free)
 
 
 def test_the_readme_example_runs(capsys):
@@ -472,3 +498,26 @@ def test_a_stretch_around_the_whole_circle_is_written_whole():
         assert [tuple(stretch) for stretch in blocked] == [(-np.pi, np.pi, COLLISION, "hand", "ball")]
     removed = removed_along_path(chain, chain.fk(q)[None], body, scene)
     assert all(row == [(-np.pi, np.pi, "hand meets ball")] for row in removed[0])
+
+
+def test_a_branch_without_a_feasible_arm_angle_is_named_at_the_middle_of_the_circle():
+    """A branch with no arm angle inside the limits has one removed stretch, the whole circle, named (as every
+    stretch) by the joints out of range at its middle, arm angle 0, not at its start -pi (the middle of ``(-pi,
+    pi)`` was read as ``-pi + ((pi - -pi) mod 2 pi) / 2``). Joint 4 is out everywhere here, joint 3 only away from
+    0."""
+    import dataclasses
+
+    iiwa = redkin.get_robot("kuka-iiwa14")
+    q = np.array([0.3, 0.6, 0.1, -1.2, 0.2, 0.8, 0.1])
+    pose = iiwa.fk(q)
+    at = {psi: redkin.arm(iiwa).ik(pose, psi).q for psi in (0.0, -np.pi)}  # (8, 7): the eight branches' rows
+    lower, upper = iiwa.lower.copy(), iiwa.upper.copy()
+    lower[2], upper[2] = at[0.0][0, 2] - 0.05, at[0.0][0, 2] + 0.05  # branch 0's joint 3 at arm angle 0, +-0.05
+    lower[3], upper[3] = 0.5, 0.6  # joint 4 is -1.2 or 1.2 at every arm angle of this pose
+    chain = dataclasses.replace(iiwa, lower=lower, upper=upper)
+    assert not lower[2] <= at[-np.pi][0, 2] <= upper[2]  # so the name at -pi differs
+    body = body_of([BodyCapsule("hand", 7, (0, 0, 0), (0, 0, 0.02), 0.03)], chain)
+    scene = Scene(("ball",), primitives.sphere(np.array([5.0, 0.0, 0.0]), 0.1)[None], 0.01)
+    sets = collision_free_arm_angles(redkin.arm(chain), pose, body, scene)
+    assert not len(sets.limits[0].bounds)
+    assert [tuple(stretch) for stretch in sets.blocked[0]] == [(-np.pi, np.pi, LIMIT, "", "joint 4")]

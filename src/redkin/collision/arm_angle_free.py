@@ -70,11 +70,12 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_pose
+from redkin.arms.analysis import check_in_reach
 from redkin.arms.feasible_sets import ArcArrays, Arcs, owner_arcs
 from redkin.arms.front_door import Arm
 from redkin.arms.srs_kind import SRSKind
 from redkin.chain import SerialChain
-from redkin.circle import TWO_PI, ArcSet
+from redkin.circle import TWO_PI, ArcSet, arc_length
 from redkin.collision import _arm_angle_kernels, _decision_kernels
 from redkin.collision.body import Body, capsule_ends, posed
 from redkin.collision.clearance import checked_pairs, clearance_inputs
@@ -182,10 +183,11 @@ def collision_free_arm_angles(arm: Arm, pose: ArrayLike, body: Body, scene: Scen
     Raises
     ------
     RedkinError
-        For an arm of another class (named), a body on another number of joints, a malformed pose or a resolution
-        that is not > 0; :class:`redkin.errors.UnreachablePoseError` for a pose out of reach.
+        For an arm of another class (named), a body on another number of joints, a malformed pose, a resolution
+        that is not > 0 or a budget that is not an integer >= 1; :class:`redkin.errors.UnreachablePoseError` for a
+        pose out of reach.
     """
-    return free_arm_angles_of(arm, one_pose(pose), body, scene, branches, resolution=resolution, budget=budget)[0]
+    return free_arm_angles_of(arm, one_pose(arm, pose), body, scene, branches, resolution=resolution, budget=budget)[0]
 
 
 def free_arm_angles_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
@@ -212,7 +214,7 @@ def certified_arm_angles(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
                      and arm.parameter.name == "q7" else "redkin.collision.free_sets_of takes every class")
         raise RedkinError(f"certified collision-free arm angles are computed on S-R-S and offset-elbow arms; "
                           f"{arm.chain.name} is {arm.kind} ({elsewhere})")
-    poses = checked_inputs(arm, poses, body, resolution)
+    poses = checked_inputs(arm, poses, body, resolution, budget)
     limits = arm.feasible(poses, branches)
     geometry = arm.implementation.geometry
     rows = np.array([arm.branches.index(label) for label in limits.branches])
@@ -287,32 +289,40 @@ class _Settle(Protocol):
                  carve: bool) -> tuple[np.ndarray, ...]: ...
 
 
-def one_pose(pose: ArrayLike) -> np.ndarray:
-    """One pose ``(4, 4)``, checked, as a batch of one ``(1, 4, 4)`` (the one-pose forms of the free sets).
+def one_pose(arm: Arm, pose: ArrayLike) -> np.ndarray:
+    """One pose ``(4, 4)``, checked, as a batch of one ``(1, 4, 4)`` (the one-pose forms of the free sets), refused
+    where ``arm``'s class proves it out of reach (as :meth:`redkin.arms.front_door.Arm.analyse` refuses it; a batch
+    of poses answers such a pose with no free set instead, each branch's circle removed as "no solution").
 
     Raises
     ------
     RedkinError
-        For a malformed pose or another shape.
+        For a malformed pose or another shape; :class:`redkin.errors.UnreachablePoseError` for a pose out of reach,
+        with the distance and the range.
     """
     checked = check_pose(pose)
     if checked.shape != (4, 4):
         raise RedkinError(f"pose must be one 4x4 transform, got shape {checked.shape}")
+    if arm.parameter is not None:  # a class with closed forms (the others are refused by the sets themselves)
+        check_in_reach(arm.ik(checked, 0.0).reach)
     return checked[None]
 
 
-def checked_inputs(arm: Arm, poses: ArrayLike, body: Body, resolution: float) -> np.ndarray:
-    """The poses ``(P, 4, 4)`` of a batch of free sets, checked with the body and the resolution.
+def checked_inputs(arm: Arm, poses: ArrayLike, body: Body, resolution: float, budget: int) -> np.ndarray:
+    """The poses ``(P, 4, 4)`` of a batch of free sets, checked with the body, the resolution and the budget.
 
     Raises
     ------
     RedkinError
-        For a body on another number of joints, a resolution that is not > 0 or malformed poses.
+        For a body on another number of joints, a resolution that is not > 0, a budget that is not an integer >= 1
+        or malformed poses.
     """
     if len(body) and int(body.frame.max()) > arm.chain.n:
         raise RedkinError(f"the body uses frame {int(body.frame.max())}, but {arm.chain.name} has {arm.chain.n} joints")
     if not (np.isfinite(resolution) and resolution > 0.0):
         raise RedkinError(f"resolution must be a number > 0 (radians), got {resolution!r}")
+    if isinstance(budget, bool) or not isinstance(budget, int | np.integer) or budget < 1:
+        raise RedkinError(f"budget must be an integer >= 1 (configurations per pose), got {budget!r}")
     checked = check_pose(poses)
     if checked.ndim != 3:
         raise RedkinError(f"poses must have shape (P, 4, 4), got shape {checked.shape}")
@@ -659,7 +669,7 @@ def _circle_limit_stretches_of(arm: Arm, poses: np.ndarray, labels: tuple[str, .
                               limits: list[tuple[Arcs, ...]]) -> list[list[list[Stretch]]]:
     """:func:`circle_limit_stretches` of each pose of ``poses`` (P, 4, 4), its arcs ``limits[p]``."""
     gaps = [[ArcSet(arcs.bounds.tolist()).complement().arcs for arcs in pose_limits] for pose_limits in limits]
-    middles = [[_wrapped(start + ((end - start) % TWO_PI) / 2.0) for arcs in pose_gaps for start, end in arcs]
+    middles = [[_wrapped(start + arc_length(start, end) / 2.0) for arcs in pose_gaps for start, end in arcs]
                for pose_gaps in gaps]
     return limit_stretches_of(arm, poses, labels, gaps, middles)
 

@@ -106,7 +106,7 @@ def free_arcs_from(found: list[FreeArmAngles]) -> FreeArcs:
 def collision_free_set(arm: Arm, pose: ArrayLike, body: Body, scene: Scene, branches: Branches = None, *,
                        resolution: float = 1e-6, budget: int = 100_000) -> FreeArmAngles:
     """:func:`free_sets_of` of one pose ``(4, 4)``."""
-    return free_sets_of(arm, one_pose(pose), body, scene, branches, resolution=resolution, budget=budget)[0]
+    return free_sets_of(arm, one_pose(arm, pose), body, scene, branches, resolution=resolution, budget=budget)[0]
 
 
 def redundancy_moves(arm: Arm, body: Body, scene: Scene, q: ArrayLike) -> np.ndarray:

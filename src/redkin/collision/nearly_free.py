@@ -84,7 +84,7 @@ def free_nearly_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     if not isinstance(arm.implementation, NearlyKind):
         raise RedkinError(f"these certified collision-free arm angles are computed on nearly S-R-S arms; "
                           f"{arm.chain.name} is {arm.kind}")
-    poses = checked_inputs(arm, poses, body, resolution)
+    poses = checked_inputs(arm, poses, body, resolution, budget)
     labels = arm.labels(branches)
     measure = _StepMeasure(arm, body, scene)
     return [_one_pose(arm, measure, pose, labels, float(resolution), budget, causes) for pose in poses]

@@ -87,10 +87,11 @@ def collision_free_q7(arm: Arm, pose: ArrayLike, body: Body, scene: Scene,
     Raises
     ------
     RedkinError
-        For an arm of another class (named), a body on another number of joints, a malformed pose or a resolution
-        that is not > 0.
+        For an arm of another class (named), a body on another number of joints, a malformed pose, a resolution
+        that is not > 0 or a budget that is not an integer >= 1; :class:`redkin.errors.UnreachablePoseError` for a
+        pose out of reach.
     """
-    return free_q7_of(arm, one_pose(pose), body, scene, branches, resolution=resolution, budget=budget)[0]
+    return free_q7_of(arm, one_pose(arm, pose), body, scene, branches, resolution=resolution, budget=budget)[0]
 
 
 def free_q7_of(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
@@ -116,7 +117,7 @@ def certified_q7(arm: Arm, poses: ArrayLike, body: Body, scene: Scene,
     if not isinstance(arm.implementation, FrankaKind):
         raise RedkinError(f"certified collision-free q7 sets are computed on Franka-class arms; {arm.chain.name} is "
                           f"{arm.kind}")
-    poses = checked_inputs(arm, poses, body, resolution)
+    poses = checked_inputs(arm, poses, body, resolution, budget)
     limits = arm.feasible(poses, branches)
     limit_arcs = limits.arc_arrays()
     measure = _Q7Measure(arm, poses, body, scene, np.array([arm.branches.index(label) for label in limits.branches]))
