@@ -64,3 +64,19 @@ def test_the_optimal_rows_in_a_cell_keep_the_margin(setup):
         assert np.array_equal(rows.collision_free, rows.exists)
         assert np.all(clearance(arm.chain, body, scene, rows.q[rows.exists]).distance >= scene.margin)
     assert found
+
+
+def test_a_cell_of_the_wrong_kind_is_refused_in_words(setup, tmp_path):
+    """A scene or body given as something else (a file's name, the mistake to expect) is refused by every call that
+    takes a cell, naming the function that reads it; one without the other too."""
+    arm, body, scene = setup
+    pose = arm.fk(np.zeros(7) + 0.3)
+    calls = [lambda **cell: arm.ik(pose, 0.3, **cell), lambda **cell: arm.feasible(pose, **cell),
+             lambda **cell: arm.optimal(pose, **cell)]
+    for call in calls:
+        with pytest.raises(ValueError, match=r"scene must be a redkin.collision.Scene \(redkin.collision.read_scene"):
+            call(body=body, scene=str(tmp_path / "cell.yaml"))
+        with pytest.raises(ValueError, match=r"body must be a redkin.collision.Body \(redkin.collision.read_body"):
+            call(body={"spheres": {}}, scene=scene)
+        with pytest.raises(ValueError, match="need both the arm's body and the scene"):
+            call(scene=scene)

@@ -174,9 +174,7 @@ class Arm:
             reverse.
         """
         rows = self._rows(branches)
-        if (body is None) != (scene is None):
-            raise RedkinError("collision-free solutions need both the arm's body and the scene")
-        cell = None if body is None or scene is None else (body, scene)
+        cell = _cell(body, scene, "collision-free solutions")
         if t is None:
             return self._marked(self._numerical(poses, rows, q0, solver, cell), cell)
         if solver:
@@ -400,11 +398,12 @@ class Arm:
         from redkin._validation import check_pose
         from redkin.collision.free_sets import free_sets_of
 
-        if body is None or scene is None:
+        cell = _cell(body, scene, "collision-free sets")
+        if cell is None:
             raise RedkinError("collision-free sets need both the arm's body and the scene")
         self._need_parameter("collision-free sets")
         checked = check_pose(poses)
-        sets = free_sets_of(self, checked.reshape(-1, 4, 4), body, scene, self.labels(branches))
+        sets = free_sets_of(self, checked.reshape(-1, 4, 4), *cell, self.labels(branches))
         return dict(zip(np.ndindex(checked.shape[:-2]), sets, strict=True))
 
     def joint_sets(self, pose: ArrayLike, branch: str) -> dict[int, np.ndarray]:
@@ -547,6 +546,31 @@ class Arm:
         if self.parameter is None:
             raise RedkinError(f"{what} need a redundancy parameter: {self.chain.name!r} has none ({self.reason}); "
                               f"ik without t solves it numerically")
+
+
+def _cell(body: Body | None, scene: Scene | None, what: str) -> tuple[Body, Scene] | None:
+    """The cell ``(body, scene)`` of a call that takes one, ``None`` where it has neither.
+
+    Raises
+    ------
+    RedkinError
+        For one without the other (``what`` needs both), or either of another type (a file's name, say), naming
+        the function that reads it.
+    """
+    if body is None and scene is None:
+        return None
+    if body is None or scene is None:
+        raise RedkinError(f"{what} need both the arm's body and the scene")
+    from redkin.collision.body import Body
+    from redkin.collision.scene import Scene
+
+    if not isinstance(body, Body):
+        raise RedkinError(f"body must be a redkin.collision.Body (redkin.collision.read_body reads a body file, "
+                          f"builtin_body a named model's), got {type(body).__name__}")
+    if not isinstance(scene, Scene):
+        raise RedkinError(f"scene must be a redkin.collision.Scene (redkin.collision.read_scene reads a scene file), "
+                          f"got {type(scene).__name__}")
+    return body, scene
 
 
 def _replace(result: Solutions, **fields: Any) -> Solutions:
