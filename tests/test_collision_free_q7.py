@@ -169,6 +169,43 @@ def test_the_bounds_the_certificate_rests_on_hold(setup, fraction, width, where)
         pytest.skip("no interval with proved bounds at this pose")
 
 
+@settings(max_examples=4, deadline=None)
+@given(fraction=fractions, width=st.sampled_from([0.3, 0.02, 1e-3, 1e-6]), where=st.floats(0.05, 0.95),
+       margin=st.sampled_from([0.0, 0.01, 0.15]))
+@example(fraction=RICH[1], width=0.02, where=0.5, margin=0.15)
+@example(fraction=RICH[0], width=0.3, where=0.3, margin=0.01)
+def test_the_bounds_along_the_normals_hold(setup, fraction, width, where, margin):
+    """Over an interval where the joint bands are proved, each pair's distance stays above its value at the middle
+    less the bound along its normal where it is farther apart than the margin there, and below its value plus the
+    bound where it is not (:func:`redkin.collision.joint_motion._normal_reaches`), on a dense sample of the interval:
+    self pairs and every kind of obstacle (a floor too), with a margin that puts pairs on both sides."""
+    from redkin.collision.joint_motion import _normal_reaches
+
+    arm, body, _ = setup
+    scene = scene_of({"margin": margin, "obstacles": CELL["obstacles"] + [
+        {"name": "floor", "type": "plane", "point": [0.0, 0.0, 0.02], "normal": [0.0, 0.0, 2.0]}]})
+    pose = arm.fk(_configuration(arm.chain, fraction))
+    measure = _Q7Measure(arm, pose[None], body, scene, np.arange(8))
+    checked = np.zeros(2, dtype=int)  # bounds checked apart, and within the margin
+    for b, branch, middle, half in _intervals(arm, pose, width, where):
+        owner, middles, halves = np.array([b]), np.array([middle]), np.array([half])
+        rate, at_middle, delta = measure.proposals(owner, middles, halves)
+        if not np.all(np.isfinite(measure.proved(owner, middles, halves, at_middle, delta, rate, np.array([True])))):
+            continue
+        reach = rate * half
+        bound = _normal_reaches(arm.chain, measure.inputs, measure.levers, measure.joints(middles, owner)[0], delta,
+                               reach, np.ones(reach.shape, dtype=bool), margin)[0]
+        q = arm.ik(pose, np.linspace(middle - half, middle + half, 201), branches=[branch]).q[:, 0]
+        table, _ = pair_table(arm.chain, body, scene, q)
+        apart = table[100] > margin
+        given_bound = np.isfinite(bound)
+        assert np.all(table[:, apart] >= table[100, apart] - bound[apart] - 1e-12)
+        assert np.all(table[:, ~apart] <= table[100, ~apart] + bound[~apart] + 1e-12)
+        checked += [np.sum(given_bound & apart), np.sum(given_bound & ~apart)]
+    if not checked.any():
+        pytest.skip("no interval with proved bounds at this pose")
+
+
 def _intervals(arm, pose: np.ndarray, width: float, where: float):
     """An interval of q7 in each limit-feasible arc of each branch of ``pose``: ``(row, branch, middle, half)``, at
     most ``width`` wide (less in a narrower arc), its middle a fraction ``where`` along the arc's room for it."""

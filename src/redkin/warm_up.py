@@ -78,9 +78,9 @@ def _franka(rng: np.random.Generator) -> None:
     from redkin import arms, collision  # the certified collision-free q7 sets' level test
 
     body = collision.body_of([collision.BodyCapsule("forearm", 4, [0, 0, 0], [0, 0, 0.2], 0.05)], arm)
-    ball = {"name": "ball", "type": "sphere", "center": [0.0, 0.0, 2.0], "radius": 0.05}  # out of reach: clear
-    # q[0]: a set; a pair to check, so that intervals are decided by the proved bounds (without one every interval
-    # is free unproved)
+    # q[0]: a set; a ball at the forearm, so that intervals are decided by the proved bounds (without a pair to check
+    # every interval is free unproved) and the ends of its stretches by the bounds along the pair's normal
+    ball = {"name": "ball", "type": "sphere", "center": arm.frames(q[0])[4, :3, 3].tolist(), "radius": 0.05}
     collision.collision_free_q7(arms.arm(arm), poses[0], body, collision.scene_of({"obstacles": [ball]}))
 
 

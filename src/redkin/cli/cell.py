@@ -30,7 +30,8 @@ CELL_SETS_KERNELS = {
     "q7": ("redkin.franka._kernels.limit_spectra_of", "redkin.franka._kernels.solve_branch_rows",
            "redkin.franka._kernels.levels_crossed", "redkin.franka._kernels.feasible_poses",
            "redkin.collision._clearance_kernels.clearances", "redkin.collision._decision_kernels.decided",
-           "redkin.collision._body_kernels.posed_rows", "redkin.collision._decision_kernels.next_level"),
+           "redkin.collision._body_kernels.posed_rows", "redkin.collision._decision_kernels.next_level",
+           "redkin.collision._joint_motion_kernels.reaches"),
 }
 CELL_SETS_SECTIONS = {"psi": ("srs ik", "srs sets", "collision"), "q7": ("franka", "collision")}
 

@@ -12,6 +12,24 @@ tool, which the pose holds still in both configurations, it moves by at most ``s
 through axes ``k + 1 .. j``); the smaller bound is kept.  Two links ``k1 < k2`` move relative to each other only
 through joints ``k1 + 1 .. k2`` (levers from either link), and by no more than the sum of their displacements in the
 base frame; the smaller is kept.  A pair's signed distance changes by no more than the two shapes' displacements.
+
+Along the normal (:func:`tightened`).  Those displacements are the points' whole motion; what moves a pair's
+distance is their motion along its normal, often a small part of it (two joints whose turns cancel along the
+self-motion, a link sliding past a post).  Let ``p`` be a point of a capsule turned by joints ``j_1, j_2, ..``
+(ordered from a link held still: the base, the tool, or the other link of a self pair), each by ``Delta_j``,
+``|Delta_j| <= delta_j``.  Along the straight path ``s Delta`` in joint space its velocity is ``sum_j Delta_j w_j x
+(p - o_j)`` (the axes ``w_j`` through ``o_j``, each moved by the joints before it), and differentiating again, its
+acceleration is at most ``sum_j delta_j (2 A_j l_j + B_j)``, with ``l_j`` the lever bounding ``|p - o_j|`` in every
+configuration, ``A_j = sum_(i before j) delta_i`` (how fast axis ``j`` turns) and ``B_j = sum_(i from j on)
+delta_i l_i``.  So for any unit ``u``, ``u . (p(Delta) - p)`` is at most ``sum_j |u . (w_j x (p - o_j))| delta_j``
+(the axes at the first configuration) plus half that bound.  For two convex shapes ``A`` and ``B`` and any unit
+``u``, ``min_B u . b - max_A u . a`` bounds their distance from below; with ``u`` their witness normal it equals the
+distance, and as ``A``'s capsule ends move it falls by no more than their rise along ``u`` (the moving shape's
+support is at an end).  Where the pair is within the margin, its distance is at most that of two points on the
+cores, ``x = c_b - c_a``, less the radii, and ``|x + dx| <= |x| + x/|x| . dx + |dx|^2 / (2 |x|)``, ``|dx|`` at most
+the displacement bound above: a bound of the rise that is first-order exact too (against a plane, the height of the
+lowest end).  Each bound adds what its support gap or core distance lacks of the measured distance, so it holds
+whatever the witness points' rounding.  The smaller of the two bounds of each pair is kept.
 """
 
 from __future__ import annotations
@@ -20,9 +38,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from redkin._compiled import kernel_array, run_batch
 from redkin.chain import SerialChain
+from redkin.collision import _joint_motion_kernels
 from redkin.collision.body import Body, capsule_ends, posed
-from redkin.collision.clearance import CheckedPairs
+from redkin.collision.clearance import CheckedPairs, ClearanceInputs
 
 
 def _joint_levers(chain: SerialChain, body: Body) -> tuple[np.ndarray, np.ndarray]:
@@ -75,7 +95,7 @@ def pair_levers(chain: SerialChain, body: Body, pairs: CheckedPairs) -> PairLeve
     between = (joints > np.minimum(k1, k2)[:, None]) & (joints <= np.maximum(k1, k2)[:, None])
     outer = np.where((k1 >= k2)[:, None], base[first], base[second]) * between
     inner = np.where((k1 >= k2)[:, None], tip[second], tip[first]) * between
-    return PairLevers(base, tip, pairs.capsule, own, first, second, outer, inner)
+    return PairLevers(kernel_array(base), kernel_array(tip), pairs.capsule, own, first, second, outer, inner)
 
 
 def pair_displacements(delta: np.ndarray, levers: PairLevers) -> np.ndarray:
@@ -91,3 +111,37 @@ def pair_displacements(delta: np.ndarray, levers: PairLevers) -> np.ndarray:
                               np.einsum("nj,sj->ns", delta, levers.inner))
         total[:, levers.own] = np.minimum(relative, shift[:, levers.first] + shift[:, levers.second])
     return total
+
+
+def _normal_reaches(chain: SerialChain, inputs: ClearanceInputs, levers: PairLevers, q: np.ndarray,
+                    delta: np.ndarray, reach: np.ndarray, want: np.ndarray, margin: float) -> np.ndarray:
+    """Per configuration ``q`` ``(N, n)`` and checked pair of ``inputs`` ``(N, P)``, a bound of how far the pair's
+    clearance moves from its value at ``q`` towards the margin, down where the pair is farther apart than ``margin``
+    there and up where it is not, over configurations of the same pose whose joints differ from ``q`` by at most
+    ``delta`` ``(N, n)``, read along the pair's normal (module docstring, "Along the normal"), for the pairs ``want``
+    ``(N, P)`` (``inf`` for the others, and where no such bound is given); ``reach`` ``(N, P)`` is
+    :func:`pair_displacements` at ``delta``.  One compiled pass (:func:`redkin.collision._joint_motion_kernels.
+    reaches`)."""
+    out = np.empty(want.shape)
+    if len(q):
+        run_batch(_joint_motion_kernels.reaches, len(q), kernel_array(q), chain._links, chain._ends,
+                  chain._standard, *inputs.body, inputs.obstacles, *inputs.pairs, float(margin), levers.base,
+                  levers.tip, kernel_array(delta), kernel_array(reach), kernel_array(want), out)
+    return out
+
+
+def tightened(chain: SerialChain, inputs: ClearanceInputs, levers: PairLevers, q: np.ndarray, delta: np.ndarray,
+              moved: np.ndarray, clearance: np.ndarray, active: np.ndarray, margin: float) -> np.ndarray:
+    """``moved`` ``(N, P)``, :func:`pair_displacements` at the bands ``delta`` ``(N, n)`` about ``q`` ``(N, n)``,
+    lowered to :func:`_normal_reaches` on the ``active`` pairs it leaves undecided (``|clearance| <= moved``, the
+    clearances at ``q``): the bound a decision reads, towards the margin (down where a clearance is positive, up
+    where it is not)."""
+    with np.errstate(invalid="ignore"):  # nan or inf where a band is not bounded: not tightened
+        want = active & np.isfinite(moved) & (np.abs(clearance) <= moved)
+    rows = np.flatnonzero(want.any(axis=1))
+    if not len(rows):
+        return moved
+    out = moved.copy()
+    out[rows] = np.minimum(moved[rows], _normal_reaches(chain, inputs, levers, q[rows], delta[rows], moved[rows],
+                                                       want[rows], margin))
+    return out

@@ -53,7 +53,7 @@ from redkin.collision.arm_angle_free import (
 )
 from redkin.collision.body import Body
 from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_clearances
-from redkin.collision.joint_motion import pair_displacements, pair_levers
+from redkin.collision.joint_motion import pair_displacements, pair_levers, tightened
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.srs.nearly import _self_motion_kernels
@@ -104,10 +104,14 @@ class _StepMeasure:
         solutions ``q`` ``(N, 7)`` in each joint, for the pairs ``active`` ``(N, P)`` (``inf`` for the others: proved
         clear already); rows without an active pair are not posed.  Where the lower bound is positive (the pair is
         clear over the arc) the upper bound is ``inf``: a cheap lower bound of the distance that proves it is used
-        in place of the distance (:func:`redkin.collision.clearance.pair_clearances`' ``floor``)."""
+        in place of the distance (:func:`redkin.collision.clearance.pair_clearances`' ``floor``).  Where the
+        displacement bound leaves a pair undecided, the bound along its normal is read instead
+        (:func:`redkin.collision.joint_motion.tightened`: towards the margin, so the lower bound of a pair within
+        it, and the upper of one clear of it, only say which side of zero it stays on)."""
         moved = pair_displacements(delta, self.levers)
         floor = np.nan_to_num(moved, nan=np.inf)  # a pair a bound proves clear by more than it moves: not measured
         clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin, floor)
+        moved = tightened(self.chain, self.inputs, self.levers, q, delta, moved, clearance, active, self.scene.margin)
         with np.errstate(invalid="ignore"):  # inf - inf: a pair not measured, at an unbounded displacement
             low = np.where(active, clearance - moved, np.inf)
             return low, np.where(active & ~(low > 0.0), clearance + moved, np.inf)

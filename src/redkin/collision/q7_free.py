@@ -11,8 +11,9 @@ What is proved.  On an interval ``I = [m - h, m + h]`` inside one of the branch'
 branch exists and turns continuously), let ``delta_j`` bound ``|q_j(t) - q_j(m)|`` over ``I`` for each joint
 (``delta_7 = h``).  Each pair's signed distance then changes over ``I`` by at most the bound of
 :mod:`redkin.collision.joint_motion` (levers along the joints' axes, from the base or from the tool, which the pose
-holds still), so ``c(t) - c(m)`` is bounded over ``I``, and the interval is free, blocked or halved as
-:mod:`redkin.collision.arm_angle_free` says.
+holds still), and where that leaves the pair undecided, by at most the same module's bound along the pair's normal
+at ``m`` (towards the margin: down where the pair is clear of it, up where not), so ``c(t) - c(m)`` is bounded over
+``I``, and the interval is free, blocked or halved as :mod:`redkin.collision.arm_angle_free` says.
 
 The bounds ``delta_j`` are proposed from the joints' values at ``m`` and at the ends of ``I`` widened by the level
 test's slack (one and a half times the larger change, a little more) and then proved: with the levels ``q_j(m) -+
@@ -54,7 +55,7 @@ from redkin.collision.arm_angle_free import (
 )
 from redkin.collision.body import Body
 from redkin.collision.clearance import checked_pairs, clearance_inputs, pair_clearances
-from redkin.collision.joint_motion import pair_displacements, pair_levers
+from redkin.collision.joint_motion import pair_displacements, pair_levers, tightened
 from redkin.collision.scene import Scene
 from redkin.errors import RedkinError
 from redkin.franka import _kernels
@@ -174,6 +175,8 @@ class _Q7Measure:
         proposed, at_middle, delta = self.proposals(owner, middle, half)
         floor = np.nan_to_num(proposed * half[:, None], nan=np.inf)  # a pair a bound proves clear: not measured
         clearance = pair_clearances(self.chain, self.inputs, q, active, self.scene.margin, floor)
+        proposed = tightened(self.chain, self.inputs, self.levers, q, delta, proposed * half[:, None], clearance,
+                             active, self.scene.margin) / half[:, None]
         reach = proposed * half[:, None]
         with np.errstate(invalid="ignore"):  # inf - inf where a rate is not proposed: NaN, which decides nothing
             deciding = (active & ((clearance - reach > 0.0) | (clearance + reach < 0.0))).any(axis=1)
