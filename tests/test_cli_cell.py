@@ -3,6 +3,7 @@ comes from a body file or a URDF's collision elements, and a mistake is one line
 
 from __future__ import annotations
 
+import importlib.util
 import json
 from pathlib import Path
 
@@ -309,3 +310,71 @@ def test_undecided_slivers_no_wider_than_the_resolution_are_said_together(capsys
         "removed 3 undecided slivers of at most 1e-06 rad at 1.200000, 1.700000, 1.800000 (next to a singular arm "
         "angle, or the clearance grazes the margin)",
     ]
+
+
+def _binary_stl(path: Path, triangles: list) -> None:
+    """A binary STL of ``triangles`` (each three corners), written here so that nothing tidies them first."""
+    import struct
+
+    with path.open("wb") as out:
+        out.write(b"\0" * 80 + struct.pack("<I", len(triangles)))
+        for corners in triangles:
+            out.write(struct.pack("<12fH", 0.0, 0.0, 0.0, *[value for corner in corners for value in corner], 0))
+
+
+def test_cells_that_are_mistakes_are_one_line(capsys, tmp_path):
+    """A cell with no pair to check (no obstacle, and a body without self pairs; or no capsule on a moving link) is
+    refused rather than answered "collision-free" of nothing (ik wrote ``clearance inf m ( / )``, or failed on it);
+    a number no float holds (it raised OverflowError), and a mesh scaled past any cell, are refused naming the
+    field."""
+    chain = redkin.get_robot("kuka-iiwa14")
+    pose = _pose_arguments(chain)
+    files = {"empty.yaml": "obstacles: []\n", "one.yaml": "capsules: {link_3: [{a: [0,0,0], b: [0,0,0.2], radius: "
+             "0.06}]}\n", "base.yaml": "capsules: {link_0: [{a: [0,0,0], b: [0,0,0.1], radius: 0.1}]}\n",
+             "huge.yaml": "obstacles: [{name: ball, type: sphere, center: [0.5, 0, 0.5], radius: 1" + "0" * 400
+             + "}]\n",
+             "huge-body.yaml": "spheres: {link_4: [{center: [0, 0, 0], radius: 1" + "0" * 400 + "}]}\n",
+             "scaled.yaml": "obstacles: [{name: fixture, type: mesh, file: cube.stl, scale: 1e300}]\n"}
+    for name, text in {**files, "cell.yaml": SCENE}.items():
+        (tmp_path / name).write_text(text)
+    _binary_stl(tmp_path / "cube.stl", [[(0, 0, 0), (1, 0, 0), (0, 1, 0)], [(0, 0, 0), (0, 1, 0), (0, 0, 1)],
+                                        [(0, 0, 0), (0, 0, 1), (1, 0, 0)], [(1, 0, 0), (0, 0, 1), (0, 1, 0)]])
+    keys = tmp_path / "keys.json"
+    first = chain.fk(np.array(Q))
+    second = first.copy()
+    second[1, 3] -= 0.02
+    keys.write_text(json.dumps([first.tolist(), second.tolist()]))
+    cases = [
+        (["ik", "kuka-iiwa14", *pose, "--psi", "0", "--scene", "empty.yaml", "--body", "one.yaml"], "checks no pair"),
+        (["ik", "kuka-iiwa14", *pose, "--scene", "empty.yaml", "--body", "one.yaml", "--json"], "checks no pair"),
+        (["path", "kuka-iiwa14", "--through", str(keys), "--step", "0.01", "--scene", "empty.yaml", "--body",
+          "one.yaml"], "checks no pair"),
+        (["arm-angles", "kuka-iiwa14", *pose, "--scene", "cell.yaml", "--body", "base.yaml"],
+         "capsules on moving links: 0"),
+        (["arm-angles", "kuka-iiwa14", *pose, "--scene", "huge.yaml"], "radius must be a finite number >= 0, got inf"),
+        (["arm-angles", "kuka-iiwa14", *pose, "--scene", "cell.yaml", "--body", "huge-body.yaml"],
+         "radius must be a finite number >= 0, got inf"),
+    ]
+    if importlib.util.find_spec("trimesh") is not None:
+        cases.append((["arm-angles", "kuka-iiwa14", *pose, "--scene", "scaled.yaml"], "m across, scaled"))
+    for argv, words in cases:
+        argv = [str(tmp_path / part) if part.endswith(".yaml") else part for part in argv]
+        code, out, err = run(capsys, argv)
+        assert (code, out, err.count("\n")) == (2, "", 1), (argv, err)
+        assert words in err, (argv, err)
+
+
+def test_a_flat_mesh_in_a_cell_is_covered(capsys, tmp_path, monkeypatch):
+    """A fixture whose mesh is one triangle (or its corners on a line) is covered like any other: its hull a hair
+    thick (scipy's hull needs four points off a plane; it raised QhullError), with no warning from its mass."""
+    pytest.importorskip("trimesh")
+    monkeypatch.setenv("REDKIN_CACHE_DIR", str(tmp_path / "cache"))  # covered afresh, not read from a cache
+    chain = redkin.get_robot("kuka-iiwa14")
+    for corners in ([(0.4, 0.2, 0.3), (0.6, 0.2, 0.3), (0.5, 0.4, 0.3)], [(0.4, 0.2, 0.3), (0.5, 0.2, 0.3),
+                                                                           (0.6, 0.2, 0.3)]):
+        _binary_stl(tmp_path / "flat.stl", [corners])
+        (tmp_path / "flat.yaml").write_text("obstacles: [{name: plate, type: mesh, file: flat.stl}]\n")
+        code, out, err = run(capsys, ["arm-angles", "kuka-iiwa14", *_pose_arguments(chain), "--scene",
+                                      str(tmp_path / "flat.yaml"), "--json"])
+        assert code == 0 and "warning" not in err, err
+        assert "covered by 1 box" in " ".join(json.loads(out)["collision"]["scene_notes"])

@@ -21,6 +21,17 @@ class _Loader(yaml.SafeLoader):
     """
 
 
+def _integer(loader: _Loader, node: yaml.Node) -> int | float:
+    """A YAML integer, or the infinity of its sign where no float holds it (10^400): a file's numbers become floats,
+    and the fields refuse what is not finite in their own words, where ``float`` would raise ``OverflowError``."""
+    value = loader.construct_yaml_int(node)
+    if abs(value) > _LARGEST:
+        return float("inf") if value > 0 else float("-inf")
+    return value
+
+
+_LARGEST = 1.7976931348623157e308  # the largest float
+_Loader.add_constructor("tag:yaml.org,2002:int", _integer)
 _Loader.add_implicit_resolver("tag:yaml.org,2002:float",
                               re.compile(r"^[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?$"),
                               list("-+0123456789."))

@@ -53,20 +53,34 @@ def add_cell_arguments(parser: argparse.ArgumentParser, effect: str) -> None:
 
 def load_cell(args: argparse.Namespace, chain: SerialChain):
     """The body and the scene the arguments name, or ``None`` without ``--scene`` (a ValueError in one line for a
-    bad file, a body option without a scene, or a robot with no body to read).  Covering a mesh (a maker's link, a
+    bad file, a body option without a scene, a robot with no body to read, or a cell that checks no pair: no obstacle
+    and no self pair, whose every answer would be "collision-free" of nothing).  Covering a mesh (a maker's link, a
     scene's fixture) runs compiled wherever it is asked (:mod:`redkin.collision.mesh_cover`); whether the rest of
     the command's work in the cell is small enough to run as Python is the command's to say
     (:func:`redkin.cli.common.small_work`: one pose's numerical or closed-form IK is, certified sets and paths are
     not)."""
-    from dataclasses import replace
-
-    from redkin.collision import read_body, read_scene, srdf_ignored_pairs, urdf_body
-
     if args.scene is None:
         given = [option for option in ("body", "srdf", "margin") if getattr(args, option) is not None]
         if given:
             raise ValueError(f"--{given[0]} applies with --scene FILE")
         return None
+    from redkin.collision.clearance import checked_pairs
+
+    body, scene = _read_cell(args, chain)
+    if not len(checked_pairs(body, scene).names):
+        moving = int(np.sum(np.asarray(body.frame) > 0))
+        raise ValueError(f"the cell checks no pair (obstacles: {len(scene)}, capsules on moving links: {moving}, "
+                         f"self-collision pairs: {len(body.pairs)}): give obstacles in --scene, or a --body with "
+                         "capsules on the moving links")
+    return body, scene
+
+
+def _read_cell(args: argparse.Namespace, chain: SerialChain):
+    """:func:`load_cell`'s body and scene, read."""
+    from dataclasses import replace
+
+    from redkin.collision import read_body, read_scene, srdf_ignored_pairs, urdf_body
+
     scene = read_scene(args.scene)
     if args.margin is not None:
         if not (np.isfinite(args.margin) and args.margin >= 0.0):

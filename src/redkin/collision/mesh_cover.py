@@ -216,9 +216,12 @@ def _box(points: np.ndarray) -> MeshBox:
     farthest of its corners from the points' hull."""
     trimesh = _trimesh()
     try:
-        to_box, _ = trimesh.bounds.oriented_bounds(points)
+        with np.errstate(divide="ignore", invalid="ignore"):  # a flat part's mass properties: 0 / 0 in trimesh
+            to_box, _ = trimesh.bounds.oriented_bounds(points)
         rotation = np.linalg.inv(to_box)[:3, :3]
     except Exception:  # a flat or straight part, where trimesh's hull fails: the frame's axes
+        rotation = np.eye(3)
+    if not np.all(np.isfinite(rotation)):
         rotation = np.eye(3)
     if np.linalg.det(rotation) < 0.0:
         rotation[:, 2] *= -1.0
@@ -382,13 +385,20 @@ def _reach(a: np.ndarray, b: np.ndarray, radius: float, points: np.ndarray) -> f
 
 
 def _hull(points: np.ndarray) -> Any:
-    """scipy's convex hull of the points (of its joggled points where they are flat or on a line)."""
+    """scipy's convex hull of the points: of its joggled points where they are flat, and where they are fewer than
+    four or on a line (a single triangle, a rod), of the points moved a hair (1e-9 of their span, at least 1e-9 m)
+    along each axis both ways, so that the over-approximation it measures is short by at most that."""
     from scipy.spatial import ConvexHull, QhullError
 
     try:
         return ConvexHull(points)
     except QhullError:
+        pass
+    try:
         return ConvexHull(points, qhull_options="QJ")
+    except QhullError:
+        hair = 1e-9 * max(float(np.ptp(points, axis=0).max()), 1.0)
+        return ConvexHull(np.concatenate([points + hair * way for way in np.concatenate([np.eye(3), -np.eye(3)])]))
 
 
 def _sphere_reach(centre: np.ndarray, radius: float, hull, directions: np.ndarray, faces: np.ndarray) -> float:

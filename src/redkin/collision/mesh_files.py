@@ -24,6 +24,10 @@ from numpy.typing import ArrayLike
 from redkin._extras import missing_extra
 from redkin.errors import RedkinError, RobotDescriptionError
 
+#: The sizes a mesh may span once scaled [m]: anything outside is a scale gone wrong (millimetres read as metres a
+#: million times over, a factor of 1e-30), and past them the covers' arithmetic loses its digits.
+_SMALLEST_SPAN, _LARGEST_SPAN = 1e-6, 1e4
+
 
 def mesh_path(filename: str, description: Path, places: Sequence[Path] = ()) -> Path:
     """The file a description's mesh ``filename`` names (module docstring).
@@ -91,6 +95,10 @@ def read_mesh(path: Path, scale: ArrayLike | None = None) -> tuple[np.ndarray, n
         raise RobotDescriptionError(f"{path}: the mesh has no triangles", str(path))
     if not np.all(np.isfinite(vertices)):
         raise RobotDescriptionError(f"{path}: the mesh has vertices that are not finite", str(path))
+    span = float(np.ptp(vertices[faces.reshape(-1)], axis=0).max())
+    if not _SMALLEST_SPAN <= span <= _LARGEST_SPAN:
+        raise RobotDescriptionError(f"{path}: the mesh is {span:.3g} m across, scaled; a shape in a cell lies between "
+                                    f"{_SMALLEST_SPAN:g} and {_LARGEST_SPAN:g} m (is its scale right?)", str(path))
     return vertices, faces
 
 
