@@ -3,6 +3,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from redkin import franka
 from redkin.models import get_robot
@@ -167,3 +169,40 @@ def test_each_waypoint_s_kept_nodes_are_sorted_by_their_key_short_runs_and_long(
         np.testing.assert_array_equal(np.sort(mine), np.flatnonzero(kept[offsets[w]:offsets[w + 1]]) + offsets[w])
         np.testing.assert_array_equal(sorted_key[kept_offsets[w]:kept_offsets[w + 1]], key[mine])
         assert np.all(np.diff(key[mine]) >= 0)
+
+
+def test_connect_refuses_a_graph_too_large_to_compute():
+    """A step bound so small that the graph would outgrow what fits in memory is refused in words, before it is
+    built (a bound of 1e-9 rad asked for terabytes)."""
+    from redkin.errors import RedkinError
+    from redkin.paths import graph as graphs
+    from redkin.srs.feasible import feasible_pieces_all_branches
+
+    _, geometry, poses = _line_poses("kuka-iiwa14", 1, 20)
+    _, arm = ArmAngleFamily(geometry).arm(poses, np.full(7, 1e-9))
+    waypoint, branch, piece, psi, _, _ = graphs.piece_samples(feasible_pieces_all_branches(geometry, poses), 0.1)
+    with pytest.raises(RedkinError, match=r"needs more than 10,000,000 nodes .*\(a size too large to compute\)"):
+        graphs.connect(arm, graphs.build(arm, waypoint, branch, piece, psi, 20), 0.25)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31), before=st.integers(1, 30), after=st.integers(1, 30),
+       circle=st.lists(st.booleans(), min_size=7, max_size=7), unbounded=st.integers(-1, 6))
+def test_the_closest_pair_across_a_step_is_the_least_largest_relative_move(seed, before, after, circle, unbounded):
+    """The pair that names a blocked step's joint (``redkin.paths.failure._closest_pair``, a k-d tree) is a pair of
+    least largest relative move over every pair, the shorter way round on joints that turn without end; a joint
+    without a bound counts for nothing."""
+    from redkin.paths.failure import _closest_pair
+    from redkin.paths.graph import Arm, joint_moves
+
+    rng = np.random.default_rng(seed)
+    step = rng.uniform(0.01, 0.5, 7)
+    if unbounded >= 0:
+        step[unbounded] = np.inf
+    arm = Arm(get_robot("kuka-iiwa14"), step, np.array(circle))
+    one, other = rng.uniform(-4.0, 4.0, (before, 7)), rng.uniform(-4.0, 4.0, (after, 7))
+    turns = np.where(circle, 2.0 * np.pi * rng.integers(-1, 2, 7), 0.0)  # the near pair a turn apart, or not
+    other[rng.integers(after)] = one[rng.integers(before)] + turns + rng.normal(0.0, 0.01, 7)
+    ratios = (joint_moves(one[:, None], other[None], np.array(circle)) / step).max(axis=-1)
+    first, second = _closest_pair(arm, one, other)
+    assert ratios[first, second] <= ratios.min() * (1.0 + 1e-9) + 1e-12

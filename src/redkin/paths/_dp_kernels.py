@@ -332,20 +332,3 @@ def sweep(path_starts, offsets, kept_offsets, q, clearance, sorted_key, order, k
                                    value, motion, parent, best, motion_first, forbidden):
                 dead[p] = w - first
                 break
-
-
-@kernel
-def closest_pair(before, after, step, circle):
-    """The pair of rows of ``before`` (R, n) and ``after`` (M, n) whose largest move relative to ``step`` is
-    least: returns their indices and that ratio (a pair is dropped as soon as one joint exceeds the best so far)."""
-    best, first, second = inf, -1, -1
-    for i in range(before.shape[0]):
-        for j in range(after.shape[0]):
-            worst = 0.0
-            for a in range(before.shape[1]):
-                worst = max(worst, gap(before[i, a], after[j, a], circle[a]) / step[a])
-                if worst >= best:
-                    break
-            if worst < best:
-                best, first, second = worst, i, j
-    return first, second, best

@@ -7,8 +7,7 @@ from collections import Counter
 
 import numpy as np
 
-from redkin.circle import ArcSet
-from redkin.paths import _dp_kernels
+from redkin.circle import TWO_PI, ArcSet
 from redkin.paths.graph import Arm
 from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import feasible_arm_angles
@@ -41,11 +40,29 @@ def empty_blocker(geometry: SRSGeometry, pose: np.ndarray) -> tuple[int | None, 
 
 def step_blocker(arm: Arm, before: np.ndarray, after: np.ndarray) -> tuple[int, float]:
     """The joint that must move most, relative to its bound, between the closest pair of ``before`` (R, 7) and
-    ``after`` (M, 7) (closest: the least largest relative move, :func:`redkin.paths._dp_kernels.closest_pair`), and
-    how far it moves there (radians)."""
-    first, second, _ = _dp_kernels.closest_pair(np.ascontiguousarray(before, dtype=float),
-                                                np.ascontiguousarray(after, dtype=float),
-                                                np.ascontiguousarray(arm.step), np.ascontiguousarray(arm.circle))
+    ``after`` (M, 7) (closest: the least largest relative move, :func:`_closest_pair`), and how far it moves there
+    (radians)."""
+    first, second = _closest_pair(arm, np.asarray(before, dtype=float), np.asarray(after, dtype=float))
     d = arm.moves(before[first], after[second])
     joint = int(np.argmax(d / arm.step))
     return joint + 1, float(d[joint])
+
+
+def _closest_pair(arm: Arm, before: np.ndarray, after: np.ndarray) -> tuple[int, int]:
+    """The rows of ``before`` (R, n) and ``after`` (M, n) whose largest move relative to ``arm.step`` is least: each
+    row's nearest neighbour in that distance (the maximum norm of the moves over the bounds) from a k-d tree of
+    ``after``, periodic on the joints that turn without end (a graph's waypoint may hold a million nodes: comparing
+    every pair took hours)."""
+    from scipy.spatial import cKDTree
+
+    bounded = np.isfinite(arm.step)
+    step = np.where(bounded, arm.step, 1.0)
+    both = np.concatenate([before, after])
+    scaled = np.where(bounded, (both - both.min(axis=0)) / step, 0.0)
+    # on a joint that turns without end the box is its turn; elsewhere wide enough that no image comes nearer
+    box = np.where(arm.circle & bounded, TWO_PI / step, 2.0 * scaled.max(axis=0) + 1.0)
+    scaled = np.where(arm.circle, scaled % box, scaled)
+    scaled = np.where(scaled >= box, 0.0, scaled)  # x % box rounded up to box
+    distance, index = cKDTree(scaled[len(before):], boxsize=box).query(scaled[:len(before)], k=1, p=np.inf)
+    first = int(np.argmin(distance))
+    return first, int(index[first])

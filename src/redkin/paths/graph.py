@@ -25,6 +25,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
+from redkin.errors import RedkinError
 from redkin.paths import _dp_kernels
 from redkin.srs.feasible import PIECE_TOLERANCE, FeasiblePieces
 
@@ -184,6 +185,10 @@ def build(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, piece: np.ndarray,
     return Graph(offsets, piece, branch, psi, q, np.maximum(clearance, 0.0))
 
 
+#: The most nodes :func:`connect` puts in a path's graph (about 100 bytes each, a gigabyte in all).
+_MOST_NODES = 10_000_000
+
+
 def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
     """Subdivide each interval between neighbouring nodes of a piece across which some joint moves more than
     ``fraction`` of its bound, evenly into as many parts as that move needs, until none does (or an interval is
@@ -194,7 +199,13 @@ def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
     A round after the first looks only at the intervals the last one cut (an interval not cut is not cut again):
     each cut interval's nodes, its ends and the new nodes kept, form a run of its own (its own number in place of
     the piece, so that no interval spans two runs), and the new nodes of every round are put in the graph once, at
-    the end."""
+    the end.
+
+    Raises
+    ------
+    RedkinError
+        Where the graph would hold more than :data:`_MOST_NODES` nodes.
+    """
     size = len(graph.psi)
     waypoint = graph.waypoint
     # the runs of the current round: nodes (parameter, joint values, run number) and, per node, the graph's node
@@ -208,6 +219,10 @@ def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
         count = int(extra.sum())
         if count == 0:
             break
+        if size + sum(len(more[0]) for more in added) + count > _MOST_NODES:
+            raise RedkinError(f"a step bound this small needs more than {_MOST_NODES:,} nodes in the path's graph (a "
+                              "size too large to compute): give a larger step bound (max_step: --max-step, or --dt), "
+                              "or fewer waypoints")
         left = np.repeat(np.arange(len(psi) - 1), extra)  # the interval each new node cuts
         j = np.arange(count) - np.repeat(np.cumsum(extra) - extra, extra) + 1  # 1 .. parts - 1 within it
         new_psi = psi[left] + (psi[left + 1] - psi[left]) * (j / parts[left])
