@@ -68,10 +68,11 @@ def test_two_commands_on_one_file_the_second_refuses(tmp_path, monkeypatch, caps
 
 
 @pytest.mark.parametrize("name", sorted(WRITERS))
-@pytest.mark.parametrize("where", ["/proc/forbidden/{}", "/dev/null/{}", "a-file/{}"])
+@pytest.mark.parametrize("where", ["/proc/forbidden/{}", "/dev/null/{}", "a-file/{}", "/proc/{}", "a" * 300 + "{}"])
 def test_an_output_that_cannot_be_written_exits_2_with_one_line(tmp_path, monkeypatch, capsys, name, where):
-    """A folder that does not exist and cannot be made (under /proc), a path through a file: refused before the
-    run, with or without --force."""
+    """A folder that does not exist and cannot be made (under /proc), a path through a file, a folder that takes no
+    file (/proc itself: it said "No such file or directory"), a name longer than the file system takes (it failed
+    after the run with exit 1): refused before the run, with or without --force."""
     monkeypatch.chdir(tmp_path)
     (tmp_path / "a-file").write_text("not a folder")
     argv, option, filename = WRITERS[name]
@@ -131,3 +132,13 @@ def test_reproduce_refuses_a_folder_that_holds_a_report(tmp_path, monkeypatch, c
     assert _run(["reproduce", "models", "--out", str(tmp_path / "other"), "--quiet"]) == 0  # no report there yet
     assert _run(["reproduce", "models", "--out", "/proc/forbidden/report", "--quiet"]) == 2
     assert "--out" in _one_line(capsys)
+
+
+def test_an_input_name_too_long_for_the_file_system_exits_2_with_one_line(capsys):
+    """A robot file or a poses file whose name the file system cannot hold is the user's mistake: one line, exit 2
+    (it was the machine's, exit 1, with the whole name)."""
+    long = "a" * 300
+    for argv in (["fk", f"{long}.urdf", *["0"] * 7], ["ik", "kuka-iiwa14", "--poses", f"{long}.npy", "--psi", "0"]):
+        assert _run(argv) == 2
+        line = _one_line(capsys)
+        assert "too long" in line and len(line) < 200, line

@@ -9,6 +9,7 @@ Inside the library the data is trusted.
 
 from __future__ import annotations
 
+import errno
 import math
 import os
 import tempfile
@@ -261,7 +262,9 @@ def check_output_directory(path: str | os.PathLike, name: str) -> Path:
         with tempfile.TemporaryFile(dir=directory):
             pass
     except OSError as exc:
-        raise RedkinError(f"cannot write to {name} {str(directory)!r}: {exc.strerror or exc}") from None
+        # a folder that is there but takes no file (/proc) says "No such file or directory": say what it is
+        reason = "it takes no new files" if exc.errno == errno.ENOENT and directory.is_dir() else exc.strerror or exc
+        raise RedkinError(f"cannot write to {name} {str(directory)!r}: {reason}") from None
     return directory
 
 
@@ -273,9 +276,21 @@ def check_output_file(path: str | os.PathLike, name: str, suffixes: Collection[s
     file = Path(path)
     if suffixes is not None and file.suffix.lower() not in suffixes:
         raise RedkinError(f"{name} must end in one of {', '.join(sorted(suffixes))}, got {str(file)!r}")
+    longest = _longest_name(file.parent)
+    if len(os.fsencode(file.name)) > longest:
+        raise RedkinError(f"{name}: the file name {file.name[:40]!r}... is {len(os.fsencode(file.name))} bytes long; "
+                          f"this file system takes at most {longest}")
     if file.is_dir():
         raise RedkinError(f"{name} {str(file)!r} is a directory, expected a file name")
     check_output_directory(file.parent, name)
     if file.exists() and not os.access(file, os.W_OK):
         raise RedkinError(f"cannot write to {name} {str(file)!r}: permission denied")
     return file
+
+
+def _longest_name(directory: Path) -> int:
+    """The longest file name (bytes) the file system of ``directory`` takes (255 where it does not say)."""
+    try:
+        return int(os.pathconf(directory, "PC_NAME_MAX"))
+    except (OSError, ValueError, AttributeError):  # no pathconf (Windows), or no answer for this name
+        return 255

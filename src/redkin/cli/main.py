@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import errno
 import gc
 import importlib
 import os
@@ -90,6 +91,11 @@ def _main(argv: list[str]) -> int:
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error when Python flushes
             return 1
         except OSError as exc:  # the machine, not the user: a full disk, a file removed under us; one line, exit 1
+            if exc.errno == errno.ENAMETOOLONG:  # but a name too long for the file system is the user's
+                name = str(exc.filename)
+                print(f"redkin: error: a file name too long for this system ({len(name)} characters): "
+                      f"{name[:40]}...", file=sys.stderr)
+                return 2
             print(f"redkin: error: {exc}", file=sys.stderr)
             return 1
     _print_warnings(caught)
