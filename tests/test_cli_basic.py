@@ -115,6 +115,7 @@ def test_robots_show_names_the_franka_class_of_a_urdf_arm(capsys):
     [
         (["fk", "pa10-7c", "0", "0"], "7 joints, got 2"),
         (["fk", "no-such-robot", "0"], "unknown robot"),
+        (["fk", "sawyer", "0"], "unknown robot 'sawyer' (redkin ships the example sawyer.urdf)"),
         (["fk", "pa10-7c", *["nan"] * 7], "finite"),
         (["fk", "pa10-7c", "a", "b"], "invalid float"),
         (["fk", "missing.toml", "0"], "does not exist"),

@@ -582,7 +582,11 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
         from redkin.robot_file import load_robot
 
         return load_robot(path)
+    from redkin.examples import names
+
+    shipped = [name for name in names() if name.split(".")[0] == key.lower()]  # "sawyer" for sawyer.urdf
+    hint = f" (redkin ships the example {' and '.join(shipped)})" if shipped else ""
     raise ValueError(
-        f"unknown robot {key!r}: expected one of {', '.join(MODELS)}, a .toml/.json robot file, a .urdf/.xacro file "
-        "or an MJCF .xml file"
+        f"unknown robot {key!r}{hint}: expected one of {', '.join(MODELS)}, a .toml/.json robot file, a .urdf/.xacro "
+        "file or an MJCF .xml file"
     )
