@@ -49,6 +49,8 @@ _BEFORE_KNOT = 1e-3
 #: A joint path this far past a limit (radians) is within it: PCHIP between two values at a limit computes the
 #: limit to within a few units in the last place; the samples are clipped onto it.
 _RANGE_ROUNDING = 1e-12
+#: Grid points closer than this fraction of the path's length are one point (:func:`_grid`).
+_GRID_SPACING = 1e-9
 #: Waypoints closer than this in joint space (radians) are one point of the path.
 _REPEAT = 1e-12
 #: At most this many samples in a trajectory (1 kHz for almost three hours).
@@ -360,9 +362,9 @@ def _fastest(points: np.ndarray, kind: str, limits: dict[str, np.ndarray], rate:
     inner = 1.0 - _MARGIN
     constraints = [constraint.JointVelocityConstraint(np.c_[-velocity, velocity] * inner),
                    constraint.JointAccelerationConstraint(np.c_[-acceleration, acceleration] * inner)]
-    grid = np.union1d(knots, toppra.interpolator.propose_gridpoints(path))
+    grid = _grid(toppra.interpolator.propose_gridpoints(path), knots)
     if kind == "pchip":  # its second derivative steps at each inner knot: a grid point just before holds that side
-        grid = np.union1d(grid, knots[1:-1] - _BEFORE_KNOT * np.diff(knots)[:-1])
+        grid = _grid(np.r_[grid, knots[1:-1] - _BEFORE_KNOT * np.diff(knots)[:-1]], knots)
     for _ in range(_REFINEMENTS + 1):
         solver = toppra.algorithm.TOPPRA(constraints, path, gridpoints=grid)
         _, speed, _ = solver.compute_parameterization(0.0, 0.0)
@@ -373,9 +375,23 @@ def _fastest(points: np.ndarray, kind: str, limits: dict[str, np.ndarray], rate:
         over = _exceeding(profile, velocity, acceleration, rate, chain)
         if not over.size:
             return profile
-        grid = np.union1d(grid, 0.5 * (grid[over] + grid[over + 1]))
+        grid = _grid(np.r_[grid, 0.5 * (grid[over] + grid[over + 1])], knots)
     raise RedkinError(f"the timed trajectory still exceeds a joint's limits between its grid points after "
                       f"{_REFINEMENTS} refinements; add waypoints where the path bends")
+
+
+def _grid(points: np.ndarray, knots: np.ndarray) -> np.ndarray:
+    """The sorted grid of ``points`` and the ``knots``, without a point within :data:`_GRID_SPACING` of the path's
+    length of a knot or of the point before it: an interval that short (a proposed point a rounding away from a knot)
+    makes the profile's constant acceleration ``(sd_1^2 - sd_0^2) / (2 ds)`` rounding divided by almost nothing, and
+    halving it adds nothing."""
+    least = _GRID_SPACING * knots[-1]
+    points = np.unique(points)
+    near = np.searchsorted(knots, points).clip(1, len(knots) - 1)
+    off_knots = np.minimum(np.abs(points - knots[near - 1]), np.abs(points - knots[near])) > least
+    grid = np.union1d(knots, points[off_knots])
+    keep = np.r_[True, np.diff(grid) > least] | np.isin(grid, knots)
+    return grid[keep]
 
 
 def _exceeding(profile: _Profile, velocity: np.ndarray, acceleration: np.ndarray, rate: float,
