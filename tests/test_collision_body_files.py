@@ -373,6 +373,8 @@ _GOOD_SPHERE = {"center": [0, 0, 0.1], "radius": 0.05}
     ({"spheres": {"link_1": [{"center": [0, 0, 0], "radius": -0.1}]}}, "radius",
      "radius must be a finite number >= 0, got -0.1"),
     ({"spheres": {"link_1": [{"center": [0, 0, 0], "radius": "big"}]}}, "radius", "radius must be a number >= 0"),
+    ({"spheres": {"link_1": [{"center": [0, 0, 0], "radius": True}]}}, "radius", "radius must be a number >= 0"),
+    ({"spheres": {"link_1": [{"center": [0, True, 0], "radius": 1}]}}, "center", "center must be three numbers"),
     ({"capsules": {"link_2": [{"a": [0, 0, 0], "radius": 0.1}]}}, "b", "capsule 1: missing field 'b'"),
     ({"capsules": {"link_2": [{"a": [[0, 0, 0]], "b": [0, 0, 1], "radius": 0.1}]}}, "a",
      "capsule 1: a must be three numbers"),

@@ -78,6 +78,8 @@ def _row(kind: int, radius: float, p: np.ndarray, q: np.ndarray, rotation: np.nd
 
 
 def _point(value: ArrayLike, name: str) -> np.ndarray:
+    if _holds_boolean(value):  # YAML's true and false are no coordinates, though numpy reads them as 1 and 0
+        raise RedkinError(f"{name} must be three numbers, got {value!r}")
     array = check_vectors(value, 3, name)
     if array.shape != (3,):
         raise RedkinError(f"{name} must be three numbers, got shape {array.shape}")
@@ -85,6 +87,8 @@ def _point(value: ArrayLike, name: str) -> np.ndarray:
 
 
 def _radius(value: float, name: str) -> float:
+    if _holds_boolean(value):
+        raise RedkinError(f"{name} must be a number >= 0, got {value!r}")
     try:
         radius = float(value)
     except (TypeError, ValueError):
@@ -92,3 +96,10 @@ def _radius(value: float, name: str) -> float:
     if not (np.isfinite(radius) and radius >= 0.0):
         raise RedkinError(f"{name} must be a finite number >= 0, got {value!r}")
     return radius
+
+
+def _holds_boolean(value: object) -> bool:
+    """Whether ``value`` is a bool or a list or tuple holding one (at any depth)."""
+    if isinstance(value, bool | np.bool_):
+        return True
+    return isinstance(value, list | tuple) and any(_holds_boolean(item) for item in value)

@@ -172,6 +172,8 @@ def _obstacle(entry: Any, index: int, where: str, source: str) -> tuple[list[tup
     missing = [field for field in fields if field not in entry and field not in _OPTIONAL]
     if missing:
         raise RobotDescriptionError(f"{where}: {label}: missing field {missing[0]!r}", source, missing[0])
+    if not isinstance(entry.get("name", ""), str | int | float) or isinstance(entry.get("name"), bool):
+        raise RobotDescriptionError(f"{where}: {label}: name must be text, got {entry['name']!r}", source, "name")
     name = str(entry.get("name", f"{kind} {index}"))
     if kind == "mesh":
         return _mesh_obstacle(entry, name, f"{where}: {label}", source)
