@@ -127,5 +127,6 @@ def test_mistakes_are_one_line_and_exit_2(tmp_path, capsys):
     assert "no acceleration limit" in _refused(capsys, ["path", "kuka-iiwa14", "--max-step", "0.1", "--poses",
                                                         str(poses), "--timed"])
     assert "rate must be a positive" in _refused(capsys, base + ["--poses", str(poses), "--timed", "--rate", "0"])
+    assert "--rate applies to a timed path" in _refused(capsys, base + ["--poses", str(poses), "--rate", "250"])
     assert "--trajectory" in _refused(capsys, base + ["--poses", str(poses), "--trajectory",
                                                       str(tmp_path / "t.txt")])

@@ -83,7 +83,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     path.add_argument("--timed", action="store_true",
                       help="time the path: the fastest trajectory within the joints' velocity and acceleration "
                            "limits (TOPP-RA, the timing extra), sampled at --rate")
-    path.add_argument("--rate", type=float, default=1000.0, metavar="HZ",
+    path.add_argument("--rate", type=float, metavar="HZ",
                       help="with --timed: samples per second (default 1000)")
     path.add_argument("--playback", metavar="FILE.html",
                       help="write a page that plays the timed path back in a browser (implies --timed): the arm "
@@ -447,12 +447,16 @@ def stop_spans(result) -> list:
 
 def _run_path(args: argparse.Namespace) -> int:
     from redkin.paths import resolve_path
+    from redkin.paths.timing import DEFAULT_RATE
     plot = None if args.plot is None else output_file(args.plot, "--plot", IMAGE_SUFFIXES, args.force)
     trajectory_file = (None if args.trajectory is None else
                        output_file(args.trajectory, "--trajectory", (".json", ".csv"), args.force))
     playback = None if args.playback is None else output_file(args.playback, "--playback", {".html", ".htm"},
                                                               args.force)
     timed = args.timed or trajectory_file is not None or playback is not None or args.objective == "time"
+    if args.rate is not None and not timed:
+        raise UsageError("--rate applies to a timed path: give --timed (or --trajectory, --playback, "
+                         "--objective time)")
     if args.poses is not None and (args.step != 0.005 or args.angle_step != 0.05):
         raise UsageError("--step and --angle-step go with --through (the key poses joined by lines); --poses are "
                          "the waypoints themselves")
@@ -497,7 +501,8 @@ def _run_path(args: argparse.Namespace) -> int:
                   f"{format_values(angles_out(speed, degrees), 4)}", flush=True)
     result = resolve_path(chain, poses, step, q0=q0, end_branch=args.end_branch, thorough=args.thorough,
                           objective=args.objective, srs_tolerance=args.srs_tolerance,
-                          timing=args.rate if timed else None, allow_stops=args.allow_stops,
+                          timing=(DEFAULT_RATE if args.rate is None else args.rate) if timed else None,
+                          allow_stops=args.allow_stops,
                           body=None if cell is None else cell[0], scene=None if cell is None else cell[1])
     in_cell = None if cell is None or not result.ok else _cell_report(chain, cell, result)
     notes = None if cell is None else cell_notes(chain, cell)
