@@ -137,6 +137,7 @@ def test_numerical_on_request_on_an_arm_with_a_closed_form(capsys):
     (["--q0", "0", "0", "0", "nan", "0", "0", "0"], "--q0 values must be finite numbers"),
     (["--count", "0"], "count must be an integer in 1..1000, got 0"),
     (["--restarts", "-3"], "restarts must be an integer in 1..100000, got -3"),
+    (["--seed", "-1"], "--seed must be an integer >= 0, got -1"),
 ])
 def test_mistakes_are_one_line_and_exit_2(capsys, tmp_path, extra, fragment):
     file = tmp_path / "poses.npy"

@@ -60,6 +60,8 @@ def run_numerical(chain, poses: np.ndarray, args: argparse.Namespace, batch: boo
     if args.q0 is not None:
         options["q0"] = joint_vector(chain, args.q0, args.deg, "--q0 values")
     if args.seed is not None:
+        if args.seed < 0:
+            raise UsageError(f"--seed must be an integer >= 0, got {args.seed}")
         options["rng"] = args.seed
     try:
         parameter: str | None = redundancy_parameter(chain)
