@@ -56,9 +56,12 @@ def test_a_file_it_cannot_play_is_one_line(tmp_path, capsys):
     wrong.write_text(json.dumps({"joint_names": ["a", "b"], "points": [{"positions": [0, 0]}]}))
     broken = tmp_path / "broken.json"
     broken.write_text(json.dumps({"joint_names": list(PANDA.joint_names), "points": [{"positions": [0] * 7}]}))
+    other = tmp_path / "other.json"  # another arm's seven joints
+    other.write_text(json.dumps({"joint_names": [f"iiwa_joint_{k}" for k in range(1, 8)],
+                                 "points": [{"positions": [0] * 7}]}))
     for file, expected in ((untimed, "no JointTrajectory in it"), (garbage, "cannot read it as JSON"),
                            (wrong, "the trajectory has 2 joints, franka-panda has 7"),
-                           (broken, "a point is malformed")):
+                           (broken, "a point is malformed"), (other, "(another robot's path?)")):
         assert main(["explore", "franka-panda", "--path", str(file), "--out", str(tmp_path / "p.html"),
                      "--force"]) == 2
         err = capsys.readouterr().err

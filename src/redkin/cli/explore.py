@@ -157,6 +157,9 @@ def _playback(args: argparse.Namespace, chain, out, cell) -> int:
                          "with redkin path --timed --json, or --trajectory FILE.json")
     if len(names) != chain.n:
         raise UsageError(f"--path {args.path!r}: the trajectory has {len(names)} joints, {chain.name} has {chain.n}")
+    if [str(name) for name in names] != list(chain.joint_names):
+        raise UsageError(f"--path {args.path!r}: the trajectory moves the joints {', '.join(map(str, names))}; "
+                         f"{chain.name}'s are {', '.join(chain.joint_names)} (another robot's path?)")
     try:
         t = np.array([p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"] for p in points],
                      dtype=float)
