@@ -291,11 +291,12 @@ def test_a_package_path_finds_the_meshes_of_a_urdf_kept_elsewhere(tmp_path):
 
 
 def test_a_file_that_is_not_a_mesh_is_one_line(tmp_path):
+    """The line names the description and the link as well as the mesh file."""
     path, _, _ = _arm_package(tmp_path)
     (tmp_path / "arm" / "meshes" / "l2.stl").write_text("solid nothing\nthis is not a mesh\n")
     with pytest.raises(RobotDescriptionError, match=r"l2\.stl") as caught:
         urdf_body(path, "base", "l3")
-    assert "\n" not in str(caught.value)
+    assert "\n" not in str(caught.value) and str(caught.value).startswith(f"{path}: link 'l2'")
 
 
 def test_a_bad_scale_and_a_missing_mesh_extra_are_one_line(tmp_path, monkeypatch):

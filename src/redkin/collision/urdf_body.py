@@ -208,7 +208,11 @@ def _covering(geometry: Any, label: str, file: Path, places: list[Path],
         return [((-half, half), radius)], (f"{label}: cylinder covered by a capsule reaching up to {radius:.4g} m "
                                            "beyond each flat end")
     if isinstance(geometry, Mesh):
-        covering = covered_capsules(mesh_path(geometry.filename, file, places), geometry.scale, least)
+        mesh = mesh_path(geometry.filename, file, places)  # its errors name the description
+        try:
+            covering = covered_capsules(mesh, geometry.scale, least)
+        except RobotDescriptionError as exc:  # the mesh file's own words: say which description and link
+            raise RobotDescriptionError(f"{file}: {label}: {exc}", str(file)) from None
         reach = max(capsule.reach for capsule in covering)
         parts = ("its convex hull" if len(covering) == 1
                  else f"the convex hull of the part each covers (cut in {len(covering)} by planes)")
