@@ -16,14 +16,16 @@ at ``m`` (towards the margin: down where the pair is clear of it, up where not),
 ``I``, and the interval is free, blocked or halved as :mod:`redkin.collision.arm_angle_free` says.
 
 The bounds ``delta_j`` are proposed from the joints' values at ``m`` and at the ends of ``I`` widened by the level
-test's slack (one and a half times the larger change, a little more) and then proved: with the levels ``q_j(m) -+
-delta_j`` in place of the limits, no level polynomial of [F8] has a root in ``I``
-(:func:`redkin.franka._kernels.levels_crossed`, the isolation the exact feasible sets use), so no joint of any of the
-four conjugate solutions reaches its levels in ``I``, and each joint of the branch stays strictly between them.
+test's slack (at the ends of ``I`` themselves where the slack reaches past an end of the branch's existence, which
+ends many limit-feasible arcs; one and a half times the larger change, a little more) and then proved: with the
+levels ``q_j(m) -+ delta_j`` in place of the limits, no level polynomial of [F8] has a root in ``I``
+(:func:`redkin.franka._kernels.levels_crossed`, the isolation the exact feasible sets use), so no joint of any of
+the four conjugate solutions reaches its levels in ``I``, and each joint of the branch stays strictly between them.
 Where a level is crossed, the branch does not exist at the middle or an end, or a bound reaches a quarter turn, the
-interval's bound is infinite and it is halved.  The proof is spent only where the proposed bounds would decide
+interval's bound is infinite and it is halved. The proof is spent only where the proposed bounds would decide
 something (settle the interval, or prove a pair clear on it): elsewhere the interval is halved with its pairs as
-they were whether the bounds hold or not (on the benchmark's Panda pose in a cell, 3087 of 5568 intervals).
+they were whether the bounds hold or not (on the benchmark's Panda pose in a cell, before the bounds along the
+normals, 3087 of 5568 intervals).
 Below the slack (1e-9 rad) the bounds no longer shrink with the interval (about ``1.5 |dq_j/dq7|`` times the
 slack), so an end of a free interval is located to the resolution only where the clearance changes fast enough
 against the shapes' speeds; where it grazes the margin the stretch stays undecided (twice the slack proposed, as
@@ -193,6 +195,13 @@ class _Q7Measure:
         reach = half + _kernels.LEVEL_SLACK  # the roots the test counts lie within the slack of the interval
         at_ends, there = self.joints(np.concatenate([middle - reach, middle + reach]), np.concatenate([owner, owner]))
         count = len(middle)
+        past = np.flatnonzero(here & ~(there[:count] & there[count:]))
+        if len(past):  # the slack reaches past an end of the branch (a limit arc ends where the branch does): the
+            # interval's own ends, where it exists, propose (the level test proves the bands over the interval)
+            ends = np.concatenate([middle[past] - half[past], middle[past] + half[past]])
+            inside, exists = self.joints(ends, np.concatenate([owner[past], owner[past]]))
+            at_ends[past], at_ends[count + past] = inside[:len(past)], inside[len(past):]
+            there[past], there[count + past] = exists[:len(past)], exists[len(past):]
         here = here & there[:count] & there[count:]
         moved = np.maximum(np.abs((at_ends[:count] - at_middle + np.pi) % TWO_PI - np.pi),
                            np.abs((at_ends[count:] - at_middle + np.pi) % TWO_PI - np.pi))
