@@ -20,6 +20,9 @@ from redkin.collision.primitives import BOX, PLANE, WIDTH
 ROUNDING = 1e-12
 #: A core distance below this [m] gives no normal to read the rise along (the pair keeps its lever bound).
 _TOUCHING = 1e-9
+#: The first joint from the base, and the two ways along the chain: int64 values, not literals, so that the callees
+#: compile once (a literal argument is a type of its own to numba).
+_FIRST, _UP, _DOWN = np.int64(0), np.int64(1), np.int64(-1)
 
 
 @kernel
@@ -85,8 +88,8 @@ def _fall(k, rows, shape, frame, capsule, obstacle, other, base, tip, delta, axe
         gap = _support_low(shape, u) - _support_high(mine, u)
     own = frame[capsule[k]]
     if obstacle[k] >= 0:  # the capsule moves relative to the base (joints 1..k) and to the tool (k + 1..n)
-        moved = min(_drop(mine, u, 1.0, 0, own, 1, base[capsule[k]], delta, axes, points),
-                    _drop(mine, u, 1.0, base.shape[1] - 1, own - 1, -1, tip[capsule[k]], delta, axes, points))
+        moved = min(_drop(mine, u, 1.0, _FIRST, own, _UP, base[capsule[k]], delta, axes, points),
+                    _drop(mine, u, 1.0, base.shape[1] - 1, own - 1, _DOWN, tip[capsule[k]], delta, axes, points))
     else:
         moved = _relative_drop(k, rows, frame, capsule, other, base, tip, delta, axes, points, u)
     return max(found[0] - gap, 0.0) + moved + ROUNDING
@@ -100,8 +103,8 @@ def _relative_drop(k, rows, frame, capsule, other, base, tip, delta, axes, point
     first, second = capsule[k], other[k]
     low, high, sign = (first, second, 1.0) if frame[first] <= frame[second] else (second, first, -1.0)
     bottom, top = frame[low], frame[high]
-    return min(_drop(rows[low], u, sign, top - 1, bottom - 1, -1, tip[low], delta, axes, points),
-               _drop(rows[high], u, -sign, bottom, top, 1, base[high], delta, axes, points))
+    return min(_drop(rows[low], u, sign, top - 1, bottom - 1, _DOWN, tip[low], delta, axes, points),
+               _drop(rows[high], u, -sign, bottom, top, _UP, base[high], delta, axes, points))
 
 
 @kernel
@@ -120,8 +123,8 @@ def _rise(k, rows, shape, frame, capsule, obstacle, other, base, tip, delta, lev
         for r in range(3):
             core[r] = mine[2 + low + r]
         above = _dot(core, direction) - _dot(shape[2:5], direction) - mine[1]
-        moved = min(_point_rise(core, direction, 0, own, 1, base[capsule[k]], delta, axes, points),
-                    _point_rise(core, direction, base.shape[1] - 1, own - 1, -1, tip[capsule[k]], delta, axes,
+        moved = min(_point_rise(core, direction, _FIRST, own, _UP, base[capsule[k]], delta, axes, points),
+                    _point_rise(core, direction, base.shape[1] - 1, own - 1, _DOWN, tip[capsule[k]], delta, axes,
                                 points))
         return max(above - found[0], 0.0) + moved + ROUNDING
     if shape[0] == BOX and not found[0] > -mine[1]:
@@ -137,16 +140,16 @@ def _rise(k, rows, shape, frame, capsule, obstacle, other, base, tip, delta, lev
     for r in range(3):
         direction[r] /= length
     if obstacle[k] >= 0:
-        moved = min(_point_rise(core, direction, 0, own, 1, base[capsule[k]], delta, axes, points),
-                    _point_rise(core, direction, base.shape[1] - 1, own - 1, -1, tip[capsule[k]], delta, axes,
+        moved = min(_point_rise(core, direction, _FIRST, own, _UP, base[capsule[k]], delta, axes, points),
+                    _point_rise(core, direction, base.shape[1] - 1, own - 1, _DOWN, tip[capsule[k]], delta, axes,
                                 points))
     else:
         second = other[k]
         bottom, top = min(own, frame[second]), max(own, frame[second])
         low_point, low, high_point, high = (core, capsule[k], there, second) if own <= frame[second] else \
             (there, second, core, capsule[k])
-        moved = min(_point_rise(low_point, direction, top - 1, bottom - 1, -1, tip[low], delta, axes, points),
-                    _point_rise(high_point, direction, bottom, top, 1, base[high], delta, axes, points))
+        moved = min(_point_rise(low_point, direction, top - 1, bottom - 1, _DOWN, tip[low], delta, axes, points),
+                    _point_rise(high_point, direction, bottom, top, _UP, base[high], delta, axes, points))
     return max(length - mine[1] - other_radius - found[0], 0.0) + moved + lever * lever / (2.0 * length) + ROUNDING
 
 
