@@ -79,6 +79,37 @@ def test_the_time_objective_is_never_slower_than_either_other_objective():
     assert resolve_path(PANDA, poses, 0.05, objective="time").trajectory.rate == 1000.0  # timed by default
 
 
+def test_the_time_objective_takes_the_path_that_can_be_timed(monkeypatch):
+    """Where the time parametrisation refuses one of the two paths, the time objective returns the other timed
+    (it failed whole); where it refuses both, its first refusal."""
+    import redkin.paths.resolve as resolve
+
+    q = _joint_line(PANDA, np.full(7, 0.5), np.array([0.5, 0.3, -0.2, 0.4, 0.3, -0.3, 0.2]), 40)
+    poses = PANDA.fk(q)
+    motion = resolve_path(PANDA, poses, 0.05, objective="motion", timing=1000.0)
+    timed = resolve._timed
+    calls: list = []
+
+    def refusing(family, result, rate, again=None):  # the first path timed (the clearance path) is refused
+        calls.append(result)
+        if len(calls) == 1:
+            raise RedkinError("the clearance path refused")
+        return timed(family, result, rate, again)
+
+    monkeypatch.setattr(resolve, "_timed", refusing)
+    chosen = resolve_path(PANDA, poses, 0.05, objective="time")
+    assert len(calls) == 2
+    np.testing.assert_array_equal(chosen.q, motion.q)
+    assert chosen.trajectory.duration == motion.trajectory.duration
+
+    def refusing_all(family, result, rate, again=None):
+        raise RedkinError("no profile")
+
+    monkeypatch.setattr(resolve, "_timed", refusing_all)
+    with pytest.raises(RedkinError, match="no profile"):
+        resolve_path(PANDA, poses, 0.05, objective="time")
+
+
 def test_waypoints_at_a_limit_are_joined_without_leaving_the_range():
     """Waypoints that touch a limit (the motion objective's paths do) would make the cubic spline bend past it;
     the trajectory then follows the shape-keeping interpolant, and says so."""

@@ -156,7 +156,8 @@ def resolve_path(
         limits, then the least total motion (the default); ``"motion"``, the least total joint motion, then the
         largest clearance (both stages are searched, as with ``thorough``; no clearance is proved optimal);
         ``"time"``, the shortest timed trajectory (:func:`redkin.paths.time_path`) of the two paths the other
-        objectives choose, so never slower than either (it needs the chain's velocity and acceleration limits);
+        objectives choose, so never slower than either (it needs the chain's velocity and acceleration limits;
+        where one of the two cannot be timed, the other);
         ``"obstacle-clearance"`` (in a cell, ``body`` and ``scene``), the largest least distance over the waypoints
         between the parts of the body that the redundancy moves and the obstacles or the body's other links, then
         the least motion: every node of the graph is valued by that distance instead of its clearance from the
@@ -293,8 +294,19 @@ def resolve_paths(
 
     if objective != "time":
         return [_timed(family, result, rate, again(objective, p)) for p, result in enumerate(search(objective))]
-    return [min((_timed(family, result, rate, again(by, p)) for by, result in zip(("clearance", "motion"), pair)),
-                key=_duration) for p, pair in enumerate(zip(search("clearance"), search("motion")))]
+    def fastest(p: int, pair: tuple[PathResult, PathResult]) -> PathResult:
+        """The shorter timed trajectory of path ``p``'s two, or the one that can be timed."""
+        timed_paths, failures = [], []
+        for by, result in zip(("clearance", "motion"), pair, strict=True):
+            try:
+                timed_paths.append(_timed(family, result, rate, again(by, p)))
+            except RedkinError as exc:  # the time parametrisation's refusal of this joint path
+                failures.append(exc)
+        if not timed_paths:
+            raise failures[0]
+        return min(timed_paths, key=_duration)
+
+    return [fastest(p, pair) for p, pair in enumerate(zip(search("clearance"), search("motion"), strict=True))]
 
 
 def _roomier(scene: Scene) -> Scene:
