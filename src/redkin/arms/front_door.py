@@ -399,8 +399,7 @@ class Arm:
         from redkin.collision.free_sets import free_sets_of
 
         cell = _cell(body, scene, "collision-free sets")
-        if cell is None:
-            raise RedkinError("collision-free sets need both the arm's body and the scene")
+        assert cell is not None  # its callers pass a body or a scene
         self._need_parameter("collision-free sets")
         checked = check_pose(poses)
         sets = free_sets_of(self, checked.reshape(-1, 4, 4), *cell, self.labels(branches))

@@ -123,9 +123,7 @@ def _rise(k, rows, shape, frame, capsule, obstacle, other, base, tip, delta, lev
         for r in range(3):
             core[r] = mine[2 + low + r]
         above = _dot(core, direction) - _dot(shape[2:5], direction) - mine[1]
-        moved = min(_point_rise(core, direction, _FIRST, own, _UP, base[capsule[k]], delta, axes, points),
-                    _point_rise(core, direction, base.shape[1] - 1, own - 1, _DOWN, tip[capsule[k]], delta, axes,
-                                points))
+        moved = _still_side_rise(core, direction, own, base[capsule[k]], tip[capsule[k]], delta, axes, points)
         return max(above - found[0], 0.0) + moved + ROUNDING
     if shape[0] == BOX and not found[0] > -mine[1]:
         return inf  # the core may be inside the box: its distance is not bounded by a point's
@@ -140,9 +138,7 @@ def _rise(k, rows, shape, frame, capsule, obstacle, other, base, tip, delta, lev
     for r in range(3):
         direction[r] /= length
     if obstacle[k] >= 0:
-        moved = min(_point_rise(core, direction, _FIRST, own, _UP, base[capsule[k]], delta, axes, points),
-                    _point_rise(core, direction, base.shape[1] - 1, own - 1, _DOWN, tip[capsule[k]], delta, axes,
-                                points))
+        moved = _still_side_rise(core, direction, own, base[capsule[k]], tip[capsule[k]], delta, axes, points)
     else:
         second = other[k]
         bottom, top = min(own, frame[second]), max(own, frame[second])
@@ -151,6 +147,14 @@ def _rise(k, rows, shape, frame, capsule, obstacle, other, base, tip, delta, lev
         moved = min(_point_rise(low_point, direction, top - 1, bottom - 1, _DOWN, tip[low], delta, axes, points),
                     _point_rise(high_point, direction, bottom, top, _UP, base[high], delta, axes, points))
     return max(length - mine[1] - other_radius - found[0], 0.0) + moved + lever * lever / (2.0 * length) + ROUNDING
+
+
+@kernel
+def _still_side_rise(point, direction, own, base, tip, delta, axes, points):
+    """:func:`_point_rise` of a point on frame ``own`` against something the world holds still, the smaller of its
+    motion relative to the base (joints 1..own, levers ``base``) and to the tool (own + 1..n, levers ``tip``)."""
+    return min(_point_rise(point, direction, _FIRST, own, _UP, base, delta, axes, points),
+               _point_rise(point, direction, base.shape[0] - 1, own - 1, _DOWN, tip, delta, axes, points))
 
 
 @kernel
