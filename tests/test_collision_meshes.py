@@ -424,11 +424,18 @@ def test_a_mesh_obstacle_becomes_boxes_holding_it_where_the_pose_puts_it(tmp_pat
     ("file: fixture.stl, scale: [1, 1]", "mesh scale"),
     ("file: fixture.stl, pose: [[1, 0, 0, .nan], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]", "pose must be finite"),
     ("file: 3", "file must be a mesh file's path"),
+    ("file: meshes", "mesh file 'meshes' is a folder"),
+    ("file: nan.stl", "nan.stl: the mesh has vertices that are not finite"),  # not its triangle dropped in silence
 ])
 def test_a_bad_mesh_obstacle_is_one_line_naming_it(tmp_path, field, fragment):
     from redkin.collision import read_scene
 
     _fixture(tmp_path)
+    (tmp_path / "meshes").mkdir()
+    good, bad = ["0 0 0", "1 0 1", "0 1 1"], ["nan 0 0", "1 0 0", "0 1 0"]
+    (tmp_path / "nan.stl").write_text("solid t\n" + "".join(
+        "facet normal 0 0 1\nouter loop\n" + "".join(f"vertex {v}\n" for v in corners) + "endloop\nendfacet\n"
+        for corners in (bad, good)) + "endsolid t\n")
     (tmp_path / "cell.yaml").write_text(f"obstacles:\n  - {{name: jig, type: mesh, {field}}}\n")
     with pytest.raises(RobotDescriptionError, match=re.escape(fragment)) as caught:
         read_scene(tmp_path / "cell.yaml")

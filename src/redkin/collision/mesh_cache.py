@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._disk_cache import keep, kept
-from redkin.collision import _mesh_kernels, mesh_cover
+from redkin.collision import _mesh_kernels, mesh_cover, mesh_files
 from redkin.collision.mesh_cover import MeshBox, MeshCapsule, covering_boxes, covering_capsules
 from redkin.collision.mesh_files import read_mesh
 
@@ -67,9 +67,9 @@ def _key(path: Path, scale: ArrayLike | None, kind: str) -> str | None:
 
 @functools.cache
 def _code_digest() -> str:
-    """A digest of the covering modules' source: another fit is another cover."""
+    """A digest of the reading and covering modules' source: another reading or fit is another cover."""
     digest = hashlib.sha256()
-    for module in (mesh_cover, _mesh_kernels):
+    for module in (mesh_files, mesh_cover, _mesh_kernels):
         digest.update(Path(str(module.__file__)).read_bytes())
     return digest.hexdigest()[:16]
 

@@ -53,10 +53,20 @@ def mesh_path(filename: str, description: Path, places: Sequence[Path] = ()) -> 
         found = Path(filename[len("file://"):])
     else:
         found = description.parent / filename
-    if not found.is_file():
-        raise RobotDescriptionError(f"{description}: mesh file {filename!r} not found (looked for {str(found)!r})",
-                                    str(description), filename)
+    problem = mesh_file_problem(filename, found)
+    if problem:
+        raise RobotDescriptionError(f"{description}: {problem}", str(description), filename)
     return found
+
+
+def mesh_file_problem(given: str, found: Path) -> str | None:
+    """What keeps the mesh file ``given`` (as written), looked for at ``found``, from being read, in words: not
+    found, or a folder; ``None`` for a file."""
+    if found.is_dir():
+        return f"mesh file {given!r} is a folder ({str(found)!r}), not a file"
+    if not found.is_file():
+        return f"mesh file {given!r} not found (looked for {str(found)!r})"
+    return None
 
 
 def read_mesh(path: Path, scale: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -82,19 +92,23 @@ def read_mesh(path: Path, scale: ArrayLike | None = None) -> tuple[np.ndarray, n
         raise RobotDescriptionError(f"{path}: mesh scale {scale!r} must be one or three finite numbers, none zero",
                                     str(path))
     try:
-        mesh = trimesh.load(str(path), force="mesh")
+        mesh = trimesh.load(str(path), force="mesh", process=False)  # processing drops a triangle with a NaN
     except ImportError as exc:  # a format whose reader is missing (DAE: pycollada)
         raise RedkinError(missing_extra(f"reading the mesh {str(path)!r} needs {exc.name or 'a reader'}",
                                         "mesh")) from None
     except Exception as exc:  # trimesh raises what its format readers raise
         raise RobotDescriptionError(f"{path}: not a mesh trimesh can read ({type(exc).__name__}: {exc})",
                                     str(path)) from None
-    vertices = np.asarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=float) * factors
     faces = np.asarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int64)
     if len(faces) == 0:
         raise RobotDescriptionError(f"{path}: the mesh has no triangles", str(path))
-    if not np.all(np.isfinite(vertices)):
+    if not np.all(np.isfinite(mesh.vertices[faces.reshape(-1)])):
         raise RobotDescriptionError(f"{path}: the mesh has vertices that are not finite", str(path))
+    mesh.process()  # duplicate vertices merged, degenerate triangles dropped, as trimesh.load does by default
+    vertices = np.asarray(mesh.vertices, dtype=float) * factors
+    faces = np.asarray(mesh.faces, dtype=np.int64)
+    if len(faces) == 0:
+        raise RobotDescriptionError(f"{path}: the mesh has no triangles", str(path))
     span = float(np.ptp(vertices[faces.reshape(-1)], axis=0).max())
     if not _SMALLEST_SPAN <= span <= _LARGEST_SPAN:
         raise RobotDescriptionError(f"{path}: the mesh is {span:.3g} m across, scaled; a shape in a cell lies between "

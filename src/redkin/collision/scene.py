@@ -189,14 +189,15 @@ def _mesh_obstacle(entry: dict, name: str, label: str, source: str) -> tuple[lis
     from pathlib import Path
 
     from redkin.collision.mesh_cache import covered_boxes
+    from redkin.collision.mesh_files import mesh_file_problem
 
     given = entry["file"]
     if not isinstance(given, str) or not given:
         raise RobotDescriptionError(f"{label}: file must be a mesh file's path, got {given!r}", source, "file")
     file = Path(given) if Path(given).is_absolute() or not source else Path(source).parent / given
-    if not file.is_file():
-        raise RobotDescriptionError(f"{label}: mesh file {given!r} not found (looked for {str(file)!r})", source,
-                                    "file")
+    problem = mesh_file_problem(given, file)
+    if problem:
+        raise RobotDescriptionError(f"{label}: {problem}", source, "file")
     try:
         pose = np.eye(4) if "pose" not in entry else as_float_array(entry["pose"], "pose")
         if pose.shape != (4, 4) or not np.array_equal(pose[3], [0.0, 0.0, 0.0, 1.0]):
