@@ -17,6 +17,7 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -92,7 +93,7 @@ def read_mesh(path: Path, scale: ArrayLike | None = None) -> tuple[np.ndarray, n
         raise RobotDescriptionError(f"{path}: mesh scale {scale!r} must be one or three finite numbers, none zero",
                                     str(path))
     try:
-        mesh = trimesh.load(str(path), force="mesh", process=False)  # processing drops a triangle with a NaN
+        mesh: Any = trimesh.load(str(path), force="mesh", process=False)  # processing drops a NaN's triangle
     except ImportError as exc:  # a format whose reader is missing (DAE: pycollada)
         raise RedkinError(missing_extra(f"reading the mesh {str(path)!r} needs {exc.name or 'a reader'}",
                                         "mesh")) from None
@@ -102,7 +103,7 @@ def read_mesh(path: Path, scale: ArrayLike | None = None) -> tuple[np.ndarray, n
     faces = np.asarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int64)
     if len(faces) == 0:
         raise RobotDescriptionError(f"{path}: the mesh has no triangles", str(path))
-    if not np.all(np.isfinite(mesh.vertices[faces.reshape(-1)])):
+    if not np.all(np.isfinite(np.asarray(mesh.vertices, dtype=float)[faces.reshape(-1)])):
         raise RobotDescriptionError(f"{path}: the mesh has vertices that are not finite", str(path))
     mesh.process()  # duplicate vertices merged, degenerate triangles dropped, as trimesh.load does by default
     vertices = np.asarray(mesh.vertices, dtype=float) * factors
