@@ -229,7 +229,8 @@ def test_the_turning_bound_holds_as_a_capsule_turns_about_a_line(seed, kind, hal
     """:func:`turning_bounds`, the bounds of a pair's distance as a capsule of links 3-4 turns about the shoulder-wrist
     line past a still shape, hold at 401 angles across the interval, whichever of the two the distance was measured
     from: ``|d(delta) - d(0)| <= v |delta|``; and at a margin drawn between the least and the largest distance there,
-    the clearance keeps its sign within the extent (one-sided quadratic bounds) wherever the samples reach."""
+    the clearance keeps its sign within each side's extent (one-sided quadratic bounds, below and above the middle)
+    wherever the samples reach: the turn is positive about the line's direction as delta grows."""
     rng = np.random.default_rng(seed)
     axis = Rotation.random(random_state=rng).as_matrix()[:, 0]
     line = np.concatenate([rng.uniform(-0.3, 0.3, 3), axis])
@@ -247,14 +248,14 @@ def test_the_turning_bound_holds_as_a_capsule_turns_about_a_line(seed, kind, hal
     distances(0, 1, *pair, witness)
     margin = rng.uniform(apart.min(), apart.max())
     clearance = apart[len(delta) // 2] - margin
-    speed, extent = turning_bounds(middle, witness[0], flip, still, line, half, clearance)
+    speed, below, above = turning_bounds(middle, witness[0], flip, still, line, half, clearance)
     if apart[len(delta) // 2] + radius + still[1] <= 1e-6:
         return  # the cores touch or overlap: no direction of their own (inf, the first-order bound stays)
-    assert np.isfinite(speed) and (extent >= 0.0) == (clearance > 0.0)
+    assert np.isfinite(speed) and (below >= 0.0) == (above >= 0.0) == (clearance > 0.0)
     change = np.abs(apart - apart[len(delta) // 2])
     assert np.all(change <= speed * np.abs(delta) * (1 + 1e-9) + 1e-12)
-    within = np.abs(delta) <= abs(extent) * (1 - 1e-9)
-    assert not np.any((apart[within] - margin) * np.sign(clearance) < -1e-12), (extent, clearance)
+    within = np.where(delta < 0.0, -delta <= abs(below) * (1 - 1e-9), delta <= abs(above) * (1 - 1e-9))
+    assert not np.any((apart[within] - margin) * np.sign(clearance) < -1e-12), (below, above, clearance)
 
 
 def test_an_empty_scene_keeps_the_limit_sets(iiwa):
@@ -420,7 +421,8 @@ def test_an_interval_is_decided_by_its_own_clearances(rows, pairs, seed, finest)
     clearance[~given_active] = np.inf  # as the measure gives them
     half = rng.uniform(1e-6, 0.2, rows)
     active = given_active.copy()
-    kind, pair, radius, carved, cause = settled(half, clearance, speed, active, finest, True)
+    kind, pair, radius, up, carved, cause = settled(half, clearance, speed, active, finest, True)
+    assert np.array_equal(radius, up)  # a speed bound proves as far on both sides
     with np.errstate(invalid="ignore"):
         low = np.where(given_active, clearance - speed * half[:, None], np.inf)
         high = np.where(given_active, clearance + speed * half[:, None], np.inf)
@@ -442,6 +444,39 @@ def test_an_interval_is_decided_by_its_own_clearances(rows, pairs, seed, finest)
             assert active[row, cause[row]] and clearance[row, cause[row]] + speed[row, cause[row]] * radius[row] <= 0.0
     clear = np.all(~active | ((clearance > 0.0) & np.isfinite(speed)), axis=1) & opened
     assert np.all(radius[clear] > 0.0) and np.all(carved[clear] == _decision_kernels.FREE)
+
+
+@settings(max_examples=80)
+@given(st.integers(1, 5), st.integers(0, 2**32 - 1))
+def test_a_stretch_is_carved_as_far_as_each_side_is_proved(pairs, seed):
+    """Where the measure proves each clearance's sign farther on one side of the middle than on the other (the
+    turning bounds), the stretch carved around it reaches, on each side, no farther than every open pair's proof
+    there where it is free, and than its cause's where it is blocked; it reaches the interval's end where every
+    proof passes it (no sliver left for an evaluation of its own), and is empty where a pair is exactly at the
+    margin with nothing proved."""
+    rng = np.random.default_rng(seed)
+    half = rng.uniform(1e-6, 0.5)
+    clearance = rng.uniform(-0.2, 0.2, pairs) * rng.choice([0.0, 1.0], pairs, p=[0.1, 0.9])
+    speed = rng.uniform(1.0, 5.0, pairs)  # open: |c| <= v h for every pair
+    clearance = np.clip(clearance, -speed * half * 0.999, speed * half * 0.999)
+    sign = np.sign(clearance)
+    below = sign * rng.uniform(0.0, 2.0, pairs) * half
+    above = sign * rng.uniform(0.0, 2.0, pairs) * half
+    active = np.ones(pairs, dtype=bool)
+    kind, _, down, up, carved, cause = _decision_kernels.decided_one(half, clearance, speed, below, above, active,
+                                                                    0.0, True)
+    assert kind == _decision_kernels.OPEN and 0.0 <= down <= half and 0.0 <= up <= half
+    if np.all(clearance > 0.0):
+        assert carved == _decision_kernels.FREE
+        assert down <= below.min() and up <= above.min()
+        assert (down == half) == (below.min() * _decision_kernels.CARVE_SHRINK >= half)
+        assert (up == half) == (above.min() * _decision_kernels.CARVE_SHRINK >= half)
+    elif np.any(clearance < 0.0):
+        assert carved == _decision_kernels.BLOCKED and clearance[cause] < 0.0
+        assert down <= -below[cause] and up <= -above[cause]
+        assert below[cause] + above[cause] == (below + above)[clearance < 0.0].min()
+    else:
+        assert down == up == 0.0
 
 
 def test_the_linear_extent_divides_as_numpy_and_run_as_python_warns_of_nothing():

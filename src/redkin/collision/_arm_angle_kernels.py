@@ -10,7 +10,7 @@ signs.
 
 from __future__ import annotations
 
-from math import ceil, cos, hypot, inf, sin, sqrt
+from math import ceil, cos, hypot, inf, pi, sin, sqrt
 
 import numpy as np
 
@@ -148,26 +148,43 @@ def _dot(u, v):
 
 @kernel
 def _quadratic_root(a, b, k):
-    """The ``t >= 0`` at which ``a t^2 + b t`` reaches ``k`` (``a, b, k >= 0``; ``inf`` where it never does, 0 for
-    ``k = 0``: a clearance of exactly 0 keeps no sign), in the form that does not cancel: ``2 k / (b + sqrt(b^2 +
-    4 a k))``."""
-    if not k > 0.0:
+    """The least ``t > 0`` at which ``a t^2 + b t`` reaches ``k`` (``a, k >= 0``, ``b`` of either sign; ``inf``
+    where it never does, 0 for ``k = 0``: a clearance of exactly 0 keeps no sign, and 0 where any is NaN), in the
+    forms that do not cancel: ``2 k / (b + sqrt(b^2 + 4 a k))`` for ``b >= 0``, ``(sqrt(b^2 + 4 a k) - b) / (2 a)``
+    for ``b < 0``."""
+    if not k > 0.0 or a != a or b != b:
         return 0.0
-    denominator = b + sqrt(b * b + 4.0 * a * k)
+    root = sqrt(b * b + 4.0 * a * k)
+    if b < 0.0:
+        return (root - b) / (2.0 * a) if a > 0.0 else inf
+    denominator = b + root
     return 2.0 * k / denominator if denominator > 0.0 else inf
+
+
+@kernel
+def _one_side(slope, half):
+    """A coefficient ``s`` with ``slope sin t <= s t`` for ``0 <= t <= half``: the slope where it is not negative;
+    where it is, the slope times ``sin(half) / half`` (``sin t / t`` falls on ``[0, pi]``), or ``|slope|`` for a
+    half width of pi or more."""
+    if slope >= 0.0:
+        return slope
+    if half < pi:
+        return slope * sin(half) / half
+    return -slope
 
 
 @kernel
 def turning_bounds(row, witness, flip, still, line, half, clearance):
     """Bounds of a pair's distance over ``[m - half, m + half]`` where one shape, ``row`` (a capsule on links 3-4),
     turns rigidly about the shoulder-wrist line ``line`` (its point, its unit direction) and the other, ``still`` (a
-    row of :mod:`redkin.collision.primitives`), stays still: ``(rate, extent)``, a bound of how fast the distance
-    changes per radian of psi over the interval, and how far from ``m`` the pair's ``clearance`` there keeps its sign
-    (positive: clear within ``extent``; negative: colliding within ``-extent``); ``(inf, 0)`` where the pair was not
-    measured or its cores touch.  ``witness`` is the pair's
+    row of :mod:`redkin.collision.primitives`), stays still: ``(rate, below, above)``, a bound of how fast the distance
+    changes per radian of psi over the interval, and how far from ``m``, towards lower and towards higher psi, the
+    pair's ``clearance`` there keeps its sign (positive: clear within each; negative: colliding within each's size);
+    ``(inf, 0, 0)`` where the pair was not measured or its cores touch.  ``witness`` is the pair's
     :func:`redkin.collision._distance_kernels.pair_distance` output at ``m`` with ``row`` first, or second where
     ``flip``.  With ``u`` the unit normal from the turning core to the still one, ``c_a, c_b`` their closest points,
-    ``g = |c_b - c_a|`` and ``R`` the turn by ``delta = psi - m`` (the module docstring of
+    ``g = |c_b - c_a|`` and ``R`` the turn by ``delta = psi - m`` (positive about the line's direction, from the
+    shoulder to the wrist: ``0R3(psi) = R_u(psi) 0R3o`` [000 eq. 12]; the module docstring of
     :mod:`redkin.collision.arm_angle_free` states the argument), the distance is
 
     * at least ``u . c_b - max_e u . e(psi)`` minus both radii (the gap of the projections on ``u``; ``e`` the
@@ -184,51 +201,59 @@ def turning_bounds(row, witness, flip, still, line, half, clearance):
     All equal the distance at ``m``.  So the larger of the falls' lesser rate and the rise's (each at ``|delta| =
     half``) bounds ``|c(psi) - c(m)| / |delta|``; a positive clearance stays positive while either lower bound falls
     by less than it, a negative one negative while the upper bound rises by less than its size: each a quadratic in
-    ``|delta|``, whose root is the extent (where the interval's own rate would give only ``clearance / rate``)."""
+    ``t = |delta|``, whose root is the extent (where the interval's own rate would give only ``clearance / rate``).
+    On each side the first-order term keeps its sign, ``gamma sin delta = (+-gamma) sin t``: where it falls towards
+    that side it is at most ``(+-gamma) sin(half) / half t`` for ``t <= half`` (:func:`_one_side`), so the extent
+    reaches farther on the side the clearance grows towards (the stretch beyond it, near an end of a free arc, is
+    decided by the same evaluation instead of another)."""
     distance, other_radius = witness[0], still[1]
     gap = distance + row[1] + other_radius
     if distance != distance or not gap > LEAST_CORE_GAP or not half > 0.0:
-        return inf, 0.0
+        return inf, 0.0, 0.0
     sign, a, b = (-1.0, 4, 1) if flip else (1.0, 1, 4)  # the turning shape's witness point first
     u = (sign * witness[7], sign * witness[8], sign * witness[9])
     core_a = (witness[a] - row[1] * u[0], witness[a + 1] - row[1] * u[1], witness[a + 2] - row[1] * u[2])
     core_b = (witness[b] + other_radius * u[0], witness[b + 1] + other_radius * u[1],
               witness[b + 2] + other_radius * u[2])
     top = max(_dot(u, row[2:5]), _dot(u, row[5:8]))
-    fall, extent = 0.0, inf
+    fall, below, above = 0.0, inf, inf
     for end in range(2):
         across, swept = _turned(line, row[2 + 3 * end:5 + 3 * end])
         lag = min(_dot(u, row[2 + 3 * end:5 + 3 * end]) - top, 0.0)  # this end's projection below the top
-        slope, bend = abs(_dot(u, swept)), max(0.0, -_dot(u, across)) / 2.0
-        fall = max(fall, slope + bend * half + lag / half)
+        gamma, bend = _dot(u, swept), max(0.0, -_dot(u, across)) / 2.0
+        fall = max(fall, abs(gamma) + bend * half + lag / half)
         if clearance > 0.0:  # this end's projection rises by less than the clearance (and its lag) within the root
-            extent = min(extent, _quadratic_root(bend, slope, clearance - lag))
-    turned_fall, turned_extent = _turned_normal_fall(still, u, core_b, line, half, clearance)
+            below = min(below, _quadratic_root(bend, _one_side(-gamma, half), clearance - lag))
+            above = min(above, _quadratic_root(bend, _one_side(gamma, half), clearance - lag))
+    turned_fall, turned_below, turned_above = _turned_normal_fall(still, u, core_b, line, half, clearance)
     fall = min(fall, turned_fall)
     across, swept = _turned(line, core_a)
     z = (line[0] - core_b[0], line[1] - core_b[1], line[2] - core_b[2])
-    slope, bend = 2.0 * abs(_dot(z, swept)), max(0.0, -2.0 * _dot(z, across)) / 2.0
-    rate = max(fall, (slope + bend * half) / (2.0 * gap))
+    gamma, bend = 2.0 * _dot(z, swept), max(0.0, -2.0 * _dot(z, across)) / 2.0
+    rate = max(fall, (abs(gamma) + bend * half) / (2.0 * gap))
     if not clearance > 0.0:
-        return rate, -_quadratic_root(bend, slope, -2.0 * gap * clearance)
-    return rate, max(extent, turned_extent)
+        depth = -2.0 * gap * clearance
+        return (rate, -_quadratic_root(bend, _one_side(-gamma, half), depth),
+                -_quadratic_root(bend, _one_side(gamma, half), depth))
+    return rate, max(below, turned_below), max(above, turned_above)
 
 
 @kernel
 def _turned_normal_fall(still, u, core_b, line, half, clearance):
     """The second lower bound of :func:`turning_bounds`: ``min_b (R u) . (b - P)`` over the corners ``b`` of the still
     shape's core, its fall's rate over the interval of half width ``half`` and, for a positive ``clearance``, how
-    far it stays less than the clearance: ``(rate, extent)`` (``(inf, 0)`` for a plane, which has no corners).  Each
+    far on each side it stays less than the clearance: ``(rate, below, above)`` (``(inf, 0, 0)`` for a plane, which
+    has no corners).  Each
     corner's ``(R u) . (b - P)`` lies ``lag = u . (b - c_b) >= 0`` above the least at ``m``, and ``(R u) . w =
     (u . e)(e . w) + (u_perp . w) cos delta + ((e x u) . w) sin delta``."""
     kind = still[0]
     if kind == 3.0:  # a plane: min_b is unbounded once the normal turns
-        return inf, 0.0
+        return inf, 0.0, 0.0
     ex, ey, ez = line[3], line[4], line[5]
     along = u[0] * ex + u[1] * ey + u[2] * ez
     u_perp = (u[0] - along * ex, u[1] - along * ey, u[2] - along * ez)
     e_u = (ey * u[2] - ez * u[1], ez * u[0] - ex * u[2], ex * u[1] - ey * u[0])
-    rate, extent = 0.0, inf
+    rate, below, above = 0.0, inf, inf
     corners = 8 if kind == 2.0 else 2
     for corner in range(corners):
         if kind == 2.0:  # a box: centre plus or minus each half size along its axes (the rotation's columns)
@@ -242,29 +267,30 @@ def _turned_normal_fall(still, u, core_b, line, half, clearance):
             bx, by, bz = still[2 + 3 * corner], still[3 + 3 * corner], still[4 + 3 * corner]
         w = (bx - line[0], by - line[1], bz - line[2])
         lag = max(u[0] * (bx - core_b[0]) + u[1] * (by - core_b[1]) + u[2] * (bz - core_b[2]), 0.0)
-        slope, bend = abs(_dot(e_u, w)), max(0.0, _dot(u_perp, w)) / 2.0
-        rate = max(rate, slope + bend * half - lag / half)
+        gamma, bend = _dot(e_u, w), max(0.0, _dot(u_perp, w)) / 2.0  # falls as -gamma sin delta, to first order
+        rate = max(rate, abs(gamma) + bend * half - lag / half)
         if clearance > 0.0:
-            extent = min(extent, _quadratic_root(bend, slope, clearance + lag))
-    return rate, (extent if clearance > 0.0 else 0.0)
+            below = min(below, _quadratic_root(bend, _one_side(gamma, half), clearance + lag))
+            above = min(above, _quadratic_root(bend, _one_side(-gamma, half), clearance + lag))
+    return (rate, below, above) if clearance > 0.0 else (rate, 0.0, 0.0)
 
 
 @kernel
 def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs, joints, links, ends, standard,
           frame, a, b, radius, obstacles, capsule, obstacle, other, margin, reach, line, finest, carve, active, kind,
-          pair, cut, carved, cause):
+          pair, down, up, carved, cause):
     """One level of the subdivision for intervals ``start .. stop - 1``: the branch's configuration at arm angle
     ``middle[n]`` [000 eqs. 11-19], there the active pairs' clearances (:func:`redkin.collision._clearance_kernels.
     clearances_one`, whose arguments ``links .. margin`` are), their speed bounds over the interval of half width
     ``half[n]`` (:func:`speeds_one`, from ``reach`` (P, M); a pair of a shape on links 3-4 and a still one by
     :func:`turning_bounds` where that is less, from the shoulder-wrist ``line`` (P, 6)), and the interval decided
     (:func:`redkin.collision._decision_kernels.decided_one`: ``active[n]`` updated, the rest into ``kind``,
-    ``pair``, ``cut``, ``carved`` and ``cause``)."""
+    ``pair``, ``down``, ``up``, ``carved`` and ``cause``)."""
     theta, q = np.empty(7), np.empty(7)
     work = scratch(links, frame, capsule, obstacles)
     rows, found = work[2], work[3]
     clearance, speed, floor = np.empty(capsule.shape[0]), np.empty(capsule.shape[0]), np.empty(capsule.shape[0])
-    extent = np.empty(capsule.shape[0])
+    below, above = np.empty(capsule.shape[0]), np.empty(capsule.shape[0])
     rates, turning, moving = np.empty(8), np.zeros(8), np.empty(frame.shape[0])
     for n in range(start, stop):
         p, e = pose[n], elbow[branch[n]]
@@ -276,7 +302,7 @@ def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs
         clearances_one(q, links, ends, standard, frame, a, b, radius, obstacles, capsule, obstacle, other, margin,
                        active[n], floor, clearance, work)
         for k in range(capsule.shape[0]):
-            extent[k] = 0.0
+            below[k], above[k] = 0.0, 0.0
             if not abs(clearance[k]) <= floor[k]:
                 continue  # decided by the bound above (or not measured): no tighter one needed
             if other[k] < 0:
@@ -286,10 +312,14 @@ def level(start, stop, middle, half, pose, branch, entries, theta4, elbow, signs
             else:
                 mine, still, flip, still_row = other[k], _still(frame[capsule[k]]), True, rows[capsule[k]]
             if still and _turns_about_line(frame[mine]):
-                rate, extent[k] = turning_bounds(rows[mine], found[k], flip, still_row, line[p], half[n], clearance[k])
+                rate, below[k], above[k] = turning_bounds(rows[mine], found[k], flip, still_row, line[p], half[n],
+                                                          clearance[k])
                 speed[k] = min(speed[k], rate)
         for k in range(capsule.shape[0]):  # how far each clearance keeps its sign: the farther of the two proofs
             linear = linear_extent(clearance[k], speed[k])
-            extent[k] = max(linear, extent[k]) if clearance[k] > 0.0 else min(linear, extent[k])
-        kind[n], pair[n], cut[n], carved[n], cause[n] = decided_one(half[n], clearance, speed, extent, active[n],
-                                                                    finest, carve)
+            if clearance[k] > 0.0:
+                below[k], above[k] = max(linear, below[k]), max(linear, above[k])
+            else:
+                below[k], above[k] = min(linear, below[k]), min(linear, above[k])
+        kind[n], pair[n], down[n], up[n], carved[n], cause[n] = decided_one(half[n], clearance, speed, below, above,
+                                                                            active[n], finest, carve)

@@ -29,8 +29,11 @@ and as quadratics in ``|psi - m|`` (a rise at distance ``t`` of at most ``s t + 
 times ``t``): a clear pair stays clear while the projections' bound falls by less than its clearance, a colliding one
 colliding while the closest points' bound rises by less than its depth, so the cut reaches to within second order of
 a free arc's end however wide the interval (where ``c(m) / v`` reached a fraction of the way: the benchmark cell's
-ends took about one evaluation in four of all).  Two shapes both on links 3-4 turn together: their distance does not
-change.
+ends took about one evaluation in four of all).  Each side is bounded apart: the first-order term of a sinusoid keeps
+its sign along a side (psi grows as the links turn positively about the line from the shoulder to the wrist,
+``0R3(psi) = R_u(psi) 0R3o`` [000 eq. 12]), and where it takes the distance away from the margin the cut reaches past
+the end's side of the interval in the same evaluation (it left a sliver there that cost an evaluation of its own).
+Two shapes both on links 3-4 turn together: their distance does not change.
 
 The joint rates are bounded over the interval from [000 eqs. 13-14, 18-19]: each entry ``e(psi) = a sin psi + b cos
 psi + c`` of ``0R3`` and ``4R7`` [000 eqs. 12, 16] and its derivative move by at most ``hypot(a, b) h`` from their
@@ -45,9 +48,10 @@ a turn.
 An interval is **free** where every pair's ``c(m) - v h > 0``, **blocked** by a pair where ``c(m) + v h < 0`` (that
 pair is its cause), and otherwise cut around its middle: since ``v`` bounds the speeds over the whole interval,
 ``c(psi) >= c(m) - v |psi - m|`` on it, so ``[m - r, m + r]`` is free with ``r`` the least ``c(m) / v`` of the pairs
-still open where all are positive (or the quadratic bound's root where it is larger, above), and blocked by the pair
-of the largest ``-c(m) / v`` (or root) where one is negative (each radius a hair smaller, for rounding); the pieces
-on either side (the halves, where ``r`` is 0) are decided in turn.  Near an end of a free arc this takes about half
+still open where all are positive (or, on each side, the quadratic bound's root where it is larger, above: then
+``[m - r_down, m + r_up]``), and blocked by the pair of the largest ``-c(m) / v`` (or roots) where one is negative
+(each radius a hair smaller, for rounding); the pieces on either side (the halves, where ``r`` is 0) are decided in
+turn.  Near an end of a free arc this takes about half
 the evaluations of halving alone.  An interval no wider than half
 the resolution that is still undecided is reported as such and left out of the free set; a run of undecided
 intervals wider than the resolution is cut further until it is not, and so is a run between two intervals of one kind
@@ -370,8 +374,9 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, se
 
     With ``carve`` (the speeds bound each clearance's derivative over the interval: ``|c(psi) - c(m)| <= v |psi -
     m|``), an interval left open is not halved but cut around its middle ``m``: where every open pair's clearance
-    is positive, ``[m - r, m + r]`` with ``r`` the least ``c / v`` of them is free; where one is negative, the
-    largest ``-c / v`` gives a stretch it blocks; the two pieces beside it stay open (halves where ``r`` is 0).
+    is positive, ``[m - r, m + r]`` with ``r`` the least ``c / v`` of them is free (each side as far as the measure
+    proves it, ``[m - down, m + up]``); where one is negative, the largest ``-c / v`` gives a stretch it blocks; the
+    two pieces beside it stay open (halves where both are 0).
 
     Returns ``(lo, hi, owner, kind, pair)`` of the decided intervals (kind 0 free, 1 blocked by ``pair``, 2
     undecided), and the owners of the intervals still open when the budget ran out (left undecided).
@@ -383,12 +388,12 @@ def _decide(lo: np.ndarray, hi: np.ndarray, owner: np.ndarray, finest: float, se
             undecided = np.full(len(lo), _decision_kernels.UNDECIDED)
             decided.append((np.stack([lo, hi]), np.stack([owner, undecided, np.zeros(len(lo), dtype=np.int64)])))
             break
-        kind, which, cut, carved, cause = settle((lo + hi) / 2.0, (hi - lo) / 2.0, owner, active, finest, carve)
+        kind, which, down, up, carved, cause = settle((lo + hi) / 2.0, (hi - lo) / 2.0, owner, active, finest, carve)
         room = 2 * len(lo)  # an interval leaves at most two decided pieces, and at most two open ones
         bounds, labels = np.empty((2, room)), np.empty((3, room), dtype=np.int64)
         open_bounds, open_owner = np.empty((2, room)), np.empty(room, dtype=np.int64)
         open_active = np.empty((room, settle.count), dtype=bool)
-        done, left = _decision_kernels.next_level(lo, hi, owner, active, kind, which, cut, carved, cause, bounds,
+        done, left = _decision_kernels.next_level(lo, hi, owner, active, kind, which, down, up, carved, cause, bounds,
                                                   labels, open_bounds, open_owner, open_active)
         decided.append((bounds[:, :done], labels[:, :done]))
         lo, hi, owner, active = open_bounds[0, :left], open_bounds[1, :left], open_owner[:left], open_active[:left]
@@ -400,14 +405,15 @@ def settled(half: np.ndarray, clearance: np.ndarray, speed: np.ndarray, active: 
             carve: bool) -> tuple[np.ndarray, ...]:
     """Intervals of half widths ``half`` (N,) decided from their pairs' clearances at the middles and speed bounds
     ``(N, P)`` (:func:`redkin.collision._decision_kernels.decided_one`, in one compiled pass; ``active`` ``(N, P)``
-    updated in place): ``(kind, pair, radius, carved, cause)``, each (N,).  For a measure whose clearances and bounds
-    are computed apart (the Franka class's q7)."""
+    updated in place): ``(kind, pair, down, up, carved, cause)``, each (N,), the carved stretch reaching ``down``
+    below the middle and ``up`` above it (equal: a speed bound is the same on both sides).  For a measure whose
+    clearances and bounds are computed apart (the Franka class's q7)."""
     count = len(half)
     kind, pair, carved, cause = (np.empty(count, dtype=np.int64) for _ in range(4))
-    radius = np.empty(count)
+    down, up = np.empty(count), np.empty(count)
     run_batch(_decision_kernels.decided, count, kernel_array(half), kernel_array(clearance), kernel_array(speed),
-              active, float(finest), bool(carve), kind, pair, radius, carved, cause)
-    return kind, pair, radius, carved, cause
+              active, float(finest), bool(carve), kind, pair, down, up, carved, cause)
+    return kind, pair, down, up, carved, cause
 
 
 #: Slivers left undecided between two intervals of one kind (:func:`_undecided_runs`) are cut down to this fraction
@@ -483,7 +489,7 @@ class _Measure:
                  carve: bool) -> tuple[np.ndarray, ...]:
         """The intervals of half widths ``half`` around arm angles ``middle`` of the owners ``owner`` decided from
         their active pairs' clearances ``active`` ``(N, P)`` (updated in place) and speed bounds, in one compiled
-        pass (:func:`redkin.collision._arm_angle_kernels.level`): ``(kind, pair, radius, carved, cause)``, each
+        pass (:func:`redkin.collision._arm_angle_kernels.level`): ``(kind, pair, down, up, carved, cause)``, each
         (N,)."""
         pose, branch = np.divmod(owner, len(self.signs))
         if len(self.body) and np.isnan(self.reach[pose, 0]).any():
@@ -493,14 +499,14 @@ class _Measure:
         self.evaluations += np.bincount(pose, minlength=len(self.evaluations))
         count = len(middle)
         kind, pair, carved, cause = (np.empty(count, dtype=np.int64) for _ in range(4))
-        cut = np.empty(count)
+        down, up = np.empty(count), np.empty(count)
         chain = self.arm.chain
         run_batch(_arm_angle_kernels.level, count, kernel_array(middle), kernel_array(half), kernel_array(pose),
                   kernel_array(branch), self.entries, self.theta4, self.elbow, self.signs,
                   self.geometry.kernel_joints, chain._links, chain._ends, chain._standard, *self.inputs.body,
                   self.inputs.obstacles, *self.inputs.pairs, float(self.scene.margin), kernel_array(self.reach),
-                  kernel_array(self.line), float(finest), bool(carve), active, kind, pair, cut, carved, cause)
-        return kind, pair, cut, carved, cause
+                  kernel_array(self.line), float(finest), bool(carve), active, kind, pair, down, up, carved, cause)
+        return kind, pair, down, up, carved, cause
 
     def _measure_reach(self, poses: np.ndarray, middle: np.ndarray, branch: np.ndarray) -> None:
         """Each capsule's distance from what it turns about (:func:`_turning_reach`) at poses ``poses``, from the

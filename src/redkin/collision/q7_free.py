@@ -168,8 +168,8 @@ class _Q7Measure:
                  carve: bool) -> tuple[np.ndarray, ...]:
         """The intervals of half widths ``half`` around ``middle`` of the owners ``owner`` decided from their active
         pairs' clearances ``active`` ``(N, P)`` (updated in place) and the rates :meth:`proposals` proposes and
-        :meth:`proved` proves (:func:`redkin.collision.arm_angle_free.settled`): ``(kind, pair, radius, carved,
-        cause)``, each (N,).  Only the intervals the proposed rates would settle, or on which they would prove a
+        :meth:`proved` proves (:func:`redkin.collision.arm_angle_free.settled`): ``(kind, pair, down, up,
+        carved, cause)``, each (N,).  Only the intervals the proposed rates would settle, or on which they would prove a
         pair clear, are proved: on the others any rate leaves the interval open (or undecided) with its pairs as
         they were, so the level test would be spent for nothing."""
         q, _ = self.joints(middle, owner)
