@@ -148,8 +148,8 @@ def test_the_message_form_is_a_joint_trajectory():
 def test_bad_input_is_refused_in_one_line():
     q = _joint_line(PANDA, np.full(7, 0.5), np.full(7, 0.3), 5)
     cases = {
-        "no acceleration limit on joints 1 (": lambda: time_path(kuka_iiwa14(), _joint_line(IIWA, np.full(7, 0.5),
-                                                                                        np.full(7, 0.3), 5)),
+        "no acceleration limit on joints 1, 2, 3, 4, 5, 6, 7: give": lambda: time_path(
+            kuka_iiwa14(), _joint_line(IIWA, np.full(7, 0.5), np.full(7, 0.3), 5)),
         "rate must be a positive": lambda: time_path(PANDA, q, rate=0.0),
         "q must have shape (N, 7)": lambda: time_path(PANDA, q[:, :6]),
         "q must be finite": lambda: time_path(PANDA, np.where(q == q[0, 0], np.nan, q)),

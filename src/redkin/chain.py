@@ -290,6 +290,13 @@ class SerialChain:
         """Boolean mask of joints with a known speed limit (a finite :attr:`velocity`)."""
         return np.isfinite(self.velocity)
 
+    def joints_in_words(self, joints: Sequence[int]) -> str:
+        """Joints (0-based indices) in words: ``"joint 2"`` or ``"joints 2, 5 (A5)"``, 1-based, each with its name
+        where the chain has one of its own (not the default ``"joint k"``)."""
+        named = [f"{k + 1}" if self.joint_names[k] == f"joint {k + 1}" else f"{k + 1} ({self.joint_names[k]})"
+                 for k in joints]
+        return ("joints " if len(named) > 1 else "joint ") + ", ".join(named)
+
     def with_tool(self, tool: ArrayLike) -> SerialChain:
         """A copy of this chain with another tool transform."""
         return self._replaced(tool=tool)

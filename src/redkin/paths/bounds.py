@@ -79,6 +79,4 @@ def missing_speeds(chain: SerialChain) -> str:
         return ""
     if len(unknown) == chain.n:
         return "any joint"
-    named = [f"{k + 1}" if chain.joint_names[k] == f"joint {k + 1}" else f"{k + 1} ({chain.joint_names[k]})"
-             for k in unknown]
-    return ("joints " if len(named) > 1 else "joint ") + ", ".join(named)
+    return chain.joints_in_words(unknown)

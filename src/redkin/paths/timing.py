@@ -234,9 +234,8 @@ def _limit(chain: SerialChain, key: str, given: ArrayLike | None) -> np.ndarray:
     values = getattr(chain, key) if given is None else np.broadcast_to(as_float_array(given, key), (chain.n,))
     unknown = np.flatnonzero(~np.isfinite(values))
     if unknown.size:
-        joints = ", ".join(f"{i + 1} ({chain.joint_names[i]})" for i in unknown.tolist())
-        raise RedkinError(f"{chain.name} has no {key} limit on joint{'s' if unknown.size > 1 else ''} {joints}: "
-                          f"give them (a limits file, redkin.motion_limits) to time the path")
+        raise RedkinError(f"{chain.name} has no {key} limit on {chain.joints_in_words(unknown.tolist())}: give them "
+                          "(a limits file, redkin.motion_limits) to time the path")
     if not np.all(values > 0.0):
         raise RedkinError(f"{key} limits must be > 0, got {np.asarray(values).tolist()}")
     return np.array(values, dtype=float)
