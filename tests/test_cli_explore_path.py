@@ -32,6 +32,7 @@ def test_the_page_plays_the_trajectory_file_and_the_report(tmp_path, capsys):
     assert main(["path", "franka-panda", "--poses", str(poses), "--max-step", "0.1", "--trajectory",
                  str(trajectory), "--json"]) == 0
     report.write_text(capsys.readouterr().out)
+    assert json.loads(report.read_text())["robot"] == "franka-panda"
     message = json.loads(trajectory.read_text())
     for source in (trajectory, report):
         out = tmp_path / f"{source.stem}.html"
@@ -59,9 +60,14 @@ def test_a_file_it_cannot_play_is_one_line(tmp_path, capsys):
     other = tmp_path / "other.json"  # another arm's seven joints
     other.write_text(json.dumps({"joint_names": [f"iiwa_joint_{k}" for k in range(1, 8)],
                                  "points": [{"positions": [0] * 7}]}))
+    elsewhere = tmp_path / "elsewhere.json"  # a named model's report: its joints are "joint 1" .. "joint 7" too
+    elsewhere.write_text(json.dumps({"robot": "kuka-iiwa14", "trajectory": {"joint_trajectory": {
+        "joint_names": list(PANDA.joint_names), "points": [{"positions": [0] * 7, "time_from_start": {
+            "sec": 0, "nanosec": 0}}]}}}))
     for file, expected in ((untimed, "no JointTrajectory in it"), (garbage, "cannot read it as JSON"),
                            (wrong, "the trajectory has 2 joints, franka-panda has 7"),
-                           (broken, "a point is malformed"), (other, "(another robot's path?)")):
+                           (broken, "a point is malformed"), (other, "(another robot's path?)"),
+                           (elsewhere, "the path was made for kuka-iiwa14, not franka-panda")):
         assert main(["explore", "franka-panda", "--path", str(file), "--out", str(tmp_path / "p.html"),
                      "--force"]) == 2
         err = capsys.readouterr().err

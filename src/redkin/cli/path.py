@@ -519,7 +519,8 @@ def _run_path(args: argparse.Namespace) -> int:
                                               cell=cell).encode("utf-8"))
     failure = result.failure
     if args.json:
-        report: dict = {"status": result.status, "unit": angle_unit(degrees), "step": angles_out(result.step, degrees),
+        report: dict = {"robot": chain.name, "status": result.status, "unit": angle_unit(degrees),
+                        "step": angles_out(result.step, degrees),
                         "speed": angles_out(speed, degrees), "speed_unit": f"{angle_unit(degrees)}/s",
                         "speed_source": speed_source, "dt": args.dt if speed is not None else None,
                         "nodes": result.nodes, "parameter": result.parameter, "objective": args.objective,
