@@ -165,8 +165,42 @@ def test_a_jump_between_waypoints_is_a_step_failure_naming_the_joint():
     q[5:, 3] += 0.3  # the elbow (the same at every arm angle) jumps by 0.3 rad into waypoint 5
     result = resolve_path(chain, chain.fk(q), 0.2)
     failure = result.failure
-    assert (failure.waypoint, failure.reason, failure.joint, failure.exact) == (5, "step", 4, False)
-    assert failure.needed == pytest.approx(0.3 - 0.05 * 0.0, abs=1e-6)
+    # proved: the poses fix the elbow, whatever the arm angle, so the graph is not searched again finer
+    assert (failure.waypoint, failure.reason, failure.joint, failure.exact) == (5, "step", 4, True)
+    assert failure.needed == pytest.approx(0.3, abs=1e-9)
+    q[5:, 3] -= 0.3 - 0.15  # a jump within the bound: nothing proved by the elbow
+    assert resolve_path(chain, chain.fk(q), 0.2).ok
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.sampled_from(ROBOTS), st.integers(0, 2**32 - 1))
+def test_the_elbow_the_poses_fix_bounds_every_step_between_them(robot, seed):
+    """:func:`redkin.paths.graph.least_moves` of two poses' fixed joints (the elbow of an S-R-S arm, one value per
+    elbow sign) is at most the move of every joint between any configuration of one pose and any of the other,
+    on every branch and arm angle, and equal to the least elbow move among them (the elbow does not depend on the
+    arm angle); from a start configuration likewise."""
+    from redkin.paths.family import ArmAngleFamily
+    from redkin.paths.graph import least_moves
+    from redkin.srs.geometry import srs_geometry
+
+    chain = get_robot(robot)
+    rng = np.random.default_rng(seed)
+    lower, upper = np.maximum(chain.lower, -np.pi), np.minimum(chain.upper, np.pi)
+    qa = rng.uniform(lower, upper)
+    qb = np.clip(qa + rng.normal(0.0, 0.3, 7), lower, upper)
+    poses = chain.fk(np.stack([qa, qb]))
+    reach, arm = ArmAngleFamily(srs_geometry(chain)).arm(poses, np.full(7, 0.1))
+    assert reach.all()
+    least = least_moves(arm, arm.pose_fixed(0), arm.pose_fixed(1))
+    psi = np.linspace(-np.pi, np.pi, 91)
+    found = [ik_all_branches(chain, pose, psi).reshape(-1, 7) for pose in poses]  # NaN where a branch does not exist
+    configurations = [q[np.all(np.isfinite(q), axis=-1)] for q in found]
+    moves = arm.moves(configurations[0][:, None], configurations[1][None])
+    assert np.all(moves.min(axis=(0, 1)) >= least - 1e-9)
+    assert moves[..., 3].min() == pytest.approx(least[3], abs=1e-9)
+    assert np.all(np.delete(least, 3) == 0.0)
+    start = least_moves(arm, qa[None], arm.pose_fixed(1))
+    assert np.all(arm.moves(qa, configurations[1]).min(axis=0) >= start - 1e-9)
 
 
 def test_a_start_too_far_from_the_first_pose_is_a_start_failure():

@@ -140,7 +140,8 @@ def _failure_line(failure, degrees: bool) -> str:
         text += f" (joint {failure.joint} must move {needed} {angle_unit(degrees)})"
     elif failure.joint is not None:
         text += f" (joint {failure.joint} blocks it)"
-    proof = "the arm's reach" if failure.reason == "out-of-reach" else "the exact feasible sets"
+    proof = {"out-of-reach": "the arm's reach", "step": "the joint values the poses fix",
+             "start": "the joint values the pose fixes"}.get(failure.reason, "the exact feasible sets")
     return text + (f" [proved by {proof}]" if failure.exact else " [on the searched graph]")
 
 

@@ -100,6 +100,15 @@ class _ArmAngleArm(Arm):
     def take(self, waypoints: np.ndarray) -> _ArmAngleArm:
         return replace(self, entries=self.entries[waypoints], theta4=self.theta4[waypoints])
 
+    def pose_fixed(self, waypoint: int) -> np.ndarray:
+        """Joint 4, the elbow, at each Table 1 elbow sign: the pose fixes ``theta_4`` [000 eq. 11] whatever the arm
+        angle (none where the waypoint is out of reach)."""
+        joints = self.geometry.kernel_joints
+        elbow = self.theta4[waypoint]
+        values = np.full((len(elbow), self.chain.n), np.nan)
+        values[:, 3] = joints[_ik_kernels.SIGN, 3] * (elbow - joints[_ik_kernels.OFFSET, 3])
+        return values[np.isfinite(elbow)]
+
 
 @dataclass(frozen=True)
 class _Q7Arm(Arm):

@@ -112,6 +112,22 @@ class Arm:
         """How far each joint moves between ``a`` and ``b`` (..., 7): :func:`joint_moves` with :attr:`circle`."""
         return joint_moves(a, b, self.circle)
 
+    def pose_fixed(self, waypoint: int) -> np.ndarray:
+        """The values ``(E, 7)`` that the pose of ``waypoint`` leaves a joint, one row per choice (NaN for a joint
+        the redundancy moves): none here (``(0, 7)``); an S-R-S arm's elbow has one value per elbow sign."""
+        return np.empty((0, self.chain.n))
+
+
+def least_moves(arm: Arm, before: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """A lower bound of how far each joint moves between any configuration whose fixed joints take one row of
+    ``before`` ``(A, 7)`` and any whose take one of ``after`` ``(B, 7)`` (:meth:`Arm.pose_fixed`; NaN: free): the
+    least such move on the circle, which no shift of a value by a turn makes smaller; 0 for a joint free in either
+    or where a side has no row."""
+    if not len(before) or not len(after):
+        return np.zeros(arm.chain.n)
+    moves = joint_moves(before[:, None], after[None], np.ones(arm.chain.n, dtype=bool))
+    return np.nan_to_num(moves, nan=0.0).min(axis=(0, 1))
+
 
 def joint_moves(a: np.ndarray, b: np.ndarray, circle: np.ndarray) -> np.ndarray:
     """How far each joint moves between ``a`` and ``b`` (..., n): on the circle (the shorter way round) for the

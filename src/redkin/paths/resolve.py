@@ -63,6 +63,9 @@ _REFINED = 1e-9
 _MAX_WAYPOINTS = 10_000_000
 #: Two feasible pieces whose ends are this close touch (radians of the parameter; :func:`_arcs_around`).
 _TOUCH = 1e-12
+#: A joint the poses fix is proved unable to make a step where its least move exceeds its bound by more than this
+#: fraction of it (:func:`_fixed_step`): the rounding of the two values, not a move the graph would allow.
+_FIXED_SLACK = 1e-9
 #: The first search sweeps the nodes of clearance at least these fractions of the clearance no path can exceed, in
 #: turn, until it finds a path (:func:`_floored`).
 _FLOOR_FRACTIONS = (1.0, 0.5)
@@ -742,12 +745,29 @@ def _failure(family: Family, arm: Arm, graph: Graph, sweep: search.Sweep, poses:
         return PathFailure(dead, reason, joint, proved, None, per_branch, pair)
     if dead == 0:  # nodes exist, none within a step of q0
         assert starts is not None
+        impossible = _fixed_step(arm, starts[p][None], arm.pose_fixed(w))
+        if impossible is not None:
+            return PathFailure(0, "start", *impossible)
         joint, needed = step_blocker(arm, starts[p][None], after)
         return PathFailure(0, "start", joint, False, needed)
+    impossible = _fixed_step(arm, arm.pose_fixed(w - 1), arm.pose_fixed(w))
+    if impossible is not None:
+        return PathFailure(dead, "step", *impossible)
     before = np.arange(graph.offsets[w - 1], graph.offsets[w])
     before = before[sweep.value[before] > -np.inf]
     joint, needed = step_blocker(arm, graph.q[before], after)
     return PathFailure(dead, "step", joint, False, needed)
+
+
+def _fixed_step(arm: Arm, before: np.ndarray, after: np.ndarray) -> tuple[int, bool, float] | None:
+    """Where a joint that the poses fix (:meth:`Arm.pose_fixed`) must move more than its bound between any
+    configuration of ``before`` and any of ``after`` (rows of fixed values, NaN: free), whatever the redundancy
+    chooses: ``(joint, True, needed)`` of the joint furthest over its bound (1-based), the step proved impossible;
+    else ``None``."""
+    least = graphs.least_moves(arm, before, after)
+    over = least / arm.step
+    joint = int(np.argmax(over))
+    return (joint + 1, True, float(least[joint])) if over[joint] > 1.0 + _FIXED_SLACK else None
 
 
 def _unwound(arm: Arm, q: np.ndarray, origin: np.ndarray | None) -> np.ndarray:

@@ -45,8 +45,10 @@ class PathFailure:
         ``"end"`` the joint that must move most (relative to its bound) on the closest pair of configurations.
         ``None`` for ``"out-of-reach"``.
     exact : bool
-        True where the failure is proved: by the arm's reach (``"out-of-reach"``, on every class) or by the exact
-        feasible sets (``"empty"``); False where it is a statement about the sampled graph (see docs/paths.md).
+        True where the failure is proved: by the arm's reach (``"out-of-reach"``, on every class), by the exact
+        feasible sets (``"empty"``), or by a joint the poses fix that must move more than its bound (``"step"``,
+        ``"start"``: an S-R-S arm's elbow); False where it is a statement about the sampled graph (see
+        docs/paths.md).
     needed : float or None
         For a step failure: how far ``joint`` must move at least on the closest pair (radians); its bound is
         :attr:`PathResult.step` of that joint.
