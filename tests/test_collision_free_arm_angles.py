@@ -479,6 +479,27 @@ def test_a_stretch_is_carved_as_far_as_each_side_is_proved(pairs, seed):
         assert down == up == 0.0
 
 
+@settings(max_examples=200)
+@given(st.floats(0.0, 1e3, allow_subnormal=False), st.floats(-1e3, 1e3, allow_subnormal=False),
+       st.one_of(st.just(0.0), st.floats(1e-12, 1e3)))
+def test_the_quadratic_root_is_where_the_bound_first_reaches_the_clearance(a, b, k):
+    """``_quadratic_root(a, b, k)``: ``a t^2 + b t`` stays below ``k`` before the root and reaches it there (a slope of
+    either sign); ``inf`` only where it never does; 0 for ``k = 0`` and for a bound that is not finite."""
+    from redkin.collision._arm_angle_kernels import _quadratic_root
+
+    root = _quadratic_root(a, b, k)
+    if k == 0.0:
+        assert root == 0.0
+    elif root == np.inf:
+        assert a == 0.0 and b <= 0.0
+    else:
+        size = a * root * root + abs(b) * root + k  # the terms' size: their sum cancels where b < 0
+        assert abs(a * root * root + b * root - k) <= 1e-9 * size
+        t = np.linspace(0.0, root, 50)[:-1]
+        assert np.all(a * t * t + b * t - k < 1e-9 * size)
+    assert _quadratic_root(np.inf, b, 1.0) == _quadratic_root(1.0, np.nan, 1.0) == 0.0
+
+
 def test_the_linear_extent_divides_as_numpy_and_run_as_python_warns_of_nothing():
     """``linear_extent`` is numpy's ``clearance / speed`` (speed >= 0) with what it makes NaN read as 0, compiled
     and run as Python alike, and as Python it warns of nothing (a Franka arm's sets in a cell, run as Python on a

@@ -149,10 +149,10 @@ def _dot(u, v):
 @kernel
 def _quadratic_root(a, b, k):
     """The least ``t > 0`` at which ``a t^2 + b t`` reaches ``k`` (``a, k >= 0``, ``b`` of either sign; ``inf``
-    where it never does, 0 for ``k = 0``: a clearance of exactly 0 keeps no sign, and 0 where any is NaN), in the
-    forms that do not cancel: ``2 k / (b + sqrt(b^2 + 4 a k))`` for ``b >= 0``, ``(sqrt(b^2 + 4 a k) - b) / (2 a)``
-    for ``b < 0``."""
-    if not k > 0.0 or a != a or b != b:
+    where it never does, 0 for ``k = 0``: a clearance of exactly 0 keeps no sign, and 0 where ``a`` or ``b`` is not
+    finite: such a bound proves nothing), in the forms that do not cancel: ``2 k / (b + sqrt(b^2 + 4 a k))`` for
+    ``b >= 0``, ``(sqrt(b^2 + 4 a k) - b) / (2 a)`` for ``b < 0``."""
+    if not k > 0.0 or not a < inf or not abs(b) < inf:
         return 0.0
     root = sqrt(b * b + 4.0 * a * k)
     if b < 0.0:
