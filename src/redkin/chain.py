@@ -290,11 +290,17 @@ class SerialChain:
         """Boolean mask of joints with a known speed limit (a finite :attr:`velocity`)."""
         return np.isfinite(self.velocity)
 
+    @property
+    def own_joint_names(self) -> np.ndarray:
+        """Boolean mask of joints with a name of their own, not the default ``"joint k"`` (1-based) that the named
+        models and chains built without names carry."""
+        return np.array([name != f"joint {k + 1}" for k, name in enumerate(self.joint_names)], dtype=bool)
+
     def joints_in_words(self, joints: Sequence[int]) -> str:
         """Joints (0-based indices) in words: ``"joint 2"`` or ``"joints 2, 5 (A5)"``, 1-based, each with its name
-        where the chain has one of its own (not the default ``"joint k"``)."""
-        named = [f"{k + 1}" if self.joint_names[k] == f"joint {k + 1}" else f"{k + 1} ({self.joint_names[k]})"
-                 for k in joints]
+        where the chain has one of its own (:attr:`own_joint_names`)."""
+        own = self.own_joint_names
+        named = [f"{k + 1} ({self.joint_names[k]})" if own[k] else f"{k + 1}" for k in joints]
         return ("joints " if len(named) > 1 else "joint ") + ", ".join(named)
 
     def with_tool(self, tool: ArrayLike) -> SerialChain:

@@ -160,9 +160,8 @@ def _playback(args: argparse.Namespace, chain, out, cell) -> int:
     if [str(name) for name in names] != list(chain.joint_names):
         raise UsageError(f"--path {args.path!r}: the trajectory moves the joints {', '.join(map(str, names))}; "
                          f"{chain.name}'s are {', '.join(chain.joint_names)} (another robot's path?)")
-    made_for = report.get("robot")  # a named model's joints are "joint 1" .. "joint n", not names of its own
-    if isinstance(made_for, str) and made_for != chain.name and all(
-            name == f"joint {k + 1}" for k, name in enumerate(chain.joint_names)):
+    made_for = report.get("robot")  # a named model's joints are "joint 1" .. "joint n", not names of their own
+    if isinstance(made_for, str) and made_for != chain.name and not chain.own_joint_names.any():
         raise UsageError(f"--path {args.path!r}: the path was made for {made_for}, not {chain.name}")
     try:
         t = np.array([p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"] for p in points],
