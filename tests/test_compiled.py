@@ -5,7 +5,6 @@ import ast
 import hashlib
 import os
 import threading
-import time
 from itertools import pairwise
 from pathlib import Path
 
@@ -205,27 +204,27 @@ def test_a_small_batch_of_long_items_goes_to_the_pool(monkeypatch):
     np.testing.assert_array_equal(out, np.arange(10))
 
 
-def test_a_small_batch_is_timed_only_where_its_items_are_long(monkeypatch):
-    """Under PARALLEL_BATCH items the call's own cost would make cheap items look dear: only long items are timed,
-    and a batch under TIMED_BATCH never is (nor handed out)."""
-    cheap, _ = recorder()
-    clock = iter(np.arange(0.0, 1.0, 1e-6))  # a microsecond a reading, whatever the machine's load
-    with monkeypatch.context() as patched:
-        patched.setattr(_compiled.time, "perf_counter", lambda: next(clock))
-        run_batch(cheap, 20, np.empty(20))
-    assert cheap not in _compiled._seconds_per_item
+def test_a_small_batch_is_timed_only_where_it_ran_long(monkeypatch):
+    """Under PARALLEL_BATCH items the call's own cost would make cheap items look dear: a batch is timed only where
+    it took POOL_SECONDS in all (many items of moderate length too: 200 IK poses at 24 us each were never timed,
+    so they never went to the pool), and a batch under TIMED_BATCH never is (nor handed out)."""
 
-    def slow(start, stop, out):
-        time.sleep(2.0 * _compiled.LONG_ITEM * (stop - start))
-        out[start:stop] = 1.0
+    def timed(tick: float, count: int):
+        """The time per item recorded of a fresh kernel run on ``count`` items, where each clock reading advances
+        ``tick`` seconds (whatever the machine's load), or None."""
+        kernel, _ = recorder()
+        clock = iter(np.arange(0.0, 1.0, tick))
+        with monkeypatch.context() as patched:
+            patched.setattr(_compiled.time, "perf_counter", lambda: next(clock))
+            run_batch(kernel, count, np.empty(count))
+        return _compiled._seconds_per_item.pop(kernel, None)
 
-    try:
-        run_batch(slow, _compiled.TIMED_BATCH - 1, np.empty(_compiled.TIMED_BATCH - 1))
-        assert slow not in _compiled._seconds_per_item
-        run_batch(slow, 20, np.empty(20))
-        assert _compiled._seconds_per_item[slow] >= 2.0 * _compiled.LONG_ITEM
-    finally:
-        _compiled._seconds_per_item.pop(slow, None)
+    pool = _compiled.POOL_SECONDS
+    assert timed(1e-6, 20) is None  # 20 cheap items: 1 us in all
+    assert timed(0.5 * pool, 20) is None  # half of POOL_SECONDS in all
+    assert timed(2.0 * pool, 100) == pytest.approx(2.0 * pool / 100)  # 4 us an item, twice POOL_SECONDS in all
+    assert timed(2.0 * pool, 20) == pytest.approx(2.0 * pool / 20)
+    assert timed(2.0 * pool, _compiled.TIMED_BATCH - 1) is None
 
 
 def test_a_failing_chunk_raises_after_every_chunk_is_done():

@@ -129,10 +129,14 @@ arrays are passed unchanged to every chunk (no per-chunk slicing of a dozen
 arguments in Python, and an output row has its input row's index).
 
 :func:`run_batch` runs ``[0, count)`` in one call in the calling thread
-below :data:`PARALLEL_BATCH` items, with one thread, or where the kernel's
-last measured time per item says the batch takes less than
-:data:`POOL_SECONDS` (waking a helper and being woken by it cost tens of
-microseconds).  Otherwise it splits the batch into up to
+below :data:`PARALLEL_BATCH` items (unless the kernel's measured items are
+long enough to fill :data:`POOL_SECONDS` in chunks of fewer than
+:data:`MIN_CHUNK`), with one thread, or where the kernel's last measured
+time per item says the batch takes less than :data:`POOL_SECONDS` (waking
+a helper and being woken by it cost tens of microseconds).  A batch run in
+one call is timed where it has :data:`PARALLEL_BATCH` items or took
+:data:`POOL_SECONDS` in all, so that the call's own cost (microseconds) is
+small beside what it measures.  Otherwise it splits the batch into up to
 :data:`CHUNKS_PER_THREAD` chunks per thread of at least :data:`MIN_CHUNK`
 items, which the calling thread and ``threads - 1`` helpers take one after
 another until none is left.  The helpers are the threads of one pool shared
@@ -196,9 +200,6 @@ MIN_CHUNK = 128
 POOL_SECONDS = 2e-4
 #: Batches of fewer items always run in the calling thread, untimed.
 TIMED_BATCH = 8
-#: A batch under :data:`PARALLEL_BATCH` items is timed only where its items take longer than this (seconds) each:
-#: the call's own cost, a few microseconds, would make cheap items look dearer.
-LONG_ITEM = POOL_SECONDS / TIMED_BATCH
 
 _seconds_per_item: dict = {}  # kernel -> its last measured time per item (a run in one call, or the caller's chunks)
 
@@ -840,7 +841,7 @@ def run_batch(kernel: Callable, count: int, *args):
     start = time.perf_counter()
     result = kernel(0, count, *args)
     measured = (time.perf_counter() - start) / count
-    if count >= PARALLEL_BATCH or measured >= LONG_ITEM:
+    if count >= PARALLEL_BATCH or measured * count >= POOL_SECONDS:  # else the call's own cost would weigh
         _seconds_per_item[kernel] = measured
     return result
 
