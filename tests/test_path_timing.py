@@ -10,9 +10,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from redkin.errors import RedkinError
+from redkin.errors import RedkinError, SizeLimitError
 from redkin.models import franka_panda, kuka_iiwa14
 from redkin.paths import resolve_path, time_path
+from redkin.paths.timing import MAX_SAMPLES, _least_duration
 
 pytest.importorskip("toppra")
 
@@ -46,8 +47,10 @@ def _check_laws(chain, q: np.ndarray, trajectory) -> None:
     mean_speed = np.diff(trajectory.q, axis=0)[:-1] / step
     np.testing.assert_array_less(np.abs(mean_speed - 0.5 * (trajectory.qd[1:-1] + trajectory.qd[:-2])),
                                  a * step / 4.0 + 1e-9)
-    # no faster than each joint could cover its distance at full speed
+    # no faster than each joint could cover its distance at full speed, or reach its farthest waypoint from rest:
+    # the least duration by which a trajectory too long to sample is refused before it is timed
     assert trajectory.duration >= (np.abs(np.diff(q, axis=0)).sum(axis=0) / v).max() - 1e-12
+    assert trajectory.duration >= _least_duration(q, {"velocity": v, "acceleration": a})[0] - 1e-12
 
 
 @settings(max_examples=12)
@@ -162,6 +165,25 @@ def test_bad_input_is_refused_in_one_line():
         with pytest.raises(RedkinError) as raised:
             call()
         assert expected in str(raised.value) and "\n" not in str(raised.value), expected
+
+
+def test_limits_too_small_to_time_are_refused_in_one_line():
+    """A velocity limit whose least duration needs more than MAX_SAMPLES samples is refused before the time
+    parametrisation (it overflowed to an infinite sample count); an acceleration limit so small that the
+    parametrisation's speeds round to 0 is refused in words (it gave a NaN duration)."""
+    q = IIWA.fk(_joint_line(IIWA, np.full(7, 0.3), np.full(7, 0.4), 10))
+    q = resolve_path(IIWA, q, 0.1).q
+    least = np.abs(np.diff(q, axis=0)).sum(axis=0).max() / 1e-3
+    with pytest.raises(SizeLimitError, match=r"joint \d alone needs at least") as raised:
+        time_path(IIWA, q, velocity=1e-300)
+    assert raised.value.value > MAX_SAMPLES
+    rate = 0.5 * MAX_SAMPLES / least  # the least duration fits at this rate, and twice it does not
+    time_path(IIWA, q, velocity=1e-3, acceleration=1e3, rate=rate)
+    with pytest.raises(SizeLimitError, match="check the limits, or lower the rate"):
+        time_path(IIWA, q, velocity=1e-3, acceleration=1e3, rate=4.0 * rate)
+    with pytest.raises(RedkinError, match="no profile of finite duration") as raised:
+        time_path(IIWA, q, velocity=1.0, acceleration=1e-12, rate=1e-3)
+    assert "\n" not in str(raised.value)
 
 
 @settings(max_examples=20)

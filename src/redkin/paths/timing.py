@@ -175,6 +175,7 @@ def time_path(chain: SerialChain, q: ArrayLike, *, rate: float = DEFAULT_RATE,
     cuts = sorted({0, len(values) - 1, *(int(row) for row in rests)})
     if cuts[0] < 0 or cuts[-1] >= len(values):
         raise RedkinError(f"rests must be rows of q (0..{len(values) - 1}), got {list(rests)}")
+    _check_least_duration(values, limits, rate)
     profiles: list[_Profile] = []
     times: list[np.ndarray] = []
     for first, last in pairwise(cuts) if len(cuts) > 1 else [(0, 0)]:
@@ -241,12 +242,40 @@ def _limit(chain: SerialChain, key: str, given: ArrayLike | None) -> np.ndarray:
     return np.array(values, dtype=float)
 
 
+def _least_duration(values: np.ndarray, limits: dict[str, np.ndarray]) -> tuple[float, int]:
+    """A lower bound [s] of every trajectory through the waypoints ``values`` (N, n) in order, from rest, within
+    ``limits``, and the joint that sets it: a path moves each joint at least its moves between the waypoints,
+    ``D_j``, which take ``D_j / v_j`` at the velocity limit; and from rest a joint reaches its farthest waypoint
+    ``X_j`` from the first no sooner than ``sqrt(2 X_j / a_j)``."""
+    moves = np.abs(np.diff(values, axis=0)).sum(axis=0)
+    farthest = np.abs(values - values[0]).max(axis=0)
+    with np.errstate(over="ignore"):
+        least = np.maximum(moves / limits["velocity"], np.sqrt(2.0 * farthest / limits["acceleration"]))
+    joint = int(np.argmax(least))
+    return float(least[joint]), joint
+
+
+def _check_least_duration(values: np.ndarray, limits: dict[str, np.ndarray], rate: float) -> None:
+    """Refuse, before the time parametrisation, a trajectory that must have more than :data:`MAX_SAMPLES` samples
+    at ``rate`` whatever its profile (:func:`_least_duration`)."""
+    least, joint = _least_duration(values, limits)
+    if least * rate + 1.0 > MAX_SAMPLES:
+        raise SizeLimitError(
+            f"at its limits ({limits['velocity'][joint]:.6g} rad/s, {limits['acceleration'][joint]:.6g} rad/s^2) "
+            f"joint {joint + 1} alone needs at least {least:.6g} s for this path: more than {MAX_SAMPLES} samples at "
+            f"{rate:g} Hz; check the limits, or lower the rate", "samples", least * rate + 1.0, MAX_SAMPLES)
+
+
 def _sample_count(duration: float, rate: float) -> int:
+    if not duration * rate + 1.0 <= MAX_SAMPLES:
+        raise SizeLimitError(f"the trajectory lasts {duration:.6g} s: {duration * rate + 1.0:.6g} samples at "
+                             f"{rate:g} Hz, more than {MAX_SAMPLES}; lower the rate, or check the limits", "samples",
+                             duration * rate + 1.0, MAX_SAMPLES)
     samples = int(np.floor(duration * rate + 1e-9)) + 1
     samples += not np.isclose((samples - 1) / rate, duration, rtol=0.0, atol=1e-12)
     if samples > MAX_SAMPLES:
         raise SizeLimitError(f"the trajectory lasts {duration:.6g} s: {samples} samples at {rate:g} Hz, more than "
-                             f"{MAX_SAMPLES}; lower the rate", "samples", samples, MAX_SAMPLES)
+                             f"{MAX_SAMPLES}; lower the rate, or check the limits", "samples", samples, MAX_SAMPLES)
     return samples
 
 
@@ -269,7 +298,8 @@ class _Profile:
 
     @classmethod
     def along(cls, path, grid: np.ndarray, speed: np.ndarray, knots: np.ndarray) -> _Profile:
-        times = np.r_[0.0, np.cumsum(2.0 * np.diff(grid) / (speed[:-1] + speed[1:]))]
+        with np.errstate(divide="ignore", invalid="ignore"):  # a speed of 0 inside: refused by the caller
+            times = np.r_[0.0, np.cumsum(2.0 * np.diff(grid) / (speed[:-1] + speed[1:]))]
         return cls(path=path, grid=grid, speed=speed, times=times, knot_times=times[np.searchsorted(grid, knots)])
 
     @property
@@ -371,6 +401,10 @@ def _fastest(points: np.ndarray, kind: str, limits: dict[str, np.ndarray], rate:
             raise RedkinError("the time parametrisation found no profile that starts and ends at rest; the joint path "
                               "may turn back on itself: check the waypoints")
         profile = _Profile.along(path, grid, np.maximum(speed, 0.0), knots)
+        if not np.isfinite(profile.duration):  # a speed that rounds to 0 inside the path, or NaN
+            raise RedkinError(f"the time parametrisation found no profile of finite duration at these limits "
+                              f"(the smallest: velocity {velocity.min():.6g} rad/s, acceleration "
+                              f"{acceleration.min():.6g} rad/s^2), beyond its precision; check the limits")
         over = _exceeding(profile, velocity, acceleration, rate, chain)
         if not over.size:
             return profile
