@@ -8,6 +8,7 @@ pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
 from redkin.arms import arm  # noqa: E402
+from redkin.errors import SizeLimitError  # noqa: E402
 from redkin.franka import feasible_q7, franka_geometry  # noqa: E402
 from redkin.franka.feasible import q7_domain  # noqa: E402
 from redkin.models import get_robot  # noqa: E402
@@ -21,6 +22,7 @@ from redkin.workspace import (  # noqa: E402
     workspace_grid,
     workspace_map,
 )
+from redkin.workspace.grid import MAX_CHUNKS, MAX_POSES  # noqa: E402
 
 EXTENTS = {"pa10-7c": [-0.9, 0.9, -0.9, 0.9, -0.5, 1.3], "barrett-wam": [-0.8, 0.8, -0.8, 0.8, -0.6, 1.0]}
 
@@ -73,6 +75,22 @@ def test_grid_rejects_bad_sizes():
         workspace_grid([0, 1, 0, 1, 0, 1], 1, 10)
     with pytest.raises(ValueError, match=r"chunk must be an integer in 1\.\.4"):
         workspace_grid([0, 1, 0, 1, 0, 1], 4, 10, chunk=5)
+
+
+def test_grid_refuses_more_poses_or_chunks_than_its_limits():
+    """Each size within its own range, the product beyond what can be computed: refused before anything is made (a
+    1000^3 grid at 20 000 orientations made 1.25e8 chunk indices, and ran out of memory in silence)."""
+    box = [0, 1, 0, 1, 0, 1]
+    turns = MAX_POSES // 1000**3  # 1000^3 grid points at this many orientations: the limit exactly
+    assert workspace_grid(box, 1000, turns).resolution == 1000
+    with pytest.raises(SizeLimitError, match=r"more than 1e\+10 .*lower the resolution or the orientations"):
+        workspace_grid(box, 1000, turns + 1)
+    with pytest.raises(SizeLimitError, match="poses"):
+        workspace_grid(box, 1000, 20_000)
+    side = round(MAX_CHUNKS ** (1 / 3))
+    assert workspace_grid(box, side, 1, chunk=1).chunk_counts == (side, side, side)
+    with pytest.raises(SizeLimitError, match="give a larger chunk"):
+        workspace_grid(box, side + 1, 1, chunk=1)
 
 
 def test_map_refuses_an_arm_without_a_redundancy_parameter(tmp_path):

@@ -11,6 +11,11 @@ WORKSPACE_MAX_RESOLUTION = 1000
 #: Most orientations a workspace map may take (``redkin workspace --orientations``;
 #: :mod:`redkin.workspace.orientations`).
 WORKSPACE_MAX_ORIENTATIONS = 20_000
+#: Most poses a workspace map may take, grid points times orientations (about 7 core-hours at 2.7 us a pose: the
+#: measure of :data:`redkin.workspace.grid.CHUNK_POSES`' chunks; :mod:`redkin.workspace.grid`).
+WORKSPACE_MAX_POSES = 10**10
+#: Most chunks a workspace map may be cut into (Dask tasks and marker files; :mod:`redkin.workspace.grid`).
+WORKSPACE_MAX_CHUNKS = 10**6
 #: The file name of the map inside the output directory of ``redkin workspace`` (:mod:`redkin.workspace.store`).
 WORKSPACE_MAP_NAME = "map.zarr"
 #: Largest number of grid points along one axis of a torso-arm map, 10^6 points in all (``redkin torso-arm map

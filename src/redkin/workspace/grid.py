@@ -8,8 +8,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._constants import WORKSPACE_MAX_CHUNKS as MAX_CHUNKS  # most chunks of a map
+from redkin._constants import WORKSPACE_MAX_POSES as MAX_POSES  # most poses of a map
 from redkin._constants import WORKSPACE_MAX_RESOLUTION as MAX_RESOLUTION  # most grid points per axis
 from redkin._validation import MAX_LENGTH, as_float_array, check_count, check_magnitude
+from redkin.errors import SizeLimitError
 
 #: Poses one chunk aims at (positions x orientations): 8^3 positions at 500 orientations, 16 MB of
 #: ``measure`` and about 0.7 s of one core per chunk, 13 824 chunks (Dask tasks, marker files) for the
@@ -72,15 +75,17 @@ def workspace_grid(extent: ArrayLike, resolution: int, orientations: int, chunk:
     resolution : int
         Points per axis, ``2..MAX_RESOLUTION``.
     orientations : int
-        Orientations per position (sizes the default chunk).
+        Orientations per position (sizes the default chunk); grid points times orientations at most
+        ``MAX_POSES``.
     chunk : int, optional
-        Points per axis of a chunk, ``1..resolution``; default: the largest cube of at most
-        :data:`CHUNK_POSES` poses.
+        Points per axis of a chunk, ``1..resolution``, cutting the grid into at most ``MAX_CHUNKS`` chunks; default:
+        the largest cube of at most :data:`CHUNK_POSES` poses.
 
     Raises
     ------
     ValueError
-        Naming the argument that is malformed or out of range.
+        Naming the argument that is malformed or out of range; :class:`~redkin.errors.SizeLimitError` for more
+        poses or chunks than those limits.
     """
     box = as_float_array(extent, "extent").reshape(-1)
     if box.shape != (6,):
@@ -90,7 +95,17 @@ def workspace_grid(extent: ArrayLike, resolution: int, orientations: int, chunk:
         if not lo < hi:
             raise ValueError(f"extent: {axis}min must be below {axis}max, got {lo:g} and {hi:g}")
     m = check_count(resolution, "resolution", 2, MAX_RESOLUTION)
+    poses = m**3 * int(orientations)
+    if poses > MAX_POSES:
+        raise SizeLimitError(f"{m}^3 grid points x {int(orientations)} orientations are {poses:.3g} poses, more than "
+                             f"{MAX_POSES:.0e} (a size too large to compute): lower the resolution or the "
+                             "orientations", "poses", poses, MAX_POSES)
     if chunk is None:
         edge = int(np.floor((CHUNK_POSES / max(int(orientations), 1)) ** (1.0 / 3.0) + 1e-9))
         chunk = min(max(edge, 1), m)
-    return WorkspaceGrid(tuple(float(v) for v in box), m, check_count(chunk, "chunk", 1, m))
+    grid = WorkspaceGrid(tuple(float(v) for v in box), m, check_count(chunk, "chunk", 1, m))
+    chunks = grid.chunk_counts[0] ** 3
+    if chunks > MAX_CHUNKS:
+        raise SizeLimitError(f"chunks of {grid.chunk}^3 grid points cut the {m}^3 grid into {chunks:.3g} chunks, more "
+                             f"than {MAX_CHUNKS:.0e}: give a larger chunk", "chunks", chunks, MAX_CHUNKS)
+    return grid
