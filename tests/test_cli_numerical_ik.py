@@ -171,7 +171,7 @@ def test_too_many_values_for_one_call_are_refused():
 
 
 def test_no_target_is_one_line_and_exit_2(capsys):
-    assert "the target needs --position X Y Z and --rotation R11 ... R33 (or --poses FILE.npy)" in \
+    assert "the target needs --position X Y Z and --rotation R11 ... R33 (or --poses FILE)" in \
         refused(capsys, ["ik", "kinova-gen3"])
 
 

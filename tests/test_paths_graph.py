@@ -181,8 +181,24 @@ def test_connect_refuses_a_graph_too_large_to_compute():
     _, geometry, poses = _line_poses("kuka-iiwa14", 1, 20)
     _, arm = ArmAngleFamily(geometry).arm(poses, np.full(7, 1e-9))
     waypoint, branch, piece, psi, _, _ = graphs.piece_samples(feasible_pieces_all_branches(geometry, poses), 0.1)
-    with pytest.raises(RedkinError, match=r"needs more than 10,000,000 nodes .*\(a size too large to compute\)"):
+    with pytest.raises(RedkinError, match=rf"needs more than {graphs._MOST_NODES:,} nodes .*\(a size too large to "
+                                          r"compute\)"):
         graphs.connect(arm, graphs.build(arm, waypoint, branch, piece, psi, 20), 0.25)
+
+
+def test_a_graph_whose_first_samples_are_too_many_is_refused_before_it_is_made():
+    """The first samples count against the same limit: 782 000 waypoints (about 300 nodes each on the iiwa14) ran
+    out of memory in silence; here 20 waypoints sampled every 1e-6 rad."""
+    from redkin.errors import SizeLimitError
+    from redkin.paths import graph as graphs
+    from redkin.srs.feasible import feasible_pieces_all_branches
+
+    _, geometry, poses = _line_poses("kuka-iiwa14", 1, 20)
+    pieces = feasible_pieces_all_branches(geometry, poses)
+    assert len(graphs.piece_samples(pieces, 1e-3)[0]) <= graphs._MOST_NODES
+    with pytest.raises(SizeLimitError, match=r"a path of 20 waypoints needs [\d,]+ nodes in its graph") as raised:
+        graphs.piece_samples(pieces, 1e-6)
+    assert raised.value.value > graphs._MOST_NODES
 
 
 @settings(max_examples=40, deadline=None)

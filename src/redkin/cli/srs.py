@@ -107,8 +107,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     add_robot_argument(solve)
     add_target_arguments(solve, required=False)
-    solve.add_argument("--poses", metavar="FILE.npy", help="solve every pose of an (N, 4, 4) array instead of "
-                                                          "--position and --rotation or --quat")
+    solve.add_argument("--poses", metavar="FILE", help="solve every pose of a file instead of --position and "
+                                                      "--rotation or --quat: .npy (an (N, 4, 4) array), .csv or .json "
+                                                      "(docs/paths.md)")
     parameter = solve.add_mutually_exclusive_group()
     parameter.add_argument("--psi", type=float,
                            help="arm angle of an S-R-S, offset-elbow or nearly S-R-S arm (radians, or degrees with "
@@ -180,7 +181,7 @@ def _ik_poses(args: argparse.Namespace) -> tuple[np.ndarray, bool]:
             raise UsageError("give --poses or --position and --rotation, not both (--quat stands for --rotation)")
         return read_poses(args.poses), True
     if args.position is None or not oriented:
-        raise UsageError("the target needs --position X Y Z and --rotation R11 ... R33 (or --poses FILE.npy); "
+        raise UsageError("the target needs --position X Y Z and --rotation R11 ... R33 (or --poses FILE); "
                          "--quat W X Y Z may stand for --rotation")
     return target_pose(args), False
 

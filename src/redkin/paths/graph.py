@@ -25,7 +25,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
-from redkin.errors import RedkinError
+from redkin.errors import SizeLimitError
 from redkin.paths import _dp_kernels
 from redkin.srs.feasible import PIECE_TOLERANCE, FeasiblePieces
 
@@ -36,6 +36,9 @@ _CLIP_TOLERANCE = 1e-9
 _WINDOW_SIDE = 2
 #: Intervals of a piece are not halved below this width (radians of arm angle).
 _MIN_SPACING = 1e-9
+#: The most nodes a path's graph holds (:func:`piece_samples`, :func:`connect`): about 180 bytes each at the search's
+#: peak, 7 GB in all (100 000 iiwa14 waypoints hold 3e7 nodes at first, and the search peaks at 5.5 GB).
+_MOST_NODES = 40_000_000
 
 
 @dataclass(frozen=True)
@@ -160,6 +163,11 @@ def piece_samples(pieces: FeasiblePieces, spacing: float, groups: np.ndarray | N
         node), as :meth:`Arm.rows` takes it.
     bounds : numpy.ndarray, shape (pieces, 2)
         The ends of each piece (``piece`` indexes it).
+
+    Raises
+    ------
+    SizeLimitError
+        Where the samples would be more than :data:`_MOST_NODES` nodes.
     """
     keep = pieces.feasible & (pieces.end - pieces.start > PIECE_TOLERANCE)
     waypoint, branch, slot = np.nonzero(keep)
@@ -179,6 +187,10 @@ def piece_samples(pieces: FeasiblePieces, spacing: float, groups: np.ndarray | N
             first_keeper = group[np.argmax(keep[:, group, :], axis=1)]  # (W, S): the group's first branch keeping it
             leader[mine] = numbered[waypoint[mine], first_keeper[waypoint[mine], slot[mine]], slot[mine]]
     size = offsets[-1]
+    if size > _MOST_NODES:
+        raise SizeLimitError(f"a path of {pieces.start.shape[0]:,} waypoints needs {size:,} nodes in its graph, more "
+                             f"than {_MOST_NODES:,} (a size too large to compute): give fewer waypoints (a larger "
+                             "--step with --through)", "nodes", size, _MOST_NODES)
     nodes = (np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64),
              np.empty(size), np.empty(size, dtype=np.int64))
     _dp_kernels.piece_nodes(0, lo.size, lo, hi, first, grid, spacing, offsets, leader, waypoint, branch, *nodes)
@@ -201,9 +213,6 @@ def build(arm: Arm, waypoint: np.ndarray, branch: np.ndarray, piece: np.ndarray,
     return Graph(offsets, piece, branch, psi, q, np.maximum(clearance, 0.0))
 
 
-#: The most nodes :func:`connect` puts in a path's graph (about 100 bytes each, a gigabyte in all).
-_MOST_NODES = 10_000_000
-
 
 def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
     """Subdivide each interval between neighbouring nodes of a piece across which some joint moves more than
@@ -219,7 +228,7 @@ def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
 
     Raises
     ------
-    RedkinError
+    SizeLimitError
         Where the graph would hold more than :data:`_MOST_NODES` nodes.
     """
     size = len(graph.psi)
@@ -236,9 +245,9 @@ def connect(arm: Arm, graph: Graph, fraction: float, rounds: int = 40) -> Graph:
         if count == 0:
             break
         if size + sum(len(more[0]) for more in added) + count > _MOST_NODES:
-            raise RedkinError(f"a step bound this small needs more than {_MOST_NODES:,} nodes in the path's graph (a "
-                              "size too large to compute): give a larger step bound (max_step: --max-step, or --dt), "
-                              "or fewer waypoints")
+            raise SizeLimitError(f"a step bound this small needs more than {_MOST_NODES:,} nodes in the path's graph "
+                                 "(a size too large to compute): give a larger step bound (max_step: --max-step, or "
+                                 "--dt), or fewer waypoints", "nodes", size + count, _MOST_NODES)
         left = np.repeat(np.arange(len(psi) - 1), extra)  # the interval each new node cuts
         j = np.arange(count) - np.repeat(np.cumsum(extra) - extra, extra) + 1  # 1 .. parts - 1 within it
         new_psi = psi[left] + (psi[left + 1] - psi[left]) * (j / parts[left])

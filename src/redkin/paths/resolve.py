@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_pose, check_vectors
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI, wrap_angle
-from redkin.errors import RedkinError
+from redkin.errors import RedkinError, SizeLimitError
 from redkin.franka.geometry import FrankaGeometry
 from redkin.paths import graph as graphs
 from redkin.paths import search
@@ -60,7 +60,9 @@ _PROVED_REFINEMENTS = 10
 _FIRST_WINDOW = 0.05
 #: Refinement stops once the window is narrower than this (radians of arm angle).
 _REFINED = 1e-9
-_MAX_WAYPOINTS = 10_000_000
+#: The most waypoints of one call, in all: the search holds about 55 kB a waypoint at its peak on the iiwa14 (100 000
+#: waypoints: 5.5 GB, mostly the graph's first nodes, which :data:`redkin.paths.graph._MOST_NODES` bounds too).
+_MAX_WAYPOINTS = 200_000
 #: Two feasible pieces whose ends are this close touch (radians of the parameter; :func:`_arcs_around`).
 _TOUCH = 1e-12
 #: A joint the poses fix is proved unable to make a step where its least move exceeds its bound by more than this
@@ -259,7 +261,8 @@ def resolve_paths(
         raise RedkinError(f"paths must have shape (P, N, 4, 4) with N >= 1, got shape {poses.shape}")
     count, length = poses.shape[:2]
     if count * length > _MAX_WAYPOINTS:
-        raise RedkinError(f"at most {_MAX_WAYPOINTS} waypoints in all, got {count * length}")
+        raise SizeLimitError(f"at most {_MAX_WAYPOINTS:,} waypoints in all (a size too large to compute), got "
+                             f"{count * length:,}", "waypoints", count * length, _MAX_WAYPOINTS)
     step = step_bound(chain, max_step, speed, dt)
     starts = _configurations(q0, count, "q0")
     ends = _configurations(q_end, count, "q_end")
