@@ -142,3 +142,46 @@ def test_an_input_name_too_long_for_the_file_system_exits_2_with_one_line(capsys
         assert _run(argv) == 2
         line = _one_line(capsys)
         assert "too long" in line and len(line) < 200, line
+
+
+class _FullDisk:
+    """The ``os`` module as :mod:`redkin._files` sees it on a full disk: every write fails with ENOSPC."""
+
+    def __getattr__(self, name: str):
+        import os
+
+        return getattr(os, name)
+
+    @staticmethod
+    def write(descriptor: int, data) -> int:
+        import errno
+        import os
+
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+
+@pytest.mark.parametrize("option, filename", [("--out", "page.html"), ("--plot", "path.png"),
+                                              ("--trajectory", "trajectory.json")])
+def test_a_full_disk_names_the_file_in_one_line_exit_2_and_leaves_nothing(tmp_path, monkeypatch, capsys, option,
+                                                                          filename):
+    """An output the disk has no room for is the user's to free, as a folder that takes no file: exit 2 and one
+    line that names the file (it said "[Errno 28] No space left on device", exit 1, the code of "no path").  The
+    write is whole or nothing (redkin._files.write_durably)."""
+    import numpy as np
+
+    import redkin._files as files
+    from redkin.models import franka_panda
+
+    monkeypatch.chdir(tmp_path)
+    if option == "--out":
+        argv = [*WRITERS["explore"][0], "--out", filename]
+    else:
+        panda = franka_panda()
+        np.save("poses.npy", panda.fk(np.linspace(-0.4, 0.4, 5)[:, None] * np.ones(7) * [1, 1, 1, -1, 1, 2, 1]
+                                      + [0, 0, 0, -1.5, 0, 0, 0]))
+        argv = ["path", "franka-panda", "--poses", "poses.npy", "--max-step", "0.5", option, filename]
+    monkeypatch.setattr(files, "os", _FullDisk())
+    assert _run(argv) == 2
+    line = _one_line(capsys)
+    assert f"no space left on the device writing {filename!r}" in line, line
+    assert sorted(path.name for path in tmp_path.iterdir()) == (["poses.npy"] if option != "--out" else [])

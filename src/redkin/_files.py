@@ -20,7 +20,8 @@ def write_durably(path: Path, data: Any) -> None:
     (``fsync``), renamed over ``path`` (``os.replace``) and the folder's entry
     flushed.  A process killed at any moment leaves ``path`` absent, as it
     was, or with all of ``data``, plus at most the temporary file; on an error
-    (a full disk) the temporary file is removed before the error is raised.
+    (a full disk) the temporary file is removed before the error is raised,
+    an ``OSError`` that names ``path``.
     The folder is created if needed (zarr makes an array's folder with its
     first file).
     """
@@ -36,6 +37,12 @@ def write_durably(path: Path, data: Any) -> None:
         finally:
             os.close(descriptor)
         os.replace(temporary, path)
+    except OSError as error:  # a write's error names no file: this one names the file being written
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        if error.filename is None:
+            raise OSError(error.errno, error.strerror, str(path)) from error
+        raise
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(temporary)

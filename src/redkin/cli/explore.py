@@ -80,7 +80,9 @@ def run(args: argparse.Namespace) -> int:
                                                           _PAGE_SECTIONS[page]))
     data = explorer_data(chain, pose, args.branch, srs_tolerance=args.srs_tolerance, q=q,
                          body=None if cell is None else cell[0], scene=None if cell is None else cell[1])
-    out.write_text(explorer_html(data, degrees=args.deg), encoding="utf-8")
+    from redkin._files import write_durably
+
+    write_durably(out, explorer_html(data, degrees=args.deg).encode("utf-8"))
     parameter = data.parameter
     shown = data.branches[data.initial]
     opens = float(angles_out(shown.values[shown.start], args.deg))

@@ -96,6 +96,12 @@ def _main(argv: list[str]) -> int:
                 print(f"redkin: error: a file name too long for this system ({len(name)} characters): "
                       f"{name[:40]}...", file=sys.stderr)
                 return 2
+            if exc.errno in (errno.ENOSPC, errno.EDQUOT):  # the user's output cannot be written: exit 2 as for a
+                # folder that cannot take it (the workspace store says so in its own words, MapStoreError)
+                where = "" if exc.filename is None else f" writing {str(exc.filename)!r}"
+                print(f"redkin: error: no space left on the device{where}; nothing was written: free some and run "
+                      "again", file=sys.stderr)
+                return 2
             print(f"redkin: error: {exc}", file=sys.stderr)
             return 1
     _print_warnings(caught)

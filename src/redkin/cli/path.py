@@ -4,6 +4,8 @@ inside the exact feasible sets (the certified ones of the real arm on a nearly S
 from __future__ import annotations
 
 import argparse
+import io
+from pathlib import Path
 
 import numpy as np
 
@@ -184,8 +186,12 @@ def _save_plot(file, chain, poses: np.ndarray, result, q0: np.ndarray | None, sr
         in_cell = cell_along_path(chain, poses, body, scene, srs_tolerance)
         fig = path_plane_figure(in_cell.free, result, exact=family.exact,
                                 title=f"{chain.name}: {len(poses)} waypoints in a cell", removed=in_cell.removed)
-    fig.savefig(file, dpi=120, bbox_inches="tight")
+    image = io.BytesIO()
+    fig.savefig(image, format=Path(file).suffix[1:].lower(), dpi=120, bbox_inches="tight")
     plt.close(fig)
+    from redkin._files import write_durably
+
+    write_durably(Path(file), image.getbuffer())  # whole or not at all, and a full disk names the file
 
 
 #: Waypoints of a path that ``redkin path`` resolves with the kernels run as Python, cached or not
