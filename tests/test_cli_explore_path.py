@@ -64,10 +64,22 @@ def test_a_file_it_cannot_play_is_one_line(tmp_path, capsys):
     elsewhere.write_text(json.dumps({"robot": "kuka-iiwa14", "trajectory": {"joint_trajectory": {
         "joint_names": list(PANDA.joint_names), "points": [{"positions": [0] * 7, "time_from_start": {
             "sec": 0, "nanosec": 0}}]}}}))
+    def points(*rows) -> list:
+        return [{"positions": list(row), "velocities": [], "time_from_start": {"sec": k, "nanosec": 0}}
+                for k, row in enumerate(rows)]
+
+    short = tmp_path / "short.json"  # a point of three joints: it said numpy's "inhomogeneous shape"
+    short.write_text(json.dumps({"joint_names": list(PANDA.joint_names), "points": points(Q[0], Q[1, :3])}))
+    outside = tmp_path / "outside.json"  # an iiwa's path has the Panda's names too: its values leave the ranges
+    outside.write_text(json.dumps({"joint_names": list(PANDA.joint_names),
+                                   "points": points(Q[0], np.where(np.arange(7) == 0, 50.0, Q[1]))}))
     for file, expected in ((untimed, "no JointTrajectory in it"), (garbage, "cannot read it as JSON"),
                            (wrong, "the trajectory has 2 joints, franka-panda has 7"),
                            (broken, "a point is malformed"), (other, "(another robot's path?)"),
-                           (elsewhere, "the path was made for kuka-iiwa14, not franka-panda")):
+                           (elsewhere, "the path was made for kuka-iiwa14, not franka-panda"),
+                           (short, "point 1 has 3 positions, franka-panda has 7 joints"),
+                           (outside, "point 1 puts joint 1 at 50 rad, outside franka-panda's range [-2.8973, "
+                                     "2.8973] (another robot's path?)")):
         assert main(["explore", "franka-panda", "--path", str(file), "--out", str(tmp_path / "p.html"),
                      "--force"]) == 2
         err = capsys.readouterr().err

@@ -116,6 +116,8 @@ _PAGE_KERNELS = {
     "q7": ("redkin.franka._kernels.feasible_poses", "redkin.franka._kernels.solve_poses",
            "redkin.franka._kernels.solve_single"),
 }
+#: How far past a joint's limit [rad] a played point may lie: the rounding of a trajectory written to a file.
+_RANGE_ROUNDING = 1e-9
 #: The sections of :mod:`redkin.warm_up` that compile :data:`_PAGE_KERNELS` (in the background, on a fresh cache).
 _PAGE_SECTIONS = {"psi": ("srs ik", "srs sets"), "q7": ("franka",)}
 
@@ -165,6 +167,12 @@ def _playback(args: argparse.Namespace, chain, out, cell) -> int:
     made_for = report.get("robot")  # a named model's joints are "joint 1" .. "joint n", not names of their own
     if isinstance(made_for, str) and made_for != chain.name and not chain.own_joint_names.any():
         raise UsageError(f"--path {args.path!r}: the path was made for {made_for}, not {chain.name}")
+    for index, point in enumerate(points):  # each list as long as the joints (velocities may be left empty)
+        for key in ("positions", "velocities"):
+            values = point.get(key) if isinstance(point, dict) else None
+            if isinstance(values, list) and len(values) != chain.n and (values or key == "positions"):
+                raise UsageError(f"--path {args.path!r}: point {index} has {len(values)} {key}, {chain.name} has "
+                                 f"{chain.n} joints")
     try:
         t = np.array([p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"] for p in points],
                      dtype=float)
@@ -173,6 +181,12 @@ def _playback(args: argparse.Namespace, chain, out, cell) -> int:
     except (KeyError, TypeError, ValueError) as exc:
         raise UsageError(f"--path {args.path!r}: a point is malformed ({exc!r}); each needs positions, velocities "
                          "and time_from_start {sec, nanosec}") from None
+    outside = np.argwhere((q < chain.lower - _RANGE_ROUNDING) | (q > chain.upper + _RANGE_ROUNDING))
+    if outside.size:
+        point, joint = outside[0].tolist()
+        raise UsageError(f"--path {args.path!r}: point {point} puts joint {joint + 1} at {q[point, joint]:.6g} rad, "
+                         f"outside {chain.name}'s range [{chain.lower[joint]:.6g}, {chain.upper[joint]:.6g}] "
+                         "(another robot's path?)")
     timing = report.get("trajectory") or {}
     stops = [StopSpan(float(a), float(b), str(stop.get("message", ""))) for (a, b), stop in
              zip(timing.get("stop_spans") or [], report.get("stops") or [])]
