@@ -80,8 +80,11 @@ def test_a_store_resumes_only_the_same_cell(cell, maps, tmp_path):
     again = workspace_map(arm, free.path, EXTENT, 3, 4, body=body, scene=scene)
     assert again.computed == 0
     moved = scene_of({**SCENE, "margin": 0.05}, "cell.yaml")
-    with pytest.raises(ValueError, match="holds a map with other parameters"):
+    with pytest.raises(ValueError, match=r"holds a map with other parameters \(another cell \(the body, the scene "
+                                         r"or its margin\)\); choose another path"):
         workspace_map(arm, free.path, EXTENT, 3, 4, body=body, scene=moved)
+    with pytest.raises(ValueError, match=r"\(another chunk, orientations, resolution\)"):
+        workspace_map(arm, free.path, EXTENT, 4, 5, body=body, scene=scene)
 
 
 def test_a_cell_needs_both_the_body_and_the_scene(cell, tmp_path):

@@ -236,7 +236,7 @@ def _limit(chain: SerialChain, key: str, given: ArrayLike | None) -> np.ndarray:
     unknown = np.flatnonzero(~np.isfinite(values))
     if unknown.size:
         raise RedkinError(f"{chain.name} has no {key} limit on {chain.joints_in_words(unknown.tolist())}: give them "
-                          "(a limits file, redkin.motion_limits) to time the path")
+                          "(--limits FILE, or redkin.motion_limits in Python) to time the path")
     if not np.all(values > 0.0):
         raise RedkinError(f"{key} limits must be > 0, got {np.asarray(values).tolist()}")
     return np.array(values, dtype=float)

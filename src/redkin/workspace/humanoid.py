@@ -249,7 +249,7 @@ def humanoid_map(
     store = Path(path)
     parameters = _parameters(chain, grid, samples)
     with hold_store(store):
-        prepare_store(store, parameters, lambda folder: _create_store(folder, chain, arm, grid, samples), "samples")
+        prepare_store(store, parameters, lambda folder: _create_store(folder, chain, arm, grid, samples))
         computed = run_chunks(_compute_humanoid_chunk, (arm, grid, samples, store.absolute()), store, grid,
                               "humanoid-chunk", parameters, client, progress)
     return _summary(store, grid, samples, computed, time.perf_counter() - started)

@@ -21,6 +21,7 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import functools
+import json
 import os
 import platform
 import shutil
@@ -225,7 +226,7 @@ def _chunk_tasks(function: Callable, shared: tuple, indices: list[tuple[int, int
     return [Delayed(key, graph, layer=name) for key in layer]
 
 
-def prepare_store(path: Path, parameters: str, create: Callable[[Path], None], varying: str) -> None:
+def prepare_store(path: Path, parameters: str, create: Callable[[Path], None]) -> None:
     """Create the store whole (or not at all), or check that the one at ``path`` holds this map (to resume it).
 
     Call it holding the store (:func:`~redkin.workspace.store.hold_store`): no other run then creates,
@@ -240,9 +241,6 @@ def prepare_store(path: Path, parameters: str, create: Callable[[Path], None], v
         The map's parameters as the store records them (``stored_parameters`` reads them back).
     create : callable
         ``create(folder)`` writes a new, empty store into ``folder``; it is renamed to ``path`` once whole.
-    varying : str
-        The map's own parameter besides arm, extent, resolution and chunk, named in the error
-        (``"orientations"``, ``"samples"``).
 
     Raises
     ------
@@ -265,10 +263,23 @@ def prepare_store(path: Path, parameters: str, create: Callable[[Path], None], v
             raise
         creating.rename(path)
     elif stored != parameters:
-        raise ValueError(f"{str(path)!r} holds a map with other parameters (arm, extent, resolution, "
-                         f"{varying} or chunk); choose another path or remove it")
+        raise ValueError(f"{str(path)!r} holds a map with other parameters (another {_differing(stored, parameters)})"
+                         "; choose another path or remove it")
     else:
         remove_partial_files(path)
+
+
+#: How the error of :func:`prepare_store` names each parameter of a stored map (its ``map_parameters`` keys).
+_PARAMETER_WORDS = {"cell": "cell (the body, the scene or its margin)", "model": "model (exact, nearly S-R-S or "
+                    "certified)"}
+
+
+def _differing(stored: str, parameters: str) -> str:
+    """The parameters (canonical JSON objects, as stores record them) on which a stored map and this one differ, in
+    words."""
+    old, new = json.loads(stored), json.loads(parameters)
+    keys = sorted(key for key in set(old) | set(new) if old.get(key) != new.get(key))
+    return ", ".join(_PARAMETER_WORDS.get(key, key) for key in keys)
 
 
 def run_chunks(function: Callable, shared: tuple, path: Path, grid: WorkspaceGrid, name: str, parameters: str,
@@ -486,8 +497,7 @@ def workspace_map(
     parameters = map_parameters(arm, grid, count, None if nearly is None else nearly.neighbour, cell, certified)
     with hold_store(store):
         prepare_store(store, parameters,
-                      lambda folder: create_store(folder, arm, grid, rotations, mapped, nearly, cell, certified),
-                      "orientations")
+                      lambda folder: create_store(folder, arm, grid, rotations, mapped, nearly, cell, certified))
         # workers write the absolute path: a cluster's workers need not share this process's working directory
         computed = run_chunks(_compute_chunk, (mapped, grid, rotations, cell, store.absolute()), store, grid,
                               "workspace-chunk", parameters, client, progress)
