@@ -101,6 +101,8 @@ def test_unnamed_obstacles_are_called_by_type_and_place_and_the_margin_defaults_
     ({"obstacles": [{"name": "a", "type": "sphere", "center": [0, 0, 0], "radius": 1}] * 2}, "'a' repeated"),
     ({"obstacles": [{"type": "sphere", "center": [0, 0, 0], "radius": True}]}, "radius must be a number >= 0"),
     ({"obstacles": [{"type": "sphere", "center": [True, False, True], "radius": 1}]}, "center must be three numbers"),
+    ({"obstacles": [{"type": "sphere", "center": [0, 0, 0], "radius": "0.1"}]}, "radius must be a number >= 0"),
+    ({"obstacles": [{"type": "sphere", "center": [0, "0.5", 0], "radius": 1}]}, "center must be three numbers"),
     ({"obstacles": [{"name": ["a", "b"], "type": "sphere", "center": [0, 0, 0], "radius": 1}]}, "name must be text"),
 ])
 def test_a_bad_scene_is_one_line_naming_the_file_the_obstacle_and_the_field(data, fragment):

@@ -91,6 +91,8 @@ def test_moveits_joint_limits_read_by_joint_name(tmp_path):
     ("joint_limits: {panda_joint1: {has_velocity_limits: true, max_velocity: .inf}}",
      "joint_limits.panda_joint1.max_velocity must be a positive number"),
     ("acceleration: 1" + "0" * 400, "acceleration[0] must be a positive number, got inf"),  # no float holds it
+    ('joint_limits: {panda_joint1: {has_acceleration_limits: "yes", max_acceleration: 1}}',  # it read as false
+     "joint_limits.panda_joint1.has_acceleration_limits must be true or false, got 'yes'"),
 ])
 def test_a_bad_limits_file_is_one_line_naming_the_entry(tmp_path, text, expected):
     file = tmp_path / "limits.yaml"

@@ -72,5 +72,8 @@ def test_unparsable_and_missing_files(tmp_path):
         load_robot(bad)
     with pytest.raises(ValueError, match="does not exist"):
         get_robot(str(tmp_path / "none.toml"))
+    (tmp_path / "folder.json").mkdir()
+    with pytest.raises(ValueError, match="is a folder, not a file"):  # it said "does not exist"
+        get_robot(str(tmp_path / "folder.json"))
     with pytest.raises(ValueError, match="unknown robot"):
         get_robot("pa11")

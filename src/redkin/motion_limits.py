@@ -118,6 +118,9 @@ def _moveit_form(data: dict, chain: SerialChain, path: str) -> dict[str, np.ndar
             raise RobotDescriptionError(f"limits file {path!r}: joint_limits.{name} must be a mapping", path, name)
         index = chain.joint_names.index(name)
         for key, (value_key, flag) in _MOVEIT_KEYS.items():
+            if not isinstance(entry.get(flag, False), bool):  # YAML's "yes" in quotes, or 1: neither says true
+                raise RobotDescriptionError(f"limits file {path!r}: joint_limits.{name}.{flag} must be true or false, "
+                                            f"got {entry[flag]!r}", path, name)
             if entry.get(flag) is True and value_key in entry:
                 _check_number(entry[value_key], f"joint_limits.{name}.{value_key}", path)
                 limits[key][index] = float(entry[value_key])

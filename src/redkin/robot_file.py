@@ -66,6 +66,8 @@ def load_robot(path: str | Path) -> SerialChain:
         the message names the file and the offending key (also its ``path`` and ``key``).
     """
     path = resolve(path)
+    if path.is_dir():
+        raise RobotDescriptionError(f"robot file {str(path)!r} is a folder, not a file", path=str(path))
     if not path.is_file():
         raise RobotDescriptionError(f"robot file {str(path)!r} does not exist", path=str(path))
     text = path.read_text(encoding="utf-8")

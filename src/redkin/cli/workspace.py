@@ -13,6 +13,7 @@ from redkin.cli.common import (
     add_robot_argument,
     add_srs_tolerance_argument,
     load_robot,
+    plural,
     print_json,
 )
 from redkin.cli.map_run import IMAGES_LEFT, open_client, print_run, require_map_libraries, run_on, run_summary
@@ -123,10 +124,9 @@ def run(args: argparse.Namespace) -> int:
               f"= {result.pose_branch_evaluations} {'feasible' if whose.endswith('certified') else 'exact feasible'} "
               f"sets{whose}")
         if cell is not None:
-            print(f"in the cell {cell[1].source}: {len(cell[1])} obstacles and {len(cell[0].pairs)} pairs of the "
-                  "arm's own capsules at "
-                  f"margin {cell[1].margin:g} m ({len(cell[0])} capsules, {cell[0].source}): the certified "
-                  "collision-free sets")
+            print(f"in the cell {cell[1].source}: {plural(len(cell[1]), 'obstacle')} and "
+                  f"{plural(len(cell[0].pairs), 'pair')} of the arm's own capsules at margin {cell[1].margin:g} m "
+                  f"({plural(len(cell[0]), 'capsule')}, {cell[0].source}): the certified collision-free sets")
         if result.model_error:
             print(f"nearly S-R-S: {result.model_error}")
             print("the map holds the neighbour's exact feasible sets, not the real arm's (they differ near the sets' "

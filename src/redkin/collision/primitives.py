@@ -78,7 +78,7 @@ def _row(kind: int, radius: float, p: np.ndarray, q: np.ndarray, rotation: np.nd
 
 
 def _point(value: ArrayLike, name: str) -> np.ndarray:
-    if _holds_boolean(value):  # YAML's true and false are no coordinates, though numpy reads them as 1 and 0
+    if _holds_no_number(value):  # YAML's true, false and quoted text are no coordinates, though numpy reads them
         raise RedkinError(f"{name} must be three numbers, got {value!r}")
     array = check_vectors(value, 3, name)
     if array.shape != (3,):
@@ -87,7 +87,7 @@ def _point(value: ArrayLike, name: str) -> np.ndarray:
 
 
 def _radius(value: float, name: str) -> float:
-    if _holds_boolean(value):
+    if _holds_no_number(value):
         raise RedkinError(f"{name} must be a number >= 0, got {value!r}")
     try:
         radius = float(value)
@@ -98,8 +98,9 @@ def _radius(value: float, name: str) -> float:
     return radius
 
 
-def _holds_boolean(value: object) -> bool:
-    """Whether ``value`` is a bool or a list or tuple holding one (at any depth)."""
-    if isinstance(value, bool | np.bool_):
+def _holds_no_number(value: object) -> bool:
+    """Whether ``value`` is a bool or text (``true``, ``'0.1'``: numpy reads them as 1 and 0.1), or a list or tuple
+    holding one (at any depth)."""
+    if isinstance(value, bool | np.bool_ | str | bytes):
         return True
-    return isinstance(value, list | tuple) and any(_holds_boolean(item) for item in value)
+    return isinstance(value, list | tuple) and any(_holds_no_number(item) for item in value)
