@@ -296,6 +296,37 @@ def test_bad_input_is_a_value_error_in_words():
         redkin.arm("no-such-robot")
 
 
+@pytest.mark.parametrize("source", ["iiwa14.urdf", "panda.urdf", "gen3.urdf", "sawyer.urdf"])
+def test_input_numpy_would_bend_is_refused_on_every_class(source):
+    """Found by a sweep: a complex value lost its imaginary part with a warning, a pose 1e160 m away gave the Franka
+    class a NaN reach (its poses are checked in the kernel), and every_solution's branch and value were asserted or
+    iterated, not checked.  Each is refused in words, alone and in a batch."""
+    arm = redkin.arm(source)
+    pose = arm.fk(_inside(arm, np.full(7, 0.4)))
+    far = pose.copy()
+    far[0, 3] = 1e160
+    t = () if arm.parameter is None else (0.3,)
+    for poses in (far, np.stack([pose, far])):
+        with pytest.raises(ValueError, match=r"pose must lie within 1e\+06 m of the base"):
+            arm.ik(poses, *t)
+    with pytest.raises(ValueError, match="q must be real numbers, not complex ones"):
+        arm.fk(_inside(arm, np.full(7, 0.4)) + 1j)
+    with pytest.raises(ValueError, match="pose must be real numbers"):
+        arm.ik(pose + 0j, *t)
+    with pytest.raises(ValueError, match="q must be numeric"):
+        arm.fk(["0.1"] * 7)
+    if arm.parameter is None:
+        return
+    with pytest.raises(ValueError, match="t must be real numbers"):
+        arm.ik(pose, np.array([0.3 + 1j]))
+    with pytest.raises(ValueError, match="branch must be one of"):
+        arm.every_solution(pose, 0.3, None)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="t must be one value"):
+        arm.every_solution(pose, np.array([0.1, 0.2]), arm.branches[0])  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="branches must be a branch label or a list of them"):
+        arm.ik(pose, 0.3, branches=0)  # type: ignore[arg-type]
+
+
 def test_an_arm_is_built_once_per_chain_and_redkin_ik_goes_through_it():
     chain = redkin.get_robot("franka-panda")
     arm = redkin.arm(chain)

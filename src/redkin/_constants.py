@@ -6,6 +6,9 @@ that uses one imports it from here under its own name: ``redkin.workspace.grid.M
 :data:`WORKSPACE_MAX_RESOLUTION`.
 """
 
+#: Largest length (metres) a robot description or a pose may hold: far beyond any arm, far below where squares
+#: overflow (:mod:`redkin._validation`, and :func:`redkin._pose_kernels.pose_defect` in the kernels).
+MAX_LENGTH = 1e6
 #: Most grid points per axis of a workspace map (``redkin workspace --resolution``; :mod:`redkin.workspace.grid`).
 WORKSPACE_MAX_RESOLUTION = 1000
 #: Most orientations a workspace map may take (``redkin workspace --orientations``;

@@ -9,6 +9,7 @@ from __future__ import annotations
 from math import isfinite
 
 from redkin._compiled import kernel
+from redkin._constants import MAX_LENGTH
 
 #: Tolerance of the pose check (:data:`redkin._validation.ROTATION_TOLERANCE`).
 POSE_TOLERANCE = 1e-6
@@ -18,13 +19,17 @@ OK, BAD_POSE = 0, 1
 
 @kernel
 def pose_defect(pose):
-    """:data:`OK`, or :data:`BAD_POSE` for a pose that is not finite, whose last row is not
-    ``0 0 0 1`` or whose rotation block is not a proper rotation within :data:`POSE_TOLERANCE`
-    (the checks of :func:`redkin._validation.check_pose`, which words the error)."""
+    """:data:`OK`, or :data:`BAD_POSE` for a pose that is not finite, whose translation is farther than
+    :data:`~redkin._constants.MAX_LENGTH` in a coordinate, whose last row is not ``0 0 0 1`` or whose rotation block
+    is not a proper rotation within :data:`POSE_TOLERANCE` (the checks of :func:`redkin._validation.check_pose`,
+    which words the error)."""
     for r in range(4):
         for c in range(4):
             if not isfinite(pose[r, c]):
                 return BAD_POSE
+    for r in range(3):
+        if abs(pose[r, 3]) > MAX_LENGTH:
+            return BAD_POSE
     for c in range(4):
         if abs(pose[3, c] - (1.0 if c == 3 else 0.0)) > POSE_TOLERANCE:
             return BAD_POSE

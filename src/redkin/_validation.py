@@ -19,24 +19,28 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._constants import MAX_LENGTH  # largest length a description or a pose may hold
 from redkin.errors import RedkinError, SizeLimitError
 
 #: Tolerance on ``R R^T = I`` (max abs entry) and ``det R = 1`` for rotations.
 ROTATION_TOLERANCE = 1e-6
-#: Largest length (metres) a robot description may hold: far beyond any arm, far below where squares overflow.
-MAX_LENGTH = 1e6
 _EYE3 = np.eye(3)
 _LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
 _SMALL_ARRAY = 32
 
 
 def as_float_array(value: ArrayLike, name: str) -> np.ndarray:
-    """Convert ``value`` to a float array, raising ``ValueError`` if it is not numeric."""
+    """Convert ``value`` to a float array, raising ``ValueError`` if it is not numeric: complex numbers (numpy would
+    drop their imaginary parts with a warning) and text (numpy would read ``'0.1'`` as a number) are refused."""
     try:
-        array = np.asarray(value, dtype=float)
+        array = np.asarray(value)
+        if array.dtype.kind in "cUSV":
+            raise TypeError(array.dtype)
+        return array.astype(float, copy=False)
     except (TypeError, ValueError) as exc:
-        raise RedkinError(f"{name} must be numeric, got {value!r}") from exc
-    return array
+        shown = repr(value) if len(repr(value)) <= 60 else repr(value)[:57] + "..."
+        kind = "real numbers, not complex ones" if np.iscomplexobj(value) else "numeric"
+        raise RedkinError(f"{name} must be {kind}, got {shown}") from exc
 
 
 def check_finite(array: np.ndarray, name: str) -> None:
@@ -155,12 +159,17 @@ def check_output_array(out: object, shape: tuple[int, ...], name: str = "out") -
 def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION_TOLERANCE) -> np.ndarray:
     """Return ``value`` as homogeneous transforms of shape ``(..., 4, 4)``.
 
-    The rotation block must pass :func:`check_rotation` and the last row must
-    be ``[0, 0, 0, 1]``.
+    The rotation block must pass :func:`check_rotation`, the last row must be ``[0, 0, 0, 1]``, and the translation
+    be at most :data:`MAX_LENGTH` metres in each coordinate (a pose 1e160 m away made NaN distances).
     """
     pose = _check_matrices(value, 4, 4, name)
     if pose.size and float(np.abs(pose[..., 3, :] - _LAST_ROW).max()) > tolerance:
         raise RedkinError(f"{name} must have last row [0, 0, 0, 1]")
+    if pose.size:
+        far = max(map(abs, pose[:3, 3].tolist())) if pose.ndim == 2 else np.abs(pose[..., :3, 3]).max()
+        if far > MAX_LENGTH:
+            raise RedkinError(f"{name} must lie within {MAX_LENGTH:g} m of the base in each coordinate, got "
+                              f"{float(far):g} m")
     _check_proper_orthonormal(pose[..., :3, :3], f"{name} rotation block", tolerance)
     return pose
 

@@ -185,7 +185,9 @@ class Arm:
                 raise RedkinError(f"t must be values of {self._name()} or 'optimal', got {t!r}")
             result = self._at_optimal(poses, rows, body, scene)
         else:
-            result = self.implementation.solve(poses, np.asarray(t, dtype=float), rows)
+            from redkin._validation import as_float_array
+
+            result = self.implementation.solve(poses, as_float_array(t, "t"), rows)
         seeds = None
         if q0 is not None:
             from redkin._validation import check_vectors
@@ -473,15 +475,21 @@ class Arm:
     def every_solution(self, pose: ArrayLike, t: float, branch: str) -> np.ndarray:
         """Every solution ``(K, n)`` of one pose ``(4, 4)`` and branch at the parameter's value ``t``: at most one on
         an exact class; on a nearly S-R-S arm near a stretched elbow or a straight shoulder, possibly two."""
-        from redkin._validation import check_pose
+        from redkin._validation import as_float_array, check_finite, check_pose
 
         self._need_parameter("every solution at a value of the redundancy parameter")
         pose = check_pose(pose)
         if pose.shape != (4, 4):
             raise RedkinError(f"pose must be one (4, 4) pose, got shape {pose.shape}")
+        if not isinstance(branch, str):
+            raise RedkinError(f"branch must be one of {', '.join(self.branches)}, got {branch!r}")
         rows = self._rows(branch)
-        assert rows is not None
-        return self.implementation.every_solutions(pose, float(t), rows)[0]
+        assert rows is not None  # a str names one branch
+        value = as_float_array(t, "t")
+        if value.shape != ():
+            raise RedkinError(f"t must be one value of the redundancy parameter, got shape {value.shape}")
+        check_finite(value, "t")
+        return self.implementation.every_solutions(pose, float(value), rows)[0]
 
     def parameter_of(self, q: ArrayLike) -> np.ndarray:
         """The parameter's value of configurations ``q`` ``(..., n)``: the arm angle [000 eq. 6], or q7."""
@@ -515,6 +523,8 @@ class Arm:
     def _rows(self, branches: str | Sequence[str] | None) -> np.ndarray | None:
         if branches is None:
             return None
+        if not isinstance(branches, str) and not (isinstance(branches, Sequence | np.ndarray)):
+            raise RedkinError(f"branches must be a branch label or a list of them, got {branches!r}")
         labels = [branches] if isinstance(branches, str) else list(branches)
         if not self.branches:
             raise RedkinError(f"{self.chain.name!r} has no branches ({self.reason})")
