@@ -307,7 +307,7 @@ def test_input_numpy_would_bend_is_refused_on_every_class(source):
     far[0, 3] = 1e160
     t = () if arm.parameter is None else (0.3,)
     for poses in (far, np.stack([pose, far])):
-        with pytest.raises(ValueError, match=r"pose must lie within 1e\+06 m of the base"):
+        with pytest.raises(ValueError, match=r"pose translation must be at most 1e\+06 m in magnitude"):
             arm.ik(poses, *t)
     with pytest.raises(ValueError, match="q must be real numbers, not complex ones"):
         arm.fk(_inside(arm, np.full(7, 0.4)) + 1j)

@@ -24,6 +24,27 @@ def test_every_error_is_a_redkin_error_and_a_value_error(kind):
     assert getattr(redkin, kind.__name__) is kind
 
 
+def test_every_refusal_in_the_source_is_a_redkin_error():
+    """docs/errors.md: everything redkin refuses raises a subclass of RedkinError, so that ``except
+    redkin.RedkinError`` catches it (a sweep found an unknown robot, a branch label, the velocity controllers and
+    most of the virtual arms raising a plain ValueError).  No module raises ValueError itself."""
+    import ast
+    from pathlib import Path
+
+    source = Path(redkin.__file__).parent
+    plain = []
+    for file in sorted(source.rglob("*.py")):
+        for node in ast.walk(ast.parse(file.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call) and getattr(
+                    node.exc.func, "id", None) == "ValueError":
+                plain.append(f"{file.relative_to(source)}:{node.lineno}")
+    assert plain == []
+    with pytest.raises(RedkinError, match="unknown robot"):
+        redkin.arm("no-such-robot")
+    with pytest.raises(RedkinError):
+        redkin.srs.parse_branch("++")
+
+
 def test_unreachable_poses_are_caught_by_type_with_their_index():
     chain = pa10_7c()
     poses = chain.fk(np.random.default_rng(2).uniform(-1, 1, (2, 3, 7)))

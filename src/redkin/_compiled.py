@@ -187,6 +187,8 @@ from typing import Any
 
 import numpy as np
 
+from redkin.errors import RedkinError
+
 #: Batches of fewer items run in the calling thread (handing out chunks costs more than the cores save), unless the
 #: kernel's measured time per item says they are long enough for the pool (an item of a hundred microseconds).
 PARALLEL_BATCH = 256
@@ -790,7 +792,7 @@ def set_threads(threads: int | None) -> None:
         except TypeError:
             count = 0
         if isinstance(threads, bool) or count < 1:
-            raise ValueError(f"threads must be a positive integer or None, got {threads!r}")
+            raise RedkinError(f"threads must be a positive integer or None, got {threads!r}")
     with _lock:
         _setting = count
 

@@ -168,8 +168,7 @@ def check_pose(value: ArrayLike, name: str = "pose", tolerance: float = ROTATION
     if pose.size:
         far = max(map(abs, pose[:3, 3].tolist())) if pose.ndim == 2 else np.abs(pose[..., :3, 3]).max()
         if far > MAX_LENGTH:
-            raise RedkinError(f"{name} must lie within {MAX_LENGTH:g} m of the base in each coordinate, got "
-                              f"{float(far):g} m")
+            raise RedkinError(f"{name} translation must be at most {MAX_LENGTH:g} m in magnitude, got {float(far):g} m")
     _check_proper_orthonormal(pose[..., :3, :3], f"{name} rotation block", tolerance)
     return pose
 

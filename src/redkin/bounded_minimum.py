@@ -14,6 +14,8 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+from redkin.errors import RedkinError
+
 #: The golden section's smaller part, ``(3 - sqrt 5) / 2``.
 _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
 #: The relative part of the tolerance: the square root of the machine epsilon, below which a minimum's position is
@@ -47,7 +49,7 @@ def bounded_minimum(function: Callable[[float], float], low: float, high: float,
         For an empty or unbounded interval.
     """
     if not (math.isfinite(low) and math.isfinite(high) and low < high):
-        raise ValueError(f"the interval must be finite and not empty, got [{low}, {high}]")
+        raise RedkinError(f"the interval must be finite and not empty, got [{low}, {high}]")
     a, b = low, high
     x = w = v = a + _GOLDEN * (b - a)
     fx = fw = fv = function(x)

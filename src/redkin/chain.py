@@ -90,7 +90,7 @@ def _frozen(values: ArrayLike | None, n: int, name: str, default: float | None =
         values = np.full(n, default)
     array = as_float_array(values, name).reshape(-1)
     if array.shape != (n,):
-        raise ValueError(f"{name} must have {n} entries (one per joint), got {array.size}")
+        raise RedkinError(f"{name} must have {n} entries (one per joint), got {array.size}")
     array = array.copy()
     array.setflags(write=False)
     return array
@@ -175,14 +175,14 @@ class SerialChain:
         jerk: ArrayLike | None = None,
     ) -> None:
         if convention not in ("dh", "mdh"):
-            raise ValueError(f"convention must be 'dh' or 'mdh', got {convention!r}")
+            raise RedkinError(f"convention must be 'dh' or 'mdh', got {convention!r}")
         object.__setattr__(self, "convention", convention)
         object.__setattr__(self, "name", name)
         object.__setattr__(self, "source", source)
         a = as_float_array(a, "a").reshape(-1)
         n = a.size
         if n == 0:
-            raise ValueError("a chain needs at least one joint, got 0 rows")
+            raise RedkinError("a chain needs at least one joint, got 0 rows")
         values = {
             "a": _frozen(a, n, "a"),
             "alpha": _frozen(alpha, n, "alpha"),
@@ -200,29 +200,28 @@ class SerialChain:
         for key in ("a", "d"):  # finite but absurd lengths (1e308 m) would overflow in the products
             check_magnitude(values[key], key, MAX_LENGTH, "m")
         if not np.all(np.isin(values["sign"], (-1.0, 1.0))):
-            raise ValueError(f"sign entries must be +1 or -1, got {values['sign'].tolist()}")
+            raise RedkinError(f"sign entries must be +1 or -1, got {values['sign'].tolist()}")
         if np.any(np.isnan(values["lower"])) or np.any(np.isnan(values["upper"])):
-            raise ValueError("joint limits must not be NaN")
+            raise RedkinError("joint limits must not be NaN")
         bad = np.flatnonzero(values["lower"] > values["upper"])
         if bad.size:
             i = int(bad[0])
-            raise ValueError(
+            raise RedkinError(
                 f"joint {i + 1}: lower limit {values['lower'][i]:g} exceeds upper limit {values['upper'][i]:g}"
             )
         for key, unit in _MOTION_UNITS.items():
             if not np.all(values[key] > 0.0):  # NaN fails too
-                raise ValueError(f"{key} limits must be > 0 {unit}, or inf where unknown, got {values[key].tolist()}")
+                raise RedkinError(f"{key} limits must be > 0 {unit}, or inf where unknown, got {values[key].tolist()}")
         for key, given in (("base", base), ("tool", tool)):
             matrix = np.eye(4) if given is None else check_pose(given, key)
             if matrix.shape != (4, 4):
-                raise ValueError(f"{key} must have shape (4, 4), got {matrix.shape}")
-            check_magnitude(matrix[:3, 3], f"{key} translation", MAX_LENGTH, "m")
-            matrix = matrix.copy()
+                raise RedkinError(f"{key} must have shape (4, 4), got {matrix.shape}")
+            matrix = matrix.copy()  # its translation within MAX_LENGTH: check_pose
             matrix.setflags(write=False)
             values[key] = matrix
         names = tuple(str(v) for v in joint_names) or tuple(f"joint {i + 1}" for i in range(n))
         if len(names) != n:
-            raise ValueError(f"joint_names must have {n} entries (one per joint), got {len(names)}")
+            raise RedkinError(f"joint_names must have {n} entries (one per joint), got {len(names)}")
         for key, value in values.items():
             object.__setattr__(self, key, value)
         object.__setattr__(self, "joint_names", names)
@@ -277,7 +276,7 @@ class SerialChain:
         (rad/s^2) and ``jerk`` (rad/s^3), each ``inf`` where unknown (``None``: none known); the others kept."""
         unknown = sorted(set(limits) - set(_MOTION_UNITS))
         if unknown:
-            raise ValueError(f"limits of motion are {', '.join(_MOTION_UNITS)}; got {', '.join(unknown)}")
+            raise RedkinError(f"limits of motion are {', '.join(_MOTION_UNITS)}; got {', '.join(unknown)}")
         return self._replaced(**limits)
 
     @property
@@ -507,7 +506,7 @@ class SerialChain:
         """
         flat, lead = self._flat(q)
         if frame is not None and (int(frame) != frame or not 0 <= frame <= self.n):
-            raise ValueError(f"frame must be None or an integer in 0..{self.n}, got {frame!r}")
+            raise RedkinError(f"frame must be None or an integer in 0..{self.n}, got {frame!r}")
         offsets = _NO_OFFSET
         if offset is not None:
             local = check_vectors(offset, 3, "offset")
@@ -638,7 +637,7 @@ class SerialChain:
         offset = self.offset.copy()
         for j in flip_joints:
             if not 0 <= int(j) < self.n:
-                raise ValueError(f"flip_joints entries must be in 0..{self.n - 1}, got {j}")
+                raise RedkinError(f"flip_joints entries must be in 0..{self.n - 1}, got {j}")
             sign[int(j)] = -sign[int(j)]
         return replace(
             self,
@@ -662,7 +661,7 @@ def yoshikawa(jacobian: ArrayLike) -> np.ndarray:
     """
     jac = as_float_array(jacobian, "jacobian")
     if jac.ndim < 2:
-        raise ValueError(f"jacobian must have shape (..., m, k), got {jac.shape}")
+        raise RedkinError(f"jacobian must have shape (..., m, k), got {jac.shape}")
     m, k = jac.shape[-2:]
     if m > k:
         return np.zeros(jac.shape[:-2])
@@ -697,5 +696,5 @@ def _index(selection: Sequence[int] | slice | None, size: int, name: str):
         return selection
     idx = np.asarray(list(selection), dtype=int)
     if idx.size == 0 or np.any(idx < 0) or np.any(idx >= size):
-        raise ValueError(f"{name} must be indices in 0..{size - 1}, got {list(selection)}")
+        raise RedkinError(f"{name} must be indices in 0..{size - 1}, got {list(selection)}")
     return idx

@@ -18,6 +18,8 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
+from redkin.errors import RedkinError
+
 _PI = float(np.pi)
 #: The angle constants, defined once for every module of redkin.
 TWO_PI = 2.0 * _PI
@@ -83,10 +85,10 @@ class ArcSet:
         pieces: list[tuple[float, float]] = []
         for arc in arcs:
             if len(arc) != 2:
-                raise ValueError(f"an arc must be a pair (lo, hi), got {arc!r}")
+                raise RedkinError(f"an arc must be a pair (lo, hi), got {arc!r}")
             lo, hi = float(arc[0]), float(arc[1])
             if not (math.isfinite(lo) and math.isfinite(hi)):
-                raise ValueError(f"arc ends must be finite, got ({lo}, {hi})")
+                raise RedkinError(f"arc ends must be finite, got ({lo}, {hi})")
             if hi - lo >= TWO_PI:
                 pieces.append((-_PI, _PI))
                 continue

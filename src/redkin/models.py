@@ -16,6 +16,7 @@ import numpy as np
 
 from redkin.chain import SerialChain
 from redkin.circle import HALF_PI
+from redkin.errors import RedkinError
 
 
 def srs_chain(
@@ -500,9 +501,9 @@ def planar_arm(links: int = 5, length: float = 0.4) -> SerialChain:
     turn about the base z axis; the arm lies along +x at q = 0; no limits.
     """
     if int(links) != links or links < 1:
-        raise ValueError(f"links must be a positive integer, got {links!r}")
+        raise RedkinError(f"links must be a positive integer, got {links!r}")
     if not np.isfinite(length) or length <= 0:
-        raise ValueError(f"length must be a positive number of metres, got {length!r}")
+        raise RedkinError(f"length must be a positive number of metres, got {length!r}")
     n = int(links)
     return SerialChain(
         a=np.full(n, float(length)),
@@ -569,13 +570,13 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
         return load_urdf(path, base, tip, xacro_args=xacro_args, package_paths=package_paths)
     places = [package_paths] if isinstance(package_paths, (str, os.PathLike)) else list(package_paths)
     if xacro_args or places:
-        raise ValueError(f"xacro arguments and package paths apply to .xacro files only, not to {key!r}")
+        raise RedkinError(f"xacro arguments and package paths apply to .xacro files only, not to {key!r}")
     if path.suffix.lower() in (".xml", ".mjcf"):
         from redkin.mjcf import load_mjcf
 
         return load_mjcf(path, base, tip)
     if base is not None or tip is not None:
-        raise ValueError(f"base and tip links apply to URDF and MJCF files only, not to {key!r}")
+        raise RedkinError(f"base and tip links apply to URDF and MJCF files only, not to {key!r}")
     if key.lower() in MODELS:
         return MODELS[key.lower()]()
     if path.suffix.lower() in (".toml", ".json"):
@@ -586,7 +587,7 @@ def get_robot(name_or_path: str | Path, base: str | None = None, tip: str | None
 
     shipped = [name for name in names() if name.split(".")[0] == key.lower()]  # "sawyer" for sawyer.urdf
     hint = f" (redkin ships the example {' and '.join(shipped)})" if shipped else ""
-    raise ValueError(
+    raise RedkinError(
         f"unknown robot {key!r}{hint}: expected one of {', '.join(MODELS)}, a .toml/.json robot file, a .urdf/.xacro "
         "file or an MJCF .xml file"
     )

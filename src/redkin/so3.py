@@ -21,6 +21,7 @@ from redkin._validation import (
     check_rotation,
     check_vectors,
 )
+from redkin.errors import RedkinError
 
 #: Below this value of ``cos(beta)`` the X-Y-Z fixed angles are in gimbal lock.
 _GIMBAL_LOCK_TOLERANCE = 1e-9
@@ -87,7 +88,7 @@ def axis_angle_to_matrix(axis: ArrayLike, angle: ArrayLike) -> np.ndarray:
     check_finite(theta, "angle")
     norm = np.linalg.norm(u, axis=-1, keepdims=True)
     if np.any(norm < 1e-12):
-        raise ValueError("axis must be a non-zero vector")
+        raise RedkinError("axis must be a non-zero vector")
     rotvec = u / norm * theta[..., None]
     from scipy.spatial.transform import Rotation
 

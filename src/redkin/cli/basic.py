@@ -26,6 +26,7 @@ from redkin.cli.common import (
     print_json,
     xacro_options,
 )
+from redkin.errors import RedkinError
 
 if TYPE_CHECKING:  # the parsers are built without the chain, the models or the kernels; each handler imports its own
     from redkin.chain import SerialChain
@@ -68,7 +69,7 @@ def _run_robots(args: argparse.Namespace) -> int:
     if args.show is not None:
         return _show_robot(load_chain(args.show, args.base, args.tip, **xacro_options(args)), args)
     if args.base is not None or args.tip is not None or args.xacro_args or args.package_paths:
-        raise ValueError("--base and --tip go with --show ROBOT, as do --xacro-arg and --package-path")
+        raise RedkinError("--base and --tip go with --show ROBOT, as do --xacro-arg and --package-path")
     entries: list[dict[str, Any]] = []
     for name, factory in MODELS.items():
         chain = factory()

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from redkin.cli.common import angles_out, xacro_options
+from redkin.errors import RedkinError
 
 if TYPE_CHECKING:  # the chain's module loads the compiled kernels: not before a command runs
     from redkin.chain import SerialChain
@@ -62,14 +63,14 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
     if args.scene is None:
         given = [option for option in ("body", "srdf", "margin") if getattr(args, option) is not None]
         if given:
-            raise ValueError(f"--{given[0]} applies with --scene FILE")
+            raise RedkinError(f"--{given[0]} applies with --scene FILE")
         return None
     from redkin.collision.clearance import checked_pairs
 
     body, scene = _read_cell(args, chain)
     if not len(checked_pairs(body, scene).names):
         moving = int(np.sum(np.asarray(body.frame) > 0))
-        raise ValueError(f"the cell checks no pair (obstacles: {len(scene)}, capsules on moving links: {moving}, "
+        raise RedkinError(f"the cell checks no pair (obstacles: {len(scene)}, capsules on moving links: {moving}, "
                          f"self-collision pairs: {len(body.pairs)}): give obstacles in --scene, or a --body with "
                          "capsules on the moving links")
     return body, scene
@@ -84,13 +85,13 @@ def _read_cell(args: argparse.Namespace, chain: SerialChain):
     scene = read_scene(args.scene)
     if args.margin is not None:
         if not (np.isfinite(args.margin) and args.margin >= 0.0):
-            raise ValueError(f"--margin must be a finite number >= 0 (metres), got {args.margin}")
+            raise RedkinError(f"--margin must be a finite number >= 0 (metres), got {args.margin}")
         scene = replace(scene, margin=float(args.margin))
     named = _named_links(args.robot)
     options = xacro_options(args)
     if args.body is not None:
         if args.srdf is not None and not named:
-            raise ValueError("--srdf names URDF links: it applies to a URDF or xacro robot")
+            raise RedkinError("--srdf names URDF links: it applies to a URDF or xacro robot")
         ignore = [] if args.srdf is None else srdf_ignored_pairs(args.srdf)
         return read_body(args.body, chain, body_links(args, args.robot, chain), ignore=ignore), scene
     if not named:
@@ -98,14 +99,14 @@ def _read_cell(args: argparse.Namespace, chain: SerialChain):
 
         if args.robot.lower() in builtin_models():  # a named model's: a robot file is named with its suffix
             if args.srdf is not None:
-                raise ValueError("--srdf names URDF links: it applies to a URDF or xacro robot")
+                raise RedkinError("--srdf names URDF links: it applies to a URDF or xacro robot")
             return builtin_body(args.robot, chain), scene
-        raise ValueError(f"{args.robot} has no collision elements to read nor a built-in body: give --body FILE (its "
+        raise RedkinError(f"{args.robot} has no collision elements to read nor a built-in body: give --body FILE (its "
                          f"links are link_0 .. link_{chain.n}, the chain's frames; built-in bodies: "
                          f"{', '.join(builtin_models())})")
     _, body = urdf_body(args.robot, args.base, args.tip, srdf=args.srdf, **options)
     if not len(body):
-        raise ValueError(f"{args.robot}: the chain's links have no <collision> elements: give --body FILE")
+        raise RedkinError(f"{args.robot}: the chain's links have no <collision> elements: give --body FILE")
     return body, scene
 
 

@@ -8,6 +8,7 @@ import sys
 import time
 
 from redkin.cli.common import print_json
+from redkin.errors import RedkinError
 from redkin.warm_up import SECTION_NAMES
 
 
@@ -41,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
 
     processes = 1 if args.background else args.processes
     if processes is not None and processes < 1:
-        raise ValueError(f"--processes must be at least 1, got {processes}")
+        raise RedkinError(f"--processes must be at least 1, got {processes}")
     with compile_lock() as held:
         if args.background:
             if not held:  # another compile of this cache runs (or the lock cannot be taken): leave it the work

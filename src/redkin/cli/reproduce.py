@@ -7,6 +7,7 @@ import sys
 
 from redkin import reproduce
 from redkin.cli.common import add_force_flag, output_directory, plural
+from redkin.errors import RedkinError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -43,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
     known = reproduce.section_keys()
     unknown = [key for key in args.papers if key not in known]
     if unknown:  # before the folder is looked at: a misspelt section is the first thing to say
-        raise ValueError(f"unknown section {unknown[0]!r}: expected one of {', '.join(known)}")
+        raise RedkinError(f"unknown section {unknown[0]!r}: expected one of {', '.join(known)}")
     output_directory(args.out, "--out", _REPORT_FILES, args.force)
     if args.quiet:  # else redkin._compiled counts the kernels a fresh install compiles (for minutes) on stderr: on a
         from redkin._compiled import set_compile_notice  # terminal over the progress bar, which goes on below

@@ -53,6 +53,7 @@ from redkin.cli.common import (
     target_pose,
 )
 from redkin.cli.ik_numerical import add_numerical_arguments, run_numerical
+from redkin.errors import RedkinError
 
 #: The kernels that follow a nearly S-R-S pose's certified self-motion for every solution of a branch at one arm
 #: angle (:meth:`redkin.arms.nearly_kind.NearlyKind.every_solutions`), ``module.function``.
@@ -167,7 +168,7 @@ def _closed_form_arm(chain, args: argparse.Namespace):
     name = classified.parameter.name
     given = [option for option in ("psi", "q7") if getattr(args, option, None) is not None]
     if given and given[0] != name:
-        raise ValueError(f"{chain.name}: its redundancy parameter is {classified.parameter.noun} (--{name}), not "
+        raise RedkinError(f"{chain.name}: its redundancy parameter is {classified.parameter.noun} (--{name}), not "
                          f"{given[0]}")
     return classified
 

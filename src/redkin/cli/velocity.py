@@ -25,6 +25,7 @@ from redkin.cli.common import (
     plural,
     print_json,
 )
+from redkin.errors import RedkinError
 
 if TYPE_CHECKING:  # the parser is built without the velocity package (and its kernels): the handler imports it
     from redkin.velocity import TrackingResult
@@ -74,7 +75,7 @@ def _run_track(args: argparse.Namespace) -> int:
     if args.deg:
         twist[3:] = np.radians(twist[3:])
     if not np.all(np.isfinite(twist)):
-        raise ValueError("--twist must be finite numbers")
+        raise RedkinError("--twist must be finite numbers")
     check_magnitude(twist, "--twist (m/s, rad/s)", _MAX_SPEED)
     for option, value in (("--eps", args.eps), ("--damping", args.damping)):  # the library says if not > 0
         if np.isfinite(value):
@@ -84,7 +85,7 @@ def _run_track(args: argparse.Namespace) -> int:
         factorisation = singularity_factorisation(chain)
     except ValueError as exc:
         if isinstance(method, SingularityConsistent):
-            raise ValueError(f"--method sc needs a singularity index D_e: {exc}") from None
+            raise RedkinError(f"--method sc needs a singularity index D_e: {exc}") from None
         factorisation = None
     if isinstance(method, SingularityConsistent):
         method = replace(method, factorisation=factorisation)

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from redkin.errors import RedkinError
+
 __all__ = ["FOLDER", "names", "path", "resolve"]
 
 #: The folder of the shipped example files (inside the installed package).
@@ -39,7 +41,7 @@ def path(name: str) -> Path:
         If ``name`` is not one of :func:`names`; the message lists them.
     """
     if name not in names():
-        raise ValueError(f"no example named {name!r}: redkin ships {', '.join(names())}")
+        raise RedkinError(f"no example named {name!r}: redkin ships {', '.join(names())}")
     return FOLDER / name
 
 

@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_vectors
 from redkin.bounded_minimum import bounded_minimum
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.franka.feasible import FeasibleQ7, feasible_q7, q7_domain
 from redkin.franka.geometry import FrankaGeometry
 from redkin.franka.ik import PARAMETER, as_franka, ik
@@ -90,7 +91,7 @@ def optimal_q7(
     geometry = as_franka(arm)
     pose = np.asarray(pose, dtype=float)
     if pose.shape != (4, 4):
-        raise ValueError(f"pose must be one 4x4 pose, got shape {pose.shape}")
+        raise RedkinError(f"pose must be one 4x4 pose, got shape {pose.shape}")
     index = geometry.branch_index(branch)
     chain = geometry.chain
     limited = chain.limited

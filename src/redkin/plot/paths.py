@@ -25,6 +25,7 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import MaxNLocator
 
 from redkin.circle import TWO_PI
+from redkin.errors import RedkinError
 from redkin.paths import BaselinePath, PathResult, Removed
 from redkin.srs.branches import BRANCHES
 from redkin.srs.feasible import FeasiblePieces
@@ -225,7 +226,7 @@ def path_plane_figure(pieces: FeasiblePieces, result: PathResult, baselines: Seq
         with ``pieces`` the collision-free ones (:func:`redkin.paths.feasible_along_path` with the cell).
     """
     if len(baselines) > len(_BASELINE_COLOURS):
-        raise ValueError(f"at most {len(_BASELINE_COLOURS)} baselines in one figure, got {len(baselines)}")
+        raise RedkinError(f"at most {len(_BASELINE_COLOURS)} baselines in one figure, got {len(baselines)}")
     shown = _shown_branches(pieces, result, baselines, removed)
     colours = _cause_colours(removed)
     columns = 1 if len(shown) <= 3 else 2

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from redkin._validation import check_output_directory
+from redkin.errors import RedkinError
 from redkin.reproduce.provenance import build_info
 
 if TYPE_CHECKING:
@@ -93,7 +94,7 @@ def run(
     chosen = list(available) if not keys else list(keys)
     unknown = [k for k in chosen if k not in available]
     if unknown:
-        raise ValueError(f"unknown section {unknown[0]!r}: expected one of {', '.join(available)}")
+        raise RedkinError(f"unknown section {unknown[0]!r}: expected one of {', '.join(available)}")
     out = check_output_directory(out_dir, "--out")
     writers: dict[str, SectionWriter] = {}
     for key in chosen:

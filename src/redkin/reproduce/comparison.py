@@ -12,6 +12,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, TypeGuard
 
+from redkin.errors import RedkinError
+
 
 @dataclass(frozen=True)
 class Note:
@@ -58,9 +60,9 @@ class Comparison:
 
     def __post_init__(self) -> None:
         if isinstance(self.tolerance, bool) or not isinstance(self.tolerance, (int, float)) or self.tolerance < 0:
-            raise ValueError(f"tolerance of {self.quantity!r} must be a number >= 0, got {self.tolerance!r}")
+            raise RedkinError(f"tolerance of {self.quantity!r} must be a number >= 0, got {self.tolerance!r}")
         if not isinstance(self.note, (str, Note)):
-            raise ValueError(f"note of {self.quantity!r} must be a string or a Note, got {self.note!r}")
+            raise RedkinError(f"note of {self.quantity!r} must be a string or a Note, got {self.note!r}")
 
     @property
     def agrees(self) -> bool | None:

@@ -6,6 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from redkin.circle import ArcSet
+from redkin.errors import RedkinError
 from redkin.models import barrett_wam, barrett_wam7
 from redkin.plot.srs import plot_arm_angles_along_path
 from redkin.plot.velocity import comparison_figure, tracking_figure
@@ -36,7 +37,7 @@ _DAMPING = 0.05
 def _index(run: TrackingResult) -> np.ndarray:
     """``D_e`` along ``run``: every run of this section is simulated with the WAM's index."""
     if run.index is None:
-        raise ValueError("the run was simulated without an index (D_e) to record")
+        raise RedkinError("the run was simulated without an index (D_e) to record")
     return run.index
 
 

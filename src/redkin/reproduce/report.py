@@ -20,6 +20,8 @@ from typing import Any
 import matplotlib
 import numpy as np
 
+from redkin.errors import RedkinError
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
@@ -71,7 +73,7 @@ class SectionWriter:
               detail: str = "") -> None:
         """A table with a short caption and its detail in a note; its rows also go to ``summary.json``."""
         if name in self.tables:
-            raise ValueError(f"section {self.key} already has a table named {name!r}")
+            raise RedkinError(f"section {self.key} already has a table named {name!r}")
         clean_rows = [[_jsonable(v) for v in row] for row in rows]
         self.tables[name] = {"caption": caption, "detail": detail, "columns": list(columns), "rows": clean_rows}
         self.blocks.append(("table", name))

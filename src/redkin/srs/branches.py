@@ -13,6 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from redkin.errors import RedkinError
+
 
 class Branch(NamedTuple):
     """Signs (+1 or -1) of theta_2 (shoulder), theta_4 (elbow) and theta_6 (wrist)."""
@@ -47,16 +49,16 @@ def parse_branch(value: str | Branch | tuple[int, int, int]) -> Branch:
         if value in _BY_TEXT:
             return _BY_TEXT[value]
         if len(value) != 3 or any(ch not in "+-" for ch in value):
-            raise ValueError(
+            raise RedkinError(
                 f"branch must be three signs of theta2, theta4, theta6 such as '+++' or '+-+', got {value!r}"
             )
         return Branch(*(1 if ch == "+" else -1 for ch in value))
     try:
         signs = [int(v) for v in value]
     except (TypeError, ValueError):
-        raise ValueError(f"branch must be a string like '+-+' or three signs, got {value!r}") from None
+        raise RedkinError(f"branch must be a string like '+-+' or three signs, got {value!r}") from None
     if len(signs) != 3 or any(s not in (1, -1) for s in signs):
-        raise ValueError(f"branch must be three signs (+1 or -1), got {value!r}")
+        raise RedkinError(f"branch must be three signs (+1 or -1), got {value!r}")
     return Branch(*signs)
 
 

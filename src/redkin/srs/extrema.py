@@ -67,6 +67,7 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_pose
 from redkin.chain import SerialChain
 from redkin.circle import TWO_PI
+from redkin.errors import RedkinError
 from redkin.srs._feasible_kernels import sinusoid_roots
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
@@ -307,10 +308,10 @@ def joint_extrema(
     geometry = as_geometry(arm)
     chosen = geometry.table1_branch(branch)
     if not (np.isfinite(tolerance) and 0.0 <= tolerance < 1.0):
-        raise ValueError(f"tolerance must be a finite number in [0, 1), got {tolerance!r}")
+        raise RedkinError(f"tolerance must be a finite number in [0, 1), got {tolerance!r}")
     pose = check_pose(pose)
     if pose.shape != (4, 4):
-        raise ValueError(f"pose must have shape (4, 4) (one pose), got {pose.shape}")
+        raise RedkinError(f"pose must have shape (4, 4) (one pose), got {pose.shape}")
     coefficients = coefficients_for(geometry, pose, chosen.elbow)
     entries = coefficients.entries  # (3, 14): rows a, b, c
 

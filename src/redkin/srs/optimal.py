@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 from redkin._validation import check_vectors
 from redkin.chain import SerialChain
 from redkin.circle import ArcSet
+from redkin.errors import RedkinError
 from redkin.srs._rotations import group_rotations
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
@@ -95,7 +96,7 @@ def check_weights(weights: ArrayLike) -> tuple[float, float]:
     """``(r_s, r_w)``: two finite numbers >= 0, not both zero."""
     values = check_vectors(weights, 2, "weights").reshape(2)
     if np.any(values < 0) or not np.any(values > 0):
-        raise ValueError(f"weights (r_s, r_w) must be >= 0 and not both 0, got {values.tolist()}")
+        raise RedkinError(f"weights (r_s, r_w) must be >= 0 and not both 0, got {values.tolist()}")
     return float(values[0]), float(values[1])
 
 
@@ -142,10 +143,10 @@ def optimal_arm_angles(
     chosen = geometry.table1_branch(branch)
     pose = np.asarray(pose, dtype=float)
     if pose.shape != (4, 4):
-        raise ValueError(f"pose must have shape (4, 4), got {pose.shape}")
+        raise RedkinError(f"pose must have shape (4, 4), got {pose.shape}")
     q_target = default_target(geometry) if target is None else check_vectors(target, 7, "target")
     if q_target.shape != (7,):
-        raise ValueError(f"target must have shape (7,), got {q_target.shape}")
+        raise RedkinError(f"target must have shape (7,), got {q_target.shape}")
     r_s, r_w = check_weights(weights)
     coefficients = coefficients_for(geometry, pose, chosen.elbow)
     if feasible is None:

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import check_pose, check_vectors
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import coefficients_for
@@ -78,7 +79,7 @@ def arm_angle_path(
     chosen = geometry.table1_branch(branch)
     poses = check_pose(poses)
     if poses.ndim != 3:
-        raise ValueError(f"poses must have shape (N, 4, 4), got {poses.shape}")
+        raise RedkinError(f"poses must have shape (N, 4, 4), got {poses.shape}")
     coefficients = coefficients_for(geometry, poses, chosen.elbow)
     feasible = list(feasible_from_coefficients(coefficients, chosen, geometry))
     if fixed_psi is not None:

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.srs._targets import as_geometry
 from redkin.srs.branches import Branch
 from redkin.srs.coefficients import ArmAngleCoefficients, coefficients_for
@@ -128,9 +129,9 @@ def singular_arm_angles(
     """
     geometry = as_geometry(arm)
     if not (np.isfinite(tolerance) and tolerance >= 0):
-        raise ValueError(f"tolerance must be a finite number >= 0, got {tolerance!r}")
+        raise RedkinError(f"tolerance must be a finite number >= 0, got {tolerance!r}")
     pose = np.asarray(pose, dtype=float)
     if pose.shape != (4, 4):
-        raise ValueError(f"pose must have shape (4, 4), got {pose.shape}")
+        raise RedkinError(f"pose must have shape (4, 4), got {pose.shape}")
     coefficients = coefficients_for(geometry, pose, geometry.table1_branch(branch).elbow)
     return _singular_from_coefficients(coefficients, tolerance)

@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel, run_batch
 from redkin._validation import check_vectors
+from redkin.errors import RedkinError
 from redkin.torso_arm._kernel_tools import add, cross, dot, flat, norm, put, row, scale, sub
 from redkin.torso_arm.geometry import TorsoArm
 
@@ -59,10 +60,10 @@ class ElbowReference:
 
     def __post_init__(self) -> None:
         if self.kind not in ("theta4", "vector"):
-            raise ValueError(f"elbow reference kind must be 'theta4' or 'vector', got {self.kind!r}")
+            raise RedkinError(f"elbow reference kind must be 'theta4' or 'vector', got {self.kind!r}")
         v = check_vectors(self.vector, 3, "reference vector").reshape(-1)
         if v.shape != (3,) or np.linalg.norm(v) < _REFERENCE_TOLERANCE:
-            raise ValueError(f"reference vector must be one non-zero 3-vector, got {self.vector!r}")
+            raise RedkinError(f"reference vector must be one non-zero 3-vector, got {self.vector!r}")
         object.__setattr__(self, "vector", tuple(float(x) for x in v))
 
     def mirrored(self) -> ElbowReference:
@@ -79,7 +80,7 @@ def as_reference(value: ElbowReference | str | ArrayLike | None) -> ElbowReferen
         return value
     if isinstance(value, str):
         if value not in ("theta4", "vector"):
-            raise ValueError(f"reference must be 'theta4', 'vector' or a 3-vector, got {value!r}")
+            raise RedkinError(f"reference must be 'theta4', 'vector' or a 3-vector, got {value!r}")
         return ElbowReference(cast(ReferenceKind, value))
     return ElbowReference("vector", tuple(np.asarray(value, dtype=float).reshape(-1)))
 

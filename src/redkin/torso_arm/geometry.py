@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.models import humanoid_right_arm
 from redkin.torso_arm._kernel_tools import flat, shoulder_points
 
@@ -58,7 +59,7 @@ class TorsoArm:
 
     def __post_init__(self) -> None:
         if self.side not in ("right", "left"):
-            raise ValueError(f"side must be 'right' or 'left', got {self.side!r}")
+            raise RedkinError(f"side must be 'right' or 'left', got {self.side!r}")
         chain = self.right_chain
         same = (
             chain.n == 8
@@ -71,13 +72,13 @@ class TorsoArm:
             and np.allclose(chain.base, np.eye(4))
         )
         if not same:
-            raise ValueError(
+            raise RedkinError(
                 f"right_chain must have the structure of thesis 001 Table 2.1 (8 joints, modified DH, "
                 f"identity base), got {chain.name!r}"
             )
         lengths = (self.L0, self.L1, self.L2, self.L3)
         if min(lengths) <= 0:
-            raise ValueError(f"link lengths L0..L3 must be positive, got {lengths}")
+            raise RedkinError(f"link lengths L0..L3 must be positive, got {lengths}")
 
     # lengths of Table 2.1 / section 5.1
     @property

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import as_float_array, check_finite, check_rotation, check_vectors
+from redkin.errors import RedkinError
 from redkin.so3 import xyz_fixed_to_matrix
 from redkin.torso_arm.branches import OK, POSITION_BRANCHES, STATUS_NAMES, WRIST_BRANCHES, wrap_to_limits
 from redkin.torso_arm.elbow_angle import ElbowReference, as_reference
@@ -65,7 +66,7 @@ def _hand_rotation(rotation: ArrayLike | None = None, angles: ArrayLike | None =
         return check_rotation(rotation, "rotation")
     if angles is not None and rotation is None:
         return xyz_fixed_to_matrix(check_vectors(angles, 3, "angles"))
-    raise ValueError("give exactly one of rotation (3x3 matrix) or angles (alpha, beta, gamma)")
+    raise RedkinError("give exactly one of rotation (3x3 matrix) or angles (alpha, beta, gamma)")
 
 
 def ik(

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel, run_batch
+from redkin.errors import RedkinError
 from redkin.torso_arm._kernel_tools import add, cross, flat, scale, shoulder_point, sub, turn_y
 from redkin.torso_arm.geometry import WRIST_FRAME, TorsoArm
 
@@ -163,7 +164,7 @@ def gram_manipulability(jacobian: np.ndarray) -> np.ndarray:
     """``sqrt(max(det(J J^T), 0))`` [001 eq. 5.3] of Jacobians ``(..., 3, k)`` by the explicit 3 x 3 determinant."""
     shape, (j,) = flat((jacobian, 2))
     if j.shape[1] != 3:
-        raise ValueError(f"jacobian must have shape (..., 3, k), got {np.shape(jacobian)}")
+        raise RedkinError(f"jacobian must have shape (..., 3, k), got {np.shape(jacobian)}")
     out = np.empty(j.shape[0])
     run_batch(_grams, j.shape[0], j, out)
     return out.reshape(shape)
@@ -183,7 +184,7 @@ def stacked_dual_manipulability(jacobian_right: np.ndarray, jacobian_left: np.nd
     """
     shape, (right, left) = flat((jacobian_right, 2), (jacobian_left, 2))
     if right.shape[1:] != (3, 5) or left.shape[1:] != (3, 5):
-        raise ValueError(f"jacobians must have shape (..., 3, 5), got {np.shape(jacobian_right)} and "
+        raise RedkinError(f"jacobians must have shape (..., 3, 5), got {np.shape(jacobian_right)} and "
                          f"{np.shape(jacobian_left)}")
     out = np.empty(right.shape[0])
     run_batch(_duals, right.shape[0], right, left, out)

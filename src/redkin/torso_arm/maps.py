@@ -31,6 +31,7 @@ from numpy.typing import ArrayLike
 from redkin._compiled import PARALLEL_BATCH, kernel, run_batch
 from redkin._constants import TORSO_ARM_MAX_RESOLUTION as MAX_RESOLUTION  # most grid points along one axis
 from redkin._validation import as_float_array, check_count, check_finite, check_vectors
+from redkin.errors import RedkinError
 from redkin.torso_arm._kernel_tools import flat, put, row, shoulder_point
 from redkin.torso_arm.branches import NO_REFERENCE, OK, SHOULDER_UNDEFINED, UNREACHABLE, into_limits
 from redkin.torso_arm.elbow_angle import (
@@ -103,13 +104,13 @@ def _parse_plane(plane: str) -> tuple[str, float]:
     """``"z=0"``, ``"x = -0.2"`` -> (axis, value)."""
     match = re.fullmatch(r"\s*([xyzXYZ])\s*=\s*([-+0-9.eE]+)\s*", str(plane))
     if not match:
-        raise ValueError(f"plane must look like 'z=0' or 'x=-0.2' (metres), got {plane!r}")
+        raise RedkinError(f"plane must look like 'z=0' or 'x=-0.2' (metres), got {plane!r}")
     try:
         value = float(match.group(2))
     except ValueError as exc:
-        raise ValueError(f"plane must look like 'z=0' or 'x=-0.2' (metres), got {plane!r}") from exc
+        raise RedkinError(f"plane must look like 'z=0' or 'x=-0.2' (metres), got {plane!r}") from exc
     if not np.isfinite(value):
-        raise ValueError(f"plane coordinate must be finite, got {plane!r}")
+        raise RedkinError(f"plane coordinate must be finite, got {plane!r}")
     return match.group(1).lower(), value
 
 
@@ -128,13 +129,13 @@ def plane_grid(plane: str, extent: ArrayLike, resolution: int | tuple[int, int])
     axis, value = _parse_plane(plane)
     box = as_float_array(extent, "extent").reshape(-1)
     if box.shape != (4,):
-        raise ValueError(f"extent must be (u_min, u_max, v_min, v_max), got {np.shape(extent)}")
+        raise RedkinError(f"extent must be (u_min, u_max, v_min, v_max), got {np.shape(extent)}")
     check_finite(box, "extent")
     if box[0] >= box[1] or box[2] >= box[3]:
-        raise ValueError(f"extent must have u_min < u_max and v_min < v_max, got {box.tolist()}")
+        raise RedkinError(f"extent must have u_min < u_max and v_min < v_max, got {box.tolist()}")
     counts = tuple(resolution) if isinstance(resolution, (tuple, list, np.ndarray)) else (resolution, resolution)
     if len(counts) != 2:
-        raise ValueError(f"resolution must be one integer or two, got {resolution!r}")
+        raise RedkinError(f"resolution must be one integer or two, got {resolution!r}")
     nu, nv = (check_count(n, "resolution", 2, MAX_RESOLUTION) for n in counts)
     u, v = np.linspace(box[0], box[1], nu), np.linspace(box[2], box[3], nv)
     others = [a for a in _AXES if a != axis]
@@ -167,11 +168,11 @@ def reach_extent(arm: TorsoArm, plane: str, margin: float = 0.05) -> tuple[float
     pad = margin * reach
     if axis == "y":
         if abs(value) >= reach:
-            raise ValueError(f"plane {plane!r} lies outside the arm's reach (|y| < {reach:.4g} m)")
+            raise RedkinError(f"plane {plane!r} lies outside the arm's reach (|y| < {reach:.4g} m)")
         radius = arm.L0 + np.sqrt(reach**2 - value**2) + pad
         return (-radius, radius, -radius, radius)
     if abs(value) >= outer:
-        raise ValueError(f"plane {plane!r} lies outside the arm's reach (|{axis}| < {outer:.4g} m)")
+        raise RedkinError(f"plane {plane!r} lies outside the arm's reach (|{axis}| < {outer:.4g} m)")
     across = np.sqrt(outer**2 - value**2) + pad  # the other of x and z
     height = reach + pad  # y
     return (-across, across, -height, height) if axis == "z" else (-height, height, -across, across)
@@ -387,7 +388,7 @@ def _finish(grid: PlaneGrid, values: np.ndarray, status: np.ndarray, feasible: n
 def _fixed_angles(shoulder_angle: float, elbow_angle: float) -> tuple[float, float]:
     psi, phi = float(shoulder_angle), float(elbow_angle)
     if not (np.isfinite(psi) and np.isfinite(phi)):
-        raise ValueError(f"shoulder and elbow angles must be finite, got {psi!r}, {phi!r}")
+        raise RedkinError(f"shoulder and elbow angles must be finite, got {psi!r}, {phi!r}")
     return psi, phi
 
 
@@ -421,7 +422,7 @@ def sweep_samples(arm: TorsoArm, samples: tuple[int, int]) -> tuple[np.ndarray, 
         The elbow angle evenly around the circle from -pi.
     """
     if np.ndim(samples) != 1 or len(samples) != 2:
-        raise ValueError(f"samples must be two positive integers (theta_1, phi), got {samples!r}")
+        raise RedkinError(f"samples must be two positive integers (theta_1, phi), got {samples!r}")
     n1, n2 = (check_count(n, "samples", 1, MAX_SWEEP_SAMPLES) for n in samples)
     lower, upper = arm.chain.lower[0], arm.chain.upper[0]
     lower, upper = (max(lower, -np.pi), min(upper, np.pi))
@@ -432,7 +433,7 @@ def sweep_samples(arm: TorsoArm, samples: tuple[int, int]) -> tuple[np.ndarray, 
 def _check_total(points: int, samples: tuple[int, int]) -> None:
     total = points * samples[0] * samples[1]
     if total > _MAX_MAP_POSTURES:
-        raise ValueError(f"{points} grid points x {samples[0]} x {samples[1]} samples = {total} postures; at most "
+        raise RedkinError(f"{points} grid points x {samples[0]} x {samples[1]} samples = {total} postures; at most "
                          f"{_MAX_MAP_POSTURES} are allowed (about a minute on two cores)")
 
 
@@ -476,7 +477,7 @@ def best_over_redundancy(
     """
     wrists = check_vectors(points, 3, "points")
     if dual and arm.side != "right":
-        raise ValueError(f"the dual-arm measure is indexed by the right wrist: arm must be the right arm, "
+        raise RedkinError(f"the dual-arm measure is indexed by the right wrist: arm must be the right arm, "
                          f"got {arm.side!r}")
     thetas, phis = sweep_samples(arm, samples)
     shape, (flat_points,) = flat((arm.to_right(wrists), 1))
@@ -615,7 +616,7 @@ def region_above(result: ManipulabilityMap, threshold: float) -> Region:
     """The part of a map where ``w`` stays at or above ``threshold`` (section 5 / chapter 6 question)."""
     threshold = float(threshold)
     if not np.isfinite(threshold) or threshold < 0:
-        raise ValueError(f"threshold must be a finite number >= 0, got {threshold!r}")
+        raise RedkinError(f"threshold must be a finite number >= 0, got {threshold!r}")
     mask = result.valid & (np.nan_to_num(result.values, nan=-1.0) >= threshold)
     count = int(result.valid.sum())
     return Region(mask, float(mask.sum()) * result.grid.cell_area, mask.sum() / count if count else 0.0, threshold)

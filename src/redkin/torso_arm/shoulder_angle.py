@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel, run_batch
 from redkin._validation import as_float_array, check_finite, check_vectors
+from redkin.errors import RedkinError
 from redkin.torso_arm._kernel_tools import cross, dot, flat, norm, row, scale, shoulder_point
 
 #: Below this ``|W_y| / |W|`` the signed shoulder angle is undefined.
@@ -174,10 +175,10 @@ def theta1_from_shoulder_angle_eq31(psi: float, wrist: ArrayLike, L0: float) -> 
     """
     psi = float(psi)
     if not np.isfinite(psi) or not 0.0 <= psi <= np.pi:
-        raise ValueError(f"psi of [001 eq. 3.1] must be an angle in [0, pi], got {psi!r}")
+        raise RedkinError(f"psi of [001 eq. 3.1] must be an angle in [0, pi], got {psi!r}")
     w = check_vectors(wrist, 3, "wrist").reshape(-1)
     if w.shape != (3,):
-        raise ValueError(f"wrist must be one position of shape (3,), got {np.shape(wrist)}")
+        raise RedkinError(f"wrist must be one position of shape (3,), got {np.shape(wrist)}")
     h = w / 2.0
     a = np.array([L0, 0.0, 0.0]) - h
     P, Q, R0 = L0 * a[0], -L0 * a[2], -float(a @ h)  # a . b = P c + Q s + R0

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_finite, check_jacobian_and_twist, check_nonnegative, check_positive
+from redkin.errors import RedkinError
 from redkin.velocity import _step_kernels
 
 #: Relative cut-off below which a singular value counts as zero in :func:`pseudoinverse`.
@@ -67,7 +68,7 @@ def adaptive_damping(
     eps, lam_max, code = _adaptive(threshold, max_damping, measure)
     jac = as_float_array(jacobian, "jacobian")
     if jac.ndim < 2:
-        raise ValueError(f"jacobian must have shape (..., m, n), got shape {jac.shape}")
+        raise RedkinError(f"jacobian must have shape (..., m, n), got shape {jac.shape}")
     check_finite(jac, "jacobian")
     return least_squares(jac, np.zeros(jac.shape[:-1]), lam_max, eps, code)[1]
 
@@ -95,7 +96,7 @@ def _adaptive(threshold: float, max_damping: float, measure: str) -> tuple[float
     eps = check_positive(threshold, "threshold")
     lam_max = check_nonnegative(max_damping, "max_damping")
     if measure not in _MEASURES:
-        raise ValueError(f"measure must be 'sigma' or 'manipulability', got {measure!r}")
+        raise RedkinError(f"measure must be 'sigma' or 'manipulability', got {measure!r}")
     return eps, lam_max, _MEASURES[measure]
 
 

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import as_float_array, check_finite, check_jacobian_and_twist
+from redkin.errors import RedkinError
 from redkin.velocity import _step_kernels
 
 
@@ -107,7 +108,7 @@ def adjugate(matrix: ArrayLike) -> np.ndarray:
     """
     mat = as_float_array(matrix, "matrix")
     if mat.ndim < 2 or mat.shape[-1] != mat.shape[-2]:
-        raise ValueError(f"matrix must have shape (..., k, k), got shape {mat.shape}")
+        raise RedkinError(f"matrix must have shape (..., k, k), got shape {mat.shape}")
     check_finite(mat, "matrix")
     k = mat.shape[-1]
     if k == 1:
@@ -121,6 +122,6 @@ def adjugate(matrix: ArrayLike) -> np.ndarray:
 def _redundant_one(jacobian: ArrayLike) -> np.ndarray:
     jac = as_float_array(jacobian, "jacobian")
     if jac.ndim < 2 or jac.shape[-1] != jac.shape[-2] + 1:
-        raise ValueError(f"jacobian must have shape (..., m, m + 1) (e.g. 6 x 7), got shape {jac.shape}")
+        raise RedkinError(f"jacobian must have shape (..., m, m + 1) (e.g. 6 x 7), got shape {jac.shape}")
     check_finite(jac, "jacobian")
     return jac

@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._validation import check_jacobian_and_twist, check_positive
+from redkin.errors import RedkinError
 from redkin.velocity.blend import blend_weight, twist_scale
 from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, self_motion_vector
 from redkin.velocity.solution import VelocitySolution
@@ -50,7 +51,7 @@ def fixed_joint_sc(
     jac, vel = check_jacobian_and_twist(jacobian, twist, one_redundant=True)
     k = jac.shape[-1]
     if int(joint) != joint or not 0 <= joint < k:
-        raise ValueError(f"joint must be an integer in 0..{k - 1}, got {joint!r}")
+        raise RedkinError(f"joint must be an integer in 0..{k - 1}, got {joint!r}")
     check_positive(eps, "eps")
     vectors, minors = fixed_joint_vectors(jac, vel)
     minor = minors[..., joint]
@@ -68,6 +69,6 @@ def algorithmic_singularity(jacobian: ArrayLike, joint: int, tolerance: float = 
     """
     minors = column_minors(jacobian)
     if int(joint) != joint or not 0 <= joint < minors.shape[-1]:
-        raise ValueError(f"joint must be an integer in 0..{minors.shape[-1] - 1}, got {joint!r}")
+        raise RedkinError(f"joint must be an integer in 0..{minors.shape[-1] - 1}, got {joint!r}")
     total = np.sqrt(np.sum(minors * minors, axis=-1))
     return (np.abs(minors[..., joint]) <= tolerance * total) & (total > tolerance)

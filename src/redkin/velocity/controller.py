@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import check_nonnegative, check_positive
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.velocity import _step_kernels
 from redkin.velocity.baselines import PINV_RCOND
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
@@ -43,20 +44,20 @@ def _read_vector(value: ArrayLike, length: int, name: str) -> np.ndarray:
     try:
         array = np.array(value, dtype=float)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numeric, got {value!r}") from None
+        raise RedkinError(f"{name} must be numeric, got {value!r}") from None
     if array.shape != (length,):
-        raise ValueError(f"{name} must have shape ({length},), got shape {array.shape}")
+        raise RedkinError(f"{name} must have shape ({length},), got shape {array.shape}")
     return array
 
 
 def _finite_or_raise(code: int, q: np.ndarray, twist: np.ndarray) -> None:
     """``ValueError`` for a control step's code other than ``DONE`` (:mod:`redkin.velocity._step_kernels`)."""
     if code == _step_kernels.Q_NOT_FINITE:
-        raise ValueError(f"q must be finite, got {q.tolist()}")
+        raise RedkinError(f"q must be finite, got {q.tolist()}")
     if code == _step_kernels.TWIST_NOT_FINITE:
-        raise ValueError(f"twist must be finite, got {twist.tolist()}")
+        raise RedkinError(f"twist must be finite, got {twist.tolist()}")
     if code == _step_kernels.NO_FACTORS:
-        raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
+        raise RedkinError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
 
 
 def _kernel_tables(chain: SerialChain) -> tuple[np.ndarray, np.ndarray, bool]:
@@ -66,9 +67,9 @@ def _kernel_tables(chain: SerialChain) -> tuple[np.ndarray, np.ndarray, bool]:
 
 def _one_redundant_arm(chain: SerialChain) -> SerialChain:
     if not isinstance(chain, SerialChain):
-        raise ValueError(f"chain must be a SerialChain, got {type(chain).__name__}")
+        raise RedkinError(f"chain must be a SerialChain, got {type(chain).__name__}")
     if chain.n != 7:
-        raise ValueError(f"chain must have 7 joints (a 6 x 7 Jacobian), got {chain.n} ({chain.name!r})")
+        raise RedkinError(f"chain must have 7 joints (a 6 x 7 Jacobian), got {chain.n} ({chain.name!r})")
     return chain
 
 
@@ -151,20 +152,20 @@ class SingularityConsistentController:
         self._tables = _kernel_tables(chain)
         self.factorisation = singularity_factorisation(chain) if factorisation is None else factorisation
         if not isinstance(self.factorisation, Factorisation):
-            raise ValueError(f"factorisation must have index(q) and factors(q, jacobian) (a Factorisation), "
+            raise RedkinError(f"factorisation must have index(q) and factors(q, jacobian) (a Factorisation), "
                              f"got {type(self.factorisation).__name__}")
         start = _read_vector(q0, 7, "q0")
         if not np.isfinite(start).all():
-            raise ValueError(f"q0 must be finite, got {start.tolist()}")
+            raise RedkinError(f"q0 must be finite, got {start.tolist()}")
         self.eps = check_positive(eps, "eps")
         if direction is None:
             direction = -1.0 if float(self.factorisation.index(start)) < 0.0 else 1.0
         if direction not in (1, -1):
-            raise ValueError(f"direction must be +1 or -1, got {direction!r}")
+            raise RedkinError(f"direction must be +1 or -1, got {direction!r}")
         self.direction = float(direction)
         self.self_motion = float(self_motion)
         if not np.isfinite(self.self_motion):
-            raise ValueError(f"self_motion must be finite, got {self_motion!r}")
+            raise RedkinError(f"self_motion must be finite, got {self_motion!r}")
         self.modify_rotation = bool(modify_rotation)
         self.near_zero = (NEAR_ZERO_FRACTION * self.eps if near_zero is None
                           else check_nonnegative(near_zero, "near_zero"))
@@ -200,5 +201,5 @@ class SingularityConsistentController:
         factors = np.ascontiguousarray(self.factorisation.factors(values, None),  # None: builds J if needed
                                        dtype=float)
         if not np.isfinite(factors).all():
-            raise ValueError("factors D_i must be finite, got NaN or infinity")
+            raise RedkinError("factors D_i must be finite, got NaN or infinity")
         return d_e, factors

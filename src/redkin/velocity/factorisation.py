@@ -50,6 +50,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.srs.geometry import SRSGeometry, srs_geometry
 from redkin.velocity.cofactors import column_minors
 
@@ -190,9 +191,9 @@ class WamFactorisation(Factorisation):
         offset = tuple(float(v) for v in np.ravel(np.asarray(self.offset, dtype=float)))
         sign = tuple(float(v) for v in np.ravel(np.asarray(self.sign, dtype=float)))
         if len(offset) != 7 or not np.all(np.isfinite(offset)):
-            raise ValueError(f"offset must be 7 finite angles (theta = offset + sign * q), got {list(offset)}")
+            raise RedkinError(f"offset must be 7 finite angles (theta = offset + sign * q), got {list(offset)}")
         if len(sign) != 7 or any(s not in (1.0, -1.0) for s in sign):
-            raise ValueError(f"sign must be 7 entries of +1 or -1 (theta = offset + sign * q), got {list(sign)}")
+            raise RedkinError(f"sign must be 7 entries of +1 or -1 (theta = offset + sign * q), got {list(sign)}")
         object.__setattr__(self, "offset", offset)
         object.__setattr__(self, "sign", sign)
         joints = np.array([offset, sign])
@@ -218,7 +219,7 @@ class WamFactorisation(Factorisation):
         if geometry is not None:
             reason = _not_wam_shaped(geometry)
         if geometry is None or reason:
-            raise ValueError(
+            raise RedkinError(
                 f"chain {chain.name!r} does not have the Barrett WAM DH pattern of paper 003 Table 1 in any "
                 f"description (an offset elbow with a_4 = -a_3): {reason}; use NumericalFactorisation with your own "
                 "index")
@@ -338,7 +339,7 @@ def singularity_factorisation(chain: SerialChain, seed: int | np.random.Generato
         offset wrist, as on the European Robotic Arm); one line.
     """
     if chain.n != 7:
-        raise ValueError(f"chain must have 7 joints (a 6 x 7 Jacobian), got {chain.n} ({chain.name!r})")
+        raise RedkinError(f"chain must have 7 joints (a 6 x 7 Jacobian), got {chain.n} ({chain.name!r})")
     geometry, _ = _geometry(chain)
     if geometry is not None and not _not_wam_shaped(geometry):
         return WamFactorisation.from_chain(chain)
@@ -349,7 +350,7 @@ def singularity_factorisation(chain: SerialChain, seed: int | np.random.Generato
         elbow = ElbowSine(float(chain.offset[3]), float(chain.sign[3]))
     if check_single_parameter(chain, elbow, seed=seed).factors:
         return NumericalFactorisation(chain, elbow)
-    raise ValueError(
+    raise RedkinError(
         f"chain {chain.name!r}: its singularities do not factor through one parameter "
         "(neither the Barrett WAM closed form nor the elbow index sin(theta_4 - phi) divides every column minor "
         "det J_i), so the singularity-consistent method has no index D_e for it"

@@ -16,6 +16,7 @@ import numpy as np
 from redkin._constants import VELOCITY_METHOD_NAMES as METHOD_NAMES  # the methods by name
 from redkin._validation import check_positive
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.velocity.baselines import adaptive_damped_least_squares, damped_least_squares, pseudoinverse
 from redkin.velocity.controller import SingularityConsistentController
 from redkin.velocity.factorisation import Factorisation, singularity_factorisation
@@ -74,7 +75,7 @@ class AdaptiveDampedLeastSquares:
         check_positive(self.threshold, "threshold")
         check_positive(self.max_damping, "max_damping")
         if self.measure not in ("sigma", "manipulability"):
-            raise ValueError(f"measure must be 'sigma' or 'manipulability', got {self.measure!r}")
+            raise RedkinError(f"measure must be 'sigma' or 'manipulability', got {self.measure!r}")
 
     def bind(self, chain: SerialChain, q0: np.ndarray) -> Step:
         return lambda q, jac, twist: VelocitySolution(
@@ -158,4 +159,4 @@ def make_method(name: str, eps: float = 0.1, damping: float = 0.05) -> Method:
         return DampedLeastSquares(damping=damping)
     if name == "dls-adaptive":
         return AdaptiveDampedLeastSquares(threshold=eps, max_damping=damping)
-    raise ValueError(f"method must be one of {', '.join(METHOD_NAMES)}, got {name!r}")
+    raise RedkinError(f"method must be one of {', '.join(METHOD_NAMES)}, got {name!r}")

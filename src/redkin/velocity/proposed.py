@@ -50,6 +50,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_jacobian_and_twist, check_nonnegative, check_positive
+from redkin.errors import RedkinError
 from redkin.velocity import _step_kernels
 from redkin.velocity.cofactors import column_minors, fixed_joint_vectors, weighted_sum
 from redkin.velocity.solution import VelocitySolution
@@ -74,7 +75,7 @@ def weighted_sum_direction(jacobian: ArrayLike, twist: ArrayLike, weights: Array
     vectors, minors = fixed_joint_vectors(jacobian, twist)
     b = np.asarray(weights, dtype=float)
     if b.shape[-1:] != minors.shape[-1:]:
-        raise ValueError(f"weights must have shape (..., {minors.shape[-1]}), got shape {b.shape}")
+        raise RedkinError(f"weights must have shape (..., {minors.shape[-1]}), got shape {b.shape}")
     return weighted_sum(b, vectors), np.sum(b * minors, axis=-1)
 
 
@@ -168,35 +169,35 @@ def _checked(jacobian: ArrayLike, twist: ArrayLike, eps: float, direction: float
     jac, vel = check_jacobian_and_twist(jacobian, twist, one_redundant=True)
     e = check_positive(eps, "eps")
     if direction not in (1, -1):
-        raise ValueError(f"direction must be +1 or -1, got {direction!r}")
+        raise RedkinError(f"direction must be +1 or -1, got {direction!r}")
     if not np.isfinite(self_motion):
-        raise ValueError(f"self_motion must be finite, got {self_motion!r}")
+        raise RedkinError(f"self_motion must be finite, got {self_motion!r}")
     if modify_rotation and vel.shape[-1] != 6:
-        raise ValueError(f"modify_rotation needs a 6-row (linear, angular) jacobian, got {vel.shape[-1]} rows")
+        raise RedkinError(f"modify_rotation needs a 6-row (linear, angular) jacobian, got {vel.shape[-1]} rows")
     return jac, vel, e
 
 
 def _index(index: ArrayLike, jac: np.ndarray) -> np.ndarray:
     d_e = np.asarray(index, dtype=float)
     if not np.all(np.isfinite(d_e)):
-        raise ValueError("index must be finite, got NaN or infinity")
+        raise RedkinError("index must be finite, got NaN or infinity")
     try:
         return np.broadcast_to(d_e, jac.shape[:-2])
     except ValueError:
-        raise ValueError(f"index must have shape {jac.shape[:-2]} (one D_e per jacobian), "
+        raise RedkinError(f"index must have shape {jac.shape[:-2]} (one D_e per jacobian), "
                          f"got shape {d_e.shape}") from None
 
 
 def _factors(factors: ArrayLike, jac: np.ndarray) -> np.ndarray:
     d_i = np.asarray(factors, dtype=float)
     if d_i.shape[-1:] != (jac.shape[-1],):
-        raise ValueError(f"factors must have shape (..., {jac.shape[-1]}), got shape {d_i.shape}")
+        raise RedkinError(f"factors must have shape (..., {jac.shape[-1]}), got shape {d_i.shape}")
     if not np.all(np.isfinite(d_i)):
-        raise ValueError("factors D_i must be finite, got NaN or infinity")
+        raise RedkinError("factors D_i must be finite, got NaN or infinity")
     try:
         return np.broadcast_to(d_i, jac.shape[:-2] + d_i.shape[-1:])
     except ValueError:
-        raise ValueError(f"factors must have shape {jac.shape[:-2] + d_i.shape[-1:]}, got shape {d_i.shape}") from None
+        raise RedkinError(f"factors must have shape {jac.shape[:-2] + d_i.shape[-1:]}, got shape {d_i.shape}") from None
 
 
 def _sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray, eps: float, direction: float,
@@ -216,5 +217,5 @@ def _sc_steps(jac: np.ndarray, vel: np.ndarray, d_e: np.ndarray, d_i: np.ndarray
               kernel_array(d_e.reshape(count)), kernel_array(d_i.reshape(count, n)),
               eps, float(direction), float(self_motion), bool(modify_rotation), float(near_zero), qdot, target, ok)
     if not ok.all():
-        raise ValueError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
+        raise RedkinError("D_s = sum D_i^2 is zero: every factor D_i vanishes, the method is undefined here")
     return VelocitySolution(qdot.reshape(lead + (n,)), target.reshape(lead + (m,)))

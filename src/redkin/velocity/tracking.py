@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import check_nonnegative, check_positive, check_vectors
 from redkin.chain import SerialChain
-from redkin.errors import SizeLimitError
+from redkin.errors import RedkinError, SizeLimitError
 from redkin.so3 import skew
 from redkin.velocity.methods import Method
 
@@ -95,7 +95,7 @@ def simulate(
     total = check_positive(duration, "duration")
     step_size = check_positive(dt, "dt")
     if step_size > total:
-        raise ValueError(f"dt must be at most duration ({total:g} s), got {step_size:g}")
+        raise RedkinError(f"dt must be at most duration ({total:g} s), got {step_size:g}")
     k_gain = check_nonnegative(gain, "gain")
     ratio = total / step_size  # inf for duration 1e308 and dt 1e-3: compared before it becomes a count
     if not ratio <= MAX_STEPS + 0.5:

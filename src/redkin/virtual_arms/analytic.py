@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike
 
 from redkin._compiled import run_batch
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.virtual_arms import _kernels as kernels
 from redkin.virtual_arms.points import VirtualPoint
 
@@ -50,7 +51,7 @@ class AnalyticModel:
 
     def __init__(self, chain: SerialChain, points: Sequence[VirtualPoint], axes: tuple[int, ...] | None = None):
         if len(points) == 0:
-            raise ValueError("points must name at least one virtual end point, got none")
+            raise RedkinError("points must name at least one virtual end point, got none")
         self.chain = chain
         self.points = list(points)
         self.axes = task_axes(chain) if axes is None else tuple(axes)

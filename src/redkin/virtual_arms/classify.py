@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from redkin.errors import RedkinError
+
 _KINDS = ("redundant", "determined", "over-constrained", "singular")
 
 
@@ -55,7 +57,7 @@ def _classify_jacobians(jacobians: np.ndarray, tolerance: float = 1e-9) -> Class
     """Classify from stacked Jacobians ``J_0`` [004 eq. 18] at several generic postures, shape ``(k, rows, m)``."""
     jac = np.asarray(jacobians, dtype=float)
     if jac.ndim != 3:
-        raise ValueError(f"jacobians must have shape (k, rows, m), got {jac.shape}")
+        raise RedkinError(f"jacobians must have shape (k, rows, m), got {jac.shape}")
     _, rows, joints = jac.shape
     singular_values = np.linalg.svd(jac, compute_uv=False)
     scale = np.maximum(singular_values[:, :1], 1e-300)

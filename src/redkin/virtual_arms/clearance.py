@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import MAX_LENGTH, check_magnitude
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 
 
 @dataclass(frozen=True)
@@ -36,10 +37,10 @@ class Obstacle:
     def __post_init__(self) -> None:
         centre = np.asarray(self.centre, dtype=float)
         if centre.shape not in ((2,), (3,)) or not np.all(np.isfinite(centre)):
-            raise ValueError(f"obstacle centre must be 2 or 3 finite coordinates, got {self.centre!r}")
+            raise RedkinError(f"obstacle centre must be 2 or 3 finite coordinates, got {self.centre!r}")
         radius = float(self.radius)
         if not np.isfinite(radius) or radius <= 0.0:
-            raise ValueError(f"obstacle radius must be a finite positive number of metres, got {self.radius!r}")
+            raise RedkinError(f"obstacle radius must be a finite positive number of metres, got {self.radius!r}")
         object.__setattr__(self, "centre", centre)
         object.__setattr__(self, "radius", radius)
 
@@ -65,10 +66,10 @@ def as_obstacles(obstacles: Sequence[Obstacle | ArrayLike], dims: int) -> list[O
         if not isinstance(item, Obstacle):
             row = np.asarray(item, dtype=float).ravel()
             if row.shape != (dims + 1,):
-                raise ValueError(f"obstacle {k} must be {dims} centre coordinates and a radius, got {list(row)}")
+                raise RedkinError(f"obstacle {k} must be {dims} centre coordinates and a radius, got {list(row)}")
             item = Obstacle(row[:-1], row[-1])
         if item.dims != dims:
-            raise ValueError(f"obstacle {k} is {item.dims}-D but the task space is {dims}-D")
+            raise RedkinError(f"obstacle {k} is {item.dims}-D but the task space is {dims}-D")
         check_magnitude(np.append(item.centre, item.radius), f"obstacle {k}", MAX_LENGTH, "m")
         checked.append(item)
     return checked

@@ -13,6 +13,7 @@ from scipy.integrate import BDF, LSODA, Radau
 
 from redkin._constants import VIRTUAL_ARMS_MAX_STEPS as MAX_STEPS  # largest step budget of one run
 from redkin._validation import MAX_LENGTH, check_count, check_magnitude, check_positive, check_vectors
+from redkin.errors import RedkinError
 from redkin.virtual_arms.dynamics import GAIN_LAWS, Dynamics, State
 from redkin.virtual_arms.output_function import OutputFunction
 from redkin.virtual_arms.subsystems import ForwardModel, OneByOne, Together
@@ -90,9 +91,9 @@ def _weights(weights: ArrayLike | None, count: int, dims: int) -> np.ndarray:
     if w.shape == (count,):
         w = np.repeat(w[:, None], dims, axis=1)
     if w.shape != (count, dims):
-        raise ValueError(f"weights must have shape ({count},) or ({count}, {dims}), got {w.shape}")
+        raise RedkinError(f"weights must have shape ({count},) or ({count}, {dims}), got {w.shape}")
     if not np.all(np.isfinite(w)) or np.any(w < 0):
-        raise ValueError("weights must be finite and non-negative (W^i = diag(w) with w >= 0)")
+        raise RedkinError("weights must be finite and non-negative (W^i = diag(w) with w >= 0)")
     return w
 
 
@@ -237,34 +238,34 @@ def generate_trajectory(
     TrajectoryResult
     """
     if gain not in GAIN_LAWS:
-        raise ValueError(f"gain must be one of {sorted(GAIN_LAWS)}, got {gain!r}")
+        raise RedkinError(f"gain must be one of {sorted(GAIN_LAWS)}, got {gain!r}")
     if evaluation not in ("together", "one_by_one"):
-        raise ValueError(f"evaluation must be 'together' or 'one_by_one', got {evaluation!r}")
+        raise RedkinError(f"evaluation must be 'together' or 'one_by_one', got {evaluation!r}")
     if method not in _SOLVERS:
-        raise ValueError(f"method must be one of {sorted(_SOLVERS)}, got {method!r}")
+        raise RedkinError(f"method must be one of {sorted(_SOLVERS)}, got {method!r}")
     m, p, dims = model.joints, model.count, model.dims
     theta0 = check_vectors(theta0, m, "theta0").reshape(m)
     goals = check_vectors(goals, dims, "goals")
     check_magnitude(goals, "goals", MAX_LENGTH, "m")  # a finite but absurd goal (1e308) would overflow the rates
     if goals.shape != (p, dims):
-        raise ValueError(f"goals must have shape ({p}, {dims}) (one goal per virtual end point), got {goals.shape}")
+        raise RedkinError(f"goals must have shape ({p}, {dims}) (one goal per virtual end point), got {goals.shape}")
     weight = _weights(weights, p, dims)
     for name, value in (("eta", eta), ("lambda0", lambda0), ("gradient_tol", gradient_tol), ("s_max", s_max)):
         check_positive(value, name)
     max_steps = check_count(max_steps, "max_steps", 1, MAX_STEPS)
     for name, value in (("posture_tol", posture_tol), ("error_rtol", error_rtol)):
         if not np.isfinite(value) or value < 0:
-            raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
+            raise RedkinError(f"{name} must be finite and >= 0, got {value!r}")
     output = OutputFunction.identity(m) if output is None else output
     free = np.ones(m, dtype=bool)
     for j in fixed:
         if int(j) != j or not 0 <= j < m:
-            raise ValueError(f"fixed joints must be 0-based indices in 0..{m - 1}, got {j!r}")
+            raise RedkinError(f"fixed joints must be 0-based indices in 0..{m - 1}, got {j!r}")
         free[int(j)] = False
     drop = dict(drop or {})
     for k, when in drop.items():
         if not 0 <= int(k) < p or not np.isfinite(when) or when < 0:
-            raise ValueError(f"drop must map subsystem indices 0..{p - 1} to times s >= 0, got {k!r}: {when!r}")
+            raise RedkinError(f"drop must map subsystem indices 0..{p - 1} to times s >= 0, got {k!r}: {when!r}")
     evaluator = Together(model) if evaluation == "together" else OneByOne(model.split())
     active = np.ones(p, dtype=bool)
     dynamics = Dynamics(evaluator, goals, weight, active, theta0, output, free, float(eta), GAIN_LAWS[gain])

@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import check_vectors
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.virtual_arms.analytic import AnalyticModel
 from redkin.virtual_arms.mlp import MLP
 from redkin.virtual_arms.points import VirtualPoint
@@ -78,7 +79,7 @@ def _sample_joints(chain: SerialChain, count: int, rng: np.random.Generator, low
     high = (np.where(np.isfinite(chain.upper), chain.upper, np.pi) if upper is None
             else check_vectors(upper, chain.n, "upper"))
     if np.any(high <= low):
-        raise ValueError("sampling range must have upper > lower for every joint")
+        raise RedkinError("sampling range must have upper > lower for every joint")
     return rng.uniform(low, high, size=(int(count), chain.n))
 
 
@@ -118,7 +119,7 @@ def learn_forward_model(
     LearnedModel, LearningReport
     """
     if samples < 1 or held_out < 1:
-        raise ValueError(f"samples and held_out must be positive, got {samples} and {held_out}")
+        raise RedkinError(f"samples and held_out must be positive, got {samples} and {held_out}")
     rng = np.random.default_rng(seed)
     truth = AnalyticModel(chain, points, axes)
     train_q = _sample_joints(chain, samples, rng, lower, upper)

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
+from redkin.errors import RedkinError
+
 _ACTIVATIONS = ("sigmoid", "sine")
 
 
@@ -49,9 +51,9 @@ class MLP:
     def initial(cls, inputs: int, hidden: int, outputs: int, activation: str, rng: np.random.Generator) -> MLP:
         """Random weights of a fresh network (scaled by fan-in)."""
         if activation not in _ACTIVATIONS:
-            raise ValueError(f"activation must be one of {_ACTIVATIONS}, got {activation!r}")
+            raise RedkinError(f"activation must be one of {_ACTIVATIONS}, got {activation!r}")
         if hidden < 1:
-            raise ValueError(f"hidden must be a positive number of units, got {hidden!r}")
+            raise RedkinError(f"hidden must be a positive number of units, got {hidden!r}")
         return cls(
             rng.normal(0.0, 1.0 / np.sqrt(inputs), (hidden, inputs)),
             rng.uniform(-np.pi, np.pi, hidden) if activation == "sine" else np.zeros(hidden),

@@ -43,6 +43,7 @@ from numpy.typing import ArrayLike
 
 from redkin._validation import MAX_LENGTH, check_magnitude, check_positive, check_vectors
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.virtual_arms.analytic import AnalyticModel
 from redkin.virtual_arms.clearance import Obstacle, arm_clearance, as_obstacles, densify
 from redkin.virtual_arms.generate import generate_trajectory
@@ -53,7 +54,7 @@ from redkin.virtual_arms.points import VirtualPoint
 def monitored_points(chain: SerialChain, per_link: int = 3) -> list[VirtualPoint]:
     """Virtual end points that watch for obstacles: joint origins 2..n and ``per_link`` points inside every link."""
     if int(per_link) != per_link or per_link < 0:
-        raise ValueError(f"per_link must be a non-negative integer, got {per_link!r}")
+        raise RedkinError(f"per_link must be a non-negative integer, got {per_link!r}")
     points = [VirtualPoint.joint(j) for j in range(2, chain.n + 1)]
     fractions = np.arange(1, per_link + 1) / (per_link + 1)
     points += [VirtualPoint.on_link(j, float(t)) for j in range(1, chain.n + 1) for t in fractions]
@@ -252,29 +253,29 @@ def avoid_obstacles(
                         ("max_joint_step", max_joint_step), ("goal_tol", goal_tol), ("progress_tol", progress_tol)):
         check_positive(value, name)
     if not np.isfinite(virtual_weight) or virtual_weight < 0:
-        raise ValueError(f"virtual_weight must be finite and non-negative, got {virtual_weight!r}")
+        raise RedkinError(f"virtual_weight must be finite and non-negative, got {virtual_weight!r}")
     for name, value in (("period_steps", period_steps), ("max_periods", max_periods), ("patience", patience)):
         if int(value) != value or value < 1:
-            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+            raise RedkinError(f"{name} must be a positive integer, got {value!r}")
     for k, obstacle in enumerate(obstacles):
         if obstacle.clearance(goal) < margin:
-            raise ValueError(f"goal {goal.tolist()} is inside obstacle {k} or within margin = {margin:g} m of it "
+            raise RedkinError(f"goal {goal.tolist()} is inside obstacle {k} or within margin = {margin:g} m of it "
                              f"(clearance {float(obstacle.clearance(goal)):.4g} m)")
     points = monitored_points(chain) if points is None else list(points)
     if model is None:
         model = AnalyticModel(chain, [VirtualPoint.end()] + points, axes)
     elif model.count != 1 + len(points) or model.joints != chain.n or model.dims != dims:
-        raise ValueError(f"model must serve the end point and the {len(points)} virtual points of a {chain.n}-joint "
+        raise RedkinError(f"model must serve the end point and the {len(points)} virtual points of a {chain.n}-joint "
                          f"arm in {dims}-D, got {model.count} points, {model.joints} joints, {model.dims}-D")
     guard = _Guard(chain, obstacles, axes, float(margin), float(max_joint_step))
     start_clearance = float(guard.clearance(theta))
     if start_clearance < margin:
-        raise ValueError(f"theta0 puts the arm within margin = {margin:g} m of an obstacle "
+        raise RedkinError(f"theta0 puts the arm within margin = {margin:g} m of an obstacle "
                          f"(clearance {start_clearance:.4g} m)")
     clamped = np.zeros(chain.n, dtype=bool)
     for j in fixed:
         if int(j) != j or not 0 <= j < chain.n:
-            raise ValueError(f"fixed joints must be 0-based indices in 0..{chain.n - 1}, got {j!r}")
+            raise RedkinError(f"fixed joints must be 0-based indices in 0..{chain.n - 1}, got {j!r}")
         clamped[int(j)] = True
     fixed_joints = [int(j) for j in fixed]
 

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from redkin.errors import RedkinError
+
 
 @dataclass(frozen=True)
 class OutputFunction:
@@ -43,7 +45,7 @@ class OutputFunction:
         upper = np.asarray(upper, dtype=float)
         limited = np.isfinite(lower) & np.isfinite(upper)
         if np.any(limited & (upper <= lower)):
-            raise ValueError("joint limits must satisfy lower < upper for every limited joint")
+            raise RedkinError("joint limits must satisfy lower < upper for every limited joint")
         return cls(lower, upper, limited)
 
     @property
@@ -72,7 +74,7 @@ class OutputFunction:
         outside = self.limited & ((theta < self.lower) | (theta > self.upper))
         if np.any(outside):
             j = int(np.flatnonzero(outside)[0])
-            raise ValueError(
+            raise RedkinError(
                 f"theta0 joint {j + 1} = {np.degrees(theta[j]):.6g} deg is outside its range "
                 f"[{np.degrees(self.lower[j]):.6g}, {np.degrees(self.upper[j]):.6g}] deg"
             )

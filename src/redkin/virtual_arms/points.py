@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 
 
 @dataclass(frozen=True)
@@ -69,13 +70,13 @@ class VirtualPoint:
     def check(self, chain: SerialChain) -> None:
         """Raise ``ValueError`` unless this point exists on ``chain``."""
         if self.kind not in ("joint", "link", "end"):
-            raise ValueError(f"point kind must be 'joint', 'link' or 'end', got {self.kind!r}")
+            raise RedkinError(f"point kind must be 'joint', 'link' or 'end', got {self.kind!r}")
         if self.kind == "end":
             return
         if not 1 <= self.index <= chain.n:
-            raise ValueError(f"point {self.label}: {self.kind} number must be in 1..{chain.n}, got {self.index}")
+            raise RedkinError(f"point {self.label}: {self.kind} number must be in 1..{chain.n}, got {self.index}")
         if self.kind == "link" and not (np.isfinite(self.fraction) and 0.0 <= self.fraction <= 1.0):
-            raise ValueError(f"point {self.label}: fraction must be in [0, 1], got {self.fraction!r}")
+            raise RedkinError(f"point {self.label}: fraction must be in [0, 1], got {self.fraction!r}")
 
     def anchor(self, chain: SerialChain) -> tuple[int, np.ndarray]:
         """Frame index (``0 .. n + 1``, ``n + 1`` = tool) and the point's coordinates in that frame.
@@ -110,7 +111,7 @@ def parse_point(text: str) -> VirtualPoint:
     """
     match = _POINT.match(text.strip())
     if not match:
-        raise ValueError(f"point must be 'end', 'joint:J' or 'link:J[@T]', got {text!r}")
+        raise RedkinError(f"point must be 'end', 'joint:J' or 'link:J[@T]', got {text!r}")
     if match.group(1):
         return VirtualPoint.end()
     if match.group(2):
@@ -118,7 +119,7 @@ def parse_point(text: str) -> VirtualPoint:
     try:
         fraction = 0.5 if match.group(4) is None else float(match.group(4))
     except ValueError as exc:
-        raise ValueError(f"point {text!r}: fraction must be a number, got {match.group(4)!r}") from exc
+        raise RedkinError(f"point {text!r}: fraction must be a number, got {match.group(4)!r}") from exc
     return VirtualPoint.on_link(int(match.group(3)), fraction)
 
 

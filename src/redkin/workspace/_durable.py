@@ -20,6 +20,7 @@ from typing import Any
 from zarr.storage import LocalStore
 
 from redkin._files import write_durably
+from redkin.errors import RedkinError
 
 
 class DurableStore(LocalStore):
@@ -28,5 +29,5 @@ class DurableStore(LocalStore):
     async def set(self, key: str, value: Any) -> None:
         """Write ``value`` (a zarr ``Buffer``) as the file ``key`` through :func:`write_durably`."""
         if self.read_only:
-            raise ValueError(f"the store {self.root} is read-only")
+            raise RedkinError(f"the store {self.root} is read-only")
         await asyncio.to_thread(write_durably, self.root / key, value.as_buffer_like())

@@ -12,7 +12,7 @@ from redkin._constants import WORKSPACE_MAX_CHUNKS as MAX_CHUNKS  # most chunks 
 from redkin._constants import WORKSPACE_MAX_POSES as MAX_POSES  # most poses of a map
 from redkin._constants import WORKSPACE_MAX_RESOLUTION as MAX_RESOLUTION  # most grid points per axis
 from redkin._validation import MAX_LENGTH, as_float_array, check_count, check_magnitude
-from redkin.errors import SizeLimitError
+from redkin.errors import RedkinError, SizeLimitError
 
 #: Poses one chunk aims at (positions x orientations): 8^3 positions at 500 orientations, 16 MB of
 #: ``measure`` and about 0.7 s of one core per chunk, 13 824 chunks (Dask tasks, marker files) for the
@@ -89,11 +89,11 @@ def workspace_grid(extent: ArrayLike, resolution: int, orientations: int, chunk:
     """
     box = as_float_array(extent, "extent").reshape(-1)
     if box.shape != (6,):
-        raise ValueError(f"extent must have 6 numbers (xmin xmax ymin ymax zmin zmax), got {box.size}")
+        raise RedkinError(f"extent must have 6 numbers (xmin xmax ymin ymax zmin zmax), got {box.size}")
     check_magnitude(box, "extent", MAX_LENGTH, "m")  # finite but absurd (1e308) overflows the grid's steps
     for axis, (lo, hi) in zip("xyz", box.reshape(3, 2)):
         if not lo < hi:
-            raise ValueError(f"extent: {axis}min must be below {axis}max, got {lo:g} and {hi:g}")
+            raise RedkinError(f"extent: {axis}min must be below {axis}max, got {lo:g} and {hi:g}")
     m = check_count(resolution, "resolution", 2, MAX_RESOLUTION)
     poses = m**3 * int(orientations)
     if poses > MAX_POSES:

@@ -43,6 +43,7 @@ from numpy.typing import ArrayLike
 from redkin import __version__
 from redkin._validation import check_count
 from redkin.chain import SerialChain
+from redkin.errors import RedkinError
 from redkin.torso_arm.geometry import MIRROR, TorsoArm
 from redkin.torso_arm.maps import (
     MAX_SWEEP_SAMPLES,
@@ -91,7 +92,7 @@ def humanoid_grid(extent: ArrayLike, resolution: int, samples: tuple[int, int] =
         Naming the malformed or out-of-range argument (``samples``: each ``1..MAX_SWEEP_SAMPLES``).
     """
     if np.ndim(samples) != 1 or len(samples) != 2:
-        raise ValueError(f"samples must be two positive integers (theta_1, phi), got {samples!r}")
+        raise RedkinError(f"samples must be two positive integers (theta_1, phi), got {samples!r}")
     n1, n2 = (check_count(n, "samples", 1, MAX_SWEEP_SAMPLES) for n in samples)
     m = check_count(resolution, "resolution", 2, MAX_RESOLUTION)
     if chunk is None:
@@ -243,7 +244,7 @@ def humanoid_map(
     require("zarr")
     arm = humanoid_of(chain)
     if arm is None:
-        raise ValueError(f"{chain.name!r} is not the thesis 001 humanoid's arm (Table 2.1 form or its mirror image)")
+        raise RedkinError(f"{chain.name!r} is not the thesis 001 humanoid's arm (Table 2.1 form or its mirror image)")
     grid = humanoid_grid(extent, resolution, samples, chunk)
     samples = (int(samples[0]), int(samples[1]))
     store = Path(path)

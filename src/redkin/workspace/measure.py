@@ -20,6 +20,7 @@ import numpy as np
 
 from redkin.arms import Arm
 from redkin.circle import TWO_PI
+from redkin.errors import RedkinError
 from redkin.srs import pose_from
 from redkin.srs.feasible import PIECE_TOLERANCE
 
@@ -71,7 +72,7 @@ def whole_range(arm: Arm) -> float:
     """The length of the redundancy parameter's range, radians: ``2 pi`` for the arm angle, joint 7's range (at most
     the parameter's domain) for q7; the measure of a pose free over all of it."""
     if arm.parameter is None:
-        raise ValueError(f"{arm.chain.name!r} has no redundancy parameter ({arm.reason})")
+        raise RedkinError(f"{arm.chain.name!r} has no redundancy parameter ({arm.reason})")
     low, high = arm.parameter.domain
     return float(high - low)
 

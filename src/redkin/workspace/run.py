@@ -40,7 +40,7 @@ from redkin._validation import check_count
 from redkin.arms import Arm
 from redkin.arms import arm as redkin_arm
 from redkin.chain import SerialChain
-from redkin.errors import NotArmAngleClassError
+from redkin.errors import NotArmAngleClassError, RedkinError
 from redkin.srs import BRANCHES, NearlySRS
 from redkin.workspace._optional import require
 from redkin.workspace.grid import MAX_RESOLUTION, WorkspaceGrid, workspace_grid
@@ -251,7 +251,7 @@ def prepare_store(path: Path, parameters: str, create: Callable[[Path], None]) -
     """
     stored = stored_parameters(path)
     if stored is None and path.exists():
-        raise ValueError(f"{str(path)!r} exists and is not a workspace map; choose another path")
+        raise RedkinError(f"{str(path)!r} exists and is not a workspace map; choose another path")
     if stored is None:
         creating = path.with_name(path.name + ".creating")  # a store appears whole or not at all
         shutil.rmtree(creating, ignore_errors=True)
@@ -263,7 +263,7 @@ def prepare_store(path: Path, parameters: str, create: Callable[[Path], None]) -
             raise
         creating.rename(path)
     elif stored != parameters:
-        raise ValueError(f"{str(path)!r} holds a map with other parameters (another {_differing(stored, parameters)})"
+        raise RedkinError(f"{str(path)!r} holds a map with other parameters (another {_differing(stored, parameters)})"
                          "; choose another path or remove it")
     else:
         remove_partial_files(path)
@@ -518,7 +518,7 @@ def _cell(body: Body | None, scene: Scene | None) -> Cell | None:
     if body is None and scene is None:
         return None
     if body is None or scene is None:
-        raise ValueError("a map in a cell needs both the arm's body and the scene")
+        raise RedkinError("a map in a cell needs both the arm's body and the scene")
     return body, scene
 
 
