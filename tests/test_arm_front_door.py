@@ -325,6 +325,8 @@ def test_input_numpy_would_bend_is_refused_on_every_class(source):
         arm.every_solution(pose, np.array([0.1, 0.2]), arm.branches[0])  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="branches must be a branch label or a list of them"):
         arm.ik(pose, 0.3, branches=0)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"target must be at most 1e\+06 rad"):  # NaN on the Franka class
+        arm.optimal(pose, target=np.full(7, 1e300))
 
 
 def test_an_arm_is_built_once_per_chain_and_redkin_ik_goes_through_it():

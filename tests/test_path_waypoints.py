@@ -206,10 +206,13 @@ def test_a_line_of_too_many_poses_is_refused_before_it_is_built():
     end[:3, 3] = [1.0, 0.0, 0.0]
     with pytest.raises(ValueError, match=f"more than {MAX_POSES} poses"):
         line(np.eye(4), end, step=1e-7)
-    end[:3, 3] = [1e308, 0.0, 0.0]
+    end[:3, 3] = [5e5, 0.0, 0.0]
     start = np.eye(4)
-    start[:3, 3] = [-1e308, 0.0, 0.0]
+    start[:3, 3] = [-5e5, 0.0, 0.0]
     with pytest.raises(ValueError, match=f"more than {MAX_POSES} poses"):
+        line(start, end)
+    end[0, 3] = 1e308  # finite, and refused as a pose before its line's length overflows
+    with pytest.raises(ValueError, match=r"end translation must be at most 1e\+06 m"):
         line(start, end)
     keys = np.stack([np.eye(4)] * 4)
     keys[1::2, 0, 3] = 0.5  # three lines of 2**19 segments: each fits, all of them do not

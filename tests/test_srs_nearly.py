@@ -47,6 +47,7 @@ from scipy.optimize import least_squares
 import redkin
 from redkin.arms.classify import arm_angle_class
 from redkin.chain import SerialChain
+from redkin.circle import wrap_angle
 from redkin.cli.main import main
 from redkin.errors import NotArmAngleClassError
 from redkin.srs import (
@@ -559,6 +560,17 @@ def test_bad_input_raises_value_error(make_pose, psi, branch):
     arm = _arm("gen3")
     with pytest.raises(ValueError):
         nearly.ik(arm, make_pose(arm.chain.fk(np.full(7, 0.3))), psi, branch)
+
+
+def test_an_arm_angle_turns_whole_turns_before_it_is_solved():
+    """An arm angle of 1e8 rad is the arm angle it wraps to (the Newton steps compare arm angles: it found no
+    solution there; the exact classes wrapped it already)."""
+    arm = _arm("gen3")
+    pose = arm.chain.fk(np.full(7, 0.3))
+    far, near = nearly.ik(arm, pose, 1e8), nearly.ik(arm, pose, float(wrap_angle(1e8)))
+    assert far.exists.any()
+    np.testing.assert_array_equal(far.exists, near.exists)
+    np.testing.assert_array_equal(far.q, near.q)
 
 
 def test_tolerance_below_the_offsets_refuses_naming_them():

@@ -139,6 +139,7 @@ def test_virtual_arms_obstacles_pa10_elbow_kept_clear_of_a_sphere():
     ({"step": -0.1}, "step"),
     ({"margin": 0.0}, "margin"),
     ({"period_steps": 0}, "period_steps"),
+    ({"max_periods": 10**9, "patience": 10**9}, "period_steps x max_periods = 2e+10 integrator steps, more than"),
 ])
 def test_virtual_arms_obstacles_bad_input_is_a_clear_value_error(kwargs, words):
     arguments = {"goal": GOAL, "obstacles": BLOCK} | kwargs

@@ -75,6 +75,8 @@ def test_grid_rejects_bad_sizes():
         workspace_grid([0, 1, 0, 1, 0, 1], 1, 10)
     with pytest.raises(ValueError, match=r"chunk must be an integer in 1\.\.4"):
         workspace_grid([0, 1, 0, 1, 0, 1], 4, 10, chunk=5)
+    with pytest.raises(ValueError, match=r"orientations must be an integer in 1\.\.20000"):  # as workspace_map
+        workspace_grid([0, 1, 0, 1, 0, 1], 4, 0)
 
 
 def test_grid_refuses_more_poses_or_chunks_than_its_limits():

@@ -32,14 +32,16 @@ _SMALL_ARRAY = 32
 def as_float_array(value: ArrayLike, name: str) -> np.ndarray:
     """Convert ``value`` to a float array, raising ``ValueError`` if it is not numeric: complex numbers (numpy would
     drop their imaginary parts with a warning) and text (numpy would read ``'0.1'`` as a number) are refused."""
+    kind = "numeric"
     try:
         array = np.asarray(value)
+        if array.dtype.kind == "c":
+            kind = "real numbers, not complex ones"
         if array.dtype.kind in "cUSV":
             raise TypeError(array.dtype)
         return array.astype(float, copy=False)
     except (TypeError, ValueError) as exc:
         shown = repr(value) if len(repr(value)) <= 60 else repr(value)[:57] + "..."
-        kind = "real numbers, not complex ones" if np.iscomplexobj(value) else "numeric"
         raise RedkinError(f"{name} must be {kind}, got {shown}") from exc
 
 

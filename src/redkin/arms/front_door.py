@@ -512,10 +512,11 @@ class Arm:
     def _goal(self, target: ArrayLike | None,
               weights: ArrayLike | None) -> tuple[np.ndarray | None, tuple[float, float] | None]:
         """The target joint values and the weights of a limit-avoiding value, checked."""
-        from redkin._validation import check_vectors
+        from redkin._validation import MAX_LENGTH, check_magnitude, check_vectors
         from redkin.srs.optimal import check_weights
 
-        goal = None if target is None else check_vectors(target, self.chain.n, "target")
+        goal = None if target is None else check_magnitude(check_vectors(target, self.chain.n, "target"), "target",
+                                                           MAX_LENGTH, "rad")
         if goal is not None and goal.shape != (self.chain.n,):
             raise RedkinError(f"target must be one vector of {self.chain.n} joint values, got shape {goal.shape}")
         return goal, None if weights is None else check_weights(weights)

@@ -71,8 +71,8 @@ def load_cell(args: argparse.Namespace, chain: SerialChain):
     if not len(checked_pairs(body, scene).names):
         moving = int(np.sum(np.asarray(body.frame) > 0))
         raise RedkinError(f"the cell checks no pair (obstacles: {len(scene)}, capsules on moving links: {moving}, "
-                         f"self-collision pairs: {len(body.pairs)}): give obstacles in --scene, or a --body with "
-                         "capsules on the moving links")
+                          f"self-collision pairs: {len(body.pairs)}): give obstacles in --scene, or a --body with "
+                          "capsules on the moving links")
     return body, scene
 
 
@@ -102,8 +102,8 @@ def _read_cell(args: argparse.Namespace, chain: SerialChain):
                 raise RedkinError("--srdf names URDF links: it applies to a URDF or xacro robot")
             return builtin_body(args.robot, chain), scene
         raise RedkinError(f"{args.robot} has no collision elements to read nor a built-in body: give --body FILE (its "
-                         f"links are link_0 .. link_{chain.n}, the chain's frames; built-in bodies: "
-                         f"{', '.join(builtin_models())})")
+                          f"links are link_0 .. link_{chain.n}, the chain's frames; built-in bodies: "
+                          f"{', '.join(builtin_models())})")
     _, body = urdf_body(args.robot, args.base, args.tip, srdf=args.srdf, **options)
     if not len(body):
         raise RedkinError(f"{args.robot}: the chain's links have no <collision> elements: give --body FILE")

@@ -169,7 +169,7 @@ def _closed_form_arm(chain, args: argparse.Namespace):
     given = [option for option in ("psi", "q7") if getattr(args, option, None) is not None]
     if given and given[0] != name:
         raise RedkinError(f"{chain.name}: its redundancy parameter is {classified.parameter.noun} (--{name}), not "
-                         f"{given[0]}")
+                          f"{given[0]}")
     return classified
 
 

@@ -185,7 +185,7 @@ def stacked_dual_manipulability(jacobian_right: np.ndarray, jacobian_left: np.nd
     shape, (right, left) = flat((jacobian_right, 2), (jacobian_left, 2))
     if right.shape[1:] != (3, 5) or left.shape[1:] != (3, 5):
         raise RedkinError(f"jacobians must have shape (..., 3, 5), got {np.shape(jacobian_right)} and "
-                         f"{np.shape(jacobian_left)}")
+                          f"{np.shape(jacobian_left)}")
     out = np.empty(right.shape[0])
     run_batch(_duals, right.shape[0], right, left, out)
     return out.reshape(shape)

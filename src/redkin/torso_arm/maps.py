@@ -434,7 +434,7 @@ def _check_total(points: int, samples: tuple[int, int]) -> None:
     total = points * samples[0] * samples[1]
     if total > _MAX_MAP_POSTURES:
         raise RedkinError(f"{points} grid points x {samples[0]} x {samples[1]} samples = {total} postures; at most "
-                         f"{_MAX_MAP_POSTURES} are allowed (about a minute on two cores)")
+                          f"{_MAX_MAP_POSTURES} are allowed (about a minute on two cores)")
 
 
 def best_over_redundancy(
@@ -478,7 +478,7 @@ def best_over_redundancy(
     wrists = check_vectors(points, 3, "points")
     if dual and arm.side != "right":
         raise RedkinError(f"the dual-arm measure is indexed by the right wrist: arm must be the right arm, "
-                         f"got {arm.side!r}")
+                          f"got {arm.side!r}")
     thetas, phis = sweep_samples(arm, samples)
     shape, (flat_points,) = flat((arm.to_right(wrists), 1))
     count = flat_points.shape[0]

@@ -153,7 +153,7 @@ class SingularityConsistentController:
         self.factorisation = singularity_factorisation(chain) if factorisation is None else factorisation
         if not isinstance(self.factorisation, Factorisation):
             raise RedkinError(f"factorisation must have index(q) and factors(q, jacobian) (a Factorisation), "
-                             f"got {type(self.factorisation).__name__}")
+                              f"got {type(self.factorisation).__name__}")
         start = _read_vector(q0, 7, "q0")
         if not np.isfinite(start).all():
             raise RedkinError(f"q0 must be finite, got {start.tolist()}")

@@ -185,7 +185,7 @@ def _index(index: ArrayLike, jac: np.ndarray) -> np.ndarray:
         return np.broadcast_to(d_e, jac.shape[:-2])
     except ValueError:
         raise RedkinError(f"index must have shape {jac.shape[:-2]} (one D_e per jacobian), "
-                         f"got shape {d_e.shape}") from None
+                          f"got shape {d_e.shape}") from None
 
 
 def _factors(factors: ArrayLike, jac: np.ndarray) -> np.ndarray:

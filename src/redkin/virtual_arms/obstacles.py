@@ -41,9 +41,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from redkin._constants import VIRTUAL_ARMS_MAX_STEPS as MAX_STEPS  # largest step budget of one run
 from redkin._validation import MAX_LENGTH, check_magnitude, check_positive, check_vectors
 from redkin.chain import SerialChain
-from redkin.errors import RedkinError
+from redkin.errors import RedkinError, SizeLimitError
 from redkin.virtual_arms.analytic import AnalyticModel
 from redkin.virtual_arms.clearance import Obstacle, arm_clearance, as_obstacles, densify
 from redkin.virtual_arms.generate import generate_trajectory
@@ -257,21 +258,24 @@ def avoid_obstacles(
     for name, value in (("period_steps", period_steps), ("max_periods", max_periods), ("patience", patience)):
         if int(value) != value or value < 1:
             raise RedkinError(f"{name} must be a positive integer, got {value!r}")
+    if period_steps * max_periods > MAX_STEPS:  # each period runs its steps: the run's budget, checked up front
+        raise SizeLimitError(f"period_steps x max_periods = {period_steps * max_periods:g} integrator steps, more than "
+                             f"{MAX_STEPS}", "steps", period_steps * max_periods, MAX_STEPS)
     for k, obstacle in enumerate(obstacles):
         if obstacle.clearance(goal) < margin:
             raise RedkinError(f"goal {goal.tolist()} is inside obstacle {k} or within margin = {margin:g} m of it "
-                             f"(clearance {float(obstacle.clearance(goal)):.4g} m)")
+                              f"(clearance {float(obstacle.clearance(goal)):.4g} m)")
     points = monitored_points(chain) if points is None else list(points)
     if model is None:
         model = AnalyticModel(chain, [VirtualPoint.end()] + points, axes)
     elif model.count != 1 + len(points) or model.joints != chain.n or model.dims != dims:
         raise RedkinError(f"model must serve the end point and the {len(points)} virtual points of a {chain.n}-joint "
-                         f"arm in {dims}-D, got {model.count} points, {model.joints} joints, {model.dims}-D")
+                          f"arm in {dims}-D, got {model.count} points, {model.joints} joints, {model.dims}-D")
     guard = _Guard(chain, obstacles, axes, float(margin), float(max_joint_step))
     start_clearance = float(guard.clearance(theta))
     if start_clearance < margin:
         raise RedkinError(f"theta0 puts the arm within margin = {margin:g} m of an obstacle "
-                         f"(clearance {start_clearance:.4g} m)")
+                          f"(clearance {start_clearance:.4g} m)")
     clamped = np.zeros(chain.n, dtype=bool)
     for j in fixed:
         if int(j) != j or not 0 <= j < chain.n:

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from redkin._constants import WORKSPACE_MAX_CHUNKS as MAX_CHUNKS  # most chunks of a map
+from redkin._constants import WORKSPACE_MAX_ORIENTATIONS as MAX_ORIENTATIONS  # most orientations of a map
 from redkin._constants import WORKSPACE_MAX_POSES as MAX_POSES  # most poses of a map
 from redkin._constants import WORKSPACE_MAX_RESOLUTION as MAX_RESOLUTION  # most grid points per axis
 from redkin._validation import MAX_LENGTH, as_float_array, check_count, check_magnitude
@@ -95,7 +96,8 @@ def workspace_grid(extent: ArrayLike, resolution: int, orientations: int, chunk:
         if not lo < hi:
             raise RedkinError(f"extent: {axis}min must be below {axis}max, got {lo:g} and {hi:g}")
     m = check_count(resolution, "resolution", 2, MAX_RESOLUTION)
-    poses = m**3 * int(orientations)
+    orientations = check_count(orientations, "orientations", 1, MAX_ORIENTATIONS)
+    poses = m**3 * orientations
     if poses > MAX_POSES:
         raise SizeLimitError(f"{m}^3 grid points x {int(orientations)} orientations are {poses:.3g} poses, more than "
                              f"{MAX_POSES:.0e} (a size too large to compute): lower the resolution or the "

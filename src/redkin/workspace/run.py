@@ -264,7 +264,7 @@ def prepare_store(path: Path, parameters: str, create: Callable[[Path], None]) -
         creating.rename(path)
     elif stored != parameters:
         raise RedkinError(f"{str(path)!r} holds a map with other parameters (another {_differing(stored, parameters)})"
-                         "; choose another path or remove it")
+                          "; choose another path or remove it")
     else:
         remove_partial_files(path)
 

@@ -48,7 +48,7 @@ from redkin import _chain_kernels
 from redkin._compiled import kernel_array, run_batch
 from redkin._validation import check_pose
 from redkin.chain import Reach, SerialChain
-from redkin.circle import HALF_PI
+from redkin.circle import HALF_PI, wrap_angle
 from redkin.errors import RedkinError
 from redkin.srs._ik_kernels import A4, BAD_POSE, D_EW
 from redkin.srs._targets import as_poses, check_psi, raise_for_bad_pose
@@ -340,7 +340,7 @@ def ik(
     chosen = BRANCHES if branch is None else (parse_branch(branch),)
     rows = _ALL_ROWS if branch is None else _ROWS[BRANCHES.index(chosen[0])]
     poses = as_poses(pose)
-    angles = check_psi(psi)
+    angles = np.asarray(wrap_angle(check_psi(psi)))  # Newton's steps compare arm angles: 1e8 rad is a whole turn's
     try:
         shape = np.broadcast_shapes(poses.shape[:-2], angles.shape)
     except ValueError:
