@@ -48,6 +48,9 @@ def test_torso_arm_cli_bad_input_exit_2(capsys):
                  "--elbow", "0"]) == 2
     err = capsys.readouterr().err
     assert "plane" in err and "orthonormal" in err
+    assert main(["torso-arm", "ik", "--position", "0.3", "-0.3", "0.1", "--rotation", "1", "0", "0", "0", "1", "0",
+                 "0", "0", "1", "--shoulder", "0", "--elbow", "0", "--tool", "-1"]) == 2  # a length: it was accepted
+    assert "tool_length must be a finite number >= 0, got -1" in capsys.readouterr().err
 
 
 @pytest.mark.slow

@@ -36,6 +36,9 @@ def test_velocity_cli_bad_input(capsys):
                  "--duration", "1"]) == 2
     assert "7 joints" in capsys.readouterr().err
     assert main(SCENARIO + ["--method", "dls", "--damping", "-1"]) == 2
+    capsys.readouterr()
+    assert main(SCENARIO + ["--method", "pinv", "--damping", "0.1"]) == 2  # it was ignored without a word
+    assert "--damping is for --method dls or dls-adaptive; pinv has no damping" in capsys.readouterr().err
     assert main(SCENARIO[:-4] + ["--duration", "-1"]) == 2
     assert main(SCENARIO + ["--eps", "0"]) == 2
 

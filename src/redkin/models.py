@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from redkin._validation import check_nonnegative
 from redkin.chain import SerialChain
 from redkin.circle import HALF_PI
 from redkin.errors import RedkinError
@@ -469,7 +470,7 @@ def humanoid_right_arm(tool_length: float = 0.0) -> SerialChain:
         sign=[1, 1, -1, 1, 1, -1, 1, -1],
         lower=np.radians([-90, -85, -5, -150, -80, -inf, -inf, -inf]),
         upper=np.radians([90, 175, 185, 150, 80, inf, inf, inf]),
-        tool=_translation_z(float(tool_length)),
+        tool=_translation_z(check_nonnegative(tool_length, "tool_length")),  # a length: -1 m was accepted
         name="humanoid-right",
         source="thesis 001 Table 2.1 (modified DH), section 5.1 lengths and limits",
     )

@@ -32,6 +32,8 @@ if TYPE_CHECKING:  # the parser is built without the velocity package (and its k
 
 #: Largest entry of a commanded twist (m/s, rad/s): far beyond any arm, far below where the integration overflows.
 _MAX_SPEED = 1e6
+#: The (maximum) damping of dls and dls-adaptive unless --damping gives it.
+_DAMPING = 0.05
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -50,8 +52,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                             "squares with --damping; dls-adaptive, damping that grows as sigma_min falls below --eps")
     track.add_argument("--eps", type=float, default=0.1, metavar="D",
                        help="singular-region threshold: on |D_e| for sc, on sigma_min for dls-adaptive (default 0.1)")
-    track.add_argument("--damping", type=float, default=0.05, metavar="L",
-                       help="(maximum) damping for dls / dls-adaptive")
+    track.add_argument("--damping", type=float, metavar="L",
+                       help="(maximum) damping for dls / dls-adaptive (default 0.05)")
     track.add_argument("--dt", type=float, default=1e-3, help="RK4 step in seconds (default 0.001)")
     track.add_argument("--plot", metavar="PNG", help="save the six-panel figure here")
     add_force_flag(track)
@@ -77,10 +79,13 @@ def _run_track(args: argparse.Namespace) -> int:
     if not np.all(np.isfinite(twist)):
         raise RedkinError("--twist must be finite numbers")
     check_magnitude(twist, "--twist (m/s, rad/s)", _MAX_SPEED)
-    for option, value in (("--eps", args.eps), ("--damping", args.damping)):  # the library says if not > 0
+    if args.damping is not None and args.method not in ("dls", "dls-adaptive"):  # it was ignored without a word
+        raise UsageError(f"--damping is for --method dls or dls-adaptive; {args.method} has no damping")
+    damping = _DAMPING if args.damping is None else args.damping
+    for option, value in (("--eps", args.eps), ("--damping", damping)):  # the library says if not > 0
         if np.isfinite(value):
             check_magnitude(value, option, _MAX_SPEED)
-    method = make_method(args.method, eps=args.eps, damping=args.damping)
+    method = make_method(args.method, eps=args.eps, damping=damping)
     try:
         factorisation = singularity_factorisation(chain)
     except ValueError as exc:
