@@ -181,7 +181,7 @@ def _playback(args: argparse.Namespace, chain, out, cell) -> int:
     except (KeyError, TypeError, ValueError) as exc:
         raise UsageError(f"--path {args.path!r}: a point is malformed ({exc!r}); each needs positions, velocities "
                          "and time_from_start {sec, nanosec}") from None
-    outside = np.argwhere((q < chain.lower - _RANGE_ROUNDING) | (q > chain.upper + _RANGE_ROUNDING))
+    outside = np.argwhere(~chain.joints_within_limits(q, _RANGE_ROUNDING))
     if outside.size:
         point, joint = outside[0].tolist()
         raise UsageError(f"--path {args.path!r}: point {point} puts joint {joint + 1} at {q[point, joint]:.6g} rad, "
